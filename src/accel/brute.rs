@@ -1,0 +1,42 @@
+//! The reference loop: every ray against every primitive, in primitive order. Every faster
+//! path is tested against it.
+
+use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::Real;
+
+/// Nearest hit over a slice of shapes by brute force; ties go to the lower index.
+pub fn closest_hit<T: Real>(
+    shapes: &[Shape<T>],
+    ray: &Ray<T>,
+    method: Method,
+    tmin: T,
+    tmax: T,
+) -> Option<Hit<T>> {
+    let mut best: Option<Hit<T>> = None;
+    let mut t_far = tmax;
+    for (i, s) in shapes.iter().enumerate() {
+        if let Some((t, b1, b2)) = s.intersect(ray, method, tmin, t_far) {
+            t_far = t;
+            best = Some(Hit {
+                t,
+                prim: i as u32,
+                b1,
+                b2,
+            });
+        }
+    }
+    best
+}
+
+/// Whether anything is hit with tmin < t < tmax (a shadow query).
+pub fn any_hit<T: Real>(
+    shapes: &[Shape<T>],
+    ray: &Ray<T>,
+    method: Method,
+    tmin: T,
+    tmax: T,
+) -> bool {
+    shapes
+        .iter()
+        .any(|s| s.intersect(ray, method, tmin, tmax).is_some())
+}

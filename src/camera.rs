@@ -1,0 +1,192 @@
+//! The lecture's pinhole camera.
+//!
+//! Camera space is x right, y down, z forward (right-handed). Pixel (i, j) of a W×H image is
+//! sampled through its centre, u = i − W/2 + 0.5, v = j − H/2 + 0.5, along the camera-space
+//! direction normalize(u, v, f) with the focal length f in pixels, which is then taken to the
+//! world by `world_from_camera`. The horizontal field of view 2·atan(W / 2f) is derived from f
+//! and the width, never stored.
+
+use crate::geometry::Ray;
+use crate::math::TransformStack;
+use glam::{DMat3, DMat4, DVec3, Vec3};
+
+/// Lowest and highest accepted focal lengths in pixels (about 180° and 0.00001° of view at
+/// 1000 px): outside this range the image is meaningless or the rays overflow.
+pub const FOCAL_RANGE: (f64, f64) = (1e-3, 1e9);
+
+/// A pinhole camera: pose (`world_from_camera`, a rotation and a translation) and focal length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    world_from_camera: DMat4,
+    /// Focal length in pixels.
+    pub focal: f64,
+}
+
+/// Why a camera cannot be built.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum CameraError {
+    /// Focal length not finite or outside [`FOCAL_RANGE`].
+    #[error("focal length {0} px is out of range (expected a finite value in [{min}, {max}])", min = FOCAL_RANGE.0, max = FOCAL_RANGE.1)]
+    Focal(f64),
+    /// A non-finite position or angle.
+    #[error("camera {0} must be finite, got {1}")]
+    NotFinite(&'static str, String),
+    /// View and up directions that do not span a frame.
+    #[error("view direction {0:?} and up direction {1:?} must be non-zero and not parallel")]
+    Frame(DVec3, DVec3),
+}
+
+fn check_focal(focal: f64) -> Result<f64, CameraError> {
+    if focal.is_finite() && (FOCAL_RANGE.0..=FOCAL_RANGE.1).contains(&focal) {
+        Ok(focal)
+    } else {
+        Err(CameraError::Focal(focal))
+    }
+}
+
+fn check_finite(what: &'static str, v: DVec3) -> Result<DVec3, CameraError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(CameraError::NotFinite(what, format!("{v}")))
+    }
+}
+
+impl Camera {
+    /// The lab camera for a `width`-pixel-wide image: at (0, 0, −3.001), looking along +z,
+    /// focal length = width.
+    pub fn cornell(width: u32) -> Self {
+        Self::from_yaw_pitch(DVec3::new(0.0, 0.0, -3.001), 0.0, 0.0, width as f64)
+            .expect("the lab camera is valid")
+    }
+
+    /// A camera at `position` turned by `yaw` about y, then `pitch` about its own x (radians):
+    /// world_from_camera = T(position) · Ry(yaw) · Rx(pitch), built on the transform stack.
+    pub fn from_yaw_pitch(
+        position: DVec3,
+        yaw: f64,
+        pitch: f64,
+        focal: f64,
+    ) -> Result<Self, CameraError> {
+        check_finite("position", position)?;
+        check_finite("yaw/pitch", DVec3::new(yaw, pitch, 0.0))?;
+        let mut stack = TransformStack::new();
+        stack.translate(position).rotate_y(yaw).rotate_x(pitch);
+        Ok(Self {
+            world_from_camera: stack.matrix(),
+            focal: check_focal(focal)?,
+        })
+    }
+
+    /// A camera at `position` looking along `view`, with `up` (−y in the lab frame) pointing
+    /// up on screen as far as it can while staying perpendicular to `view`.
+    pub fn look_to(
+        position: DVec3,
+        view: DVec3,
+        up: DVec3,
+        focal: f64,
+    ) -> Result<Self, CameraError> {
+        check_finite("position", position)?;
+        let forward = view.normalize_or_zero();
+        let right = forward.cross(up).normalize_or_zero();
+        if forward == DVec3::ZERO || right == DVec3::ZERO || !right.is_finite() {
+            return Err(CameraError::Frame(view, up));
+        }
+        let down = forward.cross(right);
+        let rotation = DMat4::from_mat3(DMat3::from_cols(right, down, forward));
+        Ok(Self {
+            world_from_camera: DMat4::from_translation(position) * rotation,
+            focal: check_focal(focal)?,
+        })
+    }
+
+    /// The camera-to-world matrix (rigid: rotation then translation).
+    pub fn world_from_camera(&self) -> DMat4 {
+        self.world_from_camera
+    }
+
+    /// The world-to-camera matrix: the exact inverse of a rigid transform, Rᵀ · T(−position).
+    pub fn camera_from_world(&self) -> DMat4 {
+        let r = DMat3::from_mat4(self.world_from_camera).transpose();
+        DMat4::from_mat3(r) * DMat4::from_translation(-self.position())
+    }
+
+    /// The camera position in the world.
+    pub fn position(&self) -> DVec3 {
+        self.world_from_camera.w_axis.truncate()
+    }
+
+    /// The unit view direction (camera +z) in the world.
+    pub fn forward(&self) -> DVec3 {
+        self.world_from_camera.z_axis.truncate()
+    }
+
+    /// The unit screen-right direction (camera +x) in the world.
+    pub fn right(&self) -> DVec3 {
+        self.world_from_camera.x_axis.truncate()
+    }
+
+    /// The unit screen-down direction (camera +y) in the world.
+    pub fn down(&self) -> DVec3 {
+        self.world_from_camera.y_axis.truncate()
+    }
+
+    /// Horizontal field of view in radians for an image `width` pixels wide.
+    pub fn fov_x(&self, width: u32) -> f64 {
+        2.0 * (width as f64 / (2.0 * self.focal)).atan()
+    }
+
+    /// The focal length giving a horizontal field of view `fov` (radians) at `width` pixels.
+    pub fn focal_for_fov(fov: f64, width: u32) -> f64 {
+        width as f64 / (2.0 * (fov / 2.0).tan())
+    }
+
+    /// The ray through the continuous image position (x, y) in pixels from the top-left corner
+    /// of a `width`×`height` image; (i + 0.5, j + 0.5) is the centre of pixel (i, j).
+    pub fn ray_through(&self, x: f64, y: f64, width: u32, height: u32) -> Ray<f32> {
+        self.ray_generator(width, height)
+            .ray_through(x as f32, y as f32)
+    }
+
+    /// The ray through the centre of pixel (i, j).
+    pub fn ray_for_pixel(&self, i: u32, j: u32, width: u32, height: u32) -> Ray<f32> {
+        self.ray_through(i as f64 + 0.5, j as f64 + 0.5, width, height)
+    }
+
+    /// Precomputed f32 basis for generating many rays of one image.
+    pub fn ray_generator(&self, width: u32, height: u32) -> RayGenerator {
+        let f = |v: DVec3| v.as_vec3();
+        RayGenerator {
+            origin: f(self.position()),
+            right: f(self.right()),
+            down: f(self.down()),
+            forward: f(self.forward()),
+            half_w: width as f32 / 2.0,
+            half_h: height as f32 / 2.0,
+            focal: self.focal as f32,
+        }
+    }
+}
+
+/// The camera's affine part in f32, for the hot path.
+#[derive(Clone, Copy, Debug)]
+pub struct RayGenerator {
+    origin: Vec3,
+    right: Vec3,
+    down: Vec3,
+    forward: Vec3,
+    half_w: f32,
+    half_h: f32,
+    focal: f32,
+}
+
+impl RayGenerator {
+    /// The ray through image position (x, y) in pixels from the top-left corner, with a unit
+    /// direction: world_from_camera applied to normalize(x − W/2, y − H/2, f).
+    #[inline]
+    pub fn ray_through(&self, x: f32, y: f32) -> Ray<f32> {
+        let cam = Vec3::new(x - self.half_w, y - self.half_h, self.focal).normalize();
+        let d = self.right * cam.x + self.down * cam.y + self.forward * cam.z;
+        Ray::new(self.origin.to_array(), d.to_array())
+    }
+}

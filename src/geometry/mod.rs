@@ -1,0 +1,149 @@
+//! Rays, primitives and their intersection, generic over f32/f64 ([`Real`]).
+
+pub mod offset;
+pub mod sphere;
+pub mod triangle;
+
+use crate::math::real::V3;
+use crate::math::Real;
+use std::fmt;
+use std::str::FromStr;
+
+pub use offset::{offset_ray_origin, SurfacePoint};
+
+/// A ray o + t·d; d need not be normalised (t is in units of |d|).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray<T: Real = f32> {
+    /// Origin.
+    pub o: V3<T>,
+    /// Direction.
+    pub d: V3<T>,
+}
+
+impl<T: Real> Ray<T> {
+    /// A ray from origin and direction.
+    pub fn new(o: V3<T>, d: V3<T>) -> Self {
+        Self { o, d }
+    }
+
+    /// The point o + t·d.
+    pub fn at(&self, t: T) -> V3<T> {
+        [
+            self.o[0] + t * self.d[0],
+            self.o[1] + t * self.d[1],
+            self.o[2] + t * self.d[2],
+        ]
+    }
+}
+
+/// Which ray/triangle test to run (spheres always use the cancellation-free test).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Woop–Benthin–Wald watertight test (the default).
+    #[default]
+    Watertight,
+    /// Möller–Trumbore.
+    Moller,
+    /// The lecture's x = A⁻¹b.
+    Cramer,
+}
+
+impl Method {
+    /// All methods, default first.
+    pub const ALL: [Method; 3] = [Method::Watertight, Method::Moller, Method::Cramer];
+
+    /// The CLI / UI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Watertight => "watertight",
+            Method::Moller => "moller",
+            Method::Cramer => "cramer",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| format!("unknown method '{s}' (expected watertight, moller or cramer)"))
+    }
+}
+
+/// A primitive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape<T: Real = f32> {
+    /// A triangle v0, v1, v2 (closed, two-sided).
+    Triangle([V3<T>; 3]),
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        centre: V3<T>,
+        /// Radius (> 0).
+        radius: T,
+    },
+}
+
+/// The nearest hit of a ray: parameter, primitive index, and for triangles the barycentrics
+/// (b1, b2) of vertices 1 and 2 (zero for spheres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit<T: Real = f32> {
+    /// Ray parameter.
+    pub t: T,
+    /// Index of the primitive in its scene.
+    pub prim: u32,
+    /// Barycentric weight of vertex 1.
+    pub b1: T,
+    /// Barycentric weight of vertex 2.
+    pub b2: T,
+}
+
+impl<T: Real> Shape<T> {
+    /// Intersects with `method` (triangles only); a hit needs tmin < t < tmax.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray<T>, method: Method, tmin: T, tmax: T) -> Option<(T, T, T)> {
+        match self {
+            Shape::Triangle(v) => match method {
+                Method::Watertight => triangle::watertight(ray.o, ray.d, v, tmin, tmax),
+                Method::Moller => triangle::moller(ray.o, ray.d, v, tmin, tmax),
+                Method::Cramer => triangle::cramer(ray.o, ray.d, v, tmin, tmax),
+            },
+            Shape::Sphere { centre, radius } => {
+                sphere::intersect(ray.o, ray.d, *centre, *radius, tmin, tmax)
+                    .map(|t| (t, T::zero(), T::zero()))
+            }
+        }
+    }
+
+    /// Axis-aligned bounds (min, max).
+    pub fn bounds(&self) -> (V3<T>, V3<T>) {
+        match self {
+            Shape::Triangle(v) => {
+                let mut lo = v[0];
+                let mut hi = v[0];
+                for p in &v[1..] {
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+                (lo, hi)
+            }
+            Shape::Sphere { centre, radius } => {
+                let r = *radius;
+                (
+                    [centre[0] - r, centre[1] - r, centre[2] - r],
+                    [centre[0] + r, centre[1] + r, centre[2] + r],
+                )
+            }
+        }
+    }
+}

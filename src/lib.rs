@@ -1,0 +1,40 @@
+//! raylab: a teaching-grade CPU raycaster built from the raytracing lecture's lab.
+//!
+//! This crate is the renderer core. It never imports winit, egui or pixels: the window shell
+//! (the `viewer` feature) is a thin layer over it, and everything the window shows can be rendered
+//! headless to PNG.
+//!
+//! # Conventions (stated once, tested in `tests/`)
+//! - **Units and world frame**: the lab scene's frame. The Cornell box fills [-1, 1]³; its lab
+//!   vertices (room size L = 555) are mapped by `v*2/L - 1`, then x and y negated.
+//! - **Handedness**: right-handed everywhere. Camera space is x right, y **down**, z forward (the
+//!   lab's screen convention), so in the Cornell box "up" is −y. The default camera sits at
+//!   (0, 0, −3.001) looking along +z.
+//! - **Pixel centres**: pixel (i, j) (column i from the left, row j from the top) is sampled at
+//!   u = i − W/2 + 0.5, v = j − H/2 + 0.5; the camera-space ray direction is normalize(u, v, f)
+//!   with the focal length f in pixels. The default focal length is the image width.
+//! - **Transforms**: 4×4 homogeneous matrices, points w = 1, directions w = 0, normals by the
+//!   inverse transpose. An object's transform is always composed in the fixed order
+//!   M = T · R · S (scale first, then rotate, then translate), with R = Rz · Ry · Rx (x first).
+//!   Matrices are named by their frames, `world_from_camera`, and compose right to left.
+//! - **Angles**: radians inside, degrees only at the CLI and UI. Positive yaw (about +y) turns
+//!   the view to the right (+x), positive pitch (about +x) turns it up (−y).
+//! - **Rays**: o + t·d with d not necessarily normalised; a hit counts for tmin < t < tmax, the
+//!   nearest wins, and on an exact tie the lower primitive index wins. Triangles are closed
+//!   (edges and vertices belong) and two-sided.
+//! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
+#![forbid(unsafe_code)]
+
+pub mod accel;
+pub mod camera;
+pub mod geometry;
+pub mod math;
+pub mod render;
+pub mod scene;
+pub mod tracefile;
+
+pub use camera::Camera;
+pub use geometry::{Hit, Method, Ray, Shape};
+pub use math::TransformStack;
+pub use render::{render_into, LabStep, RenderSettings, RenderStats};
+pub use scene::Scene;

@@ -1,0 +1,116 @@
+//! One float trait so each intersection routine is written once and runs in f32 (rendering)
+//! or f64 (the `trace --precision f64` reference), plus small vector helpers on `[T; 3]`.
+
+use num_traits::Float;
+use std::fmt::{Debug, Display};
+use std::str::FromStr;
+
+/// f32 or f64.
+pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
+    /// Half an ulp of 1: the unit roundoff u of the IEEE format.
+    const UNIT_ROUNDOFF: Self;
+    /// Converts from f64 (rounding to nearest for f32).
+    fn of(x: f64) -> Self;
+    /// Widens to f64 (exact).
+    fn f64(self) -> f64;
+    /// The next representable value towards +∞.
+    fn up(self) -> Self;
+    /// The next representable value towards −∞.
+    fn down(self) -> Self;
+
+    /// Higham's γ(n) = n·u / (1 − n·u): the relative error bound of n rounded operations.
+    #[inline]
+    fn error_gamma(n: u32) -> Self {
+        let nu = Self::of(n as f64) * Self::UNIT_ROUNDOFF;
+        nu / (Self::one() - nu)
+    }
+}
+
+impl Real for f32 {
+    const UNIT_ROUNDOFF: Self = f32::EPSILON * 0.5;
+    #[inline]
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+    #[inline]
+    fn f64(self) -> f64 {
+        self as f64
+    }
+    #[inline]
+    fn up(self) -> Self {
+        self.next_up()
+    }
+    #[inline]
+    fn down(self) -> Self {
+        self.next_down()
+    }
+}
+
+impl Real for f64 {
+    const UNIT_ROUNDOFF: Self = f64::EPSILON * 0.5;
+    #[inline]
+    fn of(x: f64) -> Self {
+        x
+    }
+    #[inline]
+    fn f64(self) -> f64 {
+        self
+    }
+    #[inline]
+    fn up(self) -> Self {
+        self.next_up()
+    }
+    #[inline]
+    fn down(self) -> Self {
+        self.next_down()
+    }
+}
+
+/// A 3-vector as a plain array: the geometry works on these so it is generic over [`Real`].
+pub type V3<T> = [T; 3];
+
+/// a − b
+#[inline]
+pub fn sub<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// a + b
+#[inline]
+pub fn add<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// s · a
+#[inline]
+pub fn scale<T: Real>(a: V3<T>, s: T) -> V3<T> {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+/// a · b
+#[inline]
+pub fn dot<T: Real>(a: V3<T>, b: V3<T>) -> T {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// a × b
+#[inline]
+pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Component-wise |a|.
+#[inline]
+pub fn abs<T: Real>(a: V3<T>) -> V3<T> {
+    [a[0].abs(), a[1].abs(), a[2].abs()]
+}
+
+/// Whether all three components are finite.
+#[inline]
+pub fn finite<T: Real>(a: V3<T>) -> bool {
+    a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
+}

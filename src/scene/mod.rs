@@ -1,0 +1,86 @@
+//! Scenes: primitives with one colour each, a point light and the lab's constant indirect term.
+
+pub mod cornell;
+pub mod obj;
+
+use crate::geometry::Shape;
+use crate::math::real::V3;
+
+pub use obj::{load_obj_file, load_obj_str, ObjError};
+
+/// A point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    /// Position in the world.
+    pub position: V3<f32>,
+    /// Power P per colour channel (the lab's 14·(1, 1, 1)).
+    pub power: V3<f32>,
+}
+
+/// A scene: parallel arrays of primitives and their linear-RGB diffuse colours.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// A short name for messages ("cornell" or the file name).
+    pub name: String,
+    /// The primitives; a hit's `prim` indexes this.
+    pub shapes: Vec<Shape<f32>>,
+    /// Diffuse colour (the lab's ρ, linear RGB) of each primitive.
+    pub colors: Vec<V3<f32>>,
+    /// The one light.
+    pub light: PointLight,
+    /// The lab's constant indirect-light approximation N.
+    pub ambient: V3<f32>,
+    /// What loading it had to skip or guess (shown to the user, never fatal).
+    pub warnings: Vec<String>,
+}
+
+/// Axis-aligned bounds (min, max) of a scene.
+pub type Bounds = (V3<f32>, V3<f32>);
+
+impl Scene {
+    /// The built-in lab Cornell box (30 triangles), embedded in the binary.
+    pub fn cornell() -> Self {
+        cornell::scene()
+    }
+
+    /// How many primitives.
+    pub fn len(&self) -> usize {
+        self.shapes.len()
+    }
+
+    /// Whether the scene has no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.shapes.is_empty()
+    }
+
+    /// Bounds of all primitives, or `None` for an empty scene.
+    pub fn bounds(&self) -> Option<Bounds> {
+        let mut it = self.shapes.iter().map(Shape::bounds);
+        let first = it.next()?;
+        Some(it.fold(first, |(lo, hi), (a, b)| {
+            (
+                [lo[0].min(a[0]), lo[1].min(a[1]), lo[2].min(a[2])],
+                [hi[0].max(b[0]), hi[1].max(b[1]), hi[2].max(b[2])],
+            )
+        }))
+    }
+
+    /// A light and indirect term for a loaded model, placed as the lab places them relative to
+    /// the Cornell box: above the centre and towards the default camera (at −z), with the power
+    /// scaled by the model's size squared so the irradiance matches the lab's.
+    pub fn light_for_bounds(bounds: Bounds) -> PointLight {
+        let (lo, hi) = bounds;
+        let centre = [
+            (lo[0] + hi[0]) / 2.0,
+            (lo[1] + hi[1]) / 2.0,
+            (lo[2] + hi[2]) / 2.0,
+        ];
+        let half =
+            ((hi[0] - lo[0]).max(hi[1] - lo[1]).max(hi[2] - lo[2]) / 2.0).max(f32::MIN_POSITIVE);
+        let p = 14.0 * half * half;
+        PointLight {
+            position: [centre[0], centre[1] - 1.5 * half, centre[2] - 2.0 * half],
+            power: [p, p, p],
+        }
+    }
+}

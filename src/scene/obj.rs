@@ -1,0 +1,336 @@
+//! OBJ models to scenes, through tobj, with the validation tobj does not do.
+//!
+//! A first pass over the text checks every `v` and `f` line and names the file and line of the
+//! first problem: a coordinate that is not a finite f32 (NaN, inf, 1e39), a face with fewer
+//! than 3 vertices, an index of 0 or beyond the vertices defined so far. tobj then parses the
+//! text (polygons are fan-triangulated), and triangles of zero area are dropped and counted in
+//! a warning. A missing or broken material library is a warning: its faces turn grey.
+
+use super::{PointLight, Scene};
+use crate::geometry::Shape;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+/// Largest OBJ file accepted (bytes): a guard against exhausting memory on a wrong file.
+pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Colour of faces without a material (linear RGB).
+pub const DEFAULT_COLOR: [f32; 3] = [0.75, 0.75, 0.75];
+
+/// Why an OBJ could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// Not a file (a directory, say).
+    #[error("{0}: not a regular file")]
+    NotAFile(PathBuf),
+    /// Larger than [`MAX_OBJ_BYTES`].
+    #[error("{path}: {size} bytes is larger than the {limit}-byte limit for an OBJ file")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size.
+        size: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// Not UTF-8 text, or holding NUL bytes.
+    #[error("{file}:{line}: not a text OBJ file (binary data or invalid UTF-8)")]
+    NotText {
+        /// File name.
+        file: String,
+        /// 1-based line of the first bad byte.
+        line: usize,
+    },
+    /// A problem on one line.
+    #[error("{file}:{line}: {message}")]
+    Line {
+        /// File name.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// tobj refused the file.
+    #[error("{file}: {message}")]
+    Parse {
+        /// File name.
+        file: String,
+        /// tobj's message.
+        message: String,
+    },
+    /// Nothing to render.
+    #[error("{file}: no triangles (after dropping {dropped} degenerate ones)")]
+    NoTriangles {
+        /// File name.
+        file: String,
+        /// Zero-area triangles dropped.
+        dropped: usize,
+    },
+}
+
+/// Loads an OBJ file (and the material libraries it names, relative to it) as a scene, with
+/// a light placed for its size.
+pub fn load_obj_file(path: &Path) -> Result<Scene, ObjError> {
+    let io = |source| ObjError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        return Err(ObjError::NotAFile(path.to_path_buf()));
+    }
+    if meta.len() > MAX_OBJ_BYTES {
+        return Err(ObjError::TooLarge {
+            path: path.to_path_buf(),
+            size: meta.len(),
+            limit: MAX_OBJ_BYTES,
+        });
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
+    let name = path.display().to_string();
+    let text = to_text(&name, bytes)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    load_obj_str(&name, &text, |mtl: &str| {
+        let p = dir.join(mtl);
+        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
+    })
+}
+
+fn to_text(name: &str, bytes: Vec<u8>) -> Result<String, ObjError> {
+    let line_of =
+        |bytes: &[u8], pos: usize| 1 + bytes[..pos].iter().filter(|&&b| b == b'\n').count();
+    if let Some(pos) = bytes.iter().position(|&b| b == 0) {
+        return Err(ObjError::NotText {
+            file: name.to_string(),
+            line: line_of(&bytes, pos),
+        });
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let pos = e.utf8_error().valid_up_to();
+        ObjError::NotText {
+            file: name.to_string(),
+            line: line_of(e.as_bytes(), pos),
+        }
+    })
+}
+
+/// Loads OBJ text; `load_mtl(name)` returns the text of the material library `name`.
+pub fn load_obj_str(
+    name: &str,
+    text: &str,
+    load_mtl: impl Fn(&str) -> Result<String, String>,
+) -> Result<Scene, ObjError> {
+    if let Some(pos) = text.find('\0') {
+        return Err(ObjError::NotText {
+            file: name.to_string(),
+            line: 1 + text[..pos].matches('\n').count(),
+        });
+    }
+    prescan(name, text)?;
+
+    // Each library is read once however often `mtllib` names it; problems become warnings.
+    let warnings = RefCell::new(Vec::<String>::new());
+    let cache = RefCell::new(HashMap::<PathBuf, Result<String, String>>::new());
+    let loader = |p: &Path| -> tobj::MTLLoadResult {
+        let text = cache
+            .borrow_mut()
+            .entry(p.to_path_buf())
+            .or_insert_with(|| load_mtl(&p.to_string_lossy()))
+            .clone();
+        match text {
+            Ok(t) => tobj::load_mtl_buf(&mut Cursor::new(t.as_bytes())),
+            Err(e) => Err({
+                warnings
+                    .borrow_mut()
+                    .push(format!("{name}: material library: {e}"));
+                tobj::LoadError::OpenFileFailed
+            }),
+        }
+    };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, materials) =
+        tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, loader).map_err(|e| {
+            ObjError::Parse {
+                file: name.to_string(),
+                message: format!("tobj: {e}"),
+            }
+        })?;
+    let mut warnings = warnings.into_inner();
+    let materials = materials.unwrap_or_else(|e| {
+        if warnings.is_empty() {
+            warnings.push(format!("{name}: material library: {e}"));
+        }
+        Vec::new()
+    });
+    let colors: Vec<[f32; 3]> = materials
+        .iter()
+        .map(|m| match m.diffuse {
+            Some(kd) if kd.iter().all(|c| c.is_finite()) => kd.map(|c| c.clamp(0.0, 1.0)),
+            _ => DEFAULT_COLOR,
+        })
+        .collect();
+
+    let mut scene = Scene {
+        name: name.to_string(),
+        shapes: Vec::new(),
+        colors: Vec::new(),
+        light: PointLight {
+            position: [0.0; 3],
+            power: [0.0; 3],
+        },
+        ambient: [0.5; 3],
+        warnings: Vec::new(),
+    };
+    let mut dropped = 0usize;
+    for model in &models {
+        let mesh = &model.mesh;
+        let color = mesh
+            .material_id
+            .and_then(|id| colors.get(id).copied())
+            .unwrap_or(DEFAULT_COLOR);
+        let vertex = |i: u32| -> Option<[f32; 3]> {
+            let k = 3 * i as usize;
+            mesh.positions.get(k..k + 3).map(|p| [p[0], p[1], p[2]])
+        };
+        for tri in mesh.indices.chunks_exact(3) {
+            let (Some(a), Some(b), Some(c)) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2]))
+            else {
+                return Err(ObjError::Parse {
+                    file: name.to_string(),
+                    message: format!("model '{}': face index out of range", model.name),
+                });
+            };
+            if zero_area(a, b, c) {
+                dropped += 1;
+                continue;
+            }
+            scene.shapes.push(Shape::Triangle([a, b, c]));
+            scene.colors.push(color);
+        }
+    }
+    if dropped > 0 {
+        warnings.push(format!(
+            "{name}: dropped {dropped} degenerate (zero-area) triangles"
+        ));
+    }
+    for w in &warnings {
+        log::warn!("{w}");
+    }
+    scene.warnings = warnings;
+    let Some(bounds) = scene.bounds() else {
+        return Err(ObjError::NoTriangles {
+            file: name.to_string(),
+            dropped,
+        });
+    };
+    scene.light = Scene::light_for_bounds(bounds);
+    Ok(scene)
+}
+
+/// Whether the triangle has zero area, decided in f64 (where the edge vectors of f32
+/// vertices are exact for any sane model).
+fn zero_area(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> bool {
+    let e1 = [0, 1, 2].map(|k| b[k] as f64 - a[k] as f64);
+    let e2 = [0, 1, 2].map(|k| c[k] as f64 - a[k] as f64);
+    let n = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    n == [0.0; 3]
+}
+
+/// Checks what tobj silently accepts or reports without a line number.
+fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
+    let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
+    for (i, line) in text.lines().enumerate() {
+        let err = |message: String| ObjError::Line {
+            file: name.to_string(),
+            line: i + 1,
+            message,
+        };
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() < 3 {
+                    return Err(err(format!(
+                        "vertex needs 3 coordinates, found {}",
+                        coords.len()
+                    )));
+                }
+                for w in coords {
+                    match w.parse::<f32>() {
+                        Ok(x) if x.is_finite() => {}
+                        Ok(_) => {
+                            return Err(err(format!("coordinate '{w}' is not a finite f32")));
+                        }
+                        Err(_) => return Err(err(format!("coordinate '{w}' is not a number"))),
+                    }
+                }
+                nv += 1;
+            }
+            Some("vt") => nvt += 1,
+            Some("vn") => nvn += 1,
+            Some("f") => {
+                let refs: Vec<&str> = words.collect();
+                if refs.len() < 3 {
+                    return Err(err(format!(
+                        "face needs at least 3 vertices, found {}",
+                        refs.len()
+                    )));
+                }
+                for r in refs {
+                    let mut parts = r.split('/');
+                    for (k, count, what) in
+                        [(0, nv, "vertex"), (1, nvt, "texture"), (2, nvn, "normal")]
+                    {
+                        let Some(part) = parts.next() else { break };
+                        if part.is_empty() && k > 0 {
+                            continue;
+                        }
+                        check_index(part, count, what)
+                            .map_err(|m| err(format!("face '{r}': {m}")))?;
+                    }
+                    if parts.next().is_some() {
+                        return Err(err(format!(
+                            "face '{r}': more than 3 '/'-separated indices"
+                        )));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn check_index(word: &str, count: i64, what: &str) -> Result<(), String> {
+    let idx: i64 = word
+        .parse()
+        .map_err(|_| format!("{what} index '{word}' is not an integer"))?;
+    let ok = (idx > 0 && idx <= count) || (idx < 0 && -idx <= count);
+    if ok {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} index {idx} is out of range ({count} {what}s defined so far; OBJ indices start at 1)"
+        ))
+    }
+}

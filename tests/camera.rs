@@ -1,0 +1,116 @@
+//! The pinhole camera: pixel centres, focal length, field of view, pose.
+
+use glam::{DVec3, Vec3};
+use raylab::camera::CameraError;
+use raylab::Camera;
+
+fn dir(c: &Camera, i: u32, j: u32, w: u32, h: u32) -> DVec3 {
+    DVec3::from_array(c.ray_for_pixel(i, j, w, h).d.map(f64::from))
+}
+
+#[test]
+fn lab_camera_pose() {
+    let c = Camera::cornell(640);
+    assert_eq!(c.position(), DVec3::new(0.0, 0.0, -3.001));
+    assert_eq!(c.forward(), DVec3::Z);
+    assert_eq!(c.right(), DVec3::X);
+    assert_eq!(c.down(), DVec3::Y);
+    assert_eq!(c.focal, 640.0);
+    let r = c.ray_for_pixel(0, 0, 640, 480);
+    assert_eq!(r.o, [0.0, 0.0, -3.001f32]);
+}
+
+#[test]
+fn rays_pass_through_pixel_centres() {
+    let (w, h) = (640u32, 480u32);
+    let c = Camera::cornell(w);
+    for (i, j) in [(0, 0), (639, 479), (320, 240), (17, 401)] {
+        let expected = Vec3::new(i as f32 - 320.0 + 0.5, j as f32 - 240.0 + 0.5, 640.0).normalize();
+        let d = Vec3::from_array(c.ray_for_pixel(i, j, w, h).d);
+        assert!(
+            (d - expected).length() < 1e-6,
+            "pixel ({i},{j}): {d} vs {expected}"
+        );
+        assert!((d.length() - 1.0).abs() < 1e-6);
+    }
+    // The two centre pixels of an even image are mirror images: the optical axis lies between.
+    let a = dir(&c, 319, 239, w, h);
+    let b = dir(&c, 320, 240, w, h);
+    assert!((a.x + b.x).abs() < 1e-7 && (a.y + b.y).abs() < 1e-7 && (a.z - b.z).abs() < 1e-7);
+}
+
+#[test]
+fn fov_is_derived_from_focal_and_width() {
+    let c = Camera::cornell(500);
+    let fov = c.fov_x(500);
+    assert!((fov - 2.0 * 0.5f64.atan()).abs() < 1e-15);
+    assert!((fov.to_degrees() - 53.130_102_354).abs() < 1e-8);
+    // Same focal, twice the width: wider view. Focal for a given fov round-trips.
+    assert!(c.fov_x(1000) > fov);
+    let f = Camera::focal_for_fov(fov, 500);
+    assert!((f - 500.0).abs() < 1e-9);
+    // The edge pixel's ray makes (almost) half the fov with the axis.
+    let edge = c.ray_through(0.0, 250.0, 500, 500);
+    let angle = (edge.d[2] as f64).acos();
+    assert!((angle - fov / 2.0).abs() < 1e-6);
+}
+
+#[test]
+fn projecting_a_world_point_lands_on_the_pixel_whose_ray_passes_through_it() {
+    let c = Camera::from_yaw_pitch(DVec3::new(0.3, -0.2, -2.5), 0.2, -0.1, 400.0).unwrap();
+    let (w, h) = (320u32, 240u32);
+    for p in [
+        DVec3::new(0.1, 0.2, 0.5),
+        DVec3::new(-0.6, 0.4, 0.9),
+        DVec3::new(0.5, -0.7, -0.3),
+    ] {
+        let q = c.camera_from_world().transform_point3(p);
+        assert!(q.z > 0.0);
+        let x = c.focal * q.x / q.z + w as f64 / 2.0;
+        let y = c.focal * q.y / q.z + h as f64 / 2.0;
+        let ray = c.ray_through(x, y, w, h);
+        let o = DVec3::from_array(ray.o.map(f64::from));
+        let d = DVec3::from_array(ray.d.map(f64::from));
+        // The angle between the ray and the point, to f32 precision of the direction.
+        let sin = (p - o).normalize().cross(d.normalize()).length();
+        assert!(sin < 1e-6, "{p}: angle {sin}");
+    }
+}
+
+#[test]
+fn yaw_turns_right_pitch_turns_up() {
+    let right = Camera::from_yaw_pitch(DVec3::ZERO, 90f64.to_radians(), 0.0, 100.0).unwrap();
+    assert!((right.forward() - DVec3::X).length() < 1e-15);
+    let up = Camera::from_yaw_pitch(DVec3::ZERO, 0.0, 90f64.to_radians(), 100.0).unwrap();
+    assert!((up.forward() - DVec3::NEG_Y).length() < 1e-15, "up is -y");
+}
+
+#[test]
+fn look_to_matches_yaw_pitch() {
+    let a = Camera::from_yaw_pitch(DVec3::new(1.0, 2.0, 3.0), 0.4, 0.25, 300.0).unwrap();
+    let b = Camera::look_to(DVec3::new(1.0, 2.0, 3.0), a.forward(), DVec3::NEG_Y, 300.0).unwrap();
+    let diff = (a.world_from_camera() - b.world_from_camera())
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(diff < 1e-14, "{diff}");
+}
+
+#[test]
+fn bad_cameras_are_errors() {
+    for f in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e300] {
+        assert!(matches!(
+            Camera::from_yaw_pitch(DVec3::ZERO, 0.0, 0.0, f),
+            Err(CameraError::Focal(_))
+        ));
+    }
+    assert!(Camera::from_yaw_pitch(DVec3::new(f64::NAN, 0.0, 0.0), 0.0, 0.0, 1.0).is_err());
+    assert!(
+        Camera::look_to(DVec3::ZERO, DVec3::Y, DVec3::NEG_Y, 1.0).is_err(),
+        "parallel"
+    );
+    assert!(
+        Camera::look_to(DVec3::ZERO, DVec3::ZERO, DVec3::NEG_Y, 1.0).is_err(),
+        "zero view"
+    );
+}

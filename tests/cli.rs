@@ -1,0 +1,443 @@
+//! The `raylab` binary from outside: render, trace, and bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn raylab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("run raylab")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A failed run: the given exit code, a message holding every `needle`, and no panic.
+fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
+    for n in needles {
+        assert!(err.contains(n), "'{n}' not in: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+#[test]
+fn render_writes_the_cornell_box_for_every_step() {
+    let dir = tempfile::tempdir().unwrap();
+    for step in ["flat", "direct", "shadows", "indirect"] {
+        let out = dir.path().join(format!("{step}.png"));
+        let o = raylab(&[
+            "render",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--step",
+            step,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = stdout(&o);
+        assert!(text.contains("Mrays/s") && text.contains("64x48"), "{text}");
+        let (w, h, px) = read_png(&out);
+        assert_eq!((w, h, px.len()), (64, 48, 64 * 48 * 4));
+        // Left wall purple-ish, right wall yellow-ish in the middle row (not black).
+        let at = |i: usize, j: usize| &px[4 * (j * 64 + i)..4 * (j * 64 + i) + 3];
+        let (l, r) = (at(2, 24), at(61, 24));
+        assert!(l[0] > l[1] && l[2] > l[1], "{step}: left {l:?}");
+        assert!(r[0] > r[2] && r[1] > r[2], "{step}: right {r:?}");
+    }
+}
+
+#[test]
+fn render_camera_flags_move_the_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.png");
+    let b = dir.path().join("b.png");
+    let o = raylab(&[
+        "render",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--out",
+        a.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = raylab(&[
+        "render",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--camera",
+        "0.2,-0.1,-2",
+        "--yaw",
+        "-10",
+        "--pitch",
+        "5",
+        "--focal",
+        "30",
+        "--spp",
+        "2",
+        "--method",
+        "moller",
+        "--out",
+        b.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_ne!(read_png(&a).2, read_png(&b).2);
+}
+
+#[test]
+fn render_loads_an_obj_and_frames_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("tet.obj");
+    // A pyramid: a quad base (fan-triangulated), four sides, and one degenerate face.
+    std::fs::write(
+        &obj,
+        "mtllib tet.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1\nusemtl red\n\
+         f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nf 1 1 2\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("tet.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    let out = dir.path().join("tet.png");
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("dropped 1 degenerate"),
+        "{}",
+        stderr(&o)
+    );
+    let (_, _, px) = read_png(&out);
+    // Framed: the centre pixel sees the red model, a corner sees the background.
+    let c = &px[4 * (16 * 32 + 16)..][..3];
+    assert!(c[0] > 200 && c[1] == 0 && c[2] == 0, "{c:?}");
+    assert_eq!(&px[..3], &[0, 0, 0]);
+}
+
+#[test]
+fn render_rejects_bad_values_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let out = out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--width", "0"], "0x48"),
+        (&["--width", "100000"], "100000x48"),
+        (&["--focal", "0"], "focal length 0"),
+        (&["--focal", "-5"], "focal length -5"),
+        (&["--focal", "NaN"], "focal length NaN"),
+        (&["--focal", "1e300"], "focal length"),
+        (&["--spp", "0"], "supersampling 0"),
+        (&["--spp", "1000"], "supersampling 1000"),
+        (&["--camera", "1,2"], "x,y,z"),
+        (&["--camera", "1,nan,2"], "not finite"),
+        (&["--scene", "/no/such/file.obj"], "/no/such/file.obj"),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["render", "--height", "48", "--out", out];
+        args.extend_from_slice(extra);
+        let o = raylab(&args);
+        assert_fails(&o, 2, &[needle]);
+    }
+    let o = raylab(&["render", "--step", "bogus", "--out", out]);
+    assert_fails(&o, 2, &["bogus", "flat"]);
+    let o = raylab(&["render", "--method", "exact", "--out", out]);
+    assert_fails(&o, 2, &["exact", "watertight"]);
+    let o = raylab(&[
+        "render",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        "/no/such/dir/x.png",
+    ]);
+    assert_fails(&o, 2, &["/no/such/dir/x.png"]);
+}
+
+#[test]
+fn render_rejects_hostile_obj_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: &[(&str, &str)] = &[
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n",
+            ":3: coordinate 'nan'",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n",
+            ":3: coordinate '1e39' is not a finite",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+            ":4: face '4': vertex index 4 is out of range",
+        ),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", ":4: face '0'"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
+            ":4: face needs at least 3",
+        ),
+        ("v 0 0\n", ":1: vertex needs 3"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "vertex index -4"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n",
+            "'x' is not an integer",
+        ),
+        ("", "no triangles"),
+        (
+            "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n",
+            "no triangles (after dropping 1",
+        ),
+        ("v 0 0 0\n\u{0}\u{1}binary", ":2: not a text OBJ"),
+    ];
+    for (k, (text, needle)) in cases.iter().enumerate() {
+        let obj = dir.path().join(format!("bad{k}.obj"));
+        std::fs::write(&obj, text).unwrap();
+        let o = raylab(&[
+            "render",
+            "--scene",
+            obj.to_str().unwrap(),
+            "--out",
+            "/dev/null",
+        ]);
+        assert_fails(&o, 2, &[&format!("bad{k}.obj"), needle]);
+    }
+    // A directory named .obj.
+    let d = dir.path().join("dir.obj");
+    std::fs::create_dir(&d).unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        d.to_str().unwrap(),
+        "--out",
+        "/dev/null",
+    ]);
+    assert_fails(&o, 2, &["dir.obj", "not a regular file"]);
+    // A missing material library is a warning, not an error.
+    let obj = dir.path().join("nomtl.obj");
+    std::fs::write(
+        &obj,
+        "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n",
+    )
+    .unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing.mtl"), "{}", stderr(&o));
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn trace_answers_the_text_format_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "scene.txt",
+        "# a triangle at z = 2, a sphere behind it, a triangle at z = 1 off to the side\n\
+         tri -1 -1 2  1 -1 2  0 1 2\n\
+         \n\
+         sphere 0 0 5 1\n\
+         tri 5 5 1 7 5 1 5 7 1\n",
+    );
+    let rays = write(
+        dir.path(),
+        "rays.txt",
+        "0 0 0 0 0 1 0 inf\n\
+         # unnormalised: t is in units of |d|\n\
+         0 0 0 0 0 4 0 inf\n\
+         0 0 0 0 0 1 2.5 inf\n\
+         0 0 0 0 0 1 0 2\n\
+         0 0 0 0 0 1 4 7\n\
+         5.5 5.5 0 0 0 1 0 inf\n\
+         0 0 0 0 1 0 0 inf\n\
+         0 0 3 0 0 1 0 inf\n\
+         0 0 0 0.1 0.1 1 0 inf\n",
+    );
+    let expected = "hit 2 0\nhit 0.5 0\nhit 4 1\nmiss\nhit 6 1\nhit 1 2\nmiss\nhit 1 1\n";
+    for method in ["watertight", "moller", "cramer"] {
+        for precision in ["f32", "f64"] {
+            let o = raylab(&[
+                "trace",
+                "--scene",
+                &scene,
+                "--rays",
+                &rays,
+                "--method",
+                method,
+                "--precision",
+                precision,
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let out = stdout(&o);
+            let lines: Vec<&str> = out.lines().collect();
+            assert_eq!(lines.len(), 9, "{method} {precision}: {out}");
+            assert_eq!(
+                lines[..8].join("\n") + "\n",
+                expected,
+                "{method} {precision}"
+            );
+            // The last ray's t prints with full round-trip precision in its own precision.
+            let last: Vec<&str> = lines[8].split(' ').collect();
+            assert_eq!((last[0], last[2]), ("hit", "0"));
+            let t = last[1];
+            match precision {
+                "f32" => {
+                    let v: f32 = t.parse().unwrap();
+                    assert_eq!(v.to_string(), t);
+                    assert!((v - 2.0).abs() < 1e-6);
+                }
+                _ => {
+                    let v: f64 = t.parse().unwrap();
+                    assert_eq!(v.to_string(), t);
+                    assert!((v - 2.0).abs() < 1e-14);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn trace_f64_sees_what_f32_cannot() {
+    // Two triangles 1e-10 apart at z = 1: f32 parses both to the same plane (a tie, the lower
+    // index wins); f64 keeps them apart and finds the nearer one.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        "tri -1 -1 1.0000000001 1 -1 1.0000000001 0 1 1.0000000001\ntri -1 -1 1 1 -1 1 0 1 1\n",
+    );
+    let rays = write(dir.path(), "r.txt", "0 0 0 0 0 1 0 inf\n");
+    let f32_out = stdout(&raylab(&["trace", "--scene", &scene, "--rays", &rays]));
+    let f64_out = stdout(&raylab(&[
+        "trace",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--precision",
+        "f64",
+    ]));
+    assert_eq!(f32_out, "hit 1 0\n");
+    assert_eq!(f64_out, "hit 1 1\n");
+}
+
+#[test]
+fn trace_rejects_malformed_input_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let good_scene = write(dir.path(), "good_scene.txt", "tri 0 0 1 1 0 1 0 1 1\n");
+    let good_rays = write(dir.path(), "good_rays.txt", "0 0 0 0 0 1 0 inf\n");
+    let scene_cases: &[(&str, &str)] = &[
+        ("tri 0 0 1 1 0 1 0 1\n", ":1: tri needs 9 numbers, found 8"),
+        (
+            "\n# c\ntri 0 0 1 1 0 1 0 1 1 5\n",
+            ":3: tri needs 9 numbers, found 10",
+        ),
+        ("sphere 0 0 0 -1\n", ":1: sphere radius -1 must be > 0"),
+        ("sphere 0 0 0 0\n", "radius 0 must be > 0"),
+        ("sphere 0 0 nan 1\n", ":1: 'nan' is NaN"),
+        ("sphere 0 0 inf 1\n", "not finite"),
+        ("tri 0 0 1 1 0 1 0 x 1\n", "'x' is not a number"),
+        ("cube 1 2 3\n", "unknown primitive 'cube'"),
+    ];
+    for (text, needle) in scene_cases {
+        let s = write(dir.path(), "bad_scene.txt", text);
+        let o = raylab(&["trace", "--scene", &s, "--rays", &good_rays]);
+        assert_fails(&o, 2, &["bad_scene.txt", needle]);
+        assert!(o.stdout.is_empty(), "nothing half-printed");
+    }
+    let ray_cases: &[(&str, &str)] = &[
+        ("0 0 0 0 0 1 0\n", ":1: ray needs 8 numbers, found 7"),
+        ("0 0 0 0 0 1 0 inf 9\n", "found 9"),
+        (
+            "0 0 0 0 0 1 0 inf\n0 0 0 0 0 0 0 inf\n",
+            ":2: direction is zero",
+        ),
+        ("0 0 0 0 0 1 5 1\n", ":1: tmin 5 > tmax 1"),
+        ("0 0 0 0 0 1 nan inf\n", "'nan' is NaN"),
+        ("0 0 inf 0 0 1 0 inf\n", "not finite"),
+        ("0 0 0 0 0 1 0 junk\n", "'junk' is not a number"),
+    ];
+    for (text, needle) in ray_cases {
+        let r = write(dir.path(), "bad_rays.txt", text);
+        let o = raylab(&["trace", "--scene", &good_scene, "--rays", &r]);
+        assert_fails(&o, 2, &["bad_rays.txt", needle]);
+        assert!(o.stdout.is_empty(), "nothing half-printed");
+    }
+    let o = raylab(&["trace", "--scene", "/no/such/scene", "--rays", &good_rays]);
+    assert_fails(&o, 2, &["/no/such/scene"]);
+    let o = raylab(&[
+        "trace",
+        "--scene",
+        &good_scene,
+        "--rays",
+        &good_rays,
+        "--precision",
+        "f16",
+    ]);
+    assert_fails(&o, 2, &["f16"]);
+}
+
+#[test]
+fn no_arguments_explains_that_the_window_is_not_built_yet() {
+    let o = raylab(&[]);
+    assert_fails(&o, 1, &["raylab render"]);
+}
+
+#[test]
+fn help_explains_every_flag() {
+    let o = raylab(&["render", "--help"]);
+    let text = stdout(&o);
+    for flag in [
+        "--scene", "--width", "--height", "--focal", "--camera", "--yaw", "--pitch", "--step",
+        "--spp", "--method", "--out",
+    ] {
+        assert!(text.contains(flag), "{flag} missing from help");
+    }
+    let o = raylab(&["trace", "--help"]);
+    let text = stdout(&o);
+    for flag in ["--scene", "--rays", "--method", "--precision"] {
+        assert!(text.contains(flag), "{flag} missing from help");
+    }
+}
