@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::DVec3;
 use raylab::camera::Camera;
+use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::{self, LabStep, RenderSettings};
 use raylab::scene::{self, Scene};
@@ -17,6 +18,20 @@ pub struct Cli {
     /// What to do; without a command, raylab opens the interactive window.
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// An OBJ model to open in the window instead of the built-in Cornell box.
+    pub model: Option<PathBuf>,
+    /// Scripted run: show N frames (then finish the script and refine the image), save what
+    /// the window showed to --screenshot and exit 0. For tests; needs a display.
+    #[arg(long, value_name = "N", requires = "screenshot")]
+    pub frames: Option<u64>,
+    /// With --frames: the PNG file to save the window to.
+    #[arg(long, value_name = "FILE.png", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// With --frames: timed key and mouse events to replay, one per line:
+    /// `<ms> key <W|A|S|D|Q|E|Left|Right|Up|Down|Shift|R> down|up`, `<ms> mouse <dx> <dy>`,
+    /// `<ms> wheel <lines>`, `<ms> step <flat|direct|shadows|indirect>`.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub script: Option<PathBuf>,
 }
 
 /// The subcommands.
@@ -168,26 +183,6 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
     Ok(scene::load_obj_file(Path::new(spec))?)
 }
 
-/// A camera that frames `scene` as a whole: looking along +z at the centre of its bounds,
-/// far enough back that the bounding sphere fits the narrower field of view.
-pub fn framing_camera(scene: &Scene, width: u32, height: u32, focal: f64) -> Result<Camera> {
-    let (lo, hi) = scene.bounds().context("empty scene")?;
-    let (lo, hi) = (
-        DVec3::from_array(lo.map(f64::from)),
-        DVec3::from_array(hi.map(f64::from)),
-    );
-    let centre = (lo + hi) / 2.0;
-    let radius = ((hi - lo).length() / 2.0).max(1e-30);
-    let half_fov = (width.min(height) as f64 / (2.0 * focal)).atan();
-    let distance = radius / half_fov.sin();
-    Ok(Camera::from_yaw_pitch(
-        centre - DVec3::Z * distance,
-        0.0,
-        0.0,
-        focal,
-    )?)
-}
-
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let settings = RenderSettings {
@@ -211,8 +206,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             Camera::from_yaw_pitch(Camera::cornell(args.width).position(), yaw, pitch, focal)?
         }
         (None, _) => {
-            let framed = framing_camera(&scene, args.width, args.height, focal)?;
-            Camera::from_yaw_pitch(framed.position(), yaw, pitch, focal)?
+            let bounds = scene.bounds().context("empty scene")?;
+            let framed = CameraController::framing(bounds, args.width, args.height);
+            Camera::from_yaw_pitch(framed.position, yaw, pitch, focal)?
         }
     };
     // Fail on an unwritable path before spending the render time.

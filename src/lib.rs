@@ -27,6 +27,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod controller;
 pub mod geometry;
 pub mod math;
 pub mod render;

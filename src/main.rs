@@ -1,6 +1,8 @@
 //! Parses the command line and dispatches; nothing else.
 #![forbid(unsafe_code)]
 
+#[cfg(feature = "viewer")]
+mod app;
 mod cli;
 
 use clap::Parser;
@@ -12,13 +14,7 @@ fn main() -> ExitCode {
     let result = match &args.command {
         Some(cli::Command::Render(a)) => cli::render(a),
         Some(cli::Command::Trace(a)) => cli::trace(a),
-        None => {
-            eprintln!(
-                "raylab: the interactive window is not built yet; use `raylab render --out FILE.png` \
-                 (see `raylab --help`)"
-            );
-            return ExitCode::from(1);
-        }
+        None => viewer(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -27,4 +23,21 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+#[cfg(feature = "viewer")]
+fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
+    app::run(app::ViewerOptions {
+        scene: args.model.clone(),
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        script: args.script.clone(),
+    })
+}
+
+#[cfg(not(feature = "viewer"))]
+fn viewer(_: &cli::Cli) -> anyhow::Result<()> {
+    anyhow::bail!(
+        "this raylab was built without the window (cargo feature `viewer`); use `raylab render --out FILE.png`"
+    )
 }

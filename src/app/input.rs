@@ -1,0 +1,163 @@
+//! Keyboard and mouse state, translated from winit (or from a script) into the core's plain
+//! [`ControlInput`].
+
+use raylab::controller::ControlInput;
+use winit::keyboard::KeyCode;
+
+/// The keys the viewer reacts to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Key {
+    W,
+    A,
+    S,
+    D,
+    Q,
+    E,
+    Left,
+    Right,
+    Up,
+    Down,
+    Shift,
+    R,
+    H,
+    F1,
+    F12,
+    Escape,
+}
+
+impl Key {
+    /// Maps a physical key (layout-independent: WASD stays under the left hand everywhere).
+    pub fn from_code(code: KeyCode) -> Option<Key> {
+        Some(match code {
+            KeyCode::KeyW => Key::W,
+            KeyCode::KeyA => Key::A,
+            KeyCode::KeyS => Key::S,
+            KeyCode::KeyD => Key::D,
+            KeyCode::KeyQ => Key::Q,
+            KeyCode::KeyE => Key::E,
+            KeyCode::ArrowLeft => Key::Left,
+            KeyCode::ArrowRight => Key::Right,
+            KeyCode::ArrowUp => Key::Up,
+            KeyCode::ArrowDown => Key::Down,
+            KeyCode::ShiftLeft | KeyCode::ShiftRight => Key::Shift,
+            KeyCode::KeyR => Key::R,
+            KeyCode::KeyH => Key::H,
+            KeyCode::F1 => Key::F1,
+            KeyCode::F12 => Key::F12,
+            KeyCode::Escape => Key::Escape,
+            _ => return None,
+        })
+    }
+
+    /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
+    pub fn from_name(name: &str) -> Option<Key> {
+        const ALL: [(&str, Key); 16] = [
+            ("W", Key::W),
+            ("A", Key::A),
+            ("S", Key::S),
+            ("D", Key::D),
+            ("Q", Key::Q),
+            ("E", Key::E),
+            ("Left", Key::Left),
+            ("Right", Key::Right),
+            ("Up", Key::Up),
+            ("Down", Key::Down),
+            ("Shift", Key::Shift),
+            ("R", Key::R),
+            ("H", Key::H),
+            ("F1", Key::F1),
+            ("F12", Key::F12),
+            ("Escape", Key::Escape),
+        ];
+        ALL.iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|(_, k)| *k)
+    }
+
+    /// Keys that move or turn while held (the rest act once, on press).
+    fn is_held_motion(self) -> bool {
+        matches!(
+            self,
+            Key::W
+                | Key::A
+                | Key::S
+                | Key::D
+                | Key::Q
+                | Key::E
+                | Key::Left
+                | Key::Right
+                | Key::Up
+                | Key::Down
+                | Key::Shift
+        )
+    }
+}
+
+/// Which motion keys are held, plus mouse and wheel motion since the last frame.
+#[derive(Default, Debug)]
+pub struct InputState {
+    held: Vec<Key>,
+    mouse: (f64, f64),
+    wheel: f64,
+}
+
+impl InputState {
+    /// Records a press or release of a motion key; returns false for other keys.
+    pub fn key(&mut self, key: Key, pressed: bool) -> bool {
+        if !key.is_held_motion() {
+            return false;
+        }
+        self.held.retain(|k| *k != key);
+        if pressed {
+            self.held.push(key);
+        }
+        true
+    }
+
+    /// Releases everything (focus lost: no key stays stuck down).
+    pub fn release_all(&mut self) {
+        self.held.clear();
+    }
+
+    /// Adds mouse-look motion.
+    pub fn mouse(&mut self, dx: f64, dy: f64) {
+        self.mouse.0 += dx;
+        self.mouse.1 += dy;
+    }
+
+    /// Adds wheel lines (positive: wheel up, zoom in).
+    pub fn wheel(&mut self, lines: f64) {
+        self.wheel += lines;
+    }
+
+    /// Whether a held key keeps the camera moving.
+    pub fn is_moving(&self) -> bool {
+        self.peek().is_moving()
+    }
+
+    fn axis(&self, plus: Key, minus: Key) -> f64 {
+        let has = |k| self.held.contains(&k) as i32 as f64;
+        has(plus) - has(minus)
+    }
+
+    fn peek(&self) -> ControlInput {
+        ControlInput {
+            forward: self.axis(Key::W, Key::S),
+            right: self.axis(Key::D, Key::A),
+            up: self.axis(Key::E, Key::Q),
+            yaw: self.axis(Key::Right, Key::Left),
+            pitch: self.axis(Key::Up, Key::Down),
+            fast: self.held.contains(&Key::Shift),
+            mouse: self.mouse,
+            wheel: self.wheel,
+        }
+    }
+
+    /// This frame's input; mouse and wheel motion are consumed.
+    pub fn take(&mut self) -> ControlInput {
+        let input = self.peek();
+        self.mouse = (0.0, 0.0);
+        self.wheel = 0.0;
+        input
+    }
+}

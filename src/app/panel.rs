@@ -1,0 +1,266 @@
+//! The egui side panel, the image area beside it, and the shortcuts overlay.
+
+use super::ViewSettings;
+use raylab::controller::{CameraController, FOCAL_RATIO_RANGE};
+use raylab::geometry::Method;
+use raylab::render::{LabStep, RenderStats, MAX_SPP};
+
+/// Preset render resolutions offered besides "a scale of the window".
+pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920, 1080)];
+
+/// What the panel shows but does not edit.
+pub struct PanelInfo<'a> {
+    pub scene_name: &'a str,
+    pub primitives: usize,
+    pub warnings: &'a [String],
+    pub full_size: (u32, u32),
+    pub shown: Option<(u32, u32, u8, RenderStats)>,
+    pub status: &'a str,
+    pub loading: bool,
+    pub threads: usize,
+}
+
+/// What the user asked for with buttons.
+#[derive(Default)]
+pub struct PanelActions {
+    pub reset_camera: bool,
+    pub screenshot: bool,
+    pub load: Option<String>,
+}
+
+/// The side panel. Edits `view` and `camera` in place.
+pub fn side_panel(
+    ui: &mut egui::Ui,
+    view: &mut ViewSettings,
+    camera: &mut CameraController,
+    obj_path: &mut String,
+    info: &PanelInfo,
+) -> PanelActions {
+    let mut actions = PanelActions::default();
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        ui.heading("raylab");
+        ui.label(format!(
+            "{}: {} primitives",
+            info.scene_name, info.primitives
+        ));
+        for w in info.warnings {
+            ui.colored_label(egui::Color32::YELLOW, w);
+        }
+
+        ui.separator();
+        ui.strong("Lab step");
+        for step in LabStep::ALL {
+            ui.radio_value(&mut view.step, step, step.name())
+                .on_hover_text(step.explanation());
+        }
+        ui.small(view.step.explanation());
+
+        ui.separator();
+        ui.strong("Camera");
+        let width = info.full_size.0.max(1);
+        let mut focal = camera.focal(width);
+        let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
+        let fov = 2.0 * (width as f64 / (2.0 * focal)).atan();
+        if ui
+            .add(
+                egui::Slider::new(&mut focal, range)
+                    .logarithmic(true)
+                    .text("focal (px)")
+                    .custom_formatter(|v, _| format!("{v:.1}")),
+            )
+            .changed()
+        {
+            camera.set_focal(focal, width);
+        }
+        ui.label(format!("horizontal field of view {:.1}°", fov.to_degrees()));
+        ui.horizontal(|ui| {
+            ui.label("position");
+            for c in [
+                &mut camera.position.x,
+                &mut camera.position.y,
+                &mut camera.position.z,
+            ] {
+                ui.add(
+                    egui::DragValue::new(c)
+                        .speed(0.01 * camera.scene_size)
+                        .max_decimals(3),
+                );
+            }
+        });
+        ui.horizontal(|ui| {
+            let mut yaw = camera.yaw.to_degrees();
+            let mut pitch = camera.pitch.to_degrees();
+            ui.label("yaw");
+            if ui
+                .add(
+                    egui::DragValue::new(&mut yaw)
+                        .speed(0.5)
+                        .suffix("°")
+                        .max_decimals(1),
+                )
+                .changed()
+            {
+                camera.yaw = yaw.to_radians();
+            }
+            ui.label("pitch");
+            if ui
+                .add(
+                    egui::DragValue::new(&mut pitch)
+                        .speed(0.5)
+                        .range(-89.0..=89.0)
+                        .suffix("°")
+                        .max_decimals(1),
+                )
+                .changed()
+            {
+                camera.pitch = pitch.to_radians();
+            }
+        });
+        if ui.button("Reset camera (R)").clicked() {
+            actions.reset_camera = true;
+        }
+        ui.collapsing("world_from_camera (4x4)", |ui| {
+            let m = camera.stack().matrix();
+            egui::Grid::new("matrix").striped(true).show(ui, |ui| {
+                for row in 0..4 {
+                    for col in 0..4 {
+                        ui.monospace(format!("{:+.3}", m.col(col)[row]));
+                    }
+                    ui.end_row();
+                }
+            });
+        });
+
+        ui.separator();
+        ui.strong("Resolution");
+        let label = match view.resolution {
+            super::Resolution::WindowScale(_) => "scale of the window".to_string(),
+            super::Resolution::Fixed(w, h) => format!("{w}x{h}"),
+        };
+        egui::ComboBox::from_id_salt("resolution")
+            .selected_text(label)
+            .show_ui(ui, |ui| {
+                let scale = match view.resolution {
+                    super::Resolution::WindowScale(s) => s,
+                    _ => 1.0,
+                };
+                ui.selectable_value(
+                    &mut view.resolution,
+                    super::Resolution::WindowScale(scale),
+                    "scale of the window",
+                );
+                for (w, h) in PRESETS {
+                    ui.selectable_value(
+                        &mut view.resolution,
+                        super::Resolution::Fixed(w, h),
+                        format!("{w}x{h}"),
+                    );
+                }
+            });
+        if let super::Resolution::WindowScale(s) = &mut view.resolution {
+            ui.add(egui::Slider::new(s, 0.1..=1.0).text("scale"));
+        }
+        ui.checkbox(&mut view.adaptive, "adaptive preview while moving");
+        if view.adaptive {
+            ui.add(egui::Slider::new(&mut view.target_ms, 4.0..=100.0).text("target ms"));
+        } else {
+            ui.add(egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"));
+        }
+
+        ui.separator();
+        ui.strong("Sampling and intersection");
+        ui.add(egui::Slider::new(&mut view.spp, 1..=MAX_SPP.min(8)).text("supersampling (n x n)"));
+        egui::ComboBox::from_label("ray/triangle")
+            .selected_text(view.method.name())
+            .show_ui(ui, |ui| {
+                for m in Method::ALL {
+                    ui.selectable_value(&mut view.method, m, m.name());
+                }
+            });
+
+        ui.separator();
+        ui.strong("Light");
+        ui.horizontal(|ui| {
+            ui.label("position");
+            let speed = 0.01 * camera.scene_size as f32;
+            for c in view.light.iter_mut() {
+                ui.add(egui::DragValue::new(c).speed(speed).max_decimals(3));
+            }
+        });
+
+        ui.separator();
+        ui.strong("Frame");
+        match info.shown {
+            Some((w, h, level, stats)) => {
+                let what = ["preview", "full", "supersampled"][level.min(2) as usize];
+                ui.label(format!(
+                    "rendered {w}x{h} ({what}), target {}x{}",
+                    info.full_size.0, info.full_size.1
+                ));
+                ui.label(format!(
+                    "{:.1} ms, {:.2} Mrays/s on {} threads",
+                    stats.elapsed.as_secs_f64() * 1e3,
+                    stats.mrays_per_s(),
+                    info.threads
+                ));
+            }
+            None => {
+                ui.label("rendering...");
+            }
+        }
+
+        ui.separator();
+        ui.strong("Files");
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(obj_path);
+            if ui
+                .add_enabled(!info.loading, egui::Button::new("Load OBJ"))
+                .clicked()
+            {
+                actions.load = Some(obj_path.clone());
+            }
+        });
+        ui.small("or drop an .obj file on the window");
+        if ui.button("Save screenshot (F12)").clicked() {
+            actions.screenshot = true;
+        }
+        if !info.status.is_empty() {
+            ui.label(info.status);
+        }
+        ui.small("H or F1: shortcuts");
+    });
+    actions
+}
+
+/// The shortcuts overlay.
+pub fn help_window(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("Shortcuts")
+        .open(open)
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0])
+        .show(ctx, |ui| {
+            egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                for (k, what) in CONTROLS {
+                    ui.monospace(*k);
+                    ui.label(*what);
+                    ui.end_row();
+                }
+            });
+        });
+}
+
+/// The controls, as shown in the overlay and the README.
+pub const CONTROLS: &[(&str, &str)] = &[
+    ("W / S", "move forward / back"),
+    ("A / D", "move left / right"),
+    ("Q / E", "move down / up"),
+    ("arrows", "turn (yaw and pitch)"),
+    ("Shift", "4x faster"),
+    ("right drag", "look around"),
+    ("wheel", "focal length (up zooms in)"),
+    ("R", "reset the camera"),
+    ("F12", "save a screenshot (PNG)"),
+    ("H / F1", "this overlay"),
+    ("Esc", "release the mouse; again to quit"),
+];

@@ -1,0 +1,121 @@
+//! Renders off the event-loop thread: one worker thread takes the newest job (older pending
+//! jobs are dropped unrendered), renders it on the rayon pool and hands the image back.
+
+use raylab::camera::Camera;
+use raylab::render::{self, RenderSettings, RenderStats};
+use raylab::Scene;
+use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+
+/// What to render.
+#[derive(Clone)]
+pub struct Job {
+    /// The scene.
+    pub scene: Arc<Scene>,
+    /// The camera (focal length for this job's width).
+    pub camera: Camera,
+    /// Size, step, sampling, method.
+    pub settings: RenderSettings,
+    /// The app's change counter when the job was made.
+    pub generation: u64,
+    /// Refinement level: 0 preview, 1 full resolution, 2 full supersampling.
+    pub level: u8,
+}
+
+/// A finished image.
+pub struct Done {
+    /// The job, as submitted.
+    pub job: Job,
+    /// RGBA8 pixels, or why the render failed.
+    pub image: Result<(Vec<u8>, RenderStats), String>,
+}
+
+#[derive(Default)]
+struct Slot {
+    job: Option<Job>,
+    quit: bool,
+}
+
+/// The worker thread and its mailbox.
+pub struct Worker {
+    slot: Arc<(Mutex<Slot>, Condvar)>,
+    done: Receiver<Done>,
+    outstanding: usize,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    /// Starts the thread; `wake` is called after each finished job (to wake the event loop).
+    pub fn new(wake: impl Fn() + Send + 'static) -> Self {
+        let slot = Arc::new((Mutex::new(Slot::default()), Condvar::new()));
+        let (tx, rx): (Sender<Done>, Receiver<Done>) = channel();
+        let shared = slot.clone();
+        let thread = std::thread::Builder::new()
+            .name("raylab-render".into())
+            .spawn(move || loop {
+                let job = {
+                    let (lock, cvar) = &*shared;
+                    let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+                    while s.job.is_none() && !s.quit {
+                        s = cvar.wait(s).unwrap_or_else(|e| e.into_inner());
+                    }
+                    if s.quit {
+                        return;
+                    }
+                    s.job.take().expect("checked above")
+                };
+                let image = render::render_image(&job.scene, &job.camera, &job.settings)
+                    .map_err(|e| e.to_string());
+                if tx.send(Done { job, image }).is_err() {
+                    return;
+                }
+                wake();
+            })
+            .expect("spawn the render thread");
+        Self {
+            slot,
+            done: rx,
+            outstanding: 0,
+            thread: Some(thread),
+        }
+    }
+
+    /// Whether no job is queued or rendering.
+    pub fn is_idle(&self) -> bool {
+        self.outstanding == 0
+    }
+
+    /// Queues `job`, replacing a queued job that has not started.
+    pub fn submit(&mut self, job: Job) {
+        let (lock, cvar) = &*self.slot;
+        let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+        if s.job.replace(job).is_none() {
+            self.outstanding += 1;
+        }
+        cvar.notify_one();
+    }
+
+    /// The newest finished image, if any finished since the last call.
+    pub fn take_latest(&mut self) -> Option<Done> {
+        let mut latest = None;
+        while let Ok(done) = self.done.try_recv() {
+            self.outstanding = self.outstanding.saturating_sub(1);
+            latest = Some(done);
+        }
+        latest
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        {
+            let (lock, cvar) = &*self.slot;
+            lock.lock().unwrap_or_else(|e| e.into_inner()).quit = true;
+            cvar.notify_one();
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}

@@ -1,0 +1,185 @@
+//! The fly-camera controller: plain-data input in, camera out. The window shell translates
+//! keyboard and mouse events into a [`ControlInput`]; nothing here knows about winit.
+//!
+//! Every move is an op on a [`TransformStack`]: a step forward is `translate` in the camera
+//! frame of world_from_camera = T(position) · Ry(yaw) · Rx(pitch), a turn is a change of the
+//! yaw/pitch rotations, never an ad-hoc edit of a vector. Speeds are in scene sizes per second
+//! and radians per second, scaled by the frame time, so motion is the same at any frame rate.
+
+use crate::camera::Camera;
+use crate::math::TransformStack;
+use crate::scene::Bounds;
+use glam::DVec3;
+
+/// What the user asks for this frame; axes are in −1..=1.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ControlInput {
+    /// +1 forward (W), −1 back (S).
+    pub forward: f64,
+    /// +1 right (D), −1 left (A).
+    pub right: f64,
+    /// +1 up (E), −1 down (Q); "up" is the world's −y.
+    pub up: f64,
+    /// +1 turn right, −1 left (arrow keys).
+    pub yaw: f64,
+    /// +1 look up, −1 down (arrow keys).
+    pub pitch: f64,
+    /// Move and turn faster (Shift).
+    pub fast: bool,
+    /// Mouse motion in device units accumulated since the last frame (mouse-look).
+    pub mouse: (f64, f64),
+    /// Wheel lines since the last frame; positive (wheel up) zooms in.
+    pub wheel: f64,
+}
+
+impl ControlInput {
+    /// Whether any held key moves or turns the camera (so the app keeps animating).
+    pub fn is_moving(&self) -> bool {
+        self.forward != 0.0
+            || self.right != 0.0
+            || self.up != 0.0
+            || self.yaw != 0.0
+            || self.pitch != 0.0
+    }
+}
+
+/// Pitch stays inside ±89° so the view never flips over the pole.
+pub const MAX_PITCH: f64 = 89.0 * std::f64::consts::PI / 180.0;
+/// Focal length as a fraction of the image width: 0.05 (about 169° of view) to 50 (1.1°).
+pub const FOCAL_RATIO_RANGE: (f64, f64) = (0.05, 50.0);
+
+/// A camera pose with the speeds that suit the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraController {
+    /// Position in the world.
+    pub position: DVec3,
+    /// Yaw in radians (positive turns right).
+    pub yaw: f64,
+    /// Pitch in radians (positive looks up).
+    pub pitch: f64,
+    /// Focal length divided by the image width (1 = the lab's f = W, 53° of view).
+    pub focal_ratio: f64,
+    /// Scene size (bounding-box diagonal): moving at 1× covers 0.5 of it per second.
+    pub scene_size: f64,
+    home: (DVec3, f64, f64, f64),
+}
+
+impl CameraController {
+    /// Turn rate for the arrow keys, radians per second.
+    pub const TURN_RATE: f64 = 1.2;
+    /// Mouse-look sensitivity, radians per device unit.
+    pub const MOUSE_SENSITIVITY: f64 = 0.003;
+    /// Speed factor with Shift held.
+    pub const FAST: f64 = 4.0;
+
+    /// A controller at the given pose, which [`reset`](Self::reset) returns to.
+    pub fn new(position: DVec3, yaw: f64, pitch: f64, focal_ratio: f64, scene_size: f64) -> Self {
+        let focal_ratio = focal_ratio.clamp(FOCAL_RATIO_RANGE.0, FOCAL_RATIO_RANGE.1);
+        Self {
+            position,
+            yaw,
+            pitch: pitch.clamp(-MAX_PITCH, MAX_PITCH),
+            focal_ratio,
+            scene_size: if scene_size.is_finite() && scene_size > 0.0 {
+                scene_size
+            } else {
+                1.0
+            },
+            home: (position, yaw, pitch, focal_ratio),
+        }
+    }
+
+    /// The lab's start: (0, 0, −3.001) looking along +z, f = W, for the Cornell box's size.
+    pub fn cornell() -> Self {
+        Self::new(DVec3::new(0.0, 0.0, -3.001), 0.0, 0.0, 1.0, 12f64.sqrt())
+    }
+
+    /// A controller framing `bounds` from −z, as `raylab render` frames an OBJ model, for an
+    /// image of aspect `width`/`height`.
+    pub fn framing(bounds: Bounds, width: u32, height: u32) -> Self {
+        let (lo, hi) = bounds;
+        let lo = DVec3::from_array(lo.map(f64::from));
+        let hi = DVec3::from_array(hi.map(f64::from));
+        let centre = (lo + hi) / 2.0;
+        let diagonal = (hi - lo).length();
+        let radius = (diagonal / 2.0).max(1e-30);
+        let focal = width as f64;
+        let half_fov = (width.min(height) as f64 / (2.0 * focal)).atan();
+        let distance = radius / half_fov.sin();
+        Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal)
+    }
+
+    /// Back to the starting pose.
+    pub fn reset(&mut self) {
+        (self.position, self.yaw, self.pitch, self.focal_ratio) = self.home;
+    }
+
+    /// The transform stack holding world_from_camera = T(position) · Ry(yaw) · Rx(pitch).
+    pub fn stack(&self) -> TransformStack {
+        let mut s = TransformStack::new();
+        s.translate(self.position)
+            .rotate_y(self.yaw)
+            .rotate_x(self.pitch);
+        s
+    }
+
+    /// The camera for an image `width` pixels wide.
+    pub fn camera(&self, width: u32) -> Camera {
+        Camera::from_yaw_pitch(self.position, self.yaw, self.pitch, self.focal(width))
+            .expect("the controller keeps its pose finite and its focal length in range")
+    }
+
+    /// Focal length in pixels for an image `width` pixels wide.
+    pub fn focal(&self, width: u32) -> f64 {
+        self.focal_ratio * width.max(1) as f64
+    }
+
+    /// Sets the focal length in pixels at `width`, clamped to [`FOCAL_RATIO_RANGE`].
+    pub fn set_focal(&mut self, focal: f64, width: u32) {
+        if focal.is_finite() {
+            let r = focal / width.max(1) as f64;
+            self.focal_ratio = r.clamp(FOCAL_RATIO_RANGE.0, FOCAL_RATIO_RANGE.1);
+        }
+    }
+
+    /// Applies one frame of input over `dt` seconds; returns whether the pose changed.
+    pub fn update(&mut self, input: &ControlInput, dt: f64) -> bool {
+        let before = (self.position, self.yaw, self.pitch, self.focal_ratio);
+        let dt = if dt.is_finite() {
+            dt.clamp(0.0, 0.25)
+        } else {
+            0.0
+        };
+        let boost = if input.fast { Self::FAST } else { 1.0 };
+
+        // Turn: arrow keys at a rate, the mouse by its motion.
+        self.yaw +=
+            (input.yaw * Self::TURN_RATE * boost * dt) + input.mouse.0 * Self::MOUSE_SENSITIVITY;
+        self.pitch = (self.pitch + input.pitch * Self::TURN_RATE * boost * dt
+            - input.mouse.1 * Self::MOUSE_SENSITIVITY)
+            .clamp(-MAX_PITCH, MAX_PITCH);
+        self.yaw = self.yaw.rem_euclid(std::f64::consts::TAU);
+        if self.yaw > std::f64::consts::PI {
+            self.yaw -= std::f64::consts::TAU;
+        }
+
+        // Move: forward/right in the camera frame (fly mode), up along the world's −y.
+        let step = 0.5 * self.scene_size * boost * dt;
+        if input.forward != 0.0 || input.right != 0.0 || input.up != 0.0 {
+            let mut stack = self.stack();
+            stack.translate(DVec3::new(input.right * step, 0.0, input.forward * step));
+            let moved = stack.transform_point(DVec3::ZERO);
+            let mut world = TransformStack::new();
+            world
+                .translate(moved)
+                .translate(DVec3::new(0.0, -input.up * step, 0.0));
+            self.position = world.transform_point(DVec3::ZERO);
+        }
+
+        if input.wheel != 0.0 && input.wheel.is_finite() {
+            self.focal_ratio = (self.focal_ratio * 1.1f64.powf(input.wheel))
+                .clamp(FOCAL_RATIO_RANGE.0, FOCAL_RATIO_RANGE.1);
+        }
+        before != (self.position, self.yaw, self.pitch, self.focal_ratio)
+    }
+}

@@ -1,0 +1,206 @@
+//! The real window under Xvfb: a scripted run moves and turns the camera and zooms, and what
+//! the window showed must match the headless render of the same final camera.
+//!
+//! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
+//! missing the test says so loudly and skips, except under CI=true, where it must run.
+#![cfg(feature = "viewer")]
+
+use glam::DVec3;
+use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::{Camera, Scene};
+use std::collections::HashMap;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    (info.width, info.height, buf)
+}
+
+fn have(cmd: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {cmd}")])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Mean absolute channel difference and the fraction of pixels off by more than 8, between
+/// the window's image rectangle (sampled at the nearest pixel) and a render of `w`×`h`.
+fn compare(
+    shot: &(u32, u32, Vec<u8>),
+    rect: [f64; 4],
+    render: &[u8],
+    w: u32,
+    h: u32,
+) -> (f64, f64) {
+    let (sw, _, px) = shot;
+    let mut sum = 0u64;
+    let mut off = 0usize;
+    for j in 0..h {
+        for i in 0..w {
+            let x = (rect[0] + (i as f64 + 0.5) * rect[2] / w as f64) as u32;
+            let y = (rect[1] + (j as f64 + 0.5) * rect[3] / h as f64) as u32;
+            let a = &px[4 * (y * sw + x) as usize..][..3];
+            let b = &render[4 * (j * w + i) as usize..][..3];
+            let d: Vec<u64> = (0..3)
+                .map(|c| (a[c] as i64 - b[c] as i64).unsigned_abs())
+                .collect();
+            sum += d.iter().sum::<u64>();
+            if d.iter().any(|&x| x > 8) {
+                off += 1;
+            }
+        }
+    }
+    let n = (w * h) as f64;
+    (sum as f64 / (3.0 * n), off as f64 / n)
+}
+
+#[test]
+fn scripted_window_run_matches_the_headless_render() {
+    if !have("xvfb-run") {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xvfb-run is missing: .ci/run must install xvfb"
+        );
+        eprintln!("\n*** SKIPPED the window test: xvfb-run is not installed (apt-get install xvfb xauth mesa-vulkan-drivers) ***\n");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("fly.txt");
+    std::fs::write(
+        &script,
+        "# forward, turn right, look up with the mouse, zoom in, switch to shadows\n\
+         0 key W down\n300 key W up\n350 key Right down\n600 key Right up\n\
+         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n",
+    )
+    .unwrap();
+    let shot_path = dir.path().join("shot.png");
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_raylab"))
+        .args(["--frames", "5", "--screenshot"])
+        .arg(&shot_path)
+        .arg("--script")
+        .arg(&script)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start xvfb-run");
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > Duration::from_secs(300) {
+            child.kill().unwrap();
+            panic!("the window run hung for 300 s");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        status.success(),
+        "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=..
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("raylab-final"))
+        .expect("final line");
+    let fields: HashMap<&str, &str> = line
+        .split_whitespace()
+        .skip(1)
+        .filter_map(|kv| kv.split_once('='))
+        .collect();
+    let nums = |k: &str| -> Vec<f64> {
+        fields[k]
+            .split([',', 'x'])
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    let pos = nums("camera");
+    let (yaw, pitch, focal) = (nums("yaw")[0], nums("pitch")[0], nums("focal")[0]);
+    let size = nums("size");
+    let rect = nums("rect");
+    let (w, h) = (size[0] as u32, size[1] as u32);
+    assert_eq!(fields["step"], "shadows");
+
+    // The camera really moved, turned, looked up and zoomed.
+    assert!(pos[2] > -3.0 + 0.1, "moved forward: {pos:?}");
+    assert!(
+        pos[0].abs() < 1e-9 && pos[1].abs() < 1e-9,
+        "straight ahead: {pos:?}"
+    );
+    assert!(yaw > 5.0 && yaw < 60.0, "turned right: {yaw}");
+    assert!(
+        (pitch - (40.0f64 * 0.003).to_degrees()).abs() < 1e-6,
+        "looked up: {pitch}"
+    );
+    assert!(
+        (focal / w as f64 - 1.1f64.powi(3)).abs() < 1e-9,
+        "zoomed in: {focal} at {w}"
+    );
+
+    // What the window showed is the headless render of that camera.
+    let shot = read_png(&shot_path);
+    assert!(
+        rect[0] > 100.0,
+        "the image sits beside the panel, not under it: {rect:?}"
+    );
+    assert!(rect[0] + rect[2] <= shot.0 as f64 + 0.5 && rect[1] + rect[3] <= shot.1 as f64 + 0.5);
+    let scene = Scene::cornell();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Shadows,
+        spp: 2,
+        ..Default::default()
+    };
+    let camera = Camera::from_yaw_pitch(
+        DVec3::new(pos[0], pos[1], pos[2]),
+        yaw.to_radians(),
+        pitch.to_radians(),
+        focal,
+    )
+    .unwrap();
+    let (expected, _) = render_image(&scene, &camera, &settings).unwrap();
+    let (mean, off) = compare(&shot, [rect[0], rect[1], rect[2], rect[3]], &expected, w, h);
+    println!(
+        "window vs headless: mean difference {mean:.2}/255, {:.2}% of pixels off by > 8",
+        off * 100.0
+    );
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+
+    // And differs clearly from where the camera started.
+    let start_cam =
+        Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -3.001), 0.0, 0.0, w as f64).unwrap();
+    let (start_img, _) = render_image(&scene, &start_cam, &settings).unwrap();
+    let (mean0, _) = compare(
+        &shot,
+        [rect[0], rect[1], rect[2], rect[3]],
+        &start_img,
+        w,
+        h,
+    );
+    assert!(
+        mean0 > 10.0 * mean.max(1.0),
+        "the start view differs by only {mean0}"
+    );
+
+    // The panel is drawn left of the image (not black, not the scene).
+    let panel_px = &shot.2[4 * (50 * shot.0 + 20) as usize..][..3];
+    assert!(
+        panel_px.iter().all(|&c| c > 10 && c < 80),
+        "panel background {panel_px:?}"
+    );
+}
