@@ -61,33 +61,68 @@ fn compare(
     (sum as f64 / (3.0 * n), off as f64 / n)
 }
 
-#[test]
-fn scripted_window_run_matches_the_headless_render() {
+/// What a scripted run printed and saved.
+struct Run {
+    fields: HashMap<String, String>,
+    shot: (u32, u32, Vec<u8>),
+    stderr: String,
+}
+
+impl Run {
+    fn nums(&self, k: &str) -> Vec<f64> {
+        self.fields[k]
+            .split([',', 'x'])
+            .map(|x| x.parse().unwrap())
+            .collect()
+    }
+
+    /// The camera the window ended with, its render size and the image rectangle.
+    fn camera(&self) -> (Camera, u32, u32, [f64; 4]) {
+        let pos = self.nums("camera");
+        let (yaw, pitch, focal) = (
+            self.nums("yaw")[0],
+            self.nums("pitch")[0],
+            self.nums("focal")[0],
+        );
+        let size = self.nums("size");
+        let r = self.nums("rect");
+        let cam = Camera::from_yaw_pitch(
+            DVec3::new(pos[0], pos[1], pos[2]),
+            yaw.to_radians(),
+            pitch.to_radians(),
+            focal,
+        )
+        .unwrap();
+        (
+            cam,
+            size[0] as u32,
+            size[1] as u32,
+            [r[0], r[1], r[2], r[3]],
+        )
+    }
+}
+
+/// Runs the window under Xvfb with `script`; None (after saying so) where Xvfb is missing.
+fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
     if !have("xvfb-run") {
         assert!(
             std::env::var("CI").is_err(),
             "CI=true but xvfb-run is missing: .ci/run must install xvfb"
         );
         eprintln!("\n*** SKIPPED the window test: xvfb-run is not installed (apt-get install xvfb xauth mesa-vulkan-drivers) ***\n");
-        return;
+        return None;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let script = dir.path().join("fly.txt");
-    std::fs::write(
-        &script,
-        "# forward, turn right, look up with the mouse, zoom in, switch to shadows\n\
-         0 key W down\n300 key W up\n350 key Right down\n600 key Right up\n\
-         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n",
-    )
-    .unwrap();
-    let shot_path = dir.path().join("shot.png");
+    let script_path = dir.join("script.txt");
+    std::fs::write(&script_path, script).unwrap();
+    let shot_path = dir.join("shot.png");
     let mut child = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24"])
         .arg(env!("CARGO_BIN_EXE_raylab"))
         .args(["--frames", "5", "--screenshot"])
         .arg(&shot_path)
         .arg("--script")
-        .arg(&script)
+        .arg(&script_path)
+        .env("RUST_LOG", "raylab=info")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -104,42 +139,55 @@ fn scripted_window_run_matches_the_headless_render() {
         std::thread::sleep(Duration::from_millis(100));
     };
     let out = child.wait_with_output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(
         status.success(),
         "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
-
-    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=..
+    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. scene=..
     let line = stdout
         .lines()
         .find(|l| l.starts_with("raylab-final"))
         .expect("final line");
-    let fields: HashMap<&str, &str> = line
+    let fields = line
         .split_whitespace()
         .skip(1)
         .filter_map(|kv| kv.split_once('='))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
-    let nums = |k: &str| -> Vec<f64> {
-        fields[k]
-            .split([',', 'x'])
-            .map(|x| x.parse().unwrap())
-            .collect()
+    Some(Run {
+        fields,
+        shot: read_png(&shot_path),
+        stderr,
+    })
+}
+
+#[test]
+fn scripted_window_run_matches_the_headless_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = "# forward, turn right, look up with the mouse, zoom in, switch to shadows\n\
+         0 key W down\n300 key W up\n350 key Right down\n600 key Right up\n\
+         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n";
+    let Some(run) = run_window(script, dir.path()) else {
+        return;
     };
-    let pos = nums("camera");
-    let (yaw, pitch, focal) = (nums("yaw")[0], nums("pitch")[0], nums("focal")[0]);
-    let size = nums("size");
-    let rect = nums("rect");
-    let (w, h) = (size[0] as u32, size[1] as u32);
-    assert_eq!(fields["step"], "shadows");
+    let (camera, w, h, rect) = run.camera();
+    let pos = camera.position();
+    let (yaw, pitch, focal) = (
+        run.nums("yaw")[0],
+        run.nums("pitch")[0],
+        run.nums("focal")[0],
+    );
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["scene"], "cornell");
 
     // The camera really moved, turned, looked up and zoomed.
-    assert!(pos[2] > -3.0 + 0.1, "moved forward: {pos:?}");
+    assert!(pos.z > -3.0 + 0.1, "moved forward: {pos}");
     assert!(
-        pos[0].abs() < 1e-9 && pos[1].abs() < 1e-9,
-        "straight ahead: {pos:?}"
+        pos.x.abs() < 1e-9 && pos.y.abs() < 1e-9,
+        "straight ahead: {pos}"
     );
     assert!(yaw > 5.0 && yaw < 60.0, "turned right: {yaw}");
     assert!(
@@ -152,7 +200,7 @@ fn scripted_window_run_matches_the_headless_render() {
     );
 
     // What the window showed is the headless render of that camera.
-    let shot = read_png(&shot_path);
+    let shot = &run.shot;
     assert!(
         rect[0] > 100.0,
         "the image sits beside the panel, not under it: {rect:?}"
@@ -166,15 +214,8 @@ fn scripted_window_run_matches_the_headless_render() {
         spp: 2,
         ..Default::default()
     };
-    let camera = Camera::from_yaw_pitch(
-        DVec3::new(pos[0], pos[1], pos[2]),
-        yaw.to_radians(),
-        pitch.to_radians(),
-        focal,
-    )
-    .unwrap();
     let (expected, _) = render_image(&scene, &camera, &settings).unwrap();
-    let (mean, off) = compare(&shot, [rect[0], rect[1], rect[2], rect[3]], &expected, w, h);
+    let (mean, off) = compare(shot, rect, &expected, w, h);
     println!(
         "window vs headless: mean difference {mean:.2}/255, {:.2}% of pixels off by > 8",
         off * 100.0
@@ -185,13 +226,7 @@ fn scripted_window_run_matches_the_headless_render() {
     let start_cam =
         Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -3.001), 0.0, 0.0, w as f64).unwrap();
     let (start_img, _) = render_image(&scene, &start_cam, &settings).unwrap();
-    let (mean0, _) = compare(
-        &shot,
-        [rect[0], rect[1], rect[2], rect[3]],
-        &start_img,
-        w,
-        h,
-    );
+    let (mean0, _) = compare(shot, rect, &start_img, w, h);
     assert!(
         mean0 > 10.0 * mean.max(1.0),
         "the start view differs by only {mean0}"
@@ -202,5 +237,51 @@ fn scripted_window_run_matches_the_headless_render() {
     assert!(
         panel_px.iter().all(|&c| c > 10 && c < 80),
         "panel background {panel_px:?}"
+    );
+}
+
+#[test]
+fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n").unwrap();
+    let good = dir.path().join("pyramid.obj");
+    std::fs::write(
+        &good,
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let script = format!("0 drop {}\n600 drop {}\n", bad.display(), good.display());
+    let Some(run) = run_window(&script, dir.path()) else {
+        return;
+    };
+    assert!(
+        run.stderr.contains("could not load") && run.stderr.contains("bad.obj:3"),
+        "the failed load is reported with file and line: {}",
+        run.stderr
+    );
+    assert!(
+        run.fields["scene"].ends_with("pyramid.obj"),
+        "{:?}",
+        run.fields
+    );
+    let (camera, w, h, rect) = run.camera();
+    let scene = raylab::scene::load_obj_file(&good).unwrap();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        spp: 2,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(&scene, &camera, &settings).unwrap();
+    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+    // Framed: the model covers the image centre.
+    let c = 4 * ((h / 2) * w + w / 2) as usize;
+    assert!(
+        expected[c..c + 3].iter().any(|&v| v > 30),
+        "{:?}",
+        &expected[c..c + 3]
     );
 }

@@ -149,6 +149,7 @@ struct App {
     script_start: Option<Instant>,
     started: Instant,
     minimised: bool,
+    egui_repaint_at: Option<Instant>,
     outcome: Result<()>,
 }
 
@@ -207,6 +208,7 @@ impl App {
             script_start: None,
             started: Instant::now(),
             minimised: false,
+            egui_repaint_at: None,
             outcome: Ok(()),
         }
     }
@@ -216,6 +218,12 @@ impl App {
             self.outcome = Err(e);
         }
         event_loop.exit();
+    }
+
+    /// A message for the panel (and the log, so scripted runs can be checked).
+    fn set_status(&mut self, message: impl Into<String>) {
+        self.status = message.into();
+        log::info!("{}", self.status);
     }
 
     fn changed(&mut self) {
@@ -277,6 +285,7 @@ impl App {
         if !self.worker.is_idle() || self.minimised {
             return;
         }
+        log::trace!("pump: generation {}", self.generation);
         let settling = self.last_change.elapsed() < SETTLE || self.input.is_moving();
         let level = match &self.shown {
             Some(s) if s.generation == self.generation => {
@@ -326,7 +335,7 @@ impl App {
                 }
                 if let Some(gpu) = &mut self.gpu {
                     if let Err(e) = gpu.set_frame(s.width, s.height, &rgba) {
-                        self.status = e;
+                        self.set_status(e);
                     }
                 }
                 self.shown = Some(Shown {
@@ -336,7 +345,7 @@ impl App {
                     stats,
                 });
             }
-            Err(e) => self.status = format!("render failed: {e}"),
+            Err(e) => self.set_status(format!("render failed: {e}")),
         }
         self.pump();
         self.request_redraw();
@@ -347,7 +356,7 @@ impl App {
             return;
         }
         self.loading = true;
-        self.status = format!("loading {}...", path.display());
+        self.set_status(format!("loading {}...", path.display()));
         let proxy = self.proxy.clone();
         std::thread::spawn(move || {
             let result = raylab::scene::load_obj_file(&path).map_err(|e| e.to_string());
@@ -359,7 +368,7 @@ impl App {
         let name = format!("raylab-{}.png", timestamp());
         let path = PathBuf::from(&name);
         let Some(s) = &self.shown else {
-            self.status = "nothing rendered yet".into();
+            self.set_status("nothing rendered yet");
             return;
         };
         // Render the current view at full quality for the file (the window may show a preview).
@@ -374,13 +383,14 @@ impl App {
         let result = render::render_image(&self.scene, &self.controller.camera(w), &settings)
             .map_err(|e| e.to_string())
             .and_then(|(rgba, _)| render::write_png(&path, w, h, &rgba).map_err(|e| e.to_string()));
-        self.status = match result {
+        let message = match result {
             Ok(()) => {
                 let shown = std::fs::canonicalize(&path).unwrap_or(path);
                 format!("saved {}", shown.display())
             }
             Err(e) => format!("screenshot failed: {e}"),
         };
+        self.set_status(message);
     }
 
     fn set_mouse_look(&mut self, on: bool) {
@@ -421,7 +431,7 @@ impl App {
                     event_loop.exit();
                 } else {
                     self.esc_armed = true;
-                    self.status = "press Esc again to quit".into();
+                    self.set_status("press Esc again to quit");
                 }
             }
             _ => {}
@@ -442,6 +452,7 @@ impl App {
                 Action::Mouse(dx, dy) => self.input.mouse(dx, dy),
                 Action::Wheel(lines) => self.input.wheel(lines),
                 Action::Step(step) => self.view.step = step,
+                Action::Drop(path) => self.load_obj(path),
             }
         }
     }
@@ -453,6 +464,7 @@ impl App {
             return false;
         };
         self.frames_presented >= n
+            && !self.loading
             && self.script.as_ref().is_none_or(|s| s.finished())
             && !self.input.is_moving()
             && self.worker.is_idle()
@@ -564,6 +576,11 @@ impl App {
             self.screenshot();
         }
         if before != (self.view, self.controller, self.full_size()) || actions.reset_camera {
+            log::debug!(
+                "change: {:?} -> {:?}",
+                before,
+                (self.view, self.controller, self.full_size())
+            );
             self.changed();
         }
         self.egui_state
@@ -587,7 +604,7 @@ impl App {
                 return;
             }
             Ok(None) => {}
-            Err(e) => self.status = e,
+            Err(e) => self.set_status(e),
         }
         self.frames_presented += 1;
 
@@ -602,10 +619,21 @@ impl App {
             return;
         }
         self.pump();
-        let repaint_now = output
+        let repaint_delay = output
             .viewport_output
             .get(&egui::ViewportId::ROOT)
-            .is_some_and(|v| v.repaint_delay.is_zero());
+            .map_or(Duration::MAX, |v| v.repaint_delay);
+        let repaint_now = repaint_delay.is_zero();
+        // egui animations (tooltips, collapsing) ask for a repaint a little later.
+        self.egui_repaint_at =
+            (repaint_delay < Duration::from_secs(3600)).then(|| Instant::now() + repaint_delay);
+        log::trace!(
+            "frame {}: moving {} repaint {} shown {:?}",
+            self.frames_presented,
+            self.input.is_moving(),
+            repaint_now,
+            self.shown.as_ref().map(|s| (s.generation, s.level)),
+        );
         if self.input.is_moving() || repaint_now || self.opts.frames.is_some() {
             window.request_redraw();
         }
@@ -629,7 +657,7 @@ impl App {
         let r = self.image_rect.unwrap_or(egui::Rect::NOTHING);
         let ppp = self.egui_ctx.pixels_per_point();
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -643,8 +671,12 @@ impl App {
             r.width() * ppp,
             r.height() * ppp,
             self.view.step,
-            self.frames_presented
+            self.frames_presented,
+            self.scene.name,
         );
+        if !self.status.is_empty() {
+            println!("status: {}", self.status);
+        }
         println!("saved {}", path.display());
         event_loop.exit();
     }
@@ -702,8 +734,11 @@ impl ApplicationHandler<AppEvent> for App {
                             self.controller = CameraController::framing(bounds, w, h);
                         }
                         self.view.light = scene.light.position;
-                        self.status =
-                            format!("loaded {} ({} triangles)", path.display(), scene.len());
+                        self.set_status(format!(
+                            "loaded {} ({} triangles)",
+                            path.display(),
+                            scene.len()
+                        ));
                         if let Some(w) = &self.window {
                             w.set_title(&format!("raylab - {}", scene.name));
                         }
@@ -711,7 +746,7 @@ impl ApplicationHandler<AppEvent> for App {
                         self.changed();
                     }
                     // The old scene stays.
-                    Err(e) => self.status = format!("could not load: {e}"),
+                    Err(e) => self.set_status(format!("could not load: {e}")),
                 }
                 self.pump();
                 self.request_redraw();
@@ -727,7 +762,8 @@ impl ApplicationHandler<AppEvent> for App {
             Some(state) => state.on_window_event(&window, &event),
             None => return,
         };
-        if response.repaint {
+        // egui asks to repaint after every redraw too; that would spin forever.
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
             window.request_redraw();
         }
         match event {
@@ -737,7 +773,7 @@ impl ApplicationHandler<AppEvent> for App {
                 if !self.minimised {
                     if let Some(gpu) = &mut self.gpu {
                         if let Err(e) = gpu.resize_surface(size.width, size.height) {
-                            self.status = e;
+                            self.set_status(e);
                         }
                     }
                     window.request_redraw();
@@ -825,6 +861,7 @@ impl ApplicationHandler<AppEvent> for App {
         match wake {
             Some(t) if t > Instant::now() => event_loop.set_control_flow(ControlFlow::WaitUntil(t)),
             Some(_) => {
+                self.egui_repaint_at = None;
                 event_loop.set_control_flow(ControlFlow::Wait);
                 self.request_redraw();
             }

@@ -7,6 +7,7 @@
 //! - `mouse <dx> <dy>`: mouse-look motion (as a right-drag), in device units
 //! - `wheel <lines>`: positive zooms in
 //! - `step flat|direct|shadows|indirect`: what the panel's lab-step selector does
+//! - `drop <path>`: as if the file were dropped on the window (paths without spaces)
 
 use super::input::Key;
 use raylab::render::LabStep;
@@ -23,6 +24,8 @@ pub enum Action {
     Wheel(f64),
     /// Select a lab step.
     Step(LabStep),
+    /// Drop a file on the window.
+    Drop(std::path::PathBuf),
 }
 
 /// A parsed script: events sorted by time.
@@ -103,9 +106,13 @@ impl Script {
                     want(3)?;
                     Action::Step(w[2].parse().map_err(err)?)
                 }
+                Some("drop") => {
+                    want(3)?;
+                    Action::Drop(w[2].into())
+                }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, step)"
+                        "unknown event '{other}' (key, mouse, wheel, step, drop)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -135,5 +142,59 @@ impl Script {
     /// When the next event is due, if any.
     pub fn next_due(&self) -> Option<Duration> {
         self.events.get(self.next).map(|(t, _)| *t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_event_and_replays_in_time() {
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n";
+        let mut s = Script::parse("s.txt", text).unwrap();
+        assert_eq!(s.next_due(), Some(Duration::ZERO));
+        assert_eq!(
+            s.due(Duration::from_millis(99)),
+            vec![Action::Key(Key::W, true)]
+        );
+        assert_eq!(
+            s.due(Duration::from_millis(100)),
+            vec![Action::Key(Key::W, false), Action::Mouse(-3.0, 4.5)]
+        );
+        assert!(!s.finished());
+        assert_eq!(
+            s.due(Duration::from_secs(1)),
+            vec![
+                Action::Wheel(-2.0),
+                Action::Step(LabStep::Shadows),
+                Action::Drop("m.obj".into())
+            ]
+        );
+        assert!(s.finished());
+        assert_eq!(s.next_due(), None);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_line() {
+        let cases = [
+            ("0 key W sideways\n", "s.txt:1: expected 'down' or 'up'"),
+            ("\n0 key Z down\n", "s.txt:2: unknown key 'Z'"),
+            (
+                "10 key W down\n5 key W up\n",
+                "s.txt:2: times must not decrease",
+            ),
+            ("x key W down\n", "s.txt:1: 'x' is not a time"),
+            ("-5 key W down\n", "'-5' is not a time"),
+            ("0 mouse 1\n", "s.txt:1: 'mouse' takes 2 arguments, found 1"),
+            ("0 wheel nan\n", "needs a finite number"),
+            ("0 jump\n", "unknown event 'jump'"),
+            ("0\n", "missing event"),
+            ("0 step glossy\n", "unknown step 'glossy'"),
+        ];
+        for (text, needle) in cases {
+            let e = Script::parse("s.txt", text).unwrap_err();
+            assert!(e.contains(needle), "{e} lacks {needle}");
+        }
     }
 }

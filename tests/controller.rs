@@ -1,0 +1,158 @@
+//! The fly-camera controller: moves through the transform stack, frame-rate independent.
+
+use glam::DVec3;
+use raylab::controller::{CameraController, ControlInput, MAX_PITCH};
+
+fn input(f: impl FnOnce(&mut ControlInput)) -> ControlInput {
+    let mut i = ControlInput::default();
+    f(&mut i);
+    i
+}
+
+#[test]
+fn forward_moves_along_the_view_at_half_the_scene_per_second() {
+    let mut c = CameraController::cornell();
+    let start = c.position;
+    assert!(c.update(&input(|i| i.forward = 1.0), 0.2));
+    let moved = c.position - start;
+    assert!(
+        (moved - DVec3::Z * 0.5 * c.scene_size * 0.2).length() < 1e-12,
+        "{moved}"
+    );
+    // Shift is 4x.
+    let mut fast = CameraController::cornell();
+    fast.update(
+        &input(|i| {
+            i.forward = 1.0;
+            i.fast = true;
+        }),
+        0.2,
+    );
+    assert!(((fast.position - start).length() - 4.0 * moved.length()).abs() < 1e-12);
+}
+
+#[test]
+fn motion_does_not_depend_on_the_frame_rate() {
+    let held = input(|i| {
+        i.forward = 1.0;
+        i.right = -1.0;
+        i.up = 1.0;
+        i.yaw = 1.0;
+        i.pitch = -1.0;
+    });
+    let mut a = CameraController::cornell();
+    let mut b = CameraController::cornell();
+    for _ in 0..10 {
+        a.update(&held, 0.01);
+    }
+    b.update(&held, 0.1);
+    assert!((a.yaw - b.yaw).abs() < 1e-12 && (a.pitch - b.pitch).abs() < 1e-12);
+    // Positions differ only by the path's curvature: at most distance × total turn.
+    let distance = (b.position - CameraController::cornell().position).length();
+    let bound = distance * (b.yaw.abs() + b.pitch.abs());
+    assert!(
+        (a.position - b.position).length() <= bound,
+        "{} vs {}",
+        a.position,
+        b.position
+    );
+}
+
+#[test]
+fn strafe_and_up_follow_the_frame() {
+    // Scene size 8: a 0.25 s step (the longest frame counted) moves 1 unit.
+    let mut c = CameraController::new(DVec3::ZERO, 90f64.to_radians(), 0.0, 1.0, 8.0);
+    c.update(&input(|i| i.forward = 1.0), 0.25);
+    assert!(
+        (c.position - DVec3::X).length() < 1e-12,
+        "yawed 90°: forward is +x, {}",
+        c.position
+    );
+    c.update(&input(|i| i.right = 1.0), 0.25);
+    assert!(
+        (c.position - DVec3::new(1.0, 0.0, -1.0)).length() < 1e-12,
+        "right is -z: {}",
+        c.position
+    );
+    c.update(&input(|i| i.up = 1.0), 0.25);
+    assert!(
+        (c.position - DVec3::new(1.0, -1.0, -1.0)).length() < 1e-12,
+        "up is -y: {}",
+        c.position
+    );
+}
+
+#[test]
+fn turning_mouse_and_pitch_limit() {
+    let mut c = CameraController::cornell();
+    c.update(&input(|i| i.yaw = 1.0), 0.25);
+    assert!((c.yaw - 0.25 * CameraController::TURN_RATE).abs() < 1e-12);
+    c.update(&input(|i| i.mouse = (-100.0, -50.0)), 0.0);
+    assert!((c.yaw - (0.25 * CameraController::TURN_RATE - 0.3)).abs() < 1e-12);
+    // A stalled frame (a 5 s hitch) counts as 0.25 s, not a leap across the scene.
+    let mut d = CameraController::cornell();
+    d.update(&input(|i| i.forward = 1.0), 5.0);
+    assert!((d.position.z - (-3.001 + 0.5 * d.scene_size * 0.25)).abs() < 1e-12);
+    assert!((c.pitch - 0.15).abs() < 1e-12, "mouse up looks up");
+    for _ in 0..10 {
+        c.update(&input(|i| i.pitch = 1.0), 0.25);
+    }
+    assert_eq!(c.pitch, MAX_PITCH, "pitch stops short of the pole");
+    assert!(c.camera(100).forward().y < 0.0, "looking up is -y");
+}
+
+#[test]
+fn wheel_zooms_and_reset_returns_home() {
+    let mut c = CameraController::cornell();
+    assert_eq!(c.focal(640), 640.0);
+    c.update(&input(|i| i.wheel = 2.0), 0.016);
+    assert!(
+        (c.focal(640) - 640.0 * 1.21).abs() < 1e-9,
+        "wheel up zooms in"
+    );
+    assert!(c.camera(640).fov_x(640) < 2.0 * 0.5f64.atan());
+    c.update(&input(|i| i.wheel = -1e6), 0.016);
+    assert_eq!(
+        c.focal_ratio,
+        raylab::controller::FOCAL_RATIO_RANGE.0,
+        "clamped"
+    );
+    c.update(&input(|i| i.forward = 1.0), 0.3);
+    c.reset();
+    assert_eq!(c, CameraController::cornell());
+    // Nothing held: nothing changes.
+    assert!(!c.update(&ControlInput::default(), 0.1));
+    // A NaN frame time does not poison the pose.
+    c.update(&input(|i| i.forward = 1.0), f64::NAN);
+    assert_eq!(c.position, CameraController::cornell().position);
+}
+
+#[test]
+fn the_camera_is_built_on_the_transform_stack() {
+    let c = CameraController::new(DVec3::new(0.5, -0.25, -2.0), 0.3, -0.2, 1.5, 3.0);
+    let cam = c.camera(400);
+    assert_eq!(cam.world_from_camera(), c.stack().matrix());
+    assert_eq!(cam.focal, 600.0);
+}
+
+#[test]
+fn framing_puts_the_model_in_view() {
+    let bounds = ([-2.0, 10.0, 4.0], [6.0, 12.0, 8.0]);
+    let c = CameraController::framing(bounds, 640, 480);
+    let cam = c.camera(640);
+    // The bounding box's corners all project inside the image.
+    for corner in 0..8 {
+        let p = DVec3::new(
+            if corner & 1 == 0 { -2.0 } else { 6.0 },
+            if corner & 2 == 0 { 10.0 } else { 12.0 },
+            if corner & 4 == 0 { 4.0 } else { 8.0 },
+        );
+        let q = cam.camera_from_world().transform_point3(p);
+        assert!(q.z > 0.0);
+        let (x, y) = (cam.focal * q.x / q.z, cam.focal * q.y / q.z);
+        assert!(
+            x.abs() <= 320.0 && y.abs() <= 240.0,
+            "corner {p} at ({x}, {y})"
+        );
+    }
+}
