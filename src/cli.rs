@@ -3,6 +3,7 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::DVec3;
+use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
@@ -10,6 +11,7 @@ use raylab::render::{self, LabStep, RenderSettings};
 use raylab::scene::{self, Scene};
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
@@ -42,6 +44,9 @@ pub enum Command {
     /// Intersect rays from a text file with primitives from a text file and print
     /// `hit <t> <index>` or `miss` per ray (how the intersection code is tested from outside).
     Trace(TraceArgs),
+    /// Time K frames (after a warm-up) and print the accelerator build time, the median frame
+    /// time, the hit count, and as the last line `mrays_per_s=<median>`.
+    Bench(BenchArgs),
 }
 
 /// Ray/triangle method names for clap.
@@ -98,9 +103,9 @@ pub enum Precision {
     F64,
 }
 
-/// `raylab render`.
+/// What to render and from where: shared by `render` and `bench`.
 #[derive(clap::Args, Debug)]
-pub struct RenderArgs {
+pub struct ViewArgs {
     /// `cornell` for the built-in lab Cornell box, or the path of an OBJ file (triangulated;
     /// Kd colours from its .mtl; the camera is placed to frame the model).
     #[arg(long, default_value = "cornell")]
@@ -115,7 +120,8 @@ pub struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub focal: Option<f64>,
     /// Camera position `x,y,z` in scene units (default: the lab camera (0,0,-3.001) for the
-    /// Cornell box, or a position framing the OBJ model). Note y points down.
+    /// Cornell box, or a position framing the OBJ model as the window frames it). Note y
+    /// points down.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub camera: Option<DVec3>,
     /// Camera yaw in degrees, about the y axis; positive turns right.
@@ -133,9 +139,33 @@ pub struct RenderArgs {
     /// Ray/triangle intersection method.
     #[arg(long, value_enum, default_value = "watertight")]
     pub method: MethodArg,
+    /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
+    /// from there on; `brute` and `bvh` force one.
+    #[arg(long, default_value = "auto")]
+    pub accel: AccelChoice,
+}
+
+/// `raylab render`.
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Output PNG file.
     #[arg(long)]
     pub out: PathBuf,
+}
+
+/// `raylab bench`.
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Frames timed after one warm-up frame; the median is reported.
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
 }
 
 /// `raylab trace`.
@@ -183,45 +213,54 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
     Ok(scene::load_obj_file(Path::new(spec))?)
 }
 
-/// Runs `raylab render`.
-pub fn render(args: &RenderArgs) -> Result<()> {
+/// The scene, camera and settings a `ViewArgs` asks for.
+fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let settings = RenderSettings {
-        width: args.width,
-        height: args.height,
-        step: args.step.into(),
-        spp: args.spp,
-        method: args.method.into(),
+        width: v.width,
+        height: v.height,
+        step: v.step.into(),
+        spp: v.spp,
+        method: v.method.into(),
     };
     settings.validate()?;
-    let focal = args.focal.unwrap_or(args.width as f64);
-    let scene =
-        load_scene(&args.scene).with_context(|| format!("loading scene '{}'", args.scene))?;
+    let focal = v.focal.unwrap_or(v.width as f64);
+    let mut scene = load_scene(&v.scene).with_context(|| format!("loading scene '{}'", v.scene))?;
+    scene.set_accel(v.accel);
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    let (yaw, pitch) = (args.yaw.to_radians(), args.pitch.to_radians());
-    let camera = match (args.camera, args.scene.as_str()) {
-        (Some(pos), _) => Camera::from_yaw_pitch(pos, yaw, pitch, focal)?,
-        (None, "cornell") => {
-            Camera::from_yaw_pitch(Camera::cornell(args.width).position(), yaw, pitch, focal)?
-        }
+    let (yaw, pitch) = (v.yaw.to_radians(), v.pitch.to_radians());
+    let position = match (v.camera, v.scene.as_str()) {
+        (Some(pos), _) => pos,
+        (None, "cornell") => Camera::cornell(v.width).position(),
         (None, _) => {
             let bounds = scene.bounds().context("empty scene")?;
-            let framed = CameraController::framing(bounds, args.width, args.height);
-            Camera::from_yaw_pitch(framed.position, yaw, pitch, focal)?
+            CameraController::framing(bounds, v.width, v.height).position
         }
     };
+    let camera = Camera::from_yaw_pitch(position, yaw, pitch, focal)?;
+    Ok((scene, camera, settings))
+}
+
+/// Runs `raylab render`.
+pub fn render(args: &RenderArgs) -> Result<()> {
+    let (scene, camera, settings) = prepare(&args.view)?;
     // Fail on an unwritable path before spending the render time.
     std::fs::File::create(&args.out)
         .with_context(|| format!("cannot write '{}'", args.out.display()))?;
+    let build = Instant::now();
+    scene.accel();
+    let build = build.elapsed();
     let (rgba, stats) = render::render_image(&scene, &camera, &settings)?;
     render::write_png(&args.out, settings.width, settings.height, &rgba)
         .with_context(|| format!("writing '{}'", args.out.display()))?;
     println!(
-        "rendered {} ({} primitives) {}x{} step={} spp={}x{} method={} on {} threads in {:.2} ms: \
+        "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} step={} spp={}x{} method={} on {} threads in {:.2} ms: \
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
         scene.name,
         scene.len(),
+        scene.accel().kind(),
+        build.as_secs_f64() * 1e3,
         settings.width,
         settings.height,
         settings.step,
@@ -235,6 +274,86 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats.mrays_per_s(),
         args.out.display()
     );
+    Ok(())
+}
+
+/// Runs `raylab bench`.
+pub fn bench(args: &BenchArgs) -> Result<()> {
+    if args.frames == 0 || args.frames > 10_000 {
+        bail!("--frames {} is out of range (1..=10000)", args.frames);
+    }
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if threads == 0 || threads > 1024 {
+        bail!("--threads {threads} is out of range (1..=1024)");
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let (scene, camera, settings) = prepare(&args.view)?;
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    println!(
+        "machine: {cpu}, {} cores available; threads: {threads}",
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+    let build = Instant::now();
+    let accel = pool.install(|| scene.accel().kind());
+    let build = build.elapsed();
+    println!(
+        "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
+        scene.name,
+        scene.len(),
+        build.as_secs_f64() * 1e3,
+        scene.accel().memory_bytes() as f64 / 1e6
+    );
+    println!(
+        "view: {}x{} step={} spp={} method={} camera={} yaw={} pitch={} focal={}",
+        settings.width,
+        settings.height,
+        settings.step,
+        settings.spp,
+        settings.method,
+        camera.position(),
+        args.view.yaw,
+        args.view.pitch,
+        camera.focal
+    );
+    let mut rgba = vec![0u8; settings.buffer_len()];
+    let mut runs = Vec::new();
+    for frame in 0..=args.frames {
+        let stats = pool.install(|| render::render_into(&scene, &camera, &settings, &mut rgba))?;
+        if frame > 0 {
+            println!(
+                "frame {frame}: {:.3} ms, {} primary + {} shadow rays, {} hits, {:.2} Mrays/s",
+                stats.elapsed.as_secs_f64() * 1e3,
+                stats.primary_rays,
+                stats.shadow_rays,
+                stats.hits,
+                stats.mrays_per_s()
+            );
+            runs.push(stats);
+        }
+    }
+    runs.sort_by_key(|r| r.elapsed);
+    let median = runs[runs.len() / 2];
+    let (lo, hi) = (runs[0], runs[runs.len() - 1]);
+    println!(
+        "median frame {:.3} ms (min {:.3}, max {:.3}), {:.1} frames/s, hits {}",
+        median.elapsed.as_secs_f64() * 1e3,
+        lo.elapsed.as_secs_f64() * 1e3,
+        hi.elapsed.as_secs_f64() * 1e3,
+        1.0 / median.elapsed.as_secs_f64(),
+        median.hits
+    );
+    println!("mrays_per_s={:.3}", median.mrays_per_s());
     Ok(())
 }
 

@@ -14,6 +14,7 @@ fn main() -> ExitCode {
     let result = match &args.command {
         Some(cli::Command::Render(a)) => cli::render(a),
         Some(cli::Command::Trace(a)) => cli::trace(a),
+        Some(cli::Command::Bench(a)) => cli::bench(a),
         None => viewer(&args),
     };
     match result {

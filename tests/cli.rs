@@ -420,9 +420,59 @@ fn trace_rejects_malformed_input_with_file_and_line() {
 }
 
 #[test]
-fn no_arguments_explains_that_the_window_is_not_built_yet() {
-    let o = raylab(&[]);
-    assert_fails(&o, 1, &["raylab render"]);
+fn the_window_without_a_display_or_adapter_fails_clearly() {
+    // No display at all.
+    let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    if cfg!(feature = "viewer") {
+        assert!(
+            err.contains("cannot open a window") && err.contains("DISPLAY"),
+            "{err}"
+        );
+    } else {
+        assert!(err.contains("without the window"), "{err}");
+    }
+    // --frames needs --screenshot; --script needs --frames.
+    assert_fails(&raylab(&["--frames", "3"]), 2, &["--screenshot"]);
+    assert_fails(&raylab(&["--script", "x.txt"]), 2, &["--frames"]);
+}
+
+#[test]
+fn the_window_without_a_graphics_adapter_fails_clearly() {
+    // A display but no Vulkan driver: Xvfb with the Vulkan loader pointed at nothing.
+    if !cfg!(feature = "viewer")
+        || Command::new("sh")
+            .args(["-c", "command -v xvfb-run"])
+            .output()
+            .map_or(true, |o| !o.status.success())
+    {
+        eprintln!("SKIPPED: needs the viewer feature and xvfb-run");
+        return;
+    }
+    let o = Command::new("xvfb-run")
+        .args([
+            "-a",
+            env!("CARGO_BIN_EXE_raylab"),
+            "--frames",
+            "2",
+            "--screenshot",
+            "/dev/null",
+        ])
+        .env("VK_ICD_FILENAMES", "/nonexistent.json")
+        .env("VK_DRIVER_FILES", "/nonexistent.json")
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("cannot open a graphics device"), "{err}");
 }
 
 #[test]
@@ -440,4 +490,72 @@ fn help_explains_every_flag() {
     for flag in ["--scene", "--rays", "--method", "--precision"] {
         assert!(text.contains(flag), "{flag} missing from help");
     }
+}
+
+#[test]
+fn bench_prints_the_machine_the_runs_and_mrays_last() {
+    let o = raylab(&[
+        "bench",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--frames",
+        "3",
+        "--threads",
+        "2",
+        "--step",
+        "shadows",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("machine:") && text.contains("threads: 2"),
+        "{text}"
+    );
+    assert!(
+        text.contains("accel: brute") && text.contains("build"),
+        "{text}"
+    );
+    assert_eq!(text.matches("\nframe ").count(), 3, "{text}");
+    assert!(
+        text.contains("median frame") && text.contains("hits"),
+        "{text}"
+    );
+    let last = text.lines().last().unwrap();
+    let v: f64 = last
+        .strip_prefix("mrays_per_s=")
+        .expect(last)
+        .parse()
+        .unwrap();
+    assert!(v > 0.0);
+    assert_fails(&raylab(&["bench", "--frames", "0"]), 2, &["--frames 0"]);
+    assert_fails(&raylab(&["bench", "--threads", "0"]), 2, &["--threads 0"]);
+    assert_fails(&raylab(&["bench", "--accel", "kd"]), 2, &["kd", "bvh"]);
+}
+
+#[test]
+fn every_accelerator_renders_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut images = Vec::new();
+    for accel in ["brute", "bvh", "auto"] {
+        let out = dir.path().join(format!("{accel}.png"));
+        let o = raylab(&[
+            "render",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--step",
+            "shadows",
+            "--accel",
+            accel,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        images.push(read_png(&out).2);
+    }
+    assert_eq!(images[0], images[1]);
+    assert_eq!(images[0], images[2]);
 }

@@ -34,6 +34,37 @@ fn max_dim<T: Real>(a: V3<T>) -> usize {
     }
 }
 
+/// The per-ray part of the watertight test (axis permutation and shear), computed once per
+/// ray and shared by every triangle it is tested against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WatertightRay<T: Real> {
+    /// Ray origin.
+    pub o: V3<T>,
+    /// Axes permuted so that `kz` is the largest |d| component.
+    pub k: [usize; 3],
+    /// Shear constants: −dx/dz, −dy/dz, 1/dz in the permuted frame.
+    pub s: V3<T>,
+}
+
+impl<T: Real> WatertightRay<T> {
+    /// Precomputes for o + t·d; `None` for a zero direction.
+    #[inline]
+    pub fn new(o: V3<T>, d: V3<T>) -> Option<Self> {
+        let kz = max_dim([d[0].abs(), d[1].abs(), d[2].abs()]);
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        let dz = d[kz];
+        if dz == T::zero() {
+            return None;
+        }
+        Some(Self {
+            o,
+            k: [kx, ky, kz],
+            s: [-d[kx] / dz, -d[ky] / dz, T::one() / dz],
+        })
+    }
+}
+
 /// Woop–Benthin–Wald watertight test. Hits with tmin < t < tmax.
 #[inline]
 pub fn watertight<T: Real>(
@@ -43,36 +74,26 @@ pub fn watertight<T: Real>(
     tmin: T,
     tmax: T,
 ) -> Option<TriHit<T>> {
-    // Permute so the ray's largest direction component is z.
-    let kz = max_dim([d[0].abs(), d[1].abs(), d[2].abs()]);
-    let kx = if kz == 2 { 0 } else { kz + 1 };
-    let ky = if kx == 2 { 0 } else { kx + 1 };
-    let (dx, dy, dz) = (d[kx], d[ky], d[kz]);
-    if dz == T::zero() {
-        return None; // zero direction
-    }
-    let sx = -dx / dz;
-    let sy = -dy / dz;
-    let sz = T::one() / dz;
+    watertight_pre(&WatertightRay::new(o, d)?, v, tmin, tmax)
+}
 
-    let a = sub(v[0], o);
-    let b = sub(v[1], o);
-    let c = sub(v[2], o);
+/// The watertight test with the per-ray part precomputed.
+#[inline]
+pub fn watertight_pre<T: Real>(
+    r: &WatertightRay<T>,
+    v: &[V3<T>; 3],
+    tmin: T,
+    tmax: T,
+) -> Option<TriHit<T>> {
+    let [kx, ky, kz] = r.k;
+    let [sx, sy, sz] = r.s;
+    let a = sub(v[0], r.o);
+    let b = sub(v[1], r.o);
+    let c = sub(v[2], r.o);
     let (ax, ay, az) = (a[kx] + sx * a[kz], a[ky] + sy * a[kz], a[kz]);
     let (bx, by, bz) = (b[kx] + sx * b[kz], b[ky] + sy * b[kz], b[kz]);
     let (cx, cy, cz) = (c[kx] + sx * c[kz], c[ky] + sy * c[kz], c[kz]);
-
-    let mut u = cx * by - cy * bx;
-    let mut w = bx * ay - by * ax;
-    let mut vv = ax * cy - ay * cx;
-    // An edge function of exactly 0 may be a rounding artefact: decide it in double precision
-    // (for f64 input this recomputes the same value, which is the paper's fallback too).
-    if u == T::zero() || vv == T::zero() || w == T::zero() {
-        let (ax, ay, bx, by, cx, cy) = (ax.f64(), ay.f64(), bx.f64(), by.f64(), cx.f64(), cy.f64());
-        u = T::of(cx * by - cy * bx);
-        vv = T::of(ax * cy - ay * cx);
-        w = T::of(bx * ay - by * ax);
-    }
+    let (u, vv, w) = edge_functions(ax, ay, bx, by, cx, cy);
     let zero = T::zero();
     if (u < zero || vv < zero || w < zero) && (u > zero || vv > zero || w > zero) {
         return None;
@@ -89,6 +110,25 @@ pub fn watertight<T: Real>(
     }
     // u weighs vertex a (v0), vv weighs b (v1), w weighs c (v2).
     Some((t, vv * rcp, w * rcp))
+}
+
+/// The three edge functions of the sheared triangle. One that rounds to exactly 0 may be a
+/// rounding artefact: all three are then decided in double precision, as in the paper (for
+/// f64 input this recomputes the same values).
+#[inline]
+pub fn edge_functions<T: Real>(ax: T, ay: T, bx: T, by: T, cx: T, cy: T) -> (T, T, T) {
+    let u = cx * by - cy * bx;
+    let w = bx * ay - by * ax;
+    let vv = ax * cy - ay * cx;
+    if u == T::zero() || vv == T::zero() || w == T::zero() {
+        let (ax, ay, bx, by, cx, cy) = (ax.f64(), ay.f64(), bx.f64(), by.f64(), cx.f64(), cy.f64());
+        return (
+            T::of(cx * by - cy * bx),
+            T::of(ax * cy - ay * cx),
+            T::of(bx * ay - by * ax),
+        );
+    }
+    (u, vv, w)
 }
 
 /// Möller–Trumbore. Hits with tmin < t < tmax.

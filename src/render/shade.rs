@@ -1,6 +1,5 @@
 //! One shading function per lab step. Colours are linear RGB.
 
-use crate::accel;
 use crate::geometry::{Hit, Method, Ray, SurfacePoint};
 use crate::math::real::{dot, sub};
 use crate::scene::Scene;
@@ -51,7 +50,7 @@ fn shadowed_irradiance(
     }
     *shadow_rays += 1;
     let shadow = sp.ray_towards(scene.light.position);
-    if accel::any_hit(&scene.shapes, &shadow, method, 0.0, 1.0) {
+    if scene.accel().any_hit(&shadow, method, 0.0, 1.0) {
         [0.0; 3]
     } else {
         d

@@ -3,8 +3,10 @@
 pub mod cornell;
 pub mod obj;
 
+use crate::accel::{Accel, AccelChoice};
 use crate::geometry::Shape;
 use crate::math::real::V3;
+use std::sync::{Arc, OnceLock};
 
 pub use obj::{load_obj_file, load_obj_str, ObjError};
 
@@ -17,8 +19,11 @@ pub struct PointLight {
     pub power: V3<f32>,
 }
 
-/// A scene: parallel arrays of primitives and their linear-RGB diffuse colours.
-#[derive(Clone, Debug, PartialEq)]
+/// A scene: parallel arrays of primitives and their linear-RGB diffuse colours, and the
+/// acceleration structure over them (built on first use, shared by clones).
+///
+/// After changing `shapes`, call [`Scene::set_accel`] so the structure is rebuilt.
+#[derive(Clone, Debug)]
 pub struct Scene {
     /// A short name for messages ("cornell" or the file name).
     pub name: String,
@@ -32,12 +37,67 @@ pub struct Scene {
     pub ambient: V3<f32>,
     /// What loading it had to skip or guess (shown to the user, never fatal).
     pub warnings: Vec<String>,
+    accel_choice: AccelChoice,
+    accel: OnceLock<Arc<Accel>>,
+}
+
+impl PartialEq for Scene {
+    fn eq(&self, o: &Self) -> bool {
+        (
+            &self.name,
+            &self.shapes,
+            &self.colors,
+            &self.light,
+            &self.ambient,
+            &self.warnings,
+        ) == (
+            &o.name,
+            &o.shapes,
+            &o.colors,
+            &o.light,
+            &o.ambient,
+            &o.warnings,
+        )
+    }
 }
 
 /// Axis-aligned bounds (min, max) of a scene.
 pub type Bounds = (V3<f32>, V3<f32>);
 
 impl Scene {
+    /// A scene of `shapes` with one colour each, a light and the indirect term.
+    pub fn new(
+        name: impl Into<String>,
+        shapes: Vec<Shape<f32>>,
+        colors: Vec<V3<f32>>,
+        light: PointLight,
+        ambient: V3<f32>,
+    ) -> Self {
+        assert_eq!(shapes.len(), colors.len(), "one colour per primitive");
+        Self {
+            name: name.into(),
+            shapes,
+            colors,
+            light,
+            ambient,
+            warnings: Vec::new(),
+            accel_choice: AccelChoice::Auto,
+            accel: OnceLock::new(),
+        }
+    }
+
+    /// The acceleration structure (built on the first call).
+    pub fn accel(&self) -> &Accel {
+        self.accel
+            .get_or_init(|| Arc::new(Accel::build(&self.shapes, self.accel_choice)))
+    }
+
+    /// Chooses the structure and drops the one built, if any (also after editing `shapes`).
+    pub fn set_accel(&mut self, choice: AccelChoice) {
+        self.accel_choice = choice;
+        self.accel = OnceLock::new();
+    }
+
     /// The built-in lab Cornell box (30 triangles), embedded in the binary.
     pub fn cornell() -> Self {
         cornell::scene()

@@ -186,17 +186,11 @@ pub fn load_obj_str(
         })
         .collect();
 
-    let mut scene = Scene {
-        name: name.to_string(),
-        shapes: Vec::new(),
-        colors: Vec::new(),
-        light: PointLight {
-            position: [0.0; 3],
-            power: [0.0; 3],
-        },
-        ambient: [0.5; 3],
-        warnings: Vec::new(),
+    let dark = PointLight {
+        position: [0.0; 3],
+        power: [0.0; 3],
     };
+    let mut scene = Scene::new(name, Vec::new(), Vec::new(), dark, [0.5; 3]);
     let mut dropped = 0usize;
     for model in &models {
         let mesh = &model.mesh;

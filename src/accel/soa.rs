@@ -1,0 +1,197 @@
+//! The small-scene path: triangles in structure-of-arrays blocks of 8, tested 8 at a time with
+//! the watertight method (`wide::f32x8`, SSE or AVX as compiled).
+//!
+//! Each lane runs exactly the scalar [`watertight_pre`] operations in the same order (no fused
+//! multiply-add), and lanes whose edge function rounds to 0 are re-decided by the scalar f64
+//! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
+//! lanes hold NaN vertices, which fail every comparison and so never hit.
+
+use crate::geometry::triangle::{edge_functions, watertight_pre, WatertightRay};
+use crate::geometry::Hit;
+use wide::f32x8;
+
+/// Eight triangles: `v[vertex][axis]` lanes, and their primitive indices.
+#[derive(Clone, Debug)]
+struct Block {
+    v: [[f32x8; 3]; 3],
+    prim: [u32; 8],
+}
+
+/// Triangles packed for the 8-wide loop.
+#[derive(Clone, Debug, Default)]
+pub struct TriangleBlocks {
+    blocks: Vec<Block>,
+    len: usize,
+}
+
+impl TriangleBlocks {
+    /// Packs triangles (with their primitive indices) in the given order.
+    pub fn new(tris: &[([[f32; 3]; 3], u32)]) -> Self {
+        let blocks = tris
+            .chunks(8)
+            .map(|chunk| {
+                let mut lanes = [[[f32::NAN; 8]; 3]; 3];
+                let mut prim = [u32::MAX; 8];
+                for (l, (tri, p)) in chunk.iter().enumerate() {
+                    for (vi, vert) in tri.iter().enumerate() {
+                        for (a, c) in vert.iter().enumerate() {
+                            lanes[vi][a][l] = *c;
+                        }
+                    }
+                    prim[l] = *p;
+                }
+                Block {
+                    v: lanes.map(|vert| vert.map(f32x8::from)),
+                    prim,
+                }
+            })
+            .collect();
+        Self {
+            blocks,
+            len: tris.len(),
+        }
+    }
+
+    /// How many triangles.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The triangle in block `b`, lane `l`.
+    fn triangle(&self, b: usize, l: usize) -> [[f32; 3]; 3] {
+        let v = &self.blocks[b].v;
+        [0, 1, 2].map(|vi| [0, 1, 2].map(|a| v[vi][a].to_array()[l]))
+    }
+
+    /// Nearest hit with tmin < t < tmax; among equal t the lowest primitive index wins.
+    pub fn closest_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_far = tmax;
+        for b in 0..self.blocks.len() {
+            let Some((mask, t, b1, b2)) = self.test_block(b, r, tmin, t_far) else {
+                continue;
+            };
+            let (prim, t_arr) = (&self.blocks[b].prim, t.to_array());
+            let mut bits = mask;
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let better = match &best {
+                    None => true,
+                    Some(h) => t_arr[l] < h.t || (t_arr[l] == h.t && prim[l] < h.prim),
+                };
+                if better {
+                    best = Some(Hit {
+                        t: t_arr[l],
+                        prim: prim[l],
+                        b1: b1.to_array()[l],
+                        b2: b2.to_array()[l],
+                    });
+                }
+            }
+            if let Some(h) = &best {
+                // Keep equal-t hits of lower index reachable: accept t ≤ best (strict < next up).
+                t_far = h.t.next_up();
+            }
+        }
+        best
+    }
+
+    /// Whether any triangle is hit with tmin < t < tmax.
+    pub fn any_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> bool {
+        (0..self.blocks.len()).any(|b| self.test_block(b, r, tmin, tmax).is_some())
+    }
+
+    /// Tests one block; `None` if no lane hits, else the lane mask, t and barycentrics.
+    #[inline]
+    fn test_block(
+        &self,
+        b: usize,
+        r: &WatertightRay<f32>,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(u32, f32x8, f32x8, f32x8)> {
+        let [kx, ky, kz] = r.k;
+        let sx = f32x8::splat(r.s[0]);
+        let sy = f32x8::splat(r.s[1]);
+        let sz = f32x8::splat(r.s[2]);
+        let (ox, oy, oz) = (
+            f32x8::splat(r.o[kx]),
+            f32x8::splat(r.o[ky]),
+            f32x8::splat(r.o[kz]),
+        );
+        let v = &self.blocks[b].v;
+        // Same operations as the scalar test: translate, then shear.
+        let sheared = |p: &[f32x8; 3]| {
+            let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
+            (px + sx * pz, py + sy * pz, pz)
+        };
+        let (ax, ay, az) = sheared(&v[0]);
+        let (bx, by, bz) = sheared(&v[1]);
+        let (cx, cy, cz) = sheared(&v[2]);
+        let mut u = cx * by - cy * bx;
+        let mut w = bx * ay - by * ax;
+        let mut vv = ax * cy - ay * cx;
+        let zero = f32x8::ZERO;
+        let exact_zero = u.simd_eq(zero) | vv.simd_eq(zero) | w.simd_eq(zero);
+        if exact_zero.any() {
+            // Rare: re-decide those lanes exactly as the scalar path does.
+            let bits = exact_zero.to_bitmask();
+            let (mut ua, mut va, mut wa) = (u.to_array(), vv.to_array(), w.to_array());
+            let (axa, aya, bxa, bya, cxa, cya) = (
+                ax.to_array(),
+                ay.to_array(),
+                bx.to_array(),
+                by.to_array(),
+                cx.to_array(),
+                cy.to_array(),
+            );
+            for l in 0..8 {
+                if bits & (1 << l) != 0 {
+                    (ua[l], va[l], wa[l]) =
+                        edge_functions(axa[l], aya[l], bxa[l], bya[l], cxa[l], cya[l]);
+                }
+            }
+            (u, vv, w) = (f32x8::from(ua), f32x8::from(va), f32x8::from(wa));
+        }
+        let neg = u.simd_lt(zero) | vv.simd_lt(zero) | w.simd_lt(zero);
+        let pos = u.simd_gt(zero) | vv.simd_gt(zero) | w.simd_gt(zero);
+        let mixed = (neg & pos).to_bitmask();
+        if mixed == 0xff {
+            return None;
+        }
+        let det = u + vv + w;
+        let t_scaled = (u * az + vv * bz + w * cz) * sz;
+        let rcp = f32x8::ONE / det;
+        let t = t_scaled * rcp;
+        let ok =
+            (t.simd_gt(f32x8::splat(tmin)) & t.simd_lt(f32x8::splat(tmax)) & det.simd_ne(zero))
+                .to_bitmask()
+                & !mixed;
+        (ok != 0).then_some((ok, t, vv * rcp, w * rcp))
+    }
+
+    /// The scalar twin of the block loop, for tests: the same triangles in the same order.
+    pub fn closest_hit_scalar(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_far = tmax;
+        for b in 0..self.blocks.len() {
+            for l in 0..8 {
+                let prim = self.blocks[b].prim[l];
+                if prim == u32::MAX {
+                    continue;
+                }
+                if let Some((t, b1, b2)) = watertight_pre(r, &self.triangle(b, l), tmin, t_far) {
+                    t_far = t;
+                    best = Some(Hit { t, prim, b1, b2 });
+                }
+            }
+        }
+        best
+    }
+}

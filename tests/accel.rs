@@ -1,0 +1,156 @@
+//! Every accelerated path against the reference brute-force loop: the SIMD block loop and the
+//! BVH must return exactly the same nearest hit (t, primitive, barycentrics) with the same
+//! method, on random scenes and on the hard-case rays at shared edges and vertices.
+
+mod common;
+
+use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
+use proptest::prelude::*;
+use raylab::accel::{self, soa::TriangleBlocks, Accel, AccelChoice};
+use raylab::geometry::triangle::WatertightRay;
+use raylab::geometry::{Method, Ray, Shape};
+
+fn random_scene(rng: &mut Rng, n: usize, spheres: usize) -> Vec<Shape<f32>> {
+    let mut shapes = Vec::new();
+    for _ in 0..n {
+        let c = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
+        let size = 10f64.powf(rng.range(-2.0, 0.3));
+        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+            [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
+        })));
+    }
+    for _ in 0..spheres {
+        shapes.push(Shape::Sphere {
+            centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
+            radius: rng.range(0.05, 1.0) as f32,
+        });
+    }
+    // A duplicate of an earlier triangle (exact ties) and of an earlier sphere.
+    if n > 2 {
+        shapes.push(shapes[1]);
+    }
+    shapes
+}
+
+fn random_ray(rng: &mut Rng, shapes: &[Shape<f32>]) -> Ray {
+    let o = [0, 1, 2].map(|_| rng.range(-6.0, 6.0) as f32);
+    // Aim at a vertex, an edge midpoint or a random point.
+    let target = match (rng.below(3), shapes[rng.below(shapes.len())]) {
+        (0, Shape::Triangle(v)) => v[rng.below(3)],
+        (1, Shape::Triangle(v)) => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
+        _ => [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
+    };
+    Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]))
+}
+
+fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
+    let brute_accel = Accel::build(shapes, AccelChoice::Brute);
+    let bvh = Accel::build(shapes, AccelChoice::Bvh);
+    for ray in rays {
+        for method in Method::ALL {
+            let reference = accel::closest_hit(shapes, ray, method, tmin, tmax);
+            assert_eq!(
+                brute_accel.closest_hit(ray, method, tmin, tmax),
+                reference,
+                "flat {method} {ray:?}"
+            );
+            assert_eq!(
+                bvh.closest_hit(ray, method, tmin, tmax),
+                reference,
+                "bvh {method} {ray:?}"
+            );
+            let any = accel::any_hit(shapes, ray, method, tmin, tmax);
+            assert_eq!(brute_accel.any_hit(ray, method, tmin, tmax), any);
+            assert_eq!(bvh.any_hit(ray, method, tmin, tmax), any);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn random_scenes_give_identical_nearest_hits(seed in any::<u64>(), n in 1usize..300, spheres in 0usize..4) {
+        let mut rng = Rng(seed);
+        let shapes = random_scene(&mut rng, n, spheres);
+        let rays: Vec<Ray> = (0..64).map(|_| random_ray(&mut rng, &shapes)).collect();
+        check_all(&shapes, &rays, 0.0, f32::INFINITY);
+        check_all(&shapes, &rays, 0.5, 1.5);
+    }
+}
+
+#[test]
+fn hard_case_rays_on_closed_meshes_are_identical() {
+    let mut rng = Rng(11);
+    for mesh in [
+        cube(8, 2.0, [-1.0; 3]),
+        icosphere(3, 1.0, [0.0; 3]),
+        cube(4, 64.0, [1e4, -1e4, 2e4]),
+    ] {
+        let targets = vertices_and_edge_midpoints(&mesh);
+        let (lo, hi) = mesh.iter().map(Shape::bounds).fold(
+            ([f32::MAX; 3], [f32::MIN; 3]),
+            |(l, h), (a, b)| {
+                (
+                    [0, 1, 2].map(|k| l[k].min(a[k])),
+                    [0, 1, 2].map(|k| h[k].max(b[k])),
+                )
+            },
+        );
+        let inside = [0, 1, 2]
+            .map(|k| ((lo[k] as f64 + hi[k] as f64) / 2.0 + 0.1 * (hi[k] - lo[k]) as f64) as f32);
+        let rays: Vec<Ray> = targets
+            .iter()
+            .map(|p| {
+                let o = if rng.below(2) == 0 {
+                    inside
+                } else {
+                    [0, 1, 2].map(|k| lo[k] - (hi[k] - lo[k]) * 0.7)
+                };
+                Ray::new(o, [0, 1, 2].map(|k| p[k] - o[k]))
+            })
+            .collect();
+        check_all(&mesh, &rays, 0.0, f32::INFINITY);
+    }
+}
+
+#[test]
+fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
+    let mut rng = Rng(5);
+    let shapes = random_scene(&mut rng, 203, 0);
+    let tris: Vec<_> = shapes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| match s {
+            Shape::Triangle(v) => Some((*v, i as u32)),
+            _ => None,
+        })
+        .collect();
+    let blocks = TriangleBlocks::new(&tris);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        let ray = random_ray(&mut rng, &shapes);
+        let r = WatertightRay::new(ray.o, ray.d).unwrap();
+        let simd = blocks.closest_hit(&r, 0.0, f32::INFINITY);
+        assert_eq!(simd, blocks.closest_hit_scalar(&r, 0.0, f32::INFINITY));
+        hits += simd.is_some() as usize;
+    }
+    assert!(hits > 5000, "{hits} hits: the rays exercise the loop");
+}
+
+#[test]
+fn auto_picks_the_flat_loop_for_the_cornell_box_and_a_bvh_for_big_meshes() {
+    let cornell = raylab::Scene::cornell();
+    assert_eq!(cornell.accel().kind(), "brute");
+    let big = icosphere(3, 1.0, [0.0; 3]);
+    assert!(big.len() >= accel::BVH_MIN_TRIANGLES);
+    assert_eq!(Accel::build(&big, AccelChoice::Auto).kind(), "bvh");
+    assert_eq!(
+        Accel::build(&[], AccelChoice::Bvh).closest_hit(
+            &Ray::new([0.0; 3], [0.0, 0.0, 1.0]),
+            Method::Watertight,
+            0.0,
+            f32::INFINITY
+        ),
+        None
+    );
+}
