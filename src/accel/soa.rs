@@ -6,7 +6,9 @@
 //! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
-use crate::geometry::triangle::{edge_functions, watertight_pre, WatertightRay};
+use crate::geometry::triangle::{
+    beyond_tmin, edge_functions, t_error_bound, watertight_pre, WatertightRay,
+};
 use crate::geometry::Hit;
 use wide::f32x8;
 
@@ -169,10 +171,32 @@ impl TriangleBlocks {
         let t_scaled = (u * az + vv * bz + w * cz) * sz;
         let rcp = f32x8::ONE / det;
         let t = t_scaled * rcp;
-        let ok =
+        let mut ok =
             (t.simd_gt(f32x8::splat(tmin)) & t.simd_lt(f32x8::splat(tmax)) & det.simd_ne(zero))
                 .to_bitmask()
                 & !mixed;
+        if ok != 0 {
+            // The t error bound, per candidate lane, by the scalar functions (same results).
+            let arr = |x: f32x8| x.to_array();
+            let (axa, aya, aza, bxa, bya, bza) =
+                (arr(ax), arr(ay), arr(az), arr(bx), arr(by), arr(bz));
+            let (cxa, cya, cza, ua, va, wa) = (arr(cx), arr(cy), arr(cz), arr(u), arr(vv), arr(w));
+            let (ta, ra) = (arr(t), arr(rcp));
+            let mut bits = ok;
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let p = [
+                    [axa[l], aya[l], aza[l]],
+                    [bxa[l], bya[l], bza[l]],
+                    [cxa[l], cya[l], cza[l]],
+                ];
+                let bound = t_error_bound(&p, r.s[2], [ua[l], va[l], wa[l]], ra[l]);
+                if !beyond_tmin(r, &self.triangle(b, l), ta[l], bound, tmin) {
+                    ok &= !(1 << l);
+                }
+            }
+        }
         (ok != 0).then_some((ok, t, vv * rcp, w * rcp))
     }
 

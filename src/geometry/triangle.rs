@@ -40,6 +40,8 @@ fn max_dim<T: Real>(a: V3<T>) -> usize {
 pub struct WatertightRay<T: Real> {
     /// Ray origin.
     pub o: V3<T>,
+    /// Ray direction.
+    pub d: V3<T>,
     /// Axes permuted so that `kz` is the largest |d| component.
     pub k: [usize; 3],
     /// Shear constants: −dx/dz, −dy/dz, 1/dz in the permuted frame.
@@ -59,6 +61,7 @@ impl<T: Real> WatertightRay<T> {
         }
         Some(Self {
             o,
+            d,
             k: [kx, ky, kz],
             s: [-d[kx] / dz, -d[ky] / dz, T::one() / dz],
         })
@@ -85,6 +88,33 @@ pub fn watertight_pre<T: Real>(
     tmin: T,
     tmax: T,
 ) -> Option<TriHit<T>> {
+    let (t, b1, b2, bound) = watertight_raw(r, v)?;
+    if !(t > tmin && t < tmax && beyond_tmin(r, v, t, bound, tmin)) {
+        return None;
+    }
+    Some((t, b1, b2))
+}
+
+/// Whether a hit at computed `t` (rounding error ≤ `bound`) is provably beyond `tmin`. Where
+/// the f32 bound cannot tell (t within its error of tmin: a ray leaving this very surface, or a
+/// grazing ray whose f32 bound is loose), the test is redone in f64 on the same (exact) inputs,
+/// whose bound is about 2²⁹ times tighter.
+#[inline]
+pub fn beyond_tmin<T: Real>(r: &WatertightRay<T>, v: &[V3<T>; 3], t: T, bound: T, tmin: T) -> bool {
+    if t - bound > tmin {
+        return true;
+    }
+    let wide = |p: V3<T>| p.map(Real::f64);
+    let Some(r64) = WatertightRay::new(wide(r.o), wide(r.d)) else {
+        return false;
+    };
+    watertight_raw(&r64, &v.map(wide)).is_some_and(|(t64, _, _, b64)| t64 - b64 > tmin.f64())
+}
+
+/// The watertight test without the interval: `(t, b1, b2, error bound of t)` if the ray's line
+/// meets the closed triangle and the triangle is not seen edge-on.
+#[inline]
+pub fn watertight_raw<T: Real>(r: &WatertightRay<T>, v: &[V3<T>; 3]) -> Option<(T, T, T, T)> {
     let [kx, ky, kz] = r.k;
     let [sx, sy, sz] = r.s;
     let a = sub(v[0], r.o);
@@ -105,11 +135,40 @@ pub fn watertight_pre<T: Real>(
     let t_scaled = (u * az + vv * bz + w * cz) * sz;
     let rcp = T::one() / det;
     let t = t_scaled * rcp;
-    if !(t > tmin && t < tmax) {
-        return None;
-    }
+    let bound = t_error_bound(
+        &[[ax, ay, az], [bx, by, bz], [cx, cy, cz]],
+        sz,
+        [u, vv, w],
+        rcp,
+    );
     // u weighs vertex a (v0), vv weighs b (v1), w weighs c (v2).
-    Some((t, vv * rcp, w * rcp))
+    Some((t, vv * rcp, w * rcp, bound))
+}
+
+/// A conservative bound on the rounding error of the watertight test's t, after pbrt-v4
+/// §6.8.5 (Pharr, Jakob & Humphreys), from the sheared vertices (x, y sheared, z not yet
+/// scaled by `sz`), the edge functions and 1/det. A hit whose t does not exceed tmin by more
+/// than this bound is not counted: it may lie at or before tmin (a shadow ray re-hitting the
+/// surface it leaves).
+///
+/// Unlike pbrt, which bounds the shear term of x′ = x + Sx·z by the *scaled* z (fine for unit
+/// directions), this uses the unscaled z (|Sx| ≤ 1 since z is the largest direction axis), so
+/// the bound stays right for any |d|: a 1e-5 triangle hit by a 1e-6-long direction.
+#[inline]
+pub fn t_error_bound<T: Real>(p: &[[T; 3]; 3], sz: T, e: [T; 3], rcp: T) -> T {
+    let max3 = |a: T, b: T, c: T| a.abs().max(b.abs()).max(c.abs());
+    let max_z = max3(p[0][2], p[1][2], p[2][2]);
+    let max_zt = max_z * sz.abs();
+    let max_xt = max3(p[0][0], p[1][0], p[2][0]);
+    let max_yt = max3(p[0][1], p[1][1], p[2][1]);
+    let delta_z = T::error_gamma(3) * max_zt;
+    let delta_x = T::error_gamma(5) * (max_xt + max_z);
+    let delta_y = T::error_gamma(5) * (max_yt + max_z);
+    let two = T::one() + T::one();
+    let three = two + T::one();
+    let delta_e = two * (T::error_gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = max3(e[0], e[1], e[2]);
+    three * (T::error_gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
 }
 
 /// The three edge functions of the sheared triangle. One that rounds to exactly 0 may be a
