@@ -8,7 +8,7 @@ use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::{self, LabStep, RenderSettings};
-use raylab::scene::{self, Scene};
+use raylab::scene::{self, ObjFrame, Scene};
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,6 +22,10 @@ pub struct Cli {
     pub command: Option<Command>,
     /// An OBJ model to open in the window instead of the built-in Cornell box.
     pub model: Option<PathBuf>,
+    /// How the model's (and dropped files') coordinates are read: `yup` or `lab` (see
+    /// `raylab render --help`).
+    #[arg(long, default_value = "yup")]
+    pub obj_frame: ObjFrame,
     /// Scripted run: show N frames (then finish the script and refine the image), save what
     /// the window showed to --screenshot and exit 0. For tests; needs a display.
     #[arg(long, value_name = "N", requires = "screenshot")]
@@ -143,6 +147,11 @@ pub struct ViewArgs {
     /// from there on; `brute` and `bvh` force one.
     #[arg(long, default_value = "auto")]
     pub accel: AccelChoice,
+    /// How an OBJ file's coordinates are read: `yup` (the usual convention; x and y are negated
+    /// so the model stands upright in the lab's y-down world) or `lab` (already y-down, like
+    /// cornell_lab.obj).
+    #[arg(long, default_value = "yup")]
+    pub obj_frame: ObjFrame,
 }
 
 /// `raylab render`.
@@ -206,11 +215,11 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 }
 
 /// Loads `cornell` or an OBJ file.
-pub fn load_scene(spec: &str) -> Result<Scene> {
+pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
     if spec == "cornell" {
         return Ok(Scene::cornell());
     }
-    Ok(scene::load_obj_file(Path::new(spec))?)
+    Ok(scene::load_obj_file(Path::new(spec), frame)?)
 }
 
 /// The scene, camera and settings a `ViewArgs` asks for.
@@ -224,7 +233,8 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     };
     settings.validate()?;
     let focal = v.focal.unwrap_or(v.width as f64);
-    let mut scene = load_scene(&v.scene).with_context(|| format!("loading scene '{}'", v.scene))?;
+    let mut scene = load_scene(&v.scene, v.obj_frame)
+        .with_context(|| format!("loading scene '{}'", v.scene))?;
     scene.set_accel(v.accel);
     for w in &scene.warnings {
         eprintln!("warning: {w}");

@@ -30,6 +30,7 @@ fn main() -> ExitCode {
 fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
     app::run(app::ViewerOptions {
         scene: args.model.clone(),
+        obj_frame: args.obj_frame,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         script: args.script.clone(),

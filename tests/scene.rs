@@ -113,7 +113,7 @@ fn shipped_asset_matches_the_shared_scene_when_present() {
 fn obj_polygons_are_triangulated_and_colours_read() {
     let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0\nusemtl a\nf 1 2 3 5 4\nusemtl b\nf -5 -4 -3\n";
     let mtl = "newmtl a\nKd 0.2 0.4 0.6\nnewmtl b\nKd 2 -1 0.5\n";
-    let scene = raylab::scene::load_obj_str("t.obj", obj, |name| {
+    let scene = raylab::scene::load_obj_str("t.obj", obj, raylab::scene::ObjFrame::Lab, |name| {
         assert_eq!(name, "m.mtl");
         Ok(mtl.to_string())
     })
@@ -157,4 +157,22 @@ fn the_core_never_imports_the_window_stack() {
         }
     }
     assert!(checked >= 10, "checked {checked} files");
+}
+
+#[test]
+fn y_up_models_are_turned_into_the_lab_frame() {
+    let obj = "v 1 2 3\nv 4 5 6\nv 7 8 10\nf 1 2 3\n";
+    let no_mtl = |_: &str| Err("none".to_string());
+    let lab =
+        raylab::scene::load_obj_str("t.obj", obj, raylab::scene::ObjFrame::Lab, no_mtl).unwrap();
+    let yup =
+        raylab::scene::load_obj_str("t.obj", obj, raylab::scene::ObjFrame::YUp, no_mtl).unwrap();
+    assert_eq!(
+        lab.shapes[0],
+        Shape::Triangle([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 10.0]])
+    );
+    assert_eq!(
+        yup.shapes[0],
+        Shape::Triangle([[-1.0, -2.0, 3.0], [-4.0, -5.0, 6.0], [-7.0, -8.0, 10.0]])
+    );
 }

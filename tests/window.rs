@@ -266,7 +266,7 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
         run.fields
     );
     let (camera, w, h, rect) = run.camera();
-    let scene = raylab::scene::load_obj_file(&good).unwrap();
+    let scene = raylab::scene::load_obj_file(&good, raylab::scene::ObjFrame::YUp).unwrap();
     let settings = RenderSettings {
         width: w,
         height: h,

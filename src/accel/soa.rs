@@ -6,10 +6,9 @@
 //! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
-use crate::geometry::triangle::{
-    beyond_tmin, edge_functions, t_error_bound, watertight_pre, WatertightRay,
-};
+use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
 use crate::geometry::Hit;
+use crate::math::Real;
 use wide::f32x8;
 
 /// Eight triangles: `v[vertex][axis]` lanes, and their primitive indices.
@@ -176,30 +175,48 @@ impl TriangleBlocks {
                 .to_bitmask()
                 & !mixed;
         if ok != 0 {
-            // The t error bound, per candidate lane, by the scalar functions (same results).
-            let arr = |x: f32x8| x.to_array();
-            let (axa, aya, aza, bxa, bya, bza) =
-                (arr(ax), arr(ay), arr(az), arr(bx), arr(by), arr(bz));
-            let (cxa, cya, cza, ua, va, wa) = (arr(cx), arr(cy), arr(cz), arr(u), arr(vv), arr(w));
-            let (ta, ra) = (arr(t), arr(rcp));
-            let mut bits = ok;
+            // The t error bound, lane-wise with exactly the scalar bound's operations;
+            // lanes it cannot clear of tmin are re-decided by the scalar f64 path.
+            let bound = t_error_bound_x8(
+                [[ax, ay, az], [bx, by, bz], [cx, cy, cz]],
+                sz,
+                [u, vv, w],
+                rcp,
+            );
+            let unsure = (t - bound).simd_le(f32x8::splat(tmin)).to_bitmask() & ok;
+            let mut bits = unsure;
             while bits != 0 {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let p = [
-                    [axa[l], aya[l], aza[l]],
-                    [bxa[l], bya[l], bza[l]],
-                    [cxa[l], cya[l], cza[l]],
-                ];
-                let bound = t_error_bound(&p, r.s[2], [ua[l], va[l], wa[l]], ra[l]);
-                if !beyond_tmin(r, &self.triangle(b, l), ta[l], bound, tmin) {
+                let (tl, bl) = (t.to_array()[l], bound.to_array()[l]);
+                if !beyond_tmin(r, &self.triangle(b, l), tl, bl, tmin) {
                     ok &= !(1 << l);
                 }
             }
         }
         (ok != 0).then_some((ok, t, vv * rcp, w * rcp))
     }
+}
 
+/// [`t_error_bound`](crate::geometry::triangle::t_error_bound) for 8 lanes, operation for operation (so bit-identical per lane).
+#[inline]
+fn t_error_bound_x8(p: [[f32x8; 3]; 3], sz: f32x8, e: [f32x8; 3], rcp: f32x8) -> f32x8 {
+    let max3 = |a: f32x8, b: f32x8, c: f32x8| a.abs().max(b.abs()).max(c.abs());
+    let g = |n| f32x8::splat(f32::error_gamma(n));
+    let max_z = max3(p[0][2], p[1][2], p[2][2]);
+    let max_zt = max_z * sz.abs();
+    let max_xt = max3(p[0][0], p[1][0], p[2][0]);
+    let max_yt = max3(p[0][1], p[1][1], p[2][1]);
+    let delta_z = g(3) * max_zt;
+    let delta_x = g(5) * (max_xt + max_z);
+    let delta_y = g(5) * (max_yt + max_z);
+    let delta_e =
+        f32x8::splat(2.0) * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = max3(e[0], e[1], e[2]);
+    f32x8::splat(3.0) * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
+}
+
+impl TriangleBlocks {
     /// The scalar twin of the block loop, for tests: the same triangles in the same order.
     pub fn closest_hit_scalar(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;

@@ -37,6 +37,8 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 pub struct ViewerOptions {
     /// An OBJ file to open instead of the Cornell box.
     pub scene: Option<PathBuf>,
+    /// How OBJ coordinates are read.
+    pub obj_frame: raylab::scene::ObjFrame,
     /// Run this many frames (plus the script and refinement), save `screenshot`, exit.
     pub frames: Option<u64>,
     /// Where `--frames` saves what the window showed.
@@ -98,7 +100,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         None => None,
     };
     let scene = match &opts.scene {
-        Some(p) => raylab::scene::load_obj_file(p)?,
+        Some(p) => raylab::scene::load_obj_file(p, opts.obj_frame)?,
         None => Scene::cornell(),
     };
     let event_loop = EventLoop::<AppEvent>::with_user_event().build().map_err(|e| {
@@ -358,8 +360,9 @@ impl App {
         self.loading = true;
         self.set_status(format!("loading {}...", path.display()));
         let proxy = self.proxy.clone();
+        let frame = self.opts.obj_frame;
         std::thread::spawn(move || {
-            let result = raylab::scene::load_obj_file(&path).map_err(|e| e.to_string());
+            let result = raylab::scene::load_obj_file(&path, frame).map_err(|e| e.to_string());
             let _ = proxy.send_event(AppEvent::SceneLoaded(path, result));
         });
     }

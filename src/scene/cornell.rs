@@ -22,7 +22,7 @@ pub const AMBIENT: [f32; 3] = [0.5, 0.5, 0.5];
 
 /// Builds the scene from the embedded OBJ.
 pub fn scene() -> Scene {
-    let mut scene = obj::load_obj_str("cornell", OBJ, |_| Ok(MTL.to_string()))
+    let mut scene = obj::load_obj_str("cornell", OBJ, obj::ObjFrame::Lab, |_| Ok(MTL.to_string()))
         .expect("the embedded Cornell box is valid");
     scene.light = LIGHT;
     scene.ambient = AMBIENT;

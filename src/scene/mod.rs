@@ -8,7 +8,7 @@ use crate::geometry::Shape;
 use crate::math::real::V3;
 use std::sync::{Arc, OnceLock};
 
-pub use obj::{load_obj_file, load_obj_str, ObjError};
+pub use obj::{load_obj_file, load_obj_str, ObjError, ObjFrame};
 
 /// A point light.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,6 +5,11 @@
 //! than 3 vertices, an index of 0 or beyond the vertices defined so far. tobj then parses the
 //! text (polygons are fan-triangulated), and triangles of zero area are dropped and counted in
 //! a warning. A missing or broken material library is a warning: its faces turn grey.
+//!
+//! OBJ models are conventionally y-up, while the lab's world is y-down; [`ObjFrame::YUp`]
+//! turns them the lab's way, negating x and y (a 180° turn about z, as the lab does to its
+//! Cornell box), so they stand upright in the viewer. [`ObjFrame::Lab`] takes the coordinates
+//! as they are (for files already in the lab's frame, such as `cornell_lab.obj`).
 
 use super::{PointLight, Scene};
 use crate::geometry::Shape;
@@ -12,6 +17,27 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
+
+/// How an OBJ file's coordinates map to the world.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ObjFrame {
+    /// The usual y-up model: x and y are negated (upright in the y-down lab world).
+    #[default]
+    YUp,
+    /// Already in the lab's y-down frame: used as is.
+    Lab,
+}
+
+impl std::str::FromStr for ObjFrame {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "yup" => Ok(ObjFrame::YUp),
+            "lab" => Ok(ObjFrame::Lab),
+            _ => Err(format!("unknown OBJ frame '{s}' (expected yup or lab)")),
+        }
+    }
+}
 
 /// Largest OBJ file accepted (bytes): a guard against exhausting memory on a wrong file.
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
@@ -81,7 +107,7 @@ pub enum ObjError {
 
 /// Loads an OBJ file (and the material libraries it names, relative to it) as a scene, with
 /// a light placed for its size.
-pub fn load_obj_file(path: &Path) -> Result<Scene, ObjError> {
+pub fn load_obj_file(path: &Path, frame: ObjFrame) -> Result<Scene, ObjError> {
     let io = |source| ObjError::Io {
         path: path.to_path_buf(),
         source,
@@ -101,7 +127,7 @@ pub fn load_obj_file(path: &Path) -> Result<Scene, ObjError> {
     let name = path.display().to_string();
     let text = to_text(&name, bytes)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    load_obj_str(&name, &text, |mtl: &str| {
+    load_obj_str(&name, &text, frame, |mtl: &str| {
         let p = dir.join(mtl);
         std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
     })
@@ -129,6 +155,7 @@ fn to_text(name: &str, bytes: Vec<u8>) -> Result<String, ObjError> {
 pub fn load_obj_str(
     name: &str,
     text: &str,
+    frame: ObjFrame,
     load_mtl: impl Fn(&str) -> Result<String, String>,
 ) -> Result<Scene, ObjError> {
     if let Some(pos) = text.find('\0') {
@@ -200,7 +227,10 @@ pub fn load_obj_str(
             .unwrap_or(DEFAULT_COLOR);
         let vertex = |i: u32| -> Option<[f32; 3]> {
             let k = 3 * i as usize;
-            mesh.positions.get(k..k + 3).map(|p| [p[0], p[1], p[2]])
+            mesh.positions.get(k..k + 3).map(|p| match frame {
+                ObjFrame::YUp => [-p[0], -p[1], p[2]],
+                ObjFrame::Lab => [p[0], p[1], p[2]],
+            })
         };
         for tri in mesh.indices.chunks_exact(3) {
             let (Some(a), Some(b), Some(c)) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2]))
