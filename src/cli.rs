@@ -152,6 +152,10 @@ pub struct ViewArgs {
     /// cornell_lab.obj).
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
+    /// Test every camera ray against every triangle of a small scene instead of only those
+    /// whose screen bounds meet its 8x8 tile (the same image, slower: to measure the gain).
+    #[arg(long)]
+    pub no_tile_culling: bool,
 }
 
 /// `raylab render`.
@@ -230,6 +234,7 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         step: v.step.into(),
         spp: v.spp,
         method: v.method.into(),
+        tile_culling: !v.no_tile_culling,
     };
     settings.validate()?;
     let focal = v.focal.unwrap_or(v.width as f64);

@@ -375,3 +375,60 @@ fn bad_settings_are_errors_not_panics() {
     let mut small = vec![0u8; 10];
     assert!(raylab::render_into(&scene, &cam, &s, &mut small).is_err());
 }
+
+#[test]
+fn srgb_table_matches_the_exact_curve() {
+    use raylab::render::{linear_to_srgb8, linear_to_srgb8_reference};
+    // Every f32 in [0, 1] at a stride, plus the neighbourhood of every decision level.
+    let mut mismatches = 0;
+    let mut checked = 0;
+    let mut x = 0.0f32;
+    while x <= 1.0 {
+        checked += 1;
+        if linear_to_srgb8(x) != linear_to_srgb8_reference(x) {
+            mismatches += 1;
+        }
+        x = f32::from_bits(x.to_bits() + 997);
+    }
+    assert!(checked > 1_000_000);
+    // f32 rounding of a level may move a value lying within an ulp of it by one code.
+    assert!(mismatches <= 4, "{mismatches} of {checked}");
+    assert_eq!(linear_to_srgb8(f32::NAN), 0);
+    assert_eq!(linear_to_srgb8(-1.0), 0);
+    assert_eq!(linear_to_srgb8(2.0), 255);
+    assert_eq!(linear_to_srgb8(1.0), 255);
+    assert_eq!(linear_to_srgb8(0.5), 188);
+}
+
+#[test]
+fn tile_culling_gives_the_same_image() {
+    // Cameras inside, outside, turned, very wide and with triangles behind the camera.
+    let scene = Scene::cornell();
+    let cams = [
+        Camera::cornell(97),
+        Camera::from_yaw_pitch(glam::DVec3::new(0.3, 0.2, -0.5), 0.8, 0.3, 20.0).unwrap(),
+        Camera::from_yaw_pitch(glam::DVec3::new(-0.9, 0.9, 0.9), -2.5, -0.7, 60.0).unwrap(),
+        Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 400.0).unwrap(),
+    ];
+    for (k, cam) in cams.iter().enumerate() {
+        for step in [LabStep::Flat, LabStep::Shadows] {
+            for spp in [1, 2] {
+                let on = RenderSettings {
+                    width: 97,
+                    height: 61,
+                    step,
+                    spp,
+                    ..Default::default()
+                };
+                let off = RenderSettings {
+                    tile_culling: false,
+                    ..on
+                };
+                let (a, sa) = render_image(&scene, cam, &on).unwrap();
+                let (b, sb) = render_image(&scene, cam, &off).unwrap();
+                assert!(a == b, "camera {k} {step} spp {spp}: images differ");
+                assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
+            }
+        }
+    }
+}

@@ -10,6 +10,7 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
+use super::IndexedTriangle;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
 
@@ -74,7 +75,7 @@ struct Prep {
 
 impl Bvh {
     /// Builds over triangles with their primitive indices.
-    pub fn build(tris: &[([[f32; 3]; 3], u32)]) -> Self {
+    pub fn build(tris: &[IndexedTriangle]) -> Self {
         if tris.is_empty() {
             return Self::default();
         }

@@ -17,6 +17,9 @@ use std::str::FromStr;
 
 pub use brute::{any_hit, closest_hit};
 
+/// A triangle's vertices with its primitive index in the scene.
+pub type IndexedTriangle = ([[f32; 3]; 3], u32);
+
 /// From this many triangles on, `auto` builds a BVH.
 pub const BVH_MIN_TRIANGLES: usize = 64;
 
@@ -61,7 +64,7 @@ impl FromStr for AccelChoice {
 
 #[derive(Clone, Debug)]
 enum Triangles {
-    Flat(soa::TriangleBlocks, Vec<([[f32; 3]; 3], u32)>),
+    Flat(soa::TriangleBlocks, Vec<IndexedTriangle>),
     Bvh(bvh::Bvh),
 }
 
@@ -101,6 +104,15 @@ impl Accel {
         match self.triangles {
             Triangles::Flat(..) => "brute",
             Triangles::Bvh(_) => "bvh",
+        }
+    }
+
+    /// The triangles in primitive order, for a flat structure over triangles only (what the
+    /// renderer's tile culling works on); `None` for a BVH or when there are spheres.
+    pub fn flat_triangles(&self) -> Option<&[IndexedTriangle]> {
+        match &self.triangles {
+            Triangles::Flat(_, tris) if self.spheres.is_empty() => Some(tris),
+            _ => None,
         }
     }
 

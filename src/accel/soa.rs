@@ -6,6 +6,7 @@
 //! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
+use super::IndexedTriangle;
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
 use crate::geometry::Hit;
 use crate::math::Real;
@@ -27,7 +28,7 @@ pub struct TriangleBlocks {
 
 impl TriangleBlocks {
     /// Packs triangles (with their primitive indices) in the given order.
-    pub fn new(tris: &[([[f32; 3]; 3], u32)]) -> Self {
+    pub fn new(tris: &[IndexedTriangle]) -> Self {
         let blocks = tris
             .chunks(8)
             .map(|chunk| {

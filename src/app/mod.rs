@@ -315,6 +315,7 @@ impl App {
             step: self.view.step,
             spp: if level == 2 { self.view.spp } else { 1 },
             method: self.view.method,
+            ..Default::default()
         };
         self.worker.submit(worker::Job {
             scene,
@@ -382,6 +383,7 @@ impl App {
             step: self.view.step,
             spp: self.view.spp,
             method: self.view.method,
+            ..Default::default()
         };
         let result = render::render_image(&self.scene, &self.controller.camera(w), &settings)
             .map_err(|e| e.to_string())

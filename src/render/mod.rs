@@ -4,8 +4,13 @@
 pub mod settings;
 pub mod shade;
 
+use crate::accel::soa::TriangleBlocks;
+use crate::accel::IndexedTriangle;
 use crate::camera::Camera;
+use crate::geometry::triangle::WatertightRay;
+use crate::geometry::{Hit, Method, Ray};
 use crate::scene::Scene;
+use glam::DVec3;
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -41,23 +46,75 @@ impl RenderStats {
 /// The colour seen along one camera ray (black where it escapes). Counts shadow rays.
 pub fn trace_pixel_ray(
     scene: &Scene,
-    ray: &crate::geometry::Ray,
+    ray: &Ray,
     settings: &RenderSettings,
     shadow_rays: &mut u64,
 ) -> Option<Rgb> {
     let hit = scene
         .accel()
         .closest_hit(ray, settings.method, 0.0, f32::INFINITY)?;
+    Some(shade_hit(scene, ray, &hit, settings, shadow_rays))
+}
+
+/// The lab step's colour at a camera ray's nearest hit.
+fn shade_hit(
+    scene: &Scene,
+    ray: &Ray,
+    hit: &Hit,
+    settings: &RenderSettings,
+    shadow_rays: &mut u64,
+) -> Rgb {
     let m = settings.method;
-    Some(match settings.step {
-        LabStep::Flat => shade::flat(scene, &hit),
-        LabStep::Direct => shade::direct(scene, ray, &hit),
-        LabStep::Shadows => shade::shadows(scene, ray, &hit, m, shadow_rays),
-        LabStep::Indirect => shade::indirect(scene, ray, &hit, m, shadow_rays),
-    })
+    match settings.step {
+        LabStep::Flat => shade::flat(scene, hit),
+        LabStep::Direct => shade::direct(scene, ray, hit),
+        LabStep::Shadows => shade::shadows(scene, ray, hit, m, shadow_rays),
+        LabStep::Indirect => shade::indirect(scene, ray, hit, m, shadow_rays),
+    }
+}
+
+/// Side of the square tiles camera rays are traced in.
+pub const TILE: u32 = 8;
+
+/// Screen-space bounds of each triangle of a flat (small) scene, for tile culling: the pixel
+/// rectangle (x0, y0, x1, y1) its projection covers, widened by a pixel for rounding, or
+/// `None` where a vertex is not in front of the camera (such a triangle is kept for every
+/// tile). A camera ray through image position (x, y) can only hit a triangle whose rectangle
+/// holds (x, y), since a triangle in front of the pinhole projects to a triangle.
+fn screen_bounds(
+    tris: &[IndexedTriangle],
+    camera: &Camera,
+    w: u32,
+    h: u32,
+) -> Vec<Option<[f32; 4]>> {
+    let from_world = camera.camera_from_world();
+    let (cx, cy, f) = (w as f64 / 2.0, h as f64 / 2.0, camera.focal);
+    tris.iter()
+        .map(|(v, _)| {
+            let mut b = [
+                f32::INFINITY,
+                f32::INFINITY,
+                f32::NEG_INFINITY,
+                f32::NEG_INFINITY,
+            ];
+            for p in v {
+                let q = from_world.transform_point3(DVec3::from_array(p.map(f64::from)));
+                if q.z <= 1e-9 * q.length() {
+                    return None;
+                }
+                let (x, y) = ((f * q.x / q.z + cx) as f32, (f * q.y / q.z + cy) as f32);
+                b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+            }
+            Some([b[0] - 1.0, b[1] - 1.0, b[2] + 1.0, b[3] + 1.0])
+        })
+        .collect()
 }
 
 /// Renders `scene` through `camera` into `rgba` (RGBA8, rows top to bottom, alpha 255).
+///
+/// Camera rays run in bands of [`TILE`] rows in parallel, tile by tile. For a small scene
+/// traced with the watertight method, each tile tests only the triangles whose screen bounds
+/// meet it (tile culling), which gives exactly the same nearest hits as testing them all.
 pub fn render_into(
     scene: &Scene,
     camera: &Camera,
@@ -75,37 +132,74 @@ pub fn render_into(
         ));
     }
     // Build the acceleration structure before the clock starts (once per scene).
-    scene.accel();
+    let accel = scene.accel();
     let start = Instant::now();
+    let culled = match accel.flat_triangles() {
+        Some(tris) if settings.tile_culling && settings.method == Method::Watertight => {
+            Some((tris, screen_bounds(tris, camera, w, h)))
+        }
+        _ => None,
+    };
     let gen = camera.ray_generator(w, h);
     let n = settings.spp;
     let inv_n = 1.0 / n as f32;
     let weight = 1.0 / (n * n) as f32;
+    let row_bytes = w as usize * 4;
     let (hits, shadow_rays) = rgba
-        .par_chunks_mut(w as usize * 4)
+        .par_chunks_mut(row_bytes * TILE as usize)
         .enumerate()
-        .map(|(j, row)| {
+        .map(|(band, rows)| {
             let mut hits = 0u64;
             let mut shadow_rays = 0u64;
-            for (i, px) in row.chunks_exact_mut(4).enumerate() {
-                let mut sum = [0.0f32; 3];
-                for sy in 0..n {
-                    for sx in 0..n {
-                        let x = i as f32 + (sx as f32 + 0.5) * inv_n;
-                        let y = j as f32 + (sy as f32 + 0.5) * inv_n;
-                        let ray = gen.ray_through(x, y);
-                        if let Some(c) = trace_pixel_ray(scene, &ray, settings, &mut shadow_rays) {
-                            hits += 1;
-                            for k in 0..3 {
-                                sum[k] += c[k];
+            let y0 = band as u32 * TILE;
+            let band_h = (rows.len() / row_bytes) as u32;
+            let mut subset = Vec::new();
+            for x0 in (0..w).step_by(TILE as usize) {
+                let tile_w = TILE.min(w - x0);
+                let blocks = culled.as_ref().map(|(tris, bounds)| {
+                    let (tx0, ty0) = (x0 as f32, y0 as f32);
+                    let (tx1, ty1) = ((x0 + tile_w) as f32, (y0 + band_h) as f32);
+                    subset.clear();
+                    subset.extend(tris.iter().zip(bounds).filter_map(|(t, b)| match b {
+                        Some(b) if b[2] < tx0 || b[0] > tx1 || b[3] < ty0 || b[1] > ty1 => None,
+                        _ => Some(*t),
+                    }));
+                    TriangleBlocks::new(&subset)
+                });
+                for j in y0..y0 + band_h {
+                    let row = &mut rows[(j - y0) as usize * row_bytes..][..row_bytes];
+                    for i in x0..x0 + tile_w {
+                        let mut sum = [0.0f32; 3];
+                        for sy in 0..n {
+                            for sx in 0..n {
+                                let x = i as f32 + (sx as f32 + 0.5) * inv_n;
+                                let y = j as f32 + (sy as f32 + 0.5) * inv_n;
+                                let ray = gen.ray_through(x, y);
+                                let colour = match &blocks {
+                                    Some(b) => WatertightRay::new(ray.o, ray.d)
+                                        .and_then(|r| b.closest_hit(&r, 0.0, f32::INFINITY))
+                                        .map(|hit| {
+                                            shade_hit(scene, &ray, &hit, settings, &mut shadow_rays)
+                                        }),
+                                    None => {
+                                        trace_pixel_ray(scene, &ray, settings, &mut shadow_rays)
+                                    }
+                                };
+                                if let Some(c) = colour {
+                                    hits += 1;
+                                    for k in 0..3 {
+                                        sum[k] += c[k];
+                                    }
+                                }
                             }
                         }
+                        let px = &mut row[i as usize * 4..][..4];
+                        px[0] = linear_to_srgb8(sum[0] * weight);
+                        px[1] = linear_to_srgb8(sum[1] * weight);
+                        px[2] = linear_to_srgb8(sum[2] * weight);
+                        px[3] = 255;
                     }
                 }
-                px[0] = linear_to_srgb8(sum[0] * weight);
-                px[1] = linear_to_srgb8(sum[1] * weight);
-                px[2] = linear_to_srgb8(sum[2] * weight);
-                px[3] = 255;
             }
             (hits, shadow_rays)
         })
@@ -132,8 +226,47 @@ pub fn render_image(
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1] and
 /// rounded to 8 bits. NaN maps to 0.
+///
+/// No `powf`: the code is the number of the 255 decision levels (the linear values where the
+/// rounded code steps up, computed once in f64) at or below `x`. A 4096-entry table gives that
+/// count at the start of x's bin, and since the curve's steepest slope (12.92·255 codes per
+/// unit, at 0) is under one code per bin, one comparison finishes it, with no branch.
 pub fn linear_to_srgb8(x: f32) -> u8 {
-    let x = if x > 0.0 { x.min(1.0) } else { 0.0 };
+    const BINS: usize = 4096;
+    struct Tables {
+        levels: [f32; 256],
+        start: [u8; BINS],
+    }
+    static TABLES: std::sync::LazyLock<Tables> = std::sync::LazyLock::new(|| {
+        let mut levels = [f32::INFINITY; 256];
+        for (k, level) in levels.iter_mut().take(255).enumerate() {
+            // The code steps from k to k + 1 where the encoded value reaches (k + 0.5)/255.
+            let s = (k as f64 + 0.5) / 255.0;
+            let lin = if s <= 0.04045 {
+                s / 12.92
+            } else {
+                ((s + 0.055) / 1.055).powf(2.4)
+            };
+            *level = lin as f32;
+        }
+        let start =
+            std::array::from_fn(|b| levels.partition_point(|&l| l <= b as f32 / BINS as f32) as u8);
+        Tables { levels, start }
+    });
+    if x.is_nan() || x <= 0.0 {
+        return 0;
+    }
+    if x >= 1.0 {
+        return 255;
+    }
+    let t = &*TABLES;
+    let c = t.start[((x * BINS as f32) as usize).min(BINS - 1)];
+    c + (t.levels[c as usize] <= x) as u8
+}
+
+/// The exact curve with `powf`, kept to test the table against.
+pub fn linear_to_srgb8_reference(x: f32) -> u8 {
+    let x = if x > 0.0 { (x as f64).min(1.0) } else { 0.0 };
     let s = if x <= 0.003_130_8 {
         12.92 * x
     } else {

@@ -86,6 +86,9 @@ pub struct RenderSettings {
     pub spp: u32,
     /// Ray/triangle method.
     pub method: Method,
+    /// Trace camera rays of small scenes against only the triangles whose screen bounds meet
+    /// each 8×8 tile (same image, faster); off only to measure what it saves.
+    pub tile_culling: bool,
 }
 
 impl Default for RenderSettings {
@@ -96,6 +99,7 @@ impl Default for RenderSettings {
             step: LabStep::Flat,
             spp: 1,
             method: Method::Watertight,
+            tile_culling: true,
         }
     }
 }
