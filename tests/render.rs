@@ -7,6 +7,8 @@
 //! triangle's edge, where f32 and f64 may rightly pick different triangles. At least 95% of
 //! the pixels must be unambiguous.
 
+mod common;
+
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
 
@@ -398,6 +400,36 @@ fn srgb_table_matches_the_exact_curve() {
     assert_eq!(linear_to_srgb8(2.0), 255);
     assert_eq!(linear_to_srgb8(1.0), 255);
     assert_eq!(linear_to_srgb8(0.5), 188);
+}
+
+#[test]
+fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
+    // A 1280-triangle closed mesh (culled per tile for camera rays, BVH for shadow rays).
+    let mesh = common::icosphere(3, 0.8, [0.1, -0.2, 0.3]);
+    let n = mesh.len();
+    let mut scene = Scene::cornell();
+    scene.shapes.extend(mesh);
+    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    scene.set_accel(raylab::accel::AccelChoice::Auto);
+    assert_eq!(scene.accel().kind(), "bvh");
+    assert!(scene.accel().flat_triangles().is_some());
+    let cam = Camera::cornell(83);
+    for step in [LabStep::Flat, LabStep::Indirect] {
+        let on = RenderSettings {
+            width: 83,
+            height: 57,
+            step,
+            ..Default::default()
+        };
+        let off = RenderSettings {
+            tile_culling: false,
+            ..on
+        };
+        assert!(
+            render_image(&scene, &cam, &on).unwrap().0
+                == render_image(&scene, &cam, &off).unwrap().0
+        );
+    }
 }
 
 #[test]

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Reproduces the README's performance table: builds the release binary (core only, so the
+# window stack is not needed) and runs `raylab bench` for each row, printing Markdown rows.
+# Usage: bash benches/readme_table.sh [FRAMES]   (needs ../shared/scenes for the mesh rows)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+frames=${1:-7}
+cargo build --release --no-default-features -q
+bin=target/release/raylab
+shared=../shared/scenes
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores, $(date -u +%F)"
+echo
+echo "| scene | size | step | method | accel | threads | build ms | median frame ms | Mrays/s |"
+echo "|---|---|---|---|---|---|---|---|---|"
+row() { # scene step method threads extra...
+  local scene=$1 step=$2 method=$3 threads=$4; shift 4
+  local out
+  out=$($bin bench --scene "$scene" --width 1280 --height 720 --step "$step" --method "$method" \
+        --threads "$threads" --frames "$frames" "$@")
+  local accel build median mrays
+  accel=$(sed -n 's/.*accel: \([a-z]*\), build \([0-9.]*\) ms.*/\1/p' <<<"$out")
+  build=$(sed -n 's/.*accel: [a-z]*, build \([0-9.]*\) ms.*/\1/p' <<<"$out")
+  median=$(sed -n 's/^median frame \([0-9.]*\) ms.*/\1/p' <<<"$out")
+  mrays=$(sed -n 's/^mrays_per_s=//p' <<<"$out")
+  local extra=""; [ $# -gt 0 ] && extra=" ($*)"
+  echo "| $(basename "$scene") | 1280x720 | $step | $method$extra | $accel | $threads | $build | $median | $mrays |"
+}
+for t in 1 2; do
+  row cornell flat watertight $t
+  row cornell shadows watertight $t
+done
+row cornell flat watertight 2 --no-tile-culling
+row cornell flat moller 2
+row cornell flat cramer 2
+if [ -d "$shared" ]; then
+  for t in 1 2; do
+    row "$shared/bunny.obj" flat watertight $t
+    row "$shared/igea.obj" flat watertight $t
+  done
+  row "$shared/bunny.obj" shadows watertight 2
+  row "$shared/bunny.obj" flat watertight 2 --accel brute
+fi
