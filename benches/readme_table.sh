@@ -38,5 +38,4 @@ if [ -d "$shared" ]; then
     row "$shared/igea.obj" flat watertight $t
   done
   row "$shared/bunny.obj" shadows watertight 2
-  row "$shared/bunny.obj" flat watertight 2 --accel brute
 fi
