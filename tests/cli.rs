@@ -241,6 +241,32 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         "/dev/null",
     ]);
     assert_fails(&o, 2, &["dir.obj", "not a regular file"]);
+    // A broken material library (tobj 4 panics on a short Kd) is a warning naming its line.
+    let obj = dir.path().join("badmtl.obj");
+    std::fs::write(
+        &obj,
+        "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("bad.mtl"), "newmtl x\nKd 0.5\n").unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("bad.mtl:2: Kd needs 3 numbers"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("panicked"));
     // A missing material library is a warning, not an error.
     let obj = dir.path().join("nomtl.obj");
     std::fs::write(

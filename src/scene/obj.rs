@@ -175,15 +175,17 @@ pub fn load_obj_str(
             .entry(p.to_path_buf())
             .or_insert_with(|| load_mtl(&p.to_string_lossy()))
             .clone();
-        match text {
-            Ok(t) => tobj::load_mtl_buf(&mut Cursor::new(t.as_bytes())),
-            Err(e) => Err({
-                warnings
-                    .borrow_mut()
-                    .push(format!("{name}: material library: {e}"));
-                tobj::LoadError::OpenFileFailed
-            }),
-        }
+        let problem = match text {
+            Ok(t) => match check_mtl(&t) {
+                Ok(()) => return tobj::load_mtl_buf(&mut Cursor::new(t.as_bytes())),
+                Err((line, m)) => format!("{}:{line}: {m}", p.display()),
+            },
+            Err(e) => e,
+        };
+        warnings
+            .borrow_mut()
+            .push(format!("{name}: material library skipped: {problem}"));
+        Err(tobj::LoadError::MaterialParseError)
     };
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -278,6 +280,21 @@ fn zero_area(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> bool {
         e1[0] * e2[1] - e1[1] * e2[0],
     ];
     n == [0.0; 3]
+}
+
+/// Checks a material library for what tobj 4 panics on (a colour with fewer than three
+/// numbers: it unwraps a failed conversion) and names the line.
+fn check_mtl(text: &str) -> Result<(), (usize, String)> {
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            let numbers = words.take(3).filter(|w| w.parse::<f32>().is_ok()).count();
+            if numbers < 3 {
+                return Err((i + 1, format!("{key} needs 3 numbers, found {numbers}")));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks what tobj silently accepts or reports without a line number.
