@@ -464,3 +464,26 @@ fn tile_culling_gives_the_same_image() {
         }
     }
 }
+
+#[test]
+fn a_cancelled_render_stops_and_says_so() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let scene = Scene::cornell();
+    let cam = Camera::cornell(64);
+    let settings = RenderSettings {
+        width: 64,
+        height: 64,
+        ..Default::default()
+    };
+    let mut buf = vec![0u8; settings.buffer_len()];
+    let polls = AtomicUsize::new(0);
+    // Cancelled after the first few bands: no stats, and not every band was drawn.
+    let stop_later = || polls.fetch_add(1, Ordering::Relaxed) >= 3;
+    let r = raylab::render::render_into_cancellable(&scene, &cam, &settings, &mut buf, &stop_later)
+        .unwrap();
+    assert!(r.is_none());
+    assert!(buf.chunks(4).any(|p| p[3] == 0), "some bands were skipped");
+    let r = raylab::render::render_into_cancellable(&scene, &cam, &settings, &mut buf, &|| false)
+        .unwrap();
+    assert_eq!(r.unwrap().primary_rays, 64 * 64);
+}

@@ -231,6 +231,7 @@ impl App {
     fn changed(&mut self) {
         self.generation += 1;
         self.last_change = Instant::now();
+        self.worker.set_generation(self.generation);
     }
 
     fn request_redraw(&self) {
@@ -331,7 +332,8 @@ impl App {
             return;
         };
         match done.image {
-            Ok((rgba, stats)) => {
+            Ok(None) => {} // cancelled by a newer change
+            Ok(Some((rgba, stats))) => {
                 let s = done.job.settings;
                 if done.job.level == 1 {
                     self.last_full_ms = Some(stats.elapsed.as_secs_f64() * 1e3);

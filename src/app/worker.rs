@@ -4,6 +4,7 @@
 use raylab::camera::Camera;
 use raylab::render::{self, RenderSettings, RenderStats};
 use raylab::Scene;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
@@ -27,8 +28,8 @@ pub struct Job {
 pub struct Done {
     /// The job, as submitted.
     pub job: Job,
-    /// RGBA8 pixels, or why the render failed.
-    pub image: Result<(Vec<u8>, RenderStats), String>,
+    /// RGBA8 pixels, or why the render failed; `Ok(None)` if a newer generation cancelled it.
+    pub image: Result<Option<(Vec<u8>, RenderStats)>, String>,
 }
 
 #[derive(Default)]
@@ -40,6 +41,8 @@ struct Slot {
 /// The worker thread and its mailbox.
 pub struct Worker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
+    /// The app's newest generation: a job of an older one stops at its next band of rows.
+    latest: Arc<AtomicU64>,
     done: Receiver<Done>,
     outstanding: usize,
     thread: Option<JoinHandle<()>>,
@@ -51,6 +54,8 @@ impl Worker {
         let slot = Arc::new((Mutex::new(Slot::default()), Condvar::new()));
         let (tx, rx): (Sender<Done>, Receiver<Done>) = channel();
         let shared = slot.clone();
+        let latest = Arc::new(AtomicU64::new(0));
+        let newest = latest.clone();
         let thread = std::thread::Builder::new()
             .name("raylab-render".into())
             .spawn(move || loop {
@@ -65,8 +70,17 @@ impl Worker {
                     }
                     s.job.take().expect("checked above")
                 };
-                let image = render::render_image(&job.scene, &job.camera, &job.settings)
-                    .map_err(|e| e.to_string());
+                let mut rgba = vec![0u8; job.settings.buffer_len()];
+                let stale = || newest.load(Ordering::Relaxed) != job.generation;
+                let image = render::render_into_cancellable(
+                    &job.scene,
+                    &job.camera,
+                    &job.settings,
+                    &mut rgba,
+                    &stale,
+                )
+                .map(|stats| stats.map(|s| (rgba, s)))
+                .map_err(|e| e.to_string());
                 if tx.send(Done { job, image }).is_err() {
                     return;
                 }
@@ -75,10 +89,16 @@ impl Worker {
             .expect("spawn the render thread");
         Self {
             slot,
+            latest,
             done: rx,
             outstanding: 0,
             thread: Some(thread),
         }
+    }
+
+    /// Tells a running job of an older generation to stop.
+    pub fn set_generation(&self, generation: u64) {
+        self.latest.store(generation, Ordering::Relaxed);
     }
 
     /// Whether no job is queued or rendering.

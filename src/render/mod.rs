@@ -121,6 +121,20 @@ pub fn render_into(
     settings: &RenderSettings,
     rgba: &mut [u8],
 ) -> Result<RenderStats, SettingsError> {
+    render_into_cancellable(scene, camera, settings, rgba, &|| false)
+        .map(|stats| stats.expect("never cancelled"))
+}
+
+/// [`render_into`] that gives up when `cancelled()` turns true (checked before each band of
+/// rows), returning `Ok(None)` and leaving the buffer partly drawn: an interactive viewer
+/// drops a frame that a camera move has made stale instead of waiting for it.
+pub fn render_into_cancellable(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    rgba: &mut [u8],
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<RenderStats>, SettingsError> {
     settings.validate()?;
     let (w, h) = (settings.width, settings.height);
     if rgba.len() != settings.buffer_len() {
@@ -151,6 +165,9 @@ pub fn render_into(
         .map(|(band, rows)| {
             let mut hits = 0u64;
             let mut shadow_rays = 0u64;
+            if cancelled() {
+                return (0, 0);
+            }
             let y0 = band as u32 * TILE;
             let band_h = (rows.len() / row_bytes) as u32;
             let mut subset = Vec::new();
@@ -204,12 +221,15 @@ pub fn render_into(
             (hits, shadow_rays)
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    Ok(RenderStats {
+    if cancelled() {
+        return Ok(None);
+    }
+    Ok(Some(RenderStats {
         primary_rays: w as u64 * h as u64 * (n * n) as u64,
         shadow_rays,
         hits,
         elapsed: start.elapsed(),
-    })
+    }))
 }
 
 /// Allocates the RGBA8 buffer and renders into it.
