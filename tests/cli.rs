@@ -1,5 +1,8 @@
 //! The `raylab` binary from outside: render, trace, and bad input.
 
+mod common;
+
+use common::read_png;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -27,15 +30,6 @@ fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
         assert!(err.contains(n), "'{n}' not in: {err}");
     }
     assert!(!err.contains("panicked"), "{err}");
-}
-
-fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
-    let mut reader = dec.read_info().unwrap();
-    let mut buf = vec![0; reader.output_buffer_size()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    buf.truncate(info.buffer_size());
-    (info.width, info.height, buf)
 }
 
 #[test]

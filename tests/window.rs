@@ -5,22 +5,15 @@
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 #![cfg(feature = "viewer")]
 
+mod common;
+
+use common::read_png;
 use glam::DVec3;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
 use std::collections::HashMap;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
-    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
-    let mut reader = dec.read_info().unwrap();
-    let mut buf = vec![0; reader.output_buffer_size()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    buf.truncate(info.buffer_size());
-    assert_eq!(info.color_type, png::ColorType::Rgba);
-    (info.width, info.height, buf)
-}
 
 fn have(cmd: &str) -> bool {
     Command::new("sh")

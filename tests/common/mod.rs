@@ -147,3 +147,14 @@ pub fn vertices_and_edge_midpoints(mesh: &[Shape<f32>]) -> Vec<[f32; 3]> {
     out.dedup();
     out
 }
+
+/// Decodes an RGBA8 PNG: (width, height, pixels).
+pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    (info.width, info.height, buf)
+}
