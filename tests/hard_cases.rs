@@ -85,9 +85,6 @@ struct Counts {
 }
 
 impl Counts {
-    fn wrong(&self) -> usize {
-        self.leaks + self.false_hits + self.wrong_nearest
-    }
     fn median_rel(&self) -> f64 {
         let mut e = self.rel_errors.clone();
         e.sort_by(f64::total_cmp);
