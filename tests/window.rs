@@ -174,6 +174,12 @@ fn scripted_window_run_matches_the_headless_render() {
         run.nums("focal")[0],
     );
     assert_eq!(run.fields["step"], "shadows");
+    // While W and Right were held, preview frames kept arriving (not cancelled by the motion).
+    let moving_frames: u32 = run.fields["moving_frames"].parse().unwrap();
+    assert!(
+        moving_frames >= 2,
+        "only {moving_frames} frames shown while moving"
+    );
     assert_eq!(run.fields["scene"], "cornell");
 
     // The camera really moved, turned, looked up and zoomed.

@@ -152,6 +152,8 @@ struct App {
     started: Instant,
     minimised: bool,
     egui_repaint_at: Option<Instant>,
+    /// Rendered frames that arrived while a key held the camera moving (the preview works).
+    frames_while_moving: u64,
     outcome: Result<()>,
 }
 
@@ -211,6 +213,7 @@ impl App {
             started: Instant::now(),
             minimised: false,
             egui_repaint_at: None,
+            frames_while_moving: 0,
             outcome: Ok(()),
         }
     }
@@ -342,6 +345,9 @@ impl App {
                     if let Err(e) = gpu.set_frame(s.width, s.height, &rgba) {
                         self.set_status(e);
                     }
+                }
+                if self.input.is_moving() {
+                    self.frames_while_moving += 1;
                 }
                 self.shown = Some(Shown {
                     generation: done.job.generation,
@@ -664,7 +670,7 @@ impl App {
         let r = self.image_rect.unwrap_or(egui::Rect::NOTHING);
         let ppp = self.egui_ctx.pixels_per_point();
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -679,6 +685,7 @@ impl App {
             r.height() * ppp,
             self.view.step,
             self.frames_presented,
+            self.frames_while_moving,
             self.scene.name,
         );
         if !self.status.is_empty() {

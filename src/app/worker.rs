@@ -41,7 +41,7 @@ struct Slot {
 /// The worker thread and its mailbox.
 pub struct Worker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
-    /// The app's newest generation: a job of an older one stops at its next band of rows.
+    /// The app's newest generation: a refinement job of an older one stops at its next band.
     latest: Arc<AtomicU64>,
     done: Receiver<Done>,
     outstanding: usize,
@@ -71,7 +71,10 @@ impl Worker {
                     s.job.take().expect("checked above")
                 };
                 let mut rgba = vec![0u8; job.settings.buffer_len()];
-                let stale = || newest.load(Ordering::Relaxed) != job.generation;
+                // Only refinement is cancelled: a preview is short, and a slightly stale preview
+                // beats none (cancelling previews too would show nothing while the camera moves,
+                // since every frame of motion is a new generation).
+                let stale = || job.level > 0 && newest.load(Ordering::Relaxed) != job.generation;
                 let image = render::render_into_cancellable(
                     &job.scene,
                     &job.camera,
