@@ -6,12 +6,44 @@ use common::read_png;
 use std::path::Path;
 use std::process::{Command, Output};
 
+/// Runs the binary; a run over 60 s is a hang and fails the test (it is killed).
 fn raylab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
         .args(args)
         .env("RUST_LOG", "warn")
-        .output()
-        .expect("run raylab")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run raylab");
+    // Drain the pipes on threads so a chatty child cannot block on a full pipe.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out_t = std::thread::spawn(move || {
+        let mut b = Vec::new();
+        std::io::Read::read_to_end(&mut out, &mut b).unwrap();
+        b
+    });
+    let err_t = std::thread::spawn(move || {
+        let mut b = Vec::new();
+        std::io::Read::read_to_end(&mut err, &mut b).unwrap();
+        b
+    });
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("raylab {args:?} hung for 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    Output {
+        status,
+        stdout: out_t.join().unwrap(),
+        stderr: err_t.join().unwrap(),
+    }
 }
 
 fn stderr(o: &Output) -> String {
@@ -224,6 +256,64 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         ]);
         assert_fails(&o, 2, &[&format!("bad{k}.obj"), needle]);
     }
+    // A 2 GiB file (sparse: no disk used) is refused before anything is read.
+    let big = dir.path().join("big.obj");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(2 << 30)
+        .unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        big.to_str().unwrap(),
+        "--out",
+        "/dev/null",
+    ]);
+    assert_fails(&o, 2, &["big.obj", "larger than the 1073741824-byte limit"]);
+    // 20,000 repeated `mtllib` lines read the library once (cached), quickly.
+    let obj = dir.path().join("repeat.obj");
+    let mut text = "mtllib r.mtl\n".repeat(20_000);
+    text.push_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl r\nf 1 2 3\n");
+    std::fs::write(&obj, text).unwrap();
+    std::fs::write(dir.path().join("r.mtl"), "newmtl r\nKd 1 0 0\n").unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A face line with thousands of vertices is fan-triangulated, not a problem.
+    let obj = dir.path().join("polygon.obj");
+    let n = 2000;
+    let mut text: String = (0..n)
+        .map(|k| {
+            let a = k as f64 / n as f64 * std::f64::consts::TAU;
+            format!("v {} {} 0\n", a.cos(), a.sin())
+        })
+        .collect();
+    text.push_str(&format!(
+        "f {}\n",
+        (1..=n).map(|k| k.to_string()).collect::<Vec<_>>().join(" ")
+    ));
+    std::fs::write(&obj, text).unwrap();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--out",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     // A directory named .obj.
     let d = dir.path().join("dir.obj");
     std::fs::create_dir(&d).unwrap();
