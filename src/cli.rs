@@ -156,6 +156,10 @@ pub struct ViewArgs {
     /// whose screen bounds meet its 8x8 tile (the same image, slower: to measure the gain).
     #[arg(long)]
     pub no_tile_culling: bool,
+    /// The cracks view: paint magenta where --method lets a ray through that the default
+    /// watertight method hits, or the reverse (where the lecture's method leaks).
+    #[arg(long)]
+    pub cracks: bool,
 }
 
 /// `raylab render`.
@@ -235,6 +239,7 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         spp: v.spp,
         method: v.method.into(),
         tile_culling: !v.no_tile_culling,
+        cracks: v.cracks,
     };
     settings.validate()?;
     let focal = v.focal.unwrap_or(v.width as f64);

@@ -487,3 +487,58 @@ fn a_cancelled_render_stops_and_says_so() {
         .unwrap();
     assert_eq!(r.unwrap().primary_rays, 64 * 64);
 }
+
+#[test]
+fn the_cracks_view_marks_exactly_the_leaks() {
+    use raylab::geometry::{Method, Shape};
+    use raylab::render::{is_crack, linear_to_srgb8, CRACK};
+    use raylab::scene::PointLight;
+    // A 64x64 camera whose pixel-centre rays meet the plane z = 64 at odd integers (up to the
+    // rounding of the normalised direction): the grid's shared vertices and edges sit there.
+    let mut shapes = Vec::new();
+    for gy in (-65..65).step_by(2) {
+        for gx in (-65..65).step_by(2) {
+            let p = |x: i32, y: i32| [x as f32, y as f32, 64.0];
+            let (a, b, c, d) = (p(gx, gy), p(gx + 2, gy), p(gx, gy + 2), p(gx + 2, gy + 2));
+            shapes.push(Shape::Triangle([a, b, d]));
+            shapes.push(Shape::Triangle([a, d, c]));
+        }
+    }
+    let n = shapes.len();
+    let light = PointLight {
+        position: [0.0, 0.0, 0.0],
+        power: [1.0; 3],
+    };
+    let scene = Scene::new("grid", shapes, vec![[0.5; 3]; n], light, [0.0; 3]);
+    let cam = Camera::from_yaw_pitch(glam::DVec3::ZERO, 0.0, 0.0, 32.0).unwrap();
+    let magenta = CRACK.map(linear_to_srgb8);
+    let mut total = [0usize; 3];
+    for (k, method) in Method::ALL.into_iter().enumerate() {
+        let s = RenderSettings {
+            width: 64,
+            height: 64,
+            method,
+            cracks: true,
+            ..Default::default()
+        };
+        let (img, _) = render_image(&scene, &cam, &s).unwrap();
+        for j in 0..64u32 {
+            for i in 0..64u32 {
+                let px = &img[4 * (j * 64 + i) as usize..][..3];
+                let ray = cam.ray_for_pixel(i, j, 64, 64);
+                let crack = is_crack(&scene, &ray, method);
+                assert_eq!(px == magenta, crack, "{method} pixel ({i},{j})");
+                total[k] += crack as usize;
+            }
+        }
+    }
+    println!(
+        "cracks on the grid: watertight {} moller {} cramer {}",
+        total[0], total[1], total[2]
+    );
+    assert_eq!(total[0], 0, "the reference never disagrees with itself");
+    assert!(
+        total[1] + total[2] > 0,
+        "rays at shared vertices slip through the other methods"
+    );
+}

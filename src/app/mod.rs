@@ -67,6 +67,7 @@ pub struct ViewSettings {
     pub target_ms: f32,
     pub preview_scale: f32,
     pub light: [f32; 3],
+    pub cracks: bool,
 }
 
 /// Events sent to the event loop from other threads.
@@ -190,6 +191,7 @@ impl App {
                 target_ms: 16.0,
                 preview_scale: 0.5,
                 light,
+                cracks: false,
             },
             input: InputState::default(),
             worker: worker::Worker::new(move || {
@@ -319,6 +321,7 @@ impl App {
             step: self.view.step,
             spp: if level == 2 { self.view.spp } else { 1 },
             method: self.view.method,
+            cracks: self.view.cracks,
             ..Default::default()
         };
         self.worker.submit(worker::Job {
@@ -391,6 +394,7 @@ impl App {
             step: self.view.step,
             spp: self.view.spp,
             method: self.view.method,
+            cracks: self.view.cracks,
             ..Default::default()
         };
         let result = render::render_image(&self.scene, &self.controller.camera(w), &settings)

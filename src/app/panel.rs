@@ -177,6 +177,9 @@ pub fn side_panel(
                     ui.selectable_value(&mut view.method, m, m.name());
                 }
             });
+        ui.checkbox(&mut view.cracks, "show cracks").on_hover_text(
+            "magenta where this method lets a ray slip through that the watertight method hits",
+        );
 
         ui.separator();
         ui.strong("Light");

@@ -73,6 +73,18 @@ fn shade_hit(
     }
 }
 
+/// The colour of a crack in the cracks view (linear magenta).
+pub const CRACK: Rgb = [1.0, 0.0, 1.0];
+
+/// Whether the ray slips through with `method` where the default watertight method hits, or
+/// hits where it misses: a crack. (Picking the other of two triangles that meet at the hit
+/// point is not one; it is the same surface.)
+pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
+    let accel = scene.accel();
+    let hits = |m| accel.closest_hit(ray, m, 0.0, f32::INFINITY).is_some();
+    method != Method::Watertight && hits(method) != hits(Method::Watertight)
+}
+
 /// Side of the square tiles camera rays are traced in.
 pub const TILE: u32 = 8;
 
@@ -193,6 +205,11 @@ pub fn render_into_cancellable(
                                 let y = j as f32 + (sy as f32 + 0.5) * inv_n;
                                 let ray = gen.ray_through(x, y);
                                 let colour = match &blocks {
+                                    _ if settings.cracks
+                                        && is_crack(scene, &ray, settings.method) =>
+                                    {
+                                        Some(CRACK)
+                                    }
                                     Some(b) => WatertightRay::new(ray.o, ray.d)
                                         .and_then(|r| b.closest_hit(&r, 0.0, f32::INFINITY))
                                         .map(|hit| {

@@ -89,6 +89,10 @@ pub struct RenderSettings {
     /// Trace camera rays of small scenes against only the triangles whose screen bounds meet
     /// each 8×8 tile (same image, faster); off only to measure what it saves.
     pub tile_culling: bool,
+    /// The "cracks" view: paint magenta every camera ray that `method` lets through where the
+    /// default watertight method hits (or the reverse), so the lecture's method can be seen
+    /// leaking at shared edges.
+    pub cracks: bool,
 }
 
 impl Default for RenderSettings {
@@ -100,6 +104,7 @@ impl Default for RenderSettings {
             spp: 1,
             method: Method::Watertight,
             tile_culling: true,
+            cracks: false,
         }
     }
 }
