@@ -116,6 +116,7 @@ fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
         .arg("--script")
         .arg(&script_path)
         .env("RUST_LOG", "raylab=info")
+        .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -160,9 +161,9 @@ fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
 #[test]
 fn scripted_window_run_matches_the_headless_render() {
     let dir = tempfile::tempdir().unwrap();
-    let script = "# forward, turn right, look up with the mouse, zoom in, switch to shadows\n\
+    let script = "# forward, turn right, look up with the mouse, zoom in, switch to shadows, F12\n\
          0 key W down\n300 key W up\n350 key Right down\n600 key Right up\n\
-         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n";
+         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n800 key F12 down\n820 key F12 up\n";
     let Some(run) = run_window(script, dir.path()) else {
         return;
     };
@@ -229,6 +230,30 @@ fn scripted_window_run_matches_the_headless_render() {
     assert!(
         mean0 > 10.0 * mean.max(1.0),
         "the start view differs by only {mean0}"
+    );
+
+    // F12 saved the same view at full quality, named by time, in the working directory.
+    let saved: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("raylab-")
+        })
+        .collect();
+    assert_eq!(saved.len(), 1, "{saved:?}");
+    assert!(
+        run.stderr.contains("saved ") && run.stderr.contains("raylab-"),
+        "{}",
+        run.stderr
+    );
+    let (sw, sh, spx) = read_png(&saved[0]);
+    assert_eq!((sw, sh), (w, h));
+    assert!(
+        spx == expected,
+        "the F12 file is the full-quality render of the final view"
     );
 
     // The panel is drawn left of the image (not black, not the scene).

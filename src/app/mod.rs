@@ -76,6 +76,8 @@ enum AppEvent {
     FrameReady,
     /// An OBJ finished loading (or failed).
     SceneLoaded(PathBuf, Result<Scene, String>),
+    /// An F12 screenshot was written (or failed).
+    ScreenshotSaved(Result<PathBuf, String>),
 }
 
 /// How long after the last change the app keeps previewing before it refines.
@@ -155,6 +157,7 @@ struct App {
     egui_repaint_at: Option<Instant>,
     /// Rendered frames that arrived while a key held the camera moving (the preview works).
     frames_while_moving: u64,
+    screenshots_pending: usize,
     outcome: Result<()>,
 }
 
@@ -216,6 +219,7 @@ impl App {
             minimised: false,
             egui_repaint_at: None,
             frames_while_moving: 0,
+            screenshots_pending: 0,
             outcome: Ok(()),
         }
     }
@@ -379,15 +383,11 @@ impl App {
         });
     }
 
+    /// F12: renders the current view at full resolution and quality (the window may be
+    /// showing a preview) and writes it, on a thread of its own so the window keeps going.
     fn screenshot(&mut self) {
-        let name = format!("raylab-{}.png", timestamp());
-        let path = PathBuf::from(&name);
-        let Some(s) = &self.shown else {
-            self.set_status("nothing rendered yet");
-            return;
-        };
-        // Render the current view at full quality for the file (the window may show a preview).
-        let (w, h) = s.size;
+        let path = PathBuf::from(format!("raylab-{}.png", timestamp()));
+        let (w, h) = self.full_size();
         let settings = RenderSettings {
             width: w,
             height: h,
@@ -397,17 +397,23 @@ impl App {
             cracks: self.view.cracks,
             ..Default::default()
         };
-        let result = render::render_image(&self.scene, &self.controller.camera(w), &settings)
-            .map_err(|e| e.to_string())
-            .and_then(|(rgba, _)| render::write_png(&path, w, h, &rgba).map_err(|e| e.to_string()));
-        let message = match result {
-            Ok(()) => {
-                let shown = std::fs::canonicalize(&path).unwrap_or(path);
-                format!("saved {}", shown.display())
-            }
-            Err(e) => format!("screenshot failed: {e}"),
-        };
-        self.set_status(message);
+        let (scene, camera, proxy) = (
+            self.scene.clone(),
+            self.controller.camera(w),
+            self.proxy.clone(),
+        );
+        self.screenshots_pending += 1;
+        self.set_status(format!("saving {}...", path.display()));
+        std::thread::spawn(move || {
+            let result = render::render_image(&scene, &camera, &settings)
+                .map_err(|e| e.to_string())
+                .and_then(|(rgba, _)| {
+                    render::write_png(&path, w, h, &rgba)
+                        .map_err(|e| format!("{}: {e}", path.display()))
+                })
+                .map(|()| std::fs::canonicalize(&path).unwrap_or(path));
+            let _ = proxy.send_event(AppEvent::ScreenshotSaved(result));
+        });
     }
 
     fn set_mouse_look(&mut self, on: bool) {
@@ -482,6 +488,7 @@ impl App {
         };
         self.frames_presented >= n
             && !self.loading
+            && self.screenshots_pending == 0
             && self.script.as_ref().is_none_or(|s| s.finished())
             && !self.input.is_moving()
             && self.worker.is_idle()
@@ -743,6 +750,14 @@ impl ApplicationHandler<AppEvent> for App {
     fn user_event(&mut self, _event_loop: &ActiveEventLoop, event: AppEvent) {
         match event {
             AppEvent::FrameReady => self.frame_ready(),
+            AppEvent::ScreenshotSaved(result) => {
+                self.screenshots_pending -= 1;
+                match result {
+                    Ok(path) => self.set_status(format!("saved {}", path.display())),
+                    Err(e) => self.set_status(format!("screenshot failed: {e}")),
+                }
+                self.request_redraw();
+            }
             AppEvent::SceneLoaded(path, result) => {
                 self.loading = false;
                 match result {
