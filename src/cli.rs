@@ -56,7 +56,10 @@ pub enum Command {
 /// Ray/triangle method names for clap.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum MethodArg {
-    /// Woop–Benthin–Wald watertight test (default): no ray slips between shared edges.
+    /// The default: watertight in f32 where certain, else f64 intervals, else exact
+    /// rationals; always the exact nearest primitive.
+    Adaptive,
+    /// Woop–Benthin–Wald watertight test in plain f32: no ray slips between shared edges.
     Watertight,
     /// Möller–Trumbore.
     Moller,
@@ -67,6 +70,7 @@ pub enum MethodArg {
 impl From<MethodArg> for Method {
     fn from(m: MethodArg) -> Method {
         match m {
+            MethodArg::Adaptive => Method::Adaptive,
             MethodArg::Watertight => Method::Watertight,
             MethodArg::Moller => Method::Moller,
             MethodArg::Cramer => Method::Cramer,
@@ -141,7 +145,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 1)]
     pub spp: u32,
     /// Ray/triangle intersection method.
-    #[arg(long, value_enum, default_value = "watertight")]
+    #[arg(long, value_enum, default_value = "adaptive")]
     pub method: MethodArg,
     /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
     /// from there on; `brute` and `bvh` force one.
@@ -197,7 +201,7 @@ pub struct TraceArgs {
     #[arg(long)]
     pub rays: PathBuf,
     /// Ray/triangle intersection method.
-    #[arg(long, value_enum, default_value = "watertight")]
+    #[arg(long, value_enum, default_value = "adaptive")]
     pub method: MethodArg,
     /// Arithmetic precision: inputs are parsed and intersected in this precision.
     #[arg(long, value_enum, default_value = "f32")]

@@ -49,16 +49,26 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
     for ray in rays {
         for method in Method::ALL {
             let reference = accel::closest_hit(shapes, ray, method, tmin, tmax);
-            assert_eq!(
-                brute_accel.closest_hit(ray, method, tmin, tmax),
-                reference,
-                "flat {method} {ray:?}"
-            );
-            assert_eq!(
-                bvh.closest_hit(ray, method, tmin, tmax),
-                reference,
-                "bvh {method} {ray:?}"
-            );
+            for (name, acc) in [("flat", &brute_accel), ("bvh", &bvh)] {
+                let got = acc.closest_hit(ray, method, tmin, tmax);
+                if method == Method::Adaptive {
+                    // The reference decides in f64 intervals or exactly; the fast path keeps
+                    // its f32 t where certain: the same primitive, t within f32 rounding.
+                    assert_eq!(
+                        got.map(|h| h.prim),
+                        reference.map(|h| h.prim),
+                        "{name} {ray:?}"
+                    );
+                    if let (Some(g), Some(r)) = (got, reference) {
+                        assert!(
+                            (g.t - r.t).abs() <= 1e-5 * r.t.abs().max(1e-3),
+                            "{name} {g:?} {r:?}"
+                        );
+                    }
+                } else {
+                    assert_eq!(got, reference, "{name} {method} {ray:?}");
+                }
+            }
             let any = accel::any_hit(shapes, ray, method, tmin, tmax);
             assert_eq!(brute_accel.any_hit(ray, method, tmin, tmax), any);
             assert_eq!(bvh.any_hit(ray, method, tmin, tmax), any);

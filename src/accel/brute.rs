@@ -12,6 +12,16 @@ pub fn closest_hit<T: Real>(
     tmin: T,
     tmax: T,
 ) -> Option<Hit<T>> {
+    if method == Method::Adaptive {
+        return crate::geometry::adaptive::closest_hit_reference(shapes, ray, tmin, tmax).map(
+            |h| Hit {
+                t: T::of(h.t),
+                prim: h.prim,
+                b1: T::of(h.b1),
+                b2: T::of(h.b2),
+            },
+        );
+    }
     let mut best: Option<Hit<T>> = None;
     let mut t_far = tmax;
     for (i, s) in shapes.iter().enumerate() {

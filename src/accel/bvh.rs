@@ -11,6 +11,8 @@
 //! lowest primitive index, as in the brute-force loop.
 
 use super::IndexedTriangle;
+use crate::geometry::adaptive::{classify_f32, edge_bound, widen, Estimate, Nearest};
+use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
 
@@ -112,7 +114,7 @@ impl Bvh {
     /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(ray, tmin, tmax, |first, count, t_far| {
+        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
             for i in first..first + count {
                 let shape = Shape::Triangle(self.tris[i]);
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
@@ -132,7 +134,7 @@ impl Bvh {
     /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
         let mut hit = false;
-        self.traverse(ray, tmin, tmax, |first, count, t_far| {
+        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
                 Shape::Triangle(self.tris[i])
                     .intersect(ray, method, tmin, t_far)
@@ -143,14 +145,51 @@ impl Bvh {
         hit
     }
 
-    /// Visits the leaves the ray may reach, nearer child first. `leaf(first, count, t_far)`
-    /// returns the new t_far and whether to stop.
+    /// The adaptive closest-hit search (see `geometry::adaptive`), the f32 filter's error
+    /// bound taken per leaf from the leaf's box.
+    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, nearest: &mut Nearest) {
+        let (tmin, tmax) = (round_down(nearest.tmin()), round_up(nearest.t_far()));
+        self.traverse(ray, tmin, tmax, |first, count, _, bounds| {
+            let e = edge_bound(ray.o, bounds.lo, bounds.hi);
+            for i in first..first + count {
+                let est = classify_f32(r, &self.tris[i], e);
+                if let Estimate::Hit(a) = est {
+                    if nearest.beyond(a.lo) {
+                        continue;
+                    }
+                }
+                if est != Estimate::Miss {
+                    nearest.offer(self.prims[i], widen(&Shape::Triangle(self.tris[i])), est);
+                }
+            }
+            (round_up(nearest.t_far()), false)
+        });
+    }
+
+    /// The adaptive any-hit query.
+    pub fn any_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, nearest: &Nearest) -> bool {
+        let mut hit = false;
+        let (tmin, tmax) = (round_down(nearest.tmin()), round_up(nearest.t_far()));
+        self.traverse(ray, tmin, tmax, |first, count, t_far, bounds| {
+            let e = edge_bound(ray.o, bounds.lo, bounds.hi);
+            hit = (first..first + count).any(|i| {
+                let est = classify_f32(r, &self.tris[i], e);
+                est != Estimate::Miss
+                    && nearest.confirms(widen(&Shape::Triangle(self.tris[i])), est)
+            });
+            (t_far, hit)
+        });
+        hit
+    }
+
+    /// Visits the leaves the ray may reach, nearer child first. `leaf(first, count, t_far,
+    /// leaf box)` returns the new t_far and whether to stop.
     fn traverse(
         &self,
         ray: &Ray,
         tmin: f32,
         tmax: f32,
-        mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+        mut leaf: impl FnMut(usize, usize, f32, &Aabb) -> (f32, bool),
     ) {
         if self.nodes.is_empty() {
             return;
@@ -194,7 +233,7 @@ impl Bvh {
             let n = self.nodes[node];
             if n.count > 0 {
                 let stop;
-                (t_far, stop) = leaf(n.offset as usize, n.count as usize, t_far);
+                (t_far, stop) = leaf(n.offset as usize, n.count as usize, t_far, &n.bounds);
                 if stop {
                     return;
                 }
@@ -234,6 +273,26 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+/// The smallest f32 ≥ x.
+fn round_up(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) < x {
+        y.next_up()
+    } else {
+        y
+    }
+}
+
+/// The largest f32 ≤ x (a tmin for box culling that skips no box holding a hit).
+fn round_down(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) > x {
+        y.next_down()
+    } else {
+        y
     }
 }
 

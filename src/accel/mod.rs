@@ -10,6 +10,7 @@ pub mod brute;
 pub mod bvh;
 pub mod soa;
 
+use crate::geometry::adaptive::{widen, Estimate, Nearest};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
@@ -140,6 +141,26 @@ impl Accel {
 
     /// Nearest hit with tmin < t < tmax; an exact tie goes to the lowest primitive index.
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
+        if method == Method::Adaptive {
+            let mut nearest = Nearest::new(ray, tmin, tmax);
+            if let Some(r) = WatertightRay::new(ray.o, ray.d) {
+                match &self.triangles {
+                    Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut nearest),
+                    Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut nearest),
+                }
+                for &(c, r, prim) in &self.spheres {
+                    nearest.offer(
+                        prim,
+                        widen(&Shape::Sphere {
+                            centre: c,
+                            radius: r,
+                        }),
+                        Estimate::Unsure,
+                    );
+                }
+            }
+            return nearest.hit_f32();
+        }
         let mut best = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {
                 blocks.closest_hit(&WatertightRay::new(ray.o, ray.d)?, tmin, tmax)
@@ -182,6 +203,26 @@ impl Accel {
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
+        if method == Method::Adaptive {
+            let Some(r) = WatertightRay::new(ray.o, ray.d) else {
+                return false;
+            };
+            let nearest = Nearest::new(ray, tmin, tmax);
+            let tri = match &self.triangles {
+                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &nearest),
+                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &nearest),
+            };
+            return tri
+                || self.spheres.iter().any(|&(c, r, _)| {
+                    nearest.confirms(
+                        widen(&Shape::Sphere {
+                            centre: c,
+                            radius: r,
+                        }),
+                        Estimate::Unsure,
+                    )
+                });
+        }
         let tri = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {
                 WatertightRay::new(ray.o, ray.d).is_some_and(|r| blocks.any_hit(&r, tmin, tmax))

@@ -7,8 +7,9 @@
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
 use super::IndexedTriangle;
+use crate::geometry::adaptive::{approx_f32, edge_bound, Estimate, Nearest};
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
-use crate::geometry::Hit;
+use crate::geometry::{Hit, Shape};
 use crate::math::Real;
 use wide::f32x8;
 
@@ -17,6 +18,11 @@ use wide::f32x8;
 struct Block {
     v: [[f32x8; 3]; 3],
     prim: [u32; 8],
+    /// Box around the block's triangles (for the adaptive filter's error bound).
+    lo: [f32; 3],
+    hi: [f32; 3],
+    /// Lanes holding a triangle.
+    valid: u32,
 }
 
 /// Triangles packed for the 8-wide loop.
@@ -34,10 +40,13 @@ impl TriangleBlocks {
             .map(|chunk| {
                 let mut lanes = [[[f32::NAN; 8]; 3]; 3];
                 let mut prim = [u32::MAX; 8];
+                let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
                 for (l, (tri, p)) in chunk.iter().enumerate() {
                     for (vi, vert) in tri.iter().enumerate() {
                         for (a, c) in vert.iter().enumerate() {
                             lanes[vi][a][l] = *c;
+                            lo[a] = lo[a].min(*c);
+                            hi[a] = hi[a].max(*c);
                         }
                     }
                     prim[l] = *p;
@@ -45,6 +54,9 @@ impl TriangleBlocks {
                 Block {
                     v: lanes.map(|vert| vert.map(f32x8::from)),
                     prim,
+                    lo,
+                    hi,
+                    valid: (1u32 << chunk.len()) - 1,
                 }
             })
             .collect();
@@ -196,6 +208,134 @@ impl TriangleBlocks {
             }
         }
         (ok != 0).then_some((ok, t, vv * rcp, w * rcp))
+    }
+}
+
+/// One block under the adaptive method's f32 filter: lanes whose edge signs are all certain
+/// (`sure`, with t, its bound and barycentrics) and lanes it cannot decide (`unsure`).
+struct BlockFilter {
+    sure: u32,
+    unsure: u32,
+    t: [f32; 8],
+    bound: [f32; 8],
+    b1: [f32; 8],
+    b2: [f32; 8],
+}
+
+impl TriangleBlocks {
+    /// The adaptive method's f32 filter on one block (see `geometry::adaptive`).
+    #[inline]
+    fn filter_block(&self, b: usize, r: &WatertightRay<f32>) -> Option<BlockFilter> {
+        let blk = &self.blocks[b];
+        let e = edge_bound(r.o, blk.lo, blk.hi);
+        let [kx, ky, kz] = r.k;
+        let sx = f32x8::splat(r.s[0]);
+        let sy = f32x8::splat(r.s[1]);
+        let sz = f32x8::splat(r.s[2]);
+        let (ox, oy, oz) = (
+            f32x8::splat(r.o[kx]),
+            f32x8::splat(r.o[ky]),
+            f32x8::splat(r.o[kz]),
+        );
+        let v = &blk.v;
+        let sheared = |p: &[f32x8; 3]| {
+            let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
+            (px + sx * pz, py + sy * pz, pz)
+        };
+        let (ax, ay, az) = sheared(&v[0]);
+        let (bx, by, bz) = sheared(&v[1]);
+        let (cx, cy, cz) = sheared(&v[2]);
+        let u = cx * by - cy * bx;
+        let w = bx * ay - by * ax;
+        let vv = ax * cy - ay * cx;
+        let (ep, en) = (f32x8::splat(e), f32x8::splat(-e));
+        let neg = u.simd_lt(en) | vv.simd_lt(en) | w.simd_lt(en);
+        let pos = u.simd_gt(ep) | vv.simd_gt(ep) | w.simd_gt(ep);
+        let maybe = !(neg & pos).to_bitmask() & blk.valid;
+        if maybe == 0 {
+            return None;
+        }
+        let all_pos = u.simd_gt(ep) & vv.simd_gt(ep) & w.simd_gt(ep);
+        let all_neg = u.simd_lt(en) & vv.simd_lt(en) & w.simd_lt(en);
+        let sure = (all_pos | all_neg).to_bitmask() & maybe;
+        let mut out = BlockFilter {
+            sure,
+            unsure: maybe & !sure,
+            t: [0.0; 8],
+            bound: [0.0; 8],
+            b1: [0.0; 8],
+            b2: [0.0; 8],
+        };
+        if sure != 0 {
+            let det = u + vv + w;
+            let rcp = f32x8::ONE / det;
+            let t = (u * az + vv * bz + w * cz) * sz * rcp;
+            let bound = t_error_bound_x8(
+                [[ax, ay, az], [bx, by, bz], [cx, cy, cz]],
+                sz,
+                [u, vv, w],
+                rcp,
+            );
+            out.t = t.to_array();
+            out.bound = bound.to_array();
+            out.b1 = (vv * rcp).to_array();
+            out.b2 = (w * rcp).to_array();
+        }
+        Some(out)
+    }
+
+    /// The adaptive closest-hit search over every block.
+    pub fn closest_hit_adaptive(&self, r: &WatertightRay<f32>, nearest: &mut Nearest) {
+        for b in 0..self.blocks.len() {
+            let Some(f) = self.filter_block(b, r) else {
+                continue;
+            };
+            let prim = &self.blocks[b].prim;
+            let mut bits = f.sure | f.unsure;
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let est = if f.sure & (1 << l) != 0 {
+                    let est = approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l]);
+                    if let Estimate::Hit(a) = est {
+                        if nearest.beyond(a.lo) {
+                            continue;
+                        }
+                    }
+                    est
+                } else {
+                    Estimate::Unsure
+                };
+                nearest.offer(prim[l], self.shape(b, l), est);
+            }
+        }
+    }
+
+    /// The adaptive any-hit query.
+    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, nearest: &Nearest) -> bool {
+        (0..self.blocks.len()).any(|b| {
+            let Some(f) = self.filter_block(b, r) else {
+                return false;
+            };
+            let mut bits = f.sure | f.unsure;
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let est = if f.sure & (1 << l) != 0 {
+                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l])
+                } else {
+                    Estimate::Unsure
+                };
+                if nearest.confirms(self.shape(b, l), est) {
+                    return true;
+                }
+            }
+            false
+        })
+    }
+
+    fn shape(&self, b: usize, l: usize) -> Shape<f64> {
+        Shape::Triangle(self.triangle(b, l).map(|p| p.map(f64::from)))
     }
 }
 

@@ -187,7 +187,7 @@ impl App {
             controller,
             view: ViewSettings {
                 step: LabStep::Indirect,
-                method: Method::Watertight,
+                method: Method::Adaptive,
                 spp: 2,
                 resolution: Resolution::WindowScale(1.0),
                 adaptive: true,

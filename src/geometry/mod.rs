@@ -1,5 +1,7 @@
 //! Rays, primitives and their intersection, generic over f32/f64 ([`Real`]).
 
+pub mod adaptive;
+pub mod exact;
 pub mod offset;
 pub mod sphere;
 pub mod triangle;
@@ -36,11 +38,15 @@ impl<T: Real> Ray<T> {
     }
 }
 
-/// Which ray/triangle test to run (spheres always use the cancellation-free test).
+/// Which ray/primitive test to run. Spheres use the cancellation-free test, except under
+/// `Adaptive`, which decides them exactly too.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Method {
-    /// Woop–Benthin–Wald watertight test (the default).
+    /// The default: watertight in f32 where that is certain, else f64 intervals, else exact
+    /// rationals; always the exact nearest primitive ([`adaptive`]).
     #[default]
+    Adaptive,
+    /// Woop–Benthin–Wald watertight test, plain f32 (with the f64 re-decision of t vs tmin).
     Watertight,
     /// Möller–Trumbore.
     Moller,
@@ -50,11 +56,17 @@ pub enum Method {
 
 impl Method {
     /// All methods, default first.
-    pub const ALL: [Method; 3] = [Method::Watertight, Method::Moller, Method::Cramer];
+    pub const ALL: [Method; 4] = [
+        Method::Adaptive,
+        Method::Watertight,
+        Method::Moller,
+        Method::Cramer,
+    ];
 
     /// The CLI / UI name.
     pub fn name(self) -> &'static str {
         match self {
+            Method::Adaptive => "adaptive",
             Method::Watertight => "watertight",
             Method::Moller => "moller",
             Method::Cramer => "cramer",
@@ -74,7 +86,9 @@ impl FromStr for Method {
         Method::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| format!("unknown method '{s}' (expected watertight, moller or cramer)"))
+            .ok_or_else(|| {
+                format!("unknown method '{s}' (expected adaptive, watertight, moller or cramer)")
+            })
     }
 }
 
@@ -107,11 +121,16 @@ pub struct Hit<T: Real = f32> {
 }
 
 impl<T: Real> Shape<T> {
-    /// Intersects with `method` (triangles only); a hit needs tmin < t < tmax.
+    /// Intersects with `method`; a hit needs tmin < t < tmax.
     #[inline]
     pub fn intersect(&self, ray: &Ray<T>, method: Method, tmin: T, tmax: T) -> Option<(T, T, T)> {
+        if method == Method::Adaptive {
+            let h = adaptive::closest_hit_reference(std::slice::from_ref(self), ray, tmin, tmax)?;
+            return Some((T::of(h.t), T::of(h.b1), T::of(h.b2)));
+        }
         match self {
             Shape::Triangle(v) => match method {
+                Method::Adaptive => unreachable!(),
                 Method::Watertight => triangle::watertight(ray.o, ray.d, v, tmin, tmax),
                 Method::Moller => triangle::moller(ray.o, ray.d, v, tmin, tmax),
                 Method::Cramer => triangle::cramer(ray.o, ray.d, v, tmin, tmax),

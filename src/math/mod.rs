@@ -1,5 +1,6 @@
 //! Homogeneous transforms and the small amount of floating-point machinery the geometry needs.
 
+pub mod interval;
 pub mod real;
 pub mod transform;
 

@@ -7,6 +7,7 @@ pub mod shade;
 use crate::accel::soa::TriangleBlocks;
 use crate::accel::IndexedTriangle;
 use crate::camera::Camera;
+use crate::geometry::adaptive::Nearest;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::scene::Scene;
@@ -76,13 +77,13 @@ fn shade_hit(
 /// The colour of a crack in the cracks view (linear magenta).
 pub const CRACK: Rgb = [1.0, 0.0, 1.0];
 
-/// Whether the ray slips through with `method` where the default watertight method hits, or
+/// Whether the ray slips through with `method` where the (exact) adaptive method hits, or
 /// hits where it misses: a crack. (Picking the other of two triangles that meet at the hit
 /// point is not one; it is the same surface.)
 pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
     let accel = scene.accel();
     let hits = |m| accel.closest_hit(ray, m, 0.0, f32::INFINITY).is_some();
-    method != Method::Watertight && hits(method) != hits(Method::Watertight)
+    method != Method::Adaptive && hits(method) != hits(Method::Adaptive)
 }
 
 /// Side of the square tiles camera rays are traced in.
@@ -161,7 +162,10 @@ pub fn render_into_cancellable(
     let accel = scene.accel();
     let start = Instant::now();
     let culled = match accel.flat_triangles() {
-        Some(tris) if settings.tile_culling && settings.method == Method::Watertight => {
+        Some(tris)
+            if settings.tile_culling
+                && matches!(settings.method, Method::Watertight | Method::Adaptive) =>
+        {
             Some((tris, screen_bounds(tris, camera, w, h)))
         }
         _ => None,
@@ -211,7 +215,15 @@ pub fn render_into_cancellable(
                                         Some(CRACK)
                                     }
                                     Some(b) => WatertightRay::new(ray.o, ray.d)
-                                        .and_then(|r| b.closest_hit(&r, 0.0, f32::INFINITY))
+                                        .and_then(|r| {
+                                            if settings.method == Method::Adaptive {
+                                                let mut n = Nearest::new(&ray, 0.0, f32::INFINITY);
+                                                b.closest_hit_adaptive(&r, &mut n);
+                                                n.hit_f32()
+                                            } else {
+                                                b.closest_hit(&r, 0.0, f32::INFINITY)
+                                            }
+                                        })
                                         .map(|hit| {
                                             shade_hit(scene, &ray, &hit, settings, &mut shadow_rays)
                                         }),

@@ -102,7 +102,7 @@ impl Default for RenderSettings {
             height: 480,
             step: LabStep::Flat,
             spp: 1,
-            method: Method::Watertight,
+            method: Method::Adaptive,
             tile_culling: true,
             cracks: false,
         }

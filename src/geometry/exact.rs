@@ -1,0 +1,279 @@
+//! Exact decisions in rational arithmetic: the last level of the adaptive method, reached only
+//! when f64 intervals cannot decide (a ray exactly through an edge or vertex, two surfaces at
+//! exactly the same t, an origin exactly on a sphere). Every float input is an exact rational,
+//! so the answers here are the mathematically exact ones.
+//!
+//! A ray parameter is held as t = a + b·√s (b = 0 for triangles; spheres have irrational
+//! roots), and compared by the sign of sums of such terms (squaring only where the signs
+//! differ, so nothing is ever rounded).
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{Signed, Zero};
+use std::cmp::Ordering;
+
+type Q = BigRational;
+
+/// An exact float as a rational (inputs are checked finite before they get here).
+fn q(x: f64) -> Q {
+    Q::from_float(x).unwrap_or_else(Q::zero)
+}
+
+fn sign(x: &Q) -> Ordering {
+    x.cmp(&Q::zero())
+}
+
+/// An exact ray parameter a + b·√s (s ≥ 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactT {
+    a: Q,
+    b: Q,
+    s: Q,
+}
+
+impl ExactT {
+    fn rational(a: Q) -> Self {
+        Self {
+            a,
+            b: Q::zero(),
+            s: Q::zero(),
+        }
+    }
+
+    /// The value rounded to f64 (for reporting t; never used for a decision).
+    pub fn approx(&self) -> f64 {
+        use num_traits::ToPrimitive;
+        let a = self.a.to_f64().unwrap_or(f64::NAN);
+        if self.b.is_zero() {
+            return a;
+        }
+        a + self.b.to_f64().unwrap_or(f64::NAN) * self.s.to_f64().unwrap_or(f64::NAN).sqrt()
+    }
+
+    /// Exact comparison with another parameter.
+    pub fn cmp_t(&self, other: &ExactT) -> Ordering {
+        sign_sum(
+            &(&self.a - &other.a),
+            &self.b,
+            &self.s,
+            &(-&other.b),
+            &other.s,
+        )
+    }
+
+    /// Exact comparison with a float (tmin, tmax); +∞ is above everything.
+    pub fn cmp_f(&self, x: f64) -> Ordering {
+        if x == f64::INFINITY {
+            return Ordering::Less;
+        }
+        if x == f64::NEG_INFINITY {
+            return Ordering::Greater;
+        }
+        sign_lin(&(&self.a - q(x)), &self.b, &self.s)
+    }
+}
+
+/// Sign of p + q·√s.
+fn sign_lin(p: &Q, qq: &Q, s: &Q) -> Ordering {
+    let sq = if s.is_zero() {
+        Ordering::Equal
+    } else {
+        sign(qq)
+    };
+    let sp = sign(p);
+    if sq == Ordering::Equal || sp == sq {
+        return sp;
+    }
+    if sp == Ordering::Equal {
+        return sq;
+    }
+    // Opposite signs: the larger magnitude wins.
+    match (p * p).cmp(&(qq * qq * s)) {
+        Ordering::Greater => sp,
+        Ordering::Less => sq,
+        Ordering::Equal => Ordering::Equal,
+    }
+}
+
+/// Sign of p + q·√s + r·√u.
+fn sign_sum(p: &Q, qq: &Q, s: &Q, r: &Q, u: &Q) -> Ordering {
+    // Sign of x = q√s + r√u.
+    let sx = {
+        let a = if s.is_zero() {
+            Ordering::Equal
+        } else {
+            sign(qq)
+        };
+        let b = if u.is_zero() {
+            Ordering::Equal
+        } else {
+            sign(r)
+        };
+        if a == Ordering::Equal || a == b {
+            b
+        } else if b == Ordering::Equal {
+            a
+        } else {
+            match (qq * qq * s).cmp(&(r * r * u)) {
+                Ordering::Greater => a,
+                Ordering::Less => b,
+                Ordering::Equal => Ordering::Equal,
+            }
+        }
+    };
+    let sp = sign(p);
+    if sx == Ordering::Equal || sp == sx {
+        return sp;
+    }
+    if sp == Ordering::Equal {
+        return sx;
+    }
+    // Opposite signs: compare p² with x² = q²s + r²u + 2qr√(su).
+    let rest = p * p - qq * qq * s - r * r * u;
+    let two = Q::from_integer(BigInt::from(2));
+    match sign_lin(&rest, &(-(two * qq * r)), &(s * u)) {
+        Ordering::Greater => sp,
+        Ordering::Less => sx,
+        Ordering::Equal => Ordering::Equal,
+    }
+}
+
+type QV = [Q; 3];
+
+fn qv(p: [f64; 3]) -> QV {
+    p.map(q)
+}
+
+fn sub(a: &QV, b: &QV) -> QV {
+    [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
+}
+
+fn dot(a: &QV, b: &QV) -> Q {
+    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
+}
+
+fn cross(a: &QV, b: &QV) -> QV {
+    [
+        &a[1] * &b[2] - &a[2] * &b[1],
+        &a[2] * &b[0] - &a[0] * &b[2],
+        &a[0] * &b[1] - &a[1] * &b[0],
+    ]
+}
+
+/// The exact hit of the line o + t·d with the closed triangle v: `(t, b1, b2)` with the
+/// barycentrics of v1 and v2, or `None` if the line misses it or lies in its plane. (The
+/// range tmin < t < tmax is the caller's.)
+pub fn triangle(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<(ExactT, f64, f64)> {
+    let d = qv(d);
+    let o = qv(o);
+    let p: [QV; 3] = [0, 1, 2].map(|i| sub(&qv(v[i]), &o));
+    // det[d, p_i, p_j]: which side of edge (i, j) the line passes; all three agree on a hit.
+    let e = [(1, 2), (2, 0), (0, 1)].map(|(i, j)| dot(&d, &cross(&p[i], &p[j])));
+    let signs = e.each_ref().map(sign);
+    let mixed = signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater);
+    let den = &e[0] + &e[1] + &e[2]; // d·n with n = (v1 − v0) × (v2 − v0)
+    if mixed || den.is_zero() {
+        return None;
+    }
+    let num = dot(&p[0], &cross(&p[1], &p[2]));
+    use num_traits::ToPrimitive;
+    let b1 = (&e[1] / &den).to_f64().unwrap_or(0.0);
+    let b2 = (&e[2] / &den).to_f64().unwrap_or(0.0);
+    Some((ExactT::rational(num / den), b1, b2))
+}
+
+/// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
+/// ray touches it at one point, which counts).
+pub fn sphere(
+    o: [f64; 3],
+    d: [f64; 3],
+    centre: [f64; 3],
+    radius: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Option<ExactT> {
+    let d = qv(d);
+    let f = sub(&qv(o), &qv(centre));
+    let r = q(radius);
+    let a = dot(&d, &d);
+    if a.is_zero() {
+        return None;
+    }
+    let b = dot(&f, &d);
+    let c = dot(&f, &f) - &r * &r;
+    let disc = &b * &b - &a * &c;
+    if disc.is_negative() {
+        return None;
+    }
+    let centre_t = -(&b / &a);
+    let half = Q::from_integer(BigInt::from(1)) / &a;
+    [-half.clone(), half]
+        .into_iter()
+        .map(|b| ExactT {
+            a: centre_t.clone(),
+            b,
+            s: disc.clone(),
+        })
+        .find(|t| t.cmp_f(tmin) == Ordering::Greater && t.cmp_f(tmax) == Ordering::Less)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(a: f64, b: f64, s: f64) -> ExactT {
+        ExactT {
+            a: q(a),
+            b: q(b),
+            s: q(s),
+        }
+    }
+
+    #[test]
+    fn compares_irrational_parameters_exactly() {
+        // 1 + √2 vs 2.414213562373095 (a double just below 1 + √2).
+        assert_eq!(t(1.0, 1.0, 2.0).cmp_f(2.414213562373095), Ordering::Greater);
+        assert_eq!(t(1.0, 1.0, 2.0).cmp_f(2.4142135623730954), Ordering::Less);
+        // 2√2 = √8.
+        assert_eq!(t(0.0, 2.0, 2.0).cmp_t(&t(0.0, 1.0, 8.0)), Ordering::Equal);
+        assert_eq!(
+            t(3.0, -1.0, 2.0).cmp_t(&t(0.0, 1.0, 2.0)),
+            Ordering::Greater
+        ); // 3 − √2 > √2
+        assert_eq!(t(2.0, -1.0, 2.0).cmp_t(&t(0.0, 1.0, 2.0)), Ordering::Less); // 2 − √2 < √2
+        assert_eq!(t(0.5, 0.0, 0.0).cmp_f(f64::INFINITY), Ordering::Less);
+    }
+
+    #[test]
+    fn triangle_edges_are_closed_and_t_is_exact() {
+        let v = [[0.0, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]];
+        // Through the hypotenuse's midpoint, exactly.
+        let (tt, b1, b2) = triangle([0.0; 3], [0.5, 0.5, 3.0], &v).unwrap();
+        assert_eq!(tt.cmp_f(1.0), Ordering::Equal);
+        assert_eq!((b1, b2), (0.5, 0.5));
+        // Just outside by one ulp of 0.5.
+        assert!(triangle([0.0; 3], [0.5f64.next_up(), 0.5, 3.0], &v).is_none());
+        // In the plane.
+        assert!(triangle([0.0, 0.0, 3.0], [1.0, 1.0, 0.0], &v).is_none());
+    }
+
+    #[test]
+    fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {
+        let c = [0.0, 0.0, 5.0];
+        // From the surface point (0,0,4) inward: t = 0 is not > 0, the far root t = 2 is.
+        let hit = sphere([0.0, 0.0, 4.0], [0.0, 0.0, 1.0], c, 1.0, 0.0, f64::INFINITY).unwrap();
+        assert_eq!(hit.cmp_f(2.0), Ordering::Equal);
+        // Tangent: touches at t = 5.
+        let tan = sphere([1.0, 0.0, 0.0], [0.0, 0.0, 1.0], c, 1.0, 0.0, f64::INFINITY).unwrap();
+        assert_eq!(tan.cmp_f(5.0), Ordering::Equal);
+        assert!(sphere(
+            [1.0f64.next_up(), 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY
+        )
+        .is_none());
+    }
+}

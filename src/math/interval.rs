@@ -1,0 +1,232 @@
+//! f64 interval arithmetic with outward rounding: the middle level of the adaptive method.
+//!
+//! Every operation rounds to nearest (error ≤ ½ ulp) and then widens each end by one ulp, so
+//! the exact real result of the same operations on the exact inputs always lies inside. No
+//! hand-derived error bound is needed, which is why the adaptive method uses it for every case
+//! the f32 filter cannot decide. f32 and f64 inputs are exact as degenerate intervals.
+
+use std::cmp::Ordering;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A closed interval [lo, hi] holding an unknown real.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+}
+
+impl Interval {
+    /// The exact value x.
+    #[inline]
+    pub fn point(x: f64) -> Self {
+        Self { lo: x, hi: x }
+    }
+
+    /// [lo, hi] from rounded-to-nearest ends, widened outward by one ulp.
+    #[inline]
+    fn widened(lo: f64, hi: f64) -> Self {
+        Self {
+            lo: lo.next_down(),
+            hi: hi.next_up(),
+        }
+    }
+
+    /// The sign if the interval decides it: `Some(Equal)` only for [0, 0]. NaN ends (from
+    /// overflow to ±∞ and ∞ − ∞) decide nothing.
+    #[inline]
+    pub fn sign(self) -> Option<Ordering> {
+        if self.lo > 0.0 {
+            Some(Ordering::Greater)
+        } else if self.hi < 0.0 {
+            Some(Ordering::Less)
+        } else if self.lo == 0.0 && self.hi == 0.0 {
+            Some(Ordering::Equal)
+        } else {
+            None
+        }
+    }
+
+    /// Whether both ends are finite (so the interval means something).
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.lo.is_finite() && self.hi.is_finite()
+    }
+
+    /// The midpoint (an estimate for reporting, not a bound).
+    #[inline]
+    pub fn mid(self) -> f64 {
+        0.5 * self.lo + 0.5 * self.hi
+    }
+
+    /// self / rhs; `None` if rhs may be zero.
+    #[inline]
+    pub fn checked_div(self, rhs: Interval) -> Option<Interval> {
+        if rhs.lo <= 0.0 && rhs.hi >= 0.0 || !rhs.is_finite() {
+            return None;
+        }
+        let q = [
+            self.lo / rhs.lo,
+            self.lo / rhs.hi,
+            self.hi / rhs.lo,
+            self.hi / rhs.hi,
+        ];
+        Some(Self::widened(min4(q), max4(q)))
+    }
+
+    /// √self, `None` if self may be negative.
+    #[inline]
+    pub fn sqrt(self) -> Option<Interval> {
+        if self.lo < 0.0 || self.lo.is_nan() {
+            return None;
+        }
+        Some(Self::widened(self.lo.sqrt(), self.hi.sqrt()).clamp_low())
+    }
+
+    /// self², tighter than self·self when the interval holds 0.
+    #[inline]
+    pub fn square(self) -> Interval {
+        let (a, b) = (self.lo * self.lo, self.hi * self.hi);
+        if self.lo >= 0.0 || self.hi <= 0.0 {
+            Self::widened(a.min(b), a.max(b)).clamp_low()
+        } else {
+            Self::widened(0.0, a.max(b)).clamp_low()
+        }
+    }
+
+    /// A square or root is never negative.
+    #[inline]
+    fn clamp_low(self) -> Self {
+        Self {
+            lo: self.lo.max(0.0),
+            hi: self.hi,
+        }
+    }
+}
+
+#[inline]
+fn min4(a: [f64; 4]) -> f64 {
+    a[0].min(a[1]).min(a[2].min(a[3]))
+}
+
+#[inline]
+fn max4(a: [f64; 4]) -> f64 {
+    a[0].max(a[1]).max(a[2].max(a[3]))
+}
+
+impl From<f64> for Interval {
+    fn from(x: f64) -> Self {
+        Self::point(x)
+    }
+}
+
+impl Add for Interval {
+    type Output = Interval;
+    #[inline]
+    fn add(self, r: Interval) -> Interval {
+        Self::widened(self.lo + r.lo, self.hi + r.hi)
+    }
+}
+
+impl Sub for Interval {
+    type Output = Interval;
+    #[inline]
+    fn sub(self, r: Interval) -> Interval {
+        Self::widened(self.lo - r.hi, self.hi - r.lo)
+    }
+}
+
+impl Neg for Interval {
+    type Output = Interval;
+    #[inline]
+    fn neg(self) -> Interval {
+        Self {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+}
+
+impl Mul for Interval {
+    type Output = Interval;
+    #[inline]
+    fn mul(self, r: Interval) -> Interval {
+        let p = [
+            self.lo * r.lo,
+            self.lo * r.hi,
+            self.hi * r.lo,
+            self.hi * r.hi,
+        ];
+        // f64::min/max would drop a NaN (0·∞); keep it so the result decides nothing.
+        if p.iter().any(|x| x.is_nan()) {
+            return Self {
+                lo: f64::NAN,
+                hi: f64::NAN,
+            };
+        }
+        Self::widened(min4(p), max4(p))
+    }
+}
+
+/// A 3-vector of intervals.
+pub type IV3 = [Interval; 3];
+
+/// Exact inputs as a vector of point intervals.
+#[inline]
+pub fn iv3(p: [f64; 3]) -> IV3 {
+    p.map(Interval::point)
+}
+
+/// a − b
+#[inline]
+pub fn isub(a: IV3, b: IV3) -> IV3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// a · b
+#[inline]
+pub fn idot(a: IV3, b: IV3) -> Interval {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// a × b
+#[inline]
+pub fn icross(a: IV3, b: IV3) -> IV3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encloses_the_exact_result_of_a_cancelling_sum() {
+        // 1e16 + 1 − 1e16 = 1 exactly; plain f64 gives 0.
+        let x = Interval::point(1e16) + Interval::point(1.0) - Interval::point(1e16);
+        assert!(x.lo <= 1.0 && x.hi >= 1.0, "{x:?}");
+        assert_eq!(x.sign(), None, "too wide to decide, and says so");
+    }
+
+    #[test]
+    fn signs_products_and_roots() {
+        let a = Interval::point(3.0) * Interval::point(-2.0);
+        assert_eq!(a.sign(), Some(Ordering::Less));
+        assert!(a.lo <= -6.0 && a.hi >= -6.0);
+        let r = Interval::point(2.0).sqrt().unwrap();
+        assert!(r.lo * r.lo <= 2.0 && r.hi * r.hi >= 2.0);
+        assert!(Interval::point(-1e-300).sqrt().is_none());
+        assert_eq!(Interval::point(0.0).sign(), Some(Ordering::Equal));
+        assert!(Interval::point(1.0)
+            .checked_div(Interval { lo: -1.0, hi: 1.0 })
+            .is_none());
+        let sq = Interval { lo: -2.0, hi: 3.0 }.square();
+        assert!(sq.lo == 0.0 && sq.hi >= 9.0);
+        let inf = Interval::point(f64::INFINITY) * Interval::point(0.0);
+        assert_eq!(inf.sign(), None);
+    }
+}
