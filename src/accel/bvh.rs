@@ -11,7 +11,7 @@
 //! lowest primitive index, as in the brute-force loop.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{classify_f32, edge_bound, widen, Estimate, Nearest};
+use crate::geometry::adaptive::{classify_f32, edge_bound, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
@@ -147,35 +147,28 @@ impl Bvh {
 
     /// The adaptive closest-hit search (see `geometry::adaptive`), the f32 filter's error
     /// bound taken per leaf from the leaf's box.
-    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, nearest: &mut Nearest) {
-        let (tmin, tmax) = (round_down(nearest.tmin()), round_up(nearest.t_far()));
+    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
         self.traverse(ray, tmin, tmax, |first, count, _, bounds| {
             let e = edge_bound(ray.o, bounds.lo, bounds.hi);
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
-                if let Estimate::Hit(a) = est {
-                    if nearest.beyond(a.lo) {
-                        continue;
-                    }
-                }
                 if est != Estimate::Miss {
-                    nearest.offer(self.prims[i], widen(&Shape::Triangle(self.tris[i])), est);
+                    search.offer_triangle(self.prims[i], &self.tris[i], est);
                 }
             }
-            (round_up(nearest.t_far()), false)
+            (round_up(search.t_far()), false)
         });
     }
 
     /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, nearest: &Nearest) -> bool {
+    pub fn any_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search) -> bool {
         let mut hit = false;
-        let (tmin, tmax) = (round_down(nearest.tmin()), round_up(nearest.t_far()));
+        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
         self.traverse(ray, tmin, tmax, |first, count, t_far, bounds| {
             let e = edge_bound(ray.o, bounds.lo, bounds.hi);
             hit = (first..first + count).any(|i| {
-                let est = classify_f32(r, &self.tris[i], e);
-                est != Estimate::Miss
-                    && nearest.confirms(widen(&Shape::Triangle(self.tris[i])), est)
+                search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
             });
             (t_far, hit)
         });

@@ -10,7 +10,7 @@ pub mod brute;
 pub mod bvh;
 pub mod soa;
 
-use crate::geometry::adaptive::{widen, Estimate, Nearest};
+use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
@@ -142,24 +142,21 @@ impl Accel {
     /// Nearest hit with tmin < t < tmax; an exact tie goes to the lowest primitive index.
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
         if method == Method::Adaptive {
-            let mut nearest = Nearest::new(ray, tmin, tmax);
+            let mut search = Search::new(ray, tmin, tmax);
             if let Some(r) = WatertightRay::new(ray.o, ray.d) {
                 match &self.triangles {
-                    Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut nearest),
-                    Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut nearest),
+                    Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut search),
+                    Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut search),
                 }
                 for &(c, r, prim) in &self.spheres {
-                    nearest.offer(
-                        prim,
-                        widen(&Shape::Sphere {
-                            centre: c,
-                            radius: r,
-                        }),
-                        Estimate::Unsure,
-                    );
+                    let sphere = widen(&Shape::Sphere {
+                        centre: c,
+                        radius: r,
+                    });
+                    search.offer_shape(prim, sphere, Estimate::Unsure);
                 }
             }
-            return nearest.hit_f32();
+            return search.hit();
         }
         let mut best = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {
@@ -207,11 +204,12 @@ impl Accel {
             let Some(r) = WatertightRay::new(ray.o, ray.d) else {
                 return false;
             };
-            let nearest = Nearest::new(ray, tmin, tmax);
+            let search = Search::new(ray, tmin, tmax);
             let tri = match &self.triangles {
-                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &nearest),
-                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &nearest),
+                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search),
+                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search),
             };
+            let nearest = Nearest::new(ray, tmin, tmax);
             return tri
                 || self.spheres.iter().any(|&(c, r, _)| {
                     nearest.confirms(

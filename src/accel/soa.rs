@@ -7,9 +7,9 @@
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{approx_f32, edge_bound, Estimate, Nearest};
+use crate::geometry::adaptive::{approx_f32, edge_bound, Estimate, Search};
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
-use crate::geometry::{Hit, Shape};
+use crate::geometry::Hit;
 use crate::math::Real;
 use wide::f32x8;
 
@@ -23,6 +23,8 @@ struct Block {
     hi: [f32; 3],
     /// Lanes holding a triangle.
     valid: u32,
+    /// The triangles again, for the rare lanes the adaptive method must look at closely.
+    tris: [[[f32; 3]; 3]; 8],
 }
 
 /// Triangles packed for the 8-wide loop.
@@ -41,7 +43,9 @@ impl TriangleBlocks {
                 let mut lanes = [[[f32::NAN; 8]; 3]; 3];
                 let mut prim = [u32::MAX; 8];
                 let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+                let mut tris = [[[f32::NAN; 3]; 3]; 8];
                 for (l, (tri, p)) in chunk.iter().enumerate() {
+                    tris[l] = *tri;
                     for (vi, vert) in tri.iter().enumerate() {
                         for (a, c) in vert.iter().enumerate() {
                             lanes[vi][a][l] = *c;
@@ -57,6 +61,7 @@ impl TriangleBlocks {
                     lo,
                     hi,
                     valid: (1u32 << chunk.len()) - 1,
+                    tris,
                 }
             })
             .collect();
@@ -78,8 +83,7 @@ impl TriangleBlocks {
 
     /// The triangle in block `b`, lane `l`.
     fn triangle(&self, b: usize, l: usize) -> [[f32; 3]; 3] {
-        let v = &self.blocks[b].v;
-        [0, 1, 2].map(|vi| [0, 1, 2].map(|a| v[vi][a].to_array()[l]))
+        self.blocks[b].tris[l]
     }
 
     /// Nearest hit with tmin < t < tmax; among equal t the lowest primitive index wins.
@@ -285,35 +289,28 @@ impl TriangleBlocks {
     }
 
     /// The adaptive closest-hit search over every block.
-    pub fn closest_hit_adaptive(&self, r: &WatertightRay<f32>, nearest: &mut Nearest) {
-        for b in 0..self.blocks.len() {
+    pub fn closest_hit_adaptive(&self, r: &WatertightRay<f32>, search: &mut Search) {
+        for (b, blk) in self.blocks.iter().enumerate() {
             let Some(f) = self.filter_block(b, r) else {
                 continue;
             };
-            let prim = &self.blocks[b].prim;
             let mut bits = f.sure | f.unsure;
             while bits != 0 {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
                 let est = if f.sure & (1 << l) != 0 {
-                    let est = approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l]);
-                    if let Estimate::Hit(a) = est {
-                        if nearest.beyond(a.lo) {
-                            continue;
-                        }
-                    }
-                    est
+                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l])
                 } else {
                     Estimate::Unsure
                 };
-                nearest.offer(prim[l], self.shape(b, l), est);
+                search.offer_triangle(blk.prim[l], &blk.tris[l], est);
             }
         }
     }
 
     /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, nearest: &Nearest) -> bool {
-        (0..self.blocks.len()).any(|b| {
+    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search) -> bool {
+        self.blocks.iter().enumerate().any(|(b, blk)| {
             let Some(f) = self.filter_block(b, r) else {
                 return false;
             };
@@ -326,16 +323,12 @@ impl TriangleBlocks {
                 } else {
                     Estimate::Unsure
                 };
-                if nearest.confirms(self.shape(b, l), est) {
+                if search.confirms_triangle(&blk.tris[l], est) {
                     return true;
                 }
             }
             false
         })
-    }
-
-    fn shape(&self, b: usize, l: usize) -> Shape<f64> {
-        Shape::Triangle(self.triangle(b, l).map(|p| p.map(f64::from)))
     }
 }
 

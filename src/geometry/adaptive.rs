@@ -211,11 +211,31 @@ pub fn sphere_interval(
     Estimate::Miss
 }
 
+/// Where an exactly decided triangle hit lies: two hits at the same edge line or vertex (the
+/// same f32 coordinates) are at the same t, which settles an exact tie without computing t.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Feature {
+    Interior,
+    Edge([[f64; 3]; 2]),
+    Vertex([f64; 3]),
+    Root,
+}
+
+/// A hit decided exactly: t as an interval where one is known, the exact t once needed.
+#[derive(Clone, Debug)]
+struct Decided {
+    t: Option<Interval>,
+    point: Feature,
+    exact: Option<ExactT>,
+    b1: f64,
+    b2: f64,
+}
+
 /// A candidate's t at the level it has reached.
 #[derive(Clone, Debug)]
 enum Level {
     Approx(Approx),
-    Exact(ExactT, f64, f64),
+    Decided(Box<Decided>),
 }
 
 #[derive(Clone, Debug)]
@@ -260,11 +280,15 @@ impl Nearest {
             None => self.tmax,
             Some(c) => match &c.level {
                 Level::Approx(a) => a.hi.min(self.tmax),
-                // approx() is rounded (a few ulps for a root): step well past it.
-                Level::Exact(t, ..) => {
-                    let x = t.approx();
-                    (x + x.abs() * 1e-9 + f64::MIN_POSITIVE).min(self.tmax)
-                }
+                Level::Decided(x) => match (&x.t, &x.exact) {
+                    (Some(t), _) => t.hi.min(self.tmax),
+                    // approx() is rounded (a few ulps for a root): step well past it.
+                    (None, Some(t)) => {
+                        let v = t.approx();
+                        (v + v.abs() * 1e-9 + f64::MIN_POSITIVE).min(self.tmax)
+                    }
+                    (None, None) => self.tmax,
+                },
             },
         }
     }
@@ -273,14 +297,7 @@ impl Nearest {
     /// the index rule, so only strictly beyond the best counts).
     #[inline]
     pub fn beyond(&self, lo: f64) -> bool {
-        lo >= self.tmax
-            || match &self.best {
-                Some(Candidate {
-                    level: Level::Approx(a),
-                    ..
-                }) => lo > a.hi,
-                _ => false,
-            }
+        lo >= self.tmax || (self.best.is_some() && lo > self.t_far())
     }
 
     /// The nearest hit found.
@@ -288,7 +305,14 @@ impl Nearest {
         self.best.as_ref().map(|c| {
             let (t, b1, b2) = match &c.level {
                 Level::Approx(a) => (a.t, a.b1, a.b2),
-                Level::Exact(t, b1, b2) => (t.approx(), *b1, *b2),
+                Level::Decided(x) => {
+                    let t = match (&x.t, &x.exact) {
+                        (_, Some(e)) => e.approx(),
+                        (Some(t), None) => t.mid(),
+                        (None, None) => f64::NAN,
+                    };
+                    (t, x.b1, x.b2)
+                }
             };
             Hit {
                 t,
@@ -322,7 +346,9 @@ impl Nearest {
             match (&cand.level, &best.level) {
                 (Level::Approx(x), Level::Approx(y)) if x.hi < y.lo => break Ordering::Less,
                 (Level::Approx(x), Level::Approx(y)) if x.lo > y.hi => break Ordering::Greater,
-                (Level::Exact(x, ..), Level::Exact(y, ..)) => break x.cmp_t(y),
+                (Level::Decided(_), Level::Decided(_)) => {
+                    break self.cmp_decided(&mut cand, &mut best);
+                }
                 _ => {}
             }
             // Overlapping: refine the less refined one (or both at the same level).
@@ -355,6 +381,49 @@ impl Nearest {
         self.in_range(0, shape, estimate).is_some()
     }
 
+    /// Orders two exactly decided hits by t: by their intervals, by a shared edge or vertex
+    /// (or identical triangles), and only failing those by exact rational t.
+    fn cmp_decided(&self, a: &mut Candidate, b: &mut Candidate) -> Ordering {
+        let (Level::Decided(x), Level::Decided(y)) = (&a.level, &b.level) else {
+            unreachable!("both decided");
+        };
+        if let (Some(tx), Some(ty)) = (x.t, y.t) {
+            if tx.hi < ty.lo {
+                return Ordering::Less;
+            }
+            if tx.lo > ty.hi {
+                return Ordering::Greater;
+            }
+        }
+        if x.point != Feature::Interior && x.point != Feature::Root && x.point == y.point {
+            return Ordering::Equal;
+        }
+        if let (Shape::Triangle(p), Shape::Triangle(q)) = (&a.shape, &b.shape) {
+            if same_vertices(p, q) {
+                return Ordering::Equal;
+            }
+        }
+        let tx = self.exact_t(a);
+        let ty = self.exact_t(b);
+        match (tx, ty) {
+            (Some(tx), Some(ty)) => tx.cmp_t(&ty),
+            _ => Ordering::Equal, // unreachable for a decided hit (its plane is not parallel)
+        }
+    }
+
+    /// The exact t of a decided candidate, computed once.
+    fn exact_t(&self, c: &mut Candidate) -> Option<ExactT> {
+        let Level::Decided(x) = &mut c.level else {
+            return None;
+        };
+        if x.exact.is_none() {
+            if let Shape::Triangle(v) = &c.shape {
+                x.exact = exact::plane_t(self.o, self.d, v);
+            }
+        }
+        x.exact.clone()
+    }
+
     /// The candidate, refined until it is certainly hit within (tmin, tmax), or `None`.
     fn in_range(&self, prim: u32, shape: Shape<f64>, estimate: Estimate) -> Option<Candidate> {
         let mut cand = Candidate {
@@ -374,20 +443,23 @@ impl Nearest {
             },
         };
         loop {
-            match &cand.level {
-                Level::Approx(a) => {
-                    if a.lo > self.tmin && a.hi < self.tmax {
-                        return Some(cand);
-                    }
-                    if a.hi <= self.tmin || a.lo >= self.tmax {
-                        return None;
-                    }
+            let (lo, hi) = match &cand.level {
+                Level::Approx(a) => (a.lo, a.hi),
+                Level::Decided(x) => {
+                    x.t.map_or((f64::NEG_INFINITY, f64::INFINITY), |t| (t.lo, t.hi))
                 }
-                Level::Exact(t, ..) => {
-                    let inside = t.cmp_f(self.tmin) == Ordering::Greater
-                        && t.cmp_f(self.tmax) == Ordering::Less;
-                    return inside.then_some(cand);
-                }
+            };
+            if lo > self.tmin && hi < self.tmax {
+                return Some(cand);
+            }
+            if hi <= self.tmin || lo >= self.tmax {
+                return None;
+            }
+            if let Level::Decided(_) = cand.level {
+                let t = self.exact_t(&mut cand)?;
+                let inside =
+                    t.cmp_f(self.tmin) == Ordering::Greater && t.cmp_f(self.tmax) == Ordering::Less;
+                return inside.then_some(cand);
             }
             cand.level = self.refine(&cand)?;
         }
@@ -397,7 +469,7 @@ impl Nearest {
     fn refine(&self, c: &Candidate) -> Option<Level> {
         let level = match &c.level {
             Level::Approx(a) => a.level,
-            Level::Exact(..) => unreachable!("exact candidates are never refined"),
+            Level::Decided(..) => unreachable!("decided candidates are never refined"),
         };
         if level == 0 {
             let est = match &c.shape {
@@ -413,21 +485,215 @@ impl Nearest {
             }
         }
         match &c.shape {
-            Shape::Triangle(v) => {
-                exact::triangle(self.o, self.d, v).map(|(t, b1, b2)| Level::Exact(t, b1, b2))
-            }
+            Shape::Triangle(v) => decide_triangle(self.o, self.d, v),
             Shape::Sphere { centre, radius } => {
-                exact::sphere(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
-                    .map(|t| Level::Exact(t, 0.0, 0.0))
+                exact::sphere(self.o, self.d, *centre, *radius, self.tmin, self.tmax).map(|t| {
+                    Level::Decided(Box::new(Decided {
+                        t: None,
+                        point: Feature::Root,
+                        exact: Some(t),
+                        b1: 0.0,
+                        b2: 0.0,
+                    }))
+                })
             }
         }
     }
 }
 
+/// The exact level for a triangle: exact edge signs (expansions, or rationals where those
+/// cannot be used), which edge or vertex the line passes through, and t as an interval.
+fn decide_triangle(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<Level> {
+    const EDGES: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
+    let s = EDGES.map(|(i, j)| {
+        exact::orient(d, o, v[i], v[j]).unwrap_or_else(|| exact::orient_rational(d, o, v[i], v[j]))
+    });
+    let mixed = s.contains(&Ordering::Less) && s.contains(&Ordering::Greater);
+    let zeros: Vec<usize> = (0..3).filter(|&k| s[k] == Ordering::Equal).collect();
+    if mixed || zeros.len() == 3 {
+        return None;
+    }
+    let point = match zeros[..] {
+        [] => Feature::Interior,
+        [k] => {
+            let (i, j) = EDGES[k];
+            let mut e = [v[i], v[j]];
+            e.sort_by(|a, b| {
+                a.iter()
+                    .zip(b)
+                    .fold(Ordering::Equal, |o, (x, y)| o.then(x.total_cmp(y)))
+            });
+            Feature::Edge(e)
+        }
+        // Two edges through the line: it passes through the vertex they share (the one
+        // opposite the third edge).
+        _ => Feature::Vertex(v[3 - zeros[0] - zeros[1]]),
+    };
+    let (t, b1, b2) = triangle_t_interval(o, d, v);
+    Some(Level::Decided(Box::new(Decided {
+        t,
+        point,
+        exact: None,
+        b1,
+        b2,
+    })))
+}
+
+/// t = det[p₀, p₁, p₂] / d·n as an interval (if d·n is certainly non-zero), with estimates
+/// of the barycentrics.
+fn triangle_t_interval(
+    o: [f64; 3],
+    d: [f64; 3],
+    v: &[[f64; 3]; 3],
+) -> (Option<Interval>, f64, f64) {
+    let (o, d) = (iv3(o), iv3(d));
+    let p = v.map(|vi| isub(iv3(vi), o));
+    let e = [(1, 2), (2, 0), (0, 1)].map(|(i, j)| idot(d, icross(p[i], p[j])));
+    let den = e[0] + e[1] + e[2];
+    let num = idot(p[0], icross(p[1], p[2]));
+    let t = num.checked_div(den).filter(|t| t.is_finite());
+    let dm = den.mid();
+    (
+        t,
+        (e[1].mid() / dm).clamp(0.0, 1.0),
+        (e[2].mid() / dm).clamp(0.0, 1.0),
+    )
+}
+
+/// Whether two triangles have the same three vertices (in any order).
+fn same_vertices(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
+    p.iter().all(|a| q.contains(a)) && q.iter().all(|a| p.contains(a))
+}
+
 fn rank(l: &Level) -> u8 {
     match l {
         Level::Approx(a) => a.level,
-        Level::Exact(..) => 2,
+        Level::Decided(..) => 2,
+    }
+}
+
+/// The closest-hit search as the fast paths run it: while every candidate is decided by the
+/// f32 filter and their intervals do not overlap, a few compares per candidate; at the first
+/// that is not (an unsure lane, overlapping t's, t near tmin), everything so far moves into a
+/// [`Nearest`] and the search goes on there.
+#[derive(Clone, Debug)]
+pub struct Search {
+    tmin: f64,
+    tmax: f64,
+    fast: Option<FastBest>,
+    slow: Option<Box<Nearest>>,
+    ray: Ray<f32>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct FastBest {
+    prim: u32,
+    tri: [[f32; 3]; 3],
+    approx: Approx,
+}
+
+impl Search {
+    /// A search along `ray` for tmin < t < tmax.
+    #[inline]
+    pub fn new(ray: &Ray<f32>, tmin: f32, tmax: f32) -> Self {
+        Self {
+            tmin: tmin as f64,
+            tmax: tmax as f64,
+            fast: None,
+            slow: None,
+            ray: *ray,
+        }
+    }
+
+    /// The query's tmin.
+    #[inline]
+    pub fn tmin(&self) -> f64 {
+        self.tmin
+    }
+
+    /// An upper bound on the exact t of the best hit so far (tmax without one).
+    #[inline]
+    pub fn t_far(&self) -> f64 {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => n.t_far(),
+            (None, Some(b)) => b.approx.hi.min(self.tmax),
+            (None, None) => self.tmax,
+        }
+    }
+
+    /// Offers triangle `prim` with the f32 filter's estimate.
+    #[inline]
+    pub fn offer_triangle(&mut self, prim: u32, tri: &[[f32; 3]; 3], est: Estimate) {
+        if let Some(n) = &mut self.slow {
+            n.offer(prim, widen(&Shape::Triangle(*tri)), est);
+            return;
+        }
+        match est {
+            Estimate::Miss => return,
+            Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => match &self.fast {
+                Some(b) if a.lo > b.approx.hi => return,
+                Some(b) if a.hi >= b.approx.lo => {}
+                _ => {
+                    self.fast = Some(FastBest {
+                        prim,
+                        tri: *tri,
+                        approx: a,
+                    });
+                    return;
+                }
+            },
+            Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => return,
+            _ => {}
+        }
+        self.go_slow()
+            .offer(prim, widen(&Shape::Triangle(*tri)), est);
+    }
+
+    /// Offers any primitive (spheres go straight to the exact search).
+    pub fn offer_shape(&mut self, prim: u32, shape: Shape<f64>, est: Estimate) {
+        self.go_slow().offer(prim, shape, est);
+    }
+
+    fn go_slow(&mut self) -> &mut Nearest {
+        if self.slow.is_none() {
+            let mut n = Nearest::new(&self.ray, self.tmin as f32, self.tmax as f32);
+            if let Some(b) = self.fast.take() {
+                n.offer(
+                    b.prim,
+                    widen(&Shape::Triangle(b.tri)),
+                    Estimate::Hit(b.approx),
+                );
+            }
+            self.slow = Some(Box::new(n));
+        }
+        self.slow.as_mut().expect("just set")
+    }
+
+    /// The nearest hit.
+    #[inline]
+    pub fn hit(&self) -> Option<Hit<f32>> {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => n.hit_f32(),
+            (None, Some(b)) => Some(Hit {
+                t: b.approx.t as f32,
+                prim: b.prim,
+                b1: b.approx.b1 as f32,
+                b2: b.approx.b2 as f32,
+            }),
+            (None, None) => None,
+        }
+    }
+
+    /// Whether triangle `tri` is certainly hit within (tmin, tmax) (an any-hit query).
+    #[inline]
+    pub fn confirms_triangle(&self, tri: &[[f32; 3]; 3], est: Estimate) -> bool {
+        match est {
+            Estimate::Miss => false,
+            Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => true,
+            Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => false,
+            _ => Nearest::new(&self.ray, self.tmin as f32, self.tmax as f32)
+                .confirms(widen(&Shape::Triangle(*tri)), est),
+        }
     }
 }
 

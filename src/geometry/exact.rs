@@ -3,9 +3,12 @@
 //! exactly the same t, an origin exactly on a sphere). Every float input is an exact rational,
 //! so the answers here are the mathematically exact ones.
 //!
-//! A ray parameter is held as t = a + b·√s (b = 0 for triangles; spheres have irrational
-//! roots), and compared by the sign of sums of such terms (squaring only where the signs
-//! differ, so nothing is ever rounded).
+//! The common exact question, which side of an edge a ray passes (the sign of det[d, a − o,
+//! b − o]), is answered with Shewchuk's floating-point expansions ([`orient`]): exact, and
+//! fast enough for the columns of pixels whose rays run exactly through a box's edges.
+//! Everything else, rarer still, uses big rationals: a ray parameter is held as
+//! t = a + b·√s (b = 0 for triangles; spheres have irrational roots), and compared by the
+//! sign of sums of such terms (squaring only where the signs differ, so nothing is rounded).
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
@@ -138,6 +141,130 @@ fn sign_sum(p: &Q, qq: &Q, s: &Q, r: &Q, u: &Q) -> Ordering {
     }
 }
 
+/// x + y = a + b exactly (Knuth's two-sum).
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let x = a + b;
+    let bv = x - a;
+    let av = x - bv;
+    (x, (a - av) + (b - bv))
+}
+
+/// x + y = a·b exactly (the fused multiply-add gives the rounding error).
+#[inline]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let x = a * b;
+    (x, a.mul_add(b, -x))
+}
+
+/// e + b, for a nonoverlapping expansion e in increasing magnitude (Shewchuk's
+/// GROW-EXPANSION with zero elimination).
+fn grow(e: &[f64], b: f64) -> Vec<f64> {
+    let mut h = Vec::with_capacity(e.len() + 1);
+    let mut q = b;
+    for &x in e {
+        let (s, err) = two_sum(q, x);
+        if err != 0.0 {
+            h.push(err);
+        }
+        q = s;
+    }
+    if q != 0.0 || h.is_empty() {
+        h.push(q);
+    }
+    h
+}
+
+/// e + f.
+fn expansion_sum(e: &[f64], f: &[f64]) -> Vec<f64> {
+    f.iter().fold(e.to_vec(), |acc, &x| grow(&acc, x))
+}
+
+/// e·b (Shewchuk's SCALE-EXPANSION with zero elimination).
+fn scale(e: &[f64], b: f64) -> Vec<f64> {
+    let mut h = Vec::with_capacity(2 * e.len());
+    let (mut q, err) = two_prod(e[0], b);
+    if err != 0.0 {
+        h.push(err);
+    }
+    for &x in &e[1..] {
+        let (p1, p0) = two_prod(x, b);
+        let (s, err) = two_sum(q, p0);
+        if err != 0.0 {
+            h.push(err);
+        }
+        // |p1| ≥ |s| here, so a fast two-sum would do; the plain one is as exact.
+        let (s2, err) = two_sum(p1, s);
+        if err != 0.0 {
+            h.push(err);
+        }
+        q = s2;
+    }
+    if q != 0.0 || h.is_empty() {
+        h.push(q);
+    }
+    h
+}
+
+/// a·b − c·d as an expansion.
+fn cross_term(a: f64, b: f64, c: f64, d: f64) -> Vec<f64> {
+    let (x1, x0) = two_prod(a, b);
+    let (y1, y0) = two_prod(c, d);
+    expansion_sum(&grow(&[x0], x1), &grow(&[-y0], -y1))
+}
+
+/// Inputs whose products of three stay clear of f64 underflow and overflow (every f32 is).
+fn in_safe_range(x: f64) -> bool {
+    x == 0.0 || (1e-90..=1e90).contains(&x.abs())
+}
+
+/// The exact sign of det[d, a − o, b − o]: which side of the edge (a, b) the line o + t·d
+/// passes. `None` where a − o or b − o is not exact in f64 or an input is outside the safe
+/// range (then the caller falls back to rationals).
+pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Ordering> {
+    let mut pa = [0.0; 3];
+    let mut pb = [0.0; 3];
+    for k in 0..3 {
+        let (x, ex) = two_sum(a[k], -o[k]);
+        let (y, ey) = two_sum(b[k], -o[k]);
+        if ex != 0.0 || ey != 0.0 {
+            return None;
+        }
+        if ![x, y, d[k]].into_iter().all(in_safe_range) {
+            return None;
+        }
+        (pa[k], pb[k]) = (x, y);
+    }
+    let terms = [
+        scale(&cross_term(pa[1], pb[2], pa[2], pb[1]), d[0]),
+        scale(&cross_term(pa[2], pb[0], pa[0], pb[2]), d[1]),
+        scale(&cross_term(pa[0], pb[1], pa[1], pb[0]), d[2]),
+    ];
+    let sum = expansion_sum(&expansion_sum(&terms[0], &terms[1]), &terms[2]);
+    // Nonoverlapping, increasing magnitude, zeros removed: the last term carries the sign.
+    let top = *sum.last().unwrap_or(&0.0);
+    Some(top.partial_cmp(&0.0).unwrap_or(Ordering::Equal))
+}
+
+/// The exact sign of det[d, a − o, b − o] in rationals (any finite inputs).
+pub fn orient_rational(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Ordering {
+    let o = qv(o);
+    let (pa, pb) = (sub(&qv(a), &o), sub(&qv(b), &o));
+    sign(&dot(&qv(d), &cross(&pa, &pb)))
+}
+
+/// The exact t of the line o + t·d at the plane of triangle v (`None` if parallel).
+pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
+    let o = qv(o);
+    let p: [QV; 3] = [0, 1, 2].map(|i| sub(&qv(v[i]), &o));
+    let n = cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]));
+    let den = dot(&qv(d), &n);
+    if den.is_zero() {
+        return None;
+    }
+    Some(ExactT::rational(dot(&p[0], &n) / den))
+}
+
 type QV = [Q; 3];
 
 fn qv(p: [f64; 3]) -> QV {
@@ -226,6 +353,41 @@ mod tests {
             a: q(a),
             b: q(b),
             s: q(s),
+        }
+    }
+
+    #[test]
+    fn orient_is_exact_where_f64_is_not() {
+        let (d, o) = ([0.0, 0.0, 1.0], [0.0; 3]);
+        // The edge from (1, 1e-30·k) … along x: which side of the z axis?
+        let a = [1.0, 1.0, 0.0];
+        let b = [-1.0, -1.0, 0.0];
+        assert_eq!(
+            orient(d, o, a, b),
+            Some(Ordering::Equal),
+            "through the origin"
+        );
+        let b2 = [-1.0, -1.0f64.next_up(), 0.0];
+        assert_eq!(orient(d, o, a, b2), Some(orient_rational(d, o, a, b2)));
+        assert_ne!(orient(d, o, a, b2), Some(Ordering::Equal));
+        // Random f32 inputs: expansions agree with rationals.
+        let mut x = 12345u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x % 2001) as f64 - 1000.0) as f32 as f64 * 0.37f32 as f64
+        };
+        for _ in 0..2000 {
+            let p: Vec<[f64; 3]> = (0..4).map(|_| [next(), next(), next()]).collect();
+            // A direction towards the midpoint of a and b makes exact zeros common.
+            let mid = [0, 1, 2].map(|k| 0.5 * (p[2][k] + p[3][k]) - p[1][k]);
+            for d in [p[0], mid] {
+                assert_eq!(
+                    orient(d, p[1], p[2], p[3]).unwrap(),
+                    orient_rational(d, p[1], p[2], p[3])
+                );
+            }
         }
     }
 

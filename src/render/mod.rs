@@ -7,7 +7,7 @@ pub mod shade;
 use crate::accel::soa::TriangleBlocks;
 use crate::accel::IndexedTriangle;
 use crate::camera::Camera;
-use crate::geometry::adaptive::Nearest;
+use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::scene::Scene;
@@ -217,9 +217,9 @@ pub fn render_into_cancellable(
                                     Some(b) => WatertightRay::new(ray.o, ray.d)
                                         .and_then(|r| {
                                             if settings.method == Method::Adaptive {
-                                                let mut n = Nearest::new(&ray, 0.0, f32::INFINITY);
-                                                b.closest_hit_adaptive(&r, &mut n);
-                                                n.hit_f32()
+                                                let mut s = Search::new(&ray, 0.0, f32::INFINITY);
+                                                b.closest_hit_adaptive(&r, &mut s);
+                                                s.hit()
                                             } else {
                                                 b.closest_hit(&r, 0.0, f32::INFINITY)
                                             }
