@@ -1,52 +1,48 @@
-use raylab::geometry::adaptive::{classify_f32, edge_bound, triangle_interval, Estimate};
+use raylab::accel::soa::TriangleBlocks;
+use raylab::geometry::adaptive::Search;
 use raylab::geometry::triangle::WatertightRay;
 use raylab::geometry::Shape;
+use std::time::Instant;
 fn main() {
     let scene = raylab::Scene::cornell();
     let (w, h) = (1280u32, 720u32);
     let cam = raylab::Camera::cornell(w);
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for s in &scene.shapes {
-        if let Shape::Triangle(v) = s {
-            for p in v {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
-        }
-    }
-    let (mut unsure32, mut unsure64, mut sure, mut total) = (0, 0, 0, 0);
-    let mut rays_unsure64 = 0;
-    for j in 0..h {
-        for i in 0..w {
-            let r = cam.ray_for_pixel(i, j, w, h);
+    let tris: Vec<_> = scene
+        .shapes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| match s {
+            Shape::Triangle(v) => Some((*v, i as u32)),
+            _ => None,
+        })
+        .collect();
+    let blocks = TriangleBlocks::new(&tris);
+    let rays: Vec<_> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| cam.ray_for_pixel(i, j, w, h))
+        .collect();
+    for round in 0..3 {
+        let t0 = Instant::now();
+        let mut s1 = 0u64;
+        for r in &rays {
             let wr = WatertightRay::new(r.o, r.d).unwrap();
-            let e = edge_bound(r.o, lo, hi);
-            total += 1;
-            let mut ray_u = false;
-            for s in &scene.shapes {
-                if let Shape::Triangle(v) = s {
-                    match classify_f32(&wr, v, e) {
-                        Estimate::Unsure => {
-                            unsure32 += 1;
-                            if triangle_interval(
-                                r.o.map(f64::from),
-                                r.d.map(f64::from),
-                                &v.map(|p| p.map(f64::from)),
-                            ) == Estimate::Unsure
-                            {
-                                unsure64 += 1;
-                                ray_u = true;
-                            }
-                        }
-                        Estimate::Hit(_) => sure += 1,
-                        _ => {}
-                    }
-                }
-            }
-            rays_unsure64 += ray_u as u32;
+            s1 += blocks
+                .closest_hit(&wr, 0.0, f32::INFINITY)
+                .map_or(0, |h| h.prim as u64);
         }
+        let t1 = Instant::now();
+        let mut s2 = 0u64;
+        for r in &rays {
+            let wr = WatertightRay::new(r.o, r.d).unwrap();
+            let mut s = Search::new(r, 0.0, f32::INFINITY);
+            blocks.closest_hit_adaptive(&wr, &mut s);
+            s2 += s.hit().map_or(0, |h| h.prim as u64);
+        }
+        let t2 = Instant::now();
+        println!(
+            "round {round}: watertight {:.1} ms, adaptive {:.1} ms  ({s1} {s2})",
+            (t1 - t0).as_secs_f64() * 1e3,
+            (t2 - t1).as_secs_f64() * 1e3
+        );
     }
-    println!("rays {total} sure-hit lanes {sure} unsure32 {unsure32} unsure64 {unsure64} rays needing exact {rays_unsure64} E={:e}", edge_bound(cam.ray_for_pixel(0,0,w,h).o, lo, hi));
 }

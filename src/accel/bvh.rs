@@ -11,7 +11,7 @@
 //! lowest primitive index, as in the brute-force loop.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{classify_f32, edge_bound, Estimate, Search};
+use crate::geometry::adaptive::{box_extent, classify_f32, round_down, round_up, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
@@ -150,7 +150,7 @@ impl Bvh {
     pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
         self.traverse(ray, tmin, tmax, |first, count, _, bounds| {
-            let e = edge_bound(ray.o, bounds.lo, bounds.hi);
+            let e = box_extent(ray.o, bounds.lo, bounds.hi);
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
                 if est != Estimate::Miss {
@@ -166,7 +166,7 @@ impl Bvh {
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
         self.traverse(ray, tmin, tmax, |first, count, t_far, bounds| {
-            let e = edge_bound(ray.o, bounds.lo, bounds.hi);
+            let e = box_extent(ray.o, bounds.lo, bounds.hi);
             hit = (first..first + count).any(|i| {
                 search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
             });
@@ -266,26 +266,6 @@ impl Bvh {
                 }
             }
         }
-    }
-}
-
-/// The smallest f32 ≥ x.
-fn round_up(x: f64) -> f32 {
-    let y = x as f32;
-    if (y as f64) < x {
-        y.next_up()
-    } else {
-        y
-    }
-}
-
-/// The largest f32 ≤ x (a tmin for box culling that skips no box holding a hit).
-fn round_down(x: f64) -> f32 {
-    let y = x as f32;
-    if (y as f64) > x {
-        y.next_down()
-    } else {
-        y
     }
 }
 

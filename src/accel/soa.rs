@@ -7,7 +7,9 @@
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{approx_f32, edge_bound, Estimate, Search};
+use crate::geometry::adaptive::{
+    approx_f32, box_extent, edge_error, loose_t_bound, round_down, round_up, Estimate, Search,
+};
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
 use crate::geometry::Hit;
 use crate::math::Real;
@@ -32,6 +34,10 @@ struct Block {
 pub struct TriangleBlocks {
     blocks: Vec<Block>,
     len: usize,
+    /// Box around all the triangles: the adaptive filter's bound is taken once per ray from
+    /// it (small scenes; per block it cost more than it saved).
+    lo: [f32; 3],
+    hi: [f32; 3],
 }
 
 impl TriangleBlocks {
@@ -64,10 +70,19 @@ impl TriangleBlocks {
                     tris,
                 }
             })
-            .collect();
+            .collect::<Vec<Block>>();
+        let (mut blocks_lo, mut blocks_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for b in &blocks {
+            for k in 0..3 {
+                blocks_lo[k] = blocks_lo[k].min(b.lo[k]);
+                blocks_hi[k] = blocks_hi[k].max(b.hi[k]);
+            }
+        }
         Self {
             blocks,
             len: tris.len(),
+            lo: blocks_lo,
+            hi: blocks_hi,
         }
     }
 
@@ -227,11 +242,18 @@ struct BlockFilter {
 }
 
 impl TriangleBlocks {
-    /// The adaptive method's f32 filter on one block (see `geometry::adaptive`).
-    #[inline]
-    fn filter_block(&self, b: usize, r: &WatertightRay<f32>) -> Option<BlockFilter> {
+    /// The adaptive method's f32 filter on one block (see `geometry::adaptive`). Sure lanes
+    /// whose t interval lies certainly below `tmin` or beyond `t_far` are dropped here.
+    #[inline(always)]
+    fn filter_block(
+        &self,
+        b: usize,
+        r: &WatertightRay<f32>,
+        (edge_bound, t_bound): (f32, (f32, f32)),
+        tmin: f32,
+        t_far: f32,
+    ) -> Option<BlockFilter> {
         let blk = &self.blocks[b];
-        let e = edge_bound(r.o, blk.lo, blk.hi);
         let [kx, ky, kz] = r.k;
         let sx = f32x8::splat(r.s[0]);
         let sy = f32x8::splat(r.s[1]);
@@ -252,7 +274,8 @@ impl TriangleBlocks {
         let u = cx * by - cy * bx;
         let w = bx * ay - by * ax;
         let vv = ax * cy - ay * cx;
-        let (ep, en) = (f32x8::splat(e), f32x8::splat(-e));
+        let ep = f32x8::splat(edge_bound);
+        let en = -ep;
         let neg = u.simd_lt(en) | vv.simd_lt(en) | w.simd_lt(en);
         let pos = u.simd_gt(ep) | vv.simd_gt(ep) | w.simd_gt(ep);
         let maybe = !(neg & pos).to_bitmask() & blk.valid;
@@ -274,24 +297,38 @@ impl TriangleBlocks {
             let det = u + vv + w;
             let rcp = f32x8::ONE / det;
             let t = (u * az + vv * bz + w * cz) * sz * rcp;
-            let bound = t_error_bound_x8(
-                [[ax, ay, az], [bx, by, bz], [cx, cy, cz]],
-                sz,
-                [u, vv, w],
-                rcp,
-            );
+            // The loose per-ray bound A + B·|1/det| (`adaptive::loose_t_bound`).
+            let bound = f32x8::splat(t_bound.0) + f32x8::splat(t_bound.1) * rcp.abs();
+            // The interval [t − 2·bound, t + 2·bound] (as `approx_f32` makes it), widened by
+            // a few ulps of t for the rounding of these f32 operations.
+            let slack = f32x8::splat(2.5) * bound + t.abs() * f32x8::splat(1.0 / (1 << 22) as f32);
+            let out_of_reach =
+                (t - slack).simd_gt(f32x8::splat(t_far)) | (t + slack).simd_lt(f32x8::splat(tmin));
+            out.sure &= !out_of_reach.to_bitmask();
             out.t = t.to_array();
             out.bound = bound.to_array();
             out.b1 = (vv * rcp).to_array();
             out.b2 = (w * rcp).to_array();
         }
-        Some(out)
+        (out.sure | out.unsure != 0).then_some(out)
+    }
+
+    /// The adaptive filter's edge-function error bound for this ray, from the box around all
+    /// the triangles (`adaptive::edge_error` with m ≤ M: looser than per lane, but nearly
+    /// free, and small scenes have large triangles).
+    /// With it, the loose t bound's coefficients.
+    #[inline]
+    fn bounds(&self, r: &WatertightRay<f32>) -> (f32, (f32, f32)) {
+        let m = box_extent(r.o, self.lo, self.hi);
+        (edge_error(m, m), loose_t_bound(m, r.s[2]))
     }
 
     /// The adaptive closest-hit search over every block.
     pub fn closest_hit_adaptive(&self, r: &WatertightRay<f32>, search: &mut Search) {
+        let tmin = round_down(search.tmin());
+        let e = self.bounds(r);
         for (b, blk) in self.blocks.iter().enumerate() {
-            let Some(f) = self.filter_block(b, r) else {
+            let Some(f) = self.filter_block(b, r, e, tmin, round_up(search.t_far())) else {
                 continue;
             };
             let mut bits = f.sure | f.unsure;
@@ -299,7 +336,7 @@ impl TriangleBlocks {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
                 let est = if f.sure & (1 << l) != 0 {
-                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l])
+                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l], 0)
                 } else {
                     Estimate::Unsure
                 };
@@ -310,8 +347,10 @@ impl TriangleBlocks {
 
     /// The adaptive any-hit query.
     pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search) -> bool {
+        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
+        let e = self.bounds(r);
         self.blocks.iter().enumerate().any(|(b, blk)| {
-            let Some(f) = self.filter_block(b, r) else {
+            let Some(f) = self.filter_block(b, r, e, tmin, tmax) else {
                 return false;
             };
             let mut bits = f.sure | f.unsure;
@@ -319,7 +358,7 @@ impl TriangleBlocks {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
                 let est = if f.sure & (1 << l) != 0 {
-                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l])
+                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l], 0)
                 } else {
                     Estimate::Unsure
                 };

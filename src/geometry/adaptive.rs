@@ -8,8 +8,8 @@
 //!
 //! Three levels, each consulted only where the one before cannot decide:
 //! 1. **f32 filter** ([`classify_f32`]): the watertight test, with a conservative bound `E` on
-//!    the rounding error of its edge functions (from the box around the triangles and the ray
-//!    origin, see [`edge_bound`]). An edge function beyond ±E has a certain sign; t comes
+//!    the rounding error of its edge functions (from the box around the triangles, the ray
+//!    origin and the sheared vertices, see [`edge_error`]). An edge function beyond ±E has a certain sign; t comes
 //!    with pbrt-v4's bound, doubled. Nearly every ray is decided here.
 //! 2. **f64 intervals** ([`triangle_interval`], [`sphere_interval`]): the same predicates
 //!    (signs of det[d, pᵢ, pⱼ], t = det[p₀, p₁, p₂] / d·n) in outward-rounded interval
@@ -41,7 +41,8 @@ pub struct Approx {
     pub b1: f64,
     /// Barycentric weight of vertex 2.
     pub b2: f64,
-    /// 0: from the f32 filter, 1: from f64 intervals.
+    /// 0: the SIMD loop's f32 filter with its loose per-ray t bound, 1: f32 with pbrt's t
+    /// bound, 2: f64 intervals.
     pub level: u8,
 }
 
@@ -61,31 +62,51 @@ pub enum Estimate {
 const MIN_EXTENT: f32 = 1.0 / (1u64 << 40) as f32;
 const MAX_EXTENT: f32 = (1u64 << 60) as f32;
 
-/// A bound E on the rounding error of the f32 watertight edge functions for triangles inside
-/// the box [lo, hi], seen from `o`.
-///
-/// With p = v − o and the shear S (|Sx|, |Sy| ≤ 1, z being the largest axis of d), each
-/// sheared coordinate carries at most γ₄·(|pₓ| + |Sₓ·p_z|) ≤ γ₄·2·max|p| error, and each edge
-/// function x_j·y_k − y_j·x_k at most γ₁₁·2·M² with M = 2·max|p| (Higham-style counting; see
-/// the module docs). E = 3·γ₁₆·M² leaves a margin of 2 for the rounding of E itself.
-/// `f32::INFINITY` where the bound would not hold (the filter then decides nothing).
+/// M for the f32 filter's error bound: 2·max|v − o| over the box [lo, hi] (a bound on the
+/// magnitudes |pₓ| + |Sₓ·p_z| that the sheared coordinates of its vertices are computed
+/// from, as |Sₓ|, |S_y| ≤ 1), or `f32::INFINITY` where the bound would not hold.
 #[inline]
-pub fn edge_bound(o: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
+pub fn box_extent(o: [f32; 3], lo: [f32; 3], hi: [f32; 3]) -> f32 {
     let mut m = 0.0f32;
     for k in 0..3 {
         m = m.max((hi[k] - o[k]).abs()).max((o[k] - lo[k]).abs());
     }
     let m = 2.0 * m * (1.0 + 1.0 / (1 << 20) as f32);
-    if !(MIN_EXTENT..=MAX_EXTENT).contains(&m) {
-        return f32::INFINITY;
+    if (MIN_EXTENT..=MAX_EXTENT).contains(&m) {
+        m
+    } else {
+        f32::INFINITY
     }
-    3.0 * f32::error_gamma(16) * m * m
+}
+
+/// γ(n) for f32, at compile time.
+const fn gamma32(n: f32) -> f32 {
+    let nu = n * (f32::EPSILON * 0.5);
+    nu / (1.0 - nu)
+}
+
+/// The constants of [`edge_error`]: E = C1·M·m + C2·M² + tiny.
+const EDGE_C1: f32 = 2.0 * gamma32(10.0);
+const EDGE_C2: f32 = 4.0 * gamma32(4.0) * gamma32(4.0);
+
+/// A bound E on the rounding error of a watertight f32 edge function x_j·y_k − y_j·x_k, from
+/// M ([`box_extent`]) and m = the largest |x|, |y| of the three computed sheared vertices.
+///
+/// Each sheared coordinate x = pₓ + Sₓ·p_z is computed with error ≤ γ₄·(|pₓ| + |Sₓ·p_z|)
+/// ≤ γ₄·M (one rounding each for p, S, the product and the sum), so
+/// |x̃ⱼỹₖ − xⱼyₖ| ≤ γ₄·M·|ỹₖ| + (|x̃ⱼ| + γ₄·M)·γ₄·M ≤ 2γ₄·M·m + γ₄²·M², twice, plus the
+/// rounding of the two products and the difference (≤ 4u·m², m ≤ M·(1 + γ₄)): in all at
+/// most γ₉·M·m + 2γ₄²·M². E doubles that (margin for the rounding of E itself), and adds
+/// 1e-37 for products that fall into the subnormal range.
+#[inline]
+pub fn edge_error(m_box: f32, m_lane: f32) -> f32 {
+    EDGE_C1 * m_box * m_lane + EDGE_C2 * m_box * m_box + 1e-37
 }
 
 /// Level 1: the f32 watertight test with a certain sign for every edge function, or `Unsure`.
-/// `e_bound` comes from [`edge_bound`] for a box holding the triangle.
+/// `m_box` comes from [`box_extent`] for a box holding the triangle.
 #[inline]
-pub fn classify_f32(r: &WatertightRay<f32>, v: &[[f32; 3]; 3], e_bound: f32) -> Estimate {
+pub fn classify_f32(r: &WatertightRay<f32>, v: &[[f32; 3]; 3], m_box: f32) -> Estimate {
     let [kx, ky, kz] = r.k;
     let [sx, sy, sz] = r.s;
     let sheared = |p: [f32; 3]| {
@@ -96,7 +117,10 @@ pub fn classify_f32(r: &WatertightRay<f32>, v: &[[f32; 3]; 3], e_bound: f32) -> 
     let u = c[0] * b[1] - c[1] * b[0];
     let w = b[0] * a[1] - b[1] * a[0];
     let vv = a[0] * c[1] - a[1] * c[0];
-    let e = e_bound;
+    let m = [a[0], a[1], b[0], b[1], c[0], c[1]]
+        .into_iter()
+        .fold(0.0f32, |m, x| m.max(x.abs()));
+    let e = edge_error(m_box, m);
     if (u < -e || vv < -e || w < -e) && (u > e || vv > e || w > e) {
         return Estimate::Miss;
     }
@@ -109,12 +133,35 @@ pub fn classify_f32(r: &WatertightRay<f32>, v: &[[f32; 3]; 3], e_bound: f32) -> 
     let rcp = 1.0 / det;
     let t = (u * a[2] + vv * b[2] + w * c[2]) * sz * rcp;
     let bound = t_error_bound(&[a, b, c], sz, [u, vv, w], rcp);
-    approx_f32(t, bound, vv * rcp, w * rcp)
+    approx_f32(t, bound, vv * rcp, w * rcp, 1)
 }
 
-/// The f32 filter's hit as an interval (pbrt's t bound, doubled for margin).
+/// The smallest f32 ≥ x.
 #[inline]
-pub fn approx_f32(t: f32, bound: f32, b1: f32, b2: f32) -> Estimate {
+pub fn round_up(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) < x {
+        y.next_up()
+    } else {
+        y
+    }
+}
+
+/// The largest f32 ≤ x.
+#[inline]
+pub fn round_down(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) > x {
+        y.next_down()
+    } else {
+        y
+    }
+}
+
+/// The f32 filter's hit as an interval (the t bound doubled for margin); `level` 0 for the
+/// loose bound of [`loose_t_bound`], 1 for pbrt's.
+#[inline]
+pub fn approx_f32(t: f32, bound: f32, b1: f32, b2: f32, level: u8) -> Estimate {
     if !(t.is_finite() && bound.is_finite()) {
         return Estimate::Unsure;
     }
@@ -125,8 +172,42 @@ pub fn approx_f32(t: f32, bound: f32, b1: f32, b2: f32) -> Estimate {
         hi: t + slack,
         b1: b1 as f64,
         b2: b2 as f64,
-        level: 0,
+        level,
     })
+}
+
+/// Coefficients (A, B) of a per-ray bound A + B·|1/det| on pbrt's t error bound, valid for
+/// every triangle inside a box of extent `m_box` ([`box_extent`]) whose edge signs are all
+/// certain. It costs two operations per lane instead of about thirty; where it is too loose
+/// to order two hits, the search recomputes pbrt's bound for just those two.
+///
+/// Derivation: with all edge functions of one sign, |det| ≥ max|e|, so max|e|·|1/det| ≤ 1;
+/// every sheared |x|, |y| is ≤ M and |z| ≤ M/2 (see [`box_extent`]). Substituted into
+/// pbrt's 3·(γ₃·max|e|·Zₜ + δₑ·Zₜ + δ_z·max|e|)·|1/det| with Zₜ = max|z|·|S_z|:
+/// ≤ |S_z|·M·(3γ₃ + 3(γ₂ + 3γ₅)·M²·|1/det|), and 1% on top for the rounding of this.
+#[inline]
+pub fn loose_t_bound(m_box: f32, sz: f32) -> (f32, f32) {
+    let k = 1.01 * m_box * sz.abs();
+    (
+        k * 3.0003 * gamma32(3.0),
+        k * 3.0 * (gamma32(2.0) + 3.0 * gamma32(5.0)) * m_box * m_box,
+    )
+}
+
+/// The f32 test with pbrt's t bound, from f32 inputs (level 1), for a triangle found by the
+/// loose level.
+fn precise_f32(o: [f32; 3], d: [f32; 3], v: &[[f32; 3]; 3]) -> Estimate {
+    let Some(r) = WatertightRay::new(o, d) else {
+        return Estimate::Unsure;
+    };
+    let (mut lo, mut hi) = (v[0], v[0]);
+    for p in &v[1..] {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    classify_f32(&r, v, box_extent(o, lo, hi))
 }
 
 /// Level 2 for a triangle: the signs of det[d, pᵢ, pⱼ] and t in f64 intervals.
@@ -159,7 +240,7 @@ pub fn triangle_interval(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimat
         hi: t.hi,
         b1: e[1].mid() / dm,
         b2: e[2].mid() / dm,
-        level: 1,
+        level: 2,
     })
 }
 
@@ -203,7 +284,7 @@ pub fn sphere_interval(
                 hi: t.hi,
                 b1: 0.0,
                 b2: 0.0,
-                level: 1,
+                level: 2,
             });
         }
         return Estimate::Unsure;
@@ -253,6 +334,8 @@ pub struct Nearest {
     tmin: f64,
     tmax: f64,
     best: Option<Candidate>,
+    /// Whether the inputs are f32, so that the f32 levels may be consulted.
+    f32_inputs: bool,
 }
 
 impl Nearest {
@@ -264,6 +347,15 @@ impl Nearest {
             tmin: tmin.f64(),
             tmax: tmax.f64(),
             best: None,
+            f32_inputs: false,
+        }
+    }
+
+    /// A search whose candidates may come from the f32 levels (f32 inputs only).
+    pub fn with_f32_levels(ray: &Ray<f32>, tmin: f32, tmax: f32) -> Self {
+        Self {
+            f32_inputs: true,
+            ..Self::new(ray, tmin, tmax)
         }
     }
 
@@ -437,7 +529,7 @@ impl Nearest {
                     hi: f64::INFINITY,
                     b1: 0.0,
                     b2: 0.0,
-                    level: 0,
+                    level: if self.f32_inputs { 0 } else { 1 },
                 }),
                 Estimate::Hit(a) => Level::Approx(a),
             },
@@ -467,21 +559,27 @@ impl Nearest {
 
     /// The next level's answer for a candidate; `None` if it turns out to be a miss.
     fn refine(&self, c: &Candidate) -> Option<Level> {
-        let level = match &c.level {
+        let mut level = match &c.level {
             Level::Approx(a) => a.level,
             Level::Decided(..) => unreachable!("decided candidates are never refined"),
         };
-        if level == 0 {
-            let est = match &c.shape {
-                Shape::Triangle(v) => triangle_interval(self.o, self.d, v),
-                Shape::Sphere { centre, radius } => {
+        while level < 2 {
+            let est = match (&c.shape, level) {
+                (Shape::Triangle(v), 0) if self.f32_inputs => precise_f32(
+                    self.o.map(|x| x as f32),
+                    self.d.map(|x| x as f32),
+                    &v.map(|p| p.map(|x| x as f32)),
+                ),
+                (Shape::Triangle(v), 1) => triangle_interval(self.o, self.d, v),
+                (Shape::Sphere { centre, radius }, 1) => {
                     sphere_interval(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
                 }
+                _ => Estimate::Unsure,
             };
             match est {
                 Estimate::Miss => return None,
                 Estimate::Hit(a) => return Some(Level::Approx(a)),
-                Estimate::Unsure => {}
+                Estimate::Unsure => level += 1,
             }
         }
         match &c.shape {
@@ -568,7 +666,7 @@ fn same_vertices(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
 fn rank(l: &Level) -> u8 {
     match l {
         Level::Approx(a) => a.level,
-        Level::Decided(..) => 2,
+        Level::Decided(..) => 3,
     }
 }
 
@@ -584,6 +682,9 @@ pub struct Search {
     slow: Option<Box<Nearest>>,
     ray: Ray<f32>,
 }
+
+/// TEMP probe
+pub static SLOW: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 #[derive(Clone, Copy, Debug)]
 struct FastBest {
@@ -623,30 +724,54 @@ impl Search {
 
     /// Offers triangle `prim` with the f32 filter's estimate.
     #[inline]
-    pub fn offer_triangle(&mut self, prim: u32, tri: &[[f32; 3]; 3], est: Estimate) {
+    pub fn offer_triangle(&mut self, prim: u32, tri: &[[f32; 3]; 3], mut est: Estimate) {
         if let Some(n) = &mut self.slow {
             n.offer(prim, widen(&Shape::Triangle(*tri)), est);
             return;
         }
-        match est {
-            Estimate::Miss => return,
-            Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => match &self.fast {
-                Some(b) if a.lo > b.approx.hi => return,
-                Some(b) if a.hi >= b.approx.lo => {}
-                _ => {
-                    self.fast = Some(FastBest {
-                        prim,
-                        tri: *tri,
-                        approx: a,
-                    });
-                    return;
+        while let Estimate::Hit(a) = est {
+            if a.hi <= self.tmin || a.lo >= self.tmax {
+                return;
+            }
+            if a.lo > self.tmin && a.hi < self.tmax {
+                match &mut self.fast {
+                    None => {}
+                    Some(b) if a.lo > b.approx.hi => return,
+                    Some(b) if a.hi < b.approx.lo => {}
+                    Some(b) => {
+                        // Overlapping: tighten the loose bounds first.
+                        if a.level == 0 {
+                            est = precise_f32(self.ray.o, self.ray.d, tri);
+                            continue;
+                        }
+                        if b.approx.level == 0 {
+                            match precise_f32(self.ray.o, self.ray.d, &b.tri) {
+                                Estimate::Hit(x) => {
+                                    b.approx = x;
+                                    continue;
+                                }
+                                _ => break,
+                            }
+                        }
+                        break;
+                    }
                 }
-            },
-            Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => return,
-            _ => {}
+                self.fast = Some(FastBest {
+                    prim,
+                    tri: *tri,
+                    approx: a,
+                });
+                return;
+            }
+            if a.level > 0 {
+                break;
+            }
+            est = precise_f32(self.ray.o, self.ray.d, tri);
         }
-        self.go_slow()
-            .offer(prim, widen(&Shape::Triangle(*tri)), est);
+        if est != Estimate::Miss {
+            self.go_slow()
+                .offer(prim, widen(&Shape::Triangle(*tri)), est);
+        }
     }
 
     /// Offers any primitive (spheres go straight to the exact search).
@@ -656,7 +781,8 @@ impl Search {
 
     fn go_slow(&mut self) -> &mut Nearest {
         if self.slow.is_none() {
-            let mut n = Nearest::new(&self.ray, self.tmin as f32, self.tmax as f32);
+            SLOW.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let mut n = Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32);
             if let Some(b) = self.fast.take() {
                 n.offer(
                     b.prim,
@@ -691,7 +817,7 @@ impl Search {
             Estimate::Miss => false,
             Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => true,
             Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => false,
-            _ => Nearest::new(&self.ray, self.tmin as f32, self.tmax as f32)
+            _ => Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32)
                 .confirms(widen(&Shape::Triangle(*tri)), est),
         }
     }
