@@ -11,7 +11,7 @@
 //! lowest primitive index, as in the brute-force loop.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{box_extent, classify_f32, round_down, round_up, Estimate, Search};
+use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
@@ -145,28 +145,35 @@ impl Bvh {
         hit
     }
 
-    /// The adaptive closest-hit search (see `geometry::adaptive`), the f32 filter's error
-    /// bound taken per leaf from the leaf's box.
+    /// The adaptive filter's M for this ray, from the root box (once per ray: per leaf it
+    /// cost more than its tighter bound saved).
+    fn extent(&self, ray: &Ray) -> f32 {
+        self.nodes.first().map_or(f32::INFINITY, |n| {
+            box_extent(ray.o, n.bounds.lo, n.bounds.hi)
+        })
+    }
+
+    /// The adaptive closest-hit search (see `geometry::adaptive`).
     pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
-        self.traverse(ray, tmin, tmax, |first, count, _, bounds| {
-            let e = box_extent(ray.o, bounds.lo, bounds.hi);
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, |first, count, _, _| {
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
                 if est != Estimate::Miss {
                     search.offer_triangle(self.prims[i], &self.tris[i], est);
                 }
             }
-            (round_up(search.t_far()), false)
+            (search.t_far32(), false)
         });
     }
 
     /// The adaptive any-hit query.
     pub fn any_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search) -> bool {
         let mut hit = false;
-        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
-        self.traverse(ray, tmin, tmax, |first, count, t_far, bounds| {
-            let e = box_extent(ray.o, bounds.lo, bounds.hi);
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
                 search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
             });

@@ -8,7 +8,7 @@
 
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{
-    approx_f32, box_extent, edge_error, loose_t_bound, round_down, round_up, Estimate, Search,
+    approx_f32, box_extent, edge_error, loose_t_bound, round_down, Estimate, Search,
 };
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
 use crate::geometry::Hit;
@@ -328,7 +328,7 @@ impl TriangleBlocks {
         let tmin = round_down(search.tmin());
         let e = self.bounds(r);
         for (b, blk) in self.blocks.iter().enumerate() {
-            let Some(f) = self.filter_block(b, r, e, tmin, round_up(search.t_far())) else {
+            let Some(f) = self.filter_block(b, r, e, tmin, search.t_far32()) else {
                 continue;
             };
             let mut bits = f.sure | f.unsure;
@@ -347,7 +347,7 @@ impl TriangleBlocks {
 
     /// The adaptive any-hit query.
     pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search) -> bool {
-        let (tmin, tmax) = (round_down(search.tmin()), round_up(search.t_far()));
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.bounds(r);
         self.blocks.iter().enumerate().any(|(b, blk)| {
             let Some(f) = self.filter_block(b, r, e, tmin, tmax) else {

@@ -117,9 +117,13 @@ pub fn classify_f32(r: &WatertightRay<f32>, v: &[[f32; 3]; 3], m_box: f32) -> Es
     let u = c[0] * b[1] - c[1] * b[0];
     let w = b[0] * a[1] - b[1] * a[0];
     let vv = a[0] * c[1] - a[1] * c[0];
-    let m = [a[0], a[1], b[0], b[1], c[0], c[1]]
-        .into_iter()
-        .fold(0.0f32, |m, x| m.max(x.abs()));
+    // max|x|, |y| with plain compares (f32::max's NaN rules cost more; a NaN coordinate
+    // makes the edge functions NaN, which decide nothing anyway).
+    let big = |m: f32, x: f32| if x.abs() > m { x.abs() } else { m };
+    let m = big(
+        big(big(a[0].abs(), a[1]), big(b[0].abs(), b[1])),
+        big(c[0].abs(), c[1]),
+    );
     let e = edge_error(m_box, m);
     if (u < -e || vv < -e || w < -e) && (u > e || vv > e || w > e) {
         return Estimate::Miss;
@@ -678,19 +682,19 @@ fn rank(l: &Level) -> u8 {
 pub struct Search {
     tmin: f64,
     tmax: f64,
+    tmax32: f32,
     fast: Option<FastBest>,
     slow: Option<Box<Nearest>>,
     ray: Ray<f32>,
 }
-
-/// TEMP probe
-pub static SLOW: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 #[derive(Clone, Copy, Debug)]
 struct FastBest {
     prim: u32,
     tri: [[f32; 3]; 3],
     approx: Approx,
+    /// `approx.hi` rounded up to f32, for box culling.
+    far32: f32,
 }
 
 impl Search {
@@ -700,6 +704,7 @@ impl Search {
         Self {
             tmin: tmin as f64,
             tmax: tmax as f64,
+            tmax32: tmax,
             fast: None,
             slow: None,
             ray: *ray,
@@ -719,6 +724,16 @@ impl Search {
             (Some(n), _) => n.t_far(),
             (None, Some(b)) => b.approx.hi.min(self.tmax),
             (None, None) => self.tmax,
+        }
+    }
+
+    /// [`Search::t_far`] rounded up to f32.
+    #[inline]
+    pub fn t_far32(&self) -> f32 {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => round_up(n.t_far()),
+            (None, Some(b)) => b.far32,
+            (None, None) => self.tmax32,
         }
     }
 
@@ -748,6 +763,7 @@ impl Search {
                             match precise_f32(self.ray.o, self.ray.d, &b.tri) {
                                 Estimate::Hit(x) => {
                                     b.approx = x;
+                                    b.far32 = round_up(x.hi);
                                     continue;
                                 }
                                 _ => break,
@@ -760,6 +776,7 @@ impl Search {
                     prim,
                     tri: *tri,
                     approx: a,
+                    far32: round_up(a.hi.min(self.tmax)),
                 });
                 return;
             }
@@ -781,7 +798,6 @@ impl Search {
 
     fn go_slow(&mut self) -> &mut Nearest {
         if self.slow.is_none() {
-            SLOW.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             let mut n = Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32);
             if let Some(b) = self.fast.take() {
                 n.offer(
