@@ -22,168 +22,9 @@
 
 mod common;
 
-use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
-use num_bigint::BigInt;
-use num_rational::BigRational;
-use num_traits::{One, Signed, ToPrimitive, Zero};
+use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::{Method, Ray, Shape};
-use std::cmp::Ordering;
-
-type Q = BigRational;
-
-fn q(x: f32) -> Q {
-    Q::from_float(x).expect("finite")
-}
-
-/// An exact t: a rational, or an irrational sphere root known within 2⁻²⁵⁶ relative.
-#[derive(Clone, Debug)]
-enum RefT {
-    Exact(Q),
-    Between(Q, Q),
-}
-
-impl RefT {
-    fn bounds(&self) -> (&Q, &Q) {
-        match self {
-            RefT::Exact(x) => (x, x),
-            RefT::Between(lo, hi) => (lo, hi),
-        }
-    }
-
-    /// Exact comparison; an irrational root never equals another number here (the families
-    /// hold one sphere each), so its bounds always separate.
-    fn cmp(&self, other: &RefT) -> Ordering {
-        if let (RefT::Exact(a), RefT::Exact(b)) = (self, other) {
-            return a.cmp(b);
-        }
-        let ((alo, ahi), (blo, bhi)) = (self.bounds(), other.bounds());
-        if ahi < blo {
-            Ordering::Less
-        } else if alo > bhi {
-            Ordering::Greater
-        } else {
-            panic!("reference cannot order {self:?} and {other:?}")
-        }
-    }
-
-    fn f64(&self) -> f64 {
-        self.bounds().0.to_f64().unwrap()
-    }
-}
-
-/// √x within bounds 2⁻²⁵⁶ apart (relative), exact when x is a square.
-fn sqrt_q(x: &Q) -> RefT {
-    let (n, m) = (x.numer(), x.denom());
-    let k = 256u32;
-    let big = n * m * (BigInt::one() << (2 * k));
-    let s = big.sqrt();
-    let den = m * (BigInt::one() << k);
-    if &s * &s == big {
-        RefT::Exact(Q::new(s, den))
-    } else {
-        RefT::Between(Q::new(s.clone(), den.clone()), Q::new(s + 1, den))
-    }
-}
-
-fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
-    [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
-}
-fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
-}
-fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
-
-/// Exact t of the ray on one primitive with tmin < t (nearest root for a sphere).
-fn exact_t(shape: &Shape<f32>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<RefT> {
-    match shape {
-        Shape::Triangle(v) => {
-            let v = v.map(|p| p.map(q));
-            let e1 = sub(&v[1], &v[0]);
-            let e2 = sub(&v[2], &v[0]);
-            let p = cross(d, &e2);
-            let det = dot(&e1, &p);
-            if det.is_zero() {
-                return None; // in the plane or degenerate: a miss by convention
-            }
-            let s0 = sub(o, &v[0]);
-            let qv = cross(&s0, &e1);
-            let b1 = dot(&s0, &p) / &det;
-            let b2 = dot(d, &qv) / &det;
-            let t = dot(&e2, &qv) / &det;
-            let inside = !b1.is_negative() && !b2.is_negative() && &b1 + &b2 <= Q::one();
-            (inside && &t > tmin).then_some(RefT::Exact(t))
-        }
-        Shape::Sphere { centre, radius } => {
-            let f = sub(o, &centre.map(q));
-            let r = q(*radius);
-            let a = dot(d, d);
-            let b = dot(&f, d);
-            let c = dot(&f, &f) - &r * &r;
-            let disc = &b * &b - &a * &c;
-            if disc.is_negative() {
-                return None;
-            }
-            let root = sqrt_q(&disc);
-            let (lo, hi) = root.bounds();
-            let nb = -&b;
-            let near = match &root {
-                RefT::Exact(s) => RefT::Exact((&nb - s) / &a),
-                _ => RefT::Between((&nb - hi) / &a, (&nb - lo) / &a),
-            };
-            let far = match &root {
-                RefT::Exact(s) => RefT::Exact((&nb + s) / &a),
-                _ => RefT::Between((&nb + lo) / &a, (&nb + hi) / &a),
-            };
-            let tmin = RefT::Exact(tmin.clone());
-            [near, far]
-                .into_iter()
-                .find(|t| t.cmp(&tmin) == Ordering::Greater)
-        }
-    }
-}
-
-/// Exact nearest hit with t > 0: (t, primitive), ties to the lower index.
-fn exact_nearest(shapes: &[Shape<f32>], ray: &Ray<f32>) -> Option<(RefT, u32)> {
-    let (o, d) = (ray.o.map(q), ray.d.map(q));
-    let mut best: Option<(RefT, u32)> = None;
-    for (i, s) in shapes.iter().enumerate() {
-        if let Some(t) = exact_t(s, &o, &d, &Q::zero()) {
-            if best
-                .as_ref()
-                .is_none_or(|(bt, _)| t.cmp(bt) == Ordering::Less)
-            {
-                best = Some((t, i as u32));
-            }
-        }
-    }
-    best
-}
-
-#[derive(Default)]
-struct Counts {
-    rays: usize,
-    leaks: usize,
-    false_hits: usize,
-    wrong_nearest: usize,
-    pass_through: usize,
-    rel_errors: Vec<f64>,
-}
-
-impl Counts {
-    fn rel(&self, quantile: f64) -> f64 {
-        let mut e = self.rel_errors.clone();
-        e.sort_by(f64::total_cmp);
-        let i = ((e.len() as f64 - 1.0) * quantile).round() as usize;
-        e.get(i).copied().unwrap_or(0.0)
-    }
-}
 
 const VARIANTS: [&str; 8] = [
     "adaptive f32 (SIMD loop)",
@@ -229,33 +70,8 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> Vec<Counts> {
             let h = accel::closest_hit(&shapes64, &ray64, m, 0.0, f64::INFINITY);
             answers.push(h.map(|h| (h.t, h.prim)));
         }
-        let (o, d) = (ray.o.map(q), ray.d.map(q));
         for (c, got) in out.iter_mut().zip(answers) {
-            c.rays += 1;
-            match (&exact, got) {
-                (Some(_), None) => {
-                    c.leaks += 1;
-                    c.pass_through += 1;
-                }
-                (None, Some(_)) => c.false_hits += 1,
-                (Some((t, prim)), Some((gt, gprim))) => {
-                    if *prim != gprim {
-                        // A primitive exactly behind the nearest surface: slipped through it.
-                        // (One the exact ray does not meet at all is a wrong primitive.)
-                        let beyond = exact_t(&shapes[gprim as usize], &o, &d, &Q::zero())
-                            .is_some_and(|gt_exact| gt_exact.cmp(t) == Ordering::Greater);
-                        if beyond {
-                            c.pass_through += 1;
-                        } else {
-                            c.wrong_nearest += 1;
-                        }
-                    } else {
-                        let t = t.f64();
-                        c.rel_errors.push(((gt - t) / t).abs());
-                    }
-                }
-                (None, None) => {}
-            }
+            c.add(shapes, ray, &exact, got);
         }
     }
     out
@@ -277,366 +93,78 @@ fn report(family: &str, counts: &[Counts]) {
 }
 
 /// Reports, and asserts the adaptive method got every ray right.
-fn check(family: &str, shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> Vec<Counts> {
-    let counts = evaluate(shapes, rays);
-    report(family, &counts);
+fn check(family: &Family) -> Vec<Counts> {
+    let name = family.name.as_str();
+    let counts = evaluate(&family.shapes, &family.rays);
+    report(name, &counts);
     for c in &counts[..2] {
         assert_eq!(
             (c.leaks, c.false_hits, c.wrong_nearest, c.pass_through),
             (0, 0, 0, 0),
-            "{family}: the adaptive method must answer every ray exactly"
+            "{name}: the adaptive method must answer every ray exactly"
         );
         // t: the f32 rounding of a value within the f32 filter's bound of the exact t.
         assert!(
             c.rel(1.0) < 1e-5,
-            "{family}: adaptive t error {:e}",
+            "{name}: adaptive t error {:e}",
             c.rel(1.0)
         );
     }
     counts
 }
 
-/// Rays from `origins` at every vertex and edge midpoint of `mesh`.
-fn aimed_rays(mesh: &[Shape<f32>], origins: &[[f32; 3]]) -> Vec<Ray<f32>> {
-    let targets = vertices_and_edge_midpoints(mesh);
-    origins
-        .iter()
-        .flat_map(|o| {
-            targets
-                .iter()
-                .map(move |p| Ray::new(*o, [0, 1, 2].map(|k| p[k] - o[k])))
-        })
-        .collect()
-}
-
-fn random_points(rng: &mut Rng, n: usize, lo: f64, hi: f64) -> Vec<[f32; 3]> {
-    (0..n)
-        .map(|_| [0, 1, 2].map(|_| rng.range(lo, hi) as f32))
-        .collect()
+/// Checks every family; the plain watertight f32 method must not leak from inside a closed
+/// mesh or on the Cornell box either.
+fn check_all(families: Vec<Family>) {
+    for family in &families {
+        let counts = check(family);
+        let closed = family.name.contains("inside")
+            || family.name.starts_with("tiny cube")
+            || family.name.starts_with("huge cube")
+            || family.name.starts_with("cube at")
+            || family.name.starts_with("Cornell primary");
+        if closed && !family.name.contains("ulp") {
+            assert_eq!(
+                counts[2].leaks + counts[2].false_hits,
+                0,
+                "{}: watertight f32 leaked",
+                family.name
+            );
+        }
+    }
 }
 
 #[test]
 fn closed_meshes_at_shared_edges_and_vertices() {
-    let mut rng = Rng(101);
-    let cube_mesh = cube(2, 2.0, [-1.0; 3]);
-    let rays = aimed_rays(&cube_mesh, &random_points(&mut rng, 3, -0.9, 0.9));
-    let inside = check("cube, from inside", &cube_mesh, &rays);
-    assert_eq!(
-        inside[2].leaks + inside[2].false_hits,
-        0,
-        "watertight f32: no ray leaves the closed cube"
-    );
-    // From outside, rays aimed at silhouette edges touch the mesh only at the edge.
-    let rays = aimed_rays(&cube_mesh, &random_points(&mut rng, 2, 2.0, 4.0));
-    check("cube, from outside", &cube_mesh, &rays);
-
-    let ico = icosphere(1, 1.0, [0.0; 3]);
-    let rays = aimed_rays(&ico, &random_points(&mut rng, 3, -0.5, 0.5));
-    let counts = check("icosphere, from inside", &ico, &rays);
-    assert_eq!(
-        counts[2].leaks + counts[2].false_hits,
-        0,
-        "watertight f32: no ray slips through the closed icosphere"
-    );
-    let rays = aimed_rays(&ico, &random_points(&mut rng, 2, 1.5, 3.0));
-    check("icosphere, from outside", &ico, &rays);
+    check_all(suite::closed_meshes());
 }
 
 #[test]
 fn tiny_huge_and_offset_meshes() {
-    let mut rng = Rng(102);
-    for (family, size, offset) in [
-        ("tiny cube 2^-17", 2f32.powi(-17), [0.0f32; 3]),
-        ("huge cube 2^17", 2f32.powi(17), [0.0; 3]),
-        ("cube at 1e4", 64.0, [1e4, -1e4, 2e4]),
-        ("cube at 1e6", 4096.0, [1e6, 1e6, -1e6]),
-    ] {
-        let mesh = cube(2, size, offset);
-        let origins: Vec<[f32; 3]> = (0..4)
-            .map(|_| [0, 1, 2].map(|k| offset[k] + size * rng.range(0.1, 0.9) as f32))
-            .collect();
-        let counts = check(family, &mesh, &aimed_rays(&mesh, &origins));
-        assert_eq!(
-            counts[2].leaks + counts[2].false_hits,
-            0,
-            "{family}: watertight leaked"
-        );
-    }
+    check_all(suite::tiny_huge_and_offset());
 }
 
 #[test]
 fn grazing_and_far() {
-    let mut rng = Rng(103);
-    // Grazing: a big triangle in z = 0, rays at 1e-1..1e-6 rad aimed near its edge x = 0.
-    let tri = vec![Shape::Triangle([
-        [0.0, -4.0, 0.0],
-        [0.0, 4.0, 0.0],
-        [8.0, 0.0, 0.0],
-    ])];
-    let mut rays = Vec::new();
-    for e in 1..=6 {
-        let a = 10f64.powi(-e);
-        for _ in 0..60 {
-            let az = rng.range(0.0, std::f64::consts::TAU);
-            let x = rng.range(-1e-3, 1e-3);
-            let dir = [a.cos() * az.cos(), a.cos() * az.sin(), a.sin()];
-            let target = [x, rng.range(-1.0, 1.0), 0.0];
-            let o = [0, 1, 2].map(|k| (target[k] - 2.0 * dir[k]) as f32);
-            rays.push(Ray::new(o, dir.map(|c| c as f32)));
-        }
-    }
-    check("grazing 1e-1..1e-6 rad", &tri, &rays);
-
-    // Far: small triangles and spheres at 1e3..1e6 seen from the origin.
-    let mut shapes = Vec::new();
-    let mut rays = Vec::new();
-    for e in 3..=6 {
-        let dist = 10f32.powi(e);
-        let c = [dist * 0.6, dist * 0.8, rng.range(-1.0, 1.0) as f32];
-        let s = dist * 1e-3;
-        shapes.push(Shape::Triangle([
-            [c[0] - s, c[1], c[2] - s],
-            [c[0] + s, c[1], c[2] - s],
-            [c[0], c[1], c[2] + s],
-        ]));
-        let sc = [-c[0], c[1], c[2]];
-        shapes.push(Shape::Sphere {
-            centre: sc,
-            radius: s,
-        });
-        for _ in 0..60 {
-            let p = [
-                c[0] + s * rng.range(-1.2, 1.2) as f32,
-                c[1],
-                c[2] + s * rng.range(-1.2, 1.2) as f32,
-            ];
-            rays.push(Ray::new([0.0; 3], p));
-            let p = [0, 1, 2].map(|k| sc[k] + s * rng.range(-1.2, 1.2) as f32);
-            rays.push(Ray::new([0.0; 3], p));
-        }
-    }
-    check("far triangles and spheres 1e3..1e6", &shapes, &rays);
+    check_all(suite::grazing_and_far());
 }
 
 #[test]
 fn near_coincident_surfaces() {
-    let mut rng = Rng(104);
-    // Parallel triangles 1e-3..1e-7 apart: which is nearer?
-    let mut shapes = Vec::new();
-    let mut rays = Vec::new();
-    for (k, gap) in [1e-3f32, 1e-5, 1e-6, 1e-7].into_iter().enumerate() {
-        let x = 10.0 * k as f32;
-        let z = 1.0f32;
-        shapes.push(Shape::Triangle([
-            [x - 1.0, -1.0, z + gap],
-            [x + 1.0, -1.0, z + gap],
-            [x, 1.0, z + gap],
-        ]));
-        shapes.push(Shape::Triangle([
-            [x - 1.0, -1.0, z],
-            [x + 1.0, -1.0, z],
-            [x, 1.0, z],
-        ]));
-        for _ in 0..100 {
-            let p = [
-                x + rng.range(-0.4, 0.4) as f32,
-                rng.range(-0.8, 0.2) as f32,
-                z,
-            ];
-            let o = [x, 0.0, -1.0];
-            rays.push(Ray::new(o, [0, 1, 2].map(|c| p[c] - o[c])));
-        }
-    }
-    check("parallel 1e-3..1e-7 apart", &shapes, &rays);
-
-    // Crossing triangles: two planes meeting along a line at 1e-1..1e-4 rad; rays aimed near
-    // the line, where the nearer one changes.
-    let mut shapes = Vec::new();
-    let mut rays = Vec::new();
-    for (k, angle) in [1e-1f64, 1e-2, 1e-3, 1e-4].into_iter().enumerate() {
-        let x = 10.0 * k as f32;
-        let dz = (2.0 * angle.tan()) as f32;
-        shapes.push(Shape::Triangle([
-            [x - 1.0, -1.0, 1.0 - dz],
-            [x + 1.0, -1.0, 1.0 - dz],
-            [x, 1.0, 1.0 + dz],
-        ]));
-        shapes.push(Shape::Triangle([
-            [x - 1.0, -1.0, 1.0],
-            [x + 1.0, -1.0, 1.0],
-            [x, 1.0, 1.0],
-        ]));
-        for _ in 0..100 {
-            let p = [
-                x + rng.range(-0.3, 0.3) as f32,
-                rng.range(-1e-3, 1e-3) as f32,
-                1.0,
-            ];
-            let o = [x, rng.range(-0.5, 0.5) as f32, -1.0];
-            rays.push(Ray::new(o, [0, 1, 2].map(|c| p[c] - o[c])));
-        }
-    }
-    check("crossing at 1e-1..1e-4 rad", &shapes, &rays);
-
-    // A triangle just in front of a sphere (and one touching it: exact ties on the axis).
-    let mut shapes = Vec::new();
-    let mut rays = Vec::new();
-    for (k, gap) in [1e-3f32, 1e-5, 1e-7, 0.0].into_iter().enumerate() {
-        let x = 10.0 * k as f32;
-        let z = 4.0 - gap;
-        shapes.push(Shape::Sphere {
-            centre: [x, 0.0, 5.0],
-            radius: 1.0,
-        });
-        shapes.push(Shape::Triangle([
-            [x - 0.5, -0.5, z],
-            [x + 0.5, -0.5, z],
-            [x, 0.5, z],
-        ]));
-        rays.push(Ray::new([x, 0.0, 0.0], [0.0, 0.0, 1.0]));
-        for _ in 0..99 {
-            let p = [
-                x + rng.range(-0.01, 0.01) as f32,
-                rng.range(-0.01, 0.01) as f32,
-                4.0,
-            ];
-            let o = [x, 0.0, 0.0];
-            rays.push(Ray::new(o, [0, 1, 2].map(|c| p[c] - o[c])));
-        }
-    }
-    check("triangle 1e-3..0 before a sphere", &shapes, &rays);
+    check_all(suite::near_coincident());
 }
 
 #[test]
 fn spheres() {
-    let mut rng = Rng(105);
-    // Small and far: radius/distance 1e-3..1e-5, rays at the silhouette and across it.
-    let mut shapes = Vec::new();
-    let mut rays = Vec::new();
-    for (k, ratio) in [1e-3f64, 1e-4, 1e-5].into_iter().enumerate() {
-        let dist = 10f64.powi(k as i32 + 1);
-        let c = [dist * 0.48, -dist * 0.6, dist * 0.64].map(|x| x as f32);
-        let r = (dist * ratio) as f32;
-        shapes.push(Shape::Sphere {
-            centre: c,
-            radius: r,
-        });
-        for _ in 0..120 {
-            let off = rng.range(0.9, 1.1) * r as f64;
-            let a = rng.range(0.0, std::f64::consts::TAU);
-            // A point off the centre by about r, perpendicular-ish to the view line.
-            let p = [
-                c[0] as f64 + off * a.cos() * 0.8,
-                c[1] as f64 + off * a.sin(),
-                c[2] as f64 - off * a.cos() * 0.6,
-            ];
-            rays.push(Ray::new([0.0; 3], p.map(|x| x as f32)));
-        }
-    }
-    check("small far spheres 1e-3..1e-5", &shapes, &rays);
-
-    // Origins exactly on the sphere (Pythagorean points), going in, out and in random
-    // directions.
-    for (centre, radius, p) in [
-        ([0.0f32, 0.0, 0.0], 5.0f32, [3.0f32, 4.0, 0.0]),
-        ([1.0, 2.0, 3.0], 13.0, [6.0, 14.0, 3.0]),
-        ([0.5, 0.25, 0.0], 0.625, [0.875, 0.75, 0.0]),
-    ] {
-        let n = [0, 1, 2].map(|k| p[k] - centre[k]);
-        let rays: Vec<Ray<f32>> = (0..120)
-            .map(|j| match j % 4 {
-                0 => Ray::new(p, n.map(|x| -x)),
-                1 => Ray::new(p, n),
-                _ => Ray::new(p, [0, 1, 2].map(|_| rng.range(-1.0, 1.0) as f32)),
-            })
-            .collect();
-        let family = format!("origin on the sphere, r = {radius}");
-        check(&family, &[Shape::Sphere { centre, radius }], &rays);
-    }
-
-    // Inside and just outside (one ulp beyond the surface point).
-    let sphere = vec![Shape::Sphere {
-        centre: [0.0, 0.0, 0.0],
-        radius: 5.0,
-    }];
-    let mut rays = Vec::new();
-    for j in 0..300 {
-        let o = match j % 3 {
-            0 => [0, 1, 2].map(|_| rng.range(-2.8, 2.8) as f32),
-            1 => [3.0f32.next_up(), 4.0f32.next_up(), 0.0],
-            _ => [0.0, -3.0f32.next_down(), 4.0f32.next_up()],
-        };
-        let d = [0, 1, 2].map(|_| rng.range(-1.0, 1.0) as f32);
-        rays.push(Ray::new(o, d));
-    }
-    check("inside and one ulp outside", &sphere, &rays);
-
-    // Near-tangent: the ray passes the centre at r·(1 ± 10^-k), k = 3..7, and exactly at r.
-    let sphere = vec![Shape::Sphere {
-        centre: [0.0, 0.0, 8.0],
-        radius: 2.0,
-    }];
-    let mut rays = Vec::new();
-    for k in 3..=7 {
-        for _ in 0..60 {
-            let s = if rng.below(2) == 0 { 1.0 } else { -1.0 };
-            let miss = 2.0 * (1.0 + s * 10f64.powi(-k) * rng.range(0.5, 1.5));
-            let a = rng.range(0.0, std::f64::consts::TAU);
-            rays.push(Ray::new(
-                [(miss * a.cos()) as f32, (miss * a.sin()) as f32, 0.0],
-                [0.0, 0.0, 1.0],
-            ));
-        }
-    }
-    for p in [[2.0f32, 0.0, 0.0], [0.0, -2.0, 0.0], [-2.0, 0.0, 0.0]] {
-        rays.push(Ray::new(p, [0.0, 0.0, 1.0])); // exactly tangent: touches at t = 8
-    }
-    check("near-tangent 1e-3..1e-7 and tangent", &sphere, &rays);
+    check_all(suite::spheres());
 }
 
 #[test]
 fn cornell_primary_rays_and_its_edges() {
-    let scene = raylab::Scene::cornell();
-    let cam = raylab::Camera::cornell(64);
-    let mut rays: Vec<Ray<f32>> = (0..48)
-        .flat_map(|j| (0..64).map(move |i| (i, j)))
-        .map(|(i, j)| cam.ray_for_pixel(i, j, 64, 48))
-        .collect();
-    let o = cam.ray_for_pixel(0, 0, 64, 48).o;
-    rays.extend(
-        vertices_and_edge_midpoints(&scene.shapes)
-            .into_iter()
-            .map(|p| Ray::new(o, [0, 1, 2].map(|k| p[k] - o[k]))),
-    );
-    let counts = check("Cornell primary + edges/vertices", &scene.shapes, &rays);
-    assert_eq!(counts[2].leaks + counts[2].false_hits, 0);
+    check_all(suite::cornell());
 }
 
 #[test]
 fn cornell_box_and_camera_translated() {
-    let scene = raylab::Scene::cornell();
-    let cam = raylab::Camera::cornell(32);
-    for offset in [1e4f32, 1e5, 1e6] {
-        let shift = |p: [f32; 3]| [p[0] + offset, p[1] - offset, p[2] + offset];
-        let shapes: Vec<Shape<f32>> = scene
-            .shapes
-            .iter()
-            .map(|s| match s {
-                Shape::Triangle(v) => Shape::Triangle(v.map(shift)),
-                other => *other,
-            })
-            .collect();
-        let rays: Vec<Ray<f32>> = (0..24)
-            .flat_map(|j| (0..32).map(move |i| (i, j)))
-            .map(|(i, j)| {
-                let r = cam.ray_for_pixel(i, j, 32, 24);
-                Ray::new(shift(r.o), r.d)
-            })
-            .collect();
-        check(
-            &format!("Cornell and camera at +{offset:e}"),
-            &shapes,
-            &rays,
-        );
-    }
+    check_all(suite::cornell_translated());
 }

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: a seeded generator and closed test meshes.
 #![allow(dead_code)]
 
+pub mod suite;
+
 use raylab::geometry::Shape;
 
 /// SplitMix64: a tiny seeded generator so every test run sees the same cases.
