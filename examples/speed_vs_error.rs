@@ -1,0 +1,417 @@
+//! The speed-versus-error report: every intersection method on the hard-case suite (errors
+//! against the exact reference of tests/common/suite.rs) and on Cornell and bunny primary rays
+//! (speed, one thread and all threads), as a Markdown table and an SVG plot.
+//!
+//! `cargo run --release --example speed_vs_error -- [OUT_DIR]` (default
+//! target/speed_vs_error) writes speed_vs_error.md and speed_vs_error.svg there and prints the
+//! table. The bunny columns need ../shared/scenes/bunny.obj (left empty without it).
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::suite::{self, exact_nearest, Counts};
+use plotters::prelude::*;
+use raylab::accel::{self, Accel, AccelChoice};
+use raylab::controller::CameraController;
+use raylab::geometry::{sphere, Method, Ray, Shape};
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// One row of the report.
+#[derive(Clone, Copy, PartialEq)]
+enum Variant {
+    /// A triangle method (spheres by the cancellation-free test, or exactly by `adaptive`).
+    F32(Method),
+    F64(Method),
+    /// Sphere tests alone, on the sphere families.
+    SphereNaive,
+    SphereStable,
+}
+
+impl Variant {
+    fn name(self) -> String {
+        match self {
+            Variant::F32(Method::Cramer) => "lecture A⁻¹b (cramer) f32".into(),
+            Variant::F64(Method::Cramer) => "lecture A⁻¹b (cramer) f64".into(),
+            Variant::F32(m) => format!("{m} f32"),
+            Variant::F64(m) => format!("{m} f64"),
+            Variant::SphereNaive => "sphere b²−ac (textbook) f32".into(),
+            Variant::SphereStable => "sphere cancellation-free f32".into(),
+        }
+    }
+
+    fn spheres_only(self) -> bool {
+        matches!(self, Variant::SphereNaive | Variant::SphereStable)
+    }
+}
+
+const VARIANTS: [Variant; 9] = [
+    Variant::F32(Method::Adaptive),
+    Variant::F32(Method::Watertight),
+    Variant::F32(Method::Moller),
+    Variant::F32(Method::Cramer),
+    Variant::F64(Method::Watertight),
+    Variant::F64(Method::Moller),
+    Variant::F64(Method::Cramer),
+    Variant::SphereNaive,
+    Variant::SphereStable,
+];
+
+fn widen(shapes: &[Shape<f32>]) -> Vec<Shape<f64>> {
+    shapes
+        .iter()
+        .map(|s| match s {
+            Shape::Triangle(v) => Shape::Triangle(v.map(|p| p.map(f64::from))),
+            Shape::Sphere { centre, radius } => Shape::Sphere {
+                centre: centre.map(f64::from),
+                radius: *radius as f64,
+            },
+        })
+        .collect()
+}
+
+/// A prepared scene that answers closest-hit queries with one variant.
+struct Tracer {
+    variant: Variant,
+    accel: Accel,
+    shapes: Vec<Shape<f32>>,
+    shapes64: Vec<Shape<f64>>,
+}
+
+impl Tracer {
+    fn new(variant: Variant, shapes: &[Shape<f32>]) -> Self {
+        Self {
+            variant,
+            accel: Accel::build(shapes, AccelChoice::Auto),
+            shapes: shapes.to_vec(),
+            shapes64: widen(shapes),
+        }
+    }
+
+    fn trace(&self, ray: &Ray<f32>) -> Option<(f64, u32)> {
+        let inf = f32::INFINITY;
+        match self.variant {
+            Variant::F32(m) => self
+                .accel
+                .closest_hit(ray, m, 0.0, inf)
+                .map(|h| (h.t as f64, h.prim)),
+            Variant::F64(m) => {
+                let r = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
+                accel::closest_hit(&self.shapes64, &r, m, 0.0, f64::INFINITY).map(|h| (h.t, h.prim))
+            }
+            Variant::SphereNaive | Variant::SphereStable => {
+                let mut best: Option<(f64, u32)> = None;
+                for (i, s) in self.shapes.iter().enumerate() {
+                    let Shape::Sphere { centre, radius } = s else {
+                        continue;
+                    };
+                    let far = best.map_or(inf, |b| b.0 as f32);
+                    let t = if self.variant == Variant::SphereNaive {
+                        sphere::intersect_naive(ray.o, ray.d, *centre, *radius, 0.0, far)
+                    } else {
+                        sphere::intersect(ray.o, ray.d, *centre, *radius, 0.0, far)
+                    };
+                    if let Some(t) = t {
+                        best = Some((t as f64, i as u32));
+                    }
+                }
+                best
+            }
+        }
+    }
+}
+
+/// One timing of tracing `rays`, in ns per ray, on one thread or on all.
+fn time_ns_per_ray(tracer: &Tracer, rays: &[Ray<f32>], parallel: bool) -> f64 {
+    let start = Instant::now();
+    let hits: usize = if parallel {
+        rays.par_iter()
+            .filter(|r| tracer.trace(r).is_some())
+            .count()
+    } else {
+        rays.iter().filter(|r| tracer.trace(r).is_some()).count()
+    };
+    std::hint::black_box(hits);
+    start.elapsed().as_secs_f64() * 1e9 / rays.len() as f64
+}
+
+/// Primary rays of a w×h image from the viewer's framing of `shapes` (the Cornell camera for
+/// the Cornell box).
+fn camera_rays(shapes: &[Shape<f32>], cornell: bool, w: u32, h: u32) -> Vec<Ray<f32>> {
+    let cam = if cornell {
+        raylab::Camera::cornell(w)
+    } else {
+        let scene = raylab::Scene::new(
+            "mesh",
+            shapes.to_vec(),
+            vec![[0.5; 3]; shapes.len()],
+            raylab::scene::PointLight {
+                position: [0.0; 3],
+                power: [1.0; 3],
+            },
+            [0.0; 3],
+        );
+        CameraController::framing(scene.bounds().expect("non-empty"), w, h).camera(w)
+    };
+    (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| cam.ray_for_pixel(i, j, w, h))
+        .collect()
+}
+
+/// Random spheres and rays at them, for timing the sphere tests.
+fn sphere_scene() -> (Vec<Shape<f32>>, Vec<Ray<f32>>) {
+    let mut rng = common::Rng(7);
+    let shapes: Vec<Shape<f32>> = (0..64)
+        .map(|_| Shape::Sphere {
+            centre: [0, 1, 2]
+                .map(|k| rng.range(-4.0, 4.0) as f32 + if k == 2 { 10.0 } else { 0.0 }),
+            radius: rng.range(0.1, 1.0) as f32,
+        })
+        .collect();
+    let rays = (0..40_000)
+        .map(|_| {
+            let d = [rng.range(-0.4, 0.4), rng.range(-0.4, 0.4), 1.0];
+            Ray::new([0.0; 3], d.map(|x| x as f32))
+        })
+        .collect();
+    (shapes, rays)
+}
+
+struct Row {
+    name: String,
+    counts: Counts,
+    cornell: Option<[f64; 2]>,
+    bunny: Option<[f64; 2]>,
+}
+
+fn main() -> anyhow::Result<()> {
+    let out = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "target/speed_vs_error".into()),
+    );
+    std::fs::create_dir_all(&out)?;
+    let threads = rayon::current_num_threads();
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let machine = format!("{cpu}, {threads} threads (rayon), release build");
+    println!("machine: {machine}");
+
+    // Errors on the suite.
+    let families = suite::all();
+    let total_rays: usize = families.iter().map(|f| f.rays.len()).sum();
+    println!("suite: {} families, {total_rays} rays", families.len());
+    let mut rows: Vec<Row> = VARIANTS
+        .iter()
+        .map(|v| Row {
+            name: v.name(),
+            counts: Counts::default(),
+            cornell: None,
+            bunny: None,
+        })
+        .collect();
+    for family in &families {
+        let exact: Vec<_> = family
+            .rays
+            .iter()
+            .map(|r| exact_nearest(&family.shapes, r))
+            .collect();
+        let has_spheres = family
+            .shapes
+            .iter()
+            .any(|s| matches!(s, Shape::Sphere { .. }));
+        let only_spheres = family
+            .shapes
+            .iter()
+            .all(|s| matches!(s, Shape::Sphere { .. }));
+        for (row, &v) in rows.iter_mut().zip(&VARIANTS) {
+            if v.spheres_only() && !(has_spheres && only_spheres) {
+                continue;
+            }
+            let tracer = Tracer::new(v, &family.shapes);
+            for (ray, ex) in family.rays.iter().zip(&exact) {
+                row.counts.add(&family.shapes, ray, ex, tracer.trace(ray));
+            }
+        }
+    }
+
+    // Speed: Cornell box and bunny primary rays; sphere tests on a sphere scene.
+    let cornell = raylab::Scene::cornell().shapes;
+    let cornell_rays = camera_rays(&cornell, true, 640, 360);
+    let bunny_path = Path::new("../shared/scenes/bunny.obj");
+    let bunny = bunny_path
+        .exists()
+        .then(|| raylab::scene::obj::load_obj_file(bunny_path, Default::default()))
+        .transpose()?
+        .map(|s| s.shapes);
+    let bunny_rays = bunny.as_ref().map(|b| camera_rays(b, false, 320, 180));
+    let (spheres, sphere_rays) = sphere_scene();
+    // Round robin over the variants, best of ROUNDS: a shared machine's slow spells then hit
+    // every variant alike instead of one.
+    const ROUNDS: usize = 7;
+    let tracers: Vec<(Tracer, Option<Tracer>)> = VARIANTS
+        .iter()
+        .map(|&v| {
+            let scene = if v.spheres_only() { &spheres } else { &cornell };
+            let on_bunny = match (&bunny, v) {
+                (Some(b), Variant::F32(_)) => Some(Tracer::new(v, b)),
+                _ => None,
+            };
+            (Tracer::new(v, scene), on_bunny)
+        })
+        .collect();
+    for round in 0..ROUNDS {
+        for (row, (small, big)) in rows.iter_mut().zip(&tracers) {
+            let rays = if small.variant.spheres_only() {
+                &sphere_rays
+            } else {
+                &cornell_rays
+            };
+            let t = [false, true].map(|p| time_ns_per_ray(small, rays, p));
+            let best = row.cornell.get_or_insert([f64::INFINITY; 2]);
+            *best = [best[0].min(t[0]), best[1].min(t[1])];
+            if let (Some(big), Some(rays)) = (big, &bunny_rays) {
+                let t = [false, true].map(|p| time_ns_per_ray(big, rays, p));
+                let best = row.bunny.get_or_insert([f64::INFINITY; 2]);
+                *best = [best[0].min(t[0]), best[1].min(t[1])];
+            }
+        }
+        println!("timing round {}/{ROUNDS}", round + 1);
+    }
+
+    // The table.
+    let mut md = String::new();
+    writeln!(
+        md,
+        "Machine: {machine}. Generated by `cargo run --release --example speed_vs_error`."
+    )?;
+    writeln!(md)?;
+    writeln!(
+        md,
+        "Errors: the {total_rays} rays of the hard-case suite ({} families) against exact rational references (sphere-only rows: the sphere families). \
+         Speed: closest-hit queries for the Cornell box's 640x360 primary rays (sphere-only rows: 64 spheres, 40k rays) and the bunny's 320x180 (69k triangles, BVH; f64 methods have no BVH path); best of 7 rounds (round robin), in ns per ray on 1 thread and Mrays/s on 1 and {threads} threads.",
+        families.len()
+    )?;
+    writeln!(md)?;
+    writeln!(md, "| method | suite rays | wrong | bad-ray rate | leaks | false hits | wrong nearest | pass-through | median rel. t error | max rel. t error | Cornell ns/ray (1 thread) | Cornell Mrays/s (1 / {threads} threads) | bunny Mrays/s (1 / {threads} threads) |")?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    let mrays = |ns: f64| 1e3 / ns;
+    for r in &rows {
+        let c = &r.counts;
+        let cornell = r.cornell.expect("timed");
+        let bunny = r.bunny.map_or("n/a".to_string(), |b| {
+            format!("{:.1} / {:.1}", mrays(b[0]), mrays(b[1]))
+        });
+        writeln!(
+            md,
+            "| {} | {} | {} | {:.2e} | {} | {} | {} | {} | {:.1e} | {:.1e} | {:.0} | {:.1} / {:.1} | {} |",
+            r.name,
+            c.rays,
+            c.wrong(),
+            c.wrong() as f64 / c.rays.max(1) as f64,
+            c.leaks,
+            c.false_hits,
+            c.wrong_nearest,
+            c.pass_through,
+            c.rel(0.5),
+            c.rel(1.0),
+            cornell[0],
+            mrays(cornell[0]),
+            mrays(cornell[1]),
+            bunny
+        )?;
+    }
+    print!("{md}");
+    std::fs::write(out.join("speed_vs_error.md"), &md)?;
+    plot(&rows, &out.join("speed_vs_error.svg"), &machine)?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// Two log-log panels: bad-ray rate and median relative t error against ns per ray.
+fn plot(rows: &[Row], path: &Path, machine: &str) -> anyhow::Result<()> {
+    let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title, body) = root.split_vertically(40);
+    title.draw_text(
+        &format!("Speed versus error on the hard-case suite ({machine})"),
+        &("sans-serif", 18).into_font().color(&BLACK),
+        (10, 10),
+    )?;
+    let panels = body.split_evenly((1, 2));
+    // Zero cannot sit on a log axis: it is drawn at the floor and labelled "0".
+    let floors = [1e-5, 1e-10];
+    let xs: Vec<f64> = rows.iter().map(|r| r.cornell.expect("timed")[0]).collect();
+    // Whole decades, so the log axis gets its tick labels.
+    let decade = |x: f64, up: bool| {
+        let e = x.log10();
+        10f64.powf(if up { e.ceil() } else { e.floor() })
+    };
+    let (xmin, xmax) = (
+        decade(xs.iter().cloned().fold(f64::INFINITY, f64::min), false),
+        decade(xs.iter().cloned().fold(0.0, f64::max), true),
+    );
+    for (k, panel) in panels.iter().enumerate() {
+        let ys: Vec<f64> = rows
+            .iter()
+            .map(|r| {
+                let c = &r.counts;
+                let y = if k == 0 {
+                    c.wrong() as f64 / c.rays.max(1) as f64
+                } else {
+                    c.rel(0.5)
+                };
+                y.max(floors[k])
+            })
+            .collect();
+        let ymax = ys.iter().cloned().fold(floors[k] * 10.0, f64::max) * 3.0;
+        let caption = if k == 0 {
+            "bad-ray rate (wrong answers / rays; floor = 0)"
+        } else {
+            "median relative t error (floor = 0)"
+        };
+        let mut chart = ChartBuilder::on(panel)
+            .caption(caption, ("sans-serif", 16))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(
+                (xmin..xmax).log_scale(),
+                (floors[k] / 2.0..ymax).log_scale(),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("ns per ray, Cornell box, 1 thread")
+            .x_labels(12)
+            .y_label_formatter(&|y| {
+                if *y <= floors[k] * 1.01 {
+                    "0".to_string()
+                } else {
+                    format!("{y:.0e}")
+                }
+            })
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .draw()?;
+        for (i, (r, (&x, &y))) in rows.iter().zip(xs.iter().zip(&ys)).enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            chart.draw_series(std::iter::once(Circle::new((x, y), 5, colour.filled())))?;
+            chart.draw_series(std::iter::once(Text::new(
+                r.name.clone(),
+                (x, y * 1.25),
+                ("sans-serif", 11).into_font(),
+            )))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
