@@ -26,19 +26,23 @@ row() { # scene step method threads extra...
   echo "| $(basename "$scene") | 1280x720 | $step | $method$extra | $accel | $threads | $build | $median | $mrays |"
 }
 for t in 1 2; do
-  row cornell flat watertight $t
-  row cornell shadows watertight $t
+  for m in adaptive watertight; do
+    row cornell flat $m $t
+    row cornell shadows $m $t
+  done
 done
-row cornell flat watertight 2 --no-tile-culling
+row cornell flat adaptive 2 --no-tile-culling
 row cornell flat moller 2
 row cornell flat cramer 2
 if [ -d "$shared" ]; then
   for t in 1 2; do
-    row "$shared/bunny.obj" flat watertight $t
-    row "$shared/igea.obj" flat watertight $t
+    for m in adaptive watertight; do
+      row "$shared/bunny.obj" flat $m $t
+      row "$shared/igea.obj" flat $m $t
+    done
   done
-  row "$shared/bunny.obj" shadows watertight 2
+  row "$shared/bunny.obj" shadows adaptive 2
   # The 1M-triangle mesh: igea subdivided 1:4 (SOURCES.md), made once under target/.
   [ -f target/igea_1m.obj ] || target/release/examples/subdivide "$shared/igea.obj" target/igea_1m.obj >/dev/null
-  for t in 1 2; do row target/igea_1m.obj flat watertight $t; done
+  for t in 1 2; do row target/igea_1m.obj flat adaptive $t; done
 fi

@@ -72,6 +72,15 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
             let any = accel::any_hit(shapes, ray, method, tmin, tmax);
             assert_eq!(brute_accel.any_hit(ray, method, tmin, tmax), any);
             assert_eq!(bvh.any_hit(ray, method, tmin, tmax), any);
+            // Skipping the nearest hit's primitive (what a shadow ray does with its own).
+            if let Some(h) = reference {
+                let any = accel::any_hit_except(shapes, ray, method, tmin, tmax, h.prim);
+                assert_eq!(
+                    brute_accel.any_hit_except(ray, method, tmin, tmax, h.prim),
+                    any
+                );
+                assert_eq!(bvh.any_hit_except(ray, method, tmin, tmax, h.prim), any);
+            }
         }
     }
 }

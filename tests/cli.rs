@@ -8,8 +8,14 @@ use std::process::{Command, Output};
 
 /// Runs the binary; a run over 60 s is a hang and fails the test (it is killed).
 fn raylab(args: &[&str]) -> Output {
+    raylab_env(args, &[])
+}
+
+/// [`raylab`] with extra environment variables.
+fn raylab_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
         .args(args)
+        .envs(env.iter().copied())
         .env("RUST_LOG", "warn")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -289,7 +295,8 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     // A face line with thousands of vertices is fan-triangulated, not a problem.
-    let obj = dir.path().join("polygon.obj");
+    let polygon = dir.path().join("polygon.obj");
+    let obj = polygon.clone();
     let n = 2000;
     let mut text: String = (0..n)
         .map(|k| {
@@ -314,6 +321,35 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         "/dev/null",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // A file that asks for millions of triangles: one 17M-vertex polygon over 3 vertices
+    // (34 MB) is refused by the first pass, before tobj or the scene allocate anything.
+    let obj = dir.path().join("millions.obj");
+    let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+    text.push_str(&" 1 2 3".repeat((17 << 20) / 3 + 1));
+    text.push('\n');
+    std::fs::write(&obj, &text).unwrap();
+    let start = std::time::Instant::now();
+    let o = raylab(&[
+        "render",
+        "--scene",
+        obj.to_str().unwrap(),
+        "--out",
+        "/dev/null",
+    ]);
+    assert_fails(&o, 2, &["millions.obj:4", "more than 16777216 triangles"]);
+    println!("17M-triangle claim refused in {:?}", start.elapsed());
+    // The limit can be lowered (and raised) for one run.
+    let o = raylab_env(
+        &[
+            "render",
+            "--scene",
+            polygon.to_str().unwrap(),
+            "--out",
+            "/dev/null",
+        ],
+        &[("RAYLAB_MAX_TRIANGLES", "1000")],
+    );
+    assert_fails(&o, 2, &["polygon.obj:2001", "more than 1000 triangles"]);
     // A directory named .obj.
     let d = dir.path().join("dir.obj");
     std::fs::create_dir(&d).unwrap();

@@ -38,6 +38,21 @@ pub fn closest_hit<T: Real>(
     best
 }
 
+/// [`any_hit`] ignoring primitive `skip`.
+pub fn any_hit_except<T: Real>(
+    shapes: &[Shape<T>],
+    ray: &Ray<T>,
+    method: Method,
+    tmin: T,
+    tmax: T,
+    skip: u32,
+) -> bool {
+    shapes
+        .iter()
+        .enumerate()
+        .any(|(i, s)| i as u32 != skip && s.intersect(ray, method, tmin, tmax).is_some())
+}
+
 /// Whether anything is hit with tmin < t < tmax (a shadow query).
 pub fn any_hit<T: Real>(
     shapes: &[Shape<T>],

@@ -132,13 +132,14 @@ impl Bvh {
     }
 
     /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
-    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
+    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         let mut hit = false;
         self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
-                Shape::Triangle(self.tris[i])
-                    .intersect(ray, method, tmin, t_far)
-                    .is_some()
+                self.prims[i] != skip
+                    && Shape::Triangle(self.tris[i])
+                        .intersect(ray, method, tmin, t_far)
+                        .is_some()
             });
             (t_far, hit)
         });
@@ -169,13 +170,20 @@ impl Bvh {
     }
 
     /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search) -> bool {
+    pub fn any_hit_adaptive(
+        &self,
+        ray: &Ray,
+        r: &WatertightRay<f32>,
+        search: &Search,
+        skip: u32,
+    ) -> bool {
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
         self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
-                search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
+                self.prims[i] != skip
+                    && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
             });
             (t_far, hit)
         });

@@ -16,7 +16,7 @@ use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
 use std::str::FromStr;
 
-pub use brute::{any_hit, closest_hit};
+pub use brute::{any_hit, any_hit_except, closest_hit};
 
 /// A triangle's vertices with its primitive index in the scene.
 pub type IndexedTriangle = ([[f32; 3]; 3], u32);
@@ -200,41 +200,57 @@ impl Accel {
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
+        self.any_hit_except(ray, method, tmin, tmax, u32::MAX)
+    }
+
+    /// [`Accel::any_hit`] ignoring primitive `skip`: a shadow ray leaving a triangle or a
+    /// sphere towards a light on its lit side cannot meet that primitive again (planar or
+    /// convex), and skipping it spares every shadow ray the t ≈ 0 decision on it.
+    pub fn any_hit_except(
+        &self,
+        ray: &Ray,
+        method: Method,
+        tmin: f32,
+        tmax: f32,
+        skip: u32,
+    ) -> bool {
         if method == Method::Adaptive {
             let Some(r) = WatertightRay::new(ray.o, ray.d) else {
                 return false;
             };
             let search = Search::new(ray, tmin, tmax);
             let tri = match &self.triangles {
-                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search),
-                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search),
+                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search, skip),
+                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search, skip),
             };
             let nearest = Nearest::new(ray, tmin, tmax);
             return tri
-                || self.spheres.iter().any(|&(c, r, _)| {
-                    nearest.confirms(
-                        widen(&Shape::Sphere {
-                            centre: c,
-                            radius: r,
-                        }),
-                        Estimate::Unsure,
-                    )
+                || self.spheres.iter().any(|&(c, r, prim)| {
+                    prim != skip
+                        && nearest.confirms(
+                            widen(&Shape::Sphere {
+                                centre: c,
+                                radius: r,
+                            }),
+                            Estimate::Unsure,
+                        )
                 });
         }
         let tri = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {
-                WatertightRay::new(ray.o, ray.d).is_some_and(|r| blocks.any_hit(&r, tmin, tmax))
+                WatertightRay::new(ray.o, ray.d)
+                    .is_some_and(|r| blocks.any_hit(&r, tmin, tmax, skip))
             }
-            Triangles::Flat(_) => self.list.iter().any(|(v, _)| {
-                Shape::Triangle(*v)
-                    .intersect(ray, method, tmin, tmax)
-                    .is_some()
+            Triangles::Flat(_) => self.list.iter().any(|(v, prim)| {
+                *prim != skip
+                    && Shape::Triangle(*v)
+                        .intersect(ray, method, tmin, tmax)
+                        .is_some()
             }),
-            Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax),
+            Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax, skip),
         };
-        tri || self
-            .spheres
-            .iter()
-            .any(|&(c, r, _)| sphere::intersect(ray.o, ray.d, c, r, tmin, tmax).is_some())
+        tri || self.spheres.iter().any(|&(c, r, prim)| {
+            prim != skip && sphere::intersect(ray.o, ray.d, c, r, tmin, tmax).is_some()
+        })
     }
 }

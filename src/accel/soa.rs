@@ -136,8 +136,18 @@ impl TriangleBlocks {
     }
 
     /// Whether any triangle is hit with tmin < t < tmax.
-    pub fn any_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> bool {
-        (0..self.blocks.len()).any(|b| self.test_block(b, r, tmin, tmax).is_some())
+    pub fn any_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32, skip: u32) -> bool {
+        (0..self.blocks.len()).any(|b| {
+            self.test_block(b, r, tmin, tmax)
+                .is_some_and(|(mask, ..)| mask & !self.lanes_of(b, skip) != 0)
+        })
+    }
+
+    /// The lanes of block `b` holding primitive `prim` (a bit mask).
+    #[inline]
+    fn lanes_of(&self, b: usize, prim: u32) -> u32 {
+        let p = &self.blocks[b].prim;
+        (0..8).fold(0, |m, l| if p[l] == prim { m | 1 << l } else { m })
     }
 
     /// Tests one block; `None` if no lane hits, else the lane mask, t and barycentrics.
@@ -346,14 +356,14 @@ impl TriangleBlocks {
     }
 
     /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search) -> bool {
+    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.bounds(r);
         self.blocks.iter().enumerate().any(|(b, blk)| {
             let Some(f) = self.filter_block(b, r, e, tmin, tmax) else {
                 return false;
             };
-            let mut bits = f.sure | f.unsure;
+            let mut bits = (f.sure | f.unsure) & !self.lanes_of(b, skip);
             while bits != 0 {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;

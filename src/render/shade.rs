@@ -50,7 +50,11 @@ fn shadowed_irradiance(
     }
     *shadow_rays += 1;
     let shadow = sp.ray_towards(scene.light.position);
-    if scene.accel().any_hit(&shadow, method, 0.0, 1.0) {
+    // The primitive itself cannot block (planar or convex, light on its lit side).
+    if scene
+        .accel()
+        .any_hit_except(&shadow, method, 0.0, 1.0, hit.prim)
+    {
         [0.0; 3]
     } else {
         d

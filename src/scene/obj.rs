@@ -2,7 +2,8 @@
 //!
 //! A first pass over the text checks every `v` and `f` line and names the file and line of the
 //! first problem: a coordinate that is not a finite f32 (NaN, inf, 1e39), a face with fewer
-//! than 3 vertices, an index of 0 or beyond the vertices defined so far. tobj then parses the
+//! than 3 vertices, an index of 0 or beyond the vertices defined so far, more triangles or
+//! vertices than [`MAX_TRIANGLES`] and [`MAX_VERTICES`] (before any allocation). tobj then parses the
 //! text (polygons are fan-triangulated), and triangles of zero area are dropped and counted in
 //! a warning. A missing or broken material library is a warning: its faces turn grey.
 //!
@@ -41,6 +42,23 @@ impl std::str::FromStr for ObjFrame {
 
 /// Largest OBJ file accepted (bytes): a guard against exhausting memory on a wrong file.
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Most triangles (after fan triangulation) and vertices an OBJ may define, checked by the
+/// first pass before anything is allocated: about 130 bytes per triangle end to end (tobj's
+/// copy, the scene, the BVH), so 16M triangles is about 2 GB. A 1 GB file of long polygons
+/// could otherwise ask for 500M triangles. `RAYLAB_MAX_TRIANGLES` overrides the triangle limit.
+pub const MAX_TRIANGLES: u64 = 16 << 20;
+
+/// See [`MAX_TRIANGLES`].
+pub const MAX_VERTICES: u64 = 16 << 20;
+
+/// The triangle limit in force ([`MAX_TRIANGLES`] unless `RAYLAB_MAX_TRIANGLES` says).
+pub fn max_triangles() -> u64 {
+    std::env::var("RAYLAB_MAX_TRIANGLES")
+        .ok()
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or(MAX_TRIANGLES)
+}
 
 /// Colour of faces without a material (linear RGB).
 pub const DEFAULT_COLOR: [f32; 3] = [0.75, 0.75, 0.75];
@@ -300,6 +318,8 @@ fn check_mtl(text: &str) -> Result<(), (usize, String)> {
 /// Checks what tobj silently accepts or reports without a line number.
 fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
     let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
+    let mut triangles = 0u64;
+    let max_tris = max_triangles();
     for (i, line) in text.lines().enumerate() {
         let err = |message: String| ObjError::Line {
             file: name.to_string(),
@@ -326,6 +346,11 @@ fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
                     }
                 }
                 nv += 1;
+                if nv as u64 > MAX_VERTICES {
+                    return Err(err(format!(
+                        "more than {MAX_VERTICES} vertices: too large a model to load"
+                    )));
+                }
             }
             Some("vt") => nvt += 1,
             Some("vn") => nvn += 1,
@@ -335,6 +360,13 @@ fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
                     return Err(err(format!(
                         "face needs at least 3 vertices, found {}",
                         refs.len()
+                    )));
+                }
+                triangles += refs.len() as u64 - 2;
+                if triangles > max_tris {
+                    return Err(err(format!(
+                        "the faces so far make more than {max_tris} triangles: too large a \
+                         model to load (RAYLAB_MAX_TRIANGLES raises the limit)"
                     )));
                 }
                 for r in refs {
