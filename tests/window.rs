@@ -97,6 +97,11 @@ impl Run {
 
 /// Runs the window under Xvfb with `script`; None (after saying so) where Xvfb is missing.
 fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
+    run_window_env(script, dir, &[])
+}
+
+/// [`run_window`] with extra environment variables.
+fn run_window_env(script: &str, dir: &std::path::Path, env: &[(&str, &str)]) -> Option<Run> {
     if !have("xvfb-run") {
         assert!(
             std::env::var("CI").is_err(),
@@ -116,6 +121,7 @@ fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
         .arg("--script")
         .arg(&script_path)
         .env("RUST_LOG", "raylab=info")
+        .envs(env.iter().copied())
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -308,4 +314,53 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
         "{:?}",
         &expected[c..c + 3]
     );
+}
+
+#[test]
+fn resizes_minimise_hidpi_and_rapid_slider_changes() {
+    let dir = tempfile::tempdir().unwrap();
+    // At 1.5 device pixels per point; small, very large, minimised and restored; the focal
+    // slider dragged back and forth every 10 ms while frames render; the scale changed.
+    let mut script = String::from(
+        "0 resize 520 320\n400 resize 2400 1500\n400 scale 0.2\n900 resize 0 0\n1400 restore\n",
+    );
+    for k in 0..40 {
+        let focal = if k % 2 == 0 { 300 } else { 900 };
+        script.push_str(&format!("{} focal {focal}\n", 1450 + 10 * k));
+    }
+    script.push_str("1900 scale 0.6\n1900 resize 900 600\n");
+    let Some(run) = run_window_env(&script, dir.path(), &[("WINIT_X11_SCALE_FACTOR", "1.5")])
+    else {
+        return;
+    };
+    for line in ["minimised: rendering paused", "restored: rendering resumed"] {
+        assert!(run.stderr.contains(line), "{line}: {}", run.stderr);
+    }
+    let shot = &run.shot;
+    assert_eq!(
+        (shot.0, shot.1),
+        (900, 600),
+        "the window took its last size"
+    );
+    let (camera, w, h, rect) = run.camera();
+    // The render is 0.6 of the image area, which fills the window right of the panel.
+    assert!(
+        (rect[2] * 0.6 - w as f64).abs() <= 1.5 && (rect[3] * 0.6 - h as f64).abs() <= 1.5,
+        "{w}x{h} in {rect:?}"
+    );
+    assert!(rect[0] > 150.0, "a 1.5x panel is wider: {rect:?}");
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        spp: 2,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(&Scene::cornell(), &camera, &settings).unwrap();
+    let (mean, off) = compare(shot, rect, &expected, w, h);
+    println!(
+        "after the faults: mean difference {mean:.2}/255, {:.2}% off",
+        off * 100.0
+    );
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }

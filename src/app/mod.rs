@@ -24,7 +24,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
-use winit::dpi::LogicalSize;
+use winit::dpi::{LogicalSize, PhysicalSize};
 use winit::event::{
     DeviceEvent, DeviceId, ElementState, MouseButton, MouseScrollDelta, WindowEvent,
 };
@@ -474,8 +474,35 @@ impl App {
                 Action::Key(k, down) => self.key(event_loop, k, down),
                 Action::Mouse(dx, dy) => self.input.mouse(dx, dy),
                 Action::Wheel(lines) => self.input.wheel(lines),
-                Action::Step(step) => self.view.step = step,
+                Action::Step(step) => {
+                    self.view.step = step;
+                    self.changed();
+                }
                 Action::Drop(path) => self.load_obj(path),
+                Action::Focal(f) => {
+                    let width = self.full_size().0;
+                    self.controller.set_focal(f, width);
+                    self.changed();
+                }
+                Action::Scale(s) => {
+                    self.view.resolution = Resolution::WindowScale(s);
+                    self.changed();
+                }
+                Action::Resize(w, h) => {
+                    let Some(window) = self.window.clone() else {
+                        continue;
+                    };
+                    if w == 0 || h == 0 {
+                        self.on_resized(&window, PhysicalSize::new(0, 0));
+                    } else {
+                        let _ = window.request_inner_size(PhysicalSize::new(w, h));
+                    }
+                }
+                Action::Restore => {
+                    if let Some(window) = self.window.clone() {
+                        self.on_resized(&window, window.inner_size());
+                    }
+                }
             }
         }
     }
@@ -498,17 +525,43 @@ impl App {
                 .is_some_and(|s| s.generation == self.generation && s.level >= self.max_level())
     }
 
+    /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back.
+    fn on_resized(&mut self, window: &Window, size: PhysicalSize<u32>) {
+        let minimised = size.width == 0 || size.height == 0;
+        if minimised != self.minimised {
+            log::info!(
+                "window {}",
+                if minimised {
+                    "minimised: rendering paused"
+                } else {
+                    "restored: rendering resumed"
+                }
+            );
+        }
+        self.minimised = minimised;
+        if !minimised {
+            if let Some(gpu) = &mut self.gpu {
+                if let Err(e) = gpu.resize_surface(size.width, size.height) {
+                    self.set_status(e);
+                }
+            }
+            self.pump();
+        }
+        window.request_redraw();
+    }
+
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         let (Some(window), Some(_)) = (self.window.clone(), self.gpu.as_ref()) else {
             return;
         };
-        if self.minimised {
-            return;
-        }
         if self.script_start.is_none() && self.frames_presented > 0 {
             self.script_start = Some(Instant::now());
         }
+        // The script runs while minimised too (it may be what restores the window).
         self.run_script(event_loop);
+        if self.minimised {
+            return;
+        }
 
         let now = Instant::now();
         let dt = now.duration_since(self.last_update).as_secs_f64();
@@ -617,6 +670,17 @@ impl App {
 
         let capture = self.scripted_run_done();
         let gpu = self.gpu.as_mut().expect("checked");
+        // Match the surface to the window as it is now: a resize that lands after its
+        // Resized event was handled leaves the surface outdated, and pixels 0.17 retries an
+        // outdated surface at its old size forever (a hang seen under X11).
+        let size = window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return;
+        }
+        if let Err(e) = gpu.resize_surface(size.width, size.height) {
+            self.set_status(e);
+            return;
+        }
         match gpu.draw(
             &paint_jobs,
             &output.textures_delta,
@@ -801,17 +865,7 @@ impl ApplicationHandler<AppEvent> for App {
         }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => {
-                self.minimised = size.width == 0 || size.height == 0;
-                if !self.minimised {
-                    if let Some(gpu) = &mut self.gpu {
-                        if let Err(e) = gpu.resize_surface(size.width, size.height) {
-                            self.set_status(e);
-                        }
-                    }
-                    window.request_redraw();
-                }
-            }
+            WindowEvent::Resized(size) => self.on_resized(&window, size),
             WindowEvent::ScaleFactorChanged { .. } => window.request_redraw(),
             WindowEvent::Focused(false) => {
                 self.input.release_all();
@@ -881,7 +935,8 @@ impl ApplicationHandler<AppEvent> for App {
             .shown
             .as_ref()
             .is_none_or(|s| s.generation != self.generation || s.level < self.max_level());
-        if refining && self.worker.is_idle() {
+        // (Not while minimised: nothing renders then, and waking for it would spin.)
+        if refining && self.worker.is_idle() && !self.minimised {
             wake = Some(self.last_change + SETTLE);
         }
         if let (Some(start), Some(next)) = (

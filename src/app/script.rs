@@ -8,6 +8,12 @@
 //! - `wheel <lines>`: positive zooms in
 //! - `step flat|direct|shadows|indirect`: what the panel's lab-step selector does
 //! - `drop <path>`: as if the file were dropped on the window (paths without spaces)
+//! - `focal <px>`: what the panel's focal-length slider does
+//! - `scale <s>`: the panel's resolution scale slider (0.05..=1 of the window)
+//! - `resize <w> <h>`: asks the window system for that inner size; `resize 0 0` minimises (the
+//!   0×0 resize a minimised window gets, delivered to the same handler: X cannot make a
+//!   zero-size window)
+//! - `restore`: back from `resize 0 0` at the window's real size
 
 use super::input::Key;
 use raylab::render::LabStep;
@@ -26,6 +32,14 @@ pub enum Action {
     Step(LabStep),
     /// Drop a file on the window.
     Drop(std::path::PathBuf),
+    /// Set the focal length (pixels of the full-resolution image).
+    Focal(f64),
+    /// Set the resolution scale.
+    Scale(f32),
+    /// Resize the window (0×0: minimise).
+    Resize(u32, u32),
+    /// Undo a minimise.
+    Restore,
 }
 
 /// A parsed script: events sorted by time.
@@ -110,9 +124,38 @@ impl Script {
                     want(3)?;
                     Action::Drop(w[2].into())
                 }
+                Some("focal") => {
+                    want(3)?;
+                    Action::Focal(num(2)?)
+                }
+                Some("scale") => {
+                    want(3)?;
+                    let s = num(2)?;
+                    if !(0.05..=1.0).contains(&s) {
+                        return Err(err(format!("scale {s} is not in 0.05..=1")));
+                    }
+                    Action::Scale(s as f32)
+                }
+                Some("resize") => {
+                    want(4)?;
+                    let side = |k: usize| {
+                        num(k).and_then(|x| {
+                            if x >= 0.0 && x <= 16384.0 && x.fract() == 0.0 {
+                                Ok(x as u32)
+                            } else {
+                                Err(err(format!("window side {x} is not an integer in 0..=16384")))
+                            }
+                        })
+                    };
+                    Action::Resize(side(2)?, side(3)?)
+                }
+                Some("restore") => {
+                    want(2)?;
+                    Action::Restore
+                }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, step, drop)"
+                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -151,7 +194,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -168,7 +211,11 @@ mod tests {
             vec![
                 Action::Wheel(-2.0),
                 Action::Step(LabStep::Shadows),
-                Action::Drop("m.obj".into())
+                Action::Drop("m.obj".into()),
+                Action::Focal(700.0),
+                Action::Scale(0.5),
+                Action::Resize(0, 0),
+                Action::Restore,
             ]
         );
         assert!(s.finished());
@@ -191,6 +238,10 @@ mod tests {
             ("0 jump\n", "unknown event 'jump'"),
             ("0\n", "missing event"),
             ("0 step glossy\n", "unknown step 'glossy'"),
+            ("0 scale 2\n", "scale 2 is not in 0.05..=1"),
+            ("0 resize 10 -1\n", "window side -1 is not an integer"),
+            ("0 resize 10 1e6\n", "window side 1000000"),
+            ("0 restore now\n", "'restore' takes 0 arguments, found 1"),
         ];
         for (text, needle) in cases {
             let e = Script::parse("s.txt", text).unwrap_err();
