@@ -140,7 +140,7 @@ impl Script {
                     want(4)?;
                     let side = |k: usize| {
                         num(k).and_then(|x| {
-                            if x >= 0.0 && x <= 16384.0 && x.fract() == 0.0 {
+                            if (0.0..=16384.0).contains(&x) && x.fract() == 0.0 {
                                 Ok(x as u32)
                             } else {
                                 Err(err(format!("window side {x} is not an integer in 0..=16384")))
