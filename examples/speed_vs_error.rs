@@ -13,7 +13,7 @@ use common::suite::{self, exact_nearest, Counts};
 use plotters::prelude::*;
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::controller::CameraController;
-use raylab::geometry::{sphere, Method, Ray, Shape};
+use raylab::geometry::{adaptive, sphere, Method, Ray, Shape};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -36,6 +36,10 @@ impl Variant {
             Variant::F32(Method::Cramer) => "lecture A⁻¹b (cramer) f32".into(),
             Variant::F64(Method::Cramer) => "lecture A⁻¹b (cramer) f64".into(),
             Variant::F32(m) => format!("{m} f32"),
+            // The reference loop: f64 intervals then exact, no f32 filter, no acceleration.
+            Variant::F64(Method::Adaptive) => {
+                "adaptive, no f32 filter (f64 intervals + exact)".into()
+            }
             Variant::F64(m) => format!("{m} f64"),
             Variant::SphereNaive => "sphere b²−ac (textbook) f32".into(),
             Variant::SphereStable => "sphere cancellation-free f32".into(),
@@ -47,30 +51,18 @@ impl Variant {
     }
 }
 
-const VARIANTS: [Variant; 9] = [
+const VARIANTS: [Variant; 10] = [
     Variant::F32(Method::Adaptive),
     Variant::F32(Method::Watertight),
     Variant::F32(Method::Moller),
     Variant::F32(Method::Cramer),
+    Variant::F64(Method::Adaptive),
     Variant::F64(Method::Watertight),
     Variant::F64(Method::Moller),
     Variant::F64(Method::Cramer),
     Variant::SphereNaive,
     Variant::SphereStable,
 ];
-
-fn widen(shapes: &[Shape<f32>]) -> Vec<Shape<f64>> {
-    shapes
-        .iter()
-        .map(|s| match s {
-            Shape::Triangle(v) => Shape::Triangle(v.map(|p| p.map(f64::from))),
-            Shape::Sphere { centre, radius } => Shape::Sphere {
-                centre: centre.map(f64::from),
-                radius: *radius as f64,
-            },
-        })
-        .collect()
-}
 
 /// A prepared scene that answers closest-hit queries with one variant.
 struct Tracer {
@@ -86,7 +78,7 @@ impl Tracer {
             variant,
             accel: Accel::build(shapes, AccelChoice::Auto),
             shapes: shapes.to_vec(),
-            shapes64: widen(shapes),
+            shapes64: shapes.iter().map(adaptive::widen).collect(),
         }
     }
 

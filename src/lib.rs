@@ -21,7 +21,9 @@
 //!   the view to the right (+x), positive pitch (about +x) turns it up (−y).
 //! - **Rays**: o + t·d with d not necessarily normalised; a hit counts for tmin < t < tmax, the
 //!   nearest wins, and on an exact tie the lower primitive index wins. Triangles are closed
-//!   (edges and vertices belong) and two-sided.
+//!   (edges and vertices belong) and two-sided; one seen edge-on is missed; a ray tangent to a
+//!   sphere hits it. The default method (`geometry::adaptive`) decides all of this exactly for
+//!   the given float inputs.
 //! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
 #![forbid(unsafe_code)]
 

@@ -24,7 +24,7 @@ mod common;
 
 use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::{self, Accel, AccelChoice};
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{adaptive, Method, Ray, Shape};
 
 const VARIANTS: [&str; 8] = [
     "adaptive f32 (SIMD loop)",
@@ -39,16 +39,7 @@ const VARIANTS: [&str; 8] = [
 
 /// Runs every variant on `rays` (t > 0); returns the counts in the order of `VARIANTS`.
 fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> Vec<Counts> {
-    let shapes64: Vec<Shape<f64>> = shapes
-        .iter()
-        .map(|s| match s {
-            Shape::Triangle(v) => Shape::Triangle(v.map(|p| p.map(f64::from))),
-            Shape::Sphere { centre, radius } => Shape::Sphere {
-                centre: centre.map(f64::from),
-                radius: *radius as f64,
-            },
-        })
-        .collect();
+    let shapes64: Vec<Shape<f64>> = shapes.iter().map(adaptive::widen).collect();
     let flat = Accel::build(shapes, AccelChoice::Brute);
     let bvh = Accel::build(shapes, AccelChoice::Bvh);
     let inf = f32::INFINITY;

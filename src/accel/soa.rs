@@ -159,27 +159,9 @@ impl TriangleBlocks {
         tmin: f32,
         tmax: f32,
     ) -> Option<(u32, f32x8, f32x8, f32x8)> {
-        let [kx, ky, kz] = r.k;
-        let sx = f32x8::splat(r.s[0]);
-        let sy = f32x8::splat(r.s[1]);
         let sz = f32x8::splat(r.s[2]);
-        let (ox, oy, oz) = (
-            f32x8::splat(r.o[kx]),
-            f32x8::splat(r.o[ky]),
-            f32x8::splat(r.o[kz]),
-        );
-        let v = &self.blocks[b].v;
-        // Same operations as the scalar test: translate, then shear.
-        let sheared = |p: &[f32x8; 3]| {
-            let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
-            (px + sx * pz, py + sy * pz, pz)
-        };
-        let (ax, ay, az) = sheared(&v[0]);
-        let (bx, by, bz) = sheared(&v[1]);
-        let (cx, cy, cz) = sheared(&v[2]);
-        let mut u = cx * by - cy * bx;
-        let mut w = bx * ay - by * ax;
-        let mut vv = ax * cy - ay * cx;
+        let ([[ax, ay, az], [bx, by, bz], [cx, cy, cz]], [mut u, mut vv, mut w]) =
+            shear(&self.blocks[b].v, r);
         let zero = f32x8::ZERO;
         let exact_zero = u.simd_eq(zero) | vv.simd_eq(zero) | w.simd_eq(zero);
         if exact_zero.any() {
@@ -240,6 +222,28 @@ impl TriangleBlocks {
     }
 }
 
+/// A block's vertices translated to the ray origin and sheared into its frame, and the three
+/// edge functions (u weighs v0, vv v1, w v2), with exactly the scalar test's operations (no
+/// fused multiply-add), so lanes equal the scalar results bit for bit.
+#[inline(always)]
+fn shear(v: &[[f32x8; 3]; 3], r: &WatertightRay<f32>) -> ([[f32x8; 3]; 3], [f32x8; 3]) {
+    let [kx, ky, kz] = r.k;
+    let (sx, sy) = (f32x8::splat(r.s[0]), f32x8::splat(r.s[1]));
+    let (ox, oy, oz) = (
+        f32x8::splat(r.o[kx]),
+        f32x8::splat(r.o[ky]),
+        f32x8::splat(r.o[kz]),
+    );
+    let [a, b, c] = v.each_ref().map(|p| {
+        let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
+        [px + sx * pz, py + sy * pz, pz]
+    });
+    let u = c[0] * b[1] - c[1] * b[0];
+    let w = b[0] * a[1] - b[1] * a[0];
+    let vv = a[0] * c[1] - a[1] * c[0];
+    ([a, b, c], [u, vv, w])
+}
+
 /// One block under the adaptive method's f32 filter: lanes whose edge signs are all certain
 /// (`sure`, with t, its bound and barycentrics) and lanes it cannot decide (`unsure`).
 struct BlockFilter {
@@ -264,26 +268,8 @@ impl TriangleBlocks {
         t_far: f32,
     ) -> Option<BlockFilter> {
         let blk = &self.blocks[b];
-        let [kx, ky, kz] = r.k;
-        let sx = f32x8::splat(r.s[0]);
-        let sy = f32x8::splat(r.s[1]);
         let sz = f32x8::splat(r.s[2]);
-        let (ox, oy, oz) = (
-            f32x8::splat(r.o[kx]),
-            f32x8::splat(r.o[ky]),
-            f32x8::splat(r.o[kz]),
-        );
-        let v = &blk.v;
-        let sheared = |p: &[f32x8; 3]| {
-            let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
-            (px + sx * pz, py + sy * pz, pz)
-        };
-        let (ax, ay, az) = sheared(&v[0]);
-        let (bx, by, bz) = sheared(&v[1]);
-        let (cx, cy, cz) = sheared(&v[2]);
-        let u = cx * by - cy * bx;
-        let w = bx * ay - by * ax;
-        let vv = ax * cy - ay * cx;
+        let ([[_, _, az], [_, _, bz], [_, _, cz]], [u, vv, w]) = shear(&blk.v, r);
         let ep = f32x8::splat(edge_bound);
         let en = -ep;
         let neg = u.simd_lt(en) | vv.simd_lt(en) | w.simd_lt(en);

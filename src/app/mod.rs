@@ -866,7 +866,11 @@ impl ApplicationHandler<AppEvent> for App {
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => self.on_resized(&window, size),
-            WindowEvent::ScaleFactorChanged { .. } => window.request_redraw(),
+            WindowEvent::ScaleFactorChanged { scale_factor, .. } => {
+                // egui-winit has taken the new pixels-per-point from this event already.
+                log::info!("scale factor changed to {scale_factor}");
+                window.request_redraw();
+            }
             WindowEvent::Focused(false) => {
                 self.input.release_all();
                 self.set_mouse_look(false);

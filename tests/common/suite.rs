@@ -496,7 +496,7 @@ pub fn spheres() -> Vec<Family> {
         ([0.5, 0.25, 0.0], 0.625, [0.875, 0.75, 0.0]),
     ] {
         let n = [0, 1, 2].map(|k| p[k] - centre[k]);
-        let rays: Vec<Ray<f32>> = (0..120)
+        let rays: Vec<Ray<f32>> = (0..200)
             .map(|j| match j % 4 {
                 0 => Ray::new(p, n.map(|x| -x)),
                 1 => Ray::new(p, n),
