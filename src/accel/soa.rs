@@ -255,6 +255,18 @@ struct BlockFilter {
     b2: [f32; 8],
 }
 
+impl BlockFilter {
+    /// What the filter knows about lane `l`: a hit with the loose t interval, or unsure.
+    #[inline]
+    fn estimate(&self, l: usize) -> Estimate {
+        if self.sure & (1 << l) != 0 {
+            approx_f32(self.t[l], self.bound[l], self.b1[l], self.b2[l], 0)
+        } else {
+            Estimate::Unsure
+        }
+    }
+}
+
 impl TriangleBlocks {
     /// The adaptive method's f32 filter on one block (see `geometry::adaptive`). Sure lanes
     /// whose t interval lies certainly below `tmin` or beyond `t_far` are dropped here.
@@ -331,11 +343,7 @@ impl TriangleBlocks {
             while bits != 0 {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let est = if f.sure & (1 << l) != 0 {
-                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l], 0)
-                } else {
-                    Estimate::Unsure
-                };
+                let est = f.estimate(l);
                 search.offer_triangle(blk.prim[l], &blk.tris[l], est);
             }
         }
@@ -353,11 +361,7 @@ impl TriangleBlocks {
             while bits != 0 {
                 let l = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let est = if f.sure & (1 << l) != 0 {
-                    approx_f32(f.t[l], f.bound[l], f.b1[l], f.b2[l], 0)
-                } else {
-                    Estimate::Unsure
-                };
+                let est = f.estimate(l);
                 if search.confirms_triangle(&blk.tris[l], est) {
                     return true;
                 }

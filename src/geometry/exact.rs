@@ -287,28 +287,6 @@ fn cross(a: &QV, b: &QV) -> QV {
     ]
 }
 
-/// The exact hit of the line o + t·d with the closed triangle v: `(t, b1, b2)` with the
-/// barycentrics of v1 and v2, or `None` if the line misses it or lies in its plane. (The
-/// range tmin < t < tmax is the caller's.)
-pub fn triangle(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<(ExactT, f64, f64)> {
-    let d = qv(d);
-    let o = qv(o);
-    let p: [QV; 3] = [0, 1, 2].map(|i| sub(&qv(v[i]), &o));
-    // det[d, p_i, p_j]: which side of edge (i, j) the line passes; all three agree on a hit.
-    let e = [(1, 2), (2, 0), (0, 1)].map(|(i, j)| dot(&d, &cross(&p[i], &p[j])));
-    let signs = e.each_ref().map(sign);
-    let mixed = signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater);
-    let den = &e[0] + &e[1] + &e[2]; // d·n with n = (v1 − v0) × (v2 − v0)
-    if mixed || den.is_zero() {
-        return None;
-    }
-    let num = dot(&p[0], &cross(&p[1], &p[2]));
-    use num_traits::ToPrimitive;
-    let b1 = (&e[1] / &den).to_f64().unwrap_or(0.0);
-    let b2 = (&e[2] / &den).to_f64().unwrap_or(0.0);
-    Some((ExactT::rational(num / den), b1, b2))
-}
-
 /// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
 /// ray touches it at one point, which counts).
 pub fn sphere(
@@ -407,16 +385,19 @@ mod tests {
     }
 
     #[test]
-    fn triangle_edges_are_closed_and_t_is_exact() {
+    fn edges_are_closed_and_plane_t_is_exact() {
         let v = [[0.0, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]];
-        // Through the hypotenuse's midpoint, exactly.
-        let (tt, b1, b2) = triangle([0.0; 3], [0.5, 0.5, 3.0], &v).unwrap();
-        assert_eq!(tt.cmp_f(1.0), Ordering::Equal);
-        assert_eq!((b1, b2), (0.5, 0.5));
-        // Just outside by one ulp of 0.5.
-        assert!(triangle([0.0; 3], [0.5f64.next_up(), 0.5, 3.0], &v).is_none());
-        // In the plane.
-        assert!(triangle([0.0, 0.0, 3.0], [1.0, 1.0, 0.0], &v).is_none());
+        // Through the hypotenuse's midpoint, exactly: that edge's sign is 0.
+        let (o, d) = ([0.0; 3], [0.5, 0.5, 3.0]);
+        assert_eq!(orient(d, o, v[1], v[2]), Some(Ordering::Equal));
+        assert_eq!(plane_t(o, d, &v).unwrap().cmp_f(1.0), Ordering::Equal);
+        // One ulp of 0.5 outside: the sign is decided, opposite to the other edges'.
+        let d2 = [0.5f64.next_up(), 0.5, 3.0];
+        let s = orient(d2, o, v[1], v[2]).unwrap();
+        assert_ne!(s, Ordering::Equal);
+        assert_eq!(s, orient(d2, o, v[0], v[1]).unwrap().reverse());
+        // In the plane: no t.
+        assert!(plane_t([0.0, 0.0, 3.0], [1.0, 1.0, 0.0], &v).is_none());
     }
 
     #[test]
