@@ -8,6 +8,7 @@
 
 pub mod brute;
 pub mod bvh;
+pub mod packet;
 pub mod soa;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};

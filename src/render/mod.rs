@@ -4,17 +4,19 @@
 pub mod settings;
 pub mod shade;
 
+use crate::accel::packet::{self, OriginTriangle, OriginTriangles};
 use crate::accel::soa::TriangleBlocks;
 use crate::accel::IndexedTriangle;
-use crate::camera::Camera;
+use crate::camera::{Camera, RayGenerator};
 use crate::geometry::adaptive::Search;
-use crate::geometry::triangle::WatertightRay;
-use crate::geometry::{Hit, Method, Ray};
+use crate::geometry::triangle::{watertight_raw, WatertightRay};
+use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::scene::Scene;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::{Duration, Instant};
+use wide::f32x8;
 
 pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE, MAX_SPP};
 pub use shade::Rgb;
@@ -171,85 +173,79 @@ pub fn render_into_cancellable(
         _ => None,
     };
     let gen = camera.ray_generator(w, h);
-    let n = settings.spp;
-    let inv_n = 1.0 / n as f32;
-    let weight = 1.0 / (n * n) as f32;
-    let row_bytes = w as usize * 4;
+    // Camera rays in packets where the adaptive method runs over a culled small scene.
+    let packets = match &culled {
+        Some((tris, _)) if settings.method == Method::Adaptive && !settings.cracks => {
+            Some(OriginTriangles::new(tris, gen.origin()))
+        }
+        _ => None,
+    };
+    let frame = Frame {
+        scene,
+        settings,
+        gen,
+        inv_n: 1.0 / settings.spp as f32,
+        weight: 1.0 / (settings.spp * settings.spp) as f32,
+        row_bytes: w as usize * 4,
+    };
     let (hits, shadow_rays) = rgba
-        .par_chunks_mut(row_bytes * TILE as usize)
+        .par_chunks_mut(frame.row_bytes * TILE as usize)
         .enumerate()
         .map(|(band, rows)| {
-            let mut hits = 0u64;
-            let mut shadow_rays = 0u64;
+            let mut counts = (0u64, 0u64);
             if cancelled() {
-                return (0, 0);
+                return counts;
             }
             let y0 = band as u32 * TILE;
-            let band_h = (rows.len() / row_bytes) as u32;
+            let band_h = (rows.len() / frame.row_bytes) as u32;
             let mut subset = Vec::new();
+            let mut tile_tris = Vec::new();
             for x0 in (0..w).step_by(TILE as usize) {
-                let tile_w = TILE.min(w - x0);
-                let blocks = culled.as_ref().map(|(tris, bounds)| {
-                    let (tx0, ty0) = (x0 as f32, y0 as f32);
-                    let (tx1, ty1) = ((x0 + tile_w) as f32, (y0 + band_h) as f32);
-                    subset.clear();
-                    subset.extend(tris.iter().zip(bounds).filter_map(|(t, b)| match b {
-                        Some(b) if b[2] < tx0 || b[0] > tx1 || b[3] < ty0 || b[1] > ty1 => None,
-                        _ => Some(*t),
-                    }));
-                    TriangleBlocks::new(&subset)
-                });
-                for j in y0..y0 + band_h {
-                    let row = &mut rows[(j - y0) as usize * row_bytes..][..row_bytes];
-                    for i in x0..x0 + tile_w {
-                        let mut sum = [0.0f32; 3];
-                        for sy in 0..n {
-                            for sx in 0..n {
-                                let x = i as f32 + (sx as f32 + 0.5) * inv_n;
-                                let y = j as f32 + (sy as f32 + 0.5) * inv_n;
-                                let ray = gen.ray_through(x, y);
-                                let colour = match &blocks {
-                                    _ if settings.cracks
-                                        && is_crack(scene, &ray, settings.method) =>
-                                    {
-                                        Some(CRACK)
-                                    }
-                                    Some(b) => WatertightRay::new(ray.o, ray.d)
-                                        .and_then(|r| {
-                                            if settings.method == Method::Adaptive {
-                                                let mut s = Search::new(&ray, 0.0, f32::INFINITY);
-                                                b.closest_hit_adaptive(&r, &mut s);
-                                                s.hit()
-                                            } else {
-                                                b.closest_hit(&r, 0.0, f32::INFINITY)
-                                            }
-                                        })
-                                        .map(|hit| {
-                                            shade_hit(scene, &ray, &hit, settings, &mut shadow_rays)
-                                        }),
-                                    None => {
-                                        trace_pixel_ray(scene, &ray, settings, &mut shadow_rays)
-                                    }
-                                };
-                                if let Some(c) = colour {
-                                    hits += 1;
-                                    for k in 0..3 {
-                                        sum[k] += c[k];
-                                    }
-                                }
-                            }
-                        }
-                        let px = &mut row[i as usize * 4..][..4];
-                        px[0] = linear_to_srgb8(sum[0] * weight);
-                        px[1] = linear_to_srgb8(sum[1] * weight);
-                        px[2] = linear_to_srgb8(sum[2] * weight);
-                        px[3] = 255;
+                let tile = Tile {
+                    x0,
+                    y0,
+                    w: TILE.min(w - x0),
+                    h: band_h,
+                };
+                let Some((tris, bounds)) = &culled else {
+                    frame.trace_tile(&tile, None, rows, &mut counts);
+                    continue;
+                };
+                let (tx0, ty0) = (tile.x0 as f32, tile.y0 as f32);
+                let (tx1, ty1) = ((tile.x0 + tile.w) as f32, (tile.y0 + tile.h) as f32);
+                let meets = |b: &Option<[f32; 4]>| match b {
+                    Some(b) => !(b[2] < tx0 || b[0] > tx1 || b[3] < ty0 || b[1] > ty1),
+                    None => true,
+                };
+                subset.clear();
+                subset.extend(
+                    tris.iter()
+                        .zip(bounds)
+                        .filter(|(_, b)| meets(b))
+                        .map(|(t, _)| *t),
+                );
+                match &packets {
+                    Some(p) => {
+                        tile_tris.clear();
+                        tile_tris.extend(
+                            p.tris
+                                .iter()
+                                .zip(bounds)
+                                .filter(|(_, b)| meets(b))
+                                .map(|(t, _)| *t),
+                        );
+                        frame.trace_tile_packets(&tile, &tile_tris, &subset, rows, &mut counts);
+                    }
+                    None => {
+                        let blocks = TriangleBlocks::new(&subset);
+                        frame.trace_tile(&tile, Some(&blocks), rows, &mut counts);
                     }
                 }
             }
-            (hits, shadow_rays)
+            counts
         })
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let n = settings.spp;
     if cancelled() {
         return Ok(None);
     }
@@ -259,6 +255,183 @@ pub fn render_into_cancellable(
         hits,
         elapsed: start.elapsed(),
     }))
+}
+
+/// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
+struct Tile {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    h: u32,
+}
+
+/// What every tile of one frame shares.
+struct Frame<'a> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    gen: RayGenerator,
+    inv_n: f32,
+    /// 1/n² for n×n samples.
+    weight: f32,
+    row_bytes: usize,
+}
+
+impl Frame<'_> {
+    /// Image position of sample (sx, sy) of pixel (i, j).
+    #[inline]
+    fn sample(&self, i: u32, j: u32, sx: u32, sy: u32) -> (f32, f32) {
+        let x = i as f32 + (sx as f32 + 0.5) * self.inv_n;
+        let y = j as f32 + (sy as f32 + 0.5) * self.inv_n;
+        (x, y)
+    }
+
+    /// The colour along one camera ray, per ray: tile-culled `blocks` (watertight or
+    /// adaptive), or the whole scene's structure.
+    fn trace_ray(
+        &self,
+        ray: &Ray,
+        blocks: Option<&TriangleBlocks>,
+        shadow_rays: &mut u64,
+    ) -> Option<Rgb> {
+        let (scene, settings) = (self.scene, self.settings);
+        if settings.cracks && is_crack(scene, ray, settings.method) {
+            return Some(CRACK);
+        }
+        let Some(b) = blocks else {
+            return trace_pixel_ray(scene, ray, settings, shadow_rays);
+        };
+        let hit = WatertightRay::new(ray.o, ray.d).and_then(|r| {
+            if settings.method == Method::Adaptive {
+                let mut s = Search::new(ray, 0.0, f32::INFINITY);
+                b.closest_hit_adaptive(&r, &mut s);
+                s.hit()
+            } else {
+                b.closest_hit(&r, 0.0, f32::INFINITY)
+            }
+        })?;
+        Some(shade_hit(scene, ray, &hit, settings, shadow_rays))
+    }
+
+    /// Writes pixel (i, row) from its samples' summed linear colour.
+    #[inline]
+    fn put(&self, row: &mut [u8], i: u32, sum: Rgb) {
+        let weight = self.weight;
+        let px = &mut row[i as usize * 4..][..4];
+        px[0] = linear_to_srgb8(sum[0] * weight);
+        px[1] = linear_to_srgb8(sum[1] * weight);
+        px[2] = linear_to_srgb8(sum[2] * weight);
+        px[3] = 255;
+    }
+
+    /// Traces a tile ray by ray into `rows` (the band of rows the tile lies in). Adds
+    /// (hits, shadow rays) to `counts`.
+    fn trace_tile(
+        &self,
+        tile: &Tile,
+        blocks: Option<&TriangleBlocks>,
+        rows: &mut [u8],
+        counts: &mut (u64, u64),
+    ) {
+        let n = self.settings.spp;
+        for j in tile.y0..tile.y0 + tile.h {
+            let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
+            for i in tile.x0..tile.x0 + tile.w {
+                let mut sum = [0.0f32; 3];
+                for sy in 0..n {
+                    for sx in 0..n {
+                        let (x, y) = self.sample(i, j, sx, sy);
+                        let ray = self.gen.ray_through(x, y);
+                        if let Some(c) = self.trace_ray(&ray, blocks, &mut counts.1) {
+                            counts.0 += 1;
+                            add(&mut sum, c);
+                        }
+                    }
+                }
+                self.put(row, i, sum);
+            }
+        }
+    }
+
+    /// Traces a tile's camera rays 8 at a time against `tris` (the tile's triangles prepared
+    /// for the camera position, see [`crate::accel::packet`]); the rare ambiguous ray goes
+    /// through the per-ray adaptive search over `subset` (the same triangles). The nearest
+    /// primitive is the same either way, and the hit's t and barycentrics are those of the
+    /// per-ray search's f32 level.
+    fn trace_tile_packets(
+        &self,
+        tile: &Tile,
+        tris: &[OriginTriangle],
+        subset: &[IndexedTriangle],
+        rows: &mut [u8],
+        counts: &mut (u64, u64),
+    ) {
+        let (scene, settings) = (self.scene, self.settings);
+        let n = settings.spp;
+        let o = self.gen.origin();
+        let mut blocks: Option<TriangleBlocks> = None;
+        let mut sums = [[0.0f32; 3]; TILE as usize];
+        for j in tile.y0..tile.y0 + tile.h {
+            let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
+            sums.fill([0.0; 3]);
+            for sy in 0..n {
+                for sx in 0..n {
+                    let mut xs = [0.0f32; 8];
+                    let mut y = 0.0;
+                    for (l, x) in xs.iter_mut().enumerate() {
+                        // Lanes past the tile's right edge repeat its last pixel.
+                        let i = tile.x0 + (l as u32).min(tile.w - 1);
+                        (*x, y) = self.sample(i, j, sx, sy);
+                    }
+                    let dirs = self.gen.directions_x8(f32x8::from(xs), y);
+                    let found = packet::closest(tris, &dirs, packet::max_component(&dirs));
+                    let [dx, dy, dz] = dirs.map(|d| d.to_array());
+                    for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
+                        let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
+                        let colour = if found.ambiguous & (1 << l) != 0 {
+                            let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
+                            self.trace_ray(&ray, Some(b), &mut counts.1)
+                        } else if found.prim[l] == u32::MAX {
+                            None
+                        } else if settings.step == LabStep::Flat {
+                            Some(scene.colors[found.prim[l] as usize])
+                        } else {
+                            let prim = found.prim[l];
+                            let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
+                                unreachable!("flat scenes hold triangles only")
+                            };
+                            match WatertightRay::new(o, ray.d).and_then(|r| watertight_raw(&r, tri))
+                            {
+                                Some((t, b1, b2, _)) => {
+                                    let hit = Hit { t, prim, b1, b2 };
+                                    Some(shade_hit(scene, &ray, &hit, settings, &mut counts.1))
+                                }
+                                // The f32 test misses a triangle the exact one hits: let
+                                // the per-ray search make the same call it makes untiled.
+                                None => {
+                                    let b =
+                                        blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
+                                    self.trace_ray(&ray, Some(b), &mut counts.1)
+                                }
+                            }
+                        };
+                        if let Some(c) = colour {
+                            counts.0 += 1;
+                            add(sum, c);
+                        }
+                    }
+                }
+            }
+            for (l, sum) in sums.iter().take(tile.w as usize).enumerate() {
+                self.put(row, tile.x0 + l as u32, *sum);
+            }
+        }
+    }
+}
+
+fn add(sum: &mut Rgb, c: Rgb) {
+    for k in 0..3 {
+        sum[k] += c[k];
+    }
 }
 
 /// Allocates the RGBA8 buffer and renders into it.

@@ -1,0 +1,224 @@
+//! Camera rays in packets of 8 against triangles prepared for the camera's position: the
+//! adaptive method's fast path for small scenes.
+//!
+//! All camera rays of a frame leave the same origin o. With pᵢ = vᵢ − o, the exact
+//! predicates of the adaptive method are the signs of eᵢ = d·(pⱼ × pₖ) ((i, j, k) cyclic; eᵢ
+//! weighs vertex i) and t = det[p₀, p₁, p₂] / (e₀ + e₁ + e₂). The cross products and the
+//! determinant depend on the triangle alone, so they are computed once per frame in f64
+//! with bounds on their error ([`OriginTriangles::new`]); per ray and triangle there remain
+//! three f32 dot products, whose rounding error is at most Kᵢ·max|dₖ| with Kᵢ fixed per
+//! triangle. An eᵢ beyond that bound has a certain sign, t comes with a certain interval,
+//! and a lane keeps the nearest candidate only while its interval lies wholly below the
+//! others'. Every lane that cannot be decided so (a ray within rounding of an edge, two hits
+//! too close to order, a degenerate case) is reported `ambiguous`, and the caller traces it
+//! with the per-ray adaptive search, which decides exactly. So a decided lane's primitive is
+//! exactly the one the per-ray search returns.
+
+use super::IndexedTriangle;
+use wide::f32x8;
+
+/// Unit roundoff of f32 and f64.
+const U32: f64 = 1.0 / (1u64 << 24) as f64;
+const U64: f64 = 1.0 / (1u64 << 53) as f64;
+
+/// Largest |nₖ| sum (and |det|) prepared: larger ones make every ray ambiguous.
+const MAX_MAGNITUDE: f64 = 1e36;
+
+/// Largest max|dₖ|·Σ|nₖ| a packet may reach (far from f32 overflow).
+const MAX_PRODUCT: f32 = 1e37;
+
+/// Absolute part of each edge bound: the dot product's products in the subnormal range
+/// (2^-150 each) and the rounding of Kᵢ·max|d| there.
+const EDGE_ABS: f32 = 1e-44;
+
+/// One triangle seen from the shared origin.
+#[derive(Clone, Copy, Debug)]
+pub struct OriginTriangle {
+    /// nᵢ = pⱼ × pₖ rounded to f32, so that eᵢ = d·nᵢ.
+    n: [[f32; 3]; 3],
+    /// Kᵢ: |computed eᵢ − exact eᵢ| ≤ Kᵢ·max|dₖ| + [`EDGE_ABS`] (rounding up included).
+    k: [f32; 3],
+    /// K₀ + K₁ + K₂.
+    k_sum: f32,
+    /// The largest Σₖ|nᵢₖ|, for the overflow check.
+    n_max: f32,
+    /// det[p₀, p₁, p₂] rounded to f32 (its sign is certain).
+    num: f32,
+    /// Relative error coefficient of t apart from the determinant's part.
+    c_t: f32,
+    /// Primitive index in the scene.
+    pub prim: u32,
+    /// False where the bounds cannot be used (the origin within rounding of the triangle's
+    /// plane, huge magnitudes, non-finite input): every ray is then ambiguous.
+    usable: bool,
+}
+
+/// A frame's triangles prepared for its camera position.
+#[derive(Clone, Debug, Default)]
+pub struct OriginTriangles {
+    /// In the order given.
+    pub tris: Vec<OriginTriangle>,
+}
+
+/// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
+/// that must be traced per ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PacketHits {
+    pub prim: [u32; 8],
+    pub ambiguous: u32,
+}
+
+impl OriginTriangle {
+    fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
+        let p = v.map(|vi| std::array::from_fn::<f64, 3, _>(|a| vi[a] as f64 - o[a] as f64));
+        let mut n = [[0f32; 3]; 3];
+        let mut k = [0f32; 3];
+        let mut n_max = 0f64;
+        let mut usable = p.iter().flatten().all(|x| x.is_finite());
+        let mut n64 = [[0f64; 3]; 3];
+        let mut n_err = [[0f64; 3]; 3];
+        for i in 0..3 {
+            let (a, b) = (p[(i + 1) % 3], p[(i + 2) % 3]);
+            let mut k64 = 0.0;
+            for c in 0..3 {
+                let (y, z) = ((c + 1) % 3, (c + 2) % 3);
+                n64[i][c] = a[y] * b[z] - a[z] * b[y];
+                // pᵢ are rounded once (relative u64), then two products and a difference:
+                // under 5·u64 of the magnitudes; 8·u64 for margin.
+                let mag = (a[y] * b[z]).abs() + (a[z] * b[y]).abs();
+                n_err[i][c] = 8.0 * U64 * mag;
+                n[i][c] = n64[i][c] as f32;
+                // Rounding to f32 (half an ulp, or 2^-150 in the subnormal range).
+                let to32 = U32 * n64[i][c].abs() + 1e-45;
+                // The f32 dot product: γ₃·|d|·|ñ| (γ₃ < 3.0001·u32).
+                k64 += n_err[i][c] + to32 + 3.0001 * U32 * (n[i][c] as f64).abs();
+            }
+            let sum: f64 = n[i].iter().map(|x| (*x as f64).abs()).sum();
+            usable &= sum.is_finite() && sum < MAX_MAGNITUDE;
+            n_max = n_max.max(sum);
+            k[i] = (k64 * (1.0 + 1e-6)) as f32;
+        }
+        let k_sum = ((k[0] as f64 + k[1] as f64 + k[2] as f64) * (1.0 + 1e-6)) as f32;
+        // det[p₀, p₁, p₂] = p₀·n₀ in f64, with the error of n₀ carried through.
+        let num64: f64 = (0..3).map(|c| p[0][c] * n64[0][c]).sum();
+        let num_err: f64 = (0..3)
+            .map(|c| p[0][c].abs() * (n_err[0][c] + 4.0 * U64 * n64[0][c].abs()))
+            .sum::<f64>()
+            + 4.0 * U64 * (0..3).map(|c| (p[0][c] * n64[0][c]).abs()).sum::<f64>();
+        let num = num64 as f32;
+        let num_err = num_err + U32 * num64.abs() + 1e-45;
+        // The sign of det must be certain and its relative error at most 1/2.
+        usable &= num.is_finite() && (num as f64).abs() > 2.0 * num_err;
+        usable &= num64.abs() < MAX_MAGNITUDE;
+        let r_num = num_err / (num as f64).abs();
+        // See `closest`: |t̃ − t| ≤ |t̃|·(1.4·(r_num + 2.1·u) + 4u + 1.4·ΣK·max|d|/|det̃|),
+        // and 2u more for the rounding of t̃ ± that.
+        let c_t = (1.4 * (r_num + 2.1 * U32) + 6.0 * U32) as f32;
+        Self {
+            n,
+            k,
+            k_sum,
+            n_max: n_max as f32,
+            num,
+            c_t,
+            prim,
+            usable: usable && k_sum.is_finite(),
+        }
+    }
+}
+
+impl OriginTriangles {
+    /// Prepares `tris` for rays from `origin`.
+    pub fn new(tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
+        Self {
+            tris: tris
+                .iter()
+                .map(|(v, p)| OriginTriangle::new(v, origin, *p))
+                .collect(),
+        }
+    }
+}
+
+/// The largest |dₖ| over a packet's directions (NaN if any is NaN).
+pub fn max_component(d: &[f32x8; 3]) -> f32 {
+    let m = d[0].abs().max(d[1].abs()).max(d[2].abs()).to_array();
+    m.iter()
+        .fold(0.0f32, |a, &b| if b.is_nan() { b } else { a.max(b) })
+}
+
+/// The nearest of `tris` along each of 8 directions from their shared origin, for
+/// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
+/// overflow (or a NaN direction) are ambiguous.
+///
+/// Error bound of t, for a lane whose three eᵢ have one certain sign: the computed
+/// det̃ = ẽ₀ + ẽ₁ + ẽ₂ is within ΣK·max|d| + γ₂|det̃|/(1 − γ₂) of the exact one, i.e. a
+/// relative r_det ≤ ΣK·max|d|·|1/det̃|·(1 + u) + 2.1u, kept ≤ 1/4 (else ambiguous); the
+/// numerator's relative error is r_num; t̃ = fl(num·fl(1/det̃)) adds two roundings. Then
+/// |t/t̃ − 1| ≤ (r_num + r_det)/(1 − r_det)·(1 + 3u) + 3u ≤ 1.4·(r_num + r_det) + 4u, and
+/// 1e-37 is added for results in the subnormal range.
+pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
+    let mut prim = [u32::MAX; 8];
+    let all_ambiguous = PacketHits {
+        prim,
+        ambiguous: 0xff,
+    };
+    if !(d_max.is_finite()) {
+        return all_ambiguous;
+    }
+    let inf = f32x8::splat(f32::INFINITY);
+    let (mut best_lo, mut best_hi) = (inf, inf);
+    let mut best_index = f32x8::splat(-1.0);
+    let mut ambiguous = f32x8::ZERO.simd_ne(f32x8::ZERO);
+    let dm = d_max * (1.0 + 1e-6);
+    for (index, tri) in tris.iter().enumerate() {
+        if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
+            return all_ambiguous;
+        }
+        let e = tri.n.map(|n| {
+            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
+        });
+        let bound = tri.k.map(|k| f32x8::splat(k * dm + EDGE_ABS));
+        let pos = [0, 1, 2].map(|i| e[i].simd_gt(bound[i]));
+        let neg = [0, 1, 2].map(|i| e[i].simd_lt(-bound[i]));
+        let any_pos = pos[0] | pos[1] | pos[2];
+        let any_neg = neg[0] | neg[1] | neg[2];
+        let miss = any_pos & any_neg;
+        if miss.all() {
+            continue;
+        }
+        let all_pos = pos[0] & pos[1] & pos[2];
+        let all_neg = neg[0] & neg[1] & neg[2];
+        // In front: the sign of det (that of the eᵢ) is the numerator's.
+        let front = if tri.num > 0.0 { all_pos } else { all_neg };
+        let behind = if tri.num > 0.0 { all_neg } else { all_pos };
+        ambiguous |= !(miss | front | behind);
+        if front.none() {
+            continue;
+        }
+        let det = e[0] + e[1] + e[2];
+        let rcp = f32x8::ONE / det;
+        let t = f32x8::splat(tri.num) * rcp;
+        let r_det = f32x8::splat((tri.k_sum * dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
+        let tight = r_det.simd_le(f32x8::splat(0.25));
+        let err =
+            t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
+        let (lo, hi) = (t - err, t + err);
+        let nearer = hi.simd_lt(best_lo);
+        let farther = lo.simd_gt(best_hi);
+        // Overlapping intervals, or a loose one: the per-ray search orders them.
+        ambiguous |= front & !(tight & (nearer | farther));
+        let take = front & tight & nearer;
+        best_lo = take.bitselect(lo, best_lo);
+        best_hi = take.bitselect(hi, best_hi);
+        best_index = take.bitselect(f32x8::splat(index as f32), best_index);
+    }
+    for (l, &i) in best_index.to_array().iter().enumerate() {
+        if i >= 0.0 {
+            prim[l] = tris[i as usize].prim;
+        }
+    }
+    PacketHits {
+        prim,
+        ambiguous: ambiguous.to_bitmask(),
+    }
+}
