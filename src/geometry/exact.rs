@@ -150,67 +150,119 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (x, (a - av) + (b - bv))
 }
 
-/// x + y = a·b exactly (the fused multiply-add gives the rounding error).
+/// x + y = a·b exactly: the fused multiply-add gives the rounding error where the CPU has it
+/// (compiled in); otherwise Dekker's product with Veltkamp's split (exact for products clear
+/// of overflow and underflow, which [`in_safe_range`] ensures), since software `fma` is slow.
 #[inline]
 fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let x = a * b;
-    (x, a.mul_add(b, -x))
+    if cfg!(target_feature = "fma") {
+        return (x, a.mul_add(b, -x));
+    }
+    let split = |v: f64| {
+        let c = 134_217_729.0 * v; // 2^27 + 1
+        let hi = c - (c - v);
+        (hi, v - hi)
+    };
+    let ((ah, al), (bh, bl)) = (split(a), split(b));
+    let err = ((ah * bh - x) + ah * bl + al * bh) + al * bl;
+    (x, err)
 }
 
-/// e + b, for a nonoverlapping expansion e in increasing magnitude (Shewchuk's
-/// GROW-EXPANSION with zero elimination).
-fn grow(e: &[f64], b: f64) -> Vec<f64> {
-    let mut h = Vec::with_capacity(e.len() + 1);
-    let mut q = b;
-    for &x in e {
-        let (s, err) = two_sum(q, x);
-        if err != 0.0 {
-            h.push(err);
-        }
-        q = s;
-    }
-    if q != 0.0 || h.is_empty() {
-        h.push(q);
-    }
-    h
+/// A nonoverlapping expansion in increasing magnitude, on the stack: the sum of its terms
+/// is the exact value. 32 terms hold everything [`orient`] builds (at most 24).
+#[derive(Clone, Copy)]
+struct Expansion {
+    t: [f64; 32],
+    n: usize,
 }
 
-/// e + f.
-fn expansion_sum(e: &[f64], f: &[f64]) -> Vec<f64> {
-    f.iter().fold(e.to_vec(), |acc, &x| grow(&acc, x))
-}
+impl Expansion {
+    fn of(terms: &[f64]) -> Self {
+        let mut e = Self {
+            t: [0.0; 32],
+            n: terms.len(),
+        };
+        e.t[..terms.len()].copy_from_slice(terms);
+        e
+    }
 
-/// e·b (Shewchuk's SCALE-EXPANSION with zero elimination).
-fn scale(e: &[f64], b: f64) -> Vec<f64> {
-    let mut h = Vec::with_capacity(2 * e.len());
-    let (mut q, err) = two_prod(e[0], b);
-    if err != 0.0 {
-        h.push(err);
+    fn terms(&self) -> &[f64] {
+        &self.t[..self.n]
     }
-    for &x in &e[1..] {
-        let (p1, p0) = two_prod(x, b);
-        let (s, err) = two_sum(q, p0);
-        if err != 0.0 {
-            h.push(err);
+
+    /// self + b in place (Shewchuk's GROW-EXPANSION with zero elimination; each output
+    /// term is written at or before the input term it came from).
+    fn grow(&mut self, b: f64) {
+        let mut q = b;
+        let mut k = 0;
+        for i in 0..self.n {
+            let (s, err) = two_sum(q, self.t[i]);
+            if err != 0.0 {
+                self.t[k] = err;
+                k += 1;
+            }
+            q = s;
         }
-        // |p1| ≥ |s| here, so a fast two-sum would do; the plain one is as exact.
-        let (s2, err) = two_sum(p1, s);
-        if err != 0.0 {
-            h.push(err);
+        if q != 0.0 || k == 0 {
+            self.t[k] = q;
+            k += 1;
         }
-        q = s2;
+        self.n = k;
     }
-    if q != 0.0 || h.is_empty() {
-        h.push(q);
+
+    /// self + f.
+    fn add(mut self, f: &Expansion) -> Self {
+        for &x in f.terms() {
+            self.grow(x);
+        }
+        self
     }
-    h
+
+    /// self·b (Shewchuk's SCALE-EXPANSION with zero elimination).
+    fn scale(&self, b: f64) -> Self {
+        let mut h = Self::of(&[]);
+        let push = |h: &mut Self, x: f64| {
+            if x != 0.0 {
+                h.t[h.n] = x;
+                h.n += 1;
+            }
+        };
+        let e = self.terms();
+        let (mut q, err) = two_prod(e[0], b);
+        push(&mut h, err);
+        for &x in &e[1..] {
+            let (p1, p0) = two_prod(x, b);
+            let (s, err) = two_sum(q, p0);
+            push(&mut h, err);
+            // |p1| ≥ |s| here, so a fast two-sum would do; the plain one is as exact.
+            let (s2, err) = two_sum(p1, s);
+            push(&mut h, err);
+            q = s2;
+        }
+        if q != 0.0 || h.n == 0 {
+            h.t[h.n] = q;
+            h.n += 1;
+        }
+        h
+    }
+
+    /// The sign of the exact value (the largest term's).
+    fn sign(&self) -> Ordering {
+        let top = self.terms().last().copied().unwrap_or(0.0);
+        top.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
+    }
 }
 
 /// a·b − c·d as an expansion.
-fn cross_term(a: f64, b: f64, c: f64, d: f64) -> Vec<f64> {
+fn cross_term(a: f64, b: f64, c: f64, d: f64) -> Expansion {
     let (x1, x0) = two_prod(a, b);
     let (y1, y0) = two_prod(c, d);
-    expansion_sum(&grow(&[x0], x1), &grow(&[-y0], -y1))
+    let mut e = Expansion::of(&[x0]);
+    e.grow(x1);
+    e.grow(-y0);
+    e.grow(-y1);
+    e
 }
 
 /// Inputs whose products of three stay clear of f64 underflow and overflow (every f32 is).
@@ -236,14 +288,12 @@ pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Orde
         (pa[k], pb[k]) = (x, y);
     }
     let terms = [
-        scale(&cross_term(pa[1], pb[2], pa[2], pb[1]), d[0]),
-        scale(&cross_term(pa[2], pb[0], pa[0], pb[2]), d[1]),
-        scale(&cross_term(pa[0], pb[1], pa[1], pb[0]), d[2]),
+        cross_term(pa[1], pb[2], pa[2], pb[1]).scale(d[0]),
+        cross_term(pa[2], pb[0], pa[0], pb[2]).scale(d[1]),
+        cross_term(pa[0], pb[1], pa[1], pb[0]).scale(d[2]),
     ];
-    let sum = expansion_sum(&expansion_sum(&terms[0], &terms[1]), &terms[2]);
     // Nonoverlapping, increasing magnitude, zeros removed: the last term carries the sign.
-    let top = *sum.last().unwrap_or(&0.0);
-    Some(top.partial_cmp(&0.0).unwrap_or(Ordering::Equal))
+    Some(terms[0].add(&terms[1]).add(&terms[2]).sign())
 }
 
 /// The exact sign of det[d, a − o, b − o] in rationals (any finite inputs).
@@ -366,6 +416,36 @@ mod tests {
                     orient_rational(d, p[1], p[2], p[3])
                 );
             }
+        }
+    }
+
+    #[test]
+    fn orient_is_exact_for_full_mantissas_and_wide_magnitudes() {
+        // Full 24-bit mantissas over 1e-20..1e20, the products' low halves nonzero: the
+        // split product (no FMA in the baseline x86-64 build) must stay exact.
+        let mut x = 987654321u64;
+        let mut next = |scale: f64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let m = (x >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
+            (m * scale) as f32 as f64
+        };
+        for i in 0..3000 {
+            let scale = 10f64.powi((i % 41) as i32 - 20);
+            let p: Vec<[f64; 3]> = (0..4)
+                .map(|_| [next(scale), next(scale), next(scale)])
+                .collect();
+            let mid = [0, 1, 2].map(|k| ((0.5 * (p[2][k] + p[3][k])) as f32) as f64 - p[1][k]);
+            for d in [p[0], mid] {
+                if let Some(s) = orient(d, p[1], p[2], p[3]) {
+                    assert_eq!(s, orient_rational(d, p[1], p[2], p[3]), "{d:?} {p:?}");
+                }
+            }
+            // Full 53-bit mantissas for the product itself.
+            let (a, b) = (next(scale) * (1.0 + 1e-9), next(1.0 / scale) * (1.0 - 3e-10));
+            let (hi, lo) = two_prod(a, b);
+            assert_eq!(q(hi) + q(lo), q(a) * q(b), "{a} * {b}");
         }
     }
 

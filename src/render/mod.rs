@@ -91,37 +91,83 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
 /// Side of the square tiles camera rays are traced in.
 pub const TILE: u32 = 8;
 
-/// Screen-space bounds of each triangle of a flat (small) scene, for tile culling: the pixel
-/// rectangle (x0, y0, x1, y1) its projection covers, widened by a pixel for rounding, or
-/// `None` where a vertex is not in front of the camera (such a triangle is kept for every
-/// tile). A camera ray through image position (x, y) can only hit a triangle whose rectangle
-/// holds (x, y), since a triangle in front of the pinhole projects to a triangle.
-fn screen_bounds(
+/// Where a triangle of a flat (small) scene can appear on screen, for tile culling: its
+/// projection's bounding rectangle and edge lines, widened by a pixel for rounding. A camera
+/// ray through image position (x, y) can only hit a triangle in front of the pinhole whose
+/// projection (a triangle) holds (x, y).
+#[derive(Clone, Copy, Debug)]
+struct ScreenTriangle {
+    /// x0, y0, x1, y1.
+    bounds: [f32; 4],
+    /// a·x + b·y + c ≥ −1 (a, b unit) on the triangle's side of each edge, for each edge.
+    edges: [[f64; 3]; 3],
+}
+
+impl ScreenTriangle {
+    /// `None` where a vertex is not in front of the camera (such a triangle is kept for
+    /// every tile).
+    fn new(
+        v: &[[f32; 3]; 3],
+        from_world: &glam::DMat4,
+        (cx, cy, f): (f64, f64, f64),
+    ) -> Option<Self> {
+        let mut q = [[0.0f64; 2]; 3];
+        for (p, s) in v.iter().zip(&mut q) {
+            let c = from_world.transform_point3(DVec3::from_array(p.map(f64::from)));
+            if c.z <= 1e-9 * c.length() {
+                return None;
+            }
+            *s = [f * c.x / c.z + cx, f * c.y / c.z + cy];
+        }
+        let lo = [0, 1].map(|k| q[0][k].min(q[1][k]).min(q[2][k]) as f32 - 1.0);
+        let hi = [0, 1].map(|k| q[0][k].max(q[1][k]).max(q[2][k]) as f32 + 1.0);
+        let area =
+            (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
+        let side = if area < 0.0 { -1.0 } else { 1.0 };
+        let edges = [0, 1, 2].map(|i| {
+            let (p, r) = (q[i], q[(i + 1) % 3]);
+            let (a, b) = (-(r[1] - p[1]) * side, (r[0] - p[0]) * side);
+            let len = a.hypot(b);
+            if !(len > 1e-9) || !area.is_finite() || area == 0.0 {
+                // Seen edge-on or degenerate on screen: the rectangle alone decides.
+                return [0.0, 0.0, 1.0];
+            }
+            let (a, b) = (a / len, b / len);
+            [a, b, -(a * p[0] + b * p[1])]
+        });
+        Some(Self {
+            bounds: [lo[0], lo[1], hi[0], hi[1]],
+            edges,
+        })
+    }
+
+    /// Whether the triangle may show in the rectangle [x0, x1] × [y0, y1].
+    #[inline]
+    fn meets(&self, x0: f32, y0: f32, x1: f32, y1: f32) -> bool {
+        let b = &self.bounds;
+        if b[2] < x0 || b[0] > x1 || b[3] < y0 || b[1] > y1 {
+            return false;
+        }
+        self.edges.iter().all(|[a, bb, c]| {
+            // The rectangle's corner farthest along the edge's inward normal.
+            let x = if *a > 0.0 { x1 } else { x0 } as f64;
+            let y = if *bb > 0.0 { y1 } else { y0 } as f64;
+            a * x + bb * y + c >= -1.0
+        })
+    }
+}
+
+/// [`ScreenTriangle`]s of a flat scene's triangles.
+fn screen_triangles(
     tris: &[IndexedTriangle],
     camera: &Camera,
     w: u32,
     h: u32,
-) -> Vec<Option<[f32; 4]>> {
+) -> Vec<Option<ScreenTriangle>> {
     let from_world = camera.camera_from_world();
-    let (cx, cy, f) = (w as f64 / 2.0, h as f64 / 2.0, camera.focal);
+    let frame = (w as f64 / 2.0, h as f64 / 2.0, camera.focal);
     tris.iter()
-        .map(|(v, _)| {
-            let mut b = [
-                f32::INFINITY,
-                f32::INFINITY,
-                f32::NEG_INFINITY,
-                f32::NEG_INFINITY,
-            ];
-            for p in v {
-                let q = from_world.transform_point3(DVec3::from_array(p.map(f64::from)));
-                if q.z <= 1e-9 * q.length() {
-                    return None;
-                }
-                let (x, y) = ((f * q.x / q.z + cx) as f32, (f * q.y / q.z + cy) as f32);
-                b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
-            }
-            Some([b[0] - 1.0, b[1] - 1.0, b[2] + 1.0, b[3] + 1.0])
-        })
+        .map(|(v, _)| ScreenTriangle::new(v, &from_world, frame))
         .collect()
 }
 
@@ -168,7 +214,7 @@ pub fn render_into_cancellable(
             if settings.tile_culling
                 && matches!(settings.method, Method::Watertight | Method::Adaptive) =>
         {
-            Some((tris, screen_bounds(tris, camera, w, h)))
+            Some((tris, screen_triangles(tris, camera, w, h)))
         }
         _ => None,
     };
@@ -186,6 +232,7 @@ pub fn render_into_cancellable(
         gen,
         inv_n: 1.0 / settings.spp as f32,
         weight: 1.0 / (settings.spp * settings.spp) as f32,
+        srgb: SrgbTables::get(),
         row_bytes: w as usize * 4,
     };
     let (hits, shadow_rays) = rgba
@@ -213,8 +260,8 @@ pub fn render_into_cancellable(
                 };
                 let (tx0, ty0) = (tile.x0 as f32, tile.y0 as f32);
                 let (tx1, ty1) = ((tile.x0 + tile.w) as f32, (tile.y0 + tile.h) as f32);
-                let meets = |b: &Option<[f32; 4]>| match b {
-                    Some(b) => !(b[2] < tx0 || b[0] > tx1 || b[3] < ty0 || b[1] > ty1),
+                let meets = |b: &Option<ScreenTriangle>| match b {
+                    Some(b) => b.meets(tx0, ty0, tx1, ty1),
                     None => true,
                 };
                 subset.clear();
@@ -273,6 +320,7 @@ struct Frame<'a> {
     inv_n: f32,
     /// 1/n² for n×n samples.
     weight: f32,
+    srgb: &'static SrgbTables,
     row_bytes: usize,
 }
 
@@ -315,11 +363,11 @@ impl Frame<'_> {
     /// Writes pixel (i, row) from its samples' summed linear colour.
     #[inline]
     fn put(&self, row: &mut [u8], i: u32, sum: Rgb) {
-        let weight = self.weight;
+        let (weight, srgb) = (self.weight, self.srgb);
         let px = &mut row[i as usize * 4..][..4];
-        px[0] = linear_to_srgb8(sum[0] * weight);
-        px[1] = linear_to_srgb8(sum[1] * weight);
-        px[2] = linear_to_srgb8(sum[2] * weight);
+        px[0] = srgb.encode(sum[0] * weight);
+        px[1] = srgb.encode(sum[1] * weight);
+        px[2] = srgb.encode(sum[2] * weight);
         px[3] = 255;
     }
 
@@ -375,27 +423,30 @@ impl Frame<'_> {
             sums.fill([0.0; 3]);
             for sy in 0..n {
                 for sx in 0..n {
-                    let mut xs = [0.0f32; 8];
-                    let mut y = 0.0;
-                    for (l, x) in xs.iter_mut().enumerate() {
-                        // Lanes past the tile's right edge repeat its last pixel.
-                        let i = tile.x0 + (l as u32).min(tile.w - 1);
-                        (*x, y) = self.sample(i, j, sx, sy);
-                    }
+                    // The image positions of `sample`, with the same operations.
+                    let off_x = (sx as f32 + 0.5) * self.inv_n;
+                    let y = j as f32 + (sy as f32 + 0.5) * self.inv_n;
+                    // Lanes past the tile's right edge repeat its last pixel.
+                    let xs = std::array::from_fn(|l| {
+                        (tile.x0 + (l as u32).min(tile.w - 1)) as f32 + off_x
+                    });
                     let dirs = self.gen.directions_x8(f32x8::from(xs), y);
                     let found = packet::closest(tris, &dirs, packet::max_component(&dirs));
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
-                        let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
-                        let colour = if found.ambiguous & (1 << l) != 0 {
+                        let ambiguous = found.ambiguous & (1 << l) != 0;
+                        let prim = found.prim[l];
+                        if prim == u32::MAX && !ambiguous {
+                            continue;
+                        }
+                        let colour = if ambiguous {
+                            let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
                             let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
                             self.trace_ray(&ray, Some(b), &mut counts.1)
-                        } else if found.prim[l] == u32::MAX {
-                            None
                         } else if settings.step == LabStep::Flat {
-                            Some(scene.colors[found.prim[l] as usize])
+                            Some(scene.colors[prim as usize])
                         } else {
-                            let prim = found.prim[l];
+                            let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
                             let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
                                 unreachable!("flat scenes hold triangles only")
                             };
@@ -448,42 +499,58 @@ pub fn render_image(
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1] and
 /// rounded to 8 bits. NaN maps to 0.
+pub fn linear_to_srgb8(x: f32) -> u8 {
+    SrgbTables::get().encode(x)
+}
+
+/// The tables behind [`linear_to_srgb8`].
 ///
 /// No `powf`: the code is the number of the 255 decision levels (the linear values where the
 /// rounded code steps up, computed once in f64) at or below `x`. A 4096-entry table gives that
 /// count at the start of x's bin, and since the curve's steepest slope (12.92·255 codes per
 /// unit, at 0) is under one code per bin, one comparison finishes it, with no branch.
-pub fn linear_to_srgb8(x: f32) -> u8 {
-    const BINS: usize = 4096;
-    struct Tables {
-        levels: [f32; 256],
-        start: [u8; BINS],
+struct SrgbTables {
+    levels: [f32; 256],
+    start: [u8; SRGB_BINS],
+}
+
+const SRGB_BINS: usize = 4096;
+
+impl SrgbTables {
+    /// The tables, built on first use.
+    fn get() -> &'static SrgbTables {
+        static TABLES: std::sync::LazyLock<SrgbTables> = std::sync::LazyLock::new(|| {
+            let mut levels = [f32::INFINITY; 256];
+            for (k, level) in levels.iter_mut().take(255).enumerate() {
+                // The code steps from k to k + 1 where the encoded value reaches (k + 0.5)/255.
+                let s = (k as f64 + 0.5) / 255.0;
+                let lin = if s <= 0.04045 {
+                    s / 12.92
+                } else {
+                    ((s + 0.055) / 1.055).powf(2.4)
+                };
+                *level = lin as f32;
+            }
+            let start = std::array::from_fn(|b| {
+                levels.partition_point(|&l| l <= b as f32 / SRGB_BINS as f32) as u8
+            });
+            SrgbTables { levels, start }
+        });
+        &TABLES
     }
-    static TABLES: std::sync::LazyLock<Tables> = std::sync::LazyLock::new(|| {
-        let mut levels = [f32::INFINITY; 256];
-        for (k, level) in levels.iter_mut().take(255).enumerate() {
-            // The code steps from k to k + 1 where the encoded value reaches (k + 0.5)/255.
-            let s = (k as f64 + 0.5) / 255.0;
-            let lin = if s <= 0.04045 {
-                s / 12.92
-            } else {
-                ((s + 0.055) / 1.055).powf(2.4)
-            };
-            *level = lin as f32;
+
+    #[inline]
+    fn encode(&self, x: f32) -> u8 {
+        if !(x > 0.0) {
+            return 0;
         }
-        let start =
-            std::array::from_fn(|b| levels.partition_point(|&l| l <= b as f32 / BINS as f32) as u8);
-        Tables { levels, start }
-    });
-    if x.is_nan() || x <= 0.0 {
-        return 0;
+        if x >= 1.0 {
+            return 255;
+        }
+        // 0 < x < 1, so the bin is below 4096 (the mask only spares the bounds check).
+        let c = self.start[(x * SRGB_BINS as f32) as u32 as usize & (SRGB_BINS - 1)];
+        c + (self.levels[c as usize] <= x) as u8
     }
-    if x >= 1.0 {
-        return 255;
-    }
-    let t = &*TABLES;
-    let c = t.start[((x * BINS as f32) as usize).min(BINS - 1)];
-    c + (t.levels[c as usize] <= x) as u8
 }
 
 /// The exact curve with `powf`, kept to test the table against.
