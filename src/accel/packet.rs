@@ -157,9 +157,8 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// |t/t̃ − 1| ≤ (r_num + r_det)/(1 − r_det)·(1 + 3u) + 3u ≤ 1.4·(r_num + r_det) + 4u, and
 /// 1e-37 is added for results in the subnormal range.
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    let mut prim = [u32::MAX; 8];
     let all_ambiguous = PacketHits {
-        prim,
+        prim: [u32::MAX; 8],
         ambiguous: 0xff,
     };
     if !(d_max.is_finite()) {
@@ -167,10 +166,11 @@ pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHit
     }
     let inf = f32x8::splat(f32::INFINITY);
     let (mut best_lo, mut best_hi) = (inf, inf);
-    let mut best_index = f32x8::splat(-1.0);
+    // Primitive indices as bit patterns (only ever moved bitwise); u32::MAX for none.
+    let mut best_prim = f32x8::splat(f32::from_bits(u32::MAX));
     let mut ambiguous = f32x8::ZERO.simd_ne(f32x8::ZERO);
     let dm = d_max * (1.0 + 1e-6);
-    for (index, tri) in tris.iter().enumerate() {
+    for tri in tris {
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
             return all_ambiguous;
         }
@@ -210,15 +210,10 @@ pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHit
         let take = front & tight & nearer;
         best_lo = take.bitselect(lo, best_lo);
         best_hi = take.bitselect(hi, best_hi);
-        best_index = take.bitselect(f32x8::splat(index as f32), best_index);
-    }
-    for (l, &i) in best_index.to_array().iter().enumerate() {
-        if i >= 0.0 {
-            prim[l] = tris[i as usize].prim;
-        }
+        best_prim = take.bitselect(f32x8::splat(f32::from_bits(tri.prim)), best_prim);
     }
     PacketHits {
-        prim,
+        prim: best_prim.to_array().map(f32::to_bits),
         ambiguous: ambiguous.to_bitmask(),
     }
 }

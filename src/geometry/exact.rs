@@ -432,7 +432,7 @@ mod tests {
             (m * scale) as f32 as f64
         };
         for i in 0..3000 {
-            let scale = 10f64.powi((i % 41) as i32 - 20);
+            let scale = 10f64.powi(i % 41 - 20);
             let p: Vec<[f64; 3]> = (0..4)
                 .map(|_| [next(scale), next(scale), next(scale)])
                 .collect();
@@ -443,7 +443,10 @@ mod tests {
                 }
             }
             // Full 53-bit mantissas for the product itself.
-            let (a, b) = (next(scale) * (1.0 + 1e-9), next(1.0 / scale) * (1.0 - 3e-10));
+            let (a, b) = (
+                next(scale) * (1.0 + 1e-9),
+                next(1.0 / scale) * (1.0 - 3e-10),
+            );
             let (hi, lo) = two_prod(a, b);
             assert_eq!(q(hi) + q(lo), q(a) * q(b), "{a} * {b}");
         }

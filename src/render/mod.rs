@@ -128,7 +128,7 @@ impl ScreenTriangle {
             let (p, r) = (q[i], q[(i + 1) % 3]);
             let (a, b) = (-(r[1] - p[1]) * side, (r[0] - p[0]) * side);
             let len = a.hypot(b);
-            if !(len > 1e-9) || !area.is_finite() || area == 0.0 {
+            if len.is_nan() || len <= 1e-9 || !area.is_finite() || area == 0.0 {
                 // Seen edge-on or degenerate on screen: the rectangle alone decides.
                 return [0.0, 0.0, 1.0];
             }
@@ -506,15 +506,20 @@ pub fn linear_to_srgb8(x: f32) -> u8 {
 /// The tables behind [`linear_to_srgb8`].
 ///
 /// No `powf`: the code is the number of the 255 decision levels (the linear values where the
-/// rounded code steps up, computed once in f64) at or below `x`. A 4096-entry table gives that
-/// count at the start of x's bin, and since the curve's steepest slope (12.92·255 codes per
-/// unit, at 0) is under one code per bin, one comparison finishes it, with no branch.
+/// rounded code steps up, computed once in f64) at or below `x`. The bin of x is read off its
+/// bits (exponent and 8 mantissa bits: bins 2^-8 wide relative to x, from 2^-13 up, below
+/// which the code is 0); a table gives the count at the start of the bin, and since the curve
+/// rises by at most 0.44 codes across a bin (255·x·srgb'(x) ≤ 112 per unit of ln x), one
+/// comparison finishes it, with no branch.
 struct SrgbTables {
     levels: [f32; 256],
     start: [u8; SRGB_BINS],
 }
 
-const SRGB_BINS: usize = 4096;
+/// The first bin: x = 2^-13 (exponent 114, mantissa 0) shifted right by 15.
+const SRGB_FIRST_BIN: usize = 114 << 8;
+/// Bins from 2^-13 up to 1: 13 binades of 256.
+const SRGB_BINS: usize = 13 << 8;
 
 impl SrgbTables {
     /// The tables, built on first use.
@@ -532,7 +537,8 @@ impl SrgbTables {
                 *level = lin as f32;
             }
             let start = std::array::from_fn(|b| {
-                levels.partition_point(|&l| l <= b as f32 / SRGB_BINS as f32) as u8
+                let x = f32::from_bits(((b + SRGB_FIRST_BIN) << 15) as u32);
+                levels.partition_point(|&l| l <= x) as u8
             });
             SrgbTables { levels, start }
         });
@@ -541,14 +547,17 @@ impl SrgbTables {
 
     #[inline]
     fn encode(&self, x: f32) -> u8 {
-        if !(x > 0.0) {
+        if x.is_nan() || x <= 0.0 {
             return 0;
         }
         if x >= 1.0 {
             return 255;
         }
-        // 0 < x < 1, so the bin is below 4096 (the mask only spares the bounds check).
-        let c = self.start[(x * SRGB_BINS as f32) as u32 as usize & (SRGB_BINS - 1)];
+        // 0 < x < 1: the bin is below SRGB_BINS, or "negative" (wrapped) below 2^-13.
+        let bin = ((x.to_bits() >> 15) as usize).wrapping_sub(SRGB_FIRST_BIN);
+        let Some(&c) = self.start.get(bin) else {
+            return 0;
+        };
         c + (self.levels[c as usize] <= x) as u8
     }
 }
