@@ -228,3 +228,51 @@ fn hostile_packets_are_left_to_the_per_ray_search() {
     let d = [f32x8::splat(0.0), f32x8::splat(0.0), f32x8::splat(1.0)];
     assert_eq!(packet::closest(&prepared.tris, &d, 1.0).ambiguous, 0xff);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn bvh_from_the_camera_origin_names_the_same_primitive(seed in any::<u64>()) {
+        // A closed mesh and random triangles (a BVH: at least 64), rays from one origin:
+        // the prepared-origin search must name exactly the per-ray adaptive search's
+        // primitive, and a hit point within rounding of it.
+        let mut rng = Rng(seed);
+        let mut shapes = icosphere(2, 1.0, [0.3, -0.2, 0.1]);
+        for _ in 0..rng.below(200) {
+            let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
+            let size = 10f64.powf(rng.range(-2.0, 0.0));
+            shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+                [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
+            })));
+        }
+        shapes.push(shapes[5]);
+        let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
+        let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
+        let prepared = accel.prepare_origin(o).unwrap();
+        for _ in 0..64 {
+            let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else { unreachable!() };
+            let target = match rng.below(3) {
+                0 => v[rng.below(3)],
+                1 => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
+                _ => [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32),
+            };
+            let ray = Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]));
+            let want = accel.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let got = accel.closest_hit_from_origin(&ray, &prepared, 0.0, f32::INFINITY);
+            prop_assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim));
+            if let (Some(g), Some(w)) = (got, want) {
+                let (pg, pw) = (ray.at(g.t), ray.at(w.t));
+                let scale = 1e-5 * (1.0 + o.iter().map(|c| c.abs()).fold(0.0, f32::max));
+                for k in 0..3 {
+                    prop_assert!((pg[k] - pw[k]).abs() <= scale, "{:?} vs {:?}", pg, pw);
+                }
+            }
+        }
+        // A ray from elsewhere is not misanswered: it falls back to the per-ray search.
+        let other = Ray::new([o[0] + 1.0, o[1], o[2]], [0.1, 0.2, -1.0]);
+        prop_assert_eq!(
+            accel.closest_hit_from_origin(&other, &prepared, 0.0, f32::INFINITY).map(|h| h.prim),
+            accel.closest_hit(&other, Method::Adaptive, 0.0, f32::INFINITY).map(|h| h.prim)
+        );
+    }
+}

@@ -10,6 +10,7 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
+use super::packet::OriginTriangle;
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -161,6 +162,52 @@ impl Bvh {
         self.traverse(ray, tmin, tmax, |first, count, _, _| {
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
+                if est != Estimate::Miss {
+                    search.offer_triangle(self.prims[i], &self.tris[i], est);
+                }
+            }
+            (search.t_far32(), false)
+        });
+    }
+
+    /// How many triangles.
+    pub fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.tris.is_empty()
+    }
+
+    /// The triangles in the hierarchy's order (leaves index into it), with their primitives.
+    pub fn ordered_triangles(&self) -> Vec<IndexedTriangle> {
+        self.tris
+            .iter()
+            .copied()
+            .zip(self.prims.iter().copied())
+            .collect()
+    }
+
+    /// [`Bvh::closest_hit_adaptive`] for a ray leaving the origin `prepared` was made for
+    /// (from [`Bvh::ordered_triangles`]): the f32 level is the shared-origin test of
+    /// [`super::packet`], three dot products per triangle instead of the sheared test.
+    pub fn closest_hit_from_origin(
+        &self,
+        ray: &Ray,
+        prepared: &[OriginTriangle],
+        search: &mut Search,
+    ) {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let d_max = ray.d.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        let d_max = if ray.d.iter().any(|c| c.is_nan()) {
+            f32::NAN
+        } else {
+            d_max
+        };
+        self.traverse(ray, tmin, tmax, |first, count, _, _| {
+            for i in first..first + count {
+                let est = prepared[i].estimate(ray.d, d_max);
                 if est != Estimate::Miss {
                     search.offer_triangle(self.prims[i], &self.tris[i], est);
                 }

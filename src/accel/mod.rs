@@ -199,6 +199,46 @@ impl Accel {
         best
     }
 
+    /// The triangles prepared for rays from `origin` ([`packet::OriginTriangles`]) in the
+    /// order [`Accel::closest_hit_from_origin`] needs, for a BVH (`None` for the flat loop,
+    /// whose camera rays the renderer traces in tile packets instead).
+    pub fn prepare_origin(&self, origin: [f32; 3]) -> Option<packet::OriginTriangles> {
+        match &self.triangles {
+            Triangles::Bvh(b) => Some(packet::OriginTriangles::new(&b.ordered_triangles(), origin)),
+            Triangles::Flat(_) => None,
+        }
+    }
+
+    /// The adaptive nearest hit for a ray from the origin `prepared` was made for: the same
+    /// primitive as [`Accel::closest_hit`] with [`Method::Adaptive`], found with the cheaper
+    /// shared-origin f32 level. Falls back to that when the structure is not a BVH.
+    pub fn closest_hit_from_origin(
+        &self,
+        ray: &Ray,
+        prepared: &packet::OriginTriangles,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<Hit> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
+        };
+        if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits)
+            || prepared.tris.len() != b.len()
+        {
+            return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
+        }
+        let mut search = Search::new(ray, tmin, tmax);
+        b.closest_hit_from_origin(ray, &prepared.tris, &mut search);
+        for &(c, r, prim) in &self.spheres {
+            let sphere = widen(&Shape::Sphere {
+                centre: c,
+                radius: r,
+            });
+            search.offer_shape(prim, sphere, Estimate::Unsure);
+        }
+        search.hit()
+    }
+
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
         self.any_hit_except(ray, method, tmin, tmax, u32::MAX)

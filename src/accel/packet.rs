@@ -15,6 +15,8 @@
 //! exactly the one the per-ray search returns.
 
 use super::IndexedTriangle;
+use crate::geometry::adaptive::{Approx, Estimate};
+use rayon::prelude::*;
 use wide::f32x8;
 
 /// Unit roundoff of f32 and f64.
@@ -46,6 +48,12 @@ pub struct OriginTriangle {
     num: f32,
     /// Relative error coefficient of t apart from the determinant's part.
     c_t: f32,
+    /// The normal (v₁ − v₀) × (v₂ − v₀) rounded to f32: d·n is the determinant of t without
+    /// the cancellation of e₀ + e₁ + e₂ (for a small triangle far from the origin the eᵢ are
+    /// large and their sum small).
+    normal: [f32; 3],
+    /// |computed d·normal − exact| ≤ k_det·max|dₖ| + [`EDGE_ABS`].
+    k_det: f32,
     /// Primitive index in the scene.
     pub prim: u32,
     /// False where the bounds cannot be used (the origin within rounding of the triangle's
@@ -58,6 +66,8 @@ pub struct OriginTriangle {
 pub struct OriginTriangles {
     /// In the order given.
     pub tris: Vec<OriginTriangle>,
+    /// The origin they were prepared for.
+    pub origin: [f32; 3],
 }
 
 /// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
@@ -111,6 +121,24 @@ impl OriginTriangle {
         usable &= num.is_finite() && (num as f64).abs() > 2.0 * num_err;
         usable &= num64.abs() < MAX_MAGNITUDE;
         let r_num = num_err / (num as f64).abs();
+        let (normal, k_det) = {
+            let e1 = std::array::from_fn::<f64, 3, _>(|a| v[1][a] as f64 - v[0][a] as f64);
+            let e2 = std::array::from_fn::<f64, 3, _>(|a| v[2][a] as f64 - v[0][a] as f64);
+            let mut normal = [0f32; 3];
+            let mut k = 0.0;
+            for c in 0..3 {
+                let (y, z) = ((c + 1) % 3, (c + 2) % 3);
+                let n = e1[y] * e2[z] - e1[z] * e2[y];
+                let mag = (e1[y] * e2[z]).abs() + (e1[z] * e2[y]).abs();
+                normal[c] = n as f32;
+                k += 8.0 * U64 * mag
+                    + U32 * n.abs()
+                    + 1e-45
+                    + 3.0001 * U32 * (normal[c] as f64).abs();
+            }
+            (normal, (k * (1.0 + 1e-6)) as f32)
+        };
+        usable &= normal.iter().all(|c| c.is_finite());
         // See `closest`: |t̃ − t| ≤ |t̃|·(1.4·(r_num + 2.1·u) + 4u + 1.4·ΣK·max|d|/|det̃|),
         // and 2u more for the rounding of t̃ ± that.
         let c_t = (1.4 * (r_num + 2.1 * U32) + 6.0 * U32) as f32;
@@ -121,6 +149,8 @@ impl OriginTriangle {
             n_max: n_max as f32,
             num,
             c_t,
+            normal,
+            k_det,
             prim,
             usable: usable && k_sum.is_finite(),
         }
@@ -128,14 +158,64 @@ impl OriginTriangle {
 }
 
 impl OriginTriangles {
-    /// Prepares `tris` for rays from `origin`.
+    /// Prepares `tris` for rays from `origin` (in parallel for large meshes).
     pub fn new(tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
+        let prepare = |(v, p): &IndexedTriangle| OriginTriangle::new(v, origin, *p);
         Self {
-            tris: tris
-                .iter()
-                .map(|(v, p)| OriginTriangle::new(v, origin, *p))
-                .collect(),
+            tris: if tris.len() >= 4096 {
+                tris.par_iter().map(prepare).collect()
+            } else {
+                tris.iter().map(prepare).collect()
+            },
+            origin,
         }
+    }
+}
+
+impl OriginTriangle {
+    /// One ray's estimate (the edge tests of [`closest`] for a single direction d from the
+    /// prepared origin, `d_max` = max|dₖ|), as the adaptive search's f32 level reports it: a
+    /// certain miss, a certain crossing of the line with t in an interval, or unsure. Here t's
+    /// determinant is d·normal, and a t whose bound exceeds about 6e-6 relative is left to the
+    /// per-ray levels (which also keep the t they report that close).
+    #[inline]
+    pub fn estimate(&self, d: [f32; 3], d_max: f32) -> Estimate {
+        let dm = d_max * (1.0 + 1e-6);
+        if !self.usable || self.n_max * dm >= MAX_PRODUCT || d_max.is_nan() {
+            return Estimate::Unsure;
+        }
+        let e = self.n.map(|n| d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
+        let bound = self.k.map(|k| k * dm + EDGE_ABS);
+        let pos = [0, 1, 2].map(|i| e[i] > bound[i]);
+        let neg = [0, 1, 2].map(|i| e[i] < -bound[i]);
+        if pos.contains(&true) && neg.contains(&true) {
+            return Estimate::Miss;
+        }
+        if !(pos == [true; 3] || neg == [true; 3]) {
+            return Estimate::Unsure;
+        }
+        let n = self.normal;
+        let det = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        let rcp = 1.0 / det;
+        let t = self.num * rcp;
+        let r_det = ((self.k_det * dm + EDGE_ABS) * 1.0001) * rcp.abs();
+        if r_det.is_nan() || r_det > 4e-6 {
+            return Estimate::Unsure;
+        }
+        let sum = e[0] + e[1] + e[2];
+        let err = t.abs() * (self.c_t + 1.4 * r_det) + 1e-37;
+        let (lo, hi) = (t - err, t + err);
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Estimate::Unsure;
+        }
+        Estimate::Hit(Approx {
+            t: t as f64,
+            lo: lo as f64,
+            hi: hi as f64,
+            b1: (e[1] / sum) as f64,
+            b2: (e[2] / sum) as f64,
+            level: 0,
+        })
     }
 }
 

@@ -226,9 +226,18 @@ pub fn render_into_cancellable(
         }
         _ => None,
     };
+    // A large mesh's triangles prepared for the camera position: a cheaper f32 level for the
+    // adaptive search of each camera ray through the BVH.
+    let from_camera = match &culled {
+        None if settings.method == Method::Adaptive && !settings.cracks => {
+            accel.prepare_origin(gen.origin())
+        }
+        _ => None,
+    };
     let frame = Frame {
         scene,
         settings,
+        from_camera,
         gen,
         inv_n: 1.0 / settings.spp as f32,
         weight: 1.0 / (settings.spp * settings.spp) as f32,
@@ -316,6 +325,8 @@ struct Tile {
 struct Frame<'a> {
     scene: &'a Scene,
     settings: &'a RenderSettings,
+    /// The scene's BVH triangles prepared for the camera position (adaptive method).
+    from_camera: Option<OriginTriangles>,
     gen: RayGenerator,
     inv_n: f32,
     /// 1/n² for n×n samples.
@@ -346,6 +357,13 @@ impl Frame<'_> {
             return Some(CRACK);
         }
         let Some(b) = blocks else {
+            if let Some(prepared) = &self.from_camera {
+                let hit =
+                    scene
+                        .accel()
+                        .closest_hit_from_origin(ray, prepared, 0.0, f32::INFINITY)?;
+                return Some(shade_hit(scene, ray, &hit, settings, shadow_rays));
+            }
             return trace_pixel_ray(scene, ray, settings, shadow_rays);
         };
         let hit = WatertightRay::new(ray.o, ray.d).and_then(|r| {
