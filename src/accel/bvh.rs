@@ -206,10 +206,15 @@ impl Bvh {
             d_max
         };
         self.traverse(ray, tmin, tmax, |first, count, _, _| {
-            for i in first..first + count {
-                let est = prepared[i].estimate(ray.d, d_max);
+            let leaf = first..first + count;
+            for ((p, tri), prim) in prepared[leaf.clone()]
+                .iter()
+                .zip(&self.tris[leaf.clone()])
+                .zip(&self.prims[leaf])
+            {
+                let est = p.estimate(ray.d, d_max);
                 if est != Estimate::Miss {
-                    search.offer_triangle(self.prims[i], &self.tris[i], est);
+                    search.offer_triangle(*prim, tri, est);
                 }
             }
             (search.t_far32(), false)

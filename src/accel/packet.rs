@@ -126,15 +126,12 @@ impl OriginTriangle {
             let e2 = std::array::from_fn::<f64, 3, _>(|a| v[2][a] as f64 - v[0][a] as f64);
             let mut normal = [0f32; 3];
             let mut k = 0.0;
-            for c in 0..3 {
+            for (c, nc) in normal.iter_mut().enumerate() {
                 let (y, z) = ((c + 1) % 3, (c + 2) % 3);
                 let n = e1[y] * e2[z] - e1[z] * e2[y];
                 let mag = (e1[y] * e2[z]).abs() + (e1[z] * e2[y]).abs();
-                normal[c] = n as f32;
-                k += 8.0 * U64 * mag
-                    + U32 * n.abs()
-                    + 1e-45
-                    + 3.0001 * U32 * (normal[c] as f64).abs();
+                *nc = n as f32;
+                k += 8.0 * U64 * mag + U32 * n.abs() + 1e-45 + 3.0001 * U32 * (*nc as f64).abs();
             }
             (normal, (k * (1.0 + 1e-6)) as f32)
         };
