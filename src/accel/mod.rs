@@ -264,18 +264,20 @@ impl Accel {
                 Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search, skip),
                 Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search, skip),
             };
+            if tri || self.spheres.is_empty() {
+                return tri;
+            }
             let nearest = Nearest::new(ray, tmin, tmax);
-            return tri
-                || self.spheres.iter().any(|&(c, r, prim)| {
-                    prim != skip
-                        && nearest.confirms(
-                            widen(&Shape::Sphere {
-                                centre: c,
-                                radius: r,
-                            }),
-                            Estimate::Unsure,
-                        )
-                });
+            return self.spheres.iter().any(|&(c, r, prim)| {
+                prim != skip
+                    && nearest.confirms(
+                        widen(&Shape::Sphere {
+                            centre: c,
+                            radius: r,
+                        }),
+                        Estimate::Unsure,
+                    )
+            });
         }
         let tri = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {

@@ -234,10 +234,23 @@ fn shear(v: &[[f32x8; 3]; 3], r: &WatertightRay<f32>) -> ([[f32x8; 3]; 3], [f32x
         f32x8::splat(r.o[ky]),
         f32x8::splat(r.o[kz]),
     );
-    let [a, b, c] = v.each_ref().map(|p| {
+    // Written out rather than with `array::map`, which did not inline for 32-byte lanes.
+    #[inline(always)]
+    fn sheared(
+        p: &[f32x8; 3],
+        (kx, ky, kz): (usize, usize, usize),
+        (ox, oy, oz): (f32x8, f32x8, f32x8),
+        (sx, sy): (f32x8, f32x8),
+    ) -> [f32x8; 3] {
         let (px, py, pz) = (p[kx] - ox, p[ky] - oy, p[kz] - oz);
         [px + sx * pz, py + sy * pz, pz]
-    });
+    }
+    let (k, o, s) = ((kx, ky, kz), (ox, oy, oz), (sx, sy));
+    let (a, b, c) = (
+        sheared(&v[0], k, o, s),
+        sheared(&v[1], k, o, s),
+        sheared(&v[2], k, o, s),
+    );
     let u = c[0] * b[1] - c[1] * b[0];
     let w = b[0] * a[1] - b[1] * a[0];
     let vv = a[0] * c[1] - a[1] * c[0];

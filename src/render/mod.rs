@@ -20,6 +20,7 @@ use wide::f32x8;
 
 pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE, MAX_SPP};
 pub use shade::Rgb;
+use shade::{Lit, Occluders};
 
 /// What a render did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -67,13 +68,7 @@ fn shade_hit(
     settings: &RenderSettings,
     shadow_rays: &mut u64,
 ) -> Rgb {
-    let m = settings.method;
-    match settings.step {
-        LabStep::Flat => shade::flat(scene, hit),
-        LabStep::Direct => shade::direct(scene, ray, hit),
-        LabStep::Shadows => shade::shadows(scene, ray, hit, m, shadow_rays),
-        LabStep::Indirect => shade::indirect(scene, ray, hit, m, shadow_rays),
-    }
+    shade::shade(scene, ray, hit, settings.step, settings.method, shadow_rays)
 }
 
 /// The colour of a crack in the cracks view (linear magenta).
@@ -254,8 +249,7 @@ pub fn render_into_cancellable(
             }
             let y0 = band as u32 * TILE;
             let band_h = (rows.len() / frame.row_bytes) as u32;
-            let mut subset = Vec::new();
-            let mut tile_tris = Vec::new();
+            let mut scratch = TileScratch::default();
             for x0 in (0..w).step_by(TILE as usize) {
                 let tile = Tile {
                     x0,
@@ -273,6 +267,7 @@ pub fn render_into_cancellable(
                     Some(b) => b.meets(tx0, ty0, tx1, ty1),
                     None => true,
                 };
+                let subset = &mut scratch.subset;
                 subset.clear();
                 subset.extend(
                     tris.iter()
@@ -282,18 +277,18 @@ pub fn render_into_cancellable(
                 );
                 match &packets {
                     Some(p) => {
-                        tile_tris.clear();
-                        tile_tris.extend(
+                        scratch.tris.clear();
+                        scratch.tris.extend(
                             p.tris
                                 .iter()
                                 .zip(bounds)
                                 .filter(|(_, b)| meets(b))
                                 .map(|(t, _)| *t),
                         );
-                        frame.trace_tile_packets(&tile, &tile_tris, &subset, rows, &mut counts);
+                        frame.trace_tile_packets(&tile, &mut scratch, rows, &mut counts);
                     }
                     None => {
-                        let blocks = TriangleBlocks::new(&subset);
+                        let blocks = TriangleBlocks::new(subset);
                         frame.trace_tile(&tile, Some(&blocks), rows, &mut counts);
                     }
                 }
@@ -319,6 +314,16 @@ struct Tile {
     y0: u32,
     w: u32,
     h: u32,
+}
+
+/// Buffers a band of tiles reuses: the tile's triangles (prepared for the camera origin, and
+/// as given), and its camera-ray hits before shading.
+#[derive(Default)]
+struct TileScratch {
+    tris: Vec<OriginTriangle>,
+    subset: Vec<IndexedTriangle>,
+    hits: Vec<Option<(Ray, Hit)>>,
+    lit: Vec<Option<Lit>>,
 }
 
 /// What every tile of one frame shares.
@@ -356,26 +361,29 @@ impl Frame<'_> {
         if settings.cracks && is_crack(scene, ray, settings.method) {
             return Some(CRACK);
         }
+        let hit = self.find_hit(ray, blocks)?;
+        Some(shade_hit(scene, ray, &hit, settings, shadow_rays))
+    }
+
+    /// The nearest hit of a camera ray, per ray (see [`Frame::trace_ray`]).
+    fn find_hit(&self, ray: &Ray, blocks: Option<&TriangleBlocks>) -> Option<Hit> {
+        let accel = self.scene.accel();
+        let method = self.settings.method;
         let Some(b) = blocks else {
-            if let Some(prepared) = &self.from_camera {
-                let hit =
-                    scene
-                        .accel()
-                        .closest_hit_from_origin(ray, prepared, 0.0, f32::INFINITY)?;
-                return Some(shade_hit(scene, ray, &hit, settings, shadow_rays));
-            }
-            return trace_pixel_ray(scene, ray, settings, shadow_rays);
+            return match &self.from_camera {
+                Some(prepared) => accel.closest_hit_from_origin(ray, prepared, 0.0, f32::INFINITY),
+                None => accel.closest_hit(ray, method, 0.0, f32::INFINITY),
+            };
         };
-        let hit = WatertightRay::new(ray.o, ray.d).and_then(|r| {
-            if settings.method == Method::Adaptive {
+        WatertightRay::new(ray.o, ray.d).and_then(|r| {
+            if method == Method::Adaptive {
                 let mut s = Search::new(ray, 0.0, f32::INFINITY);
                 b.closest_hit_adaptive(&r, &mut s);
                 s.hit()
             } else {
                 b.closest_hit(&r, 0.0, f32::INFINITY)
             }
-        })?;
-        Some(shade_hit(scene, ray, &hit, settings, shadow_rays))
+        })
     }
 
     /// Writes pixel (i, row) from its samples' summed linear colour.
@@ -422,22 +430,29 @@ impl Frame<'_> {
     /// for the camera position, see [`crate::accel::packet`]); the rare ambiguous ray goes
     /// through the per-ray adaptive search over `subset` (the same triangles). The nearest
     /// primitive is the same either way, and the hit's t and barycentrics are those of the
-    /// per-ray search's f32 level.
+    /// per-ray search's f32 level. Shadow rays are tested against the triangles that can
+    /// meet one of the tile's shadow rays (the others cannot answer "blocked").
     fn trace_tile_packets(
         &self,
         tile: &Tile,
-        tris: &[OriginTriangle],
-        subset: &[IndexedTriangle],
+        scratch: &mut TileScratch,
         rows: &mut [u8],
         counts: &mut (u64, u64),
     ) {
         let (scene, settings) = (self.scene, self.settings);
+        let TileScratch {
+            tris,
+            subset,
+            hits,
+            lit,
+        } = scratch;
         let n = settings.spp;
         let o = self.gen.origin();
         let mut blocks: Option<TriangleBlocks> = None;
+        let flat = settings.step == LabStep::Flat;
         let mut sums = [[0.0f32; 3]; TILE as usize];
+        hits.clear();
         for j in tile.y0..tile.y0 + tile.h {
-            let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
             sums.fill([0.0; 3]);
             for sy in 0..n {
                 for sx in 0..n {
@@ -455,45 +470,121 @@ impl Frame<'_> {
                         let ambiguous = found.ambiguous & (1 << l) != 0;
                         let prim = found.prim[l];
                         if prim == u32::MAX && !ambiguous {
+                            if !flat {
+                                hits.push(None);
+                            }
                             continue;
                         }
-                        let colour = if ambiguous {
-                            let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
+                        if flat && !ambiguous {
+                            counts.0 += 1;
+                            add(sum, scene.colors[prim as usize]);
+                            continue;
+                        }
+                        let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
+                        let mut per_ray = || {
                             let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
-                            self.trace_ray(&ray, Some(b), &mut counts.1)
-                        } else if settings.step == LabStep::Flat {
-                            Some(scene.colors[prim as usize])
+                            self.find_hit(&ray, Some(b))
+                        };
+                        let hit = if ambiguous {
+                            per_ray()
                         } else {
-                            let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
                             let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
                                 unreachable!("flat scenes hold triangles only")
                             };
                             match WatertightRay::new(o, ray.d).and_then(|r| watertight_raw(&r, tri))
                             {
-                                Some((t, b1, b2, _)) => {
-                                    let hit = Hit { t, prim, b1, b2 };
-                                    Some(shade_hit(scene, &ray, &hit, settings, &mut counts.1))
-                                }
+                                Some((t, b1, b2, _)) => Some(Hit { t, prim, b1, b2 }),
                                 // The f32 test misses a triangle the exact one hits: let
                                 // the per-ray search make the same call it makes untiled.
-                                None => {
-                                    let b =
-                                        blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
-                                    self.trace_ray(&ray, Some(b), &mut counts.1)
-                                }
+                                None => per_ray(),
                             }
                         };
-                        if let Some(c) = colour {
-                            counts.0 += 1;
-                            add(sum, c);
+                        if flat {
+                            if let Some(hit) = hit {
+                                counts.0 += 1;
+                                add(sum, scene.colors[hit.prim as usize]);
+                            }
+                        } else {
+                            hits.push(hit.map(|h| (ray, h)));
                         }
                     }
                 }
             }
+            if flat {
+                let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
+                for (l, sum) in sums.iter().take(tile.w as usize).enumerate() {
+                    self.put(row, tile.x0 + l as u32, *sum);
+                }
+            }
+        }
+        if flat {
+            return;
+        }
+        // Shading: the tile's shadow rays against the triangles that can block one of them.
+        lit.clear();
+        lit.extend(
+            hits.iter()
+                .map(|h| h.map(|(ray, hit)| Lit::new(scene, &ray, &hit))),
+        );
+        let occluder_blocks = matches!(settings.step, LabStep::Shadows | LabStep::Indirect)
+            .then(|| self.occluders_for(lit.iter().flatten().filter_map(|l| l.shadow.as_ref())));
+        let test = (
+            settings.method,
+            occluder_blocks
+                .as_ref()
+                .map_or(Occluders::Scene, Occluders::Culled),
+        );
+        let per_row = (n * n * tile.w) as usize;
+        for (jj, row_lit) in lit.chunks(per_row).enumerate() {
+            let mut sums = [[0.0f32; 3]; TILE as usize];
+            // Samples run (sy, sx) outer, lanes (pixels) inner.
+            for sample in row_lit.chunks(tile.w as usize) {
+                for (sum, l) in sums.iter_mut().zip(sample) {
+                    if let Some(l) = l {
+                        counts.0 += 1;
+                        add(sum, l.colour(scene, settings.step, test, &mut counts.1));
+                    }
+                }
+            }
+            let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
             for (l, sum) in sums.iter().take(tile.w as usize).enumerate() {
                 self.put(row, tile.x0 + l as u32, *sum);
             }
         }
+    }
+
+    /// The scene's triangles that may block one of `shadows`: those whose bounding box meets
+    /// the box around every shadow segment (origin to origin + direction, widened for the
+    /// rounding of that end). A triangle meeting a segment has a point in that box.
+    fn occluders_for<'s>(&self, shadows: impl Iterator<Item = &'s Ray>) -> TriangleBlocks {
+        let scene = self.scene;
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for s in shadows {
+            for k in 0..3 {
+                let end = s.o[k] + s.d[k];
+                lo[k] = lo[k].min(s.o[k]).min(end);
+                hi[k] = hi[k].max(s.o[k]).max(end);
+            }
+        }
+        let slack = |x: f32| x.abs() * 1e-6 + 1e-30;
+        for k in 0..3 {
+            (lo[k], hi[k]) = (lo[k] - slack(lo[k]), hi[k] + slack(hi[k]));
+        }
+        let all = scene.accel().flat_triangles().unwrap_or(&[]);
+        let near: Vec<IndexedTriangle> = all
+            .iter()
+            .filter(|(v, _)| {
+                (0..3).all(|k| {
+                    let (a, b) = (
+                        v.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min),
+                        v.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max),
+                    );
+                    !(b < lo[k] || a > hi[k])
+                })
+            })
+            .copied()
+            .collect();
+        TriangleBlocks::new(&near)
     }
 }
 

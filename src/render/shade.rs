@@ -1,7 +1,11 @@
 //! One shading function per lab step. Colours are linear RGB.
 
+use crate::accel::soa::TriangleBlocks;
+use crate::geometry::adaptive::Search;
+use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, SurfacePoint};
 use crate::math::real::{dot, sub};
+use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
 
@@ -28,52 +32,102 @@ fn irradiance(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Rgb {
     scene.light.power.map(|p| p * k)
 }
 
-/// Step 3: ρ·D.
-pub fn direct(scene: &Scene, ray: &Ray, hit: &Hit) -> Rgb {
-    let sp = SurfacePoint::new(&scene.shapes[hit.prim as usize], ray, hit);
-    mul(flat(scene, hit), irradiance(scene, &sp, ray))
+/// A camera ray's hit readied for shading: its surface point, the irradiance D there
+/// without shadows, and the shadow ray towards the light (`None` where D = 0: nothing to
+/// shadow). Made once per hit, so a renderer can gather the shadow rays of a tile first.
+#[derive(Clone, Copy, Debug)]
+pub struct Lit {
+    pub hit: Hit,
+    pub d: Rgb,
+    pub shadow: Option<Ray>,
 }
 
-/// D, zero where the shadow ray (origin offset past the hit's error bound) is blocked before
-/// the light. Adds the shadow rays cast to `shadow_rays`.
-fn shadowed_irradiance(
+impl Lit {
+    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
+        let sp = SurfacePoint::new(&scene.shapes[hit.prim as usize], ray, hit);
+        let d = irradiance(scene, &sp, ray);
+        let shadow = (d != [0.0; 3]).then(|| sp.ray_towards(scene.light.position));
+        Self {
+            hit: *hit,
+            d,
+            shadow,
+        }
+    }
+
+    /// D, zero where the shadow ray is blocked before the light. Adds the shadow rays cast to
+    /// `shadow_rays`.
+    fn shadowed(&self, scene: &Scene, test: (Method, Occluders), shadow_rays: &mut u64) -> Rgb {
+        let Some(shadow) = &self.shadow else {
+            return self.d;
+        };
+        *shadow_rays += 1;
+        // The primitive itself cannot block (planar or convex, light on its lit side).
+        if test.1.blocked(scene, shadow, test.0, self.hit.prim) {
+            [0.0; 3]
+        } else {
+            self.d
+        }
+    }
+
+    /// The colour of lab step 3, 4 or 5 (ρ·D, with shadows, plus the ambient term N).
+    pub fn colour(
+        &self,
+        scene: &Scene,
+        step: LabStep,
+        test: (Method, Occluders),
+        shadow_rays: &mut u64,
+    ) -> Rgb {
+        let rho = flat(scene, &self.hit);
+        match step {
+            LabStep::Flat => rho,
+            LabStep::Direct => mul(rho, self.d),
+            LabStep::Shadows => mul(rho, self.shadowed(scene, test, shadow_rays)),
+            LabStep::Indirect => {
+                let d = self.shadowed(scene, test, shadow_rays);
+                let n = scene.ambient;
+                mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
+            }
+        }
+    }
+}
+
+/// What shadow rays are tested against.
+#[derive(Clone, Copy, Debug)]
+pub enum Occluders<'a> {
+    /// The scene's own structure.
+    Scene,
+    /// A subset of a triangle-only scene's triangles that holds every triangle the shadow
+    /// rays at hand can meet (the renderer culls them per tile); adaptive method only.
+    Culled(&'a TriangleBlocks),
+}
+
+impl Occluders<'_> {
+    /// Whether `ray` is blocked for 0 < t < 1 by anything but primitive `skip`.
+    fn blocked(&self, scene: &Scene, ray: &Ray, method: Method, skip: u32) -> bool {
+        match self {
+            Occluders::Scene => scene.accel().any_hit_except(ray, method, 0.0, 1.0, skip),
+            Occluders::Culled(blocks) => {
+                debug_assert_eq!(method, Method::Adaptive);
+                WatertightRay::new(ray.o, ray.d)
+                    .is_some_and(|r| blocks.any_hit_adaptive(&r, &Search::new(ray, 0.0, 1.0), skip))
+            }
+        }
+    }
+}
+
+/// The colour of `step` at a camera ray's nearest hit, shadow rays against the scene.
+pub fn shade(
     scene: &Scene,
     ray: &Ray,
     hit: &Hit,
+    step: LabStep,
     method: Method,
     shadow_rays: &mut u64,
 ) -> Rgb {
-    let sp = SurfacePoint::new(&scene.shapes[hit.prim as usize], ray, hit);
-    let d = irradiance(scene, &sp, ray);
-    if d == [0.0; 3] {
-        return d;
+    if step == LabStep::Flat {
+        return flat(scene, hit);
     }
-    *shadow_rays += 1;
-    let shadow = sp.ray_towards(scene.light.position);
-    // The primitive itself cannot block (planar or convex, light on its lit side).
-    if scene
-        .accel()
-        .any_hit_except(&shadow, method, 0.0, 1.0, hit.prim)
-    {
-        [0.0; 3]
-    } else {
-        d
-    }
-}
-
-/// Step 4: ρ·D with shadows.
-pub fn shadows(scene: &Scene, ray: &Ray, hit: &Hit, method: Method, shadow_rays: &mut u64) -> Rgb {
-    mul(
-        flat(scene, hit),
-        shadowed_irradiance(scene, ray, hit, method, shadow_rays),
-    )
-}
-
-/// Step 5: ρ·(D + N) with shadows.
-pub fn indirect(scene: &Scene, ray: &Ray, hit: &Hit, method: Method, shadow_rays: &mut u64) -> Rgb {
-    let d = shadowed_irradiance(scene, ray, hit, method, shadow_rays);
-    let n = scene.ambient;
-    mul(flat(scene, hit), [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
+    Lit::new(scene, ray, hit).colour(scene, step, (method, Occluders::Scene), shadow_rays)
 }
 
 fn mul(a: Rgb, b: Rgb) -> Rgb {
