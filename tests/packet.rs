@@ -276,3 +276,95 @@ proptest! {
         );
     }
 }
+
+/// Shadow packets against the per-ray adaptive any-hit query: decided lanes must agree.
+/// Returns the mask of lanes left over, per chunk of 8.
+fn check_shadows(shapes: &[Shape<f32>], rays: &[([f32; 3], [f32; 3], u32)]) -> Vec<u32> {
+    let tris: Vec<packet::Occluder> = indexed(shapes).iter().map(packet::Occluder::new).collect();
+    let accel = raylab::accel::Accel::build(shapes, raylab::accel::AccelChoice::Brute);
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for t in &tris {
+        for k in 0..3 {
+            lo[k] = lo[k].min(t.lo[k]);
+            hi[k] = hi[k].max(t.hi[k]);
+        }
+    }
+    let mut left = Vec::new();
+    for chunk in rays.chunks(8) {
+        let mut lanes = [([0.0f32; 3], [0.0f32; 3], u32::MAX); 8];
+        lanes[..chunk.len()].copy_from_slice(chunk);
+        let valid = (1u32 << chunk.len()) - 1;
+        let found = packet::shadow_x8(&tris, (lo, hi), &lanes, valid);
+        assert_eq!((found.blocked | found.unsure) & !valid, 0);
+        for (l, &(o, d, skip)) in chunk.iter().enumerate() {
+            if found.unsure & (1 << l) != 0 {
+                continue;
+            }
+            let want = accel.any_hit_except(&Ray::new(o, d), Method::Adaptive, 0.0, 1.0, skip);
+            assert_eq!(
+                found.blocked & (1 << l) != 0,
+                want,
+                "lane {l}: o {o:?} d {d:?} skip {skip}"
+            );
+        }
+        left.push(found.unsure);
+    }
+    left
+}
+
+#[test]
+fn shadow_packets_agree_with_the_per_ray_query() {
+    // Shadow rays from points on a triangle (skipping it; every lane of a chunk from the same
+    // triangle, as a tile's floor pixels are) or from anywhere, to random points (generic)
+    // or exactly to a vertex (t = 1 there: left over, rightly).
+    let mut rng = Rng(21);
+    let (mut generic, mut generic_left, mut total, mut total_left) = (0, 0, 0, 0);
+    for case in 0..400 {
+        let (shapes, _, _, _) = random_case(&mut rng);
+        let source = rng.below(shapes.len());
+        let mut kinds = Vec::new();
+        let rays: Vec<_> = (0..24)
+            .map(|_| {
+                let k = if case % 2 == 0 {
+                    source
+                } else {
+                    rng.below(shapes.len())
+                };
+                let Shape::Triangle(v) = shapes[k] else {
+                    unreachable!()
+                };
+                let (o, skip) = if rng.below(4) != 0 {
+                    let (a, b) = (rng.range(0.0, 0.5) as f32, rng.range(0.0, 0.5) as f32);
+                    let o = [0, 1, 2]
+                        .map(|i| v[0][i] + a * (v[1][i] - v[0][i]) + b * (v[2][i] - v[0][i]));
+                    (o, k as u32)
+                } else {
+                    ([0, 1, 2].map(|_| rng.range(-6.0, 6.0) as f32), u32::MAX)
+                };
+                let at_vertex = rng.below(4) == 0;
+                kinds.push(!at_vertex);
+                let target = if at_vertex {
+                    let Shape::Triangle(w) = shapes[rng.below(shapes.len())] else {
+                        unreachable!()
+                    };
+                    w[rng.below(3)]
+                } else {
+                    [0, 1, 2].map(|_| rng.range(-6.0, 6.0) as f32)
+                };
+                (o, [0, 1, 2].map(|i| target[i] - o[i]), skip)
+            })
+            .collect();
+        for (c, mask) in check_shadows(&shapes, &rays).into_iter().enumerate() {
+            for l in 0..8 {
+                let is_generic = kinds[c * 8 + l];
+                let was_left = mask & (1 << l) != 0;
+                total += 1;
+                total_left += was_left as u32;
+                generic += is_generic as u32;
+                generic_left += (is_generic && was_left) as u32;
+            }
+        }
+    }
+    println!("shadow packets left over: {generic_left} of {generic} generic rays, {total_left} of {total} in all");
+    assert!(generic_left * 50 < generic, "{generic_left} of {generic}");
+}

@@ -4,7 +4,7 @@
 pub mod settings;
 pub mod shade;
 
-use crate::accel::packet::{self, OriginTriangle, OriginTriangles};
+use crate::accel::packet::{self, Occluder, OriginTriangle, OriginTriangles};
 use crate::accel::soa::TriangleBlocks;
 use crate::accel::IndexedTriangle;
 use crate::camera::{Camera, RayGenerator};
@@ -229,10 +229,20 @@ pub fn render_into_cancellable(
         }
         _ => None,
     };
+    let occluders = match &packets {
+        Some(_) => accel
+            .flat_triangles()
+            .unwrap_or(&[])
+            .iter()
+            .map(Occluder::new)
+            .collect(),
+        None => Vec::new(),
+    };
     let frame = Frame {
         scene,
         settings,
         from_camera,
+        occluders,
         gen,
         inv_n: 1.0 / settings.spp as f32,
         weight: 1.0 / (settings.spp * settings.spp) as f32,
@@ -332,6 +342,8 @@ struct Frame<'a> {
     settings: &'a RenderSettings,
     /// The scene's BVH triangles prepared for the camera position (adaptive method).
     from_camera: Option<OriginTriangles>,
+    /// A flat scene's triangles with their boxes, for culling shadow rays per tile.
+    occluders: Vec<Occluder>,
     gen: RayGenerator,
     inv_n: f32,
     /// 1/n² for n×n samples.
@@ -526,8 +538,35 @@ impl Frame<'_> {
             hits.iter()
                 .map(|h| h.map(|(ray, hit)| Lit::new(scene, &ray, &hit))),
         );
-        let occluder_blocks = matches!(settings.step, LabStep::Shadows | LabStep::Indirect)
-            .then(|| self.occluders_for(lit.iter().flatten().filter_map(|l| l.shadow.as_ref())));
+        let mut occluder_blocks = None;
+        if matches!(settings.step, LabStep::Shadows | LabStep::Indirect) {
+            let near = self.occluders_for(lit.iter().flatten().filter_map(|l| l.shadow.as_ref()));
+            // 8 shadow rays at a time against those triangles; the undecided ones per ray.
+            let mut with_shadow: Vec<&mut Lit> = lit
+                .iter_mut()
+                .flatten()
+                .filter(|l| l.shadow.is_some())
+                .collect();
+            let mut any_unsure = false;
+            for chunk in with_shadow.chunks_mut(8) {
+                let mut rays = [([0.0f32; 3], [0.0f32; 3], u32::MAX); 8];
+                for (r, l) in rays.iter_mut().zip(chunk.iter()) {
+                    let s = l.shadow.expect("filtered");
+                    *r = (s.o, s.d, l.hit.prim);
+                }
+                let valid = (1u32 << chunk.len()) - 1;
+                let found = packet::shadow_x8(&near.0, (near.1, near.2), &rays, valid);
+                for (k, l) in chunk.iter_mut().enumerate() {
+                    l.blocked =
+                        (found.unsure & (1 << k) == 0).then_some(found.blocked & (1 << k) != 0);
+                    any_unsure |= l.blocked.is_none();
+                }
+            }
+            if any_unsure {
+                let tris: Vec<IndexedTriangle> = near.0.iter().map(|o| (o.v, o.prim)).collect();
+                occluder_blocks = Some(TriangleBlocks::new(&tris));
+            }
+        }
         let test = (
             settings.method,
             occluder_blocks
@@ -553,11 +592,14 @@ impl Frame<'_> {
         }
     }
 
-    /// The scene's triangles that may block one of `shadows`: those whose bounding box meets
-    /// the box around every shadow segment (origin to origin + direction, widened for the
-    /// rounding of that end). A triangle meeting a segment has a point in that box.
-    fn occluders_for<'s>(&self, shadows: impl Iterator<Item = &'s Ray>) -> TriangleBlocks {
-        let scene = self.scene;
+    /// The scene's triangles that may block one of `shadows`, and the box around them: those
+    /// whose bounding box meets the box around every shadow segment (origin to origin +
+    /// direction, widened for the rounding of that end). A triangle meeting a segment has a
+    /// point in that box.
+    fn occluders_for<'s>(
+        &self,
+        shadows: impl Iterator<Item = &'s Ray>,
+    ) -> (Vec<Occluder>, [f32; 3], [f32; 3]) {
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for s in shadows {
             for k in 0..3 {
@@ -566,25 +608,20 @@ impl Frame<'_> {
                 hi[k] = hi[k].max(s.o[k]).max(end);
             }
         }
-        let slack = |x: f32| x.abs() * 1e-6 + 1e-30;
-        for k in 0..3 {
-            (lo[k], hi[k]) = (lo[k] - slack(lo[k]), hi[k] + slack(hi[k]));
-        }
-        let all = scene.accel().flat_triangles().unwrap_or(&[]);
-        let near: Vec<IndexedTriangle> = all
+        let (mut box_lo, mut box_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let near = self
+            .occluders
             .iter()
-            .filter(|(v, _)| {
-                (0..3).all(|k| {
-                    let (a, b) = (
-                        v.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min),
-                        v.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max),
-                    );
-                    !(b < lo[k] || a > hi[k])
-                })
+            .filter(|occ| occ.meets(lo, hi))
+            .inspect(|occ| {
+                for k in 0..3 {
+                    box_lo[k] = box_lo[k].min(occ.lo[k]);
+                    box_hi[k] = box_hi[k].max(occ.hi[k]);
+                }
             })
             .copied()
             .collect();
-        TriangleBlocks::new(&near)
+        (near, box_lo, box_hi)
     }
 }
 

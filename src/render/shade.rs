@@ -40,6 +40,8 @@ pub struct Lit {
     pub hit: Hit,
     pub d: Rgb,
     pub shadow: Option<Ray>,
+    /// Whether the shadow ray is blocked, where already known (tested in packets).
+    pub blocked: Option<bool>,
 }
 
 impl Lit {
@@ -51,6 +53,7 @@ impl Lit {
             hit: *hit,
             d,
             shadow,
+            blocked: None,
         }
     }
 
@@ -62,7 +65,10 @@ impl Lit {
         };
         *shadow_rays += 1;
         // The primitive itself cannot block (planar or convex, light on its lit side).
-        if test.1.blocked(scene, shadow, test.0, self.hit.prim) {
+        let blocked = self
+            .blocked
+            .unwrap_or_else(|| test.1.blocked(scene, shadow, test.0, self.hit.prim));
+        if blocked {
             [0.0; 3]
         } else {
             self.d
