@@ -14,6 +14,7 @@ use plotters::prelude::*;
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::controller::CameraController;
 use raylab::geometry::{adaptive, sphere, Method, Ray, Shape};
+use raylab::Camera;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -323,6 +324,7 @@ fn main() -> anyhow::Result<()> {
             bunny
         )?;
     }
+    render_table(&mut md, bunny_path, threads)?;
     print!("{md}");
     std::fs::write(out.join("speed_vs_error.md"), &md)?;
     plot(&rows, &out.join("speed_vs_error.svg"), &machine)?;
@@ -331,6 +333,70 @@ fn main() -> anyhow::Result<()> {
 }
 
 /// Two log-log panels: bad-ray rate and median relative t error against ns per ray.
+/// What the exactness costs where users see it: whole 1280x720 frames through the renderer
+/// (camera rays in packets or from a prepared origin for the adaptive method, the per-ray
+/// watertight loop otherwise), adaptive against watertight, round robin, best of 7.
+fn render_table(md: &mut String, bunny: &Path, threads: usize) -> anyhow::Result<()> {
+    use raylab::render::{render_image, LabStep, RenderSettings};
+    let mut scenes = vec![("cornell", raylab::Scene::cornell(), Camera::cornell(1280))];
+    if bunny.exists() {
+        let mut scene = raylab::scene::obj::load_obj_file(bunny, Default::default())?;
+        scene.set_accel(AccelChoice::Auto);
+        let framing = CameraController::framing(scene.bounds().expect("non-empty"), 1280, 720);
+        scenes.push(("bunny", scene, framing.camera(1280)));
+    }
+    let pools: Vec<(usize, rayon::ThreadPool)> = [1, threads]
+        .into_iter()
+        .map(|n| Ok((n, rayon::ThreadPoolBuilder::new().num_threads(n).build()?)))
+        .collect::<anyhow::Result<_>>()?;
+    let methods = [Method::Adaptive, Method::Watertight];
+    // (scene, step, threads) -> best ms per method.
+    let mut best: Vec<((usize, LabStep, usize), [f64; 2])> = Vec::new();
+    for round in 0..7 {
+        for (si, (_, scene, cam)) in scenes.iter().enumerate() {
+            for step in [LabStep::Flat, LabStep::Shadows] {
+                for (n, pool) in &pools {
+                    let key = (si, step, *n);
+                    let mut times = [0.0; 2];
+                    for (mi, method) in methods.iter().enumerate() {
+                        let settings = RenderSettings {
+                            width: 1280,
+                            height: 720,
+                            step,
+                            method: *method,
+                            ..Default::default()
+                        };
+                        let (_, stats) = pool.install(|| render_image(scene, cam, &settings))?;
+                        times[mi] = stats.elapsed.as_secs_f64() * 1e3;
+                    }
+                    match best.iter_mut().find(|(k, _)| *k == key) {
+                        Some((_, b)) => *b = [b[0].min(times[0]), b[1].min(times[1])],
+                        None => best.push((key, times)),
+                    }
+                }
+            }
+        }
+        println!("render round {}/7", round + 1);
+    }
+    writeln!(md)?;
+    writeln!(md, "Whole frames, 1280x720, through the renderer (what the window and `raylab render` do), best of 7 rounds:")?;
+    writeln!(md)?;
+    writeln!(
+        md,
+        "| scene | step | threads | adaptive ms | watertight ms | adaptive / watertight |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|")?;
+    for ((si, step, n), [a, w]) in &best {
+        writeln!(
+            md,
+            "| {} | {step} | {n} | {a:.1} | {w:.1} | {:.2} |",
+            scenes[*si].0,
+            a / w
+        )?;
+    }
+    Ok(())
+}
+
 fn plot(rows: &[Row], path: &Path, machine: &str) -> anyhow::Result<()> {
     let root = SVGBackend::new(path, (1200, 520)).into_drawing_area();
     root.fill(&WHITE)?;

@@ -102,6 +102,26 @@ fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
 
 /// [`run_window`] with extra environment variables.
 fn run_window_env(script: &str, dir: &std::path::Path, env: &[(&str, &str)]) -> Option<Run> {
+    run_window_with(script, dir, env, None)
+}
+
+/// [`run_window_env`], optionally with an XSETTINGS manager (xsettingsd) on the display whose
+/// Xft/DPI goes from 96 to `dpi` after `at_ms`: the desktop's HiDPI change, which winit reports
+/// as `ScaleFactorChanged`.
+fn run_window_with(
+    script: &str,
+    dir: &std::path::Path,
+    env: &[(&str, &str)],
+    dpi_change: Option<(u32, u32)>,
+) -> Option<Run> {
+    if dpi_change.is_some() && !have("xsettingsd") {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xsettingsd is missing: .ci/run must install it"
+        );
+        eprintln!("\n*** SKIPPED the HiDPI change test: xsettingsd is not installed ***\n");
+        return None;
+    }
     if !have("xvfb-run") {
         assert!(
             std::env::var("CI").is_err(),
@@ -113,8 +133,24 @@ fn run_window_env(script: &str, dir: &std::path::Path, env: &[(&str, &str)]) -> 
     let script_path = dir.join("script.txt");
     std::fs::write(&script_path, script).unwrap();
     let shot_path = dir.join("shot.png");
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
+    let mut command = Command::new("xvfb-run");
+    command.args(["-a", "-s", "-screen 0 1280x800x24"]);
+    if let Some((at_ms, dpi)) = dpi_change {
+        let conf = dir.join("xsettings.conf");
+        std::fs::write(&conf, "Xft/DPI 98304\n").unwrap();
+        // The manager first, then the app; the change while the app runs; the app's exit
+        // status is the run's.
+        let wrapper = format!(
+            "xsettingsd -c '{conf}' 2>/dev/null & xs=$!; sleep 0.5; \"$@\" & app=$!; \
+             sleep {delay}; echo 'Xft/DPI {value}' > '{conf}'; kill -HUP $xs; \
+             wait $app; status=$?; kill $xs; exit $status",
+            conf = conf.display(),
+            delay = at_ms as f64 / 1000.0,
+            value = dpi * 1024,
+        );
+        command.args(["sh", "-c", &wrapper, "sh"]);
+    }
+    let mut child = command
         .arg(env!("CARGO_BIN_EXE_raylab"))
         .args(["--frames", "5", "--screenshot"])
         .arg(&shot_path)
@@ -360,6 +396,49 @@ fn resizes_minimise_hidpi_and_rapid_slider_changes() {
     let (mean, off) = compare(shot, rect, &expected, w, h);
     println!(
         "after the faults: mean difference {mean:.2}/255, {:.2}% off",
+        off * 100.0
+    );
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
+fn a_desktop_hidpi_change_while_running() {
+    // The desktop's DPI goes from 96 to 192 (scale 1 to 2) 2 s into the run, through an
+    // XSETTINGS manager as a desktop does it; the panel doubles in device pixels, the image
+    // area shrinks, and what is shown is still the headless render of the final view.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 resize 1000 600\n500 key D down\n900 key D up\n3500 focal 600\n";
+    let Some(run) = run_window_with(script, dir.path(), &[], Some((2000, 192))) else {
+        return;
+    };
+    assert!(
+        run.stderr.contains("scale factor changed to 2"),
+        "no scale factor change reported: {}",
+        run.stderr
+    );
+    // The window keeps its logical size, so it doubles in pixels; so does the panel
+    // (about 184 pixels wide at scale 1: the image starts right of it).
+    assert_eq!(
+        (run.shot.0, run.shot.1),
+        (2000, 1200),
+        "window after the change"
+    );
+    let (camera, w, h, rect) = run.camera();
+    assert!(
+        rect[0] > 300.0 && rect[0] < 500.0,
+        "panel at scale 2: {rect:?}"
+    );
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        spp: 2,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(&Scene::cornell(), &camera, &settings).unwrap();
+    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    println!(
+        "after the DPI change: {w}x{h} in {rect:?}, mean difference {mean:.2}/255, {:.2}% off",
         off * 100.0
     );
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
