@@ -356,7 +356,8 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
 fn resizes_minimise_hidpi_and_rapid_slider_changes() {
     let dir = tempfile::tempdir().unwrap();
     // At 1.5 device pixels per point; small, very large, minimised and restored; the focal
-    // slider dragged back and forth every 10 ms while frames render; the scale changed.
+    // slider dragged back and forth every 10 ms while frames render; the scale changed; a
+    // draw failing as on a lost surface (the app must report it and draw again).
     let mut script = String::from(
         "0 resize 520 320\n400 resize 2400 1500\n400 scale 0.2\n900 resize 0 0\n1400 restore\n",
     );
@@ -364,12 +365,16 @@ fn resizes_minimise_hidpi_and_rapid_slider_changes() {
         let focal = if k % 2 == 0 { 300 } else { 900 };
         script.push_str(&format!("{} focal {focal}\n", 1450 + 10 * k));
     }
-    script.push_str("1900 scale 0.6\n1900 resize 900 600\n");
+    script.push_str("1900 scale 0.6\n1900 resize 900 600\n2300 lose-surface\n");
     let Some(run) = run_window_env(&script, dir.path(), &[("WINIT_X11_SCALE_FACTOR", "1.5")])
     else {
         return;
     };
-    for line in ["minimised: rendering paused", "restored: rendering resumed"] {
+    for line in [
+        "minimised: rendering paused",
+        "restored: rendering resumed",
+        "the window surface was lost (injected); drawing again",
+    ] {
         assert!(run.stderr.contains(line), "{line}: {}", run.stderr);
     }
     let shot = &run.shot;

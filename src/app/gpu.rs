@@ -20,6 +20,8 @@ pub struct Gpu {
     /// The framebuffer size (the render resolution of the image shown).
     pub buffer_size: (u32, u32),
     surface_size: (u32, u32),
+    /// Fail the next draw as a lost surface would (the script's `lose-surface`).
+    pub lose_next_draw: bool,
 }
 
 /// An RGBA8 image read back from the GPU.
@@ -71,6 +73,7 @@ impl Gpu {
             texture_id,
             buffer_size: buffer,
             surface_size: surface,
+            lose_next_draw: false,
         })
     }
 
@@ -130,6 +133,11 @@ impl Gpu {
         pixels_per_point: f32,
         capture: bool,
     ) -> Result<Option<Capture>, String> {
+        if std::mem::take(&mut self.lose_next_draw) {
+            return Err(
+                "drawing failed: the window surface was lost (injected); drawing again".into(),
+            );
+        }
         let screen = ScreenDescriptor {
             size_in_pixels: [self.surface_size.0, self.surface_size.1],
             pixels_per_point,

@@ -150,6 +150,9 @@ struct App {
     obj_path: String,
     loading: bool,
     frames_presented: u64,
+    /// Draws that failed in a row (a lost surface is retried at once, a broken one is not
+    /// retried in a loop).
+    failed_draws: u32,
     script: Option<Script>,
     script_start: Option<Instant>,
     started: Instant,
@@ -213,6 +216,7 @@ impl App {
             status: String::new(),
             loading: false,
             frames_presented: 0,
+            failed_draws: 0,
             script,
             script_start: None,
             started: Instant::now(),
@@ -503,6 +507,14 @@ impl App {
                         self.on_resized(&window, window.inner_size());
                     }
                 }
+                Action::LoseSurface => {
+                    if let Some(gpu) = &mut self.gpu {
+                        gpu.lose_next_draw = true;
+                    }
+                    if let Some(window) = &self.window {
+                        window.request_redraw();
+                    }
+                }
             }
         }
     }
@@ -692,8 +704,19 @@ impl App {
                 return;
             }
             Ok(None) => {}
-            Err(e) => self.set_status(e),
+            Err(e) => {
+                // A lost or failed surface: say so and draw again (pixels reconfigures a lost
+                // surface on its next frame); nothing was presented this time.
+                log::warn!("{e}");
+                self.set_status(e);
+                self.failed_draws += 1;
+                if self.failed_draws <= 3 {
+                    window.request_redraw();
+                }
+                return;
+            }
         }
+        self.failed_draws = 0;
         self.frames_presented += 1;
 
         if self.opts.frames.is_some() && self.started.elapsed() > SCRIPTED_TIMEOUT {

@@ -14,6 +14,7 @@
 //!   0×0 resize a minimised window gets, delivered to the same handler: X cannot make a
 //!   zero-size window)
 //! - `restore`: back from `resize 0 0` at the window's real size
+//! - `lose-surface`: the next draw fails as on a lost window surface
 
 use super::input::Key;
 use raylab::render::LabStep;
@@ -40,6 +41,9 @@ pub enum Action {
     Resize(u32, u32),
     /// Undo a minimise.
     Restore,
+    /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
+    /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
+    LoseSurface,
 }
 
 /// A parsed script: events sorted by time.
@@ -153,9 +157,13 @@ impl Script {
                     want(2)?;
                     Action::Restore
                 }
+                Some("lose-surface") => {
+                    want(2)?;
+                    Action::LoseSurface
+                }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore)"
+                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore, lose-surface)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -194,7 +202,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -216,6 +224,7 @@ mod tests {
                 Action::Scale(0.5),
                 Action::Resize(0, 0),
                 Action::Restore,
+                Action::LoseSurface,
             ]
         );
         assert!(s.finished());
