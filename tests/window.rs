@@ -200,6 +200,24 @@ fn run_window_with(
     })
 }
 
+/// Renders `scene` headless from the run's final camera at the size the window showed (the
+/// window's final quality: indirect light, 2×2 samples) and compares it with the screenshot's
+/// image rectangle: (mean difference per channel, fraction of pixels off). Also returns the
+/// headless image.
+fn against_headless(run: &Run, scene: &Scene) -> (f64, f64, Vec<u8>, u32, u32) {
+    let (camera, w, h, rect) = run.camera();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        spp: 2,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(scene, &camera, &settings).unwrap();
+    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    (mean, off, expected, w, h)
+}
+
 #[test]
 fn scripted_window_run_matches_the_headless_render() {
     let dir = tempfile::tempdir().unwrap();
@@ -331,17 +349,8 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
         "{:?}",
         run.fields
     );
-    let (camera, w, h, rect) = run.camera();
     let scene = raylab::scene::load_obj_file(&good, raylab::scene::ObjFrame::YUp).unwrap();
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        spp: 2,
-        ..Default::default()
-    };
-    let (expected, _) = render_image(&scene, &camera, &settings).unwrap();
-    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    let (mean, off, expected, w, h) = against_headless(&run, &scene);
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
     // Framed: the model covers the image centre.
     let c = 4 * ((h / 2) * w + w / 2) as usize;
@@ -383,22 +392,14 @@ fn resizes_minimise_hidpi_and_rapid_slider_changes() {
         (900, 600),
         "the window took its last size"
     );
-    let (camera, w, h, rect) = run.camera();
+    let (_, w, h, rect) = run.camera();
     // The render is 0.6 of the image area, which fills the window right of the panel.
     assert!(
         (rect[2] * 0.6 - w as f64).abs() <= 1.5 && (rect[3] * 0.6 - h as f64).abs() <= 1.5,
         "{w}x{h} in {rect:?}"
     );
     assert!(rect[0] > 150.0, "a 1.5x panel is wider: {rect:?}");
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        spp: 2,
-        ..Default::default()
-    };
-    let (expected, _) = render_image(&Scene::cornell(), &camera, &settings).unwrap();
-    let (mean, off) = compare(shot, rect, &expected, w, h);
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
     println!(
         "after the faults: mean difference {mean:.2}/255, {:.2}% off",
         off * 100.0
@@ -428,20 +429,12 @@ fn a_desktop_hidpi_change_while_running() {
         (2000, 1200),
         "window after the change"
     );
-    let (camera, w, h, rect) = run.camera();
+    let (_, w, h, rect) = run.camera();
     assert!(
         rect[0] > 300.0 && rect[0] < 500.0,
         "panel at scale 2: {rect:?}"
     );
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        spp: 2,
-        ..Default::default()
-    };
-    let (expected, _) = render_image(&Scene::cornell(), &camera, &settings).unwrap();
-    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
     println!(
         "after the DPI change: {w}x{h} in {rect:?}, mean difference {mean:.2}/255, {:.2}% off",
         off * 100.0

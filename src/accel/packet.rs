@@ -1,5 +1,6 @@
-//! Camera rays in packets of 8 against triangles prepared for the camera's position: the
-//! adaptive method's fast path for small scenes.
+//! The adaptive method's fast paths for the renderer: camera rays in packets of 8 against
+//! triangles prepared for the camera's position ([`closest`]; per ray in BVH leaves:
+//! [`OriginTriangle::estimate`]), and shadow rays in packets of 8 ([`shadow_x8`]).
 //!
 //! All camera rays of a frame leave the same origin o. With pᵢ = vᵢ − o, the exact
 //! predicates of the adaptive method are the signs of eᵢ = d·(pⱼ × pₖ) ((i, j, k) cyclic; eᵢ
