@@ -1,5 +1,6 @@
-//! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins, in parallel with
-//! rayon above 4096 triangles), depth-first flat nodes of 32 bytes, ordered stack traversal.
+//! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins; subtrees of at
+//! least max(4096, n/32) triangles split across threads with rayon), depth-first flat nodes of
+//! 32 bytes, ordered stack traversal.
 //!
 //! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
 //! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
@@ -21,7 +22,7 @@ use rayon::prelude::*;
 /// Triangles per leaf at most.
 const MAX_LEAF: usize = 4;
 const BINS: usize = 16;
-/// Subtrees larger than this build on two threads.
+/// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
 const PARALLEL_MIN: usize = 4096;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
