@@ -73,9 +73,13 @@ pub struct Bvh {
     prims: Vec<u32>,
 }
 
-struct Prep {
-    bounds: Vec<Aabb>,
-    centroids: Vec<[f32; 3]>,
+/// A triangle during the build: its box, centroid and index. The build partitions these
+/// themselves (not indices into side tables), so its passes read memory in order.
+#[derive(Clone, Copy)]
+struct Ref {
+    b: Aabb,
+    c: [f32; 3],
+    i: u32,
 }
 
 impl Bvh {
@@ -84,24 +88,20 @@ impl Bvh {
         if tris.is_empty() {
             return Self::default();
         }
-        let prep = Prep {
-            bounds: tris
-                .par_iter()
-                .map(|(t, _)| {
-                    let mut b = Aabb::EMPTY;
-                    t.iter().for_each(|p| b.grow_point(*p));
-                    b
-                })
-                .collect(),
-            centroids: tris
-                .par_iter()
-                .map(|(t, _)| [0, 1, 2].map(|k| (t[0][k] + t[1][k] + t[2][k]) * (1.0 / 3.0)))
-                .collect(),
-        };
-        let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+        let mut refs: Vec<Ref> = tris
+            .par_iter()
+            .enumerate()
+            .map(|(i, (t, _))| {
+                let mut b = Aabb::EMPTY;
+                t.iter().for_each(|p| b.grow_point(*p));
+                let c = [0, 1, 2].map(|k| (t[0][k] + t[1][k] + t[2][k]) * (1.0 / 3.0));
+                Ref { b, c, i: i as u32 }
+            })
+            .collect();
         // Enough parallel subtrees for the threads, each large enough to pay for a task.
         let parallel_min = PARALLEL_MIN.max(tris.len() / 32);
-        let nodes = build_node(&prep, &mut order, 0, parallel_min);
+        let nodes = build_node(&mut refs, 0, parallel_min);
+        let order: Vec<u32> = refs.iter().map(|r| r.i).collect();
         Self {
             nodes,
             tris: order.par_iter().map(|&i| tris[i as usize].0).collect(),
@@ -343,12 +343,12 @@ impl Bvh {
 /// Builds the subtree over `order` (whose first element is at `start` in the global order).
 /// How a set of triangles is split: its box, and where `order` (partitioned) divides into the
 /// two children, or `None` for a leaf.
-fn split(prep: &Prep, order: &mut [u32]) -> (Aabb, Option<usize>) {
+fn split(order: &mut [Ref]) -> (Aabb, Option<usize>) {
     let mut bounds = Aabb::EMPTY;
     let mut cbounds = Aabb::EMPTY;
-    for &i in order.iter() {
-        bounds.grow(&prep.bounds[i as usize]);
-        cbounds.grow_point(prep.centroids[i as usize]);
+    for r in order.iter() {
+        bounds.grow(&r.b);
+        cbounds.grow_point(r.c);
     }
     let n = order.len();
     if n <= MAX_LEAF.min(2) {
@@ -359,7 +359,7 @@ fn split(prep: &Prep, order: &mut [u32]) -> (Aabb, Option<usize>) {
         .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
         .unwrap_or(0);
     let mid = if extent[axis] > 0.0 {
-        sah_split(prep, order, axis, &cbounds, &bounds)
+        sah_split(order, axis, &cbounds, &bounds)
     } else {
         None
     };
@@ -368,9 +368,7 @@ fn split(prep: &Prep, order: &mut [u32]) -> (Aabb, Option<usize>) {
         None if n <= MAX_LEAF => return (bounds, None),
         // All centroids in one bin (or equal): split by count so leaves stay small.
         None => {
-            order.select_nth_unstable_by(n / 2, |&a, &b| {
-                prep.centroids[a as usize][axis].total_cmp(&prep.centroids[b as usize][axis])
-            });
+            order.select_nth_unstable_by(n / 2, |a, b| a.c[axis].total_cmp(&b.c[axis]));
             n / 2
         }
     };
@@ -382,13 +380,13 @@ fn split(prep: &Prep, order: &mut [u32]) -> (Aabb, Option<usize>) {
 /// at least `parallel_min` triangles build their two halves on two threads and concatenate
 /// them; smaller ones push into one vector (concatenating at every level copied each node
 /// once per level above it: 1.3 GB of copies for a million triangles).
-fn build_node(prep: &Prep, order: &mut [u32], start: usize, parallel_min: usize) -> Vec<Node> {
+fn build_node(order: &mut [Ref], start: usize, parallel_min: usize) -> Vec<Node> {
     if order.len() < parallel_min {
         let mut nodes = Vec::with_capacity(2 * order.len().div_ceil(2));
-        build_into(prep, order, start, &mut nodes);
+        build_into(order, start, &mut nodes);
         return nodes;
     }
-    let (bounds, mid) = split(prep, order);
+    let (bounds, mid) = split(order);
     let Some(mid) = mid else {
         return vec![Node {
             bounds,
@@ -398,8 +396,8 @@ fn build_node(prep: &Prep, order: &mut [u32], start: usize, parallel_min: usize)
     };
     let (left, right) = order.split_at_mut(mid);
     let (l, r) = rayon::join(
-        || build_node(prep, left, start, parallel_min),
-        || build_node(prep, right, start + mid, parallel_min),
+        || build_node(left, start, parallel_min),
+        || build_node(right, start + mid, parallel_min),
     );
     let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
     nodes.push(Node {
@@ -413,8 +411,8 @@ fn build_node(prep: &Prep, order: &mut [u32], start: usize, parallel_min: usize)
 }
 
 /// [`build_node`] on one thread, appending to `nodes`.
-fn build_into(prep: &Prep, order: &mut [u32], start: usize, nodes: &mut Vec<Node>) {
-    let (bounds, mid) = split(prep, order);
+fn build_into(order: &mut [Ref], start: usize, nodes: &mut Vec<Node>) {
+    let (bounds, mid) = split(order);
     let Some(mid) = mid else {
         nodes.push(Node {
             bounds,
@@ -430,30 +428,23 @@ fn build_into(prep: &Prep, order: &mut [u32], start: usize, nodes: &mut Vec<Node
         count: 0,
     });
     let (left, right) = order.split_at_mut(mid);
-    build_into(prep, left, start, nodes);
+    build_into(left, start, nodes);
     nodes[at].offset = (nodes.len() - at) as u32;
-    build_into(prep, right, start + mid, nodes);
+    build_into(right, start + mid, nodes);
 }
 
 /// The best binned-SAH split along `axis`: partitions `order` and returns the split point, or
 /// `None` when a leaf is cheaper (for small sets) or no split separates anything.
-fn sah_split(
-    prep: &Prep,
-    order: &mut [u32],
-    axis: usize,
-    cb: &Aabb,
-    bounds: &Aabb,
-) -> Option<usize> {
+fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option<usize> {
     let lo = cb.lo[axis];
     let scale = BINS as f32 / (cb.hi[axis] - lo);
-    let bin_of =
-        |i: u32| (((prep.centroids[i as usize][axis] - lo) * scale) as usize).min(BINS - 1);
+    let bin_of = |r: &Ref| (((r.c[axis] - lo) * scale) as usize).min(BINS - 1);
     let mut counts = [0usize; BINS];
     let mut boxes = [Aabb::EMPTY; BINS];
-    for &i in order.iter() {
-        let b = bin_of(i);
+    for r in order.iter() {
+        let b = bin_of(r);
         counts[b] += 1;
-        boxes[b].grow(&prep.bounds[i as usize]);
+        boxes[b].grow(&r.b);
     }
     // Sweep from the right, then from the left, for the cost of each of the BINS-1 planes.
     let mut right_area = [0.0f32; BINS];
@@ -489,7 +480,7 @@ fn sah_split(
     let mut i = 0;
     let mut j = order.len();
     while i < j {
-        if bin_of(order[i]) <= split_bin {
+        if bin_of(&order[i]) <= split_bin {
             i += 1;
         } else {
             j -= 1;
