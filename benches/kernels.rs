@@ -46,14 +46,7 @@ fn rays(n: usize) -> Vec<Ray> {
 }
 
 fn kernels(c: &mut Criterion) {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1).map(|m| m.trim().to_string()))
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
+    let cpu = raylab::render::cpu_model();
     println!(
         "machine: {cpu}; {} cores; kernels run on 1 thread, the BVH build on {} (rayon)",
         std::thread::available_parallelism().map_or(1, |n| n.get()),

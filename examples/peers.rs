@@ -56,14 +56,7 @@ fn main() -> anyhow::Result<()> {
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(5);
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1).map(|m| m.trim().to_string()))
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
+    let cpu = raylab::render::cpu_model();
     println!(
         "machine: {cpu}, {} cores; {W}x{H} primary rays, best of {frames} frames",
         std::thread::available_parallelism().map_or(1, |n| n.get())

@@ -188,15 +188,7 @@ fn main() -> anyhow::Result<()> {
     );
     std::fs::create_dir_all(&out)?;
     let threads = rayon::current_num_threads();
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
+    let cpu = raylab::render::cpu_model();
     let machine = format!("{cpu}, {threads} threads (rayon), release build");
     println!("machine: {machine}");
 

@@ -316,14 +316,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         .num_threads(threads)
         .build()?;
     let (scene, camera, settings) = prepare(&args.view)?;
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    let cpu = raylab::render::cpu_model();
     println!(
         "machine: {cpu}, {} cores available; threads: {threads}",
         std::thread::available_parallelism().map_or(1, |n| n.get())

@@ -184,17 +184,13 @@ impl Bvh {
         self.tris.is_empty()
     }
 
-    /// The triangles in the hierarchy's order (leaves index into it), with their primitives.
-    pub fn ordered_triangles(&self) -> Vec<IndexedTriangle> {
-        self.tris
-            .iter()
-            .copied()
-            .zip(self.prims.iter().copied())
-            .collect()
+    /// The triangles in the hierarchy's order (leaves index into it), and their primitives.
+    pub fn triangles(&self) -> (&[[[f32; 3]; 3]], &[u32]) {
+        (&self.tris, &self.prims)
     }
 
     /// [`Bvh::closest_hit_adaptive`] for a ray leaving the origin `prepared` was made for
-    /// (from [`Bvh::ordered_triangles`]): the f32 level is the shared-origin test of
+    /// (from [`Bvh::triangles`]): the f32 level is the shared-origin test of
     /// [`super::packet`], three dot products per triangle instead of the sheared test.
     pub fn closest_hit_from_origin(
         &self,

@@ -204,7 +204,10 @@ impl Accel {
     /// whose camera rays the renderer traces in tile packets instead).
     pub fn prepare_origin(&self, origin: [f32; 3]) -> Option<packet::OriginTriangles> {
         match &self.triangles {
-            Triangles::Bvh(b) => Some(packet::OriginTriangles::new(&b.ordered_triangles(), origin)),
+            Triangles::Bvh(b) => {
+                let (vertices, prims) = b.triangles();
+                Some(packet::OriginTriangles::from_parts(vertices, prims, origin))
+            }
             Triangles::Flat(_) => None,
         }
     }

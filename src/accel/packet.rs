@@ -158,12 +158,29 @@ impl OriginTriangle {
 impl OriginTriangles {
     /// Prepares `tris` for rays from `origin` (in parallel for large meshes).
     pub fn new(tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
-        let prepare = |(v, p): &IndexedTriangle| OriginTriangle::new(v, origin, *p);
+        Self::prepare(tris.len(), |i| (&tris[i].0, tris[i].1), origin)
+    }
+
+    /// [`OriginTriangles::new`] for vertices and primitive indices held apart (a BVH's).
+    pub fn from_parts(vertices: &[[[f32; 3]; 3]], prims: &[u32], origin: [f32; 3]) -> Self {
+        assert_eq!(vertices.len(), prims.len());
+        Self::prepare(vertices.len(), |i| (&vertices[i], prims[i]), origin)
+    }
+
+    fn prepare<'a>(
+        n: usize,
+        get: impl Fn(usize) -> (&'a [[f32; 3]; 3], u32) + Sync,
+        origin: [f32; 3],
+    ) -> Self {
+        let prepare = |i| {
+            let (v, prim) = get(i);
+            OriginTriangle::new(v, origin, prim)
+        };
         Self {
-            tris: if tris.len() >= 4096 {
-                tris.par_iter().map(prepare).collect()
+            tris: if n >= 4096 {
+                (0..n).into_par_iter().map(prepare).collect()
             } else {
-                tris.iter().map(prepare).collect()
+                (0..n).map(prepare).collect()
             },
             origin,
         }
@@ -332,12 +349,7 @@ pub fn shadow_x8(
             (oa[k][l], da[k][l]) = (o[k], d[k]);
         }
         if valid & (1 << l) != 0 {
-            for k in 0..3 {
-                let end = o[k] + d[k];
-                let (a, b) = if end < o[k] { (end, o[k]) } else { (o[k], end) };
-                seg_lo[k] = if a < seg_lo[k] { a } else { seg_lo[k] };
-                seg_hi[k] = if b > seg_hi[k] { b } else { seg_hi[k] };
-            }
+            grow_by_segment((&mut seg_lo, &mut seg_hi), *o, *d);
         }
     }
     let (o, d) = (oa.map(f32x8::from), da.map(f32x8::from));
@@ -504,6 +516,18 @@ fn shadow_f64(v: &[[f32; 3]; 3], o: [f32; 3], d: [f32; 3], m: f64) -> Option<boo
 pub struct ShadowHits {
     pub blocked: u32,
     pub unsure: u32,
+}
+
+/// Grows the box [lo, hi] by the segment from `o` to o + d as computed in f32 (whose rounding
+/// [`Occluder::meets`] allows for). NaN coordinates are left out.
+#[inline]
+pub fn grow_by_segment((lo, hi): (&mut [f32; 3], &mut [f32; 3]), o: [f32; 3], d: [f32; 3]) {
+    for k in 0..3 {
+        let end = o[k] + d[k];
+        let (a, b) = if end < o[k] { (end, o[k]) } else { (o[k], end) };
+        lo[k] = if a < lo[k] { a } else { lo[k] };
+        hi[k] = if b > hi[k] { b } else { hi[k] };
+    }
 }
 
 /// A triangle that may block shadow rays, with its bounding box.

@@ -22,6 +22,19 @@ pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE,
 pub use shade::Rgb;
 use shade::{Lit, Occluders};
 
+/// The CPU's model name, for benchmark reports (the architecture where it is not known).
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string())
+}
+
 /// What a render did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
@@ -240,14 +253,15 @@ pub fn render_into_cancellable(
         }
         _ => None,
     };
+    let casts_shadows = matches!(settings.step, LabStep::Shadows | LabStep::Indirect);
     let occluders = match &packets {
-        Some(_) => accel
+        Some(_) if casts_shadows => accel
             .flat_triangles()
             .unwrap_or(&[])
             .iter()
             .map(Occluder::new)
             .collect(),
-        None => Vec::new(),
+        _ => Vec::new(),
     };
     let frame = Frame {
         scene,
@@ -353,7 +367,8 @@ struct Frame<'a> {
     settings: &'a RenderSettings,
     /// The scene's BVH triangles prepared for the camera position (adaptive method).
     from_camera: Option<OriginTriangles>,
-    /// A flat scene's triangles with their boxes, for culling shadow rays per tile.
+    /// A flat scene's triangles with their boxes, for culling shadow rays per tile (only
+    /// for the steps with shadows).
     occluders: Vec<Occluder>,
     gen: RayGenerator,
     inv_n: f32,
@@ -613,11 +628,7 @@ impl Frame<'_> {
     ) -> (Vec<Occluder>, [f32; 3], [f32; 3]) {
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for s in shadows {
-            for k in 0..3 {
-                let end = s.o[k] + s.d[k];
-                lo[k] = lo[k].min(s.o[k]).min(end);
-                hi[k] = hi[k].max(s.o[k]).max(end);
-            }
+            packet::grow_by_segment((&mut lo, &mut hi), s.o, s.d);
         }
         let (mut box_lo, mut box_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         let near = self

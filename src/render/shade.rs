@@ -1,4 +1,5 @@
-//! One shading function per lab step. Colours are linear RGB.
+//! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
+//! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
 use crate::accel::soa::TriangleBlocks;
 use crate::geometry::adaptive::Search;
