@@ -368,3 +368,134 @@ fn shadow_packets_agree_with_the_per_ray_query() {
     println!("shadow packets left over: {generic_left} of {generic} generic rays, {total_left} of {total} in all");
     assert!(generic_left * 50 < generic, "{generic_left} of {generic}");
 }
+
+/// An icosphere and random triangles (one duplicated: exact ties), enough for a BVH.
+fn bvh_scene(rng: &mut Rng) -> Vec<Shape<f32>> {
+    let mut shapes = icosphere(2, 1.0, [0.3, -0.2, 0.1]);
+    for _ in 0..rng.below(200) {
+        let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
+        let size = 10f64.powf(rng.range(-2.0, 0.0));
+        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+            [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
+        })));
+    }
+    shapes.push(shapes[5]);
+    shapes
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn bvh_packets_name_the_same_primitive(seed in any::<u64>()) {
+        // Packets through the BVH, coherent (a fan of nearby rays) or scattered (each lane at
+        // a vertex, an edge midpoint or a random point): every decided lane must name exactly
+        // the per-ray adaptive search's primitive, with the t of the per-ray shared-origin
+        // search.
+        let mut rng = Rng(seed);
+        let shapes = bvh_scene(&mut rng);
+        let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
+        let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
+        let prepared = accel.prepare_origin(o).unwrap();
+        let mut decided = 0;
+        for _ in 0..24 {
+            let coherent = rng.below(2) == 0;
+            let centre = [0, 1, 2].map(|_| rng.range(-1.5, 1.5));
+            let spread = 10f64.powf(rng.range(-4.0, -0.5));
+            let dirs: [[f32; 3]; 8] = std::array::from_fn(|_| {
+                let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else {
+                    unreachable!()
+                };
+                let target = match (coherent, rng.below(3)) {
+                    (true, _) => centre.map(|c| (c + spread * rng.range(-1.0, 1.0)) as f32),
+                    (false, 0) => v[rng.below(3)],
+                    (false, 1) => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
+                    (false, _) => [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32),
+                };
+                [0, 1, 2].map(|k| target[k] - o[k])
+            });
+            let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
+            let (hits, ambiguous) = accel
+                .closest_packet(&prepared, &d, packet::max_component(&d))
+                .unwrap();
+            for (l, dir) in dirs.iter().enumerate() {
+                if ambiguous & (1 << l) != 0 {
+                    continue;
+                }
+                decided += 1;
+                let ray = Ray::new(o, *dir);
+                let want = accel.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
+                prop_assert_eq!(hits[l].map(|h| h.prim), want.map(|h| h.prim), "lane {}", l);
+                if let Some(h) = hits[l] {
+                    let per_ray = accel.closest_hit_from_origin(&ray, &prepared, 0.0, f32::INFINITY);
+                    prop_assert_eq!(Some(h), per_ray);
+                }
+            }
+        }
+        prop_assert!(decided > 24 * 8 / 2, "only {} of {} lanes decided", decided, 24 * 8);
+    }
+}
+
+#[test]
+fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
+    // An icosphere of 5,120 triangles (a BVH, too many for tile culling) with a few loose
+    // triangles, seen from close by: the renderer traces its camera rays in
+    // packets through the BVH. Every pixel of the flat step must be the colour of the
+    // per-ray adaptive search's primitive.
+    let mut shapes = icosphere(4, 1.0, [0.0; 3]);
+    let mut rng = Rng(11);
+    for _ in 0..40 {
+        let c = [0, 1, 2].map(|_| rng.range(-1.2, 1.2));
+        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+            [0, 1, 2].map(|k| (c[k] + 0.3 * rng.range(-1.0, 1.0)) as f32)
+        })));
+    }
+    let colors: Vec<[f32; 3]> = (0..shapes.len())
+        .map(|i| {
+            [
+                (i % 7) as f32 / 7.0,
+                (i % 11) as f32 / 11.0,
+                (i % 13) as f32 / 13.0,
+            ]
+        })
+        .collect();
+    let scene = Scene::new(
+        "icosphere",
+        shapes,
+        colors,
+        Scene::cornell().light,
+        [0.0; 3],
+    );
+    assert_eq!(scene.accel().kind(), "bvh");
+    assert!(scene.accel().flat_triangles().is_none());
+    // 76,800 rays: over the 12 per triangle from which the renderer prepares triangles.
+    let (w, h) = (320u32, 240u32);
+    let cam =
+        Camera::from_yaw_pitch(glam::DVec3::new(0.2, -0.1, -2.6), 0.05, -0.03, w as f64).unwrap();
+    let settings = raylab::render::RenderSettings {
+        width: w,
+        height: h,
+        step: raylab::render::LabStep::Flat,
+        ..Default::default()
+    };
+    let (img, stats) = raylab::render::render_image(&scene, &cam, &settings).unwrap();
+    let gen = cam.ray_generator(w, h);
+    let mut hits = 0;
+    for j in 0..h {
+        for i in 0..w {
+            let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
+            let want = scene
+                .accel()
+                .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
+                .map(|h| scene.colors[h.prim as usize].map(raylab::render::linear_to_srgb8));
+            let k = 4 * (j * w + i) as usize;
+            let got = [img[k], img[k + 1], img[k + 2]];
+            assert_eq!(got, want.unwrap_or([0; 3]), "pixel ({i}, {j})");
+            hits += want.is_some() as u64;
+        }
+    }
+    assert_eq!(stats.hits, hits);
+    assert!(
+        hits > (w * h / 4) as u64,
+        "the sphere fills the view: {hits} hits"
+    );
+}

@@ -11,13 +11,14 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
-use super::packet::OriginTriangle;
+use super::packet::{OriginTriangle, OriginTriangles, PacketHits, PacketNearest};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
 use rayon::prelude::*;
+use wide::f32x8;
 
 /// Triangles per leaf at most.
 const MAX_LEAF: usize = 4;
@@ -219,6 +220,119 @@ impl Bvh {
             }
             (search.t_far32(), false)
         });
+    }
+
+    /// Camera rays 8 at a time from the origin `prepared` was made for (directions `d`,
+    /// `d_max` ≥ every |dₖ|): the nearest triangle per lane as [`super::packet::closest`]
+    /// over all triangles would decide it, as its position in `prepared` (`prim` of the
+    /// result; u32::MAX for none), or ambiguous (to be traced per ray).
+    ///
+    /// Packet traversal: a node is entered while its box meets some lane that is not yet
+    /// ambiguous, nearer than that lane's [`PacketNearest::reach`] (with the margin of the
+    /// module docs); the child whose box the packet's first live lane enters first is visited
+    /// first, and a popped node is tested again against the nearer hits found meanwhile.
+    /// Every triangle a lane can hit nearer than its best so far is offered to it, so its
+    /// answer is the one of the whole list.
+    pub fn closest_packet(
+        &self,
+        prepared: &OriginTriangles,
+        d: &[f32x8; 3],
+        d_max: f32,
+    ) -> PacketHits {
+        let mut nearest = PacketNearest::new(d, d_max);
+        let Some(root) = self.nodes.first() else {
+            return nearest.finish();
+        };
+        if prepared.tris.len() != self.tris.len() {
+            let mut all = nearest.finish();
+            all.ambiguous = 0xff;
+            return all;
+        }
+        let o = prepared.origin;
+        let inv = d.map(|c| f32x8::ONE / c);
+        let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
+        let slack = f32x8::splat(1.0 + 2.0 * f32::error_gamma(3));
+        let inf = f32x8::splat(f32::INFINITY);
+        // The lanes whose box test passes, and their entry distances.
+        let enter = |b: &Aabb, limit: f32x8, live: u32| -> (u32, f32x8) {
+            let mut t0 = f32x8::ZERO;
+            let mut t1 = limit;
+            for k in 0..3 {
+                let (lo, hi) = (f32x8::splat(b.lo[k] - o[k]), f32x8::splat(b.hi[k] - o[k]));
+                let near = neg[k].bitselect(hi, lo);
+                let far = neg[k].bitselect(lo, hi);
+                // `max`/`min` keep the left side where the right is NaN (0·∞ for a ray in
+                // a slab's plane): no constraint, as in the scalar test.
+                t0 = t0.max(near * inv[k]);
+                t1 = t1.min(far * inv[k] * slack);
+            }
+            (t0.simd_le(t1).to_bitmask() & live, t0)
+        };
+        // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
+        let limit = |reach: f32x8| {
+            let m = reach + reach.abs() * f32x8::splat(1.0 / 65536.0);
+            reach.simd_lt(inf).bitselect(m, inf)
+        };
+        let mut live = !nearest.ambiguous() & 0xff;
+        let mut stack = [0u32; 64];
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        if enter(&root.bounds, inf, live).0 == 0 {
+            return nearest.finish();
+        }
+        loop {
+            let n = self.nodes[node];
+            if n.count > 0 {
+                let first = n.offset as usize;
+                for (slot, tri) in prepared.tris[first..first + n.count as usize]
+                    .iter()
+                    .enumerate()
+                {
+                    nearest.offer(tri, (first + slot) as u32);
+                }
+                live &= !nearest.ambiguous();
+            } else {
+                let (a, b) = (node + 1, node + n.offset as usize);
+                let reach = limit(nearest.reach());
+                let (ma, ta) = enter(&self.nodes[a].bounds, reach, live);
+                let (mb, tb) = enter(&self.nodes[b].bounds, reach, live);
+                match (ma != 0, mb != 0) {
+                    (true, true) => {
+                        let lane = (ma & mb).trailing_zeros() as usize;
+                        let (first, second) =
+                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                                (b, a)
+                            } else {
+                                (a, b)
+                            };
+                        stack[sp] = second as u32;
+                        sp += 1;
+                        node = first;
+                        continue;
+                    }
+                    (true, false) => {
+                        node = a;
+                        continue;
+                    }
+                    (false, true) => {
+                        node = b;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            loop {
+                if sp == 0 || live == 0 {
+                    return nearest.finish();
+                }
+                sp -= 1;
+                let cand = stack[sp] as usize;
+                if enter(&self.nodes[cand].bounds, limit(nearest.reach()), live).0 != 0 {
+                    node = cand;
+                    break;
+                }
+            }
+        }
     }
 
     /// The adaptive any-hit query.

@@ -129,6 +129,11 @@ impl Accel {
         (small && self.spheres.is_empty()).then_some(&self.list)
     }
 
+    /// Whether the scene holds spheres (which only the per-ray queries handle).
+    pub fn has_spheres(&self) -> bool {
+        !self.spheres.is_empty()
+    }
+
     /// Bytes of the structure (triangles included).
     pub fn memory_bytes(&self) -> usize {
         let list = self.list.len() * std::mem::size_of::<IndexedTriangle>();
@@ -240,6 +245,49 @@ impl Accel {
             search.offer_shape(prim, sphere, Estimate::Unsure);
         }
         search.hit()
+    }
+
+    /// Camera rays 8 at a time from the origin `prepared` was made for, through the BVH
+    /// ([`bvh::Bvh::closest_packet`]): per lane the nearest hit of [`Accel::closest_hit`]
+    /// with [`Method::Adaptive`] (its t and barycentrics from the shared-origin f32 level, as
+    /// [`Accel::closest_hit_from_origin`] reports them), and the lanes left ambiguous, to be
+    /// traced per ray. `None` where there is no BVH or there are spheres.
+    pub fn closest_packet(
+        &self,
+        prepared: &packet::OriginTriangles,
+        d: &[wide::f32x8; 3],
+        d_max: f32,
+    ) -> Option<([Option<Hit>; 8], u32)> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
+        if !self.spheres.is_empty() {
+            return None;
+        }
+        let found = b.closest_packet(prepared, d, d_max);
+        let mut ambiguous = found.ambiguous;
+        let mut hits = [None; 8];
+        let [dx, dy, dz] = d.map(|c| c.to_array());
+        for (l, hit) in hits.iter_mut().enumerate() {
+            let slot = found.prim[l];
+            if ambiguous & (1 << l) != 0 || slot == u32::MAX {
+                continue;
+            }
+            let dl = [dx[l], dy[l], dz[l]];
+            let tri = &prepared.tris[slot as usize];
+            match tri.estimate(dl, dl[0].abs().max(dl[1].abs()).max(dl[2].abs())) {
+                Estimate::Hit(a) => {
+                    *hit = Some(Hit {
+                        t: a.t as f32,
+                        prim: tri.prim,
+                        b1: a.b1 as f32,
+                        b2: a.b2 as f32,
+                    })
+                }
+                _ => ambiguous |= 1 << l,
+            }
+        }
+        Some((hits, ambiguous))
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).

@@ -251,7 +251,17 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 
 /// The nearest of `tris` along each of 8 directions from their shared origin, for
 /// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
-/// overflow (or a NaN direction) are ambiguous.
+/// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
+pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
+    let mut nearest = PacketNearest::new(d, d_max);
+    for tri in tris {
+        nearest.offer(tri, tri.prim);
+    }
+    nearest.finish()
+}
+
+/// The nearest candidate so far of each of 8 rays from the shared origin, as triangles are
+/// offered in any order (all of a small scene's, or a BVH's leaves as the rays reach them).
 ///
 /// Error bound of t, for a lane whose three eᵢ have one certain sign: the computed
 /// det̃ = ẽ₀ + ẽ₁ + ẽ₂ is within ΣK·max|d| + γ₂|det̃|/(1 − γ₂) of the exact one, i.e. a
@@ -259,23 +269,58 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// numerator's relative error is r_num; t̃ = fl(num·fl(1/det̃)) adds two roundings. Then
 /// |t/t̃ − 1| ≤ (r_num + r_det)/(1 − r_det)·(1 + 3u) + 3u ≤ 1.4·(r_num + r_det) + 4u, and
 /// 1e-37 is added for results in the subnormal range.
-pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    let all_ambiguous = PacketHits {
-        prim: [u32::MAX; 8],
-        ambiguous: 0xff,
-    };
-    if !(d_max.is_finite()) {
-        return all_ambiguous;
+///
+/// A lane keeps a candidate only while its t interval lies wholly below every other offered
+/// triangle's, so a lane that ends undecided-free holds the exact nearest of all offered
+/// triangles; and any triangle not offered whose exact t exceeds the lane's [`reach`]
+/// cannot change that.
+///
+/// [`reach`]: PacketNearest::reach
+pub struct PacketNearest {
+    d: [f32x8; 3],
+    /// max|dₖ| rounded up.
+    dm: f32,
+    best_lo: f32x8,
+    best_hi: f32x8,
+    /// The nearest's ids as bit patterns (only ever moved bitwise); u32::MAX for none.
+    best_prim: f32x8,
+    ambiguous: f32x8,
+}
+
+impl PacketNearest {
+    pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
+        let inf = f32x8::splat(f32::INFINITY);
+        let none = f32x8::ZERO.simd_ne(f32x8::ZERO);
+        Self {
+            d: *d,
+            dm: d_max * (1.0 + 1e-6),
+            best_lo: inf,
+            best_hi: inf,
+            best_prim: f32x8::splat(f32::from_bits(u32::MAX)),
+            // Every lane, where max|d| is not finite.
+            ambiguous: if d_max.is_finite() { none } else { !none },
+        }
     }
-    let inf = f32x8::splat(f32::INFINITY);
-    let (mut best_lo, mut best_hi) = (inf, inf);
-    // Primitive indices as bit patterns (only ever moved bitwise); u32::MAX for none.
-    let mut best_prim = f32x8::splat(f32::from_bits(u32::MAX));
-    let mut ambiguous = f32x8::ZERO.simd_ne(f32x8::ZERO);
-    let dm = d_max * (1.0 + 1e-6);
-    for tri in tris {
-        if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
-            return all_ambiguous;
+
+    /// The lanes already ambiguous (bit l for lane l).
+    #[inline]
+    pub fn ambiguous(&self) -> u32 {
+        self.ambiguous.to_bitmask()
+    }
+
+    /// Per lane, an upper bound on the exact t of its nearest candidate (∞ while none).
+    #[inline]
+    pub fn reach(&self) -> f32x8 {
+        self.best_hi
+    }
+
+    /// Offers one triangle to every lane; a lane that takes it as its nearest records `id`.
+    #[inline]
+    pub fn offer(&mut self, tri: &OriginTriangle, id: u32) {
+        let (d, dm) = (&self.d, self.dm);
+        if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
+            self.ambiguous = f32x8::ZERO.simd_eq(f32x8::ZERO);
+            return;
         }
         let e = tri.n.map(|n| {
             d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
@@ -287,16 +332,16 @@ pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHit
         let any_neg = neg[0] | neg[1] | neg[2];
         let miss = any_pos & any_neg;
         if miss.all() {
-            continue;
+            return;
         }
         let all_pos = pos[0] & pos[1] & pos[2];
         let all_neg = neg[0] & neg[1] & neg[2];
         // In front: the sign of det (that of the eᵢ) is the numerator's.
         let front = if tri.num > 0.0 { all_pos } else { all_neg };
         let behind = if tri.num > 0.0 { all_neg } else { all_pos };
-        ambiguous |= !(miss | front | behind);
+        self.ambiguous |= !(miss | front | behind);
         if front.none() {
-            continue;
+            return;
         }
         let det = e[0] + e[1] + e[2];
         let rcp = f32x8::ONE / det;
@@ -306,18 +351,22 @@ pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHit
         let err =
             t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
         let (lo, hi) = (t - err, t + err);
-        let nearer = hi.simd_lt(best_lo);
-        let farther = lo.simd_gt(best_hi);
+        let nearer = hi.simd_lt(self.best_lo);
+        let farther = lo.simd_gt(self.best_hi);
         // Overlapping intervals, or a loose one: the per-ray search orders them.
-        ambiguous |= front & !(tight & (nearer | farther));
+        self.ambiguous |= front & !(tight & (nearer | farther));
         let take = front & tight & nearer;
-        best_lo = take.bitselect(lo, best_lo);
-        best_hi = take.bitselect(hi, best_hi);
-        best_prim = take.bitselect(f32x8::splat(f32::from_bits(tri.prim)), best_prim);
+        self.best_lo = take.bitselect(lo, self.best_lo);
+        self.best_hi = take.bitselect(hi, self.best_hi);
+        self.best_prim = take.bitselect(f32x8::splat(f32::from_bits(id)), self.best_prim);
     }
-    PacketHits {
-        prim: best_prim.to_array().map(f32::to_bits),
-        ambiguous: ambiguous.to_bitmask(),
+
+    /// Per lane the id of the nearest (u32::MAX for none), and the ambiguous lanes.
+    pub fn finish(self) -> PacketHits {
+        PacketHits {
+            prim: self.best_prim.to_array().map(f32::to_bits),
+            ambiguous: self.ambiguous.to_bitmask(),
+        }
     }
 }
 

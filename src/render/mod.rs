@@ -253,6 +253,8 @@ pub fn render_into_cancellable(
         }
         _ => None,
     };
+    // Its camera rays 8 at a time through the BVH (triangles only: spheres go per ray).
+    let bvh_packets = from_camera.is_some() && !accel.has_spheres();
     let casts_shadows = matches!(settings.step, LabStep::Shadows | LabStep::Indirect);
     let occluders = match &packets {
         Some(_) if casts_shadows => accel
@@ -293,7 +295,11 @@ pub fn render_into_cancellable(
                     h: band_h,
                 };
                 let Some((tris, bounds)) = &culled else {
-                    frame.trace_tile(&tile, None, rows, &mut counts);
+                    if bvh_packets {
+                        frame.trace_tile_packets(&tile, &mut scratch, rows, &mut counts, true);
+                    } else {
+                        frame.trace_tile(&tile, None, rows, &mut counts);
+                    }
                     continue;
                 };
                 let (tx0, ty0) = (tile.x0 as f32, tile.y0 as f32);
@@ -320,7 +326,7 @@ pub fn render_into_cancellable(
                                 .filter(|(_, b)| meets(b))
                                 .map(|(t, _)| *t),
                         );
-                        frame.trace_tile_packets(&tile, &mut scratch, rows, &mut counts);
+                        frame.trace_tile_packets(&tile, &mut scratch, rows, &mut counts, false);
                     }
                     None => {
                         let blocks = TriangleBlocks::new(subset);
@@ -341,6 +347,18 @@ pub fn render_into_cancellable(
         hits,
         elapsed: start.elapsed(),
     }))
+}
+
+/// What a packet found for one of its rays.
+#[derive(Clone, Copy)]
+enum Lane {
+    Miss,
+    /// A small scene's nearest primitive (its t is computed only when shading needs it).
+    Prim(u32),
+    /// A BVH scene's nearest hit.
+    Hit(Hit),
+    /// Undecided: traced per ray.
+    PerRay,
 }
 
 /// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
@@ -476,8 +494,10 @@ impl Frame<'_> {
         scratch: &mut TileScratch,
         rows: &mut [u8],
         counts: &mut (u64, u64),
+        bvh: bool,
     ) {
         let (scene, settings) = (self.scene, self.settings);
+        let accel = scene.accel();
         let TileScratch {
             tris,
             subset,
@@ -502,39 +522,66 @@ impl Frame<'_> {
                         (tile.x0 + (l as u32).min(tile.w - 1)) as f32 + off_x
                     });
                     let dirs = self.gen.directions_x8(f32x8::from(xs), y);
-                    let found = packet::closest(tris, &dirs, packet::max_component(&dirs));
+                    let d_max = packet::max_component(&dirs);
+                    let mut lanes = [Lane::Miss; 8];
+                    match (bvh, &self.from_camera) {
+                        (true, Some(prepared)) => {
+                            let (hits, ambiguous) = accel
+                                .closest_packet(prepared, &dirs, d_max)
+                                .unwrap_or(([None; 8], 0xff));
+                            for (l, lane) in lanes.iter_mut().enumerate() {
+                                *lane = match hits[l] {
+                                    _ if ambiguous & (1 << l) != 0 => Lane::PerRay,
+                                    Some(h) => Lane::Hit(h),
+                                    None => Lane::Miss,
+                                };
+                            }
+                        }
+                        _ => {
+                            let found = packet::closest(tris, &dirs, d_max);
+                            for (l, lane) in lanes.iter_mut().enumerate() {
+                                *lane = match found.prim[l] {
+                                    _ if found.ambiguous & (1 << l) != 0 => Lane::PerRay,
+                                    u32::MAX => Lane::Miss,
+                                    prim => Lane::Prim(prim),
+                                };
+                            }
+                        }
+                    }
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
-                        let ambiguous = found.ambiguous & (1 << l) != 0;
-                        let prim = found.prim[l];
-                        if prim == u32::MAX && !ambiguous {
-                            if !flat {
-                                hits.push(None);
+                        let lane = lanes[l];
+                        if flat {
+                            if let Lane::Prim(prim) | Lane::Hit(Hit { prim, .. }) = lane {
+                                counts.0 += 1;
+                                add(sum, scene.colors[prim as usize]);
+                                continue;
                             }
-                            continue;
-                        }
-                        if flat && !ambiguous {
-                            counts.0 += 1;
-                            add(sum, scene.colors[prim as usize]);
-                            continue;
                         }
                         let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
                         let mut per_ray = || {
+                            if bvh {
+                                return self.find_hit(&ray, None);
+                            }
                             let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
                             self.find_hit(&ray, Some(b))
                         };
-                        let hit = if ambiguous {
-                            per_ray()
-                        } else {
-                            let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
-                                unreachable!("flat scenes hold triangles only")
-                            };
-                            match WatertightRay::new(o, ray.d).and_then(|r| watertight_raw(&r, tri))
-                            {
-                                Some((t, b1, b2, _)) => Some(Hit { t, prim, b1, b2 }),
-                                // The f32 test misses a triangle the exact one hits: let
-                                // the per-ray search make the same call it makes untiled.
-                                None => per_ray(),
+                        let hit = match lane {
+                            Lane::Miss => None,
+                            Lane::Hit(h) => Some(h),
+                            Lane::PerRay => per_ray(),
+                            Lane::Prim(prim) => {
+                                let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
+                                    unreachable!("flat scenes hold triangles only")
+                                };
+                                match WatertightRay::new(o, ray.d)
+                                    .and_then(|r| watertight_raw(&r, tri))
+                                {
+                                    Some((t, b1, b2, _)) => Some(Hit { t, prim, b1, b2 }),
+                                    // The f32 test misses a triangle the exact one hits: let
+                                    // the per-ray search make the same call it makes untiled.
+                                    None => per_ray(),
+                                }
                             }
                         };
                         if flat {
@@ -565,7 +612,8 @@ impl Frame<'_> {
                 .map(|h| h.map(|(ray, hit)| Lit::new(scene, &ray, &hit))),
         );
         let mut occluder_blocks = None;
-        if matches!(settings.step, LabStep::Shadows | LabStep::Indirect) {
+        // (A BVH scene's shadow rays go per ray through its BVH.)
+        if !bvh && matches!(settings.step, LabStep::Shadows | LabStep::Indirect) {
             let near = self.occluders_for(lit.iter().flatten().filter_map(|l| l.shadow.as_ref()));
             // 8 shadow rays at a time against those triangles; the undecided ones per ray.
             let mut with_shadow: Vec<&mut Lit> = lit
