@@ -551,6 +551,12 @@ impl Frame<'_> {
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
                         let lane = lanes[l];
+                        if let Lane::Miss = lane {
+                            if !flat {
+                                hits.push(None);
+                            }
+                            continue;
+                        }
                         if flat {
                             if let Lane::Prim(prim) | Lane::Hit(Hit { prim, .. }) = lane {
                                 counts.0 += 1;
