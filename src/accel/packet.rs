@@ -80,66 +80,66 @@ pub struct PacketHits {
 }
 
 impl OriginTriangle {
-    fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
-        let p = v.map(|vi| std::array::from_fn::<f64, 3, _>(|a| vi[a] as f64 - o[a] as f64));
-        let mut n = [[0f32; 3]; 3];
-        let mut k = [0f32; 3];
-        let mut n_max = 0f64;
-        let mut usable = p.iter().flatten().all(|x| x.is_finite());
-        let mut n64 = [[0f64; 3]; 3];
-        let mut n_err = [[0f64; 3]; 3];
+    /// Prepares triangle `v` for rays from `o`. Bounds (u = 2⁻⁵³ in f64, 2⁻²⁴ in f32; m the
+    /// largest |pᵢₖ|): each pᵢ = fl(vᵢ − o) is within u·|pᵢ| of exact, so each component of
+    /// nᵢ = pⱼ × pₖ computed in f64 is within 16u·m² of the exact cross product (rounded inputs,
+    /// two products, a difference: 5u·2m², with margin); rounding it to f32 adds u₃₂·|ñ|
+    /// (·1.0001) + 2⁻¹⁴⁹, and the f32 dot product with d adds γ₃·Σ|dₖ||ñₖ|. So with
+    /// Sᵢ = Σₖ|ñᵢₖ|, |ẽᵢ − eᵢ| ≤ (4.0002·u₃₂·Sᵢ + 48u·m² + 3·2⁻¹⁴⁹)·max|dₖ| = Kᵢ·max|dₖ|.
+    /// det = p₀·n₀ in f64 is within 4.0002u·m·Σ|n₀ₖ| + 48u·m³ of exact (the rounding of p₀,
+    /// the error of n₀, γ₃ of the dot product), then rounded to f32. The normal
+    /// (v₁ − v₀) × (v₂ − v₀) carries the same bound with the edges' largest component for m.
+    /// One common bound per triangle (not per component) keeps this cheap: the f64 terms
+    /// are 2⁻²⁹ of the f32 ones wherever the triangle is not seen exactly edge-on.
+    pub fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
+        const TINY: f64 = 3.0 * 1.5e-45;
+        let mut p = [[0f64; 3]; 3];
+        let mut m = 0f64;
         for i in 0..3 {
-            let (a, b) = (p[(i + 1) % 3], p[(i + 2) % 3]);
-            let mut k64 = 0.0;
             for c in 0..3 {
-                let (y, z) = ((c + 1) % 3, (c + 2) % 3);
-                n64[i][c] = a[y] * b[z] - a[z] * b[y];
-                // pᵢ are rounded once (relative u64), then two products and a difference:
-                // under 5·u64 of the magnitudes; 8·u64 for margin.
-                let mag = (a[y] * b[z]).abs() + (a[z] * b[y]).abs();
-                n_err[i][c] = 8.0 * U64 * mag;
-                n[i][c] = n64[i][c] as f32;
-                // Rounding to f32 (half an ulp, or 2^-150 in the subnormal range).
-                let to32 = U32 * n64[i][c].abs() + 1e-45;
-                // The f32 dot product: γ₃·|d|·|ñ| (γ₃ < 3.0001·u32).
-                k64 += n_err[i][c] + to32 + 3.0001 * U32 * (n[i][c] as f64).abs();
+                p[i][c] = v[i][c] as f64 - o[c] as f64;
+                m = m.max(p[i][c].abs());
             }
-            let sum: f64 = n[i].iter().map(|x| (*x as f64).abs()).sum();
-            usable &= sum.is_finite() && sum < MAX_MAGNITUDE;
-            n_max = n_max.max(sum);
-            k[i] = (k64 * (1.0 + 1e-6)) as f32;
         }
-        let k_sum = ((k[0] as f64 + k[1] as f64 + k[2] as f64) * (1.0 + 1e-6)) as f32;
-        // det[p₀, p₁, p₂] = p₀·n₀ in f64, with the error of n₀ carried through.
-        let num64: f64 = (0..3).map(|c| p[0][c] * n64[0][c]).sum();
-        let num_err: f64 = (0..3)
-            .map(|c| p[0][c].abs() * (n_err[0][c] + 4.0 * U64 * n64[0][c].abs()))
-            .sum::<f64>()
-            + 4.0 * U64 * (0..3).map(|c| (p[0][c] * n64[0][c]).abs()).sum::<f64>();
-        let num = num64 as f32;
-        let num_err = num_err + U32 * num64.abs() + 1e-45;
-        // The sign of det must be certain and its relative error at most 1/2.
-        usable &= num.is_finite() && (num as f64).abs() > 2.0 * num_err;
-        usable &= num64.abs() < MAX_MAGNITUDE;
-        let r_num = num_err / (num as f64).abs();
-        let (normal, k_det) = {
-            let e1 = std::array::from_fn::<f64, 3, _>(|a| v[1][a] as f64 - v[0][a] as f64);
-            let e2 = std::array::from_fn::<f64, 3, _>(|a| v[2][a] as f64 - v[0][a] as f64);
-            let mut normal = [0f32; 3];
-            let mut k = 0.0;
-            for (c, nc) in normal.iter_mut().enumerate() {
-                let (y, z) = ((c + 1) % 3, (c + 2) % 3);
-                let n = e1[y] * e2[z] - e1[z] * e2[y];
-                let mag = (e1[y] * e2[z]).abs() + (e1[z] * e2[y]).abs();
-                *nc = n as f32;
-                k += 8.0 * U64 * mag + U32 * n.abs() + 1e-45 + 3.0001 * U32 * (*nc as f64).abs();
-            }
-            (normal, (k * (1.0 + 1e-6)) as f32)
+        let cross = |a: &[f64; 3], b: &[f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
         };
-        usable &= normal.iter().all(|c| c.is_finite());
-        // See `closest`: |t̃ − t| ≤ |t̃|·(1.4·(r_num + 2.1·u) + 4u + 1.4·ΣK·max|d|/|det̃|),
+        let n64 = [cross(&p[1], &p[2]), cross(&p[2], &p[0]), cross(&p[0], &p[1])];
+        let n = n64.map(|ni| ni.map(|x| x as f32));
+        let sum_abs = |x: &[f32; 3]| x[0].abs() as f64 + x[1].abs() as f64 + x[2].abs() as f64;
+        let s = [sum_abs(&n[0]), sum_abs(&n[1]), sum_abs(&n[2])];
+        let n_max = s[0].max(s[1]).max(s[2]);
+        let f64_part = 48.0 * U64 * m * m;
+        let k = s.map(|si| ((4.0002 * U32 * si + f64_part + TINY) * (1.0 + 1e-6)) as f32);
+        let k_sum = ((k[0] as f64 + k[1] as f64 + k[2] as f64) * (1.0 + 1e-6)) as f32;
+        let num64 = p[0][0] * n64[0][0] + p[0][1] * n64[0][1] + p[0][2] * n64[0][2];
+        let n0_abs = n64[0][0].abs() + n64[0][1].abs() + n64[0][2].abs();
+        let num = num64 as f32;
+        let num_err =
+            4.0002 * U64 * m * n0_abs + 48.0 * U64 * m * m * m + U32 * num64.abs() + 1e-45;
+        let e1 = [0, 1, 2].map(|c| v[1][c] as f64 - v[0][c] as f64);
+        let e2 = [0, 1, 2].map(|c| v[2][c] as f64 - v[0][c] as f64);
+        let me = e1.iter().chain(&e2).fold(0f64, |a, x| a.max(x.abs()));
+        let normal = cross(&e1, &e2).map(|x| x as f32);
+        let k_det = ((4.0002 * U32 * sum_abs(&normal) + 48.0 * U64 * me * me + TINY)
+            * (1.0 + 1e-6)) as f32;
+        let r_num = num_err / (num as f64).abs();
+        // See `PacketNearest`: |t̃ − t| ≤ |t̃|·(1.4·(r_num + 2.1·u) + 4u + 1.4·ΣK·max|d|/|det̃|),
         // and 2u more for the rounding of t̃ ± that.
         let c_t = (1.4 * (r_num + 2.1 * U32) + 6.0 * U32) as f32;
+        // The sign of det must be certain and its relative error at most 1/2; magnitudes
+        // far from overflow; every input finite (NaN fails every comparison).
+        let usable = m < MAX_MAGNITUDE
+            && n_max < MAX_MAGNITUDE
+            && num64.abs() < MAX_MAGNITUDE
+            && (num as f64).abs() > 2.0 * num_err
+            && me < MAX_MAGNITUDE
+            && k_sum.is_finite()
+            && k_det.is_finite();
         Self {
             n,
             k,
@@ -150,7 +150,7 @@ impl OriginTriangle {
             normal,
             k_det,
             prim,
-            usable: usable && k_sum.is_finite(),
+            usable,
         }
     }
 }
