@@ -222,10 +222,12 @@ impl Bvh {
         });
     }
 
-    /// Camera rays 8 at a time from the origin `prepared` was made for (directions `d`,
-    /// `d_max` ≥ every |dₖ|): the nearest triangle per lane as [`super::packet::closest`]
-    /// over all triangles would decide it, as its position in `prepared` (`prim` of the
-    /// result; u32::MAX for none), or ambiguous (to be traced per ray).
+    /// Camera rays 8 at a time from the origin `o` (directions `d`, `d_max` ≥ every |dₖ|):
+    /// the nearest triangle per lane as [`super::packet::closest`] over all triangles would
+    /// decide it, as its position in the hierarchy's order ([`Bvh::triangles`]; `prim` of
+    /// the result; u32::MAX for none), or ambiguous (to be traced per ray). The triangles
+    /// come from `prepared` (made for `o`) or, without it, are prepared as the leaves are
+    /// reached.
     ///
     /// Packet traversal: a node is entered while its box meets some lane that is not yet
     /// ambiguous, nearer than that lane's [`PacketNearest::reach`] (with the margin of the
@@ -235,7 +237,8 @@ impl Bvh {
     /// answer is the one of the whole list.
     pub fn closest_packet(
         &self,
-        prepared: &OriginTriangles,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
     ) -> PacketHits {
@@ -243,12 +246,12 @@ impl Bvh {
         let Some(root) = self.nodes.first() else {
             return nearest.finish();
         };
-        if prepared.tris.len() != self.tris.len() {
+        let prepared = prepared.map(|p| &p.tris[..]);
+        if prepared.is_some_and(|p| p.len() != self.tris.len()) {
             let mut all = nearest.finish();
             all.ambiguous = 0xff;
             return all;
         }
-        let o = prepared.origin;
         let inv = d.map(|c| f32x8::ONE / c);
         let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
         // Per axis: whether every lane's direction has one sign (near and far slab are then
@@ -307,11 +310,14 @@ impl Bvh {
             let n = self.nodes[node];
             if n.count > 0 {
                 let first = n.offset as usize;
-                for (slot, tri) in prepared.tris[first..first + n.count as usize]
-                    .iter()
-                    .enumerate()
-                {
-                    nearest.offer(tri, (first + slot) as u32);
+                for i in first..first + n.count as usize {
+                    match prepared {
+                        Some(p) => nearest.offer(&p[i], i as u32),
+                        None => nearest.offer(
+                            &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
+                            i as u32,
+                        ),
+                    }
                 }
                 live &= !nearest.ambiguous();
             } else {

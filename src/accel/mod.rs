@@ -12,7 +12,7 @@ pub mod packet;
 pub mod soa;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
-use crate::geometry::triangle::WatertightRay;
+use crate::geometry::triangle::{watertight_raw, WatertightRay};
 use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
 use std::str::FromStr;
@@ -247,14 +247,17 @@ impl Accel {
         search.hit()
     }
 
-    /// Camera rays 8 at a time from the origin `prepared` was made for, through the BVH
-    /// ([`bvh::Bvh::closest_packet`]): per lane the nearest hit of [`Accel::closest_hit`]
-    /// with [`Method::Adaptive`] (its t and barycentrics from the shared-origin f32 level, as
-    /// [`Accel::closest_hit_from_origin`] reports them), and the lanes left ambiguous, to be
-    /// traced per ray. `None` where there is no BVH or there are spheres.
+    /// Camera rays 8 at a time from one origin `o` through the BVH
+    /// ([`bvh::Bvh::closest_packet`]; `prepared`: the triangles prepared for `o` by
+    /// [`Accel::prepare_origin`], or `None` to prepare them as the packet meets them): per
+    /// lane the nearest hit of [`Accel::closest_hit`] with [`Method::Adaptive`] (t and
+    /// barycentrics from the f32 watertight test on that triangle, as the flat loop's packets
+    /// report them), and the lanes left ambiguous, to be traced per ray. `None` where there
+    /// is no BVH or there are spheres.
     pub fn closest_packet(
         &self,
-        prepared: &packet::OriginTriangles,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
     ) -> Option<([Option<Hit>; 8], u32)> {
@@ -264,27 +267,29 @@ impl Accel {
         if !self.spheres.is_empty() {
             return None;
         }
-        let found = b.closest_packet(prepared, d, d_max);
+        let found = b.closest_packet(o, prepared, d, d_max);
         let mut ambiguous = found.ambiguous;
         let mut hits = [None; 8];
+        let (tris, prims) = b.triangles();
         let [dx, dy, dz] = d.map(|c| c.to_array());
         for (l, hit) in hits.iter_mut().enumerate() {
-            let slot = found.prim[l];
-            if ambiguous & (1 << l) != 0 || slot == u32::MAX {
+            let slot = found.prim[l] as usize;
+            if ambiguous & (1 << l) != 0 || slot == u32::MAX as usize {
                 continue;
             }
-            let dl = [dx[l], dy[l], dz[l]];
-            let tri = &prepared.tris[slot as usize];
-            match tri.estimate(dl, dl[0].abs().max(dl[1].abs()).max(dl[2].abs())) {
-                Estimate::Hit(a) => {
+            let ray = WatertightRay::new(o, [dx[l], dy[l], dz[l]]);
+            // The f32 test missing the triangle the exact one hits (a ray within rounding of
+            // its edge): the per-ray search decides.
+            match ray.and_then(|r| watertight_raw(&r, &tris[slot])) {
+                Some((t, b1, b2, _)) => {
                     *hit = Some(Hit {
-                        t: a.t as f32,
-                        prim: tri.prim,
-                        b1: a.b1 as f32,
-                        b2: a.b2 as f32,
+                        t,
+                        prim: prims[slot],
+                        b1,
+                        b2,
                     })
                 }
-                _ => ambiguous |= 1 << l,
+                None => ambiguous |= 1 << l,
             }
         }
         Some((hits, ambiguous))

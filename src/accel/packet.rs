@@ -80,64 +80,74 @@ pub struct PacketHits {
 }
 
 impl OriginTriangle {
-    /// Prepares triangle `v` for rays from `o`. Bounds (u = 2⁻⁵³ in f64, 2⁻²⁴ in f32; m the
-    /// largest |pᵢₖ|): each pᵢ = fl(vᵢ − o) is within u·|pᵢ| of exact, so each component of
-    /// nᵢ = pⱼ × pₖ computed in f64 is within 16u·m² of the exact cross product (rounded inputs,
-    /// two products, a difference: 5u·2m², with margin); rounding it to f32 adds u₃₂·|ñ|
-    /// (·1.0001) + 2⁻¹⁴⁹, and the f32 dot product with d adds γ₃·Σ|dₖ||ñₖ|. So with
-    /// Sᵢ = Σₖ|ñᵢₖ|, |ẽᵢ − eᵢ| ≤ (4.0002·u₃₂·Sᵢ + 48u·m² + 3·2⁻¹⁴⁹)·max|dₖ| = Kᵢ·max|dₖ|.
-    /// det = p₀·n₀ in f64 is within 4.0002u·m·Σ|n₀ₖ| + 48u·m³ of exact (the rounding of p₀,
-    /// the error of n₀, γ₃ of the dot product), then rounded to f32. The normal
-    /// (v₁ − v₀) × (v₂ − v₀) carries the same bound with the edges' largest component for m.
-    /// One common bound per triangle (not per component) keeps this cheap: the f64 terms
-    /// are 2⁻²⁹ of the f32 ones wherever the triangle is not seen exactly edge-on.
+    /// Prepares triangle `v` for rays from `o`; cheap enough (about 150 instructions) to make
+    /// each time a packet meets a triangle, which is how the BVH's packets use it.
+    ///
+    /// The edge functions are taken as eᵢ = d·(pⱼ × Eᵢ) with the edge Eᵢ = vₖ − vⱼ (exactly
+    /// d·(pⱼ × pₖ), as pₖ = pⱼ + Eᵢ), the normal as N = E₁ × E₂ (= (v₁ − v₀) × (v₂ − v₀)) and
+    /// det[p₀, p₁, p₂] as p₀·N, all in f64. Bounds, with u = 2⁻⁵³, U = 2⁻²⁴, m ≥ every |pᵢₖ|
+    /// and e ≥ every |Eᵢₖ|: p and E are within u of exact per component, so each component
+    /// of a cross product pⱼ × Eᵢ is within 2·3.0001u·m·e + 2.0001u·m·e ≤ 8.0004u·m·e of
+    /// exact (8.0004u·e² for N); rounding it to f32 adds 1.0001U·|ñ| + 2⁻¹⁴⁹ and the f32 dot
+    /// product with d adds γ₃·Σ|dₖ||ñₖ|, so |ẽᵢ − eᵢ| ≤ Kᵢ·max|dₖ| with
+    /// Kᵢ = 4.0002U·Σₖ|ñᵢₖ| + 3·8.0004u·m·e + 3·2⁻¹⁴⁹. p₀·N is within
+    /// 4.0002u·m·|N|₁ + 3m·8.0004u·e² of exact before its rounding to f32. The bounds' own
+    /// roundings are covered by a factor 1 + 10⁻⁶. The rounding of p and E scales with the
+    /// triangle's size and distance (m·e), not the distance squared: small far triangles
+    /// keep tight bounds.
+    #[inline]
     pub fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
         const TINY: f64 = 3.0 * 1.5e-45;
-        let mut p = [[0f64; 3]; 3];
-        let mut m = 0f64;
-        for i in 0..3 {
-            for c in 0..3 {
-                p[i][c] = v[i][c] as f64 - o[c] as f64;
-                m = m.max(p[i][c].abs());
-            }
-        }
-        let cross = |a: &[f64; 3], b: &[f64; 3]| {
+        const MARGIN: f64 = 1.0 + 1e-6;
+        let w = v.map(|vi| vi.map(f64::from));
+        let o = o.map(f64::from);
+        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let cross = |a: [f64; 3], b: [f64; 3]| {
             [
                 a[1] * b[2] - a[2] * b[1],
                 a[2] * b[0] - a[0] * b[2],
                 a[0] * b[1] - a[1] * b[0],
             ]
         };
-        let n64 = [cross(&p[1], &p[2]), cross(&p[2], &p[0]), cross(&p[0], &p[1])];
+        let abs_max = |x: &[[f64; 3]; 3]| {
+            x.iter()
+                .flatten()
+                .fold(0f64, |acc, c| if c.abs() > acc { c.abs() } else { acc })
+        };
+        let p = [sub(w[0], o), sub(w[1], o), sub(w[2], o)];
+        let e = [sub(w[2], w[1]), sub(w[0], w[2]), sub(w[1], w[0])];
+        let n64 = [cross(p[1], e[0]), cross(p[2], e[1]), cross(p[0], e[2])];
+        let normal64 = cross(e[1], e[2]);
+        let m = abs_max(&p) * (1.0 + 2.0 * U64);
+        let me = abs_max(&e) * (1.0 + 2.0 * U64);
         let n = n64.map(|ni| ni.map(|x| x as f32));
-        let sum_abs = |x: &[f32; 3]| x[0].abs() as f64 + x[1].abs() as f64 + x[2].abs() as f64;
-        let s = [sum_abs(&n[0]), sum_abs(&n[1]), sum_abs(&n[2])];
-        let n_max = s[0].max(s[1]).max(s[2]);
-        let f64_part = 48.0 * U64 * m * m;
-        let k = s.map(|si| ((4.0002 * U32 * si + f64_part + TINY) * (1.0 + 1e-6)) as f32);
-        let k_sum = ((k[0] as f64 + k[1] as f64 + k[2] as f64) * (1.0 + 1e-6)) as f32;
-        let num64 = p[0][0] * n64[0][0] + p[0][1] * n64[0][1] + p[0][2] * n64[0][2];
-        let n0_abs = n64[0][0].abs() + n64[0][1].abs() + n64[0][2].abs();
+        let normal = normal64.map(|x| x as f32);
+        let abs_sum = |x: [f32; 3]| x[0].abs() as f64 + x[1].abs() as f64 + x[2].abs() as f64;
+        let s = n.map(abs_sum);
+        let n_err = 3.0 * 8.0004 * U64 * m * me + TINY;
+        let k = s.map(|si| ((4.0002 * U32 * si + n_err) * MARGIN) as f32);
+        let k_sum = ((k[0] as f64 + k[1] as f64 + k[2] as f64) * MARGIN) as f32;
+        let k_det = ((4.0002 * U32 * abs_sum(normal) + 3.0 * 8.0004 * U64 * me * me + TINY)
+            * MARGIN) as f32;
+        let num64 = p[0][0] * normal64[0] + p[0][1] * normal64[1] + p[0][2] * normal64[2];
+        let normal_abs = normal64[0].abs() + normal64[1].abs() + normal64[2].abs();
         let num = num64 as f32;
-        let num_err =
-            4.0002 * U64 * m * n0_abs + 48.0 * U64 * m * m * m + U32 * num64.abs() + 1e-45;
-        let e1 = [0, 1, 2].map(|c| v[1][c] as f64 - v[0][c] as f64);
-        let e2 = [0, 1, 2].map(|c| v[2][c] as f64 - v[0][c] as f64);
-        let me = e1.iter().chain(&e2).fold(0f64, |a, x| a.max(x.abs()));
-        let normal = cross(&e1, &e2).map(|x| x as f32);
-        let k_det = ((4.0002 * U32 * sum_abs(&normal) + 48.0 * U64 * me * me + TINY)
-            * (1.0 + 1e-6)) as f32;
+        let num_err = (4.0002 * U64 * m * normal_abs + 3.0 * 8.0004 * U64 * m * me * me) * MARGIN
+            + U32 * num64.abs()
+            + 1.5e-45;
         let r_num = num_err / (num as f64).abs();
         // See `PacketNearest`: |t̃ − t| ≤ |t̃|·(1.4·(r_num + 2.1·u) + 4u + 1.4·ΣK·max|d|/|det̃|),
         // and 2u more for the rounding of t̃ ± that.
         let c_t = (1.4 * (r_num + 2.1 * U32) + 6.0 * U32) as f32;
-        // The sign of det must be certain and its relative error at most 1/2; magnitudes
-        // far from overflow; every input finite (NaN fails every comparison).
-        let usable = m < MAX_MAGNITUDE
-            && n_max < MAX_MAGNITUDE
+        let n_max = s[0].max(s[1]).max(s[2]);
+        // The sign of det must be certain and its relative error at most 1/2; magnitudes far
+        // from overflow. A NaN anywhere reaches num64 (p₀·N involves every vertex and the
+        // origin) and fails the comparisons.
+        let usable = (num as f64).abs() > 2.0 * num_err
             && num64.abs() < MAX_MAGNITUDE
-            && (num as f64).abs() > 2.0 * num_err
+            && m < MAX_MAGNITUDE
             && me < MAX_MAGNITUDE
+            && n_max < MAX_MAGNITUDE
             && k_sum.is_finite()
             && k_det.is_finite();
         Self {

@@ -97,7 +97,7 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
 }
 
 /// Camera rays per triangle from which a BVH scene's triangles are prepared for the camera
-/// origin (see `render_into_cancellable`).
+/// origin once per frame rather than per packet (see `render_into_cancellable`).
 pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
 
 /// Side of the square tiles camera rays are traced in.
@@ -238,23 +238,24 @@ pub fn render_into_cancellable(
         }
         _ => None,
     };
-    // A large mesh's triangles prepared for the camera position: a cheaper f32 level for the
-    // adaptive search of each camera ray through the BVH, 8 rays per packet.
-    // Preparing costs about 450 instructions per triangle (callgrind); with packets it pays
-    // from about one camera ray per triangle (1280x720, 2 threads, prepared vs per ray:
-    // Igea's 269k triangles 13-15 vs 7-9 Mrays/s; the 1M-triangle mesh 6-7 vs 5-6).
+    // A BVH scene's camera rays go 8 at a time through the BVH (adaptive method, triangles
+    // only: spheres go per ray). Its triangles are prepared for the camera position once per
+    // frame when there are at least as many camera rays as triangles; below that, each
+    // packet prepares the triangles it meets (about 400 instructions each, callgrind; 1280x720,
+    // 2 threads: the bunny's 69k triangles met about 5 times each per frame, the 1M-triangle
+    // mesh's fewer than once).
+    let bvh_packets = culled.is_none()
+        && settings.method == Method::Adaptive
+        && !settings.cracks
+        && accel.kind() == "bvh"
+        && !accel.has_spheres();
     let camera_rays = w as usize * h as usize * (settings.spp * settings.spp) as usize;
-    let from_camera = match &culled {
-        None if settings.method == Method::Adaptive
-            && !settings.cracks
-            && scene.len().saturating_mul(PREPARE_RAYS_PER_TRIANGLE) <= camera_rays =>
-        {
+    let from_camera = match bvh_packets {
+        true if scene.len().saturating_mul(PREPARE_RAYS_PER_TRIANGLE) <= camera_rays => {
             accel.prepare_origin(gen.origin())
         }
         _ => None,
     };
-    // Its camera rays 8 at a time through the BVH (triangles only: spheres go per ray).
-    let bvh_packets = from_camera.is_some() && !accel.has_spheres();
     let casts_shadows = matches!(settings.step, LabStep::Shadows | LabStep::Indirect);
     let occluders = match &packets {
         Some(_) if casts_shadows => accel
@@ -524,10 +525,10 @@ impl Frame<'_> {
                     let dirs = self.gen.directions_x8(f32x8::from(xs), y);
                     let d_max = packet::max_component(&dirs);
                     let mut lanes = [Lane::Miss; 8];
-                    match (bvh, &self.from_camera) {
-                        (true, Some(prepared)) => {
+                    match bvh {
+                        true => {
                             let (hits, ambiguous) = accel
-                                .closest_packet(prepared, &dirs, d_max)
+                                .closest_packet(o, self.from_camera.as_ref(), &dirs, d_max)
                                 .unwrap_or(([None; 8], 0xff));
                             for (l, lane) in lanes.iter_mut().enumerate() {
                                 *lane = match hits[l] {
@@ -537,7 +538,7 @@ impl Frame<'_> {
                                 };
                             }
                         }
-                        _ => {
+                        false => {
                             let found = packet::closest(tris, &dirs, d_max);
                             for (l, lane) in lanes.iter_mut().enumerate() {
                                 *lane = match found.prim[l] {
