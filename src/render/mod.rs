@@ -266,9 +266,12 @@ pub fn render_into_cancellable(
             .collect(),
         _ => Vec::new(),
     };
+    let flat_rgba = (settings.step == LabStep::Flat && settings.spp == 1 && !settings.cracks)
+        .then(|| FlatPixels::new(scene));
     let frame = Frame {
         scene,
         settings,
+        flat_rgba,
         from_camera,
         occluders,
         gen,
@@ -390,6 +393,8 @@ struct Frame<'a> {
     /// for the steps with shadows).
     occluders: Vec<Occluder>,
     gen: RayGenerator,
+    /// The flat step's pixels per primitive, for one sample per pixel (written as found).
+    flat_rgba: Option<FlatPixels>,
     inv_n: f32,
     /// 1/n² for n×n samples.
     weight: f32,
@@ -512,6 +517,7 @@ impl Frame<'_> {
         let mut sums = [[0.0f32; 3]; TILE as usize];
         hits.clear();
         for j in tile.y0..tile.y0 + tile.h {
+            let row_off = (j - tile.y0) as usize * self.row_bytes;
             sums.fill([0.0; 3]);
             for sy in 0..n {
                 for sx in 0..n {
@@ -552,8 +558,11 @@ impl Frame<'_> {
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
                         let lane = lanes[l];
+                        let i = tile.x0 + l as u32;
                         if let Lane::Miss = lane {
-                            if !flat {
+                            if let Some(rgba) = &self.flat_rgba {
+                                rgba.put(rows, row_off, i, None);
+                            } else if !flat {
                                 hits.push(None);
                             }
                             continue;
@@ -561,7 +570,10 @@ impl Frame<'_> {
                         if flat {
                             if let Lane::Prim(prim) | Lane::Hit(Hit { prim, .. }) = lane {
                                 counts.0 += 1;
-                                add(sum, scene.colors[prim as usize]);
+                                match &self.flat_rgba {
+                                    Some(rgba) => rgba.put(rows, row_off, i, Some(prim)),
+                                    None => add(sum, scene.colors[prim as usize]),
+                                }
                                 continue;
                             }
                         }
@@ -592,9 +604,11 @@ impl Frame<'_> {
                             }
                         };
                         if flat {
-                            if let Some(hit) = hit {
-                                counts.0 += 1;
-                                add(sum, scene.colors[hit.prim as usize]);
+                            counts.0 += hit.is_some() as u64;
+                            match (&self.flat_rgba, hit) {
+                                (Some(rgba), _) => rgba.put(rows, row_off, i, hit.map(|h| h.prim)),
+                                (None, Some(hit)) => add(sum, scene.colors[hit.prim as usize]),
+                                (None, None) => {}
                             }
                         } else {
                             hits.push(hit.map(|h| (ray, h)));
@@ -602,7 +616,7 @@ impl Frame<'_> {
                     }
                 }
             }
-            if flat {
+            if flat && self.flat_rgba.is_none() {
                 let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
                 for (l, sum) in sums.iter().take(tile.w as usize).enumerate() {
                     self.put(row, tile.x0 + l as u32, *sum);
@@ -699,6 +713,30 @@ impl Frame<'_> {
             .copied()
             .collect();
         (near, box_lo, box_hi)
+    }
+}
+
+/// The flat step's RGBA8 pixel for each primitive: with one sample per pixel, a pixel is
+/// its primitive's colour encoded once (what `Frame::put` makes of it), or black.
+struct FlatPixels(Vec<[u8; 4]>);
+
+impl FlatPixels {
+    fn new(scene: &Scene) -> Self {
+        let srgb = SrgbTables::get();
+        Self(
+            scene
+                .colors
+                .iter()
+                .map(|c| [srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255])
+                .collect(),
+        )
+    }
+
+    /// Writes pixel `i` of the row at `row_off` in `rows`.
+    #[inline]
+    fn put(&self, rows: &mut [u8], row_off: usize, i: u32, prim: Option<u32>) {
+        let px = prim.map_or([0, 0, 0, 255], |p| self.0[p as usize]);
+        rows[row_off + i as usize * 4..][..4].copy_from_slice(&px);
     }
 }
 
