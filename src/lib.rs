@@ -25,7 +25,10 @@
 //!   sphere hits it. The default method (`geometry::adaptive`) decides all of this exactly for
 //!   the given float inputs.
 //! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
-#![forbid(unsafe_code)]
+//!
+//! No unsafe code, except the calls into the packet kernels' AVX2 builds, each made only after
+//! checking the CPU at run time (`accel::packet::has_avx2`).
+#![deny(unsafe_code)]
 
 pub mod accel;
 pub mod camera;

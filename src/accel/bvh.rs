@@ -242,6 +242,33 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
     ) -> PacketHits {
+        #[cfg(target_arch = "x86_64")]
+        if super::packet::has_avx2() {
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2(
+                bvh: &Bvh,
+                o: [f32; 3],
+                prepared: Option<&OriginTriangles>,
+                d: &[f32x8; 3],
+                d_max: f32,
+            ) -> PacketHits {
+                bvh.closest_packet_body(o, prepared, d, d_max)
+            }
+            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
+            #[allow(unsafe_code)]
+            return unsafe { avx2(self, o, prepared, d, d_max) };
+        }
+        self.closest_packet_body(o, prepared, d, d_max)
+    }
+
+    #[inline(always)]
+    fn closest_packet_body(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+        d_max: f32,
+    ) -> PacketHits {
         let mut nearest = PacketNearest::new(d, d_max);
         let Some(root) = self.nodes.first() else {
             return nearest.finish();

@@ -263,6 +263,41 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
 /// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() {
+        #[target_feature(enable = "avx2,fma")]
+        fn avx2(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
+            closest_body(tris, d, d_max)
+        }
+        // SAFETY: the CPU has AVX2 and FMA (checked at run time).
+        #[allow(unsafe_code)]
+        return unsafe { avx2(tris, d, d_max) };
+    }
+    closest_body(tris, d, d_max)
+}
+
+/// Whether the CPU has AVX2 and FMA, for the kernels compiled twice: for the baseline x86-64
+/// (SSE2, f32x8 as two 4-lane halves) and with AVX2 and FMA enabled (VEX-encoded
+/// three-operand instructions: 18% fewer instructions in `closest`, callgrind). The
+/// answer is cached by the standard library.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+pub(crate) fn has_avx2() -> bool {
+    !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
+        && std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma")
+}
+
+static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Runs the kernels' baseline build even where AVX2 is present (for tests and comparisons:
+/// both builds of a kernel must give the same bits, as neither contracts to FMA).
+pub fn use_baseline_simd(on: bool) {
+    BASELINE_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
+}
+
+#[inline(always)]
+fn closest_body(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
     let mut nearest = PacketNearest::new(d, d_max);
     for tri in tris {
         nearest.offer(tri, tri.prim);
@@ -325,7 +360,7 @@ impl PacketNearest {
     }
 
     /// Offers one triangle to every lane; a lane that takes it as its nearest records `id`.
-    #[inline]
+    #[inline(always)]
     pub fn offer(&mut self, tri: &OriginTriangle, id: u32) {
         let (d, dm) = (&self.d, self.dm);
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
@@ -394,6 +429,31 @@ impl PacketNearest {
 /// (0, 1) when the signs agree and |det| + its error < |Σeᵢ| − its error (3E + 2.1u·|Σẽ|).
 /// Lanes with m below 1e-15 (products could underflow) or bounds beyond 1e30 are unsure.
 pub fn shadow_x8(
+    tris: &[Occluder],
+    bounds: ([f32; 3], [f32; 3]),
+    rays: &[([f32; 3], [f32; 3], u32); 8],
+    valid: u32,
+) -> ShadowHits {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() {
+        #[target_feature(enable = "avx2,fma")]
+        fn avx2(
+            tris: &[Occluder],
+            bounds: ([f32; 3], [f32; 3]),
+            rays: &[([f32; 3], [f32; 3], u32); 8],
+            valid: u32,
+        ) -> ShadowHits {
+            shadow_x8_body(tris, bounds, rays, valid)
+        }
+        // SAFETY: the CPU has AVX2 and FMA (checked at run time).
+        #[allow(unsafe_code)]
+        return unsafe { avx2(tris, bounds, rays, valid) };
+    }
+    shadow_x8_body(tris, bounds, rays, valid)
+}
+
+#[inline(always)]
+fn shadow_x8_body(
     tris: &[Occluder],
     (lo, hi): ([f32; 3], [f32; 3]),
     rays: &[([f32; 3], [f32; 3], u32); 8],
