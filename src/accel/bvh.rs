@@ -279,48 +279,9 @@ impl Bvh {
             all.ambiguous = 0xff;
             return all;
         }
-        let inv = d.map(|c| f32x8::ONE / c);
-        let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
-        // Per axis: whether every lane's direction has one sign (near and far slab are then
-        // the same for the whole packet), and whether every 1/dₖ is finite (then no 0·∞).
-        let sign = neg.map(|m| match m.to_bitmask() {
-            0 => Some(false),
-            0xff => Some(true),
-            _ => None,
-        });
-        let tame = d.iter().all(|c| c.abs().simd_ge(f32x8::splat(1e-30)).all());
-        // The far distance enlarged by 2γ(3) (pbrt) and one rounding more, for the
-        // rounding of 1/dₖ·slack itself.
-        let slack = 1.0 + 2.0 * f32::error_gamma(4);
-        let inv_far = inv.map(|c| c * f32x8::splat(slack));
+        let rays = PacketSlabs::new(o, d);
+        let enter = |b: &Aabb, limit: f32x8, live: u32| rays.enter(b, limit, live);
         let inf = f32x8::splat(f32::INFINITY);
-        // The lanes whose box test passes, and their entry distances.
-        let enter = |b: &Aabb, limit: f32x8, live: u32| -> (u32, f32x8) {
-            let mut t0 = f32x8::ZERO;
-            let mut t1 = limit;
-            for k in 0..3 {
-                let (lo, hi) = (b.lo[k] - o[k], b.hi[k] - o[k]);
-                let (near, far) = match sign[k] {
-                    Some(false) => (f32x8::splat(lo), f32x8::splat(hi)),
-                    Some(true) => (f32x8::splat(hi), f32x8::splat(lo)),
-                    None => {
-                        let (lo, hi) = (f32x8::splat(lo), f32x8::splat(hi));
-                        (neg[k].bitselect(hi, lo), neg[k].bitselect(lo, hi))
-                    }
-                };
-                let (tn, tf) = (near * inv[k], far * inv_far[k]);
-                if tame {
-                    t0 = t0.fast_max(tn);
-                    t1 = t1.fast_min(tf);
-                } else {
-                    // `max`/`min` keep the left side where the right is NaN (0·∞ for a ray
-                    // in a slab's plane): no constraint, as in the scalar test.
-                    t0 = t0.max(tn);
-                    t1 = t1.min(tf);
-                }
-            }
-            (t0.simd_le(t1).to_bitmask() & live, t0)
-        };
         // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
         let limit = |reach: f32x8| {
             let m = reach + reach.abs() * f32x8::splat(1.0 / 65536.0);
@@ -503,6 +464,75 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+/// Eight rays from one origin set up for the slab test against boxes.
+struct PacketSlabs {
+    o: [f32; 3],
+    inv: [f32x8; 3],
+    /// 1/dₖ enlarged for the far distances (see `new`).
+    inv_far: [f32x8; 3],
+    neg: [f32x8; 3],
+    /// Per axis, the sign every lane's direction shares (`None` if mixed): near and far slab
+    /// are then the same for the whole packet.
+    sign: [Option<bool>; 3],
+    /// Whether every 1/dₖ is finite (then no 0·∞ can arise).
+    tame: bool,
+}
+
+impl PacketSlabs {
+    #[inline(always)]
+    fn new(o: [f32; 3], d: &[f32x8; 3]) -> Self {
+        let inv = d.map(|c| f32x8::ONE / c);
+        let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
+        let sign = neg.map(|m| match m.to_bitmask() {
+            0 => Some(false),
+            0xff => Some(true),
+            _ => None,
+        });
+        let tame = d.iter().all(|c| c.abs().simd_ge(f32x8::splat(1e-30)).all());
+        // The far distance enlarged by 2γ(3) (pbrt) and one rounding more, for the rounding
+        // of 1/dₖ·slack itself.
+        let slack = 1.0 + 2.0 * f32::error_gamma(4);
+        let inv_far = inv.map(|c| c * f32x8::splat(slack));
+        Self {
+            o,
+            inv,
+            inv_far,
+            neg,
+            sign,
+            tame,
+        }
+    }
+
+    /// The lanes of `live` whose rays meet box `b` before `limit`, and their entry distances.
+    #[inline(always)]
+    fn enter(&self, b: &Aabb, limit: f32x8, live: u32) -> (u32, f32x8) {
+        let mut t0 = f32x8::ZERO;
+        let mut t1 = limit;
+        for k in 0..3 {
+            let (lo, hi) = (b.lo[k] - self.o[k], b.hi[k] - self.o[k]);
+            let (near, far) = match self.sign[k] {
+                Some(false) => (f32x8::splat(lo), f32x8::splat(hi)),
+                Some(true) => (f32x8::splat(hi), f32x8::splat(lo)),
+                None => {
+                    let (lo, hi) = (f32x8::splat(lo), f32x8::splat(hi));
+                    (self.neg[k].bitselect(hi, lo), self.neg[k].bitselect(lo, hi))
+                }
+            };
+            let (tn, tf) = (near * self.inv[k], far * self.inv_far[k]);
+            if self.tame {
+                t0 = t0.fast_max(tn);
+                t1 = t1.fast_min(tf);
+            } else {
+                // `max`/`min` keep the left side where the right is NaN (0·∞ for a ray in a
+                // slab's plane): no constraint, as in the scalar test.
+                t0 = t0.max(tn);
+                t1 = t1.min(tf);
+            }
+        }
+        (t0.simd_le(t1).to_bitmask() & live, t0)
     }
 }
 
