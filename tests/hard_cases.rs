@@ -114,16 +114,27 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
             .or_insert_with(|| bvh.prepare_origin(ray.o).expect("a BVH"));
         let h = bvh.closest_hit_from_origin(ray, prepared, 0.0, inf);
         answers.push(h.map(|h| (h.t as f64, h.prim)));
-        // And 8 at a time through the BVH (this ray in every lane); ambiguous lanes and
-        // scenes with spheres go per ray, as in the renderer.
+        // And 8 at a time through the BVH (this ray in every lane), t from the f32 watertight
+        // test as the renderer takes it; ambiguous lanes, scenes with spheres and f32 misses
+        // go per ray, as in the renderer.
         let d = ray.d.map(f32x8::splat);
         for prepared in [Some(&*prepared), None] {
             let found = bvh.closest_packet(ray.o, prepared, &d, packet::max_component(&d));
-            let h = match found {
-                Some((hits, ambiguous)) if ambiguous & 1 == 0 => hits[0],
-                _ => h,
+            let answer = match found {
+                Some(f) if f.ambiguous & 1 == 0 && f.prim[0] == u32::MAX => None,
+                Some(f) if f.ambiguous & 1 == 0 => {
+                    let Shape::Triangle(v) = &shapes[f.prim[0] as usize] else {
+                        unreachable!("packets run over triangles only")
+                    };
+                    WatertightRay::new(ray.o, ray.d)
+                        .and_then(|r| watertight_raw(&r, v))
+                        .map_or(h.map(|h| (h.t as f64, h.prim)), |(t, ..)| {
+                            Some((t as f64, f.prim[0]))
+                        })
+                }
+                _ => h.map(|h| (h.t as f64, h.prim)),
             };
-            answers.push(h.map(|h| (h.t as f64, h.prim)));
+            answers.push(answer);
         }
         for m in plain {
             let h = accel::closest_hit(shapes, ray, m, 0.0, inf);

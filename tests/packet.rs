@@ -390,7 +390,7 @@ proptest! {
         // Packets through the BVH, coherent (a fan of nearby rays) or scattered (each lane at
         // a vertex, an edge midpoint or a random point), with the triangles prepared per frame
         // or as the packet meets them: every decided lane must name exactly the per-ray
-        // adaptive search's primitive, and a hit point within rounding of its.
+        // adaptive search's primitive.
         let mut rng = Rng(seed);
         let shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
@@ -415,24 +415,18 @@ proptest! {
             });
             let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
             let prepared = [Some(&prepared), None][rng.below(2)];
-            let (hits, ambiguous) = accel
+            let found = accel
                 .closest_packet(o, prepared, &d, packet::max_component(&d))
                 .unwrap();
             for (l, dir) in dirs.iter().enumerate() {
-                if ambiguous & (1 << l) != 0 {
+                if found.ambiguous & (1 << l) != 0 {
                     continue;
                 }
                 decided += 1;
                 let ray = Ray::new(o, *dir);
                 let want = accel.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
-                prop_assert_eq!(hits[l].map(|h| h.prim), want.map(|h| h.prim), "lane {}", l);
-                if let (Some(g), Some(w)) = (hits[l], want) {
-                    let (pg, pw) = (ray.at(g.t), ray.at(w.t));
-                    let scale = 1e-5 * (1.0 + o.iter().map(|c| c.abs()).fold(0.0, f32::max));
-                    for k in 0..3 {
-                        prop_assert!((pg[k] - pw[k]).abs() <= scale, "{:?} vs {:?}", pg, pw);
-                    }
-                }
+                let got = (found.prim[l] != u32::MAX).then_some(found.prim[l]);
+                prop_assert_eq!(got, want.map(|h| h.prim), "lane {}", l);
             }
         }
         prop_assert!(decided > 24 * 8 / 2, "only {} of {} lanes decided", decided, 24 * 8);

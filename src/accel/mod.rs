@@ -12,7 +12,7 @@ pub mod packet;
 pub mod soa;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
-use crate::geometry::triangle::{watertight_raw, WatertightRay};
+use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
 use std::str::FromStr;
@@ -250,49 +250,30 @@ impl Accel {
     /// Camera rays 8 at a time from one origin `o` through the BVH
     /// ([`bvh::Bvh::closest_packet`]; `prepared`: the triangles prepared for `o` by
     /// [`Accel::prepare_origin`], or `None` to prepare them as the packet meets them): per
-    /// lane the nearest hit of [`Accel::closest_hit`] with [`Method::Adaptive`] (t and
-    /// barycentrics from the f32 watertight test on that triangle, as the flat loop's packets
-    /// report them), and the lanes left ambiguous, to be traced per ray. `None` where there
-    /// is no BVH or there are spheres.
+    /// lane the primitive [`Accel::closest_hit`] with [`Method::Adaptive`] names (u32::MAX for
+    /// none), and the lanes left ambiguous, to be traced per ray. `None` where there is no
+    /// BVH or there are spheres.
     pub fn closest_packet(
         &self,
         o: [f32; 3],
         prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
-    ) -> Option<([Option<Hit>; 8], u32)> {
+    ) -> Option<packet::PacketHits> {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
         };
         if !self.spheres.is_empty() {
             return None;
         }
-        let found = b.closest_packet(o, prepared, d, d_max);
-        let mut ambiguous = found.ambiguous;
-        let mut hits = [None; 8];
-        let (tris, prims) = b.triangles();
-        let [dx, dy, dz] = d.map(|c| c.to_array());
-        for (l, hit) in hits.iter_mut().enumerate() {
-            let slot = found.prim[l] as usize;
-            if ambiguous & (1 << l) != 0 || slot == u32::MAX as usize {
-                continue;
-            }
-            let ray = WatertightRay::new(o, [dx[l], dy[l], dz[l]]);
-            // The f32 test missing the triangle the exact one hits (a ray within rounding of
-            // its edge): the per-ray search decides.
-            match ray.and_then(|r| watertight_raw(&r, &tris[slot])) {
-                Some((t, b1, b2, _)) => {
-                    *hit = Some(Hit {
-                        t,
-                        prim: prims[slot],
-                        b1,
-                        b2,
-                    })
-                }
-                None => ambiguous |= 1 << l,
+        let mut found = b.closest_packet(o, prepared, d, d_max);
+        let prims = b.triangles().1;
+        for slot in &mut found.prim {
+            if let Some(prim) = prims.get(*slot as usize) {
+                *slot = *prim;
             }
         }
-        Some((hits, ambiguous))
+        Some(found)
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).

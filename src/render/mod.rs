@@ -357,10 +357,8 @@ pub fn render_into_cancellable(
 #[derive(Clone, Copy)]
 enum Lane {
     Miss,
-    /// A small scene's nearest primitive (its t is computed only when shading needs it).
+    /// The nearest primitive (its t is computed only when shading needs it).
     Prim(u32),
-    /// A BVH scene's nearest hit.
-    Hit(Hit),
     /// Undecided: traced per ray.
     PerRay,
 }
@@ -530,31 +528,20 @@ impl Frame<'_> {
                     });
                     let dirs = self.gen.directions_x8(f32x8::from(xs), y);
                     let d_max = packet::max_component(&dirs);
-                    let mut lanes = [Lane::Miss; 8];
-                    match bvh {
-                        true => {
-                            let (hits, ambiguous) = accel
-                                .closest_packet(o, self.from_camera.as_ref(), &dirs, d_max)
-                                .unwrap_or(([None; 8], 0xff));
-                            for (l, lane) in lanes.iter_mut().enumerate() {
-                                *lane = match hits[l] {
-                                    _ if ambiguous & (1 << l) != 0 => Lane::PerRay,
-                                    Some(h) => Lane::Hit(h),
-                                    None => Lane::Miss,
-                                };
-                            }
-                        }
-                        false => {
-                            let found = packet::closest(tris, &dirs, d_max);
-                            for (l, lane) in lanes.iter_mut().enumerate() {
-                                *lane = match found.prim[l] {
-                                    _ if found.ambiguous & (1 << l) != 0 => Lane::PerRay,
-                                    u32::MAX => Lane::Miss,
-                                    prim => Lane::Prim(prim),
-                                };
-                            }
-                        }
-                    }
+                    let found = match bvh {
+                        true => accel
+                            .closest_packet(o, self.from_camera.as_ref(), &dirs, d_max)
+                            .unwrap_or(packet::PacketHits {
+                                prim: [u32::MAX; 8],
+                                ambiguous: 0xff,
+                            }),
+                        false => packet::closest(tris, &dirs, d_max),
+                    };
+                    let lanes: [Lane; 8] = std::array::from_fn(|l| match found.prim[l] {
+                        _ if found.ambiguous & (1 << l) != 0 => Lane::PerRay,
+                        u32::MAX => Lane::Miss,
+                        prim => Lane::Prim(prim),
+                    });
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
                         let lane = lanes[l];
@@ -568,7 +555,7 @@ impl Frame<'_> {
                             continue;
                         }
                         if flat {
-                            if let Lane::Prim(prim) | Lane::Hit(Hit { prim, .. }) = lane {
+                            if let Lane::Prim(prim) = lane {
                                 counts.0 += 1;
                                 match &self.flat_rgba {
                                     Some(rgba) => rgba.put(rows, row_off, i, Some(prim)),
@@ -587,11 +574,10 @@ impl Frame<'_> {
                         };
                         let hit = match lane {
                             Lane::Miss => None,
-                            Lane::Hit(h) => Some(h),
                             Lane::PerRay => per_ray(),
                             Lane::Prim(prim) => {
                                 let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
-                                    unreachable!("flat scenes hold triangles only")
+                                    unreachable!("packets run over triangles only")
                                 };
                                 match WatertightRay::new(o, ray.d)
                                     .and_then(|r| watertight_raw(&r, tri))
