@@ -237,15 +237,7 @@ proptest! {
         // the prepared-origin search must name exactly the per-ray adaptive search's
         // primitive, and a hit point within rounding of it.
         let mut rng = Rng(seed);
-        let mut shapes = icosphere(2, 1.0, [0.3, -0.2, 0.1]);
-        for _ in 0..rng.below(200) {
-            let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
-            let size = 10f64.powf(rng.range(-2.0, 0.0));
-            shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
-                [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
-            })));
-        }
-        shapes.push(shapes[5]);
+        let shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
         let prepared = accel.prepare_origin(o).unwrap();
