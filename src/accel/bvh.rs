@@ -11,7 +11,7 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
-use super::packet::{OriginTriangle, OriginTriangles, PacketHits, PacketNearest};
+use super::packet::{avx2_or_baseline, OriginTriangle, OriginTriangles, PacketHits, PacketNearest};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -242,23 +242,14 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
     ) -> PacketHits {
-        #[cfg(target_arch = "x86_64")]
-        if super::packet::has_avx2() {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2(
-                bvh: &Bvh,
-                o: [f32; 3],
-                prepared: Option<&OriginTriangles>,
-                d: &[f32x8; 3],
-                d_max: f32,
-            ) -> PacketHits {
-                bvh.closest_packet_body(o, prepared, d, d_max)
-            }
-            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-            #[allow(unsafe_code)]
-            return unsafe { avx2(self, o, prepared, d, d_max) };
-        }
-        self.closest_packet_body(o, prepared, d, d_max)
+        let bvh = self;
+        avx2_or_baseline!(Bvh::closest_packet_body => (
+            bvh: &Bvh,
+            o: [f32; 3],
+            prepared: Option<&OriginTriangles>,
+            d: &[f32x8; 3],
+            d_max: f32
+        ) -> PacketHits)
     }
 
     #[inline(always)]
@@ -280,7 +271,6 @@ impl Bvh {
             return all;
         }
         let rays = PacketSlabs::new(o, d);
-        let enter = |b: &Aabb, limit: f32x8, live: u32| rays.enter(b, limit, live);
         let inf = f32x8::splat(f32::INFINITY);
         // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
         let limit = |reach: f32x8| {
@@ -291,7 +281,7 @@ impl Bvh {
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
-        if enter(&root.bounds, inf, live).0 == 0 {
+        if rays.enter(&root.bounds, inf, live).0 == 0 {
             return nearest.finish();
         }
         loop {
@@ -311,8 +301,8 @@ impl Bvh {
             } else {
                 let (a, b) = (node + 1, node + n.offset as usize);
                 let reach = limit(nearest.reach());
-                let (ma, ta) = enter(&self.nodes[a].bounds, reach, live);
-                let (mb, tb) = enter(&self.nodes[b].bounds, reach, live);
+                let (ma, ta) = rays.enter(&self.nodes[a].bounds, reach, live);
+                let (mb, tb) = rays.enter(&self.nodes[b].bounds, reach, live);
                 match (ma != 0, mb != 0) {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
@@ -344,7 +334,11 @@ impl Bvh {
                 }
                 sp -= 1;
                 let cand = stack[sp] as usize;
-                if enter(&self.nodes[cand].bounds, limit(nearest.reach()), live).0 != 0 {
+                if rays
+                    .enter(&self.nodes[cand].bounds, limit(nearest.reach()), live)
+                    .0
+                    != 0
+                {
                     node = cand;
                     break;
                 }

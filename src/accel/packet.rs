@@ -20,6 +20,26 @@ use crate::geometry::adaptive::{Approx, Estimate};
 use rayon::prelude::*;
 use wide::f32x8;
 
+/// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
+/// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline: the one place
+/// the crate uses unsafe code.
+macro_rules! avx2_or_baseline {
+    ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        if $crate::accel::packet::has_avx2() {
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2($($arg: $ty),*) -> $ret {
+                $body($($arg),*)
+            }
+            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
+            #[allow(unsafe_code)]
+            return unsafe { avx2($($arg),*) };
+        }
+        $body($($arg),*)
+    }};
+}
+pub(crate) use avx2_or_baseline;
+
 /// Unit roundoff of f32 and f64.
 const U32: f64 = 1.0 / (1u64 << 24) as f64;
 const U64: f64 = 1.0 / (1u64 << 53) as f64;
@@ -263,17 +283,7 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
 /// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    #[cfg(target_arch = "x86_64")]
-    if has_avx2() {
-        #[target_feature(enable = "avx2,fma")]
-        fn avx2(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-            closest_body(tris, d, d_max)
-        }
-        // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-        #[allow(unsafe_code)]
-        return unsafe { avx2(tris, d, d_max) };
-    }
-    closest_body(tris, d, d_max)
+    avx2_or_baseline!(closest_body => (tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits)
 }
 
 /// Whether the CPU has AVX2 and FMA, for the kernels compiled twice: for the baseline x86-64
@@ -434,22 +444,12 @@ pub fn shadow_x8(
     rays: &[([f32; 3], [f32; 3], u32); 8],
     valid: u32,
 ) -> ShadowHits {
-    #[cfg(target_arch = "x86_64")]
-    if has_avx2() {
-        #[target_feature(enable = "avx2,fma")]
-        fn avx2(
-            tris: &[Occluder],
-            bounds: ([f32; 3], [f32; 3]),
-            rays: &[([f32; 3], [f32; 3], u32); 8],
-            valid: u32,
-        ) -> ShadowHits {
-            shadow_x8_body(tris, bounds, rays, valid)
-        }
-        // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-        #[allow(unsafe_code)]
-        return unsafe { avx2(tris, bounds, rays, valid) };
-    }
-    shadow_x8_body(tris, bounds, rays, valid)
+    avx2_or_baseline!(shadow_x8_body => (
+        tris: &[Occluder],
+        bounds: ([f32; 3], [f32; 3]),
+        rays: &[([f32; 3], [f32; 3], u32); 8],
+        valid: u32
+    ) -> ShadowHits)
 }
 
 #[inline(always)]

@@ -266,8 +266,10 @@ pub fn render_into_cancellable(
             .collect(),
         _ => Vec::new(),
     };
-    let flat_rgba = (settings.step == LabStep::Flat && settings.spp == 1 && !settings.cracks)
-        .then(|| FlatPixels::new(scene));
+    let uses_packets = packets.is_some() || bvh_packets;
+    let flat_rgba =
+        (uses_packets && settings.step == LabStep::Flat && settings.spp == 1 && !settings.cracks)
+            .then(|| FlatPixels::new(scene, camera_rays));
     let frame = Frame {
         scene,
         settings,
@@ -392,7 +394,7 @@ struct Frame<'a> {
     occluders: Vec<Occluder>,
     gen: RayGenerator,
     /// The flat step's pixels per primitive, for one sample per pixel (written as found).
-    flat_rgba: Option<FlatPixels>,
+    flat_rgba: Option<FlatPixels<'a>>,
     inv_n: f32,
     /// 1/n² for n×n samples.
     weight: f32,
@@ -702,26 +704,45 @@ impl Frame<'_> {
     }
 }
 
-/// The flat step's RGBA8 pixel for each primitive: with one sample per pixel, a pixel is
-/// its primitive's colour encoded once (what `Frame::put` makes of it), or black.
-struct FlatPixels(Vec<[u8; 4]>);
+/// The flat step's RGBA8 pixels: with one sample per pixel, a pixel is its primitive's
+/// colour encoded once (what `Frame::put` makes of it), or black. Encoded per primitive up
+/// front where each is likely to be reused (at most one primitive per 8 camera rays: the
+/// Cornell box, the bunny), else per pixel (the 1M-triangle mesh: a table would cost more
+/// per frame than the pixels it serves).
+struct FlatPixels<'a> {
+    colors: &'a [Rgb],
+    /// Per primitive; empty when encoding per pixel.
+    table: Vec<[u8; 4]>,
+    srgb: &'static SrgbTables,
+}
 
-impl FlatPixels {
-    fn new(scene: &Scene) -> Self {
+impl<'a> FlatPixels<'a> {
+    fn new(scene: &'a Scene, camera_rays: usize) -> Self {
         let srgb = SrgbTables::get();
-        Self(
-            scene
-                .colors
-                .iter()
-                .map(|c| [srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255])
-                .collect(),
-        )
+        let encode = |c: &Rgb| [srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255];
+        let table = match scene.colors.len().saturating_mul(8) <= camera_rays {
+            true => scene.colors.iter().map(encode).collect(),
+            false => Vec::new(),
+        };
+        Self {
+            colors: &scene.colors,
+            table,
+            srgb,
+        }
     }
 
     /// Writes pixel `i` of the row at `row_off` in `rows`.
     #[inline]
     fn put(&self, rows: &mut [u8], row_off: usize, i: u32, prim: Option<u32>) {
-        let px = prim.map_or([0, 0, 0, 255], |p| self.0[p as usize]);
+        let px = match prim {
+            None => [0, 0, 0, 255],
+            Some(p) if !self.table.is_empty() => self.table[p as usize],
+            Some(p) => {
+                let c = self.colors[p as usize];
+                let e = |x| self.srgb.encode(x);
+                [e(c[0]), e(c[1]), e(c[2]), 255]
+            }
+        };
         rows[row_off + i as usize * 4..][..4].copy_from_slice(&px);
     }
 }
