@@ -1,6 +1,7 @@
 //! The adaptive method's fast paths for the renderer: camera rays in packets of 8 against
 //! triangles prepared for the camera's position ([`closest`]; per ray in BVH leaves:
-//! [`OriginTriangle::estimate`]), and shadow rays in packets of 8 ([`shadow_x8`]).
+//! [`OriginTriangle::estimate`]), and shadow rays from the light in packets of 8
+//! ([`shadow_from_origin`]: the same test for the light's position).
 //!
 //! All camera rays of a frame leave the same origin o. With pᵢ = vᵢ − o, the exact
 //! predicates of the adaptive method are the signs of eᵢ = d·(pⱼ × pₖ) ((i, j, k) cyclic; eᵢ
@@ -218,6 +219,12 @@ impl OriginTriangles {
 }
 
 impl OriginTriangle {
+    /// nᵢ = pⱼ × pₖ (rounded to f32): eᵢ = d·nᵢ are the edge functions of direction d.
+    #[inline]
+    pub fn edge_normals(&self) -> &[[f32; 3]; 3] {
+        &self.n
+    }
+
     /// One ray's estimate (the edge tests of [`closest`] for a single direction d from the
     /// prepared origin, `d_max` = max|dₖ|), as the adaptive search's f32 level reports it: a
     /// certain miss, a certain crossing of the line with t in an interval, or unsure. Here t's
@@ -425,208 +432,97 @@ impl PacketNearest {
     }
 }
 
-/// Eight shadow rays (any origin, any direction) against a few triangles at once, rays in the
-/// lanes: whether each is blocked for 0 < t < 1 by a triangle other than its `skip`
-/// primitive, decided from f32 arithmetic with a bound on its error, or left to the per-ray
-/// adaptive search (`unsure`) where the bound cannot tell.
-///
-/// The bound: with m ≥ |vₖ − oₖ| for every vertex and axis (from the box `lo`..`hi` around
-/// the triangles), each p = fl(v − o) is within u·m of the exact difference, each component
-/// of a computed cross product pⱼ × pₖ within 8.0001·u·m² of the exact one and at most
-/// 2m²(1 + 3u) in size, so an edge function eᵢ = d·(pⱼ × pₖ) computed in f32 is within
-/// E = 14.1·u·|d|₁·m² of exact (8.0001 + 2·3.0001, plus margin), and det[p₀, p₁, p₂] within
-/// 48.5·u·m³ (three terms of m·(γ₃·2m² + 8u·m² + 2u·m²)). t = det/Σeᵢ lies certainly in
-/// (0, 1) when the signs agree and |det| + its error < |Σeᵢ| − its error (3E + 2.1u·|Σẽ|).
-/// Lanes with m below 1e-15 (products could underflow) or bounds beyond 1e30 are unsure.
-pub fn shadow_x8(
-    tris: &[Occluder],
-    bounds: ([f32; 3], [f32; 3]),
-    rays: &[([f32; 3], [f32; 3], u32); 8],
+/// Eight shadow rays from the origin `tris` were prepared for (the light), directions `d`
+/// (`d_max` ≥ every |dₖ|, [`max_component`]): whether each lane in `valid` is blocked for
+/// 0 < t < 1 by one of `tris` other than its `skip` primitive, decided as [`PacketNearest`]
+/// decides a candidate (certain edge signs, t in a certain interval), or left to the per-ray
+/// adaptive search (`unsure`) where the bounds cannot tell. A lane is blocked when some
+/// triangle certainly crosses it with its whole t interval below 1; it is clear of a
+/// triangle that it certainly misses, that lies certainly behind the origin, or whose t
+/// interval starts at 1 or beyond.
+pub fn shadow_from_origin(
+    tris: &[OriginTriangle],
+    d: &[f32x8; 3],
+    d_max: f32,
+    skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx2_or_baseline!(shadow_x8_body => (
-        tris: &[Occluder],
-        bounds: ([f32; 3], [f32; 3]),
-        rays: &[([f32; 3], [f32; 3], u32); 8],
+    avx2_or_baseline!(shadow_from_origin_body => (
+        tris: &[OriginTriangle],
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
         valid: u32
     ) -> ShadowHits)
 }
 
 #[inline(always)]
-fn shadow_x8_body(
-    tris: &[Occluder],
-    (lo, hi): ([f32; 3], [f32; 3]),
-    rays: &[([f32; 3], [f32; 3], u32); 8],
+fn shadow_from_origin_body(
+    tris: &[OriginTriangle],
+    d: &[f32x8; 3],
+    d_max: f32,
+    skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    const U: f32 = 1.0 / (1u32 << 24) as f32;
-    let (mut oa, mut da) = ([[0.0f32; 8]; 3], [[0.0f32; 8]; 3]);
-    // The box around the valid lanes' segments (as `Occluder::meets` wants it).
-    let (mut seg_lo, mut seg_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for (l, (o, d, _)) in rays.iter().enumerate() {
-        for k in 0..3 {
-            (oa[k][l], da[k][l]) = (o[k], d[k]);
-        }
-        if valid & (1 << l) != 0 {
-            grow_by_segment((&mut seg_lo, &mut seg_hi), *o, *d);
-        }
+    let dm = d_max * (1.0 + 1e-6);
+    if !dm.is_finite() {
+        return ShadowHits {
+            blocked: 0,
+            unsure: valid,
+        };
     }
-    let (o, d) = (oa.map(f32x8::from), da.map(f32x8::from));
-    // m per lane, rounded up past the f32 subtractions' rounding.
-    let mut m = f32x8::ZERO;
-    for k in 0..3 {
-        let (l, h) = (f32x8::splat(lo[k]), f32x8::splat(hi[k]));
-        m = m.max((h - o[k]).abs()).max((o[k] - l).abs());
-    }
-    let m = m * f32x8::splat(1.0 + 1.0 / (1 << 20) as f32);
-    // Skip primitives as bit patterns, compared as floats (never NaN below 2^24; u32::MAX,
-    // a NaN, equals nothing).
-    let skip = f32x8::from(rays.map(|r| f32::from_bits(r.2)));
-    let d1 = d[0].abs() + d[1].abs() + d[2].abs();
-    let edge_bound = f32x8::splat(14.1 * U) * d1 * m * m + f32x8::splat(1e-37);
-    let num_bound = f32x8::splat(48.5 * U) * m * m * m + f32x8::splat(1e-37);
-    // Lanes whose bounds would overflow (or NaN inputs) are left to the per-ray search.
-    let finite = |x: f32x8| x.simd_lt(f32x8::splat(1e30));
-    // And lanes so close to every triangle that the products could underflow.
-    let big = m.simd_gt(f32x8::splat(1e-15));
-    let usable = (finite(edge_bound) & finite(num_bound) & finite(d1) & big).to_bitmask() & valid;
-    let mut blocked = 0u32;
-    let mut unsure = valid & !usable;
-    let zero = f32x8::ZERO;
-    for occ in tris {
-        if usable & !blocked == 0 {
+    // Primitive ids as bit patterns, compared as floats (never NaN below 2^24; u32::MAX, a
+    // NaN, equals nothing).
+    let skip = f32x8::from(skip.map(f32::from_bits));
+    let one = f32x8::ONE;
+    let (mut blocked, mut unsure) = (0u32, 0u32);
+    for tri in tris {
+        let live = valid & !blocked;
+        if live == 0 {
             break;
         }
-        if !occ.meets(seg_lo, seg_hi) {
-            continue; // no segment of the packet comes near
-        }
-        let (v, prim) = (&occ.v, &occ.prim);
         let own = skip
-            .simd_eq(f32x8::splat(f32::from_bits(*prim)))
+            .simd_eq(f32x8::splat(f32::from_bits(tri.prim)))
             .to_bitmask();
-        let live = usable & !blocked & !own;
+        let live = live & !own;
         if live == 0 {
             continue;
         }
-        let p = v.map(|vi| [0, 1, 2].map(|k| f32x8::splat(vi[k]) - o[k]));
-        let cross = |a: &[f32x8; 3], b: &[f32x8; 3]| {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
-        };
-        let c0 = cross(&p[1], &p[2]);
-        let c1 = cross(&p[2], &p[0]);
-        let c2 = cross(&p[0], &p[1]);
-        let dot = |c: &[f32x8; 3], w: &[f32x8; 3]| c[0] * w[0] + c[1] * w[1] + c[2] * w[2];
-        let e = [dot(&c0, &d), dot(&c1, &d), dot(&c2, &d)];
-        let pos = e[0].simd_gt(edge_bound) & e[1].simd_gt(edge_bound) & e[2].simd_gt(edge_bound);
-        let neg = e[0].simd_lt(-edge_bound) & e[1].simd_lt(-edge_bound) & e[2].simd_lt(-edge_bound);
-        let any_pos =
-            e[0].simd_gt(edge_bound) | e[1].simd_gt(edge_bound) | e[2].simd_gt(edge_bound);
-        let any_neg =
-            e[0].simd_lt(-edge_bound) | e[1].simd_lt(-edge_bound) | e[2].simd_lt(-edge_bound);
-        let miss = (any_pos & any_neg).to_bitmask();
-        let crosses = (pos | neg).to_bitmask();
-        let mut undecided = live & !miss & !crosses;
-        let cand = live & crosses;
-        if cand == 0 && undecided == 0 {
+        if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
+            unsure |= live;
             continue;
         }
-        if cand != 0 {
-            let det = e[0] + e[1] + e[2];
-            let num = dot(&c0, &p[0]);
-            let det_err = f32x8::splat(3.0001) * edge_bound + f32x8::splat(2.1 * U) * det.abs();
-            let (an, ad) = (num.abs(), det.abs());
-            // Same sign as det (t > 0) with the numerator's sign certain.
-            let same = (num.simd_gt(zero) & pos) | (num.simd_lt(zero) & neg);
-            let num_sure = an.simd_gt(num_bound);
-            // a < b for the exact sums: 2^-20 (16 roundings) of margin on each side.
-            let margin = 1.0 / (1 << 20) as f32;
-            let (up, down) = (f32x8::splat(1.0 + margin), f32x8::splat(1.0 - margin));
-            let below = |a: f32x8, b: f32x8| (a * up).simd_lt(b * down);
-            let inside = same & num_sure & below(an + num_bound, ad - det_err);
-            let before = !same & num_sure;
-            let beyond = below(ad + det_err, an - num_bound);
-            let inside = inside.to_bitmask() & cand;
-            blocked |= inside;
-            undecided |= cand & !inside & !(before | beyond).to_bitmask();
+        let e = tri.n.map(|n| {
+            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
+        });
+        let bound = tri.k.map(|k| f32x8::splat(k * dm + EDGE_ABS));
+        let pos = [0, 1, 2].map(|i| e[i].simd_gt(bound[i]));
+        let neg = [0, 1, 2].map(|i| e[i].simd_lt(-bound[i]));
+        let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
+        let all_pos = pos[0] & pos[1] & pos[2];
+        let all_neg = neg[0] & neg[1] & neg[2];
+        let front = if tri.num > 0.0 { all_pos } else { all_neg };
+        let behind = if tri.num > 0.0 { all_neg } else { all_pos };
+        let (front_bits, clear_bits) = (front.to_bitmask(), (miss | behind).to_bitmask());
+        if front_bits & live == 0 {
+            unsure |= live & !clear_bits;
+            continue;
         }
-        // The same test in f64 for the lanes f32 cannot decide (an origin within rounding of
-        // the triangle's plane: the other half of the quad a shadow ray leaves, say).
-        while undecided != 0 {
-            let l = undecided.trailing_zeros() as usize;
-            undecided &= undecided - 1;
-            let mf = m.to_array()[l] as f64;
-            match shadow_f64(v, rays[l].0, rays[l].1, mf) {
-                Some(true) => blocked |= 1 << l,
-                Some(false) => {}
-                None => unsure |= 1 << l,
-            }
-        }
+        let rcp = one / (e[0] + e[1] + e[2]);
+        let t = f32x8::splat(tri.num) * rcp;
+        let r_det = f32x8::splat((tri.k_sum * dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
+        let tight = r_det.simd_le(f32x8::splat(0.25));
+        let err =
+            t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
+        let (lo, hi) = (t - err, t + err);
+        let before_end = (front & tight & hi.simd_lt(one)).to_bitmask();
+        let past_end = (front & tight & lo.simd_ge(one)).to_bitmask();
+        blocked |= live & before_end;
+        unsure |= live & !(clear_bits | before_end | past_end);
     }
     ShadowHits {
         blocked,
         unsure: unsure & !blocked,
-    }
-}
-
-/// One shadow ray against one triangle in f64 with the bounds of [`shadow_x8`] for f64
-/// (u = 2^-53; every f32 input is exact in f64): blocked for 0 < t < 1, not blocked, or
-/// `None` where even f64 cannot tell (an exact tie: the per-ray search decides it exactly).
-#[inline(never)]
-#[cold]
-fn shadow_f64(v: &[[f32; 3]; 3], o: [f32; 3], d: [f32; 3], m: f64) -> Option<bool> {
-    let u = 1.0 / (1u64 << 53) as f64;
-    let d = d.map(f64::from);
-    let p = v.map(|vi| [0, 1, 2].map(|k| vi[k] as f64 - o[k] as f64));
-    let cross = |a: &[f64; 3], b: &[f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let c = [
-        cross(&p[1], &p[2]),
-        cross(&p[2], &p[0]),
-        cross(&p[0], &p[1]),
-    ];
-    let e = c.map(|ci| dot(&ci, &d));
-    let d1 = d[0].abs() + d[1].abs() + d[2].abs();
-    let edge = 14.1 * u * d1 * m * m + 1e-300;
-    let num_bound = 48.5 * u * m * m * m + 1e-300;
-    if !(edge < 1e290 && num_bound < 1e290 && m > 1e-90) {
-        return None;
-    }
-    let pos = e.iter().all(|x| *x > edge);
-    let neg = e.iter().all(|x| *x < -edge);
-    if e.iter().any(|x| *x > edge) && e.iter().any(|x| *x < -edge) {
-        return Some(false);
-    }
-    if !(pos || neg) {
-        return None;
-    }
-    let det = e[0] + e[1] + e[2];
-    let num = dot(&c[0], &p[0]);
-    let det_err = 3.0001 * edge + 2.1 * u * det.abs();
-    let (an, ad) = (num.abs(), det.abs());
-    if an <= num_bound {
-        return None;
-    }
-    if (num > 0.0) != pos {
-        return Some(false); // t < 0
-    }
-    let margin = 1.0 / (1u64 << 40) as f64;
-    let below = |a: f64, b: f64| a * (1.0 + margin) < b * (1.0 - margin);
-    if below(an + num_bound, ad - det_err) {
-        Some(true)
-    } else if below(ad + det_err, an - num_bound) {
-        Some(false)
-    } else {
-        None
     }
 }
 

@@ -9,7 +9,7 @@ use crate::accel::soa::TriangleBlocks;
 use crate::accel::IndexedTriangle;
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::adaptive::Search;
-use crate::geometry::triangle::{watertight_raw, WatertightRay};
+use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::scene::Scene;
 use glam::DVec3;
@@ -266,6 +266,19 @@ pub fn render_into_cancellable(
             .collect(),
         _ => Vec::new(),
     };
+    let camera_tris = match &packets {
+        Some(p) if settings.step != LabStep::Flat => {
+            debug_assert!(p.tris.iter().enumerate().all(|(i, t)| t.prim == i as u32));
+            p.tris.clone()
+        }
+        _ => Vec::new(),
+    };
+    let light_tris = match (&packets, accel.flat_triangles()) {
+        (Some(_), Some(tris)) if casts_shadows => {
+            OriginTriangles::new(tris, scene.light.position).tris
+        }
+        _ => Vec::new(),
+    };
     let uses_packets = packets.is_some() || bvh_packets;
     let flat_rgba =
         (uses_packets && settings.step == LabStep::Flat && settings.spp == 1 && !settings.cracks)
@@ -275,6 +288,8 @@ pub fn render_into_cancellable(
         settings,
         flat_rgba,
         from_camera,
+        camera_tris,
+        light_tris,
         occluders,
         gen,
         inv_n: 1.0 / settings.spp as f32,
@@ -374,12 +389,11 @@ struct Tile {
 }
 
 /// Buffers a band of tiles reuses: the tile's triangles (prepared for the camera origin, and
-/// as given), and its camera-ray hits before shading.
+/// as given), and its camera-ray hits readied for shading.
 #[derive(Default)]
 struct TileScratch {
     tris: Vec<OriginTriangle>,
     subset: Vec<IndexedTriangle>,
-    hits: Vec<Option<(Ray, Hit)>>,
     lit: Vec<Option<Lit>>,
 }
 
@@ -389,6 +403,12 @@ struct Frame<'a> {
     settings: &'a RenderSettings,
     /// The scene's BVH triangles prepared for the camera position (adaptive method).
     from_camera: Option<OriginTriangles>,
+    /// A flat scene's triangles prepared for the camera position, indexed by primitive, for
+    /// shading (steps past the flat one; empty otherwise: shading prepares its own).
+    camera_tris: Vec<OriginTriangle>,
+    /// A flat scene's triangles prepared for the light's position, indexed by primitive
+    /// (steps with shadows; shadow rays start at the light).
+    light_tris: Vec<OriginTriangle>,
     /// A flat scene's triangles with their boxes, for culling shadow rays per tile (only
     /// for the steps with shadows).
     occluders: Vec<Occluder>,
@@ -504,18 +524,13 @@ impl Frame<'_> {
     ) {
         let (scene, settings) = (self.scene, self.settings);
         let accel = scene.accel();
-        let TileScratch {
-            tris,
-            subset,
-            hits,
-            lit,
-        } = scratch;
+        let TileScratch { tris, subset, lit } = scratch;
         let n = settings.spp;
         let o = self.gen.origin();
         let mut blocks: Option<TriangleBlocks> = None;
         let flat = settings.step == LabStep::Flat;
         let mut sums = [[0.0f32; 3]; TILE as usize];
-        hits.clear();
+        lit.clear();
         for j in tile.y0..tile.y0 + tile.h {
             let row_off = (j - tile.y0) as usize * self.row_bytes;
             sums.fill([0.0; 3]);
@@ -545,61 +560,58 @@ impl Frame<'_> {
                         prim => Lane::Prim(prim),
                     });
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
-                    for (l, sum) in sums.iter_mut().take(tile.w as usize).enumerate() {
-                        let lane = lanes[l];
+                    let ray_of = |l: usize| Ray::new(o, [dx[l], dy[l], dz[l]]);
+                    let mut per_ray = |ray: &Ray| {
+                        if bvh {
+                            return self.find_hit(ray, None);
+                        }
+                        let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
+                        self.find_hit(ray, Some(b))
+                    };
+                    let w = tile.w as usize;
+                    if !flat {
+                        // Each lane's primitive, then the lanes readied for shading at once.
+                        let mut own = [None; 8];
+                        let mut prepared: [Option<&OriginTriangle>; 8] = [None; 8];
+                        for l in 0..w {
+                            let prim = match lanes[l] {
+                                Lane::Miss => None,
+                                Lane::Prim(prim) => Some(prim),
+                                Lane::PerRay => per_ray(&ray_of(l)).map(|h| h.prim),
+                            };
+                            let Some(prim) = prim else { continue };
+                            match self.camera_tris.get(prim as usize) {
+                                Some(tri) => prepared[l] = Some(tri),
+                                None => {
+                                    let Shape::Triangle(v) = &scene.shapes[prim as usize] else {
+                                        unreachable!("packets run over triangles only")
+                                    };
+                                    own[l] = Some(OriginTriangle::new(v, o, prim));
+                                }
+                            }
+                        }
+                        for (l, tri) in own.iter().enumerate() {
+                            if let Some(tri) = tri {
+                                prepared[l] = Some(tri);
+                            }
+                        }
+                        lit.extend_from_slice(
+                            &shade::lit_triangles_x8(scene, &dirs, &prepared)[..w],
+                        );
+                        continue;
+                    }
+                    for (l, sum) in sums.iter_mut().take(w).enumerate() {
                         let i = tile.x0 + l as u32;
-                        if let Lane::Miss = lane {
-                            if let Some(rgba) = &self.flat_rgba {
-                                rgba.put(rows, row_off, i, None);
-                            } else if !flat {
-                                hits.push(None);
-                            }
-                            continue;
-                        }
-                        if flat {
-                            if let Lane::Prim(prim) = lane {
-                                counts.0 += 1;
-                                match &self.flat_rgba {
-                                    Some(rgba) => rgba.put(rows, row_off, i, Some(prim)),
-                                    None => add(sum, scene.colors[prim as usize]),
-                                }
-                                continue;
-                            }
-                        }
-                        let ray = Ray::new(o, [dx[l], dy[l], dz[l]]);
-                        let mut per_ray = || {
-                            if bvh {
-                                return self.find_hit(&ray, None);
-                            }
-                            let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
-                            self.find_hit(&ray, Some(b))
-                        };
-                        let hit = match lane {
+                        let prim = match lanes[l] {
                             Lane::Miss => None,
-                            Lane::PerRay => per_ray(),
-                            Lane::Prim(prim) => {
-                                let Shape::Triangle(tri) = &scene.shapes[prim as usize] else {
-                                    unreachable!("packets run over triangles only")
-                                };
-                                match WatertightRay::new(o, ray.d)
-                                    .and_then(|r| watertight_raw(&r, tri))
-                                {
-                                    Some((t, b1, b2, _)) => Some(Hit { t, prim, b1, b2 }),
-                                    // The f32 test misses a triangle the exact one hits: let
-                                    // the per-ray search make the same call it makes untiled.
-                                    None => per_ray(),
-                                }
-                            }
+                            Lane::Prim(prim) => Some(prim),
+                            Lane::PerRay => per_ray(&ray_of(l)).map(|h| h.prim),
                         };
-                        if flat {
-                            counts.0 += hit.is_some() as u64;
-                            match (&self.flat_rgba, hit) {
-                                (Some(rgba), _) => rgba.put(rows, row_off, i, hit.map(|h| h.prim)),
-                                (None, Some(hit)) => add(sum, scene.colors[hit.prim as usize]),
-                                (None, None) => {}
-                            }
-                        } else {
-                            hits.push(hit.map(|h| (ray, h)));
+                        counts.0 += prim.is_some() as u64;
+                        match (&self.flat_rgba, prim) {
+                            (Some(rgba), _) => rgba.put(rows, row_off, i, prim),
+                            (None, Some(prim)) => add(sum, scene.colors[prim as usize]),
+                            (None, None) => {}
                         }
                     }
                 }
@@ -615,11 +627,6 @@ impl Frame<'_> {
             return;
         }
         // Shading: the tile's shadow rays against the triangles that can block one of them.
-        lit.clear();
-        lit.extend(
-            hits.iter()
-                .map(|h| h.map(|(ray, hit)| Lit::new(scene, &ray, &hit))),
-        );
         let mut occluder_blocks = None;
         // (A BVH scene's shadow rays go per ray through its BVH.)
         if !bvh && matches!(settings.step, LabStep::Shadows | LabStep::Indirect) {
@@ -630,15 +637,27 @@ impl Frame<'_> {
                 .flatten()
                 .filter(|l| l.shadow.is_some())
                 .collect();
+            let near_from_light: Vec<OriginTriangle> = near
+                .0
+                .iter()
+                .map(|o| self.light_tris[o.prim as usize])
+                .collect();
             let mut any_unsure = false;
             for chunk in with_shadow.chunks_mut(8) {
-                let mut rays = [([0.0f32; 3], [0.0f32; 3], u32::MAX); 8];
-                for (r, l) in rays.iter_mut().zip(chunk.iter()) {
-                    let s = l.shadow.expect("filtered");
-                    *r = (s.o, s.d, l.hit.prim);
-                }
+                // Unused lanes repeat lane 0 (so max|d| stays the packet's).
+                let lane = |l: usize| &chunk[if l < chunk.len() { l } else { 0 }];
+                let skip: [u32; 8] = std::array::from_fn(|l| lane(l).prim);
+                let d: [[f32; 8]; 3] = [0, 1, 2]
+                    .map(|k| std::array::from_fn(|l| lane(l).shadow.expect("filtered").d[k]));
+                let d = d.map(f32x8::from);
                 let valid = (1u32 << chunk.len()) - 1;
-                let found = packet::shadow_x8(&near.0, (near.1, near.2), &rays, valid);
+                let found = packet::shadow_from_origin(
+                    &near_from_light,
+                    &d,
+                    packet::max_component(&d),
+                    &skip,
+                    valid,
+                );
                 for (k, l) in chunk.iter_mut().enumerate() {
                     l.blocked =
                         (found.unsure & (1 << k) == 0).then_some(found.blocked & (1 << k) != 0);

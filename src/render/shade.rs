@@ -1,14 +1,17 @@
 //! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
+use crate::accel::packet::OriginTriangle;
 use crate::accel::soa::TriangleBlocks;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
-use crate::geometry::{Hit, Method, Ray, SurfacePoint};
+use crate::geometry::{offset_ray_origin, Hit, Method, Ray, Shape, SurfacePoint};
 use crate::math::real::{dot, sub};
+use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
+use wide::f32x8;
 
 /// A linear RGB colour.
 pub type Rgb = [f32; 3];
@@ -29,16 +32,43 @@ fn irradiance(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Rgb {
     if r2 <= 0.0 || cos.is_nan() || cos <= 0.0 {
         return [0.0; 3];
     }
-    let k = cos / (4.0 * PI * r2);
+    let k = cos / (FOUR_PI * r2);
     scene.light.power.map(|p| p * k)
 }
 
-/// A camera ray's hit readied for shading: its surface point, the irradiance D there
-/// without shadows, and the shadow ray towards the light (`None` where D = 0: nothing to
-/// shadow). Made once per hit, so a renderer can gather the shadow rays of a tile first.
+const FOUR_PI: f32 = 4.0 * PI;
+/// The shadow ray's widening of the point's error bound: relative, and of |L − p|.
+const WIDEN: f32 = 1.0 + 1.0 / (1u32 << 21) as f32;
+const END: f32 = 1.0 / (1u32 << 22) as f32;
+
+/// The shadow ray of surface point `p` (error bound `p_error`, unit normal `n`): from the
+/// light L to the point offset towards the light, t in (0, 1). Starting at the light lets
+/// every shadow ray of a frame share one origin (the packet kernel of
+/// [`crate::accel::packet`]). Its far end L + fl(p_o − L) misses the offset point p_o by at
+/// most u·|p_o − L| per axis, so the offset also covers 2⁻²²·|L − p| (with p_o within a
+/// tiny offset of p): the end stays on the light's side of the surface.
+pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f32; 3]) -> Ray {
+    let w = sub(light, p);
+    let err = [0, 1, 2].map(|k| p_error[k] * WIDEN + END * w[k].abs());
+    let po = offset_ray_origin(p, err, n, w);
+    Ray::new(light, sub(po, light))
+}
+
+/// A camera ray's hit readied for shading: its primitive, the irradiance D there without
+/// shadows, and the shadow ray from the light ([`shadow_from_light`]; `None` where D = 0:
+/// nothing to shadow). Made once per hit, so a renderer can gather the shadow rays of a tile
+/// first.
+///
+/// The surface point depends on the camera ray and the primitive only, never on how the
+/// nearest hit was found (packet or per-ray search, f32 or exact level), so every path
+/// shades a pixel to the same bits: on a triangle it interpolates the vertices with
+/// barycentrics bᵢ = eᵢ/Σe from the edge functions of the triangle prepared for the ray's
+/// origin ([`OriginTriangle`], what the camera packets compute), clamped into the triangle
+/// (the centroid where they are not finite); the point then lies on the triangle's plane
+/// within γ(7)·Σ|bᵢ·vᵢ| whatever the bᵢ's own error ([`SurfacePoint`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Lit {
-    pub hit: Hit,
+    pub prim: u32,
     pub d: Rgb,
     pub shadow: Option<Ray>,
     /// Whether the shadow ray is blocked, where already known (tested in packets).
@@ -46,15 +76,28 @@ pub struct Lit {
 }
 
 impl Lit {
+    /// Readies camera ray `ray`'s hit `hit` (only its primitive is used).
     pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
-        let sp = SurfacePoint::new(&scene.shapes[hit.prim as usize], ray, hit);
-        let d = irradiance(scene, &sp, ray);
-        let shadow = (d != [0.0; 3]).then(|| sp.ray_towards(scene.light.position));
-        Self {
-            hit: *hit,
-            d,
-            shadow,
-            blocked: None,
+        match &scene.shapes[hit.prim as usize] {
+            Shape::Triangle(v) => {
+                let tri = OriginTriangle::new(v, ray.o, hit.prim);
+                let d = ray.d.map(f32x8::splat);
+                let mut lanes = [None; 8];
+                lanes[0] = Some(&tri);
+                lit_triangles_x8(scene, &d, &lanes)[0].expect("lane 0 is a hit")
+            }
+            shape @ Shape::Sphere { .. } => {
+                let sp = SurfacePoint::new(shape, ray, hit);
+                let d = irradiance(scene, &sp, ray);
+                let shadow = (d != [0.0; 3])
+                    .then(|| shadow_from_light(sp.p, sp.p_error, sp.n, scene.light.position));
+                Self {
+                    prim: hit.prim,
+                    d,
+                    shadow,
+                    blocked: None,
+                }
+            }
         }
     }
 
@@ -68,7 +111,7 @@ impl Lit {
         // The primitive itself cannot block (planar or convex, light on its lit side).
         let blocked = self
             .blocked
-            .unwrap_or_else(|| test.1.blocked(scene, shadow, test.0, self.hit.prim));
+            .unwrap_or_else(|| test.1.blocked(scene, shadow, test.0, self.prim));
         if blocked {
             [0.0; 3]
         } else {
@@ -84,7 +127,7 @@ impl Lit {
         test: (Method, Occluders),
         shadow_rays: &mut u64,
     ) -> Rgb {
-        let rho = flat(scene, &self.hit);
+        let rho = scene.colors[self.prim as usize];
         match step {
             LabStep::Flat => rho,
             LabStep::Direct => mul(rho, self.d),
@@ -139,4 +182,124 @@ pub fn shade(
 
 fn mul(a: Rgb, b: Rgb) -> Rgb {
     [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
+}
+
+/// [`Lit`] for up to 8 camera rays from one origin (directions `d`, lanes) that hit triangles:
+/// `lanes[l]` is lane l's triangle prepared for the origin (its `prim` names it), `None` for
+/// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
+pub fn lit_triangles_x8(
+    scene: &Scene,
+    d: &[f32x8; 3],
+    lanes: &[Option<&OriginTriangle>; 8],
+) -> [Option<Lit>; 8] {
+    let (mut edge, mut vert) = ([[[0.0f32; 8]; 3]; 3], [[[0.0f32; 8]; 3]; 3]);
+    for (l, lane) in lanes.iter().enumerate() {
+        let Some(tri) = lane else { continue };
+        let Shape::Triangle(v) = &scene.shapes[tri.prim as usize] else {
+            unreachable!("lit_triangles_x8 takes triangles")
+        };
+        let n = tri.edge_normals();
+        for i in 0..3 {
+            for k in 0..3 {
+                edge[i][k][l] = n[i][k];
+                vert[i][k][l] = v[i][k];
+            }
+        }
+    }
+    let edge = edge.map(|n| n.map(f32x8::from));
+    let v = vert.map(|vi| vi.map(f32x8::from));
+    let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let e = edge.map(|n| dot(d, &n));
+    let rcp = f32x8::ONE / (e[0] + e[1] + e[2]);
+    let (b1, b2) = (e[1] * rcp, e[2] * rcp);
+    let inf = f32x8::splat(f32::INFINITY);
+    let finite = b1.abs().simd_lt(inf) & b2.abs().simd_lt(inf);
+    let third = f32x8::splat(1.0 / 3.0);
+    let b1 = finite.bitselect(b1, third).max(f32x8::ZERO).min(f32x8::ONE);
+    let b2 = finite
+        .bitselect(b2, third)
+        .max(f32x8::ZERO)
+        .min(f32x8::ONE - b1);
+    let b0 = (f32x8::ONE - b1) - b2;
+    let gamma7 = f32x8::splat(f32::error_gamma(7));
+    let mut p = [f32x8::ZERO; 3];
+    let mut p_error = [f32x8::ZERO; 3];
+    for k in 0..3 {
+        let (q0, q1, q2) = (v[0][k] * b0, v[1][k] * b1, v[2][k] * b2);
+        p[k] = (q0 + q1) + q2;
+        p_error[k] = ((q0.abs() + q1.abs()) + q2.abs()) * gamma7;
+    }
+    let a = [0, 1, 2].map(|k| v[1][k] - v[0][k]);
+    let b = [0, 1, 2].map(|k| v[2][k] - v[0][k]);
+    let normal = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let len = dot(&normal, &normal).sqrt();
+    let inv = f32x8::ONE / len;
+    let positive = len.simd_gt(f32x8::ZERO);
+    let n = normal.map(|c| positive.bitselect(c * inv, c));
+    // The irradiance D (see `irradiance`), lanes at a time.
+    let light = scene.light.position;
+    let r = [0, 1, 2].map(|k| f32x8::splat(light[k]) - p[k]);
+    let r2 = dot(&r, &r);
+    let facing = dot(&n, d)
+        .simd_gt(f32x8::ZERO)
+        .bitselect(f32x8::splat(-1.0), f32x8::ONE);
+    let cos = facing * dot(&n, &r) / r2.sqrt();
+    let lit = (r2.simd_gt(f32x8::ZERO) & cos.simd_gt(f32x8::ZERO)).to_bitmask();
+    let k = (cos / (f32x8::splat(FOUR_PI) * r2)).to_array();
+    // The shadow ray from the light, as `shadow_from_light` makes it, lanes at a time.
+    let widen = f32x8::splat(WIDEN);
+    let end = f32x8::splat(END);
+    let err = [0, 1, 2].map(|k| p_error[k] * widen + end * r[k].abs());
+    let dist = n[0].abs() * err[0] + n[1].abs() * err[1] + n[2].abs() * err[2];
+    let away = dot(&r, &n).simd_lt(f32x8::ZERO);
+    let to_shadow = [0, 1, 2].map(|k| {
+        let offset = n[k] * dist;
+        let offset = away.bitselect(offset * f32x8::splat(-1.0), offset);
+        let po = nudge(p[k] + offset, offset);
+        (po - f32x8::splat(light[k])).to_array()
+    });
+    std::array::from_fn(|l| {
+        let prim = lanes[l]?.prim;
+        let on = lit & (1 << l) != 0;
+        let d = match on {
+            true => scene.light.power.map(|c| c * k[l]),
+            false => [0.0; 3],
+        };
+        let shadow = (d != [0.0; 3])
+            .then(|| Ray::new(light, [to_shadow[0][l], to_shadow[1][l], to_shadow[2][l]]));
+        Some(Lit {
+            prim,
+            d,
+            shadow,
+            blocked: None,
+        })
+    })
+}
+
+/// `x` one ulp up where `offset` > 0 and down where it is < 0 (`next_up`/`next_down`).
+#[inline(always)]
+fn nudge(x: f32x8, offset: f32x8) -> f32x8 {
+    use wide::{bytemuck::cast, i32x8};
+    let (up, down) = (offset.simd_gt(f32x8::ZERO), offset.simd_lt(f32x8::ZERO));
+    let (pos, neg) = (x.simd_gt(f32x8::ZERO), x.simd_lt(f32x8::ZERO));
+    let zero = x.simd_eq(f32x8::ZERO);
+    let bits: i32x8 = cast(x);
+    // Away from zero one step: bits + 1; towards it: bits − 1; from ±0: the least subnormal.
+    let grow: i32x8 = cast((up & pos) | (down & neg));
+    let shrink: i32x8 = cast((up & neg) | (down & pos));
+    let stepped = bits - grow + shrink; // a true mask is −1
+    let tiny = up.bitselect(
+        f32x8::splat(f32::from_bits(1)),
+        f32x8::splat(-f32::from_bits(1)),
+    );
+    let stepped: f32x8 = cast(stepped);
+    let stepped = (zero & (up | down)).bitselect(tiny, stepped);
+    // NaN stays; so do +∞ going up and −∞ going down.
+    let inf = f32x8::splat(f32::INFINITY);
+    let fixed = x.simd_ne(x) | (up & x.simd_eq(inf)) | (down & x.simd_eq(-inf));
+    fixed.bitselect(x, stepped)
 }
