@@ -273,10 +273,13 @@ impl OriginTriangle {
 
 /// The largest |dₖ| over a packet's directions (NaN if any is NaN).
 pub fn max_component(d: &[f32x8; 3]) -> f32 {
-    if [d[0], d[1], d[2]].iter().any(|v| v.simd_ne(*v).any()) {
+    let (a, b, c) = (d[0].abs(), d[1].abs(), d[2].abs());
+    // A sum of magnitudes is NaN only where a component is (fast_max may drop a NaN).
+    let sum = a + b + c;
+    if sum.simd_ne(sum).any() {
         return f32::NAN;
     }
-    let m = d[0].abs().max(d[1].abs()).max(d[2].abs()).to_array();
+    let m = a.fast_max(b).fast_max(c).to_array();
     let half = [
         m[0].max(m[4]),
         m[1].max(m[5]),

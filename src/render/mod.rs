@@ -20,7 +20,7 @@ use wide::f32x8;
 
 pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE, MAX_SPP};
 pub use shade::Rgb;
-use shade::{Lit, Occluders};
+use shade::{Occluders, ShadePacket, ShadeTri};
 
 /// The CPU's model name, for benchmark reports (the architecture where it is not known).
 pub fn cpu_model() -> String {
@@ -268,8 +268,14 @@ pub fn render_into_cancellable(
     };
     let camera_tris = match &packets {
         Some(p) if settings.step != LabStep::Flat => {
-            debug_assert!(p.tris.iter().enumerate().all(|(i, t)| t.prim == i as u32));
-            p.tris.clone()
+            let flat = accel.flat_triangles().unwrap_or(&[]);
+            debug_assert!(flat.iter().enumerate().all(|(i, t)| t.1 == i as u32));
+            (p.tris.iter().zip(flat))
+                .map(|(tri, (v, _))| ShadeTri {
+                    tri: *tri,
+                    normal: shade::unit_normal(v),
+                })
+                .collect()
         }
         _ => Vec::new(),
     };
@@ -394,7 +400,11 @@ struct Tile {
 struct TileScratch {
     tris: Vec<OriginTriangle>,
     subset: Vec<IndexedTriangle>,
-    lit: Vec<Option<Lit>>,
+    /// Per packet (rows, then samples), its hits readied for shading and its blocked lanes.
+    shaded: Vec<ShadePacket>,
+    blocked: Vec<u32>,
+    /// The triangles (prepared for the light) that may block the tile's shadow rays.
+    near: Vec<OriginTriangle>,
 }
 
 /// What every tile of one frame shares.
@@ -405,7 +415,7 @@ struct Frame<'a> {
     from_camera: Option<OriginTriangles>,
     /// A flat scene's triangles prepared for the camera position, indexed by primitive, for
     /// shading (steps past the flat one; empty otherwise: shading prepares its own).
-    camera_tris: Vec<OriginTriangle>,
+    camera_tris: Vec<ShadeTri>,
     /// A flat scene's triangles prepared for the light's position, indexed by primitive
     /// (steps with shadows; shadow rays start at the light).
     light_tris: Vec<OriginTriangle>,
@@ -524,13 +534,19 @@ impl Frame<'_> {
     ) {
         let (scene, settings) = (self.scene, self.settings);
         let accel = scene.accel();
-        let TileScratch { tris, subset, lit } = scratch;
+        let TileScratch {
+            tris,
+            subset,
+            shaded,
+            blocked,
+            near,
+        } = scratch;
         let n = settings.spp;
         let o = self.gen.origin();
         let mut blocks: Option<TriangleBlocks> = None;
         let flat = settings.step == LabStep::Flat;
         let mut sums = [[0.0f32; 3]; TILE as usize];
-        lit.clear();
+        shaded.clear();
         for j in tile.y0..tile.y0 + tile.h {
             let row_off = (j - tile.y0) as usize * self.row_bytes;
             sums.fill([0.0; 3]);
@@ -572,7 +588,7 @@ impl Frame<'_> {
                     if !flat {
                         // Each lane's primitive, then the lanes readied for shading at once.
                         let mut own = [None; 8];
-                        let mut prepared: [Option<&OriginTriangle>; 8] = [None; 8];
+                        let mut prepared: [Option<&ShadeTri>; 8] = [None; 8];
                         for l in 0..w {
                             let prim = match lanes[l] {
                                 Lane::Miss => None,
@@ -586,7 +602,7 @@ impl Frame<'_> {
                                     let Shape::Triangle(v) = &scene.shapes[prim as usize] else {
                                         unreachable!("packets run over triangles only")
                                     };
-                                    own[l] = Some(OriginTriangle::new(v, o, prim));
+                                    own[l] = Some(ShadeTri::new(v, o, prim));
                                 }
                             }
                         }
@@ -595,9 +611,7 @@ impl Frame<'_> {
                                 prepared[l] = Some(tri);
                             }
                         }
-                        lit.extend_from_slice(
-                            &shade::lit_triangles_x8(scene, &dirs, &prepared)[..w],
-                        );
+                        shaded.push(shade::shade_packet(scene, &dirs, &prepared));
                         continue;
                     }
                     for (l, sum) in sums.iter_mut().take(w).enumerate() {
@@ -626,65 +640,75 @@ impl Frame<'_> {
         if flat {
             return;
         }
-        // Shading: the tile's shadow rays against the triangles that can block one of them.
-        let mut occluder_blocks = None;
-        // (A BVH scene's shadow rays go per ray through its BVH.)
-        if !bvh && matches!(settings.step, LabStep::Shadows | LabStep::Indirect) {
-            let near = self.occluders_for(lit.iter().flatten().filter_map(|l| l.shadow.as_ref()));
-            // 8 shadow rays at a time against those triangles; the undecided ones per ray.
-            let mut with_shadow: Vec<&mut Lit> = lit
-                .iter_mut()
-                .flatten()
-                .filter(|l| l.shadow.is_some())
-                .collect();
-            let near_from_light: Vec<OriginTriangle> = near
-                .0
-                .iter()
-                .map(|o| self.light_tris[o.prim as usize])
-                .collect();
-            let mut any_unsure = false;
-            for chunk in with_shadow.chunks_mut(8) {
-                // Unused lanes repeat lane 0 (so max|d| stays the packet's).
-                let lane = |l: usize| &chunk[if l < chunk.len() { l } else { 0 }];
-                let skip: [u32; 8] = std::array::from_fn(|l| lane(l).prim);
-                let d: [[f32; 8]; 3] = [0, 1, 2]
-                    .map(|k| std::array::from_fn(|l| lane(l).shadow.expect("filtered").d[k]));
-                let d = d.map(f32x8::from);
-                let valid = (1u32 << chunk.len()) - 1;
-                let found = packet::shadow_from_origin(
-                    &near_from_light,
-                    &d,
-                    packet::max_component(&d),
-                    &skip,
-                    valid,
-                );
-                for (k, l) in chunk.iter_mut().enumerate() {
-                    l.blocked =
-                        (found.unsure & (1 << k) == 0).then_some(found.blocked & (1 << k) != 0);
-                    any_unsure |= l.blocked.is_none();
+        // Shadow rays: a flat scene's 8 at a time from the light against the triangles that
+        // can block one of the tile's (the undecided ones per ray); a BVH scene's per ray.
+        let casts_shadows = matches!(settings.step, LabStep::Shadows | LabStep::Indirect);
+        blocked.clear();
+        blocked.resize(shaded.len(), 0);
+        if casts_shadows {
+            let light = scene.light.position;
+            let per_ray = |occluders: Occluders, pk: &ShadePacket, lanes: u32, out: &mut u32| {
+                for l in (0..8).filter(|l| lanes & (1 << l) != 0) {
+                    let ray = Ray::new(light, pk.shadow_d.map(|c| c.to_array()[l]));
+                    if occluders.blocked(scene, &ray, settings.method, pk.prim[l]) {
+                        *out |= 1 << l;
+                    }
+                }
+            };
+            if bvh {
+                for (pk, out) in shaded.iter().zip(blocked.iter_mut()) {
+                    per_ray(Occluders::Scene, pk, pk.shadowed, out);
+                }
+            } else {
+                self.occluders_for(shaded, near);
+                let mut culled_blocks = None;
+                for (pk, out) in shaded.iter().zip(blocked.iter_mut()) {
+                    if pk.shadowed == 0 {
+                        continue;
+                    }
+                    let d_max = packet::max_component(&pk.shadow_d);
+                    let found = packet::shadow_from_origin(
+                        near,
+                        &pk.shadow_d,
+                        d_max,
+                        &pk.prim,
+                        pk.shadowed,
+                    );
+                    *out = found.blocked;
+                    if found.unsure != 0 {
+                        let blocks = culled_blocks.get_or_insert_with(|| {
+                            let tris: Vec<IndexedTriangle> = near
+                                .iter()
+                                .map(|t| (self.occluders[t.prim as usize].v, t.prim))
+                                .collect();
+                            TriangleBlocks::new(&tris)
+                        });
+                        per_ray(Occluders::Culled(blocks), pk, found.unsure, out);
+                    }
                 }
             }
-            if any_unsure {
-                let tris: Vec<IndexedTriangle> = near.0.iter().map(|o| (o.v, o.prim)).collect();
-                occluder_blocks = Some(TriangleBlocks::new(&tris));
-            }
         }
-        let test = (
-            settings.method,
-            occluder_blocks
-                .as_ref()
-                .map_or(Occluders::Scene, Occluders::Culled),
-        );
-        let per_row = (n * n * tile.w) as usize;
-        for (jj, row_lit) in lit.chunks(per_row).enumerate() {
+        // Colour: the samples of each pixel summed in the per-ray path's order.
+        let per_row = (n * n) as usize;
+        for (jj, row_packets) in shaded.chunks(per_row).enumerate() {
             let mut sums = [[0.0f32; 3]; TILE as usize];
-            // Samples run (sy, sx) outer, lanes (pixels) inner.
-            for sample in row_lit.chunks(tile.w as usize) {
-                for (sum, l) in sums.iter_mut().zip(sample) {
-                    if let Some(l) = l {
-                        counts.0 += 1;
-                        add(sum, l.colour(scene, settings.step, test, &mut counts.1));
+            for (pk, blocked) in row_packets.iter().zip(&blocked[jj * per_row..]) {
+                for (l, sum) in sums.iter_mut().enumerate().take(tile.w as usize) {
+                    if pk.hit & (1 << l) == 0 {
+                        continue;
                     }
+                    counts.0 += 1;
+                    let shadowed = pk.shadowed & (1 << l) != 0;
+                    counts.1 += (casts_shadows && shadowed) as u64;
+                    let d = pk.d(scene, l);
+                    let c = shade::step_colour(
+                        scene,
+                        pk.prim[l],
+                        d,
+                        blocked & (1 << l) != 0,
+                        settings.step,
+                    );
+                    add(sum, c);
                 }
             }
             let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
@@ -694,32 +718,26 @@ impl Frame<'_> {
         }
     }
 
-    /// The scene's triangles that may block one of `shadows`, and the box around them: those
-    /// whose bounding box meets the box around every shadow segment (origin to origin +
-    /// direction, widened for the rounding of that end). A triangle meeting a segment has a
-    /// point in that box.
-    fn occluders_for<'s>(
-        &self,
-        shadows: impl Iterator<Item = &'s Ray>,
-    ) -> (Vec<Occluder>, [f32; 3], [f32; 3]) {
+    /// Fills `near` with the scene's triangles (prepared for the light) that may block one
+    /// of the shadow rays of `shaded`: those whose bounding box meets the box around every
+    /// shadow segment (light to light + direction, widened for the rounding of that end). A
+    /// triangle meeting a segment has a point in that box.
+    fn occluders_for(&self, shaded: &[ShadePacket], near: &mut Vec<OriginTriangle>) {
+        let light = self.scene.light.position;
         let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for s in shadows {
-            packet::grow_by_segment((&mut lo, &mut hi), s.o, s.d);
+        for pk in shaded {
+            let d = pk.shadow_d.map(|c| c.to_array());
+            for l in (0..8).filter(|l| pk.shadowed & (1 << l) != 0) {
+                packet::grow_by_segment((&mut lo, &mut hi), light, [d[0][l], d[1][l], d[2][l]]);
+            }
         }
-        let (mut box_lo, mut box_hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        let near = self
-            .occluders
-            .iter()
-            .filter(|occ| occ.meets(lo, hi))
-            .inspect(|occ| {
-                for k in 0..3 {
-                    box_lo[k] = box_lo[k].min(occ.lo[k]);
-                    box_hi[k] = box_hi[k].max(occ.hi[k]);
-                }
-            })
-            .copied()
-            .collect();
-        (near, box_lo, box_hi)
+        near.clear();
+        near.extend(
+            self.occluders
+                .iter()
+                .filter(|occ| occ.meets(lo, hi))
+                .map(|occ| self.light_tris[occ.prim as usize]),
+        );
     }
 }
 

@@ -1,12 +1,13 @@
 //! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
-use crate::accel::packet::OriginTriangle;
+use crate::accel::packet::{avx2_or_baseline, OriginTriangle};
 use crate::accel::soa::TriangleBlocks;
 use crate::geometry::adaptive::Search;
+use crate::geometry::offset::normalize;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{offset_ray_origin, Hit, Method, Ray, Shape, SurfacePoint};
-use crate::math::real::{dot, sub};
+use crate::math::real::{cross, dot, sub};
 use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
@@ -71,8 +72,6 @@ pub struct Lit {
     pub prim: u32,
     pub d: Rgb,
     pub shadow: Option<Ray>,
-    /// Whether the shadow ray is blocked, where already known (tested in packets).
-    pub blocked: Option<bool>,
 }
 
 impl Lit {
@@ -80,11 +79,17 @@ impl Lit {
     pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
         match &scene.shapes[hit.prim as usize] {
             Shape::Triangle(v) => {
-                let tri = OriginTriangle::new(v, ray.o, hit.prim);
-                let d = ray.d.map(f32x8::splat);
+                let tri = ShadeTri::new(v, ray.o, hit.prim);
                 let mut lanes = [None; 8];
                 lanes[0] = Some(&tri);
-                lit_triangles_x8(scene, &d, &lanes)[0].expect("lane 0 is a hit")
+                let packet = shade_packet(scene, &ray.d.map(f32x8::splat), &lanes);
+                let shadow_d = packet.shadow_d.map(|c| c.to_array()[0]);
+                Self {
+                    prim: hit.prim,
+                    d: packet.d(scene, 0),
+                    shadow: (packet.shadowed & 1 != 0)
+                        .then(|| Ray::new(scene.light.position, shadow_d)),
+                }
             }
             shape @ Shape::Sphere { .. } => {
                 let sp = SurfacePoint::new(shape, ray, hit);
@@ -95,31 +100,23 @@ impl Lit {
                     prim: hit.prim,
                     d,
                     shadow,
-                    blocked: None,
                 }
             }
         }
     }
 
-    /// D, zero where the shadow ray is blocked before the light. Adds the shadow rays cast to
-    /// `shadow_rays`.
-    fn shadowed(&self, scene: &Scene, test: (Method, Occluders), shadow_rays: &mut u64) -> Rgb {
+    /// Whether the shadow ray (if any) is blocked before its end. Adds the shadow rays cast
+    /// to `shadow_rays`.
+    fn is_blocked(&self, scene: &Scene, test: (Method, Occluders), shadow_rays: &mut u64) -> bool {
         let Some(shadow) = &self.shadow else {
-            return self.d;
+            return false;
         };
         *shadow_rays += 1;
         // The primitive itself cannot block (planar or convex, light on its lit side).
-        let blocked = self
-            .blocked
-            .unwrap_or_else(|| test.1.blocked(scene, shadow, test.0, self.prim));
-        if blocked {
-            [0.0; 3]
-        } else {
-            self.d
-        }
+        test.1.blocked(scene, shadow, test.0, self.prim)
     }
 
-    /// The colour of lab step 3, 4 or 5 (ρ·D, with shadows, plus the ambient term N).
+    /// The colour of lab step 3, 4 or 5 ([`step_colour`]).
     pub fn colour(
         &self,
         scene: &Scene,
@@ -127,17 +124,11 @@ impl Lit {
         test: (Method, Occluders),
         shadow_rays: &mut u64,
     ) -> Rgb {
-        let rho = scene.colors[self.prim as usize];
-        match step {
-            LabStep::Flat => rho,
-            LabStep::Direct => mul(rho, self.d),
-            LabStep::Shadows => mul(rho, self.shadowed(scene, test, shadow_rays)),
-            LabStep::Indirect => {
-                let d = self.shadowed(scene, test, shadow_rays);
-                let n = scene.ambient;
-                mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
-            }
-        }
+        let blocked = match step {
+            LabStep::Shadows | LabStep::Indirect => self.is_blocked(scene, test, shadow_rays),
+            _ => false,
+        };
+        step_colour(scene, self.prim, self.d, blocked, step)
     }
 }
 
@@ -153,7 +144,7 @@ pub enum Occluders<'a> {
 
 impl Occluders<'_> {
     /// Whether `ray` is blocked for 0 < t < 1 by anything but primitive `skip`.
-    fn blocked(&self, scene: &Scene, ray: &Ray, method: Method, skip: u32) -> bool {
+    pub fn blocked(&self, scene: &Scene, ray: &Ray, method: Method, skip: u32) -> bool {
         match self {
             Occluders::Scene => scene.accel().any_hit_except(ray, method, 0.0, 1.0, skip),
             Occluders::Culled(blocks) => {
@@ -184,30 +175,124 @@ fn mul(a: Rgb, b: Rgb) -> Rgb {
     [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
 }
 
-/// [`Lit`] for up to 8 camera rays from one origin (directions `d`, lanes) that hit triangles:
-/// `lanes[l]` is lane l's triangle prepared for the origin (its `prim` names it), `None` for
-/// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
-pub fn lit_triangles_x8(
-    scene: &Scene,
-    d: &[f32x8; 3],
-    lanes: &[Option<&OriginTriangle>; 8],
-) -> [Option<Lit>; 8] {
-    let (mut edge, mut vert) = ([[[0.0f32; 8]; 3]; 3], [[[0.0f32; 8]; 3]; 3]);
-    for (l, lane) in lanes.iter().enumerate() {
-        let Some(tri) = lane else { continue };
-        let Shape::Triangle(v) = &scene.shapes[tri.prim as usize] else {
-            unreachable!("lit_triangles_x8 takes triangles")
-        };
-        let n = tri.edge_normals();
-        for i in 0..3 {
-            for k in 0..3 {
-                edge[i][k][l] = n[i][k];
-                vert[i][k][l] = v[i][k];
-            }
+/// Up to 8 camera hits on triangles readied for shading, lanes side by side (what [`Lit`]
+/// holds per hit): lane l hit primitive `prim[l]` where bit l of `hit` is set; there D =
+/// P·k[l] and, where bit l of `shadowed` is set (D ≠ 0), the shadow ray runs from the light
+/// along `shadow_d` (zero in the other lanes).
+#[derive(Clone, Copy, Debug)]
+pub struct ShadePacket {
+    pub prim: [u32; 8],
+    pub hit: u32,
+    pub k: [f32; 8],
+    pub shadowed: u32,
+    pub shadow_d: [f32x8; 3],
+}
+
+impl ShadePacket {
+    /// Lane l's D.
+    #[inline]
+    pub fn d(&self, scene: &Scene, l: usize) -> Rgb {
+        match self.shadowed & (1 << l) != 0 {
+            true => scene.light.power.map(|c| c * self.k[l]),
+            false => [0.0; 3],
         }
     }
-    let edge = edge.map(|n| n.map(f32x8::from));
-    let v = vert.map(|vi| vi.map(f32x8::from));
+}
+
+/// The colour of lab step 3, 4 or 5 for primitive `prim` with irradiance `d` (ρ·D, with
+/// shadows, plus the ambient term N): what every path computes per sample.
+#[inline]
+pub fn step_colour(scene: &Scene, prim: u32, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
+    let rho = scene.colors[prim as usize];
+    let d = if blocked { [0.0; 3] } else { d };
+    match step {
+        LabStep::Flat => rho,
+        LabStep::Direct | LabStep::Shadows => mul(rho, d),
+        LabStep::Indirect => {
+            let n = scene.ambient;
+            mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
+        }
+    }
+}
+
+/// A triangle readied for shading the hits of rays from one origin: prepared for that origin
+/// (the barycentrics of [`Lit`]) and its unit geometric normal.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadeTri {
+    pub tri: OriginTriangle,
+    pub normal: [f32; 3],
+}
+
+impl ShadeTri {
+    pub fn new(v: &[[f32; 3]; 3], origin: [f32; 3], prim: u32) -> Self {
+        Self {
+            tri: OriginTriangle::new(v, origin, prim),
+            normal: unit_normal(v),
+        }
+    }
+}
+
+/// The unit geometric normal along (v₁ − v₀) × (v₂ − v₀), as [`SurfacePoint`] has it.
+pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
+    normalize(cross(sub(v[1], v[0]), sub(v[2], v[0])))
+}
+
+/// [`Lit`] for up to 8 camera rays from one origin (directions `d`, lanes) that hit triangles:
+/// `lanes[l]` is lane l's triangle readied for the origin (its `prim` names it), `None` for
+/// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
+pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
+    avx2_or_baseline!(shade_packet_body => (
+        scene: &Scene,
+        d: &[f32x8; 3],
+        lanes: &[Option<&ShadeTri>; 8]
+    ) -> ShadePacket)
+}
+
+#[inline(always)]
+fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
+    let triangle = |tri: &OriginTriangle| match &scene.shapes[tri.prim as usize] {
+        Shape::Triangle(v) => *v,
+        Shape::Sphere { .. } => unreachable!("shade_packet takes triangles"),
+    };
+    let mut prim = [u32::MAX; 8];
+    let mut hit = 0u32;
+    for (l, lane) in lanes.iter().enumerate() {
+        if let Some(t) = lane {
+            prim[l] = t.tri.prim;
+            hit |= 1 << l;
+        }
+    }
+    let (edge, v, n) = match lanes[0] {
+        // One triangle in every lane (most packets of a small scene): broadcast it.
+        Some(first) if hit == 0xff && prim.iter().all(|p| *p == first.tri.prim) => {
+            let splat = |x: &[[f32; 3]; 3]| x.map(|r| r.map(f32x8::splat));
+            (
+                splat(first.tri.edge_normals()),
+                splat(&triangle(&first.tri)),
+                first.normal.map(f32x8::splat),
+            )
+        }
+        _ => {
+            let (mut edge, mut vert) = ([[[0.0f32; 8]; 3]; 3], [[[0.0f32; 8]; 3]; 3]);
+            let mut normal = [[0.0f32; 8]; 3];
+            for (l, lane) in lanes.iter().enumerate() {
+                let Some(t) = lane else { continue };
+                let (e, v) = (t.tri.edge_normals(), triangle(&t.tri));
+                for i in 0..3 {
+                    for k in 0..3 {
+                        edge[i][k][l] = e[i][k];
+                        vert[i][k][l] = v[i][k];
+                    }
+                    normal[i][l] = t.normal[i];
+                }
+            }
+            (
+                edge.map(|e| e.map(f32x8::from)),
+                vert.map(|vi| vi.map(f32x8::from)),
+                normal.map(f32x8::from),
+            )
+        }
+    };
     let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let e = edge.map(|n| dot(d, &n));
     let rcp = f32x8::ONE / (e[0] + e[1] + e[2]);
@@ -215,11 +300,15 @@ pub fn lit_triangles_x8(
     let inf = f32x8::splat(f32::INFINITY);
     let finite = b1.abs().simd_lt(inf) & b2.abs().simd_lt(inf);
     let third = f32x8::splat(1.0 / 3.0);
-    let b1 = finite.bitselect(b1, third).max(f32x8::ZERO).min(f32x8::ONE);
+    // (No NaN is left for max and min to treat.)
+    let b1 = finite
+        .bitselect(b1, third)
+        .fast_max(f32x8::ZERO)
+        .fast_min(f32x8::ONE);
     let b2 = finite
         .bitselect(b2, third)
-        .max(f32x8::ZERO)
-        .min(f32x8::ONE - b1);
+        .fast_max(f32x8::ZERO)
+        .fast_min(f32x8::ONE - b1);
     let b0 = (f32x8::ONE - b1) - b2;
     let gamma7 = f32x8::splat(f32::error_gamma(7));
     let mut p = [f32x8::ZERO; 3];
@@ -229,17 +318,6 @@ pub fn lit_triangles_x8(
         p[k] = (q0 + q1) + q2;
         p_error[k] = ((q0.abs() + q1.abs()) + q2.abs()) * gamma7;
     }
-    let a = [0, 1, 2].map(|k| v[1][k] - v[0][k]);
-    let b = [0, 1, 2].map(|k| v[2][k] - v[0][k]);
-    let normal = [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ];
-    let len = dot(&normal, &normal).sqrt();
-    let inv = f32x8::ONE / len;
-    let positive = len.simd_gt(f32x8::ZERO);
-    let n = normal.map(|c| positive.bitselect(c * inv, c));
     // The irradiance D (see `irradiance`), lanes at a time.
     let light = scene.light.position;
     let r = [0, 1, 2].map(|k| f32x8::splat(light[k]) - p[k]);
@@ -248,36 +326,40 @@ pub fn lit_triangles_x8(
         .simd_gt(f32x8::ZERO)
         .bitselect(f32x8::splat(-1.0), f32x8::ONE);
     let cos = facing * dot(&n, &r) / r2.sqrt();
-    let lit = (r2.simd_gt(f32x8::ZERO) & cos.simd_gt(f32x8::ZERO)).to_bitmask();
-    let k = (cos / (f32x8::splat(FOUR_PI) * r2)).to_array();
+    let k = cos / (f32x8::splat(FOUR_PI) * r2);
+    // D ≠ 0 (some channel of P·k), as `Lit` asks before casting a shadow ray.
+    let power = scene.light.power;
+    let nonzero = |c: f32| (f32x8::splat(c) * k).simd_ne(f32x8::ZERO);
+    let lit = r2.simd_gt(f32x8::ZERO)
+        & cos.simd_gt(f32x8::ZERO)
+        & (nonzero(power[0]) | nonzero(power[1]) | nonzero(power[2]));
+    let shadowed = lit.to_bitmask() & hit;
+    let lit = f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
+        f32::from_bits(if shadowed & (1 << l) != 0 {
+            u32::MAX
+        } else {
+            0
+        })
+    }));
     // The shadow ray from the light, as `shadow_from_light` makes it, lanes at a time.
     let widen = f32x8::splat(WIDEN);
     let end = f32x8::splat(END);
     let err = [0, 1, 2].map(|k| p_error[k] * widen + end * r[k].abs());
     let dist = n[0].abs() * err[0] + n[1].abs() * err[1] + n[2].abs() * err[2];
     let away = dot(&r, &n).simd_lt(f32x8::ZERO);
-    let to_shadow = [0, 1, 2].map(|k| {
+    let shadow_d = [0, 1, 2].map(|k| {
         let offset = n[k] * dist;
         let offset = away.bitselect(offset * f32x8::splat(-1.0), offset);
         let po = nudge(p[k] + offset, offset);
-        (po - f32x8::splat(light[k])).to_array()
+        lit.bitselect(po - f32x8::splat(light[k]), f32x8::ZERO)
     });
-    std::array::from_fn(|l| {
-        let prim = lanes[l]?.prim;
-        let on = lit & (1 << l) != 0;
-        let d = match on {
-            true => scene.light.power.map(|c| c * k[l]),
-            false => [0.0; 3],
-        };
-        let shadow = (d != [0.0; 3])
-            .then(|| Ray::new(light, [to_shadow[0][l], to_shadow[1][l], to_shadow[2][l]]));
-        Some(Lit {
-            prim,
-            d,
-            shadow,
-            blocked: None,
-        })
-    })
+    ShadePacket {
+        prim,
+        hit,
+        k: k.to_array(),
+        shadowed,
+        shadow_d,
+    }
 }
 
 /// `x` one ulp up where `offset` > 0 and down where it is < 0 (`next_up`/`next_down`).
