@@ -41,6 +41,13 @@ macro_rules! avx2_or_baseline {
 }
 pub(crate) use avx2_or_baseline;
 
+/// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state
+/// transitions) in the AVX2 builds; this always inlines.
+#[inline(always)]
+pub(crate) fn each3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
 /// Unit roundoff of f32 and f64.
 const U32: f64 = 1.0 / (1u64 << 24) as f64;
 const U64: f64 = 1.0 / (1u64 << 53) as f64;
@@ -280,13 +287,14 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
         return f32::NAN;
     }
     let m = a.fast_max(b).fast_max(c).to_array();
+    let max = |x: f32, y: f32| if x > y { x } else { y };
     let half = [
-        m[0].max(m[4]),
-        m[1].max(m[5]),
-        m[2].max(m[6]),
-        m[3].max(m[7]),
+        max(m[0], m[4]),
+        max(m[1], m[5]),
+        max(m[2], m[6]),
+        max(m[3], m[7]),
     ];
-    half[0].max(half[1]).max(half[2].max(half[3]))
+    max(max(half[0], half[1]), max(half[2], half[3]))
 }
 
 /// The nearest of `tris` along each of 8 directions from their shared origin, for
@@ -387,12 +395,13 @@ impl PacketNearest {
             self.ambiguous = f32x8::ZERO.simd_eq(f32x8::ZERO);
             return;
         }
-        let e = tri.n.map(|n| {
+        let e = each3(|i| {
+            let n = &tri.n[i];
             d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
         });
-        let bound = tri.k.map(|k| f32x8::splat(k * dm + EDGE_ABS));
-        let pos = [0, 1, 2].map(|i| e[i].simd_gt(bound[i]));
-        let neg = [0, 1, 2].map(|i| e[i].simd_lt(-bound[i]));
+        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
+        let pos = each3(|i| e[i].simd_gt(bound[i]));
+        let neg = each3(|i| e[i].simd_lt(-bound[i]));
         let any_pos = pos[0] | pos[1] | pos[2];
         let any_neg = neg[0] | neg[1] | neg[2];
         let miss = any_pos & any_neg;
@@ -476,7 +485,9 @@ fn shadow_from_origin_body(
     }
     // Primitive ids as bit patterns, compared as floats (never NaN below 2^24; u32::MAX, a
     // NaN, equals nothing).
-    let skip = f32x8::from(skip.map(f32::from_bits));
+    let skip = f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
+        f32::from_bits(skip[l])
+    }));
     let one = f32x8::ONE;
     let (mut blocked, mut unsure) = (0u32, 0u32);
     for tri in tris {
@@ -495,12 +506,13 @@ fn shadow_from_origin_body(
             unsure |= live;
             continue;
         }
-        let e = tri.n.map(|n| {
+        let e = each3(|i| {
+            let n = &tri.n[i];
             d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
         });
-        let bound = tri.k.map(|k| f32x8::splat(k * dm + EDGE_ABS));
-        let pos = [0, 1, 2].map(|i| e[i].simd_gt(bound[i]));
-        let neg = [0, 1, 2].map(|i| e[i].simd_lt(-bound[i]));
+        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
+        let pos = each3(|i| e[i].simd_gt(bound[i]));
+        let neg = each3(|i| e[i].simd_lt(-bound[i]));
         let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
         let all_pos = pos[0] & pos[1] & pos[2];
         let all_neg = neg[0] & neg[1] & neg[2];

@@ -723,14 +723,21 @@ impl Frame<'_> {
     /// shadow segment (light to light + direction, widened for the rounding of that end). A
     /// triangle meeting a segment has a point in that box.
     fn occluders_for(&self, shaded: &[ShadePacket], near: &mut Vec<OriginTriangle>) {
-        let light = self.scene.light.position;
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        // Each segment's end L + d rounded as `Occluder::meets` allows for; the other lanes'
+        // d are zero, so their ends are L, the segments' start.
+        let light = self.scene.light.position.map(f32x8::splat);
+        let (mut lo, mut hi) = (light, light);
         for pk in shaded {
-            let d = pk.shadow_d.map(|c| c.to_array());
-            for l in (0..8).filter(|l| pk.shadowed & (1 << l) != 0) {
-                packet::grow_by_segment((&mut lo, &mut hi), light, [d[0][l], d[1][l], d[2][l]]);
+            for k in 0..3 {
+                let end = light[k] + pk.shadow_d[k];
+                lo[k] = lo[k].fast_min(end);
+                hi[k] = hi[k].fast_max(end);
             }
         }
+        let reduce = |x: [f32x8; 3], pick: fn(f32, f32) -> f32| {
+            x.map(|c| c.to_array().into_iter().reduce(pick).expect("8 lanes"))
+        };
+        let (lo, hi) = (reduce(lo, f32::min), reduce(hi, f32::max));
         near.clear();
         near.extend(
             self.occluders

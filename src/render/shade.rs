@@ -1,7 +1,7 @@
 //! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
-use crate::accel::packet::{avx2_or_baseline, OriginTriangle};
+use crate::accel::packet::{avx2_or_baseline, each3, OriginTriangle};
 use crate::accel::soa::TriangleBlocks;
 use crate::geometry::adaptive::Search;
 use crate::geometry::offset::normalize;
@@ -265,11 +265,11 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
     let (edge, v, n) = match lanes[0] {
         // One triangle in every lane (most packets of a small scene): broadcast it.
         Some(first) if hit == 0xff && prim.iter().all(|p| *p == first.tri.prim) => {
-            let splat = |x: &[[f32; 3]; 3]| x.map(|r| r.map(f32x8::splat));
+            let splat = |x: &[[f32; 3]; 3]| each3(|i| each3(|k| f32x8::splat(x[i][k])));
             (
                 splat(first.tri.edge_normals()),
                 splat(&triangle(&first.tri)),
-                first.normal.map(f32x8::splat),
+                each3(|k| f32x8::splat(first.normal[k])),
             )
         }
         _ => {
@@ -287,14 +287,14 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
                 }
             }
             (
-                edge.map(|e| e.map(f32x8::from)),
-                vert.map(|vi| vi.map(f32x8::from)),
-                normal.map(f32x8::from),
+                each3(|i| each3(|k| f32x8::from(edge[i][k]))),
+                each3(|i| each3(|k| f32x8::from(vert[i][k]))),
+                each3(|k| f32x8::from(normal[k])),
             )
         }
     };
     let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let e = edge.map(|n| dot(d, &n));
+    let e = each3(|i| dot(d, &edge[i]));
     let rcp = f32x8::ONE / (e[0] + e[1] + e[2]);
     let (b1, b2) = (e[1] * rcp, e[2] * rcp);
     let inf = f32x8::splat(f32::INFINITY);
@@ -320,7 +320,7 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
     }
     // The irradiance D (see `irradiance`), lanes at a time.
     let light = scene.light.position;
-    let r = [0, 1, 2].map(|k| f32x8::splat(light[k]) - p[k]);
+    let r = each3(|k| f32x8::splat(light[k]) - p[k]);
     let r2 = dot(&r, &r);
     let facing = dot(&n, d)
         .simd_gt(f32x8::ZERO)
@@ -333,21 +333,15 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
     let lit = r2.simd_gt(f32x8::ZERO)
         & cos.simd_gt(f32x8::ZERO)
         & (nonzero(power[0]) | nonzero(power[1]) | nonzero(power[2]));
+    // (Lanes without a hit have n = 0, so cos = 0 there: unlit.)
     let shadowed = lit.to_bitmask() & hit;
-    let lit = f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
-        f32::from_bits(if shadowed & (1 << l) != 0 {
-            u32::MAX
-        } else {
-            0
-        })
-    }));
     // The shadow ray from the light, as `shadow_from_light` makes it, lanes at a time.
     let widen = f32x8::splat(WIDEN);
     let end = f32x8::splat(END);
-    let err = [0, 1, 2].map(|k| p_error[k] * widen + end * r[k].abs());
+    let err = each3(|k| p_error[k] * widen + end * r[k].abs());
     let dist = n[0].abs() * err[0] + n[1].abs() * err[1] + n[2].abs() * err[2];
     let away = dot(&r, &n).simd_lt(f32x8::ZERO);
-    let shadow_d = [0, 1, 2].map(|k| {
+    let shadow_d = each3(|k| {
         let offset = n[k] * dist;
         let offset = away.bitselect(offset * f32x8::splat(-1.0), offset);
         let po = nudge(p[k] + offset, offset);
