@@ -48,10 +48,11 @@ const VARIANTS: [&str; 12] = [
 ];
 
 /// The renderer's camera-ray path: the packet kernel from the ray's origin (this ray in
-/// every lane), its t from the f32 watertight test as the renderer takes it, and the per-ray
-/// search (the flat loop) where the packet is ambiguous or the f32 test disagrees. `None`
+/// every lane), the exact-edge resolver where it is ambiguous, t from the f32 watertight
+/// test, and the per-ray search (the flat loop) where neither decides or the f32 test
+/// disagrees. `None`
 /// for scenes with spheres (the renderer uses packets for triangle scenes only).
-/// Returns the answer and whether the packet was ambiguous.
+/// Returns the answer and whether it came from the per-ray search.
 fn camera_packet(
     shapes: &[Shape<f32>],
     cache: &mut HashMap<[u32; 3], OriginTriangles>,
@@ -72,7 +73,15 @@ fn camera_packet(
     let d = ray.d.map(f32x8::splat);
     let found = packet::closest(&prepared.tris, &d, packet::max_component(&d));
     if found.ambiguous & 1 != 0 {
-        return Some((per_ray, true));
+        // The renderer's next step: exact edge signs over the same triangles. It names the
+        // primitive only (the renderer shades from it); t is the per-ray search's, so that
+        // a wrong primitive shows as a wrong nearest.
+        let vertices = |p: u32| tris[p as usize].0;
+        return match packet::nearest_exact_lane(&prepared.tris, vertices, ray.o, ray.d) {
+            Some(Some(prim)) => Some((per_ray.map(|(t, _)| (t, prim)), false)),
+            Some(None) => Some((None, false)),
+            None => Some((per_ray, true)),
+        };
     }
     let prim = found.prim[0];
     if prim == u32::MAX {

@@ -18,7 +18,9 @@
 
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{Approx, Estimate};
+use crate::geometry::exact;
 use rayon::prelude::*;
+use std::cmp::Ordering;
 use wide::f32x8;
 
 /// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
@@ -302,6 +304,190 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
     avx2_or_baseline!(closest_body => (tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits)
+}
+
+/// The exact nearest of `tris` (prepared for origin `o`) along direction `d` for
+/// 0 < t < ∞, for a ray the packet kernel left ambiguous: `Some(None)` for a miss,
+/// `Some(Some(prim))`, or `None` where this cannot tell (the per-ray search then does).
+/// `vertices(prim)` gives a triangle's vertices.
+///
+/// The kernel's f32 edge tests and t intervals stand where they are certain; an edge sign
+/// they leave unsure is computed exactly (expansions, [`exact::orient`]), which settles rays
+/// exactly through an edge or vertex. Candidates are ordered by their t intervals, except
+/// that triangles sharing an edge in one plane (a quad's two halves) are hit at the same t,
+/// where the lower index wins, as in the per-ray search. Most ambiguous camera rays of a
+/// box-like scene are of that kind: whole lines of pixel centres run exactly along a wall's
+/// diagonal, and the per-ray search costs ~30 times more for each.
+///
+/// [`exact::orient`]: crate::geometry::exact::orient
+pub fn nearest_exact_lane(
+    tris: &[OriginTriangle],
+    vertices: impl Fn(u32) -> [[f32; 3]; 3],
+    o: [f32; 3],
+    d: [f32; 3],
+) -> Option<Option<u32>> {
+    let lane = ExactLane::new(o, d)?;
+    // (prim, t interval, vertices) of each triangle certainly hit in front.
+    let mut hits: Vec<(u32, f32, f32, [[f32; 3]; 3])> = Vec::new();
+    for tri in tris {
+        let v = vertices(tri.prim);
+        if lane.crossing(tri, &v)? != Crossing::Front {
+            continue;
+        }
+        let (lo, hi) = lane.t_interval(tri)?;
+        hits.push((tri.prim, lo, hi, v));
+    }
+    let Some(&(first, _, reach, v)) = hits.iter().min_by(|a, b| a.2.total_cmp(&b.2)) else {
+        return Some(None);
+    };
+    let mut best = first;
+    for &(prim, lo, _, w) in &hits {
+        if prim == first || lo > reach {
+            continue; // certainly farther
+        }
+        // Sharing an edge and lying in one plane: the same t.
+        let shared = w.iter().filter(|x| v.contains(x)).count();
+        let coplanar = shared >= 2
+            && w.iter()
+                .filter(|x| !v.contains(x))
+                .all(|x| exact::on_plane(&v, x.map(f64::from)) == Some(true));
+        if !coplanar {
+            return None;
+        }
+        best = best.min(prim);
+    }
+    Some(Some(best))
+}
+
+/// Whether the segment from `o` (the origin `tris` were prepared for) to o + d is blocked
+/// for 0 < t < 1 by one of `tris` other than `skip`, for a shadow ray
+/// [`shadow_from_origin`] left unsure; `None` where this cannot tell (the per-ray search then
+/// does). Edge signs as in [`nearest_exact_lane`]; t against 1 by the f32 interval where it
+/// decides, else exactly: the end o + d (exact in f64) lies strictly on the other side of
+/// the triangle's plane than o. That settles the usual case, the other half of the quad a
+/// shadow ray's end point was offset from (t within rounding of 1).
+pub fn blocked_exact_lane(
+    tris: &[OriginTriangle],
+    vertices: impl Fn(u32) -> [[f32; 3]; 3],
+    o: [f32; 3],
+    d: [f32; 3],
+    skip: u32,
+) -> Option<bool> {
+    let lane = ExactLane::new(o, d)?;
+    let mut end = [0.0; 3];
+    for ((end, o), d) in end.iter_mut().zip(lane.o).zip(lane.d) {
+        let (sum, err) = exact::two_sum(o, d);
+        if err != 0.0 {
+            return None;
+        }
+        *end = sum;
+    }
+    for tri in tris.iter().filter(|t| t.prim != skip) {
+        let v = vertices(tri.prim);
+        if lane.crossing(tri, &v)? != Crossing::Front {
+            continue;
+        }
+        match lane.t_interval(tri) {
+            Some((_, hi)) if hi < 1.0 => return Some(true),
+            Some((lo, _)) if lo >= 1.0 => continue,
+            _ => {}
+        }
+        let side = |x| exact::plane_side(&v, x);
+        let (from, to) = (side(lane.o)?, side(end)?);
+        if from == Ordering::Equal {
+            return None;
+        }
+        if to != Ordering::Equal && to != from {
+            return Some(true);
+        }
+    }
+    Some(false)
+}
+
+/// How the line o + t·d meets a triangle, decided exactly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Crossing {
+    /// Misses it, or crosses its plane at t < 0.
+    Away,
+    /// Crosses it (interior, edge or vertex) at t > 0.
+    Front,
+}
+
+/// One ray of a packet, for the exact edge tests of the ambiguous lanes.
+struct ExactLane {
+    d32: [f32; 3],
+    /// max|dₖ| rounded up.
+    dm: f32,
+    o: [f64; 3],
+    d: [f64; 3],
+}
+
+impl ExactLane {
+    fn new(o: [f32; 3], d: [f32; 3]) -> Option<Self> {
+        let dm = d.iter().fold(0f32, |m, c| m.max(c.abs())) * (1.0 + 1e-6);
+        if !dm.is_finite() || d.iter().any(|c| c.is_nan()) || o.iter().any(|c| !c.is_finite()) {
+            return None;
+        }
+        Some(Self {
+            d32: d,
+            dm,
+            o: o.map(f64::from),
+            d: d.map(f64::from),
+        })
+    }
+
+    /// The kernel's edge tests where certain, exact signs ([`exact::orient`]) where not.
+    fn crossing(&self, tri: &OriginTriangle, v: &[[f32; 3]; 3]) -> Option<Crossing> {
+        if !tri.usable || tri.n_max * self.dm >= MAX_PRODUCT {
+            return None;
+        }
+        let d = self.d32;
+        let mut sign = [0i8; 3];
+        for i in 0..3 {
+            let n = &tri.n[i];
+            let e = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+            let bound = tri.k[i] * self.dm + EDGE_ABS;
+            sign[i] = if e > bound {
+                1
+            } else if e < -bound {
+                -1
+            } else {
+                let (a, b) = (v[(i + 1) % 3].map(f64::from), v[(i + 2) % 3].map(f64::from));
+                match exact::orient(self.d, self.o, a, b)? {
+                    Ordering::Greater => 1,
+                    Ordering::Less => -1,
+                    Ordering::Equal => 0,
+                }
+            };
+        }
+        if sign.contains(&1) && sign.contains(&-1) {
+            return Some(Crossing::Away);
+        }
+        let s = sign.iter().sum::<i8>().signum();
+        if s == 0 {
+            return None; // all three zero: the line lies in the triangle's plane
+        }
+        // In front where det (of the eᵢ's sign) and the numerator agree.
+        Some(match (tri.num > 0.0) == (s > 0) {
+            true => Crossing::Front,
+            false => Crossing::Away,
+        })
+    }
+
+    /// t's interval for a triangle crossed in front, as `PacketNearest::offer` bounds it
+    /// (`None` where that bound is loose).
+    fn t_interval(&self, tri: &OriginTriangle) -> Option<(f32, f32)> {
+        let d = self.d32;
+        let e = tri.n.map(|n| d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
+        let rcp = 1.0 / (e[0] + e[1] + e[2]);
+        let t = tri.num * rcp;
+        let r_det = ((tri.k_sum * self.dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
+        if r_det.is_nan() || r_det > 0.25 {
+            return None;
+        }
+        let err = t.abs() * (tri.c_t + 1.4 * r_det) + 1e-37;
+        Some((t - err, t + err))
+    }
 }
 
 /// Whether the CPU has AVX2 and FMA, for the kernels compiled twice: for the baseline x86-64

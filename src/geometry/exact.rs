@@ -143,7 +143,7 @@ fn sign_sum(p: &Q, qq: &Q, s: &Q, r: &Q, u: &Q) -> Ordering {
 
 /// x + y = a + b exactly (Knuth's two-sum).
 #[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let x = a + b;
     let bv = x - a;
     let av = x - bv;
@@ -294,6 +294,28 @@ pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Orde
     ];
     // Nonoverlapping, increasing magnitude, zeros removed: the last term carries the sign.
     Some(terms[0].add(&terms[1]).add(&terms[2]).sign())
+}
+
+/// Which side of the plane of triangle `v` point `x` lies on: the exact sign of
+/// det[v₁ − v₀, v₂ − v₀, x − v₀]; `None` where the expansions cannot be used (differences
+/// not exact in f64).
+pub fn plane_side(v: &[[f32; 3]; 3], x: [f64; 3]) -> Option<Ordering> {
+    let mut d = [0.0; 3];
+    for k in 0..3 {
+        let (diff, err) = two_sum(v[1][k] as f64, -(v[0][k] as f64));
+        if err != 0.0 {
+            return None;
+        }
+        d[k] = diff;
+    }
+    let wide = |p: [f32; 3]| p.map(f64::from);
+    orient(d, wide(v[0]), wide(v[2]), x)
+}
+
+/// Whether `x` lies exactly on the plane of triangle `v` (`None`: cannot tell, which callers
+/// treat as "not known to be coplanar").
+pub fn on_plane(v: &[[f32; 3]; 3], x: [f64; 3]) -> Option<bool> {
+    plane_side(v, x).map(|s| s == Ordering::Equal)
 }
 
 /// The exact sign of det[d, a − o, b − o] in rationals (any finite inputs).

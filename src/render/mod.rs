@@ -541,6 +541,10 @@ impl Frame<'_> {
             blocked,
             near,
         } = scratch;
+        let vertices = |p: u32| match &scene.shapes[p as usize] {
+            Shape::Triangle(v) => *v,
+            Shape::Sphere { .. } => unreachable!("packets run over triangles only"),
+        };
         let n = settings.spp;
         let o = self.gen.origin();
         let mut blocks: Option<TriangleBlocks> = None;
@@ -577,12 +581,18 @@ impl Frame<'_> {
                     });
                     let [dx, dy, dz] = dirs.map(|d| d.to_array());
                     let ray_of = |l: usize| Ray::new(o, [dx[l], dy[l], dz[l]]);
-                    let mut per_ray = |ray: &Ray| {
+                    // An ambiguous lane's primitive: exact edge signs over the tile's
+                    // triangles where that decides, else the per-ray search.
+                    let mut per_ray = |l: usize| {
+                        let ray = ray_of(l);
                         if bvh {
-                            return self.find_hit(ray, None);
+                            return self.find_hit(&ray, None).map(|h| h.prim);
+                        }
+                        if let Some(prim) = packet::nearest_exact_lane(tris, vertices, o, ray.d) {
+                            return prim;
                         }
                         let b = blocks.get_or_insert_with(|| TriangleBlocks::new(subset));
-                        self.find_hit(ray, Some(b))
+                        self.find_hit(&ray, Some(b)).map(|h| h.prim)
                     };
                     let w = tile.w as usize;
                     if !flat {
@@ -593,7 +603,7 @@ impl Frame<'_> {
                             let prim = match lanes[l] {
                                 Lane::Miss => None,
                                 Lane::Prim(prim) => Some(prim),
-                                Lane::PerRay => per_ray(&ray_of(l)).map(|h| h.prim),
+                                Lane::PerRay => per_ray(l),
                             };
                             let Some(prim) = prim else { continue };
                             match self.camera_tris.get(prim as usize) {
@@ -619,7 +629,7 @@ impl Frame<'_> {
                         let prim = match lanes[l] {
                             Lane::Miss => None,
                             Lane::Prim(prim) => Some(prim),
-                            Lane::PerRay => per_ray(&ray_of(l)).map(|h| h.prim),
+                            Lane::PerRay => per_ray(l),
                         };
                         counts.0 += prim.is_some() as u64;
                         match (&self.flat_rgba, prim) {
@@ -675,7 +685,17 @@ impl Frame<'_> {
                         pk.shadowed,
                     );
                     *out = found.blocked;
-                    if found.unsure != 0 {
+                    // Unsure lanes: exact edge signs and sides where that decides.
+                    let mut left = 0;
+                    for l in (0..8).filter(|l| found.unsure & (1 << l) != 0) {
+                        let d = pk.shadow_d.map(|c| c.to_array()[l]);
+                        match packet::blocked_exact_lane(near, vertices, light, d, pk.prim[l]) {
+                            Some(true) => *out |= 1 << l,
+                            Some(false) => {}
+                            None => left |= 1 << l,
+                        }
+                    }
+                    if left != 0 {
                         let blocks = culled_blocks.get_or_insert_with(|| {
                             let tris: Vec<IndexedTriangle> = near
                                 .iter()
@@ -683,7 +703,7 @@ impl Frame<'_> {
                                 .collect();
                             TriangleBlocks::new(&tris)
                         });
-                        per_ray(Occluders::Culled(blocks), pk, found.unsure, out);
+                        per_ray(Occluders::Culled(blocks), pk, left, out);
                     }
                 }
             }
