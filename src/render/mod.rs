@@ -100,8 +100,11 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
 /// origin once per frame rather than per packet (see `render_into_cancellable`).
 pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
 
-/// Side of the square tiles camera rays are traced in.
+/// Width of the tiles camera rays are traced in (a packet's 8 lanes).
 pub const TILE: u32 = 8;
+
+/// Height of the tiles, the rows a parallel band holds.
+pub const BAND: u32 = 16;
 
 /// Where a triangle of a flat (small) scene can appear on screen, for tile culling: its
 /// projection's bounding rectangle and edge lines, widened by a pixel for rounding. A camera
@@ -304,14 +307,14 @@ pub fn render_into_cancellable(
         row_bytes: w as usize * 4,
     };
     let (hits, shadow_rays) = rgba
-        .par_chunks_mut(frame.row_bytes * TILE as usize)
+        .par_chunks_mut(frame.row_bytes * BAND as usize)
         .enumerate()
         .map(|(band, rows)| {
             let mut counts = (0u64, 0u64);
             if cancelled() {
                 return counts;
             }
-            let y0 = band as u32 * TILE;
+            let y0 = band as u32 * BAND;
             let band_h = (rows.len() / frame.row_bytes) as u32;
             let mut scratch = TileScratch::default();
             for x0 in (0..w).step_by(TILE as usize) {
