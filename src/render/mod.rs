@@ -188,7 +188,7 @@ fn screen_triangles(
 
 /// Renders `scene` through `camera` into `rgba` (RGBA8, rows top to bottom, alpha 255).
 ///
-/// Camera rays run in bands of [`TILE`] rows in parallel, tile by tile. For a small scene
+/// Camera rays run in bands of [`BAND`] rows in parallel, tile by tile. For a small scene
 /// traced with the watertight method, each tile tests only the triangles whose screen bounds
 /// meet it (tile culling), which gives exactly the same nearest hits as testing them all.
 pub fn render_into(
