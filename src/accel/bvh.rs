@@ -1,6 +1,8 @@
 //! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins; subtrees of at
-//! least max(4096, n/32) triangles split across threads with rayon), depth-first flat nodes of
-//! 32 bytes, ordered stack traversal.
+//! least max(4096, n/32) triangles split across threads with rayon), nodes of 32 bytes laid
+//! out in sibling pairs of one 64-byte cache line each (a traversal step reads both children's
+//! boxes with one fetch: the 1M-triangle mesh's 16 MB of nodes do not stay in cache), ordered
+//! stack traversal.
 //!
 //! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
 //! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
@@ -55,21 +57,27 @@ impl Aabb {
     }
 }
 
-/// A node: its bounds, and either a leaf's triangle range or the offset of the second child
-/// (the first child follows the node).
+/// A node: its bounds, and either a leaf's triangle range or where its children are.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Node {
     bounds: Aabb,
-    /// Leaf: index of the first triangle; interior: offset from this node to its second child.
+    /// Leaf: index of the first triangle; interior: while building, the offset from this
+    /// node to its second child (the first follows it); once laid out in pairs
+    /// ([`pair_up`]), the index of the first child (the second is the next index).
     offset: u32,
     /// Leaf: triangle count (≥ 1); interior: 0.
     count: u32,
 }
 
+/// Two sibling nodes in one cache line; node i is `pairs[i / 2].0[i % 2]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+struct NodePair([Node; 2]);
+
 /// The hierarchy and its triangles, reordered so that each leaf's are contiguous.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    pairs: Vec<NodePair>,
     tris: Vec<[[f32; 3]; 3]>,
     prims: Vec<u32>,
 }
@@ -101,18 +109,24 @@ impl Bvh {
             .collect();
         // Enough parallel subtrees for the threads, each large enough to pay for a task.
         let parallel_min = PARALLEL_MIN.max(tris.len() / 32);
-        let nodes = build_node(&mut refs, 0, parallel_min);
+        let pairs = pair_up(&build_node(&mut refs, 0, parallel_min));
         let order: Vec<u32> = refs.iter().map(|r| r.i).collect();
         Self {
-            nodes,
+            pairs,
             tris: order.par_iter().map(|&i| tris[i as usize].0).collect(),
             prims: order.par_iter().map(|&i| tris[i as usize].1).collect(),
         }
     }
 
+    /// Node i.
+    #[inline(always)]
+    fn node(&self, i: usize) -> &Node {
+        &self.pairs[i / 2].0[i % 2]
+    }
+
     /// Bytes held by nodes and triangles.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<Node>()
+        self.pairs.len() * std::mem::size_of::<NodePair>()
             + self.tris.len() * std::mem::size_of::<[[f32; 3]; 3]>()
             + self.prims.len() * 4
     }
@@ -155,8 +169,8 @@ impl Bvh {
     /// The adaptive filter's M for this ray, from the root box (once per ray: per leaf it
     /// cost more than its tighter bound saved).
     fn extent(&self, ray: &Ray) -> f32 {
-        self.nodes.first().map_or(f32::INFINITY, |n| {
-            box_extent(ray.o, n.bounds.lo, n.bounds.hi)
+        self.pairs.first().map_or(f32::INFINITY, |p| {
+            box_extent(ray.o, p.0[0].bounds.lo, p.0[0].bounds.hi)
         })
     }
 
@@ -261,7 +275,7 @@ impl Bvh {
         d_max: f32,
     ) -> PacketHits {
         let mut nearest = PacketNearest::new(d, d_max);
-        let Some(root) = self.nodes.first() else {
+        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return nearest.finish();
         };
         let prepared = prepared.map(|p| &p.tris[..]);
@@ -285,7 +299,7 @@ impl Bvh {
             return nearest.finish();
         }
         loop {
-            let n = self.nodes[node];
+            let n = *self.node(node);
             if n.count > 0 {
                 let first = n.offset as usize;
                 for i in first..first + n.count as usize {
@@ -299,10 +313,10 @@ impl Bvh {
                 }
                 live &= !nearest.ambiguous();
             } else {
-                let (a, b) = (node + 1, node + n.offset as usize);
+                let (a, b) = (n.offset as usize, n.offset as usize + 1);
                 let reach = limit(nearest.reach());
-                let (ma, ta) = rays.enter(&self.nodes[a].bounds, reach, live);
-                let (mb, tb) = rays.enter(&self.nodes[b].bounds, reach, live);
+                let (ma, ta) = rays.enter(&self.node(a).bounds, reach, live);
+                let (mb, tb) = rays.enter(&self.node(b).bounds, reach, live);
                 match (ma != 0, mb != 0) {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
@@ -335,7 +349,7 @@ impl Bvh {
                 sp -= 1;
                 let cand = stack[sp] as usize;
                 if rays
-                    .enter(&self.nodes[cand].bounds, limit(nearest.reach()), live)
+                    .enter(&self.node(cand).bounds, limit(nearest.reach()), live)
                     .0
                     != 0
                 {
@@ -376,7 +390,7 @@ impl Bvh {
         tmax: f32,
         mut leaf: impl FnMut(usize, usize, f32, &Aabb) -> (f32, bool),
     ) {
-        if self.nodes.is_empty() {
+        if self.pairs.is_empty() {
             return;
         }
         let inv = ray.d.map(|c| 1.0 / c);
@@ -411,11 +425,11 @@ impl Bvh {
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
-        if enter(&self.nodes[0].bounds, t_far).is_none() {
+        if enter(&self.node(0).bounds, t_far).is_none() {
             return;
         }
         loop {
-            let n = self.nodes[node];
+            let n = *self.node(node);
             if n.count > 0 {
                 let stop;
                 (t_far, stop) = leaf(n.offset as usize, n.count as usize, t_far, &n.bounds);
@@ -423,9 +437,9 @@ impl Bvh {
                     return;
                 }
             } else {
-                let (a, b) = (node + 1, node + n.offset as usize);
-                let ta = enter(&self.nodes[a].bounds, cull(t_far));
-                let tb = enter(&self.nodes[b].bounds, cull(t_far));
+                let (a, b) = (n.offset as usize, n.offset as usize + 1);
+                let ta = enter(&self.node(a).bounds, cull(t_far));
+                let tb = enter(&self.node(b).bounds, cull(t_far));
                 match (ta, tb) {
                     (Some(x), Some(y)) => {
                         let (first, second) = if x <= y { (a, b) } else { (b, a) };
@@ -452,7 +466,7 @@ impl Bvh {
                 }
                 sp -= 1;
                 let cand = stack[sp] as usize;
-                if enter(&self.nodes[cand].bounds, cull(t_far)).is_some() {
+                if enter(&self.node(cand).bounds, cull(t_far)).is_some() {
                     node = cand;
                     break;
                 }
@@ -598,6 +612,34 @@ fn build_node(order: &mut [Ref], start: usize, parallel_min: usize) -> Vec<Node>
     nodes.extend(l);
     nodes.extend(r);
     nodes
+}
+
+/// Lays out the depth-first `nodes` in sibling pairs: the root is node 0 (its pair's second
+/// slot unused), and an interior node's `offset` becomes the index of its first child. Pairs
+/// are placed as a depth-first walk reaches them, so a subtree stays close in memory.
+fn pair_up(nodes: &[Node]) -> Vec<NodePair> {
+    let unused = Node {
+        bounds: Aabb::EMPTY,
+        offset: 0,
+        count: 0,
+    };
+    let mut pairs = Vec::with_capacity(nodes.len() / 2 + 1);
+    pairs.push(NodePair([nodes[0], unused]));
+    // (index in `nodes`, index in the pairs)
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((old, new)) = stack.pop() {
+        let n = nodes[old];
+        if n.count > 0 {
+            continue;
+        }
+        let (a, b) = (old + 1, old + n.offset as usize);
+        let first = pairs.len() * 2;
+        pairs.push(NodePair([nodes[a], nodes[b]]));
+        pairs[new / 2].0[new % 2].offset = first as u32;
+        stack.push((b, first + 1));
+        stack.push((a, first));
+    }
+    pairs
 }
 
 /// [`build_node`] on one thread, appending to `nodes`.
