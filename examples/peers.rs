@@ -2,7 +2,8 @@
 //! crate's BVH, on the same scenes, cameras (1280x720 primary rays) and thread counts.
 //!
 //! `cargo run --release --example peers [FRAMES]`; the meshes come from ../shared/scenes when
-//! it exists (the Cornell box always runs). Rows, per scene and thread count, best of FRAMES:
+//! it exists, the 1M-triangle mesh from target/igea_1m.obj when `benches/readme_table.sh` has
+//! made it (the Cornell box always runs). Rows, per scene and thread count, best of FRAMES:
 //! - raylab render: a whole flat frame through the renderer (default adaptive method: exact),
 //! - raylab closest_hit: the per-ray query (adaptive), one call per camera ray,
 //! - obvhs cwbvh: its 8-wide compressed BVH and its triangle test (f32, not exact), closest hit,
@@ -63,8 +64,14 @@ fn main() -> anyhow::Result<()> {
     );
     let mut scenes: Vec<(String, Scene, Camera)> =
         vec![("cornell".into(), Scene::cornell(), Camera::cornell(W))];
-    for name in ["bunny.obj", "igea.obj"] {
-        let path = Path::new("../shared/scenes").join(name);
+    // The 1M-triangle mesh (igea subdivided 1:4) where benches/readme_table.sh has made it.
+    let meshes = [
+        Path::new("../shared/scenes/bunny.obj"),
+        Path::new("../shared/scenes/igea.obj"),
+        Path::new("target/igea_1m.obj"),
+    ];
+    for path in meshes {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("mesh");
         if path.exists() {
             let scene = raylab::scene::obj::load_obj_file(&path, Default::default())?;
             let cam = CameraController::framing(scene.bounds().expect("non-empty"), W, H).camera(W);
