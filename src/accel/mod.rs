@@ -281,9 +281,10 @@ impl Accel {
         self.any_hit_except(ray, method, tmin, tmax, u32::MAX)
     }
 
-    /// [`Accel::any_hit`] ignoring primitive `skip`: a shadow ray leaving a triangle or a
-    /// sphere towards a light on its lit side cannot meet that primitive again (planar or
-    /// convex), and skipping it spares every shadow ray the t ≈ 0 decision on it.
+    /// [`Accel::any_hit`] ignoring primitive `skip`: a shadow segment between a point on a
+    /// triangle or sphere (offset off it) and a light on its lit side cannot meet that
+    /// primitive (planar or convex), and skipping it spares every shadow ray the decision
+    /// at the segment's end on it.
     pub fn any_hit_except(
         &self,
         ray: &Ray,

@@ -522,11 +522,12 @@ impl Frame<'_> {
     }
 
     /// Traces a tile's camera rays 8 at a time against `tris` (the tile's triangles prepared
-    /// for the camera position, see [`crate::accel::packet`]); the rare ambiguous ray goes
-    /// through the per-ray adaptive search over `subset` (the same triangles). The nearest
-    /// primitive is the same either way, and the hit's t and barycentrics are those of the
-    /// per-ray search's f32 level. Shadow rays are tested against the triangles that can
-    /// meet one of the tile's shadow rays (the others cannot answer "blocked").
+    /// for the camera position, see [`crate::accel::packet`]) or through the BVH; a rare
+    /// ambiguous ray goes to the exact-edge resolver, then the per-ray adaptive search over
+    /// `subset` (the same triangles). The nearest primitive is the same either way, and
+    /// shading depends on the primitive only ([`shade::Lit`]). Shadow rays, from the light,
+    /// are tested 8 at a time against the triangles that can meet one of the tile's (the
+    /// others cannot answer "blocked").
     fn trace_tile_packets(
         &self,
         tile: &Tile,
