@@ -489,6 +489,57 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn bvh_shadow_packets_agree_with_the_per_ray_query(seed in any::<u64>()) {
+        // Shadow segments 8 at a time from a light through the BVH (the triangles prepared for
+        // the light per frame or as met), to points on triangles (skipping them, as shading
+        // points do), vertices or random points: every decided lane must give the per-ray
+        // any-hit query's answer, and most generic lanes must be decided.
+        let mut rng = Rng(seed);
+        let shapes = bvh_scene(&mut rng);
+        let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
+        let light = [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32);
+        let prepared = accel.prepare_origin(light).unwrap();
+        let mut decided = 0;
+        for _ in 0..24 {
+            let mut skip = [u32::MAX; 8];
+            let dirs: [[f32; 3]; 8] = std::array::from_fn(|l| {
+                let k = rng.below(shapes.len());
+                let Shape::Triangle(v) = shapes[k] else { unreachable!() };
+                let target = match rng.below(3) {
+                    0 => {
+                        skip[l] = k as u32;
+                        let (a, b) = (rng.range(0.0, 0.5) as f32, rng.range(0.0, 0.5) as f32);
+                        point_on(&v, a, b)
+                    }
+                    1 => v[rng.below(3)],
+                    _ => [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32),
+                };
+                [0, 1, 2].map(|k| target[k] - light[k])
+            });
+            let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
+            let valid = 0xff >> rng.below(3);
+            let prepared = [Some(&prepared), None][rng.below(2)];
+            let dm = packet::max_component(&d);
+            let found = accel.blocked_packet(light, prepared, &d, dm, &skip, valid).unwrap();
+            prop_assert_eq!((found.blocked | found.unsure) & !valid, 0);
+            prop_assert_eq!(found.blocked & found.unsure, 0);
+            for (l, dir) in dirs.iter().enumerate() {
+                if valid & (1 << l) == 0 || found.unsure & (1 << l) != 0 {
+                    continue;
+                }
+                decided += 1;
+                let want =
+                    accel.any_hit_except(&Ray::new(light, *dir), Method::Adaptive, 0.0, 1.0, skip[l]);
+                prop_assert_eq!(found.blocked & (1 << l) != 0, want, "lane {}", l);
+            }
+        }
+        prop_assert!(decided > 24 * 6 / 2, "only {} lanes decided", decided);
+    }
+}
+
 #[test]
 fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
     // An icosphere of 5,120 triangles (a BVH, too many for tile culling) with a few loose
@@ -576,6 +627,8 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
                 packet::closest(&prepared.tris, &d, dm),
                 accel.closest_packet(o, Some(&bvh_prepared), &d, dm),
                 accel.closest_packet(o, None, &d, dm),
+                accel.blocked_packet(o, Some(&bvh_prepared), &d, dm, &[7; 8], 0xff),
+                accel.blocked_packet(o, None, &d, dm, &[7; 8], 0xff),
                 packet::shadow_from_origin(&prepared.tris, &d, dm, &[3; 8], 0xff),
             )
         };

@@ -433,6 +433,52 @@ fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
 }
 
 #[test]
+fn bvh_shadow_packets_render_as_the_per_ray_path() {
+    // A 1280-triangle sphere in the Cornell box, traced through the BVH (no tile culling):
+    // camera and shadow rays go 8 at a time from the camera and from the light. The cracks
+    // view traces every ray per ray (with the adaptive method it marks nothing), so both
+    // images must be the same, sphere shadow included.
+    let mesh = common::icosphere(3, 0.4, [0.2, 0.5, 0.1]);
+    let n = mesh.len();
+    let mut scene = Scene::cornell();
+    scene.shapes.extend(mesh);
+    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    scene.set_accel(raylab::accel::AccelChoice::Bvh);
+    let cam = Camera::cornell(120);
+    for step in [LabStep::Shadows, LabStep::Indirect] {
+        let packets = RenderSettings {
+            width: 120,
+            height: 90,
+            step,
+            tile_culling: false,
+            ..Default::default()
+        };
+        let per_ray = RenderSettings {
+            cracks: true,
+            ..packets
+        };
+        let (a, sa) = render_image(&scene, &cam, &packets).unwrap();
+        let (b, sb) = render_image(&scene, &cam, &per_ray).unwrap();
+        assert!(a == b, "{step}: images differ");
+        assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
+        // The sphere shadows part of the floor and walls: darker than with direct light only.
+        let direct = RenderSettings {
+            step: LabStep::Direct,
+            ..packets
+        };
+        let lit = render_image(&scene, &cam, &direct).unwrap().0;
+        if step == LabStep::Shadows {
+            let shadowed = a
+                .chunks_exact(4)
+                .zip(lit.chunks_exact(4))
+                .filter(|(s, d)| s[..3] != d[..3])
+                .count();
+            assert!(shadowed > 300, "{shadowed} pixels in shadow");
+        }
+    }
+}
+
+#[test]
 fn tile_culling_gives_the_same_image() {
     // Cameras inside, outside, turned, very wide and with triangles behind the camera.
     let scene = Scene::cornell();

@@ -13,7 +13,10 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
-use super::packet::{avx2_or_baseline, OriginTriangle, OriginTriangles, PacketHits, PacketNearest};
+use super::packet::{
+    avx2_or_baseline, OriginTriangle, OriginTriangles, PacketHits, PacketNearest, ShadowHits,
+    ShadowPacket,
+};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -353,6 +356,118 @@ impl Bvh {
                     .0
                     != 0
                 {
+                    node = cand;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
+    /// (`d_max` ≥ every |dₖ|): per lane of `valid`, blocked for 0 < t < 1 by a triangle other
+    /// than its `skip` primitive, or unsure (to be traced per ray); see
+    /// [`crate::accel::packet::shadow_from_origin`]. `prepared`: the triangles prepared for
+    /// `o` (in the BVH's order), or `None` to prepare them as the packet meets them. Boxes are
+    /// entered up to t = 1 + 2⁻¹⁶ (the culling margin of the module docs).
+    pub fn blocked_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> ShadowHits {
+        let bvh = self;
+        avx2_or_baseline!(Bvh::blocked_packet_body => (
+            bvh: &Bvh,
+            o: [f32; 3],
+            prepared: Option<&OriginTriangles>,
+            d: &[f32x8; 3],
+            d_max: f32,
+            skip: &[u32; 8],
+            valid: u32
+        ) -> ShadowHits)
+    }
+
+    #[inline(always)]
+    fn blocked_packet_body(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> ShadowHits {
+        let mut packet = ShadowPacket::new(d, d_max, skip, valid);
+        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
+            return packet.finish();
+        };
+        if prepared.is_some_and(|p| p.tris.len() != self.tris.len() || p.origin != o) {
+            return ShadowHits {
+                blocked: 0,
+                unsure: valid,
+            };
+        }
+        let rays = PacketSlabs::new(o, d);
+        let limit = f32x8::splat(1.0 + 1.0 / 65536.0);
+        let mut stack = [0u32; 64];
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        if rays.enter(&root.bounds, limit, packet.live()).0 == 0 {
+            return packet.finish();
+        }
+        loop {
+            let n = *self.node(node);
+            if n.count > 0 {
+                let first = n.offset as usize;
+                for i in first..first + n.count as usize {
+                    match prepared {
+                        Some(p) => packet.offer(&p.tris[i]),
+                        None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
+                    }
+                }
+                if packet.live() == 0 {
+                    return packet.finish();
+                }
+            } else {
+                let (a, b) = (n.offset as usize, n.offset as usize + 1);
+                let live = packet.live();
+                let (ma, ta) = rays.enter(&self.node(a).bounds, limit, live);
+                let (mb, tb) = rays.enter(&self.node(b).bounds, limit, live);
+                match (ma != 0, mb != 0) {
+                    (true, true) => {
+                        let lane = (ma & mb).trailing_zeros() as usize;
+                        let (first, second) =
+                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                                (b, a)
+                            } else {
+                                (a, b)
+                            };
+                        stack[sp] = second as u32;
+                        sp += 1;
+                        node = first;
+                        continue;
+                    }
+                    (true, false) => {
+                        node = a;
+                        continue;
+                    }
+                    (false, true) => {
+                        node = b;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            loop {
+                if sp == 0 {
+                    return packet.finish();
+                }
+                sp -= 1;
+                let cand = stack[sp] as usize;
+                if rays.enter(&self.node(cand).bounds, limit, packet.live()).0 != 0 {
                     node = cand;
                     break;
                 }

@@ -276,6 +276,29 @@ impl Accel {
         Some(found)
     }
 
+    /// Shadow segments 8 at a time from one origin `o` (the light) through the BVH
+    /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o` by
+    /// [`Accel::prepare_origin`], or `None` to prepare them as met): per lane whether
+    /// [`Accel::any_hit_except`] with [`Method::Adaptive`] answers "blocked" for 0 < t < 1,
+    /// or unsure. `None` where there is no BVH or there are spheres.
+    pub fn blocked_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
+        d: &[wide::f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> Option<packet::ShadowHits> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
+        if !self.spheres.is_empty() {
+            return None;
+        }
+        Some(b.blocked_packet(o, prepared, d, d_max, skip, valid))
+    }
+
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
         self.any_hit_except(ray, method, tmin, tmax, u32::MAX)

@@ -662,36 +662,74 @@ fn shadow_from_origin_body(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    let dm = d_max * (1.0 + 1e-6);
-    if !dm.is_finite() {
-        return ShadowHits {
-            blocked: 0,
-            unsure: valid,
-        };
-    }
-    // Primitive ids as bit patterns, compared as floats (never NaN below 2^24; u32::MAX, a
-    // NaN, equals nothing).
-    let skip = f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
-        f32::from_bits(skip[l])
-    }));
-    let one = f32x8::ONE;
-    let (mut blocked, mut unsure) = (0u32, 0u32);
+    let mut packet = ShadowPacket::new(d, d_max, skip, valid);
     for tri in tris {
-        let live = valid & !blocked;
-        if live == 0 {
+        if packet.live() == 0 {
             break;
         }
-        let own = skip
+        packet.offer(tri);
+    }
+    packet.finish()
+}
+
+/// Eight shadow segments from the origin triangles are prepared for, as triangles are offered
+/// in any order (all of a small scene's, or a BVH's leaves as the segments reach them): per
+/// lane, blocked for certain, or unsure. See [`shadow_from_origin`].
+pub struct ShadowPacket {
+    d: [f32x8; 3],
+    /// max|dₖ| rounded up.
+    dm: f32,
+    /// Each lane's own primitive (bit patterns; u32::MAX, a NaN, equals nothing).
+    skip: f32x8,
+    valid: u32,
+    blocked: u32,
+    unsure: u32,
+}
+
+impl ShadowPacket {
+    #[inline(always)]
+    pub fn new(d: &[f32x8; 3], d_max: f32, skip: &[u32; 8], valid: u32) -> Self {
+        let dm = d_max * (1.0 + 1e-6);
+        Self {
+            d: *d,
+            dm,
+            skip: f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
+                f32::from_bits(skip[l])
+            })),
+            valid,
+            blocked: 0,
+            // Every lane, where max|d| is not finite.
+            unsure: if dm.is_finite() { 0 } else { valid },
+        }
+    }
+
+    /// The lanes still to be decided: valid, not yet blocked (an unsure lane may still be
+    /// found blocked by another triangle).
+    #[inline(always)]
+    pub fn live(&self) -> u32 {
+        match self.dm.is_finite() {
+            true => self.valid & !self.blocked,
+            false => 0,
+        }
+    }
+
+    /// Tests one triangle on every live lane but those it belongs to.
+    #[inline(always)]
+    pub fn offer(&mut self, tri: &OriginTriangle) {
+        let (d, dm) = (&self.d, self.dm);
+        let own = self
+            .skip
             .simd_eq(f32x8::splat(f32::from_bits(tri.prim)))
             .to_bitmask();
-        let live = live & !own;
+        let live = self.live() & !own;
         if live == 0 {
-            continue;
+            return;
         }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
-            unsure |= live;
-            continue;
+            self.unsure |= live;
+            return;
         }
+        let one = f32x8::ONE;
         let e = each3(|i| {
             let n = &tri.n[i];
             d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
@@ -706,8 +744,8 @@ fn shadow_from_origin_body(
         let behind = if tri.num > 0.0 { all_neg } else { all_pos };
         let (front_bits, clear_bits) = (front.to_bitmask(), (miss | behind).to_bitmask());
         if front_bits & live == 0 {
-            unsure |= live & !clear_bits;
-            continue;
+            self.unsure |= live & !clear_bits;
+            return;
         }
         let rcp = one / (e[0] + e[1] + e[2]);
         let t = f32x8::splat(tri.num) * rcp;
@@ -718,12 +756,15 @@ fn shadow_from_origin_body(
         let (lo, hi) = (t - err, t + err);
         let before_end = (front & tight & hi.simd_lt(one)).to_bitmask();
         let past_end = (front & tight & lo.simd_ge(one)).to_bitmask();
-        blocked |= live & before_end;
-        unsure |= live & !(clear_bits | before_end | past_end);
+        self.blocked |= live & before_end;
+        self.unsure |= live & !(clear_bits | before_end | past_end);
     }
-    ShadowHits {
-        blocked,
-        unsure: unsure & !blocked,
+
+    pub fn finish(self) -> ShadowHits {
+        ShadowHits {
+            blocked: self.blocked,
+            unsure: self.unsure & !self.blocked,
+        }
     }
 }
 

@@ -288,6 +288,12 @@ pub fn render_into_cancellable(
         }
         _ => Vec::new(),
     };
+    let light_bvh = match bvh_packets && casts_shadows {
+        true if scene.len().saturating_mul(PREPARE_RAYS_PER_TRIANGLE) <= camera_rays => {
+            accel.prepare_origin(scene.light.position)
+        }
+        _ => None,
+    };
     let uses_packets = packets.is_some() || bvh_packets;
     let flat_rgba =
         (uses_packets && settings.step == LabStep::Flat && settings.spp == 1 && !settings.cracks)
@@ -299,6 +305,7 @@ pub fn render_into_cancellable(
         from_camera,
         camera_tris,
         light_tris,
+        light_bvh,
         occluders,
         gen,
         inv_n: 1.0 / settings.spp as f32,
@@ -422,6 +429,9 @@ struct Frame<'a> {
     /// A flat scene's triangles prepared for the light's position, indexed by primitive
     /// (steps with shadows; shadow rays start at the light).
     light_tris: Vec<OriginTriangle>,
+    /// A BVH scene's triangles prepared for the light's position, in the BVH's order, where
+    /// they are prepared once per frame (as for the camera).
+    light_bvh: Option<OriginTriangles>,
     /// A flat scene's triangles with their boxes, for culling shadow rays per tile (only
     /// for the steps with shadows).
     occluders: Vec<Occluder>,
@@ -670,8 +680,28 @@ impl Frame<'_> {
                 }
             };
             if bvh {
+                // 8 at a time from the light through the BVH; the unsure lanes per ray.
                 for (pk, out) in shaded.iter().zip(blocked.iter_mut()) {
-                    per_ray(Occluders::Scene, pk, pk.shadowed, out);
+                    if pk.shadowed == 0 {
+                        continue;
+                    }
+                    let d_max = packet::max_component(&pk.shadow_d);
+                    let prepared = self.light_bvh.as_ref();
+                    let skip = &pk.prim;
+                    match accel.blocked_packet(
+                        light,
+                        prepared,
+                        &pk.shadow_d,
+                        d_max,
+                        skip,
+                        pk.shadowed,
+                    ) {
+                        Some(found) => {
+                            *out = found.blocked;
+                            per_ray(Occluders::Scene, pk, found.unsure, out);
+                        }
+                        None => per_ray(Occluders::Scene, pk, pk.shadowed, out),
+                    }
                 }
             } else {
                 self.occluders_for(shaded, near);
