@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
     for path in meshes {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("mesh");
         if path.exists() {
-            let scene = raylab::scene::obj::load_obj_file(&path, Default::default())?;
+            let scene = raylab::scene::obj::load_obj_file(path, Default::default())?;
             let cam = CameraController::framing(scene.bounds().expect("non-empty"), W, H).camera(W);
             scenes.push((name.into(), scene, cam));
         }
