@@ -519,6 +519,57 @@ fn closest_body(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHi
     nearest.finish()
 }
 
+/// The edge tests of one prepared triangle for 8 directions from its origin: the edge
+/// functions eᵢ = d·nᵢ, and the lanes that certainly miss it (edges of both signs beyond
+/// their bounds), certainly cross it in front (all three of the numerator's sign: t > 0) or
+/// behind (t < 0). Other lanes are undecided.
+struct EdgeTests {
+    e: [f32x8; 3],
+    miss: f32x8,
+    front: f32x8,
+    behind: f32x8,
+}
+
+impl EdgeTests {
+    /// `dm`: max|dₖ| rounded up.
+    #[inline(always)]
+    fn new(tri: &OriginTriangle, d: &[f32x8; 3], dm: f32) -> Self {
+        let e = each3(|i| {
+            let n = &tri.n[i];
+            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
+        });
+        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
+        let pos = each3(|i| e[i].simd_gt(bound[i]));
+        let neg = each3(|i| e[i].simd_lt(-bound[i]));
+        let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
+        let all_pos = pos[0] & pos[1] & pos[2];
+        let all_neg = neg[0] & neg[1] & neg[2];
+        // In front: the sign of det (that of the eᵢ) is the numerator's.
+        let (front, behind) = match tri.num > 0.0 {
+            true => (all_pos, all_neg),
+            false => (all_neg, all_pos),
+        };
+        Self {
+            e,
+            miss,
+            front,
+            behind,
+        }
+    }
+}
+
+/// t = num/Σeᵢ per lane with its interval (lo, hi), and the lanes where that interval is
+/// tight enough to use (see [`PacketNearest`] for the bound).
+#[inline(always)]
+fn t_interval(tri: &OriginTriangle, e: &[f32x8; 3], dm: f32) -> (f32x8, f32x8, f32x8) {
+    let rcp = f32x8::ONE / (e[0] + e[1] + e[2]);
+    let t = f32x8::splat(tri.num) * rcp;
+    let r_det = f32x8::splat((tri.k_sum * dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
+    let tight = r_det.simd_le(f32x8::splat(0.25));
+    let err = t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
+    (t - err, t + err, tight)
+}
+
 /// The nearest candidate so far of each of 8 rays from the shared origin, as triangles are
 /// offered in any order (all of a small scene's, or a BVH's leaves as the rays reach them).
 ///
@@ -581,36 +632,20 @@ impl PacketNearest {
             self.ambiguous = f32x8::ZERO.simd_eq(f32x8::ZERO);
             return;
         }
-        let e = each3(|i| {
-            let n = &tri.n[i];
-            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
-        });
-        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
-        let pos = each3(|i| e[i].simd_gt(bound[i]));
-        let neg = each3(|i| e[i].simd_lt(-bound[i]));
-        let any_pos = pos[0] | pos[1] | pos[2];
-        let any_neg = neg[0] | neg[1] | neg[2];
-        let miss = any_pos & any_neg;
+        let EdgeTests {
+            e,
+            miss,
+            front,
+            behind,
+        } = EdgeTests::new(tri, d, dm);
         if miss.all() {
             return;
         }
-        let all_pos = pos[0] & pos[1] & pos[2];
-        let all_neg = neg[0] & neg[1] & neg[2];
-        // In front: the sign of det (that of the eᵢ) is the numerator's.
-        let front = if tri.num > 0.0 { all_pos } else { all_neg };
-        let behind = if tri.num > 0.0 { all_neg } else { all_pos };
         self.ambiguous |= !(miss | front | behind);
         if front.none() {
             return;
         }
-        let det = e[0] + e[1] + e[2];
-        let rcp = f32x8::ONE / det;
-        let t = f32x8::splat(tri.num) * rcp;
-        let r_det = f32x8::splat((tri.k_sum * dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
-        let tight = r_det.simd_le(f32x8::splat(0.25));
-        let err =
-            t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
-        let (lo, hi) = (t - err, t + err);
+        let (lo, hi, tight) = t_interval(tri, &e, dm);
         let nearer = hi.simd_lt(self.best_lo);
         let farther = lo.simd_gt(self.best_hi);
         // Overlapping intervals, or a loose one: the per-ray search orders them.
@@ -730,30 +765,18 @@ impl ShadowPacket {
             return;
         }
         let one = f32x8::ONE;
-        let e = each3(|i| {
-            let n = &tri.n[i];
-            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
-        });
-        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
-        let pos = each3(|i| e[i].simd_gt(bound[i]));
-        let neg = each3(|i| e[i].simd_lt(-bound[i]));
-        let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
-        let all_pos = pos[0] & pos[1] & pos[2];
-        let all_neg = neg[0] & neg[1] & neg[2];
-        let front = if tri.num > 0.0 { all_pos } else { all_neg };
-        let behind = if tri.num > 0.0 { all_neg } else { all_pos };
+        let EdgeTests {
+            e,
+            miss,
+            front,
+            behind,
+        } = EdgeTests::new(tri, d, dm);
         let (front_bits, clear_bits) = (front.to_bitmask(), (miss | behind).to_bitmask());
         if front_bits & live == 0 {
             self.unsure |= live & !clear_bits;
             return;
         }
-        let rcp = one / (e[0] + e[1] + e[2]);
-        let t = f32x8::splat(tri.num) * rcp;
-        let r_det = f32x8::splat((tri.k_sum * dm + 3.0 * EDGE_ABS) * 1.0001) * rcp.abs();
-        let tight = r_det.simd_le(f32x8::splat(0.25));
-        let err =
-            t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
-        let (lo, hi) = (t - err, t + err);
+        let (lo, hi, tight) = t_interval(tri, &e, dm);
         let before_end = (front & tight & hi.simd_lt(one)).to_bitmask();
         let past_end = (front & tight & lo.simd_ge(one)).to_bitmask();
         self.blocked |= live & before_end;
