@@ -664,8 +664,8 @@ impl Frame<'_> {
         if flat {
             return;
         }
-        // Shadow rays: a flat scene's 8 at a time from the light against the triangles that
-        // can block one of the tile's (the undecided ones per ray); a BVH scene's per ray.
+        // Shadow rays, 8 at a time from the light: a flat scene's against the triangles that
+        // can block one of the tile's, a BVH scene's through its BVH; the unsure ones per ray.
         let casts_shadows = matches!(settings.step, LabStep::Shadows | LabStep::Indirect);
         blocked.clear();
         blocked.resize(shaded.len(), 0);
