@@ -798,18 +798,6 @@ pub struct ShadowHits {
     pub unsure: u32,
 }
 
-/// Grows the box [lo, hi] by the segment from `o` to o + d as computed in f32 (whose rounding
-/// [`Occluder::meets`] allows for). NaN coordinates are left out.
-#[inline]
-pub fn grow_by_segment((lo, hi): (&mut [f32; 3], &mut [f32; 3]), o: [f32; 3], d: [f32; 3]) {
-    for k in 0..3 {
-        let end = o[k] + d[k];
-        let (a, b) = if end < o[k] { (end, o[k]) } else { (o[k], end) };
-        lo[k] = if a < lo[k] { a } else { lo[k] };
-        hi[k] = if b > hi[k] { b } else { hi[k] };
-    }
-}
-
 /// A triangle that may block shadow rays, with its bounding box.
 #[derive(Clone, Copy, Debug)]
 pub struct Occluder {

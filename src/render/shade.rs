@@ -379,3 +379,36 @@ fn nudge(x: f32x8, offset: f32x8) -> f32x8 {
     let fixed = x.simd_ne(x) | (up & x.simd_eq(inf)) | (down & x.simd_eq(-inf));
     fixed.bitselect(x, stepped)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nudge_steps_as_next_up_and_next_down() {
+        let tiny = f32::from_bits(1);
+        let xs = [
+            0.0,
+            -0.0,
+            tiny,
+            -tiny,
+            f32::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            1e-30,
+            -3.5e20,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        for x in xs {
+            for (offset, want) in [(1.0, x.next_up()), (-1.0, x.next_down()), (0.0, x)] {
+                let got = nudge(f32x8::splat(x), f32x8::splat(offset)).to_array()[0];
+                assert_eq!(got.to_bits(), want.to_bits(), "x {x:e} offset {offset}");
+            }
+        }
+        let nan = nudge(f32x8::splat(f32::NAN), f32x8::ONE).to_array()[0];
+        assert!(nan.is_nan());
+    }
+}
