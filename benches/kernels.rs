@@ -46,7 +46,7 @@ fn rays(n: usize) -> Vec<Ray> {
 }
 
 fn kernels(c: &mut Criterion) {
-    let cpu = raylab::render::cpu_model();
+    let cpu = raylab::machine::cpu_model();
     println!(
         "machine: {cpu}; {} cores; kernels run on 1 thread, the BVH build on {} (rayon)",
         std::thread::available_parallelism().map_or(1, |n| n.get()),

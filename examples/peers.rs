@@ -57,7 +57,7 @@ fn main() -> anyhow::Result<()> {
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(5);
-    let cpu = raylab::render::cpu_model();
+    let cpu = raylab::machine::cpu_model();
     println!(
         "machine: {cpu}, {} cores; {W}x{H} primary rays, best of {frames} frames",
         std::thread::available_parallelism().map_or(1, |n| n.get())

@@ -188,7 +188,7 @@ fn main() -> anyhow::Result<()> {
     );
     std::fs::create_dir_all(&out)?;
     let threads = rayon::current_num_threads();
-    let cpu = raylab::render::cpu_model();
+    let cpu = raylab::machine::cpu_model();
     let machine = format!("{cpu}, {threads} threads (rayon), release build");
     println!("machine: {machine}");
 

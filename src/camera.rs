@@ -153,6 +153,16 @@ impl Camera {
         self.ray_through(i as f64 + 0.5, j as f64 + 0.5, width, height)
     }
 
+    /// The pinhole projection onto a `width`×`height` image (the inverse of
+    /// [`Camera::ray_through`]'s direction, in f64), for screen-space culling.
+    pub fn projection(&self, width: u32, height: u32) -> Projection {
+        Projection {
+            camera_from_world: self.camera_from_world(),
+            centre: [width as f64 / 2.0, height as f64 / 2.0],
+            focal: self.focal,
+        }
+    }
+
     /// Precomputed f32 basis for generating many rays of one image.
     pub fn ray_generator(&self, width: u32, height: u32) -> RayGenerator {
         let f = |v: DVec3| v.as_vec3();
@@ -165,6 +175,34 @@ impl Camera {
             half_h: height as f32 / 2.0,
             focal: self.focal as f32,
         }
+    }
+}
+
+/// Where world points land on the image: (x, y) = f·(cx, cy)/cz + (W/2, H/2) for the point
+/// at c in camera space, the pixel-centre convention of [`RayGenerator::ray_through`].
+#[derive(Clone, Copy, Debug)]
+pub struct Projection {
+    camera_from_world: DMat4,
+    /// W/2, H/2.
+    centre: [f64; 2],
+    focal: f64,
+}
+
+impl Projection {
+    /// The image position of world point `p`; `None` where it is not in front of the pinhole
+    /// (camera-space z ≤ 10⁻⁹·|c|).
+    pub fn project(&self, p: [f32; 3]) -> Option<[f64; 2]> {
+        let c = self
+            .camera_from_world
+            .transform_point3(DVec3::from_array(p.map(f64::from)));
+        if c.z <= 1e-9 * c.length() {
+            return None;
+        }
+        let f = self.focal;
+        Some([
+            f * c.x / c.z + self.centre[0],
+            f * c.y / c.z + self.centre[1],
+        ])
     }
 }
 

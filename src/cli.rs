@@ -78,28 +78,12 @@ impl From<MethodArg> for Method {
     }
 }
 
-/// Lab step names for clap.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum StepArg {
-    /// Step 1: colour of the closest surface, no light.
-    Flat,
-    /// Step 3: direct light from the point light, P·max(n·r̂,0)/(4πr²) times the colour.
-    Direct,
-    /// Step 4: direct light with shadow rays.
-    Shadows,
-    /// Step 5: shadows plus the lab's constant indirect light (colour·(D + N)).
-    Indirect,
-}
-
-impl From<StepArg> for LabStep {
-    fn from(s: StepArg) -> LabStep {
-        match s {
-            StepArg::Flat => LabStep::Flat,
-            StepArg::Direct => LabStep::Direct,
-            StepArg::Shadows => LabStep::Shadows,
-            StepArg::Indirect => LabStep::Indirect,
-        }
-    }
+/// The lab steps for clap, each with its one-line explanation from [`LabStep::explanation`]
+/// (the steps are described once, in the library).
+fn lab_step_parser() -> impl clap::builder::TypedValueParser<Value = LabStep> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let steps = LabStep::ALL.map(|s| PossibleValue::new(s.name()).help(s.explanation()));
+    PossibleValuesParser::new(steps).map(|name| name.parse().expect("a listed step"))
 }
 
 /// Arithmetic precision of `trace`.
@@ -139,8 +123,8 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub pitch: f64,
     /// Lab step (shading).
-    #[arg(long, value_enum, default_value = "flat")]
-    pub step: StepArg,
+    #[arg(long, default_value = "flat", value_parser = lab_step_parser())]
+    pub step: LabStep,
     /// Supersampling: N×N stratified rays per pixel (1..=16).
     #[arg(long, default_value_t = 1)]
     pub spp: u32,
@@ -148,7 +132,7 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value = "adaptive")]
     pub method: MethodArg,
     /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
-    /// from there on; `brute` and `bvh` force one.
+    /// from there on; `flat` (formerly `brute`) and `bvh` force one.
     #[arg(long, default_value = "auto")]
     pub accel: AccelChoice,
     /// How an OBJ file's coordinates are read: `yup` (the usual convention; x and y are negated
@@ -157,11 +141,11 @@ pub struct ViewArgs {
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
     /// Test every camera ray against every triangle of a small scene instead of only those
-    /// whose screen bounds meet its 8x8 tile (the same image, slower: to measure the gain).
+    /// whose screen bounds meet its 8x16 tile (the same image, slower: to measure the gain).
     #[arg(long)]
     pub no_tile_culling: bool,
-    /// The cracks view: paint magenta where --method lets a ray through that the default
-    /// watertight method hits, or the reverse (where the lecture's method leaks).
+    /// The cracks view: paint magenta where --method lets a ray through that the exact
+    /// adaptive method hits, or the reverse (where the lecture's method leaks).
     #[arg(long)]
     pub cracks: bool,
 }
@@ -239,7 +223,7 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let settings = RenderSettings {
         width: v.width,
         height: v.height,
-        step: v.step.into(),
+        step: v.step,
         spp: v.spp,
         method: v.method.into(),
         tile_culling: !v.no_tile_culling,
@@ -316,10 +300,11 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         .num_threads(threads)
         .build()?;
     let (scene, camera, settings) = prepare(&args.view)?;
-    let cpu = raylab::render::cpu_model();
+    let cpu = raylab::machine::cpu_model();
     println!(
-        "machine: {cpu}, {} cores available; threads: {threads}",
-        std::thread::available_parallelism().map_or(1, |n| n.get())
+        "machine: {cpu}, {} cores available; threads: {threads}; simd: {}",
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        raylab::machine::simd_level()
     );
     let build = Instant::now();
     let accel = pool.install(|| scene.accel().kind());

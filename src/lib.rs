@@ -27,13 +27,14 @@
 //! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
 //!
 //! No unsafe code, except the calls into the packet kernels' AVX2 builds, each made only after
-//! checking the CPU at run time (`accel::packet::has_avx2`).
+//! checking the CPU at run time (`math::simd::has_avx2`).
 #![deny(unsafe_code)]
 
 pub mod accel;
 pub mod camera;
 pub mod controller;
 pub mod geometry;
+pub mod machine;
 pub mod math;
 pub mod render;
 pub mod scene;

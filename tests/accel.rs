@@ -6,7 +6,7 @@ mod common;
 
 use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
 use proptest::prelude::*;
-use raylab::accel::{self, soa::TriangleBlocks, Accel, AccelChoice};
+use raylab::accel::{self, flat::FlatLoop, Accel, AccelChoice, AccelKind};
 use raylab::geometry::triangle::WatertightRay;
 use raylab::geometry::{Method, Ray, Shape};
 
@@ -44,7 +44,7 @@ fn random_ray(rng: &mut Rng, shapes: &[Shape<f32>]) -> Ray {
 }
 
 fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
-    let brute_accel = Accel::build(shapes, AccelChoice::Brute);
+    let brute_accel = Accel::build(shapes, AccelChoice::Flat);
     let bvh = Accel::build(shapes, AccelChoice::Bvh);
     for ray in rays {
         for method in Method::ALL {
@@ -161,7 +161,7 @@ fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
             _ => None,
         })
         .collect();
-    let blocks = TriangleBlocks::new(&tris);
+    let blocks = FlatLoop::new(&tris);
     let mut hits = 0;
     for _ in 0..20_000 {
         let ray = random_ray(&mut rng, &shapes);
@@ -176,10 +176,10 @@ fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
 #[test]
 fn auto_picks_the_flat_loop_for_the_cornell_box_and_a_bvh_for_big_meshes() {
     let cornell = raylab::Scene::cornell();
-    assert_eq!(cornell.accel().kind(), "brute");
+    assert_eq!(cornell.accel().kind(), AccelKind::Flat);
     let big = icosphere(3, 1.0, [0.0; 3]);
     assert!(big.len() >= accel::BVH_MIN_TRIANGLES);
-    assert_eq!(Accel::build(&big, AccelChoice::Auto).kind(), "bvh");
+    assert_eq!(Accel::build(&big, AccelChoice::Auto).kind(), AccelKind::Bvh);
     assert_eq!(
         Accel::build(&[], AccelChoice::Bvh).closest_hit(
             &Ray::new([0.0; 3], [0.0, 0.0, 1.0]),

@@ -660,7 +660,7 @@ fn bench_prints_the_machine_the_runs_and_mrays_last() {
         "{text}"
     );
     assert!(
-        text.contains("accel: brute") && text.contains("build"),
+        text.contains("accel: flat") && text.contains("build"),
         "{text}"
     );
     assert_eq!(text.matches("\nframe ").count(), 3, "{text}");
@@ -684,7 +684,7 @@ fn bench_prints_the_machine_the_runs_and_mrays_last() {
 fn every_accelerator_renders_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
     let mut images = Vec::new();
-    for accel in ["brute", "bvh", "auto"] {
+    for accel in ["flat", "bvh", "auto", "brute"] {
         let out = dir.path().join(format!("{accel}.png"));
         let o = raylab(&[
             "render",
@@ -704,4 +704,8 @@ fn every_accelerator_renders_the_same_image() {
     }
     assert_eq!(images[0], images[1]);
     assert_eq!(images[0], images[2]);
+    assert_eq!(
+        images[0], images[3],
+        "brute, the old name of flat, still works"
+    );
 }

@@ -97,7 +97,7 @@ fn camera_packet(
 /// how many rays the packet kernel left to the per-ray search.
 fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
     let shapes64: Vec<Shape<f64>> = shapes.iter().map(adaptive::widen).collect();
-    let flat = Accel::build(shapes, AccelChoice::Brute);
+    let flat = Accel::build(shapes, AccelChoice::Flat);
     let bvh = Accel::build(shapes, AccelChoice::Bvh);
     let inf = f32::INFINITY;
     let plain = [Method::Watertight, Method::Moller, Method::Cramer];

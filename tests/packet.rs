@@ -305,7 +305,7 @@ fn check_shadows(
     rays: &[([f32; 3], u32)],
 ) -> Vec<(u32, u32)> {
     let prepared = OriginTriangles::new(&indexed(shapes), light);
-    let accel = raylab::accel::Accel::build(shapes, raylab::accel::AccelChoice::Brute);
+    let accel = raylab::accel::Accel::build(shapes, raylab::accel::AccelChoice::Flat);
     let mut left = Vec::new();
     for chunk in rays.chunks(8) {
         let (mut d, mut skip) = ([[0.0f32; 8]; 3], [u32::MAX; 8]);
@@ -570,7 +570,7 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
         Scene::cornell().light,
         [0.0; 3],
     );
-    assert_eq!(scene.accel().kind(), "bvh");
+    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
     assert!(scene.accel().flat_triangles().is_none());
     // 320x240: more camera rays than triangles, which the renderer then prepares once per
     // frame; 64x48: fewer, prepared as each packet meets them.
@@ -633,9 +633,9 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
             )
         };
         let fast = run();
-        packet::use_baseline_simd(true);
+        raylab::math::simd::use_baseline_simd(true);
         let baseline = run();
-        packet::use_baseline_simd(false);
+        raylab::math::simd::use_baseline_simd(false);
         assert_eq!(format!("{fast:?}"), format!("{baseline:?}"));
         hit_lanes += fast.0.prim.iter().filter(|p| **p != u32::MAX).count();
     }

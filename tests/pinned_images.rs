@@ -54,7 +54,10 @@ fn scenes() -> Vec<(&'static str, Scene, u32, u32)> {
         // 1310 triangles: BVH, culled per tile.
         (
             "ico3",
-            with_mesh(common::icosphere(3, 0.4, [0.2, 0.5, 0.1]), AccelChoice::Auto),
+            with_mesh(
+                common::icosphere(3, 0.4, [0.2, 0.5, 0.1]),
+                AccelChoice::Auto,
+            ),
             64,
             48,
         ),
@@ -62,7 +65,10 @@ fn scenes() -> Vec<(&'static str, Scene, u32, u32)> {
         // frame (spp 2).
         (
             "ico4",
-            with_mesh(common::icosphere(4, 0.5, [0.1, 0.3, 0.2]), AccelChoice::Auto),
+            with_mesh(
+                common::icosphere(4, 0.5, [0.1, 0.3, 0.2]),
+                AccelChoice::Auto,
+            ),
             64,
             48,
         ),
@@ -126,7 +132,12 @@ fn images_are_the_pinned_ones() {
         .filter(|((what, h), (pw, ph))| what != pw || h != ph)
         .map(|((what, h), (_, ph))| format!("{what}: {h:#018x}, pinned {ph:#018x}"))
         .collect();
-    assert!(wrong.is_empty(), "{} differ:\n{}", wrong.len(), wrong.join("\n"));
+    assert!(
+        wrong.is_empty(),
+        "{} differ:\n{}",
+        wrong.len(),
+        wrong.join("\n")
+    );
     // The scenes do exercise what they are named for.
     let distinct: std::collections::HashSet<u64> = got.iter().map(|g| g.1).collect();
     assert!(distinct.len() > got.len() / 3, "too many equal images");
@@ -163,8 +174,14 @@ const PINNED: &[(&str, u64)] = &[
     ("cornell watertight shadows spp1 cracks", 0xae74fc1acabb657a),
     ("cornell watertight shadows spp2", 0x8612028ab0f97875),
     ("cornell watertight indirect spp1", 0xcb9b15423bd4dd07),
-    ("cornell watertight indirect spp1 nocull", 0xcb9b15423bd4dd07),
-    ("cornell watertight indirect spp1 cracks", 0xcb9b15423bd4dd07),
+    (
+        "cornell watertight indirect spp1 nocull",
+        0xcb9b15423bd4dd07,
+    ),
+    (
+        "cornell watertight indirect spp1 cracks",
+        0xcb9b15423bd4dd07,
+    ),
     ("cornell watertight indirect spp2", 0xdd81cd2ce2ac4460),
     ("cornell moller flat spp1", 0x1d6b388b57cf9785),
     ("cornell moller flat spp1 nocull", 0x1d6b388b57cf9785),
@@ -203,32 +220,74 @@ const PINNED: &[(&str, u64)] = &[
     ("cornell-bvh adaptive flat spp1 cracks", 0x00b5abbcae400bdf),
     ("cornell-bvh adaptive flat spp2", 0x42933624edea9ef4),
     ("cornell-bvh adaptive direct spp1", 0xafd9e3719216189a),
-    ("cornell-bvh adaptive direct spp1 nocull", 0xafd9e3719216189a),
-    ("cornell-bvh adaptive direct spp1 cracks", 0xafd9e3719216189a),
+    (
+        "cornell-bvh adaptive direct spp1 nocull",
+        0xafd9e3719216189a,
+    ),
+    (
+        "cornell-bvh adaptive direct spp1 cracks",
+        0xafd9e3719216189a,
+    ),
     ("cornell-bvh adaptive direct spp2", 0xd1931141b0748a6c),
     ("cornell-bvh adaptive shadows spp1", 0x7e956f6276bdbc0d),
-    ("cornell-bvh adaptive shadows spp1 nocull", 0x7e956f6276bdbc0d),
-    ("cornell-bvh adaptive shadows spp1 cracks", 0x7e956f6276bdbc0d),
+    (
+        "cornell-bvh adaptive shadows spp1 nocull",
+        0x7e956f6276bdbc0d,
+    ),
+    (
+        "cornell-bvh adaptive shadows spp1 cracks",
+        0x7e956f6276bdbc0d,
+    ),
     ("cornell-bvh adaptive shadows spp2", 0xf6e877bd58436c0a),
     ("cornell-bvh adaptive indirect spp1", 0x14c9038b3a3991a3),
-    ("cornell-bvh adaptive indirect spp1 nocull", 0x14c9038b3a3991a3),
-    ("cornell-bvh adaptive indirect spp1 cracks", 0x14c9038b3a3991a3),
+    (
+        "cornell-bvh adaptive indirect spp1 nocull",
+        0x14c9038b3a3991a3,
+    ),
+    (
+        "cornell-bvh adaptive indirect spp1 cracks",
+        0x14c9038b3a3991a3,
+    ),
     ("cornell-bvh adaptive indirect spp2", 0x872a900f3918a600),
     ("cornell-bvh watertight flat spp1", 0x7b60316477c7ecab),
-    ("cornell-bvh watertight flat spp1 nocull", 0x7b60316477c7ecab),
-    ("cornell-bvh watertight flat spp1 cracks", 0x7b60316477c7ecab),
+    (
+        "cornell-bvh watertight flat spp1 nocull",
+        0x7b60316477c7ecab,
+    ),
+    (
+        "cornell-bvh watertight flat spp1 cracks",
+        0x7b60316477c7ecab,
+    ),
     ("cornell-bvh watertight flat spp2", 0x582054aee50e1fda),
     ("cornell-bvh watertight direct spp1", 0x9f4b8b0bcf3c24e3),
-    ("cornell-bvh watertight direct spp1 nocull", 0x9f4b8b0bcf3c24e3),
-    ("cornell-bvh watertight direct spp1 cracks", 0x9f4b8b0bcf3c24e3),
+    (
+        "cornell-bvh watertight direct spp1 nocull",
+        0x9f4b8b0bcf3c24e3,
+    ),
+    (
+        "cornell-bvh watertight direct spp1 cracks",
+        0x9f4b8b0bcf3c24e3,
+    ),
     ("cornell-bvh watertight direct spp2", 0x9a29e956eecb6755),
     ("cornell-bvh watertight shadows spp1", 0x17cfca2de73220a0),
-    ("cornell-bvh watertight shadows spp1 nocull", 0x17cfca2de73220a0),
-    ("cornell-bvh watertight shadows spp1 cracks", 0x17cfca2de73220a0),
+    (
+        "cornell-bvh watertight shadows spp1 nocull",
+        0x17cfca2de73220a0,
+    ),
+    (
+        "cornell-bvh watertight shadows spp1 cracks",
+        0x17cfca2de73220a0,
+    ),
     ("cornell-bvh watertight shadows spp2", 0x3ccab93c96c3a4bc),
     ("cornell-bvh watertight indirect spp1", 0x16be6b0fa594aef2),
-    ("cornell-bvh watertight indirect spp1 nocull", 0x16be6b0fa594aef2),
-    ("cornell-bvh watertight indirect spp1 cracks", 0x16be6b0fa594aef2),
+    (
+        "cornell-bvh watertight indirect spp1 nocull",
+        0x16be6b0fa594aef2,
+    ),
+    (
+        "cornell-bvh watertight indirect spp1 cracks",
+        0x16be6b0fa594aef2,
+    ),
     ("cornell-bvh watertight indirect spp2", 0x9e755d3cecbc82bc),
     ("cornell-bvh moller flat spp1", 0x18d9c7b414f42026),
     ("cornell-bvh moller flat spp1 nocull", 0x18d9c7b414f42026),
@@ -243,8 +302,14 @@ const PINNED: &[(&str, u64)] = &[
     ("cornell-bvh moller shadows spp1 cracks", 0x7e956f6276bdbc0d),
     ("cornell-bvh moller shadows spp2", 0x4a3024adfcb5bb03),
     ("cornell-bvh moller indirect spp1", 0xd3c4fc65eeb1236b),
-    ("cornell-bvh moller indirect spp1 nocull", 0xd3c4fc65eeb1236b),
-    ("cornell-bvh moller indirect spp1 cracks", 0xd3c4fc65eeb1236b),
+    (
+        "cornell-bvh moller indirect spp1 nocull",
+        0xd3c4fc65eeb1236b,
+    ),
+    (
+        "cornell-bvh moller indirect spp1 cracks",
+        0xd3c4fc65eeb1236b,
+    ),
     ("cornell-bvh moller indirect spp2", 0x16f97f1f99a13c18),
     ("cornell-bvh cramer flat spp1", 0x5e3dd94758a773dc),
     ("cornell-bvh cramer flat spp1 nocull", 0x5e3dd94758a773dc),
@@ -259,8 +324,14 @@ const PINNED: &[(&str, u64)] = &[
     ("cornell-bvh cramer shadows spp1 cracks", 0x05800946dcb6085f),
     ("cornell-bvh cramer shadows spp2", 0xe71662fff58596ee),
     ("cornell-bvh cramer indirect spp1", 0x92f07e1d8ab6d2ef),
-    ("cornell-bvh cramer indirect spp1 nocull", 0x92f07e1d8ab6d2ef),
-    ("cornell-bvh cramer indirect spp1 cracks", 0x92f07e1d8ab6d2ef),
+    (
+        "cornell-bvh cramer indirect spp1 nocull",
+        0x92f07e1d8ab6d2ef,
+    ),
+    (
+        "cornell-bvh cramer indirect spp1 cracks",
+        0x92f07e1d8ab6d2ef,
+    ),
     ("cornell-bvh cramer indirect spp2", 0x8e136a4924da701a),
     ("ico3 adaptive flat spp1", 0x01613273ad8709f7),
     ("ico3 adaptive flat spp1 nocull", 0x01613273ad8709f7),
@@ -419,8 +490,14 @@ const PINNED: &[(&str, u64)] = &[
     ("spheres watertight shadows spp1 cracks", 0x4ac1dd70466ddc30),
     ("spheres watertight shadows spp2", 0xbac5f6732d58ab79),
     ("spheres watertight indirect spp1", 0x48ded8f6f8aabdbb),
-    ("spheres watertight indirect spp1 nocull", 0x48ded8f6f8aabdbb),
-    ("spheres watertight indirect spp1 cracks", 0x48ded8f6f8aabdbb),
+    (
+        "spheres watertight indirect spp1 nocull",
+        0x48ded8f6f8aabdbb,
+    ),
+    (
+        "spheres watertight indirect spp1 cracks",
+        0x48ded8f6f8aabdbb,
+    ),
     ("spheres watertight indirect spp2", 0x4965354ee2954d3c),
     ("spheres moller flat spp1", 0xa0908d66b0daeae6),
     ("spheres moller flat spp1 nocull", 0xa0908d66b0daeae6),

@@ -411,7 +411,7 @@ fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
     scene.shapes.extend(mesh);
     scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
     scene.set_accel(raylab::accel::AccelChoice::Auto);
-    assert_eq!(scene.accel().kind(), "bvh");
+    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
     assert!(scene.accel().flat_triangles().is_some());
     let cam = Camera::cornell(83);
     for step in [LabStep::Flat, LabStep::Indirect] {

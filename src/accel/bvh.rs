@@ -14,13 +14,13 @@
 //! lowest primitive index, as in the brute-force loop.
 
 use super::packet::{
-    avx2_or_baseline, OriginTriangle, OriginTriangles, PacketHits, PacketNearest, ShadowHits,
-    ShadowPacket,
+    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, ShadowHits, ShadowPacket,
 };
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::simd::avx2_or_baseline;
 use crate::math::Real;
 use rayon::prelude::*;
 use wide::f32x8;

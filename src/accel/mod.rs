@@ -1,15 +1,24 @@
 //! Closest-hit and any-hit queries over a scene's primitives, with the structure chosen per
-//! scene: the 30-triangle Cornell box is fastest as a flat 8-wide loop, a 70k-triangle scan as a
-//! BVH. Every path returns exactly the nearest hit of the reference loop [`brute`] with the same
-//! intersection method (tests/accel.rs holds them to it).
+//! scene: the 30-triangle Cornell box is fastest as the flat SIMD loop ([`flat::FlatLoop`]), a
+//! 70k-triangle scan as a BVH ([`bvh::Bvh`]). Every path returns exactly the nearest hit of the
+//! scalar reference loop ([`reference`]) with the same intersection method (tests/accel.rs
+//! holds them to it).
+//!
+//! The renderer sees one face: [`FrameQueries`] (made by [`Accel::for_frame`]) hands out
+//! per-tile queries that are always fully resolved: camera rays 8 at a time or per ray,
+//! shadow segments 8 at a time or per ray. Which structure, which rays go in packets, what is
+//! prepared once per frame, tile culling and the exact resolvers of ambiguous lanes all stay
+//! inside this module.
 //!
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
-//! `raylab bench --accel brute|bvh` on subsets of the bunny mesh (see the README).
+//! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (see the README).
 
-pub mod brute;
 pub mod bvh;
+mod cull;
+pub mod flat;
+pub mod frame;
 pub mod packet;
-pub mod soa;
+pub mod reference;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -17,7 +26,8 @@ use crate::geometry::{sphere, Hit, Method, Ray, Shape};
 use std::fmt;
 use std::str::FromStr;
 
-pub use brute::{any_hit, any_hit_except, closest_hit};
+pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch};
+pub use reference::{any_hit, any_hit_except, closest_hit};
 
 /// A triangle's vertices with its primitive index in the scene.
 pub type IndexedTriangle = ([[f32; 3]; 3], u32);
@@ -36,7 +46,7 @@ pub enum AccelChoice {
     #[default]
     Auto,
     /// The flat SIMD loop over all triangles.
-    Brute,
+    Flat,
     /// A BVH.
     Bvh,
 }
@@ -46,9 +56,27 @@ impl AccelChoice {
     pub fn name(self) -> &'static str {
         match self {
             AccelChoice::Auto => "auto",
-            AccelChoice::Brute => "brute",
+            AccelChoice::Flat => "flat",
             AccelChoice::Bvh => "bvh",
         }
+    }
+}
+
+/// Which structure was built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AccelKind {
+    /// The flat SIMD loop ([`flat::FlatLoop`]).
+    Flat,
+    /// A BVH ([`bvh::Bvh`]).
+    Bvh,
+}
+
+impl fmt::Display for AccelKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            AccelKind::Flat => "flat",
+            AccelKind::Bvh => "bvh",
+        })
     }
 }
 
@@ -61,16 +89,18 @@ impl fmt::Display for AccelChoice {
 impl FromStr for AccelChoice {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        [AccelChoice::Auto, AccelChoice::Brute, AccelChoice::Bvh]
+        // "brute", the flat loop's name before it was called what it is, still works.
+        let s = if s == "brute" { "flat" } else { s };
+        [AccelChoice::Auto, AccelChoice::Flat, AccelChoice::Bvh]
             .into_iter()
             .find(|c| c.name() == s)
-            .ok_or_else(|| format!("unknown accelerator '{s}' (expected auto, brute or bvh)"))
+            .ok_or_else(|| format!("unknown accelerator '{s}' (expected auto, flat or bvh)"))
     }
 }
 
 #[derive(Clone, Debug)]
 enum Triangles {
-    Flat(soa::TriangleBlocks),
+    Flat(flat::FlatLoop),
     Bvh(bvh::Bvh),
 }
 
@@ -96,13 +126,13 @@ impl Accel {
         }
         let use_bvh = match choice {
             AccelChoice::Auto => tris.len() >= BVH_MIN_TRIANGLES,
-            AccelChoice::Brute => false,
+            AccelChoice::Flat => false,
             AccelChoice::Bvh => true,
         };
         let triangles = if use_bvh {
             Triangles::Bvh(bvh::Bvh::build(&tris))
         } else {
-            Triangles::Flat(soa::TriangleBlocks::new(&tris))
+            Triangles::Flat(flat::FlatLoop::new(&tris))
         };
         if use_bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
             tris = Vec::new(); // the BVH holds its own copy
@@ -114,11 +144,11 @@ impl Accel {
         }
     }
 
-    /// "brute" or "bvh".
-    pub fn kind(&self) -> &'static str {
+    /// Which structure was built.
+    pub fn kind(&self) -> AccelKind {
         match self.triangles {
-            Triangles::Flat(..) => "brute",
-            Triangles::Bvh(_) => "bvh",
+            Triangles::Flat(..) => AccelKind::Flat,
+            Triangles::Bvh(_) => AccelKind::Bvh,
         }
     }
 
@@ -127,6 +157,14 @@ impl Accel {
     pub fn flat_triangles(&self) -> Option<&[IndexedTriangle]> {
         let small = !self.list.is_empty() && self.list.len() <= TILE_CULL_MAX_TRIANGLES;
         (small && self.spheres.is_empty()).then_some(&self.list)
+    }
+
+    /// How many triangles the structure holds.
+    pub fn triangle_count(&self) -> usize {
+        match &self.triangles {
+            Triangles::Flat(b) => b.len(),
+            Triangles::Bvh(b) => b.len(),
+        }
     }
 
     /// Whether the scene holds spheres (which only the per-ray queries handle).

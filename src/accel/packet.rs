@@ -19,36 +19,10 @@
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{Approx, Estimate};
 use crate::geometry::exact;
+use crate::math::simd::{avx2_or_baseline, each3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 use wide::f32x8;
-
-/// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
-/// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline: the one place
-/// the crate uses unsafe code.
-macro_rules! avx2_or_baseline {
-    ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        if $crate::accel::packet::has_avx2() {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2($($arg: $ty),*) -> $ret {
-                $body($($arg),*)
-            }
-            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-            #[allow(unsafe_code)]
-            return unsafe { avx2($($arg),*) };
-        }
-        $body($($arg),*)
-    }};
-}
-pub(crate) use avx2_or_baseline;
-
-/// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state
-/// transitions) in the AVX2 builds; this always inlines.
-#[inline(always)]
-pub(crate) fn each3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
-    [f(0), f(1), f(2)]
-}
 
 /// Unit roundoff of f32 and f64.
 const U32: f64 = 1.0 / (1u64 << 24) as f64;
@@ -490,26 +464,6 @@ impl ExactLane {
     }
 }
 
-/// Whether the CPU has AVX2 and FMA, for the kernels compiled twice: for the baseline x86-64
-/// (SSE2, f32x8 as two 4-lane halves) and with AVX2 and FMA enabled (VEX-encoded
-/// three-operand instructions: 18% fewer instructions in `closest`, callgrind). The
-/// answer is cached by the standard library.
-#[cfg(target_arch = "x86_64")]
-#[inline]
-pub(crate) fn has_avx2() -> bool {
-    !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
-        && std::arch::is_x86_feature_detected!("avx2")
-        && std::arch::is_x86_feature_detected!("fma")
-}
-
-static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Runs the kernels' baseline build even where AVX2 is present (for tests and comparisons:
-/// both builds of a kernel must give the same bits, as neither contracts to FMA).
-pub fn use_baseline_simd(on: bool) {
-    BASELINE_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
-}
-
 #[inline(always)]
 fn closest_body(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
     let mut nearest = PacketNearest::new(d, d_max);
@@ -796,32 +750,4 @@ impl ShadowPacket {
 pub struct ShadowHits {
     pub blocked: u32,
     pub unsure: u32,
-}
-
-/// A triangle that may block shadow rays, with its bounding box.
-#[derive(Clone, Copy, Debug)]
-pub struct Occluder {
-    pub v: [[f32; 3]; 3],
-    pub prim: u32,
-    pub lo: [f32; 3],
-    pub hi: [f32; 3],
-}
-
-impl Occluder {
-    pub fn new((v, prim): &IndexedTriangle) -> Self {
-        Self {
-            v: *v,
-            prim: *prim,
-            lo: [0, 1, 2].map(|k| v[0][k].min(v[1][k]).min(v[2][k])),
-            hi: [0, 1, 2].map(|k| v[0][k].max(v[1][k]).max(v[2][k])),
-        }
-    }
-
-    /// Whether the box meets [lo, hi] widened by 1e-6 relative (plus 1e-30): a box built
-    /// from segment ends computed in f32 (origin + direction, rounded) then holds the exact
-    /// segments.
-    pub fn meets(&self, lo: [f32; 3], hi: [f32; 3]) -> bool {
-        let slack = |x: f32| x.abs() * 1e-6 + 1e-30;
-        (0..3).all(|k| !(self.hi[k] < lo[k] - slack(lo[k]) || self.lo[k] > hi[k] + slack(hi[k])))
-    }
 }

@@ -1,5 +1,6 @@
 //! The egui side panel, the image area beside it, and the shortcuts overlay.
 
+use super::viewer::Viewer;
 use super::ViewSettings;
 use raylab::controller::{CameraController, FOCAL_RATIO_RANGE};
 use raylab::geometry::Method;
@@ -178,7 +179,7 @@ pub fn side_panel(
                 }
             });
         ui.checkbox(&mut view.cracks, "show cracks").on_hover_text(
-            "magenta where this method lets a ray slip through that the watertight method hits",
+            "magenta where this method lets a ray slip through that the exact adaptive method hits, or hits where it misses",
         );
 
         ui.separator();
@@ -233,6 +234,94 @@ pub fn side_panel(
         ui.small("H or F1: shortcuts");
     });
     actions
+}
+
+/// Width of the side panel at start, in points.
+pub const PANEL_WIDTH: f32 = 300.0;
+
+/// What one layout pass found.
+pub struct Layout {
+    pub actions: PanelActions,
+    /// The area beside the panel, in physical pixels.
+    pub image_area: (u32, u32),
+    /// Where the image was drawn (points), if there is one.
+    pub image_rect: Option<egui::Rect>,
+}
+
+/// The window's whole UI: the side panel (editing the viewer's settings and camera), the
+/// framebuffer `texture` (`buffer_size` pixels) fitted into the area beside it with its
+/// aspect ratio, and the shortcuts overlay.
+pub fn layout(
+    ui: &mut egui::Ui,
+    viewer: &mut Viewer,
+    texture: egui::TextureId,
+    buffer_size: (u32, u32),
+) -> Layout {
+    let ppp = ui.ctx().pixels_per_point();
+    let shown = viewer
+        .shown
+        .as_ref()
+        .map(|s| (s.size.0, s.size.1, s.level, s.stats));
+    let has_image = shown.is_some();
+    let full_size = viewer.full_size();
+    let Viewer {
+        scene,
+        view,
+        controller,
+        obj_path,
+        status,
+        loading,
+        image_area,
+        show_help,
+        ..
+    } = viewer;
+    let info = PanelInfo {
+        scene_name: &scene.name,
+        primitives: scene.len(),
+        warnings: &scene.warnings,
+        full_size,
+        shown,
+        status,
+        loading: *loading,
+        threads: rayon::current_num_threads(),
+    };
+    let mut layout = Layout {
+        actions: PanelActions::default(),
+        image_area: *image_area,
+        image_rect: None,
+    };
+    egui::Panel::left("controls")
+        .resizable(true)
+        .default_size(PANEL_WIDTH)
+        .show(ui, |ui| {
+            layout.actions = side_panel(ui, view, controller, obj_path, &info);
+        });
+    egui::CentralPanel::no_frame().show(ui, |ui| {
+        let area = ui.max_rect();
+        layout.image_area = (
+            ((area.width() * ppp).round() as u32).max(1),
+            ((area.height() * ppp).round() as u32).max(1),
+        );
+        if has_image {
+            let (bw, bh) = buffer_size;
+            let aspect = bw as f32 / bh as f32;
+            let size = if area.width() / area.height() > aspect {
+                egui::vec2(area.height() * aspect, area.height())
+            } else {
+                egui::vec2(area.width(), area.width() / aspect)
+            };
+            let rect = egui::Rect::from_center_size(area.center(), size);
+            ui.painter().image(
+                texture,
+                rect,
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                egui::Color32::WHITE,
+            );
+            layout.image_rect = Some(rect);
+        }
+    });
+    help_window(ui.ctx(), show_help);
+    layout
 }
 
 /// The shortcuts overlay.

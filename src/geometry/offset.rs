@@ -49,14 +49,6 @@ impl SurfacePoint {
             }
         }
     }
-
-    /// A ray from this point towards `target` (t = 1 at the target), its origin offset past
-    /// the point's error bound on the side `target` lies on.
-    pub fn ray_towards(&self, target: V3<f32>) -> Ray<f32> {
-        let w = sub(target, self.p);
-        let o = offset_ray_origin(self.p, self.p_error, self.n, w);
-        Ray::new(o, sub(target, o))
-    }
 }
 
 /// Unit vector along `v` (returns `v` unchanged if it is zero).

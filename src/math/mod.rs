@@ -2,6 +2,7 @@
 
 pub mod interval;
 pub mod real;
+pub mod simd;
 pub mod transform;
 
 pub use real::Real;

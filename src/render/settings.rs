@@ -44,6 +44,11 @@ impl LabStep {
         }
     }
 
+    /// Whether the step casts shadow rays.
+    pub fn casts_shadows(self) -> bool {
+        matches!(self, LabStep::Shadows | LabStep::Indirect)
+    }
+
     /// One line for the UI and `--help`.
     pub fn explanation(self) -> &'static str {
         match self {
@@ -87,11 +92,11 @@ pub struct RenderSettings {
     /// Ray/triangle method.
     pub method: Method,
     /// Trace camera rays of small scenes against only the triangles whose screen bounds meet
-    /// each 8×8 tile (same image, faster); off only to measure what it saves.
+    /// each 8×16 tile (same image, faster); off only to measure what it saves.
     pub tile_culling: bool,
     /// The "cracks" view: paint magenta every camera ray that `method` lets through where the
-    /// default watertight method hits (or the reverse), so the lecture's method can be seen
-    /// leaking at shared edges.
+    /// exact adaptive method hits (or the reverse), so the lecture's method can be seen
+    /// leaking at shared edges ([`crate::render::is_crack`]).
     pub cracks: bool,
 }
 

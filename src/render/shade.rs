@@ -1,13 +1,11 @@
 //! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
-use crate::accel::packet::{avx2_or_baseline, each3, OriginTriangle};
-use crate::accel::soa::TriangleBlocks;
-use crate::geometry::adaptive::Search;
+use crate::accel::frame::{OriginTriangle, ShadowSegments};
 use crate::geometry::offset::normalize;
-use crate::geometry::triangle::WatertightRay;
-use crate::geometry::{offset_ray_origin, Hit, Method, Ray, Shape, SurfacePoint};
+use crate::geometry::{offset_ray_origin, Hit, Ray, Shape, SurfacePoint};
 use crate::math::real::{cross, dot, sub};
+use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
@@ -17,9 +15,21 @@ use wide::f32x8;
 /// A linear RGB colour.
 pub type Rgb = [f32; 3];
 
-/// Step 1: the surface colour ρ.
-pub fn flat(scene: &Scene, hit: &Hit) -> Rgb {
-    scene.colors[hit.prim as usize]
+/// The colour of `step` at camera ray `ray`'s nearest hit `hit`: the surface colour ρ for
+/// the flat step, else the lit colour ([`Lit`]) with the shadow ray tested by
+/// `blocked(ray, skip)`. Adds the shadow rays cast to `shadow_rays`.
+pub fn shade(
+    scene: &Scene,
+    ray: &Ray,
+    hit: &Hit,
+    step: LabStep,
+    blocked: impl Fn(&Ray, u32) -> bool,
+    shadow_rays: &mut u64,
+) -> Rgb {
+    match step {
+        LabStep::Flat => scene.colors[hit.prim as usize],
+        _ => Lit::new(scene, ray, hit).colour(scene, step, blocked, shadow_rays),
+    }
 }
 
 /// The lab's D = P·max(n·r̂, 0)/(4πr²) at `sp`, with the normal turned to face the viewer
@@ -83,11 +93,11 @@ impl Lit {
                 let mut lanes = [None; 8];
                 lanes[0] = Some(&tri);
                 let packet = shade_packet(scene, &ray.d.map(f32x8::splat), &lanes);
-                let shadow_d = packet.shadow_d.map(|c| c.to_array()[0]);
+                let shadow_d = packet.shadow.d.map(|c| c.to_array()[0]);
                 Self {
                     prim: hit.prim,
                     d: packet.d(scene, 0),
-                    shadow: (packet.shadowed & 1 != 0)
+                    shadow: (packet.shadow.live & 1 != 0)
                         .then(|| Ray::new(scene.light.position, shadow_d)),
                 }
             }
@@ -105,70 +115,25 @@ impl Lit {
         }
     }
 
-    /// Whether the shadow ray (if any) is blocked before its end. Adds the shadow rays cast
-    /// to `shadow_rays`.
-    fn is_blocked(&self, scene: &Scene, test: (Method, Occluders), shadow_rays: &mut u64) -> bool {
-        let Some(shadow) = &self.shadow else {
-            return false;
-        };
-        *shadow_rays += 1;
-        // The primitive itself cannot block (planar or convex, light on its lit side).
-        test.1.blocked(scene, shadow, test.0, self.prim)
-    }
-
-    /// The colour of lab step 3, 4 or 5 ([`step_colour`]).
+    /// The colour of lab step 3, 4 or 5 ([`step_colour`]), the shadow ray (if any) tested by
+    /// `blocked(ray, skip)` (the primitive itself cannot block: planar or convex, light on its
+    /// lit side). Adds the shadow rays cast to `shadow_rays`.
     pub fn colour(
         &self,
         scene: &Scene,
         step: LabStep,
-        test: (Method, Occluders),
+        blocked: impl Fn(&Ray, u32) -> bool,
         shadow_rays: &mut u64,
     ) -> Rgb {
-        let blocked = match step {
-            LabStep::Shadows | LabStep::Indirect => self.is_blocked(scene, test, shadow_rays),
+        let blocked = match (&self.shadow, step.casts_shadows()) {
+            (Some(shadow), true) => {
+                *shadow_rays += 1;
+                blocked(shadow, self.prim)
+            }
             _ => false,
         };
         step_colour(scene, self.prim, self.d, blocked, step)
     }
-}
-
-/// What shadow rays are tested against.
-#[derive(Clone, Copy, Debug)]
-pub enum Occluders<'a> {
-    /// The scene's own structure.
-    Scene,
-    /// A subset of a triangle-only scene's triangles that holds every triangle the shadow
-    /// rays at hand can meet (the renderer culls them per tile); adaptive method only.
-    Culled(&'a TriangleBlocks),
-}
-
-impl Occluders<'_> {
-    /// Whether `ray` is blocked for 0 < t < 1 by anything but primitive `skip`.
-    pub fn blocked(&self, scene: &Scene, ray: &Ray, method: Method, skip: u32) -> bool {
-        match self {
-            Occluders::Scene => scene.accel().any_hit_except(ray, method, 0.0, 1.0, skip),
-            Occluders::Culled(blocks) => {
-                debug_assert_eq!(method, Method::Adaptive);
-                WatertightRay::new(ray.o, ray.d)
-                    .is_some_and(|r| blocks.any_hit_adaptive(&r, &Search::new(ray, 0.0, 1.0), skip))
-            }
-        }
-    }
-}
-
-/// The colour of `step` at a camera ray's nearest hit, shadow rays against the scene.
-pub fn shade(
-    scene: &Scene,
-    ray: &Ray,
-    hit: &Hit,
-    step: LabStep,
-    method: Method,
-    shadow_rays: &mut u64,
-) -> Rgb {
-    if step == LabStep::Flat {
-        return flat(scene, hit);
-    }
-    Lit::new(scene, ray, hit).colour(scene, step, (method, Occluders::Scene), shadow_rays)
 }
 
 fn mul(a: Rgb, b: Rgb) -> Rgb {
@@ -176,26 +141,36 @@ fn mul(a: Rgb, b: Rgb) -> Rgb {
 }
 
 /// Up to 8 camera hits on triangles readied for shading, lanes side by side (what [`Lit`]
-/// holds per hit): lane l hit primitive `prim[l]` where bit l of `hit` is set; there D =
-/// P·k[l] and, where bit l of `shadowed` is set (D ≠ 0), the shadow ray runs from the light
-/// along `shadow_d` (zero in the other lanes).
+/// holds per hit): lane l hit primitive `shadow.prim[l]` where bit l of `hit` is set; there
+/// D = P·k[l] and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from
+/// the light along `shadow.d` (zero in the other lanes).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadePacket {
-    pub prim: [u32; 8],
     pub hit: u32,
     pub k: [f32; 8],
-    pub shadowed: u32,
-    pub shadow_d: [f32x8; 3],
+    pub shadow: ShadowSegments,
 }
 
 impl ShadePacket {
+    /// Lane l's primitive (`u32::MAX` where it hit nothing).
+    #[inline]
+    pub fn prim(&self, l: usize) -> u32 {
+        self.shadow.prim[l]
+    }
+
     /// Lane l's D.
     #[inline]
     pub fn d(&self, scene: &Scene, l: usize) -> Rgb {
-        match self.shadowed & (1 << l) != 0 {
+        match self.shadow.live & (1 << l) != 0 {
             true => scene.light.power.map(|c| c * self.k[l]),
             false => [0.0; 3],
         }
+    }
+}
+
+impl AsRef<ShadowSegments> for ShadePacket {
+    fn as_ref(&self) -> &ShadowSegments {
+        &self.shadow
     }
 }
 
@@ -348,11 +323,13 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
         lit.bitselect(po - f32x8::splat(light[k]), f32x8::ZERO)
     });
     ShadePacket {
-        prim,
         hit,
         k: k.to_array(),
-        shadowed,
-        shadow_d,
+        shadow: ShadowSegments {
+            d: shadow_d,
+            prim,
+            live: shadowed,
+        },
     }
 }
 

@@ -31,7 +31,7 @@ struct Block {
 
 /// Triangles packed for the 8-wide loop.
 #[derive(Clone, Debug, Default)]
-pub struct TriangleBlocks {
+pub struct FlatLoop {
     blocks: Vec<Block>,
     len: usize,
     /// Box around all the triangles: the adaptive filter's bound is taken once per ray from
@@ -40,7 +40,7 @@ pub struct TriangleBlocks {
     hi: [f32; 3],
 }
 
-impl TriangleBlocks {
+impl FlatLoop {
     /// Packs triangles (with their primitive indices) in the given order.
     pub fn new(tris: &[IndexedTriangle]) -> Self {
         let blocks = tris
@@ -280,7 +280,7 @@ impl BlockFilter {
     }
 }
 
-impl TriangleBlocks {
+impl FlatLoop {
     /// The adaptive method's f32 filter on one block (see `geometry::adaptive`). Sure lanes
     /// whose t interval lies certainly below `tmin` or beyond `t_far` are dropped here.
     #[inline(always)]
@@ -402,7 +402,7 @@ fn t_error_bound_x8(p: [[f32x8; 3]; 3], sz: f32x8, e: [f32x8; 3], rcp: f32x8) ->
     f32x8::splat(3.0) * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
 }
 
-impl TriangleBlocks {
+impl FlatLoop {
     /// The scalar twin of the block loop, for tests: the same triangles in the same order.
     pub fn closest_hit_scalar(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;

@@ -1,0 +1,89 @@
+//! Culling for the tiles of a frame over a small scene: which triangles can show in a screen
+//! tile (camera rays) and which can block a tile's shadow segments. Both keep every triangle
+//! that can answer, so a culled query gives exactly the answer over all triangles.
+
+use super::IndexedTriangle;
+use crate::camera::Projection;
+
+/// Where a triangle can appear on screen: its projection's bounding rectangle and edge
+/// lines, widened by a pixel for rounding. A camera ray through image position (x, y) can only
+/// hit a triangle in front of the pinhole whose projection (a triangle) holds (x, y).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ScreenTriangle {
+    /// x0, y0, x1, y1.
+    bounds: [f32; 4],
+    /// a·x + b·y + c ≥ −1 (a, b unit) on the triangle's side of each edge, for each edge.
+    edges: [[f64; 3]; 3],
+}
+
+impl ScreenTriangle {
+    /// `None` where a vertex is not in front of the camera (such a triangle is kept for
+    /// every tile).
+    pub(crate) fn new(v: &[[f32; 3]; 3], projection: &Projection) -> Option<Self> {
+        let mut q = [[0.0f64; 2]; 3];
+        for (p, s) in v.iter().zip(&mut q) {
+            *s = projection.project(*p)?;
+        }
+        let lo = [0, 1].map(|k| q[0][k].min(q[1][k]).min(q[2][k]) as f32 - 1.0);
+        let hi = [0, 1].map(|k| q[0][k].max(q[1][k]).max(q[2][k]) as f32 + 1.0);
+        let area =
+            (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
+        let side = if area < 0.0 { -1.0 } else { 1.0 };
+        let edges = [0, 1, 2].map(|i| {
+            let (p, r) = (q[i], q[(i + 1) % 3]);
+            let (a, b) = (-(r[1] - p[1]) * side, (r[0] - p[0]) * side);
+            let len = a.hypot(b);
+            if len.is_nan() || len <= 1e-9 || !area.is_finite() || area == 0.0 {
+                // Seen edge-on or degenerate on screen: the rectangle alone decides.
+                return [0.0, 0.0, 1.0];
+            }
+            let (a, b) = (a / len, b / len);
+            [a, b, -(a * p[0] + b * p[1])]
+        });
+        Some(Self {
+            bounds: [lo[0], lo[1], hi[0], hi[1]],
+            edges,
+        })
+    }
+
+    /// Whether the triangle may show in the rectangle [x0, x1] × [y0, y1].
+    #[inline]
+    pub(crate) fn meets(&self, x0: f32, y0: f32, x1: f32, y1: f32) -> bool {
+        let b = &self.bounds;
+        if b[2] < x0 || b[0] > x1 || b[3] < y0 || b[1] > y1 {
+            return false;
+        }
+        self.edges.iter().all(|[a, bb, c]| {
+            // The rectangle's corner farthest along the edge's inward normal.
+            let x = if *a > 0.0 { x1 } else { x0 } as f64;
+            let y = if *bb > 0.0 { y1 } else { y0 } as f64;
+            a * x + bb * y + c >= -1.0
+        })
+    }
+}
+
+/// A triangle that may block shadow rays, with its bounding box.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Occluder {
+    pub prim: u32,
+    pub lo: [f32; 3],
+    pub hi: [f32; 3],
+}
+
+impl Occluder {
+    pub(crate) fn new((v, prim): &IndexedTriangle) -> Self {
+        Self {
+            prim: *prim,
+            lo: [0, 1, 2].map(|k| v[0][k].min(v[1][k]).min(v[2][k])),
+            hi: [0, 1, 2].map(|k| v[0][k].max(v[1][k]).max(v[2][k])),
+        }
+    }
+
+    /// Whether the box meets [lo, hi] widened by 1e-6 relative (plus 1e-30): a box built
+    /// from segment ends computed in f32 (origin + direction, rounded) then holds the exact
+    /// segments.
+    pub(crate) fn meets(&self, lo: [f32; 3], hi: [f32; 3]) -> bool {
+        let slack = |x: f32| x.abs() * 1e-6 + 1e-30;
+        (0..3).all(|k| !(self.hi[k] < lo[k] - slack(lo[k]) || self.lo[k] > hi[k] + slack(hi[k])))
+    }
+}

@@ -1,0 +1,118 @@
+//! The framework part of the window, in the shape of the pixels crate's `minimal-egui`
+//! example: it owns the egui context, the egui-winit state and the GPU side ([`Gpu`]: pixels
+//! and the egui-wgpu renderer), and turns a UI closure into a drawn frame. The viewer's state
+//! never sees egui-winit or wgpu.
+
+use super::gpu::{Capture, Gpu};
+use std::sync::Arc;
+use std::time::Duration;
+use winit::event::WindowEvent;
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+/// egui and the GPU for one window.
+pub struct Framework {
+    ctx: egui::Context,
+    state: egui_winit::State,
+    pub gpu: Gpu,
+}
+
+/// One UI pass, laid out and tessellated, ready to draw.
+pub struct Prepared {
+    paint_jobs: Vec<egui::ClippedPrimitive>,
+    textures: egui::TexturesDelta,
+    pixels_per_point: f32,
+    /// When egui wants to be drawn again (zero: at once; very large: not for itself).
+    pub repaint_delay: Duration,
+}
+
+impl Framework {
+    /// The GPU surface for `window` (physical size `surface`) with a framebuffer of `buffer`
+    /// pixels, and egui's state at the window's scale factor.
+    pub fn new(
+        event_loop: &ActiveEventLoop,
+        window: Arc<Window>,
+        surface: (u32, u32),
+        buffer: (u32, u32),
+    ) -> Result<Self, String> {
+        let ppp = window.scale_factor() as f32;
+        let gpu = Gpu::new(window, surface, buffer)?;
+        let ctx = egui::Context::default();
+        let state = egui_winit::State::new(
+            ctx.clone(),
+            egui::ViewportId::ROOT,
+            event_loop,
+            Some(ppp),
+            None,
+            Some(gpu.max_texture_side()),
+        );
+        Ok(Self { ctx, state, gpu })
+    }
+
+    /// Lets egui see a window event first.
+    pub fn handle_event(
+        &mut self,
+        window: &Window,
+        event: &WindowEvent,
+    ) -> egui_winit::EventResponse {
+        self.state.on_window_event(window, event)
+    }
+
+    /// Whether egui is taking the keyboard (a text field has focus).
+    pub fn wants_keyboard(&self) -> bool {
+        self.ctx.egui_wants_keyboard_input()
+    }
+
+    /// Whether egui is taking the pointer (over a widget, or dragging one).
+    pub fn wants_pointer(&self) -> bool {
+        self.ctx.egui_wants_pointer_input()
+    }
+
+    /// Physical pixels per egui point.
+    pub fn pixels_per_point(&self) -> f32 {
+        self.ctx.pixels_per_point()
+    }
+
+    /// Runs `ui` for one frame and readies its output for [`Framework::draw`].
+    pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> Prepared {
+        let raw = self.state.take_egui_input(window);
+        let output = self.ctx.run_ui(raw, ui);
+        self.state
+            .handle_platform_output(window, output.platform_output);
+        let paint_jobs = self.ctx.tessellate(output.shapes, output.pixels_per_point);
+        let repaint_delay = output
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .map_or(Duration::MAX, |v| v.repaint_delay);
+        Prepared {
+            paint_jobs,
+            textures: output.textures_delta,
+            pixels_per_point: output.pixels_per_point,
+            repaint_delay,
+        }
+    }
+
+    /// Matches the surface to the window as it is now: a resize that lands after its
+    /// Resized event was handled leaves the surface outdated, and pixels 0.17 retries an
+    /// outdated surface at its old size forever (a hang seen under X11). `Ok(false)` where
+    /// the window is 0×0: nothing to draw.
+    pub fn fit_surface(&mut self, window: &Window) -> Result<bool, String> {
+        let size = window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(false);
+        }
+        self.gpu.resize_surface(size.width, size.height)?;
+        Ok(true)
+    }
+
+    /// Draws a prepared frame (which includes the framebuffer image) to the window; with
+    /// `capture`, reads it back too.
+    pub fn draw(&mut self, frame: &Prepared, capture: bool) -> Result<Option<Capture>, String> {
+        self.gpu.draw(
+            &frame.paint_jobs,
+            &frame.textures,
+            frame.pixels_per_point,
+            capture,
+        )
+    }
+}

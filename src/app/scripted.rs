@@ -1,0 +1,117 @@
+//! The scripted-run driver of `raylab --frames N --screenshot FILE [--script FILE]`: replays
+//! the script's events in time from the first frame shown, decides when the run is done (enough
+//! frames, script finished, nothing loading or moving, the image fully refined), saves what
+//! the window showed and prints the final state for the window tests.
+
+use super::gpu::Capture;
+use super::script::{Action, Script};
+use super::viewer::Viewer;
+use anyhow::{anyhow, Result};
+use raylab::render;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// A scripted run that has not finished by then fails.
+const TIMEOUT: Duration = Duration::from_secs(120);
+
+/// A run under `--frames`.
+pub struct ScriptedRun {
+    frames: u64,
+    screenshot: PathBuf,
+    script: Option<Script>,
+    /// When the first frame was shown: script times count from there.
+    start: Option<Instant>,
+    started: Instant,
+}
+
+/// What the final line reports of the window.
+pub struct Final {
+    pub frames_presented: u64,
+    /// The image's rectangle in physical pixels: x, y, width, height.
+    pub image_rect: [f32; 4],
+}
+
+impl ScriptedRun {
+    pub fn new(frames: u64, screenshot: PathBuf, script: Option<Script>) -> Self {
+        Self {
+            frames,
+            screenshot,
+            script,
+            start: None,
+            started: Instant::now(),
+        }
+    }
+
+    /// The events due now; the clock starts once a frame has been shown.
+    pub fn due(&mut self, frames_presented: u64) -> Vec<Action> {
+        if self.start.is_none() && frames_presented > 0 {
+            self.start = Some(Instant::now());
+        }
+        match (&mut self.script, self.start) {
+            (Some(script), Some(start)) => script.due(start.elapsed()),
+            _ => Vec::new(),
+        }
+    }
+
+    /// When the script's next event is due.
+    pub fn next_due(&self) -> Option<Instant> {
+        let next = self.script.as_ref().and_then(Script::next_due)?;
+        Some(self.start? + next)
+    }
+
+    /// Done once enough frames were shown, the script ran out and the image is fully refined.
+    pub fn is_done(&self, viewer: &Viewer, frames_presented: u64) -> bool {
+        frames_presented >= self.frames
+            && !viewer.loading
+            && viewer.screenshots_pending == 0
+            && self.script.as_ref().is_none_or(|s| s.finished())
+            && !viewer.input.is_moving()
+            && viewer.is_idle()
+            && viewer.is_refined()
+    }
+
+    /// An error once the run has taken too long.
+    pub fn check_time(&self) -> Result<()> {
+        match self.started.elapsed() > TIMEOUT {
+            true => Err(anyhow!(
+                "the scripted run did not finish within {} s",
+                TIMEOUT.as_secs()
+            )),
+            false => Ok(()),
+        }
+    }
+
+    /// Saves what the window showed and prints the final state.
+    pub fn finish(&self, viewer: &Viewer, shot: Capture, window: Final) -> Result<()> {
+        let path = &self.screenshot;
+        render::write_png(path, shot.width, shot.height, &shot.rgba)
+            .map_err(|e| anyhow!("cannot write '{}': {e}", path.display()))?;
+        let c = &viewer.controller;
+        let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
+        let r = window.image_rect;
+        println!(
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} scene={}",
+            c.position.x,
+            c.position.y,
+            c.position.z,
+            c.yaw.to_degrees(),
+            c.pitch.to_degrees(),
+            c.focal(w),
+            w,
+            h,
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            viewer.view.step,
+            window.frames_presented,
+            viewer.frames_while_moving,
+            viewer.scene.name,
+        );
+        if !viewer.status.is_empty() {
+            println!("status: {}", viewer.status);
+        }
+        println!("saved {}", path.display());
+        Ok(())
+    }
+}

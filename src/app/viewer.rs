@@ -1,0 +1,380 @@
+//! The viewer's state: the scene, the camera controller, the panel's settings, the held
+//! input, and the render worker with its refinement (preview while things change, then full
+//! resolution, then full supersampling: levels 0, 1, 2). It knows nothing of egui-winit or
+//! the GPU: the app hands it finished frames and asks it what to show.
+
+use super::input::InputState;
+use super::worker::{self, Worker};
+use super::{AppEvent, Resolution, ViewSettings};
+use raylab::controller::CameraController;
+use raylab::geometry::Method;
+use raylab::render::{self, LabStep, RenderSettings, RenderStats, MAX_SIDE};
+use raylab::scene::ObjFrame;
+use raylab::Scene;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use winit::event_loop::EventLoopProxy;
+
+/// How long after the last change the viewer keeps previewing before it refines.
+pub const SETTLE: Duration = Duration::from_millis(120);
+
+/// The image on screen.
+pub struct Shown {
+    pub generation: u64,
+    pub level: u8,
+    pub size: (u32, u32),
+    pub stats: RenderStats,
+}
+
+/// A rendered frame for the window to show.
+pub struct NewFrame {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+/// Everything the window shows besides egui and the GPU.
+pub struct Viewer {
+    proxy: EventLoopProxy<AppEvent>,
+    pub scene: Arc<Scene>,
+    obj_frame: ObjFrame,
+    pub controller: CameraController,
+    pub view: ViewSettings,
+    pub input: InputState,
+    worker: Worker,
+    /// Bumped by every change; the worker drops stale frames.
+    pub generation: u64,
+    last_change: Instant,
+    last_update: Instant,
+    pub shown: Option<Shown>,
+    last_full_ms: Option<f64>,
+    /// The image area beside the panel, in physical pixels.
+    pub image_area: (u32, u32),
+    pub show_help: bool,
+    pub status: String,
+    /// The panel's OBJ path field.
+    pub obj_path: String,
+    pub loading: bool,
+    pub screenshots_pending: usize,
+    /// Rendered frames that arrived while a key held the camera moving (the preview works).
+    pub frames_while_moving: u64,
+    /// Rendering paused (the window is minimised).
+    pub paused: bool,
+}
+
+impl Viewer {
+    pub fn new(
+        scene: Scene,
+        scene_path: Option<&PathBuf>,
+        obj_frame: ObjFrame,
+        proxy: EventLoopProxy<AppEvent>,
+    ) -> Self {
+        let wake = proxy.clone();
+        let controller = controller_for(&scene, scene_path.is_none());
+        let light = scene.light.position;
+        Self {
+            proxy,
+            scene: Arc::new(scene),
+            obj_frame,
+            controller,
+            view: ViewSettings {
+                step: LabStep::Indirect,
+                method: Method::Adaptive,
+                spp: 2,
+                resolution: Resolution::WindowScale(1.0),
+                adaptive: true,
+                target_ms: 16.0,
+                preview_scale: 0.5,
+                light,
+                cracks: false,
+            },
+            input: InputState::default(),
+            worker: Worker::new(move || {
+                let _ = wake.send_event(AppEvent::FrameReady);
+            }),
+            generation: 0,
+            last_change: Instant::now(),
+            last_update: Instant::now(),
+            shown: None,
+            last_full_ms: None,
+            image_area: (640, 480),
+            show_help: false,
+            status: String::new(),
+            obj_path: scene_path
+                .map(|p| p.display().to_string())
+                .unwrap_or_default(),
+            loading: false,
+            screenshots_pending: 0,
+            frames_while_moving: 0,
+            paused: false,
+        }
+    }
+
+    /// A message for the panel (and the log, so scripted runs can be checked).
+    pub fn set_status(&mut self, message: impl Into<String>) {
+        self.status = message.into();
+        log::info!("{}", self.status);
+    }
+
+    /// Something that changes the image changed: start over from a preview.
+    pub fn changed(&mut self) {
+        self.generation += 1;
+        self.last_change = Instant::now();
+        self.worker.set_generation(self.generation);
+    }
+
+    /// Moves the camera by the held input over the time since the last call.
+    pub fn update_camera(&mut self) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_update).as_secs_f64();
+        self.last_update = now;
+        let control = self.input.take();
+        if self.controller.update(&control, dt) {
+            self.changed();
+        }
+    }
+
+    /// What the panel can change, to tell afterwards whether it did.
+    pub fn panel_state(&self) -> (ViewSettings, CameraController, (u32, u32)) {
+        (self.view, self.controller, self.full_size())
+    }
+
+    /// The full render size for the current image area and resolution setting.
+    pub fn full_size(&self) -> (u32, u32) {
+        let clamp = |x: f32| (x.round() as u32).clamp(1, MAX_SIDE);
+        match self.view.resolution {
+            Resolution::WindowScale(s) => {
+                let s = s.clamp(0.05, 1.0);
+                (
+                    clamp(self.image_area.0 as f32 * s),
+                    clamp(self.image_area.1 as f32 * s),
+                )
+            }
+            Resolution::Fixed(w, h) => (w, h),
+        }
+    }
+
+    /// The last refinement level: full supersampling where there is some to do.
+    pub fn max_level(&self) -> u8 {
+        if self.view.spp > 1 {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// Whether the newest generation is shown fully refined.
+    pub fn is_refined(&self) -> bool {
+        self.shown
+            .as_ref()
+            .is_some_and(|s| s.generation == self.generation && s.level >= self.max_level())
+    }
+
+    /// Whether no render is running.
+    pub fn is_idle(&self) -> bool {
+        self.worker.is_idle()
+    }
+
+    /// When to wake to start refining (the preview has settled), if anything is left to do.
+    pub fn refine_at(&self) -> Option<Instant> {
+        // (Not while paused: nothing renders then, and waking for it would spin.)
+        let idle = self.worker.is_idle() && !self.paused;
+        (!self.is_refined() && idle).then_some(self.last_change + SETTLE)
+    }
+
+    /// The preview size: a fixed fraction, or (adaptive) what the last full frame's time says
+    /// will hold the target frame time.
+    fn preview_size(&self) -> (u32, u32) {
+        let (w, h) = self.full_size();
+        let scale = if self.view.adaptive {
+            match self.last_full_ms {
+                Some(ms) if ms > 0.0 => {
+                    ((self.view.target_ms as f64 / ms).sqrt() as f32).clamp(0.1, 1.0)
+                }
+                _ => 0.5,
+            }
+        } else {
+            self.view.preview_scale.clamp(0.05, 1.0)
+        };
+        (
+            ((w as f32 * scale) as u32).max(1),
+            ((h as f32 * scale) as u32).max(1),
+        )
+    }
+
+    /// The render settings at size `(w, h)` with `spp` samples per axis.
+    fn settings(&self, (width, height): (u32, u32), spp: u32) -> RenderSettings {
+        RenderSettings {
+            width,
+            height,
+            step: self.view.step,
+            spp,
+            method: self.view.method,
+            cracks: self.view.cracks,
+            ..Default::default()
+        }
+    }
+
+    /// Submits the next render if the worker is free and something is left to do.
+    pub fn pump(&mut self) {
+        if !self.worker.is_idle() || self.paused {
+            return;
+        }
+        log::trace!("pump: generation {}", self.generation);
+        let settling = self.last_change.elapsed() < SETTLE || self.input.is_moving();
+        let level = match &self.shown {
+            Some(s) if s.generation == self.generation => {
+                if settling || s.level >= self.max_level() {
+                    return;
+                }
+                s.level + 1
+            }
+            _ if settling => 0,
+            _ => 1,
+        };
+        let size = match level {
+            0 => self.preview_size(),
+            _ => self.full_size(),
+        };
+        let mut scene = self.scene.clone();
+        if scene.light.position != self.view.light {
+            Arc::make_mut(&mut scene).light.position = self.view.light;
+            self.scene = scene.clone();
+        }
+        let spp = if level == 2 { self.view.spp } else { 1 };
+        self.worker.submit(worker::Job {
+            scene,
+            camera: self.controller.camera(size.0),
+            settings: self.settings(size, spp),
+            generation: self.generation,
+            level,
+        });
+    }
+
+    /// Takes the worker's newest frame: `None` where none finished, `Some(None)` where it
+    /// has nothing to show (cancelled, or failed: the status says why).
+    pub fn take_frame(&mut self) -> Option<Option<NewFrame>> {
+        let done = self.worker.take_latest()?;
+        Some(match done.image {
+            Ok(None) => None, // cancelled by a newer change
+            Ok(Some((rgba, stats))) => {
+                let s = done.job.settings;
+                if done.job.level == 1 {
+                    self.last_full_ms = Some(stats.elapsed.as_secs_f64() * 1e3);
+                }
+                if self.input.is_moving() {
+                    self.frames_while_moving += 1;
+                }
+                self.shown = Some(Shown {
+                    generation: done.job.generation,
+                    level: done.job.level,
+                    size: (s.width, s.height),
+                    stats,
+                });
+                Some(NewFrame {
+                    width: s.width,
+                    height: s.height,
+                    rgba,
+                })
+            }
+            Err(e) => {
+                self.set_status(format!("render failed: {e}"));
+                None
+            }
+        })
+    }
+
+    /// Loads an OBJ on a thread of its own ([`AppEvent::SceneLoaded`] when done).
+    pub fn load_obj(&mut self, path: PathBuf) {
+        if self.loading {
+            return;
+        }
+        self.loading = true;
+        self.set_status(format!("loading {}...", path.display()));
+        let proxy = self.proxy.clone();
+        let frame = self.obj_frame;
+        std::thread::spawn(move || {
+            let result = raylab::scene::load_obj_file(&path, frame).map_err(|e| e.to_string());
+            let _ = proxy.send_event(AppEvent::SceneLoaded(path, result));
+        });
+    }
+
+    /// A loaded scene replaces the shown one (framed by a new camera); a failed load keeps
+    /// it. Returns the new scene's name for the window title.
+    pub fn scene_loaded(&mut self, path: PathBuf, result: Result<Scene, String>) -> Option<String> {
+        self.loading = false;
+        let scene = match result {
+            Ok(scene) => scene,
+            Err(e) => {
+                self.set_status(format!("could not load: {e}"));
+                return None;
+            }
+        };
+        let (w, h) = self.full_size();
+        if let Some(bounds) = scene.bounds() {
+            self.controller = CameraController::framing(bounds, w, h);
+        }
+        self.view.light = scene.light.position;
+        self.set_status(format!(
+            "loaded {} ({} triangles)",
+            path.display(),
+            scene.len()
+        ));
+        let name = scene.name.clone();
+        self.scene = Arc::new(scene);
+        self.changed();
+        Some(name)
+    }
+
+    /// F12: renders the current view at full resolution and quality (the window may be
+    /// showing a preview) and writes it, on a thread of its own so the window keeps going
+    /// ([`AppEvent::ScreenshotSaved`] when done).
+    pub fn screenshot(&mut self) {
+        let path = PathBuf::from(format!("raylab-{}.png", timestamp()));
+        let (w, h) = self.full_size();
+        let settings = self.settings((w, h), self.view.spp);
+        let (scene, camera, proxy) = (
+            self.scene.clone(),
+            self.controller.camera(w),
+            self.proxy.clone(),
+        );
+        self.screenshots_pending += 1;
+        self.set_status(format!("saving {}...", path.display()));
+        std::thread::spawn(move || {
+            let result = render::render_image(&scene, &camera, &settings)
+                .map_err(|e| e.to_string())
+                .and_then(|(rgba, _)| {
+                    render::write_png(&path, w, h, &rgba)
+                        .map_err(|e| format!("{}: {e}", path.display()))
+                })
+                .map(|()| std::fs::canonicalize(&path).unwrap_or(path));
+            let _ = proxy.send_event(AppEvent::ScreenshotSaved(result));
+        });
+    }
+
+    /// An F12 screenshot finished.
+    pub fn screenshot_saved(&mut self, result: Result<PathBuf, String>) {
+        self.screenshots_pending -= 1;
+        match result {
+            Ok(path) => self.set_status(format!("saved {}", path.display())),
+            Err(e) => self.set_status(format!("screenshot failed: {e}")),
+        }
+    }
+}
+
+/// The starting controller: the lab camera for the Cornell box, a framing one for a model.
+fn controller_for(scene: &Scene, cornell: bool) -> CameraController {
+    match (cornell, scene.bounds()) {
+        (false, Some(b)) => CameraController::framing(b, 4, 3),
+        _ => CameraController::cornell(),
+    }
+}
+
+/// Seconds since the Unix epoch with milliseconds, for screenshot names that sort in time.
+fn timestamp() -> String {
+    let t = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    format!("{}-{:03}", t.as_secs(), t.subsec_millis())
+}
