@@ -296,6 +296,7 @@ impl TileQueries<'_> {
 
     /// The nearest primitive along each of 8 camera rays from the eye with directions `d`,
     /// for the first `lanes` lanes (the others are `None`).
+    #[inline]
     pub fn closest_x8(&mut self, d: &[f32x8; 3], lanes: usize) -> [Option<u32>; 8] {
         let frame = self.frame;
         let d_max = packet::max_component(d);
@@ -313,18 +314,30 @@ impl TileQueries<'_> {
                 ambiguous: 0xff,
             },
         };
-        let mut out = [None; 8];
-        for (l, out) in out.iter_mut().enumerate().take(lanes) {
-            *out = match found.prim[l] {
-                _ if found.ambiguous & (1 << l) != 0 => {
-                    let d = d.map(|c| c.to_array()[l]);
-                    self.resolve_lane(d)
-                }
-                u32::MAX => None,
-                prim => Some(prim),
-            };
+        let unused = (0xff_u32 << lanes) & 0xff;
+        let mut out = found.prim.map(|p| (p != u32::MAX).then_some(p));
+        if (found.ambiguous | unused) != 0 {
+            self.resolve_lanes(d, found.ambiguous, unused, &mut out);
         }
         out
+    }
+
+    /// Lanes `ambiguous` of `out` decided exactly; lanes `unused` set to `None`.
+    #[inline(never)]
+    fn resolve_lanes(
+        &mut self,
+        d: &[f32x8; 3],
+        ambiguous: u32,
+        unused: u32,
+        out: &mut [Option<u32>; 8],
+    ) {
+        for (l, out) in out.iter_mut().enumerate() {
+            if unused & (1 << l) != 0 {
+                *out = None;
+            } else if ambiguous & (1 << l) != 0 {
+                *out = self.resolve_lane(d.map(|c| c.to_array()[l]));
+            }
+        }
     }
 
     /// An ambiguous camera lane's primitive: exact edge signs over the tile's triangles where

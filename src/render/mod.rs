@@ -299,6 +299,7 @@ impl<'a> Frame<'a> {
     /// Traces a tile's camera rays 8 at a time into `rows`; then, past the flat step, readies
     /// the hits for shading 8 at a time ([`shade::shade_packet`]), asks for the tile's shadow
     /// segments at once, and colours each pixel from its samples in the per-ray path's order.
+    #[inline(never)]
     fn trace_tile_packets(
         &self,
         tile: &Tile,
@@ -336,7 +337,8 @@ impl<'a> Frame<'a> {
                         shaded.push(self.ready_for_shading(o, &dirs, &prims));
                         continue;
                     }
-                    for (l, (sum, prim)) in sums.iter_mut().zip(prims).take(lanes).enumerate() {
+                    for (l, sum) in sums.iter_mut().take(lanes).enumerate() {
+                        let prim = prims[l];
                         counts.0 += prim.is_some() as u64;
                         match (&self.flat_rgba, prim) {
                             (Some(rgba), _) => rgba.put(rows, row_off, tile.x0 + l as u32, prim),
