@@ -17,7 +17,7 @@
 //!   adaptive method its camera rays go 8 at a time against those triangles prepared for the
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
-//! - **a BVH without spheres**, adaptive method: packets through the BVH from the eye and from
+//! - **a BVH of triangles only**, adaptive method: packets through the BVH from the eye and from
 //!   the light; the triangles are prepared once per frame where there are at least as many
 //!   camera rays as triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
 //! - otherwise **per ray** through the scene's structure.
@@ -180,7 +180,7 @@ impl Accel {
                 }
             }
             Some(culling) => Plan::Culled(culling),
-            None if packets && self.kind() == AccelKind::Bvh && !self.has_spheres() => {
+            None if packets && self.kind() == AccelKind::Bvh && !self.has_other_shapes() => {
                 Plan::BvhPackets {
                     from_eye: prepare_once
                         .then(|| self.prepare_origin(setup.eye))

@@ -22,7 +22,7 @@ pub mod reference;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
-use crate::geometry::{sphere, Hit, Method, Ray, Shape};
+use crate::geometry::{Hit, Method, Ray, Shape};
 use std::fmt;
 use std::str::FromStr;
 
@@ -110,18 +110,20 @@ pub struct Accel {
     triangles: Triangles,
     /// The triangles in primitive order (for the scalar methods and tile culling).
     list: Vec<IndexedTriangle>,
-    spheres: Vec<([f32; 3], f32, u32)>,
+    /// The primitives the triangle structures do not hold (spheres), with their indices:
+    /// tested one by one after the triangles, through the shape's own methods.
+    others: Vec<(Shape<f32>, u32)>,
 }
 
 impl Accel {
     /// Builds over `shapes` (primitive index = position in the slice).
     pub fn build(shapes: &[Shape<f32>], choice: AccelChoice) -> Self {
         let mut tris = Vec::new();
-        let mut spheres = Vec::new();
+        let mut others = Vec::new();
         for (i, s) in shapes.iter().enumerate() {
             match s {
                 Shape::Triangle(v) => tris.push((*v, i as u32)),
-                Shape::Sphere { centre, radius } => spheres.push((*centre, *radius, i as u32)),
+                other => others.push((*other, i as u32)),
             }
         }
         let use_bvh = match choice {
@@ -140,7 +142,7 @@ impl Accel {
         Self {
             triangles,
             list: tris,
-            spheres,
+            others,
         }
     }
 
@@ -153,10 +155,10 @@ impl Accel {
     }
 
     /// The triangles in primitive order, for the renderer's tile culling: `None` above
-    /// [`TILE_CULL_MAX_TRIANGLES`] or when there are spheres.
+    /// [`TILE_CULL_MAX_TRIANGLES`] or when there are other shapes.
     pub fn flat_triangles(&self) -> Option<&[IndexedTriangle]> {
         let small = !self.list.is_empty() && self.list.len() <= TILE_CULL_MAX_TRIANGLES;
-        (small && self.spheres.is_empty()).then_some(&self.list)
+        (small && self.others.is_empty()).then_some(&self.list)
     }
 
     /// How many triangles the structure holds.
@@ -167,9 +169,10 @@ impl Accel {
         }
     }
 
-    /// Whether the scene holds spheres (which only the per-ray queries handle).
-    pub fn has_spheres(&self) -> bool {
-        !self.spheres.is_empty()
+    /// Whether the scene holds shapes other than triangles (which only the per-ray queries
+    /// handle).
+    pub fn has_other_shapes(&self) -> bool {
+        !self.others.is_empty()
     }
 
     /// Bytes of the structure (triangles included).
@@ -192,12 +195,8 @@ impl Accel {
                     Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut search),
                     Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut search),
                 }
-                for &(c, r, prim) in &self.spheres {
-                    let sphere = widen(&Shape::Sphere {
-                        centre: c,
-                        radius: r,
-                    });
-                    search.offer_shape(prim, sphere, Estimate::Unsure);
+                for (shape, prim) in &self.others {
+                    search.offer_shape(*prim, widen(shape), Estimate::Unsure);
                 }
             }
             return search.hit();
@@ -226,16 +225,11 @@ impl Accel {
             }
             Triangles::Bvh(b) => b.closest_hit(ray, method, tmin, tmax),
         };
-        for &(c, r, prim) in &self.spheres {
+        for &(shape, prim) in &self.others {
             let t_far = best.map_or(tmax, |h| h.t.next_up());
-            if let Some(t) = sphere::intersect(ray.o, ray.d, c, r, tmin, t_far) {
+            if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
                 if best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim)) {
-                    best = Some(Hit {
-                        t,
-                        prim,
-                        b1: 0.0,
-                        b2: 0.0,
-                    });
+                    best = Some(Hit { t, prim, b1, b2 });
                 }
             }
         }
@@ -275,12 +269,8 @@ impl Accel {
         }
         let mut search = Search::new(ray, tmin, tmax);
         b.closest_hit_from_origin(ray, &prepared.tris, &mut search);
-        for &(c, r, prim) in &self.spheres {
-            let sphere = widen(&Shape::Sphere {
-                centre: c,
-                radius: r,
-            });
-            search.offer_shape(prim, sphere, Estimate::Unsure);
+        for (shape, prim) in &self.others {
+            search.offer_shape(*prim, widen(shape), Estimate::Unsure);
         }
         search.hit()
     }
@@ -290,7 +280,7 @@ impl Accel {
     /// [`Accel::prepare_origin`], or `None` to prepare them as the packet meets them): per
     /// lane the primitive [`Accel::closest_hit`] with [`Method::Adaptive`] names (u32::MAX for
     /// none), and the lanes left ambiguous, to be traced per ray. `None` where there is no
-    /// BVH or there are spheres.
+    /// BVH or there are other shapes.
     pub fn closest_packet(
         &self,
         o: [f32; 3],
@@ -301,7 +291,7 @@ impl Accel {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
         };
-        if !self.spheres.is_empty() {
+        if !self.others.is_empty() {
             return None;
         }
         let mut found = b.closest_packet(o, prepared, d, d_max);
@@ -318,7 +308,7 @@ impl Accel {
     /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o` by
     /// [`Accel::prepare_origin`], or `None` to prepare them as met): per lane whether
     /// [`Accel::any_hit_except`] with [`Method::Adaptive`] answers "blocked" for 0 < t < 1,
-    /// or unsure. `None` where there is no BVH or there are spheres.
+    /// or unsure. `None` where there is no BVH or there are other shapes.
     pub fn blocked_packet(
         &self,
         o: [f32; 3],
@@ -331,7 +321,7 @@ impl Accel {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
         };
-        if !self.spheres.is_empty() {
+        if !self.others.is_empty() {
             return None;
         }
         Some(b.blocked_packet(o, prepared, d, d_max, skip, valid))
@@ -363,20 +353,12 @@ impl Accel {
                 Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search, skip),
                 Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search, skip),
             };
-            if tri || self.spheres.is_empty() {
+            if tri || self.others.is_empty() {
                 return tri;
             }
             let nearest = Nearest::new(ray, tmin, tmax);
-            return self.spheres.iter().any(|&(c, r, prim)| {
-                prim != skip
-                    && nearest.confirms(
-                        widen(&Shape::Sphere {
-                            centre: c,
-                            radius: r,
-                        }),
-                        Estimate::Unsure,
-                    )
-            });
+            return (self.others.iter())
+                .any(|(shape, prim)| *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure));
         }
         let tri = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {
@@ -391,8 +373,8 @@ impl Accel {
             }),
             Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax, skip),
         };
-        tri || self.spheres.iter().any(|&(c, r, prim)| {
-            prim != skip && sphere::intersect(ray.o, ray.d, c, r, tmin, tmax).is_some()
+        tri || (self.others.iter()).any(|(shape, prim)| {
+            *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
         })
     }
 }

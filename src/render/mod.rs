@@ -425,7 +425,7 @@ impl<'a> Frame<'a> {
 fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
     match &scene.shapes[prim as usize] {
         Shape::Triangle(v) => *v,
-        Shape::Sphere { .. } => unreachable!("camera packets run over triangles only"),
+        _ => unreachable!("camera packets run over triangles only"),
     }
 }
 

@@ -101,7 +101,7 @@ impl Lit {
                         .then(|| Ray::new(scene.light.position, shadow_d)),
                 }
             }
-            shape @ Shape::Sphere { .. } => {
+            shape => {
                 let sp = SurfacePoint::new(shape, ray, hit);
                 let d = irradiance(scene, &sp, ray);
                 let shadow = (d != [0.0; 3])
@@ -227,7 +227,7 @@ pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8
 fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
     let triangle = |tri: &OriginTriangle| match &scene.shapes[tri.prim as usize] {
         Shape::Triangle(v) => *v,
-        Shape::Sphere { .. } => unreachable!("shade_packet takes triangles"),
+        _ => unreachable!("shade_packet takes triangles"),
     };
     let mut prim = [u32::MAX; 8];
     let mut hit = 0u32;
