@@ -134,7 +134,11 @@ pub struct ShadowSegments {
 /// The queries of one tile of a frame ([`FrameQueries::tile`]).
 pub struct TileQueries<'a> {
     frame: &'a FrameQueries<'a>,
-    scratch: &'a mut TileScratch,
+    /// The tile's triangles (culled plans), as given and prepared for the eye (packets);
+    /// held as slices so that a packet's loads come straight from here.
+    subset: &'a [IndexedTriangle],
+    prepared: &'a [OriginTriangle],
+    near: &'a mut Vec<OriginTriangle>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
 }
@@ -257,7 +261,9 @@ impl<'a> FrameQueries<'a> {
         }
         TileQueries {
             frame: self,
-            scratch,
+            subset: &scratch.subset,
+            prepared: &scratch.prepared,
+            near: &mut scratch.near,
             subset_loop: None,
         }
     }
@@ -270,7 +276,7 @@ impl TileQueries<'_> {
         let method = frame.method;
         match &frame.plan {
             Plan::Culled(_) | Plan::CulledPackets { .. } => {
-                let subset = &self.scratch.subset;
+                let subset = self.subset;
                 let tris = self
                     .subset_loop
                     .get_or_insert_with(|| FlatLoop::new(subset));
@@ -301,7 +307,7 @@ impl TileQueries<'_> {
         let frame = self.frame;
         let d_max = packet::max_component(d);
         let found = match &frame.plan {
-            Plan::CulledPackets { .. } => packet::closest(&self.scratch.prepared, d, d_max),
+            Plan::CulledPackets { .. } => packet::closest(self.prepared, d, d_max),
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet(frame.eye, from_eye.as_ref(), d, d_max)
@@ -347,7 +353,7 @@ impl TileQueries<'_> {
         if let Plan::CulledPackets { culling, .. } = &frame.plan {
             let vertices = |p| culling.vertices(p);
             if let Some(prim) =
-                packet::nearest_exact_lane(&self.scratch.prepared, vertices, frame.eye, d)
+                packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d)
             {
                 return prim;
             }
@@ -401,7 +407,7 @@ impl TileQueries<'_> {
                 occluders,
                 ..
             } => {
-                let near = &mut self.scratch.near;
+                let near = &mut *self.near;
                 near_occluders(packets, light, occluders, from_light, near);
                 let mut near_loop = None;
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
