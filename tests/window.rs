@@ -102,18 +102,42 @@ fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
 
 /// [`run_window`] with extra environment variables.
 fn run_window_env(script: &str, dir: &std::path::Path, env: &[(&str, &str)]) -> Option<Run> {
-    run_window_with(script, dir, env, None)
+    run_window_with(script, dir, env, Around::Nothing)
 }
 
-/// [`run_window_env`], optionally with an XSETTINGS manager (xsettingsd) on the display whose
-/// Xft/DPI goes from 96 to `dpi` after `at_ms`: the desktop's HiDPI change, which winit reports
-/// as `ScaleFactorChanged`.
+/// What runs beside the app on the display.
+enum Around<'a> {
+    Nothing,
+    /// An XSETTINGS manager (xsettingsd) whose Xft/DPI goes from 96 to `dpi` after `at_ms`:
+    /// the desktop's HiDPI change, which winit reports as `ScaleFactorChanged`.
+    DpiChange {
+        at_ms: u32,
+        dpi: u32,
+    },
+    /// A shell snippet that drives the running app with real X input (xdotool), started
+    /// once the app's window exists (its id in `$win`).
+    RealInput(&'a str),
+}
+
+/// [`run_window_env`] with something running beside the app ([`Around`]).
 fn run_window_with(
     script: &str,
     dir: &std::path::Path,
     env: &[(&str, &str)],
-    dpi_change: Option<(u32, u32)>,
+    around: Around,
 ) -> Option<Run> {
+    if matches!(around, Around::RealInput(_)) && !have("xdotool") {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xdotool is missing: .ci/run must install it"
+        );
+        eprintln!("\n*** SKIPPED the real-input window test: xdotool is not installed ***\n");
+        return None;
+    }
+    let dpi_change = match around {
+        Around::DpiChange { at_ms, dpi } => Some((at_ms, dpi)),
+        _ => None,
+    };
     if dpi_change.is_some() && !have("xsettingsd") {
         assert!(
             std::env::var("CI").is_err(),
@@ -147,6 +171,15 @@ fn run_window_with(
             conf = conf.display(),
             delay = at_ms as f64 / 1000.0,
             value = dpi * 1024,
+        );
+        command.args(["sh", "-c", &wrapper, "sh"]);
+    }
+    if let Around::RealInput(driver) = around {
+        // The app, then the driver once its window is there; the app's exit status is the
+        // run's.
+        let wrapper = format!(
+            "\"$@\" & app=$!; win=$(xdotool search --sync --name '^raylab'); sleep 1; \
+             {driver}; wait $app"
         );
         command.args(["sh", "-c", &wrapper, "sh"]);
     }
@@ -414,7 +447,15 @@ fn a_desktop_hidpi_change_while_running() {
     // area shrinks, and what is shown is still the headless render of the final view.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 resize 1000 600\n500 key D down\n900 key D up\n3500 focal 600\n";
-    let Some(run) = run_window_with(script, dir.path(), &[], Some((2000, 192))) else {
+    let Some(run) = run_window_with(
+        script,
+        dir.path(),
+        &[],
+        Around::DpiChange {
+            at_ms: 2000,
+            dpi: 192,
+        },
+    ) else {
         return;
     };
     assert!(
@@ -440,4 +481,38 @@ fn a_desktop_hidpi_change_while_running() {
         off * 100.0
     );
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
+fn real_x_input_moves_turns_and_zooms_the_camera() {
+    // Real X events (XTEST, as a user's keyboard and mouse give them), not script events:
+    // W held, the wheel over the image, a right-drag over the image. The script only keeps
+    // the run alive while the driver works.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "8000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.3; \
+                  xdotool mousemove --sync 730 310; sleep 0.3; \
+                  for i in 1 2 3 4 5; do xdotool click 4; sleep 0.05; done; sleep 0.3; \
+                  xdotool mousedown 3; sleep 0.2; \
+                  for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
+                  xdotool mouseup 3";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    let (yaw, focal) = (run.nums("yaw")[0], run.nums("focal")[0]);
+    let width = run.nums("size")[0];
+    // The lab camera starts at z = -3.001 looking along +z, focal = the image width.
+    assert!(pos[2] > -2.9, "W moved the camera forward: z = {}", pos[2]);
+    assert!(
+        focal > width * 1.3,
+        "5 wheel clicks up over the image zoomed in: focal {focal} for width {width}\n{}",
+        run.stderr
+    );
+    assert!(
+        yaw > 5.0,
+        "a right-drag to the right over the image turned the view right: yaw {yaw}\n{}",
+        run.stderr
+    );
 }

@@ -352,9 +352,7 @@ impl TileQueries<'_> {
         let frame = self.frame;
         if let Plan::CulledPackets { culling, .. } = &frame.plan {
             let vertices = |p| culling.vertices(p);
-            if let Some(prim) =
-                packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d)
-            {
+            if let Some(prim) = packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d) {
                 return prim;
             }
         }

@@ -357,8 +357,9 @@ impl Accel {
                 return tri;
             }
             let nearest = Nearest::new(ray, tmin, tmax);
-            return (self.others.iter())
-                .any(|(shape, prim)| *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure));
+            return (self.others.iter()).any(|(shape, prim)| {
+                *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure)
+            });
         }
         let tri = match &self.triangles {
             Triangles::Flat(blocks) if method == Method::Watertight => {

@@ -129,6 +129,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         viewer,
         scripted,
         image_rect: None,
+        cursor: None,
         mouse_look: false,
         esc_armed: false,
         frames_presented: 0,
@@ -150,6 +151,8 @@ struct App {
     scripted: Option<ScriptedRun>,
     /// Where the image was drawn last (egui points).
     image_rect: Option<egui::Rect>,
+    /// The mouse pointer in the window (physical pixels), while it is inside.
+    cursor: Option<(f64, f64)>,
     mouse_look: bool,
     esc_armed: bool,
     frames_presented: u64,
@@ -186,6 +189,18 @@ impl App {
         }
         self.viewer.pump();
         self.request_redraw();
+    }
+
+    /// Whether the mouse pointer is over the image: there the camera takes the wheel and the
+    /// right button, even though egui reports the pointer as its own (the image is drawn in
+    /// egui's central panel).
+    fn pointer_over_image(&self) -> bool {
+        let (Some((x, y)), Some(rect), Some(fw)) = (self.cursor, self.image_rect, &self.framework)
+        else {
+            return false;
+        };
+        let ppp = fw.pixels_per_point();
+        rect.contains(egui::pos2(x as f32 / ppp, y as f32 / ppp))
     }
 
     fn set_mouse_look(&mut self, on: bool) {
@@ -501,19 +516,25 @@ impl ApplicationHandler<AppEvent> for App {
                 self.key(event_loop, key, pressed);
                 window.request_redraw();
             }
+            WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = Some((position.x, position.y));
+            }
+            WindowEvent::CursorLeft { .. } => self.cursor = None,
             WindowEvent::MouseInput {
                 state,
                 button: MouseButton::Right,
                 ..
             } => {
                 let pressed = state == ElementState::Pressed;
-                if pressed && !egui_pointer {
+                if pressed && (self.pointer_over_image() || !egui_pointer) {
                     self.set_mouse_look(true);
                 } else if !pressed && self.mouse_look {
                     self.set_mouse_look(false);
                 }
             }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed && !egui_pointer => {
+            WindowEvent::MouseWheel { delta, .. }
+                if self.pointer_over_image() || (!response.consumed && !egui_pointer) =>
+            {
                 let lines = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y as f64,
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
