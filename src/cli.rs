@@ -98,8 +98,9 @@ pub enum Precision {
 /// What to render and from where: shared by `render` and `bench`.
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
-    /// `cornell` for the built-in lab Cornell box, or the path of an OBJ file (triangulated;
-    /// Kd colours from its .mtl; the camera is placed to frame the model).
+    /// `cornell` for the built-in lab Cornell box, a `.scene` file (the transform-stack scene
+    /// format: see the README), or the path of an OBJ file (triangulated; Kd colours from its
+    /// .mtl; the camera is placed to frame the model).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Image width in pixels (1..=16384).
@@ -116,12 +117,14 @@ pub struct ViewArgs {
     /// points down.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub camera: Option<DVec3>,
-    /// Camera yaw in degrees, about the y axis; positive turns right.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub yaw: f64,
-    /// Camera pitch in degrees, about the camera's x axis; positive looks up.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub pitch: f64,
+    /// Camera yaw in degrees, about the y axis; positive turns right (default 0, or the
+    /// `.scene` file's camera).
+    #[arg(long, allow_hyphen_values = true)]
+    pub yaw: Option<f64>,
+    /// Camera pitch in degrees, about the camera's x axis; positive looks up (default 0, or
+    /// the `.scene` file's camera).
+    #[arg(long, allow_hyphen_values = true)]
+    pub pitch: Option<f64>,
     /// Lab step (shading).
     #[arg(long, default_value = "flat", value_parser = lab_step_parser())]
     pub step: LabStep,
@@ -210,12 +213,12 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
     Ok(DVec3::from_array(v))
 }
 
-/// Loads `cornell` or an OBJ file.
+/// Loads `cornell`, a `.scene` file or an OBJ file.
 pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
     if spec == "cornell" {
         return Ok(Scene::cornell());
     }
-    Ok(scene::load_obj_file(Path::new(spec), frame)?)
+    Scene::load(Path::new(spec), frame).map_err(anyhow::Error::msg)
 }
 
 /// The scene, camera and settings a `ViewArgs` asks for.
@@ -230,18 +233,26 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         cracks: v.cracks,
     };
     settings.validate()?;
-    let focal = v.focal.unwrap_or(v.width as f64);
     let mut scene = load_scene(&v.scene, v.obj_frame)
         .with_context(|| format!("loading scene '{}'", v.scene))?;
     scene.set_accel(v.accel);
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    let (yaw, pitch) = (v.yaw.to_radians(), v.pitch.to_radians());
-    let position = match (v.camera, v.scene.as_str()) {
-        (Some(pos), _) => pos,
-        (None, "cornell") => Camera::cornell(v.width).position(),
-        (None, _) => {
+    // The flags win; then a `.scene` file's camera; then the lab's or one framing the model.
+    let start = scene.camera;
+    let yaw = v.yaw.or(start.map(|c| c.yaw)).unwrap_or(0.0).to_radians();
+    let pitch = v
+        .pitch
+        .or(start.map(|c| c.pitch))
+        .unwrap_or(0.0)
+        .to_radians();
+    let focal = (v.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * v.width as f64);
+    let position = match (v.camera, start, v.scene.as_str()) {
+        (Some(pos), _, _) => pos,
+        (None, Some(c), _) => DVec3::from_array(c.position),
+        (None, None, "cornell") => Camera::cornell(v.width).position(),
+        (None, None, _) => {
             let bounds = scene.bounds().context("empty scene")?;
             CameraController::framing(bounds, v.width, v.height).position
         }
@@ -324,8 +335,8 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         settings.spp,
         settings.method,
         camera.position(),
-        args.view.yaw,
-        args.view.pitch,
+        camera.forward().x.atan2(camera.forward().z).to_degrees(),
+        (-camera.forward().y).asin().to_degrees(),
         camera.focal
     );
     let mut rgba = vec![0u8; settings.buffer_len()];
@@ -375,7 +386,7 @@ fn read_text(path: &Path) -> Result<String> {
 
 /// Runs `raylab trace`; the whole output is built before anything is printed.
 pub fn trace(args: &TraceArgs) -> Result<()> {
-    let scene_text = read_text(&args.scene)?;
+    let scene_text = scene::file::read_scene_text(&args.scene).map_err(anyhow::Error::msg)?;
     let rays_text = read_text(&args.rays)?;
     let (sf, rf) = (
         args.scene.display().to_string(),

@@ -109,6 +109,13 @@ impl CameraController {
         Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal)
     }
 
+    /// The starting pose a `.scene` file names, for a scene `scene_size` across.
+    pub fn from_scene_camera(c: &crate::scene::SceneCamera, scene_size: f64) -> Self {
+        let position = DVec3::from_array(c.position);
+        let (yaw, pitch) = (c.yaw.to_radians(), c.pitch.to_radians());
+        Self::new(position, yaw, pitch, c.focal_ratio(), scene_size)
+    }
+
     /// Back to the starting pose.
     pub fn reset(&mut self) {
         (self.position, self.yaw, self.pitch, self.focal_ratio) = self.home;

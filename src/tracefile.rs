@@ -1,8 +1,8 @@
 //! The text formats of `raylab trace`, the intersection code's outside interface.
 //!
-//! Scene file: one primitive per line, `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` or
-//! `sphere cx cy cz r`; a primitive's index is its 0-based position among primitive lines;
-//! blank lines and lines starting with `#` are skipped. Ray file: one ray per line,
+//! Scene file: the `.scene` format ([`crate::scene::file`]); its simplest form is one
+//! primitive per line, `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` or `sphere cx cy cz r`; a primitive's
+//! index is its 0-based position among primitives; `#` starts a comment. Ray file: one ray per line,
 //! `ox oy oz dx dy dz tmin tmax` (`tmax` may be `inf`); d is used exactly as given (not
 //! normalised). Numbers are parsed directly in the chosen precision (correctly rounded, so an
 //! f32 run never rounds twice). Output: per ray `hit <t> <index>` or `miss`, t printed with
@@ -16,18 +16,10 @@ use crate::accel;
 use crate::geometry::{Method, Ray, Shape};
 use crate::math::Real;
 use std::fmt::Write;
+use std::path::Path;
 
-/// A parse error with its place.
-#[derive(Debug, thiserror::Error, PartialEq, Eq)]
-#[error("{file}:{line}: {message}")]
-pub struct TraceError {
-    /// The file name as given.
-    pub file: String,
-    /// 1-based line number.
-    pub line: usize,
-    /// What is wrong.
-    pub message: String,
-}
+/// A parse error with its place (the scene file's and the ray file's).
+pub use crate::scene::file::FileError as TraceError;
 
 /// A ray with its open interval (tmin, tmax).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,40 +64,14 @@ fn all_finite<T: Real>(xs: &[T], what: &str) -> Result<(), String> {
     }
 }
 
-/// Parses a scene file.
+/// Parses a scene file: the `.scene` format ([`crate::scene::file`]); meshes it names are
+/// read relative to `file`'s directory.
 pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, TraceError> {
-    data_lines(text)
-        .map(|(line, words)| {
-            let shape = match words[0] {
-                "tri" => numbers::<T>(&words[1..], 9, "tri").and_then(|x| {
-                    all_finite(&x, "tri")?;
-                    Ok(Shape::Triangle([
-                        [x[0], x[1], x[2]],
-                        [x[3], x[4], x[5]],
-                        [x[6], x[7], x[8]],
-                    ]))
-                }),
-                "sphere" => numbers::<T>(&words[1..], 4, "sphere").and_then(|x| {
-                    all_finite(&x, "sphere")?;
-                    if x[3] <= T::zero() {
-                        return Err(format!("sphere radius {} must be > 0", x[3]));
-                    }
-                    Ok(Shape::Sphere {
-                        centre: [x[0], x[1], x[2]],
-                        radius: x[3],
-                    })
-                }),
-                other => Err(format!(
-                    "unknown primitive '{other}' (expected 'tri' or 'sphere')"
-                )),
-            };
-            shape.map_err(|message| TraceError {
-                file: file.to_string(),
-                line,
-                message,
-            })
-        })
-        .collect()
+    let dir = Path::new(file).parent().unwrap_or(Path::new(""));
+    let load_mesh = |p: &Path, frame, color| {
+        crate::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
+    };
+    Ok(crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?.shapes)
 }
 
 /// Parses a ray file.

@@ -525,7 +525,12 @@ fn trace_rejects_malformed_input_with_file_and_line() {
         ("sphere 0 0 nan 1\n", ":1: 'nan' is NaN"),
         ("sphere 0 0 inf 1\n", "not finite"),
         ("tri 0 0 1 1 0 1 0 x 1\n", "'x' is not a number"),
-        ("cube 1 2 3\n", "unknown primitive 'cube'"),
+        ("cube 1 2 3\n", "unknown statement 'cube'"),
+        ("push\npop\npop\n", ":3: pop without a matching push"),
+        (
+            "scale 1 2 3\nsphere 0 0 0 1\n",
+            ":2: a sphere under a non-uniform scale",
+        ),
     ];
     for (text, needle) in scene_cases {
         let s = write(dir.path(), "bad_scene.txt", text);
@@ -707,5 +712,89 @@ fn every_accelerator_renders_the_same_image() {
     assert_eq!(
         images[0], images[3],
         "brute, the old name of flat, still works"
+    );
+}
+
+#[test]
+fn scene_files_render_and_trace_through_the_transform_stack() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/cornell_spheres.scene"
+    );
+    let out = dir.path().join("spheres.png");
+    let o = raylab(&[
+        "render",
+        "--scene",
+        example,
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--step",
+        "shadows",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (w, h, px) = read_png(&out);
+    assert_eq!((w, h), (64, 48));
+    // The white sphere on the short block: the image differs from the plain Cornell box.
+    let plain = dir.path().join("plain.png");
+    let args = [
+        "render", "--width", "64", "--height", "48", "--step", "shadows", "--out",
+    ];
+    let o = raylab(&[&args[..], &[plain.to_str().unwrap()]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let differ = (px.chunks(4).zip(read_png(&plain).2.chunks(4)))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        differ > 100,
+        "{differ} pixels differ from the box without spheres"
+    );
+
+    // A bad scene: exit 2, file and line, no image.
+    let bad = write(
+        dir.path(),
+        "bad.scene",
+        "cornell\npush\nscale 1 2 1\nsphere 0 0 0 1\n",
+    );
+    let out = dir.path().join("bad.png");
+    let o = raylab(&["render", "--scene", &bad, "--out", out.to_str().unwrap()]);
+    assert_fails(&o, 2, &["bad.scene:4:", "non-uniform scale"]);
+    assert!(!out.exists());
+
+    // trace: the triangle z = 0 moved to z = 5 by the stack, then turned a quarter about z
+    // (exact); the ray along +z from the origin hits it at t = 5 exactly.
+    let scene = write(
+        dir.path(),
+        "moved.scene",
+        "translate 0 0 5\nrotate z 90\ntri -1 -1 0 1 -1 0 0 1 0\n",
+    );
+    let rays = write(
+        dir.path(),
+        "rays.txt",
+        "0 0 0 0 0 1 0 inf\n0 0 0 0 0 -1 0 inf\n",
+    );
+    let o = raylab(&["trace", "--scene", &scene, "--rays", &rays]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "hit 5 0\nmiss\n");
+    // In f64 the same primitive; t within the stated bound (not yet correctly rounded: the
+    // accuracy issue's work).
+    let o = raylab(&[
+        "trace",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--precision",
+        "f64",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let t: f64 = text.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!(
+        text.ends_with(" 0\nmiss\n") && (t - 5.0).abs() < 1e-14,
+        "{text}"
     );
 }

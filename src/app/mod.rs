@@ -107,7 +107,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         None => None,
     };
     let scene = match &opts.scene {
-        Some(p) => raylab::scene::load_obj_file(p, opts.obj_frame)?,
+        Some(p) => Scene::load(p, opts.obj_frame).map_err(anyhow::Error::msg)?,
         None => Scene::cornell(),
     };
     let event_loop = EventLoop::<AppEvent>::with_user_event().build().map_err(|e| {

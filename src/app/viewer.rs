@@ -295,7 +295,7 @@ impl Viewer {
         let proxy = self.proxy.clone();
         let frame = self.obj_frame;
         std::thread::spawn(move || {
-            let result = raylab::scene::load_obj_file(&path, frame).map_err(|e| e.to_string());
+            let result = Scene::load(&path, frame);
             let _ = proxy.send_event(AppEvent::SceneLoaded(path, result));
         });
     }
@@ -312,8 +312,10 @@ impl Viewer {
             }
         };
         let (w, h) = self.full_size();
-        if let Some(bounds) = scene.bounds() {
-            self.controller = CameraController::framing(bounds, w, h);
+        match (scene.camera, scene.bounds()) {
+            (Some(c), _) => self.controller = CameraController::from_scene_camera(&c, scene.size()),
+            (None, Some(bounds)) => self.controller = CameraController::framing(bounds, w, h),
+            (None, None) => {}
         }
         self.view.light = scene.light.position;
         self.set_status(format!(
@@ -363,10 +365,12 @@ impl Viewer {
     }
 }
 
-/// The starting controller: the lab camera for the Cornell box, a framing one for a model.
+/// The starting controller: a `.scene` file's camera, the lab camera for the Cornell box, a
+/// framing one for a model.
 fn controller_for(scene: &Scene, cornell: bool) -> CameraController {
-    match (cornell, scene.bounds()) {
-        (false, Some(b)) => CameraController::framing(b, 4, 3),
+    match (scene.camera, cornell, scene.bounds()) {
+        (Some(c), _, _) => CameraController::from_scene_camera(&c, scene.size()),
+        (None, false, Some(b)) => CameraController::framing(b, 4, 3),
         _ => CameraController::cornell(),
     }
 }

@@ -12,6 +12,46 @@
 
 use glam::{DMat3, DMat4, DVec3, DVec4};
 
+/// sin and cos of an angle in degrees: exactly 0 and ±1 at multiples of 90°, so a quarter
+/// turn maps axis-aligned geometry to axis-aligned geometry to the last bit.
+pub fn sin_cos_degrees(deg: f64) -> (f64, f64) {
+    // `%` is exact in floating point.
+    let r = deg % 360.0;
+    if r % 90.0 == 0.0 {
+        return match ((r / 90.0) as i64).rem_euclid(4) {
+            0 => (0.0, 1.0),
+            1 => (1.0, 0.0),
+            2 => (0.0, -1.0),
+            _ => (-1.0, 0.0),
+        };
+    }
+    r.to_radians().sin_cos()
+}
+
+/// The rotations about +x, +y and +z by the angle whose sine and cosine are `(s, c)`.
+fn rotation_about(axis: usize, (s, c): (f64, f64)) -> DMat4 {
+    match axis {
+        0 => DMat4::from_cols(
+            DVec4::new(1.0, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, c, s, 0.0),
+            DVec4::new(0.0, -s, c, 0.0),
+            DVec4::W,
+        ),
+        1 => DMat4::from_cols(
+            DVec4::new(c, 0.0, -s, 0.0),
+            DVec4::Y,
+            DVec4::new(s, 0.0, c, 0.0),
+            DVec4::W,
+        ),
+        _ => DMat4::from_cols(
+            DVec4::new(c, s, 0.0, 0.0),
+            DVec4::new(-s, c, 0.0, 0.0),
+            DVec4::Z,
+            DVec4::W,
+        ),
+    }
+}
+
 /// Rotation about +x by `a` radians (the lecture's Rx): y turns towards z.
 pub fn rotation_x(a: f64) -> DMat4 {
     let (s, c) = a.sin_cos();
@@ -130,6 +170,13 @@ impl TransformStack {
     /// Post-multiplies a rotation about z by `a` radians.
     pub fn rotate_z(&mut self, a: f64) -> &mut Self {
         let r = rotation_z(a);
+        self.apply(r, r.transpose())
+    }
+
+    /// Post-multiplies a rotation about axis `axis` (0 = x, 1 = y, 2 = z) by `deg` degrees,
+    /// exact at multiples of 90° ([`sin_cos_degrees`]).
+    pub fn rotate_degrees(&mut self, axis: usize, deg: f64) -> &mut Self {
+        let r = rotation_about(axis, sin_cos_degrees(deg));
         self.apply(r, r.transpose())
     }
 

@@ -1,6 +1,7 @@
 //! Scenes: primitives with one colour each, a point light and the lab's constant indirect term.
 
 pub mod cornell;
+pub mod file;
 pub mod obj;
 
 use crate::accel::{Accel, AccelChoice};
@@ -8,6 +9,7 @@ use crate::geometry::Shape;
 use crate::math::real::V3;
 use std::sync::{Arc, OnceLock};
 
+pub use file::{load_scene_file, SceneCamera};
 pub use obj::{load_obj_file, load_obj_str, ObjError, ObjFrame};
 
 /// A point light.
@@ -37,6 +39,10 @@ pub struct Scene {
     pub ambient: V3<f32>,
     /// What loading it had to skip or guess (shown to the user, never fatal).
     pub warnings: Vec<String>,
+    /// The starting camera a `.scene` file names, if any.
+    pub camera: Option<SceneCamera>,
+    /// A `.scene` file's push levels (the transform-stack inspector); empty otherwise.
+    pub levels: Vec<file::Level>,
     accel_choice: AccelChoice,
     accel: OnceLock<Arc<Accel>>,
 }
@@ -50,6 +56,7 @@ impl PartialEq for Scene {
             &self.light,
             &self.ambient,
             &self.warnings,
+            (&self.camera, &self.levels),
         ) == (
             &o.name,
             &o.shapes,
@@ -57,6 +64,7 @@ impl PartialEq for Scene {
             &o.light,
             &o.ambient,
             &o.warnings,
+            (&o.camera, &o.levels),
         )
     }
 }
@@ -81,6 +89,8 @@ impl Scene {
             light,
             ambient,
             warnings: Vec::new(),
+            camera: None,
+            levels: Vec::new(),
             accel_choice: AccelChoice::Auto,
             accel: OnceLock::new(),
         }
@@ -96,6 +106,23 @@ impl Scene {
     pub fn set_accel(&mut self, choice: AccelChoice) {
         self.accel_choice = choice;
         self.accel = OnceLock::new();
+    }
+
+    /// Loads a `.scene` file or an OBJ file (`obj_frame`: how its coordinates are read), by the
+    /// file's extension.
+    pub fn load(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("scene") => load_scene_file(path),
+            _ => load_obj_file(path, obj_frame).map_err(|e| e.to_string()),
+        }
+    }
+
+    /// The bounding box's diagonal (1 for an empty scene): the scene's size for camera moves.
+    pub fn size(&self) -> f64 {
+        self.bounds().map_or(1.0, |(lo, hi)| {
+            let d = [0, 1, 2].map(|k| hi[k] as f64 - lo[k] as f64);
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
     }
 
     /// The built-in lab Cornell box (30 triangles), embedded in the binary.

@@ -20,7 +20,7 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 /// How an OBJ file's coordinates map to the world.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ObjFrame {
     /// The usual y-up model: x and y are negated (upright in the y-down lab world).
     #[default]
@@ -126,6 +126,16 @@ pub enum ObjError {
 /// Loads an OBJ file (and the material libraries it names, relative to it) as a scene, with
 /// a light placed for its size.
 pub fn load_obj_file(path: &Path, frame: ObjFrame) -> Result<Scene, ObjError> {
+    load_obj_file_coloured(path, frame, DEFAULT_COLOR)
+}
+
+/// [`load_obj_file`] with `default` as the colour of faces that name no material with a
+/// diffuse colour (a `.scene` file's current `color`).
+pub fn load_obj_file_coloured(
+    path: &Path,
+    frame: ObjFrame,
+    default: [f32; 3],
+) -> Result<Scene, ObjError> {
     let io = |source| ObjError::Io {
         path: path.to_path_buf(),
         source,
@@ -145,7 +155,7 @@ pub fn load_obj_file(path: &Path, frame: ObjFrame) -> Result<Scene, ObjError> {
     let name = path.display().to_string();
     let text = to_text(&name, bytes)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    load_obj_str(&name, &text, frame, |mtl: &str| {
+    load_obj_str_coloured(&name, &text, frame, default, |mtl: &str| {
         let p = dir.join(mtl);
         std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
     })
@@ -174,6 +184,17 @@ pub fn load_obj_str(
     name: &str,
     text: &str,
     frame: ObjFrame,
+    load_mtl: impl Fn(&str) -> Result<String, String>,
+) -> Result<Scene, ObjError> {
+    load_obj_str_coloured(name, text, frame, DEFAULT_COLOR, load_mtl)
+}
+
+/// [`load_obj_str`] with `default` as the colour of faces without a diffuse material colour.
+fn load_obj_str_coloured(
+    name: &str,
+    text: &str,
+    frame: ObjFrame,
+    default: [f32; 3],
     load_mtl: impl Fn(&str) -> Result<String, String>,
 ) -> Result<Scene, ObjError> {
     if let Some(pos) = text.find('\0') {
@@ -229,7 +250,7 @@ pub fn load_obj_str(
         .iter()
         .map(|m| match m.diffuse {
             Some(kd) if kd.iter().all(|c| c.is_finite()) => kd.map(|c| c.clamp(0.0, 1.0)),
-            _ => DEFAULT_COLOR,
+            _ => default,
         })
         .collect();
 
@@ -244,7 +265,7 @@ pub fn load_obj_str(
         let color = mesh
             .material_id
             .and_then(|id| colors.get(id).copied())
-            .unwrap_or(DEFAULT_COLOR);
+            .unwrap_or(default);
         let vertex = |i: u32| -> Option<[f32; 3]> {
             let k = 3 * i as usize;
             mesh.positions.get(k..k + 3).map(|p| match frame {

@@ -1,0 +1,609 @@
+//! The `.scene` format: scenes built with the lecture's transform stack.
+//!
+//! One statement per line; `#` starts a comment that runs to the end of the line; blank lines
+//! and surrounding whitespace are ignored.
+//! ```text
+//! tri x0 y0 z0 x1 y1 z1 x2 y2 z2   a triangle, vertices in the current frame
+//! sphere cx cy cz r                a sphere, centre and radius in the current frame
+//! mesh PATH.obj [yup|lab]          an OBJ's triangles (PATH relative to the scene file)
+//! cornell                          the built-in lab Cornell box (its 30 triangles)
+//! color r g b                      linear-RGB diffuse colour of the primitives that follow
+//! push | pop                       save / restore the current transform and colour
+//! translate x y z                  M <- M*T
+//! rotate x|y|z DEG                 M <- M*R
+//! scale s | scale sx sy sz         M <- M*S
+//! light x y z [p]                  the point light, in the current frame; power p per channel
+//! ambient r g b                    the lab's indirect term N
+//! camera x y z [yaw DEG] [pitch DEG] [fov DEG]   the starting camera, in world coordinates
+//! ```
+//! Writing translate, rotate, scale gives the lecture's M = T·R·S: a vertex is scaled first,
+//! then rotated, then translated. Transforms in another order within one push level get a
+//! warning naming the line (the lecture: pick an order and stick with it).
+//!
+//! A primitive's index is its position among all primitives in file order (a mesh adds its
+//! triangles in its file order, `cornell` its 30). World coordinates are the current matrix
+//! (f64) applied to the file's numbers, then rounded once to the chosen precision; where the
+//! matrix is the identity the numbers are read straight in that precision, so the files of
+//! `raylab trace` (only `tri` and `sphere`) mean exactly what they meant before. Rotations
+//! by multiples of 90° are exact ([`sin_cos_degrees`]), and so are translations and scales by
+//! values exact in f64.
+//!
+//! Errors name the file and line: an unknown statement, a missing or extra number, NaN or
+//! infinity, a `pop` without `push`, a sphere under a non-uniform scale (an ellipsoid), a mesh
+//! that fails to load (with the mesh's own error).
+//!
+//! [`sin_cos_degrees`]: crate::math::transform::sin_cos_degrees
+
+use super::obj::{self, ObjFrame};
+use super::{cornell, PointLight, Scene};
+use crate::geometry::Shape;
+use crate::math::{Real, TransformStack};
+use glam::DVec3;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The colour of primitives before any `color` statement.
+pub const DEFAULT_COLOR: [f32; 3] = obj::DEFAULT_COLOR;
+
+/// The lab light's power per channel, the default of `light`.
+pub const DEFAULT_POWER: f32 = 14.0;
+
+/// A parse error with its place.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("{file}:{line}: {message}")]
+pub struct FileError {
+    /// The file name as given.
+    pub file: String,
+    /// 1-based line number.
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The starting camera of a `camera` statement.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneCamera {
+    /// Position in world coordinates.
+    pub position: [f64; 3],
+    /// Degrees; positive turns right.
+    pub yaw: f64,
+    /// Degrees; positive looks up.
+    pub pitch: f64,
+    /// Horizontal field of view in degrees, if given (else the lab's f = W).
+    pub fov: Option<f64>,
+}
+
+impl SceneCamera {
+    /// The lab's camera: (0, 0, −3.001) looking along +z, f = W.
+    pub const LAB: SceneCamera = SceneCamera {
+        position: [0.0, 0.0, -3.001],
+        yaw: 0.0,
+        pitch: 0.0,
+        fov: None,
+    };
+
+    /// Focal length over image width: 1 (the lab's f = W) without a field of view.
+    pub fn focal_ratio(&self) -> f64 {
+        self.fov
+            .map_or(1.0, |fov| 1.0 / (2.0 * (fov.to_radians() / 2.0).tan()))
+    }
+}
+
+/// One push level of the file: the transform-stack inspector's node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    /// The `push` line (0 for the file's top level).
+    pub line: usize,
+    /// Nesting depth (0 at the top).
+    pub depth: usize,
+    /// The statements written directly in this level, with their lines.
+    pub statements: Vec<(usize, String)>,
+    /// The matrix at the level's end (row-major rows of `world_from_object`).
+    pub world_from_object: [[f64; 4]; 4],
+    /// The primitives added directly in this level: indices `first..end`, possibly several
+    /// runs (nested levels interleave).
+    pub primitives: Vec<std::ops::Range<u32>>,
+}
+
+/// What a `.scene` file describes, in precision `T`.
+#[derive(Clone, Debug)]
+pub struct Description<T: Real> {
+    pub shapes: Vec<Shape<T>>,
+    pub colors: Vec<[f32; 3]>,
+    /// The `light` statement, if any: position (world, f32) and power.
+    pub light: Option<PointLight>,
+    pub ambient: Option<[f32; 3]>,
+    pub camera: Option<SceneCamera>,
+    /// Whether `cornell` was used (the lab's light and camera are then the defaults).
+    pub has_cornell: bool,
+    pub warnings: Vec<String>,
+    /// The push levels in the order their `push` (or the file) starts.
+    pub levels: Vec<Level>,
+}
+
+/// Loads OBJ meshes for `mesh` statements: `(path, frame, current colour)`.
+pub type MeshLoader<'a> = dyn Fn(&Path, ObjFrame, [f32; 3]) -> Result<Scene, String> + 'a;
+
+/// What `push` saves.
+#[derive(Clone)]
+struct Saved {
+    color: [f32; 3],
+    /// The rank of the last transform statement of the level (translate 0, rotate 1, scale 2).
+    last_rank: Option<(u8, usize)>,
+    level: usize,
+}
+
+struct Parser<'a, T: Real> {
+    file: &'a str,
+    stack: TransformStack,
+    saved: Vec<Saved>,
+    current: Saved,
+    out: Description<T>,
+    light_line: Option<usize>,
+    meshes: HashMap<(PathBuf, ObjFrame, [u32; 3]), Scene>,
+}
+
+/// Parses `.scene` text. `dir` is where mesh paths are relative to; `load_mesh` loads them.
+pub fn parse<T: Real>(
+    file: &str,
+    text: &str,
+    dir: &Path,
+    load_mesh: &MeshLoader,
+) -> Result<Description<T>, FileError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut p = Parser::<T> {
+        file,
+        stack: TransformStack::new(),
+        saved: Vec::new(),
+        current: Saved {
+            color: DEFAULT_COLOR,
+            last_rank: None,
+            level: 0,
+        },
+        out: Description {
+            shapes: Vec::new(),
+            colors: Vec::new(),
+            light: None,
+            ambient: None,
+            camera: None,
+            has_cornell: false,
+            warnings: Vec::new(),
+            levels: vec![Level {
+                line: 0,
+                depth: 0,
+                statements: Vec::new(),
+                world_from_object: identity_rows(),
+                primitives: Vec::new(),
+            }],
+        },
+        light_line: None,
+        meshes: HashMap::new(),
+    };
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.split('#').next().unwrap_or("").trim();
+        if content.is_empty() {
+            continue;
+        }
+        let words: Vec<&str> = content.split_whitespace().collect();
+        p.statement(line, &words, dir, load_mesh)
+            .map_err(|message| FileError {
+                file: file.to_string(),
+                line,
+                message,
+            })?;
+    }
+    if !p.saved.is_empty() {
+        let open = p.out.levels[p.current.level].line;
+        p.warn(
+            open,
+            "push without a matching pop (the file ends inside this level)",
+        );
+    }
+    Ok(p.out)
+}
+
+fn identity_rows() -> [[f64; 4]; 4] {
+    glam::DMat4::IDENTITY.transpose().to_cols_array_2d()
+}
+
+/// Parses `expect` numbers (finite, as f64; see [`exact`] for reading them in `T`).
+fn numbers(words: &[&str], expect: &[usize], what: &str) -> Result<Vec<f64>, String> {
+    if !expect.contains(&words.len()) {
+        let want = match expect {
+            [n] => format!("{n} numbers"),
+            [a, b] => format!("{a} or {b} numbers"),
+            _ => unreachable!("one or two counts"),
+        };
+        return Err(format!("{what} needs {want}, found {}", words.len()));
+    }
+    words.iter().map(|w| number(w)).collect()
+}
+
+fn number(w: &str) -> Result<f64, String> {
+    match w.parse::<f64>() {
+        Ok(x) if x.is_nan() => Err(format!("'{w}' is NaN")),
+        Ok(x) if !x.is_finite() => Err(format!("'{w}' is not finite")),
+        Ok(x) => Ok(x),
+        Err(_) => Err(format!("'{w}' is not a number")),
+    }
+}
+
+/// `w` read straight in precision `T` (it parsed as a finite f64 already).
+fn exact<T: Real>(w: &str) -> T {
+    w.parse::<T>().unwrap_or_else(|_| T::of(f64::NAN))
+}
+
+impl<T: Real> Parser<'_, T> {
+    fn warn(&mut self, line: usize, message: &str) {
+        // (Whoever loads the scene shows its warnings.)
+        self.out
+            .warnings
+            .push(format!("{}:{line}: {message}", self.file));
+    }
+
+    fn identity(&self) -> bool {
+        self.stack.matrix() == glam::DMat4::IDENTITY
+    }
+
+    /// A point of the current frame in world coordinates, rounded once to `T`.
+    fn point(&self, words: &[&str], p: [f64; 3]) -> Result<[T; 3], String> {
+        if !self.identity() {
+            return self.transformed(p);
+        }
+        let v = [0, 1, 2].map(|k| exact::<T>(words[k]));
+        match v.iter().position(|c| !c.is_finite()) {
+            Some(k) => Err(format!(
+                "coordinate {} is not finite in this precision",
+                words[k]
+            )),
+            None => Ok(v),
+        }
+    }
+
+    fn transformed(&self, p: [f64; 3]) -> Result<[T; 3], String> {
+        let w = self.stack.transform_point(DVec3::from_array(p)).to_array();
+        let w = w.map(T::of);
+        match w.iter().all(|c| c.is_finite()) {
+            true => Ok(w),
+            false => Err(format!(
+                "the point {p:?} is not finite in the world ({w:?}) after the transform"
+            )),
+        }
+    }
+
+    /// The uniform scale of the current matrix's linear part, or `None` where it is not
+    /// uniform (to a relative 1e-12).
+    fn uniform_scale(&self) -> Option<f64> {
+        let m = self.stack.matrix();
+        let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| c.truncate());
+        let len = cols.map(|c| c.length());
+        let tol = 1e-12 * len[0];
+        let equal = (len[1] - len[0]).abs() <= tol && (len[2] - len[0]).abs() <= tol;
+        let dots = [
+            cols[0].dot(cols[1]),
+            cols[1].dot(cols[2]),
+            cols[0].dot(cols[2]),
+        ];
+        let orthogonal = dots.iter().all(|d| d.abs() <= 1e-12 * len[0] * len[0]);
+        (equal && orthogonal).then_some(len[0])
+    }
+
+    fn add(&mut self, shape: Shape<T>, color: [f32; 3]) {
+        let index = self.out.shapes.len() as u32;
+        self.out.shapes.push(shape);
+        self.out.colors.push(color);
+        let runs = &mut self.out.levels[self.current.level].primitives;
+        match runs.last_mut() {
+            Some(r) if r.end == index => r.end += 1,
+            _ => runs.push(index..index + 1),
+        }
+    }
+
+    fn transform(&mut self, line: usize, rank: u8, what: &str) {
+        let names = ["translate", "rotate", "scale"];
+        if let Some((last, last_line)) = self.current.last_rank {
+            if rank < last {
+                let message = format!(
+                    "{what} after {} (line {last_line}) in one push level: the lecture's fixed \
+                     order is translate, rotate, scale (M = T*R*S)",
+                    names[last as usize]
+                );
+                self.warn(line, &message);
+            }
+        }
+        self.current.last_rank = Some((rank, line));
+        let rows = self.stack.matrix().transpose().to_cols_array_2d();
+        self.out.levels[self.current.level].world_from_object = rows;
+    }
+
+    fn statement(
+        &mut self,
+        line: usize,
+        words: &[&str],
+        dir: &Path,
+        load_mesh: &MeshLoader,
+    ) -> Result<(), String> {
+        let (keyword, args) = (words[0], &words[1..]);
+        let level = self.current.level;
+        self.out.levels[level]
+            .statements
+            .push((line, words.join(" ")));
+        match keyword {
+            "tri" => {
+                let x = numbers(args, &[9], "tri")?;
+                let v = [0, 1, 2]
+                    .map(|i| self.point(&args[3 * i..], [x[3 * i], x[3 * i + 1], x[3 * i + 2]]));
+                let [a, b, c] = v;
+                self.add(Shape::Triangle([a?, b?, c?]), self.current.color);
+            }
+            "sphere" => {
+                let x = numbers(args, &[4], "sphere")?;
+                if x[3] <= 0.0 {
+                    return Err(format!("sphere radius {} must be > 0", args[3]));
+                }
+                let (centre, radius) = if self.identity() {
+                    let r = exact::<T>(args[3]);
+                    if !(r.is_finite() && r > T::zero()) {
+                        return Err(format!("sphere radius {r} must be > 0 and finite"));
+                    }
+                    (self.point(args, [x[0], x[1], x[2]])?, r)
+                } else {
+                    let s = self.uniform_scale().ok_or(
+                        "a sphere under a non-uniform scale would be an ellipsoid (scale all three \
+                         axes alike, or push/pop around the non-uniform scale)",
+                    )?;
+                    let r = T::of(x[3] * s);
+                    if !(r.is_finite() && r > T::zero()) {
+                        return Err(format!(
+                            "sphere radius {} is {r} after the transform",
+                            args[3]
+                        ));
+                    }
+                    (self.transformed([x[0], x[1], x[2]])?, r)
+                };
+                self.add(Shape::Sphere { centre, radius }, self.current.color);
+            }
+            "mesh" => {
+                let (path, frame) = match args {
+                    [path] => (path, ObjFrame::YUp),
+                    [path, frame] => (path, frame.parse::<ObjFrame>()?),
+                    _ => return Err("mesh needs a path and optionally yup or lab".into()),
+                };
+                let full = dir.join(path);
+                let color = self.current.color;
+                let key = (full.clone(), frame, color.map(f32::to_bits));
+                if !self.meshes.contains_key(&key) {
+                    let mesh = load_mesh(&full, frame, color)
+                        .map_err(|e| format!("mesh '{path}': {e}"))?;
+                    self.meshes.insert(key.clone(), mesh);
+                }
+                let mesh = self.meshes[&key].clone();
+                self.add_scene(&mesh)?;
+            }
+            "cornell" => {
+                if !args.is_empty() {
+                    return Err("cornell takes no numbers".into());
+                }
+                self.out.has_cornell = true;
+                self.add_scene(&cornell::scene())?;
+            }
+            "color" => {
+                let c = numbers(args, &[3], "color")?;
+                if c.iter().any(|x| *x < 0.0) {
+                    return Err(format!(
+                        "color {} {} {} has a negative channel",
+                        c[0], c[1], c[2]
+                    ));
+                }
+                self.current.color = [c[0] as f32, c[1] as f32, c[2] as f32];
+            }
+            "push" => {
+                if !args.is_empty() {
+                    return Err("push takes nothing".into());
+                }
+                self.stack.push();
+                self.saved.push(self.current.clone());
+                let depth = self.saved.len();
+                self.out.levels.push(Level {
+                    line,
+                    depth,
+                    statements: Vec::new(),
+                    world_from_object: self.stack.matrix().transpose().to_cols_array_2d(),
+                    primitives: Vec::new(),
+                });
+                self.current.level = self.out.levels.len() - 1;
+                self.current.last_rank = None;
+            }
+            "pop" => {
+                if !args.is_empty() {
+                    return Err("pop takes nothing".into());
+                }
+                let saved = self.saved.pop().ok_or("pop without a matching push")?;
+                self.stack.pop();
+                self.current = saved;
+            }
+            "translate" => {
+                let t = numbers(args, &[3], "translate")?;
+                self.stack.translate(DVec3::new(t[0], t[1], t[2]));
+                self.transform(line, 0, "translate");
+            }
+            "rotate" => {
+                let [axis, deg] = args else {
+                    return Err("rotate needs an axis (x, y or z) and an angle in degrees".into());
+                };
+                let axis = match *axis {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    other => return Err(format!("rotate axis '{other}' is not x, y or z")),
+                };
+                self.stack.rotate_degrees(axis, number(deg)?);
+                self.transform(line, 1, "rotate");
+            }
+            "scale" => {
+                let s = numbers(args, &[1, 3], "scale")?;
+                let s = match s[..] {
+                    [k] => DVec3::splat(k),
+                    _ => DVec3::new(s[0], s[1], s[2]),
+                };
+                if s.to_array().contains(&0.0) {
+                    return Err("a scale of 0 flattens everything after it".into());
+                }
+                self.stack.scale(s);
+                self.transform(line, 2, "scale");
+            }
+            "light" => {
+                let x = numbers(args, &[3, 4], "light")?;
+                if let Some(first) = self.light_line {
+                    return Err(format!("a scene has one light (given on line {first})"));
+                }
+                let p = x.get(3).copied().unwrap_or(DEFAULT_POWER as f64);
+                if p < 0.0 {
+                    return Err(format!("light power {p} is negative"));
+                }
+                let position = self.transformed([x[0], x[1], x[2]]);
+                let position = position.map(|w| w.map(|c| c.f64() as f32))?;
+                self.light_line = Some(line);
+                self.out.light = Some(PointLight {
+                    position,
+                    power: [p as f32; 3],
+                });
+            }
+            "ambient" => {
+                let n = numbers(args, &[3], "ambient")?;
+                if n.iter().any(|x| *x < 0.0) {
+                    return Err("ambient has a negative channel".into());
+                }
+                self.out.ambient = Some([n[0] as f32, n[1] as f32, n[2] as f32]);
+            }
+            "camera" => {
+                if args.len() < 3 {
+                    return Err(format!("camera needs x y z, found {} numbers", args.len()));
+                }
+                let p = numbers(&args[..3], &[3], "camera")?;
+                let mut camera = SceneCamera {
+                    position: [p[0], p[1], p[2]],
+                    yaw: 0.0,
+                    pitch: 0.0,
+                    fov: None,
+                };
+                let mut rest = args[3..].chunks(2);
+                let mut seen = Vec::new();
+                for pair in rest.by_ref() {
+                    let [key, value] = pair else {
+                        return Err(format!("camera option '{}' needs a value", pair[0]));
+                    };
+                    if seen.contains(key) {
+                        return Err(format!("camera option '{key}' given twice"));
+                    }
+                    seen.push(*key);
+                    let v = number(value)?;
+                    match *key {
+                        "yaw" => camera.yaw = v,
+                        "pitch" => camera.pitch = v,
+                        "fov" if v > 0.0 && v < 180.0 => camera.fov = Some(v),
+                        "fov" => return Err(format!("camera fov {v} is not in (0, 180) degrees")),
+                        other => {
+                            return Err(format!("camera option '{other}' is not yaw, pitch or fov"))
+                        }
+                    }
+                }
+                self.out.camera = Some(camera);
+            }
+            other => {
+                return Err(format!(
+                    "unknown statement '{other}' (expected tri, sphere, mesh, cornell, color, \
+                     push, pop, translate, rotate, scale, light, ambient or camera)"
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a loaded scene's primitives (a mesh, the Cornell box) in the current frame.
+    fn add_scene(&mut self, scene: &Scene) -> Result<(), String> {
+        let identity = self.identity();
+        for (shape, color) in scene.shapes.iter().zip(&scene.colors) {
+            let world = |p: [f32; 3]| -> Result<[T; 3], String> {
+                match identity {
+                    true => Ok(p.map(|c| T::of(c as f64))),
+                    false => self.transformed(p.map(f64::from)),
+                }
+            };
+            let shape = match shape {
+                Shape::Triangle([a, b, c]) => Shape::Triangle([world(*a)?, world(*b)?, world(*c)?]),
+                Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
+            };
+            self.add(shape, *color);
+        }
+        Ok(())
+    }
+}
+
+/// The largest `.scene` file read (the meshes it names have their own cap).
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Loads a `.scene` file as a renderable scene (f32), with its meshes relative to it.
+pub fn load_scene_file(path: &Path) -> Result<Scene, String> {
+    let name = path.display().to_string();
+    let text = read_scene_text(path)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let load_mesh = |p: &Path, frame, color| {
+        obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
+    };
+    let d = parse::<f32>(&name, &text, &dir, &load_mesh).map_err(|e| e.to_string())?;
+    Scene::from_description(&name, d)
+}
+
+/// A scene file's text: a regular file, at most [`MAX_SCENE_BYTES`], UTF-8.
+pub fn read_scene_text(path: &Path) -> Result<String, String> {
+    let name = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| format!("{name}: {e}"))?;
+    if !meta.is_file() {
+        return Err(format!("{name}: not a regular file"));
+    }
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(format!(
+            "{name}: {} bytes is more than a scene file may hold ({MAX_SCENE_BYTES})",
+            meta.len()
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+    String::from_utf8(bytes).map_err(|e| {
+        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        format!("{name}:{line}: not UTF-8 text")
+    })
+}
+
+impl Scene {
+    /// The scene a parsed `.scene` file describes: its light (else the lab's with `cornell`,
+    /// else one placed for the scene's size), ambient term (else the lab's) and camera.
+    pub fn from_description(name: &str, d: Description<f32>) -> Result<Scene, String> {
+        if d.shapes.is_empty() {
+            return Err(format!(
+                "{name}: no primitives (tri, sphere, mesh or cornell)"
+            ));
+        }
+        let mut scene = Scene::new(
+            name,
+            d.shapes,
+            d.colors,
+            cornell::LIGHT,
+            d.ambient.unwrap_or(cornell::AMBIENT),
+        );
+        scene.light = match (d.light, d.has_cornell) {
+            (Some(light), _) => light,
+            (None, true) => cornell::LIGHT,
+            (None, false) => Scene::light_for_bounds(scene.bounds().expect("not empty")),
+        };
+        // With the Cornell box and no camera statement: the lab's camera.
+        scene.camera = d.camera.or(d.has_cornell.then_some(SceneCamera::LAB));
+        scene.levels = d.levels;
+        scene.warnings = d.warnings;
+        Ok(scene)
+    }
+}

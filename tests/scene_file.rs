@@ -1,0 +1,341 @@
+//! The `.scene` format: every statement, the fixed transform order, push/pop restoring
+//! exactly, exact quarter turns, spheres under scales, every error with its line, meshes
+//! relative to the file, and the `trace` files of before meaning what they meant.
+
+use raylab::geometry::Shape;
+use raylab::scene::file::{parse, Description, FileError, SceneCamera};
+use raylab::scene::ObjFrame;
+use raylab::Scene;
+use std::path::Path;
+
+fn no_meshes(p: &Path, _: ObjFrame, _: [f32; 3]) -> Result<Scene, String> {
+    Err(format!("{}: no meshes in this test", p.display()))
+}
+
+fn parse32(text: &str) -> Result<Description<f32>, FileError> {
+    parse::<f32>("t.scene", text, Path::new(""), &no_meshes)
+}
+
+fn tri(d: &Description<f32>, i: usize) -> [[f32; 3]; 3] {
+    match d.shapes[i] {
+        Shape::Triangle(v) => v,
+        Shape::Sphere { .. } => panic!("primitive {i} is a sphere"),
+    }
+}
+
+fn sphere(d: &Description<f32>, i: usize) -> ([f32; 3], f32) {
+    match d.shapes[i] {
+        Shape::Sphere { centre, radius } => (centre, radius),
+        Shape::Triangle(_) => panic!("primitive {i} is a triangle"),
+    }
+}
+
+/// The error of `text`: its line and message.
+fn error(text: &str) -> (usize, String) {
+    let e = parse32(text).expect_err("an error");
+    assert_eq!(e.file, "t.scene");
+    assert!(e.to_string().starts_with(&format!("t.scene:{}: ", e.line)));
+    (e.line, e.message)
+}
+
+#[test]
+fn every_statement_is_read() {
+    let d = parse32(
+        "# a comment line\n\
+         tri 0 0 0 1 0 0 0 1 0   # a comment after a statement\n\
+         \n\
+         color 0.1 0.2 0.3\n\
+         sphere 1 2 3 0.5\n\
+         light 0 -1 0 20\n\
+         ambient 0.25 0.5 1\n\
+         camera 1 2 -3 yaw 10 pitch -5 fov 60\n\
+         cornell\n",
+    )
+    .unwrap();
+    assert_eq!(d.shapes.len(), 2 + 30);
+    assert_eq!(
+        tri(&d, 0),
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
+    assert_eq!(sphere(&d, 1), ([1.0, 2.0, 3.0], 0.5));
+    assert_eq!(d.colors[0], [0.75; 3], "the default colour");
+    assert_eq!(d.colors[1], [0.1, 0.2, 0.3]);
+    let light = d.light.unwrap();
+    assert_eq!((light.position, light.power), ([0.0, -1.0, 0.0], [20.0; 3]));
+    assert_eq!(d.ambient, Some([0.25, 0.5, 1.0]));
+    assert_eq!(
+        d.camera,
+        Some(SceneCamera {
+            position: [1.0, 2.0, -3.0],
+            yaw: 10.0,
+            pitch: -5.0,
+            fov: Some(60.0),
+        })
+    );
+    // `cornell` adds the lab box's 30 triangles with their own colours, in file order.
+    let lab = Scene::cornell();
+    assert_eq!(&d.shapes[2..], &lab.shapes[..]);
+    assert_eq!(&d.colors[2..], &lab.colors[..]);
+    assert!(d.has_cornell && d.warnings.is_empty());
+}
+
+#[test]
+fn translate_rotate_scale_is_the_lectures_t_r_s() {
+    // Scale first, then rotate, then translate: (1, 0, 0) -> (2, 0, 0) -> Rz 90: (0, 2, 0)
+    // -> (1, 4, 3). Quarter turns and these numbers are exact.
+    let d = parse32(
+        "translate 1 2 3\nrotate z 90\nscale 2\n\
+         tri 1 0 0 0 1 0 0 0 1\n",
+    )
+    .unwrap();
+    assert_eq!(
+        tri(&d, 0),
+        [[1.0, 4.0, 3.0], [-1.0, 2.0, 3.0], [1.0, 2.0, 5.0]]
+    );
+    assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+    // The same ops written in the other order give the other matrix, with a warning per
+    // out-of-order line.
+    let d = parse32("scale 2\nrotate z 90\ntranslate 1 2 3\ntri 1 0 0 0 1 0 0 0 1\n").unwrap();
+    // M = S * Rz * T: (1,0,0) -> T: (2,2,3) -> Rz: (-2,2,3) -> S: (-4,4,6).
+    assert_eq!(tri(&d, 0)[0], [-4.0, 4.0, 6.0]);
+    assert_eq!(d.warnings.len(), 2, "{:?}", d.warnings);
+    assert!(d.warnings[0].starts_with("t.scene:2: rotate after scale (line 1)"));
+    assert!(d.warnings[1].starts_with("t.scene:3: translate after rotate (line 2)"));
+    // A new push level starts its own order.
+    let d = parse32("scale 2\npush\ntranslate 1 0 0\npop\ntri 0 0 0 1 0 0 0 1 0\n").unwrap();
+    assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+}
+
+#[test]
+fn push_and_pop_restore_the_transform_and_colour_exactly() {
+    let d = parse32(
+        "color 0.5 0.5 0.5\n\
+         tri 0.1 0.2 0.3 1.1 0.2 0.3 0.1 1.7 0.3\n\
+         push\n  color 1 0 0\n  translate 0.1 0.2 0.3\n  rotate y 33\n  scale 1.7\n\
+           push\n    rotate x 12.5\n    tri 1 2 3 4 5 6 7 8 9\n  pop\n  tri 1 2 3 4 5 6 7 8 9\n\
+         pop\n\
+         tri 0.1 0.2 0.3 1.1 0.2 0.3 0.1 1.7 0.3\n",
+    )
+    .unwrap();
+    assert_eq!(tri(&d, 0), tri(&d, 3), "bit for bit after the pop");
+    assert_eq!(d.colors[3], [0.5; 3]);
+    assert_eq!(d.colors[1], [1.0, 0.0, 0.0]);
+    assert_ne!(
+        tri(&d, 1),
+        tri(&d, 2),
+        "the inner rotation applied only inside"
+    );
+    // The levels for the inspector: the file, then two pushes, with their primitives and
+    // matrices.
+    assert_eq!(d.levels.len(), 3);
+    assert_eq!((d.levels[1].line, d.levels[1].depth), (3, 1));
+    assert_eq!((d.levels[2].line, d.levels[2].depth), (8, 2));
+    assert_eq!(d.levels[0].primitives, vec![0..1, 3..4]);
+    assert_eq!(d.levels[1].primitives, vec![2..3]);
+    assert_eq!(d.levels[2].primitives, vec![1..2]);
+    let m = d.levels[1].world_from_object;
+    assert_eq!([m[0][3], m[1][3], m[2][3], m[3][3]], [0.1, 0.2, 0.3, 1.0]);
+}
+
+#[test]
+fn quarter_turns_are_exact() {
+    let cube = "tri 0 0 0 1 0 0 1 1 0\ntri 0.5 0.25 0.75 1 0 1 0 1 1\n";
+    for axis in ["x", "y", "z"] {
+        for deg in [90, 180, 270, -90, 450, -720] {
+            let d = parse32(&format!("rotate {axis} {deg}\n{cube}")).unwrap();
+            for i in 0..2 {
+                for c in tri(&d, i).iter().flatten() {
+                    assert!(
+                        [0.0, 1.0, -1.0, 0.5, -0.5, 0.25, -0.25, 0.75, -0.75].contains(c),
+                        "rotate {axis} {deg}: coordinate {c} is not exact"
+                    );
+                }
+            }
+            // Four quarter turns are the identity, to the bit.
+            let d4 = parse32(&format!(
+                "rotate {axis} {deg}\nrotate {axis} {deg}\nrotate {axis} {deg}\nrotate {axis} {deg}\n{cube}"
+            ))
+            .unwrap();
+            let d0 = parse32(cube).unwrap();
+            assert_eq!(d4.shapes, d0.shapes, "rotate {axis} {deg} four times");
+        }
+    }
+}
+
+#[test]
+fn spheres_take_uniform_scales_and_refuse_others() {
+    let d = parse32("translate 1 0 0\nrotate y 30\nscale -2\nsphere 0 0 0 0.25\n").unwrap();
+    let (centre, radius) = sphere(&d, 0);
+    assert_eq!(centre, [1.0, 0.0, 0.0]);
+    assert_eq!(radius, 0.5, "|s| times the radius");
+    let (line, m) = error("tri 0 0 0 1 0 0 0 1 0\nscale 1 2 1\n\nsphere 0 0 0 1\n");
+    assert_eq!(line, 4);
+    assert!(m.contains("non-uniform scale"), "{m}");
+    // Inside a push level the scale is undone by the pop.
+    let d = parse32("push\nscale 1 2 1\npop\nsphere 0 0 0 1\n").unwrap();
+    assert_eq!(sphere(&d, 0).1, 1.0);
+}
+
+#[test]
+fn every_error_names_its_line() {
+    let cases: &[(&str, usize, &str)] = &[
+        ("tri 0 0 0\n", 1, "tri needs 9 numbers, found 3"),
+        (
+            "\n\ntri 0 0 0 1 0 0 0 1 0 5\n",
+            3,
+            "tri needs 9 numbers, found 10",
+        ),
+        ("sphere 0 0 0 -1\n", 1, "sphere radius -1 must be > 0"),
+        ("tri 0 0 0 1 0 0 0 x 0\n", 1, "'x' is not a number"),
+        ("tri 0 0 0 1 0 0 0 NaN 0\n", 1, "is NaN"),
+        ("tri 0 0 0 1 0 0 0 inf 0\n", 1, "not finite"),
+        (
+            "tri 0 0 0 1 0 0 0 1e39 0\n",
+            1,
+            "not finite in this precision",
+        ),
+        ("cube 1 2 3\n", 1, "unknown statement 'cube'"),
+        ("push\npop\npop\n", 3, "pop without a matching push"),
+        ("rotate w 10\n", 1, "rotate axis 'w'"),
+        ("rotate x\n", 1, "rotate needs an axis"),
+        ("scale 1 2\n", 1, "scale needs 1 or 3 numbers, found 2"),
+        ("scale 0\n", 1, "a scale of 0"),
+        (
+            "light 0 0 0\nlight 1 1 1\n",
+            2,
+            "one light (given on line 1)",
+        ),
+        ("color 1 -1 0\n", 1, "negative"),
+        ("camera 0 0\n", 1, "camera needs x y z"),
+        (
+            "camera 0 0 0 roll 3\n",
+            1,
+            "'roll' is not yaw, pitch or fov",
+        ),
+        ("camera 0 0 0 fov 200\n", 1, "fov 200"),
+        ("mesh\n", 1, "mesh needs a path"),
+        ("mesh a.obj sideways\n", 1, "sideways"),
+        (
+            "\n\nmesh model.obj\n",
+            3,
+            "mesh 'model.obj': model.obj: no meshes in this test",
+        ),
+        (
+            "translate 1e308 0 0\nscale 10\ntri 1 0 0 0 1 0 0 0 1\n",
+            3,
+            "not finite in the world",
+        ),
+        ("cornell 1\n", 1, "cornell takes no numbers"),
+    ];
+    for (text, line, needle) in cases {
+        let (got_line, message) = error(text);
+        assert_eq!(got_line, *line, "{text:?}: {message}");
+        assert!(
+            message.contains(needle),
+            "{text:?}: '{message}' lacks '{needle}'"
+        );
+    }
+    // An unbalanced push is a warning, not an error.
+    let d = parse32("push\ntri 0 0 0 1 0 0 0 1 0\n").unwrap();
+    assert_eq!(d.warnings.len(), 1);
+    assert!(d.warnings[0].starts_with("t.scene:1: push without a matching pop"));
+}
+
+#[test]
+fn trace_files_read_their_numbers_straight_in_the_precision() {
+    // 1 + 2^-24 + a little: f32 rounds it up to 1 + 2^-23 directly, but through f64 (which
+    // rounds it to 1 + 2^-24, a tie) it would become 1. With no transform, no double rounding.
+    let x = "1.00000005960464477550";
+    let direct: f32 = x.parse().unwrap();
+    assert_eq!(direct, 1.0 + f32::EPSILON);
+    assert_eq!((x.parse::<f64>().unwrap()) as f32, 1.0);
+    let d = parse32(&format!("tri {x} 0 0 0 1 0 0 0 1\n")).unwrap();
+    assert_eq!(tri(&d, 0)[0][0], direct);
+    // The same file in f64 keeps every digit f64 can.
+    let d64 = parse::<f64>(
+        "t.scene",
+        &format!("sphere 0 0 {x} 1\n"),
+        Path::new(""),
+        &no_meshes,
+    )
+    .unwrap();
+    assert_eq!(
+        d64.shapes[0],
+        Shape::Sphere {
+            centre: [0.0, 0.0, x.parse::<f64>().unwrap()],
+            radius: 1.0
+        }
+    );
+}
+
+#[test]
+fn meshes_load_relative_to_the_file_in_the_current_frame_and_colour() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("models")).unwrap();
+    std::fs::write(
+        dir.path().join("models/tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n",
+    )
+    .unwrap();
+    let scene_path = dir.path().join("a.scene");
+    std::fs::write(
+        &scene_path,
+        "color 0.2 0.4 0.6\npush\ntranslate 10 0 0\nmesh models/tri.obj lab\npop\n\
+         mesh models/tri.obj yup\n",
+    )
+    .unwrap();
+    let scene = raylab::scene::load_scene_file(&scene_path).unwrap();
+    assert_eq!(scene.len(), 4);
+    assert_eq!(
+        scene.shapes[0],
+        Shape::Triangle([[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]])
+    );
+    // yup negates x and y.
+    assert_eq!(
+        scene.shapes[2],
+        Shape::Triangle([[-0.0, -0.0, 0.0], [-1.0, -0.0, 0.0], [-0.0, -1.0, 0.0]])
+    );
+    assert!(
+        scene.colors.iter().all(|c| *c == [0.2, 0.4, 0.6]),
+        "faces without material"
+    );
+    // A mesh that fails to load: the scene's line, then the mesh's own error.
+    std::fs::write(&scene_path, "\nmesh models/missing.obj\n").unwrap();
+    let e = raylab::scene::load_scene_file(&scene_path).unwrap_err();
+    assert!(e.contains("a.scene:2: mesh 'models/missing.obj'"), "{e}");
+    std::fs::write(
+        dir.path().join("models/bad.obj"),
+        "v 0 0 0\nv 1 0 0\nf 1 2 9\n",
+    )
+    .unwrap();
+    std::fs::write(&scene_path, "mesh models/bad.obj\n").unwrap();
+    let e = raylab::scene::load_scene_file(&scene_path).unwrap_err();
+    assert!(
+        e.contains("a.scene:1: mesh 'models/bad.obj'") && e.contains("bad.obj:3"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_example_scenes_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let spheres = raylab::scene::load_scene_file(&dir.join("cornell_spheres.scene")).unwrap();
+    assert_eq!(spheres.len(), 32);
+    assert!(spheres.warnings.is_empty(), "{:?}", spheres.warnings);
+    assert_eq!(
+        spheres.camera,
+        Some(SceneCamera::LAB),
+        "cornell brings the lab camera"
+    );
+    assert_eq!(spheres.shapes[31], {
+        Shape::Sphere {
+            centre: [-0.5, 0.7, -0.5],
+            radius: 0.3,
+        }
+    });
+    let stack = raylab::scene::load_scene_file(&dir.join("transform_stack.scene")).unwrap();
+    assert_eq!(stack.len(), 2 + 3 * 12 + 1);
+    assert_eq!(stack.levels.len(), 5);
+    assert_eq!(stack.warnings.len(), 1, "the one the file explains");
+    assert!(stack.warnings[0].contains("transform_stack.scene:45: translate after scale"));
+}
