@@ -20,7 +20,8 @@ pub struct Cli {
     /// What to do; without a command, raylab opens the interactive window.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// An OBJ model to open in the window instead of the built-in Cornell box.
+    /// An OBJ model or a `.scene` file to open in the window instead of the built-in Cornell
+    /// box.
     pub model: Option<PathBuf>,
     /// How the model's (and dropped files') coordinates are read: `yup` or `lab` (see
     /// `raylab render --help`).
@@ -28,15 +29,15 @@ pub struct Cli {
     pub obj_frame: ObjFrame,
     /// Scripted run: show N frames (then finish the script and refine the image), save what
     /// the window showed to --screenshot and exit 0. For tests; needs a display.
-    #[arg(long, value_name = "N", requires = "screenshot")]
+    #[arg(long, value_name = "N", requires = "screenshot", hide = true)]
     pub frames: Option<u64>,
     /// With --frames: the PNG file to save the window to.
-    #[arg(long, value_name = "FILE.png", requires = "frames")]
+    #[arg(long, value_name = "FILE.png", requires = "frames", hide = true)]
     pub screenshot: Option<PathBuf>,
     /// With --frames: timed key and mouse events to replay, one per line:
     /// `<ms> key <W|A|S|D|Q|E|Left|Right|Up|Down|Shift|R> down|up`, `<ms> mouse <dx> <dy>`,
     /// `<ms> wheel <lines>`, `<ms> step <flat|direct|shadows|indirect>`.
-    #[arg(long, value_name = "FILE", requires = "frames")]
+    #[arg(long, value_name = "FILE", requires = "frames", hide = true)]
     pub script: Option<PathBuf>,
 }
 
@@ -159,7 +160,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
     /// Output PNG file.
-    #[arg(long)]
+    #[arg(short, long)]
     pub out: PathBuf,
 }
 

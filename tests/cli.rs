@@ -587,6 +587,12 @@ fn the_window_without_a_display_or_adapter_fails_clearly() {
             err.contains("cannot open a window") && err.contains("DISPLAY"),
             "{err}"
         );
+        // One line a user can act on, without a dependency's source path.
+        assert!(
+            !err.contains(".rs:") && err.trim().lines().count() == 1,
+            "{err}"
+        );
+        assert!(err.contains("raylab render"), "{err}");
     } else {
         assert!(err.contains("without the window"), "{err}");
     }
@@ -797,4 +803,26 @@ fn scene_files_render_and_trace_through_the_transform_stack() {
         text.ends_with(" 0\nmiss\n") && (t - 5.0).abs() < 1e-14,
         "{text}"
     );
+}
+
+#[test]
+fn test_only_flags_stay_out_of_the_help_and_out_has_a_short_form() {
+    let help = String::from_utf8_lossy(&raylab(&["--help"]).stdout).into_owned();
+    for hidden in ["--frames", "--screenshot", "--script"] {
+        assert!(!help.contains(hidden), "{hidden} in the help:\n{help}");
+    }
+    assert!(help.contains(".scene"), "{help}");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.png");
+    let o = raylab(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(read_png(&out).0, 16);
 }

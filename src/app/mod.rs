@@ -110,9 +110,12 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         Some(p) => Scene::load(p, opts.obj_frame).map_err(anyhow::Error::msg)?,
         None => Scene::cornell(),
     };
-    let event_loop = EventLoop::<AppEvent>::with_user_event().build().map_err(|e| {
-        anyhow!("cannot open a window: {e} (is a display available? set DISPLAY or WAYLAND_DISPLAY, or use `raylab render`)")
-    })?;
+    let event_loop = EventLoop::<AppEvent>::with_user_event()
+        .build()
+        .map_err(|e| {
+            log::debug!("event loop: {e}");
+            anyhow!("{}", no_window_reason())
+        })?;
     let viewer = Viewer::new(
         scene,
         opts.scene.as_ref(),
@@ -141,6 +144,21 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         .run_app(&mut app)
         .map_err(|e| anyhow!("event loop: {e}"))?;
     app.outcome
+}
+
+/// Why no window could be opened, in one line a user can act on (winit's own message names
+/// its source file).
+fn no_window_reason() -> String {
+    let unset = |v: &str| std::env::var_os(v).is_none_or(|x| x.is_empty());
+    if unset("DISPLAY") && unset("WAYLAND_DISPLAY") {
+        "cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); \
+         run raylab in a desktop session, or render headless with `raylab render --out FILE.png`"
+            .into()
+    } else {
+        "cannot open a window: the display named by DISPLAY / WAYLAND_DISPLAY does not answer; \
+         check it, or render headless with `raylab render --out FILE.png`"
+            .into()
+    }
 }
 
 /// The event loop's handler: the window, its framework, the viewer and the scripted run.
