@@ -115,8 +115,10 @@ enum Around<'a> {
         dpi: u32,
     },
     /// A shell snippet that drives the running app with real X input (xdotool), started
-    /// once the app's window exists (its id in `$win`).
+    /// once the app's window exists (its id in `$win`), in the run's directory.
     RealInput(&'a str),
+    /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
+    RealInputOn(&'a str, &'a std::path::Path),
 }
 
 /// [`run_window_env`] with something running beside the app ([`Around`]).
@@ -126,7 +128,12 @@ fn run_window_with(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    if matches!(around, Around::RealInput(_)) && !have("xdotool") {
+    let (driver, model) = match around {
+        Around::RealInput(d) => (Some(d), None),
+        Around::RealInputOn(d, m) => (Some(d), Some(m)),
+        _ => (None, None),
+    };
+    if driver.is_some() && !have("xdotool") {
         assert!(
             std::env::var("CI").is_err(),
             "CI=true but xdotool is missing: .ci/run must install it"
@@ -174,7 +181,7 @@ fn run_window_with(
         );
         command.args(["sh", "-c", &wrapper, "sh"]);
     }
-    if let Around::RealInput(driver) = around {
+    if let Some(driver) = driver {
         // The app, then the driver once its window is there; the app's exit status is the
         // run's.
         let wrapper = format!(
@@ -183,8 +190,11 @@ fn run_window_with(
         );
         command.args(["sh", "-c", &wrapper, "sh"]);
     }
+    command.arg(env!("CARGO_BIN_EXE_raylab"));
+    if let Some(model) = model {
+        command.arg(model);
+    }
     let mut child = command
-        .arg(env!("CARGO_BIN_EXE_raylab"))
         .args(["--frames", "5", "--screenshot"])
         .arg(&shot_path)
         .arg("--script")
@@ -515,4 +525,52 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
         "a right-drag to the right over the image turned the view right: yaw {yaw}\n{}",
         run.stderr
     );
+}
+
+#[test]
+fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
+    // Opened from a .scene file; the camera moves (W); the file gains a sphere on disk (the
+    // window reloads it, keeping the camera); then a broken line (the error is shown and the
+    // last good scene stays). A push level selected in the transform-stack tree is tinted.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.scene");
+    std::fs::write(
+        &scene,
+        "cornell\npush\ntranslate 0 0.5 0\nsphere 0 0 0 0.3\npop\n",
+    )
+    .unwrap();
+    let script = "300 key W down\n600 key W up\n1000 select 1\n8000 step indirect\n";
+    let driver = "sleep 2.5; printf 'sphere 0.5 0.5 0 0.2\\n' >> s.scene; \
+                  sleep 2.5; printf 'sphere 0 0 0\\n' >> s.scene";
+    let around = Around::RealInputOn(driver, &scene);
+    let Some(run) = run_window_with(script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("reloaded") && log.contains("(32 primitives)"),
+        "{log}"
+    );
+    assert!(
+        log.contains("could not reload") && log.contains("s.scene:7: sphere needs 4 numbers"),
+        "the bad edit is reported with file and line: {log}"
+    );
+    assert_eq!(run.fields["primitives"], "32", "the last good scene stays");
+    let z = run.nums("camera")[2];
+    assert!(
+        z > -2.9,
+        "the camera moved by W stayed through the reloads: z = {z}"
+    );
+    // The selected level's sphere is tinted orange: r well above g, g well above b.
+    let (_, _, _, rect) = run.camera();
+    let (sw, _, px) = &run.shot;
+    let mut orange = 0;
+    for y in rect[1] as u32..(rect[1] + rect[3]) as u32 {
+        for x in rect[0] as u32..(rect[0] + rect[2]) as u32 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+            orange += (r > g + 40 && g > b + 40) as u32;
+        }
+    }
+    assert!(orange > 200, "{orange} orange pixels");
 }

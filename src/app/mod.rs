@@ -84,8 +84,11 @@ pub struct ViewSettings {
 pub enum AppEvent {
     /// The render worker finished an image.
     FrameReady,
-    /// An OBJ finished loading (or failed).
-    SceneLoaded(PathBuf, Result<Scene, String>),
+    /// A scene or OBJ finished loading (or failed); `true` for a reload of the file shown,
+    /// which keeps the camera.
+    SceneLoaded(PathBuf, Result<Scene, String>, bool),
+    /// The file of the scene shown changed on disk.
+    SourceChanged(PathBuf),
     /// An F12 screenshot was written (or failed).
     ScreenshotSaved(Result<PathBuf, String>),
 }
@@ -282,7 +285,7 @@ impl App {
                     viewer.view.step = step;
                     viewer.changed();
                 }
-                Action::Drop(path) => viewer.load_obj(path),
+                Action::Drop(path) => viewer.load(path),
                 Action::Focal(f) => {
                     let width = viewer.full_size().0;
                     viewer.controller.set_focal(f, width);
@@ -307,6 +310,7 @@ impl App {
                         self.on_resized(&window, window.inner_size());
                     }
                 }
+                Action::Select(level) => viewer.select_level(level),
                 Action::LoseSurface => {
                     if let Some(fw) = &mut self.framework {
                         fw.gpu.lose_next_draw = true;
@@ -370,7 +374,10 @@ impl App {
             viewer.controller.reset();
         }
         if let Some(p) = actions.load {
-            viewer.load_obj(PathBuf::from(p));
+            viewer.load(PathBuf::from(p));
+        }
+        if let Some(level) = actions.select {
+            viewer.select_level(level);
         }
         if actions.screenshot {
             viewer.screenshot();
@@ -484,13 +491,16 @@ impl ApplicationHandler<AppEvent> for App {
                 self.viewer.screenshot_saved(result);
                 self.request_redraw();
             }
-            AppEvent::SceneLoaded(path, result) => {
-                if let (Some(name), Some(w)) =
-                    (self.viewer.scene_loaded(path, result), &self.window)
-                {
+            AppEvent::SceneLoaded(path, result, reload) => {
+                let loaded = self.viewer.scene_loaded(path, result, reload);
+                if let (Some(name), Some(w)) = (loaded, &self.window) {
                     w.set_title(&format!("raylab - {name}"));
                 }
                 self.viewer.pump();
+                self.request_redraw();
+            }
+            AppEvent::SourceChanged(path) => {
+                self.viewer.reload(path);
                 self.request_redraw();
             }
         }
@@ -518,7 +528,7 @@ impl ApplicationHandler<AppEvent> for App {
                 self.viewer.input.release_all();
                 self.set_mouse_look(false);
             }
-            WindowEvent::DroppedFile(path) => self.viewer.load_obj(path),
+            WindowEvent::DroppedFile(path) => self.viewer.load(path),
             WindowEvent::KeyboardInput { event, .. } => {
                 let PhysicalKey::Code(code) = event.physical_key else {
                     return;

@@ -5,6 +5,7 @@ use super::ViewSettings;
 use raylab::controller::{CameraController, FOCAL_RATIO_RANGE};
 use raylab::geometry::Method;
 use raylab::render::{LabStep, RenderStats, MAX_SPP};
+use raylab::scene::file::Level;
 
 /// Preset render resolutions offered besides "a scale of the window".
 pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920, 1080)];
@@ -19,6 +20,9 @@ pub struct PanelInfo<'a> {
     pub status: &'a str,
     pub loading: bool,
     pub threads: usize,
+    /// A `.scene` file's push levels, and the one selected.
+    pub levels: &'a [Level],
+    pub selected_level: Option<usize>,
 }
 
 /// What the user asked for with buttons.
@@ -27,6 +31,8 @@ pub struct PanelActions {
     pub reset_camera: bool,
     pub screenshot: bool,
     pub load: Option<String>,
+    /// A push level clicked in the scene tree (`Some(None)`: the selection cleared).
+    pub select: Option<Option<usize>>,
 }
 
 /// The side panel. Edits `view` and `camera` in place.
@@ -46,6 +52,11 @@ pub fn side_panel(
         ));
         for w in info.warnings {
             ui.colored_label(egui::Color32::YELLOW, w);
+        }
+
+        if !info.levels.is_empty() {
+            ui.separator();
+            actions.select = scene_tree(ui, info.levels, info.selected_level);
         }
 
         ui.separator();
@@ -236,6 +247,55 @@ pub fn side_panel(
     actions
 }
 
+/// The transform-stack inspector: the `.scene` file's push levels as a tree, each with its
+/// statements and its `world_from_object` matrix; clicking a level selects it (its primitives
+/// are tinted in the image), clicking it again clears the selection.
+fn scene_tree(
+    ui: &mut egui::Ui,
+    levels: &[Level],
+    selected: Option<usize>,
+) -> Option<Option<usize>> {
+    let mut clicked = None;
+    egui::CollapsingHeader::new("Transform stack")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.small("M = T*R*S per level, times its parent's; click a level to highlight it");
+            for (i, level) in levels.iter().enumerate() {
+                let title = match level.line {
+                    0 => "file (top level)".to_string(),
+                    line => format!("push (line {line})"),
+                };
+                let count: u32 = level.primitives.iter().map(|r| r.end - r.start).sum();
+                ui.horizontal(|ui| {
+                    ui.add_space(12.0 * level.depth as f32);
+                    let label = format!("{title}: {count} primitives");
+                    if ui.selectable_label(selected == Some(i), label).clicked() {
+                        clicked = Some((selected != Some(i)).then_some(i));
+                    }
+                });
+                ui.indent(("level", i), |ui| {
+                    egui::CollapsingHeader::new("statements and world_from_object")
+                        .id_salt(("level-details", i))
+                        .default_open(false)
+                        .show(ui, |ui| {
+                            for (line, text) in &level.statements {
+                                ui.monospace(format!("{line:>4}  {text}"));
+                            }
+                            egui::Grid::new(("matrix", i)).show(ui, |ui| {
+                                for row in &level.world_from_object {
+                                    for x in row {
+                                        ui.monospace(format!("{x:>8.4}"));
+                                    }
+                                    ui.end_row();
+                                }
+                            });
+                        });
+                });
+            }
+        });
+    clicked
+}
+
 /// Width of the side panel at start, in points.
 pub const PANEL_WIDTH: f32 = 300.0;
 
@@ -273,6 +333,7 @@ pub fn layout(
         loading,
         image_area,
         show_help,
+        selected_level,
         ..
     } = viewer;
     let info = PanelInfo {
@@ -284,6 +345,8 @@ pub fn layout(
         status,
         loading: *loading,
         threads: rayon::current_num_threads(),
+        levels: &scene.levels,
+        selected_level: *selected_level,
     };
     let mut layout = Layout {
         actions: PanelActions::default(),

@@ -15,6 +15,8 @@
 //!   zero-size window)
 //! - `restore`: back from `resize 0 0` at the window's real size
 //! - `lose-surface`: the next draw fails as on a lost window surface
+//! - `select <level>`: what clicking a push level in the panel's scene tree does (highlights
+//!   its primitives); `select none` clears it
 
 use super::input::Key;
 use raylab::render::LabStep;
@@ -41,6 +43,8 @@ pub enum Action {
     Resize(u32, u32),
     /// Undo a minimise.
     Restore,
+    /// Select a push level of the scene tree (`None`: no selection).
+    Select(Option<usize>),
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
@@ -161,9 +165,18 @@ impl Script {
                     want(2)?;
                     Action::LoseSurface
                 }
+                Some("select") => {
+                    want(3)?;
+                    match w[2] {
+                        "none" => Action::Select(None),
+                        n => Action::Select(Some(n.parse().map_err(|_| {
+                            err(format!("select takes a level number or 'none', not '{n}'"))
+                        })?)),
+                    }
+                }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore, lose-surface)"
+                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore, lose-surface, select)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),

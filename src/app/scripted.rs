@@ -90,7 +90,7 @@ impl ScriptedRun {
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} primitives={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -106,6 +106,7 @@ impl ScriptedRun {
             viewer.view.step,
             window.frames_presented,
             viewer.frames_while_moving,
+            viewer.scene.len(),
             viewer.scene.name,
         );
         if !viewer.status.is_empty() {

@@ -12,7 +12,7 @@ use raylab::render::{self, LabStep, RenderSettings, RenderStats, MAX_SIDE};
 use raylab::scene::ObjFrame;
 use raylab::Scene;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use winit::event_loop::EventLoopProxy;
 
@@ -61,6 +61,39 @@ pub struct Viewer {
     pub frames_while_moving: u64,
     /// Rendering paused (the window is minimised).
     pub paused: bool,
+    /// The file the scene came from, watched for changes (a reload keeps the camera).
+    source: Arc<Mutex<Option<PathBuf>>>,
+    /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
+    pub selected_level: Option<usize>,
+}
+
+/// How often the scene's file is checked for changes.
+const WATCH_EVERY: Duration = Duration::from_millis(250);
+
+/// The colour selected primitives are tinted towards (linear RGB).
+const HIGHLIGHT: [f32; 3] = [1.0, 0.45, 0.0];
+
+/// Watches the file in `source` (whichever it is now) and sends [`AppEvent::SourceChanged`]
+/// when its modification time or size changes; ends with the event loop.
+fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<AppEvent>) {
+    let stamp = |p: &PathBuf| {
+        std::fs::metadata(p)
+            .ok()
+            .map(|m| (m.modified().ok(), m.len()))
+    };
+    let mut last: Option<(PathBuf, Option<(Option<std::time::SystemTime>, u64)>)> = None;
+    loop {
+        std::thread::sleep(WATCH_EVERY);
+        let Some(path) = source.lock().expect("not poisoned").clone() else {
+            continue;
+        };
+        let now = stamp(&path);
+        let changed = matches!(&last, Some((p, s)) if *p == path && *s != now);
+        last = Some((path.clone(), now));
+        if changed && proxy.send_event(AppEvent::SourceChanged(path)).is_err() {
+            return;
+        }
+    }
 }
 
 impl Viewer {
@@ -72,6 +105,9 @@ impl Viewer {
     ) -> Self {
         let wake = proxy.clone();
         let controller = controller_for(&scene, scene_path.is_none());
+        let source = Arc::new(Mutex::new(scene_path.cloned()));
+        let (watched, watcher) = (source.clone(), proxy.clone());
+        std::thread::spawn(move || watch(watched, watcher));
         let light = scene.light.position;
         Self {
             proxy,
@@ -108,7 +144,36 @@ impl Viewer {
             screenshots_pending: 0,
             frames_while_moving: 0,
             paused: false,
+            source,
+            selected_level: None,
         }
+    }
+
+    /// Selects a push level of the scene tree (its primitives are tinted), or none.
+    pub fn select_level(&mut self, level: Option<usize>) {
+        let level = level.filter(|l| *l < self.scene.levels.len());
+        if level != self.selected_level {
+            self.selected_level = level;
+            self.changed();
+        }
+    }
+
+    /// The scene as rendered: the panel's light, and the selected level's primitives tinted.
+    fn scene_to_render(&mut self) -> Arc<Scene> {
+        if self.scene.light.position != self.view.light {
+            Arc::make_mut(&mut self.scene).light.position = self.view.light;
+        }
+        let Some(level) = self.selected_level.and_then(|l| self.scene.levels.get(l)) else {
+            return self.scene.clone();
+        };
+        // (A clone shares the built structure: colours do not change it.)
+        let mut tinted = (*self.scene).clone();
+        for range in &level.primitives {
+            for c in &mut tinted.colors[range.start as usize..range.end as usize] {
+                *c = [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
+            }
+        }
+        Arc::new(tinted)
     }
 
     /// A message for the panel (and the log, so scripted runs can be checked).
@@ -237,11 +302,7 @@ impl Viewer {
             0 => self.preview_size(),
             _ => self.full_size(),
         };
-        let mut scene = self.scene.clone();
-        if scene.light.position != self.view.light {
-            Arc::make_mut(&mut scene).light.position = self.view.light;
-            self.scene = scene.clone();
-        }
+        let scene = self.scene_to_render();
         let spp = if level == 2 { self.view.spp } else { 1 };
         self.worker.submit(worker::Job {
             scene,
@@ -285,41 +346,70 @@ impl Viewer {
         })
     }
 
-    /// Loads an OBJ on a thread of its own ([`AppEvent::SceneLoaded`] when done).
-    pub fn load_obj(&mut self, path: PathBuf) {
+    /// Loads a `.scene` or OBJ file on a thread of its own ([`AppEvent::SceneLoaded`] when
+    /// done).
+    pub fn load(&mut self, path: PathBuf) {
+        self.load_file(path, false);
+    }
+
+    /// Reloads the scene's file after it changed on disk (keeping the camera).
+    pub fn reload(&mut self, path: PathBuf) {
+        if self.source.lock().expect("not poisoned").as_ref() == Some(&path) {
+            self.load_file(path, true);
+        }
+    }
+
+    fn load_file(&mut self, path: PathBuf, reload: bool) {
         if self.loading {
             return;
         }
         self.loading = true;
-        self.set_status(format!("loading {}...", path.display()));
+        let verb = if reload { "reloading" } else { "loading" };
+        self.set_status(format!("{verb} {}...", path.display()));
         let proxy = self.proxy.clone();
         let frame = self.obj_frame;
         std::thread::spawn(move || {
             let result = Scene::load(&path, frame);
-            let _ = proxy.send_event(AppEvent::SceneLoaded(path, result));
+            let _ = proxy.send_event(AppEvent::SceneLoaded(path, result, reload));
         });
     }
 
-    /// A loaded scene replaces the shown one (framed by a new camera); a failed load keeps
-    /// it. Returns the new scene's name for the window title.
-    pub fn scene_loaded(&mut self, path: PathBuf, result: Result<Scene, String>) -> Option<String> {
+    /// A loaded scene replaces the shown one (with a new camera, unless it is a `reload` of
+    /// the same file); a failed load keeps it and says why. Returns the new scene's name for
+    /// the window title.
+    pub fn scene_loaded(
+        &mut self,
+        path: PathBuf,
+        result: Result<Scene, String>,
+        reload: bool,
+    ) -> Option<String> {
         self.loading = false;
         let scene = match result {
             Ok(scene) => scene,
+            Err(e) if reload => {
+                self.set_status(format!("could not reload (the last good scene stays): {e}"));
+                return None;
+            }
             Err(e) => {
                 self.set_status(format!("could not load: {e}"));
                 return None;
             }
         };
+        *self.source.lock().expect("not poisoned") = Some(path.clone());
+        self.selected_level = self
+            .selected_level
+            .filter(|l| reload && *l < scene.levels.len());
         let (w, h) = self.full_size();
         match (scene.camera, scene.bounds()) {
+            _ if reload => {}
             (Some(c), _) => self.controller = CameraController::from_scene_camera(&c, scene.size()),
             (None, Some(bounds)) => self.controller = CameraController::framing(bounds, w, h),
             (None, None) => {}
         }
         self.view.light = scene.light.position;
+        let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
-            "loaded {} ({} triangles)",
+            "{verb} {} ({} primitives)",
             path.display(),
             scene.len()
         ));
