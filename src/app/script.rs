@@ -215,7 +215,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -238,6 +238,8 @@ mod tests {
                 Action::Resize(0, 0),
                 Action::Restore,
                 Action::LoseSurface,
+                Action::Select(Some(2)),
+                Action::Select(None),
             ]
         );
         assert!(s.finished());
@@ -260,6 +262,7 @@ mod tests {
             ("0 jump\n", "unknown event 'jump'"),
             ("0\n", "missing event"),
             ("0 step glossy\n", "unknown step 'glossy'"),
+            ("0 select first\n", "select takes a level number or 'none'"),
             ("0 scale 2\n", "scale 2 is not in 0.05..=1"),
             ("0 resize 10 -1\n", "window side -1 is not an integer"),
             ("0 resize 10 1e6\n", "window side 1000000"),
