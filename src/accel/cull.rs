@@ -62,28 +62,82 @@ impl ScreenTriangle {
     }
 }
 
-/// A triangle that may block shadow rays, with its bounding box.
+/// A triangle that may block shadow rays, with its bounding box and its position among the
+/// scene's triangles.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Occluder {
-    pub prim: u32,
+    pub slot: u32,
+    pub bounds: Box3,
+}
+
+impl Occluder {
+    pub(crate) fn new(slot: usize, (v, _): &IndexedTriangle) -> Self {
+        Self {
+            slot: slot as u32,
+            bounds: Box3 {
+                lo: [0, 1, 2].map(|k| v[0][k].min(v[1][k]).min(v[2][k])),
+                hi: [0, 1, 2].map(|k| v[0][k].max(v[1][k]).max(v[2][k])),
+            },
+        }
+    }
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Box3 {
     pub lo: [f32; 3],
     pub hi: [f32; 3],
 }
 
-impl Occluder {
-    pub(crate) fn new((v, prim): &IndexedTriangle) -> Self {
-        Self {
-            prim: *prim,
-            lo: [0, 1, 2].map(|k| v[0][k].min(v[1][k]).min(v[2][k])),
-            hi: [0, 1, 2].map(|k| v[0][k].max(v[1][k]).max(v[2][k])),
-        }
-    }
-
+impl Box3 {
     /// Whether the box meets [lo, hi] widened by 1e-6 relative (plus 1e-30): a box built
     /// from segment ends computed in f32 (origin + direction, rounded) then holds the exact
     /// segments.
     pub(crate) fn meets(&self, lo: [f32; 3], hi: [f32; 3]) -> bool {
         let slack = |x: f32| x.abs() * 1e-6 + 1e-30;
         (0..3).all(|k| !(self.hi[k] < lo[k] - slack(lo[k]) || self.lo[k] > hi[k] + slack(hi[k])))
+    }
+}
+
+/// Where a shape other than a triangle (a sphere) can appear: its bounding box, and the
+/// screen rectangle of the box's projection widened by a pixel (`None`: the box reaches
+/// behind the pinhole, so it may cover any tile). A camera ray through a tile the rectangle
+/// does not meet cannot hit the shape (the box is convex and holds it).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShapeCull {
+    pub bounds: Box3,
+    screen: Option<[f32; 4]>,
+}
+
+impl ShapeCull {
+    pub(crate) fn new((lo, hi): ([f32; 3], [f32; 3]), projection: &Projection) -> Self {
+        let mut screen = Some([
+            f32::INFINITY,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+        ]);
+        for corner in 0..8 {
+            let p = [0, 1, 2].map(|k| if corner & (1 << k) == 0 { lo[k] } else { hi[k] });
+            screen = match (screen, projection.project(p)) {
+                (Some(r), Some([x, y])) => Some([
+                    r[0].min(x as f32 - 1.0),
+                    r[1].min(y as f32 - 1.0),
+                    r[2].max(x as f32 + 1.0),
+                    r[3].max(y as f32 + 1.0),
+                ]),
+                _ => None,
+            };
+        }
+        Self {
+            bounds: Box3 { lo, hi },
+            screen,
+        }
+    }
+
+    /// Whether the shape may show in the rectangle [x0, x1] × [y0, y1].
+    pub(crate) fn meets_tile(&self, x0: f32, y0: f32, x1: f32, y1: f32) -> bool {
+        self.screen
+            .is_none_or(|r| !(r[2] < x0 || r[0] > x1 || r[3] < y0 || r[1] > y1))
     }
 }

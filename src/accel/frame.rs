@@ -26,10 +26,10 @@
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
 //! adaptive search, so packets and per-ray queries name the same primitives.
 
-use super::cull::{Occluder, ScreenTriangle};
+use super::cull::{Box3, Occluder, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
 use super::packet::{self, OriginTriangles, PacketHits};
-use super::{Accel, AccelKind, IndexedTriangle};
+use super::{Accel, AccelKind, IndexedTriangle, Triangles};
 use crate::camera::Projection;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
@@ -67,13 +67,14 @@ pub struct FrameSetup {
 
 /// A small scene's triangles in primitive order, and where each can show on screen.
 struct Culling<'a> {
+    accel: &'a Accel,
     tris: &'a [IndexedTriangle],
     screen: Vec<Option<ScreenTriangle>>,
 }
 
 impl Culling<'_> {
     fn vertices(&self, prim: u32) -> [[f32; 3]; 3] {
-        self.tris[prim as usize].0
+        self.tris[self.accel.slot(prim)].0
     }
 }
 
@@ -87,15 +88,15 @@ enum Plan<'a> {
     /// at a time against the triangles prepared for the light (adaptive).
     CulledPackets {
         culling: Culling<'a>,
-        /// All triangles prepared for the eye, in primitive order.
+        /// All triangles prepared for the eye, in the order of [`Accel::flat_triangles`].
         from_eye: OriginTriangles,
-        /// All triangles prepared for the light, in primitive order (with shadows).
+        /// All triangles prepared for the light, in that order (with shadows).
         from_light: Vec<OriginTriangle>,
         /// All triangles with their boxes (with shadows).
         occluders: Vec<Occluder>,
     },
-    /// Camera rays and shadow segments 8 at a time through the BVH (adaptive, triangles
-    /// only); the triangles prepared once per frame, or as met (`None`).
+    /// Camera rays and shadow segments 8 at a time through the BVH (adaptive); the triangles
+    /// prepared once per frame, or as met (`None`).
     BvhPackets {
         from_eye: Option<OriginTriangles>,
         from_light: Option<OriginTriangles>,
@@ -109,6 +110,10 @@ pub struct FrameQueries<'a> {
     eye: [f32; 3],
     light: [f32; 3],
     plan: Plan<'a>,
+    /// Where the shapes other than triangles (spheres) can show and what they can block: a
+    /// tile they may show in, or shadow segments they may meet, are traced per ray (the
+    /// packets test triangles only).
+    others: Vec<ShapeCull>,
 }
 
 /// Buffers a thread reuses from tile to tile.
@@ -139,6 +144,8 @@ pub struct TileQueries<'a> {
     subset: &'a [IndexedTriangle],
     prepared: &'a [OriginTriangle],
     near: &'a mut Vec<OriginTriangle>,
+    /// Whether a shape other than a triangle may show in the tile.
+    other_shapes: bool,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
 }
@@ -156,7 +163,11 @@ impl Accel {
                     .iter()
                     .map(|(v, _)| ScreenTriangle::new(v, &setup.projection))
                     .collect();
-                Some(Culling { tris, screen })
+                Some(Culling {
+                    accel: self,
+                    tris,
+                    screen,
+                })
             }
             _ => None,
         };
@@ -168,11 +179,13 @@ impl Accel {
         let plan = match culling {
             Some(culling) if packets => {
                 let tris = culling.tris;
-                debug_assert!(tris.iter().enumerate().all(|(i, t)| t.1 == i as u32));
                 let (from_light, occluders) = match setup.shadows {
                     true => (
                         OriginTriangles::new(tris, setup.light).tris,
-                        tris.iter().map(Occluder::new).collect(),
+                        tris.iter()
+                            .enumerate()
+                            .map(|(slot, t)| Occluder::new(slot, t))
+                            .collect(),
                     ),
                     false => (Vec::new(), Vec::new()),
                 };
@@ -184,17 +197,21 @@ impl Accel {
                 }
             }
             Some(culling) => Plan::Culled(culling),
-            None if packets && self.kind() == AccelKind::Bvh && !self.has_other_shapes() => {
-                Plan::BvhPackets {
-                    from_eye: prepare_once
-                        .then(|| self.prepare_origin(setup.eye))
-                        .flatten(),
-                    from_light: (prepare_once && setup.shadows)
-                        .then(|| self.prepare_origin(setup.light))
-                        .flatten(),
-                }
-            }
+            None if packets && self.kind() == AccelKind::Bvh => Plan::BvhPackets {
+                from_eye: prepare_once
+                    .then(|| self.prepare_origin(setup.eye))
+                    .flatten(),
+                from_light: (prepare_once && setup.shadows)
+                    .then(|| self.prepare_origin(setup.light))
+                    .flatten(),
+            },
             None => Plan::PerRay,
+        };
+        let others = match plan {
+            Plan::PerRay => Vec::new(),
+            _ => (self.other_shapes().iter())
+                .map(|(shape, _)| ShapeCull::new(shape.bounds(), &setup.projection))
+                .collect(),
         };
         FrameQueries {
             accel: self,
@@ -202,12 +219,13 @@ impl Accel {
             eye: setup.eye,
             light: setup.light,
             plan,
+            others,
         }
     }
 }
 
 impl<'a> FrameQueries<'a> {
-    /// Whether camera rays go 8 at a time ([`TileQueries::closest_x8`]); else per ray.
+    /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]).
     pub fn packets(&self) -> bool {
         matches!(
             self.plan,
@@ -215,8 +233,9 @@ impl<'a> FrameQueries<'a> {
         )
     }
 
-    /// The scene's triangles prepared for the eye, by primitive index, where this frame made
-    /// them for all of them (a small scene in packets); else empty. Shading reuses them.
+    /// The scene's triangles prepared for the eye, in primitive order, where this frame made
+    /// them for all of them (a small scene in packets); else empty. Shading reuses them. (With
+    /// shapes other than triangles in the scene, position is not the primitive index.)
     pub fn prepared_for_eye(&self) -> &[OriginTriangle] {
         match &self.plan {
             Plan::CulledPackets { from_eye, .. } => &from_eye.tris,
@@ -238,8 +257,9 @@ impl<'a> FrameQueries<'a> {
     where
         'a: 't,
     {
+        let (x0, y0, x1, y1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
+        let other_shapes = (self.others.iter()).any(|s| s.meets_tile(x0, y0, x1, y1));
         if let Plan::Culled(culling) | Plan::CulledPackets { culling, .. } = &self.plan {
-            let (x0, y0, x1, y1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
             let meets = |s: &Option<ScreenTriangle>| match s {
                 Some(s) => s.meets(x0, y0, x1, y1),
                 None => true,
@@ -264,18 +284,25 @@ impl<'a> FrameQueries<'a> {
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
+            other_shapes,
             subset_loop: None,
         }
     }
 }
 
 impl TileQueries<'_> {
+    /// Whether the tile's camera rays go 8 at a time ([`TileQueries::closest_x8`]); else per
+    /// ray ([`TileQueries::closest`]).
+    pub fn packets(&self) -> bool {
+        self.frame.packets() && !self.other_shapes
+    }
+
     /// The nearest hit of camera ray `ray` (from the eye) with 0 < t < ∞.
     pub fn closest(&mut self, ray: &Ray) -> Option<Hit> {
         let frame = self.frame;
         let method = frame.method;
         match &frame.plan {
-            Plan::Culled(_) | Plan::CulledPackets { .. } => {
+            Plan::Culled(_) | Plan::CulledPackets { .. } if !self.other_shapes => {
                 let subset = self.subset;
                 let tris = self
                     .subset_loop
@@ -307,10 +334,14 @@ impl TileQueries<'_> {
         let frame = self.frame;
         let d_max = packet::max_component(d);
         let found = match &frame.plan {
+            _ if self.other_shapes => PacketHits {
+                prim: [u32::MAX; 8],
+                ambiguous: 0xff,
+            },
             Plan::CulledPackets { .. } => packet::closest(self.prepared, d, d_max),
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
-                .closest_packet(frame.eye, from_eye.as_ref(), d, d_max)
+                .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max)
                 .unwrap_or(PacketHits {
                     prim: [u32::MAX; 8],
                     ambiguous: 0xff,
@@ -379,24 +410,30 @@ impl TileQueries<'_> {
                 }
             }
         };
+        // A shape other than a triangle that the segments may meet: all per ray.
+        let others_near = !frame.others.is_empty() && {
+            let segments = segments_box(packets, light);
+            (frame.others.iter()).any(|s| s.bounds.meets(segments.lo, segments.hi))
+        };
         match &frame.plan {
+            _ if others_near => {
+                for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
+                    per_ray(s, s.live, out);
+                }
+            }
             Plan::BvhPackets { from_light, .. } => {
+                let Triangles::Bvh(bvh) = &frame.accel.triangles else {
+                    unreachable!("a BVH plan has a BVH")
+                };
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     if s.live == 0 {
                         continue;
                     }
                     let d_max = packet::max_component(&s.d);
                     let prepared = from_light.as_ref();
-                    match frame
-                        .accel
-                        .blocked_packet(light, prepared, &s.d, d_max, &s.prim, s.live)
-                    {
-                        Some(found) => {
-                            *out = found.blocked;
-                            per_ray(s, found.unsure, out);
-                        }
-                        None => per_ray(s, s.live, out),
-                    }
+                    let found = bvh.blocked_packet(light, prepared, &s.d, d_max, &s.prim, s.live);
+                    *out = found.blocked;
+                    per_ray(s, found.unsure, out);
                 }
             }
             Plan::CulledPackets {
@@ -465,7 +502,20 @@ fn near_occluders<S: AsRef<ShadowSegments>>(
     from_light: &[OriginTriangle],
     near: &mut Vec<OriginTriangle>,
 ) {
-    // Each segment's end L + d rounded as `Occluder::meets` allows for; the other lanes' d
+    let Box3 { lo, hi } = segments_box(packets, light);
+    near.clear();
+    near.extend(
+        occluders
+            .iter()
+            .filter(|occ| occ.bounds.meets(lo, hi))
+            .map(|occ| from_light[occ.slot as usize]),
+    );
+}
+
+/// The box around the shadow segments of `packets` (light to light + direction, the ends as
+/// computed in f32: [`Box3::meets`] widens it for their rounding).
+fn segments_box<S: AsRef<ShadowSegments>>(packets: &[S], light: [f32; 3]) -> Box3 {
+    // Each segment's end L + d rounded as `Box3::meets` allows for; the other lanes' d
     // are zero, so their ends are L, the segments' start. No end is NaN (a lane is live only
     // where its point, normal and light are finite, and d is finite or ±∞), so the NaN-blind
     // `fast_min`/`fast_max` serve (2% of a shadows frame's instructions less than
@@ -482,12 +532,8 @@ fn near_occluders<S: AsRef<ShadowSegments>>(
     let reduce = |x: [f32x8; 3], pick: fn(f32, f32) -> f32| {
         x.map(|c| c.to_array().into_iter().reduce(pick).expect("8 lanes"))
     };
-    let (lo, hi) = (reduce(lo, f32::min), reduce(hi, f32::max));
-    near.clear();
-    near.extend(
-        occluders
-            .iter()
-            .filter(|occ| occ.meets(lo, hi))
-            .map(|occ| from_light[occ.prim as usize]),
-    );
+    Box3 {
+        lo: reduce(lo, f32::min),
+        hi: reduce(hi, f32::max),
+    }
 }

@@ -155,10 +155,24 @@ impl Accel {
     }
 
     /// The triangles in primitive order, for the renderer's tile culling: `None` above
-    /// [`TILE_CULL_MAX_TRIANGLES`] or when there are other shapes.
+    /// [`TILE_CULL_MAX_TRIANGLES`]. (With other shapes among them, a triangle's position here
+    /// is not its primitive index: see [`Accel::slot`].)
     pub fn flat_triangles(&self) -> Option<&[IndexedTriangle]> {
         let small = !self.list.is_empty() && self.list.len() <= TILE_CULL_MAX_TRIANGLES;
-        (small && self.others.is_empty()).then_some(&self.list)
+        small.then_some(&self.list)
+    }
+
+    /// The position in [`Accel::flat_triangles`] of triangle primitive `prim`.
+    pub fn slot(&self, prim: u32) -> usize {
+        match self.others.is_empty() {
+            true => prim as usize,
+            false => self.list.partition_point(|t| t.1 < prim),
+        }
+    }
+
+    /// The shapes the triangle structures do not hold (spheres), with their primitives.
+    pub fn other_shapes(&self) -> &[(Shape<f32>, u32)] {
+        &self.others
     }
 
     /// How many triangles the structure holds.
@@ -288,12 +302,23 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
     ) -> Option<packet::PacketHits> {
-        let Triangles::Bvh(b) = &self.triangles else {
-            return None;
-        };
         if !self.others.is_empty() {
             return None;
         }
+        self.closest_packet_of_triangles(o, prepared, d, d_max)
+    }
+
+    /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are.
+    pub(crate) fn closest_packet_of_triangles(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
+        d: &[wide::f32x8; 3],
+        d_max: f32,
+    ) -> Option<packet::PacketHits> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
         let mut found = b.closest_packet(o, prepared, d, d_max);
         let prims = b.triangles().1;
         for slot in &mut found.prim {

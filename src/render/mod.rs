@@ -4,7 +4,7 @@
 //! ([`shade`]). n×n stratified samples per pixel; linear colour averaged and sRGB-encoded once
 //! into RGBA8 ([`image`]).
 //!
-//! Camera rays go 8 at a time where the face says so ([`FrameQueries::packets`]), else one at
+//! Camera rays go 8 at a time where the face says so for the tile ([`TileQueries::packets`]), else one at
 //! a time; either way the face answers exactly, and shading depends only on the ray and the
 //! primitive hit, so both give the same bits.
 
@@ -137,7 +137,7 @@ pub fn render_into_cancellable(
                 };
                 let pixels = [x0, y0, x0 + tile.w, y0 + tile.h];
                 let mut tile_queries = queries.tile(pixels, &mut scratch);
-                match queries.packets() {
+                match tile_queries.packets() {
                     true => frame.trace_tile_packets(
                         &tile,
                         &mut tile_queries,
@@ -208,9 +208,12 @@ impl<'a> Frame<'a> {
         gen: RayGenerator,
         camera_rays: usize,
     ) -> Self {
+        // By primitive: where the scene is all triangles (else each packet readies its own).
+        let prepared = queries.prepared_for_eye();
         let camera_tris = match settings.step {
             LabStep::Flat => Vec::new(),
-            _ => (queries.prepared_for_eye().iter())
+            _ if prepared.len() != scene.len() => Vec::new(),
+            _ => (prepared.iter())
                 .map(|tri| ShadeTri {
                     tri: *tri,
                     normal: shade::unit_normal(&triangle(scene, tri.prim)),
