@@ -12,6 +12,7 @@ pub mod image;
 pub mod settings;
 pub mod shade;
 
+use crate::accel::frame::NO_HIT;
 use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::{Method, Ray, Shape};
@@ -341,7 +342,7 @@ impl<'a> Frame<'a> {
                         continue;
                     }
                     for (l, sum) in sums.iter_mut().take(lanes).enumerate() {
-                        let prim = prims[l];
+                        let prim = (prims[l] != NO_HIT).then_some(prims[l]);
                         counts.0 += prim.is_some() as u64;
                         match (&self.flat_rgba, prim) {
                             (Some(rgba), _) => rgba.put(rows, row_off, tile.x0 + l as u32, prim),
@@ -400,16 +401,13 @@ impl<'a> Frame<'a> {
 
     /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`) readied for
     /// shading: the triangles prepared for the eye where the face made them, else here.
-    fn ready_for_shading(
-        &self,
-        o: [f32; 3],
-        dirs: &[f32x8; 3],
-        prims: &[Option<u32>; 8],
-    ) -> ShadePacket {
+    fn ready_for_shading(&self, o: [f32; 3], dirs: &[f32x8; 3], prims: &[u32; 8]) -> ShadePacket {
         let mut own = [None; 8];
         let mut prepared: [Option<&ShadeTri>; 8] = [None; 8];
-        for (l, prim) in prims.iter().enumerate() {
-            let Some(prim) = *prim else { continue };
+        for (l, &prim) in prims.iter().enumerate() {
+            if prim == NO_HIT {
+                continue;
+            }
             match self.camera_tris.get(prim as usize) {
                 Some(tri) => prepared[l] = Some(tri),
                 None => own[l] = Some(ShadeTri::new(&triangle(self.scene, prim), o, prim)),
