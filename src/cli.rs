@@ -8,7 +8,7 @@ use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::{self, LabStep, RenderSettings};
-use raylab::scene::{self, ObjFrame, Scene};
+use raylab::scene::{ObjFrame, Scene};
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -265,7 +265,9 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view)?;
-    // Fail on an unwritable path before spending the render time.
+    // Fail on an unwritable path (or a FIFO, which would block) before spending the render
+    // time.
+    raylab::input::check_output(&args.out)?;
     std::fs::File::create(&args.out)
         .with_context(|| format!("cannot write '{}'", args.out.display()))?;
     let build = Instant::now();
@@ -372,22 +374,15 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 fn read_text(path: &Path) -> Result<String> {
-    if path.is_dir() {
-        bail!("{}: is a directory", path.display());
-    }
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read '{}'", path.display()))?;
-    String::from_utf8(bytes).map_err(|e| {
-        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        anyhow::anyhow!("{}:{line}: not UTF-8 text", path.display())
-    })
+    Ok(raylab::input::read_text(
+        path,
+        raylab::input::max_input_bytes(),
+    )?)
 }
 
 /// Runs `raylab trace`; the whole output is built before anything is printed.
 pub fn trace(args: &TraceArgs) -> Result<()> {
-    let scene_text = scene::file::read_scene_text(&args.scene).map_err(anyhow::Error::msg)?;
+    let scene_text = read_text(&args.scene)?;
     let rays_text = read_text(&args.rays)?;
     let (sf, rf) = (
         args.scene.display().to_string(),

@@ -34,6 +34,7 @@ pub mod accel;
 pub mod camera;
 pub mod controller;
 pub mod geometry;
+pub mod input;
 pub mod machine;
 pub mod math;
 pub mod render;

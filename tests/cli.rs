@@ -826,3 +826,111 @@ fn test_only_flags_stay_out_of_the_help_and_out_has_a_short_form() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(read_png(&out).0, 16);
 }
+
+/// Runs raylab with a deadline: a hang fails the test instead of stalling it.
+fn raylab_within(args: &[&str], seconds: u64) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs() >= seconds {
+            child.kill().unwrap();
+            panic!("raylab {args:?} still running after {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn special_files_are_refused_without_blocking() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        assert!(std::env::var("CI").is_err(), "CI=true but mkfifo failed");
+        eprintln!("*** SKIPPED: mkfifo is not available ***");
+        return;
+    }
+    let fifo = fifo.to_str().unwrap();
+    let rays = write(dir.path(), "rays.txt", "0 0 0 0 0 1 0 inf\n");
+    let scene = write(dir.path(), "s.scene", "tri 0 0 1 1 0 1 0 1 1\n");
+    let png = dir.path().join("o.png");
+    let png = png.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["trace", "--scene", fifo, "--rays", &rays], "is a FIFO"),
+        (&["trace", "--scene", &scene, "--rays", fifo], "is a FIFO"),
+        (
+            &["trace", "--scene", "/dev/zero", "--rays", &rays],
+            "is a device",
+        ),
+        (&["render", "--scene", fifo, "-o", png], "is a FIFO"),
+        (
+            &["render", "--scene", "/dev/zero", "-o", png],
+            "is a device",
+        ),
+        (
+            &["render", "--width", "8", "--height", "8", "-o", fifo],
+            "is a FIFO",
+        ),
+    ];
+    for (args, needle) in cases {
+        let o = raylab_within(args, 20);
+        assert_fails(&o, 2, &[needle, "not a regular file"]);
+    }
+    // A material library that is a FIFO or a device: a warning naming it, the model loads.
+    for mtl in [fifo, "/dev/zero"] {
+        let obj = write(
+            dir.path(),
+            "m.obj",
+            &format!("mtllib {mtl}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        );
+        let o = raylab_within(&["render", "--scene", &obj, "-o", png], 20);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("material library skipped"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // /dev/null stays a fine place to write to.
+    let o = raylab_within(
+        &["render", "--width", "8", "--height", "8", "-o", "/dev/null"],
+        20,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn every_input_is_capped_and_a_byte_order_mark_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = write(dir.path(), "rays.txt", "0 0 0 0 0 1 0 inf\n");
+    let scene = write(dir.path(), "s.scene", "tri -1 -1 2 1 -1 2 0 1 2\n");
+    let o = raylab_env(
+        &["trace", "--scene", &scene, "--rays", &rays],
+        &[("RAYLAB_MAX_INPUT_BYTES", "10")],
+    );
+    assert_fails(&o, 2, &["s.scene", "larger than the 10-byte limit"]);
+    // A UTF-8 BOM at the start of a scene, ray or OBJ file is not part of the first line.
+    let scene = write(
+        dir.path(),
+        "bom.scene",
+        "\u{feff}tri -1 -1 2 1 -1 2 0 1 2\n",
+    );
+    let rays = write(dir.path(), "bom.txt", "\u{feff}0 0 0 0 0 1 0 inf\n");
+    let o = raylab(&["trace", "--scene", &scene, "--rays", &rays]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "hit 2 0\n");
+    let obj = write(
+        dir.path(),
+        "bom.obj",
+        "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let png = dir.path().join("bom.png");
+    let o = raylab(&["render", "--scene", &obj, "-o", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

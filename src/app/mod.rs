@@ -103,7 +103,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
     }
     let script = match &opts.script {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
+            let text = raylab::input::read_text(p, raylab::input::max_input_bytes())
                 .with_context(|| format!("cannot read script '{}'", p.display()))?;
             Some(Script::parse(&p.display().to_string(), &text).map_err(|e| anyhow!(e))?)
         }

@@ -80,6 +80,7 @@ pub fn linear_to_srgb8_reference(x: f32) -> u8 {
 
 /// Writes an RGBA8 image as PNG.
 pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> std::io::Result<()> {
+    crate::input::check_output(path).map_err(std::io::Error::other)?;
     let file = std::fs::File::create(path)?;
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     enc.set_color(png::ColorType::Rgba);

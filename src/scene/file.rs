@@ -541,9 +541,6 @@ impl<T: Real> Parser<'_, T> {
     }
 }
 
-/// The largest `.scene` file read (the meshes it names have their own cap).
-pub const MAX_SCENE_BYTES: u64 = 64 << 20;
-
 /// Loads a `.scene` file as a renderable scene (f32), with its meshes relative to it.
 pub fn load_scene_file(path: &Path) -> Result<Scene, String> {
     let name = path.display().to_string();
@@ -556,27 +553,10 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, String> {
     Scene::from_description(&name, d)
 }
 
-/// A scene file's text: a regular file, at most [`MAX_SCENE_BYTES`], UTF-8.
+/// A scene file's text: a regular file of at most [`crate::input::max_input_bytes`], UTF-8
+/// (a byte-order mark dropped).
 pub fn read_scene_text(path: &Path) -> Result<String, String> {
-    let name = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| format!("{name}: {e}"))?;
-    if !meta.is_file() {
-        return Err(format!("{name}: not a regular file"));
-    }
-    if meta.len() > MAX_SCENE_BYTES {
-        return Err(format!(
-            "{name}: {} bytes is more than a scene file may hold ({MAX_SCENE_BYTES})",
-            meta.len()
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
-    String::from_utf8(bytes).map_err(|e| {
-        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        format!("{name}:{line}: not UTF-8 text")
-    })
+    crate::input::read_text(path, crate::input::max_input_bytes()).map_err(|e| e.to_string())
 }
 
 impl Scene {

@@ -41,7 +41,7 @@ impl std::str::FromStr for ObjFrame {
 }
 
 /// Largest OBJ file accepted (bytes): a guard against exhausting memory on a wrong file.
-pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+pub const MAX_OBJ_BYTES: u64 = crate::input::MAX_INPUT_BYTES;
 
 /// Most triangles (after fan triangulation) and vertices an OBJ may define, checked by the
 /// first pass before anything is allocated: about 130 bytes per triangle end to end (tobj's
@@ -66,27 +66,9 @@ pub const DEFAULT_COLOR: [f32; 3] = [0.75, 0.75, 0.75];
 /// Why an OBJ could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
-    /// The file could not be read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// What the OS said.
-        source: std::io::Error,
-    },
-    /// Not a file (a directory, say).
-    #[error("{0}: not a regular file")]
-    NotAFile(PathBuf),
-    /// Larger than [`MAX_OBJ_BYTES`].
-    #[error("{path}: {size} bytes is larger than the {limit}-byte limit for an OBJ file")]
-    TooLarge {
-        /// The file.
-        path: PathBuf,
-        /// Its size.
-        size: u64,
-        /// The limit.
-        limit: u64,
-    },
+    /// The file could not be read: not a regular file, too large, or an I/O error.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// Not UTF-8 text, or holding NUL bytes.
     #[error("{file}:{line}: not a text OBJ file (binary data or invalid UTF-8)")]
     NotText {
@@ -136,28 +118,13 @@ pub fn load_obj_file_coloured(
     frame: ObjFrame,
     default: [f32; 3],
 ) -> Result<Scene, ObjError> {
-    let io = |source| ObjError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let meta = std::fs::metadata(path).map_err(io)?;
-    if !meta.is_file() {
-        return Err(ObjError::NotAFile(path.to_path_buf()));
-    }
-    if meta.len() > MAX_OBJ_BYTES {
-        return Err(ObjError::TooLarge {
-            path: path.to_path_buf(),
-            size: meta.len(),
-            limit: MAX_OBJ_BYTES,
-        });
-    }
-    let bytes = std::fs::read(path).map_err(io)?;
+    let bytes = crate::input::read_bytes(path, crate::input::max_input_bytes())?;
     let name = path.display().to_string();
     let text = to_text(&name, bytes)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     load_obj_str_coloured(&name, &text, frame, default, |mtl: &str| {
         let p = dir.join(mtl);
-        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
+        crate::input::read_text(&p, crate::input::max_input_bytes()).map_err(|e| e.to_string())
     })
 }
 
@@ -197,6 +164,8 @@ fn load_obj_str_coloured(
     default: [f32; 3],
     load_mtl: impl Fn(&str) -> Result<String, String>,
 ) -> Result<Scene, ObjError> {
+    // A UTF-8 byte-order mark is no part of the first statement.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if let Some(pos) = text.find('\0') {
         return Err(ObjError::NotText {
             file: name.to_string(),
@@ -294,9 +263,7 @@ fn load_obj_str_coloured(
             "{name}: dropped {dropped} degenerate (zero-area) triangles"
         ));
     }
-    for w in &warnings {
-        log::warn!("{w}");
-    }
+    // (Whoever loads the scene shows its warnings: the CLI prints them, the window's panel.)
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
         return Err(ObjError::NoTriangles {
