@@ -262,6 +262,53 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     Ok((scene, camera, settings))
 }
 
+/// A render stopped by Ctrl+C (exit code 130, as a shell reports SIGINT).
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted: nothing written")]
+pub struct Interrupted;
+
+/// Camera rays from which `raylab render` shows a progress bar (on a terminal only).
+const PROGRESS_MIN_RAYS: u64 = 1 << 22;
+
+/// Renders with a progress bar and ETA on a terminal for large renders, stopping cleanly at
+/// Ctrl+C (`None`).
+fn render_with_progress(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+) -> Result<Option<(Vec<u8>, render::RenderStats)>> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    // (Fails only if a handler is set already: then Ctrl+C ends the process as usual.)
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    let rays =
+        settings.width as u64 * settings.height as u64 * (settings.spp * settings.spp) as u64;
+    let bands = settings.height.div_ceil(render::BAND) as u64;
+    let bar = match rays >= PROGRESS_MIN_RAYS {
+        // Drawn only where stderr is a terminal.
+        true => indicatif::ProgressBar::new(bands),
+        false => indicatif::ProgressBar::hidden(),
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} {elapsed_precise} [{bar:40}] {percent}% ETA {eta} (Ctrl+C stops)",
+        )
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    let mut rgba = vec![0u8; settings.buffer_len()];
+    // Asked before each band of rows (and once at the end).
+    let cancelled = || {
+        bar.inc(1);
+        interrupted.load(Ordering::Relaxed)
+    };
+    let stats = render::render_into_cancellable(scene, camera, settings, &mut rgba, &cancelled)?;
+    bar.finish_and_clear();
+    Ok(stats.map(|s| (rgba, s)))
+}
+
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view)?;
@@ -273,7 +320,10 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let build = Instant::now();
     scene.accel();
     let build = build.elapsed();
-    let (rgba, stats) = render::render_image(&scene, &camera, &settings)?;
+    let Some((rgba, stats)) = render_with_progress(&scene, &camera, &settings)? else {
+        let _ = std::fs::remove_file(&args.out);
+        return Err(Interrupted.into());
+    };
     render::write_png(&args.out, settings.width, settings.height, &rgba)
         .with_context(|| format!("writing '{}'", args.out.display()))?;
     println!(

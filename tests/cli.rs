@@ -934,3 +934,59 @@ fn every_input_is_capped_and_a_byte_order_mark_is_skipped() {
     let o = raylab(&["render", "--scene", &obj, "-o", png.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+#[test]
+fn ctrl_c_stops_a_long_render_cleanly_and_no_progress_bar_is_drawn_off_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("big.png");
+    // Seconds of work: 4096x4096, 2x2 samples, the lecture's method per ray.
+    let child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args([
+            "render", "--width", "4096", "--height", "4096", "--spp", "2",
+        ])
+        .args(["--method", "cramer", "-o", out.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The output file is made just before the render starts (and the handler is set).
+    let wait = std::time::Instant::now();
+    while !out.exists() && wait.elapsed().as_secs() < 30 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let start = std::time::Instant::now();
+    let o = child.wait_with_output().unwrap();
+    assert!(
+        start.elapsed().as_secs() < 20,
+        "stopped within a band or two"
+    );
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("interrupted: nothing written"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "no half-written or empty PNG is left");
+    // Not a terminal: no progress bar or escape codes in the output of a large render.
+    let o = raylab(&[
+        "render",
+        "--width",
+        "2048",
+        "--height",
+        "2048",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        !stderr(&o).contains('\u{1b}') && !stderr(&o).contains("ETA"),
+        "{}",
+        stderr(&o)
+    );
+}

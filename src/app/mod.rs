@@ -86,7 +86,7 @@ pub enum AppEvent {
     FrameReady,
     /// A scene or OBJ finished loading (or failed); `true` for a reload of the file shown,
     /// which keeps the camera.
-    SceneLoaded(PathBuf, Result<Scene, String>, bool),
+    SceneLoaded(PathBuf, Box<Result<Scene, String>>, bool),
     /// The file of the scene shown changed on disk.
     SourceChanged(PathBuf),
     /// An F12 screenshot was written (or failed).
@@ -492,7 +492,7 @@ impl ApplicationHandler<AppEvent> for App {
                 self.request_redraw();
             }
             AppEvent::SceneLoaded(path, result, reload) => {
-                let loaded = self.viewer.scene_loaded(path, result, reload);
+                let loaded = self.viewer.scene_loaded(path, *result, reload);
                 if let (Some(name), Some(w)) = (loaded, &self.window) {
                     w.set_title(&format!("raylab - {name}"));
                 }

@@ -76,12 +76,14 @@ const HIGHLIGHT: [f32; 3] = [1.0, 0.45, 0.0];
 /// Watches the file in `source` (whichever it is now) and sends [`AppEvent::SourceChanged`]
 /// when its modification time or size changes; ends with the event loop.
 fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<AppEvent>) {
-    let stamp = |p: &PathBuf| {
+    /// A file's modification time and size, as far as they can be had.
+    type Stamp = Option<(Option<std::time::SystemTime>, u64)>;
+    let stamp = |p: &PathBuf| -> Stamp {
         std::fs::metadata(p)
             .ok()
             .map(|m| (m.modified().ok(), m.len()))
     };
-    let mut last: Option<(PathBuf, Option<(Option<std::time::SystemTime>, u64)>)> = None;
+    let mut last: Option<(PathBuf, Stamp)> = None;
     loop {
         std::thread::sleep(WATCH_EVERY);
         let Some(path) = source.lock().expect("not poisoned").clone() else {
@@ -370,7 +372,7 @@ impl Viewer {
         let frame = self.obj_frame;
         std::thread::spawn(move || {
             let result = Scene::load(&path, frame);
-            let _ = proxy.send_event(AppEvent::SceneLoaded(path, result, reload));
+            let _ = proxy.send_event(AppEvent::SceneLoaded(path, Box::new(result), reload));
         });
     }
 
