@@ -162,6 +162,11 @@ pub struct RenderArgs {
     /// Output PNG file.
     #[arg(short, long)]
     pub out: PathBuf,
+    /// Also write, beside the PNG, each pixel's centre-ray primitive (OUT.prim.npy, uint32,
+    /// 4294967295 for none), t (OUT.t.npy, float32, NaN for none) and unit normal facing the
+    /// camera (OUT.normal.npy, float32 H×W×3), as NumPy arrays.
+    #[arg(long)]
+    pub aov: bool,
 }
 
 /// `raylab bench`.
@@ -346,6 +351,12 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats.mrays_per_s(),
         args.out.display()
     );
+    if args.aov {
+        let aovs = render::aov::render_aovs(&scene, &camera, &settings)?;
+        for p in aovs.write_beside(&args.out)? {
+            println!("wrote {}", p.display());
+        }
+    }
     Ok(())
 }
 

@@ -990,3 +990,111 @@ fn ctrl_c_stops_a_long_render_cleanly_and_no_progress_bar_is_drawn_off_a_termina
         stderr(&o)
     );
 }
+
+/// A little `.npy` reader (format 1.0, little-endian, C order): (descr, shape, data bytes).
+fn read_npy(path: &Path) -> (String, Vec<usize>, Vec<u8>) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00", "magic and version");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    assert_eq!((10 + len) % 64, 0, "header padded to 64 bytes");
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(header.contains("'fortran_order': False") && header.ends_with('\n'));
+    let descr = header
+        .split("'descr': '")
+        .nth(1)
+        .unwrap()
+        .split('\'')
+        .next()
+        .unwrap();
+    let shape = header
+        .split("'shape': (")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
+    let shape = (shape.split(',').map(str::trim).filter(|s| !s.is_empty()))
+        .map(|s| s.parse().unwrap())
+        .collect();
+    (descr.to_string(), shape, bytes[10 + len..].to_vec())
+}
+
+#[test]
+fn aovs_say_what_each_pixel_saw() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box.png");
+    let (w, h) = (40usize, 30usize);
+    let o = raylab(&[
+        "render",
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "--aov",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (descr, shape, prim) = read_npy(&dir.path().join("box.prim.npy"));
+    assert_eq!((descr.as_str(), shape), ("<u4", vec![h, w]));
+    let prim: Vec<u32> = prim
+        .chunks(4)
+        .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let (descr, shape, t) = read_npy(&dir.path().join("box.t.npy"));
+    assert_eq!((descr.as_str(), shape), ("<f4", vec![h, w]));
+    let t: Vec<f32> = t
+        .chunks(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let (descr, shape, n) = read_npy(&dir.path().join("box.normal.npy"));
+    assert_eq!((descr.as_str(), shape), ("<f4", vec![h, w, 3]));
+    let n: Vec<f32> = n
+        .chunks(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let (_, _, png) = read_png(&out);
+    let scene = raylab::Scene::cornell();
+    let o_cam = [0.0, 0.0, -3.001f32 as f64];
+    let mut hits = 0;
+    for k in 0..w * h {
+        // The flat image shows each pixel's primitive colour.
+        let colour = prim.get(k).and_then(|p| scene.colors.get(*p as usize));
+        let expect = colour.map_or([0, 0, 0], |c| c.map(raylab::render::linear_to_srgb8));
+        assert_eq!(&png[4 * k..4 * k + 3], &expect, "pixel {k}");
+        let Some(raylab::geometry::Shape::Triangle(v)) = scene.shapes.get(prim[k] as usize) else {
+            assert!(prim[k] == u32::MAX && t[k].is_nan());
+            continue;
+        };
+        hits += 1;
+        // t against the plane of that triangle, in f64, along the unit pixel-centre ray.
+        let (i, j) = ((k % w) as f64, (k / w) as f64);
+        let d = [i + 0.5 - w as f64 / 2.0, j + 0.5 - h as f64 / 2.0, w as f64];
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = d.map(|c| c / len);
+        let v = v.map(|p| p.map(f64::from));
+        let e1 = [0, 1, 2].map(|a| v[1][a] - v[0][a]);
+        let e2 = [0, 1, 2].map(|a| v[2][a] - v[0][a]);
+        let nn = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let t_ref = dot([0, 1, 2].map(|a| v[0][a] - o_cam[a]), nn) / dot(d, nn);
+        assert!(
+            (t[k] as f64 - t_ref).abs() <= 1e-5 * t_ref,
+            "pixel {k}: t {} vs {t_ref}",
+            t[k]
+        );
+        let nk = [n[3 * k] as f64, n[3 * k + 1] as f64, n[3 * k + 2] as f64];
+        assert!((dot(nk, nk) - 1.0).abs() < 1e-6, "unit normal");
+        assert!(dot(nk, d) < 0.0, "facing the camera");
+        let nn_len = dot(nn, nn).sqrt();
+        assert!(
+            (dot(nk, nn) / nn_len).abs() > 1.0 - 1e-6,
+            "the triangle's normal"
+        );
+    }
+    assert!(hits > w * h / 2, "{hits} hits");
+}

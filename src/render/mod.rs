@@ -8,6 +8,7 @@
 //! a time; either way the face answers exactly, and shading depends only on the ray and the
 //! primitive hit, so both give the same bits.
 
+pub mod aov;
 pub mod image;
 pub mod settings;
 pub mod shade;
