@@ -185,8 +185,9 @@ pub struct BenchArgs {
 /// `raylab trace`.
 #[derive(clap::Args, Debug)]
 pub struct TraceArgs {
-    /// Scene file: `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` or `sphere cx cy cz r` per line; the index
-    /// of a primitive is its 0-based position among these lines; `#` and blank lines skipped.
+    /// Scene file (the `.scene` format): at its simplest `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` or
+    /// `sphere cx cy cz r` per line; the index of a primitive is its 0-based position among
+    /// the primitives; `#` starts a comment.
     #[arg(long)]
     pub scene: PathBuf,
     /// Ray file: `ox oy oz dx dy dz tmin tmax` per line (tmax may be `inf`). d is not
@@ -199,6 +200,20 @@ pub struct TraceArgs {
     /// Arithmetic precision: inputs are parsed and intersected in this precision.
     #[arg(long, value_enum, default_value = "f32")]
     pub precision: Precision,
+    /// Which path answers: `reference` (the scalar loop over every primitive), or the
+    /// renderer's per-ray structures, `flat` (the SIMD loop), `bvh`, or `auto` (as the
+    /// renderer picks); the structures run in f32 only.
+    #[arg(long, default_value = "reference")]
+    pub accel: TraceAccel,
+}
+
+/// The paths `raylab trace` can take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TraceAccel {
+    Reference,
+    Auto,
+    Flat,
+    Bvh,
 }
 
 fn parse_vec3(s: &str) -> Result<DVec3, String> {
@@ -450,9 +465,24 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         args.rays.display().to_string(),
     );
     let method = args.method.into();
-    let out = match args.precision {
-        Precision::F32 => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method)?,
-        Precision::F64 => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method)?,
+    let choice = match args.accel {
+        TraceAccel::Reference => None,
+        TraceAccel::Auto => Some(AccelChoice::Auto),
+        TraceAccel::Flat => Some(AccelChoice::Flat),
+        TraceAccel::Bvh => Some(AccelChoice::Bvh),
+    };
+    let out = match (args.precision, choice) {
+        (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method)?,
+        (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method)?,
+        (Precision::F32, Some(choice)) => {
+            let shapes = tracefile::parse_scene::<f32>(&sf, &scene_text)?;
+            let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
+            tracefile::trace_all_through(&shapes, &rays, method, choice)
+        }
+        (Precision::F64, Some(_)) => bail!(
+            "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",
+            args.accel
+        ),
     };
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();

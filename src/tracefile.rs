@@ -116,6 +116,27 @@ pub fn trace_all<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>], method: Met
     out
 }
 
+/// Traces every ray in f32 through an acceleration structure built with `choice` over the
+/// shapes: the per-ray paths the renderer uses (the flat SIMD loop, the BVH), in the same
+/// output format as [`trace_all`].
+pub fn trace_all_through(
+    shapes: &[Shape<f32>],
+    rays: &[TraceRay<f32>],
+    method: Method,
+    choice: accel::AccelChoice,
+) -> String {
+    let structure = accel::Accel::build(shapes, choice);
+    let mut out = String::with_capacity(rays.len() * 24);
+    for r in rays {
+        match structure.closest_hit(&r.ray, method, r.tmin, r.tmax) {
+            Some(h) => writeln!(out, "hit {} {}", h.t, h.prim),
+            None => writeln!(out, "miss"),
+        }
+        .expect("writing to a String cannot fail");
+    }
+    out
+}
+
 /// Parses both texts and traces: the whole `raylab trace` in one call.
 pub fn run<T: Real>(
     scene_file: &str,

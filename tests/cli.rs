@@ -1098,3 +1098,91 @@ fn aovs_say_what_each_pixel_saw() {
     }
     assert!(hits > w * h / 2, "{hits} hits");
 }
+
+#[test]
+fn trace_answers_through_every_per_ray_path_alike() {
+    // A cube of 4x4 quads per face (its shared edges and vertices the hard cases) with a
+    // sphere in and beside it; rays from several origins through every vertex and edge
+    // midpoint. The reference loop, the flat SIMD loop and the BVH name the same primitive
+    // for every ray, with t equal to within the stated bound.
+    use raylab::geometry::Shape;
+    let dir = tempfile::tempdir().unwrap();
+    let mut shapes = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
+    shapes.push(Shape::Sphere {
+        centre: [0.0, 0.0, 0.0],
+        radius: 0.25,
+    });
+    shapes.push(Shape::Sphere {
+        centre: [1.5, 0.0, 0.0],
+        radius: 0.5,
+    });
+    let mut scene = String::new();
+    for s in &shapes {
+        match s {
+            Shape::Triangle(v) => {
+                let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
+                scene += &format!("tri {}\n", nums.join(" "));
+            }
+            Shape::Sphere { centre: c, radius } => {
+                scene += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
+            }
+        }
+    }
+    let mut rays = String::new();
+    for o in [
+        [0.0f32, 0.0, -3.0],
+        [2.0, 1.5, -2.5],
+        [0.1, 0.2, 0.05],
+        [-3.0, 0.25, 0.5],
+    ] {
+        for p in common::vertices_and_edge_midpoints(&shapes) {
+            let d = [0, 1, 2].map(|k| p[k] - o[k]);
+            rays += &format!(
+                "{} {} {} {} {} {} 0 inf\n",
+                o[0], o[1], o[2], d[0], d[1], d[2]
+            );
+        }
+    }
+    let scene = write(dir.path(), "cube.scene", &scene);
+    let rays = write(dir.path(), "rays.txt", &rays);
+    let run = |accel: &str| {
+        let o = raylab(&[
+            "trace", "--scene", &scene, "--rays", &rays, "--accel", accel,
+        ]);
+        assert!(o.status.success(), "{accel}: {}", stderr(&o));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let reference = run("reference");
+    let lines = reference.lines().count();
+    assert!(lines > 400, "{lines} rays");
+    assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
+    for accel in ["flat", "bvh", "auto"] {
+        for (a, b) in reference.lines().zip(run(accel).lines()) {
+            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
+            assert_eq!(
+                (wa[0], wa.get(2)),
+                (wb[0], wb.get(2)),
+                "{accel}: {a} vs {b}"
+            );
+            if wa[0] == "hit" {
+                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
+                assert!(
+                    (ta - tb).abs() <= 4e-7 * ta.abs(),
+                    "{accel}: t {ta} vs {tb}"
+                );
+            }
+        }
+    }
+    let o = raylab(&[
+        "trace",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--accel",
+        "bvh",
+        "--precision",
+        "f64",
+    ]);
+    assert_fails(&o, 2, &["f32 only"]);
+}
