@@ -126,6 +126,11 @@ pub struct ViewArgs {
     /// the `.scene` file's camera).
     #[arg(long, allow_hyphen_values = true)]
     pub pitch: Option<f64>,
+    /// The point light's position `x,y,z` (default: the scene's: the lab's (0,-0.5,-0.7) for
+    /// the Cornell box, a `.scene` file's `light`, or one placed for an OBJ model's size), as
+    /// the window's panel sets it.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub light: Option<DVec3>,
     /// Lab step (shading).
     #[arg(long, default_value = "flat", value_parser = lab_step_parser())]
     pub step: LabStep,
@@ -257,6 +262,16 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let mut scene = load_scene(&v.scene, v.obj_frame)
         .with_context(|| format!("loading scene '{}'", v.scene))?;
     scene.set_accel(v.accel);
+    if let Some(light) = v.light {
+        let light = light.as_vec3().to_array();
+        if !light.iter().all(|c| c.is_finite()) {
+            bail!(
+                "light position {:?} is not finite in f32",
+                v.light.unwrap_or_default()
+            );
+        }
+        scene.light.position = light;
+    }
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }

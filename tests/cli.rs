@@ -1186,3 +1186,34 @@ fn trace_answers_through_every_per_ray_path_alike() {
     ]);
     assert_fails(&o, 2, &["f32 only"]);
 }
+
+#[test]
+fn the_light_can_be_set_as_the_panel_sets_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec![
+            "render", "--width", "48", "--height", "36", "--step", "shadows",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        let o = raylab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        read_png(&out).2
+    };
+    let default = png("default.png", &[]);
+    // The lab's light, given explicitly: the same image.
+    assert!(default == png("lab.png", &["--light", "0,-0.5,-0.7"]));
+    let moved = png("moved.png", &["--light", "0.6,-0.5,-0.7"]);
+    let differ = default
+        .chunks(4)
+        .zip(moved.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ > 200, "{differ} pixels changed with the light");
+    assert_fails(
+        &raylab(&["render", "--light", "1e39,0,0", "-o", "x.png"]),
+        2,
+        &["light", "not finite"],
+    );
+}
