@@ -116,3 +116,18 @@ impl Framework {
         )
     }
 }
+
+/// Why no window could be opened, in one line a user can act on (winit's own message names
+/// its source file).
+pub fn no_window_reason() -> String {
+    let unset = |v: &str| std::env::var_os(v).is_none_or(|x| x.is_empty());
+    if unset("DISPLAY") && unset("WAYLAND_DISPLAY") {
+        "cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); \
+         run raylab in a desktop session, or render headless with `raylab render --out FILE.png`"
+            .into()
+    } else {
+        "cannot open a window: the display named by DISPLAY / WAYLAND_DISPLAY does not answer; \
+         check it, or render headless with `raylab render --out FILE.png`"
+            .into()
+    }
+}

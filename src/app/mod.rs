@@ -24,15 +24,13 @@ mod worker;
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
 use input::Key;
-use raylab::geometry::Method;
-use raylab::render::LabStep;
 use raylab::Scene;
-use script::{Action, Script};
+use script::Script;
 use scripted::ScriptedRun;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use viewer::Viewer;
+use viewer::{Resolution, Viewer};
 use winit::application::ApplicationHandler;
 use winit::dpi::{LogicalSize, PhysicalSize};
 use winit::event::{
@@ -55,29 +53,6 @@ pub struct ViewerOptions {
     pub screenshot: Option<PathBuf>,
     /// Scripted input.
     pub script: Option<PathBuf>,
-}
-
-/// The render resolution: a fraction of the image area, or fixed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Resolution {
-    /// This fraction of the image area's physical pixels.
-    WindowScale(f32),
-    /// A fixed size.
-    Fixed(u32, u32),
-}
-
-/// Everything on the panel that changes the image (besides the camera).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ViewSettings {
-    pub step: LabStep,
-    pub method: Method,
-    pub spp: u32,
-    pub resolution: Resolution,
-    pub adaptive: bool,
-    pub target_ms: f32,
-    pub preview_scale: f32,
-    pub light: [f32; 3],
-    pub cracks: bool,
 }
 
 /// Events sent to the event loop from other threads.
@@ -117,7 +92,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         .build()
         .map_err(|e| {
             log::debug!("event loop: {e}");
-            anyhow!("{}", no_window_reason())
+            anyhow!("{}", framework::no_window_reason())
         })?;
     let viewer = Viewer::new(
         scene,
@@ -147,21 +122,6 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         .run_app(&mut app)
         .map_err(|e| anyhow!("event loop: {e}"))?;
     app.outcome
-}
-
-/// Why no window could be opened, in one line a user can act on (winit's own message names
-/// its source file).
-fn no_window_reason() -> String {
-    let unset = |v: &str| std::env::var_os(v).is_none_or(|x| x.is_empty());
-    if unset("DISPLAY") && unset("WAYLAND_DISPLAY") {
-        "cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); \
-         run raylab in a desktop session, or render headless with `raylab render --out FILE.png`"
-            .into()
-    } else {
-        "cannot open a window: the display named by DISPLAY / WAYLAND_DISPLAY does not answer; \
-         check it, or render headless with `raylab render --out FILE.png`"
-            .into()
-    }
 }
 
 /// The event loop's handler: the window, its framework, the viewer and the scripted run.
@@ -268,57 +228,6 @@ impl App {
             _ => {}
         }
         self.request_redraw();
-    }
-
-    /// Carries out the script's events that are due.
-    fn run_script(&mut self, event_loop: &ActiveEventLoop) {
-        let Some(scripted) = &mut self.scripted else {
-            return;
-        };
-        for action in scripted.due(self.frames_presented) {
-            let viewer = &mut self.viewer;
-            match action {
-                Action::Key(k, down) => self.key(event_loop, k, down),
-                Action::Mouse(dx, dy) => viewer.input.mouse(dx, dy),
-                Action::Wheel(lines) => viewer.input.wheel(lines),
-                Action::Step(step) => {
-                    viewer.view.step = step;
-                    viewer.changed();
-                }
-                Action::Drop(path) => viewer.load(path),
-                Action::Focal(f) => {
-                    let width = viewer.full_size().0;
-                    viewer.controller.set_focal(f, width);
-                    viewer.changed();
-                }
-                Action::Scale(s) => {
-                    viewer.view.resolution = Resolution::WindowScale(s);
-                    viewer.changed();
-                }
-                Action::Resize(w, h) => {
-                    let Some(window) = self.window.clone() else {
-                        continue;
-                    };
-                    if w == 0 || h == 0 {
-                        self.on_resized(&window, PhysicalSize::new(0, 0));
-                    } else {
-                        let _ = window.request_inner_size(PhysicalSize::new(w, h));
-                    }
-                }
-                Action::Restore => {
-                    if let Some(window) = self.window.clone() {
-                        self.on_resized(&window, window.inner_size());
-                    }
-                }
-                Action::Select(level) => viewer.select_level(level),
-                Action::LoseSurface => {
-                    if let Some(fw) = &mut self.framework {
-                        fw.gpu.lose_next_draw = true;
-                    }
-                    self.request_redraw();
-                }
-            }
-        }
     }
 
     /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back.

@@ -1,7 +1,7 @@
 //! The egui side panel, the image area beside it, and the shortcuts overlay.
 
+use super::viewer::ViewSettings;
 use super::viewer::Viewer;
-use super::ViewSettings;
 use raylab::controller::{CameraController, FOCAL_RATIO_RANGE};
 use raylab::geometry::Method;
 use raylab::render::{LabStep, RenderStats, MAX_SPP};

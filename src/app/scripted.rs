@@ -5,11 +5,15 @@
 
 use super::gpu::Capture;
 use super::script::{Action, Script};
+use super::viewer::Resolution;
 use super::viewer::Viewer;
+use super::App;
 use anyhow::{anyhow, Result};
 use raylab::render;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
+use winit::dpi::PhysicalSize;
+use winit::event_loop::ActiveEventLoop;
 
 /// A scripted run that has not finished by then fails.
 const TIMEOUT: Duration = Duration::from_secs(120);
@@ -114,5 +118,58 @@ impl ScriptedRun {
         }
         println!("saved {}", path.display());
         Ok(())
+    }
+}
+
+impl App {
+    /// Carries out the script's events that are due.
+    pub(super) fn run_script(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(scripted) = &mut self.scripted else {
+            return;
+        };
+        for action in scripted.due(self.frames_presented) {
+            let viewer = &mut self.viewer;
+            match action {
+                Action::Key(k, down) => self.key(event_loop, k, down),
+                Action::Mouse(dx, dy) => viewer.input.mouse(dx, dy),
+                Action::Wheel(lines) => viewer.input.wheel(lines),
+                Action::Step(step) => {
+                    viewer.view.step = step;
+                    viewer.changed();
+                }
+                Action::Drop(path) => viewer.load(path),
+                Action::Focal(f) => {
+                    let width = viewer.full_size().0;
+                    viewer.controller.set_focal(f, width);
+                    viewer.changed();
+                }
+                Action::Scale(s) => {
+                    viewer.view.resolution = Resolution::WindowScale(s);
+                    viewer.changed();
+                }
+                Action::Resize(w, h) => {
+                    let Some(window) = self.window.clone() else {
+                        continue;
+                    };
+                    if w == 0 || h == 0 {
+                        self.on_resized(&window, PhysicalSize::new(0, 0));
+                    } else {
+                        let _ = window.request_inner_size(PhysicalSize::new(w, h));
+                    }
+                }
+                Action::Restore => {
+                    if let Some(window) = self.window.clone() {
+                        self.on_resized(&window, window.inner_size());
+                    }
+                }
+                Action::Select(level) => viewer.select_level(level),
+                Action::LoseSurface => {
+                    if let Some(fw) = &mut self.framework {
+                        fw.gpu.lose_next_draw = true;
+                    }
+                    self.request_redraw();
+                }
+            }
+        }
     }
 }

@@ -5,7 +5,7 @@
 
 use super::input::InputState;
 use super::worker::{self, Worker};
-use super::{AppEvent, Resolution, ViewSettings};
+use super::AppEvent;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::{self, LabStep, RenderSettings, RenderStats, MAX_SIDE};
@@ -15,6 +15,29 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use winit::event_loop::EventLoopProxy;
+
+/// The render resolution: a fraction of the image area, or fixed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Resolution {
+    /// This fraction of the image area's physical pixels.
+    WindowScale(f32),
+    /// A fixed size.
+    Fixed(u32, u32),
+}
+
+/// Everything on the panel that changes the image (besides the camera).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSettings {
+    pub step: LabStep,
+    pub method: Method,
+    pub spp: u32,
+    pub resolution: Resolution,
+    pub adaptive: bool,
+    pub target_ms: f32,
+    pub preview_scale: f32,
+    pub light: [f32; 3],
+    pub cracks: bool,
+}
 
 /// How long after the last change the viewer keeps previewing before it refines.
 pub const SETTLE: Duration = Duration::from_millis(120);
