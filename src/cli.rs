@@ -99,6 +99,13 @@ pub enum Precision {
 /// What to render and from where: shared by `render` and `bench`.
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
+    /// A view saved by the window (F5): its scene, camera, light, size, step, samples and
+    /// method, instead of the flags that set them.
+    #[arg(long, value_name = "FILE.view", conflicts_with_all = [
+        "scene", "width", "height", "focal", "camera", "yaw", "pitch", "light", "step", "spp",
+        "method", "obj_frame", "cracks",
+    ])]
+    pub view: Option<PathBuf>,
     /// `cornell` for the built-in lab Cornell box, a `.scene` file (the transform-stack scene
     /// format: see the README), or the path of an OBJ file (triangulated; Kd colours from its
     /// .mtl; the camera is placed to frame the model).
@@ -247,8 +254,37 @@ pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
     Scene::load(Path::new(spec), frame).map_err(anyhow::Error::msg)
 }
 
+/// The scene, camera and settings of a view file (F5 in the window). A relative scene path
+/// that does not exist from here is looked up beside the view file.
+fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
+    let text = read_text(path)?;
+    let view = raylab::view::View::parse(&path.display().to_string(), &text)?;
+    let mut spec = view.scene.clone();
+    let beside = path.parent().unwrap_or(Path::new("")).join(&spec);
+    if spec != "cornell" && !Path::new(&spec).exists() && beside.exists() {
+        spec = beside.display().to_string();
+    }
+    let mut scene = load_scene(&spec, view.obj_frame)
+        .with_context(|| format!("loading scene '{spec}' of view '{}'", path.display()))?;
+    scene.set_accel(v.accel);
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    if let Some(light) = view.light {
+        scene.light.position = light;
+    }
+    let (c, s) = (view.camera, view.settings);
+    let focal = c.focal_ratio() * s.width as f64;
+    let position = DVec3::from_array(c.position);
+    let camera = Camera::from_yaw_pitch(position, c.yaw.to_radians(), c.pitch.to_radians(), focal)?;
+    Ok((scene, camera, s))
+}
+
 /// The scene, camera and settings a `ViewArgs` asks for.
 fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
+    if let Some(path) = &v.view {
+        return prepare_view(path, v);
+    }
     let settings = RenderSettings {
         width: v.width,
         height: v.height,

@@ -40,6 +40,7 @@ pub mod math;
 pub mod render;
 pub mod scene;
 pub mod tracefile;
+pub mod view;
 
 pub use camera::Camera;
 pub use geometry::{Hit, Method, Ray, Shape};

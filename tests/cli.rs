@@ -1217,3 +1217,64 @@ fn the_light_can_be_set_as_the_panel_sets_it() {
         &["light", "not finite"],
     );
 }
+
+#[test]
+fn view_files_render_and_round_trip() {
+    use raylab::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let text = "# a view\nscene cornell\ncamera 0.25 -0.1 -2.5 yaw 12.5 pitch -3 fov 61\n\
+                light 0.3 -0.6 -0.5\nsize 48 36\nstep shadows\nspp 2\nmethod watertight\ncracks off\n";
+    let view = View::parse("v.view", text).unwrap();
+    assert_eq!(
+        View::parse("again", &view.to_text()).unwrap(),
+        view,
+        "round trip"
+    );
+    let path = write(dir.path(), "v.view", text);
+    let out = dir.path().join("v.png");
+    let o = raylab(&["render", "--view", &path, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The same through flags: the same image.
+    let flags = dir.path().join("f.png");
+    let o = raylab(&[
+        "render",
+        "--camera",
+        "0.25,-0.1,-2.5",
+        "--yaw",
+        "12.5",
+        "--pitch",
+        "-3",
+        "--focal",
+        &(48.0 / (2.0 * (61f64.to_radians() / 2.0).tan())).to_string(),
+        "--light",
+        "0.3,-0.6,-0.5",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--step",
+        "shadows",
+        "--spp",
+        "2",
+        "--method",
+        "watertight",
+        "-o",
+        flags.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(read_png(&out) == read_png(&flags));
+    // Flags that the view sets conflict with it; a bad line names itself.
+    let o = raylab(&["render", "--view", &path, "--width", "10", "-o", "x.png"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--width") && stderr(&o).contains("--view"),
+        "{}",
+        stderr(&o)
+    );
+    let bad = write(dir.path(), "bad.view", "scene cornell\n\nzoom 2\n");
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:3:", "zoom"],
+    );
+}

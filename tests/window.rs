@@ -574,3 +574,78 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     }
     assert!(orange > 200, "{orange} orange pixels");
 }
+
+#[test]
+fn a_saved_view_renders_headless_as_the_window_saved_it() {
+    // Move, turn, zoom and light the scene as a user would, press F5 (save the view) and F12
+    // (a full-quality screenshot of the same view); `raylab render --view` must give that
+    // picture.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 key W down\n250 key W up\n300 key Left down\n500 key Left up\n\
+                  550 wheel 2\n600 step shadows\n1500 key F5 down\n1520 key F5 up\n\
+                  1600 key F12 down\n1620 key F12 up\n";
+    let Some(run) = run_window(script, dir.path()) else {
+        return;
+    };
+    let find = |prefix: &str, ext: &str| {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| {
+                let name = p.file_name().unwrap().to_string_lossy().into_owned();
+                name.starts_with(prefix) && name.ends_with(ext)
+            })
+            .unwrap_or_else(|| panic!("no {prefix}*{ext} in the run's directory\n{}", run.stderr))
+    };
+    let view = find("raylab-view-", ".view");
+    let shot = find("raylab-1", ".png");
+    assert!(run.stderr.contains("saved view"), "{}", run.stderr);
+    let text = std::fs::read_to_string(&view).unwrap();
+    assert!(
+        text.contains("step shadows") && text.contains("camera "),
+        "{text}"
+    );
+    let out = dir.path().join("headless.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["render", "--view"])
+        .arg(&view)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (a, b) = (read_png(&shot), read_png(&out));
+    assert_eq!((a.0, a.1), (b.0, b.1), "the same size");
+    let off = (a.2.chunks(4).zip(b.2.chunks(4)))
+        .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
+        .count();
+    let n = (a.0 * a.1) as usize;
+    // (Yaw and the field of view pass through degrees: an ulp of camera may move a pixel.)
+    assert!(off * 1000 <= n, "{off} of {n} pixels differ");
+}
+
+#[test]
+fn a_dropped_view_file_sets_the_camera_light_and_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("v.view");
+    std::fs::write(
+        &view,
+        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
+         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
+    )
+    .unwrap();
+    let script = format!("200 drop {}\n", view.display());
+    let Some(run) = run_window(&script, dir.path()) else {
+        return;
+    };
+    assert!(run.stderr.contains("loaded view"), "{}", run.stderr);
+    let pos = run.nums("camera");
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    assert!(
+        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
+        "{pos:?}"
+    );
+    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["size"], "320x240");
+}

@@ -21,6 +21,7 @@ pub enum Key {
     R,
     H,
     F1,
+    F5,
     F12,
     Escape,
 }
@@ -43,6 +44,7 @@ impl Key {
             KeyCode::KeyR => Key::R,
             KeyCode::KeyH => Key::H,
             KeyCode::F1 => Key::F1,
+            KeyCode::F5 => Key::F5,
             KeyCode::F12 => Key::F12,
             KeyCode::Escape => Key::Escape,
             _ => return None,
@@ -51,7 +53,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 16] = [
+        const ALL: [(&str, Key); 17] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -66,6 +68,7 @@ impl Key {
             ("R", Key::R),
             ("H", Key::H),
             ("F1", Key::F1),
+            ("F5", Key::F5),
             ("F12", Key::F12),
             ("Escape", Key::Escape),
         ];

@@ -215,6 +215,7 @@ impl App {
             }
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
             Key::F12 => self.viewer.screenshot(),
+            Key::F5 => self.viewer.save_view(),
             Key::Escape => {
                 if self.mouse_look {
                     self.set_mouse_look(false);
@@ -290,6 +291,9 @@ impl App {
         }
         if actions.screenshot {
             viewer.screenshot();
+        }
+        if actions.save_view {
+            viewer.save_view();
         }
         let after = viewer.panel_state();
         if before != after || actions.reset_camera {

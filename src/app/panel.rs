@@ -31,6 +31,7 @@ pub struct PanelActions {
     pub reset_camera: bool,
     pub screenshot: bool,
     pub load: Option<String>,
+    pub save_view: bool,
     /// A push level clicked in the scene tree (`Some(None)`: the selection cleared).
     pub select: Option<Option<usize>>,
 }
@@ -128,9 +129,18 @@ pub fn side_panel(
                 camera.pitch = pitch.to_radians();
             }
         });
-        if ui.button("Reset camera (R)").clicked() {
-            actions.reset_camera = true;
-        }
+        ui.horizontal(|ui| {
+            if ui.button("Reset camera (R)").clicked() {
+                actions.reset_camera = true;
+            }
+            if ui
+                .button("Save view (F5)")
+                .on_hover_text("camera, light and settings to a file `raylab render --view` renders")
+                .clicked()
+            {
+                actions.save_view = true;
+            }
+        });
         ui.collapsing("world_from_camera (4x4)", |ui| {
             let m = camera.stack().matrix();
             egui::Grid::new("matrix").striped(true).show(ui, |ui| {
@@ -416,6 +426,10 @@ pub const CONTROLS: &[(&str, &str)] = &[
     ("wheel", "focal length (up zooms in)"),
     ("R", "reset the camera"),
     ("F12", "save a screenshot (PNG)"),
+    (
+        "F5",
+        "save the view (camera, light, settings) for `raylab render --view`",
+    ),
     ("H / F1", "this overlay"),
     ("Esc", "release the mouse; again to quit"),
 ];

@@ -88,6 +88,8 @@ pub struct Viewer {
     source: Arc<Mutex<Option<PathBuf>>>,
     /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
     pub selected_level: Option<usize>,
+    /// The light of a view being loaded, kept over its scene's own.
+    view_light: Option<[f32; 3]>,
 }
 
 /// How often the scene's file is checked for changes.
@@ -171,6 +173,7 @@ impl Viewer {
             paused: false,
             source,
             selected_level: None,
+            view_light: None,
         }
     }
 
@@ -374,7 +377,52 @@ impl Viewer {
     /// Loads a `.scene` or OBJ file on a thread of its own ([`AppEvent::SceneLoaded`] when
     /// done).
     pub fn load(&mut self, path: PathBuf) {
-        self.load_file(path, false);
+        let is_view = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("view"));
+        match is_view {
+            true => self.load_view(&path),
+            false => self.load_file(path, false),
+        }
+    }
+
+    /// Applies a saved view (F5): its camera, light and settings now, its scene as it loads
+    /// (keeping that camera and light).
+    fn load_view(&mut self, path: &std::path::Path) {
+        let view = raylab::input::read_text(path, raylab::input::max_input_bytes())
+            .map_err(|e| e.to_string())
+            .and_then(|text| {
+                raylab::view::View::parse(&path.display().to_string(), &text)
+                    .map_err(|e| e.to_string())
+            });
+        let view = match view {
+            Ok(v) => v,
+            Err(e) => return self.set_status(format!("could not load the view: {e}")),
+        };
+        let s = view.settings;
+        (self.view.step, self.view.method, self.view.spp) = (s.step, s.method, s.spp);
+        self.view.cracks = s.cracks;
+        self.view.resolution = Resolution::Fixed(s.width, s.height);
+        self.controller = CameraController::from_scene_camera(&view.camera, self.scene.size());
+        if let Some(light) = view.light {
+            self.view.light = light;
+        }
+        self.obj_frame = view.obj_frame;
+        let current = self.source.lock().expect("not poisoned").clone();
+        let wanted = (view.scene != "cornell").then(|| PathBuf::from(&view.scene));
+        match wanted {
+            Some(p) if current.as_ref() != Some(&p) => {
+                self.view_light = view.light;
+                self.load_file(p, true);
+            }
+            None if current.is_some() => {
+                *self.source.lock().expect("not poisoned") = None;
+                self.scene = Arc::new(Scene::cornell());
+            }
+            _ => {}
+        }
+        self.set_status(format!("loaded view {}", path.display()));
+        self.changed();
     }
 
     /// Reloads the scene's file after it changed on disk (keeping the camera).
@@ -409,6 +457,9 @@ impl Viewer {
         reload: bool,
     ) -> Option<String> {
         self.loading = false;
+        if result.is_err() {
+            self.view_light = None;
+        }
         let scene = match result {
             Ok(scene) => scene,
             Err(e) if reload => {
@@ -431,7 +482,8 @@ impl Viewer {
             (None, Some(bounds)) => self.controller = CameraController::framing(bounds, w, h),
             (None, None) => {}
         }
-        self.view.light = scene.light.position;
+        // A view being loaded keeps its own light.
+        self.view.light = self.view_light.take().unwrap_or(scene.light.position);
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
             "{verb} {} ({} primitives)",
@@ -468,6 +520,52 @@ impl Viewer {
                 .map(|()| std::fs::canonicalize(&path).unwrap_or(path));
             let _ = proxy.send_event(AppEvent::ScreenshotSaved(result));
         });
+    }
+
+    /// The view as a [`raylab::view::View`]: what `raylab render --view` needs to render
+    /// what the window shows at full quality.
+    pub fn view(&self) -> raylab::view::View {
+        let c = &self.controller;
+        let ratio = c.focal_ratio;
+        let fov = (ratio != 1.0).then(|| 2.0 * (1.0 / (2.0 * ratio)).atan().to_degrees());
+        let source = self.source.lock().expect("not poisoned").clone();
+        let (width, height) = self.full_size();
+        raylab::view::View {
+            scene: source.map_or("cornell".into(), |p| p.display().to_string()),
+            obj_frame: self.obj_frame,
+            camera: raylab::scene::SceneCamera {
+                position: c.position.to_array(),
+                yaw: c.yaw.to_degrees(),
+                pitch: c.pitch.to_degrees(),
+                fov,
+            },
+            light: Some(self.view.light),
+            settings: RenderSettings {
+                width,
+                height,
+                ..self.settings((width, height), self.view.spp)
+            },
+        }
+    }
+
+    /// F5: writes the view to `raylab-view-<time>.view` (see [`raylab::view`]).
+    pub fn save_view(&mut self) {
+        let path = PathBuf::from(format!("raylab-view-{}.view", timestamp()));
+        let text = self.view().to_text();
+        let written = raylab::input::check_output(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|()| std::fs::write(&path, text).map_err(|e| e.to_string()));
+        match written {
+            Ok(()) => {
+                let shown = std::fs::canonicalize(&path).unwrap_or(path);
+                self.set_status(format!(
+                    "saved view {} (raylab render --view {} -o out.png)",
+                    shown.display(),
+                    shown.display()
+                ));
+            }
+            Err(e) => self.set_status(format!("could not save the view: {e}")),
+        }
     }
 
     /// An F12 screenshot finished.

@@ -1,0 +1,181 @@
+//! A view that leaves the window: the scene, the camera and the render settings in a small
+//! text file (`.view`), which `raylab render --view FILE` renders headless and the window
+//! loads back. One statement per line, `#` comments:
+//! ```text
+//! scene cornell | PATH             the built-in box, or a .scene / OBJ file
+//! obj-frame yup|lab                how an OBJ's coordinates are read
+//! camera x y z yaw DEG pitch DEG fov DEG
+//! light x y z                      the point light's position
+//! size W H                         the image in pixels
+//! step flat|direct|shadows|indirect
+//! spp N                            N×N samples per pixel
+//! method adaptive|watertight|moller|cramer
+//! cracks on|off
+//! ```
+//! Numbers are written in Rust's shortest round-trip form, so a saved view reads back to the
+//! same f64 values (the field of view is derived from the focal length, exact to an ulp).
+
+use crate::geometry::Method;
+use crate::render::{LabStep, RenderSettings};
+use crate::scene::file::{FileError, SceneCamera};
+use crate::scene::ObjFrame;
+
+/// Everything a window view holds that a render needs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct View {
+    /// `cornell` or a file path.
+    pub scene: String,
+    pub obj_frame: ObjFrame,
+    pub camera: SceneCamera,
+    pub light: Option<[f32; 3]>,
+    pub settings: RenderSettings,
+}
+
+impl View {
+    /// The file text.
+    pub fn to_text(&self) -> String {
+        let c = &self.camera;
+        let s = &self.settings;
+        let p = c.position;
+        let mut out =
+            String::from("# raylab view: `raylab render --view FILE -o out.png` renders it\n");
+        out += &format!("scene {}\n", self.scene);
+        let frame = match self.obj_frame {
+            ObjFrame::YUp => "yup",
+            ObjFrame::Lab => "lab",
+        };
+        out += &format!("obj-frame {frame}\n");
+        out += &format!(
+            "camera {} {} {} yaw {} pitch {}",
+            p[0], p[1], p[2], c.yaw, c.pitch
+        );
+        if let Some(fov) = c.fov {
+            out += &format!(" fov {fov}");
+        }
+        out += "\n";
+        if let Some(l) = self.light {
+            out += &format!("light {} {} {}\n", l[0], l[1], l[2]);
+        }
+        out += &format!(
+            "size {} {}\nstep {}\nspp {}\nmethod {}\n",
+            s.width, s.height, s.step, s.spp, s.method
+        );
+        out += &format!("cracks {}\n", if s.cracks { "on" } else { "off" });
+        out
+    }
+
+    /// Parses view text; errors name the file and line.
+    pub fn parse(file: &str, text: &str) -> Result<View, FileError> {
+        let mut view = View {
+            scene: "cornell".into(),
+            obj_frame: ObjFrame::YUp,
+            camera: SceneCamera::LAB,
+            light: None,
+            settings: RenderSettings::default(),
+        };
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        for (i, raw) in text.lines().enumerate() {
+            let content = raw.split('#').next().unwrap_or("").trim();
+            if content.is_empty() {
+                continue;
+            }
+            let w: Vec<&str> = content.split_whitespace().collect();
+            view.statement(&w).map_err(|message| FileError {
+                file: file.to_string(),
+                line: i + 1,
+                message,
+            })?;
+        }
+        view.settings.validate().map_err(|e| FileError {
+            file: file.to_string(),
+            line: 0,
+            message: e.to_string(),
+        })?;
+        Ok(view)
+    }
+
+    fn statement(&mut self, w: &[&str]) -> Result<(), String> {
+        let num = |s: &str| -> Result<f64, String> {
+            match s.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(format!("'{s}' is not a finite number")),
+            }
+        };
+        let int = |s: &str| {
+            s.parse::<u32>()
+                .map_err(|_| format!("'{s}' is not a whole number"))
+        };
+        let want = |n: usize| match w.len() == n {
+            true => Ok(()),
+            false => Err(format!(
+                "{} needs {} values, found {}",
+                w[0],
+                n - 1,
+                w.len() - 1
+            )),
+        };
+        match w[0] {
+            "scene" => {
+                if w.len() < 2 {
+                    return Err("scene needs `cornell` or a path".into());
+                }
+                self.scene = w[1..].join(" ");
+            }
+            "obj-frame" => {
+                want(2)?;
+                self.obj_frame = w[1].parse()?;
+            }
+            "camera" => {
+                // The .scene statement's syntax.
+                let text = w.join(" ");
+                let d = crate::scene::file::parse::<f32>(
+                    "",
+                    &text,
+                    std::path::Path::new(""),
+                    &|_, _, _| Err("no meshes in a view".to_string()),
+                )
+                .map_err(|e| e.message)?;
+                self.camera = d.camera.expect("a camera statement");
+            }
+            "light" => {
+                want(4)?;
+                let l = [num(w[1])?, num(w[2])?, num(w[3])?].map(|x| x as f32);
+                if !l.iter().all(|c| c.is_finite()) {
+                    return Err("light position is not finite in f32".into());
+                }
+                self.light = Some(l);
+            }
+            "size" => {
+                want(3)?;
+                (self.settings.width, self.settings.height) = (int(w[1])?, int(w[2])?);
+            }
+            "step" => {
+                want(2)?;
+                self.settings.step = w[1].parse::<LabStep>()?;
+            }
+            "spp" => {
+                want(2)?;
+                self.settings.spp = int(w[1])?;
+            }
+            "method" => {
+                want(2)?;
+                self.settings.method = w[1].parse::<Method>()?;
+            }
+            "cracks" => {
+                want(2)?;
+                self.settings.cracks = match w[1] {
+                    "on" => true,
+                    "off" => false,
+                    other => return Err(format!("cracks is on or off, not '{other}'")),
+                };
+            }
+            other => {
+                return Err(format!(
+                    "unknown view statement '{other}' (expected scene, obj-frame, camera, light, \
+                     size, step, spp, method or cracks)"
+                ))
+            }
+        }
+        Ok(())
+    }
+}
