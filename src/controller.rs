@@ -1,4 +1,4 @@
-//! The fly-camera controller: plain-data input in, camera out. The window shell translates
+//! The camera controller, fly or orbit: plain-data input in, camera out. The window shell translates
 //! keyboard and mouse events into a [`ControlInput`]; nothing here knows about winit.
 //!
 //! Every move is an op on a [`TransformStack`]: a step forward is `translate` in the camera
@@ -28,8 +28,27 @@ pub struct ControlInput {
     pub fast: bool,
     /// Mouse motion in device units accumulated since the last frame (mouse-look).
     pub mouse: (f64, f64),
-    /// Wheel lines since the last frame; positive (wheel up) zooms in.
+    /// Wheel lines since the last frame; positive (wheel up) zooms in (fly: the focal length;
+    /// orbit: the distance to the target).
     pub wheel: f64,
+    /// Move and turn slower (Ctrl).
+    pub slow: bool,
+    /// Orbit drag (left button) in pixels since the last frame: around the target.
+    pub orbit: (f64, f64),
+    /// Pan drag in pixels since the last frame: the target and the camera move with it.
+    pub pan: (f64, f64),
+}
+
+/// How the mouse and wheel move the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// Fly: keys move, the right-drag looks around, the wheel zooms (focal length).
+    #[default]
+    Fly,
+    /// Orbit (three.js OrbitControls, Blender): the left-drag turns the camera around the
+    /// target, the right- or middle-drag pans, the wheel dollies towards the target; keys
+    /// move camera and target together.
+    Orbit,
 }
 
 impl ControlInput {
@@ -61,6 +80,12 @@ pub struct CameraController {
     pub focal_ratio: f64,
     /// Scene size (bounding-box diagonal): moving at 1× covers 0.5 of it per second.
     pub scene_size: f64,
+    /// Fly or orbit.
+    pub mode: Mode,
+    /// The point orbits turn around (the scene's centre at the start).
+    pub target: DVec3,
+    /// Moving speed factor (`+`/`-`), 1 at the start.
+    pub speed: f64,
     home: (DVec3, f64, f64, f64),
 }
 
@@ -71,6 +96,14 @@ impl CameraController {
     pub const MOUSE_SENSITIVITY: f64 = 0.003;
     /// Speed factor with Shift held.
     pub const FAST: f64 = 4.0;
+    /// Speed factor with Ctrl held.
+    pub const SLOW: f64 = 0.25;
+    /// Orbit turn per pixel of drag, radians.
+    pub const ORBIT_SENSITIVITY: f64 = 0.005;
+    /// Pan per pixel of drag, as a fraction of the distance to the target.
+    pub const PAN_SENSITIVITY: f64 = 0.002;
+    /// The range of the speed factor.
+    pub const SPEED_RANGE: (f64, f64) = (1.0 / 64.0, 64.0);
 
     /// A controller at the given pose, which [`reset`](Self::reset) returns to.
     pub fn new(position: DVec3, yaw: f64, pitch: f64, focal_ratio: f64, scene_size: f64) -> Self {
@@ -86,7 +119,47 @@ impl CameraController {
                 1.0
             },
             home: (position, yaw, pitch, focal_ratio),
+            mode: Mode::Fly,
+            target: DVec3::ZERO,
+            speed: 1.0,
         }
+    }
+
+    /// This controller orbiting `target` (also where [`Mode::Orbit`] turns around).
+    pub fn with_target(mut self, target: DVec3) -> Self {
+        self.target = target;
+        self
+    }
+
+    /// Switches between fly and orbit. Entering orbit keeps the pose; the target is moved
+    /// onto the view axis at its current distance, so the first drag turns around what the
+    /// camera looks at.
+    pub fn toggle_mode(&mut self) {
+        self.mode = match self.mode {
+            Mode::Fly => {
+                let dist = (self.target - self.position).length();
+                let dist = if dist.is_finite() && dist > 0.0 {
+                    dist
+                } else {
+                    self.scene_size
+                };
+                self.target = self.position + self.forward() * dist;
+                Mode::Orbit
+            }
+            Mode::Orbit => Mode::Fly,
+        };
+    }
+
+    /// Multiplies the moving speed by `factor` (within [`Self::SPEED_RANGE`]).
+    pub fn scale_speed(&mut self, factor: f64) {
+        if factor.is_finite() && factor > 0.0 {
+            self.speed = (self.speed * factor).clamp(Self::SPEED_RANGE.0, Self::SPEED_RANGE.1);
+        }
+    }
+
+    /// The unit view direction (camera +z in the world).
+    pub fn forward(&self) -> DVec3 {
+        self.stack().transform_direction(DVec3::Z)
     }
 
     /// The lab's start: (0, 0, −3.001) looking along +z, f = W, for the Cornell box's size.
@@ -95,7 +168,7 @@ impl CameraController {
     }
 
     /// A controller framing `bounds` from −z, as `raylab render` frames an OBJ model, for an
-    /// image of aspect `width`/`height`.
+    /// image of aspect `width`/`height`; it orbits the bounds' centre.
     pub fn framing(bounds: Bounds, width: u32, height: u32) -> Self {
         let (lo, hi) = bounds;
         let lo = DVec3::from_array(lo.map(f64::from));
@@ -106,7 +179,7 @@ impl CameraController {
         let focal = width as f64;
         let half_fov = (width.min(height) as f64 / (2.0 * focal)).atan();
         let distance = radius / half_fov.sin();
-        Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal)
+        Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal).with_target(centre)
     }
 
     /// The starting pose a `.scene` file names, for a scene `scene_size` across.
@@ -151,13 +224,23 @@ impl CameraController {
 
     /// Applies one frame of input over `dt` seconds; returns whether the pose changed.
     pub fn update(&mut self, input: &ControlInput, dt: f64) -> bool {
-        let before = (self.position, self.yaw, self.pitch, self.focal_ratio);
+        let before = (
+            self.position,
+            self.yaw,
+            self.pitch,
+            self.focal_ratio,
+            self.target,
+        );
         let dt = if dt.is_finite() {
             dt.clamp(0.0, 0.25)
         } else {
             0.0
         };
-        let boost = if input.fast { Self::FAST } else { 1.0 };
+        let boost = match (input.fast, input.slow) {
+            (true, false) => Self::FAST,
+            (false, true) => Self::SLOW,
+            _ => 1.0,
+        };
 
         // Turn: arrow keys at a rate, the mouse by its motion.
         self.yaw +=
@@ -170,8 +253,10 @@ impl CameraController {
             self.yaw -= std::f64::consts::TAU;
         }
 
-        // Move: forward/right in the camera frame (fly mode), up along the world's −y.
-        let step = 0.5 * self.scene_size * boost * dt;
+        // Move: forward/right in the camera frame, up along the world's −y (in orbit mode
+        // the target comes along).
+        let step = 0.5 * self.scene_size * self.speed * boost * dt;
+        let start = self.position;
         if input.forward != 0.0 || input.right != 0.0 || input.up != 0.0 {
             let mut stack = self.stack();
             stack.translate(DVec3::new(input.right * step, 0.0, input.forward * step));
@@ -182,11 +267,58 @@ impl CameraController {
                 .translate(DVec3::new(0.0, -input.up * step, 0.0));
             self.position = world.transform_point(DVec3::ZERO);
         }
-
-        if input.wheel != 0.0 && input.wheel.is_finite() {
+        if self.mode == Mode::Orbit {
+            self.target += self.position - start;
+            self.orbit(input);
+        } else if input.wheel != 0.0 && input.wheel.is_finite() {
             self.focal_ratio = (self.focal_ratio * 1.1f64.powf(input.wheel))
                 .clamp(FOCAL_RATIO_RANGE.0, FOCAL_RATIO_RANGE.1);
         }
-        before != (self.position, self.yaw, self.pitch, self.focal_ratio)
+        let after = (
+            self.position,
+            self.yaw,
+            self.pitch,
+            self.focal_ratio,
+            self.target,
+        );
+        let finite = self.position.is_finite() && self.target.is_finite();
+        if !finite {
+            // (Never leave a pose the camera cannot take.)
+            (
+                self.position,
+                self.yaw,
+                self.pitch,
+                self.focal_ratio,
+                self.target,
+            ) = before;
+        }
+        finite && before != after
+    }
+
+    /// Orbit mode's drags and wheel: turn around the target at the same distance, pan the
+    /// target and the camera together, dolly towards the target (never through it).
+    fn orbit(&mut self, input: &ControlInput) {
+        let mut dist = (self.position - self.target).length();
+        if !(dist.is_finite() && dist > 0.0) {
+            dist = self.scene_size;
+        }
+        let (ox, oy) = input.orbit;
+        if ox.is_finite() && oy.is_finite() {
+            self.yaw += ox * Self::ORBIT_SENSITIVITY;
+            self.pitch = (self.pitch - oy * Self::ORBIT_SENSITIVITY).clamp(-MAX_PITCH, MAX_PITCH);
+        }
+        let (px, py) = input.pan;
+        if px.is_finite() && py.is_finite() && (px, py) != (0.0, 0.0) {
+            // The scene follows the cursor: the camera moves against the drag.
+            let stack = self.stack();
+            let right = stack.transform_direction(DVec3::X);
+            let down = stack.transform_direction(DVec3::Y);
+            self.target -= (right * px + down * py) * dist * Self::PAN_SENSITIVITY;
+        }
+        if input.wheel != 0.0 && input.wheel.is_finite() {
+            let min = 1e-6 * self.scene_size;
+            dist = (dist * 0.9f64.powf(input.wheel)).clamp(min, 1e3 * self.scene_size);
+        }
+        self.position = self.target - self.forward() * dist;
     }
 }

@@ -156,3 +156,76 @@ fn framing_puts_the_model_in_view() {
         );
     }
 }
+
+#[test]
+fn orbit_turns_around_the_target_pans_with_it_and_dollies() {
+    use raylab::controller::Mode;
+    let mut c = CameraController::cornell();
+    let dt = 1.0 / 60.0;
+    // Entering orbit: the target on the view axis at its distance (the box centre here).
+    c.toggle_mode();
+    assert_eq!(c.mode, Mode::Orbit);
+    assert!(c.target.length() < 1e-12, "target {:?}", c.target);
+    let dist = |c: &CameraController| (c.position - c.target).length();
+    let d0 = dist(&c);
+    // A drag turns around the target: same distance, still looking at it.
+    let drag = ControlInput {
+        orbit: (120.0, -40.0),
+        ..Default::default()
+    };
+    assert!(c.update(&drag, dt));
+    assert!((dist(&c) - d0).abs() < 1e-12 * d0);
+    let towards = (c.target - c.position).normalize();
+    assert!((c.forward() - towards).length() < 1e-12);
+    assert!((c.yaw - 120.0 * CameraController::ORBIT_SENSITIVITY).abs() < 1e-12);
+    // A pan moves target and camera together.
+    let (p, t) = (c.position, c.target);
+    let pan = ControlInput {
+        pan: (30.0, 10.0),
+        ..Default::default()
+    };
+    assert!(c.update(&pan, dt));
+    assert!(((c.position - p) - (c.target - t)).length() < 1e-12);
+    assert!((c.target - t).length() > 0.01);
+    // The wheel dollies: 10% nearer per line, never through the target.
+    let d1 = dist(&c);
+    let wheel = ControlInput {
+        wheel: 1.0,
+        ..Default::default()
+    };
+    assert!(c.update(&wheel, dt));
+    assert!((dist(&c) - 0.9 * d1).abs() < 1e-12);
+    let far_in = ControlInput {
+        wheel: 1000.0,
+        ..Default::default()
+    };
+    c.update(&far_in, dt);
+    assert!(dist(&c) > 0.0 && c.position.is_finite());
+    // Back to fly: the wheel is the focal length again.
+    c.toggle_mode();
+    let f = c.focal_ratio;
+    c.update(&wheel, dt);
+    assert!(c.focal_ratio > f);
+}
+
+#[test]
+fn speed_and_the_slow_key_scale_moves() {
+    let dt = 0.1;
+    let forward = ControlInput {
+        forward: 1.0,
+        ..Default::default()
+    };
+    let moved = |speed: f64, slow: bool| {
+        let mut c = CameraController::cornell();
+        c.scale_speed(speed);
+        let start = c.position;
+        c.update(&ControlInput { slow, ..forward }, dt);
+        (c.position - start).length()
+    };
+    let one = moved(1.0, false);
+    assert!((moved(2.0, false) - 2.0 * one).abs() < 1e-12);
+    assert!((moved(1.0, true) - 0.25 * one).abs() < 1e-12);
+    let mut c = CameraController::cornell();
+    c.scale_speed(1e9);
+    assert_eq!(c.speed, CameraController::SPEED_RANGE.1);
+}

@@ -649,3 +649,31 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     assert_eq!(run.fields["step"], "shadows");
     assert_eq!(run.fields["size"], "320x240");
 }
+
+#[test]
+fn real_x_input_orbits_with_tab_and_a_left_drag() {
+    // Tab switches to orbit around the box centre; a left-drag across the image turns the
+    // camera around it at the same distance (3.001).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "7000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+                  xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
+                  for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
+                  xdotool mouseup 1";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    let dist = (pos[0] * pos[0] + pos[1] * pos[1] + pos[2] * pos[2]).sqrt();
+    let yaw = run.nums("yaw")[0];
+    assert!(
+        (dist - 3.001).abs() < 1e-6,
+        "distance to the centre {dist}\n{}",
+        run.stderr
+    );
+    assert!(
+        yaw > 20.0,
+        "the drag turned the camera around the centre: yaw {yaw}"
+    );
+    assert!(pos[0] < -1.0, "to the left of the box's axis: {pos:?}");
+}

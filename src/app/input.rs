@@ -18,6 +18,10 @@ pub enum Key {
     Up,
     Down,
     Shift,
+    Ctrl,
+    Tab,
+    Plus,
+    Minus,
     R,
     H,
     F1,
@@ -41,6 +45,10 @@ impl Key {
             KeyCode::ArrowUp => Key::Up,
             KeyCode::ArrowDown => Key::Down,
             KeyCode::ShiftLeft | KeyCode::ShiftRight => Key::Shift,
+            KeyCode::ControlLeft | KeyCode::ControlRight => Key::Ctrl,
+            KeyCode::Tab => Key::Tab,
+            KeyCode::Equal | KeyCode::NumpadAdd => Key::Plus,
+            KeyCode::Minus | KeyCode::NumpadSubtract => Key::Minus,
             KeyCode::KeyR => Key::R,
             KeyCode::KeyH => Key::H,
             KeyCode::F1 => Key::F1,
@@ -53,7 +61,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 17] = [
+        const ALL: [(&str, Key); 21] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -65,6 +73,10 @@ impl Key {
             ("Up", Key::Up),
             ("Down", Key::Down),
             ("Shift", Key::Shift),
+            ("Ctrl", Key::Ctrl),
+            ("Tab", Key::Tab),
+            ("Plus", Key::Plus),
+            ("Minus", Key::Minus),
             ("R", Key::R),
             ("H", Key::H),
             ("F1", Key::F1),
@@ -92,6 +104,7 @@ impl Key {
                 | Key::Up
                 | Key::Down
                 | Key::Shift
+                | Key::Ctrl
         )
     }
 }
@@ -102,6 +115,8 @@ pub struct InputState {
     held: Vec<Key>,
     mouse: (f64, f64),
     wheel: f64,
+    orbit: (f64, f64),
+    pan: (f64, f64),
 }
 
 impl InputState {
@@ -126,6 +141,18 @@ impl InputState {
     pub fn mouse(&mut self, dx: f64, dy: f64) {
         self.mouse.0 += dx;
         self.mouse.1 += dy;
+    }
+
+    /// Adds an orbit drag (pixels).
+    pub fn orbit(&mut self, dx: f64, dy: f64) {
+        self.orbit.0 += dx;
+        self.orbit.1 += dy;
+    }
+
+    /// Adds a pan drag (pixels).
+    pub fn pan(&mut self, dx: f64, dy: f64) {
+        self.pan.0 += dx;
+        self.pan.1 += dy;
     }
 
     /// Adds wheel lines (positive: wheel up, zoom in).
@@ -153,6 +180,9 @@ impl InputState {
             fast: self.held.contains(&Key::Shift),
             mouse: self.mouse,
             wheel: self.wheel,
+            slow: self.held.contains(&Key::Ctrl),
+            orbit: self.orbit,
+            pan: self.pan,
         }
     }
 
@@ -161,6 +191,8 @@ impl InputState {
         let input = self.peek();
         self.mouse = (0.0, 0.0);
         self.wheel = 0.0;
+        self.orbit = (0.0, 0.0);
+        self.pan = (0.0, 0.0);
         input
     }
 }

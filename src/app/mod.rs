@@ -24,6 +24,7 @@ mod worker;
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
 use input::Key;
+use raylab::controller::Mode;
 use raylab::Scene;
 use script::Script;
 use scripted::ScriptedRun;
@@ -111,6 +112,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         scripted,
         image_rect: None,
         cursor: None,
+        drag: None,
         mouse_look: false,
         esc_armed: false,
         frames_presented: 0,
@@ -134,6 +136,8 @@ struct App {
     image_rect: Option<egui::Rect>,
     /// The mouse pointer in the window (physical pixels), while it is inside.
     cursor: Option<(f64, f64)>,
+    /// An orbit-mode drag under way over the image: `true` orbits, `false` pans.
+    drag: Option<bool>,
     mouse_look: bool,
     esc_armed: bool,
     frames_presented: u64,
@@ -216,6 +220,12 @@ impl App {
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
             Key::F12 => self.viewer.screenshot(),
             Key::F5 => self.viewer.save_view(),
+            Key::Tab => {
+                self.viewer.controller.toggle_mode();
+                self.viewer.changed();
+            }
+            Key::Plus => self.viewer.controller.scale_speed(1.25),
+            Key::Minus => self.viewer.controller.scale_speed(0.8),
             Key::Escape => {
                 if self.mouse_look {
                     self.set_mouse_look(false);
@@ -458,19 +468,34 @@ impl ApplicationHandler<AppEvent> for App {
                 window.request_redraw();
             }
             WindowEvent::CursorMoved { position, .. } => {
-                self.cursor = Some((position.x, position.y));
+                let (x, y) = (position.x, position.y);
+                if let (Some(orbit), Some((px, py))) = (self.drag, self.cursor) {
+                    match orbit {
+                        true => self.viewer.input.orbit(x - px, y - py),
+                        false => self.viewer.input.pan(x - px, y - py),
+                    }
+                    window.request_redraw();
+                }
+                self.cursor = Some((x, y));
             }
             WindowEvent::CursorLeft { .. } => self.cursor = None,
-            WindowEvent::MouseInput {
-                state,
-                button: MouseButton::Right,
-                ..
-            } => {
+            WindowEvent::MouseInput { state, button, .. } => {
                 let pressed = state == ElementState::Pressed;
-                if pressed && (self.pointer_over_image() || !egui_pointer) {
-                    self.set_mouse_look(true);
-                } else if !pressed && self.mouse_look {
-                    self.set_mouse_look(false);
+                let on_image = self.pointer_over_image() || !egui_pointer;
+                let orbit_mode = self.viewer.controller.mode == Mode::Orbit;
+                match button {
+                    _ if !pressed => {
+                        self.drag = None;
+                        if button == MouseButton::Right && self.mouse_look {
+                            self.set_mouse_look(false);
+                        }
+                    }
+                    MouseButton::Left if orbit_mode && on_image => self.drag = Some(true),
+                    MouseButton::Middle | MouseButton::Right if orbit_mode && on_image => {
+                        self.drag = Some(false)
+                    }
+                    MouseButton::Right if on_image => self.set_mouse_look(true),
+                    _ => {}
                 }
             }
             WindowEvent::MouseWheel { delta, .. }

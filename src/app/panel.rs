@@ -2,7 +2,7 @@
 
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
-use raylab::controller::{CameraController, FOCAL_RATIO_RANGE};
+use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
 use raylab::geometry::Method;
 use raylab::render::{LabStep, RenderStats, MAX_SPP};
 use raylab::scene::file::Level;
@@ -128,6 +128,24 @@ pub fn side_panel(
             {
                 camera.pitch = pitch.to_radians();
             }
+        });
+        ui.horizontal(|ui| {
+            let (now, other) = match camera.mode {
+                Mode::Fly => ("fly", "orbit"),
+                Mode::Orbit => ("orbit", "fly"),
+            };
+            ui.label(format!("mode: {now}"));
+            if ui.button(format!("{other} (Tab)")).clicked() {
+                camera.toggle_mode();
+            }
+            ui.add(
+                egui::DragValue::new(&mut camera.speed)
+                    .range(CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1)
+                    .speed(0.02)
+                    .prefix("speed ×")
+                    .max_decimals(2),
+            )
+            .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
         });
         ui.horizontal(|ui| {
             if ui.button("Reset camera (R)").clicked() {
@@ -421,9 +439,13 @@ pub const CONTROLS: &[(&str, &str)] = &[
     ("A / D", "move left / right"),
     ("Q / E", "move down / up"),
     ("arrows", "turn (yaw and pitch)"),
-    ("Shift", "4x faster"),
-    ("right drag", "look around"),
-    ("wheel", "focal length (up zooms in)"),
+    ("Shift / Ctrl", "4x faster / 4x slower"),
+    ("+ / -", "moving speed up / down"),
+    ("Tab", "fly / orbit mode"),
+    ("left drag (orbit)", "turn around the target"),
+    ("right or middle drag (orbit)", "pan"),
+    ("right drag (fly)", "look around"),
+    ("wheel", "fly: focal length (up zooms in); orbit: dolly"),
     ("R", "reset the camera"),
     ("F12", "save a screenshot (PNG)"),
     (
