@@ -12,10 +12,15 @@ pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 
 /// The cap in force: [`MAX_INPUT_BYTES`], or `RAYLAB_MAX_INPUT_BYTES` where that is a number.
 pub fn max_input_bytes() -> u64 {
-    std::env::var("RAYLAB_MAX_INPUT_BYTES")
+    limit_from_env("RAYLAB_MAX_INPUT_BYTES", MAX_INPUT_BYTES)
+}
+
+/// The number environment variable `var` holds, else `default`: the settable limits.
+pub fn limit_from_env(var: &str, default: u64) -> u64 {
+    std::env::var(var)
         .ok()
         .and_then(|s| s.trim().parse().ok())
-        .unwrap_or(MAX_INPUT_BYTES)
+        .unwrap_or(default)
 }
 
 /// Why a file could not be read or written.

@@ -54,10 +54,7 @@ pub const MAX_VERTICES: u64 = 16 << 20;
 
 /// The triangle limit in force ([`MAX_TRIANGLES`] unless `RAYLAB_MAX_TRIANGLES` says).
 pub fn max_triangles() -> u64 {
-    std::env::var("RAYLAB_MAX_TRIANGLES")
-        .ok()
-        .and_then(|v| v.trim().parse().ok())
-        .unwrap_or(MAX_TRIANGLES)
+    crate::input::limit_from_env("RAYLAB_MAX_TRIANGLES", MAX_TRIANGLES)
 }
 
 /// Colour of faces without a material (linear RGB).
