@@ -228,7 +228,7 @@ impl RayGenerator {
         Ray::new(self.origin.to_array(), d.to_array())
     }
 
-    /// The directions of [`RayGenerator::ray_through`] at image positions (xs[l], y), 8 at a
+    /// The directions of [`RayGenerator::ray_through`] at image positions (`xs[l]`, y), 8 at a
     /// time: the same f32 operations in the same order, so each lane is bit-identical to the
     /// scalar ray.
     #[inline]

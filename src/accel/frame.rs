@@ -12,15 +12,18 @@
 //! - [`TileQueries::blocked`]: whether one shadow segment is blocked.
 //!
 //! Inside, one plan per frame:
-//! - **a small triangle-only scene** ([`Accel::flat_triangles`]) with tile culling: a tile tests
-//!   only the triangles whose screen projection meets it ([`ScreenTriangle`]); with the
+//! - **a small scene** ([`Accel::flat_triangles`]) with tile culling: a tile tests only the
+//!   triangles whose screen projection meets it (`cull::ScreenTriangle`); with the
 //!   adaptive method its camera rays go 8 at a time against those triangles prepared for the
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
-//! - **a BVH of triangles only**, adaptive method: packets through the BVH from the eye and from
-//!   the light; the triangles are prepared once per frame where there are at least as many
-//!   camera rays as triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
+//! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
+//!   triangles are prepared once per frame where there are at least as many camera rays as
+//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
 //! - otherwise **per ray** through the scene's structure.
+//!
+//! Shapes other than triangles (spheres) are not in the packets: a tile their projected box
+//! may show in, or whose shadow segments may meet their box, is answered per ray.
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray

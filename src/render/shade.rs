@@ -142,7 +142,7 @@ fn mul(a: Rgb, b: Rgb) -> Rgb {
 
 /// Up to 8 camera hits on triangles readied for shading, lanes side by side (what [`Lit`]
 /// holds per hit): lane l hit primitive `shadow.prim[l]` where bit l of `hit` is set; there
-/// D = P·k[l] and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from
+/// D = P·`k[l]` and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from
 /// the light along `shadow.d` (zero in the other lanes).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadePacket {
