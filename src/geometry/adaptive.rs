@@ -11,7 +11,7 @@
 //!    the rounding error of its edge functions (from the box around the triangles, the ray
 //!    origin and the sheared vertices, see [`edge_error`]). An edge function beyond ±E has a certain sign; t comes
 //!    with pbrt-v4's bound, doubled. Nearly every ray is decided here.
-//! 2. **f64 intervals** ([`triangle_interval`], [`sphere_interval`]): the same predicates
+//! 2. **f64 intervals** ([`triangle_interval`], [`sphere::interval`]): the same predicates
 //!    (signs of det[d, pᵢ, pⱼ], t = det[p₀, p₁, p₂] / d·n) in outward-rounded interval
 //!    arithmetic on the exact inputs. Decides everything but exact degeneracies.
 //! 3. **Exact rationals** ([`super::exact`]): rays exactly through an edge or a vertex,
@@ -23,7 +23,7 @@
 
 use super::exact::{self, ExactT};
 use super::triangle::{t_error_bound, WatertightRay};
-use super::{Hit, Ray, Shape};
+use super::{sphere, Hit, Ray, Shape};
 use crate::math::interval::{icross, idot, isub, iv3, Interval};
 use crate::math::Real;
 use std::cmp::Ordering;
@@ -246,54 +246,6 @@ pub fn triangle_interval(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimat
         b2: e[2].mid() / dm,
         level: 2,
     })
-}
-
-/// Level 2 for a sphere: the nearest root with tmin < t < tmax in f64 intervals.
-pub fn sphere_interval(
-    o: [f64; 3],
-    d: [f64; 3],
-    centre: [f64; 3],
-    radius: f64,
-    tmin: f64,
-    tmax: f64,
-) -> Estimate {
-    let d = iv3(d);
-    let f = isub(iv3(o), iv3(centre));
-    let a = idot(d, d);
-    let b = idot(f, d);
-    let k = idot(f, f) - Interval::point(radius).square();
-    let disc = b.square() - a * k;
-    match disc.sign() {
-        Some(Ordering::Less) => return Estimate::Miss,
-        Some(Ordering::Greater) => {}
-        _ => return Estimate::Unsure,
-    }
-    let Some(root) = disc.sqrt() else {
-        return Estimate::Unsure;
-    };
-    for t in [(-b - root).checked_div(a), (-b + root).checked_div(a)] {
-        let Some(t) = t.filter(|t| t.is_finite()) else {
-            return Estimate::Unsure;
-        };
-        if t.hi <= tmin {
-            continue;
-        }
-        if t.lo >= tmax {
-            return Estimate::Miss;
-        }
-        if t.lo > tmin && t.hi < tmax {
-            return Estimate::Hit(Approx {
-                t: t.mid(),
-                lo: t.lo,
-                hi: t.hi,
-                b1: 0.0,
-                b2: 0.0,
-                level: 2,
-            });
-        }
-        return Estimate::Unsure;
-    }
-    Estimate::Miss
 }
 
 /// Where an exactly decided triangle hit lies: two hits at the same edge line or vertex (the
@@ -576,7 +528,7 @@ impl Nearest {
                 ),
                 (Shape::Triangle(v), 1) => triangle_interval(self.o, self.d, v),
                 (Shape::Sphere { centre, radius }, 1) => {
-                    sphere_interval(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
+                    sphere::interval(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
                 }
                 _ => Estimate::Unsure,
             };
@@ -589,7 +541,7 @@ impl Nearest {
         match &c.shape {
             Shape::Triangle(v) => decide_triangle(self.o, self.d, v),
             Shape::Sphere { centre, radius } => {
-                exact::sphere(self.o, self.d, *centre, *radius, self.tmin, self.tmax).map(|t| {
+                sphere::exact(self.o, self.d, *centre, *radius, self.tmin, self.tmax).map(|t| {
                     Level::Decided(Box::new(Decided {
                         t: None,
                         point: Feature::Root,

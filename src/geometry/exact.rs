@@ -12,13 +12,13 @@
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
-use num_traits::{Signed, Zero};
+use num_traits::Zero;
 use std::cmp::Ordering;
 
-type Q = BigRational;
+pub(crate) type Q = BigRational;
 
 /// An exact float as a rational (inputs are checked finite before they get here).
-fn q(x: f64) -> Q {
+pub(crate) fn q(x: f64) -> Q {
     Q::from_float(x).unwrap_or_else(Q::zero)
 }
 
@@ -29,9 +29,9 @@ fn sign(x: &Q) -> Ordering {
 /// An exact ray parameter a + b·√s (s ≥ 0).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExactT {
-    a: Q,
-    b: Q,
-    s: Q,
+    pub(crate) a: Q,
+    pub(crate) b: Q,
+    pub(crate) s: Q,
 }
 
 impl ExactT {
@@ -337,17 +337,17 @@ pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
     Some(ExactT::rational(dot(&p[0], &n) / den))
 }
 
-type QV = [Q; 3];
+pub(crate) type QV = [Q; 3];
 
-fn qv(p: [f64; 3]) -> QV {
+pub(crate) fn qv(p: [f64; 3]) -> QV {
     p.map(q)
 }
 
-fn sub(a: &QV, b: &QV) -> QV {
+pub(crate) fn sub(a: &QV, b: &QV) -> QV {
     [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
 }
 
-fn dot(a: &QV, b: &QV) -> Q {
+pub(crate) fn dot(a: &QV, b: &QV) -> Q {
     &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
 }
 
@@ -357,41 +357,6 @@ fn cross(a: &QV, b: &QV) -> QV {
         &a[2] * &b[0] - &a[0] * &b[2],
         &a[0] * &b[1] - &a[1] * &b[0],
     ]
-}
-
-/// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
-/// ray touches it at one point, which counts).
-pub fn sphere(
-    o: [f64; 3],
-    d: [f64; 3],
-    centre: [f64; 3],
-    radius: f64,
-    tmin: f64,
-    tmax: f64,
-) -> Option<ExactT> {
-    let d = qv(d);
-    let f = sub(&qv(o), &qv(centre));
-    let r = q(radius);
-    let a = dot(&d, &d);
-    if a.is_zero() {
-        return None;
-    }
-    let b = dot(&f, &d);
-    let c = dot(&f, &f) - &r * &r;
-    let disc = &b * &b - &a * &c;
-    if disc.is_negative() {
-        return None;
-    }
-    let centre_t = -(&b / &a);
-    let half = Q::from_integer(BigInt::from(1)) / &a;
-    [-half.clone(), half]
-        .into_iter()
-        .map(|b| ExactT {
-            a: centre_t.clone(),
-            b,
-            s: disc.clone(),
-        })
-        .find(|t| t.cmp_f(tmin) == Ordering::Greater && t.cmp_f(tmax) == Ordering::Less)
 }
 
 #[cfg(test)]
@@ -509,12 +474,28 @@ mod tests {
     fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {
         let c = [0.0, 0.0, 5.0];
         // From the surface point (0,0,4) inward: t = 0 is not > 0, the far root t = 2 is.
-        let hit = sphere([0.0, 0.0, 4.0], [0.0, 0.0, 1.0], c, 1.0, 0.0, f64::INFINITY).unwrap();
+        let hit = crate::geometry::sphere::exact(
+            [0.0, 0.0, 4.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
         assert_eq!(hit.cmp_f(2.0), Ordering::Equal);
         // Tangent: touches at t = 5.
-        let tan = sphere([1.0, 0.0, 0.0], [0.0, 0.0, 1.0], c, 1.0, 0.0, f64::INFINITY).unwrap();
+        let tan = crate::geometry::sphere::exact(
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
         assert_eq!(tan.cmp_f(5.0), Ordering::Equal);
-        assert!(sphere(
+        assert!(crate::geometry::sphere::exact(
             [1.0f64.next_up(), 0.0, 0.0],
             [0.0, 0.0, 1.0],
             c,

@@ -8,9 +8,19 @@
 //! evaluate r² − l·l as (r − |l|)(r + |l|). The far root comes from q = −b − sign(b)·√disc as
 //! q/a and the near one as c/q, which avoids subtracting nearly equal numbers, with
 //! c = f·f − r² evaluated as (|f| − r)(|f| + r) so that an origin on the sphere gives c ≈ 0.
+//!
+//! The sphere's levels of the adaptive method are here too ([`interval`], [`exact`]): one
+//! shape, one place. (Its surface point and offset are in `geometry::offset`, with the
+//! triangle's.)
 
+use super::adaptive::{Approx, Estimate};
+use super::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
+use crate::math::interval::{idot, isub, iv3, Interval};
 use crate::math::real::{dot, scale, sub, V3};
 use crate::math::Real;
+use num_bigint::BigInt;
+use num_traits::{Signed, Zero};
+use std::cmp::Ordering;
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
 #[inline]
@@ -87,4 +97,87 @@ pub fn intersect_naive<T: Real>(
     } else {
         None
     }
+}
+
+/// Level 2 for a sphere: the nearest root with tmin < t < tmax in f64 intervals.
+pub fn interval(
+    o: [f64; 3],
+    d: [f64; 3],
+    centre: [f64; 3],
+    radius: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Estimate {
+    let d = iv3(d);
+    let f = isub(iv3(o), iv3(centre));
+    let a = idot(d, d);
+    let b = idot(f, d);
+    let k = idot(f, f) - Interval::point(radius).square();
+    let disc = b.square() - a * k;
+    match disc.sign() {
+        Some(Ordering::Less) => return Estimate::Miss,
+        Some(Ordering::Greater) => {}
+        _ => return Estimate::Unsure,
+    }
+    let Some(root) = disc.sqrt() else {
+        return Estimate::Unsure;
+    };
+    for t in [(-b - root).checked_div(a), (-b + root).checked_div(a)] {
+        let Some(t) = t.filter(|t| t.is_finite()) else {
+            return Estimate::Unsure;
+        };
+        if t.hi <= tmin {
+            continue;
+        }
+        if t.lo >= tmax {
+            return Estimate::Miss;
+        }
+        if t.lo > tmin && t.hi < tmax {
+            return Estimate::Hit(Approx {
+                t: t.mid(),
+                lo: t.lo,
+                hi: t.hi,
+                b1: 0.0,
+                b2: 0.0,
+                level: 2,
+            });
+        }
+        return Estimate::Unsure;
+    }
+    Estimate::Miss
+}
+
+/// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
+/// ray touches it at one point, which counts).
+pub fn exact(
+    o: [f64; 3],
+    d: [f64; 3],
+    centre: [f64; 3],
+    radius: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Option<ExactT> {
+    let d = qv(d);
+    let f = qsub(&qv(o), &qv(centre));
+    let r = q(radius);
+    let a = qdot(&d, &d);
+    if a.is_zero() {
+        return None;
+    }
+    let b = qdot(&f, &d);
+    let c = qdot(&f, &f) - &r * &r;
+    let disc = &b * &b - &a * &c;
+    if disc.is_negative() {
+        return None;
+    }
+    let centre_t = -(&b / &a);
+    let half = Q::from_integer(BigInt::from(1)) / &a;
+    [-half.clone(), half]
+        .into_iter()
+        .map(|b| ExactT {
+            a: centre_t.clone(),
+            b,
+            s: disc.clone(),
+        })
+        .find(|t| t.cmp_f(tmin) == Ordering::Greater && t.cmp_f(tmax) == Ordering::Less)
 }
