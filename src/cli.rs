@@ -254,6 +254,16 @@ pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
     Scene::load(Path::new(spec), frame).map_err(anyhow::Error::msg)
 }
 
+/// [`load_scene`] with the accelerator `accel` chosen, its warnings printed.
+fn load_scene_for(spec: &str, frame: ObjFrame, accel: AccelChoice) -> Result<Scene> {
+    let mut scene = load_scene(spec, frame)?;
+    scene.set_accel(accel);
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(scene)
+}
+
 /// The scene, camera and settings of a view file (F5 in the window). A relative scene path
 /// that does not exist from here is looked up beside the view file.
 fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
@@ -264,12 +274,8 @@ fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSetti
     if spec != "cornell" && !Path::new(&spec).exists() && beside.exists() {
         spec = beside.display().to_string();
     }
-    let mut scene = load_scene(&spec, view.obj_frame)
+    let mut scene = load_scene_for(&spec, view.obj_frame, v.accel)
         .with_context(|| format!("loading scene '{spec}' of view '{}'", path.display()))?;
-    scene.set_accel(v.accel);
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
     if let Some(light) = view.light {
         scene.light.position = light;
     }
@@ -295,9 +301,8 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         cracks: v.cracks,
     };
     settings.validate()?;
-    let mut scene = load_scene(&v.scene, v.obj_frame)
+    let mut scene = load_scene_for(&v.scene, v.obj_frame, v.accel)
         .with_context(|| format!("loading scene '{}'", v.scene))?;
-    scene.set_accel(v.accel);
     if let Some(light) = v.light {
         let light = light.as_vec3().to_array();
         if !light.iter().all(|c| c.is_finite()) {
@@ -307,9 +312,6 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
             );
         }
         scene.light.position = light;
-    }
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
     }
     // The flags win; then a `.scene` file's camera; then the lab's or one framing the model.
     let start = scene.camera;

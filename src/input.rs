@@ -47,6 +47,21 @@ pub enum InputError {
     NotText { path: PathBuf, line: usize },
 }
 
+/// Whether the path is a character or block device (/dev/null, /dev/zero).
+fn is_device(meta: &std::fs::Metadata) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        t.is_char_device() || t.is_block_device()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = meta;
+        false
+    }
+}
+
 /// What a path that is not a regular file is.
 fn kind(meta: &std::fs::Metadata) -> &'static str {
     let t = meta.file_type();
@@ -59,9 +74,9 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
         if t.is_socket() {
             return "a socket";
         }
-        if t.is_char_device() || t.is_block_device() {
-            return "a device";
-        }
+    }
+    if is_device(meta) {
+        return "a device";
     }
     if t.is_dir() {
         "a directory"
@@ -132,7 +147,7 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
 /// would block until something reads it). A device such as /dev/null is written as usual.
 pub fn check_output(path: &Path) -> Result<(), InputError> {
     match std::fs::metadata(path) {
-        Ok(meta) if !meta.is_file() && kind(&meta) != "a device" => Err(InputError::NotRegular {
+        Ok(meta) if !meta.is_file() && !is_device(&meta) => Err(InputError::NotRegular {
             path: path.to_path_buf(),
             kind: kind(&meta),
         }),

@@ -105,9 +105,19 @@ pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, T
 
 /// Traces every ray (nearest hit, ties to the lower index) and returns the output text.
 pub fn trace_all<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>], method: Method) -> String {
+    answers(rays, |r| {
+        accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax)
+    })
+}
+
+/// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it.
+fn answers<T: Real>(
+    rays: &[TraceRay<T>],
+    closest: impl Fn(&TraceRay<T>) -> Option<crate::geometry::Hit<T>>,
+) -> String {
     let mut out = String::with_capacity(rays.len() * 24);
     for r in rays {
-        match accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax) {
+        match closest(r) {
             Some(h) => writeln!(out, "hit {} {}", h.t, h.prim),
             None => writeln!(out, "miss"),
         }
@@ -126,15 +136,9 @@ pub fn trace_all_through(
     choice: accel::AccelChoice,
 ) -> String {
     let structure = accel::Accel::build(shapes, choice);
-    let mut out = String::with_capacity(rays.len() * 24);
-    for r in rays {
-        match structure.closest_hit(&r.ray, method, r.tmin, r.tmax) {
-            Some(h) => writeln!(out, "hit {} {}", h.t, h.prim),
-            None => writeln!(out, "miss"),
-        }
-        .expect("writing to a String cannot fail");
-    }
-    out
+    answers(rays, |r| {
+        structure.closest_hit(&r.ray, method, r.tmin, r.tmax)
+    })
 }
 
 /// Parses both texts and traces: the whole `raylab trace` in one call.

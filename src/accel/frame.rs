@@ -420,12 +420,7 @@ impl TileQueries<'_> {
             (frame.others.iter()).any(|s| s.bounds.meets(segments.lo, segments.hi))
         };
         match &frame.plan {
-            _ if others_near => {
-                for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
-                    per_ray(s, s.live, out);
-                }
-            }
-            Plan::BvhPackets { from_light, .. } => {
+            Plan::BvhPackets { from_light, .. } if !others_near => {
                 let Triangles::Bvh(bvh) = &frame.accel.triangles else {
                     unreachable!("a BVH plan has a BVH")
                 };
@@ -445,7 +440,7 @@ impl TileQueries<'_> {
                 from_light,
                 occluders,
                 ..
-            } => {
+            } if !others_near => {
                 let near = &mut *self.near;
                 near_occluders(packets, light, occluders, from_light, near);
                 let mut near_loop = None;
@@ -486,7 +481,8 @@ impl TileQueries<'_> {
                     }
                 }
             }
-            Plan::PerRay | Plan::Culled(_) => {
+            // Per ray: the plan has no shadow packets, or another shape may block.
+            _ => {
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     per_ray(s, s.live, out);
                 }

@@ -378,8 +378,11 @@ impl<T: Real> Parser<'_, T> {
                         .map_err(|e| format!("mesh '{path}': {e}"))?;
                     self.meshes.insert(key.clone(), mesh);
                 }
-                let mesh = self.meshes[&key].clone();
-                self.add_scene(&mesh)?;
+                // (Taken out and put back: no copy of the mesh per use.)
+                let mesh = self.meshes.remove(&key).expect("loaded above");
+                let added = self.add_scene(&mesh);
+                self.meshes.insert(key, mesh);
+                added?;
             }
             "cornell" => {
                 if !args.is_empty() {
