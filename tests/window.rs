@@ -499,8 +499,9 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     // W held, the wheel over the image, a right-drag over the image. The script only keeps
     // the run alive while the driver works.
     let dir = tempfile::tempdir().unwrap();
-    let script = "8000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; \
+    // (The driver waits for the first frames: the wheel and drag must meet a drawn image.)
+    let script = "11000 step indirect\n";
+    let driver = "sleep 3; xdotool windowfocus --sync $win; \
                   xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.3; \
                   xdotool mousemove --sync 730 310; sleep 0.3; \
                   for i in 1 2 3 4 5; do xdotool click 4; sleep 0.05; done; sleep 0.3; \
@@ -655,8 +656,10 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     // Tab switches to orbit around the box centre; a left-drag across the image turns the
     // camera around it at the same distance (3.001).
     let dir = tempfile::tempdir().unwrap();
-    let script = "7000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+    // (The driver waits for the first frames: the drag must start over a drawn image, and a
+    // fresh CI machine under lavapipe can take seconds to draw one.)
+    let script = "12000 step indirect\n";
+    let driver = "sleep 3; xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
                   for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
                   xdotool mouseup 1";
