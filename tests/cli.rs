@@ -237,7 +237,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
             ":4: face needs at least 3",
         ),
-        ("v 0 0\n", ":1: vertex needs 3"),
+        ("v 0 0\n", ":1: vertex takes 3 numbers"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "vertex index -4"),
         (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n",
@@ -350,6 +350,24 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         &[("RAYLAB_MAX_TRIANGLES", "1000")],
     );
     assert_fails(&o, 2, &["polygon.obj:2001", "more than 1000 triangles"]);
+    // A polyline is never drawn, but its references count towards the same limit: one long
+    // `l` line cannot ask for memory the face limit would refuse.
+    let obj = dir.path().join("polyline.obj");
+    let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl");
+    text.push_str(&" 1 2 3".repeat(400));
+    text.push('\n');
+    std::fs::write(&obj, &text).unwrap();
+    let o = raylab_env(
+        &[
+            "render",
+            "--scene",
+            obj.to_str().unwrap(),
+            "--out",
+            "/dev/null",
+        ],
+        &[("RAYLAB_MAX_TRIANGLES", "1000")],
+    );
+    assert_fails(&o, 2, &["polyline.obj:5", "more than 1000 elements"]);
     // A directory named .obj.
     let d = dir.path().join("dir.obj");
     std::fs::create_dir(&d).unwrap();

@@ -176,3 +176,112 @@ fn y_up_models_are_turned_into_the_lab_frame() {
         Shape::Triangle([[-1.0, -2.0, 3.0], [-4.0, -5.0, 6.0], [-7.0, -8.0, 10.0]])
     );
 }
+
+fn load_lab(obj: &str, mtl: &str) -> Result<Scene, String> {
+    let mtl = mtl.to_string();
+    raylab::scene::load_obj_str("t.obj", obj, raylab::scene::ObjFrame::Lab, move |_| {
+        Ok(mtl.clone())
+    })
+    .map_err(|e| e.to_string())
+}
+
+#[test]
+fn obj_statements_that_draw_nothing_are_skipped_and_counted() {
+    // Polylines and points were once filled as triangles; curves and surfaces mean nothing to
+    // a raycaster. All are skipped, with one warning that counts them.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nl 1 2 3\nl 2 4\np 1 2 3\ncstype bspline\n\
+               curv 0 1 1 2 3\nend\nf 1 2 3\n";
+    let scene = load_lab(obj, "").unwrap();
+    assert_eq!(scene.len(), 1, "only the face is drawn");
+    let warning = scene.warnings.join("\n");
+    assert!(
+        warning.contains("t.obj: skipped 2 polyline (l), 1 point (p), 3 curve/surface"),
+        "{warning}"
+    );
+}
+
+#[test]
+fn obj_whitespace_comments_weights_and_negative_indices() {
+    // TABs wherever a space may be (tobj once refused `usemtl<TAB>name`), comments after a
+    // statement, a weight w divided out (in f64, rounded once), colours after x y z ignored,
+    // negative indices counted back from the last vertex.
+    let obj = "mtllib\tm.mtl # the library\nv\t0 0 0\nv 3 0 0 3\nv 0 1 0 0.5 0.5 0.5\n\
+               v 0.1 0.2 0.3 0.7\nusemtl\tred\nf\t-4 -3 -2 # a face\nf 1 2 4\n";
+    let scene = load_lab(obj, "newmtl red\nKd 1 0 0\n").unwrap();
+    assert_eq!(scene.len(), 2);
+    assert_eq!(
+        scene.shapes[0],
+        Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    );
+    let w = [0.1f64, 0.2, 0.3].map(|c| (c as f32 as f64 / 0.7f32 as f64) as f32);
+    assert_eq!(
+        scene.shapes[1],
+        Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], w])
+    );
+    assert_eq!(scene.colors, vec![[1.0, 0.0, 0.0]; 2]);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+#[test]
+fn every_obj_and_mtl_problem_names_its_line() {
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let cases: &[(String, &str)] = &[
+        // What tobj reported without a line, or misread.
+        (format!("v 1e30 1e30 1e30 1e-30\n{tri}f 1 2 3\n"), "t.obj:1: coordinate 1e30 divided by w"),
+        (format!("v 1 1 1 0\n{tri}f 1 2 3\n"), "t.obj:1: the weight w is 0"),
+        (format!("{tri}v 1 2 3 4 5\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
+        (format!("{tri}v 1 2 3 4 5 6 7\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
+        (format!("{tri}v 1 2 3 r g b\nf 1 2 3\n"), "t.obj:4: colour component 'r'"),
+        (format!("{tri}usemtl\nf 1 2 3\n"), "t.obj:4: usemtl needs a name"),
+        (format!("mtllib   \n{tri}f 1 2 3\n"), "t.obj:1: mtllib needs a name"),
+        (format!("{tri}f 1 2 -9223372036854775808\n"), "t.obj:4: face '-9223372036854775808': vertex index -9223372036854775808 is out of range (3 vertices"),
+        (format!("{tri}f 1 2 -9223372036854775809\n"), "t.obj:4: face '-9223372036854775809': vertex index"),
+        (format!("{tri}f 1 2 18446744073709551617\n"), "out of range"),
+        (format!("{tri}vt 0 0\nf 1/1 2/2 3/1\n"), "t.obj:5: face '2/2': texture index 2 is out of range (1 texture coordinates"),
+        (format!("{tri}vn 0 0 1\nf 1//1 2//1 3//-2\n"), "t.obj:5: face '3//-2': normal index -2"),
+        (format!("{tri}vt 0 0\nvn 0 0 1\nf 1/1/1/1 2 3\n"), "t.obj:6: face '1/1/1/1': more than 3"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0 # 1e39\nv 0 1 1e39\nf 1 2 3\n".to_string(), "t.obj:4: coordinate '1e39'"),
+        (format!("{tri}f 1 2 3\nl 1 2 9\n"), "no such failure"),
+    ];
+    for (obj, needle) in cases {
+        match load_lab(obj, "") {
+            Err(e) => assert!(e.contains(needle), "{obj:?}: {e}"),
+            // A polyline is skipped, so its index is never an error.
+            Ok(scene) => assert_eq!(*needle, "no such failure", "{obj:?}: {:?}", scene.len()),
+        }
+    }
+    // Material libraries: tobj's refusals become a warning with the library's line.
+    let obj = format!("mtllib m.mtl\n{tri}usemtl a\nf 1 2 3\n");
+    for (mtl, needle) in [
+        (
+            "newmtl a\nKd 1 0 0\nnewmtl\n",
+            "m.mtl:3: newmtl needs a name",
+        ),
+        ("newmtl a\n\nNs x\n", "m.mtl:3: tobj: material parse error"),
+        ("newmtl a\nKd 1 0\n", "m.mtl:2: Kd needs 3 numbers"),
+        ("newmtl a\nillum\n", "m.mtl:2: tobj"),
+        ("newmtl a\nmap_Kd", "m.mtl:2: tobj"),
+    ] {
+        let scene = load_lab(&obj, mtl).unwrap();
+        let warning = scene.warnings.join("\n");
+        assert!(warning.contains(needle), "{mtl:?}: {warning}");
+        assert_eq!(
+            scene.colors[0], [0.75; 3],
+            "the faces take the default colour"
+        );
+    }
+    // A name no library defines: its faces are grey, and the user is told which.
+    let scene = load_lab(
+        &format!("mtllib m.mtl\n{tri}usemtl nosuch\nf 1 2 3\n"),
+        "newmtl a\nKd 1 0 0\n",
+    )
+    .unwrap();
+    assert!(
+        scene
+            .warnings
+            .join("\n")
+            .contains("usemtl names 1 material(s) no library defines (nosuch)"),
+        "{:?}",
+        scene.warnings
+    );
+}

@@ -1,11 +1,20 @@
-//! OBJ models to scenes, through tobj, with the validation tobj does not do.
+//! OBJ models to scenes, through tobj, with every line checked first.
 //!
-//! A first pass over the text checks every `v` and `f` line and names the file and line of the
-//! first problem: a coordinate that is not a finite f32 (NaN, inf, 1e39), a face with fewer
-//! than 3 vertices, an index of 0 or beyond the vertices defined so far, more triangles or
-//! vertices than [`MAX_TRIANGLES`] and [`MAX_VERTICES`] (before any allocation). tobj then parses the
-//! text (polygons are fan-triangulated), and triangles of zero area are dropped and counted in
-//! a warning. A missing or broken material library is a warning: its faces turn grey.
+//! A counting pass refuses a file whose faces (and polylines and points, which count although
+//! they are skipped) make more triangles than [`max_triangles`], or that defines more than
+//! [`MAX_VERTICES`] vertices, before anything is allocated. Then tobj reads the text through
+//! `ObjStream`, which checks each line and hands tobj only what it cannot misread: `v x y z`
+//! (a weight w divided out with the overflow checked, vertex colours dropped), `f` with
+//! absolute vertex indices (negative ones resolved without overflow, every index checked,
+//! texture and normal references checked and dropped), `mtllib`/`usemtl` with their names,
+//! and nothing else. So every error names the file and line: a coordinate that is not a
+//! finite f32 (NaN, inf, 1e39), a face with fewer than 3 vertices, an index of 0 or beyond what
+//! is defined so far, a bare `usemtl`. Polylines (`l`), points (`p`) and free-form curves and
+//! surfaces are skipped with one warning that counts them. TABs are whitespace everywhere,
+//! `#` starts a comment anywhere on a line, and a UTF-8 byte-order mark is skipped. Polygons
+//! are fan-triangulated, and triangles of zero area are dropped and counted in a warning. A
+//! missing or broken material library is a warning naming the library's line: its faces turn
+//! grey, as do those of a `usemtl` no library defines (also a warning).
 //!
 //! OBJ models are conventionally y-up, while the lab's world is y-down; [`ObjFrame::YUp`]
 //! turns them the lab's way, negating x and y (a 180° turn about z, as the lab does to its
@@ -169,7 +178,7 @@ fn load_obj_str_coloured(
             line: 1 + text[..pos].matches('\n').count(),
         });
     }
-    prescan(name, text)?;
+    let counts = count_elements(name, text)?;
 
     // Each library is read once however often `mtllib` names it; problems become warnings.
     let warnings = RefCell::new(Vec::<String>::new());
@@ -181,8 +190,8 @@ fn load_obj_str_coloured(
             .or_insert_with(|| load_mtl(&p.to_string_lossy()))
             .clone();
         let problem = match text {
-            Ok(t) => match check_mtl(&t) {
-                Ok(()) => return tobj::load_mtl_buf(&mut Cursor::new(t.as_bytes())),
+            Ok(t) => match load_mtl_text(&t) {
+                Ok(materials) => return Ok(materials),
                 Err((line, m)) => format!("{}:{line}: {m}", p.display()),
             },
             Err(e) => e,
@@ -198,20 +207,46 @@ fn load_obj_str_coloured(
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, materials) =
-        tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, loader).map_err(|e| {
-            ObjError::Parse {
-                file: name.to_string(),
-                message: format!("tobj: {e}"),
-            }
-        })?;
+    let mut stream = ObjStream::new(name, text);
+    let loaded = tobj::load_obj_buf(&mut stream, &options, loader);
+    if let Some(error) = stream.error.take() {
+        return Err(error);
+    }
+    // What reaches tobj is checked line by line, so tobj has nothing left to refuse; should
+    // it, the last line it was given is named.
+    let (models, materials) = loaded.map_err(|e| ObjError::Line {
+        file: name.to_string(),
+        line: stream.line_number,
+        message: format!("tobj: {e}"),
+    })?;
     let mut warnings = warnings.into_inner();
+    warnings.extend(skipped_warning(name, &counts));
     let materials = materials.unwrap_or_else(|e| {
         if warnings.is_empty() {
             warnings.push(format!("{name}: material library: {e}"));
         }
         Vec::new()
     });
+    let unknown: Vec<&str> = stream
+        .used_materials
+        .iter()
+        .filter(|used| !materials.iter().any(|m| &&m.name == used))
+        .map(String::as_str)
+        .collect();
+    if !unknown.is_empty() && !materials.is_empty() {
+        let listed = unknown
+            .iter()
+            .take(5)
+            .copied()
+            .collect::<Vec<_>>()
+            .join(", ");
+        let more = if unknown.len() > 5 { ", …" } else { "" };
+        warnings.push(format!(
+            "{name}: usemtl names {} material(s) no library defines ({listed}{more}): their \
+             faces take the default colour",
+            unknown.len()
+        ));
+    }
     let colors: Vec<[f32; 3]> = materials
         .iter()
         .map(|m| match m.diffuse {
@@ -285,9 +320,23 @@ fn zero_area(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> bool {
     n == [0.0; 3]
 }
 
-/// Checks a material library for what tobj 4 panics on (a colour with fewer than three
-/// numbers: it unwraps a failed conversion) and names the line.
-fn check_mtl(text: &str) -> Result<(), (usize, String)> {
+/// What tobj makes of a material library: the materials and their indices by name.
+type Materials = <tobj::MTLLoadResult as Loaded>::Value;
+
+/// Names the success type of a `Result` (tobj's name map is a type of its hashing crate).
+trait Loaded {
+    type Value;
+}
+
+impl<T, E> Loaded for Result<T, E> {
+    type Value = T;
+}
+
+/// Parses a material library with tobj, naming the line of any problem: what tobj 4 panics on
+/// (a colour with fewer than three numbers: it unwraps a failed conversion) is checked first,
+/// and tobj's own refusals are placed by how far it had read.
+fn load_mtl_text(text: &str) -> Result<Materials, (usize, String)> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
@@ -297,14 +346,43 @@ fn check_mtl(text: &str) -> Result<(), (usize, String)> {
             }
         }
     }
-    Ok(())
+    let mut reader = Cursor::new(text.as_bytes());
+    tobj::load_mtl_buf(&mut reader).map_err(|e| {
+        // tobj stops right after reading the line it refuses (through its newline).
+        let read = &text.as_bytes()[..(reader.position() as usize).saturating_sub(1)];
+        let line = 1 + read.iter().filter(|&&b| b == b'\n').count();
+        let message = match e {
+            tobj::LoadError::InvalidObjectName => "newmtl needs a name".to_string(),
+            e => format!("tobj: {e}"),
+        };
+        (line, message)
+    })
 }
 
-/// Checks what tobj silently accepts or reports without a line number.
-fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
-    let (mut nv, mut nvt, mut nvn) = (0i64, 0i64, 0i64);
-    let mut triangles = 0u64;
-    let max_tris = max_triangles();
+/// What the counting pass found: enough to refuse a file before anything is allocated.
+#[derive(Debug, Default)]
+struct Counts {
+    /// `l` statements (polylines), skipped.
+    lines: usize,
+    /// `p` statements (points), skipped.
+    points: usize,
+    /// Free-form geometry statements (curves, surfaces and their parameters), skipped.
+    free_form: usize,
+}
+
+/// The keywords of OBJ's free-form geometry (curves and surfaces), which raylab does not draw.
+const FREE_FORM: &[&str] = &[
+    "vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv",
+    "sp", "end", "con",
+];
+
+/// The first pass: counts vertices and the elements faces, lines and points make, and refuses
+/// a file over the limits before tobj or the scene allocate anything. Polylines and points
+/// count towards the limit although they are skipped: their references are read all the same.
+fn count_elements(name: &str, text: &str) -> Result<Counts, ObjError> {
+    let mut counts = Counts::default();
+    let (mut vertices, mut elements) = (0u64, 0u64);
+    let max_elements = max_triangles();
     for (i, line) in text.lines().enumerate() {
         let err = |message: String| ObjError::Line {
             file: name.to_string(),
@@ -312,83 +390,283 @@ fn prescan(name: &str, text: &str) -> Result<(), ObjError> {
             message,
         };
         let mut words = line.split_whitespace();
-        match words.next() {
+        let (added, over) = match words.next() {
             Some("v") => {
-                let coords: Vec<&str> = words.collect();
-                if coords.len() < 3 {
-                    return Err(err(format!(
-                        "vertex needs 3 coordinates, found {}",
-                        coords.len()
-                    )));
-                }
-                for w in coords {
-                    match w.parse::<f32>() {
-                        Ok(x) if x.is_finite() => {}
-                        Ok(_) => {
-                            return Err(err(format!("coordinate '{w}' is not a finite f32")));
-                        }
-                        Err(_) => return Err(err(format!("coordinate '{w}' is not a number"))),
-                    }
-                }
-                nv += 1;
-                if nv as u64 > MAX_VERTICES {
+                vertices += 1;
+                if vertices > MAX_VERTICES {
                     return Err(err(format!(
                         "more than {MAX_VERTICES} vertices: too large a model to load"
                     )));
                 }
+                continue;
             }
-            Some("vt") => nvt += 1,
-            Some("vn") => nvn += 1,
-            Some("f") => {
+            Some("f") => (words.count().saturating_sub(2) as u64, "triangles"),
+            Some("l") => {
+                counts.lines += 1;
+                (words.count() as u64, "elements (l and p references count)")
+            }
+            Some("p") => {
+                counts.points += 1;
+                (words.count() as u64, "elements (l and p references count)")
+            }
+            Some(w) if FREE_FORM.contains(&w) => {
+                counts.free_form += 1;
+                continue;
+            }
+            _ => continue,
+        };
+        elements += added;
+        if elements > max_elements {
+            return Err(err(format!(
+                "the faces so far make more than {max_elements} {over}: too large a model to \
+                 load (RAYLAB_MAX_TRIANGLES raises the limit)"
+            )));
+        }
+    }
+    Ok(counts)
+}
+
+/// The warning for statements raylab read but does not draw, or `None`.
+fn skipped_warning(name: &str, counts: &Counts) -> Option<String> {
+    let parts: Vec<String> = [
+        (counts.lines, "polyline (l)"),
+        (counts.points, "point (p)"),
+        (counts.free_form, "curve/surface"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!("{n} {what}"))
+    .collect();
+    (!parts.is_empty()).then(|| {
+        format!(
+            "{name}: skipped {} statements: raylab draws only faces (f)",
+            parts.join(", ")
+        )
+    })
+}
+
+/// The OBJ text as tobj reads it: every source line checked, then handed on in a form tobj
+/// cannot misread or refuse without a line: `v x y z` (w divided out, vertex colours dropped),
+/// `f` with absolute, checked vertex indices only, `mtllib`/`usemtl` with their names, and
+/// nothing else (comments, texture coordinates, normals, groups, polylines, points and
+/// free-form geometry are left out). A problem stops the stream with an I/O error and is kept
+/// in `error`, with its file and line.
+struct ObjStream<'a> {
+    name: &'a str,
+    source: std::iter::Enumerate<std::str::Lines<'a>>,
+    /// The current line as handed on, and how much of it tobj consumed.
+    line: String,
+    consumed: usize,
+    /// The 1-based number of the source line last read.
+    line_number: usize,
+    vertices: u64,
+    texcoords: u64,
+    normals: u64,
+    /// The material names `usemtl` asked for, to warn about those no library defines.
+    used_materials: std::collections::BTreeSet<String>,
+    error: Option<ObjError>,
+}
+
+impl<'a> ObjStream<'a> {
+    fn new(name: &'a str, text: &'a str) -> Self {
+        Self {
+            name,
+            source: text.lines().enumerate(),
+            line: String::new(),
+            consumed: 0,
+            line_number: 0,
+            vertices: 0,
+            texcoords: 0,
+            normals: 0,
+            used_materials: Default::default(),
+            error: None,
+        }
+    }
+
+    /// Writes the form tobj reads of one source line into `self.line` (nothing if tobj need
+    /// not see it).
+    fn translate(&mut self, source: &str) -> Result<(), String> {
+        use std::fmt::Write;
+        // `#` starts a comment wherever it is; TABs are whitespace like spaces.
+        let statement = source.split('#').next().unwrap_or_default();
+        let mut words = statement.split_whitespace();
+        let Some(keyword) = words.next() else {
+            return Ok(());
+        };
+        let out = &mut self.line;
+        let (vertices, texcoords, normals) = (self.vertices, self.texcoords, self.normals);
+        match keyword {
+            "v" => {
+                let numbers: Vec<&str> = words.collect();
+                let p = vertex(&numbers)?;
+                self.vertices += 1;
+                if numbers.len() == 4 {
+                    let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
+                } else {
+                    // The words as written: tobj reads them as f32 just as `vertex` did.
+                    let _ = writeln!(out, "v {} {} {}", numbers[0], numbers[1], numbers[2]);
+                }
+            }
+            "vt" => self.texcoords += 1,
+            "vn" => self.normals += 1,
+            "f" => {
                 let refs: Vec<&str> = words.collect();
                 if refs.len() < 3 {
-                    return Err(err(format!(
+                    return Err(format!(
                         "face needs at least 3 vertices, found {}",
                         refs.len()
-                    )));
+                    ));
                 }
-                triangles += refs.len() as u64 - 2;
-                if triangles > max_tris {
-                    return Err(err(format!(
-                        "the faces so far make more than {max_tris} triangles: too large a \
-                         model to load (RAYLAB_MAX_TRIANGLES raises the limit)"
-                    )));
-                }
+                out.push('f');
                 for r in refs {
-                    let mut parts = r.split('/');
-                    for (k, count, what) in
-                        [(0, nv, "vertex"), (1, nvt, "texture"), (2, nvn, "normal")]
-                    {
-                        let Some(part) = parts.next() else { break };
-                        if part.is_empty() && k > 0 {
-                            continue;
-                        }
-                        check_index(part, count, what)
-                            .map_err(|m| err(format!("face '{r}': {m}")))?;
-                    }
-                    if parts.next().is_some() {
-                        return Err(err(format!(
-                            "face '{r}': more than 3 '/'-separated indices"
-                        )));
-                    }
+                    let v = face_vertex(r, vertices, texcoords, normals)
+                        .map_err(|m| format!("face '{r}': {m}"))?;
+                    let _ = write!(out, " {v}");
+                }
+                out.push('\n');
+            }
+            "mtllib" | "usemtl" => {
+                let rest = statement.trim_start()[keyword.len()..].trim();
+                if rest.is_empty() {
+                    return Err(format!("{keyword} needs a name"));
+                }
+                let _ = writeln!(out, "{keyword} {rest}");
+                if keyword == "usemtl" && !self.used_materials.contains(rest) {
+                    self.used_materials.insert(rest.to_string());
                 }
             }
             _ => {}
         }
+        Ok(())
     }
-    Ok(())
 }
 
-fn check_index(word: &str, count: i64, what: &str) -> Result<(), String> {
-    let idx: i64 = word
-        .parse()
-        .map_err(|_| format!("{what} index '{word}' is not an integer"))?;
-    let ok = (idx > 0 && idx <= count) || (idx < 0 && -idx <= count);
-    if ok {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} index {idx} is out of range ({count} {what}s defined so far; OBJ indices start at 1)"
-        ))
+impl std::io::Read for ObjStream<'_> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        use std::io::BufRead;
+        let available = self.fill_buf()?;
+        let n = available.len().min(out.len());
+        out[..n].copy_from_slice(&available[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl std::io::BufRead for ObjStream<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        while self.consumed == self.line.len() {
+            self.line.clear();
+            self.consumed = 0;
+            let Some((i, source)) = self.source.next() else {
+                break;
+            };
+            self.line_number = i + 1;
+            if let Err(message) = self.translate(source) {
+                self.error = Some(ObjError::Line {
+                    file: self.name.to_string(),
+                    line: self.line_number,
+                    message,
+                });
+                self.line.clear();
+                return Err(std::io::Error::other("OBJ line refused"));
+            }
+        }
+        Ok(&self.line.as_bytes()[self.consumed..])
+    }
+
+    fn consume(&mut self, n: usize) {
+        self.consumed = (self.consumed + n).min(self.line.len());
+    }
+}
+
+/// A `v` statement's position: `x y z` (read straight in f32, correctly rounded), `x y z w`
+/// (divided by w in f64, then rounded once to f32) or `x y z r g b` (the colour is not used).
+/// Every result is a finite f32.
+fn vertex(numbers: &[&str]) -> Result<[f32; 3], String> {
+    fn number<T: std::str::FromStr + Into<f64> + Copy>(w: &str) -> Result<T, String> {
+        match w.parse::<T>() {
+            Ok(x) if x.into().is_finite() => Ok(x),
+            Ok(_) => Err(format!("coordinate '{w}' is not a finite f32")),
+            Err(_) => Err(format!("coordinate '{w}' is not a number")),
+        }
+    }
+    let mut p = [0f32; 3];
+    match numbers.len() {
+        3 | 6 => {
+            for (c, w) in p.iter_mut().zip(numbers) {
+                *c = number::<f32>(w)?;
+            }
+            if let Some(w) = numbers[3..].iter().find(|w| w.parse::<f32>().is_err()) {
+                return Err(format!("colour component '{w}' is not a number"));
+            }
+        }
+        4 => {
+            let w = number::<f32>(numbers[3])? as f64;
+            if w == 0.0 {
+                return Err("the weight w is 0: x/w, y/w, z/w are not defined".into());
+            }
+            for (c, s) in p.iter_mut().zip(numbers) {
+                let q = number::<f32>(s)? as f64 / w;
+                *c = q as f32;
+                if !c.is_finite() {
+                    return Err(format!(
+                        "coordinate {s} divided by w = {} is {q:e}, beyond f32",
+                        numbers[3]
+                    ));
+                }
+            }
+        }
+        n => {
+            return Err(format!(
+                "vertex takes 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b), found {n}"
+            ))
+        }
+    }
+    Ok(p)
+}
+
+/// The absolute 1-based vertex index of one face reference `v`, `v/vt`, `v//vn` or `v/vt/vn`,
+/// every index in it checked against the counts defined so far.
+fn face_vertex(word: &str, vertices: u64, texcoords: u64, normals: u64) -> Result<u64, String> {
+    let mut parts = word.split('/');
+    let mut vertex = 0;
+    for (k, count, what) in [
+        (0, vertices, ("vertex", "vertices")),
+        (1, texcoords, ("texture", "texture coordinates")),
+        (2, normals, ("normal", "normals")),
+    ] {
+        let Some(part) = parts.next() else { break };
+        if part.is_empty() && k > 0 {
+            continue;
+        }
+        let index = resolve_index(part, count, what)?;
+        if k == 0 {
+            vertex = index;
+        }
+    }
+    if parts.next().is_some() {
+        return Err("more than 3 '/'-separated indices".into());
+    }
+    Ok(vertex)
+}
+
+/// An OBJ index (1-based, or negative counting back from the last of `count` defined so far)
+/// as an absolute 1-based index; any integer is handled without overflow.
+fn resolve_index(word: &str, count: u64, (what, plural): (&str, &str)) -> Result<u64, String> {
+    let digits = word.strip_prefix(['-', '+']).unwrap_or(word);
+    let idx: i64 = match word.parse() {
+        Ok(idx) => idx,
+        // Beyond i64 is beyond any count.
+        Err(_) if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => 0,
+        Err(_) => return Err(format!("{what} index '{word}' is not an integer")),
+    };
+    let back = idx.unsigned_abs();
+    match idx {
+        1.. if back <= count => Ok(back),
+        ..=-1 if back <= count => Ok(count - back + 1),
+        _ => Err(format!(
+            "{what} index {word} is out of range ({count} {plural} defined so far; OBJ indices \
+             start at 1)"
+        )),
     }
 }
