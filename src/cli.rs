@@ -382,6 +382,13 @@ fn render_with_progress(
     Ok(stats.map(|s| (rgba, s)))
 }
 
+/// Says which triangles the structure (built) left out as copies.
+fn warn_about_copies(scene: &Scene) {
+    if let Some(w) = scene.copies_warning() {
+        eprintln!("warning: {w}");
+    }
+}
+
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view)?;
@@ -393,6 +400,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let build = Instant::now();
     scene.accel();
     let build = build.elapsed();
+    warn_about_copies(&scene);
     let Some((rgba, stats)) = render_with_progress(&scene, &camera, &settings)? else {
         let _ = std::fs::remove_file(&args.out);
         return Err(Interrupted.into());
@@ -452,6 +460,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let build = Instant::now();
     let accel = pool.install(|| scene.accel().kind());
     let build = build.elapsed();
+    warn_about_copies(&scene);
     println!(
         "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
         scene.name,

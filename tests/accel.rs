@@ -29,6 +29,12 @@ fn random_scene(rng: &mut Rng, n: usize, spheres: usize) -> Vec<Shape<f32>> {
     if n > 2 {
         shapes.push(shapes[1]);
     }
+    // Copies with the vertices turned and reversed (left out by the structures, never by the
+    // reference loop).
+    if let (true, Shape::Triangle([a, b, c])) = (n > 3, shapes[2]) {
+        shapes.push(Shape::Triangle([b, c, a]));
+        shapes.push(Shape::Triangle([a, c, b]));
+    }
     shapes
 }
 

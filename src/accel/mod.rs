@@ -23,6 +23,7 @@ pub mod reference;
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
 
@@ -113,6 +114,8 @@ pub struct Accel {
     /// The primitives the triangle structures do not hold (spheres), with their indices:
     /// tested one by one after the triangles, through the shape's own methods.
     others: Vec<(Shape<f32>, u32)>,
+    /// Triangles left out as copies of an earlier one (see [`without_copies`]).
+    copies: usize,
 }
 
 impl Accel {
@@ -126,6 +129,7 @@ impl Accel {
                 other => others.push((*other, i as u32)),
             }
         }
+        let (mut tris, copies) = without_copies(tris);
         let use_bvh = match choice {
             AccelChoice::Auto => tris.len() >= BVH_MIN_TRIANGLES,
             AccelChoice::Flat => false,
@@ -143,7 +147,14 @@ impl Accel {
             triangles,
             list: tris,
             others,
+            copies,
         }
+    }
+
+    /// How many triangles were left out as exact copies of an earlier one (the same three
+    /// vertices in any order): whoever loads a scene says so.
+    pub fn copies_left_out(&self) -> usize {
+        self.copies
     }
 
     /// Which structure was built.
@@ -164,7 +175,7 @@ impl Accel {
 
     /// The position in [`Accel::flat_triangles`] of triangle primitive `prim`.
     pub fn slot(&self, prim: u32) -> usize {
-        match self.others.is_empty() {
+        match self.others.is_empty() && self.copies == 0 {
             true => prim as usize,
             false => self.list.partition_point(|t| t.1 < prim),
         }
@@ -175,7 +186,7 @@ impl Accel {
         &self.others
     }
 
-    /// How many triangles the structure holds.
+    /// How many triangles the structure holds (copies left out).
     pub fn triangle_count(&self) -> usize {
         match &self.triangles {
             Triangles::Flat(b) => b.len(),
@@ -403,4 +414,48 @@ impl Accel {
             *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
         })
     }
+}
+
+/// `tris` without the triangles that repeat an earlier one's vertices exactly (equal values,
+/// -0 = +0), in the same order, and how many were left out. Such a copy can never be the
+/// answer: every method computes what it computes for the earlier one (up to the sign of a
+/// zero), ties go to the lower index in every query, and a shadow query that skips the
+/// earlier one skips its copies (see [`reference::any_hit_except`]). Kept, a file of 10⁶ copies of one face costs each ray 10⁶ exact tie-breaks;
+/// left out, it costs what one triangle does. (The same vertices in another order are kept:
+/// the inexact methods may answer differently for them, which is what they are shown for.
+/// There are at most 6 orders, so the work stays bounded.) Found by sorting randomly keyed
+/// hashes, so no input can force the quadratic case; the order of the rest is unchanged.
+fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
+    let key = |t: &IndexedTriangle| t.0.map(|p| p.map(|c| (c + 0.0).to_bits()));
+    let hasher = ahash::RandomState::new();
+    let mut hashes: Vec<(u64, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| (hasher.hash_one(key(t)), i as u32))
+        .collect();
+    hashes.par_sort_unstable();
+    let mut copy = vec![false; tris.len()];
+    let mut copies = 0;
+    for run in hashes.chunk_by(|a, b| a.0 == b.0).filter(|r| r.len() > 1) {
+        // In index order: the first of each distinct key in the run is kept.
+        let mut kept: Vec<[[u32; 3]; 3]> = Vec::new();
+        for &(_, i) in run {
+            let k = key(&tris[i as usize]);
+            if kept.contains(&k) {
+                copy[i as usize] = true;
+                copies += 1;
+            } else {
+                kept.push(k);
+            }
+        }
+    }
+    if copies == 0 {
+        return (tris, 0);
+    }
+    let kept = tris
+        .into_iter()
+        .zip(copy)
+        .filter_map(|(t, c)| (!c).then_some(t))
+        .collect();
+    (kept, copies)
 }

@@ -38,7 +38,9 @@ pub fn closest_hit<T: Real>(
     best
 }
 
-/// [`any_hit`] ignoring primitive `skip`.
+/// [`any_hit`] ignoring primitive `skip`, the surface a shadow ray leaves: if it is a triangle,
+/// its exact copies (the same vertices in the same order) are the same surface and are
+/// ignored too, as the accelerators, which keep one of them, do.
 pub fn any_hit_except<T: Real>(
     shapes: &[Shape<T>],
     ray: &Ray<T>,
@@ -47,10 +49,12 @@ pub fn any_hit_except<T: Real>(
     tmax: T,
     skip: u32,
 ) -> bool {
-    shapes
-        .iter()
-        .enumerate()
-        .any(|(i, s)| i as u32 != skip && s.intersect(ray, method, tmin, tmax).is_some())
+    let own = shapes
+        .get(skip as usize)
+        .filter(|s| matches!(s, Shape::Triangle(_)));
+    shapes.iter().enumerate().any(|(i, s)| {
+        i as u32 != skip && Some(s) != own && s.intersect(ray, method, tmin, tmax).is_some()
+    })
 }
 
 /// Whether anything is hit with tmin < t < tmax (a shadow query).

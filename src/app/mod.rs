@@ -86,7 +86,11 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         None => None,
     };
     let scene = match &opts.scene {
-        Some(p) => Scene::load(p, opts.obj_frame).map_err(anyhow::Error::msg)?,
+        Some(p) => {
+            let mut scene = Scene::load(p, opts.obj_frame).map_err(anyhow::Error::msg)?;
+            scene.build_accel();
+            scene
+        }
         None => Scene::cornell(),
     };
     let event_loop = EventLoop::<AppEvent>::with_user_event()

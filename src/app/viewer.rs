@@ -442,7 +442,10 @@ impl Viewer {
         let proxy = self.proxy.clone();
         let frame = self.obj_frame;
         std::thread::spawn(move || {
-            let result = Scene::load(&path, frame);
+            let result = Scene::load(&path, frame).map(|mut scene| {
+                scene.build_accel();
+                scene
+            });
             let _ = proxy.send_event(AppEvent::SceneLoaded(path, Box::new(result), reload));
         });
     }

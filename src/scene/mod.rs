@@ -102,6 +102,25 @@ impl Scene {
             .get_or_init(|| Arc::new(Accel::build(&self.shapes, self.accel_choice)))
     }
 
+    /// Builds the structure now (on the loading thread, not the one that shows the scene) and
+    /// adds to the warnings what it left out: triangles that copy an earlier one.
+    pub fn build_accel(&mut self) {
+        self.warnings.extend(self.copies_warning());
+    }
+
+    /// What the structure (built if need be) left out, as a warning: triangles that repeat an
+    /// earlier triangle's vertices, or `None`.
+    pub fn copies_warning(&self) -> Option<String> {
+        let copies = self.accel().copies_left_out();
+        (copies > 0).then(|| {
+            format!(
+                "{}: {copies} triangles repeat an earlier triangle's vertices exactly: each is \
+                 kept once (the earlier one answers every ray either would)",
+                self.name
+            )
+        })
+    }
+
     /// Chooses the structure and drops the one built, if any (also after editing `shapes`).
     pub fn set_accel(&mut self, choice: AccelChoice) {
         self.accel_choice = choice;
