@@ -7,7 +7,7 @@
 //! and the width, never stored.
 
 use crate::geometry::Ray;
-use crate::math::TransformStack;
+use crate::math::{TransformStack, MAX_VIEW_COORDINATE};
 use glam::{DMat3, DMat4, DVec3, Vec3};
 
 /// Lowest and highest accepted focal lengths in pixels (about 180° and 0.00001° of view at
@@ -31,6 +31,9 @@ pub enum CameraError {
     /// A non-finite position or angle.
     #[error("camera {0} must be finite, got {1}")]
     NotFinite(&'static str, String),
+    /// A position beyond [`crate::math::MAX_VIEW_COORDINATE`].
+    #[error("{0}")]
+    OutOfRange(String),
     /// View and up directions that do not span a frame.
     #[error("view direction {0:?} and up direction {1:?} must be non-zero and not parallel")]
     Frame(DVec3, DVec3),
@@ -52,6 +55,13 @@ fn check_finite(what: &'static str, v: DVec3) -> Result<DVec3, CameraError> {
     }
 }
 
+fn check_position(p: DVec3) -> Result<DVec3, CameraError> {
+    check_finite("position", p)?;
+    crate::math::check_range("camera position", p.to_array(), MAX_VIEW_COORDINATE)
+        .map_err(CameraError::OutOfRange)?;
+    Ok(p)
+}
+
 impl Camera {
     /// The lab camera for a `width`-pixel-wide image: at (0, 0, −3.001), looking along +z,
     /// focal length = width.
@@ -68,7 +78,7 @@ impl Camera {
         pitch: f64,
         focal: f64,
     ) -> Result<Self, CameraError> {
-        check_finite("position", position)?;
+        check_position(position)?;
         check_finite("yaw/pitch", DVec3::new(yaw, pitch, 0.0))?;
         let mut stack = TransformStack::new();
         stack.translate(position).rotate_y(yaw).rotate_x(pitch);
@@ -86,7 +96,7 @@ impl Camera {
         up: DVec3,
         focal: f64,
     ) -> Result<Self, CameraError> {
-        check_finite("position", position)?;
+        check_position(position)?;
         let forward = view.normalize_or_zero();
         let right = forward.cross(up).normalize_or_zero();
         if forward == DVec3::ZERO || right == DVec3::ZERO || !right.is_finite() {

@@ -228,6 +228,23 @@ pub enum TraceAccel {
     Bvh,
 }
 
+/// `println!` for the CLI's reports, where a closed stdout (`raylab bench | head -1`) is an
+/// error that ends the command quietly (see `main`) instead of a panic.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout(), $($arg)*)?;
+    }};
+}
+
+/// Whether `e` is a write to a closed pipe (the reader went away: not worth a message).
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 fn parse_vec3(s: &str) -> Result<DVec3, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
@@ -264,6 +281,18 @@ fn load_scene_for(spec: &str, frame: ObjFrame, accel: AccelChoice) -> Result<Sce
     Ok(scene)
 }
 
+/// Moves the scene's light to `position`, if that is within the range the core renders.
+fn set_light(scene: &mut Scene, position: [f64; 3]) -> Result<()> {
+    raylab::math::check_range(
+        "light position",
+        position,
+        raylab::math::MAX_VIEW_COORDINATE,
+    )
+    .map_err(anyhow::Error::msg)?;
+    scene.light.position = position.map(|c| c as f32);
+    Ok(())
+}
+
 /// The scene, camera and settings of a view file (F5 in the window). A relative scene path
 /// that does not exist from here is looked up beside the view file.
 fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
@@ -277,7 +306,7 @@ fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSetti
     let mut scene = load_scene_for(&spec, view.obj_frame, v.accel)
         .with_context(|| format!("loading scene '{spec}' of view '{}'", path.display()))?;
     if let Some(light) = view.light {
-        scene.light.position = light;
+        set_light(&mut scene, light.map(f64::from))?;
     }
     let (c, s) = (view.camera, view.settings);
     let focal = c.focal_ratio() * s.width as f64;
@@ -304,14 +333,7 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let mut scene = load_scene_for(&v.scene, v.obj_frame, v.accel)
         .with_context(|| format!("loading scene '{}'", v.scene))?;
     if let Some(light) = v.light {
-        let light = light.as_vec3().to_array();
-        if !light.iter().all(|c| c.is_finite()) {
-            bail!(
-                "light position {:?} is not finite in f32",
-                v.light.unwrap_or_default()
-            );
-        }
-        scene.light.position = light;
+        set_light(&mut scene, light.to_array())?;
     }
     // The flags win; then a `.scene` file's camera; then the lab's or one framing the model.
     let start = scene.camera;
@@ -407,7 +429,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     };
     render::write_png(&args.out, settings.width, settings.height, &rgba)
         .with_context(|| format!("writing '{}'", args.out.display()))?;
-    println!(
+    say!(
         "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} step={} spp={}x{} method={} on {} threads in {:.2} ms: \
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
         scene.name,
@@ -430,7 +452,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if args.aov {
         let aovs = render::aov::render_aovs(&scene, &camera, &settings)?;
         for p in aovs.write_beside(&args.out)? {
-            println!("wrote {}", p.display());
+            say!("wrote {}", p.display());
         }
     }
     Ok(())
@@ -452,7 +474,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         .build()?;
     let (scene, camera, settings) = prepare(&args.view)?;
     let cpu = raylab::machine::cpu_model();
-    println!(
+    say!(
         "machine: {cpu}, {} cores available; threads: {threads}; simd: {}",
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         raylab::machine::simd_level()
@@ -461,14 +483,14 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let accel = pool.install(|| scene.accel().kind());
     let build = build.elapsed();
     warn_about_copies(&scene);
-    println!(
+    say!(
         "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
         scene.name,
         scene.len(),
         build.as_secs_f64() * 1e3,
         scene.accel().memory_bytes() as f64 / 1e6
     );
-    println!(
+    say!(
         "view: {}x{} step={} spp={} method={} camera={} yaw={} pitch={} focal={}",
         settings.width,
         settings.height,
@@ -485,7 +507,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     for frame in 0..=args.frames {
         let stats = pool.install(|| render::render_into(&scene, &camera, &settings, &mut rgba))?;
         if frame > 0 {
-            println!(
+            say!(
                 "frame {frame}: {:.3} ms, {} primary + {} shadow rays, {} hits, {:.2} Mrays/s",
                 stats.elapsed.as_secs_f64() * 1e3,
                 stats.primary_rays,
@@ -499,7 +521,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     runs.sort_by_key(|r| r.elapsed);
     let median = runs[runs.len() / 2];
     let (lo, hi) = (runs[0], runs[runs.len() - 1]);
-    println!(
+    say!(
         "median frame {:.3} ms (min {:.3}, max {:.3}), {:.1} frames/s, hits {}",
         median.elapsed.as_secs_f64() * 1e3,
         lo.elapsed.as_secs_f64() * 1e3,
@@ -507,7 +529,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         1.0 / median.elapsed.as_secs_f64(),
         median.hits
     );
-    println!("mrays_per_s={:.3}", median.mrays_per_s());
+    say!("mrays_per_s={:.3}", median.mrays_per_s());
     Ok(())
 }
 

@@ -178,7 +178,9 @@ impl CameraController {
         let radius = (diagonal / 2.0).max(1e-30);
         let focal = width as f64;
         let half_fov = (width.min(height) as f64 / (2.0 * focal)).atan();
-        let distance = radius / half_fov.sin();
+        // (Within the camera's range: a scene near the edge of its range seen from a very
+        // flat image would need more; it is then seen from the edge, not all in view.)
+        let distance = (radius / half_fov.sin()).min(centre.z + crate::math::MAX_VIEW_COORDINATE);
         Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal).with_target(centre)
     }
 
@@ -281,9 +283,11 @@ impl CameraController {
             self.focal_ratio,
             self.target,
         );
-        let finite = self.position.is_finite() && self.target.is_finite();
+        let max = crate::math::MAX_VIEW_COORDINATE;
+        let within = |p: DVec3| p.abs().max_element() <= max; // (false for NaN)
+        let finite = within(self.position) && self.target.is_finite();
         if !finite {
-            // (Never leave a pose the camera cannot take.)
+            // (Never leave a pose the camera cannot take: finite, within the view range.)
             (
                 self.position,
                 self.yaw,

@@ -19,6 +19,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of stdout went away (`raylab bench | head -1`): stop quietly, with the
+        // status a shell gives a program ended by SIGPIPE.
+        Err(e) if cli::is_broken_pipe(&e) => ExitCode::from(141),
         Err(e) if e.is::<cli::Interrupted>() => {
             eprintln!("{e}");
             ExitCode::from(130)

@@ -139,11 +139,10 @@ impl View {
             }
             "light" => {
                 want(4)?;
-                let l = [num(w[1])?, num(w[2])?, num(w[3])?].map(|x| x as f32);
-                if !l.iter().all(|c| c.is_finite()) {
-                    return Err("light position is not finite in f32".into());
-                }
-                self.light = Some(l);
+                let l = [num(w[1])?, num(w[2])?, num(w[3])?];
+                let max = crate::math::MAX_VIEW_COORDINATE;
+                crate::math::check_range("light position", l, max)?;
+                self.light = Some(l.map(|x| x as f32));
             }
             "size" => {
                 want(3)?;

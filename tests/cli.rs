@@ -1296,3 +1296,125 @@ fn view_files_render_and_round_trip() {
         &["bad.view:3:", "zoom"],
     );
 }
+
+#[test]
+fn values_the_f32_core_cannot_hold_are_refused_naming_them() {
+    // Finite in f64 but not in f32, or beyond the range the f32 kernels compute in without
+    // overflow (scene 2^38, camera and light 2^40): refused before any work, with the value.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let huge_obj = write(
+        d,
+        "huge.obj",
+        "v -3e38 -3e38 0\nv 3e38 -3e38 0\nv 0 3e38 0\nf 1 2 3\n",
+    );
+    let scaled = write(d, "scaled.scene", "scale 1e12\ntri 0 0 0 1 0 0 0 1 0\n");
+    let far_camera = write(d, "cam.scene", "cornell\ncamera 0 0 -2e12\n");
+    let far_light = write(d, "light.scene", "cornell\n\nlight 1e13 0 0\n");
+    let view = write(d, "far.view", "scene cornell\nlight 0 0 -5e12\n");
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &["--camera", "1e39,0,0"],
+            &["camera position", "1e39", "beyond"],
+        ),
+        (
+            &["--camera", "0,0,-2e12"],
+            &[
+                "camera position",
+                "-2000000000000",
+                "beyond ±1.099511627776e12",
+            ],
+        ),
+        (
+            &["--light", "1e13,0,0"],
+            &["light position", "10000000000000"],
+        ),
+        (
+            &["--scene", &huge_obj],
+            &[
+                "huge.obj",
+                "triangle 0",
+                "-3e38",
+                "beyond ±2.74877906944e11",
+            ],
+        ),
+        (
+            &["--scene", &scaled],
+            &["scaled.scene", "triangle 0", "1000000000000"],
+        ),
+        (
+            &["--scene", &far_camera],
+            &["cam.scene:2", "camera position", "-2000000000000"],
+        ),
+        (
+            &["--scene", &far_light],
+            &["light.scene:3", "light position", "10000000000000"],
+        ),
+        (
+            &["--view", &view],
+            &["far.view", "light position", "-5000000000000"],
+        ),
+    ];
+    for (args, needles) in cases {
+        let mut all = vec!["render", "-o", "/dev/null"];
+        if args[0] != "--view" {
+            all.extend_from_slice(&["--width", "64", "--height", "48"]);
+        }
+        all.extend_from_slice(args);
+        let start = std::time::Instant::now();
+        let o = raylab(&all);
+        assert_fails(&o, 2, needles);
+        assert!(
+            start.elapsed().as_secs() < 20,
+            "{args:?} took {:?}",
+            start.elapsed()
+        );
+    }
+    // Within range: a scene at 2e11 renders (lit: its normals no longer overflow).
+    let big = write(
+        d,
+        "big.obj",
+        "v -2e11 -2e11 0\nv 2e11 -2e11 0\nv 0 2e11 0\nf 1 2 3\n",
+    );
+    let o = raylab(&[
+        "render",
+        "--scene",
+        &big,
+        "--step",
+        "shadows",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "-o",
+        "/dev/null",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn a_closed_pipe_ends_the_output_quietly() {
+    // `raylab trace … | head -1`: the reader goes away while 2 MB of answers are still to
+    // come. The program stops with the shell's SIGPIPE status, without a panic message.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "tri.txt", "tri 0 0 5 1 0 5 0 1 5\n");
+    let rays = write(
+        dir.path(),
+        "rays.txt",
+        &"0.1 0.1 0 0 0 1 0 inf\n".repeat(200_000),
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["trace", "--scene", &scene, "--rays", &rays])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = child.stdout.take().unwrap();
+    let mut first = [0u8; 10];
+    std::io::Read::read_exact(&mut out, &mut first).unwrap();
+    assert_eq!(&first, b"hit 5 0\nhi");
+    drop(out);
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "");
+}

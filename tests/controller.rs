@@ -229,3 +229,36 @@ fn speed_and_the_slow_key_scale_moves() {
     c.scale_speed(1e9);
     assert_eq!(c.speed, CameraController::SPEED_RANGE.1);
 }
+
+#[test]
+fn flying_and_framing_stay_within_the_cameras_range() {
+    // Flying on at full speed from near the edge of the camera's range stops at it (the
+    // camera is always one the renderer can take), and framing a scene at the edge of the
+    // scene range places the camera within range.
+    let max = raylab::math::MAX_VIEW_COORDINATE;
+    let size = raylab::math::MAX_SCENE_COORDINATE;
+    let mut c = CameraController::new(DVec3::new(0.0, 0.0, 0.9 * max), 0.0, 0.0, 1.0, size);
+    c.scale_speed(64.0);
+    for _ in 0..100 {
+        c.update(
+            &input(|i| {
+                i.forward = 1.0;
+                i.fast = true;
+            }),
+            0.25,
+        );
+    }
+    assert!(
+        c.position.z <= max && c.position.z >= 0.9 * max,
+        "{}",
+        c.position
+    );
+    let _ = c.camera(640); // (built without panicking: in range)
+    let lo = [-size as f32; 3];
+    let hi = [size as f32; 3];
+    for (w, h) in [(640, 480), (1000, 10)] {
+        let c = CameraController::framing((lo, hi), w, h);
+        assert!(c.position.abs().max_element() <= max, "{}", c.position);
+        let _ = c.camera(w);
+    }
+}

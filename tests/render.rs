@@ -775,3 +775,74 @@ fn copied_triangles_change_no_pixel() {
     }
     assert_eq!(plain.copies_warning(), None);
 }
+
+/// A cube of side 2·`scale` (12 triangles) framed as `raylab render` frames a model, with the
+/// light placed for its size.
+fn framed_cube(scale: f32, w: u32, h: u32) -> (Scene, Camera) {
+    let corner =
+        |i: usize| [i & 1, (i >> 1) & 1, (i >> 2) & 1].map(|b| (2.0 * b as f32 - 1.0) * scale);
+    let quads = [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ];
+    let mut shapes = Vec::new();
+    for q in quads {
+        let [a, b, c, d] = q.map(corner);
+        shapes.push(raylab::geometry::Shape::Triangle([a, b, c]));
+        shapes.push(raylab::geometry::Shape::Triangle([a, c, d]));
+    }
+    let n = shapes.len();
+    let dark = raylab::scene::PointLight {
+        position: [0.0; 3],
+        power: [0.0; 3],
+    };
+    let mut scene = Scene::new("cube", shapes, vec![[0.75; 3]; n], dark, [0.5; 3]);
+    let bounds = scene.bounds().unwrap();
+    scene.light = Scene::light_for_bounds(bounds);
+    // Turned so three faces show, each lit differently.
+    let mut controller = raylab::controller::CameraController::framing(bounds, w, h);
+    controller.yaw = 0.5;
+    controller.pitch = -0.4;
+    let distance = (controller.position - controller.target).length();
+    controller.position = controller.target - controller.forward() * distance;
+    (scene, controller.camera(w))
+}
+
+#[test]
+fn a_scene_scaled_by_a_power_of_two_renders_the_same_up_to_the_range_limit() {
+    // Scaling the scene, its light and its camera by 2^k is exact in floating point, so every
+    // step must draw the same picture at any scale the core accepts. Before faces' normals
+    // were rescaled, a cube of side 2e10 rendered black with light (|n|² overflowed f32).
+    let (w, h) = (64, 48);
+    let (unit, unit_cam) = framed_cube(1.0, w, h);
+    for k in [-20, 20, 33, 37] {
+        let s = 2f32.powi(k);
+        let (scaled, cam) = framed_cube(s, w, h);
+        assert!(scaled.check_ranges().is_ok(), "2^{k}");
+        for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
+            let settings = RenderSettings {
+                width: w,
+                height: h,
+                step,
+                ..Default::default()
+            };
+            let a = render_image(&unit, &unit_cam, &settings).unwrap().0;
+            let b = render_image(&scaled, &cam, &settings).unwrap().0;
+            let lit = b.chunks(4).filter(|p| p[0] > 40).count();
+            assert!(lit > 500, "2^{k} {step:?}: only {lit} lit pixels");
+            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
+            assert!(differ <= 3, "2^{k} {step:?}: {differ} pixels differ");
+        }
+    }
+    // Beyond the range: refused, naming the value.
+    let (big, _) = framed_cube(2f32.powi(39), w, h);
+    let e = big.check_ranges().unwrap_err();
+    assert!(
+        e.contains("5.49755813888e11") && e.contains("beyond ±2.74877906944e11"),
+        "{e}"
+    );
+}

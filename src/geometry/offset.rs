@@ -51,14 +51,20 @@ impl SurfacePoint {
     }
 }
 
-/// Unit vector along `v` (returns `v` unchanged if it is zero).
+/// Unit vector along `v` (returns `v` unchanged if it is zero). Where |v|² overflows or
+/// underflows f32 (a face's cross product beyond about 1.8e19 or below 1e-19: edges of a few
+/// 1e9 or 1e-10 units), `v` is first divided by its largest component.
 pub fn normalize(v: V3<f32>) -> V3<f32> {
-    let len = dot(v, v).sqrt();
-    if len > 0.0 {
-        scale(v, 1.0 / len)
-    } else {
-        v
+    let len2 = dot(v, v);
+    if len2.is_finite() && len2 >= f32::MIN_POSITIVE {
+        return scale(v, 1.0 / len2.sqrt());
     }
+    let largest = v[0].abs().max(v[1].abs()).max(v[2].abs());
+    if !(largest > 0.0 && largest.is_finite()) {
+        return v;
+    }
+    let u = v.map(|c| c / largest);
+    scale(u, 1.0 / dot(u, u).sqrt())
 }
 
 /// Moves `p` along the unit normal `n` by the error bound projected on `n`, to the side of

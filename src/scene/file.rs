@@ -37,6 +37,7 @@
 use super::obj::{self, ObjFrame};
 use super::{cornell, PointLight, Scene};
 use crate::geometry::Shape;
+use crate::math::MAX_VIEW_COORDINATE;
 use crate::math::{Real, TransformStack};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -467,6 +468,7 @@ impl<T: Real> Parser<'_, T> {
                 }
                 let position = self.transformed([x[0], x[1], x[2]]);
                 let position = position.map(|w| w.map(|c| c.f64() as f32))?;
+                crate::math::check_range("light position", position, MAX_VIEW_COORDINATE)?;
                 self.light_line = Some(line);
                 self.out.light = Some(PointLight {
                     position,
@@ -485,6 +487,11 @@ impl<T: Real> Parser<'_, T> {
                     return Err(format!("camera needs x y z, found {} numbers", args.len()));
                 }
                 let p = numbers(&args[..3], &[3], "camera")?;
+                crate::math::check_range(
+                    "camera position",
+                    [p[0], p[1], p[2]],
+                    MAX_VIEW_COORDINATE,
+                )?;
                 let mut camera = SceneCamera {
                     position: [p[0], p[1], p[2]],
                     yaw: 0.0,

@@ -7,6 +7,7 @@ pub mod obj;
 use crate::accel::{Accel, AccelChoice};
 use crate::geometry::Shape;
 use crate::math::real::V3;
+use crate::math::{check_range, MAX_SCENE_COORDINATE, MAX_VIEW_COORDINATE};
 use std::sync::{Arc, OnceLock};
 
 pub use file::{load_scene_file, SceneCamera};
@@ -121,6 +122,24 @@ impl Scene {
         })
     }
 
+    /// Whether the scene is within the range the f32 core renders without overflow: every
+    /// primitive within ±[`MAX_SCENE_COORDINATE`], the light within ±[`MAX_VIEW_COORDINATE`].
+    /// The error names the primitive and the value.
+    pub fn check_ranges(&self) -> Result<(), String> {
+        for (i, shape) in self.shapes.iter().enumerate() {
+            let (lo, hi) = shape.bounds();
+            for corner in [lo, hi] {
+                let what = match shape {
+                    Shape::Triangle(_) => format!("{}: triangle {i} (bounds corner)", self.name),
+                    _ => format!("{}: primitive {i} (bounds corner)", self.name),
+                };
+                check_range(&what, corner, MAX_SCENE_COORDINATE)?;
+            }
+        }
+        let light = self.light.position;
+        check_range(&format!("{}: light", self.name), light, MAX_VIEW_COORDINATE)
+    }
+
     /// Chooses the structure and drops the one built, if any (also after editing `shapes`).
     pub fn set_accel(&mut self, choice: AccelChoice) {
         self.accel_choice = choice;
@@ -129,11 +148,14 @@ impl Scene {
 
     /// Loads a `.scene` file or an OBJ file (`obj_frame`: how its coordinates are read), by the
     /// file's extension.
+    /// The scene is checked to be within range ([`Scene::check_ranges`]).
     pub fn load(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
-        match path.extension().and_then(|e| e.to_str()) {
+        let scene = match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("scene") => load_scene_file(path),
             _ => load_obj_file(path, obj_frame).map_err(|e| e.to_string()),
-        }
+        }?;
+        scene.check_ranges()?;
+        Ok(scene)
     }
 
     /// The bounding box's diagonal (1 for an empty scene): the scene's size for camera moves.
