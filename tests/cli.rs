@@ -1232,7 +1232,7 @@ fn the_light_can_be_set_as_the_panel_sets_it() {
     assert_fails(
         &raylab(&["render", "--light", "1e39,0,0", "-o", "x.png"]),
         2,
-        &["light", "not finite"],
+        &["light position", "1e39", "beyond"],
     );
 }
 
