@@ -21,6 +21,9 @@ fn number() -> impl Strategy<Value = String> {
         Just("1e39".to_string()),
         Just("-1e-45".to_string()),
         Just("0x10".to_string()),
+        Just("1e30".to_string()),
+        Just("1e-30".to_string()),
+        Just("3e11".to_string()),
         Just("".to_string()),
         "[a-z#/.]{1,3}",
     ]
@@ -32,6 +35,8 @@ fn index() -> impl Strategy<Value = String> {
         (-12i64..0).prop_map(|x| x.to_string()),
         Just("0".to_string()),
         Just("99999999999".to_string()),
+        Just("-9223372036854775808".to_string()),
+        Just("18446744073709551617".to_string()),
         ((1i64..12), (1i64..4)).prop_map(|(v, t)| format!("{v}/{t}")),
         ((1i64..12), (1i64..4)).prop_map(|(v, n)| format!("{v}//{n}")),
         Just("1/2/3/4".to_string()),
@@ -39,13 +44,25 @@ fn index() -> impl Strategy<Value = String> {
     ]
 }
 
+/// Spaces or TABs between words.
+fn gap() -> impl Strategy<Value = &'static str> {
+    prop_oneof![4 => Just(" "), 1 => Just("\t"), 1 => Just(" \t ")]
+}
+
 fn obj_line() -> impl Strategy<Value = String> {
     prop_oneof![
-        4 => prop::collection::vec(number(), 0..5).prop_map(|n| format!("v {}", n.join(" "))),
-        4 => prop::collection::vec(index(), 0..7).prop_map(|i| format!("f {}", i.join(" "))),
+        4 => (prop::collection::vec(number(), 0..8), gap())
+            .prop_map(|(n, g)| format!("v{g}{}", n.join(g))),
+        4 => (prop::collection::vec(index(), 0..7), gap())
+            .prop_map(|(i, g)| format!("f{g}{}", i.join(g))),
+        1 => prop::collection::vec(index(), 0..5).prop_map(|i| format!("l {}", i.join(" "))),
+        1 => prop::collection::vec(index(), 0..3).prop_map(|i| format!("p {}", i.join(" "))),
+        1 => prop::collection::vec(number(), 0..4).prop_map(|n| format!("curv {}", n.join(" "))),
+        1 => (prop::collection::vec(number(), 3..4), "[ -~]{0,8}")
+            .prop_map(|(n, c)| format!("v {} # {c}", n.join(" "))),
         1 => prop::collection::vec(number(), 0..3).prop_map(|n| format!("vt {}", n.join(" "))),
         1 => prop::collection::vec(number(), 0..4).prop_map(|n| format!("vn {}", n.join(" "))),
-        1 => "[a-z]{0,6}".prop_map(|m| format!("usemtl {m}")),
+        1 => ("[a-z]{0,6}", gap()).prop_map(|(m, g)| format!("usemtl{g}{m}")),
         1 => "[a-z./]{0,8}".prop_map(|m| format!("mtllib {m}")),
         1 => "[a-z]{0,6}".prop_map(|m| format!("o {m}")),
         1 => "[ -~]{0,20}",
@@ -58,6 +75,17 @@ fn mtl_text() -> impl Strategy<Value = String> {
         prop_oneof![
             "[a-z]{0,6}".prop_map(|m| format!("newmtl {m}")),
             prop::collection::vec(number(), 0..4).prop_map(|n| format!("Kd {}", n.join(" "))),
+            (
+                prop_oneof![
+                    Just("Ns"),
+                    Just("d"),
+                    Just("illum"),
+                    Just("map_Kd"),
+                    Just("Ni")
+                ],
+                number()
+            )
+                .prop_map(|(k, n)| format!("{k} {n}")),
             "[ -~]{0,16}",
         ],
         0..8,
@@ -87,7 +115,16 @@ proptest! {
         for frame in [ObjFrame::YUp, ObjFrame::Lab] {
             match load_obj_str("fuzz.obj", &text, frame, |_| Ok(mtl.clone())) {
                 Ok(scene) => assert_safe_scene(&scene),
-                Err(e) => prop_assert!(e.to_string().starts_with("fuzz.obj"), "{e}"),
+                // Every error names the file, and the line unless the file as a whole is
+                // wrong (nothing to draw).
+                Err(e) => {
+                    let e = e.to_string();
+                    let line = e
+                        .strip_prefix("fuzz.obj:")
+                        .and_then(|rest| rest.split(':').next())
+                        .is_some_and(|n| n.parse::<usize>().is_ok());
+                    prop_assert!(line || e.starts_with("fuzz.obj: no triangles"), "{e}");
+                }
             }
         }
     }
@@ -122,6 +159,35 @@ proptest! {
             Err(e) => prop_assert!(e.line >= 1 && e.file == "s.txt"),
         }
         let _ = parse_scene::<f64>("s.txt", &text);
+    }
+
+    #[test]
+    fn scene_files_never_panic(lines in prop::collection::vec(
+        (prop_oneof![
+            Just("tri"), Just("sphere"), Just("push"), Just("pop"), Just("translate"),
+            Just("rotate x"), Just("rotate y"), Just("scale"), Just("color"), Just("light"),
+            Just("ambient"), Just("camera"), Just("cornell"), Just("mesh"), Just("bogus"),
+        ], prop::collection::vec(number(), 0..10)),
+        0..16,
+    )) {
+        let text: String = lines.iter().map(|(k, n)| format!("{k} {}\n", n.join(" "))).collect();
+        let no_meshes = |_: &std::path::Path, _, _| Err("no meshes here".to_string());
+        let parsed = raylab::scene::file::parse::<f32>("f.scene", &text, std::path::Path::new(""), &no_meshes);
+        match parsed {
+            Ok(d) => match raylab::Scene::from_description("f.scene", d) {
+                Ok(scene) => {
+                    if scene.check_ranges().is_ok() {
+                        let finite = scene.shapes.iter().all(|s| {
+                            let (lo, hi) = s.bounds();
+                            lo.iter().chain(&hi).all(|x| x.is_finite())
+                        });
+                        prop_assert!(finite);
+                    }
+                }
+                Err(e) => prop_assert!(e.starts_with("f.scene"), "{e}"),
+            },
+            Err(e) => prop_assert!(e.line >= 1 && e.file == "f.scene", "{e}"),
+        }
     }
 
     #[test]

@@ -128,6 +128,8 @@ fn run_window_with(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
+    // Input drivers wait for the first image; a file-editing driver keeps to its own clock.
+    let wait_for_image = matches!(around, Around::RealInput(_));
     let (driver, model) = match around {
         Around::RealInput(d) => (Some(d), None),
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
@@ -184,9 +186,22 @@ fn run_window_with(
     if let Some(driver) = driver {
         // The app, then the driver once its window is there; the app's exit status is the
         // run's.
+        // The driver starts once the app logs its first image on screen (a fresh CI machine
+        // under lavapipe, with other window tests running, can take seconds to draw one):
+        // input sent earlier would meet no image. The log goes on to stderr afterwards.
+        let log = dir.join("app.log");
+        let wait = match wait_for_image {
+            true => {
+                "n=0; until grep -q 'first image on screen' \"$log\" || [ $n -ge 600 ]; do \
+                     sleep 0.1; n=$((n+1)); done; sleep 0.5"
+            }
+            false => "sleep 1",
+        };
         let wrapper = format!(
-            "\"$@\" & app=$!; win=$(xdotool search --sync --name '^raylab'); sleep 1; \
-             {driver}; wait $app"
+            "log='{log}'; \"$@\" 2>\"$log\" & app=$!; \
+             win=$(xdotool search --sync --name '^raylab'); {wait}; \
+             {driver}; wait $app; status=$?; cat \"$log\" >&2; exit $status",
+            log = log.display()
         );
         command.args(["sh", "-c", &wrapper, "sh"]);
     }
@@ -501,7 +516,7 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     let dir = tempfile::tempdir().unwrap();
     // (The driver waits for the first frames: the wheel and drag must meet a drawn image.)
     let script = "11000 step indirect\n";
-    let driver = "sleep 3; xdotool windowfocus --sync $win; \
+    let driver = "xdotool windowfocus --sync $win; \
                   xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.3; \
                   xdotool mousemove --sync 730 310; sleep 0.3; \
                   for i in 1 2 3 4 5; do xdotool click 4; sleep 0.05; done; sleep 0.3; \
@@ -659,7 +674,7 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     // (The driver waits for the first frames: the drag must start over a drawn image, and a
     // fresh CI machine under lavapipe can take seconds to draw one.)
     let script = "12000 step indirect\n";
-    let driver = "sleep 3; xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
                   for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
                   xdotool mouseup 1";

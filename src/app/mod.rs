@@ -120,6 +120,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         mouse_look: false,
         esc_armed: false,
         frames_presented: 0,
+        image_on_screen: false,
         failed_draws: 0,
         egui_repaint_at: None,
         outcome: Ok(()),
@@ -145,6 +146,8 @@ struct App {
     mouse_look: bool,
     esc_armed: bool,
     frames_presented: u64,
+    /// Whether a rendered image has been presented yet.
+    image_on_screen: bool,
     /// Draws that failed in a row (a lost surface is retried at once, a broken one is not
     /// retried in a loop).
     failed_draws: u32,
@@ -358,6 +361,11 @@ impl App {
         }
         self.failed_draws = 0;
         self.frames_presented += 1;
+        if !self.image_on_screen && self.viewer.shown.is_some() && self.image_rect.is_some() {
+            // (Tests that drive the window with real input wait for this line.)
+            self.image_on_screen = true;
+            log::info!("first image on screen");
+        }
 
         if let Some(Err(e)) = self.scripted.as_ref().map(ScriptedRun::check_time) {
             self.fail(event_loop, e);
