@@ -13,6 +13,15 @@ use raylab::tracefile;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// `println!` for the CLI's reports, where a closed stdout (`raylab bench | head -1`) is an
+/// error that ends the command quietly (see `main`) instead of a panic.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout(), $($arg)*)?;
+    }};
+}
+
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
 #[command(version, about, long_about = None, args_conflicts_with_subcommands = true)]
@@ -52,6 +61,11 @@ pub enum Command {
     /// Time K frames (after a warm-up) and print the accelerator build time, the median frame
     /// time, the hit count, and as the last line `mrays_per_s=<median>`.
     Bench(BenchArgs),
+    /// Print one pixel's camera ray as the lecture writes it (u, v, f, d, the triangle's
+    /// A·x = b or the sphere's quadratic, t, the deciding level of the method, the surface
+    /// point and normal, the shadow ray and what blocks it, ρ, D, N and the colour): the
+    /// window's ray inspector, headless.
+    Inspect(InspectArgs),
 }
 
 /// Ray/triangle method names for clap.
@@ -181,6 +195,38 @@ pub struct RenderArgs {
     pub aov: bool,
 }
 
+/// `raylab inspect`.
+#[derive(clap::Args, Debug)]
+pub struct InspectArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// The pixel `x,y` (column, row from the top left, 0-based).
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: (u32, u32),
+}
+
+fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    match parts[..] {
+        [x, y] => match (x.parse(), y.parse()) {
+            (Ok(x), Ok(y)) => Ok((x, y)),
+            _ => Err(format!(
+                "'{s}' is not two pixel coordinates x,y (whole numbers ≥ 0)"
+            )),
+        },
+        _ => Err(format!("expected x,y, got '{s}'")),
+    }
+}
+
+/// Runs `raylab inspect`.
+pub fn inspect(args: &InspectArgs) -> Result<()> {
+    let (scene, camera, settings) = prepare(&args.view)?;
+    let (x, y) = args.pixel;
+    let inspection = raylab::render::inspect::inspect(&scene, &camera, &settings, x, y)?;
+    say!("{}", inspection.to_string().trim_end());
+    Ok(())
+}
+
 /// `raylab bench`.
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
@@ -226,15 +272,6 @@ pub enum TraceAccel {
     Auto,
     Flat,
     Bvh,
-}
-
-/// `println!` for the CLI's reports, where a closed stdout (`raylab bench | head -1`) is an
-/// error that ends the command quietly (see `main`) instead of a panic.
-macro_rules! say {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        writeln!(std::io::stdout(), $($arg)*)?;
-    }};
 }
 
 /// Whether `e` is a write to a closed pipe (the reader went away: not worth a message).

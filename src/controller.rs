@@ -207,7 +207,11 @@ impl CameraController {
 
     /// The camera for an image `width` pixels wide.
     pub fn camera(&self, width: u32) -> Camera {
-        Camera::from_yaw_pitch(self.position, self.yaw, self.pitch, self.focal(width))
+        // (A position typed into the panel may be anywhere: the camera takes the nearest one
+        // within its range.)
+        let max = crate::math::MAX_VIEW_COORDINATE;
+        let position = self.position.clamp(DVec3::splat(-max), DVec3::splat(max));
+        Camera::from_yaw_pitch(position, self.yaw, self.pitch, self.focal(width))
             .expect("the controller keeps its pose finite and its focal length in range")
     }
 

@@ -15,6 +15,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Render(a)) => cli::render(a),
         Some(cli::Command::Trace(a)) => cli::trace(a),
         Some(cli::Command::Bench(a)) => cli::bench(a),
+        Some(cli::Command::Inspect(a)) => cli::inspect(a),
         None => viewer(&args),
     };
     match result {

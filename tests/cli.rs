@@ -1418,3 +1418,71 @@ fn a_closed_pipe_ends_the_output_quietly() {
     assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
     assert_eq!(stderr(&o), "");
 }
+
+/// The `name: value` lines of `raylab inspect`.
+fn fields(out: &str) -> std::collections::HashMap<String, String> {
+    out.lines()
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect()
+}
+
+#[test]
+fn inspect_prints_one_pixels_ray_as_the_lecture_writes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let args = ["--width", "64", "--height", "48", "--step", "shadows"];
+    // The centre pixel of the lab view hits the back wall; its numbers against the render's
+    // AOVs for the same pixel.
+    let mut render = vec!["render", "-o", out.to_str().unwrap(), "--aov"];
+    render.extend_from_slice(&args);
+    assert!(raylab(&render).status.success());
+    let prim = std::fs::read(dir.path().join("x.prim.npy")).unwrap();
+    let t = std::fs::read(dir.path().join("x.t.npy")).unwrap();
+    let at = |bytes: &[u8], k: usize| {
+        let data = &bytes[bytes.len() - 4 * 64 * 48..];
+        [
+            data[4 * k],
+            data[4 * k + 1],
+            data[4 * k + 2],
+            data[4 * k + 3],
+        ]
+    };
+    for (i, j) in [(32u32, 24u32), (5, 40), (50, 10), (20, 30)] {
+        let mut cmd = vec!["inspect".to_string(), "--pixel".into(), format!("{i},{j}")];
+        cmd.extend(args.iter().map(|s| s.to_string()));
+        let o = raylab(&cmd.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let f = fields(&String::from_utf8_lossy(&o.stdout));
+        assert_eq!(f["pixel"], format!("{i} {j}"));
+        let uvf: Vec<f64> = f["uvf"].split(' ').map(|x| x.parse().unwrap()).collect();
+        assert_eq!(uvf, [i as f64 + 0.5 - 32.0, j as f64 + 0.5 - 24.0, 64.0]);
+        let k = (j * 64 + i) as usize;
+        assert_eq!(
+            f["hit"].parse::<u32>().unwrap(),
+            u32::from_le_bytes(at(&prim, k))
+        );
+        assert_eq!(
+            f["t"].parse::<f32>().unwrap(),
+            f32::from_le_bytes(at(&t, k))
+        );
+        assert_eq!(f["shape"], "triangle");
+        for key in [
+            "A_row0", "b", "x_tuv", "point", "normal", "rho", "D", "N", "colour",
+        ] {
+            assert!(f.contains_key(key), "{key} missing");
+        }
+        assert_eq!(f["step"], "shadows");
+    }
+    // A sphere shows its quadratic.
+    let scene = write(dir.path(), "s.scene", "sphere 0 0 0 1\n");
+    let o = raylab(&["inspect", "--scene", &scene, "--pixel", "320,240"]);
+    let f = fields(&String::from_utf8_lossy(&o.stdout));
+    assert_eq!(f["shape"], "sphere", "{}", stderr(&o));
+    assert!(f["discriminant"].parse::<f64>().unwrap() > 0.0);
+    // A pixel outside the image is an error naming it.
+    let o = raylab(&["inspect", "--pixel", "640,3"]);
+    assert_fails(&o, 2, &["pixel (640, 3) is outside the 640x480 image"]);
+    let o = raylab(&["inspect", "--pixel", "a,3"]);
+    assert_fails(&o, 2, &["'a,3'"]);
+}

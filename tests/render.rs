@@ -846,3 +846,95 @@ fn a_scene_scaled_by_a_power_of_two_renders_the_same_up_to_the_range_limit() {
         "{e}"
     );
 }
+
+#[test]
+fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
+    // Every pixel of a 48×36 Cornell box, inspected: the lecture's terms against their
+    // definitions, the hit against the independent f64 reference, the colour against the
+    // rendered image (the same ray, the same shading) and the reference's colour, and the
+    // blocker against the reference's shadow ray.
+    use raylab::render::inspect::{inspect, ShapeTerms};
+    let (w, h) = (48u32, 36u32);
+    let scene = Scene::cornell();
+    let cam = Camera::cornell(w);
+    let reference_scene = parse_reference_scene();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    let img = render_image(&scene, &cam, &settings).unwrap().0;
+    let reference_img = reference(LabStep::Indirect, w, h);
+    let (mut hits, mut blocked, mut checked_blockers) = (0, 0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let ins = inspect(&scene, &cam, &settings, i, j).unwrap();
+            let (u, v, f) = (i as f64 + 0.5 - 24.0, j as f64 + 0.5 - 18.0, w as f64);
+            assert_eq!(ins.uvf, [u, v, f]);
+            let len = (u * u + v * v + f * f).sqrt();
+            for k in 0..3 {
+                assert!((ins.d_camera[k] - ins.uvf[k] / len).abs() < 1e-15);
+                // The lab camera looks along +z unturned: world d = camera d (to f32).
+                assert!((ins.ray.d[k] as f64 - ins.d_camera[k]).abs() < 1e-6);
+            }
+            let pixel = &img[4 * (j * w + i) as usize..][..3];
+            let o = ins.ray.o.map(f64::from);
+            let d = ins.ray.d.map(f64::from);
+            let (expected, ambiguous) = ref_hit(&reference_scene, o, d, 0.0, f64::INFINITY, None);
+            let Some(hit) = &ins.hit else {
+                assert!(ambiguous || expected.is_none(), "({i}, {j})");
+                assert_eq!(pixel, [0, 0, 0]);
+                continue;
+            };
+            hits += 1;
+            if !ambiguous {
+                let (t, prim) = expected.expect("the reference hits too");
+                assert_eq!(hit.prim as usize, prim, "({i}, {j})");
+                assert!(
+                    (hit.t as f64 - t).abs() <= 1e-6 * t,
+                    "({i}, {j}) {} vs {t}",
+                    hit.t
+                );
+            }
+            // x = A⁻¹b solves the system, and its t is the hit's.
+            let ShapeTerms::Triangle { a, b, x } = hit.terms else {
+                panic!("the box is triangles")
+            };
+            for r in 0..3 {
+                let ax: f64 = (0..3).map(|c| a[r][c] * x[c]).sum();
+                assert!((ax - b[r]).abs() <= 1e-9 * (1.0 + b[r].abs()), "({i}, {j})");
+            }
+            assert!((x[0] - hit.t as f64).abs() <= 1e-5 * x[0], "({i}, {j})");
+            assert!(x[1] >= -1e-9 && x[2] >= -1e-9 && x[1] + x[2] <= 1.0 + 1e-9);
+            assert!(["f32 filter", "f64 intervals", "exact"].contains(&hit.decided_by));
+            // The colour the inspector gives is the image's pixel, and the reference's.
+            let srgb = hit.colour.map(raylab::render::linear_to_srgb8);
+            assert_eq!(pixel, srgb, "({i}, {j})");
+            if let Some(r) = reference_img[(j * w + i) as usize] {
+                for c in 0..3 {
+                    assert!((srgb[c] as i32 - r[c] as i32).abs() <= 1, "({i}, {j})");
+                }
+            }
+            assert_eq!(hit.rho, scene.colors[hit.prim as usize]);
+            assert_eq!(hit.indirect, scene.ambient);
+            // The blocker: the reference's nearest blocker seen from the light.
+            let Some(shadow) = hit.shadow else { continue };
+            let from_light = ref_hit(
+                &reference_scene,
+                shadow.o.map(f64::from),
+                shadow.d.map(f64::from),
+                1e-9,
+                1.0 - 1e-9,
+                Some(hit.prim as usize),
+            );
+            blocked += hit.blocked_by.is_some() as usize;
+            if let (found, false) = from_light {
+                checked_blockers += 1;
+                assert_eq!(hit.blocked_by, found.map(|(_, p)| p as u32), "({i}, {j})");
+            }
+        }
+    }
+    println!("{hits} hits, {blocked} shadow rays blocked, {checked_blockers} blockers checked");
+    assert!(hits > 1500 && blocked > 50 && checked_blockers > 1000);
+}

@@ -57,6 +57,8 @@ fn compare(
 /// What a scripted run printed and saved.
 struct Run {
     fields: HashMap<String, String>,
+    /// The ray inspector's fields (`inspector name: value` lines), if it was used.
+    inspector: HashMap<String, String>,
     shot: (u32, u32, Vec<u8>),
     stderr: String,
 }
@@ -251,8 +253,14 @@ fn run_window_with(
         .filter_map(|kv| kv.split_once('='))
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
+    let inspector = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("inspector ")?.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
     Some(Run {
         fields,
+        inspector,
         shot: read_png(&shot_path),
         stderr,
     })
@@ -694,4 +702,58 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
         "the drag turned the camera around the centre: yaw {yaw}"
     );
     assert!(pos[0] < -1.0, "to the left of the box's axis: {pos:?}");
+}
+
+#[test]
+fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
+    // A left click (a real X press and release) over the image with the inspector on: the
+    // panel's fields are those of the library's inspection of that pixel from the run's
+    // camera, and a scripted `inspect` gives the same as the click on the same pixel.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let ins = &run.inspector;
+    assert!(
+        !ins.is_empty(),
+        "the click inspected nothing\n{}",
+        run.stderr
+    );
+    let pixel: Vec<u32> = ins["pixel"]
+        .split(' ')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let (camera, w, h, _) = run.camera();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    let expected =
+        raylab::render::inspect::inspect(&Scene::cornell(), &camera, &settings, pixel[0], pixel[1])
+            .unwrap();
+    let expected: HashMap<String, String> = expected
+        .to_string()
+        .lines()
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    for key in [
+        "pixel",
+        "uvf",
+        "hit",
+        "t",
+        "decided_by",
+        "x_tuv",
+        "blocked_by",
+        "colour",
+    ] {
+        assert_eq!(ins.get(key), expected.get(key), "{key}");
+    }
+    // (700, 300) in the window is right of the panel, a little above the middle: on the box.
+    assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
 }

@@ -23,6 +23,7 @@ pub enum Key {
     Plus,
     Minus,
     R,
+    I,
     H,
     F1,
     F5,
@@ -50,6 +51,7 @@ impl Key {
             KeyCode::Equal | KeyCode::NumpadAdd => Key::Plus,
             KeyCode::Minus | KeyCode::NumpadSubtract => Key::Minus,
             KeyCode::KeyR => Key::R,
+            KeyCode::KeyI => Key::I,
             KeyCode::KeyH => Key::H,
             KeyCode::F1 => Key::F1,
             KeyCode::F5 => Key::F5,
@@ -61,7 +63,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 21] = [
+        const ALL: [(&str, Key); 22] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -78,6 +80,7 @@ impl Key {
             ("Plus", Key::Plus),
             ("Minus", Key::Minus),
             ("R", Key::R),
+            ("I", Key::I),
             ("H", Key::H),
             ("F1", Key::F1),
             ("F5", Key::F5),

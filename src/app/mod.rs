@@ -15,6 +15,7 @@
 mod framework;
 mod gpu;
 mod input;
+mod inspector;
 mod panel;
 mod script;
 mod scripted;
@@ -117,6 +118,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         image_rect: None,
         cursor: None,
         drag: None,
+        press_at: None,
         mouse_look: false,
         esc_armed: false,
         frames_presented: 0,
@@ -143,6 +145,8 @@ struct App {
     cursor: Option<(f64, f64)>,
     /// An orbit-mode drag under way over the image: `true` orbits, `false` pans.
     drag: Option<bool>,
+    /// Where a left press over the image began (a click there inspects its pixel).
+    press_at: Option<(f64, f64)>,
     mouse_look: bool,
     esc_armed: bool,
     frames_presented: u64,
@@ -195,6 +199,36 @@ impl App {
         rect.contains(egui::pos2(x as f32 / ppp, y as f32 / ppp))
     }
 
+    /// A left press over the image and its release within a few pixels (not an orbit drag)
+    /// inspect the pixel under the pointer, when the inspector is on.
+    fn left_click(&mut self, pressed: bool, on_image: bool) {
+        if pressed {
+            self.press_at = self.cursor.filter(|_| on_image && self.viewer.inspector_on);
+            return;
+        }
+        let (Some((x0, y0)), Some((x, y))) = (self.press_at.take(), self.cursor) else {
+            return;
+        };
+        if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
+            return;
+        }
+        if let Some((i, j)) = self.image_pixel(x, y) {
+            self.viewer.inspect_pixel(i, j);
+            self.request_redraw();
+        }
+    }
+
+    /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels).
+    fn image_pixel(&self, x: f64, y: f64) -> Option<(u32, u32)> {
+        let (rect, fw) = (self.image_rect?, self.framework.as_ref()?);
+        let ppp = fw.pixels_per_point() as f64;
+        let (w, h) = self.viewer.full_size();
+        let u = (x / ppp - rect.min.x as f64) / rect.width() as f64;
+        let v = (y / ppp - rect.min.y as f64) / rect.height() as f64;
+        let inside = (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v);
+        inside.then_some(((u * w as f64) as u32, (v * h as f64) as u32))
+    }
+
     fn set_mouse_look(&mut self, on: bool) {
         let Some(window) = &self.window else { return };
         self.mouse_look = on;
@@ -225,6 +259,11 @@ impl App {
                 self.viewer.changed();
             }
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
+            Key::I => {
+                self.viewer.inspector_on = !self.viewer.inspector_on;
+                let state = ["off", "on"][self.viewer.inspector_on as usize];
+                self.viewer.set_status(format!("ray inspector {state}"));
+            }
             Key::F12 => self.viewer.screenshot(),
             Key::F5 => self.viewer.save_view(),
             Key::Tab => {
@@ -495,6 +534,9 @@ impl ApplicationHandler<AppEvent> for App {
                 let pressed = state == ElementState::Pressed;
                 let on_image = self.pointer_over_image() || !egui_pointer;
                 let orbit_mode = self.viewer.controller.mode == Mode::Orbit;
+                if button == MouseButton::Left {
+                    self.left_click(pressed, on_image);
+                }
                 match button {
                     _ if !pressed => {
                         self.drag = None;

@@ -4,6 +4,7 @@ use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
 use raylab::geometry::Method;
+use raylab::render::inspect::Inspection;
 use raylab::render::{LabStep, RenderStats, MAX_SPP};
 use raylab::scene::file::Level;
 
@@ -43,6 +44,7 @@ pub fn side_panel(
     camera: &mut CameraController,
     obj_path: &mut String,
     info: &PanelInfo,
+    inspector: (&mut bool, Option<&Inspection>),
 ) -> PanelActions {
     let mut actions = PanelActions::default();
     egui::ScrollArea::vertical().show(ui, |ui| {
@@ -170,6 +172,9 @@ pub fn side_panel(
                 }
             });
         });
+
+        ui.separator();
+        super::inspector::section(ui, inspector.0, inspector.1);
 
         ui.separator();
         ui.strong("Resolution");
@@ -362,6 +367,8 @@ pub fn layout(
         image_area,
         show_help,
         selected_level,
+        inspector_on,
+        inspection,
         ..
     } = viewer;
     let info = PanelInfo {
@@ -385,7 +392,8 @@ pub fn layout(
         .resizable(true)
         .default_size(PANEL_WIDTH)
         .show(ui, |ui| {
-            layout.actions = side_panel(ui, view, controller, obj_path, &info);
+            let inspector = (inspector_on, inspection.as_ref());
+            layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
         });
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();
@@ -409,6 +417,11 @@ pub fn layout(
                 egui::Color32::WHITE,
             );
             layout.image_rect = Some(rect);
+            if let Some(ins) = inspection.as_ref() {
+                let (w, h) = full_size;
+                let projection = controller.camera(w).projection(w, h);
+                super::inspector::draw(ui.painter(), rect, full_size, &projection, ins);
+            }
         }
     });
     help_window(ui.ctx(), show_help);
@@ -447,6 +460,10 @@ pub const CONTROLS: &[(&str, &str)] = &[
     ("right drag (fly)", "look around"),
     ("wheel", "fly: focal length (up zooms in); orbit: dolly"),
     ("R", "reset the camera"),
+    (
+        "left click / I",
+        "ray inspector: one pixel's ray as the lecture writes it / on or off",
+    ),
     ("F12", "save a screenshot (PNG)"),
     (
         "F5",

@@ -17,6 +17,8 @@
 //! - `lose-surface`: the next draw fails as on a lost window surface
 //! - `select <level>`: what clicking a push level in the panel's scene tree does (highlights
 //!   its primitives); `select none` clears it
+//! - `inspect <i> <j>`: what a left click on pixel (i, j) of the full-size image does with the
+//!   ray inspector on (the run prints the inspection at the end)
 
 use super::input::Key;
 use raylab::render::LabStep;
@@ -45,6 +47,8 @@ pub enum Action {
     Restore,
     /// Select a push level of the scene tree (`None`: no selection).
     Select(Option<usize>),
+    /// Inspect pixel (i, j) of the full-size image.
+    Inspect(u32, u32),
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
@@ -174,6 +178,14 @@ impl Script {
                         })?)),
                     }
                 }
+                Some("inspect") => {
+                    want(4)?;
+                    let pixel = |k: usize| {
+                        w[k].parse::<u32>()
+                            .map_err(|_| err(format!("'{}' is not a pixel coordinate", w[k])))
+                    };
+                    Action::Inspect(pixel(2)?, pixel(3)?)
+                }
                 Some(other) => {
                     return Err(err(format!(
                         "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore, lose-surface, select)"
@@ -215,7 +227,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -240,6 +252,7 @@ mod tests {
                 Action::LoseSurface,
                 Action::Select(Some(2)),
                 Action::Select(None),
+                Action::Inspect(3, 4),
             ]
         );
         assert!(s.finished());
@@ -263,6 +276,11 @@ mod tests {
             ("0\n", "missing event"),
             ("0 step glossy\n", "unknown step 'glossy'"),
             ("0 select first\n", "select takes a level number or 'none'"),
+            (
+                "0 inspect 3 -1\n",
+                "s.txt:1: '-1' is not a pixel coordinate",
+            ),
+            ("0 inspect 3\n", "'inspect' takes 2 arguments"),
             ("0 scale 2\n", "scale 2 is not in 0.05..=1"),
             ("0 resize 10 -1\n", "window side -1 is not an integer"),
             ("0 resize 10 1e6\n", "window side 1000000"),

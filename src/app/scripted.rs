@@ -116,6 +116,11 @@ impl ScriptedRun {
         if !viewer.status.is_empty() {
             println!("status: {}", viewer.status);
         }
+        if let Some(inspection) = &viewer.inspection {
+            for line in inspection.to_string().lines() {
+                println!("inspector {line}");
+            }
+        }
         println!("saved {}", path.display());
         Ok(())
     }
@@ -163,6 +168,7 @@ impl App {
                     }
                 }
                 Action::Select(level) => viewer.select_level(level),
+                Action::Inspect(i, j) => viewer.inspect_pixel(i, j),
                 Action::LoseSurface => {
                     if let Some(fw) = &mut self.framework {
                         fw.gpu.lose_next_draw = true;

@@ -8,6 +8,7 @@ use super::worker::{self, Worker};
 use super::AppEvent;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
+use raylab::render::inspect::Inspection;
 use raylab::render::{self, LabStep, RenderSettings, RenderStats, MAX_SIDE};
 use raylab::scene::ObjFrame;
 use raylab::Scene;
@@ -90,6 +91,10 @@ pub struct Viewer {
     pub selected_level: Option<usize>,
     /// The light of a view being loaded, kept over its scene's own.
     view_light: Option<[f32; 3]>,
+    /// Whether a left click on the image inspects the pixel under it (I toggles).
+    pub inspector_on: bool,
+    /// The last inspected pixel's ray, in the world (drawn over the image from any view).
+    pub inspection: Option<Inspection>,
 }
 
 /// How often the scene's file is checked for changes.
@@ -174,6 +179,28 @@ impl Viewer {
             source,
             selected_level: None,
             view_light: None,
+            inspector_on: true,
+            inspection: None,
+        }
+    }
+
+    /// Inspects pixel (`i`, `j`) of the full-size image as now set up (the ray inspector),
+    /// keeping the result for the panel and the overlay, and saying what it found.
+    pub fn inspect_pixel(&mut self, i: u32, j: u32) {
+        let size = self.full_size();
+        let camera = self.controller.camera(size.0);
+        let scene = self.scene_to_render();
+        let settings = self.settings(size, 1);
+        match raylab::render::inspect::inspect(&scene, &camera, &settings, i, j) {
+            Ok(found) => {
+                let what = match &found.hit {
+                    Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
+                    None => "nothing".to_string(),
+                };
+                self.set_status(format!("inspected pixel ({i}, {j}): {what}"));
+                self.inspection = Some(found);
+            }
+            Err(e) => self.set_status(format!("cannot inspect: {e}")),
         }
     }
 

@@ -806,6 +806,39 @@ pub fn closest_hit_reference<T: Real>(
     n.hit()
 }
 
+/// Which level decides whether `ray` meets `shape` at all (the ray inspector shows it):
+/// "f32 filter", "f64 intervals" or "exact". (Comparing t's with other candidates may need a
+/// finer level still; that is the search's business.)
+pub fn deciding_level(shape: &Shape<f32>, ray: &Ray<f32>) -> &'static str {
+    let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
+    let decided = |e: Estimate| e != Estimate::Unsure;
+    match shape {
+        Shape::Triangle(v) => {
+            if decided(precise_f32(ray.o, ray.d, v)) {
+                "f32 filter"
+            } else if decided(triangle_interval(o, d, &v.map(|p| p.map(f64::from)))) {
+                "f64 intervals"
+            } else {
+                "exact"
+            }
+        }
+        Shape::Sphere { centre, radius } => {
+            let c = centre.map(f64::from);
+            match decided(sphere::interval(
+                o,
+                d,
+                c,
+                *radius as f64,
+                0.0,
+                f64::INFINITY,
+            )) {
+                true => "f64 intervals",
+                false => "exact",
+            }
+        }
+    }
+}
+
 /// A shape in f64 (exact for f32 input).
 pub fn widen<T: Real>(s: &Shape<T>) -> Shape<f64> {
     match s {

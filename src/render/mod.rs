@@ -10,6 +10,7 @@
 
 pub mod aov;
 pub mod image;
+pub mod inspect;
 pub mod settings;
 pub mod shade;
 

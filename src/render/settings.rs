@@ -126,6 +126,9 @@ pub enum SettingsError {
     /// The pixel buffer does not fit the image.
     #[error("pixel buffer holds {0} bytes, the {1}x{2} RGBA8 image needs {3}")]
     Buffer(usize, u32, u32, usize),
+    /// A pixel outside the image.
+    #[error("pixel ({0}, {1}) is outside the {2}x{3} image")]
+    Pixel(u32, u32, u32, u32),
 }
 
 impl RenderSettings {

@@ -1,0 +1,140 @@
+//! The ray inspector in the window: the panel section listing one pixel's ray as the lecture
+//! writes it ([`raylab::render::inspect`]), and the overlay that draws that ray, its hit point
+//! and its shadow ray over the image, from whatever view the camera has moved to since.
+
+use raylab::camera::Projection;
+use raylab::render::inspect::{Inspection, ShapeTerms};
+
+/// The panel section: the on/off switch and the last inspection's fields.
+pub fn section(ui: &mut egui::Ui, on: &mut bool, inspection: Option<&Inspection>) {
+    ui.checkbox(on, "Ray inspector: left-click a pixel (I)");
+    let Some(ins) = inspection else {
+        if *on {
+            ui.small("click the image to follow one pixel's ray");
+        }
+        return;
+    };
+    let v3 = |v: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+    let f3 = |v: [f32; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+    egui::Grid::new("inspector").striped(true).show(ui, |ui| {
+        let mut row = |name: &str, value: String| {
+            ui.label(name);
+            ui.monospace(value);
+            ui.end_row();
+        };
+        row("pixel", format!("({}, {})", ins.pixel[0], ins.pixel[1]));
+        row("(u, v, f)", v3(ins.uvf));
+        row("d camera", v3(ins.d_camera));
+        row("origin", f3(ins.ray.o));
+        row("d world", f3(ins.ray.d));
+        let Some(h) = &ins.hit else {
+            row("hit", "none: the background".into());
+            return;
+        };
+        row("hit", format!("primitive {}", h.prim));
+        row("t", format!("{}", h.t));
+        row("decided by", h.decided_by.to_string());
+        match &h.terms {
+            ShapeTerms::Triangle { a, b, x } => {
+                row("A = [-d e1 e2]", v3(a[0]));
+                row("", v3(a[1]));
+                row("", v3(a[2]));
+                row("b = o - v0", v3(*b));
+                row("x = A⁻¹b = (t,u,v)", v3(*x));
+            }
+            ShapeTerms::Sphere {
+                a,
+                b,
+                c,
+                discriminant,
+            } => {
+                row("at² + bt + c", format!("a {a:.4}, b {b:.4}, c {c:.4}"));
+                row("b² - 4ac", format!("{discriminant:.6}"));
+            }
+        }
+        row("point", f3(h.point));
+        row("normal", f3(h.normal));
+        row(
+            "shadow ray",
+            match (&h.shadow, h.blocked_by) {
+                (None, _) => "none (D = 0)".into(),
+                (Some(_), Some(p)) => format!("blocked by primitive {p}"),
+                (Some(_), None) => "reaches the light".into(),
+            },
+        );
+        row("ρ", f3(h.rho));
+        row("D", f3(h.direct));
+        row("N", f3(h.indirect));
+        row(&format!("colour ({})", ins.step), f3(h.colour));
+    });
+}
+
+/// The camera ray (cyan) from its eye to its hit, the hit point (a ring), and the shadow ray
+/// (yellow when it reaches the light, red when blocked), projected with the current view
+/// onto the image drawn at `rect` (image size `size` pixels).
+pub fn draw(
+    painter: &egui::Painter,
+    rect: egui::Rect,
+    size: (u32, u32),
+    projection: &Projection,
+    ins: &Inspection,
+) {
+    let to_screen = |p: [f64; 2]| {
+        egui::pos2(
+            rect.min.x + (p[0] / size.0 as f64) as f32 * rect.width(),
+            rect.min.y + (p[1] / size.1 as f64) as f32 * rect.height(),
+        )
+    };
+    let painter = painter.with_clip_rect(rect);
+    let at = |o: [f32; 3], d: [f32; 3], t: f32| [0, 1, 2].map(|k| o[k] + t * d[k]);
+    let end = match &ins.hit {
+        Some(h) => h.t,
+        None => 1e3 * ins.ray.d.iter().map(|c| c.abs()).fold(1.0, f32::max),
+    };
+    let segment = |a: [f32; 3], b: [f32; 3], colour: egui::Color32| {
+        if let Some((p, q)) = clip(projection, a, b) {
+            painter.line_segment([to_screen(p), to_screen(q)], egui::Stroke::new(2.0, colour));
+        }
+    };
+    segment(
+        ins.ray.o,
+        at(ins.ray.o, ins.ray.d, end),
+        egui::Color32::from_rgb(0, 220, 255),
+    );
+    let Some(h) = &ins.hit else { return };
+    if let Some(s) = &h.shadow {
+        let colour = match h.blocked_by {
+            Some(_) => egui::Color32::from_rgb(255, 60, 60),
+            None => egui::Color32::from_rgb(255, 220, 0),
+        };
+        segment(s.o, at(s.o, s.d, 1.0), colour);
+    }
+    if let Some(p) = projection.project(h.point) {
+        let c = to_screen(p);
+        painter.circle_stroke(c, 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE));
+        painter.circle_filled(c, 2.0, egui::Color32::from_rgb(0, 220, 255));
+    }
+}
+
+/// The part of segment a–b in front of the camera, projected (image pixels), or `None`.
+fn clip(projection: &Projection, a: [f32; 3], b: [f32; 3]) -> Option<([f64; 2], [f64; 2])> {
+    let point = |s: f32| [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]));
+    let (pa, pb) = (projection.project(a), projection.project(b));
+    match (pa, pb) {
+        (Some(p), Some(q)) => Some((p, q)),
+        (None, None) => None,
+        // One end behind the eye: the last point in front, by bisection along the segment.
+        (Some(p), None) | (None, Some(p)) => {
+            let front_is_a = pa.is_some();
+            let (mut inside, mut outside) = if front_is_a { (0.0, 1.0) } else { (1.0, 0.0) };
+            for _ in 0..30 {
+                let mid = 0.5 * (inside + outside);
+                match projection.project(point(mid)) {
+                    Some(_) => inside = mid,
+                    None => outside = mid,
+                }
+            }
+            Some((p, projection.project(point(inside))?))
+        }
+    }
+}

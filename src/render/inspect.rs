@@ -1,0 +1,302 @@
+//! The ray inspector: one pixel's camera ray as the lecture writes it, and what the renderer
+//! decided for it. The window's panel shows it for a clicked pixel; `raylab inspect` prints
+//! it, so it can be checked from outside.
+//!
+//! The ray is the centre ray of the pixel (with supersampling the pixel is the mean of its
+//! samples; the inspector follows the one through the centre). Everything below is computed by
+//! the renderer's own functions (the same accelerator query, the same shading), so the colour
+//! it shows is the colour the renderer gives that ray.
+
+use super::settings::{LabStep, RenderSettings, SettingsError};
+use super::shade::{step_colour, Lit, Rgb};
+use crate::camera::Camera;
+use crate::geometry::adaptive;
+use crate::geometry::offset::SurfacePoint;
+use crate::geometry::{Method, Ray, Shape};
+use crate::scene::Scene;
+use std::fmt;
+
+/// One pixel's camera ray and what the renderer made of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inspection {
+    /// The pixel (column, row from the top left).
+    pub pixel: [u32; 2],
+    /// The lecture's (u, v, f): u = i + 0.5 − W/2, v = j + 0.5 − H/2 (the pixel's centre
+    /// from the image centre, y down), f = the focal length in pixels.
+    pub uvf: [f64; 3],
+    /// d = normalize(u, v, f), in camera space.
+    pub d_camera: [f64; 3],
+    /// The ray as traced, in the world: origin at the eye, the unit direction
+    /// world_from_camera · d (f32, as the renderer has it).
+    pub ray: Ray<f32>,
+    /// The intersection method.
+    pub method: Method,
+    /// The lab step whose colour is given.
+    pub step: LabStep,
+    /// The nearest hit, if any.
+    pub hit: Option<HitInspection>,
+}
+
+/// The nearest hit of an inspected ray.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HitInspection {
+    /// The primitive's index in the scene.
+    pub prim: u32,
+    /// The ray parameter (distance along the unit direction).
+    pub t: f32,
+    /// The primitive's own terms: the triangle's linear system or the sphere's quadratic.
+    pub terms: ShapeTerms,
+    /// Which level of the adaptive method decided that the ray meets this primitive (for the
+    /// other methods: the method itself).
+    pub decided_by: &'static str,
+    /// The surface point used for shading, its per-axis error bound, and the unit normal
+    /// turned to face the camera.
+    pub point: [f32; 3],
+    pub point_error: [f32; 3],
+    pub normal: [f32; 3],
+    /// ρ, the primitive's diffuse colour.
+    pub rho: Rgb,
+    /// D, the direct light P·max(n·r̂, 0)/(4πr²) without shadows.
+    pub direct: Rgb,
+    /// N, the lab's constant indirect term.
+    pub indirect: Rgb,
+    /// The shadow ray (from the light to the offset surface point, t in (0, 1)); `None` where
+    /// D = 0 (nothing to shadow).
+    pub shadow: Option<Ray<f32>>,
+    /// The primitive nearest the light that blocks the shadow ray, if any.
+    pub blocked_by: Option<u32>,
+    /// The step's colour, linear RGB: what the renderer gives this ray.
+    pub colour: Rgb,
+}
+
+/// A primitive's terms for one ray, in f64 from the f32 inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeTerms {
+    /// The lecture's linear system A·x = b for o + t·d = v₀ + u·e₁ + v·e₂: A = [−d e₁ e₂]
+    /// (rows here), b = o − v₀, x = (t, u, v) = A⁻¹·b.
+    Triangle {
+        a: [[f64; 3]; 3],
+        b: [f64; 3],
+        x: [f64; 3],
+    },
+    /// |o + t·d − c|² = r² as a·t² + b·t + c = 0 with a = d·d, b = 2·d·(o − c),
+    /// c = |o − c|² − r², and its discriminant b² − 4ac.
+    Sphere {
+        a: f64,
+        b: f64,
+        c: f64,
+        discriminant: f64,
+    },
+}
+
+/// Inspects pixel (`i`, `j`) of `scene` through `camera` with the settings' size, method and
+/// step.
+pub fn inspect(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    i: u32,
+    j: u32,
+) -> Result<Inspection, SettingsError> {
+    settings.validate()?;
+    let (w, h) = (settings.width, settings.height);
+    if i >= w || j >= h {
+        return Err(SettingsError::Pixel(i, j, w, h));
+    }
+    let uvf = [
+        i as f64 + 0.5 - w as f64 / 2.0,
+        j as f64 + 0.5 - h as f64 / 2.0,
+        camera.focal,
+    ];
+    let len = (uvf[0] * uvf[0] + uvf[1] * uvf[1] + uvf[2] * uvf[2]).sqrt();
+    let ray = camera
+        .ray_generator(w, h)
+        .ray_through(i as f32 + 0.5, j as f32 + 0.5);
+    let method = settings.method;
+    let accel = scene.accel();
+    let hit = accel
+        .closest_hit(&ray, method, 0.0, f32::INFINITY)
+        .map(|hit| {
+            let shape = scene.shapes[hit.prim as usize];
+            let sp = SurfacePoint::new(&shape, &ray, &hit);
+            let facing = if dot64(sp.n, ray.d) > 0.0 { -1.0 } else { 1.0 };
+            let lit = Lit::new(scene, &ray, &hit);
+            let blocked_by = lit
+                .shadow
+                .and_then(|s| nearest_blocker(scene, &s, hit.prim, method));
+            // The renderer's own test decides the colour (the blocker above is for showing).
+            let blocked = lit
+                .shadow
+                .is_some_and(|s| accel.any_hit_except(&s, method, 0.0, 1.0, hit.prim));
+            let shows_shadows = settings.step.casts_shadows();
+            HitInspection {
+                prim: hit.prim,
+                t: hit.t,
+                terms: terms(&shape, &ray),
+                decided_by: decided_by(&shape, &ray, method),
+                point: sp.p,
+                point_error: sp.p_error,
+                normal: sp.n.map(|c| facing * c + 0.0),
+                rho: scene.colors[hit.prim as usize],
+                direct: lit.d,
+                indirect: scene.ambient,
+                shadow: lit.shadow,
+                blocked_by,
+                colour: step_colour(
+                    scene,
+                    hit.prim,
+                    lit.d,
+                    blocked && shows_shadows,
+                    settings.step,
+                ),
+            }
+        });
+    Ok(Inspection {
+        pixel: [i, j],
+        uvf,
+        d_camera: uvf.map(|c| c / len),
+        ray,
+        method,
+        step: settings.step,
+        hit,
+    })
+}
+
+fn dot64(a: [f32; 3], b: [f32; 3]) -> f64 {
+    (0..3).map(|k| a[k] as f64 * b[k] as f64).sum()
+}
+
+/// The primitive other than `own` (and its exact copies) that `shadow` meets nearest the
+/// light, by the scalar loop (one ray: the accelerator answers only whether).
+fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
+    let own_shape = scene.shapes[own as usize];
+    let mut best: Option<(f32, u32)> = None;
+    for (k, s) in scene.shapes.iter().enumerate() {
+        if k as u32 == own || (matches!(s, Shape::Triangle(_)) && *s == own_shape) {
+            continue;
+        }
+        let far = best.map_or(1.0, |b| b.0);
+        if let Some((t, _, _)) = s.intersect(shadow, method, 0.0, far) {
+            if best.is_none_or(|b| t < b.0) {
+                best = Some((t, k as u32));
+            }
+        }
+    }
+    best.map(|b| b.1)
+}
+
+fn terms(shape: &Shape<f32>, ray: &Ray<f32>) -> ShapeTerms {
+    let o = ray.o.map(f64::from);
+    let d = ray.d.map(f64::from);
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    match shape {
+        Shape::Triangle(v) => {
+            let v = v.map(|p| p.map(f64::from));
+            let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
+            let b = sub(o, v[0]);
+            let a = [0, 1, 2].map(|r| [-d[r], e1[r], e2[r]]);
+            ShapeTerms::Triangle {
+                a,
+                b,
+                x: solve3(&a, b),
+            }
+        }
+        Shape::Sphere { centre, radius } => {
+            let oc = sub(o, centre.map(f64::from));
+            let r = *radius as f64;
+            let (a, b, c) = (dot(d, d), 2.0 * dot(d, oc), dot(oc, oc) - r * r);
+            ShapeTerms::Sphere {
+                a,
+                b,
+                c,
+                discriminant: b * b - 4.0 * a * c,
+            }
+        }
+    }
+}
+
+/// x = A⁻¹·b by Cramer's rule in f64 (NaN where A is singular).
+fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det = |m: &[[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(a);
+    [0, 1, 2].map(|col| {
+        let mut m = *a;
+        for (r, row) in m.iter_mut().enumerate() {
+            row[col] = b[r];
+        }
+        det(&m) / d
+    })
+}
+
+/// Which level of the adaptive method decides whether `ray` meets `shape`: the f32 filter
+/// (the watertight test with its error bound), f64 interval arithmetic, or exact arithmetic.
+fn decided_by(shape: &Shape<f32>, ray: &Ray<f32>, method: Method) -> &'static str {
+    if method != Method::Adaptive {
+        return method.name();
+    }
+    adaptive::deciding_level(shape, ray)
+}
+
+impl fmt::Display for Inspection {
+    /// One `name: value` line per field, the lecture's names.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v3 = |v: [f64; 3]| format!("{} {} {}", v[0], v[1], v[2]);
+        let f3 = |v: [f32; 3]| format!("{} {} {}", v[0], v[1], v[2]);
+        writeln!(f, "pixel: {} {}", self.pixel[0], self.pixel[1])?;
+        writeln!(f, "uvf: {}", v3(self.uvf))?;
+        writeln!(f, "d_camera: {}", v3(self.d_camera))?;
+        writeln!(f, "origin: {}", f3(self.ray.o))?;
+        writeln!(f, "d_world: {}", f3(self.ray.d))?;
+        writeln!(f, "method: {}", self.method.name())?;
+        let Some(h) = &self.hit else {
+            return writeln!(f, "hit: none");
+        };
+        writeln!(f, "hit: {}", h.prim)?;
+        writeln!(f, "t: {}", h.t)?;
+        writeln!(f, "decided_by: {}", h.decided_by)?;
+        match &h.terms {
+            ShapeTerms::Triangle { a, b, x } => {
+                writeln!(f, "shape: triangle")?;
+                for (r, row) in a.iter().enumerate() {
+                    writeln!(f, "A_row{r}: {}", v3(*row))?;
+                }
+                writeln!(f, "b: {}", v3(*b))?;
+                writeln!(f, "x_tuv: {}", v3(*x))?;
+            }
+            ShapeTerms::Sphere {
+                a,
+                b,
+                c,
+                discriminant,
+            } => {
+                writeln!(f, "shape: sphere")?;
+                writeln!(f, "quadratic_abc: {a} {b} {c}")?;
+                writeln!(f, "discriminant: {discriminant}")?;
+            }
+        }
+        writeln!(f, "point: {}", f3(h.point))?;
+        writeln!(f, "point_error: {}", f3(h.point_error))?;
+        writeln!(f, "normal: {}", f3(h.normal))?;
+        match &h.shadow {
+            Some(s) => {
+                let end = [0, 1, 2].map(|k| s.o[k] + s.d[k]);
+                writeln!(f, "shadow_ray: from {} to {}", f3(s.o), f3(end))?
+            }
+            None => writeln!(f, "shadow_ray: none (D = 0)")?,
+        }
+        match h.blocked_by {
+            Some(p) => writeln!(f, "blocked_by: {p}")?,
+            None => writeln!(f, "blocked_by: none")?,
+        }
+        writeln!(f, "rho: {}", f3(h.rho))?;
+        writeln!(f, "D: {}", f3(h.direct))?;
+        writeln!(f, "N: {}", f3(h.indirect))?;
+        writeln!(f, "step: {}", self.step)?;
+        writeln!(f, "colour: {}", f3(h.colour))
+    }
+}
