@@ -447,7 +447,11 @@ impl Nearest {
             return Ordering::Equal;
         }
         if let (Shape::Triangle(p), Shape::Triangle(q)) = (&a.shape, &b.shape) {
-            if same_vertices(p, q) {
+            // Two hits on one plane are at the same t (the line crosses it once: a line in
+            // the plane misses). Deciding that from three exact orientations spares the
+            // rational t's, which made a ray through 10⁴ overlapping coplanar faces cost
+            // 10⁴ big-number divisions.
+            if same_vertices(p, q) || coplanar(p, q) {
                 return Ordering::Equal;
             }
         }
@@ -612,6 +616,13 @@ fn triangle_t_interval(
         (e[1].mid() / dm).clamp(0.0, 1.0),
         (e[2].mid() / dm).clamp(0.0, 1.0),
     )
+}
+
+/// Whether triangle `q` lies exactly in the plane of triangle `p` (false where the exact test
+/// cannot be made with expansions: the caller then compares exact t's).
+fn coplanar(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
+    q.iter()
+        .all(|x| exact::plane_side_f64(p, *x) == Some(Ordering::Equal))
 }
 
 /// Whether two triangles have the same three vertices (in any order).

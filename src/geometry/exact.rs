@@ -300,16 +300,20 @@ pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Orde
 /// det[v₁ − v₀, v₂ − v₀, x − v₀]; `None` where the expansions cannot be used (differences
 /// not exact in f64).
 pub fn plane_side(v: &[[f32; 3]; 3], x: [f64; 3]) -> Option<Ordering> {
+    plane_side_f64(&v.map(|p| p.map(f64::from)), x)
+}
+
+/// [`plane_side`] for a triangle given in f64.
+pub fn plane_side_f64(v: &[[f64; 3]; 3], x: [f64; 3]) -> Option<Ordering> {
     let mut d = [0.0; 3];
     for k in 0..3 {
-        let (diff, err) = two_sum(v[1][k] as f64, -(v[0][k] as f64));
+        let (diff, err) = two_sum(v[1][k], -v[0][k]);
         if err != 0.0 {
             return None;
         }
         d[k] = diff;
     }
-    let wide = |p: [f32; 3]| p.map(f64::from);
-    orient(d, wide(v[0]), wide(v[2]), x)
+    orient(d, v[0], v[2], x)
 }
 
 /// Whether `x` lies exactly on the plane of triangle `v` (`None`: cannot tell, which callers

@@ -456,6 +456,41 @@ pub fn near_coincident() -> Vec<Family> {
         shapes,
         rays,
     ));
+
+    // 60 different triangles overlapping in one tilted plane z = (x + 2y)/4 (vertices exact in
+    // f32), growing with the index, and one just in front of the plane: every ray meets many
+    // at exactly the same t, the lowest index among them wins, unless the one in front is hit.
+    let mut shapes = Vec::new();
+    let on_plane = |x: f32, y: f32| [x, y, (x + 2.0 * y) / 4.0];
+    for k in 0..60 {
+        let r = 1.0 + k as f32 * 0.25;
+        let (cx, cy) = ((k % 7) as f32 * 0.25 - 0.75, (k % 5) as f32 * 0.25 - 0.5);
+        shapes.push(Shape::Triangle([
+            on_plane(cx - r, cy - r),
+            on_plane(cx + r, cy - r),
+            on_plane(cx, cy + r),
+        ]));
+    }
+    let front = |x: f32, y: f32| {
+        let p = on_plane(x, y);
+        [p[0], p[1], p[2] - 1.0 / 1024.0]
+    };
+    shapes.push(Shape::Triangle([
+        front(2.0, 2.0),
+        front(4.0, 2.0),
+        front(3.0, 4.0),
+    ]));
+    let mut rays = Vec::new();
+    for _ in 0..400 {
+        let p = on_plane(rng.range(-6.0, 6.0) as f32, rng.range(-6.0, 6.0) as f32);
+        let o = [
+            rng.range(-1.0, 1.0) as f32,
+            rng.range(-1.0, 1.0) as f32,
+            -30.0,
+        ];
+        rays.push(Ray::new(o, [0, 1, 2].map(|c| p[c] - o[c])));
+    }
+    out.push(Family::new("60 overlapping coplanar faces", shapes, rays));
     out
 }
 
