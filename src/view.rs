@@ -64,6 +64,40 @@ impl View {
         out
     }
 
+    /// The `raylab render` command that renders this view to `out` (the window's "copy as
+    /// command"): every setting as a flag, numbers in shortest round-trip form, paths quoted
+    /// for a POSIX shell where they need it.
+    pub fn to_command(&self, out: &str) -> String {
+        let c = &self.camera;
+        let s = &self.settings;
+        let p = c.position;
+        let mut args = vec!["raylab".to_string(), "render".into()];
+        // (`--name=value`: a negative number is then never taken for a flag.)
+        let mut flag = |name: &str, value: String| args.push(format!("--{name}={value}"));
+        flag("scene", shell_quote(&self.scene));
+        if self.obj_frame == ObjFrame::Lab {
+            flag("obj-frame", "lab".into());
+        }
+        flag("camera", format!("{},{},{}", p[0], p[1], p[2]));
+        flag("yaw", c.yaw.to_string());
+        flag("pitch", c.pitch.to_string());
+        flag("focal", (c.focal_ratio() * s.width as f64).to_string());
+        if let Some(l) = self.light {
+            flag("light", format!("{},{},{}", l[0], l[1], l[2]));
+        }
+        flag("width", s.width.to_string());
+        flag("height", s.height.to_string());
+        flag("step", s.step.to_string());
+        flag("spp", s.spp.to_string());
+        flag("method", s.method.to_string());
+        if s.cracks {
+            args.push("--cracks".into());
+        }
+        args.push("-o".into());
+        args.push(shell_quote(out));
+        args.join(" ")
+    }
+
     /// Parses view text; errors name the file and line.
     pub fn parse(file: &str, text: &str) -> Result<View, FileError> {
         let mut view = View {
@@ -176,5 +210,16 @@ impl View {
             }
         }
         Ok(())
+    }
+}
+
+/// `word` as one POSIX shell word: as is when it holds only characters no shell treats
+/// specially, else in single quotes (a `'` inside written `'\''`).
+pub fn shell_quote(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./,:=+@%".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
     }
 }

@@ -1486,3 +1486,55 @@ fn inspect_prints_one_pixels_ray_as_the_lecture_writes_it() {
     let o = raylab(&["inspect", "--pixel", "a,3"]);
     assert_fails(&o, 2, &["'a,3'"]);
 }
+
+#[test]
+fn a_views_command_line_renders_the_view_through_a_shell() {
+    // "Copy as command": the line a view turns into, run by a POSIX shell, renders what
+    // `--view` renders, with a scene path holding a space and a quote, a negative position,
+    // a turned camera, a moved light and a field of view.
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("it's here");
+    std::fs::create_dir(&sub).unwrap();
+    let scene = write(&sub, "s.scene", "cornell\nsphere 0.3 0.4 0.2 0.25\n");
+    let view_text = format!(
+        "scene {scene}\ncamera -0.25 -0.1 -2.5 yaw -12.5 pitch 3 fov 61\nlight 0.2 -0.6 -0.5\n\
+         size 96 72\nstep shadows\nspp 2\nmethod adaptive\n"
+    );
+    let view = raylab::view::View::parse("v.view", &view_text).unwrap();
+    let command = view.to_command("from command.png");
+    assert!(
+        command.contains("'") && command.contains("--yaw=-12.5"),
+        "{command}"
+    );
+    let bin = Path::new(env!("CARGO_BIN_EXE_raylab"));
+    let path = format!(
+        "{}:{}",
+        bin.parent().unwrap().display(),
+        std::env::var("PATH").unwrap()
+    );
+    let o = Command::new("sh")
+        .args(["-c", &command])
+        .env("PATH", path)
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{command}\n{}", stderr(&o));
+    let view_file = write(dir.path(), "v.view", &view_text);
+    let from_view = dir.path().join("from view.png");
+    let o = raylab(&[
+        "render",
+        "--view",
+        &view_file,
+        "-o",
+        from_view.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = std::fs::read(dir.path().join("from command.png")).unwrap();
+    let b = std::fs::read(&from_view).unwrap();
+    assert!(a == b, "the command and the view render the same PNG");
+    assert_eq!(raylab::view::shell_quote("a'b c"), "'a'\\''b c'");
+    assert_eq!(
+        raylab::view::shell_quote("plain/path-1.obj"),
+        "plain/path-1.obj"
+    );
+}

@@ -757,3 +757,62 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     // (700, 300) in the window is right of the panel, a little above the middle: on the box.
     assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
 }
+
+#[test]
+fn real_x_input_copy_as_command_renders_what_the_window_shows() {
+    // Move (A held), press C (copy as command) and F12 (a full-quality screenshot of the same
+    // view); the clipboard, read back with xclip, holds a `raylab render` line that a shell
+    // runs to the same picture.
+    if !have("xclip") {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xclip is missing: .ci/run must install it"
+        );
+        eprintln!("\n*** SKIPPED the copy-as-command test: xclip is not installed ***\n");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool keydown a; sleep 0.4; \
+                  xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; xdotool key F12; \
+                  sleep 1; xclip -selection clipboard -o > cmd.txt";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let command = std::fs::read_to_string(dir.path().join("cmd.txt")).unwrap();
+    assert!(
+        command.starts_with("raylab render --scene=cornell --camera=-"),
+        "{command}\n{}",
+        run.stderr
+    );
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_raylab"));
+    let path = format!(
+        "{}:{}",
+        bin.parent().unwrap().display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let o = Command::new("sh")
+        .args(["-c", &command])
+        .env("PATH", path)
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let shot = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("raylab-1")
+        })
+        .unwrap_or_else(|| panic!("no F12 screenshot\n{}", run.stderr));
+    let (a, b) = (read_png(&shot), read_png(&dir.path().join("raylab.png")));
+    assert_eq!((a.0, a.1), (b.0, b.1), "the same size");
+    let off = (a.2.chunks(4).zip(b.2.chunks(4)))
+        .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
+        .count();
+    let n = (a.0 * a.1) as usize;
+    assert!(off * 1000 <= n, "{off} of {n} pixels differ");
+}

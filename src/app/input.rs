@@ -24,6 +24,7 @@ pub enum Key {
     Minus,
     R,
     I,
+    C,
     H,
     F1,
     F5,
@@ -52,6 +53,7 @@ impl Key {
             KeyCode::Minus | KeyCode::NumpadSubtract => Key::Minus,
             KeyCode::KeyR => Key::R,
             KeyCode::KeyI => Key::I,
+            KeyCode::KeyC => Key::C,
             KeyCode::KeyH => Key::H,
             KeyCode::F1 => Key::F1,
             KeyCode::F5 => Key::F5,
@@ -63,7 +65,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 22] = [
+        const ALL: [(&str, Key); 23] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -81,6 +83,7 @@ impl Key {
             ("Minus", Key::Minus),
             ("R", Key::R),
             ("I", Key::I),
+            ("C", Key::C),
             ("H", Key::H),
             ("F1", Key::F1),
             ("F5", Key::F5),

@@ -266,6 +266,7 @@ impl App {
             }
             Key::F12 => self.viewer.screenshot(),
             Key::F5 => self.viewer.save_view(),
+            Key::C => self.viewer.copy_command(),
             Key::Tab => {
                 self.viewer.controller.toggle_mode();
                 self.viewer.changed();
@@ -350,6 +351,10 @@ impl App {
         }
         if actions.save_view {
             viewer.save_view();
+        }
+        if actions.copy_command {
+            viewer.copy_command();
+            window.request_redraw(); // (the clipboard is written in the next UI pass)
         }
         let after = viewer.panel_state();
         if before != after || actions.reset_camera {

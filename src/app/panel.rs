@@ -33,6 +33,7 @@ pub struct PanelActions {
     pub screenshot: bool,
     pub load: Option<String>,
     pub save_view: bool,
+    pub copy_command: bool,
     /// A push level clicked in the scene tree (`Some(None)`: the selection cleared).
     pub select: Option<Option<usize>>,
 }
@@ -159,6 +160,13 @@ pub fn side_panel(
                 .clicked()
             {
                 actions.save_view = true;
+            }
+            if ui
+                .button("Copy as command (C)")
+                .on_hover_text("the `raylab render` command that renders this view, to the clipboard")
+                .clicked()
+            {
+                actions.copy_command = true;
             }
         });
         ui.collapsing("world_from_camera (4x4)", |ui| {
@@ -369,8 +377,12 @@ pub fn layout(
         selected_level,
         inspector_on,
         inspection,
+        copy_request,
         ..
     } = viewer;
+    if let Some(text) = copy_request.take() {
+        ui.ctx().copy_text(text);
+    }
     let info = PanelInfo {
         scene_name: &scene.name,
         primitives: scene.len(),
@@ -460,6 +472,7 @@ pub const CONTROLS: &[(&str, &str)] = &[
     ("right drag (fly)", "look around"),
     ("wheel", "fly: focal length (up zooms in); orbit: dolly"),
     ("R", "reset the camera"),
+    ("C", "copy the `raylab render` command of this view"),
     (
         "left click / I",
         "ray inspector: one pixel's ray as the lecture writes it / on or off",

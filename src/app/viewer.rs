@@ -95,6 +95,8 @@ pub struct Viewer {
     pub inspector_on: bool,
     /// The last inspected pixel's ray, in the world (drawn over the image from any view).
     pub inspection: Option<Inspection>,
+    /// Text to put on the clipboard in the next UI pass (copy as command).
+    pub copy_request: Option<String>,
 }
 
 /// How often the scene's file is checked for changes.
@@ -181,6 +183,7 @@ impl Viewer {
             view_light: None,
             inspector_on: true,
             inspection: None,
+            copy_request: None,
         }
     }
 
@@ -576,6 +579,14 @@ impl Viewer {
                 ..self.settings((width, height), self.view.spp)
             },
         }
+    }
+
+    /// C or the panel's button: the `raylab render` command of the current view goes to the
+    /// clipboard (in the next UI pass) and the panel shows it.
+    pub fn copy_command(&mut self) {
+        let command = self.view().to_command("raylab.png");
+        self.set_status(format!("copied to the clipboard: {command}"));
+        self.copy_request = Some(command);
     }
 
     /// F5: writes the view to `raylab-view-<time>.view` (see [`raylab::view`]).
