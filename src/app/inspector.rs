@@ -5,17 +5,19 @@
 use raylab::camera::Projection;
 use raylab::render::inspect::{Inspection, ShapeTerms};
 
-/// The panel section: the on/off switch and the last inspection's fields.
-pub fn section(ui: &mut egui::Ui, on: &mut bool, inspection: Option<&Inspection>) {
+/// The switch in the side panel.
+pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     ui.checkbox(on, "Ray inspector: left-click a pixel (I)");
-    let Some(ins) = inspection else {
-        if *on {
-            ui.small("click the image to follow one pixel's ray");
-        }
-        return;
-    };
-    let v3 = |v: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
-    let f3 = |v: [f32; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+    if *on && !inspected {
+        ui.small("click the image to follow one pixel's ray");
+    }
+}
+
+/// The inspector's own panel: the last inspection's fields, the lecture's names.
+pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
+    ui.strong("Ray inspector");
+    let v3 = |v: [f64; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
+    let f3 = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
     egui::Grid::new("inspector").striped(true).show(ui, |ui| {
         let mut row = |name: &str, value: String| {
             ui.label(name);
@@ -40,7 +42,7 @@ pub fn section(ui: &mut egui::Ui, on: &mut bool, inspection: Option<&Inspection>
                 row("", v3(a[1]));
                 row("", v3(a[2]));
                 row("b = o - v0", v3(*b));
-                row("x = A⁻¹b = (t,u,v)", v3(*x));
+                row("x = A^-1 b = (t,u,v)", v3(*x));
             }
             ShapeTerms::Sphere {
                 a,
@@ -48,8 +50,8 @@ pub fn section(ui: &mut egui::Ui, on: &mut bool, inspection: Option<&Inspection>
                 c,
                 discriminant,
             } => {
-                row("at² + bt + c", format!("a {a:.4}, b {b:.4}, c {c:.4}"));
-                row("b² - 4ac", format!("{discriminant:.6}"));
+                row("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}"));
+                row("b^2 - 4ac", format!("{discriminant:.6}"));
             }
         }
         row("point", f3(h.point));
@@ -62,7 +64,7 @@ pub fn section(ui: &mut egui::Ui, on: &mut bool, inspection: Option<&Inspection>
                 (Some(_), None) => "reaches the light".into(),
             },
         );
-        row("ρ", f3(h.rho));
+        row("rho", f3(h.rho));
         row("D", f3(h.direct));
         row("N", f3(h.indirect));
         row(&format!("colour ({})", ins.step), f3(h.colour));
@@ -96,8 +98,10 @@ pub fn draw(
             painter.line_segment([to_screen(p), to_screen(q)], egui::Stroke::new(2.0, colour));
         }
     };
+    // (From 2% along: the eye itself projects nowhere, and just in front of it a projection
+    // through a near-zero depth rounds to anywhere on screen.)
     segment(
-        ins.ray.o,
+        at(ins.ray.o, ins.ray.d, 0.02 * end),
         at(ins.ray.o, ins.ray.d, end),
         egui::Color32::from_rgb(0, 220, 255),
     );

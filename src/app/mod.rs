@@ -432,6 +432,24 @@ impl App {
     }
 }
 
+/// The window's starting size: 90% of the primary monitor (in logical pixels), at most
+/// 1600×1000, at least the 1100×620 that shows the panel and a useful image; 1100×620 where the
+/// monitor is unknown.
+fn default_window_size(event_loop: &ActiveEventLoop) -> LogicalSize<f64> {
+    let fallback = LogicalSize::new(1100.0, 620.0);
+    let Some(monitor) = event_loop
+        .primary_monitor()
+        .or_else(|| event_loop.available_monitors().next())
+    else {
+        return fallback;
+    };
+    let screen = monitor.size().to_logical::<f64>(monitor.scale_factor());
+    LogicalSize::new(
+        (0.9 * screen.width).clamp(fallback.width, 1600.0),
+        (0.9 * screen.height).clamp(fallback.height, 1000.0),
+    )
+}
+
 impl ApplicationHandler<AppEvent> for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.window.is_some() {
@@ -439,7 +457,7 @@ impl ApplicationHandler<AppEvent> for App {
         }
         let attrs = Window::default_attributes()
             .with_title(format!("raylab - {}", self.viewer.scene.name))
-            .with_inner_size(LogicalSize::new(1100.0, 620.0))
+            .with_inner_size(default_window_size(event_loop))
             .with_min_inner_size(LogicalSize::new(320.0, 240.0));
         let window = match event_loop.create_window(attrs) {
             Ok(w) => Arc::new(w),

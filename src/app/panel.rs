@@ -57,6 +57,10 @@ pub fn side_panel(
         for w in info.warnings {
             ui.colored_label(egui::Color32::YELLOW, w);
         }
+        // (Near the top: what the last action did stays in view.)
+        if !info.status.is_empty() {
+            ui.small(info.status);
+        }
 
         if !info.levels.is_empty() {
             ui.separator();
@@ -182,7 +186,7 @@ pub fn side_panel(
         });
 
         ui.separator();
-        super::inspector::section(ui, inspector.0, inspector.1);
+        super::inspector::switch(ui, inspector.0, inspector.1.is_some());
 
         ui.separator();
         ui.strong("Resolution");
@@ -213,12 +217,16 @@ pub fn side_panel(
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
             ui.add(egui::Slider::new(s, 0.1..=1.0).text("scale"));
         }
-        ui.checkbox(&mut view.adaptive, "adaptive preview while moving");
-        if view.adaptive {
-            ui.add(egui::Slider::new(&mut view.target_ms, 4.0..=100.0).text("target ms"));
-        } else {
-            ui.add(egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"));
-        }
+        ui.collapsing("preview while moving", |ui| {
+            ui.checkbox(&mut view.adaptive, "adaptive (holds a frame time)");
+            if view.adaptive {
+                ui.add(egui::Slider::new(&mut view.target_ms, 4.0..=100.0).text("target ms"));
+            } else {
+                ui.add(
+                    egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"),
+                );
+            }
+        });
 
         ui.separator();
         ui.strong("Sampling and intersection");
@@ -245,7 +253,6 @@ pub fn side_panel(
         });
 
         ui.separator();
-        ui.strong("Frame");
         match info.shown {
             Some((w, h, level, stats)) => {
                 let what = ["preview", "full", "supersampled"][level.min(2) as usize];
@@ -270,20 +277,19 @@ pub fn side_panel(
         ui.horizontal(|ui| {
             ui.text_edit_singleline(obj_path);
             if ui
-                .add_enabled(!info.loading, egui::Button::new("Load OBJ"))
+                .add_enabled(!info.loading, egui::Button::new("Load"))
+                .on_hover_text("an .obj or .scene file (or drop one on the window)")
                 .clicked()
             {
                 actions.load = Some(obj_path.clone());
             }
         });
-        ui.small("or drop an .obj file on the window");
-        if ui.button("Save screenshot (F12)").clicked() {
-            actions.screenshot = true;
-        }
-        if !info.status.is_empty() {
-            ui.label(info.status);
-        }
-        ui.small("H or F1: shortcuts");
+        ui.horizontal(|ui| {
+            if ui.button("Save screenshot (F12)").clicked() {
+                actions.screenshot = true;
+            }
+            ui.small("H or F1: shortcuts");
+        });
     });
     actions
 }
@@ -404,9 +410,18 @@ pub fn layout(
         .resizable(true)
         .default_size(PANEL_WIDTH)
         .show(ui, |ui| {
-            let inspector = (inspector_on, inspection.as_ref());
+            let inspector = (&mut *inspector_on, inspection.as_ref());
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
         });
+    // The inspected ray's fields beside the image, while there are some (the side panel keeps
+    // its sections in view).
+    if let (Some(ins), true) = (inspection.as_ref(), *inspector_on) {
+        egui::Panel::right("inspector")
+            .resizable(true)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| super::inspector::fields(ui, ins));
+            });
+    }
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();
         layout.image_area = (
@@ -429,10 +444,10 @@ pub fn layout(
                 egui::Color32::WHITE,
             );
             layout.image_rect = Some(rect);
-            if let Some(ins) = inspection.as_ref() {
-                let (w, h) = full_size;
+            if let (Some(ins), Some((w, h, ..))) = (inspection.as_ref(), shown) {
+                // (Projected as the image on screen was rendered: its size, the camera now.)
                 let projection = controller.camera(w).projection(w, h);
-                super::inspector::draw(ui.painter(), rect, full_size, &projection, ins);
+                super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
             }
         }
     });
