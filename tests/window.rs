@@ -726,7 +726,14 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
         .split(' ')
         .map(|x| x.parse().unwrap())
         .collect();
-    let (camera, w, h, _) = run.camera();
+    // The image size and focal length at the click (the inspector's panel then takes room
+    // from the image): u = i + 1/2 - W/2, v = j + 1/2 - H/2.
+    let uvf: Vec<f64> = ins["uvf"].split(' ').map(|x| x.parse().unwrap()).collect();
+    let w = (2.0 * (pixel[0] as f64 + 0.5 - uvf[0])) as u32;
+    let h = (2.0 * (pixel[1] as f64 + 0.5 - uvf[1])) as u32;
+    let (pose, ..) = run.camera();
+    let camera = Camera::from_yaw_pitch(pose.position(), 0.0, 0.0, uvf[2]).unwrap();
+    assert_eq!(pose.forward(), camera.forward(), "the camera did not turn");
     let settings = RenderSettings {
         width: w,
         height: h,
