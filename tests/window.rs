@@ -823,3 +823,38 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     let n = (a.0 * a.1) as usize;
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
+
+#[test]
+fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
+    // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
+    // name and Return; File > Open scene or OBJ…: a double-click on the only scene file the
+    // dialog lists opens it.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.scene"),
+        "cornell\nsphere 0.3 0.4 0.2 0.25\nsphere -0.4 0.5 -0.2 0.2\n",
+    )
+    .unwrap();
+    let script = "16000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 60 57; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool type --delay 50 chosen; sleep 0.3; xdotool key Return; sleep 3; \
+                  xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 60 36; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool mousemove --sync 300 112; sleep 0.3; \
+                  xdotool click --repeat 2 --delay 80 1";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let saved = dir.path().join("chosen.png");
+    assert!(saved.exists(), "no chosen.png\n{}", run.stderr);
+    let (w, h, _) = read_png(&saved);
+    assert!(w > 300 && h > 300, "{w}x{h}");
+    assert!(
+        run.fields["scene"].ends_with("s.scene") && run.fields["primitives"] == "32",
+        "the dialog opened the scene: {:?}\n{}",
+        run.fields,
+        run.stderr
+    );
+}

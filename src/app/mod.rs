@@ -12,6 +12,7 @@
 //! resolution and then to full supersampling once they stop (levels 0, 1, 2). With nothing
 //! left to do it sleeps in `ControlFlow::Wait`.
 
+mod files;
 mod framework;
 mod gpu;
 mod input;

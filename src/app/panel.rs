@@ -370,6 +370,9 @@ pub fn layout(
         .as_ref()
         .map(|s| (s.size.0, s.size.1, s.level, s.stats));
     let has_image = shown.is_some();
+    if let Some(picked) = viewer.files.update(ui.ctx()) {
+        picked.apply(viewer);
+    }
     let full_size = viewer.full_size();
     let Viewer {
         scene,
@@ -384,6 +387,7 @@ pub fn layout(
         inspector_on,
         inspection,
         copy_request,
+        files,
         ..
     } = viewer;
     if let Some(text) = copy_request.take() {
@@ -410,6 +414,7 @@ pub fn layout(
         .resizable(true)
         .default_size(PANEL_WIDTH)
         .show(ui, |ui| {
+            egui::MenuBar::new().ui(ui, |ui| files.menu(ui));
             let inspector = (&mut *inspector_on, inspection.as_ref());
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
         });

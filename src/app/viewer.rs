@@ -97,6 +97,8 @@ pub struct Viewer {
     pub inspection: Option<Inspection>,
     /// Text to put on the clipboard in the next UI pass (copy as command).
     pub copy_request: Option<String>,
+    /// The File menu and its dialog.
+    pub files: super::files::FileMenu,
 }
 
 /// How often the scene's file is checked for changes.
@@ -184,6 +186,7 @@ impl Viewer {
             inspector_on: true,
             inspection: None,
             copy_request: None,
+            files: Default::default(),
         }
     }
 
@@ -533,7 +536,14 @@ impl Viewer {
     /// showing a preview) and writes it, on a thread of its own so the window keeps going
     /// ([`AppEvent::ScreenshotSaved`] when done).
     pub fn screenshot(&mut self) {
-        let path = PathBuf::from(format!("raylab-{}.png", timestamp()));
+        self.screenshot_to(PathBuf::from(format!("raylab-{}.png", timestamp())));
+    }
+
+    /// Renders the current view at full resolution and quality to the PNG file `path`.
+    pub fn screenshot_to(&mut self, path: PathBuf) {
+        if let Err(e) = raylab::input::check_output(&path) {
+            return self.set_status(format!("cannot save the image: {e}"));
+        }
         let (w, h) = self.full_size();
         let settings = self.settings((w, h), self.view.spp);
         let (scene, camera, proxy) = (
@@ -591,7 +601,11 @@ impl Viewer {
 
     /// F5: writes the view to `raylab-view-<time>.view` (see [`raylab::view`]).
     pub fn save_view(&mut self) {
-        let path = PathBuf::from(format!("raylab-view-{}.view", timestamp()));
+        self.save_view_to(PathBuf::from(format!("raylab-view-{}.view", timestamp())));
+    }
+
+    /// Writes the view to the `.view` file `path`.
+    pub fn save_view_to(&mut self, path: PathBuf) {
         let text = self.view().to_text();
         let written = raylab::input::check_output(&path)
             .map_err(|e| e.to_string())
