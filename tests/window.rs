@@ -65,7 +65,9 @@ struct Run {
 
 impl Run {
     fn nums(&self, k: &str) -> Vec<f64> {
-        self.fields[k]
+        let value = self.fields.get(k);
+        value
+            .unwrap_or_else(|| panic!("no {k}: the run printed no final line\n{}", self.stderr))
             .split([',', 'x'])
             .map(|x| x.parse().unwrap())
             .collect()
@@ -243,16 +245,18 @@ fn run_window_with(
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
     // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. scene=..
-    let line = stdout
+    // (No final line where the run was quit early: Esc twice.)
+    let fields = stdout
         .lines()
         .find(|l| l.starts_with("raylab-final"))
-        .expect("final line");
-    let fields = line
-        .split_whitespace()
-        .skip(1)
-        .filter_map(|kv| kv.split_once('='))
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
+        .map(|line| {
+            line.split_whitespace()
+                .skip(1)
+                .filter_map(|kv| kv.split_once('='))
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        })
+        .unwrap_or_default();
     let inspector = stdout
         .lines()
         .filter_map(|l| l.strip_prefix("inspector ")?.split_once(": "))
@@ -261,7 +265,10 @@ fn run_window_with(
     Some(Run {
         fields,
         inspector,
-        shot: read_png(&shot_path),
+        shot: match shot_path.exists() {
+            true => read_png(&shot_path),
+            false => (0, 0, Vec::new()),
+        },
         stderr,
     })
 }
@@ -711,8 +718,10 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     // camera, and a scripted `inspect` gives the same as the click on the same pixel.
     let dir = tempfile::tempdir().unwrap();
     let script = "9000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
-                  sleep 0.3; xdotool click 1";
+    // (W moves the camera first and R takes it back to the start, where the click is made.)
+    let driver = "xdotool windowfocus --sync $win; xdotool keydown w; sleep 0.3; \
+                  xdotool keyup w; sleep 0.3; xdotool key r; sleep 0.3; \
+                  xdotool mousemove --sync 700 300; sleep 0.3; xdotool click 1";
     let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
         return;
     };
@@ -732,7 +741,9 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     let w = (2.0 * (pixel[0] as f64 + 0.5 - uvf[0])) as u32;
     let h = (2.0 * (pixel[1] as f64 + 0.5 - uvf[1])) as u32;
     let (pose, ..) = run.camera();
-    let camera = Camera::from_yaw_pitch(pose.position(), 0.0, 0.0, uvf[2]).unwrap();
+    let lab = DVec3::new(0.0, 0.0, -3.001);
+    assert_eq!(pose.position(), lab, "R reset the camera W had moved");
+    let camera = Camera::from_yaw_pitch(lab, 0.0, 0.0, uvf[2]).unwrap();
     assert_eq!(pose.forward(), camera.forward(), "the camera did not turn");
     let settings = RenderSettings {
         width: w,
@@ -857,4 +868,122 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
         run.fields,
         run.stderr
     );
+}
+
+#[test]
+fn real_x_input_drives_every_other_key() {
+    // The keys the other real-input runs do not press, each checked from the outside: D moves
+    // right, then Shift+D 4x as far; Ctrl+E moves up at a quarter of the speed, Q down; S
+    // moves back; the four arrows turn; + + - scale the speed; I turns the inspector off, H shows
+    // the shortcuts, F5 saves the view; R is pressed first (from the start pose it changes
+    // nothing); Esc once asks before quitting.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "14000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key r; sleep 0.2; \
+                  xdotool keydown d; sleep 0.3; xdotool keyup d; sleep 0.2; \
+                  xdotool keydown shift keydown d; sleep 0.3; xdotool keyup d keyup shift; \
+                  sleep 0.2; xdotool keydown ctrl keydown e; sleep 0.3; \
+                  xdotool keyup e keyup ctrl; sleep 0.2; \
+                  xdotool keydown q; sleep 0.3; xdotool keyup q; sleep 0.2; \
+                  xdotool keydown s; sleep 0.3; xdotool keyup s; sleep 0.2; \
+                  xdotool keydown Up; sleep 0.4; xdotool keyup Up; sleep 0.2; \
+                  xdotool keydown Down; sleep 0.2; xdotool keyup Down; sleep 0.2; \
+                  xdotool keydown Right; sleep 0.4; xdotool keyup Right; sleep 0.2; \
+                  xdotool keydown Left; sleep 0.2; xdotool keyup Left; sleep 0.2; \
+                  xdotool key plus; xdotool key plus; xdotool key minus; \
+                  xdotool key i; xdotool key h; xdotool key F5; sleep 0.5; \
+                  xdotool key Escape";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    let f = |k: &str| run.fields[k].clone();
+    // Half the scene size (12^0.5) per second: D for 0.3 s is about 0.52, with Shift 2.1.
+    // The middle-drag then pans left (the scene follows the cursor to the right).
+    // Ctrl+E up at a quarter speed (-0.13), then Q down at full speed (+0.52): without Ctrl
+    // the sum would be near 0, without Q negative.
+    assert!(
+        pos[1] > 0.15 && pos[1] < 0.6,
+        "Ctrl+E up slowly, Q down: y {}",
+        pos[1]
+    );
+    assert!(pos[2] < -3.3, "S moved back: z {}", pos[2]);
+    // Up for 0.4 s then Down for 0.2 s, Right then Left alike: half of the first turn is
+    // left (one alone turns about 30°).
+    let (pitch, yaw) = (run.nums("pitch")[0], run.nums("yaw")[0]);
+    assert!(pitch > 4.0 && pitch < 25.0, "Up then Down: pitch {pitch}");
+    assert!(yaw > 4.0 && yaw < 25.0, "Right then Left: yaw {yaw}");
+    assert!(
+        (run.nums("speed")[0] - 1.25).abs() < 1e-9,
+        "+ + -: {}",
+        f("speed")
+    );
+    assert_eq!((f("inspector"), f("help")), ("off".into(), "on".into()));
+    let saved = std::fs::read_dir(dir.path())
+        .unwrap()
+        .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".view"));
+    assert!(saved, "F5 saved a view\n{}", run.stderr);
+    assert!(
+        run.stderr.contains("press Esc again to quit"),
+        "Esc asked first\n{}",
+        run.stderr
+    );
+    // D and Shift+D together moved right well beyond what D alone would (0.5 + 2.1);
+    // without Shift it would be about 1.0.
+    assert!(pos[0] > 1.6, "Shift made D faster: x {}", pos[0]);
+}
+
+#[test]
+fn real_x_input_escape_twice_quits() {
+    // Esc once asks, Esc again quits at once: the run ends long before its script would.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "20000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.5; \
+                  xdotool key Escape";
+    let start = Instant::now();
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    assert!(
+        run.fields.is_empty(),
+        "the run ended without finishing its script"
+    );
+    assert!(
+        run.stderr.contains("press Esc again to quit"),
+        "{}",
+        run.stderr
+    );
+    assert!(
+        start.elapsed() < Duration::from_secs(18),
+        "{:?}",
+        start.elapsed()
+    );
+}
+
+#[test]
+fn real_x_input_middle_drag_pans_in_orbit_mode() {
+    // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
+    // cursor, so the camera (and its target) move left, keeping height and depth.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+                  xdotool mousemove --sync 800 400; sleep 0.2; xdotool mousedown 2; sleep 0.2; \
+                  for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
+                  xdotool mouseup 2";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    assert_eq!(run.fields["mode"], "orbit");
+    assert!(
+        pos[0] < -0.05,
+        "the camera panned left: x {}\n{}",
+        pos[0],
+        run.stderr
+    );
+    assert!(
+        pos[1].abs() < 1e-9 && (pos[2] + 3.001).abs() < 1e-9,
+        "{pos:?}"
+    );
+    assert!(run.nums("yaw")[0].abs() < 1e-9, "a pan does not turn");
 }

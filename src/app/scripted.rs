@@ -94,7 +94,7 @@ impl ScriptedRun {
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} primitives={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -110,6 +110,13 @@ impl ScriptedRun {
             viewer.view.step,
             window.frames_presented,
             viewer.frames_while_moving,
+            match c.mode {
+                raylab::controller::Mode::Fly => "fly",
+                raylab::controller::Mode::Orbit => "orbit",
+            },
+            c.speed,
+            ["off", "on"][viewer.inspector_on as usize],
+            ["off", "on"][viewer.show_help as usize],
             viewer.scene.len(),
             viewer.scene.name,
         );
