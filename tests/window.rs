@@ -874,8 +874,8 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
 fn real_x_input_drives_every_other_key() {
     // The keys the other real-input runs do not press, each checked from the outside: D moves
     // right, then Shift+D 4x as far; Ctrl+E moves up at a quarter of the speed, Q down; S
-    // moves back; the four arrows turn; + + - scale the speed; I turns the inspector off, H shows
-    // the shortcuts, F5 saves the view; R is pressed first (from the start pose it changes
+    // moves back; the four arrows turn; + + - scale the speed; I turns the inspector off, H, F1
+    // and H leave the shortcuts shown, F5 saves the view; R is pressed first (from the start pose it changes
     // nothing); Esc once asks before quitting.
     let dir = tempfile::tempdir().unwrap();
     let script = "14000 step indirect\n";
@@ -891,7 +891,8 @@ fn real_x_input_drives_every_other_key() {
                   xdotool keydown Right; sleep 0.4; xdotool keyup Right; sleep 0.2; \
                   xdotool keydown Left; sleep 0.2; xdotool keyup Left; sleep 0.2; \
                   xdotool key plus; xdotool key plus; xdotool key minus; \
-                  xdotool key i; xdotool key h; xdotool key F5; sleep 0.5; \
+                  xdotool key i; xdotool key h; xdotool key F1; xdotool key h; xdotool key F5; \
+                  sleep 0.5; \
                   xdotool key Escape";
     let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
         return;
@@ -935,11 +936,15 @@ fn real_x_input_drives_every_other_key() {
 
 #[test]
 fn real_x_input_escape_twice_quits() {
-    // Esc once asks, Esc again quits at once: the run ends long before its script would.
+    // With the mouse captured for looking (right button held over the image), Esc releases
+    // it; Esc then asks, and Esc again quits at once: the run ends long before its script
+    // would (had the first Esc not released the mouse, the third would only ask).
     let dir = tempfile::tempdir().unwrap();
     let script = "20000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.5; \
-                  xdotool key Escape";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 800 400; \
+                  sleep 0.2; xdotool mousedown 3; sleep 0.3; xdotool key Escape; sleep 0.3; \
+                  xdotool key Escape; sleep 0.5; xdotool key Escape; sleep 0.2; \
+                  xdotool mouseup 3";
     let start = Instant::now();
     let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
         return;
@@ -948,10 +953,13 @@ fn real_x_input_escape_twice_quits() {
         run.fields.is_empty(),
         "the run ended without finishing its script"
     );
+    let log = &run.stderr;
+    let on = log.find("mouse look on");
+    let off = on.and_then(|i| log[i..].find("mouse look off").map(|j| i + j));
+    let ask = log.find("press Esc again to quit");
     assert!(
-        run.stderr.contains("press Esc again to quit"),
-        "{}",
-        run.stderr
+        on.is_some() && on < off && off < ask,
+        "the right button captured the mouse, Esc released it, then Esc asked\n{log}"
     );
     assert!(
         start.elapsed() < Duration::from_secs(18),

@@ -241,6 +241,14 @@ impl App {
             let _ = window.set_cursor_grab(CursorGrabMode::None);
         }
         window.set_cursor_visible(!on);
+        log::info!(
+            "mouse look {}",
+            if on {
+                "on: the mouse is captured"
+            } else {
+                "off"
+            }
+        );
     }
 
     /// A key press or release from the keyboard or the script.
