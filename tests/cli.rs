@@ -1506,18 +1506,7 @@ fn a_views_command_line_renders_the_view_through_a_shell() {
         command.contains("'") && command.contains("--yaw=-12.5"),
         "{command}"
     );
-    let bin = Path::new(env!("CARGO_BIN_EXE_raylab"));
-    let path = format!(
-        "{}:{}",
-        bin.parent().unwrap().display(),
-        std::env::var("PATH").unwrap()
-    );
-    let o = Command::new("sh")
-        .args(["-c", &command])
-        .env("PATH", path)
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let o = common::run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
     assert!(o.status.success(), "{command}\n{}", stderr(&o));
     let view_file = write(dir.path(), "v.view", &view_text);
     let from_view = dir.path().join("from view.png");

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::read_png;
+use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
@@ -645,12 +645,7 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (a, b) = (read_png(&shot), read_png(&out));
-    assert_eq!((a.0, a.1), (b.0, b.1), "the same size");
-    let off = (a.2.chunks(4).zip(b.2.chunks(4)))
-        .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
-        .count();
-    let n = (a.0 * a.1) as usize;
+    let (off, n) = pixels_off(&read_png(&shot), &read_png(&out));
     // (Yaw and the field of view pass through degrees: an ulp of camera may move a pixel.)
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
@@ -803,18 +798,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
         "{command}\n{}",
         run.stderr
     );
-    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_raylab"));
-    let path = format!(
-        "{}:{}",
-        bin.parent().unwrap().display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
-    let o = Command::new("sh")
-        .args(["-c", &command])
-        .env("PATH", path)
-        .current_dir(dir.path())
-        .output()
-        .unwrap();
+    let o = run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let shot = std::fs::read_dir(dir.path())
         .unwrap()
@@ -826,12 +810,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
                 .starts_with("raylab-1")
         })
         .unwrap_or_else(|| panic!("no F12 screenshot\n{}", run.stderr));
-    let (a, b) = (read_png(&shot), read_png(&dir.path().join("raylab.png")));
-    assert_eq!((a.0, a.1), (b.0, b.1), "the same size");
-    let off = (a.2.chunks(4).zip(b.2.chunks(4)))
-        .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
-        .count();
-    let n = (a.0 * a.1) as usize;
+    let (off, n) = pixels_off(&read_png(&shot), &read_png(&dir.path().join("raylab.png")));
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
 

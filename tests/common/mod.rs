@@ -160,3 +160,31 @@ pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
     assert_eq!(info.color_type, png::ColorType::Rgba);
     (info.width, info.height, buf)
 }
+
+/// Runs `command`, a shell line naming `raylab`, with `sh -c` in `dir`, the directory of
+/// `raylab` (the built binary, `env!("CARGO_BIN_EXE_raylab")`) first on PATH, as a user pastes
+/// a copied command.
+pub fn run_in_shell(command: &str, dir: &std::path::Path, raylab: &str) -> std::process::Output {
+    let bin = std::path::Path::new(raylab);
+    let path = format!(
+        "{}:{}",
+        bin.parent().expect("the binary's directory").display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    std::process::Command::new("sh")
+        .args(["-c", command])
+        .env("PATH", path)
+        .current_dir(dir)
+        .output()
+        .expect("run sh")
+}
+
+/// How many pixels of two RGBA images of one size differ by more than 8 in some channel, and
+/// how many pixels there are.
+pub fn pixels_off(a: &(u32, u32, Vec<u8>), b: &(u32, u32, Vec<u8>)) -> (usize, usize) {
+    assert_eq!((a.0, a.1), (b.0, b.1), "the same size");
+    let off = (a.2.chunks(4).zip(b.2.chunks(4)))
+        .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
+        .count();
+    (off, (a.0 * a.1) as usize)
+}
