@@ -660,11 +660,33 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
          size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
     )
     .unwrap();
-    let script = format!("200 drop {}\n", view.display());
+    // (Then the script's `inspect`, a click without a pointer, on the view's fixed size.)
+    let script = format!("200 drop {}\n1500 inspect 100 80\n", view.display());
     let Some(run) = run_window(&script, dir.path()) else {
         return;
     };
     assert!(run.stderr.contains("loaded view"), "{}", run.stderr);
+    // The inspection printed is the library's of that pixel from the view's camera (through
+    // degrees: t to 1e-6).
+    let (camera, w, h, _) = run.camera();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Shadows,
+        ..Default::default()
+    };
+    let expected =
+        raylab::render::inspect::inspect(&Scene::cornell(), &camera, &settings, 100, 80).unwrap();
+    let hit = expected
+        .hit
+        .as_ref()
+        .expect("pixel (100, 80) shows the box");
+    let ins = &run.inspector;
+    assert_eq!(ins["pixel"], "100 80", "{}", run.stderr);
+    assert_eq!(ins["uvf"], format!("-59.5 -39.5 {}", camera.focal));
+    assert_eq!(ins["hit"], hit.prim.to_string(), "{ins:?}\n{expected}");
+    let t: f32 = ins["t"].parse().unwrap();
+    assert!((t - hit.t).abs() <= 1e-6 * hit.t, "t {t} vs {}", hit.t);
     let pos = run.nums("camera");
     let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
     assert!(
