@@ -706,7 +706,7 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     // (The driver waits for the first frames: the drag must start over a drawn image, and a
     // fresh CI machine under lavapipe can take seconds to draw one.)
     let script = "12000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
                   for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
                   xdotool mouseup 1";
@@ -880,7 +880,7 @@ fn real_x_input_drives_every_other_key() {
     // nothing); Esc once asks before quitting.
     let dir = tempfile::tempdir().unwrap();
     let script = "14000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key r; sleep 0.2; \
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key r; sleep 0.2; \
                   xdotool keydown d; sleep 0.3; xdotool keyup d; sleep 0.2; \
                   xdotool keydown shift keydown d; sleep 0.3; xdotool keyup d keyup shift; \
                   sleep 0.2; xdotool keydown ctrl keydown e; sleep 0.3; \
@@ -971,11 +971,12 @@ fn real_x_input_escape_twice_quits() {
 
 #[test]
 fn real_x_input_middle_drag_pans_in_orbit_mode() {
-    // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
-    // cursor, so the camera (and its target) move left, keeping height and depth.
+    // Orbit mode (the script's Tab: a real Tab is driven by the orbit test), then a real
+    // middle-drag 100 pixels to the right over the image: the scene follows the cursor, so the
+    // camera (and its target) move left, keeping height and depth.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key Tab; sleep 0.3; \
+    let script = "0 key Tab down\n20 key Tab up\n9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; \
                   xdotool mousemove --sync 800 400; sleep 0.2; xdotool mousedown 2; sleep 0.2; \
                   for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
                   xdotool mouseup 2";
