@@ -971,12 +971,11 @@ fn real_x_input_escape_twice_quits() {
 
 #[test]
 fn real_x_input_middle_drag_pans_in_orbit_mode() {
-    // Orbit mode (the script's Tab: a real Tab is driven by the orbit test), then a real
-    // middle-drag 100 pixels to the right over the image: the scene follows the cursor, so the
-    // camera (and its target) move left, keeping height and depth.
+    // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
+    // cursor, so the camera (and its target) move left, keeping height and depth.
     let dir = tempfile::tempdir().unwrap();
-    let script = "0 key Tab down\n20 key Tab up\n9000 step indirect\n";
-    let driver = "xdotool windowfocus --sync $win; sleep 0.3; \
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 800 400; sleep 0.2; xdotool mousedown 2; sleep 0.2; \
                   for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
                   xdotool mouseup 2";
@@ -996,4 +995,28 @@ fn real_x_input_middle_drag_pans_in_orbit_mode() {
         "{pos:?}"
     );
     assert!(run.nums("yaw")[0].abs() < 1e-9, "a pan does not turn");
+}
+
+#[test]
+fn real_x_input_keys_still_move_the_camera_after_tab() {
+    // Tab twice (orbit, then fly again), then W: egui once took Tab to move its keyboard focus
+    // to a panel widget, and the app ignored every key while any widget had focus, so the
+    // second Tab and W did nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "8000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.5; \
+                  xdotool key Tab; sleep 0.5; xdotool keydown w; sleep 0.4; xdotool keyup w";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    assert_eq!(
+        run.fields["mode"], "fly",
+        "the second Tab switched back\n{}",
+        run.stderr
+    );
+    assert!(
+        run.nums("camera")[2] > -2.9,
+        "W moved the camera: {:?}",
+        run.fields
+    );
 }

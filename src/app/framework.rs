@@ -58,9 +58,11 @@ impl Framework {
         self.state.on_window_event(window, event)
     }
 
-    /// Whether egui is taking the keyboard (a text field has focus).
+    /// Whether egui is taking the keyboard: a text field has focus. (Not egui's
+    /// `egui_wants_keyboard_input`, which holds for any focused widget: a button focused by a
+    /// click or by Tab would then swallow every camera key.)
     pub fn wants_keyboard(&self) -> bool {
-        self.ctx.egui_wants_keyboard_input()
+        self.ctx.text_edit_focused()
     }
 
     /// Whether egui is taking the pointer (over a widget, or dragging one).

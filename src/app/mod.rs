@@ -40,7 +40,7 @@ use winit::event::{
     DeviceEvent, DeviceId, ElementState, MouseButton, MouseScrollDelta, WindowEvent,
 };
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::PhysicalKey;
+use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
 /// How the viewer was started.
@@ -516,7 +516,15 @@ impl ApplicationHandler<AppEvent> for App {
         let (Some(window), Some(fw)) = (self.window.clone(), &mut self.framework) else {
             return;
         };
-        let response = fw.handle_event(&window, &event);
+        let egui_keyboard = fw.wants_keyboard();
+        // Tab is the camera's (fly/orbit) unless a text field is typing: egui would take it to
+        // move its keyboard focus between widgets.
+        let tab = matches!(&event, WindowEvent::KeyboardInput { event, .. }
+            if event.physical_key == PhysicalKey::Code(KeyCode::Tab));
+        let response = match tab && !egui_keyboard {
+            true => egui_winit::EventResponse::default(),
+            false => fw.handle_event(&window, &event),
+        };
         let (egui_keyboard, egui_pointer) = (fw.wants_keyboard(), fw.wants_pointer());
         // egui asks to repaint after every redraw too; that would spin forever.
         if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
