@@ -13,6 +13,7 @@
 //! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
 //! lowest primitive index, as in the brute-force loop.
 
+use super::instances::PacketSink;
 use super::packet::{
     OriginTriangle, OriginTriangles, PacketHits, PacketNearest, ShadowHits, ShadowPacket,
 };
@@ -32,9 +33,9 @@ const BINS: usize = 16;
 const PARALLEL_MIN: usize = 4096;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Aabb {
-    lo: [f32; 3],
-    hi: [f32; 3],
+pub(crate) struct Aabb {
+    pub(crate) lo: [f32; 3],
+    pub(crate) hi: [f32; 3],
 }
 
 impl Aabb {
@@ -137,7 +138,7 @@ impl Bvh {
     /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
             for i in first..first + count {
                 let shape = Shape::Triangle(self.tris[i]);
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
@@ -157,7 +158,7 @@ impl Bvh {
     /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         let mut hit = false;
-        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
                     && Shape::Triangle(self.tris[i])
@@ -181,7 +182,7 @@ impl Bvh {
     pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, |first, count, _, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _, _| {
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
                 if est != Estimate::Miss {
@@ -200,6 +201,109 @@ impl Bvh {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.tris.is_empty()
+    }
+
+    /// A hierarchy over boxes (the instances' world boxes) instead of triangles: it holds no
+    /// triangles, and its leaves' items are the boxes' indices ([`Bvh::triangles`]'s second
+    /// part).
+    pub(crate) fn build_over_boxes(boxes: &[([f32; 3], [f32; 3])]) -> Self {
+        if boxes.is_empty() {
+            return Self::default();
+        }
+        let mut refs: Vec<Ref> = (boxes.iter().enumerate())
+            .map(|(i, &(lo, hi))| Ref {
+                b: Aabb { lo, hi },
+                c: [0, 1, 2].map(|k| lo[k] * 0.5 + hi[k] * 0.5),
+                i: i as u32,
+            })
+            .collect();
+        let pairs = pair_up(&build_node(&mut refs, 0, PARALLEL_MIN));
+        Self {
+            pairs,
+            tris: Vec::new(),
+            prims: refs.iter().map(|r| r.i).collect(),
+        }
+    }
+
+    /// The root's box (`None` when empty).
+    pub(crate) fn root_bounds(&self) -> Option<Aabb> {
+        self.pairs.first().map(|p| p.0[0].bounds)
+    }
+
+    /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
+    /// (see [`Bvh::traverse`]): a node is entered while its box meets one of `sink`'s live
+    /// lanes before that lane's limit; `leaf(sink, first, count)` visits a leaf's items.
+    /// Nearer child first by the first live lane, as [`Bvh::closest_packet`] walks.
+    #[inline(always)]
+    pub(crate) fn walk_packet<S: PacketSink>(
+        &self,
+        slabs: &PacketSlabs,
+        pad: f32,
+        sink: &mut S,
+        mut leaf: impl FnMut(&mut S, usize, usize),
+    ) {
+        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
+            return;
+        };
+        let padded = |b: &Aabb| match pad == 0.0 {
+            true => *b,
+            false => Aabb {
+                lo: b.lo.map(|x| x - pad),
+                hi: b.hi.map(|x| x + pad),
+            },
+        };
+        let enter = |b: &Aabb, sink: &S| slabs.enter(&padded(b), sink.limit(), sink.live());
+        let mut stack = [0u32; 64];
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        if sink.live() == 0 || enter(&root.bounds, sink).0 == 0 {
+            return;
+        }
+        loop {
+            let n = *self.node(node);
+            if n.count > 0 {
+                leaf(sink, n.offset as usize, n.count as usize);
+            } else {
+                let (a, b) = (n.offset as usize, n.offset as usize + 1);
+                let (ma, ta) = enter(&self.node(a).bounds, sink);
+                let (mb, tb) = enter(&self.node(b).bounds, sink);
+                match (ma != 0, mb != 0) {
+                    (true, true) => {
+                        let lane = (ma & mb).trailing_zeros() as usize;
+                        let (first, second) =
+                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                                (b, a)
+                            } else {
+                                (a, b)
+                            };
+                        stack[sp] = second as u32;
+                        sp += 1;
+                        node = first;
+                        continue;
+                    }
+                    (true, false) => {
+                        node = a;
+                        continue;
+                    }
+                    (false, true) => {
+                        node = b;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            loop {
+                if sp == 0 || sink.live() == 0 {
+                    return;
+                }
+                sp -= 1;
+                let cand = stack[sp] as usize;
+                if enter(&self.node(cand).bounds, sink).0 != 0 {
+                    node = cand;
+                    break;
+                }
+            }
+        }
     }
 
     /// The triangles in the hierarchy's order (leaves index into it), and their primitives.
@@ -223,7 +327,7 @@ impl Bvh {
         } else {
             d_max
         };
-        self.traverse(ray, tmin, tmax, |first, count, _, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _, _| {
             let leaf = first..first + count;
             for ((p, tri), prim) in prepared[leaf.clone()]
                 .iter()
@@ -363,6 +467,50 @@ impl Bvh {
         }
     }
 
+    /// [`Bvh::closest_packet`] into a nearest-hit state shared with other structures (the
+    /// instances): lanes record primitive indices, not positions.
+    pub(crate) fn closest_packet_into(
+        &self,
+        nearest: &mut PacketNearest,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+    ) {
+        self.packet_into(nearest, o, prepared, d);
+    }
+
+    /// [`Bvh::blocked_packet`] into a shadow state shared with other structures.
+    pub(crate) fn blocked_packet_into(
+        &self,
+        shadow: &mut ShadowPacket,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+    ) {
+        self.packet_into(shadow, o, prepared, d);
+    }
+
+    /// Offers to `sink` every triangle the 8 rays from `o` may reach before their limits,
+    /// from `prepared` (made for `o`) or prepared as met.
+    fn packet_into<S: PacketSink>(
+        &self,
+        sink: &mut S,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+    ) {
+        let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
+        let slabs = PacketSlabs::new(o, d);
+        self.walk_packet(&slabs, 0.0, sink, |sink, first, count| {
+            for i in first..first + count {
+                match prepared {
+                    Some(p) => sink.take(&p.tris[i]),
+                    None => sink.take(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
+                }
+            }
+        });
+    }
+
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
     /// (`d_max` ≥ every |dₖ|): per lane of `valid`, blocked for 0 < t < 1 by a triangle other
     /// than its `skip` primitive, or unsure (to be traced per ray); see
@@ -486,7 +634,7 @@ impl Bvh {
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
                     && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
@@ -496,13 +644,16 @@ impl Bvh {
         hit
     }
 
-    /// Visits the leaves the ray may reach, nearer child first. `leaf(first, count, t_far,
-    /// leaf box)` returns the new t_far and whether to stop.
-    fn traverse(
+    /// Visits the leaves the ray may reach, nearer child first, every box widened by `pad`
+    /// on each side (0 but for a mesh's hierarchy walked in its own frame by a ray carried
+    /// there with rounding, see `accel::instances`). `leaf(first, count, t_far, leaf box)`
+    /// returns the new t_far and whether to stop.
+    pub(crate) fn traverse(
         &self,
         ray: &Ray,
         tmin: f32,
         tmax: f32,
+        pad: f32,
         mut leaf: impl FnMut(usize, usize, f32, &Aabb) -> (f32, bool),
     ) {
         if self.pairs.is_empty() {
@@ -515,11 +666,8 @@ impl Bvh {
             let mut t0 = tmin;
             let mut t1 = t_far;
             for k in 0..3 {
-                let (near, far) = if neg[k] {
-                    (b.hi[k], b.lo[k])
-                } else {
-                    (b.lo[k], b.hi[k])
-                };
+                let (lo, hi) = (b.lo[k] - pad, b.hi[k] + pad);
+                let (near, far) = if neg[k] { (hi, lo) } else { (lo, hi) };
                 // f32::min/max ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
                 let tn = (near - ray.o[k]) * inv[k];
                 let tf = (far - ray.o[k]) * inv[k] * slack;
@@ -591,7 +739,7 @@ impl Bvh {
 }
 
 /// Eight rays from one origin set up for the slab test against boxes.
-struct PacketSlabs {
+pub(crate) struct PacketSlabs {
     o: [f32; 3],
     inv: [f32x8; 3],
     /// 1/dₖ enlarged for the far distances (see `new`).
@@ -606,7 +754,7 @@ struct PacketSlabs {
 
 impl PacketSlabs {
     #[inline(always)]
-    fn new(o: [f32; 3], d: &[f32x8; 3]) -> Self {
+    pub(crate) fn new(o: [f32; 3], d: &[f32x8; 3]) -> Self {
         let inv = d.map(|c| f32x8::ONE / c);
         let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
         let sign = neg.map(|m| match m.to_bitmask() {
@@ -631,7 +779,7 @@ impl PacketSlabs {
 
     /// The lanes of `live` whose rays meet box `b` before `limit`, and their entry distances.
     #[inline(always)]
-    fn enter(&self, b: &Aabb, limit: f32x8, live: u32) -> (u32, f32x8) {
+    pub(crate) fn enter(&self, b: &Aabb, limit: f32x8, live: u32) -> (u32, f32x8) {
         let mut t0 = f32x8::ZERO;
         let mut t1 = limit;
         for k in 0..3 {

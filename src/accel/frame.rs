@@ -32,7 +32,7 @@
 use super::cull::{Box3, Occluder, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
 use super::packet::{self, OriginTriangles, PacketHits};
-use super::{Accel, AccelKind, IndexedTriangle, Triangles};
+use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
@@ -179,7 +179,7 @@ impl Accel {
         };
         let packets = method == Method::Adaptive && !setup.per_ray;
         let prepare_once = self
-            .triangle_count()
+            .stored_triangle_count()
             .saturating_mul(PREPARE_RAYS_PER_TRIANGLE)
             <= setup.camera_rays;
         let plan = match culling {
@@ -421,16 +421,16 @@ impl TileQueries<'_> {
         };
         match &frame.plan {
             Plan::BvhPackets { from_light, .. } if !others_near => {
-                let Triangles::Bvh(bvh) = &frame.accel.triangles else {
-                    unreachable!("a BVH plan has a BVH")
-                };
+                let accel = frame.accel;
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     if s.live == 0 {
                         continue;
                     }
                     let d_max = packet::max_component(&s.d);
                     let prepared = from_light.as_ref();
-                    let found = bvh.blocked_packet(light, prepared, &s.d, d_max, &s.prim, s.live);
+                    let found = accel
+                        .blocked_packet_of_triangles(light, prepared, &s.d, d_max, &s.prim, s.live)
+                        .expect("a BVH plan has a BVH");
                     *out = found.blocked;
                     per_ray(s, found.unsure, out);
                 }

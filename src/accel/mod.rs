@@ -17,12 +17,14 @@ pub mod bvh;
 mod cull;
 pub mod flat;
 pub mod frame;
+pub mod instances;
 pub mod packet;
 pub mod reference;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::scene::Instance;
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
@@ -116,22 +118,44 @@ pub struct Accel {
     others: Vec<(Shape<f32>, u32)>,
     /// Triangles left out as copies of an earlier one (see [`without_copies`]).
     copies: usize,
+    /// The meshes placed as instances, if any ([`instances::Instances`]).
+    instances: Option<Box<instances::Instances>>,
 }
 
 impl Accel {
     /// Builds over `shapes` (primitive index = position in the slice).
     pub fn build(shapes: &[Shape<f32>], choice: AccelChoice) -> Self {
+        let indexed = (shapes.iter().enumerate())
+            .map(|(i, s)| (*s, i as u32))
+            .collect();
+        Self::build_with_instances(indexed, &[], choice)
+    }
+
+    /// Builds over `shapes` (each with its primitive index) and the meshes placed as
+    /// `instances` (a two-level structure: [`instances::Instances`]). With instances, the
+    /// explicit triangles go into a BVH unless `choice` is [`AccelChoice::Flat`], so that
+    /// camera and shadow packets serve both.
+    pub fn build_with_instances(
+        shapes: Vec<(Shape<f32>, u32)>,
+        instances: &[Instance],
+        choice: AccelChoice,
+    ) -> Self {
         let mut tris = Vec::new();
         let mut others = Vec::new();
-        for (i, s) in shapes.iter().enumerate() {
+        for (s, i) in shapes {
             match s {
-                Shape::Triangle(v) => tris.push((*v, i as u32)),
-                other => others.push((*other, i as u32)),
+                Shape::Triangle(v) => tris.push((v, i)),
+                other => others.push((other, i)),
             }
         }
-        let (mut tris, copies) = without_copies(tris);
+        let (mut tris, mut copies) = without_copies(tris);
+        let instances = (!instances.is_empty()).then(|| {
+            let built = instances::Instances::build(instances);
+            copies += built.copies_left_out();
+            Box::new(built)
+        });
         let use_bvh = match choice {
-            AccelChoice::Auto => tris.len() >= BVH_MIN_TRIANGLES,
+            AccelChoice::Auto => tris.len() >= BVH_MIN_TRIANGLES || instances.is_some(),
             AccelChoice::Flat => false,
             AccelChoice::Bvh => true,
         };
@@ -148,7 +172,13 @@ impl Accel {
             list: tris,
             others,
             copies,
+            instances,
         }
+    }
+
+    /// The two-level structure over the scene's instances, if it has any.
+    pub fn instances(&self) -> Option<&instances::Instances> {
+        self.instances.as_deref()
     }
 
     /// How many triangles were left out as exact copies of an earlier one (the same three
@@ -169,7 +199,9 @@ impl Accel {
     /// [`TILE_CULL_MAX_TRIANGLES`]. (With other shapes among them, a triangle's position here
     /// is not its primitive index: see [`Accel::slot`].)
     pub fn flat_triangles(&self) -> Option<&[IndexedTriangle]> {
-        let small = !self.list.is_empty() && self.list.len() <= TILE_CULL_MAX_TRIANGLES;
+        let small = !self.list.is_empty()
+            && self.list.len() <= TILE_CULL_MAX_TRIANGLES
+            && self.instances.is_none();
         small.then_some(&self.list)
     }
 
@@ -186,8 +218,14 @@ impl Accel {
         &self.others
     }
 
-    /// How many triangles the structure holds (copies left out).
+    /// How many triangles the structure answers for (copies left out), instanced ones
+    /// included.
     pub fn triangle_count(&self) -> usize {
+        self.stored_triangle_count() + self.instances().map_or(0, |i| i.triangle_count())
+    }
+
+    /// How many triangles are stored one by one (not through instances).
+    pub fn stored_triangle_count(&self) -> usize {
         match &self.triangles {
             Triangles::Flat(b) => b.len(),
             Triangles::Bvh(b) => b.len(),
@@ -203,12 +241,14 @@ impl Accel {
     /// Bytes of the structure (triangles included).
     pub fn memory_bytes(&self) -> usize {
         let list = self.list.len() * std::mem::size_of::<IndexedTriangle>();
-        list + match &self.triangles {
-            Triangles::Flat(b) => {
-                b.len().div_ceil(8) * std::mem::size_of::<[[wide::f32x8; 3]; 4]>()
+        let instanced = self.instances().map_or(0, |i| i.memory_bytes());
+        list + instanced
+            + match &self.triangles {
+                Triangles::Flat(b) => {
+                    b.len().div_ceil(8) * std::mem::size_of::<[[wide::f32x8; 3]; 4]>()
+                }
+                Triangles::Bvh(b) => b.memory_bytes(),
             }
-            Triangles::Bvh(b) => b.memory_bytes(),
-        }
     }
 
     /// Nearest hit with tmin < t < tmax; an exact tie goes to the lowest primitive index.
@@ -219,6 +259,9 @@ impl Accel {
                 match &self.triangles {
                     Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut search),
                     Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut search),
+                }
+                if let Some(inst) = self.instances() {
+                    inst.closest_hit_adaptive(ray, &r, &mut search);
                 }
                 for (shape, prim) in &self.others {
                     search.offer_shape(*prim, widen(shape), Estimate::Unsure);
@@ -250,6 +293,9 @@ impl Accel {
             }
             Triangles::Bvh(b) => b.closest_hit(ray, method, tmin, tmax),
         };
+        if let Some(inst) = self.instances() {
+            inst.closest_hit(ray, method, tmin, tmax, &mut best);
+        }
         for &(shape, prim) in &self.others {
             let t_far = best.map_or(tmax, |h| h.t.next_up());
             if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
@@ -294,6 +340,9 @@ impl Accel {
         }
         let mut search = Search::new(ray, tmin, tmax);
         b.closest_hit_from_origin(ray, &prepared.tris, &mut search);
+        if let (Some(inst), Some(r)) = (self.instances(), WatertightRay::new(ray.o, ray.d)) {
+            inst.closest_hit_adaptive(ray, &r, &mut search);
+        }
         for (shape, prim) in &self.others {
             search.offer_shape(*prim, widen(shape), Estimate::Unsure);
         }
@@ -330,6 +379,12 @@ impl Accel {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
         };
+        if let Some(inst) = self.instances() {
+            let mut nearest = packet::PacketNearest::new(d, d_max);
+            b.closest_packet_into(&mut nearest, o, prepared, d);
+            inst.packet(o, d, &mut nearest);
+            return Some(nearest.finish());
+        }
         let mut found = b.closest_packet(o, prepared, d, d_max);
         let prims = b.triangles().1;
         for slot in &mut found.prim {
@@ -354,13 +409,32 @@ impl Accel {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<packet::ShadowHits> {
-        let Triangles::Bvh(b) = &self.triangles else {
-            return None;
-        };
         if !self.others.is_empty() {
             return None;
         }
-        Some(b.blocked_packet(o, prepared, d, d_max, skip, valid))
+        self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
+    }
+
+    /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.
+    pub(crate) fn blocked_packet_of_triangles(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
+        d: &[wide::f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> Option<packet::ShadowHits> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
+        let Some(inst) = self.instances() else {
+            return Some(b.blocked_packet(o, prepared, d, d_max, skip, valid));
+        };
+        let mut shadow = packet::ShadowPacket::new(d, d_max, skip, valid);
+        b.blocked_packet_into(&mut shadow, o, prepared, d);
+        inst.packet(o, d, &mut shadow);
+        Some(shadow.finish())
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
@@ -389,6 +463,8 @@ impl Accel {
                 Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search, skip),
                 Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search, skip),
             };
+            let tri = tri
+                || (self.instances()).is_some_and(|i| i.any_hit_adaptive(ray, &r, &search, skip));
             if tri || self.others.is_empty() {
                 return tri;
             }
@@ -410,6 +486,8 @@ impl Accel {
             }),
             Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax, skip),
         };
+        let tri =
+            tri || (self.instances()).is_some_and(|i| i.any_hit(ray, method, tmin, tmax, skip));
         tri || (self.others.iter()).any(|(shape, prim)| {
             *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
         })
@@ -425,7 +503,7 @@ impl Accel {
 /// the inexact methods may answer differently for them, which is what they are shown for.
 /// There are at most 6 orders, so the work stays bounded.) Found by sorting randomly keyed
 /// hashes, so no input can force the quadratic case; the order of the rest is unchanged.
-fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
+pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
     let key = |t: &IndexedTriangle| t.0.map(|p| p.map(|c| (c + 0.0).to_bits()));
     let hasher = ahash::RandomState::new();
     let mut hashes: Vec<(u64, u32)> = tris

@@ -229,9 +229,16 @@ impl Viewer {
         };
         // (A clone shares the built structure: colours do not change it.)
         let mut tinted = (*self.scene).clone();
+        let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
         for range in &level.primitives {
-            for c in &mut tinted.colors[range.start as usize..range.end as usize] {
-                *c = [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
+            match tinted.instances().is_empty() {
+                true => {
+                    for c in &mut tinted.colors[range.start as usize..range.end as usize] {
+                        *c = mix(*c);
+                    }
+                }
+                // An instance is tinted as a whole (its mesh's colours are shared).
+                false => tinted.tint(range.clone(), mix(raylab::scene::file::DEFAULT_COLOR)),
             }
         }
         Arc::new(tinted)

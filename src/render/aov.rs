@@ -61,7 +61,7 @@ pub fn render_aovs(
 /// The unit geometric normal of primitive `prim` where `ray` meets it at `t`, turned against
 /// the ray (surfaces are two-sided).
 fn facing_normal(scene: &Scene, ray: &Ray, prim: u32, t: f32) -> [f32; 3] {
-    let n = match &scene.shapes[prim as usize] {
+    let n = match &scene.shape(prim) {
         Shape::Triangle(v) => {
             let e1 = [0, 1, 2].map(|k| v[1][k] as f64 - v[0][k] as f64);
             let e2 = [0, 1, 2].map(|k| v[2][k] as f64 - v[0][k] as f64);

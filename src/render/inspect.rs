@@ -117,7 +117,7 @@ pub fn inspect(
     let hit = accel
         .closest_hit(&ray, method, 0.0, f32::INFINITY)
         .map(|hit| {
-            let shape = scene.shapes[hit.prim as usize];
+            let shape = scene.shape(hit.prim);
             let sp = SurfacePoint::new(&shape, &ray, &hit);
             let facing = if dot64(sp.n, ray.d) > 0.0 { -1.0 } else { 1.0 };
             let lit = Lit::new(scene, &ray, &hit);
@@ -137,7 +137,7 @@ pub fn inspect(
                 point: sp.p,
                 point_error: sp.p_error,
                 normal: sp.n.map(|c| facing * c + 0.0),
-                rho: scene.colors[hit.prim as usize],
+                rho: scene.color(hit.prim),
                 direct: lit.d,
                 indirect: scene.ambient,
                 shadow: lit.shadow,
@@ -169,6 +169,12 @@ fn dot64(a: [f32; 3], b: [f32; 3]) -> f64 {
 /// The primitive other than `own` (and its exact copies) that `shadow` meets nearest the
 /// light, by the scalar loop (one ray: the accelerator answers only whether).
 fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
+    if !scene.instances().is_empty() {
+        // Millions of instanced triangles: the structure's nearest hit from the light (the
+        // segment ends off its own surface, so that is the blocker).
+        let hit = scene.accel().closest_hit(shadow, method, 0.0, 1.0)?;
+        return (hit.prim != own).then_some(hit.prim);
+    }
     let own_shape = scene.shapes[own as usize];
     let mut best: Option<(f32, u32)> = None;
     for (k, s) in scene.shapes.iter().enumerate() {

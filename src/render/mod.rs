@@ -348,7 +348,7 @@ impl<'a> Frame<'a> {
                         counts.0 += prim.is_some() as u64;
                         match (&self.flat_rgba, prim) {
                             (Some(rgba), _) => rgba.put(rows, row_off, tile.x0 + l as u32, prim),
-                            (None, Some(prim)) => add(sum, scene.colors[prim as usize]),
+                            (None, Some(prim)) => add(sum, scene.color(prim)),
                             (None, None) => {}
                         }
                     }
@@ -426,7 +426,7 @@ impl<'a> Frame<'a> {
 
 /// The vertices of triangle `prim` (camera packets name triangles only).
 fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
-    match &scene.shapes[prim as usize] {
+    match &scene.shape(prim) {
         Shape::Triangle(v) => *v,
         _ => unreachable!("camera packets run over triangles only"),
     }
@@ -438,7 +438,7 @@ fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
 /// Cornell box, the bunny), else per pixel (the 1M-triangle mesh: a table would cost more
 /// per frame than the pixels it serves).
 struct FlatPixels<'a> {
-    colors: &'a [Rgb],
+    scene: &'a Scene,
     /// Per primitive; empty when encoding per pixel.
     table: Vec<[u8; 4]>,
     srgb: &'static SrgbTables,
@@ -448,15 +448,13 @@ impl<'a> FlatPixels<'a> {
     fn new(scene: &'a Scene, camera_rays: usize) -> Self {
         let srgb = SrgbTables::get();
         let encode = |c: &Rgb| [srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255];
-        let table = match scene.colors.len().saturating_mul(8) <= camera_rays {
-            true => scene.colors.iter().map(encode).collect(),
+        let table = match scene.len().saturating_mul(8) <= camera_rays {
+            true => (0..scene.len() as u32)
+                .map(|p| encode(&scene.color(p)))
+                .collect(),
             false => Vec::new(),
         };
-        Self {
-            colors: &scene.colors,
-            table,
-            srgb,
-        }
+        Self { scene, table, srgb }
     }
 
     /// Writes pixel `i` of the row at `row_off` in `rows`.
@@ -466,7 +464,7 @@ impl<'a> FlatPixels<'a> {
             None => [0, 0, 0, 255],
             Some(p) if !self.table.is_empty() => self.table[p as usize],
             Some(p) => {
-                let c = self.colors[p as usize];
+                let c = self.scene.color(p);
                 let e = |x| self.srgb.encode(x);
                 [e(c[0]), e(c[1]), e(c[2]), 255]
             }

@@ -27,7 +27,7 @@ pub fn shade(
     shadow_rays: &mut u64,
 ) -> Rgb {
     match step {
-        LabStep::Flat => scene.colors[hit.prim as usize],
+        LabStep::Flat => scene.color(hit.prim),
         _ => Lit::new(scene, ray, hit).colour(scene, step, blocked, shadow_rays),
     }
 }
@@ -87,7 +87,7 @@ pub struct Lit {
 impl Lit {
     /// Readies camera ray `ray`'s hit `hit` (only its primitive is used).
     pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
-        match &scene.shapes[hit.prim as usize] {
+        match &scene.shape(hit.prim) {
             Shape::Triangle(v) => {
                 let tri = ShadeTri::new(v, ray.o, hit.prim);
                 let mut lanes = [None; 8];
@@ -178,7 +178,7 @@ impl AsRef<ShadowSegments> for ShadePacket {
 /// shadows, plus the ambient term N): what every path computes per sample.
 #[inline]
 pub fn step_colour(scene: &Scene, prim: u32, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
-    let rho = scene.colors[prim as usize];
+    let rho = scene.color(prim);
     let d = if blocked { [0.0; 3] } else { d };
     match step {
         LabStep::Flat => rho,
@@ -225,7 +225,7 @@ pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8
 
 #[inline(always)]
 fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    let triangle = |tri: &OriginTriangle| match &scene.shapes[tri.prim as usize] {
+    let triangle = |tri: &OriginTriangle| match &scene.shape(tri.prim) {
         Shape::Triangle(v) => *v,
         _ => unreachable!("shade_packet takes triangles"),
     };

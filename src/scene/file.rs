@@ -28,12 +28,20 @@
 //! by multiples of 90° are exact ([`sin_cos_degrees`]), and so are translations and scales by
 //! values exact in f64.
 //!
+//! A mesh the file uses at least [`Instancing::min_uses`] times, with at least
+//! [`Instancing::min_triangles`] triangles, is loaded once and placed as instances
+//! ([`super::instance`]) when the scene is loaded for rendering ([`load_scene_file`]): the
+//! primitives and every answer are the same as flattened, the memory is one copy. (A
+//! placement whose matrix is too ill-conditioned to carry rays back safely, see
+//! [`super::instance::MAX_CONDITION`], is flattened.) [`parse`] flattens everything.
+//!
 //! Errors name the file and line: an unknown statement, a missing or extra number, NaN or
 //! infinity, a `pop` without `push`, a sphere under a non-uniform scale (an ellipsoid), a mesh
 //! that fails to load (with the mesh's own error).
 //!
 //! [`sin_cos_degrees`]: crate::math::transform::sin_cos_degrees
 
+use super::instance::{Instance, Mesh};
 use super::obj::{self, ObjFrame};
 use super::{cornell, PointLight, Scene};
 use crate::geometry::Shape;
@@ -42,6 +50,29 @@ use crate::math::{Real, TransformStack};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// When a mesh is stored once and placed as instances instead of flattened.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Instancing {
+    /// Uses (`mesh` statements naming the same file and frame) from which it is.
+    pub min_uses: usize,
+    /// Triangles the mesh must have at least (a small mesh is faster flattened).
+    pub min_triangles: usize,
+}
+
+impl Instancing {
+    /// Never: every mesh flattened.
+    pub const NEVER: Instancing = Instancing {
+        min_uses: usize::MAX,
+        min_triangles: usize::MAX,
+    };
+    /// What loading a scene for rendering does.
+    pub const DEFAULT: Instancing = Instancing {
+        min_uses: 2,
+        min_triangles: 64,
+    };
+}
 
 /// The colour of primitives before any `color` statement.
 pub const DEFAULT_COLOR: [f32; 3] = obj::DEFAULT_COLOR;
@@ -109,8 +140,11 @@ pub struct Level {
 /// What a `.scene` file describes, in precision `T`.
 #[derive(Clone, Debug)]
 pub struct Description<T: Real> {
+    /// The primitives stored one by one (all of them without instancing).
     pub shapes: Vec<Shape<T>>,
     pub colors: Vec<[f32; 3]>,
+    /// The meshes placed as instances, in primitive order (see [`Instancing`]).
+    pub instances: Vec<Instance>,
     /// The `light` statement, if any: position (world, f32) and power.
     pub light: Option<PointLight>,
     pub ambient: Option<[f32; 3]>,
@@ -142,16 +176,45 @@ struct Parser<'a, T: Real> {
     out: Description<T>,
     light_line: Option<usize>,
     meshes: HashMap<(PathBuf, ObjFrame, [u32; 3]), Scene>,
+    /// The meshes stored once for instancing, by the same key.
+    shared: HashMap<(PathBuf, ObjFrame, [u32; 3]), Arc<Mesh>>,
+    /// How often each (path as written, frame as written) is used.
+    uses: HashMap<(String, String), usize>,
+    instancing: Instancing,
+    /// Primitives placed as instances so far.
+    instanced: usize,
 }
 
-/// Parses `.scene` text. `dir` is where mesh paths are relative to; `load_mesh` loads them.
+/// Parses `.scene` text, every mesh flattened. `dir` is where mesh paths are relative to;
+/// `load_mesh` loads them.
 pub fn parse<T: Real>(
     file: &str,
     text: &str,
     dir: &Path,
     load_mesh: &MeshLoader,
 ) -> Result<Description<T>, FileError> {
+    parse_with(file, text, dir, load_mesh, Instancing::NEVER)
+}
+
+/// [`parse`], with the meshes `instancing` picks placed as instances.
+pub fn parse_with<T: Real>(
+    file: &str,
+    text: &str,
+    dir: &Path,
+    load_mesh: &MeshLoader,
+    instancing: Instancing,
+) -> Result<Description<T>, FileError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut uses = HashMap::new();
+    for line in text.lines() {
+        let content = line.split('#').next().unwrap_or("");
+        let mut words = content.split_whitespace();
+        if words.next() == Some("mesh") {
+            let path = words.next().unwrap_or("").to_string();
+            let frame = words.next().unwrap_or("yup").to_string();
+            *uses.entry((path, frame)).or_insert(0) += 1;
+        }
+    }
     let mut p = Parser::<T> {
         file,
         stack: TransformStack::new(),
@@ -164,6 +227,7 @@ pub fn parse<T: Real>(
         out: Description {
             shapes: Vec::new(),
             colors: Vec::new(),
+            instances: Vec::new(),
             light: None,
             ambient: None,
             camera: None,
@@ -179,6 +243,10 @@ pub fn parse<T: Real>(
         },
         light_line: None,
         meshes: HashMap::new(),
+        shared: HashMap::new(),
+        uses,
+        instancing,
+        instanced: 0,
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -291,14 +359,59 @@ impl<T: Real> Parser<'_, T> {
     }
 
     fn add(&mut self, shape: Shape<T>, color: [f32; 3]) {
-        let index = self.out.shapes.len() as u32;
+        let index = (self.out.shapes.len() + self.instanced) as u32;
         self.out.shapes.push(shape);
         self.out.colors.push(color);
+        self.record(index..index + 1);
+    }
+
+    /// Primitives `added` belong to the current level.
+    fn record(&mut self, added: std::ops::Range<u32>) {
         let runs = &mut self.out.levels[self.current.level].primitives;
         match runs.last_mut() {
-            Some(r) if r.end == index => r.end += 1,
-            _ => runs.push(index..index + 1),
+            Some(r) if r.end == added.start => r.end = added.end,
+            _ => runs.push(added),
         }
+    }
+
+    /// Places `mesh` as an instance in the current frame, if the instancing rule picks this
+    /// use (`uses` of it in the file) and the matrix can carry rays; else `false`.
+    fn place(
+        &mut self,
+        key: &(PathBuf, ObjFrame, [u32; 3]),
+        mesh: &Scene,
+        uses: usize,
+    ) -> Result<bool, String> {
+        let m = self.stack.matrix();
+        let n = mesh.shapes.len();
+        let picked = uses >= self.instancing.min_uses
+            && n >= self.instancing.min_triangles.max(1)
+            && Instance::placeable(&m);
+        if !picked {
+            return Ok(false);
+        }
+        let first = self.out.shapes.len() + self.instanced;
+        if first + n > u32::MAX as usize - 1 {
+            return Err(format!("more than {} primitives", u32::MAX - 1));
+        }
+        let shared = self.shared.entry(key.clone()).or_insert_with(|| {
+            let triangles = (mesh.shapes.iter())
+                .map(|s| match s {
+                    Shape::Triangle(v) => *v,
+                    Shape::Sphere { .. } => unreachable!("meshes are triangles"),
+                })
+                .collect();
+            Arc::new(Mesh::new(mesh.name.clone(), triangles, mesh.colors.clone()))
+        });
+        self.out.instances.push(Instance {
+            mesh: shared.clone(),
+            world_from_object: m,
+            first_prim: first as u32,
+            tint: None,
+        });
+        self.instanced += n;
+        self.record(first as u32..(first + n) as u32);
+        Ok(true)
     }
 
     fn transform(&mut self, line: usize, rank: u8, what: &str) {
@@ -381,7 +494,13 @@ impl<T: Real> Parser<'_, T> {
                 }
                 // (Taken out and put back: no copy of the mesh per use.)
                 let mesh = self.meshes.remove(&key).expect("loaded above");
-                let added = self.add_scene(&mesh);
+                let written = (path.to_string(), args.get(1).unwrap_or(&"yup").to_string());
+                let uses = self.uses.get(&written).copied().unwrap_or(1);
+                let added = match self.place(&key, &mesh, uses) {
+                    Ok(true) => Ok(()),
+                    Ok(false) => self.add_scene(&mesh),
+                    Err(e) => Err(e),
+                };
                 self.meshes.insert(key, mesh);
                 added?;
             }
@@ -559,7 +678,8 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, String> {
     let load_mesh = |p: &Path, frame, color| {
         obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
     };
-    let d = parse::<f32>(&name, &text, &dir, &load_mesh).map_err(|e| e.to_string())?;
+    let d = parse_with::<f32>(&name, &text, &dir, &load_mesh, Instancing::DEFAULT)
+        .map_err(|e| e.to_string())?;
     Scene::from_description(&name, d)
 }
 
@@ -573,18 +693,19 @@ impl Scene {
     /// The scene a parsed `.scene` file describes: its light (else the lab's with `cornell`,
     /// else one placed for the scene's size), ambient term (else the lab's) and camera.
     pub fn from_description(name: &str, d: Description<f32>) -> Result<Scene, String> {
-        if d.shapes.is_empty() {
-            return Err(format!(
-                "{name}: no primitives (tri, sphere, mesh or cornell)"
-            ));
-        }
         let mut scene = Scene::new(
             name,
             d.shapes,
             d.colors,
             cornell::LIGHT,
             d.ambient.unwrap_or(cornell::AMBIENT),
-        );
+        )
+        .with_instances(d.instances)?;
+        if scene.is_empty() {
+            return Err(format!(
+                "{name}: no primitives (tri, sphere, mesh or cornell)"
+            ));
+        }
         scene.light = match (d.light, d.has_cornell) {
             (Some(light), _) => light,
             (None, true) => cornell::LIGHT,

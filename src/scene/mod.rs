@@ -2,6 +2,7 @@
 
 pub mod cornell;
 pub mod file;
+pub mod instance;
 pub mod obj;
 
 use crate::accel::{Accel, AccelChoice};
@@ -11,6 +12,7 @@ use crate::math::{check_range, MAX_SCENE_COORDINATE, MAX_VIEW_COORDINATE};
 use std::sync::{Arc, OnceLock};
 
 pub use file::{load_scene_file, SceneCamera};
+pub use instance::{Instance, Mesh, Stored};
 pub use obj::{load_obj_file, load_obj_str, ObjError, ObjFrame};
 
 /// A point light.
@@ -22,18 +24,25 @@ pub struct PointLight {
     pub power: V3<f32>,
 }
 
-/// A scene: parallel arrays of primitives and their linear-RGB diffuse colours, and the
-/// acceleration structure over them (built on first use, shared by clones).
+/// A scene: parallel arrays of primitives and their linear-RGB diffuse colours, meshes placed
+/// as instances (stored once however often they are placed), and the acceleration structure
+/// over them (built on first use, shared by clones).
 ///
+/// A primitive's index counts the instances' triangles too: without instances primitive `i`
+/// is `shapes[i]`; with them, ask [`Scene::shape`] and [`Scene::color`].
 /// After changing `shapes`, call [`Scene::set_accel`] so the structure is rebuilt.
 #[derive(Clone, Debug)]
 pub struct Scene {
     /// A short name for messages ("cornell" or the file name).
     pub name: String,
-    /// The primitives; a hit's `prim` indexes this.
+    /// The primitives stored one by one (all of them where there are no instances).
     pub shapes: Vec<Shape<f32>>,
-    /// Diffuse colour (the lab's ρ, linear RGB) of each primitive.
+    /// Diffuse colour (the lab's ρ, linear RGB) of each of `shapes`.
     pub colors: Vec<V3<f32>>,
+    /// Meshes placed by a matrix, in primitive order (see [`Scene::with_instances`]).
+    instances: Vec<Instance>,
+    /// Per instance, how many instanced primitives come before it.
+    instanced_before: Vec<u32>,
     /// The one light.
     pub light: PointLight,
     /// The lab's constant indirect-light approximation N.
@@ -57,7 +66,7 @@ impl PartialEq for Scene {
             &self.light,
             &self.ambient,
             &self.warnings,
-            (&self.camera, &self.levels),
+            (&self.camera, &self.levels, &self.instances),
         ) == (
             &o.name,
             &o.shapes,
@@ -65,7 +74,7 @@ impl PartialEq for Scene {
             &o.light,
             &o.ambient,
             &o.warnings,
-            (&o.camera, &o.levels),
+            (&o.camera, &o.levels, &o.instances),
         )
     }
 }
@@ -92,6 +101,8 @@ impl Scene {
             warnings: Vec::new(),
             camera: None,
             levels: Vec::new(),
+            instances: Vec::new(),
+            instanced_before: Vec::new(),
             accel_choice: AccelChoice::Auto,
             accel: OnceLock::new(),
         }
@@ -99,8 +110,14 @@ impl Scene {
 
     /// The acceleration structure (built on the first call).
     pub fn accel(&self) -> &Accel {
-        self.accel
-            .get_or_init(|| Arc::new(Accel::build(&self.shapes, self.accel_choice)))
+        self.accel.get_or_init(|| match self.instances.is_empty() {
+            true => Arc::new(Accel::build(&self.shapes, self.accel_choice)),
+            false => Arc::new(Accel::build_with_instances(
+                self.explicit_with_prims(),
+                &self.instances,
+                self.accel_choice,
+            )),
+        })
     }
 
     /// Builds the structure now (on the loading thread, not the one that shows the scene) and
@@ -133,6 +150,16 @@ impl Scene {
                     Shape::Triangle(_) => format!("{}: triangle {i} (bounds corner)", self.name),
                     _ => format!("{}: primitive {i} (bounds corner)", self.name),
                 };
+                check_range(&what, corner, MAX_SCENE_COORDINATE)?;
+            }
+        }
+        for inst in &self.instances {
+            let (lo, hi) = instance::world_bounds(inst);
+            for corner in [lo, hi] {
+                let what = format!(
+                    "{}: {} placed at primitive {} (bounds corner)",
+                    self.name, inst.mesh.name, inst.first_prim
+                );
                 check_range(&what, corner, MAX_SCENE_COORDINATE)?;
             }
         }
@@ -171,19 +198,153 @@ impl Scene {
         cornell::scene()
     }
 
-    /// How many primitives.
+    /// How many primitives (instanced triangles included).
     pub fn len(&self) -> usize {
-        self.shapes.len()
+        self.shapes.len() + self.instances.iter().map(Instance::len).sum::<usize>()
     }
 
     /// Whether the scene has no primitives.
     pub fn is_empty(&self) -> bool {
-        self.shapes.is_empty()
+        self.len() == 0
     }
 
-    /// Bounds of all primitives, or `None` for an empty scene.
+    /// The scene with `instances` placed among its shapes: in primitive order, each holding
+    /// `first_prim..first_prim + len`, the shapes filling the gaps in order. The error says
+    /// what does not fit.
+    pub fn with_instances(mut self, instances: Vec<Instance>) -> Result<Self, String> {
+        let total = self.shapes.len() + instances.iter().map(Instance::len).sum::<usize>();
+        if total > u32::MAX as usize - 1 {
+            return Err(format!(
+                "{}: {total} primitives, more than {} can be numbered",
+                self.name,
+                u32::MAX - 1
+            ));
+        }
+        let mut next = 0usize;
+        let mut explicit = 0usize;
+        for inst in &instances {
+            let gap = (inst.first_prim as usize)
+                .checked_sub(next)
+                .ok_or_else(|| {
+                    format!(
+                        "{}: instances overlap at primitive {}",
+                        self.name, inst.first_prim
+                    )
+                })?;
+            explicit += gap;
+            next = inst.first_prim as usize + inst.len();
+        }
+        if explicit > self.shapes.len() {
+            return Err(format!(
+                "{}: instances leave gaps no shape fills",
+                self.name
+            ));
+        }
+        if let Some(bad) = instances
+            .iter()
+            .find(|i| !Instance::placeable(&i.world_from_object))
+        {
+            return Err(format!(
+                "{}: {} cannot be placed by {:?}",
+                self.name, bad.mesh.name, bad.world_from_object
+            ));
+        }
+        self.instanced_before = instance::instanced_before(&instances);
+        self.instances = instances;
+        self.accel = OnceLock::new();
+        Ok(self)
+    }
+
+    /// The placed meshes, in primitive order.
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// Where primitive `prim` is stored.
+    #[inline]
+    pub fn stored(&self, prim: u32) -> Stored {
+        match self.instances.is_empty() {
+            true => Stored::Explicit(prim as usize),
+            false => instance::locate(&self.instances, &self.instanced_before, prim),
+        }
+    }
+
+    /// Primitive `prim` in the world (an instanced triangle computed from its mesh).
+    #[inline]
+    pub fn shape(&self, prim: u32) -> Shape<f32> {
+        match self.stored(prim) {
+            Stored::Explicit(i) => self.shapes[i],
+            Stored::Instanced { instance, local } => {
+                Shape::Triangle(self.instances[instance].world_triangle(local))
+            }
+        }
+    }
+
+    /// The colour of primitive `prim`.
+    #[inline]
+    pub fn color(&self, prim: u32) -> V3<f32> {
+        match self.stored(prim) {
+            Stored::Explicit(i) => self.colors[i],
+            Stored::Instanced { instance, local } => self.instances[instance].color(local),
+        }
+    }
+
+    /// Every primitive in the world, in primitive order.
+    pub fn all_shapes(&self) -> impl Iterator<Item = Shape<f32>> + '_ {
+        (0..self.len() as u32).map(|p| self.shape(p))
+    }
+
+    /// Colours primitives `prims` with `color` (the viewer's highlight): shapes one by one,
+    /// instances that lie inside the range as a whole.
+    pub fn tint(&mut self, prims: std::ops::Range<u32>, color: V3<f32>) {
+        for p in prims.clone() {
+            if let Stored::Explicit(i) = self.stored(p) {
+                self.colors[i] = color;
+            }
+        }
+        for inst in &mut self.instances {
+            if prims.start <= inst.first_prim && inst.prims().end <= prims.end {
+                inst.tint = Some(color);
+            }
+        }
+    }
+
+    /// The same scene with every instance's triangles stored one by one (what a `.scene`
+    /// file without instancing gives): the reference instanced scenes are tested against.
+    pub fn flattened(&self) -> Scene {
+        let mut flat = self.clone();
+        flat.shapes = self.all_shapes().collect();
+        flat.colors = (0..self.len() as u32).map(|p| self.color(p)).collect();
+        flat.instances.clear();
+        flat.instanced_before.clear();
+        flat.accel = OnceLock::new();
+        flat
+    }
+
+    /// The explicit shapes with their primitive indices.
+    fn explicit_with_prims(&self) -> Vec<(Shape<f32>, u32)> {
+        let mut out = Vec::with_capacity(self.shapes.len());
+        let mut shapes = self.shapes.iter();
+        let mut prim = 0u32;
+        for inst in &self.instances {
+            while prim < inst.first_prim {
+                out.push((*shapes.next().expect("checked by with_instances"), prim));
+                prim += 1;
+            }
+            prim = inst.prims().end;
+        }
+        out.extend(shapes.map(|s| {
+            prim += 1;
+            (*s, prim - 1)
+        }));
+        out
+    }
+
+    /// Bounds of all primitives, or `None` for an empty scene (an instance's are its mesh's
+    /// box carried into the world, a little larger than its triangles').
     pub fn bounds(&self) -> Option<Bounds> {
-        let mut it = self.shapes.iter().map(Shape::bounds);
+        let instanced = self.instances.iter().map(instance::world_bounds);
+        let mut it = self.shapes.iter().map(Shape::bounds).chain(instanced);
         let first = it.next()?;
         Some(it.fold(first, |(lo, hi), (a, b)| {
             (

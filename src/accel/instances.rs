@@ -1,0 +1,404 @@
+//! The two-level structure over a scene's instances ([`crate::scene::Instance`]): one BVH per
+//! mesh in the mesh's own frame, built once however often the mesh is placed, and one BVH over
+//! the instances' world boxes.
+//!
+//! A ray reaching an instance's box is carried into the mesh's frame (o′ = C·o, d′ = C·d with
+//! C the f64 inverse of the instance's matrix, rounded to f32) and walks the mesh's hierarchy
+//! there; at the leaves the triangles are carried into the world exactly as the flattened
+//! scene computes them ([`crate::scene::Instance::world_vertex`]) and tested in the world with
+//! the query's own method and primitive index. So every answer is the flattened scene's: the
+//! object frame only decides which leaves are visited.
+//!
+//! That culling must never drop a leaf the exact world ray reaches. Each object box is widened
+//! by a pad per instance and ray, `pad = 2⁻²⁰·(B + |o′|∞ + ‖C‖∞·(W + |o|∞ + |b|∞))` (B the
+//! mesh's largest object coordinate, W the instance's largest world coordinate, b its
+//! translation), which covers with room to spare: the world vertices' rounding to f32 carried
+//! back by C (≤ 2⁻²⁴·‖C‖·W), the inverse's own error (condition ≤ 2²⁰, so ≤ 2⁻³² relative,
+//! [`crate::scene::instance::MAX_CONDITION`]), the rounding of o′ and d′ to f32 (≤ 2⁻²⁴·|o′|,
+//! and t·2⁻²¹·‖C‖·|d| ≤ 2⁻²¹·‖C‖·(W + |o|) at any point of the box) and of the padded box's
+//! own corners. The slab test itself is conservative as in [`super::bvh`].
+
+use super::bvh::{Aabb, Bvh, PacketSlabs};
+use super::packet::{OriginTriangle, PacketNearest, ShadowPacket};
+use super::without_copies;
+use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
+use crate::geometry::triangle::WatertightRay;
+use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::scene::instance::{linear_norm, world_bounds, Instance, Mesh};
+use glam::{DMat4, DVec3};
+use rayon::prelude::*;
+use std::sync::Arc;
+use wide::f32x8;
+
+/// 2⁻²⁰: the pad's relative size (see the module docs).
+const PAD: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// Where packets and walks of the hierarchies send the triangles they reach: a packet's
+/// nearest-hit or shadow state.
+pub(crate) trait PacketSink {
+    /// Lanes still to be decided.
+    fn live(&self) -> u32;
+    /// Per lane, the distance beyond which nothing can change its answer.
+    fn limit(&self) -> f32x8;
+    /// Tests one triangle (prepared for the packet's origin) on the live lanes.
+    fn take(&mut self, tri: &OriginTriangle);
+}
+
+impl PacketSink for PacketNearest {
+    #[inline(always)]
+    fn live(&self) -> u32 {
+        !self.ambiguous() & 0xff
+    }
+    #[inline(always)]
+    fn limit(&self) -> f32x8 {
+        // The nearest hit's bound plus the culling margin of `bvh` (∞ while none).
+        let reach = self.reach();
+        let inf = f32x8::splat(f32::INFINITY);
+        let m = reach + reach.abs() * f32x8::splat(1.0 / 65536.0);
+        reach.simd_lt(inf).bitselect(m, inf)
+    }
+    #[inline(always)]
+    fn take(&mut self, tri: &OriginTriangle) {
+        self.offer(tri, tri.prim);
+    }
+}
+
+impl PacketSink for ShadowPacket {
+    #[inline(always)]
+    fn live(&self) -> u32 {
+        ShadowPacket::live(self)
+    }
+    #[inline(always)]
+    fn limit(&self) -> f32x8 {
+        f32x8::splat(1.0 + 1.0 / 65536.0)
+    }
+    #[inline(always)]
+    fn take(&mut self, tri: &OriginTriangle) {
+        self.offer(tri);
+    }
+}
+
+/// One instance as the structure walks it.
+#[derive(Clone, Debug)]
+struct Placed {
+    /// Which mesh hierarchy.
+    mesh: u32,
+    world_from_object: DMat4,
+    object_from_world: DMat4,
+    /// `object_from_world`'s first three rows in f32 (for packets' directions).
+    to_object32: [[f32; 4]; 3],
+    /// ‖C‖∞ of the linear part of `object_from_world`.
+    c_norm: f64,
+    /// B: the mesh's largest object coordinate.
+    object_max: f64,
+    /// W + |b|∞: the instance's largest world coordinate and its translation.
+    world_max: f64,
+    first_prim: u32,
+}
+
+impl Placed {
+    /// Object triangle `v` in the world, as the flattened scene has it.
+    #[inline(always)]
+    fn world(&self, v: &[[f32; 3]; 3]) -> [[f32; 3]; 3] {
+        v.map(|p| Instance::world_vertex(&self.world_from_object, p))
+    }
+
+    /// The origin `o` in the object frame, and the pad for rays from it; `None` where they
+    /// are not finite (the ray then tests every triangle of the instance).
+    #[inline]
+    fn carry_origin(&self, o: [f32; 3]) -> Option<([f32; 3], f32)> {
+        let w = DVec3::new(o[0] as f64, o[1] as f64, o[2] as f64);
+        let obj = self
+            .object_from_world
+            .transform_point3(w)
+            .to_array()
+            .map(|c| c as f32);
+        let o_max = o.iter().fold(0f64, |m, c| m.max((*c as f64).abs()));
+        let obj_max = obj.iter().fold(0f64, |m, c| m.max((*c as f64).abs()));
+        let pad =
+            PAD * (self.object_max + obj_max + self.c_norm * (self.world_max + o_max)) + 1e-37;
+        let pad = (pad * (1.0 + PAD)) as f32;
+        (obj.iter().all(|c| c.is_finite()) && pad.is_finite()).then_some((obj, pad))
+    }
+
+    /// A ray in the object frame (same t), and its pad.
+    #[inline]
+    fn carry_ray(&self, ray: &Ray) -> Option<(Ray, f32)> {
+        let (o, pad) = self.carry_origin(ray.o)?;
+        let d = DVec3::new(ray.d[0] as f64, ray.d[1] as f64, ray.d[2] as f64);
+        let d = self
+            .object_from_world
+            .transform_vector3(d)
+            .to_array()
+            .map(|c| c as f32);
+        Some((Ray::new(o, d), pad))
+    }
+
+    /// 8 directions in the object frame (f32 arithmetic: within the pad's allowance).
+    #[inline(always)]
+    fn carry_directions(&self, d: &[f32x8; 3]) -> [f32x8; 3] {
+        let m = &self.to_object32;
+        [0, 1, 2].map(|r| {
+            d[0] * f32x8::splat(m[r][0])
+                + d[1] * f32x8::splat(m[r][1])
+                + d[2] * f32x8::splat(m[r][2])
+        })
+    }
+}
+
+/// The two-level structure (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Instances {
+    /// One per distinct mesh, object frame; its items are the mesh's triangle indices.
+    meshes: Vec<Bvh>,
+    placed: Vec<Placed>,
+    /// Over the instances' world boxes; its items are indices into `placed`.
+    top: Bvh,
+    /// The box around every instance (for the adaptive filter's magnitude bound).
+    world: Aabb,
+    /// Triangles of the meshes left out as copies, times their uses.
+    copies: usize,
+    /// Triangles answered for (copies left out).
+    triangles: usize,
+}
+
+impl Instances {
+    /// Builds over `instances` (their matrices must be [`Instance::placeable`]).
+    pub fn build(instances: &[Instance]) -> Self {
+        let mut distinct: Vec<&Arc<Mesh>> = Vec::new();
+        let mesh_of: Vec<u32> = instances
+            .iter()
+            .map(
+                |inst| match distinct.iter().position(|m| Arc::ptr_eq(m, &inst.mesh)) {
+                    Some(k) => k as u32,
+                    None => {
+                        distinct.push(&inst.mesh);
+                        distinct.len() as u32 - 1
+                    }
+                },
+            )
+            .collect();
+        let built: Vec<(Bvh, usize)> = distinct
+            .par_iter()
+            .map(|mesh| {
+                let tris = (mesh.triangles.iter().enumerate())
+                    .map(|(i, t)| (*t, i as u32))
+                    .collect();
+                let (tris, copies) = without_copies(tris);
+                (Bvh::build(&tris), copies)
+            })
+            .collect();
+        let placed: Vec<Placed> = instances
+            .iter()
+            .zip(&mesh_of)
+            .map(|(inst, &mesh)| {
+                let m = inst.world_from_object;
+                let inv = m.inverse();
+                let (lo, hi) = inst.mesh.bounds();
+                let (wlo, whi) = world_bounds(inst);
+                let max_abs = |a: [f32; 3], b: [f32; 3]| {
+                    (0..3).fold(0f64, |acc, k| {
+                        acc.max((a[k] as f64).abs()).max((b[k] as f64).abs())
+                    })
+                };
+                let rows = [0, 1, 2].map(|r| inv.row(r).to_array().map(|c| c as f32));
+                let b = m.w_axis.truncate().abs().max_element();
+                Placed {
+                    mesh,
+                    world_from_object: m,
+                    object_from_world: inv,
+                    to_object32: rows,
+                    c_norm: linear_norm(&inv),
+                    object_max: max_abs(lo, hi),
+                    world_max: max_abs(wlo, whi) + b,
+                    first_prim: inst.first_prim,
+                }
+            })
+            .collect();
+        let boxes: Vec<([f32; 3], [f32; 3])> = instances.iter().map(world_bounds).collect();
+        let top = Bvh::build_over_boxes(&boxes);
+        let world = top.root_bounds().unwrap_or(Aabb {
+            lo: [0.0; 3],
+            hi: [0.0; 3],
+        });
+        let copies = mesh_of.iter().map(|&k| built[k as usize].1).sum();
+        let triangles = mesh_of.iter().map(|&k| built[k as usize].0.len()).sum();
+        Self {
+            meshes: built.into_iter().map(|(b, _)| b).collect(),
+            placed,
+            top,
+            world,
+            copies,
+            triangles,
+        }
+    }
+
+    /// Triangles left out as copies of an earlier one in their mesh, over all placements.
+    pub fn copies_left_out(&self) -> usize {
+        self.copies
+    }
+
+    /// How many triangles it answers for.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles
+    }
+
+    /// Bytes held: the meshes' hierarchies once, the instances and the top hierarchy.
+    pub fn memory_bytes(&self) -> usize {
+        self.meshes.iter().map(Bvh::memory_bytes).sum::<usize>()
+            + self.placed.len() * std::mem::size_of::<Placed>()
+            + self.top.memory_bytes()
+    }
+
+    /// Visits the instances whose world box the ray may reach before t_far, and in each the
+    /// mesh leaves the carried ray may reach: `leaf(placed, world triangles' object source
+    /// and mesh-local index, t_far)` per leaf; it returns the new t_far and whether to stop.
+    fn walk(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut leaf: impl FnMut(&Placed, &Bvh, std::ops::Range<usize>, f32) -> (f32, bool),
+    ) {
+        let (_, items) = self.top.triangles();
+        let mut stop = false;
+        self.top
+            .traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
+                let mut t_far = t_far;
+                for &k in &items[first..first + count] {
+                    let placed = &self.placed[k as usize];
+                    let mesh = &self.meshes[placed.mesh as usize];
+                    match placed.carry_ray(ray) {
+                        Some((obj, pad)) => mesh.traverse(&obj, tmin, t_far, pad, |f, c, tf, _| {
+                            (t_far, stop) = leaf(placed, mesh, f..f + c, tf);
+                            (t_far, stop)
+                        }),
+                        None => (t_far, stop) = leaf(placed, mesh, 0..mesh.len(), t_far),
+                    }
+                    if stop {
+                        break;
+                    }
+                }
+                (t_far, stop)
+            });
+    }
+
+    /// The adaptive closest-hit search over the instances' triangles (see
+    /// `geometry::adaptive`), offering to `search`.
+    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = box_extent(ray.o, self.world.lo, self.world.hi);
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, _| {
+            let (tris, locals) = mesh.triangles();
+            for i in leaf {
+                let world = placed.world(&tris[i]);
+                let est = classify_f32(r, &world, e);
+                if est != Estimate::Miss {
+                    search.offer_triangle(placed.first_prim + locals[i], &world, est);
+                }
+            }
+            (search.t_far32(), false)
+        });
+    }
+
+    /// The adaptive any-hit query (not primitive `skip`).
+    pub fn any_hit_adaptive(
+        &self,
+        ray: &Ray,
+        r: &WatertightRay<f32>,
+        search: &Search,
+        skip: u32,
+    ) -> bool {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = box_extent(ray.o, self.world.lo, self.world.hi);
+        let mut hit = false;
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+            let (tris, locals) = mesh.triangles();
+            hit = leaf.into_iter().any(|i| {
+                let world = placed.world(&tris[i]);
+                placed.first_prim + locals[i] != skip
+                    && search.confirms_triangle(&world, classify_f32(r, &world, e))
+            });
+            (t_far, hit)
+        });
+        hit
+    }
+
+    /// The nearest hit with one of the other methods, merged into `best` (ties to the lower
+    /// primitive index).
+    pub fn closest_hit(
+        &self,
+        ray: &Ray,
+        method: Method,
+        tmin: f32,
+        tmax: f32,
+        best: &mut Option<Hit>,
+    ) {
+        let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
+        self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
+            let (tris, locals) = mesh.triangles();
+            for i in leaf {
+                let shape = Shape::Triangle(placed.world(&tris[i]));
+                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
+                    let prim = placed.first_prim + locals[i];
+                    if best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim)) {
+                        *best = Some(Hit { t, prim, b1, b2 });
+                    }
+                }
+            }
+            (far(best), false)
+        });
+    }
+
+    /// Whether one of the other methods finds a hit (not primitive `skip`).
+    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        let mut hit = false;
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+            let (tris, locals) = mesh.triangles();
+            hit = leaf.into_iter().any(|i| {
+                placed.first_prim + locals[i] != skip
+                    && Shape::Triangle(placed.world(&tris[i]))
+                        .intersect(ray, method, tmin, tmax)
+                        .is_some()
+            });
+            (t_far, hit)
+        });
+        hit
+    }
+
+    /// Offers to `sink` every instanced triangle the 8 rays from `o` (directions `d`) may
+    /// reach before their limits, prepared for `o` in the world.
+    #[inline(always)]
+    pub(crate) fn packet<S: PacketSink>(&self, o: [f32; 3], d: &[f32x8; 3], sink: &mut S) {
+        let slabs = PacketSlabs::new(o, d);
+        let (_, items) = self.top.triangles();
+        self.top
+            .walk_packet(&slabs, 0.0, sink, |sink, first, count| {
+                for &k in &items[first..first + count] {
+                    let placed = &self.placed[k as usize];
+                    let mesh = &self.meshes[placed.mesh as usize];
+                    let (tris, locals) = mesh.triangles();
+                    let offer = |sink: &mut S, range: std::ops::Range<usize>| {
+                        for i in range {
+                            let world = placed.world(&tris[i]);
+                            sink.take(&OriginTriangle::new(
+                                &world,
+                                o,
+                                placed.first_prim + locals[i],
+                            ));
+                        }
+                    };
+                    match placed.carry_origin(o) {
+                        Some((obj, pad)) => {
+                            let inner = PacketSlabs::new(obj, &placed.carry_directions(d));
+                            mesh.walk_packet(&inner, pad, sink, |sink, f, c| offer(sink, f..f + c));
+                        }
+                        None => offer(sink, 0..mesh.len()),
+                    }
+                    if sink.live() == 0 {
+                        return;
+                    }
+                }
+            });
+    }
+}

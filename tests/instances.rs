@@ -1,0 +1,405 @@
+//! Instances are only a way of storing: a scene with meshes placed as instances must answer
+//! every query, and render every image, exactly as the same scene flattened into world
+//! triangles ([`Scene::flattened`]), on random placements and on the hard-case suite.
+//!
+//! "Exactly": the same primitive (or miss) for every method, the same t and barycentrics for
+//! the inexact methods; the adaptive method's t is the f32 t where that is certain, and which
+//! f32 computation is certain depends on the box bounds the path uses (as between the flat
+//! loop and the BVH, tests/accel.rs), so there it is held to the same hit point within f32
+//! rounding of its inputs.
+
+mod common;
+
+use common::suite;
+use common::{icosphere, Rng};
+use glam::{DMat4, DVec3};
+use raylab::accel::{self, AccelChoice};
+use raylab::geometry::{Hit, Method, Ray, Shape};
+use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::scene::{cornell, Instance, Mesh, Scene};
+use raylab::Camera;
+use std::sync::Arc;
+
+fn triangles(shapes: &[Shape<f32>]) -> Vec<[[f32; 3]; 3]> {
+    shapes
+        .iter()
+        .map(|s| match s {
+            Shape::Triangle(v) => *v,
+            _ => panic!("a mesh holds triangles"),
+        })
+        .collect()
+}
+
+fn mesh(name: &str, shapes: &[Shape<f32>], rng: &mut Rng) -> Arc<Mesh> {
+    let tris = triangles(shapes);
+    let colors = (0..tris.len())
+        .map(|_| [0, 1, 2].map(|_| rng.range(0.1, 0.9) as f32))
+        .collect();
+    Arc::new(Mesh::new(name.into(), tris, colors))
+}
+
+/// A random placement: T·R·S with any angles (a quarter turn now and then), scales uniform or
+/// not, sometimes mirrored.
+fn placement(rng: &mut Rng) -> DMat4 {
+    let t = DVec3::new(
+        rng.range(-3.0, 3.0),
+        rng.range(-3.0, 3.0),
+        rng.range(-3.0, 3.0),
+    );
+    let angle = |rng: &mut Rng| match rng.below(3) {
+        0 => 90.0 * rng.below(4) as f64,
+        _ => rng.range(-180.0, 180.0),
+    };
+    let r = raylab::math::transform::rotation_xyz(DVec3::new(
+        angle(rng).to_radians(),
+        angle(rng).to_radians(),
+        angle(rng).to_radians(),
+    ));
+    let s = match rng.below(3) {
+        0 => DVec3::splat(rng.range(0.3, 2.0)),
+        1 => DVec3::new(
+            rng.range(0.3, 2.0),
+            rng.range(0.3, 2.0),
+            rng.range(0.3, 2.0),
+        ),
+        _ => DVec3::new(
+            -rng.range(0.3, 2.0),
+            rng.range(0.3, 2.0),
+            rng.range(0.3, 2.0),
+        ),
+    };
+    DMat4::from_translation(t) * r * DMat4::from_scale(s)
+}
+
+/// A scene of explicit triangles and spheres with `count` placements of `mesh` between them.
+fn scene_with(mesh: &Arc<Mesh>, placements: &[DMat4], rng: &mut Rng) -> Scene {
+    let mut shapes = Vec::new();
+    let mut instances = Vec::new();
+    let mut prim = 0u32;
+    for (k, m) in placements.iter().enumerate() {
+        // Some explicit shapes before each instance (a sphere now and then).
+        for _ in 0..rng.below(3) {
+            let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32);
+            shapes.push(match rng.below(4) {
+                0 => Shape::Sphere {
+                    centre: c,
+                    radius: rng.range(0.1, 0.6) as f32,
+                },
+                _ => Shape::Triangle(
+                    [0, 1, 2].map(|_| [0, 1, 2].map(|j| c[j] + rng.range(-0.8, 0.8) as f32)),
+                ),
+            });
+            prim += 1;
+        }
+        instances.push(Instance {
+            mesh: mesh.clone(),
+            world_from_object: *m,
+            first_prim: prim,
+            tint: (k == 1).then_some([1.0, 0.0, 0.0]),
+        });
+        prim += mesh.triangles.len() as u32;
+    }
+    // One instance's triangle copied exactly as an explicit one: a tie at equal t.
+    if let Some(first) = instances.first() {
+        shapes.push(Shape::Triangle(first.world_triangle(3)));
+    }
+    let colors = shapes.iter().map(|_| [0.5, 0.6, 0.7]).collect();
+    Scene::new(
+        "instanced",
+        shapes,
+        colors,
+        cornell::LIGHT,
+        cornell::AMBIENT,
+    )
+    .with_instances(instances)
+    .expect("fits")
+}
+
+/// Rays from around the scene aimed at the world vertices and edge midpoints of its
+/// triangles (where neighbouring triangles meet), and at random points.
+fn rays_at(flat: &Scene, rng: &mut Rng, n: usize) -> Vec<Ray> {
+    (0..n)
+        .map(|_| {
+            let o = [0, 1, 2].map(|_| rng.range(-7.0, 7.0) as f32);
+            let target = match flat.shapes[rng.below(flat.shapes.len())] {
+                Shape::Triangle(v) if rng.below(3) == 0 => v[rng.below(3)],
+                Shape::Triangle(v) if rng.below(2) == 0 => {
+                    [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5)
+                }
+                _ => [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32),
+            };
+            Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]))
+        })
+        .collect()
+}
+
+/// The same hit (see the module docs for the adaptive method's t).
+fn same_hit(method: Method, ray: &Ray, got: Option<Hit>, want: Option<Hit>, what: &str) {
+    if method != Method::Adaptive {
+        assert_eq!(got, want, "{what}");
+        return;
+    }
+    assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim), "{what}");
+    if let (Some(g), Some(w)) = (got, want) {
+        let len = ray.d.iter().map(|c| c * c).sum::<f32>().sqrt();
+        let scale = 1.0 + ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        let off = (g.t - w.t).abs() * len;
+        assert!(
+            off <= 1e-5 * (scale + w.t.abs() * len),
+            "{what}: {g:?} {w:?}"
+        );
+    }
+}
+
+#[test]
+fn instanced_queries_equal_the_flattened_scene() {
+    let mut rng = Rng(0x1257);
+    let mut compared = 0usize;
+    let mut hits = 0usize;
+    for round in 0..12 {
+        let mesh_shapes = icosphere(1 + round % 2, 0.7, [0.1, -0.2, 0.3]);
+        let mesh = mesh("ball", &mesh_shapes, &mut rng);
+        let placements: Vec<DMat4> = (0..2 + rng.below(4)).map(|_| placement(&mut rng)).collect();
+        let scene = scene_with(&mesh, &placements, &mut rng);
+        let flat = scene.flattened();
+        assert_eq!(scene.len(), flat.len());
+        for p in 0..scene.len() as u32 {
+            assert_eq!(scene.shape(p), flat.shapes[p as usize], "primitive {p}");
+            assert_eq!(scene.color(p), flat.colors[p as usize], "colour of {p}");
+        }
+        for choice in [AccelChoice::Auto, AccelChoice::Flat] {
+            let mut scene = scene.clone();
+            scene.set_accel(choice);
+            let inst = scene.accel();
+            assert!(inst.instances().is_some());
+            let reference = flat.accel();
+            for ray in rays_at(&flat, &mut rng, 150) {
+                for method in Method::ALL {
+                    let want = accel::closest_hit(&flat.shapes, &ray, method, 0.0, f32::INFINITY);
+                    let got = inst.closest_hit(&ray, method, 0.0, f32::INFINITY);
+                    let flat_got = reference.closest_hit(&ray, method, 0.0, f32::INFINITY);
+                    let what = format!("round {round} {choice:?}: {method} {ray:?}");
+                    same_hit(method, &ray, flat_got, want, &what);
+                    same_hit(method, &ray, got, want, &what);
+                    compared += 1;
+                    hits += got.is_some() as usize;
+                }
+                // Shadow queries: segments towards the nearest hit's point, skipping it. (The
+                // flattened structure keeps one of exact copies, so skipping it skips them
+                // all; copies in different instances, or of an instance's triangle stored on
+                // its own, are kept: such a skip is not compared. Shadow segments from a
+                // surface never meet its plane, so renders agree: see the image test.)
+                let skip = inst
+                    .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
+                    .map_or(u32::MAX, |h| h.prim);
+                let copied = skip != u32::MAX && {
+                    let own = flat.shapes[skip as usize];
+                    flat.shapes.iter().filter(|s| **s == own).count() > 1
+                };
+                if copied {
+                    continue;
+                }
+                for tmax in [0.5, 1.0, 2.0] {
+                    let want = reference.any_hit_except(&ray, Method::Adaptive, 0.0, tmax, skip);
+                    let got = inst.any_hit_except(&ray, Method::Adaptive, 0.0, tmax, skip);
+                    assert_eq!(got, want, "round {round}: any hit to {tmax} {ray:?}");
+                }
+            }
+        }
+    }
+    assert!(hits > compared / 3, "{hits} of {compared} rays hit");
+}
+
+#[test]
+fn instanced_images_equal_the_flattened_scene() {
+    let mut rng = Rng(77);
+    let mesh = mesh("ball", &icosphere(2, 0.35, [0.0, 0.0, 0.0]), &mut rng);
+    // Balls on the Cornell box's floor, one squashed, one turned.
+    let mut shapes = cornell::scene().shapes;
+    let mut colors = cornell::scene().colors;
+    let at = |x: f64, z: f64| DMat4::from_translation(DVec3::new(x, 0.65, z));
+    let placements = [
+        at(-0.55, -0.55),
+        at(0.05, -0.75) * DMat4::from_scale(DVec3::new(1.0, 0.5, 1.3)),
+        at(0.62, -0.6) * DMat4::from_rotation_y(0.7),
+    ];
+    let mut instances = Vec::new();
+    for m in placements {
+        instances.push(Instance {
+            mesh: mesh.clone(),
+            world_from_object: m,
+            first_prim: (shapes.len() + instances.len() * mesh.triangles.len()) as u32,
+            tint: None,
+        });
+    }
+    shapes.push(Shape::Sphere {
+        centre: [0.5, 0.7, 0.5],
+        radius: 0.2,
+    });
+    colors.push([0.9, 0.9, 0.2]);
+    // The sphere comes after the instances in primitive order.
+    let n_inst = (instances.len() * mesh.triangles.len()) as u32;
+    let scene = Scene::new("balls", shapes, colors, cornell::LIGHT, cornell::AMBIENT)
+        .with_instances(instances)
+        .unwrap();
+    assert_eq!(scene.len() as u32, 30 + n_inst + 1);
+    let flat = scene.flattened();
+    let cam = Camera::cornell(100);
+    for step in LabStep::ALL {
+        for cracks in [false, true] {
+            let settings = RenderSettings {
+                width: 100,
+                height: 75,
+                step,
+                cracks,
+                ..Default::default()
+            };
+            let (a, sa) = render_image(&scene, &cam, &settings).unwrap();
+            let (b, sb) = render_image(&flat, &cam, &settings).unwrap();
+            assert!(a == b, "{step} cracks={cracks}: images differ");
+            assert_eq!(
+                (sa.hits, sa.shadow_rays),
+                (sb.hits, sb.shadow_rays),
+                "{step}"
+            );
+        }
+    }
+    // The balls show: the flat image differs from the box alone.
+    let settings = RenderSettings {
+        width: 100,
+        height: 75,
+        ..Default::default()
+    };
+    let boxed = render_image(&Scene::cornell(), &cam, &settings).unwrap().0;
+    let balls = render_image(&scene, &cam, &settings).unwrap().0;
+    let differ = boxed
+        .chunks(4)
+        .zip(balls.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ > 500, "{differ} pixels show the balls");
+}
+
+#[test]
+fn hard_cases_through_instances_answer_as_flattened() {
+    // Every family's triangles as one mesh, placed twice: as it is (the family's own rays)
+    // and turned a quarter about z and scaled by 2 (exact: the turned family's rays must
+    // name the same primitives, offset by the first placement's size).
+    let mut rng = Rng(5);
+    let quarter = DMat4::from_cols_array_2d(&[
+        [0.0, 2.0, 0.0, 0.0],
+        [-2.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 2.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let turn = |p: [f32; 3]| [-2.0 * p[1], 2.0 * p[0], 2.0 * p[2]];
+    let mut rays = 0;
+    for family in suite::all() {
+        let tris: Vec<Shape<f32>> = (family.shapes.iter())
+            .filter(|s| matches!(s, Shape::Triangle(_)))
+            .copied()
+            .collect();
+        if tris.len() != family.shapes.len() || tris.is_empty() {
+            continue; // (the spheres family: spheres are not meshes)
+        }
+        let mesh = mesh(&family.name, &tris, &mut rng);
+        let n = tris.len() as u32;
+        let place = |m: DMat4, first: u32| Instance {
+            mesh: mesh.clone(),
+            world_from_object: m,
+            first_prim: first,
+            tint: None,
+        };
+        let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
+            .with_instances(vec![place(DMat4::IDENTITY, 0), place(quarter, n)])
+            .unwrap();
+        let own = Scene::new(
+            "own",
+            family.shapes.clone(),
+            vec![[0.5; 3]; n as usize],
+            cornell::LIGHT,
+            cornell::AMBIENT,
+        );
+        let flat = scene.flattened();
+        for ray in &family.rays {
+            let want = own
+                .accel()
+                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let got = scene
+                .accel()
+                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let flat_got = flat
+                .accel()
+                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            same_hit(Method::Adaptive, ray, got, flat_got, &family.name);
+            // The second placement lies elsewhere only where the family is not centred on
+            // the z axis; where the first placement is hit, it is the family's own answer.
+            if let (Some(g), Some(w)) = (got, want) {
+                if g.prim < n {
+                    assert_eq!(g.prim, w.prim, "{}: {ray:?}", family.name);
+                }
+            }
+            let turned = Ray::new(turn(ray.o), turn(ray.d));
+            let got = scene
+                .accel()
+                .closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
+            let flat_got = flat
+                .accel()
+                .closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
+            same_hit(Method::Adaptive, &turned, got, flat_got, &family.name);
+            rays += 1;
+        }
+    }
+    assert!(rays > 2000, "{rays} rays");
+}
+
+#[test]
+fn a_thousand_placements_store_the_mesh_once() {
+    let mut rng = Rng(9);
+    let mesh = mesh("ball", &icosphere(4, 0.5, [0.0; 3]), &mut rng); // 5,120 triangles
+    let n = mesh.triangles.len();
+    let instances: Vec<Instance> = (0..1000)
+        .map(|k| Instance {
+            mesh: mesh.clone(),
+            world_from_object: DMat4::from_translation(DVec3::new(
+                (k % 40) as f64 * 1.5,
+                0.0,
+                (k / 40) as f64 * 1.5,
+            )),
+            first_prim: (k * n) as u32,
+            tint: None,
+        })
+        .collect();
+    let scene = Scene::new("field", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
+        .with_instances(instances)
+        .unwrap();
+    assert_eq!(scene.len(), 1000 * n);
+    let accel = scene.accel();
+    assert_eq!(accel.triangle_count(), 1000 * n);
+    // One mesh hierarchy (~60 bytes a triangle) and ~250 bytes per placement; flattened,
+    // 5.1M triangles would take ~300 MB.
+    let bytes = accel.memory_bytes();
+    assert!(bytes < 2_000_000, "{bytes} bytes");
+    // A ray down the row of balls hits the first (primitive of placement 0), and one from
+    // above the last placement hits it.
+    let hit = accel
+        .closest_hit(
+            &Ray::new([-5.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+            Method::Adaptive,
+            0.0,
+            f32::INFINITY,
+        )
+        .unwrap();
+    assert!((hit.prim as usize) < n, "{}", hit.prim);
+    assert!((hit.t - 4.5).abs() < 0.01, "{}", hit.t);
+    let last = [39.0 * 1.5, -5.0, 24.0 * 1.5];
+    let hit = accel
+        .closest_hit(
+            &Ray::new(last, [0.0, 1.0, 0.0]),
+            Method::Adaptive,
+            0.0,
+            f32::INFINITY,
+        )
+        .unwrap();
+    assert_eq!(hit.prim as usize / n, 999);
+}
