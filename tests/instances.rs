@@ -32,8 +32,9 @@ fn triangles(shapes: &[Shape<f32>]) -> Vec<[[f32; 3]; 3]> {
 
 fn mesh(name: &str, shapes: &[Shape<f32>], rng: &mut Rng) -> Arc<Mesh> {
     let tris = triangles(shapes);
+    // Every fifth face without a colour of its own (the placing colour applies).
     let colors = (0..tris.len())
-        .map(|_| [0, 1, 2].map(|_| rng.range(0.1, 0.9) as f32))
+        .map(|i| (i % 5 != 0).then(|| [0, 1, 2].map(|_| rng.range(0.1, 0.9) as f32)))
         .collect();
     Arc::new(Mesh::new(name.into(), tris, colors))
 }
@@ -95,6 +96,7 @@ fn scene_with(mesh: &Arc<Mesh>, placements: &[DMat4], rng: &mut Rng) -> Scene {
             mesh: mesh.clone(),
             world_from_object: *m,
             first_prim: prim,
+            color: [0.2, 0.3, 0.1 * k as f32],
             tint: (k == 1).then_some([1.0, 0.0, 0.0]),
         });
         prim += mesh.triangles.len() as u32;
@@ -229,6 +231,7 @@ fn instanced_images_equal_the_flattened_scene() {
             mesh: mesh.clone(),
             world_from_object: m,
             first_prim: (shapes.len() + instances.len() * mesh.triangles.len()) as u32,
+            color: [0.2, 0.5, 0.9],
             tint: None,
         });
     }
@@ -308,6 +311,7 @@ fn hard_cases_through_instances_answer_as_flattened() {
             mesh: mesh.clone(),
             world_from_object: m,
             first_prim: first,
+            color: [0.5; 3],
             tint: None,
         };
         let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
@@ -367,6 +371,7 @@ fn a_thousand_placements_store_the_mesh_once() {
                 (k / 40) as f64 * 1.5,
             )),
             first_prim: (k * n) as u32,
+            color: [0.5; 3],
             tint: None,
         })
         .collect();
@@ -402,4 +407,98 @@ fn a_thousand_placements_store_the_mesh_once() {
         )
         .unwrap();
     assert_eq!(hit.prim as usize / n, 999);
+}
+
+/// An OBJ file of `shapes` (triangles), one `v` per corner.
+fn obj_text(shapes: &[Shape<f32>]) -> String {
+    let mut text = String::from("# test mesh\n");
+    for v in triangles(shapes) {
+        for p in v {
+            text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+        }
+    }
+    for i in 0..shapes.len() {
+        text += &format!("f {} {} {}\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
+    }
+    text
+}
+
+#[test]
+fn a_scene_file_places_repeated_meshes_as_instances() {
+    let dir = tempfile::tempdir().unwrap();
+    let ball = icosphere(2, 0.5, [0.1, 0.2, 0.3]); // 320 triangles
+    let mut ball_obj = obj_text(&ball);
+    // A zero-area face: dropped with a warning, which the scene shows under the mesh's line.
+    ball_obj += "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 961 962 963\n";
+    std::fs::write(dir.path().join("ball.obj"), ball_obj).unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        obj_text(&icosphere(0, 1.0, [0.0; 3])),
+    )
+    .unwrap();
+    let text = "\
+tri 0 0 0 1 0 0 0 1 0
+push
+  translate 1 0 0
+  rotate y 33
+  scale 0.5
+  color 0.9 0.1 0.1
+  mesh ball.obj
+pop
+sphere 0 0 3 0.5
+push
+  translate -1 0.5 0
+  rotate x 90
+  mesh ball.obj
+  push
+    scale 1e7 1e-7 1
+    mesh ball.obj
+  pop
+pop
+mesh tri.obj
+push
+  rotate z 180
+  mesh ball.obj lab
+  mesh ball.obj lab
+pop
+";
+    let path = dir.path().join("t.scene");
+    std::fs::write(&path, text).unwrap();
+    let scene = raylab::scene::load_scene_file(&path).unwrap();
+    // ball.obj (yup) 3 uses: 2 placed, the ill-conditioned one flattened; ball.obj lab 2
+    // uses, both placed; tri.obj (20 faces, used once) flattened.
+    assert_eq!(scene.instances().len(), 4);
+    let load = |p: &std::path::Path, frame, color| {
+        raylab::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
+    };
+    let name = path.display().to_string();
+    let flat = raylab::scene::file::parse::<f32>(&name, text, dir.path(), &load).unwrap();
+    assert_eq!(scene.len(), flat.shapes.len());
+    assert_eq!(scene.len(), 1 + 320 * 5 + 1 + 20);
+    for (p, (shape, color)) in flat.shapes.iter().zip(&flat.colors).enumerate() {
+        assert_eq!(scene.shape(p as u32), *shape, "primitive {p}");
+        assert_eq!(scene.color(p as u32), *color, "colour of {p}");
+    }
+    assert_eq!(scene.levels, flat.levels);
+    let degenerate = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("mesh 'ball.obj'") && w.contains("zero-area"))
+        .count();
+    assert_eq!(degenerate, 2, "{:?}", scene.warnings); // once per frame it is loaded in
+    assert!(scene.warnings[0].contains(":7:"), "{:?}", scene.warnings);
+    // And the flattened description renders as the scene does.
+    let flat_scene = Scene::from_description(&name, flat).unwrap();
+    let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 50.0).unwrap();
+    for step in [LabStep::Flat, LabStep::Shadows] {
+        let settings = RenderSettings {
+            width: 96,
+            height: 64,
+            step,
+            ..Default::default()
+        };
+        let a = render_image(&scene, &cam, &settings).unwrap().0;
+        let b = render_image(&flat_scene, &cam, &settings).unwrap().0;
+        assert!(a == b, "{step}: images differ");
+    }
 }

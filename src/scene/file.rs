@@ -77,6 +77,10 @@ impl Instancing {
 /// The colour of primitives before any `color` statement.
 pub const DEFAULT_COLOR: [f32; 3] = obj::DEFAULT_COLOR;
 
+/// The colour a mesh to be instanced is loaded with for faces without a material: no colour
+/// statement can give it (channels are ≥ 0), so [`Mesh::from_scene`] knows them.
+pub const UNSET_COLOR: [f32; 3] = [-1.0; 3];
+
 /// The lab light's power per channel, the default of `light`.
 pub const DEFAULT_POWER: f32 = 14.0;
 
@@ -176,8 +180,8 @@ struct Parser<'a, T: Real> {
     out: Description<T>,
     light_line: Option<usize>,
     meshes: HashMap<(PathBuf, ObjFrame, [u32; 3]), Scene>,
-    /// The meshes stored once for instancing, by the same key.
-    shared: HashMap<(PathBuf, ObjFrame, [u32; 3]), Arc<Mesh>>,
+    /// The meshes used often enough to be instanced, loaded once whatever the colour.
+    shared: HashMap<(PathBuf, ObjFrame), Arc<Mesh>>,
     /// How often each (path as written, frame as written) is used.
     uses: HashMap<(String, String), usize>,
     instancing: Instancing,
@@ -374,44 +378,46 @@ impl<T: Real> Parser<'_, T> {
         }
     }
 
-    /// Places `mesh` as an instance in the current frame, if the instancing rule picks this
-    /// use (`uses` of it in the file) and the matrix can carry rays; else `false`.
-    fn place(
-        &mut self,
-        key: &(PathBuf, ObjFrame, [u32; 3]),
-        mesh: &Scene,
-        uses: usize,
-    ) -> Result<bool, String> {
+    /// A mesh's loading warnings, once, under the `mesh` statement's line.
+    fn mesh_warnings(&mut self, line: usize, path: &str, warnings: &[String]) {
+        for w in warnings {
+            self.warn(line, &format!("mesh '{path}': {w}"));
+        }
+    }
+
+    /// Places `mesh` as an instance in the current frame (faces without a material get
+    /// `color`) where the instancing rule and the matrix allow; else adds its triangles.
+    fn place_or_add(&mut self, mesh: Arc<Mesh>, color: [f32; 3]) -> Result<(), String> {
         let m = self.stack.matrix();
-        let n = mesh.shapes.len();
-        let picked = uses >= self.instancing.min_uses
-            && n >= self.instancing.min_triangles.max(1)
-            && Instance::placeable(&m);
-        if !picked {
-            return Ok(false);
+        let n = mesh.triangles.len();
+        if n < self.instancing.min_triangles.max(1) || !Instance::placeable(&m) {
+            let identity = self.identity();
+            for (v, c) in mesh.triangles.iter().zip(&mesh.colors) {
+                let world = |p: [f32; 3]| -> Result<[T; 3], String> {
+                    match identity {
+                        true => Ok(p.map(|c| T::of(c as f64))),
+                        false => self.transformed(p.map(f64::from)),
+                    }
+                };
+                let shape = Shape::Triangle([world(v[0])?, world(v[1])?, world(v[2])?]);
+                self.add(shape, c.unwrap_or(color));
+            }
+            return Ok(());
         }
         let first = self.out.shapes.len() + self.instanced;
         if first + n > u32::MAX as usize - 1 {
             return Err(format!("more than {} primitives", u32::MAX - 1));
         }
-        let shared = self.shared.entry(key.clone()).or_insert_with(|| {
-            let triangles = (mesh.shapes.iter())
-                .map(|s| match s {
-                    Shape::Triangle(v) => *v,
-                    Shape::Sphere { .. } => unreachable!("meshes are triangles"),
-                })
-                .collect();
-            Arc::new(Mesh::new(mesh.name.clone(), triangles, mesh.colors.clone()))
-        });
         self.out.instances.push(Instance {
-            mesh: shared.clone(),
+            mesh,
             world_from_object: m,
             first_prim: first as u32,
+            color,
             tint: None,
         });
         self.instanced += n;
         self.record(first as u32..(first + n) as u32);
-        Ok(true)
+        Ok(())
     }
 
     fn transform(&mut self, line: usize, rank: u8, what: &str) {
@@ -486,21 +492,31 @@ impl<T: Real> Parser<'_, T> {
                 };
                 let full = dir.join(path);
                 let color = self.current.color;
+                let written = (path.to_string(), args.get(1).unwrap_or(&"yup").to_string());
+                let uses = self.uses.get(&written).copied().unwrap_or(1);
+                if uses >= self.instancing.min_uses {
+                    // Used often: loaded once, whatever the colour; placed or flattened.
+                    let geometry = (full.clone(), frame);
+                    if !self.shared.contains_key(&geometry) {
+                        let mesh = load_mesh(&full, frame, UNSET_COLOR)
+                            .map_err(|e| format!("mesh '{path}': {e}"))?;
+                        self.mesh_warnings(line, path, &mesh.warnings);
+                        self.shared
+                            .insert(geometry.clone(), Arc::new(Mesh::from_scene(&mesh)));
+                    }
+                    let mesh = self.shared[&geometry].clone();
+                    return self.place_or_add(mesh, color);
+                }
                 let key = (full.clone(), frame, color.map(f32::to_bits));
                 if !self.meshes.contains_key(&key) {
                     let mesh = load_mesh(&full, frame, color)
                         .map_err(|e| format!("mesh '{path}': {e}"))?;
+                    self.mesh_warnings(line, path, &mesh.warnings);
                     self.meshes.insert(key.clone(), mesh);
                 }
                 // (Taken out and put back: no copy of the mesh per use.)
                 let mesh = self.meshes.remove(&key).expect("loaded above");
-                let written = (path.to_string(), args.get(1).unwrap_or(&"yup").to_string());
-                let uses = self.uses.get(&written).copied().unwrap_or(1);
-                let added = match self.place(&key, &mesh, uses) {
-                    Ok(true) => Ok(()),
-                    Ok(false) => self.add_scene(&mesh),
-                    Err(e) => Err(e),
-                };
+                let added = self.add_scene(&mesh);
                 self.meshes.insert(key, mesh);
                 added?;
             }

@@ -20,15 +20,32 @@ pub struct Mesh {
     pub name: String,
     /// Triangles in the mesh's frame, in file order.
     pub triangles: Vec<[[f32; 3]; 3]>,
-    /// One linear-RGB colour per triangle.
-    pub colors: Vec<V3<f32>>,
+    /// One linear-RGB colour per triangle, `None` where its material gives none (the
+    /// placing statement's current colour then applies).
+    pub colors: Vec<Option<V3<f32>>>,
     /// The box around its vertices (object frame).
     bounds: ([f32; 3], [f32; 3]),
 }
 
 impl Mesh {
+    /// A mesh as loaded into a scene of triangles whose faces without a material were given
+    /// [`crate::scene::file::UNSET_COLOR`].
+    pub fn from_scene(scene: &super::Scene) -> Self {
+        let triangles = (scene.shapes.iter())
+            .map(|s| match s {
+                crate::geometry::Shape::Triangle(v) => *v,
+                _ => unreachable!("meshes hold triangles"),
+            })
+            .collect();
+        let unset = super::file::UNSET_COLOR;
+        let colors = (scene.colors.iter())
+            .map(|c| (*c != unset).then_some(*c))
+            .collect();
+        Self::new(scene.name.clone(), triangles, colors)
+    }
+
     /// A mesh of `triangles` with one colour each.
-    pub fn new(name: String, triangles: Vec<[[f32; 3]; 3]>, colors: Vec<V3<f32>>) -> Self {
+    pub fn new(name: String, triangles: Vec<[[f32; 3]; 3]>, colors: Vec<Option<V3<f32>>>) -> Self {
         assert_eq!(triangles.len(), colors.len(), "one colour per triangle");
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
@@ -67,6 +84,9 @@ pub struct Instance {
     pub world_from_object: DMat4,
     /// The primitive index of the mesh's first triangle.
     pub first_prim: u32,
+    /// The colour of the mesh's faces without one of their own (the `.scene` file's current
+    /// colour at the `mesh` statement).
+    pub color: V3<f32>,
     /// A colour replacing the mesh's for this instance (the viewer's highlight), if any.
     pub tint: Option<V3<f32>>,
 }
@@ -103,7 +123,7 @@ impl Instance {
 
     /// The colour of triangle `local`.
     pub fn color(&self, local: usize) -> V3<f32> {
-        self.tint.unwrap_or(self.mesh.colors[local])
+        (self.tint).unwrap_or(self.mesh.colors[local].unwrap_or(self.color))
     }
 
     /// Whether `m` can place an instance: finite, affine, invertible and with a condition
