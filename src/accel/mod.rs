@@ -369,6 +369,7 @@ impl Accel {
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are.
+    #[inline]
     pub(crate) fn closest_packet_of_triangles(
         &self,
         o: [f32; 3],
@@ -416,6 +417,7 @@ impl Accel {
     }
 
     /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.
+    #[inline]
     pub(crate) fn blocked_packet_of_triangles(
         &self,
         o: [f32; 3],

@@ -270,8 +270,16 @@ impl Scene {
     }
 
     /// Primitive `prim` in the world (an instanced triangle computed from its mesh).
-    #[inline]
+    #[inline(always)]
     pub fn shape(&self, prim: u32) -> Shape<f32> {
+        match self.instances.is_empty() {
+            true => self.shapes[prim as usize],
+            false => self.stored_shape(prim),
+        }
+    }
+
+    #[inline(never)]
+    fn stored_shape(&self, prim: u32) -> Shape<f32> {
         match self.stored(prim) {
             Stored::Explicit(i) => self.shapes[i],
             Stored::Instanced { instance, local } => {
@@ -281,8 +289,16 @@ impl Scene {
     }
 
     /// The colour of primitive `prim`.
-    #[inline]
+    #[inline(always)]
     pub fn color(&self, prim: u32) -> V3<f32> {
+        match self.instances.is_empty() {
+            true => self.colors[prim as usize],
+            false => self.stored_color(prim),
+        }
+    }
+
+    #[inline(never)]
+    fn stored_color(&self, prim: u32) -> V3<f32> {
         match self.stored(prim) {
             Stored::Explicit(i) => self.colors[i],
             Stored::Instanced { instance, local } => self.instances[instance].color(local),
