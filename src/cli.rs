@@ -596,9 +596,9 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method)?,
         (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method)?,
         (Precision::F32, Some(choice)) => {
-            let shapes = tracefile::parse_scene::<f32>(&sf, &scene_text)?;
+            let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
             let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            tracefile::trace_all_through(&shapes, &rays, method, choice)
+            tracefile::trace_all_through(&mut scene, &rays, method, choice)
         }
         (Precision::F64, Some(_)) => bail!(
             "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",

@@ -74,6 +74,27 @@ pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, Tra
     Ok(crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?.shapes)
 }
 
+/// Parses a scene file for the renderer's structures (f32): meshes used repeatedly are placed
+/// as instances ([`crate::scene::file::Instancing::DEFAULT`]), so a field of a thousand
+/// meshes takes the memory of one; primitive indices are the file's, as with [`parse_scene`].
+pub fn parse_scene_instanced(file: &str, text: &str) -> Result<crate::scene::Scene, TraceError> {
+    use crate::scene::{cornell, file as scene_file, Scene};
+    let dir = Path::new(file).parent().unwrap_or(Path::new(""));
+    let load_mesh = |p: &Path, frame, color| {
+        crate::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
+    };
+    let instancing = scene_file::Instancing::DEFAULT;
+    let d = scene_file::parse_with::<f32>(file, text, dir, &load_mesh, instancing)?;
+    let scene = Scene::new(file, d.shapes, d.colors, cornell::LIGHT, cornell::AMBIENT);
+    scene
+        .with_instances(d.instances)
+        .map_err(|message| TraceError {
+            file: file.to_string(),
+            line: 0,
+            message,
+        })
+}
+
 /// Parses a ray file.
 pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, TraceError> {
     data_lines(text)
@@ -127,15 +148,17 @@ fn answers<T: Real>(
 }
 
 /// Traces every ray in f32 through an acceleration structure built with `choice` over the
-/// shapes: the per-ray paths the renderer uses (the flat SIMD loop, the BVH), in the same
-/// output format as [`trace_all`].
+/// scene (its instances included): the per-ray paths the renderer uses (the flat SIMD loop,
+/// the BVH, the two-level structure of instances), in the same output format as
+/// [`trace_all`].
 pub fn trace_all_through(
-    shapes: &[Shape<f32>],
+    scene: &mut crate::scene::Scene,
     rays: &[TraceRay<f32>],
     method: Method,
     choice: accel::AccelChoice,
 ) -> String {
-    let structure = accel::Accel::build(shapes, choice);
+    scene.set_accel(choice);
+    let structure = scene.accel();
     answers(rays, |r| {
         structure.closest_hit(&r.ray, method, r.tmin, r.tmax)
     })

@@ -1527,3 +1527,84 @@ fn a_views_command_line_renders_the_view_through_a_shell() {
         "plain/path-1.obj"
     );
 }
+
+#[test]
+fn trace_answers_through_instances_as_the_reference_loop() {
+    // A mesh (a cube of 4x4 quads per face, 96 triangles) used three times, turned by any
+    // angle: `trace --accel ...` places it as instances (one stored mesh), `--accel reference`
+    // flattens it. Rays through every world vertex and edge midpoint: the same primitives,
+    // t within the stated bound.
+    use raylab::geometry::Shape;
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
+    let mut obj = String::new();
+    for (i, s) in cube.iter().enumerate() {
+        let Shape::Triangle(v) = s else {
+            unreachable!()
+        };
+        for p in v {
+            obj += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+        }
+        obj += &format!("f {} {} {}\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
+    }
+    write(dir.path(), "cube.obj", &obj);
+    let text = "sphere 0 0 0 0.3\n\
+                push\nrotate y 30\nmesh cube.obj\npop\n\
+                push\ntranslate 1.2 0 0.4\nrotate x 17\nscale 0.5\nmesh cube.obj\npop\n\
+                tri -3 -3 2 3 -3 2 0 3 2\n\
+                push\ntranslate -1.1 0.2 0\nrotate z 90\nmesh cube.obj\npop\n";
+    let scene_path = write(dir.path(), "cubes.scene", text);
+    let scene = raylab::scene::load_scene_file(std::path::Path::new(&scene_path)).unwrap();
+    assert_eq!(scene.instances().len(), 3);
+    let flat = scene.flattened();
+    let mut rays = String::new();
+    for o in [[0.0f32, 0.0, -4.0], [2.5, 1.5, -2.5], [-3.0, 0.25, 0.5]] {
+        for p in common::vertices_and_edge_midpoints(&flat.shapes) {
+            let d = [0, 1, 2].map(|k| p[k] - o[k]);
+            rays += &format!(
+                "{} {} {} {} {} {} 0 inf\n",
+                o[0], o[1], o[2], d[0], d[1], d[2]
+            );
+        }
+    }
+    let rays = write(dir.path(), "rays.txt", &rays);
+    let run = |accel: &str| {
+        let o = raylab(&[
+            "trace",
+            "--scene",
+            &scene_path,
+            "--rays",
+            &rays,
+            "--accel",
+            accel,
+        ]);
+        assert!(o.status.success(), "{accel}: {}", stderr(&o));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let reference = run("reference");
+    let lines = reference.lines().count();
+    assert!(lines > 1000, "{lines} rays");
+    let instanced_hits = reference
+        .lines()
+        .filter_map(|l| l.split(' ').nth(2))
+        .filter(|p| p.parse::<u32>().unwrap() >= 1)
+        .count();
+    assert!(instanced_hits > lines / 2, "{instanced_hits} of {lines}");
+    for accel in ["flat", "bvh", "auto"] {
+        for (a, b) in reference.lines().zip(run(accel).lines()) {
+            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
+            assert_eq!(
+                (wa[0], wa.get(2)),
+                (wb[0], wb.get(2)),
+                "{accel}: {a} vs {b}"
+            );
+            if wa[0] == "hit" {
+                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
+                assert!(
+                    (ta - tb).abs() <= 4e-7 * ta.abs(),
+                    "{accel}: t {ta} vs {tb}"
+                );
+            }
+        }
+    }
+}

@@ -232,41 +232,34 @@ impl Bvh {
 
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
     /// (see [`Bvh::traverse`]): a node is entered while its box meets one of `sink`'s live
-    /// lanes before that lane's limit; `leaf(sink, first, count)` visits a leaf's items.
-    /// Nearer child first by the first live lane, as [`Bvh::closest_packet`] walks.
+    /// lanes before that lane's limit; `leaves` visits a leaf's items. Nearer child first by
+    /// the first live lane, as [`Bvh::closest_packet`] walks. (No closures: everything here
+    /// must inline into the caller's AVX2 build.)
     #[inline(always)]
-    pub(crate) fn walk_packet<S: PacketSink>(
+    pub(crate) fn walk_packet<S: PacketSink, L: Leaves<S>>(
         &self,
         slabs: &PacketSlabs,
         pad: f32,
         sink: &mut S,
-        mut leaf: impl FnMut(&mut S, usize, usize),
+        leaves: &mut L,
     ) {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return;
         };
-        let padded = |b: &Aabb| match pad == 0.0 {
-            true => *b,
-            false => Aabb {
-                lo: b.lo.map(|x| x - pad),
-                hi: b.hi.map(|x| x + pad),
-            },
-        };
-        let enter = |b: &Aabb, sink: &S| slabs.enter(&padded(b), sink.limit(), sink.live());
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
-        if sink.live() == 0 || enter(&root.bounds, sink).0 == 0 {
+        if sink.live() == 0 || slabs.enter_padded(&root.bounds, pad, sink).0 == 0 {
             return;
         }
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                leaf(sink, n.offset as usize, n.count as usize);
+                leaves.visit(sink, n.offset as usize, n.count as usize);
             } else {
                 let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let (ma, ta) = enter(&self.node(a).bounds, sink);
-                let (mb, tb) = enter(&self.node(b).bounds, sink);
+                let (ma, ta) = slabs.enter_padded(&self.node(a).bounds, pad, sink);
+                let (mb, tb) = slabs.enter_padded(&self.node(b).bounds, pad, sink);
                 match (ma != 0, mb != 0) {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
@@ -298,7 +291,7 @@ impl Bvh {
                 }
                 sp -= 1;
                 let cand = stack[sp] as usize;
-                if enter(&self.node(cand).bounds, sink).0 != 0 {
+                if slabs.enter_padded(&self.node(cand).bounds, pad, sink).0 != 0 {
                     node = cand;
                     break;
                 }
@@ -469,6 +462,7 @@ impl Bvh {
 
     /// [`Bvh::closest_packet`] into a nearest-hit state shared with other structures (the
     /// instances): lanes record primitive indices, not positions.
+    #[inline(always)]
     pub(crate) fn closest_packet_into(
         &self,
         nearest: &mut PacketNearest,
@@ -480,6 +474,7 @@ impl Bvh {
     }
 
     /// [`Bvh::blocked_packet`] into a shadow state shared with other structures.
+    #[inline(always)]
     pub(crate) fn blocked_packet_into(
         &self,
         shadow: &mut ShadowPacket,
@@ -492,6 +487,7 @@ impl Bvh {
 
     /// Offers to `sink` every triangle the 8 rays from `o` may reach before their limits,
     /// from `prepared` (made for `o`) or prepared as met.
+    #[inline(always)]
     fn packet_into<S: PacketSink>(
         &self,
         sink: &mut S,
@@ -501,14 +497,12 @@ impl Bvh {
     ) {
         let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
         let slabs = PacketSlabs::new(o, d);
-        self.walk_packet(&slabs, 0.0, sink, |sink, first, count| {
-            for i in first..first + count {
-                match prepared {
-                    Some(p) => sink.take(&p.tris[i]),
-                    None => sink.take(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
-                }
-            }
-        });
+        let mut leaves = OwnLeaves {
+            bvh: self,
+            o,
+            prepared: prepared.map(|p| &p.tris[..]),
+        };
+        self.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
 
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
@@ -738,6 +732,35 @@ impl Bvh {
     }
 }
 
+/// What a packet walk does at a leaf: offers the leaf's items to the packet's state.
+pub(crate) trait Leaves<S> {
+    /// Items `first..first + count` of the hierarchy walked.
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize);
+}
+
+/// A hierarchy's own triangles, prepared for `o` (or as met).
+struct OwnLeaves<'a> {
+    bvh: &'a Bvh,
+    o: [f32; 3],
+    prepared: Option<&'a [OriginTriangle]>,
+}
+
+impl<S: PacketSink> Leaves<S> for OwnLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+        for i in first..first + count {
+            match self.prepared {
+                Some(p) => sink.take(&p[i]),
+                None => sink.take(&OriginTriangle::new(
+                    &self.bvh.tris[i],
+                    self.o,
+                    self.bvh.prims[i],
+                )),
+            }
+        }
+    }
+}
+
 /// Eight rays from one origin set up for the slab test against boxes.
 pub(crate) struct PacketSlabs {
     o: [f32; 3],
@@ -775,6 +798,20 @@ impl PacketSlabs {
             sign,
             tame,
         }
+    }
+
+    /// [`PacketSlabs::enter`] for `b` widened by `pad` on every side, with `sink`'s live
+    /// lanes and limits.
+    #[inline(always)]
+    pub(crate) fn enter_padded<S: PacketSink>(&self, b: &Aabb, pad: f32, sink: &S) -> (u32, f32x8) {
+        let b = match pad == 0.0 {
+            true => *b,
+            false => Aabb {
+                lo: b.lo.map(|x| x - pad),
+                hi: b.hi.map(|x| x + pad),
+            },
+        };
+        self.enter(&b, sink.limit(), sink.live())
     }
 
     /// The lanes of `live` whose rays meet box `b` before `limit`, and their entry distances.

@@ -18,7 +18,7 @@
 //! and t·2⁻²¹·‖C‖·|d| ≤ 2⁻²¹·‖C‖·(W + |o|) at any point of the box) and of the padded box's
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
-use super::bvh::{Aabb, Bvh, PacketSlabs};
+use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
 use super::packet::{OriginTriangle, PacketNearest, ShadowPacket};
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -371,34 +371,59 @@ impl Instances {
     #[inline(always)]
     pub(crate) fn packet<S: PacketSink>(&self, o: [f32; 3], d: &[f32x8; 3], sink: &mut S) {
         let slabs = PacketSlabs::new(o, d);
-        let (_, items) = self.top.triangles();
-        self.top
-            .walk_packet(&slabs, 0.0, sink, |sink, first, count| {
-                for &k in &items[first..first + count] {
-                    let placed = &self.placed[k as usize];
-                    let mesh = &self.meshes[placed.mesh as usize];
-                    let (tris, locals) = mesh.triangles();
-                    let offer = |sink: &mut S, range: std::ops::Range<usize>| {
-                        for i in range {
-                            let world = placed.world(&tris[i]);
-                            sink.take(&OriginTriangle::new(
-                                &world,
-                                o,
-                                placed.first_prim + locals[i],
-                            ));
-                        }
-                    };
-                    match placed.carry_origin(o) {
-                        Some((obj, pad)) => {
-                            let inner = PacketSlabs::new(obj, &placed.carry_directions(d));
-                            mesh.walk_packet(&inner, pad, sink, |sink, f, c| offer(sink, f..f + c));
-                        }
-                        None => offer(sink, 0..mesh.len()),
-                    }
-                    if sink.live() == 0 {
-                        return;
-                    }
+        let mut leaves = TopLeaves { inst: self, o, d };
+        self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
+    }
+}
+
+/// The top hierarchy's leaves: instances, each walked in its mesh's frame.
+struct TopLeaves<'a> {
+    inst: &'a Instances,
+    o: [f32; 3],
+    d: &'a [f32x8; 3],
+}
+
+impl<S: PacketSink> Leaves<S> for TopLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+        let items = self.inst.top.triangles().1;
+        for &k in &items[first..first + count] {
+            let placed = &self.inst.placed[k as usize];
+            let mesh = &self.inst.meshes[placed.mesh as usize];
+            let mut leaves = MeshLeaves {
+                placed,
+                mesh,
+                o: self.o,
+            };
+            match placed.carry_origin(self.o) {
+                Some((obj, pad)) => {
+                    let inner = PacketSlabs::new(obj, &placed.carry_directions(self.d));
+                    mesh.walk_packet(&inner, pad, sink, &mut leaves);
                 }
-            });
+                None => leaves.visit(sink, 0, mesh.len()),
+            }
+            if sink.live() == 0 {
+                return;
+            }
+        }
+    }
+}
+
+/// A mesh hierarchy's leaves: its triangles carried into the world and prepared for `o`.
+struct MeshLeaves<'a> {
+    placed: &'a Placed,
+    mesh: &'a Bvh,
+    o: [f32; 3],
+}
+
+impl<S: PacketSink> Leaves<S> for MeshLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+        let (tris, locals) = self.mesh.triangles();
+        for i in first..first + count {
+            let world = self.placed.world(&tris[i]);
+            let prim = self.placed.first_prim + locals[i];
+            sink.take(&OriginTriangle::new(&world, self.o, prim));
+        }
     }
 }

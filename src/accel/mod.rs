@@ -24,6 +24,7 @@ pub mod reference;
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::simd::avx2_or_baseline;
 use crate::scene::Instance;
 use rayon::prelude::*;
 use std::fmt;
@@ -381,10 +382,7 @@ impl Accel {
             return None;
         };
         if let Some(inst) = self.instances() {
-            let mut nearest = packet::PacketNearest::new(d, d_max);
-            b.closest_packet_into(&mut nearest, o, prepared, d);
-            inst.packet(o, d, &mut nearest);
-            return Some(nearest.finish());
+            return Some(closest_with_instances(b, inst, o, prepared, d, d_max));
         }
         let mut found = b.closest_packet(o, prepared, d, d_max);
         let prims = b.triangles().1;
@@ -433,10 +431,9 @@ impl Accel {
         let Some(inst) = self.instances() else {
             return Some(b.blocked_packet(o, prepared, d, d_max, skip, valid));
         };
-        let mut shadow = packet::ShadowPacket::new(d, d_max, skip, valid);
-        b.blocked_packet_into(&mut shadow, o, prepared, d);
-        inst.packet(o, d, &mut shadow);
-        Some(shadow.finish())
+        Some(blocked_with_instances(
+            b, inst, o, prepared, d, d_max, skip, valid,
+        ))
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
@@ -494,6 +491,84 @@ impl Accel {
             *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
         })
     }
+}
+
+/// Camera rays 8 at a time through the stored triangles' BVH and the instances, into one
+/// nearest-hit state (see [`Accel::closest_packet`]).
+fn closest_with_instances(
+    b: &bvh::Bvh,
+    inst: &instances::Instances,
+    o: [f32; 3],
+    prepared: Option<&packet::OriginTriangles>,
+    d: &[wide::f32x8; 3],
+    d_max: f32,
+) -> packet::PacketHits {
+    avx2_or_baseline!(closest_with_instances_body => (
+        b: &bvh::Bvh,
+        inst: &instances::Instances,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
+        d: &[wide::f32x8; 3],
+        d_max: f32
+    ) -> packet::PacketHits)
+}
+
+#[inline(always)]
+fn closest_with_instances_body(
+    b: &bvh::Bvh,
+    inst: &instances::Instances,
+    o: [f32; 3],
+    prepared: Option<&packet::OriginTriangles>,
+    d: &[wide::f32x8; 3],
+    d_max: f32,
+) -> packet::PacketHits {
+    let mut nearest = packet::PacketNearest::new(d, d_max);
+    b.closest_packet_into(&mut nearest, o, prepared, d);
+    inst.packet(o, d, &mut nearest);
+    nearest.finish()
+}
+
+/// Shadow segments 8 at a time through the stored triangles' BVH and the instances (see
+/// [`Accel::blocked_packet`]).
+#[allow(clippy::too_many_arguments)]
+fn blocked_with_instances(
+    b: &bvh::Bvh,
+    inst: &instances::Instances,
+    o: [f32; 3],
+    prepared: Option<&packet::OriginTriangles>,
+    d: &[wide::f32x8; 3],
+    d_max: f32,
+    skip: &[u32; 8],
+    valid: u32,
+) -> packet::ShadowHits {
+    avx2_or_baseline!(blocked_with_instances_body => (
+        b: &bvh::Bvh,
+        inst: &instances::Instances,
+        o: [f32; 3],
+        prepared: Option<&packet::OriginTriangles>,
+        d: &[wide::f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32
+    ) -> packet::ShadowHits)
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn blocked_with_instances_body(
+    b: &bvh::Bvh,
+    inst: &instances::Instances,
+    o: [f32; 3],
+    prepared: Option<&packet::OriginTriangles>,
+    d: &[wide::f32x8; 3],
+    d_max: f32,
+    skip: &[u32; 8],
+    valid: u32,
+) -> packet::ShadowHits {
+    let mut shadow = packet::ShadowPacket::new(d, d_max, skip, valid);
+    b.blocked_packet_into(&mut shadow, o, prepared, d);
+    inst.packet(o, d, &mut shadow);
+    shadow.finish()
 }
 
 /// `tris` without the triangles that repeat an earlier one's vertices exactly (equal values,
