@@ -1607,4 +1607,14 @@ fn trace_answers_through_instances_as_the_reference_loop() {
             }
         }
     }
+    // With at most 200 primitives stored one by one: the flattened reference refuses the
+    // scene (3 x 96 triangles), naming the line where the limit is passed; the instanced
+    // structure answers as before.
+    let limit = [("RAYLAB_MAX_TRIANGLES", "200")];
+    let args = ["trace", "--scene", &scene_path, "--rays", &rays, "--accel"];
+    let refused = raylab_env(&[&args[..], &["reference"]].concat(), &limit);
+    assert_fails(&refused, 2, &["cubes.scene:", "more than 200 primitives"]);
+    let placed = raylab_env(&[&args[..], &["auto"]].concat(), &limit);
+    assert!(placed.status.success(), "{}", stderr(&placed));
+    assert_eq!(String::from_utf8(placed.stdout).unwrap(), run("auto"));
 }

@@ -187,6 +187,8 @@ struct Parser<'a, T: Real> {
     instancing: Instancing,
     /// Primitives placed as instances so far.
     instanced: usize,
+    /// Most primitives stored one by one ([`obj::max_triangles`]).
+    max_stored: u64,
 }
 
 /// Parses `.scene` text, every mesh flattened. `dir` is where mesh paths are relative to;
@@ -251,6 +253,7 @@ pub fn parse_with<T: Real>(
         uses,
         instancing,
         instanced: 0,
+        max_stored: obj::max_triangles(),
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -362,11 +365,20 @@ impl<T: Real> Parser<'_, T> {
         (equal && orthogonal).then_some(len[0])
     }
 
-    fn add(&mut self, shape: Shape<T>, color: [f32; 3]) {
+    fn add(&mut self, shape: Shape<T>, color: [f32; 3]) -> Result<(), String> {
+        if self.out.shapes.len() as u64 >= self.max_stored {
+            return Err(format!(
+                "more than {} primitives stored one by one (RAYLAB_MAX_TRIANGLES raises the \
+                 limit; `raylab trace --accel reference` flattens every mesh, the renderer \
+                 places a mesh used repeatedly as instances)",
+                self.max_stored
+            ));
+        }
         let index = (self.out.shapes.len() + self.instanced) as u32;
         self.out.shapes.push(shape);
         self.out.colors.push(color);
         self.record(index..index + 1);
+        Ok(())
     }
 
     /// Primitives `added` belong to the current level.
@@ -400,7 +412,7 @@ impl<T: Real> Parser<'_, T> {
                     }
                 };
                 let shape = Shape::Triangle([world(v[0])?, world(v[1])?, world(v[2])?]);
-                self.add(shape, c.unwrap_or(color));
+                self.add(shape, c.unwrap_or(color))?;
             }
             return Ok(());
         }
@@ -455,7 +467,7 @@ impl<T: Real> Parser<'_, T> {
                 let v = [0, 1, 2]
                     .map(|i| self.point(&args[3 * i..], [x[3 * i], x[3 * i + 1], x[3 * i + 2]]));
                 let [a, b, c] = v;
-                self.add(Shape::Triangle([a?, b?, c?]), self.current.color);
+                self.add(Shape::Triangle([a?, b?, c?]), self.current.color)?;
             }
             "sphere" => {
                 let x = numbers(args, &[4], "sphere")?;
@@ -482,7 +494,7 @@ impl<T: Real> Parser<'_, T> {
                     }
                     (self.transformed([x[0], x[1], x[2]])?, r)
                 };
-                self.add(Shape::Sphere { centre, radius }, self.current.color);
+                self.add(Shape::Sphere { centre, radius }, self.current.color)?;
             }
             "mesh" => {
                 let (path, frame) = match args {
@@ -680,7 +692,7 @@ impl<T: Real> Parser<'_, T> {
                 Shape::Triangle([a, b, c]) => Shape::Triangle([world(*a)?, world(*b)?, world(*c)?]),
                 Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
             };
-            self.add(shape, *color);
+            self.add(shape, *color)?;
         }
         Ok(())
     }
