@@ -1020,3 +1020,44 @@ fn real_x_input_keys_still_move_the_camera_after_tab() {
         run.fields
     );
 }
+
+#[test]
+fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
+    // A .scene placing one mesh (the repo's icosphere, 1,280 triangles) three times in the
+    // Cornell box: the window loads it as instances (one stored mesh), draws it as the
+    // headless renderer does, and selecting the push level of one placement tints that ball.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/meshes/icosphere.obj");
+    std::fs::copy(mesh, dir.path().join("ball.obj")).unwrap();
+    let scene = dir.path().join("balls.scene");
+    std::fs::write(
+        &scene,
+        "cornell\ncolor 0.2 0.5 0.9\n\
+         push\ntranslate -0.55 0.7 -0.55\nscale 0.3\nmesh ball.obj\npop\n\
+         push\ntranslate 0.05 0.7 -0.75\nscale 0.3\nmesh ball.obj\npop\n\
+         push\ntranslate 0.6 0.7 -0.6\nscale 0.3\nmesh ball.obj\npop\n",
+    )
+    .unwrap();
+    let loaded = raylab::scene::load_scene_file(&scene).unwrap();
+    assert_eq!(loaded.instances().len(), 3);
+    let script = "1500 select 2\n4000 step indirect\n";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInputOn("true", &scene))
+    else {
+        return;
+    };
+    assert_eq!(run.fields["primitives"], (30 + 3 * 1280).to_string());
+    // The middle ball (level 2) is tinted orange; the others stay blue.
+    let (_, _, _, rect) = run.camera();
+    let (sw, _, px) = &run.shot;
+    let (mut orange, mut blue) = (0, 0);
+    for y in rect[1] as u32..(rect[1] + rect[3]) as u32 {
+        for x in rect[0] as u32..(rect[0] + rect[2]) as u32 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+            orange += (r > g + 40 && g > b + 40) as u32;
+            blue += (b > r + 60 && b > g + 20) as u32;
+        }
+    }
+    assert!(orange > 500, "{orange} orange pixels");
+    assert!(blue > 1000, "{blue} blue pixels");
+}
