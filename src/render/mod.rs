@@ -319,6 +319,10 @@ impl<'a> Frame<'a> {
             packets: shaded,
             blocked,
         } = shading;
+        // Looked up once: loads through `scene` cannot be hoisted out of the loops (it holds
+        // a OnceLock), and without instances primitive i's colour is colors[i].
+        let stored_colors = scene.instances().is_empty().then_some(&scene.colors[..]);
+        let ambient = scene.ambient;
         let n = settings.spp;
         let o = self.gen.origin();
         let flat = settings.step == LabStep::Flat;
@@ -384,13 +388,13 @@ impl<'a> Frame<'a> {
                     let shadowed = pk.shadow.live & (1 << l) != 0;
                     counts.1 += (casts_shadows && shadowed) as u64;
                     let d = pk.d(scene, l);
-                    let c = shade::step_colour(
-                        scene,
-                        pk.prim(l),
-                        d,
-                        blocked & (1 << l) != 0,
-                        settings.step,
-                    );
+                    let prim = pk.prim(l);
+                    let rho = match stored_colors {
+                        Some(colors) => colors[prim as usize],
+                        None => scene.color(prim),
+                    };
+                    let shadow = blocked & (1 << l) != 0;
+                    let c = shade::step_colour_of(rho, ambient, d, shadow, settings.step);
                     add(sum, c);
                 }
             }

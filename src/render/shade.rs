@@ -178,13 +178,19 @@ impl AsRef<ShadowSegments> for ShadePacket {
 /// shadows, plus the ambient term N): what every path computes per sample.
 #[inline]
 pub fn step_colour(scene: &Scene, prim: u32, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
-    let rho = scene.color(prim);
+    step_colour_of(scene.color(prim), scene.ambient, d, blocked, step)
+}
+
+/// [`step_colour`] from the primitive's colour ρ and the scene's ambient term N (for loops
+/// that look the colours up themselves).
+#[inline(always)]
+pub fn step_colour_of(rho: Rgb, ambient: Rgb, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
     let d = if blocked { [0.0; 3] } else { d };
     match step {
         LabStep::Flat => rho,
         LabStep::Direct | LabStep::Shadows => mul(rho, d),
         LabStep::Indirect => {
-            let n = scene.ambient;
+            let n = ambient;
             mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
         }
     }
