@@ -452,16 +452,139 @@ fn plot(rows: &[Row], path: &Path, machine: &str) -> anyhow::Result<()> {
             })
             .x_label_formatter(&|x| format!("{x:.0}"))
             .draw()?;
+        let font = ("sans-serif", 11).into_font();
+        let mut points = Vec::new();
+        let mut sizes = Vec::new();
         for (i, (r, (&x, &y))) in rows.iter().zip(xs.iter().zip(&ys)).enumerate() {
             let colour = Palette99::pick(i).to_rgba();
             chart.draw_series(std::iter::once(Circle::new((x, y), 5, colour.filled())))?;
-            chart.draw_series(std::iter::once(Text::new(
-                r.name.clone(),
-                (x, y * 1.25),
-                ("sans-serif", 11).into_font(),
-            )))?;
+            points.push(chart.backend_coord(&(x, y)));
+            let (w, h) = root.estimate_text_size(&r.name, &TextStyle::from(font.clone()))?;
+            sizes.push((w as i32, h as i32));
+        }
+        // Every label where it overlaps no other label or point and stays inside the plot,
+        // with a line back to its point where it had to move away.
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let area = (xr.start, yr.start, xr.end, yr.end);
+        let placed = place_labels(&points, &sizes, area);
+        for (i, ((r, &p), &(lx, ly))) in rows.iter().zip(&points).zip(&placed).enumerate() {
+            let (w, h) = sizes[i];
+            let near = (lx.max(p.0.min(lx + w)), ly.max(p.1.min(ly + h)));
+            if (near.0 - p.0).abs() + (near.1 - p.1).abs() > 12 {
+                let colour = Palette99::pick(i).to_rgba();
+                root.draw(&PathElement::new(vec![p, near], colour.stroke_width(1)))?;
+            }
+            root.draw(&Text::new(r.name.clone(), (lx, ly), font.clone()))?;
         }
     }
     root.present()?;
     Ok(())
+}
+
+/// Top-left corners for labels of `sizes` (pixels) beside `points`, inside `area` (x0, y0,
+/// x1, y1): for each point in turn, the nearest of a ring of spots around it (right, left,
+/// above, below, then further out) where the label overlaps neither an earlier label nor any
+/// point's marker (a 12-pixel square). Where no spot is free, the one with the least overlap.
+fn place_labels(
+    points: &[(i32, i32)],
+    sizes: &[(i32, i32)],
+    area: (i32, i32, i32, i32),
+) -> Vec<(i32, i32)> {
+    type Rect = (i32, i32, i32, i32);
+    let overlap = |a: Rect, b: Rect| {
+        let w = (a.2.min(b.2) - a.0.max(b.0)).max(0);
+        let h = (a.3.min(b.3) - a.1.max(b.1)).max(0);
+        w * h
+    };
+    let markers: Vec<Rect> = points
+        .iter()
+        .map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6))
+        .collect();
+    let mut placed: Vec<Rect> = Vec::new();
+    let mut corners = Vec::new();
+    for (&(px, py), &(w, h)) in points.iter().zip(sizes) {
+        let mut best: Option<(i32, (i32, i32))> = None;
+        'search: for ring in 0..14 {
+            let r = 8 + 12 * ring;
+            for k in 0..16 {
+                // Right and left first, then above and below, alternating.
+                let angle = [0, 8, 1, 9, 15, 7, 2, 10, 14, 6, 3, 11, 13, 5, 4, 12][k] as f64
+                    * std::f64::consts::PI
+                    / 8.0;
+                let (c, s) = (angle.cos(), angle.sin());
+                let ax = px + (r as f64 * c).round() as i32;
+                let ay = py - (r as f64 * s).round() as i32;
+                let x = if c >= -0.01 { ax } else { ax - w };
+                let y = ay - h / 2 - (s * h as f64 / 2.0).round() as i32;
+                let rect = (x, y, x + w, y + h);
+                if rect.0 < area.0 || rect.1 < area.1 || rect.2 > area.2 || rect.3 > area.3 {
+                    continue;
+                }
+                let cost: i32 = placed.iter().map(|p| overlap(*p, rect)).sum::<i32>()
+                    + markers.iter().map(|m| overlap(*m, rect)).sum::<i32>();
+                if best.is_none_or(|b| cost < b.0) {
+                    best = Some((cost, (x, y)));
+                }
+                if cost == 0 {
+                    break 'search;
+                }
+            }
+        }
+        let (_, (x, y)) = best.unwrap_or((0, (area.0, area.1)));
+        placed.push((x, y, x + w, y + h));
+        corners.push((x, y));
+    }
+    corners
+}
+
+#[cfg(test)]
+mod tests {
+    use super::place_labels;
+
+    #[test]
+    fn labels_of_clustered_points_neither_overlap_nor_leave_the_plot() {
+        // The plot's hard case: a cluster of points a few pixels apart with long names, two
+        // on the same spot, one at the right edge (its label used to run off the plot).
+        let points = [
+            (100, 100),
+            (108, 102),
+            (112, 99),
+            (112, 99),
+            (300, 200),
+            (306, 204),
+            (590, 300),
+            (20, 20),
+        ];
+        let sizes = [
+            (90, 11),
+            (160, 11),
+            (60, 11),
+            (70, 11),
+            (120, 11),
+            (200, 11),
+            (240, 11),
+            (80, 11),
+        ];
+        let area = (0, 0, 600, 320);
+        let corners = place_labels(&points, &sizes, area);
+        let rects: Vec<_> = corners
+            .iter()
+            .zip(&sizes)
+            .map(|(&(x, y), &(w, h))| (x, y, x + w, y + h))
+            .collect();
+        for (i, a) in rects.iter().enumerate() {
+            assert!(
+                a.0 >= 0 && a.1 >= 0 && a.2 <= 600 && a.3 <= 320,
+                "label {i} {a:?}"
+            );
+            for (j, b) in rects.iter().enumerate().skip(i + 1) {
+                let apart = a.2 <= b.0 || b.2 <= a.0 || a.3 <= b.1 || b.3 <= a.1;
+                assert!(apart, "labels {i} {a:?} and {j} {b:?} overlap");
+            }
+            for (j, p) in points.iter().enumerate() {
+                let clear = p.0 + 6 <= a.0 || a.2 <= p.0 - 6 || p.1 + 6 <= a.1 || a.3 <= p.1 - 6;
+                assert!(clear, "label {i} {a:?} covers point {j}");
+            }
+        }
+    }
 }
