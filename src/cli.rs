@@ -102,7 +102,7 @@ fn lab_step_parser() -> impl clap::builder::TypedValueParser<Value = LabStep> {
 }
 
 /// Arithmetic precision of `trace`.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Precision {
     /// Single precision, as the renderer uses.
     F32,
@@ -258,9 +258,11 @@ pub struct TraceArgs {
     /// Arithmetic precision: inputs are parsed and intersected in this precision.
     #[arg(long, value_enum, default_value = "f32")]
     pub precision: Precision,
-    /// Which path answers: `reference` (the scalar loop over every primitive), or the
+    /// Which path answers: `reference` (the scalar loop over every primitive), the
     /// renderer's per-ray structures, `flat` (the SIMD loop), `bvh`, or `auto` (as the
-    /// renderer picks); the structures run in f32 only.
+    /// renderer picks), or `packets` (rays with one origin, tmin 0 and tmax inf, 8 at a time
+    /// through the renderer's camera packets; adaptive method only); the structures run in
+    /// f32 only.
     #[arg(long, default_value = "reference")]
     pub accel: TraceAccel,
 }
@@ -272,6 +274,8 @@ pub enum TraceAccel {
     Auto,
     Flat,
     Bvh,
+    /// Rays sharing an origin 8 at a time through the renderer's camera packets.
+    Packets,
 }
 
 /// Whether `e` is a write to a closed pipe (the reader went away: not worth a message).
@@ -586,7 +590,16 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         args.rays.display().to_string(),
     );
     let method = args.method.into();
+    if args.accel == TraceAccel::Packets {
+        if args.precision != Precision::F32 || method != Method::Adaptive {
+            bail!("--accel packets runs the renderer's packets: f32 and the adaptive method only");
+        }
+        let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
+        let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
+        return write_out(&tracefile::trace_all_packets(&mut scene, &rays));
+    }
     let choice = match args.accel {
+        TraceAccel::Packets => unreachable!("handled above"),
         TraceAccel::Reference => None,
         TraceAccel::Auto => Some(AccelChoice::Auto),
         TraceAccel::Flat => Some(AccelChoice::Flat),
@@ -605,6 +618,11 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
             args.accel
         ),
     };
+    write_out(&out)
+}
+
+/// Writes `raylab trace`'s whole output to stdout.
+fn write_out(out: &str) -> Result<()> {
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();
     stdout.write_all(out.as_bytes())?;

@@ -134,7 +134,7 @@ pub fn trace_all<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>], method: Met
 /// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it.
 fn answers<T: Real>(
     rays: &[TraceRay<T>],
-    closest: impl Fn(&TraceRay<T>) -> Option<crate::geometry::Hit<T>>,
+    mut closest: impl FnMut(&TraceRay<T>) -> Option<crate::geometry::Hit<T>>,
 ) -> String {
     let mut out = String::with_capacity(rays.len() * 24);
     for r in rays {
@@ -161,6 +161,92 @@ pub fn trace_all_through(
     let structure = scene.accel();
     answers(rays, |r| {
         structure.closest_hit(&r.ray, method, r.tmin, r.tmax)
+    })
+}
+
+/// Traces every ray in f32 as the renderer traces camera rays, with the adaptive method: rays
+/// sharing an origin with tmin = 0 and tmax = ∞ go 8 at a time through the packet kernels
+/// (a small scene's triangles prepared for that origin, its ambiguous lanes through the
+/// exact-edge resolver; else the packets through the BVH and the instances, the triangles
+/// prepared once where there are at least as many rays as stored triangles, else as met),
+/// and the lanes left ambiguous go per ray, as in the renderer. A decided lane's t is the
+/// adaptive t of its primitive. Other rays, and scenes with spheres (whose tiles the renderer
+/// traces per ray), go per ray. Same output format as [`trace_all`].
+pub fn trace_all_packets(scene: &mut crate::scene::Scene, rays: &[TraceRay<f32>]) -> String {
+    use crate::accel::packet::{self, OriginTriangles};
+    use wide::f32x8;
+    scene.set_accel(accel::AccelChoice::Auto);
+    let scene = &*scene;
+    let accel = scene.accel();
+    let per_ray = |r: &TraceRay<f32>| accel.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax);
+    let mut found: Vec<Option<Option<crate::geometry::Hit>>> = vec![None; rays.len()];
+    // Camera-like rays grouped by their origin's bits, in order of first appearance.
+    let mut groups: Vec<([f32; 3], Vec<usize>)> = Vec::new();
+    let mut group_of = std::collections::HashMap::new();
+    for (i, r) in rays.iter().enumerate() {
+        if r.tmin != 0.0 || r.tmax != f32::INFINITY {
+            continue;
+        }
+        let key = r.ray.o.map(f32::to_bits);
+        let g = *group_of.entry(key).or_insert_with(|| {
+            groups.push((r.ray.o, Vec::new()));
+            groups.len() - 1
+        });
+        groups[g].1.push(i);
+    }
+    let vertices = |p: u32| match scene.shape(p) {
+        Shape::Triangle(v) => v,
+        _ => unreachable!("packets hold triangles only"),
+    };
+    for (o, members) in &groups {
+        let o = *o;
+        let small = (accel.flat_triangles())
+            .filter(|_| !accel.has_other_shapes())
+            .map(|tris| OriginTriangles::new(tris, o));
+        let prepared = match small.is_none() && members.len() >= accel.stored_triangle_count() {
+            true => accel.prepare_origin(o),
+            false => None,
+        };
+        for chunk in members.chunks(8) {
+            let dirs: [[f32; 3]; 8] =
+                std::array::from_fn(|l| rays[chunk[l.min(chunk.len() - 1)]].ray.d);
+            let d = [0, 1, 2].map(|k| f32x8::from(dirs.map(|v| v[k])));
+            let d_max = packet::max_component(&d);
+            let hits = match &small {
+                Some(p) => Some(packet::closest(&p.tris, &d, d_max)),
+                None => accel.closest_packet(o, prepared.as_ref(), &d, d_max),
+            };
+            for (l, &i) in chunk.iter().enumerate() {
+                let ray = &rays[i].ray;
+                let decided = match (&hits, &small) {
+                    (Some(h), _) if h.ambiguous & (1 << l) == 0 => {
+                        Some((h.prim[l] != u32::MAX).then_some(h.prim[l]))
+                    }
+                    (Some(_), Some(p)) => packet::nearest_exact_lane(&p.tris, vertices, o, ray.d),
+                    _ => None,
+                };
+                let hit_of = |prim: u32| {
+                    let (t, b1, b2) =
+                        scene
+                            .shape(prim)
+                            .intersect(ray, Method::Adaptive, 0.0, f32::INFINITY)?;
+                    Some(crate::geometry::Hit { t, prim, b1, b2 })
+                };
+                found[i] = Some(match decided {
+                    Some(Some(prim)) => hit_of(prim).or_else(|| per_ray(&rays[i])),
+                    Some(None) => None,
+                    None => match &prepared {
+                        Some(p) => accel.closest_hit_from_origin(ray, p, 0.0, f32::INFINITY),
+                        None => per_ray(&rays[i]),
+                    },
+                });
+            }
+        }
+    }
+    let mut hits = found.into_iter();
+    answers(rays, |r| {
+        let packet = hits.next().expect("one answer per ray");
+        packet.unwrap_or_else(|| per_ray(r))
     })
 }
 

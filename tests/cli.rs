@@ -1174,7 +1174,7 @@ fn trace_answers_through_every_per_ray_path_alike() {
     let lines = reference.lines().count();
     assert!(lines > 400, "{lines} rays");
     assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
-    for accel in ["flat", "bvh", "auto"] {
+    for accel in ["flat", "bvh", "auto", "packets"] {
         for (a, b) in reference.lines().zip(run(accel).lines()) {
             let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
             assert_eq!(
@@ -1590,7 +1590,7 @@ fn trace_answers_through_instances_as_the_reference_loop() {
         .filter(|p| p.parse::<u32>().unwrap() >= 1)
         .count();
     assert!(instanced_hits > lines / 2, "{instanced_hits} of {lines}");
-    for accel in ["flat", "bvh", "auto"] {
+    for accel in ["flat", "bvh", "auto", "packets"] {
         for (a, b) in reference.lines().zip(run(accel).lines()) {
             let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
             assert_eq!(
@@ -1617,4 +1617,79 @@ fn trace_answers_through_instances_as_the_reference_loop() {
     let placed = raylab_env(&[&args[..], &["auto"]].concat(), &limit);
     assert!(placed.status.success(), "{}", stderr(&placed));
     assert_eq!(String::from_utf8(placed.stdout).unwrap(), run("auto"));
+}
+
+#[test]
+fn trace_packets_answer_as_the_reference_loop() {
+    // `--accel packets`: rays sharing an origin go 8 at a time through the renderer's camera
+    // packets. The Cornell box (30 triangles: the small scene's prepared triangles and the
+    // exact-edge resolver) and a 96-triangle cube mesh (the BVH packets, triangles prepared
+    // for the origin), rays from two origins through every vertex and edge midpoint (where
+    // the packets leave lanes ambiguous) and a few with other tmin/tmax (per ray).
+    use raylab::geometry::Shape;
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
+    let mut text = String::new();
+    for s in &cube {
+        let Shape::Triangle(v) = s else {
+            unreachable!()
+        };
+        let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
+        text += &format!("tri {}\n", nums.join(" "));
+    }
+    let cases = [
+        (
+            "cornell.scene",
+            "cornell\n".to_string(),
+            raylab::Scene::cornell().shapes,
+            [[0.0f32, 0.0, -3.001], [0.3, -0.2, -2.0]],
+        ),
+        (
+            "cube.scene",
+            text,
+            cube,
+            [[0.0, 0.0, -3.0], [2.0, 1.5, -2.5]],
+        ),
+    ];
+    for (name, scene_text, shapes, origins) in cases {
+        let scene = write(dir.path(), name, &scene_text);
+        let mut rays = String::new();
+        for o in origins {
+            for p in common::vertices_and_edge_midpoints(&shapes) {
+                let d = [0, 1, 2].map(|k| p[k] - o[k]);
+                rays += &format!(
+                    "{} {} {} {} {} {} 0 inf\n",
+                    o[0], o[1], o[2], d[0], d[1], d[2]
+                );
+            }
+        }
+        rays += "0 0 -3 0.1 0.1 1 0.5 inf\n0 0 -3 0.1 0.1 1 0 3\n";
+        let rays = write(dir.path(), "rays.txt", &rays);
+        let run = |accel: &str| {
+            let o = raylab(&[
+                "trace", "--scene", &scene, "--rays", &rays, "--accel", accel,
+            ]);
+            assert!(o.status.success(), "{accel}: {}", stderr(&o));
+            String::from_utf8(o.stdout).unwrap()
+        };
+        let reference = run("reference");
+        let packets = run("packets");
+        let lines = reference.lines().count();
+        assert!(lines > 100, "{name}: {lines} rays");
+        assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
+        for (a, b) in reference.lines().zip(packets.lines()) {
+            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
+            assert_eq!((wa[0], wa.get(2)), (wb[0], wb.get(2)), "{name}: {a} vs {b}");
+            if wa[0] == "hit" {
+                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
+                assert!((ta - tb).abs() <= 4e-7 * ta.abs(), "{name}: t {ta} vs {tb}");
+            }
+        }
+    }
+    let scene = write(dir.path(), "c.scene", "cornell\n");
+    let rays = write(dir.path(), "r.txt", "0 0 -3 0 0 1 0 inf\n");
+    let o = raylab(&[
+        "trace", "--scene", &scene, "--rays", &rays, "--accel", "packets", "--method", "moller",
+    ]);
+    assert_fails(&o, 2, &["adaptive method only"]);
 }
