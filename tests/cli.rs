@@ -1175,21 +1175,7 @@ fn trace_answers_through_every_per_ray_path_alike() {
     assert!(lines > 400, "{lines} rays");
     assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
     for accel in ["flat", "bvh", "auto", "packets"] {
-        for (a, b) in reference.lines().zip(run(accel).lines()) {
-            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
-            assert_eq!(
-                (wa[0], wa.get(2)),
-                (wb[0], wb.get(2)),
-                "{accel}: {a} vs {b}"
-            );
-            if wa[0] == "hit" {
-                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
-                assert!(
-                    (ta - tb).abs() <= 4e-7 * ta.abs(),
-                    "{accel}: t {ta} vs {tb}"
-                );
-            }
-        }
+        same_answers(accel, &reference, &run(accel));
     }
     let o = raylab(&[
         "trace",
@@ -1591,21 +1577,7 @@ fn trace_answers_through_instances_as_the_reference_loop() {
         .count();
     assert!(instanced_hits > lines / 2, "{instanced_hits} of {lines}");
     for accel in ["flat", "bvh", "auto", "packets"] {
-        for (a, b) in reference.lines().zip(run(accel).lines()) {
-            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
-            assert_eq!(
-                (wa[0], wa.get(2)),
-                (wb[0], wb.get(2)),
-                "{accel}: {a} vs {b}"
-            );
-            if wa[0] == "hit" {
-                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
-                assert!(
-                    (ta - tb).abs() <= 4e-7 * ta.abs(),
-                    "{accel}: t {ta} vs {tb}"
-                );
-            }
-        }
+        same_answers(accel, &reference, &run(accel));
     }
     // With at most 200 primitives stored one by one: the flattened reference refuses the
     // scene (3 x 96 triangles), naming the line where the limit is passed; the instanced
@@ -1677,14 +1649,7 @@ fn trace_packets_answer_as_the_reference_loop() {
         let lines = reference.lines().count();
         assert!(lines > 100, "{name}: {lines} rays");
         assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
-        for (a, b) in reference.lines().zip(packets.lines()) {
-            let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
-            assert_eq!((wa[0], wa.get(2)), (wb[0], wb.get(2)), "{name}: {a} vs {b}");
-            if wa[0] == "hit" {
-                let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
-                assert!((ta - tb).abs() <= 4e-7 * ta.abs(), "{name}: t {ta} vs {tb}");
-            }
-        }
+        same_answers(name, &reference, &packets);
     }
     let scene = write(dir.path(), "c.scene", "cornell\n");
     let rays = write(dir.path(), "r.txt", "0 0 -3 0 0 1 0 inf\n");
@@ -1692,4 +1657,22 @@ fn trace_packets_answer_as_the_reference_loop() {
         "trace", "--scene", &scene, "--rays", &rays, "--accel", "packets", "--method", "moller",
     ]);
     assert_fails(&o, 2, &["adaptive method only"]);
+}
+
+/// Two `trace` outputs name the same primitive (or miss) for every ray, with t equal within
+/// the stated bound (4e-7 relative: the adaptive t of different paths, see the README).
+fn same_answers(what: &str, reference: &str, other: &str) {
+    assert_eq!(
+        reference.lines().count(),
+        other.lines().count(),
+        "{what}: line count"
+    );
+    for (a, b) in reference.lines().zip(other.lines()) {
+        let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
+        assert_eq!((wa[0], wa.get(2)), (wb[0], wb.get(2)), "{what}: {a} vs {b}");
+        if wa[0] == "hit" {
+            let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
+            assert!((ta - tb).abs() <= 4e-7 * ta.abs(), "{what}: t {ta} vs {tb}");
+        }
+    }
 }
