@@ -1676,3 +1676,79 @@ fn same_answers(what: &str, reference: &str, other: &str) {
         }
     }
 }
+
+#[test]
+fn the_hard_case_suite_through_every_trace_path() {
+    // Every family of the hard-case suite (tests/common/suite.rs) written as a scene file and
+    // a ray file (f32 values in shortest round-trip form, so they parse to the same bits),
+    // answered by `raylab trace` through each path, and scored against the suite's exact
+    // rational reference: the adaptive method gives 0 wrong answers through all of them.
+    use common::suite::{self, exact_nearest, Counts};
+    use raylab::geometry::Shape;
+    let dir = tempfile::tempdir().unwrap();
+    let paths = ["reference", "flat", "bvh", "auto", "packets"];
+    let mut rays_total = 0;
+    for family in suite::all() {
+        let mut scene = String::new();
+        for s in &family.shapes {
+            match s {
+                Shape::Triangle(v) => {
+                    let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
+                    scene += &format!("tri {}\n", nums.join(" "));
+                }
+                Shape::Sphere { centre: c, radius } => {
+                    scene += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
+                }
+            }
+        }
+        let mut rays = String::new();
+        for r in &family.rays {
+            let (o, d) = (r.o, r.d);
+            rays += &format!(
+                "{} {} {} {} {} {} 0 inf\n",
+                o[0], o[1], o[2], d[0], d[1], d[2]
+            );
+        }
+        let scene = write(dir.path(), "family.scene", &scene);
+        let rays = write(dir.path(), "family.rays", &rays);
+        let exact: Vec<_> = family
+            .rays
+            .iter()
+            .map(|r| exact_nearest(&family.shapes, r))
+            .collect();
+        for path in paths {
+            let o = raylab(&["trace", "--scene", &scene, "--rays", &rays, "--accel", path]);
+            assert!(o.status.success(), "{} {path}: {}", family.name, stderr(&o));
+            let out = String::from_utf8(o.stdout).unwrap();
+            assert_eq!(
+                out.lines().count(),
+                family.rays.len(),
+                "{} {path}",
+                family.name
+            );
+            let mut counts = Counts::default();
+            for ((line, ray), exact) in out.lines().zip(&family.rays).zip(&exact) {
+                let words: Vec<&str> = line.split(' ').collect();
+                let got = (words[0] == "hit").then(|| {
+                    (
+                        words[1].parse::<f64>().unwrap(),
+                        words[2].parse::<u32>().unwrap(),
+                    )
+                });
+                counts.add(&family.shapes, ray, exact, got);
+            }
+            assert_eq!(
+                counts.wrong(),
+                0,
+                "{} through {path}: {} leaks, {} false hits, {} wrong nearest, {} pass-through",
+                family.name,
+                counts.leaks,
+                counts.false_hits,
+                counts.wrong_nearest,
+                counts.pass_through
+            );
+        }
+        rays_total += family.rays.len();
+    }
+    assert!(rays_total > 10_000, "{rays_total} rays");
+}
