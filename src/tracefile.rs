@@ -68,9 +68,7 @@ fn all_finite<T: Real>(xs: &[T], what: &str) -> Result<(), String> {
 /// read relative to `file`'s directory.
 pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, TraceError> {
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
-    let load_mesh = |p: &Path, frame, color| {
-        crate::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
-    };
+    let load_mesh = crate::scene::file::load_obj_mesh;
     Ok(crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?.shapes)
 }
 
@@ -80,10 +78,8 @@ pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, Tra
 pub fn parse_scene_instanced(file: &str, text: &str) -> Result<crate::scene::Scene, TraceError> {
     use crate::scene::{cornell, file as scene_file, Scene};
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
-    let load_mesh = |p: &Path, frame, color| {
-        crate::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
-    };
     let instancing = scene_file::Instancing::DEFAULT;
+    let load_mesh = scene_file::load_obj_mesh;
     let d = scene_file::parse_with::<f32>(file, text, dir, &load_mesh, instancing)?;
     let scene = Scene::new(file, d.shapes, d.colors, cornell::LIGHT, cornell::AMBIENT);
     scene

@@ -460,35 +460,12 @@ impl Bvh {
         }
     }
 
-    /// [`Bvh::closest_packet`] into a nearest-hit state shared with other structures (the
-    /// instances): lanes record primitive indices, not positions.
+    /// Offers to `sink` (a nearest-hit or shadow state shared with other structures, the
+    /// instances) every triangle the 8 rays from `o` may reach before their limits, from
+    /// `prepared` (made for `o`) or prepared as met: [`Bvh::closest_packet`] and
+    /// [`Bvh::blocked_packet`] with lanes recording primitive indices, not positions.
     #[inline(always)]
-    pub(crate) fn closest_packet_into(
-        &self,
-        nearest: &mut PacketNearest,
-        o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
-        d: &[f32x8; 3],
-    ) {
-        self.packet_into(nearest, o, prepared, d);
-    }
-
-    /// [`Bvh::blocked_packet`] into a shadow state shared with other structures.
-    #[inline(always)]
-    pub(crate) fn blocked_packet_into(
-        &self,
-        shadow: &mut ShadowPacket,
-        o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
-        d: &[f32x8; 3],
-    ) {
-        self.packet_into(shadow, o, prepared, d);
-    }
-
-    /// Offers to `sink` every triangle the 8 rays from `o` may reach before their limits,
-    /// from `prepared` (made for `o`) or prepared as met.
-    #[inline(always)]
-    fn packet_into<S: PacketSink>(
+    pub(crate) fn packet_into<S: PacketSink>(
         &self,
         sink: &mut S,
         o: [f32; 3],

@@ -188,14 +188,12 @@ impl Instances {
                 (Bvh::build(&tris), copies)
             })
             .collect();
-        let placed: Vec<Placed> = instances
-            .iter()
-            .zip(&mesh_of)
-            .map(|(inst, &mesh)| {
+        let boxes: Vec<([f32; 3], [f32; 3])> = instances.iter().map(world_bounds).collect();
+        let placed: Vec<Placed> = (instances.iter().zip(&mesh_of).zip(&boxes))
+            .map(|((inst, &mesh), &(wlo, whi))| {
                 let m = inst.world_from_object;
                 let inv = m.inverse();
                 let (lo, hi) = inst.mesh.bounds();
-                let (wlo, whi) = world_bounds(inst);
                 let max_abs = |a: [f32; 3], b: [f32; 3]| {
                     (0..3).fold(0f64, |acc, k| {
                         acc.max((a[k] as f64).abs()).max((b[k] as f64).abs())
@@ -215,7 +213,6 @@ impl Instances {
                 }
             })
             .collect();
-        let boxes: Vec<([f32; 3], [f32; 3])> = instances.iter().map(world_bounds).collect();
         let top = Bvh::build_over_boxes(&boxes);
         let world = top.root_bounds().unwrap_or(Aabb {
             lo: [0.0; 3],
@@ -251,8 +248,8 @@ impl Instances {
     }
 
     /// Visits the instances whose world box the ray may reach before t_far, and in each the
-    /// mesh leaves the carried ray may reach: `leaf(placed, world triangles' object source
-    /// and mesh-local index, t_far)` per leaf; it returns the new t_far and whether to stop.
+    /// mesh leaves the carried ray may reach: `leaf(placement, its mesh's hierarchy, the
+    /// leaf's item range in it, t_far)` per leaf returns the new t_far and whether to stop.
     fn walk(
         &self,
         ray: &Ray,
@@ -315,9 +312,10 @@ impl Instances {
         self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
             let (tris, locals) = mesh.triangles();
             hit = leaf.into_iter().any(|i| {
-                let world = placed.world(&tris[i]);
-                placed.first_prim + locals[i] != skip
-                    && search.confirms_triangle(&world, classify_f32(r, &world, e))
+                placed.first_prim + locals[i] != skip && {
+                    let world = placed.world(&tris[i]);
+                    search.confirms_triangle(&world, classify_f32(r, &world, e))
+                }
             });
             (t_far, hit)
         });

@@ -523,7 +523,7 @@ fn closest_with_instances_body(
     d_max: f32,
 ) -> packet::PacketHits {
     let mut nearest = packet::PacketNearest::new(d, d_max);
-    b.closest_packet_into(&mut nearest, o, prepared, d);
+    b.packet_into(&mut nearest, o, prepared, d);
     inst.packet(o, d, &mut nearest);
     nearest.finish()
 }
@@ -566,7 +566,7 @@ fn blocked_with_instances_body(
     valid: u32,
 ) -> packet::ShadowHits {
     let mut shadow = packet::ShadowPacket::new(d, d_max, skip, valid);
-    b.blocked_packet_into(&mut shadow, o, prepared, d);
+    b.packet_into(&mut shadow, o, prepared, d);
     inst.packet(o, d, &mut shadow);
     shadow.finish()
 }

@@ -403,18 +403,8 @@ impl<T: Real> Parser<'_, T> {
         let m = self.stack.matrix();
         let n = mesh.triangles.len();
         if n < self.instancing.min_triangles.max(1) || !Instance::placeable(&m) {
-            let identity = self.identity();
-            for (v, c) in mesh.triangles.iter().zip(&mesh.colors) {
-                let world = |p: [f32; 3]| -> Result<[T; 3], String> {
-                    match identity {
-                        true => Ok(p.map(|c| T::of(c as f64))),
-                        false => self.transformed(p.map(f64::from)),
-                    }
-                };
-                let shape = Shape::Triangle([world(v[0])?, world(v[1])?, world(v[2])?]);
-                self.add(shape, c.unwrap_or(color))?;
-            }
-            return Ok(());
+            let colors = mesh.colors.iter().map(|c| c.unwrap_or(color));
+            return self.add_triangles(mesh.triangles.iter().zip(colors));
         }
         let first = self.out.shapes.len() + self.instanced;
         if first + n > u32::MAX as usize - 1 {
@@ -680,22 +670,36 @@ impl<T: Real> Parser<'_, T> {
 
     /// Adds a loaded scene's primitives (a mesh, the Cornell box) in the current frame.
     fn add_scene(&mut self, scene: &Scene) -> Result<(), String> {
+        let triangles = scene.shapes.iter().map(|s| match s {
+            Shape::Triangle(v) => v,
+            Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
+        });
+        self.add_triangles(triangles.zip(scene.colors.iter().copied()))
+    }
+
+    /// Adds triangles written in the current frame, each with its colour.
+    fn add_triangles<'t>(
+        &mut self,
+        triangles: impl Iterator<Item = (&'t [[f32; 3]; 3], [f32; 3])>,
+    ) -> Result<(), String> {
         let identity = self.identity();
-        for (shape, color) in scene.shapes.iter().zip(&scene.colors) {
+        for (v, color) in triangles {
             let world = |p: [f32; 3]| -> Result<[T; 3], String> {
                 match identity {
                     true => Ok(p.map(|c| T::of(c as f64))),
                     false => self.transformed(p.map(f64::from)),
                 }
             };
-            let shape = match shape {
-                Shape::Triangle([a, b, c]) => Shape::Triangle([world(*a)?, world(*b)?, world(*c)?]),
-                Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
-            };
-            self.add(shape, *color)?;
+            let shape = Shape::Triangle([world(v[0])?, world(v[1])?, world(v[2])?]);
+            self.add(shape, color)?;
         }
         Ok(())
     }
+}
+
+/// The [`MeshLoader`] of files on disk: an OBJ file, faces without a material in `color`.
+pub fn load_obj_mesh(path: &Path, frame: ObjFrame, color: [f32; 3]) -> Result<Scene, String> {
+    obj::load_obj_file_coloured(path, frame, color).map_err(|e| e.to_string())
 }
 
 /// Loads a `.scene` file as a renderable scene (f32), with its meshes relative to it.
@@ -703,10 +707,7 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, String> {
     let name = path.display().to_string();
     let text = read_scene_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let load_mesh = |p: &Path, frame, color| {
-        obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
-    };
-    let d = parse_with::<f32>(&name, &text, &dir, &load_mesh, Instancing::DEFAULT)
+    let d = parse_with::<f32>(&name, &text, &dir, &load_obj_mesh, Instancing::DEFAULT)
         .map_err(|e| e.to_string())?;
     Scene::from_description(&name, d)
 }

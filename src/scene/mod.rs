@@ -313,14 +313,21 @@ impl Scene {
     /// Colours primitives `prims` with `color` (the viewer's highlight): shapes one by one,
     /// instances that lie inside the range as a whole.
     pub fn tint(&mut self, prims: std::ops::Range<u32>, color: V3<f32>) {
-        for p in prims.clone() {
-            if let Stored::Explicit(i) = self.stored(p) {
-                self.colors[i] = color;
-            }
-        }
-        for inst in &mut self.instances {
-            if prims.start <= inst.first_prim && inst.prims().end <= prims.end {
-                inst.tint = Some(color);
+        let mut p = prims.start;
+        while p < prims.end {
+            match self.stored(p) {
+                Stored::Explicit(i) => {
+                    self.colors[i] = color;
+                    p += 1;
+                }
+                // (One step over the instance, not one per triangle.)
+                Stored::Instanced { instance, .. } => {
+                    let inst = &mut self.instances[instance];
+                    if prims.start <= inst.first_prim && inst.prims().end <= prims.end {
+                        inst.tint = Some(color);
+                    }
+                    p = inst.prims().end;
+                }
             }
         }
     }
