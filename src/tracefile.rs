@@ -6,14 +6,16 @@
 //! `ox oy oz dx dy dz tmin tmax` (`tmax` may be `inf`); d is used exactly as given (not
 //! normalised). Numbers are parsed directly in the chosen precision (correctly rounded, so an
 //! f32 run never rounds twice). Output: per ray `hit <t> <index>` or `miss`, t printed with
-//! Rust's shortest round-trip formatting.
+//! Rust's shortest round-trip formatting. With the adaptive method t is the exact t correctly
+//! rounded to the chosen precision, whichever path found the primitive
+//! ([`adaptive::rounded_t`]); the other methods print the t they computed.
 //!
 //! Rejected, with file and line: a wrong count of numbers, junk, NaN, infinite coordinates,
 //! a zero direction, tmin > tmax, a radius that is not finite and > 0. Degenerate triangles
 //! are accepted (they are never hit).
 
 use crate::accel;
-use crate::geometry::{Method, Ray, Shape};
+use crate::geometry::{adaptive, Method, Ray, Shape};
 use crate::math::Real;
 use std::fmt::Write;
 use std::path::Path;
@@ -122,20 +124,36 @@ pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, T
 
 /// Traces every ray (nearest hit, ties to the lower index) and returns the output text.
 pub fn trace_all<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>], method: Method) -> String {
-    answers(rays, |r| {
-        accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax)
-    })
+    answers(
+        rays,
+        method,
+        |p| shapes[p as usize],
+        |r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
+    )
 }
 
-/// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it.
+/// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it. For the
+/// adaptive method t is the exact t correctly rounded ([`adaptive::rounded_t`]), whichever
+/// path found the primitive; the other methods print their own t.
 fn answers<T: Real>(
     rays: &[TraceRay<T>],
+    method: Method,
+    shape_of: impl Fn(u32) -> Shape<T>,
     mut closest: impl FnMut(&TraceRay<T>) -> Option<crate::geometry::Hit<T>>,
 ) -> String {
     let mut out = String::with_capacity(rays.len() * 24);
     for r in rays {
         match closest(r) {
-            Some(h) => writeln!(out, "hit {} {}", h.t, h.prim),
+            Some(h) => {
+                let t = match method {
+                    Method::Adaptive => {
+                        adaptive::rounded_t(&shape_of(h.prim), &r.ray, r.tmin, r.tmax)
+                            .unwrap_or(h.t)
+                    }
+                    _ => h.t,
+                };
+                writeln!(out, "hit {} {}", t, h.prim)
+            }
             None => writeln!(out, "miss"),
         }
         .expect("writing to a String cannot fail");
@@ -155,9 +173,12 @@ pub fn trace_all_through(
 ) -> String {
     scene.set_accel(choice);
     let structure = scene.accel();
-    answers(rays, |r| {
-        structure.closest_hit(&r.ray, method, r.tmin, r.tmax)
-    })
+    answers(
+        rays,
+        method,
+        |p| scene.shape(p),
+        |r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
+    )
 }
 
 /// Traces every ray in f32 as the renderer traces camera rays, with the adaptive method: rays
@@ -240,10 +261,15 @@ pub fn trace_all_packets(scene: &mut crate::scene::Scene, rays: &[TraceRay<f32>]
         }
     }
     let mut hits = found.into_iter();
-    answers(rays, |r| {
-        let packet = hits.next().expect("one answer per ray");
-        packet.unwrap_or_else(|| per_ray(r))
-    })
+    answers(
+        rays,
+        Method::Adaptive,
+        |p| scene.shape(p),
+        |r| {
+            let packet = hits.next().expect("one answer per ray");
+            packet.unwrap_or_else(|| per_ray(r))
+        },
+    )
 }
 
 /// Parses both texts and traces: the whole `raylab trace` in one call.

@@ -1659,21 +1659,17 @@ fn trace_packets_answer_as_the_reference_loop() {
     assert_fails(&o, 2, &["adaptive method only"]);
 }
 
-/// Two `trace` outputs name the same primitive (or miss) for every ray, with t equal within
-/// the stated bound (4e-7 relative: the adaptive t of different paths, see the README).
+/// Two `trace` outputs are the same: the same primitive (or miss) for every ray, the same t.
 fn same_answers(what: &str, reference: &str, other: &str) {
+    // The adaptive method prints the exact t correctly rounded through every path, so the
+    // answers are the same text, t to the last bit.
     assert_eq!(
         reference.lines().count(),
         other.lines().count(),
         "{what}: line count"
     );
     for (a, b) in reference.lines().zip(other.lines()) {
-        let (wa, wb): (Vec<&str>, Vec<&str>) = (a.split(' ').collect(), b.split(' ').collect());
-        assert_eq!((wa[0], wa.get(2)), (wb[0], wb.get(2)), "{what}: {a} vs {b}");
-        if wa[0] == "hit" {
-            let (ta, tb): (f32, f32) = (wa[1].parse().unwrap(), wb[1].parse().unwrap());
-            assert!((ta - tb).abs() <= 4e-7 * ta.abs(), "{what}: t {ta} vs {tb}");
-        }
+        assert_eq!(a, b, "{what}");
     }
 }
 
@@ -1682,7 +1678,8 @@ fn the_hard_case_suite_through_every_trace_path() {
     // Every family of the hard-case suite (tests/common/suite.rs) written as a scene file and
     // a ray file (f32 values in shortest round-trip form, so they parse to the same bits),
     // answered by `raylab trace` through each path, and scored against the suite's exact
-    // rational reference: the adaptive method gives 0 wrong answers through all of them.
+    // rational reference: the adaptive method gives 0 wrong answers through all of them, and
+    // every t printed is the exact t correctly rounded to f32.
     use common::suite::{self, exact_nearest, Counts};
     use raylab::geometry::Shape;
     let dir = tempfile::tempdir().unwrap();
@@ -1726,7 +1723,7 @@ fn the_hard_case_suite_through_every_trace_path() {
                 "{} {path}",
                 family.name
             );
-            let mut counts = Counts::default();
+            let (mut counts, mut not_rounded) = (Counts::default(), 0);
             for ((line, ray), exact) in out.lines().zip(&family.rays).zip(&exact) {
                 let words: Vec<&str> = line.split(' ').collect();
                 let got = (words[0] == "hit").then(|| {
@@ -1736,7 +1733,18 @@ fn the_hard_case_suite_through_every_trace_path() {
                     )
                 });
                 counts.add(&family.shapes, ray, exact, got);
+                if let (Some((t, prim)), Some((_, gprim))) = (exact, got) {
+                    let printed: f32 = words[1].parse().unwrap();
+                    if *prim == gprim && t.rounded::<f32>() != Some(printed) {
+                        not_rounded += 1;
+                    }
+                }
             }
+            assert_eq!(
+                not_rounded, 0,
+                "{} through {path}: t not correctly rounded",
+                family.name
+            );
             assert_eq!(
                 counts.wrong(),
                 0,

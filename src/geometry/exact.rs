@@ -10,6 +10,7 @@
 //! t = a + b·√s (b = 0 for triangles; spheres have irrational roots), and compared by the
 //! sign of sums of such terms (squaring only where the signs differ, so nothing is rounded).
 
+use crate::math::Real;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::Zero;
@@ -72,7 +73,94 @@ impl ExactT {
         if x == f64::NEG_INFINITY {
             return Ordering::Greater;
         }
-        sign_lin(&(&self.a - q(x)), &self.b, &self.s)
+        self.cmp_q(&q(x))
+    }
+
+    /// Exact comparison with a rational.
+    fn cmp_q(&self, x: &Q) -> Ordering {
+        sign_lin(&(&self.a - x), &self.b, &self.s)
+    }
+
+    /// The value correctly rounded to T: the nearest value of T, a tie to the one with the
+    /// even last bit, beyond the largest finite value ±∞ and in the subnormal range as IEEE
+    /// 754's rounding to nearest does (a value that rounds to zero gives a zero of its sign).
+    ///
+    /// Found by exact comparisons with the midpoints between neighbouring values of T (the
+    /// boundaries of what rounds to each), starting at [`ExactT::approx`] and doubling the
+    /// step until the value is bracketed, then bisecting: two or three comparisons when the
+    /// estimate is good, about 130 where it overflowed (huge or tiny magnitudes in f64).
+    pub fn rounded<T: Real>(&self) -> T {
+        let value = |k: i64| q(T::from_key(k).f64());
+        // Above the largest finite value, IEEE rounds to ∞ from half an ulp beyond it.
+        let overflow = {
+            let max = value(T::MAX_KEY);
+            &max + (&max - value(T::MAX_KEY - 1)) / Q::from_integer(BigInt::from(2))
+        };
+        let boundary = |k: i64| -> Q {
+            match k {
+                k if k == T::MAX_KEY => overflow.clone(),
+                k if k == -T::MAX_KEY - 1 => -overflow.clone(),
+                k => (value(k) + value(k + 1)) / Q::from_integer(BigInt::from(2)),
+            }
+        };
+        // at_or_below(k): the value rounds to key k or lower; key −MAX−1 stands for −∞,
+        // MAX+1 for +∞. Monotone in k, so the answer is the smallest k where it holds.
+        let (bottom, top) = (-T::MAX_KEY - 1, T::MAX_KEY + 1);
+        let at_or_below = |k: i64| {
+            k == top
+                || match self.cmp_q(&boundary(k)) {
+                    Ordering::Less => true,
+                    Ordering::Equal => k % 2 == 0,
+                    Ordering::Greater => false,
+                }
+        };
+        let guess = self.approx();
+        let start = match guess.is_nan() {
+            true => 0,
+            false => T::of(guess).max(-T::max_value()).min(T::max_value()).key(),
+        };
+        // Invariant once bracketed: !at_or_below(lo), at_or_below(hi).
+        let (mut lo, mut hi);
+        let mut step = 1i64;
+        if at_or_below(start) {
+            hi = start;
+            loop {
+                if hi == bottom {
+                    return T::neg_infinity();
+                }
+                let probe = hi.saturating_sub(step).max(bottom);
+                if !at_or_below(probe) {
+                    lo = probe;
+                    break;
+                }
+                hi = probe;
+                step = step.saturating_mul(2);
+            }
+        } else {
+            lo = start;
+            loop {
+                let probe = lo.saturating_add(step).min(top);
+                if at_or_below(probe) {
+                    hi = probe;
+                    break;
+                }
+                lo = probe;
+                step = step.saturating_mul(2);
+            }
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if at_or_below(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        match hi {
+            k if k == top => T::infinity(),
+            0 if self.cmp_q(&Q::zero()) == Ordering::Less => -T::zero(),
+            k => T::from_key(k),
+        }
     }
 }
 
@@ -508,5 +596,72 @@ mod tests {
             f64::INFINITY
         )
         .is_none());
+    }
+
+    #[test]
+    fn rounds_to_nearest_with_ties_to_even_overflow_and_underflow() {
+        let two = |k: i32| match k >= 0 {
+            true => Q::from_integer(BigInt::from(1) << k as usize),
+            false => Q::new(BigInt::from(1), BigInt::from(1) << (-k) as usize),
+        };
+        let r = |x: Q| ExactT::rational(x);
+        let one = two(0);
+        // Ties go to the even neighbour: 1 + 2⁻²⁴ to 1, 1 + 3·2⁻²⁴ to 1 + 2⁻²², in f32.
+        assert_eq!(r(&one + two(-24)).rounded::<f32>(), 1.0);
+        assert_eq!(
+            r(&one + two(-23) + two(-24)).rounded::<f32>(),
+            1.0 + 2f32.powi(-22)
+        );
+        assert_eq!(
+            r(&one + two(-24) + two(-80)).rounded::<f32>(),
+            1.0f32.next_up()
+        );
+        assert_eq!(
+            r(-(&one + two(-24) + two(-80))).rounded::<f32>(),
+            -1.0f32.next_up()
+        );
+        assert_eq!(r(&one + two(-53)).rounded::<f64>(), 1.0);
+        assert_eq!(
+            r(&one + two(-53) + two(-200)).rounded::<f64>(),
+            1.0f64.next_up()
+        );
+        // Subnormals and underflow: half the least subnormal is a tie to (signed) zero.
+        assert_eq!(r(two(-150)).rounded::<f32>().to_bits(), 0);
+        assert_eq!(
+            r(-two(-150)).rounded::<f32>().to_bits(),
+            (-0.0f32).to_bits()
+        );
+        assert_eq!(r(two(-150) + two(-300)).rounded::<f32>(), f32::from_bits(1));
+        assert_eq!(
+            r(two(-1075) + two(-1200)).rounded::<f64>(),
+            f64::from_bits(1)
+        );
+        assert_eq!(
+            r(two(-1074) * Q::from_integer(3.into())).rounded::<f64>(),
+            f64::from_bits(3)
+        );
+        // Overflow from half an ulp above the largest finite value, as IEEE rounds.
+        let half_ulp = two(103);
+        let max = q(f32::MAX as f64);
+        assert_eq!(r(&max + &half_ulp - two(-50)).rounded::<f32>(), f32::MAX);
+        assert_eq!(r(&max + &half_ulp).rounded::<f32>(), f32::INFINITY);
+        assert_eq!(r(-(&max + &half_ulp)).rounded::<f32>(), f32::NEG_INFINITY);
+        assert_eq!(r(two(1024)).rounded::<f64>(), f64::INFINITY);
+        assert_eq!(r(two(1023)).rounded::<f64>(), 2f64.powi(1023));
+        // From a guess that overflowed f64 (approx() is NaN or ∞): still found.
+        let huge = Q::from_integer(BigInt::from(7) << 1500usize);
+        assert_eq!(
+            r(&huge / Q::from_integer(BigInt::from(1) << 1400usize)).rounded::<f64>(),
+            7.0 * 2f64.powi(100)
+        );
+        // Irrational: 1 + √2 and a root 2⁻¹⁰⁰⁰·√3 (its parts underflow an f64 estimate).
+        assert_eq!(t(1.0, 1.0, 2.0).rounded::<f64>(), 1.0 + 2f64.sqrt());
+        assert_eq!(t(1.0, 1.0, 2.0).rounded::<f32>(), 1.0 + 2f32.sqrt());
+        let tiny = ExactT {
+            a: Q::zero(),
+            b: two(-1000),
+            s: Q::from_integer(3.into()),
+        };
+        assert_eq!(tiny.rounded::<f64>(), 3f64.sqrt() * 2f64.powi(-1000));
     }
 }

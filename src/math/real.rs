@@ -17,6 +17,13 @@ pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
     fn up(self) -> Self;
     /// The next representable value towards −∞.
     fn down(self) -> Self;
+    /// The largest [`Real::key`] (that of the largest finite value).
+    const MAX_KEY: i64;
+    /// The value's place among the finite values in order: +0 is 0, the next value up is 1,
+    /// the next down −1 (−0 counts as +0), so a search over keys is a search over values.
+    fn key(self) -> i64;
+    /// The finite value with that key (|k| ≤ [`Real::MAX_KEY`]).
+    fn from_key(k: i64) -> Self;
 
     /// Higham's γ(n) = n·u / (1 − n·u): the relative error bound of n rounded operations.
     #[inline]
@@ -44,6 +51,23 @@ impl Real for f32 {
     fn down(self) -> Self {
         self.next_down()
     }
+    const MAX_KEY: i64 = f32::MAX.to_bits() as i64;
+    fn key(self) -> i64 {
+        let magnitude = (self.to_bits() & 0x7fff_ffff) as i64;
+        if self < 0.0 {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+    fn from_key(k: i64) -> Self {
+        let magnitude = f32::from_bits(k.unsigned_abs() as u32);
+        if k < 0 {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
 }
 
 impl Real for f64 {
@@ -63,6 +87,23 @@ impl Real for f64 {
     #[inline]
     fn down(self) -> Self {
         self.next_down()
+    }
+    const MAX_KEY: i64 = f64::MAX.to_bits() as i64;
+    fn key(self) -> i64 {
+        let magnitude = (self.to_bits() & !(1u64 << 63)) as i64;
+        if self < 0.0 {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+    fn from_key(k: i64) -> Self {
+        let magnitude = f64::from_bits(k.unsigned_abs());
+        if k < 0 {
+            -magnitude
+        } else {
+            magnitude
+        }
     }
 }
 
@@ -113,4 +154,33 @@ pub fn abs<T: Real>(a: V3<T>) -> V3<T> {
 #[inline]
 pub fn finite<T: Real>(a: V3<T>) -> bool {
     a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_count_the_finite_values_in_order() {
+        for x in [
+            0.0f32,
+            1e-45,
+            1.0,
+            -1.0,
+            f32::MAX,
+            -f32::MAX,
+            3.5e-39,
+            -7.25,
+        ] {
+            assert_eq!(f32::from_key(x.key()), x);
+            assert_eq!(x.next_up().key(), x.key() + 1, "{x}");
+        }
+        for x in [0.0f64, 5e-324, 1.0, -1.0, f64::MAX, -f64::MAX, -2.5e-310] {
+            assert_eq!(f64::from_key(x.key()), x);
+            assert_eq!(x.next_up().key(), x.key() + 1, "{x}");
+        }
+        assert_eq!((-0.0f32).key(), 0);
+        assert_eq!(f32::MAX.key(), f32::MAX_KEY);
+        assert_eq!(f64::MAX.key(), f64::MAX_KEY);
+    }
 }

@@ -11,6 +11,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use raylab::geometry::{Ray, Shape};
+use raylab::math::Real;
 use std::cmp::Ordering;
 
 /// One family: a scene and the rays shot at it (all with tmin = 0, tmax = ∞).
@@ -52,6 +53,11 @@ pub fn q(x: f32) -> Q {
     Q::from_float(x).expect("finite")
 }
 
+/// Any finite f32 or f64 as the exact rational it is.
+pub fn qr<T: Real>(x: T) -> Q {
+    Q::from_float(x.f64()).expect("finite")
+}
+
 /// An exact t: a rational, or an irrational sphere root known within 2⁻²⁵⁶ relative.
 #[derive(Clone, Debug)]
 pub enum RefT {
@@ -86,6 +92,84 @@ impl RefT {
     pub fn f64(&self) -> f64 {
         self.bounds().0.to_f64().unwrap()
     }
+
+    /// The value correctly rounded to T (nearest, ties to even, IEEE overflow and
+    /// underflow), or `None` where an irrational root's bounds round apart.
+    pub fn rounded<T: Real + Bits>(&self) -> Option<T> {
+        let (lo, hi) = self.bounds();
+        let (a, b) = (round_q::<T>(lo), round_q::<T>(hi));
+        (a.to_bits_u64() == b.to_bits_u64()).then_some(a)
+    }
+}
+
+/// Bit patterns, to compare floats bit for bit in tests (−0 ≠ +0).
+pub trait Bits {
+    fn to_bits_u64(self) -> u64;
+}
+impl Bits for f32 {
+    fn to_bits_u64(self) -> u64 {
+        self.to_bits() as u64
+    }
+}
+impl Bits for f64 {
+    fn to_bits_u64(self) -> u64 {
+        self.to_bits()
+    }
+}
+
+/// x rounded to the nearest value of T with ties to even, written from the definition with
+/// integers (independent of the library's search over midpoints): the binade of x, its
+/// quantum 2^(max(e, emin) − p + 1), the quotient and remainder, ∞ from 2^(emax+1) up.
+pub fn round_q<T: Real>(x: &Q) -> T {
+    let (precision, emin, emax): (i64, i64, i64) = match std::mem::size_of::<T>() {
+        4 => (24, -126, 127),
+        _ => (53, -1022, 1023),
+    };
+    if x.is_zero() {
+        return T::zero();
+    }
+    let negative = x.is_negative();
+    let (n, d) = (x.numer().abs(), x.denom().clone());
+    let shifted = |v: &BigInt, by: i64| -> BigInt {
+        if by >= 0 {
+            v << by as usize
+        } else {
+            v >> (-by) as usize
+        }
+    };
+    // 2^e ≤ |x| < 2^(e+1).
+    let mut e = n.bits() as i64 - d.bits() as i64;
+    let below = if e >= 0 {
+        n < shifted(&d, e)
+    } else {
+        shifted(&n, -e) < d
+    };
+    if below {
+        e -= 1;
+    }
+    let quantum = e.max(emin) - (precision - 1);
+    let (num, den) = if quantum >= 0 {
+        (n, shifted(&d, quantum))
+    } else {
+        (shifted(&n, -quantum), d)
+    };
+    let (mut m, r) = (&num / &den, &num % &den);
+    let twice_r: BigInt = r * 2;
+    if twice_r > den || (twice_r == den && (&m % 2u32) == BigInt::one()) {
+        m += 1;
+    }
+    let magnitude = if m.bits() as i64 + quantum > emax + 1 {
+        f64::INFINITY
+    } else {
+        let m = m.to_f64().expect("at most 2^53");
+        m * 2f64.powi((quantum / 2) as i32) * 2f64.powi((quantum - quantum / 2) as i32)
+    };
+    let v = T::of(magnitude);
+    if negative {
+        -v
+    } else {
+        v
+    }
 }
 
 /// √x within bounds 2⁻²⁵⁶ apart (relative), exact when x is a square.
@@ -117,10 +201,10 @@ fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
 }
 
 /// Exact t of the ray on one primitive with tmin < t (nearest root for a sphere).
-pub fn exact_t(shape: &Shape<f32>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<RefT> {
+pub fn exact_t<T: Real>(shape: &Shape<T>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<RefT> {
     match shape {
         Shape::Triangle(v) => {
-            let v = v.map(|p| p.map(q));
+            let v = v.map(|p| p.map(qr));
             let e1 = sub(&v[1], &v[0]);
             let e2 = sub(&v[2], &v[0]);
             let p = cross(d, &e2);
@@ -137,8 +221,8 @@ pub fn exact_t(shape: &Shape<f32>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<R
             (inside && &t > tmin).then_some(RefT::Exact(t))
         }
         Shape::Sphere { centre, radius } => {
-            let f = sub(o, &centre.map(q));
-            let r = q(*radius);
+            let f = sub(o, &centre.map(qr));
+            let r = qr(*radius);
             let a = dot(d, d);
             let b = dot(&f, d);
             let c = dot(&f, &f) - &r * &r;
@@ -166,8 +250,8 @@ pub fn exact_t(shape: &Shape<f32>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<R
 }
 
 /// Exact nearest hit with t > 0: (t, primitive), ties to the lower index.
-pub fn exact_nearest(shapes: &[Shape<f32>], ray: &Ray<f32>) -> Option<(RefT, u32)> {
-    let (o, d) = (ray.o.map(q), ray.d.map(q));
+pub fn exact_nearest<T: Real>(shapes: &[Shape<T>], ray: &Ray<T>) -> Option<(RefT, u32)> {
+    let (o, d) = (ray.o.map(qr), ray.d.map(qr));
     let mut best: Option<(RefT, u32)> = None;
     for (i, s) in shapes.iter().enumerate() {
         if let Some(t) = exact_t(s, &o, &d, &Q::zero()) {
