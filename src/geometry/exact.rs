@@ -90,6 +90,9 @@ impl ExactT {
     /// step until the value is bracketed, then bisecting: two or three comparisons when the
     /// estimate is good, about 130 where it overflowed (huge or tiny magnitudes in f64).
     pub fn rounded<T: Real>(&self) -> T {
+        if self.b.is_zero() || self.s.is_zero() {
+            return round_ratio(self.a.numer(), self.a.denom());
+        }
         let value = |k: i64| q(T::from_key(k).f64());
         // Above the largest finite value, IEEE rounds to ∞ from half an ulp beyond it.
         let overflow = {
@@ -427,6 +430,101 @@ pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
         return None;
     }
     Some(ExactT::rational(dot(&p[0], &n) / den))
+}
+
+/// n / d (d > 0) correctly rounded to T: the binade 2^e ≤ |n/d| < 2^(e+1), the quantum
+/// 2^(max(e, emin) − p + 1) of T there, one integer division and the remainder for the
+/// rounding (ties to even); ∞ from 2^(emax+1) up.
+fn round_ratio<T: Real>(n: &BigInt, d: &BigInt) -> T {
+    use num_traits::{Signed, ToPrimitive};
+    if n.is_zero() {
+        return T::zero();
+    }
+    let (a, d) = (n.abs(), d.abs());
+    let shift = |v: &BigInt, by: i64| -> BigInt {
+        match by >= 0 {
+            true => v << by as u64,
+            false => v >> (-by) as u64,
+        }
+    };
+    let mut e = a.bits() as i64 - d.bits() as i64;
+    let below = match e >= 0 {
+        true => a < shift(&d, e),
+        false => shift(&a, -e) < d,
+    };
+    if below {
+        e -= 1;
+    }
+    let quantum = e.max(T::MIN_NORMAL_EXP) - (T::PRECISION - 1);
+    let (num, den) = match quantum >= 0 {
+        true => (a, shift(&d, quantum)),
+        false => (shift(&a, -quantum), d),
+    };
+    let (mut m, r) = (&num / &den, &num % &den);
+    let twice_r = r << 1u32;
+    if twice_r > den || (twice_r == den && m.bit(0)) {
+        m += 1;
+    }
+    let magnitude = if m.bits() as i64 + quantum > T::MAX_EXP + 1 {
+        T::infinity()
+    } else {
+        // m < 2^54 is exact in f64, and so is m·2^quantum (in two steps, so that neither
+        // factor leaves the range); T::of is then exact too.
+        let m = m.to_f64().unwrap_or(f64::NAN);
+        let half = (quantum / 2) as i32;
+        T::of(m * 2f64.powi(half) * 2f64.powi(quantum as i32 - half))
+    };
+    match n.is_negative() {
+        true => -magnitude,
+        false => magnitude,
+    }
+}
+
+/// An f64 as m·2^e with an integer m (0 as 0·2^0).
+fn integer_and_exponent(x: f64) -> (BigInt, i64) {
+    let bits = x.to_bits();
+    let (exp, frac) = (((bits >> 52) & 0x7ff) as i64, bits & ((1u64 << 52) - 1));
+    let (m, e) = match exp {
+        0 => (frac, -1074),
+        _ => (frac | (1u64 << 52), exp - 1075),
+    };
+    let m = BigInt::from(m);
+    (if x < 0.0 { -m } else { m }, e)
+}
+
+/// The exact t of the line o + t·d at the plane of triangle v correctly rounded to T
+/// (`None` if parallel), in integers: every input is m·2^e, so with E the least exponent
+/// they are all integers times 2^E, and t = p₀·n / d·n is a ratio of integers (both carry
+/// 2^3E, which cancels), rounded by one division. No gcds: some 20× cheaper than
+/// [`plane_t`] and [`ExactT::rounded`].
+pub fn plane_t_rounded<T: Real>(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<T> {
+    let inputs = [o, d, v[0], v[1], v[2]].map(|p| p.map(integer_and_exponent));
+    let least = inputs
+        .iter()
+        .flatten()
+        .filter(|(m, _)| !m.is_zero())
+        .map(|(_, e)| *e)
+        .min()
+        .unwrap_or(0);
+    let [o, d, a, b, c] = inputs.map(|p| p.map(|(m, e)| m << (e - least) as u64));
+    let sub = |x: &[BigInt; 3], y: &[BigInt; 3]| [0, 1, 2].map(|k| &x[k] - &y[k]);
+    let dot = |x: &[BigInt; 3], y: &[BigInt; 3]| &x[0] * &y[0] + &x[1] * &y[1] + &x[2] * &y[2];
+    let (p0, p1, p2) = (sub(&a, &o), sub(&b, &o), sub(&c, &o));
+    let (e1, e2) = (sub(&p1, &p0), sub(&p2, &p0));
+    let n = [
+        &e1[1] * &e2[2] - &e1[2] * &e2[1],
+        &e1[2] * &e2[0] - &e1[0] * &e2[2],
+        &e1[0] * &e2[1] - &e1[1] * &e2[0],
+    ];
+    let den = dot(&d, &n);
+    if den.is_zero() {
+        return None;
+    }
+    let num = dot(&p0, &n);
+    Some(match den < BigInt::zero() {
+        true => round_ratio(&-num, &-den),
+        false => round_ratio(&num, &den),
+    })
 }
 
 pub(crate) type QV = [Q; 3];

@@ -19,6 +19,10 @@ pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
     fn down(self) -> Self;
     /// The largest [`Real::key`] (that of the largest finite value).
     const MAX_KEY: i64;
+    /// Significand bits p, and the binary exponents of the least and largest normal values.
+    const PRECISION: i64;
+    const MIN_NORMAL_EXP: i64;
+    const MAX_EXP: i64;
     /// The value's place among the finite values in order: +0 is 0, the next value up is 1,
     /// the next down −1 (−0 counts as +0), so a search over keys is a search over values.
     fn key(self) -> i64;
@@ -52,6 +56,9 @@ impl Real for f32 {
         self.next_down()
     }
     const MAX_KEY: i64 = f32::MAX.to_bits() as i64;
+    const PRECISION: i64 = 24;
+    const MIN_NORMAL_EXP: i64 = -126;
+    const MAX_EXP: i64 = 127;
     fn key(self) -> i64 {
         let magnitude = (self.to_bits() & 0x7fff_ffff) as i64;
         if self < 0.0 {
@@ -89,6 +96,9 @@ impl Real for f64 {
         self.next_down()
     }
     const MAX_KEY: i64 = f64::MAX.to_bits() as i64;
+    const PRECISION: i64 = 53;
+    const MIN_NORMAL_EXP: i64 = -1022;
+    const MAX_EXP: i64 = 1023;
     fn key(self) -> i64 {
         let magnitude = (self.to_bits() & !(1u64 << 63)) as i64;
         if self < 0.0 {
