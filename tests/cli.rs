@@ -1134,18 +1134,7 @@ fn trace_answers_through_every_per_ray_path_alike() {
         centre: [1.5, 0.0, 0.0],
         radius: 0.5,
     });
-    let mut scene = String::new();
-    for s in &shapes {
-        match s {
-            Shape::Triangle(v) => {
-                let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
-                scene += &format!("tri {}\n", nums.join(" "));
-            }
-            Shape::Sphere { centre: c, radius } => {
-                scene += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
-            }
-        }
-    }
+    let scene = common::scene_text(&shapes);
     let mut rays = String::new();
     for o in [
         [0.0f32, 0.0, -3.0],
@@ -1681,23 +1670,11 @@ fn the_hard_case_suite_through_every_trace_path() {
     // rational reference: the adaptive method gives 0 wrong answers through all of them, and
     // every t printed is the exact t correctly rounded to f32.
     use common::suite::{self, exact_nearest, Counts};
-    use raylab::geometry::Shape;
     let dir = tempfile::tempdir().unwrap();
     let paths = ["reference", "flat", "bvh", "auto", "packets"];
     let mut rays_total = 0;
     for family in suite::all() {
-        let mut scene = String::new();
-        for s in &family.shapes {
-            match s {
-                Shape::Triangle(v) => {
-                    let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
-                    scene += &format!("tri {}\n", nums.join(" "));
-                }
-                Shape::Sphere { centre: c, radius } => {
-                    scene += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
-                }
-            }
-        }
+        let scene = common::scene_text(&family.shapes);
         let mut rays = String::new();
         for r in &family.rays {
             let (o, d) = (r.o, r.d);

@@ -11,19 +11,12 @@
 
 mod common;
 
-use common::suite::{exact_nearest, round_q, Bits, RefT, Q};
+use common::suite::{exact_nearest, round_q, Bits, Family, RefT, Q};
 use common::Rng;
 use raylab::accel::AccelChoice;
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use raylab::math::Real;
 use raylab::tracefile::{self, TraceRay};
-
-/// A family in one precision: shapes and rays (tmin = 0, tmax = ∞).
-struct Family<T: Real> {
-    name: String,
-    shapes: Vec<Shape<T>>,
-    rays: Vec<Ray<T>>,
-}
 
 fn normalize(v: [f64; 3]) -> [f64; 3] {
     let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -73,11 +66,7 @@ fn grazing<T: Real>(seed: u64) -> Family<T> {
             rays.push(Ray::new(o, d.map(T::of)));
         }
     }
-    Family {
-        name: "grazing".into(),
-        shapes,
-        rays,
-    }
+    Family::new("grazing", shapes, rays)
 }
 
 /// The construction: rays through an exact point p = v₀ + (v₁ − v₀)/2 + (v₂ − v₀)/4
@@ -120,11 +109,7 @@ fn grazing_exact<T: Real>(seed: u64) -> Family<T> {
         shapes.push(Shape::Triangle(v.map(place)));
         rays.push(Ray::new(place(o), d.map(T::of)));
     }
-    Family {
-        name: "grazing, exact t".into(),
-        shapes,
-        rays,
-    }
+    Family::new("grazing, exact t", shapes, rays)
 }
 
 /// Origins on a sphere's surface (rounded) and a few ulps in or out of it, looking in any
@@ -170,11 +155,7 @@ fn near_sphere<T: Real>(seed: u64) -> Family<T> {
         [12_345_677.0, 1.0, 0.0].map(T::of),
         [-1.0, 0.0, 0.0].map(T::of),
     ));
-    Family {
-        name: "near sphere".into(),
-        shapes,
-        rays,
-    }
+    Family::new("near sphere", shapes, rays)
 }
 
 /// The family scaled by 2^k: positions always, the direction too when `with_direction` (then
@@ -233,23 +214,6 @@ fn families<T: Real>(base: Vec<Family<T>>, scales: &[i32]) -> Vec<Family<T>> {
     all
 }
 
-/// The scene file text (shortest round-trip numbers parse back to the same bits).
-fn scene_text<T: Real>(shapes: &[Shape<T>]) -> String {
-    let mut text = String::new();
-    for s in shapes {
-        match s {
-            Shape::Triangle(v) => {
-                let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
-                text += &format!("tri {}\n", nums.join(" "));
-            }
-            Shape::Sphere { centre: c, radius } => {
-                text += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
-            }
-        }
-    }
-    text
-}
-
 /// Scores one path's output against the exact reference: (hits checked, wrong primitive or
 /// hit/miss, t not the correctly rounded exact t, irrational t too close to a rounding
 /// boundary for the reference's 2⁻²⁵⁶ bounds).
@@ -300,7 +264,7 @@ type TracePath<T> = dyn Fn(&str, &[TraceRay<T>]) -> String;
 fn check<T: Real + Bits>(families: &[Family<T>], paths: &[(&str, &TracePath<T>)]) -> usize {
     let mut total_hits = 0;
     for f in families {
-        let text = scene_text(&f.shapes);
+        let text = common::scene_text(&f.shapes);
         let rays: Vec<TraceRay<T>> = f
             .rays
             .iter()

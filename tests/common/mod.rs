@@ -4,6 +4,7 @@
 pub mod suite;
 
 use raylab::geometry::Shape;
+use raylab::math::Real;
 
 /// SplitMix64: a tiny seeded generator so every test run sees the same cases.
 pub struct Rng(pub u64);
@@ -187,4 +188,22 @@ pub fn pixels_off(a: &(u32, u32, Vec<u8>), b: &(u32, u32, Vec<u8>)) -> (usize, u
         .filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8))
         .count();
     (off, (a.0 * a.1) as usize)
+}
+
+/// Shapes as `.scene` text (`tri …` / `sphere …` per line; Rust's shortest round-trip
+/// numbers, so they parse back to the same bits in the same precision).
+pub fn scene_text<T: Real>(shapes: &[Shape<T>]) -> String {
+    let mut text = String::new();
+    for s in shapes {
+        match s {
+            Shape::Triangle(v) => {
+                let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();
+                text += &format!("tri {}\n", nums.join(" "));
+            }
+            Shape::Sphere { centre: c, radius } => {
+                text += &format!("sphere {} {} {} {radius}\n", c[0], c[1], c[2]);
+            }
+        }
+    }
+    text
 }

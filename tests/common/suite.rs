@@ -14,15 +14,16 @@ use raylab::geometry::{Ray, Shape};
 use raylab::math::Real;
 use std::cmp::Ordering;
 
-/// One family: a scene and the rays shot at it (all with tmin = 0, tmax = ∞).
-pub struct Family {
+/// One family: a scene and the rays shot at it (all with tmin = 0, tmax = ∞), in f32 (the
+/// suite) or f64.
+pub struct Family<T: Real = f32> {
     pub name: String,
-    pub shapes: Vec<Shape<f32>>,
-    pub rays: Vec<Ray<f32>>,
+    pub shapes: Vec<Shape<T>>,
+    pub rays: Vec<Ray<T>>,
 }
 
-impl Family {
-    pub fn new(name: impl Into<String>, shapes: Vec<Shape<f32>>, rays: Vec<Ray<f32>>) -> Self {
+impl<T: Real> Family<T> {
+    pub fn new(name: impl Into<String>, shapes: Vec<Shape<T>>, rays: Vec<Ray<T>>) -> Self {
         Self {
             name: name.into(),
             shapes,
