@@ -260,11 +260,33 @@ pub struct TraceArgs {
     pub precision: Precision,
     /// Which path answers: `reference` (the scalar loop over every primitive), the
     /// renderer's per-ray structures, `flat` (the SIMD loop), `bvh`, or `auto` (as the
-    /// renderer picks), or `packets` (rays with one origin, tmin 0 and tmax inf, 8 at a time
-    /// through the renderer's camera packets; adaptive method only); the structures run in
-    /// f32 only.
+    /// renderer picks), or `packets` (the renderer's frame queries: rays with one origin, tmin
+    /// 0 and tmax inf, 8 at a time as camera rays, or with `--query any` tmin 0 and tmax 1 as
+    /// shadow segments; adaptive method only); the structures run in f32 only.
     #[arg(long, default_value = "reference")]
     pub accel: TraceAccel,
+    /// What each ray asks: `nearest` (`hit <t> <index>` or `miss`) or `any` (`hit` or
+    /// `miss`: whether anything is hit with tmin < t < tmax, a shadow ray's question; with
+    /// `--accel packets`, rays with one origin, tmin 0 and tmax 1 go 8 at a time through the
+    /// renderer's shadow packets).
+    #[arg(long, value_enum, default_value = "nearest")]
+    pub query: QueryArg,
+}
+
+/// `--query` of `raylab trace`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum QueryArg {
+    Nearest,
+    Any,
+}
+
+impl From<QueryArg> for tracefile::Query {
+    fn from(q: QueryArg) -> Self {
+        match q {
+            QueryArg::Nearest => Self::Nearest,
+            QueryArg::Any => Self::Any,
+        }
+    }
 }
 
 /// The paths `raylab trace` can take.
@@ -274,7 +296,7 @@ pub enum TraceAccel {
     Auto,
     Flat,
     Bvh,
-    /// Rays sharing an origin 8 at a time through the renderer's camera packets.
+    /// Rays sharing an origin 8 at a time through the renderer's camera or shadow packets.
     Packets,
 }
 
@@ -590,13 +612,14 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         args.rays.display().to_string(),
     );
     let method = args.method.into();
+    let query = args.query.into();
     if args.accel == TraceAccel::Packets {
         if args.precision != Precision::F32 || method != Method::Adaptive {
             bail!("--accel packets runs the renderer's packets: f32 and the adaptive method only");
         }
         let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
         let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-        return write_out(&tracefile::trace_all_packets(&mut scene, &rays));
+        return write_out(&tracefile::trace_all_packets(&mut scene, &rays, query));
     }
     let choice = match args.accel {
         TraceAccel::Packets => unreachable!("handled above"),
@@ -606,12 +629,12 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         TraceAccel::Bvh => Some(AccelChoice::Bvh),
     };
     let out = match (args.precision, choice) {
-        (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method)?,
-        (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method)?,
+        (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method, query)?,
+        (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method, query)?,
         (Precision::F32, Some(choice)) => {
             let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
             let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            tracefile::trace_all_through(&mut scene, &rays, method, choice)
+            tracefile::trace_all_through(&mut scene, &rays, method, choice, query)
         }
         (Precision::F64, Some(_)) => bail!(
             "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",

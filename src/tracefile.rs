@@ -5,10 +5,11 @@
 //! index is its 0-based position among primitives; `#` starts a comment. Ray file: one ray per line,
 //! `ox oy oz dx dy dz tmin tmax` (`tmax` may be `inf`); d is used exactly as given (not
 //! normalised). Numbers are parsed directly in the chosen precision (correctly rounded, so an
-//! f32 run never rounds twice). Output: per ray `hit <t> <index>` or `miss`, t printed with
-//! Rust's shortest round-trip formatting. With the adaptive method t is the exact t correctly
-//! rounded to the chosen precision, whichever path found the primitive
-//! ([`adaptive::rounded_t`]); the other methods print the t they computed.
+//! f32 run never rounds twice). Output of the nearest-hit query: per ray `hit <t> <index>` or
+//! `miss`, t printed with Rust's shortest round-trip formatting. With the adaptive method t is
+//! the exact t correctly rounded to the chosen precision, whichever path found the primitive
+//! ([`adaptive::rounded_t`]); the other methods print the t they computed. Output of the
+//! any-hit query ([`Query::Any`], a shadow ray's question): per ray `hit` or `miss`.
 //!
 //! Rejected, with file and line: a wrong count of numbers, junk, NaN, infinite coordinates,
 //! a zero direction, tmin > tmax, a radius that is not finite and > 0. Degenerate triangles
@@ -122,14 +123,35 @@ pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, T
         .collect()
 }
 
-/// Traces every ray (nearest hit, ties to the lower index) and returns the output text.
-pub fn trace_all<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>], method: Method) -> String {
-    answers(
-        rays,
-        method,
-        |p| shapes[p as usize],
-        |r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
-    )
+/// What `raylab trace` asks of each ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Query {
+    /// The nearest hit with tmin < t < tmax (ties to the lower index): `hit <t> <index>` or
+    /// `miss`.
+    Nearest,
+    /// Whether anything is hit with tmin < t < tmax (a shadow ray's question): `hit` or
+    /// `miss`.
+    Any,
+}
+
+/// Traces every ray and returns the output text.
+pub fn trace_all<T: Real>(
+    shapes: &[Shape<T>],
+    rays: &[TraceRay<T>],
+    method: Method,
+    query: Query,
+) -> String {
+    match query {
+        Query::Nearest => answers(
+            rays,
+            method,
+            |p| shapes[p as usize],
+            |r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
+        ),
+        Query::Any => any_answers(rays, |r| {
+            accel::any_hit(shapes, &r.ray, method, r.tmin, r.tmax)
+        }),
+    }
 }
 
 /// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it. For the
@@ -161,6 +183,15 @@ fn answers<T: Real>(
     out
 }
 
+/// The output text of [`Query::Any`]: per ray `hit` or `miss`, as `any` answers it.
+fn any_answers<T: Real>(rays: &[TraceRay<T>], mut any: impl FnMut(&TraceRay<T>) -> bool) -> String {
+    let mut out = String::with_capacity(rays.len() * 5);
+    for r in rays {
+        out.push_str(if any(r) { "hit\n" } else { "miss\n" });
+    }
+    out
+}
+
 /// Traces every ray in f32 through an acceleration structure built with `choice` over the
 /// scene (its instances included): the per-ray paths the renderer uses (the flat SIMD loop,
 /// the BVH, the two-level structure of instances), in the same output format as
@@ -170,38 +201,52 @@ pub fn trace_all_through(
     rays: &[TraceRay<f32>],
     method: Method,
     choice: accel::AccelChoice,
+    query: Query,
 ) -> String {
     scene.set_accel(choice);
     let structure = scene.accel();
-    answers(
-        rays,
-        method,
-        |p| scene.shape(p),
-        |r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
-    )
+    match query {
+        Query::Nearest => answers(
+            rays,
+            method,
+            |p| scene.shape(p),
+            |r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
+        ),
+        Query::Any => any_answers(rays, |r| structure.any_hit(&r.ray, method, r.tmin, r.tmax)),
+    }
 }
 
-/// Traces every ray in f32 as the renderer traces camera rays, with the adaptive method: rays
-/// sharing an origin with tmin = 0 and tmax = ∞ go 8 at a time through the packet kernels
-/// (a small scene's triangles prepared for that origin, its ambiguous lanes through the
-/// exact-edge resolver; else the packets through the BVH and the instances, the triangles
-/// prepared once where there are at least as many rays as stored triangles, else as met),
-/// and the lanes left ambiguous go per ray, as in the renderer. A decided lane's t is the
-/// adaptive t of its primitive. Other rays, and scenes with spheres (whose tiles the renderer
-/// traces per ray), go per ray. Same output format as [`trace_all`].
-pub fn trace_all_packets(scene: &mut crate::scene::Scene, rays: &[TraceRay<f32>]) -> String {
-    use crate::accel::packet::{self, OriginTriangles};
+/// Traces every ray in f32 through the renderer's own face on the accelerator, the queries of
+/// a frame ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays
+/// sharing an origin go 8 at a time, [`Query::Nearest`] rays with tmin = 0 and tmax = ∞ as
+/// camera rays from that origin (the eye), [`Query::Any`] rays with tmin = 0 and tmax = 1 as
+/// shadow segments from it (the light; none skips a primitive). Each origin is one frame
+/// without tile culling (the rays are not on a pixel grid), so the frame picks its plan as
+/// for the renderer: a small scene's triangles prepared for the origin, the packets through
+/// the BVH and the instances (the triangles prepared once where there are at least as many
+/// rays as stored triangles, else as met), their ambiguous lanes through the exact resolvers,
+/// per ray where a sphere may be met. Other rays go per ray through the scene's structure.
+/// Same output format as [`trace_all`]; a nearest hit's t is the adaptive t of its primitive.
+pub fn trace_all_packets(
+    scene: &mut crate::scene::Scene,
+    rays: &[TraceRay<f32>],
+    query: Query,
+) -> String {
+    use crate::accel::{FrameSetup, ShadowSegments, TileScratch, NO_HIT};
     use wide::f32x8;
     scene.set_accel(accel::AccelChoice::Auto);
     let scene = &*scene;
     let accel = scene.accel();
-    let per_ray = |r: &TraceRay<f32>| accel.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax);
-    let mut found: Vec<Option<Option<crate::geometry::Hit>>> = vec![None; rays.len()];
-    // Camera-like rays grouped by their origin's bits, in order of first appearance.
+    let tmax_of_group = match query {
+        Query::Nearest => f32::INFINITY,
+        Query::Any => 1.0,
+    };
+    // Rays that fit the frame's queries, grouped by their origin's bits in order of first
+    // appearance.
     let mut groups: Vec<([f32; 3], Vec<usize>)> = Vec::new();
     let mut group_of = std::collections::HashMap::new();
     for (i, r) in rays.iter().enumerate() {
-        if r.tmin != 0.0 || r.tmax != f32::INFINITY {
+        if r.tmin != 0.0 || r.tmax != tmax_of_group {
             continue;
         }
         let key = r.ray.o.map(f32::to_bits);
@@ -211,65 +256,82 @@ pub fn trace_all_packets(scene: &mut crate::scene::Scene, rays: &[TraceRay<f32>]
         });
         groups[g].1.push(i);
     }
-    let vertices = |p: u32| match scene.shape(p) {
-        Shape::Triangle(v) => v,
-        _ => unreachable!("packets hold triangles only"),
-    };
+    // Per ray: Some(prim or NO_HIT) for a nearest query, Some(1 or 0) for an any-hit query.
+    let mut found: Vec<Option<u32>> = vec![None; rays.len()];
+    let mut scratch = TileScratch::default();
     for (o, members) in &groups {
-        let o = *o;
-        let small = (accel.flat_triangles())
-            .filter(|_| !accel.has_other_shapes())
-            .map(|tris| OriginTriangles::new(tris, o));
-        let prepared = match small.is_none() && members.len() >= accel.stored_triangle_count() {
-            true => accel.prepare_origin(o),
-            false => None,
-        };
-        for chunk in members.chunks(8) {
+        let frame = accel.for_frame(&FrameSetup {
+            eye: *o,
+            light: *o,
+            projection: None,
+            method: Method::Adaptive,
+            camera_rays: members.len(),
+            shadows: query == Query::Any,
+            per_ray: false,
+        });
+        let mut tile = frame.tile([0, 0, 1, 1], &mut scratch);
+        let lanes_of = |chunk: &[usize]| {
             let dirs: [[f32; 3]; 8] =
-                std::array::from_fn(|l| rays[chunk[l.min(chunk.len() - 1)]].ray.d);
-            let d = [0, 1, 2].map(|k| f32x8::from(dirs.map(|v| v[k])));
-            let d_max = packet::max_component(&d);
-            let hits = match &small {
-                Some(p) => Some(packet::closest(&p.tris, &d, d_max)),
-                None => accel.closest_packet(o, prepared.as_ref(), &d, d_max),
-            };
-            for (l, &i) in chunk.iter().enumerate() {
-                let ray = &rays[i].ray;
-                let decided = match (&hits, &small) {
-                    (Some(h), _) if h.ambiguous & (1 << l) == 0 => {
-                        Some((h.prim[l] != u32::MAX).then_some(h.prim[l]))
+                std::array::from_fn(|l| chunk.get(l).map_or([0.0; 3], |&i| rays[i].ray.d));
+            [0, 1, 2].map(|k| f32x8::from(dirs.map(|v| v[k])))
+        };
+        match query {
+            Query::Nearest => {
+                for chunk in members.chunks(8) {
+                    let prims = match tile.packets() {
+                        true => tile.closest_x8(&lanes_of(chunk), chunk.len()),
+                        false => std::array::from_fn(|l| match chunk.get(l) {
+                            Some(&i) => tile.closest(&rays[i].ray).map_or(NO_HIT, |h| h.prim),
+                            None => NO_HIT,
+                        }),
+                    };
+                    for (&i, prim) in chunk.iter().zip(prims) {
+                        found[i] = Some(prim);
                     }
-                    (Some(_), Some(p)) => packet::nearest_exact_lane(&p.tris, vertices, o, ray.d),
-                    _ => None,
-                };
-                let hit_of = |prim: u32| {
-                    let (t, b1, b2) =
-                        scene
-                            .shape(prim)
-                            .intersect(ray, Method::Adaptive, 0.0, f32::INFINITY)?;
-                    Some(crate::geometry::Hit { t, prim, b1, b2 })
-                };
-                found[i] = Some(match decided {
-                    Some(Some(prim)) => hit_of(prim).or_else(|| per_ray(&rays[i])),
-                    Some(None) => None,
-                    None => match &prepared {
-                        Some(p) => accel.closest_hit_from_origin(ray, p, 0.0, f32::INFINITY),
-                        None => per_ray(&rays[i]),
-                    },
-                });
+                }
+            }
+            Query::Any => {
+                let segments: Vec<ShadowSegments> = (members.chunks(8))
+                    .map(|chunk| ShadowSegments {
+                        d: lanes_of(chunk),
+                        prim: [u32::MAX; 8],
+                        live: (1u32 << chunk.len()) - 1,
+                    })
+                    .collect();
+                let mut blocked = Vec::new();
+                tile.blocked_x8(&segments, &mut blocked);
+                for (chunk, mask) in members.chunks(8).zip(blocked) {
+                    for (l, &i) in chunk.iter().enumerate() {
+                        found[i] = Some(mask >> l & 1);
+                    }
+                }
             }
         }
     }
-    let mut hits = found.into_iter();
-    answers(
-        rays,
-        Method::Adaptive,
-        |p| scene.shape(p),
-        |r| {
-            let packet = hits.next().expect("one answer per ray");
-            packet.unwrap_or_else(|| per_ray(r))
-        },
-    )
+    let mut found = found.into_iter();
+    match query {
+        Query::Nearest => answers(
+            rays,
+            Method::Adaptive,
+            |p| scene.shape(p),
+            |r| match found.next().expect("one answer per ray") {
+                Some(NO_HIT) => None,
+                // t: `answers` prints the primitive's adaptive t (NaN would show a primitive
+                // the ray does not hit).
+                Some(prim) => Some(crate::geometry::Hit {
+                    t: f32::NAN,
+                    prim,
+                    b1: 0.0,
+                    b2: 0.0,
+                }),
+                None => accel.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
+            },
+        ),
+        Query::Any => any_answers(rays, |r| match found.next().expect("one answer per ray") {
+            Some(blocked) => blocked == 1,
+            None => accel.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
+        }),
+    }
 }
 
 /// Parses both texts and traces: the whole `raylab trace` in one call.
@@ -279,8 +341,9 @@ pub fn run<T: Real>(
     rays_file: &str,
     rays_text: &str,
     method: Method,
+    query: Query,
 ) -> Result<String, TraceError> {
     let shapes = parse_scene::<T>(scene_file, scene_text)?;
     let rays = parse_rays::<T>(rays_file, rays_text)?;
-    Ok(trace_all(&shapes, &rays, method))
+    Ok(trace_all(&shapes, &rays, method, query))
 }

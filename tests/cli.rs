@@ -1639,6 +1639,37 @@ fn trace_packets_answer_as_the_reference_loop() {
         assert!(lines > 100, "{name}: {lines} rays");
         assert!(reference.lines().filter(|l| l.starts_with("hit")).count() > lines / 2);
         same_answers(name, &reference, &packets);
+        // The same rays as shadow segments (tmin 0, tmax 1) through the shadow packets: ending
+        // on the vertex or edge midpoint they were aimed at, and halfway there.
+        let mut segments = String::new();
+        for line in std::fs::read_to_string(&rays).unwrap().lines() {
+            let w: Vec<f32> = line
+                .split(' ')
+                .take(6)
+                .map(|x| x.parse().unwrap())
+                .collect();
+            for s in [1.0, 0.5] {
+                let (o, d) = (&w[..3], w[3..].iter().map(|c| c * s));
+                let d: Vec<String> = d.map(|c| c.to_string()).collect();
+                segments += &format!("{} {} {} {} 0 1\n", o[0], o[1], o[2], d.join(" "));
+            }
+        }
+        let segments = write(dir.path(), "segments.txt", &segments);
+        let any = |accel: &str| {
+            let o = raylab(&[
+                "trace", "--scene", &scene, "--rays", &segments, "--accel", accel, "--query", "any",
+            ]);
+            assert!(o.status.success(), "{accel}: {}", stderr(&o));
+            String::from_utf8(o.stdout).unwrap()
+        };
+        let (reference, packets) = (any("reference"), any("packets"));
+        let blocked = reference.lines().filter(|l| *l == "hit").count();
+        let lines = reference.lines().count();
+        assert!(
+            blocked > 10 && lines - blocked > 10,
+            "{name}: {blocked} of {lines} blocked"
+        );
+        same_answers(&format!("{name} segments"), &reference, &packets);
     }
     let scene = write(dir.path(), "c.scene", "cornell\n");
     let rays = write(dir.path(), "r.txt", "0 0 -3 0 0 1 0 inf\n");
@@ -1672,7 +1703,7 @@ fn the_hard_case_suite_through_every_trace_path() {
     use common::suite::{self, exact_nearest, Counts};
     let dir = tempfile::tempdir().unwrap();
     let paths = ["reference", "flat", "bvh", "auto", "packets"];
-    let mut rays_total = 0;
+    let (mut rays_total, mut segment_ends) = (0, (0, 0, 0));
     for family in suite::all() {
         let scene = common::scene_text(&family.shapes);
         let mut rays = String::new();
@@ -1734,6 +1765,82 @@ fn the_hard_case_suite_through_every_trace_path() {
             );
         }
         rays_total += family.rays.len();
+        let ends = shadow_segments_through_every_path(dir.path(), &scene, &family, &exact, paths);
+        segment_ends.0 += ends.0;
+        segment_ends.1 += ends.1;
+        segment_ends.2 += ends.2;
     }
     assert!(rays_total > 10_000, "{rays_total} rays");
+    let (hits, misses, on_the_hit) = segment_ends;
+    println!("segments: {hits} blocked, {misses} clear, {on_the_hit} ending exactly on the hit");
+    assert!(hits > 5_000 && misses > 5_000 && on_the_hit > 100);
+}
+
+/// The family's rays as shadow segments (`--query any`, tmin 0, tmax 1): the direction scaled
+/// by 2ᵏ (exactly) so the segment ends at t = 2ᵏ of the ray, for the two powers of two around
+/// the exact nearest t (1 for a miss); a segment is blocked exactly where the nearest t < 2ᵏ.
+/// Rays from one origin go through the renderer's shadow packets (`--accel packets`). Returns
+/// (blocked, clear, ending exactly on the nearest hit) segments.
+fn shadow_segments_through_every_path(
+    dir: &Path,
+    scene: &str,
+    family: &common::suite::Family,
+    exact: &[Option<(common::suite::RefT, u32)>],
+    paths: [&str; 5],
+) -> (usize, usize, usize) {
+    use common::suite::{q, RefT};
+    let (mut text, mut want) = (String::new(), Vec::new());
+    let mut on_the_hit = 0;
+    for (r, exact) in family.rays.iter().zip(exact) {
+        let powers = match exact {
+            Some((t, _)) => {
+                let k = t.f64().log2().floor().clamp(-140.0, 120.0) as i32;
+                vec![k, k + 1]
+            }
+            None => vec![0],
+        };
+        for k in powers {
+            let scale = 2f32.powi(k);
+            let d = r.d.map(|c| c * scale);
+            let exact_scaling = d
+                .iter()
+                .zip(r.d)
+                .all(|(a, b)| a / scale == b && a.is_finite());
+            if !exact_scaling || d == [0.0; 3] || !scale.is_finite() || scale == 0.0 {
+                continue;
+            }
+            let end = RefT::Exact(q(scale));
+            let blocked = exact
+                .as_ref()
+                .is_some_and(|(t, _)| t.cmp(&end) == std::cmp::Ordering::Less);
+            on_the_hit += exact
+                .as_ref()
+                .is_some_and(|(t, _)| t.cmp(&end) == std::cmp::Ordering::Equal)
+                as usize;
+            let o = r.o;
+            text += &format!(
+                "{} {} {} {} {} {} 0 1\n",
+                o[0], o[1], o[2], d[0], d[1], d[2]
+            );
+            want.push(if blocked { "hit" } else { "miss" });
+        }
+    }
+    let rays = write(dir, "family.segments", &text);
+    for path in paths {
+        let o = raylab(&[
+            "trace", "--scene", scene, "--rays", &rays, "--accel", path, "--query", "any",
+        ]);
+        assert!(o.status.success(), "{} {path}: {}", family.name, stderr(&o));
+        let out = String::from_utf8(o.stdout).unwrap();
+        let got: Vec<&str> = out.lines().collect();
+        assert_eq!(got.len(), want.len(), "{} {path}", family.name);
+        let wrong = got.iter().zip(&want).filter(|(g, w)| g != w).count();
+        assert_eq!(
+            wrong, 0,
+            "{} segments through {path}: wrong blocked/clear",
+            family.name
+        );
+    }
+    let hits = want.iter().filter(|w| **w == "hit").count();
+    (hits, want.len() - hits, on_the_hit)
 }

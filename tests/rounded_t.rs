@@ -16,7 +16,7 @@ use common::Rng;
 use raylab::accel::AccelChoice;
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use raylab::math::Real;
-use raylab::tracefile::{self, TraceRay};
+use raylab::tracefile::{self, Query, TraceRay};
 
 fn normalize(v: [f64; 3]) -> [f64; 3] {
     let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -299,12 +299,12 @@ fn f32_t_is_correctly_rounded_through_every_path() {
     );
     let reference = |text: &str, rays: &[TraceRay<f32>]| {
         let shapes = tracefile::parse_scene::<f32>("f.scene", text).unwrap();
-        tracefile::trace_all(&shapes, rays, Method::Adaptive)
+        tracefile::trace_all(&shapes, rays, Method::Adaptive, Query::Nearest)
     };
     let through = |choice: AccelChoice| {
         move |text: &str, rays: &[TraceRay<f32>]| {
             let mut scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-            tracefile::trace_all_through(&mut scene, rays, Method::Adaptive, choice)
+            tracefile::trace_all_through(&mut scene, rays, Method::Adaptive, choice, Query::Nearest)
         }
     };
     let (flat, bvh, auto) = (
@@ -314,7 +314,7 @@ fn f32_t_is_correctly_rounded_through_every_path() {
     );
     let packets = |text: &str, rays: &[TraceRay<f32>]| {
         let mut scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-        tracefile::trace_all_packets(&mut scene, rays)
+        tracefile::trace_all_packets(&mut scene, rays, Query::Nearest)
     };
     let hits = check(
         &families,
@@ -339,7 +339,7 @@ fn f64_t_is_correctly_rounded_at_every_scale() {
     );
     let reference = |text: &str, rays: &[TraceRay<f64>]| {
         let shapes = tracefile::parse_scene::<f64>("f.scene", text).unwrap();
-        tracefile::trace_all(&shapes, rays, Method::Adaptive)
+        tracefile::trace_all(&shapes, rays, Method::Adaptive, Query::Nearest)
     };
     let hits = check(&families, &[("reference", &reference)]);
     assert!(hits > 1_500, "{hits} hits checked");
@@ -448,8 +448,8 @@ fn the_issues_examples_print_the_rounded_exact_t() {
     ];
     for (scene, ray, precision, expected) in cases {
         let out = match precision {
-            "f32" => tracefile::run::<f32>("s", scene, "r", ray, Method::Adaptive),
-            _ => tracefile::run::<f64>("s", scene, "r", ray, Method::Adaptive),
+            "f32" => tracefile::run::<f32>("s", scene, "r", ray, Method::Adaptive, Query::Nearest),
+            _ => tracefile::run::<f64>("s", scene, "r", ray, Method::Adaptive, Query::Nearest),
         }
         .unwrap();
         assert_eq!(out, expected, "{scene} / {ray} in {precision}");

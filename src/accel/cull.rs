@@ -110,7 +110,14 @@ pub(crate) struct ShapeCull {
 }
 
 impl ShapeCull {
-    pub(crate) fn new((lo, hi): ([f32; 3], [f32; 3]), projection: &Projection) -> Self {
+    /// `projection` `None`: no culling, the shape may show in any tile.
+    pub(crate) fn new((lo, hi): ([f32; 3], [f32; 3]), projection: Option<&Projection>) -> Self {
+        let Some(projection) = projection else {
+            return Self {
+                bounds: Box3 { lo, hi },
+                screen: None,
+            };
+        };
         let mut screen = Some([
             f32::INFINITY,
             f32::INFINITY,

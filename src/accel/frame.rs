@@ -13,7 +13,8 @@
 //!
 //! Inside, one plan per frame:
 //! - **a small scene** ([`Accel::flat_triangles`]) with tile culling: a tile tests only the
-//!   triangles whose screen projection meets it (`cull::ScreenTriangle`); with the
+//!   triangles whose screen projection meets it (`cull::ScreenTriangle`; every triangle where
+//!   the frame has no projection, as for `raylab trace`'s rays); with the
 //!   adaptive method its camera rays go 8 at a time against those triangles prepared for the
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
@@ -57,16 +58,15 @@ pub struct FrameSetup {
     pub eye: [f32; 3],
     /// The light, where every shadow segment starts.
     pub light: [f32; 3],
-    /// Where world points land on the image, for tile culling.
-    pub projection: Projection,
+    /// Where world points land on the image, for tile culling; `None`: no culling (every
+    /// tile may show every primitive, as for rays that are not on a pixel grid).
+    pub projection: Option<Projection>,
     /// The intersection method of every query.
     pub method: Method,
     /// Camera rays in the frame (pixels × samples).
     pub camera_rays: usize,
     /// Whether shadow segments will be asked.
     pub shadows: bool,
-    /// Cull camera rays per screen tile where the scene is small (off only to measure it).
-    pub tile_culling: bool,
     /// Camera rays one at a time only (the cracks view compares methods ray by ray).
     pub per_ray: bool,
 }
@@ -142,6 +142,12 @@ pub struct ShadowSegments {
     pub live: u32,
 }
 
+impl AsRef<ShadowSegments> for ShadowSegments {
+    fn as_ref(&self) -> &ShadowSegments {
+        self
+    }
+}
+
 /// The queries of one tile of a frame ([`FrameQueries::tile`]).
 pub struct TileQueries<'a> {
     frame: &'a FrameQueries<'a>,
@@ -161,14 +167,14 @@ impl Accel {
     pub fn for_frame(&self, setup: &FrameSetup) -> FrameQueries<'_> {
         let method = setup.method;
         let culling = match self.flat_triangles() {
-            Some(tris)
-                if setup.tile_culling
-                    && matches!(method, Method::Watertight | Method::Adaptive) =>
-            {
-                let screen = tris
-                    .iter()
-                    .map(|(v, _)| ScreenTriangle::new(v, &setup.projection))
-                    .collect();
+            Some(tris) if matches!(method, Method::Watertight | Method::Adaptive) => {
+                let screen = match &setup.projection {
+                    Some(projection) => tris
+                        .iter()
+                        .map(|(v, _)| ScreenTriangle::new(v, projection))
+                        .collect(),
+                    None => vec![None; tris.len()],
+                };
                 Some(Culling {
                     accel: self,
                     tris,
@@ -216,7 +222,7 @@ impl Accel {
         let others = match plan {
             Plan::PerRay => Vec::new(),
             _ => (self.other_shapes().iter())
-                .map(|(shape, _)| ShapeCull::new(shape.bounds(), &setup.projection))
+                .map(|(shape, _)| ShapeCull::new(shape.bounds(), setup.projection.as_ref()))
                 .collect(),
         };
         FrameQueries {

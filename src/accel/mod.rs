@@ -30,7 +30,7 @@ use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
 
-pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch};
+pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch, NO_HIT};
 pub use reference::{any_hit, any_hit_except, closest_hit};
 
 /// A triangle's vertices with its primitive index in the scene.

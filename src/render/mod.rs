@@ -111,11 +111,10 @@ pub fn render_into_cancellable(
     let queries = accel.for_frame(&FrameSetup {
         eye: gen.origin(),
         light: scene.light.position,
-        projection: camera.projection(w, h),
+        projection: settings.tile_culling.then(|| camera.projection(w, h)),
         method: settings.method,
         camera_rays,
         shadows: settings.step.casts_shadows(),
-        tile_culling: settings.tile_culling,
         per_ray: settings.cracks,
     });
     let frame = Frame::new(scene, settings, &queries, gen, camera_rays);
