@@ -213,6 +213,17 @@ impl OriginTriangle {
         &self.n
     }
 
+    /// Bounds on |computed eᵢ − exact eᵢ| for direction `d` (eᵢ = d·nᵢ computed in f32 as
+    /// ((d₀·nᵢ₀ + d₁·nᵢ₁) + d₂·nᵢ₂)), the bounds of the edge tests; +∞ where the triangle's
+    /// bounds are unusable.
+    pub fn edge_bounds(&self, d: [f32; 3]) -> [f32; 3] {
+        let dm = d.iter().fold(0f32, |m, c| m.max(c.abs())) * (1.0 + 1e-6);
+        match self.usable && (self.n_max * dm) < MAX_PRODUCT {
+            true => self.k.map(|k| k * dm + EDGE_ABS),
+            false => [f32::INFINITY; 3],
+        }
+    }
+
     /// One ray's estimate (the edge tests of [`closest`] for a single direction d from the
     /// prepared origin, `d_max` = max|dₖ|), as the adaptive search's f32 level reports it: a
     /// certain miss, a certain crossing of the line with t in an interval, or unsure. Here t's

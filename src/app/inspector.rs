@@ -55,6 +55,11 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
             }
         }
         row("point", f3(h.point));
+        let e = h.point_hit_error;
+        row(
+            "point error (hit)",
+            format!("± {:.1e} {:.1e} {:.1e}", e[0], e[1], e[2]),
+        );
         row("normal", f3(h.normal));
         row(
             "shadow ray",

@@ -2,51 +2,74 @@
 //! bound (pbrt-v4 §6.8.6), so a secondary ray can never re-hit the surface it leaves: the offset
 //! origin lies strictly on the outgoing side of every point the computed hit point may stand for.
 
-use super::{Hit, Ray, Shape};
-use crate::math::real::{abs, add, cross, dot, scale, sub, V3};
+use super::Ray;
+use crate::math::real::{abs, add, dot, scale, sub, V3};
 use crate::math::Real;
 
-/// A surface point with its error bound and unit geometric normal.
+/// A surface point with its error bounds and unit geometric normal.
+///
+/// Two bounds, per axis, both conservative: `p_error` bounds p's distance from the surface
+/// (the box p ± `p_error` holds a point of the exact primitive: the offset of a secondary
+/// ray's origin needs only this), `hit_error` its distance from the exact hit point x of the
+/// ray that found it (|pₖ − xₖ| ≤ `hit_error`ₖ: what shading at p rather than at x may be off
+/// by). `tests/shading_point.rs` checks both against exact rational points on the hard-case
+/// suite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
     /// The computed point.
     pub p: V3<f32>,
-    /// Per-axis bound on |p − exact point|.
+    /// Per-axis bound on the distance from p to the primitive's surface.
     pub p_error: V3<f32>,
+    /// Per-axis bound on |p − exact hit point|.
+    pub hit_error: V3<f32>,
     /// Unit geometric normal (for a triangle, along (v1 − v0) × (v2 − v0)).
     pub n: V3<f32>,
 }
 
 impl SurfacePoint {
-    /// Builds the hit point of `hit` on `shape` (the shape the hit's `prim` refers to).
+    /// The hit point of `ray` on the sphere (`centre`, `radius`) from t with |t − exact t| ≤
+    /// `t_error`: o + t·d re-projected onto the sphere, which keeps it on the surface within
+    /// γ₆·(|c| + |p − c|) whatever t's error.
     ///
-    /// Triangles interpolate the vertices with the barycentrics, which keeps the point on the
-    /// triangle's plane to within γ(7)·Σ|bᵢ·vᵢ|; spheres re-project o + t·d onto the surface,
-    /// which bounds the error by γ(6)·(|c| + |p − c|).
-    pub fn new(shape: &Shape<f32>, ray: &Ray<f32>, hit: &Hit<f32>) -> Self {
-        match shape {
-            Shape::Triangle(v) => {
-                let b0 = 1.0 - hit.b1 - hit.b2;
-                let (p0, p1, p2) = (scale(v[0], b0), scale(v[1], hit.b1), scale(v[2], hit.b2));
-                let p = add(add(p0, p1), p2);
-                let sum = add(add(abs(p0), abs(p1)), abs(p2));
-                let p_error = scale(sum, f32::error_gamma(7));
-                let n = normalize(cross(sub(v[1], v[0]), sub(v[2], v[0])));
-                Self { p, p_error, n }
+    /// `hit_error`: o + t·d is within εₖ = γ₂·(|oₖ| + |t·dₖ|) + t_error·|dₖ| of the exact hit
+    /// x, and q = fl(o + t·d − c) within εₖ + u·|qₖ| of x − c (whose length is r); scaling q
+    /// to length r moves it by ||q| − r| ≤ ‖ε‖₂ per axis, so r·q/|q| is within ‖ε‖₂ + εₖ of
+    /// x − c; the normalisation and the sum with c round by at most γ₁₀·(|cₖ| + |pₖ − cₖ|).
+    pub fn on_sphere(centre: V3<f32>, radius: f32, ray: &Ray<f32>, t: f32, t_error: f32) -> Self {
+        let raw = ray.at(t);
+        let rel = sub(raw, centre);
+        let len = dot(rel, rel).sqrt();
+        let n = if len > 0.0 {
+            normalize(rel)
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let p = add(centre, scale(n, radius));
+        let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6));
+        // The bound in f64 (no rounding of its own worth a term), rounded up by a margin.
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let gamma = |n: f64| n * u / (1.0 - n * u);
+        let eps = [0, 1, 2].map(|k| {
+            let (o, d, t) = (ray.o[k] as f64, ray.d[k] as f64, t as f64);
+            gamma(2.0) * (o.abs() + (t * d).abs())
+                + t_error as f64 * d.abs()
+                + u * rel[k].abs() as f64
+        });
+        let norm = (eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2]).sqrt();
+        let hit_error = [0, 1, 2].map(|k| {
+            let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64);
+            let bound = ((norm + eps[k]) * (1.0 + 1e-6) + round) * (1.0 + 1e-6);
+            if len > 0.0 && bound.is_finite() {
+                bound as f32
+            } else {
+                f32::INFINITY
             }
-            Shape::Sphere { centre, radius } => {
-                let raw = ray.at(hit.t);
-                let rel = sub(raw, *centre);
-                let len = dot(rel, rel).sqrt();
-                let n = if len > 0.0 {
-                    scale(rel, 1.0 / len)
-                } else {
-                    [0.0, 0.0, 1.0]
-                };
-                let p = add(*centre, scale(n, *radius));
-                let p_error = scale(add(abs(*centre), abs(sub(p, *centre))), f32::error_gamma(6));
-                Self { p, p_error, n }
-            }
+        });
+        Self {
+            p,
+            p_error,
+            hit_error,
+            n,
         }
     }
 }

@@ -8,10 +8,9 @@
 //! it shows is the colour the renderer gives that ray.
 
 use super::settings::{LabStep, RenderSettings, SettingsError};
-use super::shade::{step_colour, Lit, Rgb};
+use super::shade::{shading_point, step_colour, Lit, Rgb};
 use crate::camera::Camera;
 use crate::geometry::adaptive;
-use crate::geometry::offset::SurfacePoint;
 use crate::geometry::{Method, Ray, Shape};
 use crate::scene::Scene;
 use std::fmt;
@@ -49,10 +48,12 @@ pub struct HitInspection {
     /// Which level of the adaptive method decided that the ray meets this primitive (for the
     /// other methods: the method itself).
     pub decided_by: &'static str,
-    /// The surface point used for shading, its per-axis error bound, and the unit normal
-    /// turned to face the camera.
+    /// The surface point used for shading ([`shading_point`]), its per-axis bounds on the
+    /// distance to the surface and to the exact hit point, and the unit normal turned to face
+    /// the camera.
     pub point: [f32; 3],
     pub point_error: [f32; 3],
+    pub point_hit_error: [f32; 3],
     pub normal: [f32; 3],
     /// ρ, the primitive's diffuse colour.
     pub rho: Rgb,
@@ -118,16 +119,16 @@ pub fn inspect(
         .closest_hit(&ray, method, 0.0, f32::INFINITY)
         .map(|hit| {
             let shape = scene.shape(hit.prim);
-            let sp = SurfacePoint::new(&shape, &ray, &hit);
+            let sp = shading_point(scene, &ray, hit.prim);
             let facing = if dot64(sp.n, ray.d) > 0.0 { -1.0 } else { 1.0 };
             let lit = Lit::new(scene, &ray, &hit);
             let blocked_by = lit
                 .shadow
-                .and_then(|s| nearest_blocker(scene, &s, hit.prim, method));
+                .and_then(|s| nearest_blocker(scene, &s, lit.skip, method));
             // The renderer's own test decides the colour (the blocker above is for showing).
             let blocked = lit
                 .shadow
-                .is_some_and(|s| accel.any_hit_except(&s, method, 0.0, 1.0, hit.prim));
+                .is_some_and(|s| accel.any_hit_except(&s, method, 0.0, 1.0, lit.skip));
             let shows_shadows = settings.step.casts_shadows();
             HitInspection {
                 prim: hit.prim,
@@ -136,6 +137,7 @@ pub fn inspect(
                 decided_by: decided_by(&shape, &ray, method),
                 point: sp.p,
                 point_error: sp.p_error,
+                point_hit_error: sp.hit_error,
                 normal: sp.n.map(|c| facing * c + 0.0),
                 rho: scene.color(hit.prim),
                 direct: lit.d,
@@ -166,8 +168,9 @@ fn dot64(a: [f32; 3], b: [f32; 3]) -> f64 {
     (0..3).map(|k| a[k] as f64 * b[k] as f64).sum()
 }
 
-/// The primitive other than `own` (and its exact copies) that `shadow` meets nearest the
-/// light, by the scalar loop (one ray: the accelerator answers only whether).
+/// The primitive other than `own` (and its exact copies; `u32::MAX`: none skipped) that
+/// `shadow` meets nearest the light, by the scalar loop (one ray: the accelerator answers
+/// only whether).
 fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
     if !scene.instances().is_empty() {
         // Millions of instanced triangles: the structure's nearest hit from the light (the
@@ -175,10 +178,10 @@ fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -
         let hit = scene.accel().closest_hit(shadow, method, 0.0, 1.0)?;
         return (hit.prim != own).then_some(hit.prim);
     }
-    let own_shape = scene.shapes[own as usize];
+    let own_shape = scene.shapes.get(own as usize).copied();
     let mut best: Option<(f32, u32)> = None;
     for (k, s) in scene.shapes.iter().enumerate() {
-        if k as u32 == own || (matches!(s, Shape::Triangle(_)) && *s == own_shape) {
+        if k as u32 == own || (matches!(s, Shape::Triangle(_)) && Some(*s) == own_shape) {
             continue;
         }
         let far = best.map_or(1.0, |b| b.0);
@@ -287,6 +290,7 @@ impl fmt::Display for Inspection {
         }
         writeln!(f, "point: {}", f3(h.point))?;
         writeln!(f, "point_error: {}", f3(h.point_error))?;
+        writeln!(f, "point_hit_error: {}", f3(h.point_hit_error))?;
         writeln!(f, "normal: {}", f3(h.normal))?;
         match &h.shadow {
             Some(s) => {

@@ -2,8 +2,9 @@
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
 use crate::accel::frame::{OriginTriangle, ShadowSegments};
+use crate::geometry::adaptive::{self, Estimate};
 use crate::geometry::offset::normalize;
-use crate::geometry::{offset_ray_origin, Hit, Ray, Shape, SurfacePoint};
+use crate::geometry::{offset_ray_origin, sphere, Hit, Ray, Shape, SurfacePoint};
 use crate::math::real::{cross, dot, sub};
 use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
@@ -82,6 +83,11 @@ pub struct Lit {
     pub prim: u32,
     pub d: Rgb,
     pub shadow: Option<Ray>,
+    /// The primitive the shadow test may skip: `prim` itself (planar, or a sphere with the
+    /// shadow ray's end on the light's side of it), or `u32::MAX` (none) for a sphere seen
+    /// from the other side than the light (from inside with the light outside): the ray to
+    /// the light must cross the sphere itself, which then blocks it.
+    pub skip: u32,
 }
 
 impl Lit {
@@ -99,25 +105,34 @@ impl Lit {
                     d: packet.d(scene, 0),
                     shadow: (packet.shadow.live & 1 != 0)
                         .then(|| Ray::new(scene.light.position, shadow_d)),
+                    skip: hit.prim,
                 }
             }
-            shape => {
-                let sp = SurfacePoint::new(shape, ray, hit);
+            Shape::Sphere { centre, radius } => {
+                let sp = shading_point(scene, ray, hit.prim);
                 let d = irradiance(scene, &sp, ray);
-                let shadow = (d != [0.0; 3])
-                    .then(|| shadow_from_light(sp.p, sp.p_error, sp.n, scene.light.position));
+                let light = scene.light.position;
+                let shadow =
+                    (d != [0.0; 3]).then(|| shadow_from_light(sp.p, sp.p_error, sp.n, light));
+                // The shadow ray's end is offset outwards where (L − p)·n ≥ 0 (as
+                // `offset_ray_origin` does), inwards otherwise.
+                let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;
+                let skip = match light_outside(light, *centre, *radius) {
+                    Some(outside) if outside == end_outside => hit.prim,
+                    _ => u32::MAX,
+                };
                 Self {
                     prim: hit.prim,
                     d,
                     shadow,
+                    skip,
                 }
             }
         }
     }
 
     /// The colour of lab step 3, 4 or 5 ([`step_colour`]), the shadow ray (if any) tested by
-    /// `blocked(ray, skip)` (the primitive itself cannot block: planar or convex, light on its
-    /// lit side). Adds the shadow rays cast to `shadow_rays`.
+    /// `blocked(ray, skip)` with [`Lit::skip`]. Adds the shadow rays cast to `shadow_rays`.
     pub fn colour(
         &self,
         scene: &Scene,
@@ -128,7 +143,7 @@ impl Lit {
         let blocked = match (&self.shadow, step.casts_shadows()) {
             (Some(shadow), true) => {
                 *shadow_rays += 1;
-                blocked(shadow, self.prim)
+                blocked(shadow, self.skip)
             }
             _ => false,
         };
@@ -149,6 +164,14 @@ pub struct ShadePacket {
     pub hit: u32,
     pub k: [f32; 8],
     pub shadow: ShadowSegments,
+}
+
+/// Each lane's shading point and its bound on the distance to the triangle's plane
+/// ([`SurfacePoint`]'s `p` and `p_error`), which [`shade_packet`] computes and drops (the
+/// renderer needs only the shadow rays made from them; [`shading_point`] keeps them).
+struct ShadePoints {
+    p: [f32x8; 3],
+    p_error: [f32x8; 3],
 }
 
 impl ShadePacket {
@@ -196,6 +219,114 @@ pub fn step_colour_of(rho: Rgb, ambient: Rgb, d: Rgb, blocked: bool, step: LabSt
     }
 }
 
+/// Whether `light` is outside the sphere (`None` within 10⁻⁹ relative of its surface).
+fn light_outside(light: [f32; 3], centre: [f32; 3], radius: f32) -> Option<bool> {
+    let rel = [0, 1, 2].map(|k| f64::from(light[k]) - f64::from(centre[k]));
+    let d2 = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2];
+    let r2 = f64::from(radius) * f64::from(radius);
+    match d2 {
+        _ if d2 > r2 * (1.0 + 1e-9) => Some(true),
+        _ if d2 < r2 * (1.0 - 1e-9) => Some(false),
+        _ => None,
+    }
+}
+
+/// The point where camera ray `ray`'s hit on primitive `prim` is shaded, with its bounds
+/// ([`SurfacePoint`]: `p_error` from the surface, `hit_error` from the exact hit point), the
+/// bits every path of the renderer shades with.
+///
+/// A triangle's point interpolates the vertices with the clamped barycentrics b̃ᵢ = ẽᵢ/S̃ of
+/// [`shade_packet`] (ẽᵢ the edge functions of the triangle prepared for the ray's origin,
+/// |ẽᵢ − eᵢ| ≤ Bᵢ by [`OriginTriangle::edge_bounds`], S̃ = fl(ẽ₀ + ẽ₁ + ẽ₂)). For the exact
+/// barycentrics bᵢ = eᵢ/S of a ray that hits the triangle (all in [0, 1]),
+/// |ẽᵢ/S̃ − bᵢ| = |(ẽᵢ − eᵢ) + bᵢ·(S − S̃)|/|S̃| ≤ (Bᵢ + B_S)/|S̃| with
+/// B_S = ΣBⱼ + γ₂·Σ|ẽⱼ|, plus γ₂ for the division; clamping b₁ into [0, 1] keeps that bound
+/// (Δ₁), clamping b₂ into [0, 1 − b₁] gives Δ₂ = max(its own, Δ₁ + u) (each Δ at most
+/// 1 + 2u: every weight lies in [0, 1]), and b̃₀ = fl(fl(1 − b̃₁) − b̃₂) = 1 − b̃₁ − b̃₂ + η,
+/// |η| ≤ u. As the exact weights sum to 1 too, Σ(b̃ᵢ − bᵢ)·vᵢ =
+/// (b̃₁ − b₁)·(v₁ − v₀) + (b̃₂ − b₂)·(v₂ − v₀) + η·v₀, so
+/// |pₖ − xₖ| ≤ Δ₁·|v₁ₖ − v₀ₖ| + Δ₂·|v₂ₖ − v₀ₖ| + u·|v₀ₖ| + `p_error`ₖ (the interpolation's own
+/// rounding): the weights' error scales with the triangle's size, not its distance. Large
+/// where the ray grazes the triangle (S small against the Bᵢ): the point is then still on the
+/// plane within `p_error`, but anywhere on the triangle within `hit_error`.
+///
+/// A sphere's point re-projects o + t·d onto the sphere ([`SurfacePoint::on_sphere`]) with
+/// t from the f64 interval of the nearest root (`sphere::interval`, t_error its half-width
+/// and t's rounding to f32), or where the interval cannot tell, the exact t correctly rounded
+/// ([`adaptive::rounded_t`], within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
+/// level of the search found the hit.
+pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
+    match scene.shape(prim) {
+        Shape::Triangle(v) => {
+            let tri = ShadeTri::new(&v, ray.o, prim);
+            let mut lanes = [None; 8];
+            lanes[0] = Some(&tri);
+            let (_, points) = shade_packet_with_points(scene, &ray.d.map(f32x8::splat), &lanes);
+            let p = points.p.map(|c| c.to_array()[0]);
+            let p_error = points.p_error.map(|c| c.to_array()[0]);
+            SurfacePoint {
+                p,
+                p_error,
+                hit_error: triangle_hit_error(&tri.tri, &v, ray.d, p_error),
+                n: tri.normal,
+            }
+        }
+        shape @ Shape::Sphere { centre, radius } => {
+            let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
+            let (c, r) = (centre.map(f64::from), f64::from(radius));
+            let (t, t_error) = match sphere::interval(o, d, c, r, 0.0, f64::INFINITY) {
+                Estimate::Hit(a) => {
+                    let t = a.t as f32;
+                    let off = (f64::from(t) - a.lo).max(a.hi - f64::from(t));
+                    (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
+                }
+                _ => {
+                    let t = adaptive::rounded_t(&shape, ray, 0.0, f32::INFINITY);
+                    let t = t.unwrap_or(f32::NAN);
+                    (t, t.abs() * f32::EPSILON / 2.0 + f32::from_bits(1))
+                }
+            };
+            SurfacePoint::on_sphere(centre, radius, ray, t, t_error)
+        }
+    }
+}
+
+/// [`shading_point`]'s `hit_error` of a triangle (see there).
+fn triangle_hit_error(
+    tri: &OriginTriangle,
+    v: &[[f32; 3]; 3],
+    d: [f32; 3],
+    p_error: [f32; 3],
+) -> [f32; 3] {
+    let u = f64::from(f32::EPSILON) / 2.0;
+    let gamma2 = 2.0 * u / (1.0 - 2.0 * u);
+    let n = tri.edge_normals();
+    let e = n.map(|n| d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
+    let sum = e[0] + e[1] + e[2];
+    let rcp = 1.0 / sum;
+    let weights_finite = (e[1] * rcp).is_finite() && (e[2] * rcp).is_finite();
+    let bounds = tri.edge_bounds(d).map(f64::from);
+    let abs_e = e.map(|x| f64::from(x).abs());
+    let b_sum = bounds.iter().sum::<f64>() + gamma2 * abs_e.iter().sum::<f64>();
+    let s = f64::from(sum).abs();
+    let beta = [0, 1, 2].map(|i| {
+        ((bounds[i] + b_sum) / s + gamma2 * abs_e[i] / s) * (1.0 + 1e-6) + 2f64.powi(-148)
+    });
+    let cap = 1.0 + 2.0 * u;
+    let (d1, d2) = match weights_finite && beta.iter().all(|b| b.is_finite()) {
+        true => {
+            let d1 = beta[1].min(cap);
+            (d1, beta[2].max(d1 + u).min(cap))
+        }
+        false => (cap, cap),
+    };
+    [0, 1, 2].map(|k| {
+        let edge = |i: usize| (f64::from(v[i][k]) - f64::from(v[0][k])).abs() * (1.0 + 2.0 * u);
+        let along = d1 * edge(1) + d2 * edge(2) + u * f64::from(v[0][k]).abs();
+        ((along + f64::from(p_error[k])) * (1.0 + 1e-6)) as f32
+    })
+}
+
 /// A triangle readied for shading the hits of rays from one origin: prepared for that origin
 /// (the barycentrics of [`Lit`]) and its unit geometric normal.
 #[derive(Clone, Copy, Debug)]
@@ -222,7 +353,7 @@ pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
 /// `lanes[l]` is lane l's triangle readied for the origin (its `prim` names it), `None` for
 /// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
 pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    avx2_or_baseline!(shade_packet_body => (
+    avx2_or_baseline!(shade_packet_only => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
@@ -230,7 +361,29 @@ pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8
 }
 
 #[inline(always)]
-fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
+fn shade_packet_only(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
+    shade_packet_body(scene, d, lanes).0
+}
+
+/// [`shade_packet`] keeping the shading points.
+fn shade_packet_with_points(
+    scene: &Scene,
+    d: &[f32x8; 3],
+    lanes: &[Option<&ShadeTri>; 8],
+) -> (ShadePacket, ShadePoints) {
+    avx2_or_baseline!(shade_packet_body => (
+        scene: &Scene,
+        d: &[f32x8; 3],
+        lanes: &[Option<&ShadeTri>; 8]
+    ) -> (ShadePacket, ShadePoints))
+}
+
+#[inline(always)]
+fn shade_packet_body(
+    scene: &Scene,
+    d: &[f32x8; 3],
+    lanes: &[Option<&ShadeTri>; 8],
+) -> (ShadePacket, ShadePoints) {
     let triangle = |tri: &OriginTriangle| match &scene.shape(tri.prim) {
         Shape::Triangle(v) => *v,
         _ => unreachable!("shade_packet takes triangles"),
@@ -328,7 +481,7 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
         let po = nudge(p[k] + offset, offset);
         lit.bitselect(po - f32x8::splat(light[k]), f32x8::ZERO)
     });
-    ShadePacket {
+    let packet = ShadePacket {
         hit,
         k: k.to_array(),
         shadow: ShadowSegments {
@@ -336,7 +489,8 @@ fn shade_packet_body(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 
             prim,
             live: shadowed,
         },
-    }
+    };
+    (packet, ShadePoints { p, p_error })
 }
 
 /// `x` one ulp up where `offset` > 0 and down where it is < 0 (`next_up`/`next_down`).
