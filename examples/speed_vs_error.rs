@@ -26,6 +26,9 @@ enum Variant {
     /// A triangle method (spheres by the cancellation-free test, or exactly by `adaptive`).
     F32(Method),
     F64(Method),
+    /// The adaptive method with t then correctly rounded (what `raylab trace` prints).
+    F32Rounded,
+    F64Rounded,
     /// Sphere tests alone, on the sphere families.
     SphereNaive,
     SphereStable,
@@ -42,6 +45,8 @@ impl Variant {
                 "adaptive, no f32 filter (f64 intervals + exact)".into()
             }
             Variant::F64(m) => format!("{m} f64"),
+            Variant::F32Rounded => "adaptive f32, t rounded exactly (trace)".into(),
+            Variant::F64Rounded => "adaptive f64, t rounded exactly (trace)".into(),
             Variant::SphereNaive => "sphere b²−ac (textbook) f32".into(),
             Variant::SphereStable => "sphere cancellation-free f32".into(),
         }
@@ -52,8 +57,10 @@ impl Variant {
     }
 }
 
-const VARIANTS: [Variant; 10] = [
+const VARIANTS: [Variant; 12] = [
     Variant::F32(Method::Adaptive),
+    Variant::F32Rounded,
+    Variant::F64Rounded,
     Variant::F32(Method::Watertight),
     Variant::F32(Method::Moller),
     Variant::F32(Method::Cramer),
@@ -94,6 +101,20 @@ impl Tracer {
                 let r = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
                 accel::closest_hit(&self.shapes64, &r, m, 0.0, f64::INFINITY).map(|h| (h.t, h.prim))
             }
+            Variant::F32Rounded => {
+                let h = self.accel.closest_hit(ray, Method::Adaptive, 0.0, inf)?;
+                let shape = &self.shapes[h.prim as usize];
+                let t = adaptive::rounded_t(shape, ray, 0.0, inf).unwrap_or(f32::NAN);
+                Some((t as f64, h.prim))
+            }
+            Variant::F64Rounded => {
+                let r = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
+                let h =
+                    accel::closest_hit(&self.shapes64, &r, Method::Adaptive, 0.0, f64::INFINITY)?;
+                let shape = &self.shapes64[h.prim as usize];
+                let t = adaptive::rounded_t(shape, &r, 0.0, f64::INFINITY).unwrap_or(f64::NAN);
+                Some((t, h.prim))
+            }
             Variant::SphereNaive | Variant::SphereStable => {
                 let mut best: Option<(f64, u32)> = None;
                 for (i, s) in self.shapes.iter().enumerate() {
@@ -113,6 +134,81 @@ impl Tracer {
                 best
             }
         }
+    }
+}
+
+/// How far the adaptive method (f32, per ray, the structure `auto` picks) goes on each ray of
+/// the suite: the deepest level any candidate reached, and how its t gets rounded.
+#[derive(Default)]
+struct SuiteLevels {
+    rays: u64,
+    /// Rays whose deepest level was the f32 filter, f32 with pbrt's bound, f64 intervals,
+    /// exact (a candidate decided exactly, or two t's compared exactly).
+    deepest: [u64; 4],
+    rounded_from_f64: u64,
+    rounded_exactly: u64,
+}
+
+impl SuiteLevels {
+    fn add(&mut self, family: &suite::Family) {
+        use adaptive::levels::{self, count, Event};
+        let tracer = Tracer::new(Variant::F32(Method::Adaptive), &family.shapes);
+        levels::count_levels(true);
+        for ray in &family.rays {
+            let seen = |e| count(e);
+            let before = [
+                Event::PreciseF32,
+                Event::F64Intervals,
+                Event::Exact,
+                Event::ExactT,
+            ]
+            .map(seen);
+            let hit = tracer.trace(ray);
+            let after = [
+                Event::PreciseF32,
+                Event::F64Intervals,
+                Event::Exact,
+                Event::ExactT,
+            ]
+            .map(seen);
+            let reached = |i: usize| after[i] > before[i];
+            let deepest = match () {
+                _ if reached(2) || reached(3) => 3,
+                _ if reached(1) => 2,
+                _ if reached(0) => 1,
+                _ => 0,
+            };
+            self.deepest[deepest] += 1;
+            self.rays += 1;
+            if let Some((_, prim)) = hit {
+                let shape = &family.shapes[prim as usize];
+                let (f, e) = (count(Event::RoundedFromF64), count(Event::RoundedExactly));
+                adaptive::rounded_t(shape, ray, 0.0, f32::INFINITY);
+                self.rounded_from_f64 += count(Event::RoundedFromF64) - f;
+                self.rounded_exactly += count(Event::RoundedExactly) - e;
+            }
+        }
+        levels::count_levels(false);
+    }
+
+    fn write(&self, md: &mut String) -> std::fmt::Result {
+        let pc = |n: u64, of: u64| format!("{n} ({:.2}%)", 100.0 * n as f64 / of.max(1) as f64);
+        let hits = self.rounded_from_f64 + self.rounded_exactly;
+        writeln!(md)?;
+        writeln!(md, "How far the adaptive method goes on the suite's {} rays (f32, per ray; the deepest level any candidate of the ray reached), and how the t `raylab trace` prints is rounded for its {hits} hits:", self.rays)?;
+        writeln!(md)?;
+        writeln!(md, "| f32 filter only | f32 with pbrt's bound | f64 intervals | exact | t rounded from f64 | t rounded exactly |")?;
+        writeln!(md, "|---|---|---|---|---|---|")?;
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            pc(self.deepest[0], self.rays),
+            pc(self.deepest[1], self.rays),
+            pc(self.deepest[2], self.rays),
+            pc(self.deepest[3], self.rays),
+            pc(self.rounded_from_f64, hits),
+            pc(self.rounded_exactly, hits)
+        )
     }
 }
 
@@ -205,7 +301,9 @@ fn main() -> anyhow::Result<()> {
             bunny: None,
         })
         .collect();
+    let mut suite_levels = SuiteLevels::default();
     for family in &families {
+        suite_levels.add(family);
         let exact: Vec<_> = family
             .rays
             .iter()
@@ -249,7 +347,7 @@ fn main() -> anyhow::Result<()> {
         .map(|&v| {
             let scene = if v.spheres_only() { &spheres } else { &cornell };
             let on_bunny = match (&bunny, v) {
-                (Some(b), Variant::F32(_)) => Some(Tracer::new(v, b)),
+                (Some(b), Variant::F32(_) | Variant::F32Rounded) => Some(Tracer::new(v, b)),
                 _ => None,
             };
             (Tracer::new(v, scene), on_bunny)
@@ -284,7 +382,8 @@ fn main() -> anyhow::Result<()> {
     writeln!(
         md,
         "Errors: the {total_rays} rays of the hard-case suite ({} families) against exact rational references (sphere-only rows: the sphere families). \
-         Speed: closest-hit queries for the Cornell box's 640x360 primary rays (sphere-only rows: 64 spheres, 40k rays) and the bunny's 320x180 (69k triangles, BVH; f64 methods have no BVH path); best of 7 rounds (round robin), in ns per ray on 1 thread and Mrays/s on 1 and {threads} threads.",
+         Speed: closest-hit queries for the Cornell box's 640x360 primary rays (sphere-only rows: 64 spheres, 40k rays) and the bunny's 320x180 (69k triangles, BVH; f64 methods have no BVH path); best of 7 rounds (round robin), in ns per ray on 1 thread and Mrays/s on 1 and {threads} threads. \
+         t errors are relative, over the rays that found the right primitive; the adaptive rows give t with their level's bound (what shading uses), the \"t rounded exactly\" rows the exact t correctly rounded (what `raylab trace` prints, at the cost shown).",
         families.len()
     )?;
     writeln!(md)?;
@@ -316,6 +415,7 @@ fn main() -> anyhow::Result<()> {
             bunny
         )?;
     }
+    suite_levels.write(&mut md)?;
     render_table(&mut md, bunny_path, threads)?;
     print!("{md}");
     std::fs::write(out.join("speed_vs_error.md"), &md)?;
@@ -385,6 +485,42 @@ fn render_table(md: &mut String, bunny: &Path, threads: usize) -> anyhow::Result
             scenes[*si].0,
             a / w
         )?;
+    }
+    // How far the adaptive method goes in those frames (one more frame each, counted).
+    use adaptive::levels::{self, count, Event};
+    writeln!(md)?;
+    writeln!(md, "How far the adaptive method goes in those frames (events counted over one frame; a lane or candidate may reach several levels):")?;
+    writeln!(md)?;
+    writeln!(md, "| scene | step | camera rays | shadow rays | camera lanes ambiguous in packets | shadow lanes unsure in packets | f32 with pbrt's bound | f64 intervals | exact | exact t comparisons |")?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|")?;
+    for (name, scene, cam) in &scenes {
+        for step in [LabStep::Flat, LabStep::Shadows] {
+            let settings = RenderSettings {
+                width: 1280,
+                height: 720,
+                step,
+                ..Default::default()
+            };
+            levels::reset();
+            levels::count_levels(true);
+            let (_, stats) = render_image(scene, cam, &settings)?;
+            levels::count_levels(false);
+            let per = |e, of: u64| {
+                let n = count(e);
+                format!("{n} ({:.3}%)", 100.0 * n as f64 / of.max(1) as f64)
+            };
+            let (cam_rays, shadow_rays) = (stats.primary_rays, stats.shadow_rays);
+            writeln!(
+                md,
+                "| {name} | {step} | {cam_rays} | {shadow_rays} | {} | {} | {} | {} | {} | {} |",
+                per(Event::CameraLaneAmbiguous, cam_rays),
+                per(Event::ShadowLaneUnsure, shadow_rays),
+                count(Event::PreciseF32),
+                count(Event::F64Intervals),
+                count(Event::Exact),
+                count(Event::ExactT),
+            )?;
+        }
     }
     Ok(())
 }

@@ -35,6 +35,7 @@ use super::flat::FlatLoop;
 use super::packet::{self, OriginTriangles, PacketHits};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
+use crate::geometry::adaptive::levels::{self, Event};
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
@@ -380,6 +381,7 @@ impl TileQueries<'_> {
             if unused & (1 << l) != 0 {
                 *out = NO_HIT;
             } else if ambiguous & (1 << l) != 0 {
+                levels::note(Event::CameraLaneAmbiguous);
                 *out = self
                     .resolve_lane(d.map(|c| c.to_array()[l]))
                     .unwrap_or(NO_HIT);
@@ -438,6 +440,7 @@ impl TileQueries<'_> {
                         .blocked_packet_of_triangles(light, prepared, &s.d, d_max, &s.prim, s.live)
                         .expect("a BVH plan has a BVH");
                     *out = found.blocked;
+                    note_unsure(found.unsure);
                     per_ray(s, found.unsure, out);
                 }
             }
@@ -457,6 +460,7 @@ impl TileQueries<'_> {
                     let d_max = packet::max_component(&s.d);
                     let found = packet::shadow_from_origin(near, &s.d, d_max, &s.prim, s.live);
                     *out = found.blocked;
+                    note_unsure(found.unsure);
                     // Unsure lanes: exact edge signs and sides where that decides.
                     let mut left = 0;
                     for l in (0..8).filter(|l| found.unsure & (1 << l) != 0) {
@@ -495,6 +499,12 @@ impl TileQueries<'_> {
             }
         }
     }
+}
+
+/// Counts the shadow lanes a packet left unsure ([`levels`]).
+#[inline]
+fn note_unsure(unsure: u32) {
+    levels::note_many(Event::ShadowLaneUnsure, unsure.count_ones());
 }
 
 /// Fills `near` with the triangles (prepared for the light) that may block one of the shadow

@@ -36,6 +36,73 @@ use crate::math::interval::{icross, idot, isub, iv3, Interval};
 use crate::math::Real;
 use std::cmp::Ordering;
 
+/// How often the adaptive method's slower levels run, counted only while switched on
+/// ([`count_levels`]; `examples/speed_vs_error` reports them): off, counting costs a load and
+/// a branch on the slow paths only.
+pub mod levels {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
+
+    /// What is counted.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Event {
+        /// A candidate the f32 filter left unsure, tested in f32 with pbrt's bound.
+        PreciseF32,
+        /// A candidate tested in f64 interval arithmetic.
+        F64Intervals,
+        /// A candidate decided exactly (expansions or rationals).
+        Exact,
+        /// Two hits' t compared by exact rational t's.
+        ExactT,
+        /// A camera lane the packet kernels left ambiguous.
+        CameraLaneAmbiguous,
+        /// A shadow lane the packet kernels left unsure.
+        ShadowLaneUnsure,
+        /// A t rounded by [`super::rounded_t`] from plain f64 or an f64 interval.
+        RoundedFromF64,
+        /// A t rounded by [`super::rounded_t`] exactly.
+        RoundedExactly,
+    }
+
+    const EVENTS: usize = 8;
+    static ON: AtomicBool = AtomicBool::new(false);
+    static COUNTS: [AtomicU64; EVENTS] = [const { AtomicU64::new(0) }; EVENTS];
+
+    /// Switches counting on or off (the counts stay).
+    pub fn count_levels(on: bool) {
+        ON.store(on, Relaxed);
+    }
+
+    /// Counts `event` where counting is on.
+    #[inline]
+    pub fn note(event: Event) {
+        if ON.load(Relaxed) {
+            COUNTS[event as usize].fetch_add(1, Relaxed);
+        }
+    }
+
+    /// Counts `n` of `event` where counting is on.
+    #[inline]
+    pub fn note_many(event: Event, n: u32) {
+        if ON.load(Relaxed) {
+            COUNTS[event as usize].fetch_add(n.into(), Relaxed);
+        }
+    }
+
+    /// The count of `event` so far.
+    pub fn count(event: Event) -> u64 {
+        COUNTS[event as usize].load(Relaxed)
+    }
+
+    /// Sets every count to zero.
+    pub fn reset() {
+        for c in &COUNTS {
+            c.store(0, Relaxed);
+        }
+    }
+}
+
+use levels::{note, Event};
+
 /// An approximate hit: t with an interval certain to hold the exact t.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Approx {
@@ -463,6 +530,7 @@ impl Nearest {
                 return Ordering::Equal;
             }
         }
+        note(Event::ExactT);
         let tx = self.exact_t(a);
         let ty = self.exact_t(b);
         match (tx, ty) {
@@ -532,6 +600,10 @@ impl Nearest {
             Level::Decided(..) => unreachable!("decided candidates are never refined"),
         };
         while level < 2 {
+            note(match level {
+                0 => Event::PreciseF32,
+                _ => Event::F64Intervals,
+            });
             let est = match (&c.shape, level) {
                 (Shape::Triangle(v), 0) if self.f32_inputs => precise_f32(
                     self.o.map(|x| x as f32),
@@ -550,6 +622,7 @@ impl Nearest {
                 Estimate::Unsure => level += 1,
             }
         }
+        note(Event::Exact);
         match &c.shape {
             Shape::Triangle(v) => decide_triangle(self.o, self.d, v),
             Shape::Sphere { centre, radius } => {
@@ -845,17 +918,21 @@ pub fn rounded_t<T: Real>(shape: &Shape<T>, ray: &Ray<T>, tmin: T, tmax: T) -> O
         Shape::Triangle(v) => {
             if let Some((t, err)) = plane_t_f64(o, d, &v) {
                 if let Some(r) = decides(t - err, t + err) {
+                    note(Event::RoundedFromF64);
                     return Some(r);
                 }
             }
+            note(Event::RoundedExactly);
             exact::plane_t_rounded(o, d, &v)
         }
         Shape::Sphere { centre, radius } => {
             if let Estimate::Hit(a) = sphere::interval(o, d, centre, radius, tmin, tmax) {
                 if let Some(r) = decides(a.lo, a.hi) {
+                    note(Event::RoundedFromF64);
                     return Some(r);
                 }
             }
+            note(Event::RoundedExactly);
             Some(sphere::exact(o, d, centre, radius, tmin, tmax)?.rounded())
         }
     }
