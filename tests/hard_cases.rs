@@ -27,7 +27,6 @@ mod common;
 use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::packet::{self, OriginTriangles};
 use raylab::accel::{self, Accel, AccelChoice, IndexedTriangle};
-use raylab::geometry::triangle::{watertight_raw, WatertightRay};
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use std::collections::HashMap;
 use wide::f32x8;
@@ -48,9 +47,8 @@ const VARIANTS: [&str; 12] = [
 ];
 
 /// The renderer's camera-ray path: the packet kernel from the ray's origin (this ray in
-/// every lane), the exact-edge resolver where it is ambiguous, t from the f32 watertight
-/// test, and the per-ray search (the flat loop) where neither decides or the f32 test
-/// disagrees. `None`
+/// every lane), the exact-edge resolver where it is ambiguous, t as `lane_answer` gives it,
+/// and the per-ray search (the flat loop) where neither decides. `None`
 /// for scenes with spheres (the renderer uses packets for triangle scenes only).
 /// Returns the answer and whether it came from the per-ray search.
 fn camera_packet(
@@ -87,10 +85,16 @@ fn camera_packet(
     if prim == u32::MAX {
         return Some((None, false));
     }
-    let answer = WatertightRay::new(ray.o, ray.d)
-        .and_then(|r| watertight_raw(&r, &tris[prim as usize].0))
-        .map_or(per_ray, |(t, ..)| Some((t as f64, prim)));
-    Some((answer, false))
+    Some((lane_answer(shapes, ray, prim), false))
+}
+
+/// A packet lane's answer: the primitive it decided, with the exact t correctly rounded
+/// (`adaptive::rounded_t`, what `raylab trace` prints for a lane; the renderer takes only the
+/// primitive). NaN where the primitive's t does not exist (the ray misses its plane): that
+/// shows as an error.
+fn lane_answer(shapes: &[Shape<f32>], ray: &Ray<f32>, prim: u32) -> Option<(f64, u32)> {
+    let t = adaptive::rounded_t(&shapes[prim as usize], ray, 0.0, f32::INFINITY);
+    Some((t.map_or(f64::NAN, f64::from), prim))
 }
 
 /// Runs every variant on `rays` (t > 0); returns the counts in the order of `VARIANTS`, and
@@ -123,24 +127,14 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
             .or_insert_with(|| bvh.prepare_origin(ray.o).expect("a BVH"));
         let h = bvh.closest_hit_from_origin(ray, prepared, 0.0, inf);
         answers.push(h.map(|h| (h.t as f64, h.prim)));
-        // And 8 at a time through the BVH (this ray in every lane), t from the f32 watertight
-        // test as the renderer takes it; ambiguous lanes, scenes with spheres and f32 misses
-        // go per ray, as in the renderer.
+        // And 8 at a time through the BVH (this ray in every lane), t as `lane_answer` gives
+        // it; ambiguous lanes and scenes with spheres go per ray, as in the renderer.
         let d = ray.d.map(f32x8::splat);
         for prepared in [Some(&*prepared), None] {
             let found = bvh.closest_packet(ray.o, prepared, &d, packet::max_component(&d));
             let answer = match found {
                 Some(f) if f.ambiguous & 1 == 0 && f.prim[0] == u32::MAX => None,
-                Some(f) if f.ambiguous & 1 == 0 => {
-                    let Shape::Triangle(v) = &shapes[f.prim[0] as usize] else {
-                        unreachable!("packets run over triangles only")
-                    };
-                    WatertightRay::new(ray.o, ray.d)
-                        .and_then(|r| watertight_raw(&r, v))
-                        .map_or(h.map(|h| (h.t as f64, h.prim)), |(t, ..)| {
-                            Some((t as f64, f.prim[0]))
-                        })
-                }
+                Some(f) if f.ambiguous & 1 == 0 => lane_answer(shapes, ray, f.prim[0]),
                 _ => h.map(|h| (h.t as f64, h.prim)),
             };
             answers.push(answer);
@@ -254,4 +248,9 @@ fn cornell_primary_rays_and_its_edges() {
 #[test]
 fn cornell_box_and_camera_translated() {
     check_all(suite::cornell_translated());
+}
+
+#[test]
+fn round_two_fans_junctions_in_plane_copies_subnormal_vertices_zeros_slivers() {
+    check_all(suite::round_two());
 }

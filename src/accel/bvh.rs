@@ -84,6 +84,30 @@ pub struct Bvh {
     pairs: Vec<NodePair>,
     tris: Vec<[[f32; 3]; 3]>,
     prims: Vec<u32>,
+    /// Whether every box coordinate is [`slab_safe`].
+    tame: bool,
+}
+
+/// Magnitudes the f32 slab test keeps within its relative slack: 0, or 2⁻⁴⁰…2⁴⁰. A nonzero
+/// difference of two such coordinates is at least 2⁻⁶³, and times 1/d for such a d at least
+/// 2⁻¹⁰³ and at most 2⁸¹: normal and finite, rounded by a relative u. Beyond (subnormal or
+/// huge geometry, origins or directions), a per-ray test runs in f64 and a packet enters
+/// every box: before, a direction below 2⁻¹²⁸ made 1/d infinite and the BVH skipped the
+/// boxes it meets.
+#[inline(always)]
+fn slab_safe(x: f32) -> bool {
+    // On the bits of |x| (ordered as the values): 0, or between those of 2⁻⁴⁰ and 2⁴⁰.
+    const LO: u32 = (127 - 40) << 23;
+    const HI: u32 = (127 + 40) << 23;
+    let bits = x.to_bits() & 0x7fff_ffff;
+    bits == 0 || bits.wrapping_sub(LO) <= HI - LO
+}
+
+/// Whether every node box of `pairs` has [`slab_safe`] coordinates (an empty box's infinite
+/// ones aside: such a box is never entered).
+fn boxes_tame(pairs: &[NodePair]) -> bool {
+    (pairs.iter().flat_map(|p| &p.0))
+        .all(|n| (n.bounds.lo.iter().chain(&n.bounds.hi)).all(|&x| !x.is_finite() || slab_safe(x)))
 }
 
 /// A triangle during the build: its box, centroid and index. The build partitions these
@@ -116,6 +140,7 @@ impl Bvh {
         let pairs = pair_up(&build_node(&mut refs, 0, parallel_min));
         let order: Vec<u32> = refs.iter().map(|r| r.i).collect();
         Self {
+            tame: boxes_tame(&pairs),
             pairs,
             tris: order.par_iter().map(|&i| tris[i as usize].0).collect(),
             prims: order.par_iter().map(|&i| tris[i as usize].1).collect(),
@@ -219,10 +244,16 @@ impl Bvh {
             .collect();
         let pairs = pair_up(&build_node(&mut refs, 0, PARALLEL_MIN));
         Self {
+            tame: boxes_tame(&pairs),
             pairs,
             tris: Vec::new(),
             prims: refs.iter().map(|r| r.i).collect(),
         }
+    }
+
+    /// Whether every box coordinate is [`slab_safe`] (the f32 slab test then holds).
+    pub(crate) fn boxes_tame(&self) -> bool {
+        self.tame
     }
 
     /// The root's box (`None` when empty).
@@ -246,6 +277,10 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return;
         };
+        if !(slabs.trusted && slab_safe(pad)) {
+            leaves.visit(sink, 0, self.prims.len());
+            return;
+        }
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -384,7 +419,10 @@ impl Bvh {
             all.ambiguous = 0xff;
             return all;
         }
-        let rays = PacketSlabs::new(o, d);
+        let rays = PacketSlabs::new(o, d, self.tame);
+        if !rays.trusted {
+            return self.closest_packet_untrusted(nearest, o, prepared);
+        }
         let inf = f32x8::splat(f32::INFINITY);
         // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
         let limit = |reach: f32x8| {
@@ -460,6 +498,45 @@ impl Bvh {
         }
     }
 
+    /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
+    #[cold]
+    #[inline(never)]
+    fn closest_packet_untrusted(
+        &self,
+        mut nearest: PacketNearest,
+        o: [f32; 3],
+        prepared: Option<&[OriginTriangle]>,
+    ) -> PacketHits {
+        for i in 0..self.tris.len() {
+            match prepared {
+                Some(p) => nearest.offer(&p[i], i as u32),
+                None => nearest.offer(
+                    &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
+                    i as u32,
+                ),
+            }
+        }
+        nearest.finish()
+    }
+
+    /// [`Bvh::blocked_packet`] where the f32 slab test cannot be trusted: every triangle.
+    #[cold]
+    #[inline(never)]
+    fn blocked_packet_untrusted(
+        &self,
+        mut packet: ShadowPacket,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+    ) -> ShadowHits {
+        for i in 0..self.tris.len() {
+            match prepared {
+                Some(p) => packet.offer(&p.tris[i]),
+                None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
+            }
+        }
+        packet.finish()
+    }
+
     /// Offers to `sink` (a nearest-hit or shadow state shared with other structures, the
     /// instances) every triangle the 8 rays from `o` may reach before their limits, from
     /// `prepared` (made for `o`) or prepared as met: [`Bvh::closest_packet`] and
@@ -473,7 +550,7 @@ impl Bvh {
         d: &[f32x8; 3],
     ) {
         let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
-        let slabs = PacketSlabs::new(o, d);
+        let slabs = PacketSlabs::new(o, d, self.tame);
         let mut leaves = OwnLeaves {
             bvh: self,
             o,
@@ -529,7 +606,10 @@ impl Bvh {
                 unsure: valid,
             };
         }
-        let rays = PacketSlabs::new(o, d);
+        let rays = PacketSlabs::new(o, d, self.tame);
+        if !rays.trusted {
+            return self.blocked_packet_untrusted(packet, o, prepared);
+        }
         let limit = f32x8::splat(1.0 + 1.0 / 65536.0);
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
@@ -633,7 +713,13 @@ impl Bvh {
         let inv = ray.d.map(|c| 1.0 / c);
         let neg = inv.map(|c| c < 0.0);
         let slack = 1.0 + 2.0 * f32::error_gamma(3);
+        let in_f32 =
+            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && slab_safe(pad);
+        let inv64 = ray.d.map(|c| 1.0 / f64::from(c));
         let enter = |b: &Aabb, t_far: f32| -> Option<f32> {
+            if !in_f32 {
+                return enter_f64(b, pad, ray, &inv64, tmin, t_far);
+            }
             let mut t0 = tmin;
             let mut t1 = t_far;
             for k in 0..3 {
@@ -709,6 +795,35 @@ impl Bvh {
     }
 }
 
+/// The slab test of [`Bvh::traverse`] in f64, for rays or boxes beyond [`slab_safe`]: every
+/// f32 input and its inverse direction are f64 values far from f64's limits, so the
+/// distances are within a few f64 roundings of exact. Both are widened by 2⁻²⁰ relative, so
+/// the test stays at least as generous as the f32 one (whose roundings the inexact methods'
+/// own f32 hits may share); the entry distance is handed back rounded down to f32.
+#[inline(never)]
+fn enter_f64(b: &Aabb, pad: f32, ray: &Ray, inv: &[f64; 3], tmin: f32, t_far: f32) -> Option<f32> {
+    const WIDEN: f64 = 1.0 / (1u64 << 20) as f64;
+    let (mut t0, mut t1) = (f64::from(tmin), f64::from(t_far));
+    for (k, &inv) in inv.iter().enumerate() {
+        let pad = f64::from(pad);
+        let (lo, hi) = (f64::from(b.lo[k]) - pad, f64::from(b.hi[k]) + pad);
+        let (near, far) = if inv < 0.0 { (hi, lo) } else { (lo, hi) };
+        let o = f64::from(ray.o[k]);
+        let (tn, tf) = ((near - o) * inv, (far - o) * inv);
+        // f64::min/max ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
+        t0 = t0.max(tn - tn.abs() * WIDEN);
+        t1 = t1.min(tf + tf.abs() * WIDEN);
+    }
+    (t0 <= t1).then(|| {
+        let t = t0 as f32;
+        if f64::from(t) > t0 {
+            t.next_down()
+        } else {
+            t
+        }
+    })
+}
+
 /// What a packet walk does at a leaf: offers the leaf's items to the packet's state.
 pub(crate) trait Leaves<S> {
     /// Items `first..first + count` of the hierarchy walked.
@@ -750,11 +865,14 @@ pub(crate) struct PacketSlabs {
     sign: [Option<bool>; 3],
     /// Whether every 1/dₖ is finite (then no 0·∞ can arise).
     tame: bool,
+    /// Whether the f32 test can be trusted: the origin, every direction and the boxes are
+    /// [`slab_safe`]; else the walks offer every triangle, testing no box.
+    pub(crate) trusted: bool,
 }
 
 impl PacketSlabs {
     #[inline(always)]
-    pub(crate) fn new(o: [f32; 3], d: &[f32x8; 3]) -> Self {
+    pub(crate) fn new(o: [f32; 3], d: &[f32x8; 3], boxes_tame: bool) -> Self {
         let inv = d.map(|c| f32x8::ONE / c);
         let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
         let sign = neg.map(|m| match m.to_bitmask() {
@@ -762,7 +880,17 @@ impl PacketSlabs {
             0xff => Some(true),
             _ => None,
         });
-        let tame = d.iter().all(|c| c.abs().simd_ge(f32x8::splat(1e-30)).all());
+        // Tame: every |dₖ| within 2⁻⁴⁰…2⁴⁰ ([`slab_safe`]), so no 1/dₖ is infinite (no 0·∞)
+        // and the f32 test holds. Else zeros are fine too, anything else is not trusted.
+        let (lo, hi) = (
+            f32x8::splat(1.0 / (1u64 << 40) as f32),
+            f32x8::splat((1u64 << 40) as f32),
+        );
+        let a = d.map(|c| c.abs());
+        let tame = a.iter().all(|a| (a.simd_ge(lo) & a.simd_le(hi)).all());
+        let safe = |a: &f32x8| (a.simd_eq(f32x8::ZERO) | (a.simd_ge(lo) & a.simd_le(hi))).all();
+        let origin = f32x8::from([o[0], o[1], o[2], 0.0, 0.0, 0.0, 0.0, 0.0]).abs();
+        let trusted = boxes_tame && safe(&origin) && (tame || a.iter().all(safe));
         // The far distance enlarged by 2γ(3) (pbrt) and one rounding more, for the rounding
         // of 1/dₖ·slack itself.
         let slack = 1.0 + 2.0 * f32::error_gamma(4);
@@ -774,6 +902,7 @@ impl PacketSlabs {
             neg,
             sign,
             tame,
+            trusted,
         }
     }
 

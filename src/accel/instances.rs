@@ -368,7 +368,7 @@ impl Instances {
     /// reach before their limits, prepared for `o` in the world.
     #[inline(always)]
     pub(crate) fn packet<S: PacketSink>(&self, o: [f32; 3], d: &[f32x8; 3], sink: &mut S) {
-        let slabs = PacketSlabs::new(o, d);
+        let slabs = PacketSlabs::new(o, d, self.top.boxes_tame());
         let mut leaves = TopLeaves { inst: self, o, d };
         self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
@@ -395,7 +395,8 @@ impl<S: PacketSink> Leaves<S> for TopLeaves<'_> {
             };
             match placed.carry_origin(self.o) {
                 Some((obj, pad)) => {
-                    let inner = PacketSlabs::new(obj, &placed.carry_directions(self.d));
+                    let inner =
+                        PacketSlabs::new(obj, &placed.carry_directions(self.d), mesh.boxes_tame());
                     mesh.walk_packet(&inner, pad, sink, &mut leaves);
                 }
                 None => leaves.visit(sink, 0, mesh.len()),

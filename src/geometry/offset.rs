@@ -29,7 +29,8 @@ pub struct SurfacePoint {
 impl SurfacePoint {
     /// The hit point of `ray` on the sphere (`centre`, `radius`) from t with |t − exact t| ≤
     /// `t_error`: o + t·d re-projected onto the sphere, which keeps it on the surface within
-    /// γ₆·(|c| + |p − c|) whatever t's error.
+    /// γ₆·(|c| + |p − c|) + 8·2⁻¹⁴⁹ (the roundings below f32's normal range) whatever t's
+    /// error.
     ///
     /// `hit_error`: o + t·d is within εₖ = γ₂·(|oₖ| + |t·dₖ|) + t_error·|dₖ| of the exact hit
     /// x, and q = fl(o + t·d − c) within εₖ + u·|qₖ| of x − c (whose length is r); scaling q
@@ -45,7 +46,10 @@ impl SurfacePoint {
             [0.0, 0.0, 1.0]
         };
         let p = add(centre, scale(n, radius));
-        let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6));
+        // Below f32's normal range a rounding is absolute: 2⁻¹⁵⁰ each at most.
+        let underflow = 8.0 * f32::from_bits(1);
+        let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6))
+            .map(|e| e + underflow);
         // The bound in f64 (no rounding of its own worth a term), rounded up by a margin.
         let u = f64::from(f32::EPSILON) / 2.0;
         let gamma = |n: f64| n * u / (1.0 - n * u);
@@ -54,10 +58,12 @@ impl SurfacePoint {
             gamma(2.0) * (o.abs() + (t * d).abs())
                 + t_error as f64 * d.abs()
                 + u * rel[k].abs() as f64
+                + 8.0 * f64::from(underflow)
         });
         let norm = (eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2]).sqrt();
         let hit_error = [0, 1, 2].map(|k| {
-            let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64);
+            let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64)
+                + 8.0 * f64::from(underflow);
             let bound = ((norm + eps[k]) * (1.0 + 1e-6) + round) * (1.0 + 1e-6);
             if len > 0.0 && bound.is_finite() {
                 bound as f32

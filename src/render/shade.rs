@@ -49,6 +49,9 @@ fn irradiance(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Rgb {
 }
 
 const FOUR_PI: f32 = 4.0 * PI;
+/// The absolute part of a shading point's error bound: the roundings of its interpolation
+/// below f32's normal range (2⁻¹⁵⁰ each at most), with room to spare.
+const UNDERFLOW: f32 = 8.0 * f32::from_bits(1);
 /// The shadow ray's widening of the point's error bound: relative, and of |L − p|.
 const WIDEN: f32 = 1.0 + 1.0 / (1u32 << 21) as f32;
 const END: f32 = 1.0 / (1u32 << 22) as f32;
@@ -77,7 +80,7 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
 /// barycentrics bᵢ = eᵢ/Σe from the edge functions of the triangle prepared for the ray's
 /// origin ([`OriginTriangle`], what the camera packets compute), clamped into the triangle
 /// (the centroid where they are not finite); the point then lies on the triangle's plane
-/// within γ(7)·Σ|bᵢ·vᵢ| whatever the bᵢ's own error ([`SurfacePoint`]).
+/// within γ(7)·Σ|bᵢ·vᵢ| + 8·2⁻¹⁴⁹ whatever the bᵢ's own error ([`SurfacePoint`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Lit {
     pub prim: u32,
@@ -445,12 +448,14 @@ fn shade_packet_body(
         .fast_min(f32x8::ONE - b1);
     let b0 = (f32x8::ONE - b1) - b2;
     let gamma7 = f32x8::splat(f32::error_gamma(7));
+    // Below f32's normal range a rounding is absolute (up to 2⁻¹⁵⁰ each, five here).
+    let underflow = f32x8::splat(UNDERFLOW);
     let mut p = [f32x8::ZERO; 3];
     let mut p_error = [f32x8::ZERO; 3];
     for k in 0..3 {
         let (q0, q1, q2) = (v[0][k] * b0, v[1][k] * b1, v[2][k] * b2);
         p[k] = (q0 + q1) + q2;
-        p_error[k] = ((q0.abs() + q1.abs()) + q2.abs()) * gamma7;
+        p_error[k] = ((q0.abs() + q1.abs()) + q2.abs()) * gamma7 + underflow;
     }
     // The irradiance D (see `irradiance`), lanes at a time.
     let light = scene.light.position;
