@@ -254,3 +254,78 @@ fn cornell_box_and_camera_translated() {
 fn round_two_fans_junctions_in_plane_copies_subnormal_vertices_zeros_slivers() {
     check_all(suite::round_two());
 }
+
+/// The exact nearest hit with tmin < t < tmax (tmax `None`: ∞), ties to the lower index.
+fn exact_nearest_between(
+    shapes: &[Shape<f32>],
+    ray: &Ray<f32>,
+    tmin: &suite::Q,
+    tmax: Option<&suite::Q>,
+) -> Option<(suite::RefT, u32)> {
+    let (o, d) = (ray.o.map(suite::q), ray.d.map(suite::q));
+    let mut best: Option<(suite::RefT, u32)> = None;
+    for (i, s) in shapes.iter().enumerate() {
+        let Some(t) = suite::exact_t(s, &o, &d, tmin) else {
+            continue;
+        };
+        let below = tmax.is_none_or(|m| t.cmp(&suite::RefT::Exact(m.clone())).is_lt());
+        if below && best.as_ref().is_none_or(|(bt, _)| t.cmp(bt).is_lt()) {
+            best = Some((t, i as u32));
+        }
+    }
+    best
+}
+
+#[test]
+fn tmin_and_tmax_exactly_at_the_hit() {
+    // Every suite ray whose exact nearest t is an f32, asked again with tmax = t (the hit
+    // itself and any tie at t excluded: the open interval) and with tmin = t (what lies
+    // beyond): the adaptive method through the reference loop, the flat SIMD loop and the BVH
+    // gives the exact nearest in that interval, and `rounded_t` its exact t rounded.
+    let (mut asked, mut hits, mut wrong) = (0, 0, 0);
+    for family in suite::all() {
+        let flat = Accel::build(&family.shapes, AccelChoice::Flat);
+        let bvh = Accel::build(&family.shapes, AccelChoice::Bvh);
+        for ray in &family.rays {
+            let Some((suite::RefT::Exact(t), _)) = exact_nearest(&family.shapes, ray) else {
+                continue;
+            };
+            let t32 = suite::round_q::<f32>(&t);
+            if suite::q(t32) != t || !t32.is_finite() {
+                continue;
+            }
+            for (tmin, tmax) in [(0.0, t32), (t32, f32::INFINITY)] {
+                let qmax = tmax.is_finite().then(|| suite::q(tmax));
+                let want =
+                    exact_nearest_between(&family.shapes, ray, &suite::q(tmin), qmax.as_ref());
+                let want = want.map(|(t, prim)| (t.rounded::<f32>(), prim));
+                asked += 1;
+                hits += want.is_some() as usize;
+                let answers = [
+                    accel::closest_hit(&family.shapes, ray, Method::Adaptive, tmin, tmax),
+                    flat.closest_hit(ray, Method::Adaptive, tmin, tmax),
+                    bvh.closest_hit(ray, Method::Adaptive, tmin, tmax),
+                ];
+                for got in answers {
+                    let got = got.map(|h| {
+                        let shape = &family.shapes[h.prim as usize];
+                        (adaptive::rounded_t(shape, ray, tmin, tmax), h.prim)
+                    });
+                    if got != want {
+                        wrong += 1;
+                        eprintln!(
+                            "{}: {ray:?} in ({tmin}, {tmax}): {got:?}, exact {want:?}",
+                            family.name
+                        );
+                    }
+                }
+            }
+        }
+    }
+    println!("{asked} queries with tmin or tmax exactly at the hit, {hits} hits");
+    assert!(
+        asked > 5_000 && hits > 1_000,
+        "{asked} queries, {hits} hits"
+    );
+    assert_eq!(wrong, 0);
+}

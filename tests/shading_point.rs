@@ -235,7 +235,7 @@ fn the_shading_point_keeps_its_bounds_on_the_hard_cases() {
          {self_blocked} blocked by their own sphere"
     );
     assert!(hits > 5_000, "{hits} hits");
-    // The bound is worth stating: about 40 units in the last place at the median (grazing rays
+    // The bound is worth stating: about 50 units in the last place at the median (grazing rays
     // make the tail).
     assert!(b50 < 1e-5, "median hit_error {b50:e} relative");
     assert_eq!(
