@@ -329,3 +329,43 @@ fn tmin_and_tmax_exactly_at_the_hit() {
     );
     assert_eq!(wrong, 0);
 }
+
+#[test]
+fn the_suite_in_f64_through_the_reference_loop() {
+    // The adaptive method in f64 (the suite's f32 inputs are the same numbers in f64): every
+    // family's nearest primitive exact, and `rounded_t` the exact t rounded to f64 (as
+    // `raylab trace --precision f64` prints it).
+    let (mut rays, mut hits, mut wrong, mut off) = (0, 0, 0, 0);
+    for family in suite::all() {
+        let shapes: Vec<Shape<f64>> = family.shapes.iter().map(adaptive::widen).collect();
+        for ray in &family.rays {
+            let exact = exact_nearest(&family.shapes, ray);
+            let r = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
+            let got = accel::closest_hit(&shapes, &r, Method::Adaptive, 0.0, f64::INFINITY);
+            rays += 1;
+            match (&exact, got) {
+                (Some((t, prim)), Some(h)) if *prim == h.prim => {
+                    hits += 1;
+                    let shape = &shapes[h.prim as usize];
+                    let printed = adaptive::rounded_t(shape, &r, 0.0, f64::INFINITY);
+                    if t.rounded::<f64>() != printed {
+                        off += 1;
+                        eprintln!("{}: {ray:?}: t {printed:?}, exact {:?}", family.name, t);
+                    }
+                }
+                (None, None) => {}
+                _ => {
+                    wrong += 1;
+                    eprintln!("{}: {ray:?}: {got:?}, exact {exact:?}", family.name);
+                }
+            }
+        }
+    }
+    println!("f64: {rays} rays, {hits} hits");
+    assert!(rays > 14_000 && hits > 12_000, "{rays} rays, {hits} hits");
+    assert_eq!(
+        (wrong, off),
+        (0, 0),
+        "wrong primitives, t's not the exact t rounded"
+    );
+}

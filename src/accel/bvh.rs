@@ -26,6 +26,9 @@ use crate::math::Real;
 use rayon::prelude::*;
 use wide::f32x8;
 
+/// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
+const SAH_DEPTH: usize = 36;
+
 /// Triangles per leaf at most.
 const MAX_LEAF: usize = 4;
 const BINS: usize = 16;
@@ -55,8 +58,10 @@ impl Aabb {
         self.grow(&Aabb { lo: p, hi: p });
     }
 
-    fn half_area(&self) -> f32 {
-        let d = [0, 1, 2].map(|k| (self.hi[k] - self.lo[k]).max(0.0));
+    /// In f64: products of f32 extents neither underflow nor overflow there (a box of
+    /// subnormal size has area 0 in f32, and every split would look free).
+    fn half_area(&self) -> f64 {
+        let d = [0, 1, 2].map(|k| (f64::from(self.hi[k]) - f64::from(self.lo[k])).max(0.0));
         d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
     }
 }
@@ -84,30 +89,43 @@ pub struct Bvh {
     pairs: Vec<NodePair>,
     tris: Vec<[[f32; 3]; 3]>,
     prims: Vec<u32>,
-    /// Whether every box coordinate is [`slab_safe`].
+    /// Whether every box coordinate is [`box_safe`].
     tame: bool,
 }
 
-/// Magnitudes the f32 slab test keeps within its relative slack: 0, or 2⁻⁴⁰…2⁴⁰. A nonzero
-/// difference of two such coordinates is at least 2⁻⁶³, and times 1/d for such a d at least
-/// 2⁻¹⁰³ and at most 2⁸¹: normal and finite, rounded by a relative u. Beyond (subnormal or
-/// huge geometry, origins or directions), a per-ray test runs in f64 and a packet enters
-/// every box: before, a direction below 2⁻¹²⁸ made 1/d infinite and the BVH skipped the
-/// boxes it meets.
+/// Origin and direction components the f32 slab test keeps within its relative slack: 0, or
+/// 2⁻⁴⁰…2⁴⁰; box coordinates: 0, or 2⁻⁸⁶…2⁴⁰ ([`box_safe`]). Then a nonzero difference of a
+/// box coordinate and an origin coordinate is at least 2⁻⁸⁶ (the origin 0) or 2⁻⁶³ (an ulp of
+/// either), and times 1/d at least 2⁻¹²⁶ and at most 2⁸¹: normal and finite, rounded by a
+/// relative u. Beyond (subnormal or huge geometry, origins or directions), a per-ray test runs
+/// in f64 and a packet offers every triangle: before, a direction below 2⁻¹²⁸ made 1/d
+/// infinite and the BVH skipped the boxes it meets.
 #[inline(always)]
 fn slab_safe(x: f32) -> bool {
-    // On the bits of |x| (ordered as the values): 0, or between those of 2⁻⁴⁰ and 2⁴⁰.
-    const LO: u32 = (127 - 40) << 23;
-    const HI: u32 = (127 + 40) << 23;
-    let bits = x.to_bits() & 0x7fff_ffff;
-    bits == 0 || bits.wrapping_sub(LO) <= HI - LO
+    in_range(x, 40)
 }
 
-/// Whether every node box of `pairs` has [`slab_safe`] coordinates (an empty box's infinite
+/// [`slab_safe`] for a box coordinate: 0, or 2⁻⁸⁶…2⁴⁰ (scanned meshes hold coordinates of
+/// 1e-14 and less near their axes).
+#[inline(always)]
+fn box_safe(x: f32) -> bool {
+    in_range(x, 86)
+}
+
+/// Whether x is 0 or 2⁻ᵉ ≤ |x| ≤ 2⁴⁰, on the bits of |x| (ordered as the values).
+#[inline(always)]
+fn in_range(x: f32, e: u32) -> bool {
+    const HI: u32 = (127 + 40) << 23;
+    let lo = (127 - e) << 23;
+    let bits = x.to_bits() & 0x7fff_ffff;
+    bits == 0 || bits.wrapping_sub(lo) <= HI - lo
+}
+
+/// Whether every node box of `pairs` has [`box_safe`] coordinates (an empty box's infinite
 /// ones aside: such a box is never entered).
 fn boxes_tame(pairs: &[NodePair]) -> bool {
     (pairs.iter().flat_map(|p| &p.0))
-        .all(|n| (n.bounds.lo.iter().chain(&n.bounds.hi)).all(|&x| !x.is_finite() || slab_safe(x)))
+        .all(|n| (n.bounds.lo.iter().chain(&n.bounds.hi)).all(|&x| !x.is_finite() || box_safe(x)))
 }
 
 /// A triangle during the build: its box, centroid and index. The build partitions these
@@ -137,7 +155,7 @@ impl Bvh {
             .collect();
         // Enough parallel subtrees for the threads, each large enough to pay for a task.
         let parallel_min = PARALLEL_MIN.max(tris.len() / 32);
-        let pairs = pair_up(&build_node(&mut refs, 0, parallel_min));
+        let pairs = pair_up(&build_node(&mut refs, 0, parallel_min, 0));
         let order: Vec<u32> = refs.iter().map(|r| r.i).collect();
         Self {
             tame: boxes_tame(&pairs),
@@ -242,7 +260,7 @@ impl Bvh {
                 i: i as u32,
             })
             .collect();
-        let pairs = pair_up(&build_node(&mut refs, 0, PARALLEL_MIN));
+        let pairs = pair_up(&build_node(&mut refs, 0, PARALLEL_MIN, 0));
         Self {
             tame: boxes_tame(&pairs),
             pairs,
@@ -251,7 +269,7 @@ impl Bvh {
         }
     }
 
-    /// Whether every box coordinate is [`slab_safe`] (the f32 slab test then holds).
+    /// Whether every box coordinate is [`box_safe`] (the f32 slab test then holds).
     pub(crate) fn boxes_tame(&self) -> bool {
         self.tame
     }
@@ -277,7 +295,7 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return;
         };
-        if !(slabs.trusted && slab_safe(pad)) {
+        if !(slabs.trusted && box_safe(pad)) {
             leaves.visit(sink, 0, self.prims.len());
             return;
         }
@@ -714,7 +732,7 @@ impl Bvh {
         let neg = inv.map(|c| c < 0.0);
         let slack = 1.0 + 2.0 * f32::error_gamma(3);
         let in_f32 =
-            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && slab_safe(pad);
+            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
         let inv64 = ray.d.map(|c| 1.0 / f64::from(c));
         let enter = |b: &Aabb, t_far: f32| -> Option<f32> {
             if !in_f32 {
@@ -953,7 +971,7 @@ impl PacketSlabs {
 /// Builds the subtree over `order` (whose first element is at `start` in the global order).
 /// How a set of triangles is split: its box, and where `order` (partitioned) divides into the
 /// two children, or `None` for a leaf.
-fn split(order: &mut [Ref]) -> (Aabb, Option<usize>) {
+fn split(order: &mut [Ref], depth: usize) -> (Aabb, Option<usize>) {
     let mut bounds = Aabb::EMPTY;
     let mut cbounds = Aabb::EMPTY;
     for r in order.iter() {
@@ -968,7 +986,9 @@ fn split(order: &mut [Ref]) -> (Aabb, Option<usize>) {
     let axis = (0..3)
         .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
         .unwrap_or(0);
-    let mid = if extent[axis] > 0.0 {
+    // Past `SAH_DEPTH` levels, split by count: the tree stays within the traversals'
+    // 64-entry stacks whatever the geometry (at most 2²⁴ triangles: 24 more levels).
+    let mid = if extent[axis] > 0.0 && depth < SAH_DEPTH {
         sah_split(order, axis, &cbounds, &bounds)
     } else {
         None
@@ -990,13 +1010,13 @@ fn split(order: &mut [Ref]) -> (Aabb, Option<usize>) {
 /// at least `parallel_min` triangles build their two halves on two threads and concatenate
 /// them; smaller ones push into one vector (concatenating at every level copied each node
 /// once per level above it: 1.3 GB of copies for a million triangles).
-fn build_node(order: &mut [Ref], start: usize, parallel_min: usize) -> Vec<Node> {
+fn build_node(order: &mut [Ref], start: usize, parallel_min: usize, depth: usize) -> Vec<Node> {
     if order.len() < parallel_min {
         let mut nodes = Vec::with_capacity(2 * order.len().div_ceil(2));
-        build_into(order, start, &mut nodes);
+        build_into(order, start, &mut nodes, depth);
         return nodes;
     }
-    let (bounds, mid) = split(order);
+    let (bounds, mid) = split(order, depth);
     let Some(mid) = mid else {
         return vec![Node {
             bounds,
@@ -1006,8 +1026,8 @@ fn build_node(order: &mut [Ref], start: usize, parallel_min: usize) -> Vec<Node>
     };
     let (left, right) = order.split_at_mut(mid);
     let (l, r) = rayon::join(
-        || build_node(left, start, parallel_min),
-        || build_node(right, start + mid, parallel_min),
+        || build_node(left, start, parallel_min, depth + 1),
+        || build_node(right, start + mid, parallel_min, depth + 1),
     );
     let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
     nodes.push(Node {
@@ -1049,8 +1069,8 @@ fn pair_up(nodes: &[Node]) -> Vec<NodePair> {
 }
 
 /// [`build_node`] on one thread, appending to `nodes`.
-fn build_into(order: &mut [Ref], start: usize, nodes: &mut Vec<Node>) {
-    let (bounds, mid) = split(order);
+fn build_into(order: &mut [Ref], start: usize, nodes: &mut Vec<Node>, depth: usize) {
+    let (bounds, mid) = split(order, depth);
     let Some(mid) = mid else {
         nodes.push(Node {
             bounds,
@@ -1066,17 +1086,18 @@ fn build_into(order: &mut [Ref], start: usize, nodes: &mut Vec<Node>) {
         count: 0,
     });
     let (left, right) = order.split_at_mut(mid);
-    build_into(left, start, nodes);
+    build_into(left, start, nodes, depth + 1);
     nodes[at].offset = (nodes.len() - at) as u32;
-    build_into(right, start + mid, nodes);
+    build_into(right, start + mid, nodes, depth + 1);
 }
 
 /// The best binned-SAH split along `axis`: partitions `order` and returns the split point, or
 /// `None` when a leaf is cheaper (for small sets) or no split separates anything.
 fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option<usize> {
-    let lo = cb.lo[axis];
-    let scale = BINS as f32 / (cb.hi[axis] - lo);
-    let bin_of = |r: &Ref| (((r.c[axis] - lo) * scale) as usize).min(BINS - 1);
+    let lo = f64::from(cb.lo[axis]);
+    // In f64, so that a subnormal extent does not make the scale infinite.
+    let scale = BINS as f64 / (f64::from(cb.hi[axis]) - lo);
+    let bin_of = |r: &Ref| (((f64::from(r.c[axis]) - lo) * scale) as usize).min(BINS - 1);
     let mut counts = [0usize; BINS];
     let mut boxes = [Aabb::EMPTY; BINS];
     for r in order.iter() {
@@ -1085,13 +1106,13 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
         boxes[b].grow(&r.b);
     }
     // Sweep from the right, then from the left, for the cost of each of the BINS-1 planes.
-    let mut right_area = [0.0f32; BINS];
+    let mut right_area = [0.0f64; BINS];
     let mut acc = Aabb::EMPTY;
     for b in (1..BINS).rev() {
         acc.grow(&boxes[b]);
         right_area[b] = acc.half_area();
     }
-    let mut best = (f32::INFINITY, 0usize);
+    let mut best = (f64::INFINITY, 0usize);
     let mut acc = Aabb::EMPTY;
     let mut left_n = 0usize;
     for b in 0..BINS - 1 {
@@ -1101,7 +1122,7 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
         if left_n == 0 || right_n == 0 {
             continue;
         }
-        let cost = acc.half_area() * left_n as f32 + right_area[b + 1] * right_n as f32;
+        let cost = acc.half_area() * left_n as f64 + right_area[b + 1] * right_n as f64;
         if cost < best.0 {
             best = (cost, b);
         }
@@ -1110,7 +1131,7 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
         return None;
     }
     // Traversal costs about one triangle test: a leaf wins when the split does not pay.
-    let leaf_cost = bounds.half_area() * order.len() as f32;
+    let leaf_cost = bounds.half_area() * order.len() as f64;
     if order.len() <= MAX_LEAF && best.0 + bounds.half_area() >= leaf_cost {
         return None;
     }
@@ -1126,4 +1147,52 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
         }
     }
     Some(i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn depth(bvh: &Bvh, node: usize) -> usize {
+        let n = bvh.node(node);
+        match n.count {
+            0 => 1 + depth(bvh, n.offset as usize).max(depth(bvh, n.offset as usize + 1)),
+            _ => 1,
+        }
+    }
+
+    #[test]
+    fn the_tree_stays_within_the_traversal_stacks() {
+        // Triangles at positions growing geometrically (binned SAH peels one off per level)
+        // and a cube of side 2⁻¹³⁰ (subnormal: every area 0 in f32): the depth stays below
+        // the 64-entry stacks, and a ray along the row still finds its nearest triangle.
+        let row: Vec<IndexedTriangle> = (0..120)
+            .map(|i| {
+                let x = 2f32.powi(i);
+                ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
+            })
+            .collect();
+        let bvh = Bvh::build(&row);
+        assert!(depth(&bvh, 0) <= 64, "depth {}", depth(&bvh, 0));
+        let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
+        for x in [1e9f32, 5.0, 1e30] {
+            let ray = Ray::new([x, 0.1, 0.0], [-1.0, 0.0, 0.0]);
+            let want =
+                crate::accel::closest_hit(&shapes, &ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let hit = bvh.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
+            assert_eq!(hit.map(|h| h.prim), want.map(|h| h.prim));
+            assert!(hit.is_some());
+        }
+
+        let s = 2f32.powi(-130);
+        let tiny: Vec<IndexedTriangle> = (0..400)
+            .map(|i| {
+                let (x, y) = ((i % 20) as f32 * s, (i / 20) as f32 * s);
+                ([[x, y, 0.0], [x + s, y, 0.0], [x, y + s, s]], i as u32)
+            })
+            .collect();
+        let bvh = Bvh::build(&tiny);
+        assert!(!bvh.boxes_tame());
+        assert!(depth(&bvh, 0) <= 64, "depth {}", depth(&bvh, 0));
+    }
 }
