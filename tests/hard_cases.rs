@@ -255,27 +255,6 @@ fn round_two_fans_junctions_in_plane_copies_subnormal_vertices_zeros_slivers() {
     check_all(suite::round_two());
 }
 
-/// The exact nearest hit with tmin < t < tmax (tmax `None`: ∞), ties to the lower index.
-fn exact_nearest_between(
-    shapes: &[Shape<f32>],
-    ray: &Ray<f32>,
-    tmin: &suite::Q,
-    tmax: Option<&suite::Q>,
-) -> Option<(suite::RefT, u32)> {
-    let (o, d) = (ray.o.map(suite::q), ray.d.map(suite::q));
-    let mut best: Option<(suite::RefT, u32)> = None;
-    for (i, s) in shapes.iter().enumerate() {
-        let Some(t) = suite::exact_t(s, &o, &d, tmin) else {
-            continue;
-        };
-        let below = tmax.is_none_or(|m| t.cmp(&suite::RefT::Exact(m.clone())).is_lt());
-        if below && best.as_ref().is_none_or(|(bt, _)| t.cmp(bt).is_lt()) {
-            best = Some((t, i as u32));
-        }
-    }
-    best
-}
-
 #[test]
 fn tmin_and_tmax_exactly_at_the_hit() {
     // Every suite ray whose exact nearest t is an f32, asked again with tmax = t (the hit
@@ -296,8 +275,12 @@ fn tmin_and_tmax_exactly_at_the_hit() {
             }
             for (tmin, tmax) in [(0.0, t32), (t32, f32::INFINITY)] {
                 let qmax = tmax.is_finite().then(|| suite::q(tmax));
-                let want =
-                    exact_nearest_between(&family.shapes, ray, &suite::q(tmin), qmax.as_ref());
+                let want = suite::exact_nearest_between(
+                    &family.shapes,
+                    ray,
+                    &suite::q(tmin),
+                    qmax.as_ref(),
+                );
                 let want = want.map(|(t, prim)| (t.rounded::<f32>(), prim));
                 asked += 1;
                 hits += want.is_some() as usize;

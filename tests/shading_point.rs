@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::suite::{self, exact_nearest, q, RefT, Q};
+use common::suite::{self, cross, dot, exact_nearest, q, sub, RefT, Q};
 use num_traits::{Signed, Zero};
 use raylab::accel;
 use raylab::geometry::{Hit, Method, Ray, Shape};
@@ -30,26 +30,18 @@ fn hit_coordinate(ray: &Ray, t: &RefT, k: usize) -> (Q, Q) {
     }
 }
 
-fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
-    [0, 1, 2].map(|k| &a[k] - &b[k])
-}
-
-fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
-
 fn exact(v: [f32; 3]) -> [Q; 3] {
     v.map(q)
 }
 
-/// Whether the box c ± e holds a point where `f` (an affine function: a plane) is zero, or
-/// (sphere) a point at distance r from `centre`.
+/// Whether the box p ± e holds a point of the plane through v0 with normal n.
 fn box_meets_plane(n: &[Q; 3], v0: &[Q; 3], p: &[Q; 3], e: &[Q; 3]) -> bool {
     let at_p = dot(n, &sub(p, v0));
     let reach = &n[0].abs() * &e[0] + &n[1].abs() * &e[1] + &n[2].abs() * &e[2];
     at_p.abs() <= reach
 }
 
+/// Whether the box p ± e holds a point at distance r from `centre`.
 fn box_meets_sphere(centre: &[Q; 3], r: &Q, p: &[Q; 3], e: &[Q; 3]) -> bool {
     let (mut near, mut far) = (Q::zero(), Q::zero());
     for k in 0..3 {
@@ -85,14 +77,6 @@ fn side(shape: &Shape, x: &[Q; 3]) -> Ordering {
         }
     };
     value.cmp(&Q::zero())
-}
-
-fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
 }
 
 #[derive(Default)]

@@ -102,8 +102,11 @@ pub struct Bvh {
 /// infinite and the BVH skipped the boxes it meets.
 #[inline(always)]
 fn slab_safe(x: f32) -> bool {
-    in_range(x, 40)
+    in_range(x, SAFE_EXP)
 }
+
+/// 2^±`SAFE_EXP`: the range of [`slab_safe`] (and the top of [`box_safe`]'s).
+const SAFE_EXP: u32 = 40;
 
 /// [`slab_safe`] for a box coordinate: 0, or 2⁻⁸⁶…2⁴⁰ (scanned meshes hold coordinates of
 /// 1e-14 and less near their axes).
@@ -115,7 +118,7 @@ fn box_safe(x: f32) -> bool {
 /// Whether x is 0 or 2⁻ᵉ ≤ |x| ≤ 2⁴⁰, on the bits of |x| (ordered as the values).
 #[inline(always)]
 fn in_range(x: f32, e: u32) -> bool {
-    const HI: u32 = (127 + 40) << 23;
+    const HI: u32 = (127 + SAFE_EXP) << 23;
     let lo = (127 - e) << 23;
     let bits = x.to_bits() & 0x7fff_ffff;
     bits == 0 || bits.wrapping_sub(lo) <= HI - lo
@@ -733,10 +736,11 @@ impl Bvh {
         let slack = 1.0 + 2.0 * f32::error_gamma(3);
         let in_f32 =
             self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
-        let inv64 = ray.d.map(|c| 1.0 / f64::from(c));
+        // Only the f64 test needs these divisions.
+        let inv64 = (!in_f32).then(|| ray.d.map(|c| 1.0 / f64::from(c)));
         let enter = |b: &Aabb, t_far: f32| -> Option<f32> {
-            if !in_f32 {
-                return enter_f64(b, pad, ray, &inv64, tmin, t_far);
+            if let Some(inv64) = &inv64 {
+                return enter_f64(b, pad, ray, inv64, tmin, t_far);
             }
             let mut t0 = tmin;
             let mut t1 = t_far;
@@ -883,8 +887,9 @@ pub(crate) struct PacketSlabs {
     sign: [Option<bool>; 3],
     /// Whether every 1/dₖ is finite (then no 0·∞ can arise).
     tame: bool,
-    /// Whether the f32 test can be trusted: the origin, every direction and the boxes are
-    /// [`slab_safe`]; else the walks offer every triangle, testing no box.
+    /// Whether the f32 test can be trusted: the origin and every direction are
+    /// [`slab_safe`], the boxes [`box_safe`]; else the walks offer every triangle, testing no
+    /// box.
     pub(crate) trusted: bool,
 }
 
@@ -901,8 +906,8 @@ impl PacketSlabs {
         // Tame: every |dₖ| within 2⁻⁴⁰…2⁴⁰ ([`slab_safe`]), so no 1/dₖ is infinite (no 0·∞)
         // and the f32 test holds. Else zeros are fine too, anything else is not trusted.
         let (lo, hi) = (
-            f32x8::splat(1.0 / (1u64 << 40) as f32),
-            f32x8::splat((1u64 << 40) as f32),
+            f32x8::splat(f32::from_bits((127 - SAFE_EXP) << 23)),
+            f32x8::splat(f32::from_bits((127 + SAFE_EXP) << 23)),
         );
         let a = d.map(|c| c.abs());
         let tame = a.iter().all(|a| (a.simd_ge(lo) & a.simd_le(hi)).all());

@@ -63,7 +63,7 @@ pub mod levels {
         RoundedExactly,
     }
 
-    const EVENTS: usize = 8;
+    const EVENTS: usize = Event::RoundedExactly as usize + 1;
     static ON: AtomicBool = AtomicBool::new(false);
     static COUNTS: [AtomicU64; EVENTS] = [const { AtomicU64::new(0) }; EVENTS];
 

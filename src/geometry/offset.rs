@@ -6,6 +6,10 @@ use super::Ray;
 use crate::math::real::{abs, add, dot, scale, sub, V3};
 use crate::math::Real;
 
+/// The absolute part of a surface point's error bound: its roundings below f32's normal
+/// range (2⁻¹⁵⁰ each at most), with room to spare.
+pub const UNDERFLOW: f32 = 8.0 * f32::from_bits(1);
+
 /// A surface point with its error bounds and unit geometric normal.
 ///
 /// Two bounds, per axis, both conservative: `p_error` bounds p's distance from the surface
@@ -46,10 +50,8 @@ impl SurfacePoint {
             [0.0, 0.0, 1.0]
         };
         let p = add(centre, scale(n, radius));
-        // Below f32's normal range a rounding is absolute: 2⁻¹⁵⁰ each at most.
-        let underflow = 8.0 * f32::from_bits(1);
         let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6))
-            .map(|e| e + underflow);
+            .map(|e| e + UNDERFLOW);
         // The bound in f64 (no rounding of its own worth a term), rounded up by a margin.
         let u = f64::from(f32::EPSILON) / 2.0;
         let gamma = |n: f64| n * u / (1.0 - n * u);
@@ -58,12 +60,12 @@ impl SurfacePoint {
             gamma(2.0) * (o.abs() + (t * d).abs())
                 + t_error as f64 * d.abs()
                 + u * rel[k].abs() as f64
-                + 8.0 * f64::from(underflow)
+                + 8.0 * f64::from(UNDERFLOW)
         });
         let norm = (eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2]).sqrt();
         let hit_error = [0, 1, 2].map(|k| {
             let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64)
-                + 8.0 * f64::from(underflow);
+                + 8.0 * f64::from(UNDERFLOW);
             let bound = ((norm + eps[k]) * (1.0 + 1e-6) + round) * (1.0 + 1e-6);
             if len > 0.0 && bound.is_finite() {
                 bound as f32

@@ -3,7 +3,7 @@
 
 use crate::accel::frame::{OriginTriangle, ShadowSegments};
 use crate::geometry::adaptive::{self, Estimate};
-use crate::geometry::offset::normalize;
+use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{offset_ray_origin, sphere, Hit, Ray, Shape, SurfacePoint};
 use crate::math::real::{cross, dot, sub};
 use crate::math::simd::{avx2_or_baseline, each3};
@@ -49,9 +49,6 @@ fn irradiance(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Rgb {
 }
 
 const FOUR_PI: f32 = 4.0 * PI;
-/// The absolute part of a shading point's error bound: the roundings of its interpolation
-/// below f32's normal range (2⁻¹⁵⁰ each at most), with room to spare.
-const UNDERFLOW: f32 = 8.0 * f32::from_bits(1);
 /// The shadow ray's widening of the point's error bound: relative, and of |L − p|.
 const WIDEN: f32 = 1.0 + 1.0 / (1u32 << 21) as f32;
 const END: f32 = 1.0 / (1u32 << 22) as f32;

@@ -188,17 +188,17 @@ fn sqrt_q(x: &Q) -> RefT {
     }
 }
 
-fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
+pub fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
     [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
 }
-fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
+pub fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
     [
         &a[1] * &b[2] - &a[2] * &b[1],
         &a[2] * &b[0] - &a[0] * &b[2],
         &a[0] * &b[1] - &a[1] * &b[0],
     ]
 }
-fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
+pub fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
     &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
 }
 
@@ -253,16 +253,29 @@ pub fn exact_t<T: Real>(shape: &Shape<T>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> O
 
 /// Exact nearest hit with t > 0: (t, primitive), ties to the lower index.
 pub fn exact_nearest<T: Real>(shapes: &[Shape<T>], ray: &Ray<T>) -> Option<(RefT, u32)> {
+    exact_nearest_between(shapes, ray, &Q::zero(), None)
+}
+
+/// Exact nearest hit with tmin < t < tmax (tmax `None`: ∞), ties to the lower index.
+pub fn exact_nearest_between<T: Real>(
+    shapes: &[Shape<T>],
+    ray: &Ray<T>,
+    tmin: &Q,
+    tmax: Option<&Q>,
+) -> Option<(RefT, u32)> {
     let (o, d) = (ray.o.map(qr), ray.d.map(qr));
     let mut best: Option<(RefT, u32)> = None;
     for (i, s) in shapes.iter().enumerate() {
-        if let Some(t) = exact_t(s, &o, &d, &Q::zero()) {
-            if best
+        let Some(t) = exact_t(s, &o, &d, tmin) else {
+            continue;
+        };
+        let below = tmax.is_none_or(|m| t.cmp(&RefT::Exact(m.clone())) == Ordering::Less);
+        if below
+            && best
                 .as_ref()
                 .is_none_or(|(bt, _)| t.cmp(bt) == Ordering::Less)
-            {
-                best = Some((t, i as u32));
-            }
+        {
+            best = Some((t, i as u32));
         }
     }
     best
