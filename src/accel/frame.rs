@@ -23,8 +23,13 @@
 //!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
 //! - otherwise **per ray** through the scene's structure.
 //!
-//! Shapes other than triangles (spheres) are not in the packets: a tile their projected box
-//! may show in, or whose shadow segments may meet their box, is answered per ray.
+//! Shapes other than triangles (spheres) join the packets lane by lane: a tile their
+//! projected box may show in offers them to each camera lane after the triangles, and shadow
+//! segments whose box meets theirs test them first, each lane through the shape's f64
+//! interval level (`sphere::interval`, the per-ray search's own first level for a sphere). A
+//! lane takes the shape where its t interval lies wholly below the triangles' nearest, keeps
+//! the triangle where wholly above, and is ambiguous otherwise (then traced per ray, as is a
+//! lane the interval cannot decide).
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
@@ -36,9 +41,10 @@ use super::packet::{self, OriginTriangles, PacketHits};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
-use crate::geometry::adaptive::Search;
+use crate::geometry::adaptive::{widen, Estimate, Search};
+use crate::geometry::sphere;
 use crate::geometry::triangle::WatertightRay;
-use crate::geometry::{Hit, Method, Ray};
+use crate::geometry::{Hit, Method, Ray, Shape};
 use wide::f32x8;
 
 pub use super::packet::OriginTriangle;
@@ -117,10 +123,30 @@ pub struct FrameQueries<'a> {
     eye: [f32; 3],
     light: [f32; 3],
     plan: Plan<'a>,
-    /// Where the shapes other than triangles (spheres) can show and what they can block: a
-    /// tile they may show in, or shadow segments they may meet, are traced per ray (the
-    /// packets test triangles only).
-    others: Vec<ShapeCull>,
+    /// Where the shapes other than triangles (spheres) can show and what they can block,
+    /// with each shape (in f64) and its primitive: the packets test them lane by lane.
+    others: Vec<(ShapeCull, LaneShape)>,
+}
+
+/// A shape other than a triangle, in f64 (exact for the scene's f32), for the lane-by-lane
+/// tests of the packets.
+#[derive(Clone, Copy, Debug)]
+struct LaneShape {
+    shape: Shape<f64>,
+    prim: u32,
+    bounds: Box3,
+}
+
+impl LaneShape {
+    /// The f64 interval level's answer for o + t·d, tmin < t < tmax (see the module doc).
+    #[inline]
+    fn estimate(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Estimate {
+        match self.shape {
+            Shape::Sphere { centre, radius } => sphere::interval(o, d, centre, radius, tmin, tmax),
+            // Triangles are in the packets themselves, never here.
+            Shape::Triangle(_) => Estimate::Unsure,
+        }
+    }
 }
 
 /// Buffers a thread reuses from tile to tile.
@@ -131,6 +157,10 @@ pub struct TileScratch {
     prepared: Vec<OriginTriangle>,
     /// The triangles (prepared for the light) that may block the tile's shadow segments.
     near: Vec<OriginTriangle>,
+    /// The shapes other than triangles that may show in the tile.
+    shapes: Vec<LaneShape>,
+    /// Those that may block one of a tile's shadow segments.
+    near_shapes: Vec<LaneShape>,
 }
 
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
@@ -157,8 +187,9 @@ pub struct TileQueries<'a> {
     subset: &'a [IndexedTriangle],
     prepared: &'a [OriginTriangle],
     near: &'a mut Vec<OriginTriangle>,
-    /// Whether a shape other than a triangle may show in the tile.
-    other_shapes: bool,
+    /// The shapes other than triangles that may show in the tile.
+    shapes: &'a [LaneShape],
+    near_shapes: &'a mut Vec<LaneShape>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
 }
@@ -223,7 +254,18 @@ impl Accel {
         let others = match plan {
             Plan::PerRay => Vec::new(),
             _ => (self.other_shapes().iter())
-                .map(|(shape, _)| ShapeCull::new(shape.bounds(), setup.projection.as_ref()))
+                .map(|&(shape, prim)| {
+                    let cull = ShapeCull::new(shape.bounds(), setup.projection.as_ref());
+                    let (shape, bounds) = (widen(&shape), cull.bounds);
+                    (
+                        cull,
+                        LaneShape {
+                            shape,
+                            prim,
+                            bounds,
+                        },
+                    )
+                })
                 .collect(),
         };
         FrameQueries {
@@ -271,7 +313,12 @@ impl<'a> FrameQueries<'a> {
         'a: 't,
     {
         let (x0, y0, x1, y1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
-        let other_shapes = (self.others.iter()).any(|s| s.meets_tile(x0, y0, x1, y1));
+        scratch.shapes.clear();
+        scratch.shapes.extend(
+            (self.others.iter())
+                .filter(|(cull, _)| cull.meets_tile(x0, y0, x1, y1))
+                .map(|(_, shape)| *shape),
+        );
         if let Plan::Culled(culling) | Plan::CulledPackets { culling, .. } = &self.plan {
             let meets = |s: &Option<ScreenTriangle>| match s {
                 Some(s) => s.meets(x0, y0, x1, y1),
@@ -297,7 +344,8 @@ impl<'a> FrameQueries<'a> {
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
-            other_shapes,
+            shapes: &scratch.shapes,
+            near_shapes: &mut scratch.near_shapes,
             subset_loop: None,
         }
     }
@@ -307,7 +355,7 @@ impl TileQueries<'_> {
     /// Whether the tile's camera rays go 8 at a time ([`TileQueries::closest_x8`]); else per
     /// ray ([`TileQueries::closest`]).
     pub fn packets(&self) -> bool {
-        self.frame.packets() && !self.other_shapes
+        self.frame.packets()
     }
 
     /// The nearest hit of camera ray `ray` (from the eye) with 0 < t < ∞.
@@ -315,7 +363,7 @@ impl TileQueries<'_> {
         let frame = self.frame;
         let method = frame.method;
         match &frame.plan {
-            Plan::Culled(_) | Plan::CulledPackets { .. } if !self.other_shapes => {
+            Plan::Culled(_) | Plan::CulledPackets { .. } if self.shapes.is_empty() => {
                 let subset = self.subset;
                 let tris = self
                     .subset_loop
@@ -346,24 +394,17 @@ impl TileQueries<'_> {
     pub fn closest_x8(&mut self, d: &[f32x8; 3], lanes: usize) -> [u32; 8] {
         let frame = self.frame;
         let d_max = packet::max_component(d);
-        let found = match &frame.plan {
-            _ if self.other_shapes => PacketHits {
-                prim: [u32::MAX; 8],
-                ambiguous: 0xff,
-            },
+        let mut found = match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest(self.prepared, d, d_max),
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max)
-                .unwrap_or(PacketHits {
-                    prim: [u32::MAX; 8],
-                    ambiguous: 0xff,
-                }),
-            _ => PacketHits {
-                prim: [u32::MAX; 8],
-                ambiguous: 0xff,
-            },
+                .unwrap_or_else(PacketHits::undecided),
+            _ => PacketHits::undecided(),
         };
+        if !self.shapes.is_empty() {
+            offer_shapes(&mut found, self.shapes, frame.eye, d, lanes);
+        }
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
         let unused = (0xff_u32 << lanes) & 0xff;
@@ -393,7 +434,8 @@ impl TileQueries<'_> {
     /// that decides, else the per-ray search.
     fn resolve_lane(&mut self, d: [f32; 3]) -> Option<u32> {
         let frame = self.frame;
-        if let Plan::CulledPackets { culling, .. } = &frame.plan {
+        // (The exact resolver knows triangles only.)
+        if let (Plan::CulledPackets { culling, .. }, true) = (&frame.plan, self.shapes.is_empty()) {
             let vertices = |p| culling.vertices(p);
             if let Some(prim) = packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d) {
                 return prim;
@@ -422,26 +464,42 @@ impl TileQueries<'_> {
                 }
             }
         };
-        // A shape other than a triangle that the segments may meet: all per ray.
-        let others_near = !frame.others.is_empty() && {
+        // The shapes other than triangles that the segments may meet: tested first, lane by
+        // lane; the triangles' packets then take the lanes those leave clear.
+        let near_shapes = &mut *self.near_shapes;
+        near_shapes.clear();
+        if !frame.others.is_empty() {
             let segments = segments_box(packets, light);
-            (frame.others.iter()).any(|s| s.bounds.meets(segments.lo, segments.hi))
-        };
+            near_shapes.extend(
+                (frame.others.iter())
+                    .filter(|(cull, _)| cull.bounds.meets(segments.lo, segments.hi))
+                    .map(|(_, shape)| *shape),
+            );
+        }
+        let near_shapes = &*near_shapes;
         match &frame.plan {
-            Plan::BvhPackets { from_light, .. } if !others_near => {
+            Plan::BvhPackets { from_light, .. } => {
                 let accel = frame.accel;
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     if s.live == 0 {
                         continue;
                     }
-                    let d_max = packet::max_component(&s.d);
-                    let prepared = from_light.as_ref();
-                    let found = accel
-                        .blocked_packet_of_triangles(light, prepared, &s.d, d_max, &s.prim, s.live)
-                        .expect("a BVH plan has a BVH");
-                    *out = found.blocked;
-                    note_unsure(found.unsure);
-                    per_ray(s, found.unsure, out);
+                    let by_shapes = shapes_block(near_shapes, light, s);
+                    *out = by_shapes.blocked;
+                    let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);
+                    if valid != 0 {
+                        let d_max = packet::max_component(&s.d);
+                        let prepared = from_light.as_ref();
+                        let found = accel
+                            .blocked_packet_of_triangles(
+                                light, prepared, &s.d, d_max, &s.prim, valid,
+                            )
+                            .expect("a BVH plan has a BVH");
+                        *out |= found.blocked;
+                        note_unsure(found.unsure);
+                        per_ray(s, found.unsure, out);
+                    }
+                    per_ray(s, by_shapes.unsure, out);
                 }
             }
             Plan::CulledPackets {
@@ -449,7 +507,7 @@ impl TileQueries<'_> {
                 from_light,
                 occluders,
                 ..
-            } if !others_near => {
+            } => {
                 let near = &mut *self.near;
                 near_occluders(packets, light, occluders, from_light, near);
                 let mut near_loop = None;
@@ -457,9 +515,16 @@ impl TileQueries<'_> {
                     if s.live == 0 {
                         continue;
                     }
+                    let by_shapes = shapes_block(near_shapes, light, s);
+                    *out = by_shapes.blocked;
+                    per_ray(s, by_shapes.unsure, out);
+                    let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);
+                    if valid == 0 {
+                        continue;
+                    }
                     let d_max = packet::max_component(&s.d);
-                    let found = packet::shadow_from_origin(near, &s.d, d_max, &s.prim, s.live);
-                    *out = found.blocked;
+                    let found = packet::shadow_from_origin(near, &s.d, d_max, &s.prim, valid);
+                    *out |= found.blocked;
                     note_unsure(found.unsure);
                     // Unsure lanes: exact edge signs and sides where that decides.
                     let mut left = 0;
@@ -491,7 +556,7 @@ impl TileQueries<'_> {
                     }
                 }
             }
-            // Per ray: the plan has no shadow packets, or another shape may block.
+            // Per ray: the plan has no shadow packets.
             _ => {
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     per_ray(s, s.live, out);
@@ -499,6 +564,94 @@ impl TileQueries<'_> {
             }
         }
     }
+}
+
+/// Offers the shapes other than triangles to the decided lanes among the first `lanes` of
+/// camera packet `found` (rays from `eye` along `d`): see the module doc.
+#[inline(never)]
+fn offer_shapes(
+    found: &mut PacketHits,
+    shapes: &[LaneShape],
+    eye: [f32; 3],
+    d: &[f32x8; 3],
+    lanes: usize,
+) {
+    let o = eye.map(f64::from);
+    let d = d.map(|c| c.to_array());
+    let decided = !found.ambiguous;
+    for l in (0..lanes).filter(|l| decided & (1 << l) != 0) {
+        let dl = [d[0][l], d[1][l], d[2][l]].map(f64::from);
+        let (mut lo, mut hi) = (f64::from(found.lo[l]), f64::from(found.hi[l]));
+        for shape in shapes {
+            match shape.estimate(o, dl, 0.0, f64::INFINITY) {
+                Estimate::Miss => {}
+                Estimate::Hit(a) if a.hi < lo => {
+                    (lo, hi) = (a.lo, a.hi);
+                    found.prim[l] = shape.prim;
+                }
+                Estimate::Hit(a) if a.lo > hi => {}
+                // Too close to order, or the interval cannot tell: per ray.
+                _ => {
+                    found.ambiguous |= 1 << l;
+                    break;
+                }
+            }
+        }
+        // Rounded outwards to f32.
+        let (lo32, hi32) = (lo as f32, hi as f32);
+        found.lo[l] = if f64::from(lo32) > lo {
+            lo32.next_down()
+        } else {
+            lo32
+        };
+        found.hi[l] = if f64::from(hi32) < hi {
+            hi32.next_up()
+        } else {
+            hi32
+        };
+    }
+}
+
+/// Shadow lanes decided by the shapes other than triangles.
+struct ShapeLanes {
+    /// Certainly blocked by one of them.
+    blocked: u32,
+    /// Not blocked for certain, and one of them the interval cannot decide: per ray.
+    unsure: u32,
+}
+
+/// Which live lanes of shadow segments `s` (from `light`) the shapes `near` block, each lane
+/// skipping its own primitive (see the module doc).
+#[inline]
+fn shapes_block(near: &[LaneShape], light: [f32; 3], s: &ShadowSegments) -> ShapeLanes {
+    let mut lanes = ShapeLanes {
+        blocked: 0,
+        unsure: 0,
+    };
+    if near.is_empty() {
+        return lanes;
+    }
+    let segments = segments_box(std::slice::from_ref(s), light);
+    let o = light.map(f64::from);
+    for l in (0..8).filter(|l| s.live & (1 << l) != 0) {
+        let d = s.d.map(|c| f64::from(c.to_array()[l]));
+        for shape in near {
+            if shape.prim == s.prim[l] || !shape.bounds.meets(segments.lo, segments.hi) {
+                continue;
+            }
+            match shape.estimate(o, d, 0.0, 1.0) {
+                Estimate::Miss => {}
+                Estimate::Hit(_) => {
+                    lanes.blocked |= 1 << l;
+                    break;
+                }
+                // Another shape may still block it for certain.
+                Estimate::Unsure => lanes.unsure |= 1 << l,
+            }
+        }
+    }
+    lanes.unsure &= !lanes.blocked;
+    lanes
 }
 
 /// Counts the shadow lanes a packet left unsure ([`levels`]).

@@ -79,12 +79,30 @@ pub struct OriginTriangles {
     pub origin: [f32; 3],
 }
 
-/// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
-/// that must be traced per ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a packet found: per lane the nearest primitive (`u32::MAX` for none), an interval
+/// [`lo`, `hi`] holding its exact t (∞ for none: so a caller can set other shapes' hits
+/// against it, as [`PacketNearest`] does), and the lanes that must be traced per ray.
+///
+/// [`lo`]: PacketHits::lo
+/// [`hi`]: PacketHits::hi
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PacketHits {
     pub prim: [u32; 8],
+    pub lo: [f32; 8],
+    pub hi: [f32; 8],
     pub ambiguous: u32,
+}
+
+impl PacketHits {
+    /// Every lane ambiguous (nothing decided).
+    pub fn undecided() -> Self {
+        Self {
+            prim: [u32::MAX; 8],
+            lo: [f32::INFINITY; 8],
+            hi: [f32::INFINITY; 8],
+            ambiguous: 0xff,
+        }
+    }
 }
 
 impl OriginTriangle {
@@ -655,10 +673,13 @@ impl PacketNearest {
         self.best_prim = take.bitselect(f32x8::splat(f32::from_bits(id)), self.best_prim);
     }
 
-    /// Per lane the id of the nearest (u32::MAX for none), and the ambiguous lanes.
+    /// Per lane the id of the nearest (u32::MAX for none) with its t interval, and the
+    /// ambiguous lanes.
     pub fn finish(self) -> PacketHits {
         PacketHits {
             prim: self.best_prim.to_array().map(f32::to_bits),
+            lo: self.best_lo.to_array(),
+            hi: self.best_hi.to_array(),
             ambiguous: self.ambiguous.to_bitmask(),
         }
     }

@@ -192,6 +192,8 @@ struct Frame<'a> {
     /// prepared them all for the eye (steps past the flat one; else each packet readies its
     /// own).
     camera_tris: Vec<ShadeTri>,
+    /// Whether the scene holds shapes other than triangles (a packet's lanes may hit them).
+    other_shapes: bool,
     gen: RayGenerator,
     /// The flat step's pixels per primitive, for one sample per pixel (written as found).
     flat_rgba: Option<FlatPixels<'a>>,
@@ -229,6 +231,7 @@ impl<'a> Frame<'a> {
             scene,
             settings,
             camera_tris,
+            other_shapes: scene.accel().has_other_shapes(),
             gen,
             flat_rgba,
             inv_n: 1.0 / settings.spp as f32,
@@ -405,12 +408,18 @@ impl<'a> Frame<'a> {
     }
 
     /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`) readied for
-    /// shading: the triangles prepared for the eye where the face made them, else here.
+    /// shading: the triangles prepared for the eye where the face made them, else here; the
+    /// other shapes lane by lane ([`shade::Lit`], as the per-ray path readies them).
     fn ready_for_shading(&self, o: [f32; 3], dirs: &[f32x8; 3], prims: &[u32; 8]) -> ShadePacket {
         let mut own = [None; 8];
         let mut prepared: [Option<&ShadeTri>; 8] = [None; 8];
+        let mut others = 0u32;
         for (l, &prim) in prims.iter().enumerate() {
             if prim == NO_HIT {
+                continue;
+            }
+            if self.other_shapes && !matches!(self.scene.shape(prim), Shape::Triangle(_)) {
+                others |= 1 << l;
                 continue;
             }
             match self.camera_tris.get(prim as usize) {
@@ -423,7 +432,12 @@ impl<'a> Frame<'a> {
                 prepared[l] = Some(tri);
             }
         }
-        shade::shade_packet(self.scene, dirs, &prepared)
+        let mut packet = shade::shade_packet(self.scene, dirs, &prepared);
+        for l in (0..8).filter(|l| others & (1 << l) != 0) {
+            let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
+            packet.set_lane(l, &shade::Lit::on(self.scene, &ray, prims[l]));
+        }
+        packet
     }
 }
 

@@ -33,19 +33,19 @@ pub fn shade(
     }
 }
 
-/// The lab's D = P·max(n·r̂, 0)/(4πr²) at `sp`, with the normal turned to face the viewer
-/// (surfaces are two-sided), and the unit-free r = light − p.
-fn irradiance(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Rgb {
+/// The lab's D = P·max(n·r̂, 0)/(4πr²) at `sp` as the factor k of D = P·k (`None`: no
+/// light), with the normal turned to face the viewer (surfaces are two-sided), and the
+/// unit-free r = light − p.
+fn irradiance_factor(scene: &Scene, sp: &SurfacePoint, ray: &Ray) -> Option<f32> {
     let r = sub(scene.light.position, sp.p);
     let r2 = dot(r, r);
     let facing = if dot(sp.n, ray.d) > 0.0 { -1.0 } else { 1.0 };
     let cos = facing * dot(sp.n, r) / r2.sqrt();
     // r2 = 0 (light on the surface) makes cos NaN: no light either way.
     if r2 <= 0.0 || cos.is_nan() || cos <= 0.0 {
-        return [0.0; 3];
+        return None;
     }
-    let k = cos / (FOUR_PI * r2);
-    scene.light.power.map(|p| p * k)
+    Some(cos / (FOUR_PI * r2))
 }
 
 const FOUR_PI: f32 = 4.0 * PI;
@@ -81,6 +81,8 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
 #[derive(Clone, Copy, Debug)]
 pub struct Lit {
     pub prim: u32,
+    /// D = P·`k` where D ≠ 0.
+    pub k: f32,
     pub d: Rgb,
     pub shadow: Option<Ray>,
     /// The primitive the shadow test may skip: `prim` itself (planar, or a sphere with the
@@ -93,24 +95,31 @@ pub struct Lit {
 impl Lit {
     /// Readies camera ray `ray`'s hit `hit` (only its primitive is used).
     pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
-        match &scene.shape(hit.prim) {
+        Self::on(scene, ray, hit.prim)
+    }
+
+    /// Readies camera ray `ray`'s hit on primitive `prim`.
+    pub fn on(scene: &Scene, ray: &Ray, prim: u32) -> Self {
+        match &scene.shape(prim) {
             Shape::Triangle(v) => {
-                let tri = ShadeTri::new(v, ray.o, hit.prim);
+                let tri = ShadeTri::new(v, ray.o, prim);
                 let mut lanes = [None; 8];
                 lanes[0] = Some(&tri);
                 let packet = shade_packet(scene, &ray.d.map(f32x8::splat), &lanes);
                 let shadow_d = packet.shadow.d.map(|c| c.to_array()[0]);
                 Self {
-                    prim: hit.prim,
+                    prim,
+                    k: packet.k[0],
                     d: packet.d(scene, 0),
                     shadow: (packet.shadow.live & 1 != 0)
                         .then(|| Ray::new(scene.light.position, shadow_d)),
-                    skip: hit.prim,
+                    skip: prim,
                 }
             }
             Shape::Sphere { centre, radius } => {
-                let sp = shading_point(scene, ray, hit.prim);
-                let d = irradiance(scene, &sp, ray);
+                let sp = shading_point(scene, ray, prim);
+                let k = irradiance_factor(scene, &sp, ray);
+                let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
                 let light = scene.light.position;
                 let shadow =
                     (d != [0.0; 3]).then(|| shadow_from_light(sp.p, sp.p_error, sp.n, light));
@@ -118,11 +127,12 @@ impl Lit {
                 // `offset_ray_origin` does), inwards otherwise.
                 let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;
                 let skip = match light_outside(light, *centre, *radius) {
-                    Some(outside) if outside == end_outside => hit.prim,
+                    Some(outside) if outside == end_outside => prim,
                     _ => u32::MAX,
                 };
                 Self {
-                    prim: hit.prim,
+                    prim,
+                    k: k.unwrap_or(0.0),
                     d,
                     shadow,
                     skip,
@@ -155,13 +165,14 @@ fn mul(a: Rgb, b: Rgb) -> Rgb {
     [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
 }
 
-/// Up to 8 camera hits on triangles readied for shading, lanes side by side (what [`Lit`]
-/// holds per hit): lane l hit primitive `shadow.prim[l]` where bit l of `hit` is set; there
-/// D = P·`k[l]` and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from
-/// the light along `shadow.d` (zero in the other lanes).
+/// Up to 8 camera hits readied for shading, lanes side by side (what [`Lit`] holds per hit):
+/// lane l hit primitive `prim[l]` where bit l of `hit` is set; there D = P·`k[l]` and, where
+/// bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from the light along
+/// `shadow.d` (zero in the other lanes), skipping primitive `shadow.prim[l]` ([`Lit::skip`]).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadePacket {
     pub hit: u32,
+    pub prim: [u32; 8],
     pub k: [f32; 8],
     pub shadow: ShadowSegments,
 }
@@ -178,7 +189,27 @@ impl ShadePacket {
     /// Lane l's primitive (`u32::MAX` where it hit nothing).
     #[inline]
     pub fn prim(&self, l: usize) -> u32 {
-        self.shadow.prim[l]
+        self.prim[l]
+    }
+
+    /// Sets lane l to hit `lit` (made by [`Lit::new`] for that lane's ray): for the lanes
+    /// [`shade_packet`] does not make, those on shapes other than triangles.
+    pub fn set_lane(&mut self, l: usize, lit: &Lit) {
+        let bit = 1 << l;
+        self.hit |= bit;
+        self.prim[l] = lit.prim;
+        self.k[l] = lit.k;
+        self.shadow.prim[l] = lit.skip;
+        let d = lit.shadow.map_or([0.0; 3], |ray| ray.d);
+        for (k, c) in self.shadow.d.iter_mut().enumerate() {
+            let mut lanes = c.to_array();
+            lanes[l] = d[k];
+            *c = f32x8::from(lanes);
+        }
+        match lit.shadow {
+            Some(_) => self.shadow.live |= bit,
+            None => self.shadow.live &= !bit,
+        }
     }
 
     /// Lane l's D.
@@ -485,6 +516,7 @@ fn shade_packet_body(
     });
     let packet = ShadePacket {
         hit,
+        prim,
         k: k.to_array(),
         shadow: ShadowSegments {
             d: shadow_d,
