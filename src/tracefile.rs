@@ -296,6 +296,7 @@ pub fn trace_all_packets(
                         d: lanes_of(chunk),
                         prim: [u32::MAX; 8],
                         live: (1u32 << chunk.len()) - 1,
+                        own_blocks: 0,
                     })
                     .collect();
                 let mut blocked = Vec::new();

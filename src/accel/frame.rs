@@ -41,11 +41,12 @@ use super::packet::{self, OriginTriangles, PacketHits};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
-use crate::geometry::adaptive::{widen, Estimate, Search};
+use crate::geometry::adaptive::{widen, Search};
 use crate::geometry::sphere;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use wide::f32x8;
+use crate::math::simd::{avx2_or_baseline, each3};
+use wide::{f32x8, f64x4};
 
 pub use super::packet::OriginTriangle;
 
@@ -128,23 +129,31 @@ pub struct FrameQueries<'a> {
     others: Vec<(ShapeCull, LaneShape)>,
 }
 
-/// A shape other than a triangle, in f64 (exact for the scene's f32), for the lane-by-lane
-/// tests of the packets.
+/// A shape other than a triangle for the lane-by-lane tests of the packets: seen from the
+/// eye and from the light ([`sphere::FromOrigin`]; `None`: a kind of shape the packets do
+/// not know, whose lanes go per ray).
 #[derive(Clone, Copy, Debug)]
 struct LaneShape {
-    shape: Shape<f64>,
     prim: u32,
     bounds: Box3,
+    from_eye: Option<sphere::FromOrigin>,
+    from_light: Option<sphere::FromOrigin>,
 }
 
 impl LaneShape {
-    /// The f64 interval level's answer for o + t·d, tmin < t < tmax (see the module doc).
-    #[inline]
-    fn estimate(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Estimate {
-        match self.shape {
-            Shape::Sphere { centre, radius } => sphere::interval(o, d, centre, radius, tmin, tmax),
-            // Triangles are in the packets themselves, never here.
-            Shape::Triangle(_) => Estimate::Unsure,
+    fn new(shape: &Shape<f32>, prim: u32, bounds: Box3, eye: [f32; 3], light: [f32; 3]) -> Self {
+        let from = |o: [f32; 3]| match widen(shape) {
+            Shape::Sphere { centre, radius } => {
+                Some(sphere::FromOrigin::new(o.map(f64::from), centre, radius))
+            }
+            // Triangles are in the packets themselves.
+            Shape::Triangle(_) => None,
+        };
+        Self {
+            prim,
+            bounds,
+            from_eye: from(eye),
+            from_light: from(light),
         }
     }
 }
@@ -165,12 +174,26 @@ pub struct TileScratch {
 
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
 /// `live`; lane l's segment ends on primitive `prim[l]`, which cannot block it (planar or
-/// convex, the light on its lit side) and is skipped.
+/// convex, the light on its lit side) and is skipped, except in the lanes of `own_blocks`
+/// (a sphere seen from the other side than the light, which blocks its own shadow segment:
+/// [`Lit::skip`](crate::render::shade::Lit::skip)).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowSegments {
     pub d: [f32x8; 3],
     pub prim: [u32; 8],
     pub live: u32,
+    pub own_blocks: u32,
+}
+
+impl ShadowSegments {
+    /// The primitive lane l skips (`u32::MAX`: none).
+    #[inline]
+    pub fn skip(&self, l: usize) -> u32 {
+        match self.own_blocks & (1 << l) {
+            0 => self.prim[l],
+            _ => u32::MAX,
+        }
+    }
 }
 
 impl AsRef<ShadowSegments> for ShadowSegments {
@@ -256,15 +279,8 @@ impl Accel {
             _ => (self.other_shapes().iter())
                 .map(|&(shape, prim)| {
                     let cull = ShapeCull::new(shape.bounds(), setup.projection.as_ref());
-                    let (shape, bounds) = (widen(&shape), cull.bounds);
-                    (
-                        cull,
-                        LaneShape {
-                            shape,
-                            prim,
-                            bounds,
-                        },
-                    )
+                    let lane = LaneShape::new(&shape, prim, cull.bounds, setup.eye, setup.light);
+                    (cull, lane)
                 })
                 .collect(),
         };
@@ -403,7 +419,7 @@ impl TileQueries<'_> {
             _ => PacketHits::undecided(),
         };
         if !self.shapes.is_empty() {
-            offer_shapes(&mut found, self.shapes, frame.eye, d, lanes);
+            offer_shapes(&mut found, self.shapes, d, lanes);
         }
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
@@ -456,10 +472,12 @@ impl TileQueries<'_> {
         blocked.resize(packets.len(), 0);
         let frame = self.frame;
         let light = frame.light;
-        let per_ray = |s: &ShadowSegments, lanes: u32, out: &mut u32| {
-            for l in (0..8).filter(|l| lanes & (1 << l) != 0) {
+        let per_ray = |s: &ShadowSegments, mut lanes: u32, out: &mut u32| {
+            while lanes != 0 {
+                let l = lanes.trailing_zeros() as usize;
+                lanes &= lanes - 1;
                 let ray = Ray::new(light, s.d.map(|c| c.to_array()[l]));
-                if frame.blocked(&ray, s.prim[l]) {
+                if frame.blocked(&ray, s.skip(l)) {
                     *out |= 1 << l;
                 }
             }
@@ -567,48 +585,57 @@ impl TileQueries<'_> {
 }
 
 /// Offers the shapes other than triangles to the decided lanes among the first `lanes` of
-/// camera packet `found` (rays from `eye` along `d`): see the module doc.
+/// camera packet `found` (rays from the eye along `d`), four lanes at a time: see the module
+/// doc.
 #[inline(never)]
-fn offer_shapes(
-    found: &mut PacketHits,
-    shapes: &[LaneShape],
-    eye: [f32; 3],
-    d: &[f32x8; 3],
-    lanes: usize,
-) {
-    let o = eye.map(f64::from);
+fn offer_shapes(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) {
+    avx2_or_baseline!(offer_shapes_body => (
+        found: &mut PacketHits,
+        shapes: &[LaneShape],
+        d: &[f32x8; 3],
+        lanes: usize
+    ) -> ())
+}
+
+#[inline(always)]
+fn offer_shapes_body(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) {
+    let decided = !found.ambiguous & ((1u32 << lanes) - 1);
     let d = d.map(|c| c.to_array());
-    let decided = !found.ambiguous;
-    for l in (0..lanes).filter(|l| decided & (1 << l) != 0) {
-        let dl = [d[0][l], d[1][l], d[2][l]].map(f64::from);
-        let (mut lo, mut hi) = (f64::from(found.lo[l]), f64::from(found.hi[l]));
+    for half in 0..2 {
+        let bits = (decided >> (4 * half)) & 0xf;
+        if bits == 0 {
+            continue;
+        }
+        let lane = |l: usize| 4 * half + l;
+        let d = each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][lane(l)]))));
+        let mut lo = f64x4::new(std::array::from_fn(|l| f64::from(found.lo[lane(l)])));
+        let mut hi = f64x4::new(std::array::from_fn(|l| f64::from(found.hi[lane(l)])));
+        let mut undecided = 0u32;
         for shape in shapes {
-            match shape.estimate(o, dl, 0.0, f64::INFINITY) {
-                Estimate::Miss => {}
-                Estimate::Hit(a) if a.hi < lo => {
-                    (lo, hi) = (a.lo, a.hi);
-                    found.prim[l] = shape.prim;
-                }
-                Estimate::Hit(a) if a.lo > hi => {}
-                // Too close to order, or the interval cannot tell: per ray.
-                _ => {
-                    found.ambiguous |= 1 << l;
-                    break;
-                }
+            let Some(from_eye) = &shape.from_eye else {
+                undecided = 0xf;
+                break;
+            };
+            let r = sphere::interval_x4(from_eye, &d, 0.0, f64::INFINITY);
+            let nearer = r.hit & r.hi.simd_lt(lo);
+            let farther = r.hit & r.lo.simd_gt(hi);
+            // Too close to order, or the interval cannot tell: per ray.
+            undecided |= (!(r.miss | nearer | farther)).to_bitmask();
+            lo = nearer.bitselect(r.lo, lo);
+            hi = nearer.bitselect(r.hi, hi);
+            let taken = nearer.to_bitmask();
+            for l in (0..4).filter(|l| taken & (1 << l) != 0) {
+                found.prim[lane(l)] = shape.prim;
             }
         }
-        // Rounded outwards to f32.
-        let (lo32, hi32) = (lo as f32, hi as f32);
-        found.lo[l] = if f64::from(lo32) > lo {
-            lo32.next_down()
-        } else {
-            lo32
-        };
-        found.hi[l] = if f64::from(hi32) < hi {
-            hi32.next_up()
-        } else {
-            hi32
-        };
+        found.ambiguous |= (undecided & bits) << (4 * half);
+        // The interval rounded outwards to f32.
+        let (lo, hi) = (lo.to_array(), hi.to_array());
+        for l in 0..4 {
+            let (lo32, hi32) = (lo[l] as f32, hi[l] as f32);
+            found.lo[lane(l)] = if f64::from(lo32) > lo[l] { lo32.next_down() } else { lo32 };
+            found.hi[lane(l)] = if f64::from(hi32) < hi[l] { hi32.next_up() } else { hi32 };
+        }
     }
 }
 
@@ -620,35 +647,55 @@ struct ShapeLanes {
     unsure: u32,
 }
 
-/// Which live lanes of shadow segments `s` (from `light`) the shapes `near` block, each lane
-/// skipping its own primitive (see the module doc).
-#[inline]
+/// Which live lanes of shadow segments `s` (from the light) the shapes `near` block, each
+/// lane skipping its own primitive, four lanes at a time (see the module doc).
+#[inline(always)]
 fn shapes_block(near: &[LaneShape], light: [f32; 3], s: &ShadowSegments) -> ShapeLanes {
+    if near.is_empty() {
+        return ShapeLanes {
+            blocked: 0,
+            unsure: 0,
+        };
+    }
+    avx2_or_baseline!(shapes_block_body => (
+        near: &[LaneShape],
+        light: [f32; 3],
+        s: &ShadowSegments
+    ) -> ShapeLanes)
+}
+
+#[inline(always)]
+fn shapes_block_body(near: &[LaneShape], light: [f32; 3], s: &ShadowSegments) -> ShapeLanes {
     let mut lanes = ShapeLanes {
         blocked: 0,
         unsure: 0,
     };
-    if near.is_empty() {
-        return lanes;
-    }
     let segments = segments_box(std::slice::from_ref(s), light);
-    let o = light.map(f64::from);
-    for l in (0..8).filter(|l| s.live & (1 << l) != 0) {
-        let d = s.d.map(|c| f64::from(c.to_array()[l]));
+    let d = s.d.map(|c| c.to_array());
+    for half in 0..2 {
+        let live = (s.live >> (4 * half)) & 0xf;
+        if live == 0 {
+            continue;
+        }
+        let lane = |l: usize| 4 * half + l;
+        let d = each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][lane(l)]))));
+        let (mut blocked, mut unsure) = (0u32, 0u32);
         for shape in near {
-            if shape.prim == s.prim[l] || !shape.bounds.meets(segments.lo, segments.hi) {
+            if !shape.bounds.meets(segments.lo, segments.hi) {
                 continue;
             }
-            match shape.estimate(o, d, 0.0, 1.0) {
-                Estimate::Miss => {}
-                Estimate::Hit(_) => {
-                    lanes.blocked |= 1 << l;
-                    break;
-                }
-                // Another shape may still block it for certain.
-                Estimate::Unsure => lanes.unsure |= 1 << l,
-            }
+            let own = (0..4).fold(0, |m, l| m | ((s.skip(lane(l)) == shape.prim) as u32) << l);
+            let Some(from_light) = &shape.from_light else {
+                unsure |= !own;
+                continue;
+            };
+            let r = sphere::interval_x4(from_light, &d, 0.0, 1.0);
+            blocked |= r.hit.to_bitmask() & !own;
+            // Another shape may still block such a lane for certain.
+            unsure |= (!(r.hit | r.miss)).to_bitmask() & !own;
         }
+        lanes.blocked |= (blocked & live) << (4 * half);
+        lanes.unsure |= (unsure & live) << (4 * half);
     }
     lanes.unsure &= !lanes.blocked;
     lanes

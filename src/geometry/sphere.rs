@@ -15,12 +15,13 @@
 
 use super::adaptive::{Approx, Estimate};
 use super::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
-use crate::math::interval::{idot, isub, iv3, Interval};
+use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
 use crate::math::real::{dot, scale, sub, V3};
 use crate::math::Real;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use std::cmp::Ordering;
+use wide::f64x4;
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
 #[inline]
@@ -145,6 +146,76 @@ pub fn interval(
         return Estimate::Unsure;
     }
     Estimate::Miss
+}
+
+/// What [`interval_x4`] found per lane: masks (all bits set in a lane where true) of the
+/// lanes certainly hitting with tmin < t < tmax, t in [`lo`, `hi`], and of the lanes
+/// certainly missing in that range; the rest are undecided.
+///
+/// [`lo`]: LanesX4::lo
+/// [`hi`]: LanesX4::hi
+#[derive(Clone, Copy, Debug)]
+pub struct LanesX4 {
+    pub hit: f64x4,
+    pub miss: f64x4,
+    pub lo: f64x4,
+    pub hi: f64x4,
+}
+
+/// The sphere seen from a ray origin o, what [`interval_x4`] needs of it: f = o − c and
+/// k = f·f − r² as intervals, computed once for every ray from o.
+#[derive(Clone, Copy, Debug)]
+pub struct FromOrigin {
+    f: [Interval; 3],
+    k: Interval,
+}
+
+impl FromOrigin {
+    pub fn new(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
+        let f = isub(iv3(o), iv3(centre));
+        Self {
+            f,
+            k: idot(f, f) - Interval::point(radius).square(),
+        }
+    }
+}
+
+/// [`interval`] for four rays from one origin at once (directions `d`, lanes): the same
+/// steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a lane it decides
+/// [`interval`] decides the same way (both enclose the exact roots). For f32 inputs (every
+/// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
+/// ends come out undecided.
+#[inline(always)]
+pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) -> LanesX4 {
+    let f = sphere.f.map(IntervalX4::splat);
+    let k = IntervalX4::splat(sphere.k);
+    let point = |x: f64x4| IntervalX4::point(x);
+    let a = point(d[0]).square().add(point(d[1]).square()).add(point(d[2]).square());
+    let b = idot_x4(&f, d);
+    let disc = b.square().sub(a.mul(k));
+    let zero = f64x4::ZERO;
+    let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
+    let miss_line = finite & disc.hi.simd_lt(zero);
+    let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
+    let root = disc.sqrt();
+    let nb = b.neg();
+    let t0 = nb.sub(root).div_positive(a);
+    let t1 = nb.add(root).div_positive(a);
+    let (tmin, tmax) = (f64x4::splat(tmin), f64x4::splat(tmax));
+    let ok = crosses & t0.finite() & t1.finite();
+    // As `interval`: the near root unless it is certainly at or before tmin.
+    let near_before = t0.hi.simd_le(tmin);
+    let inside = |t: IntervalX4| t.lo.simd_gt(tmin) & t.hi.simd_lt(tmax);
+    let hit0 = !near_before & inside(t0);
+    let hit1 = near_before & inside(t1);
+    let miss = (!near_before & t0.lo.simd_ge(tmax))
+        | (near_before & (t1.hi.simd_le(tmin) | t1.lo.simd_ge(tmax)));
+    LanesX4 {
+        hit: ok & (hit0 | hit1),
+        miss: miss_line | (ok & miss),
+        lo: near_before.bitselect(t1.lo, t0.lo),
+        hi: near_before.bitselect(t1.hi, t0.hi),
+    }
 }
 
 /// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent

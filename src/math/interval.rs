@@ -7,6 +7,7 @@
 
 use std::cmp::Ordering;
 use std::ops::{Add, Mul, Neg, Sub};
+use wide::f64x4;
 
 /// A closed interval [lo, hi] holding an unknown real.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,6 +199,131 @@ pub fn icross(a: IV3, b: IV3) -> IV3 {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
+}
+
+/// Four intervals side by side (f64x4 lanes), for the packets' lanes: the operations of
+/// [`Interval`] for finite ends, each end widened outward by |x|·2⁻⁵² + 2⁻¹⁰⁷⁴ instead of
+/// one ulp (at least one ulp, so at least as wide: two vector operations where `next_down`
+/// and `next_up` are a dozen). Ends that over- or underflow are not looked after: callers
+/// keep the magnitudes where neither can happen (f32 inputs) and treat non-finite ends as
+/// undecided.
+#[derive(Clone, Copy, Debug)]
+pub struct IntervalX4 {
+    pub lo: f64x4,
+    pub hi: f64x4,
+}
+
+/// The least subnormal f64, 2⁻¹⁰⁷⁴.
+const TINY: f64 = f64::MIN_POSITIVE * f64::EPSILON;
+
+impl IntervalX4 {
+    /// The exact values x.
+    #[inline(always)]
+    pub fn point(x: f64x4) -> Self {
+        Self { lo: x, hi: x }
+    }
+
+    /// One interval in every lane.
+    #[inline(always)]
+    pub fn splat(x: Interval) -> Self {
+        Self {
+            lo: f64x4::splat(x.lo),
+            hi: f64x4::splat(x.hi),
+        }
+    }
+
+    /// [lo, hi] from rounded-to-nearest ends, widened outward: the exact x − δ with
+    /// δ ≥ ulp(x) is at most `next_down(x)`, and rounding keeps it there (monotone).
+    #[inline(always)]
+    fn widened(lo: f64x4, hi: f64x4) -> Self {
+        let (eps, tiny) = (f64x4::splat(f64::EPSILON), f64x4::splat(TINY));
+        Self {
+            lo: lo - (lo.abs() * eps + tiny),
+            hi: hi + (hi.abs() * eps + tiny),
+        }
+    }
+
+    /// The lanes where lo and hi are both finite.
+    #[inline(always)]
+    pub fn finite(self) -> f64x4 {
+        self.lo.is_finite() & self.hi.is_finite()
+    }
+
+    #[inline(always)]
+    pub fn add(self, r: Self) -> Self {
+        Self::widened(self.lo + r.lo, self.hi + r.hi)
+    }
+
+    #[inline(always)]
+    pub fn sub(self, r: Self) -> Self {
+        Self::widened(self.lo - r.hi, self.hi - r.lo)
+    }
+
+    #[inline(always)]
+    pub fn neg(self) -> Self {
+        Self {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+
+    #[inline(always)]
+    pub fn mul(self, r: Self) -> Self {
+        let p = [
+            self.lo * r.lo,
+            self.lo * r.hi,
+            self.hi * r.lo,
+            self.hi * r.hi,
+        ];
+        let lo = p[0].fast_min(p[1]).fast_min(p[2].fast_min(p[3]));
+        let hi = p[0].fast_max(p[1]).fast_max(p[2].fast_max(p[3]));
+        Self::widened(lo, hi)
+    }
+
+    /// x², never below 0 (as [`Interval::square`]).
+    #[inline(always)]
+    pub fn square(self) -> Self {
+        let (l2, h2) = (self.lo * self.lo, self.hi * self.hi);
+        let pos = self.lo.simd_ge(f64x4::ZERO);
+        let neg = self.hi.simd_le(f64x4::ZERO);
+        let lo = pos.bitselect(l2, neg.bitselect(h2, f64x4::ZERO));
+        let hi = l2.fast_max(h2);
+        let w = Self::widened(lo, hi);
+        Self {
+            lo: w.lo.fast_max(f64x4::ZERO),
+            hi: w.hi,
+        }
+    }
+
+    /// √x for lanes with x.lo ≥ 0 (others: NaN ends).
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        Self::widened(self.lo.sqrt(), self.hi.sqrt())
+    }
+
+    /// x / r for lanes where r.lo > 0 (others: meaningless).
+    #[inline(always)]
+    pub fn div_positive(self, r: Self) -> Self {
+        let q = [
+            self.lo / r.lo,
+            self.lo / r.hi,
+            self.hi / r.lo,
+            self.hi / r.hi,
+        ];
+        let lo = q[0].fast_min(q[1]).fast_min(q[2].fast_min(q[3]));
+        let hi = q[0].fast_max(q[1]).fast_max(q[2].fast_max(q[3]));
+        Self::widened(lo, hi)
+    }
+}
+
+/// a · b for intervals `a` and exact lanes `b`.
+#[inline(always)]
+pub fn idot_x4(a: &[IntervalX4; 3], b: &[f64x4; 3]) -> IntervalX4 {
+    let p = |k: usize| {
+        let (x, y) = (a[k].lo * b[k], a[k].hi * b[k]);
+        IntervalX4::widened(x.fast_min(y), x.fast_max(y))
+    };
+    p(0).add(p(1)).add(p(2))
 }
 
 #[cfg(test)]

@@ -347,6 +347,10 @@ impl<'a> Frame<'a> {
                     let prims = queries.closest_x8(&dirs, lanes);
                     if !flat {
                         shaded.push(self.ready_for_shading(o, &dirs, &prims));
+                        if self.other_shapes {
+                            let packet = shaded.last_mut().expect("just pushed");
+                            self.shade_other_lanes(o, &dirs, &prims, packet);
+                        }
                         continue;
                     }
                     for (l, sum) in sums.iter_mut().take(lanes).enumerate() {
@@ -407,19 +411,14 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`) readied for
-    /// shading: the triangles prepared for the eye where the face made them, else here; the
-    /// other shapes lane by lane ([`shade::Lit`], as the per-ray path readies them).
+    /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`) on triangles
+    /// readied for shading: the triangles prepared for the eye where the face made them, else
+    /// here. (Lanes on other shapes are left empty: [`Frame::shade_other_lanes`].)
     fn ready_for_shading(&self, o: [f32; 3], dirs: &[f32x8; 3], prims: &[u32; 8]) -> ShadePacket {
         let mut own = [None; 8];
         let mut prepared: [Option<&ShadeTri>; 8] = [None; 8];
-        let mut others = 0u32;
         for (l, &prim) in prims.iter().enumerate() {
-            if prim == NO_HIT {
-                continue;
-            }
-            if self.other_shapes && !matches!(self.scene.shape(prim), Shape::Triangle(_)) {
-                others |= 1 << l;
+            if prim == NO_HIT || (self.other_shapes && !self.is_triangle(prim)) {
                 continue;
             }
             match self.camera_tris.get(prim as usize) {
@@ -432,12 +431,29 @@ impl<'a> Frame<'a> {
                 prepared[l] = Some(tri);
             }
         }
-        let mut packet = shade::shade_packet(self.scene, dirs, &prepared);
-        for l in (0..8).filter(|l| others & (1 << l) != 0) {
-            let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
-            packet.set_lane(l, &shade::Lit::on(self.scene, &ray, prims[l]));
+        shade::shade_packet(self.scene, dirs, &prepared)
+    }
+
+    fn is_triangle(&self, prim: u32) -> bool {
+        matches!(self.scene.shape(prim), Shape::Triangle(_))
+    }
+
+    /// The lanes of `packet` that hit shapes other than triangles readied for shading, one
+    /// by one as the per-ray path readies them ([`shade::Lit`]).
+    #[inline(never)]
+    fn shade_other_lanes(
+        &self,
+        o: [f32; 3],
+        dirs: &[f32x8; 3],
+        prims: &[u32; 8],
+        packet: &mut ShadePacket,
+    ) {
+        for (l, &prim) in prims.iter().enumerate() {
+            if prim != NO_HIT && !self.is_triangle(prim) {
+                let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
+                packet.set_lane(l, &shade::Lit::on(self.scene, &ray, prim));
+            }
         }
-        packet
     }
 }
 

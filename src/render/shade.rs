@@ -166,13 +166,13 @@ fn mul(a: Rgb, b: Rgb) -> Rgb {
 }
 
 /// Up to 8 camera hits readied for shading, lanes side by side (what [`Lit`] holds per hit):
-/// lane l hit primitive `prim[l]` where bit l of `hit` is set; there D = P·`k[l]` and, where
-/// bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from the light along
-/// `shadow.d` (zero in the other lanes), skipping primitive `shadow.prim[l]` ([`Lit::skip`]).
+/// lane l hit primitive `shadow.prim[l]` where bit l of `hit` is set; there D = P·`k[l]`
+/// and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from the light
+/// along `shadow.d` (zero in the other lanes), skipping that primitive unless bit l of
+/// `shadow.own_blocks` is set ([`Lit::skip`]).
 #[derive(Clone, Copy, Debug)]
 pub struct ShadePacket {
     pub hit: u32,
-    pub prim: [u32; 8],
     pub k: [f32; 8],
     pub shadow: ShadowSegments,
 }
@@ -189,7 +189,7 @@ impl ShadePacket {
     /// Lane l's primitive (`u32::MAX` where it hit nothing).
     #[inline]
     pub fn prim(&self, l: usize) -> u32 {
-        self.prim[l]
+        self.shadow.prim[l]
     }
 
     /// Sets lane l to hit `lit` (made by [`Lit::new`] for that lane's ray): for the lanes
@@ -197,9 +197,12 @@ impl ShadePacket {
     pub fn set_lane(&mut self, l: usize, lit: &Lit) {
         let bit = 1 << l;
         self.hit |= bit;
-        self.prim[l] = lit.prim;
         self.k[l] = lit.k;
-        self.shadow.prim[l] = lit.skip;
+        self.shadow.prim[l] = lit.prim;
+        match lit.skip == lit.prim {
+            true => self.shadow.own_blocks &= !bit,
+            false => self.shadow.own_blocks |= bit,
+        }
         let d = lit.shadow.map_or([0.0; 3], |ray| ray.d);
         for (k, c) in self.shadow.d.iter_mut().enumerate() {
             let mut lanes = c.to_array();
@@ -516,12 +519,12 @@ fn shade_packet_body(
     });
     let packet = ShadePacket {
         hit,
-        prim,
         k: k.to_array(),
         shadow: ShadowSegments {
             d: shadow_d,
             prim,
             live: shadowed,
+            own_blocks: 0,
         },
     };
     (packet, ShadePoints { p, p_error })
