@@ -633,8 +633,16 @@ fn offer_shapes_body(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3
         let (lo, hi) = (lo.to_array(), hi.to_array());
         for l in 0..4 {
             let (lo32, hi32) = (lo[l] as f32, hi[l] as f32);
-            found.lo[lane(l)] = if f64::from(lo32) > lo[l] { lo32.next_down() } else { lo32 };
-            found.hi[lane(l)] = if f64::from(hi32) < hi[l] { hi32.next_up() } else { hi32 };
+            found.lo[lane(l)] = if f64::from(lo32) > lo[l] {
+                lo32.next_down()
+            } else {
+                lo32
+            };
+            found.hi[lane(l)] = if f64::from(hi32) < hi[l] {
+                hi32.next_up()
+            } else {
+                hi32
+            };
         }
     }
 }

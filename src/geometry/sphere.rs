@@ -190,17 +190,16 @@ pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) ->
     let f = sphere.f.map(IntervalX4::splat);
     let k = IntervalX4::splat(sphere.k);
     let point = |x: f64x4| IntervalX4::point(x);
-    let a = point(d[0]).square().add(point(d[1]).square()).add(point(d[2]).square());
+    let a = point(d[0]).square() + point(d[1]).square() + point(d[2]).square();
     let b = idot_x4(&f, d);
-    let disc = b.square().sub(a.mul(k));
+    let disc = b.square() - a * k;
     let zero = f64x4::ZERO;
     let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
     let miss_line = finite & disc.hi.simd_lt(zero);
     let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
     let root = disc.sqrt();
-    let nb = b.neg();
-    let t0 = nb.sub(root).div_positive(a);
-    let t1 = nb.add(root).div_positive(a);
+    let t0 = (-b - root).div_positive(a);
+    let t1 = (-b + root).div_positive(a);
     let (tmin, tmax) = (f64x4::splat(tmin), f64x4::splat(tmax));
     let ok = crosses & t0.finite() & t1.finite();
     // As `interval`: the near root unless it is certainly at or before tmin.

@@ -249,37 +249,6 @@ impl IntervalX4 {
         self.lo.is_finite() & self.hi.is_finite()
     }
 
-    #[inline(always)]
-    pub fn add(self, r: Self) -> Self {
-        Self::widened(self.lo + r.lo, self.hi + r.hi)
-    }
-
-    #[inline(always)]
-    pub fn sub(self, r: Self) -> Self {
-        Self::widened(self.lo - r.hi, self.hi - r.lo)
-    }
-
-    #[inline(always)]
-    pub fn neg(self) -> Self {
-        Self {
-            lo: -self.hi,
-            hi: -self.lo,
-        }
-    }
-
-    #[inline(always)]
-    pub fn mul(self, r: Self) -> Self {
-        let p = [
-            self.lo * r.lo,
-            self.lo * r.hi,
-            self.hi * r.lo,
-            self.hi * r.hi,
-        ];
-        let lo = p[0].fast_min(p[1]).fast_min(p[2].fast_min(p[3]));
-        let hi = p[0].fast_max(p[1]).fast_max(p[2].fast_max(p[3]));
-        Self::widened(lo, hi)
-    }
-
     /// x², never below 0 (as [`Interval::square`]).
     #[inline(always)]
     pub fn square(self) -> Self {
@@ -316,6 +285,49 @@ impl IntervalX4 {
     }
 }
 
+impl Add for IntervalX4 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, r: Self) -> Self {
+        Self::widened(self.lo + r.lo, self.hi + r.hi)
+    }
+}
+
+impl Sub for IntervalX4 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, r: Self) -> Self {
+        Self::widened(self.lo - r.hi, self.hi - r.lo)
+    }
+}
+
+impl Neg for IntervalX4 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+}
+
+impl Mul for IntervalX4 {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, r: Self) -> Self {
+        let p = [
+            self.lo * r.lo,
+            self.lo * r.hi,
+            self.hi * r.lo,
+            self.hi * r.hi,
+        ];
+        let lo = p[0].fast_min(p[1]).fast_min(p[2].fast_min(p[3]));
+        let hi = p[0].fast_max(p[1]).fast_max(p[2].fast_max(p[3]));
+        Self::widened(lo, hi)
+    }
+}
+
 /// a · b for intervals `a` and exact lanes `b`.
 #[inline(always)]
 pub fn idot_x4(a: &[IntervalX4; 3], b: &[f64x4; 3]) -> IntervalX4 {
@@ -323,7 +335,7 @@ pub fn idot_x4(a: &[IntervalX4; 3], b: &[f64x4; 3]) -> IntervalX4 {
         let (x, y) = (a[k].lo * b[k], a[k].hi * b[k]);
         IntervalX4::widened(x.fast_min(y), x.fast_max(y))
     };
-    p(0).add(p(1)).add(p(2))
+    p(0) + p(1) + p(2)
 }
 
 #[cfg(test)]
