@@ -14,7 +14,7 @@ pub mod inspect;
 pub mod settings;
 pub mod shade;
 
-use crate::accel::frame::NO_HIT;
+use crate::accel::frame::{OriginTriangle, NO_HIT};
 use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::{Method, Ray, Shape};
@@ -190,7 +190,8 @@ struct Frame<'a> {
     settings: &'a RenderSettings,
     /// The triangles readied for shading hits from the eye, by primitive, where the face
     /// prepared them all for the eye (steps past the flat one; else each packet readies its
-    /// own).
+    /// own). The entries of other shapes are stand-ins never read: their lanes are shaded
+    /// apart ([`Frame::shade_other_lanes`]).
     camera_tris: Vec<ShadeTri>,
     /// Whether the scene holds shapes other than triangles (a packet's lanes may hit them).
     other_shapes: bool,
@@ -212,17 +213,24 @@ impl<'a> Frame<'a> {
         gen: RayGenerator,
         camera_rays: usize,
     ) -> Self {
-        // By primitive: where the scene is all triangles (else each packet readies its own).
+        // By primitive, where every primitive not prepared is another shape (not where the
+        // accelerator left out copies).
         let prepared = queries.prepared_for_eye();
-        let camera_tris = match settings.step {
-            LabStep::Flat => Vec::new(),
-            _ if prepared.len() != scene.len() => Vec::new(),
-            _ => (prepared.iter())
-                .map(|tri| ShadeTri {
+        let others = scene.accel().other_shapes().len();
+        let camera_tris = match (settings.step, prepared.first()) {
+            (LabStep::Flat, _) | (_, None) => Vec::new(),
+            _ if prepared.len() + others != scene.len() => Vec::new(),
+            (_, Some(first)) => {
+                let ready = |tri: &OriginTriangle| ShadeTri {
                     tri: *tri,
                     normal: shade::unit_normal(&triangle(scene, tri.prim)),
-                })
-                .collect(),
+                };
+                let mut by_prim = vec![ready(first); scene.len()];
+                for tri in prepared {
+                    by_prim[tri.prim as usize] = ready(tri);
+                }
+                by_prim
+            }
         };
         let one_colour_per_pixel = settings.step == LabStep::Flat && settings.spp == 1;
         let flat_rgba = (queries.packets() && one_colour_per_pixel)
@@ -346,10 +354,11 @@ impl<'a> Frame<'a> {
                     let dirs = self.gen.directions_x8(f32x8::from(xs), y);
                     let prims = queries.closest_x8(&dirs, lanes);
                     if !flat {
-                        shaded.push(self.ready_for_shading(o, &dirs, &prims));
-                        if self.other_shapes {
+                        let mut others = 0;
+                        shaded.push(self.ready_for_shading(o, &dirs, &prims, &mut others));
+                        if others != 0 {
                             let packet = shaded.last_mut().expect("just pushed");
-                            self.shade_other_lanes(o, &dirs, &prims, packet);
+                            self.shade_other_lanes(o, &dirs, &prims, others, packet);
                         }
                         continue;
                     }
@@ -413,12 +422,23 @@ impl<'a> Frame<'a> {
 
     /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`) on triangles
     /// readied for shading: the triangles prepared for the eye where the face made them, else
-    /// here. (Lanes on other shapes are left empty: [`Frame::shade_other_lanes`].)
-    fn ready_for_shading(&self, o: [f32; 3], dirs: &[f32x8; 3], prims: &[u32; 8]) -> ShadePacket {
+    /// here. Lanes on other shapes are left empty and set in `others`
+    /// ([`Frame::shade_other_lanes`]).
+    fn ready_for_shading(
+        &self,
+        o: [f32; 3],
+        dirs: &[f32x8; 3],
+        prims: &[u32; 8],
+        others: &mut u32,
+    ) -> ShadePacket {
         let mut own = [None; 8];
         let mut prepared: [Option<&ShadeTri>; 8] = [None; 8];
         for (l, &prim) in prims.iter().enumerate() {
-            if prim == NO_HIT || (self.other_shapes && !self.is_triangle(prim)) {
+            if prim == NO_HIT {
+                continue;
+            }
+            if self.other_shapes && !matches!(self.scene.shape(prim), Shape::Triangle(_)) {
+                *others |= 1 << l;
                 continue;
             }
             match self.camera_tris.get(prim as usize) {
@@ -434,25 +454,20 @@ impl<'a> Frame<'a> {
         shade::shade_packet(self.scene, dirs, &prepared)
     }
 
-    fn is_triangle(&self, prim: u32) -> bool {
-        matches!(self.scene.shape(prim), Shape::Triangle(_))
-    }
-
-    /// The lanes of `packet` that hit shapes other than triangles readied for shading, one
-    /// by one as the per-ray path readies them ([`shade::Lit`]).
+    /// Lanes `others` of `packet` (hits on shapes other than triangles) readied for shading,
+    /// one by one as the per-ray path readies them ([`shade::Lit`]).
     #[inline(never)]
     fn shade_other_lanes(
         &self,
         o: [f32; 3],
         dirs: &[f32x8; 3],
         prims: &[u32; 8],
+        others: u32,
         packet: &mut ShadePacket,
     ) {
-        for (l, &prim) in prims.iter().enumerate() {
-            if prim != NO_HIT && !self.is_triangle(prim) {
-                let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
-                packet.set_lane(l, &shade::Lit::on(self.scene, &ray, prim));
-            }
+        for l in (0..8).filter(|l| others & (1 << l) != 0) {
+            let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
+            packet.set_lane(l, &shade::Lit::on(self.scene, &ray, prims[l]));
         }
     }
 }

@@ -2,7 +2,7 @@
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
 use crate::accel::frame::{OriginTriangle, ShadowSegments};
-use crate::geometry::adaptive::{self, Estimate};
+use crate::geometry::adaptive;
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{offset_ray_origin, sphere, Hit, Ray, Shape, SurfacePoint};
 use crate::math::real::{cross, dot, sub};
@@ -11,7 +11,7 @@ use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
-use wide::f32x8;
+use wide::{f32x8, f64x4};
 
 /// A linear RGB colour.
 pub type Rgb = [f32; 3];
@@ -285,7 +285,7 @@ fn light_outside(light: [f32; 3], centre: [f32; 3], radius: f32) -> Option<bool>
 /// plane within `p_error`, but anywhere on the triangle within `hit_error`.
 ///
 /// A sphere's point re-projects o + t·d onto the sphere ([`SurfacePoint::on_sphere`]) with
-/// t from the f64 interval of the nearest root (`sphere::interval`, t_error its half-width
+/// t from the f64 interval of the nearest root (`sphere::interval_x4`, t_error its half-width
 /// and t's rounding to f32), or where the interval cannot tell, the exact t correctly rounded
 /// ([`adaptive::rounded_t`], within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
 /// level of the search found the hit.
@@ -308,10 +308,13 @@ pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
         shape @ Shape::Sphere { centre, radius } => {
             let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
             let (c, r) = (centre.map(f64::from), f64::from(radius));
-            let (t, t_error) = match sphere::interval(o, d, c, r, 0.0, f64::INFINITY) {
-                Estimate::Hit(a) => {
-                    let t = a.t as f32;
-                    let off = (f64::from(t) - a.lo).max(a.hi - f64::from(t));
+            let from = sphere::FromOrigin::new(o, c, r);
+            let root = sphere::interval_x4(&from, &d.map(f64x4::splat), 0.0, f64::INFINITY);
+            let (t, t_error) = match root.hit.to_bitmask() & 1 {
+                1 => {
+                    let (lo, hi) = (root.lo.to_array()[0], root.hi.to_array()[0]);
+                    let t = (0.5 * lo + 0.5 * hi) as f32;
+                    let off = (f64::from(t) - lo).max(hi - f64::from(t));
                     (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
                 }
                 _ => {
