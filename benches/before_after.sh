@@ -8,7 +8,7 @@ set -euo pipefail
 old=$1 new=$2 rounds=${3:-3} frames=${4:-7}
 shared=${SHARED:-../shared/scenes}
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores; $($new bench --frames 1 --width 8 --height 8 | sed -n "s/.*\(simd: .*\)/\1/p")"
-rows=("cornell flat" "cornell shadows" "assets/scenes/cornell_spheres.scene shadows")
+rows=("cornell flat" "cornell shadows" "assets/scenes/cornell_spheres.scene flat" "assets/scenes/cornell_spheres.scene shadows")
 if [ -d "$shared" ]; then
   rows+=("$shared/bunny.obj flat" "$shared/bunny.obj shadows" "$shared/igea.obj flat" "$shared/igea.obj shadows")
 fi

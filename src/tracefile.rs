@@ -224,8 +224,8 @@ pub fn trace_all_through(
 /// without tile culling (the rays are not on a pixel grid), so the frame picks its plan as
 /// for the renderer: a small scene's triangles prepared for the origin, the packets through
 /// the BVH and the instances (the triangles prepared once where there are at least as many
-/// rays as stored triangles, else as met), their ambiguous lanes through the exact resolvers,
-/// per ray where a sphere may be met. Other rays go per ray through the scene's structure.
+/// rays as stored triangles, else as met), spheres lane by lane, the ambiguous lanes through
+/// the exact resolvers and per ray. Other rays go per ray through the scene's structure.
 /// Same output format as [`trace_all`]; a nearest hit's t is the adaptive t of its primitive.
 pub fn trace_all_packets(
     scene: &mut crate::scene::Scene,

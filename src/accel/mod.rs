@@ -233,8 +233,8 @@ impl Accel {
         }
     }
 
-    /// Whether the scene holds shapes other than triangles (which only the per-ray queries
-    /// handle).
+    /// Whether the scene holds shapes other than triangles (the frame's packets test them
+    /// lane by lane, the per-ray queries one by one).
     pub fn has_other_shapes(&self) -> bool {
         !self.others.is_empty()
     }

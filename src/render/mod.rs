@@ -472,11 +472,12 @@ impl<'a> Frame<'a> {
     }
 }
 
-/// The vertices of triangle `prim` (camera packets name triangles only).
+/// The vertices of triangle `prim` (asked of triangles only: other shapes' lanes are shaded
+/// apart).
 fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
     match &scene.shape(prim) {
         Shape::Triangle(v) => *v,
-        _ => unreachable!("camera packets run over triangles only"),
+        _ => unreachable!("other shapes are shaded in shade_other_lanes"),
     }
 }
 
