@@ -125,21 +125,39 @@ impl OriginTriangle {
     pub fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
         const TINY: f64 = 3.0 * 1.5e-45;
         const MARGIN: f64 = 1.0 + 1e-6;
-        let w = v.map(|vi| vi.map(f64::from));
-        let o = o.map(f64::from);
-        let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-        let cross = |a: [f64; 3], b: [f64; 3]| {
+        // (Helpers as always-inlined items without iterators: as closures over iterators
+        // their code came and went with unrelated changes elsewhere, +21% instructions once.)
+        #[inline(always)]
+        fn widen(x: [f32; 3]) -> [f64; 3] {
+            [f64::from(x[0]), f64::from(x[1]), f64::from(x[2])]
+        }
+        #[inline(always)]
+        fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+            [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+        }
+        #[inline(always)]
+        fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
             [
                 a[1] * b[2] - a[2] * b[1],
                 a[2] * b[0] - a[0] * b[2],
                 a[0] * b[1] - a[1] * b[0],
             ]
-        };
-        let abs_max = |x: &[[f64; 3]; 3]| {
-            x.iter()
-                .flatten()
-                .fold(0f64, |acc, c| if c.abs() > acc { c.abs() } else { acc })
-        };
+        }
+        /// The largest |xᵢₖ| (a NaN never replaces the maximum so far).
+        #[inline(always)]
+        fn abs_max(x: &[[f64; 3]; 3]) -> f64 {
+            let mut acc = 0f64;
+            for row in x {
+                for c in row {
+                    if c.abs() > acc {
+                        acc = c.abs();
+                    }
+                }
+            }
+            acc
+        }
+        let w = [widen(v[0]), widen(v[1]), widen(v[2])];
+        let o = widen(o);
         let p = [sub(w[0], o), sub(w[1], o), sub(w[2], o)];
         let e = [sub(w[2], w[1]), sub(w[0], w[2]), sub(w[1], w[0])];
         let n64 = [cross(p[1], e[0]), cross(p[2], e[1]), cross(p[0], e[2])];
