@@ -24,6 +24,7 @@ use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::simd::each3;
 use crate::scene::instance::{linear_norm, world_bounds, Instance, Mesh};
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
@@ -100,7 +101,9 @@ impl Placed {
     /// Object triangle `v` in the world, as the flattened scene has it.
     #[inline(always)]
     fn world(&self, v: &[[f32; 3]; 3]) -> [[f32; 3]; 3] {
-        v.map(|p| Instance::world_vertex(&self.world_from_object, p))
+        // (`each3`, not array `map`: in the AVX2 build `map` stayed a call, 3.6% of a field
+        // frame.)
+        each3(|i| Instance::world_vertex(&self.world_from_object, v[i]))
     }
 
     /// The origin `o` in the object frame, and the pad for rays from it; `None` where they
@@ -138,7 +141,7 @@ impl Placed {
     #[inline(always)]
     fn carry_directions(&self, d: &[f32x8; 3]) -> [f32x8; 3] {
         let m = &self.to_object32;
-        [0, 1, 2].map(|r| {
+        each3(|r| {
             d[0] * f32x8::splat(m[r][0])
                 + d[1] * f32x8::splat(m[r][1])
                 + d[2] * f32x8::splat(m[r][2])
