@@ -607,18 +607,22 @@ impl Nearest {
             Level::Decided(..) => unreachable!("decided candidates are never refined"),
         };
         while level < 2 {
-            note(match level {
-                0 => Event::PreciseF32,
-                _ => Event::F64Intervals,
-            });
+            // (Counted where a level runs a test: a sphere has no f32 level.)
             let est = match (&c.shape, level) {
-                (Shape::Triangle(v), 0) if self.f32_inputs => precise_f32(
-                    self.o.map(|x| x as f32),
-                    self.d.map(|x| x as f32),
-                    &v.map(|p| p.map(|x| x as f32)),
-                ),
-                (Shape::Triangle(v), 1) => triangle_interval(self.o, self.d, v),
+                (Shape::Triangle(v), 0) if self.f32_inputs => {
+                    note(Event::PreciseF32);
+                    precise_f32(
+                        self.o.map(|x| x as f32),
+                        self.d.map(|x| x as f32),
+                        &v.map(|p| p.map(|x| x as f32)),
+                    )
+                }
+                (Shape::Triangle(v), 1) => {
+                    note(Event::F64Intervals);
+                    triangle_interval(self.o, self.d, v)
+                }
                 (Shape::Sphere { centre, radius }, 1) => {
+                    note(Event::F64Intervals);
                     sphere::interval(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
                 }
                 _ => Estimate::Unsure,
