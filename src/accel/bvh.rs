@@ -15,7 +15,8 @@
 
 use super::instances::PacketSink;
 use super::packet::{
-    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, ShadowHits, ShadowPacket,
+    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed, ShadowHits,
+    ShadowPacket,
 };
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -412,13 +413,27 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
     ) -> PacketHits {
+        self.closest_packet_seeded(o, prepared, d, d_max, None)
+    }
+
+    /// [`Bvh::closest_packet`] starting from `seed` ([`PacketNearest::seeded`]; its ids must
+    /// not be slots of this BVH).
+    pub fn closest_packet_seeded(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>,
+    ) -> PacketHits {
         let bvh = self;
         avx2_or_baseline!(Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Option<&OriginTriangles>,
             d: &[f32x8; 3],
-            d_max: f32
+            d_max: f32,
+            seed: Option<&PacketSeed>
         ) -> PacketHits)
     }
 
@@ -429,8 +444,9 @@ impl Bvh {
         prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
+        seed: Option<&PacketSeed>,
     ) -> PacketHits {
-        let mut nearest = PacketNearest::new(d, d_max);
+        let mut nearest = PacketNearest::seeded(d, d_max, seed);
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return nearest.finish();
         };

@@ -23,13 +23,14 @@
 //!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
 //! - otherwise **per ray** through the scene's structure.
 //!
-//! Shapes other than triangles (spheres) join the packets lane by lane: a tile their
-//! projected box may show in offers them to each camera lane after the triangles, and shadow
-//! segments whose box meets theirs test them first, each lane through the shape's f64
-//! interval level (`sphere::interval`, the per-ray search's own first level for a sphere). A
-//! lane takes the shape where its t interval lies wholly below the triangles' nearest, keeps
-//! the triangle where wholly above, and is ambiguous otherwise (then traced per ray, as is a
-//! lane the interval cannot decide).
+//! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
+//! through the shape's f64 interval level (`sphere::interval_x4`, the per-ray search's own
+//! level for a sphere): in a tile their projected box may show in, a camera packet starts
+//! from the nearest shape of each lane ([`packet::PacketSeed`]), and its triangles are then
+//! offered against it as against each other (a lane keeps a candidate only while its t
+//! interval lies wholly below the others'; overlapping ones, and lanes the interval cannot
+//! decide, are ambiguous and traced per ray); shadow segments whose box meets a shape's test
+//! it first, and the triangle packets take the lanes it leaves clear.
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
@@ -37,7 +38,7 @@
 
 use super::cull::{Box3, Occluder, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
-use super::packet::{self, OriginTriangles, PacketHits};
+use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
@@ -408,19 +409,11 @@ impl TileQueries<'_> {
     /// for the first `lanes` lanes (the others are [`NO_HIT`]).
     #[inline]
     pub fn closest_x8(&mut self, d: &[f32x8; 3], lanes: usize) -> [u32; 8] {
-        let frame = self.frame;
         let d_max = packet::max_component(d);
-        let mut found = match &frame.plan {
-            Plan::CulledPackets { .. } => packet::closest(self.prepared, d, d_max),
-            Plan::BvhPackets { from_eye, .. } => frame
-                .accel
-                .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max)
-                .unwrap_or_else(PacketHits::undecided),
-            _ => PacketHits::undecided(),
+        let found = match self.shapes.is_empty() {
+            true => self.closest_triangles_x8(d, d_max, None),
+            false => self.closest_with_shapes_x8(d, d_max, lanes),
         };
-        if !self.shapes.is_empty() {
-            offer_shapes(&mut found, self.shapes, d, lanes);
-        }
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
         let unused = (0xff_u32 << lanes) & 0xff;
@@ -429,6 +422,39 @@ impl TileQueries<'_> {
             self.resolve_lanes(d, found.ambiguous, unused, &mut out);
         }
         out
+    }
+
+    /// The packet kernels' answer over the tile's triangles, starting from `seed`.
+    #[inline(always)]
+    fn closest_triangles_x8(
+        &self,
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>,
+    ) -> PacketHits {
+        let frame = self.frame;
+        match &frame.plan {
+            Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
+            Plan::BvhPackets { from_eye, .. } => frame
+                .accel
+                .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max, seed)
+                .unwrap_or_else(PacketHits::undecided),
+            _ => PacketHits::undecided(),
+        }
+    }
+
+    /// [`TileQueries::closest_triangles_x8`] where shapes other than triangles may show: they
+    /// are tested first, and the triangles offered against them.
+    #[inline(never)]
+    fn closest_with_shapes_x8(&self, d: &[f32x8; 3], d_max: f32, lanes: usize) -> PacketHits {
+        let shapes = shapes_seed(self.shapes, d, lanes);
+        let mut found = self.closest_triangles_x8(d, d_max, Some(&shapes.seed));
+        for (prim, shape) in found.prim.iter_mut().zip(shapes.prims) {
+            if *prim == SEEDED {
+                *prim = shape;
+            }
+        }
+        found
     }
 
     /// Lanes `ambiguous` of `out` decided exactly; lanes `unused` set to [`NO_HIT`].
@@ -584,32 +610,47 @@ impl TileQueries<'_> {
     }
 }
 
-/// Offers the shapes other than triangles to the decided lanes among the first `lanes` of
-/// camera packet `found` (rays from the eye along `d`), four lanes at a time: see the module
-/// doc.
+/// The id a packet's lanes give a shape other than a triangle ([`ShapeSeed`]): beyond every
+/// primitive and BVH slot, so that no kernel maps it.
+const SEEDED: u32 = u32::MAX - 1;
+
+/// The shapes other than triangles along a camera packet, found before its triangles.
+struct ShapeSeed {
+    /// The packet's starting state: the nearest shape's t interval per lane (id [`SEEDED`]),
+    /// and the lanes the shapes leave ambiguous.
+    seed: PacketSeed,
+    /// The nearest shape's primitive per lane.
+    prims: [u32; 8],
+}
+
+/// The shapes other than triangles tested on the first `lanes` lanes of a camera packet (rays
+/// from the eye along `d`), four lanes at a time: see the module doc.
 #[inline(never)]
-fn offer_shapes(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) {
-    avx2_or_baseline!(offer_shapes_body => (
-        found: &mut PacketHits,
+fn shapes_seed(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> ShapeSeed {
+    avx2_or_baseline!(shapes_seed_body => (
         shapes: &[LaneShape],
         d: &[f32x8; 3],
         lanes: usize
-    ) -> ())
+    ) -> ShapeSeed)
 }
 
 #[inline(always)]
-fn offer_shapes_body(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) {
-    let decided = !found.ambiguous & ((1u32 << lanes) - 1);
+fn shapes_seed_body(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> ShapeSeed {
+    let mut out = ShapeSeed {
+        seed: PacketSeed::default(),
+        prims: [NO_HIT; 8],
+    };
+    let used = (1u32 << lanes) - 1;
     let d = d.map(|c| c.to_array());
     for half in 0..2 {
-        let bits = (decided >> (4 * half)) & 0xf;
+        let bits = (used >> (4 * half)) & 0xf;
         if bits == 0 {
             continue;
         }
         let lane = |l: usize| 4 * half + l;
         let d = each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][lane(l)]))));
-        let mut lo = f64x4::new(std::array::from_fn(|l| f64::from(found.lo[lane(l)])));
-        let mut hi = f64x4::new(std::array::from_fn(|l| f64::from(found.hi[lane(l)])));
+        let mut lo = f64x4::splat(f64::INFINITY);
+        let mut hi = lo;
         let mut undecided = 0u32;
         for shape in shapes {
             let Some(from_eye) = &shape.from_eye else {
@@ -625,26 +666,28 @@ fn offer_shapes_body(found: &mut PacketHits, shapes: &[LaneShape], d: &[f32x8; 3
             hi = nearer.bitselect(r.hi, hi);
             let taken = nearer.to_bitmask();
             for l in (0..4).filter(|l| taken & (1 << l) != 0) {
-                found.prim[lane(l)] = shape.prim;
+                out.prims[lane(l)] = shape.prim;
+                out.seed.prim[lane(l)] = SEEDED;
             }
         }
-        found.ambiguous |= (undecided & bits) << (4 * half);
+        out.seed.ambiguous |= (undecided & bits) << (4 * half);
         // The interval rounded outwards to f32.
         let (lo, hi) = (lo.to_array(), hi.to_array());
         for l in 0..4 {
             let (lo32, hi32) = (lo[l] as f32, hi[l] as f32);
-            found.lo[lane(l)] = if f64::from(lo32) > lo[l] {
+            out.seed.lo[lane(l)] = if f64::from(lo32) > lo[l] {
                 lo32.next_down()
             } else {
                 lo32
             };
-            found.hi[lane(l)] = if f64::from(hi32) < hi[l] {
+            out.seed.hi[lane(l)] = if f64::from(hi32) < hi[l] {
                 hi32.next_up()
             } else {
                 hi32
             };
         }
     }
+    out
 }
 
 /// Shadow lanes decided by the shapes other than triangles.

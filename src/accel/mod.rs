@@ -366,10 +366,12 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
-        self.closest_packet_of_triangles(o, prepared, d, d_max)
+        self.closest_packet_of_triangles(o, prepared, d, d_max, None)
     }
 
-    /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are.
+    /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
+    /// starting from `seed` (its ids must be beyond every primitive and slot, and are handed
+    /// back as they are).
     #[inline]
     pub(crate) fn closest_packet_of_triangles(
         &self,
@@ -377,14 +379,15 @@ impl Accel {
         prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
+        seed: Option<&packet::PacketSeed>,
     ) -> Option<packet::PacketHits> {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
         };
         if let Some(inst) = self.instances() {
-            return Some(closest_with_instances(b, inst, o, prepared, d, d_max));
+            return Some(closest_with_instances(b, inst, o, prepared, d, d_max, seed));
         }
-        let mut found = b.closest_packet(o, prepared, d, d_max);
+        let mut found = b.closest_packet_seeded(o, prepared, d, d_max, seed);
         let prims = b.triangles().1;
         for slot in &mut found.prim {
             if let Some(prim) = prims.get(*slot as usize) {
@@ -502,6 +505,7 @@ fn closest_with_instances(
     prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
+    seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
     avx2_or_baseline!(closest_with_instances_body => (
         b: &bvh::Bvh,
@@ -509,7 +513,8 @@ fn closest_with_instances(
         o: [f32; 3],
         prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
-        d_max: f32
+        d_max: f32,
+        seed: Option<&packet::PacketSeed>
     ) -> packet::PacketHits)
 }
 
@@ -521,8 +526,9 @@ fn closest_with_instances_body(
     prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
+    seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
-    let mut nearest = packet::PacketNearest::new(d, d_max);
+    let mut nearest = packet::PacketNearest::seeded(d, d_max, seed);
     b.packet_into(&mut nearest, o, prepared, d);
     inst.packet(o, d, &mut nearest);
     nearest.finish()

@@ -79,17 +79,11 @@ pub struct OriginTriangles {
     pub origin: [f32; 3],
 }
 
-/// What a packet found: per lane the nearest primitive (`u32::MAX` for none), an interval
-/// [`lo`, `hi`] holding its exact t (∞ for none: so a caller can set other shapes' hits
-/// against it, as [`PacketNearest`] does), and the lanes that must be traced per ray.
-///
-/// [`lo`]: PacketHits::lo
-/// [`hi`]: PacketHits::hi
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
+/// that must be traced per ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PacketHits {
     pub prim: [u32; 8],
-    pub lo: [f32; 8],
-    pub hi: [f32; 8],
     pub ambiguous: u32,
 }
 
@@ -98,9 +92,33 @@ impl PacketHits {
     pub fn undecided() -> Self {
         Self {
             prim: [u32::MAX; 8],
+            ambiguous: 0xff,
+        }
+    }
+}
+
+/// What a packet knows before its triangles are offered: per lane a nearest candidate (an
+/// id, `u32::MAX` for none) with an interval [`lo`, `hi`] holding its exact t (∞ for none),
+/// and the lanes already ambiguous. The frame's queries seed a packet with the shapes other
+/// than triangles this way ([`PacketNearest::seeded`]).
+///
+/// [`lo`]: PacketSeed::lo
+/// [`hi`]: PacketSeed::hi
+#[derive(Clone, Copy, Debug)]
+pub struct PacketSeed {
+    pub prim: [u32; 8],
+    pub lo: [f32; 8],
+    pub hi: [f32; 8],
+    pub ambiguous: u32,
+}
+
+impl Default for PacketSeed {
+    fn default() -> Self {
+        Self {
+            prim: [u32::MAX; 8],
             lo: [f32::INFINITY; 8],
             hi: [f32::INFINITY; 8],
-            ambiguous: 0xff,
+            ambiguous: 0,
         }
     }
 }
@@ -334,7 +352,22 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 /// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
 /// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    avx2_or_baseline!(closest_body => (tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits)
+    closest_seeded(tris, d, d_max, None)
+}
+
+/// [`closest`] starting from `seed` ([`PacketNearest::seeded`]).
+pub fn closest_seeded(
+    tris: &[OriginTriangle],
+    d: &[f32x8; 3],
+    d_max: f32,
+    seed: Option<&PacketSeed>,
+) -> PacketHits {
+    avx2_or_baseline!(closest_body => (
+        tris: &[OriginTriangle],
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>
+    ) -> PacketHits)
 }
 
 /// The exact nearest of `tris` (prepared for origin `o`) along direction `d` for
@@ -530,8 +563,13 @@ impl ExactLane {
 }
 
 #[inline(always)]
-fn closest_body(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    let mut nearest = PacketNearest::new(d, d_max);
+fn closest_body(
+    tris: &[OriginTriangle],
+    d: &[f32x8; 3],
+    d_max: f32,
+    seed: Option<&PacketSeed>,
+) -> PacketHits {
+    let mut nearest = PacketNearest::seeded(d, d_max, seed);
     for tri in tris {
         nearest.offer(tri, tri.prim);
     }
@@ -652,6 +690,24 @@ impl PacketNearest {
         }
     }
 
+    /// [`PacketNearest::new`] holding `seed`'s candidates and ambiguous lanes, if any.
+    #[inline(always)]
+    pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
+        let mut nearest = Self::new(d, d_max);
+        if let Some(seed) = seed {
+            let bits = |m: u32| {
+                f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
+                    f32::from_bits(if m & (1 << l) != 0 { u32::MAX } else { 0 })
+                }))
+            };
+            nearest.best_lo = f32x8::from(seed.lo);
+            nearest.best_hi = f32x8::from(seed.hi);
+            nearest.best_prim = f32x8::from(seed.prim.map(f32::from_bits));
+            nearest.ambiguous |= bits(seed.ambiguous);
+        }
+        nearest
+    }
+
     /// The lanes already ambiguous (bit l for lane l).
     #[inline]
     pub fn ambiguous(&self) -> u32 {
@@ -696,13 +752,10 @@ impl PacketNearest {
         self.best_prim = take.bitselect(f32x8::splat(f32::from_bits(id)), self.best_prim);
     }
 
-    /// Per lane the id of the nearest (u32::MAX for none) with its t interval, and the
-    /// ambiguous lanes.
+    /// Per lane the id of the nearest (u32::MAX for none), and the ambiguous lanes.
     pub fn finish(self) -> PacketHits {
         PacketHits {
             prim: self.best_prim.to_array().map(f32::to_bits),
-            lo: self.best_lo.to_array(),
-            hi: self.best_hi.to_array(),
             ambiguous: self.ambiguous.to_bitmask(),
         }
     }
