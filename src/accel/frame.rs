@@ -126,7 +126,7 @@ pub struct FrameQueries<'a> {
     light: [f32; 3],
     plan: Plan<'a>,
     /// Where the shapes other than triangles (spheres) can show and what they can block,
-    /// with each shape (in f64) and its primitive: the packets test them lane by lane.
+    /// with each shape seen from the eye and the light: the packets test them lane by lane.
     others: Vec<(ShapeCull, LaneShape)>,
 }
 
