@@ -42,7 +42,7 @@ use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
-use crate::geometry::adaptive::{widen, Search};
+use crate::geometry::adaptive::{round_down, round_up, widen, Search};
 use crate::geometry::sphere;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
@@ -648,7 +648,7 @@ fn shapes_seed_body(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> Shape
             continue;
         }
         let lane = |l: usize| 4 * half + l;
-        let d = each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][lane(l)]))));
+        let d = half_in_f64(&d, half);
         let mut lo = f64x4::splat(f64::INFINITY);
         let mut hi = lo;
         let mut undecided = 0u32;
@@ -674,20 +674,17 @@ fn shapes_seed_body(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> Shape
         // The interval rounded outwards to f32.
         let (lo, hi) = (lo.to_array(), hi.to_array());
         for l in 0..4 {
-            let (lo32, hi32) = (lo[l] as f32, hi[l] as f32);
-            out.seed.lo[lane(l)] = if f64::from(lo32) > lo[l] {
-                lo32.next_down()
-            } else {
-                lo32
-            };
-            out.seed.hi[lane(l)] = if f64::from(hi32) < hi[l] {
-                hi32.next_up()
-            } else {
-                hi32
-            };
+            out.seed.lo[lane(l)] = round_down(lo[l]);
+            out.seed.hi[lane(l)] = round_up(hi[l]);
         }
     }
     out
+}
+
+/// Lanes 4·`half` to 4·`half` + 3 of the directions `d` (per axis), in f64.
+#[inline(always)]
+fn half_in_f64(d: &[[f32; 8]; 3], half: usize) -> [f64x4; 3] {
+    each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][4 * half + l]))))
 }
 
 /// Shadow lanes decided by the shapes other than triangles.
@@ -729,7 +726,7 @@ fn shapes_block_body(near: &[LaneShape], light: [f32; 3], s: &ShadowSegments) ->
             continue;
         }
         let lane = |l: usize| 4 * half + l;
-        let d = each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][lane(l)]))));
+        let d = half_in_f64(&d, half);
         let (mut blocked, mut unsure) = (0u32, 0u32);
         for shape in near {
             if !shape.bounds.meets(segments.lo, segments.hi) {

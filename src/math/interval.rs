@@ -273,12 +273,18 @@ impl IntervalX4 {
     /// x / r for lanes where r.lo > 0 (others: meaningless).
     #[inline(always)]
     pub fn div_positive(self, r: Self) -> Self {
-        let q = [
+        Self::hull([
             self.lo / r.lo,
             self.lo / r.hi,
             self.hi / r.lo,
             self.hi / r.hi,
-        ];
+        ])
+    }
+
+    /// The widened interval from the least to the greatest of four rounded end products or
+    /// quotients (no NaN among them: finite ends).
+    #[inline(always)]
+    fn hull(q: [f64x4; 4]) -> Self {
         let lo = q[0].fast_min(q[1]).fast_min(q[2].fast_min(q[3]));
         let hi = q[0].fast_max(q[1]).fast_max(q[2].fast_max(q[3]));
         Self::widened(lo, hi)
@@ -316,15 +322,12 @@ impl Mul for IntervalX4 {
     type Output = Self;
     #[inline(always)]
     fn mul(self, r: Self) -> Self {
-        let p = [
+        Self::hull([
             self.lo * r.lo,
             self.lo * r.hi,
             self.hi * r.lo,
             self.hi * r.hi,
-        ];
-        let lo = p[0].fast_min(p[1]).fast_min(p[2].fast_min(p[3]));
-        let hi = p[0].fast_max(p[1]).fast_max(p[2].fast_max(p[3]));
-        Self::widened(lo, hi)
+        ])
     }
 }
 

@@ -66,7 +66,7 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
     Ray::new(light, sub(po, light))
 }
 
-/// A camera ray's hit readied for shading: its primitive, the irradiance D there without
+/// A camera ray's hit readied for shading: its primitive, the irradiance D = P·k there without
 /// shadows, and the shadow ray from the light ([`shadow_from_light`]; `None` where D = 0:
 /// nothing to shadow). Made once per hit, so a renderer can gather the shadow rays of a tile
 /// first.
@@ -81,9 +81,8 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
 #[derive(Clone, Copy, Debug)]
 pub struct Lit {
     pub prim: u32,
-    /// D = P·`k` where D ≠ 0.
+    /// D = P·`k` where D ≠ 0 (where there is a shadow ray: [`Lit::d`]).
     pub k: f32,
-    pub d: Rgb,
     pub shadow: Option<Ray>,
     /// The primitive the shadow test may skip: `prim` itself (planar, or a sphere with the
     /// shadow ray's end on the light's side of it), or `u32::MAX` (none) for a sphere seen
@@ -110,7 +109,6 @@ impl Lit {
                 Self {
                     prim,
                     k: packet.k[0],
-                    d: packet.d(scene, 0),
                     shadow: (packet.shadow.live & 1 != 0)
                         .then(|| Ray::new(scene.light.position, shadow_d)),
                     skip: prim,
@@ -133,11 +131,18 @@ impl Lit {
                 Self {
                     prim,
                     k: k.unwrap_or(0.0),
-                    d,
                     shadow,
                     skip,
                 }
             }
+        }
+    }
+
+    /// The irradiance D without shadows: P·k where D ≠ 0 (as [`ShadePacket::d`]).
+    pub fn d(&self, scene: &Scene) -> Rgb {
+        match self.shadow {
+            Some(_) => scene.light.power.map(|p| p * self.k),
+            None => [0.0; 3],
         }
     }
 
@@ -157,7 +162,7 @@ impl Lit {
             }
             _ => false,
         };
-        step_colour(scene, self.prim, self.d, blocked, step)
+        step_colour(scene, self.prim, self.d(scene), blocked, step)
     }
 }
 
