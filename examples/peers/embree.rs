@@ -1,0 +1,305 @@
+//! Embree 3 (Debian's `libembree3-3`) loaded at run time, so the example builds and runs where
+//! Embree is not installed (it then says so and leaves its rows out).
+//!
+//! Only what a closest-hit benchmark needs: one triangle mesh, a HIGH-quality build, and the
+//! single-ray, 8-ray and 16-ray queries. The structs mirror `embree3/rtcore_ray.h` and
+//! `rtcore_common.h` of Embree 3.13 built with `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
+//! `RTC_MIN_WIDTH` 0 (Debian's build).
+
+use libloading::{Library, Symbol};
+use std::ffi::{c_char, c_int, c_uint, c_void, CString};
+
+const INVALID_ID: u32 = u32::MAX;
+const GEOMETRY_TYPE_TRIANGLE: c_uint = 0;
+const BUFFER_TYPE_INDEX: c_uint = 0;
+const BUFFER_TYPE_VERTEX: c_uint = 1;
+const FORMAT_UINT3: c_uint = 0x5003;
+const FORMAT_FLOAT3: c_uint = 0x9003;
+const BUILD_QUALITY_HIGH: c_uint = 2;
+const CONTEXT_FLAG_COHERENT: c_uint = 1;
+
+/// `struct RTCIntersectContext`.
+#[repr(C)]
+struct Context {
+    flags: c_uint,
+    filter: *const c_void,
+    inst_id: [c_uint; 1],
+}
+
+impl Context {
+    /// `rtcInitIntersectContext` (an inline function in the header), marked coherent: camera
+    /// rays are.
+    fn coherent() -> Self {
+        Context {
+            flags: CONTEXT_FLAG_COHERENT,
+            filter: std::ptr::null(),
+            inst_id: [INVALID_ID],
+        }
+    }
+}
+
+/// `struct RTCRayHit` (`RTCRay` then `RTCHit`).
+#[repr(C, align(16))]
+#[derive(Clone, Copy)]
+struct RayHit1 {
+    org: [f32; 3],
+    tnear: f32,
+    dir: [f32; 3],
+    time: f32,
+    tfar: f32,
+    mask: u32,
+    id: u32,
+    flags: u32,
+    ng: [f32; 3],
+    u: f32,
+    v: f32,
+    prim_id: u32,
+    geom_id: u32,
+    inst_id: u32,
+}
+
+/// `struct RTCRayHitN` for N = 8 or 16 (structure of arrays).
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+pub struct RayHitN<const N: usize> {
+    org: [[f32; N]; 3],
+    tnear: [f32; N],
+    dir: [[f32; N]; 3],
+    time: [f32; N],
+    tfar: [f32; N],
+    mask: [u32; N],
+    id: [u32; N],
+    flags: [u32; N],
+    ng: [[f32; N]; 3],
+    u: [f32; N],
+    v: [f32; N],
+    prim_id: [u32; N],
+    geom_id: [u32; N],
+    inst_id: [u32; N],
+}
+
+impl<const N: usize> RayHitN<N> {
+    /// A packet with no ray in it yet.
+    pub fn empty() -> Self {
+        RayHitN {
+            org: [[0.0; N]; 3],
+            tnear: [0.0; N],
+            dir: [[0.0; N]; 3],
+            time: [0.0; N],
+            tfar: [f32::NEG_INFINITY; N],
+            mask: [u32::MAX; N],
+            id: [0; N],
+            flags: [0; N],
+            ng: [[0.0; N]; 3],
+            u: [0.0; N],
+            v: [0.0; N],
+            prim_id: [INVALID_ID; N],
+            geom_id: [INVALID_ID; N],
+            inst_id: [INVALID_ID; N],
+        }
+    }
+
+    /// Puts a ray (origin, direction) in `lane`, unhit and unbounded.
+    pub fn set(&mut self, lane: usize, o: [f32; 3], d: [f32; 3]) {
+        for k in 0..3 {
+            self.org[k][lane] = o[k];
+            self.dir[k][lane] = d[k];
+        }
+        self.tfar[lane] = f32::INFINITY;
+    }
+
+    /// The lanes holding a ray (tfar ≥ 0, as `set` leaves them).
+    pub fn valid(&self) -> ValidN<N> {
+        ValidN(self.tfar.map(|t| if t >= 0.0 { -1 } else { 0 }))
+    }
+
+    /// Each lane's primitive, `None` where it missed.
+    pub fn prims(&self) -> [Option<u32>; N] {
+        std::array::from_fn(|i| (self.geom_id[i] != INVALID_ID).then_some(self.prim_id[i]))
+    }
+}
+
+/// The valid mask of a packet (−1 valid, 0 not), aligned as Embree requires.
+#[repr(C, align(64))]
+#[derive(Clone, Copy)]
+pub struct ValidN<const N: usize>([c_int; N]);
+
+type NewDevice = unsafe extern "C" fn(*const c_char) -> *mut c_void;
+type ReleaseDevice = unsafe extern "C" fn(*mut c_void);
+type GetDeviceError = unsafe extern "C" fn(*mut c_void) -> c_uint;
+type NewScene = unsafe extern "C" fn(*mut c_void) -> *mut c_void;
+type SetSceneBuildQuality = unsafe extern "C" fn(*mut c_void, c_uint);
+type NewGeometry = unsafe extern "C" fn(*mut c_void, c_uint) -> *mut c_void;
+type SetNewGeometryBuffer =
+    unsafe extern "C" fn(*mut c_void, c_uint, c_uint, c_uint, usize, usize) -> *mut c_void;
+type SetGeometryBuildQuality = unsafe extern "C" fn(*mut c_void, c_uint);
+type CommitGeometry = unsafe extern "C" fn(*mut c_void);
+type AttachGeometry = unsafe extern "C" fn(*mut c_void, *mut c_void) -> c_uint;
+type ReleaseGeometry = unsafe extern "C" fn(*mut c_void);
+type CommitScene = unsafe extern "C" fn(*mut c_void);
+type ReleaseScene = unsafe extern "C" fn(*mut c_void);
+type Intersect1 = unsafe extern "C" fn(*mut c_void, *mut Context, *mut RayHit1);
+type IntersectN<const N: usize> =
+    unsafe extern "C" fn(*const ValidN<N>, *mut c_void, *mut Context, *mut RayHitN<N>);
+
+/// The loaded library and one device.
+pub struct Embree {
+    lib: Library,
+    device: *mut c_void,
+}
+
+// Embree's device and committed scenes may be used from any thread (its documentation).
+unsafe impl Send for Embree {}
+unsafe impl Sync for Embree {}
+
+/// A committed scene of one triangle mesh.
+pub struct EmbreeScene<'a> {
+    embree: &'a Embree,
+    scene: *mut c_void,
+    intersect1: Symbol<'a, Intersect1>,
+    intersect8: Symbol<'a, IntersectN<8>>,
+    intersect16: Symbol<'a, IntersectN<16>>,
+}
+
+unsafe impl Send for EmbreeScene<'_> {}
+unsafe impl Sync for EmbreeScene<'_> {}
+
+impl Embree {
+    /// Loads `libembree3.so.3` and makes a device with `threads` build threads; `Err` says why
+    /// not (most often: not installed).
+    pub fn load(threads: usize) -> Result<Self, String> {
+        // SAFETY: loading a system library runs its initialisers; Embree's are benign.
+        let lib = unsafe { Library::new("libembree3.so.3") }
+            .map_err(|e| format!("{e} (Debian: apt-get install libembree3-3)"))?;
+        let config = CString::new(format!("threads={threads}")).expect("no NUL");
+        // SAFETY: the signature is rtcNewDevice's.
+        let device = unsafe {
+            let new_device: Symbol<NewDevice> =
+                lib.get(b"rtcNewDevice\0").map_err(|e| e.to_string())?;
+            new_device(config.as_ptr())
+        };
+        if device.is_null() {
+            return Err("rtcNewDevice failed".into());
+        }
+        Ok(Embree { lib, device })
+    }
+
+    fn symbol<T>(&self, name: &[u8]) -> Symbol<'_, T> {
+        // SAFETY: every caller names an Embree 3 function with the type T declares.
+        unsafe { self.lib.get(name) }.unwrap_or_else(|e| panic!("Embree 3 lacks a symbol: {e}"))
+    }
+
+    /// Builds a scene of `triangles` at Embree's HIGH quality (its best BVH for tracing).
+    pub fn scene(&self, triangles: &[[[f32; 3]; 3]]) -> Result<EmbreeScene<'_>, String> {
+        // SAFETY: the calls follow Embree's documented sequence (new scene, new geometry,
+        // fill its buffers of the sizes asked for, commit, attach, release, commit scene);
+        // the buffers are written within the sizes Embree allocated.
+        unsafe {
+            let scene = self.symbol::<NewScene>(b"rtcNewScene\0")(self.device);
+            self.symbol::<SetSceneBuildQuality>(b"rtcSetSceneBuildQuality\0")(
+                scene,
+                BUILD_QUALITY_HIGH,
+            );
+            let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
+                self.device,
+                GEOMETRY_TYPE_TRIANGLE,
+            );
+            self.symbol::<SetGeometryBuildQuality>(b"rtcSetGeometryBuildQuality\0")(
+                geometry,
+                BUILD_QUALITY_HIGH,
+            );
+            let set_buffer = self.symbol::<SetNewGeometryBuffer>(b"rtcSetNewGeometryBuffer\0");
+            let n = triangles.len();
+            let vertices =
+                set_buffer(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, 3 * n) as *mut f32;
+            let indices =
+                set_buffer(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n) as *mut u32;
+            if vertices.is_null() || indices.is_null() {
+                return Err(self.error("rtcSetNewGeometryBuffer"));
+            }
+            let vertices = std::slice::from_raw_parts_mut(vertices, 9 * n);
+            let indices = std::slice::from_raw_parts_mut(indices, 3 * n);
+            for (i, tri) in triangles.iter().enumerate() {
+                for (k, v) in tri.iter().enumerate() {
+                    vertices[9 * i + 3 * k..9 * i + 3 * k + 3].copy_from_slice(v);
+                    indices[3 * i + k] = (3 * i + k) as u32;
+                }
+            }
+            self.symbol::<CommitGeometry>(b"rtcCommitGeometry\0")(geometry);
+            self.symbol::<AttachGeometry>(b"rtcAttachGeometry\0")(scene, geometry);
+            self.symbol::<ReleaseGeometry>(b"rtcReleaseGeometry\0")(geometry);
+            self.symbol::<CommitScene>(b"rtcCommitScene\0")(scene);
+            let code = self.symbol::<GetDeviceError>(b"rtcGetDeviceError\0")(self.device);
+            if code != 0 {
+                return Err(format!("Embree error {code} while building"));
+            }
+            Ok(EmbreeScene {
+                embree: self,
+                scene,
+                intersect1: self.symbol(b"rtcIntersect1\0"),
+                intersect8: self.symbol(b"rtcIntersect8\0"),
+                intersect16: self.symbol(b"rtcIntersect16\0"),
+            })
+        }
+    }
+
+    fn error(&self, what: &str) -> String {
+        // SAFETY: the signature is rtcGetDeviceError's.
+        let code = unsafe { self.symbol::<GetDeviceError>(b"rtcGetDeviceError\0")(self.device) };
+        format!("{what} failed (Embree error {code})")
+    }
+}
+
+impl Drop for Embree {
+    fn drop(&mut self) {
+        // SAFETY: the device was made by rtcNewDevice and every scene borrowing it is gone.
+        unsafe { self.symbol::<ReleaseDevice>(b"rtcReleaseDevice\0")(self.device) }
+    }
+}
+
+impl EmbreeScene<'_> {
+    /// The nearest triangle along one ray, `rtcIntersect1`.
+    pub fn closest1(&self, o: [f32; 3], d: [f32; 3]) -> Option<u32> {
+        let mut rh = RayHit1 {
+            org: o,
+            tnear: 0.0,
+            dir: d,
+            time: 0.0,
+            tfar: f32::INFINITY,
+            mask: u32::MAX,
+            id: 0,
+            flags: 0,
+            ng: [0.0; 3],
+            u: 0.0,
+            v: 0.0,
+            prim_id: INVALID_ID,
+            geom_id: INVALID_ID,
+            inst_id: INVALID_ID,
+        };
+        let mut context = Context::coherent();
+        // SAFETY: a committed scene, an initialised context and ray, the header's layouts.
+        unsafe { (self.intersect1)(self.scene, &mut context, &mut rh) };
+        (rh.geom_id != INVALID_ID).then_some(rh.prim_id)
+    }
+
+    /// A packet of 8 rays, `rtcIntersect8`.
+    pub fn closest8(&self, packet: &mut RayHitN<8>, valid: &ValidN<8>) {
+        let mut context = Context::coherent();
+        // SAFETY: as closest1; valid and packet are aligned as the header declares.
+        unsafe { (self.intersect8)(valid, self.scene, &mut context, packet) }
+    }
+
+    /// A packet of 16 rays, `rtcIntersect16`.
+    pub fn closest16(&self, packet: &mut RayHitN<16>, valid: &ValidN<16>) {
+        let mut context = Context::coherent();
+        // SAFETY: as closest8.
+        unsafe { (self.intersect16)(valid, self.scene, &mut context, packet) }
+    }
+}
+
+impl Drop for EmbreeScene<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the scene was made by rtcNewScene on this device.
+        unsafe { self.embree.symbol::<ReleaseScene>(b"rtcReleaseScene\0")(self.scene) }
+    }
+}
