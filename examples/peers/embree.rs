@@ -8,6 +8,7 @@
 
 use libloading::{Library, Symbol};
 use std::ffi::{c_char, c_int, c_uint, c_void, CString};
+use std::mem::ManuallyDrop;
 
 const INVALID_ID: u32 = u32::MAX;
 const GEOMETRY_TYPE_TRIANGLE: c_uint = 0;
@@ -144,7 +145,9 @@ type IntersectN<const N: usize> =
 
 /// The loaded library and one device.
 pub struct Embree {
-    lib: Library,
+    /// Never unloaded: Embree's task threads (TBB) outlive the device, and unloading their
+    /// code under them crashes the process at exit.
+    lib: ManuallyDrop<Library>,
     device: *mut c_void,
 }
 
@@ -181,7 +184,10 @@ impl Embree {
         if device.is_null() {
             return Err("rtcNewDevice failed".into());
         }
-        Ok(Embree { lib, device })
+        Ok(Embree {
+            lib: ManuallyDrop::new(lib),
+            device,
+        })
     }
 
     fn symbol<T>(&self, name: &[u8]) -> Symbol<'_, T> {
