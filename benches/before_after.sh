@@ -2,18 +2,20 @@
 # Interleaved speed comparison of two raylab binaries on the same scenes, cameras and thread
 # counts (issue 13's "same speed" check). Usage:
 #   bash benches/before_after.sh OLD_BIN NEW_BIN [ROUNDS] [FRAMES]
+# (SIZE=640x360 for another frame size than 1280x720.)
 # Each round runs every row with both binaries, alternating which goes first; prints the median
 # frame time of each run and, per row, the median over rounds of new/old.
 set -euo pipefail
 old=$1 new=$2 rounds=${3:-3} frames=${4:-7}
 shared=${SHARED:-../shared/scenes}
+size=${SIZE:-1280x720}
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores; $($new bench --frames 1 --width 8 --height 8 | sed -n "s/.*\(simd: .*\)/\1/p")"
 rows=("cornell flat" "cornell shadows" "assets/scenes/cornell_spheres.scene flat" "assets/scenes/cornell_spheres.scene shadows")
 if [ -d "$shared" ]; then
   rows+=("$shared/bunny.obj flat" "$shared/bunny.obj shadows" "$shared/igea.obj flat" "$shared/igea.obj shadows")
 fi
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-ms() { "$1" bench --scene "$2" --step "$3" --width 1280 --height 720 --threads 2 --frames "$frames" \
+ms() { "$1" bench --scene "$2" --step "$3" --width "${size%x*}" --height "${size#*x}" --threads 2 --frames "$frames" \
          | sed -n 's/^median frame \([0-9.]*\) ms.*/\1/p'; }
 declare -A ratios
 for ((r = 1; r <= rounds; r++)); do

@@ -15,8 +15,8 @@
 
 use super::instances::PacketSink;
 use super::packet::{
-    AllPrepared, LazyPrepared, OriginTriangle, PacketHits, PacketNearest, PacketSeed, PrepareAsMet,
-    Prepared, PreparedSource, ShadowHits, ShadowPacket,
+    AllOrAsMet, LazyPrepared, OriginTriangle, PacketHits, PacketNearest, PacketSeed, Prepared,
+    PreparedSource, ShadowHits, ShadowPacket,
 };
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -432,13 +432,16 @@ impl Bvh {
             return all;
         }
         match prepared {
-            Prepared::Once(p) => self.closest_packet_from(o, AllPrepared(&p.tris), d, d_max, seed),
+            Prepared::Once(p) => {
+                self.closest_packet_from(o, AllOrAsMet(Some(&p.tris)), d, d_max, seed)
+            }
             Prepared::Lazy(l) => self.closest_packet_from(o, LazyPrepared(l), d, d_max, seed),
-            Prepared::AsMet => self.closest_packet_from(o, PrepareAsMet, d, d_max, seed),
+            Prepared::AsMet => self.closest_packet_from(o, AllOrAsMet(None), d, d_max, seed),
         }
     }
 
     /// [`Bvh::closest_packet_seeded`] with the triangles from `src`, compiled for each source.
+    #[inline(always)]
     fn closest_packet_from<P: PreparedSource>(
         &self,
         o: [f32; 3],
@@ -615,7 +618,7 @@ impl Bvh {
                 &mut OwnLeaves {
                     bvh,
                     o,
-                    src: AllPrepared(&p.tris),
+                    src: AllOrAsMet(Some(&p.tris)),
                 },
             ),
             Prepared::Lazy(l) => self.walk_packet(
@@ -635,7 +638,7 @@ impl Bvh {
                 &mut OwnLeaves {
                     bvh,
                     o,
-                    src: PrepareAsMet,
+                    src: AllOrAsMet(None),
                 },
             ),
         }
@@ -664,16 +667,17 @@ impl Bvh {
         }
         match prepared {
             Prepared::Once(p) => {
-                self.blocked_packet_from(o, AllPrepared(&p.tris), d, d_max, skip, valid)
+                self.blocked_packet_from(o, AllOrAsMet(Some(&p.tris)), d, d_max, skip, valid)
             }
             Prepared::Lazy(l) => {
                 self.blocked_packet_from(o, LazyPrepared(l), d, d_max, skip, valid)
             }
-            Prepared::AsMet => self.blocked_packet_from(o, PrepareAsMet, d, d_max, skip, valid),
+            Prepared::AsMet => self.blocked_packet_from(o, AllOrAsMet(None), d, d_max, skip, valid),
         }
     }
 
     /// [`Bvh::blocked_packet`] with the triangles from `src`, compiled for each source.
+    #[inline(always)]
     fn blocked_packet_from<P: PreparedSource>(
         &self,
         o: [f32; 3],

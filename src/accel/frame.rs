@@ -19,9 +19,10 @@
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
-//!   triangles are prepared as a packet first meets them and kept for the frame where there
-//!   are at least as many camera rays as triangles ([`PREPARE_KEPT_RAYS_PER_TRIANGLE`]), else
-//!   each time a packet meets one;
+//!   triangles are prepared all before the frame where there are many camera rays per
+//!   triangle ([`PREPARE_ONCE_RAYS_PER_TRIANGLE`]), as a packet first meets them and kept for
+//!   the frame where there are fewer ([`PREPARE_KEPT_RAYS_PER_TRIANGLE`]), else each time a
+//!   packet meets one;
 //! - otherwise **per ray** through the scene's structure.
 //!
 //! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
@@ -56,13 +57,21 @@ pub use super::packet::OriginTriangle;
 pub const NO_HIT: u32 = u32::MAX;
 
 /// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
-/// the light) as a packet first meets them and kept for the frame
+/// the light) all before the frame, in parallel. Preparing one costs about 400 instructions
+/// (callgrind). With this many rays each triangle is met often, and the kept copies of
+/// [`PREPARE_KEPT_RAYS_PER_TRIANGLE`] cost more wall time than they save: the bunny at
+/// 1280×720 (13 rays per triangle), 2 threads, 4–6% slower kept as first met, though 1.1%
+/// fewer instructions (the threads share the slots they write).
+pub const PREPARE_ONCE_RAYS_PER_TRIANGLE: usize = 8;
+
+/// Camera rays per triangle from which (up to [`PREPARE_ONCE_RAYS_PER_TRIANGLE`]) a BVH
+/// scene's triangles are prepared as a packet first meets them and kept for the frame
 /// ([`packet::LazyOriginTriangles`]); below it each is prepared whenever a packet meets it.
-/// Preparing one costs about 400 instructions (callgrind). Measured against preparing all of
-/// them before the frame (one thread, instructions): the bunny at 640×360 (3.3 rays per
-/// triangle) 9.9% fewer, at 1280×720 (13) 1.1% fewer, with shadows 10% and 2.2% fewer.
-/// Below one ray per triangle a triangle is rarely met twice and keeping it does not pay
-/// (Igea at 640×360, 0.9 rays per triangle: 12% more than preparing each when met).
+/// Measured against preparing all before the frame: the bunny at 640×360 (3.3 rays per
+/// triangle) 9.9% fewer instructions (1 thread), 3% less wall time (2 threads), with shadows
+/// 10% and 8%. Below one ray per triangle a triangle is rarely met twice and keeping it does
+/// not pay (Igea at 640×360, 0.9 rays per triangle: 12% more instructions than preparing each
+/// when met).
 pub const PREPARE_KEPT_RAYS_PER_TRIANGLE: usize = 1;
 
 /// What the accelerator needs to know of a frame.
@@ -125,6 +134,8 @@ enum Plan<'a> {
 
 /// How a BVH frame prepares its triangles for one origin (the eye or the light).
 enum Preparation {
+    /// All of them before the frame.
+    Once(OriginTriangles),
     /// Each as a packet first meets it, kept for the frame.
     Lazy(LazyOriginTriangles),
     /// Each time a packet meets one (instanced meshes: a placement's own origin).
@@ -134,13 +145,19 @@ enum Preparation {
 impl Preparation {
     fn new(accel: &Accel, origin: [f32; 3], rays: usize) -> Self {
         let n = accel.stored_triangle_count();
-        let kept = n.saturating_mul(PREPARE_KEPT_RAYS_PER_TRIANGLE) <= rays;
-        (kept.then(|| accel.prepare_origin_lazily(origin)).flatten())
-            .map_or(Preparation::AsMet, Preparation::Lazy)
+        let made = if n.saturating_mul(PREPARE_ONCE_RAYS_PER_TRIANGLE) <= rays {
+            accel.prepare_origin(origin).map(Preparation::Once)
+        } else if n.saturating_mul(PREPARE_KEPT_RAYS_PER_TRIANGLE) <= rays {
+            accel.prepare_origin_lazily(origin).map(Preparation::Lazy)
+        } else {
+            None
+        };
+        made.unwrap_or(Preparation::AsMet)
     }
 
     fn get(&self) -> Prepared<'_> {
         match self {
+            Preparation::Once(p) => Prepared::Once(p),
             Preparation::Lazy(l) => Prepared::Lazy(l),
             Preparation::AsMet => Prepared::AsMet,
         }
@@ -419,6 +436,12 @@ impl TileQueries<'_> {
                     }
                 })
             }
+            Plan::BvhPackets {
+                from_eye: Preparation::Once(prepared),
+                ..
+            } => frame
+                .accel
+                .closest_hit_from_origin(ray, prepared, 0.0, f32::INFINITY),
             _ => frame.accel.closest_hit(ray, method, 0.0, f32::INFINITY),
         }
     }
