@@ -25,7 +25,7 @@
 mod common;
 
 use common::suite::{self, exact_nearest, Counts, Family};
-use raylab::accel::packet::{self, OriginTriangles, Prepared};
+use raylab::accel::packet::{self, OriginTriangles};
 use raylab::accel::{self, Accel, AccelChoice, IndexedTriangle};
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use std::collections::HashMap;
@@ -130,7 +130,7 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
         // And 8 at a time through the BVH (this ray in every lane), t as `lane_answer` gives
         // it; ambiguous lanes and scenes with spheres go per ray, as in the renderer.
         let d = ray.d.map(f32x8::splat);
-        for prepared in [Prepared::Once(prepared), Prepared::AsMet] {
+        for prepared in [Some(&*prepared), None] {
             let found = bvh.closest_packet(ray.o, prepared, &d, packet::max_component(&d));
             let answer = match found {
                 Some(f) if f.ambiguous & 1 == 0 && f.prim[0] == u32::MAX => None,

@@ -7,7 +7,7 @@ mod common;
 
 use common::{cube, icosphere, Rng};
 use proptest::prelude::*;
-use raylab::accel::packet::{self, OriginTriangles, Prepared};
+use raylab::accel::packet::{self, OriginTriangles};
 use raylab::accel::IndexedTriangle;
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::closest_hit_reference;
@@ -457,7 +457,6 @@ proptest! {
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
         let prepared = accel.prepare_origin(o).unwrap();
-        let lazy = accel.prepare_origin_lazily(o).unwrap();
         let mut decided = 0;
         for _ in 0..24 {
             let coherent = rng.below(2) == 0;
@@ -476,11 +475,7 @@ proptest! {
                 [0, 1, 2].map(|k| target[k] - o[k])
             });
             let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-            let prepared = [
-                Prepared::Once(&prepared),
-                Prepared::Lazy(&lazy),
-                Prepared::AsMet,
-            ][rng.below(3)];
+            let prepared = [Some(&prepared), None][rng.below(2)];
             let found = accel
                 .closest_packet(o, prepared, &d, packet::max_component(&d))
                 .unwrap();
@@ -512,7 +507,6 @@ proptest! {
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let light = [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32);
         let prepared = accel.prepare_origin(light).unwrap();
-        let lazy = accel.prepare_origin_lazily(light).unwrap();
         let mut decided = 0;
         for _ in 0..24 {
             let mut skip = [u32::MAX; 8];
@@ -532,11 +526,7 @@ proptest! {
             });
             let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
             let valid = 0xff >> rng.below(3);
-            let prepared = [
-                Prepared::Once(&prepared),
-                Prepared::Lazy(&lazy),
-                Prepared::AsMet,
-            ][rng.below(3)];
+            let prepared = [Some(&prepared), None][rng.below(2)];
             let dm = packet::max_component(&d);
             let found = accel.blocked_packet(light, prepared, &d, dm, &skip, valid).unwrap();
             prop_assert_eq!((found.blocked | found.unsure) & !valid, 0);
@@ -623,49 +613,6 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
 }
 
 #[test]
-fn triangles_kept_as_first_met_are_the_ones_prepared_before_the_frame() {
-    // The renderer prepares a BVH's triangles as packets first meet them and keeps them for
-    // the frame (`LazyOriginTriangles`): a kept triangle must be the one prepared before the
-    // frame, bit for bit, whichever packet met it first; none is prepared that no packet
-    // reached; and the packets' answers are those with all triangles prepared.
-    let mut rng = Rng(5);
-    let shapes = bvh_scene(&mut rng);
-    let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
-    let o = [0.3, -0.2, -4.0];
-    let all = accel.prepare_origin(o).unwrap();
-    let lazy = accel.prepare_origin_lazily(o).unwrap();
-    assert_eq!((lazy.len(), lazy.prepared_count()), (all.tris.len(), 0));
-    // Two narrow bundles of rays, towards one corner of the scene and towards its centre.
-    for (target, n) in [([1.0, 1.0, 0.0], 4), ([0.0, 0.0, 0.0], 4)] {
-        for _ in 0..n {
-            let dirs: [[f32; 3]; 8] = std::array::from_fn(|_| {
-                [0, 1, 2].map(|k| target[k] + rng.range(-0.05, 0.05) as f32 - o[k])
-            });
-            let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-            let dm = packet::max_component(&d);
-            let want = accel.closest_packet(o, Prepared::Once(&all), &d, dm);
-            let got = accel.closest_packet(o, Prepared::Lazy(&lazy), &d, dm);
-            assert_eq!(got, want);
-        }
-    }
-    let kept = lazy.prepared_count();
-    assert!(
-        kept > 0 && kept < all.tris.len() / 2,
-        "{kept} of {} triangles kept",
-        all.tris.len()
-    );
-    // Each kept one equals the one prepared before.
-    let mut compared = 0;
-    for (i, before) in all.tris.iter().enumerate() {
-        if let Some(t) = lazy.kept(i) {
-            assert_eq!(format!("{t:?}"), format!("{before:?}"), "triangle {i}");
-            compared += 1;
-        }
-    }
-    assert_eq!(compared, kept);
-}
-
-#[test]
 fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
     // The packet kernels are compiled twice (baseline x86-64 and AVX2+FMA, chosen at run
     // time); both must give the same answers. Random scenes and packets through the flat
@@ -681,15 +628,12 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         let accel = raylab::accel::Accel::build(&bvh_shapes, raylab::accel::AccelChoice::Bvh);
         let bvh_prepared = accel.prepare_origin(o).unwrap();
         let run = || {
-            let lazy = accel.prepare_origin_lazily(o).unwrap();
             (
                 packet::closest(&prepared.tris, &d, dm),
-                accel.closest_packet(o, Prepared::Once(&bvh_prepared), &d, dm),
-                accel.closest_packet(o, Prepared::Lazy(&lazy), &d, dm),
-                accel.closest_packet(o, Prepared::AsMet, &d, dm),
-                accel.blocked_packet(o, Prepared::Once(&bvh_prepared), &d, dm, &[7; 8], 0xff),
-                accel.blocked_packet(o, Prepared::Lazy(&lazy), &d, dm, &[7; 8], 0xff),
-                accel.blocked_packet(o, Prepared::AsMet, &d, dm, &[7; 8], 0xff),
+                accel.closest_packet(o, Some(&bvh_prepared), &d, dm),
+                accel.closest_packet(o, None, &d, dm),
+                accel.blocked_packet(o, Some(&bvh_prepared), &d, dm, &[7; 8], 0xff),
+                accel.blocked_packet(o, None, &d, dm, &[7; 8], 0xff),
                 packet::shadow_from_origin(&prepared.tris, &d, dm, &[3; 8], 0xff),
             )
         };

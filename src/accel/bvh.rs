@@ -15,8 +15,8 @@
 
 use super::instances::PacketSink;
 use super::packet::{
-    AllOrAsMet, LazyPrepared, OriginTriangle, PacketHits, PacketNearest, PacketSeed, Prepared,
-    PreparedSource, ShadowHits, ShadowPacket,
+    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed, ShadowHits,
+    ShadowPacket,
 };
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -397,8 +397,8 @@ impl Bvh {
     /// the nearest triangle per lane as [`super::packet::closest`] over all triangles would
     /// decide it, as its position in the hierarchy's order ([`Bvh::triangles`]; `prim` of
     /// the result; u32::MAX for none), or ambiguous (to be traced per ray). The triangles
-    /// come from `prepared` (made for `o`: all before, as first met, or each time met; all
-    /// lanes ambiguous where it was made for another origin or another BVH).
+    /// come from `prepared` (made for `o`) or, without it, are prepared as the leaves are
+    /// reached.
     ///
     /// Packet traversal: a node is entered while its box meets some lane that is not yet
     /// ambiguous, nearer than that lane's [`PacketNearest::reach`] (with the margin of the
@@ -409,7 +409,7 @@ impl Bvh {
     pub fn closest_packet(
         &self,
         o: [f32; 3],
-        prepared: Prepared<'_>,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
     ) -> PacketHits {
@@ -421,40 +421,16 @@ impl Bvh {
     pub fn closest_packet_seeded(
         &self,
         o: [f32; 3],
-        prepared: Prepared<'_>,
-        d: &[f32x8; 3],
-        d_max: f32,
-        seed: Option<&PacketSeed>,
-    ) -> PacketHits {
-        if !prepared.fits(self.tris.len(), o) {
-            let mut all = PacketNearest::seeded(d, d_max, seed).finish();
-            all.ambiguous = 0xff;
-            return all;
-        }
-        match prepared {
-            Prepared::Once(p) => {
-                self.closest_packet_from(o, AllOrAsMet(Some(&p.tris)), d, d_max, seed)
-            }
-            Prepared::Lazy(l) => self.closest_packet_from(o, LazyPrepared(l), d, d_max, seed),
-            Prepared::AsMet => self.closest_packet_from(o, AllOrAsMet(None), d, d_max, seed),
-        }
-    }
-
-    /// [`Bvh::closest_packet_seeded`] with the triangles from `src`, compiled for each source.
-    #[inline(always)]
-    fn closest_packet_from<P: PreparedSource>(
-        &self,
-        o: [f32; 3],
-        src: P,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let bvh = self;
-        avx2_or_baseline!(Bvh::closest_packet_body::<P> => <P: PreparedSource> (
+        avx2_or_baseline!(Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
-            src: P,
+            prepared: Option<&OriginTriangles>,
             d: &[f32x8; 3],
             d_max: f32,
             seed: Option<&PacketSeed>
@@ -462,10 +438,10 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn closest_packet_body<P: PreparedSource>(
+    fn closest_packet_body(
         &self,
         o: [f32; 3],
-        prepared: P,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
@@ -474,6 +450,12 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return nearest.finish();
         };
+        let prepared = prepared.map(|p| &p.tris[..]);
+        if prepared.is_some_and(|p| p.len() != self.tris.len()) {
+            let mut all = nearest.finish();
+            all.ambiguous = 0xff;
+            return all;
+        }
         let rays = PacketSlabs::new(o, d, self.tame);
         if !rays.trusted {
             return self.closest_packet_untrusted(nearest, o, prepared);
@@ -496,8 +478,8 @@ impl Bvh {
             if n.count > 0 {
                 let first = n.offset as usize;
                 for i in first..first + n.count as usize {
-                    match prepared.kept(i, &self.tris, &self.prims) {
-                        Some(t) => nearest.offer(t, i as u32),
+                    match prepared {
+                        Some(p) => nearest.offer(&p[i], i as u32),
                         None => nearest.offer(
                             &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
                             i as u32,
@@ -556,15 +538,15 @@ impl Bvh {
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn closest_packet_untrusted<P: PreparedSource>(
+    fn closest_packet_untrusted(
         &self,
         mut nearest: PacketNearest,
         o: [f32; 3],
-        prepared: P,
+        prepared: Option<&[OriginTriangle]>,
     ) -> PacketHits {
         for i in 0..self.tris.len() {
-            match prepared.kept(i, &self.tris, &self.prims) {
-                Some(t) => nearest.offer(t, i as u32),
+            match prepared {
+                Some(p) => nearest.offer(&p[i], i as u32),
                 None => nearest.offer(
                     &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
                     i as u32,
@@ -577,15 +559,15 @@ impl Bvh {
     /// [`Bvh::blocked_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn blocked_packet_untrusted<P: PreparedSource>(
+    fn blocked_packet_untrusted(
         &self,
         mut packet: ShadowPacket,
         o: [f32; 3],
-        prepared: P,
+        prepared: Option<&OriginTriangles>,
     ) -> ShadowHits {
         for i in 0..self.tris.len() {
-            match prepared.kept(i, &self.tris, &self.prims) {
-                Some(t) => packet.offer(t),
+            match prepared {
+                Some(p) => packet.offer(&p.tris[i]),
                 None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
             }
         }
@@ -601,97 +583,39 @@ impl Bvh {
         &self,
         sink: &mut S,
         o: [f32; 3],
-        prepared: Prepared<'_>,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
     ) {
-        let prepared = match prepared.fits(self.tris.len(), o) {
-            true => prepared,
-            false => Prepared::AsMet,
-        };
+        let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
         let slabs = PacketSlabs::new(o, d, self.tame);
-        let bvh = self;
-        match prepared {
-            Prepared::Once(p) => self.walk_packet(
-                &slabs,
-                0.0,
-                sink,
-                &mut OwnLeaves {
-                    bvh,
-                    o,
-                    src: AllOrAsMet(Some(&p.tris)),
-                },
-            ),
-            Prepared::Lazy(l) => self.walk_packet(
-                &slabs,
-                0.0,
-                sink,
-                &mut OwnLeaves {
-                    bvh,
-                    o,
-                    src: LazyPrepared(l),
-                },
-            ),
-            Prepared::AsMet => self.walk_packet(
-                &slabs,
-                0.0,
-                sink,
-                &mut OwnLeaves {
-                    bvh,
-                    o,
-                    src: AllOrAsMet(None),
-                },
-            ),
-        }
+        let mut leaves = OwnLeaves {
+            bvh: self,
+            o,
+            prepared: prepared.map(|p| &p.tris[..]),
+        };
+        self.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
 
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
     /// (`d_max` ≥ every |dₖ|): per lane of `valid`, blocked for 0 < t < 1 by a triangle other
     /// than its `skip` primitive, or unsure (to be traced per ray); see
     /// [`crate::accel::packet::shadow_from_origin`]. `prepared`: the triangles prepared for
-    /// `o` (in the BVH's order), as for [`Bvh::closest_packet`]. Boxes are
+    /// `o` (in the BVH's order), or `None` to prepare them as the packet meets them. Boxes are
     /// entered up to t = 1 + 2⁻¹⁶ (the culling margin of the module docs).
     pub fn blocked_packet(
         &self,
         o: [f32; 3],
-        prepared: Prepared<'_>,
-        d: &[f32x8; 3],
-        d_max: f32,
-        skip: &[u32; 8],
-        valid: u32,
-    ) -> ShadowHits {
-        if !prepared.fits(self.tris.len(), o) {
-            return ShadowHits {
-                blocked: 0,
-                unsure: valid,
-            };
-        }
-        match prepared {
-            Prepared::Once(p) => {
-                self.blocked_packet_from(o, AllOrAsMet(Some(&p.tris)), d, d_max, skip, valid)
-            }
-            Prepared::Lazy(l) => {
-                self.blocked_packet_from(o, LazyPrepared(l), d, d_max, skip, valid)
-            }
-            Prepared::AsMet => self.blocked_packet_from(o, AllOrAsMet(None), d, d_max, skip, valid),
-        }
-    }
-
-    /// [`Bvh::blocked_packet`] with the triangles from `src`, compiled for each source.
-    #[inline(always)]
-    fn blocked_packet_from<P: PreparedSource>(
-        &self,
-        o: [f32; 3],
-        src: P,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        avx2_or_baseline!(Bvh::blocked_packet_body::<P> => <P: PreparedSource> (
+        avx2_or_baseline!(Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
-            src: P,
+            prepared: Option<&OriginTriangles>,
             d: &[f32x8; 3],
             d_max: f32,
             skip: &[u32; 8],
@@ -700,10 +624,10 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn blocked_packet_body<P: PreparedSource>(
+    fn blocked_packet_body(
         &self,
         o: [f32; 3],
-        prepared: P,
+        prepared: Option<&OriginTriangles>,
         d: &[f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -713,6 +637,12 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return packet.finish();
         };
+        if prepared.is_some_and(|p| p.tris.len() != self.tris.len() || p.origin != o) {
+            return ShadowHits {
+                blocked: 0,
+                unsure: valid,
+            };
+        }
         let rays = PacketSlabs::new(o, d, self.tame);
         if !rays.trusted {
             return self.blocked_packet_untrusted(packet, o, prepared);
@@ -729,8 +659,8 @@ impl Bvh {
             if n.count > 0 {
                 let first = n.offset as usize;
                 for i in first..first + n.count as usize {
-                    match prepared.kept(i, &self.tris, &self.prims) {
-                        Some(t) => packet.offer(t),
+                    match prepared {
+                        Some(p) => packet.offer(&p.tris[i]),
                         None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
                     }
                 }
@@ -939,20 +869,23 @@ pub(crate) trait Leaves<S> {
 }
 
 /// A hierarchy's own triangles, prepared for `o` (or as met).
-struct OwnLeaves<'a, P> {
+struct OwnLeaves<'a> {
     bvh: &'a Bvh,
     o: [f32; 3],
-    src: P,
+    prepared: Option<&'a [OriginTriangle]>,
 }
 
-impl<S: PacketSink, P: PreparedSource> Leaves<S> for OwnLeaves<'_, P> {
+impl<S: PacketSink> Leaves<S> for OwnLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
-        let (tris, prims) = (&self.bvh.tris, &self.bvh.prims);
         for i in first..first + count {
-            match self.src.kept(i, tris, prims) {
-                Some(t) => sink.take(t),
-                None => sink.take(&OriginTriangle::new(&tris[i], self.o, prims[i])),
+            match self.prepared {
+                Some(p) => sink.take(&p[i]),
+                None => sink.take(&OriginTriangle::new(
+                    &self.bvh.tris[i],
+                    self.o,
+                    self.bvh.prims[i],
+                )),
             }
         }
     }

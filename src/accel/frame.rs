@@ -19,10 +19,8 @@
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
-//!   triangles are prepared all before the frame where there are many camera rays per
-//!   triangle ([`PREPARE_ONCE_RAYS_PER_TRIANGLE`]), as a packet first meets them and kept for
-//!   the frame where there are fewer ([`PREPARE_KEPT_RAYS_PER_TRIANGLE`]), else each time a
-//!   packet meets one;
+//!   triangles are prepared once per frame where there are at least as many camera rays as
+//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
 //! - otherwise **per ray** through the scene's structure.
 //!
 //! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
@@ -40,7 +38,7 @@
 
 use super::cull::{Box3, Occluder, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
-use super::packet::{self, LazyOriginTriangles, OriginTriangles, PacketHits, PacketSeed, Prepared};
+use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
@@ -57,22 +55,10 @@ pub use super::packet::OriginTriangle;
 pub const NO_HIT: u32 = u32::MAX;
 
 /// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
-/// the light) all before the frame, in parallel. Preparing one costs about 400 instructions
-/// (callgrind). With this many rays each triangle is met often, and the kept copies of
-/// [`PREPARE_KEPT_RAYS_PER_TRIANGLE`] cost more wall time than they save: the bunny at
-/// 1280×720 (13 rays per triangle), 2 threads, 4–6% slower kept as first met, though 1.1%
-/// fewer instructions (the threads share the slots they write).
-pub const PREPARE_ONCE_RAYS_PER_TRIANGLE: usize = 8;
-
-/// Camera rays per triangle from which (up to [`PREPARE_ONCE_RAYS_PER_TRIANGLE`]) a BVH
-/// scene's triangles are prepared as a packet first meets them and kept for the frame
-/// ([`packet::LazyOriginTriangles`]); below it each is prepared whenever a packet meets it.
-/// Measured against preparing all before the frame: the bunny at 640×360 (3.3 rays per
-/// triangle) 9.9% fewer instructions (1 thread), 3% less wall time (2 threads), with shadows
-/// 10% and 8%. Below one ray per triangle a triangle is rarely met twice and keeping it does
-/// not pay (Igea at 640×360, 0.9 rays per triangle: 12% more instructions than preparing each
-/// when met).
-pub const PREPARE_KEPT_RAYS_PER_TRIANGLE: usize = 1;
+/// the light) once per frame rather than as each packet meets them. Preparing one costs about
+/// 400 instructions (callgrind); at 1280×720 the bunny's 69k triangles are met about 5 times
+/// each per frame, the 1M-triangle mesh's fewer than once.
+pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
 
 /// What the accelerator needs to know of a frame.
 #[derive(Clone, Copy, Debug)]
@@ -124,44 +110,12 @@ enum Plan<'a> {
         /// All triangles with their boxes (with shadows).
         occluders: Vec<Occluder>,
     },
-    /// Camera rays and shadow segments 8 at a time through the BVH (adaptive), the triangles
-    /// prepared for the eye and for the light as [`Preparation`] says.
+    /// Camera rays and shadow segments 8 at a time through the BVH (adaptive); the triangles
+    /// prepared once per frame, or as met (`None`).
     BvhPackets {
-        from_eye: Preparation,
-        from_light: Preparation,
+        from_eye: Option<OriginTriangles>,
+        from_light: Option<OriginTriangles>,
     },
-}
-
-/// How a BVH frame prepares its triangles for one origin (the eye or the light).
-enum Preparation {
-    /// All of them before the frame.
-    Once(OriginTriangles),
-    /// Each as a packet first meets it, kept for the frame.
-    Lazy(LazyOriginTriangles),
-    /// Each time a packet meets one (instanced meshes: a placement's own origin).
-    AsMet,
-}
-
-impl Preparation {
-    fn new(accel: &Accel, origin: [f32; 3], rays: usize) -> Self {
-        let n = accel.stored_triangle_count();
-        let made = if n.saturating_mul(PREPARE_ONCE_RAYS_PER_TRIANGLE) <= rays {
-            accel.prepare_origin(origin).map(Preparation::Once)
-        } else if n.saturating_mul(PREPARE_KEPT_RAYS_PER_TRIANGLE) <= rays {
-            accel.prepare_origin_lazily(origin).map(Preparation::Lazy)
-        } else {
-            None
-        };
-        made.unwrap_or(Preparation::AsMet)
-    }
-
-    fn get(&self) -> Prepared<'_> {
-        match self {
-            Preparation::Once(p) => Prepared::Once(p),
-            Preparation::Lazy(l) => Prepared::Lazy(l),
-            Preparation::AsMet => Prepared::AsMet,
-        }
-    }
 }
 
 /// The queries of one frame ([`Accel::for_frame`]).
@@ -286,6 +240,10 @@ impl Accel {
             _ => None,
         };
         let packets = method == Method::Adaptive && !setup.per_ray;
+        let prepare_once = self
+            .stored_triangle_count()
+            .saturating_mul(PREPARE_RAYS_PER_TRIANGLE)
+            <= setup.camera_rays;
         let plan = match culling {
             Some(culling) if packets => {
                 let tris = culling.tris;
@@ -308,11 +266,12 @@ impl Accel {
             }
             Some(culling) => Plan::Culled(culling),
             None if packets && self.kind() == AccelKind::Bvh => Plan::BvhPackets {
-                from_eye: Preparation::new(self, setup.eye, setup.camera_rays),
-                from_light: match setup.shadows {
-                    true => Preparation::new(self, setup.light, setup.camera_rays),
-                    false => Preparation::AsMet,
-                },
+                from_eye: prepare_once
+                    .then(|| self.prepare_origin(setup.eye))
+                    .flatten(),
+                from_light: (prepare_once && setup.shadows)
+                    .then(|| self.prepare_origin(setup.light))
+                    .flatten(),
             },
             None => Plan::PerRay,
         };
@@ -437,7 +396,7 @@ impl TileQueries<'_> {
                 })
             }
             Plan::BvhPackets {
-                from_eye: Preparation::Once(prepared),
+                from_eye: Some(prepared),
                 ..
             } => frame
                 .accel
@@ -478,7 +437,7 @@ impl TileQueries<'_> {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
-                .closest_packet_of_triangles(frame.eye, from_eye.get(), d, d_max, seed)
+                .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max, seed)
                 .unwrap_or_else(PacketHits::undecided),
             _ => PacketHits::undecided(),
         }
@@ -574,14 +533,10 @@ impl TileQueries<'_> {
                     let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);
                     if valid != 0 {
                         let d_max = packet::max_component(&s.d);
+                        let prepared = from_light.as_ref();
                         let found = accel
                             .blocked_packet_of_triangles(
-                                light,
-                                from_light.get(),
-                                &s.d,
-                                d_max,
-                                &s.prim,
-                                valid,
+                                light, prepared, &s.d, d_max, &s.prim, valid,
                             )
                             .expect("a BVH plan has a BVH");
                         *out |= found.blocked;

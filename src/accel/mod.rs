@@ -321,15 +321,6 @@ impl Accel {
         }
     }
 
-    /// Empty slots for the BVH's triangles prepared for rays from `origin` as the packets
-    /// first meet them ([`packet::LazyOriginTriangles`]; `None` for the flat loop).
-    pub fn prepare_origin_lazily(&self, origin: [f32; 3]) -> Option<packet::LazyOriginTriangles> {
-        match &self.triangles {
-            Triangles::Bvh(b) => Some(packet::LazyOriginTriangles::new(b.len(), origin)),
-            Triangles::Flat(_) => None,
-        }
-    }
-
     /// The adaptive nearest hit for a ray from the origin `prepared` was made for: the same
     /// primitive as [`Accel::closest_hit`] with [`Method::Adaptive`], found with the cheaper
     /// shared-origin f32 level. Falls back to that when the structure is not a BVH.
@@ -360,16 +351,15 @@ impl Accel {
     }
 
     /// Camera rays 8 at a time from one origin `o` through the BVH
-    /// ([`bvh::Bvh::closest_packet`]; `prepared`: the triangles prepared for `o`, all by
-    /// [`Accel::prepare_origin`], as first met by [`Accel::prepare_origin_lazily`], or as
-    /// met, [`packet::Prepared`]): per
+    /// ([`bvh::Bvh::closest_packet`]; `prepared`: the triangles prepared for `o` by
+    /// [`Accel::prepare_origin`], or `None` to prepare them as the packet meets them): per
     /// lane the primitive [`Accel::closest_hit`] with [`Method::Adaptive`] names (u32::MAX for
     /// none), and the lanes left ambiguous, to be traced per ray. `None` where there is no
     /// BVH or there are other shapes.
     pub fn closest_packet(
         &self,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
     ) -> Option<packet::PacketHits> {
@@ -386,7 +376,7 @@ impl Accel {
     pub(crate) fn closest_packet_of_triangles(
         &self,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
@@ -408,14 +398,14 @@ impl Accel {
     }
 
     /// Shadow segments 8 at a time from one origin `o` (the light) through the BVH
-    /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o`, as for
-    /// [`Accel::closest_packet`]): per lane whether
+    /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o` by
+    /// [`Accel::prepare_origin`], or `None` to prepare them as met): per lane whether
     /// [`Accel::any_hit_except`] with [`Method::Adaptive`] answers "blocked" for 0 < t < 1,
     /// or unsure. `None` where there is no BVH or there are other shapes.
     pub fn blocked_packet(
         &self,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -432,7 +422,7 @@ impl Accel {
     pub(crate) fn blocked_packet_of_triangles(
         &self,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -512,7 +502,7 @@ fn closest_with_instances(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: packet::Prepared<'_>,
+    prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
@@ -521,7 +511,7 @@ fn closest_with_instances(
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>
@@ -533,7 +523,7 @@ fn closest_with_instances_body(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: packet::Prepared<'_>,
+    prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
@@ -551,7 +541,7 @@ fn blocked_with_instances(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: packet::Prepared<'_>,
+    prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],
@@ -561,7 +551,7 @@ fn blocked_with_instances(
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
-        prepared: packet::Prepared<'_>,
+        prepared: Option<&packet::OriginTriangles>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -575,7 +565,7 @@ fn blocked_with_instances_body(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: packet::Prepared<'_>,
+    prepared: Option<&packet::OriginTriangles>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],

@@ -22,7 +22,6 @@ use crate::geometry::exact;
 use crate::math::simd::{avx2_or_baseline, each3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
-use std::sync::OnceLock;
 use wide::f32x8;
 
 /// Unit roundoff of f32 and f64.
@@ -260,118 +259,6 @@ impl OriginTriangles {
             },
             origin,
         }
-    }
-}
-
-/// A frame's triangles prepared for one origin as the packets first meet them, and kept for
-/// the rest of the frame: no triangle is prepared that no packet reaches (most of a mesh's
-/// back, or all but the visible part at a preview's low resolution), none twice. (A thread
-/// meeting a triangle another is preparing waits for it: about 400 instructions.)
-pub struct LazyOriginTriangles {
-    /// The origin the triangles are prepared for.
-    pub origin: [f32; 3],
-    slots: Vec<OnceLock<OriginTriangle>>,
-}
-
-impl LazyOriginTriangles {
-    /// `n` empty slots for rays from `origin`.
-    pub fn new(n: usize, origin: [f32; 3]) -> Self {
-        // In parallel for large meshes, as `OriginTriangles::new`: first writes to fresh
-        // memory cost page faults, which a single thread would take one after another.
-        let slots = match n >= 4096 {
-            true => (0..n).into_par_iter().map(|_| OnceLock::new()).collect(),
-            false => (0..n).map(|_| OnceLock::new()).collect(),
-        };
-        Self { origin, slots }
-    }
-
-    /// The number of slots.
-    pub fn len(&self) -> usize {
-        self.slots.len()
-    }
-
-    /// Whether there are no slots.
-    pub fn is_empty(&self) -> bool {
-        self.slots.is_empty()
-    }
-
-    /// How many triangles have been prepared and kept so far.
-    pub fn prepared_count(&self) -> usize {
-        self.slots.iter().filter(|s| s.get().is_some()).count()
-    }
-
-    /// Triangle `i` if a packet has met it (prepared and kept), else `None`.
-    pub fn kept(&self, i: usize) -> Option<&OriginTriangle> {
-        self.slots.get(i).and_then(OnceLock::get)
-    }
-
-    /// Triangle `i` (vertices `v`, primitive `prim`) prepared for the origin, prepared and
-    /// kept now where no packet has met it yet.
-    #[inline(always)]
-    pub fn get(&self, i: usize, v: &[[f32; 3]; 3], prim: u32) -> &OriginTriangle {
-        self.slots[i].get_or_init(|| OriginTriangle::new(v, self.origin, prim))
-    }
-}
-
-/// Where a packet walk takes its triangles prepared for the rays' origin.
-#[derive(Clone, Copy)]
-pub enum Prepared<'a> {
-    /// All prepared before the frame.
-    Once(&'a OriginTriangles),
-    /// Prepared as first met, kept for the frame.
-    Lazy(&'a LazyOriginTriangles),
-    /// Prepared each time a packet meets one.
-    AsMet,
-}
-
-impl<'a> From<Option<&'a OriginTriangles>> for Prepared<'a> {
-    fn from(p: Option<&'a OriginTriangles>) -> Self {
-        p.map_or(Prepared::AsMet, Prepared::Once)
-    }
-}
-
-impl Prepared<'_> {
-    /// Whether these were made for `n` triangles seen from `origin` (as met always fits).
-    pub fn fits(&self, n: usize, origin: [f32; 3]) -> bool {
-        match self {
-            Prepared::Once(p) => p.tris.len() == n && p.origin == origin,
-            Prepared::Lazy(l) => l.len() == n && l.origin == origin,
-            Prepared::AsMet => true,
-        }
-    }
-}
-
-/// Where a kernel takes its prepared triangles from; the kernels are compiled once per source.
-pub(crate) trait PreparedSource: Copy {
-    /// Triangle `i` of `tris` (primitives `prims`) as kept prepared, preparing and keeping it
-    /// if need be; `None` where the caller prepares it for this one use. (No closure: one
-    /// would stay a call outside the kernel's AVX2 build, 10% of a bunny frame. The slices,
-    /// not the triangle, are passed, so that an index a source does not use is not checked.)
-    fn kept(&self, i: usize, tris: &[[[f32; 3]; 3]], prims: &[u32]) -> Option<&OriginTriangle>;
-}
-
-/// [`Prepared::Once`] (`Some`: all prepared, in the walk's order) or [`Prepared::AsMet`]
-/// (`None`): one source, so that one kernel serves both with a branch per triangle, the code
-/// these two paths had before kept copies (a kernel of its own for each was 1.6% more
-/// instructions and 5% more wall time on the bunny at 1280×720).
-#[derive(Clone, Copy)]
-pub(crate) struct AllOrAsMet<'a>(pub Option<&'a [OriginTriangle]>);
-
-/// [`Prepared::Lazy`].
-#[derive(Clone, Copy)]
-pub(crate) struct LazyPrepared<'a>(pub &'a LazyOriginTriangles);
-
-impl PreparedSource for AllOrAsMet<'_> {
-    #[inline(always)]
-    fn kept(&self, i: usize, _: &[[[f32; 3]; 3]], _: &[u32]) -> Option<&OriginTriangle> {
-        self.0.map(|p| &p[i])
-    }
-}
-
-impl PreparedSource for LazyPrepared<'_> {
-    #[inline(always)]
-    fn kept(&self, i: usize, tris: &[[[f32; 3]; 3]], prims: &[u32]) -> Option<&OriginTriangle> {
-        Some(self.0.get(i, &tris[i], prims[i]))
     }
 }
 

@@ -18,20 +18,6 @@ macro_rules! avx2_or_baseline {
         }
         $body($($arg),*)
     }};
-    // A kernel generic over one type (`$g`, bounded by `$bound`), compiled twice per type.
-    ($body:path => <$g:ident: $bound:path> ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        if $crate::math::simd::has_avx2() {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2<$g: $bound>($($arg: $ty),*) -> $ret {
-                $body($($arg),*)
-            }
-            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-            #[allow(unsafe_code)]
-            return unsafe { avx2::<$g>($($arg),*) };
-        }
-        $body($($arg),*)
-    }};
 }
 pub(crate) use avx2_or_baseline;
 
