@@ -340,6 +340,24 @@ struct Versus {
     embree_best: Duration,
 }
 
+/// A mesh's builds, best of the rounds (raylab's and Embree's alternating), and raylab's
+/// structure's size.
+struct Builds {
+    scene: String,
+    raylab: Duration,
+    embree: Option<Duration>,
+    raylab_bytes: usize,
+}
+
+/// What one run found, for the summaries.
+#[derive(Default)]
+struct Found {
+    versus: Vec<Versus>,
+    builds: Vec<Builds>,
+    /// (scene, size, threads, step, best frame) of raylab's own renders.
+    frames: Vec<(String, String, usize, &'static str, Duration)>,
+}
+
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let sizes: Vec<(u32, u32)> = args
@@ -377,15 +395,16 @@ fn main() -> anyhow::Result<()> {
     println!();
     println!("| scene | size | threads | method | build ms | best frame ms | Mrays/s | time / raylab render | missed | extra hits | other triangle |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    let mut versus = Vec::new();
+    let mut found = Found::default();
     for bench in &benches {
-        versus.extend(run_bench(bench, &sizes, &args, embree.as_ref().ok())?);
+        run_bench(bench, &sizes, &args, embree.as_ref().ok(), &mut found)?;
     }
+    let versus = &found.versus;
     if !versus.is_empty() {
         println!();
         println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | target |");
         println!("|---|---|---|---|---|---|---|");
-        for v in &versus {
+        for v in versus {
             let target = match v.scene.as_str() {
                 "cornell" => "≥ 2.5",
                 "bunny" => "≥ 1.5",
@@ -404,6 +423,47 @@ fn main() -> anyhow::Result<()> {
             );
         }
     }
+    if !found.builds.is_empty() {
+        println!();
+        println!("| scene | raylab build ms (its structure) | Embree HIGH build ms | raylab / Embree build time | raylab structure MB | targets (1M mesh) |");
+        println!("|---|---|---|---|---|---|");
+        for b in &found.builds {
+            let embree = b
+                .embree
+                .map_or("–".into(), |e| format!("{:.1}", e.as_secs_f64() * 1e3));
+            let ratio = b.embree.map_or("–".into(), |e| {
+                format!("{:.2}", b.raylab.as_secs_f64() / e.as_secs_f64())
+            });
+            let target = match b.scene.as_str() {
+                "igea_1m" => "build ≤ 0.5× Embree's; ≤ 100 MB",
+                _ => "",
+            };
+            println!(
+                "| {} | {:.1} | {embree} | {ratio} | {:.1} | {target} |",
+                b.scene,
+                b.raylab.as_secs_f64() * 1e3,
+                b.raylab_bytes as f64 / 1e6
+            );
+        }
+    }
+    let targets: Vec<_> = (found.frames.iter())
+        .filter_map(|(scene, size, threads, step, t)| {
+            let want = match (scene.as_str(), size.as_str(), step) {
+                ("cornell", "1280x720", &"shadows") => 60.0,
+                ("field", "1280x720", &"flat") => 15.0,
+                _ => return None,
+            };
+            Some((scene, size, threads, step, 1.0 / t.as_secs_f64(), want))
+        })
+        .collect();
+    if !targets.is_empty() {
+        println!();
+        println!("| scene | size | threads | step | raylab frames/s | target |");
+        println!("|---|---|---|---|---|---|");
+        for (scene, size, threads, step, fps, want) in targets {
+            println!("| {scene} | {size} | {threads} | {step} | {fps:.1} | ≥ {want} |");
+        }
+    }
     Ok(())
 }
 
@@ -412,17 +472,54 @@ fn run_bench(
     sizes: &[(u32, u32)],
     args: &Args,
     embree: Option<&Embree>,
-) -> anyhow::Result<Vec<Versus>> {
+    found: &mut Found,
+) -> anyhow::Result<()> {
     let tris = &bench.triangles;
-    let (accel, raylab_build) = timed(|| bench.scene.accel());
+    let (accel, mut raylab_build) = timed(|| bench.scene.accel());
     let peers = !tris.is_empty();
-    let embree_scene = match (embree, peers) {
+    let mut embree_scene = match (embree, peers) {
         (Some(e), true) => {
             let (s, t) = timed(|| e.scene(tris));
             Some((s.map_err(|e| anyhow!(e))?, t))
         }
         _ => None,
     };
+    // The builds again, interleaved, on as many threads as the largest count (each builder's
+    // own parallelism: rayon's pool for raylab, Embree's task threads).
+    if peers {
+        let threads = args.threads.iter().copied().max().unwrap_or(1);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        for round in 1..args.rounds {
+            let raylab_round = || {
+                let (_, t) = pool.install(|| {
+                    timed(|| raylab::accel::Accel::build(&bench.scene.shapes, Default::default()))
+                });
+                t
+            };
+            let embree_round = |embree_scene: &mut Option<(embree::EmbreeScene<'_>, Duration)>| {
+                if let (Some(e), Some((_, best))) = (embree, embree_scene.as_mut()) {
+                    let (s, t) = timed(|| e.scene(tris));
+                    drop(s);
+                    *best = (*best).min(t);
+                }
+            };
+            if round % 2 == 1 {
+                embree_round(&mut embree_scene);
+                raylab_build = raylab_build.min(raylab_round());
+            } else {
+                raylab_build = raylab_build.min(raylab_round());
+                embree_round(&mut embree_scene);
+            }
+        }
+        found.builds.push(Builds {
+            scene: bench.name.clone(),
+            raylab: raylab_build,
+            embree: embree_scene.as_ref().map(|(_, t)| *t),
+            raylab_bytes: accel.memory_bytes(),
+        });
+    }
     let vertices: Vec<[f32; 4]> = tris
         .iter()
         .flat_map(|t| t.map(|v| [v[0], v[1], v[2], 0.0]))
@@ -452,7 +549,6 @@ fn run_bench(
             )
         })
     });
-    let mut versus = Vec::new();
     for &(w, h) in sizes {
         let cam = camera_for(bench, w, h)?;
         let gen = cam.ray_generator(w, h);
@@ -632,8 +728,18 @@ fn run_bench(
                 .filter(|(m, _)| m.name.starts_with("Embree"))
                 .map(|(_, t)| *t)
                 .min();
+            for (m, t) in methods.iter().zip(&best) {
+                let step = match m.name.as_str() {
+                    "raylab render (adaptive, exact)" => "flat",
+                    "raylab render, shadows step" => "shadows",
+                    _ => continue,
+                };
+                found
+                    .frames
+                    .push((bench.name.clone(), format!("{w}x{h}"), threads, step, *t));
+            }
             if let Some(embree_best) = embree_best {
-                versus.push(Versus {
+                found.versus.push(Versus {
                     scene: bench.name.clone(),
                     size: format!("{w}x{h}"),
                     threads,
@@ -643,5 +749,5 @@ fn run_bench(
             }
         }
     }
-    Ok(versus)
+    Ok(())
 }
