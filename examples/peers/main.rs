@@ -25,7 +25,8 @@
 //!
 //! Accuracy columns: against raylab's exact per-ray answer (the nearest triangle along the
 //! f32 ray), the rays a method missed where the exact answer hits (a leak), hit where it
-//! misses, or named another triangle (on a shared edge both are nearest: a tie, not an error).
+//! misses, or named another triangle: a tie where that one is hit at exactly the same t (on a
+//! shared edge both are nearest), else wrong.
 
 mod embree;
 
@@ -40,6 +41,7 @@ use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
+use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::Scene;
@@ -238,18 +240,47 @@ fn lecture_closest(tris: &[[[f32; 3]; 3]], ray: &Ray) -> Option<u32> {
     best.1
 }
 
-/// Counts of rays where `got` disagrees with the exact `reference`: (missed, extra, other).
-fn disagreements(reference: &[Option<u32>], got: &[Option<u32>]) -> (usize, usize, usize) {
-    let mut counts = (0, 0, 0);
-    for (r, g) in reference.iter().zip(got) {
+/// How a method's answers differ from the exact `reference` answers.
+#[derive(Default)]
+struct Disagreements {
+    /// The exact answer hits, the method missed (a leak).
+    missed: usize,
+    /// The method hit where the exact answer misses.
+    extra: usize,
+    /// Another triangle, hit at exactly the same t (a shared edge: both are nearest).
+    ties: usize,
+    /// Another triangle, farther or not hit at all.
+    wrong: usize,
+}
+
+/// Compares `got` with the exact `reference` answers for `rays` over `tris`. A different
+/// triangle is a tie where the exact reference search over the two, in either order, names
+/// the first (it breaks exact ties by the lower index).
+fn disagreements(
+    tris: &[[[f32; 3]; 3]],
+    rays: &[Ray],
+    reference: &[Option<u32>],
+    got: &[Option<u32>],
+) -> Disagreements {
+    let mut d = Disagreements::default();
+    for ((r, g), ray) in reference.iter().zip(got).zip(rays) {
         match (r, g) {
-            (Some(_), None) => counts.0 += 1,
-            (None, Some(_)) => counts.1 += 1,
-            (Some(a), Some(b)) if a != b => counts.2 += 1,
+            (Some(_), None) => d.missed += 1,
+            (None, Some(_)) => d.extra += 1,
+            (Some(a), Some(b)) if a != b => {
+                let pair = |x: u32, y: u32| {
+                    let shapes = [tris[x as usize], tris[y as usize]].map(Shape::Triangle);
+                    closest_hit_reference(&shapes, ray, 0.0, f32::INFINITY).map(|h| h.prim)
+                };
+                match (pair(*a, *b), pair(*b, *a)) {
+                    (Some(0), Some(0)) => d.ties += 1,
+                    _ => d.wrong += 1,
+                }
+            }
             _ => {}
         }
     }
-    counts
+    d
 }
 
 /// tinybvh's C++ `Ray` as the bundled `tiny_bvh.h` (INST_IDX_BITS 32) lays it out: 128 bytes,
@@ -393,8 +424,8 @@ fn main() -> anyhow::Result<()> {
     );
     let benches = load_benches(&args.scenes)?;
     println!();
-    println!("| scene | size | threads | method | build ms | best frame ms | Mrays/s | time / raylab render | missed | extra hits | other triangle |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| scene | size | threads | method | build ms | best frame ms | Mrays/s | time / raylab render | missed | extra hits | other triangle, a tie | other triangle, wrong |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut found = Found::default();
     for bench in &benches {
         run_bench(bench, &sizes, &args, embree.as_ref().ok(), &mut found)?;
@@ -705,11 +736,11 @@ fn run_bench(
                 let s = best[i].as_secs_f64();
                 let accuracy = match (&reference, &answers[i]) {
                     (Some(r), Some(a)) => {
-                        let (missed, extra, other) = disagreements(r, a);
-                        format!("{missed} | {extra} | {other}")
+                        let d = disagreements(tris, &rays, r, a);
+                        format!("{} | {} | {} | {}", d.missed, d.extra, d.ties, d.wrong)
                     }
-                    (Some(_), None) if Some(i) == reference_index => "reference | | ".into(),
-                    _ => "– | – | –".into(),
+                    (Some(_), None) if Some(i) == reference_index => "reference | | | ".into(),
+                    _ => "– | – | – | –".into(),
                 };
                 println!(
                     "| {} | {w}x{h} | {threads} | {} | {} | {:.2} | {:.1} | {:.2} | {accuracy} |",
