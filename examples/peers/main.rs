@@ -79,11 +79,32 @@ unsafe impl<T> Sync for Shared<T> {}
 /// ray, and returns the number of rays that hit something.
 type Frame<'a> = Box<dyn Fn(&mut [Option<u32>]) -> u64 + Sync + 'a>;
 
+/// What a timed method is, for the accuracy columns and the summaries.
+#[derive(Clone, Copy, PartialEq)]
+enum Role {
+    /// raylab's whole frame at this lab step ("flat", "shadows").
+    Render(&'static str),
+    /// raylab's exact per-ray query: the answers the others are checked against.
+    Reference,
+    /// One of Embree's modes.
+    Embree,
+    /// Another peer answering per ray (its answers are checked).
+    Peer,
+    /// The lecture's loop on every Nth ray (no answers kept).
+    Lecture,
+}
+
+impl Role {
+    /// Whether the method fills the primitive buffer (its accuracy is checked).
+    fn answers_per_ray(self) -> bool {
+        matches!(self, Role::Reference | Role::Embree | Role::Peer)
+    }
+}
+
 struct Timed<'a> {
     name: String,
+    role: Role,
     build: Option<Duration>,
-    /// Whether it fills the primitive buffer (its accuracy is checked).
-    answers_per_ray: bool,
     frame: Frame<'a>,
 }
 
@@ -157,15 +178,8 @@ fn camera_for(bench: &Bench, w: u32, h: u32) -> anyhow::Result<Camera> {
     if bench.name == "cornell" {
         return Ok(Camera::cornell(w));
     }
-    if let Some(c) = bench.scene.camera {
-        let position = glam::DVec3::from_array(c.position);
-        let (yaw, pitch) = (c.yaw.to_radians(), c.pitch.to_radians());
-        return Ok(Camera::from_yaw_pitch(
-            position,
-            yaw,
-            pitch,
-            c.focal_ratio() * w as f64,
-        )?);
+    if let Some(c) = &bench.scene.camera {
+        return Ok(CameraController::from_scene_camera(c, bench.scene.size()).camera(w));
     }
     let bounds = bench.scene.bounds().context("empty scene")?;
     Ok(CameraController::framing(bounds, w, h).camera(w))
@@ -556,12 +570,11 @@ fn run_bench(
         .flat_map(|t| t.map(|v| [v[0], v[1], v[2], 0.0]))
         .collect();
     let tiny = match peers {
-        true => Some(timed(|| build_tinybvh(&vertices))),
+        true => {
+            let (t, d) = timed(|| build_tinybvh(&vertices));
+            Some((t?, d))
+        }
         false => None,
-    };
-    let tiny = match tiny {
-        Some((t, d)) => Some((t?, d)),
-        None => None,
     };
     let otris: Vec<Triangle> = tris
         .iter()
@@ -599,15 +612,15 @@ fn run_bench(
         };
         let mut methods: Vec<Timed> = vec![Timed {
             name: "raylab render (adaptive, exact)".into(),
+            role: Role::Render("flat"),
             build: Some(raylab_build),
-            answers_per_ray: false,
             frame: Box::new(|_| render_image(&bench.scene, &cam, &flat).map_or(0, |r| r.1.hits)),
         }];
         if bench.name == "cornell" || bench.name == "field" {
             methods.push(Timed {
                 name: "raylab render, shadows step".into(),
+                role: Role::Render("shadows"),
                 build: Some(raylab_build),
-                answers_per_ray: false,
                 frame: Box::new(|_| {
                     render_image(&bench.scene, &cam, &shadows).map_or(0, |r| r.1.hits)
                 }),
@@ -616,8 +629,8 @@ fn run_bench(
         if peers {
             methods.push(Timed {
                 name: "raylab closest_hit per ray (adaptive, exact)".into(),
+                role: Role::Reference,
                 build: Some(raylab_build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| {
                     per_ray(&rays, prims, |r| {
                         accel
@@ -630,22 +643,22 @@ fn run_bench(
         if let Some((scene, build)) = &embree_scene {
             methods.push(Timed {
                 name: "Embree rtcIntersect1 (f32)".into(),
+                role: Role::Embree,
                 build: Some(*build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| per_ray(&rays, prims, |r| scene.closest1(r.o, r.d))),
             });
             methods.push(Timed {
                 name: "Embree rtcIntersect8, 4×2 blocks (f32)".into(),
+                role: Role::Embree,
                 build: Some(*build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| {
                     embree_packets::<8>(&rays, (w, h), (4, 2), prims, |p, v| scene.closest8(p, v))
                 }),
             });
             methods.push(Timed {
                 name: "Embree rtcIntersect16, 4×4 blocks (f32)".into(),
+                role: Role::Embree,
                 build: Some(*build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| {
                     embree_packets::<16>(&rays, (w, h), (4, 4), prims, |p, v| scene.closest16(p, v))
                 }),
@@ -654,16 +667,16 @@ fn run_bench(
         if let Some((tiny, build)) = &tiny {
             methods.push(Timed {
                 name: tiny.name.into(),
+                role: Role::Peer,
                 build: Some(*build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| per_ray(&rays, prims, |r| (tiny.closest.0)(r.o, r.d))),
             });
         }
         if let Some((cwbvh, build)) = &cwbvh {
             methods.push(Timed {
                 name: "obvhs cwbvh (f32)".into(),
+                role: Role::Peer,
                 build: Some(*build),
-                answers_per_ray: true,
                 frame: Box::new(|prims| {
                     per_ray(&rays, prims, |r| {
                         let ray = ORay::new_inf(Vec3A::from_array(r.o), Vec3A::from_array(r.d));
@@ -687,8 +700,8 @@ fn run_bench(
             let rays = &rays;
             methods.push(Timed {
                 name,
+                role: Role::Lecture,
                 build: None,
-                answers_per_ray: false,
                 frame: Box::new(move |_| {
                     let hits: usize = rays
                         .par_iter()
@@ -700,20 +713,29 @@ fn run_bench(
             });
         }
         // Every method's answers once (not timed), against the exact per-ray query's.
-        let mut answers: Vec<Option<Vec<Option<u32>>>> = methods
+        let answers: Vec<Option<Vec<Option<u32>>>> = methods
             .iter()
             .map(|m| {
-                m.answers_per_ray.then(|| {
+                m.role.answers_per_ray().then(|| {
                     let mut prims = vec![None; rays.len()];
                     (m.frame)(&mut prims);
                     prims
                 })
             })
             .collect();
-        let reference_index = methods
-            .iter()
-            .position(|m| m.name.starts_with("raylab closest_hit"));
-        let reference = reference_index.and_then(|i| answers[i].take());
+        let reference = (methods.iter().zip(&answers))
+            .find(|(m, _)| m.role == Role::Reference)
+            .and_then(|(_, a)| a.as_deref());
+        let accuracy: Vec<String> = (methods.iter().zip(&answers))
+            .map(|(m, a)| match (m.role, reference, a) {
+                (Role::Reference, ..) => "reference | | | ".into(),
+                (_, Some(r), Some(a)) => {
+                    let d = disagreements(tris, &rays, r, a);
+                    format!("{} | {} | {} | {}", d.missed, d.extra, d.ties, d.wrong)
+                }
+                _ => "– | – | – | –".into(),
+            })
+            .collect();
         for &threads in &args.threads {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -734,36 +756,27 @@ fn run_bench(
             let base = best[0].as_secs_f64();
             for (i, m) in methods.iter().enumerate() {
                 let s = best[i].as_secs_f64();
-                let accuracy = match (&reference, &answers[i]) {
-                    (Some(r), Some(a)) => {
-                        let d = disagreements(tris, &rays, r, a);
-                        format!("{} | {} | {} | {}", d.missed, d.extra, d.ties, d.wrong)
-                    }
-                    (Some(_), None) if Some(i) == reference_index => "reference | | | ".into(),
-                    _ => "– | – | – | –".into(),
-                };
                 println!(
-                    "| {} | {w}x{h} | {threads} | {} | {} | {:.2} | {:.1} | {:.2} | {accuracy} |",
+                    "| {} | {w}x{h} | {threads} | {} | {} | {:.2} | {:.1} | {:.2} | {} |",
                     bench.name,
                     m.name,
                     m.build
                         .map_or("–".into(), |b| format!("{:.1}", b.as_secs_f64() * 1e3)),
                     s * 1e3,
                     (w * h) as f64 / s / 1e6,
-                    s / base
+                    s / base,
+                    accuracy[i]
                 );
             }
             let embree_best = methods
                 .iter()
                 .zip(&best)
-                .filter(|(m, _)| m.name.starts_with("Embree"))
+                .filter(|(m, _)| m.role == Role::Embree)
                 .map(|(_, t)| *t)
                 .min();
             for (m, t) in methods.iter().zip(&best) {
-                let step = match m.name.as_str() {
-                    "raylab render (adaptive, exact)" => "flat",
-                    "raylab render, shadows step" => "shadows",
-                    _ => continue,
+                let Role::Render(step) = m.role else {
+                    continue;
                 };
                 found
                     .frames
