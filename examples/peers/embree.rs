@@ -221,7 +221,10 @@ impl Embree {
             let indices =
                 set_buffer(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n) as *mut u32;
             if vertices.is_null() || indices.is_null() {
-                return Err(self.error("rtcSetNewGeometryBuffer"));
+                let code = self.device_error();
+                return Err(format!(
+                    "rtcSetNewGeometryBuffer failed (Embree error {code})"
+                ));
             }
             let vertices = std::slice::from_raw_parts_mut(vertices, 9 * n);
             let indices = std::slice::from_raw_parts_mut(indices, 3 * n);
@@ -235,9 +238,9 @@ impl Embree {
             self.symbol::<AttachGeometry>(b"rtcAttachGeometry\0")(scene, geometry);
             self.symbol::<ReleaseGeometry>(b"rtcReleaseGeometry\0")(geometry);
             self.symbol::<CommitScene>(b"rtcCommitScene\0")(scene);
-            let code = self.symbol::<GetDeviceError>(b"rtcGetDeviceError\0")(self.device);
+            let code = self.device_error();
             if code != 0 {
-                return Err(format!("Embree error {code} while building"));
+                return Err(format!("rtcCommitScene failed (Embree error {code})"));
             }
             Ok(EmbreeScene {
                 embree: self,
@@ -249,10 +252,10 @@ impl Embree {
         }
     }
 
-    fn error(&self, what: &str) -> String {
+    /// The device's last error code (0: none), which reading clears.
+    fn device_error(&self) -> c_uint {
         // SAFETY: the signature is rtcGetDeviceError's.
-        let code = unsafe { self.symbol::<GetDeviceError>(b"rtcGetDeviceError\0")(self.device) };
-        format!("{what} failed (Embree error {code})")
+        unsafe { self.symbol::<GetDeviceError>(b"rtcGetDeviceError\0")(self.device) }
     }
 }
 
