@@ -22,10 +22,10 @@ use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::simd::avx2_or_baseline;
+use crate::math::lanes::{f32x8, Lanes};
+use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use rayon::prelude::*;
-use wide::f32x8;
 
 /// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
 const SAH_DEPTH: usize = 36;
@@ -321,7 +321,7 @@ impl Bvh {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
                         let (first, second) =
-                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
                                 (b, a)
                             } else {
                                 (a, b)
@@ -427,7 +427,7 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let bvh = self;
-        avx2_or_baseline!(Bvh::closest_packet_body => (
+        avx2_or_baseline!(lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Option<&OriginTriangles>,
@@ -438,7 +438,7 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn closest_packet_body(
+    fn closest_packet_body<V: Lanes>(
         &self,
         o: [f32; 3],
         prepared: Option<&OriginTriangles>,
@@ -446,7 +446,7 @@ impl Bvh {
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
-        let mut nearest = PacketNearest::seeded(d, d_max, seed);
+        let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return nearest.finish();
         };
@@ -456,14 +456,14 @@ impl Bvh {
             all.ambiguous = 0xff;
             return all;
         }
-        let rays = PacketSlabs::new(o, d, self.tame);
+        let rays = PacketSlabs::<V>::new(o, d, self.tame);
         if !rays.trusted {
             return self.closest_packet_untrusted(nearest, o, prepared);
         }
-        let inf = f32x8::splat(f32::INFINITY);
+        let inf = V::splat(f32::INFINITY);
         // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
-        let limit = |reach: f32x8| {
-            let m = reach + reach.abs() * f32x8::splat(1.0 / 65536.0);
+        let limit = |reach: V| {
+            let m = reach + reach.abs() * V::splat(1.0 / 65536.0);
             reach.simd_lt(inf).bitselect(m, inf)
         };
         let mut live = !nearest.ambiguous() & 0xff;
@@ -496,7 +496,7 @@ impl Bvh {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
                         let (first, second) =
-                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
                                 (b, a)
                             } else {
                                 (a, b)
@@ -538,9 +538,9 @@ impl Bvh {
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn closest_packet_untrusted(
+    fn closest_packet_untrusted<V: Lanes>(
         &self,
-        mut nearest: PacketNearest,
+        mut nearest: PacketNearest<V>,
         o: [f32; 3],
         prepared: Option<&[OriginTriangle]>,
     ) -> PacketHits {
@@ -559,9 +559,9 @@ impl Bvh {
     /// [`Bvh::blocked_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn blocked_packet_untrusted(
+    fn blocked_packet_untrusted<V: Lanes>(
         &self,
-        mut packet: ShadowPacket,
+        mut packet: ShadowPacket<V>,
         o: [f32; 3],
         prepared: Option<&OriginTriangles>,
     ) -> ShadowHits {
@@ -612,7 +612,7 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        avx2_or_baseline!(Bvh::blocked_packet_body => (
+        avx2_or_baseline!(lanes Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Option<&OriginTriangles>,
@@ -624,7 +624,7 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn blocked_packet_body(
+    fn blocked_packet_body<V: Lanes>(
         &self,
         o: [f32; 3],
         prepared: Option<&OriginTriangles>,
@@ -633,7 +633,7 @@ impl Bvh {
         skip: &[u32; 8],
         valid: u32,
     ) -> ShadowHits {
-        let mut packet = ShadowPacket::new(d, d_max, skip, valid);
+        let mut packet = ShadowPacket::<V>::new(d, d_max, skip, valid);
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return packet.finish();
         };
@@ -643,11 +643,11 @@ impl Bvh {
                 unsure: valid,
             };
         }
-        let rays = PacketSlabs::new(o, d, self.tame);
+        let rays = PacketSlabs::<V>::new(o, d, self.tame);
         if !rays.trusted {
             return self.blocked_packet_untrusted(packet, o, prepared);
         }
-        let limit = f32x8::splat(1.0 + 1.0 / 65536.0);
+        let limit = V::splat(1.0 + 1.0 / 65536.0);
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -676,7 +676,7 @@ impl Bvh {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
                         let (first, second) =
-                            if lane < 8 && tb.as_array()[lane] < ta.as_array()[lane] {
+                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
                                 (b, a)
                             } else {
                                 (a, b)
@@ -892,12 +892,12 @@ impl<S: PacketSink> Leaves<S> for OwnLeaves<'_> {
 }
 
 /// Eight rays from one origin set up for the slab test against boxes.
-pub(crate) struct PacketSlabs {
+pub(crate) struct PacketSlabs<V = f32x8> {
     o: [f32; 3],
-    inv: [f32x8; 3],
+    inv: [V; 3],
     /// 1/dₖ enlarged for the far distances (see `new`).
-    inv_far: [f32x8; 3],
-    neg: [f32x8; 3],
+    inv_far: [V; 3],
+    neg: [V; 3],
     /// Per axis, the sign every lane's direction shares (`None` if mixed): near and far slab
     /// are then the same for the whole packet.
     sign: [Option<bool>; 3],
@@ -909,12 +909,12 @@ pub(crate) struct PacketSlabs {
     pub(crate) trusted: bool,
 }
 
-impl PacketSlabs {
+impl<V: Lanes> PacketSlabs<V> {
     #[inline(always)]
     pub(crate) fn new(o: [f32; 3], d: &[f32x8; 3], boxes_tame: bool) -> Self {
-        let inv = d.map(|c| f32x8::ONE / c);
-        let neg = inv.map(|c| c.simd_lt(f32x8::ZERO));
-        let sign = neg.map(|m| match m.to_bitmask() {
+        let inv = each3(|k| V::one() / V::from_wide(d[k]));
+        let neg = each3(|k| inv[k].simd_lt(V::zero()));
+        let sign = each3(|k| match neg[k].to_bitmask() {
             0 => Some(false),
             0xff => Some(true),
             _ => None,
@@ -933,7 +933,7 @@ impl PacketSlabs {
         // The far distance enlarged by 2γ(3) (pbrt) and one rounding more, for the rounding
         // of 1/dₖ·slack itself.
         let slack = 1.0 + 2.0 * f32::error_gamma(4);
-        let inv_far = inv.map(|c| c * f32x8::splat(slack));
+        let inv_far = each3(|k| inv[k] * V::splat(slack));
         Self {
             o,
             inv,
@@ -948,7 +948,7 @@ impl PacketSlabs {
     /// [`PacketSlabs::enter`] for `b` widened by `pad` on every side, with `sink`'s live
     /// lanes and limits.
     #[inline(always)]
-    pub(crate) fn enter_padded<S: PacketSink>(&self, b: &Aabb, pad: f32, sink: &S) -> (u32, f32x8) {
+    pub(crate) fn enter_padded<S: PacketSink<V>>(&self, b: &Aabb, pad: f32, sink: &S) -> (u32, V) {
         let b = match pad == 0.0 {
             true => *b,
             false => Aabb {
@@ -961,16 +961,16 @@ impl PacketSlabs {
 
     /// The lanes of `live` whose rays meet box `b` before `limit`, and their entry distances.
     #[inline(always)]
-    pub(crate) fn enter(&self, b: &Aabb, limit: f32x8, live: u32) -> (u32, f32x8) {
-        let mut t0 = f32x8::ZERO;
+    pub(crate) fn enter(&self, b: &Aabb, limit: V, live: u32) -> (u32, V) {
+        let mut t0 = V::zero();
         let mut t1 = limit;
         for k in 0..3 {
             let (lo, hi) = (b.lo[k] - self.o[k], b.hi[k] - self.o[k]);
             let (near, far) = match self.sign[k] {
-                Some(false) => (f32x8::splat(lo), f32x8::splat(hi)),
-                Some(true) => (f32x8::splat(hi), f32x8::splat(lo)),
+                Some(false) => (V::splat(lo), V::splat(hi)),
+                Some(true) => (V::splat(hi), V::splat(lo)),
                 None => {
-                    let (lo, hi) = (f32x8::splat(lo), f32x8::splat(hi));
+                    let (lo, hi) = (V::splat(lo), V::splat(hi));
                     (self.neg[k].bitselect(hi, lo), self.neg[k].bitselect(lo, hi))
                 }
             };

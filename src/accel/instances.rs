@@ -36,11 +36,11 @@ const PAD: f64 = 1.0 / (1u64 << 20) as f64;
 
 /// Where packets and walks of the hierarchies send the triangles they reach: a packet's
 /// nearest-hit or shadow state.
-pub(crate) trait PacketSink {
+pub(crate) trait PacketSink<V = f32x8> {
     /// Lanes still to be decided.
     fn live(&self) -> u32;
     /// Per lane, the distance beyond which nothing can change its answer.
-    fn limit(&self) -> f32x8;
+    fn limit(&self) -> V;
     /// Tests one triangle (prepared for the packet's origin) on the live lanes.
     fn take(&mut self, tri: &OriginTriangle);
 }

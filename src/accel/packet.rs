@@ -19,10 +19,10 @@
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{Approx, Estimate};
 use crate::geometry::exact;
+use crate::math::lanes::{f32x8, Lanes};
 use crate::math::simd::{avx2_or_baseline, each3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
-use wide::f32x8;
 
 /// Unit roundoff of f32 and f64.
 const U32: f64 = 1.0 / (1u64 << 24) as f64;
@@ -362,7 +362,7 @@ pub fn closest_seeded(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    avx2_or_baseline!(closest_body => (
+    avx2_or_baseline!(lanes closest_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
@@ -563,13 +563,13 @@ impl ExactLane {
 }
 
 #[inline(always)]
-fn closest_body(
+fn closest_body<V: Lanes>(
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    let mut nearest = PacketNearest::seeded(d, d_max, seed);
+    let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
     for tri in tris {
         nearest.offer(tri, tri.prim);
     }
@@ -580,22 +580,22 @@ fn closest_body(
 /// functions eᵢ = d·nᵢ, and the lanes that certainly miss it (edges of both signs beyond
 /// their bounds), certainly cross it in front (all three of the numerator's sign: t > 0) or
 /// behind (t < 0). Other lanes are undecided.
-struct EdgeTests {
-    e: [f32x8; 3],
-    miss: f32x8,
-    front: f32x8,
-    behind: f32x8,
+struct EdgeTests<V> {
+    e: [V; 3],
+    miss: V,
+    front: V,
+    behind: V,
 }
 
-impl EdgeTests {
+impl<V: Lanes> EdgeTests<V> {
     /// `dm`: max|dₖ| rounded up.
     #[inline(always)]
-    fn new(tri: &OriginTriangle, d: &[f32x8; 3], dm: f32) -> Self {
+    fn new(tri: &OriginTriangle, d: &[V; 3], dm: f32) -> Self {
         let e = each3(|i| {
             let n = &tri.n[i];
-            d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2])
+            d[0] * V::splat(n[0]) + d[1] * V::splat(n[1]) + d[2] * V::splat(n[2])
         });
-        let bound = each3(|i| f32x8::splat(tri.k[i] * dm + EDGE_ABS));
+        let bound = each3(|i| V::splat(tri.k[i] * dm + EDGE_ABS));
         let pos = each3(|i| e[i].simd_gt(bound[i]));
         let neg = each3(|i| e[i].simd_lt(-bound[i]));
         let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
@@ -623,26 +623,20 @@ impl EdgeTests {
 /// view from 4 units away left 7.5% of its camera lanes ambiguous (traced per ray), with
 /// d·normal 0.5%.
 #[inline(always)]
-fn t_interval(
-    tri: &OriginTriangle,
-    e: &[f32x8; 3],
-    d: &[f32x8; 3],
-    dm: f32,
-) -> (f32x8, f32x8, f32x8) {
+fn t_interval<V: Lanes>(tri: &OriginTriangle, e: &[V; 3], d: &[V; 3], dm: f32) -> (V, V, V) {
     let (det, bound) = match tri.det_from_normal {
         false => (e[0] + e[1] + e[2], tri.k_sum * dm + 3.0 * EDGE_ABS),
         true => {
             let n = &tri.normal;
-            let det =
-                d[0] * f32x8::splat(n[0]) + d[1] * f32x8::splat(n[1]) + d[2] * f32x8::splat(n[2]);
+            let det = d[0] * V::splat(n[0]) + d[1] * V::splat(n[1]) + d[2] * V::splat(n[2]);
             (det, tri.k_det * dm + EDGE_ABS)
         }
     };
-    let rcp = f32x8::ONE / det;
-    let t = f32x8::splat(tri.num) * rcp;
-    let r_det = f32x8::splat(bound * 1.0001) * rcp.abs();
-    let tight = r_det.simd_le(f32x8::splat(0.25));
-    let err = t.abs() * (f32x8::splat(tri.c_t) + f32x8::splat(1.4) * r_det) + f32x8::splat(1e-37);
+    let rcp = V::one() / det;
+    let t = V::splat(tri.num) * rcp;
+    let r_det = V::splat(bound * 1.0001) * rcp.abs();
+    let tight = r_det.simd_le(V::splat(0.25));
+    let err = t.abs() * (V::splat(tri.c_t) + V::splat(1.4) * r_det) + V::splat(1e-37);
     (t - err, t + err, tight)
 }
 
@@ -664,27 +658,28 @@ fn t_interval(
 /// cannot change that.
 ///
 /// [`reach`]: PacketNearest::reach
-pub struct PacketNearest {
-    d: [f32x8; 3],
+pub struct PacketNearest<V = f32x8> {
+    d: [V; 3],
     /// max|dₖ| rounded up.
     dm: f32,
-    best_lo: f32x8,
-    best_hi: f32x8,
+    best_lo: V,
+    best_hi: V,
     /// The nearest's ids as bit patterns (only ever moved bitwise); u32::MAX for none.
-    best_prim: f32x8,
-    ambiguous: f32x8,
+    best_prim: V,
+    ambiguous: V,
 }
 
-impl PacketNearest {
+impl<V: Lanes> PacketNearest<V> {
+    #[inline(always)]
     pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
-        let inf = f32x8::splat(f32::INFINITY);
-        let none = f32x8::ZERO.simd_ne(f32x8::ZERO);
+        let inf = V::splat(f32::INFINITY);
+        let none = V::zero().simd_ne(V::zero());
         Self {
-            d: *d,
+            d: each3(|k| V::from_wide(d[k])),
             dm: d_max * (1.0 + 1e-6),
             best_lo: inf,
             best_hi: inf,
-            best_prim: f32x8::splat(f32::from_bits(u32::MAX)),
+            best_prim: V::splat(f32::from_bits(u32::MAX)),
             // Every lane, where max|d| is not finite.
             ambiguous: if d_max.is_finite() { none } else { !none },
         }
@@ -696,13 +691,17 @@ impl PacketNearest {
         let mut nearest = Self::new(d, d_max);
         if let Some(seed) = seed {
             let bits = |m: u32| {
-                f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
-                    f32::from_bits(if m & (1 << l) != 0 { u32::MAX } else { 0 })
+                V::from_bits(std::array::from_fn(|l| {
+                    if m & (1 << l) != 0 {
+                        u32::MAX
+                    } else {
+                        0
+                    }
                 }))
             };
-            nearest.best_lo = f32x8::from(seed.lo);
-            nearest.best_hi = f32x8::from(seed.hi);
-            nearest.best_prim = f32x8::from(seed.prim.map(f32::from_bits));
+            nearest.best_lo = V::from_array(seed.lo);
+            nearest.best_hi = V::from_array(seed.hi);
+            nearest.best_prim = V::from_bits(seed.prim);
             nearest.ambiguous |= bits(seed.ambiguous);
         }
         nearest
@@ -716,7 +715,7 @@ impl PacketNearest {
 
     /// Per lane, an upper bound on the exact t of its nearest candidate (∞ while none).
     #[inline]
-    pub fn reach(&self) -> f32x8 {
+    pub fn reach(&self) -> V {
         self.best_hi
     }
 
@@ -725,7 +724,7 @@ impl PacketNearest {
     pub fn offer(&mut self, tri: &OriginTriangle, id: u32) {
         let (d, dm) = (&self.d, self.dm);
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
-            self.ambiguous = f32x8::ZERO.simd_eq(f32x8::ZERO);
+            self.ambiguous = V::zero().simd_eq(V::zero());
             return;
         }
         let EdgeTests {
@@ -749,7 +748,7 @@ impl PacketNearest {
         let take = front & tight & nearer;
         self.best_lo = take.bitselect(lo, self.best_lo);
         self.best_hi = take.bitselect(hi, self.best_hi);
-        self.best_prim = take.bitselect(f32x8::splat(f32::from_bits(id)), self.best_prim);
+        self.best_prim = take.bitselect(V::splat(f32::from_bits(id)), self.best_prim);
     }
 
     /// Per lane the id of the nearest (u32::MAX for none), and the ambiguous lanes.
@@ -776,7 +775,7 @@ pub fn shadow_from_origin(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx2_or_baseline!(shadow_from_origin_body => (
+    avx2_or_baseline!(lanes shadow_from_origin_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
@@ -786,14 +785,14 @@ pub fn shadow_from_origin(
 }
 
 #[inline(always)]
-fn shadow_from_origin_body(
+fn shadow_from_origin_body<V: Lanes>(
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    let mut packet = ShadowPacket::new(d, d_max, skip, valid);
+    let mut packet = ShadowPacket::<V>::new(d, d_max, skip, valid);
     for tri in tris {
         if packet.live() == 0 {
             break;
@@ -806,27 +805,25 @@ fn shadow_from_origin_body(
 /// Eight shadow segments from the origin triangles are prepared for, as triangles are offered
 /// in any order (all of a small scene's, or a BVH's leaves as the segments reach them): per
 /// lane, blocked for certain, or unsure. See [`shadow_from_origin`].
-pub struct ShadowPacket {
-    d: [f32x8; 3],
+pub struct ShadowPacket<V = f32x8> {
+    d: [V; 3],
     /// max|dₖ| rounded up.
     dm: f32,
     /// Each lane's own primitive (bit patterns; u32::MAX, a NaN, equals nothing).
-    skip: f32x8,
+    skip: V,
     valid: u32,
     blocked: u32,
     unsure: u32,
 }
 
-impl ShadowPacket {
+impl<V: Lanes> ShadowPacket<V> {
     #[inline(always)]
     pub fn new(d: &[f32x8; 3], d_max: f32, skip: &[u32; 8], valid: u32) -> Self {
         let dm = d_max * (1.0 + 1e-6);
         Self {
-            d: *d,
+            d: each3(|k| V::from_wide(d[k])),
             dm,
-            skip: f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
-                f32::from_bits(skip[l])
-            })),
+            skip: V::from_bits(*skip),
             valid,
             blocked: 0,
             // Every lane, where max|d| is not finite.
@@ -850,7 +847,7 @@ impl ShadowPacket {
         let (d, dm) = (&self.d, self.dm);
         let own = self
             .skip
-            .simd_eq(f32x8::splat(f32::from_bits(tri.prim)))
+            .simd_eq(V::splat(f32::from_bits(tri.prim)))
             .to_bitmask();
         let live = self.live() & !own;
         if live == 0 {
@@ -860,7 +857,7 @@ impl ShadowPacket {
             self.unsure |= live;
             return;
         }
-        let one = f32x8::ONE;
+        let one = V::one();
         let EdgeTests {
             e,
             miss,

@@ -1,6 +1,7 @@
 //! Homogeneous transforms and the small amount of floating-point machinery the geometry needs.
 
 pub mod interval;
+pub mod lanes;
 pub mod real;
 pub mod simd;
 pub mod transform;

@@ -4,7 +4,24 @@
 /// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
 /// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline: the one place
 /// the crate uses unsafe code.
+///
+/// With `lanes` before the kernel's path, the kernel is generic over its
+/// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 build computes in
+/// [`Avx8`](crate::math::lanes::Avx8), its baseline build in `wide`'s f32x8.
 macro_rules! avx2_or_baseline {
+    (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        if $crate::math::simd::has_avx2() {
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2($($arg: $ty),*) -> $ret {
+                $($body)::+::<$crate::math::lanes::Avx8>($($arg),*)
+            }
+            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
+            #[allow(unsafe_code)]
+            return unsafe { avx2($($arg),*) };
+        }
+        $($body)::+::<$crate::math::lanes::f32x8>($($arg),*)
+    }};
     ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
         if $crate::math::simd::has_avx2() {

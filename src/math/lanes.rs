@@ -1,0 +1,596 @@
+//! The 8 f32 lanes the hot kernels compute in, as a trait ([`Lanes`]) with two types: `wide`'s
+//! `f32x8` (two SSE halves: the baseline build) and [`Avx8`] (one 256-bit AVX register),
+//! which only a kernel's AVX2 build uses ([`super::simd::avx2_or_baseline`]).
+//!
+//! Why two types: `wide` picks its implementation when the crate is compiled
+//! (`cfg(target_feature = "avx")`), so without `-C target-cpu` its f32x8 stays two SSE
+//! halves even inside a function compiled for AVX2, and the kernels ran at half width
+//! (bunny 640×360 flat, one thread: 12% slower than the same code built with
+//! `target-cpu=native`). Plain `[f32; 8]` lanes left to LLVM's vectoriser came out half 128-
+//! and half 256-bit, and 3% slower than `wide`.
+//!
+//! Both types compute the same bits: the same IEEE operations lane by lane, no contraction to
+//! FMA, `max`/`min` keeping `self` where `rhs` is NaN (and `rhs` where `self` is), the
+//! `fast_` forms as x86's `maxps`/`minps`, comparisons giving all-ones or all-zeros lanes,
+//! `bitselect` bitwise (tests/packet.rs compares the two builds bit for bit).
+
+use std::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
+pub use wide::{f32x8, f64x4};
+
+/// The lane operations the kernels use (`wide`'s names).
+pub trait Lanes:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + BitAnd<Output = Self>
+    + BitOr<Output = Self>
+    + Not<Output = Self>
+    + BitAndAssign
+    + BitOrAssign
+{
+    /// The f64 lanes of the same build (for preparing triangles).
+    type F64: Lanes64;
+    fn splat(x: f32) -> Self;
+    fn from_array(a: [f32; 8]) -> Self;
+    fn to_array(self) -> [f32; 8];
+    /// From the kernels' public form.
+    fn from_wide(x: f32x8) -> Self;
+    fn simd_lt(self, rhs: Self) -> Self;
+    fn simd_le(self, rhs: Self) -> Self;
+    fn simd_gt(self, rhs: Self) -> Self;
+    fn simd_ge(self, rhs: Self) -> Self;
+    fn simd_eq(self, rhs: Self) -> Self;
+    /// True where unequal or unordered.
+    fn simd_ne(self, rhs: Self) -> Self;
+    /// `self` as a mask: `if_one`'s bits where its bits are set, else `if_zero`'s.
+    fn bitselect(self, if_one: Self, if_zero: Self) -> Self;
+    /// Bit l set where lane l's sign bit is.
+    fn to_bitmask(self) -> u32;
+    fn abs(self) -> Self;
+    /// The larger; `self` where `rhs` is NaN, `rhs` where `self` is.
+    fn max(self, rhs: Self) -> Self;
+    /// The smaller; `self` where `rhs` is NaN, `rhs` where `self` is.
+    fn min(self, rhs: Self) -> Self;
+    /// x86 `maxps`: `self` where it is greater, else `rhs`.
+    fn fast_max(self, rhs: Self) -> Self;
+    /// x86 `minps`: `self` where it is smaller, else `rhs`.
+    fn fast_min(self, rhs: Self) -> Self;
+
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::splat(0.0)
+    }
+    #[inline(always)]
+    fn one() -> Self {
+        Self::splat(1.0)
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.to_bitmask() == 0xff
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.to_bitmask() != 0
+    }
+    #[inline(always)]
+    fn none(self) -> bool {
+        self.to_bitmask() == 0
+    }
+    /// Per lane the bit pattern of `bits[l]` (ids moved through float lanes).
+    #[inline(always)]
+    fn from_bits(bits: [u32; 8]) -> Self {
+        let b = bits;
+        Self::from_array([
+            f32::from_bits(b[0]),
+            f32::from_bits(b[1]),
+            f32::from_bits(b[2]),
+            f32::from_bits(b[3]),
+            f32::from_bits(b[4]),
+            f32::from_bits(b[5]),
+            f32::from_bits(b[6]),
+            f32::from_bits(b[7]),
+        ])
+    }
+}
+
+impl Lanes for f32x8 {
+    type F64 = f64x4;
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x8::splat(x)
+    }
+    #[inline(always)]
+    fn from_array(a: [f32; 8]) -> Self {
+        f32x8::from(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 8] {
+        f32x8::to_array(self)
+    }
+    #[inline(always)]
+    fn from_wide(x: f32x8) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn simd_lt(self, rhs: Self) -> Self {
+        f32x8::simd_lt(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_le(self, rhs: Self) -> Self {
+        f32x8::simd_le(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_gt(self, rhs: Self) -> Self {
+        f32x8::simd_gt(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_ge(self, rhs: Self) -> Self {
+        f32x8::simd_ge(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_eq(self, rhs: Self) -> Self {
+        f32x8::simd_eq(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_ne(self, rhs: Self) -> Self {
+        f32x8::simd_ne(self, rhs)
+    }
+    #[inline(always)]
+    fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
+        f32x8::bitselect(self, if_one, if_zero)
+    }
+    #[inline(always)]
+    fn to_bitmask(self) -> u32 {
+        f32x8::to_bitmask(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32x8::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        f32x8::max(self, rhs)
+    }
+    #[inline(always)]
+    fn min(self, rhs: Self) -> Self {
+        f32x8::min(self, rhs)
+    }
+    #[inline(always)]
+    fn fast_max(self, rhs: Self) -> Self {
+        f32x8::fast_max(self, rhs)
+    }
+    #[inline(always)]
+    fn fast_min(self, rhs: Self) -> Self {
+        f32x8::fast_min(self, rhs)
+    }
+}
+
+/// 4 f64 lanes, with what preparing 4 triangles at once needs ([`Lanes`]' semantics).
+pub trait Lanes64:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + BitAnd<Output = Self>
+{
+    fn splat(x: f64) -> Self;
+    fn from_array(a: [f64; 4]) -> Self;
+    fn to_array(self) -> [f64; 4];
+    fn simd_lt(self, rhs: Self) -> Self;
+    fn simd_gt(self, rhs: Self) -> Self;
+    fn to_bitmask(self) -> u32;
+    fn abs(self) -> Self;
+    /// The larger; `self` where `rhs` is NaN, `rhs` where `self` is (as `f64::max`).
+    fn max(self, rhs: Self) -> Self;
+    /// x86 `maxpd`: `self` where it is greater, else `rhs`.
+    fn fast_max(self, rhs: Self) -> Self;
+    /// Each lane rounded to f32 (as `x as f32`).
+    fn to_f32(self) -> [f32; 4];
+    /// Each lane rounded to f32 and back.
+    fn round_f32(self) -> Self;
+}
+
+impl Lanes64 for f64x4 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        f64x4::splat(x)
+    }
+    #[inline(always)]
+    fn from_array(a: [f64; 4]) -> Self {
+        f64x4::from(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        f64x4::to_array(self)
+    }
+    #[inline(always)]
+    fn simd_lt(self, rhs: Self) -> Self {
+        f64x4::simd_lt(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_gt(self, rhs: Self) -> Self {
+        f64x4::simd_gt(self, rhs)
+    }
+    #[inline(always)]
+    fn to_bitmask(self) -> u32 {
+        f64x4::to_bitmask(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64x4::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        f64x4::max(self, rhs)
+    }
+    #[inline(always)]
+    fn fast_max(self, rhs: Self) -> Self {
+        f64x4::fast_max(self, rhs)
+    }
+    #[inline(always)]
+    fn to_f32(self) -> [f32; 4] {
+        let a = self.to_array();
+        [a[0] as f32, a[1] as f32, a[2] as f32, a[3] as f32]
+    }
+    #[inline(always)]
+    fn round_f32(self) -> Self {
+        let a = self.to_f32();
+        f64x4::from([a[0] as f64, a[1] as f64, a[2] as f64, a[3] as f64])
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub use avx::{Avx4d, Avx8};
+
+/// [`Avx8`]: every operation one AVX instruction (or a few), through `std::arch`.
+///
+/// Soundness: its operations execute AVX instructions, so an `Avx8` must exist only where the
+/// CPU has AVX. It is made only inside the AVX2 arm of `avx2_or_baseline!`, after the run-time
+/// check ([`super::simd::has_avx2`]); nothing else in the crate names it.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod avx {
+    use super::{f32x8, Lanes, Lanes64};
+    use std::arch::x86_64::*;
+    use std::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
+
+    /// 8 f32 lanes in one AVX register (see the module docs for when it may exist).
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct Avx8(__m256);
+
+    macro_rules! binary {
+        ($ty:ident, $trait:ident, $method:ident, $op:ident) => {
+            impl $trait for $ty {
+                type Output = Self;
+                #[inline(always)]
+                fn $method(self, rhs: Self) -> Self {
+                    // SAFETY: an Avx8 exists only where the CPU has AVX (the type's docs).
+                    Self(unsafe { $op(self.0, rhs.0) })
+                }
+            }
+        };
+    }
+    binary!(Avx8, Add, add, _mm256_add_ps);
+    binary!(Avx8, Sub, sub, _mm256_sub_ps);
+    binary!(Avx8, Mul, mul, _mm256_mul_ps);
+    binary!(Avx8, Div, div, _mm256_div_ps);
+    binary!(Avx8, BitAnd, bitand, _mm256_and_ps);
+    binary!(Avx8, BitOr, bitor, _mm256_or_ps);
+
+    impl Neg for Avx8 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+        }
+    }
+
+    impl Not for Avx8 {
+        type Output = Self;
+        #[inline(always)]
+        fn not(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_xor_ps(self.0, _mm256_castsi256_ps(_mm256_set1_epi32(-1))) })
+        }
+    }
+
+    impl BitAndAssign for Avx8 {
+        #[inline(always)]
+        fn bitand_assign(&mut self, rhs: Self) {
+            *self = *self & rhs;
+        }
+    }
+
+    impl BitOrAssign for Avx8 {
+        #[inline(always)]
+        fn bitor_assign(&mut self, rhs: Self) {
+            *self = *self | rhs;
+        }
+    }
+
+    impl Avx8 {
+        #[inline(always)]
+        fn cmp<const OP: i32>(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_cmp_ps::<OP>(self.0, rhs.0) })
+        }
+    }
+
+    impl Lanes for Avx8 {
+        type F64 = Avx4d;
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn from_array(a: [f32; 8]) -> Self {
+            // SAFETY: as in `binary!`; the load reads the 8 floats of `a`.
+            Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f32; 8] {
+            let mut a = [0f32; 8];
+            // SAFETY: as in `binary!`; the store writes the 8 floats of `a`.
+            unsafe { _mm256_storeu_ps(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn from_wide(x: f32x8) -> Self {
+            Self::from_array(x.to_array())
+        }
+        #[inline(always)]
+        fn simd_lt(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_LT_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_le(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_LE_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_gt(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_GT_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_ge(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_GE_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_eq(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_EQ_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_ne(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_NEQ_UQ>(rhs)
+        }
+        #[inline(always)]
+        fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe {
+                _mm256_or_ps(
+                    _mm256_and_ps(self.0, if_one.0),
+                    _mm256_andnot_ps(self.0, if_zero.0),
+                )
+            })
+        }
+        #[inline(always)]
+        fn to_bitmask(self) -> u32 {
+            // SAFETY: as in `binary!`.
+            unsafe { _mm256_movemask_ps(self.0) as u32 }
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn max(self, rhs: Self) -> Self {
+            rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                .bitselect(self, self.fast_max(rhs))
+        }
+        #[inline(always)]
+        fn min(self, rhs: Self) -> Self {
+            rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                .bitselect(self, self.fast_min(rhs))
+        }
+        #[inline(always)]
+        fn fast_max(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_max_ps(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn fast_min(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_min_ps(self.0, rhs.0) })
+        }
+    }
+
+    /// 4 f64 lanes in one AVX register (made, like [`Avx8`], only where the CPU has AVX).
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct Avx4d(__m256d);
+
+    binary!(Avx4d, Add, add, _mm256_add_pd);
+    binary!(Avx4d, Sub, sub, _mm256_sub_pd);
+    binary!(Avx4d, Mul, mul, _mm256_mul_pd);
+    binary!(Avx4d, Div, div, _mm256_div_pd);
+    binary!(Avx4d, BitAnd, bitand, _mm256_and_pd);
+
+    impl Lanes64 for Avx4d {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        fn from_array(a: [f64; 4]) -> Self {
+            // SAFETY: as in `binary!`; the load reads the 4 doubles of `a`.
+            Self(unsafe { _mm256_loadu_pd(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0f64; 4];
+            // SAFETY: as in `binary!`; the store writes the 4 doubles of `a`.
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn simd_lt(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn simd_gt(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn to_bitmask(self) -> u32 {
+            // SAFETY: as in `binary!`.
+            unsafe { _mm256_movemask_pd(self.0) as u32 }
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn max(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe {
+                let nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(rhs.0, rhs.0);
+                _mm256_blendv_pd(_mm256_max_pd(self.0, rhs.0), self.0, nan)
+            })
+        }
+        #[inline(always)]
+        fn fast_max(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_max_pd(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn to_f32(self) -> [f32; 4] {
+            let mut a = [0f32; 4];
+            // SAFETY: as in `binary!`; the store writes the 4 floats of `a`.
+            unsafe { _mm_storeu_ps(a.as_mut_ptr(), _mm256_cvtpd_ps(self.0)) };
+            a
+        }
+        #[inline(always)]
+        fn round_f32(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_cvtps_pd(_mm256_cvtpd_ps(self.0)) })
+        }
+    }
+}
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+    use crate::math::simd::has_avx2;
+
+    /// Every operation of [`Lanes`] on both types, bit for bit, on values that probe the
+    /// corners (signed zeros, NaN, infinities, subnormals, ties).
+    #[test]
+    fn both_lane_types_compute_the_same_bits() {
+        if !has_avx2() {
+            return; // nothing to compare with
+        }
+        let vals = [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e-45,
+            -3e38,
+            0.1,
+        ];
+        let mut a = [0f32; 8];
+        let mut b = [0f32; 8];
+        for (i, x) in vals.iter().enumerate() {
+            for (j, y) in vals.iter().enumerate() {
+                a[(i + j) % 8] = *x;
+                b[(i * 3 + j) % 8] = *y;
+            }
+            let r = check(a, b);
+            assert!(r.is_empty(), "{a:?} {b:?}: {r:?}");
+        }
+    }
+
+    fn bits(x: [f32; 8]) -> [u32; 8] {
+        x.map(f32::to_bits)
+    }
+
+    #[allow(unsafe_code)]
+    fn check(a: [f32; 8], b: [f32; 8]) -> Vec<&'static str> {
+        #[target_feature(enable = "avx2,fma")]
+        fn run<V: Lanes>(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
+            let (x, y) = (V::from_array(a), V::from_array(b));
+            let m = x.simd_lt(y);
+            vec![
+                (x + y).to_array(),
+                (x - y).to_array(),
+                (x * y).to_array(),
+                (x / y).to_array(),
+                (-x).to_array(),
+                (x & y).to_array(),
+                (x | y).to_array(),
+                (!x).to_array(),
+                m.to_array(),
+                x.simd_le(y).to_array(),
+                x.simd_gt(y).to_array(),
+                x.simd_ge(y).to_array(),
+                x.simd_eq(y).to_array(),
+                x.simd_ne(y).to_array(),
+                m.bitselect(x, y).to_array(),
+                x.bitselect(x, y).to_array(),
+                x.abs().to_array(),
+                x.max(y).to_array(),
+                x.min(y).to_array(),
+                x.fast_max(y).to_array(),
+                x.fast_min(y).to_array(),
+                [f32::from_bits(x.to_bitmask()); 8],
+            ]
+            .into_iter()
+            .map(bits)
+            .collect()
+        }
+        const NAMES: [&str; 22] = [
+            "add",
+            "sub",
+            "mul",
+            "div",
+            "neg",
+            "and",
+            "or",
+            "not",
+            "lt",
+            "le",
+            "gt",
+            "ge",
+            "eq",
+            "ne",
+            "select",
+            "select by bits",
+            "abs",
+            "max",
+            "min",
+            "fast_max",
+            "fast_min",
+            "bitmask",
+        ];
+        // SAFETY: the CPU has AVX2 and FMA (checked by the caller).
+        let (wide, avx) = unsafe { (run::<f32x8>(a, b), run::<Avx8>(a, b)) };
+        (wide.iter().zip(&avx).zip(NAMES))
+            .filter(|((w, v), _)| w != v)
+            .map(|(_, name)| name)
+            .collect()
+    }
+}
