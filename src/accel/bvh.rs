@@ -289,9 +289,9 @@ impl Bvh {
     /// the first live lane, as [`Bvh::closest_packet`] walks. (No closures: everything here
     /// must inline into the caller's AVX2 build.)
     #[inline(always)]
-    pub(crate) fn walk_packet<S: PacketSink, L: Leaves<S>>(
+    pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
-        slabs: &PacketSlabs,
+        slabs: &PacketSlabs<V>,
         pad: f32,
         sink: &mut S,
         leaves: &mut L,
@@ -476,14 +476,22 @@ impl Bvh {
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                let first = n.offset as usize;
-                for i in first..first + n.count as usize {
-                    match prepared {
-                        Some(p) => nearest.offer(&p[i], i as u32),
-                        None => nearest.offer(
-                            &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
-                            i as u32,
-                        ),
+                let leaf = n.offset as usize..(n.offset + n.count) as usize;
+                match prepared {
+                    Some(p) => {
+                        for i in leaf {
+                            nearest.offer(&p[i], i as u32);
+                        }
+                    }
+                    None => {
+                        let mut start = leaf.start;
+                        while start < leaf.end {
+                            let quad = self.prepare_quad::<V>(start, leaf.end, o);
+                            for (j, tri) in quad.iter().take(leaf.end - start).enumerate() {
+                                nearest.offer(tri, (start + j) as u32);
+                            }
+                            start += 4;
+                        }
                     }
                 }
                 live &= !nearest.ambiguous();
@@ -535,6 +543,27 @@ impl Bvh {
         }
     }
 
+    /// The triangles `start..end` (at most 4; positions in the hierarchy's order) prepared
+    /// for `o` in `V`'s f64 lanes ([`OriginTriangle::new4`]); a short quad repeats its last
+    /// triangle. (Plain indexing, no closures or iterators: in the AVX2 kernels those stayed
+    /// calls, and their lane operations with them.)
+    #[inline(always)]
+    fn prepare_quad<V: Lanes>(&self, start: usize, end: usize, o: [f32; 3]) -> [OriginTriangle; 4] {
+        let last = end - 1;
+        let (i1, i2, i3) = (
+            (start + 1).min(last),
+            (start + 2).min(last),
+            (start + 3).min(last),
+        );
+        let t = &self.tris;
+        let p = &self.prims;
+        OriginTriangle::new4::<V::F64>(
+            [&t[start], &t[i1], &t[i2], &t[i3]],
+            o,
+            [p[start], p[i1], p[i2], p[i3]],
+        )
+    }
+
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
@@ -579,7 +608,7 @@ impl Bvh {
     /// `prepared` (made for `o`) or prepared as met: [`Bvh::closest_packet`] and
     /// [`Bvh::blocked_packet`] with lanes recording primitive indices, not positions.
     #[inline(always)]
-    pub(crate) fn packet_into<S: PacketSink>(
+    pub(crate) fn packet_into<V: Lanes, S: PacketSink<V>>(
         &self,
         sink: &mut S,
         o: [f32; 3],
@@ -587,7 +616,7 @@ impl Bvh {
         d: &[f32x8; 3],
     ) {
         let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
-        let slabs = PacketSlabs::new(o, d, self.tame);
+        let slabs = PacketSlabs::<V>::new(o, d, self.tame);
         let mut leaves = OwnLeaves {
             bvh: self,
             o,
@@ -657,11 +686,22 @@ impl Bvh {
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                let first = n.offset as usize;
-                for i in first..first + n.count as usize {
-                    match prepared {
-                        Some(p) => packet.offer(&p.tris[i]),
-                        None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
+                let leaf = n.offset as usize..(n.offset + n.count) as usize;
+                match prepared {
+                    Some(p) => {
+                        for tri in &p.tris[leaf] {
+                            packet.offer(tri);
+                        }
+                    }
+                    None => {
+                        let mut start = leaf.start;
+                        while start < leaf.end {
+                            let quad = self.prepare_quad::<V>(start, leaf.end, o);
+                            for tri in quad.iter().take(leaf.end - start) {
+                                packet.offer(tri);
+                            }
+                            start += 4;
+                        }
                     }
                 }
                 if packet.live() == 0 {
@@ -863,7 +903,7 @@ fn enter_f64(b: &Aabb, pad: f32, ray: &Ray, inv: &[f64; 3], tmin: f32, t_far: f3
 }
 
 /// What a packet walk does at a leaf: offers the leaf's items to the packet's state.
-pub(crate) trait Leaves<S> {
+pub(crate) trait Leaves<V, S> {
     /// Items `first..first + count` of the hierarchy walked.
     fn visit(&mut self, sink: &mut S, first: usize, count: usize);
 }
@@ -875,17 +915,25 @@ struct OwnLeaves<'a> {
     prepared: Option<&'a [OriginTriangle]>,
 }
 
-impl<S: PacketSink> Leaves<S> for OwnLeaves<'_> {
+impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
-        for i in first..first + count {
-            match self.prepared {
-                Some(p) => sink.take(&p[i]),
-                None => sink.take(&OriginTriangle::new(
-                    &self.bvh.tris[i],
-                    self.o,
-                    self.bvh.prims[i],
-                )),
+        let end = first + count;
+        match self.prepared {
+            Some(p) => {
+                for tri in &p[first..end] {
+                    sink.take(tri);
+                }
+            }
+            None => {
+                let mut start = first;
+                while start < end {
+                    let quad = self.bvh.prepare_quad::<V>(start, end, self.o);
+                    for tri in quad.iter().take(end - start) {
+                        sink.take(tri);
+                    }
+                    start += 4;
+                }
             }
         }
     }

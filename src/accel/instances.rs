@@ -24,12 +24,12 @@ use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::lanes::{f32x8, Lanes};
 use crate::math::simd::each3;
 use crate::scene::instance::{linear_norm, world_bounds, Instance, Mesh};
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
 use std::sync::Arc;
-use wide::f32x8;
 
 /// 2⁻²⁰: the pad's relative size (see the module docs).
 const PAD: f64 = 1.0 / (1u64 << 20) as f64;
@@ -45,17 +45,17 @@ pub(crate) trait PacketSink<V = f32x8> {
     fn take(&mut self, tri: &OriginTriangle);
 }
 
-impl PacketSink for PacketNearest {
+impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
     #[inline(always)]
     fn live(&self) -> u32 {
         !self.ambiguous() & 0xff
     }
     #[inline(always)]
-    fn limit(&self) -> f32x8 {
+    fn limit(&self) -> V {
         // The nearest hit's bound plus the culling margin of `bvh` (∞ while none).
         let reach = self.reach();
-        let inf = f32x8::splat(f32::INFINITY);
-        let m = reach + reach.abs() * f32x8::splat(1.0 / 65536.0);
+        let inf = V::splat(f32::INFINITY);
+        let m = reach + reach.abs() * V::splat(1.0 / 65536.0);
         reach.simd_lt(inf).bitselect(m, inf)
     }
     #[inline(always)]
@@ -64,14 +64,14 @@ impl PacketSink for PacketNearest {
     }
 }
 
-impl PacketSink for ShadowPacket {
+impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
     #[inline(always)]
     fn live(&self) -> u32 {
         ShadowPacket::live(self)
     }
     #[inline(always)]
-    fn limit(&self) -> f32x8 {
-        f32x8::splat(1.0 + 1.0 / 65536.0)
+    fn limit(&self) -> V {
+        V::splat(1.0 + 1.0 / 65536.0)
     }
     #[inline(always)]
     fn take(&mut self, tri: &OriginTriangle) {
@@ -370,8 +370,13 @@ impl Instances {
     /// Offers to `sink` every instanced triangle the 8 rays from `o` (directions `d`) may
     /// reach before their limits, prepared for `o` in the world.
     #[inline(always)]
-    pub(crate) fn packet<S: PacketSink>(&self, o: [f32; 3], d: &[f32x8; 3], sink: &mut S) {
-        let slabs = PacketSlabs::new(o, d, self.top.boxes_tame());
+    pub(crate) fn packet<V: Lanes, S: PacketSink<V>>(
+        &self,
+        o: [f32; 3],
+        d: &[f32x8; 3],
+        sink: &mut S,
+    ) {
+        let slabs = PacketSlabs::<V>::new(o, d, self.top.boxes_tame());
         let mut leaves = TopLeaves { inst: self, o, d };
         self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
@@ -384,7 +389,7 @@ struct TopLeaves<'a> {
     d: &'a [f32x8; 3],
 }
 
-impl<S: PacketSink> Leaves<S> for TopLeaves<'_> {
+impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
         let items = self.inst.top.triangles().1;
@@ -398,11 +403,11 @@ impl<S: PacketSink> Leaves<S> for TopLeaves<'_> {
             };
             match placed.carry_origin(self.o) {
                 Some((obj, pad)) => {
-                    let inner =
-                        PacketSlabs::new(obj, &placed.carry_directions(self.d), mesh.boxes_tame());
+                    let d = placed.carry_directions(self.d);
+                    let inner = PacketSlabs::<V>::new(obj, &d, mesh.boxes_tame());
                     mesh.walk_packet(&inner, pad, sink, &mut leaves);
                 }
-                None => leaves.visit(sink, 0, mesh.len()),
+                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len()),
             }
             if sink.live() == 0 {
                 return;
@@ -418,14 +423,40 @@ struct MeshLeaves<'a> {
     o: [f32; 3],
 }
 
-impl<S: PacketSink> Leaves<S> for MeshLeaves<'_> {
+impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
         let (tris, locals) = self.mesh.triangles();
-        for i in first..first + count {
-            let world = self.placed.world(&tris[i]);
-            let prim = self.placed.first_prim + locals[i];
-            sink.take(&OriginTriangle::new(&world, self.o, prim));
+        let end = first + count;
+        let mut start = first;
+        // Four at a time ([`OriginTriangle::new4`]); a short quad repeats its last triangle.
+        while start < end {
+            let last = end - 1;
+            let (i1, i2, i3) = (
+                (start + 1).min(last),
+                (start + 2).min(last),
+                (start + 3).min(last),
+            );
+            let place = self.placed;
+            let world = [
+                place.world(&tris[start]),
+                place.world(&tris[i1]),
+                place.world(&tris[i2]),
+                place.world(&tris[i3]),
+            ];
+            let first_prim = place.first_prim;
+            let prim = [
+                first_prim + locals[start],
+                first_prim + locals[i1],
+                first_prim + locals[i2],
+                first_prim + locals[i3],
+            ];
+            let v = [&world[0], &world[1], &world[2], &world[3]];
+            let quad = OriginTriangle::new4::<V::F64>(v, self.o, prim);
+            for tri in quad.iter().take(end - start) {
+                sink.take(tri);
+            }
+            start += 4;
         }
     }
 }

@@ -507,7 +507,7 @@ fn closest_with_instances(
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
-    avx2_or_baseline!(closest_with_instances_body => (
+    avx2_or_baseline!(lanes closest_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
@@ -519,7 +519,7 @@ fn closest_with_instances(
 }
 
 #[inline(always)]
-fn closest_with_instances_body(
+fn closest_with_instances_body<V: crate::math::lanes::Lanes>(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
@@ -528,7 +528,7 @@ fn closest_with_instances_body(
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
-    let mut nearest = packet::PacketNearest::seeded(d, d_max, seed);
+    let mut nearest = packet::PacketNearest::<V>::seeded(d, d_max, seed);
     b.packet_into(&mut nearest, o, prepared, d);
     inst.packet(o, d, &mut nearest);
     nearest.finish()
@@ -547,7 +547,7 @@ fn blocked_with_instances(
     skip: &[u32; 8],
     valid: u32,
 ) -> packet::ShadowHits {
-    avx2_or_baseline!(blocked_with_instances_body => (
+    avx2_or_baseline!(lanes blocked_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
@@ -561,7 +561,7 @@ fn blocked_with_instances(
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn blocked_with_instances_body(
+fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
@@ -571,7 +571,7 @@ fn blocked_with_instances_body(
     skip: &[u32; 8],
     valid: u32,
 ) -> packet::ShadowHits {
-    let mut shadow = packet::ShadowPacket::new(d, d_max, skip, valid);
+    let mut shadow = packet::ShadowPacket::<V>::new(d, d_max, skip, valid);
     b.packet_into(&mut shadow, o, prepared, d);
     inst.packet(o, d, &mut shadow);
     shadow.finish()
