@@ -38,6 +38,11 @@ pub trait Lanes:
     fn to_array(self) -> [f32; 8];
     /// From the kernels' public form.
     fn from_wide(x: f32x8) -> Self;
+    /// To the kernels' public form.
+    fn to_wide(self) -> f32x8;
+    fn sqrt(self) -> Self;
+    /// Lane by lane, the bit patterns as integers: `self − a + b` (wrapping).
+    fn step_bits(self, a: Self, b: Self) -> Self;
     fn simd_lt(self, rhs: Self) -> Self;
     fn simd_le(self, rhs: Self) -> Self;
     fn simd_gt(self, rhs: Self) -> Self;
@@ -113,6 +118,20 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn from_wide(x: f32x8) -> Self {
         x
+    }
+    #[inline(always)]
+    fn to_wide(self) -> f32x8 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32x8::sqrt(self)
+    }
+    #[inline(always)]
+    fn step_bits(self, a: Self, b: Self) -> Self {
+        use wide::{bytemuck::cast, i32x8};
+        let (x, a, b): (i32x8, i32x8, i32x8) = (cast(self), cast(a), cast(b));
+        cast(x - a + b)
     }
     #[inline(always)]
     fn simd_lt(self, rhs: Self) -> Self {
@@ -346,6 +365,28 @@ mod avx {
             Self::from_array(x.to_array())
         }
         #[inline(always)]
+        fn to_wide(self) -> f32x8 {
+            f32x8::from(self.to_array())
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm256_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn step_bits(self, a: Self, b: Self) -> Self {
+            // SAFETY: as in `binary!` (AVX2 for the integer lanes: an Avx8 is made only in the
+            // AVX2 builds).
+            Self(unsafe {
+                let (x, a, b) = (
+                    _mm256_castps_si256(self.0),
+                    _mm256_castps_si256(a.0),
+                    _mm256_castps_si256(b.0),
+                );
+                _mm256_castsi256_ps(_mm256_add_epi32(_mm256_sub_epi32(x, a), b))
+            })
+        }
+        #[inline(always)]
         fn simd_lt(self, rhs: Self) -> Self {
             self.cmp::<_CMP_LT_OQ>(rhs)
         }
@@ -556,13 +597,15 @@ mod tests {
                 x.min(y).to_array(),
                 x.fast_max(y).to_array(),
                 x.fast_min(y).to_array(),
+                x.abs().sqrt().to_array(),
+                x.step_bits(y, m).to_array(),
                 [f32::from_bits(x.to_bitmask()); 8],
             ]
             .into_iter()
             .map(bits)
             .collect()
         }
-        const NAMES: [&str; 22] = [
+        const NAMES: [&str; 24] = [
             "add",
             "sub",
             "mul",
@@ -584,6 +627,8 @@ mod tests {
             "min",
             "fast_max",
             "fast_min",
+            "sqrt",
+            "step_bits",
             "bitmask",
         ];
         // SAFETY: the CPU has AVX2 and FMA (checked by the caller).

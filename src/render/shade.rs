@@ -5,13 +5,13 @@ use crate::accel::frame::{OriginTriangle, ShadowSegments};
 use crate::geometry::adaptive;
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{offset_ray_origin, sphere, Hit, Ray, Shape, SurfacePoint};
+use crate::math::lanes::{f32x8, f64x4, Lanes};
 use crate::math::real::{cross, dot, sub};
 use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
-use wide::{f32x8, f64x4};
 
 /// A linear RGB colour.
 pub type Rgb = [f32; 3];
@@ -395,7 +395,7 @@ pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
 /// `lanes[l]` is lane l's triangle readied for the origin (its `prim` names it), `None` for
 /// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
 pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    avx2_or_baseline!(shade_packet_only => (
+    avx2_or_baseline!(lanes shade_packet_only => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
@@ -403,8 +403,12 @@ pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8
 }
 
 #[inline(always)]
-fn shade_packet_only(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    shade_packet_body(scene, d, lanes).0
+fn shade_packet_only<V: Lanes>(
+    scene: &Scene,
+    d: &[f32x8; 3],
+    lanes: &[Option<&ShadeTri>; 8],
+) -> ShadePacket {
+    shade_packet_body::<V>(scene, d, lanes).0
 }
 
 /// [`shade_packet`] keeping the shading points.
@@ -413,7 +417,7 @@ fn shade_packet_with_points(
     d: &[f32x8; 3],
     lanes: &[Option<&ShadeTri>; 8],
 ) -> (ShadePacket, ShadePoints) {
-    avx2_or_baseline!(shade_packet_body => (
+    avx2_or_baseline!(lanes shade_packet_body => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
@@ -421,11 +425,12 @@ fn shade_packet_with_points(
 }
 
 #[inline(always)]
-fn shade_packet_body(
+fn shade_packet_body<V: Lanes>(
     scene: &Scene,
     d: &[f32x8; 3],
     lanes: &[Option<&ShadeTri>; 8],
 ) -> (ShadePacket, ShadePoints) {
+    let d = &each3(|k| V::from_wide(d[k]));
     let triangle = |tri: &OriginTriangle| match &scene.shape(tri.prim) {
         Shape::Triangle(v) => *v,
         _ => unreachable!("shade_packet takes triangles"),
@@ -440,14 +445,11 @@ fn shade_packet_body(
     }
     let (edge, v, n) = match lanes[0] {
         // One triangle in every lane (most packets of a small scene): broadcast it.
-        Some(first) if hit == 0xff && prim.iter().all(|p| *p == first.tri.prim) => {
-            let splat = |x: &[[f32; 3]; 3]| each3(|i| each3(|k| f32x8::splat(x[i][k])));
-            (
-                splat(first.tri.edge_normals()),
-                splat(&triangle(&first.tri)),
-                each3(|k| f32x8::splat(first.normal[k])),
-            )
-        }
+        Some(first) if hit == 0xff && prim.iter().all(|p| *p == first.tri.prim) => (
+            splat33(first.tri.edge_normals()),
+            splat33(&triangle(&first.tri)),
+            splat3(first.normal),
+        ),
         _ => {
             let (mut edge, mut vert) = ([[[0.0f32; 8]; 3]; 3], [[[0.0f32; 8]; 3]; 3]);
             let mut normal = [[0.0f32; 8]; 3];
@@ -463,34 +465,33 @@ fn shade_packet_body(
                 }
             }
             (
-                each3(|i| each3(|k| f32x8::from(edge[i][k]))),
-                each3(|i| each3(|k| f32x8::from(vert[i][k]))),
-                each3(|k| f32x8::from(normal[k])),
+                each3(|i| each3(|k| V::from_array(edge[i][k]))),
+                each3(|i| each3(|k| V::from_array(vert[i][k]))),
+                each3(|k| V::from_array(normal[k])),
             )
         }
     };
-    let dot = |a: &[f32x8; 3], b: &[f32x8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let e = each3(|i| dot(d, &edge[i]));
-    let rcp = f32x8::ONE / (e[0] + e[1] + e[2]);
+    let e = [dot8(d, &edge[0]), dot8(d, &edge[1]), dot8(d, &edge[2])];
+    let rcp = V::one() / (e[0] + e[1] + e[2]);
     let (b1, b2) = (e[1] * rcp, e[2] * rcp);
-    let inf = f32x8::splat(f32::INFINITY);
+    let inf = V::splat(f32::INFINITY);
     let finite = b1.abs().simd_lt(inf) & b2.abs().simd_lt(inf);
-    let third = f32x8::splat(1.0 / 3.0);
+    let third = V::splat(1.0 / 3.0);
     // (No NaN is left for max and min to treat.)
     let b1 = finite
         .bitselect(b1, third)
-        .fast_max(f32x8::ZERO)
-        .fast_min(f32x8::ONE);
+        .fast_max(V::zero())
+        .fast_min(V::one());
     let b2 = finite
         .bitselect(b2, third)
-        .fast_max(f32x8::ZERO)
-        .fast_min(f32x8::ONE - b1);
-    let b0 = (f32x8::ONE - b1) - b2;
-    let gamma7 = f32x8::splat(f32::error_gamma(7));
+        .fast_max(V::zero())
+        .fast_min(V::one() - b1);
+    let b0 = (V::one() - b1) - b2;
+    let gamma7 = V::splat(f32::error_gamma(7));
     // Below f32's normal range a rounding is absolute (up to 2⁻¹⁵⁰ each, five here).
-    let underflow = f32x8::splat(UNDERFLOW);
-    let mut p = [f32x8::ZERO; 3];
-    let mut p_error = [f32x8::ZERO; 3];
+    let underflow = V::splat(UNDERFLOW);
+    let mut p = [V::zero(); 3];
+    let mut p_error = [V::zero(); 3];
     for k in 0..3 {
         let (q0, q1, q2) = (v[0][k] * b0, v[1][k] * b1, v[2][k] * b2);
         p[k] = (q0 + q1) + q2;
@@ -498,66 +499,80 @@ fn shade_packet_body(
     }
     // The irradiance D (see `irradiance`), lanes at a time.
     let light = scene.light.position;
-    let r = each3(|k| f32x8::splat(light[k]) - p[k]);
-    let r2 = dot(&r, &r);
-    let facing = dot(&n, d)
-        .simd_gt(f32x8::ZERO)
-        .bitselect(f32x8::splat(-1.0), f32x8::ONE);
-    let cos = facing * dot(&n, &r) / r2.sqrt();
-    let k = cos / (f32x8::splat(FOUR_PI) * r2);
+    let r = each3(|k| V::splat(light[k]) - p[k]);
+    let r2 = dot8(&r, &r);
+    let facing = dot8(&n, d)
+        .simd_gt(V::zero())
+        .bitselect(V::splat(-1.0), V::one());
+    let cos = facing * dot8(&n, &r) / r2.sqrt();
+    let k = cos / (V::splat(FOUR_PI) * r2);
     // D ≠ 0 (some channel of P·k), as `Lit` asks before casting a shadow ray.
     let power = scene.light.power;
-    let nonzero = |c: f32| (f32x8::splat(c) * k).simd_ne(f32x8::ZERO);
-    let lit = r2.simd_gt(f32x8::ZERO)
-        & cos.simd_gt(f32x8::ZERO)
-        & (nonzero(power[0]) | nonzero(power[1]) | nonzero(power[2]));
+    let (zero, [p0, p1, p2]) = (V::zero(), power);
+    let nonzero = (V::splat(p0) * k).simd_ne(zero)
+        | (V::splat(p1) * k).simd_ne(zero)
+        | (V::splat(p2) * k).simd_ne(zero);
+    let lit = r2.simd_gt(zero) & cos.simd_gt(zero) & nonzero;
     // (Lanes without a hit have n = 0, so cos = 0 there: unlit.)
     let shadowed = lit.to_bitmask() & hit;
     // The shadow ray from the light, as `shadow_from_light` makes it, lanes at a time.
-    let widen = f32x8::splat(WIDEN);
-    let end = f32x8::splat(END);
+    let widen = V::splat(WIDEN);
+    let end = V::splat(END);
     let err = each3(|k| p_error[k] * widen + end * r[k].abs());
     let dist = n[0].abs() * err[0] + n[1].abs() * err[1] + n[2].abs() * err[2];
-    let away = dot(&r, &n).simd_lt(f32x8::ZERO);
-    let shadow_d = each3(|k| {
+    let away = dot8(&r, &n).simd_lt(V::zero());
+    let mut shadow_d = [V::zero(); 3];
+    for k in 0..3 {
         let offset = n[k] * dist;
-        let offset = away.bitselect(offset * f32x8::splat(-1.0), offset);
+        let offset = away.bitselect(offset * V::splat(-1.0), offset);
         let po = nudge(p[k] + offset, offset);
-        lit.bitselect(po - f32x8::splat(light[k]), f32x8::ZERO)
-    });
+        shadow_d[k] = lit.bitselect(po - V::splat(light[k]), V::zero());
+    }
     let packet = ShadePacket {
         hit,
         k: k.to_array(),
         shadow: ShadowSegments {
-            d: shadow_d,
+            d: each3(|k| shadow_d[k].to_wide()),
             prim,
             live: shadowed,
             own_blocks: 0,
         },
     };
+    let (p, p_error) = (each3(|k| p[k].to_wide()), each3(|k| p_error[k].to_wide()));
     (packet, ShadePoints { p, p_error })
+}
+
+#[inline(always)]
+fn dot8<V: Lanes>(a: &[V; 3], b: &[V; 3]) -> V {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn splat3<V: Lanes>(x: [f32; 3]) -> [V; 3] {
+    [V::splat(x[0]), V::splat(x[1]), V::splat(x[2])]
+}
+
+#[inline(always)]
+fn splat33<V: Lanes>(x: &[[f32; 3]; 3]) -> [[V; 3]; 3] {
+    [splat3(x[0]), splat3(x[1]), splat3(x[2])]
 }
 
 /// `x` one ulp up where `offset` > 0 and down where it is < 0 (`next_up`/`next_down`).
 #[inline(always)]
-fn nudge(x: f32x8, offset: f32x8) -> f32x8 {
-    use wide::{bytemuck::cast, i32x8};
-    let (up, down) = (offset.simd_gt(f32x8::ZERO), offset.simd_lt(f32x8::ZERO));
-    let (pos, neg) = (x.simd_gt(f32x8::ZERO), x.simd_lt(f32x8::ZERO));
-    let zero = x.simd_eq(f32x8::ZERO);
-    let bits: i32x8 = cast(x);
-    // Away from zero one step: bits + 1; towards it: bits − 1; from ±0: the least subnormal.
-    let grow: i32x8 = cast((up & pos) | (down & neg));
-    let shrink: i32x8 = cast((up & neg) | (down & pos));
-    let stepped = bits - grow + shrink; // a true mask is −1
-    let tiny = up.bitselect(
-        f32x8::splat(f32::from_bits(1)),
-        f32x8::splat(-f32::from_bits(1)),
-    );
-    let stepped: f32x8 = cast(stepped);
-    let stepped = (zero & (up | down)).bitselect(tiny, stepped);
+fn nudge<V: Lanes>(x: V, offset: V) -> V {
+    let zero = V::zero();
+    let (up, down) = (offset.simd_gt(zero), offset.simd_lt(zero));
+    let (pos, neg) = (x.simd_gt(zero), x.simd_lt(zero));
+    let at_zero = x.simd_eq(zero);
+    // Away from zero one step: bits + 1; towards it: bits − 1 (a true mask is −1); from ±0:
+    // the least subnormal.
+    let grow = (up & pos) | (down & neg);
+    let shrink = (up & neg) | (down & pos);
+    let stepped = x.step_bits(grow, shrink);
+    let tiny = up.bitselect(V::splat(f32::from_bits(1)), V::splat(-f32::from_bits(1)));
+    let stepped = (at_zero & (up | down)).bitselect(tiny, stepped);
     // NaN stays; so do +∞ going up and −∞ going down.
-    let inf = f32x8::splat(f32::INFINITY);
+    let inf = V::splat(f32::INFINITY);
     let fixed = x.simd_ne(x) | (up & x.simd_eq(inf)) | (down & x.simd_eq(-inf));
     fixed.bitselect(x, stepped)
 }
