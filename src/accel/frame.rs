@@ -56,8 +56,10 @@ pub const NO_HIT: u32 = u32::MAX;
 
 /// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
 /// the light) once per frame rather than as each packet meets them. Preparing one costs about
-/// 400 instructions (callgrind); at 1280×720 the bunny's 69k triangles are met about 5 times
-/// each per frame, the 1M-triangle mesh's fewer than once.
+/// 145 instructions, four at a time (callgrind); at 1280×720 the bunny's 69k triangles are met
+/// about 2 times each per frame, the 1M-triangle mesh's fewer than once. Preparing as met
+/// cost more at every size measured above this threshold (session 13: bunny 640×360 +7.7%
+/// instructions, 1280×720 +14%; Igea 1280×720 +6.8%).
 pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
 
 /// What the accelerator needs to know of a frame.

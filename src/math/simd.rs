@@ -2,7 +2,8 @@
 //! run-time choice between a kernel's AVX2+FMA build and its baseline build, and `each3`.
 
 /// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
-/// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline: the one place
+/// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline. With
+/// [`crate::math::lanes`] (whose AVX types may exist only behind this check), the one place
 /// the crate uses unsafe code.
 ///
 /// With `lanes` before the kernel's path, the kernel is generic over its
