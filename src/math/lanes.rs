@@ -1,5 +1,5 @@
 //! The 8 f32 lanes the hot kernels compute in, as a trait ([`Lanes`]) with two types: `wide`'s
-//! `f32x8` (two SSE halves: the baseline build) and [`Avx8`] (one 256-bit AVX register),
+//! `f32x8` (two SSE halves: the baseline build) and `Avx8` (one 256-bit AVX register),
 //! which only a kernel's AVX2 build uses ([`super::simd::avx2_or_baseline`]).
 //!
 //! Why two types: `wide` picks its implementation when the crate is compiled
@@ -262,14 +262,19 @@ impl Lanes64 for f64x4 {
     }
 }
 
+#[cfg(all(test, target_arch = "x86_64"))]
+pub(crate) use avx::Avx4d;
 #[cfg(target_arch = "x86_64")]
-pub use avx::{Avx4d, Avx8};
+pub(crate) use avx::Avx8;
 
-/// [`Avx8`]: every operation one AVX instruction (or a few), through `std::arch`.
+/// `Avx8` and `Avx4d`: every operation one AVX instruction (or a few), through
+/// `std::arch`.
 ///
-/// Soundness: its operations execute AVX instructions, so an `Avx8` must exist only where the
-/// CPU has AVX. It is made only inside the AVX2 arm of `avx2_or_baseline!`, after the run-time
-/// check ([`super::simd::has_avx2`]); nothing else in the crate names it.
+/// Soundness: their operations execute AVX2 instructions, so such a value must exist only
+/// where the CPU has AVX2. The types are private to the crate and named only in the AVX2 arm
+/// of `avx2_or_baseline!`, after the run-time check ([`super::simd::has_avx2`]), and in
+/// tests behind the same check; every constructor (`splat`, `from_array`, which the others
+/// go through) asserts it in debug builds.
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
@@ -288,7 +293,7 @@ mod avx {
                 type Output = Self;
                 #[inline(always)]
                 fn $method(self, rhs: Self) -> Self {
-                    // SAFETY: an Avx8 exists only where the CPU has AVX (the type's docs).
+                    // SAFETY: such a value exists only where the CPU has AVX2 (the module's docs).
                     Self(unsafe { $op(self.0, rhs.0) })
                 }
             }
@@ -345,11 +350,13 @@ mod avx {
         type F64 = Avx4d;
         #[inline(always)]
         fn splat(x: f32) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_set1_ps(x) })
         }
         #[inline(always)]
         fn from_array(a: [f32; 8]) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
             // SAFETY: as in `binary!`; the load reads the 8 floats of `a`.
             Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
         }
@@ -452,7 +459,7 @@ mod avx {
         }
     }
 
-    /// 4 f64 lanes in one AVX register (made, like [`Avx8`], only where the CPU has AVX).
+    /// 4 f64 lanes in one AVX register (made, like [`Avx8`], only where the CPU has AVX2).
     #[derive(Clone, Copy, Debug)]
     #[repr(transparent)]
     pub struct Avx4d(__m256d);
@@ -466,11 +473,13 @@ mod avx {
     impl Lanes64 for Avx4d {
         #[inline(always)]
         fn splat(x: f64) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_set1_pd(x) })
         }
         #[inline(always)]
         fn from_array(a: [f64; 4]) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
             // SAFETY: as in `binary!`; the load reads the 4 doubles of `a`.
             Self(unsafe { _mm256_loadu_pd(a.as_ptr()) })
         }

@@ -8,7 +8,7 @@
 ///
 /// With `lanes` before the kernel's path, the kernel is generic over its
 /// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 build computes in
-/// [`Avx8`](crate::math::lanes::Avx8), its baseline build in `wide`'s f32x8.
+/// `Avx8` (crate-private), its baseline build in `wide`'s f32x8.
 macro_rules! avx2_or_baseline {
     (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
