@@ -467,6 +467,8 @@ impl Bvh {
             reach.simd_lt(inf).bitselect(m, inf)
         };
         let mut live = !nearest.ambiguous() & 0xff;
+        // The culling limits change only when a leaf is offered: kept between leaves.
+        let mut reach = limit(nearest.reach());
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -495,11 +497,13 @@ impl Bvh {
                     }
                 }
                 live &= !nearest.ambiguous();
+                reach = limit(nearest.reach());
             } else {
+                // Both children in one pair (one bounds check).
+                let pair = &self.pairs[n.offset as usize / 2].0;
                 let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let reach = limit(nearest.reach());
-                let (ma, ta) = rays.enter(&self.node(a).bounds, reach, live);
-                let (mb, tb) = rays.enter(&self.node(b).bounds, reach, live);
+                let (ma, ta) = rays.enter(&pair[0].bounds, reach, live);
+                let (mb, tb) = rays.enter(&pair[1].bounds, reach, live);
                 match (ma != 0, mb != 0) {
                     (true, true) => {
                         let lane = (ma & mb).trailing_zeros() as usize;
@@ -531,11 +535,7 @@ impl Bvh {
                 }
                 sp -= 1;
                 let cand = stack[sp] as usize;
-                if rays
-                    .enter(&self.node(cand).bounds, limit(nearest.reach()), live)
-                    .0
-                    != 0
-                {
+                if rays.enter(&self.node(cand).bounds, reach, live).0 != 0 {
                     node = cand;
                     break;
                 }
