@@ -15,8 +15,8 @@
 
 use super::instances::PacketSink;
 use super::packet::{
-    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed, ShadowHits,
-    ShadowPacket,
+    quad_indices, OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed,
+    ShadowHits, ShadowPacket,
 };
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -461,14 +461,10 @@ impl Bvh {
             return self.closest_packet_untrusted(nearest, o, prepared);
         }
         let inf = V::splat(f32::INFINITY);
-        // Culling limit per lane: the nearest hit's bound plus the margin (∞ while none).
-        let limit = |reach: V| {
-            let m = reach + reach.abs() * V::splat(1.0 / 65536.0);
-            reach.simd_lt(inf).bitselect(m, inf)
-        };
         let mut live = !nearest.ambiguous() & 0xff;
-        // The culling limits change only when a leaf is offered: kept between leaves.
-        let mut reach = limit(nearest.reach());
+        // Culling limit per lane ([`PacketSink::limit`]: the nearest hit's bound plus the
+        // margin, ∞ while none). It changes only when a leaf is offered: kept between leaves.
+        let mut reach = nearest.limit();
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -497,7 +493,7 @@ impl Bvh {
                     }
                 }
                 live &= !nearest.ambiguous();
-                reach = limit(nearest.reach());
+                reach = nearest.limit();
             } else {
                 // Both children in one pair (one bounds check).
                 let pair = &self.pairs[n.offset as usize / 2].0;
@@ -549,18 +545,13 @@ impl Bvh {
     /// calls, and their lane operations with them.)
     #[inline(always)]
     fn prepare_quad<V: Lanes>(&self, start: usize, end: usize, o: [f32; 3]) -> [OriginTriangle; 4] {
-        let last = end - 1;
-        let (i1, i2, i3) = (
-            (start + 1).min(last),
-            (start + 2).min(last),
-            (start + 3).min(last),
-        );
+        let [i0, i1, i2, i3] = quad_indices(start, end);
         let t = &self.tris;
         let p = &self.prims;
         OriginTriangle::new4::<V::F64>(
-            [&t[start], &t[i1], &t[i2], &t[i3]],
+            [&t[i0], &t[i1], &t[i2], &t[i3]],
             o,
-            [p[start], p[i1], p[i2], p[i3]],
+            [p[i0], p[i1], p[i2], p[i3]],
         )
     }
 
@@ -676,7 +667,12 @@ impl Bvh {
         if !rays.trusted {
             return self.blocked_packet_untrusted(packet, o, prepared);
         }
-        let limit = V::splat(1.0 + 1.0 / 65536.0);
+        let limit = packet.limit();
+        let mut leaves = OwnLeaves {
+            bvh: self,
+            o,
+            prepared: prepared.map(|p| &p.tris[..]),
+        };
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -686,24 +682,12 @@ impl Bvh {
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                let leaf = n.offset as usize..(n.offset + n.count) as usize;
-                match prepared {
-                    Some(p) => {
-                        for tri in &p.tris[leaf] {
-                            packet.offer(tri);
-                        }
-                    }
-                    None => {
-                        let mut start = leaf.start;
-                        while start < leaf.end {
-                            let quad = self.prepare_quad::<V>(start, leaf.end, o);
-                            for tri in quad.iter().take(leaf.end - start) {
-                                packet.offer(tri);
-                            }
-                            start += 4;
-                        }
-                    }
-                }
+                Leaves::<V, _>::visit(
+                    &mut leaves,
+                    &mut packet,
+                    n.offset as usize,
+                    n.count as usize,
+                );
                 if packet.live() == 0 {
                     return packet.finish();
                 }

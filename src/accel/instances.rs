@@ -19,7 +19,7 @@
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
-use super::packet::{OriginTriangle, PacketNearest, ShadowPacket};
+use super::packet::{quad_indices, OriginTriangle, PacketNearest, ShadowPacket};
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -431,22 +431,17 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
         let mut start = first;
         // Four at a time ([`OriginTriangle::new4`]); a short quad repeats its last triangle.
         while start < end {
-            let last = end - 1;
-            let (i1, i2, i3) = (
-                (start + 1).min(last),
-                (start + 2).min(last),
-                (start + 3).min(last),
-            );
+            let [i0, i1, i2, i3] = quad_indices(start, end);
             let place = self.placed;
             let world = [
-                place.world(&tris[start]),
+                place.world(&tris[i0]),
                 place.world(&tris[i1]),
                 place.world(&tris[i2]),
                 place.world(&tris[i3]),
             ];
             let first_prim = place.first_prim;
             let prim = [
-                first_prim + locals[start],
+                first_prim + locals[i0],
                 first_prim + locals[i1],
                 first_prim + locals[i2],
                 first_prim + locals[i3],
