@@ -615,8 +615,9 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
 #[test]
 fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
     // The packet kernels are compiled twice (baseline x86-64 and AVX2+FMA, chosen at run
-    // time); both must give the same answers. Random scenes and packets through the flat
-    // kernel, the BVH packets (both ways of preparing) and the shadow packets.
+    // time); both must give the same answers. Random cameras' ray directions, random scenes
+    // and packets through the flat kernel, the BVH packets (both ways of preparing) and the
+    // shadow packets.
     let mut rng = Rng(21);
     let mut hit_lanes = 0;
     for _ in 0..200 {
@@ -627,8 +628,24 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         let bvh_shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&bvh_shapes, raylab::accel::AccelChoice::Bvh);
         let bvh_prepared = accel.prepare_origin(o).unwrap();
+        let camera = Camera::from_yaw_pitch(
+            glam::DVec3::new(
+                rng.range(-5.0, 5.0),
+                rng.range(-5.0, 5.0),
+                rng.range(-5.0, 5.0),
+            ),
+            rng.range(-3.0, 3.0),
+            rng.range(-1.5, 1.5),
+            10f64.powf(rng.range(-2.0, 6.0)),
+        )
+        .unwrap();
+        let (w, h) = (1 + rng.below(4000) as u32, 1 + rng.below(4000) as u32);
+        let generator = camera.ray_generator(w, h);
+        let xs = f32x8::from([0; 8].map(|_| rng.range(0.0, w as f64) as f32));
+        let y = rng.range(0.0, h as f64) as f32;
         let run = || {
             (
+                generator.directions_x8(xs, y),
                 packet::closest(&prepared.tris, &d, dm),
                 accel.closest_packet(o, Some(&bvh_prepared), &d, dm),
                 accel.closest_packet(o, None, &d, dm),
@@ -642,7 +659,12 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         let baseline = run();
         raylab::math::simd::use_baseline_simd(false);
         assert_eq!(format!("{fast:?}"), format!("{baseline:?}"));
-        hit_lanes += fast.0.prim.iter().filter(|p| **p != u32::MAX).count();
+        hit_lanes += fast.1.prim.iter().filter(|p| **p != u32::MAX).count();
+        // And each camera direction is the scalar ray's.
+        for (l, x) in xs.to_array().into_iter().enumerate() {
+            let want = generator.ray_through(x, y).d;
+            assert_eq!(fast.0.map(|c| c.to_array()[l]), want, "camera lane {l}");
+        }
     }
     assert!(
         hit_lanes > 200,

@@ -344,18 +344,23 @@ impl<'a> FrameQueries<'a> {
                 None => true,
             };
             scratch.subset.clear();
-            scratch.subset.extend(
-                (culling.tris.iter().zip(&culling.screen))
-                    .filter(|(_, s)| meets(s))
-                    .map(|(t, _)| *t),
-            );
-            if let Plan::CulledPackets { from_eye, .. } = &self.plan {
-                scratch.prepared.clear();
-                scratch.prepared.extend(
-                    (from_eye.tris.iter().zip(&culling.screen))
+            scratch.prepared.clear();
+            match &self.plan {
+                // One test per triangle for both lists.
+                Plan::CulledPackets { from_eye, .. } => {
+                    for ((t, p), s) in culling.tris.iter().zip(&from_eye.tris).zip(&culling.screen)
+                    {
+                        if meets(s) {
+                            scratch.subset.push(*t);
+                            scratch.prepared.push(*p);
+                        }
+                    }
+                }
+                _ => scratch.subset.extend(
+                    (culling.tris.iter().zip(&culling.screen))
                         .filter(|(_, s)| meets(s))
                         .map(|(t, _)| *t),
-                );
+                ),
             }
         }
         TileQueries {

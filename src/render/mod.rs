@@ -341,7 +341,9 @@ impl<'a> Frame<'a> {
         shaded.clear();
         for j in tile.y0..tile.y0 + tile.h {
             let row_off = (j - tile.y0) as usize * self.row_bytes;
-            sums.fill([0.0; 3]);
+            if self.flat_rgba.is_none() {
+                sums.fill([0.0; 3]);
+            }
             for sy in 0..n {
                 for sx in 0..n {
                     // The image positions of `sample`, with the same operations.
@@ -362,13 +364,19 @@ impl<'a> Frame<'a> {
                         }
                         continue;
                     }
-                    for (l, sum) in sums.iter_mut().take(lanes).enumerate() {
-                        let prim = (prims[l] != NO_HIT).then_some(prims[l]);
-                        counts.0 += prim.is_some() as u64;
-                        match (&self.flat_rgba, prim) {
-                            (Some(rgba), _) => rgba.put(rows, row_off, tile.x0 + l as u32, prim),
-                            (None, Some(prim)) => add(sum, scene.color(prim)),
-                            (None, None) => {}
+                    // (Lanes past `lanes` are NO_HIT.)
+                    counts.0 += prims.iter().filter(|&&p| p != NO_HIT).count() as u64;
+                    match &self.flat_rgba {
+                        Some(rgba) => {
+                            let at = row_off + tile.x0 as usize * 4;
+                            rgba.put(&mut rows[at..][..lanes * 4], &prims);
+                        }
+                        None => {
+                            for (sum, &prim) in sums.iter_mut().zip(&prims[..lanes]) {
+                                if prim != NO_HIT {
+                                    add(sum, scene.color(prim));
+                                }
+                            }
                         }
                     }
                 }
@@ -488,38 +496,46 @@ fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
 /// per frame than the pixels it serves).
 struct FlatPixels<'a> {
     scene: &'a Scene,
-    /// Per primitive; empty when encoding per pixel.
-    table: Vec<[u8; 4]>,
+    /// Per primitive, RGBA8 as one word in memory order; empty when encoding per pixel.
+    table: Vec<u32>,
     srgb: &'static SrgbTables,
 }
 
 impl<'a> FlatPixels<'a> {
     fn new(scene: &'a Scene, camera_rays: usize) -> Self {
         let srgb = SrgbTables::get();
-        let encode = |c: &Rgb| [srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255];
         let table = match scene.len().saturating_mul(8) <= camera_rays {
             true => (0..scene.len() as u32)
-                .map(|p| encode(&scene.color(p)))
+                .map(|p| rgba_word(srgb, scene.color(p)))
                 .collect(),
             false => Vec::new(),
         };
         Self { scene, table, srgb }
     }
 
-    /// Writes pixel `i` of the row at `row_off` in `rows`.
+    /// Writes the pixels of primitives `prims` ([`NO_HIT`]: black) into `out`, 4 bytes each.
+    /// (In words: written as bytes, the table's entries were taken apart and put together
+    /// again, 24 instructions a pixel.)
     #[inline]
-    fn put(&self, rows: &mut [u8], row_off: usize, i: u32, prim: Option<u32>) {
-        let px = match prim {
-            None => [0, 0, 0, 255],
-            Some(p) if !self.table.is_empty() => self.table[p as usize],
-            Some(p) => {
-                let c = self.scene.color(p);
-                let e = |x| self.srgb.encode(x);
-                [e(c[0]), e(c[1]), e(c[2]), 255]
-            }
-        };
-        rows[row_off + i as usize * 4..][..4].copy_from_slice(&px);
+    fn put(&self, out: &mut [u8], prims: &[u32]) {
+        for (px, &p) in out.chunks_exact_mut(4).zip(prims) {
+            // (NO_HIT is past the table's end.)
+            let rgba = match self.table.get(p as usize) {
+                Some(&rgba) => rgba,
+                None if p == NO_HIT => BLACK_RGBA,
+                None => rgba_word(self.srgb, self.scene.color(p)),
+            };
+            px.copy_from_slice(&rgba.to_ne_bytes());
+        }
     }
+}
+
+/// Opaque black as an RGBA8 word in memory order.
+const BLACK_RGBA: u32 = u32::from_ne_bytes([0, 0, 0, 255]);
+
+/// Linear colour `c` encoded as an RGBA8 word in memory order, alpha 255.
+fn rgba_word(srgb: &SrgbTables, c: Rgb) -> u32 {
+    u32::from_ne_bytes([srgb.encode(c[0]), srgb.encode(c[1]), srgb.encode(c[2]), 255])
 }
 
 fn add(sum: &mut Rgb, c: Rgb) {
