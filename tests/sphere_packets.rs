@@ -183,7 +183,12 @@ fn camera_packets_keep_the_tiles_a_sphere_shows_in_and_name_the_per_ray_primitiv
 /// every ray one at a time; with the adaptive method it marks nothing) and requires the same
 /// bits and counts.
 fn packets_render_as_per_ray(what: &str, scene: &Scene, camera: &Camera, w: u32, h: u32) {
-    for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
+    for step in [
+        LabStep::Flat,
+        LabStep::Direct,
+        LabStep::Shadows,
+        LabStep::Indirect,
+    ] {
         for spp in [1, 2] {
             for tile_culling in [true, false] {
                 let packets = RenderSettings {

@@ -84,6 +84,21 @@ pub trait Lanes:
     fn none(self) -> bool {
         self.to_bitmask() == 0
     }
+    /// All-ones lanes where bit l of `mask` is set, else zeros (a mask for `bitselect`).
+    #[inline(always)]
+    fn from_bitmask(mask: u32) -> Self {
+        let lane = |l: u32| if mask & (1 << l) != 0 { u32::MAX } else { 0 };
+        Self::from_bits([
+            lane(0),
+            lane(1),
+            lane(2),
+            lane(3),
+            lane(4),
+            lane(5),
+            lane(6),
+            lane(7),
+        ])
+    }
     /// Per lane the bit pattern of `bits[l]` (ids moved through float lanes).
     #[inline(always)]
     fn from_bits(bits: [u32; 8]) -> Self {

@@ -332,7 +332,6 @@ impl<'a> Frame<'a> {
         // Looked up once: loads through `scene` cannot be hoisted out of the loops (it holds
         // a OnceLock), and without instances primitive i's colour is colors[i].
         let stored_colors = scene.instances().is_empty().then_some(&scene.colors[..]);
-        let ambient = scene.ambient;
         let n = settings.spp;
         let o = self.gen.origin();
         let flat = settings.step == LabStep::Flat;
@@ -400,30 +399,31 @@ impl<'a> Frame<'a> {
         }
         // Colour: the samples of each pixel summed in the per-ray path's order.
         let per_row = (n * n) as usize;
-        for (jj, row_packets) in shaded.chunks(per_row).enumerate() {
-            let mut sums = [[0.0f32; 3]; TILE as usize];
-            for (pk, blocked) in row_packets.iter().zip(&blocked[jj * per_row..]) {
-                for (l, sum) in sums.iter_mut().enumerate().take(lanes) {
-                    if pk.hit & (1 << l) == 0 {
-                        continue;
-                    }
-                    counts.0 += 1;
-                    let shadowed = pk.shadow.live & (1 << l) != 0;
-                    counts.1 += (casts_shadows && shadowed) as u64;
-                    let d = pk.d(scene, l);
-                    let prim = pk.prim(l);
-                    let rho = match stored_colors {
-                        Some(colors) => colors[prim as usize],
-                        None => scene.color(prim),
-                    };
-                    let shadow = blocked & (1 << l) != 0;
-                    let c = shade::step_colour_of(rho, ambient, d, shadow, settings.step);
-                    add(sum, c);
+        let lane_mask = (1u32 << lanes) - 1;
+        for (jj, (row_packets, blocked)) in shaded
+            .chunks(per_row)
+            .zip(blocked.chunks(per_row))
+            .enumerate()
+        {
+            for pk in row_packets {
+                let hit = pk.hit & lane_mask;
+                counts.0 += hit.count_ones() as u64;
+                if casts_shadows {
+                    counts.1 += (hit & pk.shadow.live).count_ones() as u64;
                 }
             }
+            let sums = shade::sum_colours(
+                scene,
+                stored_colors,
+                row_packets,
+                blocked,
+                settings.step,
+                lane_mask,
+            );
             let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
-            for (l, sum) in sums.iter().take(lanes).enumerate() {
-                self.put(row, tile.x0 + l as u32, *sum);
+            for l in 0..lanes {
+                let sum = [sums[0][l], sums[1][l], sums[2][l]];
+                self.put(row, tile.x0 + l as u32, sum);
             }
         }
     }

@@ -236,6 +236,85 @@ impl AsRef<ShadowSegments> for ShadePacket {
     }
 }
 
+/// The colours of lab step `step` (past the flat one) of `packets`, one tile row's camera
+/// packets with its samples in order, summed per lane over lanes `lanes`: the sums the
+/// per-ray path makes per pixel ([`step_colour`] added sample by sample), with the same
+/// operations in the same order, 8 lanes at a time. `blocked[i]` is packet i's blocked
+/// shadow lanes; `colors` the scene's colours by primitive where no instances are present.
+/// (One lane at a time this was about 80 instructions a pixel of the Cornell box.)
+pub(crate) fn sum_colours(
+    scene: &Scene,
+    colors: Option<&[Rgb]>,
+    packets: &[ShadePacket],
+    blocked: &[u32],
+    step: LabStep,
+    lanes: u32,
+) -> [[f32; 8]; 3] {
+    avx2_or_baseline!(lanes sum_colours_body => (
+        scene: &Scene,
+        colors: Option<&[Rgb]>,
+        packets: &[ShadePacket],
+        blocked: &[u32],
+        step: LabStep,
+        lanes: u32
+    ) -> [[f32; 8]; 3])
+}
+
+#[inline(always)]
+fn sum_colours_body<V: Lanes>(
+    scene: &Scene,
+    colors: Option<&[Rgb]>,
+    packets: &[ShadePacket],
+    blocked: &[u32],
+    step: LabStep,
+    lanes: u32,
+) -> [[f32; 8]; 3] {
+    let (power, ambient) = (scene.light.power, scene.ambient);
+    let mut sums = [V::zero(); 3];
+    for (packet, &blocked) in packets.iter().zip(blocked) {
+        let hit = packet.hit & lanes;
+        if hit == 0 {
+            continue;
+        }
+        let colour = |prim: u32| match colors {
+            Some(colors) => colors[prim as usize],
+            None => scene.color(prim),
+        };
+        // ρ by lane (missed lanes are dropped below): one look-up where every lane hit the
+        // same primitive (most packets of a box-like scene), else one per lane.
+        let prims = &packet.shadow.prim;
+        let mut rho = [[0.0f32; 8]; 3];
+        if hit == 0xff && prims.iter().all(|&p| p == prims[0]) {
+            let c = colour(prims[0]);
+            rho = [[c[0]; 8], [c[1]; 8], [c[2]; 8]];
+        } else {
+            for l in 0..8 {
+                if hit & (1 << l) != 0 {
+                    let c = colour(prims[l]);
+                    rho[0][l] = c[0];
+                    rho[1][l] = c[1];
+                    rho[2][l] = c[2];
+                }
+            }
+        }
+        let lit = V::from_bitmask(packet.shadow.live & !blocked);
+        let hit = V::from_bitmask(hit);
+        let k = V::from_array(packet.k);
+        for c in 0..3 {
+            // As `Lit::d` then `step_colour_of`: D = power·k where the light is seen.
+            let d = lit.bitselect(V::splat(power[c]) * k, V::zero());
+            let rho = V::from_array(rho[c]);
+            let colour = match step {
+                LabStep::Flat => rho,
+                LabStep::Direct | LabStep::Shadows => rho * d,
+                LabStep::Indirect => rho * (d + V::splat(ambient[c])),
+            };
+            sums[c] = sums[c] + hit.bitselect(colour, V::zero());
+        }
+    }
+    [sums[0].to_array(), sums[1].to_array(), sums[2].to_array()]
+}
+
 /// The colour of lab step 3, 4 or 5 for primitive `prim` with irradiance `d` (ρ·D, with
 /// shadows, plus the ambient term N): what every path computes per sample.
 #[inline]
