@@ -123,8 +123,9 @@ fn random_packets_leave_only_edge_rays_over() {
     // cannot be decided in f32 (the per-ray search takes them); rays at centroids and random
     // points must nearly all be decided, or the bounds are too loose to pay. (Those hitting
     // the duplicated triangle are exact ties, left over rightly: about 1 in 40 here.)
-    // The exact-edge resolver then decides most edge rays (the others, such as exact ties
-    // of triangles that do not share an edge in one plane, go per ray).
+    // The exact-edge resolver then decides nearly all of them: it orders overlapping
+    // candidates by exact plane sides (0 of 8,242 left here; 999 when it settled only
+    // coplanar pairs sharing an edge); what it cannot tell goes per ray.
     let mut rng = Rng(7);
     let (mut generic, mut generic_left, mut edge, mut edge_left) = (0, 0, 0, 0);
     let mut resolver_left = 0;
@@ -143,7 +144,7 @@ fn random_packets_leave_only_edge_rays_over() {
          the exact-edge resolver left {resolver_left} of those {ambiguous}"
     );
     assert!(
-        resolver_left * 2 < ambiguous,
+        resolver_left * 100 < ambiguous,
         "resolver left {resolver_left} of {ambiguous}"
     );
     assert!(generic_left * 20 < generic, "{generic_left} of {generic}");
