@@ -421,9 +421,9 @@ impl<'a> Frame<'a> {
                 lane_mask,
             );
             let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
-            for l in 0..lanes {
-                let sum = [sums[0][l], sums[1][l], sums[2][l]];
-                self.put(row, tile.x0 + l as u32, sum);
+            let [r, g, b] = &sums;
+            for (l, ((&r, &g), &b)) in r.iter().zip(g).zip(b).take(lanes).enumerate() {
+                self.put(row, tile.x0 + l as u32, [r, g, b]);
             }
         }
     }
