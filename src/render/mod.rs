@@ -421,9 +421,8 @@ impl<'a> Frame<'a> {
                 lane_mask,
             );
             let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
-            let [r, g, b] = &sums;
-            for (l, ((&r, &g), &b)) in r.iter().zip(g).zip(b).take(lanes).enumerate() {
-                self.put(row, tile.x0 + l as u32, [r, g, b]);
+            for (l, sum) in sums.iter().take(lanes).enumerate() {
+                self.put(row, tile.x0 + l as u32, *sum);
             }
         }
     }

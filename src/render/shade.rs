@@ -237,7 +237,7 @@ impl AsRef<ShadowSegments> for ShadePacket {
 }
 
 /// The colours of lab step `step` (past the flat one) of `packets`, one tile row's camera
-/// packets with its samples in order, summed per lane over lanes `lanes`: the sums the
+/// packets with its samples in order, summed per lane (pixel) over lanes `lanes`: the sums the
 /// per-ray path makes per pixel ([`step_colour`] added sample by sample), with the same
 /// operations in the same order, 8 lanes at a time. `blocked[i]` is packet i's blocked
 /// shadow lanes; `colors` the scene's colours by primitive where no instances are present.
@@ -249,7 +249,7 @@ pub(crate) fn sum_colours(
     blocked: &[u32],
     step: LabStep,
     lanes: u32,
-) -> [[f32; 8]; 3] {
+) -> [Rgb; 8] {
     avx2_or_baseline!(lanes sum_colours_body => (
         scene: &Scene,
         colors: Option<&[Rgb]>,
@@ -257,7 +257,7 @@ pub(crate) fn sum_colours(
         blocked: &[u32],
         step: LabStep,
         lanes: u32
-    ) -> [[f32; 8]; 3])
+    ) -> [Rgb; 8])
 }
 
 #[inline(always)]
@@ -268,7 +268,7 @@ fn sum_colours_body<V: Lanes>(
     blocked: &[u32],
     step: LabStep,
     lanes: u32,
-) -> [[f32; 8]; 3] {
+) -> [Rgb; 8] {
     let (power, ambient) = (scene.light.power, scene.ambient);
     let mut sums = [V::zero(); 3];
     for (packet, &blocked) in packets.iter().zip(blocked) {
@@ -312,7 +312,14 @@ fn sum_colours_body<V: Lanes>(
             sums[c] = sums[c] + hit.bitselect(colour, V::zero());
         }
     }
-    [sums[0].to_array(), sums[1].to_array(), sums[2].to_array()]
+    let channels = [sums[0].to_array(), sums[1].to_array(), sums[2].to_array()];
+    let mut pixels = [[0.0; 3]; 8];
+    for l in 0..8 {
+        for c in 0..3 {
+            pixels[l][c] = channels[c][l];
+        }
+    }
+    pixels
 }
 
 /// The colour of lab step 3, 4 or 5 for primitive `prim` with irradiance `d` (ρ·D, with
