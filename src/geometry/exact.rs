@@ -573,6 +573,14 @@ fn cross(a: &QV, b: &QV) -> QV {
 mod tests {
     use super::*;
 
+    /// The tests' xorshift generator: steps `x` and returns it.
+    fn xorshift(x: &mut u64) -> u64 {
+        *x ^= *x << 13;
+        *x ^= *x >> 7;
+        *x ^= *x << 17;
+        *x
+    }
+
     fn t(a: f64, b: f64, s: f64) -> ExactT {
         ExactT {
             a: q(a),
@@ -597,12 +605,8 @@ mod tests {
         assert_ne!(orient(d, o, a, b2), Some(Ordering::Equal));
         // Random f32 inputs: expansions agree with rationals.
         let mut x = 12345u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x % 2001) as f64 - 1000.0) as f32 as f64 * 0.37f32 as f64
-        };
+        let mut next =
+            || ((xorshift(&mut x) % 2001) as f64 - 1000.0) as f32 as f64 * 0.37f32 as f64;
         for _ in 0..2000 {
             let p: Vec<[f64; 3]> = (0..4).map(|_| [next(), next(), next()]).collect();
             // A direction towards the midpoint of a and b makes exact zeros common.
@@ -622,12 +626,8 @@ mod tests {
         // scales): the plain f64 determinant is then mostly rounding, and the filter must
         // leave those to the expansions (every answer checked against rationals).
         let mut x = 5551212u64;
-        let mut next = |scale: f64| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale
-        };
+        let mut next =
+            |scale: f64| ((xorshift(&mut x) >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale;
         let mut off_plane = 0;
         for i in 0..4000usize {
             let scale = 10f64.powi((i % 31) as i32 - 15);
@@ -662,10 +662,7 @@ mod tests {
         // split product (no FMA in the baseline x86-64 build) must stay exact.
         let mut x = 987654321u64;
         let mut next = |scale: f64| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let m = (x >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
+            let m = (xorshift(&mut x) >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
             (m * scale) as f32 as f64
         };
         for i in 0..3000 {

@@ -219,15 +219,6 @@ impl ShadePacket {
             None => self.shadow.live &= !bit,
         }
     }
-
-    /// Lane l's D.
-    #[inline]
-    pub fn d(&self, scene: &Scene, l: usize) -> Rgb {
-        match self.shadow.live & (1 << l) != 0 {
-            true => scene.light.power.map(|c| c * self.k[l]),
-            false => [0.0; 3],
-        }
-    }
 }
 
 impl AsRef<ShadowSegments> for ShadePacket {
@@ -301,7 +292,7 @@ fn sum_colours_body<V: Lanes>(
         let hit = V::from_bitmask(hit);
         let k = V::from_array(packet.k);
         for c in 0..3 {
-            // As `Lit::d` then `step_colour_of`: D = power·k where the light is seen.
+            // As `Lit::d` then `step_colour`: D = power·k where the light is seen.
             let d = lit.bitselect(V::splat(power[c]) * k, V::zero());
             let rho = V::from_array(rho[c]);
             let colour = match step {
@@ -326,19 +317,13 @@ fn sum_colours_body<V: Lanes>(
 /// shadows, plus the ambient term N): what every path computes per sample.
 #[inline]
 pub fn step_colour(scene: &Scene, prim: u32, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
-    step_colour_of(scene.color(prim), scene.ambient, d, blocked, step)
-}
-
-/// [`step_colour`] from the primitive's colour ρ and the scene's ambient term N (for loops
-/// that look the colours up themselves).
-#[inline(always)]
-pub fn step_colour_of(rho: Rgb, ambient: Rgb, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
+    let rho = scene.color(prim);
     let d = if blocked { [0.0; 3] } else { d };
     match step {
         LabStep::Flat => rho,
         LabStep::Direct | LabStep::Shadows => mul(rho, d),
         LabStep::Indirect => {
-            let n = ambient;
+            let n = scene.ambient;
             mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
         }
     }
