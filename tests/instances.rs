@@ -213,6 +213,75 @@ fn instanced_queries_equal_the_flattened_scene() {
 }
 
 #[test]
+fn tiles_off_the_instances_box_render_as_the_flattened_scene() {
+    // Balls alone, no box around them: tiles off the instances' screen rectangle are filled
+    // as background without tracing. One ball sits at the image's left edge, part off it.
+    let mut rng = Rng(78);
+    let mesh = mesh("ball", &icosphere(2, 0.3, [0.0, 0.0, 0.0]), &mut rng);
+    let at = |x: f64, y: f64| DMat4::from_translation(DVec3::new(x, y, 0.0));
+    let placements = [at(-1.25, 0.0), at(0.0, 0.1), at(0.5, -0.3)];
+    let instances: Vec<Instance> = (placements.iter().enumerate())
+        .map(|(k, &m)| Instance {
+            mesh: mesh.clone(),
+            world_from_object: m,
+            first_prim: (k * mesh.triangles.len()) as u32,
+            color: [0.2, 0.5, 0.9],
+            tint: None,
+        })
+        .collect();
+    let scene = Scene::new(
+        "balls",
+        Vec::new(),
+        Vec::new(),
+        cornell::LIGHT,
+        cornell::AMBIENT,
+    )
+    .with_instances(instances)
+    .unwrap();
+    let flat = scene.flattened();
+    let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -2.5), 0.0, 0.0, 100.0).unwrap();
+    let (w, h) = (120, 90);
+    let gen = cam.ray_generator(w, h);
+    let queries = scene.accel().for_frame(&accel::FrameSetup {
+        eye: gen.origin(),
+        light: scene.light.position,
+        projection: Some(cam.projection(w, h)),
+        method: Method::Adaptive,
+        camera_rays: (w * h) as usize,
+        shadows: false,
+        per_ray: false,
+    });
+    let mut scratch = accel::TileScratch::default();
+    let empty = (0..h)
+        .step_by(16)
+        .flat_map(|y0| {
+            (0..w)
+                .step_by(8)
+                .map(move |x0| [x0, y0, (x0 + 8).min(w), (y0 + 16).min(h)])
+        })
+        .filter(|&tile| queries.tile(tile, &mut scratch).shows_nothing())
+        .count();
+    // Above and below the row of balls.
+    assert!(empty >= 30, "{empty} empty tiles");
+    for step in [LabStep::Flat, LabStep::Shadows] {
+        for tile_culling in [true, false] {
+            let settings = RenderSettings {
+                width: w,
+                height: h,
+                step,
+                tile_culling,
+                ..Default::default()
+            };
+            let (a, sa) = render_image(&scene, &cam, &settings).unwrap();
+            let (b, sb) = render_image(&flat, &cam, &settings).unwrap();
+            assert!(a == b, "{step} culling {tile_culling}: images differ");
+            assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
+            assert!(sa.hits > 1000, "{} hits", sa.hits);
+        }
+    }
+}
+
+#[test]
 fn instanced_images_equal_the_flattened_scene() {
     let mut rng = Rng(77);
     let mesh = mesh("ball", &icosphere(2, 0.35, [0.0, 0.0, 0.0]), &mut rng);

@@ -565,6 +565,119 @@ fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
 }
 
 #[test]
+fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
+    // A 3072-triangle cube alone (a BVH, no per-triangle culling): a tile its box cannot show
+    // in is filled as background without tracing. Its front face fills its box's screen
+    // rectangle, so hits reach the rectangle's edges; 64 cameras sweep those edges across
+    // tile boundaries a quarter pixel at a time. Every tile said to show nothing must have no
+    // hit per ray at any sample position; and culling on and off (no projection: every tile
+    // traced) must give the same bits and counts, also close up (the box past the image's
+    // edges), turned (the box at the edge), behind the camera, and far (a few pixels).
+    let mesh = common::cube(16, 1.0, [-0.5, -0.5, 0.0]);
+    let n = mesh.len();
+    let light = raylab::scene::PointLight {
+        position: [0.3, -1.5, -1.0],
+        power: [5.0; 3],
+    };
+    let mut scene = Scene::new("cube", mesh, vec![[0.2, 0.5, 0.9]; n], light, [0.1; 3]);
+    scene.set_accel(raylab::accel::AccelChoice::Auto);
+    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
+    assert!(scene.accel().flat_triangles().is_none());
+    let at = |p: [f64; 3], yaw: f64, pitch: f64| {
+        Camera::from_yaw_pitch(glam::DVec3::from(p), yaw, pitch, 90.0).unwrap()
+    };
+    let sweep = (0..64).map(|k| {
+        let s = k as f64 / 128.0;
+        at([s, (s - 0.25) * 1.4, -2.0], 0.0, 0.0)
+    });
+    let others = [
+        at([0.1, -0.2, -0.6], 0.0, 0.0),
+        at([0.1, -0.2, -2.5], 0.45, 0.2),
+        at([0.1, -0.2, -2.5], 3.1, 0.0),
+        at([0.1, -0.2, -40.0], 0.0, 0.0),
+    ];
+    let (w, h) = (101, 67);
+    let adaptive = raylab::geometry::Method::Adaptive;
+    let mut fewest_empty = usize::MAX;
+    for (k, cam) in sweep.chain(others).enumerate() {
+        let accel = scene.accel();
+        let gen = cam.ray_generator(w, h);
+        let queries = accel.for_frame(&raylab::accel::FrameSetup {
+            eye: gen.origin(),
+            light: scene.light.position,
+            projection: Some(cam.projection(w, h)),
+            method: adaptive,
+            camera_rays: (w * h) as usize,
+            shadows: false,
+            per_ray: false,
+        });
+        let mut scratch = raylab::accel::TileScratch::default();
+        let mut empty = 0;
+        for y0 in (0..h).step_by(16) {
+            for x0 in (0..w).step_by(8) {
+                let tile = [x0, y0, (x0 + 8).min(w), (y0 + 16).min(h)];
+                if !queries.tile(tile, &mut scratch).shows_nothing() {
+                    continue;
+                }
+                empty += 1;
+                for j in tile[1]..tile[3] {
+                    for i in tile[0]..tile[2] {
+                        for (sx, sy) in [
+                            (0.5, 0.5),
+                            (0.25, 0.25),
+                            (0.75, 0.25),
+                            (0.25, 0.75),
+                            (0.75, 0.75),
+                        ] {
+                            let ray = gen.ray_through(i as f32 + sx, j as f32 + sy);
+                            let hit = accel.closest_hit(&ray, adaptive, 0.0, f32::INFINITY);
+                            assert!(
+                                hit.is_none(),
+                                "camera {k}: ({i}, {j}) hits in an empty tile"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        if k < 64 {
+            // The cube covers about 45×45 of 101×67 pixels: most tiles around it are empty.
+            fewest_empty = fewest_empty.min(empty);
+        }
+        if k < 64 && k % 8 != 0 {
+            continue;
+        }
+        for step in [LabStep::Flat, LabStep::Shadows] {
+            for spp in [1, 2] {
+                let on = RenderSettings {
+                    width: w,
+                    height: h,
+                    step,
+                    spp,
+                    ..Default::default()
+                };
+                let off = RenderSettings {
+                    tile_culling: false,
+                    ..on
+                };
+                let (a, sa) = render_image(&scene, &cam, &on).unwrap();
+                let (b, sb) = render_image(&scene, &cam, &off).unwrap();
+                assert!(a == b, "camera {k} {step} spp {spp}: images differ");
+                assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
+                if k < 64 {
+                    assert!(
+                        sa.hits as u32 > 1500 * spp * spp,
+                        "camera {k}: {} hits",
+                        sa.hits
+                    );
+                }
+            }
+        }
+    }
+    assert!(fewest_empty >= 20, "{fewest_empty} empty tiles");
+}
+
+#[test]
 fn bvh_shadow_packets_render_as_the_per_ray_path() {
     // A 1280-triangle sphere in the Cornell box, traced through the BVH (no tile culling):
     // camera and shadow rays go 8 at a time from the camera and from the light. The cracks

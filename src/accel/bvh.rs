@@ -48,7 +48,7 @@ impl Aabb {
         hi: [f32::NEG_INFINITY; 3],
     };
 
-    fn grow(&mut self, o: &Aabb) {
+    pub(crate) fn grow(&mut self, o: &Aabb) {
         for k in 0..3 {
             self.lo[k] = self.lo[k].min(o.lo[k]);
             self.hi[k] = self.hi[k].max(o.hi[k]);

@@ -20,7 +20,9 @@
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
 //!   triangles are prepared once per frame where there are at least as many camera rays as
-//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them;
+//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them; a tile that
+//!   the screen rectangle of the triangles' box (instances included) does not meet has no
+//!   triangle hits, and with no other shape there [`TileQueries::shows_nothing`];
 //! - otherwise **per ray** through the scene's structure.
 //!
 //! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
@@ -117,6 +119,9 @@ enum Plan<'a> {
     BvhPackets {
         from_eye: Option<OriginTriangles>,
         from_light: Option<OriginTriangles>,
+        /// Where the triangles' box can show on screen: a tile it does not meet has no
+        /// triangle hits, and its packets skip the walk (most of a frame that frames a mesh).
+        triangles_seen: ShapeCull,
     },
 }
 
@@ -218,6 +223,9 @@ pub struct TileQueries<'a> {
     near_shapes: &'a mut Vec<LaneShape>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
+    /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
+    /// its box meets the tile on screen; per ray: true).
+    triangles_may_show: bool,
 }
 
 impl Accel {
@@ -274,6 +282,10 @@ impl Accel {
                 from_light: (prepare_once && setup.shadows)
                     .then(|| self.prepare_origin(setup.light))
                     .flatten(),
+                triangles_seen: match self.triangle_bounds() {
+                    Some(bounds) => ShapeCull::new(bounds, setup.projection.as_ref()),
+                    None => ShapeCull::new(([0.0; 3], [0.0; 3]), None),
+                },
             },
             None => Plan::PerRay,
         };
@@ -363,8 +375,14 @@ impl<'a> FrameQueries<'a> {
                 ),
             }
         }
+        let triangles_may_show = match &self.plan {
+            Plan::BvhPackets { triangles_seen, .. } => triangles_seen.meets_tile(x0, y0, x1, y1),
+            Plan::Culled(_) | Plan::CulledPackets { .. } => !scratch.subset.is_empty(),
+            Plan::PerRay => true,
+        };
         TileQueries {
             frame: self,
+            triangles_may_show,
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
@@ -376,6 +394,11 @@ impl<'a> FrameQueries<'a> {
 }
 
 impl TileQueries<'_> {
+    /// Whether no camera ray of the tile can hit anything: every pixel is background.
+    pub fn shows_nothing(&self) -> bool {
+        !self.triangles_may_show && self.shapes.is_empty()
+    }
+
     /// Whether the tile's camera rays go 8 at a time ([`TileQueries::closest_x8`]); else per
     /// ray ([`TileQueries::closest`]).
     pub fn packets(&self) -> bool {
@@ -442,6 +465,10 @@ impl TileQueries<'_> {
         let frame = self.frame;
         match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
+            Plan::BvhPackets { .. } if !self.triangles_may_show && seed.is_none() => PacketHits {
+                prim: [NO_HIT; 8],
+                ambiguous: 0,
+            },
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max, seed)

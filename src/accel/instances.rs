@@ -166,6 +166,11 @@ pub struct Instances {
 }
 
 impl Instances {
+    /// The box around every instance.
+    pub(crate) fn world_bounds(&self) -> Aabb {
+        self.world
+    }
+
     /// Builds over `instances` (their matrices must be [`Instance::placeable`]).
     pub fn build(instances: &[Instance]) -> Self {
         let mut distinct: Vec<&Arc<Mesh>> = Vec::new();

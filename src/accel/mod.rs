@@ -214,6 +214,24 @@ impl Accel {
         }
     }
 
+    /// The box around every triangle, instanced ones included (`None`: no BVH, or no
+    /// triangles).
+    pub(crate) fn triangle_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
+        let own = b.root_bounds();
+        let placed = self.instances().map(|i| i.world_bounds());
+        let both = match (own, placed) {
+            (Some(mut a), Some(b)) => {
+                a.grow(&b);
+                a
+            }
+            (a, b) => a.or(b)?,
+        };
+        Some((both.lo, both.hi))
+    }
+
     /// The shapes the triangle structures do not hold (spheres), with their primitives.
     pub fn other_shapes(&self) -> &[(Shape<f32>, u32)] {
         &self.others

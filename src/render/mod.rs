@@ -139,6 +139,10 @@ pub fn render_into_cancellable(
                 };
                 let pixels = [x0, y0, x0 + tile.w, y0 + tile.h];
                 let mut tile_queries = queries.tile(pixels, &mut scratch);
+                if tile_queries.shows_nothing() {
+                    frame.fill_background(&tile, rows);
+                    continue;
+                }
                 match tile_queries.packets() {
                     true => frame.trace_tile_packets(
                         &tile,
@@ -266,6 +270,17 @@ impl<'a> Frame<'a> {
         px[1] = srgb.encode(sum[1] * weight);
         px[2] = srgb.encode(sum[2] * weight);
         px[3] = 255;
+    }
+
+    /// Writes the background (black: no sample hits) over a tile of `rows`, as the tracing
+    /// paths would where no ray hits.
+    fn fill_background(&self, tile: &Tile, rows: &mut [u8]) {
+        for j in 0..tile.h as usize {
+            let at = j * self.row_bytes + tile.x0 as usize * 4;
+            for px in rows[at..][..tile.w as usize * 4].chunks_exact_mut(4) {
+                px.copy_from_slice(&BLACK_RGBA.to_ne_bytes());
+            }
+        }
     }
 
     /// Traces a tile ray by ray into `rows` (the band of rows the tile lies in).
