@@ -169,6 +169,40 @@ impl Bvh {
         }
     }
 
+    /// The hierarchy's nodes down to `depth` levels below the root, breadth first: each
+    /// node's box and, above that depth and where it is not a leaf, the positions of its two
+    /// children in the returned list. Every triangle lies in the box of a node without
+    /// children.
+    pub(crate) fn top_levels(&self, depth: usize) -> Vec<(Aabb, Option<[u32; 2]>)> {
+        let mut out: Vec<(Aabb, Option<[u32; 2]>)> = Vec::new();
+        let mut level: Vec<usize> = match self.pairs.is_empty() {
+            true => Vec::new(),
+            false => vec![0],
+        };
+        let mut parents: Vec<Option<usize>> = vec![None; level.len()];
+        for d in 0..=depth {
+            let mut next = Vec::new();
+            let mut next_parents = Vec::new();
+            for (&i, parent) in level.iter().zip(&parents) {
+                let at = out.len();
+                if let Some(p) = *parent {
+                    let children = out[p].1.get_or_insert([at as u32; 2]);
+                    children[1] = at as u32;
+                }
+                let n = self.node(i);
+                out.push((n.bounds, None));
+                if n.count == 0 && d < depth {
+                    let first = n.offset as usize;
+                    next.extend([first, first + 1]);
+                    next_parents.extend([Some(at), Some(at)]);
+                }
+            }
+            level = next;
+            parents = next_parents;
+        }
+        out
+    }
+
     /// Node i.
     #[inline(always)]
     fn node(&self, i: usize) -> &Node {
@@ -1211,6 +1245,52 @@ mod tests {
         match n.count {
             0 => 1 + depth(bvh, n.offset as usize).max(depth(bvh, n.offset as usize + 1)),
             _ => 1,
+        }
+    }
+
+    #[test]
+    fn top_levels_cover_every_triangle_with_their_childless_boxes() {
+        // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
+        // order whose childless boxes hold every triangle, and their count doubles per level
+        // until the leaves.
+        let mut x = 0x9e3779b97f4a7c15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32 * 10.0
+        };
+        let tris: Vec<IndexedTriangle> = (0..4000)
+            .map(|i| {
+                let p = [next(), next(), next()];
+                let q = |d: [f32; 3]| [0, 1, 2].map(|k| p[k] + d[k] * 0.05);
+                ([p, q([1.0, 0.0, 0.0]), q([0.0, 1.0, 1.0])], i)
+            })
+            .collect();
+        let bvh = Bvh::build(&tris);
+        for depth in [0, 1, 5, 8, 40] {
+            let nodes = bvh.top_levels(depth);
+            let childless: Vec<&Aabb> = (nodes.iter())
+                .filter(|(_, c)| c.is_none())
+                .map(|(b, _)| b)
+                .collect();
+            for (i, (_, children)) in nodes.iter().enumerate() {
+                if let Some([a, b]) = children {
+                    assert!(*a as usize > i && *b == a + 1 && (*b as usize) < nodes.len());
+                }
+            }
+            if depth <= 8 {
+                assert_eq!(nodes.len(), (2 << depth) - 1, "depth {depth}");
+            } else {
+                assert_eq!(childless.len(), bvh.pairs.len(), "leaves at depth {depth}");
+            }
+            for (v, i) in &tris {
+                let inside = |b: &&&Aabb| {
+                    v.iter()
+                        .all(|p| (0..3).all(|k| b.lo[k] <= p[k] && p[k] <= b.hi[k]))
+                };
+                assert!(childless.iter().any(|b| inside(&b)), "triangle {i}");
+            }
         }
     }
 

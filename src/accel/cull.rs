@@ -148,3 +148,50 @@ impl ShapeCull {
             .is_none_or(|r| !(r[2] < x0 || r[0] > x1 || r[3] < y0 || r[1] > y1))
     }
 }
+
+/// The top levels of a hierarchy of boxes on screen ([`ShapeCull`] per node): a tile meets
+/// it where the rectangle of some node without children (a leaf, or a node at the cut) meets
+/// the tile, found by descending only into nodes whose rectangle meets it. Every primitive
+/// lies in such a node's box, so a tile that meets none shows none. Far tighter than the
+/// root's rectangle around a mesh's silhouette.
+#[derive(Clone, Debug)]
+pub(crate) struct ScreenTree {
+    /// Breadth first from the root; children by position.
+    nodes: Vec<(ShapeCull, Option<[u32; 2]>)>,
+}
+
+impl ScreenTree {
+    /// From the nodes of [`super::bvh::Bvh::top_levels`] (boxes as (lo, hi)).
+    pub(crate) fn new(
+        nodes: impl IntoIterator<Item = (([f32; 3], [f32; 3]), Option<[u32; 2]>)>,
+        projection: Option<&Projection>,
+    ) -> Self {
+        Self {
+            nodes: (nodes.into_iter())
+                .map(|(b, children)| (ShapeCull::new(b, projection), children))
+                .collect(),
+        }
+    }
+
+    /// Whether anything in the tree may show in the rectangle [x0, x1] × [y0, y1].
+    pub(crate) fn meets_tile(&self, x0: f32, y0: f32, x1: f32, y1: f32) -> bool {
+        let mut stack = [0u32; 64];
+        let mut sp = usize::from(!self.nodes.is_empty());
+        while sp > 0 {
+            sp -= 1;
+            let (cull, children) = &self.nodes[stack[sp] as usize];
+            if !cull.meets_tile(x0, y0, x1, y1) {
+                continue;
+            }
+            match children {
+                None => return true,
+                Some([a, b]) => {
+                    stack[sp] = *b;
+                    stack[sp + 1] = *a;
+                    sp += 2;
+                }
+            }
+        }
+        false
+    }
+}

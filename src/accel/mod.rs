@@ -214,22 +214,21 @@ impl Accel {
         }
     }
 
-    /// The box around every triangle, instanced ones included (`None`: no BVH, or no
-    /// triangles).
-    pub(crate) fn triangle_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+    /// Boxes around the triangles, instanced ones included, as a tree for tile culling
+    /// ([`bvh::Bvh::top_levels`]): the BVH's nodes down to `depth` levels; with instances,
+    /// one box around everything. Empty: no BVH, or no triangles.
+    pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<(bvh::Aabb, Option<[u32; 2]>)> {
         let Triangles::Bvh(b) = &self.triangles else {
-            return None;
+            return Vec::new();
         };
-        let own = b.root_bounds();
-        let placed = self.instances().map(|i| i.world_bounds());
-        let both = match (own, placed) {
-            (Some(mut a), Some(b)) => {
-                a.grow(&b);
-                a
-            }
-            (a, b) => a.or(b)?,
+        let Some(inst) = self.instances() else {
+            return b.top_levels(depth);
         };
-        Some((both.lo, both.hi))
+        let mut all = inst.world_bounds();
+        if let Some(own) = b.root_bounds() {
+            all.grow(&own);
+        }
+        vec![(all, None)]
     }
 
     /// The shapes the triangle structures do not hold (spheres), with their primitives.
