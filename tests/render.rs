@@ -566,14 +566,21 @@ fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
 
 #[test]
 fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
-    // A 3072-triangle cube alone (a BVH, no per-triangle culling): a tile its box cannot show
-    // in is filled as background without tracing. Its front face fills its box's screen
-    // rectangle, so hits reach the rectangle's edges; 64 cameras sweep those edges across
+    // A 2560-triangle open cube alone (a BVH, no per-triangle culling): a tile its box cannot
+    // show in is filled as background without tracing. Its sides' near edges frame its box's
+    // screen rectangle, so hits reach the rectangle's edges; 64 cameras sweep those edges across
     // tile boundaries a quarter pixel at a time. Every tile said to show nothing must have no
     // hit per ray at any sample position; and culling on and off (no projection: every tile
     // traced) must give the same bits and counts, also close up (the box past the image's
     // edges), turned (the box at the edge), behind the camera, and far (a few pixels).
-    let mesh = common::cube(16, 1.0, [-0.5, -0.5, 0.0]);
+    // Open at the front (z = 0), so the far side shows through: the walk's far start nodes
+    // matter too.
+    let mesh: Vec<_> = common::cube(16, 1.0, [-0.5, -0.5, 0.0])
+        .into_iter()
+        .filter(
+            |s| !matches!(s, raylab::geometry::Shape::Triangle(v) if v.iter().all(|p| p[2] == 0.0)),
+        )
+        .collect();
     let n = mesh.len();
     let light = raylab::scene::PointLight {
         position: [0.3, -1.5, -1.0],

@@ -32,6 +32,8 @@ const SAH_DEPTH: usize = 36;
 
 /// Triangles per leaf at most.
 const MAX_LEAF: usize = 4;
+/// Start nodes a packet walk takes at most ([`Bvh::closest_packet_from`]).
+pub(crate) const MAX_STARTS: usize = 32;
 const BINS: usize = 16;
 /// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
 const PARALLEL_MIN: usize = 4096;
@@ -77,6 +79,17 @@ struct Node {
     offset: u32,
     /// Leaf: triangle count (≥ 1); interior: 0.
     count: u32,
+}
+
+/// A node of [`Bvh::top_levels`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TopNode {
+    pub(crate) bounds: Aabb,
+    /// Above the depth asked and where the node is not a leaf: its two children's positions
+    /// in the list.
+    pub(crate) children: Option<[u32; 2]>,
+    /// The node's index in the hierarchy ([`Bvh::closest_packet_from`]'s starts).
+    pub(crate) node: u32,
 }
 
 /// Two sibling nodes in one cache line; node i is `pairs[i / 2].0[i % 2]`.
@@ -169,12 +182,10 @@ impl Bvh {
         }
     }
 
-    /// The hierarchy's nodes down to `depth` levels below the root, breadth first: each
-    /// node's box and, above that depth and where it is not a leaf, the positions of its two
-    /// children in the returned list. Every triangle lies in the box of a node without
-    /// children.
-    pub(crate) fn top_levels(&self, depth: usize) -> Vec<(Aabb, Option<[u32; 2]>)> {
-        let mut out: Vec<(Aabb, Option<[u32; 2]>)> = Vec::new();
+    /// The hierarchy's nodes down to `depth` levels below the root, breadth first. Every
+    /// triangle lies in the box of a node without children.
+    pub(crate) fn top_levels(&self, depth: usize) -> Vec<TopNode> {
+        let mut out: Vec<TopNode> = Vec::new();
         let mut level: Vec<usize> = match self.pairs.is_empty() {
             true => Vec::new(),
             false => vec![0],
@@ -186,11 +197,15 @@ impl Bvh {
             for (&i, parent) in level.iter().zip(&parents) {
                 let at = out.len();
                 if let Some(p) = *parent {
-                    let children = out[p].1.get_or_insert([at as u32; 2]);
+                    let children = out[p].children.get_or_insert([at as u32; 2]);
                     children[1] = at as u32;
                 }
                 let n = self.node(i);
-                out.push((n.bounds, None));
+                out.push(TopNode {
+                    bounds: n.bounds,
+                    children: None,
+                    node: i as u32,
+                });
                 if n.count == 0 && d < depth {
                     let first = n.offset as usize;
                     next.extend([first, first + 1]);
@@ -460,6 +475,22 @@ impl Bvh {
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
+        self.closest_packet_from(o, prepared, d, d_max, seed, &[])
+    }
+
+    /// [`Bvh::closest_packet_seeded`] walking only the subtrees of nodes `starts` (in that
+    /// order; empty: the root; at most [`MAX_STARTS`], else the root), for a tile whose rays
+    /// can meet no triangle outside them ([`Bvh::top_levels`] on screen): the walk then skips
+    /// the levels above them.
+    pub(crate) fn closest_packet_from(
+        &self,
+        o: [f32; 3],
+        prepared: Option<&OriginTriangles>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>,
+        starts: &[u32],
+    ) -> PacketHits {
         let bvh = self;
         avx2_or_baseline!(lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
@@ -467,7 +498,8 @@ impl Bvh {
             prepared: Option<&OriginTriangles>,
             d: &[f32x8; 3],
             d_max: f32,
-            seed: Option<&PacketSeed>
+            seed: Option<&PacketSeed>,
+            starts: &[u32]
         ) -> PacketHits)
     }
 
@@ -479,6 +511,7 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
+        starts: &[u32],
     ) -> PacketHits {
         let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
@@ -499,11 +532,22 @@ impl Bvh {
         // Culling limit per lane ([`PacketSink::limit`]: the nearest hit's bound plus the
         // margin, ∞ while none). It changes only when a leaf is offered: kept between leaves.
         let mut reach = nearest.limit();
-        let mut stack = [0u32; 64];
+        let mut stack = [0u32; 64 + MAX_STARTS];
         let mut sp = 0usize;
         let mut node = 0usize;
-        if rays.enter(&root.bounds, inf, live).0 == 0 {
-            return nearest.finish();
+        if starts.is_empty() || starts.len() > MAX_STARTS {
+            if rays.enter(&root.bounds, inf, live).0 == 0 {
+                return nearest.finish();
+            }
+        } else {
+            for &start in starts.iter().rev() {
+                stack[sp] = start;
+                sp += 1;
+            }
+            match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
+                Some(first) => node = first,
+                None => return nearest.finish(),
+            }
         }
         loop {
             let n = *self.node(node);
@@ -559,18 +603,32 @@ impl Bvh {
                     (false, false) => {}
                 }
             }
-            loop {
-                if sp == 0 || live == 0 {
-                    return nearest.finish();
-                }
-                sp -= 1;
-                let cand = stack[sp] as usize;
-                if rays.enter(&self.node(cand).bounds, reach, live).0 != 0 {
-                    node = cand;
-                    break;
-                }
+            match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
+                Some(next) => node = next,
+                None => return nearest.finish(),
             }
         }
+    }
+
+    /// Pops nodes off `stack` until one whose box meets a lane of `live` before its `reach`
+    /// (`None`: the stack ran out, or no lane is live).
+    #[inline(always)]
+    fn pop_entered<V: Lanes>(
+        &self,
+        rays: &PacketSlabs<V>,
+        stack: &[u32],
+        sp: &mut usize,
+        reach: V,
+        live: u32,
+    ) -> Option<usize> {
+        while *sp > 0 && live != 0 {
+            *sp -= 1;
+            let cand = stack[*sp] as usize;
+            if rays.enter(&self.node(cand).bounds, reach, live).0 != 0 {
+                return Some(cand);
+            }
+        }
+        None
     }
 
     /// The triangles `start..end` (at most 4; positions in the hierarchy's order) prepared
@@ -1271,12 +1329,18 @@ mod tests {
         for depth in [0, 1, 5, 8, 40] {
             let nodes = bvh.top_levels(depth);
             let childless: Vec<&Aabb> = (nodes.iter())
-                .filter(|(_, c)| c.is_none())
-                .map(|(b, _)| b)
+                .filter(|n| n.children.is_none())
+                .map(|n| &n.bounds)
                 .collect();
-            for (i, (_, children)) in nodes.iter().enumerate() {
-                if let Some([a, b]) = children {
+            for (i, n) in nodes.iter().enumerate() {
+                assert_eq!(n.bounds, bvh.node(n.node as usize).bounds);
+                if let Some([a, b]) = &n.children {
                     assert!(*a as usize > i && *b == a + 1 && (*b as usize) < nodes.len());
+                    let first = bvh.node(n.node as usize).offset;
+                    assert_eq!(
+                        [nodes[*a as usize].node, nodes[*b as usize].node],
+                        [first, first + 1]
+                    );
                 }
             }
             if depth <= 8 {

@@ -38,6 +38,7 @@
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
 //! adaptive search, so packets and per-ray queries name the same primitives.
 
+use super::bvh::MAX_STARTS;
 use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
 use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
@@ -185,6 +186,10 @@ pub struct TileScratch {
     shapes: Vec<LaneShape>,
     /// Those that may block one of a tile's shadow segments.
     near_shapes: Vec<LaneShape>,
+    /// The BVH nodes the tile's camera packets walk from, and with their distance from the eye
+    /// while ordered ([`ScreenTree::tile_nodes`]).
+    starts: Vec<u32>,
+    tile_nodes: Vec<(f32, u32)>,
 }
 
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
@@ -230,6 +235,8 @@ pub struct TileQueries<'a> {
     near_shapes: &'a mut Vec<LaneShape>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
+    /// The BVH nodes the tile's camera packets walk from, nearest first (empty: the root).
+    starts: &'a [u32],
     /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
     /// its box meets the tile on screen; per ray: true).
     triangles_may_show: bool,
@@ -290,8 +297,7 @@ impl Accel {
                     .then(|| self.prepare_origin(setup.light))
                     .flatten(),
                 triangles_seen: ScreenTree::new(
-                    (self.triangle_boxes(SCREEN_DEPTH).into_iter())
-                        .map(|(b, children)| ((b.lo, b.hi), children)),
+                    self.triangle_boxes(SCREEN_DEPTH),
                     setup.projection.as_ref(),
                 ),
             },
@@ -383,14 +389,21 @@ impl<'a> FrameQueries<'a> {
                 ),
             }
         }
+        scratch.starts.clear();
         let triangles_may_show = match &self.plan {
-            Plan::BvhPackets { triangles_seen, .. } => triangles_seen.meets_tile(x0, y0, x1, y1),
+            Plan::BvhPackets { triangles_seen, .. } => {
+                let nodes = &mut scratch.tile_nodes;
+                let any = triangles_seen.tile_nodes([x0, y0, x1, y1], self.eye, MAX_STARTS, nodes);
+                scratch.starts.extend(nodes.iter().map(|&(_, node)| node));
+                any
+            }
             Plan::Culled(_) | Plan::CulledPackets { .. } => !scratch.subset.is_empty(),
             Plan::PerRay => true,
         };
         TileQueries {
             frame: self,
             triangles_may_show,
+            starts: &scratch.starts,
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
@@ -479,7 +492,14 @@ impl TileQueries<'_> {
             },
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
-                .closest_packet_of_triangles(frame.eye, from_eye.as_ref(), d, d_max, seed)
+                .closest_packet_of_triangles(
+                    frame.eye,
+                    from_eye.as_ref(),
+                    d,
+                    d_max,
+                    seed,
+                    self.starts,
+                )
                 .unwrap_or_else(PacketHits::undecided),
             _ => PacketHits::undecided(),
         }

@@ -215,20 +215,23 @@ impl Accel {
     }
 
     /// Boxes around the triangles, instanced ones included, as a tree for tile culling
-    /// ([`bvh::Bvh::top_levels`]): the BVH's nodes down to `depth` levels; with instances,
-    /// one box around everything. Empty: no BVH, or no triangles.
-    pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<(bvh::Aabb, Option<[u32; 2]>)> {
+    /// ([`cull::ScreenTree`]): the BVH's nodes down to `depth` levels
+    /// ([`bvh::Bvh::top_levels`]); with instances, one box around everything, from which no
+    /// walk starts. Empty: no BVH, or no triangles.
+    pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<cull::TreeNode> {
         let Triangles::Bvh(b) = &self.triangles else {
             return Vec::new();
         };
         let Some(inst) = self.instances() else {
-            return b.top_levels(depth);
+            return (b.top_levels(depth).into_iter())
+                .map(|n| ((n.bounds.lo, n.bounds.hi), n.children, Some(n.node)))
+                .collect();
         };
         let mut all = inst.world_bounds();
         if let Some(own) = b.root_bounds() {
             all.grow(&own);
         }
-        vec![(all, None)]
+        vec![((all.lo, all.hi), None, None)]
     }
 
     /// The shapes the triangle structures do not hold (spheres), with their primitives.
@@ -383,12 +386,13 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
-        self.closest_packet_of_triangles(o, prepared, d, d_max, None)
+        self.closest_packet_of_triangles(o, prepared, d, d_max, None, &[])
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
     /// starting from `seed` (its ids must be beyond every primitive and slot, and are handed
-    /// back as they are).
+    /// back as they are); without instances, from the BVH nodes `starts`
+    /// ([`bvh::Bvh::closest_packet_from`]).
     #[inline]
     pub(crate) fn closest_packet_of_triangles(
         &self,
@@ -397,6 +401,7 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
+        starts: &[u32],
     ) -> Option<packet::PacketHits> {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
@@ -404,7 +409,7 @@ impl Accel {
         if let Some(inst) = self.instances() {
             return Some(closest_with_instances(b, inst, o, prepared, d, d_max, seed));
         }
-        let mut found = b.closest_packet_seeded(o, prepared, d, d_max, seed);
+        let mut found = b.closest_packet_from(o, prepared, d, d_max, seed, starts);
         let prims = b.triangles().1;
         for slot in &mut found.prim {
             if let Some(prim) = prims.get(*slot as usize) {
