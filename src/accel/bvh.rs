@@ -475,13 +475,13 @@ impl Bvh {
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
-        self.closest_packet_from(o, prepared, d, d_max, seed, &[])
+        self.closest_packet_from(o, prepared, d, d_max, seed, None)
     }
 
     /// [`Bvh::closest_packet_seeded`] walking only the subtrees of nodes `starts` (in that
-    /// order; empty: the root; at most [`MAX_STARTS`], else the root), for a tile whose rays
-    /// can meet no triangle outside them ([`Bvh::top_levels`] on screen): the walk then skips
-    /// the levels above them.
+    /// order; at most [`MAX_STARTS`], else the root; empty: no node, the seed's answer), for
+    /// a tile whose rays can meet no triangle outside them ([`Bvh::top_levels`] on screen):
+    /// the walk then skips the levels above them. `None`: from the root.
     pub(crate) fn closest_packet_from(
         &self,
         o: [f32; 3],
@@ -489,7 +489,7 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
-        starts: &[u32],
+        starts: Option<&[u32]>,
     ) -> PacketHits {
         let bvh = self;
         avx2_or_baseline!(lanes Bvh::closest_packet_body => (
@@ -499,7 +499,7 @@ impl Bvh {
             d: &[f32x8; 3],
             d_max: f32,
             seed: Option<&PacketSeed>,
-            starts: &[u32]
+            starts: Option<&[u32]>
         ) -> PacketHits)
     }
 
@@ -511,7 +511,7 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
-        starts: &[u32],
+        starts: Option<&[u32]>,
     ) -> PacketHits {
         let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
@@ -535,18 +535,21 @@ impl Bvh {
         let mut stack = [0u32; 64 + MAX_STARTS];
         let mut sp = 0usize;
         let mut node = 0usize;
-        if starts.is_empty() || starts.len() > MAX_STARTS {
-            if rays.enter(&root.bounds, inf, live).0 == 0 {
-                return nearest.finish();
+        match starts {
+            Some(starts) if starts.len() <= MAX_STARTS => {
+                for &start in starts.iter().rev() {
+                    stack[sp] = start;
+                    sp += 1;
+                }
+                match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
+                    Some(first) => node = first,
+                    None => return nearest.finish(),
+                }
             }
-        } else {
-            for &start in starts.iter().rev() {
-                stack[sp] = start;
-                sp += 1;
-            }
-            match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
-                Some(first) => node = first,
-                None => return nearest.finish(),
+            _ => {
+                if rays.enter(&root.bounds, inf, live).0 == 0 {
+                    return nearest.finish();
+                }
             }
         }
         loop {

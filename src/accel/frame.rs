@@ -20,9 +20,11 @@
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
 //!   triangles are prepared once per frame where there are at least as many camera rays as
-//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them; a tile that
-//!   the screen rectangle of the triangles' box (instances included) does not meet has no
-//!   triangle hits, and with no other shape there [`TileQueries::shows_nothing`];
+//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them. The boxes of
+//!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
+//!   with instances, one box around all of them): a tile's camera packets walk only from the
+//!   nodes whose rectangle meets the tile, and a tile that none meets has no triangle hits
+//!   (with no other shape there, [`TileQueries::shows_nothing`]);
 //! - otherwise **per ray** through the scene's structure.
 //!
 //! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
@@ -235,8 +237,9 @@ pub struct TileQueries<'a> {
     near_shapes: &'a mut Vec<LaneShape>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
-    /// The BVH nodes the tile's camera packets walk from, nearest first (empty: the root).
-    starts: &'a [u32],
+    /// The BVH nodes the tile's camera packets walk from, nearest first (empty: none, no
+    /// triangle can show; `None`: the root).
+    starts: Option<&'a [u32]>,
     /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
     /// its box meets the tile on screen; per ray: true).
     triangles_may_show: bool,
@@ -400,10 +403,13 @@ impl<'a> FrameQueries<'a> {
             Plan::Culled(_) | Plan::CulledPackets { .. } => !scratch.subset.is_empty(),
             Plan::PerRay => true,
         };
+        // No node where nothing shows; none listed where some does: from the root.
+        let starts =
+            (!triangles_may_show || !scratch.starts.is_empty()).then_some(&scratch.starts[..]);
         TileQueries {
             frame: self,
             triangles_may_show,
-            starts: &scratch.starts,
+            starts,
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
@@ -486,10 +492,6 @@ impl TileQueries<'_> {
         let frame = self.frame;
         match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
-            Plan::BvhPackets { .. } if !self.triangles_may_show && seed.is_none() => PacketHits {
-                prim: [NO_HIT; 8],
-                ambiguous: 0,
-            },
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet_of_triangles(

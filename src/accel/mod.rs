@@ -386,7 +386,7 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
-        self.closest_packet_of_triangles(o, prepared, d, d_max, None, &[])
+        self.closest_packet_of_triangles(o, prepared, d, d_max, None, None)
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
@@ -401,7 +401,7 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
-        starts: &[u32],
+        starts: Option<&[u32]>,
     ) -> Option<packet::PacketHits> {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
