@@ -654,30 +654,9 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
         if k < 64 && k % 8 != 0 {
             continue;
         }
-        for step in [LabStep::Flat, LabStep::Shadows] {
-            for spp in [1, 2] {
-                let on = RenderSettings {
-                    width: w,
-                    height: h,
-                    step,
-                    spp,
-                    ..Default::default()
-                };
-                let off = RenderSettings {
-                    tile_culling: false,
-                    ..on
-                };
-                let (a, sa) = render_image(&scene, &cam, &on).unwrap();
-                let (b, sb) = render_image(&scene, &cam, &off).unwrap();
-                assert!(a == b, "camera {k} {step} spp {spp}: images differ");
-                assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
-                if k < 64 {
-                    assert!(
-                        sa.hits as u32 > 1500 * spp * spp,
-                        "camera {k}: {} hits",
-                        sa.hits
-                    );
-                }
+        for (step, spp, hits) in culling_changes_nothing(&scene, &cam, w, h, k) {
+            if k < 64 {
+                assert!(hits > 1500 * spp * spp, "camera {k} {step}: {hits} hits");
             }
         }
     }
@@ -741,26 +720,42 @@ fn tile_culling_gives_the_same_image() {
         Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 400.0).unwrap(),
     ];
     for (k, cam) in cams.iter().enumerate() {
-        for step in [LabStep::Flat, LabStep::Shadows] {
-            for spp in [1, 2] {
-                let on = RenderSettings {
-                    width: 97,
-                    height: 61,
-                    step,
-                    spp,
-                    ..Default::default()
-                };
-                let off = RenderSettings {
-                    tile_culling: false,
-                    ..on
-                };
-                let (a, sa) = render_image(&scene, cam, &on).unwrap();
-                let (b, sb) = render_image(&scene, cam, &off).unwrap();
-                assert!(a == b, "camera {k} {step} spp {spp}: images differ");
-                assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
-            }
+        culling_changes_nothing(&scene, cam, 97, 61, k);
+    }
+}
+
+/// Renders `scene` through `cam` (camera number `k`, for the messages) with tile culling on
+/// and off, flat and with shadows, at 1 and 2² samples per pixel; asserts the same bits and
+/// the same hit and shadow-ray counts. Returns (step, samples per side, camera hits) of each.
+fn culling_changes_nothing(
+    scene: &Scene,
+    cam: &Camera,
+    width: u32,
+    height: u32,
+    k: usize,
+) -> Vec<(LabStep, u64, u64)> {
+    let mut hits = Vec::new();
+    for step in [LabStep::Flat, LabStep::Shadows] {
+        for spp in [1, 2] {
+            let on = RenderSettings {
+                width,
+                height,
+                step,
+                spp,
+                ..Default::default()
+            };
+            let off = RenderSettings {
+                tile_culling: false,
+                ..on
+            };
+            let (a, sa) = render_image(scene, cam, &on).unwrap();
+            let (b, sb) = render_image(scene, cam, &off).unwrap();
+            assert!(a == b, "camera {k} {step} spp {spp}: images differ");
+            assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
+            hits.push((step, spp as u64, sa.hits));
         }
     }
+    hits
 }
 
 #[test]
