@@ -18,6 +18,7 @@ use super::packet::{
     quad_indices, OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed,
     ShadowHits, ShadowPacket,
 };
+use super::prepared::{Block, LeafCache, Prepared, BLOCK};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -26,6 +27,7 @@ use crate::math::lanes::{f32x8, Lanes};
 use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 
 /// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
 const SAH_DEPTH: usize = 36;
@@ -413,10 +415,10 @@ impl Bvh {
     /// [`Bvh::closest_hit_adaptive`] for a ray leaving the origin `prepared` was made for
     /// (from [`Bvh::triangles`]): the f32 level is the shared-origin test of
     /// [`super::packet`], three dot products per triangle instead of the sheared test.
-    pub fn closest_hit_from_origin(
+    pub(crate) fn closest_hit_from_origin(
         &self,
         ray: &Ray,
-        prepared: &[OriginTriangle],
+        prepared: Prepared<'_>,
         search: &mut Search,
     ) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
@@ -428,8 +430,11 @@ impl Bvh {
         };
         self.traverse(ray, tmin, tmax, 0.0, |first, count, _, _| {
             let leaf = first..first + count;
-            for ((p, tri), prim) in prepared[leaf.clone()]
-                .iter()
+            let mut quad = MaybeUninit::uninit();
+            // (Per ray for the lanes packets leave ambiguous: the baseline lanes, the same bits.)
+            let [a, b] =
+                self.leaf_triangles::<f32x8>(prepared, first, first + count, ray.o, &mut quad);
+            for ((p, tri), prim) in (a.iter().chain(b))
                 .zip(&self.tris[leaf.clone()])
                 .zip(&self.prims[leaf])
             {
@@ -475,6 +480,7 @@ impl Bvh {
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
+        let prepared = Prepared::from_list(prepared);
         self.closest_packet_from(o, prepared, d, d_max, seed, None)
     }
 
@@ -485,7 +491,7 @@ impl Bvh {
     pub(crate) fn closest_packet_from(
         &self,
         o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
+        prepared: Prepared<'_>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
@@ -495,7 +501,7 @@ impl Bvh {
         avx2_or_baseline!(lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
-            prepared: Option<&OriginTriangles>,
+            prepared: Prepared<'_>,
             d: &[f32x8; 3],
             d_max: f32,
             seed: Option<&PacketSeed>,
@@ -507,7 +513,7 @@ impl Bvh {
     fn closest_packet_body<V: Lanes>(
         &self,
         o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
+        prepared: Prepared<'_>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
@@ -517,8 +523,7 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return nearest.finish();
         };
-        let prepared = prepared.map(|p| &p.tris[..]);
-        if prepared.is_some_and(|p| p.len() != self.tris.len()) {
+        if !prepared.fits(o, self.tris.len()) {
             let mut all = nearest.finish();
             all.ambiguous = 0xff;
             return all;
@@ -555,23 +560,15 @@ impl Bvh {
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                let leaf = n.offset as usize..(n.offset + n.count) as usize;
-                match prepared {
-                    Some(p) => {
-                        for i in leaf {
-                            nearest.offer(&p[i], i as u32);
-                        }
-                    }
-                    None => {
-                        let mut start = leaf.start;
-                        while start < leaf.end {
-                            let quad = self.prepare_quad::<V>(start, leaf.end, o);
-                            for (j, tri) in quad.iter().take(leaf.end - start).enumerate() {
-                                nearest.offer(tri, (start + j) as u32);
-                            }
-                            start += 4;
-                        }
-                    }
+                let first = n.offset as usize;
+                let mut quad = MaybeUninit::uninit();
+                let end = first + n.count as usize;
+                let [a, b] = self.leaf_triangles::<V>(prepared, first, end, o, &mut quad);
+                for (j, tri) in a.iter().enumerate() {
+                    nearest.offer(tri, (first + j) as u32);
+                }
+                for (j, tri) in b.iter().enumerate() {
+                    nearest.offer(tri, (first + a.len() + j) as u32);
                 }
                 live &= !nearest.ambiguous();
                 reach = nearest.limit();
@@ -650,6 +647,58 @@ impl Bvh {
         )
     }
 
+    /// The leaf `first..end`'s triangles prepared for `o`, in two parts (the second empty
+    /// unless the leaf spans two of a cache's blocks): from `prepared`, or prepared into
+    /// `quad` (a leaf holds at most [`MAX_LEAF`] = 4).
+    #[inline(always)]
+    fn leaf_triangles<'q, V: Lanes>(
+        &self,
+        prepared: Prepared<'q>,
+        first: usize,
+        end: usize,
+        o: [f32; 3],
+        quad: &'q mut MaybeUninit<[OriginTriangle; 4]>,
+    ) -> [&'q [OriginTriangle]; 2] {
+        debug_assert!(end - first <= MAX_LEAF);
+        match prepared {
+            Prepared::All(list) => [&list[first..end], &[]],
+            Prepared::AsMet => [
+                &quad.write(self.prepare_quad::<V>(first, end, o))[..end - first],
+                &[],
+            ],
+            Prepared::Once(cache) => {
+                let (b0, b1) = (first / BLOCK, (end - 1) / BLOCK);
+                let lo = self.cached_block::<V>(cache, b0, o);
+                if b0 == b1 {
+                    return [&lo[first - b0 * BLOCK..end - b0 * BLOCK], &[]];
+                }
+                let hi = self.cached_block::<V>(cache, b1, o);
+                [&lo[first - b0 * BLOCK..], &hi[..end - b1 * BLOCK]]
+            }
+        }
+    }
+
+    /// Block `block` of the triangles (positions `BLOCK·block..`) prepared for `o`: from
+    /// `cache`, or prepared now and kept there.
+    #[inline(always)]
+    fn cached_block<'c, V: Lanes>(
+        &self,
+        cache: &'c LeafCache,
+        block: usize,
+        o: [f32; 3],
+    ) -> &'c [OriginTriangle; BLOCK] {
+        if let Some(ready) = cache.block(block) {
+            return ready;
+        }
+        let n = self.tris.len();
+        let start = block * BLOCK;
+        let mut quads: Block = [self.prepare_quad::<V>(start, n.min(start + 4), o); 2];
+        if start + 4 < n {
+            quads[1] = self.prepare_quad::<V>(start + 4, n.min(start + 8), o);
+        }
+        cache.keep(block, &quads)
+    }
+
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
@@ -657,12 +706,12 @@ impl Bvh {
         &self,
         mut nearest: PacketNearest<V>,
         o: [f32; 3],
-        prepared: Option<&[OriginTriangle]>,
+        prepared: Prepared<'_>,
     ) -> PacketHits {
         for i in 0..self.tris.len() {
             match prepared {
-                Some(p) => nearest.offer(&p[i], i as u32),
-                None => nearest.offer(
+                Prepared::All(p) => nearest.offer(&p[i], i as u32),
+                _ => nearest.offer(
                     &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
                     i as u32,
                 ),
@@ -678,12 +727,12 @@ impl Bvh {
         &self,
         mut packet: ShadowPacket<V>,
         o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
+        prepared: Prepared<'_>,
     ) -> ShadowHits {
         for i in 0..self.tris.len() {
             match prepared {
-                Some(p) => packet.offer(&p.tris[i]),
-                None => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
+                Prepared::All(p) => packet.offer(&p[i]),
+                _ => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
             }
         }
         packet.finish()
@@ -698,15 +747,18 @@ impl Bvh {
         &self,
         sink: &mut S,
         o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
+        prepared: Prepared<'_>,
         d: &[f32x8; 3],
     ) {
-        let prepared = prepared.filter(|p| p.origin == o && p.tris.len() == self.tris.len());
+        let prepared = match prepared.fits(o, self.tris.len()) {
+            true => prepared,
+            false => Prepared::AsMet,
+        };
         let slabs = PacketSlabs::<V>::new(o, d, self.tame);
         let mut leaves = OwnLeaves {
             bvh: self,
             o,
-            prepared: prepared.map(|p| &p.tris[..]),
+            prepared,
         };
         self.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
@@ -726,11 +778,33 @@ impl Bvh {
         skip: &[u32; 8],
         valid: u32,
     ) -> ShadowHits {
+        let prepared = match prepared {
+            Some(p) if p.origin != o => {
+                return ShadowHits {
+                    blocked: 0,
+                    unsure: valid,
+                }
+            }
+            p => Prepared::from_list(p),
+        };
+        self.blocked_packet_from(o, prepared, d, d_max, skip, valid)
+    }
+
+    /// [`Bvh::blocked_packet`] with the triangles from `prepared`.
+    pub(crate) fn blocked_packet_from(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> ShadowHits {
         let bvh = self;
         avx2_or_baseline!(lanes Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
-            prepared: Option<&OriginTriangles>,
+            prepared: Prepared<'_>,
             d: &[f32x8; 3],
             d_max: f32,
             skip: &[u32; 8],
@@ -742,7 +816,7 @@ impl Bvh {
     fn blocked_packet_body<V: Lanes>(
         &self,
         o: [f32; 3],
-        prepared: Option<&OriginTriangles>,
+        prepared: Prepared<'_>,
         d: &[f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -752,7 +826,7 @@ impl Bvh {
         let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
             return packet.finish();
         };
-        if prepared.is_some_and(|p| p.tris.len() != self.tris.len() || p.origin != o) {
+        if !prepared.fits(o, self.tris.len()) {
             return ShadowHits {
                 blocked: 0,
                 unsure: valid,
@@ -766,7 +840,7 @@ impl Bvh {
         let mut leaves = OwnLeaves {
             bvh: self,
             o,
-            prepared: prepared.map(|p| &p.tris[..]),
+            prepared,
         };
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
@@ -991,29 +1065,17 @@ pub(crate) trait Leaves<V, S> {
 struct OwnLeaves<'a> {
     bvh: &'a Bvh,
     o: [f32; 3],
-    prepared: Option<&'a [OriginTriangle]>,
+    prepared: Prepared<'a>,
 }
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+        let mut quad = MaybeUninit::uninit();
         let end = first + count;
-        match self.prepared {
-            Some(p) => {
-                for tri in &p[first..end] {
-                    sink.take(tri);
-                }
-            }
-            None => {
-                let mut start = first;
-                while start < end {
-                    let quad = self.bvh.prepare_quad::<V>(start, end, self.o);
-                    for tri in quad.iter().take(end - start) {
-                        sink.take(tri);
-                    }
-                    start += 4;
-                }
-            }
+        let [a, b] = (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut quad);
+        for tri in a.iter().chain(b) {
+            sink.take(tri);
         }
     }
 }
@@ -1394,5 +1456,59 @@ mod tests {
         let bvh = Bvh::build(&tiny);
         assert!(!bvh.boxes_tame());
         assert!(depth(&bvh, 0) <= 64, "depth {}", depth(&bvh, 0));
+    }
+
+    #[test]
+    fn a_frames_cache_serves_every_leaf_the_full_lists_triangles() {
+        // 1003 scattered triangles (the last block of 8 is short). Two threads walk every
+        // leaf three times each in scattered orders through one cache, so blocks are found
+        // unprepared, prepared by the other thread, and ready; every leaf's triangles are the
+        // bits of the full list prepared for the same origin. The cache is then kept and
+        // taken again for another origin: no triangle of the first frame is served.
+        let mut x = 0x2545f4914f6cdd1du64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
+        };
+        let tris: Vec<IndexedTriangle> = (0..1003)
+            .map(|i| {
+                let p = [next(), next(), next()];
+                let q = |d: [f32; 3]| [0, 1, 2].map(|k| p[k] + d[k] * 0.1);
+                ([p, q([1.0, 0.2, 0.0]), q([0.0, 1.0, 0.7])], i)
+            })
+            .collect();
+        let bvh = Bvh::build(&tris);
+        let leaves: Vec<(usize, usize)> = (0..2 * bvh.pairs.len())
+            .map(|i| *bvh.node(i))
+            .filter(|n| n.count > 0)
+            .map(|n| (n.offset as usize, (n.offset + n.count) as usize))
+            .collect();
+        assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), 1003);
+        assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));
+        let bits = |t: &OriginTriangle| format!("{t:?}");
+        let pool = super::super::prepared::CachePool::default();
+        for origin in [[0.1, 0.2, 5.0], [-3.0, 0.5, -0.25]] {
+            let cache = pool.take(bvh.len(), origin);
+            let (vertices, prims) = bvh.triangles();
+            let want = OriginTriangles::from_parts(vertices, prims, origin);
+            let check = |order: usize| {
+                for k in 0..3 * leaves.len() {
+                    let (first, end) = leaves[(k * order) % leaves.len()];
+                    let mut quad = MaybeUninit::uninit();
+                    let prepared = Prepared::Once(&cache);
+                    let [a, b] =
+                        bvh.leaf_triangles::<f32x8>(prepared, first, end, origin, &mut quad);
+                    assert_eq!(a.len() + b.len(), end - first);
+                    for (i, t) in a.iter().chain(b).enumerate() {
+                        assert_eq!(bits(t), bits(&want.tris[first + i]), "leaf at {first}");
+                    }
+                }
+            };
+            // (Strides: primes above the leaf count, so each visits every leaf.)
+            rayon::join(|| check(1009), || check(1013));
+            pool.give(cache);
+        }
     }
 }

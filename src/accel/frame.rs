@@ -19,8 +19,9 @@
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
-//!   triangles are prepared once per frame where there are at least as many camera rays as
-//!   triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as each packet meets them. The boxes of
+//!   triangles are prepared at most once per frame, as packets first reach them, where there
+//!   are at least as many camera rays as triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as
+//!   each packet meets them. The boxes of
 //!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
 //!   with instances, one box around all of them): a tile's camera packets walk only from the
 //!   nodes whose rectangle meets the tile, and a tile that none meets has no triangle hits
@@ -44,6 +45,7 @@ use super::bvh::MAX_STARTS;
 use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
 use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
+use super::prepared::{LeafCache, Prepared};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::adaptive::levels::{self, Event};
@@ -60,11 +62,16 @@ pub use super::packet::OriginTriangle;
 pub const NO_HIT: u32 = u32::MAX;
 
 /// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
-/// the light) once per frame rather than as each packet meets them. Preparing one costs about
-/// 145 instructions, four at a time (callgrind); at 1280×720 the bunny's 69k triangles are met
-/// about 2 times each per frame, the 1M-triangle mesh's fewer than once. Preparing as met
-/// cost more at every size measured above this threshold (session 13: bunny 640×360 +7.7%
-/// instructions, 1280×720 +14%; Igea 1280×720 +6.8%).
+/// the light) at most once per frame, a block of 8 as a packet first reaches it, and kept for
+/// the frame's other packets (`prepared::LeafCache`); below, as each packet meets them (a
+/// frame then meets few triangles twice). Preparing one costs about 145 instructions, four
+/// at a time (callgrind). At the framing cameras of `raylab bench`, a frame reaches 28k of
+/// the bunny's 69k triangles at 640×360 (59k times) and Igea's 1:4 subdivision meets 285k
+/// of its 1.07M triangles at 1280×720 (306k times). The cache over preparing every triangle
+/// beforehand (session 16): bunny flat 640×360 −11.9% instructions, 1280×720 −3.2%, shadows
+/// −10.6% and −3.6%. Used below this threshold too: Igea 640×360 −3.5%, bunny 320×180
+/// −4.3%, but Igea 320×180 +26% (its reset and the blocks' unreached triangles), and its
+/// memory (a full list's) would pass the 1M mesh's budget.
 pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
 
 /// Levels of a BVH below its root whose boxes are projected each frame to find the tiles
@@ -124,10 +131,10 @@ enum Plan<'a> {
         occluders: Vec<Occluder>,
     },
     /// Camera rays and shadow segments 8 at a time through the BVH (adaptive); the triangles
-    /// prepared once per frame, or as met (`None`).
+    /// prepared once per frame as first reached, or at every visit (`None`).
     BvhPackets {
-        from_eye: Option<OriginTriangles>,
-        from_light: Option<OriginTriangles>,
+        from_eye: Option<LeafCache>,
+        from_light: Option<LeafCache>,
         /// Where the triangles can show on screen (the BVH's top [`SCREEN_DEPTH`] levels of
         /// boxes): a tile this does not meet has no triangle hits, and its packets skip the
         /// walk (most of a frame that frames a mesh).
@@ -293,11 +300,9 @@ impl Accel {
             }
             Some(culling) => Plan::Culled(culling),
             None if packets && self.kind() == AccelKind::Bvh => Plan::BvhPackets {
-                from_eye: prepare_once
-                    .then(|| self.prepare_origin(setup.eye))
-                    .flatten(),
+                from_eye: prepare_once.then(|| self.leaf_cache(setup.eye)).flatten(),
                 from_light: (prepare_once && setup.shadows)
-                    .then(|| self.prepare_origin(setup.light))
+                    .then(|| self.leaf_cache(setup.light))
                     .flatten(),
                 triangles_seen: ScreenTree::new(
                     self.triangle_boxes(SCREEN_DEPTH),
@@ -323,6 +328,22 @@ impl Accel {
             light: setup.light,
             plan,
             others,
+        }
+    }
+}
+
+impl Drop for FrameQueries<'_> {
+    /// Hands the frame's caches back to the accelerator for the next frame.
+    fn drop(&mut self) {
+        if let Plan::BvhPackets {
+            from_eye,
+            from_light,
+            ..
+        } = &mut self.plan
+        {
+            for cache in [from_eye.take(), from_light.take()].into_iter().flatten() {
+                self.accel.keep_leaf_cache(cache);
+            }
         }
     }
 }
@@ -453,11 +474,9 @@ impl TileQueries<'_> {
                 })
             }
             Plan::BvhPackets {
-                from_eye: Some(prepared),
+                from_eye: Some(cache),
                 ..
-            } => frame
-                .accel
-                .closest_hit_from_origin(ray, prepared, 0.0, f32::INFINITY),
+            } => (frame.accel).closest_hit_prepared(ray, Prepared::Once(cache), 0.0, f32::INFINITY),
             _ => frame.accel.closest_hit(ray, method, 0.0, f32::INFINITY),
         }
     }
@@ -496,7 +515,7 @@ impl TileQueries<'_> {
                 .accel
                 .closest_packet_of_triangles(
                     frame.eye,
-                    from_eye.as_ref(),
+                    Prepared::of(from_eye.as_ref()),
                     d,
                     d_max,
                     seed,
@@ -597,7 +616,7 @@ impl TileQueries<'_> {
                     let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);
                     if valid != 0 {
                         let d_max = packet::max_component(&s.d);
-                        let prepared = from_light.as_ref();
+                        let prepared = Prepared::of(from_light.as_ref());
                         let found = accel
                             .blocked_packet_of_triangles(
                                 light, prepared, &s.d, d_max, &s.prim, valid,

@@ -19,6 +19,7 @@ pub mod flat;
 pub mod frame;
 pub mod instances;
 pub mod packet;
+mod prepared;
 pub mod reference;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
@@ -121,6 +122,9 @@ pub struct Accel {
     copies: usize,
     /// The meshes placed as instances, if any ([`instances::Instances`]).
     instances: Option<Box<instances::Instances>>,
+    /// The frames' caches of triangles prepared for the eye and the light, kept between
+    /// frames ([`prepared::LeafCache`]).
+    caches: prepared::CachePool,
 }
 
 impl Accel {
@@ -174,6 +178,7 @@ impl Accel {
             others,
             copies,
             instances,
+            caches: prepared::CachePool::default(),
         }
     }
 
@@ -264,6 +269,7 @@ impl Accel {
         let list = self.list.len() * std::mem::size_of::<IndexedTriangle>();
         let instanced = self.instances().map_or(0, |i| i.memory_bytes());
         list + instanced
+            + self.caches.memory_bytes()
             + match &self.triangles {
                 Triangles::Flat(b) => {
                     b.len().div_ceil(8) * std::mem::size_of::<[[wide::f32x8; 3]; 4]>()
@@ -341,6 +347,20 @@ impl Accel {
         }
     }
 
+    /// An empty cache of the BVH's triangles prepared for `origin`, for one frame (`None`
+    /// without a BVH); [`Accel::keep_leaf_cache`] takes it back.
+    pub(crate) fn leaf_cache(&self, origin: [f32; 3]) -> Option<prepared::LeafCache> {
+        match &self.triangles {
+            Triangles::Bvh(b) => Some(self.caches.take(b.len(), origin)),
+            Triangles::Flat(_) => None,
+        }
+    }
+
+    /// Keeps a frame's cache for the next frame.
+    pub(crate) fn keep_leaf_cache(&self, cache: prepared::LeafCache) {
+        self.caches.give(cache);
+    }
+
     /// The adaptive nearest hit for a ray from the origin `prepared` was made for: the same
     /// primitive as [`Accel::closest_hit`] with [`Method::Adaptive`], found with the cheaper
     /// shared-origin f32 level. Falls back to that when the structure is not a BVH.
@@ -351,16 +371,29 @@ impl Accel {
         tmin: f32,
         tmax: f32,
     ) -> Option<Hit> {
+        if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits) {
+            return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
+        }
+        self.closest_hit_prepared(ray, prepared::Prepared::All(&prepared.tris), tmin, tmax)
+    }
+
+    /// [`Accel::closest_hit_from_origin`] with the triangles from `prepared`, made for the
+    /// ray's origin.
+    pub(crate) fn closest_hit_prepared(
+        &self,
+        ray: &Ray,
+        prepared: prepared::Prepared<'_>,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<Hit> {
         let Triangles::Bvh(b) = &self.triangles else {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         };
-        if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits)
-            || prepared.tris.len() != b.len()
-        {
+        if !prepared.fits(ray.o, b.len()) {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         }
         let mut search = Search::new(ray, tmin, tmax);
-        b.closest_hit_from_origin(ray, &prepared.tris, &mut search);
+        b.closest_hit_from_origin(ray, prepared, &mut search);
         if let (Some(inst), Some(r)) = (self.instances(), WatertightRay::new(ray.o, ray.d)) {
             inst.closest_hit_adaptive(ray, &r, &mut search);
         }
@@ -386,6 +419,7 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
+        let prepared = prepared::Prepared::from_list(prepared);
         self.closest_packet_of_triangles(o, prepared, d, d_max, None, None)
     }
 
@@ -397,7 +431,7 @@ impl Accel {
     pub(crate) fn closest_packet_of_triangles(
         &self,
         o: [f32; 3],
-        prepared: Option<&packet::OriginTriangles>,
+        prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
@@ -436,7 +470,16 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
-        self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
+        match prepared {
+            Some(p) if p.origin != o => Some(packet::ShadowHits {
+                blocked: 0,
+                unsure: valid,
+            }),
+            p => {
+                let prepared = prepared::Prepared::from_list(p);
+                self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
+            }
+        }
     }
 
     /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.
@@ -444,7 +487,7 @@ impl Accel {
     pub(crate) fn blocked_packet_of_triangles(
         &self,
         o: [f32; 3],
-        prepared: Option<&packet::OriginTriangles>,
+        prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -454,7 +497,7 @@ impl Accel {
             return None;
         };
         let Some(inst) = self.instances() else {
-            return Some(b.blocked_packet(o, prepared, d, d_max, skip, valid));
+            return Some(b.blocked_packet_from(o, prepared, d, d_max, skip, valid));
         };
         Some(blocked_with_instances(
             b, inst, o, prepared, d, d_max, skip, valid,
@@ -524,7 +567,7 @@ fn closest_with_instances(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: Option<&packet::OriginTriangles>,
+    prepared: prepared::Prepared<'_>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
@@ -533,7 +576,7 @@ fn closest_with_instances(
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
-        prepared: Option<&packet::OriginTriangles>,
+        prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>
@@ -545,7 +588,7 @@ fn closest_with_instances_body<V: crate::math::lanes::Lanes>(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: Option<&packet::OriginTriangles>,
+    prepared: prepared::Prepared<'_>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
@@ -563,7 +606,7 @@ fn blocked_with_instances(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: Option<&packet::OriginTriangles>,
+    prepared: prepared::Prepared<'_>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],
@@ -573,7 +616,7 @@ fn blocked_with_instances(
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
-        prepared: Option<&packet::OriginTriangles>,
+        prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         skip: &[u32; 8],
@@ -587,7 +630,7 @@ fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
-    prepared: Option<&packet::OriginTriangles>,
+    prepared: prepared::Prepared<'_>,
     d: &[wide::f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],
