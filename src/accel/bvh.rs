@@ -47,6 +47,15 @@ pub(crate) struct Aabb {
 }
 
 impl Aabb {
+    /// The high corner if `hi`, else the low one.
+    #[inline(always)]
+    fn side(&self, hi: bool) -> &[f32; 3] {
+        match hi {
+            true => &self.hi,
+            false => &self.lo,
+        }
+    }
+
     const EMPTY: Aabb = Aabb {
         lo: [f32::INFINITY; 3],
         hi: [f32::NEG_INFINITY; 3],
@@ -1092,6 +1101,9 @@ pub(crate) struct PacketSlabs<V = f32x8> {
     sign: [Option<bool>; 3],
     /// Whether every 1/dₖ is finite (then no 0·∞ can arise).
     tame: bool,
+    /// Tame, and every axis's sign shared: per axis, whether the near slab is the box's high
+    /// side (`enter` then takes one branch-free path).
+    coherent: Option<[bool; 3]>,
     /// Whether the f32 test can be trusted: the origin and every direction are
     /// [`slab_safe`], the boxes [`box_safe`]; else the walks offer every triangle, testing no
     /// box.
@@ -1123,6 +1135,10 @@ impl<V: Lanes> PacketSlabs<V> {
         // of 1/dₖ·slack itself.
         let slack = 1.0 + 2.0 * f32::error_gamma(4);
         let inv_far = each3(|k| inv[k] * V::splat(slack));
+        let coherent = match sign {
+            [Some(x), Some(y), Some(z)] if tame => Some([x, y, z]),
+            _ => None,
+        };
         Self {
             o,
             inv,
@@ -1130,6 +1146,7 @@ impl<V: Lanes> PacketSlabs<V> {
             neg,
             sign,
             tame,
+            coherent,
             trusted,
         }
     }
@@ -1153,6 +1170,19 @@ impl<V: Lanes> PacketSlabs<V> {
     pub(crate) fn enter(&self, b: &Aabb, limit: V, live: u32) -> (u32, V) {
         let mut t0 = V::zero();
         let mut t1 = limit;
+        if let Some(near_hi) = self.coherent {
+            // The loop below for this case, the same operations without its per-axis
+            // branches (bunny flat: 1.5% fewer instructions, callgrind). Indexed: the
+            // iterator form took 5% more.
+            #[allow(clippy::needless_range_loop)]
+            for k in 0..3 {
+                let near = b.side(near_hi[k])[k] - self.o[k];
+                let far = b.side(!near_hi[k])[k] - self.o[k];
+                t0 = t0.fast_max(V::splat(near) * self.inv[k]);
+                t1 = t1.fast_min(V::splat(far) * self.inv_far[k]);
+            }
+            return (t0.simd_le(t1).to_bitmask() & live, t0);
+        }
         for k in 0..3 {
             let (lo, hi) = (b.lo[k] - self.o[k], b.hi[k] - self.o[k]);
             let (near, far) = match self.sign[k] {
