@@ -534,15 +534,27 @@ fn srgb_table_matches_the_exact_curve() {
     assert_eq!(linear_to_srgb8(0.5), 188);
 }
 
-#[test]
-fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
-    // A 1280-triangle closed mesh (culled per tile for camera rays, BVH for shadow rays).
-    let mesh = common::icosphere(3, 0.8, [0.1, -0.2, 0.3]);
+/// The Cornell box with a blue icosphere of `levels` subdivisions (20·4^levels triangles),
+/// radius `r`, at `centre`, over the structure `choice`.
+fn cornell_with_ball(
+    levels: u32,
+    r: f32,
+    centre: [f32; 3],
+    choice: raylab::accel::AccelChoice,
+) -> Scene {
+    let mesh = common::icosphere(levels, r, centre);
     let n = mesh.len();
     let mut scene = Scene::cornell();
     scene.shapes.extend(mesh);
     scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    scene.set_accel(raylab::accel::AccelChoice::Auto);
+    scene.set_accel(choice);
+    scene
+}
+
+#[test]
+fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
+    // A 1280-triangle closed mesh (culled per tile for camera rays, BVH for shadow rays).
+    let scene = cornell_with_ball(3, 0.8, [0.1, -0.2, 0.3], raylab::accel::AccelChoice::Auto);
     assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
     assert!(scene.accel().flat_triangles().is_some());
     let cam = Camera::cornell(83);
@@ -620,9 +632,10 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
         });
         let mut scratch = raylab::accel::TileScratch::default();
         let mut empty = 0;
-        for y0 in (0..h).step_by(16) {
-            for x0 in (0..w).step_by(8) {
-                let tile = [x0, y0, (x0 + 8).min(w), (y0 + 16).min(h)];
+        let (tw, th) = (raylab::render::TILE, raylab::render::BAND);
+        for y0 in (0..h).step_by(th as usize) {
+            for x0 in (0..w).step_by(tw as usize) {
+                let tile = [x0, y0, (x0 + tw).min(w), (y0 + th).min(h)];
                 if !queries.tile(tile, &mut scratch).shows_nothing() {
                     continue;
                 }
@@ -669,12 +682,7 @@ fn bvh_shadow_packets_render_as_the_per_ray_path() {
     // camera and shadow rays go 8 at a time from the camera and from the light. The cracks
     // view traces every ray per ray (with the adaptive method it marks nothing), so both
     // images must be the same, sphere shadow included.
-    let mesh = common::icosphere(3, 0.4, [0.2, 0.5, 0.1]);
-    let n = mesh.len();
-    let mut scene = Scene::cornell();
-    scene.shapes.extend(mesh);
-    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    scene.set_accel(raylab::accel::AccelChoice::Bvh);
+    let scene = cornell_with_ball(3, 0.4, [0.2, 0.5, 0.1], raylab::accel::AccelChoice::Bvh);
     let cam = Camera::cornell(120);
     for step in [LabStep::Shadows, LabStep::Indirect] {
         let packets = RenderSettings {
@@ -715,12 +723,7 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
     // structure's caches): a frame from another eye and light must be the image and counts a
     // freshly built structure gives, for the mesh traced in packets through the BVH (5120
     // triangles: above the per-tile lists; fewer than the camera rays: prepared once a frame).
-    let mesh = common::icosphere(4, 0.4, [0.2, 0.5, 0.1]);
-    let n = mesh.len();
-    let mut scene = Scene::cornell();
-    scene.shapes.extend(mesh);
-    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    scene.set_accel(raylab::accel::AccelChoice::Bvh);
+    let mut scene = cornell_with_ball(4, 0.4, [0.2, 0.5, 0.1], raylab::accel::AccelChoice::Bvh);
     assert!(scene.accel().flat_triangles().is_none());
     let cams = [
         Camera::cornell(128),

@@ -1401,25 +1401,31 @@ mod tests {
         }
     }
 
-    #[test]
-    fn top_levels_cover_every_triangle_with_their_childless_boxes() {
-        // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
-        // order whose childless boxes hold every triangle, and their count doubles per level
-        // until the leaves.
-        let mut x = 0x9e3779b97f4a7c15u64;
+    /// `n` triangles with edges `size` long at xorshift-random places (from `seed`) in
+    /// [0, 10)³.
+    fn scattered(n: u32, seed: u64, size: f32) -> Vec<IndexedTriangle> {
+        let mut x = seed;
         let mut next = || {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
             (x >> 40) as f32 / (1u64 << 24) as f32 * 10.0
         };
-        let tris: Vec<IndexedTriangle> = (0..4000)
+        (0..n)
             .map(|i| {
                 let p = [next(), next(), next()];
-                let q = |d: [f32; 3]| [0, 1, 2].map(|k| p[k] + d[k] * 0.05);
+                let q = |d: [f32; 3]| [0, 1, 2].map(|k| p[k] + d[k] * size);
                 ([p, q([1.0, 0.0, 0.0]), q([0.0, 1.0, 1.0])], i)
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn top_levels_cover_every_triangle_with_their_childless_boxes() {
+        // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
+        // order whose childless boxes hold every triangle, and their count doubles per level
+        // until the leaves.
+        let tris = scattered(4000, 0x9e3779b97f4a7c15, 0.05);
         let bvh = Bvh::build(&tris);
         for depth in [0, 1, 5, 8, 40] {
             let nodes = bvh.top_levels(depth);
@@ -1495,20 +1501,7 @@ mod tests {
         // unprepared, prepared by the other thread, and ready; every leaf's triangles are the
         // bits of the full list prepared for the same origin. The cache is then kept and
         // taken again for another origin: no triangle of the first frame is served.
-        let mut x = 0x2545f4914f6cdd1du64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
-        };
-        let tris: Vec<IndexedTriangle> = (0..1003)
-            .map(|i| {
-                let p = [next(), next(), next()];
-                let q = |d: [f32; 3]| [0, 1, 2].map(|k| p[k] + d[k] * 0.1);
-                ([p, q([1.0, 0.2, 0.0]), q([0.0, 1.0, 0.7])], i)
-            })
-            .collect();
+        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.1);
         let bvh = Bvh::build(&tris);
         let leaves: Vec<(usize, usize)> = (0..2 * bvh.pairs.len())
             .map(|i| *bvh.node(i))
@@ -1519,7 +1512,7 @@ mod tests {
         assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));
         let bits = |t: &OriginTriangle| format!("{t:?}");
         let pool = super::super::prepared::CachePool::default();
-        for origin in [[0.1, 0.2, 5.0], [-3.0, 0.5, -0.25]] {
+        for origin in [[5.1, 4.2, 15.0], [-3.0, 5.5, 4.75]] {
             let cache = pool.take(bvh.len(), origin);
             let (vertices, prims) = bvh.triangles();
             let want = OriginTriangles::from_parts(vertices, prims, origin);
