@@ -670,7 +670,7 @@ impl Bvh {
     ) -> [&'q [OriginTriangle]; 2] {
         debug_assert!(end - first <= MAX_LEAF);
         match prepared {
-            Prepared::All(list) => [&list[first..end], &[]],
+            Prepared::All(list) => [&list.tris[first..end], &[]],
             Prepared::AsMet => [
                 &quad.write(self.prepare_quad::<V>(first, end, o))[..end - first],
                 &[],
@@ -719,7 +719,7 @@ impl Bvh {
     ) -> PacketHits {
         for i in 0..self.tris.len() {
             match prepared {
-                Prepared::All(p) => nearest.offer(&p[i], i as u32),
+                Prepared::All(p) => nearest.offer(&p.tris[i], i as u32),
                 _ => nearest.offer(
                     &OriginTriangle::new(&self.tris[i], o, self.prims[i]),
                     i as u32,
@@ -740,7 +740,7 @@ impl Bvh {
     ) -> ShadowHits {
         for i in 0..self.tris.len() {
             match prepared {
-                Prepared::All(p) => packet.offer(&p[i]),
+                Prepared::All(p) => packet.offer(&p.tris[i]),
                 _ => packet.offer(&OriginTriangle::new(&self.tris[i], o, self.prims[i])),
             }
         }
@@ -787,15 +787,7 @@ impl Bvh {
         skip: &[u32; 8],
         valid: u32,
     ) -> ShadowHits {
-        let prepared = match prepared {
-            Some(p) if p.origin != o => {
-                return ShadowHits {
-                    blocked: 0,
-                    unsure: valid,
-                }
-            }
-            p => Prepared::from_list(p),
-        };
+        let prepared = Prepared::from_list(prepared);
         self.blocked_packet_from(o, prepared, d, d_max, skip, valid)
     }
 

@@ -374,7 +374,7 @@ impl Accel {
         if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits) {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         }
-        self.closest_hit_prepared(ray, prepared::Prepared::All(&prepared.tris), tmin, tmax)
+        self.closest_hit_prepared(ray, prepared::Prepared::All(prepared), tmin, tmax)
     }
 
     /// [`Accel::closest_hit_from_origin`] with the triangles from `prepared`, made for the
@@ -470,16 +470,8 @@ impl Accel {
         if !self.others.is_empty() {
             return None;
         }
-        match prepared {
-            Some(p) if p.origin != o => Some(packet::ShadowHits {
-                blocked: 0,
-                unsure: valid,
-            }),
-            p => {
-                let prepared = prepared::Prepared::from_list(p);
-                self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
-            }
-        }
+        let prepared = prepared::Prepared::from_list(prepared);
+        self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
     }
 
     /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.

@@ -14,7 +14,7 @@
 //! visit and a copy for leaves across two blocks (−6.5%); one flat array, with a leaf across
 //! two blocks handed on as two slices, gave −11.9%.
 
-use super::packet::OriginTriangle;
+use super::packet::{OriginTriangle, OriginTriangles};
 use std::fmt;
 use std::sync::{Mutex, OnceLock};
 
@@ -24,16 +24,16 @@ pub(crate) enum Prepared<'a> {
     /// Prepared again at every visit.
     AsMet,
     /// All of them, prepared beforehand in the hierarchy's order.
-    All(&'a [OriginTriangle]),
+    All(&'a OriginTriangles),
     /// Once per frame each, by the first thread to reach the leaf.
     Once(&'a LeafCache),
 }
 
 impl<'a> Prepared<'a> {
     /// A full list if there is one, else as met.
-    pub(crate) fn from_list(list: Option<&'a super::packet::OriginTriangles>) -> Self {
+    pub(crate) fn from_list(list: Option<&'a OriginTriangles>) -> Self {
         match list {
-            Some(p) => Prepared::All(&p.tris),
+            Some(p) => Prepared::All(p),
             None => Prepared::AsMet,
         }
     }
@@ -51,7 +51,7 @@ impl<'a> Prepared<'a> {
     pub(crate) fn fits(&self, origin: [f32; 3], len: usize) -> bool {
         match self {
             Prepared::AsMet => true,
-            Prepared::All(list) => list.len() == len,
+            Prepared::All(list) => list.origin == origin && list.tris.len() == len,
             Prepared::Once(cache) => cache.origin == origin && cache.len == len,
         }
     }
