@@ -245,10 +245,10 @@ impl RayGenerator {
     /// scalar ray. Computed at full width where the CPU has AVX2 (`wide`'s f32x8 is two SSE
     /// halves in the default build: 18 instructions a pixel of the Cornell flat frame).
     #[inline]
-    pub fn directions_x8(&self, xs: wide::f32x8, y: f32) -> [wide::f32x8; 3] {
+    pub fn directions_x8(&self, xs: wide::f32x8, ys: wide::f32x8) -> [wide::f32x8; 3] {
         use crate::math::simd::avx2_or_baseline;
         let generator = self;
-        avx2_or_baseline!(lanes directions_body => (generator: &RayGenerator, xs: wide::f32x8, y: f32)
+        avx2_or_baseline!(lanes directions_body => (generator: &RayGenerator, xs: wide::f32x8, ys: wide::f32x8)
             -> [wide::f32x8; 3])
     }
 
@@ -263,10 +263,10 @@ impl RayGenerator {
 fn directions_body<V: Lanes>(
     generator: &RayGenerator,
     xs: wide::f32x8,
-    y: f32,
+    ys: wide::f32x8,
 ) -> [wide::f32x8; 3] {
     let cx = V::from_wide(xs) - V::splat(generator.half_w);
-    let cy = V::splat(y - generator.half_h);
+    let cy = V::from_wide(ys) - V::splat(generator.half_h);
     let cz = V::splat(generator.focal);
     let recip = V::one() / (cx * cx + cy * cy + cz * cz).sqrt();
     let (cx, cy, cz) = (cx * recip, cy * recip, cz * recip);

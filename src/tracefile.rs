@@ -279,7 +279,7 @@ pub fn trace_all_packets(
             Query::Nearest => {
                 for chunk in members.chunks(8) {
                     let prims = match tile.packets() {
-                        true => tile.closest_x8(&lanes_of(chunk), chunk.len()),
+                        true => tile.closest_x8(&lanes_of(chunk), (1 << chunk.len()) - 1),
                         false => std::array::from_fn(|l| match chunk.get(l) {
                             Some(&i) => tile.closest(&rays[i].ray).map_or(NO_HIT, |h| h.prim),
                             None => NO_HIT,

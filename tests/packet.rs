@@ -170,7 +170,7 @@ fn cornell_camera_rays_are_decided_and_right() {
         for x0 in (0..w).step_by(8) {
             let y = j as f32 + 0.5;
             let xs = [0, 1, 2, 3, 4, 5, 6, 7].map(|l| (x0 + l) as f32 + 0.5);
-            let d = gen.directions_x8(f32x8::from(xs), y);
+            let d = gen.directions_x8(f32x8::from(xs), f32x8::splat(y));
             let found = packet::closest(&prepared.tris, &d, packet::max_component(&d));
             let [dx, dy, dz] = d.map(|v| v.to_array());
             for l in 0..8 {
@@ -216,9 +216,11 @@ fn directions_match_the_scalar_rays_bit_for_bit() {
         let (w, h) = (1 + rng.below(4000) as u32, 1 + rng.below(4000) as u32);
         let gen = cam.ray_generator(w, h);
         let xs = [0; 8].map(|_| rng.range(0.0, w as f64) as f32);
-        let y = rng.range(0.0, h as f64) as f32;
-        let d = gen.directions_x8(f32x8::from(xs), y).map(|v| v.to_array());
-        for (l, x) in xs.iter().enumerate() {
+        let ys = [0; 8].map(|_| rng.range(0.0, h as f64) as f32);
+        let d = gen
+            .directions_x8(f32x8::from(xs), f32x8::from(ys))
+            .map(|v| v.to_array());
+        for (l, (x, y)) in xs.iter().zip(ys).enumerate() {
             let ray = gen.ray_through(*x, y);
             assert_eq!(ray.o, gen.origin());
             assert_eq!(
@@ -643,10 +645,10 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         let (w, h) = (1 + rng.below(4000) as u32, 1 + rng.below(4000) as u32);
         let generator = camera.ray_generator(w, h);
         let xs = f32x8::from([0; 8].map(|_| rng.range(0.0, w as f64) as f32));
-        let y = rng.range(0.0, h as f64) as f32;
+        let ys = f32x8::from([0; 8].map(|_| rng.range(0.0, h as f64) as f32));
         let run = || {
             (
-                generator.directions_x8(xs, y),
+                generator.directions_x8(xs, ys),
                 packet::closest(&prepared.tris, &d, dm),
                 accel.closest_packet(o, Some(&bvh_prepared), &d, dm),
                 accel.closest_packet(o, None, &d, dm),
@@ -662,7 +664,8 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         assert_eq!(format!("{fast:?}"), format!("{baseline:?}"));
         hit_lanes += fast.1.prim.iter().filter(|p| **p != u32::MAX).count();
         // And each camera direction is the scalar ray's.
-        for (l, x) in xs.to_array().into_iter().enumerate() {
+        let lanes = xs.to_array().into_iter().zip(ys.to_array());
+        for (l, (x, y)) in lanes.enumerate() {
             let want = generator.ray_through(x, y).d;
             assert_eq!(fast.0.map(|c| c.to_array()[l]), want, "camera lane {l}");
         }

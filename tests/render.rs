@@ -718,6 +718,46 @@ fn bvh_shadow_packets_render_as_the_per_ray_path() {
 }
 
 #[test]
+fn packets_render_as_the_per_ray_path_where_the_image_cuts_their_blocks() {
+    // Camera packets trace blocks of 4×2 pixels. At 37×23 the right tiles are 5 pixels wide
+    // (a block of 4 and one of 1) and the last band is 7 rows high (its last blocks are one
+    // row): their other lanes are dead. At 3×1 the one block is 3×1. Every step at 1 and 2²
+    // samples must give the per-ray path's bits and counts, on the plain box (per-tile lists;
+    // one colour table for the flat frame) and with a 5120-triangle ball (BVH; more
+    // triangles than the flat frame's table is made for, so its pixels are encoded one by one).
+    let scenes = [
+        Scene::cornell(),
+        cornell_with_ball(4, 0.5, [0.1, 0.4, 0.0], raylab::accel::AccelChoice::Bvh),
+    ];
+    for (k, scene) in scenes.iter().enumerate() {
+        for (w, h) in [(37, 23), (3, 1)] {
+            let cam = Camera::cornell(w);
+            for step in LabStep::ALL {
+                for spp in [1, 2] {
+                    let packets = RenderSettings {
+                        width: w,
+                        height: h,
+                        step,
+                        spp,
+                        ..Default::default()
+                    };
+                    let per_ray = RenderSettings {
+                        cracks: true,
+                        ..packets
+                    };
+                    let (a, sa) = render_image(scene, &cam, &packets).unwrap();
+                    let (b, sb) = render_image(scene, &cam, &per_ray).unwrap();
+                    let at = format!("scene {k} {w}x{h} {step} spp {spp}");
+                    assert!(a == b, "{at}: images differ");
+                    assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays), "{at}");
+                    assert!(sa.hits > 0, "{at}: the box fills the view");
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
     // The triangles prepared for the eye and the light are kept from frame to frame (the
     // structure's caches): a frame from another eye and light must be the image and counts a

@@ -159,8 +159,8 @@ fn camera_packets_keep_the_tiles_a_sphere_shows_in_and_name_the_per_ray_primitiv
                 let mut tile = frame.tile([x0, y, x0 + 8, y + 1], &mut scratch);
                 assert!(tile.packets(), "{choice:?}: tile ({x0}, {y}) goes per ray");
                 let xs: [f32; 8] = std::array::from_fn(|l| (x0 + l as u32) as f32 + 0.5);
-                let d = gen.directions_x8(f32x8::from(xs), y as f32 + 0.5);
-                let prims = tile.closest_x8(&d, 8);
+                let d = gen.directions_x8(f32x8::from(xs), f32x8::splat(y as f32 + 0.5));
+                let prims = tile.closest_x8(&d, 0xff);
                 for (l, &prim) in prims.iter().enumerate() {
                     let ray = Ray::new(gen.origin(), d.map(|c| c.to_array()[l]));
                     let want = accel.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);

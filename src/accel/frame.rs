@@ -482,17 +482,17 @@ impl TileQueries<'_> {
     }
 
     /// The nearest primitive along each of 8 camera rays from the eye with directions `d`,
-    /// for the first `lanes` lanes (the others are [`NO_HIT`]).
+    /// for lanes `live` (bit l for lane l; the others are [`NO_HIT`]).
     #[inline]
-    pub fn closest_x8(&mut self, d: &[f32x8; 3], lanes: usize) -> [u32; 8] {
+    pub fn closest_x8(&mut self, d: &[f32x8; 3], live: u32) -> [u32; 8] {
         let d_max = packet::max_component(d);
         let found = match self.shapes.is_empty() {
             true => self.closest_triangles_x8(d, d_max, None),
-            false => self.closest_with_shapes_x8(d, d_max, lanes),
+            false => self.closest_with_shapes_x8(d, d_max, live),
         };
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
-        let unused = (0xff_u32 << lanes) & 0xff;
+        let unused = !live & 0xff;
         let mut out = found.prim;
         if (found.ambiguous | unused) != 0 {
             self.resolve_lanes(d, found.ambiguous, unused, &mut out);
@@ -529,8 +529,8 @@ impl TileQueries<'_> {
     /// [`TileQueries::closest_triangles_x8`] where shapes other than triangles may show: they
     /// are tested first, and the triangles offered against them.
     #[inline(never)]
-    fn closest_with_shapes_x8(&self, d: &[f32x8; 3], d_max: f32, lanes: usize) -> PacketHits {
-        let shapes = shapes_seed(self.shapes, d, lanes);
+    fn closest_with_shapes_x8(&self, d: &[f32x8; 3], d_max: f32, live: u32) -> PacketHits {
+        let shapes = shapes_seed(self.shapes, d, live);
         let mut found = self.closest_triangles_x8(d, d_max, Some(&shapes.seed));
         for (prim, shape) in found.prim.iter_mut().zip(shapes.prims) {
             if *prim == SEEDED {
@@ -706,24 +706,24 @@ struct ShapeSeed {
     prims: [u32; 8],
 }
 
-/// The shapes other than triangles tested on the first `lanes` lanes of a camera packet (rays
-/// from the eye along `d`), four lanes at a time: see the module doc.
+/// The shapes other than triangles tested on lanes `live` of a camera packet (rays from the
+/// eye along `d`), four lanes at a time: see the module doc.
 #[inline(never)]
-fn shapes_seed(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> ShapeSeed {
+fn shapes_seed(shapes: &[LaneShape], d: &[f32x8; 3], live: u32) -> ShapeSeed {
     avx2_or_baseline!(shapes_seed_body => (
         shapes: &[LaneShape],
         d: &[f32x8; 3],
-        lanes: usize
+        live: u32
     ) -> ShapeSeed)
 }
 
 #[inline(always)]
-fn shapes_seed_body(shapes: &[LaneShape], d: &[f32x8; 3], lanes: usize) -> ShapeSeed {
+fn shapes_seed_body(shapes: &[LaneShape], d: &[f32x8; 3], live: u32) -> ShapeSeed {
     let mut out = ShapeSeed {
         seed: PacketSeed::default(),
         prims: [NO_HIT; 8],
     };
-    let used = (1u32 << lanes) - 1;
+    let used = live & 0xff;
     let d = d.map(|c| c.to_array());
     for half in 0..2 {
         let bits = (used >> (4 * half)) & 0xf;

@@ -4,9 +4,9 @@
 //! ([`shade`]). n×n stratified samples per pixel; linear colour averaged and sRGB-encoded once
 //! into RGBA8 ([`image`]).
 //!
-//! Camera rays go 8 at a time where the face says so for the tile ([`TileQueries::packets`]), else one at
-//! a time; either way the face answers exactly, and shading depends only on the ray and the
-//! primitive hit, so both give the same bits.
+//! Camera rays go 8 at a time, over blocks of 4×2 pixels, where the face says so for the tile
+//! ([`TileQueries::packets`]), else one at a time; either way the face answers exactly, and
+//! shading depends only on the ray and the primitive hit, so both give the same bits.
 
 pub mod aov;
 pub mod image;
@@ -66,7 +66,7 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
     method != Method::Adaptive && hits(method) != hits(Method::Adaptive)
 }
 
-/// Width of the tiles camera rays are traced in (a packet's 8 lanes).
+/// Width of the tiles camera rays are traced in (two packets' blocks of pixels, [`Block`]).
 pub const TILE: u32 = 8;
 
 /// Height of the tiles, the rows a parallel band holds.
@@ -180,6 +180,71 @@ struct Tile {
     h: u32,
 }
 
+impl Tile {
+    /// The tile's blocks of [`PACKET_W`]×[`PACKET_H`] pixels (narrower or shorter at its right
+    /// and bottom edges), row of blocks by row of blocks.
+    fn blocks(&self) -> impl Iterator<Item = Block> + '_ {
+        (0..self.h)
+            .step_by(PACKET_H as usize)
+            .flat_map(move |row0| {
+                (0..self.w).step_by(PACKET_W as usize).map(move |x| Block {
+                    x0: self.x0 + x,
+                    w: PACKET_W.min(self.w - x),
+                    h: PACKET_H.min(self.h - row0),
+                    row0,
+                })
+            })
+    }
+}
+
+/// Width of a camera packet's footprint: lane l traces pixel column l % 4 of its block.
+const PACKET_W: u32 = 4;
+
+/// Height of a camera packet's footprint: lane l traces pixel row l / 4 of its block. A
+/// squarer footprint meets fewer BVH boxes than a row of 8: 10-12% fewer instructions for the
+/// bunny's frames at 640×360 and 1280×720, 3-4% more for the Cornell box's flat frames
+/// (`benches/instructions.sh`, session 17).
+const PACKET_H: u32 = 2;
+
+/// The pixels one packet of camera rays traces: columns x0..x0 + w (at most 4) of the
+/// tile's rows row0..row0 + h (at most 2).
+struct Block {
+    x0: u32,
+    w: u32,
+    h: u32,
+    row0: u32,
+}
+
+impl Block {
+    /// The lanes on pixels of the block; the others (past the image's edges) are dead.
+    fn live_lanes(&self) -> u32 {
+        let row = (1u32 << self.w) - 1;
+        match self.h {
+            1 => row,
+            _ => row | row << PACKET_W,
+        }
+    }
+
+    /// Per lane, the pixel's column and row in the image, where the tile starts at row `y0`
+    /// (dead lanes repeat the block's last pixel, so that the packet stays as coherent as a
+    /// full one). Sums of small integers, so exact.
+    fn lane_pixels(&self, y0: u32) -> (f32x8, f32x8) {
+        const COLUMN: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0];
+        const ROW: [f32; 8] = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        let column = f32x8::from(COLUMN).fast_min(f32x8::splat((self.w - 1) as f32));
+        let row = f32x8::from(ROW).fast_min(f32x8::splat((self.h - 1) as f32));
+        (
+            f32x8::splat(self.x0 as f32) + column,
+            f32x8::splat((y0 + self.row0) as f32) + row,
+        )
+    }
+
+    /// The byte offset of the block's first pixel in the band's rows.
+    fn offset(&self, row_bytes: usize) -> usize {
+        self.row0 as usize * row_bytes + self.x0 as usize * 4
+    }
+}
+
 /// Buffers a band reuses from tile to tile: per packet of camera rays (rows, then samples),
 /// its hits readied for shading and its blocked shadow lanes.
 #[derive(Default)]
@@ -264,8 +329,13 @@ impl<'a> Frame<'a> {
     /// Writes pixel (i, row) from its samples' summed linear colour.
     #[inline]
     fn put(&self, row: &mut [u8], i: u32, sum: Rgb) {
+        self.put_pixel(&mut row[i as usize * 4..][..4], sum);
+    }
+
+    /// Writes RGBA8 pixel `px` from its samples' summed linear colour.
+    #[inline(always)]
+    fn put_pixel(&self, px: &mut [u8], sum: Rgb) {
         let (weight, srgb) = (self.weight, self.srgb);
-        let px = &mut row[i as usize * 4..][..4];
         px[0] = srgb.encode(sum[0] * weight);
         px[1] = srgb.encode(sum[1] * weight);
         px[2] = srgb.encode(sum[2] * weight);
@@ -327,9 +397,10 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Traces a tile's camera rays 8 at a time into `rows`; then, past the flat step, readies
-    /// the hits for shading 8 at a time ([`shade::shade_packet`]), asks for the tile's shadow
-    /// segments at once, and colours each pixel from its samples in the per-ray path's order.
+    /// Traces a tile's camera rays 8 at a time, a [`Block`] of 4×2 pixels per packet, into
+    /// `rows`; then, past the flat step, readies the hits for shading 8 at a time
+    /// ([`shade::shade_packet`]), asks for the tile's shadow segments at once, and colours each
+    /// pixel from its samples in the per-ray path's order.
     #[inline(never)]
     fn trace_tile_packets(
         &self,
@@ -350,25 +421,23 @@ impl<'a> Frame<'a> {
         let n = settings.spp;
         let o = self.gen.origin();
         let flat = settings.step == LabStep::Flat;
-        let lanes = tile.w as usize;
-        let mut sums = [[0.0f32; 3]; TILE as usize];
         shaded.clear();
-        for j in tile.y0..tile.y0 + tile.h {
-            let row_off = (j - tile.y0) as usize * self.row_bytes;
-            if self.flat_rgba.is_none() {
-                sums.fill([0.0; 3]);
-            }
+        if let Some(rgba) = &self.flat_rgba {
+            return self.trace_flat_pixels(tile, queries, rgba, rows, counts);
+        }
+        for block in tile.blocks() {
+            let live = block.live_lanes();
+            let (xs, ys) = block.lane_pixels(tile.y0);
+            let mut sums = [[0.0f32; 3]; 8];
             for sy in 0..n {
                 for sx in 0..n {
                     // The image positions of `sample`, with the same operations.
                     let off_x = (sx as f32 + 0.5) * self.inv_n;
-                    let y = j as f32 + (sy as f32 + 0.5) * self.inv_n;
-                    // Lanes past the tile's right edge repeat its last pixel.
-                    let xs = std::array::from_fn(|l| {
-                        (tile.x0 + (l as u32).min(tile.w - 1)) as f32 + off_x
-                    });
-                    let dirs = self.gen.directions_x8(f32x8::from(xs), y);
-                    let prims = queries.closest_x8(&dirs, lanes);
+                    let off_y = (sy as f32 + 0.5) * self.inv_n;
+                    let dirs = self
+                        .gen
+                        .directions_x8(xs + f32x8::splat(off_x), ys + f32x8::splat(off_y));
+                    let prims = queries.closest_x8(&dirs, live);
                     if !flat {
                         let mut others = 0;
                         shaded.push(self.ready_for_shading(o, &dirs, &prims, &mut others));
@@ -378,28 +447,17 @@ impl<'a> Frame<'a> {
                         }
                         continue;
                     }
-                    // (Lanes past `lanes` are NO_HIT.)
+                    // (Dead lanes are NO_HIT.)
                     counts.0 += prims.iter().filter(|&&p| p != NO_HIT).count() as u64;
-                    match &self.flat_rgba {
-                        Some(rgba) => {
-                            let at = row_off + tile.x0 as usize * 4;
-                            rgba.put(&mut rows[at..][..lanes * 4], &prims);
-                        }
-                        None => {
-                            for (sum, &prim) in sums.iter_mut().zip(&prims[..lanes]) {
-                                if prim != NO_HIT {
-                                    add(sum, scene.color(prim));
-                                }
-                            }
+                    for (sum, &prim) in sums.iter_mut().zip(&prims) {
+                        if prim != NO_HIT {
+                            add(sum, scene.color(prim));
                         }
                     }
                 }
             }
-            if flat && self.flat_rgba.is_none() {
-                let row = &mut rows[row_off..][..self.row_bytes];
-                for (l, sum) in sums.iter().take(lanes).enumerate() {
-                    self.put(row, tile.x0 + l as u32, *sum);
-                }
+            if flat {
+                self.put_block(&block, &sums, rows);
             }
         }
         if flat {
@@ -413,32 +471,65 @@ impl<'a> Frame<'a> {
             blocked.resize(shaded.len(), 0);
         }
         // Colour: the samples of each pixel summed in the per-ray path's order.
-        let per_row = (n * n) as usize;
-        let lane_mask = (1u32 << lanes) - 1;
-        for (jj, (row_packets, blocked)) in shaded
-            .chunks(per_row)
-            .zip(blocked.chunks(per_row))
-            .enumerate()
+        let per_block = (n * n) as usize;
+        for (block, (packets, blocked)) in tile
+            .blocks()
+            .zip(shaded.chunks(per_block).zip(blocked.chunks(per_block)))
         {
-            for pk in row_packets {
-                let hit = pk.hit & lane_mask;
+            let live = block.live_lanes();
+            for pk in packets {
+                let hit = pk.hit & live;
                 counts.0 += hit.count_ones() as u64;
                 if casts_shadows {
                     counts.1 += (hit & pk.shadow.live).count_ones() as u64;
                 }
             }
-            let sums = shade::sum_colours(
-                scene,
-                stored_colors,
-                row_packets,
-                blocked,
-                settings.step,
-                lane_mask,
-            );
-            let row = &mut rows[jj * self.row_bytes..][..self.row_bytes];
-            for (l, sum) in sums.iter().take(lanes).enumerate() {
-                self.put(row, tile.x0 + l as u32, *sum);
+            let sums =
+                shade::sum_colours(scene, stored_colors, packets, blocked, settings.step, live);
+            self.put_block(&block, &sums, rows);
+        }
+    }
+
+    /// The flat step with one sample per pixel: each pixel the colour of the primitive its
+    /// camera ray hits ([`FlatPixels`]), written as found.
+    fn trace_flat_pixels(
+        &self,
+        tile: &Tile,
+        queries: &mut TileQueries,
+        rgba: &FlatPixels,
+        rows: &mut [u8],
+        counts: &mut Counts,
+    ) {
+        // (The pixel centres of `sample` for one sample: i + 0.5.)
+        let centre = f32x8::splat(0.5);
+        for block in tile.blocks() {
+            let (xs, ys) = block.lane_pixels(tile.y0);
+            let dirs = self.gen.directions_x8(xs + centre, ys + centre);
+            let prims = queries.closest_x8(&dirs, block.live_lanes());
+            // (Dead lanes are NO_HIT.)
+            counts.0 += prims.iter().filter(|&&p| p != NO_HIT).count() as u64;
+            // (Two rows written apart: as a loop over rows, 4% more instructions.)
+            let (w, at) = (block.w as usize, block.offset(self.row_bytes));
+            rgba.put(&mut rows[at..][..w * 4], &prims[..w]);
+            if block.h == 2 {
+                let at = at + self.row_bytes;
+                rgba.put(&mut rows[at..][..w * 4], &prims[4..][..w]);
             }
+        }
+    }
+
+    /// Writes the pixels of `block` from their lanes' summed linear colours.
+    fn put_block(&self, block: &Block, sums: &[Rgb; 8], rows: &mut [u8]) {
+        let (w, at) = (block.w as usize, block.offset(self.row_bytes));
+        let put_row = |pixels: &mut [u8], sums: &[Rgb]| {
+            for (px, sum) in pixels.chunks_exact_mut(4).zip(sums) {
+                self.put_pixel(px, *sum);
+            }
+        };
+        put_row(&mut rows[at..][..w * 4], &sums[..w]);
+        if block.h == 2 {
+            let at = at + self.row_bytes;
+            put_row(&mut rows[at..][..w * 4], &sums[4..][..w]);
         }
     }
 
@@ -530,7 +621,7 @@ impl<'a> FlatPixels<'a> {
     /// Writes the pixels of primitives `prims` ([`NO_HIT`]: black) into `out`, 4 bytes each.
     /// (In words: written as bytes, the table's entries were taken apart and put together
     /// again, 24 instructions a pixel.)
-    #[inline]
+    #[inline(always)]
     fn put(&self, out: &mut [u8], prims: &[u32]) {
         for (px, &p) in out.chunks_exact_mut(4).zip(prims) {
             // (NO_HIT is past the table's end.)
