@@ -20,8 +20,8 @@
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
 //!   triangles are prepared at most once per frame, as packets first reach them, where there
-//!   are at least as many camera rays as triangles ([`PREPARE_RAYS_PER_TRIANGLE`]), else as
-//!   each packet meets them. The boxes of
+//!   are at most 2 triangles per camera ray ([`TRIANGLES_PER_CAMERA_RAY`], up to
+//!   [`MAX_PREPARED_ONCE`]), else as each packet meets them. The boxes of
 //!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
 //!   with instances, one box around all of them): a tile's camera packets walk only from the
 //!   nodes whose rectangle meets the tile, and a tile that none meets has no triangle hits
@@ -61,18 +61,24 @@ pub use super::packet::OriginTriangle;
 /// A lane of [`TileQueries::closest_x8`] whose ray hits nothing.
 pub const NO_HIT: u32 = u32::MAX;
 
-/// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
+/// Triangles per camera ray up to which a BVH scene's triangles are prepared for the eye (and
 /// the light) at most once per frame, a block of 8 as a packet first reaches it, and kept for
-/// the frame's other packets (`prepared::LeafCache`); below, as each packet meets them (a
+/// the frame's other packets (`prepared::LeafCache`); beyond, as each packet meets them (a
 /// frame then meets few triangles twice). Preparing one costs about 145 instructions, four
 /// at a time (callgrind). At the framing cameras of `raylab bench`, a frame reaches 28k of
 /// the bunny's 69k triangles at 640×360 (59k times) and Igea's 1:4 subdivision meets 285k
 /// of its 1.07M triangles at 1280×720 (306k times). The cache over preparing every triangle
 /// beforehand (session 16): bunny flat 640×360 −11.9% instructions, 1280×720 −3.2%, shadows
-/// −10.6% and −3.6%. Used below this threshold too: Igea 640×360 −3.5%, bunny 320×180
-/// −4.3%, but Igea 320×180 +26% (its reset and the blocks' unreached triangles), and its
-/// memory (a full list's) would pass the 1M mesh's budget.
-pub const PREPARE_RAYS_PER_TRIANGLE: usize = 1;
+/// −10.6% and −3.6%. Up to 2 triangles a ray rather than 1 (session 17): Igea 640×360 flat
+/// −3.4%, shadows −6.9%, bunny 320×180 −3.9%; at 4.7 (Igea 320×180) the cache cost 26% more
+/// (its reset and the blocks' unreached triangles).
+pub const TRIANGLES_PER_CAMERA_RAY: usize = 2;
+
+/// The most triangles prepared once per frame ([`TRIANGLES_PER_CAMERA_RAY`]): the cache holds
+/// a full prepared list, about 89 bytes a triangle for the eye and as much for the light, so
+/// at most 47 MB each. (The 1M-triangle mesh, at 1.2 triangles a ray at 1280×720, would add
+/// 95 MB, as much again as its BVH.)
+pub const MAX_PREPARED_ONCE: usize = 1 << 19;
 
 /// Levels of a BVH below its root whose boxes are projected each frame to find the tiles
 /// no triangle can show in (511 boxes at most: about 0.1M instructions a frame). Against the
@@ -274,10 +280,9 @@ impl Accel {
             _ => None,
         };
         let packets = method == Method::Adaptive && !setup.per_ray;
-        let prepare_once = self
-            .stored_triangle_count()
-            .saturating_mul(PREPARE_RAYS_PER_TRIANGLE)
-            <= setup.camera_rays;
+        let triangles = self.stored_triangle_count();
+        let prepare_once = triangles <= setup.camera_rays.saturating_mul(TRIANGLES_PER_CAMERA_RAY)
+            && triangles <= MAX_PREPARED_ONCE;
         let plan = match culling {
             Some(culling) if packets => {
                 let tris = culling.tris;
@@ -354,6 +359,18 @@ impl<'a> FrameQueries<'a> {
         matches!(
             self.plan,
             Plan::CulledPackets { .. } | Plan::BvhPackets { .. }
+        )
+    }
+
+    /// Whether the frame's BVH packets prepare each triangle at most once for the eye, as they
+    /// first reach it ([`TRIANGLES_PER_CAMERA_RAY`]).
+    pub fn prepares_once(&self) -> bool {
+        matches!(
+            self.plan,
+            Plan::BvhPackets {
+                from_eye: Some(_),
+                ..
+            }
         )
     }
 
