@@ -82,8 +82,9 @@ pub const MAX_PREPARED_ONCE: usize = 1 << 19;
 
 /// Levels of a BVH below its root whose boxes are projected each frame to find the tiles
 /// no triangle can show in (511 boxes at most, 8 corners each: about 0.5M instructions a
-/// frame for the bunny, 3% of its 320×180 frame, session 17). Against the root's box alone (depth 0), the bunny's flat frame takes 5% fewer instructions at 640×360
-/// and 9.6% fewer at 1280×720 (callgrind).
+/// frame for the bunny, 3% of its 320×180 frame, session 17). Against the root's box alone
+/// (depth 0), the bunny's flat frame takes 5% fewer instructions at 640×360 and 9.6% fewer at
+/// 1280×720 (callgrind).
 pub const SCREEN_DEPTH: usize = 8;
 
 /// What the accelerator needs to know of a frame.
