@@ -552,7 +552,13 @@ impl Bvh {
             if starts.is_some_and(|s| s.is_empty()) {
                 return nearest.finish();
             }
-            return self.closest_packet_wide(&rays, near_hi, nearest, prepared);
+            let mut leaves = PositionLeaves {
+                bvh: self,
+                o,
+                prepared,
+            };
+            self.walk_wide(&rays, near_hi, &mut nearest, &mut leaves);
+            return nearest.finish();
         }
         let inf = V::splat(f32::INFINITY);
         let mut live = !nearest.ambiguous() & 0xff;
@@ -850,12 +856,16 @@ impl Bvh {
         if !rays.trusted {
             return self.blocked_packet_untrusted(packet, o, prepared);
         }
-        let limit = packet.limit();
         let mut leaves = OwnLeaves {
             bvh: self,
             o,
             prepared,
         };
+        if let (Some(near_hi), false) = (rays.coherent, self.wide.is_empty()) {
+            self.walk_wide(&rays, near_hi, &mut packet, &mut leaves);
+            return packet.finish();
+        }
+        let limit = packet.limit();
         let mut stack = [0u32; 64];
         let mut sp = 0usize;
         let mut node = 0usize;
@@ -1099,6 +1109,29 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
 #[inline(always)]
 fn far_slack() -> f32 {
     1.0 + 2.0 * f32::error_gamma(4)
+}
+
+/// A hierarchy's own triangles for [`Bvh::closest_packet`]: lanes record positions in the
+/// hierarchy's order, not primitive indices.
+struct PositionLeaves<'a> {
+    bvh: &'a Bvh,
+    o: [f32; 3],
+    prepared: Prepared<'a>,
+}
+
+impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, nearest: &mut PacketNearest<V>, first: usize, count: usize) {
+        let mut quad = MaybeUninit::uninit();
+        let end = first + count;
+        let [a, b] = (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut quad);
+        for (j, tri) in a.iter().enumerate() {
+            nearest.offer(tri, (first + j) as u32);
+        }
+        for (j, tri) in b.iter().enumerate() {
+            nearest.offer(tri, (first + a.len() + j) as u32);
+        }
+    }
 }
 
 /// Eight rays from one origin set up for the slab test against boxes.

@@ -23,13 +23,10 @@
 //! interior child's two children in its place until it has 8), so leaves are the binary
 //! ones: the same triangle ranges, the frame's cache of prepared triangles serves both.
 
-use super::{far_slack, Bvh, NodePair, PacketSlabs};
+use super::{far_slack, Bvh, Leaves, NodePair, PacketSlabs};
 use crate::accel::instances::PacketSink;
-use crate::accel::packet::{PacketHits, PacketNearest};
-use crate::accel::prepared::Prepared;
 use crate::math::lanes::Lanes;
 use crate::math::simd::each3;
-use std::mem::MaybeUninit;
 
 /// Meshes of more triangles keep only the binary nodes (see the module docs).
 pub(super) const MAX_TRIANGLES: usize = 1 << 19;
@@ -222,20 +219,20 @@ fn widest<V: Lanes>(limits: V, live: u32) -> f32 {
 }
 
 impl Bvh {
-    /// [`Bvh::closest_packet`]'s walk over the wide nodes, for a packet whose lanes share
-    /// every axis's direction sign (`near_hi`).
+    /// [`Bvh::walk_packet`] over the wide nodes for a packet whose lanes share every axis's
+    /// direction sign (`near_hi`), boxes unpadded: offers `sink` every leaf some live lane
+    /// may reach before its limit, nearer children first.
     #[inline(always)]
-    pub(super) fn closest_packet_wide<V: Lanes>(
+    pub(super) fn walk_wide<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
         rays: &PacketSlabs<V>,
         near_hi: [bool; 3],
-        mut nearest: PacketNearest<V>,
-        prepared: Prepared<'_>,
-    ) -> PacketHits {
+        sink: &mut S,
+        leaves: &mut L,
+    ) {
         let slabs = WideSlabs::new(rays, near_hi);
-        let o = rays.o;
-        let mut live = !nearest.ambiguous() & 0xff;
-        let mut reach = nearest.limit();
+        let mut live = sink.live();
+        let mut reach = sink.limit();
         let mut limit = widest(reach, live);
         let mut refs = [0u32; STACK];
         let mut dists = [0f32; STACK];
@@ -270,7 +267,7 @@ impl Bvh {
             }
             loop {
                 if sp == 0 || live == 0 {
-                    return nearest.finish();
+                    return;
                 }
                 sp -= 1;
                 let (r, t) = (refs[sp], dists[sp]);
@@ -282,17 +279,9 @@ impl Bvh {
                     break;
                 }
                 let (first, count) = leaf_range(r);
-                let end = first + count;
-                let mut quad = MaybeUninit::uninit();
-                let [a, b] = self.leaf_triangles::<V>(prepared, first, end, o, &mut quad);
-                for (j, tri) in a.iter().enumerate() {
-                    nearest.offer(tri, (first + j) as u32);
-                }
-                for (j, tri) in b.iter().enumerate() {
-                    nearest.offer(tri, (first + a.len() + j) as u32);
-                }
-                live &= !nearest.ambiguous();
-                reach = nearest.limit();
+                leaves.visit(sink, first, count);
+                live = sink.live();
+                reach = sink.limit();
                 limit = widest(reach, live);
             }
         }
@@ -303,7 +292,7 @@ impl Bvh {
 mod tests {
     use super::super::Aabb;
     use super::*;
-    use crate::accel::packet::OriginTriangles;
+    use crate::accel::packet::{OriginTriangles, PacketHits};
     use crate::math::lanes::f32x8;
 
     /// Every leaf of the wide nodes, as (first, count, its box), walking from the root.
@@ -370,7 +359,9 @@ mod tests {
         // around a triangle's vertex or edge point (rays on shared edges and vertices) or a
         // random point, spreads from 1e-6 to 0.3 radians. Where the wide walk, the binary
         // walk and the whole list decide a lane, they name the same triangle, and the wide
-        // walk leaves about as few lanes undecided as the binary one.
+        // walk leaves about as few lanes undecided as the binary one. Shadow segments to the
+        // fan's points: every lane the wide walk decides is the per-ray any-hit query's
+        // answer, and it decides about as many as the binary walk.
         let mut tris = super::super::tests::scattered(4000, 0xda942042e4dd58b5, 0.05);
         tris.extend(super::super::tests::scattered(
             1000,
@@ -392,6 +383,7 @@ mod tests {
             (x >> 40) as f32 / (1u64 << 24) as f32
         };
         let (mut wide_walks, mut decided, mut binary_decided) = (0, 0, 0);
+        let (mut shadow_decided, mut shadow_binary_decided) = (0, 0);
         for _ in 0..300 {
             let o = [0, 1, 2].map(|_| next() * 16.0 - 3.0);
             let v = vertices[(next() * vertices.len() as f32) as usize % vertices.len()];
@@ -414,6 +406,22 @@ mod tests {
             let rays = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
             wide_walks += usize::from(rays.coherent.is_some());
             for prepared in [Some(&list), None] {
+                // Shadow segments from o to the fan's points (t = 1 there).
+                let none = [u32::MAX; 8];
+                let wide = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
+                let bin = binary.blocked_packet(o, prepared, &d, dm, &none, 0xff);
+                assert_eq!(wide.blocked & !bin.unsure & !bin.blocked, 0);
+                assert_eq!(bin.blocked & !wide.unsure & !wide.blocked, 0);
+                for (l, dir) in dirs.iter().enumerate() {
+                    let ray = crate::geometry::Ray::new(o, *dir);
+                    let want =
+                        bvh.any_hit(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
+                    if wide.unsure & (1 << l) == 0 {
+                        assert_eq!(wide.blocked & (1 << l) != 0, want, "shadow lane {l}");
+                        shadow_decided += 1;
+                    }
+                    shadow_binary_decided += usize::from(bin.unsure & (1 << l) == 0);
+                }
                 let wide = bvh.closest_packet(o, prepared, &d, dm);
                 let bin = binary.closest_packet(o, prepared, &d, dm);
                 for l in 0..8 {
@@ -439,6 +447,14 @@ mod tests {
             "{decided} vs {binary_decided}"
         );
         assert!(decided > 300 * 2 * 8 * 3 / 4, "{decided} decided");
+        assert!(
+            shadow_decided * 100 >= shadow_binary_decided * 98,
+            "{shadow_decided} vs {shadow_binary_decided}"
+        );
+        assert!(
+            shadow_decided > 300 * 2 * 8 / 2,
+            "{shadow_decided} shadow lanes decided"
+        );
     }
 
     #[test]
