@@ -2,7 +2,7 @@
 //! least max(4096, n/32) triangles split across threads with rayon), nodes of 32 bytes laid
 //! out in sibling pairs of one 64-byte cache line each (a traversal step reads both children's
 //! boxes with one fetch: the 1M-triangle mesh's 16 MB of nodes do not stay in cache), ordered
-//! stack traversal. Coherent packets walk an 8-wide copy of the nodes instead ([`wide`]).
+//! stack traversal. Coherent packets walk an 8-wide copy of the nodes instead (module `wide`).
 //!
 //! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
 //! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
