@@ -548,15 +548,15 @@ impl Bvh {
         if !rays.trusted {
             return self.closest_packet_untrusted(nearest, o, prepared);
         }
+        let mut leaves = PositionLeaves {
+            bvh: self,
+            o,
+            prepared,
+        };
         if let (Some(near_hi), false) = (rays.coherent, self.wide.is_empty()) {
             if starts.is_some_and(|s| s.is_empty()) {
                 return nearest.finish();
             }
-            let mut leaves = PositionLeaves {
-                bvh: self,
-                o,
-                prepared,
-            };
             self.walk_wide(&rays, near_hi, &mut nearest, &mut leaves);
             return nearest.finish();
         }
@@ -588,16 +588,8 @@ impl Bvh {
         loop {
             let n = *self.node(node);
             if n.count > 0 {
-                let first = n.offset as usize;
-                let mut quad = MaybeUninit::uninit();
-                let end = first + n.count as usize;
-                let [a, b] = self.leaf_triangles::<V>(prepared, first, end, o, &mut quad);
-                for (j, tri) in a.iter().enumerate() {
-                    nearest.offer(tri, (first + j) as u32);
-                }
-                for (j, tri) in b.iter().enumerate() {
-                    nearest.offer(tri, (first + a.len() + j) as u32);
-                }
+                let (first, count) = (n.offset as usize, n.count as usize);
+                Leaves::<V, _>::visit(&mut leaves, &mut nearest, first, count);
                 live &= !nearest.ambiguous();
                 reach = nearest.limit();
             } else {

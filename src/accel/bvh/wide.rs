@@ -15,7 +15,7 @@
 //! the bunny, where triangles are larger than a packet's footprint).
 //!
 //! Memory: wide nodes take about 40 bytes a triangle beside the binary nodes' 35 (which the
-//! per-ray, shadow and instance walks still use), so only meshes of up to
+//! per-ray, incoherent-packet and instance walks still use), so only meshes of up to
 //! [`MAX_TRIANGLES`] get them: the 1M-triangle mesh stays within 100 MB (81 MB; with wide
 //! nodes 121 MB).
 //!
@@ -86,24 +86,31 @@ pub(super) fn widen(pairs: &[NodePair], triangles: usize) -> Vec<WideNode> {
     wide.push(empty);
     let mut deepest = 0;
     while let Some((root, at, above)) = todo.pop() {
-        // The node's children, then the largest interior one's in its place, up to 8.
-        let mut kids: Vec<usize> = Vec::with_capacity(WIDTH);
-        match node(root).count {
-            0 => kids.extend([node(root).offset as usize, node(root).offset as usize + 1]),
-            _ => kids.push(root),
-        }
-        while kids.len() < WIDTH {
-            let largest = (kids.iter().enumerate())
-                .filter(|(_, &k)| node(k).count == 0)
-                .max_by(|a, b| {
-                    let area = |k: usize| node(k).bounds.half_area();
-                    area(*a.1).total_cmp(&area(*b.1))
-                });
-            let Some((slot, &k)) = largest else { break };
-            let first = node(k).offset as usize;
+        // The node's children, then the largest interior one's in its place, up to 8 (in
+        // an array: one allocation per wide node cost the build as many small ones).
+        let mut kids = [0usize; WIDTH];
+        let mut len = match node(root).count {
+            0 => {
+                kids[..2].copy_from_slice(&[0, 1].map(|j| node(root).offset as usize + j));
+                2
+            }
+            _ => {
+                kids[0] = root;
+                1
+            }
+        };
+        while len < WIDTH {
+            let area = |k: usize| node(k).bounds.half_area();
+            let largest = (0..len)
+                .filter(|&slot| node(kids[slot]).count == 0)
+                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])));
+            let Some(slot) = largest else { break };
+            let first = node(kids[slot]).offset as usize;
             kids[slot] = first;
-            kids.push(first + 1);
+            kids[len] = first + 1;
+            len += 1;
         }
+        let kids = &kids[..len];
         let below = above + kids.len() - 1;
         deepest = deepest.max(below);
         for (c, &k) in kids.iter().enumerate() {
