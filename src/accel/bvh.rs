@@ -1,8 +1,8 @@
 //! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins; subtrees of at
-//! least max(4096, n/32) triangles split across threads with rayon), nodes of 32 bytes laid
-//! out in sibling pairs of one 64-byte cache line each (a traversal step reads both children's
-//! boxes with one fetch: the 1M-triangle mesh's 16 MB of nodes do not stay in cache), ordered
-//! stack traversal. Coherent packets walk an 8-wide copy of the nodes instead (module `wide`).
+//! least max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
+//! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
+//! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as
+//! an interval first; children are visited nearest first.
 //!
 //! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
 //! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
@@ -30,14 +30,13 @@ use rayon::prelude::*;
 use std::mem::MaybeUninit;
 
 mod wide;
+pub use wide::MAX_ITEMS;
 
 /// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
 const SAH_DEPTH: usize = 36;
 
 /// Triangles per leaf at most.
 const MAX_LEAF: usize = 4;
-/// Start nodes a packet walk takes at most ([`Bvh::closest_packet_from`]).
-pub(crate) const MAX_STARTS: usize = 32;
 const BINS: usize = 16;
 /// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
 const PARALLEL_MIN: usize = 4096;
@@ -46,6 +45,12 @@ const PARALLEL_MIN: usize = 4096;
 pub(crate) struct Aabb {
     pub(crate) lo: [f32; 3],
     pub(crate) hi: [f32; 3],
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Self::EMPTY
+    }
 }
 
 impl Aabb {
@@ -82,7 +87,8 @@ impl Aabb {
     }
 }
 
-/// A node: its bounds, and either a leaf's triangle range or where its children are.
+/// A node of the binary tree the build makes (and [`widen`](wide::widen) collapses): its
+/// bounds, and either a leaf's triangle range or where its children are.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Node {
     bounds: Aabb,
@@ -98,14 +104,12 @@ struct Node {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct TopNode {
     pub(crate) bounds: Aabb,
-    /// Above the depth asked and where the node is not a leaf: its two children's positions
-    /// in the list.
-    pub(crate) children: Option<[u32; 2]>,
-    /// The node's index in the hierarchy ([`Bvh::closest_packet_from`]'s starts).
-    pub(crate) node: u32,
+    /// Above the depth asked and where the node is not a leaf: its children's positions in
+    /// the list, as the first and how many.
+    pub(crate) children: Option<(u32, u32)>,
 }
 
-/// Two sibling nodes in one cache line; node i is `pairs[i / 2].0[i % 2]`.
+/// Two sibling nodes; node i is `pairs[i / 2].0[i % 2]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct NodePair([Node; 2]);
@@ -113,11 +117,12 @@ struct NodePair([Node; 2]);
 /// The hierarchy and its triangles, reordered so that each leaf's are contiguous.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
-    pairs: Vec<NodePair>,
+    /// The nodes, root first (empty: no triangles).
+    wide: Vec<wide::WideNode>,
+    /// The box around everything.
+    bounds: Aabb,
     tris: Vec<[[f32; 3]; 3]>,
     prims: Vec<u32>,
-    /// The nodes 8 wide, for coherent packets (empty for a hierarchy over boxes).
-    wide: Vec<wide::WideNode>,
     /// Whether every box coordinate is [`box_safe`].
     tame: bool,
 }
@@ -153,11 +158,32 @@ fn in_range(x: f32, e: u32) -> bool {
     bits == 0 || bits.wrapping_sub(lo) <= HI - lo
 }
 
-/// Whether every node box of `pairs` has [`box_safe`] coordinates (an empty box's infinite
+/// Whether every node box of `wide` has [`box_safe`] coordinates (an empty box's infinite
 /// ones aside: such a box is never entered).
-fn boxes_tame(pairs: &[NodePair]) -> bool {
-    (pairs.iter().flat_map(|p| &p.0))
-        .all(|n| (n.bounds.lo.iter().chain(&n.bounds.hi)).all(|&x| !x.is_finite() || box_safe(x)))
+fn boxes_tame(wide: &[wide::WideNode]) -> bool {
+    (wide.iter().flat_map(|n| n.coordinates())).all(|x| !x.is_finite() || box_safe(x))
+}
+
+/// The binary tree over `refs` in sibling pairs, and the items in its leaves' order.
+fn binary_over(mut refs: Vec<Ref>, parallel_min: usize) -> (Vec<NodePair>, Vec<u32>) {
+    let pairs = pair_up(&build_node(&mut refs, 0, parallel_min, 0));
+    (pairs, refs.iter().map(|r| r.i).collect())
+}
+
+/// The binary tree over triangles, and their indices in its leaves' order.
+fn binary(tris: &[IndexedTriangle]) -> (Vec<NodePair>, Vec<u32>) {
+    let refs: Vec<Ref> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, (t, _))| {
+            let mut b = Aabb::EMPTY;
+            t.iter().for_each(|p| b.grow_point(*p));
+            let c = [0, 1, 2].map(|k| (t[0][k] + t[1][k] + t[2][k]) * (1.0 / 3.0));
+            Ref { b, c, i: i as u32 }
+        })
+        .collect();
+    // Enough parallel subtrees for the threads, each large enough to pay for a task.
+    binary_over(refs, PARALLEL_MIN.max(tris.len() / 32))
 }
 
 /// A triangle during the build: its box, centroid and index. The build partitions these
@@ -170,80 +196,36 @@ struct Ref {
 }
 
 impl Bvh {
-    /// Builds over triangles with their primitive indices.
+    /// Builds over triangles with their primitive indices (at most
+    /// [`MAX_ITEMS`]; the loaders keep within it).
     pub fn build(tris: &[IndexedTriangle]) -> Self {
         if tris.is_empty() {
             return Self::default();
         }
-        let mut refs: Vec<Ref> = tris
-            .par_iter()
-            .enumerate()
-            .map(|(i, (t, _))| {
-                let mut b = Aabb::EMPTY;
-                t.iter().for_each(|p| b.grow_point(*p));
-                let c = [0, 1, 2].map(|k| (t[0][k] + t[1][k] + t[2][k]) * (1.0 / 3.0));
-                Ref { b, c, i: i as u32 }
-            })
-            .collect();
-        // Enough parallel subtrees for the threads, each large enough to pay for a task.
-        let parallel_min = PARALLEL_MIN.max(tris.len() / 32);
-        let pairs = pair_up(&build_node(&mut refs, 0, parallel_min, 0));
-        let order: Vec<u32> = refs.iter().map(|r| r.i).collect();
+        assert!(tris.len() <= wide::MAX_ITEMS, "{} triangles", tris.len());
+        let (pairs, order) = binary(tris);
+        Self::over_binary(
+            &pairs,
+            order.par_iter().map(|&i| tris[i as usize].0).collect(),
+            order.par_iter().map(|&i| tris[i as usize].1).collect(),
+        )
+    }
+
+    /// The hierarchy from the binary tree `pairs`, with its items in the leaves' order.
+    fn over_binary(pairs: &[NodePair], tris: Vec<[[f32; 3]; 3]>, prims: Vec<u32>) -> Self {
+        let wide = wide::widen(pairs, wide::STACK);
         Self {
-            tame: boxes_tame(&pairs),
-            wide: wide::widen(&pairs, tris.len()),
-            pairs,
-            tris: order.par_iter().map(|&i| tris[i as usize].0).collect(),
-            prims: order.par_iter().map(|&i| tris[i as usize].1).collect(),
+            tame: boxes_tame(&wide),
+            bounds: pairs[0].0[0].bounds,
+            wide,
+            tris,
+            prims,
         }
-    }
-
-    /// The hierarchy's nodes down to `depth` levels below the root, breadth first. Every
-    /// triangle lies in the box of a node without children.
-    pub(crate) fn top_levels(&self, depth: usize) -> Vec<TopNode> {
-        let mut out: Vec<TopNode> = Vec::new();
-        let mut level: Vec<usize> = match self.pairs.is_empty() {
-            true => Vec::new(),
-            false => vec![0],
-        };
-        let mut parents: Vec<Option<usize>> = vec![None; level.len()];
-        for d in 0..=depth {
-            let mut next = Vec::new();
-            let mut next_parents = Vec::new();
-            for (&i, parent) in level.iter().zip(&parents) {
-                let at = out.len();
-                if let Some(p) = *parent {
-                    let children = out[p].children.get_or_insert([at as u32; 2]);
-                    children[1] = at as u32;
-                }
-                let n = self.node(i);
-                out.push(TopNode {
-                    bounds: n.bounds,
-                    children: None,
-                    node: i as u32,
-                });
-                if n.count == 0 && d < depth {
-                    let first = n.offset as usize;
-                    next.extend([first, first + 1]);
-                    next_parents.extend([Some(at), Some(at)]);
-                }
-            }
-            level = next;
-            parents = next_parents;
-        }
-        out
-    }
-
-    /// Node i.
-    #[inline(always)]
-    fn node(&self, i: usize) -> &Node {
-        &self.pairs[i / 2].0[i % 2]
     }
 
     /// Bytes held by nodes and triangles.
     pub fn memory_bytes(&self) -> usize {
-        self.pairs.len() * std::mem::size_of::<NodePair>()
-            + self.wide.len() * std::mem::size_of::<wide::WideNode>()
+        self.wide.len() * std::mem::size_of::<wide::WideNode>()
             + self.tris.len() * std::mem::size_of::<[[f32; 3]; 3]>()
             + self.prims.len() * 4
     }
@@ -251,7 +233,7 @@ impl Bvh {
     /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             for i in first..first + count {
                 let shape = Shape::Triangle(self.tris[i]);
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
@@ -271,7 +253,7 @@ impl Bvh {
     /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
     pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         let mut hit = false;
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
                     && Shape::Triangle(self.tris[i])
@@ -286,16 +268,17 @@ impl Bvh {
     /// The adaptive filter's M for this ray, from the root box (once per ray: per leaf it
     /// cost more than its tighter bound saved).
     fn extent(&self, ray: &Ray) -> f32 {
-        self.pairs.first().map_or(f32::INFINITY, |p| {
-            box_extent(ray.o, p.0[0].bounds.lo, p.0[0].bounds.hi)
-        })
+        match self.wide.is_empty() {
+            true => f32::INFINITY,
+            false => box_extent(ray.o, self.bounds.lo, self.bounds.hi),
+        }
     }
 
     /// The adaptive closest-hit search (see `geometry::adaptive`).
     pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, _, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
                 if est != Estimate::Miss {
@@ -323,21 +306,16 @@ impl Bvh {
         if boxes.is_empty() {
             return Self::default();
         }
-        let mut refs: Vec<Ref> = (boxes.iter().enumerate())
+        assert!(boxes.len() <= wide::MAX_ITEMS, "{} boxes", boxes.len());
+        let refs: Vec<Ref> = (boxes.iter().enumerate())
             .map(|(i, &(lo, hi))| Ref {
                 b: Aabb { lo, hi },
                 c: [0, 1, 2].map(|k| lo[k] * 0.5 + hi[k] * 0.5),
                 i: i as u32,
             })
             .collect();
-        let pairs = pair_up(&build_node(&mut refs, 0, PARALLEL_MIN, 0));
-        Self {
-            tame: boxes_tame(&pairs),
-            pairs,
-            wide: Vec::new(),
-            tris: Vec::new(),
-            prims: refs.iter().map(|r| r.i).collect(),
-        }
+        let (pairs, order) = binary_over(refs, PARALLEL_MIN);
+        Self::over_binary(&pairs, Vec::new(), order)
     }
 
     /// Whether every box coordinate is [`box_safe`] (the f32 slab test then holds).
@@ -347,14 +325,13 @@ impl Bvh {
 
     /// The root's box (`None` when empty).
     pub(crate) fn root_bounds(&self) -> Option<Aabb> {
-        self.pairs.first().map(|p| p.0[0].bounds)
+        (!self.wide.is_empty()).then_some(self.bounds)
     }
 
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
     /// (see [`Bvh::traverse`]): a node is entered while its box meets one of `sink`'s live
-    /// lanes before that lane's limit; `leaves` visits a leaf's items. Nearer child first by
-    /// the first live lane, as [`Bvh::closest_packet`] walks. (No closures: everything here
-    /// must inline into the caller's AVX2 build.)
+    /// lanes before that lane's limit; `leaves` visits a leaf's items, nearer children first.
+    /// Untrusted slabs visit every item.
     #[inline(always)]
     pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
@@ -363,63 +340,23 @@ impl Bvh {
         sink: &mut S,
         leaves: &mut L,
     ) {
-        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
+        if self.wide.is_empty() {
             return;
-        };
+        }
         if !(slabs.trusted && box_safe(pad)) {
             leaves.visit(sink, 0, self.prims.len());
             return;
         }
-        let mut stack = [0u32; 64];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        if sink.live() == 0 || slabs.enter_padded(&root.bounds, pad, sink).0 == 0 {
-            return;
-        }
-        loop {
-            let n = *self.node(node);
-            if n.count > 0 {
-                leaves.visit(sink, n.offset as usize, n.count as usize);
-            } else {
-                let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let (ma, ta) = slabs.enter_padded(&self.node(a).bounds, pad, sink);
-                let (mb, tb) = slabs.enter_padded(&self.node(b).bounds, pad, sink);
-                match (ma != 0, mb != 0) {
-                    (true, true) => {
-                        let lane = (ma & mb).trailing_zeros() as usize;
-                        let (first, second) =
-                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
-                                (b, a)
-                            } else {
-                                (a, b)
-                            };
-                        stack[sp] = second as u32;
-                        sp += 1;
-                        node = first;
-                        continue;
-                    }
-                    (true, false) => {
-                        node = a;
-                        continue;
-                    }
-                    (false, true) => {
-                        node = b;
-                        continue;
-                    }
-                    (false, false) => {}
-                }
+        match (slabs.coherent, pad == 0.0) {
+            (Some(near_hi), true) => {
+                let test = wide::IntervalTest::<V, false>::new(slabs, near_hi, 0.0);
+                self.walk_wide(&test, sink, leaves)
             }
-            loop {
-                if sp == 0 || sink.live() == 0 {
-                    return;
-                }
-                sp -= 1;
-                let cand = stack[sp] as usize;
-                if slabs.enter_padded(&self.node(cand).bounds, pad, sink).0 != 0 {
-                    node = cand;
-                    break;
-                }
+            (Some(near_hi), false) => {
+                let test = wide::IntervalTest::<V, true>::new(slabs, near_hi, pad);
+                self.walk_wide(&test, sink, leaves)
             }
+            (None, _) => self.walk_wide(&wide::LaneTest { rays: slabs, pad }, sink, leaves),
         }
     }
 
@@ -444,7 +381,7 @@ impl Bvh {
         } else {
             d_max
         };
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, _, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
             let leaf = first..first + count;
             let mut quad = MaybeUninit::uninit();
             // (Per ray for the lanes packets leave ambiguous: the baseline lanes, the same bits.)
@@ -497,13 +434,10 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let prepared = Prepared::from_list(prepared);
-        self.closest_packet_from(o, prepared, d, d_max, seed, None)
+        self.closest_packet_from(o, prepared, d, d_max, seed)
     }
 
-    /// [`Bvh::closest_packet_seeded`] walking only the subtrees of nodes `starts` (in that
-    /// order; at most [`MAX_STARTS`], else the root; empty: no node, the seed's answer), for
-    /// a tile whose rays can meet no triangle outside them ([`Bvh::top_levels`] on screen):
-    /// the walk then skips the levels above them. `None`: from the root.
+    /// [`Bvh::closest_packet_seeded`] with the triangles from `prepared`.
     pub(crate) fn closest_packet_from(
         &self,
         o: [f32; 3],
@@ -511,7 +445,6 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
-        starts: Option<&[u32]>,
     ) -> PacketHits {
         let bvh = self;
         avx2_or_baseline!(lanes Bvh::closest_packet_body => (
@@ -520,8 +453,7 @@ impl Bvh {
             prepared: Prepared<'_>,
             d: &[f32x8; 3],
             d_max: f32,
-            seed: Option<&PacketSeed>,
-            starts: Option<&[u32]>
+            seed: Option<&PacketSeed>
         ) -> PacketHits)
     }
 
@@ -533,12 +465,11 @@ impl Bvh {
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
-        starts: Option<&[u32]>,
     ) -> PacketHits {
         let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
-        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
+        if self.wide.is_empty() {
             return nearest.finish();
-        };
+        }
         if !prepared.fits(o, self.tris.len()) {
             let mut all = nearest.finish();
             all.ambiguous = 0xff;
@@ -553,102 +484,8 @@ impl Bvh {
             o,
             prepared,
         };
-        if let (Some(near_hi), false) = (rays.coherent, self.wide.is_empty()) {
-            if starts.is_some_and(|s| s.is_empty()) {
-                return nearest.finish();
-            }
-            self.walk_wide(&rays, near_hi, &mut nearest, &mut leaves);
-            return nearest.finish();
-        }
-        let inf = V::splat(f32::INFINITY);
-        let mut live = !nearest.ambiguous() & 0xff;
-        // Culling limit per lane ([`PacketSink::limit`]: the nearest hit's bound plus the
-        // margin, ∞ while none). It changes only when a leaf is offered: kept between leaves.
-        let mut reach = nearest.limit();
-        let mut stack = [0u32; 64 + MAX_STARTS];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        match starts {
-            Some(starts) if starts.len() <= MAX_STARTS => {
-                for &start in starts.iter().rev() {
-                    stack[sp] = start;
-                    sp += 1;
-                }
-                match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
-                    Some(first) => node = first,
-                    None => return nearest.finish(),
-                }
-            }
-            _ => {
-                if rays.enter(&root.bounds, inf, live).0 == 0 {
-                    return nearest.finish();
-                }
-            }
-        }
-        loop {
-            let n = *self.node(node);
-            if n.count > 0 {
-                let (first, count) = (n.offset as usize, n.count as usize);
-                Leaves::<V, _>::visit(&mut leaves, &mut nearest, first, count);
-                live &= !nearest.ambiguous();
-                reach = nearest.limit();
-            } else {
-                // Both children in one pair (one bounds check).
-                let pair = &self.pairs[n.offset as usize / 2].0;
-                let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let (ma, ta) = rays.enter(&pair[0].bounds, reach, live);
-                let (mb, tb) = rays.enter(&pair[1].bounds, reach, live);
-                match (ma != 0, mb != 0) {
-                    (true, true) => {
-                        let lane = (ma & mb).trailing_zeros() as usize;
-                        let (first, second) =
-                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
-                                (b, a)
-                            } else {
-                                (a, b)
-                            };
-                        stack[sp] = second as u32;
-                        sp += 1;
-                        node = first;
-                        continue;
-                    }
-                    (true, false) => {
-                        node = a;
-                        continue;
-                    }
-                    (false, true) => {
-                        node = b;
-                        continue;
-                    }
-                    (false, false) => {}
-                }
-            }
-            match self.pop_entered(&rays, &stack, &mut sp, reach, live) {
-                Some(next) => node = next,
-                None => return nearest.finish(),
-            }
-        }
-    }
-
-    /// Pops nodes off `stack` until one whose box meets a lane of `live` before its `reach`
-    /// (`None`: the stack ran out, or no lane is live).
-    #[inline(always)]
-    fn pop_entered<V: Lanes>(
-        &self,
-        rays: &PacketSlabs<V>,
-        stack: &[u32],
-        sp: &mut usize,
-        reach: V,
-        live: u32,
-    ) -> Option<usize> {
-        while *sp > 0 && live != 0 {
-            *sp -= 1;
-            let cand = stack[*sp] as usize;
-            if rays.enter(&self.node(cand).bounds, reach, live).0 != 0 {
-                return Some(cand);
-            }
-        }
-        None
+        self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves);
+        nearest.finish()
     }
 
     /// The triangles `start..end` (at most 4; positions in the hierarchy's order) prepared
@@ -835,9 +672,9 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let mut packet = ShadowPacket::<V>::new(d, d_max, skip, valid);
-        let Some(root) = self.pairs.first().map(|p| &p.0[0]) else {
+        if self.wide.is_empty() {
             return packet.finish();
-        };
+        }
         if !prepared.fits(o, self.tris.len()) {
             return ShadowHits {
                 blocked: 0,
@@ -853,71 +690,8 @@ impl Bvh {
             o,
             prepared,
         };
-        if let (Some(near_hi), false) = (rays.coherent, self.wide.is_empty()) {
-            self.walk_wide(&rays, near_hi, &mut packet, &mut leaves);
-            return packet.finish();
-        }
-        let limit = packet.limit();
-        let mut stack = [0u32; 64];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        if rays.enter(&root.bounds, limit, packet.live()).0 == 0 {
-            return packet.finish();
-        }
-        loop {
-            let n = *self.node(node);
-            if n.count > 0 {
-                Leaves::<V, _>::visit(
-                    &mut leaves,
-                    &mut packet,
-                    n.offset as usize,
-                    n.count as usize,
-                );
-                if packet.live() == 0 {
-                    return packet.finish();
-                }
-            } else {
-                let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let live = packet.live();
-                let (ma, ta) = rays.enter(&self.node(a).bounds, limit, live);
-                let (mb, tb) = rays.enter(&self.node(b).bounds, limit, live);
-                match (ma != 0, mb != 0) {
-                    (true, true) => {
-                        let lane = (ma & mb).trailing_zeros() as usize;
-                        let (first, second) =
-                            if lane < 8 && tb.simd_lt(ta).to_bitmask() & (1 << lane) != 0 {
-                                (b, a)
-                            } else {
-                                (a, b)
-                            };
-                        stack[sp] = second as u32;
-                        sp += 1;
-                        node = first;
-                        continue;
-                    }
-                    (true, false) => {
-                        node = a;
-                        continue;
-                    }
-                    (false, true) => {
-                        node = b;
-                        continue;
-                    }
-                    (false, false) => {}
-                }
-            }
-            loop {
-                if sp == 0 {
-                    return packet.finish();
-                }
-                sp -= 1;
-                let cand = stack[sp] as usize;
-                if rays.enter(&self.node(cand).bounds, limit, packet.live()).0 != 0 {
-                    node = cand;
-                    break;
-                }
-            }
-        }
+        self.walk_packet(&rays, 0.0, &mut packet, &mut leaves);
+        packet.finish()
     }
 
     /// The adaptive any-hit query.
@@ -931,7 +705,7 @@ impl Bvh {
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
                     && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
@@ -939,106 +713,6 @@ impl Bvh {
             (t_far, hit)
         });
         hit
-    }
-
-    /// Visits the leaves the ray may reach, nearer child first, every box widened by `pad`
-    /// on each side (0 but for a mesh's hierarchy walked in its own frame by a ray carried
-    /// there with rounding, see `accel::instances`). `leaf(first, count, t_far, leaf box)`
-    /// returns the new t_far and whether to stop.
-    pub(crate) fn traverse(
-        &self,
-        ray: &Ray,
-        tmin: f32,
-        tmax: f32,
-        pad: f32,
-        mut leaf: impl FnMut(usize, usize, f32, &Aabb) -> (f32, bool),
-    ) {
-        if self.pairs.is_empty() {
-            return;
-        }
-        let inv = ray.d.map(|c| 1.0 / c);
-        let neg = inv.map(|c| c < 0.0);
-        let slack = 1.0 + 2.0 * f32::error_gamma(3);
-        let in_f32 =
-            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
-        // Only the f64 test needs these divisions.
-        let inv64 = (!in_f32).then(|| ray.d.map(|c| 1.0 / f64::from(c)));
-        let enter = |b: &Aabb, t_far: f32| -> Option<f32> {
-            if let Some(inv64) = &inv64 {
-                return enter_f64(b, pad, ray, inv64, tmin, t_far);
-            }
-            let mut t0 = tmin;
-            let mut t1 = t_far;
-            for k in 0..3 {
-                let (lo, hi) = (b.lo[k] - pad, b.hi[k] + pad);
-                let (near, far) = if neg[k] { (hi, lo) } else { (lo, hi) };
-                // f32::min/max ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
-                let tn = (near - ray.o[k]) * inv[k];
-                let tf = (far - ray.o[k]) * inv[k] * slack;
-                t0 = t0.max(tn);
-                t1 = t1.min(tf);
-            }
-            (t0 <= t1).then_some(t0)
-        };
-        let mut t_far = tmax;
-        // Culling margin against the best hit so far (see the module docs).
-        let cull = |t: f32| {
-            if t < tmax {
-                (t + t.abs() * (1.0 / 65536.0)).min(tmax)
-            } else {
-                tmax
-            }
-        };
-        let mut stack = [0u32; 64];
-        let mut sp = 0usize;
-        let mut node = 0usize;
-        if enter(&self.node(0).bounds, t_far).is_none() {
-            return;
-        }
-        loop {
-            let n = *self.node(node);
-            if n.count > 0 {
-                let stop;
-                (t_far, stop) = leaf(n.offset as usize, n.count as usize, t_far, &n.bounds);
-                if stop {
-                    return;
-                }
-            } else {
-                let (a, b) = (n.offset as usize, n.offset as usize + 1);
-                let ta = enter(&self.node(a).bounds, cull(t_far));
-                let tb = enter(&self.node(b).bounds, cull(t_far));
-                match (ta, tb) {
-                    (Some(x), Some(y)) => {
-                        let (first, second) = if x <= y { (a, b) } else { (b, a) };
-                        stack[sp] = second as u32;
-                        sp += 1;
-                        node = first;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        node = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        node = b;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
-            }
-            // Pop, skipping boxes that the nearer hits have put out of reach.
-            loop {
-                if sp == 0 {
-                    return;
-                }
-                sp -= 1;
-                let cand = stack[sp] as usize;
-                if enter(&self.node(cand).bounds, cull(t_far)).is_some() {
-                    node = cand;
-                    break;
-                }
-            }
-        }
     }
 }
 
@@ -1183,20 +857,6 @@ impl<V: Lanes> PacketSlabs<V> {
             coherent,
             trusted,
         }
-    }
-
-    /// [`PacketSlabs::enter`] for `b` widened by `pad` on every side, with `sink`'s live
-    /// lanes and limits.
-    #[inline(always)]
-    pub(crate) fn enter_padded<S: PacketSink<V>>(&self, b: &Aabb, pad: f32, sink: &S) -> (u32, V) {
-        let b = match pad == 0.0 {
-            true => *b,
-            false => Aabb {
-                lo: b.lo.map(|x| x - pad),
-                hi: b.hi.map(|x| x + pad),
-            },
-        };
-        self.enter(&b, sink.limit(), sink.live())
     }
 
     /// The lanes of `live` whose rays meet box `b` before `limit`, and their entry distances.
@@ -1427,11 +1087,13 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
 mod tests {
     use super::*;
 
-    fn depth(bvh: &Bvh, node: usize) -> usize {
-        let n = bvh.node(node);
+    /// The binary tree's height below node `node` (a leaf 0).
+    pub(super) fn depth(pairs: &[NodePair], node: usize) -> usize {
+        let n = pairs[node / 2].0[node % 2];
+        let first = n.offset as usize;
         match n.count {
-            0 => 1 + depth(bvh, n.offset as usize).max(depth(bvh, n.offset as usize + 1)),
-            _ => 1,
+            0 => 1 + depth(pairs, first).max(depth(pairs, first + 1)),
+            _ => 0,
         }
     }
 
@@ -1457,31 +1119,34 @@ mod tests {
     #[test]
     fn top_levels_cover_every_triangle_with_their_childless_boxes() {
         // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
-        // order whose childless boxes hold every triangle, and their count doubles per level
-        // until the leaves.
+        // order (children after their parent, each parent's contiguous, inside its box)
+        // whose childless boxes hold every triangle; deep enough, they are the leaves.
         let tris = scattered(4000, 0x9e3779b97f4a7c15, 0.05);
         let bvh = Bvh::build(&tris);
-        for depth in [0, 1, 5, 8, 40] {
+        let leaves = bvh.wide.iter().flat_map(|n| n.leaves()).count();
+        let mut sizes = Vec::new();
+        for depth in [0, 1, 2, 3, 40] {
             let nodes = bvh.top_levels(depth);
+            sizes.push(nodes.len());
+            assert_eq!(nodes[0].bounds, bvh.root_bounds().unwrap());
             let childless: Vec<&Aabb> = (nodes.iter())
                 .filter(|n| n.children.is_none())
                 .map(|n| &n.bounds)
                 .collect();
+            let mut next = 1;
             for (i, n) in nodes.iter().enumerate() {
-                assert_eq!(n.bounds, bvh.node(n.node as usize).bounds);
-                if let Some([a, b]) = &n.children {
-                    assert!(*a as usize > i && *b == a + 1 && (*b as usize) < nodes.len());
-                    let first = bvh.node(n.node as usize).offset;
-                    assert_eq!(
-                        [nodes[*a as usize].node, nodes[*b as usize].node],
-                        [first, first + 1]
-                    );
+                if let Some((first, count)) = n.children {
+                    assert!(first as usize > i && first as usize == next && count >= 2);
+                    next += count as usize;
+                    for c in &nodes[first as usize..next] {
+                        assert!((0..3).all(|k| n.bounds.lo[k] <= c.bounds.lo[k]
+                            && c.bounds.hi[k] <= n.bounds.hi[k]));
+                    }
                 }
             }
-            if depth <= 8 {
-                assert_eq!(nodes.len(), (2 << depth) - 1, "depth {depth}");
-            } else {
-                assert_eq!(childless.len(), bvh.pairs.len(), "leaves at depth {depth}");
+            assert_eq!(next, nodes.len());
+            if depth == 40 {
+                assert_eq!(childless.len(), leaves, "leaves at depth {depth}");
             }
             for (v, i) in &tris {
                 let inside = |b: &&&Aabb| {
@@ -1491,6 +1156,7 @@ mod tests {
                 assert!(childless.iter().any(|b| inside(&b)), "triangle {i}");
             }
         }
+        assert!(sizes.windows(2).all(|w| w[0] < w[1]), "{sizes:?}");
     }
 
     #[test]
@@ -1504,8 +1170,9 @@ mod tests {
                 ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
             })
             .collect();
+        let (pairs, _) = binary(&row);
+        assert!(depth(&pairs, 0) < 64, "depth {}", depth(&pairs, 0));
         let bvh = Bvh::build(&row);
-        assert!(depth(&bvh, 0) <= 64, "depth {}", depth(&bvh, 0));
         let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
         for x in [1e9f32, 5.0, 1e30] {
             let ray = Ray::new([x, 0.1, 0.0], [-1.0, 0.0, 0.0]);
@@ -1525,7 +1192,8 @@ mod tests {
             .collect();
         let bvh = Bvh::build(&tiny);
         assert!(!bvh.boxes_tame());
-        assert!(depth(&bvh, 0) <= 64, "depth {}", depth(&bvh, 0));
+        let (pairs, _) = binary(&tiny);
+        assert!(depth(&pairs, 0) < 64, "depth {}", depth(&pairs, 0));
     }
 
     #[test]
@@ -1537,10 +1205,8 @@ mod tests {
         // taken again for another origin: no triangle of the first frame is served.
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.1);
         let bvh = Bvh::build(&tris);
-        let leaves: Vec<(usize, usize)> = (0..2 * bvh.pairs.len())
-            .map(|i| *bvh.node(i))
-            .filter(|n| n.count > 0)
-            .map(|n| (n.offset as usize, (n.offset + n.count) as usize))
+        let leaves: Vec<(usize, usize)> = (bvh.wide.iter().flat_map(|n| n.leaves()))
+            .map(|(first, count)| (first, first + count))
             .collect();
         assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), 1003);
         assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));

@@ -90,14 +90,6 @@ pub(crate) struct Box3 {
 }
 
 impl Box3 {
-    /// The squared distance from `p` to the box (0 inside), for ordering boxes by nearness.
-    pub(crate) fn distance_squared(&self, p: [f32; 3]) -> f32 {
-        (0..3)
-            .map(|k| (self.lo[k] - p[k]).max(p[k] - self.hi[k]).max(0.0))
-            .map(|d| d * d)
-            .sum()
-    }
-
     /// Whether the box meets [lo, hi] widened by 1e-6 relative (plus 1e-30): a box built
     /// from segment ends computed in f32 (origin + direction, rounded) then holds the exact
     /// segments.
@@ -157,12 +149,11 @@ impl ShapeCull {
     }
 }
 
-/// The top levels of a hierarchy of boxes on screen ([`ShapeCull`] per node). A tile's
-/// nodes are the nodes without children (leaves, or nodes at the cut) whose rectangle meets
-/// it, found by descending only into nodes whose rectangle meets it. Every primitive lies in
-/// such a node's box, so a tile without nodes shows none, and its camera rays can meet no
-/// primitive outside its nodes. Far tighter than the root's rectangle around a mesh's
-/// silhouette.
+/// The top levels of a hierarchy of boxes on screen ([`ShapeCull`] per node). A tile may
+/// show a primitive only where some node without children (a leaf, or a node at the cut)
+/// has a rectangle meeting it, found by descending only into nodes whose rectangle meets it:
+/// every primitive lies in such a node's box. Far tighter than the root's rectangle around a
+/// mesh's silhouette.
 #[derive(Clone, Debug)]
 pub(crate) struct ScreenTree {
     /// Breadth first from the root.
@@ -172,15 +163,13 @@ pub(crate) struct ScreenTree {
 #[derive(Clone, Copy, Debug)]
 struct ScreenNode {
     cull: ShapeCull,
-    /// Positions of the two children in the list.
-    children: Option<[u32; 2]>,
-    /// The node's index in its hierarchy, where a walk can start from it.
-    node: Option<u32>,
+    /// Positions of the children in the list: the first, and how many.
+    children: Option<(u32, u32)>,
 }
 
-/// The nodes of a [`ScreenTree`] as given: box (lo, hi), children's positions, and index in
-/// the hierarchy.
-pub(crate) type TreeNode = (([f32; 3], [f32; 3]), Option<[u32; 2]>, Option<u32>);
+/// The nodes of a [`ScreenTree`] as given: box (lo, hi), and the children's positions (the
+/// first, and how many; after their parent).
+pub(crate) type TreeNode = (([f32; 3], [f32; 3]), Option<(u32, u32)>);
 
 impl ScreenTree {
     /// From the nodes of a hierarchy's top levels, breadth first from the root.
@@ -190,57 +179,30 @@ impl ScreenTree {
     ) -> Self {
         Self {
             nodes: (nodes.into_iter())
-                .map(|(b, children, node)| ScreenNode {
+                .map(|(b, children)| ScreenNode {
                     cull: ShapeCull::new(b, projection),
                     children,
-                    node,
                 })
                 .collect(),
         }
     }
 
-    /// The tile [x0, x1] × [y0, y1]'s nodes, nearest box to `eye` first, as their indices
-    /// in the hierarchy (into `out`, cleared); `false` where nothing may show in the tile.
-    /// `out` is left empty (walk from the root) where some node has no index or there are
-    /// more than `max` of them.
-    pub(crate) fn tile_nodes(
-        &self,
-        [x0, y0, x1, y1]: [f32; 4],
-        eye: [f32; 3],
-        max: usize,
-        out: &mut Vec<(f32, u32)>,
-    ) -> bool {
-        out.clear();
-        let mut usable = true;
-        let mut any = false;
-        let mut stack = [0u32; 64];
-        let mut sp = usize::from(!self.nodes.is_empty());
-        while sp > 0 {
-            sp -= 1;
-            let n = &self.nodes[stack[sp] as usize];
+    /// Whether a primitive may show in the tile [x0, x1] × [y0, y1].
+    pub(crate) fn may_show(&self, [x0, y0, x1, y1]: [f32; 4]) -> bool {
+        let mut todo: Vec<u32> = Vec::with_capacity(32);
+        if !self.nodes.is_empty() {
+            todo.push(0);
+        }
+        while let Some(i) = todo.pop() {
+            let n = &self.nodes[i as usize];
             if !n.cull.meets_tile(x0, y0, x1, y1) {
                 continue;
             }
-            match (n.children, n.node) {
-                (Some([a, b]), _) => {
-                    stack[sp] = b;
-                    stack[sp + 1] = a;
-                    sp += 2;
-                }
-                (None, Some(node)) if usable && out.len() < max => {
-                    any = true;
-                    out.push((n.cull.bounds.distance_squared(eye), node));
-                }
-                (None, _) => {
-                    any = true;
-                    usable = false;
-                }
+            match n.children {
+                Some((first, count)) => todo.extend(first..first + count),
+                None => return true,
             }
         }
-        if !usable {
-            out.clear();
-        }
-        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        any
+        false
     }
 }

@@ -23,9 +23,9 @@
 //!   are at most 2 triangles per camera ray ([`TRIANGLES_PER_CAMERA_RAY`], up to
 //!   [`MAX_PREPARED_ONCE`]), else as each packet meets them. The boxes of
 //!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
-//!   with instances, one box around all of them): a tile's camera packets walk only from the
-//!   nodes whose rectangle meets the tile, and a tile that none meets has no triangle hits
-//!   (with no other shape there, [`TileQueries::shows_nothing`]);
+//!   with instances, one box around all of them): a tile that none meets has no triangle
+//!   hits, and its packets skip the walk (with no other shape there,
+//!   [`TileQueries::shows_nothing`]);
 //! - otherwise **per ray** through the scene's structure.
 //!
 //! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
@@ -41,10 +41,9 @@
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
 //! adaptive search, so packets and per-ray queries name the same primitives.
 
-use super::bvh::MAX_STARTS;
 use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle, ShapeCull};
 use super::flat::FlatLoop;
-use super::packet::{self, OriginTriangles, PacketHits, PacketSeed};
+use super::packet::{self, OriginTriangles, PacketHits, PacketNearest, PacketSeed};
 use super::prepared::{LeafCache, Prepared};
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
@@ -80,12 +79,11 @@ pub const TRIANGLES_PER_CAMERA_RAY: usize = 2;
 /// 95 MB, as much again as its BVH.)
 pub const MAX_PREPARED_ONCE: usize = 1 << 19;
 
-/// Levels of a BVH below its root whose boxes are projected each frame to find the tiles
-/// no triangle can show in (511 boxes at most, 8 corners each: about 0.5M instructions a
-/// frame for the bunny, 3% of its 320×180 frame, session 17). Against the root's box alone
-/// (depth 0), the bunny's flat frame takes 5% fewer instructions at 640×360 and 9.6% fewer at
-/// 1280×720 (callgrind).
-pub const SCREEN_DEPTH: usize = 8;
+/// Levels of a BVH's 8-wide nodes below its root whose boxes are projected each frame to
+/// find the tiles no triangle can show in (585 boxes at most, 8 corners each). Against the
+/// root's box alone (depth 0), the bunny's flat frame took 5% fewer instructions at 640×360
+/// and 9.6% fewer at 1280×720 (binary nodes, 8 levels; callgrind, session 17).
+pub const SCREEN_DEPTH: usize = 3;
 
 /// What the accelerator needs to know of a frame.
 #[derive(Clone, Copy, Debug)]
@@ -202,10 +200,6 @@ pub struct TileScratch {
     shapes: Vec<LaneShape>,
     /// Those that may block one of a tile's shadow segments.
     near_shapes: Vec<LaneShape>,
-    /// The BVH nodes the tile's camera packets walk from, and with their distance from the eye
-    /// while ordered ([`ScreenTree::tile_nodes`]).
-    starts: Vec<u32>,
-    tile_nodes: Vec<(f32, u32)>,
 }
 
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
@@ -251,9 +245,6 @@ pub struct TileQueries<'a> {
     near_shapes: &'a mut Vec<LaneShape>,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
-    /// The BVH nodes the tile's camera packets walk from, nearest first (empty: none, no
-    /// triangle can show; `None`: the root).
-    starts: Option<&'a [u32]>,
     /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
     /// its box meets the tile on screen; per ray: true).
     triangles_may_show: bool,
@@ -431,24 +422,14 @@ impl<'a> FrameQueries<'a> {
                 ),
             }
         }
-        scratch.starts.clear();
         let triangles_may_show = match &self.plan {
-            Plan::BvhPackets { triangles_seen, .. } => {
-                let nodes = &mut scratch.tile_nodes;
-                let any = triangles_seen.tile_nodes([x0, y0, x1, y1], self.eye, MAX_STARTS, nodes);
-                scratch.starts.extend(nodes.iter().map(|&(_, node)| node));
-                any
-            }
+            Plan::BvhPackets { triangles_seen, .. } => triangles_seen.may_show([x0, y0, x1, y1]),
             Plan::Culled(_) | Plan::CulledPackets { .. } => !scratch.subset.is_empty(),
             Plan::PerRay => true,
         };
-        // No node where nothing shows; none listed where some does: from the root.
-        let starts =
-            (!triangles_may_show || !scratch.starts.is_empty()).then_some(&scratch.starts[..]);
         TileQueries {
             frame: self,
             triangles_may_show,
-            starts,
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
@@ -529,6 +510,10 @@ impl TileQueries<'_> {
         let frame = self.frame;
         match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
+            // No triangle shows in the tile: the seed's answer.
+            Plan::BvhPackets { .. } if !self.triangles_may_show => {
+                PacketNearest::<f32x8>::seeded(d, d_max, seed).finish()
+            }
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet_of_triangles(
@@ -537,7 +522,6 @@ impl TileQueries<'_> {
                     d,
                     d_max,
                     seed,
-                    self.starts,
                 )
                 .unwrap_or_else(PacketHits::undecided),
             _ => PacketHits::undecided(),

@@ -268,13 +268,13 @@ impl Instances {
         let (_, items) = self.top.triangles();
         let mut stop = false;
         self.top
-            .traverse(ray, tmin, tmax, 0.0, |first, count, t_far, _| {
+            .traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
                 let mut t_far = t_far;
                 for &k in &items[first..first + count] {
                     let placed = &self.placed[k as usize];
                     let mesh = &self.meshes[placed.mesh as usize];
                     match placed.carry_ray(ray) {
-                        Some((obj, pad)) => mesh.traverse(&obj, tmin, t_far, pad, |f, c, tf, _| {
+                        Some((obj, pad)) => mesh.traverse(&obj, tmin, t_far, pad, |f, c, tf| {
                             (t_far, stop) = leaf(placed, mesh, f..f + c, tf);
                             (t_far, stop)
                         }),

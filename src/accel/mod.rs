@@ -229,14 +229,14 @@ impl Accel {
         };
         let Some(inst) = self.instances() else {
             return (b.top_levels(depth).into_iter())
-                .map(|n| ((n.bounds.lo, n.bounds.hi), n.children, Some(n.node)))
+                .map(|n| ((n.bounds.lo, n.bounds.hi), n.children))
                 .collect();
         };
         let mut all = inst.world_bounds();
         if let Some(own) = b.root_bounds() {
             all.grow(&own);
         }
-        vec![((all.lo, all.hi), None, None)]
+        vec![((all.lo, all.hi), None)]
     }
 
     /// The shapes the triangle structures do not hold (spheres), with their primitives.
@@ -420,13 +420,12 @@ impl Accel {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
-        self.closest_packet_of_triangles(o, prepared, d, d_max, None, None)
+        self.closest_packet_of_triangles(o, prepared, d, d_max, None)
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
     /// starting from `seed` (its ids must be beyond every primitive and slot, and are handed
-    /// back as they are); without instances, from the BVH nodes `starts`
-    /// ([`bvh::Bvh::closest_packet_from`]).
+    /// back as they are).
     #[inline]
     pub(crate) fn closest_packet_of_triangles(
         &self,
@@ -435,7 +434,6 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
-        starts: Option<&[u32]>,
     ) -> Option<packet::PacketHits> {
         let Triangles::Bvh(b) = &self.triangles else {
             return None;
@@ -443,7 +441,7 @@ impl Accel {
         if let Some(inst) = self.instances() {
             return Some(closest_with_instances(b, inst, o, prepared, d, d_max, seed));
         }
-        let mut found = b.closest_packet_from(o, prepared, d, d_max, seed, starts);
+        let mut found = b.closest_packet_from(o, prepared, d, d_max, seed);
         let prims = b.triangles().1;
         for slot in &mut found.prim {
             if let Some(prim) = prims.get(*slot as usize) {

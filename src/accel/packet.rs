@@ -249,15 +249,28 @@ impl OriginTriangle {
         }
         #[inline(always)]
         fn vertex<D: Lanes64>(v: &[&[[f32; 3]; 3]; 4], j: usize) -> [D; 3] {
-            let at = |k: usize| {
-                D::from_array([
-                    f64::from(v[0][j][k]),
-                    f64::from(v[1][j][k]),
-                    f64::from(v[2][j][k]),
-                    f64::from(v[3][j][k]),
-                ])
-            };
-            [at(0), at(1), at(2)]
+            [
+                coordinate(v, j, 0),
+                coordinate(v, j, 1),
+                coordinate(v, j, 2),
+            ]
+        }
+        #[inline(always)]
+        fn coordinate<D: Lanes64>(v: &[&[[f32; 3]; 3]; 4], j: usize, k: usize) -> D {
+            D::from_array([
+                f64::from(v[0][j][k]),
+                f64::from(v[1][j][k]),
+                f64::from(v[2][j][k]),
+                f64::from(v[3][j][k]),
+            ])
+        }
+        #[inline(always)]
+        fn f32s<D: Lanes64>(x: [D; 3]) -> [[f32; 4]; 3] {
+            [x[0].to_f32(), x[1].to_f32(), x[2].to_f32()]
+        }
+        #[inline(always)]
+        fn k_of<D: Lanes64>(s: D, n_err: D) -> D {
+            ((c::<D>(4.0002 * U32) * s + n_err) * c(MARGIN)).round_f32()
         }
         #[inline(always)]
         fn sub<D: Lanes64>(a: [D; 3], b: [D; 3]) -> [D; 3] {
@@ -303,8 +316,7 @@ impl OriginTriangle {
         let normal = round3(normal64);
         let s = [abs_sum(n[0]), abs_sum(n[1]), abs_sum(n[2])];
         let n_err = c::<D>(3.0 * 8.0004 * U64) * m * me + c(TINY);
-        let k_of = |s: D| ((c::<D>(4.0002 * U32) * s + n_err) * c(MARGIN)).round_f32();
-        let k = [k_of(s[0]), k_of(s[1]), k_of(s[2])];
+        let k = [k_of(s[0], n_err), k_of(s[1], n_err), k_of(s[2], n_err)];
         let k_sum = ((k[0] + k[1] + k[2]) * c(MARGIN)).to_f32();
         let k_det = ((c::<D>(4.0002 * U32) * abs_sum(normal)
             + c::<D>(3.0 * 8.0004 * U64) * me * me
@@ -329,27 +341,31 @@ impl OriginTriangle {
             & me.simd_lt(big)
             & n_max.simd_lt(big);
         let fits = fits.to_bitmask();
-        let f32s = |x: [D; 3]| [x[0].to_f32(), x[1].to_f32(), x[2].to_f32()];
         let (n, k, normal) = ([f32s(n[0]), f32s(n[1]), f32s(n[2])], f32s(k), f32s(normal));
         let (num, n_max) = (num.to_f32(), n_max.to_f32());
-        let lane = |l: usize| Self {
-            n: [
-                [n[0][0][l], n[0][1][l], n[0][2][l]],
-                [n[1][0][l], n[1][1][l], n[1][2][l]],
-                [n[2][0][l], n[2][1][l], n[2][2][l]],
-            ],
-            k: [k[0][l], k[1][l], k[2][l]],
-            k_sum: k_sum[l],
-            det_from_normal: k_sum[l] > 4.0 * k_det[l],
-            n_max: n_max[l],
-            num: num[l],
-            c_t: c_t[l],
-            normal: [normal[0][l], normal[1][l], normal[2][l]],
-            k_det: k_det[l],
-            prim: prim[l],
-            usable: fits & (1 << l) != 0 && k_sum[l].is_finite() && k_det[l].is_finite(),
-        };
-        [lane(0), lane(1), lane(2), lane(3)]
+        macro_rules! lane {
+            ($l:expr) => {{
+                let l = $l;
+                Self {
+                    n: [
+                        [n[0][0][l], n[0][1][l], n[0][2][l]],
+                        [n[1][0][l], n[1][1][l], n[1][2][l]],
+                        [n[2][0][l], n[2][1][l], n[2][2][l]],
+                    ],
+                    k: [k[0][l], k[1][l], k[2][l]],
+                    k_sum: k_sum[l],
+                    det_from_normal: k_sum[l] > 4.0 * k_det[l],
+                    n_max: n_max[l],
+                    num: num[l],
+                    c_t: c_t[l],
+                    normal: [normal[0][l], normal[1][l], normal[2][l]],
+                    k_det: k_det[l],
+                    prim: prim[l],
+                    usable: fits & (1 << l) != 0 && k_sum[l].is_finite() && k_det[l].is_finite(),
+                }
+            }};
+        }
+        [lane!(0), lane!(1), lane!(2), lane!(3)]
     }
 }
 

@@ -410,6 +410,12 @@ impl<T: Real> Parser<'_, T> {
         if first + n > u32::MAX as usize - 1 {
             return Err(format!("more than {} primitives", u32::MAX - 1));
         }
+        if self.out.instances.len() >= crate::accel::bvh::MAX_ITEMS {
+            return Err(format!(
+                "more than {} instances",
+                crate::accel::bvh::MAX_ITEMS
+            ));
+        }
         self.out.instances.push(Instance {
             mesh,
             world_from_object: m,

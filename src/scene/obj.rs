@@ -61,9 +61,11 @@ pub const MAX_TRIANGLES: u64 = 16 << 20;
 /// See [`MAX_TRIANGLES`].
 pub const MAX_VERTICES: u64 = 16 << 20;
 
-/// The triangle limit in force ([`MAX_TRIANGLES`] unless `RAYLAB_MAX_TRIANGLES` says).
+/// The triangle limit in force ([`MAX_TRIANGLES`] unless `RAYLAB_MAX_TRIANGLES` says; at
+/// most what a BVH holds, [`crate::accel::bvh::MAX_ITEMS`]).
 pub fn max_triangles() -> u64 {
-    crate::input::limit_from_env("RAYLAB_MAX_TRIANGLES", MAX_TRIANGLES)
+    let limit = crate::input::limit_from_env("RAYLAB_MAX_TRIANGLES", MAX_TRIANGLES);
+    limit.min(crate::accel::bvh::MAX_ITEMS as u64)
 }
 
 /// Colour of faces without a material (linear RGB).

@@ -1,35 +1,36 @@
-//! An 8-wide copy of the hierarchy's nodes for coherent packets (every lane's direction has
-//! the same sign per axis: a camera block or a light's shadow block away from the view axis).
+//! The hierarchy's nodes, 8 wide: every walk (per ray, packets of 8 rays, instances) tests a
+//! node's up to 8 children's boxes at once.
 //!
-//! A wide node holds up to 8 children's boxes by axis (`lo[k][child]`), so one packet tests
-//! all 8 with a few 8-lane operations: the test is the binary walk's per-lane slab test taken
-//! over the packet as an interval. Per axis, fl((b − o)·1/dₖ) is monotone in 1/dₖ, so its
-//! least (and, on the far side, greatest) value over the lanes is the one at the lanes' least
-//! or greatest 1/dₖ: the interval test computes, per axis, exactly the extreme of the
-//! per-lane test's own values, and passes whenever some lane's per-lane test passes. Every
-//! triangle a lane can hit before its limit is then still offered to it, and each lane's
-//! answer stays the one of the whole list (module docs of `bvh`). The children the interval
-//! test lets through are then tested per lane, as the binary walk tests its boxes (from the
-//! same differences): the interval alone let 4.3 times as many leaves through on the
-//! 1M-triangle mesh at 640×360 (callgrind, this test 9.6% fewer instructions there; +1.8% on
-//! the bunny, where triangles are larger than a packet's footprint).
+//! A wide node holds its children's boxes by axis (`lo[k][child]`), so one ray tests all 8
+//! with a few 8-lane operations ([`RaySlabs`]), and a packet tests them lane by lane from
+//! shared differences. A coherent packet (every lane's direction has the same sign per axis:
+//! a camera block, a light's shadow block away from the view axis) first tests the 8 as an
+//! interval ([`WideSlabs`]): per axis, fl((b − o)·1/dₖ) is monotone in 1/dₖ, so its least
+//! (and, on the far side, greatest) value over the lanes is the one at the lanes' least or
+//! greatest 1/dₖ. The interval test computes, per axis, exactly the extreme of the per-lane
+//! test's own values, and passes whenever some lane's per-lane test passes. Every triangle a
+//! lane can hit before its limit is then still offered to it, and each lane's answer stays
+//! the one of the whole list (module docs of `bvh`). The children the interval test lets
+//! through are then tested per lane (from the same differences): the interval alone let 4.3
+//! times as many leaves through on the 1M-triangle mesh at 640×360.
 //!
-//! Memory: wide nodes take about 40 bytes a triangle beside the binary nodes' 35 (which the
-//! per-ray, incoherent-packet and instance walks still use), so only meshes of up to
-//! [`MAX_TRIANGLES`] get them: the 1M-triangle mesh stays within 100 MB (81 MB; with wide
-//! nodes 121 MB).
+//! The wide nodes are made by collapsing the binned-SAH binary tree: each wide node takes the
+//! largest interior child's two children in its place until it has 8 ([`widen`]), so leaves
+//! are the binary ones (at most 4 triangles). A walk's stack holds at most [`STACK`] entries:
+//! a node stops taking grandchildren where the deepest path below could need more.
 //!
-//! The wide nodes are made by collapsing the binary tree (each wide node takes the largest
-//! interior child's two children in its place until it has 8), so leaves are the binary
-//! ones: the same triangle ranges, the frame's cache of prepared triangles serves both.
+//! Children are kept in order of entry distance on the walk's stack, nearest on top; a popped
+//! child is skipped when its distance is beyond every live lane's limit (for one ray: the
+//! culling margin of `bvh`'s module docs). For one ray this is the binary walk's test again:
+//! the entry distance does not change, only the limit shrinks.
 
-use super::{far_slack, Bvh, Leaves, NodePair, PacketSlabs};
+use super::TopNode;
+use super::{box_safe, enter_f64, far_slack, slab_safe, Aabb, Bvh, Leaves, NodePair, PacketSlabs};
 use crate::accel::instances::PacketSink;
-use crate::math::lanes::Lanes;
+use crate::geometry::Ray;
+use crate::math::lanes::{f32x8, Lanes};
 use crate::math::simd::each3;
-
-/// Meshes of more triangles keep only the binary nodes (see the module docs).
-pub(super) const MAX_TRIANGLES: usize = 1 << 19;
+use crate::math::Real;
 
 /// Children per wide node.
 const WIDTH: usize = 8;
@@ -37,11 +38,12 @@ const WIDTH: usize = 8;
 /// triangle's position in bits 0–28.
 const LEAF: u32 = 1 << 31;
 const FIRST_BITS: u32 = 29;
-const _: () = assert!(MAX_TRIANGLES < 1 << FIRST_BITS);
-/// An unused child slot (its box is empty: no ray enters it).
+/// Most triangles (or instance boxes) a hierarchy holds: a leaf's first one must fit its
+/// reference. The loaders and the scene format keep within it.
+pub const MAX_ITEMS: usize = (1 << FIRST_BITS) - 1;
+/// An unused child slot (its box is empty: no ray enters it). Unused slots come last.
 const NONE: u32 = u32::MAX;
-/// Stack entries a walk holds at most; a tree that could need more is not widened (the
-/// bunny could need 41, Igea 49).
+/// Stack entries a walk holds at most ([`widen`] keeps every tree within it).
 pub(super) const STACK: usize = 128;
 
 /// Up to 8 children: their boxes by axis and child, and what each is (a wide node's index,
@@ -54,10 +56,43 @@ pub(super) struct WideNode {
     child: [u32; WIDTH],
 }
 
-/// A leaf's child reference.
-fn leaf_ref(first: u32, count: u32) -> u32 {
-    debug_assert!((1..=4).contains(&count) && first < 1 << FIRST_BITS);
-    LEAF | (count - 1) << FIRST_BITS | first
+impl WideNode {
+    const EMPTY: WideNode = WideNode {
+        lo: [[f32::INFINITY; WIDTH]; 3],
+        hi: [[f32::NEG_INFINITY; WIDTH]; 3],
+        child: [NONE; WIDTH],
+    };
+
+    /// Child `c`'s box.
+    #[inline(always)]
+    fn bounds(&self, c: usize) -> Aabb {
+        Aabb {
+            lo: [self.lo[0][c], self.lo[1][c], self.lo[2][c]],
+            hi: [self.hi[0][c], self.hi[1][c], self.hi[2][c]],
+        }
+    }
+
+    /// The box around every child.
+    pub(super) fn union(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        (0..WIDTH).for_each(|c| b.grow(&self.bounds(c)));
+        b
+    }
+
+    /// The leaf children, as (first triangle, count).
+    #[cfg(test)]
+    pub(super) fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.child.iter())
+            .filter(|&&r| r != NONE && r & LEAF != 0)
+            .map(|&r| leaf_range(r))
+    }
+
+    /// Every coordinate of the used children's boxes.
+    pub(super) fn coordinates(&self) -> impl Iterator<Item = f32> + '_ {
+        (0..WIDTH)
+            .filter(|&c| self.child[c] != NONE)
+            .flat_map(move |c| (0..3).flat_map(move |k| [self.lo[k][c], self.hi[k][c]]))
+    }
 }
 
 /// A leaf reference's first triangle and count.
@@ -68,23 +103,41 @@ fn leaf_range(r: u32) -> (usize, usize) {
     (first as usize, count as usize)
 }
 
-/// The wide nodes over the binary `pairs` (root first) of a mesh of `triangles`, or none:
-/// for more than [`MAX_TRIANGLES`], or where a path could need more than [`STACK`] entries.
-pub(super) fn widen(pairs: &[NodePair], triangles: usize) -> Vec<WideNode> {
+/// A leaf's child reference.
+fn leaf_ref(first: u32, count: u32) -> u32 {
+    debug_assert!((1..=4).contains(&count) && (first as usize) <= MAX_ITEMS);
+    LEAF | (count - 1) << FIRST_BITS | first
+}
+
+/// The wide nodes over the binary `pairs` (root first, children after their parents), root
+/// first, such that no walk needs more than `stack` entries (`stack` must exceed the binary
+/// tree's height, which the build keeps below 70).
+pub(super) fn widen(pairs: &[NodePair], stack: usize) -> Vec<WideNode> {
     let node = |i: usize| &pairs[i / 2].0[i % 2];
-    if pairs.is_empty() || triangles > MAX_TRIANGLES {
+    if pairs.is_empty() {
         return Vec::new();
     }
+    // Heights (a leaf 0): children come after their parents. (Slot 1 is unused.)
+    let mut height = vec![0u8; 2 * pairs.len()];
+    for i in (2..height.len()).rev() {
+        if node(i).count == 0 {
+            let first = node(i).offset as usize;
+            height[i] = 1 + height[first].max(height[first + 1]);
+        }
+    }
+    if node(0).count == 0 {
+        let first = node(0).offset as usize;
+        height[0] = 1 + height[first].max(height[first + 1]);
+    }
+    assert!(
+        usize::from(height[0]) < stack,
+        "a BVH of height {}",
+        height[0]
+    );
     let mut wide: Vec<WideNode> = Vec::with_capacity(pairs.len() / 3 + 1);
-    let empty = WideNode {
-        lo: [[f32::INFINITY; WIDTH]; 3],
-        hi: [[f32::NEG_INFINITY; WIDTH]; 3],
-        child: [NONE; WIDTH],
-    };
-    // (binary node, wide slot to fill, stack entries needed above it)
+    // (binary node, wide slot to fill, stack entries left below it while it is walked)
     let mut todo = vec![(0usize, 0usize, 0usize)];
-    wide.push(empty);
-    let mut deepest = 0;
+    wide.push(WideNode::EMPTY);
     while let Some((root, at, above)) = todo.pop() {
         // The node's children, then the largest interior one's in its place, up to 8 (in
         // an array: one allocation per wide node cost the build as many small ones).
@@ -99,21 +152,27 @@ pub(super) fn widen(pairs: &[NodePair], triangles: usize) -> Vec<WideNode> {
                 1
             }
         };
+        let h = |k: usize| usize::from(height[k]);
         while len < WIDTH {
             let area = |k: usize| node(k).bounds.half_area();
             let largest = (0..len)
                 .filter(|&slot| node(kids[slot]).count == 0)
                 .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])));
             let Some(slot) = largest else { break };
+            // Walking this node pushes `len` children; below each, a walk through nodes of
+            // two children pushes at most one entry a level. Expand only while that fits.
+            let others = (0..len).filter(|&s| s != slot).map(|s| h(kids[s])).max();
+            let deepest = others.unwrap_or(0).max(h(kids[slot]) - 1);
+            if above + len + 1 + deepest > stack {
+                break;
+            }
             let first = node(kids[slot]).offset as usize;
             kids[slot] = first;
             kids[len] = first + 1;
             len += 1;
         }
-        let kids = &kids[..len];
-        let below = above + kids.len() - 1;
-        deepest = deepest.max(below);
-        for (c, &k) in kids.iter().enumerate() {
+        debug_assert!(above + len <= stack);
+        for (c, &k) in kids[..len].iter().enumerate() {
             let n = node(k);
             for a in 0..3 {
                 wide[at].lo[a][c] = n.bounds.lo[a];
@@ -122,33 +181,204 @@ pub(super) fn widen(pairs: &[NodePair], triangles: usize) -> Vec<WideNode> {
             wide[at].child[c] = match n.count {
                 0 => {
                     let child = wide.len();
-                    wide.push(empty);
-                    todo.push((k, child, below));
+                    wide.push(WideNode::EMPTY);
+                    todo.push((k, child, above + len - 1));
                     child as u32
                 }
                 count => leaf_ref(n.offset, count),
             };
         }
     }
-    match deepest < STACK {
-        true => wide,
-        false => Vec::new(),
+    wide
+}
+
+/// A walk's stack: child references with their entry distances, nearest on top.
+pub(super) struct WideStack {
+    refs: [u32; STACK],
+    dists: [f32; STACK],
+    sp: usize,
+}
+
+impl WideStack {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            refs: [0; STACK],
+            dists: [0.0; STACK],
+            sp: 0,
+        }
+    }
+
+    /// Pushes the children of `n` in `hits` (distances `t0`), farthest first.
+    #[inline(always)]
+    fn push(&mut self, n: &WideNode, mut hits: u32, t0: &[f32; WIDTH]) {
+        let base = self.sp;
+        while hits != 0 {
+            let c = hits.trailing_zeros() as usize;
+            hits &= hits - 1;
+            self.insert(base, n.child[c], t0[c]);
+        }
+    }
+
+    /// Pushes `r` at distance `t` among the entries from `base` up, kept farthest first.
+    #[inline(always)]
+    fn insert(&mut self, base: usize, r: u32, t: f32) {
+        let mut at = self.sp;
+        while at > base && self.dists[at - 1] < t {
+            self.refs[at] = self.refs[at - 1];
+            self.dists[at] = self.dists[at - 1];
+            at -= 1;
+        }
+        self.refs[at] = r;
+        self.dists[at] = t;
+        self.sp += 1;
+    }
+
+    /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
+    #[inline(always)]
+    fn pop(&mut self, limit: f32) -> u32 {
+        while self.sp > 0 {
+            self.sp -= 1;
+            if self.dists[self.sp] <= limit {
+                return self.refs[self.sp];
+            }
+        }
+        NONE
+    }
+}
+
+/// One ray set up for the f32 slab test against a wide node's 8 boxes (the test of
+/// `Bvh::traverse`, 8 boxes at once), every box widened by `pad`.
+struct RaySlabs {
+    o: [f32; 3],
+    inv: [f32; 3],
+    near_hi: [bool; 3],
+    tmin: f32,
+    pad: f32,
+}
+
+impl RaySlabs {
+    /// The children of `n` the ray enters before `limit`, and its entry distances.
+    #[inline(always)]
+    fn enter(&self, n: &WideNode, limit: f32) -> (u32, [f32; WIDTH]) {
+        let slack = f32x8::splat(1.0 + 2.0 * f32::error_gamma(3));
+        let pad = f32x8::splat(self.pad);
+        let mut t0 = f32x8::splat(self.tmin);
+        let mut t1 = f32x8::splat(limit);
+        for k in 0..3 {
+            let lo = f32x8::from(n.lo[k]) - pad;
+            let hi = f32x8::from(n.hi[k]) + pad;
+            let (near, far) = match self.near_hi[k] {
+                true => (hi, lo),
+                false => (lo, hi),
+            };
+            let (o, inv) = (f32x8::splat(self.o[k]), f32x8::splat(self.inv[k]));
+            // `max`/`min` ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
+            t0 = Lanes::max(t0, (near - o) * inv);
+            t1 = Lanes::min(t1, (far - o) * inv * slack);
+        }
+        (t0.simd_le(t1).to_bitmask(), t0.to_array())
+    }
+}
+
+/// How a packet walk tests a wide node's children.
+pub(super) trait ChildTest<V> {
+    /// Pushes onto `stack` the children of `n` some lane of `live` may enter before its
+    /// `reach` (`limit`: the greatest over `live`), each at a distance no greater than those
+    /// lanes' entries.
+    fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack);
+}
+
+/// Any packet: each used child tested lane by lane ([`PacketSlabs::enter`]), its box widened
+/// by `pad`.
+pub(super) struct LaneTest<'a, V> {
+    pub(super) rays: &'a PacketSlabs<V>,
+    pub(super) pad: f32,
+}
+
+impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
+    #[inline(always)]
+    fn push(&self, n: &WideNode, reach: V, live: u32, _: f32, stack: &mut WideStack) {
+        let base = stack.sp;
+        for c in 0..WIDTH {
+            if n.child[c] == NONE {
+                break;
+            }
+            let b = n.bounds(c);
+            let b = match self.pad == 0.0 {
+                true => b,
+                false => Aabb {
+                    lo: b.lo.map(|x| x - self.pad),
+                    hi: b.hi.map(|x| x + self.pad),
+                },
+            };
+            let (m, t0) = self.rays.enter(&b, reach, live);
+            if m != 0 {
+                let entries = V::from_bitmask(m).bitselect(t0, V::splat(f32::INFINITY));
+                let t = entries
+                    .to_array()
+                    .iter()
+                    .fold(f32::INFINITY, |a, &x| a.min(x));
+                stack.insert(base, n.child[c], t);
+            }
+        }
+    }
+}
+
+/// A coherent packet ([`PacketSlabs::coherent`]), boxes unpadded: the interval test over the
+/// lanes, then the lanes of each child that passes.
+pub(super) struct IntervalTest<'a, V, const PADDED: bool> {
+    rays: &'a PacketSlabs<V>,
+    slabs: WideSlabs<PADDED>,
+}
+
+impl<'a, V: Lanes, const PADDED: bool> IntervalTest<'a, V, PADDED> {
+    /// Boxes widened by `pad` on every side (0 unless `PADDED`).
+    #[inline(always)]
+    pub(super) fn new(rays: &'a PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
+        debug_assert!(PADDED || pad == 0.0);
+        Self {
+            rays,
+            slabs: WideSlabs::new(rays, near_hi, pad),
+        }
+    }
+}
+
+impl<V: Lanes, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> {
+    #[inline(always)]
+    fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack) {
+        let mut sides = Sides {
+            near: [[0.0; WIDTH]; 3],
+            far: [[0.0; WIDTH]; 3],
+        };
+        let (mut hits, t0) = self.slabs.enter::<V>(n, limit, &mut sides);
+        let t0 = t0.to_array();
+        let base = stack.sp;
+        while hits != 0 {
+            let c = hits.trailing_zeros() as usize;
+            hits &= hits - 1;
+            if sides.lanes(self.rays, c, reach, live) != 0 {
+                stack.insert(base, n.child[c], t0[c]);
+            }
+        }
     }
 }
 
 /// A packet set up for [`WideNode`]s: per axis, the near and far sides (shared by every
 /// lane) and the lanes' least and greatest 1/dₖ (for the far side, enlarged as
 /// [`PacketSlabs`] enlarges it).
-struct WideSlabs {
+struct WideSlabs<const PADDED: bool> {
     o: [f32; 3],
     near_hi: [bool; 3],
+    /// Added to the boxes' high sides and taken from their low ones (if `PADDED`).
+    pad: f32,
     inv: [[f32; 2]; 3],
     inv_far: [[f32; 2]; 3],
 }
 
-impl WideSlabs {
+impl<const PADDED: bool> WideSlabs<PADDED> {
     #[inline(always)]
-    fn new<V: Lanes>(rays: &PacketSlabs<V>, near_hi: [bool; 3]) -> Self {
+    fn new<V: Lanes>(rays: &PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
         let inv = each3(|k| {
             let a = rays.inv[k].to_array();
             let lo = a.iter().fold(f32::INFINITY, |m, &x| m.min(x));
@@ -161,6 +391,7 @@ impl WideSlabs {
         Self {
             o: rays.o,
             near_hi,
+            pad,
             inv,
             inv_far: each3(|k| inv[k].map(|x| x * slack)),
         }
@@ -178,9 +409,18 @@ impl WideSlabs {
                 true => (&n.hi[k], &n.lo[k]),
                 false => (&n.lo[k], &n.hi[k]),
             };
+            let (mut near, mut far) = (V::from_array(*near), V::from_array(*far));
+            if PADDED {
+                // As `LaneTest` widens a box: lo − pad, hi + pad.
+                let pad = V::splat(self.pad);
+                (near, far) = match self.near_hi[k] {
+                    true => (near + pad, far - pad),
+                    false => (near - pad, far + pad),
+                };
+            }
             let o = V::splat(self.o[k]);
-            let a = V::from_array(*near) - o;
-            let c = V::from_array(*far) - o;
+            let a = near - o;
+            let c = far - o;
             sides.near[k] = a.to_array();
             sides.far[k] = c.to_array();
             let [lo, hi] = self.inv[k];
@@ -226,60 +466,35 @@ fn widest<V: Lanes>(limits: V, live: u32) -> f32 {
 }
 
 impl Bvh {
-    /// [`Bvh::walk_packet`] over the wide nodes for a packet whose lanes share every axis's
-    /// direction sign (`near_hi`), boxes unpadded: offers `sink` every leaf some live lane
-    /// may reach before its limit, nearer children first.
+    /// Walks the hierarchy with 8 rays from one origin: offers `sink` (through `leaves`)
+    /// every leaf some live lane may reach before its limit, as `test` decides, nearer
+    /// children first. (No closures: everything here must inline into the caller's AVX2
+    /// build.)
     #[inline(always)]
-    pub(super) fn walk_wide<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
+    pub(super) fn walk_wide<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
         &self,
-        rays: &PacketSlabs<V>,
-        near_hi: [bool; 3],
+        test: &T,
         sink: &mut S,
         leaves: &mut L,
     ) {
-        let slabs = WideSlabs::new(rays, near_hi);
         let mut live = sink.live();
+        if self.wide.is_empty() || live == 0 {
+            return;
+        }
         let mut reach = sink.limit();
         let mut limit = widest(reach, live);
-        let mut refs = [0u32; STACK];
-        let mut dists = [0f32; STACK];
-        let mut sp = 0usize;
+        let mut stack = WideStack::new();
         let mut node = 0usize;
-        let mut sides = Sides {
-            near: [[0.0; WIDTH]; 3],
-            far: [[0.0; WIDTH]; 3],
-        };
         loop {
             let n = &self.wide[node];
-            let (mut hits, t0) = slabs.enter::<V>(n, limit, &mut sides);
-            let t0 = t0.to_array();
-            // Onto the stack farthest first, so the nearest comes off next.
-            let base = sp;
-            while hits != 0 {
-                let c = hits.trailing_zeros() as usize;
-                hits &= hits - 1;
-                let (r, t) = (n.child[c], t0[c]);
-                if sides.lanes(rays, c, reach, live) == 0 {
-                    continue;
-                }
-                let mut at = sp;
-                while at > base && dists[at - 1] < t {
-                    refs[at] = refs[at - 1];
-                    dists[at] = dists[at - 1];
-                    at -= 1;
-                }
-                refs[at] = r;
-                dists[at] = t;
-                sp += 1;
-            }
+            test.push(n, reach, live, limit, &mut stack);
             loop {
-                if sp == 0 || live == 0 {
+                if live == 0 {
                     return;
                 }
-                sp -= 1;
-                let (r, t) = (refs[sp], dists[sp]);
-                if t > limit {
-                    continue;
+                let r = stack.pop(limit);
+                if r == NONE {
+                    return;
                 }
                 if r & LEAF == 0 {
                     node = r as usize;
@@ -293,14 +508,143 @@ impl Bvh {
             }
         }
     }
+
+    /// Visits the leaves the ray may reach, nearer child first, every box widened by `pad`
+    /// on each side (0 but for a mesh's hierarchy walked in its own frame by a ray carried
+    /// there with rounding, see `accel::instances`). `leaf(first, count, t_far)` returns the
+    /// new t_far and whether to stop.
+    pub(crate) fn traverse(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        pad: f32,
+        mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+    ) {
+        if self.wide.is_empty() {
+            return;
+        }
+        let in_f32 =
+            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
+        let inv = ray.d.map(|c| 1.0 / c);
+        let slabs = RaySlabs {
+            o: ray.o,
+            inv,
+            near_hi: inv.map(|c| c < 0.0),
+            tmin,
+            pad,
+        };
+        // Only the f64 test needs these divisions.
+        let inv64 = (!in_f32).then(|| ray.d.map(|c| 1.0 / f64::from(c)));
+        let enter = |n: &WideNode, limit: f32| -> (u32, [f32; WIDTH]) {
+            let Some(inv64) = &inv64 else {
+                return slabs.enter(n, limit);
+            };
+            let mut hits = 0;
+            let mut t = [f32::INFINITY; WIDTH];
+            for c in (0..WIDTH).take_while(|&c| n.child[c] != NONE) {
+                if let Some(t0) = enter_f64(&n.bounds(c), pad, ray, inv64, tmin, limit) {
+                    hits |= 1 << c;
+                    t[c] = t0;
+                }
+            }
+            (hits, t)
+        };
+        let mut t_far = tmax;
+        // Culling margin against the best hit so far (see the module docs of `bvh`).
+        let cull = |t: f32| {
+            if t < tmax {
+                (t + t.abs() * (1.0 / 65536.0)).min(tmax)
+            } else {
+                tmax
+            }
+        };
+        let mut stack = WideStack::new();
+        let mut node = 0usize;
+        loop {
+            let n = &self.wide[node];
+            let (hits, t0) = enter(n, cull(t_far));
+            stack.push(n, hits, &t0);
+            loop {
+                let r = stack.pop(cull(t_far));
+                if r == NONE {
+                    return;
+                }
+                if r & LEAF == 0 {
+                    node = r as usize;
+                    break;
+                }
+                let (first, count) = leaf_range(r);
+                let stop;
+                (t_far, stop) = leaf(first, count, t_far);
+                if stop {
+                    return;
+                }
+            }
+        }
+    }
+
+    /// The hierarchy's nodes down to `depth` wide levels below the root, breadth first:
+    /// the root (the box around everything), then children. Every triangle lies in the box
+    /// of a node without children.
+    pub(crate) fn top_levels(&self, depth: usize) -> Vec<TopNode> {
+        let Some(root) = self.wide.first() else {
+            return Vec::new();
+        };
+        let mut out = vec![TopNode {
+            bounds: root.union(),
+            children: None,
+        }];
+        // (position in `out`, its wide node)
+        let mut level = vec![(0usize, 0usize)];
+        for _ in 0..depth {
+            let mut next = Vec::new();
+            for (at, i) in level {
+                let n = &self.wide[i];
+                let first = out.len();
+                for c in (0..WIDTH).take_while(|&c| n.child[c] != NONE) {
+                    if n.child[c] & LEAF == 0 {
+                        next.push((out.len(), n.child[c] as usize));
+                    }
+                    out.push(TopNode {
+                        bounds: n.bounds(c),
+                        children: None,
+                    });
+                }
+                out[at].children = Some((first as u32, (out.len() - first) as u32));
+            }
+            level = next;
+        }
+        out
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::Aabb;
+    use super::super::{Aabb, PositionLeaves};
     use super::*;
-    use crate::accel::packet::{OriginTriangles, PacketHits};
-    use crate::math::lanes::f32x8;
+    use crate::accel::packet::{OriginTriangles, PacketHits, PacketNearest};
+    use crate::accel::prepared::Prepared;
+    use crate::accel::IndexedTriangle;
+
+    /// What a child reference names.
+    enum Child {
+        Node(usize),
+        /// The first triangle's position and the count.
+        Leaf(usize, usize),
+        None,
+    }
+
+    fn child(r: u32) -> Child {
+        match r {
+            NONE => Child::None,
+            r if r & LEAF == 0 => Child::Node(r as usize),
+            r => {
+                let (first, count) = leaf_range(r);
+                Child::Leaf(first, count)
+            }
+        }
+    }
 
     /// Every leaf of the wide nodes, as (first, count, its box), walking from the root.
     fn wide_leaves(wide: &[WideNode]) -> Vec<(usize, usize, Aabb)> {
@@ -308,22 +652,25 @@ mod tests {
         let mut todo = vec![0usize];
         while let Some(i) = todo.pop() {
             for c in 0..WIDTH {
-                let r = wide[i].child[c];
-                let b = Aabb {
-                    lo: [0, 1, 2].map(|k| wide[i].lo[k][c]),
-                    hi: [0, 1, 2].map(|k| wide[i].hi[k][c]),
-                };
-                match r {
-                    NONE => assert_eq!(b, Aabb::EMPTY),
-                    r if r & LEAF != 0 => {
-                        let (first, count) = leaf_range(r);
-                        out.push((first, count, b));
-                    }
-                    r => todo.push(r as usize),
+                let b = wide[i].bounds(c);
+                match child(wide[i].child[c]) {
+                    Child::None => assert_eq!(b, Aabb::EMPTY),
+                    Child::Leaf(first, count) => out.push((first, count, b)),
+                    Child::Node(j) => todo.push(j),
                 }
             }
         }
         out
+    }
+
+    /// The most entries a walk of `wide` from node `i` holds, `above` held below it.
+    fn stack_need(wide: &[WideNode], i: usize, above: usize) -> usize {
+        let used = wide[i].child.iter().filter(|&&r| r != NONE).count();
+        let below = (wide[i].child.iter()).filter_map(|&r| match child(r) {
+            Child::Node(j) => Some(stack_need(wide, j, above + used - 1)),
+            _ => None,
+        });
+        below.fold(above + used, usize::max)
     }
 
     #[test]
@@ -332,12 +679,11 @@ mod tests {
         // (same ranges, same boxes), together every triangle once, and a node with an
         // interior child is full.
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
+        let (pairs, _) = super::super::binary(&tris);
         let bvh = Bvh::build(&tris);
-        assert!(!bvh.wide.is_empty());
-        assert_eq!(widen(&bvh.pairs, 3000), bvh.wide);
-        assert!(widen(&bvh.pairs, MAX_TRIANGLES + 1).is_empty());
-        let mut binary: Vec<(usize, usize, Aabb)> = (0..2 * bvh.pairs.len())
-            .map(|i| *bvh.node(i))
+        assert_eq!(widen(&pairs, STACK), bvh.wide);
+        let mut binary: Vec<(usize, usize, Aabb)> = (0..2 * pairs.len())
+            .map(|i| pairs[i / 2].0[i % 2])
             .filter(|n| n.count > 0)
             .map(|n| (n.offset as usize, n.count as usize, n.bounds))
             .collect();
@@ -358,17 +704,49 @@ mod tests {
             let used = n.child.iter().filter(|&&r| r != NONE).count();
             assert!(used >= 2 && (!interior || used == WIDTH), "{:?}", n.child);
         }
+        assert!(stack_need(&bvh.wide, 0, 0) <= STACK);
     }
 
     #[test]
-    fn the_wide_walk_decides_lanes_as_the_binary_walk_and_the_whole_list() {
+    fn widening_keeps_walks_within_their_stack() {
+        // A row of triangles at geometrically growing positions (the binary tree is a chain
+        // about 60 deep) and 3000 scattered ones, widened for stacks of 128 down to just
+        // above the binary height: every walk fits, every leaf is kept, and with room to
+        // spare nodes are full.
+        let row: Vec<IndexedTriangle> = (0..120)
+            .map(|i| {
+                let x = 2f32.powi(i);
+                ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
+            })
+            .collect();
+        let scattered = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
+        for tris in [&row, &scattered] {
+            let (pairs, _) = super::super::binary(tris);
+            let height = super::super::tests::depth(&pairs, 0);
+            for stack in [STACK, height + 8, height + 1] {
+                let wide = widen(&pairs, stack);
+                let need = stack_need(&wide, 0, 0);
+                assert!(need <= stack, "{need} entries for a stack of {stack}");
+                let leaves = wide_leaves(&wide);
+                assert_eq!(leaves.iter().map(|l| l.1).sum::<usize>(), tris.len());
+                let slots = wide.len() * WIDTH;
+                let used = wide.iter().flat_map(|n| n.child).filter(|&r| r != NONE);
+                if stack == STACK {
+                    assert!(used.count() * 2 > slots, "{stack}: sparse nodes");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
         // 5000 scattered triangles of mixed sizes; packets from random origins, fanned
         // around a triangle's vertex or edge point (rays on shared edges and vertices) or a
-        // random point, spreads from 1e-6 to 0.3 radians. Where the wide walk, the binary
-        // walk and the whole list decide a lane, they name the same triangle, and the wide
-        // walk leaves about as few lanes undecided as the binary one. Shadow segments to the
-        // fan's points: every lane the wide walk decides is the per-ray any-hit query's
-        // answer, and it decides about as many as the binary walk.
+        // random point, spreads from 1e-6 to 0.3 radians. Where the interval walk (coherent
+        // packets), the lane-by-lane walk and the whole list decide a lane, they name the
+        // same triangle, and the interval walk leaves about as few lanes undecided. Shadow
+        // segments to the fan's points: every lane decided is the per-ray any-hit answer. With
+        // boxes widened by a pad, both walks still give the whole list's answers.
         let mut tris = super::super::tests::scattered(4000, 0xda942042e4dd58b5, 0.05);
         tris.extend(super::super::tests::scattered(
             1000,
@@ -379,8 +757,6 @@ mod tests {
             t.1 = i as u32;
         }
         let bvh = Bvh::build(&tris);
-        let mut binary = bvh.clone();
-        binary.wide.clear();
         let (vertices, prims) = bvh.triangles();
         let mut x = 0x9e3779b97f4a7c15u64;
         let mut next = move || {
@@ -389,8 +765,8 @@ mod tests {
             x ^= x << 17;
             (x >> 40) as f32 / (1u64 << 24) as f32
         };
-        let (mut wide_walks, mut decided, mut binary_decided) = (0, 0, 0);
-        let (mut shadow_decided, mut shadow_binary_decided) = (0, 0);
+        let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
+        let mut shadow_decided = 0;
         for _ in 0..300 {
             let o = [0, 1, 2].map(|_| next() * 16.0 - 3.0);
             let v = vertices[(next() * vertices.len() as f32) as usize % vertices.len()];
@@ -411,53 +787,67 @@ mod tests {
             let list = OriginTriangles::from_parts(vertices, prims, o);
             let whole = crate::accel::packet::closest(&list.tris, &d, dm);
             let rays = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
-            wide_walks += usize::from(rays.coherent.is_some());
+            coherent += usize::from(rays.coherent.is_some());
             for prepared in [Some(&list), None] {
                 // Shadow segments from o to the fan's points (t = 1 there).
                 let none = [u32::MAX; 8];
-                let wide = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
-                let bin = binary.blocked_packet(o, prepared, &d, dm, &none, 0xff);
-                assert_eq!(wide.blocked & !bin.unsure & !bin.blocked, 0);
-                assert_eq!(bin.blocked & !wide.unsure & !wide.blocked, 0);
+                let shadow = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
                 for (l, dir) in dirs.iter().enumerate() {
                     let ray = crate::geometry::Ray::new(o, *dir);
                     let want =
                         bvh.any_hit(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
-                    if wide.unsure & (1 << l) == 0 {
-                        assert_eq!(wide.blocked & (1 << l) != 0, want, "shadow lane {l}");
+                    if shadow.unsure & (1 << l) == 0 {
+                        assert_eq!(shadow.blocked & (1 << l) != 0, want, "shadow lane {l}");
                         shadow_decided += 1;
                     }
-                    shadow_binary_decided += usize::from(bin.unsure & (1 << l) == 0);
                 }
-                let wide = bvh.closest_packet(o, prepared, &d, dm);
-                let bin = binary.closest_packet(o, prepared, &d, dm);
+                let found = bvh.closest_packet(o, prepared, &d, dm);
+                let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                let mut leaves = PositionLeaves {
+                    bvh: &bvh,
+                    o,
+                    prepared: Prepared::from_list(prepared),
+                };
+                let lanes = LaneTest {
+                    rays: &rays,
+                    pad: 0.0,
+                };
+                bvh.walk_wide(&lanes, &mut nearest, &mut leaves);
+                let by_lane = nearest.finish();
+                // Boxes widened (as an instance's mesh is walked): both tests again.
+                let pad = 1e-3;
+                let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                let lanes = LaneTest { rays: &rays, pad };
+                bvh.walk_wide(&lanes, &mut nearest, &mut leaves);
+                let mut padded = vec![nearest.finish()];
+                if let Some(near_hi) = rays.coherent {
+                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                    let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
+                    bvh.walk_wide(&interval, &mut nearest, &mut leaves);
+                    padded.push(nearest.finish());
+                }
                 for l in 0..8 {
                     let undecided = |h: &PacketHits| h.ambiguous & (1 << l) != 0;
-                    decided += usize::from(!undecided(&wide));
-                    binary_decided += usize::from(!undecided(&bin));
-                    if undecided(&wide) {
-                        continue;
+                    decided += usize::from(!undecided(&found));
+                    lane_decided += usize::from(!undecided(&by_lane));
+                    if !undecided(&by_lane) && !undecided(&found) {
+                        assert_eq!(found.prim[l], by_lane.prim[l], "lane {l}");
                     }
-                    if !undecided(&bin) {
-                        assert_eq!(wide.prim[l], bin.prim[l], "lane {l}");
-                    }
-                    if !undecided(&whole) {
-                        let prim = prims.get(wide.prim[l] as usize).copied();
-                        assert_eq!(prim.unwrap_or(u32::MAX), whole.prim[l], "lane {l}");
+                    for h in [&found, &by_lane].into_iter().chain(&padded) {
+                        if !undecided(h) && !undecided(&whole) {
+                            let prim = prims.get(h.prim[l] as usize).copied();
+                            assert_eq!(prim.unwrap_or(u32::MAX), whole.prim[l], "lane {l}");
+                        }
                     }
                 }
             }
         }
-        assert!(wide_walks > 200, "{wide_walks} packets walked wide");
+        assert!(coherent > 200, "{coherent} coherent packets");
         assert!(
-            decided * 100 >= binary_decided * 98,
-            "{decided} vs {binary_decided}"
+            decided * 100 >= lane_decided * 98,
+            "{decided} vs {lane_decided}"
         );
         assert!(decided > 300 * 2 * 8 * 3 / 4, "{decided} decided");
-        assert!(
-            shadow_decided * 100 >= shadow_binary_decided * 98,
-            "{shadow_decided} vs {shadow_binary_decided}"
-        );
         assert!(
             shadow_decided > 300 * 2 * 8 / 2,
             "{shadow_decided} shadow lanes decided"
