@@ -2,15 +2,20 @@
 # Instruction counts of two raylab binaries on the same rows (callgrind, 1 thread, a warm-up and
 # 2 frames, counted inside `render_into_cancellable` only), as a markdown table. Usage:
 #   bash benches/instructions.sh OLD_BIN NEW_BIN
-# Needs valgrind; the mesh rows need ../shared/scenes (SHARED=... for another place).
+# Needs valgrind; run from the repository's root. The mesh rows need ../shared/scenes (SHARED=...
+# for another place), the 1M-triangle row target/igea_1m.obj.
 set -euo pipefail
 old=$1 new=$2
 shared=${SHARED:-../shared/scenes}
 rows=("cornell flat 1280 720" "cornell shadows 1280 720" "cornell flat 640 360" "cornell shadows 640 360")
 if [ -d "$shared" ]; then
   rows+=("$shared/bunny.obj flat 640 360" "$shared/bunny.obj shadows 640 360" "$shared/igea.obj flat 640 360"
-         "$shared/bunny.obj flat 320 180" "$shared/bunny.obj flat 1280 720" "$shared/bunny.obj shadows 1280 720")
+         "$shared/bunny.obj flat 320 180" "$shared/bunny.obj flat 1280 720" "$shared/bunny.obj shadows 1280 720"
+         "benches/scenes/bunny_field.scene flat 320 180")
 fi
+# The 1M-triangle mesh where it was made (README, "Peers": cargo run --example subdivide).
+[ -f target/igea_1m.obj ] && rows+=("target/igea_1m.obj flat 640 360")
+rows+=("assets/scenes/ball_field.scene shadows 320 180")
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
 count() {

@@ -161,7 +161,8 @@ fn in_range(x: f32, e: u32) -> bool {
 /// Whether every node box of `wide` has [`box_safe`] coordinates (an empty box's infinite
 /// ones aside: such a box is never entered).
 fn boxes_tame(wide: &[wide::WideNode]) -> bool {
-    (wide.iter().flat_map(|n| n.coordinates())).all(|x| !x.is_finite() || box_safe(x))
+    wide.par_iter()
+        .all(|n| n.coordinates().all(|x| !x.is_finite() || box_safe(x)))
 }
 
 /// The binary tree over `refs` in sibling pairs, and the items in its leaves' order.
@@ -213,7 +214,8 @@ impl Bvh {
 
     /// The hierarchy from the binary tree `pairs`, with its items in the leaves' order.
     fn over_binary(pairs: &[NodePair], tris: Vec<[[f32; 3]; 3]>, prims: Vec<u32>) -> Self {
-        let wide = wide::widen(pairs, wide::STACK);
+        let parallel_min = PARALLEL_MIN.max(prims.len() / 32);
+        let wide = wide::widen(pairs, wide::STACK, parallel_min);
         Self {
             tame: boxes_tame(&wide),
             bounds: pairs[0].0[0].bounds,

@@ -202,6 +202,13 @@ pub struct TileScratch {
     near_shapes: Vec<LaneShape>,
 }
 
+/// The answer of a packet started from `seed` where no triangle can show: the seed's.
+#[cold]
+#[inline(never)]
+fn seed_only(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> PacketHits {
+    PacketNearest::<f32x8>::seeded(d, d_max, seed).finish()
+}
+
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
 /// `live`; lane l's segment ends on primitive `prim[l]`, which cannot block it (planar or
 /// convex, the light on its lit side) and is skipped, except in the lanes of `own_blocks`
@@ -510,10 +517,7 @@ impl TileQueries<'_> {
         let frame = self.frame;
         match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
-            // No triangle shows in the tile: the seed's answer.
-            Plan::BvhPackets { .. } if !self.triangles_may_show => {
-                PacketNearest::<f32x8>::seeded(d, d_max, seed).finish()
-            }
+            Plan::BvhPackets { .. } if !self.triangles_may_show => seed_only(d, d_max, seed),
             Plan::BvhPackets { from_eye, .. } => frame
                 .accel
                 .closest_packet_of_triangles(

@@ -37,6 +37,7 @@ use crate::geometry::Ray;
 use crate::math::lanes::{f32x8, Lanes};
 use crate::math::simd::each3;
 use crate::math::Real;
+use rayon::prelude::*;
 
 /// Children per wide node.
 const WIDTH: usize = 8;
@@ -93,11 +94,10 @@ impl WideNode {
             .map(|&r| leaf_range(r))
     }
 
-    /// Every coordinate of the used children's boxes.
+    /// Every coordinate of the children's boxes.
+    /// (An unused child's are infinite.)
     pub(super) fn coordinates(&self) -> impl Iterator<Item = f32> + '_ {
-        (0..WIDTH)
-            .filter(|&c| self.child[c] != NONE)
-            .flat_map(move |c| (0..3).flat_map(move |k| [self.lo[k][c], self.hi[k][c]]))
+        self.lo.iter().chain(&self.hi).flatten().copied()
     }
 }
 
@@ -117,8 +117,9 @@ fn leaf_ref(first: u32, count: u32) -> u32 {
 
 /// The wide nodes over the binary `pairs` (root first, children after their parents), root
 /// first, such that no walk needs more than `stack` entries (`stack` must exceed the binary
-/// tree's height, which the build keeps below 70).
-pub(super) fn widen(pairs: &[NodePair], stack: usize) -> Vec<WideNode> {
+/// tree's height, which the build keeps below 70). Subtrees of at least `parallel_min`
+/// triangles collapse their children's subtrees on several threads.
+pub(super) fn widen(pairs: &[NodePair], stack: usize, parallel_min: usize) -> Vec<WideNode> {
     let node = |i: usize| &pairs[i / 2].0[i % 2];
     if pairs.is_empty() {
         return Vec::new();
@@ -140,69 +141,146 @@ pub(super) fn widen(pairs: &[NodePair], stack: usize) -> Vec<WideNode> {
             height[i] = 1 + height[first].max(height[first + 1]);
         }
     }
-    // A node whose subtree holds more than `MAX_LEAF` triangles.
-    let interior = |k: usize| range[k].1 as usize > MAX_LEAF;
     assert!(
         usize::from(height[0]) < stack,
         "a BVH of height {}",
         height[0]
     );
-    let mut wide: Vec<WideNode> = Vec::with_capacity(pairs.len() / 3 + 1);
-    // (binary node, wide slot to fill, stack entries left below it while it is walked)
-    let mut todo = vec![(0usize, 0usize, 0usize)];
-    wide.push(WideNode::EMPTY);
-    while let Some((root, at, above)) = todo.pop() {
-        // The node's children, then the largest interior one's in its place, up to 8 (in
-        // an array: one allocation per wide node cost the build as many small ones).
-        let mut kids = [0usize; WIDTH];
-        let mut len = match interior(root) {
-            true => {
-                kids[..2].copy_from_slice(&[0, 1].map(|j| node(root).offset as usize + j));
-                2
-            }
-            false => {
-                kids[0] = root;
-                1
-            }
-        };
-        let h = |k: usize| usize::from(height[k]);
+    let collapse = Collapse {
+        pairs,
+        range,
+        height,
+        stack,
+        parallel_min,
+    };
+    collapse.subtree(0, 0)
+}
+
+/// The binary tree with what [`widen`] needs of each node.
+struct Collapse<'a> {
+    pairs: &'a [NodePair],
+    range: Vec<(u32, u32)>,
+    height: Vec<u8>,
+    stack: usize,
+    parallel_min: usize,
+}
+
+impl Collapse<'_> {
+    fn node(&self, i: usize) -> &super::Node {
+        &self.pairs[i / 2].0[i % 2]
+    }
+
+    /// Whether binary node `k` holds more than `MAX_LEAF` triangles (else it is a leaf).
+    fn interior(&self, k: usize) -> bool {
+        self.range[k].1 as usize > MAX_LEAF
+    }
+
+    /// The children of the wide node made from binary node `root`, walked with `above`
+    /// entries below it: its children, then the largest interior one's in its place, up to
+    /// 8 (in an array: one allocation per wide node cost the build as many small ones).
+    fn children(&self, root: usize, above: usize) -> ([usize; WIDTH], usize) {
+        let mut kids = [root; WIDTH];
+        let mut len = 1;
+        if self.interior(root) {
+            let first = self.node(root).offset as usize;
+            (kids[0], kids[1], len) = (first, first + 1, 2);
+        }
+        let h = |k: usize| usize::from(self.height[k]);
+        let mut area = [0.0f64; WIDTH];
+        for slot in 0..len {
+            area[slot] = self.node(kids[slot]).bounds.half_area();
+        }
         while len < WIDTH {
-            let area = |k: usize| node(k).bounds.half_area();
             let largest = (0..len)
-                .filter(|&slot| interior(kids[slot]))
-                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])));
+                .filter(|&slot| self.interior(kids[slot]))
+                .max_by(|&a, &b| area[a].total_cmp(&area[b]));
             let Some(slot) = largest else { break };
             // Walking this node pushes `len` children; below each, a walk through nodes of
             // two children pushes at most one entry a level. Expand only while that fits.
             let others = (0..len).filter(|&s| s != slot).map(|s| h(kids[s])).max();
             let deepest = others.unwrap_or(0).max(h(kids[slot]) - 1);
-            if above + len + 1 + deepest > stack {
+            if above + len + 1 + deepest > self.stack {
                 break;
             }
-            let first = node(kids[slot]).offset as usize;
-            kids[slot] = first;
-            kids[len] = first + 1;
+            let first = self.node(kids[slot]).offset as usize;
+            (kids[slot], kids[len]) = (first, first + 1);
+            area[slot] = self.node(first).bounds.half_area();
+            area[len] = self.node(first + 1).bounds.half_area();
             len += 1;
         }
-        debug_assert!(above + len <= stack);
-        for (c, &k) in kids[..len].iter().enumerate() {
-            let n = node(k);
-            for a in 0..3 {
-                wide[at].lo[a][c] = n.bounds.lo[a];
-                wide[at].hi[a][c] = n.bounds.hi[a];
-            }
-            wide[at].child[c] = match interior(k) {
-                true => {
-                    let child = wide.len();
-                    wide.push(WideNode::EMPTY);
-                    todo.push((k, child, above + len - 1));
-                    child as u32
-                }
-                false => leaf_ref(range[k].0, range[k].1),
-            };
-        }
+        debug_assert!(above + len <= self.stack);
+        (kids, len)
     }
-    wide
+
+    /// The wide node made from binary node `root`, with its children's boxes and leaves
+    /// (interior children: [`NONE`], to be set).
+    fn wide_node(&self, kids: &[usize]) -> WideNode {
+        let mut w = WideNode::EMPTY;
+        for (c, &k) in kids.iter().enumerate() {
+            let b = &self.node(k).bounds;
+            for a in 0..3 {
+                w.lo[a][c] = b.lo[a];
+                w.hi[a][c] = b.hi[a];
+            }
+            if !self.interior(k) {
+                w.child[c] = leaf_ref(self.range[k].0, self.range[k].1);
+            }
+        }
+        w
+    }
+
+    /// The wide nodes of the subtree from binary node `root` (walked with `above` entries
+    /// below it), its root first, child references counted from there.
+    fn subtree(&self, root: usize, above: usize) -> Vec<WideNode> {
+        if (self.range[root].1 as usize) < self.parallel_min {
+            return self.subtree_serial(root, above);
+        }
+        let (kids, len) = self.children(root, above);
+        let kids = &kids[..len];
+        let mut w = self.wide_node(kids);
+        let inner: Vec<(usize, usize)> = (kids.iter().enumerate())
+            .filter(|&(_, &k)| self.interior(k))
+            .map(|(c, &k)| (c, k))
+            .collect();
+        let parts: Vec<Vec<WideNode>> = inner
+            .par_iter()
+            .map(|&(_, k)| self.subtree(k, above + len - 1))
+            .collect();
+        let mut out = vec![w];
+        for (&(c, _), part) in inner.iter().zip(parts) {
+            let base = out.len() as u32;
+            w.child[c] = base;
+            out.extend(part.into_iter().map(|mut n| {
+                for r in &mut n.child {
+                    if *r & LEAF == 0 {
+                        *r += base;
+                    }
+                }
+                n
+            }));
+        }
+        out[0] = w;
+        out
+    }
+
+    /// [`Collapse::subtree`] on one thread, depth first from the root.
+    fn subtree_serial(&self, root: usize, above: usize) -> Vec<WideNode> {
+        let mut wide = vec![WideNode::EMPTY];
+        // (binary node, wide slot to fill, stack entries left below it while it is walked)
+        let mut todo = vec![(root, 0usize, above)];
+        while let Some((root, at, above)) = todo.pop() {
+            let (kids, len) = self.children(root, above);
+            wide[at] = self.wide_node(&kids[..len]);
+            for (c, &k) in kids[..len].iter().enumerate() {
+                if self.interior(k) {
+                    wide[at].child[c] = wide.len() as u32;
+                    todo.push((k, wide.len(), above + len - 1));
+                    wide.push(WideNode::EMPTY);
+                }
+            }
+        }
+        wide
+    }
 }
 
 /// A walk's stack: child references with their entry distances, nearest on top.
@@ -694,7 +772,7 @@ mod tests {
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         let (pairs, _) = super::super::binary(&tris);
         let bvh = Bvh::build(&tris);
-        assert_eq!(widen(&pairs, STACK), bvh.wide);
+        assert_eq!(widen(&pairs, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
         fn range(pairs: &[NodePair], i: usize) -> (usize, usize) {
             let n = pairs[i / 2].0[i % 2];
@@ -758,7 +836,7 @@ mod tests {
             let (pairs, _) = super::super::binary(tris);
             let height = super::super::tests::depth(&pairs, 0);
             for stack in [STACK, height + 8, height + 1] {
-                let wide = widen(&pairs, stack);
+                let wide = widen(&pairs, stack, 64);
                 let need = stack_need(&wide, 0, 0);
                 assert!(need <= stack, "{need} entries for a stack of {stack}");
                 let leaves = wide_leaves(&wide);
