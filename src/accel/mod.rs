@@ -220,9 +220,9 @@ impl Accel {
     }
 
     /// Boxes around the triangles, instanced ones included, as a tree for tile culling
-    /// ([`cull::ScreenTree`]): the BVH's nodes down to `depth` levels
-    /// ([`bvh::Bvh::top_levels`]); with instances, one box around everything, from which no
-    /// walk starts. Empty: no BVH, or no triangles.
+    /// ([`cull::ScreenTree`]): the BVH's nodes down to `depth` wide levels
+    /// ([`bvh::Bvh::top_levels`]); with instances, one box around everything. Empty: no BVH,
+    /// or no triangles.
     pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<cull::TreeNode> {
         let Triangles::Bvh(b) = &self.triangles else {
             return Vec::new();
