@@ -346,7 +346,12 @@ impl Bvh {
             return;
         }
         if !(slabs.trusted && box_safe(pad)) {
-            leaves.visit(sink, 0, self.prims.len());
+            // Every item, in leaf-sized runs (a leaf visit prepares at most `MAX_LEAF`
+            // triangles: one visit of all of them served only the first and last blocks of
+            // a frame's cache, and the rest went untested).
+            for first in (0..self.prims.len()).step_by(MAX_LEAF) {
+                leaves.visit(sink, first, MAX_LEAF.min(self.prims.len() - first));
+            }
             return;
         }
         match (slabs.coherent, pad == 0.0) {
@@ -1196,6 +1201,47 @@ mod tests {
         assert!(!bvh.boxes_tame());
         let (pairs, _) = binary(&tiny);
         assert!(depth(&pairs, 0) < 64, "depth {}", depth(&pairs, 0));
+    }
+
+    #[test]
+    fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
+        // 1003 scattered triangles, packets from an origin at 1e-20 (beyond the f32 slab
+        // test's range: no box is tested, every triangle offered), the triangles prepared
+        // beforehand, once per frame in a cache, or as met: each lane's nearest is the whole
+        // list's.
+        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
+        let bvh = Bvh::build(&tris);
+        let o = [1e-20, 5.0, -4.0];
+        let (vertices, prims) = bvh.triangles();
+        let list = OriginTriangles::from_parts(vertices, prims, o);
+        let pool = super::super::prepared::CachePool::default();
+        let cache = pool.take(bvh.len(), o);
+        // Lane l towards triangle 97·l's centroid.
+        let d: [f32x8; 3] = [0, 1, 2].map(|k| {
+            f32x8::from(std::array::from_fn(|l| {
+                let v = &tris[97 * l].0;
+                (v[0][k] + v[1][k] + v[2][k]) / 3.0 - o[k]
+            }))
+        });
+        let dm = crate::accel::packet::max_component(&d);
+        let whole = crate::accel::packet::closest(&list.tris, &d, dm);
+        assert!(whole.prim.iter().filter(|&&p| p != u32::MAX).count() >= 6);
+        let slabs = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
+        assert!(!slabs.trusted);
+        for prepared in [
+            Prepared::All(&list),
+            Prepared::Once(&cache),
+            Prepared::AsMet,
+        ] {
+            let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+            bvh.packet_into(&mut nearest, o, prepared, &d);
+            let found = nearest.finish();
+            for l in 0..8 {
+                if (found.ambiguous | whole.ambiguous) & (1 << l) == 0 {
+                    assert_eq!(found.prim[l], whole.prim[l], "lane {l}");
+                }
+            }
+        }
     }
 
     #[test]
