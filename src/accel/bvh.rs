@@ -109,10 +109,23 @@ pub(crate) struct TopNode {
     pub(crate) children: Option<(u32, u32)>,
 }
 
-/// Two sibling nodes; node i is `pairs[i / 2].0[i % 2]`.
+/// Two sibling nodes; node i is `pairs[i / 2].0[i % 2]` ([`binary_node`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct NodePair([Node; 2]);
+
+/// Node i of the binary tree laid out in `pairs`.
+#[inline(always)]
+fn binary_node(pairs: &[NodePair], i: usize) -> &Node {
+    &pairs[i / 2].0[i % 2]
+}
+
+/// Items a subtree must hold for its halves to be built (and collapsed) on two threads: at
+/// least [`PARALLEL_MIN`], and n/32 of `n` in all (enough subtrees for the threads, each
+/// large enough to pay for a task).
+fn parallel_min(n: usize) -> usize {
+    PARALLEL_MIN.max(n / 32)
+}
 
 /// The hierarchy and its triangles, reordered so that each leaf's are contiguous.
 #[derive(Clone, Debug, Default)]
@@ -183,8 +196,7 @@ fn binary(tris: &[IndexedTriangle]) -> (Vec<NodePair>, Vec<u32>) {
             Ref { b, c, i: i as u32 }
         })
         .collect();
-    // Enough parallel subtrees for the threads, each large enough to pay for a task.
-    binary_over(refs, PARALLEL_MIN.max(tris.len() / 32))
+    binary_over(refs, parallel_min(tris.len()))
 }
 
 /// A triangle during the build: its box, centroid and index. The build partitions these
@@ -214,8 +226,7 @@ impl Bvh {
 
     /// The hierarchy from the binary tree `pairs`, with its items in the leaves' order.
     fn over_binary(pairs: &[NodePair], tris: Vec<[[f32; 3]; 3]>, prims: Vec<u32>) -> Self {
-        let parallel_min = PARALLEL_MIN.max(prims.len() / 32);
-        let wide = wide::widen(pairs, wide::STACK, parallel_min);
+        let wide = wide::widen(pairs, wide::STACK, parallel_min(prims.len()));
         Self {
             tame: boxes_tame(&wide),
             bounds: pairs[0].0[0].bounds,
@@ -1096,7 +1107,7 @@ mod tests {
 
     /// The binary tree's height below node `node` (a leaf 0).
     pub(super) fn depth(pairs: &[NodePair], node: usize) -> usize {
-        let n = pairs[node / 2].0[node % 2];
+        let n = binary_node(pairs, node);
         let first = n.offset as usize;
         match n.count {
             0 => 1 + depth(pairs, first).max(depth(pairs, first + 1)),

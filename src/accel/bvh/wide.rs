@@ -30,7 +30,8 @@
 
 use super::TopNode;
 use super::{
-    box_safe, enter_f64, far_slack, slab_safe, Aabb, Bvh, Leaves, NodePair, PacketSlabs, MAX_LEAF,
+    binary_node, box_safe, enter_f64, far_slack, slab_safe, Aabb, Bvh, Leaves, Node, NodePair,
+    PacketSlabs, MAX_LEAF,
 };
 use crate::accel::instances::PacketSink;
 use crate::geometry::Ray;
@@ -79,13 +80,6 @@ impl WideNode {
         }
     }
 
-    /// The box around every child.
-    pub(super) fn union(&self) -> Aabb {
-        let mut b = Aabb::EMPTY;
-        (0..WIDTH).for_each(|c| b.grow(&self.bounds(c)));
-        b
-    }
-
     /// The leaf children, as (first triangle, count).
     #[cfg(test)]
     pub(super) fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
@@ -111,7 +105,7 @@ fn leaf_range(r: u32) -> (usize, usize) {
 
 /// A leaf's child reference.
 fn leaf_ref(first: u32, count: u32) -> u32 {
-    debug_assert!((1..=4).contains(&count) && (first as usize) <= MAX_ITEMS);
+    debug_assert!((1..=MAX_LEAF as u32).contains(&count) && (first as usize) <= MAX_ITEMS);
     LEAF | (count - 1) << FIRST_BITS | first
 }
 
@@ -120,7 +114,7 @@ fn leaf_ref(first: u32, count: u32) -> u32 {
 /// tree's height, which the build keeps below 70). Subtrees of at least `parallel_min`
 /// triangles collapse their children's subtrees on several threads.
 pub(super) fn widen(pairs: &[NodePair], stack: usize, parallel_min: usize) -> Vec<WideNode> {
-    let node = |i: usize| &pairs[i / 2].0[i % 2];
+    let node = |i: usize| binary_node(pairs, i);
     if pairs.is_empty() {
         return Vec::new();
     }
@@ -166,8 +160,8 @@ struct Collapse<'a> {
 }
 
 impl Collapse<'_> {
-    fn node(&self, i: usize) -> &super::Node {
-        &self.pairs[i / 2].0[i % 2]
+    fn node(&self, i: usize) -> &Node {
+        binary_node(self.pairs, i)
     }
 
     /// Whether binary node `k` holds more than `MAX_LEAF` triangles (else it is a leaf).
@@ -416,8 +410,8 @@ impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
     }
 }
 
-/// A coherent packet ([`PacketSlabs::coherent`]), boxes unpadded: the interval test over the
-/// lanes, then the lanes of each child that passes.
+/// A coherent packet ([`PacketSlabs::coherent`]), boxes widened by a pad if `PADDED`: the
+/// interval test over the lanes, then the lanes of each child that passes.
 pub(super) struct IntervalTest<'a, V, const PADDED: bool> {
     rays: &'a PacketSlabs<V>,
     slabs: WideSlabs<PADDED>,
@@ -679,11 +673,11 @@ impl Bvh {
     /// the root (the box around everything), then children. Every triangle lies in the box
     /// of a node without children.
     pub(crate) fn top_levels(&self, depth: usize) -> Vec<TopNode> {
-        let Some(root) = self.wide.first() else {
+        let Some(bounds) = self.root_bounds() else {
             return Vec::new();
         };
         let mut out = vec![TopNode {
-            bounds: root.union(),
+            bounds,
             children: None,
         }];
         // (position in `out`, its wide node)
@@ -775,7 +769,7 @@ mod tests {
         assert_eq!(widen(&pairs, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
         fn range(pairs: &[NodePair], i: usize) -> (usize, usize) {
-            let n = pairs[i / 2].0[i % 2];
+            let n = *binary_node(pairs, i);
             let first = n.offset as usize;
             match n.count {
                 0 => (
@@ -789,7 +783,7 @@ mod tests {
         let mut todo = vec![0usize];
         let mut merged = 0;
         while let Some(i) = todo.pop() {
-            let n = pairs[i / 2].0[i % 2];
+            let n = *binary_node(&pairs, i);
             let (first, count) = range(&pairs, i);
             if count <= MAX_LEAF {
                 merged += usize::from(n.count == 0);
