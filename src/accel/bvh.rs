@@ -68,10 +68,14 @@ impl Aabb {
         hi: [f32::NEG_INFINITY; 3],
     };
 
+    /// Grows to hold `o` (a NaN coordinate of `o` is ignored, as `f32::min` would; the
+    /// comparisons compile to plain `minps`/`maxps`, which `f32::min`'s NaN rule does not).
+    #[inline(always)]
     pub(crate) fn grow(&mut self, o: &Aabb) {
         for k in 0..3 {
-            self.lo[k] = self.lo[k].min(o.lo[k]);
-            self.hi[k] = self.hi[k].max(o.hi[k]);
+            let (lo, hi) = (self.lo[k], self.hi[k]);
+            self.lo[k] = if o.lo[k] < lo { o.lo[k] } else { lo };
+            self.hi[k] = if o.hi[k] > hi { o.hi[k] } else { hi };
         }
     }
 
@@ -87,17 +91,26 @@ impl Aabb {
     }
 }
 
-/// A node of the binary tree the build makes (and [`widen`](wide::widen) collapses): its
-/// bounds, and either a leaf's triangle range or where its children are.
+/// A node of the binary tree the build makes (and [`widen`](wide::widen) collapses), in
+/// depth-first order: a node, its first child's subtree, its second's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Node {
     bounds: Aabb,
-    /// Leaf: index of the first triangle; interior: while building, the offset from this
-    /// node to its second child (the first follows it); once laid out in pairs
-    /// ([`pair_up`]), the index of the first child (the second is the next index).
+    /// Leaf: index of its first triangle; interior: the offset from this node to its second
+    /// child (the first follows it).
     offset: u32,
-    /// Leaf: triangle count (≥ 1); interior: 0.
-    count: u32,
+    /// Leaf: triangle count (1 to [`MAX_LEAF`]); interior: 0.
+    count: u16,
+    /// Levels below (a leaf 0): what a walk through the subtree may push.
+    height: u16,
+}
+
+impl Node {
+    /// An interior node's children.
+    #[inline(always)]
+    fn children(nodes: &[Node], i: usize) -> [usize; 2] {
+        [i + 1, i + nodes[i].offset as usize]
+    }
 }
 
 /// A node of [`Bvh::top_levels`].
@@ -109,20 +122,9 @@ pub(crate) struct TopNode {
     pub(crate) children: Option<(u32, u32)>,
 }
 
-/// Two sibling nodes; node i is `pairs[i / 2].0[i % 2]` ([`binary_node`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(64))]
-struct NodePair([Node; 2]);
-
-/// Node i of the binary tree laid out in `pairs`.
-#[inline(always)]
-fn binary_node(pairs: &[NodePair], i: usize) -> &Node {
-    &pairs[i / 2].0[i % 2]
-}
-
-/// Items a subtree must hold for its halves to be built (and collapsed) on two threads: at
-/// least [`PARALLEL_MIN`], and n/32 of `n` in all (enough subtrees for the threads, each
-/// large enough to pay for a task).
+/// Items (or, in the collapse, binary nodes: about as many) a subtree must hold for its
+/// halves to be built (and collapsed) on two threads: at least [`PARALLEL_MIN`], and n/32 of
+/// `n` in all (enough subtrees for the threads, each large enough to pay for a task).
 fn parallel_min(n: usize) -> usize {
     PARALLEL_MIN.max(n / 32)
 }
@@ -178,14 +180,15 @@ fn boxes_tame(wide: &[wide::WideNode]) -> bool {
         .all(|n| n.coordinates().all(|x| !x.is_finite() || box_safe(x)))
 }
 
-/// The binary tree over `refs` in sibling pairs, and the items in its leaves' order.
-fn binary_over(mut refs: Vec<Ref>, parallel_min: usize) -> (Vec<NodePair>, Vec<u32>) {
-    let pairs = pair_up(&build_node(&mut refs, 0, parallel_min, 0));
-    (pairs, refs.iter().map(|r| r.i).collect())
+/// The binary tree over `refs` (depth first), and the items in its leaves' order.
+fn binary_over(mut refs: Vec<Ref>, parallel_min: usize) -> (Vec<Node>, Vec<u32>) {
+    let bounds = Bounds::of_par(&refs);
+    let nodes = build_node(&mut refs, &bounds, 0, parallel_min, 0);
+    (nodes, refs.par_iter().map(|r| r.i).collect())
 }
 
 /// The binary tree over triangles, and their indices in its leaves' order.
-fn binary(tris: &[IndexedTriangle]) -> (Vec<NodePair>, Vec<u32>) {
+fn binary(tris: &[IndexedTriangle]) -> (Vec<Node>, Vec<u32>) {
     let refs: Vec<Ref> = tris
         .par_iter()
         .enumerate()
@@ -216,20 +219,20 @@ impl Bvh {
             return Self::default();
         }
         assert!(tris.len() <= wide::MAX_ITEMS, "{} triangles", tris.len());
-        let (pairs, order) = binary(tris);
+        let (nodes, order) = binary(tris);
         Self::over_binary(
-            &pairs,
+            &nodes,
             order.par_iter().map(|&i| tris[i as usize].0).collect(),
             order.par_iter().map(|&i| tris[i as usize].1).collect(),
         )
     }
 
-    /// The hierarchy from the binary tree `pairs`, with its items in the leaves' order.
-    fn over_binary(pairs: &[NodePair], tris: Vec<[[f32; 3]; 3]>, prims: Vec<u32>) -> Self {
-        let wide = wide::widen(pairs, wide::STACK, parallel_min(prims.len()));
+    /// The hierarchy from the binary tree `nodes`, with its items in the leaves' order.
+    fn over_binary(nodes: &[Node], tris: Vec<[[f32; 3]; 3]>, prims: Vec<u32>) -> Self {
+        let wide = wide::widen(nodes, wide::STACK, parallel_min(prims.len()));
         Self {
             tame: boxes_tame(&wide),
-            bounds: pairs[0].0[0].bounds,
+            bounds: nodes[0].bounds,
             wide,
             tris,
             prims,
@@ -327,8 +330,8 @@ impl Bvh {
                 i: i as u32,
             })
             .collect();
-        let (pairs, order) = binary_over(refs, PARALLEL_MIN);
-        Self::over_binary(&pairs, Vec::new(), order)
+        let (nodes, order) = binary_over(refs, PARALLEL_MIN);
+        Self::over_binary(&nodes, Vec::new(), order)
     }
 
     /// Whether every box coordinate is [`box_safe`] (the f32 slab test then holds).
@@ -920,161 +923,192 @@ impl<V: Lanes> PacketSlabs<V> {
     }
 }
 
-/// Builds the subtree over `order` (whose first element is at `start` in the global order).
-/// How a set of triangles is split: its box, and where `order` (partitioned) divides into the
-/// two children, or `None` for a leaf.
-fn split(order: &mut [Ref], depth: usize) -> (Aabb, Option<usize>) {
-    let mut bounds = Aabb::EMPTY;
-    let mut cbounds = Aabb::EMPTY;
-    for r in order.iter() {
-        bounds.grow(&r.b);
-        cbounds.grow_point(r.c);
+/// What a split needs to know of a set of items: their boxes' box and their centroids' box.
+#[derive(Clone, Copy)]
+struct Bounds {
+    boxes: Aabb,
+    centroids: Aabb,
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds {
+        boxes: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+    };
+
+    #[inline(always)]
+    fn add(&mut self, r: &Ref) {
+        self.boxes.grow(&r.b);
+        self.centroids.grow_point(r.c);
     }
+
+    #[inline(always)]
+    fn union(mut self, o: &Bounds) -> Self {
+        self.boxes.grow(&o.boxes);
+        self.centroids.grow(&o.centroids);
+        self
+    }
+
+    fn of(refs: &[Ref]) -> Self {
+        let mut b = Self::EMPTY;
+        refs.iter().for_each(|r| b.add(r));
+        b
+    }
+
+    /// [`Bounds::of`] on every thread (the root's set: no split runs beside it).
+    fn of_par(refs: &[Ref]) -> Self {
+        (refs.par_chunks(PARALLEL_MIN).map(Self::of)).reduce(|| Self::EMPTY, |a, b| a.union(&b))
+    }
+}
+
+/// Where `order` (partitioned by the call) divides into two children, with their bounds, or
+/// `None` for a leaf: exactly the sets of at most [`MAX_LEAF`] items, which the wide nodes
+/// hold as one leaf whatever the binary tree below (splitting them was a third of the build).
+fn split(order: &mut [Ref], bounds: &Bounds, depth: usize) -> Option<(usize, [Bounds; 2])> {
     let n = order.len();
-    if n <= MAX_LEAF.min(2) {
-        return (bounds, None);
+    if n <= MAX_LEAF {
+        return None;
     }
-    let extent = [0, 1, 2].map(|k| cbounds.hi[k] - cbounds.lo[k]);
+    let cb = &bounds.centroids;
+    let extent = [0, 1, 2].map(|k| cb.hi[k] - cb.lo[k]);
     let axis = (0..3)
         .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
         .unwrap_or(0);
     // Past `SAH_DEPTH` levels, split by count: the tree stays within the traversals'
-    // 64-entry stacks whatever the geometry (at most 2²⁴ triangles: 24 more levels).
-    let mid = if extent[axis] > 0.0 && depth < SAH_DEPTH {
-        sah_split(order, axis, &cbounds, &bounds)
-    } else {
-        None
-    };
-    let mid = match mid {
-        Some(m) => m,
-        None if n <= MAX_LEAF => return (bounds, None),
-        // All centroids in one bin (or equal): split by count so leaves stay small.
-        None => {
-            order.select_nth_unstable_by(n / 2, |a, b| a.c[axis].total_cmp(&b.c[axis]));
-            n / 2
+    // stacks whatever the geometry (at most 2²⁹ items: 29 more levels).
+    if extent[axis] > 0.0 && depth < SAH_DEPTH {
+        if let Some(s) = sah_split(order, axis, cb) {
+            return Some(s);
         }
-    };
-    (bounds, Some(mid))
+    }
+    // All centroids in one bin (or equal): split by count so leaves stay small.
+    order.select_nth_unstable_by(n / 2, |a, b| a.c[axis].total_cmp(&b.c[axis]));
+    let (left, right) = order.split_at(n / 2);
+    Some((n / 2, [Bounds::of(left), Bounds::of(right)]))
 }
 
-/// Builds the subtree over `order` (whose first triangle goes to position `start`) in
-/// depth-first order: the node, then its first child's subtree, then its second's. Sets of
-/// at least `parallel_min` triangles build their two halves on two threads and concatenate
-/// them; smaller ones push into one vector (concatenating at every level copied each node
-/// once per level above it: 1.3 GB of copies for a million triangles).
-fn build_node(order: &mut [Ref], start: usize, parallel_min: usize, depth: usize) -> Vec<Node> {
+/// A leaf over `count` items from `first`.
+fn leaf(bounds: &Bounds, first: usize, count: usize) -> Node {
+    Node {
+        bounds: bounds.boxes,
+        offset: first as u32,
+        count: count as u16,
+        height: 0,
+    }
+}
+
+/// An interior node whose second child is `offset` nodes on, `height` levels above the
+/// leaves.
+fn interior(bounds: &Bounds, offset: usize, height: u16) -> Node {
+    Node {
+        bounds: bounds.boxes,
+        offset: offset as u32,
+        count: 0,
+        height,
+    }
+}
+
+/// Builds the subtree over `order` (with its `bounds`; its first item goes to position
+/// `start`) in depth-first order: the node, then its first child's subtree, then its
+/// second's. Sets of at least `parallel_min` items build their two halves on two threads and
+/// concatenate them; smaller ones push into one vector (concatenating at every level copied
+/// each node once per level above it: 1.3 GB of copies for a million triangles).
+fn build_node(
+    order: &mut [Ref],
+    bounds: &Bounds,
+    start: usize,
+    parallel_min: usize,
+    depth: usize,
+) -> Vec<Node> {
     if order.len() < parallel_min {
-        let mut nodes = Vec::with_capacity(2 * order.len().div_ceil(2));
-        build_into(order, start, &mut nodes, depth);
+        // At most 2n - 1 nodes (every leaf holds an item); reserving is not touching.
+        let mut nodes = Vec::with_capacity(2 * order.len());
+        build_into(order, bounds, start, &mut nodes, depth);
         return nodes;
     }
-    let (bounds, mid) = split(order, depth);
-    let Some(mid) = mid else {
-        return vec![Node {
-            bounds,
-            offset: start as u32,
-            count: order.len() as u32,
-        }];
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth) else {
+        return vec![leaf(bounds, start, order.len())];
     };
     let (left, right) = order.split_at_mut(mid);
     let (l, r) = rayon::join(
-        || build_node(left, start, parallel_min, depth + 1),
-        || build_node(right, start + mid, parallel_min, depth + 1),
+        || build_node(left, &left_bounds, start, parallel_min, depth + 1),
+        || build_node(right, &right_bounds, start + mid, parallel_min, depth + 1),
     );
     let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
-    nodes.push(Node {
-        bounds,
-        offset: 1 + l.len() as u32,
-        count: 0,
-    });
+    let height = 1 + l[0].height.max(r[0].height);
+    nodes.push(interior(bounds, 1 + l.len(), height));
     nodes.extend(l);
     nodes.extend(r);
     nodes
 }
 
-/// Lays out the depth-first `nodes` in sibling pairs: the root is node 0 (its pair's second
-/// slot unused), and an interior node's `offset` becomes the index of its first child. Pairs
-/// are placed as a depth-first walk reaches them, so a subtree stays close in memory.
-fn pair_up(nodes: &[Node]) -> Vec<NodePair> {
-    let unused = Node {
-        bounds: Aabb::EMPTY,
-        offset: 0,
-        count: 0,
-    };
-    let mut pairs = Vec::with_capacity(nodes.len() / 2 + 1);
-    pairs.push(NodePair([nodes[0], unused]));
-    // (index in `nodes`, index in the pairs)
-    let mut stack = vec![(0usize, 0usize)];
-    while let Some((old, new)) = stack.pop() {
-        let n = nodes[old];
-        if n.count > 0 {
-            continue;
-        }
-        let (a, b) = (old + 1, old + n.offset as usize);
-        let first = pairs.len() * 2;
-        pairs.push(NodePair([nodes[a], nodes[b]]));
-        pairs[new / 2].0[new % 2].offset = first as u32;
-        stack.push((b, first + 1));
-        stack.push((a, first));
-    }
-    pairs
-}
-
-/// [`build_node`] on one thread, appending to `nodes`.
-fn build_into(order: &mut [Ref], start: usize, nodes: &mut Vec<Node>, depth: usize) {
-    let (bounds, mid) = split(order, depth);
-    let Some(mid) = mid else {
-        nodes.push(Node {
-            bounds,
-            offset: start as u32,
-            count: order.len() as u32,
-        });
-        return;
+/// [`build_node`] on one thread, appending to `nodes`; returns the subtree's height.
+fn build_into(
+    order: &mut [Ref],
+    bounds: &Bounds,
+    start: usize,
+    nodes: &mut Vec<Node>,
+    depth: usize,
+) -> u16 {
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth) else {
+        nodes.push(leaf(bounds, start, order.len()));
+        return 0;
     };
     let at = nodes.len();
-    nodes.push(Node {
-        bounds,
-        offset: 0,
-        count: 0,
-    });
+    nodes.push(interior(bounds, 0, 0));
     let (left, right) = order.split_at_mut(mid);
-    build_into(left, start, nodes, depth + 1);
+    let left_height = build_into(left, &left_bounds, start, nodes, depth + 1);
     nodes[at].offset = (nodes.len() - at) as u32;
-    build_into(right, start + mid, nodes, depth + 1);
+    let right_height = build_into(right, &right_bounds, start + mid, nodes, depth + 1);
+    nodes[at].height = 1 + left_height.max(right_height);
+    nodes[at].height
 }
 
-/// The best binned-SAH split along `axis`: partitions `order` and returns the split point, or
-/// `None` when a leaf is cheaper (for small sets) or no split separates anything.
-fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option<usize> {
+/// The best binned-SAH split along `axis` (`cb`: the centroids' box): partitions `order` and
+/// returns the split point with both sides' bounds, or `None` when no plane separates
+/// anything.
+fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb) -> Option<(usize, [Bounds; 2])> {
     let lo = f64::from(cb.lo[axis]);
-    // In f64, so that a subnormal extent does not make the scale infinite.
     let scale = BINS as f64 / (f64::from(cb.hi[axis]) - lo);
-    let bin_of = |r: &Ref| (((f64::from(r.c[axis]) - lo) * scale) as usize).min(BINS - 1);
+    if scale <= f64::from(f32::MAX) {
+        let (lo, scale) = (lo as f32, scale as f32);
+        sah_split_by(order, |r| ((r.c[axis] - lo) * scale) as usize)
+    } else {
+        // In f64, so that a subnormal extent does not make the scale infinite.
+        sah_split_by(order, |r| ((f64::from(r.c[axis]) - lo) * scale) as usize)
+    }
+}
+
+/// [`sah_split`] with the bin of each item (clamped to the last).
+#[inline(always)]
+fn sah_split_by(order: &mut [Ref], bin: impl Fn(&Ref) -> usize) -> Option<(usize, [Bounds; 2])> {
+    let bin_of = |r: &Ref| bin(r).min(BINS - 1);
     let mut counts = [0usize; BINS];
-    let mut boxes = [Aabb::EMPTY; BINS];
+    let mut bins = [Bounds::EMPTY; BINS];
     for r in order.iter() {
         let b = bin_of(r);
         counts[b] += 1;
-        boxes[b].grow(&r.b);
+        bins[b].add(r);
     }
     // Sweep from the right, then from the left, for the cost of each of the BINS-1 planes.
-    let mut right_area = [0.0f64; BINS];
-    let mut acc = Aabb::EMPTY;
+    let mut right = [Bounds::EMPTY; BINS];
+    let mut acc = Bounds::EMPTY;
     for b in (1..BINS).rev() {
-        acc.grow(&boxes[b]);
-        right_area[b] = acc.half_area();
+        acc = acc.union(&bins[b]);
+        right[b] = acc;
     }
     let mut best = (f64::INFINITY, 0usize);
-    let mut acc = Aabb::EMPTY;
+    let mut left = Aabb::EMPTY;
     let mut left_n = 0usize;
     for b in 0..BINS - 1 {
-        acc.grow(&boxes[b]);
+        left.grow(&bins[b].boxes);
         left_n += counts[b];
         let right_n = order.len() - left_n;
         if left_n == 0 || right_n == 0 {
             continue;
         }
-        let cost = acc.half_area() * left_n as f64 + right_area[b + 1] * right_n as f64;
+        let cost =
+            left.half_area() * left_n as f64 + right[b + 1].boxes.half_area() * right_n as f64;
         if cost < best.0 {
             best = (cost, b);
         }
@@ -1082,12 +1116,8 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
     if !best.0.is_finite() {
         return None;
     }
-    // Traversal costs about one triangle test: a leaf wins when the split does not pay.
-    let leaf_cost = bounds.half_area() * order.len() as f64;
-    if order.len() <= MAX_LEAF && best.0 + bounds.half_area() >= leaf_cost {
-        return None;
-    }
     let split_bin = best.1;
+    let left = (bins[..=split_bin].iter()).fold(Bounds::EMPTY, |a, b| a.union(b));
     let mut i = 0;
     let mut j = order.len();
     while i < j {
@@ -1098,19 +1128,20 @@ fn sah_split(order: &mut [Ref], axis: usize, cb: &Aabb, bounds: &Aabb) -> Option
             order.swap(i, j);
         }
     }
-    Some(i)
+    Some((i, [left, right[split_bin + 1]]))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The binary tree's height below node `node` (a leaf 0).
-    pub(super) fn depth(pairs: &[NodePair], node: usize) -> usize {
-        let n = binary_node(pairs, node);
-        let first = n.offset as usize;
-        match n.count {
-            0 => 1 + depth(pairs, first).max(depth(pairs, first + 1)),
+    /// The binary tree's height below node `node` (a leaf 0), counted.
+    pub(super) fn depth(nodes: &[Node], node: usize) -> usize {
+        match nodes[node].count {
+            0 => {
+                let [a, b] = Node::children(nodes, node);
+                1 + depth(nodes, a).max(depth(nodes, b))
+            }
             _ => 0,
         }
     }
@@ -1188,8 +1219,8 @@ mod tests {
                 ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
             })
             .collect();
-        let (pairs, _) = binary(&row);
-        assert!(depth(&pairs, 0) < 64, "depth {}", depth(&pairs, 0));
+        let (nodes, _) = binary(&row);
+        assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
         let bvh = Bvh::build(&row);
         let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
         for x in [1e9f32, 5.0, 1e30] {
@@ -1210,8 +1241,8 @@ mod tests {
             .collect();
         let bvh = Bvh::build(&tiny);
         assert!(!bvh.boxes_tame());
-        let (pairs, _) = binary(&tiny);
-        assert!(depth(&pairs, 0) < 64, "depth {}", depth(&pairs, 0));
+        let (nodes, _) = binary(&tiny);
+        assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
     }
 
     #[test]

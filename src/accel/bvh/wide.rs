@@ -30,8 +30,7 @@
 
 use super::TopNode;
 use super::{
-    binary_node, box_safe, enter_f64, far_slack, slab_safe, Aabb, Bvh, Leaves, Node, NodePair,
-    PacketSlabs, MAX_LEAF,
+    box_safe, enter_f64, far_slack, slab_safe, Aabb, Bvh, Leaves, Node, PacketSlabs, MAX_LEAF,
 };
 use crate::accel::instances::PacketSink;
 use crate::geometry::Ray;
@@ -109,84 +108,84 @@ fn leaf_ref(first: u32, count: u32) -> u32 {
     LEAF | (count - 1) << FIRST_BITS | first
 }
 
-/// The wide nodes over the binary `pairs` (root first, children after their parents), root
-/// first, such that no walk needs more than `stack` entries (`stack` must exceed the binary
-/// tree's height, which the build keeps below 70). Subtrees of at least `parallel_min`
-/// triangles collapse their children's subtrees on several threads.
-pub(super) fn widen(pairs: &[NodePair], stack: usize, parallel_min: usize) -> Vec<WideNode> {
-    let node = |i: usize| binary_node(pairs, i);
-    if pairs.is_empty() {
+/// The wide nodes over the binary tree `nodes` (depth first, as the build makes it), root
+/// first, children after their parents, such that no walk needs more than `stack` entries
+/// (`stack` must exceed the binary tree's height, which the build keeps below 70). Subtrees
+/// of at least `parallel_min` binary nodes collapse their children's subtrees on several
+/// threads.
+pub(super) fn widen(nodes: &[Node], stack: usize, parallel_min: usize) -> Vec<WideNode> {
+    if nodes.is_empty() {
         return Vec::new();
     }
-    // Per node, its triangles (a contiguous range) and its height once subtrees of at most
-    // `MAX_LEAF` triangles are leaves (a leaf 0): children come after their parents. (Slot 1
-    // is unused.)
-    let mut range = vec![(0u32, 0u32); 2 * pairs.len()];
-    let mut height = vec![0u8; 2 * pairs.len()];
-    for i in (2..height.len()).rev().chain([0]) {
-        let n = node(i);
-        if n.count > 0 {
-            range[i] = (n.offset, n.count);
-            continue;
-        }
-        let first = n.offset as usize;
-        range[i] = (range[first].0, range[first].1 + range[first + 1].1);
-        if range[i].1 as usize > MAX_LEAF {
-            height[i] = 1 + height[first].max(height[first + 1]);
-        }
-    }
     assert!(
-        usize::from(height[0]) < stack,
+        usize::from(nodes[0].height) < stack,
         "a BVH of height {}",
-        height[0]
+        nodes[0].height
     );
     let collapse = Collapse {
-        pairs,
-        range,
-        height,
+        nodes,
         stack,
         parallel_min,
     };
-    collapse.subtree(0, 0)
+    let root = Subtree {
+        root: 0,
+        end: nodes.len(),
+    };
+    collapse.subtree(root, 0)
 }
 
-/// The binary tree with what [`widen`] needs of each node.
+/// A binary node and the end of its subtree in the depth-first list.
+#[derive(Clone, Copy)]
+struct Subtree {
+    root: usize,
+    end: usize,
+}
+
+impl Subtree {
+    /// Its two children's subtrees (it must be interior).
+    fn halves(self, nodes: &[Node]) -> [Subtree; 2] {
+        let [a, b] = Node::children(nodes, self.root);
+        [
+            Subtree { root: a, end: b },
+            Subtree {
+                root: b,
+                end: self.end,
+            },
+        ]
+    }
+}
+
+/// The binary tree with what [`widen`] needs.
 struct Collapse<'a> {
-    pairs: &'a [NodePair],
-    range: Vec<(u32, u32)>,
-    height: Vec<u8>,
+    nodes: &'a [Node],
     stack: usize,
     parallel_min: usize,
 }
 
 impl Collapse<'_> {
-    fn node(&self, i: usize) -> &Node {
-        binary_node(self.pairs, i)
-    }
-
-    /// Whether binary node `k` holds more than `MAX_LEAF` triangles (else it is a leaf).
+    /// Whether binary node `k` is interior (it holds more than `MAX_LEAF` items).
     fn interior(&self, k: usize) -> bool {
-        self.range[k].1 as usize > MAX_LEAF
+        self.nodes[k].count == 0
     }
 
-    /// The children of the wide node made from binary node `root`, walked with `above`
+    /// The children of the wide node made from binary subtree `root`, walked with `above`
     /// entries below it: its children, then the largest interior one's in its place, up to
     /// 8 (in an array: one allocation per wide node cost the build as many small ones).
-    fn children(&self, root: usize, above: usize) -> ([usize; WIDTH], usize) {
+    fn children(&self, root: Subtree, above: usize) -> ([Subtree; WIDTH], usize) {
         let mut kids = [root; WIDTH];
         let mut len = 1;
-        if self.interior(root) {
-            let first = self.node(root).offset as usize;
-            (kids[0], kids[1], len) = (first, first + 1, 2);
+        if self.interior(root.root) {
+            [kids[0], kids[1]] = root.halves(self.nodes);
+            len = 2;
         }
-        let h = |k: usize| usize::from(self.height[k]);
+        let h = |k: Subtree| usize::from(self.nodes[k.root].height);
         let mut area = [0.0f64; WIDTH];
         for slot in 0..len {
-            area[slot] = self.node(kids[slot]).bounds.half_area();
+            area[slot] = self.nodes[kids[slot].root].bounds.half_area();
         }
         while len < WIDTH {
             let largest = (0..len)
-                .filter(|&slot| self.interior(kids[slot]))
+                .filter(|&slot| self.interior(kids[slot].root))
                 .max_by(|&a, &b| area[a].total_cmp(&area[b]));
             let Some(slot) = largest else { break };
             // Walking this node pushes `len` children; below each, a walk through nodes of
@@ -196,51 +195,51 @@ impl Collapse<'_> {
             if above + len + 1 + deepest > self.stack {
                 break;
             }
-            let first = self.node(kids[slot]).offset as usize;
-            (kids[slot], kids[len]) = (first, first + 1);
-            area[slot] = self.node(first).bounds.half_area();
-            area[len] = self.node(first + 1).bounds.half_area();
+            [kids[slot], kids[len]] = kids[slot].halves(self.nodes);
+            area[slot] = self.nodes[kids[slot].root].bounds.half_area();
+            area[len] = self.nodes[kids[len].root].bounds.half_area();
             len += 1;
         }
         debug_assert!(above + len <= self.stack);
         (kids, len)
     }
 
-    /// The wide node made from binary node `root`, with its children's boxes and leaves
-    /// (interior children: [`NONE`], to be set).
-    fn wide_node(&self, kids: &[usize]) -> WideNode {
+    /// The wide node over `kids`, with their boxes and leaves (interior children: [`NONE`],
+    /// to be set).
+    fn wide_node(&self, kids: &[Subtree]) -> WideNode {
         let mut w = WideNode::EMPTY;
-        for (c, &k) in kids.iter().enumerate() {
-            let b = &self.node(k).bounds;
+        for (c, k) in kids.iter().enumerate() {
+            let n = &self.nodes[k.root];
             for a in 0..3 {
-                w.lo[a][c] = b.lo[a];
-                w.hi[a][c] = b.hi[a];
+                w.lo[a][c] = n.bounds.lo[a];
+                w.hi[a][c] = n.bounds.hi[a];
             }
-            if !self.interior(k) {
-                w.child[c] = leaf_ref(self.range[k].0, self.range[k].1);
+            if n.count > 0 {
+                w.child[c] = leaf_ref(n.offset, u32::from(n.count));
             }
         }
         w
     }
 
-    /// The wide nodes of the subtree from binary node `root` (walked with `above` entries
-    /// below it), its root first, child references counted from there.
-    fn subtree(&self, root: usize, above: usize) -> Vec<WideNode> {
-        if (self.range[root].1 as usize) < self.parallel_min {
+    /// The wide nodes of `root`'s subtree (walked with `above` entries below it), its root
+    /// first, child references counted from there.
+    fn subtree(&self, root: Subtree, above: usize) -> Vec<WideNode> {
+        if root.end - root.root < self.parallel_min {
             return self.subtree_serial(root, above);
         }
         let (kids, len) = self.children(root, above);
         let kids = &kids[..len];
         let mut w = self.wide_node(kids);
-        let inner: Vec<(usize, usize)> = (kids.iter().enumerate())
-            .filter(|&(_, &k)| self.interior(k))
+        let inner: Vec<(usize, Subtree)> = (kids.iter().enumerate())
+            .filter(|&(_, k)| self.interior(k.root))
             .map(|(c, &k)| (c, k))
             .collect();
         let parts: Vec<Vec<WideNode>> = inner
             .par_iter()
             .map(|&(_, k)| self.subtree(k, above + len - 1))
             .collect();
-        let mut out = vec![w];
+        let mut out = Vec::with_capacity(1 + parts.iter().map(Vec::len).sum::<usize>());
+        out.push(w);
         for (&(c, _), part) in inner.iter().zip(parts) {
             let base = out.len() as u32;
             w.child[c] = base;
@@ -258,17 +257,19 @@ impl Collapse<'_> {
     }
 
     /// [`Collapse::subtree`] on one thread, depth first from the root.
-    fn subtree_serial(&self, root: usize, above: usize) -> Vec<WideNode> {
-        let mut wide = vec![WideNode::EMPTY];
-        // (binary node, wide slot to fill, stack entries left below it while it is walked)
+    fn subtree_serial(&self, root: Subtree, above: usize) -> Vec<WideNode> {
+        // About one wide node per 3.5 binary ones (8 children of 15 nodes, fewer below).
+        let mut wide = Vec::with_capacity((root.end - root.root) / 3 + 1);
+        wide.push(WideNode::EMPTY);
+        // (binary subtree, wide slot to fill, stack entries left below it while it is walked)
         let mut todo = vec![(root, 0usize, above)];
         while let Some((root, at, above)) = todo.pop() {
             let (kids, len) = self.children(root, above);
             wide[at] = self.wide_node(&kids[..len]);
-            for (c, &k) in kids[..len].iter().enumerate() {
-                if self.interior(k) {
+            for (c, k) in kids[..len].iter().enumerate() {
+                if self.interior(k.root) {
                     wide[at].child[c] = wide.len() as u32;
-                    todo.push((k, wide.len(), above + len - 1));
+                    todo.push((*k, wide.len(), above + len - 1));
                     wide.push(WideNode::EMPTY);
                 }
             }
@@ -759,40 +760,40 @@ mod tests {
     }
 
     #[test]
-    fn wide_nodes_hold_the_binary_trees_small_subtrees_as_leaves() {
-        // 3000 scattered triangles: the wide nodes' leaves are exactly the binary tree's
-        // largest subtrees of at most `MAX_LEAF` triangles (same ranges, same boxes),
-        // together every triangle once, and a node with an interior child is full.
+    fn wide_nodes_hold_the_binary_trees_leaves() {
+        // 3000 scattered triangles: the binary tree's leaves are exactly its nodes of at
+        // most `MAX_LEAF` triangles; the wide nodes' leaves are the binary leaves (same
+        // ranges, same boxes), together every triangle once, and a node with an interior
+        // child is full.
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
-        let (pairs, _) = super::super::binary(&tris);
+        let (nodes, _) = super::super::binary(&tris);
         let bvh = Bvh::build(&tris);
-        assert_eq!(widen(&pairs, STACK, usize::MAX), bvh.wide);
+        assert_eq!(widen(&nodes, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
-        fn range(pairs: &[NodePair], i: usize) -> (usize, usize) {
-            let n = *binary_node(pairs, i);
-            let first = n.offset as usize;
-            match n.count {
-                0 => (
-                    range(pairs, first).0,
-                    range(pairs, first).1 + range(pairs, first + 1).1,
-                ),
-                count => (first, count as usize),
+        fn range(nodes: &[Node], i: usize) -> (usize, usize) {
+            match nodes[i].count {
+                0 => {
+                    let [a, b] = Node::children(nodes, i);
+                    (range(nodes, a).0, range(nodes, a).1 + range(nodes, b).1)
+                }
+                count => (nodes[i].offset as usize, usize::from(count)),
             }
         }
         let mut binary = Vec::new();
-        let mut todo = vec![0usize];
-        let mut merged = 0;
-        while let Some(i) = todo.pop() {
-            let n = *binary_node(&pairs, i);
-            let (first, count) = range(&pairs, i);
-            if count <= MAX_LEAF {
-                merged += usize::from(n.count == 0);
+        for (i, n) in nodes.iter().enumerate() {
+            let (first, count) = range(&nodes, i);
+            assert_eq!(
+                n.count == 0,
+                count > MAX_LEAF,
+                "node {i}: {count} triangles"
+            );
+            if n.count > 0 {
                 binary.push((first, count, n.bounds));
-            } else {
-                todo.extend([n.offset as usize, n.offset as usize + 1]);
             }
         }
-        assert!(merged > 100, "{merged} subtrees made leaves");
+        let sizes = binary.iter().map(|l| l.1);
+        assert!(sizes.clone().filter(|&c| c == MAX_LEAF).count() > 100);
+        assert!(sizes.clone().filter(|&c| c < MAX_LEAF).count() > 100);
         let mut wide = wide_leaves(&bvh.wide);
         let key = |l: &(usize, usize, Aabb)| l.0;
         binary.sort_by_key(key);
@@ -827,10 +828,11 @@ mod tests {
             .collect();
         let scattered = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         for tris in [&row, &scattered] {
-            let (pairs, _) = super::super::binary(tris);
-            let height = super::super::tests::depth(&pairs, 0);
+            let (nodes, _) = super::super::binary(tris);
+            let height = super::super::tests::depth(&nodes, 0);
+            assert_eq!(usize::from(nodes[0].height), height);
             for stack in [STACK, height + 8, height + 1] {
-                let wide = widen(&pairs, stack, 64);
+                let wide = widen(&nodes, stack, 64);
                 let need = stack_need(&wide, 0, 0);
                 assert!(need <= stack, "{need} entries for a stack of {stack}");
                 let leaves = wide_leaves(&wide);
