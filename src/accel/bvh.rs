@@ -1,5 +1,6 @@
-//! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins; subtrees of at
-//! least max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
+//! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins along the widest
+//! axis of the items' box centres, leaves of at most 4 triangles; subtrees of at least
+//! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
 //! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
 //! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as
 //! an interval first; children are visited nearest first.

@@ -708,3 +708,53 @@ pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle
         .collect();
     (kept, copies)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn copies_are_left_out_in_order_among_many_triangles() {
+        // 70,000 random triangles (17 index bits below each hash), some with a coordinate 0,
+        // then 20,000 more drawn from the first ones: exact copies, copies with -0 for 0, and
+        // the same vertices turned (kept). Exactly the first of each vertex list is kept, in
+        // order, and the rest are counted.
+        let mut x = 0x9e3779b97f4a7c15u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut tris: Vec<IndexedTriangle> = (0..70_000u32)
+            .map(|i| {
+                let mut v = [[0.0f32; 3]; 3];
+                for c in v.iter_mut().flatten() {
+                    *c = (next() >> 40) as f32 / 64.0;
+                }
+                if i % 5 == 0 {
+                    v[1][2] = 0.0;
+                }
+                (v, i)
+            })
+            .collect();
+        for i in 70_000..90_000u32 {
+            let (v, _) = tris[(next() % 70_000) as usize];
+            let v = match next() % 3 {
+                0 => v,
+                1 => v.map(|p| p.map(|c| if c == 0.0 { -0.0 } else { c })),
+                _ => [v[1], v[2], v[0]],
+            };
+            tris.push((v, i));
+        }
+        let key = |v: &[[f32; 3]; 3]| v.map(|p| p.map(|c| if c == 0.0 { 0 } else { c.to_bits() }));
+        let mut seen = std::collections::HashSet::new();
+        let want: Vec<IndexedTriangle> = (tris.iter().copied())
+            .filter(|(v, _)| seen.insert(key(v)))
+            .collect();
+        let (kept, copies) = without_copies(tris.clone());
+        assert_eq!(copies, tris.len() - want.len());
+        assert!(copies > 10_000, "{copies} copies");
+        assert!(kept == want);
+    }
+}
