@@ -43,6 +43,9 @@ pub(crate) trait PacketSink<V = f32x8> {
     fn limit(&self) -> V;
     /// Tests one triangle (prepared for the packet's origin) on the live lanes.
     fn take(&mut self, tri: &OriginTriangle);
+    /// [`PacketSink::take`] unless the triangle would leave a live lane undecided: then
+    /// nothing changes and the answer is false.
+    fn take_decided(&mut self, tri: &OriginTriangle) -> bool;
 }
 
 impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
@@ -62,6 +65,10 @@ impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
     fn take(&mut self, tri: &OriginTriangle) {
         self.offer(tri, tri.prim);
     }
+    #[inline(always)]
+    fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
+        self.offer_decided(tri, tri.prim)
+    }
 }
 
 impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
@@ -76,6 +83,10 @@ impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
     #[inline(always)]
     fn take(&mut self, tri: &OriginTriangle) {
         self.offer(tri);
+    }
+    #[inline(always)]
+    fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
+        self.offer_decided(tri)
     }
 }
 
@@ -453,8 +464,8 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
             ];
             let v = [&world[0], &world[1], &world[2], &world[3]];
             let quad = OriginTriangle::new4::<V::F64>(v, self.o, prim);
-            for tri in quad.iter().take(end - start) {
-                sink.take(tri);
+            for l in 0..(end - start).min(4) {
+                sink.take(&quad.get(l));
             }
             start += 4;
         }

@@ -238,7 +238,7 @@ impl OriginTriangle {
         v: [&[[f32; 3]; 3]; 4],
         o: [f32; 3],
         prim: [u32; 4],
-    ) -> [Self; 4] {
+    ) -> OriginQuad {
         const TINY: f64 = 3.0 * 1.5e-45;
         const MARGIN: f64 = 1.0 + 1e-6;
         // (Helpers as always-inlined items, not closures: a closure is compiled apart from
@@ -341,31 +341,249 @@ impl OriginTriangle {
             & me.simd_lt(big)
             & n_max.simd_lt(big);
         let fits = fits.to_bitmask();
-        let (n, k, normal) = ([f32s(n[0]), f32s(n[1]), f32s(n[2])], f32s(k), f32s(normal));
-        let (num, n_max) = (num.to_f32(), n_max.to_f32());
-        macro_rules! lane {
-            ($l:expr) => {{
-                let l = $l;
-                Self {
-                    n: [
-                        [n[0][0][l], n[0][1][l], n[0][2][l]],
-                        [n[1][0][l], n[1][1][l], n[1][2][l]],
-                        [n[2][0][l], n[2][1][l], n[2][2][l]],
-                    ],
-                    k: [k[0][l], k[1][l], k[2][l]],
-                    k_sum: k_sum[l],
-                    det_from_normal: k_sum[l] > 4.0 * k_det[l],
-                    n_max: n_max[l],
-                    num: num[l],
-                    c_t: c_t[l],
-                    normal: [normal[0][l], normal[1][l], normal[2][l]],
-                    k_det: k_det[l],
-                    prim: prim[l],
-                    usable: fits & (1 << l) != 0 && k_sum[l].is_finite() && k_det[l].is_finite(),
-                }
-            }};
+        let mut det_from_normal = 0;
+        let mut usable = 0;
+        for l in 0..4 {
+            det_from_normal |= ((k_sum[l] > 4.0 * k_det[l]) as u32) << l;
+            let finite = k_sum[l].is_finite() && k_det[l].is_finite();
+            usable |= ((fits & (1 << l) != 0 && finite) as u32) << l;
         }
-        [lane!(0), lane!(1), lane!(2), lane!(3)]
+        OriginQuad {
+            n: [f32s(n[0]), f32s(n[1]), f32s(n[2])],
+            k: f32s(k),
+            k_sum,
+            k_det,
+            n_max: n_max.to_f32(),
+            num: num.to_f32(),
+            c_t,
+            normal: f32s(normal),
+            prim,
+            det_from_normal,
+            usable,
+        }
+    }
+}
+
+/// Four triangles prepared for one origin ([`OriginTriangle::new4`]) field by field, as
+/// their lanes leave them: one store per field, where four [`OriginTriangle`]s took one per
+/// field and lane (4/5 of the preparation's instructions). Read a triangle at a time
+/// ([`OriginQuad::get`]).
+#[derive(Clone, Copy, Debug)]
+pub struct OriginQuad {
+    n: [[[f32; 4]; 3]; 3],
+    k: [[f32; 4]; 3],
+    k_sum: [f32; 4],
+    k_det: [f32; 4],
+    n_max: [f32; 4],
+    num: [f32; 4],
+    c_t: [f32; 4],
+    normal: [[f32; 4]; 3],
+    prim: [u32; 4],
+    /// Bit l: lane l's `det_from_normal`.
+    det_from_normal: u32,
+    /// Bit l: lane l's `usable`.
+    usable: u32,
+}
+
+/// Eight triangles prepared for one origin in f32 ([`OriginTriangle::new8`]), field by field
+/// as [`OriginQuad`]: a frame's cache keeps a BVH's triangles in blocks of 8.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub struct OriginBlock {
+    n: [[[f32; 8]; 3]; 3],
+    k: [[f32; 8]; 3],
+    k_sum: [f32; 8],
+    k_det: [f32; 8],
+    n_max: [f32; 8],
+    num: [f32; 8],
+    c_t: [f32; 8],
+    normal: [[f32; 8]; 3],
+    prim: [u32; 8],
+    det_from_normal: u32,
+    usable: u32,
+}
+
+/// Lane `l`'s triangle of an [`OriginQuad`] or [`OriginBlock`] (`l` masked to the width:
+/// no bounds check per field).
+macro_rules! lane_of {
+    ($s:expr, $l:expr, $width:expr) => {{
+        let (s, l) = ($s, $l & ($width - 1));
+        let n = &s.n;
+        OriginTriangle {
+            n: [
+                [n[0][0][l], n[0][1][l], n[0][2][l]],
+                [n[1][0][l], n[1][1][l], n[1][2][l]],
+                [n[2][0][l], n[2][1][l], n[2][2][l]],
+            ],
+            k: [s.k[0][l], s.k[1][l], s.k[2][l]],
+            k_sum: s.k_sum[l],
+            det_from_normal: s.det_from_normal & (1 << l) != 0,
+            n_max: s.n_max[l],
+            num: s.num[l],
+            c_t: s.c_t[l],
+            normal: [s.normal[0][l], s.normal[1][l], s.normal[2][l]],
+            k_det: s.k_det[l],
+            prim: s.prim[l],
+            usable: s.usable & (1 << l) != 0,
+        }
+    }};
+}
+
+impl OriginQuad {
+    /// Lane `l`'s triangle (`l` < 4).
+    #[inline(always)]
+    pub fn get(&self, l: usize) -> OriginTriangle {
+        debug_assert!(l < 4);
+        lane_of!(self, l, 4)
+    }
+}
+
+impl OriginBlock {
+    /// Lane `l`'s triangle (`l` < 8).
+    #[inline(always)]
+    pub fn get(&self, l: usize) -> OriginTriangle {
+        debug_assert!(l < 8);
+        lane_of!(self, l, 8)
+    }
+}
+
+impl OriginTriangle {
+    /// Eight triangles prepared for `o` in f32, lane by lane in `V`: the BVH's preparation
+    /// as its leaves are reached (f32 lanes, twice as many as f64's and no conversions), with
+    /// bounds a few times looser than [`OriginTriangle::new`]'s.
+    ///
+    /// The same quantities as `new`, each rounded in f32, with U = 2⁻²⁴: p̃ = fl(v − o) and
+    /// Ẽ = fl(vₖ − vⱼ) are within U' = U/(1 − U) of exact relative to themselves, so each
+    /// component a·b − c·d of ñᵢ = fl(p̃ⱼ × Ẽᵢ) is within
+    /// (2U + U² + 2U' + U'²)·(|a||b| + |c||d|) ≤ 4.0001U·(|a||b| + |c||d|) of exact (the two
+    /// products' input errors and three roundings), and all three together within
+    /// 4.0001U·‖p̃ⱼ‖₁‖Ẽᵢ‖₁ (plus 2⁻¹⁵⁰ per product in the subnormal range). The f32 dot
+    /// product with d adds γ₃·Σₖ|dₖ||ñᵢₖ|, so |ẽᵢ − eᵢ| ≤ Kᵢ·max|dₖ| with
+    /// Kᵢ = 4.0002U·Σₖ|ñᵢₖ| + 4.002U·‖p̃ⱼ‖₁‖Ẽᵢ‖₁ + 3·10⁻⁴⁴. Ñ = fl(Ẽ₁ × Ẽ₂) likewise
+    /// (k_det), and ñum = fl(p̃₀·Ñ) is within
+    /// 5.0003U·Σₖ|p̃₀ₖÑₖ| + max|p̃₀ₖ|·(4.002U·‖Ẽ₁‖₁‖Ẽ₂‖₁ + 3·10⁻⁴⁴) + 10⁻⁴³ of
+    /// det[p₀, p₁, p₂]. The bounds' own roundings (at most 7 in a chain, all of positive
+    /// terms) are covered by the factor 1 + 10⁻⁶. Coordinates of p̃ and Ẽ must stay below
+    /// 10¹⁸ (every product within f32's range), else the triangle is unusable.
+    #[inline(always)]
+    pub(crate) fn new8<V: Lanes>(
+        v: [&[[f32; 3]; 3]; 8],
+        o: [f32; 3],
+        prim: [u32; 8],
+    ) -> OriginBlock {
+        const U: f32 = 1.0 / (1u32 << 24) as f32;
+        const MARGIN: f32 = 1.0 + 1e-6;
+        const BIG: f32 = 1e18;
+        // (Helpers as always-inlined items, not closures: see `new4`.)
+        #[inline(always)]
+        fn c<V: Lanes>(x: f32) -> V {
+            V::splat(x)
+        }
+        #[inline(always)]
+        fn coordinate<V: Lanes>(v: &[&[[f32; 3]; 3]; 8], j: usize, k: usize) -> V {
+            V::from_array([
+                v[0][j][k], v[1][j][k], v[2][j][k], v[3][j][k], v[4][j][k], v[5][j][k], v[6][j][k],
+                v[7][j][k],
+            ])
+        }
+        #[inline(always)]
+        fn vertex<V: Lanes>(v: &[&[[f32; 3]; 3]; 8], j: usize) -> [V; 3] {
+            [
+                coordinate(v, j, 0),
+                coordinate(v, j, 1),
+                coordinate(v, j, 2),
+            ]
+        }
+        #[inline(always)]
+        fn sub<V: Lanes>(a: [V; 3], b: [V; 3]) -> [V; 3] {
+            [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+        }
+        #[inline(always)]
+        fn cross<V: Lanes>(a: [V; 3], b: [V; 3]) -> [V; 3] {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        }
+        #[inline(always)]
+        fn abs_sum<V: Lanes>(x: [V; 3]) -> V {
+            x[0].abs() + x[1].abs() + x[2].abs()
+        }
+        /// The largest |xₖ| (a NaN may be dropped: it reaches `num` and fails there).
+        #[inline(always)]
+        fn abs_max<V: Lanes>(x: [V; 3]) -> V {
+            x[0].abs().fast_max(x[1].abs()).fast_max(x[2].abs())
+        }
+        /// Kᵢ from Σₖ|ñᵢₖ| and the 1-norms of the cross product's factors.
+        #[inline(always)]
+        fn k_of<V: Lanes>(s: V, a: V, b: V) -> V {
+            (c::<V>(4.0002 * U) * s + c::<V>(4.002 * U) * (a * b) + c(3e-44)) * c(MARGIN)
+        }
+        #[inline(always)]
+        fn lanes3<V: Lanes>(x: [V; 3]) -> [[f32; 8]; 3] {
+            [x[0].to_array(), x[1].to_array(), x[2].to_array()]
+        }
+        let w = [vertex::<V>(&v, 0), vertex(&v, 1), vertex(&v, 2)];
+        let o = [c::<V>(o[0]), c(o[1]), c(o[2])];
+        let p = [sub(w[0], o), sub(w[1], o), sub(w[2], o)];
+        let e = [sub(w[2], w[1]), sub(w[0], w[2]), sub(w[1], w[0])];
+        let n = [cross(p[1], e[0]), cross(p[2], e[1]), cross(p[0], e[2])];
+        let normal = cross(e[1], e[2]);
+        let p1 = [abs_sum(p[0]), abs_sum(p[1]), abs_sum(p[2])];
+        let e1 = [abs_sum(e[0]), abs_sum(e[1]), abs_sum(e[2])];
+        let s = [abs_sum(n[0]), abs_sum(n[1]), abs_sum(n[2])];
+        let k = [
+            k_of(s[0], p1[1], e1[0]),
+            k_of(s[1], p1[2], e1[1]),
+            k_of(s[2], p1[0], e1[2]),
+        ];
+        let k_sum = (k[0] + k[1] + k[2]) * c(MARGIN);
+        let k_det = k_of(abs_sum(normal), e1[1], e1[2]);
+        let terms = [
+            p[0][0] * normal[0],
+            p[0][1] * normal[1],
+            p[0][2] * normal[2],
+        ];
+        let num = terms[0] + terms[1] + terms[2];
+        let p0_max = abs_max(p[0]);
+        let num_err = (c::<V>(5.0003 * U) * abs_sum(terms)
+            + p0_max * (c::<V>(4.002 * U) * (e1[1] * e1[2]) + c(3e-44))
+            + c(1e-43))
+            * c(MARGIN);
+        let r_num = num_err / num.abs();
+        // As in `new`: the bound of `PacketNearest`, and 2U for the rounding of t̃ ± it.
+        let c_t = (c::<V>(1.4) * (r_num + c(2.1 * U)) + c(6.0 * U)) * c(MARGIN);
+        let n_max = s[0].fast_max(s[1]).fast_max(s[2]);
+        // det's sign certain and its relative error at most 1/2 (a NaN anywhere reaches num,
+        // which involves every coordinate, and fails the comparison); p̃ and Ẽ below 10¹⁸.
+        let big = c::<V>(BIG);
+        let p_max = p0_max.fast_max(abs_max(p[1])).fast_max(abs_max(p[2]));
+        let e_max = abs_max(e[0])
+            .fast_max(abs_max(e[1]))
+            .fast_max(abs_max(e[2]));
+        #[inline(always)]
+        fn finite<V: Lanes>(x: V) -> V {
+            x.abs().simd_lt(c(f32::INFINITY))
+        }
+        let usable = num.abs().simd_gt(c::<V>(2.0) * num_err)
+            & p_max.simd_lt(big)
+            & e_max.simd_lt(big)
+            & finite(k_sum)
+            & finite(k_det);
+        OriginBlock {
+            n: [lanes3(n[0]), lanes3(n[1]), lanes3(n[2])],
+            k: lanes3(k),
+            k_sum: k_sum.to_array(),
+            k_det: k_det.to_array(),
+            n_max: n_max.to_array(),
+            num: num.to_array(),
+            c_t: c_t.to_array(),
+            normal: lanes3(normal),
+            prim,
+            det_from_normal: k_sum.simd_gt(c::<V>(4.0) * k_det).to_bitmask(),
+            usable: usable.to_bitmask(),
+        }
     }
 }
 
@@ -433,7 +651,8 @@ fn prepare4_body<V: Lanes>(
     o: [f32; 3],
     prim: [u32; 4],
 ) -> [OriginTriangle; 4] {
-    OriginTriangle::new4::<V::F64>(v, o, prim)
+    let quad = OriginTriangle::new4::<V::F64>(v, o, prim);
+    [quad.get(0), quad.get(1), quad.get(2), quad.get(3)]
 }
 
 impl OriginTriangle {
@@ -979,10 +1198,27 @@ impl<V: Lanes> PacketNearest<V> {
     /// Offers one triangle to every lane; a lane that takes it as its nearest records `id`.
     #[inline(always)]
     pub fn offer(&mut self, tri: &OriginTriangle, id: u32) {
+        self.offer_as::<false>(tri, id);
+    }
+
+    /// [`PacketNearest::offer`] unless the triangle would leave a lane ambiguous that is not
+    /// yet: then nothing changes and the answer is false (the caller offers it again with
+    /// tighter bounds, [`OriginTriangle::new`]).
+    #[inline(always)]
+    pub fn offer_decided(&mut self, tri: &OriginTriangle, id: u32) -> bool {
+        self.offer_as::<true>(tri, id)
+    }
+
+    #[inline(always)]
+    fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle, id: u32) -> bool {
         let (d, dm) = (&self.d, self.dm);
+        let all = V::zero().simd_eq(V::zero());
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
-            self.ambiguous = V::zero().simd_eq(V::zero());
-            return;
+            if DECIDED && !self.ambiguous.all() {
+                return false;
+            }
+            self.ambiguous = all;
+            return true;
         }
         let EdgeTests {
             e,
@@ -991,21 +1227,30 @@ impl<V: Lanes> PacketNearest<V> {
             behind,
         } = EdgeTests::new(tri, d, dm);
         if miss.all() {
-            return;
+            return true;
         }
-        self.ambiguous |= !(miss | front | behind);
+        let undecided = !(miss | front | behind);
+        if DECIDED && (undecided & !self.ambiguous).any() {
+            return false;
+        }
         if front.none() {
-            return;
+            self.ambiguous |= undecided;
+            return true;
         }
         let (lo, hi, tight) = t_interval(tri, &e, d, dm);
         let nearer = hi.simd_lt(self.best_lo);
         let farther = lo.simd_gt(self.best_hi);
         // Overlapping intervals, or a loose one: the per-ray search orders them.
-        self.ambiguous |= front & !(tight & (nearer | farther));
+        let unordered = front & !(tight & (nearer | farther));
+        if DECIDED && (unordered & !self.ambiguous).any() {
+            return false;
+        }
+        self.ambiguous |= undecided | unordered;
         let take = front & tight & nearer;
         self.best_lo = take.bitselect(lo, self.best_lo);
         self.best_hi = take.bitselect(hi, self.best_hi);
         self.best_prim = take.bitselect(V::splat(f32::from_bits(id)), self.best_prim);
+        true
     }
 
     /// Per lane the id of the nearest (u32::MAX for none), and the ambiguous lanes.
@@ -1101,6 +1346,18 @@ impl<V: Lanes> ShadowPacket<V> {
     /// Tests one triangle on every live lane but those it belongs to.
     #[inline(always)]
     pub fn offer(&mut self, tri: &OriginTriangle) {
+        self.offer_as::<false>(tri);
+    }
+
+    /// [`ShadowPacket::offer`] unless the triangle would leave a live lane unsure: then
+    /// nothing changes and the answer is false (see [`PacketNearest::offer_decided`]).
+    #[inline(always)]
+    pub fn offer_decided(&mut self, tri: &OriginTriangle) -> bool {
+        self.offer_as::<true>(tri)
+    }
+
+    #[inline(always)]
+    fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle) -> bool {
         let (d, dm) = (&self.d, self.dm);
         let own = self
             .skip
@@ -1108,11 +1365,14 @@ impl<V: Lanes> ShadowPacket<V> {
             .to_bitmask();
         let live = self.live() & !own;
         if live == 0 {
-            return;
+            return true;
         }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
+            if DECIDED {
+                return false;
+            }
             self.unsure |= live;
-            return;
+            return true;
         }
         let one = V::one();
         let EdgeTests {
@@ -1123,14 +1383,23 @@ impl<V: Lanes> ShadowPacket<V> {
         } = EdgeTests::new(tri, d, dm);
         let (front_bits, clear_bits) = (front.to_bitmask(), (miss | behind).to_bitmask());
         if front_bits & live == 0 {
-            self.unsure |= live & !clear_bits;
-            return;
+            let unsure = live & !clear_bits;
+            if DECIDED && unsure != 0 {
+                return false;
+            }
+            self.unsure |= unsure;
+            return true;
         }
         let (lo, hi, tight) = t_interval(tri, &e, d, dm);
         let before_end = (front & tight & hi.simd_lt(one)).to_bitmask();
         let past_end = (front & tight & lo.simd_ge(one)).to_bitmask();
+        let unsure = live & !(clear_bits | before_end | past_end);
+        if DECIDED && unsure != 0 {
+            return false;
+        }
         self.blocked |= live & before_end;
-        self.unsure |= live & !(clear_bits | before_end | past_end);
+        self.unsure |= unsure;
+        true
     }
 
     pub fn finish(self) -> ShadowHits {
@@ -1207,7 +1476,8 @@ mod tests {
     fn four_at_a_time_prepares_the_same_bits_as_one_by_one() {
         #[target_feature(enable = "avx2,fma")]
         fn avx(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
-            OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim)
+            let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
+            [0, 1, 2, 3].map(|l| quad.get(l))
         }
         let tris = triangles();
         for o in [[0.0f32, 0.0, 0.0], [0.3, -0.2, -3.0], [1e6, 2.0, -1e-3]] {
@@ -1215,7 +1485,8 @@ mod tests {
                 let v = [&quad[0], &quad[1], &quad[2], &quad[3]];
                 let prim = [0, 1, 2, 3].map(|j| (4 * q + j) as u32);
                 let one = (0..4).map(|j| bits(&OriginTriangle::new(v[j], o, prim[j])));
-                let wide = OriginTriangle::new4::<f64x4>(v, o, prim).map(|t| bits(&t));
+                let quad = OriginTriangle::new4::<f64x4>(v, o, prim);
+                let wide = [0, 1, 2, 3].map(|l| bits(&quad.get(l)));
                 for (j, one) in one.enumerate() {
                     assert_eq!(one, wide[j], "{:?} from {o:?}", v[j]);
                     if crate::math::simd::has_avx2() {
@@ -1226,6 +1497,121 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The bounds the kernels rely on, against exact rational arithmetic: for every usable
+    /// triangle and direction d, |ẽᵢ − eᵢ| ≤ Kᵢ·max|dₖ| + EDGE_ABS (ẽᵢ computed as the kernels
+    /// compute it), |d·Ñ − d·N| ≤ k_det·max|dₖ| + EDGE_ABS, Σ Kᵢ ≤ k_sum, and det[p₀, p₁, p₂]
+    /// within the relative error c_t allows of num (so its sign is num's). Returns how many
+    /// edge functions came within 4 bounds of zero (the test must reach the hard cases).
+    fn check_bounds(tri: &OriginTriangle, v: &[[f32; 3]; 3], o: [f32; 3], d: [f32; 3]) -> usize {
+        use crate::geometry::exact::{dot, q, qv, sub, Q, QV};
+        use num_traits::Signed;
+        const U: f64 = 1.0 / (1u64 << 24) as f64;
+        let cross = |a: &QV, b: &QV| -> QV {
+            [
+                &a[1] * &b[2] - &a[2] * &b[1],
+                &a[2] * &b[0] - &a[0] * &b[2],
+                &a[0] * &b[1] - &a[1] * &b[0],
+            ]
+        };
+        let wide = |x: [f32; 3]| x.map(f64::from);
+        let (oq, dq) = (qv(wide(o)), qv(wide(d)));
+        let p: Vec<QV> = v.iter().map(|v| sub(&qv(wide(*v)), &oq)).collect();
+        let dm = d.iter().fold(0f32, |m, c| m.max(c.abs())) * (1.0 + 1e-6);
+        let within = |computed: f32, exact: &Q, bound: f32, what: &str| {
+            let err = (q(f64::from(computed)) - exact).abs();
+            assert!(
+                err <= q(f64::from(bound)),
+                "{what}: {computed} off by {err} > {bound} for {v:?} from {o:?} along {d:?}"
+            );
+        };
+        let mut close = 0;
+        for i in 0..3 {
+            let exact = dot(&dq, &cross(&p[(i + 1) % 3], &p[(i + 2) % 3]));
+            let n = &tri.n[i];
+            let e = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+            let bound = tri.k[i] * dm + EDGE_ABS;
+            within(e, &exact, bound, "edge function");
+            close += (e.abs() <= 4.0 * bound) as usize;
+        }
+        assert!(tri.k.iter().map(|&k| f64::from(k)).sum::<f64>() <= f64::from(tri.k_sum));
+        let normal = cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]));
+        let n = &tri.normal;
+        let det = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        within(
+            det,
+            &dot(&dq, &normal),
+            tri.k_det * dm + EDGE_ABS,
+            "determinant",
+        );
+        let num = dot(&p[0], &normal);
+        let r_num = (f64::from(tri.c_t) / (1.0 + 1e-6) - 6.0 * U) / 1.4 - 2.1 * U;
+        within(
+            tri.num,
+            &num,
+            (r_num * f64::from(tri.num).abs()) as f32,
+            "numerator",
+        );
+        close
+    }
+
+    /// Directions at the triangle's edges and vertices (and a little off them) and random
+    /// ones, from `o`.
+    fn directions(v: &[[f32; 3]; 3], o: [f32; 3], next: &mut impl FnMut() -> f32) -> Vec<[f32; 3]> {
+        let mut out = Vec::new();
+        for j in 0..3 {
+            let (a, b) = (v[j], v[(j + 1) % 3]);
+            for s in [0.0f32, 0.5, next() + 0.5, 1.0] {
+                let at = each3(|k| a[k] + s * (b[k] - a[k]));
+                let d = each3(|k| at[k] - o[k]);
+                out.push(d);
+                out.push(each3(|k| d[k] * (1.0 + 1e-6 * next())));
+            }
+        }
+        out.push([next(), next(), next()]);
+        out
+    }
+
+    #[test]
+    fn both_preparations_bound_their_errors_exactly() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+        };
+        let tris = triangles();
+        let (mut usable, mut close) = ([0usize; 2], 0);
+        for o in [
+            [0.0f32, 0.0, 0.0],
+            [0.3, -0.2, -3.0],
+            [1e6, 2.0, -1e-3],
+            [0.01, 0.02, 40.0],
+        ] {
+            for block in tris.chunks(8) {
+                let v: [&[[f32; 3]; 3]; 8] =
+                    std::array::from_fn(|j| &block[j.min(block.len() - 1)]);
+                let prim = std::array::from_fn(|j| j as u32);
+                let f32s = OriginTriangle::new8::<f32x8>(v, o, prim);
+                for (j, v) in v.iter().enumerate().take(block.len()) {
+                    let kinds = [OriginTriangle::new(v, o, 0), f32s.get(j)];
+                    for (kind, tri) in kinds.iter().enumerate() {
+                        if !tri.usable {
+                            continue;
+                        }
+                        usable[kind] += 1;
+                        for d in directions(v, o, &mut next) {
+                            close += check_bounds(tri, v, o, d);
+                        }
+                    }
+                }
+            }
+        }
+        // Most of the suite is usable in f32 too (not the 1e30 scale, not the non-finite).
+        assert!(usable[1] * 10 >= usable[0] * 7, "usable: {usable:?}");
+        assert!(close > 1000, "{close} edge functions near zero");
     }
 
     #[test]

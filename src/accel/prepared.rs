@@ -14,7 +14,7 @@
 //! visit and a copy for leaves across two blocks (−6.5%); one flat array, with a leaf across
 //! two blocks handed on as two slices, gave −11.9%.
 
-use super::packet::{OriginTriangle, OriginTriangles};
+use super::packet::{OriginBlock, OriginTriangles};
 use std::fmt;
 use std::sync::{Mutex, OnceLock};
 
@@ -57,13 +57,9 @@ impl<'a> Prepared<'a> {
     }
 }
 
-/// Triangle positions per block: the unit a cache prepares (two quads of
-/// [`OriginTriangle::new4`]; a BVH leaf of up to 4 triangles lies in one block or two).
+/// Triangle positions per block: the unit a cache prepares (the lanes of
+/// [`OriginTriangle::new8`]; a BVH leaf of up to 4 triangles lies in one block or two).
 pub(crate) const BLOCK: usize = 8;
-
-/// A block's triangles prepared, as two quads (past the hierarchy's end, copies of its
-/// last).
-pub(crate) type Block = [[OriginTriangle; 4]; 2];
 
 /// One frame's triangles prepared for one origin, a block of [`BLOCK`] positions of the
 /// hierarchy's order at a time, as the frame's threads first reach them (two threads that
@@ -75,7 +71,7 @@ pub(crate) struct LeafCache {
     /// How many triangles the hierarchy has.
     len: usize,
     /// The blocks, in order.
-    blocks: Box<[OnceLock<Block>]>,
+    blocks: Box<[OnceLock<OriginBlock>]>,
 }
 
 impl fmt::Debug for LeafCache {
@@ -107,22 +103,20 @@ impl LeafCache {
 
     /// Bytes the cache holds (about as much as a full list of the prepared triangles).
     pub(crate) fn memory_bytes(&self) -> usize {
-        self.blocks.len() * size_of::<OnceLock<Block>>()
+        self.blocks.len() * size_of::<OnceLock<OriginBlock>>()
     }
 
     /// Block `block` if it is prepared this frame.
     #[inline(always)]
-    pub(crate) fn block(&self, block: usize) -> Option<&[OriginTriangle; BLOCK]> {
-        let quads = self.blocks[block].get()?;
-        quads.as_flattened().try_into().ok()
+    pub(crate) fn block(&self, block: usize) -> Option<&OriginBlock> {
+        self.blocks[block].get()
     }
 
     /// Keeps `prepared` as block `block` for the frame, unless another thread kept it first:
     /// the block kept.
     #[inline(never)]
-    pub(crate) fn keep(&self, block: usize, prepared: &Block) -> &[OriginTriangle; BLOCK] {
-        let quads = self.blocks[block].get_or_init(|| *prepared);
-        quads.as_flattened().try_into().expect("two quads")
+    pub(crate) fn keep(&self, block: usize, prepared: &OriginBlock) -> &OriginBlock {
+        self.blocks[block].get_or_init(|| *prepared)
     }
 }
 
