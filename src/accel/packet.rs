@@ -6,8 +6,11 @@
 //! All camera rays of a frame leave the same origin o. With pᵢ = vᵢ − o, the exact
 //! predicates of the adaptive method are the signs of eᵢ = d·(pⱼ × pₖ) ((i, j, k) cyclic; eᵢ
 //! weighs vertex i) and t = det[p₀, p₁, p₂] / (e₀ + e₁ + e₂). The cross products and the
-//! determinant depend on the triangle alone, so they are computed once per frame in f64
-//! with bounds on their error ([`OriginTriangles::new`]); per ray and triangle there remain
+//! determinant depend on the triangle alone, so they are computed once per frame with bounds
+//! on their error: in f64 for a frame's lists ([`OriginTriangles::new`]), in f32 for a BVH's
+//! leaves (`OriginTriangle::new8`, bounds about twice as loose; a triangle those leave
+//! undecided for a live lane is prepared again in f64, [`PacketNearest::offer_decided`]);
+//! per ray and triangle there remain
 //! three f32 dot products, whose rounding error is at most Kᵢ·max|dₖ| with Kᵢ fixed per
 //! triangle. An eᵢ beyond that bound has a certain sign, t comes with a certain interval,
 //! and a lane keeps the nearest candidate only while its interval lies wholly below the
@@ -124,8 +127,9 @@ impl Default for PacketSeed {
 }
 
 impl OriginTriangle {
-    /// Prepares triangle `v` for rays from `o` (about 365 instructions; the frame's lists and
-    /// the BVH leaves prepare four at a time with [`OriginTriangle::new4`], about 145 each).
+    /// Prepares triangle `v` for rays from `o` (about 365 instructions; the frame's lists
+    /// prepare four at a time with `OriginTriangle::new4`, the BVH leaves eight at a time in
+    /// f32 with `OriginTriangle::new8`).
     ///
     /// The edge functions are taken as eᵢ = d·(pⱼ × Eᵢ) with the edge Eᵢ = vₖ − vⱼ (exactly
     /// d·(pⱼ × pₖ), as pₖ = pⱼ + Eᵢ), the normal as N = E₁ × E₂ (= (v₁ − v₀) × (v₂ − v₀)) and
@@ -369,7 +373,7 @@ impl OriginTriangle {
 /// field and lane (4/5 of the preparation's instructions). Read a triangle at a time
 /// ([`OriginQuad::get`]).
 #[derive(Clone, Copy, Debug)]
-pub struct OriginQuad {
+pub(crate) struct OriginQuad {
     n: [[[f32; 4]; 3]; 3],
     k: [[f32; 4]; 3],
     k_sum: [f32; 4],
@@ -389,7 +393,7 @@ pub struct OriginQuad {
 /// as [`OriginQuad`]: a frame's cache keeps a BVH's triangles in blocks of 8.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
-pub struct OriginBlock {
+pub(crate) struct OriginBlock {
     n: [[[f32; 8]; 3]; 3],
     k: [[f32; 8]; 3],
     k_sum: [f32; 8],
@@ -432,7 +436,7 @@ macro_rules! lane_of {
 impl OriginQuad {
     /// Lane `l`'s triangle (`l` < 4).
     #[inline(always)]
-    pub fn get(&self, l: usize) -> OriginTriangle {
+    pub(crate) fn get(&self, l: usize) -> OriginTriangle {
         debug_assert!(l < 4);
         lane_of!(self, l, 4)
     }
@@ -441,7 +445,7 @@ impl OriginQuad {
 impl OriginBlock {
     /// Lane `l`'s triangle (`l` < 8).
     #[inline(always)]
-    pub fn get(&self, l: usize) -> OriginTriangle {
+    pub(crate) fn get(&self, l: usize) -> OriginTriangle {
         debug_assert!(l < 8);
         lane_of!(self, l, 8)
     }
@@ -449,8 +453,13 @@ impl OriginBlock {
 
 impl OriginTriangle {
     /// Eight triangles prepared for `o` in f32, lane by lane in `V`: the BVH's preparation
-    /// as its leaves are reached (f32 lanes, twice as many as f64's and no conversions), with
-    /// bounds a few times looser than [`OriginTriangle::new`]'s.
+    /// as its leaves are reached (f32 lanes, twice as many as f64's and no conversions: about
+    /// 65 instructions a triangle with its gather and the cache, against about 160 for
+    /// [`OriginTriangle::new4`] with its per-lane stores, callgrind, Igea 640×360), with
+    /// edge bounds about twice [`OriginTriangle::new`]'s. Alone, those sent 2.7 times as
+    /// many lanes of the 1M-triangle mesh to the per-ray search (906 against 339 in two
+    /// frames at 640×360, 16k instructions each); the walks therefore offer a triangle that
+    /// leaves a live lane undecided again as `new` prepares it.
     ///
     /// The same quantities as `new`, each rounded in f32, with U = 2⁻²⁴: p̃ = fl(v − o) and
     /// Ẽ = fl(vₖ − vⱼ) are within U' = U/(1 − U) of exact relative to themselves, so each
