@@ -30,6 +30,15 @@
 //! checking the CPU at run time (`math::simd::has_avx2`).
 #![deny(unsafe_code)]
 
+/// The unit tests' xorshift generator: steps `x` and returns it.
+#[cfg(test)]
+pub(crate) fn xorshift(x: &mut u64) -> u64 {
+    *x ^= *x << 13;
+    *x ^= *x >> 7;
+    *x ^= *x << 17;
+    *x
+}
+
 pub mod accel;
 pub mod camera;
 pub mod controller;

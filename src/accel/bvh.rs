@@ -1345,12 +1345,7 @@ mod tests {
     /// [0, 10)³.
     pub(super) fn scattered(n: u32, seed: u64, size: f32) -> Vec<IndexedTriangle> {
         let mut x = seed;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32 * 10.0
-        };
+        let mut next = || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32 * 10.0;
         (0..n)
             .map(|i| {
                 let p = [next(), next(), next()];

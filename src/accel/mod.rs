@@ -720,12 +720,7 @@ mod tests {
         // the same vertices turned (kept). Exactly the first of each vertex list is kept, in
         // order, and the rest are counted.
         let mut x = 0x9e3779b97f4a7c15u64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = move || crate::xorshift(&mut x);
         let mut tris: Vec<IndexedTriangle> = (0..70_000u32)
             .map(|i| {
                 let mut v = [[0.0f32; 3]; 3];

@@ -1431,6 +1431,11 @@ mod tests {
     use super::*;
     use crate::math::lanes::f64x4;
 
+    /// Values in [−0.5, 0.5) from the crate's test generator seeded with `seed`.
+    fn unit_steps(mut seed: u64) -> impl FnMut() -> f32 {
+        move || (crate::xorshift(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+    }
+
     /// Every field's bits.
     fn bits(t: &OriginTriangle) -> Vec<u32> {
         let mut b: Vec<u32> = t.n.iter().flatten().map(|x| x.to_bits()).collect();
@@ -1445,13 +1450,7 @@ mod tests {
     /// degenerate and tiny ones, ones through the origin's plane, huge and non-finite
     /// coordinates.
     fn triangles() -> Vec<[[f32; 3]; 3]> {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5
-        };
+        let mut next = unit_steps(0x9e37_79b9_7f4a_7c15);
         let mut tris = Vec::new();
         for scale in [1e-30f32, 1e-6, 1.0, 1e3, 1e12, 1e30] {
             for _ in 0..64 {
@@ -1584,13 +1583,7 @@ mod tests {
 
     #[test]
     fn both_preparations_bound_their_errors_exactly() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 - 0.5
-        };
+        let mut next = unit_steps(0x2545_f491_4f6c_dd1d);
         let tris = triangles();
         let (mut usable, mut close) = ([0usize; 2], 0);
         for o in [

@@ -572,14 +572,7 @@ fn cross(a: &QV, b: &QV) -> QV {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The tests' xorshift generator: steps `x` and returns it.
-    fn xorshift(x: &mut u64) -> u64 {
-        *x ^= *x << 13;
-        *x ^= *x >> 7;
-        *x ^= *x << 17;
-        *x
-    }
+    use crate::xorshift;
 
     fn t(a: f64, b: f64, s: f64) -> ExactT {
         ExactT {

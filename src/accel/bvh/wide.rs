@@ -871,12 +871,7 @@ mod tests {
         let bvh = Bvh::build(&tris);
         let (vertices, prims) = bvh.triangles();
         let mut x = 0x9e3779b97f4a7c15u64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
         let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
         let mut shadow_decided = 0;
         for _ in 0..300 {
