@@ -544,8 +544,8 @@ impl Bvh {
 
     /// The triangles `start..end` (at most 8; positions in the hierarchy's order) prepared
     /// for `o` in `V`'s lanes ([`OriginTriangle::new8`]); a short block repeats its last
-    /// triangle. (Plain indexing, no closures or iterators: in the AVX2 kernels those stayed
-    /// calls, and their lane operations with them.)
+    /// triangle. (Plain indexing into the lanes, no closures or iterators over them: in the
+    /// AVX2 kernels those stayed calls, and their lane operations with them.)
     #[inline(always)]
     fn prepare_block<V: Lanes>(&self, start: usize, end: usize, o: [f32; 3]) -> OriginBlock {
         let last = end - 1;
@@ -868,10 +868,7 @@ impl LeafTriangles<'_> {
     fn get(&self, j: usize) -> OriginTriangle {
         match self {
             LeafTriangles::Listed(list) => list[j],
-            LeafTriangles::Blocks { blocks, start, .. } => match start + j {
-                l if l < BLOCK => blocks[0].get(l),
-                l => blocks[1].get(l - BLOCK),
-            },
+            LeafTriangles::Blocks { blocks, start, .. } => block_lane(blocks, *start, j),
         }
     }
 }

@@ -64,9 +64,10 @@ pub const NO_HIT: u32 = u32::MAX;
 /// the light) at most once per frame, a block of 8 as a packet first reaches it, and kept for
 /// the frame's other packets (`prepared::LeafCache`); beyond, as each packet meets them (a
 /// frame then meets few triangles twice). Preparing one costs about 65 instructions, eight
-/// at a time in f32 (callgrind; about 145 in f64 until session 21). At the framing cameras of `raylab bench`, a frame reaches 28k of
-/// the bunny's 69k triangles at 640×360 (59k times) and Igea's 1:4 subdivision meets 285k
-/// of its 1.07M triangles at 1280×720 (306k times). The cache over preparing every triangle
+/// at a time in f32 (callgrind; about 145 in f64 until session 21). At the framing cameras
+/// of `raylab bench`, a frame reaches 28k of the bunny's 69k triangles at 640×360 (59k
+/// times) and Igea's 1:4 subdivision meets 285k of its 1.07M triangles at 1280×720 (306k
+/// times). The cache over preparing every triangle
 /// beforehand (session 16): bunny flat 640×360 −11.9% instructions, 1280×720 −3.2%, shadows
 /// −10.6% and −3.6%. Up to 2 triangles a ray rather than 1 (session 17): Igea 640×360 flat
 /// −3.4%, shadows −6.9%, bunny 320×180 −3.9%; at 4.7 (Igea 320×180) the cache cost 26% more

@@ -10,14 +10,13 @@
 //! on their error: in f64 for a frame's lists ([`OriginTriangles::new`]), in f32 for a BVH's
 //! leaves (`OriginTriangle::new8`, bounds about twice as loose; a triangle those leave
 //! undecided for a live lane is prepared again in f64, [`PacketNearest::offer_decided`]);
-//! per ray and triangle there remain
-//! three f32 dot products, whose rounding error is at most Kᵢ·max|dₖ| with Kᵢ fixed per
-//! triangle. An eᵢ beyond that bound has a certain sign, t comes with a certain interval,
-//! and a lane keeps the nearest candidate only while its interval lies wholly below the
-//! others'. Every lane that cannot be decided so (a ray within rounding of an edge, two hits
-//! too close to order, a degenerate case) is reported `ambiguous`, and the caller traces it
-//! with the per-ray adaptive search, which decides exactly. So a decided lane's primitive is
-//! exactly the one the per-ray search returns.
+//! per ray and triangle there remain three f32 dot products, whose rounding error is at most
+//! Kᵢ·max|dₖ| with Kᵢ fixed per triangle. An eᵢ beyond that bound has a certain sign, t
+//! comes with a certain interval, and a lane keeps the nearest candidate only while its
+//! interval lies wholly below the others'. Every lane that cannot be decided so (a ray
+//! within rounding of an edge, two hits too close to order, a degenerate case) is reported
+//! `ambiguous`, and the caller traces it with the per-ray adaptive search, which decides
+//! exactly. So a decided lane's primitive is exactly the one the per-ray search returns.
 
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{Approx, Estimate};
@@ -26,6 +25,7 @@ use crate::math::lanes::{f32x8, Lanes, Lanes64};
 use crate::math::simd::{avx2_or_baseline, each3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
+use std::ops::{Mul, Sub};
 
 /// Unit roundoff of f32 and f64.
 const U32: f64 = 1.0 / (1u64 << 24) as f64;
@@ -126,6 +126,23 @@ impl Default for PacketSeed {
     }
 }
 
+/// a − b, for the preparations' f64, f64-lane and f32-lane arithmetic alike (always inlined:
+/// in the AVX2 kernels a call would leave the lane operations as calls too).
+#[inline(always)]
+fn sub<T: Copy + Sub<Output = T>>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// a × b, as [`sub`].
+#[inline(always)]
+fn cross<T: Copy + Sub<Output = T> + Mul<Output = T>>(a: [T; 3], b: [T; 3]) -> [T; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 impl OriginTriangle {
     /// Prepares triangle `v` for rays from `o` (about 365 instructions; the frame's lists
     /// prepare four at a time with `OriginTriangle::new4`, the BVH leaves eight at a time in
@@ -152,18 +169,6 @@ impl OriginTriangle {
         #[inline(always)]
         fn widen(x: [f32; 3]) -> [f64; 3] {
             [f64::from(x[0]), f64::from(x[1]), f64::from(x[2])]
-        }
-        #[inline(always)]
-        fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-            [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-        }
-        #[inline(always)]
-        fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
         }
         /// The largest |xᵢₖ| (a NaN never replaces the maximum so far).
         #[inline(always)]
@@ -276,18 +281,6 @@ impl OriginTriangle {
         fn k_of<D: Lanes64>(s: D, n_err: D) -> D {
             ((c::<D>(4.0002 * U32) * s + n_err) * c(MARGIN)).round_f32()
         }
-        #[inline(always)]
-        fn sub<D: Lanes64>(a: [D; 3], b: [D; 3]) -> [D; 3] {
-            [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-        }
-        #[inline(always)]
-        fn cross<D: Lanes64>(a: [D; 3], b: [D; 3]) -> [D; 3] {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
-        }
         /// As `abs_max` in `new`: a lane's maximum so far is replaced only by a larger |x|.
         #[inline(always)]
         fn abs_max<D: Lanes64>(x: &[[D; 3]; 3]) -> D {
@@ -369,9 +362,9 @@ impl OriginTriangle {
 }
 
 /// Four triangles prepared for one origin ([`OriginTriangle::new4`]) field by field, as
-/// their lanes leave them: one store per field, where four [`OriginTriangle`]s took one per
-/// field and lane (4/5 of the preparation's instructions). Read a triangle at a time
-/// ([`OriginQuad::get`]).
+/// their lanes leave them: one store per field rather than one per field and lane (for these
+/// f64 quads about 1% of a frame, against 4/5 of the f32 preparation's instructions, see
+/// `new8`). Read a triangle at a time ([`OriginQuad::get`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct OriginQuad {
     n: [[[f32; 4]; 3]; 3],
@@ -501,18 +494,6 @@ impl OriginTriangle {
                 coordinate(v, j, 0),
                 coordinate(v, j, 1),
                 coordinate(v, j, 2),
-            ]
-        }
-        #[inline(always)]
-        fn sub<V: Lanes>(a: [V; 3], b: [V; 3]) -> [V; 3] {
-            [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-        }
-        #[inline(always)]
-        fn cross<V: Lanes>(a: [V; 3], b: [V; 3]) -> [V; 3] {
-            [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
             ]
         }
         #[inline(always)]
@@ -1221,12 +1202,11 @@ impl<V: Lanes> PacketNearest<V> {
     #[inline(always)]
     fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle, id: u32) -> bool {
         let (d, dm) = (&self.d, self.dm);
-        let all = V::zero().simd_eq(V::zero());
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
             if DECIDED && !self.ambiguous.all() {
                 return false;
             }
-            self.ambiguous = all;
+            self.ambiguous = V::zero().simd_eq(V::zero());
             return true;
         }
         let EdgeTests {
