@@ -19,7 +19,7 @@ use super::packet::{
     quad_indices, OriginBlock, OriginTriangle, OriginTriangles, PacketHits, PacketNearest,
     PacketSeed, ShadowHits, ShadowPacket,
 };
-use super::prepared::{LeafCache, Prepared, BLOCK};
+use super::prepared::{LeafCache, Prepared, Reached, BLOCK};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -29,7 +29,6 @@ use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use ::wide::f32x4;
 use rayon::prelude::*;
-use std::mem::MaybeUninit;
 
 mod wide;
 pub use wide::MAX_ITEMS;
@@ -425,9 +424,9 @@ impl Bvh {
         } else {
             d_max
         };
+        let mut scratch = None;
         self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
             let leaf = first..first + count;
-            let mut scratch = MaybeUninit::uninit();
             // (Per ray for the lanes packets leave ambiguous: the baseline lanes, the same bits.)
             let tris =
                 self.leaf_triangles::<f32x8>(prepared, first, first + count, ray.o, &mut scratch);
@@ -537,6 +536,7 @@ impl Bvh {
             bvh: self,
             o,
             prepared,
+            scratch: None,
         };
         self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves);
         nearest.finish()
@@ -547,7 +547,13 @@ impl Bvh {
     /// triangle. (Plain indexing into the lanes, no closures or iterators over them: in the
     /// AVX2 kernels those stayed calls, and their lane operations with them.)
     #[inline(always)]
-    fn prepare_block<V: Lanes>(&self, start: usize, end: usize, o: [f32; 3]) -> OriginBlock {
+    fn prepare_block<V: Lanes>(
+        &self,
+        start: usize,
+        end: usize,
+        o: [f32; 3],
+        out: &mut OriginBlock,
+    ) {
         let last = end - 1;
         let i: [usize; BLOCK] = std::array::from_fn(|j| (start + j).min(last));
         let t = &self.tris;
@@ -560,13 +566,14 @@ impl Bvh {
             [
                 p[i[0]], p[i[1]], p[i[2]], p[i[3]], p[i[4]], p[i[5]], p[i[6]], p[i[7]],
             ],
-        )
+            out,
+        );
     }
 
     /// The leaf `first..end` (at most 4 triangles) prepared for `o` as lanes 0–3 of a block
     /// (lanes 4–7 repeat them: their coordinates are gathered once, 4 lanes at a time).
     #[inline(always)]
-    fn prepare_leaf<V: Lanes>(&self, first: usize, end: usize, o: [f32; 3]) -> OriginBlock {
+    fn prepare_leaf<V: Lanes>(&self, first: usize, end: usize, o: [f32; 3], out: &mut OriginBlock) {
         let [i0, i1, i2, i3] = quad_indices(first, end);
         let t = &self.tris;
         let p = &self.prims;
@@ -578,7 +585,8 @@ impl Bvh {
             [t[0], t[1], t[2], t[3], t[0], t[1], t[2], t[3]],
             o,
             [p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]],
-        )
+            out,
+        );
     }
 
     /// The triangle at `position` prepared for `o` with [`OriginTriangle::new`]'s tight
@@ -599,14 +607,16 @@ impl Bvh {
         first: usize,
         end: usize,
         o: [f32; 3],
-        scratch: &'q mut MaybeUninit<OriginBlock>,
+        scratch: &'q mut Option<OriginBlock>,
     ) -> LeafTriangles<'q> {
         debug_assert!(end - first <= MAX_LEAF);
         let len = end - first;
         match prepared {
             Prepared::All(list) => LeafTriangles::Listed(&list.tris[first..end]),
             Prepared::AsMet => {
-                let block = &*scratch.write(self.prepare_leaf::<V>(first, end, o));
+                let block = scratch.get_or_insert_with(OriginBlock::default);
+                self.prepare_leaf::<V>(first, end, o, block);
+                let block = &*block;
                 LeafTriangles::Blocks {
                     blocks: [block, block],
                     start: 0,
@@ -641,9 +651,15 @@ impl Bvh {
         if let Some(ready) = cache.block(block) {
             return ready;
         }
-        let start = block * BLOCK;
-        let prepared = self.prepare_block::<V>(start, self.tris.len().min(start + BLOCK), o);
-        cache.keep(block, &prepared)
+        match cache.reach(block) {
+            Reached::Ready(ready) => ready,
+            Reached::Claimed(mut claim) => {
+                let start = block * BLOCK;
+                let end = self.tris.len().min(start + BLOCK);
+                self.prepare_block::<V>(start, end, o, claim.block());
+                claim.ready()
+            }
+        }
     }
 
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
@@ -706,6 +722,7 @@ impl Bvh {
             bvh: self,
             o,
             prepared,
+            scratch: None,
         };
         self.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
@@ -779,6 +796,7 @@ impl Bvh {
             bvh: self,
             o,
             prepared,
+            scratch: None,
         };
         self.walk_packet(&rays, 0.0, &mut packet, &mut leaves);
         packet.finish()
@@ -887,14 +905,16 @@ struct OwnLeaves<'a> {
     bvh: &'a Bvh,
     o: [f32; 3],
     prepared: Prepared<'a>,
+    /// Where a leaf prepared as met is written (made at the walk's first such leaf).
+    scratch: Option<OriginBlock>,
 }
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
-        let mut scratch = MaybeUninit::uninit();
         let end = first + count;
-        let tris = (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut scratch);
+        let tris =
+            (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
         match tris {
             LeafTriangles::Listed(list) => list.iter().for_each(|t| sink.take(t)),
             LeafTriangles::Blocks { blocks, start, len } => {
@@ -921,14 +941,16 @@ struct PositionLeaves<'a> {
     bvh: &'a Bvh,
     o: [f32; 3],
     prepared: Prepared<'a>,
+    /// Where a leaf prepared as met is written (made at the walk's first such leaf).
+    scratch: Option<OriginBlock>,
 }
 
 impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, nearest: &mut PacketNearest<V>, first: usize, count: usize) {
-        let mut scratch = MaybeUninit::uninit();
         let end = first + count;
-        let tris = (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut scratch);
+        let tris =
+            (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
         match tris {
             LeafTriangles::Listed(list) => {
                 for (j, tri) in list.iter().enumerate() {
@@ -1493,17 +1515,21 @@ mod tests {
         for origin in [[5.1, 4.2, 15.0], [-3.0, 5.5, 4.75]] {
             let cache = pool.take(bvh.len(), origin);
             let want: Vec<OriginTriangle> = (0..bvh.len())
-                .map(|i| bvh.prepare_block::<f32x8>(i, i + 1, origin).get(0))
+                .map(|i| {
+                    let mut block = OriginBlock::default();
+                    bvh.prepare_block::<f32x8>(i, i + 1, origin, &mut block);
+                    block.get(0)
+                })
                 .collect();
             let check = |order: usize| {
                 for k in 0..3 * leaves.len() {
                     let (first, end) = leaves[(k * order) % leaves.len()];
-                    let mut scratch = MaybeUninit::uninit();
+                    let mut scratch = None;
                     let prepared = Prepared::Once(&cache);
                     let tris =
                         bvh.leaf_triangles::<f32x8>(prepared, first, end, origin, &mut scratch);
                     assert_eq!(tris.len(), end - first);
-                    let mut scratch = MaybeUninit::uninit();
+                    let mut scratch = None;
                     let met = bvh.leaf_triangles::<f32x8>(
                         Prepared::AsMet,
                         first,

@@ -384,7 +384,7 @@ pub(crate) struct OriginQuad {
 
 /// Eight triangles prepared for one origin in f32 ([`OriginTriangle::new8`]), field by field
 /// as [`OriginQuad`]: a frame's cache keeps a BVH's triangles in blocks of 8.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
 pub(crate) struct OriginBlock {
     n: [[[f32; 8]; 3]; 3],
@@ -442,6 +442,17 @@ impl OriginBlock {
         debug_assert!(l < 8);
         lane_of!(self, l, 8)
     }
+
+    /// The lanes' primitive indices.
+    #[cfg(test)]
+    pub(crate) fn prims(&self) -> [u32; 8] {
+        self.prim
+    }
+
+    #[cfg(test)]
+    pub(crate) fn set_prims(&mut self, prims: [u32; 8]) {
+        self.prim = prims;
+    }
 }
 
 impl OriginTriangle {
@@ -467,12 +478,16 @@ impl OriginTriangle {
     /// det[p₀, p₁, p₂]. The bounds' own roundings (at most 7 in a chain, all of positive
     /// terms) are covered by the factor 1 + 10⁻⁶. Coordinates of p̃ and Ẽ must stay below
     /// 10¹⁸ (every product within f32's range), else the triangle is unusable.
+    ///
+    /// Written into `out`: a frame's cache has its blocks written in place
+    /// ([`super::prepared::Claim`]).
     #[inline(always)]
     pub(crate) fn new8<V: Lanes>(
         v: [&[[f32; 3]; 3]; 8],
         o: [f32; 3],
         prim: [u32; 8],
-    ) -> OriginBlock {
+        out: &mut OriginBlock,
+    ) {
         const U: f32 = 1.0 / (1u32 << 24) as f32;
         const MARGIN: f32 = 1.0 + 1e-6;
         const BIG: f32 = 1e18;
@@ -561,7 +576,7 @@ impl OriginTriangle {
             & e_max.simd_lt(big)
             & finite(k_sum)
             & finite(k_det);
-        OriginBlock {
+        *out = OriginBlock {
             n: [lanes3(n[0]), lanes3(n[1]), lanes3(n[2])],
             k: lanes3(k),
             k_sum: k_sum.to_array(),
@@ -573,7 +588,7 @@ impl OriginTriangle {
             prim,
             det_from_normal: k_sum.simd_gt(c::<V>(4.0) * k_det).to_bitmask(),
             usable: usable.to_bitmask(),
-        }
+        };
     }
 }
 
@@ -1576,7 +1591,8 @@ mod tests {
                 let v: [&[[f32; 3]; 3]; 8] =
                     std::array::from_fn(|j| &block[j.min(block.len() - 1)]);
                 let prim = std::array::from_fn(|j| j as u32);
-                let f32s = OriginTriangle::new8::<f32x8>(v, o, prim);
+                let mut f32s = OriginBlock::default();
+                OriginTriangle::new8::<f32x8>(v, o, prim, &mut f32s);
                 for (j, v) in v.iter().enumerate().take(block.len()) {
                     let kinds = [OriginTriangle::new(v, o, 0), f32s.get(j)];
                     for (kind, tri) in kinds.iter().enumerate() {

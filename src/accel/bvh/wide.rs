@@ -914,6 +914,7 @@ mod tests {
                     bvh: &bvh,
                     o,
                     prepared: Prepared::from_list(prepared),
+                    scratch: None,
                 };
                 let lanes = LaneTest {
                     rays: &rays,
