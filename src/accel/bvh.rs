@@ -386,7 +386,8 @@ impl Bvh {
             // triangles: one visit of all of them served only the first and last blocks of
             // a frame's cache, and the rest went untested).
             for first in (0..self.prims.len()).step_by(MAX_LEAF) {
-                leaves.visit(sink, first, MAX_LEAF.min(self.prims.len() - first));
+                let count = MAX_LEAF.min(self.prims.len() - first);
+                leaves.visit(sink, first, count, sink.live());
             }
             return;
         }
@@ -587,6 +588,27 @@ impl Bvh {
             [p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]],
             out,
         );
+    }
+
+    /// Offers a leaf's triangles `js` (of those from lane `start` of `blocks` on, positions
+    /// from `first` on, prepared for `o`) one at a time to every lane, each again as
+    /// [`Bvh::precise`] prepares it where it would leave a lane undecided.
+    #[inline(always)]
+    fn offer_each<V: Lanes>(
+        &self,
+        nearest: &mut PacketNearest<V>,
+        o: [f32; 3],
+        blocks: &[&OriginBlock; 2],
+        start: usize,
+        first: usize,
+        js: std::ops::Range<usize>,
+    ) {
+        for j in js {
+            let id = (first + j) as u32;
+            if !nearest.offer_decided(&block_lane(blocks, start, j), id) {
+                nearest.offer(&self.precise(first + j, o), id);
+            }
+        }
     }
 
     /// The triangle at `position` prepared for `o` with [`OriginTriangle::new`]'s tight
@@ -855,8 +877,9 @@ fn enter_f64(b: &Aabb, pad: f32, ray: &Ray, inv: &[f64; 3], tmin: f32, t_far: f3
 
 /// What a packet walk does at a leaf: offers the leaf's items to the packet's state.
 pub(crate) trait Leaves<V, S> {
-    /// Items `first..first + count` of the hierarchy walked.
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize);
+    /// Items `first..first + count` of the hierarchy walked, which the lanes `lanes` may
+    /// reach (bit l for lane l; the others cannot reach them before their limits).
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, lanes: u32);
 }
 
 /// A leaf's triangles prepared for a walk's origin: a run of a full list, or `len` lanes of
@@ -911,7 +934,7 @@ struct OwnLeaves<'a> {
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
     #[inline(always)]
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
         let end = first + count;
         let tris =
             (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
@@ -947,7 +970,7 @@ struct PositionLeaves<'a> {
 
 impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
     #[inline(always)]
-    fn visit(&mut self, nearest: &mut PacketNearest<V>, first: usize, count: usize) {
+    fn visit(&mut self, nearest: &mut PacketNearest<V>, first: usize, count: usize, lanes: u32) {
         let end = first + count;
         let tris =
             (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
@@ -958,10 +981,29 @@ impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
                 }
             }
             LeafTriangles::Blocks { blocks, start, len } => {
-                for j in 0..len {
-                    let id = (first + j) as u32;
-                    if !nearest.offer_decided(&block_lane(&blocks, start, j), id) {
-                        nearest.offer(&self.bvh.precise(first + j, self.o), id);
+                if lanes.count_ones() != 1 {
+                    return (self.bvh).offer_each(nearest, self.o, &blocks, start, first, 0..len);
+                }
+                // One lane: the leaf's part of each block at once.
+                let l = lanes.trailing_zeros() as usize;
+                let in_first = len.min(BLOCK - start);
+                let base = (first - start) as u32;
+                let mask = ((1u32 << in_first) - 1) << start;
+                if !nearest.offer_block_to_lane(blocks[0], mask, base, l) {
+                    (self.bvh).offer_each(nearest, self.o, &blocks, start, first, 0..in_first);
+                }
+                if in_first < len {
+                    let mask = (1u32 << (len - in_first)) - 1;
+                    let base = base + BLOCK as u32;
+                    if !nearest.offer_block_to_lane(blocks[1], mask, base, l) {
+                        (self.bvh).offer_each(
+                            nearest,
+                            self.o,
+                            &blocks,
+                            start,
+                            first,
+                            in_first..len,
+                        );
                     }
                 }
             }

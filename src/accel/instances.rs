@@ -407,7 +407,7 @@ struct TopLeaves<'a> {
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
     #[inline(always)]
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
         let items = self.inst.top.triangles().1;
         for &k in &items[first..first + count] {
             let placed = &self.inst.placed[k as usize];
@@ -423,7 +423,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
                     let inner = PacketSlabs::<V>::new(obj, &d, mesh.boxes_tame());
                     mesh.walk_packet(&inner, pad, sink, &mut leaves);
                 }
-                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len()),
+                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), sink.live()),
             }
             if sink.live() == 0 {
                 return;
@@ -441,7 +441,7 @@ struct MeshLeaves<'a> {
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
     #[inline(always)]
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize) {
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
         let (tris, locals) = self.mesh.triangles();
         let end = first + count;
         let mut start = first;

@@ -282,6 +282,8 @@ impl Collapse<'_> {
 pub(super) struct WideStack {
     refs: [u32; STACK],
     dists: [f32; STACK],
+    /// A packet walk's lanes that enter each entry's box (bit l for lane l).
+    lanes: [u8; STACK],
     sp: usize,
 }
 
@@ -291,6 +293,7 @@ impl WideStack {
         Self {
             refs: [0; STACK],
             dists: [0.0; STACK],
+            lanes: [0; STACK],
             sp: 0,
         }
     }
@@ -302,22 +305,31 @@ impl WideStack {
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
-            self.insert(base, n.child[c], t0[c]);
+            self.insert(base, n.child[c], t0[c], 1);
         }
     }
 
-    /// Pushes `r` at distance `t` among the entries from `base` up, kept farthest first.
+    /// Pushes `r` at distance `t` (entered by `lanes`) among the entries from `base` up,
+    /// kept farthest first.
     #[inline(always)]
-    fn insert(&mut self, base: usize, r: u32, t: f32) {
+    fn insert(&mut self, base: usize, r: u32, t: f32, lanes: u32) {
         let mut at = self.sp;
         while at > base && self.dists[at - 1] < t {
             self.refs[at] = self.refs[at - 1];
             self.dists[at] = self.dists[at - 1];
+            self.lanes[at] = self.lanes[at - 1];
             at -= 1;
         }
         self.refs[at] = r;
         self.dists[at] = t;
+        self.lanes[at] = lanes as u8;
         self.sp += 1;
+    }
+
+    /// The lanes of the entry [`WideStack::pop`] returned last.
+    #[inline(always)]
+    fn popped_lanes(&self) -> u32 {
+        self.lanes[self.sp] as u32
     }
 
     /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
@@ -405,7 +417,7 @@ impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
                     .to_array()
                     .iter()
                     .fold(f32::INFINITY, |a, &x| a.min(x));
-                stack.insert(base, n.child[c], t);
+                stack.insert(base, n.child[c], t, m);
             }
         }
     }
@@ -443,8 +455,9 @@ impl<V: Lanes, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> 
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
-            if sides.lanes(self.rays, c, reach, live) != 0 {
-                stack.insert(base, n.child[c], t0[c]);
+            let lanes = sides.lanes(self.rays, c, reach, live);
+            if lanes != 0 {
+                stack.insert(base, n.child[c], t0[c], lanes);
             }
         }
     }
@@ -587,7 +600,7 @@ impl Bvh {
                     break;
                 }
                 let (first, count) = leaf_range(r);
-                leaves.visit(sink, first, count);
+                leaves.visit(sink, first, count, stack.popped_lanes() & live);
                 live = sink.live();
                 reach = sink.limit();
                 limit = widest(reach, live);
