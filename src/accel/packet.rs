@@ -1133,12 +1133,17 @@ fn dot3<V: Lanes>(d: &[V; 3], n: &[[f32; 8]; 3]) -> V {
     d[0] * load(&n[0]) + d[1] * load(&n[1]) + d[2] * load(&n[2])
 }
 
-/// `v` with lane `l` set to `x`.
+/// `v` with the lanes of `mask` (a lane mask) set to `x`. (A blend: a scalar written
+/// into the vector's memory stalled the vector load after it.)
 #[inline(always)]
-fn with_lane<V: Lanes>(v: V, l: usize, x: f32) -> V {
-    let mut a = v.to_array();
-    a[l] = x;
-    V::from_array(a)
+fn with_lane<V: Lanes>(v: V, mask: V, x: f32) -> V {
+    mask.bitselect(V::splat(x), v)
+}
+
+/// The lane mask of lane `l`.
+#[inline(always)]
+fn lane_mask<V: Lanes>(l: usize) -> V {
+    V::from_array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]).simd_eq(V::splat(l as f32))
 }
 
 /// The nearest candidate so far of each of 8 rays from the shared origin, as triangles are
@@ -1374,9 +1379,10 @@ impl<V: Lanes> PacketNearest<V> {
             if front & !(1 << w) & !farther != 0 {
                 return false;
             }
-            self.best_lo = with_lane(self.best_lo, l, lo.to_array()[w]);
-            self.best_hi = with_lane(self.best_hi, l, his[w]);
-            self.best_prim = with_lane(self.best_prim, l, f32::from_bits(base + w as u32));
+            let lane = lane_mask(l);
+            self.best_lo = with_lane(self.best_lo, lane, lo.to_array()[w]);
+            self.best_hi = with_lane(self.best_hi, lane, his[w]);
+            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(base + w as u32));
             return true;
         }
         // No nearer than the best: every one must be certainly farther.
