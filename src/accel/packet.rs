@@ -1289,7 +1289,8 @@ impl<V: Lanes> PacketNearest<V> {
     /// [`PacketNearest::offer`] (the same bits). Done (true) when every triangle is
     /// decided for the lane and the nearest among them and the lane's best is certain;
     /// otherwise nothing changes and the answer is false (the caller offers them one by
-    /// one). Lane `l` must not be ambiguous.
+    /// one). (An ambiguous lane is traced per ray
+    /// afterwards: what the pass does to it does not matter.)
     #[inline(always)]
     pub(crate) fn offer_block_to_lane(
         &mut self,

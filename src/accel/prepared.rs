@@ -1,6 +1,7 @@
 //! Where a BVH walk gets a leaf's triangles prepared for its rays' shared origin
-//! ([`OriginTriangle`]): prepared beforehand, prepared at every visit, or prepared once per
-//! frame by the first thread that reaches them ([`LeafCache`]).
+//! ([`OriginTriangle`](super::packet::OriginTriangle)): prepared beforehand, prepared at
+//! every visit, or prepared once per frame by the first thread that reaches them
+//! ([`LeafCache`]).
 //!
 //! A frame reaches only part of a mesh: at the framing camera of `raylab bench`, the bunny's
 //! flat frame at 640×360 reaches 28k of its 69k triangles (59k times), at 1280×720 31k
@@ -60,7 +61,8 @@ impl<'a> Prepared<'a> {
 }
 
 /// Triangle positions per block: the unit a cache prepares (the lanes of
-/// [`OriginTriangle::new8`]; a BVH leaf of up to 4 triangles lies in one block or two).
+/// [`OriginTriangle::new8`](super::packet::OriginTriangle::new8); a BVH leaf of up to 4
+/// triangles lies in one block or two).
 pub(crate) const BLOCK: usize = 8;
 
 /// One frame's triangles prepared for one origin, a block of [`BLOCK`] positions of the
