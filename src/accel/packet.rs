@@ -1077,11 +1077,7 @@ impl<V: Lanes> EdgeTests<V> {
             d[0] * V::splat(n[0]) + d[1] * V::splat(n[1]) + d[2] * V::splat(n[2])
         });
         let bound = each3(|i| V::splat(tri.k[i] * dm + EDGE_ABS));
-        let pos = each3(|i| e[i].simd_gt(bound[i]));
-        let neg = each3(|i| e[i].simd_lt(-bound[i]));
-        let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
-        let all_pos = pos[0] & pos[1] & pos[2];
-        let all_neg = neg[0] & neg[1] & neg[2];
+        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
         // In front: the sign of det (that of the eᵢ) is the numerator's.
         let (front, behind) = match tri.num > 0.0 {
             true => (all_pos, all_neg),
@@ -1113,11 +1109,37 @@ fn t_interval<V: Lanes>(tri: &OriginTriangle, e: &[V; 3], d: &[V; 3], dm: f32) -
             (det, tri.k_det * dm + EDGE_ABS)
         }
     };
+    t_within(V::splat(tri.num), det, V::splat(bound), V::splat(tri.c_t))
+}
+
+/// Per lane, from the edge functions `e` and their rounding bounds: the lanes that
+/// certainly miss (edges of both signs beyond their bounds), and those whose three edges
+/// are certainly all positive, or all negative.
+#[inline(always)]
+fn edge_signs<V: Lanes>(e: &[V; 3], bound: &[V; 3]) -> (V, V, V) {
+    let pos = [
+        e[0].simd_gt(bound[0]),
+        e[1].simd_gt(bound[1]),
+        e[2].simd_gt(bound[2]),
+    ];
+    let neg = [
+        e[0].simd_lt(-bound[0]),
+        e[1].simd_lt(-bound[1]),
+        e[2].simd_lt(-bound[2]),
+    ];
+    let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
+    (miss, pos[0] & pos[1] & pos[2], neg[0] & neg[1] & neg[2])
+}
+
+/// t = num/det per lane with its interval (lo, hi), and the lanes where it is tight enough
+/// to use, from det's rounding bound and the triangle's c_t (see [`PacketNearest`]).
+#[inline(always)]
+fn t_within<V: Lanes>(num: V, det: V, det_bound: V, c_t: V) -> (V, V, V) {
     let rcp = V::one() / det;
-    let t = V::splat(tri.num) * rcp;
-    let r_det = V::splat(bound * 1.0001) * rcp.abs();
+    let t = num * rcp;
+    let r_det = (det_bound * V::splat(1.0001)) * rcp.abs();
     let tight = r_det.simd_le(V::splat(0.25));
-    let err = t.abs() * (V::splat(tri.c_t) + V::splat(1.4) * r_det) + V::splat(1e-37);
+    let err = t.abs() * (c_t + V::splat(1.4) * r_det) + V::splat(1e-37);
     (t - err, t + err, tight)
 }
 
@@ -1323,19 +1345,7 @@ impl<V: Lanes> PacketNearest<V> {
             load::<V>(&block.k[1]) * dm_v + abs,
             load::<V>(&block.k[2]) * dm_v + abs,
         ];
-        let pos = [
-            e[0].simd_gt(bound[0]),
-            e[1].simd_gt(bound[1]),
-            e[2].simd_gt(bound[2]),
-        ];
-        let neg = [
-            e[0].simd_lt(-bound[0]),
-            e[1].simd_lt(-bound[1]),
-            e[2].simd_lt(-bound[2]),
-        ];
-        let miss = (pos[0] | pos[1] | pos[2]) & (neg[0] | neg[1] | neg[2]);
-        let all_pos = pos[0] & pos[1] & pos[2];
-        let all_neg = neg[0] & neg[1] & neg[2];
+        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
         let num: V = load(&block.num);
         let num_pos = num.simd_gt(V::zero());
         let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
@@ -1346,22 +1356,17 @@ impl<V: Lanes> PacketNearest<V> {
         if front == 0 {
             return true;
         }
-        // t's interval per triangle, as `t_interval`.
+        // t's interval per triangle, as `t_interval` bounds det.
         let by_normal = V::from_bitmask(block.det_from_normal);
         let det = by_normal.bitselect(dot3(&d, &block.normal), e[0] + e[1] + e[2]);
         let det_bound = by_normal.bitselect(
             load::<V>(&block.k_det) * dm_v + abs,
             load::<V>(&block.k_sum) * dm_v + V::splat(3.0 * EDGE_ABS),
         );
-        let rcp = V::one() / det;
-        let t = num * rcp;
-        let r_det = (det_bound * V::splat(1.0001)) * rcp.abs();
-        let tight = r_det.simd_le(V::splat(0.25)).to_bitmask();
-        if front & !tight != 0 {
+        let (lo, hi, tight) = t_within(num, det, det_bound, load(&block.c_t));
+        if front & !tight.to_bitmask() != 0 {
             return false;
         }
-        let err = t.abs() * (load::<V>(&block.c_t) + V::splat(1.4) * r_det) + V::splat(1e-37);
-        let (lo, hi) = (t - err, t + err);
         // The nearest front triangle, and whether it and the lane's best are certainly
         // ordered against every other.
         let his = hi.to_array();

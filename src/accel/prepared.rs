@@ -212,24 +212,19 @@ impl LeafCache {
         let cell = &self.blocks[block];
         let mut spins = 0u32;
         loop {
-            match (cell.state).compare_exchange(
-                EMPTY,
-                WRITING,
-                Ordering::Acquire,
-                Ordering::Acquire,
-            ) {
-                Ok(_) => return Reached::Claimed(Claim { cell }),
-                // SAFETY: READY (see `Sync`).
-                #[allow(unsafe_code)]
-                Err(READY) => return Reached::Ready(unsafe { &*cell.block.get() }),
-                Err(_) => {
-                    spins += 1;
-                    match spins < 64 {
-                        true => std::hint::spin_loop(),
-                        // The writer may be descheduled (more threads than cores).
-                        false => std::thread::yield_now(),
-                    }
-                }
+            if let Some(ready) = cell.ready() {
+                return Reached::Ready(ready);
+            }
+            let claimed =
+                (cell.state).compare_exchange(EMPTY, WRITING, Ordering::Acquire, Ordering::Relaxed);
+            if claimed.is_ok() {
+                return Reached::Claimed(Claim { cell });
+            }
+            spins += 1;
+            match spins < 64 {
+                true => std::hint::spin_loop(),
+                // The writer may be descheduled (more threads than cores).
+                false => std::thread::yield_now(),
             }
         }
     }
