@@ -238,6 +238,10 @@ pub struct BenchArgs {
     /// Frames timed after one warm-up frame; the median is reported.
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
+    /// Run the kernels' build for this SIMD level (`baseline`, `avx2` or `avx512`; at most
+    /// what the CPU has), to compare the builds in one run. Default: the best the CPU has.
+    #[arg(long)]
+    pub simd: Option<raylab::math::simd::SimdLevel>,
 }
 
 /// `raylab trace`.
@@ -535,6 +539,13 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
+    if let Some(level) = args.simd {
+        let best = raylab::math::simd::detected();
+        if level > best {
+            bail!("--simd {level}: this CPU runs at most {best}");
+        }
+        raylab::math::simd::limit(level);
+    }
     let (scene, camera, settings) = prepare(&args.view)?;
     let cpu = raylab::machine::cpu_model();
     say!(

@@ -26,8 +26,8 @@
 //!   the given float inputs.
 //! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
 //!
-//! No unsafe code, except the calls into the packet kernels' AVX2 builds, each made only after
-//! checking the CPU at run time (`math::simd::has_avx2`).
+//! No unsafe code, except the calls into the packet kernels' AVX2 and AVX-512 builds, each
+//! made only after checking the CPU at run time (`math::simd::level`).
 #![deny(unsafe_code)]
 
 /// The unit tests' xorshift generator: steps `x` and returns it.

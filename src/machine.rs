@@ -14,23 +14,22 @@ pub fn cpu_model() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
-/// The SIMD level the packet kernels run at here ("AVX2+FMA" or the baseline build's), and
-/// whether the CPU has AVX-512 (which no kernel uses yet).
+/// The build the packet kernels run here ([`crate::math::simd::level`]) and the best the
+/// CPU has, for every speed table's header.
 pub fn simd_level() -> String {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let kernels = match crate::math::simd::has_avx2() {
-            true => "AVX2+FMA",
-            false => "SSE2 (baseline)",
-        };
-        let avx512 = match std::arch::is_x86_feature_detected!("avx512f") {
-            true => "present, unused",
-            false => "absent",
-        };
-        format!("kernels {kernels}; AVX-512 {avx512}")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        format!("kernels portable ({})", std::env::consts::ARCH)
+    use crate::math::simd::{detected, level, SimdLevel};
+    let name = |l: SimdLevel| match l {
+        SimdLevel::Avx512 => "AVX-512 (x86-64-v4) on 8 lanes",
+        SimdLevel::Avx2 => "AVX2+FMA",
+        SimdLevel::Baseline if cfg!(target_arch = "x86_64") => "SSE2 (baseline)",
+        SimdLevel::Baseline => "portable",
+    };
+    match level() == detected() {
+        true => format!("kernels {}", name(level())),
+        false => format!(
+            "kernels {} (limited; the CPU has {})",
+            name(level()),
+            name(detected())
+        ),
     }
 }

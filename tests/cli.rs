@@ -707,6 +707,30 @@ fn bench_prints_the_machine_the_runs_and_mrays_last() {
     assert_fails(&raylab(&["bench", "--frames", "0"]), 2, &["--frames 0"]);
     assert_fails(&raylab(&["bench", "--threads", "0"]), 2, &["--threads 0"]);
     assert_fails(&raylab(&["bench", "--accel", "kd"]), 2, &["kd", "bvh"]);
+    assert_fails(
+        &raylab(&["bench", "--simd", "sse9"]),
+        2,
+        &["sse9", "avx512"],
+    );
+}
+
+#[test]
+fn bench_runs_each_simd_level_the_cpu_has_and_refuses_the_others() {
+    use raylab::math::simd::{detected, SimdLevel};
+    let small = [
+        "bench", "--width", "16", "--height", "16", "--frames", "1", "--simd",
+    ];
+    for level in SimdLevel::ALL {
+        let o = raylab(&[&small[..], &[level.name()]].concat());
+        if level <= detected() {
+            assert!(o.status.success(), "{level}: {}", stderr(&o));
+            let text = stdout(&o);
+            let limited = text.contains("(limited; the CPU has");
+            assert_eq!(limited, level < detected(), "{level}: {text}");
+        } else {
+            assert_fails(&o, 2, &[&format!("--simd {level}"), detected().name()]);
+        }
+    }
 }
 
 #[test]

@@ -12,6 +12,7 @@ use raylab::accel::IndexedTriangle;
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
+use raylab::math::simd::{self, SimdLevel};
 use raylab::scene::Scene;
 use wide::f32x8;
 
@@ -627,9 +628,9 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
 }
 
 #[test]
-fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
-    // The packet kernels are compiled twice (baseline x86-64 and AVX2+FMA, chosen at run
-    // time); both must give the same answers. Random cameras' ray directions, random scenes
+fn the_avx512_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
+    // The packet kernels are compiled three times (baseline x86-64, AVX2+FMA and AVX-512,
+    // chosen at run time); every build the CPU runs must give the same answers. Random cameras' ray directions, random scenes
     // and packets through the flat kernel, the BVH packets (both ways of preparing) and the
     // shadow packets.
     let mut rng = Rng(21);
@@ -669,10 +670,12 @@ fn the_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
             )
         };
         let fast = run();
-        raylab::math::simd::use_baseline_simd(true);
-        let baseline = run();
-        raylab::math::simd::use_baseline_simd(false);
-        assert_eq!(format!("{fast:?}"), format!("{baseline:?}"));
+        for lower in SimdLevel::ALL.into_iter().filter(|l| *l < simd::detected()) {
+            simd::limit(lower);
+            let other = run();
+            simd::limit(SimdLevel::Avx512);
+            assert_eq!(format!("{fast:?}"), format!("{other:?}"), "{lower} build");
+        }
         hit_lanes += fast.1.prim.iter().filter(|p| **p != u32::MAX).count();
         // And each camera direction is the scalar ray's.
         let lanes = xs.to_array().into_iter().zip(ys.to_array());

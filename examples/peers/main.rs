@@ -43,6 +43,7 @@ use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
+use raylab::math::simd::{self, SimdLevel};
 use raylab::render::{render_into, LabStep, RenderSettings};
 use raylab::Scene;
 use rayon::prelude::*;
@@ -83,7 +84,8 @@ type Frame<'a> = Box<dyn Fn(&mut [Option<u32>]) -> u64 + Sync + 'a>;
 /// What a timed method is, for the accuracy columns and the summaries.
 #[derive(Clone, Copy, PartialEq)]
 enum Role {
-    /// raylab's whole frame at this lab step ("flat", "shadows").
+    /// raylab's whole frame at this lab step ("flat", "shadows"; ", AVX2" with the kernels
+    /// limited to AVX2).
     Render(&'static str),
     /// raylab's exact per-ray query: the answers the others are checked against.
     Reference,
@@ -383,6 +385,8 @@ struct Versus {
     size: String,
     threads: usize,
     raylab: Duration,
+    /// The same frame with the kernels limited to AVX2 (on an AVX-512 CPU).
+    raylab_avx2: Option<Duration>,
     embree_best: Duration,
 }
 
@@ -422,10 +426,12 @@ fn main() -> anyhow::Result<()> {
         raylab::machine::cpu_model(),
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         raylab::machine::simd_level(),
-        if cfg!(target_feature = "avx2") {
-            "AVX2 (target-cpu=native)"
+        if cfg!(target_feature = "avx512f") {
+            "AVX-512 (target-cpu=native: the AVX2 row's kernels are not AVX2 alone; build with -C target-feature=+avx2,+fma)"
+        } else if cfg!(target_feature = "avx2") {
+            "AVX2 (-C target-feature=+avx2,+fma or target-cpu=native)"
         } else {
-            "baseline x86-64 (raylab dispatches AVX2 at run time)"
+            "baseline x86-64 (raylab dispatches AVX2 or AVX-512 at run time)"
         }
     );
     let embree = Embree::load(max_threads);
@@ -448,8 +454,8 @@ fn main() -> anyhow::Result<()> {
     let versus = &found.versus;
     if !versus.is_empty() {
         println!();
-        println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | target |");
-        println!("|---|---|---|---|---|---|---|");
+        println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | with AVX2 kernels | target |");
+        println!("|---|---|---|---|---|---|---|---|");
         for v in versus {
             let target = match v.scene.as_str() {
                 "cornell" => "≥ 2.5",
@@ -458,8 +464,11 @@ fn main() -> anyhow::Result<()> {
                 "igea_1m" => "≥ 1.2",
                 _ => "",
             };
+            let avx2 = v.raylab_avx2.map_or("–".into(), |t| {
+                format!("{:.2}", v.embree_best.as_secs_f64() / t.as_secs_f64())
+            });
             println!(
-                "| {} | {} | {} | {:.2} | {:.2} | {:.2} | {target} |",
+                "| {} | {} | {} | {:.2} | {:.2} | {:.2} | {avx2} | {target} |",
                 v.scene,
                 v.size,
                 v.threads,
@@ -495,8 +504,8 @@ fn main() -> anyhow::Result<()> {
     let targets: Vec<_> = (found.frames.iter())
         .filter_map(|(scene, size, threads, step, t)| {
             let want = match (scene.as_str(), size.as_str(), step) {
-                ("cornell", "1280x720", &"shadows") => 60.0,
-                ("field", "1280x720", &"flat") => 15.0,
+                ("cornell", "1280x720", &("shadows" | "shadows, AVX2")) => 60.0,
+                ("field", "1280x720", &("flat" | "flat, AVX2")) => 15.0,
                 _ => return None,
             };
             Some((scene, size, threads, step, 1.0 / t.as_secs_f64(), want))
@@ -625,6 +634,22 @@ fn run_bench(
             build: Some(raylab_build),
             frame: Box::new(|_| render(&flat)),
         }];
+        // On an AVX-512 CPU, the same frame with the kernels' AVX2 build: both levels in one
+        // run (issue 16, item 4).
+        let avx2_row = simd::detected() == SimdLevel::Avx512;
+        if avx2_row {
+            methods.push(Timed {
+                name: "raylab render, kernels limited to AVX2".into(),
+                role: Role::Render("flat, AVX2"),
+                build: Some(raylab_build),
+                frame: Box::new(|_| {
+                    simd::limit(SimdLevel::Avx2);
+                    let hits = render(&flat);
+                    simd::limit(SimdLevel::Avx512);
+                    hits
+                }),
+            });
+        }
         if bench.name == "cornell" || bench.name == "field" {
             methods.push(Timed {
                 name: "raylab render, shadows step".into(),
@@ -632,6 +657,19 @@ fn run_bench(
                 build: Some(raylab_build),
                 frame: Box::new(|_| render(&shadows)),
             });
+            if avx2_row {
+                methods.push(Timed {
+                    name: "raylab render, shadows step, kernels limited to AVX2".into(),
+                    role: Role::Render("shadows, AVX2"),
+                    build: Some(raylab_build),
+                    frame: Box::new(|_| {
+                        simd::limit(SimdLevel::Avx2);
+                        let hits = render(&shadows);
+                        simd::limit(SimdLevel::Avx512);
+                        hits
+                    }),
+                });
+            }
         }
         if peers {
             methods.push(Timed {
@@ -795,6 +833,7 @@ fn run_bench(
                     size: format!("{w}x{h}"),
                     threads,
                     raylab: best[0],
+                    raylab_avx2: avx2_row.then_some(best[1]),
                     embree_best,
                 });
             }

@@ -1629,6 +1629,11 @@ mod tests {
             let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
             [0, 1, 2, 3].map(|l| quad.get(l))
         }
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+        fn avx512(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
+            let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
+            [0, 1, 2, 3].map(|l| quad.get(l))
+        }
         let tris = triangles();
         for o in [[0.0f32, 0.0, 0.0], [0.3, -0.2, -3.0], [1e6, 2.0, -1e-3]] {
             for (q, quad) in tris.chunks_exact(4).enumerate() {
@@ -1642,6 +1647,11 @@ mod tests {
                     if crate::math::simd::has_avx2() {
                         // SAFETY: the CPU has AVX2 and FMA.
                         let avx = unsafe { avx(v, o, prim) }.map(|t| bits(&t));
+                        assert_eq!(one, avx[j], "{:?} from {o:?}", v[j]);
+                    }
+                    if crate::math::simd::detected() == crate::math::simd::SimdLevel::Avx512 {
+                        // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD.
+                        let avx = unsafe { avx512(v, o, prim) }.map(|t| bits(&t));
                         assert_eq!(one, avx[j], "{:?} from {o:?}", v[j]);
                     }
                 }

@@ -1,6 +1,6 @@
 //! The 8 f32 lanes the hot kernels compute in, as a trait ([`Lanes`]) with two types: `wide`'s
 //! `f32x8` (two SSE halves: the baseline build) and `Avx8` (one 256-bit AVX register),
-//! which only a kernel's AVX2 build uses ([`super::simd::avx2_or_baseline`]).
+//! which only a kernel's AVX2 and AVX-512 builds use ([`super::simd::avx2_or_baseline`]).
 //!
 //! Why two types: `wide` picks its implementation when the crate is compiled
 //! (`cfg(target_feature = "avx")`), so without `-C target-cpu` its f32x8 stays two SSE
@@ -287,7 +287,7 @@ pub(crate) use avx::Avx8;
 ///
 /// Soundness: their operations execute AVX2 instructions, so such a value must exist only
 /// where the CPU has AVX2. The types are private to the crate and named only in the AVX2 arm
-/// of `avx2_or_baseline!`, after the run-time check ([`super::simd::has_avx2`]), and in
+/// of `avx2_or_baseline!`, after the run-time check ([`super::simd::level`]), and in
 /// tests behind the same check; every constructor (`splat`, `from_array`, which the others
 /// go through) asserts it in debug builds.
 #[cfg(target_arch = "x86_64")]
@@ -556,9 +556,10 @@ mod avx {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
-    use crate::math::simd::has_avx2;
+    use crate::math::simd::{detected, has_avx2, SimdLevel};
 
-    /// Every operation of [`Lanes`] on both types, bit for bit, on values that probe the
+    /// Every operation of [`Lanes`] on both types (`Avx8` in the AVX2 and the AVX-512
+    /// builds), bit for bit, on values that probe the
     /// corners (signed zeros, NaN, infinities, subnormals, ties).
     #[test]
     fn both_lane_types_compute_the_same_bits() {
@@ -595,7 +596,7 @@ mod tests {
 
     #[allow(unsafe_code)]
     fn check(a: [f32; 8], b: [f32; 8]) -> Vec<&'static str> {
-        #[target_feature(enable = "avx2,fma")]
+        #[inline(always)]
         fn run<V: Lanes>(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
             let (x, y) = (V::from_array(a), V::from_array(b));
             let m = x.simd_lt(y);
@@ -655,11 +656,27 @@ mod tests {
             "step_bits",
             "bitmask",
         ];
+        #[target_feature(enable = "avx2,fma")]
+        fn avx2(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
+            run::<Avx8>(a, b)
+        }
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+        fn avx512(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
+            run::<Avx8>(a, b)
+        }
+        let wide = run::<f32x8>(a, b);
         // SAFETY: the CPU has AVX2 and FMA (checked by the caller).
-        let (wide, avx) = unsafe { (run::<f32x8>(a, b), run::<Avx8>(a, b)) };
-        (wide.iter().zip(&avx).zip(NAMES))
-            .filter(|((w, v), _)| w != v)
-            .map(|(_, name)| name)
-            .collect()
+        let mut builds = vec![unsafe { avx2(a, b) }];
+        if detected() == SimdLevel::Avx512 {
+            // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (just checked).
+            builds.push(unsafe { avx512(a, b) });
+        }
+        let differ = |avx: &Vec<[u32; 8]>| {
+            (wide.iter().zip(avx).zip(NAMES))
+                .filter(|((w, v), _)| w != v)
+                .map(|(_, name)| name)
+                .collect::<Vec<_>>()
+        };
+        builds.iter().flat_map(differ).collect()
     }
 }

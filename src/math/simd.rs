@@ -1,40 +1,97 @@
 //! SIMD helpers shared by the kernels (accel's packets, the renderer's shading packets): the
-//! run-time choice between a kernel's AVX2+FMA build and its baseline build, and `each3`.
+//! run-time choice of a kernel's build (AVX-512, AVX2+FMA or the baseline), and `each3`.
+//!
+//! Every kernel is compiled three times on x86-64 and the CPU picks one at run time
+//! ([`level`]): for the baseline (SSE2, `wide`'s f32x8 as two 4-lane halves), with AVX2 and
+//! FMA, and with AVX-512 (F, VL, BW, DQ, CD: x86-64-v4). The AVX2 and AVX-512 builds compute
+//! in the same 8-lane type (`Avx8`, one 256-bit register): AVX-512VL lets the compiler use
+//! its EVEX forms on it (32 vector registers instead of 16, mask registers for compares,
+//! three-input logic for selects). All three give the same bits: the same IEEE operations,
+//! none contracted to FMA (tests/packet.rs compares the builds bit for bit).
 
-/// Calls `body(args)` (an `#[inline(always)]` kernel) through a copy compiled with AVX2 and
-/// FMA where the CPU has them ([`has_avx2`]), else as compiled for the baseline. With
+/// The kernels' builds, from the slowest: `level() >= Avx2` where the AVX types may exist.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum SimdLevel {
+    /// Baseline x86-64 (SSE2), or the portable build on other architectures.
+    Baseline,
+    /// AVX2 and FMA.
+    Avx2,
+    /// AVX-512 F, VL, BW, DQ and CD.
+    Avx512,
+}
+
+impl SimdLevel {
+    /// The name benchmarks print and `--simd` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            SimdLevel::Baseline => "baseline",
+            SimdLevel::Avx2 => "avx2",
+            SimdLevel::Avx512 => "avx512",
+        }
+    }
+
+    /// All levels, from the slowest.
+    pub const ALL: [SimdLevel; 3] = [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512];
+}
+
+impl std::fmt::Display for SimdLevel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for SimdLevel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        SimdLevel::ALL
+            .into_iter()
+            .find(|l| l.name() == s)
+            .ok_or_else(|| format!("unknown SIMD level {s:?} (baseline, avx2 or avx512)"))
+    }
+}
+
+/// Calls `body(args)` (an `#[inline(always)]` kernel) through the copy compiled for the
+/// CPU's [`level`]: AVX-512, AVX2+FMA, or the baseline. With
 /// [`crate::math::lanes`] (whose AVX types may exist only behind this check), the one place
 /// the crate uses unsafe code.
 ///
 /// With `lanes` before the kernel's path, the kernel is generic over its
-/// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 build computes in
+/// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 and AVX-512 builds compute in
 /// `Avx8` (crate-private), its baseline build in `wide`'s f32x8.
 macro_rules! avx2_or_baseline {
-    (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+    (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx2_or_baseline!(@dispatch
+            ($($body)::+::<$crate::math::lanes::Avx8>)
+            ($($body)::+::<$crate::math::lanes::f32x8>)
+            ($($arg: $ty),*) -> $ret)
+    };
+    ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx2_or_baseline!(@dispatch ($body) ($body) ($($arg: $ty),*) -> $ret)
+    };
+    (@dispatch ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
-        if $crate::math::simd::has_avx2() {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2($($arg: $ty),*) -> $ret {
-                $($body)::+::<$crate::math::lanes::Avx8>($($arg),*)
+        match $crate::math::simd::level() {
+            $crate::math::simd::SimdLevel::Avx512 => {
+                #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+                fn avx512($($arg: $ty),*) -> $ret {
+                    $avx($($arg),*)
+                }
+                // SAFETY: the CPU has these features (checked at run time by `level`).
+                #[allow(unsafe_code)]
+                return unsafe { avx512($($arg),*) };
             }
-            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-            #[allow(unsafe_code)]
-            return unsafe { avx2($($arg),*) };
-        }
-        $($body)::+::<$crate::math::lanes::f32x8>($($arg),*)
-    }};
-    ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        if $crate::math::simd::has_avx2() {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2($($arg: $ty),*) -> $ret {
-                $body($($arg),*)
+            $crate::math::simd::SimdLevel::Avx2 => {
+                #[target_feature(enable = "avx2,fma")]
+                fn avx2($($arg: $ty),*) -> $ret {
+                    $avx($($arg),*)
+                }
+                // SAFETY: the CPU has AVX2 and FMA (checked at run time by `level`).
+                #[allow(unsafe_code)]
+                return unsafe { avx2($($arg),*) };
             }
-            // SAFETY: the CPU has AVX2 and FMA (checked at run time).
-            #[allow(unsafe_code)]
-            return unsafe { avx2($($arg),*) };
+            $crate::math::simd::SimdLevel::Baseline => {}
         }
-        $body($($arg),*)
+        $base($($arg),*)
     }};
 }
 pub(crate) use avx2_or_baseline;
@@ -46,22 +103,49 @@ pub(crate) fn each3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
 
-/// Whether the CPU has AVX2 and FMA, for the kernels compiled twice: for the baseline x86-64
-/// (SSE2, f32x8 as two 4-lane halves) and with AVX2 and FMA enabled (VEX-encoded
-/// three-operand instructions: 18% fewer instructions in `closest`, callgrind). The
-/// answer is cached by the standard library.
-#[cfg(target_arch = "x86_64")]
-#[inline]
-pub(crate) fn has_avx2() -> bool {
-    !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
-        && std::arch::is_x86_feature_detected!("avx2")
-        && std::arch::is_x86_feature_detected!("fma")
+/// The best build this CPU runs ([`SimdLevel`]), detected once (the standard library caches
+/// the CPU's features).
+pub fn detected() -> SimdLevel {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::is_x86_feature_detected as has;
+        if has!("avx512f")
+            && has!("avx512vl")
+            && has!("avx512bw")
+            && has!("avx512dq")
+            && has!("avx512cd")
+        {
+            return SimdLevel::Avx512;
+        }
+        if has!("avx2") && has!("fma") {
+            return SimdLevel::Avx2;
+        }
+    }
+    SimdLevel::Baseline
 }
 
-static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+/// The build the kernels run: the [`detected`] one, or lower where [`limit`] says so.
+#[inline]
+pub fn level() -> SimdLevel {
+    let limit = match LIMIT.load(std::sync::atomic::Ordering::Relaxed) {
+        0 => SimdLevel::Baseline,
+        1 => SimdLevel::Avx2,
+        _ => SimdLevel::Avx512,
+    };
+    detected().min(limit)
+}
 
-/// Runs the kernels' baseline build even where AVX2 is present (for tests and comparisons:
-/// both builds of a kernel must give the same bits, as neither contracts to FMA).
-pub fn use_baseline_simd(on: bool) {
-    BASELINE_ONLY.store(on, std::sync::atomic::Ordering::Relaxed);
+/// Whether the kernels run a build with the AVX types (AVX2 or AVX-512).
+#[cfg(test)]
+pub(crate) fn has_avx2() -> bool {
+    level() >= SimdLevel::Avx2
+}
+
+static LIMIT: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(2);
+
+/// Runs the kernels' builds no higher than `at_most`, even where the CPU has more (for tests
+/// and comparisons in one run: every build of a kernel must give the same bits). Process-wide;
+/// `SimdLevel::Avx512` lifts the limit.
+pub fn limit(at_most: SimdLevel) {
+    LIMIT.store(at_most as u8, std::sync::atomic::Ordering::Relaxed);
 }
