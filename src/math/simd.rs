@@ -103,36 +103,37 @@ pub(crate) fn each3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
 
-/// The best build this CPU runs ([`SimdLevel`]), detected once (the standard library caches
-/// the CPU's features).
+/// The best build this CPU runs ([`SimdLevel`]), detected once.
 pub fn detected() -> SimdLevel {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::is_x86_feature_detected as has;
-        if has!("avx512f")
-            && has!("avx512vl")
-            && has!("avx512bw")
-            && has!("avx512dq")
-            && has!("avx512cd")
+    static DETECTED: std::sync::OnceLock<SimdLevel> = std::sync::OnceLock::new();
+    *DETECTED.get_or_init(|| {
+        #[cfg(target_arch = "x86_64")]
         {
-            return SimdLevel::Avx512;
+            use std::arch::is_x86_feature_detected as has;
+            if has!("avx512f")
+                && has!("avx512vl")
+                && has!("avx512bw")
+                && has!("avx512dq")
+                && has!("avx512cd")
+            {
+                return SimdLevel::Avx512;
+            }
+            if has!("avx2") && has!("fma") {
+                return SimdLevel::Avx2;
+            }
         }
-        if has!("avx2") && has!("fma") {
-            return SimdLevel::Avx2;
-        }
-    }
-    SimdLevel::Baseline
+        SimdLevel::Baseline
+    })
 }
 
 /// The build the kernels run: the [`detected`] one, or lower where [`limit`] says so.
 #[inline]
 pub fn level() -> SimdLevel {
-    let limit = match LIMIT.load(std::sync::atomic::Ordering::Relaxed) {
+    match LIMIT.load(std::sync::atomic::Ordering::Relaxed) {
         0 => SimdLevel::Baseline,
-        1 => SimdLevel::Avx2,
-        _ => SimdLevel::Avx512,
-    };
-    detected().min(limit)
+        1 => SimdLevel::Avx2.min(detected()),
+        _ => detected(),
+    }
 }
 
 /// Whether the kernels run a build with the AVX types (AVX2 or AVX-512).
