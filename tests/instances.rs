@@ -571,3 +571,143 @@ pop
         assert!(a == b, "{step}: images differ");
     }
 }
+
+/// Packets of 8 rays from one origin through `scene`'s instances: every lane the packet
+/// decides names the primitive the flattened scene's per-ray query names. Returns the lanes
+/// decided and the lanes in all.
+fn check_instance_packets(
+    scene: &Scene,
+    flat: &Scene,
+    o: [f32; 3],
+    dirs: &[[f32; 3]; 8],
+) -> (usize, usize) {
+    use raylab::accel::packet::max_component;
+    use wide::f32x8;
+    let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
+    let found = (scene.accel())
+        .closest_packet(o, None, &d, max_component(&d))
+        .expect("a BVH and no other shapes");
+    let mut decided = 0;
+    for (l, dir) in dirs.iter().enumerate() {
+        if found.ambiguous & (1 << l) != 0 {
+            continue;
+        }
+        decided += 1;
+        let want = (flat.accel())
+            .closest_hit(&Ray::new(o, *dir), Method::Adaptive, 0.0, f32::INFINITY)
+            .map_or(u32::MAX, |h| h.prim);
+        assert_eq!(found.prim[l], want, "lane {l} of {o:?} {dirs:?}");
+    }
+    (decided, 8)
+}
+
+#[test]
+fn instanced_packets_decide_as_the_flattened_scene() {
+    // The mesh leaves prepare their triangles in f32, go to a lone lane in one pass, and
+    // are prepared again in f64 where the f32 bounds leave a lane undecided: every lane
+    // decided must be the flattened answer. (1) The hard-case suite placed twice (as it is
+    // and turned a quarter, scaled by 2), each family ray as lane 0 beside seven other
+    // families' directions from the same origin. (2) Small balls placed far away in a row
+    // (the bunny field's far rows, where the f32 bounds are loosest), rays through random
+    // points of the row: most leaves are reached by one lane. (The suite's rays are hard on
+    // purpose: about a third of its lanes go to the per-ray search, as before the f32
+    // preparation.)
+    let mut rng = Rng(9);
+    let quarter = DMat4::from_cols_array_2d(&[
+        [0.0, 2.0, 0.0, 0.0],
+        [-2.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 2.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let (mut decided, mut lanes) = (0, 0);
+    let mut all_dirs: Vec<[f32; 3]> = Vec::new();
+    for family in suite::all() {
+        all_dirs.extend(family.rays.iter().map(|r| r.d));
+    }
+    for family in suite::all() {
+        let tris: Vec<Shape<f32>> = (family.shapes.iter())
+            .filter(|s| matches!(s, Shape::Triangle(_)))
+            .copied()
+            .collect();
+        if tris.len() != family.shapes.len() || tris.is_empty() {
+            continue;
+        }
+        let mesh = mesh(&family.name, &tris, &mut rng);
+        let n = tris.len() as u32;
+        let place = |m: DMat4, first: u32| Instance {
+            mesh: mesh.clone(),
+            world_from_object: m,
+            first_prim: first,
+            color: [0.5; 3],
+            tint: None,
+        };
+        let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
+            .with_instances(vec![place(DMat4::IDENTITY, 0), place(quarter, n)])
+            .unwrap();
+        let flat = scene.flattened();
+        for ray in family.rays.iter().step_by(3) {
+            let mut dirs = [ray.d; 8];
+            for d in &mut dirs[1..] {
+                *d = all_dirs[rng.below(all_dirs.len())];
+            }
+            let (d, l) = check_instance_packets(&scene, &flat, ray.o, &dirs);
+            decided += d;
+            lanes += l;
+        }
+    }
+    assert!(
+        lanes > 2000 && decided * 5 > lanes * 3,
+        "{decided} of {lanes} lanes decided"
+    );
+
+    let ball = mesh("ball", &icosphere(3, 0.05, [0.0; 3]), &mut rng);
+    let n = ball.triangles.len() as u32;
+    let placements: Vec<Instance> = (0..40)
+        .map(|i| Instance {
+            mesh: ball.clone(),
+            world_from_object: DMat4::from_translation(DVec3::new(
+                i as f64 * 0.13 - 2.6,
+                0.0,
+                40.0,
+            )),
+            first_prim: n * i,
+            color: [0.5; 3],
+            tint: None,
+        })
+        .collect();
+    let scene = Scene::new("row", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
+        .with_instances(placements)
+        .unwrap();
+    let flat = scene.flattened();
+    let (mut decided, mut lanes, mut hits) = (0, 0, 0);
+    for _ in 0..400 {
+        let o = [
+            rng.range(-0.5, 0.5) as f32,
+            rng.range(-0.1, 0.1) as f32,
+            -1.0,
+        ];
+        let dirs: [[f32; 3]; 8] = std::array::from_fn(|_| {
+            let p = [rng.range(-2.7, 2.6), rng.range(-0.06, 0.06), 40.0];
+            [p[0] as f32 - o[0], p[1] as f32 - o[1], p[2] as f32 - o[2]]
+        });
+        let (d, l) = check_instance_packets(&scene, &flat, o, &dirs);
+        decided += d;
+        lanes += l;
+        hits += dirs
+            .iter()
+            .filter(|d| {
+                flat.accel()
+                    .closest_hit(&Ray::new(o, **d), Method::Adaptive, 0.0, f32::INFINITY)
+                    .is_some()
+            })
+            .count();
+    }
+    assert!(
+        decided * 10 > lanes * 9,
+        "{decided} of {lanes} lanes decided"
+    );
+    assert!(
+        hits > lanes / 4,
+        "the rays meet the balls: {hits} of {lanes}"
+    );
+}

@@ -16,8 +16,8 @@
 
 use super::instances::PacketSink;
 use super::packet::{
-    quad_indices, OriginBlock, OriginTriangle, OriginTriangles, PacketHits, PacketNearest,
-    PacketSeed, ShadowHits, ShadowPacket,
+    quad_indices, BlockIds, OriginBlock, OriginTriangle, OriginTriangles, PacketHits,
+    PacketNearest, PacketSeed, ShadowHits, ShadowPacket,
 };
 use super::prepared::{LeafCache, Prepared, Reached, BLOCK};
 use super::IndexedTriangle;
@@ -989,13 +989,13 @@ impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
                 let in_first = len.min(BLOCK - start);
                 let base = (first - start) as u32;
                 let mask = ((1u32 << in_first) - 1) << start;
-                if !nearest.offer_block_to_lane(blocks[0], mask, base, l) {
+                if !nearest.offer_block_to_lane(blocks[0], mask, BlockIds::From(base), l) {
                     (self.bvh).offer_each(nearest, self.o, &blocks, start, first, 0..in_first);
                 }
                 if in_first < len {
                     let mask = (1u32 << (len - in_first)) - 1;
                     let base = base + BLOCK as u32;
-                    if !nearest.offer_block_to_lane(blocks[1], mask, base, l) {
+                    if !nearest.offer_block_to_lane(blocks[1], mask, BlockIds::From(base), l) {
                         (self.bvh).offer_each(
                             nearest,
                             self.o,

@@ -19,7 +19,9 @@
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
-use super::packet::{quad_indices, OriginTriangle, PacketNearest, ShadowPacket};
+use super::packet::{
+    quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, ShadowPacket,
+};
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -46,6 +48,13 @@ pub(crate) trait PacketSink<V = f32x8> {
     /// [`PacketSink::take`] unless the triangle would leave a live lane undecided: then
     /// nothing changes and the answer is false.
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool;
+    /// Takes lanes `tris` of `block` for ray lane `lane` alone, where that is done in one
+    /// pass and decides the lane ([`PacketNearest::offer_block_to_lane`]); otherwise
+    /// nothing changes and the answer is false.
+    #[inline(always)]
+    fn take_block_for_lane(&mut self, _block: &OriginBlock, _tris: u32, _lane: usize) -> bool {
+        false
+    }
 }
 
 impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
@@ -68,6 +77,10 @@ impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
     #[inline(always)]
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
         self.offer_decided(tri, tri.prim)
+    }
+    #[inline(always)]
+    fn take_block_for_lane(&mut self, block: &OriginBlock, tris: u32, lane: usize) -> bool {
+        self.offer_block_to_lane(block, tris, BlockIds::Prims, lane)
     }
 }
 
@@ -393,7 +406,12 @@ impl Instances {
         sink: &mut S,
     ) {
         let slabs = PacketSlabs::<V>::new(o, d, self.top.boxes_tame());
-        let mut leaves = TopLeaves { inst: self, o, d };
+        let mut leaves = TopLeaves {
+            inst: self,
+            o,
+            d,
+            block: OriginBlock::default(),
+        };
         self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
 }
@@ -403,6 +421,8 @@ struct TopLeaves<'a> {
     inst: &'a Instances,
     o: [f32; 3],
     d: &'a [f32x8; 3],
+    /// Where the mesh leaves prepare their triangles.
+    block: OriginBlock,
 }
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
@@ -416,6 +436,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
                 placed,
                 mesh,
                 o: self.o,
+                block: &mut self.block,
             };
             match placed.carry_origin(self.o) {
                 Some((obj, pad)) => {
@@ -437,15 +458,20 @@ struct MeshLeaves<'a> {
     placed: &'a Placed,
     mesh: &'a Bvh,
     o: [f32; 3],
+    block: &'a mut OriginBlock,
 }
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
+    /// Four at a time, prepared in f32 ([`OriginTriangle::new8`], lanes 4–7 repeating 0–3);
+    /// a short quad repeats its last triangle. A leaf one lane reaches goes to that lane in
+    /// one pass where it decides it; otherwise each triangle goes to every lane, again
+    /// prepared in f64 where the f32 bounds would leave a lane undecided (as the BVH's own
+    /// leaves do).
     #[inline(always)]
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, lanes: u32) {
         let (tris, locals) = self.mesh.triangles();
         let end = first + count;
         let mut start = first;
-        // Four at a time ([`OriginTriangle::new4`]); a short quad repeats its last triangle.
         while start < end {
             let [i0, i1, i2, i3] = quad_indices(start, end);
             let place = self.placed;
@@ -456,18 +482,42 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
                 place.world(&tris[i3]),
             ];
             let first_prim = place.first_prim;
-            let prim = [
+            let p = [
                 first_prim + locals[i0],
                 first_prim + locals[i1],
                 first_prim + locals[i2],
                 first_prim + locals[i3],
             ];
             let v = [&world[0], &world[1], &world[2], &world[3]];
-            let quad = OriginTriangle::new4::<V::F64>(v, self.o, prim);
-            for l in 0..(end - start).min(4) {
-                sink.take(&quad.get(l));
+            OriginTriangle::new8::<V>(
+                [v[0], v[1], v[2], v[3], v[0], v[1], v[2], v[3]],
+                self.o,
+                [p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]],
+                self.block,
+            );
+            let n = (end - start).min(4);
+            let one_lane = lanes.is_power_of_two()
+                && sink.take_block_for_lane(
+                    self.block,
+                    (1 << n) - 1,
+                    lanes.trailing_zeros() as usize,
+                );
+            if !one_lane {
+                for (l, v) in v.iter().enumerate().take(n) {
+                    if !sink.take_decided(&self.block.get(l)) {
+                        sink.take(&precise(v, self.o, p[l]));
+                    }
+                }
             }
             start += 4;
         }
     }
+}
+
+/// A world triangle prepared for `o` with [`OriginTriangle::new`]'s tight bounds in f64, for
+/// the rays the f32 preparation leaves undecided (rare: out of the way of the kernels).
+#[cold]
+#[inline(never)]
+fn precise(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> OriginTriangle {
+    OriginTriangle::new(v, o, prim)
 }

@@ -382,6 +382,15 @@ pub(crate) struct OriginQuad {
     usable: u32,
 }
 
+/// The ids a block's lanes record in [`PacketNearest::offer_block_to_lane`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum BlockIds {
+    /// Lane j records `base + j` (a BVH's positions).
+    From(u32),
+    /// Lane j records its triangle's primitive index (instances).
+    Prims,
+}
+
 /// Eight triangles prepared for one origin in f32 ([`OriginTriangle::new8`]), field by field
 /// as [`OriginQuad`]: a frame's cache keeps a BVH's triangles in blocks of 8.
 #[derive(Clone, Copy, Debug, Default)]
@@ -1304,7 +1313,7 @@ impl<V: Lanes> PacketNearest<V> {
         true
     }
 
-    /// Offers lanes `tris` of `block` (ids `base + lane`) to ray lane `l` alone, the eight
+    /// Offers lanes `tris` of `block` (their ids as `ids` says) to ray lane `l` alone, the eight
     /// triangles in the vector's lanes: for a leaf only lane `l` reaches (at the preview
     /// sizes most are: 70% of Igea's leaf visits at 640×360, 99% at 320×180), one pass
     /// instead of one per triangle for all 8 rays. The same operations per triangle as
@@ -1318,7 +1327,7 @@ impl<V: Lanes> PacketNearest<V> {
         &mut self,
         block: &OriginBlock,
         tris: u32,
-        base: u32,
+        ids: BlockIds,
         l: usize,
     ) -> bool {
         let dm = self.dm;
@@ -1388,7 +1397,11 @@ impl<V: Lanes> PacketNearest<V> {
             let lane = lane_mask(l);
             self.best_lo = with_lane(self.best_lo, lane, lo.to_array()[w]);
             self.best_hi = with_lane(self.best_hi, lane, his[w]);
-            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(base + w as u32));
+            let id = match ids {
+                BlockIds::From(base) => base + w as u32,
+                BlockIds::Prims => block.prim[w],
+            };
+            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(id));
             return true;
         }
         // No nearer than the best: every one must be certainly farther.
@@ -1873,7 +1886,7 @@ mod tests {
                         }
                         let before = format!("{:?}", one.finish_ref());
                         let lo_before = one.best_lo.to_array()[l];
-                        if !one.offer_block_to_lane(&block, mask, 0, l) {
+                        if !one.offer_block_to_lane(&block, mask, BlockIds::From(0), l) {
                             assert_eq!(format!("{:?}", one.finish_ref()), before);
                             assert_eq!(one.best_lo.to_array()[l].to_bits(), lo_before.to_bits());
                             declined += 1;

@@ -448,6 +448,17 @@ mod avx {
             unsafe { _mm256_movemask_ps(self.0) as u32 }
         }
         #[inline(always)]
+        fn from_bitmask(mask: u32) -> Self {
+            // The mask in every lane, each lane's bit tested: three instructions, where the
+            // trait's lane-by-lane form built an array.
+            // SAFETY: as in `binary!` (AVX2 for the integer lanes).
+            Self(unsafe {
+                let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                let m = _mm256_and_si256(_mm256_set1_epi32(mask as i32), bits);
+                _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
+            })
+        }
+        #[inline(always)]
         fn abs(self) -> Self {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
@@ -625,12 +636,13 @@ mod tests {
                 x.abs().sqrt().to_array(),
                 x.step_bits(y, m).to_array(),
                 [f32::from_bits(x.to_bitmask()); 8],
+                V::from_bitmask(x.to_bitmask() ^ y.to_bitmask() << 1).to_array(),
             ]
             .into_iter()
             .map(bits)
             .collect()
         }
-        const NAMES: [&str; 24] = [
+        const NAMES: [&str; 25] = [
             "add",
             "sub",
             "mul",
@@ -655,6 +667,7 @@ mod tests {
             "sqrt",
             "step_bits",
             "bitmask",
+            "from_bitmask",
         ];
         #[target_feature(enable = "avx2,fma")]
         fn avx2(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {

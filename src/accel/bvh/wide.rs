@@ -558,10 +558,17 @@ impl Sides {
 /// The greatest of `limits` over the lanes of `live` (−∞ for none).
 #[inline(always)]
 fn widest<V: Lanes>(limits: V, live: u32) -> f32 {
-    let a = limits.to_array();
-    (0..8)
-        .filter(|l| live & (1 << l) != 0)
-        .fold(f32::NEG_INFINITY, |m, l| m.max(a[l]))
+    // Branch-free: the dead lanes set to −∞, then a tree of x86 `maxps` (the filtered fold
+    // it replaces was 6% of a field frame's instructions). A NaN limit never arises: limits
+    // are ∞ or a finite hit's bound.
+    let a = V::from_bitmask(live)
+        .bitselect(limits, V::splat(f32::NEG_INFINITY))
+        .to_array();
+    let max = |x: f32, y: f32| if x > y { x } else { y };
+    max(
+        max(max(a[0], a[1]), max(a[2], a[3])),
+        max(max(a[4], a[5]), max(a[6], a[7])),
+    )
 }
 
 impl Bvh {
