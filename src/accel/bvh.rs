@@ -31,6 +31,7 @@ use ::wide::f32x4;
 use rayon::prelude::*;
 
 mod wide;
+pub(crate) use wide::WideStack;
 pub use wide::MAX_ITEMS;
 
 /// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
@@ -369,7 +370,7 @@ impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
     /// (see [`Bvh::traverse`]): a node is entered while its box meets one of `sink`'s live
     /// lanes before that lane's limit; `leaves` visits a leaf's items, nearer children first.
-    /// Untrusted slabs visit every item.
+    /// Untrusted slabs visit every item. The walk uses `stack` (its entries are not kept).
     #[inline(always)]
     pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
@@ -377,6 +378,7 @@ impl Bvh {
         pad: f32,
         sink: &mut S,
         leaves: &mut L,
+        stack: &mut WideStack,
     ) {
         if self.wide.is_empty() {
             return;
@@ -394,13 +396,16 @@ impl Bvh {
         match (slabs.coherent, pad == 0.0) {
             (Some(near_hi), true) => {
                 let test = wide::IntervalTest::<V, false>::new(slabs, near_hi, 0.0);
-                self.walk_wide(&test, sink, leaves)
+                self.walk_wide(&test, sink, leaves, stack)
             }
             (Some(near_hi), false) => {
                 let test = wide::IntervalTest::<V, true>::new(slabs, near_hi, pad);
-                self.walk_wide(&test, sink, leaves)
+                self.walk_wide(&test, sink, leaves, stack)
             }
-            (None, _) => self.walk_wide(&wide::LaneTest { rays: slabs, pad }, sink, leaves),
+            (None, _) => {
+                let test = wide::LaneTest { rays: slabs, pad };
+                self.walk_wide(&test, sink, leaves, stack)
+            }
         }
     }
 
@@ -539,7 +544,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves);
+        self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves, &mut WideStack::new());
         nearest.finish()
     }
 
@@ -746,7 +751,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet(&slabs, 0.0, sink, &mut leaves);
+        self.walk_packet(&slabs, 0.0, sink, &mut leaves, &mut WideStack::new());
     }
 
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
@@ -820,7 +825,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet(&rays, 0.0, &mut packet, &mut leaves);
+        self.walk_packet(&rays, 0.0, &mut packet, &mut leaves, &mut WideStack::new());
         packet.finish()
     }
 

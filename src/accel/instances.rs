@@ -18,7 +18,7 @@
 //! and t·2⁻²¹·‖C‖·|d| ≤ 2⁻²¹·‖C‖·(W + |o|) at any point of the box) and of the padded box's
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
-use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
+use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack};
 use super::packet::{
     quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, ShadowPacket,
 };
@@ -411,8 +411,10 @@ impl Instances {
             o,
             d,
             block: OriginBlock::default(),
+            stack: WideStack::new(),
         };
-        self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
+        self.top
+            .walk_packet(&slabs, 0.0, sink, &mut leaves, &mut WideStack::new());
     }
 }
 
@@ -423,6 +425,8 @@ struct TopLeaves<'a> {
     d: &'a [f32x8; 3],
     /// Where the mesh leaves prepare their triangles.
     block: OriginBlock,
+    /// The mesh walks' stack (one walk at a time, inside a visit of the top walk).
+    stack: WideStack,
 }
 
 impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
@@ -442,7 +446,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
                 Some((obj, pad)) => {
                     let d = placed.carry_directions(self.d);
                     let inner = PacketSlabs::<V>::new(obj, &d, mesh.boxes_tame());
-                    mesh.walk_packet(&inner, pad, sink, &mut leaves);
+                    mesh.walk_packet(&inner, pad, sink, &mut leaves, &mut self.stack);
                 }
                 None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), sink.live()),
             }

@@ -68,6 +68,34 @@ pub trait Lanes:
     fn zero() -> Self {
         Self::splat(0.0)
     }
+    /// The greatest lane by x86 `maxps`'s rule (`a` where `a > b`, else `b`), in this order:
+    /// lanes l and l + 4, then those pairs 0 and 2, 1 and 3, then the two left.
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        let a = self.to_array();
+        let max = |x: f32, y: f32| if x > y { x } else { y };
+        let m = [
+            max(a[0], a[4]),
+            max(a[1], a[5]),
+            max(a[2], a[6]),
+            max(a[3], a[7]),
+        ];
+        max(max(m[0], m[2]), max(m[1], m[3]))
+    }
+    /// The least lane by x86 `minps`'s rule (`a` where `a < b`, else `b`), in
+    /// [`Lanes::reduce_max`]'s order.
+    #[inline(always)]
+    fn reduce_min(self) -> f32 {
+        let a = self.to_array();
+        let min = |x: f32, y: f32| if x < y { x } else { y };
+        let m = [
+            min(a[0], a[4]),
+            min(a[1], a[5]),
+            min(a[2], a[6]),
+            min(a[3], a[7]),
+        ];
+        min(min(m[0], m[2]), min(m[1], m[3]))
+    }
     #[inline(always)]
     fn one() -> Self {
         Self::splat(1.0)
@@ -448,6 +476,30 @@ mod avx {
             unsafe { _mm256_movemask_ps(self.0) as u32 }
         }
         #[inline(always)]
+        fn reduce_max(self) -> f32 {
+            // SAFETY: as in `binary!`.
+            unsafe {
+                let m = _mm_max_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                );
+                let m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+                _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps::<1>(m, m)))
+            }
+        }
+        #[inline(always)]
+        fn reduce_min(self) -> f32 {
+            // SAFETY: as in `binary!`.
+            unsafe {
+                let m = _mm_min_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                );
+                let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+                _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps::<1>(m, m)))
+            }
+        }
+        #[inline(always)]
         fn from_bitmask(mask: u32) -> Self {
             // The mask in every lane, each lane's bit tested: three instructions, where the
             // trait's lane-by-lane form built an array.
@@ -637,12 +689,16 @@ mod tests {
                 x.step_bits(y, m).to_array(),
                 [f32::from_bits(x.to_bitmask()); 8],
                 V::from_bitmask(x.to_bitmask() ^ y.to_bitmask() << 1).to_array(),
+                [x.reduce_max(); 8],
+                [m.bitselect(x, y).reduce_max(); 8],
+                [x.reduce_min(); 8],
+                [m.bitselect(x, y).reduce_min(); 8],
             ]
             .into_iter()
             .map(bits)
             .collect()
         }
-        const NAMES: [&str; 25] = [
+        const NAMES: [&str; 29] = [
             "add",
             "sub",
             "mul",
@@ -668,6 +724,10 @@ mod tests {
             "step_bits",
             "bitmask",
             "from_bitmask",
+            "reduce_max",
+            "reduce_max of a select",
+            "reduce_min",
+            "reduce_min of a select",
         ];
         #[target_feature(enable = "avx2,fma")]
         fn avx2(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {

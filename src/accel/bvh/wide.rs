@@ -278,8 +278,9 @@ impl Collapse<'_> {
     }
 }
 
-/// A walk's stack: child references with their entry distances, nearest on top.
-pub(super) struct WideStack {
+/// A walk's stack: child references with their entry distances, nearest on top. (1.1 KB:
+/// made once per packet and handed to its walks, as a new one per walk is zeroed each time.)
+pub(crate) struct WideStack {
     refs: [u32; STACK],
     dists: [f32; STACK],
     /// A packet walk's lanes that enter each entry's box (bit l for lane l).
@@ -289,7 +290,7 @@ pub(super) struct WideStack {
 
 impl WideStack {
     #[inline(always)]
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             refs: [0; STACK],
             dists: [0.0; STACK],
@@ -413,10 +414,8 @@ impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
             let (m, t0) = self.rays.enter(&b, reach, live);
             if m != 0 {
                 let entries = V::from_bitmask(m).bitselect(t0, V::splat(f32::INFINITY));
-                let t = entries
-                    .to_array()
-                    .iter()
-                    .fold(f32::INFINITY, |a, &x| a.min(x));
+                // (No entry is NaN: `enter`'s t0 starts at 0 and grows by `max`.)
+                let t = entries.reduce_min();
                 stack.insert(base, n.child[c], t, m);
             }
         }
@@ -478,12 +477,8 @@ struct WideSlabs<const PADDED: bool> {
 impl<const PADDED: bool> WideSlabs<PADDED> {
     #[inline(always)]
     fn new<V: Lanes>(rays: &PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
-        let inv = each3(|k| {
-            let a = rays.inv[k].to_array();
-            let lo = a.iter().fold(f32::INFINITY, |m, &x| m.min(x));
-            let hi = a.iter().fold(f32::NEG_INFINITY, |m, &x| m.max(x));
-            [lo, hi]
-        });
+        // (Coherent packets are tame: no 1/dₖ is NaN.)
+        let inv = each3(|k| [rays.inv[k].reduce_min(), rays.inv[k].reduce_max()]);
         // fl(x·slack) is monotone in x: the far factors' extremes are the extremes' far
         // factors, rounded as `PacketSlabs` rounds them lane by lane.
         let slack = far_slack();
@@ -558,17 +553,12 @@ impl Sides {
 /// The greatest of `limits` over the lanes of `live` (−∞ for none).
 #[inline(always)]
 fn widest<V: Lanes>(limits: V, live: u32) -> f32 {
-    // Branch-free: the dead lanes set to −∞, then a tree of x86 `maxps` (the filtered fold
-    // it replaces was 6% of a field frame's instructions). A NaN limit never arises: limits
-    // are ∞ or a finite hit's bound.
-    let a = V::from_bitmask(live)
+    // Branch-free: the dead lanes set to −∞, then the lanes' greatest (the filtered fold it
+    // replaces was 6% of a field frame's instructions). No limit is NaN: limits are ∞ or a
+    // finite hit's bound.
+    V::from_bitmask(live)
         .bitselect(limits, V::splat(f32::NEG_INFINITY))
-        .to_array();
-    let max = |x: f32, y: f32| if x > y { x } else { y };
-    max(
-        max(max(a[0], a[1]), max(a[2], a[3])),
-        max(max(a[4], a[5]), max(a[6], a[7])),
-    )
+        .reduce_max()
 }
 
 impl Bvh {
@@ -582,6 +572,7 @@ impl Bvh {
         test: &T,
         sink: &mut S,
         leaves: &mut L,
+        stack: &mut WideStack,
     ) {
         let mut live = sink.live();
         if self.wide.is_empty() || live == 0 {
@@ -589,11 +580,11 @@ impl Bvh {
         }
         let mut reach = sink.limit();
         let mut limit = widest(reach, live);
-        let mut stack = WideStack::new();
+        stack.sp = 0;
         let mut node = 0usize;
         loop {
             let n = &self.wide[node];
-            test.push(n, reach, live, limit, &mut stack);
+            test.push(n, reach, live, limit, stack);
             loop {
                 if live == 0 {
                     return;
@@ -940,18 +931,18 @@ mod tests {
                     rays: &rays,
                     pad: 0.0,
                 };
-                bvh.walk_wide(&lanes, &mut nearest, &mut leaves);
+                bvh.walk_wide(&lanes, &mut nearest, &mut leaves, &mut WideStack::new());
                 let by_lane = nearest.finish();
                 // Boxes widened (as an instance's mesh is walked): both tests again.
                 let pad = 1e-3;
                 let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                 let lanes = LaneTest { rays: &rays, pad };
-                bvh.walk_wide(&lanes, &mut nearest, &mut leaves);
+                bvh.walk_wide(&lanes, &mut nearest, &mut leaves, &mut WideStack::new());
                 let mut padded = vec![nearest.finish()];
                 if let Some(near_hi) = rays.coherent {
                     let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                     let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
-                    bvh.walk_wide(&interval, &mut nearest, &mut leaves);
+                    bvh.walk_wide(&interval, &mut nearest, &mut leaves, &mut WideStack::new());
                     padded.push(nearest.finish());
                 }
                 for l in 0..8 {
