@@ -130,6 +130,36 @@ impl Placed {
         each3(|i| Instance::world_vertex(&self.world_from_object, v[i]))
     }
 
+    /// Four object triangles in the world as [`Placed::world`] has them, by vertex and
+    /// coordinate in 8 lanes (lanes 4–7 repeat 0–3): glam's `transform_point3` (x·c₀ + y·c₁,
+    /// + z·c₂, + c₃, each rounded in f64, then to f32), 4 triangles in f64 lanes at once
+    /// (the scalar form was about a tenth of a field frame).
+    #[inline(always)]
+    fn world_lanes<V: Lanes>(&self, t: [&[[f32; 3]; 3]; 4]) -> [[V; 3]; 3] {
+        use crate::math::lanes::Lanes64;
+        // (Loops, not closures: in the AVX2 kernel those stayed calls.)
+        let m = &self.world_from_object;
+        let cols = [m.x_axis, m.y_axis, m.z_axis, m.w_axis];
+        let mut w = [[V::zero(); 3]; 3];
+        for (j, wj) in w.iter_mut().enumerate() {
+            let mut x = [V::F64::splat(0.0); 3];
+            for (k, xk) in x.iter_mut().enumerate() {
+                *xk = V::F64::from_array([
+                    t[0][j][k] as f64,
+                    t[1][j][k] as f64,
+                    t[2][j][k] as f64,
+                    t[3][j][k] as f64,
+                ]);
+            }
+            for (k, wjk) in wj.iter_mut().enumerate() {
+                let c = |col: usize| V::F64::splat(cols[col][k]);
+                let f = (((x[0] * c(0) + x[1] * c(1)) + x[2] * c(2)) + c(3)).to_f32();
+                *wjk = V::from_array([f[0], f[1], f[2], f[3], f[0], f[1], f[2], f[3]]);
+            }
+        }
+        w
+    }
+
     /// The origin `o` in the object frame, and the pad for rays from it; `None` where they
     /// are not finite (the ray then tests every triangle of the instance).
     #[inline]
@@ -479,12 +509,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
         while start < end {
             let [i0, i1, i2, i3] = quad_indices(start, end);
             let place = self.placed;
-            let world = [
-                place.world(&tris[i0]),
-                place.world(&tris[i1]),
-                place.world(&tris[i2]),
-                place.world(&tris[i3]),
-            ];
+            let object = [&tris[i0], &tris[i1], &tris[i2], &tris[i3]];
             let first_prim = place.first_prim;
             let p = [
                 first_prim + locals[i0],
@@ -492,9 +517,8 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
                 first_prim + locals[i2],
                 first_prim + locals[i3],
             ];
-            let v = [&world[0], &world[1], &world[2], &world[3]];
-            OriginTriangle::new8::<V>(
-                [v[0], v[1], v[2], v[3], v[0], v[1], v[2], v[3]],
+            OriginTriangle::new8_from_lanes::<V>(
+                place.world_lanes::<V>(object),
                 self.o,
                 [p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]],
                 self.block,
@@ -507,9 +531,9 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
                     lanes.trailing_zeros() as usize,
                 );
             if !one_lane {
-                for (l, v) in v.iter().enumerate().take(n) {
+                for (l, v) in object.iter().enumerate().take(n) {
                     if !sink.take_decided(&self.block.get(l)) {
-                        sink.take(&precise(v, self.o, p[l]));
+                        sink.take(&precise(place, v, self.o, p[l]));
                     }
                 }
             }
@@ -518,10 +542,100 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
     }
 }
 
-/// A world triangle prepared for `o` with [`OriginTriangle::new`]'s tight bounds in f64, for
-/// the rays the f32 preparation leaves undecided (rare: out of the way of the kernels).
+/// Object triangle `v` placed in the world and prepared for `o` with
+/// [`OriginTriangle::new`]'s tight bounds in f64, for the rays the f32 preparation leaves
+/// undecided (rare: out of the way of the kernels).
 #[cold]
 #[inline(never)]
-fn precise(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> OriginTriangle {
-    OriginTriangle::new(v, o, prim)
+fn precise(place: &Placed, v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> OriginTriangle {
+    OriginTriangle::new(&place.world(v), o, prim)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `world_lanes` gives `world`'s bits in every lane, in both builds, on random placements
+    /// and triangles with huge, tiny, signed-zero and non-finite coordinates.
+    #[allow(unsafe_code)]
+    #[test]
+    fn world_lanes_are_world_bit_for_bit() {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        fn avx(p: &Placed, t: [&[[f32; 3]; 3]; 4]) -> [[[f32; 8]; 3]; 3] {
+            let w = p.world_lanes::<crate::math::lanes::Avx8>(t);
+            w.map(|v| v.map(|c| c.to_array()))
+        }
+        let mut seed = 7u64;
+        let mut next = |scale: f64| {
+            let r = crate::xorshift(&mut seed);
+            ((r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * scale
+        };
+        let special = [0.0, -0.0, 1e-45, -3e38, 3e38, f32::INFINITY, f32::NAN, 1.0];
+        // Case 0: x·c₀ and y·c₁ cancel exactly, so only glam's order ((x·c₀ + y·c₁) + z·c₂)
+        // keeps z·c₂ (a shear; every other case a placement T·R·S).
+        let shear = DMat4::from_cols(
+            glam::DVec4::new(1.0, 1.0, 1.0, 0.0),
+            glam::DVec4::new(-1.0, -1.0, -1.0, 0.0),
+            glam::DVec4::new(1.0, 1.0, 1.0, 0.0),
+            glam::DVec4::W,
+        );
+        for case in 0..300usize {
+            let scale = 10f64.powi((case % 7) as i32 - 3);
+            let m = match case {
+                0 => shear,
+                _ => DMat4::from_scale_rotation_translation(
+                    DVec3::new(next(2.0), next(2.0), next(2.0)),
+                    glam::DQuat::from_euler(glam::EulerRot::XYZ, next(3.0), next(3.0), next(3.0)),
+                    DVec3::new(next(1e3), next(1.0), next(1e-3)),
+                ),
+            };
+            let placed = Placed {
+                mesh: 0,
+                world_from_object: m,
+                object_from_world: m.inverse(),
+                to_object32: [[0.0; 4]; 3],
+                c_norm: 1.0,
+                object_max: 1.0,
+                world_max: 1.0,
+                first_prim: 0,
+            };
+            let tris: [[[f32; 3]; 3]; 4] = std::array::from_fn(|i| {
+                std::array::from_fn(|j| {
+                    std::array::from_fn(|k| match (case + i + j + k) % 11 {
+                        0 => special[(case + j) % special.len()],
+                        _ => next(scale) as f32,
+                    })
+                })
+            });
+            let mut tris = tris;
+            if case == 0 {
+                tris[1][2] = [1e20, 1e20, 1.0];
+            }
+            let t = [&tris[0], &tris[1], &tris[2], &tris[3]];
+            let want: Vec<[[f32; 3]; 3]> = tris.iter().map(|v| placed.world(v)).collect();
+            let mut builds = vec![placed
+                .world_lanes::<f32x8>(t)
+                .map(|v| v.map(|c| c.to_array()))];
+            #[cfg(target_arch = "x86_64")]
+            if crate::math::simd::has_avx2() {
+                // SAFETY: the CPU has AVX2 and FMA.
+                builds.push(unsafe { avx(&placed, t) });
+            }
+            for got in &builds {
+                for l in 0..8 {
+                    for j in 0..3 {
+                        for k in 0..3 {
+                            assert_eq!(
+                                got[j][k][l].to_bits(),
+                                want[l % 4][j][k].to_bits(),
+                                "lane {l} vertex {j} coordinate {k}: {:?} by {m:?}",
+                                tris[l % 4]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

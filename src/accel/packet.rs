@@ -497,14 +497,6 @@ impl OriginTriangle {
         prim: [u32; 8],
         out: &mut OriginBlock,
     ) {
-        const U: f32 = 1.0 / (1u32 << 24) as f32;
-        const MARGIN: f32 = 1.0 + 1e-6;
-        const BIG: f32 = 1e18;
-        // (Helpers as always-inlined items, not closures: see `new4`.)
-        #[inline(always)]
-        fn c<V: Lanes>(x: f32) -> V {
-            V::splat(x)
-        }
         #[inline(always)]
         fn coordinate<V: Lanes>(v: &[&[[f32; 3]; 3]; 8], j: usize, k: usize) -> V {
             V::from_array([
@@ -519,6 +511,27 @@ impl OriginTriangle {
                 coordinate(v, j, 1),
                 coordinate(v, j, 2),
             ]
+        }
+        let w = [vertex::<V>(&v, 0), vertex(&v, 1), vertex(&v, 2)];
+        Self::new8_from_lanes(w, o, prim, out)
+    }
+
+    /// [`OriginTriangle::new8`] of the triangles whose vertex j, coordinate k, is lane l of
+    /// `w[j][k]` (for vertices computed in lanes: instances' world triangles).
+    #[inline(always)]
+    pub(crate) fn new8_from_lanes<V: Lanes>(
+        w: [[V; 3]; 3],
+        o: [f32; 3],
+        prim: [u32; 8],
+        out: &mut OriginBlock,
+    ) {
+        const U: f32 = 1.0 / (1u32 << 24) as f32;
+        const MARGIN: f32 = 1.0 + 1e-6;
+        const BIG: f32 = 1e18;
+        // (Helpers as always-inlined items, not closures: see `new4`.)
+        #[inline(always)]
+        fn c<V: Lanes>(x: f32) -> V {
+            V::splat(x)
         }
         #[inline(always)]
         fn abs_sum<V: Lanes>(x: [V; 3]) -> V {
@@ -538,7 +551,6 @@ impl OriginTriangle {
         fn lanes3<V: Lanes>(x: [V; 3]) -> [[f32; 8]; 3] {
             [x[0].to_array(), x[1].to_array(), x[2].to_array()]
         }
-        let w = [vertex::<V>(&v, 0), vertex(&v, 1), vertex(&v, 2)];
         let o = [c::<V>(o[0]), c(o[1]), c(o[2])];
         let p = [sub(w[0], o), sub(w[1], o), sub(w[2], o)];
         let e = [sub(w[2], w[1]), sub(w[0], w[2]), sub(w[1], w[0])];
