@@ -299,14 +299,15 @@ impl WideStack {
         }
     }
 
-    /// Pushes the children of `n` in `hits` (distances `t0`), farthest first.
+    /// Pushes the children of `n` in `hits` (distances `t0`, entered by `lanes`), farthest
+    /// first.
     #[inline(always)]
-    fn push(&mut self, n: &WideNode, mut hits: u32, t0: &[f32; WIDTH]) {
+    fn push(&mut self, n: &WideNode, mut hits: u32, t0: &[f32; WIDTH], lanes: u32) {
         let base = self.sp;
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
-            self.insert(base, n.child[c], t0[c], 1);
+            self.insert(base, n.child[c], t0[c], lanes);
         }
     }
 
@@ -331,6 +332,18 @@ impl WideStack {
     #[inline(always)]
     fn popped_lanes(&self) -> u32 {
         self.lanes[self.sp] as u32
+    }
+
+    /// [`WideStack::pop`] among the entries above the first `base`, which it leaves.
+    #[inline(always)]
+    fn pop_above(&mut self, base: usize, limit: f32) -> u32 {
+        while self.sp > base {
+            self.sp -= 1;
+            if self.dists[self.sp] <= limit {
+                return self.refs[self.sp];
+            }
+        }
+        NONE
     }
 
     /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
@@ -386,6 +399,84 @@ pub(super) trait ChildTest<V> {
     /// `reach` (`limit`: the greatest over `live`), each at a distance no greater than those
     /// lanes' entries.
     fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack);
+
+    /// Lane `lane`'s own values of the packet's slabs, for [`ChildTest::push_lane`].
+    fn lane(&self, lane: usize) -> LaneSlabs;
+
+    /// [`ChildTest::push`] for one lane alone (its slabs, its `reach`): the children that
+    /// lane's test in `push` would let through, at its own entry distances.
+    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack);
+}
+
+/// One lane of a [`PacketSlabs`]: its 1/dₖ, its far factors, and its bit.
+pub(super) struct LaneSlabs {
+    inv: [f32; 3],
+    inv_far: [f32; 3],
+    bit: u32,
+}
+
+impl LaneSlabs {
+    #[inline(always)]
+    fn of<V: Lanes>(rays: &PacketSlabs<V>, lane: usize) -> Self {
+        let (inv, far) = (&rays.inv, &rays.inv_far);
+        Self {
+            inv: [
+                inv[0].to_array()[lane],
+                inv[1].to_array()[lane],
+                inv[2].to_array()[lane],
+            ],
+            inv_far: [
+                far[0].to_array()[lane],
+                far[1].to_array()[lane],
+                far[2].to_array()[lane],
+            ],
+            bit: 1 << lane,
+        }
+    }
+}
+
+/// The children of `n` that lane `lane` of `rays` enters before `reach`, every box widened
+/// by `pad` if `padded`, and its entry distances: the 8 children at once, with the
+/// operations [`PacketSlabs::enter`] (and [`Sides::lanes`]) apply to that lane, one child at
+/// a time, so the same children pass.
+#[inline(always)]
+fn enter_lane<V: Lanes>(
+    rays: &PacketSlabs<V>,
+    n: &WideNode,
+    padded: bool,
+    pad: f32,
+    lane: &LaneSlabs,
+    reach: f32,
+) -> (u32, V) {
+    let mut t0 = V::zero();
+    let mut t1 = V::splat(reach);
+    #[allow(clippy::needless_range_loop)]
+    for k in 0..3 {
+        let (mut lo, mut hi) = (V::from_array(n.lo[k]), V::from_array(n.hi[k]));
+        if padded {
+            lo = lo - V::splat(pad);
+            hi = hi + V::splat(pad);
+        }
+        let o = V::splat(rays.o[k]);
+        let (lo, hi) = (lo - o, hi - o);
+        let inv = lane.inv[k];
+        // The lane's sign as `PacketSlabs::neg` has it (1/dₖ < 0).
+        let (near, far) = match inv < 0.0 {
+            true => (hi, lo),
+            false => (lo, hi),
+        };
+        let tn = near * V::splat(inv);
+        let tf = far * V::splat(lane.inv_far[k]);
+        if rays.tame {
+            t0 = t0.fast_max(tn);
+            t1 = t1.fast_min(tf);
+        } else {
+            // As `PacketSlabs::enter`: a NaN (0·∞) constrains nothing.
+            t0 = t0.max(tn);
+            t1 = t1.min(tf);
+        }
+    }
+    (t0.simd_le(t1).to_bitmask(), t0)
 }
 
 /// Any packet: each used child tested lane by lane ([`PacketSlabs::enter`]), its box widened
@@ -419,6 +510,17 @@ impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
                 stack.insert(base, n.child[c], t, m);
             }
         }
+    }
+
+    #[inline(always)]
+    fn lane(&self, lane: usize) -> LaneSlabs {
+        LaneSlabs::of(self.rays, lane)
+    }
+
+    #[inline(always)]
+    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack) {
+        let (hits, t0) = enter_lane(self.rays, n, self.pad != 0.0, self.pad, lane, reach);
+        stack.push(n, hits, &t0.to_array(), lane.bit);
     }
 }
 
@@ -459,6 +561,18 @@ impl<V: Lanes, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> 
                 stack.insert(base, n.child[c], t0[c], lanes);
             }
         }
+    }
+
+    #[inline(always)]
+    fn lane(&self, lane: usize) -> LaneSlabs {
+        LaneSlabs::of(self.rays, lane)
+    }
+
+    #[inline(always)]
+    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack) {
+        let pad = self.slabs.pad;
+        let (hits, t0) = enter_lane(self.rays, n, PADDED, pad, lane, reach);
+        stack.push(n, hits, &t0.to_array(), lane.bit);
     }
 }
 
@@ -567,7 +681,13 @@ impl Bvh {
     /// children first. (No closures: everything here must inline into the caller's AVX2
     /// build.)
     #[inline(always)]
-    pub(super) fn walk_wide<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
+    pub(super) fn walk_wide<
+        V: Lanes,
+        S: PacketSink<V>,
+        L: Leaves<V, S>,
+        T: ChildTest<V>,
+        const LONE: bool,
+    >(
         &self,
         test: &T,
         sink: &mut S,
@@ -594,14 +714,61 @@ impl Bvh {
                     return;
                 }
                 if r & LEAF == 0 {
+                    let lanes = stack.popped_lanes() & live;
+                    if !(LONE && lanes.is_power_of_two()) {
+                        node = r as usize;
+                        break;
+                    }
+                    self.walk_lane(test, sink, leaves, r as usize, lanes, stack);
+                } else {
+                    let (first, count) = leaf_range(r);
+                    leaves.visit(sink, first, count, stack.popped_lanes() & live);
+                }
+                live = sink.live();
+                reach = sink.limit();
+                limit = widest(reach, live);
+            }
+        }
+    }
+
+    /// [`Bvh::walk_wide`] below node `root`, which only lane `lane` (a one-bit mask) of the
+    /// packet entered: its subtree for that lane alone, 8 boxes per test
+    /// ([`ChildTest::push_lane`]), its leaves offered to that lane, until the lane is decided
+    /// or the subtree is done. Uses `stack` above its current entries and leaves them as
+    /// they were.
+    #[inline(always)]
+    fn walk_lane<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
+        &self,
+        test: &T,
+        sink: &mut S,
+        leaves: &mut L,
+        root: usize,
+        lane: u32,
+        stack: &mut WideStack,
+    ) {
+        let at = lane.trailing_zeros() as usize;
+        let slabs = test.lane(at);
+        let base = stack.sp;
+        let mut reach = sink.limit().to_array()[at];
+        let mut node = root;
+        loop {
+            test.push_lane(&self.wide[node], &slabs, reach, stack);
+            loop {
+                let r = stack.pop_above(base, reach);
+                if r == NONE {
+                    return;
+                }
+                if r & LEAF == 0 {
                     node = r as usize;
                     break;
                 }
                 let (first, count) = leaf_range(r);
-                leaves.visit(sink, first, count, stack.popped_lanes() & live);
-                live = sink.live();
-                reach = sink.limit();
-                limit = widest(reach, live);
+                leaves.visit(sink, first, count, lane);
+                if sink.live() & lane == 0 {
+                    stack.sp = base;
+                    return;
+                }
+                reach = sink.limit().to_array()[at];
             }
         }
     }
@@ -661,7 +828,7 @@ impl Bvh {
         loop {
             let n = &self.wide[node];
             let (hits, t0) = enter(n, cull(t_far));
-            stack.push(n, hits, &t0);
+            stack.push(n, hits, &t0, 1);
             loop {
                 let r = stack.pop(cull(t_far));
                 if r == NONE {
@@ -931,18 +1098,24 @@ mod tests {
                     rays: &rays,
                     pad: 0.0,
                 };
-                bvh.walk_wide(&lanes, &mut nearest, &mut leaves, &mut WideStack::new());
+                let stack = &mut WideStack::new();
+                bvh.walk_wide::<_, _, _, _, false>(&lanes, &mut nearest, &mut leaves, stack);
                 let by_lane = nearest.finish();
-                // Boxes widened (as an instance's mesh is walked): both tests again.
+                // Boxes widened and lone lanes' subtrees walked for that lane alone (as an
+                // instance's mesh is walked): both tests again, and the interval test unpadded.
                 let pad = 1e-3;
                 let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                 let lanes = LaneTest { rays: &rays, pad };
-                bvh.walk_wide(&lanes, &mut nearest, &mut leaves, &mut WideStack::new());
+                bvh.walk_wide::<_, _, _, _, true>(&lanes, &mut nearest, &mut leaves, stack);
                 let mut padded = vec![nearest.finish()];
                 if let Some(near_hi) = rays.coherent {
                     let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                     let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
-                    bvh.walk_wide(&interval, &mut nearest, &mut leaves, &mut WideStack::new());
+                    bvh.walk_wide::<_, _, _, _, true>(&interval, &mut nearest, &mut leaves, stack);
+                    padded.push(nearest.finish());
+                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                    let interval = IntervalTest::<_, false>::new(&rays, near_hi, 0.0);
+                    bvh.walk_wide::<_, _, _, _, true>(&interval, &mut nearest, &mut leaves, stack);
                     padded.push(nearest.finish());
                 }
                 for l in 0..8 {
