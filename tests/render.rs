@@ -1140,3 +1140,49 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
     println!("{hits} hits, {blocked} shadow rays blocked, {checked_blockers} blockers checked");
     assert!(hits > 1500 && blocked > 50 && checked_blockers > 1000);
 }
+
+#[test]
+fn every_simd_build_renders_the_same_bytes() {
+    // The kernels and the tile loop are compiled for the baseline, AVX2 and AVX-512 and
+    // chosen at run time; every build the CPU runs must render the same image, at every lab
+    // step, with and without supersampling (the spheres scene: triangles and spheres).
+    use raylab::math::simd::{self, SimdLevel};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/cornell_spheres.scene"
+    );
+    let spheres = Scene::load(std::path::Path::new(path), Default::default()).unwrap();
+    let mut compared = 0;
+    for (scene, spp) in [(Scene::cornell(), 1), (Scene::cornell(), 2), (spheres, 1)] {
+        for step in [
+            LabStep::Flat,
+            LabStep::Direct,
+            LabStep::Shadows,
+            LabStep::Indirect,
+        ] {
+            let settings = RenderSettings {
+                width: 96,
+                height: 64,
+                step,
+                spp,
+                ..Default::default()
+            };
+            let render = || {
+                render_image(&scene, &Camera::cornell(96), &settings)
+                    .unwrap()
+                    .0
+            };
+            let best = render();
+            for lower in SimdLevel::ALL.into_iter().filter(|l| *l < simd::detected()) {
+                simd::limit(lower);
+                let other = render();
+                simd::limit(SimdLevel::Avx512);
+                assert!(best == other, "{lower} build, {step:?}, spp {spp}");
+                compared += 1;
+            }
+        }
+    }
+    if simd::detected() > SimdLevel::Baseline {
+        assert_eq!(compared, 12 * simd::detected() as usize);
+    }
+}

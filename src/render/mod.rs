@@ -144,7 +144,15 @@ pub fn render_into_cancellable(
                     continue;
                 }
                 match tile_queries.packets() {
-                    true => frame.trace_tile_packets(
+                    true if frame.flat_rgba.is_some() => frame.trace_tile_packets(
+                        &tile,
+                        &mut tile_queries,
+                        &mut shading,
+                        rows,
+                        &mut counts,
+                    ),
+                    true => trace_tile_packets(
+                        &frame,
                         &tile,
                         &mut tile_queries,
                         &mut shading,
@@ -171,6 +179,43 @@ pub fn render_into_cancellable(
 
 /// (camera rays that hit, shadow rays cast).
 type Counts = (u64, u64);
+
+/// [`Frame::trace_tile_packets`] compiled for the CPU's SIMD level as the kernels are
+/// ([`crate::math::simd::avx2_or_baseline`]): the tile loop's own work (ray directions,
+/// shading, colours, pixel writes) in AVX2 or AVX-512 where the CPU has them: the Cornell
+/// box with shadows at 1280×720, 2 threads, 5–8% faster (Zen 5, AVX-512, interleaved). The
+/// flat step's one-sample path (`trace_flat_pixels`) was 1.5–2% slower this way, so it is
+/// called as before.
+#[inline(never)]
+fn trace_tile_packets(
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    shading: &mut Shading,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    crate::math::simd::avx2_or_baseline!(trace_tile_packets_body => (
+        frame: &Frame,
+        tile: &Tile,
+        queries: &mut TileQueries,
+        shading: &mut Shading,
+        rows: &mut [u8],
+        counts: &mut Counts
+    ) -> ())
+}
+
+#[inline(always)]
+fn trace_tile_packets_body(
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    shading: &mut Shading,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    frame.trace_tile_packets(tile, queries, shading, rows, counts)
+}
 
 /// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
 struct Tile {
@@ -401,7 +446,7 @@ impl<'a> Frame<'a> {
     /// `rows`; then, past the flat step, readies the hits for shading 8 at a time
     /// ([`shade::shade_packet`]), asks for the tile's shadow segments at once, and colours each
     /// pixel from its samples in the per-ray path's order.
-    #[inline(never)]
+    #[inline(always)]
     fn trace_tile_packets(
         &self,
         tile: &Tile,
