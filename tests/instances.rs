@@ -352,40 +352,50 @@ fn instanced_images_equal_the_flattened_scene() {
     assert!(differ > 500, "{differ} pixels show the balls");
 }
 
-#[test]
-fn hard_cases_through_instances_answer_as_flattened() {
-    // Every family's triangles as one mesh, placed twice: as it is (the family's own rays)
-    // and turned a quarter about z and scaled by 2 (exact: the turned family's rays must
-    // name the same primitives, offset by the first placement's size).
-    let mut rng = Rng(5);
+/// A hard-case family's triangles as one mesh, placed twice: as it is, and turned a quarter
+/// about z and scaled by 2 (exact); with the number of triangles. `None` for a family with
+/// other shapes (spheres are not meshes).
+fn family_placed_twice(family: &suite::Family, rng: &mut Rng) -> Option<(Scene, u32)> {
+    let tris: Vec<Shape<f32>> = (family.shapes.iter())
+        .filter(|s| matches!(s, Shape::Triangle(_)))
+        .copied()
+        .collect();
+    if tris.len() != family.shapes.len() || tris.is_empty() {
+        return None;
+    }
     let quarter = DMat4::from_cols_array_2d(&[
         [0.0, 2.0, 0.0, 0.0],
         [-2.0, 0.0, 0.0, 0.0],
         [0.0, 0.0, 2.0, 0.0],
         [0.0, 0.0, 0.0, 1.0],
     ]);
+    let mesh = mesh(&family.name, &tris, rng);
+    let n = tris.len() as u32;
+    let place = |m: DMat4, first: u32| Instance {
+        mesh: mesh.clone(),
+        world_from_object: m,
+        first_prim: first,
+        color: [0.5; 3],
+        tint: None,
+    };
+    let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
+        .with_instances(vec![place(DMat4::IDENTITY, 0), place(quarter, n)])
+        .unwrap();
+    Some((scene, n))
+}
+
+#[test]
+fn hard_cases_through_instances_answer_as_flattened() {
+    // Every family's triangles as one mesh, placed twice: as it is (the family's own rays)
+    // and turned a quarter about z and scaled by 2 (exact: the turned family's rays must
+    // name the same primitives, offset by the first placement's size).
+    let mut rng = Rng(5);
     let turn = |p: [f32; 3]| [-2.0 * p[1], 2.0 * p[0], 2.0 * p[2]];
     let mut rays = 0;
     for family in suite::all() {
-        let tris: Vec<Shape<f32>> = (family.shapes.iter())
-            .filter(|s| matches!(s, Shape::Triangle(_)))
-            .copied()
-            .collect();
-        if tris.len() != family.shapes.len() || tris.is_empty() {
+        let Some((scene, n)) = family_placed_twice(&family, &mut rng) else {
             continue; // (the spheres family: spheres are not meshes)
-        }
-        let mesh = mesh(&family.name, &tris, &mut rng);
-        let n = tris.len() as u32;
-        let place = |m: DMat4, first: u32| Instance {
-            mesh: mesh.clone(),
-            world_from_object: m,
-            first_prim: first,
-            color: [0.5; 3],
-            tint: None,
         };
-        let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
-            .with_instances(vec![place(DMat4::IDENTITY, 0), place(quarter, n)])
-            .unwrap();
         let own = Scene::new(
             "own",
             family.shapes.clone(),
@@ -613,37 +623,15 @@ fn instanced_packets_decide_as_the_flattened_scene() {
     // purpose: about a third of its lanes go to the per-ray search, as before the f32
     // preparation.)
     let mut rng = Rng(9);
-    let quarter = DMat4::from_cols_array_2d(&[
-        [0.0, 2.0, 0.0, 0.0],
-        [-2.0, 0.0, 0.0, 0.0],
-        [0.0, 0.0, 2.0, 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-    ]);
     let (mut decided, mut lanes) = (0, 0);
     let mut all_dirs: Vec<[f32; 3]> = Vec::new();
     for family in suite::all() {
         all_dirs.extend(family.rays.iter().map(|r| r.d));
     }
     for family in suite::all() {
-        let tris: Vec<Shape<f32>> = (family.shapes.iter())
-            .filter(|s| matches!(s, Shape::Triangle(_)))
-            .copied()
-            .collect();
-        if tris.len() != family.shapes.len() || tris.is_empty() {
+        let Some((scene, _)) = family_placed_twice(&family, &mut rng) else {
             continue;
-        }
-        let mesh = mesh(&family.name, &tris, &mut rng);
-        let n = tris.len() as u32;
-        let place = |m: DMat4, first: u32| Instance {
-            mesh: mesh.clone(),
-            world_from_object: m,
-            first_prim: first,
-            color: [0.5; 3],
-            tint: None,
         };
-        let scene = Scene::new("suite", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
-            .with_instances(vec![place(DMat4::IDENTITY, 0), place(quarter, n)])
-            .unwrap();
         let flat = scene.flattened();
         for ray in family.rays.iter().step_by(3) {
             let mut dirs = [ray.d; 8];
