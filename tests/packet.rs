@@ -671,9 +671,7 @@ fn the_avx512_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         };
         let fast = run();
         for lower in SimdLevel::ALL.into_iter().filter(|l| *l < simd::detected()) {
-            simd::limit(lower);
-            let other = run();
-            simd::limit(SimdLevel::Avx512);
+            let other = simd::limited(lower, run);
             assert_eq!(format!("{fast:?}"), format!("{other:?}"), "{lower} build");
         }
         hit_lanes += fast.1.prim.iter().filter(|p| **p != u32::MAX).count();

@@ -642,12 +642,7 @@ fn run_bench(
                 name: "raylab render, kernels limited to AVX2".into(),
                 role: Role::Render("flat, AVX2"),
                 build: Some(raylab_build),
-                frame: Box::new(|_| {
-                    simd::limit(SimdLevel::Avx2);
-                    let hits = render(&flat);
-                    simd::limit(SimdLevel::Avx512);
-                    hits
-                }),
+                frame: Box::new(|_| simd::limited(SimdLevel::Avx2, || render(&flat))),
             });
         }
         if bench.name == "cornell" || bench.name == "field" {
@@ -662,12 +657,7 @@ fn run_bench(
                     name: "raylab render, shadows step, kernels limited to AVX2".into(),
                     role: Role::Render("shadows, AVX2"),
                     build: Some(raylab_build),
-                    frame: Box::new(|_| {
-                        simd::limit(SimdLevel::Avx2);
-                        let hits = render(&shadows);
-                        simd::limit(SimdLevel::Avx512);
-                        hits
-                    }),
+                    frame: Box::new(|_| simd::limited(SimdLevel::Avx2, || render(&shadows))),
                 });
             }
         }

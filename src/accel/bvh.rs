@@ -370,13 +370,38 @@ impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
     /// (see [`Bvh::traverse`]): a node is entered while its box meets one of `sink`'s live
     /// lanes before that lane's limit; `leaves` visits a leaf's items, nearer children first.
-    /// Untrusted slabs visit every item. The walk uses `stack` (its entries are not kept).
-    /// With `LONE`, a node only one lane entered has its subtree walked for that lane alone
-    /// (8 boxes per test): instances' meshes, where 56% of the node visits at 320×180 are
-    /// one lane's (the bunny field). On the meshes' own hierarchies it cost more than it
-    /// saved (bunny 1280×720 +2.2%, Igea 640×360 +0.7%; −2.8% on Igea at 320×180).
+    /// Untrusted slabs visit every item.
     #[inline(always)]
-    pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, const LONE: bool>(
+    pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
+        &self,
+        slabs: &PacketSlabs<V>,
+        pad: f32,
+        sink: &mut S,
+        leaves: &mut L,
+    ) {
+        let stack = &mut WideStack::new();
+        self.walk_packet_on::<_, _, _, false>(slabs, pad, sink, leaves, stack)
+    }
+
+    /// [`Bvh::walk_packet`] where a node only one lane entered has its subtree walked for that
+    /// lane alone (8 boxes per test), on `stack` (its entries are not kept): instances'
+    /// meshes, where 56% of the node visits at 320×180 are one lane's (the bunny field),
+    /// walked many times per packet. On the meshes' own hierarchies the lone walk cost more
+    /// than it saved (bunny 1280×720 +2.2%, Igea 640×360 +0.7%; −2.8% on Igea at 320×180).
+    #[inline(always)]
+    pub(crate) fn walk_packet_lone<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
+        &self,
+        slabs: &PacketSlabs<V>,
+        pad: f32,
+        sink: &mut S,
+        leaves: &mut L,
+        stack: &mut WideStack,
+    ) {
+        self.walk_packet_on::<_, _, _, true>(slabs, pad, sink, leaves, stack)
+    }
+
+    #[inline(always)]
+    fn walk_packet_on<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, const LONE: bool>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -548,13 +573,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet::<_, _, _, false>(
-            &rays,
-            0.0,
-            &mut nearest,
-            &mut leaves,
-            &mut WideStack::new(),
-        );
+        self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves);
         nearest.finish()
     }
 
@@ -761,7 +780,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet::<_, _, _, false>(&slabs, 0.0, sink, &mut leaves, &mut WideStack::new());
+        self.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
 
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
@@ -835,13 +854,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet::<_, _, _, false>(
-            &rays,
-            0.0,
-            &mut packet,
-            &mut leaves,
-            &mut WideStack::new(),
-        );
+        self.walk_packet(&rays, 0.0, &mut packet, &mut leaves);
         packet.finish()
     }
 

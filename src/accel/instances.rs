@@ -443,13 +443,7 @@ impl Instances {
             block: OriginBlock::default(),
             stack: WideStack::new(),
         };
-        self.top.walk_packet::<_, _, _, false>(
-            &slabs,
-            0.0,
-            sink,
-            &mut leaves,
-            &mut WideStack::new(),
-        );
+        self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
 }
 
@@ -481,13 +475,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
                 Some((obj, pad)) => {
                     let d = placed.carry_directions(self.d);
                     let inner = PacketSlabs::<V>::new(obj, &d, mesh.boxes_tame());
-                    mesh.walk_packet::<_, _, _, true>(
-                        &inner,
-                        pad,
-                        sink,
-                        &mut leaves,
-                        &mut self.stack,
-                    );
+                    mesh.walk_packet_lone(&inner, pad, sink, &mut leaves, &mut self.stack);
                 }
                 None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), sink.live()),
             }

@@ -756,15 +756,8 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
     if sum.simd_ne(sum).any() {
         return f32::NAN;
     }
-    let m = a.fast_max(b).fast_max(c).to_array();
-    let max = |x: f32, y: f32| if x > y { x } else { y };
-    let half = [
-        max(m[0], m[4]),
-        max(m[1], m[5]),
-        max(m[2], m[6]),
-        max(m[3], m[7]),
-    ];
-    max(max(half[0], half[1]), max(half[2], half[3]))
+    // (Magnitudes, no NaN: the same value in any order.)
+    Lanes::reduce_max(a.fast_max(b).fast_max(c))
 }
 
 /// The nearest of `tris` along each of 8 directions from their shared origin, for

@@ -136,10 +136,11 @@ pub fn level() -> SimdLevel {
     }
 }
 
-/// Whether the kernels run a build with the AVX types (AVX2 or AVX-512).
+/// Whether the CPU has AVX2 and FMA: the tests' guard before they call an AVX build
+/// themselves (whatever [`limit`] says).
 #[cfg(test)]
 pub(crate) fn has_avx2() -> bool {
-    level() >= SimdLevel::Avx2
+    detected() >= SimdLevel::Avx2
 }
 
 static LIMIT: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(2);
@@ -149,4 +150,13 @@ static LIMIT: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(2);
 /// `SimdLevel::Avx512` lifts the limit.
 pub fn limit(at_most: SimdLevel) {
     LIMIT.store(at_most as u8, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// `f()` with the kernels' builds no higher than `at_most` ([`limit`]), the limit lifted
+/// afterwards: one frame or query of a lower build beside the best one.
+pub fn limited<T>(at_most: SimdLevel, f: impl FnOnce() -> T) -> T {
+    limit(at_most);
+    let out = f();
+    limit(SimdLevel::Avx512);
+    out
 }

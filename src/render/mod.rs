@@ -144,15 +144,7 @@ pub fn render_into_cancellable(
                     continue;
                 }
                 match tile_queries.packets() {
-                    true if frame.flat_rgba.is_some() => frame.trace_tile_packets(
-                        &tile,
-                        &mut tile_queries,
-                        &mut shading,
-                        rows,
-                        &mut counts,
-                    ),
-                    true => trace_tile_packets(
-                        &frame,
+                    true => frame.trace_tile_packets(
                         &tile,
                         &mut tile_queries,
                         &mut shading,
@@ -180,14 +172,13 @@ pub fn render_into_cancellable(
 /// (camera rays that hit, shadow rays cast).
 type Counts = (u64, u64);
 
-/// [`Frame::trace_tile_packets`] compiled for the CPU's SIMD level as the kernels are
+/// [`Frame::trace_packets`] compiled for the CPU's SIMD level as the kernels are
 /// ([`crate::math::simd::avx2_or_baseline`]): the tile loop's own work (ray directions,
 /// shading, colours, pixel writes) in AVX2 or AVX-512 where the CPU has them: the Cornell
 /// box with shadows at 1280×720, 2 threads, 5–8% faster (Zen 5, AVX-512, interleaved). The
-/// flat step's one-sample path (`trace_flat_pixels`) was 1.5–2% slower this way, so it is
-/// called as before.
-#[inline(never)]
-fn trace_tile_packets(
+/// flat step's one-sample path (`Frame::trace_flat_pixels`) was 1.5–2% slower this way, so
+/// it stays out of it.
+fn trace_packets_for_cpu(
     frame: &Frame,
     tile: &Tile,
     queries: &mut TileQueries,
@@ -195,7 +186,7 @@ fn trace_tile_packets(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(trace_tile_packets_body => (
+    crate::math::simd::avx2_or_baseline!(trace_packets_body => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -206,7 +197,7 @@ fn trace_tile_packets(
 }
 
 #[inline(always)]
-fn trace_tile_packets_body(
+fn trace_packets_body(
     frame: &Frame,
     tile: &Tile,
     queries: &mut TileQueries,
@@ -214,7 +205,7 @@ fn trace_tile_packets_body(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    frame.trace_tile_packets(tile, queries, shading, rows, counts)
+    frame.trace_packets(tile, queries, shading, rows, counts)
 }
 
 /// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
@@ -446,8 +437,24 @@ impl<'a> Frame<'a> {
     /// `rows`; then, past the flat step, readies the hits for shading 8 at a time
     /// ([`shade::shade_packet`]), asks for the tile's shadow segments at once, and colours each
     /// pixel from its samples in the per-ray path's order.
-    #[inline(always)]
+    #[inline(never)]
     fn trace_tile_packets(
+        &self,
+        tile: &Tile,
+        queries: &mut TileQueries,
+        shading: &mut Shading,
+        rows: &mut [u8],
+        counts: &mut Counts,
+    ) {
+        match &self.flat_rgba {
+            Some(rgba) => self.trace_flat_pixels(tile, queries, rgba, rows, counts),
+            None => trace_packets_for_cpu(self, tile, queries, shading, rows, counts),
+        }
+    }
+
+    /// [`Frame::trace_tile_packets`] past the flat step's one-sample path.
+    #[inline(always)]
+    fn trace_packets(
         &self,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -467,9 +474,6 @@ impl<'a> Frame<'a> {
         let o = self.gen.origin();
         let flat = settings.step == LabStep::Flat;
         shaded.clear();
-        if let Some(rgba) = &self.flat_rgba {
-            return self.trace_flat_pixels(tile, queries, rgba, rows, counts);
-        }
         for block in tile.blocks() {
             let live = block.live_lanes();
             let (xs, ys) = block.lane_pixels(tile.y0);

@@ -399,12 +399,9 @@ pub(super) trait ChildTest<V> {
     /// lanes' entries.
     fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack);
 
-    /// Lane `lane`'s own values of the packet's slabs, for [`ChildTest::push_lane`].
-    fn lane(&self, lane: usize) -> LaneSlabs;
-
-    /// [`ChildTest::push`] for one lane alone (its slabs, its `reach`): the children that
-    /// lane's test in `push` would let through, at its own entry distances.
-    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack);
+    /// The packet's slabs, and the pad its boxes are widened by (`None`: not widened), for
+    /// walks of one lane ([`Bvh::walk_lane`]).
+    fn slabs(&self) -> (&PacketSlabs<V>, Option<f32>);
 }
 
 /// One lane of a [`PacketSlabs`]: its 1/dₖ, its far factors, and its bit.
@@ -434,25 +431,24 @@ impl LaneSlabs {
     }
 }
 
-/// The children of `n` that lane `lane` of `rays` enters before `reach`, every box widened
-/// by `pad` if `padded`, and its entry distances: the 8 children at once, with the
-/// operations [`PacketSlabs::enter`] (and [`Sides::lanes`]) apply to that lane, one child at
-/// a time, so the same children pass.
+/// Pushes onto `stack` the children of `n` that lane `lane` of `rays` enters before
+/// `reach`, every box widened by `pad` if any, at that lane's entry distances: the 8 children
+/// at once, with the operations [`PacketSlabs::enter`] (and [`Sides::lanes`]) apply to that
+/// lane, one child at a time, so the same children pass.
 #[inline(always)]
-fn enter_lane<V: Lanes>(
-    rays: &PacketSlabs<V>,
+fn push_lane<V: Lanes>(
+    (rays, pad): (&PacketSlabs<V>, Option<f32>),
     n: &WideNode,
-    padded: bool,
-    pad: f32,
     lane: &LaneSlabs,
     reach: f32,
-) -> (u32, V) {
+    stack: &mut WideStack,
+) {
     let mut t0 = V::zero();
     let mut t1 = V::splat(reach);
     #[allow(clippy::needless_range_loop)]
     for k in 0..3 {
         let (mut lo, mut hi) = (V::from_array(n.lo[k]), V::from_array(n.hi[k]));
-        if padded {
+        if let Some(pad) = pad {
             lo = lo - V::splat(pad);
             hi = hi + V::splat(pad);
         }
@@ -475,7 +471,7 @@ fn enter_lane<V: Lanes>(
             t1 = t1.min(tf);
         }
     }
-    (t0.simd_le(t1).to_bitmask(), t0)
+    stack.push(n, t0.simd_le(t1).to_bitmask(), &t0.to_array(), lane.bit);
 }
 
 /// Any packet: each used child tested lane by lane ([`PacketSlabs::enter`]), its box widened
@@ -512,14 +508,8 @@ impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
     }
 
     #[inline(always)]
-    fn lane(&self, lane: usize) -> LaneSlabs {
-        LaneSlabs::of(self.rays, lane)
-    }
-
-    #[inline(always)]
-    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack) {
-        let (hits, t0) = enter_lane(self.rays, n, self.pad != 0.0, self.pad, lane, reach);
-        stack.push(n, hits, &t0.to_array(), lane.bit);
+    fn slabs(&self) -> (&PacketSlabs<V>, Option<f32>) {
+        (self.rays, (self.pad != 0.0).then_some(self.pad))
     }
 }
 
@@ -563,15 +553,8 @@ impl<V: Lanes, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> 
     }
 
     #[inline(always)]
-    fn lane(&self, lane: usize) -> LaneSlabs {
-        LaneSlabs::of(self.rays, lane)
-    }
-
-    #[inline(always)]
-    fn push_lane(&self, n: &WideNode, lane: &LaneSlabs, reach: f32, stack: &mut WideStack) {
-        let pad = self.slabs.pad;
-        let (hits, t0) = enter_lane(self.rays, n, PADDED, pad, lane, reach);
-        stack.push(n, hits, &t0.to_array(), lane.bit);
+    fn slabs(&self) -> (&PacketSlabs<V>, Option<f32>) {
+        (self.rays, PADDED.then_some(self.slabs.pad))
     }
 }
 
@@ -739,7 +722,7 @@ impl Bvh {
 
     /// [`Bvh::walk_wide`] below node `root`, which only lane `lane` (a one-bit mask) of the
     /// packet entered: its subtree for that lane alone, 8 boxes per test
-    /// ([`ChildTest::push_lane`]), its leaves offered to that lane, until the lane is decided
+    /// ([`push_lane`]), its leaves offered to that lane, until the lane is decided
     /// or the subtree is done. Uses `stack` above its current entries and leaves them as
     /// they were.
     #[inline(always)]
@@ -753,12 +736,13 @@ impl Bvh {
         stack: &mut WideStack,
     ) {
         let at = lane.trailing_zeros() as usize;
-        let slabs = test.lane(at);
+        let packet = test.slabs();
+        let slabs = LaneSlabs::of(packet.0, at);
         let base = stack.sp;
         let mut reach = sink.limit().to_array()[at];
         let mut node = root;
         loop {
-            test.push_lane(&self.wide[node], &slabs, reach, stack);
+            push_lane(packet, &self.wide[node], &slabs, reach, stack);
             loop {
                 let r = stack.pop_above(base, reach);
                 if r == NONE {
