@@ -265,14 +265,23 @@ fn directions_body<V: Lanes>(
     xs: wide::f32x8,
     ys: wide::f32x8,
 ) -> [wide::f32x8; 3] {
-    let cx = V::from_wide(xs) - V::splat(generator.half_w);
-    let cy = V::from_wide(ys) - V::splat(generator.half_h);
-    let cz = V::splat(generator.focal);
-    let recip = V::one() / (cx * cx + cy * cy + cz * cz).sqrt();
-    let (cx, cy, cz) = (cx * recip, cy * recip, cz * recip);
-    let axis = |k: usize| {
-        let (r, d, f) = (generator.right[k], generator.down[k], generator.forward[k]);
-        (V::splat(r) * cx + V::splat(d) * cy + V::splat(f) * cz).to_wide()
-    };
-    each3(axis)
+    let d = generator.directions_in::<V>(V::from_wide(xs), V::from_wide(ys));
+    each3(|k| d[k].to_wide())
+}
+
+impl RayGenerator {
+    /// [`RayGenerator::directions_x8`] inside a kernel already built for lanes `V`.
+    #[inline(always)]
+    pub(crate) fn directions_in<V: Lanes>(&self, xs: V, ys: V) -> [V; 3] {
+        let cx = xs - V::splat(self.half_w);
+        let cy = ys - V::splat(self.half_h);
+        let cz = V::splat(self.focal);
+        let recip = V::one() / (cx * cx + cy * cy + cz * cz).sqrt();
+        let (cx, cy, cz) = (cx * recip, cy * recip, cz * recip);
+        let axis = |k: usize| {
+            let (r, d, f) = (self.right[k], self.down[k], self.forward[k]);
+            V::splat(r) * cx + V::splat(d) * cy + V::splat(f) * cz
+        };
+        each3(axis)
+    }
 }

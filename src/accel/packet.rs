@@ -750,6 +750,12 @@ impl OriginTriangle {
 
 /// The largest |dₖ| over a packet's directions (NaN if any is NaN).
 pub fn max_component(d: &[f32x8; 3]) -> f32 {
+    max_component_in(d)
+}
+
+/// [`max_component`] in lanes `V`.
+#[inline(always)]
+pub(crate) fn max_component_in<V: Lanes>(d: &[V; 3]) -> f32 {
     let (a, b, c) = (d[0].abs(), d[1].abs(), d[2].abs());
     // A sum of magnitudes is NaN only where a component is (fast_max may drop a NaN).
     let sum = a + b + c;
@@ -1064,7 +1070,19 @@ fn closest_body<V: Lanes>(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
+    closest_in(tris, each3(|k| V::from_wide(d[k])), d_max, seed)
+}
+
+/// [`closest_seeded`] inside a kernel already in lanes `V` (a tile loop compiled for the CPU
+/// as a whole: no call and no dispatch per packet).
+#[inline(always)]
+pub(crate) fn closest_in<V: Lanes>(
+    tris: &[OriginTriangle],
+    d: [V; 3],
+    d_max: f32,
+    seed: Option<&PacketSeed>,
+) -> PacketHits {
+    let mut nearest = PacketNearest::<V>::seeded_in(d, d_max, seed);
     for tri in tris {
         nearest.offer(tri, tri.prim);
     }
@@ -1214,10 +1232,16 @@ pub struct PacketNearest<V = f32x8> {
 impl<V: Lanes> PacketNearest<V> {
     #[inline(always)]
     pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
+        Self::new_in(each3(|k| V::from_wide(d[k])), d_max)
+    }
+
+    /// [`PacketNearest::new`] inside a kernel already in lanes `V`.
+    #[inline(always)]
+    pub(crate) fn new_in(d: [V; 3], d_max: f32) -> Self {
         let inf = V::splat(f32::INFINITY);
         let none = V::zero().simd_ne(V::zero());
         Self {
-            d: each3(|k| V::from_wide(d[k])),
+            d,
             dm: d_max * (1.0 + 1e-6),
             best_lo: inf,
             best_hi: inf,
@@ -1230,7 +1254,13 @@ impl<V: Lanes> PacketNearest<V> {
     /// [`PacketNearest::new`] holding `seed`'s candidates and ambiguous lanes, if any.
     #[inline(always)]
     pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
-        let mut nearest = Self::new(d, d_max);
+        Self::seeded_in(each3(|k| V::from_wide(d[k])), d_max, seed)
+    }
+
+    /// [`PacketNearest::seeded`] inside a kernel already in lanes `V`.
+    #[inline(always)]
+    pub(crate) fn seeded_in(d: [V; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
+        let mut nearest = Self::new_in(d, d_max);
         if let Some(seed) = seed {
             let bits = |m: u32| {
                 V::from_bits(std::array::from_fn(|l| {

@@ -18,6 +18,7 @@ use crate::accel::frame::{OriginTriangle, NO_HIT};
 use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::{Method, Ray, Shape};
+use crate::math::lanes::Lanes;
 use crate::scene::Scene;
 use image::SrgbTables;
 use rayon::prelude::*;
@@ -176,8 +177,7 @@ type Counts = (u64, u64);
 /// ([`crate::math::simd::avx2_or_baseline`]): the tile loop's own work (ray directions,
 /// shading, colours, pixel writes) in AVX2 or AVX-512 where the CPU has them: the Cornell
 /// box with shadows at 1280×720, 2 threads, 5–8% faster (Zen 5, AVX-512, interleaved). The
-/// flat step's one-sample path (`Frame::trace_flat_pixels`) was 1.5–2% slower this way, so
-/// it stays out of it.
+/// flat step's one-sample path has its own copy ([`trace_flat_for_cpu`]).
 fn trace_packets_for_cpu(
     frame: &Frame,
     tile: &Tile,
@@ -194,6 +194,40 @@ fn trace_packets_for_cpu(
         rows: &mut [u8],
         counts: &mut Counts
     ) -> ())
+}
+
+/// The flat step's one-sample tile loop ([`Frame::trace_flat_tile`]) through the copy
+/// built for the CPU, ray directions and a small scene's packet kernel inline in it: the
+/// Cornell flat frame at 1280×720 on 2 threads took 1.4× as long in the default build as
+/// with the whole program built for AVX2 while they were called per packet.
+fn trace_flat_for_cpu(
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    rgba: &FlatPixels,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    crate::math::simd::avx2_or_baseline!(lanes flat_pixels_body => (
+        frame: &Frame,
+        tile: &Tile,
+        queries: &mut TileQueries,
+        rgba: &FlatPixels,
+        rows: &mut [u8],
+        counts: &mut Counts
+    ) -> ())
+}
+
+#[inline(always)]
+fn flat_pixels_body<V: Lanes>(
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    rgba: &FlatPixels,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    frame.trace_flat_tile::<V>(tile, queries, rgba, rows, counts)
 }
 
 #[inline(always)]
@@ -264,14 +298,15 @@ impl Block {
     /// Per lane, the pixel's column and row in the image, where the tile starts at row `y0`
     /// (dead lanes repeat the block's last pixel, so that the packet stays as coherent as a
     /// full one). Sums of small integers, so exact.
-    fn lane_pixels(&self, y0: u32) -> (f32x8, f32x8) {
+    #[inline(always)]
+    fn pixel_lanes<V: Lanes>(&self, y0: u32) -> (V, V) {
         const COLUMN: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0];
         const ROW: [f32; 8] = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
-        let column = f32x8::from(COLUMN).fast_min(f32x8::splat((self.w - 1) as f32));
-        let row = f32x8::from(ROW).fast_min(f32x8::splat((self.h - 1) as f32));
+        let column = V::from_array(COLUMN).fast_min(V::splat((self.w - 1) as f32));
+        let row = V::from_array(ROW).fast_min(V::splat((self.h - 1) as f32));
         (
-            f32x8::splat(self.x0 as f32) + column,
-            f32x8::splat((y0 + self.row0) as f32) + row,
+            V::splat(self.x0 as f32) + column,
+            V::splat((y0 + self.row0) as f32) + row,
         )
     }
 
@@ -447,7 +482,7 @@ impl<'a> Frame<'a> {
         counts: &mut Counts,
     ) {
         match &self.flat_rgba {
-            Some(rgba) => self.trace_flat_pixels(tile, queries, rgba, rows, counts),
+            Some(rgba) => trace_flat_for_cpu(self, tile, queries, rgba, rows, counts),
             None => trace_packets_for_cpu(self, tile, queries, shading, rows, counts),
         }
     }
@@ -476,7 +511,7 @@ impl<'a> Frame<'a> {
         shaded.clear();
         for block in tile.blocks() {
             let live = block.live_lanes();
-            let (xs, ys) = block.lane_pixels(tile.y0);
+            let (xs, ys) = block.pixel_lanes::<f32x8>(tile.y0);
             let mut sums = [[0.0f32; 3]; 8];
             for sy in 0..n {
                 for sx in 0..n {
@@ -540,8 +575,10 @@ impl<'a> Frame<'a> {
     }
 
     /// The flat step with one sample per pixel: each pixel the colour of the primitive its
-    /// camera ray hits ([`FlatPixels`]), written as found.
-    fn trace_flat_pixels(
+    /// camera ray hits ([`FlatPixels`]), written as found. In lanes `V`, inside the copy of
+    /// the tile loop built for the CPU ([`trace_flat_for_cpu`]).
+    #[inline(always)]
+    fn trace_flat_tile<V: Lanes>(
         &self,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -550,13 +587,13 @@ impl<'a> Frame<'a> {
         counts: &mut Counts,
     ) {
         // (The pixel centres of `sample` for one sample: i + 0.5.)
-        let centre = f32x8::splat(0.5);
+        let centre = V::splat(0.5);
         for block in tile.blocks() {
-            let (xs, ys) = block.lane_pixels(tile.y0);
-            let dirs = self.gen.directions_x8(xs + centre, ys + centre);
-            let prims = queries.closest_x8(&dirs, block.live_lanes());
+            let (xs, ys) = block.pixel_lanes::<V>(tile.y0);
+            let dirs = self.gen.directions_in(xs + centre, ys + centre);
+            let prims = queries.closest_in(dirs, block.live_lanes());
             // (Dead lanes are NO_HIT.)
-            counts.0 += prims.iter().filter(|&&p| p != NO_HIT).count() as u64;
+            counts.0 += prims.iter().map(|&p| u64::from(p != NO_HIT)).sum::<u64>();
             // (Two rows written apart: as a loop over rows, 4% more instructions.)
             let (w, at) = (block.w as usize, block.offset(self.row_bytes));
             rgba.put(&mut rows[at..][..w * 4], &prims[..w]);
