@@ -7,7 +7,7 @@
 //! and the width, never stored.
 
 use crate::geometry::Ray;
-use crate::math::lanes::Lanes;
+use crate::math::lanes::{LaneOps, Lanes};
 use crate::math::simd::each3;
 use crate::math::{TransformStack, MAX_VIEW_COORDINATE};
 use glam::{DMat3, DMat4, DVec3, Vec3};
@@ -272,7 +272,7 @@ fn directions_body<V: Lanes>(
 impl RayGenerator {
     /// [`RayGenerator::directions_x8`] inside a kernel already built for lanes `V`.
     #[inline(always)]
-    pub(crate) fn directions_in<V: Lanes>(&self, xs: V, ys: V) -> [V; 3] {
+    pub(crate) fn directions_in<V: LaneOps>(&self, xs: V, ys: V) -> [V; 3] {
         let cx = xs - V::splat(self.half_w);
         let cy = ys - V::splat(self.half_h);
         let cz = V::splat(self.focal);

@@ -719,9 +719,10 @@ fn bvh_shadow_packets_render_as_the_per_ray_path() {
 
 #[test]
 fn packets_render_as_the_per_ray_path_where_the_image_cuts_their_blocks() {
-    // Camera packets trace blocks of 4×2 pixels. At 37×23 the right tiles are 5 pixels wide
-    // (a block of 4 and one of 1) and the last band is 7 rows high (its last blocks are one
-    // row): their other lanes are dead. At 3×1 the one block is 3×1. Every step at 1 and 2²
+    // Camera packets trace blocks of 4×2 pixels (4×4 in the AVX-512 build's flat one-sample
+    // frame). At 37×23 the right tiles are 5 pixels wide (a block of 4 and one of 1) and the
+    // last band is 7 rows high (its last blocks are one row, or three): their other lanes
+    // are dead. At 3×1 the one block is 3×1. Every step at 1 and 2²
     // samples must give the per-ray path's bits and counts, on the plain box (per-tile lists;
     // one colour table for the flat frame) and with a 5120-triangle ball (BVH; more
     // triangles than the flat frame's table is made for, so its pixels are encoded one by one).

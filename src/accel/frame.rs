@@ -52,7 +52,7 @@ use crate::geometry::adaptive::{round_down, round_up, widen, Search};
 use crate::geometry::sphere;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::lanes::Lanes;
+use crate::math::lanes::LaneOps;
 use crate::math::simd::{avx2_or_baseline, each3};
 use wide::{f32x8, f64x4};
 
@@ -504,31 +504,36 @@ impl TileQueries<'_> {
         let unused = !live & 0xff;
         let mut out = found.prim;
         if (found.ambiguous | unused) != 0 {
-            self.resolve_lanes(d, found.ambiguous, unused, &mut out);
+            let d = each3(|k| d[k].to_array());
+            self.resolve_lanes(&d, found.ambiguous, unused, &mut out);
         }
         out
     }
 
-    /// [`TileQueries::closest_x8`] inside a tile loop already compiled for the CPU in lanes
-    /// `V`: a small scene's culled triangles are tested inline (no call, no dispatch and no
-    /// conversion per packet: the Cornell flat frame at 1280×720 took 1.4× as long in the
-    /// default build as with AVX2 for the whole program); other plans go as there.
+    /// [`TileQueries::closest_x8`] inside a tile loop already compiled for the CPU, in lanes
+    /// `V` of any width, into `out[..V::WIDTH]`: a small scene's culled triangles are tested
+    /// inline (no call, no dispatch and no conversion per packet: the Cornell flat frame at
+    /// 1280×720 took 1.4× as long in the default build as with AVX2 for the whole program);
+    /// other plans go 8 lanes at a time through `closest_x8`.
     #[inline(always)]
-    pub(crate) fn closest_in<V: Lanes>(&mut self, d: [V; 3], live: u32) -> [u32; 8] {
+    pub(crate) fn closest_in<V: LaneOps>(&mut self, d: [V; 3], live: u32, out: &mut [u32]) {
         let inline =
             self.shapes.is_empty() && matches!(self.frame.plan, Plan::CulledPackets { .. });
         if !inline {
-            return self.closest_x8(&each3(|k| d[k].to_wide()), live);
+            let lanes = lanes_of(&d);
+            for h in 0..V::WIDTH / 8 {
+                let half = each3(|k| f32x8::from(std::array::from_fn(|l| lanes[k][8 * h + l])));
+                let prims = self.closest_x8(&half, (live >> (8 * h)) & 0xff);
+                out[8 * h..][..8].copy_from_slice(&prims);
+            }
+            return;
         }
         let d_max = packet::max_component_in(&d);
-        let found = packet::closest_in(self.prepared, d, d_max, None);
-        let unused = !live & 0xff;
-        let mut out = found.prim;
-        if (found.ambiguous | unused) != 0 {
-            let d = each3(|k| d[k].to_wide());
-            self.resolve_lanes(&d, found.ambiguous, unused, &mut out);
+        let ambiguous = packet::closest_in(self.prepared, d, d_max, out);
+        let unused = !live & V::full();
+        if (ambiguous | unused) != 0 {
+            self.resolve_lanes(&lanes_of(&d), ambiguous, unused, out);
         }
-        out
     }
 
     /// The packet kernels' answer over the tile's triangles, starting from `seed`.
@@ -572,15 +577,22 @@ impl TileQueries<'_> {
     }
 
     /// Lanes `ambiguous` of `out` decided exactly; lanes `unused` set to [`NO_HIT`].
+    /// (`d`: the packet's directions by component, lane by lane; as wide as `out`.)
     #[inline(never)]
-    fn resolve_lanes(&mut self, d: &[f32x8; 3], ambiguous: u32, unused: u32, out: &mut [u32; 8]) {
-        for (l, out) in out.iter_mut().enumerate() {
+    fn resolve_lanes<const N: usize>(
+        &mut self,
+        d: &[[f32; N]; 3],
+        ambiguous: u32,
+        unused: u32,
+        out: &mut [u32],
+    ) {
+        for (l, out) in out.iter_mut().enumerate().take(N) {
             if unused & (1 << l) != 0 {
                 *out = NO_HIT;
             } else if ambiguous & (1 << l) != 0 {
                 levels::note(Event::CameraLaneAmbiguous);
                 *out = self
-                    .resolve_lane(d.map(|c| c.to_array()[l]))
+                    .resolve_lane([d[0][l], d[1][l], d[2][l]])
                     .unwrap_or(NO_HIT);
             }
         }
@@ -914,4 +926,14 @@ fn segments_box<S: AsRef<ShadowSegments>>(packets: &[S], light: [f32; 3]) -> Box
         lo: reduce(lo, f32::min),
         hi: reduce(hi, f32::max),
     }
+}
+
+/// Lanes `d` by component as arrays (16 wide, the widest lanes; the first `V::WIDTH` used).
+#[inline(always)]
+fn lanes_of<V: LaneOps>(d: &[V; 3]) -> [[f32; 16]; 3] {
+    let mut lanes = [[0.0f32; 16]; 3];
+    for (lane, d) in lanes.iter_mut().zip(d) {
+        d.store(lane);
+    }
+    lanes
 }

@@ -21,7 +21,7 @@
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{Approx, Estimate};
 use crate::geometry::exact;
-use crate::math::lanes::{f32x8, Lanes, Lanes64};
+use crate::math::lanes::{f32x8, LaneOps, Lanes, Lanes64};
 use crate::math::simd::{avx2_or_baseline, each3};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -755,7 +755,7 @@ pub fn max_component(d: &[f32x8; 3]) -> f32 {
 
 /// [`max_component`] in lanes `V`.
 #[inline(always)]
-pub(crate) fn max_component_in<V: Lanes>(d: &[V; 3]) -> f32 {
+pub(crate) fn max_component_in<V: LaneOps>(d: &[V; 3]) -> f32 {
     let (a, b, c) = (d[0].abs(), d[1].abs(), d[2].abs());
     // A sum of magnitudes is NaN only where a component is (fast_max may drop a NaN).
     let sum = a + b + c;
@@ -763,7 +763,7 @@ pub(crate) fn max_component_in<V: Lanes>(d: &[V; 3]) -> f32 {
         return f32::NAN;
     }
     // (Magnitudes, no NaN: the same value in any order.)
-    Lanes::reduce_max(a.fast_max(b).fast_max(c))
+    LaneOps::reduce_max(a.fast_max(b).fast_max(c))
 }
 
 /// The nearest of `tris` along each of 8 directions from their shared origin, for
@@ -1070,23 +1070,28 @@ fn closest_body<V: Lanes>(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    closest_in(tris, each3(|k| V::from_wide(d[k])), d_max, seed)
-}
-
-/// [`closest_seeded`] inside a kernel already in lanes `V` (a tile loop compiled for the CPU
-/// as a whole: no call and no dispatch per packet).
-#[inline(always)]
-pub(crate) fn closest_in<V: Lanes>(
-    tris: &[OriginTriangle],
-    d: [V; 3],
-    d_max: f32,
-    seed: Option<&PacketSeed>,
-) -> PacketHits {
-    let mut nearest = PacketNearest::<V>::seeded_in(d, d_max, seed);
+    let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
     for tri in tris {
         nearest.offer(tri, tri.prim);
     }
     nearest.finish()
+}
+
+/// [`closest`] inside a kernel already in lanes `V` of any width (a tile loop compiled for
+/// the CPU as a whole: no call and no dispatch per packet): the nearest's ids into
+/// `prim[..V::WIDTH]`, and the ambiguous lanes returned.
+#[inline(always)]
+pub(crate) fn closest_in<V: LaneOps>(
+    tris: &[OriginTriangle],
+    d: [V; 3],
+    d_max: f32,
+    prim: &mut [u32],
+) -> u32 {
+    let mut nearest = PacketNearest::<V>::new_in(d, d_max);
+    for tri in tris {
+        nearest.offer(tri, tri.prim);
+    }
+    nearest.finish_into(prim)
 }
 
 /// The edge tests of one prepared triangle for 8 directions from its origin: the edge
@@ -1100,7 +1105,7 @@ struct EdgeTests<V> {
     behind: V,
 }
 
-impl<V: Lanes> EdgeTests<V> {
+impl<V: LaneOps> EdgeTests<V> {
     /// `dm`: max|dₖ| rounded up.
     #[inline(always)]
     fn new(tri: &OriginTriangle, d: &[V; 3], dm: f32) -> Self {
@@ -1132,7 +1137,7 @@ impl<V: Lanes> EdgeTests<V> {
 /// view from 4 units away left 7.5% of its camera lanes ambiguous (traced per ray), with
 /// d·normal 0.5%.
 #[inline(always)]
-fn t_interval<V: Lanes>(tri: &OriginTriangle, e: &[V; 3], d: &[V; 3], dm: f32) -> (V, V, V) {
+fn t_interval<V: LaneOps>(tri: &OriginTriangle, e: &[V; 3], d: &[V; 3], dm: f32) -> (V, V, V) {
     let (det, bound) = match tri.det_from_normal {
         false => (e[0] + e[1] + e[2], tri.k_sum * dm + 3.0 * EDGE_ABS),
         true => {
@@ -1148,7 +1153,7 @@ fn t_interval<V: Lanes>(tri: &OriginTriangle, e: &[V; 3], d: &[V; 3], dm: f32) -
 /// certainly miss (edges of both signs beyond their bounds), and those whose three edges
 /// are certainly all positive, or all negative.
 #[inline(always)]
-fn edge_signs<V: Lanes>(e: &[V; 3], bound: &[V; 3]) -> (V, V, V) {
+fn edge_signs<V: LaneOps>(e: &[V; 3], bound: &[V; 3]) -> (V, V, V) {
     let pos = [
         e[0].simd_gt(bound[0]),
         e[1].simd_gt(bound[1]),
@@ -1166,7 +1171,7 @@ fn edge_signs<V: Lanes>(e: &[V; 3], bound: &[V; 3]) -> (V, V, V) {
 /// t = num/det per lane with its interval (lo, hi), and the lanes where it is tight enough
 /// to use, from det's rounding bound and the triangle's c_t (see [`PacketNearest`]).
 #[inline(always)]
-fn t_within<V: Lanes>(num: V, det: V, det_bound: V, c_t: V) -> (V, V, V) {
+fn t_within<V: LaneOps>(num: V, det: V, det_bound: V, c_t: V) -> (V, V, V) {
     let rcp = V::one() / det;
     let t = num * rcp;
     let r_det = (det_bound * V::splat(1.0001)) * rcp.abs();
@@ -1229,12 +1234,7 @@ pub struct PacketNearest<V = f32x8> {
     ambiguous: V,
 }
 
-impl<V: Lanes> PacketNearest<V> {
-    #[inline(always)]
-    pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
-        Self::new_in(each3(|k| V::from_wide(d[k])), d_max)
-    }
-
+impl<V: LaneOps> PacketNearest<V> {
     /// [`PacketNearest::new`] inside a kernel already in lanes `V`.
     #[inline(always)]
     pub(crate) fn new_in(d: [V; 3], d_max: f32) -> Self {
@@ -1249,34 +1249,6 @@ impl<V: Lanes> PacketNearest<V> {
             // Every lane, where max|d| is not finite.
             ambiguous: if d_max.is_finite() { none } else { !none },
         }
-    }
-
-    /// [`PacketNearest::new`] holding `seed`'s candidates and ambiguous lanes, if any.
-    #[inline(always)]
-    pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
-        Self::seeded_in(each3(|k| V::from_wide(d[k])), d_max, seed)
-    }
-
-    /// [`PacketNearest::seeded`] inside a kernel already in lanes `V`.
-    #[inline(always)]
-    pub(crate) fn seeded_in(d: [V; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
-        let mut nearest = Self::new_in(d, d_max);
-        if let Some(seed) = seed {
-            let bits = |m: u32| {
-                V::from_bits(std::array::from_fn(|l| {
-                    if m & (1 << l) != 0 {
-                        u32::MAX
-                    } else {
-                        0
-                    }
-                }))
-            };
-            nearest.best_lo = V::from_array(seed.lo);
-            nearest.best_hi = V::from_array(seed.hi);
-            nearest.best_prim = V::from_bits(seed.prim);
-            nearest.ambiguous |= bits(seed.ambiguous);
-        }
-        nearest
     }
 
     /// The lanes already ambiguous (bit l for lane l).
@@ -1346,6 +1318,53 @@ impl<V: Lanes> PacketNearest<V> {
         self.best_hi = take.bitselect(hi, self.best_hi);
         self.best_prim = take.bitselect(V::splat(f32::from_bits(id)), self.best_prim);
         true
+    }
+
+    /// Per lane the id of the nearest (u32::MAX for none) into `prim[..WIDTH]`; returns the
+    /// ambiguous lanes.
+    #[inline(always)]
+    pub(crate) fn finish_into(&self, prim: &mut [u32]) -> u32 {
+        let mut bits = [0.0f32; 16];
+        self.best_prim.store(&mut bits);
+        for (p, b) in prim[..V::WIDTH].iter_mut().zip(bits) {
+            *p = b.to_bits();
+        }
+        self.ambiguous.to_bitmask()
+    }
+}
+
+impl<V: Lanes> PacketNearest<V> {
+    #[inline(always)]
+    pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
+        Self::new_in(each3(|k| V::from_wide(d[k])), d_max)
+    }
+
+    /// [`PacketNearest::new`] holding `seed`'s candidates and ambiguous lanes, if any.
+    #[inline(always)]
+    pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
+        Self::seeded_in(each3(|k| V::from_wide(d[k])), d_max, seed)
+    }
+
+    /// [`PacketNearest::seeded`] inside a kernel already in lanes `V`.
+    #[inline(always)]
+    pub(crate) fn seeded_in(d: [V; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
+        let mut nearest = Self::new_in(d, d_max);
+        if let Some(seed) = seed {
+            let bits = |m: u32| {
+                V::from_bits(std::array::from_fn(|l| {
+                    if m & (1 << l) != 0 {
+                        u32::MAX
+                    } else {
+                        0
+                    }
+                }))
+            };
+            nearest.best_lo = V::from_array(seed.lo);
+            nearest.best_hi = V::from_array(seed.hi);
+            nearest.best_prim = V::from_bits(seed.prim);
+            nearest.ambiguous |= bits(seed.ambiguous);
+        }
+        nearest
     }
 
     /// Offers lanes `tris` of `block` (their ids as `ids` says) to ray lane `l` alone, the eight

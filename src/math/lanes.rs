@@ -17,8 +17,9 @@
 use std::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
 pub use wide::{f32x8, f64x4};
 
-/// The lane operations the kernels use (`wide`'s names).
-pub trait Lanes:
+/// The lane operations the kernels use (`wide`'s names), at any width: 8 lanes ([`Lanes`])
+/// or 16 (`Avx16`, the AVX-512 build's camera packets over a small scene).
+pub trait LaneOps:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -31,18 +32,14 @@ pub trait Lanes:
     + BitAndAssign
     + BitOrAssign
 {
-    /// The f64 lanes of the same build (for preparing triangles).
-    type F64: Lanes64;
+    /// The number of lanes (8 or 16).
+    const WIDTH: usize;
     fn splat(x: f32) -> Self;
-    fn from_array(a: [f32; 8]) -> Self;
-    fn to_array(self) -> [f32; 8];
-    /// From the kernels' public form.
-    fn from_wide(x: f32x8) -> Self;
-    /// To the kernels' public form.
-    fn to_wide(self) -> f32x8;
+    /// Lanes from `a[..WIDTH]`.
+    fn load(a: &[f32]) -> Self;
+    /// The lanes into `out[..WIDTH]`.
+    fn store(self, out: &mut [f32]);
     fn sqrt(self) -> Self;
-    /// Lane by lane, the bit patterns as integers: `self − a + b` (wrapping).
-    fn step_bits(self, a: Self, b: Self) -> Self;
     fn simd_lt(self, rhs: Self) -> Self;
     fn simd_le(self, rhs: Self) -> Self;
     fn simd_gt(self, rhs: Self) -> Self;
@@ -63,27 +60,54 @@ pub trait Lanes:
     fn fast_max(self, rhs: Self) -> Self;
     /// x86 `minps`: `self` where it is smaller, else `rhs`.
     fn fast_min(self, rhs: Self) -> Self;
+    /// The greatest lane by x86 `maxps`'s rule (`a` where `a > b`, else `b`); 8 lanes in
+    /// this order: lanes l and l + 4, then those pairs 0 and 2, 1 and 3, then the two left
+    /// (without NaN, every order gives the same).
+    fn reduce_max(self) -> f32;
 
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
     }
-    /// The greatest lane by x86 `maxps`'s rule (`a` where `a > b`, else `b`), in this order:
-    /// lanes l and l + 4, then those pairs 0 and 2, 1 and 3, then the two left.
     #[inline(always)]
-    fn reduce_max(self) -> f32 {
-        let a = self.to_array();
-        let max = |x: f32, y: f32| if x > y { x } else { y };
-        let m = [
-            max(a[0], a[4]),
-            max(a[1], a[5]),
-            max(a[2], a[6]),
-            max(a[3], a[7]),
-        ];
-        max(max(m[0], m[2]), max(m[1], m[3]))
+    fn one() -> Self {
+        Self::splat(1.0)
     }
+    /// Every lane's bit set.
+    #[inline(always)]
+    fn full() -> u32 {
+        u32::MAX >> (32 - Self::WIDTH)
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.to_bitmask() == Self::full()
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.to_bitmask() != 0
+    }
+    #[inline(always)]
+    fn none(self) -> bool {
+        self.to_bitmask() == 0
+    }
+}
+
+/// 8 lanes, with what the 8-lane kernels (BVH walks, preparing triangles, shading) need
+/// beyond [`LaneOps`].
+pub trait Lanes: LaneOps {
+    /// The f64 lanes of the same build (for preparing triangles).
+    type F64: Lanes64;
+    fn from_array(a: [f32; 8]) -> Self;
+    fn to_array(self) -> [f32; 8];
+    /// From the kernels' public form.
+    fn from_wide(x: f32x8) -> Self;
+    /// To the kernels' public form.
+    fn to_wide(self) -> f32x8;
+    /// Lane by lane, the bit patterns as integers: `self − a + b` (wrapping).
+    fn step_bits(self, a: Self, b: Self) -> Self;
+
     /// The least lane by x86 `minps`'s rule (`a` where `a < b`, else `b`), in
-    /// [`Lanes::reduce_max`]'s order.
+    /// [`LaneOps::reduce_max`]'s order.
     #[inline(always)]
     fn reduce_min(self) -> f32 {
         let a = self.to_array();
@@ -95,22 +119,6 @@ pub trait Lanes:
             min(a[3], a[7]),
         ];
         min(min(m[0], m[2]), min(m[1], m[3]))
-    }
-    #[inline(always)]
-    fn one() -> Self {
-        Self::splat(1.0)
-    }
-    #[inline(always)]
-    fn all(self) -> bool {
-        self.to_bitmask() == 0xff
-    }
-    #[inline(always)]
-    fn any(self) -> bool {
-        self.to_bitmask() != 0
-    }
-    #[inline(always)]
-    fn none(self) -> bool {
-        self.to_bitmask() == 0
     }
     /// All-ones lanes where bit l of `mask` is set, else zeros (a mask for `bitselect`).
     #[inline(always)]
@@ -144,37 +152,36 @@ pub trait Lanes:
     }
 }
 
-impl Lanes for f32x8 {
-    type F64 = f64x4;
+/// The 8-lane order of [`LaneOps::reduce_max`], lane by lane.
+#[inline(always)]
+fn reduce_max8(a: [f32; 8]) -> f32 {
+    let max = |x: f32, y: f32| if x > y { x } else { y };
+    let m = [
+        max(a[0], a[4]),
+        max(a[1], a[5]),
+        max(a[2], a[6]),
+        max(a[3], a[7]),
+    ];
+    max(max(m[0], m[2]), max(m[1], m[3]))
+}
+
+impl LaneOps for f32x8 {
+    const WIDTH: usize = 8;
     #[inline(always)]
     fn splat(x: f32) -> Self {
         f32x8::splat(x)
     }
     #[inline(always)]
-    fn from_array(a: [f32; 8]) -> Self {
-        f32x8::from(a)
+    fn load(a: &[f32]) -> Self {
+        f32x8::from(<[f32; 8]>::try_from(&a[..8]).expect("8 lanes"))
     }
     #[inline(always)]
-    fn to_array(self) -> [f32; 8] {
-        f32x8::to_array(self)
-    }
-    #[inline(always)]
-    fn from_wide(x: f32x8) -> Self {
-        x
-    }
-    #[inline(always)]
-    fn to_wide(self) -> f32x8 {
-        self
+    fn store(self, out: &mut [f32]) {
+        out[..8].copy_from_slice(&f32x8::to_array(self));
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
         f32x8::sqrt(self)
-    }
-    #[inline(always)]
-    fn step_bits(self, a: Self, b: Self) -> Self {
-        use wide::{bytemuck::cast, i32x8};
-        let (x, a, b): (i32x8, i32x8, i32x8) = (cast(self), cast(a), cast(b));
-        cast(x - a + b)
     }
     #[inline(always)]
     fn simd_lt(self, rhs: Self) -> Self {
@@ -227,6 +234,36 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn fast_min(self, rhs: Self) -> Self {
         f32x8::fast_min(self, rhs)
+    }
+    #[inline(always)]
+    fn reduce_max(self) -> f32 {
+        reduce_max8(self.to_array())
+    }
+}
+
+impl Lanes for f32x8 {
+    type F64 = f64x4;
+    #[inline(always)]
+    fn from_array(a: [f32; 8]) -> Self {
+        f32x8::from(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 8] {
+        f32x8::to_array(self)
+    }
+    #[inline(always)]
+    fn from_wide(x: f32x8) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn to_wide(self) -> f32x8 {
+        self
+    }
+    #[inline(always)]
+    fn step_bits(self, a: Self, b: Self) -> Self {
+        use wide::{bytemuck::cast, i32x8};
+        let (x, a, b): (i32x8, i32x8, i32x8) = (cast(self), cast(a), cast(b));
+        cast(x - a + b)
     }
 }
 
@@ -308,10 +345,10 @@ impl Lanes64 for f64x4 {
 #[cfg(all(test, target_arch = "x86_64"))]
 pub(crate) use avx::Avx4d;
 #[cfg(target_arch = "x86_64")]
-pub(crate) use avx::Avx8;
+pub(crate) use avx::{Avx16, Avx8};
 
 /// `Avx8` and `Avx4d`: every operation one AVX instruction (or a few), through
-/// `std::arch`.
+/// `std::arch`; `Avx16`, the same with AVX-512 (the AVX-512 build only).
 ///
 /// Soundness: their operations execute AVX2 instructions, so such a value must exist only
 /// where the CPU has AVX2. The types are private to the crate and named only in the AVX2 arm
@@ -321,7 +358,7 @@ pub(crate) use avx::Avx8;
 #[cfg(target_arch = "x86_64")]
 #[allow(unsafe_code)]
 mod avx {
-    use super::{f32x8, Lanes, Lanes64};
+    use super::{f32x8, LaneOps, Lanes, Lanes64};
     use std::arch::x86_64::*;
     use std::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
 
@@ -389,8 +426,8 @@ mod avx {
         }
     }
 
-    impl Lanes for Avx8 {
-        type F64 = Avx4d;
+    impl LaneOps for Avx8 {
+        const WIDTH: usize = 8;
         #[inline(always)]
         fn splat(x: f32) -> Self {
             debug_assert!(is_x86_feature_detected!("avx2"));
@@ -398,43 +435,9 @@ mod avx {
             Self(unsafe { _mm256_set1_ps(x) })
         }
         #[inline(always)]
-        fn from_array(a: [f32; 8]) -> Self {
-            debug_assert!(is_x86_feature_detected!("avx2"));
-            // SAFETY: as in `binary!`; the load reads the 8 floats of `a`.
-            Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
-        }
-        #[inline(always)]
-        fn to_array(self) -> [f32; 8] {
-            let mut a = [0f32; 8];
-            // SAFETY: as in `binary!`; the store writes the 8 floats of `a`.
-            unsafe { _mm256_storeu_ps(a.as_mut_ptr(), self.0) };
-            a
-        }
-        #[inline(always)]
-        fn from_wide(x: f32x8) -> Self {
-            Self::from_array(x.to_array())
-        }
-        #[inline(always)]
-        fn to_wide(self) -> f32x8 {
-            f32x8::from(self.to_array())
-        }
-        #[inline(always)]
         fn sqrt(self) -> Self {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_sqrt_ps(self.0) })
-        }
-        #[inline(always)]
-        fn step_bits(self, a: Self, b: Self) -> Self {
-            // SAFETY: as in `binary!` (AVX2 for the integer lanes: an Avx8 is made only in the
-            // AVX2 builds).
-            Self(unsafe {
-                let (x, a, b) = (
-                    _mm256_castps_si256(self.0),
-                    _mm256_castps_si256(a.0),
-                    _mm256_castps_si256(b.0),
-                );
-                _mm256_castsi256_ps(_mm256_add_epi32(_mm256_sub_epi32(x, a), b))
-            })
         }
         #[inline(always)]
         fn simd_lt(self, rhs: Self) -> Self {
@@ -488,29 +491,6 @@ mod avx {
             }
         }
         #[inline(always)]
-        fn reduce_min(self) -> f32 {
-            // SAFETY: as in `binary!`.
-            unsafe {
-                let m = _mm_min_ps(
-                    _mm256_castps256_ps128(self.0),
-                    _mm256_extractf128_ps::<1>(self.0),
-                );
-                let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
-                _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps::<1>(m, m)))
-            }
-        }
-        #[inline(always)]
-        fn from_bitmask(mask: u32) -> Self {
-            // The mask in every lane, each lane's bit tested: three instructions, where the
-            // trait's lane-by-lane form built an array.
-            // SAFETY: as in `binary!` (AVX2 for the integer lanes).
-            Self(unsafe {
-                let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-                let m = _mm256_and_si256(_mm256_set1_epi32(mask as i32), bits);
-                _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
-            })
-        }
-        #[inline(always)]
         fn abs(self) -> Self {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
@@ -534,6 +514,241 @@ mod avx {
         fn fast_min(self, rhs: Self) -> Self {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_min_ps(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn load(a: &[f32]) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
+            let a = &a[..8];
+            // SAFETY: as in `binary!`; the load reads the 8 floats of `a`.
+            Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, out: &mut [f32]) {
+            let out = &mut out[..8];
+            // SAFETY: as in `binary!`; the store writes the 8 floats of `out`.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+        }
+    }
+
+    impl Lanes for Avx8 {
+        type F64 = Avx4d;
+        #[inline(always)]
+        fn from_array(a: [f32; 8]) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx2"));
+            // SAFETY: as in `binary!`; the load reads the 8 floats of `a`.
+            Self(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f32; 8] {
+            let mut a = [0f32; 8];
+            // SAFETY: as in `binary!`; the store writes the 8 floats of `a`.
+            unsafe { _mm256_storeu_ps(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn from_wide(x: f32x8) -> Self {
+            Self::from_array(x.to_array())
+        }
+        #[inline(always)]
+        fn to_wide(self) -> f32x8 {
+            f32x8::from(self.to_array())
+        }
+        #[inline(always)]
+        fn step_bits(self, a: Self, b: Self) -> Self {
+            // SAFETY: as in `binary!` (AVX2 for the integer lanes: an Avx8 is made only in the
+            // AVX2 builds).
+            Self(unsafe {
+                let (x, a, b) = (
+                    _mm256_castps_si256(self.0),
+                    _mm256_castps_si256(a.0),
+                    _mm256_castps_si256(b.0),
+                );
+                _mm256_castsi256_ps(_mm256_add_epi32(_mm256_sub_epi32(x, a), b))
+            })
+        }
+        #[inline(always)]
+        fn reduce_min(self) -> f32 {
+            // SAFETY: as in `binary!`.
+            unsafe {
+                let m = _mm_min_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                );
+                let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+                _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps::<1>(m, m)))
+            }
+        }
+        #[inline(always)]
+        fn from_bitmask(mask: u32) -> Self {
+            // The mask in every lane, each lane's bit tested: three instructions, where the
+            // trait's lane-by-lane form built an array.
+            // SAFETY: as in `binary!` (AVX2 for the integer lanes).
+            Self(unsafe {
+                let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                let m = _mm256_and_si256(_mm256_set1_epi32(mask as i32), bits);
+                _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
+            })
+        }
+    }
+
+    /// 16 f32 lanes in one AVX-512 register: made only in the AVX-512 build, after the same
+    /// run-time check as [`Avx8`] (AVX-512 F and DQ for the operations here). Masks are
+    /// lanes of all ones or zeros, as in the 8-lane types: a compare's mask register is
+    /// spread into lanes (`vpmovm2d`), and LLVM folds most of those back.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(transparent)]
+    pub struct Avx16(__m512);
+
+    binary!(Avx16, Add, add, _mm512_add_ps);
+    binary!(Avx16, Sub, sub, _mm512_sub_ps);
+    binary!(Avx16, Mul, mul, _mm512_mul_ps);
+    binary!(Avx16, Div, div, _mm512_div_ps);
+    binary!(Avx16, BitAnd, bitand, _mm512_and_ps);
+    binary!(Avx16, BitOr, bitor, _mm512_or_ps);
+
+    impl Neg for Avx16 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_xor_ps(self.0, _mm512_set1_ps(-0.0)) })
+        }
+    }
+
+    impl Not for Avx16 {
+        type Output = Self;
+        #[inline(always)]
+        fn not(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_xor_ps(self.0, _mm512_castsi512_ps(_mm512_set1_epi32(-1))) })
+        }
+    }
+
+    impl BitAndAssign for Avx16 {
+        #[inline(always)]
+        fn bitand_assign(&mut self, rhs: Self) {
+            *self = *self & rhs;
+        }
+    }
+
+    impl BitOrAssign for Avx16 {
+        #[inline(always)]
+        fn bitor_assign(&mut self, rhs: Self) {
+            *self = *self | rhs;
+        }
+    }
+
+    impl Avx16 {
+        #[inline(always)]
+        fn cmp<const OP: i32>(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe {
+                _mm512_castsi512_ps(_mm512_movm_epi32(_mm512_cmp_ps_mask::<OP>(self.0, rhs.0)))
+            })
+        }
+    }
+
+    impl LaneOps for Avx16 {
+        const WIDTH: usize = 16;
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx512dq"));
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn load(a: &[f32]) -> Self {
+            debug_assert!(is_x86_feature_detected!("avx512dq"));
+            let a = &a[..16];
+            // SAFETY: as in `binary!`; the load reads the 16 floats of `a`.
+            Self(unsafe { _mm512_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, out: &mut [f32]) {
+            let out = &mut out[..16];
+            // SAFETY: as in `binary!`; the store writes the 16 floats of `out`.
+            unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) };
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn simd_lt(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_LT_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_le(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_LE_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_gt(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_GT_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_ge(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_GE_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_eq(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_EQ_OQ>(rhs)
+        }
+        #[inline(always)]
+        fn simd_ne(self, rhs: Self) -> Self {
+            self.cmp::<_CMP_NEQ_UQ>(rhs)
+        }
+        #[inline(always)]
+        fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe {
+                _mm512_or_ps(
+                    _mm512_and_ps(self.0, if_one.0),
+                    _mm512_andnot_ps(self.0, if_zero.0),
+                )
+            })
+        }
+        #[inline(always)]
+        fn to_bitmask(self) -> u32 {
+            // SAFETY: as in `binary!`.
+            unsafe { _mm512_movepi32_mask(_mm512_castps_si512(self.0)) as u32 }
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_andnot_ps(_mm512_set1_ps(-0.0), self.0) })
+        }
+        #[inline(always)]
+        fn max(self, rhs: Self) -> Self {
+            rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                .bitselect(self, self.fast_max(rhs))
+        }
+        #[inline(always)]
+        fn min(self, rhs: Self) -> Self {
+            rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                .bitselect(self, self.fast_min(rhs))
+        }
+        #[inline(always)]
+        fn fast_max(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_max_ps(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn fast_min(self, rhs: Self) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_min_ps(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn reduce_max(self) -> f32 {
+            // The two halves by `maxps`, then the 8-lane order.
+            // SAFETY: as in `binary!`.
+            let half = unsafe {
+                Avx8(_mm256_max_ps(
+                    _mm512_castps512_ps256(self.0),
+                    _mm512_extractf32x8_ps::<1>(self.0),
+                ))
+            };
+            half.reduce_max()
         }
     }
 
@@ -751,5 +966,113 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         builds.iter().flat_map(differ).collect()
+    }
+
+    /// `Avx16` computes as two 8-lane halves: every [`LaneOps`] operation, bit for bit, on
+    /// the same corner values, against `wide`'s f32x8 on each half (the bitmask as the
+    /// halves' masks side by side; `reduce_max` as the halves' lane-wise `maxps`, then the
+    /// 8-lane order).
+    #[test]
+    fn sixteen_lanes_compute_as_two_halves_of_eight() {
+        if detected() < SimdLevel::Avx512 {
+            return; // no Avx16 on this CPU
+        }
+        let vals = [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e-45,
+            -3e38,
+            0.1,
+        ];
+        let (mut a, mut b) = ([0f32; 16], [0f32; 16]);
+        for (i, x) in vals.iter().enumerate() {
+            for (j, y) in vals.iter().enumerate() {
+                a[(i + j) % 16] = *x;
+                b[(i * 3 + j * 5) % 16] = *y;
+            }
+            // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
+            #[allow(unsafe_code)]
+            let wide16 = unsafe { avx512_ops(&a, &b) };
+            let (lo, hi) = (
+                ops::<f32x8>(&a[..8], &b[..8]),
+                ops::<f32x8>(&a[8..], &b[8..]),
+            );
+            for (k, name) in OPS.iter().enumerate() {
+                let halves = if *name == "bitmask" {
+                    vec![lo[k][0] | hi[k][0] << 8]
+                } else {
+                    [&lo[k][..], &hi[k][..]].concat()
+                };
+                assert_eq!(wide16[k], halves, "{name}: {a:?} {b:?}");
+            }
+            let (x, y) = (f32x8::from(&a[..8]), f32x8::from(&a[8..]));
+            #[allow(unsafe_code)]
+            // SAFETY: as above.
+            let max16 = unsafe { avx512_reduce_max(&a) };
+            assert_eq!(
+                max16.to_bits(),
+                x.fast_max(y).reduce_max().to_bits(),
+                "{a:?}"
+            );
+        }
+    }
+
+    const OPS: [&str; 22] = [
+        "add", "sub", "mul", "div", "neg", "and", "or", "not", "lt", "le", "gt", "ge", "eq", "ne",
+        "select", "abs", "max", "min", "fast_max", "fast_min", "sqrt", "bitmask",
+    ];
+
+    /// The lanes' bit patterns.
+    #[inline(always)]
+    fn lane_bits<V: LaneOps>(v: V) -> Vec<u32> {
+        let mut out = [0f32; 16];
+        v.store(&mut out);
+        out[..V::WIDTH].iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// [`OPS`] on lanes `a` and `b`.
+    #[inline(always)]
+    fn ops<V: LaneOps>(a: &[f32], b: &[f32]) -> Vec<Vec<u32>> {
+        let (x, y) = (V::load(a), V::load(b));
+        let m = x.simd_lt(y);
+        vec![
+            lane_bits(x + y),
+            lane_bits(x - y),
+            lane_bits(x * y),
+            lane_bits(x / y),
+            lane_bits(-x),
+            lane_bits(x & y),
+            lane_bits(x | y),
+            lane_bits(!x),
+            lane_bits(m),
+            lane_bits(x.simd_le(y)),
+            lane_bits(x.simd_gt(y)),
+            lane_bits(x.simd_ge(y)),
+            lane_bits(x.simd_eq(y)),
+            lane_bits(x.simd_ne(y)),
+            lane_bits(m.bitselect(x, y)),
+            lane_bits(x.abs()),
+            lane_bits(x.max(y)),
+            lane_bits(x.min(y)),
+            lane_bits(x.fast_max(y)),
+            lane_bits(x.fast_min(y)),
+            lane_bits(x.abs().sqrt()),
+            vec![x.to_bitmask()],
+        ]
+    }
+
+    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+    fn avx512_ops(a: &[f32], b: &[f32]) -> Vec<Vec<u32>> {
+        ops::<Avx16>(a, b)
+    }
+
+    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+    fn avx512_reduce_max(a: &[f32]) -> f32 {
+        Avx16::load(a).reduce_max()
     }
 }

@@ -57,24 +57,34 @@ impl std::str::FromStr for SimdLevel {
 ///
 /// With `lanes` before the kernel's path, the kernel is generic over its
 /// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 and AVX-512 builds compute in
-/// `Avx8` (crate-private), its baseline build in `wide`'s f32x8.
+/// `Avx8` (crate-private), its baseline build in `wide`'s f32x8. With `widest`, over its
+/// [`LaneOps`](crate::math::lanes::LaneOps) type: the AVX-512 build computes in 16 lanes
+/// (`Avx16`), the others as with `lanes`.
 macro_rules! avx2_or_baseline {
     (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         $crate::math::simd::avx2_or_baseline!(@dispatch
+            ($($body)::+::<$crate::math::lanes::Avx8>)
+            ($($body)::+::<$crate::math::lanes::Avx8>)
+            ($($body)::+::<$crate::math::lanes::f32x8>)
+            ($($arg: $ty),*) -> $ret)
+    };
+    (widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx2_or_baseline!(@dispatch
+            ($($body)::+::<$crate::math::lanes::Avx16>)
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::f32x8>)
             ($($arg: $ty),*) -> $ret)
     };
     ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx2_or_baseline!(@dispatch ($body) ($body) ($($arg: $ty),*) -> $ret)
+        $crate::math::simd::avx2_or_baseline!(@dispatch ($body) ($body) ($body) ($($arg: $ty),*) -> $ret)
     };
-    (@dispatch ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
         match $crate::math::simd::level() {
             $crate::math::simd::SimdLevel::Avx512 => {
                 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
                 fn avx512($($arg: $ty),*) -> $ret {
-                    $avx($($arg),*)
+                    $avx512($($arg),*)
                 }
                 // SAFETY: the CPU has these features (checked at run time by `level`).
                 #[allow(unsafe_code)]

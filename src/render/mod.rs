@@ -18,7 +18,7 @@ use crate::accel::frame::{OriginTriangle, NO_HIT};
 use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::{Method, Ray, Shape};
-use crate::math::lanes::Lanes;
+use crate::math::lanes::LaneOps;
 use crate::scene::Scene;
 use image::SrgbTables;
 use rayon::prelude::*;
@@ -208,7 +208,7 @@ fn trace_flat_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(lanes flat_pixels_body => (
+    crate::math::simd::avx2_or_baseline!(widest flat_pixels_body => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -219,7 +219,7 @@ fn trace_flat_for_cpu(
 }
 
 #[inline(always)]
-fn flat_pixels_body<V: Lanes>(
+fn flat_pixels_body<V: LaneOps>(
     frame: &Frame,
     tile: &Tile,
     queries: &mut TileQueries,
@@ -254,16 +254,19 @@ impl Tile {
     /// The tile's blocks of [`PACKET_W`]×[`PACKET_H`] pixels (narrower or shorter at its right
     /// and bottom edges), row of blocks by row of blocks.
     fn blocks(&self) -> impl Iterator<Item = Block> + '_ {
-        (0..self.h)
-            .step_by(PACKET_H as usize)
-            .flat_map(move |row0| {
-                (0..self.w).step_by(PACKET_W as usize).map(move |x| Block {
-                    x0: self.x0 + x,
-                    w: PACKET_W.min(self.w - x),
-                    h: PACKET_H.min(self.h - row0),
-                    row0,
-                })
+        self.blocks_of(PACKET_H)
+    }
+
+    /// The tile's blocks of [`PACKET_W`]×`rows` pixels, as [`Tile::blocks`].
+    fn blocks_of(&self, rows: u32) -> impl Iterator<Item = Block> + '_ {
+        (0..self.h).step_by(rows as usize).flat_map(move |row0| {
+            (0..self.w).step_by(PACKET_W as usize).map(move |x| Block {
+                x0: self.x0 + x,
+                w: PACKET_W.min(self.w - x),
+                h: rows.min(self.h - row0),
+                row0,
             })
+        })
     }
 }
 
@@ -277,7 +280,8 @@ const PACKET_W: u32 = 4;
 const PACKET_H: u32 = 2;
 
 /// The pixels one packet of camera rays traces: columns x0..x0 + w (at most 4) of the
-/// tile's rows row0..row0 + h (at most 2).
+/// tile's rows row0..row0 + h (at most 2, or 4 for the 16-lane packets of
+/// [`Frame::trace_flat_tile`]).
 struct Block {
     x0: u32,
     w: u32,
@@ -289,21 +293,22 @@ impl Block {
     /// The lanes on pixels of the block; the others (past the image's edges) are dead.
     fn live_lanes(&self) -> u32 {
         let row = (1u32 << self.w) - 1;
-        match self.h {
-            1 => row,
-            _ => row | row << PACKET_W,
-        }
+        (0..self.h).fold(0, |lanes, r| lanes | row << (PACKET_W * r))
     }
 
     /// Per lane, the pixel's column and row in the image, where the tile starts at row `y0`
     /// (dead lanes repeat the block's last pixel, so that the packet stays as coherent as a
     /// full one). Sums of small integers, so exact.
     #[inline(always)]
-    fn pixel_lanes<V: Lanes>(&self, y0: u32) -> (V, V) {
-        const COLUMN: [f32; 8] = [0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0];
-        const ROW: [f32; 8] = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
-        let column = V::from_array(COLUMN).fast_min(V::splat((self.w - 1) as f32));
-        let row = V::from_array(ROW).fast_min(V::splat((self.h - 1) as f32));
+    fn pixel_lanes<V: LaneOps>(&self, y0: u32) -> (V, V) {
+        const COLUMN: [f32; 16] = [
+            0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0, 0.0, 1.0, 2.0, 3.0,
+        ];
+        const ROW: [f32; 16] = [
+            0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0, 3.0,
+        ];
+        let column = V::load(&COLUMN).fast_min(V::splat((self.w - 1) as f32));
+        let row = V::load(&ROW).fast_min(V::splat((self.h - 1) as f32));
         (
             V::splat(self.x0 as f32) + column,
             V::splat((y0 + self.row0) as f32) + row,
@@ -576,9 +581,10 @@ impl<'a> Frame<'a> {
 
     /// The flat step with one sample per pixel: each pixel the colour of the primitive its
     /// camera ray hits ([`FlatPixels`]), written as found. In lanes `V`, inside the copy of
-    /// the tile loop built for the CPU ([`trace_flat_for_cpu`]).
+    /// the tile loop built for the CPU ([`trace_flat_for_cpu`]): 16 lanes (blocks of 4×4
+    /// pixels) in the AVX-512 build, else 8 (4×2).
     #[inline(always)]
-    fn trace_flat_tile<V: Lanes>(
+    fn trace_flat_tile<V: LaneOps>(
         &self,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -588,18 +594,22 @@ impl<'a> Frame<'a> {
     ) {
         // (The pixel centres of `sample` for one sample: i + 0.5.)
         let centre = V::splat(0.5);
-        for block in tile.blocks() {
+        let mut prims = [NO_HIT; 16];
+        for block in tile.blocks_of((V::WIDTH / PACKET_W as usize) as u32) {
             let (xs, ys) = block.pixel_lanes::<V>(tile.y0);
             let dirs = self.gen.directions_in(xs + centre, ys + centre);
-            let prims = queries.closest_in(dirs, block.live_lanes());
+            queries.closest_in(dirs, block.live_lanes(), &mut prims);
             // (Dead lanes are NO_HIT.)
+            let prims = &prims[..V::WIDTH];
             counts.0 += prims.iter().map(|&p| u64::from(p != NO_HIT)).sum::<u64>();
-            // (Two rows written apart: as a loop over rows, 4% more instructions.)
             let (w, at) = (block.w as usize, block.offset(self.row_bytes));
-            rgba.put(&mut rows[at..][..w * 4], &prims[..w]);
-            if block.h == 2 {
-                let at = at + self.row_bytes;
-                rgba.put(&mut rows[at..][..w * 4], &prims[4..][..w]);
+            for (r, row) in prims
+                .chunks_exact(PACKET_W as usize)
+                .take(block.h as usize)
+                .enumerate()
+            {
+                let at = at + r * self.row_bytes;
+                rgba.put(&mut rows[at..][..w * 4], &row[..w]);
             }
         }
     }

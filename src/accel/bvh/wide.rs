@@ -34,7 +34,7 @@ use super::{
 };
 use crate::accel::instances::PacketSink;
 use crate::geometry::Ray;
-use crate::math::lanes::{f32x8, Lanes};
+use crate::math::lanes::{f32x8, LaneOps, Lanes};
 use crate::math::Real;
 use rayon::prelude::*;
 
@@ -385,8 +385,8 @@ impl RaySlabs {
             };
             let (o, inv) = (f32x8::splat(self.o[k]), f32x8::splat(self.inv[k]));
             // `max`/`min` ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
-            t0 = Lanes::max(t0, (near - o) * inv);
-            t1 = Lanes::min(t1, (far - o) * inv * slack);
+            t0 = LaneOps::max(t0, (near - o) * inv);
+            t1 = LaneOps::min(t1, (far - o) * inv * slack);
         }
         (t0.simd_le(t1).to_bitmask(), t0.to_array())
     }
