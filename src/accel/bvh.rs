@@ -24,7 +24,7 @@ use super::IndexedTriangle;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::lanes::{f32x8, Lanes};
+use crate::math::lanes::{f32x8, LaneOps, Lanes};
 use crate::math::simd::{avx2_or_baseline, each3};
 use crate::math::Real;
 use ::wide::f32x4;
@@ -372,7 +372,7 @@ impl Bvh {
     /// lanes before that lane's limit; `leaves` visits a leaf's items, nearer children first.
     /// Untrusted slabs visit every item.
     #[inline(always)]
-    pub(crate) fn walk_packet<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
+    pub(crate) fn walk_packet<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -389,7 +389,7 @@ impl Bvh {
     /// walked many times per packet. On the meshes' own hierarchies the lone walk cost more
     /// than it saved (bunny 1280×720 +2.2%, Igea 640×360 +0.7%; −2.8% on Igea at 320×180).
     #[inline(always)]
-    pub(crate) fn walk_packet_lone<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>>(
+    pub(crate) fn walk_packet_lone<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -401,7 +401,7 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn walk_packet_on<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, const LONE: bool>(
+    fn walk_packet_on<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>, const LONE: bool>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -555,15 +555,43 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
+        self.walk_nearest(o, prepared, each3(|k| V::from_wide(d[k])), &mut nearest);
+        nearest.finish()
+    }
+
+    /// [`Bvh::closest_packet_from`] (no seed) inside a kernel already in lanes `V` of any
+    /// width (the AVX-512 tile loop's 16 camera rays): the ids into `prim[..V::WIDTH]`, the
+    /// ambiguous lanes returned.
+    #[inline(always)]
+    pub(crate) fn closest_packet_in<V: LaneOps>(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+        d_max: f32,
+        prim: &mut [u32],
+    ) -> u32 {
+        let mut nearest = PacketNearest::<V>::new_in(d, d_max);
+        self.walk_nearest(o, prepared, d, &mut nearest);
+        nearest.finish_into(prim)
+    }
+
+    /// Offers `nearest` (rays from `o`, directions `d`) every triangle its lanes may reach.
+    #[inline(always)]
+    fn walk_nearest<V: LaneOps>(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+        nearest: &mut PacketNearest<V>,
+    ) {
         if self.wide.is_empty() {
-            return nearest.finish();
+            return;
         }
         if !prepared.fits(o, self.tris.len()) {
-            let mut all = nearest.finish();
-            all.ambiguous = 0xff;
-            return all;
+            return nearest.all_ambiguous();
         }
-        let rays = PacketSlabs::<V>::new(o, d, self.tame);
+        let rays = PacketSlabs::<V>::new_in(o, d, self.tame);
         if !rays.trusted {
             return self.closest_packet_untrusted(nearest, o, prepared);
         }
@@ -573,8 +601,7 @@ impl Bvh {
             prepared,
             scratch: None,
         };
-        self.walk_packet(&rays, 0.0, &mut nearest, &mut leaves);
-        nearest.finish()
+        self.walk_packet(&rays, 0.0, nearest, &mut leaves);
     }
 
     /// The triangles `start..end` (at most 8; positions in the hierarchy's order) prepared
@@ -628,7 +655,7 @@ impl Bvh {
     /// from `first` on, prepared for `o`) one at a time to every lane, each again as
     /// [`Bvh::precise`] prepares it where it would leave a lane undecided.
     #[inline(always)]
-    fn offer_each<V: Lanes>(
+    fn offer_each<V: LaneOps>(
         &self,
         nearest: &mut PacketNearest<V>,
         o: [f32; 3],
@@ -721,12 +748,12 @@ impl Bvh {
     /// [`Bvh::closest_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn closest_packet_untrusted<V: Lanes>(
+    fn closest_packet_untrusted<V: LaneOps>(
         &self,
-        mut nearest: PacketNearest<V>,
+        nearest: &mut PacketNearest<V>,
         o: [f32; 3],
         prepared: Prepared<'_>,
-    ) -> PacketHits {
+    ) {
         for i in 0..self.tris.len() {
             match prepared {
                 Prepared::All(p) => nearest.offer(&p.tris[i], i as u32),
@@ -736,7 +763,6 @@ impl Bvh {
                 ),
             }
         }
-        nearest.finish()
     }
 
     /// [`Bvh::blocked_packet`] where the f32 slab test cannot be trusted: every triangle.
@@ -1002,12 +1028,17 @@ struct PositionLeaves<'a> {
     scratch: Option<OriginBlock>,
 }
 
-impl<V: Lanes> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
+impl<V: LaneOps> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, nearest: &mut PacketNearest<V>, first: usize, count: usize, lanes: u32) {
         let end = first + count;
-        let tris =
-            (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
+        let tris = (self.bvh).leaf_triangles::<V::Eight>(
+            self.prepared,
+            first,
+            end,
+            self.o,
+            &mut self.scratch,
+        );
         match tris {
             LeafTriangles::Listed(list) => {
                 for (j, tri) in list.iter().enumerate() {
@@ -1069,24 +1100,36 @@ pub(crate) struct PacketSlabs<V = f32x8> {
 impl<V: Lanes> PacketSlabs<V> {
     #[inline(always)]
     pub(crate) fn new(o: [f32; 3], d: &[f32x8; 3], boxes_tame: bool) -> Self {
-        let inv = each3(|k| V::one() / V::from_wide(d[k]));
+        Self::new_in(o, each3(|k| V::from_wide(d[k])), boxes_tame)
+    }
+}
+
+impl<V: LaneOps> PacketSlabs<V> {
+    /// [`PacketSlabs::new`] for directions already in lanes `V` (of any width).
+    #[inline(always)]
+    pub(crate) fn new_in(o: [f32; 3], d: [V; 3], boxes_tame: bool) -> Self {
+        let inv = each3(|k| V::one() / d[k]);
         let neg = each3(|k| inv[k].simd_lt(V::zero()));
         let sign = each3(|k| match neg[k].to_bitmask() {
             0 => Some(false),
-            0xff => Some(true),
+            m if m == V::full() => Some(true),
             _ => None,
         });
         // Tame: every |dₖ| within 2⁻⁴⁰…2⁴⁰ ([`slab_safe`]), so no 1/dₖ is infinite (no 0·∞)
         // and the f32 test holds. Else zeros are fine too, anything else is not trusted.
         let (lo, hi) = (
-            f32x8::splat(f32::from_bits((127 - SAFE_EXP) << 23)),
-            f32x8::splat(f32::from_bits((127 + SAFE_EXP) << 23)),
+            f32::from_bits((127 - SAFE_EXP) << 23),
+            f32::from_bits((127 + SAFE_EXP) << 23),
         );
-        let a = d.map(|c| c.abs());
-        let tame = a.iter().all(|a| (a.simd_ge(lo) & a.simd_le(hi)).all());
-        let safe = |a: &f32x8| (a.simd_eq(f32x8::ZERO) | (a.simd_ge(lo) & a.simd_le(hi))).all();
-        let origin = f32x8::from([o[0], o[1], o[2], 0.0, 0.0, 0.0, 0.0, 0.0]).abs();
-        let trusted = boxes_tame && safe(&origin) && (tame || a.iter().all(safe));
+        let (lo_v, hi_v) = (V::splat(lo), V::splat(hi));
+        let a = each3(|k| d[k].abs());
+        let tame = a.iter().all(|a| (a.simd_ge(lo_v) & a.simd_le(hi_v)).all());
+        let safe = |a: &V| (a.simd_eq(V::zero()) | (a.simd_ge(lo_v) & a.simd_le(hi_v))).all();
+        let origin_safe = o.iter().all(|x| {
+            let a = x.abs();
+            a == 0.0 || (a >= lo && a <= hi)
+        });
+        let trusted = boxes_tame && origin_safe && (tame || a.iter().all(safe));
         let inv_far = each3(|k| inv[k] * V::splat(far_slack()));
         let coherent = match sign {
             [Some(x), Some(y), Some(z)] if tame => Some([x, y, z]),
@@ -1624,6 +1667,78 @@ mod tests {
             };
             // (Strides: primes above the leaf count, so each visits every leaf.)
             rayon::join(|| check(1009), || check(1013));
+            pool.give(cache);
+        }
+    }
+
+    /// 16 rays at once (the AVX-512 tile loop's packets): every lane the 16-lane walk decides
+    /// is the whole list's nearest, from every kind of preparation, for an origin the slab
+    /// test trusts and one it does not (every triangle offered). The rays diverge, so most
+    /// leaves are reached by one lane: lanes 8–15 go through the one-lane pass too.
+    #[test]
+    fn sixteen_lane_packets_decide_as_the_whole_list() {
+        use crate::math::lanes::{Avx16, LaneOps};
+        use crate::math::simd::{detected, SimdLevel};
+        if detected() < SimdLevel::Avx512 {
+            return; // no 16-lane build on this CPU
+        }
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+        fn walk16(
+            bvh: &Bvh,
+            o: [f32; 3],
+            prepared: Prepared<'_>,
+            d: &[[f32; 16]; 3],
+            prim: &mut [u32; 16],
+        ) -> u32 {
+            let d = each3(|k| Avx16::load(&d[k]));
+            let dm = crate::accel::packet::max_component_in(&d);
+            bvh.closest_packet_in(o, prepared, d, dm, prim)
+        }
+        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
+        let bvh = Bvh::build(&tris);
+        let (vertices, prims) = bvh.triangles();
+        let pool = super::super::prepared::CachePool::default();
+        for o in [[5.1, 4.2, -15.0], [1e-20, 5.0, -4.0]] {
+            let list = OriginTriangles::from_parts(vertices, prims, o);
+            // Lane l towards triangle 61·l's centroid, odd lanes near its first vertex.
+            let d: [[f32; 16]; 3] = [0, 1, 2].map(|k| {
+                std::array::from_fn(|l| {
+                    let v = &tris[61 * l].0;
+                    let aim = match l % 2 {
+                        0 => (v[0][k] + v[1][k] + v[2][k]) / 3.0,
+                        _ => 0.9 * v[0][k] + 0.05 * (v[1][k] + v[2][k]),
+                    };
+                    aim - o[k]
+                })
+            });
+            let cache = pool.take(bvh.len(), o);
+            for prepared in [
+                Prepared::All(&list),
+                Prepared::Once(&cache),
+                Prepared::AsMet,
+            ] {
+                let mut found = [0u32; 16];
+                // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
+                #[allow(unsafe_code)]
+                let ambiguous = unsafe { walk16(&bvh, o, prepared, &d, &mut found) };
+                let mut decided = 0;
+                for half in 0..2 {
+                    let d8: [f32x8; 3] =
+                        each3(|k| f32x8::from(std::array::from_fn(|l| d[k][8 * half + l])));
+                    let dm = crate::accel::packet::max_component(&d8);
+                    let whole = crate::accel::packet::closest(&list.tris, &d8, dm);
+                    for l in 0..8 {
+                        let lane = 8 * half + l;
+                        if (ambiguous >> lane | whole.ambiguous >> l) & 1 == 0 {
+                            let got = prims.get(found[lane] as usize).copied();
+                            let want = (whole.prim[l] != u32::MAX).then_some(whole.prim[l]);
+                            assert_eq!(got, want, "origin {o:?}, lane {lane}");
+                            decided += 1;
+                        }
+                    }
+                }
+                assert!(decided >= 12, "only {decided} lanes decided");
+            }
             pool.give(cache);
         }
     }

@@ -517,9 +517,19 @@ impl TileQueries<'_> {
     /// other plans go 8 lanes at a time through `closest_x8`.
     #[inline(always)]
     pub(crate) fn closest_in<V: LaneOps>(&mut self, d: [V; 3], live: u32, out: &mut [u32]) {
-        let inline =
-            self.shapes.is_empty() && matches!(self.frame.plan, Plan::CulledPackets { .. });
-        if !inline {
+        let frame = self.frame;
+        let d_max = packet::max_component_in(&d);
+        let ambiguous = match (&frame.plan, self.shapes.is_empty()) {
+            (Plan::CulledPackets { .. }, true) => {
+                Some(packet::closest_in(self.prepared, d, d_max, out))
+            }
+            (Plan::BvhPackets { from_eye, .. }, true) if self.triangles_may_show => {
+                let prepared = Prepared::of(from_eye.as_ref());
+                (frame.accel).closest_packet_in(frame.eye, prepared, d, d_max, out)
+            }
+            _ => None,
+        };
+        let Some(ambiguous) = ambiguous else {
             let lanes = lanes_of(&d);
             for h in 0..V::WIDTH / 8 {
                 let half = each3(|k| f32x8::from(std::array::from_fn(|l| lanes[k][8 * h + l])));
@@ -527,9 +537,7 @@ impl TileQueries<'_> {
                 out[8 * h..][..8].copy_from_slice(&prims);
             }
             return;
-        }
-        let d_max = packet::max_component_in(&d);
-        let ambiguous = packet::closest_in(self.prepared, d, d_max, out);
+        };
         let unused = !live & V::full();
         if (ambiguous | unused) != 0 {
             self.resolve_lanes(&lanes_of(&d), ambiguous, unused, out);

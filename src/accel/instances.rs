@@ -26,7 +26,7 @@ use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::lanes::{f32x8, Lanes};
+use crate::math::lanes::{f32x8, LaneOps, Lanes};
 use crate::math::simd::each3;
 use crate::scene::instance::{linear_norm, world_bounds, Instance, Mesh};
 use glam::{DMat4, DVec3};
@@ -57,10 +57,10 @@ pub(crate) trait PacketSink<V = f32x8> {
     }
 }
 
-impl<V: Lanes> PacketSink<V> for PacketNearest<V> {
+impl<V: LaneOps> PacketSink<V> for PacketNearest<V> {
     #[inline(always)]
     fn live(&self) -> u32 {
-        !self.ambiguous() & 0xff
+        !self.ambiguous() & V::full()
     }
     #[inline(always)]
     fn limit(&self) -> V {

@@ -479,6 +479,34 @@ impl Accel {
         Some(found)
     }
 
+    /// [`Accel::closest_packet_of_triangles`] (no seed, no instances) inside a kernel already
+    /// in lanes `V` of any width: primitives into `prim[..V::WIDTH]`, the ambiguous lanes
+    /// returned; `None` where there is no BVH of its own triangles.
+    #[inline(always)]
+    pub(crate) fn closest_packet_in<V: crate::math::lanes::LaneOps>(
+        &self,
+        o: [f32; 3],
+        prepared: prepared::Prepared<'_>,
+        d: [V; 3],
+        d_max: f32,
+        prim: &mut [u32],
+    ) -> Option<u32> {
+        let Triangles::Bvh(b) = &self.triangles else {
+            return None;
+        };
+        if self.instances().is_some() {
+            return None;
+        }
+        let ambiguous = b.closest_packet_in(o, prepared, d, d_max, prim);
+        let prims = b.triangles().1;
+        for slot in &mut prim[..V::WIDTH] {
+            if let Some(p) = prims.get(*slot as usize) {
+                *slot = *p;
+            }
+        }
+        Some(ambiguous)
+    }
+
     /// Shadow segments 8 at a time from one origin `o` (the light) through the BVH
     /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o` by
     /// [`Accel::prepare_origin`], or `None` to prepare them as met): per lane whether

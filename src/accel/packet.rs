@@ -1195,14 +1195,8 @@ fn dot3<V: Lanes>(d: &[V; 3], n: &[[f32; 8]; 3]) -> V {
 /// `v` with the lanes of `mask` (a lane mask) set to `x`. (A blend: a scalar written
 /// into the vector's memory stalled the vector load after it.)
 #[inline(always)]
-fn with_lane<V: Lanes>(v: V, mask: V, x: f32) -> V {
+fn with_lane<V: LaneOps>(v: V, mask: V, x: f32) -> V {
     mask.bitselect(V::splat(x), v)
-}
-
-/// The lane mask of lane `l`.
-#[inline(always)]
-fn lane_mask<V: Lanes>(l: usize) -> V {
-    V::from_array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]).simd_eq(V::splat(l as f32))
 }
 
 /// The nearest candidate so far of each of 8 rays from the shared origin, as triangles are
@@ -1320,6 +1314,109 @@ impl<V: LaneOps> PacketNearest<V> {
         true
     }
 
+    /// Offers lanes `tris` of `block` (their ids as `ids` says) to ray lane `l` alone, the eight
+    /// triangles in the vector's lanes: for a leaf only lane `l` reaches (at the preview
+    /// sizes most are: 70% of Igea's leaf visits at 640×360, 99% at 320×180), one pass
+    /// instead of one per triangle for all 8 rays. The same operations per triangle as
+    /// [`PacketNearest::offer`] (the same bits). Done (true) when every triangle is
+    /// decided for the lane and the nearest among them and the lane's best is certain;
+    /// otherwise nothing changes and the answer is false (the caller offers them one by
+    /// one). (An ambiguous lane is traced per ray
+    /// afterwards: what the pass does to it does not matter.)
+    #[inline(always)]
+    pub(crate) fn offer_block_to_lane(
+        &mut self,
+        block: &OriginBlock,
+        tris: u32,
+        ids: BlockIds,
+        l: usize,
+    ) -> bool {
+        // The block's 8 triangles in the build's 8 lanes, whatever the packet's width.
+        type T<V> = <V as LaneOps>::Eight;
+        let dm = self.dm;
+        let n_ok = (load::<T<V>>(&block.n_max) * T::<V>::splat(dm))
+            .simd_lt(T::<V>::splat(MAX_PRODUCT))
+            .to_bitmask();
+        if tris & !(block.usable & n_ok) != 0 || !dm.is_finite() {
+            return false;
+        }
+        // (No closures: in the AVX2 kernel they stayed calls.)
+        let d = [
+            T::<V>::splat(self.d[0].lane(l)),
+            T::<V>::splat(self.d[1].lane(l)),
+            T::<V>::splat(self.d[2].lane(l)),
+        ];
+        let e = [
+            dot3(&d, &block.n[0]),
+            dot3(&d, &block.n[1]),
+            dot3(&d, &block.n[2]),
+        ];
+        let (dm_v, abs) = (T::<V>::splat(dm), T::<V>::splat(EDGE_ABS));
+        let bound = [
+            load::<T<V>>(&block.k[0]) * dm_v + abs,
+            load::<T<V>>(&block.k[1]) * dm_v + abs,
+            load::<T<V>>(&block.k[2]) * dm_v + abs,
+        ];
+        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
+        let num: T<V> = load(&block.num);
+        let num_pos = num.simd_gt(T::<V>::zero());
+        let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
+        let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
+        if tris & !(miss.to_bitmask() | front | behind) != 0 {
+            return false;
+        }
+        if front == 0 {
+            return true;
+        }
+        // t's interval per triangle, as `t_interval` bounds det.
+        let by_normal = T::<V>::from_bitmask(block.det_from_normal);
+        let det = by_normal.bitselect(dot3(&d, &block.normal), e[0] + e[1] + e[2]);
+        let det_bound = by_normal.bitselect(
+            load::<T<V>>(&block.k_det) * dm_v + abs,
+            load::<T<V>>(&block.k_sum) * dm_v + T::<V>::splat(3.0 * EDGE_ABS),
+        );
+        let (lo, hi, tight) = t_within(num, det, det_bound, load(&block.c_t));
+        if front & !tight.to_bitmask() != 0 {
+            return false;
+        }
+        // The nearest front triangle, and whether it and the lane's best are certainly
+        // ordered against every other.
+        let his = hi.to_array();
+        let mut rest = front & (front - 1);
+        let mut w = front.trailing_zeros() as usize;
+        while rest != 0 {
+            let c = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            if his[c] < his[w] {
+                w = c;
+            }
+        }
+        let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
+        if his[w] < best_lo {
+            let farther = lo.simd_gt(T::<V>::splat(his[w])).to_bitmask();
+            if front & !(1 << w) & !farther != 0 {
+                return false;
+            }
+            let lane = V::from_bitmask(1 << l);
+            self.best_lo = with_lane(self.best_lo, lane, lo.to_array()[w]);
+            self.best_hi = with_lane(self.best_hi, lane, his[w]);
+            let id = match ids {
+                BlockIds::From(base) => base + w as u32,
+                BlockIds::Prims => block.prim[w],
+            };
+            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(id));
+            return true;
+        }
+        // No nearer than the best: every one must be certainly farther.
+        front & !lo.simd_gt(T::<V>::splat(best_hi)).to_bitmask() == 0
+    }
+
+    /// Every lane ambiguous (nothing decided).
+    #[inline(always)]
+    pub(crate) fn all_ambiguous(&mut self) {
+        self.ambiguous = V::zero().simd_eq(V::zero());
+    }
+
     /// Per lane the id of the nearest (u32::MAX for none) into `prim[..WIDTH]`; returns the
     /// ambiguous lanes.
     #[inline(always)]
@@ -1365,101 +1462,6 @@ impl<V: Lanes> PacketNearest<V> {
             nearest.ambiguous |= bits(seed.ambiguous);
         }
         nearest
-    }
-
-    /// Offers lanes `tris` of `block` (their ids as `ids` says) to ray lane `l` alone, the eight
-    /// triangles in the vector's lanes: for a leaf only lane `l` reaches (at the preview
-    /// sizes most are: 70% of Igea's leaf visits at 640×360, 99% at 320×180), one pass
-    /// instead of one per triangle for all 8 rays. The same operations per triangle as
-    /// [`PacketNearest::offer`] (the same bits). Done (true) when every triangle is
-    /// decided for the lane and the nearest among them and the lane's best is certain;
-    /// otherwise nothing changes and the answer is false (the caller offers them one by
-    /// one). (An ambiguous lane is traced per ray
-    /// afterwards: what the pass does to it does not matter.)
-    #[inline(always)]
-    pub(crate) fn offer_block_to_lane(
-        &mut self,
-        block: &OriginBlock,
-        tris: u32,
-        ids: BlockIds,
-        l: usize,
-    ) -> bool {
-        let dm = self.dm;
-        let n_ok = (load::<V>(&block.n_max) * V::splat(dm))
-            .simd_lt(V::splat(MAX_PRODUCT))
-            .to_bitmask();
-        if tris & !(block.usable & n_ok) != 0 || !dm.is_finite() {
-            return false;
-        }
-        // (No closures: in the AVX2 kernel they stayed calls.)
-        let d = [
-            V::splat(self.d[0].to_array()[l]),
-            V::splat(self.d[1].to_array()[l]),
-            V::splat(self.d[2].to_array()[l]),
-        ];
-        let e = [
-            dot3(&d, &block.n[0]),
-            dot3(&d, &block.n[1]),
-            dot3(&d, &block.n[2]),
-        ];
-        let (dm_v, abs) = (V::splat(dm), V::splat(EDGE_ABS));
-        let bound = [
-            load::<V>(&block.k[0]) * dm_v + abs,
-            load::<V>(&block.k[1]) * dm_v + abs,
-            load::<V>(&block.k[2]) * dm_v + abs,
-        ];
-        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
-        let num: V = load(&block.num);
-        let num_pos = num.simd_gt(V::zero());
-        let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
-        let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
-        if tris & !(miss.to_bitmask() | front | behind) != 0 {
-            return false;
-        }
-        if front == 0 {
-            return true;
-        }
-        // t's interval per triangle, as `t_interval` bounds det.
-        let by_normal = V::from_bitmask(block.det_from_normal);
-        let det = by_normal.bitselect(dot3(&d, &block.normal), e[0] + e[1] + e[2]);
-        let det_bound = by_normal.bitselect(
-            load::<V>(&block.k_det) * dm_v + abs,
-            load::<V>(&block.k_sum) * dm_v + V::splat(3.0 * EDGE_ABS),
-        );
-        let (lo, hi, tight) = t_within(num, det, det_bound, load(&block.c_t));
-        if front & !tight.to_bitmask() != 0 {
-            return false;
-        }
-        // The nearest front triangle, and whether it and the lane's best are certainly
-        // ordered against every other.
-        let his = hi.to_array();
-        let mut rest = front & (front - 1);
-        let mut w = front.trailing_zeros() as usize;
-        while rest != 0 {
-            let c = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
-            if his[c] < his[w] {
-                w = c;
-            }
-        }
-        let (best_lo, best_hi) = (self.best_lo.to_array()[l], self.best_hi.to_array()[l]);
-        if his[w] < best_lo {
-            let farther = lo.simd_gt(V::splat(his[w])).to_bitmask();
-            if front & !(1 << w) & !farther != 0 {
-                return false;
-            }
-            let lane = lane_mask(l);
-            self.best_lo = with_lane(self.best_lo, lane, lo.to_array()[w]);
-            self.best_hi = with_lane(self.best_hi, lane, his[w]);
-            let id = match ids {
-                BlockIds::From(base) => base + w as u32,
-                BlockIds::Prims => block.prim[w],
-            };
-            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(id));
-            return true;
-        }
-        // No nearer than the best: every one must be certainly farther.
-        front & !lo.simd_gt(V::splat(best_hi)).to_bitmask() == 0
     }
 
     /// [`PacketNearest::finish`] of the state so far.

@@ -34,6 +34,8 @@ pub trait LaneOps:
 {
     /// The number of lanes (8 or 16).
     const WIDTH: usize;
+    /// The 8 lanes of the same build (a BVH node's 8 children, a block's 8 triangles).
+    type Eight: Lanes;
     fn splat(x: f32) -> Self;
     /// Lanes from `a[..WIDTH]`.
     fn load(a: &[f32]) -> Self;
@@ -64,7 +66,19 @@ pub trait LaneOps:
     /// this order: lanes l and l + 4, then those pairs 0 and 2, 1 and 3, then the two left
     /// (without NaN, every order gives the same).
     fn reduce_max(self) -> f32;
+    /// The least lane by x86 `minps`'s rule (`a` where `a < b`, else `b`), in
+    /// [`LaneOps::reduce_max`]'s order.
+    fn reduce_min(self) -> f32;
+    /// All-ones lanes where bit l of `mask` is set, else zeros (a mask for `bitselect`).
+    fn from_bitmask(mask: u32) -> Self;
 
+    /// Lane `l`.
+    #[inline(always)]
+    fn lane(self, l: usize) -> f32 {
+        let mut all = [0.0f32; 16];
+        self.store(&mut all);
+        all[l & 15]
+    }
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
@@ -106,35 +120,6 @@ pub trait Lanes: LaneOps {
     /// Lane by lane, the bit patterns as integers: `self − a + b` (wrapping).
     fn step_bits(self, a: Self, b: Self) -> Self;
 
-    /// The least lane by x86 `minps`'s rule (`a` where `a < b`, else `b`), in
-    /// [`LaneOps::reduce_max`]'s order.
-    #[inline(always)]
-    fn reduce_min(self) -> f32 {
-        let a = self.to_array();
-        let min = |x: f32, y: f32| if x < y { x } else { y };
-        let m = [
-            min(a[0], a[4]),
-            min(a[1], a[5]),
-            min(a[2], a[6]),
-            min(a[3], a[7]),
-        ];
-        min(min(m[0], m[2]), min(m[1], m[3]))
-    }
-    /// All-ones lanes where bit l of `mask` is set, else zeros (a mask for `bitselect`).
-    #[inline(always)]
-    fn from_bitmask(mask: u32) -> Self {
-        let lane = |l: u32| if mask & (1 << l) != 0 { u32::MAX } else { 0 };
-        Self::from_bits([
-            lane(0),
-            lane(1),
-            lane(2),
-            lane(3),
-            lane(4),
-            lane(5),
-            lane(6),
-            lane(7),
-        ])
-    }
     /// Per lane the bit pattern of `bits[l]` (ids moved through float lanes).
     #[inline(always)]
     fn from_bits(bits: [u32; 8]) -> Self {
@@ -167,6 +152,7 @@ fn reduce_max8(a: [f32; 8]) -> f32 {
 
 impl LaneOps for f32x8 {
     const WIDTH: usize = 8;
+    type Eight = f32x8;
     #[inline(always)]
     fn splat(x: f32) -> Self {
         f32x8::splat(x)
@@ -238,6 +224,23 @@ impl LaneOps for f32x8 {
     #[inline(always)]
     fn reduce_max(self) -> f32 {
         reduce_max8(self.to_array())
+    }
+    #[inline(always)]
+    fn reduce_min(self) -> f32 {
+        let a = self.to_array();
+        let min = |x: f32, y: f32| if x < y { x } else { y };
+        let m = [
+            min(a[0], a[4]),
+            min(a[1], a[5]),
+            min(a[2], a[6]),
+            min(a[3], a[7]),
+        ];
+        min(min(m[0], m[2]), min(m[1], m[3]))
+    }
+    #[inline(always)]
+    fn from_bitmask(mask: u32) -> Self {
+        let lane = |l: u32| if mask & (1 << l) != 0 { u32::MAX } else { 0 };
+        <Self as Lanes>::from_bits(std::array::from_fn(|l| lane(l as u32)))
     }
 }
 
@@ -428,6 +431,7 @@ mod avx {
 
     impl LaneOps for Avx8 {
         const WIDTH: usize = 8;
+        type Eight = Avx8;
         #[inline(always)]
         fn splat(x: f32) -> Self {
             debug_assert!(is_x86_feature_detected!("avx2"));
@@ -528,6 +532,29 @@ mod avx {
             // SAFETY: as in `binary!`; the store writes the 8 floats of `out`.
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
         }
+        #[inline(always)]
+        fn reduce_min(self) -> f32 {
+            // SAFETY: as in `binary!`.
+            unsafe {
+                let m = _mm_min_ps(
+                    _mm256_castps256_ps128(self.0),
+                    _mm256_extractf128_ps::<1>(self.0),
+                );
+                let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+                _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps::<1>(m, m)))
+            }
+        }
+        #[inline(always)]
+        fn from_bitmask(mask: u32) -> Self {
+            // The mask in every lane, each lane's bit tested: three instructions, where the
+            // trait's lane-by-lane form built an array.
+            // SAFETY: as in `binary!` (AVX2 for the integer lanes).
+            Self(unsafe {
+                let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                let m = _mm256_and_si256(_mm256_set1_epi32(mask as i32), bits);
+                _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
+            })
+        }
     }
 
     impl Lanes for Avx8 {
@@ -564,29 +591,6 @@ mod avx {
                     _mm256_castps_si256(b.0),
                 );
                 _mm256_castsi256_ps(_mm256_add_epi32(_mm256_sub_epi32(x, a), b))
-            })
-        }
-        #[inline(always)]
-        fn reduce_min(self) -> f32 {
-            // SAFETY: as in `binary!`.
-            unsafe {
-                let m = _mm_min_ps(
-                    _mm256_castps256_ps128(self.0),
-                    _mm256_extractf128_ps::<1>(self.0),
-                );
-                let m = _mm_min_ps(m, _mm_movehl_ps(m, m));
-                _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps::<1>(m, m)))
-            }
-        }
-        #[inline(always)]
-        fn from_bitmask(mask: u32) -> Self {
-            // The mask in every lane, each lane's bit tested: three instructions, where the
-            // trait's lane-by-lane form built an array.
-            // SAFETY: as in `binary!` (AVX2 for the integer lanes).
-            Self(unsafe {
-                let bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-                let m = _mm256_and_si256(_mm256_set1_epi32(mask as i32), bits);
-                _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
             })
         }
     }
@@ -650,6 +654,7 @@ mod avx {
 
     impl LaneOps for Avx16 {
         const WIDTH: usize = 16;
+        type Eight = Avx8;
         #[inline(always)]
         fn splat(x: f32) -> Self {
             debug_assert!(is_x86_feature_detected!("avx512dq"));
@@ -749,6 +754,23 @@ mod avx {
                 ))
             };
             half.reduce_max()
+        }
+        #[inline(always)]
+        fn reduce_min(self) -> f32 {
+            // The two halves by `minps`, then the 8-lane order.
+            // SAFETY: as in `binary!`.
+            let half = unsafe {
+                Avx8(_mm256_min_ps(
+                    _mm512_castps512_ps256(self.0),
+                    _mm512_extractf32x8_ps::<1>(self.0),
+                ))
+            };
+            half.reduce_min()
+        }
+        #[inline(always)]
+        fn from_bitmask(mask: u32) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_castsi512_ps(_mm512_movm_epi32(mask as u16)) })
         }
     }
 

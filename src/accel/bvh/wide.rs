@@ -283,7 +283,7 @@ pub(crate) struct WideStack {
     refs: [u32; STACK],
     dists: [f32; STACK],
     /// A packet walk's lanes that enter each entry's box (bit l for lane l).
-    lanes: [u8; STACK],
+    lanes: [u16; STACK],
     sp: usize,
 }
 
@@ -323,7 +323,7 @@ impl WideStack {
         }
         self.refs[at] = r;
         self.dists[at] = t;
-        self.lanes[at] = lanes as u8;
+        self.lanes[at] = lanes as u16;
         self.sp += 1;
     }
 
@@ -413,19 +413,11 @@ pub(super) struct LaneSlabs {
 
 impl LaneSlabs {
     #[inline(always)]
-    fn of<V: Lanes>(rays: &PacketSlabs<V>, lane: usize) -> Self {
+    fn of<V: LaneOps>(rays: &PacketSlabs<V>, lane: usize) -> Self {
         let (inv, far) = (&rays.inv, &rays.inv_far);
         Self {
-            inv: [
-                inv[0].to_array()[lane],
-                inv[1].to_array()[lane],
-                inv[2].to_array()[lane],
-            ],
-            inv_far: [
-                far[0].to_array()[lane],
-                far[1].to_array()[lane],
-                far[2].to_array()[lane],
-            ],
+            inv: [inv[0].lane(lane), inv[1].lane(lane), inv[2].lane(lane)],
+            inv_far: [far[0].lane(lane), far[1].lane(lane), far[2].lane(lane)],
             bit: 1 << lane,
         }
     }
@@ -436,23 +428,25 @@ impl LaneSlabs {
 /// at once, with the operations [`PacketSlabs::enter`] (and [`Sides::lanes`]) apply to that
 /// lane, one child at a time, so the same children pass.
 #[inline(always)]
-fn push_lane<V: Lanes>(
+fn push_lane<V: LaneOps>(
     (rays, pad): (&PacketSlabs<V>, Option<f32>),
     n: &WideNode,
     lane: &LaneSlabs,
     reach: f32,
     stack: &mut WideStack,
 ) {
-    let mut t0 = V::zero();
-    let mut t1 = V::splat(reach);
+    // The node's 8 children in the build's 8 lanes, whatever the packet's width.
+    type C<V> = <V as LaneOps>::Eight;
+    let mut t0 = C::<V>::zero();
+    let mut t1 = C::<V>::splat(reach);
     #[allow(clippy::needless_range_loop)]
     for k in 0..3 {
-        let (mut lo, mut hi) = (V::from_array(n.lo[k]), V::from_array(n.hi[k]));
+        let (mut lo, mut hi) = (C::<V>::from_array(n.lo[k]), C::<V>::from_array(n.hi[k]));
         if let Some(pad) = pad {
-            lo = lo - V::splat(pad);
-            hi = hi + V::splat(pad);
+            lo = lo - C::<V>::splat(pad);
+            hi = hi + C::<V>::splat(pad);
         }
-        let o = V::splat(rays.o[k]);
+        let o = C::<V>::splat(rays.o[k]);
         let (lo, hi) = (lo - o, hi - o);
         let inv = lane.inv[k];
         // The lane's sign as `PacketSlabs::neg` has it (1/dₖ < 0).
@@ -460,8 +454,8 @@ fn push_lane<V: Lanes>(
             true => (hi, lo),
             false => (lo, hi),
         };
-        let tn = near * V::splat(inv);
-        let tf = far * V::splat(lane.inv_far[k]);
+        let tn = near * C::<V>::splat(inv);
+        let tf = far * C::<V>::splat(lane.inv_far[k]);
         if rays.tame {
             t0 = t0.fast_max(tn);
             t1 = t1.fast_min(tf);
@@ -481,7 +475,7 @@ pub(super) struct LaneTest<'a, V> {
     pub(super) pad: f32,
 }
 
-impl<V: Lanes> ChildTest<V> for LaneTest<'_, V> {
+impl<V: LaneOps> ChildTest<V> for LaneTest<'_, V> {
     #[inline(always)]
     fn push(&self, n: &WideNode, reach: V, live: u32, _: f32, stack: &mut WideStack) {
         let base = stack.sp;
@@ -520,7 +514,7 @@ pub(super) struct IntervalTest<'a, V, const PADDED: bool> {
     slabs: WideSlabs<PADDED>,
 }
 
-impl<'a, V: Lanes, const PADDED: bool> IntervalTest<'a, V, PADDED> {
+impl<'a, V: LaneOps, const PADDED: bool> IntervalTest<'a, V, PADDED> {
     /// Boxes widened by `pad` on every side (0 unless `PADDED`).
     #[inline(always)]
     pub(super) fn new(rays: &'a PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
@@ -532,14 +526,14 @@ impl<'a, V: Lanes, const PADDED: bool> IntervalTest<'a, V, PADDED> {
     }
 }
 
-impl<V: Lanes, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> {
+impl<V: LaneOps, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> {
     #[inline(always)]
     fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack) {
         let mut sides = Sides {
             near: [[0.0; WIDTH]; 3],
             far: [[0.0; WIDTH]; 3],
         };
-        let (mut hits, t0) = self.slabs.enter::<V>(n, limit, &mut sides);
+        let (mut hits, t0) = self.slabs.enter::<V::Eight>(n, limit, &mut sides);
         let t0 = t0.to_array();
         let base = stack.sp;
         while hits != 0 {
@@ -572,7 +566,7 @@ struct WideSlabs<const PADDED: bool> {
 
 impl<const PADDED: bool> WideSlabs<PADDED> {
     #[inline(always)]
-    fn new<V: Lanes>(rays: &PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
+    fn new<V: LaneOps>(rays: &PacketSlabs<V>, near_hi: [bool; 3], pad: f32) -> Self {
         // (Coherent packets are tame: no 1/dₖ is NaN. Written out: as a closure it stayed a
         // call outside the AVX2 kernel, 4% of a field frame.)
         let i = &rays.inv;
@@ -641,7 +635,7 @@ struct Sides {
 impl Sides {
     /// [`PacketSlabs::enter`]'s lanes for child `c` (the same operations on the same values).
     #[inline(always)]
-    fn lanes<V: Lanes>(&self, rays: &PacketSlabs<V>, c: usize, reach: V, live: u32) -> u32 {
+    fn lanes<V: LaneOps>(&self, rays: &PacketSlabs<V>, c: usize, reach: V, live: u32) -> u32 {
         let mut t0 = V::zero();
         let mut t1 = reach;
         #[allow(clippy::needless_range_loop)]
@@ -655,7 +649,7 @@ impl Sides {
 
 /// The greatest of `limits` over the lanes of `live` (−∞ for none).
 #[inline(always)]
-fn widest<V: Lanes>(limits: V, live: u32) -> f32 {
+fn widest<V: LaneOps>(limits: V, live: u32) -> f32 {
     // Branch-free: the dead lanes set to −∞, then the lanes' greatest (the filtered fold it
     // replaces was 6% of a field frame's instructions). No limit is NaN: limits are ∞ or a
     // finite hit's bound.
@@ -671,7 +665,7 @@ impl Bvh {
     /// build.)
     #[inline(always)]
     pub(super) fn walk_wide<
-        V: Lanes,
+        V: LaneOps,
         S: PacketSink<V>,
         L: Leaves<V, S>,
         T: ChildTest<V>,
@@ -726,7 +720,7 @@ impl Bvh {
     /// or the subtree is done. Uses `stack` above its current entries and leaves them as
     /// they were.
     #[inline(always)]
-    fn walk_lane<V: Lanes, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
+    fn walk_lane<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
         &self,
         test: &T,
         sink: &mut S,
@@ -739,7 +733,7 @@ impl Bvh {
         let packet = test.slabs();
         let slabs = LaneSlabs::of(packet.0, at);
         let base = stack.sp;
-        let mut reach = sink.limit().to_array()[at];
+        let mut reach = sink.limit().lane(at);
         let mut node = root;
         loop {
             push_lane(packet, &self.wide[node], &slabs, reach, stack);
@@ -758,7 +752,7 @@ impl Bvh {
                     stack.sp = base;
                     return;
                 }
-                reach = sink.limit().to_array()[at];
+                reach = sink.limit().lane(at);
             }
         }
     }
