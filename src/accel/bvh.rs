@@ -992,12 +992,17 @@ struct OwnLeaves<'a> {
     scratch: Option<OriginBlock>,
 }
 
-impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
+impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
         let end = first + count;
-        let tris =
-            (self.bvh).leaf_triangles::<V>(self.prepared, first, end, self.o, &mut self.scratch);
+        let tris = (self.bvh).leaf_triangles::<V::Eight>(
+            self.prepared,
+            first,
+            end,
+            self.o,
+            &mut self.scratch,
+        );
         match tris {
             LeafTriangles::Listed(list) => list.iter().for_each(|t| sink.take(t)),
             LeafTriangles::Blocks { blocks, start, len } => {

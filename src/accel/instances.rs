@@ -191,15 +191,13 @@ impl Placed {
         Some((Ray::new(o, d), pad))
     }
 
-    /// 8 directions in the object frame (f32 arithmetic: within the pad's allowance).
+    /// A packet's directions in the object frame (f32 arithmetic: within the pad's
+    /// allowance), in the kernel's lanes (in `wide`'s f32x8 they were SSE halves in the AVX
+    /// builds).
     #[inline(always)]
-    fn carry_directions(&self, d: &[f32x8; 3]) -> [f32x8; 3] {
+    fn carry_directions<V: LaneOps>(&self, d: &[V; 3]) -> [V; 3] {
         let m = &self.to_object32;
-        each3(|r| {
-            d[0] * f32x8::splat(m[r][0])
-                + d[1] * f32x8::splat(m[r][1])
-                + d[2] * f32x8::splat(m[r][2])
-        })
+        each3(|r| d[0] * V::splat(m[r][0]) + d[1] * V::splat(m[r][1]) + d[2] * V::splat(m[r][2]))
     }
 }
 
@@ -435,11 +433,12 @@ impl Instances {
         d: &[f32x8; 3],
         sink: &mut S,
     ) {
-        let slabs = PacketSlabs::<V>::new(o, d, self.top.boxes_tame());
+        let d = each3(|k| V::from_wide(d[k]));
+        let slabs = PacketSlabs::<V>::new_in(o, d, self.top.boxes_tame());
         let mut leaves = TopLeaves {
             inst: self,
             o,
-            d,
+            d: &d,
             block: OriginBlock::default(),
             stack: WideStack::new(),
         };
@@ -448,17 +447,17 @@ impl Instances {
 }
 
 /// The top hierarchy's leaves: instances, each walked in its mesh's frame.
-struct TopLeaves<'a> {
+struct TopLeaves<'a, V> {
     inst: &'a Instances,
     o: [f32; 3],
-    d: &'a [f32x8; 3],
+    d: &'a [V; 3],
     /// Where the mesh leaves prepare their triangles.
     block: OriginBlock,
     /// The mesh walks' stack (one walk at a time, inside a visit of the top walk).
     stack: WideStack,
 }
 
-impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
+impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
         let items = self.inst.top.triangles().1;
@@ -474,7 +473,7 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_> {
             match placed.carry_origin(self.o) {
                 Some((obj, pad)) => {
                     let d = placed.carry_directions(self.d);
-                    let inner = PacketSlabs::<V>::new(obj, &d, mesh.boxes_tame());
+                    let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());
                     mesh.walk_packet_lone(&inner, pad, sink, &mut leaves, &mut self.stack);
                 }
                 None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), sink.live()),
@@ -494,7 +493,7 @@ struct MeshLeaves<'a> {
     block: &'a mut OriginBlock,
 }
 
-impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
+impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
     /// Four at a time, prepared in f32 ([`OriginTriangle::new8`], lanes 4–7 repeating 0–3);
     /// a short quad repeats its last triangle. A leaf one lane reaches goes to that lane in
     /// one pass where it decides it; otherwise each triangle goes to every lane, again
@@ -516,8 +515,9 @@ impl<V: Lanes, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
                 first_prim + locals[i2],
                 first_prim + locals[i3],
             ];
-            OriginTriangle::new8_from_lanes::<V>(
-                place.world_lanes::<V>(object),
+            // (The quad's triangles in the build's 8 lanes, whatever the packet's width.)
+            OriginTriangle::new8_from_lanes::<V::Eight>(
+                place.world_lanes::<V::Eight>(object),
                 self.o,
                 [p[0], p[1], p[2], p[3], p[0], p[1], p[2], p[3]],
                 self.block,

@@ -495,6 +495,8 @@ impl Accel {
             return None;
         };
         if self.instances().is_some() {
+            // (8 lanes at a time there: 16-lane packets through the field of 1,000 bunnies
+            // took 10% longer, its packets part at the instances' boxes.)
             return None;
         }
         let ambiguous = b.closest_packet_in(o, prepared, d, d_max, prim);
