@@ -492,7 +492,7 @@ impl TileQueries<'_> {
 
     /// The nearest primitive along each of 8 camera rays from the eye with directions `d`,
     /// for lanes `live` (bit l for lane l; the others are [`NO_HIT`]).
-    #[inline]
+    #[inline(always)]
     pub fn closest_x8(&mut self, d: &[f32x8; 3], live: u32) -> [u32; 8] {
         let d_max = packet::max_component(d);
         let found = match self.shapes.is_empty() {

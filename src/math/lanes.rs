@@ -1,6 +1,9 @@
-//! The 8 f32 lanes the hot kernels compute in, as a trait ([`Lanes`]) with two types: `wide`'s
-//! `f32x8` (two SSE halves: the baseline build) and `Avx8` (one 256-bit AVX register),
-//! which only a kernel's AVX2 and AVX-512 builds use ([`super::simd::avx2_or_baseline`]).
+//! The f32 lanes the hot kernels compute in: [`LaneOps`], the operations at any width, and
+//! [`Lanes`], 8 lanes with what the 8-lane kernels need besides. Three types: `wide`'s
+//! `f32x8` (two SSE halves: the baseline build), `Avx8` (one 256-bit AVX register: the AVX2
+//! and AVX-512 builds) and `Avx16` (one 512-bit register: the AVX-512 build's 16-ray camera
+//! packets), the AVX types used only inside a kernel's build for them
+//! ([`super::simd::avx2_or_baseline`]).
 //!
 //! Why two types: `wide` picks its implementation when the crate is compiled
 //! (`cfg(target_feature = "avx")`), so without `-C target-cpu` its f32x8 stays two SSE

@@ -7,7 +7,10 @@
 //! in the same 8-lane type (`Avx8`, one 256-bit register): AVX-512VL lets the compiler use
 //! its EVEX forms on it (32 vector registers instead of 16, mask registers for compares,
 //! three-input logic for selects). All three give the same bits: the same IEEE operations,
-//! none contracted to FMA (tests/packet.rs compares the builds bit for bit).
+//! none contracted to FMA (tests/packet.rs compares the builds bit for bit). The flat
+//! frame's camera packets are 16 rays (`Avx16`, one 512-bit register) in the AVX-512 build
+//! (`widest` below): their lanes are decided exactly as 8-ray packets decide them, so the
+//! image's bytes are the same (tests/render.rs).
 
 /// The kernels' builds, from the slowest: `level() >= Avx2` where the AVX types may exist.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

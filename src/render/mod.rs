@@ -4,9 +4,10 @@
 //! ([`shade`]). n×n stratified samples per pixel; linear colour averaged and sRGB-encoded once
 //! into RGBA8 ([`image`]).
 //!
-//! Camera rays go 8 at a time, over blocks of 4×2 pixels, where the face says so for the tile
+//! Camera rays go 8 at a time, over blocks of 4×2 pixels (16 at a time over 4×4 in the
+//! AVX-512 build's flat one-sample frame), where the face says so for the tile
 //! ([`TileQueries::packets`]), else one at a time; either way the face answers exactly, and
-//! shading depends only on the ray and the primitive hit, so both give the same bits.
+//! shading depends only on the ray and the primitive hit, so all give the same bits.
 
 pub mod aov;
 pub mod image;
@@ -293,7 +294,8 @@ impl Block {
     /// The lanes on pixels of the block; the others (past the image's edges) are dead.
     fn live_lanes(&self) -> u32 {
         let row = (1u32 << self.w) - 1;
-        (0..self.h).fold(0, |lanes, r| lanes | row << (PACKET_W * r))
+        // The row's bits repeated every PACKET_W (= 4) bits, once per row (no carries).
+        row * (0x1111 >> (PACKET_W * (4 - self.h)))
     }
 
     /// Per lane, the pixel's column and row in the image, where the tile starts at row `y0`
