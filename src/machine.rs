@@ -19,7 +19,7 @@ pub fn cpu_model() -> String {
 pub fn simd_level() -> String {
     use crate::math::simd::{detected, level, SimdLevel};
     let name = |l: SimdLevel| match l {
-        SimdLevel::Avx512 => "AVX-512 (x86-64-v4) on 8 lanes",
+        SimdLevel::Avx512 => "AVX-512 (x86-64-v4; the flat frame's camera packets 16 lanes)",
         SimdLevel::Avx2 => "AVX2+FMA",
         SimdLevel::Baseline if cfg!(target_arch = "x86_64") => "SSE2 (baseline)",
         SimdLevel::Baseline => "portable",

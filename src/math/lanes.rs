@@ -392,37 +392,50 @@ mod avx {
     binary!(Avx8, BitAnd, bitand, _mm256_and_ps);
     binary!(Avx8, BitOr, bitor, _mm256_or_ps);
 
-    impl Neg for Avx8 {
-        type Output = Self;
-        #[inline(always)]
-        fn neg(self) -> Self {
-            // SAFETY: as in `binary!`.
-            Self(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
-        }
-    }
+    /// `-x` and `!x` (a flip of the sign bits, of every bit) and the assigning `&=`, `|=`,
+    /// for a lane type with its xor, splat, integer splat and cast intrinsics.
+    macro_rules! sign_not_assign {
+        ($ty:ident, $xor:ident, $set1:ident, $set1_int:ident, $cast:ident) => {
+            impl Neg for $ty {
+                type Output = Self;
+                #[inline(always)]
+                fn neg(self) -> Self {
+                    // SAFETY: as in `binary!`.
+                    Self(unsafe { $xor(self.0, $set1(-0.0)) })
+                }
+            }
 
-    impl Not for Avx8 {
-        type Output = Self;
-        #[inline(always)]
-        fn not(self) -> Self {
-            // SAFETY: as in `binary!`.
-            Self(unsafe { _mm256_xor_ps(self.0, _mm256_castsi256_ps(_mm256_set1_epi32(-1))) })
-        }
-    }
+            impl Not for $ty {
+                type Output = Self;
+                #[inline(always)]
+                fn not(self) -> Self {
+                    // SAFETY: as in `binary!`.
+                    Self(unsafe { $xor(self.0, $cast($set1_int(-1))) })
+                }
+            }
 
-    impl BitAndAssign for Avx8 {
-        #[inline(always)]
-        fn bitand_assign(&mut self, rhs: Self) {
-            *self = *self & rhs;
-        }
-    }
+            impl BitAndAssign for $ty {
+                #[inline(always)]
+                fn bitand_assign(&mut self, rhs: Self) {
+                    *self = *self & rhs;
+                }
+            }
 
-    impl BitOrAssign for Avx8 {
-        #[inline(always)]
-        fn bitor_assign(&mut self, rhs: Self) {
-            *self = *self | rhs;
-        }
+            impl BitOrAssign for $ty {
+                #[inline(always)]
+                fn bitor_assign(&mut self, rhs: Self) {
+                    *self = *self | rhs;
+                }
+            }
+        };
     }
+    sign_not_assign!(
+        Avx8,
+        _mm256_xor_ps,
+        _mm256_set1_ps,
+        _mm256_set1_epi32,
+        _mm256_castsi256_ps
+    );
 
     impl Avx8 {
         #[inline(always)]
@@ -613,37 +626,13 @@ mod avx {
     binary!(Avx16, BitAnd, bitand, _mm512_and_ps);
     binary!(Avx16, BitOr, bitor, _mm512_or_ps);
 
-    impl Neg for Avx16 {
-        type Output = Self;
-        #[inline(always)]
-        fn neg(self) -> Self {
-            // SAFETY: as in `binary!`.
-            Self(unsafe { _mm512_xor_ps(self.0, _mm512_set1_ps(-0.0)) })
-        }
-    }
-
-    impl Not for Avx16 {
-        type Output = Self;
-        #[inline(always)]
-        fn not(self) -> Self {
-            // SAFETY: as in `binary!`.
-            Self(unsafe { _mm512_xor_ps(self.0, _mm512_castsi512_ps(_mm512_set1_epi32(-1))) })
-        }
-    }
-
-    impl BitAndAssign for Avx16 {
-        #[inline(always)]
-        fn bitand_assign(&mut self, rhs: Self) {
-            *self = *self & rhs;
-        }
-    }
-
-    impl BitOrAssign for Avx16 {
-        #[inline(always)]
-        fn bitor_assign(&mut self, rhs: Self) {
-            *self = *self | rhs;
-        }
-    }
+    sign_not_assign!(
+        Avx16,
+        _mm512_xor_ps,
+        _mm512_set1_ps,
+        _mm512_set1_epi32,
+        _mm512_castsi512_ps
+    );
 
     impl Avx16 {
         #[inline(always)]
