@@ -518,13 +518,14 @@ impl TileQueries<'_> {
     #[inline(always)]
     pub(crate) fn closest_in<V: LaneOps>(&mut self, d: [V; 3], live: u32, out: &mut [u32]) {
         let frame = self.frame;
-        let d_max = packet::max_component_in(&d);
         let ambiguous = match (&frame.plan, self.shapes.is_empty()) {
             (Plan::CulledPackets { .. }, true) => {
+                let d_max = packet::max_component_in(&d);
                 Some(packet::closest_in(self.prepared, d, d_max, out))
             }
             (Plan::BvhPackets { from_eye, .. }, true) if self.triangles_may_show => {
                 let prepared = Prepared::of(from_eye.as_ref());
+                let d_max = packet::max_component_in(&d);
                 (frame.accel).closest_packet_in(frame.eye, prepared, d, d_max, out)
             }
             _ => None,

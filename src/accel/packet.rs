@@ -1447,19 +1447,10 @@ impl<V: Lanes> PacketNearest<V> {
     pub(crate) fn seeded_in(d: [V; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
         let mut nearest = Self::new_in(d, d_max);
         if let Some(seed) = seed {
-            let bits = |m: u32| {
-                V::from_bits(std::array::from_fn(|l| {
-                    if m & (1 << l) != 0 {
-                        u32::MAX
-                    } else {
-                        0
-                    }
-                }))
-            };
             nearest.best_lo = V::from_array(seed.lo);
             nearest.best_hi = V::from_array(seed.hi);
             nearest.best_prim = V::from_bits(seed.prim);
-            nearest.ambiguous |= bits(seed.ambiguous);
+            nearest.ambiguous |= V::from_bitmask(seed.ambiguous);
         }
         nearest
     }

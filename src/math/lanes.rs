@@ -140,17 +140,17 @@ pub trait Lanes: LaneOps {
     }
 }
 
-/// The 8-lane order of [`LaneOps::reduce_max`], lane by lane.
+/// The 8-lane order of [`LaneOps::reduce_max`] and `reduce_min`, lane by lane, `pick`
+/// choosing of two (`maxps`'s or `minps`'s rule).
 #[inline(always)]
-fn reduce_max8(a: [f32; 8]) -> f32 {
-    let max = |x: f32, y: f32| if x > y { x } else { y };
+fn reduce8(a: [f32; 8], pick: impl Fn(f32, f32) -> f32) -> f32 {
     let m = [
-        max(a[0], a[4]),
-        max(a[1], a[5]),
-        max(a[2], a[6]),
-        max(a[3], a[7]),
+        pick(a[0], a[4]),
+        pick(a[1], a[5]),
+        pick(a[2], a[6]),
+        pick(a[3], a[7]),
     ];
-    max(max(m[0], m[2]), max(m[1], m[3]))
+    pick(pick(m[0], m[2]), pick(m[1], m[3]))
 }
 
 impl LaneOps for f32x8 {
@@ -226,19 +226,11 @@ impl LaneOps for f32x8 {
     }
     #[inline(always)]
     fn reduce_max(self) -> f32 {
-        reduce_max8(self.to_array())
+        reduce8(self.to_array(), |x, y| if x > y { x } else { y })
     }
     #[inline(always)]
     fn reduce_min(self) -> f32 {
-        let a = self.to_array();
-        let min = |x: f32, y: f32| if x < y { x } else { y };
-        let m = [
-            min(a[0], a[4]),
-            min(a[1], a[5]),
-            min(a[2], a[6]),
-            min(a[3], a[7]),
-        ];
-        min(min(m[0], m[2]), min(m[1], m[3]))
+        reduce8(self.to_array(), |x, y| if x < y { x } else { y })
     }
     #[inline(always)]
     fn from_bitmask(mask: u32) -> Self {
@@ -429,6 +421,54 @@ mod avx {
             }
         };
     }
+    /// The comparisons of [`LaneOps`] through the type's `cmp::<PREDICATE>` (ordered and
+    /// quiet, `simd_ne` unordered: true where either side is NaN).
+    macro_rules! compares_through_cmp {
+        () => {
+            #[inline(always)]
+            fn simd_lt(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_LT_OQ>(rhs)
+            }
+            #[inline(always)]
+            fn simd_le(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_LE_OQ>(rhs)
+            }
+            #[inline(always)]
+            fn simd_gt(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_GT_OQ>(rhs)
+            }
+            #[inline(always)]
+            fn simd_ge(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_GE_OQ>(rhs)
+            }
+            #[inline(always)]
+            fn simd_eq(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_EQ_OQ>(rhs)
+            }
+            #[inline(always)]
+            fn simd_ne(self, rhs: Self) -> Self {
+                self.cmp::<_CMP_NEQ_UQ>(rhs)
+            }
+        };
+    }
+
+    /// [`LaneOps::max`] and [`LaneOps::min`] from the `fast_` forms: `self` where `rhs` is
+    /// NaN (the x86 forms give `rhs` there).
+    macro_rules! nan_keeping_max_min {
+        () => {
+            #[inline(always)]
+            fn max(self, rhs: Self) -> Self {
+                rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                    .bitselect(self, self.fast_max(rhs))
+            }
+            #[inline(always)]
+            fn min(self, rhs: Self) -> Self {
+                rhs.cmp::<_CMP_UNORD_Q>(rhs)
+                    .bitselect(self, self.fast_min(rhs))
+            }
+        };
+    }
+
     sign_not_assign!(
         Avx8,
         _mm256_xor_ps,
@@ -459,30 +499,7 @@ mod avx {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_sqrt_ps(self.0) })
         }
-        #[inline(always)]
-        fn simd_lt(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_LT_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_le(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_LE_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_gt(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_GT_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_ge(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_GE_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_eq(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_EQ_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_ne(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_NEQ_UQ>(rhs)
-        }
+        compares_through_cmp!();
         #[inline(always)]
         fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
             // SAFETY: as in `binary!`.
@@ -515,16 +532,7 @@ mod avx {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
         }
-        #[inline(always)]
-        fn max(self, rhs: Self) -> Self {
-            rhs.cmp::<_CMP_UNORD_Q>(rhs)
-                .bitselect(self, self.fast_max(rhs))
-        }
-        #[inline(always)]
-        fn min(self, rhs: Self) -> Self {
-            rhs.cmp::<_CMP_UNORD_Q>(rhs)
-                .bitselect(self, self.fast_min(rhs))
-        }
+        nan_keeping_max_min!();
         #[inline(always)]
         fn fast_max(self, rhs: Self) -> Self {
             // SAFETY: as in `binary!`.
@@ -671,30 +679,7 @@ mod avx {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm512_sqrt_ps(self.0) })
         }
-        #[inline(always)]
-        fn simd_lt(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_LT_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_le(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_LE_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_gt(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_GT_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_ge(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_GE_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_eq(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_EQ_OQ>(rhs)
-        }
-        #[inline(always)]
-        fn simd_ne(self, rhs: Self) -> Self {
-            self.cmp::<_CMP_NEQ_UQ>(rhs)
-        }
+        compares_through_cmp!();
         #[inline(always)]
         fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
             // SAFETY: as in `binary!`.
@@ -715,16 +700,7 @@ mod avx {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm512_andnot_ps(_mm512_set1_ps(-0.0), self.0) })
         }
-        #[inline(always)]
-        fn max(self, rhs: Self) -> Self {
-            rhs.cmp::<_CMP_UNORD_Q>(rhs)
-                .bitselect(self, self.fast_max(rhs))
-        }
-        #[inline(always)]
-        fn min(self, rhs: Self) -> Self {
-            rhs.cmp::<_CMP_UNORD_Q>(rhs)
-                .bitselect(self, self.fast_min(rhs))
-        }
+        nan_keeping_max_min!();
         #[inline(always)]
         fn fast_max(self, rhs: Self) -> Self {
             // SAFETY: as in `binary!`.

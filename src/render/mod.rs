@@ -187,7 +187,7 @@ fn trace_packets_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(trace_packets_body => (
+    crate::math::simd::avx2_or_baseline!(Frame::trace_packets => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -209,7 +209,7 @@ fn trace_flat_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(widest flat_pixels_body => (
+    crate::math::simd::avx2_or_baseline!(widest Frame::trace_flat_tile => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -217,30 +217,6 @@ fn trace_flat_for_cpu(
         rows: &mut [u8],
         counts: &mut Counts
     ) -> ())
-}
-
-#[inline(always)]
-fn flat_pixels_body<V: LaneOps>(
-    frame: &Frame,
-    tile: &Tile,
-    queries: &mut TileQueries,
-    rgba: &FlatPixels,
-    rows: &mut [u8],
-    counts: &mut Counts,
-) {
-    frame.trace_flat_tile::<V>(tile, queries, rgba, rows, counts)
-}
-
-#[inline(always)]
-fn trace_packets_body(
-    frame: &Frame,
-    tile: &Tile,
-    queries: &mut TileQueries,
-    shading: &mut Shading,
-    rows: &mut [u8],
-    counts: &mut Counts,
-) {
-    frame.trace_packets(tile, queries, shading, rows, counts)
 }
 
 /// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
