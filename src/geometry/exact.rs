@@ -414,7 +414,7 @@ pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Orde
 /// most 24 exact products, by distillation ([`sum_sign`]); `None` where that does not settle
 /// within its sweeps. Rays exactly through a wall's diagonal or a box's edge give exact zeros,
 /// which the filter never decides: the Cornell box's 640×360 frame has ~850 of them, and this
-/// takes ~4 times fewer instructions than the expansions for each.
+/// takes ~630 instructions for each against ~1,700 for the expansions (callgrind).
 fn orient_distilled(d: [f64; 3], pa: &[f64; 3], pb: &[f64; 3]) -> Option<Ordering> {
     let mut terms = [0.0; 24];
     let mut n = 0;
