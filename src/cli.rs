@@ -171,7 +171,7 @@ pub struct ViewArgs {
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
     /// Test every camera ray against every triangle of a small scene instead of only those
-    /// whose screen bounds meet its 8x16 tile (the same image, slower: to measure the gain).
+    /// whose screen bounds meet its 16x16 tile (the same image, slower: to measure the gain).
     #[arg(long)]
     pub no_tile_culling: bool,
     /// The cracks view: paint magenta where --method lets a ray through that the exact

@@ -92,7 +92,7 @@ pub struct RenderSettings {
     /// Ray/triangle method.
     pub method: Method,
     /// Trace camera rays of small scenes against only the triangles whose screen bounds meet
-    /// each 8×16 tile (same image, faster); off only to measure what it saves.
+    /// each 16×16 tile (same image, faster); off only to measure what it saves.
     pub tile_culling: bool,
     /// The "cracks" view: paint magenta every camera ray that `method` lets through where the
     /// exact adaptive method hits (or the reverse), so the lecture's method can be seen
