@@ -178,15 +178,34 @@ impl Camera {
     /// Precomputed f32 basis for generating many rays of one image.
     pub fn ray_generator(&self, width: u32, height: u32) -> RayGenerator {
         let f = |v: DVec3| v.as_vec3();
+        let (right, down, forward) = (f(self.right()), f(self.down()), f(self.forward()));
         RayGenerator {
             origin: f(self.position()),
-            right: f(self.right()),
-            down: f(self.down()),
-            forward: f(self.forward()),
+            right,
+            down,
+            forward,
             half_w: width as f32 / 2.0,
             half_h: height as f32 / 2.0,
             focal: self.focal as f32,
+            component_bound: component_bound(right, down, forward),
         }
+    }
+}
+
+/// A bound on |dₖ| for every direction d = right·cx + down·cy + forward·cz made from a unit
+/// camera-space c (rounded): by Cauchy–Schwarz |dₖ| ≤ ‖(rightₖ, downₖ, forwardₖ)‖·‖c‖, and
+/// ‖c‖ and the rounding of the sums stay within 1 + 2⁻¹⁹ (focal lengths in [`FOCAL_RANGE`]
+/// keep c's squares clear of underflow and overflow); the margin 1 + 10⁻⁵ covers both.
+/// NaN where an axis is not finite (the packet kernels then leave every lane ambiguous).
+fn component_bound(right: Vec3, down: Vec3, forward: Vec3) -> f32 {
+    let row = |k: usize| {
+        let v = [right[k], down[k], forward[k]].map(f64::from);
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+    };
+    let bound = row(0).max(row(1)).max(row(2)) * (1.0 + 1e-5);
+    match bound.is_finite() {
+        true => bound as f32,
+        false => f32::NAN,
     }
 }
 
@@ -228,6 +247,8 @@ pub struct RayGenerator {
     half_w: f32,
     half_h: f32,
     focal: f32,
+    /// A bound on every |dₖ| of the directions made ([`RayGenerator::component_bound`]).
+    component_bound: f32,
 }
 
 impl RayGenerator {
@@ -253,6 +274,13 @@ impl RayGenerator {
     }
 
     /// The shared origin of the rays.
+    /// A bound on every component's magnitude of the directions this makes: the packet
+    /// kernels' d_max without a reduction per packet (NaN where the camera's axes are not
+    /// finite).
+    pub fn component_bound(&self) -> f32 {
+        self.component_bound
+    }
+
     pub fn origin(&self) -> [f32; 3] {
         self.origin.to_array()
     }

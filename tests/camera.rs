@@ -114,3 +114,34 @@ fn bad_cameras_are_errors() {
         "zero view"
     );
 }
+
+#[test]
+fn every_direction_stays_within_the_generators_component_bound() {
+    // The packet kernels take the generator's bound as max|dₖ| instead of reducing each
+    // packet: it must hold for every pixel of every pose and focal length, and stay close to 1
+    // (a loose bound widens the kernels' unsure band).
+    let mut worst: f32 = 0.0;
+    for k in 0..40 {
+        let yaw = k as f64 * 0.7 - 10.0;
+        let pitch = (k as f64 * 0.37).sin() * 1.5;
+        for focal in [1e-3, 0.7, 64.0, 1e9] {
+            let c = Camera::from_yaw_pitch(DVec3::new(0.1, -0.2, 0.3), yaw, pitch, focal).unwrap();
+            let (w, h) = (33, 21);
+            let gen = c.ray_generator(w, h);
+            let bound = gen.component_bound();
+            assert!(bound > 0.999 && bound < 1.00002, "bound {bound}");
+            for j in 0..h {
+                for i in 0..w {
+                    for (sx, sy) in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0)] {
+                        let d = gen.ray_through(i as f32 + sx, j as f32 + sy).d;
+                        let m = d.iter().fold(0f32, |m, c| m.max(c.abs()));
+                        assert!(m <= bound, "camera {k} focal {focal}: {d:?} beyond {bound}");
+                        worst = worst.max(m / bound);
+                    }
+                }
+            }
+        }
+    }
+    // Some direction comes near the bound (it is not loose by more than the margin).
+    assert!(worst > 0.9999, "{worst}");
+}

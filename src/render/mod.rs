@@ -575,11 +575,12 @@ impl<'a> Frame<'a> {
     ) {
         // (The pixel centres of `sample` for one sample: i + 0.5.)
         let centre = V::splat(0.5);
+        let d_max = self.gen.component_bound();
         let mut prims = [NO_HIT; 16];
         for block in tile.blocks_of((V::WIDTH / PACKET_W as usize) as u32) {
             let (xs, ys) = block.pixel_lanes::<V>(tile.y0);
             let dirs = self.gen.directions_in(xs + centre, ys + centre);
-            queries.closest_in(dirs, block.live_lanes(), &mut prims);
+            queries.closest_in(dirs, d_max, block.live_lanes(), &mut prims);
             // (Dead lanes are NO_HIT.)
             let prims = &prims[..V::WIDTH];
             counts.0 += prims.iter().map(|&p| u64::from(p != NO_HIT)).sum::<u64>();
