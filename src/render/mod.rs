@@ -577,6 +577,7 @@ impl<'a> Frame<'a> {
         let centre = V::splat(0.5);
         let d_max = self.gen.component_bound();
         let mut prims = [NO_HIT; 16];
+        let mut last = LastWord::default();
         for block in tile.blocks_of((V::WIDTH / PACKET_W as usize) as u32) {
             let (xs, ys) = block.pixel_lanes::<V>(tile.y0);
             let dirs = self.gen.directions_in(xs + centre, ys + centre);
@@ -591,7 +592,7 @@ impl<'a> Frame<'a> {
                 .enumerate()
             {
                 let at = at + r * self.row_bytes;
-                rgba.put(&mut rows[at..][..w * 4], &row[..w]);
+                rgba.put(&mut rows[at..][..w * 4], &row[..w], &mut last);
             }
         }
     }
@@ -698,18 +699,52 @@ impl<'a> FlatPixels<'a> {
 
     /// Writes the pixels of primitives `prims` ([`NO_HIT`]: black) into `out`, 4 bytes each.
     /// (In words: written as bytes, the table's entries were taken apart and put together
-    /// again, 24 instructions a pixel.)
+    /// again, 24 instructions a pixel.) Without a table, a colour is encoded only where it
+    /// differs from the `last` one encoded.
     #[inline(always)]
-    fn put(&self, out: &mut [u8], prims: &[u32]) {
+    fn put(&self, out: &mut [u8], prims: &[u32], last: &mut LastWord) {
         for (px, &p) in out.chunks_exact_mut(4).zip(prims) {
             // (NO_HIT is past the table's end.)
             let rgba = match self.table.get(p as usize) {
                 Some(&rgba) => rgba,
                 None if p == NO_HIT => BLACK_RGBA,
-                None => rgba_word(self.srgb, self.scene.color(p)),
+                None => last.of(self.srgb, self.scene.color(p)),
             };
             px.copy_from_slice(&rgba.to_ne_bytes());
         }
+    }
+}
+
+/// The last colour a tile encoded and its RGBA word: a mesh's neighbouring pixels mostly
+/// show one material, and encoding each pixel's colour anew (three sRGB conversions) was
+/// 5-6% of the bunny's flat frame at 640×360, where the mesh has too many triangles for a
+/// table per primitive.
+struct LastWord {
+    color: Rgb,
+    word: u32,
+}
+
+impl Default for LastWord {
+    fn default() -> Self {
+        // (NaN equals nothing: the first colour is encoded.)
+        Self {
+            color: [f32::NAN; 3],
+            word: 0,
+        }
+    }
+}
+
+impl LastWord {
+    /// `c`'s RGBA word.
+    #[inline(always)]
+    fn of(&mut self, srgb: &SrgbTables, c: Rgb) -> u32 {
+        if c != self.color {
+            *self = Self {
+                color: c,
+                word: rgba_word(srgb, c),
+            };
+        }
+        self.word
     }
 }
 
