@@ -699,3 +699,76 @@ fn instanced_packets_decide_as_the_flattened_scene() {
         "the rays meet the balls: {hits} of {lanes}"
     );
 }
+
+#[test]
+fn colour_runs_hold_their_primitives_colour_and_flat_images_use_them() {
+    // `Scene::color_run`: the flat frame reuses an encoded colour over a run of primitives,
+    // so every primitive of a run must show the run's colour; an instance of a mesh without
+    // colours of its own (or tinted) is one run, other primitives runs of one.
+    let mut rng = Rng(5);
+    let ball = icosphere(1, 0.3, [0.0; 3]);
+    let coloured = mesh("coloured", &ball, &mut rng);
+    let plain = Arc::new(Mesh::new(
+        "plain".into(),
+        triangles(&ball),
+        vec![None; ball.len()],
+    ));
+    for (m, whole) in [(&coloured, 1), (&plain, 4)] {
+        let placements: Vec<DMat4> = (0..4).map(|_| placement(&mut rng)).collect();
+        let scene = scene_with(m, &placements, &mut rng);
+        let mut long_runs = std::collections::BTreeSet::new();
+        for p in 0..scene.len() as u32 {
+            let (run, c) = scene.color_run(p);
+            assert!(run.contains(&p), "{p} outside {run:?}");
+            assert_eq!(c, scene.color(p), "{p}");
+            if run.len() > 1 {
+                assert!(run.clone().all(|q| scene.color(q) == c), "{run:?}");
+                long_runs.insert((run.start, run.end));
+            }
+        }
+        assert_eq!(long_runs.len(), whole, "{}", m.name);
+    }
+    // Four plain balls in differing colours in the Cornell box, more triangles than an
+    // eighth of the camera rays (no colour table): the flat image equals the flattened one.
+    let mut shapes = cornell::scene().shapes;
+    let colors = cornell::scene().colors;
+    let at = |x: f64, z: f64| DMat4::from_translation(DVec3::new(x, 0.65, z));
+    let big = icosphere(2, 0.3, [0.0; 3]);
+    let plain = Arc::new(Mesh::new(
+        "plain".into(),
+        triangles(&big),
+        vec![None; big.len()],
+    ));
+    let instances: Vec<Instance> = [(-0.5, -0.5), (0.1, -0.7), (0.6, -0.5), (0.0, 0.2)]
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, z))| Instance {
+            mesh: plain.clone(),
+            world_from_object: at(x, z),
+            first_prim: (shapes.len() + k * big.len()) as u32,
+            color: [0.2 * k as f32, 0.5, 0.9 - 0.2 * k as f32],
+            tint: None,
+        })
+        .collect();
+    shapes.truncate(colors.len());
+    let scene = Scene::new(
+        "plain balls",
+        shapes,
+        colors,
+        cornell::LIGHT,
+        cornell::AMBIENT,
+    )
+    .with_instances(instances)
+    .unwrap();
+    let settings = RenderSettings {
+        width: 64,
+        height: 48,
+        ..Default::default()
+    };
+    assert!(scene.len() * 8 > 64 * 48);
+    let (a, _) = render_image(&scene, &Camera::cornell(64), &settings).unwrap();
+    let (b, _) = render_image(&scene.flattened(), &Camera::cornell(64), &settings).unwrap();
+    assert!(a == b, "flat images differ");
+    let colours: std::collections::BTreeSet<&[u8]> = a.chunks(4).collect();
+    assert!(colours.len() > 8, "{} colours", colours.len());
+}

@@ -25,6 +25,8 @@ pub struct Mesh {
     pub colors: Vec<Option<V3<f32>>>,
     /// The box around its vertices (object frame).
     bounds: ([f32; 3], [f32; 3]),
+    /// Whether some triangle has a colour of its own (else each instance shows one colour).
+    own_colors: bool,
 }
 
 impl Mesh {
@@ -55,11 +57,13 @@ impl Mesh {
                 hi[k] = hi[k].max(v[k]);
             }
         }
+        let own_colors = colors.iter().any(Option::is_some);
         Self {
             name,
             triangles,
             colors,
             bounds: (lo, hi),
+            own_colors,
         }
     }
 
@@ -119,6 +123,12 @@ impl Instance {
     #[inline]
     pub fn world_triangle(&self, local: usize) -> [[f32; 3]; 3] {
         self.mesh.triangles[local].map(|v| Self::world_vertex(&self.world_from_object, v))
+    }
+
+    /// Whether all its triangles show one colour (a tint, or a mesh without colours of its
+    /// own).
+    pub fn one_color(&self) -> bool {
+        self.tint.is_some() || !self.mesh.own_colors
     }
 
     /// The colour of triangle `local`.

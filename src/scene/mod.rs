@@ -288,6 +288,24 @@ impl Scene {
         }
     }
 
+    /// The colour of primitive `prim` and primitives around it known to share it: an
+    /// instance showing one colour gives all of its own (a flat frame of 1,000 instanced
+    /// bunnies then finds the instance once per run of pixels, not per pixel).
+    pub fn color_run(&self, prim: u32) -> (std::ops::Range<u32>, V3<f32>) {
+        let one = prim..prim.saturating_add(1);
+        match self.stored(prim) {
+            Stored::Explicit(i) => (one, self.colors[i]),
+            Stored::Instanced { instance, local } => {
+                let instance = &self.instances[instance];
+                let run = match instance.one_color() {
+                    true => instance.prims(),
+                    false => one,
+                };
+                (run, instance.color(local))
+            }
+        }
+    }
+
     /// The colour of primitive `prim`.
     #[inline(always)]
     pub fn color(&self, prim: u32) -> V3<f32> {
