@@ -768,17 +768,28 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
     // The triangles prepared for the eye and the light are kept from frame to frame (the
     // structure's caches): a frame from another eye and light must be the image and counts a
     // freshly built structure gives, for the mesh traced in packets through the BVH (5120
-    // triangles: above the per-tile lists; fewer than the camera rays: prepared once a frame).
+    // triangles: above the per-tile lists; 8 camera rays a triangle: prepared once a frame).
     let mut scene = cornell_with_ball(4, 0.4, [0.2, 0.5, 0.1], raylab::accel::AccelChoice::Bvh);
     assert!(scene.accel().flat_triangles().is_none());
+    let (w, h) = (256, 192);
     let cams = [
-        Camera::cornell(128),
-        Camera::from_yaw_pitch(glam::DVec3::new(0.3, 0.2, -0.5), 0.8, 0.3, 40.0).unwrap(),
-        Camera::from_yaw_pitch(glam::DVec3::new(-0.4, -0.1, 0.6), -2.2, -0.2, 60.0).unwrap(),
+        Camera::cornell(w),
+        Camera::from_yaw_pitch(glam::DVec3::new(0.3, 0.2, -0.5), 0.8, 0.3, 80.0).unwrap(),
+        Camera::from_yaw_pitch(glam::DVec3::new(-0.4, -0.1, 0.6), -2.2, -0.2, 120.0).unwrap(),
     ];
+    let setup = raylab::accel::FrameSetup {
+        eye: cams[0].ray_generator(w, h).origin(),
+        light: scene.light.position,
+        projection: None,
+        method: raylab::geometry::Method::Adaptive,
+        camera_rays: (w * h) as usize,
+        shadows: true,
+        per_ray: false,
+    };
+    assert!(scene.accel().for_frame(&setup).prepares_once());
     let settings = RenderSettings {
-        width: 128,
-        height: 96,
+        width: w,
+        height: h,
         step: LabStep::Shadows,
         tile_culling: false,
         ..Default::default()

@@ -20,7 +20,7 @@
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
 //! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
 //!   triangles are prepared at most once per frame, as packets first reach them, where there
-//!   are at most 2 triangles per camera ray ([`TRIANGLES_PER_CAMERA_RAY`], up to
+//!   are at least 8 camera rays per triangle ([`CAMERA_RAYS_PER_TRIANGLE`], up to
 //!   [`MAX_PREPARED_ONCE`]), else as each packet meets them. The boxes of
 //!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
 //!   with instances, one box around all of them): a tile that none meets has no triangle
@@ -61,22 +61,22 @@ pub use super::packet::OriginTriangle;
 /// A lane of [`TileQueries::closest_x8`] whose ray hits nothing.
 pub const NO_HIT: u32 = u32::MAX;
 
-/// Triangles per camera ray up to which a BVH scene's triangles are prepared for the eye (and
+/// Camera rays per triangle from which a BVH scene's triangles are prepared for the eye (and
 /// the light) at most once per frame, a block of 8 as a packet first reaches it, and kept for
-/// the frame's other packets (`prepared::LeafCache`); beyond, as each packet meets them (a
-/// frame then meets few triangles twice). Preparing one costs about 65 instructions, eight
-/// at a time in f32 (callgrind; about 145 in f64 until session 21). At the framing cameras
-/// of `raylab bench`, a frame reaches 28k of the bunny's 69k triangles at 640×360 (59k
-/// times) and Igea's 1:4 subdivision meets 285k of its 1.07M triangles at 1280×720 (306k
-/// times). The cache over preparing every triangle
-/// beforehand (session 16): bunny flat 640×360 −11.9% instructions, 1280×720 −3.2%, shadows
-/// −10.6% and −3.6%. Up to 2 triangles a ray rather than 1 (session 17): Igea 640×360 flat
-/// −3.4%, shadows −6.9%, bunny 320×180 −3.9%; at 4.7 (Igea 320×180) the cache cost 26% more
-/// (its reset and the blocks' unreached triangles); with the f32 preparation (session 21),
-/// up to 8 a ray still cost more there, 55.3M → 64.0M.
-pub const TRIANGLES_PER_CAMERA_RAY: usize = 2;
+/// the frame's other packets (`prepared::LeafCache`); below, as each packet meets them.
+/// Preparing one costs about 65 instructions, eight at a time in f32 (callgrind). At the
+/// framing cameras of `raylab bench`, a frame reaches 28k of the bunny's 69k triangles at
+/// 640×360 (59k times). Sessions 16-21 chose up to 2 triangles a ray by instruction counts
+/// (AVX2 build); in wall time (session 25, 1 thread, interleaved) the cache paid only where
+/// the rays far outnumber the triangles: without it the bunny's flat frame at 1280×720 (13
+/// rays a triangle) took 2-6% longer, but Igea's took 16% less at 1280×720 (3.4 rays a
+/// triangle) and 23% less at 640×360, the bunny's 8-10% less at 640×360 and 320×180, the
+/// same in the AVX2 build (11-24% less for Igea) and with shadows (Igea 640×360: 19.1 →
+/// 15.5-16.0 ms). The cache's reset, its atomic claims and the lookups cost more than
+/// preparing a leaf again for the fewer packets that share it, more so with 16-ray packets.
+pub const CAMERA_RAYS_PER_TRIANGLE: usize = 8;
 
-/// The most triangles prepared once per frame ([`TRIANGLES_PER_CAMERA_RAY`]): the cache holds
+/// The most triangles prepared once per frame ([`CAMERA_RAYS_PER_TRIANGLE`]): the cache holds
 /// a full prepared list, about 89 bytes a triangle for the eye and as much for the light, so
 /// at most 47 MB each. (The 1M-triangle mesh, at 1.2 triangles a ray at 1280×720, would add
 /// 95 MB, as much again as its BVH.)
@@ -283,7 +283,7 @@ impl Accel {
         };
         let packets = method == Method::Adaptive && !setup.per_ray;
         let triangles = self.stored_triangle_count();
-        let prepare_once = triangles <= setup.camera_rays.saturating_mul(TRIANGLES_PER_CAMERA_RAY)
+        let prepare_once = triangles.saturating_mul(CAMERA_RAYS_PER_TRIANGLE) <= setup.camera_rays
             && triangles <= MAX_PREPARED_ONCE;
         let plan = match culling {
             Some(culling) if packets => {
@@ -365,7 +365,7 @@ impl<'a> FrameQueries<'a> {
     }
 
     /// Whether the frame's BVH packets prepare each triangle at most once for the eye, as they
-    /// first reach it ([`TRIANGLES_PER_CAMERA_RAY`]).
+    /// first reach it ([`CAMERA_RAYS_PER_TRIANGLE`]).
     pub fn prepares_once(&self) -> bool {
         matches!(
             self.plan,
