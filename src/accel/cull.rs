@@ -172,13 +172,14 @@ struct ScreenNode {
 pub(crate) type TreeNode = (([f32; 3], [f32; 3]), Option<(u32, u32)>);
 
 impl ScreenTree {
-    /// From the nodes of a hierarchy's top levels, breadth first from the root.
-    pub(crate) fn new(
-        nodes: impl IntoIterator<Item = TreeNode>,
-        projection: Option<&Projection>,
-    ) -> Self {
+    /// From the nodes of a hierarchy's top levels, breadth first from the root: projected
+    /// in parallel (585 boxes of 8 corners for a mesh, before any tile can start: 4.8% of
+    /// the bunny's flat frame at 320×180 on one thread, in a sampling profile).
+    pub(crate) fn new(nodes: Vec<TreeNode>, projection: Option<&Projection>) -> Self {
+        use rayon::prelude::*;
         Self {
-            nodes: (nodes.into_iter())
+            nodes: (nodes.into_par_iter())
+                .with_min_len(64)
                 .map(|(b, children)| ScreenNode {
                     cull: ShapeCull::new(b, projection),
                     children,

@@ -291,8 +291,12 @@ impl Scene {
     /// The colour of primitive `prim` and primitives around it known to share it: an
     /// instance showing one colour gives all of its own (a flat frame of 1,000 instanced
     /// bunnies then finds the instance once per run of pixels, not per pixel).
+    #[inline]
     pub fn color_run(&self, prim: u32) -> (std::ops::Range<u32>, V3<f32>) {
         let one = prim..prim.saturating_add(1);
+        if self.instances.is_empty() {
+            return (one, self.colors[prim as usize]);
+        }
         match self.stored(prim) {
             Stored::Explicit(i) => (one, self.colors[i]),
             Stored::Instanced { instance, local } => {
