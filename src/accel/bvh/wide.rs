@@ -345,6 +345,12 @@ impl WideStack {
         NONE
     }
 
+    /// The entry [`WideStack::pop`] would look at next, if any.
+    #[inline(always)]
+    fn top(&self) -> Option<u32> {
+        self.sp.checked_sub(1).map(|i| self.refs[i])
+    }
+
     /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
     #[inline(always)]
     fn pop(&mut self, limit: f32) -> u32 {
@@ -696,6 +702,9 @@ impl Bvh {
                 if r == NONE {
                     return;
                 }
+                if let Some(next) = stack.top() {
+                    self.prefetch(next);
+                }
                 if r & LEAF == 0 {
                     let lanes = stack.popped_lanes() & live;
                     if !(LONE && lanes.is_power_of_two()) {
@@ -710,6 +719,40 @@ impl Bvh {
                 live = sink.live();
                 reach = sink.limit();
                 limit = widest(reach, live);
+            }
+        }
+    }
+
+    /// Asks the CPU to bring in stack entry `r`'s data (a node's boxes, or a leaf's
+    /// triangles) while the entry popped before it is worked on: a mesh whose hierarchy and
+    /// triangles outgrow the caches waits on each node and leaf as the walk reaches it.
+    #[inline(always)]
+    fn prefetch(&self, r: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            let (p, bytes): (*const i8, usize) = match r & LEAF == 0 {
+                true => (
+                    self.wide.as_ptr().wrapping_add(r as usize).cast(),
+                    std::mem::size_of::<WideNode>(),
+                ),
+                false => {
+                    let (first, count) = leaf_range(r);
+                    (
+                        self.tris.as_ptr().wrapping_add(first).cast(),
+                        count * std::mem::size_of::<[[f32; 3]; 3]>(),
+                    )
+                }
+            };
+            let mut at = 0;
+            while at < bytes {
+                // SAFETY: a prefetch only hints the cache; it never reads or faults, whatever
+                // the address (and SSE is part of x86-64).
+                #[allow(unsafe_code)]
+                unsafe {
+                    _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(at))
+                };
+                at += 64;
             }
         }
     }
