@@ -418,7 +418,7 @@ pub fn orient(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Option<Orde
 fn orient_distilled(d: [f64; 3], pa: &[f64; 3], pb: &[f64; 3]) -> Option<Ordering> {
     let mut terms = [0.0; 24];
     let mut n = 0;
-    for k in 0..3 {
+    for (k, &dk) in d.iter().enumerate() {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
         // pa_i·pb_j − pa_j·pb_i = (p − q) + p_err − q_err exactly, p − q as a two-sum.
         let (p, p_err) = two_prod(pa[i], pb[j]);
@@ -426,7 +426,7 @@ fn orient_distilled(d: [f64; 3], pa: &[f64; 3], pb: &[f64; 3]) -> Option<Orderin
         let (s, s_err) = two_sum(p, -q);
         for c in [s, s_err, p_err, -q_err] {
             if c != 0.0 {
-                let (h, l) = two_prod(d[k], c);
+                let (h, l) = two_prod(dk, c);
                 for x in [h, l] {
                     if x != 0.0 {
                         terms[n] = x;
