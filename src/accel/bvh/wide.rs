@@ -785,6 +785,9 @@ impl Bvh {
                 if r == NONE {
                     return;
                 }
+                if stack.sp > base {
+                    self.prefetch(stack.refs[stack.sp - 1]);
+                }
                 if r & LEAF == 0 {
                     node = r as usize;
                     break;
