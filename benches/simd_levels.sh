@@ -4,7 +4,9 @@
 # table. Usage:
 #   bash benches/simd_levels.sh OLD_BIN NEW_BIN [ROUNDS] [FRAMES] [THREADS]
 # Each round runs every row in the three configurations, the order reversed every other
-# round; prints per row the minimum frame time of each and their ratios (above 1: the second
+# round; prints per row each configuration's median frame time (a run's median, not its
+# fastest frame: this VM's clock now and then gives one frame a fraction of its time), the
+# median over the rounds, and the medians of each round's ratios (above 1: the second
 # faster). The new binary's CPU must have AVX-512. Rows: the Cornell box, and with
 # ../shared/scenes (SHARED=... for another place) the bunny, Igea, the 1M mesh where
 # target/igea_1m.obj exists, and the field of 1,000 bunnies (FIELD_ROUNDS rounds of 3 frames).
@@ -23,7 +25,7 @@ field_rows=()
 [ -d "$shared" ] && field_rows=("benches/scenes/bunny_field.scene flat 320x180" "benches/scenes/bunny_field.scene flat 1280x720")
 ms() { # bin simd-flag scene step size frames
   "$1" bench $2 --scene "$3" --step "$4" --width "${5%x*}" --height "${5#*x}" --threads "$threads" --frames "$6" \
-    | sed -n 's/^median frame [0-9.]* ms (min \([0-9.]*\),.*/\1/p'
+    | sed -n 's/^median frame \([0-9.]*\) ms.*/\1/p'
 }
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
@@ -47,8 +49,18 @@ measure "$rounds" "$frames" "${rows[@]}"
 [ ${#field_rows[@]} -gt 0 ] && measure "${FIELD_ROUNDS:-3}" 3 "${field_rows[@]}"
 echo "| scene | step | size | old ms | new, AVX2 build ms | new, AVX-512 build ms | new AVX2 ÷ old | AVX-512 ÷ AVX2 | new AVX-512 ÷ old |"
 echo "|---|---|---|---|---|---|---|---|---|"
-awk '{k = $1 " " $2 " " $3; if (!(k in seen)) {seen[k] = 1; keys[++n] = k}
-      c = k SUBSEP $4; if (!(c in best) || $5 < best[c]) best[c] = $5}
+# Times: the median over the rounds of each run's median frame. Ratios: the median over the
+# rounds of each round's ratio (the three runs of a round are back to back, so a slow spell
+# of the VM weighs on all three).
+awk 'function median(list,   v, m, i, j, x) {m = split(list, v, " ")
+       for (i = 2; i <= m; i++) {x = v[i]; for (j = i - 1; j >= 1 && v[j] > x; j--) v[j + 1] = v[j]; v[j + 1] = x}
+       return m % 2 ? v[(m + 1) / 2] : (v[m / 2] + v[m / 2 + 1]) / 2}
+     {k = $1 " " $2 " " $3; if (!(k in seen)) {seen[k] = 1; keys[++n] = k}
+      c = k SUBSEP $4; t[c] = t[c] " " $5; r = ++count[c]; at[c SUBSEP r] = $5}
      END {for (i = 1; i <= n; i++) {k = keys[i]; split(k, p, " ")
-       o = best[k SUBSEP "old"]; a = best[k SUBSEP "avx2"]; b = best[k SUBSEP "avx512"]
-       printf "| %s | %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", p[1], p[2], p[3], o, a, b, o / a, a / b, o / b}}' "$out"
+       o = k SUBSEP "old"; a = k SUBSEP "avx2"; b = k SUBSEP "avx512"; ra = rb = rc = ""
+       for (r = 1; r <= count[o]; r++) {
+         ra = ra " " at[o SUBSEP r] / at[a SUBSEP r]; rb = rb " " at[a SUBSEP r] / at[b SUBSEP r]
+         rc = rc " " at[o SUBSEP r] / at[b SUBSEP r]}
+       printf "| %s | %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", p[1], p[2], p[3],
+         median(t[o]), median(t[a]), median(t[b]), median(ra), median(rb), median(rc)}}' "$out"
