@@ -679,6 +679,12 @@ mod tests {
         }
     }
 
+    /// A random f32 with a full 24-bit mantissa in (−scale/2, scale/2), as f64.
+    fn full_f32(x: &mut u64, scale: f64) -> f64 {
+        let m = (xorshift(x) >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
+        (m * scale) as f32 as f64
+    }
+
     #[test]
     fn distilled_orient_is_exact_on_exact_zeros_and_near_misses() {
         // Lines exactly through an edge (direction towards a point of the edge, in f32, as a
@@ -686,10 +692,7 @@ mod tests {
         // must equal the rational one, and settle nearly all of them (else the expansions do
         // the work and this stage is only a cost).
         let mut x = 424242u64;
-        let mut next = |scale: f64| {
-            let m = (xorshift(&mut x) >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
-            (m * scale) as f32 as f64
-        };
+        let mut next = |scale: f64| full_f32(&mut x, scale);
         let (mut settled, mut zeros, mut cases) = (0, 0, 0);
         for i in 0..3000 {
             let scale = 10f64.powi(i % 21 - 10);
@@ -786,10 +789,7 @@ mod tests {
         // Full 24-bit mantissas over 1e-20..1e20, the products' low halves nonzero: the
         // split product (no FMA in the baseline x86-64 build) must stay exact.
         let mut x = 987654321u64;
-        let mut next = |scale: f64| {
-            let m = (xorshift(&mut x) >> 40) as f64 / (1u64 << 24) as f64 - 0.5;
-            (m * scale) as f32 as f64
-        };
+        let mut next = |scale: f64| full_f32(&mut x, scale);
         for i in 0..3000 {
             let scale = 10f64.powi(i % 41 - 20);
             let p: Vec<[f64; 3]> = (0..4)
