@@ -688,9 +688,12 @@ struct FlatPixels<'a> {
 impl<'a> FlatPixels<'a> {
     fn new(scene: &'a Scene, camera_rays: usize) -> Self {
         let srgb = SrgbTables::get();
+        // (Encoded only where the colour changes from the previous primitive's: building the
+        // bunny's table, 69k encodings, was 4.5% of its flat frame at 1280×720.)
+        let mut last = LastWord::default();
         let table = match scene.len().saturating_mul(8) <= camera_rays {
             true => (0..scene.len() as u32)
-                .map(|p| rgba_word(srgb, scene.color(p)))
+                .map(|p| last.of(srgb, scene, p))
                 .collect(),
             false => Vec::new(),
         };
