@@ -273,7 +273,6 @@ impl RayGenerator {
             -> [wide::f32x8; 3])
     }
 
-    /// The shared origin of the rays.
     /// A bound on every component's magnitude of the directions this makes: the packet
     /// kernels' d_max without a reduction per packet (NaN where the camera's axes are not
     /// finite).
@@ -281,6 +280,7 @@ impl RayGenerator {
         self.component_bound
     }
 
+    /// The shared origin of the rays.
     pub fn origin(&self) -> [f32; 3] {
         self.origin.to_array()
     }

@@ -294,9 +294,6 @@ impl Scene {
     #[inline]
     pub fn color_run(&self, prim: u32) -> (std::ops::Range<u32>, V3<f32>) {
         let one = prim..prim.saturating_add(1);
-        if self.instances.is_empty() {
-            return (one, self.colors[prim as usize]);
-        }
         match self.stored(prim) {
             Stored::Explicit(i) => (one, self.colors[i]),
             Stored::Instanced { instance, local } => {

@@ -345,10 +345,11 @@ impl WideStack {
         NONE
     }
 
-    /// The entry [`WideStack::pop`] would look at next, if any.
+    /// The entry [`WideStack::pop_above`] (`base` 0: [`WideStack::pop`]) would look at next,
+    /// if any.
     #[inline(always)]
-    fn top(&self) -> Option<u32> {
-        self.sp.checked_sub(1).map(|i| self.refs[i])
+    fn top_above(&self, base: usize) -> Option<u32> {
+        (self.sp > base).then(|| self.refs[self.sp - 1])
     }
 
     /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
@@ -702,7 +703,7 @@ impl Bvh {
                 if r == NONE {
                     return;
                 }
-                if let Some(next) = stack.top() {
+                if let Some(next) = stack.top_above(0) {
                     self.prefetch(next);
                 }
                 if r & LEAF == 0 {
@@ -785,8 +786,8 @@ impl Bvh {
                 if r == NONE {
                     return;
                 }
-                if stack.sp > base {
-                    self.prefetch(stack.refs[stack.sp - 1]);
+                if let Some(next) = stack.top_above(base) {
+                    self.prefetch(next);
                 }
                 if r & LEAF == 0 {
                     node = r as usize;
