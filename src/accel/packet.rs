@@ -1411,6 +1411,167 @@ impl<V: LaneOps> PacketNearest<V> {
         front & !lo.simd_gt(T::<V>::splat(best_hi)).to_bitmask() == 0
     }
 
+    /// Offers a leaf prepared as met (its `len` ≤ 4 triangles in lanes 0–3 of `block`, again
+    /// in lanes 4–7, see `Bvh::prepare_leaf`; triangle j's id `base + j`) to the two to four
+    /// ray lanes of `rays` alone: four triangles by `V::WIDTH / 4` rays in each pass of the
+    /// packet's lanes, where offering each triangle to the whole packet takes a pass per
+    /// triangle (at 640×360, leaves reached by two to four lanes are 60% of the bunny's
+    /// leaf visits and a third of Igea's). Per ray, the same decisions as
+    /// [`PacketNearest::offer_block_to_lane`]; done (true) when every ray is decided,
+    /// otherwise nothing changes and the answer is false.
+    #[inline(always)]
+    pub(crate) fn offer_leaf_to_lanes(
+        &mut self,
+        block: &OriginBlock,
+        len: usize,
+        base: u32,
+        rays: u32,
+    ) -> bool {
+        type T<V> = <V as LaneOps>::Eight;
+        debug_assert!((1..=4).contains(&len) && (2..=4).contains(&rays.count_ones()));
+        let dm = self.dm;
+        let leaf = (1u32 << len) - 1;
+        let n_ok = (load::<T<V>>(&block.n_max) * T::<V>::splat(dm))
+            .simd_lt(T::<V>::splat(MAX_PRODUCT))
+            .to_bitmask();
+        if leaf & !(block.usable & n_ok) != 0 || !dm.is_finite() {
+            return false;
+        }
+        let mut lanes = [0usize; 4];
+        let mut count = 0;
+        let mut rest = rays;
+        while rest != 0 {
+            lanes[count] = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            count += 1;
+        }
+        let per_pass = V::WIDTH / 4;
+        let mut takes = [None; 4];
+        if !self.leaf_pass(block, leaf, lanes, 0, count.min(per_pass), &mut takes) {
+            return false;
+        }
+        if count > per_pass
+            && !self.leaf_pass(block, leaf, lanes, per_pass, count - per_pass, &mut takes)
+        {
+            return false;
+        }
+        for (&l, take) in lanes.iter().zip(&takes).take(count) {
+            let Some((lo, hi, j)) = *take else { continue };
+            let lane = V::from_bitmask(1 << l);
+            self.best_lo = with_lane(self.best_lo, lane, lo);
+            self.best_hi = with_lane(self.best_hi, lane, hi);
+            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(base + j as u32));
+        }
+        true
+    }
+
+    /// One pass of [`PacketNearest::offer_leaf_to_lanes`]: the leaf's triangles (lanes
+    /// `leaf` of the block's 0–3) to ray lane `lanes[from + g]` in lanes 4g to 4g + 3, for
+    /// the `groups` groups g; each ray's nearest, if nearer than its best, into
+    /// `takes[from + g]` as (lo, hi, triangle). False if some ray is left undecided.
+    #[inline(always)]
+    fn leaf_pass(
+        &self,
+        block: &OriginBlock,
+        leaf: u32,
+        lanes: [usize; 4],
+        from: usize,
+        groups: usize,
+        takes: &mut [Option<(f32, f32, usize)>; 4],
+    ) -> bool {
+        // (Helpers as always-inlined items, not closures: in the AVX2 kernel those stayed
+        // calls.)
+        #[inline(always)]
+        fn field<V: LaneOps>(x: &[f32; 8]) -> V {
+            V::repeat_eight(load(x))
+        }
+        #[inline(always)]
+        fn dot<V: LaneOps>(d: &[V; 3], n: &[[f32; 8]; 3]) -> V {
+            d[0] * field(&n[0]) + d[1] * field(&n[1]) + d[2] * field(&n[2])
+        }
+        let dm = self.dm;
+        let tris = (leaf * 0x1111) & (u32::MAX >> (32 - 4 * groups));
+        let mut d = [
+            V::splat(self.d[0].lane(lanes[from])),
+            V::splat(self.d[1].lane(lanes[from])),
+            V::splat(self.d[2].lane(lanes[from])),
+        ];
+        for g in 1..groups {
+            let (group, l) = (V::from_bitmask(0xf << (4 * g)), lanes[from + g]);
+            d = [
+                group.bitselect(V::splat(self.d[0].lane(l)), d[0]),
+                group.bitselect(V::splat(self.d[1].lane(l)), d[1]),
+                group.bitselect(V::splat(self.d[2].lane(l)), d[2]),
+            ];
+        }
+        let e = [
+            dot(&d, &block.n[0]),
+            dot(&d, &block.n[1]),
+            dot(&d, &block.n[2]),
+        ];
+        let (dm_v, abs) = (V::splat(dm), V::splat(EDGE_ABS));
+        let bound = [
+            field::<V>(&block.k[0]) * dm_v + abs,
+            field::<V>(&block.k[1]) * dm_v + abs,
+            field::<V>(&block.k[2]) * dm_v + abs,
+        ];
+        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
+        let num: V = field(&block.num);
+        let num_pos = num.simd_gt(V::zero());
+        let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
+        let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
+        if tris & !(miss.to_bitmask() | front | behind) != 0 {
+            return false;
+        }
+        if front == 0 {
+            return true;
+        }
+        // t's interval per triangle, as `t_interval` bounds det.
+        let by_normal = V::from_bitmask((block.det_from_normal & 0xf) * 0x1111);
+        let det = by_normal.bitselect(dot(&d, &block.normal), e[0] + e[1] + e[2]);
+        let det_bound = by_normal.bitselect(
+            field::<V>(&block.k_det) * dm_v + abs,
+            field::<V>(&block.k_sum) * dm_v + V::splat(3.0 * EDGE_ABS),
+        );
+        let (lo, hi, tight) = t_within(num, det, det_bound, field(&block.c_t));
+        if front & !tight.to_bitmask() != 0 {
+            return false;
+        }
+        let (mut los, mut his) = ([0f32; 16], [0f32; 16]);
+        lo.store(&mut los);
+        hi.store(&mut his);
+        for g in 0..groups {
+            let front = front & (0xf << (4 * g));
+            if front == 0 {
+                continue;
+            }
+            // The ray's nearest front triangle, and whether it and the ray's best are
+            // certainly ordered against every other.
+            let mut rest = front & (front - 1);
+            let mut w = front.trailing_zeros() as usize;
+            while rest != 0 {
+                let c = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                if his[c] < his[w] {
+                    w = c;
+                }
+            }
+            let l = lanes[from + g];
+            let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
+            if his[w] < best_lo {
+                let farther = lo.simd_gt(V::splat(his[w])).to_bitmask();
+                if front & !(1 << w) & !farther != 0 {
+                    return false;
+                }
+                takes[from + g] = Some((los[w], his[w], w & 3));
+            } else if front & !lo.simd_gt(V::splat(best_hi)).to_bitmask() != 0 {
+                // No nearer than the best: every one must be certainly farther.
+                return false;
+            }
+        }
+        true
+    }
+
     /// Every lane ambiguous (nothing decided).
     #[inline(always)]
     pub(crate) fn all_ambiguous(&mut self) {
@@ -1845,15 +2006,12 @@ mod tests {
         (!det.is_zero()).then(|| dot(&p[0], &normal) / det)
     }
 
-    #[test]
-    fn one_lane_offers_of_a_block_decide_as_offers_one_by_one() {
-        // Blocks of 8 from two triangulated sheets one behind the other (shared edges and
-        // vertices, two candidates along most rays) and from the preparation's hard suite;
-        // rays at their edges and vertices and between; every leaf-sized run of lanes, from
-        // an empty lane and from one holding a candidate. Where the one-lane pass decides,
-        // its answer is the exact nearest (rational t, exact edge signs), and the one of
-        // offers one by one wherever those decide; where it does not, nothing changed.
-        let mut next = unit_steps(0x5851_f42d_4c95_7f2d);
+    /// Triangles for the block passes' tests: three triangulated sheets one behind the other
+    /// (shared edges and vertices, two candidates along most rays; the third lies within the
+    /// t intervals' width of the first: their order is uncertain), interleaved so that each
+    /// run of 8 (or leaf of 4) holds triangles of every sheet; then some of the
+    /// preparation's hard suite.
+    fn layered_triangles() -> Vec<[[f32; 3]; 3]> {
         let sheet = |z: f32, shift: f32| {
             let mut tris = Vec::new();
             for i in 0..4 {
@@ -1871,8 +2029,6 @@ mod tests {
             }
             tris
         };
-        // (Interleaved: each block holds triangles of every sheet. The third lies within
-        // the t intervals' width of the first: their order is uncertain.)
         let sheets = [
             sheet(2.0, 0.0),
             sheet(2.0 + 1e-4, 0.013),
@@ -1882,28 +2038,73 @@ mod tests {
             .flat_map(|i| sheets.each_ref().map(|s| s[i]))
             .collect();
         tris.extend(triangles().into_iter().step_by(5));
+        tris
+    }
+
+    /// Directions from `o` at the edges and vertices of `tris` and between
+    /// ([`directions`]), and through their insides (where the sheets overlap).
+    fn rays_at(
+        tris: &[[[f32; 3]; 3]],
+        o: [f32; 3],
+        next: &mut impl FnMut() -> f32,
+    ) -> Vec<[f32; 3]> {
+        let mut dirs = Vec::new();
+        for t in tris {
+            dirs.extend(directions(t, o, next));
+            for _ in 0..4 {
+                let (a, b) = (next() + 0.5, next() + 0.5);
+                let (a, b) = if a + b > 1.0 {
+                    (1.0 - a, 1.0 - b)
+                } else {
+                    (a, b)
+                };
+                dirs.push(each3(|k| {
+                    t[0][k] + a * (t[1][k] - t[0][k]) + b * (t[2][k] - t[0][k]) - o[k]
+                }));
+            }
+        }
+        dirs
+    }
+
+    /// The exact nearest front crossing of the ray from `o` along `d` among `ids` of
+    /// `block` (vertices `v`): its id and whether another front one was crossed, or None.
+    fn exact_nearest(
+        block: &OriginBlock,
+        v: &[&[[f32; 3]; 3]; 8],
+        o: [f32; 3],
+        d: [f32; 3],
+        ids: &[usize],
+    ) -> Option<(usize, bool)> {
+        let exact = ExactLane::new(o, d).unwrap();
+        let fronts: Vec<(usize, _)> = (ids.iter().copied())
+            .filter(|&j| exact.crossing(&block.get(j), v[j]) == Some(Crossing::Front))
+            .map(|j| (j, exact_t(v[j], o, d).unwrap()))
+            .collect();
+        let (j, t) = fronts.iter().min_by(|a, b| a.1.cmp(&b.1))?;
+        assert!(
+            fronts.iter().all(|(k, u)| k == j || u > t),
+            "a tie at {d:?}"
+        );
+        Some((*j, fronts.len() > 1))
+    }
+
+    #[test]
+    fn one_lane_offers_of_a_block_decide_as_offers_one_by_one() {
+        // Blocks of 8 from two triangulated sheets one behind the other (shared edges and
+        // vertices, two candidates along most rays) and from the preparation's hard suite;
+        // rays at their edges and vertices and between; every leaf-sized run of lanes, from
+        // an empty lane and from one holding a candidate. Where the one-lane pass decides,
+        // its answer is the exact nearest (rational t, exact edge signs), and the one of
+        // offers one by one wherever those decide; where it does not, nothing changed.
+        let mut next = unit_steps(0x5851_f42d_4c95_7f2d);
+        let tris = layered_triangles();
         let o = [0.01f32, -0.02, 0.0];
         let (mut decided, mut taken, mut declined, mut ordered) = (0, 0, 0, 0);
         for block_tris in tris.chunks(8).filter(|b| b.len() == 8) {
             let v: [&[[f32; 3]; 3]; 8] = std::array::from_fn(|j| &block_tris[j]);
             let mut block = OriginBlock::default();
             OriginTriangle::new8::<f32x8>(v, o, [0; 8], &mut block);
-            let mut dirs: Vec<[f32; 3]> = Vec::new();
-            for t in block_tris {
-                dirs.extend(directions(t, o, &mut next));
-                // And through its inside, where the sheets' triangles overlap.
-                for _ in 0..4 {
-                    let (a, b) = (next() + 0.5, next() + 0.5);
-                    let (a, b) = if a + b > 1.0 {
-                        (1.0 - a, 1.0 - b)
-                    } else {
-                        (a, b)
-                    };
-                    dirs.push(each3(|k| {
-                        t[0][k] + a * (t[1][k] - t[0][k]) + b * (t[2][k] - t[0][k]) - o[k]
-                    }));
-                }
-            }
+            let dirs = rays_at(block_tris, o, &mut next);
             for (k, d) in dirs.iter().enumerate() {
                 let l = k % 8;
                 let mut lanes = [[0f32; 8]; 3];
@@ -1949,24 +2150,15 @@ mod tests {
                             assert_eq!(got, each.finish_ref().prim[l], "block lane {l}, {d:?}");
                         }
                         // Exact: the nearest front crossing among the run and the seed.
-                        let exact = ExactLane::new(o, *d).unwrap();
                         let mut ids: Vec<usize> = (start..start + len).filter(|j| *j < 8).collect();
                         ids.extend(seeded);
-                        let fronts: Vec<(usize, _)> = ids
-                            .into_iter()
-                            .filter(|&j| {
-                                exact.crossing(&block.get(j), v[j]) == Some(Crossing::Front)
-                            })
-                            .map(|j| (j, exact_t(v[j], o, *d).unwrap()))
-                            .collect();
-                        match fronts.iter().min_by(|a, b| a.1.cmp(&b.1)) {
+                        match exact_nearest(&block, &v, o, *d, &ids) {
                             None => assert_eq!(got, u32::MAX, "{d:?}"),
-                            Some((j, t)) => {
-                                let from_seed = Some(*j) == seeded && got == 100 + *j as u32;
-                                assert!(got == *j as u32 || from_seed, "{got} for {j}, {d:?}");
-                                assert!(fronts.iter().all(|(k, u)| k == j || u > t));
+                            Some((j, others)) => {
+                                let from_seed = Some(j) == seeded && got == 100 + j as u32;
+                                assert!(got == j as u32 || from_seed, "{got} for {j}, {d:?}");
                                 taken += (got < 100) as usize;
-                                ordered += (fronts.len() > 1) as usize;
+                                ordered += others as usize;
                             }
                         }
                     }
@@ -1976,6 +2168,136 @@ mod tests {
         // (Most rays here are aimed at edges and vertices: many lanes stay undecided.)
         println!("decided {decided}, taken {taken}, ordered {ordered}, declined {declined}");
         assert!(decided > 10_000 && taken > 1_000 && ordered > 200 && declined > 1_000);
+    }
+
+    /// A leaf's offers to two to four lanes at once ([`PacketNearest::offer_leaf_to_lanes`]),
+    /// in 8 lanes (two passes for three or four rays) and, where the CPU has AVX-512, in 16
+    /// (one pass), on the triangles and rays of the one-lane test: where they decide, each
+    /// ray's answer is the exact nearest of the leaf and its seed, and that of offers one by
+    /// one wherever those decide, and no other lane changed; where they do not, nothing did.
+    #[test]
+    fn leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one() {
+        let check = |[decided, taken, ordered, declined]: [usize; 4]| {
+            println!("decided {decided}, taken {taken}, ordered {ordered}, declined {declined}");
+            assert!(decided > 5_000 && taken > 1_000 && ordered > 200 && declined > 500);
+        };
+        check(leaf_offers::<f32x8>());
+        use crate::math::lanes::Avx16;
+        use crate::math::simd::{detected, SimdLevel};
+        if detected() >= SimdLevel::Avx512 {
+            #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+            fn in_16_lanes() -> [usize; 4] {
+                leaf_offers::<Avx16>()
+            }
+            // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
+            #[allow(unsafe_code)]
+            check(unsafe { in_16_lanes() });
+        }
+    }
+
+    /// The body of `leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one` in lanes `V`:
+    /// the counts of leaf offers decided, rays that took a leaf triangle, rays that crossed
+    /// more than one, and offers declined.
+    #[inline(always)]
+    fn leaf_offers<V: LaneOps>() -> [usize; 4] {
+        /// The lanes' bits.
+        #[inline(always)]
+        fn bits<V: LaneOps>(x: V) -> [u32; 16] {
+            let mut a = [0f32; 16];
+            x.store(&mut a);
+            a.map(f32::to_bits)
+        }
+        #[inline(always)]
+        fn state<V: LaneOps>(p: &PacketNearest<V>) -> ([u32; 16], u32, [u32; 16], [u32; 16]) {
+            let mut prims = [0u32; 16];
+            let ambiguous = p.finish_into(&mut prims);
+            (prims, ambiguous, bits(p.best_lo), bits(p.best_hi))
+        }
+        let mut next = unit_steps(0x2545_f491_4f6c_dd1d);
+        let tris = layered_triangles();
+        let o = [0.01f32, -0.02, 0.0];
+        let width = V::WIDTH;
+        let (mut decided, mut taken, mut declined, mut ordered) = (0, 0, 0, 0);
+        for leaf_tris in tris.chunks(4).filter(|b| b.len() == 4) {
+            // As `Bvh::prepare_leaf` prepares a leaf: lanes 4–7 repeat lanes 0–3.
+            let v: [&[[f32; 3]; 3]; 8] = std::array::from_fn(|j| &leaf_tris[j % 4]);
+            let mut block = OriginBlock::default();
+            OriginTriangle::new8::<f32x8>(v, o, [0; 8], &mut block);
+            let dirs = rays_at(leaf_tris, o, &mut next);
+            for k in 0..dirs.len() {
+                let mut lanes = [[0f32; 16]; 3];
+                for (c, lane) in lanes.iter_mut().enumerate() {
+                    for (m, x) in lane.iter_mut().enumerate() {
+                        *x = dirs[(k + m * 7) % dirs.len()][c];
+                    }
+                }
+                let d = [0, 1, 2].map(|c| V::load(&lanes[c]));
+                let d_max = (lanes.iter())
+                    .flat_map(|lane| &lane[..width])
+                    .fold(0f32, |m, x| m.max(x.abs()));
+                for rays in [0b11, 0x22, 0xc8, 0xb1, 0x8421, 0xe002] {
+                    let rays = rays & V::full();
+                    for len in 1..=4 {
+                        // A seed outside the leaf, offered to every lane first.
+                        for seeded in [None, (len < 4).then_some(len)] {
+                            let mut one = PacketNearest::<V>::new_in(d, d_max);
+                            if let Some(s) = seeded {
+                                one.offer(&block.get(s), 100 + s as u32);
+                            }
+                            let live = rays & !one.ambiguous();
+                            if live.count_ones() < 2 {
+                                continue;
+                            }
+                            let before = state(&one);
+                            if !one.offer_leaf_to_lanes(&block, len, 0, live) {
+                                assert_eq!(state(&one), before);
+                                declined += 1;
+                                continue;
+                            }
+                            decided += 1;
+                            let after = state(&one);
+                            assert_eq!(after.1, before.1, "no lane left ambiguous");
+                            for m in (0..width).filter(|m| live & (1 << m) == 0) {
+                                let lane = |s: &([u32; 16], u32, [u32; 16], [u32; 16])| {
+                                    (s.0[m], s.2[m], s.3[m])
+                                };
+                                assert_eq!(lane(&after), lane(&before), "lane {m} untouched");
+                            }
+                            let mut each = PacketNearest::<V>::new_in(d, d_max);
+                            if let Some(s) = seeded {
+                                each.offer(&block.get(s), 100 + s as u32);
+                            }
+                            for j in 0..len {
+                                each.offer(&block.get(j), j as u32);
+                            }
+                            let each = state(&each);
+                            let mut ids: Vec<usize> = (0..len).collect();
+                            ids.extend(seeded);
+                            for l in (0..width).filter(|l| live & (1 << l) != 0) {
+                                let got = after.0[l];
+                                if each.1 & (1 << l) == 0 {
+                                    assert_eq!(got, each.0[l], "lane {l} of {rays:#x}");
+                                }
+                                let dl = [lanes[0][l], lanes[1][l], lanes[2][l]];
+                                match exact_nearest(&block, &v, o, dl, &ids) {
+                                    None => assert_eq!(got, u32::MAX, "{dl:?}"),
+                                    Some((j, others)) => {
+                                        let want = match Some(j) == seeded {
+                                            true => 100 + j as u32,
+                                            false => j as u32,
+                                        };
+                                        assert_eq!(got, want, "{dl:?}");
+                                        taken += (got < 100) as usize;
+                                        ordered += others as usize;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        [decided, taken, ordered, declined]
     }
 
     #[test]

@@ -74,6 +74,8 @@ pub trait LaneOps:
     fn reduce_min(self) -> f32;
     /// All-ones lanes where bit l of `mask` is set, else zeros (a mask for `bitselect`).
     fn from_bitmask(mask: u32) -> Self;
+    /// Lane l is lane l mod 8 of `x`.
+    fn repeat_eight(x: Self::Eight) -> Self;
 
     /// Lane `l`.
     #[inline(always)]
@@ -236,6 +238,10 @@ impl LaneOps for f32x8 {
     fn from_bitmask(mask: u32) -> Self {
         let lane = |l: u32| if mask & (1 << l) != 0 { u32::MAX } else { 0 };
         <Self as Lanes>::from_bits(std::array::from_fn(|l| lane(l as u32)))
+    }
+    #[inline(always)]
+    fn repeat_eight(x: f32x8) -> Self {
+        x
     }
 }
 
@@ -579,6 +585,10 @@ mod avx {
                 _mm256_castsi256_ps(_mm256_cmpeq_epi32(m, bits))
             })
         }
+        #[inline(always)]
+        fn repeat_eight(x: Avx8) -> Self {
+            x
+        }
     }
 
     impl Lanes for Avx8 {
@@ -739,6 +749,11 @@ mod avx {
         fn from_bitmask(mask: u32) -> Self {
             // SAFETY: as in `binary!`.
             Self(unsafe { _mm512_castsi512_ps(_mm512_movm_epi32(mask as u16)) })
+        }
+        #[inline(always)]
+        fn repeat_eight(x: Avx8) -> Self {
+            // SAFETY: as in `binary!`.
+            Self(unsafe { _mm512_insertf32x8::<1>(_mm512_castps256_ps512(x.0), x.0) })
         }
     }
 
