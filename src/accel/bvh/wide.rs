@@ -303,18 +303,22 @@ impl WideStack {
     #[inline(always)]
     fn push(&mut self, n: &WideNode, mut hits: u32, t0: &[f32; WIDTH], lanes: u32) {
         let base = self.sp;
+        let mut top = base;
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
-            self.insert(base, n.child[c], t0[c], lanes);
+            self.insert(base, &mut top, n.child[c], t0[c], lanes);
         }
+        self.sp = top;
     }
 
-    /// Pushes `r` at distance `t` (entered by `lanes`) among the entries from `base` up,
-    /// kept farthest first.
+    /// Inserts `r` at distance `t` (entered by `lanes`) among the entries `base..*top`, kept
+    /// farthest first, and counts it in `top`: the caller's copy of the height, written back
+    /// once its node's children are in. (Counted in `sp` itself, the height went through
+    /// memory: a store and a reload chained from child to child.)
     #[inline(always)]
-    fn insert(&mut self, base: usize, r: u32, t: f32, lanes: u32) {
-        let mut at = self.sp;
+    fn insert(&mut self, base: usize, top: &mut usize, r: u32, t: f32, lanes: u32) {
+        let mut at = *top;
         while at > base && self.dists[at - 1] < t {
             self.refs[at] = self.refs[at - 1];
             self.dists[at] = self.dists[at - 1];
@@ -324,7 +328,7 @@ impl WideStack {
         self.refs[at] = r;
         self.dists[at] = t;
         self.lanes[at] = lanes as u16;
-        self.sp += 1;
+        *top += 1;
     }
 
     /// The lanes of the entry [`WideStack::pop`] returned last.
@@ -486,6 +490,7 @@ impl<V: LaneOps> ChildTest<V> for LaneTest<'_, V> {
     #[inline(always)]
     fn push(&self, n: &WideNode, reach: V, live: u32, _: f32, stack: &mut WideStack) {
         let base = stack.sp;
+        let mut top = base;
         for c in 0..WIDTH {
             if n.child[c] == NONE {
                 break;
@@ -503,9 +508,10 @@ impl<V: LaneOps> ChildTest<V> for LaneTest<'_, V> {
                 let entries = V::from_bitmask(m).bitselect(t0, V::splat(f32::INFINITY));
                 // (No entry is NaN: `enter`'s t0 starts at 0 and grows by `max`.)
                 let t = entries.reduce_min();
-                stack.insert(base, n.child[c], t, m);
+                stack.insert(base, &mut top, n.child[c], t, m);
             }
         }
+        stack.sp = top;
     }
 
     #[inline(always)]
@@ -543,14 +549,16 @@ impl<V: LaneOps, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED
         let (mut hits, t0) = self.slabs.enter::<V::Eight>(n, limit, &mut sides);
         let t0 = t0.to_array();
         let base = stack.sp;
+        let mut top = base;
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
             let lanes = sides.lanes(self.rays, c, reach, live);
             if lanes != 0 {
-                stack.insert(base, n.child[c], t0[c], lanes);
+                stack.insert(base, &mut top, n.child[c], t0[c], lanes);
             }
         }
+        stack.sp = top;
     }
 
     #[inline(always)]
