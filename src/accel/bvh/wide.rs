@@ -279,12 +279,13 @@ impl Collapse<'_> {
 
 /// A walk's stack: child references with their entry distances, nearest on top. (1.1 KB:
 /// made once per packet and handed to its walks, as a new one per walk is zeroed each time.)
+/// Its height is the walk's own (`top`, a local): kept here, it went through memory, a store
+/// and a reload chained from each push and pop to the next.
 pub(crate) struct WideStack {
     refs: [u32; STACK],
     dists: [f32; STACK],
     /// A packet walk's lanes that enter each entry's box (bit l for lane l).
     lanes: [u16; STACK],
-    sp: usize,
 }
 
 impl WideStack {
@@ -294,28 +295,30 @@ impl WideStack {
             refs: [0; STACK],
             dists: [0.0; STACK],
             lanes: [0; STACK],
-            sp: 0,
         }
     }
 
-    /// Pushes the children of `n` in `hits` (distances `t0`, entered by `lanes`), farthest
-    /// first.
+    /// Pushes the children of `n` in `hits` (distances `t0`, entered by `lanes`) onto the
+    /// `*top` entries, farthest first.
     #[inline(always)]
-    fn push(&mut self, n: &WideNode, mut hits: u32, t0: &[f32; WIDTH], lanes: u32) {
-        let base = self.sp;
-        let mut top = base;
+    fn push(
+        &mut self,
+        top: &mut usize,
+        n: &WideNode,
+        mut hits: u32,
+        t0: &[f32; WIDTH],
+        lanes: u32,
+    ) {
+        let base = *top;
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
-            self.insert(base, &mut top, n.child[c], t0[c], lanes);
+            self.insert(base, top, n.child[c], t0[c], lanes);
         }
-        self.sp = top;
     }
 
     /// Inserts `r` at distance `t` (entered by `lanes`) among the entries `base..*top`, kept
-    /// farthest first, and counts it in `top`: the caller's copy of the height, written back
-    /// once its node's children are in. (Counted in `sp` itself, the height went through
-    /// memory: a store and a reload chained from child to child.)
+    /// farthest first.
     #[inline(always)]
     fn insert(&mut self, base: usize, top: &mut usize, r: u32, t: f32, lanes: u32) {
         let mut at = *top;
@@ -331,41 +334,30 @@ impl WideStack {
         *top += 1;
     }
 
-    /// The lanes of the entry [`WideStack::pop`] returned last.
+    /// The lanes of entry `at` (the one [`WideStack::pop_above`] returned last, at the
+    /// height it left).
     #[inline(always)]
-    fn popped_lanes(&self) -> u32 {
-        self.lanes[self.sp] as u32
+    fn lanes_at(&self, at: usize) -> u32 {
+        self.lanes[at] as u32
     }
 
-    /// [`WideStack::pop`] among the entries above the first `base`, which it leaves.
+    /// The nearest entry of `base..*top` whose distance is within `limit` ([`NONE`]: none),
+    /// the entries above it taken off with it.
     #[inline(always)]
-    fn pop_above(&mut self, base: usize, limit: f32) -> u32 {
-        while self.sp > base {
-            self.sp -= 1;
-            if self.dists[self.sp] <= limit {
-                return self.refs[self.sp];
+    fn pop_above(&self, base: usize, top: &mut usize, limit: f32) -> u32 {
+        while *top > base {
+            *top -= 1;
+            if self.dists[*top] <= limit {
+                return self.refs[*top];
             }
         }
         NONE
     }
 
-    /// The entry [`WideStack::pop_above`] (`base` 0: [`WideStack::pop`]) would look at next,
-    /// if any.
+    /// The entry [`WideStack::pop_above`] would look at next, if any.
     #[inline(always)]
-    fn top_above(&self, base: usize) -> Option<u32> {
-        (self.sp > base).then(|| self.refs[self.sp - 1])
-    }
-
-    /// The nearest child left whose distance is within `limit` ([`NONE`]: none).
-    #[inline(always)]
-    fn pop(&mut self, limit: f32) -> u32 {
-        while self.sp > 0 {
-            self.sp -= 1;
-            if self.dists[self.sp] <= limit {
-                return self.refs[self.sp];
-            }
-        }
-        NONE
+    fn top_above(&self, base: usize, top: usize) -> Option<u32> {
+        (top > base).then(|| self.refs[top - 1])
     }
 }
 
@@ -405,10 +397,18 @@ impl RaySlabs {
 
 /// How a packet walk tests a wide node's children.
 pub(super) trait ChildTest<V> {
-    /// Pushes onto `stack` the children of `n` some lane of `live` may enter before its
-    /// `reach` (`limit`: the greatest over `live`), each at a distance no greater than those
-    /// lanes' entries.
-    fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack);
+    /// Pushes onto `stack` (`top` entries high) the children of `n` some lane of `live` may
+    /// enter before its `reach` (`limit`: the greatest over `live`), each at a distance no
+    /// greater than those lanes' entries.
+    fn push(
+        &self,
+        n: &WideNode,
+        reach: V,
+        live: u32,
+        limit: f32,
+        stack: &mut WideStack,
+        top: &mut usize,
+    );
 
     /// The packet's slabs, and the pad its boxes are widened by (`None`: not widened), for
     /// walks of one lane ([`Bvh::walk_lane`]).
@@ -445,6 +445,7 @@ fn push_lane<V: LaneOps>(
     lane: &LaneSlabs,
     reach: f32,
     stack: &mut WideStack,
+    top: &mut usize,
 ) {
     // The node's 8 children in the build's 8 lanes, whatever the packet's width.
     type C<V> = <V as LaneOps>::Eight;
@@ -476,7 +477,13 @@ fn push_lane<V: LaneOps>(
             t1 = t1.min(tf);
         }
     }
-    stack.push(n, t0.simd_le(t1).to_bitmask(), &t0.to_array(), lane.bit);
+    stack.push(
+        top,
+        n,
+        t0.simd_le(t1).to_bitmask(),
+        &t0.to_array(),
+        lane.bit,
+    );
 }
 
 /// Any packet: each used child tested lane by lane ([`PacketSlabs::enter`]), its box widened
@@ -488,9 +495,16 @@ pub(super) struct LaneTest<'a, V> {
 
 impl<V: LaneOps> ChildTest<V> for LaneTest<'_, V> {
     #[inline(always)]
-    fn push(&self, n: &WideNode, reach: V, live: u32, _: f32, stack: &mut WideStack) {
-        let base = stack.sp;
-        let mut top = base;
+    fn push(
+        &self,
+        n: &WideNode,
+        reach: V,
+        live: u32,
+        _: f32,
+        stack: &mut WideStack,
+        top: &mut usize,
+    ) {
+        let base = *top;
         for c in 0..WIDTH {
             if n.child[c] == NONE {
                 break;
@@ -508,10 +522,9 @@ impl<V: LaneOps> ChildTest<V> for LaneTest<'_, V> {
                 let entries = V::from_bitmask(m).bitselect(t0, V::splat(f32::INFINITY));
                 // (No entry is NaN: `enter`'s t0 starts at 0 and grows by `max`.)
                 let t = entries.reduce_min();
-                stack.insert(base, &mut top, n.child[c], t, m);
+                stack.insert(base, top, n.child[c], t, m);
             }
         }
-        stack.sp = top;
     }
 
     #[inline(always)]
@@ -541,24 +554,30 @@ impl<'a, V: LaneOps, const PADDED: bool> IntervalTest<'a, V, PADDED> {
 
 impl<V: LaneOps, const PADDED: bool> ChildTest<V> for IntervalTest<'_, V, PADDED> {
     #[inline(always)]
-    fn push(&self, n: &WideNode, reach: V, live: u32, limit: f32, stack: &mut WideStack) {
+    fn push(
+        &self,
+        n: &WideNode,
+        reach: V,
+        live: u32,
+        limit: f32,
+        stack: &mut WideStack,
+        top: &mut usize,
+    ) {
         let mut sides = Sides {
             near: [[0.0; WIDTH]; 3],
             far: [[0.0; WIDTH]; 3],
         };
         let (mut hits, t0) = self.slabs.enter::<V::Eight>(n, limit, &mut sides);
         let t0 = t0.to_array();
-        let base = stack.sp;
-        let mut top = base;
+        let base = *top;
         while hits != 0 {
             let c = hits.trailing_zeros() as usize;
             hits &= hits - 1;
             let lanes = sides.lanes(self.rays, c, reach, live);
             if lanes != 0 {
-                stack.insert(base, &mut top, n.child[c], t0[c], lanes);
+                stack.insert(base, top, n.child[c], t0[c], lanes);
             }
         }
-        stack.sp = top;
     }
 
     #[inline(always)]
@@ -698,32 +717,32 @@ impl Bvh {
         }
         let mut reach = sink.limit();
         let mut limit = widest(reach, live);
-        stack.sp = 0;
+        let mut top = 0;
         let mut node = 0usize;
         loop {
             let n = &self.wide[node];
-            test.push(n, reach, live, limit, stack);
+            test.push(n, reach, live, limit, stack, &mut top);
             loop {
                 if live == 0 {
                     return;
                 }
-                let r = stack.pop(limit);
+                let r = stack.pop_above(0, &mut top, limit);
                 if r == NONE {
                     return;
                 }
-                if let Some(next) = stack.top_above(0) {
+                if let Some(next) = stack.top_above(0, top) {
                     self.prefetch(next);
                 }
+                let lanes = stack.lanes_at(top) & live;
                 if r & LEAF == 0 {
-                    let lanes = stack.popped_lanes() & live;
                     if !(LONE && lanes.is_power_of_two()) {
                         node = r as usize;
                         break;
                     }
-                    self.walk_lane(test, sink, leaves, r as usize, lanes, stack);
+                    self.walk_lane(test, sink, leaves, (r as usize, lanes), (stack, top));
                 } else {
                     let (first, count) = leaf_range(r);
-                    leaves.visit(sink, first, count, stack.popped_lanes() & live);
+                    leaves.visit(sink, first, count, lanes);
                 }
                 live = sink.live();
                 reach = sink.limit();
@@ -769,32 +788,31 @@ impl Bvh {
     /// [`Bvh::walk_wide`] below node `root`, which only lane `lane` (a one-bit mask) of the
     /// packet entered: its subtree for that lane alone, 8 boxes per test
     /// ([`push_lane`]), its leaves offered to that lane, until the lane is decided
-    /// or the subtree is done. Uses `stack` above its current entries and leaves them as
-    /// they were.
+    /// or the subtree is done. Uses `stack` above its first `base` entries and leaves those
+    /// as they were.
     #[inline(always)]
     fn walk_lane<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
         &self,
         test: &T,
         sink: &mut S,
         leaves: &mut L,
-        root: usize,
-        lane: u32,
-        stack: &mut WideStack,
+        (root, lane): (usize, u32),
+        (stack, base): (&mut WideStack, usize),
     ) {
         let at = lane.trailing_zeros() as usize;
         let packet = test.slabs();
         let slabs = LaneSlabs::of(packet.0, at);
-        let base = stack.sp;
+        let mut top = base;
         let mut reach = sink.limit().lane(at);
         let mut node = root;
         loop {
-            push_lane(packet, &self.wide[node], &slabs, reach, stack);
+            push_lane(packet, &self.wide[node], &slabs, reach, stack, &mut top);
             loop {
-                let r = stack.pop_above(base, reach);
+                let r = stack.pop_above(base, &mut top, reach);
                 if r == NONE {
                     return;
                 }
-                if let Some(next) = stack.top_above(base) {
+                if let Some(next) = stack.top_above(base, top) {
                     self.prefetch(next);
                 }
                 if r & LEAF == 0 {
@@ -804,7 +822,6 @@ impl Bvh {
                 let (first, count) = leaf_range(r);
                 leaves.visit(sink, first, count, lane);
                 if sink.live() & lane == 0 {
-                    stack.sp = base;
                     return;
                 }
                 reach = sink.limit().lane(at);
@@ -863,13 +880,14 @@ impl Bvh {
             }
         };
         let mut stack = WideStack::new();
+        let mut top = 0;
         let mut node = 0usize;
         loop {
             let n = &self.wide[node];
             let (hits, t0) = enter(n, cull(t_far));
-            stack.push(n, hits, &t0, 1);
+            stack.push(&mut top, n, hits, &t0, 1);
             loop {
-                let r = stack.pop(cull(t_far));
+                let r = stack.pop_above(0, &mut top, cull(t_far));
                 if r == NONE {
                     return;
                 }
