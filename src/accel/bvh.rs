@@ -1006,7 +1006,12 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
             &mut self.scratch,
         );
         match tris {
-            LeafTriangles::Listed(list) => list.iter().for_each(|t| sink.take(t)),
+            LeafTriangles::Listed(list) => {
+                // (A loop, not `for_each` with a closure: see `PacketSlabs::new_in`.)
+                for t in list {
+                    sink.take(t);
+                }
+            }
             LeafTriangles::Leaf { block, len } => {
                 for j in 0..len {
                     if !sink.take_decided(&block.get(j)) {
@@ -1157,14 +1162,23 @@ impl<V: LaneOps> PacketSlabs<V> {
             f32::from_bits((127 + SAFE_EXP) << 23),
         );
         let (lo_v, hi_v) = (V::splat(lo), V::splat(hi));
-        let a = each3(|k| d[k].abs());
-        let tame = a.iter().all(|a| (a.simd_ge(lo_v) & a.simd_le(hi_v)).all());
-        let safe = |a: &V| (a.simd_eq(V::zero()) | (a.simd_ge(lo_v) & a.simd_le(hi_v))).all();
-        let origin_safe = o.iter().all(|x| {
+        // (Masks and plain loops, no closures over lanes: in the instances' kernels, which
+        // set up a packet per instance it meets, those stayed calls compiled without the
+        // kernels' target features, each lane operation in them a call of its own.)
+        let (mut in_range, mut safe) = (V::full(), V::full());
+        for dk in &d {
+            let a = dk.abs();
+            let within = (a.simd_ge(lo_v) & a.simd_le(hi_v)).to_bitmask();
+            in_range &= within;
+            safe &= within | a.simd_eq(V::zero()).to_bitmask();
+        }
+        let tame = in_range == V::full();
+        let mut origin_safe = true;
+        for x in o {
             let a = x.abs();
-            a == 0.0 || (a >= lo && a <= hi)
-        });
-        let trusted = boxes_tame && origin_safe && (tame || a.iter().all(safe));
+            origin_safe &= a == 0.0 || (a >= lo && a <= hi);
+        }
+        let trusted = boxes_tame && origin_safe && safe == V::full();
         let inv_far = each3(|k| inv[k] * V::splat(far_slack()));
         let coherent = match sign {
             [Some(x), Some(y), Some(z)] if tame => Some([x, y, z]),

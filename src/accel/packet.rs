@@ -1109,11 +1109,17 @@ impl<V: LaneOps> EdgeTests<V> {
     /// `dm`: max|dₖ| rounded up.
     #[inline(always)]
     fn new(tri: &OriginTriangle, d: &[V; 3], dm: f32) -> Self {
-        let e = each3(|i| {
-            let n = &tri.n[i];
+        // (No closures: where the offer sits in a cold branch (after `Bvh::precise`), the
+        // closure stayed a call, compiled without the kernel's target features: every lane
+        // operation in it a call of its own.)
+        #[inline(always)]
+        fn edge<V: LaneOps>(n: &[f32; 3], d: &[V; 3]) -> V {
             d[0] * V::splat(n[0]) + d[1] * V::splat(n[1]) + d[2] * V::splat(n[2])
-        });
-        let bound = each3(|i| V::splat(tri.k[i] * dm + EDGE_ABS));
+        }
+        let n = &tri.n;
+        let e = [edge(&n[0], d), edge(&n[1], d), edge(&n[2], d)];
+        let k = tri.k.map(|k| k * dm + EDGE_ABS);
+        let bound = [V::splat(k[0]), V::splat(k[1]), V::splat(k[2])];
         let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
         // In front: the sign of det (that of the eᵢ) is the numerator's.
         let (front, behind) = match tri.num > 0.0 {
