@@ -1186,16 +1186,84 @@ fn t_within<V: LaneOps>(num: V, det: V, det_bound: V, c_t: V) -> (V, V, V) {
     (t - err, t + err, tight)
 }
 
+/// The block passes' tests ([`PacketNearest::offer_block_to_lane`],
+/// [`PacketNearest::offer_leaf_to_lanes`]): lane l of `W` tests the block's triangle in lane
+/// l mod 8 against direction `d` at lane l, as [`PacketNearest::offer`] tests it (the same
+/// operations, the same bits; `by_normal`: the lanes whose det is d·normal). Of the lanes
+/// `tris`: those certainly in front, and every lane's t interval; `None` if one of them is
+/// left undecided, or in front with a loose interval.
+#[inline(always)]
+fn block_crossings<W: LaneOps>(
+    block: &OriginBlock,
+    d: &[W; 3],
+    dm: f32,
+    tris: u32,
+    by_normal: u32,
+) -> Option<(u32, W, W)> {
+    // (Helpers as always-inlined items, not closures: see `EdgeTests::new`.)
+    #[inline(always)]
+    fn field<W: LaneOps>(x: &[f32; 8]) -> W {
+        W::repeat_eight(load(x))
+    }
+    #[inline(always)]
+    fn dot<W: LaneOps>(d: &[W; 3], n: &[[f32; 8]; 3]) -> W {
+        d[0] * field(&n[0]) + d[1] * field(&n[1]) + d[2] * field(&n[2])
+    }
+    let e = [
+        dot(d, &block.n[0]),
+        dot(d, &block.n[1]),
+        dot(d, &block.n[2]),
+    ];
+    let (dm_v, abs) = (W::splat(dm), W::splat(EDGE_ABS));
+    let bound = [
+        field::<W>(&block.k[0]) * dm_v + abs,
+        field::<W>(&block.k[1]) * dm_v + abs,
+        field::<W>(&block.k[2]) * dm_v + abs,
+    ];
+    let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
+    let num: W = field(&block.num);
+    let num_pos = num.simd_gt(W::zero());
+    let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
+    let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
+    if tris & !(miss.to_bitmask() | front | behind) != 0 {
+        return None;
+    }
+    if front == 0 {
+        return Some((0, W::zero(), W::zero()));
+    }
+    // t's interval per triangle, as `t_interval` bounds det.
+    let by_normal = W::from_bitmask(by_normal);
+    let det = by_normal.bitselect(dot(d, &block.normal), e[0] + e[1] + e[2]);
+    let det_bound = by_normal.bitselect(
+        field::<W>(&block.k_det) * dm_v + abs,
+        field::<W>(&block.k_sum) * dm_v + W::splat(3.0 * EDGE_ABS),
+    );
+    let (lo, hi, tight) = t_within(num, det, det_bound, field(&block.c_t));
+    if front & !tight.to_bitmask() != 0 {
+        return None;
+    }
+    Some((front, lo, hi))
+}
+
+/// The lane of `mask` (not empty) with the least of `x`, the first of equals.
+#[inline(always)]
+fn least_of(mask: u32, x: &[f32]) -> usize {
+    let mut rest = mask & (mask - 1);
+    let mut w = mask.trailing_zeros() as usize;
+    while rest != 0 {
+        let c = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        if x[c] < x[w] {
+            w = c;
+        }
+    }
+    w
+}
+
 /// A field of an [`OriginBlock`] as lanes.
 #[inline(always)]
 fn load<V: Lanes>(field: &[f32; 8]) -> V {
     V::from_array(*field)
-}
-
-/// d·n per lane, n by component (as [`EdgeTests::new`] sums it).
-#[inline(always)]
-fn dot3<V: Lanes>(d: &[V; 3], n: &[[f32; 8]; 3]) -> V {
-    d[0] * load(&n[0]) + d[1] * load(&n[1]) + d[2] * load(&n[2])
 }
 
 /// `v` with the lanes of `mask` (a lane mask) set to `x`. (A blend: a scalar written
@@ -1352,51 +1420,17 @@ impl<V: LaneOps> PacketNearest<V> {
             T::<V>::splat(self.d[1].lane(l)),
             T::<V>::splat(self.d[2].lane(l)),
         ];
-        let e = [
-            dot3(&d, &block.n[0]),
-            dot3(&d, &block.n[1]),
-            dot3(&d, &block.n[2]),
-        ];
-        let (dm_v, abs) = (T::<V>::splat(dm), T::<V>::splat(EDGE_ABS));
-        let bound = [
-            load::<T<V>>(&block.k[0]) * dm_v + abs,
-            load::<T<V>>(&block.k[1]) * dm_v + abs,
-            load::<T<V>>(&block.k[2]) * dm_v + abs,
-        ];
-        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
-        let num: T<V> = load(&block.num);
-        let num_pos = num.simd_gt(T::<V>::zero());
-        let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
-        let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
-        if tris & !(miss.to_bitmask() | front | behind) != 0 {
+        let Some((front, lo, hi)) = block_crossings(block, &d, dm, tris, block.det_from_normal)
+        else {
             return false;
-        }
+        };
         if front == 0 {
             return true;
-        }
-        // t's interval per triangle, as `t_interval` bounds det.
-        let by_normal = T::<V>::from_bitmask(block.det_from_normal);
-        let det = by_normal.bitselect(dot3(&d, &block.normal), e[0] + e[1] + e[2]);
-        let det_bound = by_normal.bitselect(
-            load::<T<V>>(&block.k_det) * dm_v + abs,
-            load::<T<V>>(&block.k_sum) * dm_v + T::<V>::splat(3.0 * EDGE_ABS),
-        );
-        let (lo, hi, tight) = t_within(num, det, det_bound, load(&block.c_t));
-        if front & !tight.to_bitmask() != 0 {
-            return false;
         }
         // The nearest front triangle, and whether it and the lane's best are certainly
         // ordered against every other.
         let his = hi.to_array();
-        let mut rest = front & (front - 1);
-        let mut w = front.trailing_zeros() as usize;
-        while rest != 0 {
-            let c = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
-            if his[c] < his[w] {
-                w = c;
-            }
-        }
+        let w = least_of(front, &his);
         let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
         if his[w] < best_lo {
             let farther = lo.simd_gt(T::<V>::splat(his[w])).to_bitmask();
@@ -1485,17 +1519,6 @@ impl<V: LaneOps> PacketNearest<V> {
         groups: usize,
         takes: &mut [Option<(f32, f32, usize)>; 4],
     ) -> bool {
-        // (Helpers as always-inlined items, not closures: in the AVX2 kernel those stayed
-        // calls.)
-        #[inline(always)]
-        fn field<V: LaneOps>(x: &[f32; 8]) -> V {
-            V::repeat_eight(load(x))
-        }
-        #[inline(always)]
-        fn dot<V: LaneOps>(d: &[V; 3], n: &[[f32; 8]; 3]) -> V {
-            d[0] * field(&n[0]) + d[1] * field(&n[1]) + d[2] * field(&n[2])
-        }
-        let dm = self.dm;
         let tris = (leaf * 0x1111) & (u32::MAX >> (32 - 4 * groups));
         let mut d = [
             V::splat(self.d[0].lane(lanes[from])),
@@ -1510,38 +1533,12 @@ impl<V: LaneOps> PacketNearest<V> {
                 group.bitselect(V::splat(self.d[2].lane(l)), d[2]),
             ];
         }
-        let e = [
-            dot(&d, &block.n[0]),
-            dot(&d, &block.n[1]),
-            dot(&d, &block.n[2]),
-        ];
-        let (dm_v, abs) = (V::splat(dm), V::splat(EDGE_ABS));
-        let bound = [
-            field::<V>(&block.k[0]) * dm_v + abs,
-            field::<V>(&block.k[1]) * dm_v + abs,
-            field::<V>(&block.k[2]) * dm_v + abs,
-        ];
-        let (miss, all_pos, all_neg) = edge_signs(&e, &bound);
-        let num: V = field(&block.num);
-        let num_pos = num.simd_gt(V::zero());
-        let front = num_pos.bitselect(all_pos, all_neg).to_bitmask() & tris;
-        let behind = num_pos.bitselect(all_neg, all_pos).to_bitmask();
-        if tris & !(miss.to_bitmask() | front | behind) != 0 {
+        let by_normal = (block.det_from_normal & 0xf) * 0x1111;
+        let Some((front, lo, hi)) = block_crossings(block, &d, self.dm, tris, by_normal) else {
             return false;
-        }
+        };
         if front == 0 {
             return true;
-        }
-        // t's interval per triangle, as `t_interval` bounds det.
-        let by_normal = V::from_bitmask((block.det_from_normal & 0xf) * 0x1111);
-        let det = by_normal.bitselect(dot(&d, &block.normal), e[0] + e[1] + e[2]);
-        let det_bound = by_normal.bitselect(
-            field::<V>(&block.k_det) * dm_v + abs,
-            field::<V>(&block.k_sum) * dm_v + V::splat(3.0 * EDGE_ABS),
-        );
-        let (lo, hi, tight) = t_within(num, det, det_bound, field(&block.c_t));
-        if front & !tight.to_bitmask() != 0 {
-            return false;
         }
         let (mut los, mut his) = ([0f32; 16], [0f32; 16]);
         lo.store(&mut los);
@@ -1553,15 +1550,7 @@ impl<V: LaneOps> PacketNearest<V> {
             }
             // The ray's nearest front triangle, and whether it and the ray's best are
             // certainly ordered against every other.
-            let mut rest = front & (front - 1);
-            let mut w = front.trailing_zeros() as usize;
-            while rest != 0 {
-                let c = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                if his[c] < his[w] {
-                    w = c;
-                }
-            }
+            let w = least_of(front, &his);
             let l = lanes[from + g];
             let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
             if his[w] < best_lo {
