@@ -672,6 +672,25 @@ impl Bvh {
         }
     }
 
+    /// [`Bvh::offer_each`] for any sink: the leaf's `len` triangles (from lane `start` of
+    /// `blocks` on, positions from `first` on) taken one at a time.
+    #[inline(always)]
+    fn take_each<V: LaneOps, S: PacketSink<V>>(
+        &self,
+        sink: &mut S,
+        o: [f32; 3],
+        blocks: &[&OriginBlock; 2],
+        start: usize,
+        first: usize,
+        len: usize,
+    ) {
+        for j in 0..len {
+            if !sink.take_decided(&block_lane(blocks, start, j)) {
+                sink.take(&self.precise(first + j, o));
+            }
+        }
+    }
+
     /// The triangle at `position` prepared for `o` with [`OriginTriangle::new`]'s tight
     /// bounds in f64, for the rays the f32 preparation of [`Bvh::prepare_block`] leaves
     /// undecided (rare: out of the way of the kernels).
@@ -1012,19 +1031,12 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for OwnLeaves<'_> {
                     sink.take(t);
                 }
             }
+            // (A leaf prepared as met is the one block it is written in.)
             LeafTriangles::Leaf { block, len } => {
-                for j in 0..len {
-                    if !sink.take_decided(&block.get(j)) {
-                        sink.take(&self.bvh.precise(first + j, self.o));
-                    }
-                }
+                (self.bvh).take_each(sink, self.o, &[block, block], 0, first, len)
             }
             LeafTriangles::Blocks { blocks, start, len } => {
-                for j in 0..len {
-                    if !sink.take_decided(&block_lane(&blocks, start, j)) {
-                        sink.take(&self.bvh.precise(first + j, self.o));
-                    }
-                }
+                (self.bvh).take_each(sink, self.o, &blocks, start, first, len)
             }
         }
     }

@@ -1407,13 +1407,10 @@ impl<V: LaneOps> PacketNearest<V> {
     ) -> bool {
         // The block's 8 triangles in the build's 8 lanes, whatever the packet's width.
         type T<V> = <V as LaneOps>::Eight;
-        let dm = self.dm;
-        let n_ok = (load::<T<V>>(&block.n_max) * T::<V>::splat(dm))
-            .simd_lt(T::<V>::splat(MAX_PRODUCT))
-            .to_bitmask();
-        if tris & !(block.usable & n_ok) != 0 || !dm.is_finite() {
+        if !self.block_usable(block, tris) {
             return false;
         }
+        let dm = self.dm;
         // (No closures: in the AVX2 kernel they stayed calls.)
         let d = [
             T::<V>::splat(self.d[0].lane(l)),
@@ -1427,28 +1424,70 @@ impl<V: LaneOps> PacketNearest<V> {
         if front == 0 {
             return true;
         }
-        // The nearest front triangle, and whether it and the lane's best are certainly
-        // ordered against every other.
         let his = hi.to_array();
-        let w = least_of(front, &his);
+        match self.lane_decision(l, front, lo, &his) {
+            None => false,
+            Some(None) => true,
+            Some(Some(w)) => {
+                let id = match ids {
+                    BlockIds::From(base) => base + w as u32,
+                    BlockIds::Prims => block.prim[w],
+                };
+                self.set_best(l, lo.to_array()[w], his[w], id);
+                true
+            }
+        }
+    }
+
+    /// Whether lanes `tris` of `block` can be tested at all: prepared usable, their
+    /// products within range for these rays, and max|dₖ| finite.
+    #[inline(always)]
+    fn block_usable(&self, block: &OriginBlock, tris: u32) -> bool {
+        type T<V> = <V as LaneOps>::Eight;
+        let n_ok = (load::<T<V>>(&block.n_max) * T::<V>::splat(self.dm))
+            .simd_lt(T::<V>::splat(MAX_PRODUCT))
+            .to_bitmask();
+        tris & !(block.usable & n_ok) == 0 && self.dm.is_finite()
+    }
+
+    /// Ray lane `l`'s decision on a block pass's front triangles `front` (their t intervals'
+    /// low ends `lo` and high ends `his`, by lane): `Some(Some(w))` where the triangle in
+    /// lane w is certainly nearer than the lane's best and than every other, `Some(None)`
+    /// where every one is certainly farther than its best, `None` where the order is not
+    /// certain.
+    #[inline(always)]
+    fn lane_decision<W: LaneOps>(
+        &self,
+        l: usize,
+        front: u32,
+        lo: W,
+        his: &[f32],
+    ) -> Option<Option<usize>> {
+        // (Early returns: written with `bool::then_some`, the bunny's 640×360 frame took 3%
+        // longer, code generation.)
+        let w = least_of(front, his);
         let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
         if his[w] < best_lo {
-            let farther = lo.simd_gt(T::<V>::splat(his[w])).to_bitmask();
+            let farther = lo.simd_gt(W::splat(his[w])).to_bitmask();
             if front & !(1 << w) & !farther != 0 {
-                return false;
+                return None;
             }
-            let lane = V::from_bitmask(1 << l);
-            self.best_lo = with_lane(self.best_lo, lane, lo.to_array()[w]);
-            self.best_hi = with_lane(self.best_hi, lane, his[w]);
-            let id = match ids {
-                BlockIds::From(base) => base + w as u32,
-                BlockIds::Prims => block.prim[w],
-            };
-            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(id));
-            return true;
+            return Some(Some(w));
         }
         // No nearer than the best: every one must be certainly farther.
-        front & !lo.simd_gt(T::<V>::splat(best_hi)).to_bitmask() == 0
+        if front & !lo.simd_gt(W::splat(best_hi)).to_bitmask() != 0 {
+            return None;
+        }
+        Some(None)
+    }
+
+    /// Ray lane `l`'s nearest so far: the interval (lo, hi) of triangle `id`.
+    #[inline(always)]
+    fn set_best(&mut self, l: usize, lo: f32, hi: f32, id: u32) {
+        let lane = V::from_bitmask(1 << l);
+        self.best_lo = with_lane(self.best_lo, lane, lo);
+        self.best_hi = with_lane(self.best_hi, lane, hi);
+        self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(id));
     }
 
     /// Offers a leaf prepared as met (its `len` ≤ 4 triangles in lanes 0–3 of `block`, again
@@ -1467,14 +1506,9 @@ impl<V: LaneOps> PacketNearest<V> {
         base: u32,
         rays: u32,
     ) -> bool {
-        type T<V> = <V as LaneOps>::Eight;
         debug_assert!((1..=4).contains(&len) && (2..=4).contains(&rays.count_ones()));
-        let dm = self.dm;
         let leaf = (1u32 << len) - 1;
-        let n_ok = (load::<T<V>>(&block.n_max) * T::<V>::splat(dm))
-            .simd_lt(T::<V>::splat(MAX_PRODUCT))
-            .to_bitmask();
-        if leaf & !(block.usable & n_ok) != 0 || !dm.is_finite() {
+        if !self.block_usable(block, leaf) {
             return false;
         }
         let mut lanes = [0usize; 4];
@@ -1496,11 +1530,9 @@ impl<V: LaneOps> PacketNearest<V> {
             return false;
         }
         for (&l, take) in lanes.iter().zip(&takes).take(count) {
-            let Some((lo, hi, j)) = *take else { continue };
-            let lane = V::from_bitmask(1 << l);
-            self.best_lo = with_lane(self.best_lo, lane, lo);
-            self.best_hi = with_lane(self.best_hi, lane, hi);
-            self.best_prim = with_lane(self.best_prim, lane, f32::from_bits(base + j as u32));
+            if let Some((lo, hi, j)) = *take {
+                self.set_best(l, lo, hi, base + j as u32);
+            }
         }
         true
     }
@@ -1548,20 +1580,10 @@ impl<V: LaneOps> PacketNearest<V> {
             if front == 0 {
                 continue;
             }
-            // The ray's nearest front triangle, and whether it and the ray's best are
-            // certainly ordered against every other.
-            let w = least_of(front, &his);
-            let l = lanes[from + g];
-            let (best_lo, best_hi) = (self.best_lo.lane(l), self.best_hi.lane(l));
-            if his[w] < best_lo {
-                let farther = lo.simd_gt(V::splat(his[w])).to_bitmask();
-                if front & !(1 << w) & !farther != 0 {
-                    return false;
-                }
-                takes[from + g] = Some((los[w], his[w], w & 3));
-            } else if front & !lo.simd_gt(V::splat(best_hi)).to_bitmask() != 0 {
-                // No nearer than the best: every one must be certainly farther.
-                return false;
+            match self.lane_decision(lanes[from + g], front, lo, &his) {
+                None => return false,
+                Some(None) => {}
+                Some(Some(w)) => takes[from + g] = Some((los[w], his[w], w & 3)),
             }
         }
         true
