@@ -380,11 +380,12 @@ impl Bvh {
         leaves: &mut L,
     ) {
         let stack = &mut WideStack::new();
-        self.walk_packet_on::<_, _, _, false>(slabs, pad, sink, leaves, stack)
+        self.walk_packet_on::<_, _, _, false>(slabs, pad, sink, leaves, stack, !0)
     }
 
-    /// [`Bvh::walk_packet`] where a node only one lane entered has its subtree walked for that
-    /// lane alone (8 boxes per test), on `stack` (its entries are not kept): instances'
+    /// [`Bvh::walk_packet`] for the lanes of `only`, where a node only one lane entered has
+    /// its subtree walked for that lane alone (8 boxes per test; the root too, if `only` has
+    /// one live lane), on `stack` (its entries are not kept): instances'
     /// meshes, where 56% of the node visits at 320×180 are one lane's (the bunny field),
     /// walked many times per packet. On the meshes' own hierarchies the lone walk cost more
     /// than it saved (bunny 1280×720 +2.2%, Igea 640×360 +0.7%; −2.8% on Igea at 320×180).
@@ -396,8 +397,9 @@ impl Bvh {
         sink: &mut S,
         leaves: &mut L,
         stack: &mut WideStack,
+        only: u32,
     ) {
-        self.walk_packet_on::<_, _, _, true>(slabs, pad, sink, leaves, stack)
+        self.walk_packet_on::<_, _, _, true>(slabs, pad, sink, leaves, stack, only)
     }
 
     #[inline(always)]
@@ -408,6 +410,7 @@ impl Bvh {
         sink: &mut S,
         leaves: &mut L,
         stack: &mut WideStack,
+        only: u32,
     ) {
         if self.wide.is_empty() {
             return;
@@ -418,22 +421,22 @@ impl Bvh {
             // a frame's cache, and the rest went untested).
             for first in (0..self.prims.len()).step_by(MAX_LEAF) {
                 let count = MAX_LEAF.min(self.prims.len() - first);
-                leaves.visit(sink, first, count, sink.live());
+                leaves.visit(sink, first, count, sink.live() & only);
             }
             return;
         }
         match (slabs.coherent, pad == 0.0) {
             (Some(near_hi), true) => {
                 let test = wide::IntervalTest::<V, false>::new(slabs, near_hi, 0.0);
-                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack)
+                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack, only)
             }
             (Some(near_hi), false) => {
                 let test = wide::IntervalTest::<V, true>::new(slabs, near_hi, pad);
-                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack)
+                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack, only)
             }
             (None, _) => {
                 let test = wide::LaneTest { rays: slabs, pad };
-                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack)
+                self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack, only)
             }
         }
     }

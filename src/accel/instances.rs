@@ -119,6 +119,8 @@ struct Placed {
     /// W + |b|∞: the instance's largest world coordinate and its translation.
     world_max: f64,
     first_prim: u32,
+    /// The instance's world box (as the top hierarchy has it).
+    world_box: Aabb,
 }
 
 impl Placed {
@@ -270,6 +272,7 @@ impl Instances {
                     object_max: max_abs(lo, hi),
                     world_max: max_abs(wlo, whi) + b,
                     first_prim: inst.first_prim,
+                    world_box: Aabb { lo: wlo, hi: whi },
                 }
             })
             .collect();
@@ -438,6 +441,7 @@ impl Instances {
         let mut leaves = TopLeaves {
             inst: self,
             o,
+            slabs: &slabs,
             d: &d,
             block: OriginBlock::default(),
             stack: WideStack::new(),
@@ -449,6 +453,8 @@ impl Instances {
 /// The top hierarchy's leaves: instances, each walked in its mesh's frame.
 struct TopLeaves<'a, V> {
     inst: &'a Instances,
+    /// The packet in the world, as the top walk tests it.
+    slabs: &'a PacketSlabs<V>,
     o: [f32; 3],
     d: &'a [V; 3],
     /// Where the mesh leaves prepare their triangles.
@@ -459,10 +465,19 @@ struct TopLeaves<'a, V> {
 
 impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
     #[inline(always)]
-    fn visit(&mut self, sink: &mut S, first: usize, count: usize, _: u32) {
+    fn visit(&mut self, sink: &mut S, first: usize, count: usize, lanes: u32) {
         let items = self.inst.top.triangles().1;
         for &k in &items[first..first + count] {
             let placed = &self.inst.placed[k as usize];
+            // A top leaf holds a few instances (3.4 per visit in the bunny field); no lane
+            // enters the box of 64% of those the packets visit.
+            let mut only = lanes & sink.live();
+            if self.slabs.trusted {
+                only = self.slabs.enter(&placed.world_box, sink.limit(), only).0;
+                if only == 0 {
+                    continue;
+                }
+            }
             let mesh = &self.inst.meshes[placed.mesh as usize];
             let mut leaves = MeshLeaves {
                 placed,
@@ -474,9 +489,9 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
                 Some((obj, pad)) => {
                     let d = placed.carry_directions(self.d);
                     let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());
-                    mesh.walk_packet_lone(&inner, pad, sink, &mut leaves, &mut self.stack);
+                    mesh.walk_packet_lone(&inner, pad, sink, &mut leaves, &mut self.stack, only);
                 }
-                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), sink.live()),
+                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), only),
             }
             if sink.live() == 0 {
                 return;
@@ -598,6 +613,10 @@ mod tests {
                 object_max: 1.0,
                 world_max: 1.0,
                 first_prim: 0,
+                world_box: Aabb {
+                    lo: [0.0; 3],
+                    hi: [0.0; 3],
+                },
             };
             let tris: [[[f32; 3]; 3]; 4] = std::array::from_fn(|i| {
                 std::array::from_fn(|j| {

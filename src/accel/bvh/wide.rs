@@ -694,9 +694,9 @@ fn widest<V: LaneOps>(limits: V, live: u32) -> f32 {
 
 impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin: offers `sink` (through `leaves`)
-    /// every leaf some live lane may reach before its limit, as `test` decides, nearer
-    /// children first. (No closures: everything here must inline into the caller's AVX2
-    /// build.)
+    /// every leaf some live lane of `only` may reach before its limit, as `test` decides,
+    /// nearer children first; the other lanes take no part. (No closures: everything here
+    /// must inline into the caller's AVX2 build.)
     #[inline(always)]
     pub(super) fn walk_wide<
         V: LaneOps,
@@ -710,10 +710,14 @@ impl Bvh {
         sink: &mut S,
         leaves: &mut L,
         stack: &mut WideStack,
+        only: u32,
     ) {
-        let mut live = sink.live();
+        let mut live = sink.live() & only;
         if self.wide.is_empty() || live == 0 {
             return;
+        }
+        if LONE && live.is_power_of_two() {
+            return self.walk_lane(test, sink, leaves, (0, live), (stack, 0));
         }
         let mut reach = sink.limit();
         let mut limit = widest(reach, live);
@@ -744,7 +748,7 @@ impl Bvh {
                     let (first, count) = leaf_range(r);
                     leaves.visit(sink, first, count, lanes);
                 }
-                live = sink.live();
+                live = sink.live() & only;
                 reach = sink.limit();
                 limit = widest(reach, live);
             }
@@ -1108,7 +1112,7 @@ mod tests {
         let mut x = 0x9e3779b97f4a7c15u64;
         let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
         let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
-        let mut shadow_decided = 0;
+        let (mut shadow_decided, mut only_decided) = (0, 0);
         for _ in 0..300 {
             let o = [0, 1, 2].map(|_| next() * 16.0 - 3.0);
             let v = vertices[(next() * vertices.len() as f32) as usize % vertices.len()];
@@ -1156,23 +1160,51 @@ mod tests {
                     pad: 0.0,
                 };
                 let stack = &mut WideStack::new();
-                bvh.walk_wide::<_, _, _, _, false>(&lanes, &mut nearest, &mut leaves, stack);
+                bvh.walk_wide::<_, _, _, _, false>(&lanes, &mut nearest, &mut leaves, stack, !0);
                 let by_lane = nearest.finish();
                 // Boxes widened and lone lanes' subtrees walked for that lane alone (as an
                 // instance's mesh is walked): both tests again, and the interval test unpadded.
                 let pad = 1e-3;
                 let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                 let lanes = LaneTest { rays: &rays, pad };
-                bvh.walk_wide::<_, _, _, _, true>(&lanes, &mut nearest, &mut leaves, stack);
+                bvh.walk_wide::<_, _, _, _, true>(&lanes, &mut nearest, &mut leaves, stack, !0);
                 let mut padded = vec![nearest.finish()];
+                // Walks for some lanes only (one, or a few), the others left alone: an
+                // instance's mesh walked by the lanes that enter its world box.
+                let one = 1 << ((next() * 8.0) as u32 % 8);
+                let few = (next() * 256.0) as u32 & 0xff;
+                let mut only = Vec::new();
+                for part in [one, few] {
+                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                    bvh.walk_wide::<_, _, _, _, true>(
+                        &lanes,
+                        &mut nearest,
+                        &mut leaves,
+                        stack,
+                        part,
+                    );
+                    only.push((nearest.finish(), part));
+                }
                 if let Some(near_hi) = rays.coherent {
                     let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                     let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
-                    bvh.walk_wide::<_, _, _, _, true>(&interval, &mut nearest, &mut leaves, stack);
+                    bvh.walk_wide::<_, _, _, _, true>(
+                        &interval,
+                        &mut nearest,
+                        &mut leaves,
+                        stack,
+                        !0,
+                    );
                     padded.push(nearest.finish());
                     let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                     let interval = IntervalTest::<_, false>::new(&rays, near_hi, 0.0);
-                    bvh.walk_wide::<_, _, _, _, true>(&interval, &mut nearest, &mut leaves, stack);
+                    bvh.walk_wide::<_, _, _, _, true>(
+                        &interval,
+                        &mut nearest,
+                        &mut leaves,
+                        stack,
+                        !0,
+                    );
                     padded.push(nearest.finish());
                 }
                 for l in 0..8 {
@@ -1182,11 +1214,17 @@ mod tests {
                     if !undecided(&by_lane) && !undecided(&found) {
                         assert_eq!(found.prim[l], by_lane.prim[l], "lane {l}");
                     }
-                    for h in [&found, &by_lane].into_iter().chain(&padded) {
+                    let walked = (only.iter())
+                        .filter(|(_, part)| part & (1 << l) != 0)
+                        .map(|(h, _)| h);
+                    for h in [&found, &by_lane].into_iter().chain(&padded).chain(walked) {
                         if !undecided(h) && !undecided(&whole) {
                             let prim = prims.get(h.prim[l] as usize).copied();
                             assert_eq!(prim.unwrap_or(u32::MAX), whole.prim[l], "lane {l}");
                         }
+                    }
+                    for (h, part) in &only {
+                        only_decided += usize::from(part & (1 << l) != 0 && !undecided(h));
                     }
                 }
             }
@@ -1197,6 +1235,11 @@ mod tests {
             "{decided} vs {lane_decided}"
         );
         assert!(decided > 300 * 2 * 8 * 3 / 4, "{decided} decided");
+        // One lane in each packet, and about half the lanes in another walk.
+        assert!(
+            only_decided > 300 * 2 * 5 * 3 / 4,
+            "{only_decided} lanes decided walking some lanes only"
+        );
         assert!(
             shadow_decided > 300 * 2 * 8 / 2,
             "{shadow_decided} shadow lanes decided"
