@@ -38,7 +38,7 @@ pub use wide::MAX_ITEMS;
 const SAH_DEPTH: usize = 36;
 
 /// Triangles per leaf at most.
-const MAX_LEAF: usize = 4;
+pub(crate) const MAX_LEAF: usize = 4;
 const BINS: usize = 16;
 /// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
 const PARALLEL_MIN: usize = 4096;
