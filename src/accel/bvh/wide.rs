@@ -776,8 +776,11 @@ impl Bvh {
                     )
                 }
             };
+            // Every cache line the bytes touch: from the line of the first byte (a leaf's
+            // triangles, 36 bytes each, seldom start on a line) to that of the last.
             let mut at = 0;
-            while at < bytes {
+            let end = (p as usize % 64) + bytes;
+            while at < end {
                 // SAFETY: a prefetch only hints the cache; it never reads or faults, whatever
                 // the address (and SSE is part of x86-64).
                 #[allow(unsafe_code)]
