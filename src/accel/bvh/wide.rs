@@ -1092,6 +1092,21 @@ mod tests {
         }
     }
 
+    /// The nearest hits of a walk with lone lanes walked alone (as an instance's mesh is),
+    /// by the lanes of `only`.
+    fn lone_walk<T: ChildTest<f32x8>>(
+        bvh: &Bvh,
+        test: &T,
+        (d, dm): (&[f32x8; 3], f32),
+        leaves: &mut PositionLeaves,
+        stack: &mut WideStack,
+        only: u32,
+    ) -> PacketHits {
+        let mut nearest = PacketNearest::<f32x8>::seeded(d, dm, None);
+        bvh.walk_wide::<_, _, _, _, true>(test, &mut nearest, leaves, stack, only);
+        nearest.finish()
+    }
+
     #[test]
     fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
         // 5000 scattered triangles of mixed sizes; packets from random origins, fanned
@@ -1168,47 +1183,22 @@ mod tests {
                 // Boxes widened and lone lanes' subtrees walked for that lane alone (as an
                 // instance's mesh is walked): both tests again, and the interval test unpadded.
                 let pad = 1e-3;
-                let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                 let lanes = LaneTest { rays: &rays, pad };
-                bvh.walk_wide::<_, _, _, _, true>(&lanes, &mut nearest, &mut leaves, stack, !0);
-                let mut padded = vec![nearest.finish()];
+                let rays_d = (&d, dm);
+                let mut padded = vec![lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, !0)];
                 // Walks for some lanes only (one, or a few), the others left alone: an
                 // instance's mesh walked by the lanes that enter its world box.
                 let one = 1 << ((next() * 8.0) as u32 % 8);
                 let few = (next() * 256.0) as u32 & 0xff;
-                let mut only = Vec::new();
-                for part in [one, few] {
-                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
-                    bvh.walk_wide::<_, _, _, _, true>(
-                        &lanes,
-                        &mut nearest,
-                        &mut leaves,
-                        stack,
-                        part,
-                    );
-                    only.push((nearest.finish(), part));
-                }
+                let only = [one, few].map(|part| {
+                    let hits = lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, part);
+                    (hits, part)
+                });
                 if let Some(near_hi) = rays.coherent {
-                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
                     let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
-                    bvh.walk_wide::<_, _, _, _, true>(
-                        &interval,
-                        &mut nearest,
-                        &mut leaves,
-                        stack,
-                        !0,
-                    );
-                    padded.push(nearest.finish());
-                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                    padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
                     let interval = IntervalTest::<_, false>::new(&rays, near_hi, 0.0);
-                    bvh.walk_wide::<_, _, _, _, true>(
-                        &interval,
-                        &mut nearest,
-                        &mut leaves,
-                        stack,
-                        !0,
-                    );
-                    padded.push(nearest.finish());
+                    padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
                 }
                 for l in 0..8 {
                     let undecided = |h: &PacketHits| h.ambiguous & (1 << l) != 0;
