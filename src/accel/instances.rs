@@ -469,16 +469,17 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
         let items = &self.inst.top.triangles().1[first..first + count];
         // A top leaf holds a few instances (3.4 per visit in the bunny field); no lane enters
         // the box of 64% of those the packets visit. The others go nearest box first (a
-        // lane's hit there can rule out the boxes behind it).
-        let mut nearest = [(0.0, 0); MAX_LEAF];
+        // lane's hit there can rule out the boxes behind it), each with the lanes that
+        // enter it: found here for the first, tested again for the rest against the limits
+        // the walks before them left.
+        let mut nearest = [(0.0, 0, 0); MAX_LEAF];
         let mut n = 0;
         for &k in items {
-            let mut t = 0.0;
+            let (mut t, mut m) = (0.0, lanes & sink.live());
             if self.slabs.trusted {
                 let placed = &self.inst.placed[k as usize];
-                let (m, t0) =
-                    self.slabs
-                        .enter(&placed.world_box, sink.limit(), lanes & sink.live());
+                let t0;
+                (m, t0) = self.slabs.enter(&placed.world_box, sink.limit(), m);
                 if m == 0 {
                     continue;
                 }
@@ -491,14 +492,17 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
                 nearest[at] = nearest[at - 1];
                 at -= 1;
             }
-            nearest[at] = (t, k);
+            nearest[at] = (t, k, m);
             n += 1;
         }
-        for &(_, k) in &nearest[..n] {
+        for (i, &(_, k, entered)) in nearest[..n].iter().enumerate() {
             let placed = &self.inst.placed[k as usize];
-            let mut only = lanes & sink.live();
-            if self.slabs.trusted {
-                only = self.slabs.enter(&placed.world_box, sink.limit(), only).0;
+            let mut only = entered;
+            if i > 0 {
+                only &= sink.live();
+                if self.slabs.trusted {
+                    only = self.slabs.enter(&placed.world_box, sink.limit(), only).0;
+                }
                 if only == 0 {
                     continue;
                 }
