@@ -168,13 +168,15 @@ unsafe impl Send for EmbreeScene<'_> {}
 unsafe impl Sync for EmbreeScene<'_> {}
 
 impl Embree {
-    /// Loads `libembree3.so.3` and makes a device with `threads` build threads; `Err` says why
-    /// not (most often: not installed).
-    pub fn load(threads: usize) -> Result<Self, String> {
+    /// Loads `libembree3.so.3` and makes a device with `threads` build threads, its kernels
+    /// limited to instruction set `isa` if given (Embree's `isa=` setting: `"avx2"` for what
+    /// a CPU without AVX-512 runs); `Err` says why not (most often: not installed).
+    pub fn load(threads: usize, isa: Option<&str>) -> Result<Self, String> {
         // SAFETY: loading a system library runs its initialisers; Embree's are benign.
         let lib = unsafe { Library::new("libembree3.so.3") }
             .map_err(|e| format!("{e} (Debian: apt-get install libembree3-3)"))?;
-        let config = CString::new(format!("threads={threads}")).expect("no NUL");
+        let isa = isa.map_or(String::new(), |isa| format!(",isa={isa}"));
+        let config = CString::new(format!("threads={threads}{isa}")).expect("no NUL");
         // SAFETY: the signature is rtcNewDevice's.
         let device = unsafe {
             let new_device: Symbol<NewDevice> =

@@ -9,7 +9,10 @@
 //! - Embree 3 is loaded at run time (Debian: `apt-get install libembree3-3`); without it its
 //!   rows are left out and the report says why. It builds at HIGH quality, with as many build
 //!   threads as the largest thread count; rows: `rtcIntersect1` per ray, `rtcIntersect8` on
-//!   4×2 pixel blocks and `rtcIntersect16` on 4×4 blocks, with a coherent context.
+//!   4×2 pixel blocks and `rtcIntersect16` on 4×4 blocks, with a coherent context. On an
+//!   AVX-512 CPU a second device, its kernels limited to AVX2 (Embree's `isa=avx2`), times the
+//!   same three beside raylab's AVX2 build: the summary's "both at AVX2" columns are what a
+//!   CPU without AVX-512 runs, both engines at that level.
 //! - tinybvh (the `tinybvh-rs` crate, its C++ built with `-march=native`): its 8-wide
 //!   `BVH8_CPU` layout needs the Rust side built with AVX2 as well, so run with
 //!   `RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=target/native` for that row; a
@@ -91,6 +94,8 @@ enum Role {
     Reference,
     /// One of Embree's modes.
     Embree,
+    /// One of Embree's modes, its kernels limited to AVX2 (on an AVX-512 CPU).
+    EmbreeAvx2,
     /// Another peer answering per ray (its answers are checked).
     Peer,
     /// The lecture's loop on every Nth ray (no answers kept).
@@ -100,7 +105,10 @@ enum Role {
 impl Role {
     /// Whether the method fills the primitive buffer (its accuracy is checked).
     fn answers_per_ray(self) -> bool {
-        matches!(self, Role::Reference | Role::Embree | Role::Peer)
+        matches!(
+            self,
+            Role::Reference | Role::Embree | Role::EmbreeAvx2 | Role::Peer
+        )
     }
 }
 
@@ -388,6 +396,8 @@ struct Versus {
     /// The same frame with the kernels limited to AVX2 (on an AVX-512 CPU).
     raylab_avx2: Option<Duration>,
     embree_best: Duration,
+    /// The fastest of Embree's modes with its kernels limited to AVX2 (on an AVX-512 CPU).
+    embree_avx2_best: Option<Duration>,
 }
 
 /// A mesh's builds, best of the rounds (raylab's and Embree's alternating), and raylab's
@@ -434,11 +444,26 @@ fn main() -> anyhow::Result<()> {
             "baseline x86-64 (raylab dispatches AVX2 or AVX-512 at run time)"
         }
     );
-    let embree = Embree::load(max_threads);
+    let embree = Embree::load(max_threads, None);
     match &embree {
-        Ok(_) => println!("Embree 3: loaded (HIGH build quality, {max_threads} build threads)"),
+        Ok(_) => println!("Embree 3: loaded (HIGH build quality, {max_threads} build threads; its kernels the best the CPU has)"),
         Err(e) => println!("Embree 3: not timed: {e}"),
     }
+    // On an AVX-512 CPU, Embree again with its kernels limited to AVX2 (its `isa=avx2`), beside
+    // raylab's AVX2 build: what a CPU without AVX-512 runs, both engines at that level.
+    let embree_avx2 = match (&embree, simd::detected() == SimdLevel::Avx512) {
+        (Ok(_), true) => match Embree::load(max_threads, Some("avx2")) {
+            Ok(e) => {
+                println!("Embree 3, second device: kernels limited to AVX2 (isa=avx2)");
+                Some(e)
+            }
+            Err(e) => {
+                println!("Embree 3 at AVX2: not timed: {e}");
+                None
+            }
+        },
+        _ => None,
+    };
     println!(
         "{} rounds, interleaved, order alternating; best round reported",
         args.rounds
@@ -449,13 +474,14 @@ fn main() -> anyhow::Result<()> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut found = Found::default();
     for bench in &benches {
-        run_bench(bench, &sizes, &args, embree.as_ref().ok(), &mut found)?;
+        let embrees = [embree.as_ref().ok(), embree_avx2.as_ref()];
+        run_bench(bench, &sizes, &args, embrees, &mut found)?;
     }
     let versus = &found.versus;
     if !versus.is_empty() {
         println!();
-        println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | with AVX2 kernels | target |");
-        println!("|---|---|---|---|---|---|---|---|");
+        println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | both at AVX2: raylab ms | Embree ms | raylab / Embree speed | target |");
+        println!("|---|---|---|---|---|---|---|---|---|---|");
         for v in versus {
             let target = match v.scene.as_str() {
                 "cornell" => "≥ 2.5",
@@ -464,17 +490,23 @@ fn main() -> anyhow::Result<()> {
                 "igea_1m" => "≥ 1.2",
                 _ => "",
             };
-            let avx2 = v.raylab_avx2.map_or("–".into(), |t| {
-                format!("{:.2}", v.embree_best.as_secs_f64() / t.as_secs_f64())
-            });
+            let ms = |t: Option<Duration>| {
+                t.map_or("–".into(), |t| format!("{:.2}", t.as_secs_f64() * 1e3))
+            };
+            let avx2 = match (v.raylab_avx2, v.embree_avx2_best) {
+                (Some(r), Some(e)) => format!("{:.2}", e.as_secs_f64() / r.as_secs_f64()),
+                _ => "–".into(),
+            };
             println!(
-                "| {} | {} | {} | {:.2} | {:.2} | {:.2} | {avx2} | {target} |",
+                "| {} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {avx2} | {target} |",
                 v.scene,
                 v.size,
                 v.threads,
                 v.raylab.as_secs_f64() * 1e3,
                 v.embree_best.as_secs_f64() * 1e3,
-                v.embree_best.as_secs_f64() / v.raylab.as_secs_f64()
+                v.embree_best.as_secs_f64() / v.raylab.as_secs_f64(),
+                ms(v.raylab_avx2),
+                ms(v.embree_avx2_best),
             );
         }
     }
@@ -526,7 +558,7 @@ fn run_bench(
     bench: &Bench,
     sizes: &[(u32, u32)],
     args: &Args,
-    embree: Option<&Embree>,
+    [embree, embree_avx2]: [Option<&Embree>; 2],
     found: &mut Found,
 ) -> anyhow::Result<()> {
     let tris = &bench.triangles;
@@ -537,6 +569,11 @@ fn run_bench(
             let (s, t) = timed(|| e.scene(tris));
             Some((s.map_err(|e| anyhow!(e))?, t))
         }
+        _ => None,
+    };
+    // (Its build is not timed: the build table compares Embree's best.)
+    let embree_avx2_scene = match (embree_avx2, peers) {
+        (Some(e), true) => Some(e.scene(tris).map_err(|e| anyhow!(e))?),
         _ => None,
     };
     // The builds again, interleaved, on as many threads as the largest count (each builder's
@@ -675,25 +712,40 @@ fn run_bench(
                 }),
             });
         }
-        if let Some((scene, build)) = &embree_scene {
+        let embree_scenes = [
+            (
+                embree_scene.as_ref().map(|(s, b)| (s, Some(*b))),
+                Role::Embree,
+                "",
+            ),
+            (
+                embree_avx2_scene.as_ref().map(|s| (s, None)),
+                Role::EmbreeAvx2,
+                ", kernels limited to AVX2",
+            ),
+        ];
+        for (scene, role, isa) in embree_scenes {
+            let Some((scene, build)) = scene else {
+                continue;
+            };
             methods.push(Timed {
-                name: "Embree rtcIntersect1 (f32)".into(),
-                role: Role::Embree,
-                build: Some(*build),
+                name: format!("Embree rtcIntersect1 (f32){isa}"),
+                role,
+                build,
                 frame: Box::new(|prims| per_ray(&rays, prims, |r| scene.closest1(r.o, r.d))),
             });
             methods.push(Timed {
-                name: "Embree rtcIntersect8, 4×2 blocks (f32)".into(),
-                role: Role::Embree,
-                build: Some(*build),
+                name: format!("Embree rtcIntersect8, 4×2 blocks (f32){isa}"),
+                role,
+                build,
                 frame: Box::new(|prims| {
                     embree_packets::<8>(&rays, (w, h), (4, 2), prims, |p, v| scene.closest8(p, v))
                 }),
             });
             methods.push(Timed {
-                name: "Embree rtcIntersect16, 4×4 blocks (f32)".into(),
-                role: Role::Embree,
-                build: Some(*build),
+                name: format!("Embree rtcIntersect16, 4×4 blocks (f32){isa}"),
+                role,
+                build,
                 frame: Box::new(|prims| {
                     embree_packets::<16>(&rays, (w, h), (4, 4), prims, |p, v| scene.closest16(p, v))
                 }),
@@ -803,12 +855,13 @@ fn run_bench(
                     accuracy[i]
                 );
             }
-            let embree_best = methods
-                .iter()
-                .zip(&best)
-                .filter(|(m, _)| m.role == Role::Embree)
-                .map(|(_, t)| *t)
-                .min();
+            let fastest = |role: Role| {
+                (methods.iter().zip(&best))
+                    .filter(|(m, _)| m.role == role)
+                    .map(|(_, t)| *t)
+                    .min()
+            };
+            let embree_best = fastest(Role::Embree);
             for (m, t) in methods.iter().zip(&best) {
                 let Role::Render(step) = m.role else {
                     continue;
@@ -825,6 +878,7 @@ fn run_bench(
                     raylab: best[0],
                     raylab_avx2: avx2_row.then_some(best[1]),
                     embree_best,
+                    embree_avx2_best: fastest(Role::EmbreeAvx2),
                 });
             }
         }
