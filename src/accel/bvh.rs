@@ -1,5 +1,6 @@
 //! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins along the widest
-//! axis of the items' box centres, leaves of at most 4 triangles; subtrees of at least
+//! axis of the items' box centres, leaves of at most 4 triangles, 8 in a mesh of 2¹⁹ or
+//! more ([`leaf_max`]); subtrees of at least
 //! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
 //! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
 //! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as
@@ -37,8 +38,33 @@ pub use wide::MAX_ITEMS;
 /// Levels of binned-SAH splits at most; deeper, sets are split by count (see `split`).
 const SAH_DEPTH: usize = 36;
 
-/// Triangles per leaf at most.
-pub(crate) const MAX_LEAF: usize = 4;
+/// Items per leaf at most (a hierarchy's own limit is [`leaf_max`]'s).
+pub(crate) const MAX_LEAF: usize = 8;
+/// Items per leaf at most in a hierarchy over fewer than [`DENSE_MESH`] triangles, and over
+/// boxes.
+const SMALL_LEAF: usize = 4;
+/// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles.
+const DENSE_MESH: usize = 1 << 19;
+
+/// Items per leaf at most in a hierarchy over `n` triangles. A mesh that dense has
+/// triangles of a pixel or less on a screen the app shows, so a leaf is mostly reached by
+/// one ray of a packet, and its 8 triangles cost that ray one 8-lane pass as 4 did, with
+/// fewer leaves and nodes to visit. Where several rays reach a leaf (the bunny, the bunny
+/// field), each of its triangles is a pass more, and 4 stay faster.
+fn leaf_max(n: usize) -> usize {
+    match n >= DENSE_MESH {
+        true => MAX_LEAF,
+        false => SMALL_LEAF,
+    }
+}
+
+/// How a binary tree is built: subtrees of at least `parallel_min` items build their halves
+/// on two threads; sets of at most `leaf_max` items are leaves.
+#[derive(Clone, Copy)]
+struct Plan {
+    parallel_min: usize,
+    leaf_max: usize,
+}
 const BINS: usize = 16;
 /// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
 const PARALLEL_MIN: usize = 4096;
@@ -101,7 +127,7 @@ struct Node {
     /// Leaf: index of its first triangle; interior: the offset from this node to its second
     /// child (the first follows it).
     offset: u32,
-    /// Leaf: triangle count (1 to [`MAX_LEAF`]); interior: 0.
+    /// Leaf: triangle count (1 to the build's `leaf_max`); interior: 0.
     count: u16,
     /// Levels below (a leaf 0): what a walk through the subtree may push.
     height: u16,
@@ -183,14 +209,15 @@ fn boxes_tame(wide: &[wide::WideNode]) -> bool {
 }
 
 /// The binary tree over `refs` (depth first), and the items in its leaves' order.
-fn binary_over(mut refs: Vec<Ref>, parallel_min: usize) -> (Vec<Node>, Vec<u32>) {
+fn binary_over(mut refs: Vec<Ref>, plan: Plan) -> (Vec<Node>, Vec<u32>) {
     let bounds = Bounds::of_par(&refs);
-    let nodes = build_node(&mut refs, &bounds, 0, parallel_min, 0);
+    let nodes = build_node(&mut refs, &bounds, 0, plan, 0);
     (nodes, refs.par_iter().map(Ref::index).collect())
 }
 
-/// The binary tree over triangles, and their indices in its leaves' order.
-fn binary(tris: &[IndexedTriangle]) -> (Vec<Node>, Vec<u32>) {
+/// The binary tree over triangles with leaves of at most `leaf_max`, and their indices in
+/// its leaves' order.
+fn binary(tris: &[IndexedTriangle], leaf_max: usize) -> (Vec<Node>, Vec<u32>) {
     let refs: Vec<Ref> = tris
         .par_iter()
         .enumerate()
@@ -200,7 +227,11 @@ fn binary(tris: &[IndexedTriangle]) -> (Vec<Node>, Vec<u32>) {
             Ref::new(&b, i as u32)
         })
         .collect();
-    binary_over(refs, parallel_min(tris.len()))
+    let plan = Plan {
+        parallel_min: parallel_min(tris.len()),
+        leaf_max,
+    };
+    binary_over(refs, plan)
 }
 
 /// An item during the build: its box, in 4 lanes so that binning takes a few 4-lane
@@ -242,11 +273,17 @@ impl Bvh {
     /// Builds over triangles with their primitive indices (at most
     /// [`MAX_ITEMS`]; the loaders keep within it).
     pub fn build(tris: &[IndexedTriangle]) -> Self {
+        Self::build_with_leaves(tris, leaf_max(tris.len()))
+    }
+
+    /// [`Bvh::build`] with leaves of at most `leaf_max` (≤ [`MAX_LEAF`]) triangles.
+    fn build_with_leaves(tris: &[IndexedTriangle], leaf_max: usize) -> Self {
         if tris.is_empty() {
             return Self::default();
         }
         assert!(tris.len() <= wide::MAX_ITEMS, "{} triangles", tris.len());
-        let (nodes, order) = binary(tris);
+        assert!((1..=MAX_LEAF).contains(&leaf_max));
+        let (nodes, order) = binary(tris, leaf_max);
         Self::over_binary(
             &nodes,
             order.par_iter().map(|&i| tris[i as usize].0).collect(),
@@ -353,7 +390,11 @@ impl Bvh {
         let refs: Vec<Ref> = (boxes.iter().enumerate())
             .map(|(i, &(lo, hi))| Ref::new(&Aabb { lo, hi }, i as u32))
             .collect();
-        let (nodes, order) = binary_over(refs, PARALLEL_MIN);
+        let plan = Plan {
+            parallel_min: PARALLEL_MIN,
+            leaf_max: SMALL_LEAF,
+        };
+        let (nodes, order) = binary_over(refs, plan);
         Self::over_binary(&nodes, Vec::new(), order)
     }
 
@@ -704,7 +745,7 @@ impl Bvh {
     }
 
     /// The leaf `first..end`'s triangles prepared for `o`: from `prepared`, or prepared into
-    /// `scratch` (a leaf holds at most [`MAX_LEAF`] = 4).
+    /// `scratch` (a leaf holds at most [`MAX_LEAF`] = 8: a block).
     #[inline(always)]
     fn leaf_triangles<'q, V: Lanes>(
         &self,
@@ -720,7 +761,11 @@ impl Bvh {
             Prepared::All(list) => LeafTriangles::Listed(&list.tris[first..end]),
             Prepared::AsMet => {
                 let block = scratch.get_or_insert_with(OriginBlock::default);
-                self.prepare_leaf::<V>(first, end, o, block);
+                if len <= 4 {
+                    self.prepare_leaf::<V>(first, end, o, block);
+                } else {
+                    self.prepare_block::<V>(first, end, o, block);
+                }
                 LeafTriangles::Leaf { block, len }
             }
             Prepared::Once(cache) => {
@@ -960,7 +1005,8 @@ pub(crate) trait Leaves<V, S> {
 }
 
 /// A leaf's triangles prepared for a walk's origin: a run of a full list, a leaf prepared as
-/// met (lanes 0 to `len` − 1 of `block`, again from lane 4 on: [`Bvh::prepare_leaf`]), or
+/// met (lanes 0 to `len` − 1 of `block`; a leaf of at most 4 again from lane 4 on:
+/// [`Bvh::prepare_leaf`]), or
 /// `len` lanes of one block or two from lane `start` on (a leaf across two of a cache's
 /// blocks).
 #[derive(Clone, Copy)]
@@ -1093,7 +1139,9 @@ impl<V: LaneOps> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
                     // A few lanes: the leaf to them alone, 4 triangles by 2 or 4 rays a pass.
                     // (Two passes of 16 lanes for 5 to 8 lanes were slower than offers one by
                     // one: bunny 640×360, 1 thread, 2.21 against 2.17 ms.)
-                    2..=4 => nearest.offer_leaf_to_lanes(block, len, first as u32, lanes),
+                    2..=4 if len <= 4 => {
+                        nearest.offer_leaf_to_lanes(block, len, first as u32, lanes)
+                    }
                     _ => false,
                 };
                 if !decided {
@@ -1331,11 +1379,16 @@ impl Bounds {
 }
 
 /// Where `order` (partitioned by the call) divides into two children, with their bounds, or
-/// `None` for a leaf: exactly the sets of at most [`MAX_LEAF`] items, which the wide nodes
+/// `None` for a leaf: exactly the sets of at most `leaf_max` items, which the wide nodes
 /// hold as one leaf whatever the binary tree below (splitting them was a third of the build).
-fn split(order: &mut [Ref], bounds: &Bounds, depth: usize) -> Option<(usize, [Bounds; 2])> {
+fn split(
+    order: &mut [Ref],
+    bounds: &Bounds,
+    depth: usize,
+    leaf_max: usize,
+) -> Option<(usize, [Bounds; 2])> {
     let n = order.len();
-    if n <= MAX_LEAF {
+    if n <= leaf_max {
         return None;
     }
     let cb = bounds.centres.aabb();
@@ -1344,7 +1397,7 @@ fn split(order: &mut [Ref], bounds: &Bounds, depth: usize) -> Option<(usize, [Bo
         .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
         .unwrap_or(0);
     // Past `SAH_DEPTH` levels, split by count: the tree stays within the traversals'
-    // stacks whatever the geometry (at most 2²⁹ items: 29 more levels).
+    // stacks whatever the geometry (at most 2²⁸ items: 28 more levels).
     if depth < SAH_DEPTH {
         if let Some(s) = sah_split(order, &cb, &bounds.boxes, widest) {
             return Some(s);
@@ -1481,22 +1534,23 @@ fn build_node(
     order: &mut [Ref],
     bounds: &Bounds,
     start: usize,
-    parallel_min: usize,
+    plan: Plan,
     depth: usize,
 ) -> Vec<Node> {
-    if order.len() < parallel_min {
+    if order.len() < plan.parallel_min {
         // At most 2n - 1 nodes (every leaf holds an item); reserving is not touching.
         let mut nodes = Vec::with_capacity(2 * order.len());
-        build_into(order, bounds, start, &mut nodes, depth);
+        build_into(order, bounds, start, &mut nodes, (depth, plan.leaf_max));
         return nodes;
     }
-    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth) else {
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, plan.leaf_max)
+    else {
         return vec![leaf(bounds, start, order.len())];
     };
     let (left, right) = order.split_at_mut(mid);
     let (l, r) = rayon::join(
-        || build_node(left, &left_bounds, start, parallel_min, depth + 1),
-        || build_node(right, &right_bounds, start + mid, parallel_min, depth + 1),
+        || build_node(left, &left_bounds, start, plan, depth + 1),
+        || build_node(right, &right_bounds, start + mid, plan, depth + 1),
     );
     let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
     let height = 1 + l[0].height.max(r[0].height);
@@ -1512,18 +1566,19 @@ fn build_into(
     bounds: &Bounds,
     start: usize,
     nodes: &mut Vec<Node>,
-    depth: usize,
+    (depth, leaf_max): (usize, usize),
 ) -> u16 {
-    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth) else {
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, leaf_max) else {
         nodes.push(leaf(bounds, start, order.len()));
         return 0;
     };
     let at = nodes.len();
     nodes.push(interior(bounds, 0, 0));
     let (left, right) = order.split_at_mut(mid);
-    let left_height = build_into(left, &left_bounds, start, nodes, depth + 1);
+    let below = (depth + 1, leaf_max);
+    let left_height = build_into(left, &left_bounds, start, nodes, below);
     nodes[at].offset = (nodes.len() - at) as u32;
-    let right_height = build_into(right, &right_bounds, start + mid, nodes, depth + 1);
+    let right_height = build_into(right, &right_bounds, start + mid, nodes, below);
     nodes[at].height = 1 + left_height.max(right_height);
     nodes[at].height
 }
@@ -1611,7 +1666,7 @@ mod tests {
                 ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
             })
             .collect();
-        let (nodes, _) = binary(&row);
+        let (nodes, _) = binary(&row, SMALL_LEAF);
         assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
         let bvh = Bvh::build(&row);
         let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
@@ -1633,7 +1688,7 @@ mod tests {
             .collect();
         let bvh = Bvh::build(&tiny);
         assert!(!bvh.boxes_tame());
-        let (nodes, _) = binary(&tiny);
+        let (nodes, _) = binary(&tiny, SMALL_LEAF);
         assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
     }
 
@@ -1644,35 +1699,38 @@ mod tests {
         // beforehand, once per frame in a cache, or as met: each lane's nearest is the whole
         // list's.
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
-        let bvh = Bvh::build(&tris);
-        let o = [1e-20, 5.0, -4.0];
-        let (vertices, prims) = bvh.triangles();
-        let list = OriginTriangles::from_parts(vertices, prims, o);
-        let pool = super::super::prepared::CachePool::default();
-        let cache = pool.take(bvh.len(), o);
-        // Lane l towards triangle 97·l's centroid.
-        let d: [f32x8; 3] = [0, 1, 2].map(|k| {
-            f32x8::from(std::array::from_fn(|l| {
-                let v = &tris[97 * l].0;
-                (v[0][k] + v[1][k] + v[2][k]) / 3.0 - o[k]
-            }))
-        });
-        let dm = crate::accel::packet::max_component(&d);
-        let whole = crate::accel::packet::closest(&list.tris, &d, dm);
-        assert!(whole.prim.iter().filter(|&&p| p != u32::MAX).count() >= 6);
-        let slabs = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
-        assert!(!slabs.trusted);
-        for prepared in [
-            Prepared::All(&list),
-            Prepared::Once(&cache),
-            Prepared::AsMet,
-        ] {
-            let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
-            bvh.packet_into(&mut nearest, o, prepared, &d);
-            let found = nearest.finish();
-            for l in 0..8 {
-                if (found.ambiguous | whole.ambiguous) & (1 << l) == 0 {
-                    assert_eq!(found.prim[l], whole.prim[l], "lane {l}");
+        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
+        for leaf_max in [4, MAX_LEAF] {
+            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+            let o = [1e-20, 5.0, -4.0];
+            let (vertices, prims) = bvh.triangles();
+            let list = OriginTriangles::from_parts(vertices, prims, o);
+            let pool = super::super::prepared::CachePool::default();
+            let cache = pool.take(bvh.len(), o);
+            // Lane l towards triangle 97·l's centroid.
+            let d: [f32x8; 3] = [0, 1, 2].map(|k| {
+                f32x8::from(std::array::from_fn(|l| {
+                    let v = &tris[97 * l].0;
+                    (v[0][k] + v[1][k] + v[2][k]) / 3.0 - o[k]
+                }))
+            });
+            let dm = crate::accel::packet::max_component(&d);
+            let whole = crate::accel::packet::closest(&list.tris, &d, dm);
+            assert!(whole.prim.iter().filter(|&&p| p != u32::MAX).count() >= 6);
+            let slabs = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
+            assert!(!slabs.trusted);
+            for prepared in [
+                Prepared::All(&list),
+                Prepared::Once(&cache),
+                Prepared::AsMet,
+            ] {
+                let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                bvh.packet_into(&mut nearest, o, prepared, &d);
+                let found = nearest.finish();
+                for l in 0..8 {
+                    if (found.ambiguous | whole.ambiguous) & (1 << l) == 0 {
+                        assert_eq!(found.prim[l], whole.prim[l], "lane {l}");
+                    }
                 }
             }
         }
@@ -1687,51 +1745,54 @@ mod tests {
         // is lane l's own arithmetic), and so are a leaf's prepared as met. The cache is then
         // kept and taken again for another origin: no triangle of the first frame is served.
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.1);
-        let bvh = Bvh::build(&tris);
-        let leaves: Vec<(usize, usize)> = (bvh.wide.iter().flat_map(|n| n.leaves()))
-            .map(|(first, count)| (first, first + count))
-            .collect();
-        assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), 1003);
-        assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));
-        let bits = |t: &OriginTriangle| format!("{t:?}");
-        let pool = super::super::prepared::CachePool::default();
-        for origin in [[5.1, 4.2, 15.0], [-3.0, 5.5, 4.75]] {
-            let cache = pool.take(bvh.len(), origin);
-            let want: Vec<OriginTriangle> = (0..bvh.len())
-                .map(|i| {
-                    let mut block = OriginBlock::default();
-                    bvh.prepare_block::<f32x8>(i, i + 1, origin, &mut block);
-                    block.get(0)
-                })
+        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
+        for leaf_max in [4, MAX_LEAF] {
+            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+            let leaves: Vec<(usize, usize)> = (bvh.wide.iter().flat_map(|n| n.leaves()))
+                .map(|(first, count)| (first, first + count))
                 .collect();
-            let check = |order: usize| {
-                for k in 0..3 * leaves.len() {
-                    let (first, end) = leaves[(k * order) % leaves.len()];
-                    let mut scratch = None;
-                    let prepared = Prepared::Once(&cache);
-                    let tris =
-                        bvh.leaf_triangles::<f32x8>(prepared, first, end, origin, &mut scratch);
-                    assert_eq!(tris.len(), end - first);
-                    let mut scratch = None;
-                    let met = bvh.leaf_triangles::<f32x8>(
-                        Prepared::AsMet,
-                        first,
-                        end,
-                        origin,
-                        &mut scratch,
-                    );
-                    assert_eq!(met.len(), end - first);
-                    for i in 0..tris.len() {
-                        let want = bits(&want[first + i]);
-                        assert_eq!(bits(&tris.get(i)), want, "leaf at {first}");
-                        assert_eq!(bits(&met.get(i)), want, "leaf at {first}, as met");
-                        assert_eq!(tris.get(i).prim, bvh.prims[first + i]);
+            assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), 1003);
+            assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));
+            let bits = |t: &OriginTriangle| format!("{t:?}");
+            let pool = super::super::prepared::CachePool::default();
+            for origin in [[5.1, 4.2, 15.0], [-3.0, 5.5, 4.75]] {
+                let cache = pool.take(bvh.len(), origin);
+                let want: Vec<OriginTriangle> = (0..bvh.len())
+                    .map(|i| {
+                        let mut block = OriginBlock::default();
+                        bvh.prepare_block::<f32x8>(i, i + 1, origin, &mut block);
+                        block.get(0)
+                    })
+                    .collect();
+                let check = |order: usize| {
+                    for k in 0..3 * leaves.len() {
+                        let (first, end) = leaves[(k * order) % leaves.len()];
+                        let mut scratch = None;
+                        let prepared = Prepared::Once(&cache);
+                        let tris =
+                            bvh.leaf_triangles::<f32x8>(prepared, first, end, origin, &mut scratch);
+                        assert_eq!(tris.len(), end - first);
+                        let mut scratch = None;
+                        let met = bvh.leaf_triangles::<f32x8>(
+                            Prepared::AsMet,
+                            first,
+                            end,
+                            origin,
+                            &mut scratch,
+                        );
+                        assert_eq!(met.len(), end - first);
+                        for i in 0..tris.len() {
+                            let want = bits(&want[first + i]);
+                            assert_eq!(bits(&tris.get(i)), want, "leaf at {first}");
+                            assert_eq!(bits(&met.get(i)), want, "leaf at {first}, as met");
+                            assert_eq!(tris.get(i).prim, bvh.prims[first + i]);
+                        }
                     }
-                }
-            };
-            // (Strides: primes above the leaf count, so each visits every leaf.)
-            rayon::join(|| check(1009), || check(1013));
-            pool.give(cache);
+                };
+                // (Strides: primes above the leaf count, so each visits every leaf.)
+                rayon::join(|| check(1009), || check(1013));
+                pool.give(cache);
+            }
         }
     }
 
@@ -1759,51 +1820,54 @@ mod tests {
             bvh.closest_packet_in(o, prepared, d, dm, prim)
         }
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
-        let bvh = Bvh::build(&tris);
-        let (vertices, prims) = bvh.triangles();
-        let pool = super::super::prepared::CachePool::default();
-        for o in [[5.1, 4.2, -15.0], [1e-20, 5.0, -4.0]] {
-            let list = OriginTriangles::from_parts(vertices, prims, o);
-            // Lane l towards triangle 61·l's centroid, odd lanes near its first vertex.
-            let d: [[f32; 16]; 3] = [0, 1, 2].map(|k| {
-                std::array::from_fn(|l| {
-                    let v = &tris[61 * l].0;
-                    let aim = match l % 2 {
-                        0 => (v[0][k] + v[1][k] + v[2][k]) / 3.0,
-                        _ => 0.9 * v[0][k] + 0.05 * (v[1][k] + v[2][k]),
-                    };
-                    aim - o[k]
-                })
-            });
-            let cache = pool.take(bvh.len(), o);
-            for prepared in [
-                Prepared::All(&list),
-                Prepared::Once(&cache),
-                Prepared::AsMet,
-            ] {
-                let mut found = [0u32; 16];
-                // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
-                #[allow(unsafe_code)]
-                let ambiguous = unsafe { walk16(&bvh, o, prepared, &d, &mut found) };
-                let mut decided = 0;
-                for half in 0..2 {
-                    let d8: [f32x8; 3] =
-                        each3(|k| f32x8::from(std::array::from_fn(|l| d[k][8 * half + l])));
-                    let dm = crate::accel::packet::max_component(&d8);
-                    let whole = crate::accel::packet::closest(&list.tris, &d8, dm);
-                    for l in 0..8 {
-                        let lane = 8 * half + l;
-                        if (ambiguous >> lane | whole.ambiguous >> l) & 1 == 0 {
-                            let got = prims.get(found[lane] as usize).copied();
-                            let want = (whole.prim[l] != u32::MAX).then_some(whole.prim[l]);
-                            assert_eq!(got, want, "origin {o:?}, lane {lane}");
-                            decided += 1;
+        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
+        for leaf_max in [4, MAX_LEAF] {
+            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+            let (vertices, prims) = bvh.triangles();
+            let pool = super::super::prepared::CachePool::default();
+            for o in [[5.1, 4.2, -15.0], [1e-20, 5.0, -4.0]] {
+                let list = OriginTriangles::from_parts(vertices, prims, o);
+                // Lane l towards triangle 61·l's centroid, odd lanes near its first vertex.
+                let d: [[f32; 16]; 3] = [0, 1, 2].map(|k| {
+                    std::array::from_fn(|l| {
+                        let v = &tris[61 * l].0;
+                        let aim = match l % 2 {
+                            0 => (v[0][k] + v[1][k] + v[2][k]) / 3.0,
+                            _ => 0.9 * v[0][k] + 0.05 * (v[1][k] + v[2][k]),
+                        };
+                        aim - o[k]
+                    })
+                });
+                let cache = pool.take(bvh.len(), o);
+                for prepared in [
+                    Prepared::All(&list),
+                    Prepared::Once(&cache),
+                    Prepared::AsMet,
+                ] {
+                    let mut found = [0u32; 16];
+                    // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
+                    #[allow(unsafe_code)]
+                    let ambiguous = unsafe { walk16(&bvh, o, prepared, &d, &mut found) };
+                    let mut decided = 0;
+                    for half in 0..2 {
+                        let d8: [f32x8; 3] =
+                            each3(|k| f32x8::from(std::array::from_fn(|l| d[k][8 * half + l])));
+                        let dm = crate::accel::packet::max_component(&d8);
+                        let whole = crate::accel::packet::closest(&list.tris, &d8, dm);
+                        for l in 0..8 {
+                            let lane = 8 * half + l;
+                            if (ambiguous >> lane | whole.ambiguous >> l) & 1 == 0 {
+                                let got = prims.get(found[lane] as usize).copied();
+                                let want = (whole.prim[l] != u32::MAX).then_some(whole.prim[l]);
+                                assert_eq!(got, want, "origin {o:?}, lane {lane}");
+                                decided += 1;
+                            }
                         }
                     }
+                    assert!(decided >= 12, "only {decided} lanes decided");
                 }
-                assert!(decided >= 12, "only {decided} lanes decided");
+                pool.give(cache);
             }
-            pool.give(cache);
         }
     }
 }

@@ -16,10 +16,13 @@
 //!
 //! The wide nodes are made by collapsing the binned-SAH binary tree: each wide node takes the
 //! largest interior child's two children in its place until it has 8 ([`widen`]). A subtree
-//! of at most `MAX_LEAF` (4) triangles becomes one leaf (its triangles are contiguous). On
-//! the 1M-triangle mesh: 70 MB and 17.9 Mrays/s (640×360 flat, 2 threads), against 92 MB
-//! and 15.2 Mrays/s merging subtrees of at most 3 (interleaved runs) and 102 MB merging none;
-//! 4% more instructions than merging none, but fewer cache misses.
+//! of at most 4 triangles becomes one leaf (its triangles are contiguous), or of at most 8 in
+//! a dense mesh (`bvh::leaf_max`). On the 1M-triangle mesh: 70 MB and 17.9 Mrays/s (640×360
+//! flat, 2 threads), against 92 MB and 15.2 Mrays/s merging subtrees of at most 3
+//! (interleaved runs) and 102 MB merging none; 4% more instructions than merging none, but
+//! fewer cache misses. Leaves of up to 8 took it to 55 MB and its frame 20% faster at
+//! 640×360, 11% at 1280×720 (2 threads, 7 interleaved rounds), where the bunny's 640×360
+//! frame was 14% slower with them and the bunny field's 13%.
 //! A walk's stack holds at most [`STACK`] entries: a node stops taking grandchildren where
 //! the deepest path below could need more.
 //!
@@ -40,10 +43,10 @@ use rayon::prelude::*;
 
 /// Children per wide node.
 const WIDTH: usize = 8;
-/// A child reference with this bit is a leaf: triangle count − 1 in bits 29–30, the first
-/// triangle's position in bits 0–28.
+/// A child reference with this bit is a leaf: triangle count − 1 in bits 28–30, the first
+/// triangle's position in bits 0–27.
 const LEAF: u32 = 1 << 31;
-const FIRST_BITS: u32 = 29;
+const FIRST_BITS: u32 = 28;
 /// Most triangles (or instance boxes) a hierarchy holds: a leaf's first one must fit its
 /// reference. The loaders and the scene format keep within it.
 pub const MAX_ITEMS: usize = (1 << FIRST_BITS) - 1;
@@ -97,7 +100,7 @@ impl WideNode {
 #[inline(always)]
 fn leaf_range(r: u32) -> (usize, usize) {
     let first = r & ((1 << FIRST_BITS) - 1);
-    let count = ((r >> FIRST_BITS) & 3) + 1;
+    let count = ((r >> FIRST_BITS) & 7) + 1;
     (first as usize, count as usize)
 }
 
@@ -162,7 +165,7 @@ struct Collapse<'a> {
 }
 
 impl Collapse<'_> {
-    /// Whether binary node `k` is interior (it holds more than `MAX_LEAF` items).
+    /// Whether binary node `k` is interior (it holds more than the build's `leaf_max` items).
     fn interior(&self, k: usize) -> bool {
         self.nodes[k].count == 0
     }
@@ -1003,13 +1006,24 @@ mod tests {
 
     #[test]
     fn wide_nodes_hold_the_binary_trees_leaves() {
-        // 3000 scattered triangles: the binary tree's leaves are exactly its nodes of at
-        // most `MAX_LEAF` triangles; the wide nodes' leaves are the binary leaves (same
+        // 3000 scattered triangles, leaves of at most 4 (as a mesh of that size is built)
+        // and of at most 8 (a dense mesh's): the binary tree's leaves are exactly its nodes
+        // of at most that many triangles; the wide nodes' leaves are the binary leaves (same
         // ranges, same boxes), together every triangle once, and a node with an interior
         // child is full.
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
-        let (nodes, _) = super::super::binary(&tris);
-        let bvh = Bvh::build(&tris);
+        assert_eq!(
+            Bvh::build(&tris).wide,
+            Bvh::build_with_leaves(&tris, 4).wide
+        );
+        for leaf_max in [4, MAX_LEAF] {
+            leaves_of_at_most(&tris, leaf_max);
+        }
+    }
+
+    fn leaves_of_at_most(tris: &[IndexedTriangle], leaf_max: usize) {
+        let (nodes, _) = super::super::binary(tris, leaf_max);
+        let bvh = Bvh::build_with_leaves(tris, leaf_max);
         assert_eq!(widen(&nodes, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
         fn range(nodes: &[Node], i: usize) -> (usize, usize) {
@@ -1026,7 +1040,7 @@ mod tests {
             let (first, count) = range(&nodes, i);
             assert_eq!(
                 n.count == 0,
-                count > MAX_LEAF,
+                count > leaf_max,
                 "node {i}: {count} triangles"
             );
             if n.count > 0 {
@@ -1034,8 +1048,9 @@ mod tests {
             }
         }
         let sizes = binary.iter().map(|l| l.1);
-        assert!(sizes.clone().filter(|&c| c == MAX_LEAF).count() > 100);
-        assert!(sizes.clone().filter(|&c| c < MAX_LEAF).count() > 100);
+        // Full leaves and short ones, many of each (4: 270 and 742; 8: 72 and 454).
+        assert!(sizes.clone().filter(|&c| c == leaf_max).count() > 50);
+        assert!(sizes.clone().filter(|&c| c < leaf_max).count() > 100);
         let mut wide = wide_leaves(&bvh.wide);
         let key = |l: &(usize, usize, Aabb)| l.0;
         binary.sort_by_key(key);
@@ -1070,7 +1085,7 @@ mod tests {
             .collect();
         let scattered = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         for tris in [&row, &scattered] {
-            let (nodes, _) = super::super::binary(tris);
+            let (nodes, _) = super::super::binary(tris, 4);
             let height = super::super::tests::depth(&nodes, 0);
             assert_eq!(usize::from(nodes[0].height), height);
             for stack in [STACK, height + 8, height + 1] {
@@ -1125,118 +1140,132 @@ mod tests {
         for (i, t) in tris.iter_mut().enumerate() {
             t.1 = i as u32;
         }
-        let bvh = Bvh::build(&tris);
-        let (vertices, prims) = bvh.triangles();
-        let mut x = 0x9e3779b97f4a7c15u64;
-        let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
-        let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
-        let (mut shadow_decided, mut only_decided) = (0, 0);
-        for _ in 0..300 {
-            let o = [0, 1, 2].map(|_| next() * 16.0 - 3.0);
-            let v = vertices[(next() * vertices.len() as f32) as usize % vertices.len()];
-            let centre = match (next() * 3.0) as u32 {
-                0 => v[0],
-                1 => [0, 1, 2].map(|k| (v[1][k] + v[2][k]) * 0.5),
-                _ => [0, 1, 2].map(|_| next() * 10.0),
-            };
-            let spread = 10f32.powf(-6.0 + 5.5 * next());
-            let dirs: [[f32; 3]; 8] = std::array::from_fn(|l| {
-                let mut jitter = |s: f32| if l == 0 { 0.0 } else { s * (next() - 0.5) };
-                let d = [0, 1, 2].map(|k| centre[k] - o[k]);
-                let len = d.iter().map(|c| c * c).sum::<f32>().sqrt();
-                d.map(|c| c + jitter(spread * len))
-            });
-            let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-            let dm = crate::accel::packet::max_component(&d);
-            let list = OriginTriangles::from_parts(vertices, prims, o);
-            let whole = crate::accel::packet::closest(&list.tris, &d, dm);
-            let rays = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
-            coherent += usize::from(rays.coherent.is_some());
-            for prepared in [Some(&list), None] {
-                // Shadow segments from o to the fan's points (t = 1 there).
-                let none = [u32::MAX; 8];
-                let shadow = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
-                for (l, dir) in dirs.iter().enumerate() {
-                    let ray = crate::geometry::Ray::new(o, *dir);
-                    let want =
-                        bvh.any_hit(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
-                    if shadow.unsure & (1 << l) == 0 {
-                        assert_eq!(shadow.blocked & (1 << l) != 0, want, "shadow lane {l}");
-                        shadow_decided += 1;
-                    }
-                }
-                let found = bvh.closest_packet(o, prepared, &d, dm);
-                let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
-                let mut leaves = PositionLeaves {
-                    bvh: &bvh,
-                    o,
-                    prepared: Prepared::from_list(prepared),
-                    scratch: None,
+        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
+        for leaf_max in [4, MAX_LEAF] {
+            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+            let (vertices, prims) = bvh.triangles();
+            let mut x = 0x9e3779b97f4a7c15u64;
+            let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
+            let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
+            let (mut shadow_decided, mut only_decided) = (0, 0);
+            for _ in 0..300 {
+                let o = [0, 1, 2].map(|_| next() * 16.0 - 3.0);
+                let v = vertices[(next() * vertices.len() as f32) as usize % vertices.len()];
+                let centre = match (next() * 3.0) as u32 {
+                    0 => v[0],
+                    1 => [0, 1, 2].map(|k| (v[1][k] + v[2][k]) * 0.5),
+                    _ => [0, 1, 2].map(|_| next() * 10.0),
                 };
-                let lanes = LaneTest {
-                    rays: &rays,
-                    pad: 0.0,
-                };
-                let stack = &mut WideStack::new();
-                bvh.walk_wide::<_, _, _, _, false>(&lanes, &mut nearest, &mut leaves, stack, !0);
-                let by_lane = nearest.finish();
-                // Boxes widened and lone lanes' subtrees walked for that lane alone (as an
-                // instance's mesh is walked): both tests again, and the interval test unpadded.
-                let pad = 1e-3;
-                let lanes = LaneTest { rays: &rays, pad };
-                let rays_d = (&d, dm);
-                let mut padded = vec![lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, !0)];
-                // Walks for some lanes only (one, or a few), the others left alone: an
-                // instance's mesh walked by the lanes that enter its world box.
-                let one = 1 << ((next() * 8.0) as u32 % 8);
-                let few = (next() * 256.0) as u32 & 0xff;
-                let only = [one, few].map(|part| {
-                    let hits = lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, part);
-                    (hits, part)
+                let spread = 10f32.powf(-6.0 + 5.5 * next());
+                let dirs: [[f32; 3]; 8] = std::array::from_fn(|l| {
+                    let mut jitter = |s: f32| if l == 0 { 0.0 } else { s * (next() - 0.5) };
+                    let d = [0, 1, 2].map(|k| centre[k] - o[k]);
+                    let len = d.iter().map(|c| c * c).sum::<f32>().sqrt();
+                    d.map(|c| c + jitter(spread * len))
                 });
-                if let Some(near_hi) = rays.coherent {
-                    let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
-                    padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
-                    let interval = IntervalTest::<_, false>::new(&rays, near_hi, 0.0);
-                    padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
-                }
-                for l in 0..8 {
-                    let undecided = |h: &PacketHits| h.ambiguous & (1 << l) != 0;
-                    decided += usize::from(!undecided(&found));
-                    lane_decided += usize::from(!undecided(&by_lane));
-                    if !undecided(&by_lane) && !undecided(&found) {
-                        assert_eq!(found.prim[l], by_lane.prim[l], "lane {l}");
-                    }
-                    let walked = (only.iter())
-                        .filter(|(_, part)| part & (1 << l) != 0)
-                        .map(|(h, _)| h);
-                    for h in [&found, &by_lane].into_iter().chain(&padded).chain(walked) {
-                        if !undecided(h) && !undecided(&whole) {
-                            let prim = prims.get(h.prim[l] as usize).copied();
-                            assert_eq!(prim.unwrap_or(u32::MAX), whole.prim[l], "lane {l}");
+                let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
+                let dm = crate::accel::packet::max_component(&d);
+                let list = OriginTriangles::from_parts(vertices, prims, o);
+                let whole = crate::accel::packet::closest(&list.tris, &d, dm);
+                let rays = PacketSlabs::<f32x8>::new(o, &d, bvh.boxes_tame());
+                coherent += usize::from(rays.coherent.is_some());
+                for prepared in [Some(&list), None] {
+                    // Shadow segments from o to the fan's points (t = 1 there).
+                    let none = [u32::MAX; 8];
+                    let shadow = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
+                    for (l, dir) in dirs.iter().enumerate() {
+                        let ray = crate::geometry::Ray::new(o, *dir);
+                        let want = bvh.any_hit(
+                            &ray,
+                            crate::geometry::Method::Adaptive,
+                            0.0,
+                            1.0,
+                            u32::MAX,
+                        );
+                        if shadow.unsure & (1 << l) == 0 {
+                            assert_eq!(shadow.blocked & (1 << l) != 0, want, "shadow lane {l}");
+                            shadow_decided += 1;
                         }
                     }
-                    for (h, part) in &only {
-                        only_decided += usize::from(part & (1 << l) != 0 && !undecided(h));
+                    let found = bvh.closest_packet(o, prepared, &d, dm);
+                    let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
+                    let mut leaves = PositionLeaves {
+                        bvh: &bvh,
+                        o,
+                        prepared: Prepared::from_list(prepared),
+                        scratch: None,
+                    };
+                    let lanes = LaneTest {
+                        rays: &rays,
+                        pad: 0.0,
+                    };
+                    let stack = &mut WideStack::new();
+                    bvh.walk_wide::<_, _, _, _, false>(
+                        &lanes,
+                        &mut nearest,
+                        &mut leaves,
+                        stack,
+                        !0,
+                    );
+                    let by_lane = nearest.finish();
+                    // Boxes widened and lone lanes' subtrees walked for that lane alone (as an
+                    // instance's mesh is walked): both tests again, and the interval test unpadded.
+                    let pad = 1e-3;
+                    let lanes = LaneTest { rays: &rays, pad };
+                    let rays_d = (&d, dm);
+                    let mut padded = vec![lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, !0)];
+                    // Walks for some lanes only (one, or a few), the others left alone: an
+                    // instance's mesh walked by the lanes that enter its world box.
+                    let one = 1 << ((next() * 8.0) as u32 % 8);
+                    let few = (next() * 256.0) as u32 & 0xff;
+                    let only = [one, few].map(|part| {
+                        let hits = lone_walk(&bvh, &lanes, rays_d, &mut leaves, stack, part);
+                        (hits, part)
+                    });
+                    if let Some(near_hi) = rays.coherent {
+                        let interval = IntervalTest::<_, true>::new(&rays, near_hi, pad);
+                        padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
+                        let interval = IntervalTest::<_, false>::new(&rays, near_hi, 0.0);
+                        padded.push(lone_walk(&bvh, &interval, rays_d, &mut leaves, stack, !0));
+                    }
+                    for l in 0..8 {
+                        let undecided = |h: &PacketHits| h.ambiguous & (1 << l) != 0;
+                        decided += usize::from(!undecided(&found));
+                        lane_decided += usize::from(!undecided(&by_lane));
+                        if !undecided(&by_lane) && !undecided(&found) {
+                            assert_eq!(found.prim[l], by_lane.prim[l], "lane {l}");
+                        }
+                        let walked = (only.iter())
+                            .filter(|(_, part)| part & (1 << l) != 0)
+                            .map(|(h, _)| h);
+                        for h in [&found, &by_lane].into_iter().chain(&padded).chain(walked) {
+                            if !undecided(h) && !undecided(&whole) {
+                                let prim = prims.get(h.prim[l] as usize).copied();
+                                assert_eq!(prim.unwrap_or(u32::MAX), whole.prim[l], "lane {l}");
+                            }
+                        }
+                        for (h, part) in &only {
+                            only_decided += usize::from(part & (1 << l) != 0 && !undecided(h));
+                        }
                     }
                 }
             }
+            assert!(coherent > 200, "{coherent} coherent packets");
+            assert!(
+                decided * 100 >= lane_decided * 98,
+                "{decided} vs {lane_decided}"
+            );
+            assert!(decided > 300 * 2 * 8 * 3 / 4, "{decided} decided");
+            // One lane in each packet, and about half the lanes in another walk.
+            assert!(
+                only_decided > 300 * 2 * 5 * 3 / 4,
+                "{only_decided} lanes decided walking some lanes only"
+            );
+            assert!(
+                shadow_decided > 300 * 2 * 8 / 2,
+                "{shadow_decided} shadow lanes decided"
+            );
         }
-        assert!(coherent > 200, "{coherent} coherent packets");
-        assert!(
-            decided * 100 >= lane_decided * 98,
-            "{decided} vs {lane_decided}"
-        );
-        assert!(decided > 300 * 2 * 8 * 3 / 4, "{decided} decided");
-        // One lane in each packet, and about half the lanes in another walk.
-        assert!(
-            only_decided > 300 * 2 * 5 * 3 / 4,
-            "{only_decided} lanes decided walking some lanes only"
-        );
-        assert!(
-            shadow_decided > 300 * 2 * 8 / 2,
-            "{shadow_decided} shadow lanes decided"
-        );
     }
 
     #[test]
