@@ -1,5 +1,5 @@
 //! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins along the widest
-//! axis of the items' box centres, leaves of at most 4 triangles, 8 in a mesh of 2¹⁹ or
+//! axis of the items' box centres, leaves of at most 4 triangles, 8 in a mesh of 2¹⁷ or
 //! more ([`leaf_max`]); subtrees of at least
 //! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
 //! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
@@ -44,7 +44,7 @@ pub(crate) const MAX_LEAF: usize = 8;
 /// boxes.
 const SMALL_LEAF: usize = 4;
 /// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles.
-const DENSE_MESH: usize = 1 << 19;
+const DENSE_MESH: usize = 1 << 17;
 
 /// Items per leaf at most in a hierarchy over `n` triangles. A mesh that dense has
 /// triangles of a pixel or less on a screen the app shows, so a leaf is mostly reached by
