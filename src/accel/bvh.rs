@@ -43,6 +43,9 @@ pub(crate) const MAX_LEAF: usize = 8;
 /// Items per leaf at most in a hierarchy over fewer than [`DENSE_MESH`] triangles, and over
 /// boxes.
 const SMALL_LEAF: usize = 4;
+/// A leaf of at most this many triangles is prepared as met in lanes 0–3, repeated in lanes
+/// 4–7 ([`Bvh::prepare_leaf`]): the layout [`PacketNearest::offer_leaf_to_lanes`] takes.
+const QUAD_LEAF: usize = 4;
 /// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles.
 const DENSE_MESH: usize = 1 << 17;
 
@@ -58,6 +61,10 @@ fn leaf_max(n: usize) -> usize {
     }
 }
 
+const BINS: usize = 16;
+/// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
+const PARALLEL_MIN: usize = 4096;
+
 /// How a binary tree is built: subtrees of at least `parallel_min` items build their halves
 /// on two threads; sets of at most `leaf_max` items are leaves.
 #[derive(Clone, Copy)]
@@ -65,9 +72,6 @@ struct Plan {
     parallel_min: usize,
     leaf_max: usize,
 }
-const BINS: usize = 16;
-/// Subtrees this large (or n/32, whichever is larger) build their halves on two threads.
-const PARALLEL_MIN: usize = 4096;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Aabb {
@@ -761,7 +765,7 @@ impl Bvh {
             Prepared::All(list) => LeafTriangles::Listed(&list.tris[first..end]),
             Prepared::AsMet => {
                 let block = scratch.get_or_insert_with(OriginBlock::default);
-                if len <= 4 {
+                if len <= QUAD_LEAF {
                     self.prepare_leaf::<V>(first, end, o, block);
                 } else {
                     self.prepare_block::<V>(first, end, o, block);
@@ -1139,7 +1143,7 @@ impl<V: LaneOps> Leaves<V, PacketNearest<V>> for PositionLeaves<'_> {
                     // A few lanes: the leaf to them alone, 4 triangles by 2 or 4 rays a pass.
                     // (Two passes of 16 lanes for 5 to 8 lanes were slower than offers one by
                     // one: bunny 640×360, 1 thread, 2.21 against 2.17 ms.)
-                    2..=4 if len <= 4 => {
+                    2..=4 if len <= QUAD_LEAF => {
                         nearest.offer_leaf_to_lanes(block, len, first as u32, lanes)
                     }
                     _ => false,
@@ -1540,7 +1544,7 @@ fn build_node(
     if order.len() < plan.parallel_min {
         // At most 2n - 1 nodes (every leaf holds an item); reserving is not touching.
         let mut nodes = Vec::with_capacity(2 * order.len());
-        build_into(order, bounds, start, &mut nodes, (depth, plan.leaf_max));
+        build_into(order, bounds, start, &mut nodes, depth, plan.leaf_max);
         return nodes;
     }
     let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, plan.leaf_max)
@@ -1566,7 +1570,8 @@ fn build_into(
     bounds: &Bounds,
     start: usize,
     nodes: &mut Vec<Node>,
-    (depth, leaf_max): (usize, usize),
+    depth: usize,
+    leaf_max: usize,
 ) -> u16 {
     let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, leaf_max) else {
         nodes.push(leaf(bounds, start, order.len()));
@@ -1575,10 +1580,16 @@ fn build_into(
     let at = nodes.len();
     nodes.push(interior(bounds, 0, 0));
     let (left, right) = order.split_at_mut(mid);
-    let below = (depth + 1, leaf_max);
-    let left_height = build_into(left, &left_bounds, start, nodes, below);
+    let left_height = build_into(left, &left_bounds, start, nodes, depth + 1, leaf_max);
     nodes[at].offset = (nodes.len() - at) as u32;
-    let right_height = build_into(right, &right_bounds, start + mid, nodes, below);
+    let right_height = build_into(
+        right,
+        &right_bounds,
+        start + mid,
+        nodes,
+        depth + 1,
+        leaf_max,
+    );
     nodes[at].height = 1 + left_height.max(right_height);
     nodes[at].height
 }
@@ -1700,7 +1711,7 @@ mod tests {
         // list's.
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
         // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [4, MAX_LEAF] {
+        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             let bvh = Bvh::build_with_leaves(&tris, leaf_max);
             let o = [1e-20, 5.0, -4.0];
             let (vertices, prims) = bvh.triangles();
@@ -1746,7 +1757,7 @@ mod tests {
         // kept and taken again for another origin: no triangle of the first frame is served.
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.1);
         // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [4, MAX_LEAF] {
+        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             let bvh = Bvh::build_with_leaves(&tris, leaf_max);
             let leaves: Vec<(usize, usize)> = (bvh.wide.iter().flat_map(|n| n.leaves()))
                 .map(|(first, count)| (first, first + count))
@@ -1821,7 +1832,7 @@ mod tests {
         }
         let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
         // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [4, MAX_LEAF] {
+        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             let bvh = Bvh::build_with_leaves(&tris, leaf_max);
             let (vertices, prims) = bvh.triangles();
             let pool = super::super::prepared::CachePool::default();

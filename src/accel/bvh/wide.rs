@@ -953,7 +953,7 @@ impl Bvh {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Aabb, PositionLeaves};
+    use super::super::{Aabb, PositionLeaves, SMALL_LEAF};
     use super::*;
     use crate::accel::packet::{OriginTriangles, PacketHits, PacketNearest};
     use crate::accel::prepared::Prepared;
@@ -1015,9 +1015,9 @@ mod tests {
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         assert_eq!(
             Bvh::build(&tris).wide,
-            Bvh::build_with_leaves(&tris, 4).wide
+            Bvh::build_with_leaves(&tris, SMALL_LEAF).wide
         );
-        for leaf_max in [4, MAX_LEAF] {
+        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             leaves_of_at_most(&tris, leaf_max);
         }
     }
@@ -1086,7 +1086,7 @@ mod tests {
             .collect();
         let scattered = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         for tris in [&row, &scattered] {
-            let (nodes, _) = super::super::binary(tris, 4);
+            let (nodes, _) = super::super::binary(tris, SMALL_LEAF);
             let height = super::super::tests::depth(&nodes, 0);
             assert_eq!(usize::from(nodes[0].height), height);
             for stack in [STACK, height + 8, height + 1] {
@@ -1142,7 +1142,7 @@ mod tests {
             t.1 = i as u32;
         }
         // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [4, MAX_LEAF] {
+        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             let bvh = Bvh::build_with_leaves(&tris, leaf_max);
             let (vertices, prims) = bvh.triangles();
             let mut x = 0x9e3779b97f4a7c15u64;
