@@ -4,7 +4,8 @@
 //! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
 //! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
 //! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as
-//! an interval first; children are visited nearest first.
+//! an interval first; children are visited nearest first. A dense mesh's leaves also keep
+//! their distinct vertices (module `leaf_vertices`), which leaves prepared as met read.
 //!
 //! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
 //! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
@@ -31,7 +32,9 @@ use crate::math::Real;
 use ::wide::f32x4;
 use rayon::prelude::*;
 
+mod leaf_vertices;
 mod wide;
+use leaf_vertices::{LeafCorners, LeafVertices};
 pub(crate) use wide::WideStack;
 pub use wide::MAX_ITEMS;
 
@@ -46,7 +49,9 @@ const SMALL_LEAF: usize = 4;
 /// A leaf of at most this many triangles is prepared as met in lanes 0–3, repeated in lanes
 /// 4–7 ([`Bvh::prepare_leaf`]): the layout [`PacketNearest::offer_leaf_to_lanes`] takes.
 const QUAD_LEAF: usize = 4;
-/// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles.
+/// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles, and
+/// keep their leaves' distinct vertices (module `leaf_vertices`: 22 bytes a triangle more,
+/// read instead of the triangles' 36 where a leaf is prepared as met).
 const DENSE_MESH: usize = 1 << 17;
 
 /// Items per leaf at most in a hierarchy over `n` triangles. A mesh that dense has
@@ -172,6 +177,9 @@ pub struct Bvh {
     prims: Vec<u32>,
     /// Whether every box coordinate is [`box_safe`].
     tame: bool,
+    /// A dense mesh's leaves' distinct vertices, where leaves prepared as met read their
+    /// triangles.
+    leaf_vertices: Option<LeafVertices>,
 }
 
 /// Origin and direction components the f32 slab test keeps within its relative slack: 0, or
@@ -277,22 +285,31 @@ impl Bvh {
     /// Builds over triangles with their primitive indices (at most
     /// [`MAX_ITEMS`]; the loaders keep within it).
     pub fn build(tris: &[IndexedTriangle]) -> Self {
-        Self::build_with_leaves(tris, leaf_max(tris.len()))
+        let dense = tris.len() >= DENSE_MESH;
+        Self::build_with(tris, leaf_max(tris.len()), dense)
     }
 
-    /// [`Bvh::build`] with leaves of at most `leaf_max` (≤ [`MAX_LEAF`]) triangles.
-    fn build_with_leaves(tris: &[IndexedTriangle], leaf_max: usize) -> Self {
+    /// [`Bvh::build`] with leaves of at most `leaf_max` (≤ [`MAX_LEAF`]) triangles, and
+    /// their distinct vertices kept if `leaf_vertices`.
+    fn build_with(tris: &[IndexedTriangle], leaf_max: usize, leaf_vertices: bool) -> Self {
         if tris.is_empty() {
             return Self::default();
         }
         assert!(tris.len() <= wide::MAX_ITEMS, "{} triangles", tris.len());
         assert!((1..=MAX_LEAF).contains(&leaf_max));
         let (nodes, order) = binary(tris, leaf_max);
-        Self::over_binary(
+        let mut bvh = Self::over_binary(
             &nodes,
             order.par_iter().map(|&i| tris[i as usize].0).collect(),
             order.par_iter().map(|&i| tris[i as usize].1).collect(),
-        )
+        );
+        if leaf_vertices {
+            let mut leaves: Vec<(usize, usize)> =
+                bvh.wide.par_iter().flat_map_iter(|n| n.leaves()).collect();
+            leaves.par_sort_unstable();
+            bvh.leaf_vertices = Some(LeafVertices::new(&bvh.tris, &leaves));
+        }
+        bvh
     }
 
     /// The hierarchy from the binary tree `nodes`, with its items in the leaves' order.
@@ -304,6 +321,7 @@ impl Bvh {
             wide,
             tris,
             prims,
+            leaf_vertices: None,
         }
     }
 
@@ -312,6 +330,7 @@ impl Bvh {
         self.wide.len() * std::mem::size_of::<wide::WideNode>()
             + self.tris.len() * std::mem::size_of::<[[f32; 3]; 3]>()
             + self.prims.len() * 4
+            + self.leaf_vertices.as_ref().map_or(0, LeafVertices::bytes)
     }
 
     /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
@@ -699,6 +718,34 @@ impl Bvh {
         );
     }
 
+    /// The leaf `first..end` prepared for `o` from its distinct vertices `corners`, in the
+    /// lanes [`Bvh::prepare_leaf`] (at most 4 triangles) or [`Bvh::prepare_block`] would
+    /// put it, with the same bits.
+    #[inline(always)]
+    fn prepare_corners<V: Lanes>(
+        &self,
+        corners: LeafCorners<'_>,
+        first: usize,
+        end: usize,
+        o: [f32; 3],
+        out: &mut OriginBlock,
+    ) {
+        let last = end - first - 1;
+        let j: [usize; BLOCK] = match end - first <= QUAD_LEAF {
+            true => std::array::from_fn(|l| (l % 4).min(last)),
+            false => std::array::from_fn(|l| l.min(last)),
+        };
+        let p = &self.prims[first..end];
+        OriginTriangle::new8_from::<V>(
+            &corners.in_lanes(j),
+            o,
+            [
+                p[j[0]], p[j[1]], p[j[2]], p[j[3]], p[j[4]], p[j[5]], p[j[6]], p[j[7]],
+            ],
+            out,
+        );
+    }
+
     /// Offers a leaf's triangles `js` (of those from lane `start` of `blocks` on, positions
     /// from `first` on, prepared for `o`) one at a time to every lane, each again as
     /// [`Bvh::precise`] prepares it where it would leave a lane undecided.
@@ -765,10 +812,11 @@ impl Bvh {
             Prepared::All(list) => LeafTriangles::Listed(&list.tris[first..end]),
             Prepared::AsMet => {
                 let block = scratch.get_or_insert_with(OriginBlock::default);
-                if len <= QUAD_LEAF {
-                    self.prepare_leaf::<V>(first, end, o, block);
-                } else {
-                    self.prepare_block::<V>(first, end, o, block);
+                let shared = self.leaf_vertices.as_ref().and_then(|v| v.leaf(first, end));
+                match shared {
+                    Some(corners) => self.prepare_corners::<V>(corners, first, end, o, block),
+                    None if len <= QUAD_LEAF => self.prepare_leaf::<V>(first, end, o, block),
+                    None => self.prepare_block::<V>(first, end, o, block),
                 }
                 LeafTriangles::Leaf { block, len }
             }
@@ -1623,6 +1671,45 @@ mod tests {
             .collect()
     }
 
+    /// The hierarchies the walk tests run on: leaves of up to 4 triangles, of up to 8 (a
+    /// dense mesh's), and of up to 8 read from the leaves' shared vertices.
+    pub(super) const LAYOUTS: [(usize, bool); 3] =
+        [(SMALL_LEAF, false), (MAX_LEAF, false), (MAX_LEAF, true)];
+
+    /// A sheet of 512 triangles (see [`sheet`]) and then `tris`, renumbered from 0: leaves
+    /// of shared vertices and leaves of none.
+    pub(super) fn with_sheet(tris: Vec<IndexedTriangle>) -> Vec<IndexedTriangle> {
+        let mut all = sheet(16);
+        all.extend(tris);
+        for (i, t) in all.iter_mut().enumerate() {
+            t.1 = i as u32;
+        }
+        all
+    }
+
+    /// A wavy sheet of 2n² triangles over a grid of (n + 1)² points, 6 units wide: neighbours
+    /// share their vertices' bits, as a fine mesh's do (prims from 0).
+    pub(super) fn sheet(n: u32) -> Vec<IndexedTriangle> {
+        let p = |i: u32, j: u32| {
+            let (x, y) = (
+                2.0 + 6.0 * i as f32 / n as f32,
+                2.0 + 6.0 * j as f32 / n as f32,
+            );
+            [x, y, 5.0 + 0.3 * (1.7 * x).sin() * (1.3 * y).cos()]
+        };
+        (0..n * n)
+            .flat_map(|c| {
+                let (i, j) = (c % n, c / n);
+                [
+                    [p(i, j), p(i + 1, j), p(i, j + 1)],
+                    [p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)],
+                ]
+            })
+            .enumerate()
+            .map(|(k, t)| (t, k as u32))
+            .collect()
+    }
+
     #[test]
     fn top_levels_cover_every_triangle_with_their_childless_boxes() {
         // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
@@ -1705,14 +1792,13 @@ mod tests {
 
     #[test]
     fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
-        // 1003 scattered triangles, packets from an origin at 1e-20 (beyond the f32 slab
+        // A sheet and 1003 scattered triangles, packets from an origin at 1e-20 (beyond the f32 slab
         // test's range: no box is tested, every triangle offered), the triangles prepared
         // beforehand, once per frame in a cache, or as met: each lane's nearest is the whole
         // list's.
-        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
-        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
-            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+        let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.3));
+        for (leaf_max, shared) in LAYOUTS {
+            let bvh = Bvh::build_with(&tris, leaf_max, shared);
             let o = [1e-20, 5.0, -4.0];
             let (vertices, prims) = bvh.triangles();
             let list = OriginTriangles::from_parts(vertices, prims, o);
@@ -1749,20 +1835,20 @@ mod tests {
 
     #[test]
     fn a_frames_cache_serves_every_leaf_its_own_triangles() {
-        // 1003 scattered triangles (the last block of 8 is short). Two threads walk every
+        // A sheet and 1003 scattered triangles (the last block of 8 is short; leaves with
+        // shared vertices and without, see `LAYOUTS`). Two threads walk every
         // leaf three times each in scattered orders through one cache, so blocks are found
         // unprepared, prepared by the other thread, and ready; every leaf's triangles are the
         // bits of its positions prepared for the same origin one by one (lane l of a block
         // is lane l's own arithmetic), and so are a leaf's prepared as met. The cache is then
         // kept and taken again for another origin: no triangle of the first frame is served.
-        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.1);
-        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
-            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+        let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.1));
+        for (leaf_max, shared) in LAYOUTS {
+            let bvh = Bvh::build_with(&tris, leaf_max, shared);
             let leaves: Vec<(usize, usize)> = (bvh.wide.iter().flat_map(|n| n.leaves()))
                 .map(|(first, count)| (first, first + count))
                 .collect();
-            assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), 1003);
+            assert_eq!(leaves.iter().map(|(a, b)| b - a).sum::<usize>(), tris.len());
             assert!(leaves.iter().any(|&(a, b)| a / BLOCK != (b - 1) / BLOCK));
             let bits = |t: &OriginTriangle| format!("{t:?}");
             let pool = super::super::prepared::CachePool::default();
@@ -1830,10 +1916,9 @@ mod tests {
             let dm = crate::accel::packet::max_component_in(&d);
             bvh.closest_packet_in(o, prepared, d, dm, prim)
         }
-        let tris = scattered(1003, 0x2545f4914f6cdd1d, 0.3);
-        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
-            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+        let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.3));
+        for (leaf_max, shared) in LAYOUTS {
+            let bvh = Bvh::build_with(&tris, leaf_max, shared);
             let (vertices, prims) = bvh.triangles();
             let pool = super::super::prepared::CachePool::default();
             for o in [[5.1, 4.2, -15.0], [1e-20, 5.0, -4.0]] {

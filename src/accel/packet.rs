@@ -391,6 +391,20 @@ pub(crate) enum BlockIds {
     Prims,
 }
 
+/// Eight triangles' coordinates, for [`OriginTriangle::new8_from`]: lane l's vertex j,
+/// coordinate k. (Read where the lanes are gathered: a leaf's shared vertices are not
+/// triangles in memory.)
+pub(crate) trait TriangleLanes {
+    fn coordinate(&self, l: usize, j: usize, k: usize) -> f32;
+}
+
+impl TriangleLanes for [&[[f32; 3]; 3]; 8] {
+    #[inline(always)]
+    fn coordinate(&self, l: usize, j: usize, k: usize) -> f32 {
+        self[l][j][k]
+    }
+}
+
 /// Eight triangles prepared for one origin in f32 ([`OriginTriangle::new8`]), field by field
 /// as [`OriginQuad`]: a frame's cache keeps a BVH's triangles in blocks of 8.
 #[derive(Clone, Copy, Debug, Default)]
@@ -497,22 +511,39 @@ impl OriginTriangle {
         prim: [u32; 8],
         out: &mut OriginBlock,
     ) {
+        Self::new8_from::<V>(&v, o, prim, out)
+    }
+
+    /// [`OriginTriangle::new8`] of the triangles `v` holds.
+    #[inline(always)]
+    pub(crate) fn new8_from<V: Lanes>(
+        v: &impl TriangleLanes,
+        o: [f32; 3],
+        prim: [u32; 8],
+        out: &mut OriginBlock,
+    ) {
         #[inline(always)]
-        fn coordinate<V: Lanes>(v: &[&[[f32; 3]; 3]; 8], j: usize, k: usize) -> V {
+        fn coordinate<V: Lanes>(v: &impl TriangleLanes, j: usize, k: usize) -> V {
             V::from_array([
-                v[0][j][k], v[1][j][k], v[2][j][k], v[3][j][k], v[4][j][k], v[5][j][k], v[6][j][k],
-                v[7][j][k],
+                v.coordinate(0, j, k),
+                v.coordinate(1, j, k),
+                v.coordinate(2, j, k),
+                v.coordinate(3, j, k),
+                v.coordinate(4, j, k),
+                v.coordinate(5, j, k),
+                v.coordinate(6, j, k),
+                v.coordinate(7, j, k),
             ])
         }
         #[inline(always)]
-        fn vertex<V: Lanes>(v: &[&[[f32; 3]; 3]; 8], j: usize) -> [V; 3] {
+        fn vertex<V: Lanes>(v: &impl TriangleLanes, j: usize) -> [V; 3] {
             [
                 coordinate(v, j, 0),
                 coordinate(v, j, 1),
                 coordinate(v, j, 2),
             ]
         }
-        let w = [vertex::<V>(&v, 0), vertex(&v, 1), vertex(&v, 2)];
+        let w = [vertex::<V>(v, 0), vertex(v, 1), vertex(v, 2)];
         Self::new8_from_lanes(w, o, prim, out)
     }
 

@@ -83,7 +83,6 @@ impl WideNode {
     }
 
     /// The leaf children, as (first triangle, count).
-    #[cfg(test)]
     pub(super) fn leaves(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         (self.child.iter())
             .filter(|&&r| r != NONE && r & LEAF != 0)
@@ -767,31 +766,42 @@ impl Bvh {
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            let (p, bytes): (*const i8, usize) = match r & LEAF == 0 {
-                true => (
-                    self.wide.as_ptr().wrapping_add(r as usize).cast(),
-                    std::mem::size_of::<WideNode>(),
-                ),
+            let spans: [(*const i8, usize); 2] = match r & LEAF == 0 {
+                true => [
+                    (
+                        self.wide.as_ptr().wrapping_add(r as usize).cast(),
+                        std::mem::size_of::<WideNode>(),
+                    ),
+                    (std::ptr::null(), 0),
+                ],
                 false => {
                     let (first, count) = leaf_range(r);
-                    (
-                        self.tris.as_ptr().wrapping_add(first).cast(),
-                        count * std::mem::size_of::<[[f32; 3]; 3]>(),
-                    )
+                    match &self.leaf_vertices {
+                        Some(v) => v.spans(first, count),
+                        None => [
+                            (
+                                self.tris.as_ptr().wrapping_add(first).cast(),
+                                count * std::mem::size_of::<[[f32; 3]; 3]>(),
+                            ),
+                            (std::ptr::null(), 0),
+                        ],
+                    }
                 }
             };
-            // Every cache line the bytes touch: from the line of the first byte (a leaf's
-            // triangles, 36 bytes each, seldom start on a line) to that of the last.
-            let mut at = 0;
-            let end = (p as usize % 64) + bytes;
-            while at < end {
-                // SAFETY: a prefetch only hints the cache; it never reads or faults, whatever
-                // the address (and SSE is part of x86-64).
-                #[allow(unsafe_code)]
-                unsafe {
-                    _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(at))
-                };
-                at += 64;
+            for (p, bytes) in spans {
+                // Every cache line the bytes touch: from the line of the first byte (a leaf's
+                // triangles, 36 bytes each, seldom start on a line) to that of the last.
+                let mut at = 0;
+                let end = (p as usize % 64) + bytes;
+                while at < end {
+                    // SAFETY: a prefetch only hints the cache; it never reads or faults,
+                    // whatever the address (and SSE is part of x86-64).
+                    #[allow(unsafe_code)]
+                    unsafe {
+                        _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(at))
+                    };
+                    at += 64;
+                }
             }
         }
     }
@@ -1015,7 +1025,7 @@ mod tests {
         let tris = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         assert_eq!(
             Bvh::build(&tris).wide,
-            Bvh::build_with_leaves(&tris, SMALL_LEAF).wide
+            Bvh::build_with(&tris, SMALL_LEAF, false).wide
         );
         for leaf_max in [SMALL_LEAF, MAX_LEAF] {
             leaves_of_at_most(&tris, leaf_max);
@@ -1024,7 +1034,7 @@ mod tests {
 
     fn leaves_of_at_most(tris: &[IndexedTriangle], leaf_max: usize) {
         let (nodes, _) = super::super::binary(tris, leaf_max);
-        let bvh = Bvh::build_with_leaves(tris, leaf_max);
+        let bvh = Bvh::build_with(tris, leaf_max, false);
         assert_eq!(widen(&nodes, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
         fn range(nodes: &[Node], i: usize) -> (usize, usize) {
@@ -1138,12 +1148,10 @@ mod tests {
             0x2545f4914f6cdd1d,
             1.5,
         ));
-        for (i, t) in tris.iter_mut().enumerate() {
-            t.1 = i as u32;
-        }
-        // Leaves of up to 4 triangles, and of up to 8 (a dense mesh's).
-        for leaf_max in [SMALL_LEAF, MAX_LEAF] {
-            let bvh = Bvh::build_with_leaves(&tris, leaf_max);
+        // And a sheet of shared vertices (see `LAYOUTS`).
+        let tris = super::super::tests::with_sheet(tris);
+        for (leaf_max, shared) in super::super::tests::LAYOUTS {
+            let bvh = Bvh::build_with(&tris, leaf_max, shared);
             let (vertices, prims) = bvh.triangles();
             let mut x = 0x9e3779b97f4a7c15u64;
             let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
