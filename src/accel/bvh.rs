@@ -1792,10 +1792,10 @@ mod tests {
 
     #[test]
     fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
-        // A sheet and 1003 scattered triangles, packets from an origin at 1e-20 (beyond the f32 slab
-        // test's range: no box is tested, every triangle offered), the triangles prepared
-        // beforehand, once per frame in a cache, or as met: each lane's nearest is the whole
-        // list's.
+        // A sheet and 1003 scattered triangles, packets from an origin at 1e-20 (beyond the
+        // f32 slab test's range: no box is tested, every triangle offered, in runs of 8 that
+        // are not leaves), the triangles prepared beforehand, once per frame in a cache, or
+        // as met: each lane's nearest is the whole list's.
         let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.3));
         for (leaf_max, shared) in LAYOUTS {
             let bvh = Bvh::build_with(&tris, leaf_max, shared);

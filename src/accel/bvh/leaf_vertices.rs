@@ -1,9 +1,11 @@
 //! Each leaf's distinct vertices, kept beside a dense mesh's triangles for preparing its
 //! leaves as met. Eight neighbouring triangles of a fine mesh share about 8 vertices, not 24
 //! (the 1M-triangle mesh: 7.8 distinct vertices in a leaf of 6.1 triangles on average), so a
-//! leaf's corners and vertices take 20 bytes a triangle instead of 36: a walk that waits on
-//! memory for each leaf it meets waits on fewer cache lines, and a frame's leaves fit the
-//! caches better (the 1M mesh: 21 MB instead of 38.7 MB, beside a 32 MB L3).
+//! leaf's corners and vertices take 22 bytes a triangle (4 for the corners, 18 for the
+//! places) instead of 36: a walk that waits on memory for each leaf it meets waits on fewer
+//! cache lines, and a frame's leaves fit the caches better (the 1M mesh: 23.6 MB instead of
+//! 38.7 MB, beside a 32 MB L3). They are kept beside the triangles, which every other
+//! reader (per-ray queries, a frame's cache, the exact fallbacks) goes on using.
 //!
 //! Leaf `first..end` owns the vertex places `place(first)..place(end)`, 3 for every 2
 //! triangles: where a leaf's vertices are follows from its position, with no lookup in
