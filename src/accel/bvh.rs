@@ -730,10 +730,13 @@ impl Bvh {
         o: [f32; 3],
         out: &mut OriginBlock,
     ) {
-        let last = end - first - 1;
-        let j: [usize; BLOCK] = match end - first <= QUAD_LEAF {
-            true => std::array::from_fn(|l| (l % 4).min(last)),
-            false => std::array::from_fn(|l| l.min(last)),
+        let len = end - first;
+        let j: [usize; BLOCK] = match len <= QUAD_LEAF {
+            true => {
+                let quad = quad_indices(0, len);
+                std::array::from_fn(|l| quad[l % 4])
+            }
+            false => std::array::from_fn(|l| l.min(len - 1)),
         };
         let p = &self.prims[first..end];
         OriginTriangle::new8_from::<V>(
