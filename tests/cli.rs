@@ -1101,7 +1101,7 @@ fn aovs_say_what_each_pixel_saw() {
     let mut hits = 0;
     for k in 0..w * h {
         // The flat image shows each pixel's primitive colour.
-        let colour = prim.get(k).and_then(|p| scene.colors.get(*p as usize));
+        let colour = prim.get(k).and_then(|p| scene.colors().get(*p as usize));
         let expect = colour.map_or([0, 0, 0], |c| c.map(raylab::render::linear_to_srgb8));
         assert_eq!(&png[4 * k..4 * k + 3], &expect, "pixel {k}");
         let Some(raylab::geometry::Shape::Triangle(v)) = scene.shapes.get(prim[k] as usize) else {

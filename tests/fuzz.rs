@@ -94,9 +94,9 @@ fn mtl_text() -> impl Strategy<Value = String> {
 }
 
 fn assert_safe_scene(scene: &raylab::Scene) {
-    assert_eq!(scene.shapes.len(), scene.colors.len());
+    assert_eq!(scene.shapes.len(), scene.colors().len());
     assert!(!scene.shapes.is_empty());
-    for (s, c) in scene.shapes.iter().zip(&scene.colors) {
+    for (s, c) in scene.shapes.iter().zip(scene.colors()) {
         let Shape::Triangle(v) = s else {
             panic!("OBJ gives triangles only")
         };

@@ -167,7 +167,7 @@ fn instanced_queries_equal_the_flattened_scene() {
         assert_eq!(scene.len(), flat.len());
         for p in 0..scene.len() as u32 {
             assert_eq!(scene.shape(p), flat.shapes[p as usize], "primitive {p}");
-            assert_eq!(scene.color(p), flat.colors[p as usize], "colour of {p}");
+            assert_eq!(scene.color(p), flat.colors()[p as usize], "colour of {p}");
         }
         for choice in [AccelChoice::Auto, AccelChoice::Flat] {
             let mut scene = scene.clone();
@@ -287,7 +287,7 @@ fn instanced_images_equal_the_flattened_scene() {
     let mesh = mesh("ball", &icosphere(2, 0.35, [0.0, 0.0, 0.0]), &mut rng);
     // Balls on the Cornell box's floor, one squashed, one turned.
     let mut shapes = cornell::scene().shapes;
-    let mut colors = cornell::scene().colors;
+    let mut colors = cornell::scene().colors().to_vec();
     let at = |x: f64, z: f64| DMat4::from_translation(DVec3::new(x, 0.65, z));
     let placements = [
         at(-0.55, -0.55),
@@ -731,7 +731,7 @@ fn colour_runs_hold_their_primitives_colour_and_flat_images_use_them() {
     // Four plain balls in differing colours in the Cornell box, more triangles than an
     // eighth of the camera rays (no colour table): the flat image equals the flattened one.
     let mut shapes = cornell::scene().shapes;
-    let colors = cornell::scene().colors;
+    let colors = cornell::scene().colors().to_vec();
     let at = |x: f64, z: f64| DMat4::from_translation(DVec3::new(x, 0.65, z));
     let big = icosphere(2, 0.3, [0.0; 3]);
     let plain = Arc::new(Mesh::new(

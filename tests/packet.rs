@@ -612,7 +612,7 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
                 let want = scene
                     .accel()
                     .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
-                    .map(|h| scene.colors[h.prim as usize].map(raylab::render::linear_to_srgb8));
+                    .map(|h| scene.colors()[h.prim as usize].map(raylab::render::linear_to_srgb8));
                 let k = 4 * (j * w + i) as usize;
                 let got = [img[k], img[k + 1], img[k + 2]];
                 assert_eq!(got, want.unwrap_or([0; 3]), "{w}x{h} pixel ({i}, {j})");

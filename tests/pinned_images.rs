@@ -27,7 +27,9 @@ fn with_mesh(mesh: Vec<Shape<f32>>, choice: AccelChoice) -> Scene {
     let n = mesh.len();
     let mut scene = Scene::cornell();
     scene.shapes.extend(mesh);
-    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    scene
+        .colors_mut()
+        .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
     scene.set_accel(choice);
     scene
 }

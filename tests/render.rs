@@ -371,7 +371,7 @@ fn flat_render_shows_walls_and_both_blocks() {
     let scene = Scene::cornell();
     let enc = |c: [f32; 3]| c.map(raylab::render::linear_to_srgb8);
     // Every Cornell material is visible over a real area.
-    let mut colours: Vec<[u8; 3]> = scene.colors.iter().map(|c| enc(*c)).collect();
+    let mut colours: Vec<[u8; 3]> = scene.colors().iter().map(|c| enc(*c)).collect();
     colours.dedup();
     assert_eq!(colours.len(), 7, "seven materials in lab order");
     for c in colours {
@@ -546,7 +546,9 @@ fn cornell_with_ball(
     let n = mesh.len();
     let mut scene = Scene::cornell();
     scene.shapes.extend(mesh);
-    scene.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    scene
+        .colors_mut()
+        .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
     scene.set_accel(choice);
     scene
 }
@@ -950,8 +952,8 @@ fn copied_triangles_change_no_pixel() {
     let plain = Scene::cornell();
     let mut copied = Scene::cornell();
     copied.shapes.clear();
-    copied.colors.clear();
-    for (shape, colour) in plain.shapes.iter().zip(&plain.colors) {
+    copied.colors_mut().clear();
+    for (shape, colour) in plain.shapes.iter().zip(plain.colors()) {
         let raylab::geometry::Shape::Triangle([a, b, c]) = *shape else {
             unreachable!("the box is triangles")
         };
@@ -960,7 +962,7 @@ fn copied_triangles_change_no_pixel() {
         let signed = exact.map(negated_zero);
         for copy in [exact, exact, signed, [b, c, a], [negated_zero(a), c, b]] {
             copied.shapes.push(raylab::geometry::Shape::Triangle(copy));
-            copied.colors.push(*colour);
+            copied.colors_mut().push(*colour);
         }
     }
     let cam = Camera::cornell(96);
@@ -1135,7 +1137,7 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
                     assert!((srgb[c] as i32 - r[c] as i32).abs() <= 1, "({i}, {j})");
                 }
             }
-            assert_eq!(hit.rho, scene.colors[hit.prim as usize]);
+            assert_eq!(hit.rho, scene.colors()[hit.prim as usize]);
             assert_eq!(hit.indirect, scene.ambient);
             // The blocker: the reference's nearest blocker seen from the light.
             let Some(shadow) = hit.shadow else { continue };

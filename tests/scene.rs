@@ -84,7 +84,7 @@ fn cornell_box_is_the_labs_30_triangles_bit_for_bit() {
     assert_eq!(lab.len(), 30);
     for (k, ((tri, col), (shape, scene_col))) in lab
         .iter()
-        .zip(scene.shapes.iter().zip(&scene.colors))
+        .zip(scene.shapes.iter().zip(scene.colors()))
         .enumerate()
     {
         assert_eq!(*shape, Shape::Triangle(*tri), "triangle {k}");
@@ -119,8 +119,12 @@ fn obj_polygons_are_triangulated_and_colours_read() {
     })
     .unwrap();
     assert_eq!(scene.len(), 4, "a pentagon fans into 3 triangles, plus one");
-    assert_eq!(scene.colors[0], [0.2, 0.4, 0.6]);
-    assert_eq!(scene.colors[3], [1.0, 0.0, 0.5], "Kd is clamped to [0, 1]");
+    assert_eq!(scene.colors()[0], [0.2, 0.4, 0.6]);
+    assert_eq!(
+        scene.colors()[3],
+        [1.0, 0.0, 0.5],
+        "Kd is clamped to [0, 1]"
+    );
     assert_eq!(
         scene.shapes[3],
         Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
@@ -218,7 +222,7 @@ fn obj_whitespace_comments_weights_and_negative_indices() {
         scene.shapes[1],
         Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], w])
     );
-    assert_eq!(scene.colors, vec![[1.0, 0.0, 0.0]; 2]);
+    assert_eq!(scene.colors(), vec![[1.0, 0.0, 0.0]; 2]);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }
 
@@ -266,7 +270,8 @@ fn every_obj_and_mtl_problem_names_its_line() {
         let warning = scene.warnings.join("\n");
         assert!(warning.contains(needle), "{mtl:?}: {warning}");
         assert_eq!(
-            scene.colors[0], [0.75; 3],
+            scene.colors()[0],
+            [0.75; 3],
             "the faces take the default colour"
         );
     }

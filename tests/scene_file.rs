@@ -75,7 +75,7 @@ fn every_statement_is_read() {
     // `cornell` adds the lab box's 30 triangles with their own colours, in file order.
     let lab = Scene::cornell();
     assert_eq!(&d.shapes[2..], &lab.shapes[..]);
-    assert_eq!(&d.colors[2..], &lab.colors[..]);
+    assert_eq!(&d.colors[2..], lab.colors());
     assert!(d.has_cornell && d.warnings.is_empty());
 }
 
@@ -296,7 +296,7 @@ fn meshes_load_relative_to_the_file_in_the_current_frame_and_colour() {
         Shape::Triangle([[-0.0, -0.0, 0.0], [-1.0, -0.0, 0.0], [-0.0, -1.0, 0.0]])
     );
     assert!(
-        scene.colors.iter().all(|c| *c == [0.2, 0.4, 0.6]),
+        scene.colors().iter().all(|c| *c == [0.2, 0.4, 0.6]),
         "faces without material"
     );
     // A mesh that fails to load: the scene's line, then the mesh's own error.

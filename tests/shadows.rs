@@ -120,7 +120,7 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
     let floor = Scene::new(
         "floor",
         scene.shapes[..2].to_vec(),
-        scene.colors[..2].to_vec(),
+        scene.colors()[..2].to_vec(),
         scene.light,
         [0.0; 3],
     );

@@ -24,7 +24,7 @@ fn cornell_with(spheres: &[Shape<f32>], choice: AccelChoice) -> Scene {
     let mut scene = Scene::cornell();
     for (i, s) in spheres.iter().enumerate() {
         scene.shapes.push(*s);
-        scene.colors.push([0.9, 0.3 + 0.2 * i as f32, 0.2]);
+        scene.colors_mut().push([0.9, 0.3 + 0.2 * i as f32, 0.2]);
     }
     scene.set_accel(choice);
     scene
@@ -264,9 +264,11 @@ fn scenes_with_spheres_render_through_the_packets_as_per_ray() {
     let ball = icosphere(3, 0.35, [-0.3, 0.55, 0.2]);
     let n = ball.len();
     mixed.shapes.extend(ball);
-    mixed.colors.extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    mixed
+        .colors_mut()
+        .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
     mixed.shapes.push(sphere([-0.3, 0.55, 0.2], 0.1));
-    mixed.colors.push([1.0, 1.0, 0.0]);
+    mixed.colors_mut().push([1.0, 1.0, 0.0]);
     mixed.set_accel(AccelChoice::Bvh);
     packets_render_as_per_ray("a meshed ball beside spheres", &mixed, &cam, 64, 48);
 }

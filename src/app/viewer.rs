@@ -233,7 +233,7 @@ impl Viewer {
         for range in &level.primitives {
             match tinted.instances().is_empty() {
                 true => {
-                    for c in &mut tinted.colors[range.start as usize..range.end as usize] {
+                    for c in &mut tinted.colors_mut()[range.start as usize..range.end as usize] {
                         *c = mix(*c);
                     }
                 }

@@ -680,7 +680,7 @@ impl<T: Real> Parser<'_, T> {
             Shape::Triangle(v) => v,
             Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
         });
-        self.add_triangles(triangles.zip(scene.colors.iter().copied()))
+        self.add_triangles(triangles.zip(scene.colors().iter().copied()))
     }
 
     /// Adds triangles written in the current frame, each with its colour.

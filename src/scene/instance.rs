@@ -40,7 +40,7 @@ impl Mesh {
             })
             .collect();
         let unset = super::file::UNSET_COLOR;
-        let colors = (scene.colors.iter())
+        let colors = (scene.colors().iter())
             .map(|c| (*c != unset).then_some(*c))
             .collect();
         Self::new(scene.name.clone(), triangles, colors)

@@ -37,8 +37,12 @@ pub struct Scene {
     pub name: String,
     /// The primitives stored one by one (all of them where there are no instances).
     pub shapes: Vec<Shape<f32>>,
-    /// Diffuse colour (the lab's ρ, linear RGB) of each of `shapes`.
-    pub colors: Vec<V3<f32>>,
+    /// Diffuse colour (the lab's ρ, linear RGB) of each of `shapes` ([`Scene::colors`];
+    /// written through [`Scene::colors_mut`], which forgets `color_runs`).
+    colors: Vec<V3<f32>>,
+    /// Where `colors` change along the primitives, found on first use (see
+    /// [`Scene::color_run`]).
+    color_runs: OnceLock<ColorRuns>,
     /// Meshes placed by a matrix, in primitive order (see [`Scene::with_instances`]).
     instances: Vec<Instance>,
     /// Per instance, how many instanced primitives come before it.
@@ -96,6 +100,7 @@ impl Scene {
             name: name.into(),
             shapes,
             colors,
+            color_runs: OnceLock::new(),
             light,
             ambient,
             warnings: Vec::new(),
@@ -288,12 +293,32 @@ impl Scene {
         }
     }
 
+    /// The colours of the primitives stored one by one, by their order in `shapes`.
+    pub fn colors(&self) -> &[V3<f32>] {
+        &self.colors
+    }
+
+    /// The colours to change (one per shape, kept in step with `shapes`).
+    pub fn colors_mut(&mut self) -> &mut Vec<V3<f32>> {
+        self.color_runs = OnceLock::new();
+        &mut self.colors
+    }
+
     /// The colour of primitive `prim` and primitives around it known to share it: an
     /// instance showing one colour gives all of its own (a flat frame of 1,000 instanced
-    /// bunnies then finds the instance once per run of pixels, not per pixel).
+    /// bunnies then finds the instance once per run of pixels, not per pixel); without
+    /// instances, a run of equal colours in `colors` where there are few such runs (a mesh
+    /// of one material is one run: a flat frame's pixels then read no colour per primitive,
+    /// 8-9% of the bunny's and the 1M-triangle mesh's flat frames at 640×360).
     #[inline]
     pub fn color_run(&self, prim: u32) -> (std::ops::Range<u32>, V3<f32>) {
         let one = prim..prim.saturating_add(1);
+        if self.instances.is_empty() {
+            let runs = self.color_runs.get_or_init(|| ColorRuns::of(&self.colors));
+            if let Some(run) = runs.around(prim) {
+                return (run.clone(), self.colors[run.start as usize]);
+            }
+        }
         match self.stored(prim) {
             Stored::Explicit(i) => (one, self.colors[i]),
             Stored::Instanced { instance, local } => {
@@ -336,7 +361,7 @@ impl Scene {
         while p < prims.end {
             match self.stored(p) {
                 Stored::Explicit(i) => {
-                    self.colors[i] = color;
+                    self.colors_mut()[i] = color;
                     p += 1;
                 }
                 // (One step over the instance, not one per triangle.)
@@ -356,7 +381,7 @@ impl Scene {
     pub fn flattened(&self) -> Scene {
         let mut flat = self.clone();
         flat.shapes = self.all_shapes().collect();
-        flat.colors = (0..self.len() as u32).map(|p| self.color(p)).collect();
+        *flat.colors_mut() = (0..self.len() as u32).map(|p| self.color(p)).collect();
         flat.instances.clear();
         flat.instanced_before.clear();
         flat.accel = OnceLock::new();
@@ -413,5 +438,124 @@ impl Scene {
             position: [centre[0], centre[1] - 1.5 * half, centre[2] - 2.0 * half],
             power: [p, p, p],
         }
+    }
+}
+
+/// The runs of equal colours along a scene's stored primitives, where there are at most
+/// [`ColorRuns::MAX`] of them (else none are kept, and each primitive's colour is read).
+#[derive(Clone, Debug, Default)]
+struct ColorRuns {
+    /// Each run's first primitive, increasing from 0; the last run ends at `end`.
+    starts: Vec<u32>,
+    end: u32,
+}
+
+impl ColorRuns {
+    /// Enough for a mesh's few materials in contiguous groups; a search among them stays
+    /// shorter than a read of a colour far away in memory.
+    const MAX: usize = 256;
+
+    fn of(colors: &[V3<f32>]) -> Self {
+        let mut starts = Vec::new();
+        for (i, c) in colors.iter().enumerate() {
+            // (Bits, not `==`: a NaN colour is one run with itself, as the pixels show it.)
+            if i == 0 || c.map(f32::to_bits) != colors[i - 1].map(f32::to_bits) {
+                if starts.len() == Self::MAX {
+                    return Self::default();
+                }
+                starts.push(i as u32);
+            }
+        }
+        Self {
+            starts,
+            end: colors.len() as u32,
+        }
+    }
+
+    /// The run holding primitive `prim`, if runs are kept and it is stored.
+    #[inline]
+    fn around(&self, prim: u32) -> Option<std::ops::Range<u32>> {
+        if prim >= self.end {
+            return None;
+        }
+        let r = self.starts.partition_point(|&s| s <= prim).checked_sub(1)?;
+        let end = self.starts.get(r + 1).copied().unwrap_or(self.end);
+        Some(self.starts[r]..end)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene_of(colors: Vec<V3<f32>>) -> Scene {
+        let shapes = (0..colors.len())
+            .map(|i| {
+                let x = i as f32;
+                Shape::Triangle([[x, 0.0, 1.0], [x + 1.0, 0.0, 1.0], [x, 1.0, 1.0]])
+            })
+            .collect();
+        Scene::new("runs", shapes, colors, cornell::LIGHT, cornell::AMBIENT)
+    }
+
+    /// Every primitive's run holds it, shares its colour throughout and is as long as the
+    /// colours allow (where runs are kept), and the colour given is the primitive's own.
+    fn check_runs(scene: &Scene, kept: bool) {
+        let colors = scene.colors();
+        for p in 0..colors.len() as u32 {
+            let (run, c) = scene.color_run(p);
+            assert!(run.contains(&p), "{p} in {run:?}");
+            assert_eq!(c, colors[p as usize], "colour of {p}");
+            assert!(colors[run.start as usize..run.end as usize]
+                .iter()
+                .all(|x| *x == c));
+            if kept {
+                let (s, e) = (run.start as usize, run.end as usize);
+                assert!(s == 0 || colors[s - 1] != c, "run {run:?} stops early");
+                assert!(
+                    e == colors.len() || colors[e] != c,
+                    "run {run:?} stops early"
+                );
+            } else {
+                assert_eq!(run, p..p + 1);
+            }
+        }
+    }
+
+    #[test]
+    fn colour_runs_follow_the_colours_and_every_change_to_them() {
+        let (a, b) = ([0.1, 0.2, 0.3], [0.9, 0.8, 0.7]);
+        let mut scene = scene_of(vec![a, a, b, b, b, a]);
+        check_runs(&scene, true);
+        assert_eq!(scene.color_run(3), (2..5, b));
+        // Changed after the runs were found: through `colors_mut`, by `tint`, on a clone.
+        scene.colors_mut()[1] = b;
+        check_runs(&scene, true);
+        assert_eq!(scene.color_run(3), (1..5, b));
+        let before = scene.clone();
+        scene.tint(4..6, b);
+        check_runs(&scene, true);
+        assert_eq!(scene.color_run(3), (1..6, b));
+        let mut copy = before.clone();
+        copy.colors_mut().push(a);
+        copy.shapes.push(copy.shapes[0]);
+        check_runs(&copy, true);
+        assert_eq!(copy.color_run(5), (5..7, a));
+        check_runs(&before, true);
+        assert_eq!(before.color_run(5), (5..6, a));
+    }
+
+    #[test]
+    fn too_many_colour_runs_give_each_primitive_its_own() {
+        // Runs of two primitives: MAX of them are kept, one more and none is.
+        let pairs = |runs: usize| {
+            (0..2 * runs)
+                .map(|i| [(i / 2 % 2) as f32, 0.5, 0.5])
+                .collect()
+        };
+        let kept = scene_of(pairs(ColorRuns::MAX));
+        check_runs(&kept, true);
+        assert_eq!(kept.color_run(5), (4..6, [0.0, 0.5, 0.5]));
+        check_runs(&scene_of(pairs(ColorRuns::MAX + 1)), false);
     }
 }

@@ -289,7 +289,7 @@ fn load_obj_str_coloured(
                 continue;
             }
             scene.shapes.push(Shape::Triangle([a, b, c]));
-            scene.colors.push(color);
+            scene.colors_mut().push(color);
         }
     }
     if dropped > 0 {
