@@ -316,7 +316,8 @@ impl Scene {
         if self.instances.is_empty() {
             let runs = self.color_runs.get_or_init(|| ColorRuns::of(&self.colors));
             if let Some(run) = runs.around(prim) {
-                return (run.clone(), self.colors[run.start as usize]);
+                let first = run.start as usize;
+                return (run, self.colors[first]);
             }
         }
         match self.stored(prim) {
@@ -458,7 +459,7 @@ impl ColorRuns {
     fn of(colors: &[V3<f32>]) -> Self {
         let mut starts = Vec::new();
         for (i, c) in colors.iter().enumerate() {
-            // (Bits, not `==`: a NaN colour is one run with itself, as the pixels show it.)
+            // (Bits, not `==`: a NaN colour, unequal to itself, still makes one run.)
             if i == 0 || c.map(f32::to_bits) != colors[i - 1].map(f32::to_bits) {
                 if starts.len() == Self::MAX {
                     return Self::default();
