@@ -1,8 +1,9 @@
 //! Embree 3 (Debian's `libembree3-3`) loaded at run time, so the example builds and runs where
 //! Embree is not installed (it then says so and leaves its rows out).
 //!
-//! Only what a closest-hit benchmark needs: one triangle mesh, a HIGH-quality build, and the
-//! single-ray, 8-ray and 16-ray queries. The structs mirror `embree3/rtcore_ray.h` and
+//! Only what a closest-hit benchmark needs: one triangle mesh, or meshes placed as instances
+//! beside loose triangles (one level, Embree's `RTC_GEOMETRY_TYPE_INSTANCE`), a HIGH-quality
+//! build, and the single-ray, 8-ray and 16-ray queries. The structs mirror `embree3/rtcore_ray.h` and
 //! `rtcore_common.h` of Embree 3.13 built with `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
 //! `RTC_MIN_WIDTH` 0 (Debian's build).
 
@@ -12,10 +13,12 @@ use std::mem::ManuallyDrop;
 
 const INVALID_ID: u32 = u32::MAX;
 const GEOMETRY_TYPE_TRIANGLE: c_uint = 0;
+const GEOMETRY_TYPE_INSTANCE: c_uint = 121;
 const BUFFER_TYPE_INDEX: c_uint = 0;
 const BUFFER_TYPE_VERTEX: c_uint = 1;
 const FORMAT_UINT3: c_uint = 0x5003;
 const FORMAT_FLOAT3: c_uint = 0x9003;
+const FORMAT_FLOAT3X4_COLUMN_MAJOR: c_uint = 0x9234;
 const BUILD_QUALITY_HIGH: c_uint = 2;
 const CONTEXT_FLAG_COHERENT: c_uint = 1;
 
@@ -114,9 +117,9 @@ impl<const N: usize> RayHitN<N> {
         ValidN(self.tfar.map(|t| if t >= 0.0 { -1 } else { 0 }))
     }
 
-    /// Each lane's primitive, `None` where it missed.
-    pub fn prims(&self) -> [Option<u32>; N] {
-        std::array::from_fn(|i| (self.geom_id[i] != INVALID_ID).then_some(self.prim_id[i]))
+    /// Each lane's primitive in `scene`'s numbering, `None` where it missed.
+    fn prims(&self, scene: &EmbreeScene) -> [Option<u32>; N] {
+        std::array::from_fn(|i| scene.prim(self.geom_id[i], self.prim_id[i], self.inst_id[i]))
     }
 }
 
@@ -135,6 +138,8 @@ type SetNewGeometryBuffer =
     unsafe extern "C" fn(*mut c_void, c_uint, c_uint, c_uint, usize, usize) -> *mut c_void;
 type SetGeometryBuildQuality = unsafe extern "C" fn(*mut c_void, c_uint);
 type CommitGeometry = unsafe extern "C" fn(*mut c_void);
+type SetInstancedScene = unsafe extern "C" fn(*mut c_void, *mut c_void);
+type SetTransform = unsafe extern "C" fn(*mut c_void, c_uint, c_uint, *const f32);
 type AttachGeometry = unsafe extern "C" fn(*mut c_void, *mut c_void) -> c_uint;
 type ReleaseGeometry = unsafe extern "C" fn(*mut c_void);
 type CommitScene = unsafe extern "C" fn(*mut c_void);
@@ -155,13 +160,40 @@ pub struct Embree {
 unsafe impl Send for Embree {}
 unsafe impl Sync for Embree {}
 
-/// A committed scene of one triangle mesh.
+/// A committed scene: one triangle mesh, or instances and loose triangles.
 pub struct EmbreeScene<'a> {
     embree: &'a Embree,
     scene: *mut c_void,
+    /// The instanced meshes' own scenes (released with it).
+    meshes: Vec<*mut c_void>,
+    /// How a hit's ids map to the caller's primitive numbers.
+    numbering: Numbering,
     intersect1: Symbol<'a, Intersect1>,
     intersect8: Symbol<'a, IntersectN<8>>,
     intersect16: Symbol<'a, IntersectN<16>>,
+}
+
+/// How an Embree hit's ids become the caller's primitive numbers.
+enum Numbering {
+    /// One mesh: the primitive id.
+    Mesh,
+    /// Geometry 0 holds the loose triangles (`loose[prim id]`) if there are any; the
+    /// geometries from `first_instance` on are the instances, in order, and instance k's
+    /// mesh triangle i is primitive `first_prim[k] + i`.
+    Instanced {
+        loose: Vec<u32>,
+        first_instance: u32,
+        first_prim: Vec<u32>,
+    },
+}
+
+/// A mesh placed as an instance: which of the meshes, its object-to-world matrix (3×4,
+/// column-major: the linear part's columns, then the translation), and the primitive number
+/// of its first triangle.
+pub struct Placement {
+    pub mesh: usize,
+    pub world_from_object: [f32; 12],
+    pub first_prim: u32,
 }
 
 unsafe impl Send for EmbreeScene<'_> {}
@@ -199,15 +231,93 @@ impl Embree {
 
     /// Builds a scene of `triangles` at Embree's HIGH quality (its best BVH for tracing).
     pub fn scene(&self, triangles: &[[[f32; 3]; 3]]) -> Result<EmbreeScene<'_>, String> {
+        let scene = self.mesh_scene(triangles)?;
+        Ok(self.wrap(scene, Vec::new(), Numbering::Mesh))
+    }
+
+    /// Builds a scene of `meshes` placed as instances (each mesh's own scene built once at
+    /// HIGH quality) beside `loose` triangles with their primitive numbers.
+    pub fn instanced_scene(
+        &self,
+        meshes: &[&[[[f32; 3]; 3]]],
+        placements: &[Placement],
+        loose: &[([[f32; 3]; 3], u32)],
+    ) -> Result<EmbreeScene<'_>, String> {
+        let mut built = Vec::new();
+        for mesh in meshes {
+            match self.mesh_scene(mesh) {
+                Ok(s) => built.push(s),
+                Err(e) => {
+                    self.release_scenes(&built);
+                    return Err(e);
+                }
+            }
+        }
+        let tris: Vec<_> = loose.iter().map(|(t, _)| *t).collect();
+        // SAFETY: as in `scene`; each instance's scene was committed before the instance is,
+        // as Embree's documentation asks, and its matrix is the 12 floats the format reads.
+        let scene = unsafe {
+            let scene = self.symbol::<NewScene>(b"rtcNewScene\0")(self.device);
+            self.symbol::<SetSceneBuildQuality>(b"rtcSetSceneBuildQuality\0")(
+                scene,
+                BUILD_QUALITY_HIGH,
+            );
+            if !tris.is_empty() {
+                let loose_geometry = self.triangle_geometry(&tris)?;
+                self.attach(scene, loose_geometry);
+            }
+            for p in placements {
+                let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
+                    self.device,
+                    GEOMETRY_TYPE_INSTANCE,
+                );
+                self.symbol::<SetInstancedScene>(b"rtcSetGeometryInstancedScene\0")(
+                    geometry,
+                    built[p.mesh],
+                );
+                self.symbol::<SetTransform>(b"rtcSetGeometryTransform\0")(
+                    geometry,
+                    0,
+                    FORMAT_FLOAT3X4_COLUMN_MAJOR,
+                    p.world_from_object.as_ptr(),
+                );
+                self.attach(scene, geometry);
+            }
+            self.commit(scene)?;
+            scene
+        };
+        let numbering = Numbering::Instanced {
+            loose: loose.iter().map(|(_, p)| *p).collect(),
+            first_instance: !loose.is_empty() as u32,
+            first_prim: placements.iter().map(|p| p.first_prim).collect(),
+        };
+        Ok(self.wrap(scene, built, numbering))
+    }
+
+    /// A committed scene of one triangle mesh, HIGH quality.
+    fn mesh_scene(&self, triangles: &[[[f32; 3]; 3]]) -> Result<*mut c_void, String> {
         // SAFETY: the calls follow Embree's documented sequence (new scene, new geometry,
-        // fill its buffers of the sizes asked for, commit, attach, release, commit scene);
-        // the buffers are written within the sizes Embree allocated.
+        // fill its buffers of the sizes asked for, commit, attach, release, commit scene).
         unsafe {
             let scene = self.symbol::<NewScene>(b"rtcNewScene\0")(self.device);
             self.symbol::<SetSceneBuildQuality>(b"rtcSetSceneBuildQuality\0")(
                 scene,
                 BUILD_QUALITY_HIGH,
             );
+            let geometry = self.triangle_geometry(triangles)?;
+            self.attach(scene, geometry);
+            self.commit(scene)?;
+            Ok(scene)
+        }
+    }
+
+    /// A triangle geometry of `triangles`, HIGH quality, committed.
+    ///
+    /// # Safety
+    /// The device must be live (it is while `self` is).
+    unsafe fn triangle_geometry(&self, triangles: &[[[f32; 3]; 3]]) -> Result<*mut c_void, String> {
+        // SAFETY: the buffers are written within the sizes Embree allocated.
+        unsafe {
             let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
                 self.device,
                 GEOMETRY_TYPE_TRIANGLE,
@@ -236,21 +346,58 @@ impl Embree {
                     indices[3 * i + k] = (3 * i + k) as u32;
                 }
             }
+            Ok(geometry)
+        }
+    }
+
+    /// Commits `geometry`, attaches it to `scene` (geometry ids 0, 1, … in attach order) and
+    /// drops this handle to it (the scene keeps it).
+    ///
+    /// # Safety
+    /// Both must be live handles of this device.
+    unsafe fn attach(&self, scene: *mut c_void, geometry: *mut c_void) {
+        // SAFETY: the signatures are Embree's; the caller's handles are live.
+        unsafe {
             self.symbol::<CommitGeometry>(b"rtcCommitGeometry\0")(geometry);
             self.symbol::<AttachGeometry>(b"rtcAttachGeometry\0")(scene, geometry);
             self.symbol::<ReleaseGeometry>(b"rtcReleaseGeometry\0")(geometry);
-            self.symbol::<CommitScene>(b"rtcCommitScene\0")(scene);
-            let code = self.device_error();
-            if code != 0 {
-                return Err(format!("rtcCommitScene failed (Embree error {code})"));
-            }
-            Ok(EmbreeScene {
-                embree: self,
-                scene,
-                intersect1: self.symbol(b"rtcIntersect1\0"),
-                intersect8: self.symbol(b"rtcIntersect8\0"),
-                intersect16: self.symbol(b"rtcIntersect16\0"),
-            })
+        }
+    }
+
+    /// Commits `scene` (builds its BVH).
+    ///
+    /// # Safety
+    /// `scene` must be a live scene of this device.
+    unsafe fn commit(&self, scene: *mut c_void) -> Result<(), String> {
+        // SAFETY: the signature is rtcCommitScene's; the caller's handle is live.
+        unsafe { self.symbol::<CommitScene>(b"rtcCommitScene\0")(scene) };
+        match self.device_error() {
+            0 => Ok(()),
+            code => Err(format!("rtcCommitScene failed (Embree error {code})")),
+        }
+    }
+
+    fn release_scenes(&self, scenes: &[*mut c_void]) {
+        for &s in scenes {
+            // SAFETY: each was made by rtcNewScene on this device and is released once.
+            unsafe { self.symbol::<ReleaseScene>(b"rtcReleaseScene\0")(s) }
+        }
+    }
+
+    fn wrap(
+        &self,
+        scene: *mut c_void,
+        meshes: Vec<*mut c_void>,
+        numbering: Numbering,
+    ) -> EmbreeScene<'_> {
+        EmbreeScene {
+            embree: self,
+            scene,
+            meshes,
+            numbering,
+            intersect1: self.symbol(b"rtcIntersect1\0"),
+            intersect8: self.symbol(b"rtcIntersect8\0"),
+            intersect16: self.symbol(b"rtcIntersect16\0"),
         }
     }
 
@@ -269,6 +416,24 @@ impl Drop for Embree {
 }
 
 impl EmbreeScene<'_> {
+    /// A hit's primitive number, `None` for a miss.
+    fn prim(&self, geom_id: u32, prim_id: u32, inst_id: u32) -> Option<u32> {
+        if geom_id == INVALID_ID {
+            return None;
+        }
+        Some(match &self.numbering {
+            Numbering::Mesh => prim_id,
+            Numbering::Instanced {
+                loose,
+                first_instance,
+                first_prim,
+            } => match inst_id {
+                INVALID_ID => loose[prim_id as usize],
+                k => first_prim[(k - first_instance) as usize] + prim_id,
+            },
+        })
+    }
+
     /// The nearest triangle along one ray, `rtcIntersect1`.
     pub fn closest1(&self, o: [f32; 3], d: [f32; 3]) -> Option<u32> {
         let mut rh = RayHit1 {
@@ -290,27 +455,30 @@ impl EmbreeScene<'_> {
         let mut context = Context::coherent();
         // SAFETY: a committed scene, an initialised context and ray, the header's layouts.
         unsafe { (self.intersect1)(self.scene, &mut context, &mut rh) };
-        (rh.geom_id != INVALID_ID).then_some(rh.prim_id)
+        self.prim(rh.geom_id, rh.prim_id, rh.inst_id)
     }
 
-    /// A packet of 8 rays, `rtcIntersect8`.
-    pub fn closest8(&self, packet: &mut RayHitN<8>, valid: &ValidN<8>) {
+    /// A packet of 8 rays, `rtcIntersect8`: each lane's primitive.
+    pub fn closest8(&self, packet: &mut RayHitN<8>, valid: &ValidN<8>) -> [Option<u32>; 8] {
         let mut context = Context::coherent();
         // SAFETY: as closest1; valid and packet are aligned as the header declares.
-        unsafe { (self.intersect8)(valid, self.scene, &mut context, packet) }
+        unsafe { (self.intersect8)(valid, self.scene, &mut context, packet) };
+        packet.prims(self)
     }
 
-    /// A packet of 16 rays, `rtcIntersect16`.
-    pub fn closest16(&self, packet: &mut RayHitN<16>, valid: &ValidN<16>) {
+    /// A packet of 16 rays, `rtcIntersect16`: each lane's primitive.
+    pub fn closest16(&self, packet: &mut RayHitN<16>, valid: &ValidN<16>) -> [Option<u32>; 16] {
         let mut context = Context::coherent();
         // SAFETY: as closest8.
-        unsafe { (self.intersect16)(valid, self.scene, &mut context, packet) }
+        unsafe { (self.intersect16)(valid, self.scene, &mut context, packet) };
+        packet.prims(self)
     }
 }
 
 impl Drop for EmbreeScene<'_> {
     fn drop(&mut self) {
-        // SAFETY: the scene was made by rtcNewScene on this device.
-        unsafe { self.embree.symbol::<ReleaseScene>(b"rtcReleaseScene\0")(self.scene) }
+        // (The top scene first: it holds the instanced ones.)
+        self.embree.release_scenes(&[self.scene]);
+        self.embree.release_scenes(&self.meshes);
     }
 }

@@ -23,8 +23,9 @@
 //!
 //! The meshes come from ../shared/scenes when it exists, the 1M-triangle mesh from
 //! target/igea_1m.obj when `benches/readme_table.sh` has made it, and the field of 1,000
-//! bunnies from benches/scenes/bunny_field.scene (raylab only: instances); the Cornell box
-//! always runs. Every method gets the same rays (the camera framing the mesh, or the lab's).
+//! bunnies from benches/scenes/bunny_field.scene (raylab and Embree, both placing one stored
+//! bunny as 1,000 instances: Embree's `RTC_GEOMETRY_TYPE_INSTANCE` with the instances' f64
+//! matrices rounded to f32); the Cornell box always runs. Every method gets the same rays (the camera framing the mesh, or the lab's).
 //!
 //! Accuracy columns: against raylab's exact per-ray answer (the nearest triangle along the
 //! f32 ray), the rays a method missed where the exact answer hits (a leak), hit where it
@@ -35,7 +36,7 @@ mod embree;
 
 use anyhow::{anyhow, Context as _};
 use clap::Parser;
-use embree::{Embree, RayHitN, ValidN};
+use embree::{Embree, Placement, RayHitN, ValidN};
 use glam_obvhs::Vec3A;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::cwbvh::CwBvh;
@@ -48,10 +49,11 @@ use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
 use raylab::math::simd::{self, SimdLevel};
 use raylab::render::{render_into, LabStep, RenderSettings};
+use raylab::scene::Mesh;
 use raylab::Scene;
 use rayon::prelude::*;
 use std::path::Path;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
@@ -120,11 +122,71 @@ struct Timed<'a> {
 }
 
 /// One scene of the run: its name, the raylab scene and its triangles for the peers (empty
-/// for the instanced field, which only raylab renders).
+/// for the instanced field, which only raylab and Embree render, as `instanced`).
 struct Bench {
     name: String,
     scene: Scene,
     triangles: Vec<[[f32; 3]; 3]>,
+    instanced: Option<Instanced>,
+}
+
+/// A scene's instances as Embree places them: the distinct meshes, the placements, and the
+/// triangles outside any instance with their primitive numbers.
+struct Instanced {
+    meshes: Vec<Arc<Mesh>>,
+    placements: Vec<Placement>,
+    loose: Vec<([[f32; 3]; 3], u32)>,
+}
+
+impl Instanced {
+    /// `scene`'s instances, or `None` if it has none. Spheres outside instances are left out
+    /// (the field has none).
+    fn of(scene: &Scene) -> Option<Self> {
+        if scene.instances().is_empty() {
+            return None;
+        }
+        let mut meshes: Vec<Arc<Mesh>> = Vec::new();
+        let placements = (scene.instances().iter())
+            .map(|inst| {
+                let mesh = match meshes.iter().position(|m| Arc::ptr_eq(m, &inst.mesh)) {
+                    Some(k) => k,
+                    None => {
+                        meshes.push(inst.mesh.clone());
+                        meshes.len() - 1
+                    }
+                };
+                let m = inst.world_from_object;
+                let cols = [m.x_axis, m.y_axis, m.z_axis, m.w_axis];
+                Placement {
+                    mesh,
+                    world_from_object: std::array::from_fn(|i| cols[i / 3][i % 3] as f32),
+                    first_prim: inst.first_prim,
+                }
+            })
+            .collect();
+        // The explicit shapes fill the primitive numbers around the instances', in order.
+        let mut loose = Vec::new();
+        let mut shapes = scene.shapes.iter();
+        let mut prim = 0u32;
+        let mut take_up_to = |end: u32, prim: &mut u32| {
+            while *prim < end {
+                if let Some(Shape::Triangle(v)) = shapes.next() {
+                    loose.push((*v, *prim));
+                }
+                *prim += 1;
+            }
+        };
+        for inst in scene.instances() {
+            take_up_to(inst.first_prim, &mut prim);
+            prim = inst.prims().end;
+        }
+        take_up_to(scene.len() as u32, &mut prim);
+        Some(Instanced {
+            meshes,
+            placements,
+            loose,
+        })
+    }
 }
 
 fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
@@ -175,10 +237,12 @@ fn load_benches(only: &[String]) -> anyhow::Result<Vec<Bench>> {
                 })
                 .collect(),
         };
+        let instanced = Instanced::of(&scene);
         benches.push(Bench {
             name: name.into(),
             scene,
             triangles,
+            instanced,
         });
     }
     Ok(benches)
@@ -208,7 +272,7 @@ fn embree_packets<const N: usize>(
     (w, h): (u32, u32),
     (bw, bh): (usize, usize),
     prims: &mut [Option<u32>],
-    trace: impl Fn(&mut RayHitN<N>, &ValidN<N>) + Sync,
+    trace: impl Fn(&mut RayHitN<N>, &ValidN<N>) -> [Option<u32>; N] + Sync,
 ) -> u64 {
     let (w, h) = (w as usize, h as usize);
     prims
@@ -227,8 +291,8 @@ fn embree_packets<const N: usize>(
                     packet.set(lane, ray.o, ray.d);
                 }
                 let valid = packet.valid();
-                trace(&mut packet, &valid);
-                for (&(r, x), prim) in lanes.iter().zip(packet.prims()).take(rows * cols) {
+                let prims = trace(&mut packet, &valid);
+                for (&(r, x), prim) in lanes.iter().zip(prims).take(rows * cols) {
                     out[r * w + x] = prim;
                     hits += prim.is_some() as u64;
                 }
@@ -278,11 +342,11 @@ struct Disagreements {
     wrong: usize,
 }
 
-/// Compares `got` with the exact `reference` answers for `rays` over `tris`. A different
+/// Compares `got` with the exact `reference` answers for `rays` over `scene`. A different
 /// triangle is a tie where the exact reference search over the two, in either order, names
 /// the first (it breaks exact ties by the lower index).
 fn disagreements(
-    tris: &[[[f32; 3]; 3]],
+    scene: &Scene,
     rays: &[Ray],
     reference: &[Option<u32>],
     got: &[Option<u32>],
@@ -294,7 +358,7 @@ fn disagreements(
             (None, Some(_)) => d.extra += 1,
             (Some(a), Some(b)) if a != b => {
                 let pair = |x: u32, y: u32| {
-                    let shapes = [tris[x as usize], tris[y as usize]].map(Shape::Triangle);
+                    let shapes = [scene.shape(x), scene.shape(y)];
                     closest_hit_reference(&shapes, ray, 0.0, f32::INFINITY).map(|h| h.prim)
                 };
                 match (pair(*a, *b), pair(*b, *a)) {
@@ -488,6 +552,7 @@ fn main() -> anyhow::Result<()> {
                 "bunny" => "≥ 1.5",
                 "igea" => "≥ 1.3",
                 "igea_1m" => "≥ 1.2",
+                "field" => "none (≥ 15 frames/s at 1280x720)",
                 _ => "",
             };
             let ms = |t: Option<Duration>| {
@@ -554,26 +619,36 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
-fn run_bench(
+fn run_bench<'a>(
     bench: &Bench,
     sizes: &[(u32, u32)],
     args: &Args,
-    [embree, embree_avx2]: [Option<&Embree>; 2],
+    [embree, embree_avx2]: [Option<&'a Embree>; 2],
     found: &mut Found,
 ) -> anyhow::Result<()> {
     let tris = &bench.triangles;
     let (accel, mut raylab_build) = timed(|| bench.scene.accel());
+    // tinybvh and obvhs take a mesh; Embree takes the field's instances too.
     let peers = !tris.is_empty();
-    let mut embree_scene = match (embree, peers) {
+    let embree_build = |e: &'a Embree| match &bench.instanced {
+        Some(inst) => {
+            let meshes: Vec<&[[[f32; 3]; 3]]> =
+                inst.meshes.iter().map(|m| &m.triangles[..]).collect();
+            e.instanced_scene(&meshes, &inst.placements, &inst.loose)
+        }
+        None => e.scene(tris),
+    };
+    let embree_input = peers || bench.instanced.is_some();
+    let mut embree_scene = match (embree, embree_input) {
         (Some(e), true) => {
-            let (s, t) = timed(|| e.scene(tris));
+            let (s, t) = timed(|| embree_build(e));
             Some((s.map_err(|e| anyhow!(e))?, t))
         }
         _ => None,
     };
     // (Its build is not timed: the build table compares Embree's best.)
-    let embree_avx2_scene = match (embree_avx2, peers) {
-        (Some(e), true) => Some(e.scene(tris).map_err(|e| anyhow!(e))?),
+    let embree_avx2_scene = match (embree_avx2, embree_input) {
+        (Some(e), true) => Some(embree_build(e).map_err(|e| anyhow!(e))?),
         _ => None,
     };
     // The builds again, interleaved, on as many threads as the largest count (each builder's
@@ -698,7 +773,7 @@ fn run_bench(
                 });
             }
         }
-        if peers {
+        if embree_input {
             methods.push(Timed {
                 name: "raylab closest_hit per ray (adaptive, exact)".into(),
                 role: Role::Reference,
@@ -817,7 +892,7 @@ fn run_bench(
             .map(|(m, a)| match (m.role, reference, a) {
                 (Role::Reference, ..) => "reference | | | ".into(),
                 (_, Some(r), Some(a)) => {
-                    let d = disagreements(tris, &rays, r, a);
+                    let d = disagreements(&bench.scene, &rays, r, a);
                     format!("{} | {} | {} | {}", d.missed, d.extra, d.ties, d.wrong)
                 }
                 _ => "– | – | – | –".into(),
