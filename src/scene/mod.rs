@@ -45,8 +45,8 @@ pub struct Scene {
     color_runs: OnceLock<ColorRuns>,
     /// Meshes placed by a matrix, in primitive order (see [`Scene::with_instances`]).
     instances: Vec<Instance>,
-    /// Per instance, how many instanced primitives come before it.
-    instanced_before: Vec<u32>,
+    /// Where each instance starts ([`instance::locate`]).
+    instance_index: Vec<instance::InstanceStart>,
     /// The one light.
     pub light: PointLight,
     /// The lab's constant indirect-light approximation N.
@@ -107,7 +107,7 @@ impl Scene {
             camera: None,
             levels: Vec::new(),
             instances: Vec::new(),
-            instanced_before: Vec::new(),
+            instance_index: Vec::new(),
             accel_choice: AccelChoice::Auto,
             accel: OnceLock::new(),
         }
@@ -254,7 +254,7 @@ impl Scene {
                 self.name, bad.mesh.name, bad.world_from_object
             ));
         }
-        self.instanced_before = instance::instanced_before(&instances);
+        self.instance_index = instance::index(&instances);
         self.instances = instances;
         self.accel = OnceLock::new();
         Ok(self)
@@ -270,7 +270,7 @@ impl Scene {
     pub fn stored(&self, prim: u32) -> Stored {
         match self.instances.is_empty() {
             true => Stored::Explicit(prim as usize),
-            false => instance::locate(&self.instances, &self.instanced_before, prim),
+            false => instance::locate(&self.instances, &self.instance_index, prim),
         }
     }
 
@@ -384,7 +384,7 @@ impl Scene {
         flat.shapes = self.all_shapes().collect();
         *flat.colors_mut() = (0..self.len() as u32).map(|p| self.color(p)).collect();
         flat.instances.clear();
-        flat.instanced_before.clear();
+        flat.instance_index.clear();
         flat.accel = OnceLock::new();
         flat
     }
