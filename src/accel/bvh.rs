@@ -19,7 +19,7 @@
 use super::instances::PacketSink;
 use super::packet::{
     quad_indices, BlockIds, OriginBlock, OriginTriangle, OriginTriangles, PacketHits,
-    PacketNearest, PacketSeed, ShadowHits, ShadowPacket,
+    PacketNearest, PacketSeed, PreciseTriangle, ShadowHits, ShadowPacket,
 };
 use super::prepared::{LeafCache, Prepared, Reached, BLOCK};
 use super::IndexedTriangle;
@@ -541,7 +541,7 @@ impl Bvh {
                     LeafTriangles::Leaf { .. } | LeafTriangles::Blocks { .. } => {
                         match tris.get(j).estimate(ray.d, d_max) {
                             Estimate::Unsure => {
-                                self.precise(first + j, ray.o).estimate(ray.d, d_max)
+                                (self.precise(first + j, ray.o).rounded).estimate(ray.d, d_max)
                             }
                             est => est,
                         }
@@ -765,7 +765,7 @@ impl Bvh {
         for j in js {
             let id = (first + j) as u32;
             if !nearest.offer_decided(&block_lane(blocks, start, j), id) {
-                nearest.offer(&self.precise(first + j, o), id);
+                nearest.offer_precise(&self.precise(first + j, o), id);
             }
         }
     }
@@ -784,18 +784,18 @@ impl Bvh {
     ) {
         for j in 0..len {
             if !sink.take_decided(&block_lane(blocks, start, j)) {
-                sink.take(&self.precise(first + j, o));
+                sink.take_precise(&self.precise(first + j, o));
             }
         }
     }
 
-    /// The triangle at `position` prepared for `o` with [`OriginTriangle::new`]'s tight
-    /// bounds in f64, for the rays the f32 preparation of [`Bvh::prepare_block`] leaves
-    /// undecided (rare: out of the way of the kernels).
+    /// The triangle at `position` prepared for `o` in f64 ([`PreciseTriangle`]), for the
+    /// rays the f32 preparation of [`Bvh::prepare_block`] leaves undecided (rare: out of the
+    /// way of the kernels).
     #[cold]
     #[inline(never)]
-    fn precise(&self, position: usize, o: [f32; 3]) -> OriginTriangle {
-        OriginTriangle::new(&self.tris[position], o, self.prims[position])
+    fn precise(&self, position: usize, o: [f32; 3]) -> PreciseTriangle {
+        PreciseTriangle::new(&self.tris[position], o, self.prims[position])
     }
 
     /// The leaf `first..end`'s triangles prepared for `o`: from `prepared`, or prepared into

@@ -20,7 +20,8 @@
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
 use super::packet::{
-    quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, ShadowPacket,
+    quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, PreciseTriangle,
+    ShadowPacket,
 };
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
@@ -48,6 +49,12 @@ pub(crate) trait PacketSink<V = f32x8> {
     /// [`PacketSink::take`] unless the triangle would leave a live lane undecided: then
     /// nothing changes and the answer is false.
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool;
+    /// Takes a triangle prepared in f64 for the lanes its f32 preparation left undecided: by
+    /// default as rounded to f32 ([`PacketSink::take`]).
+    #[inline(always)]
+    fn take_precise(&mut self, tri: &PreciseTriangle) {
+        self.take(&tri.rounded);
+    }
     /// Takes lanes `tris` of `block` for ray lane `lane` alone, where that is done in one
     /// pass and decides the lane ([`PacketNearest::offer_block_to_lane`]); otherwise
     /// nothing changes and the answer is false.
@@ -77,6 +84,10 @@ impl<V: LaneOps> PacketSink<V> for PacketNearest<V> {
     #[inline(always)]
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
         self.offer_decided(tri, tri.prim)
+    }
+    #[inline(always)]
+    fn take_precise(&mut self, tri: &PreciseTriangle) {
+        self.offer_precise(tri, tri.rounded.prim);
     }
     #[inline(always)]
     fn take_block_for_lane(&mut self, block: &OriginBlock, tris: u32, lane: usize) -> bool {
@@ -576,7 +587,7 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
             if !one_lane {
                 for (l, v) in object.iter().enumerate().take(n) {
                     if !sink.take_decided(&self.block.get(l)) {
-                        sink.take(&precise(place, v, self.o, p[l]));
+                        sink.take_precise(&precise(place, v, self.o, p[l]));
                     }
                 }
             }
@@ -585,13 +596,13 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for MeshLeaves<'_> {
     }
 }
 
-/// Object triangle `v` placed in the world and prepared for `o` with
-/// [`OriginTriangle::new`]'s tight bounds in f64, for the rays the f32 preparation leaves
-/// undecided (rare: out of the way of the kernels).
+/// Object triangle `v` placed in the world and prepared for `o` in f64
+/// ([`PreciseTriangle`]), for the rays the f32 preparation leaves undecided (rare: out of
+/// the way of the kernels).
 #[cold]
 #[inline(never)]
-fn precise(place: &Placed, v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> OriginTriangle {
-    OriginTriangle::new(&place.world(v), o, prim)
+fn precise(place: &Placed, v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> PreciseTriangle {
+    PreciseTriangle::new(&place.world(v), o, prim)
 }
 
 #[cfg(test)]

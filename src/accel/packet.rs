@@ -19,7 +19,7 @@
 //! exactly. So a decided lane's primitive is exactly the one the per-ray search returns.
 
 use super::IndexedTriangle;
-use crate::geometry::adaptive::{Approx, Estimate};
+use crate::geometry::adaptive::{round_down, round_up, Approx, Estimate};
 use crate::geometry::exact;
 use crate::math::lanes::{f32x8, LaneOps, Lanes, Lanes64};
 use crate::math::simd::{avx2_or_baseline, each3};
@@ -33,6 +33,10 @@ const U64: f64 = 1.0 / (1u64 << 53) as f64;
 
 /// Largest |nₖ| sum (and |det|) prepared: larger ones make every ray ambiguous.
 const MAX_MAGNITUDE: f64 = 1e36;
+
+/// Absolute slack of the f64 bounds ([`PreciseTriangle`]): products in f64's subnormal range
+/// and the bounds' own roundings there (far below any value they decide).
+const TINY64: f64 = 1e-300;
 
 /// Largest max|dₖ|·Σ|nₖ| a packet may reach (far from f32 overflow).
 const MAX_PRODUCT: f32 = 1e37;
@@ -162,6 +166,92 @@ impl OriginTriangle {
     /// keep tight bounds.
     #[inline]
     pub fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
+        PreciseTriangle::new(v, o, prim).rounded
+    }
+}
+
+/// A triangle prepared for one origin as [`OriginTriangle::new`] prepares it (which rounds
+/// this to f32), its f64 quantities kept with their bounds: for the lanes that rounding
+/// leaves undecided ([`PacketNearest::offer_precise`]). The nᵢ rounded to f32 bound each eᵢ
+/// to about 4U·|nᵢ|·|d|; for a triangle small and far from the origin, eᵢ is small against
+/// |nᵢ|·|d| (about (offset from the edge) / distance), so rays of a far bunny's pixels fell
+/// within that bound of some edge, 0.5% of a field frame's camera rays, and were traced per
+/// ray (5% of the frame). In f64 the bound is about 2⁻²⁹ as wide.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PreciseTriangle {
+    /// nᵢ = pⱼ × Eᵢ in f64.
+    n: [[f64; 3]; 3],
+    /// The bound on each component of `n`'s error (8.0004u·m·e, see [`OriginTriangle::new`]).
+    n_err: f64,
+    /// N = E₁ × E₂ in f64.
+    normal: [f64; 3],
+    /// The bound on each component of `normal`'s error (8.0004u·e²).
+    normal_err: f64,
+    /// det[p₀, p₁, p₂] = p₀·N in f64.
+    num: f64,
+    /// The bound on `num`'s error.
+    num_err: f64,
+    /// Whether the f64 test can be used: `num`'s sign certain, magnitudes finite.
+    usable: bool,
+    /// The same triangle rounded to f32 ([`OriginTriangle::new`]).
+    pub(crate) rounded: OriginTriangle,
+}
+
+impl PreciseTriangle {
+    /// Where the ray from the origin along `d` (f32 components) meets the triangle, decided
+    /// in f64 (`tri` usable): `Some(None)` where it certainly misses it or meets it behind
+    /// the origin, `Some(Some((lo, hi)))` where it certainly crosses it in front with the
+    /// exact t in [lo, hi] (f32), `None` where f64 cannot tell (within rounding of an edge,
+    /// or det too uncertain).
+    ///
+    /// With u = 2⁻⁵³: eᵢ = d·ñᵢ in f64 is within 3.0001u·Σₖ|dₖñᵢₖ| (the dot product) plus
+    /// `n_err`·Σₖ|dₖ| (ñ's own error) of d·nᵢ, d being exact in f64; det = d·Ñ likewise with
+    /// `normal_err`, so r_det = its bound / |det̃|, kept ≤ 1/4; num's relative error is
+    /// r_num = `num_err`/|ñum|. Then t̃ = ñum/det̃ is within
+    /// |t̃|·(1.4·(r_num + r_det) + 4u) of t (as [`PacketNearest`] derives it, with u for U),
+    /// and 2u more covers the rounding of t̃ ± that before it is rounded outward to f32.
+    #[cold]
+    #[inline(never)]
+    fn crossing(&self, d: [f32; 3]) -> Option<Option<(f32, f32)>> {
+        const MARGIN: f64 = 1.0 + 1e-6;
+        let d = d.map(f64::from);
+        let d_sum = d[0].abs() + d[1].abs() + d[2].abs();
+        // The dot product with d and its bound (`err`: each component's).
+        let dot = |n: &[f64; 3], err: f64| {
+            let value = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+            let size = (d[0] * n[0]).abs() + (d[1] * n[1]).abs() + (d[2] * n[2]).abs();
+            (value, (3.0001 * U64 * size + err * d_sum) * MARGIN + TINY64)
+        };
+        let (mut pos, mut neg) = (0, 0);
+        for (i, n) in self.n.iter().enumerate() {
+            let (e, bound) = dot(n, self.n_err);
+            pos |= ((e > bound) as u32) << i;
+            neg |= ((e < -bound) as u32) << i;
+        }
+        if pos != 0 && neg != 0 {
+            return Some(None);
+        }
+        if pos | neg != 0b111 {
+            return None;
+        }
+        // In front where the eᵢ's sign (det's) is the numerator's.
+        if (pos == 0b111) != (self.num > 0.0) {
+            return Some(None);
+        }
+        let (det, det_err) = dot(&self.normal, self.normal_err);
+        let r_det = det_err / det.abs();
+        if r_det.is_nan() || r_det > 0.25 {
+            return None;
+        }
+        let r_num = self.num_err / self.num.abs();
+        let t = self.num / det;
+        let err = t.abs() * (1.4 * (r_num + r_det) + 6.0 * U64) * MARGIN + TINY64;
+        Some(Some((round_down(t - err), round_up(t + err))))
+    }
+
+    /// [`OriginTriangle::new`], its f64 quantities kept.
+    #[inline]
+    pub(crate) fn new(v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Self {
         const TINY: f64 = 3.0 * 1.5e-45;
         const MARGIN: f64 = 1.0 + 1e-6;
         // (Helpers as always-inlined items without iterators: as closures over iterators
@@ -223,7 +313,7 @@ impl OriginTriangle {
             && n_max < MAX_MAGNITUDE
             && k_sum.is_finite()
             && k_det.is_finite();
-        Self {
+        let rounded = OriginTriangle {
             n,
             k,
             k_sum,
@@ -235,6 +325,22 @@ impl OriginTriangle {
             k_det,
             prim,
             usable,
+        };
+        let num_err64 =
+            (4.0002 * U64 * m * normal_abs + 3.0 * 8.0004 * U64 * m * me * me) * MARGIN + TINY64;
+        Self {
+            n: n64,
+            n_err: 8.0004 * U64 * m * me * MARGIN + TINY64,
+            normal: normal64,
+            normal_err: 8.0004 * U64 * me * me * MARGIN + TINY64,
+            num: num64,
+            num_err: num_err64,
+            // (NaN anywhere reaches num64 and fails the first comparison.)
+            usable: num64.abs() > 2.0 * num_err64
+                && num64.abs() < MAX_MAGNITUDE
+                && m < MAX_MAGNITUDE
+                && me < MAX_MAGNITUDE,
+            rounded,
         }
     }
 }
@@ -1376,6 +1482,37 @@ impl<V: LaneOps> PacketNearest<V> {
         self.offer_as::<true>(tri, id)
     }
 
+    /// Offers `tri` as [`PacketNearest::offer`] offers its f32 rounding, unless that would
+    /// leave a live lane ambiguous: then each live lane tests it in f64
+    /// ([`PreciseTriangle`]), and only a lane that f64 cannot decide either is ambiguous.
+    /// (Inlined, with the f64 test a call: a cold call of this generic code was compiled
+    /// without the kernel's target features, every lane operation a call of its own.)
+    #[inline(always)]
+    pub(crate) fn offer_precise(&mut self, tri: &PreciseTriangle, id: u32) {
+        if self.offer_decided(&tri.rounded, id) {
+            return;
+        }
+        let live = !self.ambiguous.to_bitmask() & V::full();
+        if !tri.usable {
+            self.ambiguous = V::zero().simd_eq(V::zero());
+            return;
+        }
+        let mut ambiguous = 0;
+        let mut rest = live;
+        while rest != 0 {
+            let l = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let d = [self.d[0].lane(l), self.d[1].lane(l), self.d[2].lane(l)];
+            match tri.crossing(d) {
+                Some(None) => {}
+                Some(Some((lo, hi))) if hi < self.best_lo.lane(l) => self.set_best(l, lo, hi, id),
+                Some(Some((lo, _))) if lo > self.best_hi.lane(l) => {}
+                _ => ambiguous |= 1 << l,
+            }
+        }
+        self.ambiguous |= V::from_bitmask(ambiguous);
+    }
+
     #[inline(always)]
     fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle, id: u32) -> bool {
         let (d, dm) = (&self.d, self.dm);
@@ -2036,6 +2173,110 @@ mod tests {
         // Most of the suite is usable in f32 too (not the 1e30 scale, not the non-finite).
         assert!(usable[1] * 10 >= usable[0] * 7, "usable: {usable:?}");
         assert!(close > 1000, "{close} edge functions near zero");
+    }
+
+    /// Triangles about 10⁻³ across, about 5 units from `o` in every direction: a far
+    /// bunny's, whose edge functions are small against their f32 rounding bounds.
+    fn far_small(o: [f32; 3], next: &mut impl FnMut() -> f32) -> Vec<[[f32; 3]; 3]> {
+        (0..48)
+            .map(|_| {
+                let c = each3(|k| o[k] + 10.0 * next());
+                [(); 3].map(|_| each3(|k| c[k] + 2e-3 * next()))
+            })
+            .collect()
+    }
+
+    /// How the line o + t·d meets triangle `v`, in exact arithmetic alone (`None`: the line
+    /// lies in its plane, or the input is not finite).
+    fn exact_crossing(v: &[[f32; 3]; 3], o: [f32; 3], d: [f32; 3]) -> Option<Crossing> {
+        use num_traits::Zero;
+        let wide = |x: [f32; 3]| x.map(f64::from);
+        let mut sign = [Ordering::Equal; 3];
+        for (i, s) in sign.iter_mut().enumerate() {
+            *s = exact::orient(wide(d), wide(o), wide(v[(i + 1) % 3]), wide(v[(i + 2) % 3]))?;
+        }
+        if sign.contains(&Ordering::Greater) && sign.contains(&Ordering::Less) {
+            return Some(Crossing::Away);
+        }
+        if sign.iter().all(|s| *s == Ordering::Equal) {
+            return None;
+        }
+        let t = exact_t(v, o, d)?;
+        Some(match t > Zero::zero() {
+            true => Crossing::Front,
+            false => Crossing::Away,
+        })
+    }
+
+    /// [`PreciseTriangle::crossing`] against exact arithmetic: a certain miss is one, a
+    /// certain crossing is one in front with the exact t in its interval; and it decides
+    /// most of the rays the f32 rounding leaves within its bounds of an edge.
+    #[test]
+    fn f64_crossings_hold_the_exact_answer_and_decide_what_f32_cannot() {
+        use crate::geometry::exact::q;
+        let mut next = unit_steps(0x5851_f42d_4c95_7f2d);
+        let (mut f32_unsure, mut rescued, mut f64_unsure, mut fronts) = (0, 0, 0, 0);
+        for o in [
+            [0.0f32, 0.0, 0.0],
+            [0.3, -0.2, -3.0],
+            [1e6, 2.0, -1e-3],
+            [4.0, 1.0, 5.0],
+        ] {
+            let mut tris = triangles();
+            tris.extend(far_small(o, &mut next));
+            for v in &tris {
+                let tri = PreciseTriangle::new(v, o, 7);
+                if !tri.usable {
+                    continue;
+                }
+                for d in directions(v, o, &mut next) {
+                    let (Some(lane), Some(exact)) = (ExactLane::new(o, d), exact_crossing(v, o, d))
+                    else {
+                        continue;
+                    };
+                    let exact = Some(exact);
+                    let got = tri.crossing(d);
+                    let f32_sure = tri.rounded.usable
+                        && (0..3).all(|i| {
+                            let n = &tri.rounded.n[i];
+                            let e = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+                            e.abs() > tri.rounded.k[i] * lane.dm + EDGE_ABS
+                        });
+                    f32_unsure += !f32_sure as usize;
+                    rescued += (!f32_sure && got.is_some()) as usize;
+                    match got {
+                        None => f64_unsure += 1,
+                        Some(None) => {
+                            assert_eq!(exact, Some(Crossing::Away), "{v:?} from {o:?} along {d:?}")
+                        }
+                        Some(Some((lo, hi))) => {
+                            fronts += 1;
+                            assert_eq!(
+                                exact,
+                                Some(Crossing::Front),
+                                "{v:?} from {o:?} along {d:?}"
+                            );
+                            let t = exact_t(v, o, d).expect("crossed, so not parallel");
+                            assert!(
+                                q(f64::from(lo)) <= t && t <= q(f64::from(hi)),
+                                "t {t} outside [{lo}, {hi}] for {v:?} from {o:?} along {d:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(fronts > 500, "{fronts} crossings");
+        assert!(f32_unsure > 200, "{f32_unsure} rays near an edge for f32");
+        // (Here about 90%: the rest pass exactly through a vertex or along an edge.)
+        assert!(
+            rescued * 10 > f32_unsure * 8,
+            "{rescued} of {f32_unsure} decided in f64"
+        );
+        assert!(
+            f64_unsure * 4 < f32_unsure,
+            "{f64_unsure} left undecided in f64"
+        );
     }
 
     /// The exact t of the line o + t·d in the plane of `v` (None if parallel).
