@@ -3,8 +3,8 @@
 //!
 //! Only what a closest-hit benchmark needs: one triangle mesh, or meshes placed as instances
 //! beside loose triangles (one level, Embree's `RTC_GEOMETRY_TYPE_INSTANCE`), a HIGH-quality
-//! build, and the single-ray, 8-ray and 16-ray queries. The structs mirror `embree3/rtcore_ray.h` and
-//! `rtcore_common.h` of Embree 3.13 built with `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
+//! build, and the single-ray, 8-ray and 16-ray queries. The structs mirror
+//! `embree3/rtcore_ray.h` and `rtcore_common.h` of Embree 3.13 built with `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
 //! `RTC_MIN_WIDTH` 0 (Debian's build).
 
 use libloading::{Library, Symbol};
@@ -164,8 +164,8 @@ unsafe impl Sync for Embree {}
 pub struct EmbreeScene<'a> {
     embree: &'a Embree,
     scene: *mut c_void,
-    /// The instanced meshes' own scenes (released with it).
-    meshes: Vec<*mut c_void>,
+    /// The scenes its instances place (released after it, as fields drop after `drop`).
+    meshes: Vec<EmbreeScene<'a>>,
     /// How a hit's ids map to the caller's primitive numbers.
     numbering: Numbering,
     intersect1: Symbol<'a, Intersect1>,
@@ -231,8 +231,14 @@ impl Embree {
 
     /// Builds a scene of `triangles` at Embree's HIGH quality (its best BVH for tracing).
     pub fn scene(&self, triangles: &[[[f32; 3]; 3]]) -> Result<EmbreeScene<'_>, String> {
-        let scene = self.mesh_scene(triangles)?;
-        Ok(self.wrap(scene, Vec::new(), Numbering::Mesh))
+        // (Owned from the start: an error below releases it.)
+        let out = self.new_scene(Vec::new(), Numbering::Mesh);
+        // SAFETY: a live scene of this device.
+        unsafe {
+            self.add_triangles(out.scene, triangles)?;
+            self.commit(out.scene)?;
+        }
+        Ok(out)
     }
 
     /// Builds a scene of `meshes` placed as instances (each mesh's own scene built once at
@@ -243,28 +249,19 @@ impl Embree {
         placements: &[Placement],
         loose: &[([[f32; 3]; 3], u32)],
     ) -> Result<EmbreeScene<'_>, String> {
-        let mut built = Vec::new();
-        for mesh in meshes {
-            match self.mesh_scene(mesh) {
-                Ok(s) => built.push(s),
-                Err(e) => {
-                    self.release_scenes(&built);
-                    return Err(e);
-                }
-            }
-        }
-        let tris: Vec<_> = loose.iter().map(|(t, _)| *t).collect();
+        let meshes = (meshes.iter().map(|m| self.scene(m))).collect::<Result<Vec<_>, _>>()?;
+        let numbering = Numbering::Instanced {
+            loose: loose.iter().map(|(_, p)| *p).collect(),
+            first_instance: !loose.is_empty() as u32,
+            first_prim: placements.iter().map(|p| p.first_prim).collect(),
+        };
+        let out = self.new_scene(meshes, numbering);
         // SAFETY: as in `scene`; each instance's scene was committed before the instance is,
         // as Embree's documentation asks, and its matrix is the 12 floats the format reads.
-        let scene = unsafe {
-            let scene = self.symbol::<NewScene>(b"rtcNewScene\0")(self.device);
-            self.symbol::<SetSceneBuildQuality>(b"rtcSetSceneBuildQuality\0")(
-                scene,
-                BUILD_QUALITY_HIGH,
-            );
-            if !tris.is_empty() {
-                let loose_geometry = self.triangle_geometry(&tris)?;
-                self.attach(scene, loose_geometry);
+        unsafe {
+            if !loose.is_empty() {
+                let tris: Vec<_> = loose.iter().map(|(t, _)| *t).collect();
+                self.add_triangles(out.scene, &tris)?;
             }
             for p in placements {
                 let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
@@ -273,7 +270,7 @@ impl Embree {
                 );
                 self.symbol::<SetInstancedScene>(b"rtcSetGeometryInstancedScene\0")(
                     geometry,
-                    built[p.mesh],
+                    out.meshes[p.mesh].scene,
                 );
                 self.symbol::<SetTransform>(b"rtcSetGeometryTransform\0")(
                     geometry,
@@ -281,41 +278,50 @@ impl Embree {
                     FORMAT_FLOAT3X4_COLUMN_MAJOR,
                     p.world_from_object.as_ptr(),
                 );
-                self.attach(scene, geometry);
+                self.attach(out.scene, geometry);
             }
-            self.commit(scene)?;
-            scene
-        };
-        let numbering = Numbering::Instanced {
-            loose: loose.iter().map(|(_, p)| *p).collect(),
-            first_instance: !loose.is_empty() as u32,
-            first_prim: placements.iter().map(|p| p.first_prim).collect(),
-        };
-        Ok(self.wrap(scene, built, numbering))
+            self.commit(out.scene)?;
+        }
+        Ok(out)
     }
 
-    /// A committed scene of one triangle mesh, HIGH quality.
-    fn mesh_scene(&self, triangles: &[[[f32; 3]; 3]]) -> Result<*mut c_void, String> {
-        // SAFETY: the calls follow Embree's documented sequence (new scene, new geometry,
-        // fill its buffers of the sizes asked for, commit, attach, release, commit scene).
-        unsafe {
+    /// An empty scene at HIGH build quality, holding `meshes` (the scenes its instances
+    /// place) and answering in `numbering`.
+    fn new_scene<'a>(
+        &'a self,
+        meshes: Vec<EmbreeScene<'a>>,
+        numbering: Numbering,
+    ) -> EmbreeScene<'a> {
+        // SAFETY: the signatures are Embree's; the device is live while `self` is.
+        let scene = unsafe {
             let scene = self.symbol::<NewScene>(b"rtcNewScene\0")(self.device);
             self.symbol::<SetSceneBuildQuality>(b"rtcSetSceneBuildQuality\0")(
                 scene,
                 BUILD_QUALITY_HIGH,
             );
-            let geometry = self.triangle_geometry(triangles)?;
-            self.attach(scene, geometry);
-            self.commit(scene)?;
-            Ok(scene)
+            scene
+        };
+        EmbreeScene {
+            embree: self,
+            scene,
+            meshes,
+            numbering,
+            intersect1: self.symbol(b"rtcIntersect1\0"),
+            intersect8: self.symbol(b"rtcIntersect8\0"),
+            intersect16: self.symbol(b"rtcIntersect16\0"),
         }
     }
 
-    /// A triangle geometry of `triangles`, HIGH quality, committed.
+    /// Adds a geometry of `triangles`, HIGH quality, to `scene` (Embree's documented sequence:
+    /// new geometry, fill its buffers of the sizes asked for, commit, attach, release).
     ///
     /// # Safety
-    /// The device must be live (it is while `self` is).
-    unsafe fn triangle_geometry(&self, triangles: &[[[f32; 3]; 3]]) -> Result<*mut c_void, String> {
+    /// `scene` must be a live scene of this device.
+    unsafe fn add_triangles(
+        &self,
+        scene: *mut c_void,
+        triangles: &[[[f32; 3]; 3]],
+    ) -> Result<(), String> {
         // SAFETY: the buffers are written within the sizes Embree allocated.
         unsafe {
             let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
@@ -334,6 +340,7 @@ impl Embree {
                 set_buffer(geometry, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, n) as *mut u32;
             if vertices.is_null() || indices.is_null() {
                 let code = self.device_error();
+                self.symbol::<ReleaseGeometry>(b"rtcReleaseGeometry\0")(geometry);
                 return Err(format!(
                     "rtcSetNewGeometryBuffer failed (Embree error {code})"
                 ));
@@ -346,7 +353,8 @@ impl Embree {
                     indices[3 * i + k] = (3 * i + k) as u32;
                 }
             }
-            Ok(geometry)
+            self.attach(scene, geometry);
+            Ok(())
         }
     }
 
@@ -374,30 +382,6 @@ impl Embree {
         match self.device_error() {
             0 => Ok(()),
             code => Err(format!("rtcCommitScene failed (Embree error {code})")),
-        }
-    }
-
-    fn release_scenes(&self, scenes: &[*mut c_void]) {
-        for &s in scenes {
-            // SAFETY: each was made by rtcNewScene on this device and is released once.
-            unsafe { self.symbol::<ReleaseScene>(b"rtcReleaseScene\0")(s) }
-        }
-    }
-
-    fn wrap(
-        &self,
-        scene: *mut c_void,
-        meshes: Vec<*mut c_void>,
-        numbering: Numbering,
-    ) -> EmbreeScene<'_> {
-        EmbreeScene {
-            embree: self,
-            scene,
-            meshes,
-            numbering,
-            intersect1: self.symbol(b"rtcIntersect1\0"),
-            intersect8: self.symbol(b"rtcIntersect8\0"),
-            intersect16: self.symbol(b"rtcIntersect16\0"),
         }
     }
 
@@ -477,8 +461,8 @@ impl EmbreeScene<'_> {
 
 impl Drop for EmbreeScene<'_> {
     fn drop(&mut self) {
-        // (The top scene first: it holds the instanced ones.)
-        self.embree.release_scenes(&[self.scene]);
-        self.embree.release_scenes(&self.meshes);
+        // SAFETY: the scene was made by rtcNewScene on this device; the scenes its instances
+        // place (`meshes`) are released after it, as the fields drop.
+        unsafe { self.embree.symbol::<ReleaseScene>(b"rtcReleaseScene\0")(self.scene) }
     }
 }

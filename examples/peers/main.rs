@@ -25,7 +25,8 @@
 //! target/igea_1m.obj when `benches/readme_table.sh` has made it, and the field of 1,000
 //! bunnies from benches/scenes/bunny_field.scene (raylab and Embree, both placing one stored
 //! bunny as 1,000 instances: Embree's `RTC_GEOMETRY_TYPE_INSTANCE` with the instances' f64
-//! matrices rounded to f32); the Cornell box always runs. Every method gets the same rays (the camera framing the mesh, or the lab's).
+//! matrices rounded to f32); the Cornell box always runs. Every method gets the same rays
+//! (the camera framing the mesh, or the lab's).
 //!
 //! Accuracy columns: against raylab's exact per-ray answer (the nearest triangle along the
 //! f32 ray), the rays a method missed where the exact answer hits (a leak), hit where it
@@ -164,23 +165,12 @@ impl Instanced {
                 }
             })
             .collect();
-        // The explicit shapes fill the primitive numbers around the instances', in order.
-        let mut loose = Vec::new();
-        let mut shapes = scene.shapes.iter();
-        let mut prim = 0u32;
-        let mut take_up_to = |end: u32, prim: &mut u32| {
-            while *prim < end {
-                if let Some(Shape::Triangle(v)) = shapes.next() {
-                    loose.push((*v, *prim));
-                }
-                *prim += 1;
-            }
-        };
-        for inst in scene.instances() {
-            take_up_to(inst.first_prim, &mut prim);
-            prim = inst.prims().end;
-        }
-        take_up_to(scene.len() as u32, &mut prim);
+        let loose = (scene.explicit_with_prims().into_iter())
+            .filter_map(|(shape, prim)| match shape {
+                Shape::Triangle(v) => Some((v, prim)),
+                Shape::Sphere { .. } => None,
+            })
+            .collect();
         Some(Instanced {
             meshes,
             placements,

@@ -540,9 +540,10 @@ impl Bvh {
                     LeafTriangles::Listed(list) => list[j].estimate(ray.d, d_max),
                     LeafTriangles::Leaf { .. } | LeafTriangles::Blocks { .. } => {
                         match tris.get(j).estimate(ray.d, d_max) {
-                            Estimate::Unsure => {
-                                (self.precise(first + j, ray.o).rounded).estimate(ray.d, d_max)
-                            }
+                            Estimate::Unsure => self
+                                .precise(first + j, ray.o)
+                                .rounded
+                                .estimate(ray.d, d_max),
                             est => est,
                         }
                     }

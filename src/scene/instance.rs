@@ -225,9 +225,10 @@ pub fn locate(instances: &[Instance], index: &[InstanceStart], prim: u32) -> Sto
     Stored::Explicit(prim as usize - instanced)
 }
 
-/// Where an instance starts: what [`locate`] searches, 8 bytes an instance (searched through
-/// the instances themselves, 180 bytes each, the flat frame of the field of 1,000 bunnies
-/// missed the cache at each step: 4% of the frame, finding each pixel's colour).
+/// Where an instance starts: what [`locate`] searches, 8 bytes an instance. (Searched through
+/// the instances themselves, 180 bytes each, the search missed the cache at each step:
+/// finding each pixel's colour was 4% of the field of 1,000 bunnies' flat frame in a profile;
+/// this index made the frame about 1% faster.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InstanceStart {
     /// Its first primitive.

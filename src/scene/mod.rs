@@ -389,8 +389,8 @@ impl Scene {
         flat
     }
 
-    /// The explicit shapes with their primitive indices.
-    fn explicit_with_prims(&self) -> Vec<(Shape<f32>, u32)> {
+    /// The explicit shapes (those outside any instance) with their primitive indices.
+    pub fn explicit_with_prims(&self) -> Vec<(Shape<f32>, u32)> {
         let mut out = Vec::with_capacity(self.shapes.len());
         let mut shapes = self.shapes.iter();
         let mut prim = 0u32;
