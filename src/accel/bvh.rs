@@ -71,11 +71,13 @@ const BINS: usize = 16;
 const PARALLEL_MIN: usize = 4096;
 
 /// How a binary tree is built: subtrees of at least `parallel_min` items build their halves
-/// on two threads; sets of at most `leaf_max` items are leaves.
+/// on two threads; sets of at most `leaf_max` items are leaves; splits are sought along every
+/// axis if `all_axes`, else along the centres' widest.
 #[derive(Clone, Copy)]
 struct Plan {
     parallel_min: usize,
     leaf_max: usize,
+    all_axes: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -229,7 +231,7 @@ fn binary_over(mut refs: Vec<Ref>, plan: Plan) -> (Vec<Node>, Vec<u32>) {
 
 /// The binary tree over triangles with leaves of at most `leaf_max`, and their indices in
 /// its leaves' order.
-fn binary(tris: &[IndexedTriangle], leaf_max: usize) -> (Vec<Node>, Vec<u32>) {
+fn binary(tris: &[IndexedTriangle], leaf_max: usize, all_axes: bool) -> (Vec<Node>, Vec<u32>) {
     let refs: Vec<Ref> = tris
         .par_iter()
         .enumerate()
@@ -242,6 +244,7 @@ fn binary(tris: &[IndexedTriangle], leaf_max: usize) -> (Vec<Node>, Vec<u32>) {
     let plan = Plan {
         parallel_min: parallel_min(tris.len()),
         leaf_max,
+        all_axes,
     };
     binary_over(refs, plan)
 }
@@ -289,15 +292,34 @@ impl Bvh {
         Self::build_with(tris, leaf_max(tris.len()), dense)
     }
 
+    /// [`Bvh::build`] for a mesh placed by instances (`accel::instances`): its splits sought
+    /// along all three axes, not only the widest. Built once however often the mesh is
+    /// placed, the better tree pays where a build per frame or per scene would not (see
+    /// `sah_split`).
+    pub(crate) fn build_placed(tris: &[IndexedTriangle]) -> Self {
+        let dense = tris.len() >= DENSE_MESH;
+        Self::build_planned(tris, leaf_max(tris.len()), dense, true)
+    }
+
     /// [`Bvh::build`] with leaves of at most `leaf_max` (≤ [`MAX_LEAF`]) triangles, and
     /// their distinct vertices kept if `leaf_vertices`.
     fn build_with(tris: &[IndexedTriangle], leaf_max: usize, leaf_vertices: bool) -> Self {
+        Self::build_planned(tris, leaf_max, leaf_vertices, false)
+    }
+
+    /// [`Bvh::build_with`], splits sought along every axis if `all_axes`.
+    fn build_planned(
+        tris: &[IndexedTriangle],
+        leaf_max: usize,
+        leaf_vertices: bool,
+        all_axes: bool,
+    ) -> Self {
         if tris.is_empty() {
             return Self::default();
         }
         assert!(tris.len() <= wide::MAX_ITEMS, "{} triangles", tris.len());
         assert!((1..=MAX_LEAF).contains(&leaf_max));
-        let (nodes, order) = binary(tris, leaf_max);
+        let (nodes, order) = binary(tris, leaf_max, all_axes);
         let mut bvh = Self::over_binary(
             &nodes,
             order.par_iter().map(|&i| tris[i as usize].0).collect(),
@@ -416,6 +438,7 @@ impl Bvh {
         let plan = Plan {
             parallel_min: PARALLEL_MIN,
             leaf_max: SMALL_LEAF,
+            all_axes: false,
         };
         let (nodes, order) = binary_over(refs, plan);
         Self::over_binary(&nodes, Vec::new(), order)
@@ -1441,10 +1464,10 @@ fn split(
     order: &mut [Ref],
     bounds: &Bounds,
     depth: usize,
-    leaf_max: usize,
+    plan: Plan,
 ) -> Option<(usize, [Bounds; 2])> {
     let n = order.len();
-    if n <= leaf_max {
+    if n <= plan.leaf_max {
         return None;
     }
     let cb = bounds.centres.aabb();
@@ -1455,7 +1478,11 @@ fn split(
     // Past `SAH_DEPTH` levels, split by count: the tree stays within the traversals'
     // stacks whatever the geometry (at most 2²⁸ items: 28 more levels).
     if depth < SAH_DEPTH {
-        if let Some(s) = sah_split(order, &cb, &bounds.boxes, widest) {
+        let axes: &[usize] = match plan.all_axes {
+            true => &[0, 1, 2],
+            false => &[widest],
+        };
+        if let Some(s) = sah_split(order, &cb, &bounds.boxes, axes) {
             return Some(s);
         }
     }
@@ -1469,53 +1496,83 @@ fn split(
     Some((n / 2, [Bounds::of(left), Bounds::of(right)]))
 }
 
-/// The best binned-SAH split along `axis` (`cb`: the centres' box, `bounds`: the set's box):
-/// partitions `order` and returns the split point with both sides' bounds, or `None` when no
-/// plane separates anything. (Binning all three axes and taking the best cut the 1M mesh's
-/// rendering instructions by 5% but cost the build 73% more.)
+/// Centres' bins along one axis: `BINS` between the least and greatest centre.
+struct Binning {
+    axis: usize,
+    lo: f32x4,
+    scale: f32x4,
+}
+
+impl Binning {
+    /// Along `axis` of the centres' box `cb`; `None` where the extent is too small for an f32
+    /// scale (below 16/f32::MAX: the set is then split by count).
+    fn new(cb: &Aabb, axis: usize) -> Option<Self> {
+        let scale = BINS as f64 / (f64::from(cb.hi[axis]) - f64::from(cb.lo[axis]));
+        if scale > f64::from(f32::MAX) {
+            return None;
+        }
+        let lane = |v: f32| std::array::from_fn(|k| if k == axis { v } else { 0.0 });
+        Some(Self {
+            axis,
+            lo: f32x4::new(lane(cb.lo[axis])),
+            scale: f32x4::new(lane(scale as f32)),
+        })
+    }
+
+    /// Item `r`'s bin.
+    #[inline(always)]
+    fn of(&self, r: &Ref) -> u32 {
+        // (centre − lo)·scale ≥ 0 (lo is the least centre), clamped, in 4 lanes: `as u32` on
+        // one f32 checks for overflow and NaN at every item, `cvttps2dq` does not.
+        let last = f32x4::splat((BINS - 1) as f32);
+        let b = ((r.centre() - self.lo) * self.scale)
+            .fast_min(last)
+            .fast_trunc_int();
+        b.to_array()[self.axis] as u32
+    }
+}
+
+/// The best binned-SAH split along any of `axes` (`cb`: the centres' box, `bounds`: the
+/// set's box): partitions `order` and returns the split point with both sides' bounds, or
+/// `None` when no plane separates anything. (Binning all three axes and taking the best cut
+/// the 1M mesh's rendering instructions by 5% but cost the build 73% more: the widest axis
+/// alone, but for the instanced meshes, built once however often they are placed.)
 fn sah_split(
     order: &mut [Ref],
     cb: &Aabb,
     bounds: &Box4,
-    axis: usize,
+    axes: &[usize],
 ) -> Option<(usize, [Bounds; 2])> {
-    // Bins per unit; none where the extent is too small for an f32 scale (below
-    // 16/f32::MAX: the set is then split by count).
-    let scale = BINS as f64 / (f64::from(cb.hi[axis]) - f64::from(cb.lo[axis]));
-    if scale > f64::from(f32::MAX) {
-        return None;
-    }
-    // (centre − lo)·scale ≥ 0 (lo is the least centre), clamped, in 4 lanes: `as u32` on
-    // one f32 checks for overflow and NaN at every item, `cvttps2dq` does not.
-    let lane = |v: f32| std::array::from_fn(|k| if k == axis { v } else { 0.0 });
-    let (lo, scale) = (
-        f32x4::new(lane(cb.lo[axis])),
-        f32x4::new(lane(scale as f32)),
-    );
-    let last = f32x4::splat((BINS - 1) as f32);
-    let bin_of = |r: &Ref| {
-        let b = ((r.centre() - lo) * scale).fast_min(last).fast_trunc_int();
-        b.to_array()[axis] as u32
-    };
-    let mut counts = [0u32; BINS];
-    let mut bins = [Box4::EMPTY; BINS];
-    for r in order.iter() {
-        let b = bin_of(r) as usize;
-        counts[b] += 1;
-        bins[b].grow(r.lo, r.hi);
-    }
     // Areas relative to the set's box's largest extent: in f32, and within 0…3.
     let extent = (bounds.hi - bounds.lo).to_array();
     let largest = f64::from(extent[0].max(extent[1]).max(extent[2]));
     let unit = (1.0 / largest).min(f64::from(f32::MAX)) as f32;
-    let (_, split_bin) = cheapest_plane(&counts, &bins, unit)?;
-    let split_bin = split_bin as u32;
+    let mut best: Option<(f32, u32, Binning)> = None;
+    for &axis in axes {
+        let Some(binning) = Binning::new(cb, axis) else {
+            continue;
+        };
+        let mut counts = [0u32; BINS];
+        let mut bins = [Box4::EMPTY; BINS];
+        for r in order.iter() {
+            let b = binning.of(r) as usize;
+            counts[b] += 1;
+            bins[b].grow(r.lo, r.hi);
+        }
+        let Some((cost, split_bin)) = cheapest_plane(&counts, &bins, unit) else {
+            continue;
+        };
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, split_bin as u32, binning));
+        }
+    }
+    let (_, split_bin, binning) = best?;
     let mut sides = [Bounds::EMPTY; 2];
     let mut i = 0;
     let mut j = order.len();
     while i < j {
         let r = &order[i];
-        if bin_of(r) <= split_bin {
+        if binning.of(r) <= split_bin {
             sides[0].add(r);
             i += 1;
         } else {
@@ -1596,11 +1653,10 @@ fn build_node(
     if order.len() < plan.parallel_min {
         // At most 2n - 1 nodes (every leaf holds an item); reserving is not touching.
         let mut nodes = Vec::with_capacity(2 * order.len());
-        build_into(order, bounds, start, &mut nodes, depth, plan.leaf_max);
+        build_into(order, bounds, start, &mut nodes, depth, plan);
         return nodes;
     }
-    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, plan.leaf_max)
-    else {
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, plan) else {
         return vec![leaf(bounds, start, order.len())];
     };
     let (left, right) = order.split_at_mut(mid);
@@ -1623,25 +1679,18 @@ fn build_into(
     start: usize,
     nodes: &mut Vec<Node>,
     depth: usize,
-    leaf_max: usize,
+    plan: Plan,
 ) -> u16 {
-    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, leaf_max) else {
+    let Some((mid, [left_bounds, right_bounds])) = split(order, bounds, depth, plan) else {
         nodes.push(leaf(bounds, start, order.len()));
         return 0;
     };
     let at = nodes.len();
     nodes.push(interior(bounds, 0, 0));
     let (left, right) = order.split_at_mut(mid);
-    let left_height = build_into(left, &left_bounds, start, nodes, depth + 1, leaf_max);
+    let left_height = build_into(left, &left_bounds, start, nodes, depth + 1, plan);
     nodes[at].offset = (nodes.len() - at) as u32;
-    let right_height = build_into(
-        right,
-        &right_bounds,
-        start + mid,
-        nodes,
-        depth + 1,
-        leaf_max,
-    );
+    let right_height = build_into(right, &right_bounds, start + mid, nodes, depth + 1, plan);
     nodes[at].height = 1 + left_height.max(right_height);
     nodes[at].height
 }
@@ -1768,7 +1817,7 @@ mod tests {
                 ([[x, -1.0, 1.0], [x, 1.0, 1.0], [x, 0.0, -1.0]], i as u32)
             })
             .collect();
-        let (nodes, _) = binary(&row, SMALL_LEAF);
+        let (nodes, _) = binary(&row, SMALL_LEAF, false);
         assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
         let bvh = Bvh::build(&row);
         let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
@@ -1790,8 +1839,39 @@ mod tests {
             .collect();
         let bvh = Bvh::build(&tiny);
         assert!(!bvh.boxes_tame());
-        let (nodes, _) = binary(&tiny, SMALL_LEAF);
+        let (nodes, _) = binary(&tiny, SMALL_LEAF, false);
         assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
+    }
+
+    #[test]
+    fn placed_meshes_split_on_the_axis_that_costs_least() {
+        // Two rows of small triangles 100 units long (x, the centres' widest extent) and 10
+        // apart in y. Split along x only, both halves of the root span both rows (a box 10
+        // tall); sought along every axis, the root's split is the cheaper one between the
+        // rows, and each half is a row (under 1 tall). Answers are the list's either way.
+        let tris: Vec<IndexedTriangle> = (0..200u32)
+            .map(|i| {
+                let (x, y) = (f32::from((i % 100) as u16), 10.0 * (i / 100) as f32);
+                ([[x, y, 0.0], [x + 0.5, y, 0.0], [x, y + 0.5, 0.5]], i)
+            })
+            .collect();
+        let root_halves_height = |all_axes: bool| {
+            let (nodes, _) = binary(&tris, SMALL_LEAF, all_axes);
+            let [a, b] = Node::children(&nodes, 0);
+            [a, b].map(|c| nodes[c].bounds.hi[1] - nodes[c].bounds.lo[1])
+        };
+        assert!(root_halves_height(false).iter().all(|&h| h > 10.0));
+        assert!(root_halves_height(true).iter().all(|&h| h < 1.0));
+        let placed = Bvh::build_placed(&tris);
+        let shapes: Vec<Shape> = tris.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
+        for i in 0..200 {
+            let (x, y) = (0.37 * i as f32 + 0.1, 10.0 * (i % 2) as f32 + 0.1);
+            let ray = Ray::new([x, y, -5.0], [0.01, 0.002, 1.0]);
+            let want =
+                crate::accel::closest_hit(&shapes, &ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let hit = placed.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
+            assert_eq!(hit.map(|h| h.prim), want.map(|h| h.prim), "ray {i}");
+        }
     }
 
     #[test]

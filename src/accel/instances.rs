@@ -258,7 +258,7 @@ impl Instances {
                     .map(|(i, t)| (*t, i as u32))
                     .collect();
                 let (tris, copies) = without_copies(tris);
-                (Bvh::build(&tris), copies)
+                (Bvh::build_placed(&tris), copies)
             })
             .collect();
         let boxes: Vec<([f32; 3], [f32; 3])> = instances.iter().map(world_bounds).collect();

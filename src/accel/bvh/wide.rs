@@ -1033,7 +1033,7 @@ mod tests {
     }
 
     fn leaves_of_at_most(tris: &[IndexedTriangle], leaf_max: usize) {
-        let (nodes, _) = super::super::binary(tris, leaf_max);
+        let (nodes, _) = super::super::binary(tris, leaf_max, false);
         let bvh = Bvh::build_with(tris, leaf_max, false);
         assert_eq!(widen(&nodes, STACK, usize::MAX), bvh.wide);
         /// Node i's triangles as (first, count).
@@ -1096,7 +1096,7 @@ mod tests {
             .collect();
         let scattered = super::super::tests::scattered(3000, 0x853c49e6748fea9b, 0.05);
         for tris in [&row, &scattered] {
-            let (nodes, _) = super::super::binary(tris, SMALL_LEAF);
+            let (nodes, _) = super::super::binary(tris, SMALL_LEAF, false);
             let height = super::super::tests::depth(&nodes, 0);
             assert_eq!(usize::from(nodes[0].height), height);
             for stack in [STACK, height + 8, height + 1] {
