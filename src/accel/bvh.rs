@@ -1,7 +1,7 @@
 //! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins along the widest
 //! axis of the items' box centres, or along all three for a mesh placed by instances,
 //! `Bvh::build_placed`; leaves of at most 4 triangles, 8 in a mesh of 2¹⁷ or
-//! more ([`leaf_max`]); subtrees of at least
+//! more (`leaf_max`); subtrees of at least
 //! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
 //! collapsed into nodes of 8 children (module `wide`), which every walk uses: one ray tests a
 //! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as

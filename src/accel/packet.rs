@@ -933,7 +933,7 @@ pub fn closest_seeded(
 /// The kernel's f32 edge tests and t intervals stand where they are certain; an edge sign
 /// they leave unsure is computed exactly (expansions, [`exact::orient`]), which settles rays
 /// exactly through an edge or vertex. Candidates are ordered by their t intervals where
-/// those do not overlap, else by exact plane sides ([`nearer`]): a quad's two halves (one
+/// those do not overlap, else by exact plane sides (`nearer`): a quad's two halves (one
 /// plane) are hit at the same t, where the lower index wins, as in the per-ray search; of
 /// two walls meeting at an edge, the one whose plane the other's crossing point lies behind
 /// is nearer. Most ambiguous camera rays of a box-like scene are of those kinds: whole lines
@@ -1416,7 +1416,7 @@ fn with_lane<V: LaneOps>(v: V, mask: V, x: f32) -> V {
 /// Error bound of t, for a lane whose three eᵢ have one certain sign: the computed
 /// det̃ = ẽ₀ + ẽ₁ + ẽ₂ is within ΣK·max|d| + γ₂|det̃|/(1 − γ₂) of the exact one, i.e. a
 /// relative r_det ≤ ΣK·max|d|·|1/det̃|·(1 + u) + 2.1u (or, with det̃ = d·normal, within
-/// k_det·max|d| + [`EDGE_ABS`], the dot product's rounding included: r_det ≤
+/// k_det·max|d| + `EDGE_ABS`, the dot product's rounding included: r_det ≤
 /// (k_det·max|d| + EDGE_ABS)·|1/det̃|·(1 + u)), kept ≤ 1/4 (else ambiguous); the
 /// numerator's relative error is r_num; t̃ = fl(num·fl(1/det̃)) adds two roundings. Then
 /// |t/t̃ − 1| ≤ (r_num + r_det)/(1 − r_det)·(1 + 3u) + 3u ≤ 1.4·(r_num + r_det) + 4u, and

@@ -37,7 +37,7 @@ use crate::math::Real;
 use std::cmp::Ordering;
 
 /// How often the adaptive method's slower levels run, counted only while switched on
-/// ([`count_levels`]; `examples/speed_vs_error` reports them): off, counting costs a load and
+/// ([`count_levels`](levels::count_levels); `examples/speed_vs_error` reports them): off, counting costs a load and
 /// a branch on the slow paths only.
 pub mod levels {
     use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
@@ -924,7 +924,7 @@ pub fn closest_hit_reference<T: Real>(
 ///
 /// It gives t for a primitive a query found; whether the ray meets the triangle inside its
 /// edges is the query's business. Exact arithmetic only where t in f64 with its bound
-/// ([`plane_t_f64`]; a sphere's f64 interval) cannot decide the rounding: for f32, nearly
+/// (`plane_t_f64`; a sphere's f64 interval) cannot decide the rounding: for f32, nearly
 /// never; for f64, nearly always (an f64 bound decides an f64 rounding only when it is 0).
 pub fn rounded_t<T: Real>(shape: &Shape<T>, ray: &Ray<T>, tmin: T, tmax: T) -> Option<T> {
     let (o, d) = (ray.o.map(Real::f64), ray.d.map(Real::f64));

@@ -68,7 +68,7 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
     method != Method::Adaptive && hits(method) != hits(Method::Adaptive)
 }
 
-/// Width of the tiles camera rays are traced in (four packets' blocks of pixels, [`Block`]).
+/// Width of the tiles camera rays are traced in (four packets' blocks of pixels, `Block`).
 /// 16 rather than 8: each tile culls the scene's triangles once, and the Cornell box's flat
 /// frame took 5-6% less time at 1280×720 and 640×360 (2 threads, session 25); 32 gained no
 /// more, and the meshes' frames were the same within noise.
