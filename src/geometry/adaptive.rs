@@ -37,8 +37,8 @@ use crate::math::Real;
 use std::cmp::Ordering;
 
 /// How often the adaptive method's slower levels run, counted only while switched on
-/// ([`count_levels`](levels::count_levels); `examples/speed_vs_error` reports them): off, counting costs a load and
-/// a branch on the slow paths only.
+/// ([`count_levels`](levels::count_levels); `examples/speed_vs_error` reports them): off,
+/// counting costs a load and a branch on the slow paths only.
 pub mod levels {
     use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 

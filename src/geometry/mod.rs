@@ -3,9 +3,9 @@
 //! A shape is a variant of [`Shape`] and a module of its own (`triangle`, `sphere`) holding
 //! its tests: the plain f32/f64 ones and the adaptive method's levels. It plugs in through
 //! the match arms of [`Shape::intersect`], [`Shape::bounds`], the adaptive search's interval
-//! and exact levels ([`adaptive`]) and the surface point ([`offset::SurfacePoint`]); nothing above
-//! `geometry` names a shape: the accelerators test every non-triangle through these, and the
-//! renderer shades "triangle" or "any other shape".
+//! and exact levels ([`adaptive`]) and the surface point ([`offset::SurfacePoint`]); nothing
+//! above `geometry` names a shape: the accelerators test every non-triangle through these,
+//! and the renderer shades "triangle" or "any other shape".
 
 pub mod adaptive;
 pub mod exact;

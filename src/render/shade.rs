@@ -138,7 +138,8 @@ impl Lit {
         }
     }
 
-    /// The irradiance D without shadows: P·k where D ≠ 0 (as `sum_colours` takes it for a packet).
+    /// The irradiance D without shadows: P·k where D ≠ 0 (as `sum_colours` takes it for a
+    /// packet).
     pub fn d(&self, scene: &Scene) -> Rgb {
         match self.shadow {
             Some(_) => scene.light.power.map(|p| p * self.k),
