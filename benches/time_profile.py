@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""Where a raylab frame's time goes: a sampling profile at full speed, by inlined function.
+
+The kernels are inlined into a few large functions (one per SIMD level), so a profile by
+symbol says nothing. This samples the CPU clock with `perf` (no hardware counters needed:
+they are missing on most VMs), maps each sample to its chain of inlined functions with
+`llvm-symbolizer --inlining` (the release profile keeps line tables), and files it under the first
+function of the chain, innermost first, that the table below names. Unlike callgrind it
+times the AVX-512 kernels too, and counts stalls where they happen: a load that misses the
+caches is charged to the instruction that waits for it.
+
+Usage (from the repository's root, after `cargo build --release`):
+
+    python3 benches/time_profile.py [--binary target/release/raylab] [--freq 2000] -- \
+        bench --scene benches/scenes/bunny_field.scene --step flat --width 1280 \
+        --height 720 --threads 1 --frames 20
+
+Needs `perf` (Debian: linux-perf), `llvm-symbolizer` (Debian: llvm) and `nm` (binutils). Prints a markdown table.
+The samples include the scene's load and build (the bench reports their time): a small
+share against 20 frames.
+"""
+
+import argparse
+import collections
+import re
+import subprocess
+import sys
+import tempfile
+
+# (inlined function name, category), matched innermost first.
+RULES = [
+    ("world_lanes", "instanced leaves: object triangles loaded and carried into the world (f64)"),
+    ("new8_from_lanes", "leaves: f32 preparation for the eye"),
+    ("new8_from", "leaves: f32 preparation for the eye"),
+    ("prepare_leaf", "leaves: f32 preparation for the eye"),
+    ("prepare_block", "leaves: f32 preparation for the eye"),
+    ("prepare_corners", "leaves: f32 preparation for the eye"),
+    ("precise", "leaves: f64 preparation (lanes f32 left undecided)"),
+    ("take_precise", "leaves: f64 preparation (lanes f32 left undecided)"),
+    ("offer_block_to_lane", "leaves: tests of the prepared triangles"),
+    ("offer_leaf_to_lanes", "leaves: tests of the prepared triangles"),
+    ("take_decided", "leaves: tests of the prepared triangles"),
+    ("offer_decided", "leaves: tests of the prepared triangles"),
+    ("offer_as", "leaves: tests of the prepared triangles"),
+    ("offer_each", "leaves: tests of the prepared triangles"),
+    ("lane_decision", "leaves: tests of the prepared triangles"),
+    ("push_lane", "node tests: one lane, 8 boxes"),
+    ("insert", "walk stack: children sorted in, popped"),
+    ("pop_above", "walk stack: children sorted in, popped"),
+    ("top_above", "walk stack: children sorted in, popped"),
+    ("prefetch", "prefetches"),
+    ("enter", "node and instance-box tests: packets"),
+    ("lanes", "node and instance-box tests: packets"),
+    ("carry_origin", "instances: rays carried into the mesh's frame"),
+    ("carry_directions", "instances: rays carried into the mesh's frame"),
+    ("new_in", "instances: rays carried into the mesh's frame"),
+    ("color_run", "pixels: colours"),
+]
+
+
+def symbols(binary):
+    """Function name (mangled) -> file address."""
+    out = subprocess.run(["nm", binary], capture_output=True, text=True, check=True).stdout
+    table = {}
+    for line in out.splitlines():
+        parts = line.split(" ", 2)
+        if len(parts) == 3 and parts[0] and parts[1] in "tTwW":
+            table.setdefault(parts[2], int(parts[0], 16))
+    return table
+
+
+def samples(data, binary):
+    """Counts per file address of `binary`, and the count of samples elsewhere."""
+    table = symbols(binary)
+    out = subprocess.run(
+        ["perf", "script", "-i", data, "-F", "ip,sym,symoff,dso", "--no-demangle"],
+        capture_output=True, text=True, check=True,
+    ).stdout
+    counts, elsewhere = collections.Counter(), 0
+    for line in out.splitlines():
+        m = re.match(r"\s*[0-9a-f]+ (.*)\+0x([0-9a-f]+) \((.*)\)", line)
+        if m and m.group(1) in table and m.group(3).endswith(binary.split("/")[-1]):
+            counts[table[m.group(1)] + int(m.group(2), 16)] += 1
+        elif line.strip():
+            elsewhere += 1
+    return counts, elsewhere
+
+
+def short(name):
+    """A function's name without its generic arguments, its path or its hash."""
+    name = re.sub(r"::h[0-9a-f]{16}$", "", name)
+    while True:
+        stripped = re.sub(r"<[^<>]*>", "", name)
+        if stripped == name:
+            return name.split("::")[-1]
+        name = stripped
+
+
+def chains(binary, addresses):
+    """Address -> its inlined functions' short names, innermost first. (llvm-symbolizer:
+    binutils' addr2line names the innermost frame of the first address it looks up in a
+    unit by its outermost symbol, and elfutils' takes minutes.)"""
+    out = subprocess.run(
+        ["llvm-symbolizer", f"--obj={binary}", "--inlining", "--demangle", "--print-address"],
+        input="\n".join(hex(a) for a in addresses), capture_output=True, text=True, check=True,
+    ).stdout
+    result, current, expect_function = {}, None, True
+    for line in out.splitlines():
+        if re.fullmatch(r"0x[0-9a-f]+", line):
+            current, expect_function = int(line, 16), True
+            result[current] = []
+        elif current is not None and line:
+            if expect_function:
+                result[current].append(short(line))
+            expect_function = not expect_function
+    return result
+
+
+def category(chain):
+    for at, name in enumerate(chain):
+        if name == "push":
+            # The stack's own push (one-lane walks, per-ray walks) or a packet's child test.
+            outer = chain[at + 1] if at + 1 < len(chain) else ""
+            if outer in ("push_lane", "traverse"):
+                return "walk stack: children sorted in, popped"
+            return "node and instance-box tests: packets"
+        for rule, cat in RULES:
+            if name == rule:
+                return cat
+    return "walks' control, ray generation, the tile loop (the rest of raylab)"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--binary", default="target/release/raylab")
+    parser.add_argument("--freq", type=int, default=2000, help="samples a second")
+    parser.add_argument("--data", help="read this perf.data (of --binary) instead of recording")
+    parser.add_argument("args", nargs=argparse.REMAINDER, help="-- then raylab's arguments")
+    opts = parser.parse_args()
+    args = opts.args[1:] if opts.args[:1] == ["--"] else opts.args
+    if opts.data:
+        counts, elsewhere = samples(opts.data, opts.binary)
+    else:
+        counts, elsewhere = record(opts.binary, opts.freq, args)
+    report(opts.binary, opts.freq, counts, elsewhere)
+
+
+def record(binary, freq, args):
+    """Runs raylab under perf; the samples by address."""
+    with tempfile.NamedTemporaryFile(suffix=".data") as data:
+        run = subprocess.run(
+            ["perf", "record", "-q", "-e", "cpu-clock", "-F", str(freq), "-o", data.name,
+             "--", binary, *args],
+            capture_output=True, text=True,
+        )
+        if run.returncode != 0:
+            sys.exit(f"perf record failed:\n{run.stderr}")
+        for line in run.stdout.splitlines():
+            if line.startswith("median frame"):
+                print(f"raylab: {line}")
+        return samples(data.name, binary)
+
+
+def report(binary, freq, counts, elsewhere):
+    """The samples' shares by category, as a markdown table."""
+    names = chains(binary, sorted(counts))
+    shares = collections.Counter()
+    for address, n in counts.items():
+        shares[category(names.get(address, []))] += n
+    shares["outside raylab (kernel, libc)"] += elsewhere
+    total = sum(shares.values())
+    print(f"{total} samples at {freq}/s\n")
+    print("| where | share of samples |")
+    print("|---|---|")
+    for cat, n in shares.most_common():
+        print(f"| {cat} | {100 * n / total:.1f}% |")
+
+
+if __name__ == "__main__":
+    main()
