@@ -3,11 +3,11 @@
 
 The kernels are inlined into a few large functions (one per SIMD level), so a profile by
 symbol says nothing. This samples the CPU clock with `perf` (no hardware counters needed:
-they are missing on most VMs), maps each sample to its chain of inlined functions with
-`llvm-symbolizer --inlining` (the release profile keeps line tables), and files it under the first
-function of the chain, innermost first, that the table below names. Unlike callgrind it
-times the AVX-512 kernels too, and counts stalls where they happen: a load that misses the
-caches is charged to the instruction that waits for it.
+the VMs this project is measured on have none), maps each sample to its chain of inlined
+functions with `llvm-symbolizer --inlining` (the release profile keeps line tables), and
+files it under the first function of the chain, innermost first, that `RULES` names.
+Unlike callgrind it times the AVX-512 kernels too, and counts stalls where they happen: a
+load that misses the caches is charged to the instruction that waits for it.
 
 Usage (from the repository's root, after `cargo build --release`):
 
@@ -15,9 +15,9 @@ Usage (from the repository's root, after `cargo build --release`):
         bench --scene benches/scenes/bunny_field.scene --step flat --width 1280 \
         --height 720 --threads 1 --frames 20
 
-Needs `perf` (Debian: linux-perf), `llvm-symbolizer` (Debian: llvm) and `nm` (binutils). Prints a markdown table.
-The samples include the scene's load and build (the bench reports their time): a small
-share against 20 frames.
+Needs `perf` (Debian: linux-perf), `llvm-symbolizer` (Debian: llvm) and `nm` (binutils).
+Prints a markdown table. The samples include the scene's load and build (the bench reports
+their time): a small share against 20 frames.
 """
 
 import argparse
