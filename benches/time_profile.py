@@ -5,7 +5,7 @@ The kernels are inlined into a few large functions (one per SIMD level), so a pr
 symbol says nothing. This samples the CPU clock with `perf` (no hardware counters needed:
 the VMs this project is measured on have none), maps each sample to its chain of inlined
 functions with `llvm-symbolizer --inlining` (the release profile keeps line tables), and
-files it under the first function of the chain, innermost first, that `RULES` names.
+files it under the first function of the chain, innermost first, that `CATEGORIES` names.
 Unlike callgrind it times the AVX-512 kernels too, and counts stalls where they happen: a
 load that misses the caches is charged to the instruction that waits for it.
 
@@ -22,40 +22,36 @@ their time): a small share against 20 frames.
 
 import argparse
 import collections
+import os
 import re
 import subprocess
 import sys
 import tempfile
 
-# (inlined function name, category), matched innermost first.
-RULES = [
-    ("world_lanes", "instanced leaves: object triangles loaded and carried into the world (f64)"),
-    ("new8_from_lanes", "leaves: f32 preparation for the eye"),
-    ("new8_from", "leaves: f32 preparation for the eye"),
-    ("prepare_leaf", "leaves: f32 preparation for the eye"),
-    ("prepare_block", "leaves: f32 preparation for the eye"),
-    ("prepare_corners", "leaves: f32 preparation for the eye"),
-    ("precise", "leaves: f64 preparation (lanes f32 left undecided)"),
-    ("take_precise", "leaves: f64 preparation (lanes f32 left undecided)"),
-    ("offer_block_to_lane", "leaves: tests of the prepared triangles"),
-    ("offer_leaf_to_lanes", "leaves: tests of the prepared triangles"),
-    ("take_decided", "leaves: tests of the prepared triangles"),
-    ("offer_decided", "leaves: tests of the prepared triangles"),
-    ("offer_as", "leaves: tests of the prepared triangles"),
-    ("offer_each", "leaves: tests of the prepared triangles"),
-    ("lane_decision", "leaves: tests of the prepared triangles"),
-    ("push_lane", "node tests: one lane, 8 boxes"),
-    ("insert", "walk stack: children sorted in, popped"),
-    ("pop_above", "walk stack: children sorted in, popped"),
-    ("top_above", "walk stack: children sorted in, popped"),
-    ("prefetch", "prefetches"),
-    ("enter", "node and instance-box tests: packets"),
-    ("lanes", "node and instance-box tests: packets"),
-    ("carry_origin", "instances: rays carried into the mesh's frame"),
-    ("carry_directions", "instances: rays carried into the mesh's frame"),
-    ("new_in", "instances: rays carried into the mesh's frame"),
-    ("color_run", "pixels: colours"),
-]
+STACK = "walk stack: children sorted in, popped"
+PACKET_TESTS = "node and instance-box tests: packets"
+REST = "walks' control, ray generation, the tile loop (the rest of raylab)"
+
+# Each category and the inlined functions filed under it.
+CATEGORIES = {
+    "instanced leaves: object triangles loaded and carried into the world (f64)": ["world_lanes"],
+    "leaves: f32 preparation for the eye": [
+        "new8_from_lanes", "new8_from", "prepare_leaf", "prepare_block", "prepare_corners",
+    ],
+    "leaves: f64 preparation (lanes f32 left undecided)": ["precise", "take_precise"],
+    "leaves: tests of the prepared triangles": [
+        "offer_block_to_lane", "offer_leaf_to_lanes", "take_decided", "offer_decided",
+        "offer_as", "offer_each", "lane_decision",
+    ],
+    "node tests: one lane, 8 boxes": ["push_lane"],
+    STACK: ["insert", "pop_above", "top_above"],
+    "prefetches": ["prefetch"],
+    PACKET_TESTS: ["enter", "lanes"],
+    "instances: rays carried into the mesh's frame": ["carry_origin", "carry_directions", "new_in"],
+    "pixels: colours": ["color_run"],
+}
+# Function name -> its category, looked up innermost first along a sample's chain.
+RULES = {name: cat for cat, names in CATEGORIES.items() for name in names}
 
 
 def symbols(binary):
@@ -79,7 +75,7 @@ def samples(data, binary):
     counts, elsewhere = collections.Counter(), 0
     for line in out.splitlines():
         m = re.match(r"\s*[0-9a-f]+ (.*)\+0x([0-9a-f]+) \((.*)\)", line)
-        if m and m.group(1) in table and m.group(3).endswith(binary.split("/")[-1]):
+        if m and m.group(1) in table and os.path.basename(m.group(3)) == os.path.basename(binary):
             counts[table[m.group(1)] + int(m.group(2), 16)] += 1
         elif line.strip():
             elsewhere += 1
@@ -117,17 +113,15 @@ def chains(binary, addresses):
 
 
 def category(chain):
+    """The category of the first function of `chain` (innermost first) that `RULES` names."""
     for at, name in enumerate(chain):
         if name == "push":
             # The stack's own push (one-lane walks, per-ray walks) or a packet's child test.
             outer = chain[at + 1] if at + 1 < len(chain) else ""
-            if outer in ("push_lane", "traverse"):
-                return "walk stack: children sorted in, popped"
-            return "node and instance-box tests: packets"
-        for rule, cat in RULES:
-            if name == rule:
-                return cat
-    return "walks' control, ray generation, the tile loop (the rest of raylab)"
+            return STACK if outer in ("push_lane", "traverse") else PACKET_TESTS
+        if name in RULES:
+            return RULES[name]
+    return REST
 
 
 def main():
