@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Interleaved speed comparison of two raylab binaries on the same scenes, cameras and thread
-# counts (issue 13's "same speed" check). Usage:
+# counts (the "same speed" check of a refactor). Usage:
 #   bash benches/before_after.sh OLD_BIN NEW_BIN [ROUNDS] [FRAMES]
 # (SIZE=640x360 for another frame size than 1280x720.)
 # Each round runs every row with both binaries, alternating which goes first; prints the median

@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # Interleaved wall time of an old binary beside a new one run at its AVX2 and AVX-512 kernel
-# builds (`raylab bench --simd`), on the same rows, cameras and thread count: session 23's
-# table. Usage:
+# builds (`raylab bench --simd`), on the same rows, cameras and thread count. Usage:
 #   bash benches/simd_levels.sh OLD_BIN NEW_BIN [ROUNDS] [FRAMES] [THREADS]
 # Each round runs every row in the three configurations, the order reversed every other
 # round; prints per row each configuration's median frame time (a run's median, not its

@@ -1,4 +1,4 @@
-//! What correctly rounded t costs (issue 18): on the Cornell box's camera rays (400×400
+//! What correctly rounded t costs: on the Cornell box's camera rays (400×400
 //! from (0.01, 0.02, −3), one thread), the adaptive query through the BVH per ray beside
 //! `adaptive::rounded_t` per hit in f32 and in f64, three interleaved rounds, one run.
 //! `cargo run --release --example t_rounding_cost`

@@ -1,6 +1,6 @@
 //! The command line: `raylab` (the window), `raylab render` and `raylab trace`.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::DVec3;
 use raylab::accel::AccelChoice;
@@ -481,21 +481,32 @@ fn warn_about_copies(scene: &Scene) {
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view)?;
-    // Fail on an unwritable path (or a FIFO, which would block) before spending the render
-    // time.
-    raylab::input::check_output(&args.out)?;
-    std::fs::File::create(&args.out)
-        .with_context(|| format!("cannot write '{}'", args.out.display()))?;
+    // Fail on an unwritable directory, an input as output (or a FIFO, which would block)
+    // before spending the render time. Nothing at the paths changes until all is written:
+    // each is written to a temporary file beside it and renamed over it at the end.
+    raylab::input::OutputFile::create(&args.out)?;
+    if args.aov {
+        render::aov::Aovs::create_beside(&args.out)?;
+    }
     let build = Instant::now();
     scene.accel();
     let build = build.elapsed();
     warn_about_copies(&scene);
     let Some((rgba, stats)) = render_with_progress(&scene, &camera, &settings)? else {
-        let _ = std::fs::remove_file(&args.out);
         return Err(Interrupted.into());
     };
-    render::write_png(&args.out, settings.width, settings.height, &rgba)
-        .with_context(|| format!("writing '{}'", args.out.display()))?;
+    let writing = |e: std::io::Error| anyhow!("writing '{}': {e}", args.out.display());
+    let mut png = raylab::input::OutputFile::create(&args.out)?;
+    render::image::encode_png(&mut png, settings.width, settings.height, &rgba).map_err(writing)?;
+    drop(rgba);
+    let mut aov_outs = None;
+    if args.aov {
+        let aovs = render::aov::render_aovs(&scene, &camera, &settings)?;
+        let mut outs = render::aov::Aovs::create_beside(&args.out)?;
+        aovs.write_into(&mut outs).map_err(writing)?;
+        aov_outs = Some(outs);
+    }
+    png.commit()?;
     say!(
         "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} step={} spp={}x{} method={} on {} threads in {:.2} ms: \
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
@@ -516,11 +527,10 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats.mrays_per_s(),
         args.out.display()
     );
-    if args.aov {
-        let aovs = render::aov::render_aovs(&scene, &camera, &settings)?;
-        for p in aovs.write_beside(&args.out)? {
-            say!("wrote {}", p.display());
-        }
+    for out in aov_outs.into_iter().flatten() {
+        let path = out.path().to_path_buf();
+        out.commit()?;
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -1,11 +1,19 @@
-//! Reading the files a user names, and checking the ones raylab writes: only regular files
-//! are read (a FIFO, a device, a socket or a directory is refused from its metadata, before
-//! anything opens it, so nothing blocks), and at most a cap of bytes (read through a limit, so
-//! a file that grows meanwhile cannot run past it either). An existing output path that is a
-//! FIFO, a socket or a directory is refused the same way.
+//! Reading the files a user names, and writing the ones raylab makes.
+//!
+//! Reading: only regular files are read (a FIFO, a device, a socket or a directory is refused
+//! from its metadata, before anything opens it, so nothing blocks), and at most a cap of bytes
+//! (read through a limit, so a file that grows meanwhile cannot run past it either).
+//!
+//! Writing ([`OutputFile`]): an output never destroys a file. It is written to a temporary
+//! file in the destination's directory and renamed over the destination only when complete, so
+//! an interrupted, killed or failed run leaves the previous file as it was. An output that is
+//! a file this process has read (the scene, its meshes and material libraries, a view, rays, a
+//! script: compared by file identity, so links and `./` paths are caught) is refused before
+//! anything is written, and so is an existing FIFO, socket or directory.
 
-use std::io::Read;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// The default cap on one input file (OBJ, MTL, scene, rays, script): 1 GiB.
 pub const MAX_INPUT_BYTES: u64 = 1 << 30;
@@ -45,6 +53,52 @@ pub enum InputError {
     },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
+    #[error(
+        "{}: is {}, which this run reads: refusing to overwrite an input",
+        path.display(),
+        input.display()
+    )]
+    IsInput { path: PathBuf, input: PathBuf },
+}
+
+/// A file's identity: the same file whatever path (link, `./`, hard link) names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FileId(u64, u64);
+
+impl FileId {
+    #[cfg(unix)]
+    fn of(meta: &std::fs::Metadata) -> Option<FileId> {
+        use std::os::unix::fs::MetadataExt;
+        Some(FileId(meta.dev(), meta.ino()))
+    }
+
+    #[cfg(not(unix))]
+    fn of(_: &std::fs::Metadata) -> Option<FileId> {
+        None
+    }
+}
+
+/// Every regular file this process has read, with the path it was read by: an output never
+/// replaces one of them.
+static READ: Mutex<Vec<(FileId, PathBuf)>> = Mutex::new(Vec::new());
+
+fn remember_read(path: &Path, meta: &std::fs::Metadata) {
+    let Some(id) = FileId::of(meta) else { return };
+    let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
+    if !read.iter().any(|(known, _)| *known == id) {
+        read.push((id, path.to_path_buf()));
+    }
+}
+
+/// The input (as it was named when read) that `meta` is, if any. An input's path must still
+/// name the same file: one deleted since may have left its identity to a new file.
+fn read_as(meta: &std::fs::Metadata) -> Option<PathBuf> {
+    let id = FileId::of(meta)?;
+    let read = READ.lock().unwrap_or_else(|e| e.into_inner());
+    let still = |p: &Path| std::fs::metadata(p).ok().and_then(|m| FileId::of(&m)) == Some(id);
+    read.iter()
+        .find(|(known, p)| *known == id && still(p))
+        .map(|(_, p)| p.clone())
 }
 
 /// Whether the path is a character or block device (/dev/null, /dev/zero).
@@ -116,6 +170,9 @@ pub fn read_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
         source,
     };
     let file = std::fs::File::open(path).map_err(io)?;
+    if let Ok(opened) = file.metadata() {
+        remember_read(path, &opened);
+    }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     file.take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
@@ -144,13 +201,207 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
 }
 
 /// Refuses an output path that exists as a FIFO, a socket or a directory (writing to a FIFO
-/// would block until something reads it). A device such as /dev/null is written as usual.
+/// would block until something reads it), or that is a file this process has read. A device
+/// such as /dev/null is written as usual.
 pub fn check_output(path: &Path) -> Result<(), InputError> {
     match std::fs::metadata(path) {
         Ok(meta) if !meta.is_file() && !is_device(&meta) => Err(InputError::NotRegular {
             path: path.to_path_buf(),
             kind: kind(&meta),
         }),
-        _ => Ok(()),
+        Ok(meta) => match read_as(&meta) {
+            Some(input) => Err(InputError::IsInput {
+                path: path.to_path_buf(),
+                input,
+            }),
+            None => Ok(()),
+        },
+        Err(_) => Ok(()),
+    }
+}
+
+/// An output being written: a temporary file beside the destination, renamed over it by
+/// [`OutputFile::commit`] once complete; dropped before that, it is removed and the
+/// destination is untouched. A device (/dev/null) is written in place.
+#[derive(Debug)]
+pub struct OutputFile {
+    /// The path the user named (for messages).
+    path: PathBuf,
+    /// Where the rename goes: the file a link points to, so the link is kept.
+    target: PathBuf,
+    /// The temporary file, `None` when writing a device in place.
+    temp: Option<PathBuf>,
+    file: std::io::BufWriter<std::fs::File>,
+}
+
+impl OutputFile {
+    /// Checks `path` ([`check_output`]) and opens a temporary file in its directory, so an
+    /// unwritable directory fails now, before any work, and nothing at `path` changes yet.
+    pub fn create(path: &Path) -> Result<OutputFile, InputError> {
+        check_output(path)?;
+        let io = |source| InputError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        if std::fs::metadata(path).is_ok_and(|m| is_device(&m)) {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(io)?;
+            return Ok(OutputFile {
+                path: path.to_path_buf(),
+                target: path.to_path_buf(),
+                temp: None,
+                file: std::io::BufWriter::new(file),
+            });
+        }
+        // Through a link to an existing file: replace the file, keep the link.
+        let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        let dir = match target.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "output".into());
+        let (temp, file) = Self::open_temp(&dir, &name).map_err(io)?;
+        Ok(OutputFile {
+            path: path.to_path_buf(),
+            target,
+            temp: Some(temp),
+            file: std::io::BufWriter::new(file),
+        })
+    }
+
+    /// A new file `.NAME.PID-N.tmp` in `dir`, created exclusively (mode 0666 less the umask).
+    fn open_temp(dir: &Path, name: &str) -> std::io::Result<(PathBuf, std::fs::File)> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        loop {
+            let n = NEXT.fetch_add(1, Ordering::Relaxed);
+            let temp = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&temp)
+            {
+                Ok(file) => return Ok((temp, file)),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// The path the user named.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Flushes the file and renames it over the destination (keeping an existing file's
+    /// permissions). The destination is checked again first: an input is never replaced.
+    pub fn commit(mut self) -> Result<(), InputError> {
+        let path = self.path.clone();
+        let io = |source| InputError::Io {
+            path: path.clone(),
+            source,
+        };
+        self.file.flush().map_err(io)?;
+        let Some(temp) = self.temp.take() else {
+            return Ok(());
+        };
+        let result = check_output(&self.path).and_then(|()| {
+            if let Ok(old) = std::fs::metadata(&self.target) {
+                std::fs::set_permissions(&temp, old.permissions()).map_err(io)?;
+            }
+            std::fs::rename(&temp, &self.target).map_err(io)
+        });
+        if result.is_err() {
+            let _ = std::fs::remove_file(&temp);
+        }
+        result
+    }
+}
+
+impl Write for OutputFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Drop for OutputFile {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            let _ = std::fs::remove_file(temp);
+        }
+    }
+}
+
+/// Writes `bytes` to `path` through an [`OutputFile`]: all of them, or nothing changes.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), InputError> {
+    let mut out = OutputFile::create(path)?;
+    out.write_all(bytes).map_err(|source| InputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    out.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    }
+
+    #[test]
+    fn an_output_changes_nothing_until_committed_and_keeps_the_permissions() {
+        let dir = tempfile::tempdir().unwrap();
+        let dest = dir.path().join("a.png");
+        std::fs::write(&dest, b"old").unwrap();
+        std::fs::set_permissions(&dest, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let mut out = OutputFile::create(&dest).unwrap();
+        out.write_all(b"new, longer").unwrap();
+        out.flush().unwrap();
+        assert_eq!(std::fs::read(&dest).unwrap(), b"old");
+        assert_eq!(names(dir.path()).len(), 2, "the temporary file beside it");
+        drop(out);
+        assert_eq!(std::fs::read(&dest).unwrap(), b"old");
+        assert_eq!(names(dir.path()), ["a.png"]);
+        let mut out = OutputFile::create(&dest).unwrap();
+        out.write_all(b"new, longer").unwrap();
+        out.commit().unwrap();
+        assert_eq!(std::fs::read(&dest).unwrap(), b"new, longer");
+        let mode = std::fs::metadata(&dest).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o640);
+        assert_eq!(names(dir.path()), ["a.png"]);
+    }
+
+    #[test]
+    fn a_file_read_is_never_an_output_and_a_device_is_written_in_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.scene");
+        std::fs::write(&input, b"tri 0 0 0 1 0 0 0 1 0\n").unwrap();
+        let other = dir.path().join("other.png");
+        assert!(check_output(&input).is_ok(), "not read yet");
+        read_text(&input, 1 << 20).unwrap();
+        let e = OutputFile::create(&input).unwrap_err();
+        assert!(matches!(e, InputError::IsInput { .. }), "{e}");
+        assert!(write_file(&other, b"x").is_ok());
+        let mut null = OutputFile::create(Path::new("/dev/null")).unwrap();
+        null.write_all(b"nothing").unwrap();
+        null.commit().unwrap();
+        assert!(Path::new("/dev/null").exists());
     }
 }

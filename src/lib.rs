@@ -26,6 +26,31 @@
 //!   the given float inputs.
 //! - **Colour**: linear RGB in f32 inside; sRGB-encoded once, when writing RGBA8.
 //!
+//! # Layers
+//! Each imports only those below it (docs/architecture.md has the map and where to add a
+//! shape, a layout, a lab step or a control):
+//! - [`math`]: the transform stack, `Real`, intervals, SIMD lanes and their dispatch;
+//! - [`geometry`]: rays, shapes, the intersection methods and the exact search;
+//! - [`scene`]: primitives, colours, instances, the light; the OBJ and `.scene` loaders;
+//! - [`accel`]: the structures over a scene and their queries;
+//! - [`render`]: the tile loop, the lab steps' shading, the inspector, images;
+//! - the binary: the command line and the window, over all of these.
+//!
+//! # Example
+//! The lab's Cornell box, step 4 (shadows), rendered and written as a PNG:
+//! ```
+//! use raylab::{render_into, Camera, LabStep, RenderSettings};
+//! let scene = raylab::scene::cornell::scene();
+//! let settings = RenderSettings { width: 64, height: 48, step: LabStep::Shadows, ..Default::default() };
+//! let camera = Camera::cornell(settings.width);
+//! let mut rgba = vec![0u8; settings.buffer_len()];
+//! let stats = render_into(&scene, &camera, &settings, &mut rgba)?;
+//! assert_eq!(stats.primary_rays, 64 * 48);
+//! let path = std::env::temp_dir().join("raylab-example.png");
+//! raylab::render::write_png(&path, settings.width, settings.height, &rgba)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! No unsafe code, except the calls into the packet kernels' AVX2 and AVX-512 builds, each
 //! made only after checking the CPU at run time (`math::simd::level`).
 #![deny(unsafe_code)]
@@ -44,6 +69,7 @@ pub mod camera;
 pub mod controller;
 pub mod geometry;
 pub mod input;
+pub mod limits;
 pub mod machine;
 pub mod math;
 pub mod render;

@@ -1,13 +1,13 @@
-//! t correctly rounded (issue 18, item 1): for every hit of the adaptive method, in f32 and
+//! t correctly rounded: for every hit of the adaptive method, in f32 and
 //! f64 and through every path of `raylab trace`, the printed t is the exact t rounded to the
 //! nearest value of the precision (ties to even, overflow and underflow as IEEE rounds).
 //!
 //! The exact t comes from the suite's rational reference (tests/common/suite.rs), rounded by
 //! its own integer rounding (`round_q`), both written independently of the library's exact
-//! level. Families of the kinds the issue names: rays grazing a triangle's plane (d·n down to
+//! level. Families of the hard kinds: rays grazing a triangle's plane (d·n down to
 //! 2⁻⁵⁰ of |d||n|), origins on and within a few ulps of a sphere, every family scaled by 2^±k
 //! (positions and direction together: t unchanged; positions alone: t scaled, up to beyond
-//! the precision's range), subnormal geometry, and the issue's own examples.
+//! the precision's range), subnormal geometry, and worked examples.
 
 mod common;
 
@@ -69,7 +69,7 @@ fn grazing<T: Real>(seed: u64) -> Family<T> {
     Family::new("grazing", shapes, rays)
 }
 
-/// The issue's construction: rays through an exact point p = v₀ + (v₁ − v₀)/2 + (v₂ − v₀)/4
+/// A construction: rays through an exact point p = v₀ + (v₁ − v₀)/2 + (v₂ − v₀)/4
 /// of a triangle, with t = 2ʲ exactly (o = p − 2ʲ·d exact in T), whose direction is a rounded
 /// multiple of an edge, kept where d·n cancels below 2⁻³⁰·|d||n| (down to 2⁻⁵⁰ and 0): the
 /// rays that got t wrong by up to 0.6%.
@@ -113,7 +113,7 @@ fn grazing_exact<T: Real>(seed: u64) -> Family<T> {
 }
 
 /// Origins on a sphere's surface (rounded) and a few ulps in or out of it, looking in any
-/// direction (inward, outward, near-tangent), spheres of radius 2⁻²⁰ to 2²⁴ (the issue's
+/// direction (inward, outward, near-tangent), spheres of radius 2⁻²⁰ to 2²⁴ (the
 /// `sphere 0 0 0 12345677` among them).
 fn near_sphere<T: Real>(seed: u64) -> Family<T> {
     let mut rng = Rng(seed);
@@ -146,7 +146,7 @@ fn near_sphere<T: Real>(seed: u64) -> Family<T> {
             rays.push(Ray::new(o, d.map(T::of)));
         }
     }
-    // The issue's example.
+    // A worked example.
     shapes.push(Shape::Sphere {
         centre: [0.0; 3].map(T::of),
         radius: T::of(12_345_677.0),
@@ -348,8 +348,8 @@ fn f64_t_is_correctly_rounded_at_every_scale() {
 #[test]
 fn the_paths_own_t_is_not_always_rounded_so_the_check_has_teeth() {
     // The t a query returns carries its level's bound, not the rounding: on grazing rays and
-    // origins near a sphere it is off by more than an ulp for some rays (by up to 1% before
-    // this issue), which `rounded_t` corrects.
+    // origins near a sphere it is off by more than an ulp for some rays (by up to 1%), which
+    // `rounded_t` corrects.
     let (mut off, mut hits, mut worst) = (0, 0, 0.0f64);
     for f in [grazing_exact::<f32>(7), near_sphere::<f32>(81)] {
         for ray in &f.rays {

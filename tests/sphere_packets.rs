@@ -1,4 +1,4 @@
-//! Spheres in the packets (issue 14): a tile a sphere may show in keeps its camera packets,
+//! Spheres in the packets: a tile a sphere may show in keeps its camera packets,
 //! the sphere tested four lanes at a time through its f64 interval level
 //! (`sphere::interval_x4`), and shadow segments near a sphere test it lane by lane before
 //! the triangle packets. Every answer must be the per-ray search's.

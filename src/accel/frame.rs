@@ -66,9 +66,9 @@ pub const NO_HIT: u32 = u32::MAX;
 /// the frame's other packets (`prepared::LeafCache`); below, as each packet meets them.
 /// Preparing one costs about 65 instructions, eight at a time in f32 (callgrind). At the
 /// framing cameras of `raylab bench`, a frame reaches 28k of the bunny's 69k triangles at
-/// 640×360 (59k times). Sessions 16-21 chose up to 2 triangles a ray by instruction counts
-/// (AVX2 build); in wall time (session 25, 1 thread, interleaved) the cache paid only where
-/// the rays far outnumber the triangles: without it the bunny's flat frame at 1280×720 (13
+/// 640×360 (59k times). Instruction counts (callgrind, AVX2 build) favoured the cache down to
+/// 2 rays a triangle; in wall time (1 thread, interleaved) it paid only where the rays far
+/// outnumber the triangles: without it the bunny's flat frame at 1280×720 (13
 /// rays a triangle) took 2-6% longer, but Igea's took 16% less at 1280×720 (3.4 rays a
 /// triangle) and 23% less at 640×360, the bunny's 8-10% less at 640×360 and 320×180, the
 /// same in the AVX2 build (11-24% less for Igea) and with shadows (Igea 640×360: 19.1 →
@@ -85,7 +85,7 @@ pub const MAX_PREPARED_ONCE: usize = 1 << 19;
 /// Levels of a BVH's 8-wide nodes below its root whose boxes are projected each frame to
 /// find the tiles no triangle can show in (585 boxes at most, 8 corners each). Against the
 /// root's box alone (depth 0), the bunny's flat frame took 5% fewer instructions at 640×360
-/// and 9.6% fewer at 1280×720 (binary nodes, 8 levels; callgrind, session 17).
+/// and 9.6% fewer at 1280×720 (binary nodes, 8 levels; `benches/instructions.sh`).
 pub const SCREEN_DEPTH: usize = 3;
 
 /// What the accelerator needs to know of a frame.
@@ -175,13 +175,8 @@ struct LaneShape {
 
 impl LaneShape {
     fn new(shape: &Shape<f32>, prim: u32, bounds: Box3, eye: [f32; 3], light: [f32; 3]) -> Self {
-        let from = |o: [f32; 3]| match widen(shape) {
-            Shape::Sphere { centre, radius } => {
-                Some(sphere::FromOrigin::new(o.map(f64::from), centre, radius))
-            }
-            // Triangles are in the packets themselves.
-            Shape::Triangle(_) => None,
-        };
+        // (Triangles are prepared in the packets themselves.)
+        let from = |o: [f32; 3]| widen(shape).sphere_from_origin(o.map(f64::from));
         Self {
             prim,
             bounds,

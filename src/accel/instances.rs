@@ -1,11 +1,11 @@
-//! The two-level structure over a scene's instances ([`crate::scene::Instance`]): one BVH per
+//! The two-level structure over a scene's instances ([`crate::geometry::instance::Instance`]): one BVH per
 //! mesh in the mesh's own frame, built once however often the mesh is placed, and one BVH over
 //! the instances' world boxes.
 //!
 //! A ray reaching an instance's box is carried into the mesh's frame (o′ = C·o, d′ = C·d with
 //! C the f64 inverse of the instance's matrix, rounded to f32) and walks the mesh's hierarchy
 //! there; at the leaves the triangles are carried into the world exactly as the flattened
-//! scene computes them ([`crate::scene::Instance::world_vertex`]) and tested in the world with
+//! scene computes them ([`crate::geometry::instance::Instance::world_vertex`]) and tested in the world with
 //! the query's own method and primitive index. So every answer is the flattened scene's: the
 //! object frame only decides which leaves are visited.
 //!
@@ -14,7 +14,7 @@
 //! mesh's largest object coordinate, W the instance's largest world coordinate, b its
 //! translation), which covers with room to spare: the world vertices' rounding to f32 carried
 //! back by C (≤ 2⁻²⁴·‖C‖·W), the inverse's own error (condition ≤ 2²⁰, so ≤ 2⁻³² relative,
-//! [`crate::scene::instance::MAX_CONDITION`]), the rounding of o′ and d′ to f32 (≤ 2⁻²⁴·|o′|,
+//! [`crate::geometry::instance::MAX_CONDITION`]), the rounding of o′ and d′ to f32 (≤ 2⁻²⁴·|o′|,
 //! and t·2⁻²¹·‖C‖·|d| ≤ 2⁻²¹·‖C‖·(W + |o|) at any point of the box) and of the padded box's
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
@@ -25,11 +25,11 @@ use super::packet::{
 };
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
+use crate::geometry::instance::{linear_norm, world_bounds, Instance, Mesh};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
 use crate::math::simd::each3;
-use crate::scene::instance::{linear_norm, world_bounds, Instance, Mesh};
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -410,7 +410,7 @@ impl Instances {
         self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
             let (tris, locals) = mesh.triangles();
             for i in leaf {
-                let shape = Shape::Triangle(placed.world(&tris[i]));
+                let shape = Shape::from(placed.world(&tris[i]));
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
                     let prim = placed.first_prim + locals[i];
                     if best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim)) {
@@ -429,7 +429,7 @@ impl Instances {
             let (tris, locals) = mesh.triangles();
             hit = leaf.into_iter().any(|i| {
                 placed.first_prim + locals[i] != skip
-                    && Shape::Triangle(placed.world(&tris[i]))
+                    && Shape::from(placed.world(&tris[i]))
                         .intersect(ray, method, tmin, tmax)
                         .is_some()
             });

@@ -23,10 +23,10 @@ mod prepared;
 pub mod reference;
 
 use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
+use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::simd::avx2_or_baseline;
-use crate::scene::Instance;
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
@@ -133,22 +133,18 @@ impl Accel {
         // Straight from the slice, in parallel: copying every shape with its index first, then
         // sorting triangles from the rest one push at a time, was a sixth of a 1M-triangle
         // mesh's build.
-        let triangle = |(i, s): (usize, &Shape<f32>)| match s {
-            Shape::Triangle(v) => Some((*v, i as u32)),
-            _ => None,
+        let triangle = |(i, s): (usize, &Shape<f32>)| s.triangle().map(|v| (*v, i as u32));
+        let tris: Vec<IndexedTriangle> = match shapes.iter().all(Shape::is_triangle) {
+            // Indexed: written in place (a filtered collect gathers pieces and copies them).
+            true => (shapes.par_iter().enumerate())
+                .map(|x| triangle(x).unwrap())
+                .collect(),
+            false => (shapes.par_iter().enumerate())
+                .filter_map(triangle)
+                .collect(),
         };
-        let tris: Vec<IndexedTriangle> =
-            match shapes.iter().all(|s| matches!(s, Shape::Triangle(_))) {
-                // Indexed: written in place (a filtered collect gathers pieces and copies them).
-                true => (shapes.par_iter().enumerate())
-                    .map(|x| triangle(x).unwrap())
-                    .collect(),
-                false => (shapes.par_iter().enumerate())
-                    .filter_map(triangle)
-                    .collect(),
-            };
         let others = (shapes.iter().enumerate())
-            .filter(|(_, s)| !matches!(s, Shape::Triangle(_)))
+            .filter(|(_, s)| !s.is_triangle())
             .map(|(i, s)| (*s, i as u32))
             .collect();
         Self::over(tris, others, &[], choice)
@@ -166,9 +162,9 @@ impl Accel {
         let mut tris = Vec::new();
         let mut others = Vec::new();
         for (s, i) in shapes {
-            match s {
-                Shape::Triangle(v) => tris.push((v, i)),
-                other => others.push((other, i)),
+            match s.triangle() {
+                Some(v) => tris.push((*v, i)),
+                None => others.push((s, i)),
             }
         }
         Self::over(tris, others, instances, choice)
@@ -332,9 +328,7 @@ impl Accel {
                 let mut best: Option<Hit> = None;
                 let mut t_far = tmax;
                 for (v, prim) in &self.list {
-                    if let Some((t, b1, b2)) =
-                        Shape::Triangle(*v).intersect(ray, method, tmin, t_far)
-                    {
+                    if let Some((t, b1, b2)) = Shape::from(*v).intersect(ray, method, tmin, t_far) {
                         t_far = t;
                         best = Some(Hit {
                             t,
@@ -594,10 +588,7 @@ impl Accel {
                     .is_some_and(|r| blocks.any_hit(&r, tmin, tmax, skip))
             }
             Triangles::Flat(_) => self.list.iter().any(|(v, prim)| {
-                *prim != skip
-                    && Shape::Triangle(*v)
-                        .intersect(ray, method, tmin, tmax)
-                        .is_some()
+                *prim != skip && Shape::from(*v).intersect(ray, method, tmin, tmax).is_some()
             }),
             Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax, skip),
         };

@@ -49,9 +49,7 @@ pub fn any_hit_except<T: Real>(
     tmax: T,
     skip: u32,
 ) -> bool {
-    let own = shapes
-        .get(skip as usize)
-        .filter(|s| matches!(s, Shape::Triangle(_)));
+    let own = shapes.get(skip as usize).filter(|s| s.is_triangle());
     shapes.iter().enumerate().any(|(i, s)| {
         i as u32 != skip && Some(s) != own && s.intersect(ray, method, tmin, tmax).is_some()
     })

@@ -3,7 +3,7 @@
 //! and its shadow ray over the image, from whatever view the camera has moved to since.
 
 use raylab::camera::Projection;
-use raylab::render::inspect::{Inspection, ShapeTerms};
+use raylab::render::inspect::Inspection;
 
 /// The switch in the side panel.
 pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
@@ -36,23 +36,8 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         row("hit", format!("primitive {}", h.prim));
         row("t", format!("{}", h.t));
         row("decided by", h.decided_by.to_string());
-        match &h.terms {
-            ShapeTerms::Triangle { a, b, x } => {
-                row("A = [-d e1 e2]", v3(a[0]));
-                row("", v3(a[1]));
-                row("", v3(a[2]));
-                row("b = o - v0", v3(*b));
-                row("x = A^-1 b = (t,u,v)", v3(*x));
-            }
-            ShapeTerms::Sphere {
-                a,
-                b,
-                c,
-                discriminant,
-            } => {
-                row("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}"));
-                row("b^2 - 4ac", format!("{discriminant:.6}"));
-            }
+        for (label, value) in h.terms.rows(v3) {
+            row(label, value);
         }
         row("point", f3(h.point));
         let e = h.point_hit_error;

@@ -614,9 +614,7 @@ impl Viewer {
     /// Writes the view to the `.view` file `path`.
     pub fn save_view_to(&mut self, path: PathBuf) {
         let text = self.view().to_text();
-        let written = raylab::input::check_output(&path)
-            .map_err(|e| e.to_string())
-            .and_then(|()| std::fs::write(&path, text).map_err(|e| e.to_string()));
+        let written = raylab::input::write_file(&path, text.as_bytes()).map_err(|e| e.to_string());
         match written {
             Ok(()) => {
                 let shown = std::fs::canonicalize(&path).unwrap_or(path);

@@ -1091,7 +1091,7 @@ mod tests {
 
     #[test]
     fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
-        // The grazing ray: the f64 bound cannot decide the f32 rounding of a t whose
+        // A grazing ray: the f64 bound cannot decide the f32 rounding of a t whose
         // d·n cancels this far, so the integer level gives it (exactly 1/4).
         let v = [
             [0.0, 0.0, 0.0],

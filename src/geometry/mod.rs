@@ -9,8 +9,10 @@
 
 pub mod adaptive;
 pub mod exact;
+pub mod instance;
 pub mod offset;
 pub mod sphere;
+pub mod terms;
 pub mod triangle;
 
 use crate::math::real::V3;
@@ -113,6 +115,38 @@ pub enum Shape<T: Real = f32> {
     },
 }
 
+impl Shape<f64> {
+    /// A sphere seen from ray origin `o`, prepared once for every ray from there
+    /// ([`sphere::FromOrigin`]); `None` for a triangle (the packets prepare those).
+    pub fn sphere_from_origin(&self, o: [f64; 3]) -> Option<sphere::FromOrigin> {
+        match *self {
+            Shape::Sphere { centre, radius } => Some(sphere::FromOrigin::new(o, centre, radius)),
+            Shape::Triangle(_) => None,
+        }
+    }
+}
+
+impl Shape<f32> {
+    /// The geometric normal (not of unit length, in f64) where `ray` meets this shape at `t`:
+    /// a triangle's e₁ × e₂, a sphere's p − c.
+    pub fn normal_at(&self, ray: &Ray<f32>, t: f32) -> [f64; 3] {
+        match self {
+            Shape::Triangle(v) => {
+                let e1 = [0, 1, 2].map(|k| v[1][k] as f64 - v[0][k] as f64);
+                let e2 = [0, 1, 2].map(|k| v[2][k] as f64 - v[0][k] as f64);
+                [
+                    e1[1] * e2[2] - e1[2] * e2[1],
+                    e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0],
+                ]
+            }
+            Shape::Sphere { centre, .. } => {
+                [0, 1, 2].map(|k| ray.o[k] as f64 + t as f64 * ray.d[k] as f64 - centre[k] as f64)
+            }
+        }
+    }
+}
+
 /// The nearest hit of a ray: parameter, primitive index, and for triangles the barycentrics
 /// (b1, b2) of vertices 1 and 2 (zero for spheres).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,7 +161,30 @@ pub struct Hit<T: Real = f32> {
     pub b2: T,
 }
 
+impl<T: Real> From<[V3<T>; 3]> for Shape<T> {
+    /// The triangle of these vertices.
+    fn from(v: [V3<T>; 3]) -> Self {
+        Shape::Triangle(v)
+    }
+}
+
 impl<T: Real> Shape<T> {
+    /// The vertices, where this is a triangle. Triangles are the one kind the accelerators keep
+    /// in their SIMD structures; every other shape they test through [`Shape::intersect`].
+    #[inline]
+    pub fn triangle(&self) -> Option<&[V3<T>; 3]> {
+        match self {
+            Shape::Triangle(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Whether this is a triangle ([`Shape::triangle`]).
+    #[inline]
+    pub fn is_triangle(&self) -> bool {
+        self.triangle().is_some()
+    }
+
     /// Intersects with `method`; a hit needs tmin < t < tmax.
     #[inline]
     pub fn intersect(&self, ray: &Ray<T>, method: Method, tmin: T, tmax: T) -> Option<(T, T, T)> {

@@ -6,11 +6,12 @@
 
 use super::settings::{RenderSettings, SettingsError};
 use crate::camera::Camera;
-use crate::geometry::{Ray, Shape};
+use crate::geometry::Ray;
+use crate::input::{InputError, OutputFile};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The primitive index of a pixel whose centre ray hits nothing.
 pub const NO_PRIMITIVE: u32 = u32::MAX;
@@ -61,20 +62,7 @@ pub fn render_aovs(
 /// The unit geometric normal of primitive `prim` where `ray` meets it at `t`, turned against
 /// the ray (surfaces are two-sided).
 fn facing_normal(scene: &Scene, ray: &Ray, prim: u32, t: f32) -> [f32; 3] {
-    let n = match &scene.shape(prim) {
-        Shape::Triangle(v) => {
-            let e1 = [0, 1, 2].map(|k| v[1][k] as f64 - v[0][k] as f64);
-            let e2 = [0, 1, 2].map(|k| v[2][k] as f64 - v[0][k] as f64);
-            [
-                e1[1] * e2[2] - e1[2] * e2[1],
-                e1[2] * e2[0] - e1[0] * e2[2],
-                e1[0] * e2[1] - e1[1] * e2[0],
-            ]
-        }
-        Shape::Sphere { centre, .. } => {
-            [0, 1, 2].map(|k| ray.o[k] as f64 + t as f64 * ray.d[k] as f64 - centre[k] as f64)
-        }
-    };
+    let n = scene.shape(prim).normal_at(ray, t);
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     let facing = n[0] * ray.d[0] as f64 + n[1] * ray.d[1] as f64 + n[2] * ray.d[2] as f64;
     let s = if facing > 0.0 { -1.0 / len } else { 1.0 / len };
@@ -82,50 +70,61 @@ fn facing_normal(scene: &Scene, ray: &Ray, prim: u32, t: f32) -> [f32; 3] {
 }
 
 impl Aovs {
-    /// Writes `STEM.prim.npy` (uint32, H×W), `STEM.t.npy` (float32, H×W) and
-    /// `STEM.normal.npy` (float32, H×W×3) beside `png` (its path without the extension).
-    pub fn write_beside(&self, png: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
+    /// The paths of `STEM.prim.npy`, `STEM.t.npy` and `STEM.normal.npy` beside `png` (its path
+    /// without the extension).
+    pub fn paths_beside(png: &Path) -> [PathBuf; 3] {
         let stem = png.with_extension("");
-        let path = |what: &str| {
+        ["prim", "t", "normal"].map(|what| {
             let mut p = stem.clone().into_os_string();
             p.push(format!(".{what}.npy"));
-            std::path::PathBuf::from(p)
-        };
+            PathBuf::from(p)
+        })
+    }
+
+    /// Opens the three outputs beside `png` ([`Aovs::paths_beside`]), writing nothing yet.
+    pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
+        let [prim, t, normal] = Self::paths_beside(png);
+        Ok([
+            OutputFile::create(&prim)?,
+            OutputFile::create(&t)?,
+            OutputFile::create(&normal)?,
+        ])
+    }
+
+    /// Writes `STEM.prim.npy` (uint32, H×W), `STEM.t.npy` (float32, H×W) and
+    /// `STEM.normal.npy` (float32, H×W×3) into `outs` (from [`Aovs::create_beside`]), one
+    /// array at a time, without committing them.
+    pub fn write_into(&self, outs: &mut [OutputFile; 3]) -> std::io::Result<()> {
         let (h, w) = (self.height as usize, self.width as usize);
-        let bytes = |xs: &mut dyn Iterator<Item = [u8; 4]>| xs.flatten().collect::<Vec<u8>>();
-        let files = [
-            (
-                path("prim"),
-                "<u4",
-                vec![h, w],
-                bytes(&mut self.prim.iter().map(|x| x.to_le_bytes())),
-            ),
-            (
-                path("t"),
-                "<f4",
-                vec![h, w],
-                bytes(&mut self.t.iter().map(|x| x.to_le_bytes())),
-            ),
-            (
-                path("normal"),
-                "<f4",
-                vec![h, w, 3],
-                bytes(&mut self.normal.iter().flatten().map(|x| x.to_le_bytes())),
-            ),
-        ];
+        let [prim, t, normal] = outs;
+        write_npy_into(
+            prim,
+            "<u4",
+            &[h, w],
+            self.prim.iter().map(|x| x.to_le_bytes()),
+        )?;
+        write_npy_into(t, "<f4", &[h, w], self.t.iter().map(|x| x.to_le_bytes()))?;
+        let normals = self.normal.iter().flatten().map(|x| x.to_le_bytes());
+        write_npy_into(normal, "<f4", &[h, w, 3], normals)
+    }
+
+    /// Writes the three arrays beside `png` ([`Aovs::paths_beside`]): all three, or none
+    /// changes.
+    pub fn write_beside(&self, png: &Path) -> std::io::Result<Vec<PathBuf>> {
+        let mut outs = Self::create_beside(png).map_err(std::io::Error::other)?;
+        self.write_into(&mut outs)?;
         let mut written = Vec::new();
-        for (p, descr, shape, data) in files {
-            write_npy(&p, descr, &shape, &data)?;
-            written.push(p);
+        for out in outs {
+            written.push(out.path().to_path_buf());
+            out.commit().map_err(std::io::Error::other)?;
         }
         Ok(written)
     }
 }
 
-/// Writes a NumPy `.npy` file (format 1.0): the magic, the header dict padded with spaces
-/// to a multiple of 64 bytes, then `data` (already in `descr`'s byte order, C order).
-pub fn write_npy(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> std::io::Result<()> {
-    crate::input::check_output(path).map_err(std::io::Error::other)?;
+/// The header of a NumPy `.npy` file (format 1.0): the magic, the header dict padded with
+/// spaces to a multiple of 64 bytes.
+fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
     let shape = match dims.len() {
         1 => format!("({},)", dims[0]),
@@ -137,10 +136,32 @@ pub fn write_npy(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> std:
         header.push(' ');
     }
     header.push('\n');
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    out.write_all(b"\x93NUMPY\x01\x00")?;
-    out.write_all(&(header.len() as u16).to_le_bytes())?;
-    out.write_all(header.as_bytes())?;
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    bytes
+}
+
+/// Writes a `.npy` array into `out` (buffered): the header, then `items` (already in
+/// `descr`'s byte order, C order) streamed, so no copy of the array is made.
+fn write_npy_into<const N: usize>(
+    out: &mut impl Write,
+    descr: &str,
+    shape: &[usize],
+    items: impl Iterator<Item = [u8; N]>,
+) -> std::io::Result<()> {
+    out.write_all(&npy_header(descr, shape))?;
+    for item in items {
+        out.write_all(&item)?;
+    }
+    Ok(())
+}
+
+/// Writes a NumPy `.npy` file (format 1.0) of `data` (already in `descr`'s byte order, C
+/// order): the whole file, or nothing changes at `path`.
+pub fn write_npy(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> std::io::Result<()> {
+    let mut out = OutputFile::create(path).map_err(std::io::Error::other)?;
+    out.write_all(&npy_header(descr, shape))?;
     out.write_all(data)?;
-    out.flush()
+    out.commit().map_err(std::io::Error::other)
 }

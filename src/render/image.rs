@@ -78,11 +78,22 @@ pub fn linear_to_srgb8_reference(x: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
-/// Writes an RGBA8 image as PNG.
+/// Writes an RGBA8 image as PNG to `path`: the whole file, or nothing changes there (see
+/// [`crate::input::OutputFile`]).
 pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> std::io::Result<()> {
-    crate::input::check_output(path).map_err(std::io::Error::other)?;
-    let file = std::fs::File::create(path)?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    let mut out = crate::input::OutputFile::create(path).map_err(std::io::Error::other)?;
+    encode_png(&mut out, width, height, rgba)?;
+    out.commit().map_err(std::io::Error::other)
+}
+
+/// Encodes an RGBA8 image as PNG (sRGB) into `out`.
+pub fn encode_png(
+    out: impl std::io::Write,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> std::io::Result<()> {
+    let mut enc = png::Encoder::new(out, width, height);
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
     enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);

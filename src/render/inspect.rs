@@ -11,6 +11,7 @@ use super::settings::{LabStep, RenderSettings, SettingsError};
 use super::shade::{shading_point, step_colour, Lit, Rgb};
 use crate::camera::Camera;
 use crate::geometry::adaptive;
+pub use crate::geometry::terms::ShapeTerms;
 use crate::geometry::{Method, Ray, Shape};
 use crate::scene::Scene;
 use std::fmt;
@@ -70,26 +71,6 @@ pub struct HitInspection {
     pub colour: Rgb,
 }
 
-/// A primitive's terms for one ray, in f64 from the f32 inputs.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ShapeTerms {
-    /// The lecture's linear system A·x = b for o + t·d = v₀ + u·e₁ + v·e₂: A = [−d e₁ e₂]
-    /// (rows here), b = o − v₀, x = (t, u, v) = A⁻¹·b.
-    Triangle {
-        a: [[f64; 3]; 3],
-        b: [f64; 3],
-        x: [f64; 3],
-    },
-    /// |o + t·d − c|² = r² as a·t² + b·t + c = 0 with a = d·d, b = 2·d·(o − c),
-    /// c = |o − c|² − r², and its discriminant b² − 4ac.
-    Sphere {
-        a: f64,
-        b: f64,
-        c: f64,
-        discriminant: f64,
-    },
-}
-
 /// Inspects pixel (`i`, `j`) of `scene` through `camera` with the settings' size, method and
 /// step.
 pub fn inspect(
@@ -133,7 +114,7 @@ pub fn inspect(
             HitInspection {
                 prim: hit.prim,
                 t: hit.t,
-                terms: terms(&shape, &ray),
+                terms: shape.terms(&ray),
                 decided_by: decided_by(&shape, &ray, method),
                 point: sp.p,
                 point_error: sp.p_error,
@@ -181,7 +162,7 @@ fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -
     let own_shape = scene.shapes.get(own as usize).copied();
     let mut best: Option<(f32, u32)> = None;
     for (k, s) in scene.shapes.iter().enumerate() {
-        if k as u32 == own || (matches!(s, Shape::Triangle(_)) && Some(*s) == own_shape) {
+        if k as u32 == own || (s.is_triangle() && Some(*s) == own_shape) {
             continue;
         }
         let far = best.map_or(1.0, |b| b.0);
@@ -192,54 +173,6 @@ fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -
         }
     }
     best.map(|b| b.1)
-}
-
-fn terms(shape: &Shape<f32>, ray: &Ray<f32>) -> ShapeTerms {
-    let o = ray.o.map(f64::from);
-    let d = ray.d.map(f64::from);
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    match shape {
-        Shape::Triangle(v) => {
-            let v = v.map(|p| p.map(f64::from));
-            let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
-            let b = sub(o, v[0]);
-            let a = [0, 1, 2].map(|r| [-d[r], e1[r], e2[r]]);
-            ShapeTerms::Triangle {
-                a,
-                b,
-                x: solve3(&a, b),
-            }
-        }
-        Shape::Sphere { centre, radius } => {
-            let oc = sub(o, centre.map(f64::from));
-            let r = *radius as f64;
-            let (a, b, c) = (dot(d, d), 2.0 * dot(d, oc), dot(oc, oc) - r * r);
-            ShapeTerms::Sphere {
-                a,
-                b,
-                c,
-                discriminant: b * b - 4.0 * a * c,
-            }
-        }
-    }
-}
-
-/// x = A⁻¹·b by Cramer's rule in f64 (NaN where A is singular).
-fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
-    let det = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(a);
-    [0, 1, 2].map(|col| {
-        let mut m = *a;
-        for (r, row) in m.iter_mut().enumerate() {
-            row[col] = b[r];
-        }
-        det(&m) / d
-    })
 }
 
 /// Which level of the adaptive method decides whether `ray` meets `shape`: the f32 filter
@@ -268,25 +201,8 @@ impl fmt::Display for Inspection {
         writeln!(f, "hit: {}", h.prim)?;
         writeln!(f, "t: {}", h.t)?;
         writeln!(f, "decided_by: {}", h.decided_by)?;
-        match &h.terms {
-            ShapeTerms::Triangle { a, b, x } => {
-                writeln!(f, "shape: triangle")?;
-                for (r, row) in a.iter().enumerate() {
-                    writeln!(f, "A_row{r}: {}", v3(*row))?;
-                }
-                writeln!(f, "b: {}", v3(*b))?;
-                writeln!(f, "x_tuv: {}", v3(*x))?;
-            }
-            ShapeTerms::Sphere {
-                a,
-                b,
-                c,
-                discriminant,
-            } => {
-                writeln!(f, "shape: sphere")?;
-                writeln!(f, "quadratic_abc: {a} {b} {c}")?;
-                writeln!(f, "discriminant: {discriminant}")?;
-            }
+        for line in h.terms.lines() {
+            writeln!(f, "{line}")?;
         }
         writeln!(f, "point: {}", f3(h.point))?;
         writeln!(f, "point_error: {}", f3(h.point_error))?;

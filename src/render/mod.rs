@@ -18,7 +18,7 @@ pub mod shade;
 use crate::accel::frame::{OriginTriangle, NO_HIT};
 use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
-use crate::geometry::{Method, Ray, Shape};
+use crate::geometry::{Method, Ray};
 use crate::math::lanes::LaneOps;
 use crate::scene::Scene;
 use image::SrgbTables;
@@ -70,7 +70,7 @@ pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
 
 /// Width of the tiles camera rays are traced in (four packets' blocks of pixels, `Block`).
 /// 16 rather than 8: each tile culls the scene's triangles once, and the Cornell box's flat
-/// frame took 5-6% less time at 1280×720 and 640×360 (2 threads, session 25); 32 gained no
+/// frame took 5-6% less time at 1280×720 and 640×360 (2 threads, `benches/before_after.sh`); 32 gained no
 /// more, and the meshes' frames were the same within noise.
 pub const TILE: u32 = 16;
 
@@ -256,7 +256,7 @@ const PACKET_W: u32 = 4;
 /// Height of a camera packet's footprint: lane l traces pixel row l / 4 of its block. A
 /// squarer footprint meets fewer BVH boxes than a row of 8: 10-12% fewer instructions for the
 /// bunny's frames at 640×360 and 1280×720, 3-4% more for the Cornell box's flat frames
-/// (`benches/instructions.sh`, session 17).
+/// (`benches/instructions.sh`).
 const PACKET_H: u32 = 2;
 
 /// The pixels one packet of camera rays traces: columns x0..x0 + w (at most 4) of the
@@ -521,7 +521,10 @@ impl<'a> Frame<'a> {
                     counts.0 += prims.iter().filter(|&&p| p != NO_HIT).count() as u64;
                     for (sum, &prim) in sums.iter_mut().zip(&prims) {
                         if prim != NO_HIT {
-                            add(sum, scene.color(prim));
+                            add(
+                                sum,
+                                shade::step_colour(scene, prim, [0.0; 3], false, LabStep::Flat),
+                            );
                         }
                     }
                 }
@@ -629,7 +632,7 @@ impl<'a> Frame<'a> {
             if prim == NO_HIT {
                 continue;
             }
-            if self.other_shapes && !matches!(self.scene.shape(prim), Shape::Triangle(_)) {
+            if self.other_shapes && !self.scene.shape(prim).is_triangle() {
                 *others |= 1 << l;
                 continue;
             }
@@ -667,10 +670,7 @@ impl<'a> Frame<'a> {
 /// The vertices of triangle `prim` (asked of triangles only: other shapes' lanes are shaded
 /// apart).
 fn triangle(scene: &Scene, prim: u32) -> [[f32; 3]; 3] {
-    match &scene.shape(prim) {
-        Shape::Triangle(v) => *v,
-        _ => unreachable!("other shapes are shaded in shade_other_lanes"),
-    }
+    *(scene.shape(prim).triangle()).expect("other shapes are shaded in shade_other_lanes")
 }
 
 /// The flat step's RGBA8 pixels: with one sample per pixel, a pixel is its primitive's

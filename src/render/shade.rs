@@ -12,6 +12,7 @@ use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
+use std::ops::{Add, Mul};
 
 /// A linear RGB colour.
 pub type Rgb = [f32; 3];
@@ -28,7 +29,7 @@ pub fn shade(
     shadow_rays: &mut u64,
 ) -> Rgb {
     match step {
-        LabStep::Flat => scene.color(hit.prim),
+        LabStep::Flat => step_colour(scene, hit.prim, [0.0; 3], false, step),
         _ => Lit::new(scene, ray, hit).colour(scene, step, blocked, shadow_rays),
     }
 }
@@ -167,10 +168,6 @@ impl Lit {
     }
 }
 
-fn mul(a: Rgb, b: Rgb) -> Rgb {
-    [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
-}
-
 /// Up to 8 camera hits readied for shading, lanes side by side (what [`Lit`] holds per hit):
 /// lane l hit primitive `shadow.prim[l]` where bit l of `hit` is set; there D = P·`k[l]`
 /// and, where bit l of `shadow.live` is set (D ≠ 0), the shadow segment runs from the light
@@ -295,12 +292,7 @@ fn sum_colours_body<V: Lanes>(
         for c in 0..3 {
             // As `Lit::d` then `step_colour`: D = power·k where the light is seen.
             let d = lit.bitselect(V::splat(power[c]) * k, V::zero());
-            let rho = V::from_array(rho[c]);
-            let colour = match step {
-                LabStep::Flat => rho,
-                LabStep::Direct | LabStep::Shadows => rho * d,
-                LabStep::Indirect => rho * (d + V::splat(ambient[c])),
-            };
+            let colour = step_channel(step, V::from_array(rho[c]), d, V::splat(ambient[c]));
             sums[c] = sums[c] + hit.bitselect(colour, V::zero());
         }
     }
@@ -314,19 +306,32 @@ fn sum_colours_body<V: Lanes>(
     pixels
 }
 
-/// The colour of lab step 3, 4 or 5 for primitive `prim` with irradiance `d` (ρ·D, with
-/// shadows, plus the ambient term N): what every path computes per sample.
+/// The colour of lab step `step` for primitive `prim` with irradiance `d` (ρ·D, with
+/// shadows, plus the ambient term N; ρ alone for the flat step): what every path computes per
+/// sample ([`step_channel`] per channel).
 #[inline]
 pub fn step_colour(scene: &Scene, prim: u32, d: Rgb, blocked: bool, step: LabStep) -> Rgb {
     let rho = scene.color(prim);
     let d = if blocked { [0.0; 3] } else { d };
+    let n = scene.ambient;
+    [0, 1, 2].map(|c| step_channel(step, rho[c], d[c], n[c]))
+}
+
+/// The lab step's formula, written once: one colour channel from the surface colour ρ, the
+/// irradiance D (zero where the light is not seen) and the ambient term N. Generic so that
+/// the per-sample path (f32) and the packet path (8 lanes) compute it with the same
+/// operations in the same order, to the same bits.
+#[inline(always)]
+pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
+    step: LabStep,
+    rho: T,
+    d: T,
+    ambient: T,
+) -> T {
     match step {
         LabStep::Flat => rho,
-        LabStep::Direct | LabStep::Shadows => mul(rho, d),
-        LabStep::Indirect => {
-            let n = scene.ambient;
-            mul(rho, [d[0] + n[0], d[1] + n[1], d[2] + n[2]])
-        }
+        LabStep::Direct | LabStep::Shadows => rho * d,
+        LabStep::Indirect => rho * (d + ambient),
     }
 }
 
@@ -503,9 +508,8 @@ fn shade_packet_body<V: Lanes>(
     lanes: &[Option<&ShadeTri>; 8],
 ) -> (ShadePacket, ShadePoints) {
     let d = &each3(|k| V::from_wide(d[k]));
-    let triangle = |tri: &OriginTriangle| match &scene.shape(tri.prim) {
-        Shape::Triangle(v) => *v,
-        _ => unreachable!("shade_packet takes triangles"),
+    let triangle = |tri: &OriginTriangle| {
+        *(scene.shape(tri.prim).triangle()).expect("shade_packet takes triangles")
     };
     let mut prim = [u32::MAX; 8];
     let mut hit = 0u32;

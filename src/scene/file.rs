@@ -78,7 +78,7 @@ impl Instancing {
 pub const DEFAULT_COLOR: [f32; 3] = obj::DEFAULT_COLOR;
 
 /// The colour a mesh to be instanced is loaded with for faces without a material: no colour
-/// statement can give it (channels are ≥ 0), so [`Mesh::from_scene`] knows them.
+/// statement can give it (channels are ≥ 0), so [`mesh_from_scene`] knows them.
 pub const UNSET_COLOR: [f32; 3] = [-1.0; 3];
 
 /// The lab light's power per channel, the default of `light`.
@@ -410,10 +410,10 @@ impl<T: Real> Parser<'_, T> {
         if first + n > u32::MAX as usize - 1 {
             return Err(format!("more than {} primitives", u32::MAX - 1));
         }
-        if self.out.instances.len() >= crate::accel::bvh::MAX_ITEMS {
+        if self.out.instances.len() >= crate::limits::MAX_HIERARCHY_ITEMS {
             return Err(format!(
                 "more than {} instances",
-                crate::accel::bvh::MAX_ITEMS
+                crate::limits::MAX_HIERARCHY_ITEMS
             ));
         }
         self.out.instances.push(Instance {
@@ -463,7 +463,7 @@ impl<T: Real> Parser<'_, T> {
                 let v = [0, 1, 2]
                     .map(|i| self.point(&args[3 * i..], [x[3 * i], x[3 * i + 1], x[3 * i + 2]]));
                 let [a, b, c] = v;
-                self.add(Shape::Triangle([a?, b?, c?]), self.current.color)?;
+                self.add(Shape::from([a?, b?, c?]), self.current.color)?;
             }
             "sphere" => {
                 let x = numbers(args, &[4], "sphere")?;
@@ -510,7 +510,7 @@ impl<T: Real> Parser<'_, T> {
                             .map_err(|e| format!("mesh '{path}': {e}"))?;
                         self.mesh_warnings(line, path, &mesh.warnings);
                         self.shared
-                            .insert(geometry.clone(), Arc::new(Mesh::from_scene(&mesh)));
+                            .insert(geometry.clone(), Arc::new(mesh_from_scene(&mesh)));
                     }
                     let mesh = self.shared[&geometry].clone();
                     return self.place_or_add(mesh, color);
@@ -676,10 +676,8 @@ impl<T: Real> Parser<'_, T> {
 
     /// Adds a loaded scene's primitives (a mesh, the Cornell box) in the current frame.
     fn add_scene(&mut self, scene: &Scene) -> Result<(), String> {
-        let triangles = scene.shapes.iter().map(|s| match s {
-            Shape::Triangle(v) => v,
-            Shape::Sphere { .. } => unreachable!("meshes and the Cornell box are triangles"),
-        });
+        let triangles = (scene.shapes.iter())
+            .map(|s| (s.triangle()).expect("meshes and the Cornell box are triangles"));
         self.add_triangles(triangles.zip(scene.colors().iter().copied()))
     }
 
@@ -696,11 +694,23 @@ impl<T: Real> Parser<'_, T> {
                     false => self.transformed(p.map(f64::from)),
                 }
             };
-            let shape = Shape::Triangle([world(v[0])?, world(v[1])?, world(v[2])?]);
+            let shape = Shape::from([world(v[0])?, world(v[1])?, world(v[2])?]);
             self.add(shape, color)?;
         }
         Ok(())
     }
+}
+
+/// A mesh as loaded into a scene of triangles whose faces without a material were given
+/// [`UNSET_COLOR`].
+fn mesh_from_scene(scene: &Scene) -> Mesh {
+    let triangles = (scene.shapes.iter())
+        .map(|s| *s.triangle().expect("meshes hold triangles"))
+        .collect();
+    let colors = (scene.colors().iter())
+        .map(|c| (*c != UNSET_COLOR).then_some(*c))
+        .collect();
+    Mesh::new(scene.name.clone(), triangles, colors)
 }
 
 /// The [`MeshLoader`] of files on disk: an OBJ file, faces without a material in `color`.

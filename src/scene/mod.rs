@@ -2,7 +2,8 @@
 
 pub mod cornell;
 pub mod file;
-pub mod instance;
+/// Meshes placed by instances live below both the scene and the accelerator.
+pub use crate::geometry::instance;
 pub mod obj;
 
 use crate::accel::{Accel, AccelChoice};
@@ -151,9 +152,9 @@ impl Scene {
         for (i, shape) in self.shapes.iter().enumerate() {
             let (lo, hi) = shape.bounds();
             for corner in [lo, hi] {
-                let what = match shape {
-                    Shape::Triangle(_) => format!("{}: triangle {i} (bounds corner)", self.name),
-                    _ => format!("{}: primitive {i} (bounds corner)", self.name),
+                let what = match shape.is_triangle() {
+                    true => format!("{}: triangle {i} (bounds corner)", self.name),
+                    false => format!("{}: primitive {i} (bounds corner)", self.name),
                 };
                 check_range(&what, corner, MAX_SCENE_COORDINATE)?;
             }
@@ -288,7 +289,7 @@ impl Scene {
         match self.stored(prim) {
             Stored::Explicit(i) => self.shapes[i],
             Stored::Instanced { instance, local } => {
-                Shape::Triangle(self.instances[instance].world_triangle(local))
+                Shape::from(self.instances[instance].world_triangle(local))
             }
         }
     }
@@ -493,7 +494,7 @@ mod tests {
         let shapes = (0..colors.len())
             .map(|i| {
                 let x = i as f32;
-                Shape::Triangle([[x, 0.0, 1.0], [x + 1.0, 0.0, 1.0], [x, 1.0, 1.0]])
+                Shape::from([[x, 0.0, 1.0], [x + 1.0, 0.0, 1.0], [x, 1.0, 1.0]])
             })
             .collect();
         Scene::new("runs", shapes, colors, cornell::LIGHT, cornell::AMBIENT)

@@ -62,10 +62,10 @@ pub const MAX_TRIANGLES: u64 = 16 << 20;
 pub const MAX_VERTICES: u64 = 16 << 20;
 
 /// The triangle limit in force ([`MAX_TRIANGLES`] unless `RAYLAB_MAX_TRIANGLES` says; at
-/// most what a BVH holds, [`crate::accel::bvh::MAX_ITEMS`]).
+/// most what a BVH holds, [`crate::limits::MAX_HIERARCHY_ITEMS`]).
 pub fn max_triangles() -> u64 {
     let limit = crate::input::limit_from_env("RAYLAB_MAX_TRIANGLES", MAX_TRIANGLES);
-    limit.min(crate::accel::bvh::MAX_ITEMS as u64)
+    limit.min(crate::limits::MAX_HIERARCHY_ITEMS as u64)
 }
 
 /// Colour of faces without a material (linear RGB).
@@ -288,7 +288,7 @@ fn load_obj_str_coloured(
                 dropped += 1;
                 continue;
             }
-            scene.shapes.push(Shape::Triangle([a, b, c]));
+            scene.shapes.push(Shape::from([a, b, c]));
             scene.colors_mut().push(color);
         }
     }

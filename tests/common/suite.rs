@@ -767,7 +767,7 @@ fn rays_through(targets: &[[f32; 3]], origins: &[[f32; 3]]) -> Vec<Ray<f32>> {
     rays
 }
 
-/// The second round's families (issue 18's kinds): a fan around a shared apex, T-junctions,
+/// The second round's families (the rounding's hard kinds): a fan around a shared apex, T-junctions,
 /// rays in a triangle's plane along its edge, permuted and 1-ulp-perturbed coincident copies,
 /// subnormal geometry, origins at a vertex, −0.0 directions, slivers.
 pub fn round_two() -> Vec<Family> {

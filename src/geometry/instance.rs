@@ -30,22 +30,6 @@ pub struct Mesh {
 }
 
 impl Mesh {
-    /// A mesh as loaded into a scene of triangles whose faces without a material were given
-    /// [`crate::scene::file::UNSET_COLOR`].
-    pub fn from_scene(scene: &super::Scene) -> Self {
-        let triangles = (scene.shapes.iter())
-            .map(|s| match s {
-                crate::geometry::Shape::Triangle(v) => *v,
-                _ => unreachable!("meshes hold triangles"),
-            })
-            .collect();
-        let unset = super::file::UNSET_COLOR;
-        let colors = (scene.colors().iter())
-            .map(|c| (*c != unset).then_some(*c))
-            .collect();
-        Self::new(scene.name.clone(), triangles, colors)
-    }
-
     /// A mesh of `triangles` with one colour each.
     pub fn new(name: String, triangles: Vec<[[f32; 3]; 3]>, colors: Vec<Option<V3<f32>>>) -> Self {
         assert_eq!(triangles.len(), colors.len(), "one colour per triangle");

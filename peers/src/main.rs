@@ -1,9 +1,9 @@
-//! Peers in the same run (issues 4 and 16): raylab beside Embree 3, tinybvh and obvhs (and,
+//! Peers in the same run: raylab beside Embree 3, tinybvh and obvhs (and,
 //! with `--lecture`, the lecture's naive loop), on the same scenes, camera rays, frame sizes
 //! and thread counts, interleaved: each round times one frame of every method, in an order
 //! that alternates from round to round; the best round is reported.
 //!
-//! `cargo run --release --example peers -- [--rounds N] [--sizes 1280x720,640x360]
+//! `cargo run --release -p peers -- [--rounds N] [--sizes 1280x720,640x360]
 //! [--threads 1,2] [--scenes cornell,bunny,igea,igea_1m,field] [--lecture]`
 //!
 //! - Embree 3 is loaded at run time (Debian: `apt-get install libembree3-3`); without it its
@@ -439,8 +439,8 @@ fn build_tinybvh(vertices: &[[f32; 4]]) -> anyhow::Result<TinyBvh<'_>> {
     })
 }
 
-/// A row of the summary against the issue's targets: raylab's render against the fastest of
-/// Embree's three modes in that run (stricter than the issue's "best packet mode": on this
+/// A row of the summary against the speed targets (docs/performance.md): raylab's render against the fastest of
+/// Embree's three modes in that run (stricter than "Embree's best packet mode": on this
 /// machine `rtcIntersect1` sometimes wins).
 struct Versus {
     scene: String,
@@ -737,7 +737,7 @@ fn run_bench<'a>(
             frame: Box::new(|_| render(&flat)),
         }];
         // On an AVX-512 CPU, the same frame with the kernels' AVX2 build: both levels in one
-        // run (issue 16, item 4).
+        // run.
         let avx2_row = simd::detected() == SimdLevel::Avx512;
         if avx2_row {
             methods.push(Timed {

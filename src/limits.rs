@@ -1,0 +1,7 @@
+//! Size limits that an input meets before any structure is built, kept below every layer that
+//! enforces them (the loaders in `scene`, the hierarchies in `accel`), so neither imports the
+//! other for them.
+
+/// Most triangles (or instance boxes) one hierarchy holds: a leaf's first item must fit the
+/// 28 bits its child reference gives it. The OBJ loader and the scene format keep within it.
+pub const MAX_HIERARCHY_ITEMS: usize = (1 << 28) - 1;

@@ -1,0 +1,250 @@
+//! Outputs never destroy a file: an output that is one of the run's inputs is refused before
+//! any work, and an interrupted, killed or failed run leaves the previous file as it was, with
+//! no partial file beside it. Real files, real links and real signals.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn raylab(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_raylab"));
+    c.args(args)
+        .env("RUST_LOG", "warn")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c
+}
+
+/// Runs to the end (a run over 60 s is a hang: killed, and the test fails).
+fn run(args: &[&str]) -> Output {
+    let mut child = raylab(args).spawn().expect("run raylab");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("raylab {args:?} hung for 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+/// A refused run: exit 2, a message naming the output and the input it is, nothing written.
+fn assert_refused(o: &Output, input: &Path) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("refusing to overwrite an input"), "{err}");
+    let name = input.file_name().unwrap().to_str().unwrap();
+    assert!(err.contains(name), "'{name}' not in: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mtl = b"newmtl red\nKd 0.8 0.1 0.1\n";
+    let obj = b"mtllib m.mtl\nusemtl red\nv -1 -1 2\nv 1 -1 2\nv 0 1 2\nf 1 2 3\n";
+    let scene = b"camera 0 0 -3\nmesh tri.obj\nmesh tri.obj\n";
+    let view = b"scene s.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 32 24\n";
+    let mtl_path = write(d, "m.mtl", mtl);
+    let obj_path = write(d, "tri.obj", obj);
+    let scene_path = write(d, "s.scene", scene);
+    let view_path = write(d, "v.view", view);
+    std::os::unix::fs::symlink("s.scene", d.join("link.png")).unwrap();
+    std::fs::hard_link(&obj_path, d.join("hard.png")).unwrap();
+    let s = scene_path.to_str().unwrap();
+    let v = view_path.to_str().unwrap();
+    let scene_to = |out: &str| -> Vec<String> {
+        [
+            "render", "--scene", s, "--width", "32", "--height", "24", "-o", out,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let view_to = |out: &str| -> Vec<String> {
+        ["render", "--view", v, "-o", out]
+            .map(String::from)
+            .to_vec()
+    };
+    let at = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let cases: Vec<(Vec<String>, &Path)> = vec![
+        // The scene itself, by its path and by another spelling of it.
+        (scene_to(s), &scene_path),
+        (scene_to(&format!("{}/./s.scene", d.display())), &scene_path),
+        // Its mesh and the mesh's material library.
+        (scene_to(&at("tri.obj")), &obj_path),
+        (scene_to(&at("m.mtl")), &mtl_path),
+        // A link to the scene, a hard link to the mesh.
+        (scene_to(&at("link.png")), &scene_path),
+        (scene_to(&at("hard.png")), &obj_path),
+        // The view, and the scene a view names.
+        (view_to(v), &view_path),
+        (view_to(s), &scene_path),
+    ];
+    for (args, input) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run(&args);
+        assert_refused(&o, input);
+        // Every input is as it was, and nothing was added beside them.
+        assert_eq!(std::fs::read(&scene_path).unwrap(), scene, "{args:?}");
+        assert_eq!(std::fs::read(&obj_path).unwrap(), obj, "{args:?}");
+        assert_eq!(std::fs::read(&mtl_path).unwrap(), mtl, "{args:?}");
+        assert_eq!(std::fs::read(&view_path).unwrap(), view, "{args:?}");
+        assert_eq!(
+            listing(d),
+            ["hard.png", "link.png", "m.mtl", "s.scene", "tri.obj", "v.view"],
+            "{args:?}"
+        );
+    }
+    // The link is still a link, and an output beside the inputs is written.
+    assert!(std::fs::symlink_metadata(d.join("link.png"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let out = d.join("out.png");
+    let args = scene_to(out.to_str().unwrap());
+    let o = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(&std::fs::read(&out).unwrap()[1..4], b"PNG");
+}
+
+#[test]
+fn an_output_through_a_link_replaces_the_file_and_keeps_the_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let old = write(d, "old.png", b"previous image");
+    std::os::unix::fs::symlink("old.png", d.join("link.png")).unwrap();
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        d.join("link.png").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::symlink_metadata(d.join("link.png"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(&std::fs::read(&old).unwrap()[1..4], b"PNG");
+    assert_eq!(listing(d), ["link.png", "old.png"]);
+}
+
+/// A render of the Cornell box long enough to be stopped mid-way (several seconds).
+fn long_render(out: &Path, aov: bool) -> Child {
+    let mut args = vec![
+        "render", "--width", "4000", "--height", "3000", "--spp", "4", "--step", "shadows", "-o",
+    ];
+    args.push(out.to_str().unwrap());
+    if aov {
+        args.push("--aov");
+    }
+    raylab(&args).spawn().expect("run raylab")
+}
+
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("kill")
+        .args([sig, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+}
+
+#[test]
+fn a_stopped_or_killed_render_leaves_the_previous_image_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let previous = b"\x89PNG previous image".to_vec();
+    for (sig, aov) in [("-INT", false), ("-TERM", true), ("-KILL", false)] {
+        let out = write(d, "image.png", &previous);
+        let child = long_render(&out, aov);
+        // Past the loading, into the render.
+        std::thread::sleep(Duration::from_millis(1500));
+        signal(&child, sig);
+        let start = Instant::now();
+        let o = child.wait_with_output().unwrap();
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "{sig}: slow to stop"
+        );
+        match sig {
+            "-KILL" => assert_eq!(o.status.code(), None, "{sig}: killed"),
+            _ => {
+                assert_eq!(o.status.code(), Some(130), "{sig}: {}", stderr(&o));
+                assert!(stderr(&o).contains("nothing written"), "{}", stderr(&o));
+            }
+        }
+        assert_eq!(std::fs::read(&out).unwrap(), previous, "{sig}");
+        assert_eq!(listing(d), ["image.png"], "{sig}");
+    }
+}
+
+#[test]
+fn a_failing_aov_output_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let previous = b"previous image".to_vec();
+    let out = write(d, "image.png", &previous);
+    // The normals' array cannot be written: a directory stands at its path.
+    std::fs::create_dir(d.join("image.normal.npy")).unwrap();
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--aov",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("image.normal.npy"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), previous);
+    assert_eq!(listing(d), ["image.normal.npy", "image.png"]);
+    // In a directory that cannot be written, the same: refused before the render.
+    let locked = d.join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    let inside = write(&locked, "image.png", &previous);
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        inside.to_str().unwrap(),
+    ]);
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o755)).unwrap();
+    // (Root writes anywhere: then the render succeeds and replaces the file whole.)
+    match o.status.code() {
+        Some(2) => assert_eq!(std::fs::read(&inside).unwrap(), previous),
+        _ => assert_eq!(&std::fs::read(&inside).unwrap()[1..4], b"PNG"),
+    }
+    assert_eq!(listing(&locked), ["image.png"]);
+}
