@@ -1,0 +1,133 @@
+//! A bounding-volume hierarchy for large meshes: binned SAH build (16 bins along the widest
+//! axis of the items' box centres, or along all three for a mesh placed by instances,
+//! `Bvh::build_placed`; leaves of at most 4 triangles, 8 in a mesh of 2¹⁷ or
+//! more (`leaf_max`); subtrees of at least
+//! max(4096, n/32) triangles split across threads with rayon) into a binary tree, then
+//! collapsed into nodes of 8 children (`node.rs`), which every walk uses: one ray tests a
+//! node's 8 boxes at once, a packet of 8 rays tests them lane by lane or, when coherent, as
+//! an interval first; children are visited nearest first. A dense mesh's leaves also keep
+//! their distinct vertices (module `leaf_vertices`), which leaves prepared as met read.
+//!
+//! The ray/box test is made conservative the pbrt-v4 way (the far slab distance is enlarged by
+//! 2γ(3)), so a box that the exact ray touches is never culled by rounding. Boxes are culled
+//! against the nearest hit so far only beyond `t·(1 + 2⁻¹⁶)`: a triangle's computed t and its
+//! box's computed entry distance both carry rounding error, and a triangle lying on its box's
+//! near face (a shared vertex, say) can hit at a computed t a few ulps before its box's
+//! computed entry. With that margin the nearest hit is exactly the brute-force loop's (tested on
+//! random scenes and on rays aimed at shared edges and vertices); equal-t hits resolve to the
+//! lowest primitive index, as in the brute-force loop.
+//!
+//! The files: `build.rs` builds the binary tree (binned SAH) and `widen.rs` collapses it into
+//! the wide nodes of `node.rs` (their boxes and child references, and the walks' stack);
+//! `slabs.rs` tests one ray against a node's boxes and a packet against one box,
+//! `child_test.rs` a packet against a node's children (lane by lane, or as an interval first);
+//! `walk_ray.rs` holds the walk of one ray and its queries, `walk_packet.rs` the walks of a
+//! packet and theirs; `leaves.rs` what a packet walk does at a leaf, `leaf_triangles.rs` a
+//! leaf's triangles prepared for the rays' origin (from a list, from a frame's cache, or as
+//! met), `leaf_vertices.rs` a dense mesh's leaves' distinct vertices. This file keeps the
+//! hierarchy itself and the leaf sizes.
+
+mod build;
+mod child_test;
+mod leaf_triangles;
+mod leaf_vertices;
+mod leaves;
+mod node;
+mod slabs;
+#[cfg(test)]
+mod tests;
+mod walk_packet;
+mod walk_ray;
+mod widen;
+
+pub(crate) use leaves::Leaves;
+pub use node::MAX_ITEMS;
+pub(crate) use node::{Aabb, WideStack};
+pub(crate) use slabs::PacketSlabs;
+
+#[cfg(test)]
+use build::binary;
+use leaf_vertices::LeafVertices;
+use node::WideNode;
+
+/// Items per leaf at most (a hierarchy's own limit is [`leaf_max`]'s).
+pub(crate) const MAX_LEAF: usize = 8;
+/// Items per leaf at most in a hierarchy over fewer than [`DENSE_MESH`] triangles, and over
+/// boxes.
+const SMALL_LEAF: usize = 4;
+/// A leaf of at most this many triangles is prepared as met in lanes 0–3, repeated in lanes
+/// 4–7 ([`Bvh::prepare_leaf`]): the layout [`PacketNearest::offer_leaf_to_lanes`] takes.
+///
+/// [`PacketNearest::offer_leaf_to_lanes`]: crate::accel::packet::PacketNearest::offer_leaf_to_lanes
+const QUAD_LEAF: usize = 4;
+/// Meshes with at least this many triangles have leaves of up to [`MAX_LEAF`] triangles, and
+/// keep their leaves' distinct vertices (module `leaf_vertices`: 22 bytes a triangle more,
+/// read instead of the triangles' 36 where a leaf is prepared as met).
+const DENSE_MESH: usize = 1 << 17;
+
+/// Items per leaf at most in a hierarchy over `n` triangles. A mesh that dense has
+/// triangles of a pixel or less on a screen the app shows, so a leaf is mostly reached by
+/// one ray of a packet, and its 8 triangles cost that ray one 8-lane pass as 4 did, with
+/// fewer leaves and nodes to visit. Where several rays reach a leaf (the bunny, the bunny
+/// field), each of its triangles is a pass more, and 4 stay faster.
+fn leaf_max(n: usize) -> usize {
+    match n >= DENSE_MESH {
+        true => MAX_LEAF,
+        false => SMALL_LEAF,
+    }
+}
+
+/// The hierarchy and its triangles, reordered so that each leaf's are contiguous.
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    /// The nodes, root first (empty: no triangles).
+    wide: Vec<WideNode>,
+    /// The box around everything.
+    bounds: Aabb,
+    tris: Vec<[[f32; 3]; 3]>,
+    prims: Vec<u32>,
+    /// Whether every box coordinate is [`box_safe`].
+    ///
+    /// [`box_safe`]: slabs::box_safe
+    tame: bool,
+    /// A dense mesh's leaves' distinct vertices, where leaves prepared as met read their
+    /// triangles.
+    leaf_vertices: Option<LeafVertices>,
+}
+
+impl Bvh {
+    /// Bytes held by nodes and triangles.
+    pub fn memory_bytes(&self) -> usize {
+        self.wide.len() * std::mem::size_of::<WideNode>()
+            + self.tris.len() * std::mem::size_of::<[[f32; 3]; 3]>()
+            + self.prims.len() * 4
+            + self.leaf_vertices.as_ref().map_or(0, LeafVertices::bytes)
+    }
+
+    /// How many triangles.
+    pub fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.tris.is_empty()
+    }
+
+    /// Whether every box coordinate is [`box_safe`] (the f32 slab test then holds).
+    ///
+    /// [`box_safe`]: slabs::box_safe
+    pub(crate) fn boxes_tame(&self) -> bool {
+        self.tame
+    }
+
+    /// The root's box (`None` when empty).
+    pub(crate) fn root_bounds(&self) -> Option<Aabb> {
+        (!self.wide.is_empty()).then_some(self.bounds)
+    }
+
+    /// The triangles in the hierarchy's order (leaves index into it), and their primitives.
+    pub fn triangles(&self) -> (&[[[f32; 3]; 3]], &[u32]) {
+        (&self.tris, &self.prims)
+    }
+}

@@ -1,0 +1,219 @@
+//! The walk of one ray ([`Bvh::traverse`]) and the per-ray queries on it: nearest hit and
+//! any hit, for every method, and the adaptive search's f32 level from triangles prepared for
+//! the ray's origin.
+
+use super::leaf_triangles::LeafTriangles;
+use super::node::{leaf_range, WideNode, WideStack, LEAF, NONE, WIDTH};
+use super::slabs::{box_safe, enter_f64, slab_safe, RaySlabs};
+use super::Bvh;
+use crate::accel::prepared::Prepared;
+use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
+use crate::geometry::triangle::WatertightRay;
+use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::lanes::f32x8;
+
+impl Bvh {
+    /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
+    pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            for i in first..first + count {
+                let shape = Shape::Triangle(self.tris[i]);
+                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
+                    let prim = self.prims[i];
+                    let better = best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim));
+                    if better {
+                        best = Some(Hit { t, prim, b1, b2 });
+                    }
+                }
+            }
+            // Hits at t equal to the best stay possible (for the index tie-break).
+            (best.map_or(tmax, |h| h.t.next_up()), false)
+        });
+        best
+    }
+
+    /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
+    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        let mut hit = false;
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            hit = (first..first + count).any(|i| {
+                self.prims[i] != skip
+                    && Shape::Triangle(self.tris[i])
+                        .intersect(ray, method, tmin, t_far)
+                        .is_some()
+            });
+            (t_far, hit)
+        });
+        hit
+    }
+
+    /// The adaptive filter's M for this ray, from the root box (once per ray: per leaf it
+    /// cost more than its tighter bound saved).
+    fn extent(&self, ray: &Ray) -> f32 {
+        match self.wide.is_empty() {
+            true => f32::INFINITY,
+            false => box_extent(ray.o, self.bounds.lo, self.bounds.hi),
+        }
+    }
+
+    /// The adaptive closest-hit search (see `geometry::adaptive`).
+    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
+            for i in first..first + count {
+                let est = classify_f32(r, &self.tris[i], e);
+                if est != Estimate::Miss {
+                    search.offer_triangle(self.prims[i], &self.tris[i], est);
+                }
+            }
+            (search.t_far32(), false)
+        });
+    }
+
+    /// [`Bvh::closest_hit_adaptive`] for a ray leaving the origin `prepared` was made for
+    /// (from [`Bvh::triangles`]): the f32 level is the shared-origin test of
+    /// [`super::packet`], three dot products per triangle instead of the sheared test.
+    ///
+    /// [`super::packet`]: crate::accel::packet
+    pub(crate) fn closest_hit_from_origin(
+        &self,
+        ray: &Ray,
+        prepared: Prepared<'_>,
+        search: &mut Search,
+    ) {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let d_max = ray.d.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        let d_max = if ray.d.iter().any(|c| c.is_nan()) {
+            f32::NAN
+        } else {
+            d_max
+        };
+        let mut scratch = None;
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
+            let leaf = first..first + count;
+            // (Per ray for the lanes packets leave ambiguous: the baseline lanes, the same bits.)
+            let tris =
+                self.leaf_triangles::<f32x8>(prepared, first, first + count, ray.o, &mut scratch);
+            for (j, (tri, prim)) in (self.tris[leaf.clone()].iter())
+                .zip(&self.prims[leaf])
+                .enumerate()
+            {
+                let est = match tris {
+                    LeafTriangles::Listed(list) => list[j].estimate(ray.d, d_max),
+                    LeafTriangles::Leaf { .. } | LeafTriangles::Blocks { .. } => {
+                        match tris.get(j).estimate(ray.d, d_max) {
+                            Estimate::Unsure => self
+                                .precise(first + j, ray.o)
+                                .rounded
+                                .estimate(ray.d, d_max),
+                            est => est,
+                        }
+                    }
+                };
+                if est != Estimate::Miss {
+                    search.offer_triangle(*prim, tri, est);
+                }
+            }
+            (search.t_far32(), false)
+        });
+    }
+
+    /// The adaptive any-hit query.
+    pub fn any_hit_adaptive(
+        &self,
+        ray: &Ray,
+        r: &WatertightRay<f32>,
+        search: &Search,
+        skip: u32,
+    ) -> bool {
+        let mut hit = false;
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            hit = (first..first + count).any(|i| {
+                self.prims[i] != skip
+                    && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
+            });
+            (t_far, hit)
+        });
+        hit
+    }
+
+    /// Visits the leaves the ray may reach, nearer child first, every box widened by `pad`
+    /// on each side (0 but for a mesh's hierarchy walked in its own frame by a ray carried
+    /// there with rounding, see `accel::instances`). `leaf(first, count, t_far)` returns the
+    /// new t_far and whether to stop.
+    pub(crate) fn traverse(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        pad: f32,
+        mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+    ) {
+        if self.wide.is_empty() {
+            return;
+        }
+        let in_f32 =
+            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
+        let inv = ray.d.map(|c| 1.0 / c);
+        let slabs = RaySlabs {
+            o: ray.o,
+            inv,
+            near_hi: inv.map(|c| c < 0.0),
+            tmin,
+            pad,
+        };
+        // Only the f64 test needs these divisions.
+        let inv64 = (!in_f32).then(|| ray.d.map(|c| 1.0 / f64::from(c)));
+        let enter = |n: &WideNode, limit: f32| -> (u32, [f32; WIDTH]) {
+            let Some(inv64) = &inv64 else {
+                return slabs.enter(n, limit);
+            };
+            let mut hits = 0;
+            let mut t = [f32::INFINITY; WIDTH];
+            for c in (0..WIDTH).take_while(|&c| n.child[c] != NONE) {
+                if let Some(t0) = enter_f64(&n.bounds(c), pad, ray, inv64, tmin, limit) {
+                    hits |= 1 << c;
+                    t[c] = t0;
+                }
+            }
+            (hits, t)
+        };
+        let mut t_far = tmax;
+        // Culling margin against the best hit so far (see the module docs of `bvh`).
+        let cull = |t: f32| {
+            if t < tmax {
+                (t + t.abs() * (1.0 / 65536.0)).min(tmax)
+            } else {
+                tmax
+            }
+        };
+        let mut stack = WideStack::new();
+        let mut top = 0;
+        let mut node = 0usize;
+        loop {
+            let n = &self.wide[node];
+            let (hits, t0) = enter(n, cull(t_far));
+            stack.push(&mut top, n, hits, &t0, 1);
+            loop {
+                let r = stack.pop_above(0, &mut top, cull(t_far));
+                if r == NONE {
+                    return;
+                }
+                if r & LEAF == 0 {
+                    node = r as usize;
+                    break;
+                }
+                let (first, count) = leaf_range(r);
+                let stop;
+                (t_far, stop) = leaf(first, count, t_far);
+                if stop {
+                    return;
+                }
+            }
+        }
+    }
+}
