@@ -6,7 +6,7 @@ use super::exact_lane::{Crossing, ExactLane};
 use super::*;
 use crate::accel::IndexedTriangle;
 use crate::geometry::exact;
-use crate::math::lanes::{f32x8, f64x4, LaneOps, Lanes};
+use crate::math::lanes::{f32x8, f64x4, LaneOps};
 use crate::math::simd::each3;
 use std::cmp::Ordering;
 
