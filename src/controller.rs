@@ -289,7 +289,11 @@ impl CameraController {
         );
         let max = crate::math::MAX_VIEW_COORDINATE;
         let within = |p: DVec3| p.abs().max_element() <= max; // (false for NaN)
-        let finite = within(self.position) && self.target.is_finite();
+        let finite = within(self.position)
+            && self.target.is_finite()
+            && self.yaw.is_finite()
+            && self.pitch.is_finite()
+            && self.focal_ratio.is_finite();
         if !finite {
             // (Never leave a pose the camera cannot take: finite, within the view range.)
             (

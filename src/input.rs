@@ -23,12 +23,39 @@ pub fn max_input_bytes() -> u64 {
     limit_from_env("RAYLAB_MAX_INPUT_BYTES", MAX_INPUT_BYTES)
 }
 
-/// The number environment variable `var` holds, else `default`: the settable limits.
+/// The environment variables that set a limit ([`limit_from_env`]).
+pub const LIMIT_VARS: [&str; 2] = ["RAYLAB_MAX_INPUT_BYTES", "RAYLAB_MAX_TRIANGLES"];
+
+/// The number environment variable `var` holds, else `default`: the settable limits. (A value
+/// that is not a whole number is refused by [`check_limit_vars`], which the binary calls
+/// first.)
 pub fn limit_from_env(var: &str, default: u64) -> u64 {
     std::env::var(var)
         .ok()
         .and_then(|s| s.trim().parse().ok())
         .unwrap_or(default)
+}
+
+/// Refuses a limit variable ([`LIMIT_VARS`]) that is set but is not a whole number, so a
+/// mistyped limit is never silently replaced by the default.
+pub fn check_limit_vars() -> Result<(), String> {
+    for var in LIMIT_VARS {
+        if let Some(value) = std::env::var_os(var) {
+            let text = value.to_string_lossy();
+            if text.trim().parse::<u64>().is_err() {
+                return Err(format!(
+                    "{var}='{text}' is not a whole number of {} (0 to {})",
+                    if var.ends_with("BYTES") {
+                        "bytes"
+                    } else {
+                        "triangles"
+                    },
+                    u64::MAX
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Why a file could not be read or written.

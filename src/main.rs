@@ -11,6 +11,10 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let args = cli::Cli::parse();
+    if let Err(e) = raylab::input::check_limit_vars() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let result = match &args.command {
         Some(cli::Command::Render(a)) => cli::render(a),
         Some(cli::Command::Trace(a)) => cli::trace(a),

@@ -957,6 +957,18 @@ fn every_input_is_capped_and_a_byte_order_mark_is_skipped() {
         &[("RAYLAB_MAX_INPUT_BYTES", "10")],
     );
     assert_fails(&o, 2, &["s.scene", "larger than the 10-byte limit"]);
+    // A limit that is not a whole number is refused, naming the variable and the value.
+    for (var, value) in [
+        ("RAYLAB_MAX_INPUT_BYTES", "10k"),
+        ("RAYLAB_MAX_TRIANGLES", "-5"),
+        ("RAYLAB_MAX_TRIANGLES", ""),
+    ] {
+        let o = raylab_env(
+            &["trace", "--scene", &scene, "--rays", &rays],
+            &[(var, value)],
+        );
+        assert_fails(&o, 2, &[var, &format!("'{value}'"), "not a whole number"]);
+    }
     // A UTF-8 BOM at the start of a scene, ray or OBJ file is not part of the first line.
     let scene = write(
         dir.path(),

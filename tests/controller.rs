@@ -262,3 +262,45 @@ fn flying_and_framing_stay_within_the_cameras_range() {
         let _ = c.camera(w);
     }
 }
+
+#[test]
+fn input_no_pose_can_hold_is_ignored_and_the_camera_still_builds() {
+    let huge = [f64::INFINITY, f64::NEG_INFINITY, f64::NAN, f64::MAX, 1e308];
+    for mode_orbit in [false, true] {
+        for &x in &huge {
+            let mut c = CameraController::cornell();
+            if mode_orbit {
+                c.toggle_mode();
+            }
+            let start = (c.position, c.yaw, c.pitch, c.focal_ratio);
+            for _ in 0..2 {
+                c.update(&input(|i| i.mouse = (x, x)), 0.1);
+                c.update(&input(|i| i.orbit = (x, -x)), 0.1);
+                c.update(&input(|i| i.pan = (x, x)), 0.1);
+                c.update(&input(|i| i.wheel = x), 0.1);
+                c.update(&input(|i| i.yaw = x), 0.1);
+            }
+            assert!(
+                c.yaw.is_finite() && c.pitch.is_finite(),
+                "{x}: {} {}",
+                c.yaw,
+                c.pitch
+            );
+            assert!(c.position.is_finite() && c.focal_ratio.is_finite(), "{x}");
+            // A finite turn that is merely large is taken (the yaw wraps); nothing else moved.
+            if !x.is_finite() {
+                assert!(
+                    (c.position - start.0).length() < 1e-9,
+                    "{x}: {}",
+                    c.position
+                );
+                assert_eq!(
+                    (c.yaw, c.pitch, c.focal_ratio),
+                    (start.1, start.2, start.3),
+                    "{x}"
+                );
+            }
+            let _ = c.camera(640);
+        }
+    }
+}

@@ -339,3 +339,33 @@ fn the_example_scenes_load() {
     assert_eq!(stack.warnings.len(), 1, "the one the file explains");
     assert!(stack.warnings[0].contains("transform_stack.scene:45: translate after scale"));
 }
+
+#[test]
+fn a_sphere_keeps_its_radius_under_any_uniform_scale_f64_holds() {
+    // 2^±600: the columns' squared lengths would overflow or underflow f64; their radius does
+    // not (r·s = 1 exactly), and the scale is uniform.
+    for (s, r) in [(600, -600), (-600, 600), (1000, -1000), (-1000, 1000)] {
+        let text = format!(
+            "scale {:e}\nsphere 0 0 0 {:e}\n",
+            2f64.powi(s),
+            2f64.powi(r)
+        );
+        let d = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes)
+            .unwrap_or_else(|e| panic!("2^{s}: {e}"));
+        match d.shapes[0] {
+            Shape::Sphere { centre, radius } => {
+                assert_eq!((centre, radius), ([0.0; 3], 1.0), "2^{s}");
+            }
+            _ => panic!("not a sphere"),
+        }
+    }
+    // Non-uniform at such scales is still an ellipsoid.
+    let text = format!(
+        "scale {:e} {:e} {:e}\nsphere 0 0 0 1\n",
+        2f64.powi(600),
+        2f64.powi(600),
+        2f64.powi(601)
+    );
+    let e = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes).unwrap_err();
+    assert!(e.to_string().contains("ellipsoid"), "{e}");
+}

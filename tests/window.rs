@@ -1061,3 +1061,40 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     assert!(orange > 500, "{orange} orange pixels");
     assert!(blue > 1000, "{blue} blue pixels");
 }
+
+#[test]
+fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
+    if !have("xvfb-run") {
+        assert!(std::env::var("CI").is_err(), "CI=true but xvfb-run is missing");
+        eprintln!("\n*** SKIPPED: xvfb-run is not installed ***\n");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("tri.obj");
+    let obj = b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(&model, obj).unwrap();
+    let link = dir.path().join("shot.png");
+    std::os::unix::fs::symlink(&model, &link).unwrap();
+    for shot in [&model, &link] {
+        let o = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_raylab"))
+            .arg(&model)
+            .args(["--frames", "3", "--screenshot"])
+            .arg(shot)
+            .env("RUST_LOG", "warn")
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("refusing to overwrite an input"), "{err}");
+        assert_eq!(std::fs::read(&model).unwrap(), obj, "the model is as it was");
+    }
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["shot.png", "tri.obj"], "no temporary file left");
+}

@@ -352,7 +352,22 @@ impl<T: Real> Parser<'_, T> {
     /// uniform (to a relative 1e-12).
     fn uniform_scale(&self) -> Option<f64> {
         let m = self.stack.matrix();
+        // Measured on the columns divided by a power of two near their largest entry (exact),
+        // so no square overflows or underflows at any scale f64 holds; the result is
+        // multiplied back, to the same bits as the columns' own lengths where those are exact.
         let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| c.truncate());
+        let max = cols
+            .iter()
+            .map(|c| c.abs().max_element())
+            .fold(0.0, f64::max);
+        if !(max.is_finite() && max > 0.0) {
+            return None;
+        }
+        let unit = match max >= f64::MIN_POSITIVE {
+            true => f64::from_bits(max.to_bits() & 0x7ff0_0000_0000_0000),
+            false => f64::MIN_POSITIVE,
+        };
+        let cols = cols.map(|c| c / unit);
         let len = cols.map(|c| c.length());
         let tol = 1e-12 * len[0];
         let equal = (len[1] - len[0]).abs() <= tol && (len[2] - len[0]).abs() <= tol;
@@ -362,7 +377,7 @@ impl<T: Real> Parser<'_, T> {
             cols[0].dot(cols[2]),
         ];
         let orthogonal = dots.iter().all(|d| d.abs() <= 1e-12 * len[0] * len[0]);
-        (equal && orthogonal).then_some(len[0])
+        (equal && orthogonal).then_some(len[0] * unit)
     }
 
     fn add(&mut self, shape: Shape<T>, color: [f32; 3]) -> Result<(), String> {

@@ -229,11 +229,11 @@ fn load_obj_str_coloured(
         }
         Vec::new()
     });
-    let unknown: Vec<&str> = stream
-        .used_materials
-        .iter()
-        .filter(|used| !materials.iter().any(|m| &&m.name == used))
+    let defined: std::collections::HashSet<&str> =
+        materials.iter().map(|m| m.name.as_str()).collect();
+    let unknown: Vec<&str> = (stream.used_materials.iter())
         .map(String::as_str)
+        .filter(|used| !defined.contains(used))
         .collect();
     if !unknown.is_empty() && !materials.is_empty() {
         let listed = unknown
@@ -466,6 +466,8 @@ struct ObjStream<'a> {
     normals: u64,
     /// The material names `usemtl` asked for, to warn about those no library defines.
     used_materials: std::collections::BTreeSet<String>,
+    /// The material libraries `mtllib` named so far.
+    libraries: std::collections::HashSet<String>,
     error: Option<ObjError>,
 }
 
@@ -481,6 +483,7 @@ impl<'a> ObjStream<'a> {
             texcoords: 0,
             normals: 0,
             used_materials: Default::default(),
+            libraries: Default::default(),
             error: None,
         }
     }
@@ -531,6 +534,10 @@ impl<'a> ObjStream<'a> {
                 let rest = statement.trim_start()[keyword.len()..].trim();
                 if rest.is_empty() {
                     return Err(format!("{keyword} needs a name"));
+                }
+                // A library named again would add its materials again: it is passed on once.
+                if keyword == "mtllib" && !self.libraries.insert(rest.to_string()) {
+                    return Ok(());
                 }
                 let _ = writeln!(out, "{keyword} {rest}");
                 if keyword == "usemtl" && !self.used_materials.contains(rest) {

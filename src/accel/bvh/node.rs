@@ -19,7 +19,8 @@ pub(super) const LEAF: u32 = 1 << 31;
 const FIRST_BITS: u32 = 28;
 /// Most triangles (or instance boxes) a hierarchy holds: a leaf's first one must fit its
 /// reference. The loaders and the scene format keep within it.
-pub const MAX_ITEMS: usize = (1 << FIRST_BITS) - 1;
+pub use crate::limits::MAX_HIERARCHY_ITEMS as MAX_ITEMS;
+const _: () = assert!(MAX_ITEMS == (1 << FIRST_BITS) - 1);
 /// An unused child slot (its box is empty: no ray enters it). Unused slots come last.
 pub(super) const NONE: u32 = u32::MAX;
 /// Stack entries a walk holds at most ([`widen`] keeps every tree within it).

@@ -136,7 +136,7 @@ fn the_tree_stays_within_the_traversal_stacks() {
     let (nodes, _) = binary(&row, SMALL_LEAF, false);
     assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
     let bvh = Bvh::build(&row);
-    let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
+    let shapes: Vec<Shape> = row.iter().map(|(v, _)| Shape::from(*v)).collect();
     for x in [1e9f32, 5.0, 1e30] {
         let ray = Ray::new([x, 0.1, 0.0], [-1.0, 0.0, 0.0]);
         let want = crate::accel::closest_hit(&shapes, &ray, Method::Adaptive, 0.0, f32::INFINITY);
@@ -178,7 +178,7 @@ fn placed_meshes_split_on_the_axis_that_costs_least() {
     assert!(root_halves_height(false).iter().all(|&h| h > 10.0));
     assert!(root_halves_height(true).iter().all(|&h| h < 1.0));
     let placed = Bvh::build_placed(&tris);
-    let shapes: Vec<Shape> = tris.iter().map(|(v, _)| Shape::Triangle(*v)).collect();
+    let shapes: Vec<Shape> = tris.iter().map(|(v, _)| Shape::from(*v)).collect();
     for i in 0..200 {
         let (x, y) = (0.37 * i as f32 + 0.1, 10.0 * (i % 2) as f32 + 0.1);
         let ray = Ray::new([x, y, -5.0], [0.01, 0.002, 1.0]);

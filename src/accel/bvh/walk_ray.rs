@@ -18,7 +18,7 @@ impl Bvh {
         let mut best: Option<Hit> = None;
         self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             for i in first..first + count {
-                let shape = Shape::Triangle(self.tris[i]);
+                let shape = Shape::from(self.tris[i]);
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
                     let prim = self.prims[i];
                     let better = best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim));
@@ -39,7 +39,7 @@ impl Bvh {
         self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
-                    && Shape::Triangle(self.tris[i])
+                    && Shape::from(self.tris[i])
                         .intersect(ray, method, tmin, t_far)
                         .is_some()
             });
