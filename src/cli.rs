@@ -30,7 +30,7 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
     /// An OBJ model or a `.scene` file to open in the window instead of the built-in Cornell
-    /// box.
+    /// box (`cornell`, as everywhere a scene is named).
     pub model: Option<PathBuf>,
     /// How the model's (and dropped files') coordinates are read: `yup` or `lab` (see
     /// `raylab render --help`).
@@ -332,10 +332,7 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 
 /// Loads `cornell`, a `.scene` file or an OBJ file.
 pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
-    if spec == "cornell" {
-        return Ok(Scene::cornell());
-    }
-    Scene::load(Path::new(spec), frame).map_err(anyhow::Error::msg)
+    Scene::open(spec, frame).map_err(anyhow::Error::msg)
 }
 
 /// [`load_scene`] with the accelerator `accel` chosen, its warnings printed.
@@ -365,11 +362,7 @@ fn set_light(scene: &mut Scene, position: [f64; 3]) -> Result<()> {
 fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let text = read_text(path)?;
     let view = raylab::view::View::parse(&path.display().to_string(), &text)?;
-    let mut spec = view.scene.clone();
-    let beside = path.parent().unwrap_or(Path::new("")).join(&spec);
-    if spec != "cornell" && !Path::new(&spec).exists() && beside.exists() {
-        spec = beside.display().to_string();
-    }
+    let spec = view.scene_path(path);
     let mut scene = load_scene_for(&spec, view.obj_frame, v.accel)
         .with_context(|| format!("loading scene '{spec}' of view '{}'", path.display()))?;
     if let Some(light) = view.light {

@@ -32,6 +32,24 @@ pub struct View {
 }
 
 impl View {
+    /// The scene this view names, as a name [`crate::scene::Scene::open`] takes: `cornell`,
+    /// or the path as written where it exists from here, else the same path beside the view
+    /// file at `view_file` (the rule for the command line and the window alike).
+    pub fn scene_path(&self, view_file: &std::path::Path) -> String {
+        let spec = &self.scene;
+        let beside = view_file
+            .parent()
+            .unwrap_or(std::path::Path::new(""))
+            .join(spec);
+        match spec != crate::scene::CORNELL
+            && !std::path::Path::new(spec).exists()
+            && beside.exists()
+        {
+            true => beside.display().to_string(),
+            false => spec.clone(),
+        }
+    }
+
     /// The file text.
     pub fn to_text(&self) -> String {
         let c = &self.camera;

@@ -290,3 +290,32 @@ fn every_obj_and_mtl_problem_names_its_line() {
         scene.warnings
     );
 }
+
+#[test]
+fn one_loader_takes_the_same_names_everywhere() {
+    use raylab::scene::{ObjFrame, CORNELL};
+    use raylab::view::View;
+    assert_eq!(
+        Scene::open(CORNELL, ObjFrame::YUp).unwrap(),
+        Scene::cornell()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let scene_file = dir.path().join("s.scene");
+    std::fs::write(&scene_file, "tri -1 -1 2 1 -1 2 0 1 2\n").unwrap();
+    let by_name = Scene::open(scene_file.to_str().unwrap(), ObjFrame::YUp).unwrap();
+    assert_eq!(by_name, Scene::load(&scene_file, ObjFrame::YUp).unwrap());
+    assert!(Scene::open("no-such-file.scene", ObjFrame::YUp)
+        .unwrap_err()
+        .contains("no-such-file.scene"));
+    // A view's scene: as written where it exists from here, else beside the view file.
+    let view_file = dir.path().join("v.view");
+    let view = |scene: &str| View::parse("v.view", &format!("scene {scene}\n")).unwrap();
+    assert_eq!(
+        view("s.scene").scene_path(&view_file),
+        scene_file.display().to_string()
+    );
+    assert_eq!(view(CORNELL).scene_path(&view_file), CORNELL);
+    let absolute = scene_file.display().to_string();
+    assert_eq!(view(&absolute).scene_path(&view_file), absolute);
+    assert_eq!(view("gone.scene").scene_path(&view_file), "gone.scene");
+}

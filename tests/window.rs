@@ -1065,7 +1065,10 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
 #[test]
 fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
     if !have("xvfb-run") {
-        assert!(std::env::var("CI").is_err(), "CI=true but xvfb-run is missing");
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xvfb-run is missing"
+        );
         eprintln!("\n*** SKIPPED: xvfb-run is not installed ***\n");
         return;
     }
@@ -1089,7 +1092,11 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{err}");
         assert!(err.contains("refusing to overwrite an input"), "{err}");
-        assert_eq!(std::fs::read(&model).unwrap(), obj, "the model is as it was");
+        assert_eq!(
+            std::fs::read(&model).unwrap(),
+            obj,
+            "the model is as it was"
+        );
     }
     let mut names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
@@ -1097,4 +1104,32 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
         .collect();
     names.sort();
     assert_eq!(names, ["shot.png", "tri.obj"], "no temporary file left");
+}
+
+#[test]
+fn the_window_opens_cornell_by_name_as_the_command_line_does() {
+    if !have("xvfb-run") {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but xvfb-run is missing"
+        );
+        eprintln!("\n*** SKIPPED: xvfb-run is not installed ***\n");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("shot.png");
+    let o = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_raylab"))
+        .args(["cornell", "--frames", "2", "--screenshot"])
+        .arg(&shot)
+        .env("RUST_LOG", "warn")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("primitives=30"), "the lab's box: {out}");
+    let (w, h, _) = read_png(&shot);
+    assert!(w > 0 && h > 0);
 }

@@ -89,7 +89,8 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
     };
     let scene = match &opts.scene {
         Some(p) => {
-            let mut scene = Scene::load(p, opts.obj_frame).map_err(anyhow::Error::msg)?;
+            let spec = p.to_string_lossy();
+            let mut scene = Scene::open(&spec, opts.obj_frame).map_err(anyhow::Error::msg)?;
             scene.build_accel();
             scene
         }
@@ -101,12 +102,9 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
             log::debug!("event loop: {e}");
             anyhow!("{}", framework::no_window_reason())
         })?;
-    let viewer = Viewer::new(
-        scene,
-        opts.scene.as_ref(),
-        opts.obj_frame,
-        event_loop.create_proxy(),
-    );
+    // (`cornell` names the built-in box: no file to watch or name in a view.)
+    let file = (opts.scene.as_ref()).filter(|p| p.as_os_str() != raylab::scene::CORNELL);
+    let viewer = Viewer::new(scene, file, opts.obj_frame, event_loop.create_proxy());
     let scripted = match (opts.frames, opts.screenshot) {
         (Some(frames), Some(shot)) => Some(ScriptedRun::new(frames, shot, script)),
         _ => None,

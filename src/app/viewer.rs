@@ -422,6 +422,7 @@ impl Viewer {
             .is_some_and(|e| e.eq_ignore_ascii_case("view"));
         match is_view {
             true => self.load_view(&path),
+            false if path.as_os_str() == raylab::scene::CORNELL => self.show_cornell(),
             false => self.load_file(path, false),
         }
     }
@@ -449,19 +450,24 @@ impl Viewer {
         }
         self.obj_frame = view.obj_frame;
         let current = self.source.lock().expect("not poisoned").clone();
-        let wanted = (view.scene != "cornell").then(|| PathBuf::from(&view.scene));
+        let spec = view.scene_path(path);
+        let wanted = (spec != raylab::scene::CORNELL).then(|| PathBuf::from(spec));
         match wanted {
             Some(p) if current.as_ref() != Some(&p) => {
                 self.view_light = view.light;
                 self.load_file(p, true);
             }
-            None if current.is_some() => {
-                *self.source.lock().expect("not poisoned") = None;
-                self.scene = Arc::new(Scene::cornell());
-            }
+            None if current.is_some() => self.show_cornell(),
             _ => {}
         }
         self.set_status(format!("loaded view {}", path.display()));
+        self.changed();
+    }
+
+    /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
+    fn show_cornell(&mut self) {
+        *self.source.lock().expect("not poisoned") = None;
+        self.scene = Arc::new(Scene::cornell());
         self.changed();
     }
 

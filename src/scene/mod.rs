@@ -16,6 +16,9 @@ pub use file::{load_scene_file, SceneCamera};
 pub use instance::{Instance, Mesh, Stored};
 pub use obj::{load_obj_file, load_obj_str, ObjError, ObjFrame};
 
+/// The name of the built-in lab Cornell box wherever a scene is named ([`Scene::open`]).
+pub const CORNELL: &str = "cornell";
+
 /// A point light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLight {
@@ -177,6 +180,16 @@ impl Scene {
     pub fn set_accel(&mut self, choice: AccelChoice) {
         self.accel_choice = choice;
         self.accel = OnceLock::new();
+    }
+
+    /// Opens what a user names as a scene, the same names everywhere (the command line, the
+    /// window's argument, the panel's field, a dropped file, the File menu, a view's `scene`
+    /// line): `cornell` for the built-in lab box, else a `.scene` or OBJ file ([`Scene::load`]).
+    pub fn open(spec: &str, obj_frame: ObjFrame) -> Result<Scene, String> {
+        match spec {
+            CORNELL => Ok(Scene::cornell()),
+            path => Scene::load(std::path::Path::new(path), obj_frame),
+        }
     }
 
     /// Loads a `.scene` file or an OBJ file (`obj_frame`: how its coordinates are read), by the
