@@ -13,7 +13,7 @@ if [ -d "$shared" ]; then
          "$shared/bunny.obj flat 320 180" "$shared/bunny.obj flat 1280 720" "$shared/bunny.obj shadows 1280 720"
          "benches/scenes/bunny_field.scene flat 320 180")
 fi
-# The 1M-triangle mesh where it was made (README, "Peers": cargo run --example subdivide).
+# The 1M-triangle mesh where it was made (docs/performance.md: cargo run --release --example subdivide).
 [ -f target/igea_1m.obj ] && rows+=("target/igea_1m.obj flat 640 360")
 rows+=("assets/scenes/ball_field.scene shadows 320 180")
 out=$(mktemp)

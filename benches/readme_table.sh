@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces the README's performance table: builds the release binary (core only, so the
+# raylab alone on every scene (docs/performance.md): builds the release binary (core only, so the
 # window stack is not needed) and runs `raylab bench` for each row, printing Markdown rows.
 # Usage: bash benches/readme_table.sh [FRAMES]   (needs ../shared/scenes for the mesh rows)
 set -euo pipefail

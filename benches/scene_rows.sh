@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's scene-file rows: raylab bench on the example scenes, 2 threads, median of
+# The scene files' rows (docs/performance.md): raylab bench on the example scenes, 2 threads, median of
 # FRAMES frames after a warm-up, with the whole run's wall time and peak memory (GNU time).
 # Usage: bash benches/scene_rows.sh [BIN] [FRAMES]   (the bunny field needs ../shared)
 set -euo pipefail

@@ -11,7 +11,7 @@
 //! inside this module.
 //!
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
-//! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (see the README).
+//! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
 
 pub mod bvh;
 mod cull;
