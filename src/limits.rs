@@ -5,3 +5,7 @@
 /// Most triangles (or instance boxes) one hierarchy holds: a leaf's first item must fit the
 /// 28 bits its child reference gives it. The OBJ loader and the scene format keep within it.
 pub const MAX_HIERARCHY_ITEMS: usize = (1 << 28) - 1;
+
+/// The longest image side in pixels (a render, a view, a scene camera's focal length must suit
+/// every size up to it).
+pub const MAX_IMAGE_SIDE: u32 = 16_384;

@@ -132,17 +132,16 @@ impl View {
                 continue;
             }
             let w: Vec<&str> = content.split_whitespace().collect();
-            view.statement(&w).map_err(|message| FileError {
+            // (Checked after every line, so a size or spp out of range names its own line.)
+            let checked = view
+                .statement(&w)
+                .and_then(|()| (view.settings.validate()).map_err(|e| format!("{}: {e}", w[0])));
+            checked.map_err(|message| FileError {
                 file: file.to_string(),
                 line: i + 1,
                 message,
             })?;
         }
-        view.settings.validate().map_err(|e| FileError {
-            file: file.to_string(),
-            line: 0,
-            message: e.to_string(),
-        })?;
         Ok(view)
     }
 

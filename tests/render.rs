@@ -1211,3 +1211,57 @@ fn every_simd_build_renders_the_same_bytes() {
         assert_eq!(compared, 16 * simd::detected() as usize);
     }
 }
+
+#[test]
+fn coincident_spheres_are_kept_once_and_render_as_one() {
+    use raylab::geometry::Shape;
+    let sphere = |r: f32| Shape::Sphere {
+        centre: [0.0, 0.0, 0.0],
+        radius: r,
+    };
+    let light = raylab::scene::PointLight {
+        position: [0.0, -3.0, -3.0],
+        power: [14.0; 3],
+    };
+    let one = Scene::new(
+        "one",
+        vec![sphere(1.0)],
+        vec![[0.8, 0.2, 0.2]],
+        light,
+        [0.1; 3],
+    );
+    // The same sphere twice more (another colour: the lower index shows), -0 for 0 in one,
+    // and a sphere an ulp larger, which is another sphere and stays.
+    let mut shapes = vec![sphere(1.0), sphere(1.0)];
+    shapes.push(Shape::Sphere {
+        centre: [-0.0, 0.0, 0.0],
+        radius: 1.0,
+    });
+    let colors = vec![[0.8, 0.2, 0.2], [0.1, 0.9, 0.1], [0.1, 0.1, 0.9]];
+    let copies = Scene::new("copies", shapes, colors, light, [0.1; 3]);
+    assert_eq!(copies.accel().other_copies_left_out(), 2);
+    let warning = copies.copies_warning().unwrap();
+    assert!(
+        warning.contains("2 spheres repeat an earlier sphere exactly"),
+        "{warning}"
+    );
+    let mut other = copies.clone();
+    other.shapes.push(sphere(1.0 + f32::EPSILON));
+    other.colors_mut().push([0.5; 3]);
+    other.set_accel(Default::default());
+    assert_eq!(other.accel().other_copies_left_out(), 2);
+    let cam = Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -4.0), 0.0, 0.0, 64.0).unwrap();
+    for step in LabStep::ALL {
+        let settings = RenderSettings {
+            width: 64,
+            height: 48,
+            step,
+            ..Default::default()
+        };
+        assert!(
+            render_image(&one, &cam, &settings).unwrap().0
+                == render_image(&copies, &cam, &settings).unwrap().0,
+            "{step:?}"
+        );
+    }
+}

@@ -319,3 +319,15 @@ fn one_loader_takes_the_same_names_everywhere() {
     assert_eq!(view(&absolute).scene_path(&view_file), absolute);
     assert_eq!(view("gone.scene").scene_path(&view_file), "gone.scene");
 }
+
+#[test]
+fn a_view_out_of_range_names_its_line() {
+    use raylab::view::View;
+    let text = "scene cornell\n\nsize 20000 10\n";
+    let e = View::parse("v.view", text).unwrap_err().to_string();
+    assert!(e.starts_with("v.view:3:") && e.contains("size"), "{e}");
+    let text = "size 64 48\nstep shadows\nspp 100000\n";
+    let e = View::parse("v.view", text).unwrap_err().to_string();
+    assert!(e.starts_with("v.view:3:") && e.contains("spp"), "{e}");
+    assert!(View::parse("v.view", "size 64 48\nspp 4\n").is_ok());
+}

@@ -369,3 +369,36 @@ fn a_sphere_keeps_its_radius_under_any_uniform_scale_f64_holds() {
     let e = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes).unwrap_err();
     assert!(e.to_string().contains("ellipsoid"), "{e}");
 }
+
+#[test]
+fn colours_and_powers_f32_cannot_hold_are_refused_naming_the_line() {
+    for (text, what) in [
+        ("color 1e39 0 0\ntri 0 0 1 1 0 1 0 1 1\n", "color"),
+        ("ambient 0 1e40 0\ntri 0 0 1 1 0 1 0 1 1\n", "ambient"),
+        ("tri 0 0 1 1 0 1 0 1 1\nlight 0 0 0 1e39\n", "light power"),
+    ] {
+        let e = parse32(text).unwrap_err().to_string();
+        let line = if what == "light power" { 2 } else { 1 };
+        assert!(e.starts_with(&format!("t.scene:{line}:")), "{e}");
+        assert!(
+            e.contains(what) && e.contains("beyond what f32 holds"),
+            "{e}"
+        );
+    }
+    // The largest f32 itself is fine.
+    assert!(parse32("color 3.4028235e38 0 0\ntri 0 0 1 1 0 1 0 1 1\n").is_ok());
+}
+
+#[test]
+fn a_field_of_view_no_image_size_can_take_is_refused_naming_the_line() {
+    let e = parse32("tri 0 0 1 1 0 1 0 1 1\ncamera 0 0 -3 fov 1e-300\n")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("t.scene:2:") && e.contains("fov 1e-300"),
+        "{e}"
+    );
+    assert!(e.len() < 300, "no 300-digit number: {e}");
+    assert!(parse32("tri 0 0 1 1 0 1 0 1 1\ncamera 0 0 -3 fov 0.5\n").is_ok());
+    assert!(parse32("tri 0 0 1 1 0 1 0 1 1\ncamera 0 0 -3 fov 170\n").is_ok());
+}

@@ -120,6 +120,8 @@ pub struct Accel {
     others: Vec<(Shape<f32>, u32)>,
     /// Triangles left out as copies of an earlier one (see [`without_copies`]).
     copies: usize,
+    /// Other shapes left out as copies of an earlier one ([`others_without_copies`]).
+    other_copies: usize,
     /// The meshes placed as instances, if any ([`instances::Instances`]).
     instances: Option<Box<instances::Instances>>,
     /// The frames' caches of triangles prepared for the eye and the light, kept between
@@ -178,6 +180,7 @@ impl Accel {
         choice: AccelChoice,
     ) -> Self {
         let (mut tris, mut copies) = without_copies(tris);
+        let (others, other_copies) = others_without_copies(others);
         let instances = (!instances.is_empty()).then(|| {
             let built = instances::Instances::build(instances);
             copies += built.copies_left_out();
@@ -201,6 +204,7 @@ impl Accel {
             list: tris,
             others,
             copies,
+            other_copies,
             instances,
             caches: prepared::CachePool::default(),
         }
@@ -215,6 +219,12 @@ impl Accel {
     /// vertices in any order): whoever loads a scene says so.
     pub fn copies_left_out(&self) -> usize {
         self.copies
+    }
+
+    /// How many shapes other than triangles (spheres) were left out as exact copies of an
+    /// earlier one.
+    pub fn other_copies_left_out(&self) -> usize {
+        self.other_copies
     }
 
     /// Which structure was built.
@@ -727,6 +737,20 @@ pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle
         .zip(copy)
         .filter_map(|(t, c)| (!c).then_some(t))
         .collect();
+    (kept, copies)
+}
+
+/// `others` without the shapes that repeat an earlier one exactly ([`Shape::key`]): a copy is
+/// never the nearest (ties go to the lower index) and blocks no shadow its original leaves lit;
+/// kept, two coincident spheres send every ray that meets them to exact arithmetic to break
+/// their tie. The order of the rest is unchanged.
+fn others_without_copies(others: Vec<(Shape<f32>, u32)>) -> (Vec<(Shape<f32>, u32)>, usize) {
+    let mut seen = std::collections::HashSet::with_capacity(others.len());
+    let before = others.len();
+    let kept: Vec<_> = (others.into_iter())
+        .filter(|(s, _)| seen.insert(s.key()))
+        .collect();
+    let copies = before - kept.len();
     (kept, copies)
 }
 

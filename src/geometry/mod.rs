@@ -127,6 +127,26 @@ impl Shape<f64> {
 }
 
 impl Shape<f32> {
+    /// The shape's kind and numbers as bits (−0 as +0): equal keys are the same shape to the
+    /// bit (finding copies at build).
+    pub fn key(&self) -> (u8, [u32; 9]) {
+        let bits = |x: f32| (x + 0.0).to_bits();
+        let mut k = [0; 9];
+        match self {
+            Shape::Triangle(v) => {
+                for (i, c) in v.iter().flatten().enumerate() {
+                    k[i] = bits(*c);
+                }
+                (0, k)
+            }
+            Shape::Sphere { centre, radius } => {
+                k[..3].copy_from_slice(&centre.map(bits));
+                k[3] = bits(*radius);
+                (1, k)
+            }
+        }
+    }
+
     /// The geometric normal (not of unit length, in f64) where `ray` meets this shape at `t`:
     /// a triangle's e₁ × e₂, a sphere's p − c.
     pub fn normal_at(&self, ray: &Ray<f32>, t: f32) -> [f64; 3] {

@@ -5,7 +5,7 @@ use std::fmt;
 use std::str::FromStr;
 
 /// Largest accepted image side in pixels.
-pub const MAX_SIDE: u32 = 16_384;
+pub const MAX_SIDE: u32 = crate::limits::MAX_IMAGE_SIDE;
 /// Largest accepted image area in pixels (a 16k × 8k image: 512 MiB of RGBA8).
 pub const MAX_PIXELS: u64 = 1 << 27;
 /// Largest supersampling factor per axis (16 × 16 = 256 rays per pixel).

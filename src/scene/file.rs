@@ -558,7 +558,7 @@ impl<T: Real> Parser<'_, T> {
                         c[0], c[1], c[2]
                     ));
                 }
-                self.current.color = [c[0] as f32, c[1] as f32, c[2] as f32];
+                self.current.color = f32_channels("color", [c[0], c[1], c[2]])?;
             }
             "push" => {
                 if !args.is_empty() {
@@ -624,13 +624,14 @@ impl<T: Real> Parser<'_, T> {
                 if p < 0.0 {
                     return Err(format!("light power {p} is negative"));
                 }
+                let [p] = f32_channels("light power", [p])?;
                 let position = self.transformed([x[0], x[1], x[2]]);
                 let position = position.map(|w| w.map(|c| c.f64() as f32))?;
                 crate::math::check_range("light position", position, MAX_VIEW_COORDINATE)?;
                 self.light_line = Some(line);
                 self.out.light = Some(PointLight {
                     position,
-                    power: [p as f32; 3],
+                    power: [p; 3],
                 });
             }
             "ambient" => {
@@ -638,7 +639,7 @@ impl<T: Real> Parser<'_, T> {
                 if n.iter().any(|x| *x < 0.0) {
                     return Err("ambient has a negative channel".into());
                 }
-                self.out.ambient = Some([n[0] as f32, n[1] as f32, n[2] as f32]);
+                self.out.ambient = Some(f32_channels("ambient", [n[0], n[1], n[2]])?);
             }
             "camera" => {
                 if args.len() < 3 {
@@ -670,8 +671,23 @@ impl<T: Real> Parser<'_, T> {
                     match *key {
                         "yaw" => camera.yaw = v,
                         "pitch" => camera.pitch = v,
-                        "fov" if v > 0.0 && v < 180.0 => camera.fov = Some(v),
-                        "fov" => return Err(format!("camera fov {v} is not in (0, 180) degrees")),
+                        "fov" if v > 0.0 && v < 180.0 => {
+                            camera.fov = Some(v);
+                            // Every image size must get a focal length the camera takes.
+                            let ratio = camera.focal_ratio();
+                            let (lo, hi) = crate::camera::FOCAL_RANGE;
+                            let max_side = crate::limits::MAX_IMAGE_SIDE as f64;
+                            if !(ratio >= lo && ratio * max_side <= hi) {
+                                return Err(format!(
+                                    "camera fov {value} gives a focal length of {ratio:.4e} image \
+                                     widths, beyond what the camera takes at every size \
+                                     ({lo:e} px to {hi:e} px)"
+                                ));
+                            }
+                        }
+                        "fov" => {
+                            return Err(format!("camera fov {value} is not in (0, 180) degrees"))
+                        }
                         other => {
                             return Err(format!("camera option '{other}' is not yaw, pitch or fov"))
                         }
@@ -713,6 +729,18 @@ impl<T: Real> Parser<'_, T> {
             self.add(shape, color)?;
         }
         Ok(())
+    }
+}
+
+/// `values` in f32, the renderer's colour type; one that f32 cannot hold (it would become
+/// infinity) is refused, naming it.
+fn f32_channels<const N: usize>(what: &str, values: [f64; N]) -> Result<[f32; N], String> {
+    match values.iter().find(|v| !(**v as f32).is_finite()) {
+        Some(v) => Err(format!(
+            "{what} {v} is beyond what f32 holds ({:e})",
+            f32::MAX
+        )),
+        None => Ok(values.map(|v| v as f32)),
     }
 }
 

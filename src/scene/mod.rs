@@ -138,12 +138,22 @@ impl Scene {
     /// What the structure (built if need be) left out, as a warning: triangles that repeat an
     /// earlier triangle's vertices, or `None`.
     pub fn copies_warning(&self) -> Option<String> {
-        let copies = self.accel().copies_left_out();
-        (copies > 0).then(|| {
+        let accel = self.accel();
+        let (copies, others) = (accel.copies_left_out(), accel.other_copies_left_out());
+        let mut what = Vec::new();
+        if copies > 0 {
+            what.push(format!(
+                "{copies} triangles repeat an earlier triangle's vertices exactly"
+            ));
+        }
+        if others > 0 {
+            what.push(format!("{others} spheres repeat an earlier sphere exactly"));
+        }
+        (!what.is_empty()).then(|| {
             format!(
-                "{}: {copies} triangles repeat an earlier triangle's vertices exactly: each is \
-                 kept once (the earlier one answers every ray either would)",
-                self.name
+                "{}: {}: each is kept once (the earlier one answers every ray either would)",
+                self.name,
+                what.join(", and ")
             )
         })
     }
