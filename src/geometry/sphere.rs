@@ -13,7 +13,7 @@
 //! shape, one place. (Its surface point and offset are in `geometry::offset`, with the
 //! triangle's.)
 
-use super::adaptive::{Approx, Estimate};
+use super::adaptive::estimate::{Approx, Estimate};
 use super::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
 use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
 use crate::math::real::{dot, scale, sub, V3};
