@@ -13,7 +13,7 @@
 //! shape, one place. (Its surface point and offset are in `geometry::offset`, with the
 //! triangle's.)
 
-use super::adaptive::{Approx, Estimate};
+use super::adaptive::estimate::{Approx, Estimate};
 use super::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
 use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
 use crate::math::real::{dot, scale, sub, V3};
@@ -250,4 +250,45 @@ pub fn exact(
             s: disc.clone(),
         })
         .find(|t| t.cmp_f(tmin) == Ordering::Greater && t.cmp_f(tmax) == Ordering::Less)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cmp::Ordering;
+
+    #[test]
+    fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {
+        let c = [0.0, 0.0, 5.0];
+        // From the surface point (0,0,4) inward: t = 0 is not > 0, the far root t = 2 is.
+        let hit = crate::geometry::sphere::exact(
+            [0.0, 0.0, 4.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
+        assert_eq!(hit.cmp_f(2.0), Ordering::Equal);
+        // Tangent: touches at t = 5.
+        let tan = crate::geometry::sphere::exact(
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
+        assert_eq!(tan.cmp_f(5.0), Ordering::Equal);
+        assert!(crate::geometry::sphere::exact(
+            [1.0f64.next_up(), 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY
+        )
+        .is_none());
+    }
 }

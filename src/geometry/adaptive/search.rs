@@ -1,0 +1,190 @@
+//! The closest-hit search as the fast paths run it ([`Search`]: a few compares per
+//! candidate while the f32 filter decides, a [`Nearest`] from the first that it does not),
+//! and the brute-force reference over shapes ([`closest_hit_reference`]).
+
+use super::estimate::{Approx, Estimate};
+use super::filter::{precise_f32, round_up};
+use super::nearest::Nearest;
+use super::widen;
+use crate::geometry::{Hit, Ray, Shape};
+use crate::math::Real;
+
+/// The closest-hit search as the fast paths run it: while every candidate is decided by the
+/// f32 filter and their intervals do not overlap, a few compares per candidate; at the first
+/// that is not (an unsure lane, overlapping t's, t near tmin), everything so far moves into a
+/// [`Nearest`] and the search goes on there.
+#[derive(Clone, Debug)]
+pub struct Search {
+    tmin: f64,
+    tmax: f64,
+    tmax32: f32,
+    fast: Option<FastBest>,
+    slow: Option<Box<Nearest>>,
+    ray: Ray<f32>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct FastBest {
+    prim: u32,
+    tri: [[f32; 3]; 3],
+    approx: Approx,
+    /// `approx.hi` rounded up to f32, for box culling.
+    far32: f32,
+}
+
+impl Search {
+    /// A search along `ray` for tmin < t < tmax.
+    #[inline]
+    pub fn new(ray: &Ray<f32>, tmin: f32, tmax: f32) -> Self {
+        Self {
+            tmin: tmin as f64,
+            tmax: tmax as f64,
+            tmax32: tmax,
+            fast: None,
+            slow: None,
+            ray: *ray,
+        }
+    }
+
+    /// The query's tmin.
+    #[inline]
+    pub fn tmin(&self) -> f64 {
+        self.tmin
+    }
+
+    /// An upper bound on the exact t of the best hit so far (tmax without one).
+    #[inline]
+    pub fn t_far(&self) -> f64 {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => n.t_far(),
+            (None, Some(b)) => b.approx.hi.min(self.tmax),
+            (None, None) => self.tmax,
+        }
+    }
+
+    /// [`Search::t_far`] rounded up to f32.
+    #[inline]
+    pub fn t_far32(&self) -> f32 {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => round_up(n.t_far()),
+            (None, Some(b)) => b.far32,
+            (None, None) => self.tmax32,
+        }
+    }
+
+    /// Offers triangle `prim` with the f32 filter's estimate.
+    #[inline]
+    pub fn offer_triangle(&mut self, prim: u32, tri: &[[f32; 3]; 3], mut est: Estimate) {
+        if let Some(n) = &mut self.slow {
+            n.offer(prim, widen(&Shape::Triangle(*tri)), est);
+            return;
+        }
+        while let Estimate::Hit(a) = est {
+            if a.hi <= self.tmin || a.lo >= self.tmax {
+                return;
+            }
+            if a.lo > self.tmin && a.hi < self.tmax {
+                match &mut self.fast {
+                    None => {}
+                    Some(b) if a.lo > b.approx.hi => return,
+                    Some(b) if a.hi < b.approx.lo => {}
+                    Some(b) => {
+                        // Overlapping: tighten the loose bounds first.
+                        if a.level == 0 {
+                            est = precise_f32(self.ray.o, self.ray.d, tri);
+                            continue;
+                        }
+                        if b.approx.level == 0 {
+                            match precise_f32(self.ray.o, self.ray.d, &b.tri) {
+                                Estimate::Hit(x) => {
+                                    b.approx = x;
+                                    b.far32 = round_up(x.hi);
+                                    continue;
+                                }
+                                _ => break,
+                            }
+                        }
+                        break;
+                    }
+                }
+                self.fast = Some(FastBest {
+                    prim,
+                    tri: *tri,
+                    approx: a,
+                    far32: round_up(a.hi.min(self.tmax)),
+                });
+                return;
+            }
+            if a.level > 0 {
+                break;
+            }
+            est = precise_f32(self.ray.o, self.ray.d, tri);
+        }
+        if est != Estimate::Miss {
+            self.go_slow()
+                .offer(prim, widen(&Shape::Triangle(*tri)), est);
+        }
+    }
+
+    /// Offers any primitive (spheres go straight to the exact search).
+    pub fn offer_shape(&mut self, prim: u32, shape: Shape<f64>, est: Estimate) {
+        self.go_slow().offer(prim, shape, est);
+    }
+
+    fn go_slow(&mut self) -> &mut Nearest {
+        if self.slow.is_none() {
+            let mut n = Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32);
+            if let Some(b) = self.fast.take() {
+                n.offer(
+                    b.prim,
+                    widen(&Shape::Triangle(b.tri)),
+                    Estimate::Hit(b.approx),
+                );
+            }
+            self.slow = Some(Box::new(n));
+        }
+        self.slow.as_mut().expect("just set")
+    }
+
+    /// The nearest hit.
+    #[inline]
+    pub fn hit(&self) -> Option<Hit<f32>> {
+        match (&self.slow, &self.fast) {
+            (Some(n), _) => n.hit_f32(),
+            (None, Some(b)) => Some(Hit {
+                t: b.approx.t as f32,
+                prim: b.prim,
+                b1: b.approx.b1 as f32,
+                b2: b.approx.b2 as f32,
+            }),
+            (None, None) => None,
+        }
+    }
+
+    /// Whether triangle `tri` is certainly hit within (tmin, tmax) (an any-hit query).
+    #[inline]
+    pub fn confirms_triangle(&self, tri: &[[f32; 3]; 3], est: Estimate) -> bool {
+        match est {
+            Estimate::Miss => false,
+            Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => true,
+            Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => false,
+            _ => Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32)
+                .confirms(widen(&Shape::Triangle(*tri)), est),
+        }
+    }
+}
+
+/// The adaptive nearest hit over shapes by brute force, starting at the interval level (no
+/// f32 filter): the reference that the fast paths are tested against.
+pub fn closest_hit_reference<T: Real>(
+    shapes: &[Shape<T>],
+    ray: &Ray<T>,
+    tmin: T,
+    tmax: T,
+) -> Option<Hit<f64>> {
+    let mut n = Nearest::new(ray, tmin, tmax);
+    for (i, s) in shapes.iter().enumerate() {
+        n.offer(i as u32, widen(s), Estimate::Unsure);
+    }
+    n.hit()
+}
