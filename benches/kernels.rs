@@ -4,7 +4,7 @@
 //! BVH, and the BVH build. Speed lives here and in `raylab bench`, never in tests.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use raylab::accel::packet::{self, OriginTriangles};
+use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::{Accel, AccelChoice};
 use raylab::geometry::adaptive::{box_extent, classify_f32};
 use raylab::geometry::triangle::{cramer, moller, watertight_pre, WatertightRay};

@@ -267,9 +267,9 @@ impl RayGenerator {
     /// halves in the default build: 18 instructions a pixel of the Cornell flat frame).
     #[inline]
     pub fn directions_x8(&self, xs: wide::f32x8, ys: wide::f32x8) -> [wide::f32x8; 3] {
-        use crate::math::simd::avx2_or_baseline;
+        use crate::math::simd::avx512_avx2_or_baseline;
         let generator = self;
-        avx2_or_baseline!(lanes directions_body => (generator: &RayGenerator, xs: wide::f32x8, ys: wide::f32x8)
+        avx512_avx2_or_baseline!(lanes directions_body => (generator: &RayGenerator, xs: wide::f32x8, ys: wide::f32x8)
             -> [wide::f32x8; 3])
     }
 

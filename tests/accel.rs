@@ -1,14 +1,16 @@
-//! Every accelerated path against the reference brute-force loop: the SIMD block loop and the
-//! BVH must return exactly the same nearest hit (t, primitive, barycentrics) with the same
-//! method, on random scenes and on the hard-case rays at shared edges and vertices.
+//! Every layout against the reference brute-force loop: each structure alone (the flat loop,
+//! the BVH, the instances, the loop in order: `accel::testing::layouts`) and as `Accel` builds
+//! them must return exactly the same nearest hit (t, primitive, barycentrics) and any-hit
+//! answer with the same method, on random scenes and on the hard-case families.
 
 mod common;
 
-use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
+use common::{cube, icosphere, suite, vertices_and_edge_midpoints, Rng};
 use proptest::prelude::*;
-use raylab::accel::{self, flat::FlatLoop, Accel, AccelChoice, AccelKind};
+use raylab::accel::testing::{self, FlatLoop};
+use raylab::accel::{self, Accel, AccelChoice, AccelKind};
 use raylab::geometry::triangle::WatertightRay;
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Hit, Method, Ray, Shape};
 
 fn random_scene(rng: &mut Rng, n: usize, spheres: usize) -> Vec<Shape<f32>> {
     let mut shapes = Vec::new();
@@ -51,14 +53,42 @@ fn random_ray(rng: &mut Rng, shapes: &[Shape<f32>]) -> Ray {
     Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]))
 }
 
+/// Every layout's answers (alone, [`testing::layouts`], and as an [`Accel`] builds them) against
+/// the reference loop's, for every method.
 fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
-    let brute_accel = Accel::build(shapes, AccelChoice::Flat);
-    let bvh = Accel::build(shapes, AccelChoice::Bvh);
+    type Nearest<'a> = Box<dyn Fn(&Ray, Method) -> Option<Hit> + 'a>;
+    type Any<'a> = Box<dyn Fn(&Ray, Method, u32) -> bool + 'a>;
+    let accels = [AccelChoice::Flat, AccelChoice::Bvh].map(|c| Accel::build(shapes, c));
+    let layouts = testing::layouts(shapes);
+    let mut all: Vec<(String, Nearest, Any)> = Vec::new();
+    for acc in &accels {
+        all.push((
+            format!("Accel {}", acc.kind()),
+            Box::new(|ray, m| acc.closest_hit(ray, m, tmin, tmax)),
+            Box::new(|ray, m, skip| acc.any_hit_except(ray, m, tmin, tmax, skip)),
+        ));
+    }
+    for (name, parts) in &layouts {
+        all.push((
+            format!("layout {name}"),
+            Box::new(|ray, m| parts.nearest(ray, m, tmin, tmax)),
+            Box::new(|ray, m, skip| parts.any(ray, m, tmin, tmax, skip)),
+        ));
+    }
+    assert_eq!(all.len(), 6, "two accelerators and four layouts");
     for ray in rays {
         for method in Method::ALL {
             let reference = accel::closest_hit(shapes, ray, method, tmin, tmax);
-            for (name, acc) in [("flat", &brute_accel), ("bvh", &bvh)] {
-                let got = acc.closest_hit(ray, method, tmin, tmax);
+            let any = accel::any_hit(shapes, ray, method, tmin, tmax);
+            // Skipping the nearest hit's primitive (what a shadow ray does with its own).
+            let any_but_nearest = reference.map(|h| {
+                (
+                    h.prim,
+                    accel::any_hit_except(shapes, ray, method, tmin, tmax, h.prim),
+                )
+            });
+            for (name, nearest, any_except) in &all {
+                let got = nearest(ray, method);
                 if method == Method::Adaptive {
                     // The reference decides in f64 intervals or exactly; the fast path keeps
                     // its f32 t where certain: the same primitive, and the same hit point up
@@ -81,18 +111,18 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
                 } else {
                     assert_eq!(got, reference, "{name} {method} {ray:?}");
                 }
-            }
-            let any = accel::any_hit(shapes, ray, method, tmin, tmax);
-            assert_eq!(brute_accel.any_hit(ray, method, tmin, tmax), any);
-            assert_eq!(bvh.any_hit(ray, method, tmin, tmax), any);
-            // Skipping the nearest hit's primitive (what a shadow ray does with its own).
-            if let Some(h) = reference {
-                let any = accel::any_hit_except(shapes, ray, method, tmin, tmax, h.prim);
                 assert_eq!(
-                    brute_accel.any_hit_except(ray, method, tmin, tmax, h.prim),
-                    any
+                    any_except(ray, method, u32::MAX),
+                    any,
+                    "{name} {method} {ray:?}"
                 );
-                assert_eq!(bvh.any_hit_except(ray, method, tmin, tmax, h.prim), any);
+                if let Some((skip, any)) = any_but_nearest {
+                    assert_eq!(
+                        any_except(ray, method, skip),
+                        any,
+                        "{name} {method} {ray:?}"
+                    );
+                }
             }
         }
     }
@@ -154,6 +184,15 @@ fn hard_case_rays_on_closed_meshes_are_identical() {
             })
             .collect();
         check_all(&mesh, &rays, 0.0, f32::INFINITY);
+    }
+}
+
+/// Every layout on every hard-case family (shared edges and vertices, tiny, huge and offset
+/// meshes, grazing rays, near-coincident surfaces, spheres, the Cornell box).
+#[test]
+fn every_layout_answers_the_hard_case_families_as_the_reference_does() {
+    for family in suite::all() {
+        check_all(&family.shapes, &family.rays, 0.0, f32::INFINITY);
     }
 }
 

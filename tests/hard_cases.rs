@@ -25,7 +25,7 @@
 mod common;
 
 use common::suite::{self, exact_nearest, Counts, Family};
-use raylab::accel::packet::{self, OriginTriangles};
+use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::{self, Accel, AccelChoice, IndexedTriangle};
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use std::collections::HashMap;

@@ -591,7 +591,7 @@ fn check_instance_packets(
     o: [f32; 3],
     dirs: &[[f32; 3]; 8],
 ) -> (usize, usize) {
-    use raylab::accel::packet::max_component;
+    use raylab::accel::testing::max_component;
     use wide::f32x8;
     let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
     let found = (scene.accel())

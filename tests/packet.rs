@@ -7,7 +7,7 @@ mod common;
 
 use common::{cube, icosphere, Rng};
 use proptest::prelude::*;
-use raylab::accel::packet::{self, OriginTriangles};
+use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::IndexedTriangle;
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::closest_hit_reference;

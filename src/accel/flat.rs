@@ -6,12 +6,13 @@
 //! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
+use super::layout::{merge, Layout};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{
     approx_f32, box_extent, edge_error, loose_t_bound, round_down, Estimate, Search,
 };
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
-use crate::geometry::Hit;
+use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
 use wide::f32x8;
 
@@ -94,6 +95,20 @@ impl FlatLoop {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.len == 0
+    }
+
+    /// Bytes of the blocks' lanes.
+    pub fn memory_bytes(&self) -> usize {
+        self.len.div_ceil(8) * std::mem::size_of::<[[f32x8; 3]; 4]>()
+    }
+
+    /// The triangles with their primitive indices, in the order they were packed.
+    fn in_order(&self) -> impl Iterator<Item = ([[f32; 3]; 3], u32)> + '_ {
+        (self.blocks.iter()).flat_map(|b| {
+            (0..8)
+                .filter(|l| b.valid >> l & 1 == 1)
+                .map(|l| (b.tris[l], b.prim[l]))
+        })
     }
 
     /// The triangle in block `b`, lane `l`.
@@ -420,5 +435,48 @@ impl FlatLoop {
             }
         }
         best
+    }
+}
+
+/// The watertight method and the exact one in lanes; the others one triangle at a time in
+/// primitive order, through the shape's own test.
+impl Layout for FlatLoop {
+    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        let found = match method {
+            Method::Watertight => {
+                WatertightRay::new(ray.o, ray.d).and_then(|r| self.closest_hit(&r, tmin, tmax))
+            }
+            _ => {
+                let mut found: Option<Hit> = None;
+                let mut t_far = tmax;
+                for (v, prim) in self.in_order() {
+                    if let Some((t, b1, b2)) = Shape::from(v).intersect(ray, method, tmin, t_far) {
+                        t_far = t;
+                        found = Some(Hit { t, prim, b1, b2 });
+                    }
+                }
+                found
+            }
+        };
+        merge(best, found);
+    }
+
+    fn nearest_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        self.closest_hit_adaptive(r, search);
+    }
+
+    fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        match method {
+            Method::Watertight => {
+                WatertightRay::new(ray.o, ray.d).is_some_and(|r| self.any_hit(&r, tmin, tmax, skip))
+            }
+            _ => self.in_order().any(|(v, prim)| {
+                prim != skip && Shape::from(v).intersect(ray, method, tmin, tmax).is_some()
+            }),
+        }
+    }
+
+    fn any_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
+        self.any_hit_adaptive(r, search, skip)
     }
 }

@@ -19,6 +19,7 @@
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
+use super::layout::Layout;
 use super::packet::{
     quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, PreciseTriangle,
     ShadowPacket,
@@ -458,6 +459,24 @@ impl Instances {
             stack: WideStack::new(),
         };
         self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
+    }
+}
+
+impl Layout for Instances {
+    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        self.closest_hit(ray, method, tmin, tmax, best);
+    }
+
+    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        self.closest_hit_adaptive(ray, r, search);
+    }
+
+    fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        self.any_hit(ray, method, tmin, tmax, skip)
+    }
+
+    fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
+        self.any_hit_adaptive(ray, r, search, skip)
     }
 }
 

@@ -13,21 +13,26 @@
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
 //! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
 
-pub mod bvh;
+pub(crate) mod bvh;
 mod cull;
-pub mod flat;
-pub mod frame;
-pub mod instances;
-pub mod packet;
+pub(crate) mod flat;
+pub(crate) mod frame;
+pub(crate) mod instances;
+pub mod layout;
+pub(crate) mod packet;
 mod prepared;
 pub mod reference;
+#[doc(hidden)]
+pub mod testing;
 
-use crate::geometry::adaptive::{widen, Estimate, Nearest, Search};
+use crate::geometry::adaptive::Search;
 use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::simd::avx2_or_baseline;
+use crate::math::simd::avx512_avx2_or_baseline;
+use layout::{Layout, Triangles};
 use rayon::prelude::*;
+use reference::InOrder;
 use std::fmt;
 use std::str::FromStr;
 
@@ -103,12 +108,6 @@ impl FromStr for AccelChoice {
     }
 }
 
-#[derive(Clone, Debug)]
-enum Triangles {
-    Flat(flat::FlatLoop),
-    Bvh(bvh::Bvh),
-}
-
 /// The structure over one scene's primitives.
 #[derive(Clone, Debug)]
 pub struct Accel {
@@ -117,7 +116,7 @@ pub struct Accel {
     list: Vec<IndexedTriangle>,
     /// The primitives the triangle structures do not hold (spheres), with their indices:
     /// tested one by one after the triangles, through the shape's own methods.
-    others: Vec<(Shape<f32>, u32)>,
+    others: InOrder,
     /// Triangles left out as copies of an earlier one (see [`without_copies`]).
     copies: usize,
     /// Other shapes left out as copies of an earlier one ([`others_without_copies`]).
@@ -191,18 +190,14 @@ impl Accel {
             AccelChoice::Flat => false,
             AccelChoice::Bvh => true,
         };
-        let triangles = if use_bvh {
-            Triangles::Bvh(bvh::Bvh::build(&tris))
-        } else {
-            Triangles::Flat(flat::FlatLoop::new(&tris))
-        };
+        let triangles = Triangles::build(&tris, use_bvh);
         if use_bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
             tris = Vec::new(); // the BVH holds its own copy
         }
         Self {
             triangles,
             list: tris,
-            others,
+            others: InOrder(others),
             copies,
             other_copies,
             instances,
@@ -229,10 +224,7 @@ impl Accel {
 
     /// Which structure was built.
     pub fn kind(&self) -> AccelKind {
-        match self.triangles {
-            Triangles::Flat(..) => AccelKind::Flat,
-            Triangles::Bvh(_) => AccelKind::Bvh,
-        }
+        self.triangles.kind()
     }
 
     /// The triangles in primitive order, for the renderer's tile culling: `None` above
@@ -247,7 +239,7 @@ impl Accel {
 
     /// The position in [`Accel::flat_triangles`] of triangle primitive `prim`.
     pub fn slot(&self, prim: u32) -> usize {
-        match self.others.is_empty() && self.copies == 0 {
+        match self.others.0.is_empty() && self.copies == 0 {
             true => prim as usize,
             false => self.list.partition_point(|t| t.1 < prim),
         }
@@ -258,7 +250,7 @@ impl Accel {
     /// ([`bvh::Bvh::top_levels`]); with instances, one box around everything. Empty: no BVH,
     /// or no triangles.
     pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<cull::TreeNode> {
-        let Triangles::Bvh(b) = &self.triangles else {
+        let Some(b) = self.triangles.bvh() else {
             return Vec::new();
         };
         let Some(inst) = self.instances() else {
@@ -275,7 +267,7 @@ impl Accel {
 
     /// The shapes the triangle structures do not hold (spheres), with their primitives.
     pub fn other_shapes(&self) -> &[(Shape<f32>, u32)] {
-        &self.others
+        &self.others.0
     }
 
     /// How many triangles the structure answers for (copies left out), instanced ones
@@ -286,106 +278,53 @@ impl Accel {
 
     /// How many triangles are stored one by one (not through instances).
     pub fn stored_triangle_count(&self) -> usize {
-        match &self.triangles {
-            Triangles::Flat(b) => b.len(),
-            Triangles::Bvh(b) => b.len(),
-        }
+        self.triangles.len()
     }
 
     /// Whether the scene holds shapes other than triangles (the frame's packets test them
     /// lane by lane, the per-ray queries one by one).
     pub fn has_other_shapes(&self) -> bool {
-        !self.others.is_empty()
+        !self.others.0.is_empty()
     }
 
     /// Bytes of the structure (triangles included).
     pub fn memory_bytes(&self) -> usize {
         let list = self.list.len() * std::mem::size_of::<IndexedTriangle>();
         let instanced = self.instances().map_or(0, |i| i.memory_bytes());
-        list + instanced
-            + self.caches.memory_bytes()
-            + match &self.triangles {
-                Triangles::Flat(b) => {
-                    b.len().div_ceil(8) * std::mem::size_of::<[[wide::f32x8; 3]; 4]>()
-                }
-                Triangles::Bvh(b) => b.memory_bytes(),
-            }
+        list + instanced + self.caches.memory_bytes() + self.triangles.memory_bytes()
+    }
+
+    /// Calls `f` with the layouts answering together: the triangles' structure, the
+    /// instances if any, the other shapes if any.
+    #[inline]
+    fn with_parts<R>(&self, f: impl FnOnce(&[&dyn Layout]) -> R) -> R {
+        let tris = self.triangles.layout();
+        match (self.instances(), self.others.0.is_empty()) {
+            (None, true) => f(&[tris]),
+            (None, false) => f(&[tris, &self.others]),
+            (Some(inst), true) => f(&[tris, inst]),
+            (Some(inst), false) => f(&[tris, inst, &self.others]),
+        }
     }
 
     /// Nearest hit with tmin < t < tmax; an exact tie goes to the lowest primitive index.
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
-        if method == Method::Adaptive {
-            let mut search = Search::new(ray, tmin, tmax);
-            if let Some(r) = WatertightRay::new(ray.o, ray.d) {
-                match &self.triangles {
-                    Triangles::Flat(blocks) => blocks.closest_hit_adaptive(&r, &mut search),
-                    Triangles::Bvh(b) => b.closest_hit_adaptive(ray, &r, &mut search),
-                }
-                if let Some(inst) = self.instances() {
-                    inst.closest_hit_adaptive(ray, &r, &mut search);
-                }
-                for (shape, prim) in &self.others {
-                    search.offer_shape(*prim, widen(shape), Estimate::Unsure);
-                }
-            }
-            return search.hit();
-        }
-        let mut best = match &self.triangles {
-            Triangles::Flat(blocks) if method == Method::Watertight => {
-                blocks.closest_hit(&WatertightRay::new(ray.o, ray.d)?, tmin, tmax)
-            }
-            Triangles::Flat(_) => {
-                let mut best: Option<Hit> = None;
-                let mut t_far = tmax;
-                for (v, prim) in &self.list {
-                    if let Some((t, b1, b2)) = Shape::from(*v).intersect(ray, method, tmin, t_far) {
-                        t_far = t;
-                        best = Some(Hit {
-                            t,
-                            prim: *prim,
-                            b1,
-                            b2,
-                        });
-                    }
-                }
-                best
-            }
-            Triangles::Bvh(b) => b.closest_hit(ray, method, tmin, tmax),
-        };
-        if let Some(inst) = self.instances() {
-            inst.closest_hit(ray, method, tmin, tmax, &mut best);
-        }
-        for &(shape, prim) in &self.others {
-            let t_far = best.map_or(tmax, |h| h.t.next_up());
-            if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
-                if best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim)) {
-                    best = Some(Hit { t, prim, b1, b2 });
-                }
-            }
-        }
-        best
+        self.with_parts(|parts| layout::nearest(parts, ray, method, tmin, tmax))
     }
 
     /// The triangles prepared for rays from `origin` ([`packet::OriginTriangles`]) in the
     /// order [`Accel::closest_hit_from_origin`] needs, for a BVH (`None` for the flat loop,
     /// whose camera rays the renderer traces in tile packets instead).
     pub fn prepare_origin(&self, origin: [f32; 3]) -> Option<packet::OriginTriangles> {
-        match &self.triangles {
-            Triangles::Bvh(b) => {
-                let (vertices, prims) = b.triangles();
-                Some(packet::OriginTriangles::from_parts(vertices, prims, origin))
-            }
-            Triangles::Flat(_) => None,
-        }
+        let (vertices, prims) = self.triangles.bvh()?.triangles();
+        Some(packet::OriginTriangles::from_parts(vertices, prims, origin))
     }
 
     /// An empty cache of the BVH's triangles prepared for `origin`, for one frame (`None`
     /// without a BVH); [`Accel::keep_leaf_cache`] takes it back.
     pub(crate) fn leaf_cache(&self, origin: [f32; 3]) -> Option<prepared::LeafCache> {
-        match &self.triangles {
-            Triangles::Bvh(b) => Some(self.caches.take(b.len(), origin)),
-            Triangles::Flat(_) => None,
-        }
+        let b = self.triangles.bvh()?;
+        Some(self.caches.take(b.len(), origin))
     }
 
     /// Keeps a frame's cache for the next frame.
@@ -418,7 +357,7 @@ impl Accel {
         tmin: f32,
         tmax: f32,
     ) -> Option<Hit> {
-        let Triangles::Bvh(b) = &self.triangles else {
+        let Some(b) = self.triangles.bvh() else {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         };
         if !prepared.fits(ray.o, b.len()) {
@@ -426,11 +365,13 @@ impl Accel {
         }
         let mut search = Search::new(ray, tmin, tmax);
         b.closest_hit_from_origin(ray, prepared, &mut search);
-        if let (Some(inst), Some(r)) = (self.instances(), WatertightRay::new(ray.o, ray.d)) {
-            inst.closest_hit_adaptive(ray, &r, &mut search);
-        }
-        for (shape, prim) in &self.others {
-            search.offer_shape(*prim, widen(shape), Estimate::Unsure);
+        if let Some(r) = WatertightRay::new(ray.o, ray.d) {
+            // The other parts as in every exact query.
+            self.with_parts(|parts| {
+                for part in &parts[1..] {
+                    part.nearest_exact(ray, &r, &mut search);
+                }
+            });
         }
         search.hit()
     }
@@ -448,7 +389,7 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
     ) -> Option<packet::PacketHits> {
-        if !self.others.is_empty() {
+        if self.has_other_shapes() {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
@@ -467,9 +408,7 @@ impl Accel {
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
     ) -> Option<packet::PacketHits> {
-        let Triangles::Bvh(b) = &self.triangles else {
-            return None;
-        };
+        let b = self.triangles.bvh()?;
         if let Some(inst) = self.instances() {
             return Some(closest_with_instances(b, inst, o, prepared, d, d_max, seed));
         }
@@ -495,9 +434,7 @@ impl Accel {
         d_max: f32,
         prim: &mut [u32],
     ) -> Option<u32> {
-        let Triangles::Bvh(b) = &self.triangles else {
-            return None;
-        };
+        let b = self.triangles.bvh()?;
         if self.instances().is_some() {
             // (8 lanes at a time there: 16-lane packets through the field of 1,000 bunnies
             // took 10% longer, its packets part at the instances' boxes.)
@@ -527,7 +464,7 @@ impl Accel {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<packet::ShadowHits> {
-        if !self.others.is_empty() {
+        if self.has_other_shapes() {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
@@ -545,9 +482,7 @@ impl Accel {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<packet::ShadowHits> {
-        let Triangles::Bvh(b) = &self.triangles else {
-            return None;
-        };
+        let b = self.triangles.bvh()?;
         let Some(inst) = self.instances() else {
             return Some(b.blocked_packet_from(o, prepared, d, d_max, skip, valid));
         };
@@ -573,40 +508,7 @@ impl Accel {
         tmax: f32,
         skip: u32,
     ) -> bool {
-        if method == Method::Adaptive {
-            let Some(r) = WatertightRay::new(ray.o, ray.d) else {
-                return false;
-            };
-            let search = Search::new(ray, tmin, tmax);
-            let tri = match &self.triangles {
-                Triangles::Flat(blocks) => blocks.any_hit_adaptive(&r, &search, skip),
-                Triangles::Bvh(b) => b.any_hit_adaptive(ray, &r, &search, skip),
-            };
-            let tri = tri
-                || (self.instances()).is_some_and(|i| i.any_hit_adaptive(ray, &r, &search, skip));
-            if tri || self.others.is_empty() {
-                return tri;
-            }
-            let nearest = Nearest::new(ray, tmin, tmax);
-            return (self.others.iter()).any(|(shape, prim)| {
-                *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure)
-            });
-        }
-        let tri = match &self.triangles {
-            Triangles::Flat(blocks) if method == Method::Watertight => {
-                WatertightRay::new(ray.o, ray.d)
-                    .is_some_and(|r| blocks.any_hit(&r, tmin, tmax, skip))
-            }
-            Triangles::Flat(_) => self.list.iter().any(|(v, prim)| {
-                *prim != skip && Shape::from(*v).intersect(ray, method, tmin, tmax).is_some()
-            }),
-            Triangles::Bvh(b) => b.any_hit(ray, method, tmin, tmax, skip),
-        };
-        let tri =
-            tri || (self.instances()).is_some_and(|i| i.any_hit(ray, method, tmin, tmax, skip));
-        tri || (self.others.iter()).any(|(shape, prim)| {
-            *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
-        })
+        self.with_parts(|parts| layout::any(parts, ray, method, tmin, tmax, skip))
     }
 }
 
@@ -621,7 +523,7 @@ fn closest_with_instances(
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
-    avx2_or_baseline!(lanes closest_with_instances_body => (
+    avx512_avx2_or_baseline!(lanes closest_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
@@ -661,7 +563,7 @@ fn blocked_with_instances(
     skip: &[u32; 8],
     valid: u32,
 ) -> packet::ShadowHits {
-    avx2_or_baseline!(lanes blocked_with_instances_body => (
+    avx512_avx2_or_baseline!(lanes blocked_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],

@@ -1,8 +1,46 @@
 //! The reference loop: every ray against every primitive, in primitive order. Every faster
-//! path is tested against it.
+//! path is tested against it. As a layout ([`InOrder`]) it holds the shapes the triangle
+//! structures do not (spheres).
 
+use super::layout::{merge, Layout};
+use crate::geometry::adaptive::{widen, Estimate, Search};
+use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::Real;
+
+/// Primitives with their indices, tested one by one through the shape's own methods; with the
+/// exact method every one goes to the exact search unfiltered.
+#[derive(Clone, Debug, Default)]
+pub struct InOrder(pub Vec<(Shape<f32>, u32)>);
+
+impl Layout for InOrder {
+    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        for &(shape, prim) in &self.0 {
+            let t_far = best.map_or(tmax, |h| h.t.next_up());
+            if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
+                merge(best, Some(Hit { t, prim, b1, b2 }));
+            }
+        }
+    }
+
+    fn nearest_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
+        for (shape, prim) in &self.0 {
+            search.offer_shape(*prim, widen(shape), Estimate::Unsure);
+        }
+    }
+
+    fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        (self.0.iter()).any(|(shape, prim)| {
+            *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
+        })
+    }
+
+    fn any_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
+        let nearest = search.checker();
+        (self.0.iter())
+            .any(|(shape, prim)| *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure))
+    }
+}
 
 /// Nearest hit over a slice of shapes by brute force; ties go to the lower index.
 pub fn closest_hit<T: Real>(

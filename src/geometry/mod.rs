@@ -127,6 +127,22 @@ impl Shape<f64> {
 }
 
 impl Shape<f32> {
+    /// Whether `p` is outside the closed shape: `None` for a triangle (no inside), and within
+    /// 10⁻⁹ relative of a sphere's surface.
+    pub fn outside(&self, p: [f32; 3]) -> Option<bool> {
+        let Shape::Sphere { centre, radius } = *self else {
+            return None;
+        };
+        let rel = [0, 1, 2].map(|k| f64::from(p[k]) - f64::from(centre[k]));
+        let d2 = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2];
+        let r2 = f64::from(radius) * f64::from(radius);
+        match d2 {
+            _ if d2 > r2 * (1.0 + 1e-9) => Some(true),
+            _ if d2 < r2 * (1.0 - 1e-9) => Some(false),
+            _ => None,
+        }
+    }
+
     /// The shape's kind and numbers as bits (−0 as +0): equal keys are the same shape to the
     /// bit (finding copies at build).
     pub fn key(&self) -> (u8, [u32; 9]) {

@@ -2,7 +2,8 @@
 //! bound (pbrt-v4 §6.8.6), so a secondary ray can never re-hit the surface it leaves: the offset
 //! origin lies strictly on the outgoing side of every point the computed hit point may stand for.
 
-use super::Ray;
+use super::{adaptive, sphere, Ray, Shape};
+use crate::math::lanes::f64x4;
 use crate::math::real::{abs, add, dot, scale, sub, V3};
 use crate::math::Real;
 
@@ -31,6 +32,34 @@ pub struct SurfacePoint {
 }
 
 impl SurfacePoint {
+    /// Where `ray`'s hit on `shape` is shaded, for a shape other than a triangle (`None` for a
+    /// triangle, whose point the renderer takes from its packet shading): for a sphere, its
+    /// f64 interval root's midpoint (or the correctly rounded t where the interval cannot
+    /// decide) re-projected by [`SurfacePoint::on_sphere`].
+    pub fn on_curved(shape: &Shape<f32>, ray: &Ray<f32>) -> Option<Self> {
+        let Shape::Sphere { centre, radius } = *shape else {
+            return None;
+        };
+        let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
+        let (c, r) = (centre.map(f64::from), f64::from(radius));
+        let from = sphere::FromOrigin::new(o, c, r);
+        let root = sphere::interval_x4(&from, &d.map(f64x4::splat), 0.0, f64::INFINITY);
+        let (t, t_error) = match root.hit.to_bitmask() & 1 {
+            1 => {
+                let (lo, hi) = (root.lo.to_array()[0], root.hi.to_array()[0]);
+                let t = (0.5 * lo + 0.5 * hi) as f32;
+                let off = (f64::from(t) - lo).max(hi - f64::from(t));
+                (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
+            }
+            _ => {
+                let t = adaptive::rounded_t(shape, ray, 0.0, f32::INFINITY);
+                let t = t.unwrap_or(f32::NAN);
+                (t, t.abs() * f32::EPSILON / 2.0 + f32::from_bits(1))
+            }
+        };
+        Some(Self::on_sphere(centre, radius, ray, t, t_error))
+    }
+
     /// The hit point of `ray` on the sphere (`centre`, `radius`) from t with |t − exact t| ≤
     /// `t_error`: o + t·d re-projected onto the sphere, which keeps it on the surface within
     /// γ₆·(|c| + |p − c|) + 8·2⁻¹⁴⁹ (the roundings below f32's normal range) whatever t's

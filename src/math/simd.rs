@@ -63,23 +63,23 @@ impl std::str::FromStr for SimdLevel {
 /// `Avx8` (crate-private), its baseline build in `wide`'s f32x8. With `widest`, over its
 /// [`LaneOps`](crate::math::lanes::LaneOps) type: the AVX-512 build computes in 16 lanes
 /// (`Avx16`), the others as with `lanes`.
-macro_rules! avx2_or_baseline {
+macro_rules! avx512_avx2_or_baseline {
     (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx2_or_baseline!(@dispatch
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::f32x8>)
             ($($arg: $ty),*) -> $ret)
     };
     (widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx2_or_baseline!(@dispatch
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
             ($($body)::+::<$crate::math::lanes::Avx16>)
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::f32x8>)
             ($($arg: $ty),*) -> $ret)
     };
     ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx2_or_baseline!(@dispatch ($body) ($body) ($body) ($($arg: $ty),*) -> $ret)
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch ($body) ($body) ($body) ($($arg: $ty),*) -> $ret)
     };
     (@dispatch ($avx512:expr) ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
@@ -107,7 +107,7 @@ macro_rules! avx2_or_baseline {
         $base($($arg),*)
     }};
 }
-pub(crate) use avx2_or_baseline;
+pub(crate) use avx512_avx2_or_baseline;
 
 /// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state
 /// transitions) in the AVX2 builds; this always inlines.

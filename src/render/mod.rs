@@ -178,7 +178,7 @@ pub fn render_into_cancellable(
 type Counts = (u64, u64);
 
 /// [`Frame::trace_packets`] compiled for the CPU's SIMD level as the kernels are
-/// ([`crate::math::simd::avx2_or_baseline`]): the tile loop's own work (ray directions,
+/// ([`crate::math::simd::avx512_avx2_or_baseline`]): the tile loop's own work (ray directions,
 /// shading, colours, pixel writes) in AVX2 or AVX-512 where the CPU has them: the Cornell
 /// box with shadows at 1280×720, 2 threads, 5–8% faster (Zen 5, AVX-512, interleaved). The
 /// flat step's one-sample path has its own copy ([`trace_flat_for_cpu`]).
@@ -190,7 +190,7 @@ fn trace_packets_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(Frame::trace_packets => (
+    crate::math::simd::avx512_avx2_or_baseline!(Frame::trace_packets => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -212,7 +212,7 @@ fn trace_flat_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx2_or_baseline!(widest Frame::trace_flat_tile => (
+    crate::math::simd::avx512_avx2_or_baseline!(widest Frame::trace_flat_tile => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,

@@ -2,12 +2,11 @@
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
 use crate::accel::frame::{OriginTriangle, ShadowSegments};
-use crate::geometry::adaptive;
 use crate::geometry::offset::{normalize, UNDERFLOW};
-use crate::geometry::{offset_ray_origin, sphere, Hit, Ray, Shape, SurfacePoint};
-use crate::math::lanes::{f32x8, f64x4, Lanes};
+use crate::geometry::{offset_ray_origin, Hit, Ray, SurfacePoint};
+use crate::math::lanes::{f32x8, Lanes};
 use crate::math::real::{cross, dot, sub};
-use crate::math::simd::{avx2_or_baseline, each3};
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
 use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
@@ -100,8 +99,9 @@ impl Lit {
 
     /// Readies camera ray `ray`'s hit on primitive `prim`.
     pub fn on(scene: &Scene, ray: &Ray, prim: u32) -> Self {
-        match &scene.shape(prim) {
-            Shape::Triangle(v) => {
+        let shape = scene.shape(prim);
+        match shape.triangle() {
+            Some(v) => {
                 let tri = ShadeTri::new(v, ray.o, prim);
                 let mut lanes = [None; 8];
                 lanes[0] = Some(&tri);
@@ -115,7 +115,7 @@ impl Lit {
                     skip: prim,
                 }
             }
-            Shape::Sphere { centre, radius } => {
+            None => {
                 let sp = shading_point(scene, ray, prim);
                 let k = irradiance_factor(scene, &sp, ray);
                 let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
@@ -125,7 +125,7 @@ impl Lit {
                 // The shadow ray's end is offset outwards where (L − p)·n ≥ 0 (as
                 // `offset_ray_origin` does), inwards otherwise.
                 let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;
-                let skip = match light_outside(light, *centre, *radius) {
+                let skip = match shape.outside(light) {
                     Some(outside) if outside == end_outside => prim,
                     _ => u32::MAX,
                 };
@@ -239,7 +239,7 @@ pub(crate) fn sum_colours(
     step: LabStep,
     lanes: u32,
 ) -> [Rgb; 8] {
-    avx2_or_baseline!(lanes sum_colours_body => (
+    avx512_avx2_or_baseline!(lanes sum_colours_body => (
         scene: &Scene,
         colors: Option<&[Rgb]>,
         packets: &[ShadePacket],
@@ -335,18 +335,6 @@ pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
     }
 }
 
-/// Whether `light` is outside the sphere (`None` within 10⁻⁹ relative of its surface).
-fn light_outside(light: [f32; 3], centre: [f32; 3], radius: f32) -> Option<bool> {
-    let rel = [0, 1, 2].map(|k| f64::from(light[k]) - f64::from(centre[k]));
-    let d2 = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2];
-    let r2 = f64::from(radius) * f64::from(radius);
-    match d2 {
-        _ if d2 > r2 * (1.0 + 1e-9) => Some(true),
-        _ if d2 < r2 * (1.0 - 1e-9) => Some(false),
-        _ => None,
-    }
-}
-
 /// The point where camera ray `ray`'s hit on primitive `prim` is shaded, with its bounds
 /// ([`SurfacePoint`]: `p_error` from the surface, `hit_error` from the exact hit point), the
 /// bits every path of the renderer shades with.
@@ -372,41 +360,21 @@ fn light_outside(light: [f32; 3], centre: [f32; 3], radius: f32) -> Option<bool>
 /// ([`adaptive::rounded_t`], within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
 /// level of the search found the hit.
 pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
-    match scene.shape(prim) {
-        Shape::Triangle(v) => {
-            let tri = ShadeTri::new(&v, ray.o, prim);
-            let mut lanes = [None; 8];
-            lanes[0] = Some(&tri);
-            let (_, points) = shade_packet_with_points(scene, &ray.d.map(f32x8::splat), &lanes);
-            let p = points.p.map(|c| c.to_array()[0]);
-            let p_error = points.p_error.map(|c| c.to_array()[0]);
-            SurfacePoint {
-                p,
-                p_error,
-                hit_error: triangle_hit_error(&tri.tri, &v, ray.d, p_error),
-                n: tri.normal,
-            }
-        }
-        shape @ Shape::Sphere { centre, radius } => {
-            let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
-            let (c, r) = (centre.map(f64::from), f64::from(radius));
-            let from = sphere::FromOrigin::new(o, c, r);
-            let root = sphere::interval_x4(&from, &d.map(f64x4::splat), 0.0, f64::INFINITY);
-            let (t, t_error) = match root.hit.to_bitmask() & 1 {
-                1 => {
-                    let (lo, hi) = (root.lo.to_array()[0], root.hi.to_array()[0]);
-                    let t = (0.5 * lo + 0.5 * hi) as f32;
-                    let off = (f64::from(t) - lo).max(hi - f64::from(t));
-                    (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
-                }
-                _ => {
-                    let t = adaptive::rounded_t(&shape, ray, 0.0, f32::INFINITY);
-                    let t = t.unwrap_or(f32::NAN);
-                    (t, t.abs() * f32::EPSILON / 2.0 + f32::from_bits(1))
-                }
-            };
-            SurfacePoint::on_sphere(centre, radius, ray, t, t_error)
-        }
+    let shape = scene.shape(prim);
+    let Some(v) = shape.triangle() else {
+        return SurfacePoint::on_curved(&shape, ray).expect("a shape other than a triangle");
+    };
+    let tri = ShadeTri::new(v, ray.o, prim);
+    let mut lanes = [None; 8];
+    lanes[0] = Some(&tri);
+    let (_, points) = shade_packet_with_points(scene, &ray.d.map(f32x8::splat), &lanes);
+    let p = points.p.map(|c| c.to_array()[0]);
+    let p_error = points.p_error.map(|c| c.to_array()[0]);
+    SurfacePoint {
+        p,
+        p_error,
+        hit_error: triangle_hit_error(&tri.tri, v, ray.d, p_error),
+        n: tri.normal,
     }
 }
 
@@ -472,7 +440,7 @@ pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
 /// `lanes[l]` is lane l's triangle readied for the origin (its `prim` names it), `None` for
 /// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
 pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    avx2_or_baseline!(lanes shade_packet_only => (
+    avx512_avx2_or_baseline!(lanes shade_packet_only => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
@@ -494,7 +462,7 @@ fn shade_packet_with_points(
     d: &[f32x8; 3],
     lanes: &[Option<&ShadeTri>; 8],
 ) -> (ShadePacket, ShadePoints) {
-    avx2_or_baseline!(lanes shade_packet_body => (
+    avx512_avx2_or_baseline!(lanes shade_packet_body => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]

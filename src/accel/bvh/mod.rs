@@ -41,7 +41,6 @@ mod walk_ray;
 mod widen;
 
 pub(crate) use leaves::Leaves;
-pub use node::MAX_ITEMS;
 pub(crate) use node::{Aabb, WideStack};
 pub(crate) use slabs::PacketSlabs;
 

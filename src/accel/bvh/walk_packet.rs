@@ -14,7 +14,7 @@ use crate::accel::packet::{
 };
 use crate::accel::prepared::Prepared;
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{avx2_or_baseline, each3};
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
 
 impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
@@ -140,7 +140,7 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let bvh = self;
-        avx2_or_baseline!(lanes Bvh::closest_packet_body => (
+        avx512_avx2_or_baseline!(lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,
@@ -303,7 +303,7 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        avx2_or_baseline!(lanes Bvh::blocked_packet_body => (
+        avx512_avx2_or_baseline!(lanes Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,

@@ -6,6 +6,7 @@ use super::leaf_triangles::LeafTriangles;
 use super::node::{leaf_range, WideNode, WideStack, LEAF, NONE, WIDTH};
 use super::slabs::{box_safe, enter_f64, slab_safe, RaySlabs};
 use super::Bvh;
+use crate::accel::layout::{merge, Layout};
 use crate::accel::prepared::Prepared;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
@@ -215,5 +216,23 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+impl Layout for Bvh {
+    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        merge(best, self.closest_hit(ray, method, tmin, tmax));
+    }
+
+    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        self.closest_hit_adaptive(ray, r, search);
+    }
+
+    fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        self.any_hit(ray, method, tmin, tmax, skip)
+    }
+
+    fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
+        self.any_hit_adaptive(ray, r, search, skip)
     }
 }

@@ -8,7 +8,7 @@ use crate::accel::cull::Box3;
 use crate::accel::packet::PacketSeed;
 use crate::geometry::adaptive::{round_down, round_up, widen};
 use crate::geometry::{sphere, Shape};
-use crate::math::simd::{avx2_or_baseline, each3};
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
 use wide::{f32x8, f64x4};
 
 /// A shape other than a triangle for the lane-by-lane tests of the packets: seen from the
@@ -57,7 +57,7 @@ pub(super) struct ShapeSeed {
 /// eye along `d`), four lanes at a time: see the module doc.
 #[inline(never)]
 pub(super) fn shapes_seed(shapes: &[LaneShape], d: &[f32x8; 3], live: u32) -> ShapeSeed {
-    avx2_or_baseline!(shapes_seed_body => (
+    avx512_avx2_or_baseline!(shapes_seed_body => (
         shapes: &[LaneShape],
         d: &[f32x8; 3],
         live: u32
@@ -135,7 +135,7 @@ pub(super) fn shapes_block(near: &[LaneShape], light: [f32; 3], s: &ShadowSegmen
             unsure: 0,
         };
     }
-    avx2_or_baseline!(shapes_block_body => (
+    avx512_avx2_or_baseline!(shapes_block_body => (
         near: &[LaneShape],
         light: [f32; 3],
         s: &ShadowSegments

@@ -7,7 +7,7 @@ use super::predicates::{block_crossings, load, t_interval, EdgeTests};
 use super::prepare::PreciseTriangle;
 use super::{OriginTriangle, MAX_PRODUCT};
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{avx2_or_baseline, each3};
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
 
 /// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
 /// that must be traced per ray.
@@ -69,7 +69,7 @@ pub fn closest_seeded(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    avx2_or_baseline!(lanes closest_body => (
+    avx512_avx2_or_baseline!(lanes closest_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
@@ -160,7 +160,7 @@ pub struct PacketNearest<V = f32x8> {
 }
 
 impl<V: LaneOps> PacketNearest<V> {
-    /// [`PacketNearest::new`] inside a kernel already in lanes `V`.
+    /// [`PacketNearest::seeded`] without a seed, inside a kernel already in lanes `V`.
     #[inline(always)]
     pub(crate) fn new_in(d: [V; 3], d_max: f32) -> Self {
         let inf = V::splat(f32::INFINITY);
@@ -497,12 +497,7 @@ impl<V: LaneOps> PacketNearest<V> {
 }
 
 impl<V: Lanes> PacketNearest<V> {
-    #[inline(always)]
-    pub fn new(d: &[f32x8; 3], d_max: f32) -> Self {
-        Self::new_in(each3(|k| V::from_wide(d[k])), d_max)
-    }
-
-    /// [`PacketNearest::new`] holding `seed`'s candidates and ambiguous lanes, if any.
+    /// A nearest-hit state for directions `d` (`d_max` ≥ every |dₖ|) holding `seed`'s candidates and ambiguous lanes, if any.
     #[inline(always)]
     pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
         Self::seeded_in(each3(|k| V::from_wide(d[k])), d_max, seed)

@@ -8,7 +8,7 @@ use super::{cross, sub, OriginTriangle, MAX_MAGNITUDE, TINY64, U32, U64};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::{round_down, round_up};
 use crate::math::lanes::{Lanes, Lanes64};
-use crate::math::simd::{avx2_or_baseline, each3};
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
 use rayon::prelude::*;
 
 /// A frame's triangles prepared for its camera position.
@@ -455,7 +455,7 @@ pub(crate) fn quad_indices(start: usize, end: usize) -> [usize; 4] {
 
 /// Four triangles prepared for `o` ([`OriginTriangle::new4`]) in the CPU's widest lanes.
 pub(crate) fn prepare4(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
-    avx2_or_baseline!(lanes prepare4_body => (
+    avx512_avx2_or_baseline!(lanes prepare4_body => (
         v: [&[[f32; 3]; 3]; 4],
         o: [f32; 3],
         prim: [u32; 4]

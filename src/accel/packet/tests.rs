@@ -432,14 +432,14 @@ fn one_lane_offers_of_a_block_decide_as_offers_one_by_one() {
             for (start, len) in [(0, 4), (4, 4), (2, 3), (5, 3), (0, 8), (7, 1)] {
                 let mask = ((1u32 << len) - 1) << start;
                 for seeded in [None, Some((start + len) % 8)] {
-                    let mut one = PacketNearest::<f32x8>::new(&dw, d_max);
+                    let mut one = PacketNearest::<f32x8>::seeded(&dw, d_max, None);
                     if let Some(s) = seeded {
                         one.offer(&block.get(s), 100 + s as u32);
                     }
                     if one.ambiguous() & (1 << l) != 0 {
                         continue;
                     }
-                    let mut each = PacketNearest::<f32x8>::new(&dw, d_max);
+                    let mut each = PacketNearest::<f32x8>::seeded(&dw, d_max, None);
                     if let Some(s) = seeded {
                         each.offer(&block.get(s), 100 + s as u32);
                     }

@@ -52,6 +52,12 @@ impl Search {
         self.tmin
     }
 
+    /// An exact any-hit check over the query's interval, for shapes the f32 level does not
+    /// take ([`Nearest::confirms`]).
+    pub fn checker(&self) -> Nearest {
+        Nearest::new(&self.ray, self.tmin as f32, self.tmax32)
+    }
+
     /// An upper bound on the exact t of the best hit so far (tmax without one).
     #[inline]
     pub fn t_far(&self) -> f64 {

@@ -3,7 +3,7 @@
 //!
 //! Soundness: their operations execute AVX2 instructions, so such a value must exist only
 //! where the CPU has AVX2. The types are private to the crate and named only in the AVX2 arm
-//! of `avx2_or_baseline!`, after the run-time check (`math::simd::level`), and in
+//! of `avx512_avx2_or_baseline!`, after the run-time check (`math::simd::level`), and in
 //! tests behind the same check; every constructor (`splat`, `from_array`, which the others
 //! go through) asserts it in debug builds.
 

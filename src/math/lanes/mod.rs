@@ -3,7 +3,7 @@
 //! `f32x8` (two SSE halves: the baseline build), `Avx8` (one 256-bit AVX register: the AVX2
 //! and AVX-512 builds) and `Avx16` (one 512-bit register: the AVX-512 build's 16-ray camera
 //! packets), the AVX types used only inside a kernel's build for them
-//! (`avx2_or_baseline!` in `math::simd`).
+//! (`avx512_avx2_or_baseline!` in `math::simd`).
 //!
 //! Why two types: `wide` picks its implementation when the crate is compiled
 //! (`cfg(target_feature = "avx")`), so without `-C target-cpu` its f32x8 stays two SSE
