@@ -145,12 +145,12 @@ impl Camera {
 
     /// Horizontal field of view in radians for an image `width` pixels wide.
     pub fn fov_x(&self, width: u32) -> f64 {
-        2.0 * (width as f64 / (2.0 * self.focal)).atan()
+        fov_of_focal(self.focal, width as f64)
     }
 
     /// The focal length giving a horizontal field of view `fov` (radians) at `width` pixels.
     pub fn focal_for_fov(fov: f64, width: u32) -> f64 {
-        width as f64 / (2.0 * (fov / 2.0).tan())
+        focal_of_fov(fov, width as f64)
     }
 
     /// The ray through the continuous image position (x, y) in pixels from the top-left corner
@@ -312,4 +312,17 @@ impl RayGenerator {
         };
         each3(axis)
     }
+}
+
+/// The field of view (radians) across `side` pixels seen at focal length `focal` pixels,
+/// 2·atan(side / 2f): the one formula the panel, the `.view` and `.scene` files and the
+/// framing of a model read.
+pub fn fov_of_focal(focal: f64, side: f64) -> f64 {
+    2.0 * (side / (2.0 * focal)).atan()
+}
+
+/// The focal length (pixels) that sees a field of view `fov` (radians) across `side` pixels
+/// ([`fov_of_focal`]'s inverse).
+pub fn focal_of_fov(fov: f64, side: f64) -> f64 {
+    side / (2.0 * (fov / 2.0).tan())
 }

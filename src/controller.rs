@@ -177,7 +177,7 @@ impl CameraController {
         let diagonal = (hi - lo).length();
         let radius = (diagonal / 2.0).max(1e-30);
         let focal = width as f64;
-        let half_fov = (width.min(height) as f64 / (2.0 * focal)).atan();
+        let half_fov = crate::camera::fov_of_focal(focal, width.min(height) as f64) / 2.0;
         // (Within the camera's range: a scene near the edge of its range seen from a very
         // flat image would need more; it is then seen from the edge, not all in view.)
         let distance = (radius / half_fov.sin()).min(centre.z + crate::math::MAX_VIEW_COORDINATE);

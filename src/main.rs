@@ -15,6 +15,12 @@ fn main() -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::from(2);
     }
+    // Started here, so a system that cannot give the worker threads is an error, not a
+    // panic at the first parallel loop.
+    if let Err(e) = rayon::ThreadPoolBuilder::new().build_global() {
+        eprintln!("error: cannot start the worker threads: {e}");
+        return ExitCode::from(2);
+    }
     let result = match &args.command {
         Some(cli::Command::Render(a)) => cli::render(a),
         Some(cli::Command::Trace(a)) => cli::trace(a),

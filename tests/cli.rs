@@ -1882,3 +1882,23 @@ fn shadow_segments_through_every_path(
     let hits = want.iter().filter(|w| **w == "hit").count();
     (hits, want.len() - hits, on_the_hit)
 }
+
+#[test]
+fn worker_threads_the_system_cannot_give_are_an_error_not_a_panic() {
+    // 5,000 threads' stacks do not fit in 2 GB of address space (the binary does).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(r#"ulimit -v 2000000 && exec "$0" render --width 8 --height 8 -o "$1""#)
+        .arg(env!("CARGO_BIN_EXE_raylab"))
+        .arg(&out)
+        .env("RAYON_NUM_THREADS", "5000")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("cannot start the worker threads"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists());
+}

@@ -488,6 +488,44 @@ fn a_thousand_placements_store_the_mesh_once() {
     assert_eq!(hit.prim as usize / n, 999);
 }
 
+#[test]
+fn coincident_placements_are_left_out_and_answer_as_flattened() {
+    // 100 placements of one mesh by the same matrix, among two others (one of them placed
+    // twice too): the copies are left out at build (triangles and walks), and every query
+    // answers as the flattened scene, whose structure keeps one of each copied triangle.
+    let mut rng = Rng(77);
+    let mesh = mesh("ball", &icosphere(2, 0.6, [0.0; 3]), &mut rng);
+    let n = mesh.triangles.len();
+    let (a, b, c) = (
+        placement(&mut rng),
+        placement(&mut rng),
+        placement(&mut rng),
+    );
+    let mut placements = vec![a, b];
+    placements.extend(std::iter::repeat_n(a, 99));
+    placements.extend([c, b]);
+    let scene = scene_with(&mesh, &placements, &mut rng);
+    let accel = scene.accel();
+    let distinct = 3 * n;
+    let explicit = scene.accel().stored_triangle_count();
+    assert_eq!(accel.triangle_count(), distinct + explicit);
+    assert_eq!(accel.copies_left_out(), 100 * n);
+    let flat = scene.flattened();
+    let reference = flat.accel();
+    for ray in rays_at(&flat, &mut rng, 300) {
+        for method in Method::ALL {
+            let want = reference.closest_hit(&ray, method, 0.0, f32::INFINITY);
+            let got = accel.closest_hit(&ray, method, 0.0, f32::INFINITY);
+            same_hit(method, &ray, got, want, &format!("{method} {ray:?}"));
+            for tmax in [0.5, 2.0] {
+                let want = reference.any_hit(&ray, method, 0.0, tmax);
+                let got = accel.any_hit(&ray, method, 0.0, tmax);
+                assert_eq!(got, want, "{method} any hit to {tmax} {ray:?}");
+            }
+        }
+    }
+}
+
 /// An OBJ file of `shapes` (triangles), one `v` per corner.
 fn obj_text(shapes: &[Shape<f32>]) -> String {
     let mut text = String::from("# test mesh\n");

@@ -402,3 +402,23 @@ fn a_field_of_view_no_image_size_can_take_is_refused_naming_the_line() {
     assert!(parse32("tri 0 0 1 1 0 1 0 1 1\ncamera 0 0 -3 fov 0.5\n").is_ok());
     assert!(parse32("tri 0 0 1 1 0 1 0 1 1\ncamera 0 0 -3 fov 170\n").is_ok());
 }
+
+#[test]
+fn push_nesting_is_bounded_at_its_line() {
+    // As deep as the limit parses, and its levels pop back to the identity; one more is
+    // refused at its own line, before it is stored.
+    let depth = raylab::limits::MAX_PUSH_DEPTH;
+    let text = "push\n".repeat(depth) + "tri 0 0 0 1 0 0 0 1 0\n" + &"pop\n".repeat(depth);
+    let d = parse32(&text).unwrap();
+    assert_eq!(d.levels.len(), depth + 1);
+    assert_eq!(
+        tri(&d, 0),
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
+    let (line, msg) = error(&("push\n".repeat(depth + 1) + "pop\n"));
+    assert_eq!(line, depth + 1, "{msg}");
+    assert!(
+        msg.contains(&format!("deeper than {depth} levels")),
+        "{msg}"
+    );
+}

@@ -239,6 +239,14 @@ impl Instances {
 
     /// Builds over `instances` (their matrices must be [`Instance::placeable`]).
     pub fn build(instances: &[Instance]) -> Self {
+        let (kept, placed_copies) = placements_without_copies(instances);
+        let mut built = Self::build_distinct(kept.as_deref().unwrap_or(instances));
+        built.copies += placed_copies;
+        built
+    }
+
+    /// [`Instances::build`] over placements that repeat none.
+    fn build_distinct(instances: &[Instance]) -> Self {
         let mut distinct: Vec<&Arc<Mesh>> = Vec::new();
         let mesh_of: Vec<u32> = instances
             .iter()
@@ -460,6 +468,35 @@ impl Instances {
         };
         self.top.walk_packet(&slabs, 0.0, sink, &mut leaves);
     }
+}
+
+/// `instances` without the placements that repeat an earlier one (the same mesh by the same
+/// matrix, to the bit; `None` where none does), and how many triangles those held. Such a
+/// copy is never the answer, as an exact copy of a triangle is not
+/// ([`super::without_copies`]): kept, 100 placements at one spot cost every ray that meets
+/// them 100 walks and the exact tie-breaks between them. The order of the rest is unchanged.
+fn placements_without_copies(instances: &[Instance]) -> (Option<Vec<Instance>>, usize) {
+    let key = |inst: &Instance| {
+        let m = inst
+            .world_from_object
+            .to_cols_array()
+            .map(|c| (c + 0.0).to_bits());
+        (Arc::as_ptr(&inst.mesh), m)
+    };
+    let mut seen = std::collections::HashSet::with_capacity(instances.len());
+    let first: Vec<bool> = instances.iter().map(|i| seen.insert(key(i))).collect();
+    let copies: usize = (instances.iter().zip(&first))
+        .filter(|(_, &first)| !first)
+        .map(|(i, _)| i.len())
+        .sum();
+    if first.iter().all(|&f| f) {
+        return (None, 0);
+    }
+    let kept = (instances.iter().zip(&first))
+        .filter(|(_, &first)| first)
+        .map(|(i, _)| i.clone())
+        .collect();
+    (Some(kept), copies)
 }
 
 impl Layout for Instances {

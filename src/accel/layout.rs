@@ -1,31 +1,27 @@
-//! The layout contract: what every structure over primitives answers, and the one place that
-//! dispatches on which structure holds a scene's triangles.
+//! The layout contract: what every structure over primitives answers, and the fold of one
+//! query over the layouts of a scene.
 //!
 //! A layout ([`Layout`]) answers four per-ray queries over the primitives it holds, each with
 //! tmin < t < tmax: the nearest hit with one of the inexact methods, merged into a best hit so
 //! far; the exact nearest hit ([`Method::Adaptive`]), offering its candidates to one shared
 //! [`Search`]; and an any-hit query (not primitive `skip`) for each. An [`Accel`] is a few
-//! layouts answering together: the triangles' structure ([`Triangles`]: the flat loop or the
-//! BVH), the placed meshes ([`Instances`]) and the other shapes, one by one
+//! layouts answering together: the triangles' structure (`Triangles`: the flat loop or the
+//! BVH, triangles.rs), the placed meshes (`Instances`) and the other shapes, one by one
 //! ([`InOrder`]); [`nearest`] and [`any`] fold one query over them. Ties go to the
 //! lower primitive index in every layout, so the fold's answer does not depend on their order.
 //!
 //! Packets (8 or 16 rays from one origin) are the BVH's own: a layout without a packet walk
-//! is traced per ray ([`Triangles::bvh`] says which layout has one).
+//! is traced per ray (`Triangles::bvh` says which layout has one).
 //!
 //! Adding a layout (a BVH4, a grid): its files, `impl Layout` for it, a variant of
-//! [`Triangles`] with its arms below (build, `layout`, `kind`), and its name in
-//! [`AccelChoice`]. tests/layouts.rs runs every layout ([`crate::accel::testing::layouts`])
+//! `Triangles` with its arms in triangles.rs (build, `layout`, `kind`), its name in
+//! [`AccelChoice`], and a line in `accel::testing::layouts`. tests/accel.rs runs every layout
 //! against the reference loop on random and hard-case scenes.
 //!
 //! [`Accel`]: super::Accel
-//! [`Instances`]: super::instances::Instances
 //! [`AccelChoice`]: super::AccelChoice
 //! [`InOrder`]: super::reference::InOrder
 
-use super::bvh::Bvh;
-use super::flat::FlatLoop;
-use super::{AccelKind, IndexedTriangle};
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
@@ -97,61 +93,4 @@ pub fn any(
         return (parts.iter()).any(|part| part.any_exact(ray, &r, &search, skip));
     }
     (parts.iter()).any(|part| part.any(ray, method, tmin, tmax, skip))
-}
-
-/// The structure over a scene's stored triangles: the one dispatch on the layout.
-#[derive(Clone, Debug)]
-pub(crate) enum Triangles {
-    Flat(FlatLoop),
-    Bvh(Bvh),
-}
-
-impl Triangles {
-    /// Builds the structure `use_bvh` names over `tris` (copies already left out).
-    pub(crate) fn build(tris: &[IndexedTriangle], use_bvh: bool) -> Self {
-        match use_bvh {
-            true => Triangles::Bvh(Bvh::build(tris)),
-            false => Triangles::Flat(FlatLoop::new(tris)),
-        }
-    }
-
-    /// The per-ray queries.
-    pub(crate) fn layout(&self) -> &dyn Layout {
-        match self {
-            Triangles::Flat(f) => f,
-            Triangles::Bvh(b) => b,
-        }
-    }
-
-    /// Which structure this is.
-    pub(crate) fn kind(&self) -> AccelKind {
-        match self {
-            Triangles::Flat(_) => AccelKind::Flat,
-            Triangles::Bvh(_) => AccelKind::Bvh,
-        }
-    }
-
-    /// The BVH, the layout with packet walks (`None`: traced per ray).
-    pub(crate) fn bvh(&self) -> Option<&Bvh> {
-        match self {
-            Triangles::Bvh(b) => Some(b),
-            Triangles::Flat(_) => None,
-        }
-    }
-
-    /// How many triangles are stored.
-    pub(crate) fn len(&self) -> usize {
-        match self {
-            Triangles::Flat(f) => f.len(),
-            Triangles::Bvh(b) => b.len(),
-        }
-    }
-
-    /// Bytes of the structure.
-    pub(crate) fn memory_bytes(&self) -> usize {
-        match self {
-            Triangles::Flat(f) => f.memory_bytes(),
-            Triangles::Bvh(b) => b.memory_bytes(),
-        }
-    }
 }

@@ -24,17 +24,19 @@ mod prepared;
 pub mod reference;
 #[doc(hidden)]
 pub mod testing;
+mod triangles;
 
 use crate::geometry::adaptive::Search;
 use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::simd::avx512_avx2_or_baseline;
-use layout::{Layout, Triangles};
+use layout::Layout;
 use rayon::prelude::*;
 use reference::InOrder;
 use std::fmt;
 use std::str::FromStr;
+use triangles::Triangles;
 
 pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch, NO_HIT};
 pub use reference::{any_hit, any_hit_except, closest_hit};

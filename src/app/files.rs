@@ -1,7 +1,6 @@
 //! The File menu: open a scene or model, save the image, save the view, through a file dialog
 //! drawn by egui itself (egui-file-dialog), so it works wherever the window does.
 
-use super::viewer::Viewer;
 use egui_file_dialog::FileDialog;
 use std::path::PathBuf;
 
@@ -19,17 +18,6 @@ pub enum Picked {
     Open(PathBuf),
     SaveImage(PathBuf),
     SaveView(PathBuf),
-}
-
-impl Picked {
-    /// Carries it out.
-    pub fn apply(self, viewer: &mut Viewer) {
-        match self {
-            Picked::Open(path) => viewer.load(path),
-            Picked::SaveImage(path) => viewer.screenshot_to(path),
-            Picked::SaveView(path) => viewer.save_view_to(path),
-        }
-    }
 }
 
 /// The menu's dialog and what it is for.

@@ -80,7 +80,7 @@ pub fn side_panel(
         let width = info.full_size.0.max(1);
         let mut focal = camera.focal(width);
         let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
-        let fov = 2.0 * (width as f64 / (2.0 * focal)).atan();
+        let fov = raylab::camera::fov_of_focal(focal, width as f64);
         if ui
             .add(
                 egui::Slider::new(&mut focal, range)
@@ -371,7 +371,7 @@ pub fn layout(
         .map(|s| (s.size.0, s.size.1, s.level, s.stats));
     let has_image = shown.is_some();
     if let Some(picked) = viewer.files.update(ui.ctx()) {
-        picked.apply(viewer);
+        viewer.apply_picked(picked);
     }
     let full_size = viewer.full_size();
     let Viewer {

@@ -583,7 +583,7 @@ impl Viewer {
     pub fn view(&self) -> raylab::view::View {
         let c = &self.controller;
         let ratio = c.focal_ratio;
-        let fov = (ratio != 1.0).then(|| 2.0 * (1.0 / (2.0 * ratio)).atan().to_degrees());
+        let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         let source = self.source.lock().expect("not poisoned").clone();
         let (width, height) = self.full_size();
         raylab::view::View {
@@ -615,6 +615,16 @@ impl Viewer {
     /// F5: writes the view to `raylab-view-<time>.view` (see [`raylab::view`]).
     pub fn save_view(&mut self) {
         self.save_view_to(PathBuf::from(format!("raylab-view-{}.view", timestamp())));
+    }
+
+    /// Carries out what the File menu's dialog picked.
+    pub fn apply_picked(&mut self, picked: super::files::Picked) {
+        use super::files::Picked;
+        match picked {
+            Picked::Open(path) => self.load(path),
+            Picked::SaveImage(path) => self.screenshot_to(path),
+            Picked::SaveView(path) => self.save_view_to(path),
+        }
     }
 
     /// Writes the view to the `.view` file `path`.
