@@ -76,6 +76,7 @@ pub mod render;
 pub mod scene;
 pub mod tracefile;
 pub mod view;
+pub mod words;
 
 pub use camera::Camera;
 pub use geometry::{Hit, Method, Ray, Shape};

@@ -12,7 +12,8 @@
 //! method adaptive|watertight|moller|cramer
 //! cracks on|off
 //! ```
-//! Numbers are written in Rust's shortest round-trip form, so a saved view reads back to the
+//! A path with spaces, `#` or quotes is written in double quotes (`crate::words`), so any file
+//! name round-trips. Numbers are written in Rust's shortest round-trip form, so a saved view reads back to the
 //! same f64 values (the field of view is derived from the focal length, exact to an ulp).
 
 use crate::geometry::Method;
@@ -57,7 +58,7 @@ impl View {
         let p = c.position;
         let mut out =
             String::from("# raylab view: `raylab render --view FILE -o out.png` renders it\n");
-        out += &format!("scene {}\n", self.scene);
+        out += &format!("scene {}\n", crate::words::quoted(&self.scene));
         let frame = match self.obj_frame {
             ObjFrame::YUp => "yup",
             ObjFrame::Lab => "lab",
@@ -127,20 +128,21 @@ impl View {
         };
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (i, raw) in text.lines().enumerate() {
-            let content = raw.split('#').next().unwrap_or("").trim();
-            if content.is_empty() {
+            let error = |message| FileError {
+                file: file.to_string(),
+                line: i + 1,
+                message,
+            };
+            let words = crate::words::words(raw).map_err(error)?;
+            if words.is_empty() {
                 continue;
             }
-            let w: Vec<&str> = content.split_whitespace().collect();
+            let w: Vec<&str> = words.iter().map(String::as_str).collect();
             // (Checked after every line, so a size or spp out of range names its own line.)
             let checked = view
                 .statement(&w)
                 .and_then(|()| (view.settings.validate()).map_err(|e| format!("{}: {e}", w[0])));
-            checked.map_err(|message| FileError {
-                file: file.to_string(),
-                line: i + 1,
-                message,
-            })?;
+            checked.map_err(error)?;
         }
         Ok(view)
     }
@@ -170,6 +172,8 @@ impl View {
                 if w.len() < 2 {
                     return Err("scene needs `cornell` or a path".into());
                 }
+                // (Unquoted words joined by one space: what views written before paths were
+                // quoted hold for a name with spaces.)
                 self.scene = w[1..].join(" ");
             }
             "obj-frame" => {

@@ -1902,3 +1902,73 @@ fn worker_threads_the_system_cannot_give_are_an_error_not_a_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!out.exists());
 }
+
+#[test]
+fn any_scene_file_name_round_trips_through_a_view() {
+    // Names with runs of spaces, '#', quotes and backslashes: a saved view names the same file
+    // (quoted), renders the same image as the scene itself, and a `.scene` mesh path in quotes
+    // loads.
+    use raylab::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let tri = "camera 0 0 -3\ntri -1 -1 2 1 -1 2 0 1 2\n";
+    for name in [
+        "two  spaces.scene",
+        "x#y.scene",
+        "say \"hi\" \\ there.scene",
+    ] {
+        let scene = write(dir.path(), name, tri);
+        let decoy = dir.path().join("x"); // what '#' used to cut "x#y.scene" down to
+        std::fs::write(&decoy, "camera 0 0 -3\nsphere 0 0 2 1\n").unwrap();
+        let mut view = View::parse("v.view", "size 32 24\n").unwrap();
+        view.scene = scene.clone();
+        let text = view.to_text();
+        assert_eq!(View::parse("again", &text).unwrap(), view, "{text}");
+        let view_file = write(dir.path(), "v.view", &text);
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        let o = raylab(&["render", "--view", &view_file, "-o", a.to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let o = raylab(&[
+            "render",
+            "--scene",
+            &scene,
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            b.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        assert_eq!(
+            std::fs::read(&a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{name}"
+        );
+    }
+    // A mesh path in quotes, and a broken quote named by its line.
+    write(
+        dir.path(),
+        "my mesh.obj",
+        "v -1 -1 2\nv 1 -1 2\nv 0 1 2\nf 1 2 3\n",
+    );
+    let s = write(
+        dir.path(),
+        "m.scene",
+        "camera 0 0 -3\nmesh \"my mesh.obj\" lab # placed\n",
+    );
+    let out = dir.path().join("m.png");
+    let o = raylab(&["render", "--scene", &s, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = write(
+        dir.path(),
+        "bad.scene",
+        "camera 0 0 -3\nmesh \"my mesh.obj\n",
+    );
+    let o = raylab(&["render", "--scene", &s, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("bad.scene:2: a quoted word has no closing quote"),
+        "{}",
+        stderr(&o)
+    );
+}

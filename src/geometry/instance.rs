@@ -106,7 +106,15 @@ impl Instance {
     /// Triangle `local` of the mesh in the world.
     #[inline]
     pub fn world_triangle(&self, local: usize) -> [[f32; 3]; 3] {
-        self.mesh.triangles[local].map(|v| Self::world_vertex(&self.world_from_object, v))
+        // (Written out: as an array `map` its closure was left uninlined in some builds, a
+        // third more work on the shading of instanced scenes.)
+        let [a, b, c] = self.mesh.triangles[local];
+        let m = &self.world_from_object;
+        [
+            Self::world_vertex(m, a),
+            Self::world_vertex(m, b),
+            Self::world_vertex(m, c),
+        ]
     }
 
     /// Whether all its triangles show one colour (a tint, or a mesh without colours of its

@@ -5,7 +5,8 @@
 //! ```text
 //! tri x0 y0 z0 x1 y1 z1 x2 y2 z2   a triangle, vertices in the current frame
 //! sphere cx cy cz r                a sphere, centre and radius in the current frame
-//! mesh PATH.obj [yup|lab]          an OBJ's triangles (PATH relative to the scene file)
+//! mesh PATH.obj [yup|lab]          an OBJ's triangles (PATH relative to the scene file; in
+//!                                   double quotes if it holds spaces or #: "my mesh.obj")
 //! cornell                          the built-in lab Cornell box (its 30 triangles)
 //! color r g b                      linear-RGB diffuse colour of the primitives that follow
 //! push | pop                       save / restore the current transform and colour

@@ -53,11 +53,12 @@ pub fn parse_with<T: Real>(
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut uses = HashMap::new();
     for line in text.lines() {
-        let content = line.split('#').next().unwrap_or("");
-        let mut words = content.split_whitespace();
-        if words.next() == Some("mesh") {
-            let path = words.next().unwrap_or("").to_string();
-            let frame = words.next().unwrap_or("yup").to_string();
+        // (A line whose words do not parse is reported below, at its number.)
+        let words = crate::words::words(line).unwrap_or_default();
+        let mut words = words.into_iter();
+        if words.next().as_deref() == Some("mesh") {
+            let path = words.next().unwrap_or_default();
+            let frame = words.next().unwrap_or_else(|| "yup".into());
             *uses.entry((path, frame)).or_insert(0) += 1;
         }
     }
@@ -97,17 +98,17 @@ pub fn parse_with<T: Real>(
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
-        let content = raw.split('#').next().unwrap_or("").trim();
-        if content.is_empty() {
+        let error = |message| FileError {
+            file: file.to_string(),
+            line,
+            message,
+        };
+        let words = crate::words::words(raw).map_err(error)?;
+        if words.is_empty() {
             continue;
         }
-        let words: Vec<&str> = content.split_whitespace().collect();
-        p.statement(line, &words, dir, load_mesh)
-            .map_err(|message| FileError {
-                file: file.to_string(),
-                line,
-                message,
-            })?;
+        let words: Vec<&str> = words.iter().map(String::as_str).collect();
+        p.statement(line, &words, dir, load_mesh).map_err(error)?;
     }
     if !p.saved.is_empty() {
         let open = p.out.levels[p.current.level].line;

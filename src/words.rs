@@ -1,0 +1,125 @@
+//! The words of one line of raylab's text formats (`.scene`, `.view`): separated by
+//! whitespace, `#` starts a comment, and a word in double quotes may hold anything a path can
+//! (spaces, `#`, quotes as `\"`, backslashes as `\\`, a newline as `\n`), so every file name
+//! round-trips. Outside quotes every character but whitespace and `#` is itself.
+
+use std::borrow::Cow;
+
+/// The words of `line` before its comment, quoted words unquoted.
+pub fn words(line: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut chars = line.chars().peekable();
+    loop {
+        while chars.next_if(|c| c.is_whitespace()).is_some() {}
+        match chars.peek() {
+            None | Some('#') => return Ok(out),
+            Some('"') => {
+                chars.next();
+                let mut word = String::new();
+                loop {
+                    match chars.next() {
+                        None => return Err(format!("a quoted word has no closing quote: {line}")),
+                        Some('"') => break,
+                        Some('\\') => match chars.next() {
+                            Some('"') => word.push('"'),
+                            Some('\\') => word.push('\\'),
+                            Some('n') => word.push('\n'),
+                            other => {
+                                let e =
+                                    other.map_or("the line's end".into(), |c| format!("'\\{c}'"));
+                                return Err(format!(
+                                    "{e} in a quoted word (only \\\", \\\\ and \\n are escapes)"
+                                ));
+                            }
+                        },
+                        Some(c) => word.push(c),
+                    }
+                }
+                match chars.peek() {
+                    Some(c) if !c.is_whitespace() && *c != '#' => {
+                        return Err(format!("a quoted word runs into '{c}'"))
+                    }
+                    _ => out.push(word),
+                }
+            }
+            Some(_) => {
+                let mut word = String::new();
+                while let Some(c) = chars.next_if(|c| !c.is_whitespace() && *c != '#') {
+                    word.push(c);
+                }
+                out.push(word);
+            }
+        }
+    }
+}
+
+/// `word` as [`words`] reads it back: as it is where it can be, else in double quotes.
+pub fn quoted(word: &str) -> Cow<'_, str> {
+    let plain = !word.is_empty()
+        && !word.starts_with('"')
+        && !word.chars().any(|c| c.is_whitespace() || c == '#');
+    if plain {
+        return Cow::Borrowed(word);
+    }
+    let mut out = String::from('"');
+    for c in word.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    Cow::Owned(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_split_on_whitespace_and_stop_at_a_comment() {
+        assert_eq!(
+            words("  tri 0\t1  2 # note").unwrap(),
+            ["tri", "0", "1", "2"]
+        );
+        assert_eq!(words("#only").unwrap(), Vec::<String>::new());
+        assert_eq!(
+            words(r#"mesh a\b"c.obj lab"#).unwrap(),
+            ["mesh", r#"a\b"c.obj"#, "lab"]
+        );
+    }
+
+    #[test]
+    fn every_name_round_trips_through_quotes() {
+        for name in [
+            "plain.obj",
+            "two  spaces.scene",
+            "x#y.scene",
+            " lead and trail ",
+            "\"quoted\"",
+            "back\\slash\\\"",
+            "new\nline",
+            "",
+            "tab\there",
+            "ünï ©ode",
+        ] {
+            let line = format!("scene {} # comment", quoted(name));
+            assert_eq!(words(&line).unwrap(), ["scene", name], "{line}");
+        }
+        assert!(matches!(quoted("plain.obj"), Cow::Borrowed(_)));
+    }
+
+    #[test]
+    fn broken_quotes_are_errors() {
+        for bad in [
+            r#"scene "open"#,
+            r#"scene "a"b"#,
+            r#"scene "a\t""#,
+            r#"scene "a\"#,
+        ] {
+            assert!(words(bad).is_err(), "{bad}");
+        }
+    }
+}
