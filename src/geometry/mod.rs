@@ -205,6 +205,11 @@ impl<T: Real> From<[V3<T>; 3]> for Shape<T> {
 }
 
 impl<T: Real> Shape<T> {
+    /// A sphere (the loaders' constructor: nothing outside this module names a kind of shape).
+    pub fn sphere(centre: V3<T>, radius: T) -> Self {
+        Shape::Sphere { centre, radius }
+    }
+
     /// The vertices, where this is a triangle. Triangles are the one kind the accelerators keep
     /// in their SIMD structures; every other shape they test through [`Shape::intersect`].
     #[inline]

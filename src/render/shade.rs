@@ -56,7 +56,7 @@ const END: f32 = 1.0 / (1u32 << 22) as f32;
 /// The shadow ray of surface point `p` (error bound `p_error`, unit normal `n`): from the
 /// light L to the point offset towards the light, t in (0, 1). Starting at the light lets
 /// every shadow ray of a frame share one origin (the packet kernel of
-/// [`crate::accel::packet`]). Its far end L + fl(p_o − L) misses the offset point p_o by at
+/// `crate::accel::packet`). Its far end L + fl(p_o − L) misses the offset point p_o by at
 /// most u·|p_o − L| per axis, so the offset also covers 2⁻²²·|L − p| (with p_o within a
 /// tiny offset of p): the end stays on the light's side of the surface.
 pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f32; 3]) -> Ray {
@@ -75,7 +75,7 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
 /// nearest hit was found (packet or per-ray search, f32 or exact level), so every path
 /// shades a pixel to the same bits: on a triangle it interpolates the vertices with
 /// barycentrics bᵢ = eᵢ/Σe from the edge functions of the triangle prepared for the ray's
-/// origin ([`OriginTriangle`], what the camera packets compute), clamped into the triangle
+/// origin (`OriginTriangle`, what the camera packets compute), clamped into the triangle
 /// (the centroid where they are not finite); the point then lies on the triangle's plane
 /// within γ(7)·Σ|bᵢ·vᵢ| + 8·2⁻¹⁴⁹ whatever the bᵢ's own error ([`SurfacePoint`]).
 #[derive(Clone, Copy, Debug)]
@@ -341,7 +341,7 @@ pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
 ///
 /// A triangle's point interpolates the vertices with the clamped barycentrics b̃ᵢ = ẽᵢ/S̃ of
 /// [`shade_packet`] (ẽᵢ the edge functions of the triangle prepared for the ray's origin,
-/// |ẽᵢ − eᵢ| ≤ Bᵢ by [`OriginTriangle::edge_bounds`], S̃ = fl(ẽ₀ + ẽ₁ + ẽ₂)). For the exact
+/// |ẽᵢ − eᵢ| ≤ Bᵢ by `OriginTriangle::edge_bounds`, S̃ = fl(ẽ₀ + ẽ₁ + ẽ₂)). For the exact
 /// barycentrics bᵢ = eᵢ/S of a ray that hits the triangle (all in [0, 1]),
 /// |ẽᵢ/S̃ − bᵢ| = |(ẽᵢ − eᵢ) + bᵢ·(S − S̃)|/|S̃| ≤ (Bᵢ + B_S)/|S̃| with
 /// B_S = ΣBⱼ + γ₂·Σ|ẽⱼ|, plus γ₂ for the division; clamping b₁ into [0, 1] keeps that bound
@@ -357,7 +357,7 @@ pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
 /// A sphere's point re-projects o + t·d onto the sphere ([`SurfacePoint::on_sphere`]) with
 /// t from the f64 interval of the nearest root (`sphere::interval_x4`, t_error its half-width
 /// and t's rounding to f32), or where the interval cannot tell, the exact t correctly rounded
-/// ([`adaptive::rounded_t`], within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
+/// ([`rounded_t`](crate::geometry::adaptive::rounded_t), within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
 /// level of the search found the hit.
 pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
     let shape = scene.shape(prim);

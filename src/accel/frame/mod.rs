@@ -339,7 +339,7 @@ impl<'a> FrameQueries<'a> {
     }
 
     /// Whether the frame's BVH packets prepare each triangle at most once for the eye, as they
-    /// first reach it ([`CAMERA_RAYS_PER_TRIANGLE`]).
+    /// first reach it (`CAMERA_RAYS_PER_TRIANGLE`).
     pub fn prepares_once(&self) -> bool {
         matches!(
             self.plan,

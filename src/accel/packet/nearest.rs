@@ -55,7 +55,7 @@ impl Default for PacketSeed {
 
 /// The nearest of `tris` along each of 8 directions from their shared origin, for
 /// 0 < t < ∞. `d_max` ≥ every |dₖ| of the packet ([`max_component`]); lanes that could
-/// overflow (or a NaN direction) are ambiguous. See [`PacketNearest`].
+/// overflow (or a NaN direction) are ambiguous. See `PacketNearest`.
 ///
 /// [`max_component`]: super::max_component
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {

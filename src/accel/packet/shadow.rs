@@ -8,7 +8,7 @@ use crate::math::simd::{avx512_avx2_or_baseline, each3};
 
 /// Eight shadow rays from the origin `tris` were prepared for (the light), directions `d`
 /// (`d_max` ≥ every |dₖ|, [`max_component`]): whether each lane in `valid` is blocked for
-/// 0 < t < 1 by one of `tris` other than its `skip` primitive, decided as [`PacketNearest`]
+/// 0 < t < 1 by one of `tris` other than its `skip` primitive, decided as `PacketNearest`
 /// decides a candidate (certain edge signs, t in a certain interval), or left to the per-ray
 /// adaptive search (`unsure`) where the bounds cannot tell. A lane is blocked when some
 /// triangle certainly crosses it with its whole t interval below 1; it is clear of a
@@ -16,7 +16,6 @@ use crate::math::simd::{avx512_avx2_or_baseline, each3};
 /// interval starts at 1 or beyond.
 ///
 /// [`max_component`]: super::max_component
-/// [`PacketNearest`]: super::PacketNearest
 pub fn shadow_from_origin(
     tris: &[OriginTriangle],
     d: &[f32x8; 3],

@@ -83,7 +83,7 @@ impl Instancing {
 pub const DEFAULT_COLOR: [f32; 3] = obj::DEFAULT_COLOR;
 
 /// The colour a mesh to be instanced is loaded with for faces without a material: no colour
-/// statement can give it (channels are ≥ 0), so [`mesh_from_scene`] knows them.
+/// statement can give it (channels are ≥ 0), so `mesh_from_scene` knows them.
 pub const UNSET_COLOR: [f32; 3] = [-1.0; 3];
 
 /// The lab light's power per channel, the default of `light`.

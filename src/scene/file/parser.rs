@@ -346,7 +346,7 @@ impl<T: Real> Parser<'_, T> {
                     }
                     (self.transformed([x[0], x[1], x[2]])?, r)
                 };
-                self.add(Shape::Sphere { centre, radius }, self.current.color)?;
+                self.add(Shape::sphere(centre, radius), self.current.color)?;
             }
             "mesh" => {
                 let (path, frame) = match args {
