@@ -1480,6 +1480,24 @@ fn inspect_prints_one_pixels_ray_as_the_lecture_writes_it() {
             f32::from_le_bytes(at(&t, k))
         );
         assert_eq!(f["shape"], "triangle");
+        // The exact t as `raylab trace` prints it for the same ray.
+        let (o, d) = (&f["origin"], &f["d_world"]);
+        let rays = dir.path().join("ray.txt");
+        std::fs::write(&rays, format!("{o} {d} 0 inf\n")).unwrap();
+        let scene = dir.path().join("box.scene");
+        std::fs::write(&scene, "cornell\n").unwrap();
+        let o = raylab(&[
+            "trace",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--rays",
+            rays.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(
+            stdout(&o).trim(),
+            format!("hit {} {}", f["t_exact"], f["hit"])
+        );
         for key in [
             "A_row0", "b", "x_tuv", "point", "normal", "rho", "D", "N", "colour",
         ] {

@@ -1117,6 +1117,13 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
                     "({i}, {j}) {} vs {t}",
                     hit.t
                 );
+                // The exact t, correctly rounded: within half an ulp of the reference's.
+                let half_ulp = (hit.t_exact.next_up() - hit.t_exact) as f64 / 2.0;
+                assert!(
+                    (hit.t_exact as f64 - t).abs() <= half_ulp + 1e-12 * t,
+                    "({i}, {j}) exact {} vs {t}",
+                    hit.t_exact
+                );
             }
             // x = A⁻¹b solves the system, and its t is the hit's.
             let ShapeTerms::Triangle { a, b, x } = hit.terms else {

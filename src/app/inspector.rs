@@ -35,6 +35,7 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         };
         row("hit", format!("primitive {}", h.prim));
         row("t", format!("{}", h.t));
+        row("t exact", format!("{}", h.t_exact));
         row("decided by", h.decided_by.to_string());
         for (label, value) in h.terms.rows(v3) {
             row(label, value);
