@@ -13,8 +13,9 @@
 //! cracks on|off
 //! ```
 //! A path with spaces, `#` or quotes is written in double quotes (`crate::words`), so any file
-//! name round-trips. Numbers are written in Rust's shortest round-trip form, so a saved view reads back to the
-//! same f64 values (the field of view is derived from the focal length, exact to an ulp).
+//! name round-trips. Numbers are written in Rust's shortest round-trip form, so a saved view
+//! reads back to the same f64 values (the field of view is derived from the focal length,
+//! exact to an ulp).
 
 use crate::geometry::Method;
 use crate::render::{LabStep, RenderSettings};

@@ -7,6 +7,7 @@
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
 use super::layout::{merge, Layout};
+use super::reference::{any_one_by_one, nearest_one_by_one};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{
     approx_f32, box_extent, edge_error, loose_t_bound, round_down, Estimate, Search,
@@ -102,12 +103,13 @@ impl FlatLoop {
         self.len.div_ceil(8) * std::mem::size_of::<[[f32x8; 3]; 4]>()
     }
 
-    /// The triangles with their primitive indices, in the order they were packed.
-    fn in_order(&self) -> impl Iterator<Item = ([[f32; 3]; 3], u32)> + '_ {
+    /// The triangles as shapes with their primitive indices, in the order they were packed
+    /// (primitive order).
+    fn in_order(&self) -> impl Iterator<Item = (Shape<f32>, u32)> + '_ {
         (self.blocks.iter()).flat_map(|b| {
             (0..8)
                 .filter(|l| b.valid >> l & 1 == 1)
-                .map(|l| (b.tris[l], b.prim[l]))
+                .map(|l| (Shape::from(b.tris[l]), b.prim[l]))
         })
     }
 
@@ -442,23 +444,13 @@ impl FlatLoop {
 /// primitive order, through the shape's own test.
 impl Layout for FlatLoop {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        let found = match method {
-            Method::Watertight => {
-                WatertightRay::new(ray.o, ray.d).and_then(|r| self.closest_hit(&r, tmin, tmax))
-            }
-            _ => {
-                let mut found: Option<Hit> = None;
-                let mut t_far = tmax;
-                for (v, prim) in self.in_order() {
-                    if let Some((t, b1, b2)) = Shape::from(v).intersect(ray, method, tmin, t_far) {
-                        t_far = t;
-                        found = Some(Hit { t, prim, b1, b2 });
-                    }
-                }
-                found
-            }
-        };
-        merge(best, found);
+        match method {
+            Method::Watertight => merge(
+                best,
+                WatertightRay::new(ray.o, ray.d).and_then(|r| self.closest_hit(&r, tmin, tmax)),
+            ),
+            _ => nearest_one_by_one(self.in_order(), ray, method, tmin, tmax, best),
+        }
     }
 
     fn nearest_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
@@ -470,9 +462,7 @@ impl Layout for FlatLoop {
             Method::Watertight => {
                 WatertightRay::new(ray.o, ray.d).is_some_and(|r| self.any_hit(&r, tmin, tmax, skip))
             }
-            _ => self.in_order().any(|(v, prim)| {
-                prim != skip && Shape::from(v).intersect(ray, method, tmin, tmax).is_some()
-            }),
+            _ => any_one_by_one(self.in_order(), ray, method, tmin, tmax, skip),
         }
     }
 

@@ -19,7 +19,7 @@
 //! own corners. The slab test itself is conservative as in [`super::bvh`].
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
-use super::layout::Layout;
+use super::layout::{merge, Layout};
 use super::packet::{
     quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, PreciseTriangle,
     ShadowPacket,
@@ -422,9 +422,7 @@ impl Instances {
                 let shape = Shape::from(placed.world(&tris[i]));
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
                     let prim = placed.first_prim + locals[i];
-                    if best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim)) {
-                        *best = Some(Hit { t, prim, b1, b2 });
-                    }
+                    merge(best, Some(Hit { t, prim, b1, b2 }));
                 }
             }
             (far(best), false)

@@ -44,6 +44,7 @@ pub trait Layout: Send + Sync {
 }
 
 /// Keeps `hit` in `best` if it is nearer, or as near with a lower primitive index.
+#[inline]
 pub(crate) fn merge(best: &mut Option<Hit>, hit: Option<Hit>) {
     if let Some(h) = hit {
         if best.is_none_or(|b| h.t < b.t || (h.t == b.t && h.prim < b.prim)) {

@@ -605,7 +605,7 @@ fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
 /// There are at most 6 orders, so the work stays bounded.) Found by sorting randomly keyed
 /// hashes, so no input can force the quadratic case; the order of the rest is unchanged.
 pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
-    let key = |t: &IndexedTriangle| t.0.map(|p| p.map(|c| (c + 0.0).to_bits()));
+    let key = |t: &IndexedTriangle| Shape::from(t.0).key();
     let hasher = ahash::RandomState::new();
     // Each triangle as one u64: its hash's high bits above its index (sorting these is half
     // the work of sorting (hash, index) pairs; 44 bits of hash are left for 10⁶ triangles).
@@ -621,7 +621,7 @@ pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle
     let runs = keyed.chunk_by(|&a, &b| hash_of(a) == hash_of(b));
     for run in runs.filter(|r| r.len() > 1) {
         // In index order: the first of each distinct key in the run is kept.
-        let mut kept: Vec<[[u32; 3]; 3]> = Vec::new();
+        let mut kept: Vec<(u8, [u32; 9])> = Vec::new();
         for &x in run {
             let i = index_of(x);
             let k = key(&tris[i]);

@@ -13,14 +13,39 @@ use crate::math::Real;
 #[derive(Clone, Debug, Default)]
 pub struct InOrder(pub Vec<(Shape<f32>, u32)>);
 
+/// [`Layout::nearest`] over `shapes` (with their primitive indices) one by one, through the
+/// shape's own test.
+pub(crate) fn nearest_one_by_one(
+    shapes: impl IntoIterator<Item = (Shape<f32>, u32)>,
+    ray: &Ray,
+    method: Method,
+    tmin: f32,
+    tmax: f32,
+    best: &mut Option<Hit>,
+) {
+    for (shape, prim) in shapes {
+        let t_far = best.map_or(tmax, |h| h.t.next_up());
+        if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
+            merge(best, Some(Hit { t, prim, b1, b2 }));
+        }
+    }
+}
+
+/// [`Layout::any`] over `shapes` (with their primitive indices) one by one.
+pub(crate) fn any_one_by_one(
+    mut shapes: impl Iterator<Item = (Shape<f32>, u32)>,
+    ray: &Ray,
+    method: Method,
+    tmin: f32,
+    tmax: f32,
+    skip: u32,
+) -> bool {
+    shapes.any(|(shape, prim)| prim != skip && shape.intersect(ray, method, tmin, tmax).is_some())
+}
+
 impl Layout for InOrder {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        for &(shape, prim) in &self.0 {
-            let t_far = best.map_or(tmax, |h| h.t.next_up());
-            if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
-                merge(best, Some(Hit { t, prim, b1, b2 }));
-            }
-        }
+        nearest_one_by_one(self.0.iter().copied(), ray, method, tmin, tmax, best);
     }
 
     fn nearest_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
@@ -30,9 +55,7 @@ impl Layout for InOrder {
     }
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        (self.0.iter()).any(|(shape, prim)| {
-            *prim != skip && shape.intersect(ray, method, tmin, tmax).is_some()
-        })
+        any_one_by_one(self.0.iter().copied(), ray, method, tmin, tmax, skip)
     }
 
     fn any_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {

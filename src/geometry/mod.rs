@@ -145,6 +145,7 @@ impl Shape<f32> {
 
     /// The shape's kind and numbers as bits (−0 as +0): equal keys are the same shape to the
     /// bit (finding copies at build).
+    #[inline]
     pub fn key(&self) -> (u8, [u32; 9]) {
         let bits = |x: f32| (x + 0.0).to_bits();
         let mut k = [0; 9];

@@ -357,8 +357,8 @@ pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
 /// A sphere's point re-projects o + t·d onto the sphere ([`SurfacePoint::on_sphere`]) with
 /// t from the f64 interval of the nearest root (`sphere::interval_x4`, t_error its half-width
 /// and t's rounding to f32), or where the interval cannot tell, the exact t correctly rounded
-/// ([`rounded_t`](crate::geometry::adaptive::rounded_t), within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same for every path, whichever
-/// level of the search found the hit.
+/// ([`rounded_t`](crate::geometry::adaptive::rounded_t), within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same
+/// for every path, whichever level of the search found the hit.
 pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
     let shape = scene.shape(prim);
     let Some(v) = shape.triangle() else {

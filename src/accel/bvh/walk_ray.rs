@@ -22,10 +22,7 @@ impl Bvh {
                 let shape = Shape::from(self.tris[i]);
                 if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
                     let prim = self.prims[i];
-                    let better = best.is_none_or(|h| t < h.t || (t == h.t && prim < h.prim));
-                    if better {
-                        best = Some(Hit { t, prim, b1, b2 });
-                    }
+                    merge(&mut best, Some(Hit { t, prim, b1, b2 }));
                 }
             }
             // Hits at t equal to the best stay possible (for the index tie-break).

@@ -497,7 +497,8 @@ impl<V: LaneOps> PacketNearest<V> {
 }
 
 impl<V: Lanes> PacketNearest<V> {
-    /// A nearest-hit state for directions `d` (`d_max` ≥ every |dₖ|) holding `seed`'s candidates and ambiguous lanes, if any.
+    /// A nearest-hit state for directions `d` (`d_max` ≥ every |dₖ|) holding `seed`'s
+    /// candidates and ambiguous lanes, if any.
     #[inline(always)]
     pub fn seeded(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> Self {
         Self::seeded_in(each3(|k| V::from_wide(d[k])), d_max, seed)
