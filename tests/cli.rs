@@ -1903,7 +1903,10 @@ fn shadow_segments_through_every_path(
 
 #[test]
 fn worker_threads_the_system_cannot_give_are_an_error_not_a_panic() {
-    // 5,000 threads' stacks do not fit in 2 GB of address space (the binary does).
+    // One worker's 8 GiB stack (std's threads take RUST_MIN_STACK) does not fit in 2 GB of
+    // address space, while the binary does: the first spawn fails, before any worker runs.
+    // (Many small stacks instead race: a worker that started can abort allocating its signal
+    // stack once the last spawn took the memory.)
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");
     let o = Command::new("bash")
@@ -1911,7 +1914,8 @@ fn worker_threads_the_system_cannot_give_are_an_error_not_a_panic() {
         .arg(r#"ulimit -v 2000000 && exec "$0" render --width 8 --height 8 -o "$1""#)
         .arg(env!("CARGO_BIN_EXE_raylab"))
         .arg(&out)
-        .env("RAYON_NUM_THREADS", "5000")
+        .env("RAYON_NUM_THREADS", "2")
+        .env("RUST_MIN_STACK", (8u64 << 30).to_string())
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
