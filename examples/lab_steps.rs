@@ -12,7 +12,7 @@ use std::path::PathBuf;
 fn main() -> anyhow::Result<()> {
     let out = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| ".".into()));
     std::fs::create_dir_all(&out)?;
-    let scene = Scene::cornell();
+    let scene = raylab::render::Stage::from(Scene::cornell());
 
     // Step 2, the camera: move back a little and turn 10° to the right, as stack operations.
     let mut stack = TransformStack::new();

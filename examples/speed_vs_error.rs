@@ -429,13 +429,17 @@ fn main() -> anyhow::Result<()> {
 /// (camera rays in packets or from a prepared origin for the adaptive method, the per-ray
 /// watertight loop otherwise), adaptive against watertight, round robin, best of 7.
 fn render_table(md: &mut String, bunny: &Path, threads: usize) -> anyhow::Result<()> {
-    use raylab::render::{render_image, LabStep, RenderSettings};
-    let mut scenes = vec![("cornell", raylab::Scene::cornell(), Camera::cornell(1280))];
+    use raylab::render::{render_image, LabStep, RenderSettings, Stage};
+    let cornell = Stage::from(raylab::Scene::cornell());
+    let mut scenes = vec![("cornell", cornell, Camera::cornell(1280))];
     if bunny.exists() {
-        let mut scene = raylab::scene::obj::load_obj_file(bunny, Default::default())?;
-        scene.set_accel(AccelChoice::Auto);
+        let scene = raylab::scene::obj::load_obj_file(bunny, Default::default())?;
         let framing = CameraController::framing(scene.bounds().expect("non-empty"), 1280, 720);
-        scenes.push(("bunny", scene, framing.camera(1280)));
+        scenes.push((
+            "bunny",
+            Stage::new(scene, AccelChoice::Auto),
+            framing.camera(1280),
+        ));
     }
     let pools: Vec<(usize, rayon::ThreadPool)> = [1, threads]
         .into_iter()

@@ -9,9 +9,8 @@ fn main() {
         raylab::tracefile::parse_scene::<f32>("c", "cornell\n").unwrap();
     let shapes64: Vec<Shape<f64>> =
         raylab::tracefile::parse_scene::<f64>("c", "cornell\n").unwrap();
-    let mut scene = raylab::tracefile::parse_scene_instanced("c", "cornell\n").unwrap();
-    scene.set_accel(raylab::accel::AccelChoice::Auto);
-    let accel = scene.accel();
+    let scene = raylab::tracefile::parse_scene_instanced("c", "cornell\n").unwrap();
+    let accel = &raylab::accel::Accel::for_scene(&scene, raylab::accel::AccelChoice::Auto);
     let rays: Vec<[f64; 6]> = (0..160_000)
         .map(|i| {
             let (x, y) = (

@@ -7,11 +7,11 @@ use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
-use raylab::render::{self, LabStep, RenderSettings};
+use raylab::render::{self, LabStep, RenderSettings, Stage};
 use raylab::scene::{ObjFrame, Scene};
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// `println!` for the CLI's reports, where a closed stdout (`raylab bench | head -1`) is an
 /// error that ends the command quietly (see `main`) instead of a panic.
@@ -221,8 +221,9 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
 /// Runs `raylab inspect`.
 pub fn inspect(args: &InspectArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view)?;
+    let stage = Stage::new(scene, args.view.accel);
     let (x, y) = args.pixel;
-    let inspection = raylab::render::inspect::inspect(&scene, &camera, &settings, x, y)?;
+    let inspection = raylab::render::inspect::inspect(&stage, &camera, &settings, x, y)?;
     say!("{}", inspection.to_string().trim_end());
     Ok(())
 }
@@ -335,10 +336,9 @@ pub fn load_scene(spec: &str, frame: ObjFrame) -> Result<Scene> {
     Scene::open(spec, frame).map_err(anyhow::Error::msg)
 }
 
-/// [`load_scene`] with the accelerator `accel` chosen, its warnings printed.
-fn load_scene_for(spec: &str, frame: ObjFrame, accel: AccelChoice) -> Result<Scene> {
-    let mut scene = load_scene(spec, frame)?;
-    scene.set_accel(accel);
+/// [`load_scene`] with its warnings printed.
+fn load_scene_warning(spec: &str, frame: ObjFrame) -> Result<Scene> {
+    let scene = load_scene(spec, frame)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -359,11 +359,11 @@ fn set_light(scene: &mut Scene, position: [f64; 3]) -> Result<()> {
 
 /// The scene, camera and settings of a view file (F5 in the window). A relative scene path
 /// that does not exist from here is looked up beside the view file.
-fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
+fn prepare_view(path: &Path) -> Result<(Scene, Camera, RenderSettings)> {
     let text = read_text(path)?;
     let view = raylab::view::View::parse(&path.display().to_string(), &text)?;
     let spec = view.scene_path(path);
-    let mut scene = load_scene_for(&spec, view.obj_frame, v.accel)
+    let mut scene = load_scene_warning(&spec, view.obj_frame)
         .with_context(|| format!("loading scene '{spec}' of view '{}'", path.display()))?;
     if let Some(light) = view.light {
         set_light(&mut scene, light.map(f64::from))?;
@@ -378,7 +378,7 @@ fn prepare_view(path: &Path, v: &ViewArgs) -> Result<(Scene, Camera, RenderSetti
 /// The scene, camera and settings a `ViewArgs` asks for.
 fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     if let Some(path) = &v.view {
-        return prepare_view(path, v);
+        return prepare_view(path);
     }
     let settings = RenderSettings {
         width: v.width,
@@ -390,7 +390,7 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         cracks: v.cracks,
     };
     settings.validate()?;
-    let mut scene = load_scene_for(&v.scene, v.obj_frame, v.accel)
+    let mut scene = load_scene_warning(&v.scene, v.obj_frame)
         .with_context(|| format!("loading scene '{}'", v.scene))?;
     if let Some(light) = v.light {
         set_light(&mut scene, light.to_array())?;
@@ -428,7 +428,7 @@ const PROGRESS_MIN_RAYS: u64 = 1 << 22;
 /// Renders with a progress bar and ETA on a terminal for large renders, stopping cleanly at
 /// Ctrl+C (`None`).
 fn render_with_progress(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<Option<(Vec<u8>, render::RenderStats)>> {
@@ -459,16 +459,20 @@ fn render_with_progress(
         bar.inc(1);
         interrupted.load(Ordering::Relaxed)
     };
-    let stats = render::render_into_cancellable(scene, camera, settings, &mut rgba, &cancelled)?;
+    let stats = render::render_into_cancellable(stage, camera, settings, &mut rgba, &cancelled)?;
     bar.finish_and_clear();
     Ok(stats.map(|s| (rgba, s)))
 }
 
-/// Says which triangles the structure (built) left out as copies.
-fn warn_about_copies(scene: &Scene) {
-    if let Some(w) = scene.copies_warning() {
+/// Builds the structure `accel` names over `scene`, timed, and says what it left out as copies.
+fn stage(scene: Scene, accel: AccelChoice) -> (Stage, Duration) {
+    let start = Instant::now();
+    let stage = Stage::new(scene, accel);
+    let build = start.elapsed();
+    if let Some(w) = stage.accel().copies_warning(stage.scene()) {
         eprintln!("warning: {w}");
     }
+    (stage, build)
 }
 
 /// Runs `raylab render`.
@@ -481,11 +485,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     if args.aov {
         render::aov::Aovs::create_beside(&args.out)?;
     }
-    let build = Instant::now();
-    scene.accel();
-    let build = build.elapsed();
-    warn_about_copies(&scene);
-    let Some((rgba, stats)) = render_with_progress(&scene, &camera, &settings)? else {
+    let (stage, build) = stage(scene, args.view.accel);
+    let scene = stage.scene();
+    let Some((rgba, stats)) = render_with_progress(&stage, &camera, &settings)? else {
         return Err(Interrupted.into());
     };
     let writing = |e: std::io::Error| anyhow!("writing '{}': {e}", args.out.display());
@@ -494,7 +496,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     drop(rgba);
     let mut aov_outs = None;
     if args.aov {
-        let aovs = render::aov::render_aovs(&scene, &camera, &settings)?;
+        let aovs = render::aov::render_aovs(&stage, &camera, &settings)?;
         let mut outs = render::aov::Aovs::create_beside(&args.out)?;
         aovs.write_into(&mut outs).map_err(writing)?;
         aov_outs = Some(outs);
@@ -505,7 +507,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
         scene.name,
         scene.len(),
-        scene.accel().kind(),
+        stage.accel().kind(),
         build.as_secs_f64() * 1e3,
         settings.width,
         settings.height,
@@ -556,16 +558,14 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         raylab::machine::simd_level()
     );
-    let build = Instant::now();
-    let accel = pool.install(|| scene.accel().kind());
-    let build = build.elapsed();
-    warn_about_copies(&scene);
+    let (stage, build) = pool.install(|| stage(scene, args.view.accel));
+    let (scene, accel) = (stage.scene(), stage.accel().kind());
     say!(
         "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
         scene.name,
         scene.len(),
         build.as_secs_f64() * 1e3,
-        scene.accel().memory_bytes() as f64 / 1e6
+        stage.accel().memory_bytes() as f64 / 1e6
     );
     say!(
         "view: {}x{} step={} spp={} method={} camera={} yaw={} pitch={} focal={}",
@@ -582,7 +582,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let mut rgba = vec![0u8; settings.buffer_len()];
     let mut runs = Vec::new();
     for frame in 0..=args.frames {
-        let stats = pool.install(|| render::render_into(&scene, &camera, &settings, &mut rgba))?;
+        let stats = pool.install(|| render::render_into(&stage, &camera, &settings, &mut rgba))?;
         if frame > 0 {
             say!(
                 "frame {frame}: {:.3} ms, {} primary + {} shadow rays, {} hits, {:.2} Mrays/s",
@@ -631,9 +631,9 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         if args.precision != Precision::F32 || method != Method::Adaptive {
             bail!("--accel packets runs the renderer's packets: f32 and the adaptive method only");
         }
-        let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
+        let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
         let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-        return write_out(&tracefile::trace_all_packets(&mut scene, &rays, query));
+        return write_out(&tracefile::trace_all_packets(&scene, &rays, query));
     }
     let choice = match args.accel {
         TraceAccel::Packets => unreachable!("handled above"),
@@ -646,9 +646,9 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method, query)?,
         (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method, query)?,
         (Precision::F32, Some(choice)) => {
-            let mut scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
+            let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
             let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            tracefile::trace_all_through(&mut scene, &rays, method, choice, query)
+            tracefile::trace_all_through(&scene, &rays, method, choice, query)
         }
         (Precision::F64, Some(_)) => bail!(
             "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",

@@ -40,11 +40,12 @@
 //! The lab's Cornell box, step 4 (shadows), rendered and written as a PNG:
 //! ```
 //! use raylab::{render_into, Camera, LabStep, RenderSettings};
-//! let scene = raylab::scene::cornell::scene();
+//! // The scene and the structure that answers its rays, built once.
+//! let stage = raylab::Stage::from(raylab::Scene::cornell());
 //! let settings = RenderSettings { width: 64, height: 48, step: LabStep::Shadows, ..Default::default() };
 //! let camera = Camera::cornell(settings.width);
 //! let mut rgba = vec![0u8; settings.buffer_len()];
-//! let stats = render_into(&scene, &camera, &settings, &mut rgba)?;
+//! let stats = render_into(&stage, &camera, &settings, &mut rgba)?;
 //! assert_eq!(stats.primary_rays, 64 * 48);
 //! let path = std::env::temp_dir().join("raylab-example.png");
 //! raylab::render::write_png(&path, settings.width, settings.height, &rgba)?;
@@ -81,5 +82,5 @@ pub mod words;
 pub use camera::Camera;
 pub use geometry::{Hit, Method, Ray, Shape};
 pub use math::TransformStack;
-pub use render::{render_into, LabStep, RenderSettings, RenderStats};
+pub use render::{render_into, LabStep, RenderSettings, RenderStats, Stage};
 pub use scene::Scene;

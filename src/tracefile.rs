@@ -197,14 +197,13 @@ fn any_answers<T: Real>(rays: &[TraceRay<T>], mut any: impl FnMut(&TraceRay<T>) 
 /// the BVH, the two-level structure of instances), in the same output format as
 /// [`trace_all`].
 pub fn trace_all_through(
-    scene: &mut crate::scene::Scene,
+    scene: &crate::scene::Scene,
     rays: &[TraceRay<f32>],
     method: Method,
     choice: accel::AccelChoice,
     query: Query,
 ) -> String {
-    scene.set_accel(choice);
-    let structure = scene.accel();
+    let structure = accel::Accel::for_scene(scene, choice);
     match query {
         Query::Nearest => answers(
             rays,
@@ -228,15 +227,13 @@ pub fn trace_all_through(
 /// the exact resolvers and per ray. Other rays go per ray through the scene's structure.
 /// Same output format as [`trace_all`]; a nearest hit's t is the adaptive t of its primitive.
 pub fn trace_all_packets(
-    scene: &mut crate::scene::Scene,
+    scene: &crate::scene::Scene,
     rays: &[TraceRay<f32>],
     query: Query,
 ) -> String {
     use crate::accel::{FrameSetup, ShadowSegments, TileScratch, NO_HIT};
     use wide::f32x8;
-    scene.set_accel(accel::AccelChoice::Auto);
-    let scene = &*scene;
-    let accel = scene.accel();
+    let accel = &accel::Accel::for_scene(scene, accel::AccelChoice::Auto);
     let tmax_of_group = match query {
         Query::Nearest => f32::INFINITY,
         Query::Any => 1.0,

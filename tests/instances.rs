@@ -13,12 +13,17 @@ mod common;
 use common::suite;
 use common::{icosphere, Rng};
 use glam::{DMat4, DVec3};
-use raylab::accel::{self, AccelChoice};
+use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::{Hit, Method, Ray, Shape};
-use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::{cornell, Instance, Mesh, Scene};
 use raylab::Camera;
 use std::sync::Arc;
+
+/// The structure raylab chooses for `scene`.
+fn auto(scene: &Scene) -> Accel {
+    Accel::for_scene(scene, AccelChoice::Auto)
+}
 
 fn triangles(shapes: &[Shape<f32>]) -> Vec<[[f32; 3]; 3]> {
     shapes
@@ -170,11 +175,9 @@ fn instanced_queries_equal_the_flattened_scene() {
             assert_eq!(scene.color(p), flat.colors()[p as usize], "colour of {p}");
         }
         for choice in [AccelChoice::Auto, AccelChoice::Flat] {
-            let mut scene = scene.clone();
-            scene.set_accel(choice);
-            let inst = scene.accel();
+            let inst = Accel::for_scene(&scene, choice);
             assert!(inst.instances().is_some());
-            let reference = flat.accel();
+            let reference = auto(&flat);
             for ray in rays_at(&flat, &mut rng, 150) {
                 for method in Method::ALL {
                     let want = accel::closest_hit(&flat.shapes, &ray, method, 0.0, f32::INFINITY);
@@ -242,7 +245,8 @@ fn tiles_off_the_instances_box_render_as_the_flattened_scene() {
     let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -2.5), 0.0, 0.0, 100.0).unwrap();
     let (w, h) = (120, 90);
     let gen = cam.ray_generator(w, h);
-    let queries = scene.accel().for_frame(&accel::FrameSetup {
+    let structure = auto(&scene);
+    let queries = structure.for_frame(&accel::FrameSetup {
         eye: gen.origin(),
         light: scene.light.position,
         projection: Some(cam.projection(w, h)),
@@ -272,8 +276,8 @@ fn tiles_off_the_instances_box_render_as_the_flattened_scene() {
                 tile_culling,
                 ..Default::default()
             };
-            let (a, sa) = render_image(&scene, &cam, &settings).unwrap();
-            let (b, sb) = render_image(&flat, &cam, &settings).unwrap();
+            let (a, sa) = render_image(&scene.clone().into(), &cam, &settings).unwrap();
+            let (b, sb) = render_image(&flat.clone().into(), &cam, &settings).unwrap();
             assert!(a == b, "{step} culling {tile_culling}: images differ");
             assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
             assert!(sa.hits > 1000, "{} hits", sa.hits);
@@ -315,7 +319,7 @@ fn instanced_images_equal_the_flattened_scene() {
         .with_instances(instances)
         .unwrap();
     assert_eq!(scene.len() as u32, 30 + n_inst + 1);
-    let flat = scene.flattened();
+    let (scene, flat) = (Stage::from(scene.clone()), Stage::from(scene.flattened()));
     let cam = Camera::cornell(100);
     for step in LabStep::ALL {
         for cracks in [false, true] {
@@ -342,7 +346,9 @@ fn instanced_images_equal_the_flattened_scene() {
         height: 75,
         ..Default::default()
     };
-    let boxed = render_image(&Scene::cornell(), &cam, &settings).unwrap().0;
+    let boxed = render_image(&Scene::cornell().into(), &cam, &settings)
+        .unwrap()
+        .0;
     let balls = render_image(&scene, &cam, &settings).unwrap().0;
     let differ = boxed
         .chunks(4)
@@ -403,17 +409,11 @@ fn hard_cases_through_instances_answer_as_flattened() {
             cornell::LIGHT,
             cornell::AMBIENT,
         );
-        let flat = scene.flattened();
+        let (own, flat, scene) = (auto(&own), auto(&scene.flattened()), auto(&scene));
         for ray in &family.rays {
-            let want = own
-                .accel()
-                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
-            let got = scene
-                .accel()
-                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
-            let flat_got = flat
-                .accel()
-                .closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let want = own.closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let got = scene.closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+            let flat_got = flat.closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
             same_hit(Method::Adaptive, ray, got, flat_got, &family.name);
             // The second placement lies elsewhere only where the family is not centred on
             // the z axis; where the first placement is hit, it is the family's own answer.
@@ -423,12 +423,8 @@ fn hard_cases_through_instances_answer_as_flattened() {
                 }
             }
             let turned = Ray::new(turn(ray.o), turn(ray.d));
-            let got = scene
-                .accel()
-                .closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
-            let flat_got = flat
-                .accel()
-                .closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
+            let got = scene.closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
+            let flat_got = flat.closest_hit(&turned, Method::Adaptive, 0.0, f32::INFINITY);
             same_hit(Method::Adaptive, &turned, got, flat_got, &family.name);
             rays += 1;
         }
@@ -458,7 +454,7 @@ fn a_thousand_placements_store_the_mesh_once() {
         .with_instances(instances)
         .unwrap();
     assert_eq!(scene.len(), 1000 * n);
-    let accel = scene.accel();
+    let accel = auto(&scene);
     assert_eq!(accel.triangle_count(), 1000 * n);
     // One mesh hierarchy (~60 bytes a triangle) and ~250 bytes per placement; flattened,
     // 5.1M triangles would take ~300 MB.
@@ -505,13 +501,13 @@ fn coincident_placements_are_left_out_and_answer_as_flattened() {
     placements.extend(std::iter::repeat_n(a, 99));
     placements.extend([c, b]);
     let scene = scene_with(&mesh, &placements, &mut rng);
-    let accel = scene.accel();
+    let accel = auto(&scene);
     let distinct = 3 * n;
-    let explicit = scene.accel().stored_triangle_count();
+    let explicit = accel.stored_triangle_count();
     assert_eq!(accel.triangle_count(), distinct + explicit);
     assert_eq!(accel.copies_left_out(), 100 * n);
     let flat = scene.flattened();
-    let reference = flat.accel();
+    let reference = auto(&flat);
     for ray in rays_at(&flat, &mut rng, 300) {
         for method in Method::ALL {
             let want = reference.closest_hit(&ray, method, 0.0, f32::INFINITY);
@@ -614,8 +610,12 @@ pop
             step,
             ..Default::default()
         };
-        let a = render_image(&scene, &cam, &settings).unwrap().0;
-        let b = render_image(&flat_scene, &cam, &settings).unwrap().0;
+        let a = render_image(&scene.clone().into(), &cam, &settings)
+            .unwrap()
+            .0;
+        let b = render_image(&flat_scene.clone().into(), &cam, &settings)
+            .unwrap()
+            .0;
         assert!(a == b, "{step}: images differ");
     }
 }
@@ -624,15 +624,15 @@ pop
 /// decides names the primitive the flattened scene's per-ray query names. Returns the lanes
 /// decided and the lanes in all.
 fn check_instance_packets(
-    scene: &Scene,
-    flat: &Scene,
+    scene: &Accel,
+    flat: &Accel,
     o: [f32; 3],
     dirs: &[[f32; 3]; 8],
 ) -> (usize, usize) {
     use raylab::accel::testing::max_component;
     use wide::f32x8;
     let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-    let found = (scene.accel())
+    let found = scene
         .closest_packet(o, None, &d, max_component(&d))
         .expect("a BVH and no other shapes");
     let mut decided = 0;
@@ -641,7 +641,7 @@ fn check_instance_packets(
             continue;
         }
         decided += 1;
-        let want = (flat.accel())
+        let want = flat
             .closest_hit(&Ray::new(o, *dir), Method::Adaptive, 0.0, f32::INFINITY)
             .map_or(u32::MAX, |h| h.prim);
         assert_eq!(found.prim[l], want, "lane {l} of {o:?} {dirs:?}");
@@ -670,7 +670,7 @@ fn instanced_packets_decide_as_the_flattened_scene() {
         let Some((scene, _)) = family_placed_twice(&family, &mut rng) else {
             continue;
         };
-        let flat = scene.flattened();
+        let (scene, flat) = (auto(&scene), auto(&scene.flattened()));
         for ray in family.rays.iter().step_by(3) {
             let mut dirs = [ray.d; 8];
             for d in &mut dirs[1..] {
@@ -704,7 +704,7 @@ fn instanced_packets_decide_as_the_flattened_scene() {
     let scene = Scene::new("row", vec![], vec![], cornell::LIGHT, cornell::AMBIENT)
         .with_instances(placements)
         .unwrap();
-    let flat = scene.flattened();
+    let (scene, flat) = (auto(&scene), auto(&scene.flattened()));
     let (mut decided, mut lanes, mut hits) = (0, 0, 0);
     for _ in 0..400 {
         let o = [
@@ -722,8 +722,7 @@ fn instanced_packets_decide_as_the_flattened_scene() {
         hits += dirs
             .iter()
             .filter(|d| {
-                flat.accel()
-                    .closest_hit(&Ray::new(o, **d), Method::Adaptive, 0.0, f32::INFINITY)
+                flat.closest_hit(&Ray::new(o, **d), Method::Adaptive, 0.0, f32::INFINITY)
                     .is_some()
             })
             .count();
@@ -804,9 +803,76 @@ fn colour_runs_hold_their_primitives_colour_and_flat_images_use_them() {
         ..Default::default()
     };
     assert!(scene.len() * 8 > 64 * 48);
-    let (a, _) = render_image(&scene, &Camera::cornell(64), &settings).unwrap();
-    let (b, _) = render_image(&scene.flattened(), &Camera::cornell(64), &settings).unwrap();
+    let (a, _) = render_image(&scene.clone().into(), &Camera::cornell(64), &settings).unwrap();
+    let (b, _) = render_image(&scene.flattened().into(), &Camera::cornell(64), &settings).unwrap();
     assert!(a == b, "flat images differ");
     let colours: std::collections::BTreeSet<&[u8]> = a.chunks(4).collect();
     assert!(colours.len() > 8, "{} colours", colours.len());
+}
+
+#[test]
+fn an_instanced_scene_without_camera_or_light_is_framed_and_lit_as_flattened() {
+    // Only placed meshes, turned so that their boxes carried into the world are larger than
+    // their triangles' box: the default light and camera come from the triangles' real box,
+    // so the instanced scene and the same file flattened give the same bounds, light and image.
+    let dir = tempfile::tempdir().unwrap();
+    let ball = icosphere(2, 0.5, [0.1, 0.2, 0.3]);
+    std::fs::write(dir.path().join("ball.obj"), obj_text(&ball)).unwrap();
+    let text = "\
+push
+  rotate y 37
+  rotate x 21
+  mesh ball.obj
+pop
+push
+  translate 1.3 0.2 0.4
+  rotate z 50
+  scale 0.7 1.6 1
+  mesh ball.obj
+pop
+";
+    let path = dir.path().join("two.scene");
+    std::fs::write(&path, text).unwrap();
+    let scene = raylab::scene::load_scene_file(&path).unwrap();
+    assert_eq!(scene.instances().len(), 2);
+    let load = |p: &std::path::Path, frame, color| {
+        raylab::scene::obj::load_obj_file_coloured(p, frame, color).map_err(|e| e.to_string())
+    };
+    let name = path.display().to_string();
+    let flat = raylab::scene::file::parse::<f32>(&name, text, dir.path(), &load).unwrap();
+    let flat = Scene::from_description(&name, flat).unwrap();
+    assert!(flat.instances().is_empty());
+    let bounds = scene.bounds().unwrap();
+    assert_eq!(Some(bounds), flat.bounds());
+    // The bounds are the triangles' own: some vertex lies on each face of the box.
+    let on_face = |k: usize, x: f32| {
+        (0..scene.len() as u32).any(|p| match scene.shape(p) {
+            Shape::Triangle(v) => v.iter().any(|q| q[k] == x),
+            _ => false,
+        })
+    };
+    for k in 0..3 {
+        assert!(
+            on_face(k, bounds.0[k]) && on_face(k, bounds.1[k]),
+            "axis {k}"
+        );
+    }
+    assert_eq!(scene.light, flat.light);
+    let (w, h) = (96, 72);
+    let cam = raylab::controller::CameraController::framing(bounds, w, h).camera(w);
+    for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
+        let settings = RenderSettings {
+            width: w,
+            height: h,
+            step,
+            ..Default::default()
+        };
+        let a = render_image(&scene.clone().into(), &cam, &settings)
+            .unwrap()
+            .0;
+        let b = render_image(&flat.clone().into(), &cam, &settings)
+            .unwrap()
+            .0;
+        assert!(a == b, "{step}: images differ");
+    }
 }

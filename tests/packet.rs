@@ -160,11 +160,11 @@ fn cornell_camera_rays_are_decided_and_right() {
     // The default view at 160x120: every pixel's ray through the packet kernel, compared
     // with the scene's per-ray adaptive answer; the ambiguous ones are the rays along the
     // box's edges and the quads' diagonals.
-    let scene = Scene::cornell();
+    let stage = raylab::render::Stage::from(Scene::cornell());
     let (w, h) = (160u32, 120u32);
     let cam = Camera::cornell(w);
     let gen = cam.ray_generator(w, h);
-    let tris = scene.accel().flat_triangles().unwrap();
+    let tris = stage.accel().flat_triangles().unwrap();
     let prepared = OriginTriangles::new(tris, gen.origin());
     let (mut ambiguous, mut decided) = (0, 0);
     for j in 0..h {
@@ -183,7 +183,7 @@ fn cornell_camera_rays_are_decided_and_right() {
                 }
                 decided += 1;
                 let reference =
-                    scene
+                    stage
                         .accel()
                         .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
                 assert_eq!(Some(found.prim[l]), reference.map(|h| h.prim), "{xs:?} {y}");
@@ -572,15 +572,16 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
             ]
         })
         .collect();
-    let scene = Scene::new(
+    let stage = raylab::render::Stage::from(Scene::new(
         "icosphere",
         shapes,
         colors,
         Scene::cornell().light,
         [0.0; 3],
-    );
-    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
-    assert!(scene.accel().flat_triangles().is_none());
+    ));
+    let scene = stage.scene();
+    assert_eq!(stage.accel().kind(), raylab::accel::AccelKind::Bvh);
+    assert!(stage.accel().flat_triangles().is_none());
     // 5,160 triangles. 320x240: at least 8 camera rays a triangle, which the renderer then
     // prepares once per frame; 64x48 and 40x30: fewer, prepared as each packet meets them.
     for (w, h) in [(320u32, 240u32), (64, 48), (40, 30)] {
@@ -595,7 +596,7 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
             shadows: false,
             per_ray: false,
         };
-        let once = scene.accel().for_frame(&setup).prepares_once();
+        let once = stage.accel().for_frame(&setup).prepares_once();
         assert_eq!(once, w == 320, "{w}x{h}: prepared once per frame");
         let settings = raylab::render::RenderSettings {
             width: w,
@@ -603,13 +604,13 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
             step: raylab::render::LabStep::Flat,
             ..Default::default()
         };
-        let (img, stats) = raylab::render::render_image(&scene, &cam, &settings).unwrap();
+        let (img, stats) = raylab::render::render_image(&stage, &cam, &settings).unwrap();
         let gen = cam.ray_generator(w, h);
         let mut hits = 0;
         for j in 0..h {
             for i in 0..w {
                 let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
-                let want = scene
+                let want = stage
                     .accel()
                     .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
                     .map(|h| scene.colors()[h.prim as usize].map(raylab::render::linear_to_srgb8));

@@ -11,7 +11,7 @@ mod common;
 
 use raylab::accel::AccelChoice;
 use raylab::geometry::{Method, Shape};
-use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
 /// FNV-1a, 64 bits: stable across Rust versions (std's hasher is not).
@@ -23,21 +23,19 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
     h
 }
 
-fn with_mesh(mesh: Vec<Shape<f32>>, choice: AccelChoice) -> Scene {
+fn with_mesh(mesh: Vec<Shape<f32>>, choice: AccelChoice) -> Stage {
     let n = mesh.len();
     let mut scene = Scene::cornell();
     scene.shapes.extend(mesh);
     scene
         .colors_mut()
         .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    scene.set_accel(choice);
-    scene
+    Stage::new(scene, choice)
 }
 
 /// (name, scene, image width, height).
-fn scenes() -> Vec<(&'static str, Scene, u32, u32)> {
-    let mut bvh_cornell = Scene::cornell();
-    bvh_cornell.set_accel(AccelChoice::Bvh);
+fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
+    let bvh_cornell = Stage::new(Scene::cornell(), AccelChoice::Bvh);
     let spheres = vec![
         Shape::Sphere {
             centre: [0.35, 0.55, 0.2],
@@ -50,7 +48,7 @@ fn scenes() -> Vec<(&'static str, Scene, u32, u32)> {
     ];
     vec![
         // 30 triangles: the flat SIMD loop, tiles culled, packets; odd size: partial tiles.
-        ("cornell", Scene::cornell(), 83, 57),
+        ("cornell", Stage::from(Scene::cornell()), 83, 57),
         // The same through a BVH (small enough to be culled per tile too).
         ("cornell-bvh", bvh_cornell, 64, 48),
         // 1310 triangles: BVH, culled per tile.

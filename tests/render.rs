@@ -9,7 +9,7 @@
 
 mod common;
 
-use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
 const OBJ: &str = include_str!("../assets/cornell_lab.obj");
@@ -278,7 +278,7 @@ fn render(step: LabStep, w: u32, h: u32) -> Vec<u8> {
         step,
         ..Default::default()
     };
-    render_image(&Scene::cornell(), &Camera::cornell(w), &settings)
+    render_image(&Scene::cornell().into(), &Camera::cornell(w), &settings)
         .unwrap()
         .0
 }
@@ -310,7 +310,7 @@ fn the_cornell_box_with_spheres_matches_the_independent_reference() {
         env!("CARGO_MANIFEST_DIR"),
         "/assets/scenes/cornell_spheres.scene"
     );
-    let scene = Scene::load(std::path::Path::new(path), Default::default()).unwrap();
+    let stage = Stage::from(Scene::load(std::path::Path::new(path), Default::default()).unwrap());
     let mut reference_scene = parse_reference_scene();
     reference_scene.spheres = vec![
         (
@@ -332,7 +332,7 @@ fn the_cornell_box_with_spheres_matches_the_independent_reference() {
             step,
             ..Default::default()
         };
-        let img = render_image(&scene, &Camera::cornell(w), &settings)
+        let img = render_image(&stage, &Camera::cornell(w), &settings)
             .unwrap()
             .0;
         let reference = reference_of(&reference_scene, step, w, h);
@@ -429,7 +429,7 @@ fn supersampling_is_the_mean_of_stratified_samples() {
     // 2x2 supersampling at W×H averages what the 2W×2H image has in each 2×2 block (the same
     // sample positions; the focal length doubles with the width).
     let (w, h) = (40u32, 30u32);
-    let scene = Scene::cornell();
+    let scene = Stage::from(Scene::cornell());
     let ss = RenderSettings {
         width: w,
         height: h,
@@ -484,7 +484,7 @@ fn supersampling_is_the_mean_of_stratified_samples() {
 
 #[test]
 fn bad_settings_are_errors_not_panics() {
-    let scene = Scene::cornell();
+    let scene = Stage::from(Scene::cornell());
     let cam = Camera::cornell(64);
     for (w, h, spp) in [
         (0, 10, 1),
@@ -541,7 +541,7 @@ fn cornell_with_ball(
     r: f32,
     centre: [f32; 3],
     choice: raylab::accel::AccelChoice,
-) -> Scene {
+) -> Stage {
     let mesh = common::icosphere(levels, r, centre);
     let n = mesh.len();
     let mut scene = Scene::cornell();
@@ -549,8 +549,7 @@ fn cornell_with_ball(
     scene
         .colors_mut()
         .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    scene.set_accel(choice);
-    scene
+    Stage::new(scene, choice)
 }
 
 #[test]
@@ -600,8 +599,13 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
         position: [0.3, -1.5, -1.0],
         power: [5.0; 3],
     };
-    let mut scene = Scene::new("cube", mesh, vec![[0.2, 0.5, 0.9]; n], light, [0.1; 3]);
-    scene.set_accel(raylab::accel::AccelChoice::Auto);
+    let scene = Stage::from(Scene::new(
+        "cube",
+        mesh,
+        vec![[0.2, 0.5, 0.9]; n],
+        light,
+        [0.1; 3],
+    ));
     assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
     assert!(scene.accel().flat_triangles().is_none());
     let at = |p: [f64; 3], yaw: f64, pitch: f64| {
@@ -625,7 +629,7 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
         let gen = cam.ray_generator(w, h);
         let queries = accel.for_frame(&raylab::accel::FrameSetup {
             eye: gen.origin(),
-            light: scene.light.position,
+            light: scene.scene().light.position,
             projection: Some(cam.projection(w, h)),
             method: adaptive,
             camera_rays: (w * h) as usize,
@@ -734,7 +738,7 @@ fn packets_render_as_the_per_ray_path_where_the_image_cuts_their_blocks() {
     // one colour table for the flat frame) and with a 5120-triangle ball (BVH; more
     // triangles than the flat frame's table is made for, so its pixels are encoded one by one).
     let scenes = [
-        Scene::cornell(),
+        Stage::from(Scene::cornell()),
         cornell_with_ball(4, 0.5, [0.1, 0.4, 0.0], raylab::accel::AccelChoice::Bvh),
     ];
     for (k, scene) in scenes.iter().enumerate() {
@@ -781,7 +785,7 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
     ];
     let setup = raylab::accel::FrameSetup {
         eye: cams[0].ray_generator(w, h).origin(),
-        light: scene.light.position,
+        light: scene.scene().light.position,
         projection: None,
         method: raylab::geometry::Method::Adaptive,
         camera_rays: (w * h) as usize,
@@ -796,13 +800,16 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
         tile_culling: false,
         ..Default::default()
     };
-    let lights = [scene.light.position, [0.1, 0.9, 0.2], [-0.5, 0.3, -0.4]];
+    let lights = [
+        scene.scene().light.position,
+        [0.1, 0.9, 0.2],
+        [-0.5, 0.3, -0.4],
+    ];
     let mut images = Vec::new();
     for (k, cam) in cams.iter().enumerate() {
-        scene.light.position = lights[k];
+        scene.restyle(|s| s.light.position = lights[k]);
         let (kept, sk) = render_image(&scene, cam, &settings).unwrap();
-        let mut fresh = scene.clone();
-        fresh.set_accel(raylab::accel::AccelChoice::Bvh);
+        let fresh = Stage::new(scene.scene().clone(), raylab::accel::AccelChoice::Bvh);
         let (new, sn) = render_image(&fresh, cam, &settings).unwrap();
         assert!(kept == new, "camera {k}: images differ");
         assert_eq!((sk.hits, sk.shadow_rays), (sn.hits, sn.shadow_rays));
@@ -818,7 +825,7 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
 #[test]
 fn tile_culling_gives_the_same_image() {
     // Cameras inside, outside, turned, very wide and with triangles behind the camera.
-    let scene = Scene::cornell();
+    let scene = Stage::from(Scene::cornell());
     let cams = [
         Camera::cornell(97),
         Camera::from_yaw_pitch(glam::DVec3::new(0.3, 0.2, -0.5), 0.8, 0.3, 20.0).unwrap(),
@@ -834,7 +841,7 @@ fn tile_culling_gives_the_same_image() {
 /// and off, flat and with shadows, at 1 and 2² samples per pixel; asserts the same bits and
 /// the same hit and shadow-ray counts. Returns (step, samples per side, camera hits) of each.
 fn culling_changes_nothing(
-    scene: &Scene,
+    scene: &Stage,
     cam: &Camera,
     width: u32,
     height: u32,
@@ -867,7 +874,7 @@ fn culling_changes_nothing(
 #[test]
 fn a_cancelled_render_stops_and_says_so() {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let scene = Scene::cornell();
+    let scene = Stage::from(Scene::cornell());
     let cam = Camera::cornell(64);
     let settings = RenderSettings {
         width: 64,
@@ -908,7 +915,13 @@ fn the_cracks_view_marks_exactly_the_leaks() {
         position: [0.0, 0.0, 0.0],
         power: [1.0; 3],
     };
-    let scene = Scene::new("grid", shapes, vec![[0.5; 3]; n], light, [0.0; 3]);
+    let scene = Stage::from(Scene::new(
+        "grid",
+        shapes,
+        vec![[0.5; 3]; n],
+        light,
+        [0.0; 3],
+    ));
     let cam = Camera::from_yaw_pitch(glam::DVec3::ZERO, 0.0, 0.0, 32.0).unwrap();
     let magenta = CRACK.map(linear_to_srgb8);
     let mut total = [0usize; 4];
@@ -925,7 +938,7 @@ fn the_cracks_view_marks_exactly_the_leaks() {
             for i in 0..64u32 {
                 let px = &img[4 * (j * 64 + i) as usize..][..3];
                 let ray = cam.ray_for_pixel(i, j, 64, 64);
-                let crack = is_crack(&scene, &ray, method);
+                let crack = is_crack(scene.accel(), &ray, method);
                 assert_eq!(px == magenta, crack, "{method} pixel ({i},{j})");
                 total[k] += crack as usize;
             }
@@ -970,13 +983,16 @@ fn copied_triangles_change_no_pixel() {
         raylab::accel::AccelChoice::Flat,
         raylab::accel::AccelChoice::Bvh,
     ] {
-        copied.set_accel(choice);
+        let copied = Stage::new(copied.clone(), choice);
         assert_eq!(copied.accel().copies_left_out(), 60);
         assert_eq!(copied.accel().triangle_count(), 90);
         assert!(copied
-            .copies_warning()
-            .unwrap()
-            .contains("60 triangles repeat"));
+            .scene()
+            .warnings
+            .iter()
+            .any(|w| w.contains("60 triangles repeat")));
+        let plain = Stage::new(plain.clone(), choice);
+        assert!(plain.scene().warnings.is_empty());
         for step in LabStep::ALL {
             for tile_culling in [true, false] {
                 let settings = RenderSettings {
@@ -994,7 +1010,6 @@ fn copied_triangles_change_no_pixel() {
             }
         }
     }
-    assert_eq!(plain.copies_warning(), None);
 }
 
 /// A cube of side 2·`scale` (12 triangles) framed as `raylab render` frames a model, with the
@@ -1051,8 +1066,12 @@ fn a_scene_scaled_by_a_power_of_two_renders_the_same_up_to_the_range_limit() {
                 step,
                 ..Default::default()
             };
-            let a = render_image(&unit, &unit_cam, &settings).unwrap().0;
-            let b = render_image(&scaled, &cam, &settings).unwrap().0;
+            let a = render_image(&unit.clone().into(), &unit_cam, &settings)
+                .unwrap()
+                .0;
+            let b = render_image(&scaled.clone().into(), &cam, &settings)
+                .unwrap()
+                .0;
             let lit = b.chunks(4).filter(|p| p[0] > 40).count();
             assert!(lit > 500, "2^{k} {step:?}: only {lit} lit pixels");
             let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
@@ -1076,7 +1095,8 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
     // blocker against the reference's shadow ray.
     use raylab::render::inspect::{inspect, ShapeTerms};
     let (w, h) = (48u32, 36u32);
-    let scene = Scene::cornell();
+    let stage = Stage::from(Scene::cornell());
+    let scene = stage.scene();
     let cam = Camera::cornell(w);
     let reference_scene = parse_reference_scene();
     let settings = RenderSettings {
@@ -1085,12 +1105,12 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
         step: LabStep::Indirect,
         ..Default::default()
     };
-    let img = render_image(&scene, &cam, &settings).unwrap().0;
+    let img = render_image(&stage, &cam, &settings).unwrap().0;
     let reference_img = reference(LabStep::Indirect, w, h);
     let (mut hits, mut blocked, mut checked_blockers) = (0, 0, 0);
     for j in 0..h {
         for i in 0..w {
-            let ins = inspect(&scene, &cam, &settings, i, j).unwrap();
+            let ins = inspect(&stage, &cam, &settings, i, j).unwrap();
             let (u, v, f) = (i as f64 + 0.5 - 24.0, j as f64 + 0.5 - 18.0, w as f64);
             assert_eq!(ins.uvf, [u, v, f]);
             let len = (u * u + v * v + f * f).sqrt();
@@ -1183,9 +1203,9 @@ fn every_simd_build_renders_the_same_bytes() {
     let ball = cornell_with_ball(4, 0.5, [0.1, 0.4, 0.0], raylab::accel::AccelChoice::Bvh);
     let mut compared = 0;
     for (scene, spp) in [
-        (Scene::cornell(), 1),
-        (Scene::cornell(), 2),
-        (spheres, 1),
+        (Stage::from(Scene::cornell()), 1),
+        (Stage::from(Scene::cornell()), 2),
+        (Stage::from(spheres), 1),
         (ball, 1),
     ] {
         for step in [
@@ -1230,13 +1250,13 @@ fn coincident_spheres_are_kept_once_and_render_as_one() {
         position: [0.0, -3.0, -3.0],
         power: [14.0; 3],
     };
-    let one = Scene::new(
+    let one = Stage::from(Scene::new(
         "one",
         vec![sphere(1.0)],
         vec![[0.8, 0.2, 0.2]],
         light,
         [0.1; 3],
-    );
+    ));
     // The same sphere twice more (another colour: the lower index shows), -0 for 0 in one,
     // and a sphere an ulp larger, which is another sphere and stays.
     let mut shapes = vec![sphere(1.0), sphere(1.0)];
@@ -1246,16 +1266,18 @@ fn coincident_spheres_are_kept_once_and_render_as_one() {
     });
     let colors = vec![[0.8, 0.2, 0.2], [0.1, 0.9, 0.1], [0.1, 0.1, 0.9]];
     let copies = Scene::new("copies", shapes, colors, light, [0.1; 3]);
+    let mut other = copies.clone();
+    let copies = Stage::from(copies);
     assert_eq!(copies.accel().other_copies_left_out(), 2);
-    let warning = copies.copies_warning().unwrap();
+    let warning = copies.accel().copies_warning(copies.scene()).unwrap();
+    assert_eq!(copies.scene().warnings, std::slice::from_ref(&warning));
     assert!(
         warning.contains("2 spheres repeat an earlier sphere exactly"),
         "{warning}"
     );
-    let mut other = copies.clone();
     other.shapes.push(sphere(1.0 + f32::EPSILON));
     other.colors_mut().push([0.5; 3]);
-    other.set_accel(Default::default());
+    let other = Stage::from(other);
     assert_eq!(other.accel().other_copies_left_out(), 2);
     let cam = Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -4.0), 0.0, 0.0, 64.0).unwrap();
     for step in LabStep::ALL {

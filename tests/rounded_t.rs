@@ -303,8 +303,8 @@ fn f32_t_is_correctly_rounded_through_every_path() {
     };
     let through = |choice: AccelChoice| {
         move |text: &str, rays: &[TraceRay<f32>]| {
-            let mut scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-            tracefile::trace_all_through(&mut scene, rays, Method::Adaptive, choice, Query::Nearest)
+            let scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
+            tracefile::trace_all_through(&scene, rays, Method::Adaptive, choice, Query::Nearest)
         }
     };
     let (flat, bvh, auto) = (
@@ -313,8 +313,8 @@ fn f32_t_is_correctly_rounded_through_every_path() {
         through(AccelChoice::Auto),
     );
     let packets = |text: &str, rays: &[TraceRay<f32>]| {
-        let mut scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-        tracefile::trace_all_packets(&mut scene, rays, Query::Nearest)
+        let scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
+        tracefile::trace_all_packets(&scene, rays, Query::Nearest)
     };
     let hits = check(
         &families,

@@ -257,6 +257,7 @@ fn a_sphere_seen_from_inside_is_shadowed_by_itself_from_a_light_outside() {
         },
         [0.5; 3],
     );
+    let stage = raylab::render::Stage::from(scene);
     let camera = raylab::Camera::cornell(64);
     let lit_pixels = |step| {
         let settings = RenderSettings {
@@ -265,7 +266,7 @@ fn a_sphere_seen_from_inside_is_shadowed_by_itself_from_a_light_outside() {
             step,
             ..Default::default()
         };
-        let (rgba, _) = render_image(&scene, &camera, &settings).unwrap();
+        let (rgba, _) = render_image(&stage, &camera, &settings).unwrap();
         rgba.chunks(4).filter(|p| p[..3] != [0, 0, 0]).count()
     };
     assert!(lit_pixels(LabStep::Direct) > 64 * 48 / 2);

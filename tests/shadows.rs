@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 use raylab::geometry::Shape;
-use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::PointLight;
 use raylab::{Camera, Scene};
 
@@ -16,8 +16,9 @@ fn lit_pixels(scene: &Scene, camera: &Camera) -> (usize, usize) {
         step,
         ..Default::default()
     };
-    let (direct, _) = render_image(scene, camera, &settings(LabStep::Direct)).unwrap();
-    let (shadows, stats) = render_image(scene, camera, &settings(LabStep::Shadows)).unwrap();
+    let stage = Stage::from(scene.clone());
+    let (direct, _) = render_image(&stage, camera, &settings(LabStep::Direct)).unwrap();
+    let (shadows, stats) = render_image(&stage, camera, &settings(LabStep::Shadows)).unwrap();
     assert!(
         stats.shadow_rays > 300,
         "shadow rays were cast: {}",
@@ -114,8 +115,9 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
         step,
         ..Default::default()
     };
-    let (direct, _) = render_image(&scene, &camera, &settings(LabStep::Direct)).unwrap();
-    let (shadows, _) = render_image(&scene, &camera, &settings(LabStep::Shadows)).unwrap();
+    let stage = Stage::from(scene.clone());
+    let (direct, _) = render_image(&stage, &camera, &settings(LabStep::Direct)).unwrap();
+    let (shadows, _) = render_image(&stage, &camera, &settings(LabStep::Shadows)).unwrap();
     // Floor-only scene: the same view with nothing but the floor (triangles 0 and 1).
     let floor = Scene::new(
         "floor",
@@ -124,6 +126,7 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
         scene.light,
         [0.0; 3],
     );
+    let floor = Stage::from(floor);
     let (floor_direct, _) = render_image(&floor, &camera, &settings(LabStep::Direct)).unwrap();
     let (floor_shadows, _) = render_image(&floor, &camera, &settings(LabStep::Shadows)).unwrap();
     assert_eq!(

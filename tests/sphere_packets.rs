@@ -10,7 +10,7 @@ use raylab::accel::{AccelChoice, FrameSetup, TileScratch, NO_HIT};
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::{closest_hit_reference, Estimate};
 use raylab::geometry::{sphere, Method, Ray, Shape};
-use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::Scene;
 use std::cmp::Ordering;
 use wide::{f32x8, f64x4};
@@ -20,14 +20,18 @@ fn sphere(centre: [f32; 3], radius: f32) -> Shape<f32> {
 }
 
 /// The Cornell box with `spheres` added (primitives 30 on).
-fn cornell_with(spheres: &[Shape<f32>], choice: AccelChoice) -> Scene {
+fn cornell_plus(spheres: &[Shape<f32>]) -> Scene {
     let mut scene = Scene::cornell();
     for (i, s) in spheres.iter().enumerate() {
         scene.shapes.push(*s);
         scene.colors_mut().push([0.9, 0.3 + 0.2 * i as f32, 0.2]);
     }
-    scene.set_accel(choice);
     scene
+}
+
+/// [`cornell_plus`] with the structure `choice` built over it.
+fn cornell_with(spheres: &[Shape<f32>], choice: AccelChoice) -> Stage {
+    Stage::new(cornell_plus(spheres), choice)
 }
 
 /// What the exact level says of o + t·d on the sphere for tmin < t < tmax: the nearest root,
@@ -138,8 +142,8 @@ fn camera_packets_keep_the_tiles_a_sphere_shows_in_and_name_the_per_ray_primitiv
         sphere([-1.0, 0.1, 0.3], 0.35),
     ];
     for choice in [AccelChoice::Auto, AccelChoice::Bvh] {
-        let scene = cornell_with(&spheres, choice);
-        let accel = scene.accel();
+        let stage = cornell_with(&spheres, choice);
+        let (scene, accel) = (stage.scene(), stage.accel());
         let (w, h) = (96, 72);
         let camera = Camera::cornell(w);
         let gen = camera.ray_generator(w, h);
@@ -182,7 +186,7 @@ fn camera_packets_keep_the_tiles_a_sphere_shows_in_and_name_the_per_ray_primitiv
 /// Renders `scene` through the packets and through the per-ray path (the cracks view traces
 /// every ray one at a time; with the adaptive method it marks nothing) and requires the same
 /// bits and counts.
-fn packets_render_as_per_ray(what: &str, scene: &Scene, camera: &Camera, w: u32, h: u32) {
+fn packets_render_as_per_ray(what: &str, scene: &Stage, camera: &Camera, w: u32, h: u32) {
     for step in [
         LabStep::Flat,
         LabStep::Direct,
@@ -260,7 +264,7 @@ fn scenes_with_spheres_render_through_the_packets_as_per_ray() {
     );
     // A meshed ball beside real spheres: the BVH's packets (1,280 triangles, prepared per
     // frame and as met), a sphere inside the mesh's box.
-    let mut mixed = cornell_with(&touching, AccelChoice::Bvh);
+    let mut mixed = cornell_plus(&touching);
     let ball = icosphere(3, 0.35, [-0.3, 0.55, 0.2]);
     let n = ball.len();
     mixed.shapes.extend(ball);
@@ -269,7 +273,7 @@ fn scenes_with_spheres_render_through_the_packets_as_per_ray() {
         .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
     mixed.shapes.push(sphere([-0.3, 0.55, 0.2], 0.1));
     mixed.colors_mut().push([1.0, 1.0, 0.0]);
-    mixed.set_accel(AccelChoice::Bvh);
+    let mixed = Stage::new(mixed, AccelChoice::Bvh);
     packets_render_as_per_ray("a meshed ball beside spheres", &mixed, &cam, 64, 48);
 }
 

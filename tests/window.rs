@@ -286,7 +286,7 @@ fn against_headless(run: &Run, scene: &Scene) -> (f64, f64, Vec<u8>, u32, u32) {
         spp: 2,
         ..Default::default()
     };
-    let (expected, _) = render_image(scene, &camera, &settings).unwrap();
+    let (expected, _) = render_image(&scene.clone().into(), &camera, &settings).unwrap();
     let (mean, off) = compare(&run.shot, rect, &expected, w, h);
     (mean, off, expected, w, h)
 }
@@ -339,7 +339,7 @@ fn scripted_window_run_matches_the_headless_render() {
         "the image sits beside the panel, not under it: {rect:?}"
     );
     assert!(rect[0] + rect[2] <= shot.0 as f64 + 0.5 && rect[1] + rect[3] <= shot.1 as f64 + 0.5);
-    let scene = Scene::cornell();
+    let scene = raylab::render::Stage::from(Scene::cornell());
     let settings = RenderSettings {
         width: w,
         height: h,
@@ -676,7 +676,8 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
         ..Default::default()
     };
     let expected =
-        raylab::render::inspect::inspect(&Scene::cornell(), &camera, &settings, 100, 80).unwrap();
+        raylab::render::inspect::inspect(&Scene::cornell().into(), &camera, &settings, 100, 80)
+            .unwrap();
     let hit = expected
         .hit
         .as_ref()
@@ -768,9 +769,14 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
         step: LabStep::Indirect,
         ..Default::default()
     };
-    let expected =
-        raylab::render::inspect::inspect(&Scene::cornell(), &camera, &settings, pixel[0], pixel[1])
-            .unwrap();
+    let expected = raylab::render::inspect::inspect(
+        &Scene::cornell().into(),
+        &camera,
+        &settings,
+        pixel[0],
+        pixel[1],
+    )
+    .unwrap();
     let expected: HashMap<String, String> = expected
         .to_string()
         .lines()

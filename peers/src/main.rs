@@ -49,7 +49,7 @@ use raylab::controller::CameraController;
 use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
 use raylab::math::simd::{self, SimdLevel};
-use raylab::render::{render_into, LabStep, RenderSettings};
+use raylab::render::{render_into, LabStep, RenderSettings, Stage};
 use raylab::scene::Mesh;
 use raylab::Scene;
 use rayon::prelude::*;
@@ -617,7 +617,8 @@ fn run_bench<'a>(
     found: &mut Found,
 ) -> anyhow::Result<()> {
     let tris = &bench.triangles;
-    let (accel, mut raylab_build) = timed(|| bench.scene.accel());
+    let scene = bench.scene.clone();
+    let (stage, mut raylab_build) = timed(|| Stage::from(scene));
     // tinybvh and obvhs take a mesh; Embree takes the field's instances too.
     let peers = !tris.is_empty();
     let embree_build = |e: &'a Embree| match &bench.instanced {
@@ -674,7 +675,7 @@ fn run_bench<'a>(
             scene: bench.name.clone(),
             raylab: raylab_build,
             embree: embree_scene.as_ref().map(|(_, t)| *t),
-            raylab_bytes: accel.memory_bytes(),
+            raylab_bytes: stage.accel().memory_bytes(),
         });
     }
     let vertices: Vec<[f32; 4]> = tris
@@ -728,7 +729,7 @@ fn run_bench<'a>(
         let image = Mutex::new(vec![0u8; flat.buffer_len()]);
         let render = |settings: &RenderSettings| {
             let mut rgba = image.lock().expect("one frame at a time");
-            render_into(&bench.scene, &cam, settings, &mut rgba).map_or(0, |stats| stats.hits)
+            render_into(&stage, &cam, settings, &mut rgba).map_or(0, |stats| stats.hits)
         };
         let mut methods: Vec<Timed> = vec![Timed {
             name: "raylab render (adaptive, exact)".into(),

@@ -31,6 +31,7 @@ use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::simd::avx512_avx2_or_baseline;
+use crate::scene::Scene;
 use layout::Layout;
 use rayon::prelude::*;
 use reference::InOrder;
@@ -131,6 +132,40 @@ pub struct Accel {
 }
 
 impl Accel {
+    /// Builds over a scene's primitives, its placed meshes included (primitive indices as
+    /// [`Scene::shape`] numbers them).
+    pub fn for_scene(scene: &Scene, choice: AccelChoice) -> Self {
+        match scene.instances().is_empty() {
+            true => Self::build(&scene.shapes, choice),
+            false => {
+                Self::build_with_instances(scene.explicit_with_prims(), scene.instances(), choice)
+            }
+        }
+    }
+
+    /// What the build left out of `scene`'s primitives as copies, as a warning naming the
+    /// scene: triangles that repeat an earlier triangle's vertices, spheres an earlier sphere;
+    /// `None` when nothing was.
+    pub fn copies_warning(&self, scene: &Scene) -> Option<String> {
+        let (copies, others) = (self.copies, self.other_copies);
+        let mut what = Vec::new();
+        if copies > 0 {
+            what.push(format!(
+                "{copies} triangles repeat an earlier triangle's vertices exactly"
+            ));
+        }
+        if others > 0 {
+            what.push(format!("{others} spheres repeat an earlier sphere exactly"));
+        }
+        (!what.is_empty()).then(|| {
+            format!(
+                "{}: {}: each is kept once (the earlier one answers every ray either would)",
+                scene.name,
+                what.join(", and ")
+            )
+        })
+    }
+
     /// Builds over `shapes` (primitive index = position in the slice).
     pub fn build(shapes: &[Shape<f32>], choice: AccelChoice) -> Self {
         // Straight from the slice, in parallel: copying every shape with its index first, then

@@ -27,6 +27,7 @@ use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
 use input::Key;
 use raylab::controller::Mode;
+use raylab::render::Stage;
 use raylab::Scene;
 use script::Script;
 use scripted::ScriptedRun;
@@ -64,7 +65,7 @@ pub enum AppEvent {
     FrameReady,
     /// A scene or OBJ finished loading (or failed); `true` for a reload of the file shown,
     /// which keeps the camera.
-    SceneLoaded(PathBuf, Box<Result<Scene, String>>, bool),
+    SceneLoaded(PathBuf, Box<Result<Stage, String>>, bool),
     /// The file of the scene shown changed on disk.
     SourceChanged(PathBuf),
     /// An F12 screenshot was written (or failed).
@@ -90,12 +91,11 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
     let scene = match &opts.scene {
         Some(p) => {
             let spec = p.to_string_lossy();
-            let mut scene = Scene::open(&spec, opts.obj_frame).map_err(anyhow::Error::msg)?;
-            scene.build_accel();
-            scene
+            Scene::open(&spec, opts.obj_frame).map_err(anyhow::Error::msg)?
         }
         None => Scene::cornell(),
     };
+    let stage = Stage::from(scene);
     let event_loop = EventLoop::<AppEvent>::with_user_event()
         .build()
         .map_err(|e| {
@@ -104,7 +104,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         })?;
     // (`cornell` names the built-in box: no file to watch or name in a view.)
     let file = (opts.scene.as_ref()).filter(|p| p.as_os_str() != raylab::scene::CORNELL);
-    let viewer = Viewer::new(scene, file, opts.obj_frame, event_loop.create_proxy());
+    let viewer = Viewer::new(stage, file, opts.obj_frame, event_loop.create_proxy());
     let scripted = match (opts.frames, opts.screenshot) {
         (Some(frames), Some(shot)) => Some(ScriptedRun::new(frames, shot, script)),
         _ => None,
@@ -463,7 +463,7 @@ impl ApplicationHandler<AppEvent> for App {
             return;
         }
         let attrs = Window::default_attributes()
-            .with_title(format!("raylab - {}", self.viewer.scene.name))
+            .with_title(format!("raylab - {}", self.viewer.stage.scene().name))
             .with_inner_size(default_window_size(event_loop))
             .with_min_inner_size(LogicalSize::new(320.0, 240.0));
         let window = match event_loop.create_window(attrs) {

@@ -375,7 +375,7 @@ pub fn layout(
     }
     let full_size = viewer.full_size();
     let Viewer {
-        scene,
+        stage,
         view,
         controller,
         obj_path,
@@ -393,6 +393,7 @@ pub fn layout(
     if let Some(text) = copy_request.take() {
         ui.ctx().copy_text(text);
     }
+    let scene = stage.scene();
     let info = PanelInfo {
         scene_name: &scene.name,
         primitives: scene.len(),

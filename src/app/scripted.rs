@@ -117,8 +117,8 @@ impl ScriptedRun {
             c.speed,
             ["off", "on"][viewer.inspector_on as usize],
             ["off", "on"][viewer.show_help as usize],
-            viewer.scene.len(),
-            viewer.scene.name,
+            viewer.stage.scene().len(),
+            viewer.stage.scene().name,
         );
         if !viewer.status.is_empty() {
             println!("status: {}", viewer.status);

@@ -9,7 +9,7 @@ use super::AppEvent;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::inspect::Inspection;
-use raylab::render::{self, LabStep, RenderSettings, RenderStats, MAX_SIDE};
+use raylab::render::{self, LabStep, RenderSettings, RenderStats, Stage, MAX_SIDE};
 use raylab::scene::ObjFrame;
 use raylab::Scene;
 use std::path::PathBuf;
@@ -61,7 +61,7 @@ pub struct NewFrame {
 /// Everything the window shows besides egui and the GPU.
 pub struct Viewer {
     proxy: EventLoopProxy<AppEvent>,
-    pub scene: Arc<Scene>,
+    pub stage: Stage,
     obj_frame: ObjFrame,
     pub controller: CameraController,
     pub view: ViewSettings,
@@ -134,20 +134,20 @@ fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<AppEvent>) {
 
 impl Viewer {
     pub fn new(
-        scene: Scene,
+        stage: Stage,
         scene_path: Option<&PathBuf>,
         obj_frame: ObjFrame,
         proxy: EventLoopProxy<AppEvent>,
     ) -> Self {
         let wake = proxy.clone();
-        let controller = controller_for(&scene, scene_path.is_none());
+        let controller = controller_for(stage.scene(), scene_path.is_none());
         let source = Arc::new(Mutex::new(scene_path.cloned()));
         let (watched, watcher) = (source.clone(), proxy.clone());
         std::thread::spawn(move || watch(watched, watcher));
-        let light = scene.light.position;
+        let light = stage.scene().light.position;
         Self {
             proxy,
-            scene: Arc::new(scene),
+            stage,
             obj_frame,
             controller,
             view: ViewSettings {
@@ -195,9 +195,9 @@ impl Viewer {
     pub fn inspect_pixel(&mut self, i: u32, j: u32) {
         let size = self.full_size();
         let camera = self.controller.camera(size.0);
-        let scene = self.scene_to_render();
+        let stage = self.stage_to_render();
         let settings = self.settings(size, 1);
-        match raylab::render::inspect::inspect(&scene, &camera, &settings, i, j) {
+        match raylab::render::inspect::inspect(&stage, &camera, &settings, i, j) {
             Ok(found) => {
                 let what = match &found.hit {
                     Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
@@ -212,36 +212,41 @@ impl Viewer {
 
     /// Selects a push level of the scene tree (its primitives are tinted), or none.
     pub fn select_level(&mut self, level: Option<usize>) {
-        let level = level.filter(|l| *l < self.scene.levels.len());
+        let level = level.filter(|l| *l < self.stage.scene().levels.len());
         if level != self.selected_level {
             self.selected_level = level;
             self.changed();
         }
     }
 
-    /// The scene as rendered: the panel's light, and the selected level's primitives tinted.
-    fn scene_to_render(&mut self) -> Arc<Scene> {
-        if self.scene.light.position != self.view.light {
-            Arc::make_mut(&mut self.scene).light.position = self.view.light;
+    /// The stage as rendered: the panel's light, and the selected level's primitives tinted
+    /// (the same structure: neither moves a primitive).
+    fn stage_to_render(&mut self) -> Stage {
+        let light = self.view.light;
+        if self.stage.scene().light.position != light {
+            self.stage.restyle(|scene| scene.light.position = light);
         }
-        let Some(level) = self.selected_level.and_then(|l| self.scene.levels.get(l)) else {
-            return self.scene.clone();
+        let scene = self.stage.scene();
+        let Some(level) = self.selected_level.and_then(|l| scene.levels.get(l)) else {
+            return self.stage.clone();
         };
-        // (A clone shares the built structure: colours do not change it.)
-        let mut tinted = (*self.scene).clone();
+        let ranges = level.primitives.clone();
+        let mut tinted = self.stage.clone();
         let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
-        for range in &level.primitives {
-            match tinted.instances().is_empty() {
-                true => {
-                    for c in &mut tinted.colors_mut()[range.start as usize..range.end as usize] {
-                        *c = mix(*c);
+        tinted.restyle(|scene| {
+            for range in ranges {
+                match scene.instances().is_empty() {
+                    true => {
+                        for c in &mut scene.colors_mut()[range.start as usize..range.end as usize] {
+                            *c = mix(*c);
+                        }
                     }
+                    // An instance is tinted as a whole (its mesh's colours are shared).
+                    false => scene.tint(range, mix(raylab::scene::file::DEFAULT_COLOR)),
                 }
-                // An instance is tinted as a whole (its mesh's colours are shared).
-                false => tinted.tint(range.clone(), mix(raylab::scene::file::DEFAULT_COLOR)),
             }
-        }
-        Arc::new(tinted)
+        });
+        tinted
     }
 
     /// A message for the panel (and the log, so scripted runs can be checked).
@@ -370,10 +375,10 @@ impl Viewer {
             0 => self.preview_size(),
             _ => self.full_size(),
         };
-        let scene = self.scene_to_render();
+        let stage = self.stage_to_render();
         let spp = if level == 2 { self.view.spp } else { 1 };
         self.worker.submit(worker::Job {
-            scene,
+            stage,
             camera: self.controller.camera(size.0),
             settings: self.settings(size, spp),
             generation: self.generation,
@@ -444,7 +449,8 @@ impl Viewer {
         (self.view.step, self.view.method, self.view.spp) = (s.step, s.method, s.spp);
         self.view.cracks = s.cracks;
         self.view.resolution = Resolution::Fixed(s.width, s.height);
-        self.controller = CameraController::from_scene_camera(&view.camera, self.scene.size());
+        self.controller =
+            CameraController::from_scene_camera(&view.camera, self.stage.scene().size());
         if let Some(light) = view.light {
             self.view.light = light;
         }
@@ -467,7 +473,7 @@ impl Viewer {
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
     fn show_cornell(&mut self) {
         *self.source.lock().expect("not poisoned") = None;
-        self.scene = Arc::new(Scene::cornell());
+        self.stage = Stage::from(Scene::cornell());
         self.changed();
     }
 
@@ -488,10 +494,7 @@ impl Viewer {
         let proxy = self.proxy.clone();
         let frame = self.obj_frame;
         std::thread::spawn(move || {
-            let result = Scene::load(&path, frame).map(|mut scene| {
-                scene.build_accel();
-                scene
-            });
+            let result = Scene::load(&path, frame).map(Stage::from);
             let _ = proxy.send_event(AppEvent::SceneLoaded(path, Box::new(result), reload));
         });
     }
@@ -502,15 +505,15 @@ impl Viewer {
     pub fn scene_loaded(
         &mut self,
         path: PathBuf,
-        result: Result<Scene, String>,
+        result: Result<Stage, String>,
         reload: bool,
     ) -> Option<String> {
         self.loading = false;
         if result.is_err() {
             self.view_light = None;
         }
-        let scene = match result {
-            Ok(scene) => scene,
+        let stage = match result {
+            Ok(stage) => stage,
             Err(e) if reload => {
                 self.set_status(format!("could not reload (the last good scene stays): {e}"));
                 return None;
@@ -521,6 +524,7 @@ impl Viewer {
             }
         };
         *self.source.lock().expect("not poisoned") = Some(path.clone());
+        let scene = stage.scene();
         self.selected_level = self
             .selected_level
             .filter(|l| reload && *l < scene.levels.len());
@@ -540,7 +544,7 @@ impl Viewer {
             scene.len()
         ));
         let name = scene.name.clone();
-        self.scene = Arc::new(scene);
+        self.stage = stage;
         self.changed();
         Some(name)
     }
@@ -559,15 +563,15 @@ impl Viewer {
         }
         let (w, h) = self.full_size();
         let settings = self.settings((w, h), self.view.spp);
-        let (scene, camera, proxy) = (
-            self.scene.clone(),
+        let (stage, camera, proxy) = (
+            self.stage.clone(),
             self.controller.camera(w),
             self.proxy.clone(),
         );
         self.screenshots_pending += 1;
         self.set_status(format!("saving {}...", path.display()));
         std::thread::spawn(move || {
-            let result = render::render_image(&scene, &camera, &settings)
+            let result = render::render_image(&stage, &camera, &settings)
                 .map_err(|e| e.to_string())
                 .and_then(|(rgba, _)| {
                     render::write_png(&path, w, h, &rgba)

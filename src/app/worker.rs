@@ -2,8 +2,7 @@
 //! jobs are dropped unrendered), renders it on the rayon pool and hands the image back.
 
 use raylab::camera::Camera;
-use raylab::render::{self, RenderSettings, RenderStats};
-use raylab::Scene;
+use raylab::render::{self, RenderSettings, RenderStats, Stage};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex};
@@ -12,8 +11,8 @@ use std::thread::JoinHandle;
 /// What to render.
 #[derive(Clone)]
 pub struct Job {
-    /// The scene.
-    pub scene: Arc<Scene>,
+    /// The scene and its structure.
+    pub stage: Stage,
     /// The camera (focal length for this job's width).
     pub camera: Camera,
     /// Size, step, sampling, method.
@@ -76,7 +75,7 @@ impl Worker {
                 // since every frame of motion is a new generation).
                 let stale = || job.level > 0 && newest.load(Ordering::Relaxed) != job.generation;
                 let image = render::render_into_cancellable(
-                    &job.scene,
+                    &job.stage,
                     &job.camera,
                     &job.settings,
                     &mut rgba,

@@ -5,6 +5,7 @@
 //! arrays (format 1.0, little-endian, C order), readable by `numpy.load`.
 
 use super::settings::{RenderSettings, SettingsError};
+use super::Stage;
 use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::input::{InputError, OutputFile};
@@ -29,16 +30,16 @@ pub struct Aovs {
     pub normal: Vec<[f32; 3]>,
 }
 
-/// The AOVs of `scene` through `camera` at the settings' size and method.
+/// The AOVs of the stage's scene through `camera` at the settings' size and method.
 pub fn render_aovs(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<Aovs, SettingsError> {
     settings.validate()?;
     let (w, h) = (settings.width, settings.height);
     let gen = camera.ray_generator(w, h);
-    let accel = scene.accel();
+    let (scene, accel) = (stage.scene(), stage.accel());
     let pixels: Vec<(u32, f32, [f32; 3])> = (0..w * h)
         .into_par_iter()
         .map(|k| {

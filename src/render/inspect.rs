@@ -9,11 +9,11 @@
 
 use super::settings::{LabStep, RenderSettings, SettingsError};
 use super::shade::{shading_point, step_colour, Lit, Rgb};
+use super::Stage;
 use crate::camera::Camera;
 use crate::geometry::adaptive;
 pub use crate::geometry::terms::ShapeTerms;
 use crate::geometry::{Method, Ray, Shape};
-use crate::scene::Scene;
 use std::fmt;
 
 /// One pixel's camera ray and what the renderer made of it.
@@ -76,10 +76,10 @@ pub struct HitInspection {
     pub colour: Rgb,
 }
 
-/// Inspects pixel (`i`, `j`) of `scene` through `camera` with the settings' size, method and
-/// step.
+/// Inspects pixel (`i`, `j`) of the stage's scene through `camera` with the settings' size,
+/// method and step.
 pub fn inspect(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
     i: u32,
@@ -100,7 +100,7 @@ pub fn inspect(
         .ray_generator(w, h)
         .ray_through(i as f32 + 0.5, j as f32 + 0.5);
     let method = settings.method;
-    let accel = scene.accel();
+    let (scene, accel) = (stage.scene(), stage.accel());
     let hit = accel
         .closest_hit(&ray, method, 0.0, f32::INFINITY)
         .map(|hit| {
@@ -110,7 +110,7 @@ pub fn inspect(
             let lit = Lit::new(scene, &ray, &hit);
             let blocked_by = lit
                 .shadow
-                .and_then(|s| nearest_blocker(scene, &s, lit.skip, method));
+                .and_then(|s| nearest_blocker(stage, &s, lit.skip, method));
             // The renderer's own test decides the colour (the blocker above is for showing).
             let blocked = lit
                 .shadow
@@ -158,11 +158,12 @@ fn dot64(a: [f32; 3], b: [f32; 3]) -> f64 {
 /// The primitive other than `own` (and its exact copies; `u32::MAX`: none skipped) that
 /// `shadow` meets nearest the light, by the scalar loop (one ray: the accelerator answers
 /// only whether).
-fn nearest_blocker(scene: &Scene, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
+fn nearest_blocker(stage: &Stage, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
+    let scene = stage.scene();
     if !scene.instances().is_empty() {
         // Millions of instanced triangles: the structure's nearest hit from the light (the
         // segment ends off its own surface, so that is the blocker).
-        let hit = scene.accel().closest_hit(shadow, method, 0.0, 1.0)?;
+        let hit = stage.accel().closest_hit(shadow, method, 0.0, 1.0)?;
         return (hit.prim != own).then_some(hit.prim);
     }
     let own_shape = scene.shapes.get(own as usize).copied();

@@ -14,9 +14,10 @@ pub mod image;
 pub mod inspect;
 pub mod settings;
 pub mod shade;
+pub mod stage;
 
 use crate::accel::frame::{OriginTriangle, NO_HIT};
-use crate::accel::{FrameQueries, FrameSetup, TileQueries, TileScratch};
+use crate::accel::{Accel, FrameQueries, FrameSetup, TileQueries, TileScratch};
 use crate::camera::{Camera, RayGenerator};
 use crate::geometry::{Method, Ray};
 use crate::math::lanes::LaneOps;
@@ -30,6 +31,7 @@ pub use image::{linear_to_srgb8, linear_to_srgb8_reference, write_png};
 pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE, MAX_SPP};
 pub use shade::Rgb;
 use shade::{ShadePacket, ShadeTri};
+pub use stage::Stage;
 
 /// What a render did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -62,8 +64,7 @@ pub const CRACK: Rgb = [1.0, 0.0, 1.0];
 /// Whether the ray slips through with `method` where the (exact) adaptive method hits, or
 /// hits where it misses: a crack. (Picking the other of two triangles that meet at the hit
 /// point is not one; it is the same surface.)
-pub fn is_crack(scene: &Scene, ray: &Ray, method: Method) -> bool {
-    let accel = scene.accel();
+pub fn is_crack(accel: &Accel, ray: &Ray, method: Method) -> bool {
     let hits = |m| accel.closest_hit(ray, m, 0.0, f32::INFINITY).is_some();
     method != Method::Adaptive && hits(method) != hits(Method::Adaptive)
 }
@@ -77,14 +78,15 @@ pub const TILE: u32 = 16;
 /// Height of the tiles, the rows a parallel band holds.
 pub const BAND: u32 = 16;
 
-/// Renders `scene` through `camera` into `rgba` (RGBA8, rows top to bottom, alpha 255).
+/// Renders the stage's scene through `camera` into `rgba` (RGBA8, rows top to bottom, alpha
+/// 255).
 pub fn render_into(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
     rgba: &mut [u8],
 ) -> Result<RenderStats, SettingsError> {
-    render_into_cancellable(scene, camera, settings, rgba, &|| false)
+    render_into_cancellable(stage, camera, settings, rgba, &|| false)
         .map(|stats| stats.expect("never cancelled"))
 }
 
@@ -92,7 +94,7 @@ pub fn render_into(
 /// rows), returning `Ok(None)` and leaving the buffer partly drawn: an interactive viewer
 /// drops a frame that a camera move has made stale instead of waiting for it.
 pub fn render_into_cancellable(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
     rgba: &mut [u8],
@@ -108,8 +110,7 @@ pub fn render_into_cancellable(
             settings.buffer_len(),
         ));
     }
-    // Build the acceleration structure before the clock starts (once per scene).
-    let accel = scene.accel();
+    let (scene, accel) = (stage.scene(), stage.accel());
     let start = Instant::now();
     let gen = camera.ray_generator(w, h);
     let camera_rays = w as usize * h as usize * (settings.spp * settings.spp) as usize;
@@ -122,7 +123,7 @@ pub fn render_into_cancellable(
         shadows: settings.step.casts_shadows(),
         per_ray: settings.cracks,
     });
-    let frame = Frame::new(scene, settings, &queries, gen, camera_rays);
+    let frame = Frame::new(stage, settings, &queries, gen, camera_rays);
     let (hits, shadow_rays) = rgba
         .par_chunks_mut(frame.row_bytes * BAND as usize)
         .enumerate()
@@ -313,6 +314,8 @@ struct Shading {
 /// What every tile of one frame shares.
 struct Frame<'a> {
     scene: &'a Scene,
+    /// The structure over it (the cracks view asks it per ray).
+    accel: &'a Accel,
     settings: &'a RenderSettings,
     /// The triangles readied for shading hits from the eye, by primitive, where the face
     /// prepared them all for the eye (steps past the flat one; else each packet readies its
@@ -333,7 +336,7 @@ struct Frame<'a> {
 
 impl<'a> Frame<'a> {
     fn new(
-        scene: &'a Scene,
+        stage: &'a Stage,
         settings: &'a RenderSettings,
         queries: &FrameQueries,
         gen: RayGenerator,
@@ -341,8 +344,9 @@ impl<'a> Frame<'a> {
     ) -> Self {
         // By primitive, where every primitive not prepared is another shape (not where the
         // accelerator left out copies).
+        let (scene, accel) = (stage.scene(), stage.accel());
         let prepared = queries.prepared_for_eye();
-        let others = scene.accel().other_shapes().len();
+        let others = accel.other_shapes().len();
         let camera_tris = match (settings.step, prepared.first()) {
             (LabStep::Flat, _) | (_, None) => Vec::new(),
             _ if prepared.len() + others != scene.len() => Vec::new(),
@@ -363,9 +367,10 @@ impl<'a> Frame<'a> {
             .then(|| FlatPixels::new(scene, camera_rays));
         Self {
             scene,
+            accel,
             settings,
             camera_tris,
-            other_shapes: scene.accel().has_other_shapes(),
+            other_shapes: accel.has_other_shapes(),
             gen,
             flat_rgba,
             inv_n: 1.0 / settings.spp as f32,
@@ -428,21 +433,22 @@ impl<'a> Frame<'a> {
                     for sx in 0..n {
                         let (x, y) = self.sample(i, j, sx, sy);
                         let ray = self.gen.ray_through(x, y);
-                        let colour = if settings.cracks && is_crack(scene, &ray, settings.method) {
-                            Some(CRACK)
-                        } else {
-                            queries.closest(&ray).map(|hit| {
-                                let blocked = |ray: &Ray, skip| queries.blocked(ray, skip);
-                                shade::shade(
-                                    scene,
-                                    &ray,
-                                    &hit,
-                                    settings.step,
-                                    blocked,
-                                    &mut counts.1,
-                                )
-                            })
-                        };
+                        let colour =
+                            if settings.cracks && is_crack(self.accel, &ray, settings.method) {
+                                Some(CRACK)
+                            } else {
+                                queries.closest(&ray).map(|hit| {
+                                    let blocked = |ray: &Ray, skip| queries.blocked(ray, skip);
+                                    shade::shade(
+                                        scene,
+                                        &ray,
+                                        &hit,
+                                        settings.step,
+                                        blocked,
+                                        &mut counts.1,
+                                    )
+                                })
+                            };
                         if let Some(c) = colour {
                             counts.0 += 1;
                             add(&mut sum, c);
@@ -776,12 +782,12 @@ fn add(sum: &mut Rgb, c: Rgb) {
 
 /// Allocates the RGBA8 buffer and renders into it.
 pub fn render_image(
-    scene: &Scene,
+    stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<(Vec<u8>, RenderStats), SettingsError> {
     settings.validate()?;
     let mut rgba = vec![0u8; settings.buffer_len()];
-    let stats = render_into(scene, camera, settings, &mut rgba)?;
+    let stats = render_into(stage, camera, settings, &mut rgba)?;
     Ok((rgba, stats))
 }

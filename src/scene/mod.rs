@@ -6,11 +6,10 @@ pub mod file;
 pub use crate::geometry::instance;
 pub mod obj;
 
-use crate::accel::{Accel, AccelChoice};
 use crate::geometry::Shape;
 use crate::math::real::V3;
 use crate::math::{check_range, MAX_SCENE_COORDINATE, MAX_VIEW_COORDINATE};
-use std::sync::{Arc, OnceLock};
+use std::sync::OnceLock;
 
 pub use file::{load_scene_file, SceneCamera};
 pub use instance::{Instance, Mesh, Stored};
@@ -29,12 +28,11 @@ pub struct PointLight {
 }
 
 /// A scene: parallel arrays of primitives and their linear-RGB diffuse colours, meshes placed
-/// as instances (stored once however often they are placed), and the acceleration structure
-/// over them (built on first use, shared by clones).
+/// as instances (stored once however often they are placed). The structure that answers rays
+/// over them is built by whoever renders (`render::Stage`), not by the scene.
 ///
 /// A primitive's index counts the instances' triangles too: without instances primitive `i`
 /// is `shapes[i]`; with them, ask [`Scene::shape`] and [`Scene::color`].
-/// After changing `shapes`, call [`Scene::set_accel`] so the structure is rebuilt.
 #[derive(Clone, Debug)]
 pub struct Scene {
     /// A short name for messages ("cornell" or the file name).
@@ -61,8 +59,6 @@ pub struct Scene {
     pub camera: Option<SceneCamera>,
     /// A `.scene` file's push levels (the transform-stack inspector); empty otherwise.
     pub levels: Vec<file::Level>,
-    accel_choice: AccelChoice,
-    accel: OnceLock<Arc<Accel>>,
 }
 
 impl PartialEq for Scene {
@@ -112,50 +108,7 @@ impl Scene {
             levels: Vec::new(),
             instances: Vec::new(),
             instance_index: Vec::new(),
-            accel_choice: AccelChoice::Auto,
-            accel: OnceLock::new(),
         }
-    }
-
-    /// The acceleration structure (built on the first call).
-    pub fn accel(&self) -> &Accel {
-        self.accel.get_or_init(|| match self.instances.is_empty() {
-            true => Arc::new(Accel::build(&self.shapes, self.accel_choice)),
-            false => Arc::new(Accel::build_with_instances(
-                self.explicit_with_prims(),
-                &self.instances,
-                self.accel_choice,
-            )),
-        })
-    }
-
-    /// Builds the structure now (on the loading thread, not the one that shows the scene) and
-    /// adds to the warnings what it left out: triangles that copy an earlier one.
-    pub fn build_accel(&mut self) {
-        self.warnings.extend(self.copies_warning());
-    }
-
-    /// What the structure (built if need be) left out, as a warning: triangles that repeat an
-    /// earlier triangle's vertices, or `None`.
-    pub fn copies_warning(&self) -> Option<String> {
-        let accel = self.accel();
-        let (copies, others) = (accel.copies_left_out(), accel.other_copies_left_out());
-        let mut what = Vec::new();
-        if copies > 0 {
-            what.push(format!(
-                "{copies} triangles repeat an earlier triangle's vertices exactly"
-            ));
-        }
-        if others > 0 {
-            what.push(format!("{others} spheres repeat an earlier sphere exactly"));
-        }
-        (!what.is_empty()).then(|| {
-            format!(
-                "{}: {}: each is kept once (the earlier one answers every ray either would)",
-                self.name,
-                what.join(", and ")
-            )
-        })
     }
 
     /// Whether the scene is within the range the f32 core renders without overflow: every
@@ -184,12 +137,6 @@ impl Scene {
         }
         let light = self.light.position;
         check_range(&format!("{}: light", self.name), light, MAX_VIEW_COORDINATE)
-    }
-
-    /// Chooses the structure and drops the one built, if any (also after editing `shapes`).
-    pub fn set_accel(&mut self, choice: AccelChoice) {
-        self.accel_choice = choice;
-        self.accel = OnceLock::new();
     }
 
     /// Opens what a user names as a scene, the same names everywhere (the command line, the
@@ -280,7 +227,6 @@ impl Scene {
         }
         self.instance_index = instance::index(&instances);
         self.instances = instances;
-        self.accel = OnceLock::new();
         Ok(self)
     }
 
@@ -409,7 +355,6 @@ impl Scene {
         *flat.colors_mut() = (0..self.len() as u32).map(|p| self.color(p)).collect();
         flat.instances.clear();
         flat.instance_index.clear();
-        flat.accel = OnceLock::new();
         flat
     }
 
@@ -432,10 +377,10 @@ impl Scene {
         out
     }
 
-    /// Bounds of all primitives, or `None` for an empty scene (an instance's are its mesh's
-    /// box carried into the world, a little larger than its triangles').
+    /// Bounds of all primitives, or `None` for an empty scene: the same bits for an instanced
+    /// scene and its flattened twin ([`instance::placed_bounds`]).
     pub fn bounds(&self) -> Option<Bounds> {
-        let instanced = self.instances.iter().map(instance::world_bounds);
+        let instanced = self.instances.iter().map(instance::placed_bounds);
         let mut it = self.shapes.iter().map(Shape::bounds).chain(instanced);
         let first = it.next()?;
         Some(it.fold(first, |(lo, hi), (a, b)| {
