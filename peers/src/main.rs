@@ -771,7 +771,7 @@ fn run_bench<'a>(
                 build: Some(raylab_build),
                 frame: Box::new(|prims| {
                     per_ray(&rays, prims, |r| {
-                        accel
+                        (stage.accel())
                             .closest_hit(r, Method::Adaptive, 0.0, f32::INFINITY)
                             .map(|h| h.prim)
                     })
