@@ -36,6 +36,10 @@ pub struct Cli {
     /// `raylab render --help`).
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
+    /// The acceleration structure of every scene the window opens: `auto`, `flat` or `bvh`
+    /// (as `raylab render --accel`).
+    #[arg(long, default_value = "auto")]
+    pub accel: AccelChoice,
     /// Scripted run: show N frames (then finish the script and refine the image), save what
     /// the window showed to --screenshot and exit 0. For tests; needs a display.
     #[arg(long, value_name = "N", requires = "screenshot", hide = true)]

@@ -24,7 +24,11 @@ pub fn max_input_bytes() -> u64 {
 }
 
 /// The environment variables that set a limit ([`limit_from_env`]).
-pub const LIMIT_VARS: [&str; 2] = ["RAYLAB_MAX_INPUT_BYTES", "RAYLAB_MAX_TRIANGLES"];
+pub const LIMIT_VARS: [&str; 3] = [
+    "RAYLAB_MAX_INPUT_BYTES",
+    "RAYLAB_MAX_TRIANGLES",
+    "RAYLAB_MAX_PLACEMENTS",
+];
 
 /// The number environment variable `var` holds, else `default`: the settable limits. (A value
 /// that is not a whole number is refused by [`check_limit_vars`], which the binary calls
@@ -45,11 +49,9 @@ pub fn check_limit_vars() -> Result<(), String> {
             if text.trim().parse::<u64>().is_err() {
                 return Err(format!(
                     "{var}='{text}' is not a whole number of {} (0 to {})",
-                    if var.ends_with("BYTES") {
-                        "bytes"
-                    } else {
-                        "triangles"
-                    },
+                    var.trim_start_matches("RAYLAB_MAX_")
+                        .replace("INPUT_", "")
+                        .to_lowercase(),
                     u64::MAX
                 ));
             }

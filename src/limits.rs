@@ -14,3 +14,16 @@ pub const MAX_IMAGE_SIDE: u32 = 16_384;
 /// inverse and inspector node (about 500 bytes for a 5-byte line): without a bound, 10⁶ nested
 /// `push` lines took 653 MB. Scenes built with the transform stack nest a few levels.
 pub const MAX_PUSH_DEPTH: usize = 1000;
+
+/// The most mesh placements (instances) one `.scene` file may make by default. Each costs
+/// about 800 bytes (its matrices and boxes, its share of the hierarchy over placements) for a
+/// 14-byte `mesh` line: without a bound, 10⁷ placements passed 6 GB; at this one they stay under
+/// 1 GB. A field of a thousand bunnies makes a thousand.
+pub const MAX_PLACEMENTS: u64 = 1 << 20;
+
+/// The placement limit in force: [`MAX_PLACEMENTS`] unless `RAYLAB_MAX_PLACEMENTS` says (at
+/// most what a hierarchy holds, [`MAX_HIERARCHY_ITEMS`]).
+pub fn max_placements() -> u64 {
+    crate::input::limit_from_env("RAYLAB_MAX_PLACEMENTS", MAX_PLACEMENTS)
+        .min(MAX_HIERARCHY_ITEMS as u64)
+}

@@ -49,6 +49,7 @@ fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
     app::run(app::ViewerOptions {
         scene: args.model.clone(),
         obj_frame: args.obj_frame,
+        accel: args.accel,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         script: args.script.clone(),

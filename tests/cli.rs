@@ -962,6 +962,7 @@ fn every_input_is_capped_and_a_byte_order_mark_is_skipped() {
         ("RAYLAB_MAX_INPUT_BYTES", "10k"),
         ("RAYLAB_MAX_TRIANGLES", "-5"),
         ("RAYLAB_MAX_TRIANGLES", ""),
+        ("RAYLAB_MAX_PLACEMENTS", "1e6"),
     ] {
         let o = raylab_env(
             &["trace", "--scene", &scene, "--rays", &rays],
@@ -1992,5 +1993,81 @@ fn any_scene_file_name_round_trips_through_a_view() {
         stderr(&o).contains("bad.scene:2: a quoted word has no closing quote"),
         "{}",
         stderr(&o)
+    );
+}
+
+/// An OBJ strip of `n` triangles (enough, from 64, for a repeated mesh to be placed as
+/// instances).
+fn strip_obj(n: usize) -> String {
+    let mut text = String::new();
+    for i in 0..n + 2 {
+        text += &format!("v {} {} 0\n", i as f32 * 0.01, (i % 2) as f32 * 0.01);
+    }
+    for i in 1..=n {
+        text += &format!("f {} {} {}\n", i, i + 1, i + 2);
+    }
+    text
+}
+
+#[test]
+fn mesh_placements_are_capped_at_their_line() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "m.obj", &strip_obj(80));
+    let scene = write(
+        dir.path(),
+        "s.scene",
+        &"translate 0.1 0 0\nmesh m.obj\n".repeat(101),
+    );
+    let out = dir.path().join("s.png");
+    let args = ["render", "--scene", &scene, "-o", out.to_str().unwrap()];
+    let o = raylab_env(&args, &[("RAYLAB_MAX_PLACEMENTS", "100")]);
+    assert_fails(&o, 2, &["s.scene:202:", "more than 100 mesh placements"]);
+    assert!(!out.exists());
+    let o = raylab_env(&args, &[("RAYLAB_MAX_PLACEMENTS", "101")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn memory_grows_in_proportion_to_the_placements() {
+    // Peak memory (GNU time's maximum resident set) of rendering 20,000 and 80,000 placements
+    // of one mesh, each at its own spot: the 60,000 more may cost at most the stated budget,
+    // 1 KiB a placement (for a 28-byte pair of lines).
+    if !std::path::Path::new("/usr/bin/time").exists() {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but /usr/bin/time is missing: .ci/run must install it"
+        );
+        eprintln!("\n*** SKIPPED the memory test: /usr/bin/time is not installed ***\n");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "m.obj", &strip_obj(80));
+    let peak_kib = |placements: usize| -> u64 {
+        let scene = write(
+            dir.path(),
+            &format!("p{placements}.scene"),
+            &"translate 0.1 0 0\nmesh m.obj\n".repeat(placements),
+        );
+        let out = dir.path().join("p.png");
+        let o = Command::new("/usr/bin/time")
+            .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
+            .args([
+                "render", "--scene", &scene, "--width", "16", "--height", "16",
+            ])
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert!(o.status.success(), "{err}");
+        let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
+        line.expect("GNU time's report").trim().parse().unwrap()
+    };
+    let (small, large) = (peak_kib(20_000), peak_kib(80_000));
+    let per_placement = (large.saturating_sub(small) * 1024) as f64 / 60_000.0;
+    println!("{small} KiB, {large} KiB: {per_placement:.0} bytes a placement");
+    assert!(
+        per_placement <= 1024.0,
+        "{per_placement:.0} bytes a placement"
     );
 }

@@ -422,3 +422,30 @@ fn push_nesting_is_bounded_at_its_line() {
         "{msg}"
     );
 }
+
+#[test]
+fn transformed_coordinates_are_rounded_to_f64_then_to_f32() {
+    // The rule the module docs and the README state: the matrix is applied in f64, then the
+    // result is rounded to f32, two roundings. The vertex 1 translated by 2⁻²⁴ + 2⁻⁶⁰ (exact
+    // in the file and in f64) is 1 + 2⁻²⁴ + 2⁻⁶⁰, just above the f32 midpoint 1 + 2⁻²⁴: rounded
+    // once it would be 1 + 2⁻²³; f64 makes it the midpoint, which rounds to even: 1.
+    let shift = "0.000000059604644776257986737988403547205962240695953369140625";
+    assert_eq!(
+        shift.parse::<f64>().unwrap(),
+        2f64.powi(-24) + 2f64.powi(-60)
+    );
+    let text = format!("translate {shift} 0 0\ntri 1 0 0 0 1 0 0 0 1\n");
+    assert_eq!(tri(&parse32(&text).unwrap(), 0)[0][0], 1.0);
+    // f64 (`raylab trace --precision f64`) keeps the f64 sum.
+    let d = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes).unwrap();
+    let Shape::Triangle(v) = d.shapes[0] else {
+        panic!("a triangle")
+    };
+    assert_eq!(v[0][0], 1.0 + 2f64.powi(-24));
+    // An instance's world vertex is the same arithmetic.
+    let m = glam::DMat4::from_translation(glam::DVec3::new(shift.parse().unwrap(), 0.0, 0.0));
+    assert_eq!(
+        raylab::scene::Instance::world_vertex(&m, [1.0, 0.0, 0.0]),
+        [1.0, 0.0, 0.0]
+    );
+}

@@ -123,6 +123,8 @@ enum Around<'a> {
     RealInput(&'a str),
     /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
     RealInputOn(&'a str, &'a std::path::Path),
+    /// Nothing beside the app, which starts with these arguments.
+    Args(&'a [&'a str]),
 }
 
 /// [`run_window_env`] with something running beside the app ([`Around`]).
@@ -147,6 +149,10 @@ fn run_window_with(
         eprintln!("\n*** SKIPPED the real-input window test: xdotool is not installed ***\n");
         return None;
     }
+    let args: &[&str] = match around {
+        Around::Args(args) => args,
+        _ => &[],
+    };
     let dpi_change = match around {
         Around::DpiChange { at_ms, dpi } => Some((at_ms, dpi)),
         _ => None,
@@ -213,6 +219,7 @@ fn run_window_with(
     if let Some(model) = model {
         command.arg(model);
     }
+    command.args(args);
     let mut child = command
         .args(["--frames", "5", "--screenshot"])
         .arg(&shot_path)
@@ -315,6 +322,10 @@ fn scripted_window_run_matches_the_headless_render() {
         "only {moving_frames} frames shown while moving"
     );
     assert_eq!(run.fields["scene"], "cornell");
+    assert_eq!(
+        run.fields["accel"], "flat",
+        "auto: the flat loop for the lab's box"
+    );
 
     // The camera really moved, turned, looked up and zoomed.
     assert!(pos.z > -3.0 + 0.1, "moved forward: {pos}");
@@ -1138,4 +1149,17 @@ fn the_window_opens_cornell_by_name_as_the_command_line_does() {
     assert!(out.contains("primitives=30"), "the lab's box: {out}");
     let (w, h, _) = read_png(&shot);
     assert!(w > 0 && h > 0);
+}
+
+#[test]
+fn the_window_builds_the_structure_accel_names() {
+    // `raylab --accel bvh`: the lab's box through a BVH (auto picks the flat loop), the same
+    // image as the headless render of the final view.
+    let dir = tempfile::tempdir().unwrap();
+    let Some(run) = run_window_with("", dir.path(), &[], Around::Args(&["--accel", "bvh"])) else {
+        return;
+    };
+    assert_eq!(run.fields["accel"], "bvh");
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }

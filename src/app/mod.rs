@@ -51,6 +51,8 @@ pub struct ViewerOptions {
     pub scene: Option<PathBuf>,
     /// How OBJ coordinates are read.
     pub obj_frame: raylab::scene::ObjFrame,
+    /// The acceleration structure of every scene opened.
+    pub accel: raylab::accel::AccelChoice,
     /// Run this many frames (plus the script and refinement), save `screenshot`, exit.
     pub frames: Option<u64>,
     /// Where `--frames` saves what the window showed.
@@ -95,7 +97,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         }
         None => Scene::cornell(),
     };
-    let stage = Stage::from(scene);
+    let stage = Stage::new(scene, opts.accel);
     let event_loop = EventLoop::<AppEvent>::with_user_event()
         .build()
         .map_err(|e| {
@@ -104,7 +106,12 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         })?;
     // (`cornell` names the built-in box: no file to watch or name in a view.)
     let file = (opts.scene.as_ref()).filter(|p| p.as_os_str() != raylab::scene::CORNELL);
-    let viewer = Viewer::new(stage, file, opts.obj_frame, event_loop.create_proxy());
+    let viewer = Viewer::new(
+        stage,
+        file,
+        (opts.obj_frame, opts.accel),
+        event_loop.create_proxy(),
+    );
     let scripted = match (opts.frames, opts.screenshot) {
         (Some(frames), Some(shot)) => Some(ScriptedRun::new(frames, shot, script)),
         _ => None,

@@ -94,7 +94,7 @@ impl ScriptedRun {
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -118,6 +118,7 @@ impl ScriptedRun {
             ["off", "on"][viewer.inspector_on as usize],
             ["off", "on"][viewer.show_help as usize],
             viewer.stage.scene().len(),
+            viewer.stage.accel().kind(),
             viewer.stage.scene().name,
         );
         if !viewer.status.is_empty() {

@@ -6,6 +6,7 @@
 use super::input::InputState;
 use super::worker::{self, Worker};
 use super::AppEvent;
+use raylab::accel::AccelChoice;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
 use raylab::render::inspect::Inspection;
@@ -63,6 +64,8 @@ pub struct Viewer {
     proxy: EventLoopProxy<AppEvent>,
     pub stage: Stage,
     obj_frame: ObjFrame,
+    /// The structure every scene opened is built with (`--accel`).
+    accel: AccelChoice,
     pub controller: CameraController,
     pub view: ViewSettings,
     pub input: InputState,
@@ -136,7 +139,7 @@ impl Viewer {
     pub fn new(
         stage: Stage,
         scene_path: Option<&PathBuf>,
-        obj_frame: ObjFrame,
+        (obj_frame, accel): (ObjFrame, AccelChoice),
         proxy: EventLoopProxy<AppEvent>,
     ) -> Self {
         let wake = proxy.clone();
@@ -149,6 +152,7 @@ impl Viewer {
             proxy,
             stage,
             obj_frame,
+            accel,
             controller,
             view: ViewSettings {
                 step: LabStep::Indirect,
@@ -473,7 +477,7 @@ impl Viewer {
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
     fn show_cornell(&mut self) {
         *self.source.lock().expect("not poisoned") = None;
-        self.stage = Stage::from(Scene::cornell());
+        self.stage = Stage::new(Scene::cornell(), self.accel);
         self.changed();
     }
 
@@ -492,9 +496,9 @@ impl Viewer {
         let verb = if reload { "reloading" } else { "loading" };
         self.set_status(format!("{verb} {}...", path.display()));
         let proxy = self.proxy.clone();
-        let frame = self.obj_frame;
+        let (frame, accel) = (self.obj_frame, self.accel);
         std::thread::spawn(move || {
-            let result = Scene::load(&path, frame).map(Stage::from);
+            let result = Scene::load(&path, frame).map(|scene| Stage::new(scene, accel));
             let _ = proxy.send_event(AppEvent::SceneLoaded(path, Box::new(result), reload));
         });
     }

@@ -3,7 +3,7 @@
 //!
 //! An instance is only a way of storing: its triangles are, to the last bit, the triangles a
 //! `.scene` file would have flattened into the world (each object vertex transformed by the
-//! f64 matrix, then rounded once to f32: [`Instance::world_vertex`], the same arithmetic as
+//! f64 matrix, then rounded to f32: [`Instance::world_vertex`], the same arithmetic as
 //! the parser's), and their primitive indices are their places in the file's order. The
 //! accelerator ([`crate::accel`]) keeps one hierarchy per mesh in object space and one over
 //! the instances, and tests the world triangles it computes at the leaves; every answer
@@ -95,7 +95,7 @@ impl Instance {
         self.first_prim..self.first_prim + self.len() as u32
     }
 
-    /// An object vertex in the world: the matrix applied in f64, rounded once to f32 (what
+    /// An object vertex in the world: the matrix applied in f64, then rounded to f32 (what
     /// the `.scene` parser computes for a flattened mesh).
     #[inline]
     pub fn world_vertex(m: &DMat4, v: [f32; 3]) -> [f32; 3] {

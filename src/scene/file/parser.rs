@@ -29,6 +29,8 @@ struct Parser<'a, T: Real> {
     instanced: usize,
     /// Most primitives stored one by one ([`obj::max_triangles`]).
     max_stored: u64,
+    /// Most meshes placed as instances ([`crate::limits::max_placements`]).
+    max_placements: u64,
 }
 
 /// Parses `.scene` text, every mesh flattened. `dir` is where mesh paths are relative to;
@@ -95,6 +97,7 @@ pub fn parse_with<T: Real>(
         instancing,
         instanced: 0,
         max_stored: obj::max_triangles(),
+        max_placements: crate::limits::max_placements(),
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -163,7 +166,8 @@ impl<T: Real> Parser<'_, T> {
         self.stack.matrix() == glam::DMat4::IDENTITY
     }
 
-    /// A point of the current frame in world coordinates, rounded once to `T`.
+    /// A point of the current frame in world coordinates: the matrix applied in f64, then
+    /// rounded to `T` (the numbers straight in `T` where the matrix is the identity).
     fn point(&self, words: &[&str], p: [f64; 3]) -> Result<[T; 3], String> {
         if !self.identity() {
             return self.transformed(p);
@@ -266,10 +270,10 @@ impl<T: Real> Parser<'_, T> {
         if first + n > u32::MAX as usize - 1 {
             return Err(format!("more than {} primitives", u32::MAX - 1));
         }
-        if self.out.instances.len() >= crate::limits::MAX_HIERARCHY_ITEMS {
+        if self.out.instances.len() as u64 >= self.max_placements {
             return Err(format!(
-                "more than {} instances",
-                crate::limits::MAX_HIERARCHY_ITEMS
+                "more than {} mesh placements (RAYLAB_MAX_PLACEMENTS=N sets another limit)",
+                self.max_placements
             ));
         }
         self.out.instances.push(Instance {
