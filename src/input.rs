@@ -23,11 +23,11 @@ pub fn max_input_bytes() -> u64 {
     limit_from_env("RAYLAB_MAX_INPUT_BYTES", MAX_INPUT_BYTES)
 }
 
-/// The environment variables that set a limit ([`limit_from_env`]).
-pub const LIMIT_VARS: [&str; 3] = [
-    "RAYLAB_MAX_INPUT_BYTES",
-    "RAYLAB_MAX_TRIANGLES",
-    "RAYLAB_MAX_PLACEMENTS",
+/// The environment variables that set a limit ([`limit_from_env`]), with what they count.
+pub const LIMIT_VARS: [(&str, &str); 3] = [
+    ("RAYLAB_MAX_INPUT_BYTES", "bytes"),
+    ("RAYLAB_MAX_TRIANGLES", "triangles"),
+    ("RAYLAB_MAX_PLACEMENTS", "placements"),
 ];
 
 /// The number environment variable `var` holds, else `default`: the settable limits. (A value
@@ -43,15 +43,12 @@ pub fn limit_from_env(var: &str, default: u64) -> u64 {
 /// Refuses a limit variable ([`LIMIT_VARS`]) that is set but is not a whole number, so a
 /// mistyped limit is never silently replaced by the default.
 pub fn check_limit_vars() -> Result<(), String> {
-    for var in LIMIT_VARS {
+    for (var, unit) in LIMIT_VARS {
         if let Some(value) = std::env::var_os(var) {
             let text = value.to_string_lossy();
             if text.trim().parse::<u64>().is_err() {
                 return Err(format!(
-                    "{var}='{text}' is not a whole number of {} (0 to {})",
-                    var.trim_start_matches("RAYLAB_MAX_")
-                        .replace("INPUT_", "")
-                        .to_lowercase(),
+                    "{var}='{text}' is not a whole number of {unit} (0 to {})",
                     u64::MAX
                 ));
             }

@@ -233,7 +233,7 @@ pub fn trace_all_packets(
 ) -> String {
     use crate::accel::{FrameSetup, ShadowSegments, TileScratch, NO_HIT};
     use wide::f32x8;
-    let accel = &accel::Accel::for_scene(scene, accel::AccelChoice::Auto);
+    let structure = accel::Accel::for_scene(scene, accel::AccelChoice::Auto);
     let tmax_of_group = match query {
         Query::Nearest => f32::INFINITY,
         Query::Any => 1.0,
@@ -257,7 +257,7 @@ pub fn trace_all_packets(
     let mut found: Vec<Option<u32>> = vec![None; rays.len()];
     let mut scratch = TileScratch::default();
     for (o, members) in &groups {
-        let frame = accel.for_frame(&FrameSetup {
+        let frame = structure.for_frame(&FrameSetup {
             eye: *o,
             light: *o,
             projection: None,
@@ -322,12 +322,12 @@ pub fn trace_all_packets(
                     b1: 0.0,
                     b2: 0.0,
                 }),
-                None => accel.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
+                None => structure.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
             },
         ),
         Query::Any => any_answers(rays, |r| match found.next().expect("one answer per ray") {
             Some(blocked) => blocked == 1,
-            None => accel.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
+            None => structure.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
         }),
     }
 }

@@ -241,12 +241,12 @@ fn tiles_off_the_instances_box_render_as_the_flattened_scene() {
     )
     .with_instances(instances)
     .unwrap();
-    let flat = scene.flattened();
+    let flat = Stage::from(scene.flattened());
     let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -2.5), 0.0, 0.0, 100.0).unwrap();
     let (w, h) = (120, 90);
     let gen = cam.ray_generator(w, h);
-    let structure = auto(&scene);
-    let queries = structure.for_frame(&accel::FrameSetup {
+    let stage = Stage::from(scene.clone());
+    let queries = stage.accel().for_frame(&accel::FrameSetup {
         eye: gen.origin(),
         light: scene.light.position,
         projection: Some(cam.projection(w, h)),
@@ -276,8 +276,8 @@ fn tiles_off_the_instances_box_render_as_the_flattened_scene() {
                 tile_culling,
                 ..Default::default()
             };
-            let (a, sa) = render_image(&scene.clone().into(), &cam, &settings).unwrap();
-            let (b, sb) = render_image(&flat.clone().into(), &cam, &settings).unwrap();
+            let (a, sa) = render_image(&stage, &cam, &settings).unwrap();
+            let (b, sb) = render_image(&flat, &cam, &settings).unwrap();
             assert!(a == b, "{step} culling {tile_culling}: images differ");
             assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays));
             assert!(sa.hits > 1000, "{} hits", sa.hits);
@@ -601,7 +601,8 @@ pop
     assert_eq!(degenerate, 2, "{:?}", scene.warnings); // once per frame it is loaded in
     assert!(scene.warnings[0].contains(":7:"), "{:?}", scene.warnings);
     // And the flattened description renders as the scene does.
-    let flat_scene = Scene::from_description(&name, flat).unwrap();
+    let flat_scene = Stage::from(Scene::from_description(&name, flat).unwrap());
+    let stage = Stage::from(scene);
     let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 50.0).unwrap();
     for step in [LabStep::Flat, LabStep::Shadows] {
         let settings = RenderSettings {
@@ -610,12 +611,8 @@ pop
             step,
             ..Default::default()
         };
-        let a = render_image(&scene.clone().into(), &cam, &settings)
-            .unwrap()
-            .0;
-        let b = render_image(&flat_scene.clone().into(), &cam, &settings)
-            .unwrap()
-            .0;
+        let a = render_image(&stage, &cam, &settings).unwrap().0;
+        let b = render_image(&flat_scene, &cam, &settings).unwrap().0;
         assert!(a == b, "{step}: images differ");
     }
 }
@@ -860,6 +857,7 @@ pop
     assert_eq!(scene.light, flat.light);
     let (w, h) = (96, 72);
     let cam = raylab::controller::CameraController::framing(bounds, w, h).camera(w);
+    let (scene, flat) = (Stage::from(scene), Stage::from(flat));
     for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
         let settings = RenderSettings {
             width: w,
@@ -867,12 +865,8 @@ pop
             step,
             ..Default::default()
         };
-        let a = render_image(&scene.clone().into(), &cam, &settings)
-            .unwrap()
-            .0;
-        let b = render_image(&flat.clone().into(), &cam, &settings)
-            .unwrap()
-            .0;
+        let a = render_image(&scene, &cam, &settings).unwrap().0;
+        let b = render_image(&flat, &cam, &settings).unwrap().0;
         assert!(a == b, "{step}: images differ");
     }
 }

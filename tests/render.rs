@@ -1055,10 +1055,12 @@ fn a_scene_scaled_by_a_power_of_two_renders_the_same_up_to_the_range_limit() {
     // were rescaled, a cube of side 2e10 rendered black with light (|n|² overflowed f32).
     let (w, h) = (64, 48);
     let (unit, unit_cam) = framed_cube(1.0, w, h);
+    let unit = Stage::from(unit);
     for k in [-20, 20, 33, 37] {
         let s = 2f32.powi(k);
         let (scaled, cam) = framed_cube(s, w, h);
         assert!(scaled.check_ranges().is_ok(), "2^{k}");
+        let scaled = Stage::from(scaled);
         for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
             let settings = RenderSettings {
                 width: w,
@@ -1066,12 +1068,8 @@ fn a_scene_scaled_by_a_power_of_two_renders_the_same_up_to_the_range_limit() {
                 step,
                 ..Default::default()
             };
-            let a = render_image(&unit.clone().into(), &unit_cam, &settings)
-                .unwrap()
-                .0;
-            let b = render_image(&scaled.clone().into(), &cam, &settings)
-                .unwrap()
-                .0;
+            let a = render_image(&unit, &unit_cam, &settings).unwrap().0;
+            let b = render_image(&scaled, &cam, &settings).unwrap().0;
             let lit = b.chunks(4).filter(|p| p[0] > 40).count();
             assert!(lit > 500, "2^{k} {step:?}: only {lit} lit pixels");
             let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();

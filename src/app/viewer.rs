@@ -234,11 +234,10 @@ impl Viewer {
         let Some(level) = self.selected_level.and_then(|l| scene.levels.get(l)) else {
             return self.stage.clone();
         };
-        let ranges = level.primitives.clone();
         let mut tinted = self.stage.clone();
         let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
         tinted.restyle(|scene| {
-            for range in ranges {
+            for range in &level.primitives {
                 match scene.instances().is_empty() {
                     true => {
                         for c in &mut scene.colors_mut()[range.start as usize..range.end as usize] {
@@ -246,7 +245,7 @@ impl Viewer {
                         }
                     }
                     // An instance is tinted as a whole (its mesh's colours are shared).
-                    false => scene.tint(range, mix(raylab::scene::file::DEFAULT_COLOR)),
+                    false => scene.tint(range.clone(), mix(raylab::scene::file::DEFAULT_COLOR)),
                 }
             }
         });
