@@ -7,7 +7,8 @@ use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
-use raylab::render::{self, LabStep, RenderSettings, Stage};
+use raylab::render::controls::{Control, Kind};
+use raylab::render::{self, RenderSettings, Stage, CONTROLS};
 use raylab::scene::{ObjFrame, Scene};
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
@@ -72,37 +73,88 @@ pub enum Command {
     Inspect(InspectArgs),
 }
 
-/// Ray/triangle method names for clap.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum MethodArg {
-    /// The default: watertight in f32 where certain, else f64 intervals, else exact
-    /// rationals; always the exact nearest primitive.
-    Adaptive,
-    /// Woop–Benthin–Wald watertight test in plain f32: no ray slips between shared edges.
-    Watertight,
-    /// Möller–Trumbore.
-    Moller,
-    /// The lecture's x = A⁻¹b through an explicit inverse (the baseline).
-    Cramer,
+/// The values of a choice control for clap, each with its one-line explanation (the values
+/// are described once, in the library's table).
+fn possible_values(control: &Control) -> clap::builder::PossibleValuesParser {
+    use clap::builder::PossibleValue;
+    let Kind::Choice { options, .. } = control.kind else {
+        unreachable!("{} is not a choice", control.name)
+    };
+    let values = options()
+        .into_iter()
+        .map(|o| PossibleValue::new(o.name).help(o.help));
+    clap::builder::PossibleValuesParser::new(values)
 }
 
-impl From<MethodArg> for Method {
-    fn from(m: MethodArg) -> Method {
-        match m {
-            MethodArg::Adaptive => Method::Adaptive,
-            MethodArg::Watertight => Method::Watertight,
-            MethodArg::Moller => Method::Moller,
-            MethodArg::Cramer => Method::Cramer,
+/// `--method` of `raylab trace`: the render control's values.
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
+    use clap::builder::TypedValueParser;
+    let method = render::controls::control("method").expect("a control");
+    possible_values(method).map(|name| name.parse().expect("a listed method"))
+}
+
+/// The image's controls as flags, one per row of [`CONTROLS`] (`--step`, `--spp`, `--method`,
+/// `--cracks`, …): what they set, over the defaults.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ControlFlags(pub RenderSettings);
+
+impl clap::FromArgMatches for ControlFlags {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut flags = Self::default();
+        flags.update_from_arg_matches(matches)?;
+        Ok(flags)
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        for control in &CONTROLS {
+            match control.kind {
+                Kind::Toggle { set, .. } => {
+                    if matches.get_flag(control.name) {
+                        set(&mut self.0, true)
+                    }
+                }
+                Kind::Count { set, .. } => {
+                    if let Some(n) = matches.get_one::<u32>(control.name) {
+                        set(&mut self.0, *n)
+                    }
+                }
+                Kind::Choice { .. } => {
+                    if let Some(name) = matches.get_one::<String>(control.name) {
+                        let set = control.set_text(&mut self.0, name);
+                        set.map_err(|e| clap::Error::raw(clap::error::ErrorKind::InvalidValue, e))?;
+                    }
+                }
+            }
         }
+        Ok(())
     }
 }
 
-/// The lab steps for clap, each with its one-line explanation from [`LabStep::explanation`]
-/// (the steps are described once, in the library).
-fn lab_step_parser() -> impl clap::builder::TypedValueParser<Value = LabStep> {
-    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
-    let steps = LabStep::ALL.map(|s| PossibleValue::new(s.name()).help(s.explanation()));
-    PossibleValuesParser::new(steps).map(|name| name.parse().expect("a listed step"))
+impl clap::Args for ControlFlags {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        let defaults = RenderSettings::default();
+        cmd.args(CONTROLS.iter().map(|control| {
+            let arg = clap::Arg::new(control.name)
+                .long(control.name)
+                .help(control.help)
+                .conflicts_with("view");
+            match control.kind {
+                Kind::Toggle { .. } => arg.action(clap::ArgAction::SetTrue),
+                Kind::Count { .. } => arg
+                    .value_name("N")
+                    .value_parser(clap::value_parser!(u32))
+                    .default_value(control.text(&defaults)),
+                Kind::Choice { .. } => arg
+                    .value_name(control.name.to_uppercase())
+                    .value_parser(possible_values(control))
+                    .default_value(control.text(&defaults)),
+            }
+        }))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 /// Arithmetic precision of `trace`.
@@ -120,8 +172,7 @@ pub struct ViewArgs {
     /// A view saved by the window (F5): its scene, camera, light, size, step, samples and
     /// method, instead of the flags that set them.
     #[arg(long, value_name = "FILE.view", conflicts_with_all = [
-        "scene", "width", "height", "focal", "camera", "yaw", "pitch", "light", "step", "spp",
-        "method", "obj_frame", "cracks",
+        "scene", "width", "height", "focal", "camera", "yaw", "pitch", "light", "obj_frame",
     ])]
     pub view: Option<PathBuf>,
     /// `cornell` for the built-in lab Cornell box, a `.scene` file (the transform-stack scene
@@ -156,15 +207,9 @@ pub struct ViewArgs {
     /// the window's panel sets it.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub light: Option<DVec3>,
-    /// Lab step (shading).
-    #[arg(long, default_value = "flat", value_parser = lab_step_parser())]
-    pub step: LabStep,
-    /// Supersampling: N×N stratified rays per pixel (1..=16).
-    #[arg(long, default_value_t = 1)]
-    pub spp: u32,
-    /// Ray/triangle intersection method.
-    #[arg(long, value_enum, default_value = "adaptive")]
-    pub method: MethodArg,
+    /// The image's controls (step, supersampling, method, cracks).
+    #[command(flatten)]
+    pub controls: ControlFlags,
     /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
     /// from there on; `flat` (formerly `brute`) and `bvh` force one.
     #[arg(long, default_value = "auto")]
@@ -178,10 +223,6 @@ pub struct ViewArgs {
     /// whose screen bounds meet its 16x16 tile (the same image, slower: to measure the gain).
     #[arg(long)]
     pub no_tile_culling: bool,
-    /// The cracks view: paint magenta where --method lets a ray through that the exact
-    /// adaptive method hits, or the reverse (where the lecture's method leaks).
-    #[arg(long)]
-    pub cracks: bool,
 }
 
 /// `raylab render`.
@@ -262,8 +303,8 @@ pub struct TraceArgs {
     #[arg(long)]
     pub rays: PathBuf,
     /// Ray/triangle intersection method.
-    #[arg(long, value_enum, default_value = "adaptive")]
-    pub method: MethodArg,
+    #[arg(long, default_value = "adaptive", value_parser = method_parser())]
+    pub method: Method,
     /// Arithmetic precision: inputs are parsed and intersected in this precision.
     #[arg(long, value_enum, default_value = "f32")]
     pub precision: Precision,
@@ -387,11 +428,8 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
     let settings = RenderSettings {
         width: v.width,
         height: v.height,
-        step: v.step,
-        spp: v.spp,
-        method: v.method.into(),
         tile_culling: !v.no_tile_culling,
-        cracks: v.cracks,
+        ..v.controls.0
     };
     settings.validate()?;
     let mut scene = load_scene_warning(&v.scene, v.obj_frame)
@@ -507,7 +545,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     }
     png.commit()?;
     say!(
-        "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} step={} spp={}x{} method={} on {} threads in {:.2} ms: \
+        "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} {} on {} threads in {:.2} ms: \
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
         scene.name,
         scene.len(),
@@ -515,10 +553,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         build.as_secs_f64() * 1e3,
         settings.width,
         settings.height,
-        settings.step,
-        settings.spp,
-        settings.spp,
-        settings.method,
+        controls_text(&settings),
         rayon::current_num_threads(),
         stats.elapsed.as_secs_f64() * 1e3,
         stats.primary_rays,
@@ -532,6 +567,13 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         say!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// `step=flat spp=1 method=adaptive cracks=off`: every control's value, for the reports.
+fn controls_text(settings: &RenderSettings) -> String {
+    CONTROLS
+        .map(|c| format!("{}={}", c.name, c.text(settings)))
+        .join(" ")
 }
 
 /// Runs `raylab bench`.
@@ -572,12 +614,10 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         stage.accel().memory_bytes() as f64 / 1e6
     );
     say!(
-        "view: {}x{} step={} spp={} method={} camera={} yaw={} pitch={} focal={}",
+        "view: {}x{} {} camera={} yaw={} pitch={} focal={}",
         settings.width,
         settings.height,
-        settings.step,
-        settings.spp,
-        settings.method,
+        controls_text(&settings),
         camera.position(),
         camera.forward().x.atan2(camera.forward().z).to_degrees(),
         (-camera.forward().y).asin().to_degrees(),
@@ -629,7 +669,7 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         args.scene.display().to_string(),
         args.rays.display().to_string(),
     );
-    let method = args.method.into();
+    let method = args.method;
     let query = args.query.into();
     if args.accel == TraceAccel::Packets {
         if args.precision != Precision::F32 || method != Method::Adaptive {

@@ -12,13 +12,16 @@
 //! method adaptive|watertight|moller|cramer
 //! cracks on|off
 //! ```
+//! `step` onwards are the image's controls, one `NAME VALUE` line per row of
+//! [`crate::render::CONTROLS`]: the file reads and writes them through that table, as the
+//! command line's flags and the window's panel do.
 //! A path with spaces, `#` or quotes is written in double quotes (`crate::words`), so any file
 //! name round-trips. Numbers are written in Rust's shortest round-trip form, so a saved view
 //! reads back to the same f64 values (the field of view is derived from the focal length,
 //! exact to an ulp).
 
-use crate::geometry::Method;
-use crate::render::{LabStep, RenderSettings};
+use crate::render::controls::Kind;
+use crate::render::{RenderSettings, CONTROLS};
 use crate::scene::file::{FileError, SceneCamera};
 use crate::scene::ObjFrame;
 
@@ -76,11 +79,10 @@ impl View {
         if let Some(l) = self.light {
             out += &format!("light {} {} {}\n", l[0], l[1], l[2]);
         }
-        out += &format!(
-            "size {} {}\nstep {}\nspp {}\nmethod {}\n",
-            s.width, s.height, s.step, s.spp, s.method
-        );
-        out += &format!("cracks {}\n", if s.cracks { "on" } else { "off" });
+        out += &format!("size {} {}\n", s.width, s.height);
+        for control in &CONTROLS {
+            out += &format!("{} {}\n", control.name, control.text(s));
+        }
         out
     }
 
@@ -93,25 +95,35 @@ impl View {
         let p = c.position;
         let mut args = vec!["raylab".to_string(), "render".into()];
         // (`--name=value`: a negative number is then never taken for a flag.)
-        let mut flag = |name: &str, value: String| args.push(format!("--{name}={value}"));
-        flag("scene", shell_quote(&self.scene));
+        // (A toggle is a bare `--name`, given when on.)
+        let mut flag = |name: &str, value: Option<String>| {
+            args.push(match value {
+                Some(value) => format!("--{name}={value}"),
+                None => format!("--{name}"),
+            })
+        };
+        flag("scene", Some(shell_quote(&self.scene)));
         if self.obj_frame == ObjFrame::Lab {
-            flag("obj-frame", "lab".into());
+            flag("obj-frame", Some("lab".into()));
         }
-        flag("camera", format!("{},{},{}", p[0], p[1], p[2]));
-        flag("yaw", c.yaw.to_string());
-        flag("pitch", c.pitch.to_string());
-        flag("focal", (c.focal_ratio() * s.width as f64).to_string());
+        flag("camera", Some(format!("{},{},{}", p[0], p[1], p[2])));
+        flag("yaw", Some(c.yaw.to_string()));
+        flag("pitch", Some(c.pitch.to_string()));
+        flag(
+            "focal",
+            Some((c.focal_ratio() * s.width as f64).to_string()),
+        );
         if let Some(l) = self.light {
-            flag("light", format!("{},{},{}", l[0], l[1], l[2]));
+            flag("light", Some(format!("{},{},{}", l[0], l[1], l[2])));
         }
-        flag("width", s.width.to_string());
-        flag("height", s.height.to_string());
-        flag("step", s.step.to_string());
-        flag("spp", s.spp.to_string());
-        flag("method", s.method.to_string());
-        if s.cracks {
-            args.push("--cracks".into());
+        flag("width", Some(s.width.to_string()));
+        flag("height", Some(s.height.to_string()));
+        for control in &CONTROLS {
+            match control.kind {
+                Kind::Toggle { get, .. } if !get(s) => {}
+                Kind::Toggle { .. } => flag(control.name, None),
+                _ => flag(control.name, Some(control.text(s))),
+            }
         }
         args.push("-o".into());
         args.push(shell_quote(out));
@@ -204,32 +216,19 @@ impl View {
                 want(3)?;
                 (self.settings.width, self.settings.height) = (int(w[1])?, int(w[2])?);
             }
-            "step" => {
-                want(2)?;
-                self.settings.step = w[1].parse::<LabStep>()?;
-            }
-            "spp" => {
-                want(2)?;
-                self.settings.spp = int(w[1])?;
-            }
-            "method" => {
-                want(2)?;
-                self.settings.method = w[1].parse::<Method>()?;
-            }
-            "cracks" => {
-                want(2)?;
-                self.settings.cracks = match w[1] {
-                    "on" => true,
-                    "off" => false,
-                    other => return Err(format!("cracks is on or off, not '{other}'")),
-                };
-            }
-            other => {
-                return Err(format!(
-                    "unknown view statement '{other}' (expected scene, obj-frame, camera, light, \
-                     size, step, spp, method or cracks)"
-                ))
-            }
+            name => match crate::render::controls::control(name) {
+                Some(control) => {
+                    want(2)?;
+                    control.set_text(&mut self.settings, w[1])?;
+                }
+                None => {
+                    return Err(format!(
+                        "unknown view statement '{name}' (expected scene, obj-frame, camera, \
+                         light, size, {})",
+                        crate::render::controls::names()
+                    ))
+                }
+            },
         }
         Ok(())
     }

@@ -1561,6 +1561,53 @@ fn a_views_command_line_renders_the_view_through_a_shell() {
 }
 
 #[test]
+fn every_image_control_reaches_the_image_through_the_view_file_and_the_command() {
+    // The controls table drives the `.view` file, copy-as-command and the flags: each value of
+    // each control, set in a view, renders through `--view` and through the view's command
+    // line to the same PNG, and the render's report names the value.
+    let dir = tempfile::tempdir().unwrap();
+    let base = "scene cornell\nsize 40 30\nstep shadows\n";
+    let help = stdout(&raylab(&["render", "--help"]));
+    for control in &raylab::render::CONTROLS {
+        assert!(
+            help.contains(&format!("--{}", control.name)),
+            "{}",
+            control.name
+        );
+        for value in control.sample_values() {
+            let text = format!("{base}{} {value}\n", control.name);
+            let view = raylab::view::View::parse("v.view", &text).unwrap();
+            assert_eq!(control.text(&view.settings), value);
+            let file = write(dir.path(), "v.view", &view.to_text());
+            let (a, b) = (dir.path().join("view.png"), dir.path().join("command.png"));
+            let o = raylab(&["render", "--view", &file, "-o", a.to_str().unwrap()]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let said = format!("{}={value} ", control.name);
+            assert!(stdout(&o).contains(&said), "{said}\n{}", stdout(&o));
+            let command = view.to_command(b.to_str().unwrap());
+            let words: Vec<&str> = command.split(' ').skip(1).collect();
+            let o = raylab(&words);
+            assert!(o.status.success(), "{command}\n{}", stderr(&o));
+            assert!(stdout(&o).contains(&said), "{command}\n{}", stdout(&o));
+            assert!(read_png(&a) == read_png(&b), "{command}");
+        }
+    }
+    // A bad value in a view names the line and what the control takes.
+    let bad = write(dir.path(), "bad.view", &format!("{base}spp 0\n"));
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:4:", "supersampling 0 is out of range"],
+    );
+    let bad = write(dir.path(), "bad.view", &format!("{base}cracks maybe\n"));
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:4:", "cracks is on or off, not 'maybe'"],
+    );
+}
+
+#[test]
 fn trace_answers_through_instances_as_the_reference_loop() {
     // A mesh (a cube of 4x4 quads per face, 96 triangles) used three times, turned by any
     // angle: `trace --accel ...` places it as instances (one stored mesh), `--accel reference`

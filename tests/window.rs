@@ -251,7 +251,8 @@ fn run_window_with(
         "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
-    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. scene=..
+    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. spp=..
+    // method=.. cracks=.. (every image control) .. scene=..
     // (No final line where the run was quit early: Esc twice.)
     let fields = stdout
         .lines()
@@ -624,7 +625,8 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
     // picture.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 key W down\n250 key W up\n300 key Left down\n500 key Left up\n\
-                  550 wheel 2\n600 step shadows\n1500 key F5 down\n1520 key F5 up\n\
+                  550 wheel 2\n600 step shadows\n610 set method moller\n620 set cracks on\n\
+                  1500 key F5 down\n1520 key F5 up\n\
                   1600 key F12 down\n1620 key F12 up\n";
     let Some(run) = run_window(script, dir.path()) else {
         return;
@@ -647,6 +649,13 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
         text.contains("step shadows") && text.contains("camera "),
         "{text}"
     );
+    // The panel's controls, set by the script as its widgets set them, saved with the view.
+    assert!(
+        text.contains("method moller\n") && text.contains("cracks on\n"),
+        "{text}"
+    );
+    assert_eq!(run.fields["method"], "moller", "{}", run.stderr);
+    assert_eq!(run.fields["cracks"], "on", "{}", run.stderr);
     let out = dir.path().join("headless.png");
     let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
         .args(["render", "--view"])
@@ -808,6 +817,53 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     }
     // (700, 300) in the window is right of the panel, a little above the middle: on the box.
     assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
+}
+
+#[test]
+fn real_x_input_sets_every_image_control_in_the_panel() {
+    // The panel draws one widget per row of the controls table: real clicks on the "direct"
+    // radio button, a press on the supersampling slider's rail (egui moves a slider while the
+    // button is down, so a press and a release), the "show cracks" check box and the method
+    // drop-down's "moller" set them, and the window shows the headless render of those
+    // settings. (Positions: the panel at the window's default size on a 1280x800 screen.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "12000 key H down\n12010 key H up\n12020 key H down\n12030 key H up\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 15 122; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool mousemove --sync 40 529; sleep 0.3; xdotool mousedown 1; sleep 0.3; \
+                  xdotool mouseup 1; sleep 0.3; \
+                  xdotool mousemove --sync 15 571; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool mousemove --sync 55 550; sleep 0.3; xdotool click 1; sleep 0.6; \
+                  xdotool mousemove --sync 40 617; sleep 0.3; xdotool click 1; sleep 0.3";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let f = &run.fields;
+    assert_eq!(
+        (
+            f["step"].as_str(),
+            f["method"].as_str(),
+            f["cracks"].as_str()
+        ),
+        ("direct", "moller", "on"),
+        "{}",
+        run.stderr
+    );
+    let spp: u32 = f["spp"].parse().unwrap();
+    assert!(spp > 2 && spp <= 8, "the press on the slider set spp {spp}");
+    let (camera, w, h, rect) = run.camera();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Direct,
+        spp,
+        method: raylab::geometry::Method::Moller,
+        cracks: true,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(&Scene::cornell().into(), &camera, &settings).unwrap();
+    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
 #[test]

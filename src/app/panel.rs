@@ -3,9 +3,9 @@
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
-use raylab::geometry::Method;
+use raylab::render::controls::{Control, Kind};
 use raylab::render::inspect::Inspection;
-use raylab::render::{LabStep, RenderStats, MAX_SPP};
+use raylab::render::{RenderSettings, RenderStats, CONTROLS};
 use raylab::scene::file::Level;
 
 /// Preset render resolutions offered besides "a scale of the window".
@@ -67,13 +67,10 @@ pub fn side_panel(
             actions.select = scene_tree(ui, info.levels, info.selected_level);
         }
 
-        ui.separator();
-        ui.strong("Lab step");
-        for step in LabStep::ALL {
-            ui.radio_value(&mut view.step, step, step.name())
-                .on_hover_text(step.explanation());
+        for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {
+            ui.separator();
+            control_widget(ui, control, &mut view.controls);
         }
-        ui.small(view.step.explanation());
 
         ui.separator();
         ui.strong("Camera");
@@ -160,14 +157,18 @@ pub fn side_panel(
             }
             if ui
                 .button("Save view (F5)")
-                .on_hover_text("camera, light and settings to a file `raylab render --view` renders")
+                .on_hover_text(
+                    "camera, light and settings to a file `raylab render --view` renders",
+                )
                 .clicked()
             {
                 actions.save_view = true;
             }
             if ui
                 .button("Copy as command (C)")
-                .on_hover_text("the `raylab render` command that renders this view, to the clipboard")
+                .on_hover_text(
+                    "the `raylab render` command that renders this view, to the clipboard",
+                )
                 .clicked()
             {
                 actions.copy_command = true;
@@ -222,25 +223,15 @@ pub fn side_panel(
             if view.adaptive {
                 ui.add(egui::Slider::new(&mut view.target_ms, 4.0..=100.0).text("target ms"));
             } else {
-                ui.add(
-                    egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"),
-                );
+                ui.add(egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"));
             }
         });
 
         ui.separator();
         ui.strong("Sampling and intersection");
-        ui.add(egui::Slider::new(&mut view.spp, 1..=MAX_SPP.min(8)).text("supersampling (n x n)"));
-        egui::ComboBox::from_label("ray/triangle")
-            .selected_text(view.method.name())
-            .show_ui(ui, |ui| {
-                for m in Method::ALL {
-                    ui.selectable_value(&mut view.method, m, m.name());
-                }
-            });
-        ui.checkbox(&mut view.cracks, "show cracks").on_hover_text(
-            "magenta where this method lets a ray slip through that the exact adaptive method hits, or hits where it misses",
-        );
+        for control in CONTROLS.iter().filter(|c| c.heading.is_none()) {
+            control_widget(ui, control, &mut view.controls);
+        }
 
         ui.separator();
         ui.strong("Light");
@@ -470,7 +461,7 @@ pub fn help_window(ctx: &egui::Context, open: &mut bool) {
         .anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0])
         .show(ctx, |ui| {
             egui::Grid::new("keys").striped(true).show(ui, |ui| {
-                for (k, what) in CONTROLS {
+                for (k, what) in SHORTCUTS {
                     ui.monospace(*k);
                     ui.label(*what);
                     ui.end_row();
@@ -479,8 +470,8 @@ pub fn help_window(ctx: &egui::Context, open: &mut bool) {
         });
 }
 
-/// The controls, as shown in the overlay and the README.
-pub const CONTROLS: &[(&str, &str)] = &[
+/// The keyboard and mouse controls, as shown in the overlay and the README.
+pub const SHORTCUTS: &[(&str, &str)] = &[
     ("W / S", "move forward / back"),
     ("A / D", "move left / right"),
     ("Q / E", "move down / up"),
@@ -506,3 +497,54 @@ pub const CONTROLS: &[(&str, &str)] = &[
     ("H / F1", "this overlay"),
     ("Esc", "release the mouse; again to quit"),
 ];
+
+/// One control of the image's table ([`CONTROLS`]): a choice as radio buttons under its own
+/// heading or a drop-down, a toggle as a check box, a count as a slider.
+fn control_widget(ui: &mut egui::Ui, control: &Control, settings: &mut RenderSettings) {
+    match control.kind {
+        Kind::Choice { options, get, set } => {
+            let (options, mut chosen) = (options(), get(settings));
+            match control.heading {
+                Some(title) => {
+                    ui.strong(title);
+                    for (i, o) in options.iter().enumerate() {
+                        ui.radio_value(&mut chosen, i, o.name).on_hover_text(o.help);
+                    }
+                    ui.small(options[chosen].help);
+                }
+                None => {
+                    egui::ComboBox::from_label(control.label)
+                        .selected_text(options[chosen].name)
+                        .show_ui(ui, |ui| {
+                            for (i, o) in options.iter().enumerate() {
+                                ui.selectable_value(&mut chosen, i, o.name)
+                                    .on_hover_text(o.help);
+                            }
+                        })
+                        .response
+                        .on_hover_text(control.help);
+                }
+            }
+            if chosen != get(settings) {
+                set(settings, chosen);
+            }
+        }
+        Kind::Toggle { get, set } => {
+            let mut on = get(settings);
+            if ui
+                .checkbox(&mut on, control.label)
+                .on_hover_text(control.help)
+                .changed()
+            {
+                set(settings, on);
+            }
+        }
+        Kind::Count { min, max, get, set } => {
+            let mut n = get(settings);
+            let slider = egui::Slider::new(&mut n, min..=max).text(control.label);
+            if ui.add(slider).on_hover_text(control.help).changed() {
+                set(settings, n);
+            }
+        }
+    }
+}

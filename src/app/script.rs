@@ -6,7 +6,10 @@
 //! - `key <Name> down|up` (W A S D Q E Left Right Up Down Shift R H F1 F12 Escape)
 //! - `mouse <dx> <dy>`: mouse-look motion (as a right-drag), in device units
 //! - `wheel <lines>`: positive zooms in
-//! - `step flat|direct|shadows|indirect`: what the panel's lab-step selector does
+//! - `set <control> <value>`: what the panel's widget of that image control does (any row of
+//!   [`raylab::render::CONTROLS`], the `.view` file's names and values: `set spp 3`,
+//!   `set cracks on`)
+//! - `step flat|direct|shadows|indirect`: `set step …`
 //! - `drop <path>`: as if the file were dropped on the window (paths without spaces)
 //! - `focal <px>`: what the panel's focal-length slider does
 //! - `scale <s>`: the panel's resolution scale slider (0.05..=1 of the window)
@@ -21,7 +24,6 @@
 //!   ray inspector on (the run prints the inspection at the end)
 
 use super::input::Key;
-use raylab::render::LabStep;
 use std::time::Duration;
 
 /// One scripted event.
@@ -33,8 +35,8 @@ pub enum Action {
     Mouse(f64, f64),
     /// Wheel lines.
     Wheel(f64),
-    /// Select a lab step.
-    Step(LabStep),
+    /// Set an image control (its name in [`raylab::render::CONTROLS`], a value it takes).
+    Set(&'static str, String),
     /// Drop a file on the window.
     Drop(std::path::PathBuf),
     /// Set the focal length (pixels of the full-resolution image).
@@ -52,6 +54,17 @@ pub enum Action {
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
+}
+
+/// [`Action::Set`] of the control `name` to `value`, if the control takes that value.
+fn set_control(name: &str, value: &str) -> Result<Action, String> {
+    use raylab::render::controls;
+    let control = controls::control(name)
+        .ok_or_else(|| format!("unknown control '{name}' (expected {})", controls::names()))?;
+    let mut settings = raylab::render::RenderSettings::default();
+    control.set_text(&mut settings, value)?;
+    settings.validate().map_err(|e| e.to_string())?;
+    Ok(Action::Set(control.name, value.to_string()))
 }
 
 /// A parsed script: events sorted by time.
@@ -128,9 +141,13 @@ impl Script {
                     want(3)?;
                     Action::Wheel(num(2)?)
                 }
+                Some("set") => {
+                    want(4)?;
+                    set_control(w[2], w[3]).map_err(err)?
+                }
                 Some("step") => {
                     want(3)?;
-                    Action::Step(w[2].parse().map_err(err)?)
+                    set_control("step", w[2]).map_err(err)?
                 }
                 Some("drop") => {
                     want(3)?;
@@ -188,7 +205,7 @@ impl Script {
                 }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, step, drop, focal, scale, resize, restore, lose-surface, select)"
+                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, focal, scale, resize, restore, lose-surface, select)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -227,7 +244,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -243,7 +260,8 @@ mod tests {
             s.due(Duration::from_secs(1)),
             vec![
                 Action::Wheel(-2.0),
-                Action::Step(LabStep::Shadows),
+                Action::Set("step", "shadows".into()),
+                Action::Set("cracks", "on".into()),
                 Action::Drop("m.obj".into()),
                 Action::Focal(700.0),
                 Action::Scale(0.5),
@@ -275,6 +293,13 @@ mod tests {
             ("0 jump\n", "unknown event 'jump'"),
             ("0\n", "missing event"),
             ("0 step glossy\n", "unknown step 'glossy'"),
+            (
+                "0 set gamma 2\n",
+                "s.txt:1: unknown control 'gamma' (expected step, spp",
+            ),
+            ("0 set spp many\n", "'many' is not a whole number"),
+            ("0 set spp 17\n", "supersampling 17 is out of range"),
+            ("0 set cracks\n", "'set' takes 2 arguments, found 1"),
             ("0 select first\n", "select takes a level number or 'none'"),
             (
                 "0 inspect 3 -1\n",

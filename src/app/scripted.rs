@@ -93,8 +93,11 @@ impl ScriptedRun {
         let c = &viewer.controller;
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
+        let controls = raylab::render::CONTROLS
+            .map(|c| format!("{}={}", c.name, c.text(&viewer.view.controls)))
+            .join(" ");
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} step={} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -107,7 +110,6 @@ impl ScriptedRun {
             r[1],
             r[2],
             r[3],
-            viewer.view.step,
             window.frames_presented,
             viewer.frames_while_moving,
             match c.mode {
@@ -146,8 +148,10 @@ impl App {
                 Action::Key(k, down) => self.key(event_loop, k, down),
                 Action::Mouse(dx, dy) => viewer.input.mouse(dx, dy),
                 Action::Wheel(lines) => viewer.input.wheel(lines),
-                Action::Step(step) => {
-                    viewer.view.step = step;
+                Action::Set(name, value) => {
+                    let control = raylab::render::controls::control(name).expect("checked");
+                    let set = control.set_text(&mut viewer.view.controls, &value);
+                    set.expect("checked when the script was read");
                     viewer.changed();
                 }
                 Action::Drop(path) => viewer.load(path),

@@ -8,7 +8,6 @@ use super::worker::{self, Worker};
 use super::AppEvent;
 use raylab::accel::AccelChoice;
 use raylab::controller::CameraController;
-use raylab::geometry::Method;
 use raylab::render::inspect::Inspection;
 use raylab::render::{self, LabStep, RenderSettings, RenderStats, Stage, MAX_SIDE};
 use raylab::scene::ObjFrame;
@@ -30,15 +29,14 @@ pub enum Resolution {
 /// Everything on the panel that changes the image (besides the camera).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewSettings {
-    pub step: LabStep,
-    pub method: Method,
-    pub spp: u32,
+    /// The image's controls ([`raylab::render::CONTROLS`]); the size in it is unused (each
+    /// render's own size comes from `resolution`).
+    pub controls: RenderSettings,
     pub resolution: Resolution,
     pub adaptive: bool,
     pub target_ms: f32,
     pub preview_scale: f32,
     pub light: [f32; 3],
-    pub cracks: bool,
 }
 
 /// How long after the last change the viewer keeps previewing before it refines.
@@ -155,15 +153,16 @@ impl Viewer {
             accel,
             controller,
             view: ViewSettings {
-                step: LabStep::Indirect,
-                method: Method::Adaptive,
-                spp: 2,
+                controls: RenderSettings {
+                    step: LabStep::Indirect,
+                    spp: 2,
+                    ..Default::default()
+                },
                 resolution: Resolution::WindowScale(1.0),
                 adaptive: true,
                 target_ms: 16.0,
                 preview_scale: 0.5,
                 light,
-                cracks: false,
             },
             input: InputState::default(),
             worker: Worker::new(move || {
@@ -298,7 +297,7 @@ impl Viewer {
 
     /// The last refinement level: full supersampling where there is some to do.
     pub fn max_level(&self) -> u8 {
-        if self.view.spp > 1 {
+        if self.view.controls.spp > 1 {
             2
         } else {
             1
@@ -349,11 +348,8 @@ impl Viewer {
         RenderSettings {
             width,
             height,
-            step: self.view.step,
             spp,
-            method: self.view.method,
-            cracks: self.view.cracks,
-            ..Default::default()
+            ..self.view.controls
         }
     }
 
@@ -379,7 +375,11 @@ impl Viewer {
             _ => self.full_size(),
         };
         let stage = self.stage_to_render();
-        let spp = if level == 2 { self.view.spp } else { 1 };
+        let spp = if level == 2 {
+            self.view.controls.spp
+        } else {
+            1
+        };
         self.worker.submit(worker::Job {
             stage,
             camera: self.controller.camera(size.0),
@@ -449,8 +449,7 @@ impl Viewer {
             Err(e) => return self.set_status(format!("could not load the view: {e}")),
         };
         let s = view.settings;
-        (self.view.step, self.view.method, self.view.spp) = (s.step, s.method, s.spp);
-        self.view.cracks = s.cracks;
+        self.view.controls = s;
         self.view.resolution = Resolution::Fixed(s.width, s.height);
         self.controller =
             CameraController::from_scene_camera(&view.camera, self.stage.scene().size());
@@ -565,7 +564,7 @@ impl Viewer {
             return self.set_status(format!("cannot save the image: {e}"));
         }
         let (w, h) = self.full_size();
-        let settings = self.settings((w, h), self.view.spp);
+        let settings = self.settings((w, h), self.view.controls.spp);
         let (stage, camera, proxy) = (
             self.stage.clone(),
             self.controller.camera(w),
@@ -606,7 +605,7 @@ impl Viewer {
             settings: RenderSettings {
                 width,
                 height,
-                ..self.settings((width, height), self.view.spp)
+                ..self.settings((width, height), self.view.controls.spp)
             },
         }
     }

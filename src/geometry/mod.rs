@@ -81,6 +81,21 @@ impl Method {
             Method::Cramer => "cramer",
         }
     }
+
+    /// One line for the UI and `--help`.
+    pub fn explanation(self) -> &'static str {
+        match self {
+            Method::Adaptive => {
+                "the default: watertight in f32 where certain, else f64 intervals, else exact \
+                 rationals; always the exact nearest primitive"
+            }
+            Method::Watertight => {
+                "Woop–Benthin–Wald watertight test in plain f32: no ray slips between shared edges"
+            }
+            Method::Moller => "Möller–Trumbore",
+            Method::Cramer => "the lecture's x = A⁻¹b through an explicit inverse (the baseline)",
+        }
+    }
 }
 
 impl fmt::Display for Method {
