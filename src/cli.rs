@@ -7,7 +7,7 @@ use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
-use raylab::render::controls::{Control, Kind};
+use raylab::render::settings::{Control, Kind};
 use raylab::render::{self, RenderSettings, Stage, CONTROLS};
 use raylab::scene::{ObjFrame, Scene};
 use raylab::tracefile;
@@ -89,7 +89,7 @@ fn possible_values(control: &Control) -> clap::builder::PossibleValuesParser {
 /// `--method` of `raylab trace`: the render control's values.
 fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
     use clap::builder::TypedValueParser;
-    let method = render::controls::control("method").expect("a control");
+    let method = render::settings::control("method").expect("a control");
     possible_values(method).map(|name| name.parse().expect("a listed method"))
 }
 

@@ -24,10 +24,11 @@ pub fn max_input_bytes() -> u64 {
 }
 
 /// The environment variables that set a limit ([`limit_from_env`]), with what they count.
-pub const LIMIT_VARS: [(&str, &str); 3] = [
+pub const LIMIT_VARS: [(&str, &str); 4] = [
     ("RAYLAB_MAX_INPUT_BYTES", "bytes"),
     ("RAYLAB_MAX_TRIANGLES", "triangles"),
     ("RAYLAB_MAX_PLACEMENTS", "placements"),
+    ("RAYLAB_MAX_TREE_ENTRIES", "scene tree entries"),
 ];
 
 /// The number environment variable `var` holds, else `default`: the settable limits. (A value

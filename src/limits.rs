@@ -27,3 +27,15 @@ pub fn max_placements() -> u64 {
     crate::input::limit_from_env("RAYLAB_MAX_PLACEMENTS", MAX_PLACEMENTS)
         .min(MAX_HIERARCHY_ITEMS as u64)
 }
+
+/// The most entries (push levels and the statements written in them) the scene tree of a
+/// `.scene` file records for the panel by default. Each costs about 200 bytes for a few bytes of
+/// input (`push` and `pop` lines): without a bound, 5·10⁶ sequential push/pop pairs (45 MB)
+/// took a gigabyte. Beyond it the file renders the same; the tree lists the first entries and
+/// a warning says where it stopped.
+pub const MAX_TREE_ENTRIES: u64 = 1 << 20;
+
+/// The scene-tree limit in force: [`MAX_TREE_ENTRIES`] unless `RAYLAB_MAX_TREE_ENTRIES` says.
+pub fn max_tree_entries() -> u64 {
+    crate::input::limit_from_env("RAYLAB_MAX_TREE_ENTRIES", MAX_TREE_ENTRIES)
+}

@@ -20,7 +20,7 @@
 //! reads back to the same f64 values (the field of view is derived from the focal length,
 //! exact to an ulp).
 
-use crate::render::controls::Kind;
+use crate::render::settings::Kind;
 use crate::render::{RenderSettings, CONTROLS};
 use crate::scene::file::{FileError, SceneCamera};
 use crate::scene::ObjFrame;
@@ -216,7 +216,7 @@ impl View {
                 want(3)?;
                 (self.settings.width, self.settings.height) = (int(w[1])?, int(w[2])?);
             }
-            name => match crate::render::controls::control(name) {
+            name => match crate::render::settings::control(name) {
                 Some(control) => {
                     want(2)?;
                     control.set_text(&mut self.settings, w[1])?;
@@ -225,7 +225,7 @@ impl View {
                     return Err(format!(
                         "unknown view statement '{name}' (expected scene, obj-frame, camera, \
                          light, size, {})",
-                        crate::render::controls::names()
+                        crate::render::settings::control_names()
                     ))
                 }
             },

@@ -2079,36 +2079,15 @@ fn memory_grows_in_proportion_to_the_placements() {
     // Peak memory (GNU time's maximum resident set) of rendering 20,000 and 80,000 placements
     // of one mesh, each at its own spot: the 60,000 more may cost at most the stated budget,
     // 1 KiB a placement (for a 28-byte pair of lines).
-    if !std::path::Path::new("/usr/bin/time").exists() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but /usr/bin/time is missing: .ci/run must install it"
-        );
-        eprintln!("\n*** SKIPPED the memory test: /usr/bin/time is not installed ***\n");
+    if !have_gnu_time() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "m.obj", &strip_obj(80));
-    let peak_kib = |placements: usize| -> u64 {
-        let scene = write(
-            dir.path(),
-            &format!("p{placements}.scene"),
-            &"translate 0.1 0 0\nmesh m.obj\n".repeat(placements),
-        );
-        let out = dir.path().join("p.png");
-        let o = Command::new("/usr/bin/time")
-            .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
-            .args([
-                "render", "--scene", &scene, "--width", "16", "--height", "16",
-            ])
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let err = stderr(&o);
-        assert!(o.status.success(), "{err}");
-        let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
-        line.expect("GNU time's report").trim().parse().unwrap()
+    let peak_kib = |placements: usize| {
+        let text = "translate 0.1 0 0\nmesh m.obj\n".repeat(placements);
+        let scene = write(dir.path(), &format!("p{placements}.scene"), &text);
+        peak_render_kib(&scene, &[])
     };
     let (small, large) = (peak_kib(20_000), peak_kib(80_000));
     let per_placement = (large.saturating_sub(small) * 1024) as f64 / 60_000.0;
@@ -2117,4 +2096,93 @@ fn memory_grows_in_proportion_to_the_placements() {
         per_placement <= 1024.0,
         "{per_placement:.0} bytes a placement"
     );
+}
+
+/// Whether GNU time is there to measure peak memory (under CI=true it must be).
+fn have_gnu_time() -> bool {
+    let there = std::path::Path::new("/usr/bin/time").exists();
+    if !there {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but /usr/bin/time is missing: .ci/run must install it"
+        );
+        eprintln!("\n*** SKIPPED a memory test: /usr/bin/time is not installed ***\n");
+    }
+    there
+}
+
+/// The peak resident memory (GNU time's) of rendering `scene` at 16x16, in KiB.
+fn peak_render_kib(scene: &str, env: &[(&str, &str)]) -> u64 {
+    let out = std::path::Path::new(scene).with_extension("png");
+    let o = Command::new("/usr/bin/time")
+        .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
+        .args([
+            "render", "--scene", scene, "--width", "16", "--height", "16",
+        ])
+        .arg("-o")
+        .arg(&out)
+        .envs(env.iter().copied())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
+    line.expect("GNU time's report").trim().parse().unwrap()
+}
+
+#[test]
+fn the_scene_tree_stops_at_its_limit_and_the_file_renders_the_same() {
+    // Ten levels of a sphere each, the tree limited to 8 entries: the render is the one
+    // without a limit, and a warning names the line where the tree stopped. (The camera,
+    // push, its level, sphere, pop, push, its level and sphere fill the 8 entries; the pop on
+    // line 7 is the first left out, and the top level makes 9 listed.)
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("camera 0 0 -6\n");
+    for k in 0..10 {
+        text += &format!("push\nsphere {} 0 0 0.3\npop\n", k as f32 * 0.7 - 3.0);
+    }
+    let scene = write(dir.path(), "s.scene", &text);
+    let render = |env: &[(&str, &str)], out: &str| {
+        let out = dir.path().join(out);
+        let args = [
+            "render", "--scene", &scene, "--width", "64", "--height", "32", "-o",
+        ];
+        let o = raylab_env(&[&args[..], &[out.to_str().unwrap()]].concat(), env);
+        assert!(o.status.success(), "{}", stderr(&o));
+        (read_png(&out), stderr(&o))
+    };
+    let (whole, quiet) = render(&[], "a.png");
+    assert!(!quiet.contains("scene tree"), "{quiet}");
+    let (limited, said) = render(&[("RAYLAB_MAX_TREE_ENTRIES", "8")], "b.png");
+    assert!(whole == limited, "the tree's limit changed the image");
+    assert!(
+        said.contains("s.scene:7: the scene tree lists the first 9 push levels and statements"),
+        "{said}"
+    );
+    let o = raylab_env(
+        &["render", "--scene", &scene, "-o", "x.png"],
+        &[("RAYLAB_MAX_TREE_ENTRIES", "many")],
+    );
+    assert_fails(
+        &o,
+        2,
+        &["RAYLAB_MAX_TREE_ENTRIES='many' is not a whole number of scene tree entries"],
+    );
+    if !have_gnu_time() {
+        return;
+    }
+    // Sequential push/pop pairs (9 bytes each) cost about their own bytes once the tree is
+    // full: 900,000 more pairs may cost at most 64 bytes each (the tree cost ~200).
+    let peak_kib = |pairs: usize| {
+        let scene = write(
+            dir.path(),
+            &format!("p{pairs}.scene"),
+            &format!("sphere 0 0 0 1\n{}", "push\npop\n".repeat(pairs)),
+        );
+        peak_render_kib(&scene, &[("RAYLAB_MAX_TREE_ENTRIES", "1000")])
+    };
+    let (small, large) = (peak_kib(100_000), peak_kib(1_000_000));
+    let per_pair = (large.saturating_sub(small) * 1024) as f64 / 900_000.0;
+    println!("{small} KiB, {large} KiB: {per_pair:.0} bytes a push/pop pair");
+    assert!(per_pair <= 64.0, "{per_pair:.0} bytes a pair");
 }

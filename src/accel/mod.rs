@@ -10,6 +10,17 @@
 //! prepared once per frame, tile culling and the exact resolvers of ambiguous lanes all stay
 //! inside this module.
 //!
+//! Names inside the module. The nearest-hit query is `closest` (`nearest` in the [`Layout`]
+//! contract and the reference loop); the any-hit query is `any` for one ray and `blocked`
+//! for a packet (which of its shadow lanes are blocked). What the rays are: `_hit` one ray;
+//! `_packet` 8 rays sharing an origin; `_x8` one ray against 8 triangles, or 8 rays against
+//! one, in the flat loop's lanes; `_lane` one lane of a packet, decided alone. How: `_exact`
+//! the adaptive search's exact level; `_from_origin` / `_from` / `_prepared` /
+//! `_of_triangles` with the triangles prepared once for the rays' origin; `_seeded` starting
+//! from a hit already known; `_in` inside a kernel already in SIMD lanes (no dispatch);
+//! `_untrusted` where the f32 box test cannot be trusted (every triangle); `_body` the
+//! lane-generic body that the dispatch macro builds per SIMD level; `walk_*` a BVH traversal.
+//!
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
 //! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
 

@@ -3,8 +3,8 @@
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
-use raylab::render::controls::{Control, Kind};
 use raylab::render::inspect::Inspection;
+use raylab::render::settings::{Control, Kind};
 use raylab::render::{RenderSettings, RenderStats, CONTROLS};
 use raylab::scene::file::Level;
 

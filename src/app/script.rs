@@ -58,9 +58,13 @@ pub enum Action {
 
 /// [`Action::Set`] of the control `name` to `value`, if the control takes that value.
 fn set_control(name: &str, value: &str) -> Result<Action, String> {
-    use raylab::render::controls;
-    let control = controls::control(name)
-        .ok_or_else(|| format!("unknown control '{name}' (expected {})", controls::names()))?;
+    use raylab::render::settings;
+    let control = settings::control(name).ok_or_else(|| {
+        format!(
+            "unknown control '{name}' (expected {})",
+            settings::control_names()
+        )
+    })?;
     let mut settings = raylab::render::RenderSettings::default();
     control.set_text(&mut settings, value)?;
     settings.validate().map_err(|e| e.to_string())?;

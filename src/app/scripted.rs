@@ -149,7 +149,7 @@ impl App {
                 Action::Mouse(dx, dy) => viewer.input.mouse(dx, dy),
                 Action::Wheel(lines) => viewer.input.wheel(lines),
                 Action::Set(name, value) => {
-                    let control = raylab::render::controls::control(name).expect("checked");
+                    let control = raylab::render::settings::control(name).expect("checked");
                     let set = control.set_text(&mut viewer.view.controls, &value);
                     set.expect("checked when the script was read");
                     viewer.changed();

@@ -10,7 +10,6 @@
 //! shading depends only on the ray and the primitive hit, so all give the same bits.
 
 pub mod aov;
-pub mod controls;
 pub mod image;
 pub mod inspect;
 pub mod settings;
@@ -28,9 +27,10 @@ use rayon::prelude::*;
 use std::time::{Duration, Instant};
 use wide::f32x8;
 
-pub use controls::{Control, CONTROLS};
 pub use image::{linear_to_srgb8, linear_to_srgb8_reference, write_png};
-pub use settings::{LabStep, RenderSettings, SettingsError, MAX_PIXELS, MAX_SIDE, MAX_SPP};
+pub use settings::{
+    Control, LabStep, RenderSettings, SettingsError, CONTROLS, MAX_PIXELS, MAX_SIDE, MAX_SPP,
+};
 pub use shade::Rgb;
 use shade::{ShadePacket, ShadeTri};
 pub use stage::Stage;

@@ -9,7 +9,10 @@ struct Saved {
     color: [f32; 3],
     /// The rank of the last transform statement of the level (translate 0, rotate 1, scale 2).
     last_rank: Option<(u8, usize)>,
-    level: usize,
+    /// The level's entry in the scene tree (`None` past the tree's limit).
+    level: Option<usize>,
+    /// The level's `push` line (0 at the top).
+    push_line: usize,
 }
 
 struct Parser<'a, T: Real> {
@@ -31,6 +34,10 @@ struct Parser<'a, T: Real> {
     max_stored: u64,
     /// Most meshes placed as instances ([`crate::limits::max_placements`]).
     max_placements: u64,
+    /// Entries (levels and statements) the scene tree may still record.
+    tree_room: u64,
+    /// The first line the scene tree did not record.
+    tree_full_at: Option<usize>,
 }
 
 /// Parses `.scene` text, every mesh flattened. `dir` is where mesh paths are relative to;
@@ -71,7 +78,8 @@ pub fn parse_with<T: Real>(
         current: Saved {
             color: DEFAULT_COLOR,
             last_rank: None,
-            level: 0,
+            level: Some(0),
+            push_line: 0,
         },
         out: Description {
             shapes: Vec::new(),
@@ -98,6 +106,8 @@ pub fn parse_with<T: Real>(
         instanced: 0,
         max_stored: obj::max_triangles(),
         max_placements: crate::limits::max_placements(),
+        tree_room: crate::limits::max_tree_entries(),
+        tree_full_at: None,
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -114,11 +124,23 @@ pub fn parse_with<T: Real>(
         p.statement(line, &words, dir, load_mesh).map_err(error)?;
     }
     if !p.saved.is_empty() {
-        let open = p.out.levels[p.current.level].line;
         p.warn(
-            open,
+            p.current.push_line,
             "push without a matching pop (the file ends inside this level)",
         );
+    }
+    if let Some(line) = p.tree_full_at {
+        let listed = p.out.levels.len()
+            + p.out
+                .levels
+                .iter()
+                .map(|l| l.statements.len())
+                .sum::<usize>();
+        let message = format!(
+            "the scene tree lists the first {listed} push levels and statements, up to here \
+             (RAYLAB_MAX_TREE_ENTRIES=N sets another limit); the whole file renders"
+        );
+        p.warn(line, &message);
     }
     Ok(p.out)
 }
@@ -243,7 +265,10 @@ impl<T: Real> Parser<'_, T> {
 
     /// Primitives `added` belong to the current level.
     fn record(&mut self, added: std::ops::Range<u32>) {
-        let runs = &mut self.out.levels[self.current.level].primitives;
+        let Some(level) = self.current.level else {
+            return;
+        };
+        let runs = &mut self.out.levels[level].primitives;
         match runs.last_mut() {
             Some(r) if r.end == added.start => r.end = added.end,
             _ => runs.push(added),
@@ -301,8 +326,24 @@ impl<T: Real> Parser<'_, T> {
             }
         }
         self.current.last_rank = Some((rank, line));
-        let rows = self.stack.matrix().transpose().to_cols_array_2d();
-        self.out.levels[self.current.level].world_from_object = rows;
+        if let Some(level) = self.current.level {
+            let rows = self.stack.matrix().transpose().to_cols_array_2d();
+            self.out.levels[level].world_from_object = rows;
+        }
+    }
+
+    /// Takes room for one more scene-tree entry, if there is any.
+    fn tree_entry(&mut self, line: usize) -> bool {
+        match self.tree_room {
+            0 => {
+                self.tree_full_at.get_or_insert(line);
+                false
+            }
+            _ => {
+                self.tree_room -= 1;
+                true
+            }
+        }
     }
 
     fn statement(
@@ -313,10 +354,12 @@ impl<T: Real> Parser<'_, T> {
         load_mesh: &MeshLoader,
     ) -> Result<(), String> {
         let (keyword, args) = (words[0], &words[1..]);
-        let level = self.current.level;
-        self.out.levels[level]
-            .statements
-            .push((line, words.join(" ")));
+        if let Some(level) = self.current.level {
+            if self.tree_entry(line) {
+                let text = words.join(" ");
+                self.out.levels[level].statements.push((line, text));
+            }
+        }
         match keyword {
             "tri" => {
                 let x = numbers(args, &[9], "tri")?;
@@ -418,14 +461,21 @@ impl<T: Real> Parser<'_, T> {
                 self.stack.push();
                 self.saved.push(self.current.clone());
                 let depth = self.saved.len();
-                self.out.levels.push(Level {
-                    line,
-                    depth,
-                    statements: Vec::new(),
-                    world_from_object: self.stack.matrix().transpose().to_cols_array_2d(),
-                    primitives: Vec::new(),
-                });
-                self.current.level = self.out.levels.len() - 1;
+                // (A level inside one the tree did not record is not recorded either.)
+                self.current.level = match self.current.level.is_some() && self.tree_entry(line) {
+                    true => {
+                        self.out.levels.push(Level {
+                            line,
+                            depth,
+                            statements: Vec::new(),
+                            world_from_object: self.stack.matrix().transpose().to_cols_array_2d(),
+                            primitives: Vec::new(),
+                        });
+                        Some(self.out.levels.len() - 1)
+                    }
+                    false => None,
+                };
+                self.current.push_line = line;
                 self.current.last_rank = None;
             }
             "pop" => {
