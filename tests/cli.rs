@@ -2098,17 +2098,9 @@ fn memory_grows_in_proportion_to_the_placements() {
     );
 }
 
-/// Whether GNU time is there to measure peak memory (under CI=true it must be).
+/// Whether GNU time is there to measure peak memory.
 fn have_gnu_time() -> bool {
-    let there = std::path::Path::new("/usr/bin/time").exists();
-    if !there {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but /usr/bin/time is missing: .ci/run must install it"
-        );
-        eprintln!("\n*** SKIPPED a memory test: /usr/bin/time is not installed ***\n");
-    }
-    there
+    common::tool_for("/usr/bin/time", "time", "a memory test")
 }
 
 /// The peak resident memory (GNU time's) of rendering `scene` at 16x16, in KiB.

@@ -15,14 +15,6 @@ use std::collections::HashMap;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn have(cmd: &str) -> bool {
-    Command::new("sh")
-        .args(["-c", &format!("command -v {cmd}")])
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
 /// Mean absolute channel difference and the fraction of pixels off by more than 8, between
 /// the window's image rectangle (sampled at the nearest pixel) and a render of `w`×`h`.
 fn compare(
@@ -141,12 +133,7 @@ fn run_window_with(
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
         _ => (None, None),
     };
-    if driver.is_some() && !have("xdotool") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xdotool is missing: .ci/run must install it"
-        );
-        eprintln!("\n*** SKIPPED the real-input window test: xdotool is not installed ***\n");
+    if driver.is_some() && !common::tool_for("xdotool", "xdotool", "the real-input window test") {
         return None;
     }
     let args: &[&str] = match around {
@@ -157,20 +144,16 @@ fn run_window_with(
         Around::DpiChange { at_ms, dpi } => Some((at_ms, dpi)),
         _ => None,
     };
-    if dpi_change.is_some() && !have("xsettingsd") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xsettingsd is missing: .ci/run must install it"
-        );
-        eprintln!("\n*** SKIPPED the HiDPI change test: xsettingsd is not installed ***\n");
+    if dpi_change.is_some()
+        && !common::tool_for("xsettingsd", "xsettingsd", "the HiDPI change test")
+    {
         return None;
     }
-    if !have("xvfb-run") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xvfb-run is missing: .ci/run must install xvfb"
-        );
-        eprintln!("\n*** SKIPPED the window test: xvfb-run is not installed (apt-get install xvfb xauth mesa-vulkan-drivers) ***\n");
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
         return None;
     }
     let script_path = dir.join("script.txt");
@@ -871,12 +854,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     // Move (A held), press C (copy as command) and F12 (a full-quality screenshot of the same
     // view); the clipboard, read back with xclip, holds a `raylab render` line that a shell
     // runs to the same picture.
-    if !have("xclip") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xclip is missing: .ci/run must install it"
-        );
-        eprintln!("\n*** SKIPPED the copy-as-command test: xclip is not installed ***\n");
+    if !common::tool_for("xclip", "xclip", "the copy-as-command test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -1137,12 +1115,11 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
 
 #[test]
 fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
-    if !have("xvfb-run") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xvfb-run is missing"
-        );
-        eprintln!("\n*** SKIPPED: xvfb-run is not installed ***\n");
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -1181,12 +1158,11 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
 
 #[test]
 fn the_window_opens_cornell_by_name_as_the_command_line_does() {
-    if !have("xvfb-run") {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI=true but xvfb-run is missing"
-        );
-        eprintln!("\n*** SKIPPED: xvfb-run is not installed ***\n");
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

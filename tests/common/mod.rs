@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests: a seeded generator and closed test meshes.
+//! Helpers shared by the integration tests: a seeded generator, closed test meshes, PNG
+//! comparison, and the tool check that skips a test (or fails it under CI=true).
 #![allow(dead_code)]
 
 pub mod suite;
@@ -206,4 +207,25 @@ pub fn scene_text<T: Real>(shapes: &[Shape<T>]) -> String {
         }
     }
     text
+}
+
+/// Whether the tool `command` (found on PATH, or a path) is there for `test`. Without it the
+/// test says SKIPPED and is skipped, except under `CI=true`, where .ci/run must have installed
+/// it (`package` says which Debian package) and its absence fails the test.
+pub fn tool_for(command: &str, package: &str, test: &str) -> bool {
+    let there = std::process::Command::new("sh")
+        .args(["-c", &format!("command -v {command}")])
+        .stdout(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !there {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI=true but {command} is missing: .ci/run must install {package}"
+        );
+        eprintln!(
+            "\n*** SKIPPED {test}: {command} is not installed (apt-get install {package}) ***\n"
+        );
+    }
+    there
 }
