@@ -39,3 +39,7 @@ pub const MAX_TREE_ENTRIES: u64 = 1 << 20;
 pub fn max_tree_entries() -> u64 {
     crate::input::limit_from_env("RAYLAB_MAX_TREE_ENTRIES", MAX_TREE_ENTRIES)
 }
+
+/// The longest line of a `.scene` or `.view` file, in bytes. A statement takes a few hundred
+/// bytes; without a bound a 300 MB line was split into words (2.9 GB) before its error.
+pub const MAX_LINE_BYTES: usize = 1 << 20;

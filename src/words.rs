@@ -7,6 +7,13 @@ use std::borrow::Cow;
 
 /// The words of `line` before its comment, quoted words unquoted.
 pub fn words(line: &str) -> Result<Vec<String>, String> {
+    let max = crate::limits::MAX_LINE_BYTES;
+    if line.len() > max {
+        return Err(format!(
+            "the line is {} bytes long, more than the {max} a line may have",
+            line.len()
+        ));
+    }
     let mut out = Vec::new();
     let mut chars = line.chars().peekable();
     loop {
@@ -18,7 +25,13 @@ pub fn words(line: &str) -> Result<Vec<String>, String> {
                 let mut word = String::new();
                 loop {
                     match chars.next() {
-                        None => return Err(format!("a quoted word has no closing quote: {line}")),
+                        None => {
+                            let start: String = line.chars().take(60).collect();
+                            let more = if start.len() < line.len() { "…" } else { "" };
+                            return Err(format!(
+                                "a quoted word has no closing quote: {start}{more}"
+                            ));
+                        }
                         Some('"') => break,
                         Some('\\') => match chars.next() {
                             Some('"') => word.push('"'),

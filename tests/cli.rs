@@ -2123,6 +2123,45 @@ fn peak_render_kib(scene: &str, env: &[(&str, &str)]) -> u64 {
 }
 
 #[test]
+fn a_line_too_long_is_refused_at_its_line_before_it_is_split() {
+    // A 32 MB `tri` line of 16 million numbers: refused naming the file, the line and its
+    // length, in memory about the file's own size (splitting it into words took 30 times
+    // that); a `.view` line the same.
+    let dir = tempfile::tempdir().unwrap();
+    let numbers = "1 ".repeat(16 << 20);
+    let said = |line: &str| {
+        let n = line.len();
+        format!("line is {n} bytes long, more than the 1048576 a line may have")
+    };
+    let tri = format!("tri {numbers}");
+    let scene = write(dir.path(), "s.scene", &format!("camera 0 0 -3\n{tri}\n"));
+    let o = raylab(&["render", "--scene", &scene, "-o", "x.png"]);
+    assert_fails(&o, 2, &["s.scene:2:", &said(&tri)]);
+    let method = format!("method {numbers}");
+    let view = write(
+        dir.path(),
+        "v.view",
+        &format!("scene cornell\n\n{method}\n"),
+    );
+    let o = raylab(&["render", "--view", &view, "-o", "x.png"]);
+    assert_fails(&o, 2, &["v.view:3:", &said(&method)]);
+    let bytes = tri.len();
+    if !have_gnu_time() {
+        return;
+    }
+    let o = Command::new("/usr/bin/time")
+        .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
+        .args(["render", "--scene", &scene, "-o", "x.png"])
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
+    let peak_kib: u64 = line.expect("GNU time's report").trim().parse().unwrap();
+    println!("peak {peak_kib} KiB for a {bytes}-byte line");
+    assert!(peak_kib * 1024 < 3 * bytes as u64, "{peak_kib} KiB");
+}
+
+#[test]
 fn the_scene_tree_stops_at_its_limit_and_the_file_renders_the_same() {
     // Ten levels of a sphere each, the tree limited to 8 entries: the render is the one
     // without a limit, and a warning names the line where the tree stopped. (The camera,
