@@ -7,7 +7,7 @@ use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
 use raylab::geometry::Method;
-use raylab::render::settings::{Control, Kind};
+use raylab::render::settings::{controls_text, Control, Kind};
 use raylab::render::{self, RenderSettings, Stage, CONTROLS};
 use raylab::scene::{ObjFrame, Scene};
 use raylab::tracefile;
@@ -567,13 +567,6 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         say!("wrote {}", path.display());
     }
     Ok(())
-}
-
-/// `step=flat spp=1 method=adaptive cracks=off`: every control's value, for the reports.
-fn controls_text(settings: &RenderSettings) -> String {
-    CONTROLS
-        .map(|c| format!("{}={}", c.name, c.text(settings)))
-        .join(" ")
 }
 
 /// Runs `raylab bench`.

@@ -2103,23 +2103,29 @@ fn have_gnu_time() -> bool {
     common::tool_for("/usr/bin/time", "time", "a memory test")
 }
 
-/// The peak resident memory (GNU time's) of rendering `scene` at 16x16, in KiB.
-fn peak_render_kib(scene: &str, env: &[(&str, &str)]) -> u64 {
-    let out = std::path::Path::new(scene).with_extension("png");
+/// raylab run with `args` under GNU time: its output and its peak resident memory in KiB.
+fn peak_kib(args: &[&str], env: &[(&str, &str)]) -> (Output, u64) {
     let o = Command::new("/usr/bin/time")
         .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
-        .args([
-            "render", "--scene", scene, "--width", "16", "--height", "16",
-        ])
-        .arg("-o")
-        .arg(&out)
+        .args(args)
         .envs(env.iter().copied())
         .output()
         .unwrap();
     let err = stderr(&o);
-    assert!(o.status.success(), "{err}");
     let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
-    line.expect("GNU time's report").trim().parse().unwrap()
+    let peak = line.expect("GNU time's report").trim().parse().unwrap();
+    (o, peak)
+}
+
+/// The peak resident memory (GNU time's) of rendering `scene` at 16x16, in KiB.
+fn peak_render_kib(scene: &str, env: &[(&str, &str)]) -> u64 {
+    let out = std::path::Path::new(scene).with_extension("png");
+    let args = [
+        "render", "--scene", scene, "--width", "16", "--height", "16", "-o",
+    ];
+    let (o, peak) = peak_kib(&[&args[..], &[out.to_str().unwrap()]].concat(), env);
+    assert!(o.status.success(), "{}", stderr(&o));
+    peak
 }
 
 #[test]
@@ -2149,14 +2155,8 @@ fn a_line_too_long_is_refused_at_its_line_before_it_is_split() {
     if !have_gnu_time() {
         return;
     }
-    let o = Command::new("/usr/bin/time")
-        .args(["-f", "peak_kib=%M", env!("CARGO_BIN_EXE_raylab")])
-        .args(["render", "--scene", &scene, "-o", "x.png"])
-        .output()
-        .unwrap();
-    let err = stderr(&o);
-    let line = err.lines().find_map(|l| l.strip_prefix("peak_kib="));
-    let peak_kib: u64 = line.expect("GNU time's report").trim().parse().unwrap();
+    let (o, peak_kib) = peak_kib(&["render", "--scene", &scene, "-o", "x.png"], &[]);
+    assert_fails(&o, 2, &["s.scene:2:"]);
     println!("peak {peak_kib} KiB for a {bytes}-byte line");
     assert!(peak_kib * 1024 < 3 * bytes as u64, "{peak_kib} KiB");
 }

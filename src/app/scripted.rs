@@ -93,9 +93,7 @@ impl ScriptedRun {
         let c = &viewer.controller;
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
-        let controls = raylab::render::CONTROLS
-            .map(|c| format!("{}={}", c.name, c.text(&viewer.view.controls)))
-            .join(" ");
+        let controls = raylab::render::settings::controls_text(&viewer.view.controls);
         println!(
             "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} scene={}",
             c.position.x,

@@ -281,6 +281,14 @@ pub fn control(name: &str) -> Option<&'static Control> {
     CONTROLS.iter().find(|c| c.name == name)
 }
 
+/// `step=flat spp=1 method=adaptive cracks=off`: every control's value in `settings`, for
+/// reports.
+pub fn controls_text(settings: &RenderSettings) -> String {
+    CONTROLS
+        .map(|c| format!("{}={}", c.name, c.text(settings)))
+        .join(" ")
+}
+
 /// "a, b or c": the names of every control, for messages.
 pub fn control_names() -> String {
     or_list(&CONTROLS.map(|c| c.name))
