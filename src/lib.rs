@@ -34,6 +34,7 @@
 //! - [`scene`]: primitives, colours, instances, the light; the OBJ and `.scene` loaders;
 //! - [`accel`]: the structures over a scene and their queries;
 //! - [`render`]: the tile loop, the lab steps' shading, the inspector, images;
+//! - [`check`]: the hard-case suite and the grading of answers from code that is not raylab's;
 //! - the binary: the command line and the window, over all of these.
 //!
 //! # Example
@@ -67,6 +68,7 @@ pub(crate) fn xorshift(x: &mut u64) -> u64 {
 
 pub mod accel;
 pub mod camera;
+pub mod check;
 pub mod controller;
 pub mod geometry;
 pub mod input;

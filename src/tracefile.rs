@@ -96,6 +96,17 @@ pub fn parse_scene_instanced(file: &str, text: &str) -> Result<crate::scene::Sce
 
 /// Parses a ray file.
 pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, TraceError> {
+    Ok(parse_rays_at_lines(file, text)?
+        .into_iter()
+        .map(|(_, ray)| ray)
+        .collect())
+}
+
+/// Parses a ray file: each ray with its 1-based line number.
+pub fn parse_rays_at_lines<T: Real>(
+    file: &str,
+    text: &str,
+) -> Result<Vec<(usize, TraceRay<T>)>, TraceError> {
     data_lines(text)
         .map(|(line, words)| {
             let parsed = numbers::<T>(&words, 8, "ray").and_then(|x| {
@@ -108,11 +119,14 @@ pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, T
                 if tmin > tmax {
                     return Err(format!("tmin {tmin} > tmax {tmax}"));
                 }
-                Ok(TraceRay {
-                    ray: Ray::new([x[0], x[1], x[2]], d),
-                    tmin,
-                    tmax,
-                })
+                Ok((
+                    line,
+                    TraceRay {
+                        ray: Ray::new([x[0], x[1], x[2]], d),
+                        tmin,
+                        tmax,
+                    },
+                ))
             });
             parsed.map_err(|message| TraceError {
                 file: file.to_string(),
@@ -121,6 +135,19 @@ pub fn parse_rays<T: Real>(file: &str, text: &str) -> Result<Vec<TraceRay<T>>, T
             })
         })
         .collect()
+}
+
+impl<T: Real> TraceRay<T> {
+    /// The ray as a line of a ray file (`ox oy oz dx dy dz tmin tmax`), each number written exactly
+    /// ([`crate::math::real::exact_decimal`]: the same value read in f32, f64 or exact
+    /// arithmetic).
+    pub fn line(&self) -> String {
+        let o = self.ray.o.iter();
+        let numbers: Vec<String> = (o.chain(&self.ray.d).chain([&self.tmin, &self.tmax]))
+            .map(|x| crate::math::real::exact_decimal(x.f64()))
+            .collect();
+        numbers.join(" ")
+    }
 }
 
 /// What `raylab trace` asks of each ray.

@@ -188,6 +188,7 @@ fn scaled<T: Real>(f: &Family<T>, k: i32, with_direction: bool) -> Family<T> {
             f.name,
             if with_direction { "" } else { " (positions)" }
         ),
+        probes: f.probes.clone(),
         shapes,
         rays,
     }

@@ -236,6 +236,27 @@ impl<T: Real> Shape<T> {
         }
     }
 
+    /// The shape as a `.scene` statement: `tri` and its 9 coordinates or `sphere` and its
+    /// centre and radius, each number written exactly ([`crate::math::real::exact_decimal`]:
+    /// the same value read in f32, f64 or exact arithmetic).
+    pub fn scene_line(&self) -> String {
+        let numbers = |xs: &[T]| -> Vec<String> {
+            xs.iter()
+                .map(|x| crate::math::real::exact_decimal(x.f64()))
+                .collect()
+        };
+        match self {
+            Shape::Triangle(v) => format!("tri {}", numbers(v.as_flattened()).join(" ")),
+            Shape::Sphere { centre, radius } => {
+                format!(
+                    "sphere {} {}",
+                    numbers(centre).join(" "),
+                    numbers(&[*radius])[0]
+                )
+            }
+        }
+    }
+
     /// Whether this is a triangle ([`Shape::triangle`]).
     #[inline]
     pub fn is_triangle(&self) -> bool {

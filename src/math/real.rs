@@ -117,6 +117,42 @@ impl Real for f64 {
     }
 }
 
+/// `x` written exactly: the whole decimal expansion of the binary value (every finite float
+/// has one: m·2⁻ᵏ = m·5ᵏ / 10ᵏ), without an exponent; −0 keeps its sign. Read as f32 (where
+/// `x` is one), as f64 or as an exact rational, it is the same number, so a file of them means
+/// the same to every reader. An f32 takes at most 160 characters, most far fewer (0.1f32 is
+/// `0.100000001490116119384765625`).
+pub fn exact_decimal(x: f64) -> String {
+    use num_bigint::BigUint;
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let sign = if x.is_sign_negative() { "-" } else { "" };
+    let bits = x.to_bits();
+    let (biased, fraction) = ((bits >> 52 & 0x7ff) as i64, bits & ((1 << 52) - 1));
+    let (mut m, mut e) = match biased {
+        0 => (fraction, -1074),
+        _ => (fraction | 1 << 52, biased - 1075),
+    };
+    if m == 0 {
+        return format!("{sign}0");
+    }
+    let zeros = (m.trailing_zeros() as i64).min(-e).max(0);
+    m >>= zeros;
+    e += zeros;
+    if e >= 0 {
+        return format!("{sign}{}", BigUint::from(m) << e as usize);
+    }
+    let k = (-e) as usize;
+    let digits = (BigUint::from(m) * BigUint::from(5u32).pow(k as u32)).to_string();
+    let digits = format!(
+        "{}{digits}",
+        "0".repeat((k + 1).saturating_sub(digits.len()))
+    );
+    let (whole, frac) = digits.split_at(digits.len() - k);
+    format!("{sign}{whole}.{frac}")
+}
+
 /// A 3-vector as a plain array: the geometry works on these so it is generic over [`Real`].
 pub type V3<T> = [T; 3];
 

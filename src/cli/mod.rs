@@ -1,4 +1,5 @@
-//! The command line: `raylab` (the window), `raylab render` and `raylab trace`.
+//! The command line: `raylab` (the window), `raylab render`, `trace`, `bench`, `inspect`,
+//! `suite` and `check` (check.rs, and program.rs for the programs it runs).
 
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -22,6 +23,11 @@ macro_rules! say {
         writeln!(std::io::stdout(), $($arg)*)?;
     }};
 }
+
+mod check;
+mod program;
+
+pub use check::{check, suite, CheckArgs, SuiteArgs};
 
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
@@ -71,6 +77,16 @@ pub enum Command {
     /// point and normal, the shadow ray and what blocks it, ρ, D, N and the colour): the
     /// window's ray inspector, headless.
     Inspect(InspectArgs),
+    /// The hard-case suite as files: `raylab suite export DIR` writes every family's scene
+    /// and rays in the `trace` formats, for code that is not raylab's.
+    Suite(SuiteArgs),
+    /// Grade answers from code that is not raylab's against the exact ones: an answer file
+    /// (--answers) or a program run on a scene (--program) or on every family of an exported
+    /// suite (--suite). Prints rights, ties, leaks, false hits, wrong primitives and t errors,
+    /// the first wrong rays, and as the last line `check: rays N right R leaks L false_hits F
+    /// wrong W ties T t_beyond_1e-6 U`. Exit 0 when there is no leak, false hit or wrong
+    /// primitive; 1 when there is (or a program gave no answers); 2 on bad input.
+    Check(CheckArgs),
 }
 
 /// The values of a choice control for clap, each with its one-line explanation (the values
@@ -647,7 +663,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-fn read_text(path: &Path) -> Result<String> {
+pub(crate) fn read_text(path: &Path) -> Result<String> {
     Ok(raylab::input::read_text(
         path,
         raylab::input::max_input_bytes(),

@@ -1,0 +1,153 @@
+//! `raylab suite export`: the hard-case suite as files in the `trace` formats, so that code
+//! in any language can be run on it and graded by `raylab check`.
+
+use super::suite::Family;
+use crate::input::{self, InputError};
+use crate::tracefile::TraceRay;
+use std::path::{Path, PathBuf};
+
+/// The first line of an exported suite's README.md: how an earlier export is known (only
+/// such a directory is written over).
+pub const README_TITLE: &str = "# raylab's hard-case suite";
+
+/// A family's directory: its place in the suite (two digits, so a listing keeps the suite's
+/// order) and its name in lowercase words joined by `-` (`01-cube-from-inside`).
+pub fn dir_name(index: usize, name: &str) -> String {
+    // A minus sign that starts a number is a word (`2^-17` is not `2^17`).
+    let mut spelled = String::new();
+    let mut prev = ' ';
+    for (i, c) in name.char_indices() {
+        let next_is_digit = name[i + c.len_utf8()..].starts_with(|d: char| d.is_ascii_digit());
+        match c == '-' && !prev.is_ascii_alphanumeric() && next_is_digit {
+            true => spelled.push_str(" minus "),
+            false => spelled.push(c),
+        }
+        prev = c;
+    }
+    let words: Vec<String> = spelled
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(str::to_ascii_lowercase)
+        .collect();
+    format!("{:02}-{}", index + 1, words.join("-"))
+}
+
+/// A family's scene file: a comment naming it, then one primitive per line (its index is its
+/// position among them).
+pub fn scene_text(family: &Family) -> String {
+    let mut text = format!("# {}: {}\n", family.name, family.probes);
+    for shape in &family.shapes {
+        text += &shape.scene_line();
+        text.push('\n');
+    }
+    text
+}
+
+/// A family's ray file: a comment naming the columns, then one ray per line, tmin = 0 and
+/// tmax = inf.
+pub fn rays_text(family: &Family) -> String {
+    let mut text = String::from("# ox oy oz dx dy dz tmin tmax\n");
+    for ray in &family.rays {
+        let ray = TraceRay {
+            ray: *ray,
+            tmin: 0.0,
+            tmax: f32::INFINITY,
+        };
+        text += &ray.line();
+        text.push('\n');
+    }
+    text
+}
+
+/// Why a suite could not be exported.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error(
+        "{}: holds files and is not an exported suite (its README.md does not start with \
+         \"{README_TITLE}\"): choose a new or empty directory",
+        .0.display()
+    )]
+    NotASuite(PathBuf),
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Write(#[from] InputError),
+}
+
+/// Writes every family to `dir` (`DIR/<family>/scene.txt` and `rays.txt`, see [`dir_name`])
+/// and a `DIR/README.md` on the families and the formats. `dir` is created if missing; one
+/// that holds anything must be an earlier export, whose files are replaced one by one, each
+/// whole or not at all. Returns the family directories written.
+pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| ExportError::Io { path, source }
+    };
+    if dir.exists() {
+        let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
+        let readme = dir.join("README.md");
+        let is_suite = std::fs::read_to_string(&readme)
+            .is_ok_and(|text| text.lines().next() == Some(README_TITLE));
+        if entries.next().is_some() && !is_suite {
+            return Err(ExportError::NotASuite(dir.to_path_buf()));
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut written = Vec::new();
+    for (i, family) in families.iter().enumerate() {
+        let family_dir = dir.join(dir_name(i, &family.name));
+        std::fs::create_dir_all(&family_dir).map_err(io(&family_dir))?;
+        input::write_file(&family_dir.join("scene.txt"), scene_text(family).as_bytes())?;
+        input::write_file(&family_dir.join("rays.txt"), rays_text(family).as_bytes())?;
+        written.push(family_dir);
+    }
+    input::write_file(&dir.join("README.md"), readme(families).as_bytes())?;
+    Ok(written)
+}
+
+/// The exported suite's README.md: what each family probes, the formats and how to grade.
+pub fn readme(families: &[Family]) -> String {
+    let rays: usize = families.iter().map(|f| f.rays.len()).sum();
+    let mut text = format!(
+        "{README_TITLE}
+
+{n} families of primitives and rays ({rays} rays) on which intersection code goes wrong,
+written by `raylab suite export`. Each directory holds a scene and its rays:
+
+- `scene.txt`: one primitive per line, `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` (a triangle: closed,
+  two-sided; one seen edge-on is missed) or `sphere cx cy cz r` (a tangent touch hits); a
+  primitive's index is its 0-based position among the primitives; `#` starts a comment.
+- `rays.txt`: one ray per line, `ox oy oz dx dy dz tmin tmax`: the points o + t·d with
+  tmin < t < tmax (here tmin = 0, tmax = inf); d is not normalised.
+
+Every number is an f32 value written out exactly (its whole decimal expansion, no exponent):
+read as a float, a double or an exact rational, it is the same number.
+
+**The answer**, one line per ray, in the rays' order: `hit <t> <index>` (the nearest
+primitive the ray meets and its t; where two are met at exactly the same t, either is right)
+or `miss`. `raylab trace --scene S --rays R` prints the exact answers in this format.
+
+**Grading**: `raylab check --scene S --rays R --answers A` compares an answer file with the
+exact answers; `raylab check --suite DIR --program 'CMD {{scene}} {{rays}}'` runs a program on
+every family (it reads the two files named on its command line and prints its answers) and
+prints a row per family. Add `--precision f64` for code that computes in double precision.
+
+| directory | rays | primitives | what it probes |
+|---|---:|---:|---|
+",
+        n = families.len()
+    );
+    for (i, family) in families.iter().enumerate() {
+        text += &format!(
+            "| `{}` | {} | {} | {} |\n",
+            dir_name(i, &family.name),
+            family.rays.len(),
+            family.shapes.len(),
+            family.probes
+        );
+    }
+    text
+}

@@ -1,0 +1,606 @@
+//! Checking code that is not raylab's: the exported suite reads back exactly, `raylab check`
+//! grades every kind of answer, and a program that fails is never a pass.
+
+mod common;
+
+use raylab::check::{export, suite};
+use raylab::math::Real;
+use raylab::tracefile;
+use std::path::Path;
+use std::process::Output;
+
+fn raylab(args: &[&str]) -> Output {
+    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, &[])
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn last_line(o: &Output) -> String {
+    text(&o.stdout)
+        .lines()
+        .last()
+        .unwrap_or_default()
+        .to_string()
+}
+
+/// The value `name` of the `check:` line's `name value` pairs.
+fn count(line: &str, name: &str) -> usize {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = words
+        .iter()
+        .position(|w| *w == name)
+        .unwrap_or_else(|| panic!("{name} in {line}"));
+    words[at + 1].parse().unwrap()
+}
+
+fn bits<T: Real>(v: &[T]) -> Vec<u64> {
+    v.iter().map(|x| x.f64().to_bits()).collect()
+}
+
+/// Every exported family's files read back as the library's family, to the bit (signed
+/// zeros and subnormals included), in f32 and, widened exactly, in f64.
+#[test]
+fn the_exported_suite_reads_back_exactly_in_f32_and_f64() {
+    let dir = tempfile::tempdir().unwrap();
+    let families = suite::all();
+    let written = export::export(dir.path(), &families).unwrap();
+    assert_eq!(written.len(), families.len());
+    let readme = std::fs::read_to_string(dir.path().join("README.md")).unwrap();
+    assert!(readme.starts_with(export::README_TITLE));
+    for (family, family_dir) in families.iter().zip(&written) {
+        let name = family_dir
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        assert!(
+            readme.contains(&format!("`{name}`")),
+            "{name} not in the README"
+        );
+        assert!(
+            !family.probes.is_empty(),
+            "{}: says what it probes",
+            family.name
+        );
+        let scene_file = family_dir.join("scene.txt");
+        let rays_file = family_dir.join("rays.txt");
+        let scene_text = std::fs::read_to_string(&scene_file).unwrap();
+        let rays_text = std::fs::read_to_string(&rays_file).unwrap();
+        let file = scene_file.display().to_string();
+        let shapes32 = tracefile::parse_scene::<f32>(&file, &scene_text).unwrap();
+        let shapes64 = tracefile::parse_scene::<f64>(&file, &scene_text).unwrap();
+        assert_eq!(shapes32.len(), family.shapes.len(), "{name}");
+        for ((want, got32), got64) in family.shapes.iter().zip(&shapes32).zip(&shapes64) {
+            assert_eq!(
+                got32.key(),
+                want.key(),
+                "{name}: {want:?} read as {got32:?}"
+            );
+            assert_eq!(
+                got32.scene_line(),
+                got64.scene_line(),
+                "{name}: f64 reads the same"
+            );
+        }
+        let file = rays_file.display().to_string();
+        let rays32 = tracefile::parse_rays::<f32>(&file, &rays_text).unwrap();
+        let rays64 = tracefile::parse_rays::<f64>(&file, &rays_text).unwrap();
+        assert_eq!(rays32.len(), family.rays.len(), "{name}");
+        for ((want, got32), got64) in family.rays.iter().zip(&rays32).zip(&rays64) {
+            let want_bits = [bits(&want.o), bits(&want.d)];
+            assert_eq!(
+                [bits(&got32.ray.o), bits(&got32.ray.d)],
+                want_bits,
+                "{name}"
+            );
+            assert_eq!(
+                [bits(&got64.ray.o), bits(&got64.ray.d)],
+                want_bits,
+                "{name}"
+            );
+            assert_eq!((got32.tmin, got32.tmax), (0.0, f32::INFINITY));
+        }
+    }
+    // Signed zeros and subnormals are among them (the families that probe them).
+    let all_rays: String = written
+        .iter()
+        .map(|d| std::fs::read_to_string(d.join("rays.txt")).unwrap())
+        .collect();
+    assert!(
+        all_rays.contains(" -0 "),
+        "a -0 direction component is written"
+    );
+    let names: Vec<String> = written.iter().map(|d| d.display().to_string()).collect();
+    assert!(
+        names.iter().any(|n| n.ends_with("tiny-cube-2-minus-17")),
+        "{names:?}"
+    );
+    assert!(
+        names.iter().any(|n| n.ends_with("huge-cube-2-17")),
+        "{names:?}"
+    );
+}
+
+/// An earlier export is written over; a directory holding anything else is refused and left
+/// as it was.
+#[test]
+fn export_writes_over_an_earlier_export_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("suite");
+    let target_s = target.to_str().unwrap();
+    let o = raylab(&["suite", "export", target_s]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains(&format!("wrote {} families", suite::all().len())));
+    let o = raylab(&["suite", "export", target_s]);
+    assert!(o.status.success(), "again: {}", text(&o.stderr));
+
+    let other = dir.path().join("notes");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("lab.cpp"), "int main() {}\n").unwrap();
+    let o = raylab(&["suite", "export", other.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("is not an exported suite"),
+        "{}",
+        text(&o.stderr)
+    );
+    let left: Vec<_> = std::fs::read_dir(&other).unwrap().collect();
+    assert_eq!(left.len(), 1, "nothing written beside lab.cpp");
+    assert_eq!(
+        std::fs::read_to_string(other.join("lab.cpp")).unwrap(),
+        "int main() {}\n"
+    );
+}
+
+/// A scene with a plane, its exact copy (exact ties), a plane behind and a sphere; one ray
+/// per kind of answer.
+fn graded_case(dir: &Path) -> (String, String) {
+    let scene = dir.join("scene.txt");
+    std::fs::write(
+        &scene,
+        "tri -1 -1 2 1 -1 2 0 1 2\ntri -1 -1 2 1 -1 2 0 1 2\ntri -1 -1 5 1 -1 5 0 1 5\nsphere 5 0 4 1\n",
+    )
+    .unwrap();
+    let rays = dir.join("rays.txt");
+    let ahead = "0 0 0 0 0 1 0 inf\n";
+    let lines = [
+        ahead,                 // hit 2 0
+        ahead,                 // hit 2 0
+        ahead,                 // hit 2 0
+        ahead,                 // hit 2 0
+        "0 0 0 0 1 0 0 inf\n", // miss
+        ahead,                 // hit 2 0
+        ahead,                 // hit 2 0
+        ahead,                 // hit 2 0
+        "0 0 0 0 0 1 3 inf\n", // hit 5 2 (tmin 3)
+        "5 0 0 0 0 1 0 inf\n", // hit 3 3 (the sphere)
+    ];
+    std::fs::write(&rays, format!("# a comment\n{}", lines.concat())).unwrap();
+    (scene.display().to_string(), rays.display().to_string())
+}
+
+/// The answers: right, tie, leak, wrong (a primitive behind), false hit, t 1 ulp off (f32),
+/// 5e-6 off, 5e-7 off, wrong (a primitive outside tmin..tmax), right on the sphere.
+const GRADED_ANSWERS: &str = "hit 2 0\nhit 2 1\nmiss\nhit 5 2\nhit 1 3\nhit 2.0000002 0\nhit 2.00001 0\nhit 2.000001 0\nhit 2 0\nhit 3 3\n";
+
+#[test]
+fn check_grades_every_kind_of_answer() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = graded_case(dir.path());
+    let answers = dir.path().join("answers.txt");
+    std::fs::write(&answers, GRADED_ANSWERS).unwrap();
+    let answers = answers.to_str().unwrap();
+    for (precision, within_ulp, within_micro) in [("f32", 4, 1), ("f64", 3, 2)] {
+        let o = raylab(&[
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--answers",
+            answers,
+            "--precision",
+            precision,
+        ]);
+        let out = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(1), "{out}{}", text(&o.stderr));
+        assert_eq!(
+            last_line(&o),
+            "check: rays 10 right 5 leaks 1 false_hits 1 wrong 2 ties 1 t_beyond_1e-6 1",
+            "{precision}: {out}"
+        );
+        let t_line =
+            format!("{within_ulp} within 1 ulp, {within_micro} within 1e-6 relative, 1 beyond");
+        assert!(out.contains(&t_line), "{precision}: '{t_line}' in {out}");
+        // Reproducers: each wrong ray by its line in the ray file (the comment is line 1).
+        assert!(
+            out.contains("rays.txt:4: 0 0 0 0 0 1 0 inf  exact: hit 2 0  given (")
+                && out.contains(":3): miss  [leak]"),
+            "{out}"
+        );
+        assert!(
+            out.contains("rays.txt:6: 0 0 0 0 1 0 0 inf  exact: miss")
+                && out.contains("[false hit]"),
+            "{out}"
+        );
+        assert!(
+            out.contains("rays.txt:10: 0 0 0 0 0 1 3 inf  exact: hit 5 2")
+                && out.contains("[wrong primitive]"),
+            "{out}"
+        );
+        assert!(out.contains("[t off by 5.0e-6 relative]"), "{out}");
+    }
+    // The right answers everywhere pass, ties included.
+    let right =
+        "hit 2 0\nhit 2 1\nhit 2 0\nhit 2 0\nmiss\nhit 2 0\nhit 2 0\nhit 2 0\nhit 5 2\nhit 3 3\n";
+    let answers = dir.path().join("right.txt");
+    std::fs::write(&answers, right).unwrap();
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--answers",
+        answers.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stdout));
+    assert_eq!(
+        last_line(&o),
+        "check: rays 10 right 9 leaks 0 false_hits 0 wrong 0 ties 1 t_beyond_1e-6 0"
+    );
+}
+
+/// A malformed answer file, a count that does not match the rays, an index past the scene and
+/// a program without its placeholders: exit 2, the error naming the file and line, nothing on
+/// standard output.
+#[test]
+fn bad_answers_are_refused_by_line_with_nothing_else_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = graded_case(dir.path());
+    let lines: Vec<&str> = GRADED_ANSWERS.lines().collect();
+    let with_line_3 = |line: &str| {
+        let mut l = lines.clone();
+        l[2] = line;
+        l.join("\n") + "\n"
+    };
+    for (answers, message) in [
+        (
+            with_line_3("hit x 0"),
+            "answers.txt:3: t 'x' is not a number",
+        ),
+        (
+            with_line_3("hit 2 4"),
+            "answers.txt:3: '4' is not a primitive index (the scene has 4: 0 to 3)",
+        ),
+        (
+            with_line_3("hot 2 0"),
+            "answers.txt:3: expected 'hit <t> <index>' or 'miss', found 'hot 2 0'",
+        ),
+        (with_line_3("hit 2 0 extra"), "answers.txt:3: expected"),
+        (
+            lines[..9].join("\n"),
+            "answers.txt: 9 answers for the 10 rays of",
+        ),
+    ] {
+        let file = dir.path().join("answers.txt");
+        std::fs::write(&file, &answers).unwrap();
+        let o = raylab(&[
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--answers",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{message}: {}", text(&o.stdout));
+        assert!(
+            text(&o.stderr).contains(message),
+            "'{message}' in {}",
+            text(&o.stderr)
+        );
+        assert!(
+            o.stdout.is_empty(),
+            "nothing else written: {}",
+            text(&o.stdout)
+        );
+    }
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        "cat answers.txt",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("must name {scene} and {rays}"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+/// raylab's own `trace` as the program passes every family in f32 and f64; Möller–Trumbore
+/// (no watertightness) leaks, and the run says so by its status.
+#[test]
+fn trace_as_the_program_passes_the_suite_and_moller_leaks() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite_dir = dir.path().join("suite");
+    export::export(&suite_dir, &suite::all()).unwrap();
+    let suite_s = suite_dir.to_str().unwrap();
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    let rays: usize = suite::all().iter().map(|f| f.rays.len()).sum();
+    for precision in ["f32", "f64"] {
+        let program =
+            format!("'{exe}' trace --precision {precision} --scene {{scene}} --rays {{rays}}");
+        let o = raylab(&[
+            "check",
+            "--suite",
+            suite_s,
+            "--program",
+            &program,
+            "--precision",
+            precision,
+        ]);
+        let out = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{out}{}", text(&o.stderr));
+        let line = last_line(&o);
+        assert_eq!(count(&line, "rays"), rays, "{line}");
+        assert_eq!(count(&line, "right") + count(&line, "ties"), rays, "{line}");
+        assert_eq!(count(&line, "t_beyond_1e-6"), 0, "{line}");
+        assert_eq!(
+            out.lines()
+                .filter(|l| l.contains("-cube-from-inside "))
+                .count(),
+            1,
+            "{out}"
+        );
+    }
+    let program = format!("'{exe}' trace --method moller --scene {{scene}} --rays {{rays}}");
+    let o = raylab(&["check", "--suite", suite_s, "--program", &program]);
+    let line = last_line(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(
+        count(&line, "leaks") > 0 && count(&line, "wrong") > 0,
+        "{line}"
+    );
+}
+
+/// A program that crashes, hangs (with a child of its own still running), prints garbage,
+/// too few lines, endless output or bytes that are not text is reported for its scene, and
+/// the run is not a pass.
+#[test]
+fn a_program_that_fails_is_never_a_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = graded_case(dir.path());
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    let trace = format!("'{exe}' trace --scene {{scene}} --rays {{rays}}");
+    for (program, message) in [
+        (
+            "echo oops >&2; exit 3 # {scene} {rays}".to_string(),
+            "ended with exit status: 3; its last words: oops",
+        ),
+        (
+            "sleep 30 & sleep 30 # {scene} {rays}".to_string(),
+            "ran out of time (0.5 s",
+        ),
+        (
+            "echo garbage # {scene} {rays}".to_string(),
+            "its output:1: expected 'hit <t> <index>' or 'miss'",
+        ),
+        (
+            format!("{trace} | head -3"),
+            "its output: 3 answers for the 10 rays",
+        ),
+        ("yes miss # {scene} {rays}".to_string(), "printed more than"),
+        (
+            "printf '\\377\\n' # {scene} {rays}".to_string(),
+            "not UTF-8 text",
+        ),
+    ] {
+        let o = raylab(&[
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--program",
+            &program,
+            "--timeout",
+            "0.5",
+        ]);
+        let out = text(&o.stdout);
+        assert_eq!(
+            o.status.code(),
+            Some(1),
+            "{program}: {out}{}",
+            text(&o.stderr)
+        );
+        assert!(
+            out.contains("FAILED: ") && out.contains(message),
+            "{program}: '{message}' in {out}"
+        );
+        assert!(last_line(&o).ends_with("failed_runs 1"), "{out}");
+    }
+    // A child left running after the program's answers does not hold the check up.
+    let program = format!("(sleep 30 &); {trace}");
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        &program,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stdout));
+
+    // In a suite, the failing families are rows of their own; the others are graded.
+    let suite_dir = dir.path().join("suite");
+    export::export(&suite_dir, &suite::all()).unwrap();
+    let program =
+        format!("case {{scene}} in *02-cube*) exit 3;; *05-tiny*) sleep 30;; esac; {trace}");
+    let o = raylab(&[
+        "check",
+        "--suite",
+        suite_dir.to_str().unwrap(),
+        "--program",
+        &program,
+        "--timeout",
+        "2",
+    ]);
+    let out = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert_eq!(
+        out.lines().filter(|l| l.contains("FAILED:")).count(),
+        2,
+        "{out}"
+    );
+    let line = last_line(&o);
+    assert!(line.ends_with("failed_runs 2"), "{line}");
+    let graded: usize = suite::all()
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| ![1, 4].contains(i))
+        .map(|(_, f)| f.rays.len())
+        .sum();
+    assert_eq!(count(&line, "rays"), graded, "{line}");
+    assert_eq!(
+        count(&line, "leaks") + count(&line, "wrong") + count(&line, "false_hits"),
+        0,
+        "{line}"
+    );
+}
+
+/// A number written by `exact_decimal` is the value itself: as an exact rational, and read
+/// back in f32 and f64 (signed zero, subnormals and the extremes included).
+#[test]
+fn numbers_are_written_exactly() {
+    use num_rational::BigRational;
+    use raylab::math::real::exact_decimal;
+    let mut rng = common::Rng(11);
+    let mut values = vec![
+        0.0f32,
+        -0.0,
+        0.1,
+        -2.5,
+        1.0,
+        f32::MIN_POSITIVE,
+        1e-45,
+        2f32.powi(-130),
+        f32::MAX,
+        -f32::MAX,
+        3.0e7,
+    ];
+    values.extend(
+        (0..2000)
+            .map(|_| f32::from_bits(rng.next_u64() as u32))
+            .filter(|x| x.is_finite()),
+    );
+    for x in values {
+        let s = exact_decimal(x as f64);
+        assert_eq!(
+            s.parse::<f32>().unwrap().to_bits(),
+            x.to_bits(),
+            "{x:e} written {s}"
+        );
+        assert_eq!(
+            s.parse::<f64>().unwrap().to_bits(),
+            (x as f64).to_bits(),
+            "{s}"
+        );
+        assert!(!s.contains('e') && s.len() <= 160, "{s}");
+        // As a rational: the digits over a power of ten.
+        let (digits, places) = match s.trim_start_matches('-').split_once('.') {
+            Some((whole, frac)) => (format!("{whole}{frac}"), frac.len()),
+            None => (s.trim_start_matches('-').to_string(), 0),
+        };
+        let ten = num_bigint::BigInt::from(10);
+        let value = BigRational::new(digits.parse().unwrap(), ten.pow(places as u32));
+        assert_eq!(value, BigRational::from_float(x.abs()).unwrap(), "{s}");
+    }
+    assert_eq!(
+        exact_decimal(0.1f32 as f64),
+        "0.100000001490116119384765625"
+    );
+    assert_eq!(exact_decimal(-0.0), "-0");
+    assert_eq!(exact_decimal(f64::INFINITY), "inf");
+}
+
+/// The README's Python program, in exact rationals, passes every family in f32 and f64, and
+/// the README shows it as it is in examples/check/exact.py.
+#[test]
+fn the_readme_python_program_passes_every_family() {
+    if !common::tool_for(
+        "python3",
+        "python3",
+        "the_readme_python_program_passes_every_family",
+    ) {
+        return;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let program = std::fs::read_to_string(root.join("examples/check/exact.py")).unwrap();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    assert!(
+        readme.contains(&format!("```python\n{program}```")),
+        "README shows exact.py as it is"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let suite_dir = dir.path().join("suite");
+    export::export(&suite_dir, &suite::all()).unwrap();
+    let rays: usize = suite::all().iter().map(|f| f.rays.len()).sum();
+    // The program runs once per family; its answers are graded in both precisions.
+    let script = root.join("examples/check/exact.py");
+    let mut graded = [0usize; 2];
+    for family in std::fs::read_dir(&suite_dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+    {
+        if !family.is_dir() {
+            continue;
+        }
+        let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
+        let out = std::process::Command::new("python3")
+            .arg(&script)
+            .arg(&scene)
+            .arg(&rays)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            family.display(),
+            text(&out.stderr)
+        );
+        let answers = family.join("answers.txt");
+        std::fs::write(&answers, &out.stdout).unwrap();
+        for (k, precision) in ["f32", "f64"].into_iter().enumerate() {
+            let o = raylab(&[
+                "check",
+                "--scene",
+                scene.to_str().unwrap(),
+                "--rays",
+                rays.to_str().unwrap(),
+                "--answers",
+                answers.to_str().unwrap(),
+                "--precision",
+                precision,
+            ]);
+            let line = last_line(&o);
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "{} {precision}: {}",
+                family.display(),
+                text(&o.stdout)
+            );
+            graded[k] += count(&line, "right") + count(&line, "ties");
+        }
+    }
+    assert_eq!(graded, [rays; 2], "every ray of every family graded right");
+}
