@@ -604,3 +604,101 @@ fn the_readme_python_program_passes_every_family() {
     }
     assert_eq!(graded, [rays; 2], "every ray of every family graded right");
 }
+
+/// `--image` paints the program's answers as the flat step: raylab's own answers give the
+/// headless flat render to the pixel; Möller–Trumbore's are marked magenta exactly where it
+/// lets a ray through, the pixels the cracks view marks.
+#[test]
+fn the_image_marks_exactly_where_the_program_leaks() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let size = ["--width", "320", "--height", "240"];
+    let trace = format!("'{exe}' trace --scene {{scene}} --rays {{rays}}");
+    let o = raylab(
+        &[
+            &["check", "--image", &path("own.png"), "--program", &trace][..],
+            &size,
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    assert_eq!(
+        last_line(&o),
+        "check: rays 76800 right 76800 leaks 0 false_hits 0 wrong 0 ties 0 t_beyond_1e-6 0"
+    );
+    let o = raylab(
+        &[
+            &["render", "--step", "flat", "-o", &path("flat.png")][..],
+            &size,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success());
+    assert_eq!(
+        common::read_png(Path::new(&path("own.png"))),
+        common::read_png(Path::new(&path("flat.png")))
+    );
+
+    let moller = format!("'{exe}' trace --method moller --scene {{scene}} --rays {{rays}}");
+    let o = raylab(
+        &[
+            &[
+                "check",
+                "--image",
+                &path("moller.png"),
+                "--program",
+                &moller,
+            ][..],
+            &size,
+        ]
+        .concat(),
+    );
+    let line = last_line(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    let args = [
+        "render",
+        "--step",
+        "flat",
+        "--method",
+        "moller",
+        "--cracks",
+        "-o",
+        &path("cracks.png"),
+    ];
+    assert!(raylab(&[&args[..], &size].concat()).status.success());
+    let marked = |file: &str, colour: [u8; 3]| -> Vec<usize> {
+        let (_, _, px) = common::read_png(Path::new(&path(file)));
+        px.chunks(4)
+            .enumerate()
+            .filter(|(_, p)| p[..3] == colour)
+            .map(|(i, _)| i)
+            .collect()
+    };
+    let magenta = marked("moller.png", [255, 0, 255]);
+    assert!(
+        !magenta.is_empty(),
+        "Möller–Trumbore leaks on the Cornell box's diagonals: {line}"
+    );
+    assert_eq!(magenta.len(), count(&line, "leaks"), "{line}");
+    let yellow = marked("moller.png", [255, 255, 0]);
+    assert_eq!(yellow.len(), count(&line, "false_hits"), "{line}");
+    let mut through = [magenta, yellow].concat();
+    through.sort();
+    assert_eq!(
+        through,
+        marked("cracks.png", [255, 0, 255]),
+        "the pixels the cracks view marks"
+    );
+    assert_eq!(
+        marked("moller.png", [0, 255, 255]).len(),
+        count(&line, "wrong"),
+        "{line}"
+    );
+}

@@ -2,7 +2,7 @@
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
 use super::program;
-use super::{read_text, Precision};
+use super::{read_text, Precision, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use raylab::check::grade::{self, Answer, Graded, Tally, Verdict};
 use raylab::check::{export, suite};
@@ -34,19 +34,27 @@ pub enum SuiteAction {
 /// `raylab check`.
 #[derive(clap::Args, Debug)]
 pub struct CheckArgs {
-    /// Scene file (the `trace` format); with --rays and --answers or --program.
-    #[arg(long, requires = "rays")]
-    pub scene: Option<PathBuf>,
-    /// Ray file (the `trace` format).
-    #[arg(long, requires = "scene")]
+    /// Ray file (the `trace` format), with --scene FILE (a `.scene` file, the `trace` format)
+    /// and --answers or --program.
+    #[arg(long)]
     pub rays: Option<PathBuf>,
     /// The answers to grade, one line per ray: `hit <t> <index>` or `miss`, as `raylab
     /// trace` prints them.
-    #[arg(long, requires = "scene", conflicts_with_all = ["program", "suite"])]
+    #[arg(long, requires = "rays", conflicts_with_all = ["program", "suite", "image"])]
     pub answers: Option<PathBuf>,
     /// An exported suite (`raylab suite export DIR`): run --program on every family.
-    #[arg(long, value_name = "DIR", requires = "program", conflicts_with_all = ["scene", "rays"])]
+    #[arg(long, value_name = "DIR", requires = "program", conflicts_with_all = ["rays", "image"])]
     pub suite: Option<PathBuf>,
+    /// Ask --program for the camera rays of a view (the render options: the lab's Cornell box
+    /// by default) and paint the flat step from its answers into this PNG, leaks magenta,
+    /// wrong primitives cyan, false hits yellow (f32).
+    #[arg(
+        long,
+        value_name = "OUT.png",
+        requires = "program",
+        conflicts_with = "rays"
+    )]
+    pub image: Option<PathBuf>,
     /// The program to grade: a shell command where `{scene}` and `{rays}` stand for the two
     /// files' paths; it prints its answers on standard output.
     #[arg(long, value_name = "CMD")]
@@ -58,6 +66,9 @@ pub struct CheckArgs {
     /// Seconds the program may take on one scene before it is stopped.
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
     pub timeout: f64,
+    /// The scene and, with --image, the view (the render options).
+    #[command(flatten)]
+    pub view: ViewArgs,
 }
 
 /// Runs `raylab suite`.
@@ -95,6 +106,12 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
             bail!("--program '{cmd}' must name {{scene}} and {{rays}}, where the files' paths go");
         }
     }
+    if let (Some(image), Some(template)) = (&args.image, &args.program) {
+        if args.precision != Precision::F32 {
+            bail!("--image grades the camera rays in f32 (the renderer's); leave out --precision");
+        }
+        return super::check_image::check_image(args, image, template);
+    }
     match args.precision {
         Precision::F32 => check_in::<f32>(args, exact_f32),
         Precision::F64 => check_in::<f64>(args, exact_generic::<f64>),
@@ -102,12 +119,12 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
 }
 
 /// A scene's primitives and its rays' exact answers, in one precision.
-struct Exact<T: Real> {
-    primitives: usize,
-    shape_of: Box<dyn Fn(u32) -> Shape<T> + Sync>,
-    rays: Vec<(usize, TraceRay<T>)>,
-    answers: Vec<Answer<T>>,
-    elapsed: Duration,
+pub(super) struct Exact<T: Real> {
+    pub primitives: usize,
+    pub shape_of: Box<dyn Fn(u32) -> Shape<T> + Sync>,
+    pub rays: Vec<(usize, TraceRay<T>)>,
+    pub answers: Vec<Answer<T>>,
+    pub elapsed: Duration,
 }
 
 type ExactFn<T> = fn(&Path, &Path) -> Result<Exact<T>>;
@@ -151,15 +168,22 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
         Precision::F32 => "f32",
         Precision::F64 => "f64",
     };
-    match (&args.suite, &args.scene, &args.rays) {
-        (Some(dir), _, _) => {
+    match (&args.suite, &args.rays) {
+        (Some(dir), _) => {
             let program = args
                 .program
                 .as_deref()
                 .expect("clap: --suite requires --program");
             check_suite(dir, program, args.timeout, name, exact_of)
         }
-        (None, Some(scene), Some(rays)) => {
+        (None, Some(rays)) => {
+            let scene = &PathBuf::from(&args.view.scene);
+            if !scene.is_file() {
+                bail!(
+                    "--rays goes with --scene FILE, the scene file (the `trace` format) the rays are shot at; '{}' is not a file",
+                    scene.display()
+                );
+            }
             let exact = exact_of(scene, rays)?;
             // Written only once everything is read: bad input prints its error alone.
             let mut out = format!(
@@ -205,12 +229,13 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             };
             let (answers_file, answers) = answers;
             let graded = grade_all(&exact, &answers);
-            let tally = report(&mut out, &graded, &exact, &answers, rays, &answers_file);
+            let place = |i: usize| format!("{}:{}", rays.display(), exact.rays[i].0);
+            let tally = report(&mut out, &graded, &exact, &answers, &place, &answers_file);
             say!("{out}{}", tally.line());
             Ok(tally.passed())
         }
         _ => bail!(
-            "give --scene S --rays R (with --answers or --program), or --suite DIR --program CMD"
+            "give --scene S --rays R (with --answers or --program), --suite DIR --program CMD, or --image OUT.png --program CMD"
         ),
     }
 }
@@ -220,12 +245,12 @@ fn timeout(args: &CheckArgs) -> Duration {
 }
 
 /// The most a program may print for `rays` rays: far more than any answers need.
-fn max_output(rays: usize) -> usize {
+pub(super) fn max_output(rays: usize) -> usize {
     rays.saturating_mul(160).saturating_add(1 << 20)
 }
 
 /// The answers in `text`, one per ray (a count that differs is an error).
-fn answers_for<T: Real>(
+pub(super) fn answers_for<T: Real>(
     file: &str,
     text: &str,
     exact: &Exact<T>,
@@ -243,7 +268,7 @@ fn answers_for<T: Real>(
     Ok(answers)
 }
 
-fn grade_all<T: Real>(exact: &Exact<T>, answers: &[(usize, Answer<T>)]) -> Vec<Graded> {
+pub(super) fn grade_all<T: Real>(exact: &Exact<T>, answers: &[(usize, Answer<T>)]) -> Vec<Graded> {
     use rayon::prelude::*;
     (0..exact.rays.len())
         .into_par_iter()
@@ -259,12 +284,12 @@ fn grade_all<T: Real>(exact: &Exact<T>, answers: &[(usize, Answer<T>)]) -> Vec<G
 }
 
 /// Writes the counts and the first wrong answers as one-line reproducers; returns the tally.
-fn report<T: Real>(
+pub(super) fn report<T: Real>(
     out: &mut String,
     graded: &[Graded],
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
-    rays_file: &Path,
+    place: &dyn Fn(usize) -> String,
     answers_file: &str,
 ) -> Tally {
     use std::fmt::Write;
@@ -310,10 +335,7 @@ fn report<T: Real>(
     if wrong > 0 {
         w!("the first of the {wrong} wrong answers (ray, exact answer, the answer given):");
         for (i, g) in shown(|g| !matches!(g.verdict, Verdict::Right | Verdict::Tie)) {
-            w!(
-                "{}",
-                reproducer(i, g, exact, answers, rays_file, answers_file)
-            );
+            w!("{}", reproducer(i, g, exact, answers, place, answers_file));
         }
     }
     if tally.t_beyond > 0 {
@@ -322,10 +344,7 @@ fn report<T: Real>(
             tally.t_beyond
         );
         for (i, g) in shown(|g| g.t_error == Some(grade::TError::Beyond)) {
-            w!(
-                "{}",
-                reproducer(i, g, exact, answers, rays_file, answers_file)
-            );
+            w!("{}", reproducer(i, g, exact, answers, place, answers_file));
         }
     }
     tally
@@ -337,17 +356,17 @@ fn reproducer<T: Real>(
     g: &Graded,
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
-    rays_file: &Path,
+    place: &dyn Fn(usize) -> String,
     answers_file: &str,
 ) -> String {
-    let (ray_line, ray) = exact.rays[i];
+    let ray = exact.rays[i].1;
     let what = match g.verdict {
         Verdict::Right | Verdict::Tie => format!("t off by {:.1e} relative", g.relative),
         v => v.name().to_string(),
     };
     format!(
-        "  {}:{ray_line}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
-        rays_file.display(),
+        "  {}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
+        place(i),
         ray.line(),
         exact.answers[i].text(),
         answers[i].0,
@@ -356,7 +375,7 @@ fn reproducer<T: Real>(
 }
 
 /// The last line of a run where some programs gave no answers.
-fn failed_line(tally: &Tally, failed: usize) -> String {
+pub(super) fn failed_line(tally: &Tally, failed: usize) -> String {
     format!("{} failed_runs {failed}", tally.line())
 }
 

@@ -25,6 +25,7 @@ macro_rules! say {
 }
 
 mod check;
+mod check_image;
 mod program;
 
 pub use check::{check, suite, CheckArgs, SuiteArgs};
