@@ -13,6 +13,20 @@ fn raylab(args: &[&str]) -> Output {
     common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, &[])
 }
 
+/// `raylab check` of an answer file for `scene` and `rays`, with `more` arguments.
+fn check_answers(scene: &str, rays: &str, answers: &Path, more: &[&str]) -> Output {
+    check_scene(scene, rays, &["--answers", answers.to_str().unwrap()], more)
+}
+
+/// `raylab check` of `program` run on `scene` and `rays`, with `more` arguments.
+fn check_program(scene: &str, rays: &str, program: &str, more: &[&str]) -> Output {
+    check_scene(scene, rays, &["--program", program], more)
+}
+
+fn check_scene(scene: &str, rays: &str, source: &[&str], more: &[&str]) -> Output {
+    raylab(&[&["check", "--scene", scene, "--rays", rays], source, more].concat())
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -191,19 +205,8 @@ fn check_grades_every_kind_of_answer() {
     let (scene, rays) = graded_case(dir.path());
     let answers = dir.path().join("answers.txt");
     std::fs::write(&answers, GRADED_ANSWERS).unwrap();
-    let answers = answers.to_str().unwrap();
     for (precision, within_ulp, within_micro) in [("f32", 4, 1), ("f64", 3, 2)] {
-        let o = raylab(&[
-            "check",
-            "--scene",
-            &scene,
-            "--rays",
-            &rays,
-            "--answers",
-            answers,
-            "--precision",
-            precision,
-        ]);
+        let o = check_answers(&scene, &rays, &answers, &["--precision", precision]);
         let out = text(&o.stdout);
         assert_eq!(o.status.code(), Some(1), "{out}{}", text(&o.stderr));
         assert_eq!(
@@ -237,15 +240,7 @@ fn check_grades_every_kind_of_answer() {
         "hit 2 0\nhit 2 1\nhit 2 0\nhit 2 0\nmiss\nhit 2 0\nhit 2 0\nhit 2 0\nhit 5 2\nhit 3 3\n";
     let answers = dir.path().join("right.txt");
     std::fs::write(&answers, right).unwrap();
-    let o = raylab(&[
-        "check",
-        "--scene",
-        &scene,
-        "--rays",
-        &rays,
-        "--answers",
-        answers.to_str().unwrap(),
-    ]);
+    let o = check_answers(&scene, &rays, &answers, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stdout));
     assert_eq!(
         last_line(&o),
@@ -287,15 +282,7 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
     ] {
         let file = dir.path().join("answers.txt");
         std::fs::write(&file, &answers).unwrap();
-        let o = raylab(&[
-            "check",
-            "--scene",
-            &scene,
-            "--rays",
-            &rays,
-            "--answers",
-            file.to_str().unwrap(),
-        ]);
+        let o = check_answers(&scene, &rays, &file, &[]);
         assert_eq!(o.status.code(), Some(2), "{message}: {}", text(&o.stdout));
         assert!(
             text(&o.stderr).contains(message),
@@ -403,17 +390,7 @@ fn a_program_that_fails_is_never_a_pass() {
             "not UTF-8 text",
         ),
     ] {
-        let o = raylab(&[
-            "check",
-            "--scene",
-            &scene,
-            "--rays",
-            &rays,
-            "--program",
-            &program,
-            "--timeout",
-            "0.5",
-        ]);
+        let o = check_program(&scene, &rays, &program, &["--timeout", "0.5"]);
         let out = text(&o.stdout);
         assert_eq!(
             o.status.code(),
@@ -429,15 +406,7 @@ fn a_program_that_fails_is_never_a_pass() {
     }
     // A child left running after the program's answers does not hold the check up.
     let program = format!("(sleep 30 &); {trace}");
-    let o = raylab(&[
-        "check",
-        "--scene",
-        &scene,
-        "--rays",
-        &rays,
-        "--program",
-        &program,
-    ]);
+    let o = check_program(&scene, &rays, &program, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stdout));
 
     // In a suite, the failing families are rows of their own; the others are graded.
@@ -580,17 +549,8 @@ fn the_readme_python_program_passes_every_family() {
         let answers = family.join("answers.txt");
         std::fs::write(&answers, &out.stdout).unwrap();
         for (k, precision) in ["f32", "f64"].into_iter().enumerate() {
-            let o = raylab(&[
-                "check",
-                "--scene",
-                scene.to_str().unwrap(),
-                "--rays",
-                rays.to_str().unwrap(),
-                "--answers",
-                answers.to_str().unwrap(),
-                "--precision",
-                precision,
-            ]);
+            let (scene, rays) = (scene.to_str().unwrap(), rays.to_str().unwrap());
+            let o = check_answers(scene, rays, &answers, &["--precision", precision]);
             let line = last_line(&o);
             assert_eq!(
                 o.status.code(),
