@@ -127,6 +127,9 @@ pub(super) struct Exact<T: Real> {
     pub elapsed: Duration,
 }
 
+/// Answers with the line each was read from.
+pub(super) type Answers<T> = Vec<(usize, Answer<T>)>;
+
 type ExactFn<T> = fn(&Path, &Path) -> Result<Exact<T>>;
 
 /// The files read in f32 and answered through the renderer's structures.
@@ -204,23 +207,14 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 }
                 (None, Some(template)) => {
                     let command = program::command_for(template, scene, rays);
-                    let limit = max_output(exact.rays.len());
-                    let ran = program::run(&command, timeout(args), limit)
-                        .map_err(|e| e.to_string())
-                        .and_then(|ran| {
-                            let answers = answers_for("its output", &ran.stdout, &exact, rays)
-                                .map_err(|e| format!("{e:#}"))?;
-                            Ok((ran.elapsed, answers))
-                        });
-                    match ran {
+                    match program_answers(&command, args.timeout, &exact, rays) {
                         Ok((elapsed, answers)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
                             out += &format!("program: {command} ({ms:.1} ms)\n");
                             ("its output".to_string(), answers)
                         }
-                        Err(e) => {
-                            say!("{out}program: {command}\nFAILED: {e}");
-                            say!("{}", failed_line(&Tally::default(), 1));
+                        Err(why) => {
+                            say_failed(&out, &command, &why)?;
                             return Ok(false);
                         }
                     }
@@ -240,17 +234,13 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
     }
 }
 
-fn timeout(args: &CheckArgs) -> Duration {
-    Duration::from_secs_f64(args.timeout)
-}
-
 /// The most a program may print for `rays` rays: far more than any answers need.
-pub(super) fn max_output(rays: usize) -> usize {
+fn max_output(rays: usize) -> usize {
     rays.saturating_mul(160).saturating_add(1 << 20)
 }
 
 /// The answers in `text`, one per ray (a count that differs is an error).
-pub(super) fn answers_for<T: Real>(
+fn answers_for<T: Real>(
     file: &str,
     text: &str,
     exact: &Exact<T>,
@@ -266,6 +256,30 @@ pub(super) fn answers_for<T: Real>(
         );
     }
     Ok(answers)
+}
+
+/// Runs the program on the scene and ray files and reads its answers, one per ray: its time
+/// and answers, or why it gave none (it crashed, ran out of time, printed too much or
+/// something that is not one answer per ray), which makes the run a failure, not bad input.
+pub(super) fn program_answers<T: Real>(
+    command: &str,
+    timeout_s: f64,
+    exact: &Exact<T>,
+    rays_file: &Path,
+) -> Result<(Duration, Answers<T>), String> {
+    let timeout = Duration::from_secs_f64(timeout_s);
+    let ran =
+        program::run(command, timeout, max_output(exact.rays.len())).map_err(|e| e.to_string())?;
+    let answers =
+        answers_for("its output", &ran.stdout, exact, rays_file).map_err(|e| format!("{e:#}"))?;
+    Ok((ran.elapsed, answers))
+}
+
+/// Prints what was written so far, the program's failure and the failed run's last line.
+pub(super) fn say_failed(out: &str, command: &str, why: &str) -> Result<()> {
+    say!("{out}program: {command}\nFAILED: {why}");
+    say!("{}", failed_line(&Tally::default(), 1));
+    Ok(())
 }
 
 pub(super) fn grade_all<T: Real>(exact: &Exact<T>, answers: &[(usize, Answer<T>)]) -> Vec<Graded> {
@@ -375,7 +389,7 @@ fn reproducer<T: Real>(
 }
 
 /// The last line of a run where some programs gave no answers.
-pub(super) fn failed_line(tally: &Tally, failed: usize) -> String {
+fn failed_line(tally: &Tally, failed: usize) -> String {
     format!("{} failed_runs {failed}", tally.line())
 }
 
@@ -417,16 +431,7 @@ fn check_suite<T: Real>(
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let exact = exact_of(&scene, &rays)?;
         let command = program::command_for(template, &scene, &rays);
-        let ran = program::run(
-            &command,
-            Duration::from_secs_f64(timeout_s),
-            max_output(exact.rays.len()),
-        );
-        let outcome = ran.map_err(|e| e.to_string()).and_then(|ran| {
-            let answers = answers_for("its output", &ran.stdout, &exact, &rays)
-                .map_err(|e| format!("{e:#}"))?;
-            Ok((ran.elapsed, answers))
-        });
+        let outcome = program_answers(&command, timeout_s, &exact, &rays);
         match outcome {
             Ok((elapsed, answers)) => {
                 let mut tally = Tally::default();

@@ -1,7 +1,7 @@
 //! `raylab check --image`: a program's answers to a view's camera rays, painted as the flat
 //! step with its mistakes marked: the cracks view for code that is not raylab's.
 
-use super::check::{answers_for, failed_line, grade_all, max_output, report, CheckArgs, Exact};
+use super::check::{grade_all, program_answers, report, say_failed, CheckArgs, Exact};
 use super::program;
 use anyhow::{Context, Result};
 use raylab::check::grade::{self, Answer, Verdict};
@@ -107,23 +107,14 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         exact.elapsed.as_secs_f64() * 1e3
     );
     let command = program::command_for(template, &scene_file, &rays_file);
-    let timeout = std::time::Duration::from_secs_f64(args.timeout);
-    let ran = program::run(&command, timeout, max_output(exact.rays.len()))
-        .map_err(|e| e.to_string())
-        .and_then(|ran| {
-            let answers = answers_for("its output", &ran.stdout, &exact, &rays_file)
-                .map_err(|e| format!("{e:#}"))?;
-            Ok((ran.elapsed, answers))
-        });
-    let answers = match ran {
+    let answers = match program_answers(&command, args.timeout, &exact, &rays_file) {
         Ok((elapsed, answers)) => {
             let ms = elapsed.as_secs_f64() * 1e3;
             out += &format!("program: {command} ({ms:.1} ms)\n");
             answers
         }
-        Err(e) => {
-            say!("{out}program: {command}\nFAILED: {e}");
-            say!("{}", failed_line(&Default::default(), 1));
+        Err(why) => {
+            say_failed(&out, &command, &why)?;
             return Ok(false);
         }
     };
