@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# raylab alone on every scene (docs/performance.md): builds the release binary (core only, so the
-# window stack is not needed) and runs `raylab bench` for each row, printing Markdown rows.
+# raylab alone on every scene (docs/performance.md): builds the release binary and runs
+# `raylab bench` for each row, printing Markdown rows.
 # Usage: bash benches/readme_table.sh [FRAMES]   (needs ../shared/scenes for the mesh rows)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 frames=${1:-7}
-cargo build --release --no-default-features -q --bin raylab --example subdivide
+cargo build --release -q --bin raylab --example subdivide
 bin=target/release/raylab
 shared=../shared/scenes
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores, $(date -u +%F)"

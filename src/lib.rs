@@ -1,8 +1,8 @@
 //! raylab: a teaching-grade CPU raycaster built from the raytracing lecture's lab.
 //!
-//! This crate is the renderer core. It never imports winit, egui or pixels: the window shell
-//! (the `viewer` feature) is a thin layer over it, and everything the window shows can be rendered
-//! headless to PNG.
+//! This crate is the renderer core. It never imports winit, egui or pixels (it does not depend
+//! on them): the command line and the window (the `raylab-app` package in app/) are a thin
+//! layer over it, and everything the window shows can be rendered headless to PNG.
 //!
 //! # Conventions (stated once, tested in `tests/`)
 //! - **Units and world frame**: the lab scene's frame. The Cornell box fills [-1, 1]³; its lab
@@ -35,7 +35,7 @@
 //! - [`accel`]: the structures over a scene and their queries;
 //! - [`render`]: the tile loop, the lab steps' shading, the inspector, images;
 //! - [`check`]: the hard-case suite and the grading of answers from code that is not raylab's;
-//! - the binary: the command line and the window, over all of these.
+//! - app/ (another package): the command line and the window, over all of these.
 //!
 //! # Example
 //! The lab's Cornell box, step 4 (shadows), rendered and written as a PNG:

@@ -3,8 +3,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#![cfg(feature = "viewer")]
-
+#[path = "../../tests/common/mod.rs"]
 mod common;
 
 use common::{pixels_off, read_png, run_in_shell};
@@ -1078,7 +1077,10 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     // Cornell box: the window loads it as instances (one stored mesh), draws it as the
     // headless renderer does, and selecting the push level of one placement tints that ball.
     let dir = tempfile::tempdir().unwrap();
-    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/meshes/icosphere.obj");
+    let mesh = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/meshes/icosphere.obj"
+    );
     std::fs::copy(mesh, dir.path().join("ball.obj")).unwrap();
     let scene = dir.path().join("balls.scene");
     std::fs::write(

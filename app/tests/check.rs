@@ -1,6 +1,7 @@
 //! Checking code that is not raylab's: the exported suite reads back exactly, `raylab check`
 //! grades every kind of answer, and a program that fails is never a pass.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 
 use raylab::check::{export, suite};
@@ -512,7 +513,7 @@ fn the_readme_python_program_passes_every_family() {
     ) {
         return;
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let program = std::fs::read_to_string(root.join("examples/check/exact.py")).unwrap();
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     assert!(

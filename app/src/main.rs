@@ -1,8 +1,6 @@
 //! Parses the command line and dispatches; nothing else.
 #![forbid(unsafe_code)]
 
-#[cfg(feature = "viewer")]
-mod app;
 mod cli;
 
 use clap::Parser;
@@ -50,9 +48,8 @@ fn main() -> ExitCode {
     }
 }
 
-#[cfg(feature = "viewer")]
 fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
-    app::run(app::ViewerOptions {
+    raylab_app::window::run(raylab_app::window::ViewerOptions {
         scene: args.model.clone(),
         obj_frame: args.obj_frame,
         accel: args.accel,
@@ -60,11 +57,4 @@ fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
         screenshot: args.screenshot.clone(),
         script: args.script.clone(),
     })
-}
-
-#[cfg(not(feature = "viewer"))]
-fn viewer(_: &cli::Cli) -> anyhow::Result<()> {
-    anyhow::bail!(
-        "this raylab was built without the window (cargo feature `viewer`); use `raylab render --out FILE.png`"
-    )
 }
