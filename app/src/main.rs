@@ -49,12 +49,5 @@ fn main() -> ExitCode {
 }
 
 fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
-    raylab_app::window::run(raylab_app::window::ViewerOptions {
-        scene: args.model.clone(),
-        obj_frame: args.obj_frame,
-        accel: args.accel,
-        frames: args.frames,
-        screenshot: args.screenshot.clone(),
-        script: args.script.clone(),
-    })
+    raylab_app::window::run(args.window.options(None))
 }

@@ -6,6 +6,7 @@
 #[path = "../../tests/common/mod.rs"]
 mod common;
 
+use common::window::{against_headless, compare, Around, Run};
 use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
 use raylab::render::{render_image, LabStep, RenderSettings};
@@ -14,83 +15,7 @@ use std::collections::HashMap;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Mean absolute channel difference and the fraction of pixels off by more than 8, between
-/// the window's image rectangle (sampled at the nearest pixel) and a render of `w`×`h`.
-fn compare(
-    shot: &(u32, u32, Vec<u8>),
-    rect: [f64; 4],
-    render: &[u8],
-    w: u32,
-    h: u32,
-) -> (f64, f64) {
-    let (sw, _, px) = shot;
-    let mut sum = 0u64;
-    let mut off = 0usize;
-    for j in 0..h {
-        for i in 0..w {
-            let x = (rect[0] + (i as f64 + 0.5) * rect[2] / w as f64) as u32;
-            let y = (rect[1] + (j as f64 + 0.5) * rect[3] / h as f64) as u32;
-            let a = &px[4 * (y * sw + x) as usize..][..3];
-            let b = &render[4 * (j * w + i) as usize..][..3];
-            let d: Vec<u64> = (0..3)
-                .map(|c| (a[c] as i64 - b[c] as i64).unsigned_abs())
-                .collect();
-            sum += d.iter().sum::<u64>();
-            if d.iter().any(|&x| x > 8) {
-                off += 1;
-            }
-        }
-    }
-    let n = (w * h) as f64;
-    (sum as f64 / (3.0 * n), off as f64 / n)
-}
-
-/// What a scripted run printed and saved.
-struct Run {
-    fields: HashMap<String, String>,
-    /// The ray inspector's fields (`inspector name: value` lines), if it was used.
-    inspector: HashMap<String, String>,
-    shot: (u32, u32, Vec<u8>),
-    stderr: String,
-}
-
-impl Run {
-    fn nums(&self, k: &str) -> Vec<f64> {
-        let value = self.fields.get(k);
-        value
-            .unwrap_or_else(|| panic!("no {k}: the run printed no final line\n{}", self.stderr))
-            .split([',', 'x'])
-            .map(|x| x.parse().unwrap())
-            .collect()
-    }
-
-    /// The camera the window ended with, its render size and the image rectangle.
-    fn camera(&self) -> (Camera, u32, u32, [f64; 4]) {
-        let pos = self.nums("camera");
-        let (yaw, pitch, focal) = (
-            self.nums("yaw")[0],
-            self.nums("pitch")[0],
-            self.nums("focal")[0],
-        );
-        let size = self.nums("size");
-        let r = self.nums("rect");
-        let cam = Camera::from_yaw_pitch(
-            DVec3::new(pos[0], pos[1], pos[2]),
-            yaw.to_radians(),
-            pitch.to_radians(),
-            focal,
-        )
-        .unwrap();
-        (
-            cam,
-            size[0] as u32,
-            size[1] as u32,
-            [r[0], r[1], r[2], r[3]],
-        )
-    }
-}
-
-/// Runs the window under Xvfb with `script`; None (after saying so) where Xvfb is missing.
+/// Runs raylab's window under Xvfb with `script`; None (after saying so) where Xvfb is missing.
 fn run_window(script: &str, dir: &std::path::Path) -> Option<Run> {
     run_window_env(script, dir, &[])
 }
@@ -100,24 +25,6 @@ fn run_window_env(script: &str, dir: &std::path::Path, env: &[(&str, &str)]) -> 
     run_window_with(script, dir, env, Around::Nothing)
 }
 
-/// What runs beside the app on the display.
-enum Around<'a> {
-    Nothing,
-    /// An XSETTINGS manager (xsettingsd) whose Xft/DPI goes from 96 to `dpi` after `at_ms`:
-    /// the desktop's HiDPI change, which winit reports as `ScaleFactorChanged`.
-    DpiChange {
-        at_ms: u32,
-        dpi: u32,
-    },
-    /// A shell snippet that drives the running app with real X input (xdotool), started
-    /// once the app's window exists (its id in `$win`), in the run's directory.
-    RealInput(&'a str),
-    /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
-    RealInputOn(&'a str, &'a std::path::Path),
-    /// Nothing beside the app, which starts with these arguments.
-    Args(&'a [&'a str]),
-}
-
 /// [`run_window_env`] with something running beside the app ([`Around`]).
 fn run_window_with(
     script: &str,
@@ -125,160 +32,8 @@ fn run_window_with(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    // Input drivers wait for the first image; a file-editing driver keeps to its own clock.
-    let wait_for_image = matches!(around, Around::RealInput(_));
-    let (driver, model) = match around {
-        Around::RealInput(d) => (Some(d), None),
-        Around::RealInputOn(d, m) => (Some(d), Some(m)),
-        _ => (None, None),
-    };
-    if driver.is_some() && !common::tool_for("xdotool", "xdotool", "the real-input window test") {
-        return None;
-    }
-    let args: &[&str] = match around {
-        Around::Args(args) => args,
-        _ => &[],
-    };
-    let dpi_change = match around {
-        Around::DpiChange { at_ms, dpi } => Some((at_ms, dpi)),
-        _ => None,
-    };
-    if dpi_change.is_some()
-        && !common::tool_for("xsettingsd", "xsettingsd", "the HiDPI change test")
-    {
-        return None;
-    }
-    if !common::tool_for(
-        "xvfb-run",
-        "xvfb xauth mesa-vulkan-drivers",
-        "the window test",
-    ) {
-        return None;
-    }
-    let script_path = dir.join("script.txt");
-    std::fs::write(&script_path, script).unwrap();
-    let shot_path = dir.join("shot.png");
-    let mut command = Command::new("xvfb-run");
-    command.args(["-a", "-s", "-screen 0 1280x800x24"]);
-    if let Some((at_ms, dpi)) = dpi_change {
-        let conf = dir.join("xsettings.conf");
-        std::fs::write(&conf, "Xft/DPI 98304\n").unwrap();
-        // The manager first, then the app; the change while the app runs; the app's exit
-        // status is the run's.
-        let wrapper = format!(
-            "xsettingsd -c '{conf}' 2>/dev/null & xs=$!; sleep 0.5; \"$@\" & app=$!; \
-             sleep {delay}; echo 'Xft/DPI {value}' > '{conf}'; kill -HUP $xs; \
-             wait $app; status=$?; kill $xs; exit $status",
-            conf = conf.display(),
-            delay = at_ms as f64 / 1000.0,
-            value = dpi * 1024,
-        );
-        command.args(["sh", "-c", &wrapper, "sh"]);
-    }
-    if let Some(driver) = driver {
-        // The app, then the driver once its window is there; the app's exit status is the
-        // run's.
-        // The driver starts once the app logs its first image on screen (a fresh CI machine
-        // under lavapipe, with other window tests running, can take seconds to draw one):
-        // input sent earlier would meet no image. The log goes on to stderr afterwards.
-        let log = dir.join("app.log");
-        let wait = match wait_for_image {
-            true => {
-                "n=0; until grep -q 'first image on screen' \"$log\" || [ $n -ge 600 ]; do \
-                     sleep 0.1; n=$((n+1)); done; sleep 0.5"
-            }
-            false => "sleep 1",
-        };
-        let wrapper = format!(
-            "log='{log}'; \"$@\" 2>\"$log\" & app=$!; \
-             win=$(xdotool search --sync --name '^raylab'); {wait}; \
-             {driver}; wait $app; status=$?; cat \"$log\" >&2; exit $status",
-            log = log.display()
-        );
-        command.args(["sh", "-c", &wrapper, "sh"]);
-    }
-    command.arg(env!("CARGO_BIN_EXE_raylab"));
-    if let Some(model) = model {
-        command.arg(model);
-    }
-    command.args(args);
-    let mut child = command
-        .args(["--frames", "5", "--screenshot"])
-        .arg(&shot_path)
-        .arg("--script")
-        .arg(&script_path)
-        .env("RUST_LOG", "raylab=info")
-        .envs(env.iter().copied())
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start xvfb-run");
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if start.elapsed() > Duration::from_secs(300) {
-            child.kill().unwrap();
-            panic!("the window run hung for 300 s");
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    };
-    let out = child.wait_with_output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(
-        status.success(),
-        "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. spp=..
-    // method=.. cracks=.. (every image control) .. scene=..
-    // (No final line where the run was quit early: Esc twice.)
-    let fields = stdout
-        .lines()
-        .find(|l| l.starts_with("raylab-final"))
-        .map(|line| {
-            line.split_whitespace()
-                .skip(1)
-                .filter_map(|kv| kv.split_once('='))
-                .map(|(k, v)| (k.to_string(), v.to_string()))
-                .collect()
-        })
-        .unwrap_or_default();
-    let inspector = stdout
-        .lines()
-        .filter_map(|l| l.strip_prefix("inspector ")?.split_once(": "))
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Some(Run {
-        fields,
-        inspector,
-        shot: match shot_path.exists() {
-            true => read_png(&shot_path),
-            false => (0, 0, Vec::new()),
-        },
-        stderr,
-    })
-}
-
-/// Renders `scene` headless from the run's final camera at the size the window showed (the
-/// window's final quality: indirect light, 2×2 samples) and compares it with the screenshot's
-/// image rectangle: (mean difference per channel, fraction of pixels off). Also returns the
-/// headless image.
-fn against_headless(run: &Run, scene: &Scene) -> (f64, f64, Vec<u8>, u32, u32) {
-    let (camera, w, h, rect) = run.camera();
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        spp: 2,
-        ..Default::default()
-    };
-    let (expected, _) = render_image(&scene.clone().into(), &camera, &settings).unwrap();
-    let (mean, off) = compare(&run.shot, rect, &expected, w, h);
-    (mean, off, expected, w, h)
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    common::window::run_window_with(exe, script, dir, env, around)
 }
 
 #[test]

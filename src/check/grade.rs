@@ -4,6 +4,8 @@
 use crate::accel::{Accel, AccelChoice};
 use crate::geometry::{adaptive, Method, Shape};
 use crate::math::Real;
+use crate::render::shade::Rgb;
+use crate::render::CRACK;
 use crate::scene::Scene;
 use crate::tracefile::{TraceError, TraceRay};
 use rayon::prelude::*;
@@ -131,7 +133,25 @@ pub enum Verdict {
     Wrong,
 }
 
+/// The colour of a wrong primitive in a picture of answers (linear cyan); a leak is
+/// [`crate::render::CRACK`] magenta, as in the cracks view.
+pub const WRONG: Rgb = [0.0, 1.0, 1.0];
+/// The colour of a false hit (linear yellow).
+pub const FALSE_HIT: Rgb = [1.0, 1.0, 0.0];
+
 impl Verdict {
+    /// The colour a picture of answers marks this verdict with (`raylab check --image`, the
+    /// window's cracks view of code that is not raylab's); `None` where the answer stands
+    /// (right, or an exact tie).
+    pub fn mark(self) -> Option<Rgb> {
+        match self {
+            Verdict::Right | Verdict::Tie => None,
+            Verdict::Leak => Some(CRACK),
+            Verdict::Wrong => Some(WRONG),
+            Verdict::FalseHit => Some(FALSE_HIT),
+        }
+    }
+
     /// The verdict in a word or two.
     pub fn name(self) -> &'static str {
         match self {
@@ -231,7 +251,42 @@ pub struct Tally {
     pub t_beyond: usize,
 }
 
+/// The header of a suite's table, one [`Tally::row`] per family.
+pub fn table_header() -> String {
+    format!(
+        "{:<46} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>7} {:>11} {:>10}",
+        "family",
+        "rays",
+        "right",
+        "ties",
+        "leaks",
+        "false",
+        "wrong",
+        "t>1e-6",
+        "program ms",
+        "raylab ms"
+    )
+}
+
 impl Tally {
+    /// The counts as a row of a suite's table ([`table_header`]), with the program's and
+    /// raylab's times in milliseconds.
+    pub fn row(&self, name: &str, (program_ms, raylab_ms): (f64, f64)) -> String {
+        format!(
+            "{:<46} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>7} {:>11.1} {:>10.1}",
+            name,
+            self.rays,
+            self.right,
+            self.ties,
+            self.leaks,
+            self.false_hits,
+            self.wrong,
+            self.t_beyond,
+            program_ms,
+            raylab_ms
+        )
+    }
+
     /// Counts one graded ray.
     pub fn add(&mut self, g: &Graded) {
         self.rays += 1;

@@ -4,6 +4,7 @@
 
 pub mod binary;
 pub mod suite;
+pub mod window;
 
 use raylab::geometry::Shape;
 use raylab::math::Real;

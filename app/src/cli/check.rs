@@ -407,19 +407,7 @@ fn check_suite<T: Real>(
         dir.display(),
         families.len()
     );
-    say!(
-        "{:<46} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>7} {:>11} {:>10}",
-        "family",
-        "rays",
-        "right",
-        "ties",
-        "leaks",
-        "false",
-        "wrong",
-        "t>1e-6",
-        "program ms",
-        "raylab ms"
-    );
+    say!("{}", grade::table_header());
     let mut total = Tally::default();
     let mut failed = 0;
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
@@ -438,19 +426,11 @@ fn check_suite<T: Real>(
                 grade_all(&exact, &answers)
                     .iter()
                     .for_each(|g| tally.add(g));
-                say!(
-                    "{:<46} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>7} {:>11.1} {:>10.1}",
-                    name,
-                    tally.rays,
-                    tally.right,
-                    tally.ties,
-                    tally.leaks,
-                    tally.false_hits,
-                    tally.wrong,
-                    tally.t_beyond,
+                let ms = (
                     elapsed.as_secs_f64() * 1e3,
-                    exact.elapsed.as_secs_f64() * 1e3
+                    exact.elapsed.as_secs_f64() * 1e3,
                 );
+                say!("{}", tally.row(&name, ms));
                 total.merge(&tally);
                 program_time += elapsed;
                 raylab_time += exact.elapsed;
@@ -461,19 +441,11 @@ fn check_suite<T: Real>(
             }
         }
     }
-    say!(
-        "{:<46} {:>6} {:>6} {:>5} {:>6} {:>6} {:>6} {:>7} {:>11.1} {:>10.1}",
-        "total",
-        total.rays,
-        total.right,
-        total.ties,
-        total.leaks,
-        total.false_hits,
-        total.wrong,
-        total.t_beyond,
+    let ms = (
         program_time.as_secs_f64() * 1e3,
-        raylab_time.as_secs_f64() * 1e3
+        raylab_time.as_secs_f64() * 1e3,
     );
+    say!("{}", total.row("total", ms));
     if failed > 0 {
         say!(
             "{failed} of {} families gave no answers (FAILED above): not a pass",

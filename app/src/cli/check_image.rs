@@ -4,21 +4,15 @@
 use super::check::{grade_all, program_answers, report, say_failed, CheckArgs, Exact};
 use super::program;
 use anyhow::{Context, Result};
-use raylab::check::grade::{self, Answer, Verdict};
+use raylab::check::grade::{self, Answer};
 use raylab::render::image::linear_to_srgb8;
-use raylab::render::shade::{step_colour, Rgb};
-use raylab::render::CRACK;
+use raylab::render::shade::step_colour;
 use raylab::tracefile::TraceRay;
 use raylab::LabStep;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-
-/// The colour of a wrong primitive in the image (linear cyan); a leak is [`CRACK`] magenta.
-pub const WRONG: Rgb = [0.0, 1.0, 1.0];
-/// The colour of a false hit (linear yellow).
-pub const FALSE_HIT: Rgb = [1.0, 1.0, 0.0];
 
 /// A directory of this run's own in the system's temporary directory, removed when dropped.
 struct TempDir(PathBuf);
@@ -121,14 +115,12 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
     let graded = grade_all(&exact, &answers);
     let mut rgba = Vec::with_capacity(graded.len() * 4);
     for (g, (_, answer)) in graded.iter().zip(&answers) {
-        let colour = match (g.verdict, answer) {
-            (Verdict::Right | Verdict::Tie, Answer::Hit { prim, .. }) => {
+        let colour = match (g.verdict.mark(), answer) {
+            (Some(mark), _) => mark,
+            (None, Answer::Hit { prim, .. }) => {
                 step_colour(&scene, *prim, [0.0; 3], false, LabStep::Flat)
             }
-            (Verdict::Right | Verdict::Tie, Answer::Miss) => [0.0; 3],
-            (Verdict::Leak, _) => CRACK,
-            (Verdict::Wrong, _) => WRONG,
-            (Verdict::FalseHit, _) => FALSE_HIT,
+            (None, Answer::Miss) => [0.0; 3],
         };
         rgba.extend(colour.map(linear_to_srgb8));
         rgba.push(255);

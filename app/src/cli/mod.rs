@@ -32,34 +32,14 @@ pub use check::{check, suite, CheckArgs, SuiteArgs};
 
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
-#[command(version, about, long_about = None, args_conflicts_with_subcommands = true)]
+#[command(name = "raylab", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// What to do; without a command, raylab opens the interactive window.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// An OBJ model or a `.scene` file to open in the window instead of the built-in Cornell
-    /// box (`cornell`, as everywhere a scene is named).
-    pub model: Option<PathBuf>,
-    /// How the model's (and dropped files') coordinates are read: `yup` or `lab` (see
-    /// `raylab render --help`).
-    #[arg(long, default_value = "yup")]
-    pub obj_frame: ObjFrame,
-    /// The acceleration structure of every scene the window opens: `auto`, `flat` or `bvh`
-    /// (as `raylab render --accel`).
-    #[arg(long, default_value = "auto")]
-    pub accel: AccelChoice,
-    /// Scripted run: show N frames (then finish the script and refine the image), save what
-    /// the window showed to --screenshot and exit 0. For tests; needs a display.
-    #[arg(long, value_name = "N", requires = "screenshot", hide = true)]
-    pub frames: Option<u64>,
-    /// With --frames: the PNG file to save the window to.
-    #[arg(long, value_name = "FILE.png", requires = "frames", hide = true)]
-    pub screenshot: Option<PathBuf>,
-    /// With --frames: timed key and mouse events to replay, one per line:
-    /// `<ms> key <W|A|S|D|Q|E|Left|Right|Up|Down|Shift|R> down|up`, `<ms> mouse <dx> <dy>`,
-    /// `<ms> wheel <lines>`, `<ms> step <flat|direct|shadows|indirect>`.
-    #[arg(long, value_name = "FILE", requires = "frames", hide = true)]
-    pub script: Option<PathBuf>,
+    /// The window's flags (without a command).
+    #[command(flatten)]
+    pub window: raylab_app::window::WindowArgs,
 }
 
 /// The subcommands.

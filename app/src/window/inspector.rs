@@ -3,6 +3,8 @@
 //! and its shadow ray over the image, from whatever view the camera has moved to since.
 
 use raylab::camera::Projection;
+use raylab::check::code::CodeInspection;
+use raylab::geometry::Hit;
 use raylab::render::inspect::Inspection;
 
 /// The switch in the side panel.
@@ -60,6 +62,33 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         row("N", f3(h.indirect));
         row(&format!("colour ({})", ins.step), f3(h.colour));
     });
+}
+
+/// The linked code's answer for the inspected pixel beside the exact one on the same ray.
+pub fn code_fields(ui: &mut egui::Ui, yours: &CodeInspection) {
+    ui.strong(&yours.name);
+    let f3 = |v: [f32; 3]| format!("{:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+    let hit = |h: &Option<Hit>| match h {
+        Some(h) => format!(
+            "t {} primitive {}\n(u, v) ({}, {})",
+            h.t, h.prim, h.b1, h.b2
+        ),
+        None => "miss".to_string(),
+    };
+    egui::Grid::new("code inspector")
+        .striped(true)
+        .show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.monospace(value);
+                ui.end_row();
+            };
+            row("d world", f3(yours.ray.d));
+            row("raylab's d", f3(yours.raylab_ray.d));
+            row("hit", hit(&yours.hit));
+            row("exact", hit(&yours.exact));
+            row("verdict", yours.verdict.name().to_string());
+        });
 }
 
 /// The camera ray (cyan) from its eye to its hit, the hit point (a ring), and the shadow ray

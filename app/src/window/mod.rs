@@ -12,6 +12,7 @@
 //! resolution and then to full supersampling once they stop (levels 0, 1, 2). With nothing
 //! left to do it sleeps in `ControlFlow::Wait`.
 
+mod args;
 mod files;
 mod framework;
 mod gpu;
@@ -23,9 +24,12 @@ mod scripted;
 mod viewer;
 mod worker;
 
+pub use args::{main_with_code, WindowArgs};
+
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
 use input::Key;
+use raylab::check::LabCode;
 use raylab::controller::Mode;
 use raylab::render::Stage;
 use raylab::Scene;
@@ -45,7 +49,7 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
 /// How the viewer was started.
-#[derive(Debug, Default, Clone)]
+#[derive(Default, Clone)]
 pub struct ViewerOptions {
     /// An OBJ file to open instead of the Cornell box.
     pub scene: Option<PathBuf>,
@@ -59,6 +63,9 @@ pub struct ViewerOptions {
     pub screenshot: Option<PathBuf>,
     /// Scripted input.
     pub script: Option<PathBuf>,
+    /// Code that is not raylab's (the lab crate's), offered as "your code" in the method
+    /// selector and shown by the ray inspector beside the exact answer.
+    pub code: Option<Arc<dyn LabCode>>,
 }
 
 /// Events sent to the event loop from other threads.
@@ -110,6 +117,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         stage,
         file,
         (opts.obj_frame, opts.accel),
+        opts.code.clone(),
         event_loop.create_proxy(),
     );
     let scripted = match (opts.frames, opts.screenshot) {

@@ -24,6 +24,8 @@ pub struct PanelInfo<'a> {
     /// A `.scene` file's push levels, and the one selected.
     pub levels: &'a [Level],
     pub selected_level: Option<usize>,
+    /// The name of linked code that is not raylab's, offered in the method selector.
+    pub code_name: Option<&'a str>,
 }
 
 /// What the user asked for with buttons.
@@ -69,7 +71,7 @@ pub fn side_panel(
 
         for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {
             ui.separator();
-            control_widget(ui, control, &mut view.controls);
+            control_widget(ui, control, &mut view.controls, None);
         }
 
         ui.separator();
@@ -230,7 +232,11 @@ pub fn side_panel(
         ui.separator();
         ui.strong("Sampling and intersection");
         for control in CONTROLS.iter().filter(|c| c.heading.is_none()) {
-            control_widget(ui, control, &mut view.controls);
+            let code = (control.name == "method")
+                .then_some(info.code_name)
+                .flatten()
+                .map(|name| (name, &mut view.yours));
+            control_widget(ui, control, &mut view.controls, code);
         }
 
         ui.separator();
@@ -377,6 +383,8 @@ pub fn layout(
         selected_level,
         inspector_on,
         inspection,
+        code,
+        code_inspection,
         copy_request,
         files,
         ..
@@ -396,6 +404,7 @@ pub fn layout(
         threads: rayon::current_num_threads(),
         levels: &scene.levels,
         selected_level: *selected_level,
+        code_name: code.as_deref().map(|c| c.name()),
     };
     let mut layout = Layout {
         actions: PanelActions::default(),
@@ -416,7 +425,13 @@ pub fn layout(
         egui::Panel::right("inspector")
             .resizable(true)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| super::inspector::fields(ui, ins));
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    super::inspector::fields(ui, ins);
+                    if let Some(yours) = code_inspection.as_ref() {
+                        ui.separator();
+                        super::inspector::code_fields(ui, yours);
+                    }
+                });
             });
     }
     egui::CentralPanel::no_frame().show(ui, |ui| {
@@ -500,7 +515,17 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 
 /// One control of the image's table ([`CONTROLS`]): a choice as radio buttons under its own
 /// heading or a drop-down, a toggle as a check box, a count as a slider.
-fn control_widget(ui: &mut egui::Ui, control: &Control, settings: &mut RenderSettings) {
+/// What the linked code's option in the method selector does.
+const CODE_HELP: &str = "the linked lab code answers every ray (camera rays, nearest hits, shadow rays); with show cracks on, its leaks are magenta, false hits yellow and wrong primitives cyan";
+
+/// `control`'s widget; `code` offers linked code (its name, and whether it is chosen) as one
+/// more option of a drop-down choice (the method's).
+fn control_widget(
+    ui: &mut egui::Ui,
+    control: &Control,
+    settings: &mut RenderSettings,
+    code: Option<(&str, &mut bool)>,
+) {
     match control.kind {
         Kind::Choice { options, get, set } => {
             let (options, mut chosen) = (options(), get(settings));
@@ -513,16 +538,36 @@ fn control_widget(ui: &mut egui::Ui, control: &Control, settings: &mut RenderSet
                     ui.small(options[chosen].help);
                 }
                 None => {
+                    // The linked code, as the option past the table's (chosen while set).
+                    let (name, mut yours) = match code {
+                        Some((name, yours)) => (Some(name), Some(yours)),
+                        None => (None, None),
+                    };
+                    let yours_index = options.len();
+                    if yours.as_deref() == Some(&true) {
+                        chosen = yours_index;
+                    }
+                    let selected = name.filter(|_| chosen == yours_index);
                     egui::ComboBox::from_label(control.label)
-                        .selected_text(options[chosen].name)
+                        .selected_text(selected.unwrap_or_else(|| options[chosen].name))
                         .show_ui(ui, |ui| {
                             for (i, o) in options.iter().enumerate() {
                                 ui.selectable_value(&mut chosen, i, o.name)
                                     .on_hover_text(o.help);
                             }
+                            if let Some(name) = name {
+                                ui.selectable_value(&mut chosen, yours_index, name)
+                                    .on_hover_text(CODE_HELP);
+                            }
                         })
                         .response
                         .on_hover_text(control.help);
+                    if let Some(yours) = yours.as_mut() {
+                        **yours = chosen == yours_index;
+                    }
+                    if chosen == yours_index {
+                        return;
+                    }
                 }
             }
             if chosen != get(settings) {

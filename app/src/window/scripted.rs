@@ -95,7 +95,7 @@ impl ScriptedRun {
         let r = window.image_rect;
         let controls = raylab::render::settings::controls_text(&viewer.view.controls);
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} code={} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -119,6 +119,12 @@ impl ScriptedRun {
             ["off", "on"][viewer.show_help as usize],
             viewer.stage.scene().len(),
             viewer.stage.accel().kind(),
+            // Linked code: chosen in the method selector (on), offered (off), or none.
+            match (&viewer.code, viewer.view.yours) {
+                (None, _) => "none",
+                (Some(_), true) => "on",
+                (Some(_), false) => "off",
+            },
             viewer.stage.scene().name,
         );
         if !viewer.status.is_empty() {
@@ -126,6 +132,11 @@ impl ScriptedRun {
         }
         if let Some(inspection) = &viewer.inspection {
             for line in inspection.to_string().lines() {
+                println!("inspector {line}");
+            }
+        }
+        if let Some(yours) = &viewer.code_inspection {
+            for line in yours.to_string().lines() {
                 println!("inspector {line}");
             }
         }

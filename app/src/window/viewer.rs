@@ -7,6 +7,8 @@ use super::input::InputState;
 use super::worker::{self, Worker};
 use super::AppEvent;
 use raylab::accel::AccelChoice;
+use raylab::check::code::CodeInspection;
+use raylab::check::LabCode;
 use raylab::controller::CameraController;
 use raylab::render::inspect::Inspection;
 use raylab::render::{self, LabStep, RenderSettings, RenderStats, Stage, MAX_SIDE};
@@ -37,6 +39,8 @@ pub struct ViewSettings {
     pub target_ms: f32,
     pub preview_scale: f32,
     pub light: [f32; 3],
+    /// "your code" chosen in the method selector: the linked code answers the rays.
+    pub yours: bool,
 }
 
 /// How long after the last change the viewer keeps previewing before it refines.
@@ -96,6 +100,10 @@ pub struct Viewer {
     pub inspector_on: bool,
     /// The last inspected pixel's ray, in the world (drawn over the image from any view).
     pub inspection: Option<Inspection>,
+    /// Linked code that is not raylab's ([`super::ViewerOptions::code`]).
+    pub code: Option<Arc<dyn LabCode>>,
+    /// The linked code's answer for the last inspected pixel, beside the exact one.
+    pub code_inspection: Option<CodeInspection>,
     /// Text to put on the clipboard in the next UI pass (copy as command).
     pub copy_request: Option<String>,
     /// The File menu and its dialog.
@@ -138,6 +146,7 @@ impl Viewer {
         stage: Stage,
         scene_path: Option<&PathBuf>,
         (obj_frame, accel): (ObjFrame, AccelChoice),
+        code: Option<Arc<dyn LabCode>>,
         proxy: EventLoopProxy<AppEvent>,
     ) -> Self {
         let wake = proxy.clone();
@@ -163,6 +172,7 @@ impl Viewer {
                 target_ms: 16.0,
                 preview_scale: 0.5,
                 light,
+                yours: code.is_some(),
             },
             input: InputState::default(),
             worker: Worker::new(move || {
@@ -188,6 +198,8 @@ impl Viewer {
             view_light: None,
             inspector_on: true,
             inspection: None,
+            code,
+            code_inspection: None,
             copy_request: None,
             files: Default::default(),
         }
@@ -208,6 +220,10 @@ impl Viewer {
                 };
                 self.set_status(format!("inspected pixel ({i}, {j}): {what}"));
                 self.inspection = Some(found);
+                self.code_inspection = (self.code.as_deref()).map(|code| {
+                    let scene = stage.scene();
+                    raylab::check::code::inspect(code, scene, &camera, size, (i, j))
+                });
             }
             Err(e) => self.set_status(format!("cannot inspect: {e}")),
         }
@@ -384,6 +400,7 @@ impl Viewer {
             stage,
             camera: self.controller.camera(size.0),
             settings: self.settings(size, spp),
+            code: self.code.clone().filter(|_| self.view.yours),
             generation: self.generation,
             level,
         });

@@ -2,6 +2,7 @@
 //! jobs are dropped unrendered), renders it on the rayon pool and hands the image back.
 
 use raylab::camera::Camera;
+use raylab::check::LabCode;
 use raylab::render::{self, RenderSettings, RenderStats, Stage};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -17,6 +18,8 @@ pub struct Job {
     pub camera: Camera,
     /// Size, step, sampling, method.
     pub settings: RenderSettings,
+    /// Linked code that answers the rays instead of raylab's structure ("your code").
+    pub code: Option<Arc<dyn LabCode>>,
     /// The app's change counter when the job was made.
     pub generation: u64,
     /// Refinement level: 0 preview, 1 full resolution, 2 full supersampling.
@@ -74,13 +77,20 @@ impl Worker {
                 // beats none (cancelling previews too would show nothing while the camera moves,
                 // since every frame of motion is a new generation).
                 let stale = || job.level > 0 && newest.load(Ordering::Relaxed) != job.generation;
-                let image = render::render_into_cancellable(
-                    &job.stage,
-                    &job.camera,
-                    &job.settings,
-                    &mut rgba,
-                    &stale,
-                )
+                let (stage, camera, settings) = (&job.stage, &job.camera, &job.settings);
+                let image = match &job.code {
+                    Some(code) => raylab::check::code::render_into_cancellable(
+                        code.as_ref(),
+                        stage,
+                        camera,
+                        settings,
+                        &mut rgba,
+                        &stale,
+                    ),
+                    None => {
+                        render::render_into_cancellable(stage, camera, settings, &mut rgba, &stale)
+                    }
+                }
                 .map(|stats| stats.map(|s| (rgba, s)))
                 .map_err(|e| e.to_string());
                 if tx.send(Done { job, image }).is_err() {
