@@ -35,20 +35,32 @@ pub struct TraceRay<T: Real> {
     pub tmax: T,
 }
 
-/// Lines that carry data: (1-based line number, words), skipping blanks and `#` comments.
-fn data_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
+/// The most words of a ray line kept: one past a ray's 8, enough to say there are too many
+/// without holding every word of an arbitrarily long line (they are counted, not kept).
+const RAY_WORDS_KEPT: usize = 9;
+
+/// Lines that carry data: (1-based line number, its first [`RAY_WORDS_KEPT`] words, its
+/// number of words), skipping blanks and `#` comments.
+fn data_lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>, usize)> {
     text.lines().enumerate().filter_map(|(i, l)| {
         let l = l.trim();
-        (!l.is_empty() && !l.starts_with('#')).then(|| (i + 1, l.split_whitespace().collect()))
+        let words: Vec<&str> = l.split_whitespace().take(RAY_WORDS_KEPT).collect();
+        let count = match words.len() < RAY_WORDS_KEPT {
+            true => words.len(),
+            false => l.split_whitespace().count(),
+        };
+        (!l.is_empty() && !l.starts_with('#')).then_some((i + 1, words, count))
     })
 }
 
-fn numbers<T: Real>(words: &[&str], expect: usize, what: &str) -> Result<Vec<T>, String> {
-    if words.len() != expect {
-        return Err(format!(
-            "{what} needs {expect} numbers, found {}",
-            words.len()
-        ));
+/// The `expect` numbers of a line of `count` words (`words`: its first ones).
+fn numbers<T: Real>(
+    (words, count): (&[&str], usize),
+    expect: usize,
+    what: &str,
+) -> Result<Vec<T>, String> {
+    if count != expect {
+        return Err(format!("{what} needs {expect} numbers, found {count}"));
     }
     words
         .iter()
@@ -108,8 +120,8 @@ pub fn parse_rays_at_lines<T: Real>(
     text: &str,
 ) -> Result<Vec<(usize, TraceRay<T>)>, TraceError> {
     data_lines(text)
-        .map(|(line, words)| {
-            let parsed = numbers::<T>(&words, 8, "ray").and_then(|x| {
+        .map(|(line, words, count)| {
+            let parsed = numbers::<T>((&words, count), 8, "ray").and_then(|x| {
                 all_finite(&x[..6], "ray")?;
                 let d = [x[3], x[4], x[5]];
                 if d.iter().all(|c| *c == T::zero()) {

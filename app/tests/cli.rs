@@ -2121,6 +2121,27 @@ fn a_line_too_long_is_refused_at_its_line_before_it_is_split() {
 }
 
 #[test]
+fn a_ray_line_of_millions_of_words_is_refused_without_splitting_it_all() {
+    // `raylab trace` keeps at most 9 words of a ray line and counts the rest: 16 million
+    // numbers on one line are refused at that line, in memory about the file's own size
+    // (holding every word took 16 bytes a word, 8 times the file).
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "s.txt", "tri 0 0 1 1 0 1 0 1 1\n");
+    let line = "1 ".repeat(16 << 20);
+    let rays = write(dir.path(), "r.txt", &format!("0 0 0 0 0 1 0 inf\n{line}\n"));
+    let args = ["trace", "--scene", &scene, "--rays", &rays];
+    let o = raylab(&args);
+    assert_fails(&o, 2, &["r.txt:2: ray needs 8 numbers, found 16777216"]);
+    if !have_gnu_time() {
+        return;
+    }
+    let (o, peak_kib) = peak_kib(&args, &[]);
+    assert_fails(&o, 2, &["r.txt:2:"]);
+    println!("peak {peak_kib} KiB for a {}-byte line", line.len());
+    assert!(peak_kib * 1024 < 3 * line.len() as u64, "{peak_kib} KiB");
+}
+
+#[test]
 fn the_scene_tree_stops_at_its_limit_and_the_file_renders_the_same() {
     // Ten levels of a sphere each, the tree limited to 8 entries: the render is the one
     // without a limit, and a warning names the line where the tree stopped. (The camera,

@@ -741,6 +741,52 @@ fn real_x_input_drives_every_other_key() {
 }
 
 #[test]
+fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
+    // A view of 16384x8192 at 16x16 samples (34 G rays): the window shows it at the largest
+    // size it renders (4072x2036: 8.3 million pixels, the same field of view), keeps its own size for F5, and
+    // real Esc presses while it refines quit at once (the refinement stops at its next band).
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("huge.view");
+    let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0 fov 53\nsize 16384 8192\nspp 16\n";
+    std::fs::write(&view, text).unwrap();
+    let script = format!("300 drop {}\n60000 step indirect\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; sleep 1; \
+                  xdotool key Escape; sleep 0.3; xdotool key Escape";
+    let start = Instant::now();
+    let Some(run) = run_window_with(&script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        run.fields.is_empty(),
+        "Esc ended the run before its script\n{log}"
+    );
+    assert!(
+        log.contains("its 16384x8192 shown at 4072x2036 (F5 and copy as command keep 16384x8192)"),
+        "{log}"
+    );
+    assert!(log.contains("press Esc again to quit"), "{log}");
+    assert!(
+        start.elapsed() < Duration::from_secs(40),
+        "{:?}",
+        start.elapsed()
+    );
+    // F5 saved the view at its own size.
+    let saved: Vec<String> = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("raylab-view-")
+        })
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    assert_eq!(saved.len(), 1, "{log}");
+    assert!(saved[0].contains("size 16384 8192\n"), "{}", saved[0]);
+}
+
+#[test]
 fn real_x_input_escape_twice_quits() {
     // With the mouse captured for looking (right button held over the image), Esc releases
     // it; Esc then asks, and Esc again quits at once: the run ends long before its script

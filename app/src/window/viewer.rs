@@ -307,7 +307,7 @@ impl Viewer {
                     clamp(self.image_area.1 as f32 * s),
                 )
             }
-            Resolution::Fixed(w, h) => (w, h),
+            Resolution::Fixed(w, h) => fit_shown((w, h)),
         }
     }
 
@@ -485,7 +485,20 @@ impl Viewer {
             None if current.is_some() => self.show_cornell(),
             _ => {}
         }
-        self.set_status(format!("loaded view {}", path.display()));
+        let shown = fit_shown((s.width, s.height));
+        match shown == (s.width, s.height) {
+            true => self.set_status(format!("loaded view {}", path.display())),
+            false => self.set_status(format!(
+                "loaded view {}: its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
+                path.display(),
+                s.width,
+                s.height,
+                shown.0,
+                shown.1,
+                s.width,
+                s.height
+            )),
+        }
         self.changed();
     }
 
@@ -608,7 +621,11 @@ impl Viewer {
         let ratio = c.focal_ratio;
         let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         let source = self.source.lock().expect("not poisoned").clone();
-        let (width, height) = self.full_size();
+        // A fixed size is the view's own, even where the window shows it smaller.
+        let (width, height) = match self.view.resolution {
+            Resolution::Fixed(w, h) => (w, h),
+            Resolution::WindowScale(_) => self.full_size(),
+        };
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
             obj_frame: self.obj_frame,
@@ -675,6 +692,23 @@ impl Viewer {
             Err(e) => self.set_status(format!("screenshot failed: {e}")),
         }
     }
+}
+
+/// The most pixels the window renders (a 4K frame): a fixed size above it, a dropped view's,
+/// is shown scaled down to fit, keeping its aspect and field of view, so that the window stays
+/// interactive; the view keeps its own size for F5 and copy as command, which render it
+/// headless. (A 16384x8192 view at 16x16 samples is 34 G rays.)
+pub const MAX_SHOWN_PIXELS: u64 = 3840 * 2160;
+
+/// The size the window renders for a fixed size `(w, h)` ([`MAX_SHOWN_PIXELS`]).
+fn fit_shown((w, h): (u32, u32)) -> (u32, u32) {
+    let pixels = w as u64 * h as u64;
+    if pixels <= MAX_SHOWN_PIXELS {
+        return (w, h);
+    }
+    let s = (MAX_SHOWN_PIXELS as f64 / pixels as f64).sqrt();
+    let fit = |x: u32| ((x as f64 * s).floor() as u32).max(1);
+    (fit(w), fit(h))
 }
 
 /// The starting controller: a `.scene` file's camera, the lab camera for the Cornell box, a

@@ -141,6 +141,9 @@ impl Worker {
 
 impl Drop for Worker {
     fn drop(&mut self) {
+        // A refinement in progress stops at its next band (no generation is this new), so
+        // quitting never waits for a long render.
+        self.latest.store(u64::MAX, Ordering::Relaxed);
         {
             let (lock, cvar) = &*self.slot;
             lock.lock().unwrap_or_else(|e| e.into_inner()).quit = true;
