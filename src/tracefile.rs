@@ -150,6 +150,15 @@ pub fn parse_rays_at_lines<T: Real>(
 }
 
 impl<T: Real> TraceRay<T> {
+    /// `ray` over its whole length: tmin = 0 and tmax = ∞ (a camera ray, every suite ray).
+    pub fn whole(ray: Ray<T>) -> Self {
+        Self {
+            ray,
+            tmin: T::zero(),
+            tmax: T::infinity(),
+        }
+    }
+
     /// The ray as a line of a ray file (`ox oy oz dx dy dz tmin tmax`), each number written exactly
     /// ([`crate::math::real::exact_decimal`]: the same value read in f32, f64 or exact
     /// arithmetic).

@@ -8,7 +8,6 @@ use raylab::check::suite;
 use raylab::geometry::{Hit, Method, Ray, Shape};
 use raylab::render::{linear_to_srgb8, render_into, LabStep, RenderSettings, Stage, CRACK};
 use raylab::scene::ObjFrame;
-use raylab::tracefile::TraceRay;
 use raylab::{Camera, Scene};
 
 /// Möller–Trumbore and the plain quadratic behind the seam, with raylab's camera rays: the
@@ -145,13 +144,7 @@ fn moller_behind_the_seam_is_marked_where_the_cracks_view_marks_it() {
 fn answers_through_the_seam_are_graded_as_a_program_s() {
     let mut leaks = 0;
     for family in suite::all() {
-        let rays: Vec<TraceRay<f32>> = (family.rays.iter())
-            .map(|&ray| TraceRay {
-                ray,
-                tmin: 0.0,
-                tmax: f32::INFINITY,
-            })
-            .collect();
+        let rays = family.trace_rays();
         let exact = grade::exact_answers(&family.shapes, &rays);
         assert_eq!(
             code::answers(&Exact, &family.shapes, &rays),

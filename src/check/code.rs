@@ -82,13 +82,7 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
     let (mut tallies, mut total) = (Vec::new(), Tally::default());
     let (mut code_ms, mut exact_ms) = (0.0, 0.0);
     for family in families {
-        let rays: Vec<TraceRay<f32>> = (family.rays.iter())
-            .map(|&ray| TraceRay {
-                ray,
-                tmin: 0.0,
-                tmax: f32::INFINITY,
-            })
-            .collect();
+        let rays = family.trace_rays();
         let start = Instant::now();
         let given = answers(code, &family.shapes, &rays);
         let ms = start.elapsed().as_secs_f64() * 1e3;
@@ -121,13 +115,8 @@ pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Optio
         },
         None => Answer::Miss,
     };
-    let traced = TraceRay {
-        ray: *ray,
-        tmin: 0.0,
-        tmax: f32::INFINITY,
-    };
     let shape_of = |p: u32| scene_shapes[p as usize];
-    grade::grade(shape_of, &traced, answer(exact), answer(hit)).verdict
+    grade::grade(shape_of, &TraceRay::whole(*ray), answer(exact), answer(hit)).verdict
 }
 
 /// Renders `stage`'s scene through `camera` with `code` answering every ray — camera rays from

@@ -3,7 +3,6 @@
 
 use super::suite::Family;
 use crate::input::{self, InputError};
-use crate::tracefile::TraceRay;
 use std::path::{Path, PathBuf};
 
 /// The first line of an exported suite's README.md: how an earlier export is known (only
@@ -47,12 +46,7 @@ pub fn scene_text(family: &Family) -> String {
 /// tmax = inf.
 pub fn rays_text(family: &Family) -> String {
     let mut text = String::from("# ox oy oz dx dy dz tmin tmax\n");
-    for ray in &family.rays {
-        let ray = TraceRay {
-            ray: *ray,
-            tmin: 0.0,
-            tmax: f32::INFINITY,
-        };
+    for ray in family.trace_rays() {
         text += &ray.line();
         text.push('\n');
     }

@@ -11,6 +11,7 @@ use super::meshes::{aimed_rays, cube, icosphere, random_points, vertices_and_edg
 pub use super::round_two::round_two;
 use crate::geometry::{Ray, Shape};
 use crate::math::Real;
+use crate::tracefile::TraceRay;
 
 /// One family: a scene and the rays shot at it (all with tmin = 0, tmax = ∞), in f32 (the
 /// suite) or f64.
@@ -34,6 +35,11 @@ impl<T: Real> Family<T> {
             shapes,
             rays,
         }
+    }
+
+    /// The rays as the trace formats hold them, each over its whole length.
+    pub fn trace_rays(&self) -> Vec<TraceRay<T>> {
+        self.rays.iter().map(|&ray| TraceRay::whole(ray)).collect()
     }
 
     /// With a sentence on what it probes.

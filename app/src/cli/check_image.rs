@@ -54,17 +54,7 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
     let rays: Vec<(usize, TraceRay<f32>)> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .enumerate()
-        .map(|(k, (i, j))| {
-            let ray = camera.ray_for_pixel(i, j, w, h);
-            (
-                k + 2,
-                TraceRay {
-                    ray,
-                    tmin: 0.0,
-                    tmax: f32::INFINITY,
-                },
-            )
-        })
+        .map(|(k, (i, j))| (k + 2, TraceRay::whole(camera.ray_for_pixel(i, j, w, h))))
         .collect();
     let dir = TempDir::new()?;
     let (scene_file, rays_file) = (dir.0.join("scene.txt"), dir.0.join("rays.txt"));

@@ -539,10 +539,7 @@ fn control_widget(
                 }
                 None => {
                     // The linked code, as the option past the table's (chosen while set).
-                    let (name, mut yours) = match code {
-                        Some((name, yours)) => (Some(name), Some(yours)),
-                        None => (None, None),
-                    };
+                    let (name, mut yours) = code.unzip();
                     let yours_index = options.len();
                     if yours.as_deref() == Some(&true) {
                         chosen = yours_index;
