@@ -449,3 +449,55 @@ fn transformed_coordinates_are_rounded_to_f64_then_to_f32() {
         [1.0, 0.0, 0.0]
     );
 }
+
+/// `n` Cornell boxes, each one step further along x.
+fn cornell_row(n: usize) -> String {
+    "translate 1.5 0 0\ncornell\n".repeat(n)
+}
+
+fn parse_default(text: &str) -> Result<Description<f32>, FileError> {
+    let instancing = raylab::scene::file::Instancing::DEFAULT;
+    raylab::scene::file::parse_with::<f32>("t.scene", text, Path::new(""), &no_meshes, instancing)
+}
+
+#[test]
+fn repeated_cornell_boxes_are_flattened_while_their_copies_fit_then_placed() {
+    // The box is a small mesh (30 triangles): a few copies are flattened (their rays walk
+    // faster), but copies past the room for flattened ones (2^20 triangles) are placed as
+    // instances, one copy of the box in memory (flattened, 550,000 lines took 3.3 GB).
+    let room = raylab::limits::MAX_FLATTENED_COPIES as usize;
+    let fits = room / 30;
+    for (n, placed) in [(4, 0), (fits, 0), (fits + 1, fits + 1)] {
+        let text = cornell_row(n);
+        let d = parse_default(&text).unwrap();
+        assert_eq!(d.instances.len(), placed, "{n} boxes");
+        assert_eq!(d.shapes.len() + placed * 30, n * 30, "{n} boxes");
+        assert!(d.has_cornell);
+        if placed == 0 {
+            continue;
+        }
+        // The same primitives, in the same order, as the file flattened.
+        let flat = parse32(&text).unwrap();
+        let scene = Scene::from_description("t.scene", d).unwrap();
+        assert_eq!(scene.len(), flat.shapes.len());
+        for p in (0..flat.shapes.len()).step_by(7) {
+            assert_eq!(scene.shape(p as u32), flat.shapes[p], "primitive {p}");
+            assert_eq!(scene.color(p as u32), flat.colors[p], "colour of {p}");
+        }
+    }
+}
+
+#[test]
+fn copies_only_flattening_can_hold_are_refused_past_their_room() {
+    // Under a scale 10^7 times thinner along z no instance can be placed (rays carried into
+    // the box's frame would lose too much): the copies are flattened, up to the room for
+    // flattened copies, and the line that passes it is refused.
+    let room = raylab::limits::MAX_FLATTENED_COPIES as usize;
+    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(room / 30 + 10));
+    let e = parse_default(&text).expect_err("past the room");
+    assert_eq!(e.line, 1 + room / 30 + 1);
+    assert!(e.message.contains("too ill-conditioned to place mesh 'cornell'"));
+    assert!(e.message.contains(&format!("passes the {room} triangles")));
+    // Flattened, the file stays within the triangle limit and loads.
+    assert_eq!(parse32(&text).unwrap().shapes.len(), (room / 30 + 10) * 30);
+}

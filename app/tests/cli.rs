@@ -2057,6 +2057,26 @@ fn memory_grows_in_proportion_to_the_placements() {
     );
 }
 
+#[test]
+fn repeated_cornell_boxes_cost_what_placements_cost() {
+    // `cornell` is a mesh like any other: past the copies that are flattened (2^20 triangles),
+    // 40,000 and 100,000 boxes each at its own spot differ by at most the placement budget,
+    // 1 KiB a box (for a 26-byte pair of lines); flattened, a box took 3.3 KB.
+    if !have_gnu_time() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let peak_kib = |boxes: usize| {
+        let text = "translate 1.5 0 0\ncornell\n".repeat(boxes);
+        let scene = write(dir.path(), &format!("c{boxes}.scene"), &text);
+        peak_render_kib(&scene, &[])
+    };
+    let (small, large) = (peak_kib(40_000), peak_kib(100_000));
+    let per_box = (large.saturating_sub(small) * 1024) as f64 / 60_000.0;
+    println!("{small} KiB, {large} KiB: {per_box:.0} bytes a box");
+    assert!(per_box <= 1024.0, "{per_box:.0} bytes a box");
+}
+
 /// Whether GNU time is there to measure peak memory.
 fn have_gnu_time() -> bool {
     common::tool_for("/usr/bin/time", "time", "a memory test")

@@ -31,12 +31,14 @@
 //! by multiples of 90° are exact ([`sin_cos_degrees`]), and so are translations and scales by
 //! values exact in f64.
 //!
-//! A mesh the file uses at least [`Instancing::min_uses`] times, with at least
-//! [`Instancing::min_triangles`] triangles, is loaded once and placed as instances
-//! ([`super::instance`]) when the scene is loaded for rendering ([`load_scene_file`]): the
-//! primitives and every answer are the same as flattened, the memory is one copy. (A
-//! placement whose matrix is too ill-conditioned to carry rays back safely, see
-//! [`super::instance::MAX_CONDITION`], is flattened.) [`parse`] flattens everything.
+//! A mesh the file uses at least [`Instancing::min_uses`] times (`cornell` counts as one
+//! mesh) is loaded once when the scene is loaded for rendering ([`load_scene_file`]). One
+//! with at least [`Instancing::min_triangles`] triangles, or whose copies would pass the room
+//! for flattened copies ([`crate::limits::MAX_FLATTENED_COPIES`] triangles in all), is placed
+//! as instances ([`super::instance`]): the primitives and every answer are the same as
+//! flattened, the memory is one copy. (A placement whose matrix is too ill-conditioned to
+//! carry rays back safely, see [`super::instance::MAX_CONDITION`], is flattened, within the
+//! same room.) [`parse`] flattens everything.
 //!
 //! Errors name the file and line: an unknown statement, a missing or extra number, NaN or
 //! infinity, a `pop` without `push`, a sphere under a non-uniform scale (an ellipsoid), a mesh

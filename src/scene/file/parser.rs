@@ -24,9 +24,14 @@ struct Parser<'a, T: Real> {
     light_line: Option<usize>,
     meshes: HashMap<(PathBuf, ObjFrame, [u32; 3]), Scene>,
     /// The meshes used often enough to be instanced, loaded once whatever the colour.
-    shared: HashMap<(PathBuf, ObjFrame), Arc<Mesh>>,
+    shared: HashMap<Repeated, Shared>,
     /// How often each (path as written, frame as written) is used.
     uses: HashMap<(String, String), usize>,
+    /// How often `cornell` is used.
+    cornell_uses: usize,
+    /// Triangles that copies of repeated meshes may still be flattened to
+    /// ([`crate::limits::MAX_FLATTENED_COPIES`]).
+    flatten_room: u64,
     instancing: Instancing,
     /// Primitives placed as instances so far.
     instanced: usize,
@@ -38,6 +43,20 @@ struct Parser<'a, T: Real> {
     tree_room: u64,
     /// The first line the scene tree did not record.
     tree_full_at: Option<usize>,
+}
+
+/// A mesh named repeatedly: a file in a frame, or the built-in Cornell box.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Repeated {
+    File(PathBuf, ObjFrame),
+    Cornell,
+}
+
+/// A repeated mesh, loaded once, and whether its uses are flattened (a small mesh, while the
+/// room for flattened copies lasts) or placed as instances.
+struct Shared {
+    mesh: Arc<Mesh>,
+    flatten: bool,
 }
 
 /// Parses `.scene` text, every mesh flattened. `dir` is where mesh paths are relative to;
@@ -61,14 +80,19 @@ pub fn parse_with<T: Real>(
 ) -> Result<Description<T>, FileError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut uses = HashMap::new();
+    let mut cornell_uses = 0;
     for line in text.lines() {
         // (A line whose words do not parse is reported below, at its number.)
         let words = crate::words::words(line).unwrap_or_default();
         let mut words = words.into_iter();
-        if words.next().as_deref() == Some("mesh") {
-            let path = words.next().unwrap_or_default();
-            let frame = words.next().unwrap_or_else(|| "yup".into());
-            *uses.entry((path, frame)).or_insert(0) += 1;
+        match words.next().as_deref() {
+            Some("mesh") => {
+                let path = words.next().unwrap_or_default();
+                let frame = words.next().unwrap_or_else(|| "yup".into());
+                *uses.entry((path, frame)).or_insert(0) += 1;
+            }
+            Some("cornell") => cornell_uses += 1,
+            _ => {}
         }
     }
     let mut p = Parser::<T> {
@@ -102,6 +126,8 @@ pub fn parse_with<T: Real>(
         meshes: HashMap::new(),
         shared: HashMap::new(),
         uses,
+        cornell_uses,
+        flatten_room: crate::limits::MAX_FLATTENED_COPIES,
         instancing,
         instanced: 0,
         max_stored: obj::max_triangles(),
@@ -282,12 +308,60 @@ impl<T: Real> Parser<'_, T> {
         }
     }
 
+    /// A repeated mesh, loaded by `load` at its first use, and whether its uses are flattened:
+    /// a mesh under [`Instancing::min_triangles`] is, if all its `uses` fit in the room left
+    /// for flattened copies (a small mesh walks faster flattened, but 10⁵ copies of the
+    /// Cornell box flattened took gigabytes for a few hundred kilobytes of input).
+    fn repeated(
+        &mut self,
+        line: usize,
+        path: &str,
+        key: Repeated,
+        uses: usize,
+        load: impl FnOnce() -> Result<(Mesh, Vec<String>), String>,
+    ) -> Result<(Arc<Mesh>, bool), String> {
+        if !self.shared.contains_key(&key) {
+            let (mesh, warnings) = load()?;
+            self.mesh_warnings(line, path, &warnings);
+            let copies = (mesh.triangles.len() as u64).saturating_mul(uses as u64);
+            let small = mesh.triangles.len() < self.instancing.min_triangles.max(1);
+            let flatten = small && copies <= self.flatten_room;
+            if flatten {
+                self.flatten_room -= copies;
+            }
+            let mesh = Arc::new(mesh);
+            self.shared.insert(key.clone(), Shared { mesh, flatten });
+        }
+        let shared = &self.shared[&key];
+        Ok((shared.mesh.clone(), shared.flatten))
+    }
+
     /// Places `mesh` as an instance in the current frame (faces without a material get
-    /// `color`) where the instancing rule and the matrix allow; else adds its triangles.
-    fn place_or_add(&mut self, mesh: Arc<Mesh>, color: [f32; 3]) -> Result<(), String> {
+    /// `color`), or adds its triangles where `flatten` says so or the matrix cannot place it
+    /// (such copies take from the room for flattened copies, and are refused past it).
+    fn place_or_add(
+        &mut self,
+        mesh: Arc<Mesh>,
+        color: [f32; 3],
+        flatten: bool,
+    ) -> Result<(), String> {
         let m = self.stack.matrix();
         let n = mesh.triangles.len();
-        if n < self.instancing.min_triangles.max(1) || !Instance::placeable(&m) {
+        let placeable = Instance::placeable(&m);
+        if !flatten && !placeable {
+            if n as u64 > self.flatten_room {
+                return Err(format!(
+                    "this matrix is too ill-conditioned to place mesh '{}' as an instance \
+                     (condition number over {}), and flattening its copies passes the {} \
+                     triangles they may take (push/pop around the uneven scale)",
+                    mesh.name,
+                    crate::geometry::instance::MAX_CONDITION,
+                    crate::limits::MAX_FLATTENED_COPIES
+                ));
+            }
+            self.flatten_room -= n as u64;
+        }
+        if flatten || !placeable {
             let colors = mesh.colors.iter().map(|c| c.unwrap_or(color));
             return self.add_triangles(mesh.triangles.iter().zip(colors));
         }
@@ -407,16 +481,14 @@ impl<T: Real> Parser<'_, T> {
                 let uses = self.uses.get(&written).copied().unwrap_or(1);
                 if uses >= self.instancing.min_uses {
                     // Used often: loaded once, whatever the colour; placed or flattened.
-                    let geometry = (full.clone(), frame);
-                    if !self.shared.contains_key(&geometry) {
+                    let key = Repeated::File(full.clone(), frame);
+                    let load = || -> Result<_, String> {
                         let mesh = load_mesh(&full, frame, UNSET_COLOR)
                             .map_err(|e| format!("mesh '{path}': {e}"))?;
-                        self.mesh_warnings(line, path, &mesh.warnings);
-                        self.shared
-                            .insert(geometry.clone(), Arc::new(mesh_from_scene(&mesh)));
-                    }
-                    let mesh = self.shared[&geometry].clone();
-                    return self.place_or_add(mesh, color);
+                        Ok((mesh_from_scene(&mesh), mesh.warnings))
+                    };
+                    let (mesh, flatten) = self.repeated(line, path, key, uses, load)?;
+                    return self.place_or_add(mesh, color, flatten);
                 }
                 let key = (full.clone(), frame, color.map(f32::to_bits));
                 if !self.meshes.contains_key(&key) {
@@ -436,6 +508,13 @@ impl<T: Real> Parser<'_, T> {
                     return Err("cornell takes no numbers".into());
                 }
                 self.out.has_cornell = true;
+                if self.cornell_uses >= self.instancing.min_uses {
+                    // (Repeated, like a mesh: its copies flattened up to a room, else placed.)
+                    let load = || Ok((mesh_from_scene(&cornell::scene()), Vec::new()));
+                    let (mesh, flatten) =
+                        self.repeated(line, "cornell", Repeated::Cornell, self.cornell_uses, load)?;
+                    return self.place_or_add(mesh, self.current.color, flatten);
+                }
                 self.add_scene(&cornell::scene())?;
             }
             "color" => {
