@@ -2,7 +2,7 @@
 # Interleaved speed comparison of two raylab binaries on the same scenes, cameras and thread
 # counts (the "same speed" check of a refactor). Usage:
 #   bash benches/before_after.sh OLD_BIN NEW_BIN [ROUNDS] [FRAMES]
-# (SIZE=640x360 for another frame size than 1280x720.)
+# (SIZE=640x360 for another frame size than 1280x720; ROWS, below, for other scenes.)
 # Each round runs every row with both binaries, alternating which goes first; prints the median
 # frame time of each run and, per row, the median over rounds of new/old.
 set -euo pipefail
@@ -14,6 +14,8 @@ rows=("cornell flat" "cornell shadows" "assets/scenes/cornell_spheres.scene flat
 if [ -d "$shared" ]; then
   rows+=("$shared/bunny.obj flat" "$shared/bunny.obj shadows" "$shared/igea.obj flat" "$shared/igea.obj shadows")
 fi
+# ROWS="scene step;scene step;..." times those rows instead.
+if [ -n "${ROWS:-}" ]; then IFS=';' read -r -a rows <<<"$ROWS"; fi
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 ms() { "$1" bench --scene "$2" --step "$3" --width "${size%x*}" --height "${size#*x}" --threads 2 --frames "$frames" \
          | sed -n 's/^median frame \([0-9.]*\) ms.*/\1/p'; }

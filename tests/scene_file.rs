@@ -496,7 +496,9 @@ fn copies_only_flattening_can_hold_are_refused_past_their_room() {
     let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(room / 30 + 10));
     let e = parse_default(&text).expect_err("past the room");
     assert_eq!(e.line, 1 + room / 30 + 1);
-    assert!(e.message.contains("too ill-conditioned to place mesh 'cornell'"));
+    assert!(e
+        .message
+        .contains("too ill-conditioned to place mesh 'cornell'"));
     assert!(e.message.contains(&format!("passes the {room} triangles")));
     // Flattened, the file stays within the triangle limit and loads.
     assert_eq!(parse32(&text).unwrap().shapes.len(), (room / 30 + 10) * 30);

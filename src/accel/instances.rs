@@ -16,7 +16,10 @@
 //! back by C (≤ 2⁻²⁴·‖C‖·W), the inverse's own error (condition ≤ 2²⁰, so ≤ 2⁻³² relative,
 //! [`crate::geometry::instance::MAX_CONDITION`]), the rounding of o′ and d′ to f32 (≤ 2⁻²⁴·|o′|,
 //! and t·2⁻²¹·‖C‖·|d| ≤ 2⁻²¹·‖C‖·(W + |o|) at any point of the box) and of the padded box's
-//! own corners. The slab test itself is conservative as in [`super::bvh`].
+//! own corners. The slab test itself is conservative as in [`super::bvh`]. Those roundings
+//! are relative only in f32's normal range: where the carried direction leaves it (a
+//! direction of 2⁻⁵⁰ under a scale of 2⁻¹⁰⁰ underflows, one of 2³⁰ under 2¹⁰⁰ overflows), the
+//! ray, or the packet, tests every triangle of the instance instead (`tests/instances_at_any_scale.rs`).
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
 use super::layout::{merge, Layout};
@@ -115,6 +118,13 @@ impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
     }
 }
 
+/// Packets' directions are carried into an instance's frame in f32 ([`Placed::carry_directions`])
+/// where both ‖C‖∞ and every lane's largest component lie within 2⁻⁶⁰…2⁶⁰ (this bound): then
+/// no product overflows and none underflows by more than 2⁻¹⁵⁰, far below the pad's allowance
+/// of 2⁻²¹·‖C‖·|d|. Elsewhere (a direction of 2⁻¹²⁵ by a scale of 2⁻³⁰ underflows to 0, which
+/// the slab test would trust) the packet tests every triangle of the instance.
+const CARRY_SAFE: f32 = (1u64 << 60) as f32;
+
 /// One instance as the structure walks it.
 #[derive(Clone, Debug)]
 struct Placed {
@@ -126,6 +136,9 @@ struct Placed {
     to_object32: [[f32; 4]; 3],
     /// ‖C‖∞ of the linear part of `object_from_world`.
     c_norm: f64,
+    /// Whether packets' directions are carried into the object frame in f32
+    /// ([`Placed::carry_directions`]): ‖C‖∞ within 2⁻⁶⁰…2⁶⁰ ([`CARRY_SAFE`]).
+    carries: bool,
     /// B: the mesh's largest object coordinate.
     object_max: f64,
     /// W + |b|∞: the instance's largest world coordinate and its translation.
@@ -192,17 +205,18 @@ impl Placed {
         (obj.iter().all(|c| c.is_finite()) && pad.is_finite()).then_some((obj, pad))
     }
 
-    /// A ray in the object frame (same t), and its pad.
+    /// A ray in the object frame (same t), and its pad; `None` where the carried direction
+    /// leaves f32's normal range (the pad allows for its rounding relative to its largest
+    /// component only: a direction of 2⁻⁵⁰ carried by a scale of 2⁻¹⁰⁰ underflows), and
+    /// where the origin's carry is not finite.
     #[inline]
     fn carry_ray(&self, ray: &Ray) -> Option<(Ray, f32)> {
         let (o, pad) = self.carry_origin(ray.o)?;
         let d = DVec3::new(ray.d[0] as f64, ray.d[1] as f64, ray.d[2] as f64);
-        let d = self
-            .object_from_world
-            .transform_vector3(d)
-            .to_array()
-            .map(|c| c as f32);
-        Some((Ray::new(o, d), pad))
+        let d = self.object_from_world.transform_vector3(d);
+        let largest = d.abs().max_element();
+        let normal = (f32::MIN_POSITIVE as f64..=f32::MAX as f64 / 2.0).contains(&largest);
+        normal.then(|| (Ray::new(o, d.to_array().map(|c| c as f32)), pad))
     }
 
     /// A packet's directions in the object frame (f32 arithmetic: within the pad's
@@ -289,6 +303,8 @@ impl Instances {
                     object_from_world: inv,
                     to_object32: rows,
                     c_norm: linear_norm(&inv),
+                    carries: (CARRY_SAFE.recip() as f64..=CARRY_SAFE as f64)
+                        .contains(&linear_norm(&inv)),
                     object_max: max_abs(lo, hi),
                     world_max: max_abs(wlo, whi) + b,
                     first_prim: inst.first_prim,
@@ -456,9 +472,14 @@ impl Instances {
     ) {
         let d = each3(|k| V::from_wide(d[k]));
         let slabs = PacketSlabs::<V>::new_in(o, d, self.top.boxes_tame());
+        // (A dead shadow lane's direction may be 0: the live lanes.)
+        let largest = d[0].abs().max(d[1].abs()).max(d[2].abs());
+        let (lo, hi) = (V::splat(CARRY_SAFE.recip()), V::splat(CARRY_SAFE));
+        let tame = (largest.simd_ge(lo) & largest.simd_le(hi)).to_bitmask();
         let mut leaves = TopLeaves {
             inst: self,
             o,
+            lanes_carry: tame & sink.live() == sink.live(),
             slabs: &slabs,
             d: &d,
             block: OriginBlock::default(),
@@ -522,6 +543,9 @@ struct TopLeaves<'a, V> {
     slabs: &'a PacketSlabs<V>,
     o: [f32; 3],
     d: &'a [V; 3],
+    /// Whether every live lane's largest direction component is within
+    /// 2⁻⁶⁰…2⁶⁰ ([`CARRY_SAFE`]).
+    lanes_carry: bool,
     /// Where the mesh leaves prepare their triangles.
     block: OriginBlock,
     /// The mesh walks' stack (one walk at a time, inside a visit of the top walk).
@@ -579,7 +603,11 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
                 o: self.o,
                 block: &mut self.block,
             };
-            match placed.carry_origin(self.o) {
+            let carried = match self.lanes_carry && placed.carries {
+                true => placed.carry_origin(self.o),
+                false => None,
+            };
+            match carried {
                 Some((obj, pad)) => {
                     let d = placed.carry_directions(self.d);
                     let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());

@@ -1,5 +1,6 @@
 //! Running the `raylab` binary from a test: its output whole, a hang a failure.
 
+use std::path::Path;
 use std::process::{Command, Output};
 
 /// Runs `exe` (the test's `env!("CARGO_BIN_EXE_raylab")`) with `args` and extra `env`; a run
@@ -42,4 +43,31 @@ pub fn run(exe: &str, args: &[&str], env: &[(&str, &str)]) -> Output {
         stdout: out_t.join().unwrap(),
         stderr: err_t.join().unwrap(),
     }
+}
+
+/// A run's standard error, as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A run's standard output, as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A failed run: the given exit code, a message holding every `needle`, and no panic.
+pub fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "stderr: {err}");
+    for n in needles {
+        assert!(err.contains(n), "'{n}' not in: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// Writes `text` to `name` in `dir`; its path.
+pub fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
 }

@@ -1,0 +1,233 @@
+//! `.view` files from outside: rendered, saved and read back, through a shell as the window's
+//! "copy as command" gives them, with every image control and any scene file name.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use common::binary::{assert_fails, stderr, stdout, write};
+use common::read_png;
+use std::process::Output;
+
+/// Runs the binary ([`common::binary::run`]).
+fn raylab(args: &[&str]) -> Output {
+    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, &[])
+}
+
+#[test]
+fn view_files_render_and_round_trip() {
+    use raylab::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let text = "# a view\nscene cornell\ncamera 0.25 -0.1 -2.5 yaw 12.5 pitch -3 fov 61\n\
+                light 0.3 -0.6 -0.5\nsize 48 36\nstep shadows\nspp 2\nmethod watertight\ncracks off\n";
+    let view = View::parse("v.view", text).unwrap();
+    assert_eq!(
+        View::parse("again", &view.to_text()).unwrap(),
+        view,
+        "round trip"
+    );
+    let path = write(dir.path(), "v.view", text);
+    let out = dir.path().join("v.png");
+    let o = raylab(&["render", "--view", &path, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The same through flags: the same image.
+    let flags = dir.path().join("f.png");
+    let o = raylab(&[
+        "render",
+        "--camera",
+        "0.25,-0.1,-2.5",
+        "--yaw",
+        "12.5",
+        "--pitch",
+        "-3",
+        "--focal",
+        &(48.0 / (2.0 * (61f64.to_radians() / 2.0).tan())).to_string(),
+        "--light",
+        "0.3,-0.6,-0.5",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--step",
+        "shadows",
+        "--spp",
+        "2",
+        "--method",
+        "watertight",
+        "-o",
+        flags.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(read_png(&out) == read_png(&flags));
+    // Flags that the view sets conflict with it; a bad line names itself.
+    let o = raylab(&["render", "--view", &path, "--width", "10", "-o", "x.png"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("--width") && stderr(&o).contains("--view"),
+        "{}",
+        stderr(&o)
+    );
+    let bad = write(dir.path(), "bad.view", "scene cornell\n\nzoom 2\n");
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:3:", "zoom"],
+    );
+}
+
+#[test]
+fn a_views_command_line_renders_the_view_through_a_shell() {
+    // "Copy as command": the line a view turns into, run by a POSIX shell, renders what
+    // `--view` renders, with a scene path holding a space and a quote, a negative position,
+    // a turned camera, a moved light and a field of view.
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("it's here");
+    std::fs::create_dir(&sub).unwrap();
+    let scene = write(&sub, "s.scene", "cornell\nsphere 0.3 0.4 0.2 0.25\n");
+    let view_text = format!(
+        "scene {scene}\ncamera -0.25 -0.1 -2.5 yaw -12.5 pitch 3 fov 61\nlight 0.2 -0.6 -0.5\n\
+         size 96 72\nstep shadows\nspp 2\nmethod adaptive\n"
+    );
+    let view = raylab::view::View::parse("v.view", &view_text).unwrap();
+    let command = view.to_command("from command.png");
+    assert!(
+        command.contains("'") && command.contains("--yaw=-12.5"),
+        "{command}"
+    );
+    let o = common::run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
+    assert!(o.status.success(), "{command}\n{}", stderr(&o));
+    let view_file = write(dir.path(), "v.view", &view_text);
+    let from_view = dir.path().join("from view.png");
+    let o = raylab(&[
+        "render",
+        "--view",
+        &view_file,
+        "-o",
+        from_view.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = std::fs::read(dir.path().join("from command.png")).unwrap();
+    let b = std::fs::read(&from_view).unwrap();
+    assert!(a == b, "the command and the view render the same PNG");
+    assert_eq!(raylab::view::shell_quote("a'b c"), "'a'\\''b c'");
+    assert_eq!(
+        raylab::view::shell_quote("plain/path-1.obj"),
+        "plain/path-1.obj"
+    );
+}
+
+#[test]
+fn every_image_control_reaches_the_image_through_the_view_file_and_the_command() {
+    // The controls table drives the `.view` file, copy-as-command and the flags: each value of
+    // each control, set in a view, renders through `--view` and through the view's command
+    // line to the same PNG, and the render's report names the value.
+    let dir = tempfile::tempdir().unwrap();
+    let base = "scene cornell\nsize 40 30\nstep shadows\n";
+    let help = stdout(&raylab(&["render", "--help"]));
+    for control in &raylab::render::CONTROLS {
+        assert!(
+            help.contains(&format!("--{}", control.name)),
+            "{}",
+            control.name
+        );
+        for value in control.sample_values() {
+            let text = format!("{base}{} {value}\n", control.name);
+            let view = raylab::view::View::parse("v.view", &text).unwrap();
+            assert_eq!(control.text(&view.settings), value);
+            let file = write(dir.path(), "v.view", &view.to_text());
+            let (a, b) = (dir.path().join("view.png"), dir.path().join("command.png"));
+            let o = raylab(&["render", "--view", &file, "-o", a.to_str().unwrap()]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let said = format!("{}={value} ", control.name);
+            assert!(stdout(&o).contains(&said), "{said}\n{}", stdout(&o));
+            let command = view.to_command(b.to_str().unwrap());
+            let words: Vec<&str> = command.split(' ').skip(1).collect();
+            let o = raylab(&words);
+            assert!(o.status.success(), "{command}\n{}", stderr(&o));
+            assert!(stdout(&o).contains(&said), "{command}\n{}", stdout(&o));
+            assert!(read_png(&a) == read_png(&b), "{command}");
+        }
+    }
+    // A bad value in a view names the line and what the control takes.
+    let bad = write(dir.path(), "bad.view", &format!("{base}spp 0\n"));
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:4:", "supersampling 0 is out of range"],
+    );
+    let bad = write(dir.path(), "bad.view", &format!("{base}cracks maybe\n"));
+    assert_fails(
+        &raylab(&["render", "--view", &bad, "-o", "x.png"]),
+        2,
+        &["bad.view:4:", "cracks is on or off, not 'maybe'"],
+    );
+}
+
+#[test]
+fn any_scene_file_name_round_trips_through_a_view() {
+    // Names with runs of spaces, '#', quotes and backslashes: a saved view names the same file
+    // (quoted), renders the same image as the scene itself, and a `.scene` mesh path in quotes
+    // loads.
+    use raylab::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let tri = "camera 0 0 -3\ntri -1 -1 2 1 -1 2 0 1 2\n";
+    for name in [
+        "two  spaces.scene",
+        "x#y.scene",
+        "say \"hi\" \\ there.scene",
+    ] {
+        let scene = write(dir.path(), name, tri);
+        let decoy = dir.path().join("x"); // what '#' used to cut "x#y.scene" down to
+        std::fs::write(&decoy, "camera 0 0 -3\nsphere 0 0 2 1\n").unwrap();
+        let mut view = View::parse("v.view", "size 32 24\n").unwrap();
+        view.scene = scene.clone();
+        let text = view.to_text();
+        assert_eq!(View::parse("again", &text).unwrap(), view, "{text}");
+        let view_file = write(dir.path(), "v.view", &text);
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        let o = raylab(&["render", "--view", &view_file, "-o", a.to_str().unwrap()]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let o = raylab(&[
+            "render",
+            "--scene",
+            &scene,
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            b.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        assert_eq!(
+            std::fs::read(&a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{name}"
+        );
+    }
+    // A mesh path in quotes, and a broken quote named by its line.
+    write(
+        dir.path(),
+        "my mesh.obj",
+        "v -1 -1 2\nv 1 -1 2\nv 0 1 2\nf 1 2 3\n",
+    );
+    let s = write(
+        dir.path(),
+        "m.scene",
+        "camera 0 0 -3\nmesh \"my mesh.obj\" lab # placed\n",
+    );
+    let out = dir.path().join("m.png");
+    let o = raylab(&["render", "--scene", &s, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = write(
+        dir.path(),
+        "bad.scene",
+        "camera 0 0 -3\nmesh \"my mesh.obj\n",
+    );
+    let o = raylab(&["render", "--scene", &s, "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("bad.scene:2: a quoted word has no closing quote"),
+        "{}",
+        stderr(&o)
+    );
+}
