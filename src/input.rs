@@ -78,6 +78,12 @@ pub enum InputError {
         size: u64,
         limit: u64,
     },
+    #[error(
+        "{}: reports no size (as files under /proc and /sys do) and holds more than the \
+         {limit} bytes read from such a file",
+        path.display()
+    )]
+    Sizeless { path: PathBuf, limit: u64 },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
     #[error(
@@ -181,9 +187,19 @@ fn regular(path: &Path) -> Result<std::fs::Metadata, InputError> {
     }
 }
 
-/// The bytes of regular file `path`, at most `limit` of them.
+/// The most bytes read from a regular file whose metadata gives no size (0), as the files
+/// under /proc and /sys do: /proc/self/pagemap was read to the 1 GiB cap before its error.
+pub const MAX_SIZELESS_BYTES: u64 = 1 << 20;
+
+/// The bytes of regular file `path`, at most `limit` of them ([`MAX_SIZELESS_BYTES`] where its
+/// metadata gives no size).
 pub fn read_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
     let meta = regular(path)?;
+    let sizeless = meta.len() == 0 && limit > MAX_SIZELESS_BYTES;
+    let limit = match sizeless {
+        true => MAX_SIZELESS_BYTES,
+        false => limit,
+    };
     let too_large = |size| InputError::TooLarge {
         path: path.to_path_buf(),
         size,
@@ -201,10 +217,17 @@ pub fn read_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
         remember_read(path, &opened);
     }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(limit.saturating_add(1))
+    // (8 past the limit, not 1: /proc/self/pagemap refuses reads of other than whole 8-byte
+    // entries.)
+    let past = if sizeless { 8 } else { 1 };
+    file.take(limit.saturating_add(past))
         .read_to_end(&mut bytes)
         .map_err(io)?;
     match bytes.len() as u64 > limit {
+        true if sizeless => Err(InputError::Sizeless {
+            path: path.to_path_buf(),
+            limit,
+        }),
         true => Err(too_large(bytes.len() as u64)),
         false => Ok(bytes),
     }

@@ -140,6 +140,47 @@ fn every_input_is_capped_and_a_byte_order_mark_is_skipped() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
+#[test]
+fn files_that_report_no_size_are_read_to_a_mebibyte() {
+    // /proc/self/pagemap reports size 0 but reads to gigabytes: as a scene, rays or a material
+    // library it was read to the 1 GiB cap (1 GB of memory) before its error. A small such
+    // file (/proc/cpuinfo) is read whole: its error is a parse error at its first line.
+    let pagemap = "/proc/self/pagemap";
+    if !std::path::Path::new(pagemap).exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let said = format!("{pagemap}: reports no size");
+    let scene = write(dir.path(), "s.scene", "tri -1 -1 2 1 -1 2 0 1 2\n");
+    let rays = write(dir.path(), "r.txt", "0 0 0 0 0 1 0 inf\n");
+    let obj = write(
+        dir.path(),
+        "m.obj",
+        &format!("mtllib {pagemap}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    );
+    let png = dir.path().join("x.png");
+    let png = png.to_str().unwrap();
+    let runs: [(&[&str], bool); 3] = [
+        (&["render", "--scene", pagemap, "-o", png], false),
+        (&["trace", "--scene", &scene, "--rays", pagemap], false),
+        (&["render", "--scene", &obj, "-o", png], true),
+    ];
+    for (args, renders) in runs {
+        let o = raylab(args);
+        match renders {
+            true => assert!(stderr(&o).contains(&said), "{}", stderr(&o)),
+            false => assert_fails(&o, 2, &[&said, "1048576 bytes"]),
+        }
+        if have_gnu_time() {
+            let (o, peak) = peak_kib(args, &[]);
+            assert_eq!(o.status.success(), renders, "{}", stderr(&o));
+            assert!(peak < 64 << 10, "{args:?}: peak {peak} KiB");
+        }
+    }
+    let o = raylab(&["trace", "--scene", "/proc/cpuinfo", "--rays", &rays]);
+    assert_fails(&o, 2, &["/proc/cpuinfo:1:"]);
+}
+
 /// An OBJ strip of `n` triangles (enough, from 64, for a repeated mesh to be placed as
 /// instances).
 fn strip_obj(n: usize) -> String {

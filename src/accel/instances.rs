@@ -732,6 +732,7 @@ mod tests {
                 object_from_world: m.inverse(),
                 to_object32: [[0.0; 4]; 3],
                 c_norm: 1.0,
+                carries: true,
                 object_max: 1.0,
                 world_max: 1.0,
                 first_prim: 0,
