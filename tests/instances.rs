@@ -11,10 +11,10 @@
 mod common;
 
 use common::suite;
-use common::{icosphere, Rng};
+use common::{icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
-use raylab::geometry::{Hit, Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::{cornell, Instance, Mesh, Scene};
 use raylab::Camera;
@@ -138,24 +138,6 @@ fn rays_at(flat: &Scene, rng: &mut Rng, n: usize) -> Vec<Ray> {
             Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]))
         })
         .collect()
-}
-
-/// The same hit (see the module docs for the adaptive method's t).
-fn same_hit(method: Method, ray: &Ray, got: Option<Hit>, want: Option<Hit>, what: &str) {
-    if method != Method::Adaptive {
-        assert_eq!(got, want, "{what}");
-        return;
-    }
-    assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim), "{what}");
-    if let (Some(g), Some(w)) = (got, want) {
-        let len = ray.d.iter().map(|c| c * c).sum::<f32>().sqrt();
-        let scale = 1.0 + ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()));
-        let off = (g.t - w.t).abs() * len;
-        assert!(
-            off <= 1e-5 * (scale + w.t.abs() * len),
-            "{what}: {g:?} {w:?}"
-        );
-    }
 }
 
 #[test]

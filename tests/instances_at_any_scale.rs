@@ -7,10 +7,10 @@
 
 mod common;
 
-use common::{icosphere, Rng};
+use common::{icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
-use raylab::geometry::{Hit, Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape};
 use raylab::scene::{cornell, Instance, Mesh, Scene};
 use std::sync::Arc;
 
@@ -69,31 +69,6 @@ fn direction_from(o: [f32; 3], flat: &Scene, rng: &mut Rng, scale: i32) -> [f32;
     };
     let f = 2f64.powi(scale);
     [0, 1, 2].map(|k| ((target[k] - o[k]) as f64 * f) as f32)
-}
-
-/// The same hit: the same primitive for every method, the same t and barycentrics for the
-/// inexact ones (the adaptive method's t is the f32 t where that is certain, and which f32
-/// computation is certain depends on the boxes the path uses: the same point within f32
-/// rounding).
-fn same_hit(method: Method, ray: &Ray, got: Option<Hit>, want: Option<Hit>, what: &str) {
-    if method != Method::Adaptive {
-        assert_eq!(got, want, "{what}");
-        return;
-    }
-    assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim), "{what}");
-    if let (Some(g), Some(w)) = (got, want) {
-        let len = ray
-            .d
-            .iter()
-            .map(|c| (*c as f64).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        let off = (g.t - w.t).abs() as f64 * len;
-        assert!(
-            off <= 1e-5 * (5.0 + w.t as f64 * len),
-            "{what}: {g:?} {w:?}"
-        );
-    }
 }
 
 #[test]

@@ -10,9 +10,7 @@ use raylab::tracefile;
 use std::path::Path;
 use std::process::Output;
 
-fn raylab(args: &[&str]) -> Output {
-    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, &[])
-}
+crate::raylab_runner!();
 
 /// `raylab check` of an answer file for `scene` and `rays`, with `more` arguments.
 fn check_answers(scene: &str, rays: &str, answers: &Path, more: &[&str]) -> Output {

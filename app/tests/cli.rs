@@ -6,17 +6,9 @@ mod common;
 use common::binary::{assert_fails, stderr, stdout, write};
 use common::read_png;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
-/// Runs the binary ([`common::binary::run`]).
-fn raylab(args: &[&str]) -> Output {
-    raylab_env(args, &[])
-}
-
-/// [`raylab`] with extra environment variables.
-fn raylab_env(args: &[&str], env: &[(&str, &str)]) -> Output {
-    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, env)
-}
+crate::raylab_runner!();
 
 #[test]
 fn render_writes_the_cornell_box_for_every_step() {

@@ -9,15 +9,7 @@ use common::binary::{assert_fails, stderr, write};
 use common::read_png;
 use std::process::{Command, Output};
 
-/// Runs the binary ([`common::binary::run`]).
-fn raylab(args: &[&str]) -> Output {
-    raylab_env(args, &[])
-}
-
-/// [`raylab`] with extra environment variables.
-fn raylab_env(args: &[&str], env: &[(&str, &str)]) -> Output {
-    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, env)
-}
+crate::raylab_runner!();
 
 /// Runs raylab with a deadline: a hang fails the test instead of stalling it.
 fn raylab_within(args: &[&str], seconds: u64) -> Output {

@@ -7,17 +7,8 @@ mod common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use std::path::Path;
-use std::process::Output;
 
-/// Runs the binary ([`common::binary::run`]).
-fn raylab(args: &[&str]) -> Output {
-    raylab_env(args, &[])
-}
-
-/// [`raylab`] with extra environment variables.
-fn raylab_env(args: &[&str], env: &[(&str, &str)]) -> Output {
-    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, env)
-}
+crate::raylab_runner!();
 
 #[test]
 fn trace_answers_the_text_format_exactly() {

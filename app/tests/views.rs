@@ -6,12 +6,8 @@ mod common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use common::read_png;
-use std::process::Output;
 
-/// Runs the binary ([`common::binary::run`]).
-fn raylab(args: &[&str]) -> Output {
-    common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, &[])
-}
+crate::raylab_runner!();
 
 #[test]
 fn view_files_render_and_round_trip() {

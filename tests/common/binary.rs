@@ -71,3 +71,22 @@ pub fn write(dir: &Path, name: &str, text: &str) -> String {
     std::fs::write(&p, text).unwrap();
     p.to_str().unwrap().to_string()
 }
+
+/// Defines `raylab(args)` and `raylab_env(args, env)` in a test of the app package: its
+/// `raylab` binary run through [`run`] (the binary's path is known only there).
+#[macro_export]
+macro_rules! raylab_runner {
+    () => {
+        /// Runs the binary ([`common::binary::run`]).
+        #[allow(dead_code)]
+        fn raylab(args: &[&str]) -> std::process::Output {
+            raylab_env(args, &[])
+        }
+
+        /// [`raylab`] with extra environment variables.
+        #[allow(dead_code)]
+        fn raylab_env(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+            common::binary::run(env!("CARGO_BIN_EXE_raylab"), args, env)
+        }
+    };
+}

@@ -76,3 +76,36 @@ pub fn tool_for(command: &str, package: &str, test: &str) -> bool {
     }
     there
 }
+
+/// The same hit from two paths that must agree (instanced and flattened, say): the same
+/// primitive for every method, the same t and barycentrics for the inexact ones. The adaptive
+/// method's t is the f32 t where that is certain, and which f32 computation is certain depends
+/// on the box bounds the path uses: there the same hit point within f32 rounding of the
+/// inputs. (In f64: directions may be near f32's limits.)
+pub fn same_hit(
+    method: raylab::geometry::Method,
+    ray: &raylab::geometry::Ray,
+    got: Option<raylab::geometry::Hit>,
+    want: Option<raylab::geometry::Hit>,
+    what: &str,
+) {
+    if method != raylab::geometry::Method::Adaptive {
+        assert_eq!(got, want, "{what}");
+        return;
+    }
+    assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim), "{what}");
+    if let (Some(g), Some(w)) = (got, want) {
+        let len = ray
+            .d
+            .iter()
+            .map(|c| (*c as f64).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let scale = 1.0 + ray.o.iter().fold(0f64, |m, c| m.max((*c as f64).abs()));
+        let off = (g.t as f64 - w.t as f64).abs() * len;
+        assert!(
+            off <= 1e-5 * (scale + (w.t as f64).abs() * len),
+            "{what}: {g:?} {w:?}"
+        );
+    }
+}
