@@ -11,7 +11,7 @@
 mod common;
 
 use common::suite;
-use common::{icosphere, same_hit, Rng};
+use common::{check_instance_packets, icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::{Method, Ray, Shape};
@@ -599,35 +599,6 @@ pop
     }
 }
 
-/// Packets of 8 rays from one origin through `scene`'s instances: every lane the packet
-/// decides names the primitive the flattened scene's per-ray query names. Returns the lanes
-/// decided and the lanes in all.
-fn check_instance_packets(
-    scene: &Accel,
-    flat: &Accel,
-    o: [f32; 3],
-    dirs: &[[f32; 3]; 8],
-) -> (usize, usize) {
-    use raylab::accel::testing::max_component;
-    use wide::f32x8;
-    let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-    let found = scene
-        .closest_packet(o, None, &d, max_component(&d))
-        .expect("a BVH and no other shapes");
-    let mut decided = 0;
-    for (l, dir) in dirs.iter().enumerate() {
-        if found.ambiguous & (1 << l) != 0 {
-            continue;
-        }
-        decided += 1;
-        let want = flat
-            .closest_hit(&Ray::new(o, *dir), Method::Adaptive, 0.0, f32::INFINITY)
-            .map_or(u32::MAX, |h| h.prim);
-        assert_eq!(found.prim[l], want, "lane {l} of {o:?} {dirs:?}");
-    }
-    (decided, 8)
-}
-
 #[test]
 fn instanced_packets_decide_as_the_flattened_scene() {
     // The mesh leaves prepare their triangles in f32, go to a lone lane in one pass, and
@@ -655,7 +626,7 @@ fn instanced_packets_decide_as_the_flattened_scene() {
             for d in &mut dirs[1..] {
                 *d = all_dirs[rng.below(all_dirs.len())];
             }
-            let (d, l) = check_instance_packets(&scene, &flat, ray.o, &dirs);
+            let (d, l) = check_instance_packets(&scene, &flat, ray.o, &dirs, &family.name);
             decided += d;
             lanes += l;
         }
@@ -695,7 +666,7 @@ fn instanced_packets_decide_as_the_flattened_scene() {
             let p = [rng.range(-2.7, 2.6), rng.range(-0.06, 0.06), 40.0];
             [p[0] as f32 - o[0], p[1] as f32 - o[1], p[2] as f32 - o[2]]
         });
-        let (d, l) = check_instance_packets(&scene, &flat, o, &dirs);
+        let (d, l) = check_instance_packets(&scene, &flat, o, &dirs, "row");
         decided += d;
         lanes += l;
         hits += dirs

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{icosphere, same_hit, Rng};
+use common::{check_instance_packets, icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::{Method, Ray, Shape};
@@ -71,20 +71,29 @@ fn direction_from(o: [f32; 3], flat: &Scene, rng: &mut Rng, scale: i32) -> [f32;
     [0, 1, 2].map(|k| ((target[k] - o[k]) as f64 * f) as f32)
 }
 
+/// The scales (powers of two) the ball is stored at.
+const STORED: [i32; 5] = [-100, -80, -30, 100, -130];
+
+/// The scales (powers of two) of the rays' directions.
+fn direction_scales() -> impl Iterator<Item = i32> {
+    (-125..=100).step_by(5)
+}
+
 #[test]
 fn per_ray_queries_answer_as_flattened_whatever_the_scale_of_the_carried_direction() {
     let mut rng = Rng(0x5ca1e);
     let (mut compared, mut hits) = (0, 0);
-    for stored in [-100, -80, -30, 100, -130] {
+    for stored in STORED {
         let scene = balls_stored_at(stored);
         let flat = scene.flattened();
         for choice in [AccelChoice::Auto, AccelChoice::Flat] {
             let inst = Accel::for_scene(&scene, choice);
             assert!(inst.instances().is_some());
-            for scale in (-125..=100).step_by(5) {
+            for scale in direction_scales() {
                 for _ in 0..12 {
                     let ray = ray_towards(&flat, &mut rng, scale);
                     let what = format!("stored 2^{stored}, {choice:?}, |d| 2^{scale}: {ray:?}");
+                    let mut nearest = None;
                     for method in Method::ALL {
                         let want =
                             accel::closest_hit(&flat.shapes, &ray, method, 0.0, f32::INFINITY);
@@ -92,15 +101,11 @@ fn per_ray_queries_answer_as_flattened_whatever_the_scale_of_the_carried_directi
                         same_hit(method, &ray, got, want, &format!("{method} {what}"));
                         compared += 1;
                         hits += got.is_some() as usize;
+                        if method == Method::Adaptive {
+                            nearest = want;
+                        }
                     }
-                    // Shadow queries: up to half way to the nearest hit, and just past it.
-                    let nearest = accel::closest_hit(
-                        &flat.shapes,
-                        &ray,
-                        Method::Adaptive,
-                        0.0,
-                        f32::INFINITY,
-                    );
+                    // Shadow queries: up to half way to the exact nearest hit, and just past it.
                     if let Some(h) = nearest {
                         for tmax in [h.t * 0.5, h.t * 1.01] {
                             let want = accel::reference::any_hit_except(
@@ -125,47 +130,24 @@ fn per_ray_queries_answer_as_flattened_whatever_the_scale_of_the_carried_directi
 
 #[test]
 fn packets_answer_as_flattened_whatever_the_scale_of_the_carried_directions() {
-    use raylab::accel::testing::max_component;
-    use wide::f32x8;
     let mut rng = Rng(0xba11);
     let (mut decided, mut lanes) = (0, 0);
-    for stored in [-100, -80, -30, 100, -130] {
+    for stored in STORED {
         let scene = balls_stored_at(stored);
         let flat_scene = scene.flattened();
         let (inst, flat) = (
             Accel::for_scene(&scene, AccelChoice::Auto),
             Accel::for_scene(&flat_scene, AccelChoice::Auto),
         );
-        for scale in (-125..=100).step_by(5) {
+        for scale in direction_scales() {
             for _ in 0..8 {
                 let o = [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32);
                 let dirs: [[f32; 3]; 8] =
                     std::array::from_fn(|_| direction_from(o, &flat_scene, &mut rng, scale));
-                let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
-                let found = inst
-                    .closest_packet(o, None, &d, max_component(&d))
-                    .expect("a BVH and no other shapes");
-                if stored == -80 && scale == -80 {
-                    eprintln!(
-                        "DBG amb {:08b} {:?} {:?}",
-                        found.ambiguous, found.prim, dirs[0]
-                    );
-                }
-                for (l, dir) in dirs.iter().enumerate() {
-                    lanes += 1;
-                    if found.ambiguous & (1 << l) != 0 {
-                        continue;
-                    }
-                    decided += 1;
-                    let ray = Ray::new(o, *dir);
-                    let want = flat
-                        .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
-                        .map_or(u32::MAX, |h| h.prim);
-                    assert_eq!(
-                        found.prim[l], want,
-                        "stored 2^{stored}, |d| 2^{scale}, lane {l}: {ray:?}"
-                    );
-                }
+                let what = format!("stored 2^{stored}, |d| 2^{scale}");
+                let (d, l) = check_instance_packets(&inst, &flat, o, &dirs, &what);
+                decided += d;
+                lanes += l;
             }
         }
     }

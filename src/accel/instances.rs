@@ -297,14 +297,14 @@ impl Instances {
                 };
                 let rows = [0, 1, 2].map(|r| inv.row(r).to_array().map(|c| c as f32));
                 let b = m.w_axis.truncate().abs().max_element();
+                let c_norm = linear_norm(&inv);
                 Placed {
                     mesh,
                     world_from_object: m,
                     object_from_world: inv,
                     to_object32: rows,
-                    c_norm: linear_norm(&inv),
-                    carries: (CARRY_SAFE.recip() as f64..=CARRY_SAFE as f64)
-                        .contains(&linear_norm(&inv)),
+                    c_norm,
+                    carries: (CARRY_SAFE.recip() as f64..=CARRY_SAFE as f64).contains(&c_norm),
                     object_max: max_abs(lo, hi),
                     world_max: max_abs(wlo, whi) + b,
                     first_prim: inst.first_prim,

@@ -109,3 +109,34 @@ pub fn same_hit(
         );
     }
 }
+
+/// Packets of 8 rays from one origin through `scene`'s instances: every lane the packet
+/// decides names the primitive the flattened scene's per-ray query names (`what` says which
+/// case failed). Returns the lanes decided and the lanes in all.
+pub fn check_instance_packets(
+    scene: &raylab::accel::Accel,
+    flat: &raylab::accel::Accel,
+    o: [f32; 3],
+    dirs: &[[f32; 3]; 8],
+    what: &str,
+) -> (usize, usize) {
+    use raylab::accel::testing::max_component;
+    use raylab::geometry::{Method, Ray};
+    use raylab::math::lanes::f32x8;
+    let d: [f32x8; 3] = [0, 1, 2].map(|k| f32x8::from(dirs.map(|d| d[k])));
+    let found = scene
+        .closest_packet(o, None, &d, max_component(&d))
+        .expect("a BVH and no other shapes");
+    let mut decided = 0;
+    for (l, dir) in dirs.iter().enumerate() {
+        if found.ambiguous & (1 << l) != 0 {
+            continue;
+        }
+        decided += 1;
+        let want = flat
+            .closest_hit(&Ray::new(o, *dir), Method::Adaptive, 0.0, f32::INFINITY)
+            .map_or(u32::MAX, |h| h.prim);
+        assert_eq!(found.prim[l], want, "{what}: lane {l} of {o:?} {dirs:?}");
+    }
+    (decided, 8)
+}
