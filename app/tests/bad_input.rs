@@ -8,6 +8,19 @@ use common::binary::{assert_fails, stderr, write};
 
 crate::raylab_runner!();
 
+/// `raylab render --scene SCENE EXTRA… --out /dev/null` with extra environment variables.
+fn render_scene(
+    scene: impl AsRef<std::path::Path>,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> std::process::Output {
+    let scene = scene.as_ref().to_str().unwrap();
+    let mut args = vec!["render", "--scene", scene];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--out", "/dev/null"]);
+    raylab_env(&args, env)
+}
+
 #[test]
 fn render_rejects_bad_values_clearly() {
     let dir = tempfile::tempdir().unwrap();
@@ -85,13 +98,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     for (k, (text, needle)) in cases.iter().enumerate() {
         let obj = dir.path().join(format!("bad{k}.obj"));
         std::fs::write(&obj, text).unwrap();
-        let o = raylab(&[
-            "render",
-            "--scene",
-            obj.to_str().unwrap(),
-            "--out",
-            "/dev/null",
-        ]);
+        let o = render_scene(&obj, &[], &[]);
         assert_fails(&o, 2, &[&format!("bad{k}.obj"), needle]);
     }
     // A 2 GiB file (sparse: no disk used) is refused before anything is read.
@@ -100,13 +107,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         .unwrap()
         .set_len(2 << 30)
         .unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        big.to_str().unwrap(),
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&big, &[], &[]);
     assert_fails(&o, 2, &["big.obj", "larger than the 1073741824-byte limit"]);
     // 20,000 repeated `mtllib` lines read the library once (cached), quickly.
     let obj = dir.path().join("repeat.obj");
@@ -114,17 +115,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     text.push_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl r\nf 1 2 3\n");
     std::fs::write(&obj, text).unwrap();
     std::fs::write(dir.path().join("r.mtl"), "newmtl r\nKd 1 0 0\n").unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        obj.to_str().unwrap(),
-        "--width",
-        "8",
-        "--height",
-        "8",
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&obj, &["--width", "8", "--height", "8"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     // A face line with thousands of vertices is fan-triangulated, not a problem.
     let polygon = dir.path().join("polygon.obj");
@@ -141,17 +132,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         (1..=n).map(|k| k.to_string()).collect::<Vec<_>>().join(" ")
     ));
     std::fs::write(&obj, text).unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        obj.to_str().unwrap(),
-        "--width",
-        "16",
-        "--height",
-        "16",
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&obj, &["--width", "16", "--height", "16"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     // A file that asks for millions of triangles: one 17M-vertex polygon over 3 vertices
     // (34 MB) is refused by the first pass, before tobj or the scene allocate anything.
@@ -161,26 +142,11 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     text.push('\n');
     std::fs::write(&obj, &text).unwrap();
     let start = std::time::Instant::now();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        obj.to_str().unwrap(),
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&obj, &[], &[]);
     assert_fails(&o, 2, &["millions.obj:4", "more than 16777216 triangles"]);
     println!("17M-triangle claim refused in {:?}", start.elapsed());
     // The limit can be lowered (and raised) for one run.
-    let o = raylab_env(
-        &[
-            "render",
-            "--scene",
-            polygon.to_str().unwrap(),
-            "--out",
-            "/dev/null",
-        ],
-        &[("RAYLAB_MAX_TRIANGLES", "1000")],
-    );
+    let o = render_scene(&polygon, &[], &[("RAYLAB_MAX_TRIANGLES", "1000")]);
     assert_fails(&o, 2, &["polygon.obj:2001", "more than 1000 triangles"]);
     // A polyline is never drawn, but its references count towards the same limit: one long
     // `l` line cannot ask for memory the face limit would refuse.
@@ -189,27 +155,12 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     text.push_str(&" 1 2 3".repeat(400));
     text.push('\n');
     std::fs::write(&obj, &text).unwrap();
-    let o = raylab_env(
-        &[
-            "render",
-            "--scene",
-            obj.to_str().unwrap(),
-            "--out",
-            "/dev/null",
-        ],
-        &[("RAYLAB_MAX_TRIANGLES", "1000")],
-    );
+    let o = render_scene(&obj, &[], &[("RAYLAB_MAX_TRIANGLES", "1000")]);
     assert_fails(&o, 2, &["polyline.obj:5", "more than 1000 elements"]);
     // A directory named .obj.
     let d = dir.path().join("dir.obj");
     std::fs::create_dir(&d).unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        d.to_str().unwrap(),
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&d, &[], &[]);
     assert_fails(&o, 2, &["dir.obj", "not a regular file"]);
     // A broken material library (tobj 4 panics on a short Kd) is a warning naming its line.
     let obj = dir.path().join("badmtl.obj");
@@ -219,17 +170,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
     )
     .unwrap();
     std::fs::write(dir.path().join("bad.mtl"), "newmtl x\nKd 0.5\n").unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        obj.to_str().unwrap(),
-        "--width",
-        "8",
-        "--height",
-        "8",
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&obj, &["--width", "8", "--height", "8"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("bad.mtl:2: Kd needs 3 numbers"),
@@ -244,17 +185,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         "mtllib missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n",
     )
     .unwrap();
-    let o = raylab(&[
-        "render",
-        "--scene",
-        obj.to_str().unwrap(),
-        "--width",
-        "8",
-        "--height",
-        "8",
-        "--out",
-        "/dev/null",
-    ]);
+    let o = render_scene(&obj, &["--width", "8", "--height", "8"], &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("missing.mtl"), "{}", stderr(&o));
 }
@@ -338,18 +269,10 @@ fn values_the_f32_core_cannot_hold_are_refused_naming_them() {
         "big.obj",
         "v -2e11 -2e11 0\nv 2e11 -2e11 0\nv 0 2e11 0\nf 1 2 3\n",
     );
-    let o = raylab(&[
-        "render",
-        "--scene",
+    let o = render_scene(
         &big,
-        "--step",
-        "shadows",
-        "--width",
-        "64",
-        "--height",
-        "48",
-        "-o",
-        "/dev/null",
-    ]);
+        &["--step", "shadows", "--width", "64", "--height", "48"],
+        &[],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
 }
