@@ -87,7 +87,9 @@ pub(super) fn enter_f64(
 }
 
 /// One ray set up for the f32 slab test against a wide node's 8 boxes (the test of
-/// `Bvh::traverse`, 8 boxes at once), every box widened by `pad`.
+/// `Bvh::traverse`, 8 boxes at once), every box widened by `pad`. For tmin ≥ 0 only: the far
+/// distances are widened by a factor, which widens a positive distance and narrows a negative
+/// one ([`enter_f64`] answers intervals that reach behind the origin).
 pub(super) struct RaySlabs {
     pub(super) o: [f32; 3],
     pub(super) inv: [f32; 3],

@@ -154,8 +154,13 @@ impl Bvh {
         if self.wide.is_empty() {
             return;
         }
-        let in_f32 =
-            self.tame && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x)) && box_safe(pad);
+        // The f32 test widens far distances by a factor, which widens only a positive t: an
+        // interval reaching behind the origin (tmin < 0) takes the f64 test, which widens by
+        // |t| (a flat box at tmin < t < 0 was skipped).
+        let in_f32 = tmin >= 0.0
+            && self.tame
+            && (ray.o.iter().chain(&ray.d)).all(|&x| slab_safe(x))
+            && box_safe(pad);
         let inv = ray.d.map(|c| 1.0 / c);
         let slabs = RaySlabs {
             o: ray.o,
