@@ -149,7 +149,77 @@ proptest! {
         let rays: Vec<Ray> = (0..64).map(|_| random_ray(&mut rng, &shapes)).collect();
         check_all(&shapes, &rays, 0.0, f32::INFINITY);
         check_all(&shapes, &rays, 0.5, 1.5);
+        check_all(&shapes, &rays, -1.0, 0.75);
+        check_all(&shapes, &rays, f32::NEG_INFINITY, f32::INFINITY);
     }
+}
+
+/// Flat boxes (axis-aligned triangles, zero thickness) behind, at and beyond the ends of the
+/// interval, with enough other triangles that the BVH is built: every layout answers every
+/// interval as the reference does — tmin < 0, tmin > 0, finite tmax, and t exactly at either
+/// end (both ends open). The f32 slab test once widened a far distance by a factor, which
+/// narrows a negative one, and the BVH skipped a flat box at tmin < t < 0.
+#[test]
+fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin_included() {
+    let mut shapes = vec![Shape::Triangle([
+        [-3.0, -3.0, 0.0],
+        [3.0, -3.0, 0.0],
+        [0.0, 3.0, 0.0],
+    ])];
+    // Flat triangles in z = -2, -1, 1, 2 and 3, and 64 far away.
+    for z in [-2.0f32, -1.0, 1.0, 2.0, 3.0] {
+        shapes.push(Shape::Triangle([
+            [-4.0, -4.0, z],
+            [4.0, -4.0, z],
+            [0.0, 4.0, z],
+        ]));
+    }
+    for k in 0..64 {
+        let x = 100.0 + k as f32;
+        shapes.push(Shape::Triangle([
+            [x, 0.0, 50.0],
+            [x + 0.5, 0.0, 50.0],
+            [x, 0.5, 50.5],
+        ]));
+    }
+    assert_eq!(
+        Accel::build(&shapes, AccelChoice::Auto).kind(),
+        AccelKind::Bvh,
+        "enough triangles for the BVH"
+    );
+    let mut rays = Vec::new();
+    for d in [
+        [0.0, 0.0, 1.0f32],
+        [0.0, 0.0, -1.0],
+        [0.0, 0.0, 0.5],
+        [0.01, -0.02, -2.0],
+    ] {
+        for o in [[0.0, 0.0, -0.5f32], [0.25, -0.5, 0.0], [0.0, 0.0, 1.5]] {
+            rays.push(Ray::new(o, d));
+        }
+    }
+    // The reproducer: one triangle in z = 0 half a unit behind the origin.
+    let reproducer = Ray::new([0.0, 0.0, -0.5], [0.0, 0.0, -1.0]);
+    let bvh = Accel::build(&shapes, AccelChoice::Bvh);
+    let hit = bvh.closest_hit(&reproducer, Method::Adaptive, -1.0, f32::INFINITY);
+    assert_eq!(hit.map(|h| (h.t, h.prim)), Some((-0.5, 0)));
+    assert!(bvh.any_hit(&reproducer, Method::Adaptive, -1.0, 0.0));
+    let ends = [
+        -2.5f32, -2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0, 3.0,
+    ];
+    for &tmin in &ends {
+        for &tmax in ends.iter().filter(|&&t| t > tmin) {
+            check_all(&shapes, &rays, tmin, tmax);
+        }
+        check_all(&shapes, &rays, tmin, f32::INFINITY);
+        check_all(
+            &shapes,
+            &rays,
+            tmin.next_down(),
+            tmin.next_up().max(tmin + 1.0),
+        );
+    }
+    check_all(&shapes, &rays, f32::NEG_INFINITY, f32::INFINITY);
 }
 
 #[test]
@@ -188,11 +258,18 @@ fn hard_case_rays_on_closed_meshes_are_identical() {
 }
 
 /// Every layout on every hard-case family (shared edges and vertices, tiny, huge and offset
-/// meshes, grazing rays, near-coincident surfaces, spheres, the Cornell box).
+/// meshes, grazing rays, near-coincident surfaces, spheres, the Cornell box), each ray over its
+/// family's interval.
 #[test]
 fn every_layout_answers_the_hard_case_families_as_the_reference_does() {
     for family in suite::all() {
-        check_all(&family.shapes, &family.rays, 0.0, f32::INFINITY);
+        if family.spans.is_empty() {
+            check_all(&family.shapes, &family.rays, 0.0, f32::INFINITY);
+            continue;
+        }
+        for r in family.trace_rays() {
+            check_all(&family.shapes, &[r.ray], r.tmin, r.tmax);
+        }
     }
 }
 

@@ -189,8 +189,10 @@ fn scaled<T: Real>(f: &Family<T>, k: i32, with_direction: bool) -> Family<T> {
             if with_direction { "" } else { " (positions)" }
         ),
         probes: f.probes.clone(),
+        catches: f.catches.clone(),
         shapes,
         rays,
+        spans: Vec::new(),
     }
 }
 

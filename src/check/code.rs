@@ -92,7 +92,13 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
         let mut tally = Tally::default();
         let shape_of = |p: u32| family.shapes[p as usize];
         for ((ray, exact), given) in rays.iter().zip(exact).zip(given) {
-            tally.add(&grade::grade(shape_of, ray, exact, given));
+            tally.add(&grade::grade(
+                shape_of,
+                ray,
+                exact,
+                given,
+                grade::DEFAULT_T_TOLERANCE,
+            ));
         }
         table += &(tally.row(&family.name, ms) + "\n");
         total.merge(&tally);
@@ -116,7 +122,14 @@ pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Optio
         None => Answer::Miss,
     };
     let shape_of = |p: u32| scene_shapes[p as usize];
-    grade::grade(shape_of, &TraceRay::whole(*ray), answer(exact), answer(hit)).verdict
+    grade::grade(
+        shape_of,
+        &TraceRay::whole(*ray),
+        answer(exact),
+        answer(hit),
+        grade::DEFAULT_T_TOLERANCE,
+    )
+    .verdict
 }
 
 /// Renders `stage`'s scene through `camera` with `code` answering every ray — camera rays from

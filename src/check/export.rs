@@ -42,8 +42,8 @@ pub fn scene_text(family: &Family) -> String {
     text
 }
 
-/// A family's ray file: a comment naming the columns, then one ray per line, tmin = 0 and
-/// tmax = inf.
+/// A family's ray file: a comment naming the columns, then one ray per line with its
+/// interval (tmin = 0 and tmax = inf but in the families that probe intervals).
 pub fn rays_text(family: &Family) -> String {
     let mut text = String::from("# ox oy oz dx dy dz tmin tmax\n");
     for ray in family.trace_rays() {
@@ -90,15 +90,29 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
         }
     }
     std::fs::create_dir_all(dir).map_err(io(dir))?;
+    // The README first: an export cut short (a full disk) is still known as one, and redone.
+    input::write_file(&dir.join("README.md"), readme(families).as_bytes())?;
     let mut written = Vec::new();
     for (i, family) in families.iter().enumerate() {
         let family_dir = dir.join(dir_name(i, &family.name));
+        // A link inside the suite is replaced, never followed out of it.
+        for path in [
+            &family_dir,
+            &family_dir.join("scene.txt"),
+            &family_dir.join("rays.txt"),
+        ] {
+            if path
+                .symlink_metadata()
+                .is_ok_and(|m| m.file_type().is_symlink())
+            {
+                std::fs::remove_file(path).map_err(io(path))?;
+            }
+        }
         std::fs::create_dir_all(&family_dir).map_err(io(&family_dir))?;
         input::write_file(&family_dir.join("scene.txt"), scene_text(family).as_bytes())?;
         input::write_file(&family_dir.join("rays.txt"), rays_text(family).as_bytes())?;
         written.push(family_dir);
     }
-    input::write_file(&dir.join("README.md"), readme(families).as_bytes())?;
     Ok(written)
 }
 
@@ -111,36 +125,56 @@ pub fn readme(families: &[Family]) -> String {
 {n} families of primitives and rays ({rays} rays) on which intersection code goes wrong,
 written by `raylab suite export`. Each directory holds a scene and its rays:
 
-- `scene.txt`: one primitive per line, `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` (a triangle: closed,
-  two-sided; one seen edge-on is missed) or `sphere cx cy cz r` (a tangent touch hits); a
-  primitive's index is its 0-based position among the primitives; `#` starts a comment.
-- `rays.txt`: one ray per line, `ox oy oz dx dy dz tmin tmax`: the points o + t·d with
-  tmin < t < tmax (here tmin = 0, tmax = inf); d is not normalised.
+- `scene.txt`: a `#` comment line naming the family, then one primitive per line,
+  `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` (a triangle: two-sided and closed, its edges and
+  vertices included; a ray in its plane misses) or `sphere cx cy cz r` (a tangent touch
+  hits). A primitive's index is its 0-based position among the primitives.
+- `rays.txt`: a `#` comment line naming the columns, then one ray per line,
+  `ox oy oz dx dy dz tmin tmax`: the points o + t·d with tmin < t < tmax (both ends open).
+  tmin is 0 and tmax `inf` except in the families that probe intervals, where tmin may be
+  negative and tmax finite; d is not normalised (t is in units of d).
+- In both files a line whose first word starts with `#` is a comment and a blank line is
+  skipped; numbers are separated by spaces. A reader that skips comment and blank lines
+  reads every file of the suite. Ray K (counting rays, not lines) is line K + 1 of rays.txt.
 
-Every number is an f32 value written out exactly (its whole decimal expansion, no exponent):
-read as a float, a double or an exact rational, it is the same number.
+Every number is an f32 value written out exactly (its whole decimal expansion, no exponent;
+`inf` for infinity): read as a float, a double or an exact rational, it is the same number.
 
-**The answer**, one line per ray, in the rays' order: `hit <t> <index>` (the nearest
-primitive the ray meets and its t; where two are met at exactly the same t, either is right)
-or `miss`. `raylab trace --scene S --rays R` prints the exact answers in this format.
+**The answer**, one line per ray, in the rays' order (line K answers ray K): `hit <t> <index>`
+(the nearest primitive the ray meets with tmin < t < tmax, and its t) or `miss`. Blank lines
+and `#` comments are skipped. `raylab trace --scene S --rays R` prints the exact answers in
+this format.
 
-**Grading**: `raylab check --scene S --rays R --answers A` compares an answer file with the
-exact answers; `raylab check --suite DIR --program 'CMD {{scene}} {{rays}}'` runs a program on
-every family (it reads the two files named on its command line and prints its answers) and
-prints a row per family. Add `--precision f64` for code that computes in double precision.
+**Grading** (`raylab check`): an answer is right when it names the exact nearest primitive
+(or misses where nothing is met); another primitive met at exactly the same t is a tie and
+stands; a miss where something is met is a leak, a hit where nothing is met a false hit,
+another primitive a wrong primitive. A right or tied hit's t must be within an ulp of the
+exact t rounded, or within the tolerance (`--t-tolerance`, 1e-6 by default): the answer's
+point o + t·d within that much of the exact one, relative to |o| + |t·d|. A t of `inf` is
+right only where the exact t rounds to infinity. A family passes when every answer stands.
 
-| directory | rays | primitives | what it probes |
-|---|---:|---:|---|
+`raylab check --scene S --rays R --answers A` grades an answer file; `raylab check --suite
+DIR --program 'CMD {{scene}} {{rays}}'` runs a program on every family (it reads the two
+files named on its command line and prints its answers) and prints a row per family and the
+first wrong rays under each failing one (`--family NAME` checks one). Add `--precision f64`
+for code that computes in double precision.
+
+| directory | rays | primitives | what it probes | the classic bug it catches |
+|---|---:|---:|---|---|
 ",
         n = families.len()
     );
     for (i, family) in families.iter().enumerate() {
         text += &format!(
-            "| `{}` | {} | {} | {} |\n",
+            "| `{}` | {} | {} | {} | {} |\n",
             dir_name(i, &family.name),
             family.rays.len(),
             family.shapes.len(),
-            family.probes
+            family.probes,
+            match family.catches.is_empty() {
+                true => "—",
+                false => &family.catches,
+            }
         );
     }
     text

@@ -1,5 +1,7 @@
 //! Grading answers that are not raylab's against the exact ones: an answer file read as
-//! `raylab trace` writes it, each ray's verdict, and the counts `raylab check` prints.
+//! `raylab trace` writes it, the exact answers ([`Exact`]: the reference loop over every
+//! primitive accuses), each ray's verdict and t error ([`grade`], [`t_error`]), and the
+//! counts `raylab check` prints.
 
 use crate::accel::{Accel, AccelChoice};
 use crate::geometry::{adaptive, Method, Shape};
@@ -9,6 +11,8 @@ use crate::render::CRACK;
 use crate::scene::Scene;
 use crate::tracefile::{TraceError, TraceRay};
 use rayon::prelude::*;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// One ray's answer to the nearest-hit question, as `raylab trace` prints it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,10 +33,14 @@ impl<T: Real> Answer<T> {
     }
 }
 
+/// The byte-order mark some editors and runtimes put before a file's first line.
+const BOM: char = '\u{feff}';
+
 /// Parses an answer file: one line per ray, `hit <t> <index>` or `miss` (blank lines and `#`
-/// comments are skipped). t may be any number the precision reads, `nan` and `inf` included
-/// (they are graded as t errors); an index must name one of the scene's `primitives`.
-/// Returns each answer with its line.
+/// comments are skipped, and a byte-order mark before the first line). t may be any number
+/// the precision reads, `nan` and `inf` included (graded as t's: `inf` is right only where the
+/// exact t rounds to infinity); an index must name one of the scene's `primitives`. Returns
+/// each answer with its line.
 pub fn parse_answers<T: Real>(
     file: &str,
     text: &str,
@@ -44,8 +52,14 @@ pub fn parse_answers<T: Real>(
         message,
     };
     let mut answers = Vec::new();
-    for (i, line) in text.lines().enumerate() {
+    for (i, line) in text.strip_prefix(BOM).unwrap_or(text).lines().enumerate() {
         let line_no = i + 1;
+        if line.starts_with(BOM) {
+            return Err(at(
+                line_no,
+                "starts with a byte-order mark (U+FEFF), which only the first line may".into(),
+            ));
+        }
         let words: Vec<&str> = line.split_whitespace().take(4).collect();
         let answer = match words.as_slice() {
             [] => continue,
@@ -83,39 +97,135 @@ pub fn parse_answers<T: Real>(
     Ok(answers)
 }
 
-/// The exact answers in f32 through the renderer's structures (the same on every path): t is
-/// the exact t correctly rounded to f32.
-pub fn exact_answers_f32(scene: &Scene, rays: &[TraceRay<f32>]) -> Vec<Answer<f32>> {
-    let structure = Accel::for_scene(scene, AccelChoice::Auto);
-    (rays.par_iter())
-        .map(
-            |r| match structure.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax) {
-                None => Answer::Miss,
-                Some(h) => Answer::Hit {
-                    t: adaptive::rounded_t(&scene.shape(h.prim), &r.ray, r.tmin, r.tmax)
-                        .unwrap_or(h.t),
-                    prim: h.prim,
-                },
-            },
-        )
-        .collect()
+/// The default of `--t-tolerance`: how far a right hit's point may lie from the exact one,
+/// relative to the size of the coordinates that give it ([`t_error`]).
+pub const DEFAULT_T_TOLERANCE: f64 = 1e-6;
+
+/// The exact answer of the reference loop over `count` primitives: t is the exact t correctly
+/// rounded to `T`.
+fn reference_answer<T: Real>(
+    count: usize,
+    shape_of: impl Fn(u32) -> Shape<T> + Copy,
+    r: &TraceRay<T>,
+) -> Answer<T> {
+    match adaptive::closest_hit_reference_by(count, shape_of, &r.ray, r.tmin, r.tmax) {
+        None => Answer::Miss,
+        Some(h) => Answer::Hit {
+            t: adaptive::rounded_t(&shape_of(h.prim), &r.ray, r.tmin, r.tmax).unwrap_or(T::of(h.t)),
+            prim: h.prim,
+        },
+    }
 }
 
-/// The exact answers in any precision by the reference loop over every primitive: t is the
+/// The exact answers by the reference loop over every primitive, in any precision: t is the
 /// exact t correctly rounded to `T`.
 pub fn exact_answers<T: Real>(shapes: &[Shape<T>], rays: &[TraceRay<T>]) -> Vec<Answer<T>> {
     (rays.par_iter())
-        .map(
-            |r| match adaptive::closest_hit_reference(shapes, &r.ray, r.tmin, r.tmax) {
-                None => Answer::Miss,
-                Some(h) => Answer::Hit {
-                    t: adaptive::rounded_t(&shapes[h.prim as usize], &r.ray, r.tmin, r.tmax)
-                        .unwrap_or(T::of(h.t)),
-                    prim: h.prim,
-                },
-            },
-        )
+        .map(|r| reference_answer(shapes.len(), |p| shapes[p as usize], r))
         .collect()
+}
+
+/// A shape by its index, shared by the threads that grade.
+type ShapeOf<T> = Arc<dyn Fn(u32) -> Shape<T> + Send + Sync>;
+
+/// A scene's rays and their exact answers, read once and used to grade any number of answer
+/// files. Where the answers came from the renderer's structures (to save time on a large
+/// scene), every one that an answer disagrees with is answered again by the reference loop
+/// over every primitive before that answer is graded: what accuses an answer is always the
+/// reference.
+pub struct Exact<T: Real> {
+    /// The scene's primitives.
+    pub primitives: usize,
+    /// The rays, each with its line in the rays file.
+    pub rays: Vec<(usize, TraceRay<T>)>,
+    /// The exact answers, one per ray.
+    pub answers: Vec<Answer<T>>,
+    /// How long the exact answers took.
+    pub elapsed: Duration,
+    shape_of: ShapeOf<T>,
+    /// Whether `answers` came from the renderer's structures (confirmed where disputed).
+    fast: bool,
+}
+
+/// One ray graded against the exact answer that stands (the reference's, where disputed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Judged<T: Real> {
+    pub graded: Graded,
+    pub exact: Answer<T>,
+}
+
+impl Exact<f32> {
+    /// A scene as the renderer holds it (instances placed), answered through its structure
+    /// in f32, each disputed answer confirmed by the reference loop.
+    pub fn of_scene(scene: Arc<Scene>, rays: Vec<(usize, TraceRay<f32>)>) -> Self {
+        let start = Instant::now();
+        let structure = Accel::for_scene(&scene, AccelChoice::Auto);
+        let answers = (rays.par_iter())
+            .map(
+                |(_, r)| match structure.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax) {
+                    None => Answer::Miss,
+                    Some(h) => Answer::Hit {
+                        t: adaptive::rounded_t(&scene.shape(h.prim), &r.ray, r.tmin, r.tmax)
+                            .unwrap_or(h.t),
+                        prim: h.prim,
+                    },
+                },
+            )
+            .collect();
+        Self {
+            primitives: scene.len(),
+            rays,
+            answers,
+            elapsed: start.elapsed(),
+            shape_of: Arc::new(move |p| scene.shape(p)),
+            fast: true,
+        }
+    }
+}
+
+impl<T: Real> Exact<T> {
+    /// Primitives in any precision, answered by the reference loop.
+    pub fn of_shapes(shapes: Vec<Shape<T>>, rays: Vec<(usize, TraceRay<T>)>) -> Self {
+        let start = Instant::now();
+        let shape_of = |p: u32| shapes[p as usize];
+        let answers = (rays.par_iter())
+            .map(|(_, r)| reference_answer(shapes.len(), shape_of, r))
+            .collect();
+        let primitives = shapes.len();
+        Self {
+            primitives,
+            rays,
+            answers,
+            elapsed: start.elapsed(),
+            shape_of: Arc::new(move |p| shapes[p as usize]),
+            fast: false,
+        }
+    }
+
+    /// Primitive `p`.
+    pub fn shape(&self, p: u32) -> Shape<T> {
+        (self.shape_of)(p)
+    }
+
+    /// Grades one answer per ray (in the rays' order), t against `tolerance`
+    /// ([`t_error`]); an answer the fast path disputes is graded against the reference's.
+    pub fn judge(&self, answers: &[Answer<T>], tolerance: f64) -> Vec<Judged<T>> {
+        let shape_of = |p: u32| (self.shape_of)(p);
+        (0..self.rays.len().min(answers.len()))
+            .into_par_iter()
+            .map(|i| {
+                let ray = &self.rays[i].1;
+                let exact = self.answers[i];
+                let graded = grade(shape_of, ray, exact, answers[i], tolerance);
+                if !self.fast || graded.stands() {
+                    return Judged { graded, exact };
+                }
+                let exact = reference_answer(self.primitives, shape_of, ray);
+                let graded = grade(shape_of, ray, exact, answers[i], tolerance);
+                Judged { graded, exact }
+            })
+            .collect()
+    }
 }
 
 /// How an answer compares with the exact one.
@@ -167,11 +277,11 @@ impl Verdict {
 /// How far a right or tied hit's t is from the exact t correctly rounded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TError {
-    /// At most one ulp of the precision away.
+    /// At most one ulp of the precision away (or exactly the exact t where that is 0 or ±∞).
     WithinUlp,
-    /// More than an ulp, at most 10⁻⁶ relative.
-    WithinMicro,
-    /// More than 10⁻⁶ relative, or not a finite number.
+    /// More than an ulp, within the tolerance ([`t_error`]).
+    WithinTolerance,
+    /// Beyond the tolerance, or not a number: a failure.
     Beyond,
 }
 
@@ -181,17 +291,57 @@ pub struct Graded {
     pub verdict: Verdict,
     /// `Some` for a right or tied hit.
     pub t_error: Option<TError>,
-    /// |t − exact t| / exact t, for a right or tied hit.
+    /// For a right or tied hit, the distance between the answer's point and the exact one,
+    /// relative to the size of the coordinates ([`t_error`]).
     pub relative: f64,
 }
 
-/// Grades `answer` to `ray` against the exact answer `exact`; `shape_of` gives a primitive by
-/// its index (to decide an exact tie).
+impl Graded {
+    /// Right or a tie, with t within the tolerance: the answer stands.
+    pub fn stands(&self) -> bool {
+        matches!(self.verdict, Verdict::Right | Verdict::Tie)
+            && self.t_error != Some(TError::Beyond)
+    }
+}
+
+/// How far `t` is from the exact `exact_t` along `ray`: within an ulp of the precision; else
+/// the distance between the points o + t·d and o + exact_t·d relative to the size of the
+/// coordinates that give them, |t − exact_t|·|d| / (|o| + |exact_t|·|d|), within `tolerance`
+/// or beyond it. An exact t of ±∞ (a t past the precision's range) is right only as itself;
+/// an exact t of 0 with the origin at 0 only as 0. Also the relative distance.
+pub fn t_error<T: Real>(ray: &TraceRay<T>, exact_t: T, t: T, tolerance: f64) -> (TError, f64) {
+    let (te, tf) = (exact_t.f64(), t.f64());
+    if tf == te {
+        return (TError::WithinUlp, 0.0);
+    }
+    if !te.is_finite() || !tf.is_finite() {
+        return (TError::Beyond, f64::INFINITY);
+    }
+    let norm = |v: [T; 3]| v.iter().map(|c| c.f64() * c.f64()).sum::<f64>().sqrt();
+    let len = norm(ray.ray.d);
+    let scale = norm(ray.ray.o) + te.abs() * len;
+    let relative = match scale > 0.0 {
+        true => (tf - te).abs() * len / scale,
+        false => f64::INFINITY,
+    };
+    let grade = if (t.key() - exact_t.key()).abs() <= 1 {
+        TError::WithinUlp
+    } else if relative <= tolerance {
+        TError::WithinTolerance
+    } else {
+        TError::Beyond
+    };
+    (grade, relative)
+}
+
+/// Grades `answer` to `ray` against the exact answer `exact`, t against `tolerance`
+/// ([`t_error`]); `shape_of` gives a primitive by its index (to decide an exact tie).
 pub fn grade<T: Real>(
     shape_of: impl Fn(u32) -> Shape<T>,
     ray: &TraceRay<T>,
     exact: Answer<T>,
     answer: Answer<T>,
+    tolerance: f64,
 ) -> Graded {
     let (verdict, exact_t, t) = match (exact, answer) {
         (Answer::Miss, Answer::Miss) => (Verdict::Right, None, None),
@@ -213,16 +363,7 @@ pub fn grade<T: Real>(
     };
     let (t_error, relative) = match (exact_t, t) {
         (Some(te), Some(t)) => {
-            let relative = ((t.f64() - te.f64()) / te.f64()).abs();
-            let grade = if !t.is_finite() {
-                TError::Beyond
-            } else if (t.key() - te.key()).abs() <= 1 {
-                TError::WithinUlp
-            } else if relative <= 1e-6 {
-                TError::WithinMicro
-            } else {
-                TError::Beyond
-            };
+            let (grade, relative) = t_error(ray, te, t, tolerance);
             (Some(grade), relative)
         }
         _ => (None, 0.0),
@@ -245,9 +386,9 @@ pub struct Tally {
     pub wrong: usize,
     /// Right or tied hits whose t is within an ulp of the exact t.
     pub t_within_ulp: usize,
-    /// … more than an ulp but within 10⁻⁶ relative.
-    pub t_within_micro: usize,
-    /// … beyond 10⁻⁶ relative (or not finite).
+    /// … more than an ulp but within the tolerance.
+    pub t_within_tolerance: usize,
+    /// … beyond the tolerance (or not a number): t failures.
     pub t_beyond: usize,
 }
 
@@ -262,7 +403,7 @@ pub fn table_header() -> String {
         "leaks",
         "false",
         "wrong",
-        "t>1e-6",
+        "t fail",
         "program ms",
         "raylab ms"
     )
@@ -299,7 +440,7 @@ impl Tally {
         }
         match g.t_error {
             Some(TError::WithinUlp) => self.t_within_ulp += 1,
-            Some(TError::WithinMicro) => self.t_within_micro += 1,
+            Some(TError::WithinTolerance) => self.t_within_tolerance += 1,
             Some(TError::Beyond) => self.t_beyond += 1,
             None => {}
         }
@@ -314,19 +455,19 @@ impl Tally {
         self.false_hits += other.false_hits;
         self.wrong += other.wrong;
         self.t_within_ulp += other.t_within_ulp;
-        self.t_within_micro += other.t_within_micro;
+        self.t_within_tolerance += other.t_within_tolerance;
         self.t_beyond += other.t_beyond;
     }
 
-    /// No leak, no false hit, no wrong primitive (t errors are reported, not failed).
+    /// No leak, no false hit, no wrong primitive and no t beyond the tolerance.
     pub fn passed(&self) -> bool {
-        self.leaks + self.false_hits + self.wrong == 0
+        self.leaks + self.false_hits + self.wrong + self.t_beyond == 0
     }
 
     /// The machine-readable line `raylab check` ends with.
     pub fn line(&self) -> String {
         format!(
-            "check: rays {} right {} leaks {} false_hits {} wrong {} ties {} t_beyond_1e-6 {}",
+            "check: rays {} right {} leaks {} false_hits {} wrong {} ties {} t_failures {}",
             self.rays,
             self.right,
             self.leaks,

@@ -6,10 +6,12 @@
 //! over these.
 //!
 //! The files: `suite.rs` the families and `round_two.rs` the second round of them;
+//! `classic.rs` those that each catch one classic lab bug (rays with their own intervals);
 //! `meshes.rs` the seeded generator, the closed test meshes and the aimed rays they are made
 //! of; `export.rs` the files; `grade.rs` the answers and their verdicts; `code.rs` the seam for
 //! linked code, its answers and its frames.
 
+mod classic;
 pub mod code;
 pub mod export;
 pub mod grade;

@@ -7,44 +7,72 @@
 //! `raylab suite export` writes them in the `trace` formats; the tests hold every intersection
 //! path of raylab to exact answers on them.
 
+pub use super::classic::classic_bugs;
 use super::meshes::{aimed_rays, cube, icosphere, random_points, vertices_and_edge_midpoints, Rng};
 pub use super::round_two::round_two;
 use crate::geometry::{Ray, Shape};
 use crate::math::Real;
 use crate::tracefile::TraceRay;
 
-/// One family: a scene and the rays shot at it (all with tmin = 0, tmax = ∞), in f32 (the
-/// suite) or f64.
+/// One family: a scene and the rays shot at it, in f32 (the suite) or f64.
 pub struct Family<T: Real = f32> {
     /// What it is, in a few words (unique in the suite).
     pub name: String,
     /// What it probes, in a sentence (the exported suite's README lists it).
     pub probes: String,
+    /// The classic bug it catches, in a few words (the exported suite's README lists it).
+    pub catches: String,
     /// The primitives; an index is a position here.
     pub shapes: Vec<Shape<T>>,
-    /// The rays, with tmin = 0 and tmax = ∞.
+    /// The rays.
     pub rays: Vec<Ray<T>>,
+    /// Each ray's (tmin, tmax), both open; empty where every ray is whole (0, ∞).
+    pub spans: Vec<(T, T)>,
 }
 
 impl<T: Real> Family<T> {
-    /// A family of these shapes and rays.
+    /// A family of these shapes and rays, each ray whole (0 < t < ∞).
     pub fn new(name: impl Into<String>, shapes: Vec<Shape<T>>, rays: Vec<Ray<T>>) -> Self {
         Self {
             name: name.into(),
             probes: String::new(),
+            catches: String::new(),
             shapes,
             rays,
+            spans: Vec::new(),
         }
     }
 
-    /// The rays as the trace formats hold them, each over its whole length.
+    /// A family of rays with their own intervals.
+    pub fn with_spans(
+        name: impl Into<String>,
+        shapes: Vec<Shape<T>>,
+        rays: Vec<TraceRay<T>>,
+    ) -> Self {
+        let mut family = Self::new(name, shapes, rays.iter().map(|r| r.ray).collect());
+        family.spans = rays.iter().map(|r| (r.tmin, r.tmax)).collect();
+        family
+    }
+
+    /// The rays as the trace formats hold them, each with its interval.
     pub fn trace_rays(&self) -> Vec<TraceRay<T>> {
-        self.rays.iter().map(|&ray| TraceRay::whole(ray)).collect()
+        (self.rays.iter().enumerate())
+            .map(|(i, &ray)| match self.spans.get(i) {
+                Some(&(tmin, tmax)) => TraceRay { ray, tmin, tmax },
+                None => TraceRay::whole(ray),
+            })
+            .collect()
     }
 
     /// With a sentence on what it probes.
     pub fn probing(mut self, probes: impl Into<String>) -> Self {
         self.probes = probes.into();
+        self
+    }
+
+    /// With the classic bug it catches.
+    pub fn catching(mut self, catches: impl Into<String>) -> Self {
+        self.catches = catches.into();
         self
     }
 }
@@ -60,6 +88,7 @@ pub fn all() -> Vec<Family> {
         cornell(),
         cornell_translated(),
         round_two(),
+        classic_bugs(),
     ]
     .into_iter()
     .flatten()

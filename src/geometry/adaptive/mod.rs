@@ -57,7 +57,7 @@ pub use filter::{
 pub use interval::triangle_interval;
 pub use nearest::Nearest;
 pub use rounded::rounded_t;
-pub use search::{closest_hit_reference, Search};
+pub use search::{closest_hit_reference, closest_hit_reference_by, Search};
 
 use crate::geometry::{sphere, Ray, Shape};
 use crate::math::Real;

@@ -188,9 +188,21 @@ pub fn closest_hit_reference<T: Real>(
     tmin: T,
     tmax: T,
 ) -> Option<Hit<f64>> {
+    closest_hit_reference_by(shapes.len(), |i| shapes[i as usize], ray, tmin, tmax)
+}
+
+/// [`closest_hit_reference`] over `count` shapes given by their index (a scene's primitives,
+/// its instances' triangles placed, without a list of them all).
+pub fn closest_hit_reference_by<T: Real>(
+    count: usize,
+    shape: impl Fn(u32) -> Shape<T>,
+    ray: &Ray<T>,
+    tmin: T,
+    tmax: T,
+) -> Option<Hit<f64>> {
     let mut n = Nearest::new(ray, tmin, tmax);
-    for (i, s) in shapes.iter().enumerate() {
-        n.offer(i as u32, widen(s), Estimate::Unsure);
+    for i in 0..count as u32 {
+        n.offer(i, widen(&shape(i)), Estimate::Unsure);
     }
     n.hit()
 }
