@@ -25,6 +25,7 @@ fn main() -> ExitCode {
         Some(cli::Command::Bench(a)) => cli::bench(a),
         Some(cli::Command::Inspect(a)) => cli::inspect(a),
         Some(cli::Command::Suite(a)) => cli::suite(a),
+        Some(cli::Command::Grade(a)) => cli::grade(a),
         Some(cli::Command::Check(a)) => match cli::check(a) {
             // Wrong answers: the report is printed, the status says so.
             Ok(false) => return ExitCode::from(1),

@@ -245,12 +245,11 @@ fn exact_ties() -> Family {
         Shape::sphere([3.0, 0.0, 3.0], 1.0),
     ];
     let mut rays = Vec::new();
+    // Origins and targets on a grid of 1/64, so that d = target − o is exact and the ray
+    // passes exactly through its target.
+    let grid = |rng: &mut Rng| (rng.below(129) as f32 - 64.0) / 64.0;
     for j in 0..200 {
-        let o = [
-            rng.range(-1.0, 1.0) as f32,
-            rng.range(-1.0, 1.0) as f32,
-            0.0,
-        ];
+        let o = [grid(&mut rng), grid(&mut rng), 0.0];
         let target = match j % 4 {
             // On the shared diagonal, at a point exact in f32.
             0 | 1 => {
@@ -259,11 +258,7 @@ fn exact_ties() -> Family {
             }
             // Where the sphere touches the plane z = 2.
             2 => [3.0, 0.0, 2.0],
-            _ => [
-                rng.range(-0.9, 0.9) as f32,
-                rng.range(-0.9, 0.9) as f32,
-                2.0,
-            ],
+            _ => [grid(&mut rng) * 0.875, grid(&mut rng) * 0.875, 2.0],
         };
         rays.push(Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k])));
     }

@@ -4,13 +4,13 @@
 use super::program;
 use super::{read_text, Precision, ViewArgs};
 use anyhow::{anyhow, bail, Result};
-use raylab::check::grade::{self, Answer, Graded, Tally, Verdict};
+use raylab::check::grade::{self, Answer, Exact, Judged, Tally, Verdict};
 use raylab::check::{export, suite};
-use raylab::geometry::Shape;
 use raylab::math::Real;
-use raylab::tracefile::{self, TraceRay};
+use raylab::tracefile;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::time::Duration;
 
 /// `raylab suite`.
 #[derive(clap::Args, Debug)]
@@ -66,6 +66,14 @@ pub struct CheckArgs {
     /// Seconds the program may take on one scene before it is stopped.
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
     pub timeout: f64,
+    /// How far a right hit's point o + t·d may lie from the exact one, relative to the size
+    /// of its coordinates (|t − exact t|·|d| / (|o| + |exact t|·|d|)); a t beyond it is a
+    /// failure. Within an ulp of the precision is always right.
+    #[arg(long, value_name = "X", default_value_t = grade::DEFAULT_T_TOLERANCE, allow_hyphen_values = true)]
+    pub t_tolerance: f64,
+    /// With --suite: check only this family (its directory name, or its number).
+    #[arg(long, value_name = "NAME", requires = "suite")]
+    pub family: Option<String>,
     /// The scene and, with --image, the view (the render options).
     #[command(flatten)]
     pub view: ViewArgs,
@@ -89,8 +97,8 @@ pub fn suite(args: &SuiteArgs) -> Result<()> {
     }
 }
 
-/// Runs `raylab check`: `Ok(true)` when no answer is a leak, a false hit or a wrong primitive
-/// (and every program run gave its answers).
+/// Runs `raylab check`: `Ok(true)` when every answer stands: no leak, false hit, wrong
+/// primitive or t beyond the tolerance (and every program run gave its answers).
 pub fn check(args: &CheckArgs) -> Result<bool> {
     if args.answers.is_none() && args.program.is_none() {
         bail!("give the answers to grade: --answers FILE, or --program CMD to run");
@@ -101,10 +109,9 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
             args.timeout
         );
     }
+    check_tolerance(args.t_tolerance)?;
     if let Some(cmd) = &args.program {
-        if !(cmd.contains("{scene}") && cmd.contains("{rays}")) {
-            bail!("--program '{cmd}' must name {{scene}} and {{rays}}, where the files' paths go");
-        }
+        check_template(cmd)?;
     }
     if let (Some(image), Some(template)) = (&args.image, &args.program) {
         if args.precision != Precision::F32 {
@@ -118,13 +125,20 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
     }
 }
 
-/// A scene's primitives and its rays' exact answers, in one precision.
-pub(super) struct Exact<T: Real> {
-    pub primitives: usize,
-    pub shape_of: Box<dyn Fn(u32) -> Shape<T> + Sync>,
-    pub rays: Vec<(usize, TraceRay<T>)>,
-    pub answers: Vec<Answer<T>>,
-    pub elapsed: Duration,
+/// A --t-tolerance a grade can use: a number from 0 to 1.
+pub(super) fn check_tolerance(tolerance: f64) -> Result<()> {
+    if !(0.0..=1.0).contains(&tolerance) {
+        bail!("--t-tolerance {tolerance} must be a number from 0 to 1 (relative)");
+    }
+    Ok(())
+}
+
+/// A --program template must say where the files' paths go.
+pub(super) fn check_template(cmd: &str) -> Result<()> {
+    if !(cmd.contains("{scene}") && cmd.contains("{rays}")) {
+        bail!("--program '{cmd}' must name {{scene}} and {{rays}}, where the files' paths go");
+    }
+    Ok(())
 }
 
 /// Answers with the line each was read from.
@@ -132,52 +146,46 @@ pub(super) type Answers<T> = Vec<(usize, Answer<T>)>;
 
 type ExactFn<T> = fn(&Path, &Path) -> Result<Exact<T>>;
 
-/// The files read in f32 and answered through the renderer's structures.
+/// The files read in f32 and answered through the renderer's structures (disputed answers
+/// confirmed by the reference loop).
 fn exact_f32(scene: &Path, rays: &Path) -> Result<Exact<f32>> {
     let (scene_text, rays_text) = (read_text(scene)?, read_text(rays)?);
-    let start = Instant::now();
     let scene = tracefile::parse_scene_instanced(&scene.display().to_string(), &scene_text)?;
     let rays = tracefile::parse_rays_at_lines::<f32>(&rays.display().to_string(), &rays_text)?;
-    let plain: Vec<TraceRay<f32>> = rays.iter().map(|(_, r)| *r).collect();
-    let answers = grade::exact_answers_f32(&scene, &plain);
-    Ok(Exact {
-        primitives: scene.len(),
-        shape_of: Box::new(move |p| scene.shape(p)),
-        rays,
-        answers,
-        elapsed: start.elapsed(),
-    })
+    Ok(Exact::of_scene(Arc::new(scene), rays))
 }
 
 /// The files read in `T` and answered by the reference loop.
 fn exact_generic<T: Real>(scene: &Path, rays: &Path) -> Result<Exact<T>> {
     let (scene_text, rays_text) = (read_text(scene)?, read_text(rays)?);
-    let start = Instant::now();
     let shapes = tracefile::parse_scene::<T>(&scene.display().to_string(), &scene_text)?;
     let rays = tracefile::parse_rays_at_lines::<T>(&rays.display().to_string(), &rays_text)?;
-    let plain: Vec<TraceRay<T>> = rays.iter().map(|(_, r)| *r).collect();
-    let answers = grade::exact_answers(&shapes, &plain);
-    Ok(Exact {
-        primitives: shapes.len(),
-        shape_of: Box::new(move |p| shapes[p as usize]),
-        rays,
-        answers,
-        elapsed: start.elapsed(),
-    })
+    Ok(Exact::of_shapes(shapes, rays))
+}
+
+fn precision_name(p: Precision) -> &'static str {
+    match p {
+        Precision::F32 => "f32",
+        Precision::F64 => "f64",
+    }
 }
 
 fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
-    let name = match args.precision {
-        Precision::F32 => "f32",
-        Precision::F64 => "f64",
-    };
+    let name = precision_name(args.precision);
+    let tolerance = args.t_tolerance;
     match (&args.suite, &args.rays) {
         (Some(dir), _) => {
             let program = args
                 .program
                 .as_deref()
                 .expect("clap: --suite requires --program");
-            check_suite(dir, program, args.timeout, name, exact_of)
+            let run = SuiteRun {
+                template: program,
+                timeout_s: args.timeout,
+                precision: name,
+                tolerance,
+            };
+            check_suite(dir, args.family.as_deref(), &run, exact_of)
         }
         (None, Some(rays)) => {
             let scene = &PathBuf::from(&args.view.scene);
@@ -190,7 +198,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             let exact = exact_of(scene, rays)?;
             // Written only once everything is read: bad input prints its error alone.
             let mut out = format!(
-                "scene {} ({} primitives), rays {} ({} rays), {name}; exact answers by raylab's adaptive method in {:.1} ms\n",
+                "scene {} ({} primitives), rays {} ({} rays), {name}; exact answers by raylab's adaptive method in {:.1} ms; t tolerance {tolerance:e}\n",
                 scene.display(),
                 exact.primitives,
                 rays.display(),
@@ -207,7 +215,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 }
                 (None, Some(template)) => {
                     let command = program::command_for(template, scene, rays);
-                    match program_answers(&command, args.timeout, &exact, rays) {
+                    match program_answers(template, scene, args.timeout, &exact, rays) {
                         Ok((elapsed, answers)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
                             out += &format!("program: {command} ({ms:.1} ms)\n");
@@ -222,9 +230,9 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 (None, None) => unreachable!("checked in `check`"),
             };
             let (answers_file, answers) = answers;
-            let graded = grade_all(&exact, &answers);
-            let place = |i: usize| format!("{}:{}", rays.display(), exact.rays[i].0);
-            let tally = report(&mut out, &graded, &exact, &answers, &place, &answers_file);
+            let judged = judge_all(&exact, &answers, tolerance);
+            let place = |i: usize| ray_place(rays, &exact, i);
+            let tally = report(&mut out, &judged, &exact, &answers, &place, &answers_file);
             say!("{out}{}", tally.line());
             Ok(tally.passed())
         }
@@ -234,8 +242,14 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
     }
 }
 
+/// Where ray `i` is: its file and line, and its number among the rays (the line of its answer
+/// in an answer file without comments).
+fn ray_place<T: Real>(rays: &Path, exact: &Exact<T>, i: usize) -> String {
+    format!("{}:{} (ray {})", rays.display(), exact.rays[i].0, i + 1)
+}
+
 /// The most a program may print for `rays` rays: far more than any answers need.
-fn max_output(rays: usize) -> usize {
+pub(super) fn max_output(rays: usize) -> usize {
     rays.saturating_mul(160).saturating_add(1 << 20)
 }
 
@@ -262,14 +276,17 @@ fn answers_for<T: Real>(
 /// and answers, or why it gave none (it crashed, ran out of time, printed too much or
 /// something that is not one answer per ray), which makes the run a failure, not bad input.
 pub(super) fn program_answers<T: Real>(
-    command: &str,
+    template: &str,
+    scene_file: &Path,
     timeout_s: f64,
     exact: &Exact<T>,
     rays_file: &Path,
 ) -> Result<(Duration, Answers<T>), String> {
     let timeout = Duration::from_secs_f64(timeout_s);
-    let ran =
-        program::run(command, timeout, max_output(exact.rays.len())).map_err(|e| e.to_string())?;
+    // The paths go in as bytes (a path that is not UTF-8 reaches the program intact).
+    let command = program::command_line(template, scene_file, rays_file);
+    let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
+    let ran = program::run_with(&command, &limits).map_err(|e| e.to_string())?;
     let answers =
         answers_for("its output", &ran.stdout, exact, rays_file).map_err(|e| format!("{e:#}"))?;
     Ok((ran.elapsed, answers))
@@ -282,25 +299,27 @@ pub(super) fn say_failed(out: &str, command: &str, why: &str) -> Result<()> {
     Ok(())
 }
 
-pub(super) fn grade_all<T: Real>(exact: &Exact<T>, answers: &[(usize, Answer<T>)]) -> Vec<Graded> {
-    use rayon::prelude::*;
-    (0..exact.rays.len())
-        .into_par_iter()
-        .map(|i| {
-            grade::grade(
-                &exact.shape_of,
-                &exact.rays[i].1,
-                exact.answers[i],
-                answers[i].1,
-            )
-        })
-        .collect()
+/// Every answer graded against the exact ones (the reference's where disputed).
+pub(super) fn judge_all<T: Real>(
+    exact: &Exact<T>,
+    answers: &[(usize, Answer<T>)],
+    tolerance: f64,
+) -> Vec<Judged<T>> {
+    let plain: Vec<Answer<T>> = answers.iter().map(|(_, a)| *a).collect();
+    exact.judge(&plain, tolerance)
+}
+
+/// The tally of graded rays.
+fn tally_of<T: Real>(judged: &[Judged<T>]) -> Tally {
+    let mut tally = Tally::default();
+    judged.iter().for_each(|j| tally.add(&j.graded));
+    tally
 }
 
 /// Writes the counts and the first wrong answers as one-line reproducers; returns the tally.
 pub(super) fn report<T: Real>(
     out: &mut String,
-    graded: &[Graded],
+    judged: &[Judged<T>],
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
@@ -311,9 +330,8 @@ pub(super) fn report<T: Real>(
     macro_rules! w {
         ($($arg:tt)*) => { writeln!(out, $($arg)*).expect("a String takes any text") };
     }
-    let mut tally = Tally::default();
-    graded.iter().for_each(|g| tally.add(g));
-    let hits = tally.t_within_ulp + tally.t_within_micro + tally.t_beyond;
+    let tally = tally_of(judged);
+    let hits = tally.t_within_ulp + tally.t_within_tolerance + tally.t_beyond;
     w!(
         "  right       {:>8}   the exact primitive, or a miss where nothing is met",
         tally.right
@@ -335,54 +353,72 @@ pub(super) fn report<T: Real>(
         tally.wrong
     );
     w!(
-        "  t of the {hits} right or tied hits against the exact t rounded: {} within 1 ulp, {} within 1e-6 relative, {} beyond",
-        tally.t_within_ulp,
-        tally.t_within_micro,
+        "  t failures  {:>8}   a right or tied hit whose t is beyond the tolerance",
         tally.t_beyond
     );
-    let shown = |wanted: fn(&Graded) -> bool| {
-        (graded.iter().enumerate())
-            .filter(move |(_, g)| wanted(g))
-            .take(5)
-    };
-    let wrong = tally.leaks + tally.false_hits + tally.wrong;
-    if wrong > 0 {
-        w!("the first of the {wrong} wrong answers (ray, exact answer, the answer given):");
-        for (i, g) in shown(|g| !matches!(g.verdict, Verdict::Right | Verdict::Tie)) {
-            w!("{}", reproducer(i, g, exact, answers, place, answers_file));
-        }
-    }
-    if tally.t_beyond > 0 {
-        w!(
-            "the first of the {} hits whose t is off by more than 1e-6:",
-            tally.t_beyond
-        );
-        for (i, g) in shown(|g| g.t_error == Some(grade::TError::Beyond)) {
-            w!("{}", reproducer(i, g, exact, answers, place, answers_file));
-        }
+    w!(
+        "  t of the {hits} right or tied hits against the exact t rounded: {} within 1 ulp, {} within the tolerance, {} beyond",
+        tally.t_within_ulp,
+        tally.t_within_tolerance,
+        tally.t_beyond
+    );
+    for line in reproducers(judged, exact, answers, place, answers_file, 5) {
+        w!("{line}");
     }
     tally
+}
+
+/// The first `most` wrong answers and the first `most` t failures, each under a heading, as
+/// one-line reproducers.
+fn reproducers<T: Real>(
+    judged: &[Judged<T>],
+    exact: &Exact<T>,
+    answers: &[(usize, Answer<T>)],
+    place: &dyn Fn(usize) -> String,
+    answers_file: &str,
+    most: usize,
+) -> Vec<String> {
+    let mut lines = Vec::new();
+    let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
+    let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
+    for (heading, wanted) in [
+        ("wrong answers", &wrong as &dyn Fn(&Judged<T>) -> bool),
+        ("hits whose t is beyond the tolerance", &t_failed),
+    ] {
+        let count = judged.iter().filter(|j| wanted(j)).count();
+        if count == 0 {
+            continue;
+        }
+        lines.push(format!(
+            "the first of the {count} {heading} (ray, exact answer, the answer given):"
+        ));
+        let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
+        for (i, j) in shown.take(most) {
+            lines.push(reproducer(i, j, exact, answers, place, answers_file));
+        }
+    }
+    lines
 }
 
 /// One graded ray as a line: where the ray is, the ray, the exact answer and the one given.
 fn reproducer<T: Real>(
     i: usize,
-    g: &Graded,
+    j: &Judged<T>,
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
     answers_file: &str,
 ) -> String {
     let ray = exact.rays[i].1;
-    let what = match g.verdict {
-        Verdict::Right | Verdict::Tie => format!("t off by {:.1e} relative", g.relative),
+    let what = match j.graded.verdict {
+        Verdict::Right | Verdict::Tie => format!("t off by {:.1e} relative", j.graded.relative),
         v => v.name().to_string(),
     };
     format!(
         "  {}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
         place(i),
         ray.line(),
-        exact.answers[i].text(),
+        j.exact.text(),
         answers[i].0,
         answers[i].1.text()
     )
@@ -393,44 +429,65 @@ fn failed_line(tally: &Tally, failed: usize) -> String {
     format!("{} failed_runs {failed}", tally.line())
 }
 
-/// Runs the program on every family of an exported suite: one row per family and a total.
+/// How a suite's program is run and graded.
+struct SuiteRun<'a> {
+    template: &'a str,
+    timeout_s: f64,
+    precision: &'a str,
+    tolerance: f64,
+}
+
+/// The reproducers shown under each failing family of a suite.
+const SUITE_REPRODUCERS: usize = 3;
+
+/// Runs the program on every family of an exported suite (or on `only`): one row per family,
+/// the first reproducers under each failing one, and a total.
 fn check_suite<T: Real>(
     dir: &Path,
-    template: &str,
-    timeout_s: f64,
-    precision: &str,
+    only: Option<&str>,
+    run: &SuiteRun,
     exact_of: ExactFn<T>,
 ) -> Result<bool> {
-    let families = suite_families(dir)?;
+    let families = suite_families(dir, only)?;
     say!(
-        "suite {} ({} families), {precision}, program: {template}",
+        "suite {} ({} families), {}, t tolerance {:e}, program: {}",
         dir.display(),
-        families.len()
+        families.len(),
+        run.precision,
+        run.tolerance,
+        run.template
     );
     say!("{}", grade::table_header());
     let mut total = Tally::default();
     let mut failed = 0;
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
     for family in &families {
-        let name = family
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = family_name(family);
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let exact = exact_of(&scene, &rays)?;
-        let command = program::command_for(template, &scene, &rays);
-        let outcome = program_answers(&command, timeout_s, &exact, &rays);
-        match outcome {
+        match program_answers(run.template, &scene, run.timeout_s, &exact, &rays) {
             Ok((elapsed, answers)) => {
-                let mut tally = Tally::default();
-                grade_all(&exact, &answers)
-                    .iter()
-                    .for_each(|g| tally.add(g));
+                let judged = judge_all(&exact, &answers, run.tolerance);
+                let tally = tally_of(&judged);
                 let ms = (
                     elapsed.as_secs_f64() * 1e3,
                     exact.elapsed.as_secs_f64() * 1e3,
                 );
                 say!("{}", tally.row(&name, ms));
+                if !tally.passed() {
+                    let place = |i: usize| ray_place(&rays, &exact, i);
+                    let lines = reproducers(
+                        &judged,
+                        &exact,
+                        &answers,
+                        &place,
+                        "its output",
+                        SUITE_REPRODUCERS,
+                    );
+                    for line in lines {
+                        say!("    {line}");
+                    }
+                }
                 total.merge(&tally);
                 program_time += elapsed;
                 raylab_time += exact.elapsed;
@@ -458,13 +515,42 @@ fn check_suite<T: Real>(
     Ok(total.passed())
 }
 
-/// The family directories of an exported suite (each with scene.txt and rays.txt), in order.
-fn suite_families(dir: &Path) -> Result<Vec<PathBuf>> {
+/// A family directory's name.
+fn family_name(dir: &Path) -> String {
+    dir.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The family directories of an exported suite, in order (only `only`, by its directory name
+/// or its number, if given). Every directory in the suite must hold a regular scene.txt and
+/// rays.txt: one that does not is named, not skipped.
+fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
     let entries = std::fs::read_dir(dir).map_err(|e| anyhow!("{}: {e}", dir.display()))?;
-    let mut families: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.join("scene.txt").is_file() && p.join("rays.txt").is_file())
-        .collect();
+    let mut families: Vec<PathBuf> = Vec::new();
+    for entry in entries {
+        let entry = entry.map_err(|e| anyhow!("{}: {e}", dir.display()))?;
+        let path = entry.path();
+        if !entry.file_type().is_ok_and(|t| t.is_dir()) {
+            continue;
+        }
+        for file in ["scene.txt", "rays.txt"] {
+            let f = path.join(file);
+            let meta = std::fs::metadata(&f);
+            if !meta.as_ref().is_ok_and(|m| m.is_file()) {
+                let why = match meta {
+                    Err(e) => e.to_string(),
+                    Ok(_) => "not a regular file".to_string(),
+                };
+                bail!(
+                    "{}: a family of the suite without its {file} ({why}); export the suite again with `raylab suite export {}`",
+                    f.display(),
+                    dir.display()
+                );
+            }
+        }
+        families.push(path);
+    }
     families.sort();
     if families.is_empty() {
         bail!(
@@ -473,5 +559,89 @@ fn suite_families(dir: &Path) -> Result<Vec<PathBuf>> {
             dir.display()
         );
     }
+    if let Some(only) = only {
+        let number = only.parse::<usize>().ok().map(|n| format!("{n:02}-"));
+        let wanted = |p: &PathBuf| {
+            let name = family_name(p);
+            name == only
+                || number
+                    .as_ref()
+                    .is_some_and(|n| name.starts_with(n.as_str()))
+        };
+        families.retain(wanted);
+        if families.is_empty() {
+            bail!(
+                "{}: no family '{only}' (a directory name such as 01-cube-from-inside, or its number)",
+                dir.display()
+            );
+        }
+    }
     Ok(families)
+}
+
+/// One family of an exported suite with its exact answers, computed once, to grade any
+/// number of programs' outputs (`raylab grade`).
+pub(super) struct Case {
+    /// The family's directory name (`01-cube-from-inside`).
+    pub name: String,
+    pub scene: PathBuf,
+    pub rays: PathBuf,
+    pub ray_count: usize,
+    /// The most a program may print for this family.
+    pub max_output: usize,
+    grader: Grader,
+}
+
+/// Grades a program's standard output: the tally, or why it is not one answer per ray.
+type Grader = Box<dyn Fn(&str) -> std::result::Result<Tally, String> + Send + Sync>;
+
+impl Case {
+    /// Grades a program's standard output: the tally, or why it is not one answer per ray.
+    pub fn grade(&self, stdout: &str) -> std::result::Result<Tally, String> {
+        (self.grader)(stdout)
+    }
+}
+
+/// The families of an exported suite (only `family` if given: a directory name or its
+/// number), each with its exact answers computed once.
+pub(super) fn suite_cases(
+    dir: &Path,
+    family: Option<&str>,
+    precision: Precision,
+    tolerance: f64,
+) -> Result<Vec<Case>> {
+    check_tolerance(tolerance)?;
+    suite_families(dir, family)?
+        .into_iter()
+        .map(|path| match precision {
+            Precision::F32 => case_of(
+                &path,
+                exact_f32(&path.join("scene.txt"), &path.join("rays.txt"))?,
+                tolerance,
+            ),
+            Precision::F64 => case_of(
+                &path,
+                exact_generic::<f64>(&path.join("scene.txt"), &path.join("rays.txt"))?,
+                tolerance,
+            ),
+        })
+        .collect()
+}
+
+fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case> {
+    let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
+    let rays_file = rays.clone();
+    let ray_count = exact.rays.len();
+    Ok(Case {
+        name: family_name(path),
+        scene,
+        rays,
+        ray_count,
+        max_output: max_output(ray_count),
+        grader: Box::new(move |stdout| {
+            let answers = answers_for("its output", stdout, &exact, &rays_file)
+                .map_err(|e| format!("{e:#}"))?;
+            Ok(tally_of(&judge_all(&exact, &answers, tolerance)))
+        }),
+    })
 }

@@ -26,9 +26,11 @@ macro_rules! say {
 
 mod check;
 mod check_image;
+mod grade;
 mod program;
 
 pub use check::{check, suite, CheckArgs, SuiteArgs};
+pub use grade::{grade, GradeArgs};
 
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
@@ -68,6 +70,12 @@ pub enum Command {
     /// wrong W ties T t_beyond_1e-6 U`. Exit 0 when there is no leak, false hit or wrong
     /// primitive; 1 when there is (or a program gave no answers); 2 on bad input.
     Check(CheckArgs),
+    /// Grade a class: run --program in a private copy of every submission directory of
+    /// CLASS_DIR on every family of an exported suite (several submissions at once, each
+    /// under limits of time, output, memory and processes) and print a row per submission;
+    /// --csv and --json write a record per submission and family, --rubric adds points.
+    /// Exit 0 when the grading ran, whatever the grades; 2 on bad input.
+    Grade(GradeArgs),
 }
 
 /// The values of a choice control for clap, each with its one-line explanation (the values
@@ -177,12 +185,12 @@ pub struct ViewArgs {
     /// .mtl; the camera is placed to frame the model).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
-    /// Image width in pixels (1..=16384).
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    /// Image height in pixels (1..=16384).
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
+    /// Image width in pixels (1..=16384; default 640, `check --image` 160).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (1..=16384; default 480, `check --image` 120).
+    #[arg(long)]
+    pub height: Option<u32>,
     /// Focal length in pixels (default: the image width, about 53° of horizontal view).
     #[arg(long, allow_hyphen_values = true)]
     pub focal: Option<f64>,
@@ -417,14 +425,23 @@ fn prepare_view(path: &Path) -> Result<(Scene, Camera, RenderSettings)> {
     Ok((scene, camera, s))
 }
 
+/// The image size of `render`, `bench` and `inspect` where the flags give none.
+const DEFAULT_SIZE: (u32, u32) = (640, 480);
+
 /// The scene, camera and settings a `ViewArgs` asks for.
 fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
+    prepare_sized(v, DEFAULT_SIZE)
+}
+
+/// [`prepare`] with another default image size.
+fn prepare_sized(v: &ViewArgs, size: (u32, u32)) -> Result<(Scene, Camera, RenderSettings)> {
     if let Some(path) = &v.view {
         return prepare_view(path);
     }
+    let (width, height) = (v.width.unwrap_or(size.0), v.height.unwrap_or(size.1));
     let settings = RenderSettings {
-        width: v.width,
-        height: v.height,
+        width,
+        height,
         tile_culling: !v.no_tile_culling,
         ..v.controls.0
     };
@@ -442,14 +459,14 @@ fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
         .or(start.map(|c| c.pitch))
         .unwrap_or(0.0)
         .to_radians();
-    let focal = (v.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * v.width as f64);
+    let focal = (v.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * width as f64);
     let position = match (v.camera, start, v.scene.as_str()) {
         (Some(pos), _, _) => pos,
         (None, Some(c), _) => DVec3::from_array(c.position),
-        (None, None, "cornell") => Camera::cornell(v.width).position(),
+        (None, None, "cornell") => Camera::cornell(width).position(),
         (None, None, _) => {
             let bounds = scene.bounds().context("empty scene")?;
-            CameraController::framing(bounds, v.width, v.height).position
+            CameraController::framing(bounds, width, height).position
         }
     };
     let camera = Camera::from_yaw_pitch(position, yaw, pitch, focal)?;

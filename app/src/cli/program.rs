@@ -1,14 +1,28 @@
-//! Running a program that is not raylab's (`raylab check --program`): through the shell, with
-//! the scene's and the rays' paths in its command, its standard output read as its answers.
-//! A program never holds raylab up or fills its memory: it is stopped, with every process it
-//! started, when its time is up or its output passes a limit.
+//! Running a program that is not raylab's (`raylab check --program`, `raylab grade`): through
+//! the shell, with the scene's and the rays' paths in its command, its standard output read as
+//! its answers. A program never holds raylab up, fills its memory or outlives its run: when
+//! its time is up, its output passes a limit or its shell ends, it is stopped with every
+//! process it started, those that left its process group or session included. Ctrl+C or
+//! SIGTERM on raylab stops them too and removes the [`RunDir`]s. Linux (it reads /proc).
+//!
+//! Finding the processes: the shell leads a process group of its own; /proc is read while it
+//! runs and every process below it is remembered with its group and session (a `setsid`
+//! daemon keeps its pid, and its new session is its own); raylab is a child subreaper, so a
+//! daemon whose parent died becomes raylab's child instead of init's, never lost; and a
+//! program run as a uid of its own (`raylab grade` as root) is every process of that uid.
 
-use std::io::Read;
-use std::path::Path;
+use std::collections::{HashMap, HashSet};
+use std::ffi::{OsStr, OsString};
+use std::fs::File;
+use std::io::{Read, Write};
+use std::os::unix::ffi::{OsStrExt, OsStringExt};
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Mutex, MutexGuard, Once};
 use std::time::{Duration, Instant};
+
+use rustix::process::{Pid, Signal};
 
 /// What a program printed, and how long it took.
 #[derive(Debug)]
@@ -32,70 +46,213 @@ pub enum RunError {
     NotText,
 }
 
-/// The command with `{scene}` and `{rays}` replaced by the paths (quoted for the shell).
+/// What a run may use. `run` gives a time and an output limit; `raylab grade` all of them.
+#[derive(Clone, Debug)]
+pub struct Limits {
+    /// Wall time from the start of the program to the end of its shell.
+    pub timeout: Duration,
+    /// Bytes of standard output; more ends the run ([`RunError::TooMuch`]).
+    pub max_output_bytes: usize,
+    /// Address space of each process (RLIMIT_AS).
+    pub max_memory_bytes: Option<u64>,
+    /// Processes (threads count) at once: RLIMIT_NPROC, which counts every process of the
+    /// user, so as a normal user the limit is the user's count at the start plus this; as
+    /// root it holds only with `run_as` (root is exempt from RLIMIT_NPROC).
+    pub max_processes: Option<u64>,
+    /// The working directory (default: raylab's).
+    pub dir: Option<PathBuf>,
+    /// The uid (and gid) to run as, one no other process has; HOME and TMPDIR become `dir`.
+    pub run_as: Option<u32>,
+}
+
+impl Limits {
+    /// A time and an output limit, nothing else.
+    pub fn new(timeout: Duration, max_output_bytes: usize) -> Self {
+        Self {
+            timeout,
+            max_output_bytes,
+            max_memory_bytes: None,
+            max_processes: None,
+            dir: None,
+            run_as: None,
+        }
+    }
+}
+
+/// The command with `{scene}` and `{rays}` replaced by the paths, for messages (a path that is
+/// not UTF-8 shows U+FFFD here; [`command_line`] is the one to run).
 pub fn command_for(template: &str, scene: &Path, rays: &Path) -> String {
-    template
-        .replace("{scene}", &shell_quoted(scene))
-        .replace("{rays}", &shell_quoted(rays))
+    command_line(template, scene, rays)
+        .to_string_lossy()
+        .into_owned()
 }
 
-/// `path` as one shell word: in single quotes, a quote within written `'\''`.
-fn shell_quoted(path: &Path) -> String {
-    format!("'{}'", path.display().to_string().replace('\'', r"'\''"))
+/// The command with `{scene}` and `{rays}` replaced by the paths, each one quoted shell word
+/// with its bytes intact. One pass over the template: a path that holds `{rays}` itself is
+/// never substituted into (that would end its quotes early and run the rest as code).
+pub fn command_line(template: &str, scene: &Path, rays: &Path) -> OsString {
+    let (scene, rays) = (shell_word(scene.as_os_str()), shell_word(rays.as_os_str()));
+    let t = template.as_bytes();
+    let mut out = Vec::with_capacity(t.len() + scene.len() + rays.len());
+    let mut i = 0;
+    while i < t.len() {
+        if t[i..].starts_with(b"{scene}") {
+            out.extend_from_slice(&scene);
+            i += "{scene}".len();
+        } else if t[i..].starts_with(b"{rays}") {
+            out.extend_from_slice(&rays);
+            i += "{rays}".len();
+        } else {
+            out.push(t[i]);
+            i += 1;
+        }
+    }
+    OsString::from_vec(out)
 }
 
-/// Runs `command` with `sh -c` (standard input empty) and returns its standard output. It is
-/// stopped, with its process group, after `timeout` or once it has printed more than
-/// `max_bytes`; a status other than success is an error quoting the end of its standard error.
-pub fn run(command: &str, timeout: Duration, max_bytes: usize) -> Result<Ran, RunError> {
+/// `word` in single quotes, a quote within written `'\''`: the shell expands nothing in it.
+fn shell_word(word: &OsStr) -> Vec<u8> {
+    let mut out = vec![b'\''];
+    for &b in word.as_bytes() {
+        match b {
+            b'\'' => out.extend_from_slice(br"'\''"),
+            _ => out.push(b),
+        }
+    }
+    out.push(b'\'');
+    out
+}
+
+/// How long the pipes are read after the program itself ended: what it wrote last is still
+/// in them, but a daemon it left holding them never holds the run up.
+const GRACE: Duration = Duration::from_millis(200);
+
+/// How often /proc is read for the processes the program started.
+const SCAN_EVERY: Duration = Duration::from_millis(50);
+
+/// The longest wait for the pipes between two checks of the program's state.
+const TICK: Duration = Duration::from_millis(5);
+
+/// The bytes of standard error kept for the message of a failed run.
+const STDERR_TAIL: usize = 2000;
+
+/// The shell raylab starts: it waits for one line on its standard input before it runs the
+/// command (`$1`), so the limits are in place and the run is registered for Ctrl+C before any
+/// of the program runs; if raylab dies first, the pipe closes and nothing runs.
+const GATE: &str = r#"read -r _ && exec sh -c "$1" </dev/null"#;
+
+/// Runs `command` (the bytes of a shell command, [`command_line`]) with `sh -c`, standard
+/// input empty, within `limits`, and returns its standard output. It is stopped, with every
+/// process it started, after the timeout or once it has printed more than its output limit;
+/// a status other than success is an error quoting the end of its standard error.
+pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
+    init();
     let mut shell = Command::new("sh");
     shell
         .arg("-c")
+        .arg(GATE)
+        .arg("sh")
         .arg(command)
-        .stdin(Stdio::null())
+        .stdin(Stdio::piped())
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    #[cfg(unix)]
-    std::os::unix::process::CommandExt::process_group(&mut shell, 0);
-    let start = Instant::now();
-    let mut child = shell.spawn().map_err(RunError::Start)?;
-    let overflow = Arc::new(AtomicBool::new(false));
-    let stdout = child.stdout.take().expect("piped");
-    let stderr = child.stderr.take().expect("piped");
-    let out_reader = {
-        let overflow = overflow.clone();
-        std::thread::spawn(move || read_at_most(stdout, max_bytes, &overflow))
-    };
-    let err_reader = std::thread::spawn(move || tail(stderr, 2000));
-    let mut pause = Duration::from_micros(200);
-    let status = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break Some(status),
-            Ok(None) if start.elapsed() > timeout || overflow.load(Ordering::Relaxed) => {
-                break None
-            }
-            Ok(None) => {}
-            Err(_) => break None,
-        }
-        std::thread::sleep(pause);
-        pause = (pause * 2).min(Duration::from_millis(5));
-    };
-    let elapsed = start.elapsed();
-    // Whatever it started that still runs (and holds the pipes) goes with it.
-    stop_group(&child);
-    let _ = child.kill();
-    let _ = child.wait();
-    let out = out_reader.join().expect("the reader does not panic");
-    let err = err_reader.join().expect("the reader does not panic");
-    let Some(status) = status else {
-        return Err(match overflow.load(Ordering::Relaxed) {
-            true => RunError::TooMuch(max_bytes),
-            false => RunError::Timeout(timeout.as_secs_f64()),
-        });
-    };
-    if overflow.load(Ordering::Relaxed) {
-        return Err(RunError::TooMuch(max_bytes));
+        .stderr(Stdio::piped())
+        .process_group(0);
+    if let Some(dir) = &limits.dir {
+        shell.current_dir(dir);
     }
+    if let Some(uid) = limits.run_as {
+        // setgroups(0) comes with it: none of root's groups stay.
+        shell.uid(uid).gid(uid);
+        if let Some(dir) = &limits.dir {
+            shell.env("HOME", dir).env("TMPDIR", dir);
+        }
+    }
+    // Started and registered at once, so no sweep takes the new shell for a stray.
+    let (mut child, id) = {
+        let mut registry = registry();
+        let child = shell.spawn().map_err(RunError::Start)?;
+        let id = registry.add(child.id() as i32, limits.run_as);
+        (child, id)
+    };
+    let shell_pid = child.id() as i32;
+    let end = |child: &mut std::process::Child| {
+        stop(id);
+        let _ = child.kill();
+        let _ = child.wait();
+        registry().remove(id);
+    };
+    if let Err(e) = set_limits(shell_pid, limits) {
+        end(&mut child);
+        return Err(RunError::Start(e));
+    }
+    let mut stdout = child
+        .stdout
+        .take()
+        .map(|p| File::from(std::os::fd::OwnedFd::from(p)));
+    let mut stderr = child
+        .stderr
+        .take()
+        .map(|p| File::from(std::os::fd::OwnedFd::from(p)));
+    let (mut out, mut err, mut overflow) = (Vec::new(), Vec::new(), false);
+    let start = Instant::now();
+    if let Some(mut gate) = child.stdin.take() {
+        // (A shell already gone shows as its status below.)
+        let _ = gate.write_all(b"\n");
+    }
+    let deadline = start + limits.timeout;
+    let mut ended: Option<(ExitStatus, Instant)> = None;
+    let mut next_scan = start + Duration::from_millis(20);
+    loop {
+        let now = Instant::now();
+        if ended.is_none() {
+            if let Ok(Some(status)) = child.try_wait() {
+                ended = Some((status, now));
+            }
+        }
+        let limit = match ended {
+            Some((_, at)) => at + GRACE,
+            None => deadline,
+        };
+        let pipes_done = stdout.is_none() && stderr.is_none();
+        if overflow || now >= limit || (pipes_done && ended.is_some()) {
+            break;
+        }
+        if now >= next_scan && ended.is_none() {
+            track();
+            next_scan = now + SCAN_EVERY;
+        }
+        let wait = TICK.min(limit - now);
+        let mut sink = Sink {
+            out: &mut out,
+            err: &mut err,
+            max: limits.max_output_bytes,
+        };
+        overflow = read_ready(&mut stdout, &mut stderr, &mut sink, wait);
+    }
+    let elapsed = match ended {
+        Some((_, at)) => at - start,
+        None => start.elapsed(),
+    };
+    end(&mut child);
+    // What is left in the pipes (the writers are gone, or will never be waited for again).
+    while !overflow && (stdout.is_some() || stderr.is_some()) {
+        let before = (out.len(), err.len(), stdout.is_some(), stderr.is_some());
+        let mut sink = Sink {
+            out: &mut out,
+            err: &mut err,
+            max: limits.max_output_bytes,
+        };
+        overflow = read_ready(&mut stdout, &mut stderr, &mut sink, Duration::ZERO);
+        if before == (out.len(), err.len(), stdout.is_some(), stderr.is_some()) {
+            break;
+        }
+    }
+    if overflow {
+        return Err(RunError::TooMuch(limits.max_output_bytes));
+    }
+    let Some((status, _)) = ended else {
+        return Err(RunError::Timeout(limits.timeout.as_secs_f64()));
+    };
     if !status.success() {
         let err = String::from_utf8_lossy(&err);
         let err = err.trim();
@@ -109,48 +266,530 @@ pub fn run(command: &str, timeout: Duration, max_bytes: usize) -> Result<Ran, Ru
     Ok(Ran { stdout, elapsed })
 }
 
-/// Reads until the end or until more than `max` bytes came (then sets `overflow` and stops
-/// reading, so the writer gets a broken pipe).
-fn read_at_most(mut from: impl Read, max: usize, overflow: &AtomicBool) -> Vec<u8> {
-    let mut out = Vec::new();
-    let mut buf = [0u8; 64 * 1024];
-    loop {
-        match from.read(&mut buf) {
-            Ok(0) | Err(_) => return out,
-            Ok(n) if out.len() + n > max => {
-                overflow.store(true, Ordering::Relaxed);
-                return out;
-            }
-            Ok(n) => out.extend_from_slice(&buf[..n]),
-        }
-    }
+/// Where the pipes' bytes go: all of standard output up to `max`, the end of standard error.
+struct Sink<'a> {
+    out: &'a mut Vec<u8>,
+    err: &'a mut Vec<u8>,
+    max: usize,
 }
 
-/// Reads everything and keeps the last `keep` bytes.
-fn tail(mut from: impl Read, keep: usize) -> Vec<u8> {
-    let mut out = Vec::new();
-    let mut buf = [0u8; 16 * 1024];
-    loop {
-        match from.read(&mut buf) {
-            Ok(0) | Err(_) => return out,
-            Ok(n) => {
-                out.extend_from_slice(&buf[..n]);
-                if out.len() > 2 * keep {
-                    out.drain(..out.len() - keep);
+/// Waits up to `wait` for either pipe to have data (or to close), reads what came and drops
+/// a pipe at its end; true once standard output passed the limit.
+fn read_ready(
+    stdout: &mut Option<File>,
+    stderr: &mut Option<File>,
+    sink: &mut Sink,
+    wait: Duration,
+) -> bool {
+    use rustix::event::{poll, PollFd, PollFlags, Timespec};
+    let ready = {
+        let mut fds: Vec<PollFd> = [&*stdout, &*stderr]
+            .into_iter()
+            .flatten()
+            .map(|f| PollFd::new(f, PollFlags::IN))
+            .collect();
+        let timeout = Timespec {
+            tv_sec: wait.as_secs() as i64,
+            tv_nsec: wait.subsec_nanos() as i64,
+        };
+        if poll(&mut fds, Some(&timeout)).is_err() {
+            return false; // (interrupted: looked at again on the next turn)
+        }
+        let mut ready = fds.iter().map(|f| !f.revents().is_empty());
+        let out = stdout.is_some() && ready.next().unwrap_or(false);
+        let err = stderr.is_some() && ready.next().unwrap_or(false);
+        (out, err)
+    };
+    let mut buf = [0u8; 64 * 1024];
+    if ready.0 {
+        match stdout.as_ref().map(|mut f| f.read(&mut buf)) {
+            Some(Ok(0)) | Some(Err(_)) | None => *stdout = None,
+            Some(Ok(n)) if sink.out.len() + n > sink.max => return true,
+            Some(Ok(n)) => sink.out.extend_from_slice(&buf[..n]),
+        }
+    }
+    if ready.1 {
+        match stderr.as_ref().map(|mut f| f.read(&mut buf)) {
+            Some(Ok(0)) | Some(Err(_)) | None => *stderr = None,
+            Some(Ok(n)) => {
+                sink.err.extend_from_slice(&buf[..n]);
+                if sink.err.len() > 2 * STDERR_TAIL {
+                    sink.err.drain(..sink.err.len() - STDERR_TAIL);
                 }
             }
         }
     }
+    false
 }
 
-/// Sends SIGKILL to the child's process group (it leads one of its own).
-#[cfg(unix)]
-fn stop_group(child: &std::process::Child) {
-    use rustix::process::{kill_process_group, Pid, Signal};
-    if let Some(pid) = Pid::from_raw(child.id() as i32) {
-        let _ = kill_process_group(pid, Signal::KILL);
+/// Sets the limits on the waiting shell (they pass to everything it starts), never above
+/// raylab's own hard limits (only CAP_SYS_RESOURCE may raise one).
+fn set_limits(pid: i32, limits: &Limits) -> std::io::Result<()> {
+    use rustix::process::{getrlimit, getuid, prlimit, Resource, Rlimit};
+    // (`None` would be raylab itself.)
+    let pid = Some(Pid::from_raw(pid).ok_or(std::io::ErrorKind::InvalidInput)?);
+    let cap = |resource: Resource, value: u64| {
+        let value = getrlimit(resource)
+            .maximum
+            .map_or(value, |hard| value.min(hard));
+        let limit = Rlimit {
+            current: Some(value),
+            maximum: Some(value),
+        };
+        prlimit(pid, resource, limit).map(|_| ())
+    };
+    let nproc = limits.max_processes.map(|n| match limits.run_as {
+        // An account's processes are all the program's; as root without one the limit does
+        // not hold (root is exempt from it).
+        Some(_) => n,
+        None if getuid().is_root() => n,
+        None => user_tasks(getuid().as_raw()).saturating_add(n),
+    });
+    as_real_ids(limits.run_as, || {
+        if limits.max_memory_bytes.is_some() || limits.max_processes.is_some() {
+            // No core files of a crash in the submission's directory.
+            cap(Resource::Core, 0)?;
+        }
+        if let Some(bytes) = limits.max_memory_bytes {
+            cap(Resource::As, bytes)?;
+        }
+        if let Some(n) = nproc {
+            cap(Resource::Nproc, n)?;
+        }
+        Ok(())
+    })
+}
+
+/// Runs `f` with this thread's real uid and gid `id` (its effective ids stay root's, and
+/// with them its capabilities), then puts them back: prlimit(2) on a process of another
+/// user needs CAP_SYS_RESOURCE, which root in a container often lacks, unless the caller's
+/// real ids are the target's. Linux's ids are per thread: no other thread sees the change.
+/// (Meanwhile the account could signal this thread, but only the gate runs as it then.)
+fn as_real_ids(id: Option<u32>, f: impl FnOnce() -> std::io::Result<()>) -> std::io::Result<()> {
+    use rustix::process::{Gid, Uid};
+    use rustix::thread::{set_thread_res_gid, set_thread_res_uid};
+    let Some(id) = id else {
+        return f();
+    };
+    let (uid, gid) = (rustix::process::getuid(), rustix::process::getgid());
+    set_thread_res_gid(Gid::from_raw(id), None, None)?;
+    if let Err(e) = set_thread_res_uid(Uid::from_raw(id), None, None) {
+        set_thread_res_gid(gid, None, None).expect("the real gid back");
+        return Err(e.into());
+    }
+    let result = f();
+    // The effective uid, root's, keeps CAP_SETUID: this cannot fail, and must not.
+    set_thread_res_uid(uid, None, None).expect("the real uid back");
+    set_thread_res_gid(gid, None, None).expect("the real gid back");
+    result
+}
+
+/// A process as /proc shows it.
+#[derive(Clone, Copy, Debug)]
+struct Proc {
+    pid: i32,
+    ppid: i32,
+    pgid: i32,
+    sid: i32,
+    /// Clock ticks from boot to its start: with the pid, its identity (pids are reused).
+    start: u64,
+    zombie: bool,
+    /// Real, effective, saved and file uids (read only when asked for).
+    uids: [u32; 4],
+    threads: u64,
+}
+
+/// Every process (`with_uids`: with its uids and thread count, from its status file).
+fn scan(with_uids: bool) -> Vec<Proc> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    dir.filter_map(|e| {
+        let pid = e.ok()?.file_name().to_str()?.parse().ok()?;
+        read_proc(pid, with_uids)
+    })
+    .collect()
+}
+
+fn read_proc(pid: i32, with_uids: bool) -> Option<Proc> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // `pid (comm) state ppid pgrp session …`: comm may hold spaces and parentheses.
+    let f: Vec<&str> = stat
+        .get(stat.rfind(')')? + 1..)?
+        .split_whitespace()
+        .collect();
+    let mut p = Proc {
+        pid,
+        ppid: f.get(1)?.parse().ok()?,
+        pgid: f.get(2)?.parse().ok()?,
+        sid: f.get(3)?.parse().ok()?,
+        start: f.get(19)?.parse().ok()?,
+        zombie: matches!(f[0], "Z" | "X"),
+        uids: [u32::MAX; 4],
+        threads: 1,
+    };
+    if with_uids {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+        for line in status.lines() {
+            if let Some(ids) = line.strip_prefix("Uid:") {
+                for (k, id) in ids.split_whitespace().take(4).enumerate() {
+                    p.uids[k] = id.parse().unwrap_or(u32::MAX);
+                }
+            } else if let Some(n) = line.strip_prefix("Threads:") {
+                p.threads = n.trim().parse().unwrap_or(1);
+            }
+        }
+    }
+    Some(p)
+}
+
+/// The tasks (threads) of `uid`, which RLIMIT_NPROC counts.
+fn user_tasks(uid: u32) -> u64 {
+    scan(true)
+        .iter()
+        .filter(|p| p.uids[0] == uid)
+        .map(|p| p.threads)
+        .sum()
+}
+
+/// raylab's own pid, process group and session: never a program's, never killed.
+fn own() -> Proc {
+    static OWN: std::sync::OnceLock<Proc> = std::sync::OnceLock::new();
+    *OWN.get_or_init(|| {
+        let pid = rustix::process::getpid().as_raw_nonzero().get();
+        read_proc(pid, false).unwrap_or(Proc {
+            pid,
+            ppid: 0,
+            pgid: pid,
+            sid: pid,
+            start: 0,
+            zombie: false,
+            uids: [u32::MAX; 4],
+            threads: 1,
+        })
+    })
+}
+
+/// A program running: its shell and every process, group and session seen below it.
+struct Live {
+    id: u64,
+    shell: i32,
+    run_as: Option<u32>,
+    pids: HashSet<(i32, u64)>,
+    groups: HashSet<i32>,
+    sessions: HashSet<i32>,
+}
+
+/// The programs running, and the directories to remove at Ctrl+C.
+struct Registry {
+    runs: Vec<Live>,
+    dirs: Vec<PathBuf>,
+    next: u64,
+}
+
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
+    runs: Vec::new(),
+    dirs: Vec::new(),
+    next: 0,
+});
+
+/// The registry, even after a panic elsewhere (its data stays consistent between calls).
+fn registry() -> MutexGuard<'static, Registry> {
+    REGISTRY.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Whose a process is, by [`Registry::owners`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Owner {
+    Run(usize),
+    /// Adopted by raylab (its parent died) before it was seen, while several programs run:
+    /// a program's, but not known whose.
+    Stray,
+}
+
+/// Which processes [`Registry::sweep`] kills, besides the strays.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Scope {
+    Strays,
+    Run(u64),
+    All,
+}
+
+impl Registry {
+    fn add(&mut self, shell: i32, run_as: Option<u32>) -> u64 {
+        self.next += 1;
+        let start = read_proc(shell, false).map_or(0, |p| p.start);
+        self.runs.push(Live {
+            id: self.next,
+            shell,
+            run_as,
+            pids: HashSet::from([(shell, start)]),
+            groups: HashSet::from([shell]),
+            sessions: HashSet::new(),
+        });
+        self.next
+    }
+
+    fn remove(&mut self, id: u64) {
+        self.runs.retain(|r| r.id != id);
+    }
+
+    /// The owner of each process of `procs` that is a program's, and what is seen is
+    /// remembered (so a process stays its program's after it leaves the group or session,
+    /// or its parent dies).
+    fn owners(&mut self, procs: &[Proc]) -> Vec<(Proc, Owner)> {
+        let me = own();
+        let by_pid: HashMap<i32, &Proc> = procs.iter().map(|p| (p.pid, p)).collect();
+        let shells: HashSet<i32> = self.runs.iter().map(|r| r.shell).collect();
+        let mut found = Vec::new();
+        for p in procs.iter().filter(|p| p.pid != me.pid) {
+            let owner = self.runs.iter().position(|r| {
+                r.run_as.is_some_and(|uid| p.uids.contains(&uid))
+                    || r.pids.contains(&(p.pid, p.start))
+                    || (p.pgid != me.pgid && r.groups.contains(&p.pgid))
+                    || (p.sid != me.sid && r.sessions.contains(&p.sid))
+                    || ancestors(p, &by_pid, me.pid).any(|a| r.pids.contains(&(a.pid, a.start)))
+            });
+            let owner = match owner {
+                Some(k) => Owner::Run(k),
+                None if p.ppid == me.pid && self.runs.len() == 1 => Owner::Run(0),
+                None if p.ppid == me.pid => Owner::Stray,
+                None => continue,
+            };
+            if let Owner::Run(k) = owner {
+                let r = &mut self.runs[k];
+                r.pids.insert((p.pid, p.start));
+                if p.pgid != me.pgid && (p.pgid == r.shell || !shells.contains(&p.pgid)) {
+                    r.groups.insert(p.pgid);
+                }
+                if p.sid != me.sid {
+                    r.sessions.insert(p.sid);
+                }
+            }
+            found.push((*p, owner));
+        }
+        found
+    }
+
+    /// Kills the strays and the processes of the runs in `scope`, and reaps raylab's adopted
+    /// children that ended; the number of processes signalled.
+    fn sweep(&mut self, procs: &[Proc], scope: Scope) -> usize {
+        let owners = self.owners(procs);
+        self.sweep_owned(&owners, scope)
+    }
+
+    /// [`Registry::sweep`] with the owners known.
+    fn sweep_owned(&mut self, owners: &[(Proc, Owner)], scope: Scope) -> usize {
+        use rustix::process::{kill_process, kill_process_group, waitpid, WaitOptions};
+        let me = own();
+        let shells: HashSet<i32> = self.runs.iter().map(|r| r.shell).collect();
+        let target = match scope {
+            Scope::Run(id) => self.runs.iter().position(|r| r.id == id),
+            Scope::Strays | Scope::All => None,
+        };
+        let chosen = |k: usize| scope == Scope::All || Some(k) == target;
+        let mut groups = HashSet::new();
+        let mut pids = Vec::new();
+        for &(p, owner) in owners {
+            if p.zombie {
+                // An adopted process that ended; the shells are std's to wait for.
+                if let Some(pid) = Pid::from_raw(p.pid).filter(|_| p.ppid == me.pid) {
+                    if !shells.contains(&p.pid) {
+                        let _ = waitpid(Some(pid), WaitOptions::NOHANG);
+                    }
+                }
+                continue;
+            }
+            let mine = match owner {
+                Owner::Stray => true,
+                Owner::Run(k) => chosen(k),
+            };
+            if mine {
+                pids.extend(Pid::from_raw(p.pid));
+                groups.insert(p.pgid);
+            }
+        }
+        for (_, r) in self.runs.iter().enumerate().filter(|(k, _)| chosen(*k)) {
+            groups.extend(r.groups.iter().copied());
+        }
+        // Whole groups first, at once: a fork bomb in one cannot outpace them.
+        for g in groups.into_iter().filter(|&g| g != me.pgid) {
+            if let Some(g) = Pid::from_raw(g) {
+                let _ = kill_process_group(g, Signal::KILL);
+            }
+        }
+        for &pid in &pids {
+            let _ = kill_process(pid, Signal::KILL);
+        }
+        pids.len()
+    }
+
+    /// Whether any run goes as an account (then /proc is read with the uids).
+    fn with_uids(&self) -> bool {
+        self.runs.iter().any(|r| r.run_as.is_some())
     }
 }
 
-#[cfg(not(unix))]
-fn stop_group(_: &std::process::Child) {}
+/// The parents of `p`, nearest first, up to raylab or init.
+fn ancestors<'a>(
+    p: &Proc,
+    by_pid: &'a HashMap<i32, &'a Proc>,
+    me: i32,
+) -> impl Iterator<Item = &'a Proc> + 'a {
+    let mut next = by_pid.get(&p.ppid).copied();
+    std::iter::from_fn(move || {
+        let q = next.filter(|q| q.pid > 1 && q.pid != me)?;
+        next = by_pid.get(&q.ppid).copied();
+        Some(q)
+    })
+    .take(256)
+}
+
+/// A program with more processes than this at once runs at the lowest priority.
+const CROWD: usize = 8;
+
+/// Reads /proc and remembers the programs' processes; kills the strays (adopted while several
+/// programs run and not yet seen: nobody waits for them); and a program with more than
+/// [`CROWD`] processes goes to nice 19, all of them, and what they start after, so a fork
+/// bomb, even capped, takes about one process's share of the CPU from the programs graded
+/// beside it, not 64.
+fn track() {
+    let procs = scan(registry().with_uids());
+    let mut registry = registry();
+    let owners = registry.owners(&procs);
+    registry.sweep_owned(&owners, Scope::Strays);
+    let mut counts = vec![0; registry.runs.len()];
+    for (p, owner) in &owners {
+        if let (Owner::Run(k), false) = (owner, p.zombie) {
+            counts[*k] += 1;
+        }
+    }
+    for (p, owner) in &owners {
+        if let (Owner::Run(k), false) = (owner, p.zombie) {
+            // (`None` would be raylab.)
+            if let Some(pid) = Pid::from_raw(p.pid).filter(|_| counts[*k] > CROWD) {
+                let _ = rustix::process::setpriority_process(Some(pid), 19);
+            }
+        }
+    }
+}
+
+/// Kills run `id`'s processes until none is left (a bounded number of rounds: a capped fork
+/// bomb ends in a few).
+fn stop(id: u64) {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut pause = Duration::from_micros(200);
+    loop {
+        let procs = scan(registry().with_uids());
+        let killed = registry().sweep(&procs, Scope::Run(id));
+        if killed == 0 || Instant::now() > deadline {
+            return;
+        }
+        std::thread::sleep(pause);
+        pause = (pause * 2).min(Duration::from_millis(20));
+    }
+}
+
+/// Once per process: raylab adopts the programs' orphans, and Ctrl+C, SIGTERM or SIGHUP stop
+/// every program and remove every [`RunDir`] before raylab exits with 130.
+fn init() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        #[cfg(target_os = "linux")]
+        let _ = rustix::process::set_child_subreaper(Some(rustix::process::getpid()));
+        // (Fails only if a handler is set already: then these are left to the default.)
+        let _ = ctrlc::set_handler(on_signal);
+    });
+}
+
+/// The signal handler's work (on the ctrlc crate's thread): the registry stays locked to the
+/// end, so no program starts meanwhile.
+fn on_signal() {
+    let mut registry = registry();
+    for _ in 0..1000 {
+        let procs = scan(registry.with_uids());
+        if registry.sweep(&procs, Scope::All) == 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    for dir in std::mem::take(&mut registry.dirs) {
+        remove_tree(&dir);
+    }
+    eprintln!("interrupted: the programs stopped, their directories removed");
+    std::process::exit(130);
+}
+
+/// A new private directory for a run, removed when dropped and at Ctrl+C or SIGTERM:
+/// `raylab-<what>-<pid>-<n>-<nanos>` in the temporary directory, mode 0700, its name never
+/// one that existed (created exclusively, a new name on a clash).
+#[derive(Debug)]
+pub struct RunDir {
+    path: PathBuf,
+}
+
+impl RunDir {
+    pub fn new(what: &str) -> std::io::Result<RunDir> {
+        use std::os::unix::fs::DirBuilderExt;
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        init();
+        let base = std::env::temp_dir();
+        loop {
+            let nanos = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.subsec_nanos());
+            let n = NEXT.fetch_add(1, Ordering::Relaxed);
+            let name = format!("raylab-{what}-{}-{n}-{nanos:08x}", std::process::id());
+            let path = base.join(name);
+            // Created and registered under the lock the signal handler takes: never left.
+            let mut registry = registry();
+            match std::fs::DirBuilder::new().mode(0o700).create(&path) {
+                Ok(()) => {
+                    registry.dirs.push(path.clone());
+                    return Ok(RunDir { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for RunDir {
+    fn drop(&mut self) {
+        remove_tree(&self.path);
+        registry().dirs.retain(|d| *d != self.path);
+    }
+}
+
+/// Removes `path` and everything in it, also what a program made unreadable (as the same
+/// user: its directories are given their owner's permissions back first).
+fn remove_tree(path: &Path) {
+    if std::fs::remove_dir_all(path).is_ok() || !path.exists() {
+        return;
+    }
+    fn open_up(path: &Path) {
+        use std::os::unix::fs::PermissionsExt;
+        let Ok(meta) = std::fs::symlink_metadata(path) else {
+            return;
+        };
+        if meta.is_dir() {
+            let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o700));
+            for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
+                open_up(&entry.path());
+            }
+        }
+    }
+    open_up(path);
+    let _ = std::fs::remove_dir_all(path);
+}
+
+/// The uids of the processes running (real, effective, saved and file ones).
+pub fn uids_running() -> HashSet<u32> {
+    scan(true).iter().flat_map(|p| p.uids).collect()
+}

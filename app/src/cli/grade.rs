@@ -1,0 +1,788 @@
+//! `raylab grade`: a class's programs run on an exported suite, one submission (a directory)
+//! after another, several at once, each in a private copy of its directory with a fresh copy
+//! of each family's files, under limits of time, output, memory and processes; graded against
+//! the exact answers computed once. A submission that crashes, hangs, floods, forks or deletes
+//! its input fails its families and harms no other: the grading goes on, and exits 0.
+
+use super::check::{suite_cases, Case};
+use super::program::{self, Limits, RunDir, RunError};
+use super::Precision;
+use anyhow::{anyhow, bail, Context, Result};
+use raylab::check::Tally;
+use raylab::input::OutputFile;
+use std::collections::HashMap;
+use std::ffi::OsString;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+/// `raylab grade`.
+#[derive(clap::Args, Debug)]
+pub struct GradeArgs {
+    /// The class: every directory in it is one submission, graded in name order.
+    #[arg(value_name = "CLASS_DIR")]
+    pub class: PathBuf,
+    /// An exported suite (`raylab suite export DIR`).
+    #[arg(long, value_name = "DIR")]
+    pub suite: PathBuf,
+    /// The command that runs a submission, in a private copy of its directory: `{scene}` and
+    /// `{rays}` stand for the paths of the family's files (`python3 intersect.py {scene}
+    /// {rays}`, `./a.out {scene} {rays}`, `make -s run SCENE={scene} RAYS={rays}`).
+    #[arg(long, value_name = "CMD")]
+    pub program: String,
+    /// Submissions graded at once (default: the number of cores).
+    #[arg(short = 'j', long = "jobs", value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Also write one row per submission and family to this CSV file.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Also write the same records to this JSON file (an array of objects).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Points per passed family: lines `<family name or number> <points>`, `* <points>` for
+    /// every family not named, `#` comments.
+    #[arg(long, value_name = "FILE")]
+    pub rubric: Option<PathBuf>,
+    /// Seconds a program may take on one family before it is stopped.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
+    pub timeout: f64,
+    /// The precision the files are read in and the exact t is rounded to.
+    #[arg(long, value_enum, default_value = "f32")]
+    pub precision: Precision,
+    /// How far a right hit's point may lie from the exact one, relative (as `raylab check`).
+    #[arg(long, value_name = "X", default_value_t = raylab::check::grade::DEFAULT_T_TOLERANCE)]
+    pub t_tolerance: f64,
+    /// Grade only this family (its directory name, or its number).
+    #[arg(long, value_name = "NAME")]
+    pub family: Option<String>,
+    /// Address space of each of a program's processes, in MiB.
+    #[arg(long, value_name = "MIB", default_value_t = 2048)]
+    pub max_memory: u64,
+    /// Processes a program may have at once (a fork bomb stops there).
+    #[arg(long, value_name = "N", default_value_t = 64)]
+    pub max_processes: u64,
+}
+
+/// How one family went for one submission (the CSV's `status`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum Status {
+    /// Graded, and passed.
+    Ok,
+    /// Graded, with mistakes.
+    Failed,
+    /// A status other than success, or a signal.
+    Crashed,
+    /// Still running at --timeout.
+    Timeout,
+    /// More output than any answers need.
+    Flooded,
+    /// Output that is not one answer per ray, or not UTF-8.
+    Garbage,
+}
+
+impl Status {
+    fn name(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Failed => "failed",
+            Status::Crashed => "crashed",
+            Status::Timeout => "timeout",
+            Status::Flooded => "flooded",
+            Status::Garbage => "garbage",
+        }
+    }
+}
+
+/// One submission on one family.
+struct Record {
+    tally: Option<Tally>,
+    ms: f64,
+    status: Status,
+    /// Why it was not graded (empty when it was).
+    detail: String,
+}
+
+/// One submission: its name and a record per family (in the cases' order).
+struct Submission {
+    name: String,
+    records: Vec<Record>,
+}
+
+/// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
+pub fn grade(args: &GradeArgs) -> Result<()> {
+    if !(args.timeout > 0.0 && args.timeout <= 1e6) {
+        bail!(
+            "--timeout {} must be > 0 and at most 1e6 seconds",
+            args.timeout
+        );
+    }
+    if !(args.program.contains("{scene}") && args.program.contains("{rays}")) {
+        bail!(
+            "--program '{}' must name {{scene}} and {{rays}}, where the files' paths go",
+            args.program
+        );
+    }
+    if args.max_memory < 16 || args.max_processes == 0 {
+        bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
+    }
+    let submissions = submissions(&args.class)?;
+    let jobs = match args.jobs {
+        Some(n) if !(1..=1024).contains(&n) => bail!("-j {n} is out of range (1..=1024)"),
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    }
+    .min(submissions.len().max(1));
+    if !args.suite.is_dir() {
+        bail!(
+            "--suite {}: not a directory (write one with `raylab suite export DIR`)",
+            args.suite.display()
+        );
+    }
+    let rubric = match &args.rubric {
+        Some(file) => Some(Rubric::read(file, &args.suite)?),
+        None => None,
+    };
+    // The outputs are opened now, so a bad path fails before the grading, not after it.
+    let inputs: Vec<PathBuf> = submissions.iter().chain([&args.suite]).cloned().collect();
+    let mut outputs = Vec::new();
+    for (flag, path) in [("--csv", &args.csv), ("--json", &args.json)] {
+        if let Some(path) = path {
+            refuse_inside(flag, path, &inputs)?;
+            outputs.push(OutputFile::create(path)?);
+        }
+    }
+    if let (Some(csv), Some(json)) = (&args.csv, &args.json) {
+        if same_file(csv, json) {
+            bail!("--csv and --json name the same file, {}", csv.display());
+        }
+    }
+    // The exact answers, once (the suite's files are read here).
+    let cases = suite_cases(
+        &args.suite,
+        args.family.as_deref(),
+        args.precision,
+        args.t_tolerance,
+    )?;
+    let points: Option<Vec<f64>> =
+        rubric.map(|r| cases.iter().map(|c| r.points(&c.name)).collect());
+    let limits = Limits {
+        timeout: Duration::from_secs_f64(args.timeout),
+        max_output_bytes: 0,
+        max_memory_bytes: Some(args.max_memory.saturating_mul(1 << 20)),
+        max_processes: Some(args.max_processes),
+        dir: None,
+        run_as: None,
+    };
+    let accounts = accounts(jobs, &limits);
+    eprintln!(
+        "grading {} submissions on {} families, {jobs} at a time{}",
+        submissions.len(),
+        cases.len(),
+        match accounts.first() {
+            Some(Some(a)) => format!(", as uids {}..", a.uid()),
+            _ => String::new(),
+        }
+    );
+    let graded = run_all(&submissions, &cases, &args.program, &limits, accounts);
+    say!("{}", table(&graded, &cases, points.as_deref()).trim_end());
+    let mut outputs = outputs.into_iter();
+    if args.csv.is_some() {
+        let mut out = outputs.next().expect("opened above");
+        out.write_all(csv(&graded, &cases, points.as_deref()).as_bytes())
+            .with_context(|| format!("writing {}", out.path().display()))?;
+        out.commit()?;
+    }
+    if args.json.is_some() {
+        let mut out = outputs.next().expect("opened above");
+        out.write_all(json(&graded, &cases, points.as_deref()).as_bytes())
+            .with_context(|| format!("writing {}", out.path().display()))?;
+        out.commit()?;
+    }
+    Ok(())
+}
+
+/// The submission directories of the class, in name order.
+fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(class).map_err(|e| anyhow!("{}: {e}", class.display()))?;
+    let mut dirs: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    if dirs.is_empty() {
+        bail!(
+            "{}: no submissions (a directory per submission)",
+            class.display()
+        );
+    }
+    Ok(dirs)
+}
+
+/// An output inside a submission or the suite would be read as their input (or be copied
+/// with the submission): refused.
+fn refuse_inside(flag: &str, path: &Path, inputs: &[PathBuf]) -> Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| anyhow!("{flag} {}: not a file name", path.display()))?;
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let Ok(at) = std::fs::canonicalize(parent).map(|p| p.join(name)) else {
+        return Ok(()); // (OutputFile::create names the missing directory)
+    };
+    for input in inputs {
+        if std::fs::canonicalize(input).is_ok_and(|i| at.starts_with(i)) {
+            bail!(
+                "{flag} {}: inside the input {}; write it elsewhere",
+                path.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    let full = |p: &Path| std::path::absolute(p).ok();
+    a == b || full(a).is_some_and(|x| Some(x) == full(b))
+}
+
+/// One account per worker when raylab runs as root, so the process limit holds (root is
+/// exempt from it) and no program touches another's files; none otherwise, or when a program
+/// cannot run as one here (a user namespace without the uid, a TMPDIR others cannot enter):
+/// then programs run as root, said with the reason.
+fn accounts(jobs: usize, limits: &Limits) -> Vec<Option<Account>> {
+    let none = || (0..jobs).map(|_| None).collect();
+    if !rustix::process::geteuid().is_root() {
+        return none();
+    }
+    let Some(claimed) = Account::claim(jobs) else {
+        eprintln!("warning: no free uid to run the programs as: they run as root, and --max-processes does not hold");
+        return none();
+    };
+    // A program run as the first, in a directory of its own: what every run does.
+    let probe = || -> std::result::Result<(), String> {
+        let dir = RunDir::new("grade").map_err(|e| e.to_string())?;
+        claimed[0].give(dir.path()).map_err(|e| e.to_string())?;
+        let limits = Limits {
+            max_output_bytes: 1024,
+            dir: Some(dir.path().to_path_buf()),
+            run_as: Some(claimed[0].uid()),
+            ..limits.clone()
+        };
+        program::run_with(std::ffi::OsStr::new("true"), &limits).map_err(|e| e.to_string())?;
+        Ok(())
+    };
+    match probe() {
+        Ok(()) => claimed.into_iter().map(Some).collect(),
+        Err(e) => {
+            eprintln!("warning: cannot run a program as uid {} ({e}): the programs run as root, and --max-processes does not hold", claimed[0].uid());
+            none()
+        }
+    }
+}
+
+/// An unprivileged uid (and gid of the same number) that runs one submission at a time when
+/// raylab runs as root: RLIMIT_NPROC counts its processes alone (root is exempt from it),
+/// its processes are found by their uid, and it cannot touch root's files or another
+/// account's directory. Never a uid of /etc/passwd or /etc/group or of a running process;
+/// held, system-wide, by binding the abstract socket `raylab-uid-<uid>` (released when
+/// raylab ends, however it ends), so two graders never share one.
+struct Account {
+    uid: u32,
+    _held: std::os::unix::net::UnixListener,
+}
+
+impl Account {
+    /// The uids tried.
+    const RANGE: std::ops::Range<u32> = 61_000..65_000;
+
+    /// `n` free accounts, or none.
+    fn claim(n: usize) -> Option<Vec<Account>> {
+        use std::os::linux::net::SocketAddrExt;
+        use std::os::unix::net::{SocketAddr, UnixListener};
+        let taken = |file: &str| -> Vec<u32> {
+            let text = std::fs::read_to_string(file).unwrap_or_default();
+            let ids = text
+                .lines()
+                .filter_map(|l| l.split(':').nth(2)?.parse().ok());
+            ids.collect()
+        };
+        let (users, groups) = (taken("/etc/passwd"), taken("/etc/group"));
+        let running = program::uids_running();
+        let free = Self::RANGE
+            .filter(|u| !(users.contains(u) || groups.contains(u) || running.contains(u)));
+        let held = free.filter_map(|uid| {
+            let name = SocketAddr::from_abstract_name(format!("raylab-uid-{uid}")).ok()?;
+            let _held = UnixListener::bind_addr(&name).ok()?;
+            Some(Account { uid, _held })
+        });
+        let accounts: Vec<Account> = held.take(n).collect();
+        (accounts.len() == n).then_some(accounts)
+    }
+
+    fn uid(&self) -> u32 {
+        self.uid
+    }
+
+    /// Gives `path` and everything below it to the account (links themselves, not followed).
+    fn give(&self, path: &Path) -> std::io::Result<()> {
+        std::os::unix::fs::lchown(path, Some(self.uid), Some(self.uid))?;
+        if std::fs::symlink_metadata(path)?.is_dir() {
+            for entry in std::fs::read_dir(path)? {
+                self.give(&entry?.path())?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Grades every submission, `accounts.len()` at a time; a line on stderr as each ends.
+fn run_all(
+    submissions: &[PathBuf],
+    cases: &[Case],
+    template: &str,
+    limits: &Limits,
+    accounts: Vec<Option<Account>>,
+) -> Vec<Submission> {
+    let next = AtomicUsize::new(0);
+    let (done, finished) = std::sync::mpsc::channel();
+    let mut graded: Vec<Option<Submission>> = (0..submissions.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        for account in accounts {
+            let (next, done) = (&next, done.clone());
+            scope.spawn(move || loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                let Some(dir) = submissions.get(k) else { break };
+                let start = Instant::now();
+                let records = grade_one(dir, cases, template, limits, account.as_ref());
+                let _ = done.send((
+                    k,
+                    Submission {
+                        name: name_of(dir),
+                        records,
+                    },
+                    start.elapsed(),
+                ));
+            });
+        }
+        drop(done);
+        for (n, (k, submission, took)) in finished.iter().enumerate() {
+            let passed = submission
+                .records
+                .iter()
+                .filter(|r| r.status == Status::Ok)
+                .count();
+            eprintln!(
+                "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s)",
+                n + 1,
+                submissions.len(),
+                submission.name,
+                cases.len(),
+                match summary(&submission.records).as_str() {
+                    "ok" => String::new(),
+                    s => format!(", {s}"),
+                },
+                took.as_secs_f64()
+            );
+            graded[k] = Some(submission);
+        }
+    });
+    graded
+        .into_iter()
+        .map(|s| s.expect("every submission graded"))
+        .collect()
+}
+
+fn name_of(dir: &Path) -> String {
+    dir.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Runs one submission on every family, in a private copy of its directory (`work`) with a
+/// fresh copy of the family's files (`input`) each time.
+fn grade_one(
+    dir: &Path,
+    cases: &[Case],
+    template: &str,
+    limits: &Limits,
+    account: Option<&Account>,
+) -> Vec<Record> {
+    let not_run = |why: String| -> Vec<Record> {
+        let record = |_| Record {
+            tally: None,
+            ms: 0.0,
+            status: Status::Crashed,
+            detail: why.clone(),
+        };
+        cases.iter().map(record).collect()
+    };
+    let setup = || -> std::io::Result<(RunDir, PathBuf)> {
+        let run = RunDir::new("grade")?;
+        let work = run.path().join("work");
+        copy_tree(dir, &work)?;
+        if let Some(account) = account {
+            account.give(run.path())?;
+        }
+        Ok((run, work))
+    };
+    let (run, work) = match setup() {
+        Ok(ok) => ok,
+        Err(e) => return not_run(format!("cannot copy {}: {e}", dir.display())),
+    };
+    let input = run.path().join("input");
+    let mut records = Vec::with_capacity(cases.len());
+    for case in cases {
+        let (scene, rays) = (input.join("scene.txt"), input.join("rays.txt"));
+        let fresh = || -> std::io::Result<()> {
+            if input.symlink_metadata().is_ok() {
+                std::fs::remove_dir_all(&input)?;
+            }
+            std::fs::create_dir(&input)?;
+            std::fs::copy(&case.scene, &scene)?;
+            std::fs::copy(&case.rays, &rays)?;
+            account.map_or(Ok(()), |a| a.give(&input))
+        };
+        if let Err(e) = fresh() {
+            records.push(Record {
+                tally: None,
+                ms: 0.0,
+                status: Status::Crashed,
+                detail: format!("cannot copy the family's files: {e}"),
+            });
+            continue;
+        }
+        let command: OsString = program::command_line(template, &scene, &rays);
+        let limits = Limits {
+            max_output_bytes: case.max_output,
+            dir: Some(work.clone()),
+            run_as: account.map(Account::uid),
+            ..limits.clone()
+        };
+        let start = Instant::now();
+        let ran = program::run_with(&command, &limits);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let record = |status, detail: String| Record {
+            tally: None,
+            ms,
+            status,
+            detail,
+        };
+        records.push(match ran {
+            Ok(ran) => match case.grade(&ran.stdout) {
+                Ok(tally) => Record {
+                    tally: Some(tally),
+                    ms: ran.elapsed.as_secs_f64() * 1e3,
+                    status: if tally.passed() {
+                        Status::Ok
+                    } else {
+                        Status::Failed
+                    },
+                    detail: String::new(),
+                },
+                Err(why) => record(Status::Garbage, why),
+            },
+            Err(e @ RunError::Timeout(_)) => record(Status::Timeout, e.to_string()),
+            Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
+            Err(e @ RunError::NotText) => record(Status::Garbage, e.to_string()),
+            Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {
+                record(Status::Crashed, e.to_string())
+            }
+        });
+    }
+    drop(run);
+    records
+}
+
+/// Copies a submission: directories, files (with their permissions and modification times,
+/// so `make` sees what it built as built) and links as links (never followed: a link to a
+/// file the program's user cannot read stays unreadable); anything else is left out.
+fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
+    std::fs::create_dir(to)?;
+    for entry in std::fs::read_dir(from)? {
+        let entry = entry?;
+        let (source, target) = (entry.path(), to.join(entry.file_name()));
+        let kind = entry.file_type()?;
+        if kind.is_dir() {
+            copy_tree(&source, &target)?;
+        } else if kind.is_file() {
+            std::fs::copy(&source, &target)?;
+            let modified = entry.metadata()?.modified()?;
+            std::fs::File::options()
+                .write(true)
+                .open(&target)?
+                .set_modified(modified)?;
+        } else if kind.is_symlink() {
+            std::os::unix::fs::symlink(std::fs::read_link(&source)?, &target)?;
+        }
+    }
+    Ok(())
+}
+
+/// "ok", or how many families ended each other way ("failed 2, timeout 1").
+fn summary(records: &[Record]) -> String {
+    let mut counts: Vec<(Status, usize)> = Vec::new();
+    for r in records.iter().filter(|r| r.status != Status::Ok) {
+        match counts.iter_mut().find(|(s, _)| *s == r.status) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((r.status, 1)),
+        }
+    }
+    counts.sort();
+    match counts.is_empty() {
+        true => "ok".into(),
+        false => counts
+            .iter()
+            .map(|(s, n)| format!("{} {n}", s.name()))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
+}
+
+/// Points per passed family.
+struct Rubric {
+    named: HashMap<String, f64>,
+    rest: f64,
+}
+
+impl Rubric {
+    /// Reads a rubric; every family it names must be one of the suite's.
+    fn read(file: &Path, suite: &Path) -> Result<Rubric> {
+        let text = super::read_text(file)?;
+        let families: Vec<String> = std::fs::read_dir(suite)
+            .map_err(|e| anyhow!("{}: {e}", suite.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_dir())
+            .map(|p| name_of(&p))
+            .collect();
+        let (mut named, mut rest) = (HashMap::new(), None);
+        for (n, line) in text.lines().enumerate() {
+            let at = || format!("{}:{}", file.display(), n + 1);
+            let words: Vec<&str> = line
+                .split('#')
+                .next()
+                .unwrap_or("")
+                .split_whitespace()
+                .collect();
+            let (key, points) = match words[..] {
+                [] => continue,
+                [key, points] => (key, points),
+                _ => bail!(
+                    "{}: expected `<family name or number> <points>` or `* <points>`",
+                    at()
+                ),
+            };
+            let points: f64 = match points.parse() {
+                Ok(p) if (0.0..=1e9).contains(&p) => p,
+                _ => bail!("{}: '{points}' is not a number of points (0 or more)", at()),
+            };
+            let name = match key {
+                "*" => {
+                    if rest.replace(points).is_some() {
+                        bail!("{}: a second `*` line", at());
+                    }
+                    continue;
+                }
+                _ => families.iter().find(|f| family_is(f, key)).cloned(),
+            };
+            let Some(name) = name else {
+                bail!(
+                    "{}: no family '{key}' in the suite {}",
+                    at(),
+                    suite.display()
+                );
+            };
+            if named.insert(name.clone(), points).is_some() {
+                bail!("{}: {name} has points already", at());
+            }
+        }
+        Ok(Rubric {
+            named,
+            rest: rest.unwrap_or(0.0),
+        })
+    }
+
+    fn points(&self, family: &str) -> f64 {
+        self.named.get(family).copied().unwrap_or(self.rest)
+    }
+}
+
+/// Whether `key` names the family `name`: the name itself, or its number (`7` or `07`).
+fn family_is(name: &str, key: &str) -> bool {
+    name == key
+        || key
+            .parse::<usize>()
+            .is_ok_and(|n| name.starts_with(&format!("{n:02}-")))
+}
+
+/// A family's points for a record: the family's when it passed.
+fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
+    points.map(|p| {
+        if r.status == Status::Ok {
+            p[family]
+        } else {
+            0.0
+        }
+    })
+}
+
+/// Points as a person writes them: `3`, `2.5`, `0.33` (sums of decimals rounded to 0.01).
+fn points_text(points: f64) -> String {
+    let text = format!("{points:.2}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// The table: one row per submission.
+fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
+    let width = graded
+        .iter()
+        .map(|s| s.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .clamp(10, 40);
+    let mut out = format!(
+        "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9}{}  status\n",
+        "submission",
+        "passed",
+        "leaks",
+        "false",
+        "wrong",
+        "t fail",
+        "time s",
+        if points.is_some() {
+            format!(" {:>13}", "points")
+        } else {
+            String::new()
+        }
+    );
+    let most: f64 = points.map_or(0.0, |p| p.iter().sum());
+    for s in graded {
+        let mut total = Tally::default();
+        s.records
+            .iter()
+            .filter_map(|r| r.tally.as_ref())
+            .for_each(|t| total.merge(t));
+        let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
+        let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
+        let earned: f64 = s
+            .records
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| earned(points, k, r))
+            .sum();
+        out += &format!(
+            "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
+            s.name,
+            format!("{passed}/{}", cases.len()),
+            total.leaks,
+            total.false_hits,
+            total.wrong,
+            total.t_beyond,
+            secs,
+            if points.is_some() {
+                format!(
+                    " {:>13}",
+                    format!("{}/{}", points_text(earned), points_text(most))
+                )
+            } else {
+                String::new()
+            },
+            summary(&s.records)
+        );
+    }
+    out
+}
+
+/// The CSV: one row per submission and family.
+fn csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
+    let mut out = String::from(
+        "submission,family,rays,right,ties,leaks,false_hits,wrong,t_failures,ms,status",
+    );
+    out += if points.is_some() { ",points\n" } else { "\n" };
+    for s in graded {
+        for (k, (r, case)) in s.records.iter().zip(cases).enumerate() {
+            let counts = match &r.tally {
+                Some(t) => [t.right, t.ties, t.leaks, t.false_hits, t.wrong, t.t_beyond]
+                    .map(|n| n.to_string())
+                    .join(","),
+                None => ",,,,,".into(),
+            };
+            out += &format!(
+                "{},{},{},{counts},{:.1},{}",
+                csv_field(&s.name),
+                csv_field(&case.name),
+                case.ray_count,
+                r.ms,
+                r.status.name()
+            );
+            if let Some(p) = earned(points, k, r) {
+                out += &format!(",{p}");
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break.
+fn csv_field(s: &str) -> String {
+    match s.contains([',', '"', '\n', '\r']) {
+        true => format!("\"{}\"", s.replace('"', "\"\"")),
+        false => s.to_string(),
+    }
+}
+
+/// The JSON: an array of the CSV's records, the counts `null` where nothing was graded, with
+/// `detail`, why not.
+fn json(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
+    let mut rows = Vec::new();
+    for s in graded {
+        for (k, (r, case)) in s.records.iter().zip(cases).enumerate() {
+            let count = |n: fn(&Tally) -> usize| {
+                r.tally.as_ref().map_or("null".into(), |t| n(t).to_string())
+            };
+            let mut row = format!(
+                "{{\"submission\": {}, \"family\": {}, \"rays\": {}, \"right\": {}, \"ties\": {}, \"leaks\": {}, \"false_hits\": {}, \"wrong\": {}, \"t_failures\": {}, \"ms\": {:.1}, \"status\": \"{}\", \"detail\": {}",
+                json_string(&s.name),
+                json_string(&case.name),
+                case.ray_count,
+                count(|t| t.right),
+                count(|t| t.ties),
+                count(|t| t.leaks),
+                count(|t| t.false_hits),
+                count(|t| t.wrong),
+                count(|t| t.t_beyond),
+                r.ms,
+                r.status.name(),
+                json_string(&r.detail)
+            );
+            if let Some(p) = earned(points, k, r) {
+                row += &format!(", \"points\": {p}");
+            }
+            rows.push(row + "}");
+        }
+    }
+    format!("[\n  {}\n]\n", rows.join(",\n  "))
+}
+
+/// `s` as a JSON string: quotes, backslashes and control characters escaped.
+fn json_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out += "\\\"",
+            '\\' => out += "\\\\",
+            '\n' => out += "\\n",
+            '\r' => out += "\\r",
+            '\t' => out += "\\t",
+            c if (c as u32) < 0x20 => out += &format!("\\u{:04x}", c as u32),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}

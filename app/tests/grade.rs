@@ -1,0 +1,298 @@
+//! `raylab grade`: a class of submissions, right, crashing, hanging, flooding, talking
+//! nonsense, deleting their input and forking without end, graded side by side: each gets its
+//! own status, none stops or harms another, none leaves a process behind; bad input is
+//! named.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use std::path::{Path, PathBuf};
+
+crate::raylab_runner!();
+
+/// The processes that have `arg` as one of their arguments (zombies have none).
+fn running(arg: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+        if args.contains(&arg.as_bytes()) {
+            found.push(String::from_utf8_lossy(&cmdline).replace('\0', " "));
+        }
+    }
+    found
+}
+
+/// Makes `dir` reachable by every user (a program runs as another uid when raylab is root).
+fn open_up(dir: &Path) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
+/// The class: every submission runs `run.sh`, beside the README's exact Python program.
+const CLASS: &[(&str, &str)] = &[
+    ("ada", "exec python3 exact.py \"$1\" \"$2\"\n"),
+    ("bob-crashes", "echo 'bob: segfault (not really)' >&2; exit 3\n"),
+    ("cy-hangs", "sleep 917001\n"),
+    ("dee-floods", "yes hit 1 0\n"),
+    ("eve-talks", "echo nonsense\n"),
+    // Deletes the family's files, then answers from its own copy of them: the next family's
+    // files are fresh, the suite is untouched.
+    (
+        "fay-deletes",
+        "cp \"$1\" mine.txt && rm -f \"$1\" \"$2.gone\" && cp \"$2\" \"$2.gone\" && rm -f \"$2\" && exec python3 exact.py mine.txt \"$2.gone\"\n",
+    ),
+    ("gus-forks", "exec python3 bomb_917002.py\n"),
+    ("hal-spawns", "exec python3 spawn_917003.py\n"),
+];
+
+/// Forks without end, each process too (a fork that fails is tried again a little later, so
+/// the capped bomb leaves the test's other programs some of the machine).
+const BOMB: &str = "import os, time\nwhile True:\n    try:\n        os.fork()\n    except OSError:\n        time.sleep(0.05)\n";
+
+/// Starts sleepers until it cannot, then says how many and fails.
+const SPAWN: &str = "import subprocess, sys\nn = 0\ntry:\n    while n < 500:\n        subprocess.Popen(['sleep', '917004'])\n        n += 1\nexcept OSError:\n    pass\nprint('started', n, file=sys.stderr)\nsys.exit(7)\n";
+
+/// Writes the class and a suite into `root`; (class, suite).
+fn class_and_suite(root: &Path) -> (PathBuf, PathBuf) {
+    open_up(root);
+    let (class, suite) = (root.join("class"), root.join("suite"));
+    let exact = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    for (name, run) in CLASS {
+        let dir = class.join(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("run.sh"), run).unwrap();
+        std::fs::copy(&exact, dir.join("exact.py")).unwrap();
+    }
+    std::fs::write(class.join("gus-forks/bomb_917002.py"), BOMB).unwrap();
+    std::fs::write(class.join("hal-spawns/spawn_917003.py"), SPAWN).unwrap();
+    // Not a submission: only directories are.
+    std::fs::write(class.join("notes.txt"), "marks due friday\n").unwrap();
+    let o = raylab(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::binary::stderr(&o));
+    (class, suite)
+}
+
+/// A family's files, to see that no submission changed them.
+fn suite_files(suite: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut files = Vec::new();
+    for family in std::fs::read_dir(suite).unwrap().flatten() {
+        for name in ["scene.txt", "rays.txt"] {
+            let path = family.path().join(name);
+            if let Ok(bytes) = std::fs::read(&path) {
+                files.push((path, bytes));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn every_submission_gets_its_own_status_and_nothing_survives() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_and_suite(dir.path());
+    let before = suite_files(&suite);
+    let (csv, json) = (
+        dir.path().join("grades.csv"),
+        dir.path().join("grades.json"),
+    );
+    let rubric = common::binary::write(
+        dir.path(),
+        "rubric.txt",
+        "# points per family\n16 3  # the one graded\n* 2\n",
+    );
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab(&[
+        "grade",
+        &path(&class),
+        "--suite",
+        &path(&suite),
+        "--program",
+        "sh run.sh {scene} {rays}",
+        // (The exact program answers its 200 rays in a fraction of a second.)
+        "--family",
+        "16",
+        "--timeout",
+        "5",
+        "-j",
+        "2",
+        "--csv",
+        &path(&csv),
+        "--json",
+        &path(&json),
+        "--rubric",
+        &rubric,
+    ]);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "submission,family,rays,right,ties,leaks,false_hits,wrong,t_failures,ms,status,points"
+        )
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let expected = [
+        ("ada", "ok"),
+        ("bob-crashes", "crashed"),
+        ("cy-hangs", "timeout"),
+        ("dee-floods", "flooded"),
+        ("eve-talks", "garbage"),
+        ("fay-deletes", "ok"),
+        ("gus-forks", "timeout"),
+        ("hal-spawns", "crashed"),
+    ];
+    assert_eq!(rows.len(), expected.len(), "{csv}");
+    for (row, (name, status)) in rows.iter().zip(expected) {
+        assert_eq!((row[0], row[10]), (name, status), "{csv}\n{err}");
+        assert!(row[1].starts_with("16-"), "{csv}");
+        let points = if status == "ok" { "3" } else { "0" };
+        assert_eq!(row[11], points, "{csv}");
+        match status {
+            // Graded: the counts; no mistake of the exact program.
+            "ok" => assert_eq!(row[5..9], ["0"; 4], "{csv}"),
+            _ => assert_eq!(row[3..9].concat(), "", "{csv}"),
+        }
+    }
+    // The table: a row per submission, the points of the rubric.
+    let table: Vec<&str> = out.lines().collect();
+    assert_eq!(table.len(), 1 + expected.len(), "{out}");
+    assert!(
+        table[1].starts_with("ada ") && table[1].contains("1/1") && table[1].contains("3/3"),
+        "{out}"
+    );
+    assert!(
+        table[2].contains("0/1") && table[2].ends_with("crashed 1"),
+        "{out}"
+    );
+    // The JSON: the same records, with why each was not graded.
+    let json = std::fs::read_to_string(&json).unwrap();
+    assert_eq!(
+        json.matches("\"submission\": ").count(),
+        expected.len(),
+        "{json}"
+    );
+    assert!(json.contains("\"status\": \"crashed\", \"detail\": \"ended with exit status: 3; its last words: bob: segfault (not really)\""), "{json}");
+    // The sleepers were capped by the process limit (64), far below the 500 asked for.
+    let started = json
+        .split("its last words: started ")
+        .nth(1)
+        .and_then(|s| s.split('"').next())
+        .unwrap_or_else(|| panic!("{json}"));
+    let started: usize = started.parse().unwrap();
+    assert!(started < 100, "{started} sleepers started");
+    assert!(err.contains("[8/8]"), "{err}");
+    for marker in ["917001", "bomb_917002.py", "spawn_917003.py", "917004"] {
+        assert_eq!(running(marker), Vec::<String>::new(), "{marker} survived");
+    }
+    assert_eq!(
+        suite_files(&suite),
+        before,
+        "a submission changed the suite"
+    );
+}
+
+/// Two families in one run: the submission that deletes its input gets fresh files for the
+/// second and passes both.
+#[test]
+fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_and_suite(dir.path());
+    for (name, _) in CLASS.iter().filter(|(n, _)| *n != "fay-deletes") {
+        std::fs::remove_dir_all(class.join(name)).unwrap();
+    }
+    for family in std::fs::read_dir(&suite).unwrap().flatten() {
+        let name = family.file_name().into_string().unwrap();
+        if family.path().is_dir() && !(name.starts_with("16-") || name.starts_with("17-")) {
+            std::fs::remove_dir_all(family.path()).unwrap();
+        }
+    }
+    let csv = dir.path().join("grades.csv");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab(&[
+        "grade",
+        &path(&class),
+        "--suite",
+        &path(&suite),
+        "--program",
+        "sh run.sh {scene} {rays}",
+        "--csv",
+        &path(&csv),
+    ]);
+    let out = common::binary::stdout(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    assert!(
+        rows.iter()
+            .all(|r| r.starts_with("fay-deletes,") && r.ends_with(",ok")),
+        "{csv}"
+    );
+}
+
+/// Bad input: exit 2 and the path named, before anything runs.
+#[test]
+fn bad_input_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_and_suite(dir.path());
+    let (class, suite) = (class.to_str().unwrap(), suite.to_str().unwrap());
+    let missing = dir.path().join("no-such-class");
+    let missing = missing.to_str().unwrap();
+    let program = "sh run.sh {scene} {rays}";
+    let grade = |more: &[&str]| raylab(&[&["grade"], more].concat());
+    common::binary::assert_fails(
+        &grade(&[missing, "--suite", suite, "--program", program]),
+        2,
+        &[missing],
+    );
+    common::binary::assert_fails(
+        &grade(&[class, "--suite", missing, "--program", program]),
+        2,
+        &[missing],
+    );
+    common::binary::assert_fails(
+        &grade(&[class, "--suite", suite, "--program", "sh run.sh"]),
+        2,
+        &["{scene}"],
+    );
+    let rubric = common::binary::write(dir.path(), "rubric.txt", "99-no-such-family 1\n");
+    common::binary::assert_fails(
+        &grade(&[
+            class,
+            "--suite",
+            suite,
+            "--program",
+            program,
+            "--rubric",
+            &rubric,
+        ]),
+        2,
+        &["rubric.txt:1", "99-no-such-family"],
+    );
+    let inside = format!("{class}/ada/grades.csv");
+    common::binary::assert_fails(
+        &grade(&[
+            class,
+            "--suite",
+            suite,
+            "--program",
+            program,
+            "--csv",
+            &inside,
+        ]),
+        2,
+        &[&inside],
+    );
+    assert!(!Path::new(&inside).exists());
+}

@@ -1,0 +1,264 @@
+//! Running programs that are not raylab's: a daemon that keeps the output pipes open does not
+//! hold a run up and does not outlive it, a path is never read as code, a path that is not
+//! UTF-8 reaches the program intact, and SIGTERM on raylab leaves no program running and no
+//! temporary directory behind.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use std::ffi::OsString;
+use std::os::unix::ffi::OsStringExt;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+crate::raylab_runner!();
+
+/// The processes that have `arg` as one of their arguments (zombies have none).
+fn running(arg: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+        if args.contains(&arg.as_bytes()) {
+            found.push(String::from_utf8_lossy(&cmdline).replace('\0', " "));
+        }
+    }
+    found
+}
+
+/// A one-triangle scene and one ray that hits it at t = 1: `hit 1 0` is the right answer.
+fn one_ray(dir: &Path) -> (String, String) {
+    let scene = common::binary::write(dir, "scene.txt", "tri 0 0 0 1 0 0 0 1 0\n");
+    let rays = common::binary::write(dir, "rays.txt", "0.25 0.25 -1 0 0 1 0 inf\n");
+    (scene, rays)
+}
+
+/// A program that starts daemons (their own session, out of its process group), one of them
+/// holding the output pipes, then answers and ends: its answers are graded at once, not when
+/// the daemon ends, and no daemon outlives the run; one whose shell hangs ends at --timeout.
+#[test]
+fn a_daemon_neither_holds_the_run_up_nor_outlives_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = one_ray(dir.path());
+    let program =
+        "setsid sleep 913571 & setsid sleep 913575 >/dev/null 2>&1 & echo hit 1 0 # {scene} {rays}";
+    let start = Instant::now();
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        program,
+        "--timeout",
+        "2",
+    ]);
+    // Not the daemon's 913571 s (nor the test runner's 60 s limit).
+    assert!(
+        start.elapsed() < Duration::from_secs(20),
+        "took {:?}",
+        start.elapsed()
+    );
+    let out = common::binary::stdout(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    assert!(out.contains("check: rays 1 right 1 leaks 0"), "{out}");
+    for daemon in ["913571", "913575"] {
+        assert_eq!(
+            running(daemon),
+            Vec::<String>::new(),
+            "sleep {daemon} survived"
+        );
+    }
+
+    let program = "setsid sleep 913572 & sleep 913573 # {scene} {rays}";
+    let start = Instant::now();
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        program,
+        "--timeout",
+        "2",
+    ]);
+    assert!(
+        start.elapsed() < Duration::from_secs(20),
+        "took {:?}",
+        start.elapsed()
+    );
+    let out = common::binary::stdout(&o);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("ran out of time (2.0 s"), "{out}");
+    for left in ["913572", "913573"] {
+        assert_eq!(running(left), Vec::<String>::new(), "sleep {left} survived");
+    }
+}
+
+/// A file's path that holds `{rays}` and shell code is one quoted word in the command: the
+/// program reads the file and nothing in the path runs.
+#[test]
+fn a_placeholder_or_code_in_a_path_runs_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let family = dir.path().join("{rays}$(touch \"$PWNED_AT\")'{scene}'");
+    std::fs::create_dir(&family).unwrap();
+    let (scene, rays) = one_ray(&family);
+    let pwned = dir.path().join("PWNED");
+    let program = "cat {scene} {rays} >/dev/null && echo hit 1 0";
+    let o = raylab_env(
+        &[
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--program",
+            program,
+        ],
+        &[("PWNED_AT", pwned.to_str().unwrap())],
+    );
+    let out = common::binary::stdout(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    assert!(out.contains("check: rays 1 right 1 leaks 0"), "{out}");
+    assert!(!pwned.exists(), "the path ran as code");
+}
+
+/// A class directory with one submission running `run.sh` with `text` (mode 0755 dirs, so a
+/// program run as another uid when raylab is root reaches them), and a one-family suite.
+fn class_of(root: &Path, text: &str) -> (String, String) {
+    use std::os::unix::fs::PermissionsExt;
+    let open =
+        |p: &Path| std::fs::set_permissions(p, std::fs::Permissions::from_mode(0o755)).unwrap();
+    open(root);
+    let (class, suite) = (root.join("class"), root.join("suite"));
+    std::fs::create_dir_all(class.join("ada")).unwrap();
+    std::fs::write(class.join("ada/run.sh"), text).unwrap();
+    let exact = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    std::fs::copy(exact, class.join("ada/exact.py")).unwrap();
+    let o = raylab(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::binary::stderr(&o));
+    (
+        class.to_str().unwrap().into(),
+        suite.to_str().unwrap().into(),
+    )
+}
+
+/// The temporary directory's name is not UTF-8, so are the paths of the files the program
+/// gets: they reach it byte for byte (the exact Python program reads them and passes).
+#[test]
+fn a_path_that_is_not_utf8_reaches_the_program_intact() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_of(dir.path(), "exec python3 exact.py \"$1\" \"$2\"\n");
+    let tmp = dir
+        .path()
+        .join(OsString::from_vec(b"tmp-\xff\xfe".to_vec()));
+    std::fs::create_dir(&tmp).unwrap();
+    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let csv = dir.path().join("grades.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args([
+            "grade",
+            &class,
+            "--suite",
+            &suite,
+            "--family",
+            "16",
+            "--timeout",
+            "30",
+        ])
+        .args([
+            "--program",
+            "sh run.sh {scene} {rays}",
+            "--csv",
+            csv.to_str().unwrap(),
+        ])
+        .env("TMPDIR", &tmp)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let csv = std::fs::read_to_string(csv).unwrap();
+    let row = csv.lines().nth(1).unwrap();
+    assert!(
+        row.starts_with("ada,16-") && row.ends_with(",ok"),
+        "{csv}{err}"
+    );
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        0,
+        "a run directory was left"
+    );
+}
+
+/// SIGTERM (or Ctrl+C) while a program runs: raylab stops it, with the daemon it started,
+/// removes its directory and exits with 130.
+#[test]
+fn sigterm_stops_the_program_and_removes_its_directory() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_of(dir.path(), "setsid sleep 913576 & sleep 913574\n");
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let mut raylab = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["grade", &class, "--suite", &suite, "--family", "16"])
+        .args(["--program", "sh run.sh {scene} {rays}"])
+        .env("TMPDIR", &tmp)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while running("913574").is_empty() || running("913576").is_empty() {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the program never started"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        1,
+        "one run directory"
+    );
+    let pid = rustix::process::Pid::from_raw(raylab.id() as i32).unwrap();
+    rustix::process::kill_process(pid, rustix::process::Signal::TERM).unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = raylab.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(30) {
+            raylab.kill().unwrap();
+            panic!("raylab did not end at SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut raylab.stderr.take().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    for left in ["913574", "913576"] {
+        assert_eq!(running(left), Vec::<String>::new(), "sleep {left} survived");
+    }
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        0,
+        "a run directory was left"
+    );
+}
