@@ -43,7 +43,7 @@ fn main() -> ExitCode {
             ExitCode::from(130)
         }
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", raylab_app::error_text(&e));
             ExitCode::from(2)
         }
     }
