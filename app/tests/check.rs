@@ -752,6 +752,25 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
     );
     let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", "1e-5"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stdout));
+    // A t of the other sign, far off in f64, is a t failure (its distance in ulps once
+    // overflowed and the grader crashed).
+    let sphere = dir.path().join("sphere.txt");
+    std::fs::write(&sphere, "sphere 0 0 0 4\n").unwrap();
+    let ray = dir.path().join("ray.txt");
+    std::fs::write(&ray, "# ox oy oz dx dy dz tmin tmax\n0 0 0 0 0 1 0 inf\n").unwrap();
+    let behind = dir.path().join("behind.txt");
+    std::fs::write(&behind, "hit -4 0\n").unwrap();
+    let (sphere, ray) = (sphere.to_str().unwrap(), ray.to_str().unwrap());
+    for precision in ["f32", "f64"] {
+        let o = check_answers(sphere, ray, &behind, &["--precision", precision]);
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        assert_eq!(
+            count(&last_line(&o), "t_failures"),
+            1,
+            "{}",
+            text(&o.stdout)
+        );
+    }
     for bad in ["-1", "2", "nan"] {
         let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", bad]);
         assert_eq!(o.status.code(), Some(2), "{bad}");

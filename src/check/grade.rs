@@ -324,7 +324,8 @@ pub fn t_error<T: Real>(ray: &TraceRay<T>, exact_t: T, t: T, tolerance: f64) -> 
         true => (tf - te).abs() * len / scale,
         false => f64::INFINITY,
     };
-    let grade = if (t.key() - exact_t.key()).abs() <= 1 {
+    // (Keys of opposite signs far apart differ by more than i64 holds.)
+    let grade = if t.key().abs_diff(exact_t.key()) <= 1 {
         TError::WithinUlp
     } else if relative <= tolerance {
         TError::WithinTolerance

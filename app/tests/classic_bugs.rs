@@ -1,0 +1,370 @@
+//! The classic lab bugs, each caught by its family: `raylab check` on examples/check/bugs/,
+//! each program exact.py with one classic bug, fails the family that probes that bug
+//! (exact.py itself passes every family: app/tests/check.rs); and the C++ starter (examples/check/cpp/) builds with one
+//! g++ line and gets the counts its README states.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+crate::raylab_runner!();
+
+/// The repository's root (the app package is app/).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `raylab suite export` into `dir`/suite: its path.
+fn export(dir: &Path) -> PathBuf {
+    let suite = dir.join("suite");
+    let o = raylab(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    suite
+}
+
+/// A family's name without its number: `01-cube-from-inside` is `cube-from-inside`.
+fn unnumbered(dir_name: &str) -> &str {
+    match dir_name.split_once('-') {
+        Some((n, rest)) if n.chars().all(|c| c.is_ascii_digit()) => rest,
+        _ => dir_name,
+    }
+}
+
+/// The directory name (with its number) of the family called `name` in the export `suite`.
+fn family_dir(suite: &Path, name: &str) -> String {
+    std::fs::read_dir(suite)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .find(|d| unnumbered(d) == name)
+        .unwrap_or_else(|| panic!("no family '{name}' in the exported suite"))
+}
+
+/// A suite of only the families `names` of the export `suite` (their directories and the
+/// README), in `dir`/`label`: its path.
+fn sub_suite(suite: &Path, names: &[&str], dir: &Path, label: &str) -> PathBuf {
+    let sub = dir.join(label);
+    std::fs::create_dir(&sub).unwrap();
+    std::fs::copy(suite.join("README.md"), sub.join("README.md")).unwrap();
+    for name in names {
+        let family = family_dir(suite, name);
+        std::fs::create_dir(sub.join(&family)).unwrap();
+        for file in ["scene.txt", "rays.txt"] {
+            std::fs::copy(suite.join(&family).join(file), sub.join(&family).join(file)).unwrap();
+        }
+    }
+    sub
+}
+
+/// `raylab check --suite SUITE --program PROGRAM` in `precision`.
+fn check(suite: &Path, program: &str, precision: &str) -> Output {
+    raylab(&[
+        "check",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--program",
+        program,
+        "--precision",
+        precision,
+    ])
+}
+
+/// The row of family `name` (unnumbered) in a `raylab check --suite` table: each column's
+/// count by the header's name for it (`rays`, `right`, `ties`, `leaks`, `false`, `wrong`,
+/// `t fail`, …). The row is the line that starts with the family's directory name.
+fn row(out: &str, name: &str) -> Vec<(String, f64)> {
+    let header = out
+        .lines()
+        .find(|l| l.starts_with("family "))
+        .unwrap_or_else(|| panic!("no table in {out}"));
+    // Column names are one or two words, columns at least two spaces apart.
+    let names: Vec<&str> = header
+        .split("  ")
+        .map(str::trim)
+        .filter(|n| !n.is_empty())
+        .collect();
+    let values: Vec<&str> = out
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .find(|w| w.len() == names.len() && w.first().is_some_and(|f| unnumbered(f) == name))
+        .unwrap_or_else(|| panic!("no row for {name} in {out}"));
+    (names.iter().zip(&values).skip(1))
+        .map(|(n, v)| (n.to_string(), v.parse().unwrap()))
+        .collect()
+}
+
+/// The count in column `name` of a [`row`].
+fn column(row: &[(String, f64)], name: &str) -> usize {
+    row.iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("no column '{name}' in {row:?}"))
+        .1 as usize
+}
+
+/// The value `name` of the `check:` line (the last line of `raylab check`).
+fn count(out: &str, name: &str) -> usize {
+    let line = out.lines().last().unwrap_or_default();
+    assert!(line.starts_with("check: "), "{out}");
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = (words.iter().position(|w| *w == name)).unwrap_or_else(|| panic!("{name} in {line}"));
+    words[at + 1].parse().unwrap()
+}
+
+/// The program line that runs examples/check/`script` with python3.
+fn python(script: &str) -> String {
+    let path = root().join("examples/check").join(script);
+    format!("python3 '{}' {{scene}} {{rays}}", path.display())
+}
+
+/// One classic bug: its program in examples/check/bugs/, the family that catches it and the
+/// columns of that family's row of which at least one counts a failure, and other families
+/// it runs on beside.
+struct Bug {
+    program: &'static str,
+    caught_by: &'static [(&'static str, &'static [&'static str])],
+    beside: &'static [&'static str],
+}
+
+/// `raylab check --precision f64` of the bug's program on its families: the run fails, and
+/// each family that catches the bug fails by the columns named. Returns the output.
+fn caught(bug: &Bug) -> Option<String> {
+    if !common::tool_for("python3", "python3", bug.program) {
+        return None;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let suite = export(dir.path());
+    let names: Vec<&str> = (bug.caught_by.iter().map(|(name, _)| *name))
+        .chain(bug.beside.iter().copied())
+        .collect();
+    let sub = sub_suite(&suite, &names, dir.path(), "some");
+    let o = check(&sub, &python(&format!("bugs/{}", bug.program)), "f64");
+    let out = text(&o.stdout);
+    let err: String = text(&o.stderr)
+        .lines()
+        .take(10)
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_eq!(o.status.code(), Some(1), "{}: {out}{err}", bug.program);
+    assert!(!out.contains("FAILED:"), "{}: it ran: {out}", bug.program);
+    for (name, columns) in bug.caught_by {
+        let row = row(&out, name);
+        let failures: usize = columns.iter().map(|c| column(&row, c)).sum();
+        assert!(
+            failures > 0,
+            "{}: {name} fails by {columns:?}: {out}",
+            bug.program
+        );
+    }
+    println!("{}:\n{out}", bug.program);
+    Some(out)
+}
+
+/// The sphere by the textbook quadratic in f64: far tiny spheres, hit or miss near the rim
+/// decided by rounding.
+#[test]
+fn textbook_sphere_is_caught_at_the_rim_of_far_tiny_spheres() {
+    caught(&Bug {
+        program: "textbook_sphere.py",
+        caught_by: &[("far-tiny-spheres-at-the-rim", &["leaks", "false"])],
+        beside: &["near-tangent-1e-3-1e-7-and-tangent"],
+    });
+}
+
+/// t in units of a normalised direction: every hit right, its t off.
+#[test]
+fn normalised_t_is_caught_by_directions_not_of_unit_length() {
+    let Some(out) = caught(&Bug {
+        program: "normalised_t.py",
+        caught_by: &[("directions-not-of-unit-length", &["t fail"])],
+        beside: &["exact-ties"],
+    }) else {
+        return;
+    };
+    // The hits themselves are found exactly.
+    assert_eq!(
+        count(&out, "leaks") + count(&out, "false_hits") + count(&out, "wrong"),
+        0,
+        "{out}"
+    );
+}
+
+/// tmin ignored: surfaces behind the origin hit (a cube's far faces from inside it), and a
+/// sphere's near root from inside it or from its surface.
+#[test]
+fn behind_origin_is_caught_by_hits_behind_the_origin() {
+    caught(&Bug {
+        program: "behind_origin.py",
+        caught_by: &[
+            ("hits-behind-the-origin", &["false", "wrong"]),
+            ("cube-from-inside", &["wrong"]),
+            ("origin-on-the-sphere-r-5", &["false", "wrong"]),
+            ("inside-and-one-ulp-outside", &["false", "wrong"]),
+        ],
+        beside: &[],
+    });
+}
+
+/// Open edges: rays through shared edges and vertices leak (closed meshes, the Cornell box,
+/// a vertex in the middle of an edge).
+#[test]
+fn open_edges_are_caught_by_closed_meshes() {
+    caught(&Bug {
+        program: "open_edges.py",
+        caught_by: &[
+            ("cube-from-inside", &["leaks"]),
+            ("cube-from-outside", &["leaks"]),
+            ("cornell-primary-edges-vertices", &["leaks"]),
+            ("t-junctions", &["leaks"]),
+        ],
+        beside: &[],
+    });
+}
+
+/// t <= tmax: a surface exactly at the interval's far end is hit.
+#[test]
+fn closed_tmax_is_caught_by_interval_ends_at_surfaces() {
+    caught(&Bug {
+        program: "closed_tmax.py",
+        caught_by: &[("interval-ends-at-surfaces", &["false"])],
+        beside: &[],
+    });
+}
+
+/// t >= tmin: a ray starting on a surface hits it at t = 0.
+#[test]
+fn closed_tmin_is_caught_by_origins_on_surfaces() {
+    caught(&Bug {
+        program: "closed_tmin.py",
+        caught_by: &[
+            ("origins-at-a-vertex", &["false", "wrong"]),
+            ("interval-ends-at-surfaces", &["false", "wrong"]),
+        ],
+        beside: &[],
+    });
+}
+
+/// The sphere's near root only: a ray from inside a sphere misses it.
+#[test]
+fn near_root_is_caught_by_rays_from_inside_spheres() {
+    caught(&Bug {
+        program: "near_root.py",
+        caught_by: &[
+            ("interval-ends-at-surfaces", &["leaks"]),
+            ("inside-and-one-ulp-outside", &["leaks"]),
+        ],
+        beside: &[],
+    });
+}
+
+/// The last hit instead of the nearest: the far face of a cube.
+#[test]
+fn last_hit_is_caught_by_a_cube_from_outside() {
+    caught(&Bug {
+        program: "last_hit.py",
+        caught_by: &[("cube-from-outside", &["wrong"])],
+        beside: &["exact-ties"],
+    });
+}
+
+/// Möller–Trumbore in f32: shared edges and vertices leak or hit twice, and a cube 2^-130
+/// across is missed whole.
+#[test]
+fn f32_moller_is_caught_by_closed_meshes_and_a_subnormal_cube() {
+    let Some(out) = caught(&Bug {
+        program: "f32_moller.py",
+        caught_by: &[
+            ("cube-from-inside", &["leaks", "wrong"]),
+            ("fan-of-12-around-an-apex", &["leaks", "false", "wrong"]),
+            ("t-junctions", &["leaks", "false", "wrong"]),
+            ("subnormal-cube-2-minus-130", &["leaks"]),
+        ],
+        beside: &[],
+    }) else {
+        return;
+    };
+    // e1 × e2 underflows to 0 in f32: det = 0, every ray misses.
+    let row = row(&out, "subnormal-cube-2-minus-130");
+    assert_eq!(column(&row, "leaks"), column(&row, "rays"), "{out}");
+}
+
+/// The C++ starter's counts on the whole suite (its README states them): the same in f32
+/// and f64.
+const CPP_LEAKS: usize = 20;
+const CPP_FALSE_HITS: usize = 1;
+const CPP_WRONG: usize = 8;
+
+/// The C++ starter builds with its README's g++ line and, on the whole suite, gets the
+/// counts its README states in f64 and f32; the stable quadratic passes the far tiny
+/// spheres that the textbook one fails.
+#[test]
+fn the_cpp_starter_builds_and_gets_its_readme_counts() {
+    if !common::tool_for(
+        "g++",
+        "build-essential",
+        "the_cpp_starter_builds_and_gets_its_readme_counts",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cpp = root().join("examples/check/cpp");
+    let exe = dir.path().join("intersect");
+    let o = std::process::Command::new("g++")
+        .args(["-O2", "-std=c++17", "-o"])
+        .arg(&exe)
+        .arg(cpp.join("intersect.cpp"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "g++: {}", text(&o.stderr));
+    let readme = std::fs::read_to_string(cpp.join("README.md")).unwrap();
+    assert!(
+        readme.contains("g++ -O2 -std=c++17 -o intersect intersect.cpp"),
+        "the README's build line"
+    );
+    let suite = export(dir.path());
+    let rays: usize = raylab::check::suite::all()
+        .iter()
+        .map(|f| f.rays.len())
+        .sum();
+    let program = format!("'{}' {{scene}} {{rays}}", exe.display());
+    for precision in ["f64", "f32"] {
+        let o = check(&suite, &program, precision);
+        let out = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(1), "{out}{}", text(&o.stderr));
+        assert_eq!(count(&out, "rays"), rays, "{out}");
+        assert_eq!(
+            [
+                count(&out, "leaks"),
+                count(&out, "false_hits"),
+                count(&out, "wrong")
+            ],
+            [CPP_LEAKS, CPP_FALSE_HITS, CPP_WRONG],
+            "{precision}: {out}"
+        );
+        let row = row(&out, "far-tiny-spheres-at-the-rim");
+        assert_eq!(
+            column(&row, "right") + column(&row, "ties"),
+            column(&row, "rays"),
+            "{out}"
+        );
+    }
+    let stated = format!(
+        "{CPP_LEAKS} leaks, {CPP_FALSE_HITS} false hit{} and {CPP_WRONG} wrong primitives of the suite's {rays} rays",
+        if CPP_FALSE_HITS == 1 { "" } else { "s" }
+    );
+    assert!(
+        readme
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .contains(&stated),
+        "the README states '{stated}'"
+    );
+}
