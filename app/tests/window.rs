@@ -9,6 +9,7 @@ mod common;
 use common::window::{against_headless, compare, Around, Run};
 use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
+use raylab::geometry::Method;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
 use std::collections::HashMap;
@@ -594,7 +595,7 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
         height: h,
         step: LabStep::Direct,
         spp,
-        method: raylab::geometry::Method::Moller,
+        method: Method::Moller,
         cracks: true,
         ..Default::default()
     };

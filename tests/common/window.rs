@@ -47,6 +47,8 @@ pub struct Run {
     /// The ray inspector's fields (`inspector name: value` lines), if it was used.
     pub inspector: HashMap<String, String>,
     pub shot: (u32, u32, Vec<u8>),
+    /// Everything the run printed (the final line, the status, the cracks' counts, ...).
+    pub stdout: String,
     pub stderr: String,
 }
 
@@ -246,6 +248,7 @@ pub fn run_window_with(
             true => read_png(&shot_path),
             false => (0, 0, Vec::new()),
         },
+        stdout,
         stderr,
     })
 }
@@ -266,4 +269,73 @@ pub fn against_headless(run: &Run, scene: &Scene) -> (f64, f64, Vec<u8>, u32, u3
     let (expected, _) = render_image(&scene.clone().into(), &camera, &settings).unwrap();
     let (mean, off) = compare(&run.shot, rect, &expected, w, h);
     (mean, off, expected, w, h)
+}
+
+/// A pixel the cracks view marks: its column, row and verdict.
+pub type Marked = (u32, u32, &'static str);
+
+/// Each pixel's centre ray of a `w`×`h` image from `camera`, answered by `method` and graded
+/// against the exact answer as `raylab check` grades: how many got each verdict (by name), and
+/// the pixels the cracks view marks (the answer hits where the exact ray misses, or the
+/// reverse) in reading order, with their verdicts.
+pub fn graded_pixels(
+    stage: &raylab::render::Stage,
+    camera: &Camera,
+    (w, h): (u32, u32),
+    method: raylab::geometry::Method,
+) -> (HashMap<&'static str, u64>, Vec<Marked>) {
+    let shapes: Vec<_> = stage.scene().all_shapes().collect();
+    let rays = camera.ray_generator(w, h);
+    let mut counts: HashMap<&str, u64> = HashMap::new();
+    let mut marked = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let ray = rays.ray_through(i as f32 + 0.5, j as f32 + 0.5);
+            let answer = |m| stage.accel().closest_hit(&ray, m, 0.0, f32::INFINITY);
+            let (given, exact) = (answer(method), answer(raylab::geometry::Method::Adaptive));
+            let verdict = raylab::check::code::verdict(&shapes, &ray, exact, given);
+            *counts.entry(verdict.name()).or_default() += 1;
+            if given.is_some() != exact.is_some() {
+                marked.push((i, j, verdict.name()));
+            }
+        }
+    }
+    (counts, marked)
+}
+
+/// The distance from point `p` to segment a–b.
+pub fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (ab, ap) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let len2 = (ab[0] * ab[0] + ab[1] * ab[1]).max(1e-12);
+    let s = ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0);
+    ((ap[0] - s * ab[0]).powi(2) + (ap[1] - s * ab[1]).powi(2)).sqrt()
+}
+
+/// Of the pixels of a `w`×`h` render whose centres `keep` (image coordinates), how many there
+/// are and how many the window's image rectangle `rect` in `shot` shows off by more than 8
+/// (sampled as [`compare`] samples).
+pub fn pixels_off_where(
+    shot: &(u32, u32, Vec<u8>),
+    rect: [f64; 4],
+    render: &[u8],
+    (w, h): (u32, u32),
+    keep: impl Fn([f64; 2]) -> bool,
+) -> (u32, u32) {
+    let (sw, _, px) = shot;
+    let (mut kept, mut off) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let p = [i as f64 + 0.5, j as f64 + 0.5];
+            if !keep(p) {
+                continue;
+            }
+            kept += 1;
+            let x = (rect[0] + p[0] * rect[2] / w as f64) as u32;
+            let y = (rect[1] + p[1] * rect[3] / h as f64) as u32;
+            let shown = &px[4 * (y * sw + x) as usize..][..3];
+            let want = &render[4 * (j * w + i) as usize..][..3];
+            off += (0..3).any(|c| (shown[c] as i32 - want[c] as i32).abs() > 8) as u32;
+        }
+    }
+    (kept, off)
 }

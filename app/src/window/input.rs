@@ -25,6 +25,7 @@ pub enum Key {
     R,
     I,
     C,
+    N,
     H,
     F1,
     F5,
@@ -54,6 +55,7 @@ impl Key {
             KeyCode::KeyR => Key::R,
             KeyCode::KeyI => Key::I,
             KeyCode::KeyC => Key::C,
+            KeyCode::KeyN => Key::N,
             KeyCode::KeyH => Key::H,
             KeyCode::F1 => Key::F1,
             KeyCode::F5 => Key::F5,
@@ -65,7 +67,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 23] = [
+        const ALL: [(&str, Key); 24] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -84,6 +86,7 @@ impl Key {
             ("R", Key::R),
             ("I", Key::I),
             ("C", Key::C),
+            ("N", Key::N),
             ("H", Key::H),
             ("F1", Key::F1),
             ("F5", Key::F5),
@@ -96,7 +99,7 @@ impl Key {
     }
 
     /// Keys that move or turn while held (the rest act once, on press).
-    fn is_held_motion(self) -> bool {
+    pub fn is_held_motion(self) -> bool {
         matches!(
             self,
             Key::W
@@ -136,6 +139,11 @@ impl InputState {
             self.held.push(key);
         }
         true
+    }
+
+    /// Whether `key` is held down (a motion key or a modifier).
+    pub fn holds(&self, key: Key) -> bool {
+        self.held.contains(&key)
     }
 
     /// Releases everything (focus lost: no key stays stuck down).

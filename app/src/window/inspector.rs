@@ -1,7 +1,10 @@
 //! The ray inspector in the window: the panel section listing one pixel's ray as the lecture
-//! writes it ([`raylab::render::inspect`]), and the overlay that draws that ray, its hit point
-//! and its shadow ray over the image, from whatever view the camera has moved to since.
+//! writes it ([`raylab::render::inspect`]) and where it meets its primitives, and the overlay
+//! that draws that ray, its hit point and its shadow ray over the image while the inspector is
+//! on. The pixel is answered again for each new view ([`super::follow`]); until the view
+//! settles, the ray drawn is the last answer's, seen from where the camera has moved since.
 
+use super::follow::Detail;
 use raylab::camera::Projection;
 use raylab::check::code::CodeInspection;
 use raylab::geometry::Hit;
@@ -62,6 +65,17 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         row("N", f3(h.indirect));
         row(&format!("colour ({})", ins.step), f3(h.colour));
     });
+}
+
+/// Where the inspected pixel's ray meets its primitives, and its crack ([`Detail`]).
+pub fn crack_fields(ui: &mut egui::Ui, detail: &Detail) {
+    ui.strong("Where the ray meets (decided exactly)");
+    for (name, value) in detail.rows() {
+        ui.horizontal_wrapped(|ui| {
+            ui.strong(format!("{name}:"));
+            ui.label(value);
+        });
+    }
 }
 
 /// The linked code's answer for the inspected pixel beside the exact one on the same ray.

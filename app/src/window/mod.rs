@@ -13,11 +13,14 @@
 //! left to do it sleeps in `ControlFlow::Wait`.
 
 mod args;
+mod cracks;
 mod files;
+mod follow;
 mod framework;
 mod gpu;
 mod input;
 mod inspector;
+mod location;
 mod panel;
 mod script;
 mod scripted;
@@ -79,6 +82,8 @@ pub enum AppEvent {
     SourceChanged(PathBuf),
     /// An F12 screenshot was written (or failed).
     ScreenshotSaved(Result<PathBuf, String>),
+    /// The cracks of a frame shown were counted.
+    CracksCounted,
 }
 
 /// Opens the window and runs until it is closed.
@@ -286,6 +291,11 @@ impl App {
                 let state = ["off", "on"][self.viewer.inspector_on as usize];
                 self.viewer.set_status(format!("ray inspector {state}"));
             }
+            Key::N => {
+                let back = self.viewer.input.holds(Key::Shift);
+                let step = [cracks::Step::Next, cracks::Step::Previous][back as usize];
+                self.viewer.step_crack(step);
+            }
             Key::F12 => self.viewer.screenshot(),
             Key::F5 => self.viewer.save_view(),
             Key::C => self.viewer.copy_command(),
@@ -378,11 +388,19 @@ impl App {
             viewer.copy_command();
             window.request_redraw(); // (the clipboard is written in the next UI pass)
         }
+        if let Some(step) = actions.crack {
+            viewer.step_crack(step);
+            window.request_redraw(); // (the inspector's panel opens in the next UI pass)
+        }
         let after = viewer.panel_state();
         if before != after || actions.reset_camera {
             log::debug!("change: {before:?} -> {after:?}");
             viewer.changed();
         }
+        // The inspector answers its pixel again for the frame now shown; a crack step waits
+        // for its frame's count.
+        viewer.follow();
+        viewer.resolve_step();
 
         let capture = self
             .scripted
@@ -522,6 +540,10 @@ impl ApplicationHandler<AppEvent> for App {
                 self.viewer.reload(path);
                 self.request_redraw();
             }
+            AppEvent::CracksCounted => {
+                self.viewer.cracks_counted();
+                self.request_redraw();
+            }
         }
     }
 
@@ -556,7 +578,11 @@ impl ApplicationHandler<AppEvent> for App {
                 self.set_mouse_look(false);
             }
             WindowEvent::DroppedFile(path) => self.viewer.load(path),
-            WindowEvent::KeyboardInput { event, .. } => {
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic,
+                ..
+            } => {
                 let PhysicalKey::Code(code) = event.physical_key else {
                     return;
                 };
@@ -565,7 +591,10 @@ impl ApplicationHandler<AppEvent> for App {
                 };
                 let pressed = event.state == ElementState::Pressed;
                 // Releases always count (no stuck keys); presses only when egui is not typing.
-                if pressed && (event.repeat || (egui_keyboard && key != Key::Escape)) {
+                // (A window gaining focus replays the keys held as synthetic presses: a key
+                // pressed just then arrives twice, so only held motion takes them.)
+                let replayed = is_synthetic && !key.is_held_motion();
+                if pressed && (event.repeat || replayed || (egui_keyboard && key != Key::Escape)) {
                     return;
                 }
                 self.key(event_loop, key, pressed);

@@ -26,6 +26,8 @@ pub struct PanelInfo<'a> {
     pub selected_level: Option<usize>,
     /// The name of linked code that is not raylab's, offered in the method selector.
     pub code_name: Option<&'a str>,
+    /// The cracks view's legend and counts, while it is on.
+    pub cracks: Option<super::cracks::Legend>,
 }
 
 /// What the user asked for with buttons.
@@ -38,6 +40,8 @@ pub struct PanelActions {
     pub copy_command: bool,
     /// A push level clicked in the scene tree (`Some(None)`: the selection cleared).
     pub select: Option<Option<usize>>,
+    /// The next or previous crack button.
+    pub crack: Option<super::cracks::Step>,
 }
 
 /// The side panel. Edits `view` and `camera` in place.
@@ -238,6 +242,9 @@ pub fn side_panel(
                 .map(|name| (name, &mut view.yours));
             control_widget(ui, control, &mut view.controls, code);
         }
+        if let Some(legend) = &info.cracks {
+            actions.crack = super::cracks::legend(ui, legend);
+        }
 
         ui.separator();
         ui.strong("Light");
@@ -343,6 +350,9 @@ fn scene_tree(
 /// Width of the side panel at start, in points.
 pub const PANEL_WIDTH: f32 = 300.0;
 
+/// Width of the ray inspector's panel at start, in points.
+pub const INSPECTOR_WIDTH: f32 = 330.0;
+
 /// What one layout pass found.
 pub struct Layout {
     pub actions: PanelActions,
@@ -371,6 +381,7 @@ pub fn layout(
         viewer.apply_picked(picked);
     }
     let full_size = viewer.full_size();
+    let legend = viewer.crack_legend();
     let Viewer {
         stage,
         view,
@@ -387,6 +398,9 @@ pub fn layout(
         code_inspection,
         copy_request,
         files,
+        crack,
+        cracks,
+        inspector_shown,
         ..
     } = viewer;
     if let Some(text) = copy_request.take() {
@@ -405,6 +419,7 @@ pub fn layout(
         levels: &scene.levels,
         selected_level: *selected_level,
         code_name: code.as_deref().map(|c| c.name()),
+        cracks: legend,
     };
     let mut layout = Layout {
         actions: PanelActions::default(),
@@ -419,14 +434,34 @@ pub fn layout(
             let inspector = (&mut *inspector_on, inspection.as_ref());
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
         });
-    // The inspected ray's fields beside the image, while there are some (the side panel keeps
-    // its sections in view).
-    if let (Some(ins), true) = (inspection.as_ref(), *inspector_on) {
+    // The inspected ray's fields beside the image, while there are some or a crack is being
+    // found (the side panel keeps its sections in view).
+    *inspector_shown = *inspector_on && (inspection.is_some() || cracks.pending.is_some());
+    if *inspector_shown {
+        // (A width of its own that its rows fit in: a panel that grew with what it shows would
+        // narrow the image, a new frame, each time.)
         egui::Panel::right("inspector")
             .resizable(true)
+            .default_size(INSPECTOR_WIDTH)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    super::inspector::fields(ui, ins);
+                // (Both ways: a row wider than the panel scrolls rather than widening it.)
+                egui::ScrollArea::both().show(ui, |ui| {
+                    if let Some(detail) = crack.as_ref() {
+                        super::inspector::crack_fields(ui, detail);
+                        ui.separator();
+                    }
+                    match inspection.as_ref() {
+                        Some(ins) => super::inspector::fields(ui, ins),
+                        None => {
+                            ui.strong("Ray inspector");
+                            ui.add(
+                                egui::Label::new(
+                                    "finding the next crack once this frame is counted...",
+                                )
+                                .wrap(),
+                            );
+                        }
+                    }
                     if let Some(yours) = code_inspection.as_ref() {
                         ui.separator();
                         super::inspector::code_fields(ui, yours);
@@ -456,7 +491,9 @@ pub fn layout(
                 egui::Color32::WHITE,
             );
             layout.image_rect = Some(rect);
-            if let (Some(ins), Some((w, h, ..))) = (inspection.as_ref(), shown) {
+            // (Only while the inspector is on: I hides its ray with its panel.)
+            let ins = inspection.as_ref().filter(|_| *inspector_on);
+            if let (Some(ins), Some((w, h, ..))) = (ins, shown) {
                 // (Projected as the image on screen was rendered: its size, the camera now.)
                 let projection = controller.camera(w).projection(w, h);
                 super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
@@ -503,6 +540,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     (
         "left click / I",
         "ray inspector: one pixel's ray as the lecture writes it / on or off",
+    ),
+    (
+        "N / Shift+N",
+        "next / previous crack (show cracks on) in the ray inspector",
     ),
     ("F12", "save a screenshot (PNG)"),
     (

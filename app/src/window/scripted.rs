@@ -72,6 +72,7 @@ impl ScriptedRun {
             && !viewer.input.is_moving()
             && viewer.is_idle()
             && viewer.is_refined()
+            && viewer.cracks_settled()
     }
 
     /// An error once the run has taken too long.
@@ -94,8 +95,20 @@ impl ScriptedRun {
         let (w, h) = viewer.shown.as_ref().map(|s| s.size).unwrap_or((0, 0));
         let r = window.image_rect;
         let controls = raylab::render::settings::controls_text(&viewer.view.controls);
+        // The counts of the frame shown, with the cracks view on.
+        let cracks = viewer.counted().map_or(String::new(), |c| {
+            let n = &c.counts;
+            format!(
+                " leaks={} false_hits={} wrong={} ties={} marked={}",
+                n.leaks,
+                n.false_hits,
+                n.wrong,
+                n.ties,
+                c.marked.len()
+            )
+        });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} code={} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -130,6 +143,9 @@ impl ScriptedRun {
         if !viewer.status.is_empty() {
             println!("status: {}", viewer.status);
         }
+        if let Some(census) = viewer.counted() {
+            println!("cracks: {}", census.summary());
+        }
         if let Some(inspection) = &viewer.inspection {
             for line in inspection.to_string().lines() {
                 println!("inspector {line}");
@@ -139,6 +155,9 @@ impl ScriptedRun {
             for line in yours.to_string().lines() {
                 println!("inspector {line}");
             }
+        }
+        for (name, value) in viewer.crack.iter().flat_map(|d| d.rows()) {
+            println!("inspector {name}: {value}");
         }
         println!("saved {}", path.display());
         Ok(())

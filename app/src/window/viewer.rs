@@ -98,12 +98,19 @@ pub struct Viewer {
     view_light: Option<[f32; 3]>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
     pub inspector_on: bool,
-    /// The last inspected pixel's ray, in the world (drawn over the image from any view).
+    /// The inspected pixel's ray, in the world, as last answered ([`super::follow`]).
     pub inspection: Option<Inspection>,
     /// Linked code that is not raylab's ([`super::ViewerOptions::code`]).
     pub code: Option<Arc<dyn LabCode>>,
-    /// The linked code's answer for the last inspected pixel, beside the exact one.
+    /// The linked code's answer for the inspected pixel, beside the exact one.
     pub code_inspection: Option<CodeInspection>,
+    /// The pixel the inspector follows ([`super::follow`]), and its crack.
+    pub inspected: Option<super::follow::Inspected>,
+    pub crack: Option<super::follow::Detail>,
+    /// Whether the inspector's panel was drawn in the last UI pass.
+    pub inspector_shown: bool,
+    /// The cracks of the frames shown, counted ([`super::cracks`]).
+    pub cracks: super::cracks::Counter,
     /// Text to put on the clipboard in the next UI pass (copy as command).
     pub copy_request: Option<String>,
     /// The File menu and its dialog.
@@ -155,6 +162,7 @@ impl Viewer {
         let (watched, watcher) = (source.clone(), proxy.clone());
         std::thread::spawn(move || watch(watched, watcher));
         let light = stage.scene().light.position;
+        let cracks = super::cracks::Counter::new(proxy.clone());
         Self {
             proxy,
             stage,
@@ -200,32 +208,12 @@ impl Viewer {
             inspection: None,
             code,
             code_inspection: None,
+            inspected: None,
+            crack: None,
+            inspector_shown: false,
+            cracks,
             copy_request: None,
             files: Default::default(),
-        }
-    }
-
-    /// Inspects pixel (`i`, `j`) of the full-size image as now set up (the ray inspector),
-    /// keeping the result for the panel and the overlay, and saying what it found.
-    pub fn inspect_pixel(&mut self, i: u32, j: u32) {
-        let size = self.full_size();
-        let camera = self.controller.camera(size.0);
-        let stage = self.stage_to_render();
-        let settings = self.settings(size, 1);
-        match raylab::render::inspect::inspect(&stage, &camera, &settings, i, j) {
-            Ok(found) => {
-                let what = match &found.hit {
-                    Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
-                    None => "nothing".to_string(),
-                };
-                self.set_status(format!("inspected pixel ({i}, {j}): {what}"));
-                self.inspection = Some(found);
-                self.code_inspection = (self.code.as_deref()).map(|code| {
-                    let scene = stage.scene();
-                    raylab::check::code::inspect(code, scene, &camera, size, (i, j))
-                });
-            }
-            Err(e) => self.set_status(format!("cannot inspect: {e}")),
         }
     }
 
@@ -240,7 +228,7 @@ impl Viewer {
 
     /// The stage as rendered: the panel's light, and the selected level's primitives tinted
     /// (the same structure: neither moves a primitive).
-    fn stage_to_render(&mut self) -> Stage {
+    pub(super) fn stage_to_render(&mut self) -> Stage {
         let light = self.view.light;
         if self.stage.scene().light.position != light {
             self.stage.restyle(|scene| scene.light.position = light);
@@ -278,6 +266,7 @@ impl Viewer {
         self.generation += 1;
         self.last_change = Instant::now();
         self.worker.set_generation(self.generation);
+        self.cracks.cancel();
     }
 
     /// Moves the camera by the held input over the time since the last call.
@@ -360,7 +349,7 @@ impl Viewer {
     }
 
     /// The render settings at size `(w, h)` with `spp` samples per axis.
-    fn settings(&self, (width, height): (u32, u32), spp: u32) -> RenderSettings {
+    pub(super) fn settings(&self, (width, height): (u32, u32), spp: u32) -> RenderSettings {
         RenderSettings {
             width,
             height,
@@ -426,6 +415,10 @@ impl Viewer {
                     size: (s.width, s.height),
                     stats,
                 });
+                // (A preview is not counted: the counts are of the views that settle.)
+                if s.cracks && done.job.level > 0 {
+                    self.cracks.submit(done.job.clone());
+                }
                 Some(NewFrame {
                     width: s.width,
                     height: s.height,

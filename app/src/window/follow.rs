@@ -1,0 +1,294 @@
+//! The ray inspector's pixel, followed: a click (or the next / previous crack key) picks a
+//! pixel; whenever the frame shown changes (camera, light, step, method, scene, image size,
+//! the inspector's own panel opening) the inspector answers that pixel again, so that what it
+//! says is what the image shows. For the pixel it also says where the exact hit lies on its
+//! primitive ([`super::location`]) and, where the cracks view marks the pixel, which of its
+//! samples is marked and why.
+
+use super::cracks::{self, Census, Legend, Step};
+use super::location::{locate, Location};
+use super::viewer::Viewer;
+use raylab::check::Verdict;
+use std::borrow::Cow;
+
+/// The pixel the inspector follows (of the full-size image), and the frame it was answered
+/// for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inspected {
+    pub pixel: (u32, u32),
+    pub size: (u32, u32),
+    pub generation: u64,
+}
+
+/// What the inspector says of its pixel's crack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detail {
+    /// Who answered: the method, or the linked code.
+    pub who: String,
+    pub code: bool,
+    /// The image position traced: the pixel's centre, or its first marked sample.
+    pub at: (f32, f32),
+    pub sample: bool,
+    /// That ray's answer graded against the exact one.
+    pub verdict: Verdict,
+    /// Whether the cracks view marks the pixel in the frame shown.
+    pub marked: bool,
+    /// The exact hit's primitive and where the ray meets it.
+    pub exact: Option<(u32, Location)>,
+    /// The answer's primitive, where it is not the exact one, and where the ray meets it.
+    pub given: Option<(u32, Location)>,
+}
+
+impl Detail {
+    /// `name: value` rows, as the inspector shows them (and a scripted run prints them).
+    pub fn rows(&self) -> Vec<(String, String)> {
+        let v = self.verdict;
+        let crack = match self.marked {
+            true => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
+            false => format!("not marked (the centre ray: {})", v.name()),
+        };
+        let (x, y) = self.at;
+        let traced = match self.sample {
+            true => format!("sample ({x}, {y}) of the pixel"),
+            false => format!("the pixel's centre ({x}, {y})"),
+        };
+        let on = |h: &Option<(u32, Location)>| match h {
+            Some((p, at)) => format!("primitive {p}, {at}"),
+            None => "none".to_string(),
+        };
+        let given = match v {
+            Verdict::Right => "the exact one".to_string(),
+            _ => on(&self.given),
+        };
+        // (Always the same rows: the inspector's layout stays put as its pixel changes.)
+        vec![
+            ("crack".to_string(), crack),
+            ("traced".to_string(), traced),
+            ("exact hit lies".to_string(), on(&self.exact)),
+            (format!("{} hit lies", self.who), given),
+        ]
+    }
+
+    /// One line for the status: the verdict and where the exact hit lies.
+    pub fn summary(&self) -> String {
+        let exact = match &self.exact {
+            Some((p, at)) => format!("exact hit on primitive {p}, {at}"),
+            None => "the exact ray meets nothing".to_string(),
+        };
+        format!("{} by {}; {exact}", self.verdict.name(), self.who)
+    }
+}
+
+impl Viewer {
+    /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
+    /// script's `inspect`), saying what it found.
+    pub fn inspect_pixel(&mut self, i: u32, j: u32) {
+        self.answer((i, j), true);
+    }
+
+    /// Answers pixel (`i`, `j`) for the inspector and follows it from now on.
+    fn answer(&mut self, (i, j): (u32, u32), announce: bool) -> bool {
+        let size = self.full_size();
+        let camera = self.controller.camera(size.0);
+        let stage = self.stage_to_render();
+        let settings = self.settings(size, 1);
+        match raylab::render::inspect::inspect(&stage, &camera, &settings, i, j) {
+            Ok(found) => {
+                if announce {
+                    let what = match &found.hit {
+                        Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
+                        None => "nothing".to_string(),
+                    };
+                    self.set_status(format!("inspected pixel ({i}, {j}): {what}"));
+                }
+                self.inspection = Some(found);
+                self.code_inspection = (self.code.as_deref()).map(|code| {
+                    let scene = stage.scene();
+                    raylab::check::code::inspect(code, scene, &camera, size, (i, j))
+                });
+                self.inspected = Some(Inspected {
+                    pixel: (i, j),
+                    size,
+                    generation: self.generation,
+                });
+                self.crack = self.crack_detail();
+                true
+            }
+            Err(e) => {
+                self.set_status(format!("cannot inspect: {e}"));
+                false
+            }
+        }
+    }
+
+    /// Answers the inspected pixel again once the frame shown is of a newer view than the
+    /// answer (at a new image size, the pixel whose ray has the same direction).
+    pub fn follow(&mut self) {
+        let Some(at) = self.inspected else { return };
+        let current = (self.shown.as_ref()).is_some_and(|s| s.generation == self.generation);
+        if !self.inspector_on || at.generation == self.generation || !current {
+            return;
+        }
+        // At a new size, the pixel that looks the same way: the focal length goes with the
+        // width, so offsets from the image centre scale with it.
+        let size = self.full_size();
+        let scale = size.0 as f64 / at.size.0 as f64;
+        let map = |p: u32, from: u32, to: u32| {
+            let offset = (p as f64 + 0.5 - from as f64 / 2.0) * scale;
+            (offset + to as f64 / 2.0)
+                .floor()
+                .clamp(0.0, to as f64 - 1.0) as u32
+        };
+        let pixel = (
+            map(at.pixel.0, at.size.0, size.0),
+            map(at.pixel.1, at.size.1, size.1),
+        );
+        self.answer(pixel, false);
+    }
+
+    /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,
+    /// in reading order from the inspected one, in the ray inspector.
+    pub fn step_crack(&mut self, step: Step) {
+        if !self.view.controls.cracks {
+            self.cracks.pending = None;
+            return self.set_status("no cracks to step through: show cracks is off");
+        }
+        self.inspector_on = true;
+        self.cracks.pending = Some(step);
+        self.resolve_step();
+        if self.cracks.pending.is_some() {
+            self.set_status("finding the next crack once this frame is counted...");
+        }
+    }
+
+    /// The count of the frame shown, once that frame is the last refinement of the view.
+    fn final_census(&self) -> Option<&Census> {
+        let c = self.cracks.census.as_ref()?;
+        let last = c.generation == self.generation && c.level >= self.max_level();
+        (last && c.size == self.full_size()).then_some(c)
+    }
+
+    /// Carries out a step asked for, once the frame it needs is counted and shown with the
+    /// inspector's panel open (opening it narrows the image: a new frame).
+    pub fn resolve_step(&mut self) {
+        let Some(step) = self.cracks.pending else {
+            return;
+        };
+        // (Show cracks or the inspector turned off meanwhile: the step is dropped.)
+        if !self.view.controls.cracks || !self.inspector_on {
+            self.cracks.pending = None;
+            return;
+        }
+        if !self.inspector_shown {
+            return;
+        }
+        let Some(census) = self.final_census() else {
+            return;
+        };
+        let from = (self.inspected)
+            .filter(|a| a.size == census.size && a.generation == census.generation)
+            .map(|a| a.pixel);
+        let (count, who) = (census.marked.len(), census.who.clone());
+        let found = census.step(from, step).map(|(k, m)| (k, *m));
+        self.cracks.pending = None;
+        let Some((k, m)) = found else {
+            return self.set_status(format!(
+                "no cracks in this frame: {who} gives every sample the exact answer (or a tie)"
+            ));
+        };
+        if self.answer(m.pixel, false) {
+            let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
+            let (i, j) = m.pixel;
+            let n = k + 1;
+            self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
+        }
+    }
+
+    /// A count finished: the panel's counts, the inspector's crack and a waiting step follow.
+    pub fn cracks_counted(&mut self) {
+        if !self.cracks.take() {
+            return;
+        }
+        let same = |c: &Census, at: &Inspected| c.generation == at.generation && c.size == at.size;
+        if let (Some(c), Some(at)) = (&self.cracks.census, &self.inspected) {
+            if same(c, at) {
+                self.crack = self.crack_detail();
+            }
+        }
+        self.resolve_step();
+    }
+
+    /// The count matching the frame shown (its generation and refinement level).
+    fn shown_census(&self) -> Option<&Census> {
+        let (c, s) = (self.cracks.census.as_ref()?, self.shown.as_ref()?);
+        (c.generation == s.generation && c.level == s.level).then_some(c)
+    }
+
+    /// What the panel shows beside the "show cracks" box, while it is ticked.
+    pub fn crack_legend(&self) -> Option<Legend> {
+        if !self.view.controls.cracks {
+            return None;
+        }
+        let census = self.shown_census();
+        let line = match census {
+            Some(c) => Ok(c.summary()),
+            None if self.cracks.is_counting() => Err("counting this frame's cracks..."),
+            None => Err("counted once the view settles"),
+        };
+        Some(Legend {
+            code: self.code.is_some() && self.view.yours,
+            line,
+            marked: census.map(|c| c.marked.len()),
+        })
+    }
+
+    /// Whether the frame shown has been counted (or needs no count) and no step waits.
+    pub fn cracks_settled(&self) -> bool {
+        let counted = !self.view.controls.cracks || self.shown_census().is_some();
+        counted && self.cracks.pending.is_none()
+    }
+
+    /// The count of the frame shown, for the scripted run's final line.
+    pub fn counted(&self) -> Option<&Census> {
+        self.shown_census().filter(|_| self.view.controls.cracks)
+    }
+
+    /// The inspected pixel's crack: its first marked sample where the frame shown marks it
+    /// (else its centre), graded, and where the exact hit lies.
+    fn crack_detail(&self) -> Option<Detail> {
+        let at = self.inspected?;
+        let census = (self.cracks.census.as_ref())
+            .filter(|c| c.generation == at.generation && c.size == at.size);
+        let marked = census.and_then(|c| c.find(at.pixel)).map(|(_, m)| *m);
+        let n = census.map_or(1, |c| c.spp);
+        let (i, j) = at.pixel;
+        let pos = match marked {
+            Some(m) => cracks::sample_position(at.pixel, m.sample, n),
+            None => (i as f32 + 0.5, j as f32 + 0.5),
+        };
+        let code = self.code.as_deref().filter(|_| self.view.yours);
+        let shapes = match code {
+            Some(_) => cracks::all_shapes(&self.stage),
+            None => Cow::Borrowed(&[][..]),
+        };
+        let camera = self.controller.camera(at.size.0);
+        let method = self.view.controls.method;
+        let trace = (&self.stage, &camera, method, code);
+        let (ray, given, exact) = cracks::answers(trace, &shapes, at.size, pos);
+        let scene = self.stage.scene();
+        let shape_of = |p: u32| scene.shape(p);
+        let verdict = cracks::classify(shape_of, &ray, exact, given);
+        let on = |p: u32| (p, locate(&scene.shape(p), &ray));
+        let differs = |g: &raylab::geometry::Hit| exact.is_none_or(|e| e.prim != g.prim);
+        Some(Detail {
+            who: code.map_or(method.name().to_string(), |c| c.name().to_string()),
+            code: code.is_some(),
+            at: pos,
+            sample: marked.is_some() && n > 1,
+            verdict,
+            marked: marked.is_some(),
+            exact: exact.map(|h| on(h.prim)),
+            given: given.filter(differs).map(|h| on(h.prim)),
+        })
+    }
+}

@@ -1,0 +1,238 @@
+//! The window's cracks and its ray inspector under Xvfb, driven by real X input: the crack
+//! counts and next/previous crack against a headless grading of every pixel, the inspector
+//! following its pixel as the view changes, and its overlay hidden with it.
+//!
+//! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
+//! missing the test says so loudly and skips, except under CI=true, where it must run.
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use common::window::{graded_pixels, pixels_off_where, segment_distance, Around, Run};
+use raylab::geometry::Method;
+use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::Scene;
+
+/// Runs raylab's window under Xvfb with `script` and something beside it ([`Around`]); None
+/// (after saying so) where Xvfb is missing.
+fn run_window_with(
+    script: &str,
+    dir: &std::path::Path,
+    env: &[(&str, &str)],
+    around: Around,
+) -> Option<Run> {
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    common::window::run_window_with(exe, script, dir, env, around)
+}
+
+/// Two triangles sharing their edge v1–v2, which lies in the plane x = 0, seen from
+/// (0, 0, −3): at an odd image width every camera ray of the middle column lies in that plane
+/// and crosses the shared edge exactly, and f32 Möller–Trumbore, rounding u + v to either side
+/// of 1 in both triangles, lets some of them through.
+const SHARED_EDGE: &str = "camera 0 0 -3\n\
+                           tri -0.8 0.1 0.05 0 -0.7 0.3 0 0.6 -0.2\n\
+                           tri 0.9 -0.05 0.1 0 -0.7 0.3 0 0.6 -0.2\n";
+
+#[test]
+fn real_x_input_next_crack_steps_through_the_counted_cracks() {
+    // The cracks view of moller on the shared edge (a dropped view: 321x241, flat, one
+    // sample): the counts the panel shows are those of grading every pixel's ray headless;
+    // real presses of N, N and Shift+N select the first, the second and again the first
+    // marked pixel in reading order, and the inspector says the exact hit lies on the edge.
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("edge.scene");
+    std::fs::write(&scene_path, SHARED_EDGE).unwrap();
+    let view = dir.path().join("edge.view");
+    std::fs::write(
+        &view,
+        "scene edge.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 321 241\nstep flat\nspp 1\n\
+         method moller\ncracks on\n",
+    )
+    .unwrap();
+    let script = format!("200 drop {}\n14000 step flat\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2; \
+                  xdotool key n; sleep 1.5; xdotool key shift+n";
+    let Some(run) = run_window_with(&script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let f = &run.fields;
+    assert_eq!(
+        (
+            f["method"].as_str(),
+            f["cracks"].as_str(),
+            f["size"].as_str()
+        ),
+        ("moller", "on", "321x241"),
+        "{}",
+        run.stderr
+    );
+    // Every pixel's centre ray graded headless, as `raylab check` grades an answer.
+    let scene = Scene::open(scene_path.to_str().unwrap(), raylab::scene::ObjFrame::Lab).unwrap();
+    let stage = raylab::render::Stage::from(scene);
+    let (camera, w, h, _) = run.camera();
+    let (counts, marked) = graded_pixels(&stage, &camera, (w, h), Method::Moller);
+    let count = |name| counts.get(name).copied().unwrap_or(0);
+    let expected = [
+        ("leaks", count("leak")),
+        ("false_hits", count("false hit")),
+        ("wrong", count("wrong primitive")),
+        ("ties", count("tie")),
+        ("marked", marked.len() as u64),
+    ];
+    for (field, n) in expected {
+        assert_eq!(f[field], n.to_string(), "{field}\n{}", run.stdout);
+    }
+    assert!(
+        !marked.is_empty(),
+        "moller lets rays through the shared edge"
+    );
+    assert!(
+        marked.iter().all(|&(i, ..)| i == 160),
+        "on the middle column only: {marked:?}"
+    );
+    let line = format!(
+        "cracks: leaks {} · false hits {} · wrong {} · ties {} (of 77,361 px)",
+        count("leak"),
+        count("false hit"),
+        count("wrong primitive"),
+        count("tie")
+    );
+    assert!(run.stdout.contains(&line), "{line}\n{}", run.stdout);
+    // The marks are the renderer's: its cracks view paints exactly these pixels.
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        method: Method::Moller,
+        cracks: true,
+        ..Default::default()
+    };
+    let (image, _) = render_image(&stage, &camera, &settings).unwrap();
+    let magenta = raylab::render::CRACK.map(raylab::render::linear_to_srgb8);
+    let painted: Vec<(u32, u32)> = (0..w * h)
+        .filter(|k| image[4 * *k as usize..][..3] == magenta)
+        .map(|k| (k % w, k / w))
+        .collect();
+    let listed: Vec<(u32, u32)> = marked.iter().map(|&(i, j, _)| (i, j)).collect();
+    assert_eq!(painted, listed);
+    // N, N, Shift+N: the first marked pixel, the second, the first again (one step a press).
+    let log = &run.stderr;
+    let n = marked.len();
+    let steps: Vec<&str> = (log.lines())
+        .filter_map(|l| Some(l.split_once("] crack ")?.1))
+        .collect();
+    let said = |k: usize| {
+        let (i, j, _) = marked[k];
+        format!("{} of {n}: pixel ({i}, {j}): ", k + 1)
+    };
+    assert_eq!(steps.len(), 3, "{log}");
+    for (step, k) in steps.iter().zip([0, 1, 0]) {
+        assert!(step.starts_with(&said(k)), "{step} is not {}", said(k));
+    }
+    let (i, j, verdict) = marked[0];
+    let ins = &run.inspector;
+    assert_eq!(ins["pixel"], format!("{i} {j}"), "{ins:?}");
+    assert_eq!(
+        ins["crack"],
+        format!("{verdict} (marked magenta)"),
+        "{ins:?}"
+    );
+    assert_eq!(ins["traced"], format!("the pixel's centre ({i}.5, {j}.5)"));
+    // Exactly on the shared edge (the exact search's tie goes to primitive 0).
+    assert_eq!(
+        ins["exact hit lies"], "primitive 0, on the edge v1–v2",
+        "{ins:?}"
+    );
+}
+
+#[test]
+fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
+    // A click inspects a pixel (the inspector's panel then opens and narrows the image), and W
+    // moves the camera: the inspector answers its pixel again for the frame shown, so its
+    // fields are the library's for that pixel from the final camera at the final image size,
+    // not those of the click.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool keydown w; sleep 0.6; \
+                  xdotool keyup w";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    let ins = &run.inspector;
+    assert!(
+        !ins.is_empty(),
+        "the click inspected nothing\n{}",
+        run.stderr
+    );
+    let (camera, w, h, _) = run.camera();
+    assert!(camera.position().z > -3.0, "W moved the camera");
+    let pixel: Vec<u32> = (ins["pixel"].split(' '))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    let stage = Scene::cornell().into();
+    let expected = raylab::render::inspect::inspect(&stage, &camera, &settings, pixel[0], pixel[1])
+        .unwrap()
+        .to_string();
+    for line in expected.lines() {
+        let (key, value) = line.split_once(": ").unwrap();
+        assert_eq!(ins.get(key).map(String::as_str), Some(value), "{key}");
+    }
+    // The focal length is that of the final width (the click was made on a wider image).
+    assert_eq!(ins["uvf"].split(' ').nth(2), Some(w.to_string().as_str()));
+}
+
+#[test]
+fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
+    // A click on the lit floor draws the inspected ray, its ring and its shadow ray over the
+    // image; I turns the inspector off, and with it what it drew: the window then shows the
+    // headless render of its view and nothing over it.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 690; \
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool key i";
+    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+        return;
+    };
+    assert_eq!(run.fields["inspector"], "off", "{}", run.stderr);
+    let ins = &run.inspector;
+    assert!(
+        ins.get("shadow_ray").is_some_and(|s| s.starts_with("from")),
+        "the click met a lit surface: {ins:?}\n{}",
+        run.stderr
+    );
+    // Where the overlay was drawn: the shadow ray from the light to the hit point (2 pixels
+    // wide) and the ring around the point. There the window shows the headless render too.
+    let ends: Vec<f32> = (ins["shadow_ray"].split(' '))
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    let (camera, w, h, rect) = run.camera();
+    let projection = camera.projection(w, h);
+    let light = projection.project([ends[0], ends[1], ends[2]]).unwrap();
+    let point = projection.project([ends[3], ends[4], ends[5]]).unwrap();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        spp: 2,
+        ..Default::default()
+    };
+    let (expected, _) = render_image(&Scene::cornell().into(), &camera, &settings).unwrap();
+    let under = |p: [f64; 2]| {
+        let ring = segment_distance(p, point, point) <= 8.0;
+        ring || segment_distance(p, light, point) <= 2.0
+    };
+    let (near, off) = pixels_off_where(&run.shot, rect, &expected, (w, h), under);
+    assert!(
+        near > 200,
+        "the shadow ray runs across the image: {near} pixels"
+    );
+    assert!(
+        off * 20 <= near,
+        "{off} of the {near} pixels under the inspector's drawing differ from the headless render"
+    );
+}
