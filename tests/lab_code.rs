@@ -162,3 +162,61 @@ fn answers_through_the_seam_are_graded_as_a_program_s() {
     // The figure `raylab check --suite` gives Möller–Trumbore in f32.
     assert_eq!(leaks, 488);
 }
+
+/// Linked code whose index is past the last primitive (an off-by-one at the end of the
+/// list): graded a wrong primitive and marked as one, whether the cracks view is on or not;
+/// the window never shades a primitive that does not exist (it panicked).
+struct PastTheEnd;
+
+impl LabCode for PastTheEnd {
+    fn name(&self) -> &str {
+        "past the end"
+    }
+
+    fn camera_ray(&self, camera: &Camera, width: u32, height: u32, x: f32, y: f32) -> Ray {
+        camera.ray_generator(width, height).ray_through(x, y)
+    }
+
+    fn closest_hit(&self, shapes: &[Shape], ray: &Ray, tmin: f32, tmax: f32) -> Option<Hit> {
+        let mut h = Exact.closest_hit(shapes, ray, tmin, tmax)?;
+        h.prim = shapes.len() as u32;
+        Some(h)
+    }
+}
+
+#[test]
+fn an_index_past_the_scene_is_a_wrong_primitive_not_a_panic() {
+    let scene = Scene::cornell();
+    let last = scene.shapes.len() as u32 - 1;
+    let stage = Stage::from(Scene::cornell());
+    let wrong_px = WRONG.map(linear_to_srgb8);
+    for cracks in [false, true] {
+        let settings = RenderSettings {
+            width: 64,
+            height: 48,
+            cracks,
+            ..Default::default()
+        };
+        let rgba = render_code(&PastTheEnd, &stage, &settings);
+        let marked = rgba.chunks(4).filter(|p| p[..3] == wrong_px).count();
+        assert_eq!(
+            marked,
+            64 * 48,
+            "cracks {cracks}: every pixel meets the box"
+        );
+    }
+    let ray = Camera::cornell(64)
+        .ray_generator(64, 48)
+        .ray_through(32.0, 24.0);
+    let exact = Exact.closest_hit(&scene.shapes, &ray, 0.0, f32::INFINITY);
+    let past = Hit {
+        t: 1.0,
+        prim: last + 1,
+        b1: 0.0,
+        b2: 0.0,
+    };
+    assert_eq!(
+        code::verdict(&scene.shapes, &ray, exact, Some(past)),
+        Verdict::Wrong
+    );
+}

@@ -112,8 +112,16 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
 }
 
 /// The verdict on the code's answer `hit` to camera ray `ray`, against the exact one
-/// (`exact`, found by the stage's structure); ties decided exactly as [`grade::grade`] does.
+/// (`exact`, found by the stage's structure); ties decided exactly as [`grade::grade`] does;
+/// an index past the scene's primitives is a wrong primitive (a false hit where nothing is
+/// met).
 pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Option<Hit>) -> Verdict {
+    if hit.is_some_and(|h| h.prim as usize >= scene_shapes.len()) {
+        return match exact {
+            Some(_) => Verdict::Wrong,
+            None => Verdict::FalseHit,
+        };
+    }
     let answer = |h: Option<Hit>| match h {
         Some(h) => Answer::Hit {
             t: h.t,
@@ -180,7 +188,10 @@ pub fn render_into_cancellable(
                     for sx in 0..n {
                         let ray = code.camera_ray(camera, w, h, sample(i, sx), sample(j, sy));
                         let hit = code.closest_hit(&shapes, &ray, 0.0, f32::INFINITY);
-                        let mark = settings.cracks.then(|| {
+                        // An index past the scene's primitives is a wrong primitive: marked
+                        // as one, never shaded.
+                        let beyond = hit.is_some_and(|h| h.prim as usize >= shapes.len());
+                        let mark = (settings.cracks || beyond).then(|| {
                             let exact = stage.accel().closest_hit(
                                 &ray,
                                 crate::geometry::Method::Adaptive,
