@@ -50,5 +50,8 @@ fn main() -> ExitCode {
 }
 
 fn viewer(args: &cli::Cli) -> anyhow::Result<()> {
+    if let Some(model) = &args.window.model {
+        cli::not_a_command(model)?;
+    }
     raylab_app::window::run(args.window.options(None))
 }

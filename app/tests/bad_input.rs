@@ -276,3 +276,43 @@ fn values_the_f32_core_cannot_hold_are_refused_naming_them() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// The command line speaks with one voice: a mistyped command suggests the nearest, an
+/// output named .jpg is refused (raylab writes PNG), each OS error is said once with its
+/// path, and a bad view named on the command line is its `file:line` error before any window.
+#[test]
+fn a_typo_a_jpg_an_os_error_and_a_bad_view_are_each_said_once_and_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = raylab(&["rendr"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("did you mean `raylab render`?"),
+        "{}",
+        stderr(&o)
+    );
+
+    let jpg = dir.path().join("x.jpg");
+    let o = raylab(&[
+        "render",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "-o",
+        jpg.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("PNG images only"), "{}", stderr(&o));
+    assert!(!jpg.exists());
+
+    let o = raylab(&["render", "-o", "/nonexistent/dir/o.png"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(err.contains("/nonexistent/dir/o.png"), "{err}");
+    assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
+
+    let view = write(dir.path(), "bad.view", "scene cornell\ncamera 0 0\n");
+    let o = raylab(&[view.as_str()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.view:2"), "{}", stderr(&o));
+}

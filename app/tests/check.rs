@@ -239,7 +239,7 @@ fn check_grades_every_kind_of_answer() {
                 && out.contains("[wrong primitive]"),
             "{out}"
         );
-        assert!(out.contains("[t off by 5.0e-6 relative]"), "{out}");
+        assert!(out.contains("[t off by 2.5e-6 relative]"), "{out}");
     }
     // The right answers everywhere pass, ties included.
     let right =
@@ -738,7 +738,8 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, rays) = graded_case(dir.path());
     let answers = dir.path().join("answers.txt");
-    // Every answer right, one t 5e-6 off (ray 7, from the origin: relative as it is).
+    // Every answer right, one t 5e-6 off (ray 7, from the origin, on a triangle whose largest
+    // coordinate is 2: 1e-5 / (0 + 2 + 2) = 2.5e-6 relative).
     let given = "hit 2 0\nhit 2 1\nhit 2 0\nhit 2 0\nmiss\nhit 2 0\nhit 2.00001 0\nhit 2 0\nhit 5 2\nhit 3 3\n";
     std::fs::write(&answers, given).unwrap();
     let o = check_answers(&scene, &rays, &answers, &[]);
@@ -747,7 +748,7 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
     assert!(out.contains("t tolerance 1e-6"), "{out}");
     assert!(
         out.contains("rays.txt:8 (ray 7): 0 0 0 0 0 1 0 inf  exact: hit 2 0")
-            && out.contains("[t off by 5.0e-6 relative]"),
+            && out.contains("[t off by 2.5e-6 relative]"),
         "{out}"
     );
     let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", "1e-5"]);
@@ -877,4 +878,43 @@ fn suite_families_one_at_a_time_with_reproducers_and_none_dropped() {
         "{}",
         text(&o.stderr)
     );
+}
+
+/// `check --image` says what it cannot do before the program runs: an image in a directory
+/// that does not exist, an image that is the program's own script, an image larger than it
+/// grades; the program never ran (its mark file is absent) and the script is intact.
+#[test]
+fn check_image_refuses_up_front_what_it_cannot_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let mark = dir.path().join("ran");
+    let script = dir.path().join("my_lab.sh");
+    let body = format!("touch '{}'\n", mark.display());
+    std::fs::write(&script, &body).unwrap();
+    let program = format!("sh '{}' {{scene}} {{rays}}", script.display());
+    let missing = dir.path().join("no/such/dir/out.png");
+    for (image, more, message) in [
+        (missing.to_str().unwrap(), &[][..], "no/such/dir/out.png"),
+        (script.to_str().unwrap(), &[][..], "which --program runs"),
+        (
+            dir.path().join("big.png").to_str().unwrap(),
+            &["--width", "2048", "--height", "1024"][..],
+            "at most 1048576",
+        ),
+    ] {
+        let o = raylab(
+            &[
+                &["check", "--image", image, "--program", &program][..],
+                more,
+            ]
+            .concat(),
+        );
+        assert_eq!(o.status.code(), Some(2), "{image}: {}", text(&o.stdout));
+        assert!(
+            text(&o.stderr).contains(message),
+            "{image}: {}",
+            text(&o.stderr)
+        );
+        assert!(!mark.exists(), "{image}: the program did not run");
+    }
+    assert_eq!(std::fs::read_to_string(&script).unwrap(), body);
 }

@@ -117,6 +117,8 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         "16",
         "--timeout",
         "5",
+        "--max-processes",
+        "64",
         "-j",
         "2",
         "--csv",

@@ -999,3 +999,37 @@ fn the_window_builds_the_structure_accel_names() {
     let (mean, off, ..) = against_headless(&run, &Scene::cornell());
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
+
+/// `raylab FILE.view` opens a saved view as the File menu and a drop do: its camera, light
+/// and settings, then its scene (it said "no triangles", reading the view as a scene).
+#[test]
+fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("v.view");
+    std::fs::write(
+        &view,
+        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
+         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
+    )
+    .unwrap();
+    let view_arg = view.to_str().unwrap().to_string();
+    let args = [view_arg.as_str()];
+    let Some(run) = run_window_with(
+        "1500 inspect 100 80\n",
+        dir.path(),
+        &[],
+        Around::Args(&args),
+    ) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    assert!(
+        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
+        "{pos:?} {}",
+        run.stderr
+    );
+    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["size"], "320x240");
+}

@@ -12,6 +12,10 @@ use raylab::geometry::Method;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::Scene;
 
+/// One window at a time: each test drives its window with timed real input, which three
+/// software-rendered windows at once on two cores can outrun.
+static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs raylab's window under Xvfb with `script` and something beside it ([`Around`]); None
 /// (after saying so) where Xvfb is missing.
 fn run_window_with(
@@ -20,6 +24,7 @@ fn run_window_with(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
+    let _one = ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
     let exe = env!("CARGO_BIN_EXE_raylab");
     common::window::run_window_with(exe, script, dir, env, around)
 }

@@ -74,7 +74,7 @@ pub fn answers(code: &dyn LabCode, shapes: &[Shape], rays: &[TraceRay<f32>]) -> 
         .collect()
 }
 
-/// The code graded on every family (rays from tmin 0 to ∞, f32, as exported): the table
+/// The code graded on every family (each ray over its interval, f32, as exported): the table
 /// `raylab check --suite` prints — a row per family with the code's time beside the exact
 /// answers', and the total — and each family's tally, the total last.
 pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(String, Tally)>) {
@@ -92,6 +92,21 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
         let mut tally = Tally::default();
         let shape_of = |p: u32| family.shapes[p as usize];
         for ((ray, exact), given) in rays.iter().zip(exact).zip(given) {
+            // An index past the family's primitives is wrong, never looked up.
+            if let Answer::Hit { prim, .. } = given {
+                if prim as usize >= family.shapes.len() {
+                    let verdict = match exact {
+                        Answer::Hit { .. } => Verdict::Wrong,
+                        Answer::Miss => Verdict::FalseHit,
+                    };
+                    tally.add(&grade::Graded {
+                        verdict,
+                        t_error: None,
+                        relative: 0.0,
+                    });
+                    continue;
+                }
+            }
             tally.add(&grade::grade(
                 shape_of,
                 ray,
@@ -114,13 +129,13 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
 /// The verdict on the code's answer `hit` to camera ray `ray`, against the exact one
 /// (`exact`, found by the stage's structure); ties decided exactly as [`grade::grade`] does;
 /// an index past the scene's primitives is a wrong primitive (a false hit where nothing is
-/// met).
+/// met, as any hit there).
 pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Option<Hit>) -> Verdict {
-    if hit.is_some_and(|h| h.prim as usize >= scene_shapes.len()) {
-        return match exact {
-            Some(_) => Verdict::Wrong,
-            None => Verdict::FalseHit,
-        };
+    // (Only another primitive than the exact one is looked up, to decide a tie.)
+    if let (Some(e), Some(h)) = (exact, hit) {
+        if h.prim != e.prim && h.prim as usize >= scene_shapes.len() {
+            return Verdict::Wrong;
+        }
     }
     let answer = |h: Option<Hit>| match h {
         Some(h) => Answer::Hit {

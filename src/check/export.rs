@@ -150,8 +150,8 @@ this format.
 stands; a miss where something is met is a leak, a hit where nothing is met a false hit,
 another primitive a wrong primitive. A right or tied hit's t must be within an ulp of the
 exact t rounded, or within the tolerance (`--t-tolerance`, 1e-6 by default): the answer's
-point o + t·d within that much of the exact one, relative to |o| + |t·d|. A t of `inf` is
-right only where the exact t rounds to infinity. A family passes when every answer stands.
+point o + t·d within that much of the exact one, relative to |o| + |t·d| + the primitive's
+largest coordinate. A t of `inf` is right only where the exact t rounds to infinity. A family passes when every answer stands.
 
 `raylab check --scene S --rays R --answers A` grades an answer file; `raylab check --suite
 DIR --program 'CMD {{scene}} {{rays}}'` runs a program on every family (it reads the two

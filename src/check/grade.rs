@@ -304,12 +304,19 @@ impl Graded {
     }
 }
 
-/// How far `t` is from the exact `exact_t` along `ray`: within an ulp of the precision; else
-/// the distance between the points o + t·d and o + exact_t·d relative to the size of the
-/// coordinates that give them, |t − exact_t|·|d| / (|o| + |exact_t|·|d|), within `tolerance`
-/// or beyond it. An exact t of ±∞ (a t past the precision's range) is right only as itself;
-/// an exact t of 0 with the origin at 0 only as 0. Also the relative distance.
-pub fn t_error<T: Real>(ray: &TraceRay<T>, exact_t: T, t: T, tolerance: f64) -> (TError, f64) {
+/// How far `t` is from the exact `exact_t` along `ray`, on a primitive whose largest
+/// coordinate is `extent` in magnitude: within an ulp of the precision; else the distance
+/// between the points o + t·d and o + exact_t·d relative to the size of the coordinates that
+/// give them, |t − exact_t|·|d| / (|o| + |exact_t|·|d| + extent), within `tolerance` or beyond
+/// it (a correct program loses digits of o − c or o − v₀ in proportion to them). An exact t of
+/// ±∞ (a t past the precision's range) is right only as itself. Also the relative distance.
+pub fn t_error<T: Real>(
+    ray: &TraceRay<T>,
+    exact_t: T,
+    t: T,
+    extent: f64,
+    tolerance: f64,
+) -> (TError, f64) {
     let (te, tf) = (exact_t.f64(), t.f64());
     if tf == te {
         return (TError::WithinUlp, 0.0);
@@ -317,9 +324,16 @@ pub fn t_error<T: Real>(ray: &TraceRay<T>, exact_t: T, t: T, tolerance: f64) -> 
     if !te.is_finite() || !tf.is_finite() {
         return (TError::Beyond, f64::INFINITY);
     }
-    let norm = |v: [T; 3]| v.iter().map(|c| c.f64() * c.f64()).sum::<f64>().sqrt();
+    // Scaled by the largest component first: no square overflows or underflows.
+    let norm = |v: [T; 3]| {
+        let m = v.iter().fold(0.0f64, |m, c| m.max(c.f64().abs()));
+        match m > 0.0 {
+            true => m * v.iter().map(|c| (c.f64() / m).powi(2)).sum::<f64>().sqrt(),
+            false => 0.0,
+        }
+    };
     let len = norm(ray.ray.d);
-    let scale = norm(ray.ray.o) + te.abs() * len;
+    let scale = norm(ray.ray.o) + te.abs() * len + extent;
     let relative = match scale > 0.0 {
         true => (tf - te).abs() * len / scale,
         false => f64::INFINITY,
@@ -362,9 +376,10 @@ pub fn grade<T: Real>(
             }
         }
     };
-    let (t_error, relative) = match (exact_t, t) {
-        (Some(te), Some(t)) => {
-            let (grade, relative) = t_error(ray, te, t, tolerance);
+    let (t_error, relative) = match (exact_t, t, exact) {
+        (Some(te), Some(t), Answer::Hit { prim, .. }) => {
+            let extent = shape_of(prim).extent();
+            let (grade, relative) = t_error(ray, te, t, extent, tolerance);
             (Some(grade), relative)
         }
         _ => (None, 0.0),

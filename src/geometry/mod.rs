@@ -236,6 +236,18 @@ impl<T: Real> Shape<T> {
         }
     }
 
+    /// The largest magnitude of its coordinates (for a sphere |c|∞ + r): the scale at which a
+    /// computation with them rounds (the grader's t tolerance).
+    pub fn extent(&self) -> f64 {
+        let max = |xs: &mut dyn Iterator<Item = T>| xs.fold(0.0f64, |m, x| m.max(x.f64().abs()));
+        match self {
+            Shape::Triangle(v) => max(&mut v.iter().flatten().copied()),
+            Shape::Sphere { centre, radius } => {
+                max(&mut centre.iter().copied()) + radius.f64().abs()
+            }
+        }
+    }
+
     /// The shape as a `.scene` statement: `tri` and its 9 coordinates or `sphere` and its
     /// centre and radius, each number written exactly ([`crate::math::real::exact_decimal`]:
     /// the same value read in f32, f64 or exact arithmetic).

@@ -67,8 +67,9 @@ pub struct CheckArgs {
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
     pub timeout: f64,
     /// How far a right hit's point o + t·d may lie from the exact one, relative to the size
-    /// of its coordinates (|t − exact t|·|d| / (|o| + |exact t|·|d|)); a t beyond it is a
-    /// failure. Within an ulp of the precision is always right.
+    /// of the coordinates (|t − exact t|·|d| / (|o| + |exact t|·|d| + the primitive's largest
+    /// coordinate)); a t beyond it is a failure. Within an ulp of the precision is always
+    /// right.
     #[arg(long, value_name = "X", default_value_t = grade::DEFAULT_T_TOLERANCE, allow_hyphen_values = true)]
     pub t_tolerance: f64,
     /// With --suite: check only this family (its directory name, or its number).

@@ -17,6 +17,36 @@ use std::sync::Arc;
 /// rationals in Python) answers on the Cornell box within the default --timeout on 2 cores.
 const IMAGE_SIZE: (u32, u32) = (160, 120);
 
+/// The most camera rays `check --image` writes and grades (1024×1024): a rays file of about
+/// 110 MB and the answers held beside it; a larger image is refused before any work.
+const MAX_RAYS: u64 = 1 << 20;
+
+/// The most primitives of the scene file it writes for the program (instances written out
+/// one triangle a line, about 110 bytes each).
+const MAX_PRIMITIVES: usize = 1 << 20;
+
+/// Refuses an image that is one of the program's own files (`--image my_lab.sh --program 'sh
+/// my_lab.sh …'` turned the script into a PNG): every word of the command that names an
+/// existing file is compared with the image by identity.
+fn refuse_program_file(image: &Path, template: &str) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(out) = std::fs::metadata(image) else {
+        return Ok(());
+    };
+    let words = template.split_whitespace();
+    for word in words.map(|w| w.trim_matches(|c| c == '\'' || c == '"')) {
+        if let Ok(meta) = std::fs::metadata(word) {
+            if (meta.dev(), meta.ino()) == (out.dev(), out.ino()) {
+                anyhow::bail!(
+                    "{}: is '{word}', which --program runs: refusing to overwrite it",
+                    image.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Writes `lines` after a comment to `path`.
 fn write_lines(path: &Path, comment: &str, lines: impl Iterator<Item = String>) -> Result<()> {
     let io = || format!("{}", path.display());
@@ -31,9 +61,27 @@ fn write_lines(path: &Path, comment: &str, lines: impl Iterator<Item = String>) 
 /// Runs `raylab check --image`: `Ok(true)` when no pixel's answer is a leak, a false hit or a
 /// wrong primitive.
 pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<bool> {
+    refuse_program_file(image, template)?;
+    super::png_only(image)?;
     raylab::input::check_output(image)?;
     let (scene, camera, settings) = super::prepare_sized(&args.view, IMAGE_SIZE)?;
     let (w, h) = (settings.width, settings.height);
+    if u64::from(w) * u64::from(h) > MAX_RAYS {
+        anyhow::bail!(
+            "--width {w} × --height {h} is {} camera rays; check --image writes and grades at most {MAX_RAYS} (a rays file of about 110 MB): ask for a smaller image",
+            u64::from(w) * u64::from(h)
+        );
+    }
+    if scene.len() > MAX_PRIMITIVES {
+        anyhow::bail!(
+            "{}: {} primitives once its instances are written out one a line; check --image writes at most {MAX_PRIMITIVES} for the program",
+            args.view.scene,
+            scene.len()
+        );
+    }
+    // Created before any work (a missing directory is said now, not after the program ran);
+    // committed when whole.
+    let mut png = raylab::input::OutputFile::create(image)?;
     let rays: Vec<(usize, TraceRay<f32>)> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .enumerate()
@@ -98,7 +146,6 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         rgba.extend(colour.map(linear_to_srgb8));
         rgba.push(255);
     }
-    let mut png = raylab::input::OutputFile::create(image)?;
     raylab::render::image::encode_png(&mut png, w, h, &rgba)
         .with_context(|| format!("{}", image.display()))?;
     png.commit()?;

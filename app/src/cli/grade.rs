@@ -56,11 +56,12 @@ pub struct GradeArgs {
     /// Grade only this family (its directory name, or its number).
     #[arg(long, value_name = "NAME")]
     pub family: Option<String>,
-    /// Address space of each of a program's processes, in MiB.
+    /// Data memory (heap, written pages) of each of a program's processes, in MiB.
     #[arg(long, value_name = "MIB", default_value_t = 2048)]
     pub max_memory: u64,
-    /// Processes a program may have at once (a fork bomb stops there).
-    #[arg(long, value_name = "N", default_value_t = 64)]
+    /// Processes and threads a program may have at once (a fork bomb stops there; a program
+    /// with a thread per core needs more than the cores).
+    #[arg(long, value_name = "N", default_value_t = 256)]
     pub max_processes: u64,
 }
 
@@ -511,10 +512,8 @@ fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
         } else if kind.is_file() {
             std::fs::copy(&source, &target)?;
             let modified = entry.metadata()?.modified()?;
-            std::fs::File::options()
-                .write(true)
-                .open(&target)?
-                .set_modified(modified)?;
+            // (Opened to read: a read-only file, as git leaves its objects, keeps its time too.)
+            std::fs::File::open(&target)?.set_modified(modified)?;
         } else if kind.is_symlink() {
             std::os::unix::fs::symlink(std::fs::read_link(&source)?, &target)?;
         }

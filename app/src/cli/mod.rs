@@ -67,8 +67,9 @@ pub enum Command {
     /// (--answers) or a program run on a scene (--program) or on every family of an exported
     /// suite (--suite). Prints rights, ties, leaks, false hits, wrong primitives and t errors,
     /// the first wrong rays, and as the last line `check: rays N right R leaks L false_hits F
-    /// wrong W ties T t_beyond_1e-6 U`. Exit 0 when there is no leak, false hit or wrong
-    /// primitive; 1 when there is (or a program gave no answers); 2 on bad input.
+    /// wrong W ties T t_failures U`. Exit 0 when every answer stands (no leak, false hit,
+    /// wrong primitive or t beyond --t-tolerance); 1 when one does not (or a program gave no
+    /// answers); 2 on bad input.
     Check(CheckArgs),
     /// Grade a class: run --program in a private copy of every submission directory of
     /// CLASS_DIR on every family of an exported suite (several submissions at once, each
@@ -216,7 +217,7 @@ pub struct ViewArgs {
     #[command(flatten)]
     pub controls: ControlFlags,
     /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
-    /// from there on; `flat` (formerly `brute`) and `bvh` force one.
+    /// from there on; `flat` and `bvh` force one.
     #[arg(long, default_value = "auto")]
     pub accel: AccelChoice,
     /// How an OBJ file's coordinates are read: `yup` (the usual convention; x and y are negated
@@ -533,6 +534,7 @@ fn stage(scene: Scene, accel: AccelChoice) -> (Stage, Duration) {
 
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
+    png_only(&args.out)?;
     let (scene, camera, settings) = prepare(&args.view)?;
     // Fail on an unwritable directory, an input as output (or a FIFO, which would block)
     // before spending the render time. Nothing at the paths changes until all is written:
@@ -666,6 +668,61 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
         path,
         raylab::input::max_input_bytes(),
     )?)
+}
+
+/// Says which command a mistyped one meant: `raylab rendr` opens the window on a file named
+/// `rendr`, which does not exist, so a word without an extension that is no file and is within
+/// two edits of a command is refused with that command suggested.
+pub fn not_a_command(model: &Path) -> Result<()> {
+    use clap::CommandFactory;
+    let word = model.to_string_lossy();
+    if model.exists() || model.extension().is_some() || word == raylab::scene::CORNELL {
+        return Ok(());
+    }
+    let command = Cli::command();
+    let nearest = (command.get_subcommands())
+        .map(|c| c.get_name().to_string())
+        .map(|name| (edits(&word, &name), name))
+        .min();
+    match nearest {
+        Some((d, name)) if d <= 2 => bail!(
+            "'{word}' is neither a file nor a command; did you mean `raylab {name}`? (`raylab --help` lists the commands)"
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// The edit distance of two words (insertions, deletions, substitutions).
+fn edits(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for j in 0..b.len() {
+            let next = (prev + usize::from(ca != b[j]))
+                .min(row[j] + 1)
+                .min(row[j + 1] + 1);
+            prev = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+/// Refuses an output whose extension names another format than the PNG raylab writes
+/// (`-o x.jpg` wrote PNG bytes into a .jpg); no extension, or a device, is written as PNG.
+pub(crate) fn png_only(out: &Path) -> Result<()> {
+    match out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+    {
+        Some(ext) if ext != "png" && !out.starts_with("/dev") => bail!(
+            "{}: raylab writes PNG images only; name the file .png",
+            out.display()
+        ),
+        _ => Ok(()),
+    }
 }
 
 /// Runs `raylab trace`; the whole output is built before anything is printed.

@@ -53,7 +53,8 @@ pub struct Limits {
     pub timeout: Duration,
     /// Bytes of standard output; more ends the run ([`RunError::TooMuch`]).
     pub max_output_bytes: usize,
-    /// Address space of each process (RLIMIT_AS).
+    /// Data (heap and written memory) of each process: RLIMIT_DATA, not the address space, so
+    /// a runtime that reserves much and uses little (the JVM, .NET) still starts.
     pub max_memory_bytes: Option<u64>,
     /// Processes (threads count) at once: RLIMIT_NPROC, which counts every process of the
     /// user, so as a normal user the limit is the user's count at the start plus this; as
@@ -351,7 +352,7 @@ fn set_limits(pid: i32, limits: &Limits) -> std::io::Result<()> {
             cap(Resource::Core, 0)?;
         }
         if let Some(bytes) = limits.max_memory_bytes {
-            cap(Resource::As, bytes)?;
+            cap(Resource::Data, bytes)?;
         }
         if let Some(n) = nproc {
             cap(Resource::Nproc, n)?;
@@ -559,7 +560,11 @@ impl Registry {
             if let Owner::Run(k) = owner {
                 let r = &mut self.runs[k];
                 r.pids.insert((p.pid, p.start));
-                if p.pgid != me.pgid && (p.pgid == r.shell || !shells.contains(&p.pgid)) {
+                // Only a group the run leads (its shell's, or one an owned process made with
+                // setsid or setpgid(0, 0)): a process may join another group of raylab's
+                // session, which is not the run's to kill.
+                let leads = p.pgid == r.shell || (p.pgid == p.pid && !shells.contains(&p.pgid));
+                if p.pgid != me.pgid && leads {
                     r.groups.insert(p.pgid);
                 }
                 if p.sid != me.sid {
@@ -606,7 +611,9 @@ impl Registry {
             };
             if mine {
                 pids.extend(Pid::from_raw(p.pid));
-                groups.insert(p.pgid);
+                if p.pgid == p.pid || shells.contains(&p.pgid) {
+                    groups.insert(p.pgid);
+                }
             }
         }
         for (_, r) in self.runs.iter().enumerate().filter(|(k, _)| chosen(*k)) {

@@ -84,13 +84,22 @@ pub struct Census {
     pub marked: Vec<Marked>,
 }
 
-/// The verdict on `given` for `ray` against the exact `exact` (a tie decided exactly).
+/// The verdict on `given` for `ray` against the exact `exact` (a tie decided exactly) in a
+/// scene of `count` primitives: an index past them is a wrong primitive (a false hit where
+/// nothing is met), never looked up.
 pub fn classify(
+    count: usize,
     shape_of: impl Fn(u32) -> Shape,
     ray: &Ray,
     exact: Option<Hit>,
     given: Option<Hit>,
 ) -> Verdict {
+    if given.is_some_and(|g| g.prim as usize >= count) {
+        return match exact {
+            Some(_) => Verdict::Wrong,
+            None => Verdict::FalseHit,
+        };
+    }
     match (exact, given) {
         (Some(e), Some(g)) if e.prim != g.prim => {
             // Graded as the cracks view grades it, with the two primitives alone (renumbered
@@ -99,7 +108,10 @@ pub fn classify(
             let exact = Some(Hit { prim: 1, ..e });
             verdict(&pair, ray, exact, Some(Hit { prim: 0, ..g }))
         }
-        _ => verdict(&[], ray, exact, given),
+        // Hit or miss alone: nothing to look up.
+        (Some(_), Some(_)) | (None, None) => Verdict::Right,
+        (Some(_), None) => Verdict::Leak,
+        (None, Some(_)) => Verdict::FalseHit,
     }
 }
 
@@ -195,7 +207,7 @@ pub fn count(job: &Job, cancelled: &(dyn Fn() -> bool + Sync)) -> Option<Census>
                     for sx in 0..n {
                         let at = sample_position((i, j), (sx, sy), n);
                         let (ray, given, exact) = answers(trace, &shapes, (w, h), at);
-                        let v = classify(shape_of, &ray, exact, given);
+                        let v = classify(scene.len(), shape_of, &ray, exact, given);
                         counts.add(v);
                         if first.is_none() && is_marked(v, census.code) {
                             first = Some(((sx, sy), v));
@@ -446,6 +458,42 @@ pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A hit on the exact primitive, a miss where nothing is met, a leak and a false hit are
+    /// decided without looking a primitive up (a window scene's list may be empty); an index
+    /// past the scene is a wrong primitive, or a false hit where nothing is met.
+    #[test]
+    fn classify_looks_up_only_the_two_primitives_of_a_disagreement() {
+        let ray = Ray::new([0.0; 3], [0.0, 0.0, 1.0]);
+        let hit = |prim| Hit {
+            t: 1.0,
+            prim,
+            b1: 0.0,
+            b2: 0.0,
+        };
+        let nothing = |p: u32| -> Shape { panic!("primitive {p} looked up") };
+        assert_eq!(
+            classify(1, nothing, &ray, Some(hit(0)), Some(hit(0))),
+            Verdict::Right
+        );
+        assert_eq!(classify(1, nothing, &ray, None, None), Verdict::Right);
+        assert_eq!(
+            classify(1, nothing, &ray, Some(hit(0)), None),
+            Verdict::Leak
+        );
+        assert_eq!(
+            classify(1, nothing, &ray, None, Some(hit(0))),
+            Verdict::FalseHit
+        );
+        assert_eq!(
+            classify(1, nothing, &ray, Some(hit(0)), Some(hit(1))),
+            Verdict::Wrong
+        );
+        assert_eq!(
+            classify(1, nothing, &ray, None, Some(hit(1))),
+            Verdict::FalseHit
+        );
+    }
 
     fn census(pixels: &[(u32, u32)]) -> Census {
         Census {

@@ -277,7 +277,7 @@ impl Viewer {
         let (ray, given, exact) = cracks::answers(trace, &shapes, at.size, pos);
         let scene = self.stage.scene();
         let shape_of = |p: u32| scene.shape(p);
-        let verdict = cracks::classify(shape_of, &ray, exact, given);
+        let verdict = cracks::classify(scene.len(), shape_of, &ray, exact, given);
         let on = |p: u32| (p, locate(&scene.shape(p), &ray));
         let differs = |g: &raylab::geometry::Hit| exact.is_none_or(|e| e.prim != g.prim);
         Some(Detail {
@@ -288,7 +288,9 @@ impl Viewer {
             verdict,
             marked: marked.is_some(),
             exact: exact.map(|h| on(h.prim)),
-            given: given.filter(differs).map(|h| on(h.prim)),
+            given: (given.filter(differs))
+                .filter(|h| (h.prim as usize) < scene.len())
+                .map(|h| on(h.prim)),
         })
     }
 }

@@ -102,12 +102,23 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         }
         None => None,
     };
-    let scene = match &opts.scene {
-        Some(p) => {
+    // A saved view opens as the File menu opens it: its camera, light and settings, then its
+    // scene (checked here, so a bad view is an error before the window opens).
+    let view = (opts.scene.as_ref()).filter(|p| {
+        p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("view"))
+    });
+    let scene = match (&opts.scene, view) {
+        (_, Some(p)) => {
+            let text = raylab::input::read_text(p, raylab::input::max_input_bytes())?;
+            raylab::view::View::parse(&p.display().to_string(), &text)?;
+            Scene::cornell()
+        }
+        (Some(p), None) => {
             let spec = p.to_string_lossy();
             Scene::open(&spec, opts.obj_frame).map_err(anyhow::Error::msg)?
         }
-        None => Scene::cornell(),
+        (None, None) => Scene::cornell(),
     };
     let stage = Stage::new(scene, opts.accel);
     let event_loop = EventLoop::<AppEvent>::with_user_event()
@@ -117,14 +128,18 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
             anyhow!("{}", framework::no_window_reason())
         })?;
     // (`cornell` names the built-in box: no file to watch or name in a view.)
-    let file = (opts.scene.as_ref()).filter(|p| p.as_os_str() != raylab::scene::CORNELL);
-    let viewer = Viewer::new(
+    let file =
+        (opts.scene.as_ref()).filter(|p| p.as_os_str() != raylab::scene::CORNELL && view.is_none());
+    let mut viewer = Viewer::new(
         stage,
         file,
         (opts.obj_frame, opts.accel),
         opts.code.clone(),
         event_loop.create_proxy(),
     );
+    if let Some(p) = view {
+        viewer.load(p.clone());
+    }
     let scripted = match (opts.frames, opts.screenshot) {
         (Some(frames), Some(shot)) => Some(ScriptedRun::new(frames, shot, script)),
         _ => None,
