@@ -1,7 +1,7 @@
 //! The classic lab bugs, each caught by its family: `raylab check` on examples/check/bugs/,
 //! each program exact.py with one classic bug, fails the family that probes that bug
-//! (exact.py itself passes every family: app/tests/check.rs); and the C++ starter (examples/check/cpp/) builds with one
-//! g++ line and gets the counts its README states.
+//! (exact.py itself passes every family: app/tests/check.rs); and the C++ starter
+//! (examples/check/cpp/) builds with one g++ line and gets the counts its README states.
 
 #[path = "../../tests/common/mod.rs"]
 mod common;
@@ -343,9 +343,10 @@ fn the_cpp_starter_builds_and_gets_its_readme_counts() {
             [
                 count(&out, "leaks"),
                 count(&out, "false_hits"),
-                count(&out, "wrong")
+                count(&out, "wrong"),
+                count(&out, "t_failures")
             ],
-            [CPP_LEAKS, CPP_FALSE_HITS, CPP_WRONG],
+            [CPP_LEAKS, CPP_FALSE_HITS, CPP_WRONG, 0],
             "{precision}: {out}"
         );
         let row = row(&out, "far-tiny-spheres-at-the-rim");

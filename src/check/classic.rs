@@ -53,7 +53,8 @@ fn rim_of_far_tiny_spheres() -> Family {
         centre[axis] = far;
         shapes.push(Shape::sphere(centre, r));
         for j in 0..90 {
-            // The miss distance: across the rim, a few exactly at it (tangent).
+            // The miss distance: across the rim, a few within 1e-3 of it (none exactly tangent:
+            // the origin's offsets round to f32).
             let f = match j % 10 {
                 0 => 1.0,
                 1 => 0.999,

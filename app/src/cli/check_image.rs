@@ -62,8 +62,8 @@ fn write_lines(path: &Path, comment: &str, lines: impl Iterator<Item = String>) 
 /// wrong primitive.
 pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<bool> {
     refuse_program_file(image, template)?;
-    super::png_only(image)?;
     raylab::input::check_output(image)?;
+    super::png_only(image)?;
     let (scene, camera, settings) = super::prepare_sized(&args.view, IMAGE_SIZE)?;
     let (w, h) = (settings.width, settings.height);
     if u64::from(w) * u64::from(h) > MAX_RAYS {

@@ -118,12 +118,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             args.timeout
         );
     }
-    if !(args.program.contains("{scene}") && args.program.contains("{rays}")) {
-        bail!(
-            "--program '{}' must name {{scene}} and {{rays}}, where the files' paths go",
-            args.program
-        );
-    }
+    super::check::check_template(&args.program)?;
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
     }

@@ -534,12 +534,12 @@ fn stage(scene: Scene, accel: AccelChoice) -> (Stage, Duration) {
 
 /// Runs `raylab render`.
 pub fn render(args: &RenderArgs) -> Result<()> {
-    png_only(&args.out)?;
     let (scene, camera, settings) = prepare(&args.view)?;
     // Fail on an unwritable directory, an input as output (or a FIFO, which would block)
     // before spending the render time. Nothing at the paths changes until all is written:
     // each is written to a temporary file beside it and renamed over it at the end.
     raylab::input::OutputFile::create(&args.out)?;
+    png_only(&args.out)?;
     if args.aov {
         render::aov::Aovs::create_beside(&args.out)?;
     }
