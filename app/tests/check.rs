@@ -918,3 +918,14 @@ fn check_image_refuses_up_front_what_it_cannot_do() {
     }
     assert_eq!(std::fs::read_to_string(&script).unwrap(), body);
 }
+
+/// Every family says which classic bug it catches, and the exported README's table says it.
+#[test]
+fn every_family_says_which_classic_bug_it_catches() {
+    let families = suite::all();
+    let readme = export::readme(&families);
+    for f in &families {
+        assert!(!f.catches.is_empty(), "{}", f.name);
+        assert!(readme.contains(&f.catches), "{}", f.name);
+    }
+}
