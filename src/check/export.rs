@@ -170,12 +170,17 @@ for code that computes in double precision.
             dir_name(i, &family.name),
             family.rays.len(),
             family.shapes.len(),
-            family.probes,
+            cell(&family.probes),
             match family.catches.is_empty() {
-                true => "—",
-                false => &family.catches,
+                true => "—".to_string(),
+                false => cell(&family.catches),
             }
         );
     }
     text
+}
+
+/// Text as a Markdown table cell: a `|` (|d|, |o − c|²) written `\|`.
+pub fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
 }
