@@ -317,3 +317,27 @@ fn auto_picks_the_flat_loop_for_the_cornell_box_and_a_bvh_for_big_meshes() {
         None
     );
 }
+
+/// `auto` counts every primitive, not triangles alone: a scene of spheres only gets the BVH's
+/// frame plan from 64 primitives on (3,000 spheres took 0.66 s at 64×48 with the flat loop,
+/// 0.04 s with it), with the same answers.
+#[test]
+fn auto_counts_spheres_too() {
+    let mut rng = Rng(7);
+    let spheres: Vec<Shape<f32>> = (0..100)
+        .map(|_| Shape::Sphere {
+            centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
+            radius: 0.3,
+        })
+        .collect();
+    assert_eq!(
+        Accel::build(&spheres, AccelChoice::Auto).kind(),
+        AccelKind::Bvh
+    );
+    assert_eq!(
+        Accel::build(&spheres[..63], AccelChoice::Auto).kind(),
+        AccelKind::Flat
+    );
+    let rays: Vec<Ray> = (0..64).map(|_| random_ray(&mut rng, &spheres)).collect();
+    check_all(&spheres, &rays, 0.0, f32::INFINITY);
+}

@@ -60,13 +60,13 @@ pub type IndexedTriangle = ([[f32; 3]; 3], u32);
 /// structure): measured faster than the BVH for framed meshes of 20 to 1280 triangles.
 pub const TILE_CULL_MAX_TRIANGLES: usize = 2048;
 
-/// From this many triangles on, `auto` builds a BVH.
+/// From this many primitives on (triangles, spheres), `auto` builds a BVH.
 pub const BVH_MIN_TRIANGLES: usize = 64;
 
 /// Which structure to build.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum AccelChoice {
-    /// By triangle count (see [`BVH_MIN_TRIANGLES`]).
+    /// By primitive count (see [`BVH_MIN_TRIANGLES`]).
     #[default]
     Auto,
     /// The flat SIMD loop over all triangles.
@@ -234,7 +234,11 @@ impl Accel {
             Box::new(built)
         });
         let use_bvh = match choice {
-            AccelChoice::Auto => tris.len() >= BVH_MIN_TRIANGLES || instances.is_some(),
+            // Every primitive counts: 3,000 spheres and no triangle took 0.66 s at 64×48 with
+            // the flat loop, 0.04 s with the BVH's frame plan (the same image).
+            AccelChoice::Auto => {
+                tris.len() + others.len() >= BVH_MIN_TRIANGLES || instances.is_some()
+            }
             AccelChoice::Flat => false,
             AccelChoice::Bvh => true,
         };

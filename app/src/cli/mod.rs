@@ -216,7 +216,7 @@ pub struct ViewArgs {
     /// The image's controls (step, supersampling, method, cracks).
     #[command(flatten)]
     pub controls: ControlFlags,
-    /// Acceleration structure: `auto` picks the flat SIMD loop below 64 triangles and a BVH
+    /// Acceleration structure: `auto` picks the flat SIMD loop below 64 primitives and a BVH
     /// from there on; `flat` and `bvh` force one.
     #[arg(long, default_value = "auto")]
     pub accel: AccelChoice,
