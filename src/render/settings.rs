@@ -53,6 +53,27 @@ impl LabStep {
         }
     }
 
+    /// The lab's number for the step: 1, 3, 4, 5 (step 2 is moving the camera, which every
+    /// step does; it has no shading of its own).
+    pub fn number(self) -> u32 {
+        match self {
+            LabStep::Flat => 1,
+            LabStep::Direct => 3,
+            LabStep::Shadows => 4,
+            LabStep::Indirect => 5,
+        }
+    }
+
+    /// The panel's label: the lab's number and the name (`3 direct`).
+    pub fn label(self) -> &'static str {
+        match self {
+            LabStep::Flat => "1 flat",
+            LabStep::Direct => "3 direct",
+            LabStep::Shadows => "4 shadows",
+            LabStep::Indirect => "5 indirect",
+        }
+    }
+
     /// Whether the step casts shadow rays.
     pub fn casts_shadows(self) -> bool {
         matches!(self, LabStep::Shadows | LabStep::Indirect)
@@ -164,7 +185,10 @@ impl RenderSettings {
 /// One value of a [`Kind::Choice`], with its one-line explanation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Choice {
+    /// How files, flags and scripts write it.
     pub name: &'static str,
+    /// What the panel shows (the lab step's number and name; otherwise the name).
+    pub label: &'static str,
     pub help: &'static str,
 }
 
@@ -219,6 +243,7 @@ pub const CONTROLS: [Control; 4] = [
                 LabStep::ALL
                     .map(|s| Choice {
                         name: s.name(),
+                        label: s.label(),
                         help: s.explanation(),
                     })
                     .to_vec()
@@ -249,6 +274,7 @@ pub const CONTROLS: [Control; 4] = [
                 Method::ALL
                     .map(|m| Choice {
                         name: m.name(),
+                        label: m.name(),
                         help: m.explanation(),
                     })
                     .to_vec()
@@ -358,6 +384,15 @@ impl Control {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_panel_numbers_the_steps_as_the_lab_does() {
+        let labels = LabStep::ALL.map(|s| (s.number(), s.label().to_string()));
+        assert_eq!(labels.map(|(n, _)| n), [1, 3, 4, 5]);
+        for (step, (n, label)) in LabStep::ALL.iter().zip(labels) {
+            assert_eq!(label, format!("{n} {}", step.name()));
+        }
+    }
 
     #[test]
     fn every_value_reads_back_as_written_and_changes_only_its_field() {
