@@ -12,8 +12,9 @@
 //! any-hit query ([`Query::Any`], a shadow ray's question): per ray `hit` or `miss`.
 //!
 //! Rejected, with file and line: a wrong count of numbers, junk, NaN, infinite coordinates,
-//! a zero direction, tmin > tmax, a radius that is not finite and > 0. Degenerate triangles
-//! are accepted (they are never hit).
+//! a zero direction, tmin > tmax, a radius that is not finite and > 0. A triangle of zero
+//! area is accepted and keeps its index, but no method on any path hits it (a warning names
+//! its line).
 
 use crate::accel;
 use crate::geometry::{adaptive, Method, Ray, Shape};
@@ -80,22 +81,34 @@ fn all_finite<T: Real>(xs: &[T], what: &str) -> Result<(), String> {
 }
 
 /// Parses a scene file: the `.scene` format ([`crate::scene::file`]); meshes it names are
-/// read relative to `file`'s directory.
+/// read relative to `file`'s directory. Its warnings (a triangle of zero area, kept but never
+/// hit, with its line) go to stderr, as the command line prints a rendered scene's.
 pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, TraceError> {
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
     let load_mesh = crate::scene::file::load_obj_mesh;
-    Ok(crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?.shapes)
+    let d = crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?;
+    print_warnings(&d.warnings);
+    Ok(d.shapes)
+}
+
+/// Prints a scene's warnings to stderr, one `warning:` line each.
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Parses a scene file for the renderer's structures (f32): meshes used repeatedly are placed
 /// as instances ([`crate::scene::file::Instancing::DEFAULT`]), so a field of a thousand
-/// meshes takes the memory of one; primitive indices are the file's, as with [`parse_scene`].
+/// meshes takes the memory of one; primitive indices are the file's, as with [`parse_scene`]
+/// (warnings to stderr as there).
 pub fn parse_scene_instanced(file: &str, text: &str) -> Result<crate::scene::Scene, TraceError> {
     use crate::scene::{cornell, file as scene_file, Scene};
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
     let instancing = scene_file::Instancing::DEFAULT;
     let load_mesh = scene_file::load_obj_mesh;
     let d = scene_file::parse_with::<f32>(file, text, dir, &load_mesh, instancing)?;
+    print_warnings(&d.warnings);
     let scene = Scene::new(file, d.shapes, d.colors, cornell::LIGHT, cornell::AMBIENT);
     scene
         .with_instances(d.instances)

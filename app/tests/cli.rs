@@ -83,7 +83,8 @@ fn render_camera_flags_move_the_view() {
 fn render_loads_an_obj_and_frames_it() {
     let dir = tempfile::tempdir().unwrap();
     let obj = dir.path().join("tet.obj");
-    // A pyramid: a quad base (fan-triangulated), four sides, and one degenerate face.
+    // A pyramid: a quad base (fan-triangulated), four sides, and one face of zero area (kept,
+    // never hit, named with its line).
     std::fs::write(
         &obj,
         "mtllib tet.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1\nusemtl red\n\
@@ -105,7 +106,7 @@ fn render_loads_an_obj_and_frames_it() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("dropped 1 degenerate"),
+        stderr(&o).contains("tet.obj:13: triangle 6 has zero area"),
         "{}",
         stderr(&o)
     );

@@ -135,6 +135,8 @@ pub struct Accel {
     copies: usize,
     /// Other shapes left out as copies of an earlier one ([`others_without_copies`]).
     other_copies: usize,
+    /// Triangles of zero area left out: no ray hits them ([`without_zero_area`]).
+    degenerate: usize,
     /// The meshes placed as instances, if any ([`instances::Instances`]).
     instances: Option<Box<instances::Instances>>,
     /// The frames' caches of triangles prepared for the eye and the light, kept between
@@ -226,6 +228,7 @@ impl Accel {
         instances: &[Instance],
         choice: AccelChoice,
     ) -> Self {
+        let (tris, degenerate) = without_zero_area(tris);
         let (mut tris, mut copies) = without_copies(tris);
         let (others, other_copies) = others_without_copies(others);
         let instances = (!instances.is_empty()).then(|| {
@@ -252,6 +255,7 @@ impl Accel {
             others: InOrder(others),
             copies,
             other_copies,
+            degenerate,
             instances,
             caches: prepared::CachePool::default(),
         }
@@ -291,7 +295,7 @@ impl Accel {
 
     /// The position in [`Accel::flat_triangles`] of triangle primitive `prim`.
     pub fn slot(&self, prim: u32) -> usize {
-        match self.others.0.is_empty() && self.copies == 0 {
+        match self.others.0.is_empty() && self.copies == 0 && self.degenerate == 0 {
             true => prim as usize,
             false => self.list.partition_point(|t| t.1 < prim),
         }
@@ -643,6 +647,23 @@ fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
     b.packet_into(&mut shadow, o, prepared, d);
     inst.packet(o, d, &mut shadow);
     shadow.finish()
+}
+
+/// `tris` without the triangles of zero area, and how many were left out: such a triangle is
+/// no surface and no method hits it ([`crate::geometry::triangle::zero_area`]), while the
+/// SIMD loops, which run the watertight test lane by lane, could (its shear leaves a sliver
+/// of some). Their primitive indices stay theirs: the others keep their own.
+fn without_zero_area(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
+    use crate::geometry::triangle::zero_area;
+    if !tris.par_iter().any(|(v, _)| zero_area(v)) {
+        return (tris, 0);
+    }
+    let before = tris.len();
+    let kept: Vec<IndexedTriangle> = (tris.into_par_iter())
+        .filter(|(v, _)| !zero_area(v))
+        .collect();
+    let left_out = before - kept.len();
+    (kept, left_out)
 }
 
 /// `tris` without the triangles that repeat an earlier one's vertices exactly (equal values,

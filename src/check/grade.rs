@@ -4,7 +4,7 @@
 //! counts `raylab check` prints.
 
 use crate::accel::{Accel, AccelChoice};
-use crate::geometry::{adaptive, Method, Shape};
+use crate::geometry::{adaptive, exact, triangle, Method, Shape};
 use crate::math::Real;
 use crate::render::shade::Rgb;
 use crate::render::CRACK;
@@ -233,7 +233,8 @@ impl<T: Real> Exact<T> {
 pub enum Verdict {
     /// The exact primitive, or a miss where the exact ray meets nothing.
     Right,
-    /// Another primitive met at exactly the same t as the exact one (accepted).
+    /// Another primitive met at exactly the same t as the exact one, or a triangle of zero
+    /// area met no farther (accepted).
     Tie,
     /// A miss where the exact ray meets a primitive.
     Leak,
@@ -350,7 +351,8 @@ pub fn t_error<T: Real>(
 }
 
 /// Grades `answer` to `ray` against the exact answer `exact`, t against `tolerance`
-/// ([`t_error`]); `shape_of` gives a primitive by its index (to decide an exact tie).
+/// ([`t_error`]); `shape_of` gives a primitive by its index (to decide an exact tie). A hit
+/// on a triangle of zero area is a tie where the ray meets it ([`zero_area_tie`]).
 pub fn grade<T: Real>(
     shape_of: impl Fn(u32) -> Shape<T>,
     ray: &TraceRay<T>,
@@ -358,6 +360,9 @@ pub fn grade<T: Real>(
     answer: Answer<T>,
     tolerance: f64,
 ) -> Graded {
+    if let Some(graded) = zero_area_tie(&shape_of, ray, exact, answer, tolerance) {
+        return graded;
+    }
     let (verdict, exact_t, t) = match (exact, answer) {
         (Answer::Miss, Answer::Miss) => (Verdict::Right, None, None),
         (Answer::Hit { .. }, Answer::Miss) => (Verdict::Leak, None, None),
@@ -389,6 +394,43 @@ pub fn grade<T: Real>(
         t_error,
         relative,
     }
+}
+
+/// A hit on a triangle of zero area (vertices on one line), which raylab never hits, graded
+/// as a tie where the ray exactly meets the segment or point its vertices span, with
+/// tmin < t < tmax and t no farther than the exact answer's (rounded alike): a program that
+/// takes such a triangle as closed is not wrong there. Its t is graded against where the ray
+/// meets it. `None` for any other answer (graded as usual: a false hit or wrong primitive
+/// where the ray passes it by).
+fn zero_area_tie<T: Real>(
+    shape_of: &impl Fn(u32) -> Shape<T>,
+    ray: &TraceRay<T>,
+    exact: Answer<T>,
+    answer: Answer<T>,
+    tolerance: f64,
+) -> Option<Graded> {
+    let Answer::Hit { t, prim } = answer else {
+        return None;
+    };
+    if matches!(exact, Answer::Hit { prim: p, .. } if p == prim) {
+        return None;
+    }
+    let shape = shape_of(prim);
+    let v = shape.triangle().filter(|v| triangle::zero_area(v))?;
+    let wide = |p: [T; 3]| p.map(Real::f64);
+    let (o, d) = (wide(ray.ray.o), wide(ray.ray.d));
+    let (tmin, tmax) = (ray.tmin.f64(), ray.tmax.f64());
+    let contact = exact::zero_area_contact(o, d, &v.map(wide), tmin, tmax)?;
+    let at: T = contact.rounded();
+    if matches!(exact, Answer::Hit { t: te, .. } if at.f64() > te.f64()) {
+        return None;
+    }
+    let (t_error, relative) = t_error(ray, at, t, shape.extent(), tolerance);
+    Some(Graded {
+        verdict: Verdict::Tie,
+        t_error: Some(t_error),
+        relative,
+    })
 }
 
 /// The counts of a graded answer file (or of several).

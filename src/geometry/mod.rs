@@ -269,13 +269,20 @@ impl<T: Real> Shape<T> {
         }
     }
 
+    /// Whether this is a triangle of zero area ([`triangle::zero_area`]): a primitive that
+    /// keeps its index but that no ray hits.
+    pub fn is_degenerate(&self) -> bool {
+        self.triangle().is_some_and(triangle::zero_area)
+    }
+
     /// Whether this is a triangle ([`Shape::triangle`]).
     #[inline]
     pub fn is_triangle(&self) -> bool {
         self.triangle().is_some()
     }
 
-    /// Intersects with `method`; a hit needs tmin < t < tmax.
+    /// Intersects with `method`; a hit needs tmin < t < tmax. A triangle of zero area is never
+    /// hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray<T>, method: Method, tmin: T, tmax: T) -> Option<(T, T, T)> {
         if method == Method::Adaptive {
@@ -283,12 +290,16 @@ impl<T: Real> Shape<T> {
             return Some((T::of(h.t), T::of(h.b1), T::of(h.b2)));
         }
         match self {
-            Shape::Triangle(v) => match method {
-                Method::Adaptive => unreachable!(),
-                Method::Watertight => triangle::watertight(ray.o, ray.d, v, tmin, tmax),
-                Method::Moller => triangle::moller(ray.o, ray.d, v, tmin, tmax),
-                Method::Cramer => triangle::cramer(ray.o, ray.d, v, tmin, tmax),
-            },
+            Shape::Triangle(v) => {
+                let hit = match method {
+                    Method::Adaptive => unreachable!(),
+                    Method::Watertight => triangle::watertight(ray.o, ray.d, v, tmin, tmax),
+                    Method::Moller => triangle::moller(ray.o, ray.d, v, tmin, tmax),
+                    Method::Cramer => triangle::cramer(ray.o, ray.d, v, tmin, tmax),
+                };
+                // A triangle of zero area is never hit (decided only for a hit: rare).
+                hit.filter(|_| !triangle::zero_area(v))
+            }
             Shape::Sphere { centre, radius } => {
                 sphere::intersect(ray.o, ray.d, *centre, *radius, tmin, tmax)
                     .map(|t| (t, T::zero(), T::zero()))

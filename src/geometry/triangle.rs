@@ -16,6 +16,13 @@
 use crate::math::real::{cross, dot, sub, V3};
 use crate::math::Real;
 
+/// Whether the triangle has zero area (its vertices on one line, or coincident), decided
+/// exactly ([`super::exact::zero_area`]). Such a triangle is no surface: no method hits it,
+/// whatever its rounding would give (the watertight test's shear can leave it a sliver).
+pub fn zero_area<T: Real>(v: &[V3<T>; 3]) -> bool {
+    super::exact::zero_area(&v.map(|p| p.map(Real::f64)))
+}
+
 /// A hit: ray parameter t and barycentrics (b1, b2) of vertices 1 and 2.
 pub type TriHit<T> = (T, T, T);
 

@@ -12,7 +12,8 @@
 //! is defined so far, a bare `usemtl`. Polylines (`l`), points (`p`) and free-form curves and
 //! surfaces are skipped with one warning that counts them. TABs are whitespace everywhere,
 //! `#` starts a comment anywhere on a line, and a UTF-8 byte-order mark is skipped. Polygons
-//! are fan-triangulated, and triangles of zero area are dropped and counted in a warning. A
+//! are fan-triangulated. A triangle of zero area (vertices on one line) is kept, so that every
+//! index stays its file position, but no ray hits it; a warning names its line. A
 //! missing or broken material library is a warning naming the library's line: its faces turn
 //! grey, as do those of a `usemtl` no library defines (also a warning).
 //!
@@ -103,12 +104,12 @@ pub enum ObjError {
         /// tobj's message.
         message: String,
     },
-    /// Nothing to render.
+    /// Nothing to render: no faces, or only faces of zero area.
     #[error("{file}: no triangles (after dropping {dropped} degenerate ones)")]
     NoTriangles {
         /// File name.
         file: String,
-        /// Zero-area triangles dropped.
+        /// Zero-area triangles (all there are).
         dropped: usize,
     },
 }
@@ -262,7 +263,7 @@ fn load_obj_str_coloured(
         power: [0.0; 3],
     };
     let mut scene = Scene::new(name, Vec::new(), Vec::new(), dark, [0.5; 3]);
-    let mut dropped = 0usize;
+    let mut degenerate = ZeroArea::default();
     for model in &models {
         let mesh = &model.mesh;
         let color = mesh
@@ -284,42 +285,83 @@ fn load_obj_str_coloured(
                     message: format!("model '{}': face index out of range", model.name),
                 });
             };
-            if zero_area(a, b, c) {
-                dropped += 1;
-                continue;
+            let index = scene.shapes.len();
+            if zero_area(&[a, b, c]) {
+                degenerate.add(index, stream.face_lines.get(index).copied());
             }
             scene.shapes.push(Shape::from([a, b, c]));
             scene.colors_mut().push(color);
         }
     }
-    if dropped > 0 {
-        warnings.push(format!(
-            "{name}: dropped {dropped} degenerate (zero-area) triangles"
-        ));
+    if degenerate.count == scene.shapes.len() && degenerate.count > 0 {
+        // Nothing a ray could hit: nothing to draw.
+        return Err(ObjError::NoTriangles {
+            file: name.to_string(),
+            dropped: degenerate.count,
+        });
     }
+    warnings.extend(degenerate.warning(name));
     // (Whoever loads the scene shows its warnings: the CLI prints them, the window's panel.)
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
         return Err(ObjError::NoTriangles {
             file: name.to_string(),
-            dropped,
+            dropped: 0,
         });
     };
     scene.light = Scene::light_for_bounds(bounds);
     Ok(scene)
 }
 
-/// Whether the triangle has zero area, decided in f64 (where the edge vectors of f32
-/// vertices are exact for any sane model).
-fn zero_area(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> bool {
-    let e1 = [0, 1, 2].map(|k| b[k] as f64 - a[k] as f64);
-    let e2 = [0, 1, 2].map(|k| c[k] as f64 - a[k] as f64);
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    n == [0.0; 3]
+/// The triangles of zero area met while loading: how many, and the first few with their
+/// primitive index and source line (for one warning of bounded size).
+#[derive(Debug, Default)]
+pub(crate) struct ZeroArea {
+    pub(crate) count: usize,
+    first: Vec<(usize, Option<u32>)>,
+}
+
+impl ZeroArea {
+    /// How many are named one by one in the warning.
+    const LISTED: usize = 5;
+
+    /// Counts primitive `index` (from source line `line`, where known).
+    pub(crate) fn add(&mut self, index: usize, line: Option<u32>) {
+        self.count += 1;
+        if self.first.len() < Self::LISTED {
+            self.first.push((index, line));
+        }
+    }
+
+    /// The warning, if any was met: `file:line:` of the first, the count, and the others'
+    /// lines (or primitive indices where lines are not known).
+    pub(crate) fn warning(&self, file: &str) -> Option<String> {
+        let &(index, line) = self.first.first()?;
+        let place = line.map_or(format!("{file}:"), |l| format!("{file}:{l}:"));
+        let what = match self.count {
+            1 => format!("triangle {index} has zero area (its vertices on one line)"),
+            n => {
+                let others: Vec<String> = (self.first[1..].iter())
+                    .map(|&(i, l)| l.map_or(format!("triangle {i}"), |l| format!("line {l}")))
+                    .collect();
+                let more = if n > self.first.len() { ", …" } else { "" };
+                format!(
+                    "{n} triangles have zero area (their vertices on one line): triangle {index} \
+                     here, then {}{more}",
+                    others.join(", ")
+                )
+            }
+        };
+        Some(format!(
+            "{place} {what}: kept, so that later triangles keep their file positions as \
+             indices, but no ray hits it"
+        ))
+    }
+}
+
+/// Whether the triangle has zero area, exactly ([`crate::geometry::triangle::zero_area`]).
+fn zero_area(v: &[[f32; 3]; 3]) -> bool {
+    crate::geometry::triangle::zero_area(v)
 }
 
 /// What tobj makes of a material library: the materials and their indices by name.
@@ -468,6 +510,8 @@ struct ObjStream<'a> {
     used_materials: std::collections::BTreeSet<String>,
     /// The material libraries `mtllib` named so far.
     libraries: std::collections::HashSet<String>,
+    /// The source line of each triangle handed on, in order (a polygon's fan repeats it).
+    face_lines: Vec<u32>,
     error: Option<ObjError>,
 }
 
@@ -484,6 +528,7 @@ impl<'a> ObjStream<'a> {
             normals: 0,
             used_materials: Default::default(),
             libraries: Default::default(),
+            face_lines: Vec::new(),
             error: None,
         }
     }
@@ -522,6 +567,9 @@ impl<'a> ObjStream<'a> {
                         refs.len()
                     ));
                 }
+                let line = u32::try_from(self.line_number).unwrap_or(u32::MAX);
+                self.face_lines
+                    .extend(std::iter::repeat_n(line, refs.len() - 2));
                 out.push('f');
                 for r in refs {
                     let v = face_vertex(r, vertices, texcoords, normals)

@@ -3,11 +3,11 @@
 //! and the line's t at its plane, exact ([`plane_t`]) or correctly rounded
 //! ([`plane_t_rounded`]).
 
-use super::expansion::{orient, two_sum};
-use super::rational::{cross, dot, qv, round_ratio, sign, sub, ExactT, QV};
+use super::expansion::{orient, two_prod, two_sum};
+use super::rational::{cross, dot, q, qv, round_ratio, sign, sub, ExactT, Q, QV};
 use crate::math::Real;
 use num_bigint::BigInt;
-use num_traits::Zero;
+use num_traits::{One, Zero};
 use std::cmp::Ordering;
 
 /// Which side of the plane of triangle `v` point `x` lies on: the exact sign of
@@ -53,6 +53,96 @@ pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
         return None;
     }
     Some(ExactT::rational(dot(&p[0], &n) / den))
+}
+
+/// Whether triangle `v` has zero area (its vertices on one line, or coincident), exactly:
+/// every component of (v₁ − v₀) × (v₂ − v₀) is 0. Where the edge vectors are exact in f64
+/// and clear of underflow and overflow (every f32 triangle's are), a component a·b − c·d is
+/// 0 exactly when the error-free forms (rounded product, its error) of a·b and c·d are equal:
+/// a few dozen flops. Otherwise in rationals.
+pub fn zero_area(v: &[[f64; 3]; 3]) -> bool {
+    // Products of these stay normal and finite, and Dekker's split exact.
+    let safe = |x: f64| x == 0.0 || (1e-120..=1e120).contains(&x.abs());
+    let mut e = [[0.0; 3]; 2];
+    for (i, edge) in e.iter_mut().enumerate() {
+        for k in 0..3 {
+            let (x, err) = two_sum(v[i + 1][k], -v[0][k]);
+            if err != 0.0 || !safe(x) {
+                return zero_area_rational(v);
+            }
+            edge[k] = x;
+        }
+    }
+    [(1, 2), (2, 0), (0, 1)]
+        .iter()
+        .all(|&(i, j)| two_prod(e[0][i], e[1][j]) == two_prod(e[0][j], e[1][i]))
+}
+
+/// [`zero_area`] in rationals (any finite inputs).
+fn zero_area_rational(v: &[[f64; 3]; 3]) -> bool {
+    let p = v.map(qv);
+    let n = cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]));
+    n.iter().all(Zero::is_zero)
+}
+
+/// Where the line o + t·d meets the zero-area triangle `v` (its vertices' hull: a segment or
+/// a point) with tmin < t < tmax: the nearest such t, exact. Where the line runs along the
+/// segment and enters it at or before tmin, there is no nearest: `tmin` itself is given.
+/// `None` where it does not meet it there (or `v` has area).
+pub fn zero_area_contact(
+    o: [f64; 3],
+    d: [f64; 3],
+    v: &[[f64; 3]; 3],
+    tmin: f64,
+    tmax: f64,
+) -> Option<ExactT> {
+    let zero = |x: &QV| x.iter().all(Zero::is_zero);
+    let p = v.map(qv);
+    if !zero(&cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]))) {
+        return None;
+    }
+    // The hull: the two vertices farthest apart.
+    let len2 = |a: &QV, b: &QV| {
+        let e = sub(b, a);
+        dot(&e, &e)
+    };
+    let (a, b) = [(0, 1), (1, 2), (0, 2)]
+        .into_iter()
+        .max_by(|x, y| len2(&p[x.0], &p[x.1]).cmp(&len2(&p[y.0], &p[y.1])))
+        .map(|(i, j)| (p[i].clone(), p[j].clone()))
+        .expect("three pairs");
+    let (o, d) = (qv(o), qv(d));
+    let (e, w) = (sub(&b, &a), sub(&a, &o));
+    let n = cross(&d, &e);
+    let within = |t: &Q| *t > q(tmin) && (tmax == f64::INFINITY || *t < q(tmax));
+    if !zero(&n) {
+        // The lines cross where o + t·d = a + s·e, if they are coplanar; 0 ≤ s ≤ 1 on it.
+        if !dot(&w, &n).is_zero() {
+            return None;
+        }
+        let nn = dot(&n, &n);
+        let t = dot(&cross(&w, &e), &n) / &nn;
+        let s = dot(&cross(&w, &d), &n) / &nn;
+        let on = s >= Q::zero() && s <= Q::one();
+        return (on && within(&t)).then(|| ExactT::rational(t));
+    }
+    // Parallel: on the line only if a is; then met over [ta, tb].
+    if !zero(&cross(&w, &d)) {
+        return None;
+    }
+    let dd = dot(&d, &d);
+    let ta = dot(&w, &d) / &dd;
+    let tb = dot(&sub(&b, &o), &d) / &dd;
+    let (lo, hi) = match ta <= tb {
+        true => (ta, tb),
+        false => (tb, ta),
+    };
+    if within(&lo) {
+        return Some(ExactT::rational(lo));
+    }
+    let tmin_q = q(tmin);
+    (lo <= tmin_q && hi > tmin_q && (tmax == f64::INFINITY || tmin < tmax))
+        .then(|| ExactT::rational(tmin_q))
 }
 
 /// An f64 as m·2^e with an integer m (0 as 0·2^0).

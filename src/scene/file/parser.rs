@@ -43,6 +43,8 @@ struct Parser<'a, T: Real> {
     tree_room: u64,
     /// The first line the scene tree did not record.
     tree_full_at: Option<usize>,
+    /// `tri` statements of zero area (kept: no ray hits them).
+    zero_area: obj::ZeroArea,
 }
 
 /// A mesh named repeatedly: a file in a frame, or the built-in Cornell box.
@@ -134,6 +136,7 @@ pub fn parse_with<T: Real>(
         max_placements: crate::limits::max_placements(),
         tree_room: crate::limits::max_tree_entries(),
         tree_full_at: None,
+        zero_area: obj::ZeroArea::default(),
     };
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
@@ -154,6 +157,9 @@ pub fn parse_with<T: Real>(
             p.current.push_line,
             "push without a matching pop (the file ends inside this level)",
         );
+    }
+    if let Some(w) = p.zero_area.warning(file) {
+        p.out.warnings.push(w);
     }
     if let Some(line) = p.tree_full_at {
         let listed = p.out.levels.len()
@@ -440,7 +446,12 @@ impl<T: Real> Parser<'_, T> {
                 let v = [0, 1, 2]
                     .map(|i| self.point(&args[3 * i..], [x[3 * i], x[3 * i + 1], x[3 * i + 2]]));
                 let [a, b, c] = v;
-                self.add(Shape::from([a?, b?, c?]), self.current.color)?;
+                let v = [a?, b?, c?];
+                if crate::geometry::triangle::zero_area(&v) {
+                    let index = self.out.shapes.len() + self.instanced;
+                    self.zero_area.add(index, u32::try_from(line).ok());
+                }
+                self.add(Shape::from(v), self.current.color)?;
             }
             "sphere" => {
                 let x = numbers(args, &[4], "sphere")?;
