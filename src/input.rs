@@ -6,7 +6,9 @@
 //!
 //! Writing ([`OutputFile`]): an output never destroys a file. It is written to a temporary
 //! file in the destination's directory and renamed over the destination only when complete, so
-//! an interrupted, killed or failed run leaves the previous file as it was. An output that is
+//! an interrupted, killed or failed run leaves the previous file as it was (a killed run's
+//! temporary file, `.NAME.raylab-PID-N.tmp`, is removed by the next write into that directory
+//! once its process is gone). A link is written through, dangling or not. An output that is
 //! a file this process has read (the scene, its meshes and material libraries, a view, rays, a
 //! script: compared by file identity, so links and `./` paths are caught) is refused before
 //! anything is written, and so is an existing FIFO, socket or directory.
@@ -86,6 +88,10 @@ pub enum InputError {
     Sizeless { path: PathBuf, limit: u64 },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
+    #[error("{}: names a directory (it ends with '/'), not a file to write", path.display())]
+    NotAFileName { path: PathBuf },
+    #[error("{}: too many levels of symbolic links", path.display())]
+    LinkLoop { path: PathBuf },
     #[error(
         "{}: is {}, which this run reads: refusing to overwrite an input",
         path.display(),
@@ -254,6 +260,11 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
 /// would block until something reads it), or that is a file this process has read. A device
 /// such as /dev/null is written as usual.
 pub fn check_output(path: &Path) -> Result<(), InputError> {
+    if names_a_directory(path) {
+        return Err(InputError::NotAFileName {
+            path: path.to_path_buf(),
+        });
+    }
     match std::fs::metadata(path) {
         Ok(meta) if !meta.is_file() && !is_device(&meta) => Err(InputError::NotRegular {
             path: path.to_path_buf(),
@@ -267,6 +278,96 @@ pub fn check_output(path: &Path) -> Result<(), InputError> {
             None => Ok(()),
         },
         Err(_) => Ok(()),
+    }
+}
+
+/// Whether `path` can only name a directory: it ends with `/`, `/.` or `..` (`-o a.png/` was
+/// refused only when the finished file was renamed to it).
+fn names_a_directory(path: &Path) -> bool {
+    let text = path.as_os_str().as_encoded_bytes();
+    text.ends_with(b"/")
+        || !matches!(
+            path.components().next_back(),
+            Some(std::path::Component::Normal(_))
+        )
+}
+
+/// The most links followed from an output to the file it names (as the kernel's ELOOP).
+const MAX_LINKS: usize = 40;
+
+/// The file `path` names once its links are followed, existing or not: a dangling link's
+/// target is written, as `cp` into a link would, and the link kept.
+fn link_target(path: &Path) -> Result<PathBuf, InputError> {
+    let mut target = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        let is_link = target
+            .symlink_metadata()
+            .is_ok_and(|m| m.file_type().is_symlink());
+        if !is_link {
+            return Ok(target);
+        }
+        let next = std::fs::read_link(&target).map_err(|source| InputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        target = match target.parent() {
+            Some(dir) => dir.join(next),
+            None => next,
+        };
+    }
+    Err(InputError::LinkLoop {
+        path: path.to_path_buf(),
+    })
+}
+
+/// The longest part of the destination's name kept in a temporary file's name, so that a
+/// name of up to 255 bytes (NAME_MAX) still has a temporary name within it.
+const TEMP_NAME_BYTES: usize = 64;
+
+/// The temporary name of output `name`, number `n` of process `pid`: `.NAME.raylab-PID-N.tmp`,
+/// NAME cut to [`TEMP_NAME_BYTES`].
+fn temp_name(name: &std::ffi::OsStr, pid: u32, n: u64) -> std::ffi::OsString {
+    let bytes = name.as_encoded_bytes();
+    let cut = bytes.len().min(TEMP_NAME_BYTES);
+    // (At a character boundary where the name is UTF-8.)
+    let cut = match std::str::from_utf8(&bytes[..cut]) {
+        Err(e) if e.error_len().is_none() => e.valid_up_to(),
+        _ => cut,
+    };
+    let mut temp = std::ffi::OsString::from(".");
+    temp.push(String::from_utf8_lossy(&bytes[..cut]).as_ref());
+    temp.push(format!(".raylab-{pid}-{n}.tmp"));
+    temp
+}
+
+/// The process that made temporary file `name` ([`temp_name`]), if it is one.
+pub fn temp_owner(name: &std::ffi::OsStr) -> Option<u32> {
+    let name = name.to_str()?;
+    let rest = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (_, tail) = rest.rsplit_once(".raylab-")?;
+    let (pid, n) = tail.split_once('-')?;
+    n.parse::<u64>().ok()?;
+    pid.parse().ok()
+}
+
+/// Removes the temporary files in `dir` whose process is gone (killed while writing): each is
+/// named by its pid ([`temp_name`]), and a pid with no /proc entry has ended. Nothing is
+/// removed where /proc is not there to ask.
+fn remove_stale_temps(dir: &Path) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let Some(pid) = temp_owner(&entry.file_name()) else {
+            continue;
+        };
+        let alive = Path::new("/proc").join(pid.to_string()).exists();
+        if !alive && entry.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(entry.path());
+        }
     }
 }
 
@@ -305,16 +406,15 @@ impl OutputFile {
                 file: std::io::BufWriter::new(file),
             });
         }
-        // Through a link to an existing file: replace the file, keep the link.
-        let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        // Through a link (dangling or not): replace the file it names, keep the link.
+        let target = link_target(path)?;
         let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let name = target
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "output".into());
+        let name = (target.file_name())
+            .unwrap_or(std::ffi::OsStr::new("output"))
+            .to_owned();
         let (temp, file) = Self::open_temp(&dir, &name).map_err(io)?;
         Ok(OutputFile {
             path: path.to_path_buf(),
@@ -324,13 +424,15 @@ impl OutputFile {
         })
     }
 
-    /// A new file `.NAME.PID-N.tmp` in `dir`, created exclusively (mode 0666 less the umask).
-    fn open_temp(dir: &Path, name: &str) -> std::io::Result<(PathBuf, std::fs::File)> {
+    /// A new file `.NAME.raylab-PID-N.tmp` in `dir` ([`temp_name`]), created exclusively (mode
+    /// 0666 less the umask), once the stale ones of killed runs are removed.
+    fn open_temp(dir: &Path, name: &std::ffi::OsStr) -> std::io::Result<(PathBuf, std::fs::File)> {
         use std::sync::atomic::{AtomicU64, Ordering};
         static NEXT: AtomicU64 = AtomicU64::new(0);
+        remove_stale_temps(dir);
         loop {
             let n = NEXT.fetch_add(1, Ordering::Relaxed);
-            let temp = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
+            let temp = dir.join(temp_name(name, std::process::id(), n));
             match std::fs::OpenOptions::new()
                 .write(true)
                 .create_new(true)
@@ -453,5 +555,52 @@ mod tests {
         null.write_all(b"nothing").unwrap();
         null.commit().unwrap();
         assert!(Path::new("/dev/null").exists());
+    }
+
+    #[test]
+    fn a_dangling_link_is_written_through_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let link = dir.path().join("link.png");
+        std::os::unix::fs::symlink("target.png", &link).unwrap();
+        write_file(&link, b"png").unwrap();
+        assert!(link.symlink_metadata().unwrap().file_type().is_symlink());
+        assert_eq!(
+            std::fs::read(dir.path().join("target.png")).unwrap(),
+            b"png"
+        );
+        let looped = dir.path().join("loop.png");
+        std::os::unix::fs::symlink("loop.png", &looped).unwrap();
+        let e = write_file(&looped, b"x").unwrap_err();
+        assert!(matches!(e, InputError::LinkLoop { .. }), "{e}");
+    }
+
+    #[test]
+    fn a_name_of_255_bytes_has_a_temporary_name_and_a_directory_name_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let long = dir.path().join(format!("a{}.png", "é".repeat(125)));
+        assert_eq!(long.file_name().unwrap().len(), 255);
+        write_file(&long, b"x").unwrap();
+        assert_eq!(std::fs::read(&long).unwrap(), b"x");
+        for bad in ["a.png/", "a.png/.", ".."] {
+            let e = OutputFile::create(&dir.path().join(bad)).unwrap_err();
+            assert!(matches!(e, InputError::NotAFileName { .. }), "{bad}: {e}");
+        }
+        assert_eq!(names(dir.path()).len(), 1);
+    }
+
+    #[test]
+    fn a_killed_runs_temporary_file_is_removed_by_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let name = |pid| temp_name("out.t.npy".as_ref(), pid, 3);
+        assert_eq!(temp_owner(&name(dead)), Some(dead));
+        std::fs::write(dir.path().join(name(dead)), b"half").unwrap();
+        std::fs::write(dir.path().join(name(std::process::id())), b"live").unwrap();
+        std::fs::write(dir.path().join(".other.tmp"), b"not ours").unwrap();
+        write_file(&dir.path().join("out.png"), b"x").unwrap();
+        let live = name(std::process::id()).into_string().unwrap();
+        assert_eq!(names(dir.path()), [".other.tmp", live.as_str(), "out.png"]);
     }
 }

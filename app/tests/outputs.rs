@@ -248,3 +248,268 @@ fn a_failing_aov_output_writes_nothing() {
     }
     assert_eq!(listing(&locked), ["image.png"]);
 }
+
+/// A render's whole set of files is written before its report: a reader of the report that
+/// is gone (a closed pipe) ends the run after the files, not between them.
+#[test]
+fn a_closed_stdout_ends_the_run_after_the_whole_aov_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("x.png");
+    let args = ["render", "--width", "32", "--height", "24", "--aov", "-o"];
+    let mut child = raylab(&[&args[..], &[out.to_str().unwrap()]].concat())
+        .spawn()
+        .unwrap();
+    // The reader goes away before raylab reports.
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
+    assert_eq!(
+        listing(d),
+        ["x.normal.npy", "x.png", "x.prim.npy", "x.t.npy"]
+    );
+    let t = std::fs::read(d.join("x.t.npy")).unwrap();
+    assert_eq!(t.len(), 128 + 4 * 32 * 24);
+}
+
+#[test]
+fn a_dangling_link_is_written_through_and_a_255_byte_name_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("out")).unwrap();
+    std::os::unix::fs::symlink("out/target.png", d.join("link.png")).unwrap();
+    let link = d.join("link.png");
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        link.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let meta = std::fs::symlink_metadata(&link).unwrap();
+    assert!(meta.file_type().is_symlink(), "the link is kept");
+    assert_eq!(
+        &std::fs::read(d.join("out/target.png")).unwrap()[1..4],
+        b"PNG"
+    );
+    assert_eq!(listing(d), ["link.png", "out"]);
+    assert_eq!(listing(&d.join("out")), ["target.png"]);
+    // The longest name a directory holds (255 bytes): its temporary name fits too.
+    let name = format!("{}.png", "a".repeat(251));
+    let long = d.join(&name);
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        long.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(listing(d), [name.as_str(), "link.png", "out"]);
+}
+
+/// A suite and a class of one submission in `d`, for `raylab grade`.
+fn suite_and_class(d: &Path) -> (String, String) {
+    let suite = d.join("suite");
+    let o = run(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::create_dir_all(d.join("class/ada")).unwrap();
+    let class = d.join("class");
+    (
+        suite.to_str().unwrap().to_string(),
+        class.to_str().unwrap().to_string(),
+    )
+}
+
+/// Every output is checked before any work: a name that can only be a directory's (`a.png/`)
+/// and a missing directory are refused first, naming the path once.
+#[test]
+fn every_output_is_checked_before_any_work_and_its_error_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (suite, class) = suite_and_class(d);
+    // A program that leaves a mark: it never ran if the mark is missing.
+    let ran = d.join("RAN");
+    let program = format!("touch '{}'; true {{scene}} {{rays}}", ran.display());
+    let program = program.as_str();
+    let missing = d.join("missing/dir/o.png");
+    let missing = missing.to_str().unwrap();
+    let slash = format!("{}/a.png/", d.display());
+    let csv_slash = format!("{}/rows.csv/", d.display());
+    let csv_missing = format!("{}/missing/rows.csv", d.display());
+    let bad_scene = ["--scene", "no-such.scene"];
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            ["render", "-o", &slash].to_vec(),
+            &slash,
+            "names a directory",
+        ),
+        (
+            ["render", "--aov", "-o", &slash].to_vec(),
+            &slash,
+            "names a directory",
+        ),
+        (
+            ["render", "-o", missing].to_vec(),
+            missing,
+            "No such file or directory",
+        ),
+        (
+            ["check", "--image", &slash, "--program", program].to_vec(),
+            &slash,
+            "names a directory",
+        ),
+        (
+            ["check", "--image", missing, "--program", program].to_vec(),
+            missing,
+            "No such file",
+        ),
+        (
+            [
+                "grade",
+                &class,
+                "--suite",
+                &suite,
+                "--program",
+                program,
+                "--csv",
+                &csv_slash,
+            ]
+            .to_vec(),
+            &csv_slash,
+            "names a directory",
+        ),
+        (
+            [
+                "grade",
+                &class,
+                "--suite",
+                &suite,
+                "--program",
+                program,
+                "--csv",
+                &csv_missing,
+            ]
+            .to_vec(),
+            &csv_missing,
+            "No such file or directory",
+        ),
+    ];
+    for (args, path, why) in cases {
+        // (A scene that cannot be read: the output is said first.)
+        let args = match args[0] {
+            "grade" => args,
+            _ => [&args[..], &bad_scene].concat(),
+        };
+        let o = run(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(path) && err.contains(why), "{args:?}: {err}");
+        assert!(err.matches("os error").count() <= 1, "{err}");
+        assert!(!ran.exists(), "{args:?}: the program ran");
+    }
+    // A file where the suite's directory goes: said once, with its path.
+    let file = write(d, "afile", b"not a directory");
+    let o = run(&["suite", "export", file.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err.trim_end(),
+        format!("error: {}: Not a directory (os error 20)", file.display())
+    );
+    assert_eq!(listing(d), ["afile", "class", "suite"]);
+}
+
+/// The temporary files of a run killed while writing are removed by the next write into
+/// their directory (their process is gone); another process's are left.
+#[test]
+fn a_killed_runs_temporary_files_are_removed_by_the_next_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("x.png");
+    let is_temp = |n: &String| n.starts_with('.') && n.ends_with(".tmp");
+    let mut left = Vec::new();
+    // Killed while its files are being written (a few tries: each must catch that moment).
+    for _ in 0..5 {
+        let child = long_render(&out, true);
+        let start = Instant::now();
+        while !listing(d).iter().any(|n| n.contains(".npy.raylab-")) {
+            assert!(start.elapsed() < Duration::from_secs(60), "no AOV written");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        signal(&child, "-KILL");
+        child.wait_with_output().unwrap();
+        left = listing(d).into_iter().filter(is_temp).collect();
+        if !left.is_empty() {
+            break;
+        }
+    }
+    assert!(!left.is_empty(), "a killed run leaves its temporary files");
+    let pid = |n: &str| {
+        n.split(".raylab-")
+            .nth(1)
+            .unwrap()
+            .split('-')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    let live = format!(".y.png.raylab-{}-0.tmp", std::process::id());
+    write(d, &live, b"another process's, still writing");
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let after: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
+    assert_eq!(after, [live.clone()], "left by {}: {left:?}", pid(&left[0]));
+}
+
+/// Exports into one new directory at once: each succeeds, whichever writes first; a
+/// directory holding only another export's temporary file (its README being written) is
+/// one being exported, not a foreign one.
+#[test]
+fn exports_into_one_new_directory_at_once_all_succeed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let single = d.join("single");
+    assert!(run(&["suite", "export", single.to_str().unwrap()])
+        .status
+        .success());
+    let families = listing(&single);
+    let writing = d.join("writing");
+    std::fs::create_dir(&writing).unwrap();
+    let temp = format!(".README.md.raylab-{}-0.tmp", std::process::id());
+    write(&writing, &temp, b"# raylab's hard");
+    let o = run(&["suite", "export", writing.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut expected = families.clone();
+    expected.insert(0, temp);
+    assert_eq!(listing(&writing), expected);
+    for round in 0..8 {
+        let suite = d.join(format!("suite{round}"));
+        let children: Vec<Child> = (0..3)
+            .map(|_| {
+                raylab(&["suite", "export", suite.to_str().unwrap()])
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        for child in children {
+            let o = child.wait_with_output().unwrap();
+            assert!(o.status.success(), "round {round}: {}", stderr(&o));
+        }
+        assert_eq!(listing(&suite), families, "round {round}");
+    }
+}

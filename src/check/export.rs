@@ -81,11 +81,16 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
         move |source| ExportError::Io { path, source }
     };
     if dir.exists() {
-        let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
+        // An export's own temporary files do not count: another export into the same new
+        // directory, still writing its README, leaves only those.
+        let entries = std::fs::read_dir(dir).map_err(io(dir))?;
+        let mut holds = entries
+            .flatten()
+            .filter(|e| input::temp_owner(&e.file_name()).is_none());
         let readme = dir.join("README.md");
         let is_suite = std::fs::read_to_string(&readme)
             .is_ok_and(|text| text.lines().next() == Some(README_TITLE));
-        if entries.next().is_some() && !is_suite {
+        if holds.next().is_some() && !is_suite {
             return Err(ExportError::NotASuite(dir.to_path_buf()));
         }
     }

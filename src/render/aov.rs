@@ -60,6 +60,65 @@ pub fn render_aovs(
     })
 }
 
+/// The pixels whose values [`write_aovs`] holds at a time (whole rows, at least one).
+const BAND_PIXELS: u32 = 1 << 20;
+
+/// The AOVs of the stage's scene through `camera` at the settings' size and method, written
+/// into `outs` (from [`Aovs::create_beside`]: `.prim`, `.t`, `.normal`) band by band without
+/// committing them: about 40 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
+/// the image's size ([`render_aovs`] holds the whole image's).
+pub fn write_aovs(
+    stage: &Stage,
+    camera: &Camera,
+    settings: &RenderSettings,
+    outs: &mut [OutputFile; 3],
+) -> Result<(), InputError> {
+    let [prim, t, normal] = outs;
+    let io = |out: &OutputFile| {
+        let path = out.path().to_path_buf();
+        move |source| InputError::Io { path, source }
+    };
+    settings
+        .validate()
+        .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))
+        .map_err(io(prim))?;
+    let (w, h) = (settings.width, settings.height);
+    let shape = [h as usize, w as usize];
+    prim.write_all(&npy_header("<u4", &shape))
+        .map_err(io(prim))?;
+    t.write_all(&npy_header("<f4", &shape)).map_err(io(t))?;
+    (normal.write_all(&npy_header("<f4", &[shape[0], shape[1], 3]))).map_err(io(normal))?;
+    let gen = camera.ray_generator(w, h);
+    let (scene, accel) = (stage.scene(), stage.accel());
+    let rows = (BAND_PIXELS / w).max(1);
+    let mut band = Vec::new();
+    let mut bytes = Vec::new();
+    for y0 in (0..h).step_by(rows as usize) {
+        let y1 = (y0 + rows).min(h);
+        (0..(y1 - y0) * w)
+            .into_par_iter()
+            .map(|k| {
+                let (i, j) = (k % w, y0 + k / w);
+                let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
+                match accel.closest_hit(&ray, settings.method, 0.0, f32::INFINITY) {
+                    Some(hit) => (hit.prim, hit.t, facing_normal(scene, &ray, hit.prim, hit.t)),
+                    None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
+                }
+            })
+            .collect_into_vec(&mut band);
+        bytes.clear();
+        bytes.extend(band.iter().flat_map(|p| p.0.to_le_bytes()));
+        prim.write_all(&bytes).map_err(io(prim))?;
+        bytes.clear();
+        bytes.extend(band.iter().flat_map(|p| p.1.to_le_bytes()));
+        t.write_all(&bytes).map_err(io(t))?;
+        bytes.clear();
+        bytes.extend(band.iter().flat_map(|p| p.2).flat_map(|c| c.to_le_bytes()));
+        normal.write_all(&bytes).map_err(io(normal))?;
+    }
+    Ok(())
+}
+
 /// The unit geometric normal of primitive `prim` where `ray` meets it at `t`, turned against
 /// the ray (surfaces are two-sided).
 fn facing_normal(scene: &Scene, ray: &Ray, prim: u32, t: f32) -> [f32; 3] {

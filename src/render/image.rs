@@ -1,5 +1,6 @@
 //! Image output: linear colour to sRGB-encoded RGBA8 (once per pixel), and PNG files.
 
+use std::io::Write as _;
 use std::path::Path;
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1] and
@@ -86,7 +87,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> std::io::
     out.commit().map_err(std::io::Error::other)
 }
 
-/// Encodes an RGBA8 image as PNG (sRGB) into `out`.
+/// Encodes an RGBA8 image as PNG (sRGB) into `out`, holding no copy of it.
 pub fn encode_png(
     out: impl std::io::Write,
     width: u32,
@@ -98,8 +99,14 @@ pub fn encode_png(
     enc.set_depth(png::BitDepth::Eight);
     enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
     let mut writer = enc.write_header().map_err(std::io::Error::other)?;
-    writer
-        .write_image_data(rgba)
+    // Streamed, a chunk at a time: `write_image_data` holds the whole compressed image.
+    let mut stream = writer
+        .stream_writer_with_size(PNG_CHUNK_BYTES)
         .map_err(std::io::Error::other)?;
+    stream.write_all(rgba)?;
+    stream.finish().map_err(std::io::Error::other)?;
     writer.finish().map_err(std::io::Error::other)
 }
+
+/// The size of a PNG's compressed data chunks (the most held before one is written).
+const PNG_CHUNK_BYTES: usize = 1 << 20;

@@ -1,7 +1,7 @@
 //! `raylab suite export` and `raylab check`: the hard-case suite as files, and the grading of
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
-use super::program;
+use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use raylab::check::grade::{self, Answer, Exact, Judged, Tally, Verdict};
@@ -31,8 +31,10 @@ pub enum SuiteAction {
     },
 }
 
-/// `raylab check`.
+/// `raylab check`. The view's flags but --scene set the view of --image and are refused
+/// without it, as is every flag its mode would not use.
 #[derive(clap::Args, Debug)]
+#[command(mut_args(only_with_image))]
 pub struct CheckArgs {
     /// Ray file (the `trace` format), with --scene FILE (a `.scene` file, the `trace` format)
     /// and --answers or --program.
@@ -45,8 +47,8 @@ pub struct CheckArgs {
     /// An exported suite (`raylab suite export DIR`): run --program on every family.
     #[arg(long, value_name = "DIR", requires = "program", conflicts_with_all = ["rays", "image"])]
     pub suite: Option<PathBuf>,
-    /// Ask --program for the camera rays of a view (the render options: the lab's Cornell box
-    /// by default) and paint the flat step from its answers into this PNG, leaks magenta,
+    /// Ask --program for the camera rays of a view (the view's flags below: the lab's Cornell
+    /// box by default, 160×120) and paint the flat step from its answers into this PNG, leaks magenta,
     /// wrong primitives cyan, false hits yellow (f32).
     #[arg(
         long,
@@ -60,11 +62,16 @@ pub struct CheckArgs {
     #[arg(long, value_name = "CMD")]
     pub program: Option<String>,
     /// The precision the files are read in and the exact t is rounded to (`f64` for code that
-    /// computes in double).
-    #[arg(long, value_enum, default_value = "f32")]
+    /// computes in double; --image grades in f32, the renderer's).
+    #[arg(long, value_enum, default_value = "f32", conflicts_with = "image")]
     pub precision: Precision,
     /// Seconds the program may take on one scene before it is stopped.
-    #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 60.0,
+        conflicts_with = "answers"
+    )]
     pub timeout: f64,
     /// How far a right hit's point o + t·d may lie from the exact one, relative to the size
     /// of the coordinates (|t − exact t|·|d| / (|o| + |exact t|·|d| + the primitive's largest
@@ -75,9 +82,26 @@ pub struct CheckArgs {
     /// With --suite: check only this family (its directory name, or its number).
     #[arg(long, value_name = "NAME", requires = "suite")]
     pub family: Option<String>,
-    /// The scene and, with --image, the view (the render options).
-    #[command(flatten)]
+    /// The scene and, with --image, the view.
+    #[command(
+        flatten,
+        next_help_heading = "The scene (--rays, --image) and the view (--image)"
+    )]
     pub view: ViewArgs,
+}
+
+/// Makes the view's flags but --scene require --image, and --scene refuse --suite (whose
+/// families hold their scenes): `check` refuses a flag it would ignore.
+fn only_with_image(arg: clap::Arg) -> clap::Arg {
+    let id = arg.get_id().as_str();
+    if super::VIEW_FLAGS.contains(&id) {
+        // (A conflict too: clap waives a requirement that conflicts with a flag given.)
+        arg.requires("image").conflicts_with_all(["rays", "suite"])
+    } else if id == "scene" {
+        arg.conflicts_with("suite")
+    } else {
+        arg
+    }
 }
 
 /// Runs `raylab suite`.
@@ -104,20 +128,12 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
     if args.answers.is_none() && args.program.is_none() {
         bail!("give the answers to grade: --answers FILE, or --program CMD to run");
     }
-    if !(args.timeout > 0.0 && args.timeout <= 1e6) {
-        bail!(
-            "--timeout {} must be > 0 and at most 1e6 seconds",
-            args.timeout
-        );
-    }
+    check_timeout(args.timeout)?;
     check_tolerance(args.t_tolerance)?;
     if let Some(cmd) = &args.program {
-        check_template(cmd)?;
+        template::check_template(cmd)?;
     }
     if let (Some(image), Some(template)) = (&args.image, &args.program) {
-        if args.precision != Precision::F32 {
-            bail!("--image grades the camera rays in f32 (the renderer's); leave out --precision");
-        }
         return super::check_image::check_image(args, image, template);
     }
     match args.precision {
@@ -126,18 +142,18 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
     }
 }
 
-/// A --t-tolerance a grade can use: a number from 0 to 1.
-pub(super) fn check_tolerance(tolerance: f64) -> Result<()> {
-    if !(0.0..=1.0).contains(&tolerance) {
-        bail!("--t-tolerance {tolerance} must be a number from 0 to 1 (relative)");
+/// A --timeout a run can use: more than 0 and at most 1e6 seconds.
+pub(super) fn check_timeout(timeout: f64) -> Result<()> {
+    if !(timeout > 0.0 && timeout <= 1e6) {
+        bail!("--timeout {timeout} must be > 0 and at most 1e6 seconds");
     }
     Ok(())
 }
 
-/// A --program template must say where the files' paths go.
-pub(super) fn check_template(cmd: &str) -> Result<()> {
-    if !(cmd.contains("{scene}") && cmd.contains("{rays}")) {
-        bail!("--program '{cmd}' must name {{scene}} and {{rays}}, where the files' paths go");
+/// A --t-tolerance a grade can use: a number from 0 to 1.
+pub(super) fn check_tolerance(tolerance: f64) -> Result<()> {
+    if !(0.0..=1.0).contains(&tolerance) {
+        bail!("--t-tolerance {tolerance} must be a number from 0 to 1 (relative)");
     }
     Ok(())
 }
@@ -215,7 +231,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                     )
                 }
                 (None, Some(template)) => {
-                    let command = program::command_for(template, scene, rays);
+                    let command = template::command_for(template, scene, rays);
                     match program_answers(template, scene, args.timeout, &exact, rays) {
                         Ok((elapsed, answers)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
@@ -285,7 +301,7 @@ pub(super) fn program_answers<T: Real>(
 ) -> Result<(Duration, Answers<T>), String> {
     let timeout = Duration::from_secs_f64(timeout_s);
     // The paths go in as bytes (a path that is not UTF-8 reaches the program intact).
-    let command = program::command_line(template, scene_file, rays_file);
+    let command = template::command_line(template, scene_file, rays_file);
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
     let ran = program::run_with(&command, &limits).map_err(|e| e.to_string())?;
     let answers =

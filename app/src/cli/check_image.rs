@@ -62,9 +62,11 @@ fn write_lines(path: &Path, comment: &str, lines: impl Iterator<Item = String>) 
 /// wrong primitive.
 pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<bool> {
     refuse_program_file(image, template)?;
-    raylab::input::check_output(image)?;
+    // Before any work: a missing directory, a directory's name or a FIFO is said now.
+    raylab::input::OutputFile::create(image)?;
     super::png_only(image)?;
-    let (scene, camera, settings) = super::prepare_sized(&args.view, IMAGE_SIZE)?;
+    let defaults = raylab::render::RenderSettings::default();
+    let (scene, camera, settings) = super::prepare_sized(&args.view, IMAGE_SIZE, defaults)?;
     let (w, h) = (settings.width, settings.height);
     if u64::from(w) * u64::from(h) > MAX_RAYS {
         anyhow::bail!(
@@ -79,8 +81,8 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
             scene.len()
         );
     }
-    // Created before any work (a missing directory is said now, not after the program ran);
-    // committed when whole.
+    // Opened again now that the scene's files are known (none is the image); committed
+    // when whole.
     let mut png = raylab::input::OutputFile::create(image)?;
     let rays: Vec<(usize, TraceRay<f32>)> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
@@ -110,7 +112,7 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         exact.primitives,
         exact.elapsed.as_secs_f64() * 1e3
     );
-    let command = program::command_for(template, &scene_file, &rays_file);
+    let command = super::template::command_for(template, &scene_file, &rays_file);
     eprintln!(
         "check --image: {w}×{h} camera rays written; running the program (at most {} s)",
         args.timeout

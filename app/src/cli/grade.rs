@@ -112,13 +112,8 @@ struct Submission {
 
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
 pub fn grade(args: &GradeArgs) -> Result<()> {
-    if !(args.timeout > 0.0 && args.timeout <= 1e6) {
-        bail!(
-            "--timeout {} must be > 0 and at most 1e6 seconds",
-            args.timeout
-        );
-    }
-    super::check::check_template(&args.program)?;
+    super::check::check_timeout(args.timeout)?;
+    super::template::check_template(&args.program)?;
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
     }
@@ -451,7 +446,7 @@ fn grade_one(
             });
             continue;
         }
-        let command: OsString = program::command_line(template, &scene, &rays);
+        let command: OsString = super::template::command_line(template, &scene, &rays);
         let limits = Limits {
             max_output_bytes: case.max_output,
             dir: Some(work.clone()),

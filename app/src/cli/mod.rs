@@ -1,17 +1,15 @@
 //! The command line: `raylab` (the window), `raylab render`, `trace`, `bench`, `inspect`,
 //! `suite` and `check` (check.rs, and program.rs for the programs it runs).
 
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::DVec3;
 use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
-use raylab::geometry::Method;
 use raylab::render::settings::{controls_text, Control, Kind};
 use raylab::render::{self, RenderSettings, Stage, CONTROLS};
 use raylab::scene::{ObjFrame, Scene};
-use raylab::tracefile;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -28,9 +26,12 @@ mod check;
 mod check_image;
 mod grade;
 mod program;
+mod template;
+mod trace;
 
 pub use check::{check, suite, CheckArgs, SuiteArgs};
 pub use grade::{grade, GradeArgs};
+pub use trace::{trace, TraceArgs};
 
 /// raylab: an interactive, teaching-grade CPU raycaster (the raytracing lab's Cornell box).
 #[derive(Parser, Debug)]
@@ -81,7 +82,7 @@ pub enum Command {
 
 /// The values of a choice control for clap, each with its one-line explanation (the values
 /// are described once, in the library's table).
-fn possible_values(control: &Control) -> clap::builder::PossibleValuesParser {
+pub(crate) fn possible_values(control: &Control) -> clap::builder::PossibleValuesParser {
     use clap::builder::PossibleValue;
     let Kind::Choice { options, .. } = control.kind else {
         unreachable!("{} is not a choice", control.name)
@@ -92,19 +93,23 @@ fn possible_values(control: &Control) -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(values)
 }
 
-/// `--method` of `raylab trace`: the render control's values.
-fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
-    use clap::builder::TypedValueParser;
-    let method = render::settings::control("method").expect("a control");
-    possible_values(method).map(|name| name.parse().expect("a listed method"))
+/// The image's controls as flags, one per row of [`CONTROLS`] (`--step`, `--spp`, `--method`,
+/// `--cracks`, …): what they set, over the defaults. `ALL = false` keeps only those that
+/// decide one ray's answer, `--step` and `--method` (`raylab inspect`, which follows the
+/// pixel's centre ray and shows no cracks).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ControlFlags<const ALL: bool = true>(pub RenderSettings);
+
+impl<const ALL: bool> ControlFlags<ALL> {
+    /// The controls these flags set.
+    fn controls() -> impl Iterator<Item = &'static Control> {
+        CONTROLS
+            .iter()
+            .filter(|c| ALL || matches!(c.name, "step" | "method"))
+    }
 }
 
-/// The image's controls as flags, one per row of [`CONTROLS`] (`--step`, `--spp`, `--method`,
-/// `--cracks`, …): what they set, over the defaults.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ControlFlags(pub RenderSettings);
-
-impl clap::FromArgMatches for ControlFlags {
+impl<const ALL: bool> clap::FromArgMatches for ControlFlags<ALL> {
     fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
         let mut flags = Self::default();
         flags.update_from_arg_matches(matches)?;
@@ -112,7 +117,7 @@ impl clap::FromArgMatches for ControlFlags {
     }
 
     fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
-        for control in &CONTROLS {
+        for control in Self::controls() {
             match control.kind {
                 Kind::Toggle { set, .. } => {
                     if matches.get_flag(control.name) {
@@ -136,10 +141,10 @@ impl clap::FromArgMatches for ControlFlags {
     }
 }
 
-impl clap::Args for ControlFlags {
+impl<const ALL: bool> clap::Args for ControlFlags<ALL> {
     fn augment_args(cmd: clap::Command) -> clap::Command {
         let defaults = RenderSettings::default();
-        cmd.args(CONTROLS.iter().map(|control| {
+        cmd.args(Self::controls().map(|control| {
             let arg = clap::Arg::new(control.name)
                 .long(control.name)
                 .help(control.help)
@@ -163,6 +168,39 @@ impl clap::Args for ControlFlags {
     }
 }
 
+/// `--accel`: the structure the renderer's rays go through.
+#[derive(clap::Args, Debug)]
+pub struct AccelArg {
+    /// Acceleration structure: `auto` picks the flat SIMD loop below 64 primitives and a BVH
+    /// from there on; `flat` and `bvh` force one.
+    #[arg(long, default_value = "auto")]
+    pub accel: AccelChoice,
+}
+
+/// How an image is made: shared by `render` and `bench`.
+#[derive(clap::Args, Debug)]
+pub struct ImageArgs {
+    /// The image's controls (step, supersampling, method, cracks).
+    #[command(flatten)]
+    pub controls: ControlFlags,
+    #[command(flatten)]
+    pub accel: AccelArg,
+    /// Test every camera ray against every triangle of a small scene instead of only those
+    /// whose screen bounds meet its 16x16 tile (the same image, slower: to measure the gain).
+    #[arg(long)]
+    pub no_tile_culling: bool,
+}
+
+impl ImageArgs {
+    /// The settings the flags give (the size is the view's).
+    fn settings(&self) -> RenderSettings {
+        RenderSettings {
+            tile_culling: !self.no_tile_culling,
+            ..self.controls.0
+        }
+    }
+}
+
 /// Arithmetic precision of `trace`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Precision {
@@ -172,7 +210,7 @@ pub enum Precision {
     F64,
 }
 
-/// What to render and from where: shared by `render` and `bench`.
+/// What to look at and from where: shared by `render`, `bench`, `inspect` and `check --image`.
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
     /// A view saved by the window (F5): its scene, camera, light, size, step, samples and
@@ -213,29 +251,33 @@ pub struct ViewArgs {
     /// the window's panel sets it.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub light: Option<DVec3>,
-    /// The image's controls (step, supersampling, method, cracks).
-    #[command(flatten)]
-    pub controls: ControlFlags,
-    /// Acceleration structure: `auto` picks the flat SIMD loop below 64 primitives and a BVH
-    /// from there on; `flat` and `bvh` force one.
-    #[arg(long, default_value = "auto")]
-    pub accel: AccelChoice,
     /// How an OBJ file's coordinates are read: `yup` (the usual convention; x and y are negated
     /// so the model stands upright in the lab's y-down world) or `lab` (already y-down, like
     /// cornell_lab.obj).
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
-    /// Test every camera ray against every triangle of a small scene instead of only those
-    /// whose screen bounds meet its 16x16 tile (the same image, slower: to measure the gain).
-    #[arg(long)]
-    pub no_tile_culling: bool,
 }
+
+/// The ids of [`ViewArgs`]' flags but `--scene` (which `check --rays` reads too).
+pub(crate) const VIEW_FLAGS: [&str; 9] = [
+    "view",
+    "width",
+    "height",
+    "focal",
+    "camera",
+    "yaw",
+    "pitch",
+    "light",
+    "obj_frame",
+];
 
 /// `raylab render`.
 #[derive(clap::Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub image: ImageArgs,
     /// Output PNG file.
     #[arg(short, long)]
     pub out: PathBuf,
@@ -251,6 +293,11 @@ pub struct RenderArgs {
 pub struct InspectArgs {
     #[command(flatten)]
     pub view: ViewArgs,
+    /// The step and the method (the pixel's centre ray: no supersampling, no cracks view).
+    #[command(flatten)]
+    pub controls: ControlFlags<false>,
+    #[command(flatten)]
+    pub accel: AccelArg,
     /// The pixel `x,y` (column, row from the top left, 0-based).
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: (u32, u32),
@@ -271,8 +318,8 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
 
 /// Runs `raylab inspect`.
 pub fn inspect(args: &InspectArgs) -> Result<()> {
-    let (scene, camera, settings) = prepare(&args.view)?;
-    let stage = Stage::new(scene, args.view.accel);
+    let (scene, camera, settings) = prepare(&args.view, args.controls.0)?;
+    let stage = Stage::new(scene, args.accel.accel);
     let (x, y) = args.pixel;
     let inspection = raylab::render::inspect::inspect(&stage, &camera, &settings, x, y)?;
     say!("{}", inspection.to_string().trim_end());
@@ -284,6 +331,8 @@ pub fn inspect(args: &InspectArgs) -> Result<()> {
 pub struct BenchArgs {
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub image: ImageArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -294,66 +343,6 @@ pub struct BenchArgs {
     /// what the CPU has), to compare the builds in one run. Default: the best the CPU has.
     #[arg(long)]
     pub simd: Option<raylab::math::simd::SimdLevel>,
-}
-
-/// `raylab trace`.
-#[derive(clap::Args, Debug)]
-pub struct TraceArgs {
-    /// Scene file (the `.scene` format): at its simplest `tri x0 y0 z0 x1 y1 z1 x2 y2 z2` or
-    /// `sphere cx cy cz r` per line; the index of a primitive is its 0-based position among
-    /// the primitives; `#` starts a comment.
-    #[arg(long)]
-    pub scene: PathBuf,
-    /// Ray file: `ox oy oz dx dy dz tmin tmax` per line (tmax may be `inf`). d is not
-    /// normalised; a hit counts for tmin < t < tmax and the nearest wins.
-    #[arg(long)]
-    pub rays: PathBuf,
-    /// Ray/triangle intersection method.
-    #[arg(long, default_value = "adaptive", value_parser = method_parser())]
-    pub method: Method,
-    /// Arithmetic precision: inputs are parsed and intersected in this precision.
-    #[arg(long, value_enum, default_value = "f32")]
-    pub precision: Precision,
-    /// Which path answers: `reference` (the scalar loop over every primitive), the
-    /// renderer's per-ray structures, `flat` (the SIMD loop), `bvh`, or `auto` (as the
-    /// renderer picks), or `packets` (the renderer's frame queries: rays with one origin, tmin
-    /// 0 and tmax inf, 8 at a time as camera rays, or with `--query any` tmin 0 and tmax 1 as
-    /// shadow segments; adaptive method only); the structures run in f32 only.
-    #[arg(long, default_value = "reference")]
-    pub accel: TraceAccel,
-    /// What each ray asks: `nearest` (`hit <t> <index>` or `miss`) or `any` (`hit` or
-    /// `miss`: whether anything is hit with tmin < t < tmax, a shadow ray's question; with
-    /// `--accel packets`, rays with one origin, tmin 0 and tmax 1 go 8 at a time through the
-    /// renderer's shadow packets).
-    #[arg(long, value_enum, default_value = "nearest")]
-    pub query: QueryArg,
-}
-
-/// `--query` of `raylab trace`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum QueryArg {
-    Nearest,
-    Any,
-}
-
-impl From<QueryArg> for tracefile::Query {
-    fn from(q: QueryArg) -> Self {
-        match q {
-            QueryArg::Nearest => Self::Nearest,
-            QueryArg::Any => Self::Any,
-        }
-    }
-}
-
-/// The paths `raylab trace` can take.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum TraceAccel {
-    Reference,
-    Auto,
-    Flat,
-    Bvh,
-    /// Rays sharing an origin 8 at a time through the renderer's camera or shadow packets.
-    Packets,
 }
 
 /// Whether `e` is a write to a closed pipe (the reader went away: not worth a message).
@@ -410,7 +399,7 @@ fn set_light(scene: &mut Scene, position: [f64; 3]) -> Result<()> {
 
 /// The scene, camera and settings of a view file (F5 in the window). A relative scene path
 /// that does not exist from here is looked up beside the view file.
-fn prepare_view(path: &Path) -> Result<(Scene, Camera, RenderSettings)> {
+fn prepare_view(path: &Path, base: RenderSettings) -> Result<(Scene, Camera, RenderSettings)> {
     let text = read_text(path)?;
     let view = raylab::view::View::parse(&path.display().to_string(), &text)?;
     let spec = view.scene_path(path);
@@ -419,7 +408,9 @@ fn prepare_view(path: &Path) -> Result<(Scene, Camera, RenderSettings)> {
     if let Some(light) = view.light {
         set_light(&mut scene, light.map(f64::from))?;
     }
-    let (c, s) = (view.camera, view.settings);
+    let (c, mut s) = (view.camera, view.settings);
+    // (A view holds no tile culling: --no-tile-culling applies to it too.)
+    s.tile_culling = base.tile_culling;
     let focal = c.focal_ratio() * s.width as f64;
     let position = DVec3::from_array(c.position);
     let camera = Camera::from_yaw_pitch(position, c.yaw.to_radians(), c.pitch.to_radians(), focal)?;
@@ -429,22 +420,25 @@ fn prepare_view(path: &Path) -> Result<(Scene, Camera, RenderSettings)> {
 /// The image size of `render`, `bench` and `inspect` where the flags give none.
 const DEFAULT_SIZE: (u32, u32) = (640, 480);
 
-/// The scene, camera and settings a `ViewArgs` asks for.
-fn prepare(v: &ViewArgs) -> Result<(Scene, Camera, RenderSettings)> {
-    prepare_sized(v, DEFAULT_SIZE)
+/// The scene, camera and settings a `ViewArgs` asks for, over `base` (the controls' flags).
+fn prepare(v: &ViewArgs, base: RenderSettings) -> Result<(Scene, Camera, RenderSettings)> {
+    prepare_sized(v, DEFAULT_SIZE, base)
 }
 
 /// [`prepare`] with another default image size.
-fn prepare_sized(v: &ViewArgs, size: (u32, u32)) -> Result<(Scene, Camera, RenderSettings)> {
+fn prepare_sized(
+    v: &ViewArgs,
+    size: (u32, u32),
+    base: RenderSettings,
+) -> Result<(Scene, Camera, RenderSettings)> {
     if let Some(path) = &v.view {
-        return prepare_view(path);
+        return prepare_view(path, base);
     }
     let (width, height) = (v.width.unwrap_or(size.0), v.height.unwrap_or(size.1));
     let settings = RenderSettings {
         width,
         height,
-        tile_culling: !v.no_tile_culling,
-        ..v.controls.0
+        ..base
     };
     settings.validate()?;
     let mut scene = load_scene_warning(&v.scene, v.obj_frame)
@@ -482,6 +476,22 @@ pub struct Interrupted;
 /// Camera rays from which `raylab render` shows a progress bar (on a terminal only).
 const PROGRESS_MIN_RAYS: u64 = 1 << 22;
 
+/// Set by Ctrl+C during `raylab render` (from [`watch_interrupt`] on).
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// From now on Ctrl+C sets [`INTERRUPTED`] instead of ending the process, so that the render
+/// stops at its next band and nothing is written.
+fn watch_interrupt() {
+    use std::sync::atomic::Ordering;
+    // (Fails only if a handler is set already: then Ctrl+C ends the process as usual.)
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
+}
+
+/// Whether Ctrl+C was pressed since [`watch_interrupt`].
+fn interrupted() -> bool {
+    INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// Renders with a progress bar and ETA on a terminal for large renders, stopping cleanly at
 /// Ctrl+C (`None`).
 fn render_with_progress(
@@ -489,12 +499,7 @@ fn render_with_progress(
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<Option<(Vec<u8>, render::RenderStats)>> {
-    use std::sync::atomic::{AtomicBool, Ordering};
-    use std::sync::Arc;
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    // (Fails only if a handler is set already: then Ctrl+C ends the process as usual.)
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    watch_interrupt();
     let rays =
         settings.width as u64 * settings.height as u64 * (settings.spp * settings.spp) as u64;
     let bands = settings.height.div_ceil(render::BAND) as u64;
@@ -514,7 +519,7 @@ fn render_with_progress(
     // Asked before each band of rows (and once at the end).
     let cancelled = || {
         bar.inc(1);
-        interrupted.load(Ordering::Relaxed)
+        interrupted()
     };
     let stats = render::render_into_cancellable(stage, camera, settings, &mut rgba, &cancelled)?;
     bar.finish_and_clear();
@@ -532,32 +537,57 @@ fn stage(scene: Scene, accel: AccelChoice) -> (Stage, Duration) {
     (stage, build)
 }
 
-/// Runs `raylab render`.
-pub fn render(args: &RenderArgs) -> Result<()> {
-    let (scene, camera, settings) = prepare(&args.view)?;
-    // Fail on an unwritable directory, an input as output (or a FIFO, which would block)
-    // before spending the render time. Nothing at the paths changes until all is written:
-    // each is written to a temporary file beside it and renamed over it at the end.
+/// Opens every output of `raylab render` (the PNG, and the arrays with --aov) and drops them:
+/// an unwritable or missing directory, a directory's name (`a.png/`), a FIFO or an input as
+/// output fails now, before any work. Nothing at the paths changes until all is written.
+fn check_render_outputs(args: &RenderArgs) -> Result<()> {
     raylab::input::OutputFile::create(&args.out)?;
-    png_only(&args.out)?;
     if args.aov {
         render::aov::Aovs::create_beside(&args.out)?;
     }
-    let (stage, build) = stage(scene, args.view.accel);
+    Ok(())
+}
+
+/// Runs `raylab render`.
+pub fn render(args: &RenderArgs) -> Result<()> {
+    check_render_outputs(args)?;
+    // (A file there may be an input, which is the better message: said once it is known.)
+    if !args.out.exists() {
+        png_only(&args.out)?;
+    }
+    let (scene, camera, settings) = prepare(&args.view, args.image.settings())?;
+    // Again, now that the scene's files are known: none of them is an output (said before
+    // the format, which an input's name would fail too).
+    check_render_outputs(args)?;
+    png_only(&args.out)?;
+    let (stage, build) = stage(scene, args.image.accel.accel);
     let scene = stage.scene();
     let Some((rgba, stats)) = render_with_progress(&stage, &camera, &settings)? else {
         return Err(Interrupted.into());
     };
-    let writing = |e: std::io::Error| anyhow!("writing '{}': {e}", args.out.display());
     let mut png = raylab::input::OutputFile::create(&args.out)?;
-    render::image::encode_png(&mut png, settings.width, settings.height, &rgba).map_err(writing)?;
+    render::image::encode_png(&mut png, settings.width, settings.height, &rgba).map_err(|e| {
+        raylab::input::InputError::Io {
+            path: args.out.clone(),
+            source: e,
+        }
+    })?;
     drop(rgba);
-    let mut aov_outs = None;
+    // The arrays band by band, each into its temporary file: memory for one band, not the image.
+    let mut arrays = Vec::new();
     if args.aov {
-        let aovs = render::aov::render_aovs(&stage, &camera, &settings)?;
         let mut outs = render::aov::Aovs::create_beside(&args.out)?;
-        aovs.write_into(&mut outs).map_err(writing)?;
-        aov_outs = Some(outs);
+        render::aov::write_aovs(&stage, &camera, &settings, &mut outs)?;
+        arrays.extend(outs);
+    }
+    if interrupted() {
+        return Err(Interrupted.into());
+    }
+    // The whole set is committed before anything is reported: a reader of the report that is
+    // gone (a closed pipe) ends the run after the files, never between them.
+    let written: Vec<PathBuf> = arrays.iter().map(|o| o.path().to_path_buf()).collect();
+    for out in arrays {
+        out.commit()?;
     }
     png.commit()?;
     say!(
@@ -577,9 +607,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats.mrays_per_s(),
         args.out.display()
     );
-    for out in aov_outs.into_iter().flatten() {
-        let path = out.path().to_path_buf();
-        out.commit()?;
+    for path in written {
         say!("wrote {}", path.display());
     }
     Ok(())
@@ -606,14 +634,14 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         }
         raylab::math::simd::limit(level);
     }
-    let (scene, camera, settings) = prepare(&args.view)?;
+    let (scene, camera, settings) = prepare(&args.view, args.image.settings())?;
     let cpu = raylab::machine::cpu_model();
     say!(
         "machine: {cpu}, {} cores available; threads: {threads}; simd: {}",
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         raylab::machine::simd_level()
     );
-    let (stage, build) = pool.install(|| stage(scene, args.view.accel));
+    let (stage, build) = pool.install(|| stage(scene, args.image.accel.accel));
     let (scene, accel) = (stage.scene(), stage.accel().kind());
     say!(
         "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
@@ -723,54 +751,4 @@ pub(crate) fn png_only(out: &Path) -> Result<()> {
         ),
         _ => Ok(()),
     }
-}
-
-/// Runs `raylab trace`; the whole output is built before anything is printed.
-pub fn trace(args: &TraceArgs) -> Result<()> {
-    let scene_text = read_text(&args.scene)?;
-    let rays_text = read_text(&args.rays)?;
-    let (sf, rf) = (
-        args.scene.display().to_string(),
-        args.rays.display().to_string(),
-    );
-    let method = args.method;
-    let query = args.query.into();
-    if args.accel == TraceAccel::Packets {
-        if args.precision != Precision::F32 || method != Method::Adaptive {
-            bail!("--accel packets runs the renderer's packets: f32 and the adaptive method only");
-        }
-        let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
-        let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-        return write_out(&tracefile::trace_all_packets(&scene, &rays, query));
-    }
-    let choice = match args.accel {
-        TraceAccel::Packets => unreachable!("handled above"),
-        TraceAccel::Reference => None,
-        TraceAccel::Auto => Some(AccelChoice::Auto),
-        TraceAccel::Flat => Some(AccelChoice::Flat),
-        TraceAccel::Bvh => Some(AccelChoice::Bvh),
-    };
-    let out = match (args.precision, choice) {
-        (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method, query)?,
-        (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method, query)?,
-        (Precision::F32, Some(choice)) => {
-            let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
-            let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            tracefile::trace_all_through(&scene, &rays, method, choice, query)
-        }
-        (Precision::F64, Some(_)) => bail!(
-            "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",
-            args.accel
-        ),
-    };
-    write_out(&out)
-}
-
-/// Writes `raylab trace`'s whole output to stdout.
-fn write_out(out: &str) -> Result<()> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    stdout.write_all(out.as_bytes())?;
-    stdout.flush()?;
-    Ok(())
 }

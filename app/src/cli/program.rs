@@ -12,10 +12,9 @@
 //! program run as a uid of its own (`raylab grade` as root) is every process of that uid.
 
 use std::collections::{HashMap, HashSet};
-use std::ffi::{OsStr, OsString};
+use std::ffi::OsStr;
 use std::fs::File;
 use std::io::{Read, Write};
-use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
@@ -80,50 +79,6 @@ impl Limits {
     }
 }
 
-/// The command with `{scene}` and `{rays}` replaced by the paths, for messages (a path that is
-/// not UTF-8 shows U+FFFD here; [`command_line`] is the one to run).
-pub fn command_for(template: &str, scene: &Path, rays: &Path) -> String {
-    command_line(template, scene, rays)
-        .to_string_lossy()
-        .into_owned()
-}
-
-/// The command with `{scene}` and `{rays}` replaced by the paths, each one quoted shell word
-/// with its bytes intact. One pass over the template: a path that holds `{rays}` itself is
-/// never substituted into (that would end its quotes early and run the rest as code).
-pub fn command_line(template: &str, scene: &Path, rays: &Path) -> OsString {
-    let (scene, rays) = (shell_word(scene.as_os_str()), shell_word(rays.as_os_str()));
-    let t = template.as_bytes();
-    let mut out = Vec::with_capacity(t.len() + scene.len() + rays.len());
-    let mut i = 0;
-    while i < t.len() {
-        if t[i..].starts_with(b"{scene}") {
-            out.extend_from_slice(&scene);
-            i += "{scene}".len();
-        } else if t[i..].starts_with(b"{rays}") {
-            out.extend_from_slice(&rays);
-            i += "{rays}".len();
-        } else {
-            out.push(t[i]);
-            i += 1;
-        }
-    }
-    OsString::from_vec(out)
-}
-
-/// `word` in single quotes, a quote within written `'\''`: the shell expands nothing in it.
-fn shell_word(word: &OsStr) -> Vec<u8> {
-    let mut out = vec![b'\''];
-    for &b in word.as_bytes() {
-        match b {
-            b'\'' => out.extend_from_slice(br"'\''"),
-            _ => out.push(b),
-        }
-    }
-    out.push(b'\'');
-    out
-}
-
 /// How long the pipes are read after the program itself ended: what it wrote last is still
 /// in them, but a daemon it left holding them never holds the run up.
 const GRACE: Duration = Duration::from_millis(200);
@@ -142,7 +97,7 @@ const STDERR_TAIL: usize = 2000;
 /// of the program runs; if raylab dies first, the pipe closes and nothing runs.
 const GATE: &str = r#"read -r _ && exec sh -c "$1" </dev/null"#;
 
-/// Runs `command` (the bytes of a shell command, [`command_line`]) with `sh -c`, standard
+/// Runs `command` (the bytes of a shell command, [`super::template::command_line`]) with `sh -c`, standard
 /// input empty, within `limits`, and returns its standard output. It is stopped, with every
 /// process it started, after the timeout or once it has printed more than its output limit;
 /// a status other than success is an error quoting the end of its standard error.

@@ -1,0 +1,174 @@
+//! Every flag a subcommand shows is one it uses: a flag it would ignore is refused (exit 2,
+//! clap's message), and its help lists only what it uses.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use common::binary::{assert_fails, stderr, stdout, write};
+
+crate::raylab_runner!();
+
+/// The render-only flags, each with a value where it takes one.
+const RENDER_ONLY: [&[&str]; 6] = [
+    &["--method", "moller"],
+    &["--spp", "2"],
+    &["--step", "shadows"],
+    &["--cracks"],
+    &["--accel", "bvh"],
+    &["--no-tile-culling"],
+];
+
+#[test]
+fn check_refuses_the_flags_it_would_ignore() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = write(d, "s.scene", "tri 0 0 0 1 0 0 0 1 0\n");
+    let rays = write(d, "r.txt", "0.25 0.25 -1 0 0 1 0 inf\n");
+    let answers = write(d, "a.txt", "hit 1 0\n");
+    let graded = [
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--answers",
+        &answers,
+    ];
+    let o = raylab(&graded);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o)
+        .ends_with("check: rays 1 right 1 leaks 0 false_hits 0 wrong 0 ties 0 t_failures 0\n"));
+    for flag in RENDER_ONLY {
+        let o = raylab(&[&graded[..], flag].concat());
+        assert_fails(&o, 2, &["unexpected argument", flag[0]]);
+    }
+    // The view's flags set the view of --image: with --rays or --suite they are refused.
+    for flag in [
+        &["--width", "5"][..],
+        &["--height", "5"],
+        &["--focal", "10"],
+        &["--camera", "0,0,-3"],
+        &["--yaw", "5"],
+        &["--pitch", "5"],
+        &["--light", "0,0,0"],
+        &["--obj-frame", "lab"],
+        &["--view", "x.view"],
+    ] {
+        let o = raylab(&[&graded[..], flag].concat());
+        assert_fails(&o, 2, &["cannot be used with", flag[0]]);
+        let program = ["check", "--program", "true {scene} {rays}"];
+        let o = raylab(&[&program[..], flag].concat());
+        assert_fails(&o, 2, &["--image"]);
+    }
+    // --timeout times a program: with an answer file it is refused.
+    let o = raylab(&[&graded[..], &["--timeout", "5"]].concat());
+    assert_fails(&o, 2, &["cannot be used with", "--timeout"]);
+    // --image grades in f32 only; a suite's families hold their scenes.
+    let program = "true {scene} {rays}";
+    let image = d.join("x.png");
+    let image = image.to_str().unwrap();
+    let o = raylab(&[
+        "check",
+        "--image",
+        image,
+        "--program",
+        program,
+        "--precision",
+        "f64",
+    ]);
+    assert_fails(&o, 2, &["cannot be used with", "--precision"]);
+    let o = raylab(&[
+        "check",
+        "--suite",
+        ".",
+        "--program",
+        program,
+        "--scene",
+        &scene,
+    ]);
+    assert_fails(&o, 2, &["cannot be used with", "--scene"]);
+    assert!(!d.join("x.png").exists());
+}
+
+#[test]
+fn inspect_refuses_what_its_one_ray_does_not_use() {
+    let o = raylab(&[
+        "inspect", "--pixel", "320,240", "--method", "moller", "--step", "shadows",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("method: moller"), "{}", stdout(&o));
+    for flag in [&["--spp", "2"][..], &["--cracks"], &["--no-tile-culling"]] {
+        let o = raylab(&[&["inspect", "--pixel", "1,1"][..], flag].concat());
+        assert_fails(&o, 2, &["unexpected argument", flag[0]]);
+    }
+}
+
+/// The `--flag`s a help text lists.
+fn flags_in_help(command: &str) -> Vec<String> {
+    let o = raylab(&[command, "--help"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut flags: Vec<String> = stdout(&o)
+        .lines()
+        .map(str::trim_start)
+        // `--flag` or `-f, --flag` at the start of a line.
+        .map(|l| match l.get(2..4) {
+            Some(", ") if l.starts_with('-') => &l[4..],
+            _ => l,
+        })
+        .filter_map(|l| l.strip_prefix("--"))
+        .map(|l| l.split([' ', ',']).next().unwrap().to_string())
+        .collect();
+    flags.sort();
+    flags
+}
+
+#[test]
+fn each_help_lists_only_the_flags_its_command_uses() {
+    let view = [
+        "camera",
+        "focal",
+        "height",
+        "light",
+        "obj-frame",
+        "pitch",
+        "scene",
+        "view",
+        "width",
+        "yaw",
+    ];
+    let image = [
+        "accel",
+        "cracks",
+        "method",
+        "no-tile-culling",
+        "spp",
+        "step",
+    ];
+    let mut check = vec![
+        "answers",
+        "family",
+        "help",
+        "image",
+        "precision",
+        "program",
+        "rays",
+        "suite",
+        "t-tolerance",
+        "timeout",
+    ];
+    check.extend(view);
+    check.sort();
+    assert_eq!(flags_in_help("check"), check);
+    let mut inspect = vec!["accel", "help", "method", "pixel", "step"];
+    inspect.extend(view);
+    inspect.sort();
+    assert_eq!(flags_in_help("inspect"), inspect);
+    let mut render = vec!["aov", "help", "out"];
+    render.extend(view.iter().chain(&image));
+    render.sort();
+    assert_eq!(flags_in_help("render"), render);
+    let mut bench = vec!["frames", "help", "simd", "threads"];
+    bench.extend(view.iter().chain(&image));
+    bench.sort();
+    assert_eq!(flags_in_help("bench"), bench);
+}
