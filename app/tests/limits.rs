@@ -248,6 +248,33 @@ fn repeated_cornell_boxes_cost_what_placements_cost() {
     assert!(per_box <= 1024.0, "{per_box:.0} bytes a box");
 }
 
+#[test]
+fn aovs_cost_a_band_of_memory_not_the_image() {
+    // Peak memory of `render --aov` at 2048×1024 and 4096×2048: the 6.3 million pixels more
+    // may cost the frame's 4 bytes a pixel and little else; the arrays (20 bytes a pixel, held
+    // whole twice over) took 41.
+    if !have_gnu_time() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a.png");
+    let peak = |w: &str, h: &str| {
+        let args = ["render", "--width", w, "--height", h, "--aov", "-o"];
+        let (o, peak) = peak_kib(&[&args[..], &[out.to_str().unwrap()]].concat(), &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let t = std::fs::metadata(dir.path().join("a.t.npy")).unwrap().len();
+        assert_eq!(
+            t,
+            128 + 4 * w.parse::<u64>().unwrap() * h.parse::<u64>().unwrap()
+        );
+        peak
+    };
+    let (small, large) = (peak("2048", "1024"), peak("4096", "2048"));
+    let per_pixel = (large.saturating_sub(small) * 1024) as f64 / (6 << 20) as f64;
+    println!("{small} KiB, {large} KiB: {per_pixel:.1} bytes a pixel");
+    assert!(per_pixel <= 8.0, "{per_pixel:.1} bytes a pixel");
+}
+
 /// Whether GNU time is there to measure peak memory.
 fn have_gnu_time() -> bool {
     common::tool_for("/usr/bin/time", "time", "a memory test")
