@@ -275,6 +275,38 @@ fn aovs_cost_a_band_of_memory_not_the_image() {
     assert!(per_pixel <= 8.0, "{per_pixel:.1} bytes a pixel");
 }
 
+#[test]
+fn check_image_holds_a_bounded_amount_a_ray() {
+    // Peak memory of `check --image` at 256×256 and 512×512 with a program that answers every
+    // ray: the 196,608 rays more may cost at most 160 bytes each (the ray, the exact answer,
+    // the program's answer and its grade; the rays file is streamed to disk).
+    if !have_gnu_time() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("c.png");
+    let program = "grep -v '^#' {rays} | sed 's/.*/hit 2.7182817 12/' # {scene}";
+    let peak = |side: &str| {
+        let args = [
+            "check",
+            "--width",
+            side,
+            "--height",
+            side,
+            "--program",
+            program,
+        ];
+        let image = ["--image", image.to_str().unwrap()];
+        let (o, peak) = peak_kib(&[&args[..], &image].concat(), &[]);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        peak
+    };
+    let (small, large) = (peak("256"), peak("512"));
+    let per_ray = (large.saturating_sub(small) * 1024) as f64 / 196_608.0;
+    println!("{small} KiB, {large} KiB: {per_ray:.0} bytes a ray");
+    assert!(per_ray <= 160.0, "{per_ray:.0} bytes a ray");
+}
+
 /// Whether GNU time is there to measure peak memory.
 fn have_gnu_time() -> bool {
     common::tool_for("/usr/bin/time", "time", "a memory test")
