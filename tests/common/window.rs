@@ -106,6 +106,13 @@ pub enum Around<'a> {
     Args(&'a [&'a str]),
 }
 
+/// The screen of the runs' X server where a test names no other: a common laptop's.
+pub const SCREEN: (u32, u32) = (1280, 800);
+
+/// One window at a time: a test drives its window with timed real input, which several
+/// software-rendered windows at once on two cores can outrun.
+static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs the window binary `exe` under Xvfb with `script` and something running beside it
 /// ([`Around`]); None (after saying so) where Xvfb is missing.
 pub fn run_window_with(
@@ -115,6 +122,20 @@ pub fn run_window_with(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
+    run_window_on(exe, SCREEN, script, dir, env, around)
+}
+
+/// [`run_window_with`] on an X screen of `screen` pixels. The run's environment is a plain X
+/// server's: no Wayland display, no XDG_RUNTIME_DIR.
+pub fn run_window_on(
+    exe: &str,
+    screen: (u32, u32),
+    script: &str,
+    dir: &std::path::Path,
+    env: &[(&str, &str)],
+    around: Around,
+) -> Option<Run> {
+    let _one = ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
     // Input drivers wait for the first image; a file-editing driver keeps to its own clock.
     let wait_for_image = matches!(around, Around::RealInput(_));
     let (driver, model) = match around {
@@ -148,7 +169,8 @@ pub fn run_window_with(
     std::fs::write(&script_path, script).unwrap();
     let shot_path = dir.join("shot.png");
     let mut command = Command::new("xvfb-run");
-    command.args(["-a", "-s", "-screen 0 1280x800x24"]);
+    let screen_arg = format!("-screen 0 {}x{}x24", screen.0, screen.1);
+    command.args(["-a", "-s", &screen_arg]);
     if let Some((at_ms, dpi)) = dpi_change {
         let conf = dir.join("xsettings.conf");
         std::fs::write(&conf, "Xft/DPI 98304\n").unwrap();
@@ -197,6 +219,9 @@ pub fn run_window_with(
         .arg("--script")
         .arg(&script_path)
         .env("RUST_LOG", "raylab=info")
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
         .envs(env.iter().copied())
         .current_dir(dir)
         .stdout(Stdio::piped())

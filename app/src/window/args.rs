@@ -69,7 +69,7 @@ pub fn main_with_code(code: Arc<dyn LabCode>) -> ExitCode {
     match super::run(cli.window.options(Some(code))) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", crate::error_text(&e));
             ExitCode::from(2)
         }
     }

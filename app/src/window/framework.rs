@@ -133,3 +133,26 @@ pub fn no_window_reason() -> String {
             .into()
     }
 }
+
+/// Keeps libwayland from printing "error: XDG_RUNTIME_DIR is invalid or not set in the
+/// environment" on every start under a plain X server (Xvfb, ssh -X, a container): Mesa's
+/// device-selection Vulkan layer asks libwayland for a display when the adapter is chosen,
+/// and libwayland complains where there is no runtime directory to look in. With no Wayland
+/// display named and no runtime directory, there is no Wayland session for the layer to
+/// find, so it is turned off with Mesa's own switch (`NODEVICE_SELECT=1`), and the debug log
+/// says so. Called before any other thread reads the environment.
+pub fn quiet_wayland_probe() {
+    let named = |v: &str| std::env::var_os(v).is_some_and(|x| !x.is_empty());
+    let wayland = named("WAYLAND_DISPLAY") || named("WAYLAND_SOCKET");
+    let chosen = named("NODEVICE_SELECT") || named("MESA_VK_DEVICE_SELECT");
+    let runtime_dir =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_absolute());
+    if wayland || chosen || runtime_dir {
+        return;
+    }
+    log::debug!(
+        "no Wayland display and no XDG_RUNTIME_DIR: Mesa's device-select layer is turned off \
+         (NODEVICE_SELECT=1), whose Wayland probe would make libwayland print an error"
+    );
+    std::env::set_var("NODEVICE_SELECT", "1");
+}

@@ -21,6 +21,7 @@ mod gpu;
 mod input;
 mod inspector;
 mod location;
+mod notices;
 mod panel;
 mod script;
 mod scripted;
@@ -121,6 +122,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         (None, None) => Scene::cornell(),
     };
     let stage = Stage::new(scene, opts.accel);
+    framework::quiet_wayland_probe();
     let event_loop = EventLoop::<AppEvent>::with_user_event()
         .build()
         .map_err(|e| {
@@ -150,6 +152,8 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         viewer,
         scripted,
         image_rect: None,
+        banner_rect: None,
+        panel_fit: (0.0, 0.0),
         cursor: None,
         drag: None,
         press_at: None,
@@ -175,6 +179,10 @@ struct App {
     scripted: Option<ScriptedRun>,
     /// Where the image was drawn last (egui points).
     image_rect: Option<egui::Rect>,
+    /// Where the error banner was drawn last over the image (egui points).
+    banner_rect: Option<egui::Rect>,
+    /// The side panel's content height and visible height (points) in the last frame.
+    panel_fit: (f32, f32),
     /// The mouse pointer in the window (physical pixels), while it is inside.
     cursor: Option<(f64, f64)>,
     /// An orbit-mode drag under way over the image: `true` orbits, `false` pans.
@@ -230,7 +238,8 @@ impl App {
             return false;
         };
         let ppp = fw.pixels_per_point();
-        rect.contains(egui::pos2(x as f32 / ppp, y as f32 / ppp))
+        let at = egui::pos2(x as f32 / ppp, y as f32 / ppp);
+        rect.contains(at) && !self.banner_rect.is_some_and(|b| b.contains(at))
     }
 
     /// A left press over the image and its release within a few pixels (not an orbit drag)
@@ -323,6 +332,8 @@ impl App {
             Key::Escape => {
                 if self.mouse_look {
                     self.set_mouse_look(false);
+                } else if self.viewer.banner.take().is_some() {
+                    log::info!("error banner dismissed");
                 } else if self.esc_armed {
                     event_loop.exit();
                 } else {
@@ -383,6 +394,8 @@ impl App {
         let layout = layout.expect("egui ran the UI");
         viewer.image_area = layout.image_area;
         self.image_rect = layout.image_rect;
+        self.banner_rect = layout.banner_rect;
+        self.panel_fit = layout.actions.fit;
         let actions = layout.actions;
         if actions.reset_camera {
             viewer.controller.reset();
@@ -437,6 +450,7 @@ impl App {
                 let done = scripted::Final {
                     frames_presented: self.frames_presented,
                     image_rect: [r.min.x, r.min.y, r.width(), r.height()].map(|x| x * ppp),
+                    panel_fit: self.panel_fit,
                 };
                 let run = self.scripted.as_ref().expect("capturing a scripted run");
                 match run.finish(&self.viewer, shot, done) {

@@ -5,7 +5,7 @@ use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
 use raylab::render::inspect::Inspection;
 use raylab::render::settings::{Control, Kind};
-use raylab::render::{RenderSettings, RenderStats, CONTROLS};
+use raylab::render::{RenderSettings, CONTROLS};
 use raylab::scene::file::Level;
 
 /// Preset render resolutions offered besides "a scale of the window".
@@ -17,10 +17,7 @@ pub struct PanelInfo<'a> {
     pub primitives: usize,
     pub warnings: &'a [String],
     pub full_size: (u32, u32),
-    pub shown: Option<(u32, u32, u8, RenderStats)>,
-    pub status: &'a str,
     pub loading: bool,
-    pub threads: usize,
     /// A `.scene` file's push levels, and the one selected.
     pub levels: &'a [Level],
     pub selected_level: Option<usize>,
@@ -42,6 +39,11 @@ pub struct PanelActions {
     pub select: Option<Option<usize>>,
     /// The next or previous crack button.
     pub crack: Option<super::cracks::Step>,
+    /// The button that lists every scene warning.
+    pub show_all_warnings: bool,
+    /// The panel's content height and the height it is shown in (points): it fits when the
+    /// first is not larger.
+    pub fit: (f32, f32),
 }
 
 /// The side panel. Edits `view` and `camera` in place.
@@ -54,19 +56,16 @@ pub fn side_panel(
     inspector: (&mut bool, Option<&Inspection>),
 ) -> PanelActions {
     let mut actions = PanelActions::default();
-    egui::ScrollArea::vertical().show(ui, |ui| {
+    // A scroll bar that is there whenever the panel is taller than the window (egui's
+    // default floats and shows only under the pointer).
+    ui.style_mut().spacing.scroll = egui::style::ScrollStyle::solid();
+    let scrolled = egui::ScrollArea::vertical().show(ui, |ui| {
         ui.heading("raylab");
         ui.label(format!(
             "{}: {} primitives",
             info.scene_name, info.primitives
         ));
-        for w in info.warnings {
-            ui.colored_label(egui::Color32::YELLOW, w);
-        }
-        // (Near the top: what the last action did stays in view.)
-        if !info.status.is_empty() {
-            ui.small(info.status);
-        }
+        super::notices::warnings(ui, info.warnings, &mut actions.show_all_warnings);
 
         if !info.levels.is_empty() {
             ui.separator();
@@ -247,9 +246,8 @@ pub fn side_panel(
         }
 
         ui.separator();
-        ui.strong("Light");
         ui.horizontal(|ui| {
-            ui.label("position");
+            ui.strong("Light");
             let speed = 0.01 * camera.scene_size as f32;
             for c in view.light.iter_mut() {
                 ui.add(egui::DragValue::new(c).speed(speed).max_decimals(3));
@@ -257,44 +255,23 @@ pub fn side_panel(
         });
 
         ui.separator();
-        match info.shown {
-            Some((w, h, level, stats)) => {
-                let what = ["preview", "full", "supersampled"][level.min(2) as usize];
-                ui.label(format!(
-                    "rendered {w}x{h} ({what}), target {}x{}",
-                    info.full_size.0, info.full_size.1
-                ));
-                ui.label(format!(
-                    "{:.1} ms, {:.2} Mrays/s on {} threads",
-                    stats.elapsed.as_secs_f64() * 1e3,
-                    stats.mrays_per_s(),
-                    info.threads
-                ));
-            }
-            None => {
-                ui.label("rendering...");
-            }
-        }
-
-        ui.separator();
-        ui.strong("Files");
         ui.horizontal(|ui| {
-            ui.text_edit_singleline(obj_path);
+            let load = egui::Button::new("Load");
+            let room = ui.available_width() - 50.0;
+            let field = egui::TextEdit::singleline(obj_path)
+                .hint_text(".scene, .obj or .view path")
+                .desired_width(room);
+            ui.add(field);
             if ui
-                .add_enabled(!info.loading, egui::Button::new("Load"))
-                .on_hover_text("an .obj or .scene file (or drop one on the window)")
+                .add_enabled(!info.loading, load)
+                .on_hover_text("a .scene, .obj or .view file (or drop one on the window)")
                 .clicked()
             {
                 actions.load = Some(obj_path.clone());
             }
         });
-        ui.horizontal(|ui| {
-            if ui.button("Save screenshot (F12)").clicked() {
-                actions.screenshot = true;
-            }
-            ui.small("H or F1: shortcuts");
-        });
     });
+    actions.fit = (scrolled.content_size.y, scrolled.inner_rect.height());
     actions
 }
 
@@ -360,6 +337,9 @@ pub struct Layout {
     pub image_area: (u32, u32),
     /// Where the image was drawn (points), if there is one.
     pub image_rect: Option<egui::Rect>,
+    /// Where the error banner was drawn over the image (points): a click there is the
+    /// banner's, not the image's.
+    pub banner_rect: Option<egui::Rect>,
 }
 
 /// The window's whole UI: the side panel (editing the viewer's settings and camera), the
@@ -388,6 +368,9 @@ pub fn layout(
         controller,
         obj_path,
         status,
+        status_is_error,
+        banner,
+        show_all_warnings,
         loading,
         image_area,
         show_help,
@@ -412,10 +395,7 @@ pub fn layout(
         primitives: scene.len(),
         warnings: &scene.warnings,
         full_size,
-        shown,
-        status,
         loading: *loading,
-        threads: rayon::current_num_threads(),
         levels: &scene.levels,
         selected_level: *selected_level,
         code_name: code.as_deref().map(|c| c.name()),
@@ -425,14 +405,26 @@ pub fn layout(
         actions: PanelActions::default(),
         image_area: *image_area,
         image_rect: None,
+        banner_rect: None,
     };
     egui::Panel::left("controls")
         .resizable(true)
         .default_size(PANEL_WIDTH)
         .show(ui, |ui| {
-            egui::MenuBar::new().ui(ui, |ui| files.menu(ui));
+            // (The menu bar stays in view however far the panel is scrolled.)
+            egui::MenuBar::new().ui(ui, |ui| {
+                files.menu(ui);
+                if ui.button("Screenshot (F12)").clicked() {
+                    layout.actions.screenshot = true;
+                }
+                if ui.button("Shortcuts (H or F1)").clicked() {
+                    *show_help = !*show_help;
+                }
+            });
             let inspector = (&mut *inspector_on, inspection.as_ref());
+            let screenshot = layout.actions.screenshot;
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
+            layout.actions.screenshot |= screenshot;
         });
     // The inspected ray's fields beside the image, while there are some or a crack is being
     // found (the side panel keeps its sections in view).
@@ -469,6 +461,11 @@ pub fn layout(
                 });
             });
     }
+    egui::Panel::bottom("status").show(ui, |ui| {
+        let status = (status.as_str(), *status_is_error);
+        let threads = rayon::current_num_threads();
+        super::notices::status_line(ui, status, shown, full_size, threads);
+    });
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();
         layout.image_area = (
@@ -499,7 +496,18 @@ pub fn layout(
                 super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
             }
         }
+        if let Some(text) = banner.as_deref() {
+            let (rect, clicked) = super::notices::banner(ui, area, text);
+            layout.banner_rect = Some(rect);
+            if clicked {
+                *banner = None;
+            }
+        }
     });
+    if layout.actions.show_all_warnings {
+        *show_all_warnings = true;
+    }
+    super::notices::all_warnings(ui.ctx(), &scene.warnings, show_all_warnings);
     help_window(ui.ctx(), show_help);
     layout
 }

@@ -33,6 +33,8 @@ pub struct Final {
     pub frames_presented: u64,
     /// The image's rectangle in physical pixels: x, y, width, height.
     pub image_rect: [f32; 4],
+    /// The side panel's content height and the height it is shown in (points).
+    pub panel_fit: (f32, f32),
 }
 
 impl ScriptedRun {
@@ -108,7 +110,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -130,6 +132,12 @@ impl ScriptedRun {
             c.speed,
             ["off", "on"][viewer.inspector_on as usize],
             ["off", "on"][viewer.show_help as usize],
+            ["off", "on"][viewer.banner.is_some() as usize],
+            window.panel_fit.0,
+            window.panel_fit.1,
+            viewer.stage.scene().warnings.len(),
+            ["off", "on"][viewer.show_all_warnings as usize],
+            peak_kib(),
             viewer.stage.scene().len(),
             viewer.stage.accel().kind(),
             // Linked code: chosen in the method selector (on), offered (off), or none.
@@ -142,6 +150,9 @@ impl ScriptedRun {
         );
         if !viewer.status.is_empty() {
             println!("status: {}", viewer.status);
+        }
+        if let Some(text) = &viewer.banner {
+            println!("banner: {text}");
         }
         if let Some(census) = viewer.counted() {
             println!("cracks: {}", census.summary());
@@ -218,4 +229,13 @@ impl App {
             }
         }
     }
+}
+
+/// The process's peak resident memory in KiB (Linux's VmHWM; 0 where unknown), for the tests
+/// that hold the window's memory to the stated bound.
+fn peak_kib() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let line = status.lines().find_map(|l| l.strip_prefix("VmHWM:"));
+    let kib = line.and_then(|l| l.trim().trim_end_matches("kB").trim().parse().ok());
+    kib.unwrap_or(0)
 }

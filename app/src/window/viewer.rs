@@ -82,6 +82,13 @@ pub struct Viewer {
     pub image_area: (u32, u32),
     pub show_help: bool,
     pub status: String,
+    /// Whether the status is an error (drawn red).
+    pub status_is_error: bool,
+    /// An error shown in red over the image until dismissed (a click on it, or Esc) or a
+    /// scene loads.
+    pub banner: Option<String>,
+    /// The window listing every scene warning is open.
+    pub show_all_warnings: bool,
     /// The panel's OBJ path field.
     pub obj_path: String,
     pub loading: bool,
@@ -194,6 +201,9 @@ impl Viewer {
             image_area: (640, 480),
             show_help: false,
             status: String::new(),
+            status_is_error: false,
+            banner: None,
+            show_all_warnings: false,
             obj_path: scene_path
                 .map(|p| p.display().to_string())
                 .unwrap_or_default(),
@@ -258,7 +268,16 @@ impl Viewer {
     /// A message for the panel (and the log, so scripted runs can be checked).
     pub fn set_status(&mut self, message: impl Into<String>) {
         self.status = message.into();
+        self.status_is_error = false;
         log::info!("{}", self.status);
+    }
+
+    /// An error: in the status line and in the banner over the image, where the eye is.
+    pub fn report_error(&mut self, message: impl Into<String>) {
+        self.status = message.into();
+        self.status_is_error = true;
+        self.banner = Some(self.status.clone());
+        log::warn!("{}", self.status);
     }
 
     /// Something that changes the image changed: start over from a preview.
@@ -426,7 +445,7 @@ impl Viewer {
                 })
             }
             Err(e) => {
-                self.set_status(format!("render failed: {e}"));
+                self.report_error(format!("render failed: {e}"));
                 None
             }
         })
@@ -456,7 +475,7 @@ impl Viewer {
             });
         let view = match view {
             Ok(v) => v,
-            Err(e) => return self.set_status(format!("could not load the view: {e}")),
+            Err(e) => return self.report_error(format!("could not load the view: {e}")),
         };
         let s = view.settings;
         self.view.controls = s;
@@ -540,15 +559,17 @@ impl Viewer {
         let stage = match result {
             Ok(stage) => stage,
             Err(e) if reload => {
-                self.set_status(format!("could not reload (the last good scene stays): {e}"));
+                self.report_error(format!("could not reload (the last good scene stays): {e}"));
                 return None;
             }
             Err(e) => {
-                self.set_status(format!("could not load: {e}"));
+                self.report_error(format!("could not load: {e}"));
                 return None;
             }
         };
         *self.source.lock().expect("not poisoned") = Some(path.clone());
+        // (The error of an earlier load no longer describes the scene shown.)
+        self.banner = None;
         let scene = stage.scene();
         self.selected_level = self
             .selected_level
@@ -584,7 +605,7 @@ impl Viewer {
     /// Renders the current view at full resolution and quality to the PNG file `path`.
     pub fn screenshot_to(&mut self, path: PathBuf) {
         if let Err(e) = raylab::input::check_output(&path) {
-            return self.set_status(format!("cannot save the image: {e}"));
+            return self.report_error(format!("cannot save the image: {e}"));
         }
         let (w, h) = self.full_size();
         let settings = self.settings((w, h), self.view.controls.spp);
@@ -673,7 +694,7 @@ impl Viewer {
                     shown.display()
                 ));
             }
-            Err(e) => self.set_status(format!("could not save the view: {e}")),
+            Err(e) => self.report_error(format!("could not save the view: {e}")),
         }
     }
 
@@ -682,7 +703,7 @@ impl Viewer {
         self.screenshots_pending -= 1;
         match result {
             Ok(path) => self.set_status(format!("saved {}", path.display())),
-            Err(e) => self.set_status(format!("screenshot failed: {e}")),
+            Err(e) => self.report_error(format!("screenshot failed: {e}")),
         }
     }
 }

@@ -1,0 +1,135 @@
+//! What the window tells the user outside the panel's controls: the status line under the
+//! image (the last action's message and the frame's figures), the red banner over the image
+//! for an error, and the scene's warnings (a count and the first few in the panel, all of them
+//! in a window of their own, laid out only as far as they are scrolled into view).
+
+use raylab::render::RenderStats;
+
+/// Warnings the panel lists under their count; the rest are a click away.
+pub const FIRST_WARNINGS: usize = 3;
+
+/// The red of the error banner and of an error in the status line.
+const ERROR_RED: egui::Color32 = egui::Color32::from_rgb(190, 30, 30);
+
+/// The image on screen, for the status line: its size, refinement level and render figures.
+pub type ShownFigures = (u32, u32, u8, RenderStats);
+
+/// The status line: the last message on the left (red for an error, cut to one line, the whole
+/// of it on hover), the image's figures on the right.
+pub fn status_line(
+    ui: &mut egui::Ui,
+    (status, is_error): (&str, bool),
+    shown: Option<ShownFigures>,
+    full_size: (u32, u32),
+    threads: usize,
+) {
+    let figures = match shown {
+        Some((w, h, level, stats)) => {
+            let what = match level {
+                0 => format!("preview of {}x{}", full_size.0, full_size.1),
+                1 => "full".to_string(),
+                _ => "supersampled".to_string(),
+            };
+            format!(
+                "{w}x{h} {what} · {:.1} ms · {:.2} Mrays/s · {threads} threads",
+                stats.elapsed.as_secs_f64() * 1e3,
+                stats.mrays_per_s(),
+            )
+        }
+        None => "rendering...".to_string(),
+    };
+    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+        ui.label(figures);
+        ui.separator();
+        ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+            let mut text = egui::RichText::new(status);
+            if is_error {
+                text = text.color(egui::Color32::from_rgb(255, 110, 110)).strong();
+            }
+            ui.add(egui::Label::new(text).truncate());
+        });
+    });
+}
+
+/// The error banner across the top of `image`, until clicked (or Esc). Returns where it was
+/// drawn and whether it was clicked.
+pub fn banner(ui: &mut egui::Ui, image: egui::Rect, text: &str) -> (egui::Rect, bool) {
+    let margin = 8.0;
+    let width = (image.width() - 2.0 * margin).max(40.0);
+    let at = image.left_top() + egui::vec2(margin, margin);
+    let area = egui::Rect::from_min_size(at, egui::vec2(width, image.height()));
+    let mut child = ui.new_child(egui::UiBuilder::new().max_rect(area));
+    let frame = egui::Frame::new()
+        .fill(ERROR_RED)
+        .stroke(egui::Stroke::new(
+            1.0,
+            egui::Color32::from_rgb(255, 160, 160),
+        ))
+        .corner_radius(4.0)
+        .inner_margin(10.0)
+        .show(&mut child, |ui| {
+            ui.set_width(width - 20.0);
+            let white = egui::Color32::WHITE;
+            ui.add(egui::Label::new(egui::RichText::new(text).color(white).strong()).wrap());
+            ui.add(egui::Label::new(
+                egui::RichText::new("click here or press Esc to dismiss")
+                    .color(white)
+                    .small(),
+            ));
+        });
+    let rect = frame.response.rect;
+    let clicked = ui
+        .interact(rect, egui::Id::new("error banner"), egui::Sense::click())
+        .clicked();
+    (rect, clicked)
+}
+
+/// The scene's warnings in the panel: their count (yellow, open by default) over the first
+/// [`FIRST_WARNINGS`], and a button that opens the list of all of them.
+pub fn warnings(ui: &mut egui::Ui, warnings: &[String], show_all: &mut bool) {
+    let n = warnings.len();
+    if n == 0 {
+        return;
+    }
+    let yellow = egui::Color32::YELLOW;
+    let title = match n {
+        1 => "1 scene warning".to_string(),
+        n => format!("{n} scene warnings"),
+    };
+    egui::CollapsingHeader::new(egui::RichText::new(title).color(yellow))
+        .id_salt("scene warnings")
+        .default_open(true)
+        .show(ui, |ui| {
+            for w in warnings.iter().take(FIRST_WARNINGS) {
+                ui.add(egui::Label::new(egui::RichText::new(w).color(yellow).small()).wrap());
+            }
+            if n > FIRST_WARNINGS && ui.button(format!("all {n} warnings…")).clicked() {
+                *show_all = true;
+            }
+        });
+}
+
+/// The window listing every warning, one line each (the whole line on hover); only the rows
+/// in view are laid out, so a scene of a million warnings costs no more a frame than one of
+/// ten.
+pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
+    if warnings.is_empty() {
+        *open = false;
+    }
+    egui::Window::new(format!("{} scene warnings", warnings.len()))
+        .open(open)
+        .default_size([640.0, 420.0])
+        .show(ctx, |ui| {
+            let row = ui.text_style_height(&egui::TextStyle::Body);
+            egui::ScrollArea::vertical().auto_shrink(false).show_rows(
+                ui,
+                row,
+                warnings.len(),
+                |ui, rows| {
+                    for w in &warnings[rows] {
+                        ui.add(egui::Label::new(w.as_str()).truncate());
+                    }
+                },
+            );
+        });
+}
