@@ -6,24 +6,10 @@
 #[path = "../../tests/common/mod.rs"]
 mod common;
 
+use common::binary::running;
 use std::path::{Path, PathBuf};
 
 crate::raylab_runner!();
-
-/// The processes that have `arg` as one of their arguments (zombies have none).
-fn running(arg: &str) -> Vec<String> {
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
-        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
-            continue;
-        };
-        let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
-        if args.contains(&arg.as_bytes()) {
-            found.push(String::from_utf8_lossy(&cmdline).replace('\0', " "));
-        }
-    }
-    found
-}
 
 /// Makes `dir` reachable by every user (a program runs as another uid when raylab is root).
 fn open_up(dir: &Path) {

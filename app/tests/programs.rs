@@ -6,34 +6,52 @@
 #[path = "../../tests/common/mod.rs"]
 mod common;
 
+use common::binary::{running, KillOnDrop};
 use std::ffi::OsString;
 use std::os::unix::ffi::OsStringExt;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 crate::raylab_runner!();
-
-/// The processes that have `arg` as one of their arguments (zombies have none).
-fn running(arg: &str) -> Vec<String> {
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
-        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
-            continue;
-        };
-        let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
-        if args.contains(&arg.as_bytes()) {
-            found.push(String::from_utf8_lossy(&cmdline).replace('\0', " "));
-        }
-    }
-    found
-}
 
 /// A one-triangle scene and one ray that hits it at t = 1: `hit 1 0` is the right answer.
 fn one_ray(dir: &Path) -> (String, String) {
     let scene = common::binary::write(dir, "scene.txt", "tri 0 0 0 1 0 0 0 1 0\n");
     let rays = common::binary::write(dir, "rays.txt", "0.25 0.25 -1 0 0 1 0 inf\n");
     (scene, rays)
+}
+
+/// `raylab check` of `program` on the one-ray files (with extra `env`): its output and the
+/// exit code, once it has ended within 20 s (not a daemon's time, nor the runner's 60 s).
+fn check_program(
+    scene: &str,
+    rays: &str,
+    program: &str,
+    env: &[(&str, &str)],
+) -> (String, Option<i32>) {
+    let args = [
+        "check",
+        "--scene",
+        scene,
+        "--rays",
+        rays,
+        "--program",
+        program,
+    ];
+    let start = Instant::now();
+    let o: Output = raylab_env(&[&args[..], &["--timeout", "2"]].concat(), env);
+    let took = start.elapsed();
+    assert!(took < Duration::from_secs(20), "took {took:?}");
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    (format!("{out}{err}"), o.status.code())
+}
+
+/// Fails if a process with any of `args` as an argument is still running.
+fn assert_none_running(args: &[&str]) {
+    for arg in args {
+        assert_eq!(running(arg), Vec::<String>::new(), "{arg} survived");
+    }
 }
 
 /// A program that starts daemons (their own session, out of its process group), one of them
@@ -45,64 +63,16 @@ fn a_daemon_neither_holds_the_run_up_nor_outlives_it() {
     let (scene, rays) = one_ray(dir.path());
     let program =
         "setsid sleep 913571 & setsid sleep 913575 >/dev/null 2>&1 & echo hit 1 0 # {scene} {rays}";
-    let start = Instant::now();
-    let o = raylab(&[
-        "check",
-        "--scene",
-        &scene,
-        "--rays",
-        &rays,
-        "--program",
-        program,
-        "--timeout",
-        "2",
-    ]);
-    // Not the daemon's 913571 s (nor the test runner's 60 s limit).
-    assert!(
-        start.elapsed() < Duration::from_secs(20),
-        "took {:?}",
-        start.elapsed()
-    );
-    let out = common::binary::stdout(&o);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{out}{}",
-        common::binary::stderr(&o)
-    );
+    let (out, code) = check_program(&scene, &rays, program, &[]);
+    assert_eq!(code, Some(0), "{out}");
     assert!(out.contains("check: rays 1 right 1 leaks 0"), "{out}");
-    for daemon in ["913571", "913575"] {
-        assert_eq!(
-            running(daemon),
-            Vec::<String>::new(),
-            "sleep {daemon} survived"
-        );
-    }
+    assert_none_running(&["913571", "913575"]);
 
     let program = "setsid sleep 913572 & sleep 913573 # {scene} {rays}";
-    let start = Instant::now();
-    let o = raylab(&[
-        "check",
-        "--scene",
-        &scene,
-        "--rays",
-        &rays,
-        "--program",
-        program,
-        "--timeout",
-        "2",
-    ]);
-    assert!(
-        start.elapsed() < Duration::from_secs(20),
-        "took {:?}",
-        start.elapsed()
-    );
-    let out = common::binary::stdout(&o);
-    assert_eq!(o.status.code(), Some(1), "{out}");
+    let (out, code) = check_program(&scene, &rays, program, &[]);
+    assert_eq!(code, Some(1), "{out}");
     assert!(out.contains("ran out of time (2.0 s"), "{out}");
-    for left in ["913572", "913573"] {
-        assert_eq!(running(left), Vec::<String>::new(), "sleep {left} survived");
-    }
+    assert_none_running(&["913572", "913573"]);
 }
 
 /// A file's path that holds `{rays}` and shell code is one quoted word in the command: the
@@ -115,25 +85,9 @@ fn a_placeholder_or_code_in_a_path_runs_nothing() {
     let (scene, rays) = one_ray(&family);
     let pwned = dir.path().join("PWNED");
     let program = "cat {scene} {rays} >/dev/null && echo hit 1 0";
-    let o = raylab_env(
-        &[
-            "check",
-            "--scene",
-            &scene,
-            "--rays",
-            &rays,
-            "--program",
-            program,
-        ],
-        &[("PWNED_AT", pwned.to_str().unwrap())],
-    );
-    let out = common::binary::stdout(&o);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{out}{}",
-        common::binary::stderr(&o)
-    );
+    let pwned_at = [("PWNED_AT", pwned.to_str().unwrap())];
+    let (out, code) = check_program(&scene, &rays, program, &pwned_at);
+    assert_eq!(code, Some(0), "{out}");
     assert!(out.contains("check: rays 1 right 1 leaks 0"), "{out}");
     assert!(!pwned.exists(), "the path ran as code");
 }
@@ -216,14 +170,17 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
     let tmp = dir.path().join("tmp");
     std::fs::create_dir(&tmp).unwrap();
     std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let mut raylab = Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(["grade", &class, "--suite", &suite, "--family", "16"])
-        .args(["--program", "sh run.sh {scene} {rays}"])
-        .env("TMPDIR", &tmp)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    // (Killed if the test fails before raylab ends.)
+    let mut raylab = KillOnDrop(
+        Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .args(["grade", &class, "--suite", &suite, "--family", "16"])
+            .args(["--program", "sh run.sh {scene} {rays}"])
+            .env("TMPDIR", &tmp)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
     let start = Instant::now();
     while running("913574").is_empty() || running("913576").is_empty() {
         assert!(
@@ -244,18 +201,16 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
         if let Some(status) = raylab.try_wait().unwrap() {
             break status;
         }
-        if start.elapsed() > Duration::from_secs(30) {
-            raylab.kill().unwrap();
-            panic!("raylab did not end at SIGTERM");
-        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "raylab did not end at SIGTERM"
+        );
         std::thread::sleep(Duration::from_millis(20));
     };
     let mut err = String::new();
     std::io::Read::read_to_string(&mut raylab.stderr.take().unwrap(), &mut err).unwrap();
     assert_eq!(status.code(), Some(130), "{err}");
-    for left in ["913574", "913576"] {
-        assert_eq!(running(left), Vec::<String>::new(), "sleep {left} survived");
-    }
+    assert_none_running(&["913574", "913576"]);
     assert_eq!(
         std::fs::read_dir(&tmp).unwrap().count(),
         0,

@@ -90,3 +90,106 @@ macro_rules! raylab_runner {
         }
     };
 }
+
+/// The processes that have `arg` as one of their arguments (zombies have none).
+pub fn running(arg: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+        if args.contains(&arg.as_bytes()) {
+            found.push(String::from_utf8_lossy(&cmdline).replace('\0', " "));
+        }
+    }
+    found
+}
+
+/// A child process killed (and reaped) when dropped: a failing test leaves nothing running.
+pub struct KillOnDrop(pub std::process::Child);
+
+impl std::ops::Deref for KillOnDrop {
+    type Target = std::process::Child;
+    fn deref(&self) -> &Self::Target {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for KillOnDrop {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        &mut self.0
+    }
+}
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Bytes as text (invalid UTF-8 replaced).
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// A run's last line of standard output.
+pub fn last_line(o: &Output) -> String {
+    text(&o.stdout)
+        .lines()
+        .last()
+        .unwrap_or_default()
+        .to_string()
+}
+
+/// The value `name` of the `check:` line's `name value` pairs.
+pub fn count(line: &str, name: &str) -> usize {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = words
+        .iter()
+        .position(|w| *w == name)
+        .unwrap_or_else(|| panic!("{name} in {line}"));
+    words[at + 1].parse().unwrap()
+}
+
+/// Defines `check_answers`, `check_program` and `check_scene`: `raylab check` of an answer
+/// file or a program on a scene and rays file, with more arguments (after
+/// [`raylab_runner`], whose `raylab` they run).
+#[macro_export]
+macro_rules! check_runner {
+    () => {
+        /// `raylab check` of an answer file for `scene` and `rays`, with `more` arguments.
+        #[allow(dead_code)]
+        fn check_answers(
+            scene: &str,
+            rays: &str,
+            answers: &std::path::Path,
+            more: &[&str],
+        ) -> std::process::Output {
+            check_scene(scene, rays, &["--answers", answers.to_str().unwrap()], more)
+        }
+
+        /// `raylab check` of `program` run on `scene` and `rays`, with `more` arguments.
+        #[allow(dead_code)]
+        fn check_program(
+            scene: &str,
+            rays: &str,
+            program: &str,
+            more: &[&str],
+        ) -> std::process::Output {
+            check_scene(scene, rays, &["--program", program], more)
+        }
+
+        /// `raylab check --scene scene --rays rays`, then `source` and `more`.
+        #[allow(dead_code)]
+        fn check_scene(
+            scene: &str,
+            rays: &str,
+            source: &[&str],
+            more: &[&str],
+        ) -> std::process::Output {
+            raylab(&[&["check", "--scene", scene, "--rays", rays], source, more].concat())
+        }
+    };
+}
