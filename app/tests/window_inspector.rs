@@ -7,27 +7,16 @@
 #[path = "../../tests/common/mod.rs"]
 mod common;
 
-use common::window::{graded_pixels, pixels_off_where, segment_distance, Around, Run};
+use common::window::{graded_pixels, pixels_off_where, run_window_with, segment_distance, Around};
+use glam::DVec3;
 use raylab::geometry::Method;
 use raylab::render::{render_image, LabStep, RenderSettings};
+use raylab::Camera;
 use raylab::Scene;
+use std::collections::HashMap;
 
-/// One window at a time: each test drives its window with timed real input, which three
-/// software-rendered windows at once on two cores can outrun.
-static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// Runs raylab's window under Xvfb with `script` and something beside it ([`Around`]); None
-/// (after saying so) where Xvfb is missing.
-fn run_window_with(
-    script: &str,
-    dir: &std::path::Path,
-    env: &[(&str, &str)],
-    around: Around,
-) -> Option<Run> {
-    let _one = ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
-    let exe = env!("CARGO_BIN_EXE_raylab");
-    common::window::run_window_with(exe, script, dir, env, around)
-}
+/// The window under test.
+const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
 /// Two triangles sharing their edge v1–v2, which lies in the plane x = 0, seen from
 /// (0, 0, −3): at an odd image width every camera ray of the middle column lies in that plane
@@ -56,7 +45,8 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     let script = format!("200 drop {}\n14000 step flat\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2; \
                   xdotool key n; sleep 1.5; xdotool key shift+n";
-    let Some(run) = run_window_with(&script, dir.path(), &[], Around::RealInput(driver)) else {
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
+    else {
         return;
     };
     let f = &run.fields;
@@ -159,7 +149,8 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool keydown w; sleep 0.6; \
                   xdotool keyup w";
-    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
         return;
     };
     let ins = &run.inspector;
@@ -200,7 +191,8 @@ fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
     let script = "9000 step indirect\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 690; \
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool key i";
-    let Some(run) = run_window_with(script, dir.path(), &[], Around::RealInput(driver)) else {
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
         return;
     };
     assert_eq!(run.fields["inspector"], "off", "{}", run.stderr);
@@ -240,4 +232,75 @@ fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
         off * 20 <= near,
         "{off} of the {near} pixels under the inspector's drawing differ from the headless render"
     );
+}
+
+#[test]
+fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
+    // A left click (a real X press and release) over the image with the inspector on: the
+    // panel's fields are those of the library's inspection of that pixel from the run's
+    // camera, and a scripted `inspect` gives the same as the click on the same pixel.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    // (W moves the camera first and R takes it back to the start, where the click is made.)
+    let driver = "xdotool windowfocus --sync $win; xdotool keydown w; sleep 0.3; \
+                  xdotool keyup w; sleep 0.3; xdotool key r; sleep 0.3; \
+                  xdotool mousemove --sync 700 300; sleep 0.3; xdotool click 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let ins = &run.inspector;
+    assert!(
+        !ins.is_empty(),
+        "the click inspected nothing\n{}",
+        run.stderr
+    );
+    let pixel: Vec<u32> = ins["pixel"]
+        .split(' ')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    // The image size and focal length at the click (the inspector's panel then takes room
+    // from the image): u = i + 1/2 - W/2, v = j + 1/2 - H/2.
+    let uvf: Vec<f64> = ins["uvf"].split(' ').map(|x| x.parse().unwrap()).collect();
+    let w = (2.0 * (pixel[0] as f64 + 0.5 - uvf[0])) as u32;
+    let h = (2.0 * (pixel[1] as f64 + 0.5 - uvf[1])) as u32;
+    let (pose, ..) = run.camera();
+    let lab = DVec3::new(0.0, 0.0, -3.001);
+    assert_eq!(pose.position(), lab, "R reset the camera W had moved");
+    let camera = Camera::from_yaw_pitch(lab, 0.0, 0.0, uvf[2]).unwrap();
+    assert_eq!(pose.forward(), camera.forward(), "the camera did not turn");
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    let expected = raylab::render::inspect::inspect(
+        &Scene::cornell().into(),
+        &camera,
+        &settings,
+        pixel[0],
+        pixel[1],
+    )
+    .unwrap();
+    let expected: HashMap<String, String> = expected
+        .to_string()
+        .lines()
+        .filter_map(|l| l.split_once(": "))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    for key in [
+        "pixel",
+        "uvf",
+        "hit",
+        "t",
+        "decided_by",
+        "x_tuv",
+        "blocked_by",
+        "colour",
+    ] {
+        assert_eq!(ins.get(key), expected.get(key), "{key}");
+    }
+    // (700, 300) in the window is right of the panel, a little above the middle: on the box.
+    assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
 }

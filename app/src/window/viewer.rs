@@ -92,6 +92,9 @@ pub struct Viewer {
     /// The panel's OBJ path field.
     pub obj_path: String,
     pub loading: bool,
+    /// A load asked for while another was under way (the newest request wins), started when
+    /// that one ends: an edit saved during a reload is loaded too.
+    queued_load: Option<(PathBuf, bool)>,
     pub screenshots_pending: usize,
     /// Rendered frames that arrived while a key held the camera moving (the preview works).
     pub frames_while_moving: u64,
@@ -208,6 +211,7 @@ impl Viewer {
                 .map(|p| p.display().to_string())
                 .unwrap_or_default(),
             loading: false,
+            queued_load: None,
             screenshots_pending: 0,
             frames_while_moving: 0,
             paused: false,
@@ -530,6 +534,11 @@ impl Viewer {
 
     fn load_file(&mut self, path: PathBuf, reload: bool) {
         if self.loading {
+            log::info!(
+                "{} asked for while a load is under way: loaded once that one ends",
+                path.display()
+            );
+            self.queued_load = Some((path, reload));
             return;
         }
         self.loading = true;
@@ -543,9 +552,8 @@ impl Viewer {
         });
     }
 
-    /// A loaded scene replaces the shown one (with a new camera, unless it is a `reload` of
-    /// the same file); a failed load keeps it and says why. Returns the new scene's name for
-    /// the window title.
+    /// A load ended: its scene is shown ([`Viewer::show_loaded`]), then a load asked for
+    /// meanwhile starts. Returns the new scene's name for the window title.
     pub fn scene_loaded(
         &mut self,
         path: PathBuf,
@@ -553,6 +561,23 @@ impl Viewer {
         reload: bool,
     ) -> Option<String> {
         self.loading = false;
+        let name = self.show_loaded(path, result, reload);
+        match self.queued_load.take() {
+            Some((path, true)) => self.reload(path),
+            Some((path, false)) => self.load_file(path, false),
+            None => {}
+        }
+        name
+    }
+
+    /// A loaded scene replaces the shown one (with a new camera, unless it is a `reload` of
+    /// the same file); a failed load keeps it and says why.
+    fn show_loaded(
+        &mut self,
+        path: PathBuf,
+        result: Result<Stage, String>,
+        reload: bool,
+    ) -> Option<String> {
         if result.is_err() {
             self.view_light = None;
         }

@@ -1,0 +1,452 @@
+//! The window's files under Xvfb: models, scenes and views opened from the command line, the
+//! File menu, a drop or hot reload; views and images saved; never an input overwritten.
+//!
+//! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
+//! missing the test says so loudly and skips, except under CI=true, where it must run.
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use common::window::{against_headless, run_window_with, Around};
+use common::{pixels_off, read_png};
+use raylab::render::{LabStep, RenderSettings};
+use raylab::Scene;
+use std::process::{Command, Stdio};
+
+/// The window under test.
+const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
+
+#[test]
+fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n").unwrap();
+    let good = dir.path().join("pyramid.obj");
+    std::fs::write(
+        &good,
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let script = format!("0 drop {}\n600 drop {}\n", bad.display(), good.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    assert!(
+        run.stderr.contains("could not load") && run.stderr.contains("bad.obj:3"),
+        "the failed load is reported with file and line: {}",
+        run.stderr
+    );
+    assert!(
+        run.fields["scene"].ends_with("pyramid.obj"),
+        "{:?}",
+        run.fields
+    );
+    let scene = raylab::scene::load_obj_file(&good, raylab::scene::ObjFrame::YUp).unwrap();
+    let (mean, off, expected, w, h) = against_headless(&run, &scene);
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+    // Framed: the model covers the image centre.
+    let c = 4 * ((h / 2) * w + w / 2) as usize;
+    assert!(
+        expected[c..c + 3].iter().any(|&v| v > 30),
+        "{:?}",
+        &expected[c..c + 3]
+    );
+}
+
+#[test]
+fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
+    // Opened from a .scene file; the camera moves (W); the file gains a sphere on disk (the
+    // window reloads it, keeping the camera); then a broken line (the error is shown and the
+    // last good scene stays). A push level selected in the transform-stack tree is tinted.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.scene");
+    std::fs::write(
+        &scene,
+        "cornell\npush\ntranslate 0 0.5 0\nsphere 0 0 0 0.3\npop\n",
+    )
+    .unwrap();
+    let script = "300 key W down\n600 key W up\n1000 select 1\n8000 step indirect\n";
+    let driver = "sleep 2.5; printf 'sphere 0.5 0.5 0 0.2\\n' >> s.scene; \
+                  sleep 2.5; printf 'sphere 0 0 0\\n' >> s.scene";
+    let around = Around::RealInputOn(driver, &scene);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("reloaded") && log.contains("(32 primitives)"),
+        "{log}"
+    );
+    assert!(
+        log.contains("could not reload") && log.contains("s.scene:7: sphere needs 4 numbers"),
+        "the bad edit is reported with file and line: {log}"
+    );
+    assert_eq!(run.fields["primitives"], "32", "the last good scene stays");
+    let z = run.nums("camera")[2];
+    assert!(
+        z > -2.9,
+        "the camera moved by W stayed through the reloads: z = {z}"
+    );
+    // The selected level's sphere is tinted orange: r well above g, g well above b.
+    let (_, _, _, rect) = run.camera();
+    let (sw, _, px) = &run.shot;
+    let mut orange = 0;
+    for y in rect[1] as u32..(rect[1] + rect[3]) as u32 {
+        for x in rect[0] as u32..(rect[0] + rect[2]) as u32 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+            orange += (r > g + 40 && g > b + 40) as u32;
+        }
+    }
+    assert!(orange > 200, "{orange} orange pixels");
+}
+
+#[test]
+fn a_saved_view_renders_headless_as_the_window_saved_it() {
+    // Move, turn, zoom and light the scene as a user would, press F5 (save the view) and F12
+    // (a full-quality screenshot of the same view); `raylab render --view` must give that
+    // picture.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 key W down\n250 key W up\n300 key Left down\n500 key Left up\n\
+                  550 wheel 2\n600 step shadows\n610 set method moller\n620 set cracks on\n\
+                  1500 key F5 down\n1520 key F5 up\n\
+                  1600 key F12 down\n1620 key F12 up\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let find = |prefix: &str, ext: &str| {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| {
+                let name = p.file_name().unwrap().to_string_lossy().into_owned();
+                name.starts_with(prefix) && name.ends_with(ext)
+            })
+            .unwrap_or_else(|| panic!("no {prefix}*{ext} in the run's directory\n{}", run.stderr))
+    };
+    let view = find("raylab-view-", ".view");
+    let shot = find("raylab-1", ".png");
+    assert!(run.stderr.contains("saved view"), "{}", run.stderr);
+    let text = std::fs::read_to_string(&view).unwrap();
+    assert!(
+        text.contains("step shadows") && text.contains("camera "),
+        "{text}"
+    );
+    // The panel's controls, set by the script as its widgets set them, saved with the view.
+    assert!(
+        text.contains("method moller\n") && text.contains("cracks on\n"),
+        "{text}"
+    );
+    assert_eq!(run.fields["method"], "moller", "{}", run.stderr);
+    assert_eq!(run.fields["cracks"], "on", "{}", run.stderr);
+    let out = dir.path().join("headless.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["render", "--view"])
+        .arg(&view)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (off, n) = pixels_off(&read_png(&shot), &read_png(&out));
+    // (Yaw and the field of view pass through degrees: an ulp of camera may move a pixel.)
+    assert!(off * 1000 <= n, "{off} of {n} pixels differ");
+}
+
+#[test]
+fn a_dropped_view_file_sets_the_camera_light_and_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("v.view");
+    std::fs::write(
+        &view,
+        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
+         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
+    )
+    .unwrap();
+    // (Then the script's `inspect`, a click without a pointer, on the view's fixed size.)
+    let script = format!("200 drop {}\n1500 inspect 100 80\n", view.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    assert!(run.stderr.contains("loaded view"), "{}", run.stderr);
+    // The inspection printed is the library's of that pixel from the view's camera (through
+    // degrees: t to 1e-6).
+    let (camera, w, h, _) = run.camera();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Shadows,
+        ..Default::default()
+    };
+    let expected =
+        raylab::render::inspect::inspect(&Scene::cornell().into(), &camera, &settings, 100, 80)
+            .unwrap();
+    let hit = expected
+        .hit
+        .as_ref()
+        .expect("pixel (100, 80) shows the box");
+    let ins = &run.inspector;
+    assert_eq!(ins["pixel"], "100 80", "{}", run.stderr);
+    assert_eq!(ins["uvf"], format!("-59.5 -39.5 {}", camera.focal));
+    assert_eq!(ins["hit"], hit.prim.to_string(), "{ins:?}\n{expected}");
+    let t: f32 = ins["t"].parse().unwrap();
+    assert!((t - hit.t).abs() <= 1e-6 * hit.t, "t {t} vs {}", hit.t);
+    let pos = run.nums("camera");
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    assert!(
+        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
+        "{pos:?}"
+    );
+    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["size"], "320x240");
+}
+
+#[test]
+fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
+    // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
+    // name and Return; File > Open scene or OBJ…: a double-click on the only scene file the
+    // dialog lists opens it.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("s.scene"),
+        "cornell\nsphere 0.3 0.4 0.2 0.25\nsphere -0.4 0.5 -0.2 0.2\n",
+    )
+    .unwrap();
+    let script = "16000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 60 57; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool type --delay 50 chosen; sleep 0.3; xdotool key Return; sleep 3; \
+                  xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 60 36; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool mousemove --sync 300 112; sleep 0.3; \
+                  xdotool click --repeat 2 --delay 80 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let saved = dir.path().join("chosen.png");
+    assert!(saved.exists(), "no chosen.png\n{}", run.stderr);
+    let (w, h, _) = read_png(&saved);
+    assert!(w > 300 && h > 300, "{w}x{h}");
+    assert!(
+        run.fields["scene"].ends_with("s.scene") && run.fields["primitives"] == "32",
+        "the dialog opened the scene: {:?}\n{}",
+        run.fields,
+        run.stderr
+    );
+}
+
+#[test]
+fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
+    // A .scene placing one mesh (the repo's icosphere, 1,280 triangles) three times in the
+    // Cornell box: the window loads it as instances (one stored mesh), draws it as the
+    // headless renderer does, and selecting the push level of one placement tints that ball.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/meshes/icosphere.obj"
+    );
+    std::fs::copy(mesh, dir.path().join("ball.obj")).unwrap();
+    let scene = dir.path().join("balls.scene");
+    std::fs::write(
+        &scene,
+        "cornell\ncolor 0.2 0.5 0.9\n\
+         push\ntranslate -0.55 0.7 -0.55\nscale 0.3\nmesh ball.obj\npop\n\
+         push\ntranslate 0.05 0.7 -0.75\nscale 0.3\nmesh ball.obj\npop\n\
+         push\ntranslate 0.6 0.7 -0.6\nscale 0.3\nmesh ball.obj\npop\n",
+    )
+    .unwrap();
+    let loaded = raylab::scene::load_scene_file(&scene).unwrap();
+    assert_eq!(loaded.instances().len(), 3);
+    let script = "1500 select 2\n4000 step indirect\n";
+    let Some(run) = run_window_with(
+        RAYLAB,
+        script,
+        dir.path(),
+        &[],
+        Around::RealInputOn("true", &scene),
+    ) else {
+        return;
+    };
+    assert_eq!(run.fields["primitives"], (30 + 3 * 1280).to_string());
+    // The middle ball (level 2) is tinted orange; the others stay blue.
+    let (_, _, _, rect) = run.camera();
+    let (sw, _, px) = &run.shot;
+    let (mut orange, mut blue) = (0, 0);
+    for y in rect[1] as u32..(rect[1] + rect[3]) as u32 {
+        for x in rect[0] as u32..(rect[0] + rect[2]) as u32 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+            orange += (r > g + 40 && g > b + 40) as u32;
+            blue += (b > r + 60 && b > g + 20) as u32;
+        }
+    }
+    assert!(orange > 500, "{orange} orange pixels");
+    assert!(blue > 1000, "{blue} blue pixels");
+}
+
+#[test]
+fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("tri.obj");
+    let obj = b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(&model, obj).unwrap();
+    let link = dir.path().join("shot.png");
+    std::os::unix::fs::symlink(&model, &link).unwrap();
+    for shot in [&model, &link] {
+        let o = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_raylab"))
+            .arg(&model)
+            .args(["--frames", "3", "--screenshot"])
+            .arg(shot)
+            .env("RUST_LOG", "warn")
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("refusing to overwrite an input"), "{err}");
+        assert_eq!(
+            std::fs::read(&model).unwrap(),
+            obj,
+            "the model is as it was"
+        );
+    }
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["shot.png", "tri.obj"], "no temporary file left");
+}
+
+#[test]
+fn the_window_opens_cornell_by_name_as_the_command_line_does() {
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("shot.png");
+    let o = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_raylab"))
+        .args(["cornell", "--frames", "2", "--screenshot"])
+        .arg(&shot)
+        .env("RUST_LOG", "warn")
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("primitives=30"), "the lab's box: {out}");
+    let (w, h, _) = read_png(&shot);
+    assert!(w > 0 && h > 0);
+}
+
+#[test]
+fn the_window_builds_the_structure_accel_names() {
+    // `raylab --accel bvh`: the lab's box through a BVH (auto picks the flat loop), the same
+    // image as the headless render of the final view.
+    let dir = tempfile::tempdir().unwrap();
+    let Some(run) = run_window_with(
+        RAYLAB,
+        "",
+        dir.path(),
+        &[],
+        Around::Args(&["--accel", "bvh"]),
+    ) else {
+        return;
+    };
+    assert_eq!(run.fields["accel"], "bvh");
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+/// `raylab FILE.view` opens a saved view as the File menu and a drop do: its camera, light
+/// and settings, then its scene (it said "no triangles", reading the view as a scene).
+#[test]
+fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("v.view");
+    std::fs::write(
+        &view,
+        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
+         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
+    )
+    .unwrap();
+    let view_arg = view.to_str().unwrap().to_string();
+    let args = [view_arg.as_str()];
+    let Some(run) = run_window_with(
+        RAYLAB,
+        "1500 inspect 100 80\n",
+        dir.path(),
+        &[],
+        Around::Args(&args),
+    ) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    assert!(
+        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
+        "{pos:?} {}",
+        run.stderr
+    );
+    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["size"], "320x240");
+}
+
+#[test]
+fn an_edit_saved_while_a_reload_loads_is_loaded_too() {
+    // The scene file is replaced by a big scene (800,000 triangles: seconds to load), and
+    // while the window reloads it, by a small one: the window ends on the small one, the
+    // file's last content. (The edit made during the load was dropped: the window ended on
+    // the big scene.)
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.scene");
+    std::fs::write(&scene, "cornell\n").unwrap();
+    let mut big = String::new();
+    for i in 0..800_000 {
+        let (x, y) = (
+            (i % 1000) as f64 * 0.002 - 1.0,
+            (i / 1000) as f64 * 0.0025 - 1.0,
+        );
+        big += &format!(
+            "tri {x} {y} 0.5 {} {y} 0.5 {x} {} 0.5\n",
+            x + 0.001,
+            y + 0.001
+        );
+    }
+    std::fs::write(dir.path().join("first.scene"), big).unwrap();
+    let last = "cornell\nsphere 0 0.5 0 0.3\nsphere 0.5 0.5 0 0.2\n";
+    std::fs::write(dir.path().join("last.scene"), last).unwrap();
+    // (Each edit replaces the file whole, as an editor saving it does.)
+    let driver = "sleep 1.5; mv first.scene s.scene; sleep 0.6; mv last.scene s.scene";
+    let around = Around::RealInputOn(driver, &scene);
+    let Some(run) = run_window_with(RAYLAB, "12000 step indirect\n", dir.path(), &[], around)
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("asked for while a load is under way"),
+        "the second edit came during the first reload\n{log}"
+    );
+    assert!(log.contains("(800000 primitives)"), "{log}");
+    assert_eq!(run.fields["primitives"], "32", "{log}");
+    assert!(log.trim_end().contains("reloaded"), "{log}");
+}

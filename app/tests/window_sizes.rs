@@ -1,0 +1,156 @@
+//! The window's sizes under Xvfb: resized, minimised, HiDPI changes, huge views and huge
+//! windows, and the scripted run's own limits.
+//!
+//! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
+//! missing the test says so loudly and skips, except under CI=true, where it must run.
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+use common::window::{against_headless, run_window_with, Around};
+use raylab::Scene;
+use std::time::{Duration, Instant};
+
+/// The window under test.
+const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
+
+#[test]
+fn resizes_minimise_hidpi_and_rapid_slider_changes() {
+    let dir = tempfile::tempdir().unwrap();
+    // At 1.5 device pixels per point; small, very large, minimised and restored; the focal
+    // slider dragged back and forth every 10 ms while frames render; the scale changed; a
+    // draw failing as on a lost surface (the app must report it and draw again).
+    let mut script = String::from(
+        "0 resize 520 320\n400 resize 2400 1500\n400 scale 0.2\n900 resize 0 0\n1400 restore\n",
+    );
+    for k in 0..40 {
+        let focal = if k % 2 == 0 { 300 } else { 900 };
+        script.push_str(&format!("{} focal {focal}\n", 1450 + 10 * k));
+    }
+    script.push_str("1900 scale 0.6\n1900 resize 900 600\n2300 lose-surface\n");
+    let Some(run) = run_window_with(
+        RAYLAB,
+        &script,
+        dir.path(),
+        &[("WINIT_X11_SCALE_FACTOR", "1.5")],
+        Around::Nothing,
+    ) else {
+        return;
+    };
+    for line in [
+        "minimised: rendering paused",
+        "restored: rendering resumed",
+        "the window surface was lost (injected); drawing again",
+    ] {
+        assert!(run.stderr.contains(line), "{line}: {}", run.stderr);
+    }
+    let shot = &run.shot;
+    assert_eq!(
+        (shot.0, shot.1),
+        (900, 600),
+        "the window took its last size"
+    );
+    let (_, w, h, rect) = run.camera();
+    // The render is 0.6 of the image area, which fills the window right of the panel.
+    assert!(
+        (rect[2] * 0.6 - w as f64).abs() <= 1.5 && (rect[3] * 0.6 - h as f64).abs() <= 1.5,
+        "{w}x{h} in {rect:?}"
+    );
+    assert!(rect[0] > 150.0, "a 1.5x panel is wider: {rect:?}");
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    println!(
+        "after the faults: mean difference {mean:.2}/255, {:.2}% off",
+        off * 100.0
+    );
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
+fn a_desktop_hidpi_change_while_running() {
+    // The desktop's DPI goes from 96 to 192 (scale 1 to 2) 2 s into the run, through an
+    // XSETTINGS manager as a desktop does it; the panel doubles in device pixels, the image
+    // area shrinks, and what is shown is still the headless render of the final view.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 resize 1000 600\n500 key D down\n900 key D up\n3500 focal 600\n";
+    let Some(run) = run_window_with(
+        RAYLAB,
+        script,
+        dir.path(),
+        &[],
+        Around::DpiChange {
+            at_ms: 2000,
+            dpi: 192,
+        },
+    ) else {
+        return;
+    };
+    assert!(
+        run.stderr.contains("scale factor changed to 2"),
+        "no scale factor change reported: {}",
+        run.stderr
+    );
+    // The window keeps its logical size, so it doubles in pixels; so does the panel
+    // (about 184 pixels wide at scale 1: the image starts right of it).
+    assert_eq!(
+        (run.shot.0, run.shot.1),
+        (2000, 1200),
+        "window after the change"
+    );
+    let (_, w, h, rect) = run.camera();
+    assert!(
+        rect[0] > 300.0 && rect[0] < 500.0,
+        "panel at scale 2: {rect:?}"
+    );
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    println!(
+        "after the DPI change: {w}x{h} in {rect:?}, mean difference {mean:.2}/255, {:.2}% off",
+        off * 100.0
+    );
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
+fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
+    // A view of 16384x8192 at 16x16 samples (34 G rays): the window shows it at the largest
+    // size it renders (4072x2036: 8.3 million pixels, the same field of view), keeps its own size for F5, and
+    // real Esc presses while it refines quit at once (the refinement stops at its next band).
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("huge.view");
+    let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0 fov 53\nsize 16384 8192\nspp 16\n";
+    std::fs::write(&view, text).unwrap();
+    let script = format!("300 drop {}\n60000 step indirect\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; sleep 1; \
+                  xdotool key Escape; sleep 0.3; xdotool key Escape";
+    let start = Instant::now();
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        run.fields.is_empty(),
+        "Esc ended the run before its script\n{log}"
+    );
+    assert!(
+        log.contains("its 16384x8192 shown at 4072x2036 (F5 and copy as command keep 16384x8192)"),
+        "{log}"
+    );
+    assert!(log.contains("press Esc again to quit"), "{log}");
+    assert!(
+        start.elapsed() < Duration::from_secs(40),
+        "{:?}",
+        start.elapsed()
+    );
+    // F5 saved the view at its own size.
+    let saved: Vec<String> = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("raylab-view-")
+        })
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    assert_eq!(saved.len(), 1, "{log}");
+    assert!(saved[0].contains("size 16384 8192\n"), "{}", saved[0]);
+}
