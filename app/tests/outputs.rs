@@ -473,7 +473,7 @@ fn a_killed_runs_temporary_files_are_removed_by_the_next_write() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let after: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
-    assert_eq!(after, [live.clone()], "left by {}: {left:?}", pid(&left[0]));
+    assert_eq!(after, [live], "left by {}: {left:?}", pid(&left[0]));
 }
 
 /// Exports into one new directory at once: each succeeds, whichever writes first; a
