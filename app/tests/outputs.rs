@@ -513,3 +513,30 @@ fn exports_into_one_new_directory_at_once_all_succeed() {
         assert_eq!(listing(&suite), families, "round {round}");
     }
 }
+
+/// `grade` writes its records before its table: a reader of the table that is gone ends the
+/// run after them.
+#[test]
+fn a_closed_stdout_ends_a_grading_after_its_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (suite, class) = suite_and_class(d);
+    let csv = d.join("rows.csv");
+    let args = ["grade", &class, "--suite", &suite, "--family", "1"];
+    let program = [
+        "--program",
+        "true {scene} {rays}",
+        "--csv",
+        csv.to_str().unwrap(),
+    ];
+    let mut child = raylab(&[&args[..], &program].concat()).spawn().unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().count(), 2, "{rows}");
+    assert!(
+        rows.lines().nth(1).unwrap().starts_with("ada,01-"),
+        "{rows}"
+    );
+}

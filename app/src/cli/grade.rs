@@ -176,7 +176,8 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         }
     );
     let graded = run_all(&submissions, &cases, &args.program, &limits, accounts);
-    say!("{}", table(&graded, &cases, points.as_deref()).trim_end());
+    // The files before the table: a reader of the table that is gone (a closed pipe) ends
+    // the run after them.
     let mut outputs = outputs.into_iter();
     if args.csv.is_some() {
         let mut out = outputs.next().expect("opened above");
@@ -190,6 +191,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             .with_context(|| format!("writing {}", out.path().display()))?;
         out.commit()?;
     }
+    say!("{}", table(&graded, &cases, points.as_deref()).trim_end());
     Ok(())
 }
 
