@@ -1,5 +1,6 @@
 //! Scenes: primitives with one colour each, a point light and the lab's constant indirect term.
 
+mod bounds;
 pub mod cornell;
 pub mod file;
 /// Meshes placed by instances live below both the scene and the accelerator.
@@ -375,20 +376,6 @@ impl Scene {
             (*s, prim - 1)
         }));
         out
-    }
-
-    /// Bounds of all primitives, or `None` for an empty scene: the same bits for an instanced
-    /// scene and its flattened twin ([`instance::placed_bounds`]).
-    pub fn bounds(&self) -> Option<Bounds> {
-        let instanced = self.instances.iter().map(instance::placed_bounds);
-        let mut it = self.shapes.iter().map(Shape::bounds).chain(instanced);
-        let first = it.next()?;
-        Some(it.fold(first, |(lo, hi), (a, b)| {
-            (
-                [lo[0].min(a[0]), lo[1].min(a[1]), lo[2].min(a[2])],
-                [hi[0].max(b[0]), hi[1].max(b[1]), hi[2].max(b[2])],
-            )
-        }))
     }
 
     /// A light and indirect term for a loaded model, placed as the lab places them relative to
