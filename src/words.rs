@@ -1,9 +1,13 @@
 //! The words of one line of raylab's text formats (`.scene`, `.view`): separated by
 //! whitespace, `#` starts a comment, and a word in double quotes may hold anything a path can
 //! (spaces, `#`, quotes as `\"`, backslashes as `\\`, a newline as `\n`), so every file name
-//! round-trips. Outside quotes every character but whitespace and `#` is itself.
+//! round-trips. Outside quotes every character but whitespace and `#` is itself, except a
+//! byte-order mark (U+FEFF), which is refused by name rather than read as part of a word.
 
 use std::borrow::Cow;
+
+/// The byte-order mark, which no unquoted word may hold.
+const BOM: char = '\u{feff}';
 
 /// The words of `line` before its comment, quoted words unquoted.
 pub fn words(line: &str) -> Result<Vec<String>, String> {
@@ -59,6 +63,19 @@ pub fn words(line: &str) -> Result<Vec<String>, String> {
                 let mut word = String::new();
                 while let Some(c) = chars.next_if(|c| !c.is_whitespace() && *c != '#') {
                     word.push(c);
+                }
+                // Invisible when quoted: named instead (a file's first line has it skipped).
+                if word.contains(BOM) {
+                    return Err(match (out.is_empty(), word.starts_with(BOM)) {
+                        (true, true) => "the line starts with a byte-order mark (U+FEFF), \
+                                         which only a file's first line may (files joined \
+                                         together?)"
+                            .to_string(),
+                        _ => format!(
+                            "'{}' holds a byte-order mark (U+FEFF)",
+                            word.replace(BOM, "")
+                        ),
+                    });
                 }
                 out.push(word);
             }

@@ -463,10 +463,15 @@ fn parse_default(text: &str) -> Result<Description<f32>, FileError> {
 #[test]
 fn repeated_cornell_boxes_are_flattened_while_their_copies_fit_then_placed() {
     // The box is a small mesh (30 triangles): a few copies are flattened (their rays walk
-    // faster), but copies past the room for flattened ones (2^20 triangles) are placed as
-    // instances, one copy of the box in memory (flattened, 550,000 lines took 3.3 GB).
-    let room = raylab::limits::MAX_FLATTENED_COPIES as usize;
-    let fits = room / 30;
+    // faster), but copies past the room for flattened ones (2^15 triangles and one per 2
+    // bytes of the file) are placed as instances, one copy of the box in memory (flattened,
+    // 34,952 boxes took 120 MB for 280 KB of lines).
+    let room = |n: usize| raylab::limits::flattened_copies_room(cornell_row(n).len());
+    let fits = (1..)
+        .take_while(|&n| 30 * n as u64 <= room(n))
+        .last()
+        .unwrap();
+    assert_eq!(fits, (1 << 15) / (30 - 13));
     for (n, placed) in [(4, 0), (fits, 0), (fits + 1, fits + 1)] {
         let text = cornell_row(n);
         let d = parse_default(&text).unwrap();
@@ -492,8 +497,9 @@ fn copies_only_flattening_can_hold_are_refused_past_their_room() {
     // Under a scale 10^7 times thinner along z no instance can be placed (rays carried into
     // the box's frame would lose too much): the copies are flattened, up to the room for
     // flattened copies, and the line that passes it is refused.
-    let room = raylab::limits::MAX_FLATTENED_COPIES as usize;
-    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(room / 30 + 10));
+    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(2000));
+    let room = raylab::limits::flattened_copies_room(text.len()) as usize;
+    assert_eq!(room, (1 << 15) + text.len() / 2);
     let e = parse_default(&text).expect_err("past the room");
     assert_eq!(e.line, 1 + room / 30 + 1);
     assert!(e
@@ -501,5 +507,68 @@ fn copies_only_flattening_can_hold_are_refused_past_their_room() {
         .contains("too ill-conditioned to place mesh 'cornell'"));
     assert!(e.message.contains(&format!("passes the {room} triangles")));
     // Flattened, the file stays within the triangle limit and loads.
-    assert_eq!(parse32(&text).unwrap().shapes.len(), (room / 30 + 10) * 30);
+    assert_eq!(parse32(&text).unwrap().shapes.len(), 2000 * 30);
+}
+
+#[test]
+fn a_transform_that_leaves_the_matrix_singular_or_infinite_is_refused_at_its_line() {
+    // `scale 0` is refused at once; scales whose product leaves f64's range are refused at
+    // the line that makes it so, naming it.
+    for (text, line, needle) in [
+        (
+            "scale 1e-200\nscale 1e-200\ntri 0 0 0 1 0 0 0 1 0\n",
+            2,
+            "'scale 1e-200' makes the transform's matrix singular in f64",
+        ),
+        (
+            "push\nrotate x 30\nscale 1 1e-300 1\nscale 1 1e-300 1\npop\n",
+            4,
+            "'scale 1 1e-300 1' makes the transform's matrix singular",
+        ),
+        (
+            "scale 1e200\nscale 1e200\n",
+            2,
+            "'scale 1e200' makes the transform's matrix not finite",
+        ),
+        (
+            "translate 1e308 0 0\ntranslate 1e308 0 0\n",
+            2,
+            "'translate 1e308 0 0' makes the transform's matrix not finite",
+        ),
+    ] {
+        let (l, message) = error(text);
+        assert_eq!(l, line, "{message}");
+        assert!(message.contains(needle), "{message}");
+    }
+    // Tiny and huge scales that stay within f64 are fine.
+    let d = parse32("scale 1e-150\nscale 1e150 1e150 1e150\ntri 0 0 1 1 0 1 0 1 1\n").unwrap();
+    assert_eq!(
+        tri(&d, 0),
+        [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]
+    );
+}
+
+#[test]
+fn a_byte_order_mark_past_the_first_line_is_named() {
+    // Files joined together: the second one's mark starts line 2.
+    let (line, message) = error("tri 0 0 1 1 0 1 0 1 1\n\u{feff}tri 0 0 1 1 0 1 0 1 1\n");
+    assert_eq!(line, 2);
+    assert!(
+        message.contains("starts with a byte-order mark (U+FEFF)"),
+        "{message}"
+    );
+    let (line, message) = error("color 1 0\u{feff} 0\n");
+    assert_eq!(line, 1);
+    assert!(
+        message.contains("'0' holds a byte-order mark (U+FEFF)"),
+        "{message}"
+    );
+    // The first line's is skipped.
+    assert_eq!(
+        parse32("\u{feff}tri 0 0 1 1 0 1 0 1 1\n")
+            .unwrap()
+            .shapes
+            .len(),
+        1
+    );
 }

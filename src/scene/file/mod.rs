@@ -32,9 +32,11 @@
 //! values exact in f64.
 //!
 //! A mesh the file uses at least [`Instancing::min_uses`] times (`cornell` counts as one
-//! mesh) is loaded once when the scene is loaded for rendering ([`load_scene_file`]). One
+//! mesh; a file is one mesh however its path is spelled: `c.obj`, `./c.obj`, a link) is
+//! loaded once when the scene is loaded for rendering ([`load_scene_file`]). One
 //! with at least [`Instancing::min_triangles`] triangles, or whose copies would pass the room
-//! for flattened copies ([`crate::limits::MAX_FLATTENED_COPIES`] triangles in all), is placed
+//! for flattened copies ([`crate::limits::flattened_copies_room`], in proportion to the
+//! file's size), is placed
 //! as instances ([`super::instance`]): the primitives and every answer are the same as
 //! flattened, the memory is one copy. (A placement whose matrix is too ill-conditioned to
 //! carry rays back safely, see [`super::instance::MAX_CONDITION`], is flattened, within the
@@ -64,7 +66,8 @@ pub use parser::{parse, parse_with};
 /// When a mesh is stored once and placed as instances instead of flattened.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Instancing {
-    /// Uses (`mesh` statements naming the same file and frame) from which it is.
+    /// Uses (`mesh` statements naming the same file, however spelled, and frame) from which
+    /// it is.
     pub min_uses: usize,
     /// Triangles the mesh must have at least (a small mesh is faster flattened).
     pub min_triangles: usize,

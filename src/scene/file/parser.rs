@@ -22,16 +22,19 @@ struct Parser<'a, T: Real> {
     current: Saved,
     out: Description<T>,
     light_line: Option<usize>,
-    meshes: HashMap<(PathBuf, ObjFrame, [u32; 3]), Scene>,
+    meshes: HashMap<(FileKey, ObjFrame, [u32; 3]), Scene>,
     /// The meshes used often enough to be instanced, loaded once whatever the colour.
     shared: HashMap<Repeated, Shared>,
-    /// How often each (path as written, frame as written) is used.
-    uses: HashMap<(String, String), usize>,
+    /// How often each (file, frame) is used, however its path is spelled.
+    uses: HashMap<(FileKey, Result<ObjFrame, String>), usize>,
+    /// Each mesh path as written, with the file it names.
+    files: MeshFiles,
     /// How often `cornell` is used.
     cornell_uses: usize,
-    /// Triangles that copies of repeated meshes may still be flattened to
-    /// ([`crate::limits::MAX_FLATTENED_COPIES`]).
+    /// Triangles that copies of repeated meshes may still be flattened to, of the file's
+    /// room ([`crate::limits::flattened_copies_room`]).
     flatten_room: u64,
+    flatten_limit: u64,
     instancing: Instancing,
     /// Primitives placed as instances so far.
     instanced: usize,
@@ -50,8 +53,43 @@ struct Parser<'a, T: Real> {
 /// A mesh named repeatedly: a file in a frame, or the built-in Cornell box.
 #[derive(Clone, PartialEq, Eq, Hash)]
 enum Repeated {
-    File(PathBuf, ObjFrame),
+    File(FileKey, ObjFrame),
     Cornell,
+}
+
+/// A mesh file's identity: its device and inode where it can be looked up, so that every
+/// spelling of its path (`c.obj`, `./c.obj`, `d/../c.obj`, a link) is one mesh, loaded and
+/// instanced once; else its path as joined (the load then names the problem).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum FileKey {
+    Id(u64, u64),
+    Path(PathBuf),
+}
+
+impl FileKey {
+    fn of(path: &Path) -> FileKey {
+        #[cfg(unix)]
+        if let Ok(meta) = std::fs::metadata(path) {
+            use std::os::unix::fs::MetadataExt;
+            return FileKey::Id(meta.dev(), meta.ino());
+        }
+        FileKey::Path(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()))
+    }
+}
+
+/// Each mesh path as written, with the file it names (looked up once per spelling).
+#[derive(Default)]
+struct MeshFiles(HashMap<String, FileKey>);
+
+impl MeshFiles {
+    fn key(&mut self, dir: &Path, path: &str) -> FileKey {
+        if let Some(key) = self.0.get(path) {
+            return key.clone();
+        }
+        let key = FileKey::of(&dir.join(path));
+        self.0.insert(path.to_string(), key.clone());
+        key
+    }
 }
 
 /// A repeated mesh, loaded once, and whether its uses are flattened (a small mesh, while the
@@ -82,6 +120,7 @@ pub fn parse_with<T: Real>(
 ) -> Result<Description<T>, FileError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut uses = HashMap::new();
+    let mut files = MeshFiles::default();
     let mut cornell_uses = 0;
     for line in text.lines() {
         // (A line whose words do not parse is reported below, at its number.)
@@ -90,8 +129,11 @@ pub fn parse_with<T: Real>(
         match words.next().as_deref() {
             Some("mesh") => {
                 let path = words.next().unwrap_or_default();
-                let frame = words.next().unwrap_or_else(|| "yup".into());
-                *uses.entry((path, frame)).or_insert(0) += 1;
+                let frame = words
+                    .next()
+                    .map_or(Ok(ObjFrame::YUp), |w| w.parse::<ObjFrame>().map_err(|_| w));
+                let file = files.key(dir, &path);
+                *uses.entry((file, frame)).or_insert(0) += 1;
             }
             Some("cornell") => cornell_uses += 1,
             _ => {}
@@ -128,8 +170,10 @@ pub fn parse_with<T: Real>(
         meshes: HashMap::new(),
         shared: HashMap::new(),
         uses,
+        files,
         cornell_uses,
-        flatten_room: crate::limits::MAX_FLATTENED_COPIES,
+        flatten_room: crate::limits::flattened_copies_room(text.len()),
+        flatten_limit: crate::limits::flattened_copies_room(text.len()),
         instancing,
         instanced: 0,
         max_stored: obj::max_triangles(),
@@ -362,7 +406,7 @@ impl<T: Real> Parser<'_, T> {
                      triangles they may take (push/pop around the uneven scale)",
                     mesh.name,
                     crate::geometry::instance::MAX_CONDITION,
-                    crate::limits::MAX_FLATTENED_COPIES
+                    self.flatten_limit
                 ));
             }
             self.flatten_room -= n as u64;
@@ -390,6 +434,38 @@ impl<T: Real> Parser<'_, T> {
         });
         self.instanced += n;
         self.record(first as u32..(first + n) as u32);
+        Ok(())
+    }
+
+    /// Refuses the transform statement `words` if the matrix after it is not finite or is
+    /// singular in f64 (scales multiplied past f64's range: `scale 1e-200` twice is 0).
+    fn check_matrix(&self, words: &[&str]) -> Result<(), String> {
+        let m = self.stack.matrix();
+        let what = words.join(" ");
+        if !m.is_finite() {
+            return Err(format!(
+                "'{what}' makes the transform's matrix not finite in f64 (it passes ±{:e}): \
+                 every point after it would be infinite",
+                f64::MAX
+            ));
+        }
+        // The determinant of the columns each scaled to a largest entry near 1 (by a power of
+        // two, exactly): 0 only where the matrix is singular in f64.
+        let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| {
+            let c = c.truncate();
+            let max = c.abs().max_element();
+            match max > 0.0 {
+                true => c / 2f64.powi(max.log2().floor() as i32),
+                false => c,
+            }
+        });
+        if cols[0].dot(cols[1].cross(cols[2])) == 0.0 {
+            return Err(format!(
+                "'{what}' makes the transform's matrix singular in f64 (its scales multiply \
+                 below {:e}, to 0): every point after it would collapse",
+                f64::from_bits(1)
+            ));
+        }
         Ok(())
     }
 
@@ -488,11 +564,13 @@ impl<T: Real> Parser<'_, T> {
                 };
                 let full = dir.join(path);
                 let color = self.current.color;
-                let written = (path.to_string(), args.get(1).unwrap_or(&"yup").to_string());
-                let uses = self.uses.get(&written).copied().unwrap_or(1);
+                let file = self.files.key(dir, path);
+                let uses = (self.uses.get(&(file.clone(), Ok(frame))))
+                    .copied()
+                    .unwrap_or(1);
                 if uses >= self.instancing.min_uses {
                     // Used often: loaded once, whatever the colour; placed or flattened.
-                    let key = Repeated::File(full.clone(), frame);
+                    let key = Repeated::File(file, frame);
                     let load = || -> Result<_, String> {
                         let mesh = load_mesh(&full, frame, UNSET_COLOR)
                             .map_err(|e| format!("mesh '{path}': {e}"))?;
@@ -501,7 +579,7 @@ impl<T: Real> Parser<'_, T> {
                     let (mesh, flatten) = self.repeated(line, path, key, uses, load)?;
                     return self.place_or_add(mesh, color, flatten);
                 }
-                let key = (full.clone(), frame, color.map(f32::to_bits));
+                let key = (file, frame, color.map(f32::to_bits));
                 if !self.meshes.contains_key(&key) {
                     let mesh = load_mesh(&full, frame, color)
                         .map_err(|e| format!("mesh '{path}': {e}"))?;
@@ -579,6 +657,7 @@ impl<T: Real> Parser<'_, T> {
             "translate" => {
                 let t = numbers(args, &[3], "translate")?;
                 self.stack.translate(DVec3::new(t[0], t[1], t[2]));
+                self.check_matrix(words)?;
                 self.transform(line, 0, "translate");
             }
             "rotate" => {
@@ -592,6 +671,7 @@ impl<T: Real> Parser<'_, T> {
                     other => return Err(format!("rotate axis '{other}' is not x, y or z")),
                 };
                 self.stack.rotate_degrees(axis, number(deg)?);
+                self.check_matrix(words)?;
                 self.transform(line, 1, "rotate");
             }
             "scale" => {
@@ -604,6 +684,7 @@ impl<T: Real> Parser<'_, T> {
                     return Err("a scale of 0 flattens everything after it".into());
                 }
                 self.stack.scale(s);
+                self.check_matrix(words)?;
                 self.transform(line, 2, "scale");
             }
             "light" => {
