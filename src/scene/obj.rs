@@ -352,9 +352,10 @@ impl ZeroArea {
                 )
             }
         };
+        let them = if self.count == 1 { "it" } else { "them" };
         Some(format!(
             "{place} {what}: kept, so that later triangles keep their file positions as \
-             indices, but no ray hits it"
+             indices, but no ray hits {them}"
         ))
     }
 }
