@@ -134,6 +134,8 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
         log.contains("its 16384x8192 shown at 4072x2036 (F5 and copy as command keep 16384x8192)"),
         "{log}"
     );
+    // Its 256 samples a pixel are shown at 4 (2x2): 33 M samples a frame, within 2²⁶.
+    assert!(log.contains(", its 16x16 samples at 2x2"), "{log}");
     assert!(log.contains("press Esc again to quit"), "{log}");
     assert!(
         start.elapsed() < Duration::from_secs(40),
@@ -153,4 +155,52 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
         .collect();
     assert_eq!(saved.len(), 1, "{log}");
     assert!(saved[0].contains("size 16384 8192\n"), "{}", saved[0]);
+}
+
+#[test]
+fn a_window_larger_than_the_device_draws_pauses_and_draws_again() {
+    // 32767x32767, the largest X window: past the device's largest texture, so drawing
+    // pauses (saying why) until the window is smaller; then what it shows is the headless
+    // render of its view. (Renders of 16384x16384 failed and were asked for again without
+    // end; at times wgpu aborted in `Queue::write_texture`.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 resize 32767 32767\n3000 resize 900 600\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("the window is 32767x32767, larger than the graphics device draws"),
+        "{log}"
+    );
+    assert!(
+        log.contains("the window is 900x600: drawing resumed"),
+        "{log}"
+    );
+    assert_eq!((run.shot.0, run.shot.1), (900, 600));
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
+fn a_script_that_outlasts_the_scripted_run_is_refused_before_the_window_opens() {
+    // An event at 3,600,000 ms was accepted, and the run then went on for an hour.
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("s.txt");
+    std::fs::write(&script, "0 key W down\n3600000 key W up\n").unwrap();
+    let o = std::process::Command::new(RAYLAB)
+        .args(["--frames", "1", "--screenshot"])
+        .arg(dir.path().join("shot.png"))
+        .arg("--script")
+        .arg(&script)
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("s.txt:2: 3600000 ms is past the scripted run's limit: a scripted run ends within 120 s"),
+        "{err}"
+    );
+    assert!(!dir.path().join("shot.png").exists());
 }

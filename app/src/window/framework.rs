@@ -97,10 +97,11 @@ impl Framework {
     /// Matches the surface to the window as it is now: a resize that lands after its
     /// Resized event was handled leaves the surface outdated, and pixels 0.17 retries an
     /// outdated surface at its old size forever (a hang seen under X11). `Ok(false)` where
-    /// the window is 0×0: nothing to draw.
+    /// the window is 0×0 or larger than the device's largest texture: nothing to draw.
     pub fn fit_surface(&mut self, window: &Window) -> Result<bool, String> {
         let size = window.inner_size();
-        if size.width == 0 || size.height == 0 {
+        let max = self.gpu.max_texture_side() as u32;
+        if size.width == 0 || size.height == 0 || size.width > max || size.height > max {
             return Ok(false);
         }
         self.gpu.resize_surface(size.width, size.height)?;

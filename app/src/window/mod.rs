@@ -13,6 +13,7 @@
 //! left to do it sleeps in `ControlFlow::Wait`.
 
 mod args;
+mod bounds;
 mod cracks;
 mod files;
 mod follow;
@@ -159,6 +160,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         press_at: None,
         mouse_look: false,
         esc_armed: false,
+        oversized: false,
         frames_presented: 0,
         image_on_screen: false,
         failed_draws: 0,
@@ -191,6 +193,8 @@ struct App {
     press_at: Option<(f64, f64)>,
     mouse_look: bool,
     esc_armed: bool,
+    /// The window is larger than the graphics device draws: drawing is paused.
+    oversized: bool,
     frames_presented: u64,
     /// Whether a rendered image has been presented yet.
     image_on_screen: bool,
@@ -346,9 +350,25 @@ impl App {
         self.request_redraw();
     }
 
-    /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back.
+    /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back, and
+    /// so does a window larger than the graphics device draws (X windows reach 32767²).
     fn on_resized(&mut self, window: &Window, size: PhysicalSize<u32>) {
+        let max = self.viewer.max_side;
+        if size.width > max || size.height > max {
+            self.viewer.paused = true;
+            self.oversized = true;
+            self.viewer.set_status(format!(
+                "the window is {}x{}, larger than the graphics device draws ({max} pixels a \
+                 side): drawing paused until it is smaller",
+                size.width, size.height
+            ));
+            return;
+        }
         let minimised = size.width == 0 || size.height == 0;
+        if std::mem::take(&mut self.oversized) {
+            let (w, h) = (size.width, size.height);
+            self.viewer.set_status(format!("the window is {w}x{h}: drawing resumed"));
+        }
         if minimised != self.viewer.paused {
             log::info!(
                 "window {}",
@@ -541,7 +561,11 @@ impl ApplicationHandler<AppEvent> for App {
         );
         let buffer = self.viewer.full_size();
         match Framework::new(event_loop, window.clone(), surface, buffer) {
-            Ok(fw) => self.framework = Some(fw),
+            Ok(fw) => {
+                let device_side = fw.gpu.max_texture_side() as u32;
+                self.viewer.max_side = device_side.min(raylab::render::MAX_SIDE);
+                self.framework = Some(fw);
+            }
             Err(e) => return self.fail(event_loop, anyhow!(e)),
         }
         self.window = Some(window.clone());

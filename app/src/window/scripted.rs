@@ -16,7 +16,7 @@ use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 
 /// A scripted run that has not finished by then fails.
-const TIMEOUT: Duration = Duration::from_secs(120);
+const TIMEOUT: Duration = super::script::RUN_LIMIT;
 
 /// A run under `--frames`.
 pub struct ScriptedRun {

@@ -3,6 +3,7 @@
 //! resolution, then full supersampling: levels 0, 1, 2). It knows nothing of egui-winit or
 //! the GPU: the app hands it finished frames and asks it what to show.
 
+use super::bounds::{fit_shown, samples_shown};
 use super::input::InputState;
 use super::worker::{self, Worker};
 use super::AppEvent;
@@ -80,6 +81,10 @@ pub struct Viewer {
     last_full_ms: Option<f64>,
     /// The image area beside the panel, in physical pixels.
     pub image_area: (u32, u32),
+    /// The largest texture side of the graphics device: no render is larger.
+    pub max_side: u32,
+    /// A generation whose render failed: not submitted again (it would fail again).
+    failed_generation: Option<u64>,
     pub show_help: bool,
     pub status: String,
     /// Whether the status is an error (drawn red).
@@ -202,6 +207,8 @@ impl Viewer {
             shown: None,
             last_full_ms: None,
             image_area: (640, 480),
+            max_side: MAX_SIDE,
+            failed_generation: None,
             show_help: false,
             status: String::new(),
             status_is_error: false,
@@ -314,18 +321,21 @@ impl Viewer {
         match self.view.resolution {
             Resolution::WindowScale(s) => {
                 let s = s.clamp(0.05, 1.0);
-                (
-                    clamp(self.image_area.0 as f32 * s),
-                    clamp(self.image_area.1 as f32 * s),
-                )
+                let (w, h) = (self.image_area.0 as f32 * s, self.image_area.1 as f32 * s);
+                fit_shown((clamp(w), clamp(h)), self.max_side)
             }
-            Resolution::Fixed(w, h) => fit_shown((w, h)),
+            Resolution::Fixed(w, h) => fit_shown((w, h), self.max_side),
         }
+    }
+
+    /// The supersampling the window renders at its full size ([`super::bounds`]).
+    pub fn spp_shown(&self) -> u32 {
+        samples_shown(self.view.controls.spp, self.full_size())
     }
 
     /// The last refinement level: full supersampling where there is some to do.
     pub fn max_level(&self) -> u8 {
-        if self.view.controls.spp > 1 {
+        if self.spp_shown() > 1 {
             2
         } else {
             1
@@ -383,7 +393,8 @@ impl Viewer {
 
     /// Submits the next render if the worker is free and something is left to do.
     pub fn pump(&mut self) {
-        if !self.worker.is_idle() || self.paused {
+        let failed = self.failed_generation == Some(self.generation);
+        if !self.worker.is_idle() || self.paused || failed {
             return;
         }
         log::trace!("pump: generation {}", self.generation);
@@ -403,11 +414,7 @@ impl Viewer {
             _ => self.full_size(),
         };
         let stage = self.stage_to_render();
-        let spp = if level == 2 {
-            self.view.controls.spp
-        } else {
-            1
-        };
+        let spp = if level == 2 { self.spp_shown() } else { 1 };
         self.worker.submit(worker::Job {
             stage,
             camera: self.controller.camera(size.0),
@@ -449,6 +456,7 @@ impl Viewer {
                 })
             }
             Err(e) => {
+                self.failed_generation = Some(done.job.generation);
                 self.report_error(format!("render failed: {e}"));
                 None
             }
@@ -501,20 +509,19 @@ impl Viewer {
             None if current.is_some() => self.show_cornell(),
             _ => {}
         }
-        let shown = fit_shown((s.width, s.height));
-        match shown == (s.width, s.height) {
-            true => self.set_status(format!("loaded view {}", path.display())),
-            false => self.set_status(format!(
-                "loaded view {}: its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
-                path.display(),
-                s.width,
-                s.height,
-                shown.0,
-                shown.1,
-                s.width,
-                s.height
-            )),
+        let shown = fit_shown((s.width, s.height), self.max_side);
+        let mut message = format!("loaded view {}", path.display());
+        if shown != (s.width, s.height) {
+            message += &format!(
+                ": its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
+                s.width, s.height, shown.0, shown.1, s.width, s.height
+            );
         }
+        let n = samples_shown(s.spp, shown);
+        if n != s.spp {
+            message += &format!(", its {0}x{0} samples at {n}x{n}", s.spp);
+        }
+        self.set_status(message);
         self.changed();
     }
 
@@ -731,23 +738,6 @@ impl Viewer {
             Err(e) => self.report_error(format!("screenshot failed: {e}")),
         }
     }
-}
-
-/// The most pixels the window renders (a 4K frame): a fixed size above it, a dropped view's,
-/// is shown scaled down to fit, keeping its aspect and field of view, so that the window stays
-/// interactive; the view keeps its own size for F5 and copy as command, which render it
-/// headless. (A 16384x8192 view at 16x16 samples is 34 G rays.)
-pub const MAX_SHOWN_PIXELS: u64 = 3840 * 2160;
-
-/// The size the window renders for a fixed size `(w, h)` ([`MAX_SHOWN_PIXELS`]).
-fn fit_shown((w, h): (u32, u32)) -> (u32, u32) {
-    let pixels = w as u64 * h as u64;
-    if pixels <= MAX_SHOWN_PIXELS {
-        return (w, h);
-    }
-    let s = (MAX_SHOWN_PIXELS as f64 / pixels as f64).sqrt();
-    let fit = |x: u32| ((x as f64 * s).floor() as u32).max(1);
-    (fit(w), fit(h))
 }
 
 /// The starting controller: a `.scene` file's camera, the lab camera for the Cornell box, a
