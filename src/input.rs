@@ -282,14 +282,12 @@ pub fn check_output(path: &Path) -> Result<(), InputError> {
 }
 
 /// Whether `path` can only name a directory: it ends with `/`, `/.` or `..` (`-o a.png/` was
-/// refused only when the finished file was renamed to it).
+/// refused only when the finished file was renamed to it). (`Path::components` hides a
+/// trailing `/` or `/.`, so the bytes are read.)
 fn names_a_directory(path: &Path) -> bool {
     let text = path.as_os_str().as_encoded_bytes();
-    text.ends_with(b"/")
-        || !matches!(
-            path.components().next_back(),
-            Some(std::path::Component::Normal(_))
-        )
+    let last = text.rsplit(|&b| b == b'/').next().unwrap_or_default();
+    matches!(last, b"" | b"." | b"..")
 }
 
 /// The most links followed from an output to the file it names (as the kernel's ELOOP).
