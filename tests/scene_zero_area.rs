@@ -317,3 +317,35 @@ fn the_lab_seam_shades_a_hit_on_a_triangle_of_zero_area_without_dividing_by_zero
     let lines = segment.terms(&ray).lines();
     assert_eq!(lines[0], "shape: triangle");
 }
+
+#[test]
+fn a_triangle_of_zero_area_changes_no_pixel() {
+    // The Cornell box with a segment first (every index after it one higher): the same image
+    // in every lab step, through the tile culling and packets of the flat loop and the BVH.
+    let segment = Shape::from([[-0.5, -0.5, -0.5], [0.0, 0.0, 0.0], [0.5, 0.5, 0.5]]);
+    let mut with = Scene::cornell();
+    with.shapes.insert(0, segment);
+    with.colors_mut().insert(0, [1.0, 0.0, 1.0]);
+    let camera = Camera::cornell(48);
+    for choice in [AccelChoice::Flat, AccelChoice::Bvh] {
+        let a = Stage::new(with.clone(), choice);
+        let b = Stage::new(Scene::cornell(), choice);
+        for step in LabStep::ALL {
+            let settings = RenderSettings {
+                width: 48,
+                height: 36,
+                step,
+                ..Default::default()
+            };
+            let (x, y) = (
+                raylab::render::render_image(&a, &camera, &settings)
+                    .unwrap()
+                    .0,
+                raylab::render::render_image(&b, &camera, &settings)
+                    .unwrap()
+                    .0,
+            );
+            assert!(x == y, "{choice} {step}: images differ");
+        }
+    }
+}
