@@ -388,7 +388,7 @@ mod tests {
     #[test]
     fn the_panel_numbers_the_steps_as_the_lab_does() {
         let labels = LabStep::ALL.map(|s| (s.number(), s.label().to_string()));
-        assert_eq!(labels.map(|(n, _)| n), [1, 3, 4, 5]);
+        assert_eq!(labels.each_ref().map(|(n, _)| *n), [1, 3, 4, 5]);
         for (step, (n, label)) in LabStep::ALL.iter().zip(labels) {
             assert_eq!(label, format!("{n} {}", step.name()));
         }
