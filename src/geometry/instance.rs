@@ -180,34 +180,6 @@ pub fn world_bounds(inst: &Instance) -> ([f32; 3], [f32; 3]) {
     (wlo.map(|x| down(x - pad)), whi.map(|x| up(x + pad)))
 }
 
-/// The box around instance `inst`'s world triangles, to the bit the box of the triangles a
-/// flattened file holds (every vertex rounded as [`Instance::world_vertex`] rounds it); the
-/// mesh's box for an empty mesh. One pass over the mesh, in parallel: what the default camera
-/// and light are placed by, so that an instanced scene is framed and lit as its flattened twin
-/// (the padded [`world_bounds`] is for the hierarchies and the range check).
-pub fn placed_bounds(inst: &Instance) -> ([f32; 3], [f32; 3]) {
-    use rayon::prelude::*;
-    if inst.is_empty() {
-        return inst.mesh.bounds();
-    }
-    let m = &inst.world_from_object;
-    let merge = |(lo, hi): ([f32; 3], [f32; 3]), (a, b): ([f32; 3], [f32; 3])| {
-        (
-            [0, 1, 2].map(|k| lo[k].min(a[k])),
-            [0, 1, 2].map(|k| hi[k].max(b[k])),
-        )
-    };
-    let empty = || ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    (inst.mesh.triangles.par_iter())
-        .fold(empty, |acc, tri| {
-            tri.iter().fold(acc, |acc, v| {
-                let w = Instance::world_vertex(m, *v);
-                merge(acc, (w, w))
-            })
-        })
-        .reduce(empty, merge)
-}
-
 /// ‖A‖∞ (largest row sum of magnitudes) of the linear part of `m`.
 pub fn linear_norm(m: &DMat4) -> f64 {
     (0..3)
