@@ -559,7 +559,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "save the view (camera, light, settings) for `raylab render --view`",
     ),
     ("H / F1", "this overlay"),
-    ("Esc", "release the mouse; again to quit"),
+    ("Esc", "release the mouse; dismiss an error; again to quit"),
 ];
 
 /// One control of the image's table ([`CONTROLS`]): a choice as radio buttons under its own
