@@ -367,7 +367,8 @@ impl App {
         let minimised = size.width == 0 || size.height == 0;
         if std::mem::take(&mut self.oversized) {
             let (w, h) = (size.width, size.height);
-            self.viewer.set_status(format!("the window is {w}x{h}: drawing resumed"));
+            self.viewer
+                .set_status(format!("the window is {w}x{h}: drawing resumed"));
         }
         if minimised != self.viewer.paused {
             log::info!(
