@@ -88,7 +88,7 @@ pub enum InputError {
     Sizeless { path: PathBuf, limit: u64 },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
-    #[error("{}: names a directory (it ends with '/'), not a file to write", path.display())]
+    #[error("{}: names a directory, not a file to write", path.display())]
     NotAFileName { path: PathBuf },
     #[error("{}: too many levels of symbolic links", path.display())]
     LinkLoop { path: PathBuf },
