@@ -237,7 +237,7 @@ pub const CONTROLS: [Control; 4] = [
         name: "step",
         label: "lab step",
         help: "Lab step (shading).",
-        heading: Some("Lab step"),
+        heading: Some("Lab step (2: move the camera)"),
         kind: Kind::Choice {
             options: || {
                 LabStep::ALL

@@ -582,7 +582,7 @@ fn control_widget(
                 Some(title) => {
                     ui.strong(title);
                     for (i, o) in options.iter().enumerate() {
-                        ui.radio_value(&mut chosen, i, o.name).on_hover_text(o.help);
+                        ui.radio_value(&mut chosen, i, o.label).on_hover_text(o.help);
                     }
                     ui.small(options[chosen].help);
                 }
@@ -595,10 +595,10 @@ fn control_widget(
                     }
                     let selected = name.filter(|_| chosen == yours_index);
                     egui::ComboBox::from_label(control.label)
-                        .selected_text(selected.unwrap_or_else(|| options[chosen].name))
+                        .selected_text(selected.unwrap_or_else(|| options[chosen].label))
                         .show_ui(ui, |ui| {
                             for (i, o) in options.iter().enumerate() {
-                                ui.selectable_value(&mut chosen, i, o.name)
+                                ui.selectable_value(&mut chosen, i, o.label)
                                     .on_hover_text(o.help);
                             }
                             if let Some(name) = name {
