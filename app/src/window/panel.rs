@@ -582,7 +582,8 @@ fn control_widget(
                 Some(title) => {
                     ui.strong(title);
                     for (i, o) in options.iter().enumerate() {
-                        ui.radio_value(&mut chosen, i, o.label).on_hover_text(o.help);
+                        ui.radio_value(&mut chosen, i, o.label)
+                            .on_hover_text(o.help);
                     }
                     ui.small(options[chosen].help);
                 }
