@@ -220,3 +220,24 @@ fn an_index_past_the_scene_is_a_wrong_primitive_not_a_panic() {
         Verdict::Wrong
     );
 }
+
+#[test]
+fn an_index_past_the_scene_on_a_ray_that_meets_nothing_is_a_false_hit_not_a_panic() {
+    // Grading looks a hit's primitive up to decide a tie on a triangle of zero area: an index
+    // past the end must be graded before that, also where the exact answer is a miss.
+    let scene = Scene::cornell();
+    let ray = Ray::new([0.0, 0.0, -1e6], [0.0, 0.0, -1.0]);
+    let exact = Exact.closest_hit(&scene.shapes, &ray, 0.0, f32::INFINITY);
+    assert_eq!(exact, None, "the ray leaves the box behind");
+    for past in [scene.shapes.len() as u32, u32::MAX] {
+        let hit = Hit {
+            t: 1.0,
+            prim: past,
+            b1: 0.0,
+            b2: 0.0,
+        };
+        let verdict = code::verdict(&scene.shapes, &ray, exact, Some(hit));
+        assert_eq!(verdict, Verdict::FalseHit, "primitive {past}");
+        assert_eq!(verdict.mark(), Some(FALSE_HIT));
+    }
+}

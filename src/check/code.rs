@@ -131,10 +131,14 @@ pub fn check_suite(code: &dyn LabCode, families: &[Family]) -> (String, Vec<(Str
 /// an index past the scene's primitives is a wrong primitive (a false hit where nothing is
 /// met, as any hit there).
 pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Option<Hit>) -> Verdict {
-    // (Only another primitive than the exact one is looked up, to decide a tie.)
-    if let (Some(e), Some(h)) = (exact, hit) {
-        if h.prim != e.prim && h.prim as usize >= scene_shapes.len() {
-            return Verdict::Wrong;
+    // An index past the end is graded before anything is looked up, whatever the exact
+    // answer (grading may look the answer's primitive up: a zero-area tie, an exact tie).
+    if let Some(h) = hit {
+        if h.prim as usize >= scene_shapes.len() {
+            return match exact {
+                Some(_) => Verdict::Wrong,
+                None => Verdict::FalseHit,
+            };
         }
     }
     let answer = |h: Option<Hit>| match h {
