@@ -258,6 +258,56 @@ fn a_hit_on_a_triangle_of_zero_area_is_a_tie_where_the_ray_meets_its_segment() {
     assert_eq!(judge(&behind, on(3.0)).verdict, Verdict::Wrong);
 }
 
+#[test]
+fn a_zero_area_tie_counts_an_infinite_tmin_or_tmax_as_no_bound() {
+    // The segment (0,0,0)–(2,2,2) and a triangle at z = 5, a ray down z from z = 10: over
+    // (−∞, ∞) it meets the triangle at t = −5 and the segment nearer, at t = −9.5, a tie (it
+    // was graded against t > 0, as if −∞ were 0, and failed).
+    let shapes = [
+        Shape::from([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]]),
+        Shape::from([[-10.0, -10.0, 5.0], [10.0, -10.0, 5.0], [0.0, 10.0, 5.0]]),
+    ];
+    let shape_of = |p: u32| shapes[p as usize];
+    let judge = |tmin: f32, tmax: f32, answer: Answer<f32>| {
+        let r = TraceRay {
+            ray: Ray::new([0.5, 0.5, 10.0], [0.0, 0.0, 1.0]),
+            tmin,
+            tmax,
+        };
+        let exact = grade::exact_answers(&shapes, std::slice::from_ref(&r))[0];
+        let g = grade::grade(shape_of, &r, exact, answer, grade::DEFAULT_T_TOLERANCE);
+        (exact, g.verdict, g.t_error)
+    };
+    let on = |t: f32| Answer::Hit { t, prim: 0 };
+    let (inf, tie) = (f32::INFINITY, (Verdict::Tie, Some(TError::WithinUlp)));
+    let (exact, verdict, t_error) = judge(-inf, inf, on(-9.5));
+    assert_eq!(exact, Answer::Hit { t: -5.0, prim: 1 });
+    assert_eq!((verdict, t_error), tie);
+    // A finite tmax bounds it still; an infinite one on the wrong side leaves nothing.
+    assert_eq!((judge(-inf, -7.0, on(-9.5)).1), Verdict::Tie);
+    assert_eq!((judge(-inf, -9.5, on(-9.5)).1), Verdict::FalseHit);
+    assert_eq!((judge(-20.0, inf, on(-9.5)).1), Verdict::Tie);
+    assert_eq!((judge(-9.5, inf, on(-9.5)).1), Verdict::Wrong);
+    // With tmin = 0 neither is met before the origin: nothing to tie with.
+    assert_eq!(judge(0.0, inf, on(-9.5)).1, Verdict::FalseHit);
+    // A ray along the segment from below, over (−∞, ∞): met first at its end (0, 0, 0).
+    let along = TraceRay {
+        ray: Ray::new([4.0, 4.0, 4.0], [1.0, 1.0, 1.0]),
+        tmin: -inf,
+        tmax: inf,
+    };
+    let exact = grade::exact_answers(&shapes, std::slice::from_ref(&along))[0];
+    assert_eq!(exact, Answer::Miss);
+    let g = grade::grade(
+        shape_of,
+        &along,
+        exact,
+        on(-4.0),
+        grade::DEFAULT_T_TOLERANCE,
+    );
+    assert_eq!((g.verdict, g.t_error), tie);
+}
+
 /// Code that takes a triangle of zero area as closed: every ray hits primitive 0, a segment.
 struct Segment;
 

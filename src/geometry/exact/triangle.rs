@@ -88,7 +88,8 @@ fn zero_area_rational(v: &[[f64; 3]; 3]) -> bool {
 /// Where the line o + t·d meets the zero-area triangle `v` (its vertices' hull: a segment or
 /// a point) with tmin < t < tmax: the nearest such t, exact. Where the line runs along the
 /// segment and enters it at or before tmin, there is no nearest: `tmin` itself is given.
-/// `None` where it does not meet it there (or `v` has area).
+/// `None` where it does not meet it there (or `v` has area). A tmin of −∞ is no lower bound
+/// and a tmax of +∞ no upper one; a tmin of +∞ or a tmax of −∞ (or NaN) leaves nothing.
 pub fn zero_area_contact(
     o: [f64; 3],
     d: [f64; 3],
@@ -96,6 +97,17 @@ pub fn zero_area_contact(
     tmin: f64,
     tmax: f64,
 ) -> Option<ExactT> {
+    // The bounds in rationals: `None` for no bound (an infinite one on its own side).
+    let lower = match tmin {
+        t if t.is_finite() => Some(q(t)),
+        f64::NEG_INFINITY => None,
+        _ => return None,
+    };
+    let upper = match tmax {
+        t if t.is_finite() => Some(q(t)),
+        f64::INFINITY => None,
+        _ => return None,
+    };
     let zero = |x: &QV| x.iter().all(Zero::is_zero);
     let p = v.map(qv);
     if !zero(&cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]))) {
@@ -114,7 +126,9 @@ pub fn zero_area_contact(
     let (o, d) = (qv(o), qv(d));
     let (e, w) = (sub(&b, &a), sub(&a, &o));
     let n = cross(&d, &e);
-    let within = |t: &Q| *t > q(tmin) && (tmax == f64::INFINITY || *t < q(tmax));
+    let above = |t: &Q| lower.as_ref().is_none_or(|l| t > l);
+    let below = |t: &Q| upper.as_ref().is_none_or(|u| t < u);
+    let within = |t: &Q| above(t) && below(t);
     if !zero(&n) {
         // The lines cross where o + t·d = a + s·e, if they are coplanar; 0 ≤ s ≤ 1 on it.
         if !dot(&w, &n).is_zero() {
@@ -140,9 +154,9 @@ pub fn zero_area_contact(
     if within(&lo) {
         return Some(ExactT::rational(lo));
     }
-    let tmin_q = q(tmin);
-    (lo <= tmin_q && hi > tmin_q && (tmax == f64::INFINITY || tmin < tmax))
-        .then(|| ExactT::rational(tmin_q))
+    // (Entered at or before a finite tmin: tmin, if the interval is not empty there.)
+    let tmin_q = lower?;
+    (lo <= tmin_q && hi > tmin_q && below(&tmin_q)).then(|| ExactT::rational(tmin_q))
 }
 
 /// An f64 as m·2^e with an integer m (0 as 0·2^0).
