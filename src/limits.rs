@@ -22,9 +22,11 @@ pub const MAX_PUSH_DEPTH: usize = 1000;
 pub const MAX_PLACEMENTS: u64 = 1 << 20;
 
 /// The most triangles that copies of meshes a `.scene` file uses repeatedly (`mesh` lines of
-/// one file, `cornell` lines) may be flattened to. A small mesh is flattened while all its
-/// copies fit (its rays walk faster so), else placed as instances; copies that only
-/// flattening can hold (a matrix too ill-conditioned to place one) are refused past it. Each
+/// one file, `cornell` lines) may be flattened to. A small mesh is flattened by choice (its
+/// rays walk faster so) while all its copies fit the file's room, [`flattened_copies_room`],
+/// else placed as instances; copies that only flattening can hold (a matrix too
+/// ill-conditioned to place one) are refused past this limit, whatever the file's size (their
+/// memory grows with the mesh file, which is input too). Each
 /// flattened triangle costs about 110 bytes: without a bound, 550,000 `cornell` lines (4.4 MB)
 /// took 3.3 GB; at this one the copies stay near 120 MB.
 pub const MAX_FLATTENED_COPIES: u64 = 1 << 20;
@@ -35,8 +37,9 @@ pub const FLATTENED_COPIES_FLOOR: u64 = 1 << 15;
 
 /// The room for flattened copies of a scene file of `bytes`: [`FLATTENED_COPIES_FLOOR`] and
 /// one triangle for every 2 bytes of the file (about 55 bytes a byte), at most
-/// [`MAX_FLATTENED_COPIES`]. Past it copies are placed, so memory stays in proportion to the
-/// file: the whole room for 280 KB of `cornell` lines took 120 MB flattened, 25 MB placed.
+/// [`MAX_FLATTENED_COPIES`]. Past it copies are placed (where their matrix allows), so
+/// memory stays in proportion to the file: the whole room for 280 KB of `cornell` lines took
+/// 120 MB flattened, 25 MB placed.
 pub fn flattened_copies_room(bytes: usize) -> u64 {
     (FLATTENED_COPIES_FLOOR + bytes as u64 / 2).min(MAX_FLATTENED_COPIES)
 }

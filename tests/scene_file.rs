@@ -493,21 +493,62 @@ fn repeated_cornell_boxes_are_flattened_while_their_copies_fit_then_placed() {
 }
 
 #[test]
-fn copies_only_flattening_can_hold_are_refused_past_their_room() {
+fn copies_only_flattening_can_hold_are_refused_past_the_absolute_limit() {
     // Under a scale 10^7 times thinner along z no instance can be placed (rays carried into
-    // the box's frame would lose too much): the copies are flattened, up to the room for
-    // flattened copies, and the line that passes it is refused.
-    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(2000));
+    // the box's frame would lose too much): the copies are flattened, past the file's room
+    // for copies flattened by choice, up to MAX_FLATTENED_COPIES, and the line that passes
+    // it is refused.
+    let limit = raylab::limits::MAX_FLATTENED_COPIES as usize;
+    let boxes = limit / 30 + 1;
+    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(boxes));
     let room = raylab::limits::flattened_copies_room(text.len()) as usize;
-    assert_eq!(room, (1 << 15) + text.len() / 2);
-    let e = parse_default(&text).expect_err("past the room");
-    assert_eq!(e.line, 1 + room / 30 + 1);
+    assert!(room < limit, "the file's room is not what refuses");
+    let e = parse_default(&text).expect_err("past the limit");
+    assert_eq!(e.line, 1 + limit / 30 + 1);
     assert!(e
         .message
         .contains("too ill-conditioned to place mesh 'cornell'"));
-    assert!(e.message.contains(&format!("passes the {room} triangles")));
-    // Flattened, the file stays within the triangle limit and loads.
-    assert_eq!(parse32(&text).unwrap().shapes.len(), 2000 * 30);
+    assert!(e.message.contains(&format!("passes the {limit} triangles")));
+    // 2000 boxes, past the file's room (it once refused them), load.
+    let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(2000));
+    assert!(2000 * 30 > raylab::limits::flattened_copies_room(text.len()));
+    let d = parse_default(&text).unwrap();
+    assert_eq!((d.shapes.len(), d.instances.len()), (2000 * 30, 0));
+}
+
+#[test]
+fn a_large_mesh_under_an_ill_conditioned_scale_is_flattened_past_the_file_s_room() {
+    // A 20,000-triangle mesh used twice under a scale 10^7 times thinner along z: too
+    // ill-conditioned to place, so both copies are flattened (40,000 triangles, past a short
+    // file's room of 2^15 and a few, which only decides what is flattened by choice).
+    let dir = tempfile::tempdir().unwrap();
+    let mut obj = String::new();
+    let n = 100;
+    for j in 0..=n {
+        for i in 0..=n {
+            obj += &format!("v {i} {j} {}\n", (i * j) % 7);
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    std::fs::write(dir.path().join("big.obj"), obj).unwrap();
+    let text = "scale 1 1 1e-7\nmesh big.obj\ntranslate 3 0 0\nmesh big.obj\n";
+    assert!(40_000 > raylab::limits::flattened_copies_room(text.len()));
+    let load = raylab::scene::file::load_obj_mesh;
+    let instancing = raylab::scene::file::Instancing::DEFAULT;
+    let d = raylab::scene::file::parse_with::<f32>("t.scene", text, dir.path(), &load, instancing)
+        .unwrap();
+    assert_eq!((d.shapes.len(), d.instances.len()), (40_000, 0));
+    // Well conditioned, the same file places its two copies.
+    let text = "scale 1 1 2\nmesh big.obj\ntranslate 3 0 0\nmesh big.obj\n";
+    let d = raylab::scene::file::parse_with::<f32>("t.scene", text, dir.path(), &load, instancing)
+        .unwrap();
+    assert_eq!((d.shapes.len(), d.instances.len()), (0, 2));
 }
 
 #[test]

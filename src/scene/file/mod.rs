@@ -39,8 +39,9 @@
 //! file's size), is placed
 //! as instances ([`super::instance`]): the primitives and every answer are the same as
 //! flattened, the memory is one copy. (A placement whose matrix is too ill-conditioned to
-//! carry rays back safely, see [`super::instance::MAX_CONDITION`], is flattened, within the
-//! same room.) [`parse`] flattens everything.
+//! carry rays back safely, see [`super::instance::MAX_CONDITION`], is flattened; such copies
+//! are refused only past [`crate::limits::MAX_FLATTENED_COPIES`] triangles, whatever the
+//! file's size.) [`parse`] flattens everything.
 //!
 //! Errors name the file and line: an unknown statement, a missing or extra number, NaN or
 //! infinity, a `pop` without `push`, a sphere under a non-uniform scale (an ellipsoid), a mesh

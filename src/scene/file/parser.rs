@@ -31,10 +31,12 @@ struct Parser<'a, T: Real> {
     files: MeshFiles,
     /// How often `cornell` is used.
     cornell_uses: usize,
-    /// Triangles that copies of repeated meshes may still be flattened to, of the file's
-    /// room ([`crate::limits::flattened_copies_room`]).
+    /// The room for copies of repeated meshes flattened by choice, in proportion to the
+    /// file ([`crate::limits::flattened_copies_room`]).
     flatten_room: u64,
-    flatten_limit: u64,
+    /// Triangles flattened as copies so far: by choice, and where only flattening can hold a
+    /// copy (refused past [`crate::limits::MAX_FLATTENED_COPIES`]).
+    flattened: u64,
     instancing: Instancing,
     /// Primitives placed as instances so far.
     instanced: usize,
@@ -173,7 +175,7 @@ pub fn parse_with<T: Real>(
         files,
         cornell_uses,
         flatten_room: crate::limits::flattened_copies_room(text.len()),
-        flatten_limit: crate::limits::flattened_copies_room(text.len()),
+        flattened: 0,
         instancing,
         instanced: 0,
         max_stored: obj::max_triangles(),
@@ -375,9 +377,9 @@ impl<T: Real> Parser<'_, T> {
             self.mesh_warnings(line, path, &warnings);
             let copies = (mesh.triangles.len() as u64).saturating_mul(uses as u64);
             let small = mesh.triangles.len() < self.instancing.min_triangles.max(1);
-            let flatten = small && copies <= self.flatten_room;
+            let flatten = small && self.flattened.saturating_add(copies) <= self.flatten_room;
             if flatten {
-                self.flatten_room -= copies;
+                self.flattened += copies;
             }
             let mesh = Arc::new(mesh);
             self.shared.insert(key.clone(), Shared { mesh, flatten });
@@ -387,8 +389,11 @@ impl<T: Real> Parser<'_, T> {
     }
 
     /// Places `mesh` as an instance in the current frame (faces without a material get
-    /// `color`), or adds its triangles where `flatten` says so or the matrix cannot place it
-    /// (such copies take from the room for flattened copies, and are refused past it).
+    /// `color`), or adds its triangles where `flatten` says so or the matrix cannot place it.
+    /// Copies only flattening can hold count with the flattened ones (so later meshes are
+    /// flattened by choice less), and are refused only past the absolute
+    /// [`crate::limits::MAX_FLATTENED_COPIES`], not the file's room: their memory grows with
+    /// the mesh file, which is input too.
     fn place_or_add(
         &mut self,
         mesh: Arc<Mesh>,
@@ -399,17 +404,18 @@ impl<T: Real> Parser<'_, T> {
         let n = mesh.triangles.len();
         let placeable = Instance::placeable(&m);
         if !flatten && !placeable {
-            if n as u64 > self.flatten_room {
+            let limit = crate::limits::MAX_FLATTENED_COPIES;
+            if self.flattened.saturating_add(n as u64) > limit {
                 return Err(format!(
                     "this matrix is too ill-conditioned to place mesh '{}' as an instance \
                      (condition number over {}), and flattening its copies passes the {} \
                      triangles they may take (push/pop around the uneven scale)",
                     mesh.name,
                     crate::geometry::instance::MAX_CONDITION,
-                    self.flatten_limit
+                    limit
                 ));
             }
-            self.flatten_room -= n as u64;
+            self.flattened += n as u64;
         }
         if flatten || !placeable {
             let colors = mesh.colors.iter().map(|c| c.unwrap_or(color));
