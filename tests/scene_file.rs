@@ -590,6 +590,57 @@ fn a_transform_that_leaves_the_matrix_singular_or_infinite_is_refused_at_its_lin
 }
 
 #[test]
+fn a_column_scaled_to_zero_past_a_subnormal_one_is_singular() {
+    // A subnormal largest entry was scaled by 2^1030 as 1 / 2^-1030 = 1 / 0: the column became
+    // infinite, the determinant NaN, and a matrix with a zero column passed as regular.
+    for (text, line, needle) in [
+        (
+            "scale 1e-310 1e-310 1\nscale 1e-20 1 1\ntri 0 0 1 1 0 1 0 1 1\n",
+            2,
+            "'scale 1e-20 1 1' makes the transform's matrix singular in f64",
+        ),
+        (
+            "scale 1e-200 1e-200 1\nscale 1e-200 1 1\n",
+            2,
+            "'scale 1e-200 1 1' makes the transform's matrix singular in f64",
+        ),
+        (
+            "rotate z 30\nscale 1e-310 1e-310 1\nscale 1 1e-20 1\n",
+            3,
+            "'scale 1 1e-20 1' makes the transform's matrix singular in f64",
+        ),
+    ] {
+        let (l, message) = error(text);
+        assert_eq!(l, line, "{message}");
+        assert!(message.contains(needle), "{message}");
+    }
+    // Subnormal columns that are not zero, scales that cancel, mixed huge and tiny ones and a
+    // long chain of rotations are regular.
+    for text in [
+        "scale 1e-310 1e-310 1\n".to_string(),
+        "rotate x 30\nscale 1e-310 1e-320 1e-315\n".to_string(),
+        "scale 1e-150\nscale 1e150\ntri 0 0 1 1 0 1 0 1 1\n".to_string(),
+        "scale 1e100 1e-100 1\nrotate y 45\nscale 1e-100 1e100 1e100\nrotate x 10\n".to_string(),
+        "scale 1e-300 1 1e300\nscale 1e300 1 1e-300\ntri 0 0 1 1 0 1 0 1 1\n".to_string(),
+        (0..5000)
+            .map(|k| format!("rotate {} {}.{}\n", ["x", "y", "z"][k % 3], k % 360, k % 7))
+            .collect(),
+    ] {
+        let first = text.lines().next().unwrap_or_default().to_string();
+        assert!(
+            parse32(&text).is_ok(),
+            "{first}: {:?}",
+            parse32(&text).err()
+        );
+    }
+    let d = parse32("scale 1e-300 1 1e300\nscale 1e300 1 1e-300\ntri 0 0 1 1 0 1 0 1 1\n");
+    assert_eq!(
+        tri(&d.unwrap(), 0),
+        [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]
+    );
+}
+
+#[test]
 fn a_byte_order_mark_past_the_first_line_is_named() {
     // Files joined together: the second one's mark starts line 2.
     let (line, message) = error("tri 0 0 1 1 0 1 0 1 1\n\u{feff}tri 0 0 1 1 0 1 0 1 1\n");
