@@ -399,3 +399,51 @@ fn a_triangle_of_zero_area_changes_no_pixel() {
         }
     }
 }
+
+#[test]
+fn an_obj_of_only_zero_area_triangles_is_a_mesh_in_a_scene_but_nothing_to_show_alone() {
+    // As `tri` lines of zero area render in a scene file, a mesh of such triangles does; only
+    // the model loaded on its own (nothing to show) is refused, saying what it holds.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("allzero.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\nf 3 2 1\n").unwrap();
+    let e = Scene::load(&obj, ObjFrame::YUp).expect_err("nothing to show");
+    assert!(
+        e.ends_with("allzero.obj: has no triangle of nonzero area (2 of zero area)"),
+        "{e}"
+    );
+    let text = "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n";
+    let e = raylab::scene::load_obj_str("a.obj", text, ObjFrame::Lab, |_| Err("none".into()));
+    let e = e.expect_err("nothing to show").to_string();
+    assert_eq!(e, "a.obj: has no triangle of nonzero area (1 of zero area)");
+    for (name, text) in [
+        ("mesh.scene", "mesh allzero.obj\n"),
+        ("both.scene", "mesh allzero.obj\ntri 0 0 5 1 0 5 0 1 5\n"),
+        (
+            "twice.scene",
+            "mesh allzero.obj\ntranslate 1 0 0\nmesh allzero.obj\n",
+        ),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let scene = Scene::load(&path, ObjFrame::YUp).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let zero = (0..scene.len() as u32)
+            .filter(|&p| scene.shape(p).is_degenerate())
+            .count();
+        let meshes = text.matches("mesh").count();
+        assert_eq!(zero, 2 * meshes, "{name}");
+        assert!(
+            scene.warnings.iter().any(|w| w.contains("zero area")),
+            "{name}: {:?}",
+            scene.warnings
+        );
+        let stage = Stage::from(scene);
+        let settings = RenderSettings {
+            width: 16,
+            height: 16,
+            ..Default::default()
+        };
+        let mut rgba = vec![0; settings.buffer_len()];
+        raylab::render::render_into(&stage, &Camera::cornell(16), &settings, &mut rgba).unwrap();
+    }
+}

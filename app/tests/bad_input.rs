@@ -91,7 +91,7 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         ("", "no triangles"),
         (
             "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n",
-            "no triangles (after dropping 1",
+            "has no triangle of nonzero area (1 of zero area)",
         ),
         ("v 0 0 0\n\u{0}\u{1}binary", ":2: not a text OBJ"),
     ];

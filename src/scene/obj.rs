@@ -13,9 +13,11 @@
 //! surfaces are skipped with one warning that counts them. TABs are whitespace everywhere,
 //! `#` starts a comment anywhere on a line, and a UTF-8 byte-order mark is skipped. Polygons
 //! are fan-triangulated. A triangle of zero area (vertices on one line) is kept, so that every
-//! index stays its file position, but no ray hits it; a warning names its line. A
-//! missing or broken material library is a warning naming the library's line: its faces turn
-//! grey, as do those of a `usemtl` no library defines (also a warning).
+//! index stays its file position, but no ray hits it; a warning names its line. A file of
+//! only such triangles is refused loaded on its own (nothing to show), and loads as a
+//! `.scene` file's mesh (as `tri` lines of zero area do). A missing or broken material
+//! library is a warning naming the library's line: its faces turn grey, as do those of a
+//! `usemtl` no library defines (also a warning).
 //!
 //! OBJ models are conventionally y-up, while the lab's world is y-down; [`ObjFrame::YUp`]
 //! turns them the lab's way, negating x and y (a 180° turn about z, as the lab does to its
@@ -104,24 +106,46 @@ pub enum ObjError {
         /// tobj's message.
         message: String,
     },
-    /// Nothing to render: no faces, or only faces of zero area.
-    #[error("{file}: no triangles (after dropping {dropped} degenerate ones)")]
+    /// No faces: nothing to render.
+    #[error("{file}: no triangles")]
     NoTriangles {
         /// File name.
         file: String,
-        /// Zero-area triangles (all there are).
-        dropped: usize,
+    },
+    /// A model loaded on its own whose every face has zero area: nothing a ray could hit, so
+    /// nothing to show. (As a `.scene` file's mesh it loads, as such `tri` lines do.)
+    #[error("{file}: has no triangle of nonzero area ({count} of zero area)")]
+    OnlyZeroArea {
+        /// File name.
+        file: String,
+        /// Its triangles, all of zero area.
+        count: usize,
     },
 }
 
 /// Loads an OBJ file (and the material libraries it names, relative to it) as a scene, with
-/// a light placed for its size.
+/// a light placed for its size. A file whose every triangle has zero area is refused: there
+/// is nothing to show.
 pub fn load_obj_file(path: &Path, frame: ObjFrame) -> Result<Scene, ObjError> {
-    load_obj_file_coloured(path, frame, DEFAULT_COLOR)
+    something_to_show(load_obj_file_coloured(path, frame, DEFAULT_COLOR)?)
+}
+
+/// A model loaded on its own, refused where every triangle has zero area (a mesh in a
+/// `.scene` file is not: the file may hold more, and its `tri` lines may be such triangles).
+fn something_to_show(scene: Scene) -> Result<Scene, ObjError> {
+    // (The first triangle with area ends the look.)
+    match scene.shapes.iter().all(Shape::is_degenerate) {
+        true => Err(ObjError::OnlyZeroArea {
+            file: scene.name.clone(),
+            count: scene.shapes.len(),
+        }),
+        false => Ok(scene),
+    }
 }
 
 /// [`load_obj_file`] with `default` as the colour of faces that name no material with a
-/// diffuse colour (a `.scene` file's current `color`).
+/// diffuse colour (a `.scene` file's current `color`), as a `.scene` file's `mesh` loads it:
+/// triangles of zero area only are a mesh (with their warning), no faces at all an error.
 pub fn load_obj_file_coloured(
     path: &Path,
     frame: ObjFrame,
@@ -155,14 +179,21 @@ fn to_text(name: &str, bytes: Vec<u8>) -> Result<String, ObjError> {
     })
 }
 
-/// Loads OBJ text; `load_mtl(name)` returns the text of the material library `name`.
+/// Loads OBJ text as a model on its own ([`load_obj_file`]); `load_mtl(name)` returns the
+/// text of the material library `name`.
 pub fn load_obj_str(
     name: &str,
     text: &str,
     frame: ObjFrame,
     load_mtl: impl Fn(&str) -> Result<String, String>,
 ) -> Result<Scene, ObjError> {
-    load_obj_str_coloured(name, text, frame, DEFAULT_COLOR, load_mtl)
+    something_to_show(load_obj_str_coloured(
+        name,
+        text,
+        frame,
+        DEFAULT_COLOR,
+        load_mtl,
+    )?)
 }
 
 /// [`load_obj_str`] with `default` as the colour of faces without a diffuse material colour.
@@ -293,20 +324,12 @@ fn load_obj_str_coloured(
             scene.colors_mut().push(color);
         }
     }
-    if degenerate.count == scene.shapes.len() && degenerate.count > 0 {
-        // Nothing a ray could hit: nothing to draw.
-        return Err(ObjError::NoTriangles {
-            file: name.to_string(),
-            dropped: degenerate.count,
-        });
-    }
     warnings.extend(degenerate.warning(name));
     // (Whoever loads the scene shows its warnings: the CLI prints them, the window's panel.)
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
         return Err(ObjError::NoTriangles {
             file: name.to_string(),
-            dropped: 0,
         });
     };
     scene.light = Scene::light_for_bounds(bounds);
