@@ -1,4 +1,5 @@
-//! How often the adaptive method's slower levels run, counted only while switched on
+//! How often the adaptive method's slower levels (and the exact zero-area test's) run,
+//! counted only while switched on
 //! ([`count_levels`]; `examples/speed_vs_error` reports them): off,
 //! counting costs a load and a branch on the slow paths only.
 
@@ -23,9 +24,14 @@ pub enum Event {
     RoundedFromF64,
     /// A t rounded by [`super::rounded_t`] exactly.
     RoundedExactly,
+    /// A triangle's zero-area question ([`crate::geometry::exact::zero_area`]) that the f64
+    /// filter left to exact arithmetic (zero area, or nearly).
+    ZeroAreaExact,
+    /// … of those, one answered in rationals (coordinates past the expansions' range).
+    ZeroAreaRational,
 }
 
-const EVENTS: usize = Event::RoundedExactly as usize + 1;
+const EVENTS: usize = Event::ZeroAreaRational as usize + 1;
 static ON: AtomicBool = AtomicBool::new(false);
 static COUNTS: [AtomicU64; EVENTS] = [const { AtomicU64::new(0) }; EVENTS];
 

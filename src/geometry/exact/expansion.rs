@@ -117,6 +117,20 @@ impl Expansion {
     }
 }
 
+/// The exact sign of Σ aᵢ·bᵢ over at most 16 `pairs`, each product clear of f64 underflow
+/// and overflow (factors 0 or of magnitude in [10⁻¹²⁰, 10¹²⁰]): every product as its
+/// two-product, summed as an expansion.
+pub(super) fn sum_of_products_sign(pairs: &[(f64, f64)]) -> Ordering {
+    assert!(pairs.len() <= 16, "an expansion holds 32 terms");
+    let mut e = Expansion::of(&[]);
+    for &(a, b) in pairs {
+        let (x, err) = two_prod(a, b);
+        e.grow(err);
+        e.grow(x);
+    }
+    e.sign()
+}
+
 /// a·b − c·d as an expansion.
 fn cross_term(a: f64, b: f64, c: f64, d: f64) -> Expansion {
     let (x1, x0) = two_prod(a, b);

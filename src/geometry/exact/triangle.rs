@@ -3,8 +3,9 @@
 //! and the line's t at its plane, exact ([`plane_t`]) or correctly rounded
 //! ([`plane_t_rounded`]).
 
-use super::expansion::{orient, two_prod, two_sum};
+use super::expansion::{orient, sum_of_products_sign, two_sum};
 use super::rational::{cross, dot, q, qv, round_ratio, sign, sub, ExactT, Q, QV};
+use crate::geometry::adaptive::levels::{note, Event};
 use crate::math::Real;
 use num_bigint::BigInt;
 use num_traits::{One, Zero};
@@ -55,27 +56,61 @@ pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
     Some(ExactT::rational(dot(&p[0], &n) / den))
 }
 
+/// The filter's bound on the rounding of a·d − b·c computed in f64 from coordinate
+/// differences a, b, c, d that are themselves rounded, relative to |a·d| + |b·c| as computed:
+/// 4ε (ε = 2⁻⁵³), a power of two over Shewchuk's (3 + 16ε)ε (orient2d's `ccwerrboundA`).
+const ZERO_AREA_BOUND: f64 = 2.0 * f64::EPSILON;
+
+/// The least |a·d| + |b·c| the filter decides from: from it up, the margin of
+/// [`ZERO_AREA_BOUND`] over Shewchuk's bound, at least (ε − 16ε²)·10⁻²⁸⁰ ≈ 10⁻²⁹⁶, covers the
+/// few 2⁻¹⁰⁷⁵ that underflow can add (a product below 2⁻¹⁰²²; a subnormal difference is
+/// exact), and the bound, a power of two times a normal number, is computed exactly.
+const ZERO_AREA_FLOOR: f64 = 1e-280;
+
+/// The coordinate planes (i, j) whose orientations a_i·b_j − a_j·b_i are the components of
+/// a × b.
+const PLANES: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
+
 /// Whether triangle `v` has zero area (its vertices on one line, or coincident), exactly:
-/// every component of (v₁ − v₀) × (v₂ − v₀) is 0. Where the edge vectors are exact in f64
-/// and clear of underflow and overflow (every f32 triangle's are), a component a·b − c·d is
-/// 0 exactly when the error-free forms (rounded product, its error) of a·b and c·d are equal:
-/// a few dozen flops. Otherwise in rationals.
+/// every component of (v₁ − v₀) × (v₂ − v₀) is 0. Each component is the orientation of the
+/// triangle projected on a coordinate plane, and a plain f64 filter proves it nonzero where
+/// it clears its rounding ([`ZERO_AREA_BOUND`]; the differences' rounding included, so any
+/// coordinates, 0.1 as well as 0.5): a triangle with area is decided so in a few dozen flops.
+/// Only where no component clears its bound (zero area, or nearly) is each decided exactly:
+/// multiplied out as six products of coordinates, summed as an expansion; for coordinates
+/// past the expansions' range (beyond 10¹²⁰ or under 10⁻¹²⁰ in magnitude, never an f32's), in
+/// rationals. Both are counted ([`Event::ZeroAreaExact`], [`Event::ZeroAreaRational`]).
 pub fn zero_area(v: &[[f64; 3]; 3]) -> bool {
-    // Products of these stay normal and finite, and Dekker's split exact.
-    let safe = |x: f64| x == 0.0 || (1e-120..=1e120).contains(&x.abs());
-    let mut e = [[0.0; 3]; 2];
-    for (i, edge) in e.iter_mut().enumerate() {
-        for k in 0..3 {
-            let (x, err) = two_sum(v[i + 1][k], -v[0][k]);
-            if err != 0.0 || !safe(x) {
-                return zero_area_rational(v);
-            }
-            edge[k] = x;
-        }
+    let surely_nonzero = |(i, j): (usize, usize)| {
+        let (ai, aj) = (v[1][i] - v[0][i], v[1][j] - v[0][j]);
+        let (bi, bj) = (v[2][i] - v[0][i], v[2][j] - v[0][j]);
+        let (l, r) = (ai * bj, aj * bi);
+        let sum = l.abs() + r.abs();
+        // (Not finite: an overflow, which decides nothing.)
+        sum.is_finite() && sum >= ZERO_AREA_FLOOR && (l - r).abs() > ZERO_AREA_BOUND * sum
+    };
+    if PLANES.into_iter().any(surely_nonzero) {
+        return false;
     }
-    [(1, 2), (2, 0), (0, 1)]
-        .iter()
-        .all(|&(i, j)| two_prod(e[0][i], e[1][j]) == two_prod(e[0][j], e[1][i]))
+    note(Event::ZeroAreaExact);
+    let safe = |x: &f64| *x == 0.0 || (1e-120..=1e120).contains(&x.abs());
+    if !v.iter().flatten().all(safe) {
+        note(Event::ZeroAreaRational);
+        return zero_area_rational(v);
+    }
+    PLANES.into_iter().all(|(i, j)| {
+        let [(x0, y0), (x1, y1), (x2, y2)] = v.map(|p| (p[i], p[j]));
+        // (x₁ − x₀)(y₂ − y₀) − (y₁ − y₀)(x₂ − x₀) multiplied out (the x₀·y₀ terms cancel).
+        let terms = [
+            (x1, y2),
+            (-x1, y0),
+            (-x0, y2),
+            (-y1, x2),
+            (y1, x0),
+            (y0, x2),
+        ];
+        sum_of_products_sign(&terms) == Ordering::Equal
+    })
 }
 
 /// [`zero_area`] in rationals (any finite inputs).
