@@ -6,9 +6,11 @@
 //!
 //! Writing ([`OutputFile`]): an output never destroys a file. It is written to a temporary
 //! file in the destination's directory and renamed over the destination only when complete, so
-//! an interrupted, killed or failed run leaves the previous file as it was (a killed run's
-//! temporary file, `.NAME.raylab-PID-N.tmp`, is removed by the next write into that directory
-//! once its process is gone). A link is written through, dangling or not. An output that is
+//! an interrupted, killed or failed run leaves the previous file as it was. A killed run's
+//! temporary file, `.NAME.raylab-PID-N.tmp`, is removed by a later write into that directory
+//! once it is stale (not locked, this user's, unmodified for [`STALE_TEMP_AGE`]). A
+//! link is written through, dangling or not (as the shell's `>` writes), except one that the
+//! kernel's protected_symlinks rule would not follow. An output that is
 //! a file this process has read (the scene, its meshes and material libraries, a view, rays, a
 //! script: compared by file identity, so links and `./` paths are caught) is refused before
 //! anything is written, and so is an existing FIFO, socket or directory.
@@ -16,6 +18,7 @@
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::time::Duration;
 
 /// The default cap on one input file (OBJ, MTL, scene, rays, script): 1 GiB.
 pub const MAX_INPUT_BYTES: u64 = 1 << 30;
@@ -92,6 +95,20 @@ pub enum InputError {
     NotAFileName { path: PathBuf },
     #[error("{}: too many levels of symbolic links", path.display())]
     LinkLoop { path: PathBuf },
+    #[error(
+        "{}: is a link to '{}', which names a directory, not a file to write",
+        path.display(),
+        target.display()
+    )]
+    LinkToDirectory { path: PathBuf, target: PathBuf },
+    #[error(
+        "{}: {} is a link in a sticky, world-writable directory owned by neither you nor the \
+         directory's owner: refusing to write through it (as the kernel refuses `>` through \
+         it where fs.protected_symlinks is set)",
+        path.display(),
+        link.display()
+    )]
+    ProtectedLink { path: PathBuf, link: PathBuf },
     #[error(
         "{}: is {}, which this run reads: refusing to overwrite an input",
         path.display(),
@@ -294,20 +311,34 @@ fn names_a_directory(path: &Path) -> bool {
 const MAX_LINKS: usize = 40;
 
 /// The file `path` names once its links are followed, existing or not: a dangling link's
-/// target is written, as `cp` into a link would, and the link kept.
+/// target is written (as the shell's `>` writes through one; `cp` would refuse it) and the
+/// link kept. Refused: a link whose text names a directory (`newdir/`: the rename would fail
+/// only after the work), and a link the kernel would not follow for `>` under
+/// fs.protected_symlinks ([`protected_link`]): raylab follows links itself, so the kernel
+/// never asks.
 fn link_target(path: &Path) -> Result<PathBuf, InputError> {
     let mut target = path.to_path_buf();
     for _ in 0..MAX_LINKS {
-        let is_link = target
-            .symlink_metadata()
-            .is_ok_and(|m| m.file_type().is_symlink());
-        if !is_link {
-            return Ok(target);
+        let link = match target.symlink_metadata() {
+            Ok(m) if m.file_type().is_symlink() => m,
+            _ => return Ok(target),
+        };
+        if protected_link(&target, &link) {
+            return Err(InputError::ProtectedLink {
+                path: path.to_path_buf(),
+                link: target,
+            });
         }
         let next = std::fs::read_link(&target).map_err(|source| InputError::Io {
             path: path.to_path_buf(),
             source,
         })?;
+        if names_a_directory(&next) {
+            return Err(InputError::LinkToDirectory {
+                path: path.to_path_buf(),
+                target: next,
+            });
+        }
         target = match target.parent() {
             Some(dir) => dir.join(next),
             None => next,
@@ -316,6 +347,38 @@ fn link_target(path: &Path) -> Result<PathBuf, InputError> {
     Err(InputError::LinkLoop {
         path: path.to_path_buf(),
     })
+}
+
+/// The directory a path's last component is in (`.` for a bare name).
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+/// The effective user id of this process.
+#[cfg(unix)]
+fn effective_uid() -> u32 {
+    rustix::process::geteuid().as_raw()
+}
+
+/// Whether the kernel's protected_symlinks rule forbids following `link` (with metadata
+/// `meta`): it sits in a sticky, world-writable directory (/tmp) and is owned by neither
+/// this user nor the directory's owner.
+#[cfg(unix)]
+fn protected_link(link: &Path, meta: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(dir) = std::fs::metadata(parent_dir(link)) else {
+        return false;
+    };
+    let sticky_and_shared = dir.mode() & 0o1002 == 0o1002;
+    sticky_and_shared && meta.uid() != effective_uid() && meta.uid() != dir.uid()
+}
+
+#[cfg(not(unix))]
+fn protected_link(_: &Path, _: &std::fs::Metadata) -> bool {
+    false
 }
 
 /// The longest part of the destination's name kept in a temporary file's name, so that a
@@ -348,26 +411,64 @@ pub fn temp_owner(name: &std::ffi::OsStr) -> Option<u32> {
     pid.parse().ok()
 }
 
-/// Removes the temporary files in `dir` whose process is gone (killed while writing): each is
-/// named by its pid ([`temp_name`]), and a pid with no /proc entry has ended. Nothing is
-/// removed where /proc is not there to ask.
+/// How long a temporary file must have been left unmodified before a later write into its
+/// directory may remove it (and only if it is this user's and unlocked: see the module's doc).
+pub const STALE_TEMP_AGE: Duration = Duration::from_secs(60 * 60);
+
+/// Removes the temporary files that runs killed while writing left in `dir`. A file is
+/// removed only when all of these hold: its name is exactly a temporary file's
+/// (`.NAME.raylab-PID-N.tmp`, [`temp_owner`]); it is a regular file, not a link; it belongs to
+/// this user; it was last modified [`STALE_TEMP_AGE`] or more ago; and no process holds its
+/// lock (each run holds an exclusive `flock` on every temporary file it writes until it is
+/// renamed or removed, [`OutputFile::create`]). The pid in the name is not consulted: a
+/// process in another pid namespace or on another host sharing the directory is not
+/// visible in /proc.
 fn remove_stale_temps(dir: &Path) {
-    if !Path::new("/proc/self").exists() {
-        return;
-    }
+    remove_temps_older_than(dir, STALE_TEMP_AGE);
+}
+
+#[cfg(unix)]
+fn remove_temps_older_than(dir: &Path, age: Duration) {
+    use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
+    let (me, now) = (effective_uid(), std::time::SystemTime::now());
+    let stale = |m: &std::fs::Metadata| {
+        let old = (m.modified().ok()).and_then(|t| now.duration_since(t).ok());
+        m.file_type().is_file() && m.uid() == me && old.is_some_and(|old| old >= age)
+    };
     for entry in entries.flatten() {
-        let Some(pid) = temp_owner(&entry.file_name()) else {
+        if temp_owner(&entry.file_name()).is_none() {
+            continue;
+        }
+        let path = entry.path();
+        let Ok(meta) = path.symlink_metadata() else {
             continue;
         };
-        let alive = Path::new("/proc").join(pid.to_string()).exists();
-        if !alive && entry.file_type().is_ok_and(|t| t.is_file()) {
-            let _ = std::fs::remove_file(entry.path());
+        if !stale(&meta) {
+            continue;
+        }
+        // Opened without following a link or blocking (on a FIFO put there since), and
+        // still the file looked at.
+        let Ok(file) = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
+            .open(&path)
+        else {
+            continue;
+        };
+        let same = file
+            .metadata()
+            .is_ok_and(|m| FileId::of(&m) == FileId::of(&meta) && stale(&m));
+        if same && file.try_lock().is_ok() {
+            let _ = std::fs::remove_file(&path);
         }
     }
 }
+
+#[cfg(not(unix))]
+fn remove_temps_older_than(_: &Path, _: Duration) {}
 
 /// An output being written: a temporary file beside the destination, renamed over it by
 /// [`OutputFile::commit`] once complete; dropped before that, it is removed and the
@@ -406,10 +507,7 @@ impl OutputFile {
         }
         // Through a link (dangling or not): replace the file it names, keep the link.
         let target = link_target(path)?;
-        let dir = match target.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
+        let dir = parent_dir(&target).to_path_buf();
         let name = (target.file_name())
             .unwrap_or(std::ffi::OsStr::new("output"))
             .to_owned();
@@ -423,7 +521,10 @@ impl OutputFile {
     }
 
     /// A new file `.NAME.raylab-PID-N.tmp` in `dir` ([`temp_name`]), created exclusively (mode
-    /// 0666 less the umask), once the stale ones of killed runs are removed.
+    /// 0666 less the umask) and locked (an exclusive `flock`, held while the file is open:
+    /// until it is renamed or removed), once the stale ones of killed runs are removed. (Where
+    /// the file system has no locks it is written unlocked: then no cleanup can lock it either,
+    /// and none removes it.)
     fn open_temp(dir: &Path, name: &std::ffi::OsStr) -> std::io::Result<(PathBuf, std::fs::File)> {
         use std::sync::atomic::{AtomicU64, Ordering};
         static NEXT: AtomicU64 = AtomicU64::new(0);
@@ -436,7 +537,10 @@ impl OutputFile {
                 .create_new(true)
                 .open(&temp)
             {
-                Ok(file) => return Ok((temp, file)),
+                Ok(file) => {
+                    let _ = file.lock();
+                    return Ok((temp, file));
+                }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
                 Err(e) => return Err(e),
             }
@@ -586,19 +690,144 @@ mod tests {
         assert_eq!(names(dir.path()).len(), 1);
     }
 
+    /// Sets a file's last modification `ago` back from now.
+    fn age(path: &Path, ago: Duration) {
+        let file = std::fs::File::options().write(true).open(path).unwrap();
+        file.set_modified(std::time::SystemTime::now() - ago)
+            .unwrap();
+    }
+
     #[test]
-    fn a_killed_runs_temporary_file_is_removed_by_the_next_write() {
+    fn only_an_old_unlocked_temporary_file_of_this_user_is_removed() {
         let dir = tempfile::tempdir().unwrap();
-        let mut child = std::process::Command::new("true").spawn().unwrap();
-        let dead = child.id();
-        child.wait().unwrap();
-        let name = |pid| temp_name("out.t.npy".as_ref(), pid, 3);
-        assert_eq!(temp_owner(&name(dead)), Some(dead));
-        std::fs::write(dir.path().join(name(dead)), b"half").unwrap();
-        std::fs::write(dir.path().join(name(std::process::id())), b"live").unwrap();
-        std::fs::write(dir.path().join(".other.tmp"), b"not ours").unwrap();
-        write_file(&dir.path().join("out.png"), b"x").unwrap();
-        let live = name(std::process::id()).into_string().unwrap();
-        assert_eq!(names(dir.path()), [".other.tmp", live.as_str(), "out.png"]);
+        let d = dir.path();
+        let old = STALE_TEMP_AGE + Duration::from_secs(60);
+        let temp = |what: &str, pid| temp_name(what.as_ref(), pid, 3).into_string().unwrap();
+        // A live one: old, but its writer (here a handle of this test) holds its lock, as a
+        // raylab in another pid namespace or on another host would.
+        let live = temp("live.npy", 4_000_000);
+        std::fs::write(d.join(&live), b"still writing").unwrap();
+        age(&d.join(&live), old);
+        let held = std::fs::File::open(d.join(&live)).unwrap();
+        held.lock().unwrap();
+        // A killed run's: old, unlocked.
+        let stale = temp("stale.npy", std::process::id());
+        std::fs::write(d.join(&stale), b"half").unwrap();
+        age(&d.join(&stale), old);
+        // Just made: unlocked yet (or on a file system without locks).
+        let young = temp("young.npy", 4_000_001);
+        std::fs::write(d.join(&young), b"new").unwrap();
+        // Not a temporary file's name, or a link with one: never.
+        for other in [
+            ".notes.tmp",
+            ".a.raylab-1.tmp",
+            ".a.raylab-x-1.tmp",
+            "b.raylab-1-1.tmp",
+        ] {
+            std::fs::write(d.join(other), b"the user's").unwrap();
+            age(&d.join(other), old);
+        }
+        let link = temp("link.npy", 4_000_002);
+        std::os::unix::fs::symlink(&stale, d.join(&link)).unwrap();
+        assert_eq!(temp_owner(stale.as_ref()), Some(std::process::id()));
+        write_file(&d.join("out.png"), b"x").unwrap();
+        let mut kept = vec![
+            ".a.raylab-1.tmp",
+            ".a.raylab-x-1.tmp",
+            ".notes.tmp",
+            link.as_str(),
+            live.as_str(),
+            young.as_str(),
+            "b.raylab-1-1.tmp",
+            "out.png",
+        ];
+        kept.sort();
+        assert_eq!(names(d), kept);
+        // Its lock released (its writer killed), the live one is stale.
+        drop(held);
+        write_file(&d.join("out.png"), b"y").unwrap();
+        assert!(!d.join(&live).exists());
+        assert!(d.join(&young).exists());
+    }
+
+    #[test]
+    fn a_temporary_file_is_locked_while_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut out = OutputFile::create(&dir.path().join("a.png")).unwrap();
+        out.write_all(b"png").unwrap();
+        let temp = out.temp.clone().unwrap();
+        age(&temp, STALE_TEMP_AGE * 2);
+        let other = std::fs::File::open(&temp).unwrap();
+        assert!(other.try_lock().is_err(), "locked by its writer");
+        remove_stale_temps(dir.path());
+        assert!(temp.exists());
+        out.commit().unwrap();
+        assert!(other.try_lock().is_ok(), "released once renamed");
+        assert_eq!(names(dir.path()), ["a.png"]);
+    }
+
+    #[test]
+    fn a_link_to_a_directorys_name_is_refused_before_any_work() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        for (name, text) in [
+            ("slash", "newdir/"),
+            ("dot", "newdir/."),
+            ("up", "newdir/.."),
+        ] {
+            std::os::unix::fs::symlink(text, d.join(name)).unwrap();
+            let e = OutputFile::create(&d.join(name)).unwrap_err();
+            assert!(
+                matches!(e, InputError::LinkToDirectory { .. }),
+                "{name}: {e}"
+            );
+            assert!(e.to_string().contains(text), "{e}");
+        }
+        // Through a second link too.
+        std::os::unix::fs::symlink("slash", d.join("second")).unwrap();
+        let e = OutputFile::create(&d.join("second")).unwrap_err();
+        assert!(matches!(e, InputError::LinkToDirectory { .. }), "{e}");
+        assert_eq!(names(d), ["dot", "second", "slash", "up"]);
+    }
+
+    #[test]
+    fn a_link_in_a_sticky_shared_directory_is_followed_as_the_kernel_would() {
+        let dir = tempfile::tempdir().unwrap();
+        let sticky = dir.path().join("sticky");
+        std::fs::create_dir(&sticky).unwrap();
+        std::fs::set_permissions(&sticky, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        // This user's own link: followed.
+        let mine = sticky.join("mine.png");
+        std::os::unix::fs::symlink("mine-target.png", &mine).unwrap();
+        write_file(&mine, b"png").unwrap();
+        assert_eq!(
+            std::fs::read(sticky.join("mine-target.png")).unwrap(),
+            b"png"
+        );
+        if effective_uid() != 0 {
+            println!("skipped: a link owned by another user needs root to make");
+            return;
+        }
+        // Another user's (neither this user nor the directory's owner): refused.
+        let theirs = sticky.join("theirs.png");
+        std::os::unix::fs::symlink("/tmp/victim-of-a-link.png", &theirs).unwrap();
+        std::os::unix::fs::lchown(&theirs, Some(54_321), Some(54_321)).unwrap();
+        let e = write_file(&theirs, b"png").unwrap_err();
+        assert!(matches!(e, InputError::ProtectedLink { .. }), "{e}");
+        assert!(e.to_string().contains("sticky"), "{e}");
+        assert!(!Path::new("/tmp/victim-of-a-link.png").exists());
+        // The same link where the directory is not sticky: followed.
+        std::fs::set_permissions(&sticky, std::fs::Permissions::from_mode(0o777)).unwrap();
+        let inside = sticky.join("inside.png");
+        std::os::unix::fs::symlink("inside-target.png", &inside).unwrap();
+        std::os::unix::fs::lchown(&inside, Some(54_321), Some(54_321)).unwrap();
+        write_file(&inside, b"png").unwrap();
+        assert!(sticky.join("inside-target.png").exists());
+        // Owned by the directory's owner: followed.
+        std::fs::set_permissions(&sticky, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        std::os::unix::fs::chown(&sticky, Some(54_321), Some(54_321)).unwrap();
+        std::fs::remove_file(sticky.join("inside-target.png")).unwrap();
+        write_file(&inside, b"png").unwrap();
+        assert!(sticky.join("inside-target.png").exists());
     }
 }
