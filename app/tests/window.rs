@@ -383,6 +383,45 @@ fn real_x_input_escape_twice_quits() {
 }
 
 #[test]
+fn real_x_input_escape_quits_only_right_after_asking() {
+    // Esc asks; a click on the panel comes between, so Esc asks again rather than quitting;
+    // then a failed load raises the banner (the status now says the error), Esc dismisses
+    // it, and the next Esc asks again. The run is never quit: it ends with its final line.
+    // (The prompt stayed armed through the click and the error: the window quit at the
+    // second Esc while the status showed something else.)
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
+    let script = "4000 drop bad.obj\n14000 step indirect\n";
+    // (150, 680): the panel's empty space below the path field at the default window on
+    // the harness's 1280x800 screen: a click on no widget.
+    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.3; \
+                  xdotool mousemove --sync 150 680; sleep 0.2; xdotool click 1; sleep 0.3; \
+                  xdotool key Escape; sleep 0.3; \
+                  until grep -q 'could not load' \"$log\"; do sleep 0.1; done; sleep 0.3; \
+                  xdotool key Escape; sleep 0.3; xdotool key Escape";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(!run.fields.is_empty(), "the window quit\n{log}");
+    assert_eq!(run.fields["banner"], "off", "{log}");
+    let asked: Vec<usize> = log
+        .match_indices("press Esc again to quit")
+        .map(|m| m.0)
+        .collect();
+    let failed = log.find("could not load").expect("the load failed");
+    let dismissed = log
+        .find("error banner dismissed")
+        .expect("Esc dismissed it");
+    assert_eq!(asked.len(), 3, "{log}");
+    assert!(
+        asked[1] < failed && failed < dismissed && dismissed < asked[2],
+        "{log}"
+    );
+}
+
+#[test]
 fn real_x_input_middle_drag_pans_in_orbit_mode() {
     // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
     // cursor, so the camera (and its target) move left, keeping height and depth.

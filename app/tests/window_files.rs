@@ -434,8 +434,12 @@ fn an_edit_saved_while_a_reload_loads_is_loaded_too() {
     std::fs::write(dir.path().join("first.scene"), big).unwrap();
     let last = "cornell\nsphere 0 0.5 0 0.3\nsphere 0.5 0.5 0 0.2\n";
     std::fs::write(dir.path().join("last.scene"), last).unwrap();
-    // (Each edit replaces the file whole, as an editor saving it does.)
-    let driver = "sleep 1.5; mv first.scene s.scene; sleep 0.6; mv last.scene s.scene";
+    // (Each edit replaces the file whole, as an editor saving it does. The second waits for
+    // the window to say it is reloading the first: the big scene then takes seconds to load,
+    // the file watcher a quarter of a second to see the second edit.)
+    let driver = "mv first.scene s.scene; \
+                  until grep -q 'reloading' \"$log\"; do sleep 0.05; done; \
+                  mv last.scene s.scene";
     let around = Around::RealInputOn(driver, &scene);
     let Some(run) = run_window_with(RAYLAB, "12000 step indirect\n", dir.path(), &[], around)
     else {
@@ -448,5 +452,93 @@ fn an_edit_saved_while_a_reload_loads_is_loaded_too() {
     );
     assert!(log.contains("(800000 primitives)"), "{log}");
     assert_eq!(run.fields["primitives"], "32", "{log}");
-    assert!(log.trim_end().contains("reloaded"), "{log}");
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    let want = format!("reloaded {} (32 primitives)", scene.display());
+    assert_eq!(status, Some(want.as_str()), "{log}");
+}
+
+/// Writes the small scene (the box and a ball: 31 primitives) a view names, and that view:
+/// its camera at yaw 20, a fixed 320x240.
+fn small_scene_and_its_view(dir: &std::path::Path) -> std::path::PathBuf {
+    std::fs::write(dir.join("small.scene"), "cornell\nsphere 0 0.5 0 0.3\n").unwrap();
+    let view = dir.join("v.view");
+    std::fs::write(
+        &view,
+        "scene small.scene\ncamera 0.5 0.2 -2.5 yaw 20 pitch -5 fov 53\nsize 320 240\nspp 1\n",
+    )
+    .unwrap();
+    view
+}
+
+/// A pyramid OBJ (6 triangles).
+const PYRAMID: &str = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
+                       f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+
+#[test]
+fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
+    // A model dropped, and in the same moment (its load under way) a view of another scene:
+    // the view's scene loads after the model, then the view's camera applies to it. (The
+    // view's scene was skipped as "not the file shown" and the model's framing camera
+    // replaced the view's: the window ended on the model at yaw 0.)
+    let dir = tempfile::tempdir().unwrap();
+    let view = small_scene_and_its_view(dir.path());
+    let model = dir.path().join("pyramid.obj");
+    std::fs::write(&model, PYRAMID).unwrap();
+    let script = format!("0 drop {}\n0 drop {}\n", model.display(), view.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(log.contains("asked for while a load is under way"), "{log}");
+    assert!(log.contains("pyramid.obj (6 primitives)"), "{log}");
+    assert!(run.fields["scene"].ends_with("small.scene"), "{log}");
+    assert_eq!(run.fields["primitives"], "31", "{log}");
+    assert!((run.nums("yaw")[0] - 20.0).abs() < 1e-9, "{log}");
+    assert!((run.nums("pitch")[0] + 5.0).abs() < 1e-9, "{log}");
+    assert_eq!(run.fields["size"], "320x240");
+    assert!(log.contains("loaded view"), "{log}");
+}
+
+#[test]
+fn a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save() {
+    // The scene shown reloads (its file changed); a second scene is dropped meanwhile; then
+    // the first file is saved again: the dropped scene is what the window ends on. (The
+    // first file's reload took the queue's place and the drop was lost.)
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.scene");
+    std::fs::write(&a, "cornell\n").unwrap();
+    let b = dir.path().join("b.scene");
+    std::fs::write(&b, "cornell\nsphere 0 0.5 0 0.3\nsphere 0.5 0.5 0 0.2\n").unwrap();
+    let script = format!(
+        "0 changed {a}\n0 drop {b}\n0 changed {a}\n",
+        a = a.display(),
+        b = b.display()
+    );
+    let args = [a.to_str().unwrap()];
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Args(&args)) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(log.contains("reloading"), "the first file reloaded\n{log}");
+    assert!(log.contains("not reloaded"), "{log}");
+    assert!(run.fields["scene"].ends_with("b.scene"), "{log}");
+    assert_eq!(run.fields["primitives"], "32", "{log}");
+}
+
+#[test]
+fn a_file_saved_while_it_loads_is_loaded_again() {
+    // A scene dropped, and its file saved while it loads: it is loaded again once the first
+    // load ends (the change was ignored: the file was not yet the one shown).
+    let dir = tempfile::tempdir().unwrap();
+    let b = dir.path().join("b.scene");
+    std::fs::write(&b, "cornell\nsphere 0 0.5 0 0.3\n").unwrap();
+    let script = format!("0 drop {b}\n0 changed {b}\n", b = b.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(log.contains("asked for while a load is under way"), "{log}");
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    let want = format!("reloaded {} (31 primitives)", b.display());
+    assert_eq!(status, Some(want.as_str()), "{log}");
 }

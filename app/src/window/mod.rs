@@ -53,6 +53,12 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
+/// What the first Esc says (with nothing else for it to do).
+const QUIT_PROMPT: &str = "press Esc again to quit";
+
+/// How long the quit prompt holds: a later Esc asks again.
+const QUIT_PROMPT_FOR: Duration = Duration::from_secs(5);
+
 /// How the viewer was started.
 #[derive(Default, Clone)]
 pub struct ViewerOptions {
@@ -77,9 +83,8 @@ pub struct ViewerOptions {
 pub enum AppEvent {
     /// The render worker finished an image.
     FrameReady,
-    /// A scene or OBJ finished loading (or failed); `true` for a reload of the file shown,
-    /// which keeps the camera.
-    SceneLoaded(PathBuf, Box<Result<Stage, String>>, bool),
+    /// A scene or OBJ finished loading (or failed): the load as asked for, and its scene.
+    SceneLoaded(viewer::LoadRequest, Box<Result<Stage, String>>),
     /// The file of the scene shown changed on disk.
     SourceChanged(PathBuf),
     /// An F12 screenshot was written (or failed).
@@ -159,7 +164,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         drag: None,
         press_at: None,
         mouse_look: false,
-        esc_armed: false,
+        esc_armed: None,
         oversized: false,
         frames_presented: 0,
         image_on_screen: false,
@@ -192,7 +197,9 @@ struct App {
     /// Where a left press over the image began (a click there inspects its pixel).
     press_at: Option<(f64, f64)>,
     mouse_look: bool,
-    esc_armed: bool,
+    /// When Esc asked "press Esc again to quit": a second Esc quits only while that prompt is
+    /// the status shown, within [`QUIT_PROMPT_FOR`], with no click or banner since.
+    esc_armed: Option<Instant>,
     /// The window is larger than the graphics device draws: drawing is paused.
     oversized: bool,
     frames_presented: u64,
@@ -301,7 +308,7 @@ impl App {
     fn key(&mut self, event_loop: &ActiveEventLoop, key: Key, pressed: bool) {
         if self.viewer.input.key(key, pressed) {
             if pressed {
-                self.esc_armed = false;
+                self.esc_armed = None;
             }
             return;
         }
@@ -337,17 +344,27 @@ impl App {
                 if self.mouse_look {
                     self.set_mouse_look(false);
                 } else if self.viewer.banner.take().is_some() {
+                    self.esc_armed = None;
                     log::info!("error banner dismissed");
-                } else if self.esc_armed {
+                } else if self.quit_armed() {
                     event_loop.exit();
                 } else {
-                    self.esc_armed = true;
-                    self.viewer.set_status("press Esc again to quit");
+                    self.esc_armed = Some(Instant::now());
+                    self.viewer.set_status(QUIT_PROMPT);
                 }
             }
             _ => {}
         }
         self.request_redraw();
+    }
+
+    /// Whether a second Esc quits now: the quit prompt is the status shown (no message, error
+    /// or banner came since), it is recent, and nothing was clicked since.
+    fn quit_armed(&self) -> bool {
+        let recent = self
+            .esc_armed
+            .is_some_and(|t| t.elapsed() < QUIT_PROMPT_FOR);
+        recent && self.viewer.status == QUIT_PROMPT && self.viewer.banner.is_none()
     }
 
     /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back, and
@@ -582,8 +599,8 @@ impl ApplicationHandler<AppEvent> for App {
                 self.viewer.screenshot_saved(result);
                 self.request_redraw();
             }
-            AppEvent::SceneLoaded(path, result, reload) => {
-                let loaded = self.viewer.scene_loaded(path, *result, reload);
+            AppEvent::SceneLoaded(request, result) => {
+                let loaded = self.viewer.scene_loaded(request, *result);
                 if let (Some(name), Some(w)) = (loaded, &self.window) {
                     w.set_title(&format!("raylab - {name}"));
                 }
@@ -668,6 +685,10 @@ impl ApplicationHandler<AppEvent> for App {
             WindowEvent::CursorLeft { .. } => self.cursor = None,
             WindowEvent::MouseInput { state, button, .. } => {
                 let pressed = state == ElementState::Pressed;
+                if pressed {
+                    // (A click is something else done: Esc asks again before quitting.)
+                    self.esc_armed = None;
+                }
                 let on_image = self.pointer_over_image() || !egui_pointer;
                 let orbit_mode = self.viewer.controller.mode == Mode::Orbit;
                 if button == MouseButton::Left {

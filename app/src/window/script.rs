@@ -12,6 +12,8 @@
 //!   `set cracks on`)
 //! - `step flat|direct|shadows|indirect`: `set step …`
 //! - `drop <path>`: as if the file were dropped on the window (paths without spaces)
+//! - `changed <path>`: as if the file watcher saw the file change on disk (at once, where the
+//!   watcher looks every 250 ms)
 //! - `focal <px>`: what the panel's focal-length slider does
 //! - `scale <s>`: the panel's resolution scale slider (0.05..=1 of the window)
 //! - `resize <w> <h>`: asks the window system for that inner size; `resize 0 0` minimises (the
@@ -43,6 +45,8 @@ pub enum Action {
     Set(&'static str, String),
     /// Drop a file on the window.
     Drop(std::path::PathBuf),
+    /// The file watcher's report that a file changed on disk.
+    Changed(std::path::PathBuf),
     /// Set the focal length (pixels of the full-resolution image).
     Focal(f64),
     /// Set the resolution scale.
@@ -168,6 +172,10 @@ impl Script {
                     want(3)?;
                     Action::Drop(w[2].into())
                 }
+                Some("changed") => {
+                    want(3)?;
+                    Action::Changed(w[2].into())
+                }
                 Some("focal") => {
                     want(3)?;
                     Action::Focal(num(2)?)
@@ -220,7 +228,7 @@ impl Script {
                 }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, focal, scale, resize, restore, lose-surface, select)"
+                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, select)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -259,7 +267,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -278,6 +286,7 @@ mod tests {
                 Action::Set("step", "shadows".into()),
                 Action::Set("cracks", "on".into()),
                 Action::Drop("m.obj".into()),
+                Action::Changed("m.obj".into()),
                 Action::Focal(700.0),
                 Action::Scale(0.5),
                 Action::Resize(0, 0),

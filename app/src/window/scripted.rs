@@ -194,6 +194,7 @@ impl App {
                     viewer.changed();
                 }
                 Action::Drop(path) => viewer.load(path),
+                Action::Changed(path) => viewer.reload(path),
                 Action::Focal(f) => {
                     let width = viewer.full_size().0;
                     viewer.controller.set_focal(f, width);

@@ -97,9 +97,13 @@ pub struct Viewer {
     /// The panel's OBJ path field.
     pub obj_path: String,
     pub loading: bool,
-    /// A load asked for while another was under way (the newest request wins), started when
-    /// that one ends: an edit saved during a reload is loaded too.
-    queued_load: Option<(PathBuf, bool)>,
+    /// The load under way: its file (the scene shown after it, if it loads).
+    running_load: Option<PathBuf>,
+    /// A load asked for while another was under way, started as it was asked for when that
+    /// one ends: the newest explicit load (open, a view) wins over everything asked for
+    /// before it; a reload is kept only of the file that will be shown (an edit saved during
+    /// a reload is loaded too).
+    queued_load: Option<LoadRequest>,
     pub screenshots_pending: usize,
     /// Rendered frames that arrived while a key held the camera moving (the preview works).
     pub frames_while_moving: u64,
@@ -109,8 +113,6 @@ pub struct Viewer {
     source: Arc<Mutex<Option<PathBuf>>>,
     /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
     pub selected_level: Option<usize>,
-    /// The light of a view being loaded, kept over its scene's own.
-    view_light: Option<[f32; 3]>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
     pub inspector_on: bool,
     /// The inspected pixel's ray, in the world, as last answered ([`super::follow`]).
@@ -130,6 +132,31 @@ pub struct Viewer {
     pub copy_request: Option<String>,
     /// The File menu and its dialog.
     pub files: super::files::FileMenu,
+}
+
+/// What a load does once its file is read.
+#[derive(Clone, Debug)]
+pub enum LoadKind {
+    /// A file opened (dropped, the File menu, the path field): a new camera for it.
+    Open,
+    /// The file shown changed on disk: the camera, light and settings stay.
+    Reload,
+    /// A saved view's scene (the view file's path beside it): the view's camera, light and
+    /// settings apply once its own scene has loaded.
+    View(Box<raylab::view::View>, PathBuf),
+}
+
+/// A load asked for: the file and what to do with it.
+#[derive(Clone, Debug)]
+pub struct LoadRequest {
+    pub path: PathBuf,
+    pub kind: LoadKind,
+}
+
+impl LoadRequest {
+    fn is_reload(&self) -> bool {
+        matches!(self.kind, LoadKind::Reload)
+    }
 }
 
 /// How often the scene's file is checked for changes.
@@ -218,13 +245,13 @@ impl Viewer {
                 .map(|p| p.display().to_string())
                 .unwrap_or_default(),
             loading: false,
+            running_load: None,
             queued_load: None,
             screenshots_pending: 0,
             frames_while_moving: 0,
             paused: false,
             source,
             selected_level: None,
-            view_light: None,
             inspector_on: true,
             inspection: None,
             code,
@@ -463,21 +490,23 @@ impl Viewer {
         })
     }
 
-    /// Loads a `.scene` or OBJ file on a thread of its own ([`AppEvent::SceneLoaded`] when
-    /// done).
+    /// Loads a `.scene`, OBJ or `.view` file (a `.scene` or OBJ on a thread of its own,
+    /// [`AppEvent::SceneLoaded`] when done).
     pub fn load(&mut self, path: PathBuf) {
         let is_view = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("view"));
         match is_view {
             true => self.load_view(&path),
-            false if path.as_os_str() == raylab::scene::CORNELL => self.show_cornell(),
-            false => self.load_file(path, false),
+            false => self.request_load(LoadRequest {
+                path,
+                kind: LoadKind::Open,
+            }),
         }
     }
 
-    /// Applies a saved view (F5): its camera, light and settings now, its scene as it loads
-    /// (keeping that camera and light).
+    /// Opens a saved view (F5): its scene first (unless it is the one shown), then its
+    /// camera, light and settings.
     fn load_view(&mut self, path: &std::path::Path) {
         let view = raylab::input::read_text(path, raylab::input::max_input_bytes())
             .map_err(|e| e.to_string())
@@ -485,10 +514,17 @@ impl Viewer {
                 raylab::view::View::parse(&path.display().to_string(), &text)
                     .map_err(|e| e.to_string())
             });
-        let view = match view {
-            Ok(v) => v,
-            Err(e) => return self.report_error(format!("could not load the view: {e}")),
-        };
+        match view {
+            Ok(view) => self.request_load(LoadRequest {
+                path: PathBuf::from(view.scene_path(path)),
+                kind: LoadKind::View(Box::new(view), path.to_path_buf()),
+            }),
+            Err(e) => self.report_error(format!("could not load the view: {e}")),
+        }
+    }
+
+    /// Applies a view's camera, light and settings to the scene shown (its own).
+    fn apply_view(&mut self, view: &raylab::view::View, path: &std::path::Path) {
         let s = view.settings;
         self.view.controls = s;
         self.view.resolution = Resolution::Fixed(s.width, s.height);
@@ -498,17 +534,6 @@ impl Viewer {
             self.view.light = light;
         }
         self.obj_frame = view.obj_frame;
-        let current = self.source.lock().expect("not poisoned").clone();
-        let spec = view.scene_path(path);
-        let wanted = (spec != raylab::scene::CORNELL).then(|| PathBuf::from(spec));
-        match wanted {
-            Some(p) if current.as_ref() != Some(&p) => {
-                self.view_light = view.light;
-                self.load_file(p, true);
-            }
-            None if current.is_some() => self.show_cornell(),
-            _ => {}
-        }
         let shown = fit_shown((s.width, s.height), self.max_side);
         let mut message = format!("loaded view {}", path.display());
         if shown != (s.width, s.height) {
@@ -529,65 +554,120 @@ impl Viewer {
     fn show_cornell(&mut self) {
         *self.source.lock().expect("not poisoned") = None;
         self.stage = Stage::new(Scene::cornell(), self.accel);
+        self.selected_level = None;
         self.changed();
     }
 
-    /// Reloads the scene's file after it changed on disk (keeping the camera).
+    /// The scene's file changed on disk: reloads it (keeping the camera) if it is the file
+    /// shown, or the one a load under way will show.
     pub fn reload(&mut self, path: PathBuf) {
-        if self.source.lock().expect("not poisoned").as_ref() == Some(&path) {
-            self.load_file(path, true);
+        let request = LoadRequest {
+            path,
+            kind: LoadKind::Reload,
+        };
+        if self.loading {
+            self.queue_load(request);
+        } else if self.source.lock().expect("not poisoned").as_ref() == Some(&request.path) {
+            self.start_load(request);
         }
     }
 
-    fn load_file(&mut self, path: PathBuf, reload: bool) {
-        if self.loading {
-            log::info!(
-                "{} asked for while a load is under way: loaded once that one ends",
-                path.display()
-            );
-            self.queued_load = Some((path, reload));
+    /// Starts a load, or queues it behind the one under way.
+    fn request_load(&mut self, request: LoadRequest) {
+        match self.loading {
+            true => self.queue_load(request),
+            false => self.start_load(request),
+        }
+    }
+
+    /// Keeps a load for when the one under way ends: an explicit load (open, a view) replaces
+    /// whatever was queued; a reload is kept only where no explicit load is queued and its
+    /// file is the one the load under way will show.
+    fn queue_load(&mut self, request: LoadRequest) {
+        let path = request.path.display().to_string();
+        if request.is_reload() {
+            let explicit_queued = self.queued_load.as_ref().is_some_and(|q| !q.is_reload());
+            if explicit_queued || self.running_load.as_ref() != Some(&request.path) {
+                log::info!("{path} changed, but another file is shown next: not reloaded");
+                return;
+            }
+        }
+        let message =
+            format!("{path} asked for while a load is under way: loaded once that one ends");
+        match request.is_reload() {
+            true => log::info!("{message}"),
+            false => self.set_status(message),
+        }
+        self.queued_load = Some(request);
+    }
+
+    /// Starts a load now: the Cornell box and a view of the scene shown at once, a file on
+    /// a thread of its own.
+    fn start_load(&mut self, request: LoadRequest) {
+        let cornell = request.path.as_os_str() == raylab::scene::CORNELL;
+        let shown = self.source.lock().expect("not poisoned").clone();
+        if let LoadKind::View(view, file) = &request.kind {
+            if (cornell && shown.is_none()) || shown.as_ref() == Some(&request.path) {
+                return self.apply_view(view, file);
+            }
+        }
+        if cornell {
+            self.show_cornell();
+            if let LoadKind::View(view, file) = &request.kind {
+                self.apply_view(view, file);
+            }
             return;
         }
         self.loading = true;
-        let verb = if reload { "reloading" } else { "loading" };
-        self.set_status(format!("{verb} {}...", path.display()));
+        self.running_load = Some(request.path.clone());
+        let verb = match request.kind {
+            LoadKind::Reload => "reloading",
+            _ => "loading",
+        };
+        self.set_status(format!("{verb} {}...", request.path.display()));
         let proxy = self.proxy.clone();
-        let (frame, accel) = (self.obj_frame, self.accel);
+        let frame = match &request.kind {
+            LoadKind::View(view, _) => view.obj_frame,
+            _ => self.obj_frame,
+        };
+        let accel = self.accel;
         std::thread::spawn(move || {
-            let result = Scene::load(&path, frame).map(|scene| Stage::new(scene, accel));
-            let _ = proxy.send_event(AppEvent::SceneLoaded(path, Box::new(result), reload));
+            let result = Scene::load(&request.path, frame).map(|scene| Stage::new(scene, accel));
+            let _ = proxy.send_event(AppEvent::SceneLoaded(request, Box::new(result)));
         });
     }
 
     /// A load ended: its scene is shown ([`Viewer::show_loaded`]), then a load asked for
-    /// meanwhile starts. Returns the new scene's name for the window title.
+    /// meanwhile starts as it was asked for. Returns the new scene's name for the window
+    /// title.
     pub fn scene_loaded(
         &mut self,
-        path: PathBuf,
+        request: LoadRequest,
         result: Result<Stage, String>,
-        reload: bool,
     ) -> Option<String> {
         self.loading = false;
-        let name = self.show_loaded(path, result, reload);
-        match self.queued_load.take() {
-            Some((path, true)) => self.reload(path),
-            Some((path, false)) => self.load_file(path, false),
-            None => {}
+        self.running_load = None;
+        let failed = result.is_err();
+        let name = self.show_loaded(&request, result);
+        if let Some(next) = self.queued_load.take() {
+            // A file that failed and changed meanwhile (fixed, perhaps) is loaded again as
+            // it was asked for.
+            let again = failed && next.is_reload() && next.path == request.path;
+            self.start_load(if again { request } else { next });
         }
         name
     }
 
-    /// A loaded scene replaces the shown one (with a new camera, unless it is a `reload` of
-    /// the same file); a failed load keeps it and says why.
+    /// A loaded scene replaces the shown one (with a new camera for an opened file, the
+    /// view's for a view's scene, the same for a reload); a failed load keeps it and says
+    /// why.
     fn show_loaded(
         &mut self,
-        path: PathBuf,
+        request: &LoadRequest,
         result: Result<Stage, String>,
-        reload: bool,
     ) -> Option<String> {
-        if result.is_err() {
-            self.view_light = None;
-        }
+        let path = &request.path;
+        let reload = request.is_reload();
         let stage = match result {
             Ok(stage) => stage,
             Err(e) if reload => {
@@ -607,14 +687,16 @@ impl Viewer {
             .selected_level
             .filter(|l| reload && *l < scene.levels.len());
         let (w, h) = self.full_size();
-        match (scene.camera, scene.bounds()) {
-            _ if reload => {}
-            (Some(c), _) => self.controller = CameraController::from_scene_camera(&c, scene.size()),
-            (None, Some(bounds)) => self.controller = CameraController::framing(bounds, w, h),
-            (None, None) => {}
+        match (&request.kind, scene.camera, scene.bounds()) {
+            (LoadKind::Open, Some(c), _) => {
+                self.controller = CameraController::from_scene_camera(&c, scene.size())
+            }
+            (LoadKind::Open, None, Some(bounds)) => {
+                self.controller = CameraController::framing(bounds, w, h)
+            }
+            _ => {}
         }
-        // A view being loaded keeps its own light.
-        self.view.light = self.view_light.take().unwrap_or(scene.light.position);
+        self.view.light = scene.light.position;
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
             "{verb} {} ({} primitives)",
@@ -623,6 +705,9 @@ impl Viewer {
         ));
         let name = scene.name.clone();
         self.stage = stage;
+        if let LoadKind::View(view, file) = &request.kind {
+            self.apply_view(view, file);
+        }
         self.changed();
         Some(name)
     }
