@@ -5,10 +5,12 @@
 use raylab::geometry::{adaptive, Method, Ray, Shape};
 use std::time::Instant;
 fn main() {
-    let shapes32: Vec<Shape<f32>> =
-        raylab::tracefile::parse_scene::<f32>("c", "cornell\n").unwrap();
-    let shapes64: Vec<Shape<f64>> =
-        raylab::tracefile::parse_scene::<f64>("c", "cornell\n").unwrap();
+    let shapes32: Vec<Shape<f32>> = raylab::tracefile::parse_scene::<f32>("c", "cornell\n")
+        .unwrap()
+        .0;
+    let shapes64: Vec<Shape<f64>> = raylab::tracefile::parse_scene::<f64>("c", "cornell\n")
+        .unwrap()
+        .0;
     let scene = raylab::tracefile::parse_scene_instanced("c", "cornell\n").unwrap();
     let accel = &raylab::accel::Accel::for_scene(&scene, raylab::accel::AccelChoice::Auto);
     let rays: Vec<[f64; 6]> = (0..160_000)

@@ -81,35 +81,31 @@ fn all_finite<T: Real>(xs: &[T], what: &str) -> Result<(), String> {
 }
 
 /// Parses a scene file: the `.scene` format ([`crate::scene::file`]); meshes it names are
-/// read relative to `file`'s directory. Its warnings (a triangle of zero area, kept but never
-/// hit, with its line) go to stderr, as the command line prints a rendered scene's.
-pub fn parse_scene<T: Real>(file: &str, text: &str) -> Result<Vec<Shape<T>>, TraceError> {
+/// read relative to `file`'s directory. Returns the primitives and the warnings (a triangle
+/// of zero area, kept but never hit, with its line), which the caller shows (the command line
+/// prints them as it prints a rendered scene's).
+pub fn parse_scene<T: Real>(
+    file: &str,
+    text: &str,
+) -> Result<(Vec<Shape<T>>, Vec<String>), TraceError> {
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
     let load_mesh = crate::scene::file::load_obj_mesh;
     let d = crate::scene::file::parse::<T>(file, text, dir, &load_mesh)?;
-    print_warnings(&d.warnings);
-    Ok(d.shapes)
-}
-
-/// Prints a scene's warnings to stderr, one `warning:` line each.
-fn print_warnings(warnings: &[String]) {
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
+    Ok((d.shapes, d.warnings))
 }
 
 /// Parses a scene file for the renderer's structures (f32): meshes used repeatedly are placed
 /// as instances ([`crate::scene::file::Instancing::DEFAULT`]), so a field of a thousand
-/// meshes takes the memory of one; primitive indices are the file's, as with [`parse_scene`]
-/// (warnings to stderr as there).
+/// meshes takes the memory of one; primitive indices are the file's, as with [`parse_scene`].
+/// The warnings are the scene's `warnings`, for the caller to show.
 pub fn parse_scene_instanced(file: &str, text: &str) -> Result<crate::scene::Scene, TraceError> {
     use crate::scene::{cornell, file as scene_file, Scene};
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
     let instancing = scene_file::Instancing::DEFAULT;
     let load_mesh = scene_file::load_obj_mesh;
     let d = scene_file::parse_with::<f32>(file, text, dir, &load_mesh, instancing)?;
-    print_warnings(&d.warnings);
-    let scene = Scene::new(file, d.shapes, d.colors, cornell::LIGHT, cornell::AMBIENT);
+    let mut scene = Scene::new(file, d.shapes, d.colors, cornell::LIGHT, cornell::AMBIENT);
+    scene.warnings = d.warnings;
     scene
         .with_instances(d.instances)
         .map_err(|message| TraceError {
@@ -393,7 +389,8 @@ pub fn trace_all_packets(
     }
 }
 
-/// Parses both texts and traces: the whole `raylab trace` in one call.
+/// Parses both texts and traces: the whole `raylab trace` in one call. Returns the output
+/// text and the scene's warnings ([`parse_scene`]), for the caller to show.
 pub fn run<T: Real>(
     scene_file: &str,
     scene_text: &str,
@@ -401,8 +398,8 @@ pub fn run<T: Real>(
     rays_text: &str,
     method: Method,
     query: Query,
-) -> Result<String, TraceError> {
-    let shapes = parse_scene::<T>(scene_file, scene_text)?;
+) -> Result<(String, Vec<String>), TraceError> {
+    let (shapes, warnings) = parse_scene::<T>(scene_file, scene_text)?;
     let rays = parse_rays::<T>(rays_file, rays_text)?;
-    Ok(trace_all(&shapes, &rays, method, query))
+    Ok((trace_all(&shapes, &rays, method, query), warnings))
 }

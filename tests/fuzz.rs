@@ -146,7 +146,7 @@ proptest! {
     )) {
         let text: String = lines.iter().map(|(k, n)| format!("{k} {}\n", n.join(" "))).collect();
         match parse_scene::<f32>("s.txt", &text) {
-            Ok(shapes) => {
+            Ok((shapes, _)) => {
                 for s in shapes {
                     match s {
                         Shape::Triangle(v) => prop_assert!(v.iter().flatten().all(|x| x.is_finite())),

@@ -301,7 +301,7 @@ fn f32_t_is_correctly_rounded_through_every_path() {
         &[-140, -60, 60, 100],
     );
     let reference = |text: &str, rays: &[TraceRay<f32>]| {
-        let shapes = tracefile::parse_scene::<f32>("f.scene", text).unwrap();
+        let shapes = tracefile::parse_scene::<f32>("f.scene", text).unwrap().0;
         tracefile::trace_all(&shapes, rays, Method::Adaptive, Query::Nearest)
     };
     let through = |choice: AccelChoice| {
@@ -341,7 +341,7 @@ fn f64_t_is_correctly_rounded_at_every_scale() {
         &[-1000, -100, 500, 990],
     );
     let reference = |text: &str, rays: &[TraceRay<f64>]| {
-        let shapes = tracefile::parse_scene::<f64>("f.scene", text).unwrap();
+        let shapes = tracefile::parse_scene::<f64>("f.scene", text).unwrap().0;
         tracefile::trace_all(&shapes, rays, Method::Adaptive, Query::Nearest)
     };
     let hits = check(&families, &[("reference", &reference)]);
@@ -454,7 +454,8 @@ fn the_issues_examples_print_the_rounded_exact_t() {
             "f32" => tracefile::run::<f32>("s", scene, "r", ray, Method::Adaptive, Query::Nearest),
             _ => tracefile::run::<f64>("s", scene, "r", ray, Method::Adaptive, Query::Nearest),
         }
-        .unwrap();
+        .unwrap()
+        .0;
         assert_eq!(out, expected, "{scene} / {ray} in {precision}");
     }
 }

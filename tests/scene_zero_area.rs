@@ -30,8 +30,12 @@ fn every_path(scene_file: &std::path::Path, rays_text: &str) -> Vec<(String, Str
     let mut out = Vec::new();
     for method in Method::ALL {
         for query in [Query::Nearest, Query::Any] {
-            let f32_ = tracefile::run::<f32>(&sf, &text, "r", rays_text, method, query).unwrap();
-            let f64_ = tracefile::run::<f64>(&sf, &text, "r", rays_text, method, query).unwrap();
+            let f32_ = tracefile::run::<f32>(&sf, &text, "r", rays_text, method, query)
+                .unwrap()
+                .0;
+            let f64_ = tracefile::run::<f64>(&sf, &text, "r", rays_text, method, query)
+                .unwrap()
+                .0;
             out.push((format!("{method} f32 reference {query:?}"), f32_));
             out.push((format!("{method} f64 reference {query:?}"), f64_));
             let scene = tracefile::parse_scene_instanced(&sf, &text).unwrap();
@@ -446,4 +450,29 @@ fn an_obj_of_only_zero_area_triangles_is_a_mesh_in_a_scene_but_nothing_to_show_a
         let mut rgba = vec![0; settings.buffer_len()];
         raylab::render::render_into(&stage, &Camera::cornell(16), &settings, &mut rgba).unwrap();
     }
+}
+
+#[test]
+fn trace_s_parsers_return_the_warnings_for_the_caller_to_show() {
+    let text = "tri 0 0 0 1 1 1 2 2 2\ntri -1 -1 2 1 -1 2 0 1 2\n";
+    let warned = |w: &[String]| {
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].starts_with("z.scene:1: triangle 0 has zero area"),
+            "{w:?}"
+        );
+    };
+    let (shapes, warnings) = tracefile::parse_scene::<f64>("z.scene", text).unwrap();
+    assert_eq!(shapes.len(), 2);
+    warned(&warnings);
+    warned(
+        &tracefile::parse_scene_instanced("z.scene", text)
+            .unwrap()
+            .warnings,
+    );
+    let rays = "0 0 0 0 0 1 0 inf\n";
+    let (out, warnings) =
+        tracefile::run::<f32>("z.scene", text, "r", rays, Method::Moller, Query::Nearest).unwrap();
+    assert_eq!(out, "hit 2 1\n");
+    warned(&warnings);
 }

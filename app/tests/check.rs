@@ -47,8 +47,8 @@ fn the_exported_suite_reads_back_exactly_in_f32_and_f64() {
         let scene_text = std::fs::read_to_string(&scene_file).unwrap();
         let rays_text = std::fs::read_to_string(&rays_file).unwrap();
         let file = scene_file.display().to_string();
-        let shapes32 = tracefile::parse_scene::<f32>(&file, &scene_text).unwrap();
-        let shapes64 = tracefile::parse_scene::<f64>(&file, &scene_text).unwrap();
+        let shapes32 = tracefile::parse_scene::<f32>(&file, &scene_text).unwrap().0;
+        let shapes64 = tracefile::parse_scene::<f64>(&file, &scene_text).unwrap().0;
         assert_eq!(shapes32.len(), family.shapes.len(), "{name}");
         for ((want, got32), got64) in family.shapes.iter().zip(&shapes32).zip(&shapes64) {
             assert_eq!(

@@ -569,3 +569,53 @@ fn shadow_segments_through_every_path(
     let hits = want.iter().filter(|w| **w == "hit").count();
     (hits, want.len() - hits, on_the_hit)
 }
+
+/// A scene's warnings (a triangle of zero area, kept, never hit) are the command's to print:
+/// `raylab trace` on every path and `raylab check` print each once on stderr as
+/// `warning: …`, as `raylab render` does, and stdout holds the answers alone.
+#[test]
+fn trace_and_check_print_a_scene_s_warnings_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "zero.scene",
+        "tri 0 0 0 1 1 1 2 2 2\ntri -1 -1 2 1 -1 2 0 1 2\n",
+    );
+    let rays = write(dir.path(), "rays.txt", "0 0 0 0 0 1 0 inf\n");
+    let answers = write(dir.path(), "answers.txt", "hit 2 1\n");
+    let warning = "zero.scene:1: triangle 0 has zero area";
+    let once = |o: &std::process::Output, what: &str| {
+        let err = stderr(o);
+        assert!(o.status.success(), "{what}: {err}");
+        let lines: Vec<&str> = err.lines().filter(|l| l.contains(warning)).collect();
+        assert_eq!(lines.len(), 1, "{what}: {err}");
+        assert!(lines[0].starts_with("warning: "), "{what}: {err}");
+    };
+    for more in [
+        &["--precision", "f32"][..],
+        &["--precision", "f64"],
+        &["--precision", "f64", "--method", "moller"],
+        &["--accel", "auto"],
+        &["--accel", "bvh", "--method", "watertight"],
+        &["--accel", "packets"],
+    ] {
+        let args = [&["trace", "--scene", &scene, "--rays", &rays][..], more].concat();
+        let o = raylab(&args);
+        once(&o, &more.join(" "));
+        assert_eq!(stdout(&o), "hit 2 1\n", "{more:?}");
+    }
+    for precision in ["f32", "f64"] {
+        let o = raylab(&[
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--answers",
+            &answers,
+            "--precision",
+            precision,
+        ]);
+        once(&o, precision);
+    }
+}

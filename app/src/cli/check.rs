@@ -168,6 +168,7 @@ type ExactFn<T> = fn(&Path, &Path) -> Result<Exact<T>>;
 fn exact_f32(scene: &Path, rays: &Path) -> Result<Exact<f32>> {
     let (scene_text, rays_text) = (read_text(scene)?, read_text(rays)?);
     let scene = tracefile::parse_scene_instanced(&scene.display().to_string(), &scene_text)?;
+    super::trace::print_warnings(&scene.warnings);
     let rays = tracefile::parse_rays_at_lines::<f32>(&rays.display().to_string(), &rays_text)?;
     Ok(Exact::of_scene(Arc::new(scene), rays))
 }
@@ -175,7 +176,9 @@ fn exact_f32(scene: &Path, rays: &Path) -> Result<Exact<f32>> {
 /// The files read in `T` and answered by the reference loop.
 fn exact_generic<T: Real>(scene: &Path, rays: &Path) -> Result<Exact<T>> {
     let (scene_text, rays_text) = (read_text(scene)?, read_text(rays)?);
-    let shapes = tracefile::parse_scene::<T>(&scene.display().to_string(), &scene_text)?;
+    let (shapes, warnings) =
+        tracefile::parse_scene::<T>(&scene.display().to_string(), &scene_text)?;
+    super::trace::print_warnings(&warnings);
     let rays = tracefile::parse_rays_at_lines::<T>(&rays.display().to_string(), &rays_text)?;
     Ok(Exact::of_shapes(shapes, rays))
 }

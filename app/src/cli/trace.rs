@@ -93,6 +93,7 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         }
         let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
         let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
+        print_warnings(&scene.warnings);
         return write_out(&tracefile::trace_all_packets(&scene, &rays, query));
     }
     let choice = match args.accel {
@@ -102,20 +103,29 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         TraceAccel::Flat => Some(AccelChoice::Flat),
         TraceAccel::Bvh => Some(AccelChoice::Bvh),
     };
-    let out = match (args.precision, choice) {
+    let (out, warnings) = match (args.precision, choice) {
         (Precision::F32, None) => tracefile::run::<f32>(&sf, &scene_text, &rf, &rays_text, method, query)?,
         (Precision::F64, None) => tracefile::run::<f64>(&sf, &scene_text, &rf, &rays_text, method, query)?,
         (Precision::F32, Some(choice)) => {
             let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
             let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            tracefile::trace_all_through(&scene, &rays, method, choice, query)
+            let out = tracefile::trace_all_through(&scene, &rays, method, choice, query);
+            (out, scene.warnings)
         }
         (Precision::F64, Some(_)) => bail!(
             "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",
             args.accel
         ),
     };
+    print_warnings(&warnings);
     write_out(&out)
+}
+
+/// A scene's warnings on stderr, one `warning:` line each (as `raylab render` prints them).
+pub(super) fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// Writes `raylab trace`'s whole output to stdout.
