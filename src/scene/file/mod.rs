@@ -57,9 +57,11 @@ use crate::math::MAX_VIEW_COORDINATE;
 use crate::math::{Real, TransformStack};
 use glam::DVec3;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
+mod matrix;
+mod mesh_files;
 mod parser;
 
 pub use parser::{parse, parse_with};

@@ -1,6 +1,8 @@
 //! The `.scene` parser: one statement at a time through the transform stack (the format is
 //! described in the module above).
 
+use super::matrix::check_matrix;
+use super::mesh_files::{FileKey, MeshFiles};
 use super::*;
 
 /// What `push` saves.
@@ -57,41 +59,6 @@ struct Parser<'a, T: Real> {
 enum Repeated {
     File(FileKey, ObjFrame),
     Cornell,
-}
-
-/// A mesh file's identity: its device and inode where it can be looked up, so that every
-/// spelling of its path (`c.obj`, `./c.obj`, `d/../c.obj`, a link) is one mesh, loaded and
-/// instanced once; else its path as joined (the load then names the problem).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-enum FileKey {
-    Id(u64, u64),
-    Path(PathBuf),
-}
-
-impl FileKey {
-    fn of(path: &Path) -> FileKey {
-        #[cfg(unix)]
-        if let Ok(meta) = std::fs::metadata(path) {
-            use std::os::unix::fs::MetadataExt;
-            return FileKey::Id(meta.dev(), meta.ino());
-        }
-        FileKey::Path(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()))
-    }
-}
-
-/// Each mesh path as written, with the file it names (looked up once per spelling).
-#[derive(Default)]
-struct MeshFiles(HashMap<String, FileKey>);
-
-impl MeshFiles {
-    fn key(&mut self, dir: &Path, path: &str) -> FileKey {
-        if let Some(key) = self.0.get(path) {
-            return key.clone();
-        }
-        let key = FileKey::of(&dir.join(path));
-        self.0.insert(path.to_string(), key.clone());
-        key
-    }
 }
 
 /// A repeated mesh, loaded once, and whether its uses are flattened (a small mesh, while the
@@ -443,47 +410,6 @@ impl<T: Real> Parser<'_, T> {
         Ok(())
     }
 
-    /// Refuses the transform statement `words` if the matrix after it is not finite or is
-    /// singular in f64 (scales multiplied past f64's range: `scale 1e-200` twice is 0).
-    fn check_matrix(&self, words: &[&str]) -> Result<(), String> {
-        let m = self.stack.matrix();
-        let what = words.join(" ");
-        if !m.is_finite() {
-            return Err(format!(
-                "'{what}' makes the transform's matrix not finite in f64 (it passes ±{:e}): \
-                 every point after it would be infinite",
-                f64::MAX
-            ));
-        }
-        // The determinant of the columns each scaled by a power of two (exactly) to a
-        // largest entry near 1: 0 only where the matrix is singular in f64. The power goes in
-        // two halves, each a normal f64 (for a subnormal largest entry the whole one, up to
-        // 2^1074, is not: its reciprocal came out 0 and the column infinite). A zero column is
-        // singular; so is a determinant that is not finite (no proof of a regular matrix).
-        let pow2 = |e: i32| f64::from_bits(((e + 1023) as u64) << 52);
-        let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| {
-            let c = c.truncate();
-            let max = c.abs().max_element();
-            if max == 0.0 {
-                return None;
-            }
-            let e = -(max.log2().floor() as i32);
-            Some(c * pow2(e / 2) * pow2(e - e / 2))
-        });
-        let det = match cols {
-            [Some(a), Some(b), Some(c)] => a.dot(b.cross(c)),
-            _ => 0.0,
-        };
-        if det == 0.0 || !det.is_finite() {
-            return Err(format!(
-                "'{what}' makes the transform's matrix singular in f64 (its scales multiply \
-                 below {:e}, to 0): every point after it would collapse",
-                f64::from_bits(1)
-            ));
-        }
-        Ok(())
-    }
-
     fn transform(&mut self, line: usize, rank: u8, what: &str) {
         let names = ["translate", "rotate", "scale"];
         if let Some((last, last_line)) = self.current.last_rank {
@@ -672,7 +598,7 @@ impl<T: Real> Parser<'_, T> {
             "translate" => {
                 let t = numbers(args, &[3], "translate")?;
                 self.stack.translate(DVec3::new(t[0], t[1], t[2]));
-                self.check_matrix(words)?;
+                check_matrix(&self.stack.matrix(), words)?;
                 self.transform(line, 0, "translate");
             }
             "rotate" => {
@@ -686,7 +612,7 @@ impl<T: Real> Parser<'_, T> {
                     other => return Err(format!("rotate axis '{other}' is not x, y or z")),
                 };
                 self.stack.rotate_degrees(axis, number(deg)?);
-                self.check_matrix(words)?;
+                check_matrix(&self.stack.matrix(), words)?;
                 self.transform(line, 1, "rotate");
             }
             "scale" => {
@@ -699,7 +625,7 @@ impl<T: Real> Parser<'_, T> {
                     return Err("a scale of 0 flattens everything after it".into());
                 }
                 self.stack.scale(s);
-                self.check_matrix(words)?;
+                check_matrix(&self.stack.matrix(), words)?;
                 self.transform(line, 2, "scale");
             }
             "light" => {
