@@ -1,5 +1,5 @@
-//! An instanced scene is framed and lit as its flattened twin: its bounds are the same bits,
-//! found in one pass over the placements.
+//! An instanced scene is framed and lit as its flattened twin: its bounds are the same bits
+//! (or none for both).
 
 use raylab::controller::CameraController;
 use raylab::scene::file::{load_obj_mesh, load_scene_file, parse};
@@ -60,4 +60,33 @@ fn an_instanced_scene_is_framed_and_lit_as_its_flattened_twin() {
     );
     assert_eq!(ca.position, cb.position);
     assert_eq!(instanced.size(), flat.size());
+}
+
+#[test]
+fn placements_of_an_empty_mesh_alone_have_no_bounds_as_flattened() {
+    use raylab::scene::{Instance, Mesh};
+    use std::sync::Arc;
+    let empty = Arc::new(Mesh::new("empty".into(), Vec::new(), Vec::new()));
+    let placed = |m: glam::DMat4| Instance {
+        mesh: empty.clone(),
+        world_from_object: m,
+        first_prim: 0,
+        color: [1.0; 3],
+        tint: None,
+    };
+    let turned = glam::DMat4::from_rotation_z(0.3);
+    let instances = vec![placed(glam::DMat4::IDENTITY), placed(turned)];
+    let scene = |shapes: Vec<raylab::geometry::Shape>| {
+        let colors = vec![[1.0; 3]; shapes.len()];
+        let (light, ambient) = (Scene::cornell().light, [0.1; 3]);
+        Scene::new("e", shapes, colors, light, ambient)
+    };
+    let instanced = scene(Vec::new()).with_instances(instances.clone()).unwrap();
+    let flat = scene(instanced.all_shapes().collect());
+    assert_eq!(flat.bounds(), None);
+    assert_eq!(instanced.bounds(), None);
+    // With a shape, the shape's box for both.
+    let tri = raylab::geometry::Shape::from([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]);
+    let instanced = scene(vec![tri]).with_instances(instances).unwrap();
+    assert_eq!(instanced.bounds(), Some(([0.0, 0.0, 1.0], [1.0, 1.0, 1.0])));
 }

@@ -1,15 +1,19 @@
 //! A scene's bounds, which place the default camera and light: the same bits for an
-//! instanced scene as for its flattened twin, in one parallel pass over the placements.
+//! instanced scene as for its flattened twin (`None` for both where nothing has a vertex:
+//! no shapes, and only placements of empty meshes).
 //!
 //! A placement whose matrix only permutes, scales and moves the axes (each world coordinate
 //! the f64 image of one object coordinate) has the box of its world vertices exactly where the
 //! mesh's box corners go: rounding is monotone, so the vertices at the mesh's extremes stay at
-//! the extremes. Any other placement is bounded by its mesh's box carried into the world
-//! ([`outer_bounds`]) and known to reach the images of the mesh's extreme
-//! vertices along its axes; only those whose box
-//! passes what is already known to be reached are walked vertex by vertex, and each such walk
-//! runs on one thread. (Walking every placement's vertices, each in a parallel fold of its
-//! own, took 12 to 51 s for 2¹⁸ placements of a small mesh.)
+//! the extremes. Any other placement (a turn by another angle, a shear) is bounded by its
+//! mesh's box carried into the world ([`outer_bounds`]) and known to reach the images of the
+//! mesh's extreme vertices along its axes. A first parallel pass over the placements takes
+//! what each is known to reach; a second walks, vertex by vertex (each walk on one thread),
+//! every turned placement whose box passes that. Placements inside the scene are not walked,
+//! but in the worst case — turned placements that overlap at the scene's edges, each box
+//! passing what the others reach — every turned placement is walked, as many vertex
+//! transforms as flattening them takes. (Walking every placement's vertices, each in a
+//! parallel fold of its own, took 12 to 51 s for 2¹⁸ placements of a small mesh.)
 
 use super::instance::Instance;
 use super::{Bounds, Scene};
@@ -108,11 +112,12 @@ fn exact_by_vertices(inst: &Instance) -> Bounds {
 }
 
 impl Scene {
-    /// Bounds of all primitives, or `None` for an empty scene: the same bits for an instanced
-    /// scene and its flattened twin (see the module's notes).
+    /// Bounds of all primitives, or `None` where there are none (no shapes, and no placement
+    /// of a mesh with triangles): the same as for the flattened twin (see the module's notes).
     pub fn bounds(&self) -> Option<Bounds> {
         let explicit = self.shapes.iter().map(Shape::bounds).reduce(merge);
-        if self.instances.is_empty() {
+        if self.instances.iter().all(Instance::is_empty) {
+            // (Flattened, an empty mesh adds nothing.)
             return explicit;
         }
         // Each mesh's extreme vertices, once however often it is placed.
