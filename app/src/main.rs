@@ -9,6 +9,10 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let args = cli::Cli::parse();
+    if args.command.is_none() {
+        // The window: before any thread starts (it may set an environment variable).
+        raylab_app::window::quiet_wayland_probe();
+    }
     if let Err(e) = raylab::input::check_limit_vars() {
         eprintln!("error: {e}");
         return ExitCode::from(2);

@@ -66,6 +66,8 @@ pub fn main_with_code(code: Arc<dyn LabCode>) -> ExitCode {
     let env = env_logger::Env::default().default_filter_or("warn");
     env_logger::Builder::from_env(env).init();
     let cli = <Cli as clap::Parser>::parse();
+    // (Before any thread starts: it may set an environment variable.)
+    super::quiet_wayland_probe();
     match super::run(cli.window.options(Some(code))) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -141,11 +141,14 @@ pub fn no_window_reason() -> String {
 /// and libwayland complains where there is no runtime directory to look in. With no Wayland
 /// display named and no runtime directory, there is no Wayland session for the layer to
 /// find, so it is turned off with Mesa's own switch (`NODEVICE_SELECT=1`), and the debug log
-/// says so. Called before any other thread reads the environment.
+/// says so. Left alone where a device is being chosen (`DRI_PRIME`, `MESA_VK_DEVICE_SELECT`,
+/// `NODEVICE_SELECT` set): the layer is what honours those. Called at the very top of `main`,
+/// before any thread exists (setting a variable while another thread may read the
+/// environment is undefined behaviour).
 pub fn quiet_wayland_probe() {
     let named = |v: &str| std::env::var_os(v).is_some_and(|x| !x.is_empty());
     let wayland = named("WAYLAND_DISPLAY") || named("WAYLAND_SOCKET");
-    let chosen = named("NODEVICE_SELECT") || named("MESA_VK_DEVICE_SELECT");
+    let chosen = named("NODEVICE_SELECT") || named("MESA_VK_DEVICE_SELECT") || named("DRI_PRIME");
     let runtime_dir =
         std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_absolute());
     if wayland || chosen || runtime_dir {

@@ -46,6 +46,15 @@ impl Gpu {
         )
         .texture_format(wgpu::TextureFormat::Rgba8Unorm)
         .wgpu_backend(backends)
+        // The high-performance adapter (a discrete GPU before an integrated one, any GPU
+        // before a CPU driver), unless WGPU_POWER_PREF says otherwise; WGPU_ADAPTER_NAME
+        // picks one by name before this is asked.
+        .request_adapter_options(wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::from_env()
+                .unwrap_or(wgpu::PowerPreference::HighPerformance),
+            force_fallback_adapter: false,
+            compatible_surface: None,
+        })
         .enable_vsync(true)
         .build()
         .map_err(|e| {

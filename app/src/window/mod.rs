@@ -30,6 +30,7 @@ mod viewer;
 mod worker;
 
 pub use args::{main_with_code, WindowArgs};
+pub use framework::quiet_wayland_probe;
 
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
@@ -128,7 +129,6 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         (None, None) => Scene::cornell(),
     };
     let stage = Stage::new(scene, opts.accel);
-    framework::quiet_wayland_probe();
     let event_loop = EventLoop::<AppEvent>::with_user_event()
         .build()
         .map_err(|e| {
@@ -166,6 +166,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         mouse_look: false,
         esc_armed: None,
         oversized: false,
+        surface_max: u32::MAX,
         frames_presented: 0,
         image_on_screen: false,
         failed_draws: 0,
@@ -202,6 +203,9 @@ struct App {
     esc_armed: Option<Instant>,
     /// The window is larger than the graphics device draws: drawing is paused.
     oversized: bool,
+    /// The largest window side the graphics device draws (its largest texture side), as
+    /// [`Framework::fit_surface`] checks it.
+    surface_max: u32,
     frames_presented: u64,
     /// Whether a rendered image has been presented yet.
     image_on_screen: bool,
@@ -370,7 +374,7 @@ impl App {
     /// A new window size; 0×0 (minimised) pauses rendering until a real size comes back, and
     /// so does a window larger than the graphics device draws (X windows reach 32767²).
     fn on_resized(&mut self, window: &Window, size: PhysicalSize<u32>) {
-        let max = self.viewer.max_side;
+        let max = self.surface_max;
         if size.width > max || size.height > max {
             self.viewer.paused = true;
             self.oversized = true;
@@ -582,6 +586,7 @@ impl ApplicationHandler<AppEvent> for App {
             Ok(fw) => {
                 let device_side = fw.gpu.max_texture_side() as u32;
                 self.viewer.max_side = device_side.min(raylab::render::MAX_SIDE);
+                self.surface_max = device_side;
                 self.framework = Some(fw);
             }
             Err(e) => return self.fail(event_loop, anyhow!(e)),
