@@ -13,7 +13,6 @@ use glam::DVec3;
 use raylab::geometry::Method;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
-use std::time::{Duration, Instant};
 
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
@@ -358,7 +357,6 @@ fn real_x_input_escape_twice_quits() {
                   sleep 0.2; xdotool mousedown 3; sleep 0.3; xdotool key Escape; sleep 0.3; \
                   xdotool key Escape; sleep 0.5; xdotool key Escape; sleep 0.2; \
                   xdotool mouseup 3";
-    let start = Instant::now();
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -374,11 +372,6 @@ fn real_x_input_escape_twice_quits() {
     assert!(
         on.is_some() && on < off && off < ask,
         "the right button captured the mouse, Esc released it, then Esc asked\n{log}"
-    );
-    assert!(
-        start.elapsed() < Duration::from_secs(18),
-        "{:?}",
-        start.elapsed()
     );
 }
 

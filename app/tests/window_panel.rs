@@ -114,6 +114,10 @@ fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
     let script = "0 drop bad.obj\n4000 drop bad.obj\n10000 step indirect\n";
+    // (700, 25): inside the banner, whose top-left is 8 points inside the image's (the
+    // image starts right of the 300-point panel, at the window's top: x 358 on the
+    // harness's screen, seen in its screenshots), and its first line of text is about 20
+    // points down.
     let driver = "xdotool windowfocus --sync $win; sleep 1.5; xdotool key Escape; sleep 5; \
                   xdotool mousemove --sync 700 25; sleep 0.3; xdotool click 1";
     let Some(run) = run_window(script, dir.path(), Around::RealInput(driver)) else {
@@ -140,10 +144,30 @@ fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
 }
 
 #[test]
+fn an_error_in_the_status_line_is_shown_whole_beside_the_inspector() {
+    // With the ray inspector's panel open beside the image, a failed load's message has the
+    // status line first: the frame's figures are cut short, not the message. (The figures
+    // were laid out first and the message showed as "could not lo…".)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 resize 1270 760\n300 inspect 100 80\n800 drop n.obj\n";
+    let Some(run) = run_window(script, dir.path(), Around::Nothing) else {
+        return;
+    };
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    let status = status.unwrap_or_else(|| panic!("no status\n{}", run.stdout));
+    assert!(status.starts_with("could not load: n.obj"), "{status}");
+    assert!(!run.inspector.is_empty(), "the inspector's panel is open");
+    assert_eq!(run.fields["status_whole"], "on", "{}", run.stdout);
+}
+
+#[test]
 fn real_x_input_the_menu_bar_saves_a_screenshot_and_shows_the_shortcuts() {
     // The menu bar's "Screenshot (F12)" and "Shortcuts (H or F1)", clicked.
     let dir = tempfile::tempdir().unwrap();
     let script = "9000 step indirect\n";
+    // (90, 11) and (205, 11): the menu bar's "Screenshot (F12)" and "Shortcuts (H or F1)"
+    // buttons, on the panel's first row at scale 1 (after "File"), as the harness's
+    // screenshots show them.
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 90 11; sleep 0.3; xdotool click 1; sleep 0.5; \
                   xdotool mousemove --sync 205 11; sleep 0.3; xdotool click 1";
@@ -217,6 +241,9 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
         return;
     };
     let script = "9000 step indirect\n";
+    // (90, 164): the "all 20000 warnings…" button under the panel's first three warnings
+    // (the heading, the scene's line, the warnings' count and three lines above it at scale
+    // 1), as the harness's screenshots show it; (700, 300): inside the list's window.
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 90 164; sleep 0.3; \
                   xdotool click 1; sleep 1; xdotool mousemove --sync 700 300; sleep 0.3; \
                   xdotool click --repeat 5 --delay 100 5";

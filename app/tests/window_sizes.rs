@@ -8,7 +8,6 @@ mod common;
 
 use common::window::{against_headless, run_window_with, Around};
 use raylab::Scene;
-use std::time::{Duration, Instant};
 
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
@@ -120,7 +119,6 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     let script = format!("300 drop {}\n60000 step indirect\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; sleep 1; \
                   xdotool key Escape; sleep 0.3; xdotool key Escape";
-    let start = Instant::now();
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -137,11 +135,6 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     // Its 256 samples a pixel are shown at 4 (2x2): 33 M samples a frame, within 2²⁶.
     assert!(log.contains(", its 16x16 samples at 2x2"), "{log}");
     assert!(log.contains("press Esc again to quit"), "{log}");
-    assert!(
-        start.elapsed() < Duration::from_secs(40),
-        "{:?}",
-        start.elapsed()
-    );
     // F5 saved the view at its own size.
     let saved: Vec<String> = (std::fs::read_dir(dir.path()).unwrap())
         .map(|e| e.unwrap().path())
@@ -155,6 +148,33 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
         .collect();
     assert_eq!(saved.len(), 1, "{log}");
     assert!(saved[0].contains("size 16384 8192\n"), "{}", saved[0]);
+}
+
+#[test]
+fn supersampling_past_the_windows_bound_is_shown_as_rendered() {
+    // 16x16 samples asked at the default window: more than the 2^26 samples a frame the
+    // window renders, so it renders fewer, and says how many (the final line's spp_shown, the
+    // status line's figures); F12 saves that image, the window's work, and says so.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 set spp 16\n1500 key F12 down\n1520 key F12 up\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    let size = run.nums("size");
+    let pixels = size[0] * size[1];
+    let n = ((1u64 << 26) as f64 / pixels).sqrt().floor().min(16.0) as u32;
+    assert!(
+        n < 16,
+        "the default window is large enough to lower 16x16: {size:?}"
+    );
+    assert_eq!(run.fields["spp"], "16", "the setting stays as asked\n{log}");
+    assert_eq!(run.fields["spp_shown"], n.to_string(), "{log}");
+    let saving = format!("({}x{} at {n}x{n} samples)", size[0], size[1]);
+    assert!(
+        log.contains(&saving),
+        "F12 says what it renders: {saving}\n{log}"
+    );
 }
 
 #[test]

@@ -11,24 +11,27 @@ pub const FIRST_WARNINGS: usize = 3;
 /// The red of the error banner and of an error in the status line.
 const ERROR_RED: egui::Color32 = egui::Color32::from_rgb(190, 30, 30);
 
-/// The image on screen, for the status line: its size, refinement level and render figures.
-pub type ShownFigures = (u32, u32, u8, RenderStats);
+/// The image on screen, for the status line: its size, refinement level, supersampling (n
+/// per axis) and render figures.
+pub type ShownFigures = (u32, u32, u8, u32, RenderStats);
 
-/// The status line: the last message on the left (red for an error, cut to one line, the whole
-/// of it on hover), the image's figures on the right.
+/// The status line: the last message on the left (red for an error), the image's figures on
+/// the right. The message has the room first: the figures are cut short before it is, and
+/// it is cut only where it alone is wider than the line (the whole of it on hover; a click
+/// copies it). Returns whether the whole message is shown.
 pub fn status_line(
     ui: &mut egui::Ui,
     (status, is_error): (&str, bool),
     shown: Option<ShownFigures>,
     full_size: (u32, u32),
     threads: usize,
-) {
+) -> bool {
     let figures = match shown {
-        Some((w, h, level, stats)) => {
+        Some((w, h, level, spp, stats)) => {
             let what = match level {
                 0 => format!("preview of {}x{}", full_size.0, full_size.1),
                 1 => "full".to_string(),
-                _ => "supersampled".to_string(),
+                _ => format!("{spp}x{spp} samples"),
             };
             format!(
                 "{w}x{h} {what} · {:.1} ms · {:.2} Mrays/s · {threads} threads",
@@ -38,17 +41,49 @@ pub fn status_line(
         }
         None => "rendering...".to_string(),
     };
-    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-        ui.label(figures);
-        ui.separator();
-        ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let width_of = |text: &str| {
+        let galley =
+            ui.painter()
+                .layout_no_wrap(text.to_owned(), font.clone(), egui::Color32::WHITE);
+        galley.size().x
+    };
+    // (The separator and the spacing either side of it; a little slack for strong text.)
+    let gap = 3.0 * ui.spacing().item_spacing.x + 4.0;
+    let total = ui.available_width();
+    let wanted = width_of(status) * 1.05 + 2.0;
+    let message_room = wanted.min((total - gap).max(0.0));
+    let whole = wanted <= total - gap;
+    let height = ui.spacing().interact_size.y;
+    ui.horizontal(|ui| {
+        let size = egui::vec2(message_room, height);
+        let left = egui::Layout::left_to_right(egui::Align::Center);
+        let message = ui.allocate_ui_with_layout(size, left, |ui| {
             let mut text = egui::RichText::new(status);
             if is_error {
                 text = text.color(egui::Color32::from_rgb(255, 110, 110)).strong();
             }
-            ui.add(egui::Label::new(text).truncate());
+            ui.add(
+                egui::Label::new(text)
+                    .truncate()
+                    .sense(egui::Sense::click()),
+            )
+        });
+        let response = message.inner;
+        let response = match status.is_empty() {
+            true => response,
+            false => response.on_hover_text(format!("{status}\n(click to copy)")),
+        };
+        if response.clicked() && !status.is_empty() {
+            ui.ctx().copy_text(status.to_owned());
+            log::info!("the status message was copied to the clipboard");
+        }
+        ui.separator();
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            ui.add(egui::Label::new(figures).truncate());
         });
     });
+    whole
 }
 
 /// The error banner across the top of `image`, until clicked (or Esc). Returns where it was
@@ -109,7 +144,8 @@ pub fn warnings(ui: &mut egui::Ui, warnings: &[String], show_all: &mut bool) {
         });
 }
 
-/// The window listing every warning, one line each (the whole line on hover); only the rows
+/// The window listing every warning, one line each (scrolled sideways to read a long one);
+/// only the rows
 /// in view are laid out, so a scene of a million warnings costs no more a frame than one of
 /// ten.
 pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
@@ -121,13 +157,13 @@ pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
         .default_size([640.0, 420.0])
         .show(ctx, |ui| {
             let row = ui.text_style_height(&egui::TextStyle::Body);
-            egui::ScrollArea::vertical().auto_shrink(false).show_rows(
+            egui::ScrollArea::both().auto_shrink(false).show_rows(
                 ui,
                 row,
                 warnings.len(),
                 |ui, rows| {
                     for w in &warnings[rows] {
-                        ui.add(egui::Label::new(w.as_str()).truncate());
+                        ui.add(egui::Label::new(w.as_str()).extend());
                     }
                 },
             );

@@ -25,6 +25,9 @@ pub struct PanelInfo<'a> {
     pub code_name: Option<&'a str>,
     /// The cracks view's legend and counts, while it is on.
     pub cracks: Option<super::cracks::Legend>,
+    /// The supersampling (n per axis) the window renders at its size: the slider's, or less
+    /// ([`super::bounds::MAX_SHOWN_SAMPLES`]).
+    pub samples_shown: u32,
 }
 
 /// What the user asked for with buttons.
@@ -240,6 +243,16 @@ pub fn side_panel(
                 .flatten()
                 .map(|name| (name, &mut view.yours));
             control_widget(ui, control, &mut view.controls, code);
+            let (asked, n) = (view.controls.spp, info.samples_shown);
+            if control.name == "spp" && n < asked {
+                let note = format!("{asked}x{asked} asked, {n}x{n} shown");
+                ui.label(egui::RichText::new(note).color(egui::Color32::YELLOW))
+                    .on_hover_text(format!(
+                        "the window renders at most {} M samples a frame; F5 and copy as \
+                         command keep {asked}x{asked}",
+                        super::bounds::MAX_SHOWN_SAMPLES >> 20
+                    ));
+            }
         }
         if let Some(legend) = &info.cracks {
             actions.crack = super::cracks::legend(ui, legend);
@@ -355,12 +368,13 @@ pub fn layout(
     let shown = viewer
         .shown
         .as_ref()
-        .map(|s| (s.size.0, s.size.1, s.level, s.stats));
+        .map(|s| (s.size.0, s.size.1, s.level, s.spp, s.stats));
     let has_image = shown.is_some();
     if let Some(picked) = viewer.files.update(ui.ctx()) {
         viewer.apply_picked(picked);
     }
     let full_size = viewer.full_size();
+    let samples_shown = viewer.spp_shown();
     let legend = viewer.crack_legend();
     let Viewer {
         stage,
@@ -384,6 +398,7 @@ pub fn layout(
         crack,
         cracks,
         inspector_shown,
+        status_whole,
         ..
     } = viewer;
     if let Some(text) = copy_request.take() {
@@ -400,6 +415,7 @@ pub fn layout(
         selected_level: *selected_level,
         code_name: code.as_deref().map(|c| c.name()),
         cracks: legend,
+        samples_shown,
     };
     let mut layout = Layout {
         actions: PanelActions::default(),
@@ -464,7 +480,7 @@ pub fn layout(
     egui::Panel::bottom("status").show(ui, |ui| {
         let status = (status.as_str(), *status_is_error);
         let threads = rayon::current_num_threads();
-        super::notices::status_line(ui, status, shown, full_size, threads);
+        *status_whole = super::notices::status_line(ui, status, shown, full_size, threads);
     });
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();

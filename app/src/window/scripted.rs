@@ -110,7 +110,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -123,6 +123,8 @@ impl ScriptedRun {
             r[1],
             r[2],
             r[3],
+            viewer.shown.as_ref().map_or(0, |s| s.spp),
+            ["off", "on"][viewer.status_whole as usize],
             window.frames_presented,
             viewer.frames_while_moving,
             match c.mode {

@@ -52,6 +52,8 @@ pub struct Shown {
     pub generation: u64,
     pub level: u8,
     pub size: (u32, u32),
+    /// Its supersampling, n per axis.
+    pub spp: u32,
     pub stats: RenderStats,
 }
 
@@ -89,6 +91,8 @@ pub struct Viewer {
     pub status: String,
     /// Whether the status is an error (drawn red).
     pub status_is_error: bool,
+    /// Whether the status line showed the whole message in the last UI pass.
+    pub status_whole: bool,
     /// An error shown in red over the image until dismissed (a click on it, or Esc) or a
     /// scene loads.
     pub banner: Option<String>,
@@ -239,6 +243,7 @@ impl Viewer {
             show_help: false,
             status: String::new(),
             status_is_error: false,
+            status_whole: true,
             banner: None,
             show_all_warnings: false,
             obj_path: scene_path
@@ -384,8 +389,11 @@ impl Viewer {
     /// When to wake to start refining (the preview has settled), if anything is left to do.
     pub fn refine_at(&self) -> Option<Instant> {
         // (Not while paused: nothing renders then, and waking for it would spin.)
+        // (Nor after this generation's render failed: it is not submitted again until
+        // something changes, and waking for it would redraw without end.)
         let idle = self.worker.is_idle() && !self.paused;
-        (!self.is_refined() && idle).then_some(self.last_change + SETTLE)
+        let failed = self.failed_generation == Some(self.generation);
+        (!self.is_refined() && idle && !failed).then_some(self.last_change + SETTLE)
     }
 
     /// The preview size: a fixed fraction, or (adaptive) what the last full frame's time says
@@ -470,6 +478,7 @@ impl Viewer {
                     generation: done.job.generation,
                     level: done.job.level,
                     size: (s.width, s.height),
+                    spp: s.spp,
                     stats,
                 });
                 // (A preview is not counted: the counts are of the views that settle.)
@@ -712,27 +721,32 @@ impl Viewer {
         Some(name)
     }
 
-    /// F12: renders the current view at full resolution and quality (the window may be
-    /// showing a preview) and writes it, on a thread of its own so the window keeps going
-    /// ([`AppEvent::ScreenshotSaved`] when done).
+    /// F12: renders what the window shows fully refined (the window may be showing a
+    /// preview): its render size and supersampling, both within the window's bounds
+    /// ([`super::bounds`]), so its work is a refined frame's; on a thread of its own so the
+    /// window keeps going ([`AppEvent::ScreenshotSaved`] when done).
     pub fn screenshot(&mut self) {
         self.screenshot_to(PathBuf::from(format!("raylab-{}.png", timestamp())));
     }
 
-    /// Renders the current view at full resolution and quality to the PNG file `path`.
+    /// Renders what the window shows, fully refined, to the PNG file `path`.
     pub fn screenshot_to(&mut self, path: PathBuf) {
         if let Err(e) = raylab::input::check_output(&path) {
             return self.report_error(format!("cannot save the image: {e}"));
         }
         let (w, h) = self.full_size();
-        let settings = self.settings((w, h), self.view.controls.spp);
+        let n = self.spp_shown();
+        let settings = self.settings((w, h), n);
         let (stage, camera, proxy) = (
             self.stage.clone(),
             self.controller.camera(w),
             self.proxy.clone(),
         );
         self.screenshots_pending += 1;
-        self.set_status(format!("saving {}...", path.display()));
+        self.set_status(format!(
+            "saving {} ({w}x{h} at {n}x{n} samples)...",
+            path.display()
+        ));
         std::thread::spawn(move || {
             let result = render::render_image(&stage, &camera, &settings)
                 .map_err(|e| e.to_string())
