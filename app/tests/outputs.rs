@@ -426,43 +426,53 @@ fn every_output_is_checked_before_any_work_and_its_error_said_once() {
     assert_eq!(listing(d), ["afile", "class", "suite"]);
 }
 
-/// The temporary files of a run killed while writing are removed by the next write into
-/// their directory (their process is gone); another process's are left.
+/// The first `.npy` temporary file in `dir` that has grown past its header: the arrays'
+/// pass is writing (the outputs' check before the work makes empty ones, at once removed).
+fn wait_for_arrays_being_written(dir: &Path) {
+    let start = Instant::now();
+    loop {
+        let writing = std::fs::read_dir(dir).unwrap().flatten().any(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let grown = e.metadata().is_ok_and(|m| m.len() > 128);
+            name.contains(".npy.raylab-") && name.ends_with(".tmp") && grown
+        });
+        if writing {
+            return;
+        }
+        assert!(start.elapsed() < Duration::from_secs(120), "no AOV written");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// Sets a file's last modification `ago` back from now.
+fn age(path: &Path, ago: Duration) {
+    let file = std::fs::File::options().write(true).open(path).unwrap();
+    file.set_modified(std::time::SystemTime::now() - ago)
+        .unwrap();
+}
+
+/// The temporary files of a run killed while writing are removed by a later write into their
+/// directory once stale (unlocked, this user's, unmodified for an hour); a locked one
+/// (another process still writing, whatever its pid namespace or host) or a recent one is
+/// left.
 #[test]
-fn a_killed_runs_temporary_files_are_removed_by_the_next_write() {
+fn a_killed_runs_stale_temporary_files_are_removed_by_a_later_write() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let out = d.join("x.png");
     let is_temp = |n: &String| n.starts_with('.') && n.ends_with(".tmp");
-    let mut left = Vec::new();
-    // Killed while its files are being written (a few tries: each must catch that moment).
-    for _ in 0..5 {
-        let child = long_render(&out, true);
-        let start = Instant::now();
-        while !listing(d).iter().any(|n| n.contains(".npy.raylab-")) {
-            assert!(start.elapsed() < Duration::from_secs(60), "no AOV written");
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        signal(&child, "-KILL");
-        child.wait_with_output().unwrap();
-        left = listing(d).into_iter().filter(is_temp).collect();
-        if !left.is_empty() {
-            break;
-        }
-    }
-    assert!(!left.is_empty(), "a killed run leaves its temporary files");
-    let pid = |n: &str| {
-        n.split(".raylab-")
-            .nth(1)
-            .unwrap()
-            .split('-')
-            .next()
-            .unwrap()
-            .to_string()
-    };
-    let live = format!(".y.png.raylab-{}-0.tmp", std::process::id());
-    write(d, &live, b"another process's, still writing");
-    let o = run(&[
+    let child = long_render(&out, true);
+    wait_for_arrays_being_written(d);
+    signal(&child, "-KILL");
+    child.wait_with_output().unwrap();
+    let left: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
+    // The PNG's and the three arrays'.
+    assert_eq!(
+        left.len(),
+        4,
+        "a killed run leaves its temporary files: {left:?}"
+    );
+    let render = [
         "render",
         "--width",
         "16",
@@ -470,10 +480,63 @@ fn a_killed_runs_temporary_files_are_removed_by_the_next_write() {
         "12",
         "-o",
         out.to_str().unwrap(),
-    ]);
+    ];
+    // Recent: left (its writer may not have locked it yet).
+    let o = run(&render);
     assert!(o.status.success(), "{}", stderr(&o));
     let after: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
-    assert_eq!(after, [live], "left by {}: {left:?}", pid(&left[0]));
+    assert_eq!(after, left);
+    // An hour old and unlocked: removed. Another's, as old but locked: left.
+    let hour = Duration::from_secs(60 * 60 + 60);
+    for name in &left {
+        age(&d.join(name), hour);
+    }
+    let live = format!(".y.png.raylab-{}-0.tmp", std::process::id());
+    write(d, &live, b"another process's, still writing");
+    age(&d.join(&live), hour);
+    let held = std::fs::File::open(d.join(&live)).unwrap();
+    held.lock().unwrap();
+    let o = run(&render);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let after: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
+    assert_eq!(after, [live.clone()]);
+    // Its lock released (its writer gone), the next write removes it.
+    drop(held);
+    let o = run(&render);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(listing(d), ["x.png"]);
+}
+
+/// Ctrl+C (SIGINT) or SIGTERM during the arrays' pass stops the run at its next band: exit 130,
+/// nothing written, the previous files as they were.
+#[test]
+fn a_render_stopped_while_writing_its_arrays_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let previous = b"\x89PNG previous image".to_vec();
+    for sig in ["-INT", "-TERM"] {
+        let out = write(d, "image.png", &previous);
+        // A quick image, then the arrays of 12 megapixels in bands of one.
+        let child = raylab(&[
+            "render",
+            "--width",
+            "4000",
+            "--height",
+            "3000",
+            "--aov",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .spawn()
+        .unwrap();
+        wait_for_arrays_being_written(d);
+        signal(&child, sig);
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(130), "{sig}: {}", stderr(&o));
+        assert!(stderr(&o).contains("nothing written"), "{}", stderr(&o));
+        assert_eq!(std::fs::read(&out).unwrap(), previous, "{sig}");
+        assert_eq!(listing(d), ["image.png"], "{sig}");
+    }
 }
 
 /// Exports into one new directory at once: each succeeds, whichever writes first; a

@@ -2,9 +2,10 @@
 //! checking from outside. For the centre ray of each pixel: the primitive hit, its t and the
 //! unit geometric normal turned to face the camera, found by the same per-ray query as
 //! every image (the scene's accelerator with the chosen method). Written as NumPy `.npy`
-//! arrays (format 1.0, little-endian, C order), readable by `numpy.load`.
+//! arrays (format 1.0, little-endian, C order), readable by `numpy.load`: `STEM.prim.npy`
+//! (uint32, H×W), `STEM.t.npy` (float32, H×W) and `STEM.normal.npy` (float32, H×W×3).
 
-use super::settings::{RenderSettings, SettingsError};
+use super::settings::RenderSettings;
 use super::Stage;
 use crate::camera::Camera;
 use crate::geometry::Ray;
@@ -17,83 +18,83 @@ use std::path::{Path, PathBuf};
 /// The primitive index of a pixel whose centre ray hits nothing.
 pub const NO_PRIMITIVE: u32 = u32::MAX;
 
-/// Per-pixel values, rows top to bottom.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Aovs {
-    pub width: u32,
-    pub height: u32,
-    /// The primitive hit ([`NO_PRIMITIVE`] for none).
-    pub prim: Vec<u32>,
-    /// Its ray parameter along the unit-length camera ray (NaN for none).
-    pub t: Vec<f32>,
-    /// The unit geometric normal facing the camera (zero for none).
-    pub normal: Vec<[f32; 3]>,
-}
+/// The pixels whose values [`write_aovs`] holds at a time (whole rows, at least one).
+pub const BAND_PIXELS: u32 = 1 << 20;
 
-/// The AOVs of the stage's scene through `camera` at the settings' size and method.
-pub fn render_aovs(
-    stage: &Stage,
-    camera: &Camera,
-    settings: &RenderSettings,
-) -> Result<Aovs, SettingsError> {
-    settings.validate()?;
-    let (w, h) = (settings.width, settings.height);
-    let gen = camera.ray_generator(w, h);
-    let (scene, accel) = (stage.scene(), stage.accel());
-    let pixels: Vec<(u32, f32, [f32; 3])> = (0..w * h)
-        .into_par_iter()
-        .map(|k| {
-            let (i, j) = (k % w, k / w);
-            let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
-            match accel.closest_hit(&ray, settings.method, 0.0, f32::INFINITY) {
-                Some(hit) => (hit.prim, hit.t, facing_normal(scene, &ray, hit.prim, hit.t)),
-                None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
-            }
-        })
-        .collect();
-    Ok(Aovs {
-        width: w,
-        height: h,
-        prim: pixels.iter().map(|p| p.0).collect(),
-        t: pixels.iter().map(|p| p.1).collect(),
-        normal: pixels.iter().map(|p| p.2).collect(),
+/// The paths of `STEM.prim.npy`, `STEM.t.npy` and `STEM.normal.npy` beside `png` (its path
+/// without the extension).
+pub fn paths_beside(png: &Path) -> [PathBuf; 3] {
+    let stem = png.with_extension("");
+    ["prim", "t", "normal"].map(|what| {
+        let mut p = stem.clone().into_os_string();
+        p.push(format!(".{what}.npy"));
+        PathBuf::from(p)
     })
 }
 
-/// The pixels whose values [`write_aovs`] holds at a time (whole rows, at least one).
-const BAND_PIXELS: u32 = 1 << 20;
+/// Opens the three outputs beside `png` ([`paths_beside`]), writing nothing yet.
+pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
+    let [prim, t, normal] = paths_beside(png);
+    Ok([
+        OutputFile::create(&prim)?,
+        OutputFile::create(&t)?,
+        OutputFile::create(&normal)?,
+    ])
+}
 
 /// The AOVs of the stage's scene through `camera` at the settings' size and method, written
-/// into `outs` (from [`Aovs::create_beside`]: `.prim`, `.t`, `.normal`) band by band without
+/// into `outs` (from [`create_beside`]: `.prim`, `.t`, `.normal`) band by band without
 /// committing them: about 40 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
-/// the image's size ([`render_aovs`] holds the whole image's).
+/// the image's size. `cancelled` is asked before each band: `Ok(false)` once it says yes
+/// (the outputs are then incomplete: drop them), `Ok(true)` when every band is written.
 pub fn write_aovs(
     stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
     outs: &mut [OutputFile; 3],
-) -> Result<(), InputError> {
+    cancelled: &dyn Fn() -> bool,
+) -> Result<bool, InputError> {
+    let paths = outs.each_ref().map(|o| o.path().to_path_buf());
     let [prim, t, normal] = outs;
-    let io = |out: &OutputFile| {
-        let path = out.path().to_path_buf();
-        move |source| InputError::Io { path, source }
-    };
+    let writers: [&mut dyn Write; 3] = [prim, t, normal];
+    write_bands(stage, camera, settings, writers, BAND_PIXELS, cancelled).map_err(|(k, source)| {
+        InputError::Io {
+            path: paths[k].clone(),
+            source,
+        }
+    })
+}
+
+/// [`write_aovs`] into any three writers, `band_pixels` pixels (whole rows, at least one) at
+/// a time; an error comes with the number of the writer it is of.
+fn write_bands(
+    stage: &Stage,
+    camera: &Camera,
+    settings: &RenderSettings,
+    outs: [&mut dyn Write; 3],
+    band_pixels: u32,
+    cancelled: &dyn Fn() -> bool,
+) -> Result<bool, (usize, std::io::Error)> {
+    let [prim, t, normal] = outs;
     settings
         .validate()
-        .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))
-        .map_err(io(prim))?;
+        .map_err(|e| (0, std::io::Error::new(std::io::ErrorKind::InvalidInput, e)))?;
     let (w, h) = (settings.width, settings.height);
     let shape = [h as usize, w as usize];
     prim.write_all(&npy_header("<u4", &shape))
-        .map_err(io(prim))?;
-    t.write_all(&npy_header("<f4", &shape)).map_err(io(t))?;
-    (normal.write_all(&npy_header("<f4", &[shape[0], shape[1], 3]))).map_err(io(normal))?;
+        .map_err(|e| (0, e))?;
+    t.write_all(&npy_header("<f4", &shape))
+        .map_err(|e| (1, e))?;
+    (normal.write_all(&npy_header("<f4", &[shape[0], shape[1], 3]))).map_err(|e| (2, e))?;
     let gen = camera.ray_generator(w, h);
     let (scene, accel) = (stage.scene(), stage.accel());
-    let rows = (BAND_PIXELS / w).max(1);
+    let rows = (band_pixels / w).max(1);
     let mut band = Vec::new();
     let mut bytes = Vec::new();
     for y0 in (0..h).step_by(rows as usize) {
+        if cancelled() {
+            return Ok(false);
+        }
         let y1 = (y0 + rows).min(h);
         (0..(y1 - y0) * w)
             .into_par_iter()
@@ -108,15 +109,15 @@ pub fn write_aovs(
             .collect_into_vec(&mut band);
         bytes.clear();
         bytes.extend(band.iter().flat_map(|p| p.0.to_le_bytes()));
-        prim.write_all(&bytes).map_err(io(prim))?;
+        prim.write_all(&bytes).map_err(|e| (0, e))?;
         bytes.clear();
         bytes.extend(band.iter().flat_map(|p| p.1.to_le_bytes()));
-        t.write_all(&bytes).map_err(io(t))?;
+        t.write_all(&bytes).map_err(|e| (1, e))?;
         bytes.clear();
         bytes.extend(band.iter().flat_map(|p| p.2).flat_map(|c| c.to_le_bytes()));
-        normal.write_all(&bytes).map_err(io(normal))?;
+        normal.write_all(&bytes).map_err(|e| (2, e))?;
     }
-    Ok(())
+    Ok(!cancelled())
 }
 
 /// The unit geometric normal of primitive `prim` where `ray` meets it at `t`, turned against
@@ -127,59 +128,6 @@ fn facing_normal(scene: &Scene, ray: &Ray, prim: u32, t: f32) -> [f32; 3] {
     let facing = n[0] * ray.d[0] as f64 + n[1] * ray.d[1] as f64 + n[2] * ray.d[2] as f64;
     let s = if facing > 0.0 { -1.0 / len } else { 1.0 / len };
     n.map(|c| (c * s) as f32)
-}
-
-impl Aovs {
-    /// The paths of `STEM.prim.npy`, `STEM.t.npy` and `STEM.normal.npy` beside `png` (its path
-    /// without the extension).
-    pub fn paths_beside(png: &Path) -> [PathBuf; 3] {
-        let stem = png.with_extension("");
-        ["prim", "t", "normal"].map(|what| {
-            let mut p = stem.clone().into_os_string();
-            p.push(format!(".{what}.npy"));
-            PathBuf::from(p)
-        })
-    }
-
-    /// Opens the three outputs beside `png` ([`Aovs::paths_beside`]), writing nothing yet.
-    pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
-        let [prim, t, normal] = Self::paths_beside(png);
-        Ok([
-            OutputFile::create(&prim)?,
-            OutputFile::create(&t)?,
-            OutputFile::create(&normal)?,
-        ])
-    }
-
-    /// Writes `STEM.prim.npy` (uint32, H×W), `STEM.t.npy` (float32, H×W) and
-    /// `STEM.normal.npy` (float32, H×W×3) into `outs` (from [`Aovs::create_beside`]), one
-    /// array at a time, without committing them.
-    pub fn write_into(&self, outs: &mut [OutputFile; 3]) -> std::io::Result<()> {
-        let (h, w) = (self.height as usize, self.width as usize);
-        let [prim, t, normal] = outs;
-        write_npy_into(
-            prim,
-            "<u4",
-            &[h, w],
-            self.prim.iter().map(|x| x.to_le_bytes()),
-        )?;
-        write_npy_into(t, "<f4", &[h, w], self.t.iter().map(|x| x.to_le_bytes()))?;
-        let normals = self.normal.iter().flatten().map(|x| x.to_le_bytes());
-        write_npy_into(normal, "<f4", &[h, w, 3], normals)
-    }
-
-    /// Writes the three arrays beside `png` ([`Aovs::paths_beside`]): all three, or none
-    /// changes.
-    pub fn write_beside(&self, png: &Path) -> std::io::Result<Vec<PathBuf>> {
-        let mut outs = Self::create_beside(png).map_err(std::io::Error::other)?;
-        self.write_into(&mut outs)?;
-        let mut written = Vec::new();
-        for out in outs {
-            written.push(out.path().to_path_buf());
-            out.commit().map_err(std::io::Error::other)?;
-        }
-        Ok(written)
-    }
 }
 
 /// The header of a NumPy `.npy` file (format 1.0): the magic, the header dict padded with
@@ -202,26 +150,100 @@ fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
     bytes
 }
 
-/// Writes a `.npy` array into `out` (buffered): the header, then `items` (already in
-/// `descr`'s byte order, C order) streamed, so no copy of the array is made.
-fn write_npy_into<const N: usize>(
-    out: &mut impl Write,
-    descr: &str,
-    shape: &[usize],
-    items: impl Iterator<Item = [u8; N]>,
-) -> std::io::Result<()> {
-    out.write_all(&npy_header(descr, shape))?;
-    for item in items {
-        out.write_all(&item)?;
-    }
-    Ok(())
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::AccelChoice;
 
-/// Writes a NumPy `.npy` file (format 1.0) of `data` (already in `descr`'s byte order, C
-/// order): the whole file, or nothing changes at `path`.
-pub fn write_npy(path: &Path, descr: &str, shape: &[usize], data: &[u8]) -> std::io::Result<()> {
-    let mut out = OutputFile::create(path).map_err(std::io::Error::other)?;
-    out.write_all(&npy_header(descr, shape))?;
-    out.write_all(data)?;
-    out.commit().map_err(std::io::Error::other)
+    /// The three files' bytes written `band_pixels` at a time.
+    fn banded(
+        stage: &Stage,
+        camera: &Camera,
+        settings: &RenderSettings,
+        band_pixels: u32,
+    ) -> [Vec<u8>; 3] {
+        let [mut a, mut b, mut c] = [Vec::new(), Vec::new(), Vec::new()];
+        let done = write_bands(
+            stage,
+            camera,
+            settings,
+            [&mut a, &mut b, &mut c],
+            band_pixels,
+            &|| false,
+        )
+        .unwrap();
+        assert!(done);
+        [a, b, c]
+    }
+
+    /// The three files' bytes from the whole image at once, pixel by pixel.
+    fn whole(stage: &Stage, camera: &Camera, settings: &RenderSettings) -> [Vec<u8>; 3] {
+        let (w, h) = (settings.width, settings.height);
+        let gen = camera.ray_generator(w, h);
+        let shape = [h as usize, w as usize];
+        let mut files = [
+            npy_header("<u4", &shape),
+            npy_header("<f4", &shape),
+            npy_header("<f4", &[shape[0], shape[1], 3]),
+        ];
+        for j in 0..h {
+            for i in 0..w {
+                let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
+                let hit = stage
+                    .accel()
+                    .closest_hit(&ray, settings.method, 0.0, f32::INFINITY);
+                let (prim, t, n) = match hit {
+                    Some(hit) => (
+                        hit.prim,
+                        hit.t,
+                        facing_normal(stage.scene(), &ray, hit.prim, hit.t),
+                    ),
+                    None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
+                };
+                files[0].extend(prim.to_le_bytes());
+                files[1].extend(t.to_le_bytes());
+                files[2].extend(n.iter().flat_map(|c| c.to_le_bytes()));
+            }
+        }
+        files
+    }
+
+    #[test]
+    fn bands_of_any_height_write_the_whole_images_bytes() {
+        let stage = Stage::new(Scene::cornell(), AccelChoice::Bvh);
+        let settings = RenderSettings {
+            width: 24,
+            height: 17,
+            ..RenderSettings::default()
+        };
+        let camera = Camera::cornell(settings.width);
+        let reference = whole(&stage, &camera, &settings);
+        assert!(reference[0].len() > 128 + 4 * 24 * 17 - 1);
+        // 17 rows in bands of 5 (the last of 2), of 1, and all in one.
+        for band_pixels in [5 * 24, 5 * 24 + 7, 1, 24 * 17, u32::MAX] {
+            let files = banded(&stage, &camera, &settings, band_pixels);
+            assert!(files == reference, "bands of {band_pixels} pixels");
+        }
+    }
+
+    #[test]
+    fn a_cancelled_pass_stops_at_the_next_band() {
+        let stage = Stage::new(Scene::cornell(), AccelChoice::Bvh);
+        let settings = RenderSettings {
+            width: 8,
+            height: 10,
+            ..RenderSettings::default()
+        };
+        let camera = Camera::cornell(settings.width);
+        let asked = std::sync::atomic::AtomicU32::new(0);
+        // Yes from the second question on: one band (of 3 rows) is written.
+        let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 1;
+        let [mut a, mut b, mut c] = [Vec::new(), Vec::new(), Vec::new()];
+        let outs: [&mut dyn Write; 3] = [&mut a, &mut b, &mut c];
+        let done = write_bands(&stage, &camera, &settings, outs, 3 * 8, &cancel).unwrap();
+        assert!(!done);
+        assert_eq!(asked.into_inner(), 2);
+        let header = npy_header("<u4", &[10, 8]).len();
+        assert_eq!(a.len(), header + 4 * 3 * 8);
+    }
 }

@@ -543,7 +543,7 @@ fn stage(scene: Scene, accel: AccelChoice) -> (Stage, Duration) {
 fn check_render_outputs(args: &RenderArgs) -> Result<()> {
     raylab::input::OutputFile::create(&args.out)?;
     if args.aov {
-        render::aov::Aovs::create_beside(&args.out)?;
+        render::aov::create_beside(&args.out)?;
     }
     Ok(())
 }
@@ -576,15 +576,21 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     // The arrays band by band, each into its temporary file: memory for one band, not the image.
     let mut arrays = Vec::new();
     if args.aov {
-        let mut outs = render::aov::Aovs::create_beside(&args.out)?;
-        render::aov::write_aovs(&stage, &camera, &settings, &mut outs)?;
+        let mut outs = render::aov::create_beside(&args.out)?;
+        // Ctrl+C stops the pass at its next band, and nothing is written.
+        if !render::aov::write_aovs(&stage, &camera, &settings, &mut outs, &interrupted)? {
+            return Err(Interrupted.into());
+        }
         arrays.extend(outs);
     }
     if interrupted() {
         return Err(Interrupted.into());
     }
     // The whole set is committed before anything is reported: a reader of the report that is
-    // gone (a closed pipe) ends the run after the files, never between them.
+    // gone (a closed pipe) ends the run after the files, never between them. The arrays are
+    // renamed first (.prim, .t, .normal), the PNG last: a PNG from this run means its three
+    // arrays were all renamed before it; a run that fails or is killed during the renames
+    // leaves the previous PNG (some arrays may already be new).
     let written: Vec<PathBuf> = arrays.iter().map(|o| o.path().to_path_buf()).collect();
     for out in arrays {
         out.commit()?;
