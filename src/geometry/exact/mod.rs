@@ -12,9 +12,10 @@
 //!
 //! The files: `rational.rs` holds the big rationals (`Q`, the exact ray parameter
 //! [`ExactT`], its comparisons and its correct rounding); `expansion.rs` the floating-point
-//! expansions and [`orient`]; `triangle.rs` the exact questions about a triangle (which side
-//! of an edge in rationals, which side of its plane, t at its plane, exact or correctly
-//! rounded); `tests.rs` their tests. A sphere's exact level is with the sphere
+//! expansions and [`orient`]; `triangle.rs` the exact questions about a triangle (whether it
+//! has zero area, by an f64 filter and then expansions, [`zero_area`]; which side of an edge
+//! in rationals, which side of its plane, t at its plane, exact or correctly rounded);
+//! `tests.rs` their tests. A sphere's exact level is with the sphere
 //! (`geometry::sphere::exact`).
 
 mod expansion;
