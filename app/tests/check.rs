@@ -409,3 +409,88 @@ fn every_family_says_which_classic_bug_it_catches() {
         assert!(readme.contains(&export::cell(&f.catches)), "{}", f.name);
     }
 }
+
+/// An export cut short (families gone, or a family's rays): `check --suite` and `grade
+/// --suite` name what the manifest lists and is not there, and fail; `--family` grades an
+/// intact family; a suite without a manifest (made by hand) is graded as it is, with a
+/// warning that says so.
+#[test]
+fn a_cut_short_export_is_named_and_failed_and_a_suite_without_manifest_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite_dir = dir.path().join("suite");
+    let suite_s = suite_dir.to_str().unwrap();
+    let o = raylab(&["suite", "export", suite_s]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let manifest = std::fs::read_to_string(suite_dir.join(export::MANIFEST)).unwrap();
+    let mut families: Vec<String> = std::fs::read_dir(&suite_dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_dir())
+        .map(|e| e.file_name().into_string().unwrap())
+        .collect();
+    families.sort();
+    let listed = export::read_manifest(&manifest).unwrap();
+    assert_eq!(listed.len(), suite::all().len());
+    for ((name, rays), family) in listed.iter().zip(suite::all()) {
+        assert!(families.contains(name), "{name}");
+        assert_eq!(*rays, family.rays.len(), "{name}");
+    }
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    let program = format!("'{exe}' trace --scene {{scene}} --rays {{rays}}");
+    let class = dir.path().join("class");
+    std::fs::create_dir_all(class.join("ada")).unwrap();
+    let class_s = class.to_str().unwrap();
+    // All but two families gone.
+    for name in &families[2..] {
+        std::fs::remove_dir_all(suite_dir.join(name)).unwrap();
+    }
+    let check = ["check", "--suite", suite_s, "--program", &program];
+    let grade = ["grade", class_s, "--suite", suite_s, "--program", &program];
+    for args in [&check[..], &grade[..]] {
+        let o = raylab(args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        for name in [&families[2], families.last().unwrap()] {
+            assert!(err.contains(&format!("{name} is missing")), "{err}");
+        }
+        assert!(err.contains("families.txt"), "{err}");
+        assert!(
+            !err.contains(&format!("{} is missing", families[1])),
+            "{err}"
+        );
+    }
+    // One family's last ray gone: that family fails, the one beside it is graded.
+    let rays = suite_dir.join(&families[1]).join("rays.txt");
+    let text_of = std::fs::read_to_string(&rays).unwrap();
+    let kept = text_of.lines().count() - 1;
+    let cut: String = text_of
+        .lines()
+        .take(kept)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&rays, cut).unwrap();
+    let o = raylab(&[&check[..], &["--family", "2"]].concat());
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    let count_of = listed[1].1;
+    let said = format!("{} has {} rays, not {count_of}", families[1], count_of - 1);
+    assert!(err.contains(&said), "{err}");
+    let o = raylab(&[&check[..], &["--family", "1"]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert_eq!(text(&o.stderr), "");
+    // No manifest: what is there is graded, and that it may be cut short is said.
+    std::fs::remove_file(suite_dir.join(export::MANIFEST)).unwrap();
+    for args in [&check[..], &grade[..]] {
+        let o = raylab(args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
+        assert!(
+            err.contains("no families.txt") && err.contains("cut short"),
+            "{err}"
+        );
+        assert!(
+            err.contains("grading what it holds (2 family directories)"),
+            "{err}"
+        );
+    }
+}

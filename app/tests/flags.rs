@@ -87,6 +87,24 @@ fn check_refuses_the_flags_it_would_ignore() {
         &scene,
     ]);
     assert_fails(&o, 2, &["cannot be used with", "--scene"]);
+    // --family picks a suite's family: with --rays or --image there is none to pick.
+    let family = ["--family", "1"];
+    let o = raylab(&[&graded[..], &family].concat());
+    assert_fails(&o, 2, &["cannot be used with", "--family"]);
+    let with_program = [
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        program,
+    ];
+    let o = raylab(&[&with_program[..], &family].concat());
+    assert_fails(&o, 2, &["cannot be used with", "--family"]);
+    let with_image = ["check", "--image", image, "--program", program];
+    let o = raylab(&[&with_image[..], &family].concat());
+    assert_fails(&o, 2, &["cannot be used with", "--family"]);
     assert!(!d.join("x.png").exists());
 }
 

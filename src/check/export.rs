@@ -9,6 +9,47 @@ use std::path::{Path, PathBuf};
 /// such a directory is written over).
 pub const README_TITLE: &str = "# raylab's hard-case suite";
 
+/// The manifest of an exported suite, `DIR/families.txt`, written last: one line per family,
+/// its directory's name and its number of rays. A directory without it is not an export, or
+/// one cut short; one whose families differ from it has lost or changed some.
+pub const MANIFEST: &str = "families.txt";
+
+/// The manifest's text ([`MANIFEST`]).
+pub fn manifest_text(families: &[Family]) -> String {
+    let mut text = String::from(
+        "# The families of this suite and their numbers of rays, written last by `raylab suite\n\
+         # export`: a directory without this file is not an export, or one cut short.\n",
+    );
+    for (i, family) in families.iter().enumerate() {
+        text += &format!("{} {}\n", dir_name(i, &family.name), family.rays.len());
+    }
+    text
+}
+
+/// The families a manifest ([`MANIFEST`]) lists, with their numbers of rays; `#` comment and
+/// blank lines skipped. An error names the first line that is not `NAME COUNT`.
+pub fn read_manifest(text: &str) -> Result<Vec<(String, usize)>, String> {
+    let mut listed = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words[..] {
+            [] => {}
+            [first, ..] if first.starts_with('#') => {}
+            [name, count] => match count.parse() {
+                Ok(count) => listed.push((name.to_string(), count)),
+                Err(_) => return Err(format!("line {}: '{count}' is not a number of rays", i + 1)),
+            },
+            _ => {
+                return Err(format!(
+                    "line {}: not a family's name and number of rays",
+                    i + 1
+                ))
+            }
+        }
+    }
+    Ok(listed)
+}
+
 /// A family's directory: its place in the suite (two digits, so a listing keeps the suite's
 /// order) and its name in lowercase words joined by `-` (`01-cube-from-inside`).
 pub fn dir_name(index: usize, name: &str) -> String {
@@ -72,9 +113,10 @@ pub enum ExportError {
 }
 
 /// Writes every family to `dir` (`DIR/<family>/scene.txt` and `rays.txt`, see [`dir_name`])
-/// and a `DIR/README.md` on the families and the formats. `dir` is created if missing; one
-/// that holds anything must be an earlier export, whose files are replaced one by one, each
-/// whole or not at all. Returns the family directories written.
+/// and a `DIR/README.md` on the families and the formats, then the manifest ([`MANIFEST`]),
+/// last. `dir` is created if missing; one that holds anything must be an earlier export, whose
+/// manifest is removed first and whose files are replaced one by one, each whole or not at
+/// all. Returns the family directories written.
 pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -95,6 +137,12 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
         }
     }
     std::fs::create_dir_all(dir).map_err(io(dir))?;
+    // Until every family is written again, the directory is not a whole export.
+    let manifest = dir.join(MANIFEST);
+    match std::fs::remove_file(&manifest) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io(&manifest)(e)),
+        _ => {}
+    }
     // The README first: an export cut short (a full disk) is still known as one, and redone.
     input::write_file(&dir.join("README.md"), readme(families).as_bytes())?;
     let mut written = Vec::new();
@@ -118,6 +166,7 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
         input::write_file(&family_dir.join("rays.txt"), rays_text(family).as_bytes())?;
         written.push(family_dir);
     }
+    input::write_file(&manifest, manifest_text(families).as_bytes())?;
     Ok(written)
 }
 
@@ -144,6 +193,10 @@ written by `raylab suite export`. Each directory holds a scene and its rays:
 
 Every number is an f32 value written out exactly (its whole decimal expansion, no exponent;
 `inf` for infinity): read as a float, a double or an exact rational, it is the same number.
+
+`families.txt`, written last, lists each family's directory and its number of rays: `raylab
+check --suite` and `raylab grade --suite` fail a family it lists that is missing or has
+another number of rays (a copy cut short), and say so where it is missing.
 
 **The answer**, one line per ray, in the rays' order (line K answers ray K): `hit <t> <index>`
 (the nearest primitive the ray meets with tmin < t < tmax, and its t) or `miss`. Blank lines

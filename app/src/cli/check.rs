@@ -23,8 +23,10 @@ pub struct SuiteArgs {
 #[derive(clap::Subcommand, Debug)]
 pub enum SuiteAction {
     /// Write every hard-case family as DIR/<family>/scene.txt and rays.txt (the `trace`
-    /// formats) and DIR/README.md (what each family probes, the answer format). DIR must be
-    /// new, empty or an earlier export.
+    /// formats), DIR/README.md (what each family probes, the answer format) and, last,
+    /// DIR/families.txt (each family and its number of rays: `check` and `grade` fail a
+    /// family it lists that is missing or cut short). DIR must be new, empty or an earlier
+    /// export.
     Export {
         /// The directory to write.
         dir: PathBuf,
@@ -80,7 +82,13 @@ pub struct CheckArgs {
     #[arg(long, value_name = "X", default_value_t = grade::DEFAULT_T_TOLERANCE, allow_hyphen_values = true)]
     pub t_tolerance: f64,
     /// With --suite: check only this family (its directory name, or its number).
-    #[arg(long, value_name = "NAME", requires = "suite")]
+    // (A conflict too: clap waives a requirement that conflicts with a flag given.)
+    #[arg(
+        long,
+        value_name = "NAME",
+        requires = "suite",
+        conflicts_with_all = ["rays", "image"]
+    )]
     pub family: Option<String>,
     /// The scene and, with --image, the view.
     #[command(
@@ -572,6 +580,7 @@ fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
         families.push(path);
     }
     families.sort();
+    check_manifest(dir, &families, only)?;
     if families.is_empty() {
         bail!(
             "{}: no family directories (DIR/<family>/scene.txt and rays.txt); write a suite with `raylab suite export {}`",
@@ -580,15 +589,7 @@ fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
         );
     }
     if let Some(only) = only {
-        let number = only.parse::<usize>().ok().map(|n| format!("{n:02}-"));
-        let wanted = |p: &PathBuf| {
-            let name = family_name(p);
-            name == only
-                || number
-                    .as_ref()
-                    .is_some_and(|n| name.starts_with(n.as_str()))
-        };
-        families.retain(wanted);
+        families.retain(|p| is_family(&family_name(p), Some(only)));
         if families.is_empty() {
             bail!(
                 "{}: no family '{only}' (a directory name such as 01-cube-from-inside, or its number)",
@@ -597,6 +598,67 @@ fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(families)
+}
+
+/// Whether family directory `name` is the one `only` names (its directory name, or its number),
+/// or any family where `only` is `None`.
+fn is_family(name: &str, only: Option<&str>) -> bool {
+    let Some(only) = only else { return true };
+    let number = only.parse::<usize>().ok().map(|n| format!("{n:02}-"));
+    name == only || number.is_some_and(|n| name.starts_with(n.as_str()))
+}
+
+/// Checks the families found in `dir` (those `only` names) against the suite's manifest
+/// ([`export::MANIFEST`], written last by `raylab suite export`): a family it lists that is
+/// missing or has another number of rays fails the run, named. Without a manifest (a suite
+/// made by hand, or an export cut short) that is said on stderr, and what is there is graded.
+fn check_manifest(dir: &Path, families: &[PathBuf], only: Option<&str>) -> Result<()> {
+    let path = dir.join(export::MANIFEST);
+    if std::fs::symlink_metadata(&path).is_err() {
+        // (No families at all is said as such.)
+        if families.is_empty() {
+            return Ok(());
+        }
+        eprintln!(
+            "warning: {}: no {} (written last by `raylab suite export`): not an exported suite, \
+             or an export cut short; grading what it holds ({} family directories)",
+            dir.display(),
+            export::MANIFEST,
+            families.len()
+        );
+        return Ok(());
+    }
+    let listed = export::read_manifest(&read_text(&path)?)
+        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let mut wrong = Vec::new();
+    for (name, count) in listed.iter().filter(|(n, _)| is_family(n, only)) {
+        let Some(family) = families.iter().find(|p| family_name(p) == *name) else {
+            wrong.push(format!("{name} is missing"));
+            continue;
+        };
+        let rays = read_text(&family.join("rays.txt"))?;
+        let found = rays
+            .lines()
+            .filter(|l| {
+                l.split_whitespace()
+                    .next()
+                    .is_some_and(|w| !w.starts_with('#'))
+            })
+            .count();
+        if found != *count {
+            wrong.push(format!("{name} has {found} rays, not {count}"));
+        }
+    }
+    if !wrong.is_empty() {
+        bail!(
+            "{}: not the suite its {} lists: {}; export it again with `raylab suite export {}`",
+            dir.display(),
+            export::MANIFEST,
+            wrong.join(", "),
+            dir.display()
+        );
+    }
+    Ok(())
 }
 
 /// One family of an exported suite with its exact answers, computed once, to grade any
