@@ -156,6 +156,8 @@ pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
         .open(open)
         .default_size([640.0, 420.0])
         .show(ctx, |ui| {
+            // (Bars drawn whenever there is more to see, sideways too.)
+            ui.style_mut().spacing.scroll = egui::style::ScrollStyle::solid();
             let row = ui.text_style_height(&egui::TextStyle::Body);
             egui::ScrollArea::both().auto_shrink(false).show_rows(
                 ui,
