@@ -178,6 +178,30 @@ fn supersampling_past_the_windows_bound_is_shown_as_rendered() {
 }
 
 #[test]
+fn a_failed_render_is_not_asked_for_again_until_something_changes() {
+    // A render fails (injected: the next to finish); the window says so and waits, rather
+    // than waking to refine the failed frame on every pass of the event loop (it did, for
+    // as long as nothing changed: a redraw each pass); the next change renders again.
+    let dir = tempfile::tempdir().unwrap();
+    // (Esc dismisses the failure's banner, which would cover the image compared.)
+    let script = "500 fail-render\n1000 step shadows\n3500 key Escape down\n\
+                  3520 key Escape up\n4000 step indirect\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("render failed: injected by the script"),
+        "{log}"
+    );
+    let wakes = run.nums("refine_wakes")[0];
+    println!("{wakes} wakes to refine");
+    assert!(wakes < 20.0, "{wakes} wakes to refine\n{log}");
+    let (mean, off, ..) = against_headless(&run, &Scene::cornell());
+    assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
+}
+
+#[test]
 fn a_window_larger_than_the_device_draws_pauses_and_draws_again() {
     // 32767x32767, the largest X window: past the device's largest texture, so drawing
     // pauses (saying why) until the window is smaller; then what it shows is the headless

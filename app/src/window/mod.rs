@@ -747,8 +747,12 @@ impl ApplicationHandler<AppEvent> for App {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
+        let now = Instant::now();
+        if self.viewer.refine_at().is_some_and(|t| t <= now) {
+            self.viewer.refine_wakes += 1;
+        }
         match wake {
-            Some(t) if t > Instant::now() => event_loop.set_control_flow(ControlFlow::WaitUntil(t)),
+            Some(t) if t > now => event_loop.set_control_flow(ControlFlow::WaitUntil(t)),
             Some(_) => {
                 self.egui_repaint_at = None;
                 event_loop.set_control_flow(ControlFlow::Wait);

@@ -21,6 +21,7 @@
 //!   zero-size window)
 //! - `restore`: back from `resize 0 0` at the window's real size
 //! - `lose-surface`: the next draw fails as on a lost window surface
+//! - `fail-render`: the next render to finish fails (as a render error would)
 //! - `select <level>`: what clicking a push level in the panel's scene tree does (highlights
 //!   its primitives); `select none` clears it
 //! - `inspect <i> <j>`: what a left click on pixel (i, j) of the full-size image does with the
@@ -62,6 +63,9 @@ pub enum Action {
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
+    /// Make the next render to finish fail: the app must say so and not ask for it again
+    /// until something changes.
+    FailRender,
 }
 
 /// [`Action::Set`] of the control `name` to `value`, if the control takes that value.
@@ -205,6 +209,10 @@ impl Script {
                     want(2)?;
                     Action::Restore
                 }
+                Some("fail-render") => {
+                    want(2)?;
+                    Action::FailRender
+                }
                 Some("lose-surface") => {
                     want(2)?;
                     Action::LoseSurface
@@ -228,7 +236,7 @@ impl Script {
                 }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, select)"
+                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, fail-render, select)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -267,7 +275,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 select 2\n400 select none\n400 inspect 3 4\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 fail-render\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -292,6 +300,7 @@ mod tests {
                 Action::Resize(0, 0),
                 Action::Restore,
                 Action::LoseSurface,
+                Action::FailRender,
                 Action::Select(Some(2)),
                 Action::Select(None),
                 Action::Inspect(3, 4),

@@ -110,7 +110,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -125,6 +125,7 @@ impl ScriptedRun {
             r[3],
             viewer.shown.as_ref().map_or(0, |s| s.spp),
             ["off", "on"][viewer.status_whole as usize],
+            viewer.refine_wakes,
             window.frames_presented,
             viewer.frames_while_moving,
             match c.mode {
@@ -223,6 +224,7 @@ impl App {
                 }
                 Action::Select(level) => viewer.select_level(level),
                 Action::Inspect(i, j) => viewer.inspect_pixel(i, j),
+                Action::FailRender => viewer.fail_next_render = true,
                 Action::LoseSurface => {
                     if let Some(fw) = &mut self.framework {
                         fw.gpu.lose_next_draw = true;

@@ -93,6 +93,10 @@ pub struct Viewer {
     pub status_is_error: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
+    /// The next render to finish fails (the script's `fail-render`).
+    pub fail_next_render: bool,
+    /// How often the event loop woke to refine (for the scripted run's final line).
+    pub refine_wakes: u64,
     /// An error shown in red over the image until dismissed (a click on it, or Esc) or a
     /// scene loads.
     pub banner: Option<String>,
@@ -244,6 +248,8 @@ impl Viewer {
             status: String::new(),
             status_is_error: false,
             status_whole: true,
+            fail_next_render: false,
+            refine_wakes: 0,
             banner: None,
             show_all_warnings: false,
             obj_path: scene_path
@@ -463,7 +469,10 @@ impl Viewer {
     /// Takes the worker's newest frame: `None` where none finished, `Some(None)` where it
     /// has nothing to show (cancelled, or failed: the status says why).
     pub fn take_frame(&mut self) -> Option<Option<NewFrame>> {
-        let done = self.worker.take_latest()?;
+        let mut done = self.worker.take_latest()?;
+        if matches!(done.image, Ok(Some(_))) && std::mem::take(&mut self.fail_next_render) {
+            done.image = Err("injected by the script".into());
+        }
         Some(match done.image {
             Ok(None) => None, // cancelled by a newer change
             Ok(Some((rgba, stats))) => {
