@@ -499,7 +499,7 @@ fn a_killed_runs_stale_temporary_files_are_removed_by_a_later_write() {
     let o = run(&render);
     assert!(o.status.success(), "{}", stderr(&o));
     let after: Vec<String> = listing(d).into_iter().filter(is_temp).collect();
-    assert_eq!(after, [live.clone()]);
+    assert_eq!(after, [live]);
     // Its lock released (its writer gone), the next write removes it.
     drop(held);
     let o = run(&render);
