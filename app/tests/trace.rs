@@ -225,7 +225,8 @@ fn trace_answers_through_every_per_ray_path_alike() {
         "--precision",
         "f64",
     ]);
-    assert_fails(&o, 2, &["f32 only"]);
+    // The value as the user writes it, not the enum's Rust name.
+    assert_fails(&o, 2, &["--accel bvh runs in f32 only"]);
 }
 
 #[test]

@@ -113,8 +113,8 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
             (out, scene.warnings)
         }
         (Precision::F64, Some(_)) => bail!(
-            "--accel {:?} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",
-            args.accel
+            "--accel {} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",
+            args.accel.to_possible_value().map_or(String::new(), |v| v.get_name().to_string())
         ),
     };
     print_warnings(&warnings);
