@@ -77,7 +77,7 @@ fn lab_trace_on_the_exported_suite() {
         );
         let read = |p: &std::path::Path| std::fs::read_to_string(p).unwrap();
         let (scene, rays) = (scene.to_str().unwrap(), rays.to_str().unwrap());
-        let shapes = tracefile::parse_scene::<f32>(scene, &read(scene.as_ref())).unwrap();
+        let (shapes, _) = tracefile::parse_scene::<f32>(scene, &read(scene.as_ref())).unwrap();
         let rays = tracefile::parse_rays_at_lines::<f32>(rays, &read(rays.as_ref())).unwrap();
         let exact = grade::Exact::of_shapes(shapes, rays);
         let answers: Vec<_> = grade::parse_answers::<f32>("lab-trace", &printed, exact.primitives)

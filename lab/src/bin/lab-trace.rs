@@ -40,8 +40,11 @@ fn main() -> ExitCode {
 /// per ray (f32's shortest round-trip t).
 fn answers(scene_file: &str, rays_file: &str) -> Result<String, String> {
     let read = |file: &str| std::fs::read_to_string(file).map_err(|e| format!("{file}: {e}"));
-    let shapes =
+    let (shapes, warnings) =
         tracefile::parse_scene::<f32>(scene_file, &read(scene_file)?).map_err(|e| e.to_string())?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
     let rays =
         tracefile::parse_rays::<f32>(rays_file, &read(rays_file)?).map_err(|e| e.to_string())?;
     let answers = code::answers(&lab::YourCode, &shapes, &rays);
