@@ -200,6 +200,8 @@ fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
             std::fs::remove_dir_all(family.path()).unwrap();
         }
     }
+    // Two families kept by hand: without the export's manifest, graded as they are.
+    std::fs::remove_file(suite.join("families.txt")).unwrap();
     let csv = dir.path().join("grades.csv");
     let path = |p: &Path| p.to_str().unwrap().to_string();
     let o = raylab(&[

@@ -113,6 +113,12 @@ pub const SCREEN: (u32, u32) = (1280, 800);
 /// software-rendered windows at once on two cores can outrun.
 static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// Holds the one-window lock: for a test that starts its window itself (xvfb-run runs beside
+/// another test's may collide over the display or its temporary directory).
+pub fn one_window() -> std::sync::MutexGuard<'static, ()> {
+    ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Runs the window binary `exe` under Xvfb with `script` and something running beside it
 /// ([`Around`]); None (after saying so) where Xvfb is missing.
 pub fn run_window_with(
@@ -135,7 +141,7 @@ pub fn run_window_on(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    let _one = ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner());
+    let _one = one_window();
     // Input drivers wait for the first image; a file-editing driver keeps to its own clock.
     let wait_for_image = matches!(around, Around::RealInput(_));
     let (driver, model) = match around {
