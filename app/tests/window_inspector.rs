@@ -183,6 +183,79 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
 }
 
 #[test]
+fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
+    // A click inspects a pixel of the blue block; then the light's y is typed into the
+    // panel's field (a real click, Ctrl+A, the value, Return) and F5 saves the view: the
+    // inspector's fields are the library's for that pixel under the light the view saved.
+    // (113, 588) is the Light row's y field on the 1280×800 screen with the inspector open,
+    // as docs/screenshot.png shows it.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "9000 step indirect\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 420; \
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool mousemove --sync 113 588; \
+                  sleep 0.3; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
+                  xdotool type --delay 50 -- -0.95; xdotool key Return; sleep 1.5; \
+                  xdotool key F5; sleep 1.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let ins = &run.inspector;
+    assert!(
+        !ins.is_empty(),
+        "the click inspected nothing\n{}",
+        run.stderr
+    );
+    let view = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{}", run.stderr));
+    let text = std::fs::read_to_string(&view).unwrap();
+    let light: Vec<f32> = (text.lines())
+        .find_map(|l| l.strip_prefix("light "))
+        .unwrap_or_else(|| panic!("no light in the view: {text}"))
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(
+        light[1], -0.95,
+        "the typed light reached the window: {text}"
+    );
+    let (camera, w, h, _) = run.camera();
+    let pixel: Vec<u32> = (ins["pixel"].split(' '))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    let mut scene = Scene::cornell();
+    scene.light.position = [light[0], light[1], light[2]];
+    let expected =
+        raylab::render::inspect::inspect(&scene.into(), &camera, &settings, pixel[0], pixel[1])
+            .unwrap()
+            .to_string();
+    for line in expected.lines() {
+        let (key, value) = line.split_once(": ").unwrap();
+        assert_eq!(ins.get(key).map(String::as_str), Some(value), "{key}");
+    }
+    // And not the answer under the lab's light: the typed light changed what it shows.
+    let before = raylab::render::inspect::inspect(
+        &Scene::cornell().into(),
+        &camera,
+        &settings,
+        pixel[0],
+        pixel[1],
+    )
+    .unwrap()
+    .to_string();
+    assert_ne!(before, expected, "the light moved nothing at this pixel");
+}
+
+#[test]
 fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
     // A click on the lit floor draws the inspected ray, its ring and its shadow ray over the
     // image; I turns the inspector off, and with it what it drew: the window then shows the
