@@ -138,6 +138,32 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     );
 }
 
+/// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
+/// run's final camera at its final image size, at lab step 5, as `name: value` lines.
+fn inspected_by_the_library(run: &common::window::Run, scene: Scene) -> String {
+    let (camera, width, height, _) = run.camera();
+    let pixel: Vec<u32> = (run.inspector["pixel"].split(' '))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let settings = RenderSettings {
+        width,
+        height,
+        step: LabStep::Indirect,
+        ..Default::default()
+    };
+    raylab::render::inspect::inspect(&scene.into(), &camera, &settings, pixel[0], pixel[1])
+        .unwrap()
+        .to_string()
+}
+
+/// Every field of `expected` (`name: value` lines) as the window's inspector showed it.
+fn assert_inspector_shows(ins: &HashMap<String, String>, expected: &str) {
+    for line in expected.lines() {
+        let (key, value) = line.split_once(": ").unwrap();
+        assert_eq!(ins.get(key).map(String::as_str), Some(value), "{key}");
+    }
+}
+
 #[test]
 fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     // A click inspects a pixel (the inspector's panel then opens and narrows the image), and W
@@ -159,25 +185,9 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
         "the click inspected nothing\n{}",
         run.stderr
     );
-    let (camera, w, h, _) = run.camera();
+    let (camera, w, _, _) = run.camera();
     assert!(camera.position().z > -3.0, "W moved the camera");
-    let pixel: Vec<u32> = (ins["pixel"].split(' '))
-        .map(|x| x.parse().unwrap())
-        .collect();
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        ..Default::default()
-    };
-    let stage = Scene::cornell().into();
-    let expected = raylab::render::inspect::inspect(&stage, &camera, &settings, pixel[0], pixel[1])
-        .unwrap()
-        .to_string();
-    for line in expected.lines() {
-        let (key, value) = line.split_once(": ").unwrap();
-        assert_eq!(ins.get(key).map(String::as_str), Some(value), "{key}");
-    }
+    assert_inspector_shows(ins, &inspected_by_the_library(&run, Scene::cornell()));
     // The focal length is that of the final width (the click was made on a wider image).
     assert_eq!(ins["uvf"].split(' ').nth(2), Some(w.to_string().as_str()));
 }
@@ -222,36 +232,12 @@ fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
         light[1], -0.95,
         "the typed light reached the window: {text}"
     );
-    let (camera, w, h, _) = run.camera();
-    let pixel: Vec<u32> = (ins["pixel"].split(' '))
-        .map(|x| x.parse().unwrap())
-        .collect();
-    let settings = RenderSettings {
-        width: w,
-        height: h,
-        step: LabStep::Indirect,
-        ..Default::default()
-    };
-    let mut scene = Scene::cornell();
-    scene.light.position = [light[0], light[1], light[2]];
-    let expected =
-        raylab::render::inspect::inspect(&scene.into(), &camera, &settings, pixel[0], pixel[1])
-            .unwrap()
-            .to_string();
-    for line in expected.lines() {
-        let (key, value) = line.split_once(": ").unwrap();
-        assert_eq!(ins.get(key).map(String::as_str), Some(value), "{key}");
-    }
+    let mut lit = Scene::cornell();
+    lit.light.position = [light[0], light[1], light[2]];
+    let expected = inspected_by_the_library(&run, lit);
+    assert_inspector_shows(ins, &expected);
     // And not the answer under the lab's light: the typed light changed what it shows.
-    let before = raylab::render::inspect::inspect(
-        &Scene::cornell().into(),
-        &camera,
-        &settings,
-        pixel[0],
-        pixel[1],
-    )
-    .unwrap()
-    .to_string();
+    let before = inspected_by_the_library(&run, Scene::cornell());
     assert_ne!(before, expected, "the light moved nothing at this pixel");
 }
 
