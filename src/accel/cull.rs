@@ -99,24 +99,20 @@ impl Box3 {
     }
 }
 
-/// Where a shape other than a triangle (a sphere) can appear: its bounding box, and the
-/// screen rectangle of the box's projection widened by a pixel (`None`: the box reaches
-/// behind the pinhole, so it may cover any tile). A camera ray through a tile the rectangle
-/// does not meet cannot hit the shape (the box is convex and holds it).
+/// Where a box (of a hierarchy's node) can appear on screen: the rectangle of its projection
+/// widened by a pixel (`None`: the box reaches behind the pinhole, so it may cover any tile).
+/// A camera ray through a tile the rectangle does not meet cannot hit what the box holds
+/// (the box is convex).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ShapeCull {
-    pub bounds: Box3,
+pub(crate) struct ScreenBox {
     screen: Option<[f32; 4]>,
 }
 
-impl ShapeCull {
+impl ScreenBox {
     /// `projection` `None`: no culling, the shape may show in any tile.
     pub(crate) fn new((lo, hi): ([f32; 3], [f32; 3]), projection: Option<&Projection>) -> Self {
         let Some(projection) = projection else {
-            return Self {
-                bounds: Box3 { lo, hi },
-                screen: None,
-            };
+            return Self { screen: None };
         };
         let mut screen = Some([
             f32::INFINITY,
@@ -136,20 +132,17 @@ impl ShapeCull {
                 _ => None,
             };
         }
-        Self {
-            bounds: Box3 { lo, hi },
-            screen,
-        }
+        Self { screen }
     }
 
-    /// Whether the shape may show in the rectangle [x0, x1] × [y0, y1].
+    /// Whether what the box holds may show in the rectangle [x0, x1] × [y0, y1].
     pub(crate) fn meets_tile(&self, x0: f32, y0: f32, x1: f32, y1: f32) -> bool {
         self.screen
             .is_none_or(|r| !(r[2] < x0 || r[0] > x1 || r[3] < y0 || r[1] > y1))
     }
 }
 
-/// The top levels of a hierarchy of boxes on screen ([`ShapeCull`] per node). A tile may
+/// The top levels of a hierarchy of boxes on screen ([`ScreenBox`] per node). A tile may
 /// show a primitive only where some node without children (a leaf, or a node at the cut)
 /// has a rectangle meeting it, found by descending only into nodes whose rectangle meets it:
 /// every primitive lies in such a node's box. Far tighter than the root's rectangle around a
@@ -162,7 +155,7 @@ pub(crate) struct ScreenTree {
 
 #[derive(Clone, Copy, Debug)]
 struct ScreenNode {
-    cull: ShapeCull,
+    cull: ScreenBox,
     /// Positions of the children in the list: the first, and how many.
     children: Option<(u32, u32)>,
 }
@@ -181,7 +174,7 @@ impl ScreenTree {
             nodes: (nodes.into_par_iter())
                 .with_min_len(64)
                 .map(|(b, children)| ScreenNode {
-                    cull: ShapeCull::new(b, projection),
+                    cull: ScreenBox::new(b, projection),
                     children,
                 })
                 .collect(),

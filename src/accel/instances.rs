@@ -23,10 +23,7 @@
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
 use super::layout::{merge, Layout};
-use super::packet::{
-    quad_indices, BlockIds, OriginBlock, OriginTriangle, PacketNearest, PreciseTriangle,
-    ShadowPacket,
-};
+use super::packet::{quad_indices, OriginBlock, OriginTriangle, PacketSink, PreciseTriangle};
 use super::without_copies;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::instance::{linear_norm, world_bounds, Instance, Mesh};
@@ -40,83 +37,6 @@ use std::sync::Arc;
 
 /// 2⁻²⁰: the pad's relative size (see the module docs).
 const PAD: f64 = 1.0 / (1u64 << 20) as f64;
-
-/// Where packets and walks of the hierarchies send the triangles they reach: a packet's
-/// nearest-hit or shadow state.
-pub(crate) trait PacketSink<V = f32x8> {
-    /// Lanes still to be decided.
-    fn live(&self) -> u32;
-    /// Per lane, the distance beyond which nothing can change its answer.
-    fn limit(&self) -> V;
-    /// Tests one triangle (prepared for the packet's origin) on the live lanes.
-    fn take(&mut self, tri: &OriginTriangle);
-    /// [`PacketSink::take`] unless the triangle would leave a live lane undecided: then
-    /// nothing changes and the answer is false.
-    fn take_decided(&mut self, tri: &OriginTriangle) -> bool;
-    /// Takes a triangle prepared in f64 for the lanes its f32 preparation left undecided: by
-    /// default as rounded to f32 ([`PacketSink::take`]).
-    #[inline(always)]
-    fn take_precise(&mut self, tri: &PreciseTriangle) {
-        self.take(&tri.rounded);
-    }
-    /// Takes lanes `tris` of `block` for ray lane `lane` alone, where that is done in one
-    /// pass and decides the lane ([`PacketNearest::offer_block_to_lane`]); otherwise
-    /// nothing changes and the answer is false.
-    #[inline(always)]
-    fn take_block_for_lane(&mut self, _block: &OriginBlock, _tris: u32, _lane: usize) -> bool {
-        false
-    }
-}
-
-impl<V: LaneOps> PacketSink<V> for PacketNearest<V> {
-    #[inline(always)]
-    fn live(&self) -> u32 {
-        !self.ambiguous() & V::full()
-    }
-    #[inline(always)]
-    fn limit(&self) -> V {
-        // The nearest hit's bound plus the culling margin of `bvh` (∞ while none).
-        let reach = self.reach();
-        let inf = V::splat(f32::INFINITY);
-        let m = reach + reach.abs() * V::splat(1.0 / 65536.0);
-        reach.simd_lt(inf).bitselect(m, inf)
-    }
-    #[inline(always)]
-    fn take(&mut self, tri: &OriginTriangle) {
-        self.offer(tri, tri.prim);
-    }
-    #[inline(always)]
-    fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
-        self.offer_decided(tri, tri.prim)
-    }
-    #[inline(always)]
-    fn take_precise(&mut self, tri: &PreciseTriangle) {
-        self.offer_precise(tri, tri.rounded.prim);
-    }
-    #[inline(always)]
-    fn take_block_for_lane(&mut self, block: &OriginBlock, tris: u32, lane: usize) -> bool {
-        self.offer_block_to_lane(block, tris, BlockIds::Prims, lane)
-    }
-}
-
-impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
-    #[inline(always)]
-    fn live(&self) -> u32 {
-        ShadowPacket::live(self)
-    }
-    #[inline(always)]
-    fn limit(&self) -> V {
-        V::splat(1.0 + 1.0 / 65536.0)
-    }
-    #[inline(always)]
-    fn take(&mut self, tri: &OriginTriangle) {
-        self.offer(tri);
-    }
-    #[inline(always)]
-    fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
-        self.offer_decided(tri)
-    }
-}
 
 /// Packets' directions are carried into an instance's frame in f32 ([`Placed::carry_directions`])
 /// where both ‖C‖∞ and every lane's largest component lie within 2⁻⁶⁰…2⁶⁰ (this bound): then

@@ -33,6 +33,7 @@ pub mod layout;
 pub(crate) mod packet;
 mod prepared;
 pub mod reference;
+mod spheres;
 #[doc(hidden)]
 pub mod testing;
 mod triangles;
@@ -45,7 +46,7 @@ use crate::math::simd::avx512_avx2_or_baseline;
 use crate::scene::Scene;
 use layout::Layout;
 use rayon::prelude::*;
-use reference::InOrder;
+use spheres::Spheres;
 use std::fmt;
 use std::str::FromStr;
 use triangles::Triangles;
@@ -128,9 +129,9 @@ pub struct Accel {
     triangles: Triangles,
     /// The triangles in primitive order (for the scalar methods and tile culling).
     list: Vec<IndexedTriangle>,
-    /// The primitives the triangle structures do not hold (spheres), with their indices:
-    /// tested one by one after the triangles, through the shape's own methods.
-    others: InOrder,
+    /// The primitives the triangle structures do not hold (spheres), with their indices, in
+    /// a hierarchy of their own.
+    spheres: Spheres,
     /// Triangles left out as copies of an earlier one (see [`without_copies`]).
     copies: usize,
     /// Other shapes left out as copies of an earlier one ([`others_without_copies`]).
@@ -252,7 +253,7 @@ impl Accel {
         Self {
             triangles,
             list: tris,
-            others: InOrder(others),
+            spheres: Spheres::build(others),
             copies,
             other_copies,
             degenerate,
@@ -295,7 +296,7 @@ impl Accel {
 
     /// The position in [`Accel::flat_triangles`] of triangle primitive `prim`.
     pub fn slot(&self, prim: u32) -> usize {
-        match self.others.0.is_empty() && self.copies == 0 && self.degenerate == 0 {
+        match self.spheres.is_empty() && self.copies == 0 && self.degenerate == 0 {
             true => prim as usize,
             false => self.list.partition_point(|t| t.1 < prim),
         }
@@ -321,9 +322,20 @@ impl Accel {
         vec![((all.lo, all.hi), None)]
     }
 
-    /// The shapes the triangle structures do not hold (spheres), with their primitives.
-    pub fn other_shapes(&self) -> &[(Shape<f32>, u32)] {
-        &self.others.0
+    /// How many shapes the triangle structures do not hold (spheres; copies left out).
+    pub fn other_shape_count(&self) -> usize {
+        self.spheres.len()
+    }
+
+    /// The shapes the triangle structures do not hold (spheres), with their primitives, in
+    /// no particular order.
+    pub fn other_shapes(&self) -> impl Iterator<Item = &(Shape<f32>, u32)> {
+        self.spheres.shapes()
+    }
+
+    /// The spheres' hierarchy (for the frames' packets).
+    pub(crate) fn spheres(&self) -> &Spheres {
+        &self.spheres
     }
 
     /// How many triangles the structure answers for (copies left out), instanced ones
@@ -340,14 +352,17 @@ impl Accel {
     /// Whether the scene holds shapes other than triangles (the frame's packets test them
     /// lane by lane, the per-ray queries one by one).
     pub fn has_other_shapes(&self) -> bool {
-        !self.others.0.is_empty()
+        !self.spheres.is_empty()
     }
 
     /// Bytes of the structure (triangles included).
     pub fn memory_bytes(&self) -> usize {
         let list = self.list.len() * std::mem::size_of::<IndexedTriangle>();
         let instanced = self.instances().map_or(0, |i| i.memory_bytes());
-        list + instanced + self.caches.memory_bytes() + self.triangles.memory_bytes()
+        list + instanced
+            + self.caches.memory_bytes()
+            + self.triangles.memory_bytes()
+            + self.spheres.memory_bytes()
     }
 
     /// Calls `f` with the layouts answering together: the triangles' structure, the
@@ -355,11 +370,11 @@ impl Accel {
     #[inline]
     fn with_parts<R>(&self, f: impl FnOnce(&[&dyn Layout]) -> R) -> R {
         let tris = self.triangles.layout();
-        match (self.instances(), self.others.0.is_empty()) {
+        match (self.instances(), self.spheres.is_empty()) {
             (None, true) => f(&[tris]),
-            (None, false) => f(&[tris, &self.others]),
+            (None, false) => f(&[tris, &self.spheres]),
             (Some(inst), true) => f(&[tris, inst]),
-            (Some(inst), false) => f(&[tris, inst, &self.others]),
+            (Some(inst), false) => f(&[tris, inst, &self.spheres]),
         }
     }
 

@@ -5,6 +5,7 @@
 
 use super::layout::{self, Layout};
 use super::reference::InOrder;
+use super::spheres::Spheres;
 use super::{without_copies, IndexedTriangle};
 use crate::geometry::instance::{Instance, Mesh};
 use crate::geometry::{Hit, Method, Ray, Shape};
@@ -38,8 +39,9 @@ impl Parts {
 
 /// Every layout over `shapes` (primitive index = position), by name, each holding the
 /// triangles (exact copies left out, as [`Accel`](super::Accel) leaves them out) beside the
-/// other shapes one by one: `flat`, `bvh`, `instances` (each run of consecutive triangles a
-/// mesh placed by the identity) and `in-order` (every primitive one by one).
+/// other shapes in their hierarchy (`accel::spheres`): `flat`, `bvh`, `instances` (each run
+/// of consecutive triangles a mesh placed by the identity); and `in-order` (every primitive
+/// one by one, the reference).
 pub fn layouts(shapes: &[Shape<f32>]) -> Vec<(&'static str, Parts)> {
     let tris: Vec<IndexedTriangle> = (shapes.iter().enumerate())
         .filter_map(|(i, s)| s.triangle().map(|v| (*v, i as u32)))
@@ -51,7 +53,7 @@ pub fn layouts(shapes: &[Shape<f32>]) -> Vec<(&'static str, Parts)> {
             .map(|(i, s)| (*s, i as u32))
             .collect()
     };
-    let others = || Box::new(InOrder(others_list())) as Box<dyn Layout>;
+    let others = || Box::new(Spheres::build(others_list())) as Box<dyn Layout>;
     let mut runs: Vec<Instance> = Vec::new();
     for run in tris.chunk_by(|a, b| a.1 + 1 == b.1) {
         let triangles: Vec<[[f32; 3]; 3]> = run.iter().map(|t| t.0).collect();

@@ -348,7 +348,7 @@ impl<'a> Frame<'a> {
         // accelerator left out copies).
         let (scene, accel) = (stage.scene(), stage.accel());
         let prepared = queries.prepared_for_eye();
-        let others = accel.other_shapes().len();
+        let others = accel.other_shape_count();
         let camera_tris = match (settings.step, prepared.first()) {
             (LabStep::Flat, _) | (_, None) => Vec::new(),
             _ if prepared.len() + others != scene.len() => Vec::new(),

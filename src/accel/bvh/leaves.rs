@@ -4,8 +4,7 @@
 
 use super::leaf_triangles::{block_lane, LeafTriangles};
 use super::{Bvh, QUAD_LEAF};
-use crate::accel::instances::PacketSink;
-use crate::accel::packet::{BlockIds, OriginBlock, PacketNearest};
+use crate::accel::packet::{BlockIds, OriginBlock, PacketNearest, PacketSink};
 use crate::accel::prepared::{Prepared, BLOCK};
 use crate::math::lanes::LaneOps;
 

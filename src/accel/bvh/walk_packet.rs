@@ -7,10 +7,9 @@ use super::leaves::{Leaves, OwnLeaves, PositionLeaves};
 use super::node::{leaf_range, WideNode, WideStack, LEAF, NONE};
 use super::slabs::{box_safe, PacketSlabs};
 use super::{Bvh, MAX_LEAF};
-use crate::accel::instances::PacketSink;
 use crate::accel::packet::{
-    OriginTriangle, OriginTriangles, PacketHits, PacketNearest, PacketSeed, ShadowHits,
-    ShadowPacket,
+    OriginTriangle, OriginTriangles, PacketHits, PacketLimits, PacketNearest, PacketSeed,
+    PacketSink, ShadowHits, ShadowPacket,
 };
 use crate::accel::prepared::Prepared;
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
@@ -22,7 +21,7 @@ impl Bvh {
     /// lanes before that lane's limit; `leaves` visits a leaf's items, nearer children first.
     /// Untrusted slabs visit every item.
     #[inline(always)]
-    pub(crate) fn walk_packet<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>>(
+    pub(crate) fn walk_packet<V: LaneOps, S: PacketLimits<V>, L: Leaves<V, S>>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -40,7 +39,7 @@ impl Bvh {
     /// walked many times per packet. On the meshes' own hierarchies the lone walk cost more
     /// than it saved (bunny 1280×720 +2.2%, Igea 640×360 +0.7%; −2.8% on Igea at 320×180).
     #[inline(always)]
-    pub(crate) fn walk_packet_lone<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>>(
+    pub(crate) fn walk_packet_lone<V: LaneOps, S: PacketLimits<V>, L: Leaves<V, S>>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -53,7 +52,7 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn walk_packet_on<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>, const LONE: bool>(
+    fn walk_packet_on<V: LaneOps, S: PacketLimits<V>, L: Leaves<V, S>, const LONE: bool>(
         &self,
         slabs: &PacketSlabs<V>,
         pad: f32,
@@ -368,7 +367,7 @@ impl Bvh {
     #[inline(always)]
     pub(super) fn walk_wide<
         V: LaneOps,
-        S: PacketSink<V>,
+        S: PacketLimits<V>,
         L: Leaves<V, S>,
         T: ChildTest<V>,
         const LONE: bool,
@@ -477,7 +476,7 @@ impl Bvh {
     /// or the subtree is done. Uses `stack` above its first `base` entries and leaves those
     /// as they were.
     #[inline(always)]
-    fn walk_lane<V: LaneOps, S: PacketSink<V>, L: Leaves<V, S>, T: ChildTest<V>>(
+    fn walk_lane<V: LaneOps, S: PacketLimits<V>, L: Leaves<V, S>, T: ChildTest<V>>(
         &self,
         test: &T,
         sink: &mut S,

@@ -28,14 +28,15 @@
 //!   [`TileQueries::shows_nothing`]);
 //! - otherwise **per ray** through the scene's structure.
 //!
-//! Shapes other than triangles (spheres) join the packets lane by lane, four lanes at a time
-//! through the shape's f64 interval level (`sphere::interval_x4`, the per-ray search's own
-//! level for a sphere): in a tile their projected box may show in, a camera packet starts
-//! from the nearest shape of each lane ([`packet::PacketSeed`]), and its triangles are then
-//! offered against it as against each other (a lane keeps a candidate only while its t
-//! interval lies wholly below the others'; overlapping ones, and lanes the interval cannot
-//! decide, are ambiguous and traced per ray); shadow segments whose box meets a shape's test
-//! it first, and the triangle packets take the lanes it leaves clear.
+//! Shapes other than triangles (spheres) join the packets through their own hierarchy
+//! (`accel::spheres`), tested four lanes at a time through the shape's f64 interval level
+//! (`sphere::interval_x4`, the per-ray search's own level for a sphere), each sphere seen
+//! from the eye and the light once per frame: in a tile the hierarchy's top boxes may show
+//! in, a camera packet walks it first and starts from the nearest sphere of each lane
+//! ([`packet::PacketSeed`]), and its triangles are then offered against that as against each
+//! other (a lane keeps a candidate only while its t interval lies wholly below the others';
+//! overlapping ones, and lanes the interval cannot decide, are ambiguous and traced per ray);
+//! shadow segments walk it first too, and the triangle packets take the lanes it leaves clear.
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers
 //! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
@@ -43,9 +44,8 @@
 //!
 //! The files: `tile.rs` answers a tile's queries ([`TileQueries`]: camera rays one at a time
 //! and in packets, shadow segments 8 at a time, the exact resolvers of the lanes a packet
-//! leaves ambiguous); `shapes.rs` holds the shapes other than triangles as the packets test
-//! them lane by lane (`LaneShape`, four lanes at a time). This file keeps the face: the
-//! frame's setup and plan, [`FrameQueries`], the tile's buffers and its shadow segments.
+//! leaves ambiguous). This file keeps the face: the frame's setup and plan,
+//! [`FrameQueries`], the tile's buffers and its shadow segments.
 //!
 //! [`packet::closest`]: super::packet::closest
 //! [`packet::shadow_from_origin`]: super::packet::shadow_from_origin
@@ -53,17 +53,16 @@
 //! [`packet::nearest_exact_lane`]: super::packet::nearest_exact_lane
 //! [`packet::blocked_exact_lane`]: super::packet::blocked_exact_lane
 
-mod shapes;
 mod tile;
 
-use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle, ShapeCull};
+use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle};
 use super::flat::FlatLoop;
 use super::packet::OriginTriangles;
 use super::prepared::LeafCache;
+use super::spheres::SpheresSeen;
 use super::{Accel, AccelKind, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::{Method, Ray};
-use shapes::LaneShape;
 use wide::f32x8;
 
 pub use super::packet::OriginTriangle;
@@ -167,9 +166,19 @@ pub struct FrameQueries<'a> {
     eye: [f32; 3],
     light: [f32; 3],
     plan: Plan<'a>,
-    /// Where the shapes other than triangles (spheres) can show and what they can block,
-    /// with each shape seen from the eye and the light: the packets test them lane by lane.
-    others: Vec<(ShapeCull, LaneShape)>,
+    /// The spheres as the packets test them (packet plans with spheres only).
+    spheres: Option<FrameSpheres>,
+}
+
+/// A frame's spheres as its packets test them.
+struct FrameSpheres {
+    /// Each seen from the eye, and from the light (with shadows).
+    from_eye: SpheresSeen,
+    from_light: Option<SpheresSeen>,
+    /// Where they can show on screen (their hierarchy's top [`SCREEN_DEPTH`] levels of
+    /// boxes), and whether some are outside it (then they may show anywhere).
+    seen: ScreenTree,
+    loose: bool,
 }
 
 /// Buffers a thread reuses from tile to tile.
@@ -180,10 +189,6 @@ pub struct TileScratch {
     prepared: Vec<OriginTriangle>,
     /// The triangles (prepared for the light) that may block the tile's shadow segments.
     near: Vec<OriginTriangle>,
-    /// The shapes other than triangles that may show in the tile.
-    shapes: Vec<LaneShape>,
-    /// Those that may block one of a tile's shadow segments.
-    near_shapes: Vec<LaneShape>,
 }
 
 /// Shadow segments from the frame's light L to L + d (t in (0, 1)), 8 lanes, for the lanes in
@@ -224,9 +229,9 @@ pub struct TileQueries<'a> {
     subset: &'a [IndexedTriangle],
     prepared: &'a [OriginTriangle],
     near: &'a mut Vec<OriginTriangle>,
-    /// The shapes other than triangles that may show in the tile.
-    shapes: &'a [LaneShape],
-    near_shapes: &'a mut Vec<LaneShape>,
+    /// Whether a sphere may show in the tile (packet plans; per ray: false, the per-ray
+    /// queries answer for them).
+    spheres_may_show: bool,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
     /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
@@ -292,15 +297,16 @@ impl Accel {
             },
             None => Plan::PerRay,
         };
-        let others = match plan {
-            Plan::PerRay => Vec::new(),
-            _ => (self.other_shapes().iter())
-                .map(|&(shape, prim)| {
-                    let cull = ShapeCull::new(shape.bounds(), setup.projection.as_ref());
-                    let lane = LaneShape::new(&shape, prim, cull.bounds, setup.eye, setup.light);
-                    (cull, lane)
-                })
-                .collect(),
+        let spheres = self.spheres();
+        let spheres = match plan {
+            Plan::PerRay => None,
+            _ if spheres.is_empty() => None,
+            _ => Some(FrameSpheres {
+                from_eye: spheres.seen_from(setup.eye),
+                from_light: setup.shadows.then(|| spheres.seen_from(setup.light)),
+                seen: ScreenTree::new(spheres.top_boxes(SCREEN_DEPTH), setup.projection.as_ref()),
+                loose: !spheres.loose().is_empty(),
+            }),
         };
         FrameQueries {
             accel: self,
@@ -308,7 +314,7 @@ impl Accel {
             eye: setup.eye,
             light: setup.light,
             plan,
-            others,
+            spheres,
         }
     }
 }
@@ -375,12 +381,8 @@ impl<'a> FrameQueries<'a> {
         'a: 't,
     {
         let (x0, y0, x1, y1) = (x0 as f32, y0 as f32, x1 as f32, y1 as f32);
-        scratch.shapes.clear();
-        scratch.shapes.extend(
-            (self.others.iter())
-                .filter(|(cull, _)| cull.meets_tile(x0, y0, x1, y1))
-                .map(|(_, shape)| *shape),
-        );
+        let spheres_may_show =
+            (self.spheres.as_ref()).is_some_and(|s| s.loose || s.seen.may_show([x0, y0, x1, y1]));
         if let Plan::Culled(culling) | Plan::CulledPackets { culling, .. } = &self.plan {
             let meets = |s: &Option<ScreenTriangle>| match s {
                 Some(s) => s.meets(x0, y0, x1, y1),
@@ -417,8 +419,7 @@ impl<'a> FrameQueries<'a> {
             subset: &scratch.subset,
             prepared: &scratch.prepared,
             near: &mut scratch.near,
-            shapes: &scratch.shapes,
-            near_shapes: &mut scratch.near_shapes,
+            spheres_may_show,
             subset_loop: None,
         }
     }

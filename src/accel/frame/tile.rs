@@ -2,12 +2,12 @@
 //! and in packets of 8 or 16, with the exact answers of the lanes a packet leaves
 //! ambiguous, and which shadow segments are blocked, 8 at a time.
 
-use super::shapes::{shapes_block, shapes_seed, SEEDED};
 use super::{segments_box, Plan, ShadowSegments, TileQueries, NO_HIT};
 use crate::accel::cull::{Box3, Occluder};
 use crate::accel::flat::FlatLoop;
 use crate::accel::packet::{self, OriginTriangle, PacketHits, PacketNearest, PacketSeed};
 use crate::accel::prepared::Prepared;
+use crate::accel::spheres::{SphereLanes, SEEDED};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::levels::{self, Event};
 use crate::geometry::adaptive::Search;
@@ -27,7 +27,7 @@ fn seed_only(d: &[f32x8; 3], d_max: f32, seed: Option<&PacketSeed>) -> PacketHit
 impl TileQueries<'_> {
     /// Whether no camera ray of the tile can hit anything: every pixel is background.
     pub fn shows_nothing(&self) -> bool {
-        !self.triangles_may_show && self.shapes.is_empty()
+        !self.triangles_may_show && !self.spheres_may_show
     }
 
     /// Whether the tile's camera rays go 8 at a time ([`TileQueries::closest_x8`]); else per
@@ -41,7 +41,7 @@ impl TileQueries<'_> {
         let frame = self.frame;
         let method = frame.method;
         match &frame.plan {
-            Plan::Culled(_) | Plan::CulledPackets { .. } if self.shapes.is_empty() => {
+            Plan::Culled(_) | Plan::CulledPackets { .. } if !self.spheres_may_show => {
                 let subset = self.subset;
                 let tris = self
                     .subset_loop
@@ -69,9 +69,9 @@ impl TileQueries<'_> {
     #[inline(always)]
     pub fn closest_x8(&mut self, d: &[f32x8; 3], live: u32) -> [u32; 8] {
         let d_max = packet::max_component(d);
-        let found = match self.shapes.is_empty() {
-            true => self.closest_triangles_x8(d, d_max, None),
-            false => self.closest_with_shapes_x8(d, d_max, live),
+        let found = match self.spheres_may_show {
+            false => self.closest_triangles_x8(d, d_max, None),
+            true => self.closest_with_spheres_x8(d, d_max, live),
         };
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
@@ -100,7 +100,7 @@ impl TileQueries<'_> {
         out: &mut [u32],
     ) {
         let frame = self.frame;
-        let ambiguous = match (&frame.plan, self.shapes.is_empty()) {
+        let ambiguous = match (&frame.plan, !self.spheres_may_show) {
             (Plan::CulledPackets { .. }, true) => {
                 Some(packet::closest_in(self.prepared, d, d_max, out))
             }
@@ -155,18 +155,33 @@ impl TileQueries<'_> {
         }
     }
 
-    /// [`TileQueries::closest_triangles_x8`] where shapes other than triangles may show: they
-    /// are tested first, and the triangles offered against them.
+    /// [`TileQueries::closest_triangles_x8`] where spheres may show: their hierarchy is
+    /// walked first, and the triangles offered against the nearest sphere of each lane.
     #[inline(never)]
-    fn closest_with_shapes_x8(&self, d: &[f32x8; 3], d_max: f32, live: u32) -> PacketHits {
-        let shapes = shapes_seed(self.shapes, d, live);
-        let mut found = self.closest_triangles_x8(d, d_max, Some(&shapes.seed));
-        for (prim, shape) in found.prim.iter_mut().zip(shapes.prims) {
+    fn closest_with_spheres_x8(&self, d: &[f32x8; 3], d_max: f32, live: u32) -> PacketHits {
+        let frame = self.frame;
+        let Some(spheres) = &frame.spheres else {
+            return self.closest_triangles_x8(d, d_max, None);
+        };
+        let found = frame
+            .accel
+            .spheres()
+            .seed_packet(&spheres.from_eye, d, live);
+        let seed = PacketSeed {
+            prim: found
+                .prims
+                .map(|p| if p == NO_HIT { NO_HIT } else { SEEDED }),
+            lo: found.lo,
+            hi: found.hi,
+            ambiguous: found.ambiguous,
+        };
+        let mut hits = self.closest_triangles_x8(d, d_max, Some(&seed));
+        for (prim, sphere) in hits.prim.iter_mut().zip(found.prims) {
             if *prim == SEEDED {
-                *prim = shape;
+                *prim = sphere;
             }
         }
-        found
+        hits
     }
 
     /// Lanes `ambiguous` of `out` decided exactly; lanes `unused` set to [`NO_HIT`].
@@ -196,7 +211,7 @@ impl TileQueries<'_> {
     fn resolve_lane(&mut self, d: [f32; 3]) -> Option<u32> {
         let frame = self.frame;
         // (The exact resolver knows triangles only.)
-        if let (Plan::CulledPackets { culling, .. }, true) = (&frame.plan, self.shapes.is_empty()) {
+        if let (Plan::CulledPackets { culling, .. }, false) = (&frame.plan, self.spheres_may_show) {
             let vertices = |p| culling.vertices(p);
             if let Some(prim) = packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d) {
                 return prim;
@@ -227,19 +242,21 @@ impl TileQueries<'_> {
                 }
             }
         };
-        // The shapes other than triangles that the segments may meet: tested first, lane by
-        // lane; the triangles' packets then take the lanes those leave clear.
-        let near_shapes = &mut *self.near_shapes;
-        near_shapes.clear();
-        if !frame.others.is_empty() {
-            let segments = segments_box(packets, light);
-            near_shapes.extend(
-                (frame.others.iter())
-                    .filter(|(cull, _)| cull.bounds.meets(segments.lo, segments.hi))
-                    .map(|(_, shape)| *shape),
-            );
-        }
-        let near_shapes = &*near_shapes;
+        // The spheres the segments may meet: their hierarchy walked first; the triangles'
+        // packets then take the lanes it leaves clear.
+        let by_spheres = |s: &ShadowSegments| match &frame.spheres {
+            None => SphereLanes {
+                blocked: 0,
+                unsure: 0,
+            },
+            Some(spheres) => match &spheres.from_light {
+                Some(seen) => frame.accel.spheres().block_packet(seen, s),
+                None => SphereLanes {
+                    blocked: 0,
+                    unsure: s.live,
+                },
+            },
+        };
         match &frame.plan {
             Plan::BvhPackets { from_light, .. } => {
                 let accel = frame.accel;
@@ -247,7 +264,7 @@ impl TileQueries<'_> {
                     if s.live == 0 {
                         continue;
                     }
-                    let by_shapes = shapes_block(near_shapes, light, s);
+                    let by_shapes = by_spheres(s);
                     *out = by_shapes.blocked;
                     let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);
                     if valid != 0 {
@@ -278,7 +295,7 @@ impl TileQueries<'_> {
                     if s.live == 0 {
                         continue;
                     }
-                    let by_shapes = shapes_block(near_shapes, light, s);
+                    let by_shapes = by_spheres(s);
                     *out = by_shapes.blocked;
                     per_ray(s, by_shapes.unsure, out);
                     let valid = s.live & !(by_shapes.blocked | by_shapes.unsure);

@@ -34,6 +34,7 @@ mod nearest;
 mod predicates;
 mod prepare;
 mod shadow;
+mod sink;
 #[cfg(test)]
 mod tests;
 
@@ -46,6 +47,7 @@ pub(crate) use predicates::max_component_in;
 pub use prepare::OriginTriangles;
 pub(crate) use prepare::{quad_indices, PreciseTriangle};
 pub use shadow::{shadow_from_origin, ShadowHits, ShadowPacket};
+pub(crate) use sink::{PacketLimits, PacketSink};
 
 use std::ops::{Mul, Sub};
 

@@ -1,0 +1,487 @@
+//! The shapes that are not triangles (spheres) in a hierarchy of their own: a BVH over their
+//! boxes ([`Bvh::build_over_boxes`], the instances' top level's build), so that a scene of N
+//! balls costs a ray O(log N) box tests, not N sphere tests.
+//!
+//! Every answer is the in-order loop's ([`super::reference::InOrder`], the reference): the
+//! hierarchy only decides which spheres are tested, never how. That culling must never drop a
+//! sphere the query would report:
+//! - the boxes are the spheres' boxes rounded outwards to f32 (`outward`), so the exact
+//!   queries (the adaptive search, the packets' f64 interval level) may cull by them;
+//! - the inexact per-ray methods compute in f32 and can report a ray that passes within their
+//!   rounding of a sphere as a hit, or a t a little before the true one; each ray's boxes are
+//!   widened by a pad for that: 2⁻¹⁸·(|o|∞ + E) with E the largest box coordinate, some 64
+//!   roundings of the ray's distance to any centre, where the f32 test's own error is at most
+//!   about 10 (`sphere::intersect`: o − c, one dot product and a projection, then r − |l|);
+//! - the slab test is conservative as in [`super::bvh`], and boxes are culled against the
+//!   best hit so far with its margin.
+//!
+//! A sphere whose box is not finite (a scene built by hand; the parser refuses them) stays out
+//! of the hierarchy, in a short list tested one by one ([`Spheres::loose`]).
+//!
+//! Packets: [`Spheres::seed_packet`] (the nearest sphere per lane of 8 camera rays from the
+//! eye) and [`Spheres::block_packet`] (which of 8 shadow segments from the light a sphere
+//! blocks) walk the hierarchy with the packet walk of [`super::bvh`] and test the spheres it
+//! reaches four lanes at a time with the sphere's f64 interval level
+//! ([`sphere::interval_x4`]), each sphere seen once per frame from the eye and the light
+//! ([`SpheresSeen`]).
+
+use super::bvh::{Bvh, Leaves, PacketSlabs};
+use super::layout::{merge, Layout};
+use super::packet::PacketLimits;
+use super::reference::{any_one_by_one, nearest_one_by_one};
+use crate::geometry::adaptive::{round_down, round_up, widen, Estimate, Search};
+use crate::geometry::sphere::{self, FromOrigin};
+use crate::geometry::triangle::WatertightRay;
+use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::lanes::Lanes;
+use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use rayon::prelude::*;
+use wide::{f32x8, f64x4};
+
+/// 2⁻¹⁸: the per-ray pad's relative size (see the module docs).
+const PAD: f32 = 1.0 / (1u32 << 18) as f32;
+
+/// The shapes other than triangles, in a hierarchy of their boxes.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Spheres {
+    /// The shapes in the hierarchy's order (each leaf's contiguous), with their primitives.
+    shapes: Vec<(Shape<f32>, u32)>,
+    /// The hierarchy over their boxes.
+    tree: Bvh,
+    /// The largest |coordinate| of any box: the pad's scale.
+    extent: f32,
+    /// Shapes whose box is not finite, tested one by one.
+    loose: Vec<(Shape<f32>, u32)>,
+}
+
+/// The largest f32 at or below `a - b` (`a`, `b` finite f32): the f64 difference is exact
+/// unless the two are 2²⁹ apart, and then its rounding is caught by the exact error term.
+fn lower(a: f32, b: f32) -> f32 {
+    let (a, b) = (f64::from(a), f64::from(b));
+    let s = a - b;
+    // Knuth's two-sum: s + e = a - b exactly.
+    let bb = s - a;
+    let e = (a - (s - bb)) + (-b - bb);
+    let r = round_down(s);
+    match e < 0.0 && f64::from(r) == s {
+        true => r.next_down(),
+        false => r,
+    }
+}
+
+/// The smallest f32 at or above `a + b`.
+fn upper(a: f32, b: f32) -> f32 {
+    -lower(-a, b)
+}
+
+/// A shape's box rounded outwards to f32 (`None` where it is not finite).
+fn outward(shape: &Shape<f32>) -> Option<([f32; 3], [f32; 3])> {
+    let (lo, hi) = match *shape {
+        Shape::Sphere { centre, radius } => (
+            each3(|k| lower(centre[k], radius)),
+            each3(|k| upper(centre[k], radius)),
+        ),
+        // (A triangle's box is exact in f32.)
+        Shape::Triangle(_) => shape.bounds(),
+    };
+    let finite = lo.iter().chain(&hi).all(|c| c.is_finite());
+    (finite && (0..3).all(|k| lo[k] <= hi[k])).then_some((lo, hi))
+}
+
+impl Spheres {
+    /// The hierarchy over `shapes` (each with its primitive index; copies already left out).
+    pub(crate) fn build(shapes: Vec<(Shape<f32>, u32)>) -> Self {
+        let boxes: Vec<Option<([f32; 3], [f32; 3])>> =
+            shapes.par_iter().map(|s| outward(&s.0)).collect();
+        let mut placed = Vec::with_capacity(shapes.len());
+        let mut placed_boxes = Vec::with_capacity(shapes.len());
+        let mut loose = Vec::new();
+        for (shape, b) in shapes.into_iter().zip(boxes) {
+            match b {
+                Some(b) => {
+                    placed.push(shape);
+                    placed_boxes.push(b);
+                }
+                None => loose.push(shape),
+            }
+        }
+        let tree = Bvh::build_over_boxes(&placed_boxes);
+        let shapes = (tree.triangles().1.iter())
+            .map(|&i| placed[i as usize])
+            .collect();
+        let extent = (placed_boxes.iter())
+            .flat_map(|(lo, hi)| lo.iter().chain(hi))
+            .fold(0.0f32, |m, c| m.max(c.abs()));
+        Self {
+            shapes,
+            tree,
+            extent,
+            loose,
+        }
+    }
+
+    /// How many shapes.
+    pub(crate) fn len(&self) -> usize {
+        self.shapes.len() + self.loose.len()
+    }
+
+    /// Whether there are none.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Every shape with its primitive: the hierarchy's, then the loose ones.
+    pub(crate) fn shapes(&self) -> impl Iterator<Item = &(Shape<f32>, u32)> {
+        self.shapes.iter().chain(&self.loose)
+    }
+
+    /// The shapes outside the hierarchy (boxes not finite), tested one by one.
+    pub(crate) fn loose(&self) -> &[(Shape<f32>, u32)] {
+        &self.loose
+    }
+
+    /// Bytes held.
+    pub(crate) fn memory_bytes(&self) -> usize {
+        let shape = std::mem::size_of::<(Shape<f32>, u32)>();
+        self.tree.memory_bytes() + (self.shapes.len() + self.loose.len()) * shape
+    }
+
+    /// Boxes of the hierarchy's top `depth` levels, for the frames' tile culling.
+    pub(crate) fn top_boxes(&self, depth: usize) -> Vec<super::cull::TreeNode> {
+        (self.tree.top_levels(depth).into_iter())
+            .map(|n| ((n.bounds.lo, n.bounds.hi), n.children))
+            .collect()
+    }
+
+    /// The pad of `ray`'s boxes (see the module docs).
+    fn pad(&self, ray: &Ray) -> f32 {
+        let o = ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+        (o + self.extent) * PAD
+    }
+
+    /// Visits the shapes `ray` may reach with tmin < t < tmax, nearer boxes first: `visit`
+    /// gets each and the current far bound, and returns the new far bound and whether to stop.
+    #[inline]
+    fn walk(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        mut visit: impl FnMut(&(Shape<f32>, u32), f32) -> (f32, bool),
+    ) {
+        let pad = self.pad(ray);
+        self.tree
+            .traverse(ray, tmin, tmax, pad, |first, count, mut t_far| {
+                for shape in &self.shapes[first..first + count] {
+                    let stop;
+                    (t_far, stop) = visit(shape, t_far);
+                    if stop {
+                        return (t_far, true);
+                    }
+                }
+                (t_far, false)
+            });
+    }
+}
+
+impl Layout for Spheres {
+    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
+        self.walk(ray, tmin, far(best), |&(shape, prim), _| {
+            if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
+                merge(best, Some(Hit { t, prim, b1, b2 }));
+            }
+            (far(best), false)
+        });
+        nearest_one_by_one(self.loose.iter().copied(), ray, method, tmin, tmax, best);
+    }
+
+    fn nearest_exact(&self, ray: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        self.walk(ray, tmin, tmax, |(shape, prim), _| {
+            search.offer_shape(*prim, widen(shape), Estimate::Unsure);
+            (search.t_far32(), false)
+        });
+        for (shape, prim) in &self.loose {
+            search.offer_shape(*prim, widen(shape), Estimate::Unsure);
+        }
+    }
+
+    fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
+        let mut hit = false;
+        self.walk(ray, tmin, tmax, |&(shape, prim), t_far| {
+            hit = prim != skip && shape.intersect(ray, method, tmin, tmax).is_some();
+            (t_far, hit)
+        });
+        hit || any_one_by_one(self.loose.iter().copied(), ray, method, tmin, tmax, skip)
+    }
+
+    fn any_exact(&self, ray: &Ray, _: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
+        let nearest = search.checker();
+        let mut hit = false;
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        self.walk(ray, tmin, tmax, |(shape, prim), t_far| {
+            hit = *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure);
+            (t_far, hit)
+        });
+        hit || (self.loose.iter())
+            .any(|(shape, prim)| *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure))
+    }
+}
+
+/// The spheres of the hierarchy seen from one origin (the eye, or the light), in its order,
+/// for the packets' interval test: made once per frame.
+pub(crate) struct SpheresSeen {
+    o: [f32; 3],
+    from: Vec<Option<FromOrigin>>,
+}
+
+impl Spheres {
+    /// The hierarchy's spheres seen from `o`.
+    pub(crate) fn seen_from(&self, o: [f32; 3]) -> SpheresSeen {
+        let o64 = o.map(f64::from);
+        SpheresSeen {
+            o,
+            from: (self.shapes.par_iter())
+                .with_min_len(256)
+                .map(|(s, _)| widen(s).sphere_from_origin(o64))
+                .collect(),
+        }
+    }
+}
+
+/// The id a packet's lanes give a sphere ([`SphereSeed`]): beyond every primitive and BVH
+/// slot, so that no kernel maps it.
+pub(crate) const SEEDED: u32 = u32::MAX - 1;
+
+/// The spheres along a camera packet, found before its triangles.
+pub(crate) struct SphereSeed {
+    /// The nearest sphere's t interval per lane (rounded outwards to f32).
+    pub(crate) lo: [f32; 8],
+    pub(crate) hi: [f32; 8],
+    /// Lanes the interval level cannot decide (two spheres too close to order, or one it
+    /// cannot tell hit from miss): to be traced per ray.
+    pub(crate) ambiguous: u32,
+    /// The nearest sphere's primitive per lane (`u32::MAX`: none).
+    pub(crate) prims: [u32; 8],
+}
+
+/// Shadow lanes decided by the spheres.
+pub(crate) struct SphereLanes {
+    /// Certainly blocked by one of them.
+    pub(crate) blocked: u32,
+    /// Not blocked for certain, and one of them the interval cannot decide: per ray.
+    pub(crate) unsure: u32,
+}
+
+/// Lanes 4·`half` to 4·`half` + 3 of the directions `d` (per axis), in f64.
+#[inline(always)]
+fn half_in_f64(d: &[[f32; 8]; 3], half: usize) -> [f64x4; 3] {
+    each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][4 * half + l]))))
+}
+
+/// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane.
+struct Nearest {
+    d: [[f64x4; 3]; 2],
+    lo: [f64x4; 2],
+    hi: [f64x4; 2],
+    prims: [u32; 8],
+    /// Lanes asked and not yet undecided.
+    live: u32,
+    undecided: u32,
+}
+
+impl<V: Lanes> PacketLimits<V> for Nearest {
+    #[inline(always)]
+    fn live(&self) -> u32 {
+        self.live & !self.undecided
+    }
+    #[inline(always)]
+    fn limit(&self) -> V {
+        // The nearest sphere's far bound, with the hierarchies' culling margin (∞ while none).
+        let mut reach = [f32::INFINITY; 8];
+        for half in 0..2 {
+            let hi = self.hi[half].to_array();
+            for l in 0..4 {
+                let r = round_up(hi[l]);
+                reach[4 * half + l] = r + r.abs() * (1.0 / 65536.0);
+            }
+        }
+        V::from_wide(f32x8::from(reach))
+    }
+}
+
+/// A shadow packet's state in the spheres' walk.
+struct Blocking<'a> {
+    d: [[f64x4; 3]; 2],
+    segments: &'a super::ShadowSegments,
+    blocked: u32,
+    unsure: u32,
+}
+
+impl<V: Lanes> PacketLimits<V> for Blocking<'_> {
+    #[inline(always)]
+    fn live(&self) -> u32 {
+        self.segments.live & !self.blocked
+    }
+    #[inline(always)]
+    fn limit(&self) -> V {
+        V::splat(1.0 + 1.0 / 65536.0)
+    }
+}
+
+/// The hierarchy's leaves as the packets test them: spheres seen from the packet's origin.
+struct SeenLeaves<'a> {
+    spheres: &'a Spheres,
+    seen: &'a SpheresSeen,
+}
+
+impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, s: &mut Nearest, first: usize, count: usize, lanes: u32) {
+        for j in first..first + count {
+            let prim = self.spheres.shapes[j].1;
+            for half in 0..2 {
+                let bits = (lanes & s.live & !s.undecided) >> (4 * half) & 0xf;
+                if bits == 0 {
+                    continue;
+                }
+                let Some(from) = &self.seen.from[j] else {
+                    s.undecided |= bits << (4 * half);
+                    continue;
+                };
+                let r = sphere::interval_x4(from, &s.d[half], 0.0, f64::INFINITY);
+                let (lo, hi) = (s.lo[half], s.hi[half]);
+                let nearer = r.hit & r.hi.simd_lt(lo);
+                let farther = r.hit & r.lo.simd_gt(hi);
+                // Too close to order, or the interval cannot tell: per ray.
+                let undecided = (!(r.miss | nearer | farther)).to_bitmask() & bits;
+                s.undecided |= undecided << (4 * half);
+                s.lo[half] = nearer.bitselect(r.lo, lo);
+                s.hi[half] = nearer.bitselect(r.hi, hi);
+                let taken = nearer.to_bitmask() & bits;
+                for l in (0..4).filter(|l| taken & (1 << l) != 0) {
+                    s.prims[4 * half + l] = prim;
+                }
+            }
+        }
+    }
+}
+
+impl<'a> Leaves<f32x8, Blocking<'a>> for SeenLeaves<'_> {
+    #[inline(always)]
+    fn visit(&mut self, s: &mut Blocking<'a>, first: usize, count: usize, lanes: u32) {
+        for j in first..first + count {
+            let prim = self.spheres.shapes[j].1;
+            for half in 0..2 {
+                let bits = (lanes & s.segments.live & !s.blocked) >> (4 * half) & 0xf;
+                if bits == 0 {
+                    continue;
+                }
+                let own = (0..4).fold(0, |m, l| {
+                    m | ((s.segments.skip(4 * half + l) == prim) as u32) << l
+                });
+                let Some(from) = &self.seen.from[j] else {
+                    s.unsure |= (bits & !own) << (4 * half);
+                    continue;
+                };
+                let r = sphere::interval_x4(from, &s.d[half], 0.0, 1.0);
+                s.blocked |= (r.hit.to_bitmask() & bits & !own) << (4 * half);
+                // Another sphere may still block such a lane for certain.
+                s.unsure |= ((!(r.hit | r.miss)).to_bitmask() & bits & !own) << (4 * half);
+            }
+        }
+    }
+}
+
+impl Spheres {
+    /// The nearest sphere along each live lane of 8 camera rays from `seen`'s origin with
+    /// directions `d`, as the f64 interval level decides it (see [`SphereSeed`]).
+    #[inline(never)]
+    pub(crate) fn seed_packet(&self, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -> SphereSeed {
+        let spheres = self;
+        avx512_avx2_or_baseline!(seed_body => (
+            spheres: &Spheres,
+            seen: &SpheresSeen,
+            d: &[f32x8; 3],
+            live: u32
+        ) -> SphereSeed)
+    }
+
+    /// Which live lanes of shadow segments `s` (from `seen`'s origin, the light) a sphere
+    /// blocks for certain, each lane skipping its own primitive, and which it leaves unsure.
+    #[inline(never)]
+    pub(crate) fn block_packet(
+        &self,
+        seen: &SpheresSeen,
+        s: &super::ShadowSegments,
+    ) -> SphereLanes {
+        let spheres = self;
+        avx512_avx2_or_baseline!(block_body => (
+            spheres: &Spheres,
+            seen: &SpheresSeen,
+            s: &super::ShadowSegments
+        ) -> SphereLanes)
+    }
+}
+
+#[inline(always)]
+fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -> SphereSeed {
+    let lanes = d.map(|c| c.to_array());
+    let inf = f64x4::splat(f64::INFINITY);
+    let mut state = Nearest {
+        d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],
+        lo: [inf; 2],
+        hi: [inf; 2],
+        prims: [u32::MAX; 8],
+        live: live & 0xff,
+        undecided: 0,
+    };
+    if !spheres.loose.is_empty() {
+        // (Not finite: the per-ray queries decide.)
+        state.undecided = state.live;
+    }
+    let slabs = PacketSlabs::<f32x8>::new(seen.o, d, spheres.tree.boxes_tame());
+    let mut leaves = SeenLeaves { spheres, seen };
+    spheres
+        .tree
+        .walk_packet(&slabs, 0.0, &mut state, &mut leaves);
+    let mut out = SphereSeed {
+        lo: [f32::INFINITY; 8],
+        hi: [f32::INFINITY; 8],
+        ambiguous: state.undecided & state.live,
+        prims: state.prims,
+    };
+    for half in 0..2 {
+        let (lo, hi) = (state.lo[half].to_array(), state.hi[half].to_array());
+        for l in 0..4 {
+            out.lo[4 * half + l] = round_down(lo[l]);
+            out.hi[4 * half + l] = round_up(hi[l]);
+        }
+    }
+    out
+}
+
+#[inline(always)]
+fn block_body(spheres: &Spheres, seen: &SpheresSeen, s: &super::ShadowSegments) -> SphereLanes {
+    let lanes = s.d.map(|c| c.to_array());
+    let mut state = Blocking {
+        d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],
+        segments: s,
+        blocked: 0,
+        unsure: 0,
+    };
+    if !spheres.loose.is_empty() {
+        state.unsure = s.live;
+    }
+    let slabs = PacketSlabs::<f32x8>::new(seen.o, &s.d, spheres.tree.boxes_tame());
+    let mut leaves = SeenLeaves { spheres, seen };
+    spheres
+        .tree
+        .walk_packet(&slabs, 0.0, &mut state, &mut leaves);
+    let blocked = state.blocked & s.live;
+    SphereLanes {
+        blocked,
+        unsure: state.unsure & s.live & !blocked,
+    }
+}
