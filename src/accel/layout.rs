@@ -6,12 +6,13 @@
 //! far; the exact nearest hit ([`Method::Adaptive`]), offering its candidates to one shared
 //! [`Search`]; and an any-hit query (not primitive `skip`) for each. An [`Accel`] is a few
 //! layouts answering together: the triangles' structure (`Triangles`: the flat loop or the
-//! BVH, triangles.rs), the placed meshes (`Instances`) and the other shapes, one by one
-//! ([`InOrder`]); [`nearest`] and [`any`] fold one query over them. Ties go to the
+//! BVH, triangles.rs), the placed meshes (`Instances`) and the other shapes in a hierarchy of
+//! their own (`Spheres`, spheres.rs; [`InOrder`], the loop in primitive order, is the
+//! reference); [`nearest`] and [`any`] fold one query over them. Ties go to the
 //! lower primitive index in every layout, so the fold's answer does not depend on their order.
 //!
-//! Packets (8 or 16 rays from one origin) are the BVH's own: a layout without a packet walk
-//! is traced per ray (`Triangles::bvh` says which layout has one).
+//! Packets (8 or 16 rays from one origin) are the BVH's own walk and the spheres': a layout
+//! without a packet walk is traced per ray (`Triangles::bvh` says which layout has one).
 //!
 //! Adding a layout (a BVH4, a grid): its files, `impl Layout` for it, a variant of
 //! `Triangles` with its arms in triangles.rs (build, `layout`, `kind`), its name in

@@ -1,6 +1,5 @@
 //! The reference loop: every ray against every primitive, in primitive order. Every faster
-//! path is tested against it. As a layout ([`InOrder`]) it holds the shapes the triangle
-//! structures do not (spheres).
+//! path is tested against it, as a layout too ([`InOrder`], in `accel::testing::layouts`).
 
 use super::layout::{merge, Layout};
 use crate::geometry::adaptive::{widen, Estimate, Search};
