@@ -2,8 +2,9 @@
 //! Embree is not installed (it then says so and leaves its rows out).
 //!
 //! Only what a closest-hit benchmark needs: one triangle mesh, or meshes placed as instances
-//! beside loose triangles (one level, Embree's `RTC_GEOMETRY_TYPE_INSTANCE`), a HIGH-quality
-//! build, and the single-ray, 8-ray and 16-ray queries. The structs mirror
+//! beside loose triangles (one level, Embree's `RTC_GEOMETRY_TYPE_INSTANCE`), or triangles
+//! beside spheres (`RTC_GEOMETRY_TYPE_SPHERE_POINT`), a HIGH-quality build, and the single-ray,
+//! 8-ray and 16-ray queries. The structs mirror
 //! `embree3/rtcore_ray.h` and `rtcore_common.h` of Embree 3.13 built with `RTC_MAX_INSTANCE_LEVEL_COUNT` 1 and
 //! `RTC_MIN_WIDTH` 0 (Debian's build).
 
@@ -13,11 +14,13 @@ use std::mem::ManuallyDrop;
 
 const INVALID_ID: u32 = u32::MAX;
 const GEOMETRY_TYPE_TRIANGLE: c_uint = 0;
+const GEOMETRY_TYPE_SPHERE_POINT: c_uint = 50;
 const GEOMETRY_TYPE_INSTANCE: c_uint = 121;
 const BUFFER_TYPE_INDEX: c_uint = 0;
 const BUFFER_TYPE_VERTEX: c_uint = 1;
 const FORMAT_UINT3: c_uint = 0x5003;
 const FORMAT_FLOAT3: c_uint = 0x9003;
+const FORMAT_FLOAT4: c_uint = 0x9004;
 const FORMAT_FLOAT3X4_COLUMN_MAJOR: c_uint = 0x9234;
 const BUILD_QUALITY_HIGH: c_uint = 2;
 const CONTEXT_FLAG_COHERENT: c_uint = 1;
@@ -160,7 +163,8 @@ pub struct Embree {
 unsafe impl Send for Embree {}
 unsafe impl Sync for Embree {}
 
-/// A committed scene: one triangle mesh, or instances and loose triangles.
+/// A committed scene: one triangle mesh, instances and loose triangles, or triangles and
+/// spheres.
 pub struct EmbreeScene<'a> {
     embree: &'a Embree,
     scene: *mut c_void,
@@ -185,6 +189,8 @@ enum Numbering {
         first_instance: u32,
         first_prim: Vec<u32>,
     },
+    /// Geometry g's primitive i is primitive `loose[g][i]` (no instances).
+    Loose(Vec<Vec<u32>>),
 }
 
 /// A mesh placed as an instance: which of the meshes, its object-to-world matrix (3×4,
@@ -278,6 +284,55 @@ impl Embree {
                     FORMAT_FLOAT3X4_COLUMN_MAJOR,
                     p.world_from_object.as_ptr(),
                 );
+                self.attach(out.scene, geometry);
+            }
+            self.commit(out.scene)?;
+        }
+        Ok(out)
+    }
+
+    /// Builds a scene of `triangles` (one geometry) and `spheres` (x, y, z, radius: one
+    /// geometry of Embree's sphere points), each with its primitive number.
+    pub fn spheres_scene(
+        &self,
+        triangles: &[([[f32; 3]; 3], u32)],
+        spheres: &[([f32; 4], u32)],
+    ) -> Result<EmbreeScene<'_>, String> {
+        let mut loose = Vec::new();
+        if !triangles.is_empty() {
+            loose.push(triangles.iter().map(|(_, p)| *p).collect());
+        }
+        if !spheres.is_empty() {
+            loose.push(spheres.iter().map(|(_, p)| *p).collect());
+        }
+        let out = self.new_scene(Vec::new(), Numbering::Loose(loose));
+        // SAFETY: as in `scene`; the vertex buffer is written within the size Embree
+        // allocated, one FLOAT4 (centre, radius) per sphere.
+        unsafe {
+            if !triangles.is_empty() {
+                let tris: Vec<_> = triangles.iter().map(|(t, _)| *t).collect();
+                self.add_triangles(out.scene, &tris)?;
+            }
+            if !spheres.is_empty() {
+                let geometry = self.symbol::<NewGeometry>(b"rtcNewGeometry\0")(
+                    self.device,
+                    GEOMETRY_TYPE_SPHERE_POINT,
+                );
+                let set_buffer = self.symbol::<SetNewGeometryBuffer>(b"rtcSetNewGeometryBuffer\0");
+                let n = spheres.len();
+                let vertices =
+                    set_buffer(geometry, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT4, 16, n) as *mut f32;
+                if vertices.is_null() {
+                    let code = self.device_error();
+                    self.symbol::<ReleaseGeometry>(b"rtcReleaseGeometry\0")(geometry);
+                    return Err(format!(
+                        "rtcSetNewGeometryBuffer failed for the spheres (Embree error {code})"
+                    ));
+                }
+                let vertices = std::slice::from_raw_parts_mut(vertices, 4 * n);
+                for (out, (sphere, _)) in vertices.chunks_exact_mut(4).zip(spheres) {
+                    out.copy_from_slice(sphere);
+                }
                 self.attach(out.scene, geometry);
             }
             self.commit(out.scene)?;
@@ -415,10 +470,11 @@ impl EmbreeScene<'_> {
                 INVALID_ID => loose[prim_id as usize],
                 k => first_prim[(k - first_instance) as usize] + prim_id,
             },
+            Numbering::Loose(loose) => loose[geom_id as usize][prim_id as usize],
         })
     }
 
-    /// The nearest triangle along one ray, `rtcIntersect1`.
+    /// The nearest primitive along one ray, `rtcIntersect1`.
     pub fn closest1(&self, o: [f32; 3], d: [f32; 3]) -> Option<u32> {
         let mut rh = RayHit1 {
             org: o,

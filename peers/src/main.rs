@@ -4,7 +4,8 @@
 //! that alternates from round to round; the best round is reported.
 //!
 //! `cargo run --release -p peers -- [--rounds N] [--sizes 1280x720,640x360]
-//! [--threads 1,2] [--scenes cornell,bunny,igea,igea_1m,field] [--lecture]`
+//! [--threads 1,2] [--scenes cornell,bunny,igea,igea_1m,field] [--lecture]`; the floor with N
+//! balls only when named: `--scenes spheres100,spheres1000,spheres10000` (see `spheres.rs`).
 //!
 //! - Embree 3 is loaded at run time (Debian: `apt-get install libembree3-3`); without it its
 //!   rows are left out and the report says why. It builds at HIGH quality, with as many build
@@ -26,36 +27,45 @@
 //! bunnies from benches/scenes/bunny_field.scene (raylab and Embree, both placing one stored
 //! bunny as 1,000 instances: Embree's `RTC_GEOMETRY_TYPE_INSTANCE` with the instances' f64
 //! matrices rounded to f32); the Cornell box always runs. Every method gets the same rays
-//! (the camera framing the mesh, or the lab's).
+//! (the camera framing the mesh, or the lab's, or the scene file's).
 //!
-//! Accuracy columns: against raylab's exact per-ray answer (the nearest triangle along the
+//! A `spheresN` scene (a floor and N balls, generated) is timed by raylab and Embree alone:
+//! raylab's frame on the exact spheres, the same frame on the same balls as instanced
+//! icospheres (1,280 triangles each, one stored mesh), the per-ray reference, and Embree with
+//! the balls as its sphere points (`RTC_GEOMETRY_TYPE_SPHERE_POINT`) beside the floor's two
+//! triangles, checked against the reference (floor and balls numbered in file order).
+//!
+//! Accuracy columns: against raylab's exact per-ray answer (the nearest primitive along the
 //! f32 ray), the rays a method missed where the exact answer hits (a leak), hit where it
 //! misses, or named another triangle: a tie where that one is hit at exactly the same t (on a
 //! shared edge both are nearest), else wrong.
 
 mod embree;
+mod report;
+mod scenes;
+mod spheres;
+mod tiny;
 
-use anyhow::{anyhow, Context as _};
+use anyhow::anyhow;
 use clap::Parser;
-use embree::{Embree, Placement, RayHitN, ValidN};
+use embree::{Embree, RayHitN, ValidN};
 use glam_obvhs::Vec3A;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray as ORay, RayHit};
 use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
-use raylab::camera::Camera;
-use raylab::controller::CameraController;
 use raylab::geometry::adaptive::closest_hit_reference;
 use raylab::geometry::{Method, Ray, Shape};
 use raylab::math::simd::{self, SimdLevel};
 use raylab::render::{render_into, LabStep, RenderSettings, Stage};
-use raylab::scene::Mesh;
 use raylab::Scene;
 use rayon::prelude::*;
-use std::path::Path;
-use std::sync::{Arc, Mutex};
+use report::{Builds, Found, Versus};
+use scenes::{camera_for, load_benches, Bench};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
+use tiny::build_tinybvh;
 
 #[derive(Parser)]
 #[command(about = "raylab beside Embree, tinybvh and obvhs, interleaved in one run")]
@@ -69,19 +79,18 @@ struct Args {
     /// Thread counts.
     #[arg(long, value_delimiter = ',', default_value = "1,2")]
     threads: Vec<usize>,
-    /// Only these scenes (cornell, bunny, igea, igea_1m, field); all that exist by default.
+    /// Only these scenes (cornell, bunny, igea, igea_1m, field, and spheresN: a floor with N
+    /// balls, e.g. spheres100,spheres1000,spheres10000); by default all of the first five that
+    /// exist, no spheresN.
     #[arg(long, value_delimiter = ',')]
     scenes: Vec<String>,
+    /// Also write each spheresN scene's two `.scene` files (exact spheres, icospheres) here.
+    #[arg(long, value_name = "DIR")]
+    write_scenes: Option<std::path::PathBuf>,
     /// Also time the lecture's loop (every ray against every triangle; strided on meshes).
     #[arg(long)]
     lecture: bool,
 }
-
-/// Lets a peer's BVH be shared by the rayon threads.
-struct Shared<T>(T);
-// SAFETY: only the peers' const queries run through it, which read the BVH and write nothing
-// but the caller's ray (tinybvh's `Intersect` is a const member function).
-unsafe impl<T> Sync for Shared<T> {}
 
 /// One timed method: writes each ray's nearest primitive (row-major) where it answers per
 /// ray, and returns the number of rays that hit something.
@@ -122,63 +131,6 @@ struct Timed<'a> {
     frame: Frame<'a>,
 }
 
-/// One scene of the run: its name, the raylab scene and its triangles for the peers (empty
-/// for the instanced field, which only raylab and Embree render, as `instanced`).
-struct Bench {
-    name: String,
-    scene: Scene,
-    triangles: Vec<[[f32; 3]; 3]>,
-    instanced: Option<Instanced>,
-}
-
-/// A scene's instances as Embree places them: the distinct meshes, the placements, and the
-/// triangles outside any instance with their primitive numbers.
-struct Instanced {
-    meshes: Vec<Arc<Mesh>>,
-    placements: Vec<Placement>,
-    loose: Vec<([[f32; 3]; 3], u32)>,
-}
-
-impl Instanced {
-    /// `scene`'s instances, or `None` if it has none. Spheres outside instances are left out
-    /// (the field has none).
-    fn of(scene: &Scene) -> Option<Self> {
-        if scene.instances().is_empty() {
-            return None;
-        }
-        let mut meshes: Vec<Arc<Mesh>> = Vec::new();
-        let placements = (scene.instances().iter())
-            .map(|inst| {
-                let mesh = match meshes.iter().position(|m| Arc::ptr_eq(m, &inst.mesh)) {
-                    Some(k) => k,
-                    None => {
-                        meshes.push(inst.mesh.clone());
-                        meshes.len() - 1
-                    }
-                };
-                let m = inst.world_from_object;
-                let cols = [m.x_axis, m.y_axis, m.z_axis, m.w_axis];
-                Placement {
-                    mesh,
-                    world_from_object: std::array::from_fn(|i| cols[i / 3][i % 3] as f32),
-                    first_prim: inst.first_prim,
-                }
-            })
-            .collect();
-        let loose = (scene.explicit_with_prims().into_iter())
-            .filter_map(|(shape, prim)| match shape {
-                Shape::Triangle(v) => Some((v, prim)),
-                Shape::Sphere { .. } => None,
-            })
-            .collect();
-        Some(Instanced {
-            meshes,
-            placements,
-            loose,
-        })
-    }
-}
-
 fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
     let (w, h) = s
         .split_once('x')
@@ -186,68 +138,6 @@ fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
     let size = (w.parse()?, h.parse()?);
     anyhow::ensure!(size.0 > 0 && size.1 > 0, "size '{s}' is empty");
     Ok(size)
-}
-
-fn load_benches(only: &[String]) -> anyhow::Result<Vec<Bench>> {
-    let wanted = |name: &str| only.is_empty() || only.iter().any(|o| o == name);
-    let mut benches = Vec::new();
-    let sources = [
-        ("cornell", None),
-        ("bunny", Some("../shared/scenes/bunny.obj")),
-        ("igea", Some("../shared/scenes/igea.obj")),
-        ("igea_1m", Some("target/igea_1m.obj")),
-        ("field", Some("benches/scenes/bunny_field.scene")),
-    ];
-    for (name, path) in sources {
-        if !wanted(name) {
-            continue;
-        }
-        let scene = match path {
-            None => Scene::cornell(),
-            Some(p)
-                if Path::new(p).exists() && Path::new("../shared/scenes/bunny.obj").exists() =>
-            {
-                Scene::load(Path::new(p), Default::default())
-                    .map_err(|e| anyhow!(e))
-                    .with_context(|| format!("loading {p}"))?
-            }
-            Some(p) => {
-                println!("({name}: {p} or ../shared/scenes not found, skipped)");
-                continue;
-            }
-        };
-        let triangles = match name {
-            "field" => Vec::new(),
-            _ => scene
-                .shapes
-                .iter()
-                .filter_map(|s| match s {
-                    Shape::Triangle(v) => Some(*v),
-                    Shape::Sphere { .. } => None,
-                })
-                .collect(),
-        };
-        let instanced = Instanced::of(&scene);
-        benches.push(Bench {
-            name: name.into(),
-            scene,
-            triangles,
-            instanced,
-        });
-    }
-    Ok(benches)
-}
-
-/// The camera every method shares: the scene file's, the lab's, or one framing the mesh.
-fn camera_for(bench: &Bench, w: u32, h: u32) -> anyhow::Result<Camera> {
-    if bench.name == "cornell" {
-        return Ok(Camera::cornell(w));
-    }
-    if let Some(c) = &bench.scene.camera {
-        return Ok(CameraController::from_scene_camera(c, bench.scene.size()).camera(w));
-    }
-    let bounds = bench.scene.bounds().context("empty scene")?;
-    Ok(CameraController::framing(bounds, w, h).camera(w))
 }
 
 fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
@@ -362,116 +252,6 @@ fn disagreements(
     d
 }
 
-/// tinybvh's C++ `Ray` as the bundled `tiny_bvh.h` (INST_IDX_BITS 32) lays it out: 128 bytes,
-/// of which tinybvh-rs's `Ray` mirrors only the first 64 (the hit's t, u, v and prim at the same
-/// offsets). Its `Ray::new` returns the 64-byte struct by value from C++, which writes all 128
-/// and overruns the caller's stack, so the ray is made here, in a buffer of the full size.
-#[repr(C, align(64))]
-struct TinyRay {
-    ray: tinybvh_rs::Ray,
-    /// The C++ hit's auxData and user data.
-    _rest: [u8; 64],
-}
-
-impl TinyRay {
-    fn new(o: [f32; 3], d: [f32; 3]) -> Self {
-        // As tinybvh's constructor: a unit direction, its reciprocal, every mask bit.
-        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let dir = d.map(|x| x / n);
-        let mut ray = tinybvh_rs::Ray {
-            origin: o,
-            dir,
-            r_d: dir.map(|x| 1.0 / x),
-            hit: tinybvh_rs::Intersection::new(),
-            ..Default::default()
-        };
-        ray.padding_0 = 0xFFFF; // the C++ ray's mask
-        ray.padding_2 = 0; // the C++ hit's instance
-        TinyRay {
-            ray,
-            _rest: [0; 64],
-        }
-    }
-
-    /// The nearest primitive, `None` where the ray missed.
-    fn prim(&self) -> Option<u32> {
-        (self.ray.hit.t < tinybvh_rs::INFINITE).then_some(self.ray.hit.prim)
-    }
-}
-
-/// A peer's closest hit for one ray (origin, direction): its primitive, if any.
-type ClosestFn<'a> = Box<dyn Fn([f32; 3], [f32; 3]) -> Option<u32> + 'a>;
-
-/// tinybvh's fastest layout this build can call (see the module docs), borrowing the
-/// vertices it was built on.
-struct TinyBvh<'a> {
-    name: &'static str,
-    closest: Shared<ClosestFn<'a>>,
-}
-
-fn build_tinybvh(vertices: &[[f32; 4]]) -> anyhow::Result<TinyBvh<'_>> {
-    use tinybvh_rs::Intersector;
-    let bvh = tinybvh_rs::bvh::BVH::new(vertices.into()).map_err(|e| anyhow!("{e:?}"))?;
-    #[cfg(target_feature = "avx2")]
-    {
-        let mut bvh = bvh;
-        bvh.split_leaves(4);
-        let mbvh = tinybvh_rs::mbvh::BVH::new(&bvh);
-        // BVH8_CPU keeps its own copy of the triangles.
-        let bvh8 = tinybvh_rs::bvh8_cpu::BVH::new(&mbvh).map_err(|e| anyhow!("{e:?}"))?;
-        Ok(TinyBvh {
-            name: "tinybvh BVH8_CPU (AVX2, f32)",
-            closest: Shared(Box::new(move |o, d| {
-                let mut ray = TinyRay::new(o, d);
-                bvh8.intersect(&mut ray.ray);
-                ray.prim()
-            })),
-        })
-    }
-    #[cfg(not(target_feature = "avx2"))]
-    Ok(TinyBvh {
-        name: "tinybvh BVH, binary (f32; BVH8_CPU needs target-cpu=native)",
-        closest: Shared(Box::new(move |o, d| {
-            let mut ray = TinyRay::new(o, d);
-            bvh.intersect(&mut ray.ray);
-            ray.prim()
-        })),
-    })
-}
-
-/// A row of the summary against the speed targets (docs/performance.md): raylab's render against the fastest of
-/// Embree's three modes in that run (stricter than "Embree's best packet mode": on this
-/// machine `rtcIntersect1` sometimes wins).
-struct Versus {
-    scene: String,
-    size: String,
-    threads: usize,
-    raylab: Duration,
-    /// The same frame with the kernels limited to AVX2 (on an AVX-512 CPU).
-    raylab_avx2: Option<Duration>,
-    embree_best: Duration,
-    /// The fastest of Embree's modes with its kernels limited to AVX2 (on an AVX-512 CPU).
-    embree_avx2_best: Option<Duration>,
-}
-
-/// A mesh's builds, best of the rounds (raylab's and Embree's alternating), and raylab's
-/// structure's size.
-struct Builds {
-    scene: String,
-    raylab: Duration,
-    embree: Option<Duration>,
-    raylab_bytes: usize,
-}
-
-/// What one run found, for the summaries.
-#[derive(Default)]
-struct Found {
-    versus: Vec<Versus>,
-    builds: Vec<Builds>,
-    /// (scene, size, threads, step, best frame) of raylab's own renders.
-    frames: Vec<(String, String, usize, &'static str, Duration)>,
-}
-
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let sizes: Vec<(u32, u32)> = args
@@ -522,7 +302,7 @@ fn main() -> anyhow::Result<()> {
         "{} rounds, interleaved, order alternating; best round reported",
         args.rounds
     );
-    let benches = load_benches(&args.scenes)?;
+    let benches = load_benches(&args.scenes, args.write_scenes.as_deref())?;
     println!();
     println!("| scene | size | threads | method | build ms | best frame ms | Mrays/s | time / raylab render | missed | extra hits | other triangle, a tie | other triangle, wrong |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
@@ -531,81 +311,7 @@ fn main() -> anyhow::Result<()> {
         let embrees = [embree.as_ref().ok(), embree_avx2.as_ref()];
         run_bench(bench, &sizes, &args, embrees, &mut found)?;
     }
-    let versus = &found.versus;
-    if !versus.is_empty() {
-        println!();
-        println!("| scene | size | threads | raylab render ms | Embree's best mode ms | raylab / Embree speed | both at AVX2: raylab ms | Embree ms | raylab / Embree speed | target |");
-        println!("|---|---|---|---|---|---|---|---|---|---|");
-        for v in versus {
-            let target = match v.scene.as_str() {
-                "cornell" => "≥ 2.5",
-                "bunny" => "≥ 1.5",
-                "igea" => "≥ 1.3",
-                "igea_1m" => "≥ 1.2",
-                "field" => "none (≥ 15 frames/s at 1280x720)",
-                _ => "",
-            };
-            let ms = |t: Option<Duration>| {
-                t.map_or("–".into(), |t| format!("{:.2}", t.as_secs_f64() * 1e3))
-            };
-            let avx2 = match (v.raylab_avx2, v.embree_avx2_best) {
-                (Some(r), Some(e)) => format!("{:.2}", e.as_secs_f64() / r.as_secs_f64()),
-                _ => "–".into(),
-            };
-            println!(
-                "| {} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {avx2} | {target} |",
-                v.scene,
-                v.size,
-                v.threads,
-                v.raylab.as_secs_f64() * 1e3,
-                v.embree_best.as_secs_f64() * 1e3,
-                v.embree_best.as_secs_f64() / v.raylab.as_secs_f64(),
-                ms(v.raylab_avx2),
-                ms(v.embree_avx2_best),
-            );
-        }
-    }
-    if !found.builds.is_empty() {
-        println!();
-        println!("| scene | raylab build ms (its structure) | Embree HIGH build ms | raylab / Embree build time | raylab structure MB | targets (1M mesh) |");
-        println!("|---|---|---|---|---|---|");
-        for b in &found.builds {
-            let embree = b
-                .embree
-                .map_or("–".into(), |e| format!("{:.1}", e.as_secs_f64() * 1e3));
-            let ratio = b.embree.map_or("–".into(), |e| {
-                format!("{:.2}", b.raylab.as_secs_f64() / e.as_secs_f64())
-            });
-            let target = match b.scene.as_str() {
-                "igea_1m" => "build ≤ 0.5× Embree's; ≤ 100 MB",
-                _ => "",
-            };
-            println!(
-                "| {} | {:.1} | {embree} | {ratio} | {:.1} | {target} |",
-                b.scene,
-                b.raylab.as_secs_f64() * 1e3,
-                b.raylab_bytes as f64 / 1e6
-            );
-        }
-    }
-    let targets: Vec<_> = (found.frames.iter())
-        .filter_map(|(scene, size, threads, step, t)| {
-            let want = match (scene.as_str(), size.as_str(), step) {
-                ("cornell", "1280x720", &("shadows" | "shadows, AVX2")) => 60.0,
-                ("field", "1280x720", &("flat" | "flat, AVX2")) => 15.0,
-                _ => return None,
-            };
-            Some((scene, size, threads, step, 1.0 / t.as_secs_f64(), want))
-        })
-        .collect();
-    if !targets.is_empty() {
-        println!();
-        println!("| scene | size | threads | step | raylab frames/s | target |");
-        println!("|---|---|---|---|---|---|");
-        for (scene, size, threads, step, fps, want) in targets {
-            println!("| {scene} | {size} | {threads} | {step} | {fps:.1} | ≥ {want} |");
-        }
-    }
+    report::print_summaries(&found);
     Ok(())
 }
 
@@ -617,19 +323,34 @@ fn run_bench<'a>(
     found: &mut Found,
 ) -> anyhow::Result<()> {
     let tris = &bench.triangles;
+    found.notes.extend(bench.description.clone());
     let scene = bench.scene.clone();
     let (stage, mut raylab_build) = timed(|| Stage::from(scene));
-    // tinybvh and obvhs take a mesh; Embree takes the field's instances too.
+    // The same balls as icospheres: raylab's second frame.
+    let icospheres = (bench.icospheres.clone()).map(|s| timed(|| Stage::from(s)));
+    // tinybvh and obvhs take a mesh; Embree takes the field's instances and the balls too.
     let peers = !tris.is_empty();
+    let (mut loose_tris, mut balls) = (Vec::new(), Vec::new());
+    if bench.icospheres.is_some() {
+        for (shape, prim) in bench.scene.explicit_with_prims() {
+            match shape {
+                Shape::Triangle(v) => loose_tris.push((v, prim)),
+                Shape::Sphere { centre, radius } => {
+                    balls.push(([centre[0], centre[1], centre[2], radius], prim))
+                }
+            }
+        }
+    }
     let embree_build = |e: &'a Embree| match &bench.instanced {
         Some(inst) => {
             let meshes: Vec<&[[[f32; 3]; 3]]> =
                 inst.meshes.iter().map(|m| &m.triangles[..]).collect();
             e.instanced_scene(&meshes, &inst.placements, &inst.loose)
         }
+        None if !balls.is_empty() => e.spheres_scene(&loose_tris, &balls),
         None => e.scene(tris),
     };
-    let embree_input = peers || bench.instanced.is_some();
+    let embree_input = peers || bench.instanced.is_some() || !balls.is_empty();
     let mut embree_scene = match (embree, embree_input) {
         (Some(e), true) => {
             let (s, t) = timed(|| embree_build(e));
@@ -727,10 +448,11 @@ fn run_bench<'a>(
         // write into an answer buffer allocated once): a fresh 3.7 MB buffer per frame at
         // 1280×720 cost its page faults and zeroing in every frame.
         let image = Mutex::new(vec![0u8; flat.buffer_len()]);
-        let render = |settings: &RenderSettings| {
+        let render_stage = |stage: &Stage, settings: &RenderSettings| {
             let mut rgba = image.lock().expect("one frame at a time");
-            render_into(&stage, &cam, settings, &mut rgba).map_or(0, |stats| stats.hits)
+            render_into(stage, &cam, settings, &mut rgba).map_or(0, |stats| stats.hits)
         };
+        let render = |settings: &RenderSettings| render_stage(&stage, settings);
         let mut methods: Vec<Timed> = vec![Timed {
             name: "raylab render (adaptive, exact)".into(),
             role: Role::Render("flat"),
@@ -763,6 +485,14 @@ fn run_bench<'a>(
                     frame: Box::new(|_| simd::limited(SimdLevel::Avx2, || render(&shadows))),
                 });
             }
+        }
+        if let Some((stage, build)) = &icospheres {
+            methods.push(Timed {
+                name: "raylab render, the balls as instanced icospheres (1,280 triangles)".into(),
+                role: Role::Render("flat, icospheres"),
+                build: Some(*build),
+                frame: Box::new(|_| render_stage(stage, &flat)),
+            });
         }
         if embree_input {
             methods.push(Timed {
@@ -879,6 +609,9 @@ fn run_bench<'a>(
         let reference = (methods.iter().zip(&answers))
             .find(|(m, _)| m.role == Role::Reference)
             .and_then(|(_, a)| a.as_deref());
+        if let (Some(r), Some(_)) = (reference, &bench.icospheres) {
+            found.notes.push(spheres::seen(&bench.scene, (w, h), r));
+        }
         let accuracy: Vec<String> = (methods.iter().zip(&answers))
             .map(|(m, a)| match (m.role, reference, a) {
                 (Role::Reference, ..) => "reference | | | ".into(),
