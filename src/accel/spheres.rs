@@ -485,3 +485,45 @@ fn block_body(spheres: &Spheres, seen: &SpheresSeen, s: &super::ShadowSegments) 
         unsure: state.unsure & s.live & !blocked,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{lower, upper};
+    use num_rational::BigRational;
+
+    fn exact(x: f32) -> BigRational {
+        BigRational::from_float(x).expect("finite")
+    }
+
+    #[test]
+    fn box_sides_are_the_nearest_f32_outside_the_exact_sphere() {
+        // Centres and radii from 2⁻⁴⁰ to 2⁴⁰, of both signs, equal, and 2³⁰ apart (where the
+        // f64 difference itself rounds): each side is at or beyond c ∓ r exactly, and the next
+        // f32 inwards is not.
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || crate::xorshift(&mut x);
+        for i in 0..20_000 {
+            let mut value = |bits: u64| {
+                let e = (bits % 81) as i32 - 40;
+                let m = 1.0 + (bits >> 8) as f64 / (1u64 << 56) as f64;
+                (m * 2f64.powi(e)) as f32
+            };
+            let c = value(next()) * if next() % 2 == 0 { 1.0 } else { -1.0 };
+            let r = match i % 4 {
+                0 => c.abs(),
+                1 => c.abs() * 2f32.powi(-30),
+                _ => value(next()),
+            };
+            let (lo, hi) = (lower(c, r), upper(c, r));
+            let (want_lo, want_hi) = (exact(c) - exact(r), exact(c) + exact(r));
+            assert!(
+                exact(lo) <= want_lo && exact(lo.next_up()) > want_lo,
+                "{c} - {r}: {lo}"
+            );
+            assert!(
+                exact(hi) >= want_hi && exact(hi.next_down()) < want_hi,
+                "{c} + {r}: {hi}"
+            );
+        }
+    }
+}
