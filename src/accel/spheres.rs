@@ -25,7 +25,7 @@
 //! ([`sphere::interval_x4`]), each sphere seen once per frame from the eye and the light
 //! ([`SpheresSeen`]).
 
-use super::bvh::{Bvh, Leaves, PacketSlabs};
+use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
 use super::layout::{merge, Layout};
 use super::packet::PacketLimits;
 use super::reference::{any_one_by_one, nearest_one_by_one};
@@ -46,6 +46,8 @@ const PAD: f32 = 1.0 / (1u32 << 18) as f32;
 pub(crate) struct Spheres {
     /// The shapes in the hierarchy's order (each leaf's contiguous), with their primitives.
     shapes: Vec<(Shape<f32>, u32)>,
+    /// Their boxes, in that order (a packet tests each before the sphere itself).
+    boxes: Vec<Aabb>,
     /// The hierarchy over their boxes.
     tree: Bvh,
     /// The largest |coordinate| of any box: the pad's scale.
@@ -106,14 +108,20 @@ impl Spheres {
             }
         }
         let tree = Bvh::build_over_boxes(&placed_boxes);
-        let shapes = (tree.triangles().1.iter())
-            .map(|&i| placed[i as usize])
+        let order = tree.triangles().1;
+        let shapes = order.iter().map(|&i| placed[i as usize]).collect();
+        let boxes = (order.iter())
+            .map(|&i| {
+                let (lo, hi) = placed_boxes[i as usize];
+                Aabb { lo, hi }
+            })
             .collect();
         let extent = (placed_boxes.iter())
             .flat_map(|(lo, hi)| lo.iter().chain(hi))
             .fold(0.0f32, |m, c| m.max(c.abs()));
         Self {
             shapes,
+            boxes,
             tree,
             extent,
             loose,
@@ -143,7 +151,9 @@ impl Spheres {
     /// Bytes held.
     pub(crate) fn memory_bytes(&self) -> usize {
         let shape = std::mem::size_of::<(Shape<f32>, u32)>();
-        self.tree.memory_bytes() + (self.shapes.len() + self.loose.len()) * shape
+        self.tree.memory_bytes()
+            + (self.shapes.len() + self.loose.len()) * shape
+            + self.boxes.len() * std::mem::size_of::<Aabb>()
     }
 
     /// Boxes of the hierarchy's top `depth` levels, for the frames' tile culling.
@@ -330,17 +340,35 @@ impl<V: Lanes> PacketLimits<V> for Blocking<'_> {
     }
 }
 
-/// The hierarchy's leaves as the packets test them: spheres seen from the packet's origin.
+/// The hierarchy's leaves as the packets test them: spheres seen from the packet's origin,
+/// each after its box (a leaf's box holds four; a lane that enters it meets about one of
+/// theirs).
 struct SeenLeaves<'a> {
     spheres: &'a Spheres,
     seen: &'a SpheresSeen,
+    slabs: &'a PacketSlabs<f32x8>,
+}
+
+impl SeenLeaves<'_> {
+    /// The lanes of `lanes` that enter sphere `j`'s box before `limit` (all of them where
+    /// the slab test cannot be trusted).
+    #[inline(always)]
+    fn entering(&self, j: usize, limit: f32x8, lanes: u32) -> u32 {
+        match self.slabs.trusted {
+            true => self.slabs.enter(&self.spheres.boxes[j], limit, lanes).0,
+            false => lanes,
+        }
+    }
 }
 
 impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, s: &mut Nearest, first: usize, count: usize, lanes: u32) {
+        // (The limit as the leaf is entered: it only shrinks as spheres are taken.)
+        let limit = PacketLimits::<f32x8>::limit(s);
         for j in first..first + count {
             let prim = self.spheres.shapes[j].1;
+            let lanes = self.entering(j, limit, lanes & s.live & !s.undecided);
             for half in 0..2 {
                 let bits = (lanes & s.live & !s.undecided) >> (4 * half) & 0xf;
                 if bits == 0 {
@@ -371,8 +399,10 @@ impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
 impl<'a> Leaves<f32x8, Blocking<'a>> for SeenLeaves<'_> {
     #[inline(always)]
     fn visit(&mut self, s: &mut Blocking<'a>, first: usize, count: usize, lanes: u32) {
+        let limit = PacketLimits::<f32x8>::limit(s);
         for j in first..first + count {
             let prim = self.spheres.shapes[j].1;
+            let lanes = self.entering(j, limit, lanes & s.segments.live & !s.blocked);
             for half in 0..2 {
                 let bits = (lanes & s.segments.live & !s.blocked) >> (4 * half) & 0xf;
                 if bits == 0 {
@@ -442,7 +472,11 @@ fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -
         state.undecided = state.live;
     }
     let slabs = PacketSlabs::<f32x8>::new(seen.o, d, spheres.tree.boxes_tame());
-    let mut leaves = SeenLeaves { spheres, seen };
+    let mut leaves = SeenLeaves {
+        spheres,
+        seen,
+        slabs: &slabs,
+    };
     spheres
         .tree
         .walk_packet(&slabs, 0.0, &mut state, &mut leaves);
@@ -475,7 +509,11 @@ fn block_body(spheres: &Spheres, seen: &SpheresSeen, s: &super::ShadowSegments) 
         state.unsure = s.live;
     }
     let slabs = PacketSlabs::<f32x8>::new(seen.o, &s.d, spheres.tree.boxes_tame());
-    let mut leaves = SeenLeaves { spheres, seen };
+    let mut leaves = SeenLeaves {
+        spheres,
+        seen,
+        slabs: &slabs,
+    };
     spheres
         .tree
         .walk_packet(&slabs, 0.0, &mut state, &mut leaves);
