@@ -1,10 +1,9 @@
 //! Hit points with a conservative bound on their rounding error, and ray origins offset by that
 //! bound (pbrt-v4 §6.8.6), so a secondary ray can never re-hit the surface it leaves: the offset
 //! origin lies strictly on the outgoing side of every point the computed hit point may stand for.
+//! Each shape makes its own points ([`Primitive::surface_point`](super::Primitive::surface_point)).
 
-use super::{adaptive, sphere, Ray, Shape};
-use crate::math::lanes::f64x4;
-use crate::math::real::{abs, add, dot, scale, sub, V3};
+use crate::math::real::{abs, add, dot, scale, V3};
 use crate::math::Real;
 
 /// The absolute part of a surface point's error bound: its roundings below f32's normal
@@ -29,86 +28,6 @@ pub struct SurfacePoint {
     pub hit_error: V3<f32>,
     /// Unit geometric normal (for a triangle, along (v1 − v0) × (v2 − v0)).
     pub n: V3<f32>,
-}
-
-impl SurfacePoint {
-    /// Where `ray`'s hit on `shape` is shaded, for a shape other than a triangle (`None` for a
-    /// triangle, whose point the renderer takes from its packet shading): for a sphere, its
-    /// f64 interval root's midpoint (or the correctly rounded t where the interval cannot
-    /// decide) re-projected by [`SurfacePoint::on_sphere`].
-    pub fn on_curved(shape: &Shape<f32>, ray: &Ray<f32>) -> Option<Self> {
-        let Shape::Sphere { centre, radius } = *shape else {
-            return None;
-        };
-        let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
-        let (c, r) = (centre.map(f64::from), f64::from(radius));
-        let from = sphere::FromOrigin::new(o, c, r);
-        let root = sphere::interval_x4(&from, &d.map(f64x4::splat), 0.0, f64::INFINITY);
-        let (t, t_error) = match root.hit.to_bitmask() & 1 {
-            1 => {
-                let (lo, hi) = (root.lo.to_array()[0], root.hi.to_array()[0]);
-                let t = (0.5 * lo + 0.5 * hi) as f32;
-                let off = (f64::from(t) - lo).max(hi - f64::from(t));
-                (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
-            }
-            _ => {
-                let t = adaptive::rounded_t(shape, ray, 0.0, f32::INFINITY);
-                let t = t.unwrap_or(f32::NAN);
-                (t, t.abs() * f32::EPSILON / 2.0 + f32::from_bits(1))
-            }
-        };
-        Some(Self::on_sphere(centre, radius, ray, t, t_error))
-    }
-
-    /// The hit point of `ray` on the sphere (`centre`, `radius`) from t with |t − exact t| ≤
-    /// `t_error`: o + t·d re-projected onto the sphere, which keeps it on the surface within
-    /// γ₆·(|c| + |p − c|) + 8·2⁻¹⁴⁹ (the roundings below f32's normal range) whatever t's
-    /// error.
-    ///
-    /// `hit_error`: o + t·d is within εₖ = γ₂·(|oₖ| + |t·dₖ|) + t_error·|dₖ| of the exact hit
-    /// x, and q = fl(o + t·d − c) within εₖ + u·|qₖ| of x − c (whose length is r); scaling q
-    /// to length r moves it by ||q| − r| ≤ ‖ε‖₂ per axis, so r·q/|q| is within ‖ε‖₂ + εₖ of
-    /// x − c; the normalisation and the sum with c round by at most γ₁₀·(|cₖ| + |pₖ − cₖ|).
-    pub fn on_sphere(centre: V3<f32>, radius: f32, ray: &Ray<f32>, t: f32, t_error: f32) -> Self {
-        let raw = ray.at(t);
-        let rel = sub(raw, centre);
-        let len = dot(rel, rel).sqrt();
-        let n = if len > 0.0 {
-            normalize(rel)
-        } else {
-            [0.0, 0.0, 1.0]
-        };
-        let p = add(centre, scale(n, radius));
-        let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6))
-            .map(|e| e + UNDERFLOW);
-        // The bound in f64 (no rounding of its own worth a term), rounded up by a margin.
-        let u = f64::from(f32::EPSILON) / 2.0;
-        let gamma = |n: f64| n * u / (1.0 - n * u);
-        let eps = [0, 1, 2].map(|k| {
-            let (o, d, t) = (ray.o[k] as f64, ray.d[k] as f64, t as f64);
-            gamma(2.0) * (o.abs() + (t * d).abs())
-                + t_error as f64 * d.abs()
-                + u * rel[k].abs() as f64
-                + 8.0 * f64::from(UNDERFLOW)
-        });
-        let norm = (eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2]).sqrt();
-        let hit_error = [0, 1, 2].map(|k| {
-            let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64)
-                + 8.0 * f64::from(UNDERFLOW);
-            let bound = ((norm + eps[k]) * (1.0 + 1e-6) + round) * (1.0 + 1e-6);
-            if len > 0.0 && bound.is_finite() {
-                bound as f32
-            } else {
-                f32::INFINITY
-            }
-        });
-        Self {
-            p,
-            p_error,
-            hit_error,
-            n,
-        }
-    }
 }
 
 /// Unit vector along `v` (returns `v` unchanged if it is zero). Where |v|² overflows or

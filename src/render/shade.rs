@@ -2,12 +2,11 @@
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
 use crate::accel::frame::{OriginTriangle, ShadowSegments};
-use crate::geometry::offset::{normalize, UNDERFLOW};
+use crate::geometry::triangle::shading_points;
 use crate::geometry::{offset_ray_origin, Hit, Ray, SurfacePoint};
 use crate::math::lanes::{f32x8, Lanes};
-use crate::math::real::{cross, dot, sub};
+use crate::math::real::{dot, sub};
 use crate::math::simd::{avx512_avx2_or_baseline, each3};
-use crate::math::Real;
 use crate::render::LabStep;
 use crate::scene::Scene;
 use std::f32::consts::PI;
@@ -71,23 +70,23 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
 /// nothing to shadow). Made once per hit, so a renderer can gather the shadow rays of a tile
 /// first.
 ///
-/// The surface point depends on the camera ray and the primitive only, never on how the
-/// nearest hit was found (packet or per-ray search, f32 or exact level), so every path
-/// shades a pixel to the same bits: on a triangle it interpolates the vertices with
-/// barycentrics bᵢ = eᵢ/Σe from the edge functions of the triangle prepared for the ray's
-/// origin (`OriginTriangle`, what the camera packets compute), clamped into the triangle
-/// (the centroid where they are not finite); the point then lies on the triangle's plane
-/// within γ(7)·Σ|bᵢ·vᵢ| + 8·2⁻¹⁴⁹ whatever the bᵢ's own error ([`SurfacePoint`]).
+/// The surface point is the shape's own ([`shading_point`]): it depends on the camera ray
+/// and the primitive only, never on how the nearest hit was found (packet or per-ray search,
+/// f32 or exact level), and the steps from it to D and the shadow ray are the ones
+/// [`shade_packet`] takes lanes at a time, so every path shades a pixel to the same bits.
 #[derive(Clone, Copy, Debug)]
 pub struct Lit {
     pub prim: u32,
-    /// D = P·`k` where D ≠ 0 (where there is a shadow ray: [`Lit::d`]).
+    /// D = P·`k` where D ≠ 0 (where there is a shadow ray: [`Lit::d`]); 0 elsewhere.
     pub k: f32,
     pub shadow: Option<Ray>,
-    /// The primitive the shadow test may skip: `prim` itself (planar, or a sphere with the
-    /// shadow ray's end on the light's side of it), or `u32::MAX` (none) for a sphere seen
-    /// from the other side than the light (from inside with the light outside): the ray to
-    /// the light must cross the sphere itself, which then blocks it.
+    /// The primitive the shadow test may skip: `prim` itself where the shadow ray certainly
+    /// stays clear of its shape ([`Shape::shadow_clear_of_itself`]: planar, or a sphere with
+    /// the shadow ray's end on the light's side of it), else `u32::MAX` (none): a sphere seen
+    /// from the other side than the light (from inside with the light outside), which the ray
+    /// to the light must cross, and which then blocks it.
+    ///
+    /// [`Shape::shadow_clear_of_itself`]: crate::geometry::Shape::shadow_clear_of_itself
     pub skip: u32,
 }
 
@@ -100,42 +99,23 @@ impl Lit {
     /// Readies camera ray `ray`'s hit on primitive `prim`.
     pub fn on(scene: &Scene, ray: &Ray, prim: u32) -> Self {
         let shape = scene.shape(prim);
-        match shape.triangle() {
-            Some(v) => {
-                let tri = ShadeTri::new(v, ray.o, prim);
-                let mut lanes = [None; 8];
-                lanes[0] = Some(&tri);
-                let packet = shade_packet(scene, &ray.d.map(f32x8::splat), &lanes);
-                let shadow_d = packet.shadow.d.map(|c| c.to_array()[0]);
-                Self {
-                    prim,
-                    k: packet.k[0],
-                    shadow: (packet.shadow.live & 1 != 0)
-                        .then(|| Ray::new(scene.light.position, shadow_d)),
-                    skip: prim,
-                }
-            }
-            None => {
-                let sp = shading_point(scene, ray, prim);
-                let k = irradiance_factor(scene, &sp, ray);
-                let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
-                let light = scene.light.position;
-                let shadow =
-                    (d != [0.0; 3]).then(|| shadow_from_light(sp.p, sp.p_error, sp.n, light));
-                // The shadow ray's end is offset outwards where (L − p)·n ≥ 0 (as
-                // `offset_ray_origin` does), inwards otherwise.
-                let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;
-                let skip = match shape.outside(light) {
-                    Some(outside) if outside == end_outside => prim,
-                    _ => u32::MAX,
-                };
-                Self {
-                    prim,
-                    k: k.unwrap_or(0.0),
-                    shadow,
-                    skip,
-                }
-            }
+        let sp = shape.surface_point(ray);
+        let k = irradiance_factor(scene, &sp, ray);
+        let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
+        let light = scene.light.position;
+        let shadow = (d != [0.0; 3]).then(|| shadow_from_light(sp.p, sp.p_error, sp.n, light));
+        // The shadow ray's end is offset outwards where (L − p)·n ≥ 0 (as
+        // `offset_ray_origin` does), inwards otherwise.
+        let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;
+        let skip = match shape.shadow_clear_of_itself(light, end_outside) {
+            true => prim,
+            false => u32::MAX,
+        };
+        Self {
+            prim,
+            k: k.unwrap_or(0.0),
+            shadow,
+            skip,
         }
     }
 
@@ -178,14 +158,6 @@ pub struct ShadePacket {
     pub hit: u32,
     pub k: [f32; 8],
     pub shadow: ShadowSegments,
-}
-
-/// Each lane's shading point and its bound on the distance to the triangle's plane
-/// ([`SurfacePoint`]'s `p` and `p_error`), which [`shade_packet`] computes and drops (the
-/// renderer needs only the shadow rays made from them; [`shading_point`] keeps them).
-struct ShadePoints {
-    p: [f32x8; 3],
-    p_error: [f32x8; 3],
 }
 
 impl ShadePacket {
@@ -337,81 +309,11 @@ pub fn step_channel<T: Copy + Add<Output = T> + Mul<Output = T>>(
 
 /// The point where camera ray `ray`'s hit on primitive `prim` is shaded, with its bounds
 /// ([`SurfacePoint`]: `p_error` from the surface, `hit_error` from the exact hit point), the
-/// bits every path of the renderer shades with.
-///
-/// A triangle's point interpolates the vertices with the clamped barycentrics b̃ᵢ = ẽᵢ/S̃ of
-/// [`shade_packet`] (ẽᵢ the edge functions of the triangle prepared for the ray's origin,
-/// |ẽᵢ − eᵢ| ≤ Bᵢ by `OriginTriangle::edge_bounds`, S̃ = fl(ẽ₀ + ẽ₁ + ẽ₂)). For the exact
-/// barycentrics bᵢ = eᵢ/S of a ray that hits the triangle (all in [0, 1]),
-/// |ẽᵢ/S̃ − bᵢ| = |(ẽᵢ − eᵢ) + bᵢ·(S − S̃)|/|S̃| ≤ (Bᵢ + B_S)/|S̃| with
-/// B_S = ΣBⱼ + γ₂·Σ|ẽⱼ|, plus γ₂ for the division; clamping b₁ into [0, 1] keeps that bound
-/// (Δ₁), clamping b₂ into [0, 1 − b₁] gives Δ₂ = max(its own, Δ₁ + u) (each Δ at most
-/// 1 + 2u: every weight lies in [0, 1]), and b̃₀ = fl(fl(1 − b̃₁) − b̃₂) = 1 − b̃₁ − b̃₂ + η,
-/// |η| ≤ u. As the exact weights sum to 1 too, Σ(b̃ᵢ − bᵢ)·vᵢ =
-/// (b̃₁ − b₁)·(v₁ − v₀) + (b̃₂ − b₂)·(v₂ − v₀) + η·v₀, so
-/// |pₖ − xₖ| ≤ Δ₁·|v₁ₖ − v₀ₖ| + Δ₂·|v₂ₖ − v₀ₖ| + u·|v₀ₖ| + `p_error`ₖ (the interpolation's own
-/// rounding): the weights' error scales with the triangle's size, not its distance. Large
-/// where the ray grazes the triangle (S small against the Bᵢ): the point is then still on the
-/// plane within `p_error`, but anywhere on the triangle within `hit_error`.
-///
-/// A sphere's point re-projects o + t·d onto the sphere ([`SurfacePoint::on_sphere`]) with
-/// t from the f64 interval of the nearest root (`sphere::interval_x4`, t_error its half-width
-/// and t's rounding to f32), or where the interval cannot tell, the exact t correctly rounded
-/// ([`rounded_t`](crate::geometry::adaptive::rounded_t), within 2⁻²⁴·|t| + 2⁻¹⁴⁹): the same
-/// for every path, whichever level of the search found the hit.
+/// bits every path of the renderer shades with: the shape's own
+/// ([`Primitive::surface_point`](crate::geometry::Primitive::surface_point); a triangle's
+/// from the barycentrics of [`shade_packet`], a sphere's re-projected onto it).
 pub fn shading_point(scene: &Scene, ray: &Ray, prim: u32) -> SurfacePoint {
-    let shape = scene.shape(prim);
-    let Some(v) = shape.triangle() else {
-        return SurfacePoint::on_curved(&shape, ray).expect("a shape other than a triangle");
-    };
-    let tri = ShadeTri::new(v, ray.o, prim);
-    let mut lanes = [None; 8];
-    lanes[0] = Some(&tri);
-    let (_, points) = shade_packet_with_points(scene, &ray.d.map(f32x8::splat), &lanes);
-    let p = points.p.map(|c| c.to_array()[0]);
-    let p_error = points.p_error.map(|c| c.to_array()[0]);
-    SurfacePoint {
-        p,
-        p_error,
-        hit_error: triangle_hit_error(&tri.tri, v, ray.d, p_error),
-        n: tri.normal,
-    }
-}
-
-/// [`shading_point`]'s `hit_error` of a triangle (see there).
-fn triangle_hit_error(
-    tri: &OriginTriangle,
-    v: &[[f32; 3]; 3],
-    d: [f32; 3],
-    p_error: [f32; 3],
-) -> [f32; 3] {
-    let u = f64::from(f32::EPSILON) / 2.0;
-    let gamma2 = 2.0 * u / (1.0 - 2.0 * u);
-    let n = tri.edge_normals();
-    let e = n.map(|n| d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-    let sum = e[0] + e[1] + e[2];
-    let rcp = 1.0 / sum;
-    let weights_finite = (e[1] * rcp).is_finite() && (e[2] * rcp).is_finite();
-    let bounds = tri.edge_bounds(d).map(f64::from);
-    let abs_e = e.map(|x| f64::from(x).abs());
-    let b_sum = bounds.iter().sum::<f64>() + gamma2 * abs_e.iter().sum::<f64>();
-    let s = f64::from(sum).abs();
-    let beta = [0, 1, 2].map(|i| {
-        ((bounds[i] + b_sum) / s + gamma2 * abs_e[i] / s) * (1.0 + 1e-6) + 2f64.powi(-148)
-    });
-    let cap = 1.0 + 2.0 * u;
-    let (d1, d2) = match weights_finite && beta.iter().all(|b| b.is_finite()) {
-        true => {
-            let d1 = beta[1].min(cap);
-            (d1, beta[2].max(d1 + u).min(cap))
-        }
-        false => (cap, cap),
-    };
-    [0, 1, 2].map(|k| {
-        let edge = |i: usize| (f64::from(v[i][k]) - f64::from(v[0][k])).abs() * (1.0 + 2.0 * u);
-        let along = d1 * edge(1) + d2 * edge(2) + u * f64::from(v[0][k]).abs();
-        ((along + f64::from(p_error[k])) * (1.0 + 1e-6)) as f32
-    })
+    scene.shape(prim).surface_point(ray)
 }
 
 /// A triangle readied for shading the hits of rays from one origin: prepared for that origin
@@ -431,16 +333,15 @@ impl ShadeTri {
     }
 }
 
-/// The unit geometric normal along (v₁ − v₀) × (v₂ − v₀), as [`SurfacePoint`] has it.
-pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
-    normalize(cross(sub(v[1], v[0]), sub(v[2], v[0])))
-}
+pub use crate::geometry::triangle::unit_normal;
 
 /// [`Lit`] for up to 8 camera rays from one origin (directions `d`, lanes) that hit triangles:
 /// `lanes[l]` is lane l's triangle readied for the origin (its `prim` names it), `None` for
-/// no hit. [`Lit::new`] runs this on one lane, so both give the same bits.
+/// no hit. Lane by lane the same bits as [`Lit::new`]: the same shading point
+/// (`shading_points`, which a triangle's own point runs on one lane) and the same steps
+/// from it, lanes at a time.
 pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    avx512_avx2_or_baseline!(lanes shade_packet_only => (
+    avx512_avx2_or_baseline!(lanes shade_packet_body => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
@@ -448,33 +349,11 @@ pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8
 }
 
 #[inline(always)]
-fn shade_packet_only<V: Lanes>(
-    scene: &Scene,
-    d: &[f32x8; 3],
-    lanes: &[Option<&ShadeTri>; 8],
-) -> ShadePacket {
-    shade_packet_body::<V>(scene, d, lanes).0
-}
-
-/// [`shade_packet`] keeping the shading points.
-fn shade_packet_with_points(
-    scene: &Scene,
-    d: &[f32x8; 3],
-    lanes: &[Option<&ShadeTri>; 8],
-) -> (ShadePacket, ShadePoints) {
-    avx512_avx2_or_baseline!(lanes shade_packet_body => (
-        scene: &Scene,
-        d: &[f32x8; 3],
-        lanes: &[Option<&ShadeTri>; 8]
-    ) -> (ShadePacket, ShadePoints))
-}
-
-#[inline(always)]
 fn shade_packet_body<V: Lanes>(
     scene: &Scene,
     d: &[f32x8; 3],
     lanes: &[Option<&ShadeTri>; 8],
-) -> (ShadePacket, ShadePoints) {
+) -> ShadePacket {
     let d = &each3(|k| V::from_wide(d[k]));
     let triangle = |tri: &OriginTriangle| {
         *(scene.shape(tri.prim).triangle()).expect("shade_packet takes triangles")
@@ -515,32 +394,7 @@ fn shade_packet_body<V: Lanes>(
             )
         }
     };
-    let e = [dot8(d, &edge[0]), dot8(d, &edge[1]), dot8(d, &edge[2])];
-    let rcp = V::one() / (e[0] + e[1] + e[2]);
-    let (b1, b2) = (e[1] * rcp, e[2] * rcp);
-    let inf = V::splat(f32::INFINITY);
-    let finite = b1.abs().simd_lt(inf) & b2.abs().simd_lt(inf);
-    let third = V::splat(1.0 / 3.0);
-    // (No NaN is left for max and min to treat.)
-    let b1 = finite
-        .bitselect(b1, third)
-        .fast_max(V::zero())
-        .fast_min(V::one());
-    let b2 = finite
-        .bitselect(b2, third)
-        .fast_max(V::zero())
-        .fast_min(V::one() - b1);
-    let b0 = (V::one() - b1) - b2;
-    let gamma7 = V::splat(f32::error_gamma(7));
-    // Below f32's normal range a rounding is absolute (up to 2⁻¹⁵⁰ each, five here).
-    let underflow = V::splat(UNDERFLOW);
-    let mut p = [V::zero(); 3];
-    let mut p_error = [V::zero(); 3];
-    for k in 0..3 {
-        let (q0, q1, q2) = (v[0][k] * b0, v[1][k] * b1, v[2][k] * b2);
-        p[k] = (q0 + q1) + q2;
-        p_error[k] = ((q0.abs() + q1.abs()) + q2.abs()) * gamma7 + underflow;
-    }
+    let (p, p_error) = shading_points::<V>(d, &edge, &v);
     // The irradiance D (see `irradiance`), lanes at a time.
     let light = scene.light.position;
     let r = each3(|k| V::splat(light[k]) - p[k]);
@@ -572,7 +426,7 @@ fn shade_packet_body<V: Lanes>(
         let po = nudge(p[k] + offset, offset);
         shadow_d[k] = lit.bitselect(po - V::splat(light[k]), V::zero());
     }
-    let packet = ShadePacket {
+    ShadePacket {
         hit,
         k: k.to_array(),
         shadow: ShadowSegments {
@@ -581,9 +435,7 @@ fn shade_packet_body<V: Lanes>(
             live: shadowed,
             own_blocks: 0,
         },
-    };
-    let (p, p_error) = (each3(|k| p[k].to_wide()), each3(|k| p_error[k].to_wide()));
-    (packet, ShadePoints { p, p_error })
+    }
 }
 
 #[inline(always)]

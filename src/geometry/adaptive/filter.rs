@@ -149,7 +149,7 @@ pub fn loose_t_bound(m_box: f32, sz: f32) -> (f32, f32) {
 
 /// The f32 test with pbrt's t bound, from f32 inputs (level 1), for a triangle found by the
 /// loose level.
-pub(super) fn precise_f32(o: [f32; 3], d: [f32; 3], v: &[[f32; 3]; 3]) -> Estimate {
+pub(crate) fn precise_f32(o: [f32; 3], d: [f32; 3], v: &[[f32; 3]; 3]) -> Estimate {
     let Some(r) = WatertightRay::new(o, d) else {
         return Estimate::Unsure;
     };

@@ -41,7 +41,7 @@ pub fn triangle_interval(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimat
 
 /// t = det[p₀, p₁, p₂] / d·n as an interval (if d·n is certainly non-zero), with estimates
 /// of the barycentrics.
-pub(super) fn triangle_t_interval(
+pub(crate) fn triangle_t_interval(
     o: [f64; 3],
     d: [f64; 3],
     v: &[[f64; 3]; 3],

@@ -17,8 +17,8 @@
 //! Three levels, each consulted only where the one before cannot decide:
 //! 1. **f32 filter** ([`classify_f32`]): the watertight test, with a conservative bound `E` on
 //!    the rounding error of its edge functions (from the box around the triangles, the ray
-//!    origin and the sheared vertices, see [`edge_error`]). An edge function beyond ±E has a certain sign; t comes
-//!    with pbrt-v4's bound, doubled. Nearly every ray is decided here.
+//!    origin and the sheared vertices, see [`edge_error`]). An edge function beyond ±E has a
+//!    certain sign; t comes with pbrt-v4's bound, doubled. Nearly every ray is decided here.
 //! 2. **f64 intervals** ([`triangle_interval`], [`sphere::interval`]): the same predicates
 //!    (signs of det[d, pᵢ, pⱼ], t = det[p₀, p₁, p₂] / d·n) in outward-rounded interval
 //!    arithmetic on the exact inputs. Decides everything but exact degeneracies.
@@ -27,30 +27,37 @@
 //!
 //! [`Nearest`] runs the closest-hit search over candidates at whatever level each has
 //! reached: two candidates whose t intervals overlap are refined until they separate, or
+//! compared exactly.
+//!
+//! Each shape runs its own levels ([`Primitive`]'s hooks: `f32_filter`, `f64_intervals`,
+//! `decide_exactly`, `exact_t`, `same_t`, `t_in_f64`, `t_rounded`), in answers of the kinds in
+//! `estimate.rs`; nothing here names a kind of shape.
 //!
 //! The files: `estimate.rs` holds what a level tells about one primitive ([`Estimate`],
-//! [`Approx`]), which the shapes' own levels answer in; `filter.rs` the f32 filter (level 1:
-//! [`box_extent`], [`edge_error`], [`classify_f32`], the outward roundings to f32);
-//! `interval.rs` a triangle's f64 interval level; `nearest.rs` the search over candidates at
-//! any level ([`Nearest`], with a triangle's exact level); `search.rs` the search as the fast
+//! [`Approx`], the exact level's [`Decided`]), which the shapes' own levels answer in;
+//! `filter.rs` the f32 filter (level 1: [`box_extent`], [`edge_error`], [`classify_f32`], the
+//! outward roundings to f32); `interval.rs` a triangle's f64 interval level; `nearest.rs` the
+//! search over candidates at any level ([`Nearest`]); `search.rs` the search as the fast
 //! paths run it ([`Search`]) and the brute-force reference; `rounded.rs` t correctly rounded
-//! ([`rounded_t`]); `levels.rs` the counts of the slower levels; `tests.rs` the tests of
-//! the f64 t bound and of the rounding. This file keeps which level decides a shape
-//! ([`deciding_level`]) and a shape in f64 ([`widen`]).
+//! ([`rounded_t`]) and a triangle's t in f64 with its bound; `levels.rs` the counts of the
+//! slower levels; `tests.rs` the tests of the f64 t bound and of the rounding. This file
+//! keeps which level decides a shape ([`deciding_level`]) and a shape in f64 ([`widen`]).
 //!
-//! [`sphere::interval`]: super::sphere::interval
+//! [`Primitive`]: crate::geometry::Primitive
+//! [`sphere::interval`]: crate::geometry::sphere::interval
 
 pub(super) mod estimate;
 mod filter;
-mod interval;
+pub(crate) mod interval;
 pub mod levels;
 mod nearest;
-mod rounded;
+pub(crate) mod rounded;
 mod search;
 #[cfg(test)]
 mod tests;
 
-pub use estimate::{Approx, Estimate};
+pub use estimate::{Approx, Decided, Estimate, Feature};
+pub(crate) use filter::precise_f32;
 pub use filter::{
     approx_f32, box_extent, classify_f32, edge_error, loose_t_bound, round_down, round_up,
 };
@@ -59,50 +66,26 @@ pub use nearest::Nearest;
 pub use rounded::rounded_t;
 pub use search::{closest_hit_reference, closest_hit_reference_by, Search};
 
-use crate::geometry::{sphere, Ray, Shape};
+use crate::geometry::{Ray, Shape};
 use crate::math::Real;
-use filter::precise_f32;
 
 /// Which level decides whether `ray` meets `shape` at all (the ray inspector shows it):
-/// "f32 filter", "f64 intervals" or "exact". (Comparing t's with other candidates may need a
-/// finer level still; that is the search's business.)
+/// "f32 filter", "f64 intervals" or "exact" (the shape's own levels: a sphere has no f32
+/// one). (Comparing t's with other candidates may need a finer level still; that is the
+/// search's business.)
 pub fn deciding_level(shape: &Shape<f32>, ray: &Ray<f32>) -> &'static str {
     let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
     let decided = |e: Estimate| e != Estimate::Unsure;
-    match shape {
-        Shape::Triangle(v) => {
-            if decided(precise_f32(ray.o, ray.d, v)) {
-                "f32 filter"
-            } else if decided(triangle_interval(o, d, &v.map(|p| p.map(f64::from)))) {
-                "f64 intervals"
-            } else {
-                "exact"
-            }
-        }
-        Shape::Sphere { centre, radius } => {
-            let c = centre.map(f64::from);
-            match decided(sphere::interval(
-                o,
-                d,
-                c,
-                *radius as f64,
-                0.0,
-                f64::INFINITY,
-            )) {
-                true => "f64 intervals",
-                false => "exact",
-            }
-        }
+    if shape.f32_filter(ray.o, ray.d).is_some_and(decided) {
+        "f32 filter"
+    } else if decided(shape.f64_intervals(o, d, 0.0, f64::INFINITY)) {
+        "f64 intervals"
+    } else {
+        "exact"
     }
 }
 
 /// A shape in f64 (exact for f32 input).
 pub fn widen<T: Real>(s: &Shape<T>) -> Shape<f64> {
-    match s {
-        Shape::Triangle(v) => Shape::Triangle(v.map(|p| p.map(Real::f64))),
-        Shape::Sphere { centre, radius } => Shape::Sphere {
-            centre: centre.map(Real::f64),
-            radius: radius.f64(),
-        },
-    }
+    s.widen()
 }

@@ -1,36 +1,13 @@
 //! The closest-hit search over candidates at whatever level each has reached ([`Nearest`]):
-//! overlapping t intervals refined until they separate, or compared exactly; and a
-//! triangle's exact level (its edge signs, the edge or vertex the line passes through).
+//! overlapping t intervals refined until they separate, or compared exactly. Each candidate's
+//! levels are its shape's own ([`Primitive`](crate::geometry::Primitive)).
 
-use super::estimate::{Approx, Estimate};
-use super::filter::precise_f32;
-use super::interval::{triangle_interval, triangle_t_interval};
+use super::estimate::{Approx, Decided, Estimate, Feature};
 use super::levels::{note, Event};
-use crate::geometry::exact::{self, ExactT};
-use crate::geometry::{sphere, Hit, Ray, Shape};
-use crate::math::interval::Interval;
+use crate::geometry::exact::ExactT;
+use crate::geometry::{Hit, Ray, Shape};
 use crate::math::Real;
 use std::cmp::Ordering;
-
-/// Where an exactly decided triangle hit lies: two hits at the same edge line or vertex (the
-/// same f32 coordinates) are at the same t, which settles an exact tie without computing t.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Feature {
-    Interior,
-    Edge([[f64; 3]; 2]),
-    Vertex([f64; 3]),
-    Root,
-}
-
-/// A hit decided exactly: t as an interval where one is known, the exact t once needed.
-#[derive(Clone, Debug)]
-struct Decided {
-    t: Option<Interval>,
-    point: Feature,
-    exact: Option<ExactT>,
-    b1: f64,
-    b2: f64,
-}
 
 /// A candidate's t at the level it has reached.
 #[derive(Clone, Debug)]
@@ -201,7 +178,8 @@ impl Nearest {
     }
 
     /// Orders two exactly decided hits by t: by their intervals, by a shared edge or vertex
-    /// (or identical triangles), and only failing those by exact rational t.
+    /// (or hits the shapes know to be at the same t: [`Shape::same_t`]), and only failing
+    /// those by exact rational t.
     fn cmp_decided(&self, a: &mut Candidate, b: &mut Candidate) -> Ordering {
         let (Level::Decided(x), Level::Decided(y)) = (&a.level, &b.level) else {
             unreachable!("both decided");
@@ -217,14 +195,9 @@ impl Nearest {
         if x.point != Feature::Interior && x.point != Feature::Root && x.point == y.point {
             return Ordering::Equal;
         }
-        if let (Shape::Triangle(p), Shape::Triangle(q)) = (&a.shape, &b.shape) {
-            // Two hits on one plane are at the same t (the line crosses it once: a line in
-            // the plane misses). Deciding that from three exact orientations spares the
-            // rational t's, which made a ray through 10⁴ overlapping coplanar faces cost
-            // 10⁴ big-number divisions.
-            if same_vertices(p, q) || coplanar(p, q) {
-                return Ordering::Equal;
-            }
+        // Known to be equal without computing them (two triangles in one plane).
+        if a.shape.same_t(&b.shape) {
+            return Ordering::Equal;
         }
         note(Event::ExactT);
         let tx = self.exact_t(a);
@@ -241,9 +214,7 @@ impl Nearest {
             return None;
         };
         if x.exact.is_none() {
-            if let Shape::Triangle(v) = &c.shape {
-                x.exact = exact::plane_t(self.o, self.d, v);
-            }
+            x.exact = c.shape.exact_t(self.o, self.d, self.tmin, self.tmax);
         }
         x.exact.clone()
     }
@@ -297,24 +268,19 @@ impl Nearest {
         };
         while level < 2 {
             // (Counted where a level runs a test: a sphere has no f32 level.)
-            let est = match (&c.shape, level) {
-                (Shape::Triangle(v), 0) if self.f32_inputs => {
+            let est = if level == 0 {
+                let narrow = |v: [f64; 3]| v.map(|x| x as f32);
+                let filtered = match self.f32_inputs {
+                    true => c.shape.f32_filter(narrow(self.o), narrow(self.d)),
+                    false => None,
+                };
+                if filtered.is_some() {
                     note(Event::PreciseF32);
-                    precise_f32(
-                        self.o.map(|x| x as f32),
-                        self.d.map(|x| x as f32),
-                        &v.map(|p| p.map(|x| x as f32)),
-                    )
                 }
-                (Shape::Triangle(v), 1) => {
-                    note(Event::F64Intervals);
-                    triangle_interval(self.o, self.d, v)
-                }
-                (Shape::Sphere { centre, radius }, 1) => {
-                    note(Event::F64Intervals);
-                    sphere::interval(self.o, self.d, *centre, *radius, self.tmin, self.tmax)
-                }
-                _ => Estimate::Unsure,
+                filtered.unwrap_or(Estimate::Unsure)
+            } else {
+                note(Event::F64Intervals);
+                c.shape.f64_intervals(self.o, self.d, self.tmin, self.tmax)
             };
             match est {
                 Estimate::Miss => return None,
@@ -323,70 +289,10 @@ impl Nearest {
             }
         }
         note(Event::Exact);
-        match &c.shape {
-            Shape::Triangle(v) => decide_triangle(self.o, self.d, v),
-            Shape::Sphere { centre, radius } => {
-                sphere::exact(self.o, self.d, *centre, *radius, self.tmin, self.tmax).map(|t| {
-                    Level::Decided(Box::new(Decided {
-                        t: None,
-                        point: Feature::Root,
-                        exact: Some(t),
-                        b1: 0.0,
-                        b2: 0.0,
-                    }))
-                })
-            }
-        }
+        let (o, d) = (self.o, self.d);
+        let decided = c.shape.decide_exactly(o, d, self.tmin, self.tmax)?;
+        Some(Level::Decided(Box::new(decided)))
     }
-}
-
-/// The exact level for a triangle: exact edge signs (expansions, or rationals where those
-/// cannot be used), which edge or vertex the line passes through, and t as an interval.
-fn decide_triangle(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<Level> {
-    const EDGES: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
-    let s = EDGES.map(|(i, j)| {
-        exact::orient(d, o, v[i], v[j]).unwrap_or_else(|| exact::orient_rational(d, o, v[i], v[j]))
-    });
-    let mixed = s.contains(&Ordering::Less) && s.contains(&Ordering::Greater);
-    let zeros: Vec<usize> = (0..3).filter(|&k| s[k] == Ordering::Equal).collect();
-    if mixed || zeros.len() == 3 {
-        return None;
-    }
-    let point = match zeros[..] {
-        [] => Feature::Interior,
-        [k] => {
-            let (i, j) = EDGES[k];
-            let mut e = [v[i], v[j]];
-            e.sort_by(|a, b| {
-                a.iter()
-                    .zip(b)
-                    .fold(Ordering::Equal, |o, (x, y)| o.then(x.total_cmp(y)))
-            });
-            Feature::Edge(e)
-        }
-        // Two edges through the line: it passes through the vertex they share (the one
-        // opposite the third edge).
-        _ => Feature::Vertex(v[3 - zeros[0] - zeros[1]]),
-    };
-    let (t, b1, b2) = triangle_t_interval(o, d, v);
-    Some(Level::Decided(Box::new(Decided {
-        t,
-        point,
-        exact: None,
-        b1,
-        b2,
-    })))
-}
-/// Whether triangle `q` lies exactly in the plane of triangle `p` (false where the exact test
-/// cannot be made with expansions: the caller then compares exact t's).
-fn coplanar(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
-    q.iter()
-        .all(|x| exact::plane_side_f64(p, *x) == Some(Ordering::Equal))
-}
-
-/// Whether two triangles have the same three vertices (in any order).
-fn same_vertices(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
-    p.iter().all(|a| q.contains(a)) && q.iter().all(|a| p.contains(a))
 }
 
 /// An interval holding the candidate's exact t, where its level has one.

@@ -1,10 +1,9 @@
 //! t correctly rounded to f32 or f64 ([`rounded_t`]): from t in plain f64 with a proved
 //! bound where that decides the rounding, else exactly.
 
-use super::estimate::Estimate;
 use super::levels::{note, Event};
 use super::widen;
-use crate::geometry::{exact, sphere, Ray, Shape};
+use crate::geometry::{Ray, Shape};
 use crate::math::Real;
 
 /// The t at which `ray` meets `shape` (the plane of a triangle; a sphere's nearest root with
@@ -23,28 +22,15 @@ pub fn rounded_t<T: Real>(shape: &Shape<T>, ray: &Ray<T>, tmin: T, tmax: T) -> O
         let r = T::of(lo);
         (lo > tmin && hi < tmax && r == T::of(hi)).then_some(r)
     };
-    match widen(shape) {
-        Shape::Triangle(v) => {
-            if let Some((t, err)) = plane_t_f64(o, d, &v) {
-                if let Some(r) = decides(t - err, t + err) {
-                    note(Event::RoundedFromF64);
-                    return Some(r);
-                }
-            }
-            note(Event::RoundedExactly);
-            exact::plane_t_rounded(o, d, &v)
-        }
-        Shape::Sphere { centre, radius } => {
-            if let Estimate::Hit(a) = sphere::interval(o, d, centre, radius, tmin, tmax) {
-                if let Some(r) = decides(a.lo, a.hi) {
-                    note(Event::RoundedFromF64);
-                    return Some(r);
-                }
-            }
-            note(Event::RoundedExactly);
-            Some(sphere::exact(o, d, centre, radius, tmin, tmax)?.rounded())
+    let wide = widen(shape);
+    if let Some((lo, hi)) = wide.t_in_f64(o, d, tmin, tmax) {
+        if let Some(r) = decides(lo, hi) {
+            note(Event::RoundedFromF64);
+            return Some(r);
         }
     }
+    note(Event::RoundedExactly);
+    wide.t_rounded(o, d, tmin, tmax)
 }
 
 /// t = p₀·n / d·n of the plane of v in plain f64 (pᵢ = vᵢ − o, n = (p₁ − p₀) × (p₂ − p₀)),
@@ -55,7 +41,7 @@ pub fn rounded_t<T: Real>(shape: &Shape<T>, ray: &Ray<T>, tmin: T, tmax: T) -> O
 /// is computed in f64 too (rounding it adds at most γ₇ more), so err_x = 2γ₈·x_abs bounds it.
 /// The quotient adds one rounding: |t̃ − t| ≤ (|t̃|·err_den + err_num)/(|den| − err_den) + u|t̃|.
 /// About 40 ns; it decides an f32 rounding unless t lies within ~2⁻⁴⁰ of a midpoint.
-pub(super) fn plane_t_f64(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<(f64, f64)> {
+pub(crate) fn plane_t_f64(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<(f64, f64)> {
     use crate::math::real::{cross, dot, sub};
     // Inputs 0 or within 2^±200 (every f32 is): nothing overflows, and every nonzero
     // difference, edge and product of two is a multiple of 2⁻²⁵² and ≥ 2⁻⁷⁵⁶, normal. Only

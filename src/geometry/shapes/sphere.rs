@@ -1,0 +1,536 @@
+//! Ray/sphere intersection without catastrophic cancellation (Haines et al., "Precision
+//! Improvements for Ray/Sphere Intersection", Ray Tracing Gems ch. 7).
+//!
+//! With f = o − c, a = d·d and b = f·d, the roots of a t² + 2 b t + (f·f − r²) = 0 have the
+//! discriminant b² − a(f·f − r²) (for unit d: (d·(o−c))² − ((o−c)·(o−c) − r²)). Computed that
+//! way it cancels catastrophically for small, far spheres. Instead, with l = f − (b/a)·d (the
+//! offset from the centre to the ray's closest point), b² − a(f·f − r²) = a(r² − l·l), and we
+//! evaluate r² − l·l as (r − |l|)(r + |l|). The far root comes from q = −b − sign(b)·√disc as
+//! q/a and the near one as c/q, which avoids subtracting nearly equal numbers, with
+//! c = f·f − r² evaluated as (|f| − r)(|f| + r) so that an origin on the sphere gives c ≈ 0.
+//!
+//! The sphere's levels of the adaptive method are here too ([`interval`], [`exact`]), its
+//! surface point ([`SurfacePoint::on_sphere`]) and the rest of what a shape is asked
+//! ([`Sphere`], [`Primitive`]): one shape, one place.
+
+use super::{Primitive, Shape, ShapeTerms};
+use crate::geometry::adaptive::{self, Approx, Decided, Estimate, Feature};
+use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
+use crate::geometry::offset::{normalize, UNDERFLOW};
+use crate::geometry::{Method, Ray, SurfacePoint};
+use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
+use crate::math::real::{abs, add, dot, scale, sub, V3};
+use crate::math::Real;
+use num_bigint::BigInt;
+use num_traits::{Signed, Zero};
+use std::cmp::Ordering;
+use wide::f64x4;
+
+/// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
+#[inline]
+pub fn intersect<T: Real>(
+    o: V3<T>,
+    d: V3<T>,
+    centre: V3<T>,
+    radius: T,
+    tmin: T,
+    tmax: T,
+) -> Option<T> {
+    let f = sub(o, centre);
+    let a = dot(d, d);
+    if a == T::zero() {
+        return None;
+    }
+    let b = dot(f, d);
+    let l = sub(f, scale(d, b / a));
+    let l_len = dot(l, l).sqrt();
+    let disc = a * ((radius - l_len) * (radius + l_len));
+    if disc < T::zero() {
+        return None;
+    }
+    let f_len = dot(f, f).sqrt();
+    let c = (f_len - radius) * (f_len + radius);
+    let sign_b = if b >= T::zero() { T::one() } else { -T::one() };
+    let q = -b - sign_b * disc.sqrt();
+    let (mut t0, mut t1) = if q == T::zero() {
+        // b = 0 and disc = 0: the ray's closest point touches the sphere at t = 0.
+        (T::zero(), T::zero())
+    } else {
+        (c / q, q / a)
+    };
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    if t0 > tmin && t0 < tmax {
+        Some(t0)
+    } else if t1 > tmin && t1 < tmax {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+/// The textbook form, b² − a·c with c = f·f − r², kept for the speed-versus-error report.
+#[inline]
+pub fn intersect_naive<T: Real>(
+    o: V3<T>,
+    d: V3<T>,
+    centre: V3<T>,
+    radius: T,
+    tmin: T,
+    tmax: T,
+) -> Option<T> {
+    let f = sub(o, centre);
+    let a = dot(d, d);
+    if a == T::zero() {
+        return None;
+    }
+    let b = dot(f, d);
+    let c = dot(f, f) - radius * radius;
+    let disc = b * b - a * c;
+    if disc < T::zero() {
+        return None;
+    }
+    let s = disc.sqrt();
+    let t0 = (-b - s) / a;
+    let t1 = (-b + s) / a;
+    if t0 > tmin && t0 < tmax {
+        Some(t0)
+    } else if t1 > tmin && t1 < tmax {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+/// Level 2 for a sphere: the nearest root with tmin < t < tmax in f64 intervals.
+pub fn interval(
+    o: [f64; 3],
+    d: [f64; 3],
+    centre: [f64; 3],
+    radius: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Estimate {
+    let d = iv3(d);
+    let f = isub(iv3(o), iv3(centre));
+    let a = idot(d, d);
+    let b = idot(f, d);
+    let k = idot(f, f) - Interval::point(radius).square();
+    let disc = b.square() - a * k;
+    match disc.sign() {
+        Some(Ordering::Less) => return Estimate::Miss,
+        Some(Ordering::Greater) => {}
+        _ => return Estimate::Unsure,
+    }
+    let Some(root) = disc.sqrt() else {
+        return Estimate::Unsure;
+    };
+    for t in [(-b - root).checked_div(a), (-b + root).checked_div(a)] {
+        let Some(t) = t.filter(|t| t.is_finite()) else {
+            return Estimate::Unsure;
+        };
+        if t.hi <= tmin {
+            continue;
+        }
+        if t.lo >= tmax {
+            return Estimate::Miss;
+        }
+        if t.lo > tmin && t.hi < tmax {
+            return Estimate::Hit(Approx {
+                t: t.mid(),
+                lo: t.lo,
+                hi: t.hi,
+                b1: 0.0,
+                b2: 0.0,
+                level: 2,
+            });
+        }
+        return Estimate::Unsure;
+    }
+    Estimate::Miss
+}
+
+/// What [`interval_x4`] found per lane: masks (all bits set in a lane where true) of the
+/// lanes certainly hitting with tmin < t < tmax, t in [`lo`, `hi`], and of the lanes
+/// certainly missing in that range; the rest are undecided.
+///
+/// [`lo`]: LanesX4::lo
+/// [`hi`]: LanesX4::hi
+#[derive(Clone, Copy, Debug)]
+pub struct LanesX4 {
+    pub hit: f64x4,
+    pub miss: f64x4,
+    pub lo: f64x4,
+    pub hi: f64x4,
+}
+
+/// The sphere seen from a ray origin o, what [`interval_x4`] needs of it: f = o − c and
+/// k = f·f − r² as intervals, computed once for every ray from o.
+#[derive(Clone, Copy, Debug)]
+pub struct FromOrigin {
+    f: [Interval; 3],
+    k: Interval,
+}
+
+impl FromOrigin {
+    pub fn new(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
+        let f = isub(iv3(o), iv3(centre));
+        Self {
+            f,
+            k: idot(f, f) - Interval::point(radius).square(),
+        }
+    }
+}
+
+/// [`interval`] for four rays from one origin at once (directions `d`, lanes): the same
+/// steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a lane it decides
+/// [`interval`] decides the same way (both enclose the exact roots). For f32 inputs (every
+/// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
+/// ends come out undecided.
+#[inline(always)]
+pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) -> LanesX4 {
+    let f = sphere.f.map(IntervalX4::splat);
+    let k = IntervalX4::splat(sphere.k);
+    let point = |x: f64x4| IntervalX4::point(x);
+    let a = point(d[0]).square() + point(d[1]).square() + point(d[2]).square();
+    let b = idot_x4(&f, d);
+    let disc = b.square() - a * k;
+    let zero = f64x4::ZERO;
+    let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
+    let miss_line = finite & disc.hi.simd_lt(zero);
+    let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
+    let root = disc.sqrt();
+    let t0 = (-b - root).div_positive(a);
+    let t1 = (-b + root).div_positive(a);
+    let (tmin, tmax) = (f64x4::splat(tmin), f64x4::splat(tmax));
+    let ok = crosses & t0.finite() & t1.finite();
+    // As `interval`: the near root unless it is certainly at or before tmin.
+    let near_before = t0.hi.simd_le(tmin);
+    let inside = |t: IntervalX4| t.lo.simd_gt(tmin) & t.hi.simd_lt(tmax);
+    let hit0 = !near_before & inside(t0);
+    let hit1 = near_before & inside(t1);
+    let miss = (!near_before & t0.lo.simd_ge(tmax))
+        | (near_before & (t1.hi.simd_le(tmin) | t1.lo.simd_ge(tmax)));
+    LanesX4 {
+        hit: ok & (hit0 | hit1),
+        miss: miss_line | (ok & miss),
+        lo: near_before.bitselect(t1.lo, t0.lo),
+        hi: near_before.bitselect(t1.hi, t0.hi),
+    }
+}
+
+/// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
+/// ray touches it at one point, which counts).
+pub fn exact(
+    o: [f64; 3],
+    d: [f64; 3],
+    centre: [f64; 3],
+    radius: f64,
+    tmin: f64,
+    tmax: f64,
+) -> Option<ExactT> {
+    let d = qv(d);
+    let f = qsub(&qv(o), &qv(centre));
+    let r = q(radius);
+    let a = qdot(&d, &d);
+    if a.is_zero() {
+        return None;
+    }
+    let b = qdot(&f, &d);
+    let c = qdot(&f, &f) - &r * &r;
+    let disc = &b * &b - &a * &c;
+    if disc.is_negative() {
+        return None;
+    }
+    let centre_t = -(&b / &a);
+    let half = Q::from_integer(BigInt::from(1)) / &a;
+    [-half.clone(), half]
+        .into_iter()
+        .map(|b| ExactT {
+            a: centre_t.clone(),
+            b,
+            s: disc.clone(),
+        })
+        .find(|t| t.cmp_f(tmin) == Ordering::Greater && t.cmp_f(tmax) == Ordering::Less)
+}
+
+/// A sphere (closed: a tangent ray touches it): the shape of [`Shape::Sphere`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<T: Real = f32> {
+    /// Centre.
+    pub centre: V3<T>,
+    /// Radius (> 0).
+    pub radius: T,
+}
+
+impl<T: Real> Sphere<T> {
+    /// Centre and radius in f64 (exact).
+    #[inline]
+    fn wide(&self) -> ([f64; 3], f64) {
+        (self.centre.map(Real::f64), self.radius.f64())
+    }
+}
+
+impl<T: Real> Primitive<T> for Sphere<T> {
+    const KEYWORD: &'static str = "sphere";
+    const KIND: u8 = 1;
+
+    /// Centre, then radius.
+    fn numbers(&self) -> impl Iterator<Item = T> {
+        self.centre.into_iter().chain([self.radius])
+    }
+
+    fn extent(&self) -> f64 {
+        let centre = (self.centre.iter()).fold(0.0f64, |m, x| m.max(x.f64().abs()));
+        centre + self.radius.f64().abs()
+    }
+
+    fn bounds(&self) -> (V3<T>, V3<T>) {
+        let (c, r) = (self.centre, self.radius);
+        (
+            [c[0] - r, c[1] - r, c[2] - r],
+            [c[0] + r, c[1] + r, c[2] + r],
+        )
+    }
+
+    fn is_degenerate(&self) -> bool {
+        false
+    }
+
+    /// The cancellation-free test ([`intersect`]) whatever the method.
+    #[inline]
+    fn intersect(&self, ray: &Ray<T>, _method: Method, tmin: T, tmax: T) -> Option<(T, T, T)> {
+        intersect(ray.o, ray.d, self.centre, self.radius, tmin, tmax)
+            .map(|t| (t, T::zero(), T::zero()))
+    }
+
+    /// p − c.
+    fn normal_at(&self, ray: &Ray<T>, t: T) -> [f64; 3] {
+        let c = self.centre;
+        [0, 1, 2].map(|k| ray.o[k].f64() + t.f64() * ray.d[k].f64() - c[k].f64())
+    }
+
+    /// Decided within 10⁻⁹ relative of the surface.
+    fn outside(&self, p: V3<T>) -> Option<bool> {
+        let rel = [0, 1, 2].map(|k| p[k].f64() - self.centre[k].f64());
+        let d2 = rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2];
+        let r2 = self.radius.f64() * self.radius.f64();
+        if d2 > r2 * (1.0 + 1e-9) {
+            Some(true)
+        } else if d2 < r2 * (1.0 - 1e-9) {
+            Some(false)
+        } else {
+            None
+        }
+    }
+
+    /// Where the light is certainly on the side the segment ends on (from inside with the
+    /// light outside, the segment must cross the sphere, which then blocks it).
+    fn shadow_clear_of_itself(&self, light: V3<T>, end_outside: bool) -> bool {
+        self.outside(light) == Some(end_outside)
+    }
+
+    /// The f64 interval root's midpoint ([`interval_x4`], t_error its half-width and t's
+    /// rounding to f32), or where the interval cannot decide, the exact t correctly rounded
+    /// ([`adaptive::rounded_t`], within 2⁻²⁴·|t| + 2⁻¹⁴⁹), re-projected onto the sphere by
+    /// [`SurfacePoint::on_sphere`]: the same for every path, whichever level of the search
+    /// found the hit.
+    fn surface_point(&self, ray: &Ray<f32>) -> SurfacePoint {
+        let (c, r) = self.wide();
+        let (centre, radius) = (c.map(|x| x as f32), r as f32);
+        let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
+        let from = FromOrigin::new(o, c, r);
+        let root = interval_x4(&from, &d.map(f64x4::splat), 0.0, f64::INFINITY);
+        let (t, t_error) = match root.hit.to_bitmask() & 1 {
+            1 => {
+                let (lo, hi) = (root.lo.to_array()[0], root.hi.to_array()[0]);
+                let t = (0.5 * lo + 0.5 * hi) as f32;
+                let off = (f64::from(t) - lo).max(hi - f64::from(t));
+                (t, (off * (1.0 + 1e-6)) as f32 + f32::from_bits(1))
+            }
+            _ => {
+                let shape = Shape::sphere(centre, radius);
+                let t = adaptive::rounded_t(&shape, ray, 0.0, f32::INFINITY);
+                let t = t.unwrap_or(f32::NAN);
+                (t, t.abs() * f32::EPSILON / 2.0 + f32::from_bits(1))
+            }
+        };
+        SurfacePoint::on_sphere(centre, radius, ray, t, t_error)
+    }
+
+    fn terms(&self, ray: &Ray<T>) -> ShapeTerms {
+        let o = ray.o.map(Real::f64);
+        let d = ray.d.map(Real::f64);
+        let (centre, r) = self.wide();
+        let oc = [0, 1, 2].map(|k| o[k] - centre[k]);
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (a, b, c) = (dot(d, d), 2.0 * dot(d, oc), dot(oc, oc) - r * r);
+        ShapeTerms::Sphere {
+            a,
+            b,
+            c,
+            discriminant: b * b - 4.0 * a * c,
+        }
+    }
+
+    fn widen(&self) -> Shape<f64> {
+        let (centre, radius) = self.wide();
+        Shape::Sphere { centre, radius }
+    }
+
+    /// None: a sphere starts at f64 intervals.
+    fn f32_filter(&self, _o: [f32; 3], _d: [f32; 3]) -> Option<Estimate> {
+        None
+    }
+
+    /// The nearest root within tmin < t < tmax in f64 intervals ([`interval`]).
+    fn f64_intervals(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Estimate {
+        let (c, r) = self.wide();
+        interval(o, d, c, r, tmin, tmax)
+    }
+
+    /// The exact nearest root within tmin < t < tmax ([`exact`]).
+    fn decide_exactly(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Option<Decided> {
+        let t = self.exact_t(o, d, tmin, tmax)?;
+        Some(Decided {
+            t: None,
+            point: Feature::Root,
+            exact: Some(t),
+            b1: 0.0,
+            b2: 0.0,
+        })
+    }
+
+    fn exact_t(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Option<ExactT> {
+        let (c, r) = self.wide();
+        exact(o, d, c, r, tmin, tmax)
+    }
+
+    /// Never known without the exact roots.
+    fn same_t(&self, _other: &Shape<T>) -> bool {
+        false
+    }
+
+    /// The nearest root's f64 interval, where [`interval`] decides the hit.
+    fn t_in_f64(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+        match self.f64_intervals(o, d, tmin, tmax) {
+            Estimate::Hit(a) => Some((a.lo, a.hi)),
+            Estimate::Miss | Estimate::Unsure => None,
+        }
+    }
+
+    fn t_rounded<R: Real>(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Option<R> {
+        Some(self.exact_t(o, d, tmin, tmax)?.rounded())
+    }
+}
+
+impl SurfacePoint {
+    /// The hit point of `ray` on the sphere (`centre`, `radius`) from t with |t − exact t| ≤
+    /// `t_error`: o + t·d re-projected onto the sphere, which keeps it on the surface within
+    /// γ₆·(|c| + |p − c|) + 8·2⁻¹⁴⁹ (the roundings below f32's normal range) whatever t's
+    /// error.
+    ///
+    /// `hit_error`: o + t·d is within εₖ = γ₂·(|oₖ| + |t·dₖ|) + t_error·|dₖ| of the exact hit
+    /// x, and q = fl(o + t·d − c) within εₖ + u·|qₖ| of x − c (whose length is r); scaling q
+    /// to length r moves it by ||q| − r| ≤ ‖ε‖₂ per axis, so r·q/|q| is within ‖ε‖₂ + εₖ of
+    /// x − c; the normalisation and the sum with c round by at most γ₁₀·(|cₖ| + |pₖ − cₖ|).
+    pub fn on_sphere(centre: V3<f32>, radius: f32, ray: &Ray<f32>, t: f32, t_error: f32) -> Self {
+        let raw = ray.at(t);
+        let rel = sub(raw, centre);
+        let len = dot(rel, rel).sqrt();
+        let n = if len > 0.0 {
+            normalize(rel)
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let p = add(centre, scale(n, radius));
+        let p_error = scale(add(abs(centre), abs(sub(p, centre))), f32::error_gamma(6))
+            .map(|e| e + UNDERFLOW);
+        // The bound in f64 (no rounding of its own worth a term), rounded up by a margin.
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let gamma = |n: f64| n * u / (1.0 - n * u);
+        let eps = [0, 1, 2].map(|k| {
+            let (o, d, t) = (ray.o[k] as f64, ray.d[k] as f64, t as f64);
+            gamma(2.0) * (o.abs() + (t * d).abs())
+                + t_error as f64 * d.abs()
+                + u * rel[k].abs() as f64
+                + 8.0 * f64::from(UNDERFLOW)
+        });
+        let norm = (eps[0] * eps[0] + eps[1] * eps[1] + eps[2] * eps[2]).sqrt();
+        let hit_error = [0, 1, 2].map(|k| {
+            let round = gamma(10.0) * (centre[k].abs() as f64 + (p[k] - centre[k]).abs() as f64)
+                + 8.0 * f64::from(UNDERFLOW);
+            let bound = ((norm + eps[k]) * (1.0 + 1e-6) + round) * (1.0 + 1e-6);
+            if len > 0.0 && bound.is_finite() {
+                bound as f32
+            } else {
+                f32::INFINITY
+            }
+        });
+        Self {
+            p,
+            p_error,
+            hit_error,
+            n,
+        }
+    }
+}
+
+/// [`ShapeTerms::lines`] of a sphere's quadratic.
+pub(super) fn term_lines(a: f64, b: f64, c: f64, discriminant: f64) -> Vec<String> {
+    vec![
+        "shape: sphere".to_string(),
+        format!("quadratic_abc: {a} {b} {c}"),
+        format!("discriminant: {discriminant}"),
+    ]
+}
+
+/// [`ShapeTerms::rows`] of a sphere's quadratic, to a few digits.
+pub(super) fn term_rows(a: f64, b: f64, c: f64, discriminant: f64) -> Vec<(&'static str, String)> {
+    vec![
+        ("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}")),
+        ("b^2 - 4ac", format!("{discriminant:.6}")),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cmp::Ordering;
+
+    #[test]
+    fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {
+        let c = [0.0, 0.0, 5.0];
+        // From the surface point (0,0,4) inward: t = 0 is not > 0, the far root t = 2 is.
+        let hit = crate::geometry::sphere::exact(
+            [0.0, 0.0, 4.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
+        assert_eq!(hit.cmp_f(2.0), Ordering::Equal);
+        // Tangent: touches at t = 5.
+        let tan = crate::geometry::sphere::exact(
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY,
+        )
+        .unwrap();
+        assert_eq!(tan.cmp_f(5.0), Ordering::Equal);
+        assert!(crate::geometry::sphere::exact(
+            [1.0f64.next_up(), 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            c,
+            1.0,
+            0.0,
+            f64::INFINITY
+        )
+        .is_none());
+    }
+}
