@@ -541,7 +541,7 @@ mod tests {
         let mut x = 0x2545_f491_4f6c_dd1du64;
         let mut next = move || crate::xorshift(&mut x);
         for i in 0..20_000 {
-            let mut value = |bits: u64| {
+            let value = |bits: u64| {
                 let e = (bits % 81) as i32 - 40;
                 let m = 1.0 + (bits >> 8) as f64 / (1u64 << 56) as f64;
                 (m * 2f64.powi(e)) as f32
