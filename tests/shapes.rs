@@ -20,7 +20,9 @@ fn scene() -> Scene {
     let mut scene = Scene::cornell();
     scene.shapes.push(Shape::sphere([0.35, 0.55, 0.2], 0.3));
     scene.shapes.push(Shape::sphere([-0.4, 0.4, -0.1], 0.25));
-    scene.colors_mut().extend([[0.2, 0.5, 0.9], [0.9, 0.5, 0.2]]);
+    scene
+        .colors_mut()
+        .extend([[0.2, 0.5, 0.9], [0.9, 0.5, 0.2]]);
     scene
 }
 
@@ -38,7 +40,11 @@ fn a_triangle_hit_readied_alone_is_its_packet_lane() {
             [0, 1, 2].map(|k| target[k] - o[k])
         });
         let rays = dirs.map(|d| Ray::new(o, d));
-        let hits = rays.map(|r| stage.accel().closest_hit(&r, Method::Adaptive, 0.0, f32::INFINITY));
+        let hits = rays.map(|r| {
+            stage
+                .accel()
+                .closest_hit(&r, Method::Adaptive, 0.0, f32::INFINITY)
+        });
         let tris: [Option<ShadeTri>; 8] = std::array::from_fn(|l| {
             let prim = hits[l]?.prim;
             let v = *scene.shape(prim).triangle()?;
@@ -55,10 +61,8 @@ fn a_triangle_hit_readied_alone_is_its_packet_lane() {
                 // Another shape: its skip is its own answer for the light's side.
                 let sp = shading_point(scene, &rays[l], hit.prim);
                 let light = scene.light.position;
-                let end_outside = (0..3)
-                    .map(|k| (light[k] - sp.p[k]) * sp.n[k])
-                    .sum::<f32>()
-                    >= 0.0;
+                let end_outside =
+                    (0..3).map(|k| (light[k] - sp.p[k]) * sp.n[k]).sum::<f32>() >= 0.0;
                 let clear = shape.shadow_clear_of_itself(light, end_outside);
                 assert_eq!(lit.skip == hit.prim, clear);
                 lanes_checked[1] += 1;
@@ -66,7 +70,10 @@ fn a_triangle_hit_readied_alone_is_its_packet_lane() {
             }
             lanes_checked[0] += 1;
             assert_eq!(packet.prim(l), hit.prim);
-            assert_eq!(lit.skip, hit.prim, "a triangle never blocks its own shadow ray");
+            assert_eq!(
+                lit.skip, hit.prim,
+                "a triangle never blocks its own shadow ray"
+            );
             let live = packet.shadow.live & (1 << l) != 0;
             assert_eq!(live, lit.shadow.is_some(), "lane {l}");
             if let Some(shadow) = lit.shadow {

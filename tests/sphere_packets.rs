@@ -1,6 +1,6 @@
 //! Spheres in the packets: a tile a sphere may show in keeps its camera packets,
 //! the sphere tested four lanes at a time through its f64 interval level
-//! (`sphere::interval_x4`), and shadow segments near a sphere test it lane by lane before
+//! (`sphere::interval_x4_of`), and shadow segments near a sphere test it lane by lane before
 //! the triangle packets. Every answer must be the per-ray search's.
 
 mod common;
@@ -9,6 +9,7 @@ use common::{icosphere, Rng};
 use raylab::accel::{AccelChoice, FrameSetup, TileScratch, NO_HIT};
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::{closest_hit_reference, Estimate};
+use raylab::geometry::sphere::DirectionsX4;
 use raylab::geometry::{sphere, Method, Ray, Shape};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::Scene;
@@ -56,7 +57,7 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
     // nearest root, a miss must have none, and the lanes must agree with the scalar level
     // wherever both decide.
     let mut rng = Rng(14);
-    let (mut hits, mut misses, mut undecided) = (0, 0, 0);
+    let (mut hits, mut misses, mut undecided) = ([0; 2], [0; 2], [0; 2]);
     for case in 0..4000 {
         let scale = 2f64.powi(rng.below(41) as i32 - 20);
         let c = [0, 1, 2].map(|_| (rng.range(-4.0, 4.0) * scale) as f32 as f64);
@@ -93,42 +94,54 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
             [0, 1, 2].map(|k| ((aim[k] - o[k]) * len) as f32 as f64)
         });
         let d = [0, 1, 2].map(|k| f64x4::new(dirs.map(|v| v[k])));
-        let lanes = sphere::interval_x4(&from, &d, tmin, tmax);
-        let (hit, miss) = (lanes.hit.to_bitmask(), lanes.miss.to_bitmask());
-        assert_eq!(hit & miss, 0, "case {case}: a lane both hit and missed");
-        for (l, dl) in dirs.iter().enumerate() {
-            let exact = exact_root_in(
-                o,
-                *dl,
-                (c, r),
-                (tmin, tmax),
-                lanes.lo.to_array()[l],
-                lanes.hi.to_array()[l],
+        // Both forms: one sphere's (the shading point's) and the packets' (1/a once).
+        let per_sphere = sphere::interval_x4(&from, &d, tmin, tmax);
+        let per_packet = sphere::interval_x4_of(&from, &DirectionsX4::new(d), tmin, tmax);
+        for (f, lanes) in [per_sphere, per_packet].into_iter().enumerate() {
+            let form = ["per sphere", "per packet"][f];
+            let (hit, miss) = (lanes.hit.to_bitmask(), lanes.miss.to_bitmask());
+            assert_eq!(
+                hit & miss,
+                0,
+                "case {case} {form}: a lane both hit and missed"
             );
-            let scalar = sphere::interval(o, *dl, c, r, tmin, tmax);
-            let what = format!("case {case} lane {l}: o {o:?} d {dl:?} c {c:?} r {r}");
-            if hit & (1 << l) != 0 {
-                hits += 1;
-                assert_eq!(exact, Some(true), "{what}: hit interval misses the root");
-                assert!(
-                    !matches!(scalar, Estimate::Miss),
-                    "{what}: scalar says miss"
+            for (l, dl) in dirs.iter().enumerate() {
+                let exact = exact_root_in(
+                    o,
+                    *dl,
+                    (c, r),
+                    (tmin, tmax),
+                    lanes.lo.to_array()[l],
+                    lanes.hi.to_array()[l],
                 );
-            } else if miss & (1 << l) != 0 {
-                misses += 1;
-                assert_eq!(exact, None, "{what}: a root where the lanes say miss");
-                assert!(
-                    !matches!(scalar, Estimate::Hit(_)),
-                    "{what}: scalar says hit"
-                );
-            } else {
-                undecided += 1;
+                let scalar = sphere::interval(o, *dl, c, r, tmin, tmax);
+                let what = format!("case {case} lane {l} {form}: o {o:?} d {dl:?} c {c:?} r {r}");
+                if hit & (1 << l) != 0 {
+                    hits[f] += 1;
+                    assert_eq!(exact, Some(true), "{what}: hit interval misses the root");
+                    assert!(
+                        !matches!(scalar, Estimate::Miss),
+                        "{what}: scalar says miss"
+                    );
+                } else if miss & (1 << l) != 0 {
+                    misses[f] += 1;
+                    assert_eq!(exact, None, "{what}: a root where the lanes say miss");
+                    assert!(
+                        !matches!(scalar, Estimate::Hit(_)),
+                        "{what}: scalar says hit"
+                    );
+                } else {
+                    undecided[f] += 1;
+                }
             }
         }
     }
-    println!("{hits} hits, {misses} misses, {undecided} undecided of 16,000 lanes");
-    assert!(hits > 4000 && misses > 4000, "{hits} hits, {misses} misses");
-    assert!(undecided < 1200, "{undecided} lanes undecided");
+    for f in 0..2 {
+        let (hits, misses, undecided) = (hits[f], misses[f], undecided[f]);
+        println!("form {f} (0: per sphere, 1: per packet): {hits} hits, {misses} misses, {undecided} undecided of 16,000 lanes");
+        assert!(hits > 4000 && misses > 4000, "{hits} hits, {misses} misses");
+        assert!(undecided < 1200, "{undecided} lanes undecided");
+    }
 }
 
 #[test]

@@ -22,7 +22,7 @@
 //! eye) and [`Spheres::block_packet`] (which of 8 shadow segments from the light a sphere
 //! blocks) walk the hierarchy with the packet walk of [`super::bvh`] and test the spheres it
 //! reaches four lanes at a time with the sphere's f64 interval level
-//! ([`sphere::interval_x4`]), each sphere seen once per frame from the eye and the light
+//! ([`sphere::interval_x4_of`]), each sphere seen once per frame from the eye and the light
 //! ([`SpheresSeen`]).
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
@@ -30,7 +30,7 @@ use super::layout::{merge, Layout};
 use super::packet::PacketLimits;
 use super::reference::{any_one_by_one, nearest_one_by_one};
 use crate::geometry::adaptive::{round_down, round_up, widen, Estimate, Search};
-use crate::geometry::sphere::{self, FromOrigin};
+use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::Lanes;
@@ -284,15 +284,18 @@ pub(crate) struct SphereLanes {
     pub(crate) unsure: u32,
 }
 
-/// Lanes 4·`half` to 4·`half` + 3 of the directions `d` (per axis), in f64.
+/// Lanes 4·`half` to 4·`half` + 3 of the directions `d` (per axis), in f64, prepared for
+/// every sphere the packet meets.
 #[inline(always)]
-fn half_in_f64(d: &[[f32; 8]; 3], half: usize) -> [f64x4; 3] {
-    each3(|k| f64x4::new(std::array::from_fn(|l| f64::from(d[k][4 * half + l]))))
+fn half_in_f64(d: &[[f32; 8]; 3], half: usize) -> DirectionsX4 {
+    DirectionsX4::new(each3(|k| {
+        f64x4::new(std::array::from_fn(|l| f64::from(d[k][4 * half + l])))
+    }))
 }
 
 /// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane.
 struct Nearest {
-    d: [[f64x4; 3]; 2],
+    d: [DirectionsX4; 2],
     lo: [f64x4; 2],
     hi: [f64x4; 2],
     prims: [u32; 8],
@@ -323,7 +326,7 @@ impl<V: Lanes> PacketLimits<V> for Nearest {
 
 /// A shadow packet's state in the spheres' walk.
 struct Blocking<'a> {
-    d: [[f64x4; 3]; 2],
+    d: [DirectionsX4; 2],
     segments: &'a super::ShadowSegments,
     blocked: u32,
     unsure: u32,
@@ -378,7 +381,7 @@ impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
                     s.undecided |= bits << (4 * half);
                     continue;
                 };
-                let r = sphere::interval_x4(from, &s.d[half], 0.0, f64::INFINITY);
+                let r = sphere::interval_x4_of(from, &s.d[half], 0.0, f64::INFINITY);
                 let (lo, hi) = (s.lo[half], s.hi[half]);
                 let nearer = r.hit & r.hi.simd_lt(lo);
                 let farther = r.hit & r.lo.simd_gt(hi);
@@ -415,7 +418,7 @@ impl<'a> Leaves<f32x8, Blocking<'a>> for SeenLeaves<'_> {
                     s.unsure |= (bits & !own) << (4 * half);
                     continue;
                 };
-                let r = sphere::interval_x4(from, &s.d[half], 0.0, 1.0);
+                let r = sphere::interval_x4_of(from, &s.d[half], 0.0, 1.0);
                 s.blocked |= (r.hit.to_bitmask() & bits & !own) << (4 * half);
                 // Another sphere may still block such a lane for certain.
                 s.unsure |= ((!(r.hit | r.miss)).to_bitmask() & bits & !own) << (4 * half);

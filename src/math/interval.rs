@@ -281,6 +281,15 @@ impl IntervalX4 {
         ])
     }
 
+    /// x · r for lanes where r.lo > 0 (others: meaningless): with r positive the least
+    /// product is x.lo times an end of r, the greatest x.hi times one.
+    #[inline(always)]
+    pub fn mul_positive(self, r: Self) -> Self {
+        let (a, b) = (self.lo * r.lo, self.lo * r.hi);
+        let (c, d) = (self.hi * r.lo, self.hi * r.hi);
+        Self::widened(a.fast_min(b), c.fast_max(d))
+    }
+
     /// The widened interval from the least to the greatest of four rounded end products or
     /// quotients (no NaN among them: finite ends).
     #[inline(always)]

@@ -190,19 +190,74 @@ impl FromOrigin {
 /// ends come out undecided.
 #[inline(always)]
 pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) -> LanesX4 {
+    let a = squared_length_x4(d);
+    let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
+    roots_x4(sphere, d, a, finite, |x| x.div_positive(a), tmin, tmax)
+}
+
+/// Four directions as a packet's sphere tests need them ([`interval_x4_of`]): with
+/// a = d·d and 1/a, the same for every sphere the packet meets, computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct DirectionsX4 {
+    d: [f64x4; 3],
+    a: IntervalX4,
+    inv_a: IntervalX4,
+    finite: f64x4,
+}
+
+impl DirectionsX4 {
+    /// The directions `d` (lanes), prepared.
+    #[inline(always)]
+    pub fn new(d: [f64x4; 3]) -> Self {
+        let a = squared_length_x4(&d);
+        Self {
+            d,
+            a,
+            inv_a: IntervalX4::point(f64x4::ONE).div_positive(a),
+            finite: d[0].is_finite() & d[1].is_finite() & d[2].is_finite(),
+        }
+    }
+}
+
+/// [`interval_x4`] with the directions prepared once per packet: the roots scaled by the
+/// interval 1/a instead of divided by a (one rounding more, so the ends are a few ulps
+/// wider; both enclose the exact roots).
+#[inline(always)]
+pub fn interval_x4_of(sphere: &FromOrigin, dirs: &DirectionsX4, tmin: f64, tmax: f64) -> LanesX4 {
+    let inv_a = dirs.inv_a;
+    let over_a = |x: IntervalX4| x.mul_positive(inv_a);
+    roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
+}
+
+/// a = d·d per lane, as an interval.
+#[inline(always)]
+fn squared_length_x4(d: &[f64x4; 3]) -> IntervalX4 {
+    let point = |x: f64x4| IntervalX4::point(x);
+    point(d[0]).square() + point(d[1]).square() + point(d[2]).square()
+}
+
+/// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
+/// lanes with a.lo > 0).
+#[inline(always)]
+fn roots_x4(
+    sphere: &FromOrigin,
+    d: &[f64x4; 3],
+    a: IntervalX4,
+    finite: f64x4,
+    over_a: impl Fn(IntervalX4) -> IntervalX4,
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4 {
     let f = sphere.f.map(IntervalX4::splat);
     let k = IntervalX4::splat(sphere.k);
-    let point = |x: f64x4| IntervalX4::point(x);
-    let a = point(d[0]).square() + point(d[1]).square() + point(d[2]).square();
     let b = idot_x4(&f, d);
     let disc = b.square() - a * k;
     let zero = f64x4::ZERO;
-    let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
     let miss_line = finite & disc.hi.simd_lt(zero);
     let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
     let root = disc.sqrt();
-    let t0 = (-b - root).div_positive(a);
-    let t1 = (-b + root).div_positive(a);
+    let t0 = over_a(-b - root);
+    let t1 = over_a(-b + root);
     let (tmin, tmax) = (f64x4::splat(tmin), f64x4::splat(tmax));
     let ok = crosses & t0.finite() & t1.finite();
     // As `interval`: the near root unless it is certainly at or before tmin.
