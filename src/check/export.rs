@@ -125,14 +125,16 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
     if dir.exists() {
         // An export's own temporary files do not count: another export into the same new
         // directory, still writing its README, leaves only those.
+        // The listing before the README: an export renames its whole README into place
+        // before it writes anything else, so a listing that holds files was read after a
+        // whole README was there (read the other way round, a README not yet there and files
+        // written meanwhile looked like a foreign directory).
         let entries = std::fs::read_dir(dir).map_err(io(dir))?;
-        let mut holds = entries
-            .flatten()
-            .filter(|e| input::temp_owner(&e.file_name()).is_none());
+        let holds = (entries.flatten()).any(|e| input::temp_owner(&e.file_name()).is_none());
         let readme = dir.join("README.md");
         let is_suite = std::fs::read_to_string(&readme)
             .is_ok_and(|text| text.lines().next() == Some(README_TITLE));
-        if holds.next().is_some() && !is_suite {
+        if holds && !is_suite {
             return Err(ExportError::NotASuite(dir.to_path_buf()));
         }
     }
