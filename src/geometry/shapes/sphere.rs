@@ -190,8 +190,7 @@ impl FromOrigin {
 /// ends come out undecided.
 #[inline(always)]
 pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) -> LanesX4 {
-    let a = squared_length_x4(d);
-    let finite = d[0].is_finite() & d[1].is_finite() & d[2].is_finite();
+    let (a, finite) = squared_length_x4(d);
     roots_x4(sphere, d, a, finite, |x| x.div_positive(a), tmin, tmax)
 }
 
@@ -209,12 +208,12 @@ impl DirectionsX4 {
     /// The directions `d` (lanes), prepared.
     #[inline(always)]
     pub fn new(d: [f64x4; 3]) -> Self {
-        let a = squared_length_x4(&d);
+        let (a, finite) = squared_length_x4(&d);
         Self {
             d,
             a,
             inv_a: IntervalX4::point(f64x4::ONE).div_positive(a),
-            finite: d[0].is_finite() & d[1].is_finite() & d[2].is_finite(),
+            finite,
         }
     }
 }
@@ -229,11 +228,12 @@ pub fn interval_x4_of(sphere: &FromOrigin, dirs: &DirectionsX4, tmin: f64, tmax:
     roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
 }
 
-/// a = d·d per lane, as an interval.
+/// a = d·d per lane, as an interval, and the lanes where d is finite.
 #[inline(always)]
-fn squared_length_x4(d: &[f64x4; 3]) -> IntervalX4 {
+fn squared_length_x4(d: &[f64x4; 3]) -> (IntervalX4, f64x4) {
     let point = |x: f64x4| IntervalX4::point(x);
-    point(d[0]).square() + point(d[1]).square() + point(d[2]).square()
+    let a = point(d[0]).square() + point(d[1]).square() + point(d[2]).square();
+    (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
 }
 
 /// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
