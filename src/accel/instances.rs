@@ -30,7 +30,7 @@ use crate::geometry::instance::{linear_norm, world_bounds, Instance, Mesh};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::each3;
+use crate::math::simd::{each3, Isa, Outlined};
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -384,8 +384,9 @@ impl Instances {
     /// Offers to `sink` every instanced triangle the 8 rays from `o` (directions `d`) may
     /// reach before their limits, prepared for `o` in the world.
     #[inline(always)]
-    pub(crate) fn packet<V: Lanes, S: PacketSink<V>>(
+    pub(crate) fn packet<V: Lanes, S: PacketSink<V>, I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         d: &[f32x8; 3],
         sink: &mut S,
@@ -397,6 +398,7 @@ impl Instances {
         let (lo, hi) = (V::splat(CARRY_SAFE.recip()), V::splat(CARRY_SAFE));
         let tame = (largest.simd_ge(lo) & largest.simd_le(hi)).to_bitmask();
         let mut leaves = TopLeaves {
+            isa,
             inst: self,
             o,
             lanes_carry: tame & sink.live() == sink.live(),
@@ -457,7 +459,9 @@ impl Layout for Instances {
 }
 
 /// The top hierarchy's leaves: instances, each walked in its mesh's frame.
-struct TopLeaves<'a, V> {
+struct TopLeaves<'a, V, I> {
+    /// The build the mesh walks are compiled for (one function per build: [`MeshWalk`]).
+    isa: I,
     inst: &'a Instances,
     /// The packet in the world, as the top walk tests it.
     slabs: &'a PacketSlabs<V>,
@@ -472,7 +476,7 @@ struct TopLeaves<'a, V> {
     stack: WideStack,
 }
 
-impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
+impl<V: LaneOps, S: PacketSink<V>, I: Isa> Leaves<V, S> for TopLeaves<'_, V, I> {
     #[inline(always)]
     fn visit(&mut self, sink: &mut S, first: usize, count: usize, lanes: u32) {
         let items = &self.inst.top.triangles().1[first..first + count];
@@ -516,28 +520,61 @@ impl<V: LaneOps, S: PacketSink<V>> Leaves<V, S> for TopLeaves<'_, V> {
                     continue;
                 }
             }
-            let mesh = &self.inst.meshes[placed.mesh as usize];
-            let mut leaves = MeshLeaves {
+            self.isa.outline(MeshWalk {
                 placed,
-                mesh,
+                mesh: &self.inst.meshes[placed.mesh as usize],
                 o: self.o,
+                d: self.d,
+                lanes_carry: self.lanes_carry,
+                only,
+                sink: &mut *sink,
                 block: &mut self.block,
-            };
-            let carried = match self.lanes_carry && placed.carries {
-                true => placed.carry_origin(self.o),
-                false => None,
-            };
-            match carried {
-                Some((obj, pad)) => {
-                    let d = placed.carry_directions(self.d);
-                    let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());
-                    mesh.walk_packet_lone(&inner, pad, sink, &mut leaves, &mut self.stack, only);
-                }
-                None => Leaves::<V, S>::visit(&mut leaves, sink, 0, mesh.len(), only),
-            }
+                stack: &mut self.stack,
+            });
             if sink.live() == 0 {
                 return;
             }
+        }
+    }
+}
+
+/// One placed mesh's walk for the lanes `only` of a packet, inside a visit of the walk over
+/// the placements: one function per build and sink ([`Isa::outline`]), called from each
+/// variant of that walk (inlined into each, it was most of the library's machine code).
+struct MeshWalk<'a, V, S> {
+    placed: &'a Placed,
+    mesh: &'a Bvh,
+    o: [f32; 3],
+    d: &'a [V; 3],
+    lanes_carry: bool,
+    only: u32,
+    sink: &'a mut S,
+    block: &'a mut OriginBlock,
+    stack: &'a mut WideStack,
+}
+
+impl<V: LaneOps, S: PacketSink<V>> Outlined for MeshWalk<'_, V, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        let (placed, mesh, only) = (self.placed, self.mesh, self.only);
+        let mut leaves = MeshLeaves {
+            placed,
+            mesh,
+            o: self.o,
+            block: self.block,
+        };
+        let carried = match self.lanes_carry && placed.carries {
+            true => placed.carry_origin(self.o),
+            false => None,
+        };
+        match carried {
+            Some((obj, pad)) => {
+                let d = placed.carry_directions(self.d);
+                let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());
+                mesh.walk_packet_lone(&inner, pad, self.sink, &mut leaves, self.stack, only);
+            }
+            None => Leaves::<V, S>::visit(&mut leaves, self.sink, 0, mesh.len(), only),
         }
     }
 }

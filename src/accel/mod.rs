@@ -42,7 +42,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::simd::avx512_avx2_or_baseline;
+use crate::math::simd::{avx512_avx2_or_baseline, Isa};
 use crate::scene::Scene;
 use layout::Layout;
 use rayon::prelude::*;
@@ -594,7 +594,7 @@ fn closest_with_instances(
     d_max: f32,
     seed: Option<&packet::PacketSeed>,
 ) -> packet::PacketHits {
-    avx512_avx2_or_baseline!(lanes closest_with_instances_body => (
+    avx512_avx2_or_baseline!(isa lanes closest_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
@@ -605,8 +605,10 @@ fn closest_with_instances(
     ) -> packet::PacketHits)
 }
 
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn closest_with_instances_body<V: crate::math::lanes::Lanes>(
+fn closest_with_instances_body<V: crate::math::lanes::Lanes, I: Isa>(
+    isa: I,
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
@@ -617,7 +619,7 @@ fn closest_with_instances_body<V: crate::math::lanes::Lanes>(
 ) -> packet::PacketHits {
     let mut nearest = packet::PacketNearest::<V>::seeded(d, d_max, seed);
     b.packet_into(&mut nearest, o, prepared, d);
-    inst.packet(o, d, &mut nearest);
+    inst.packet(isa, o, d, &mut nearest);
     nearest.finish()
 }
 
@@ -634,7 +636,7 @@ fn blocked_with_instances(
     skip: &[u32; 8],
     valid: u32,
 ) -> packet::ShadowHits {
-    avx512_avx2_or_baseline!(lanes blocked_with_instances_body => (
+    avx512_avx2_or_baseline!(isa lanes blocked_with_instances_body => (
         b: &bvh::Bvh,
         inst: &instances::Instances,
         o: [f32; 3],
@@ -648,7 +650,8 @@ fn blocked_with_instances(
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
+fn blocked_with_instances_body<V: crate::math::lanes::Lanes, I: Isa>(
+    isa: I,
     b: &bvh::Bvh,
     inst: &instances::Instances,
     o: [f32; 3],
@@ -660,7 +663,7 @@ fn blocked_with_instances_body<V: crate::math::lanes::Lanes>(
 ) -> packet::ShadowHits {
     let mut shadow = packet::ShadowPacket::<V>::new(d, d_max, skip, valid);
     b.packet_into(&mut shadow, o, prepared, d);
-    inst.packet(o, d, &mut shadow);
+    inst.packet(isa, o, d, &mut shadow);
     shadow.finish()
 }
 

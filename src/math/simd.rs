@@ -78,16 +78,32 @@ macro_rules! avx512_avx2_or_baseline {
             ($($body)::+::<$crate::math::lanes::f32x8>)
             ($($arg: $ty),*) -> $ret)
     };
+    (isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx512>)
+            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
+            ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
+            [$crate::math::simd::Avx512::checked()]
+            [$crate::math::simd::Avx2::checked()]
+            [$crate::math::simd::Baseline]
+            ($($arg: $ty),*) -> $ret)
+    };
     ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@dispatch ($body) ($body) ($body) ($($arg: $ty),*) -> $ret)
     };
-    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch ($avx512) ($avx) ($base) [] [] []
+            ($($arg: $ty),*) -> $ret)
+    };
+    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr)
+        [$($isa512:expr)?] [$($isa2:expr)?] [$($isa_base:expr)?]
+        ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
         match $crate::math::simd::level() {
             $crate::math::simd::SimdLevel::Avx512 => {
                 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
                 fn avx512($($arg: $ty),*) -> $ret {
-                    $avx512($($arg),*)
+                    $avx512($($isa512,)? $($arg),*)
                 }
                 // SAFETY: the CPU has these features (checked at run time by `level`).
                 #[allow(unsafe_code)]
@@ -96,7 +112,7 @@ macro_rules! avx512_avx2_or_baseline {
             $crate::math::simd::SimdLevel::Avx2 => {
                 #[target_feature(enable = "avx2,fma")]
                 fn avx2($($arg: $ty),*) -> $ret {
-                    $avx($($arg),*)
+                    $avx($($isa2,)? $($arg),*)
                 }
                 // SAFETY: the CPU has AVX2 and FMA (checked at run time by `level`).
                 #[allow(unsafe_code)]
@@ -104,10 +120,107 @@ macro_rules! avx512_avx2_or_baseline {
             }
             $crate::math::simd::SimdLevel::Baseline => {}
         }
-        $base($($arg),*)
+        $base($($isa_base,)? $($arg),*)
     }};
 }
 pub(crate) use avx512_avx2_or_baseline;
+
+/// A kernel build as a value, made only where the CPU runs it: the `isa lanes` arm of
+/// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the
+/// run-time check. [`Isa::outline`] runs a part of the kernel compiled for that build as one
+/// function the kernel calls: a part reached from several places of a kernel (the instances'
+/// mesh walk, under each variant of the walk over the placements) is then compiled once per
+/// build, not once per place it would be inlined into.
+pub(crate) trait Isa: Copy {
+    /// `part.run()`, compiled for this build and called, not inlined.
+    fn outline<P: Outlined>(self, part: P) -> P::Output;
+}
+
+/// A part of a kernel that [`Isa::outline`] compiles once per build: `run` inlines
+/// (`#[inline(always)]`) into the one function made for the build.
+pub(crate) trait Outlined {
+    type Output;
+    fn run(self) -> Self::Output;
+}
+
+/// The baseline build (SSE2 on x86-64; the portable build elsewhere).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Baseline;
+
+impl Isa for Baseline {
+    #[inline(always)]
+    fn outline<P: Outlined>(self, part: P) -> P::Output {
+        #[inline(never)]
+        fn baseline<P: Outlined>(part: P) -> P::Output {
+            part.run()
+        }
+        baseline(part)
+    }
+}
+
+/// The AVX2+FMA build: exists only where the CPU has both.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx2(());
+
+#[cfg(target_arch = "x86_64")]
+impl Avx2 {
+    /// The token, after [`level`] said `Avx2` or more (only the dispatch calls this).
+    #[inline(always)]
+    pub(crate) fn checked() -> Self {
+        debug_assert!(detected() >= SimdLevel::Avx2);
+        Avx2(())
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Isa for Avx2 {
+    #[inline(always)]
+    fn outline<P: Outlined>(self, part: P) -> P::Output {
+        #[target_feature(enable = "avx2,fma")]
+        #[inline(never)]
+        fn avx2<P: Outlined>(part: P) -> P::Output {
+            part.run()
+        }
+        // SAFETY: a token exists only where the CPU has AVX2 and FMA (`checked`).
+        #[allow(unsafe_code)]
+        unsafe {
+            avx2(part)
+        }
+    }
+}
+
+/// The AVX-512 build: exists only where the CPU has AVX-512 F, VL, BW, DQ and CD.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx512(());
+
+#[cfg(target_arch = "x86_64")]
+impl Avx512 {
+    /// The token, after [`level`] said `Avx512` (only the dispatch calls this).
+    #[inline(always)]
+    pub(crate) fn checked() -> Self {
+        debug_assert!(detected() >= SimdLevel::Avx512);
+        Avx512(())
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Isa for Avx512 {
+    #[inline(always)]
+    fn outline<P: Outlined>(self, part: P) -> P::Output {
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+        #[inline(never)]
+        fn avx512<P: Outlined>(part: P) -> P::Output {
+            part.run()
+        }
+        // SAFETY: a token exists only where the CPU has these features (`checked`).
+        #[allow(unsafe_code)]
+        unsafe {
+            avx512(part)
+        }
+    }
+}
 
 /// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state
 /// transitions) in the AVX2 builds; this always inlines.

@@ -74,7 +74,9 @@ impl Bvh {
             }
             return;
         }
-        match (slabs.coherent, pad == 0.0) {
+        // (A lone walk is a placed mesh's, whose pad is never 0: the padded test serves a 0
+        // as well, and one variant fewer is compiled.)
+        match (slabs.coherent, pad == 0.0 && !LONE) {
             (Some(near_hi), true) => {
                 let test = IntervalTest::<V, false>::new(slabs, near_hi, 0.0);
                 self.walk_wide::<_, _, _, _, LONE>(&test, sink, leaves, stack, only)
@@ -383,42 +385,42 @@ impl Bvh {
         if self.wide.is_empty() || live == 0 {
             return;
         }
-        if LONE && live.is_power_of_two() {
-            return self.walk_lane(test, sink, leaves, (0, live), (stack, 0));
-        }
         let mut reach = sink.limit();
         let mut limit = widest(reach, live);
         let mut top = 0;
-        let mut node = 0usize;
+        // The root, then what the stack gives: one place each for a node, a lone lane's
+        // subtree and a leaf (each inlines its whole walk or visit).
+        let mut next = Some((0, live));
         loop {
-            let n = &self.wide[node];
-            test.push(n, reach, live, limit, stack, &mut top);
-            loop {
-                if live == 0 {
-                    return;
-                }
-                let r = stack.pop_above(0, &mut top, limit);
-                if r == NONE {
-                    return;
-                }
-                if let Some(next) = stack.top_above(0, top) {
-                    self.prefetch(next);
-                }
-                let lanes = stack.lanes_at(top) & live;
-                if r & LEAF == 0 {
-                    if !(LONE && lanes.is_power_of_two()) {
-                        node = r as usize;
-                        break;
+            let (r, lanes) = match next.take() {
+                Some(entry) => entry,
+                None => {
+                    if live == 0 {
+                        return;
                     }
-                    self.walk_lane(test, sink, leaves, (r as usize, lanes), (stack, top));
-                } else {
-                    let (first, count) = leaf_range(r);
-                    leaves.visit(sink, first, count, lanes);
+                    let r = stack.pop_above(0, &mut top, limit);
+                    if r == NONE {
+                        return;
+                    }
+                    if let Some(next) = stack.top_above(0, top) {
+                        self.prefetch(next);
+                    }
+                    (r, stack.lanes_at(top) & live)
                 }
-                live = sink.live() & only;
-                reach = sink.limit();
-                limit = widest(reach, live);
+            };
+            if r & LEAF == 0 {
+                if !(LONE && lanes.is_power_of_two()) {
+                    test.push(&self.wide[r as usize], reach, live, limit, stack, &mut top);
+                    continue;
+                }
+                self.walk_lane(test, sink, leaves, (r as usize, lanes), (stack, top));
+            } else {
+                let (first, count) = leaf_range(r);
+                leaves.visit(sink, first, count, lanes);
             }
+            live = sink.live() & only;
+            reach = sink.limit();
+            limit = widest(reach, live);
         }
     }
 
