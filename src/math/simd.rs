@@ -62,7 +62,8 @@ impl std::str::FromStr for SimdLevel {
 /// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 and AVX-512 builds compute in
 /// `Avx8` (crate-private), its baseline build in `wide`'s f32x8. With `widest`, over its
 /// [`LaneOps`](crate::math::lanes::LaneOps) type: the AVX-512 build computes in 16 lanes
-/// (`Avx16`), the others as with `lanes`.
+/// (`Avx16`), the others as with `lanes`. With `isa lanes`, as with `lanes`, and the kernel is
+/// also generic over its build's [`Isa`] token, which it takes as its first argument.
 macro_rules! avx512_avx2_or_baseline {
     (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
@@ -158,69 +159,56 @@ impl Isa for Baseline {
     }
 }
 
-/// The AVX2+FMA build: exists only where the CPU has both.
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Avx2(());
+/// An AVX build's token ([`Isa`]): the type, `checked` (the dispatch's only way to make one,
+/// after [`level`] said `$level` or more) and `outline` through a function with `$features`.
+macro_rules! avx_build {
+    ($(#[$doc:meta])* $name:ident, $level:ident, $features:literal) => {
+        $(#[$doc])*
+        #[cfg(target_arch = "x86_64")]
+        #[derive(Clone, Copy, Debug)]
+        pub(crate) struct $name(());
 
-#[cfg(target_arch = "x86_64")]
-impl Avx2 {
-    /// The token, after [`level`] said `Avx2` or more (only the dispatch calls this).
-    #[inline(always)]
-    pub(crate) fn checked() -> Self {
-        debug_assert!(detected() >= SimdLevel::Avx2);
-        Avx2(())
-    }
+        #[cfg(target_arch = "x86_64")]
+        impl $name {
+            /// The token, after [`level`] said this build or more (only the dispatch calls this).
+            #[inline(always)]
+            pub(crate) fn checked() -> Self {
+                debug_assert!(detected() >= SimdLevel::$level);
+                $name(())
+            }
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        impl Isa for $name {
+            #[inline(always)]
+            fn outline<P: Outlined>(self, part: P) -> P::Output {
+                #[target_feature(enable = $features)]
+                #[inline(never)]
+                fn build<P: Outlined>(part: P) -> P::Output {
+                    part.run()
+                }
+                // SAFETY: a token exists only where the CPU has these features (`checked`).
+                #[allow(unsafe_code)]
+                unsafe {
+                    build(part)
+                }
+            }
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Isa for Avx2 {
-    #[inline(always)]
-    fn outline<P: Outlined>(self, part: P) -> P::Output {
-        #[target_feature(enable = "avx2,fma")]
-        #[inline(never)]
-        fn avx2<P: Outlined>(part: P) -> P::Output {
-            part.run()
-        }
-        // SAFETY: a token exists only where the CPU has AVX2 and FMA (`checked`).
-        #[allow(unsafe_code)]
-        unsafe {
-            avx2(part)
-        }
-    }
-}
-
-/// The AVX-512 build: exists only where the CPU has AVX-512 F, VL, BW, DQ and CD.
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Avx512(());
-
-#[cfg(target_arch = "x86_64")]
-impl Avx512 {
-    /// The token, after [`level`] said `Avx512` (only the dispatch calls this).
-    #[inline(always)]
-    pub(crate) fn checked() -> Self {
-        debug_assert!(detected() >= SimdLevel::Avx512);
-        Avx512(())
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl Isa for Avx512 {
-    #[inline(always)]
-    fn outline<P: Outlined>(self, part: P) -> P::Output {
-        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-        #[inline(never)]
-        fn avx512<P: Outlined>(part: P) -> P::Output {
-            part.run()
-        }
-        // SAFETY: a token exists only where the CPU has these features (`checked`).
-        #[allow(unsafe_code)]
-        unsafe {
-            avx512(part)
-        }
-    }
-}
+avx_build!(
+    /// The AVX2+FMA build: exists only where the CPU has both.
+    Avx2,
+    Avx2,
+    "avx2,fma"
+);
+avx_build!(
+    /// The AVX-512 build: exists only where the CPU has AVX-512 F, VL, BW, DQ and CD.
+    Avx512,
+    Avx512,
+    "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma"
+);
 
 /// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state
 /// transitions) in the AVX2 builds; this always inlines.
