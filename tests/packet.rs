@@ -270,7 +270,7 @@ proptest! {
         let shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
-        let prepared = accel.prepare_origin(o).unwrap();
+        let prepared = accel.prepare_origin(o);
         for _ in 0..64 {
             let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else { unreachable!() };
             let target = match rng.below(3) {
@@ -460,7 +460,7 @@ proptest! {
         let shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
-        let prepared = accel.prepare_origin(o).unwrap();
+        let prepared = accel.prepare_origin(o);
         let mut decided = 0;
         for _ in 0..24 {
             let coherent = rng.below(2) == 0;
@@ -510,7 +510,7 @@ proptest! {
         let shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&shapes, raylab::accel::AccelChoice::Bvh);
         let light = [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32);
-        let prepared = accel.prepare_origin(light).unwrap();
+        let prepared = accel.prepare_origin(light);
         let mut decided = 0;
         for _ in 0..24 {
             let mut skip = [u32::MAX; 8];
@@ -550,11 +550,11 @@ proptest! {
 }
 
 #[test]
-fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
-    // An icosphere of 5,120 triangles (a BVH, too many for tile culling) with a few loose
+fn a_mesh_renders_each_pixel_as_the_per_ray_search_sees_it_in_every_layout() {
+    // An icosphere of 5,120 triangles (too many for tile culling) with a few loose
     // triangles, seen from close by: the renderer traces its camera rays in
-    // packets through the BVH. Every pixel of the flat step must be the colour of the
-    // per-ray adaptive search's primitive.
+    // packets through the BVH, or through the flat loop where that is chosen. Every pixel of
+    // the flat step must be the colour of the per-ray adaptive search's primitive.
     let mut shapes = icosphere(4, 1.0, [0.0; 3]);
     let mut rng = Rng(11);
     for _ in 0..40 {
@@ -572,19 +572,28 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
             ]
         })
         .collect();
-    let stage = raylab::render::Stage::from(Scene::new(
+    let scene = Scene::new(
         "icosphere",
         shapes,
         colors,
         Scene::cornell().light,
         [0.0; 3],
-    ));
-    let scene = stage.scene();
-    assert_eq!(stage.accel().kind(), raylab::accel::AccelKind::Bvh);
-    assert!(stage.accel().flat_triangles().is_none());
+    );
+    let reference = raylab::render::Stage::from(scene.clone());
+    assert_eq!(reference.accel().kind(), raylab::accel::AccelKind::Bvh);
+    let flat = raylab::render::Stage::new(scene.clone(), raylab::accel::AccelChoice::Flat);
+    assert_eq!(flat.accel().kind(), raylab::accel::AccelKind::Flat);
     // 5,160 triangles. 320x240: at least 8 camera rays a triangle, which the renderer then
     // prepares once per frame; 64x48 and 40x30: fewer, prepared as each packet meets them.
-    for (w, h) in [(320u32, 240u32), (64, 48), (40, 30)] {
+    let cases = [
+        (&reference, 320u32, 240u32),
+        (&reference, 64, 48),
+        (&reference, 40, 30),
+    ];
+    let flat_cases = [(&flat, 320, 240), (&flat, 40, 30)];
+    for (stage, w, h) in cases.into_iter().chain(flat_cases) {
+        let scene = stage.scene();
+        assert!(stage.accel().flat_triangles().is_none());
         let cam = Camera::from_yaw_pitch(glam::DVec3::new(0.2, -0.1, -2.6), 0.05, -0.03, w as f64)
             .unwrap();
         let setup = raylab::accel::FrameSetup {
@@ -596,21 +605,27 @@ fn a_bvh_mesh_renders_each_pixel_as_the_per_ray_search_sees_it() {
             shadows: false,
             per_ray: false,
         };
-        let once = stage.accel().for_frame(&setup).prepares_once();
-        assert_eq!(once, w == 320, "{w}x{h}: prepared once per frame");
+        let queries = stage.accel().for_frame(&setup);
+        assert!(queries.packets(), "{w}x{h}: camera rays in packets");
+        assert_eq!(
+            queries.prepares_once(),
+            w == 320,
+            "{w}x{h}: prepared once per frame"
+        );
+        drop(queries);
         let settings = raylab::render::RenderSettings {
             width: w,
             height: h,
             step: raylab::render::LabStep::Flat,
             ..Default::default()
         };
-        let (img, stats) = raylab::render::render_image(&stage, &cam, &settings).unwrap();
+        let (img, stats) = raylab::render::render_image(stage, &cam, &settings).unwrap();
         let gen = cam.ray_generator(w, h);
         let mut hits = 0;
         for j in 0..h {
             for i in 0..w {
                 let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
-                let want = stage
+                let want = reference
                     .accel()
                     .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
                     .map(|h| scene.colors()[h.prim as usize].map(raylab::render::linear_to_srgb8));
@@ -643,7 +658,7 @@ fn the_avx512_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
         let dm = packet::max_component(&d);
         let bvh_shapes = bvh_scene(&mut rng);
         let accel = raylab::accel::Accel::build(&bvh_shapes, raylab::accel::AccelChoice::Bvh);
-        let bvh_prepared = accel.prepare_origin(o).unwrap();
+        let bvh_prepared = accel.prepare_origin(o);
         let camera = Camera::from_yaw_pitch(
             glam::DVec3::new(
                 rng.range(-5.0, 5.0),

@@ -6,7 +6,10 @@
 //! path, so the answers are bit-identical to the scalar loop; the tests hold it to that. Padding
 //! lanes hold NaN vertices, which fail every comparison and so never hit.
 
-use super::layout::{merge, Layout};
+use super::cull::Box3;
+use super::layout::{merge, Layout, TriangleLayout};
+use super::packet::{OriginBlock, OriginTriangle, OriginTriangles, PacketSink, PreciseTriangle};
+use super::prepared::{LeafCache, Prepared, Reached, BLOCK};
 use super::reference::{any_one_by_one, nearest_one_by_one};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{
@@ -14,6 +17,7 @@ use crate::geometry::adaptive::{
 };
 use crate::geometry::triangle::{beyond_tmin, edge_functions, watertight_pre, WatertightRay};
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::lanes::{LaneOps, Lanes};
 use crate::math::Real;
 use wide::f32x8;
 
@@ -468,5 +472,132 @@ impl Layout for FlatLoop {
 
     fn any_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
         self.any_hit_adaptive(r, search, skip)
+    }
+
+    /// Every triangle, a block of 8 at a time, prepared for `o` in f32 (from `prepared`'s
+    /// list or cache, or as met), each again in f64 where the f32 bounds would leave a live
+    /// lane undecided: the BVH's leaf visit without the boxes (a small scene's triangles,
+    /// or every triangle where the flat loop was chosen).
+    #[inline(always)]
+    fn packet_into<V: LaneOps, S: PacketSink<V>>(
+        &self,
+        sink: &mut S,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        _: [V; 3],
+    ) {
+        let prepared = match prepared.fits(o, self.len) {
+            true => prepared,
+            false => Prepared::AsMet,
+        };
+        let mut scratch = None;
+        for (b, block) in self.blocks.iter().enumerate() {
+            if sink.live() == 0 {
+                return;
+            }
+            let count = block.valid.count_ones() as usize;
+            let prepared_block = match prepared {
+                Prepared::All(list) => {
+                    for t in &list.tris[BLOCK * b..][..count] {
+                        sink.take(t);
+                    }
+                    continue;
+                }
+                Prepared::AsMet => {
+                    let out = scratch.get_or_insert_with(OriginBlock::default);
+                    self.prepare_block::<V::Eight>(b, o, out);
+                    &*out
+                }
+                Prepared::Once(cache) => self.cached_block::<V::Eight>(cache, b, o),
+            };
+            for l in 0..count {
+                if !sink.take_decided(&prepared_block.get(l)) {
+                    sink.take_precise(&self.precise(b, l, o));
+                }
+            }
+        }
+    }
+}
+
+/// Every triangle in one box; no walk of its own beside `packet_into`.
+impl TriangleLayout for FlatLoop {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn memory_bytes(&self) -> usize {
+        FlatLoop::memory_bytes(self)
+    }
+
+    /// In the loop's order (block by block: the slots of a list and a cache alike).
+    fn prepared_for(&self, origin: [f32; 3]) -> OriginTriangles {
+        let blocks = &self.blocks;
+        OriginTriangles::prepare(
+            self.len,
+            |i| {
+                (
+                    &blocks[i / BLOCK].tris[i % BLOCK],
+                    blocks[i / BLOCK].prim[i % BLOCK],
+                )
+            },
+            origin,
+        )
+    }
+
+    fn bounding_box(&self) -> Option<Box3> {
+        (self.len > 0).then_some(Box3 {
+            lo: self.lo,
+            hi: self.hi,
+        })
+    }
+}
+
+/// The packet walk's preparations (see [`FlatLoop::packet_into`](Layout::packet_into)).
+impl FlatLoop {
+    /// Block `b` prepared for `o` in f32 in `V`'s lanes; a short block repeats its last
+    /// triangle (the padding lanes' NaN vertices would make every ray ambiguous).
+    #[inline(always)]
+    fn prepare_block<V: Lanes>(&self, b: usize, o: [f32; 3], out: &mut OriginBlock) {
+        let block = &self.blocks[b];
+        let last = block.valid.count_ones() as usize - 1;
+        let i: [usize; BLOCK] = std::array::from_fn(|l| l.min(last));
+        let t = &block.tris;
+        OriginTriangle::new8::<V>(
+            [
+                &t[i[0]], &t[i[1]], &t[i[2]], &t[i[3]], &t[i[4]], &t[i[5]], &t[i[6]], &t[i[7]],
+            ],
+            o,
+            i.map(|l| block.prim[l]),
+            out,
+        );
+    }
+
+    /// Block `b` prepared for `o`: from `cache`, or prepared now and kept there.
+    #[inline(always)]
+    fn cached_block<'c, V: Lanes>(
+        &self,
+        cache: &'c LeafCache,
+        b: usize,
+        o: [f32; 3],
+    ) -> &'c OriginBlock {
+        if let Some(ready) = cache.block(b) {
+            return ready;
+        }
+        match cache.reach(b) {
+            Reached::Ready(ready) => ready,
+            Reached::Claimed(mut claim) => {
+                self.prepare_block::<V>(b, o, claim.block());
+                claim.ready()
+            }
+        }
+    }
+
+    /// Block `b`'s lane `l` prepared for `o` in f64, for the lanes its f32 preparation
+    /// leaves undecided (rare: out of the way of the walk).
+    #[cold]
+    #[inline(never)]
+    fn precise(&self, b: usize, l: usize, o: [f32; 3]) -> PreciseTriangle {
+        let block = &self.blocks[b];
+        PreciseTriangle::new(&block.tris[l], o, block.prim[l])
     }
 }

@@ -11,21 +11,38 @@
 //! reference); [`nearest`] and [`any`] fold one query over them. Ties go to the
 //! lower primitive index in every layout, so the fold's answer does not depend on their order.
 //!
-//! Packets (8 or 16 rays from one origin) are the BVH's own walk and the spheres': a layout
-//! without a packet walk is traced per ray (`Triangles::bvh` says which layout has one).
+//! Packets (8 or 16 rays from one origin, adaptive method) are the fifth query,
+//! [`Layout::packet_into`]: the layout offers a packet's state (a [`PacketSink`]: the nearest
+//! hits or the shadow segments) every triangle the live lanes may reach. Its provided default
+//! leaves every lane to the per-ray queries, so a layout without a packet walk is still
+//! answered exactly. The triangle layouts both walk packets: the BVH down its boxes, the flat
+//! loop over every block. `Triangles` builds the packet queries on `packet_into`, with the
+//! BVH's own faster walks where they apply (positions instead of primitives, no instances).
 //!
-//! Adding a layout (a BVH4, a grid): its files, `impl Layout` for it, a variant of
-//! `Triangles` with its arms in triangles.rs (build, `layout`, `kind`), its name in
-//! [`AccelChoice`], and a line in `accel::testing::layouts`. tests/accel.rs runs every layout
-//! against the reference loop on random and hard-case scenes.
+//! A layout over a scene's stored triangles also answers [`TriangleLayout`]: its size, its
+//! triangles prepared for one origin (the order its packet walk reads), its boxes for the
+//! screen, and its own faster walks where it has them.
+//!
+//! Adding a layout (a BVH4, a grid): its files, `impl Layout` for it (`packet_into` may be
+//! left to its default) and `impl TriangleLayout`, a variant of `Triangles` with its lines in
+//! triangles.rs (the variant, `each_layout!`, `build`, `kind`), its name in [`AccelChoice`],
+//! and a line in `accel::testing::layouts` and tests/accel.rs's `packet_layouts`.
+//! tests/accel.rs runs every layout against the reference loop on random and hard-case
+//! scenes, per ray and in packets.
 //!
 //! [`Accel`]: super::Accel
 //! [`AccelChoice`]: super::AccelChoice
 //! [`InOrder`]: super::reference::InOrder
 
+use super::cull::{Box3, TreeNode};
+use super::packet::{
+    OriginTriangles, PacketHits, PacketNearest, PacketSeed, PacketSink, ShadowHits,
+};
+use super::prepared::Prepared;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
+use crate::math::lanes::{f32x8, LaneOps};
 
 /// What every structure over primitives answers (see the module docs).
 pub trait Layout: Send + Sync {
@@ -42,6 +59,105 @@ pub trait Layout: Send + Sync {
 
     /// Whether a primitive other than `skip` is certainly hit within `search`'s interval.
     fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool;
+
+    /// A packet of rays from `o` with directions `d` (the adaptive method): offers `sink`
+    /// every triangle its live lanes may reach before their limits, taken from `prepared`
+    /// where that was made for `o` and this layout, else prepared as met. Provided: every
+    /// live lane left to the per-ray queries ([`PacketSink::per_ray`]).
+    #[inline(always)]
+    fn packet_into<V: LaneOps, S: PacketSink<V>>(
+        &self,
+        sink: &mut S,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+    ) where
+        Self: Sized,
+    {
+        let _ = (o, prepared, d);
+        sink.per_ray();
+    }
+}
+
+/// What a layout over a scene's stored triangles answers beyond [`Layout`]: its size, its
+/// triangles prepared for an origin, its boxes for the screen, and its own faster walks where
+/// it has them (each provided from [`Layout::packet_into`] or left out where it has none).
+pub(crate) trait TriangleLayout: Layout + Sized {
+    /// How many triangles are stored.
+    fn len(&self) -> usize;
+
+    /// Bytes of the structure.
+    fn memory_bytes(&self) -> usize;
+
+    /// Every triangle prepared for rays from `origin`, in the order its packet walk reads a
+    /// `Prepared::All` list (and a frame's cache, in blocks of 8).
+    fn prepared_for(&self, origin: [f32; 3]) -> OriginTriangles;
+
+    /// The box around every triangle (`None`: there are none).
+    fn bounding_box(&self) -> Option<Box3>;
+
+    /// Boxes around the triangles as a tree for tile culling (`cull::ScreenTree`), down to
+    /// `depth` levels below the root. Provided: the one box around them all.
+    fn top_boxes(&self, depth: usize) -> Vec<TreeNode> {
+        let _ = depth;
+        (self.bounding_box().into_iter())
+            .map(|b| ((b.lo, b.hi), None))
+            .collect()
+    }
+
+    /// The adaptive nearest hit of `ray` among the triangles into `search`, from triangles
+    /// `prepared` for its origin. Provided: false (nothing offered; also where `prepared`
+    /// does not fit), and the caller asks the per-ray search instead.
+    fn nearest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
+        let _ = (ray, prepared, search);
+        false
+    }
+
+    /// Its own walk of 8 camera rays, where faster than [`Layout::packet_into`] into a state
+    /// the instances share (`Triangles::closest_packet`). Provided: none.
+    fn own_closest_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>,
+    ) -> Option<PacketHits> {
+        let _ = (o, prepared, d, d_max, seed);
+        None
+    }
+
+    /// Its own walk of 8 shadow segments (`Triangles::blocked_packet`). Provided: none.
+    #[allow(clippy::too_many_arguments)]
+    fn own_blocked_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> Option<ShadowHits> {
+        let _ = (o, prepared, d, d_max, skip, valid);
+        None
+    }
+
+    /// `Triangles::closest_packet` (no seed, no instances) inside a kernel already in lanes
+    /// `V` of any width: primitives into `prim[..V::WIDTH]`, the ambiguous lanes returned.
+    /// Provided: through [`Layout::packet_into`].
+    #[inline(always)]
+    fn closest_packet_in<V: LaneOps>(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+        d_max: f32,
+        prim: &mut [u32],
+    ) -> u32 {
+        let mut nearest = PacketNearest::<V>::new_in(d, d_max);
+        self.packet_into(&mut nearest, o, prepared, d);
+        nearest.finish_into(prim)
+    }
 }
 
 /// Keeps `hit` in `best` if it is nearer, or as near with a lower primitive index.
@@ -95,4 +211,58 @@ pub fn any(
         return (parts.iter()).any(|part| part.any_exact(ray, &r, &search, skip));
     }
     (parts.iter()).any(|part| part.any(ray, method, tmin, tmax, skip))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::flat::FlatLoop;
+    use crate::accel::packet::{PacketNearest, ShadowPacket};
+    use crate::accel::reference::InOrder;
+    use crate::geometry::Shape;
+    use crate::math::lanes::f32x8;
+
+    #[test]
+    fn a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries() {
+        // One triangle ahead of 8 rays from the origin: the reference loop (no packet walk of
+        // its own) leaves every lane undecided, the flat loop's walk decides them all.
+        let v = [[-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]];
+        let d: [f32x8; 3] = [
+            f32x8::from([-0.2, -0.1, 0.0, 0.1, 0.2, 0.0, 0.05, -0.05]),
+            f32x8::splat(-0.1),
+            f32x8::splat(1.0),
+        ];
+        let in_order = InOrder(vec![(Shape::Triangle(v), 0)]);
+        let flat = FlatLoop::new(&[(v, 0)]);
+        let o = [0.0; 3];
+
+        let mut nearest = PacketNearest::<f32x8>::seeded(&d, 1.0, None);
+        in_order.packet_into(&mut nearest, o, Prepared::AsMet, d);
+        assert_eq!(nearest.finish().ambiguous, 0xff);
+        let mut nearest = PacketNearest::<f32x8>::seeded(&d, 1.0, None);
+        flat.packet_into(&mut nearest, o, Prepared::AsMet, d);
+        let found = nearest.finish();
+        assert_eq!((found.ambiguous, found.prim), (0, [0; 8]));
+
+        // Shadow segments to z = 4: blocked by the triangle at t = 1/2.
+        let d = d.map(|c| c * f32x8::splat(4.0));
+        let mut shadow = ShadowPacket::<f32x8>::new(&d, 4.0, &[u32::MAX; 8], 0b1011_0110);
+        in_order.packet_into(&mut shadow, o, Prepared::AsMet, d);
+        let hits = shadow.finish();
+        assert_eq!((hits.blocked, hits.unsure), (0, 0b1011_0110));
+        let mut shadow = ShadowPacket::<f32x8>::new(&d, 4.0, &[u32::MAX; 8], 0b1011_0110);
+        flat.packet_into(&mut shadow, o, Prepared::AsMet, d);
+        let hits = shadow.finish();
+        assert_eq!((hits.blocked, hits.unsure), (0b1011_0110, 0));
+        // The per-ray queries answer the reference loop's lanes.
+        let ray = Ray::new(o, [0.1, -0.4, 4.0]);
+        assert!(any(
+            &[&in_order],
+            &ray,
+            Method::Adaptive,
+            0.0,
+            1.0,
+            u32::MAX
+        ));
+    }
 }

@@ -29,7 +29,7 @@ mod cull;
 pub(crate) mod flat;
 pub(crate) mod frame;
 pub(crate) mod instances;
-pub mod layout;
+pub(crate) mod layout;
 pub(crate) mod packet;
 mod prepared;
 pub mod reference;
@@ -42,7 +42,6 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::simd::{avx512_avx2_or_baseline, Isa};
 use crate::scene::Scene;
 use layout::Layout;
 use rayon::prelude::*;
@@ -303,21 +302,18 @@ impl Accel {
     }
 
     /// Boxes around the triangles, instanced ones included, as a tree for tile culling
-    /// ([`cull::ScreenTree`]): the BVH's nodes down to `depth` wide levels
-    /// ([`bvh::Bvh::top_levels`]); with instances, one box around everything. Empty: no BVH,
-    /// or no triangles.
+    /// ([`cull::ScreenTree`]): the triangle layout's top boxes (`Triangles::top_boxes`);
+    /// with instances, one box around everything. Empty: no triangles.
     pub(crate) fn triangle_boxes(&self, depth: usize) -> Vec<cull::TreeNode> {
-        let Some(b) = self.triangles.bvh() else {
-            return Vec::new();
-        };
         let Some(inst) = self.instances() else {
-            return (b.top_levels(depth).into_iter())
-                .map(|n| ((n.bounds.lo, n.bounds.hi), n.children))
-                .collect();
+            return self.triangles.top_boxes(depth);
         };
         let mut all = inst.world_bounds();
-        if let Some(own) = b.root_bounds() {
-            all.grow(&own);
+        if let Some(own) = self.triangles.bounding_box() {
+            all.grow(&bvh::Aabb {
+                lo: own.lo,
+                hi: own.hi,
+            });
         }
         vec![((all.lo, all.hi), None)]
     }
@@ -369,7 +365,7 @@ impl Accel {
     /// instances if any, the other shapes if any.
     #[inline]
     fn with_parts<R>(&self, f: impl FnOnce(&[&dyn Layout]) -> R) -> R {
-        let tris = self.triangles.layout();
+        let tris: &dyn Layout = &self.triangles;
         match (self.instances(), self.spheres.is_empty()) {
             (None, true) => f(&[tris]),
             (None, false) => f(&[tris, &self.spheres]),
@@ -384,18 +380,15 @@ impl Accel {
     }
 
     /// The triangles prepared for rays from `origin` ([`packet::OriginTriangles`]) in the
-    /// order [`Accel::closest_hit_from_origin`] needs, for a BVH (`None` for the flat loop,
-    /// whose camera rays the renderer traces in tile packets instead).
-    pub fn prepare_origin(&self, origin: [f32; 3]) -> Option<packet::OriginTriangles> {
-        let (vertices, prims) = self.triangles.bvh()?.triangles();
-        Some(packet::OriginTriangles::from_parts(vertices, prims, origin))
+    /// order [`Accel::closest_hit_from_origin`] and the packets read them.
+    pub fn prepare_origin(&self, origin: [f32; 3]) -> packet::OriginTriangles {
+        self.triangles.prepared_for(origin)
     }
 
-    /// An empty cache of the BVH's triangles prepared for `origin`, for one frame (`None`
-    /// without a BVH); [`Accel::keep_leaf_cache`] takes it back.
-    pub(crate) fn leaf_cache(&self, origin: [f32; 3]) -> Option<prepared::LeafCache> {
-        let b = self.triangles.bvh()?;
-        Some(self.caches.take(b.len(), origin))
+    /// An empty cache of the triangles prepared for `origin`, for one frame;
+    /// [`Accel::keep_leaf_cache`] takes it back.
+    pub(crate) fn leaf_cache(&self, origin: [f32; 3]) -> prepared::LeafCache {
+        self.caches.take(self.triangles.len(), origin)
     }
 
     /// Keeps a frame's cache for the next frame.
@@ -405,7 +398,7 @@ impl Accel {
 
     /// The adaptive nearest hit for a ray from the origin `prepared` was made for: the same
     /// primitive as [`Accel::closest_hit`] with [`Method::Adaptive`], found with the cheaper
-    /// shared-origin f32 level. Falls back to that when the structure is not a BVH.
+    /// shared-origin f32 level where the layout has that walk (the BVH's).
     pub fn closest_hit_from_origin(
         &self,
         ray: &Ray,
@@ -428,14 +421,10 @@ impl Accel {
         tmin: f32,
         tmax: f32,
     ) -> Option<Hit> {
-        let Some(b) = self.triangles.bvh() else {
-            return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
-        };
-        if !prepared.fits(ray.o, b.len()) {
+        let mut search = Search::new(ray, tmin, tmax);
+        if !(self.triangles).nearest_prepared(ray, prepared, &mut search) {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         }
-        let mut search = Search::new(ray, tmin, tmax);
-        b.closest_hit_from_origin(ray, prepared, &mut search);
         if let Some(r) = WatertightRay::new(ray.o, ray.d) {
             // The other parts as in every exact query.
             self.with_parts(|parts| {
@@ -447,12 +436,11 @@ impl Accel {
         search.hit()
     }
 
-    /// Camera rays 8 at a time from one origin `o` through the BVH
-    /// ([`bvh::Bvh::closest_packet`]; `prepared`: the triangles prepared for `o` by
-    /// [`Accel::prepare_origin`], or `None` to prepare them as the packet meets them): per
-    /// lane the primitive [`Accel::closest_hit`] with [`Method::Adaptive`] names (u32::MAX for
-    /// none), and the lanes left ambiguous, to be traced per ray. `None` where there is no
-    /// BVH or there are other shapes.
+    /// Camera rays 8 at a time from one origin `o` through the triangles' packet walk
+    /// (`prepared`: the triangles prepared for `o` by [`Accel::prepare_origin`], or `None` to
+    /// prepare them as the packet meets them): per lane the primitive [`Accel::closest_hit`]
+    /// with [`Method::Adaptive`] names (u32::MAX for none), and the lanes left ambiguous, to
+    /// be traced per ray. `None` where there are other shapes.
     pub fn closest_packet(
         &self,
         o: [f32; 3],
@@ -464,7 +452,7 @@ impl Accel {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
-        self.closest_packet_of_triangles(o, prepared, d, d_max, None)
+        Some(self.closest_packet_of_triangles(o, prepared, d, d_max, None))
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
@@ -478,24 +466,13 @@ impl Accel {
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
-    ) -> Option<packet::PacketHits> {
-        let b = self.triangles.bvh()?;
-        if let Some(inst) = self.instances() {
-            return Some(closest_with_instances(b, inst, o, prepared, d, d_max, seed));
-        }
-        let mut found = b.closest_packet_from(o, prepared, d, d_max, seed);
-        let prims = b.triangles().1;
-        for slot in &mut found.prim {
-            if let Some(prim) = prims.get(*slot as usize) {
-                *slot = *prim;
-            }
-        }
-        Some(found)
+    ) -> packet::PacketHits {
+        (self.triangles).closest_packet(self.instances(), o, prepared, d, d_max, seed)
     }
 
     /// [`Accel::closest_packet_of_triangles`] (no seed, no instances) inside a kernel already
     /// in lanes `V` of any width: primitives into `prim[..V::WIDTH]`, the ambiguous lanes
-    /// returned; `None` where there is no BVH of its own triangles.
+    /// returned; `None` where there are instances.
     #[inline(always)]
     pub(crate) fn closest_packet_in<V: crate::math::lanes::LaneOps>(
         &self,
@@ -505,27 +482,19 @@ impl Accel {
         d_max: f32,
         prim: &mut [u32],
     ) -> Option<u32> {
-        let b = self.triangles.bvh()?;
         if self.instances().is_some() {
             // (8 lanes at a time there: 16-lane packets through the field of 1,000 bunnies
             // took 10% longer, its packets part at the instances' boxes.)
             return None;
         }
-        let ambiguous = b.closest_packet_in(o, prepared, d, d_max, prim);
-        let prims = b.triangles().1;
-        for slot in &mut prim[..V::WIDTH] {
-            if let Some(p) = prims.get(*slot as usize) {
-                *slot = *p;
-            }
-        }
-        Some(ambiguous)
+        Some((self.triangles).closest_packet_in(o, prepared, d, d_max, prim))
     }
 
-    /// Shadow segments 8 at a time from one origin `o` (the light) through the BVH
-    /// ([`bvh::Bvh::blocked_packet`]; `prepared`: the triangles prepared for `o` by
-    /// [`Accel::prepare_origin`], or `None` to prepare them as met): per lane whether
-    /// [`Accel::any_hit_except`] with [`Method::Adaptive`] answers "blocked" for 0 < t < 1,
-    /// or unsure. `None` where there is no BVH or there are other shapes.
+    /// Shadow segments 8 at a time from one origin `o` (the light) through the triangles'
+    /// packet walk (`prepared`: the triangles prepared for `o` by [`Accel::prepare_origin`],
+    /// or `None` to prepare them as met): per lane whether [`Accel::any_hit_except`] with
+    /// [`Method::Adaptive`] answers "blocked" for 0 < t < 1, or unsure. `None` where there
+    /// are other shapes.
     pub fn blocked_packet(
         &self,
         o: [f32; 3],
@@ -539,7 +508,7 @@ impl Accel {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
-        self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid)
+        Some(self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid))
     }
 
     /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.
@@ -552,14 +521,9 @@ impl Accel {
         d_max: f32,
         skip: &[u32; 8],
         valid: u32,
-    ) -> Option<packet::ShadowHits> {
-        let b = self.triangles.bvh()?;
-        let Some(inst) = self.instances() else {
-            return Some(b.blocked_packet_from(o, prepared, d, d_max, skip, valid));
-        };
-        Some(blocked_with_instances(
-            b, inst, o, prepared, d, d_max, skip, valid,
-        ))
+    ) -> packet::ShadowHits {
+        let instances = self.instances();
+        (self.triangles).blocked_packet(instances, o, prepared, d, d_max, skip, valid)
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
@@ -581,90 +545,6 @@ impl Accel {
     ) -> bool {
         self.with_parts(|parts| layout::any(parts, ray, method, tmin, tmax, skip))
     }
-}
-
-/// Camera rays 8 at a time through the stored triangles' BVH and the instances, into one
-/// nearest-hit state (see [`Accel::closest_packet`]).
-fn closest_with_instances(
-    b: &bvh::Bvh,
-    inst: &instances::Instances,
-    o: [f32; 3],
-    prepared: prepared::Prepared<'_>,
-    d: &[wide::f32x8; 3],
-    d_max: f32,
-    seed: Option<&packet::PacketSeed>,
-) -> packet::PacketHits {
-    avx512_avx2_or_baseline!(isa lanes closest_with_instances_body => (
-        b: &bvh::Bvh,
-        inst: &instances::Instances,
-        o: [f32; 3],
-        prepared: prepared::Prepared<'_>,
-        d: &[wide::f32x8; 3],
-        d_max: f32,
-        seed: Option<&packet::PacketSeed>
-    ) -> packet::PacketHits)
-}
-
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn closest_with_instances_body<V: crate::math::lanes::Lanes, I: Isa>(
-    isa: I,
-    b: &bvh::Bvh,
-    inst: &instances::Instances,
-    o: [f32; 3],
-    prepared: prepared::Prepared<'_>,
-    d: &[wide::f32x8; 3],
-    d_max: f32,
-    seed: Option<&packet::PacketSeed>,
-) -> packet::PacketHits {
-    let mut nearest = packet::PacketNearest::<V>::seeded(d, d_max, seed);
-    b.packet_into(&mut nearest, o, prepared, d);
-    inst.packet(isa, o, d, &mut nearest);
-    nearest.finish()
-}
-
-/// Shadow segments 8 at a time through the stored triangles' BVH and the instances (see
-/// [`Accel::blocked_packet`]).
-#[allow(clippy::too_many_arguments)]
-fn blocked_with_instances(
-    b: &bvh::Bvh,
-    inst: &instances::Instances,
-    o: [f32; 3],
-    prepared: prepared::Prepared<'_>,
-    d: &[wide::f32x8; 3],
-    d_max: f32,
-    skip: &[u32; 8],
-    valid: u32,
-) -> packet::ShadowHits {
-    avx512_avx2_or_baseline!(isa lanes blocked_with_instances_body => (
-        b: &bvh::Bvh,
-        inst: &instances::Instances,
-        o: [f32; 3],
-        prepared: prepared::Prepared<'_>,
-        d: &[wide::f32x8; 3],
-        d_max: f32,
-        skip: &[u32; 8],
-        valid: u32
-    ) -> packet::ShadowHits)
-}
-
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn blocked_with_instances_body<V: crate::math::lanes::Lanes, I: Isa>(
-    isa: I,
-    b: &bvh::Bvh,
-    inst: &instances::Instances,
-    o: [f32; 3],
-    prepared: prepared::Prepared<'_>,
-    d: &[wide::f32x8; 3],
-    d_max: f32,
-    skip: &[u32; 8],
-    valid: u32,
-) -> packet::ShadowHits {
-    let mut shadow = packet::ShadowPacket::<V>::new(d, d_max, skip, valid);
-    b.packet_into(&mut shadow, o, prepared, d);
-    inst.packet(isa, o, d, &mut shadow);
-    shadow.finish()
 }
 
 /// `tris` without the triangles of zero area, and how many were left out: such a triangle is

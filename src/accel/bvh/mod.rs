@@ -44,6 +44,12 @@ pub(crate) use leaves::Leaves;
 pub(crate) use node::{Aabb, WideStack};
 pub(crate) use slabs::PacketSlabs;
 
+use crate::accel::cull::{Box3, TreeNode};
+use crate::accel::packet::{OriginTriangles, PacketHits, PacketSeed, ShadowHits};
+use crate::accel::prepared::Prepared;
+use crate::geometry::adaptive::Search;
+use crate::geometry::Ray;
+use crate::math::lanes::{f32x8, LaneOps};
 #[cfg(test)]
 use build::binary;
 use leaf_vertices::LeafVertices;
@@ -128,5 +134,93 @@ impl Bvh {
     /// The triangles in the hierarchy's order (leaves index into it), and their primitives.
     pub fn triangles(&self) -> (&[[[f32; 3]; 3]], &[u32]) {
         (&self.tris, &self.prims)
+    }
+}
+
+/// The BVH's own walks: per ray from a prepared list, and packets recording positions (a
+/// leaf's triangles are offered without looking up their primitives).
+impl crate::accel::layout::TriangleLayout for Bvh {
+    fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    fn memory_bytes(&self) -> usize {
+        Bvh::memory_bytes(self)
+    }
+
+    fn prepared_for(&self, origin: [f32; 3]) -> OriginTriangles {
+        OriginTriangles::from_parts(&self.tris, &self.prims, origin)
+    }
+
+    fn bounding_box(&self) -> Option<Box3> {
+        let b = self.root_bounds()?;
+        Some(Box3 { lo: b.lo, hi: b.hi })
+    }
+
+    /// The wide nodes down to `depth` levels ([`Bvh::top_levels`]).
+    fn top_boxes(&self, depth: usize) -> Vec<TreeNode> {
+        (self.top_levels(depth).into_iter())
+            .map(|n| ((n.bounds.lo, n.bounds.hi), n.children))
+            .collect()
+    }
+
+    fn nearest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
+        if !prepared.fits(ray.o, self.tris.len()) {
+            return false;
+        }
+        self.closest_hit_from_origin(ray, prepared, search);
+        true
+    }
+
+    fn own_closest_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        seed: Option<&PacketSeed>,
+    ) -> Option<PacketHits> {
+        let mut found = self.closest_packet_from(o, prepared, d, d_max, seed);
+        self.primitives_of(&mut found.prim);
+        Some(found)
+    }
+
+    fn own_blocked_packet(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: &[f32x8; 3],
+        d_max: f32,
+        skip: &[u32; 8],
+        valid: u32,
+    ) -> Option<ShadowHits> {
+        Some(self.blocked_packet_from(o, prepared, d, d_max, skip, valid))
+    }
+
+    #[inline(always)]
+    fn closest_packet_in<V: LaneOps>(
+        &self,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+        d_max: f32,
+        prim: &mut [u32],
+    ) -> u32 {
+        let ambiguous = self.closest_positions_in(o, prepared, d, d_max, prim);
+        self.primitives_of(&mut prim[..V::WIDTH]);
+        ambiguous
+    }
+}
+
+impl Bvh {
+    /// Positions in the hierarchy's order replaced by their primitives (other ids, a seed's
+    /// and none's, are left as they are).
+    #[inline(always)]
+    fn primitives_of(&self, ids: &mut [u32]) {
+        for id in ids {
+            if let Some(prim) = self.prims.get(*id as usize) {
+                *id = *prim;
+            }
+        }
     }
 }

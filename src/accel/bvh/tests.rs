@@ -5,6 +5,7 @@
 use super::build::binary;
 use super::node::Node;
 use super::*;
+use crate::accel::layout::Layout;
 use crate::accel::packet::{OriginBlock, OriginTriangle, OriginTriangles, PacketNearest};
 use crate::accel::prepared::{Prepared, BLOCK};
 use crate::accel::IndexedTriangle;
@@ -220,7 +221,7 @@ fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
             Prepared::AsMet,
         ] {
             let mut nearest = PacketNearest::<f32x8>::seeded(&d, dm, None);
-            bvh.packet_into(&mut nearest, o, prepared, &d);
+            bvh.packet_into(&mut nearest, o, prepared, d);
             let found = nearest.finish();
             for l in 0..8 {
                 if (found.ambiguous | whole.ambiguous) & (1 << l) == 0 {
@@ -312,7 +313,7 @@ fn sixteen_lane_packets_decide_as_the_whole_list() {
     ) -> u32 {
         let d = each3(|k| Avx16::load(&d[k]));
         let dm = crate::accel::packet::max_component_in(&d);
-        bvh.closest_packet_in(o, prepared, d, dm, prim)
+        bvh.closest_positions_in(o, prepared, d, dm, prim)
     }
     let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.3));
     for (leaf_max, shared) in LAYOUTS {

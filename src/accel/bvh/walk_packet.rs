@@ -1,5 +1,5 @@
 //! The walks of 8 (or 16) rays from one origin: the nearest-hit and shadow queries of a packet
-//! ([`Bvh::closest_packet`], [`Bvh::blocked_packet`], [`Bvh::packet_into`]), the walk they
+//! ([`Bvh::closest_packet`], [`Bvh::blocked_packet`], [`Bvh::walk_into`]), the walk they
 //! share ([`Bvh::walk_packet`]) and its loop over the wide nodes ([`Bvh::walk_wide`]).
 
 use super::child_test::{push_lane, ChildTest, IntervalTest, LaneSlabs, LaneTest};
@@ -166,10 +166,10 @@ impl Bvh {
     }
 
     /// [`Bvh::closest_packet_from`] (no seed) inside a kernel already in lanes `V` of any
-    /// width (the AVX-512 tile loop's 16 camera rays): the ids into `prim[..V::WIDTH]`, the
-    /// ambiguous lanes returned.
+    /// width (the AVX-512 tile loop's 16 camera rays): positions in the hierarchy's order
+    /// into `prim[..V::WIDTH]`, the ambiguous lanes returned.
     #[inline(always)]
-    pub(crate) fn closest_packet_in<V: LaneOps>(
+    pub(crate) fn closest_positions_in<V: LaneOps>(
         &self,
         o: [f32; 3],
         prepared: Prepared<'_>,
@@ -248,23 +248,24 @@ impl Bvh {
         packet.finish()
     }
 
-    /// Offers to `sink` (a nearest-hit or shadow state shared with other structures, the
-    /// instances) every triangle the 8 rays from `o` may reach before their limits, from
+    /// Offers to `sink` (a nearest-hit or shadow state, maybe shared with other structures,
+    /// the instances) every triangle the rays from `o` may reach before their limits, from
     /// `prepared` (made for `o`) or prepared as met: [`Bvh::closest_packet`] and
-    /// [`Bvh::blocked_packet`] with lanes recording primitive indices, not positions.
+    /// [`Bvh::blocked_packet`] with lanes recording primitive indices, not positions (this
+    /// layout's [`Layout::packet_into`](crate::accel::layout::Layout::packet_into)).
     #[inline(always)]
-    pub(crate) fn packet_into<V: Lanes, S: PacketSink<V>>(
+    pub(super) fn walk_into<V: LaneOps, S: PacketSink<V>>(
         &self,
         sink: &mut S,
         o: [f32; 3],
         prepared: Prepared<'_>,
-        d: &[f32x8; 3],
+        d: [V; 3],
     ) {
         let prepared = match prepared.fits(o, self.tris.len()) {
             true => prepared,
             false => Prepared::AsMet,
         };
-        let slabs = PacketSlabs::<V>::new(o, d, self.tame);
+        let slabs = PacketSlabs::<V>::new_in(o, d, self.tame);
         let mut leaves = OwnLeaves {
             bvh: self,
             o,

@@ -7,11 +7,12 @@ use super::node::{leaf_range, WideNode, WideStack, LEAF, NONE, WIDTH};
 use super::slabs::{box_safe, enter_f64, slab_safe, RaySlabs};
 use super::Bvh;
 use crate::accel::layout::{merge, Layout};
+use crate::accel::packet::PacketSink;
 use crate::accel::prepared::Prepared;
 use crate::geometry::adaptive::{box_extent, classify_f32, round_down, Estimate, Search};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::lanes::f32x8;
+use crate::math::lanes::{f32x8, LaneOps};
 
 impl Bvh {
     /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
@@ -236,5 +237,16 @@ impl Layout for Bvh {
 
     fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
         self.any_hit_adaptive(ray, r, search, skip)
+    }
+
+    #[inline(always)]
+    fn packet_into<V: LaneOps, S: PacketSink<V>>(
+        &self,
+        sink: &mut S,
+        o: [f32; 3],
+        prepared: Prepared<'_>,
+        d: [V; 3],
+    ) {
+        self.walk_into(sink, o, prepared, d);
     }
 }

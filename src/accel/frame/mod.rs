@@ -18,15 +18,18 @@
 //!   adaptive method its camera rays go 8 at a time against those triangles prepared for the
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
 //!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
-//! - **a BVH**, adaptive method: packets through the BVH from the eye and from the light; the
+//! - **any other scene**, adaptive method: packets from the eye and from the light through
+//!   the triangle layout's packet walk (`Layout::packet_into`: the BVH's down its boxes, the
+//!   flat loop's over every block) and the instances'; the
 //!   triangles are prepared at most once per frame, as packets first reach them, where there
 //!   are at least 8 camera rays per triangle ([`CAMERA_RAYS_PER_TRIANGLE`], up to
-//!   [`MAX_PREPARED_ONCE`]), else as each packet meets them. The boxes of
-//!   the BVH's top [`SCREEN_DEPTH`] levels are projected on the screen (`cull::ScreenTree`;
-//!   with instances, one box around all of them): a tile that none meets has no triangle
-//!   hits, and its packets skip the walk (with no other shape there,
+//!   [`MAX_PREPARED_ONCE`]), else as each packet meets them. The layout's top boxes (the
+//!   BVH's top [`SCREEN_DEPTH`] levels, the flat loop's one box) are projected on the screen
+//!   (`cull::ScreenTree`; with instances, one box around all of them): a tile that none
+//!   meets has no triangle hits, and its packets skip the walk (with no other shape there,
 //!   [`TileQueries::shows_nothing`]);
-//! - otherwise **per ray** through the scene's structure.
+//! - otherwise (the inexact methods, the cracks view) **per ray** through the scene's
+//!   structure.
 //!
 //! Shapes other than triangles (spheres) join the packets through their own hierarchy
 //! (`accel::spheres`), tested four lanes at a time through the shape's f64 interval level
@@ -60,7 +63,7 @@ use super::flat::FlatLoop;
 use super::packet::OriginTriangles;
 use super::prepared::LeafCache;
 use super::spheres::SpheresSeen;
-use super::{Accel, AccelKind, IndexedTriangle};
+use super::{Accel, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::{Method, Ray};
 use wide::f32x8;
@@ -147,13 +150,14 @@ enum Plan<'a> {
         /// All triangles with their boxes (with shadows).
         occluders: Vec<Occluder>,
     },
-    /// Camera rays and shadow segments 8 at a time through the BVH (adaptive); the triangles
-    /// prepared once per frame as first reached, or at every visit (`None`).
-    BvhPackets {
+    /// Camera rays and shadow segments 8 at a time through the triangle layout's packet walk
+    /// (`Layout::packet_into`: the BVH's, or the flat loop's over every block; adaptive); the
+    /// triangles prepared once per frame as first reached, or at every visit (`None`).
+    Packets {
         from_eye: Option<LeafCache>,
         from_light: Option<LeafCache>,
-        /// Where the triangles can show on screen (the BVH's top [`SCREEN_DEPTH`] levels of
-        /// boxes): a tile this does not meet has no triangle hits, and its packets skip the
+        /// Where the triangles can show on screen (the layout's top boxes: the BVH's top
+        /// [`SCREEN_DEPTH`] levels): a tile this does not meet has no triangle hits, and its packets skip the
         /// walk (most of a frame that frames a mesh).
         triangles_seen: ScreenTree,
     },
@@ -234,8 +238,8 @@ pub struct TileQueries<'a> {
     spheres_may_show: bool,
     /// The tile's triangles as a flat loop, made when a ray first needs it.
     subset_loop: Option<FlatLoop>,
-    /// Whether any triangle may show in the tile (culled plans: the tile has some; a BVH:
-    /// its box meets the tile on screen; per ray: true).
+    /// Whether any triangle may show in the tile (culled plans: the tile has some; packets:
+    /// the layout's top boxes meet the tile on screen; per ray: true).
     triangles_may_show: bool,
 }
 
@@ -285,11 +289,9 @@ impl Accel {
                 }
             }
             Some(culling) => Plan::Culled(culling),
-            None if packets && self.kind() == AccelKind::Bvh => Plan::BvhPackets {
-                from_eye: prepare_once.then(|| self.leaf_cache(setup.eye)).flatten(),
-                from_light: (prepare_once && setup.shadows)
-                    .then(|| self.leaf_cache(setup.light))
-                    .flatten(),
+            None if packets => Plan::Packets {
+                from_eye: prepare_once.then(|| self.leaf_cache(setup.eye)),
+                from_light: (prepare_once && setup.shadows).then(|| self.leaf_cache(setup.light)),
                 triangles_seen: ScreenTree::new(
                     self.triangle_boxes(SCREEN_DEPTH),
                     setup.projection.as_ref(),
@@ -322,7 +324,7 @@ impl Accel {
 impl Drop for FrameQueries<'_> {
     /// Hands the frame's caches back to the accelerator for the next frame.
     fn drop(&mut self) {
-        if let Plan::BvhPackets {
+        if let Plan::Packets {
             from_eye,
             from_light,
             ..
@@ -338,18 +340,15 @@ impl Drop for FrameQueries<'_> {
 impl<'a> FrameQueries<'a> {
     /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]).
     pub fn packets(&self) -> bool {
-        matches!(
-            self.plan,
-            Plan::CulledPackets { .. } | Plan::BvhPackets { .. }
-        )
+        matches!(self.plan, Plan::CulledPackets { .. } | Plan::Packets { .. })
     }
 
-    /// Whether the frame's BVH packets prepare each triangle at most once for the eye, as they
+    /// Whether the frame's packets prepare each triangle at most once for the eye, as they
     /// first reach it (`CAMERA_RAYS_PER_TRIANGLE`).
     pub fn prepares_once(&self) -> bool {
         matches!(
             self.plan,
-            Plan::BvhPackets {
+            Plan::Packets {
                 from_eye: Some(_),
                 ..
             }
@@ -409,7 +408,7 @@ impl<'a> FrameQueries<'a> {
             }
         }
         let triangles_may_show = match &self.plan {
-            Plan::BvhPackets { triangles_seen, .. } => triangles_seen.may_show([x0, y0, x1, y1]),
+            Plan::Packets { triangles_seen, .. } => triangles_seen.may_show([x0, y0, x1, y1]),
             Plan::Culled(_) | Plan::CulledPackets { .. } => !scratch.subset.is_empty(),
             Plan::PerRay => true,
         };

@@ -56,7 +56,7 @@ impl TileQueries<'_> {
                     }
                 })
             }
-            Plan::BvhPackets {
+            Plan::Packets {
                 from_eye: Some(cache),
                 ..
             } => (frame.accel).closest_hit_prepared(ray, Prepared::Once(cache), 0.0, f32::INFINITY),
@@ -104,7 +104,7 @@ impl TileQueries<'_> {
             (Plan::CulledPackets { .. }, true) => {
                 Some(packet::closest_in(self.prepared, d, d_max, out))
             }
-            (Plan::BvhPackets { from_eye, .. }, true) if self.triangles_may_show => {
+            (Plan::Packets { from_eye, .. }, true) if self.triangles_may_show => {
                 let prepared = Prepared::of(from_eye.as_ref());
                 // (The packet's own max|dₖ|: with the generator's bound passed in, the
                 // AVX-512 build's walk took 12% longer on the bunny at 1280×720, the same
@@ -140,17 +140,14 @@ impl TileQueries<'_> {
         let frame = self.frame;
         match &frame.plan {
             Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
-            Plan::BvhPackets { .. } if !self.triangles_may_show => seed_only(d, d_max, seed),
-            Plan::BvhPackets { from_eye, .. } => frame
-                .accel
-                .closest_packet_of_triangles(
-                    frame.eye,
-                    Prepared::of(from_eye.as_ref()),
-                    d,
-                    d_max,
-                    seed,
-                )
-                .unwrap_or_else(PacketHits::undecided),
+            Plan::Packets { .. } if !self.triangles_may_show => seed_only(d, d_max, seed),
+            Plan::Packets { from_eye, .. } => frame.accel.closest_packet_of_triangles(
+                frame.eye,
+                Prepared::of(from_eye.as_ref()),
+                d,
+                d_max,
+                seed,
+            ),
             _ => PacketHits::undecided(),
         }
     }
@@ -258,7 +255,7 @@ impl TileQueries<'_> {
             },
         };
         match &frame.plan {
-            Plan::BvhPackets { from_light, .. } => {
+            Plan::Packets { from_light, .. } => {
                 let accel = frame.accel;
                 for (s, out) in packets.iter().map(AsRef::as_ref).zip(blocked.iter_mut()) {
                     if s.live == 0 {
@@ -270,11 +267,9 @@ impl TileQueries<'_> {
                     if valid != 0 {
                         let d_max = packet::max_component(&s.d);
                         let prepared = Prepared::of(from_light.as_ref());
-                        let found = accel
-                            .blocked_packet_of_triangles(
-                                light, prepared, &s.d, d_max, &s.prim, valid,
-                            )
-                            .expect("a BVH plan has a BVH");
+                        let found = accel.blocked_packet_of_triangles(
+                            light, prepared, &s.d, d_max, &s.prim, valid,
+                        );
                         *out |= found.blocked;
                         note_unsure(found.unsure);
                         per_ray(s, found.unsure, out);

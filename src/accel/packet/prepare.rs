@@ -419,7 +419,7 @@ impl OriginTriangles {
     /// Four at a time ([`OriginTriangle::new4`] in the build's f64 lanes: about 145
     /// instructions per triangle under AVX2 with the collection, against 365 one by one,
     /// callgrind), in parallel for large meshes.
-    fn prepare<'a>(
+    pub(crate) fn prepare<'a>(
         n: usize,
         get: impl Fn(usize) -> (&'a [[f32; 3]; 3], u32) + Sync,
         origin: [f32; 3],

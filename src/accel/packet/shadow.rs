@@ -150,6 +150,12 @@ impl<V: Lanes> ShadowPacket<V> {
         true
     }
 
+    /// Every live lane unsure: left to the per-ray query (another triangle may still block
+    /// it).
+    pub(crate) fn all_unsure(&mut self) {
+        self.unsure |= self.live();
+    }
+
     pub fn finish(self) -> ShadowHits {
         ShadowHits {
             blocked: self.blocked,

@@ -23,6 +23,9 @@ pub(crate) trait PacketSink<V = f32x8>: PacketLimits<V> {
     /// [`PacketSink::take`] unless the triangle would leave a live lane undecided: then
     /// nothing changes and the answer is false.
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool;
+    /// Leaves every live lane to the per-ray queries (a layout without a packet walk): a
+    /// nearest-hit lane turns ambiguous, a shadow lane unsure.
+    fn per_ray(&mut self);
     /// Takes a triangle prepared in f64 for the lanes its f32 preparation left undecided: by
     /// default as rounded to f32 ([`PacketSink::take`]).
     #[inline(always)]
@@ -66,6 +69,9 @@ impl<V: LaneOps> PacketSink<V> for PacketNearest<V> {
     fn take_precise(&mut self, tri: &PreciseTriangle) {
         self.offer_precise(tri, tri.rounded.prim);
     }
+    fn per_ray(&mut self) {
+        self.all_ambiguous();
+    }
     #[inline(always)]
     fn take_block_for_lane(&mut self, block: &OriginBlock, tris: u32, lane: usize) -> bool {
         self.offer_block_to_lane(block, tris, BlockIds::Prims, lane)
@@ -91,5 +97,8 @@ impl<V: Lanes> PacketSink<V> for ShadowPacket<V> {
     #[inline(always)]
     fn take_decided(&mut self, tri: &OriginTriangle) -> bool {
         self.offer_decided(tri)
+    }
+    fn per_ray(&mut self) {
+        self.all_unsure();
     }
 }
