@@ -654,10 +654,11 @@ mod tests {
     #[test]
     fn world_lanes_are_world_bit_for_bit() {
         #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = "avx2,fma")]
-        fn avx(p: &Placed, t: [&[[f32; 3]; 3]; 4]) -> [[[f32; 8]; 3]; 3] {
-            let w = p.world_lanes::<crate::math::lanes::Avx8>(t);
-            w.map(|v| v.map(|c| c.to_array()))
+        crate::math::simd::avx2_features! {
+            fn avx(p: &Placed, t: [&[[f32; 3]; 3]; 4]) -> [[[f32; 8]; 3]; 3] {
+                let w = p.world_lanes::<crate::math::lanes::Avx8>(t);
+                w.map(|v| v.map(|c| c.to_array()))
+            }
         }
         let mut seed = 7u64;
         let mut next = |scale: f64| {

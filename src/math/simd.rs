@@ -12,6 +12,26 @@
 //! (`widest` below): their lanes are decided exactly as 8-ray packets decide them, so the
 //! image's bytes are the same (tests/render.rs).
 
+/// `$item` (a function) compiled with the AVX-512 build's features: F, VL, BW, DQ and CD,
+/// with AVX2 and FMA. The one place that list is written (the dispatch's wrappers and
+/// [`Isa::outline`] use it).
+macro_rules! avx512_features {
+    ($item:item) => {
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
+        $item
+    };
+}
+pub(crate) use avx512_features;
+
+/// `$item` compiled with the AVX2 build's features (AVX2 and FMA), as [`avx512_features!`].
+macro_rules! avx2_features {
+    ($item:item) => {
+        #[target_feature(enable = "avx2,fma")]
+        $item
+    };
+}
+pub(crate) use avx2_features;
+
 /// The kernels' builds, from the slowest: `level() >= Avx2` where the AVX types may exist.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum SimdLevel {
@@ -102,18 +122,20 @@ macro_rules! avx512_avx2_or_baseline {
         #[cfg(target_arch = "x86_64")]
         match $crate::math::simd::level() {
             $crate::math::simd::SimdLevel::Avx512 => {
-                #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-                fn avx512($($arg: $ty),*) -> $ret {
-                    $avx512($($isa512,)? $($arg),*)
+                $crate::math::simd::avx512_features! {
+                    fn avx512($($arg: $ty),*) -> $ret {
+                        $avx512($($isa512,)? $($arg),*)
+                    }
                 }
                 // SAFETY: the CPU has these features (checked at run time by `level`).
                 #[allow(unsafe_code)]
                 return unsafe { avx512($($arg),*) };
             }
             $crate::math::simd::SimdLevel::Avx2 => {
-                #[target_feature(enable = "avx2,fma")]
-                fn avx2($($arg: $ty),*) -> $ret {
-                    $avx($($isa2,)? $($arg),*)
+                $crate::math::simd::avx2_features! {
+                    fn avx2($($arg: $ty),*) -> $ret {
+                        $avx($($isa2,)? $($arg),*)
+                    }
                 }
                 // SAFETY: the CPU has AVX2 and FMA (checked at run time by `level`).
                 #[allow(unsafe_code)]
@@ -160,9 +182,10 @@ impl Isa for Baseline {
 }
 
 /// An AVX build's token ([`Isa`]): the type, `checked` (the dispatch's only way to make one,
-/// after [`level`] said `$level` or more) and `outline` through a function with `$features`.
+/// after [`level`] said `$level` or more) and `outline` through a function made by the
+/// `$features` macro.
 macro_rules! avx_build {
-    ($(#[$doc:meta])* $name:ident, $level:ident, $features:literal) => {
+    ($(#[$doc:meta])* $name:ident, $level:ident, $features:ident) => {
         $(#[$doc])*
         #[cfg(target_arch = "x86_64")]
         #[derive(Clone, Copy, Debug)]
@@ -182,10 +205,11 @@ macro_rules! avx_build {
         impl Isa for $name {
             #[inline(always)]
             fn outline<P: Outlined>(self, part: P) -> P::Output {
-                #[target_feature(enable = $features)]
-                #[inline(never)]
-                fn build<P: Outlined>(part: P) -> P::Output {
-                    part.run()
+                $features! {
+                    #[inline(never)]
+                    fn build<P: Outlined>(part: P) -> P::Output {
+                        part.run()
+                    }
                 }
                 // SAFETY: a token exists only where the CPU has these features (`checked`).
                 #[allow(unsafe_code)]
@@ -201,13 +225,13 @@ avx_build!(
     /// The AVX2+FMA build: exists only where the CPU has both.
     Avx2,
     Avx2,
-    "avx2,fma"
+    avx2_features
 );
 avx_build!(
     /// The AVX-512 build: exists only where the CPU has AVX-512 F, VL, BW, DQ and CD.
     Avx512,
     Avx512,
-    "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma"
+    avx512_features
 );
 
 /// `[f(0), f(1), f(2)]`: array `map` inside the kernels left calls (with AVX state

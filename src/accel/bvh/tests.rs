@@ -303,17 +303,18 @@ fn sixteen_lane_packets_decide_as_the_whole_list() {
     if detected() < SimdLevel::Avx512 {
         return; // no 16-lane build on this CPU
     }
-    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-    fn walk16(
-        bvh: &Bvh,
-        o: [f32; 3],
-        prepared: Prepared<'_>,
-        d: &[[f32; 16]; 3],
-        prim: &mut [u32; 16],
-    ) -> u32 {
-        let d = each3(|k| Avx16::load(&d[k]));
-        let dm = crate::accel::packet::max_component_in(&d);
-        bvh.closest_positions_in(o, prepared, d, dm, prim)
+    crate::math::simd::avx512_features! {
+        fn walk16(
+            bvh: &Bvh,
+            o: [f32; 3],
+            prepared: Prepared<'_>,
+            d: &[[f32; 16]; 3],
+            prim: &mut [u32; 16],
+        ) -> u32 {
+            let d = each3(|k| Avx16::load(&d[k]));
+            let dm = crate::accel::packet::max_component_in(&d);
+            bvh.closest_positions_in(o, prepared, d, dm, prim)
+        }
     }
     let tris = with_sheet(scattered(1003, 0x2545f4914f6cdd1d, 0.3));
     for (leaf_max, shared) in LAYOUTS {

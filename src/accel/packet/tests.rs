@@ -61,15 +61,17 @@ fn triangles() -> Vec<[[f32; 3]; 3]> {
 #[allow(unsafe_code)]
 #[test]
 fn four_at_a_time_prepares_the_same_bits_as_one_by_one() {
-    #[target_feature(enable = "avx2,fma")]
-    fn avx(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
-        let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
-        [0, 1, 2, 3].map(|l| quad.get(l))
+    crate::math::simd::avx2_features! {
+        fn avx(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
+            let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
+            [0, 1, 2, 3].map(|l| quad.get(l))
+        }
     }
-    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-    fn avx512(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
-        let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
-        [0, 1, 2, 3].map(|l| quad.get(l))
+    crate::math::simd::avx512_features! {
+        fn avx512(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
+            let quad = OriginTriangle::new4::<crate::math::lanes::Avx4d>(v, o, prim);
+            [0, 1, 2, 3].map(|l| quad.get(l))
+        }
     }
     let tris = triangles();
     for o in [[0.0f32, 0.0, 0.0], [0.3, -0.2, -3.0], [1e6, 2.0, -1e-3]] {
@@ -496,9 +498,10 @@ fn leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one() {
     use crate::math::lanes::Avx16;
     use crate::math::simd::{detected, SimdLevel};
     if detected() >= SimdLevel::Avx512 {
-        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-        fn in_16_lanes() -> [usize; 4] {
-            leaf_offers::<Avx16>()
+        crate::math::simd::avx512_features! {
+            fn in_16_lanes() -> [usize; 4] {
+                leaf_offers::<Avx16>()
+            }
         }
         // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (checked above).
         #[allow(unsafe_code)]

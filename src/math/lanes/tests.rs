@@ -112,13 +112,15 @@ fn check(a: [f32; 8], b: [f32; 8]) -> Vec<&'static str> {
         "reduce_min",
         "reduce_min of a select",
     ];
-    #[target_feature(enable = "avx2,fma")]
-    fn avx2(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
-        run::<Avx8>(a, b)
+    crate::math::simd::avx2_features! {
+        fn avx2(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
+            run::<Avx8>(a, b)
+        }
     }
-    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-    fn avx512(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
-        run::<Avx8>(a, b)
+    crate::math::simd::avx512_features! {
+        fn avx512(a: [f32; 8], b: [f32; 8]) -> Vec<[u32; 8]> {
+            run::<Avx8>(a, b)
+        }
     }
     let wide = run::<f32x8>(a, b);
     // SAFETY: the CPU has AVX2 and FMA (checked by the caller).
@@ -234,12 +236,14 @@ fn ops<V: LaneOps>(a: &[f32], b: &[f32]) -> Vec<Vec<u32>> {
     ]
 }
 
-#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-fn avx512_ops(a: &[f32], b: &[f32]) -> Vec<Vec<u32>> {
-    ops::<Avx16>(a, b)
+crate::math::simd::avx512_features! {
+    fn avx512_ops(a: &[f32], b: &[f32]) -> Vec<Vec<u32>> {
+        ops::<Avx16>(a, b)
+    }
 }
 
-#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma")]
-fn avx512_reduce_max(a: &[f32]) -> f32 {
-    Avx16::load(a).reduce_max()
+crate::math::simd::avx512_features! {
+    fn avx512_reduce_max(a: &[f32]) -> f32 {
+        Avx16::load(a).reduce_max()
+    }
 }
