@@ -275,6 +275,28 @@ fn scenes_with_spheres_render_through_the_packets_as_per_ray() {
         48,
         36,
     );
+    // Spheres alone (the flat loop holds no triangle): packets still, through the spheres'
+    // hierarchy.
+    let alone = Scene::new(
+        "spheres",
+        touching.to_vec(),
+        vec![[0.8, 0.3, 0.2]; 3],
+        Scene::cornell().light,
+        [0.1; 3],
+    );
+    let alone = Stage::new(alone, AccelChoice::Auto);
+    let frame = alone.accel().for_frame(&FrameSetup {
+        eye: cam.ray_generator(64, 48).origin(),
+        light,
+        projection: Some(cam.projection(64, 48)),
+        method: Method::Adaptive,
+        camera_rays: 64 * 48,
+        shadows: true,
+        per_ray: false,
+    });
+    assert!(frame.packets(), "spheres alone go in packets");
+    drop(frame);
+    packets_render_as_per_ray("spheres alone", &alone, &cam, 64, 48);
     // A meshed ball beside real spheres: the BVH's packets (1,280 triangles, prepared per
     // frame and as met), a sphere inside the mesh's box.
     let mut mixed = cornell_plus(&touching);
