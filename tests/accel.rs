@@ -8,7 +8,7 @@ mod common;
 use common::{cube, icosphere, suite, vertices_and_edge_midpoints, Rng};
 use proptest::prelude::*;
 use raylab::accel::testing::{self, FlatLoop};
-use raylab::accel::{self, Accel, AccelChoice, AccelKind};
+use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::triangle::WatertightRay;
 use raylab::geometry::{Hit, Method, Ray, Shape};
 
@@ -58,7 +58,9 @@ fn random_ray(rng: &mut Rng, shapes: &[Shape<f32>]) -> Ray {
 fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
     type Nearest<'a> = Box<dyn Fn(&Ray, Method) -> Option<Hit> + 'a>;
     type Any<'a> = Box<dyn Fn(&Ray, Method, u32) -> bool + 'a>;
-    let accels = [AccelChoice::Flat, AccelChoice::Bvh].map(|c| Accel::build(shapes, c));
+    let accels: Vec<Accel> = testing::layout_choices()
+        .map(|c| Accel::build(shapes, c))
+        .collect();
     let layouts = testing::layouts(shapes);
     let mut all: Vec<(String, Nearest, Any)> = Vec::new();
     for acc in &accels {
@@ -75,7 +77,16 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
             Box::new(|ray, m, skip| parts.any(ray, m, tmin, tmax, skip)),
         ));
     }
-    assert_eq!(all.len(), 6, "two accelerators and four layouts");
+    let layouts_of_triangles = testing::layout_choices().count();
+    assert!(
+        layouts_of_triangles >= 2,
+        "the flat loop and the BVH at least"
+    );
+    assert_eq!(
+        all.len(),
+        2 * layouts_of_triangles + 2,
+        "each layout of the triangles as an accelerator and alone, the instances, in order"
+    );
     for ray in rays {
         for method in Method::ALL {
             let reference = accel::closest_hit(shapes, ray, method, tmin, tmax);
@@ -184,7 +195,7 @@ fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin
     }
     assert_eq!(
         Accel::build(&shapes, AccelChoice::Auto).kind(),
-        AccelKind::Bvh,
+        AccelChoice::Bvh,
         "enough triangles for the BVH"
     );
     let mut rays = Vec::new();
@@ -302,11 +313,14 @@ fn auto_picks_the_flat_loop_for_the_cornell_box_and_a_bvh_for_big_meshes() {
     let cornell = raylab::Scene::cornell();
     assert_eq!(
         Accel::for_scene(&cornell, AccelChoice::Auto).kind(),
-        AccelKind::Flat
+        AccelChoice::Flat
     );
     let big = icosphere(3, 1.0, [0.0; 3]);
     assert!(big.len() >= accel::BVH_MIN_TRIANGLES);
-    assert_eq!(Accel::build(&big, AccelChoice::Auto).kind(), AccelKind::Bvh);
+    assert_eq!(
+        Accel::build(&big, AccelChoice::Auto).kind(),
+        AccelChoice::Bvh
+    );
     assert_eq!(
         Accel::build(&[], AccelChoice::Bvh).closest_hit(
             &Ray::new([0.0; 3], [0.0, 0.0, 1.0]),
@@ -332,11 +346,11 @@ fn auto_counts_spheres_too() {
         .collect();
     assert_eq!(
         Accel::build(&spheres, AccelChoice::Auto).kind(),
-        AccelKind::Bvh
+        AccelChoice::Bvh
     );
     assert_eq!(
         Accel::build(&spheres[..63], AccelChoice::Auto).kind(),
-        AccelKind::Flat
+        AccelChoice::Flat
     );
     let rays: Vec<Ray> = (0..64).map(|_| random_ray(&mut rng, &spheres)).collect();
     check_all(&spheres, &rays, 0.0, f32::INFINITY);
@@ -435,7 +449,7 @@ fn packet_layouts(shapes: &[Shape<f32>]) -> Vec<(String, Accel)> {
     use raylab::geometry::instance::{Instance, Mesh};
     let half = shapes.len() / 2;
     let mut out = Vec::new();
-    for choice in [AccelChoice::Flat, AccelChoice::Bvh] {
+    for choice in testing::layout_choices() {
         let acc = Accel::build(shapes, choice);
         out.push((acc.kind().to_string(), acc));
         let explicit = (shapes[..half].iter().enumerate())
@@ -504,7 +518,7 @@ proptest! {
             })
             .collect();
         let layouts = packet_layouts(&shapes);
-        prop_assert_eq!(layouts.len(), 4);
+        prop_assert_eq!(layouts.len(), 2 * testing::layout_choices().count());
         for (name, acc) in &layouts {
             let all = acc.prepare_origin(o);
             let (mut nearest_decided, mut shadow_decided, mut generic_lanes) = (0, 0, 0);

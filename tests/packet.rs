@@ -580,9 +580,9 @@ fn a_mesh_renders_each_pixel_as_the_per_ray_search_sees_it_in_every_layout() {
         [0.0; 3],
     );
     let reference = raylab::render::Stage::from(scene.clone());
-    assert_eq!(reference.accel().kind(), raylab::accel::AccelKind::Bvh);
+    assert_eq!(reference.accel().kind(), raylab::accel::AccelChoice::Bvh);
     let flat = raylab::render::Stage::new(scene.clone(), raylab::accel::AccelChoice::Flat);
-    assert_eq!(flat.accel().kind(), raylab::accel::AccelKind::Flat);
+    assert_eq!(flat.accel().kind(), raylab::accel::AccelChoice::Flat);
     // 5,160 triangles. 320x240: at least 8 camera rays a triangle, which the renderer then
     // prepares once per frame; 64x48 and 40x30: fewer, prepared as each packet meets them.
     let cases = [

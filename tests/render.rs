@@ -556,7 +556,7 @@ fn cornell_with_ball(
 fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
     // A 1280-triangle closed mesh (culled per tile for camera rays, BVH for shadow rays).
     let scene = cornell_with_ball(3, 0.8, [0.1, -0.2, 0.3], raylab::accel::AccelChoice::Auto);
-    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
+    assert_eq!(scene.accel().kind(), raylab::accel::AccelChoice::Bvh);
     assert!(scene.accel().flat_triangles().is_some());
     let cam = Camera::cornell(83);
     for step in [LabStep::Flat, LabStep::Indirect] {
@@ -606,7 +606,7 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
         light,
         [0.1; 3],
     ));
-    assert_eq!(scene.accel().kind(), raylab::accel::AccelKind::Bvh);
+    assert_eq!(scene.accel().kind(), raylab::accel::AccelChoice::Bvh);
     assert!(scene.accel().flat_triangles().is_none());
     let at = |p: [f64; 3], yaw: f64, pitch: f64| {
         Camera::from_yaw_pitch(glam::DVec3::from(p), yaw, pitch, 90.0).unwrap()

@@ -23,12 +23,13 @@
 //! triangles prepared for one origin (the order its packet walk reads), its boxes for the
 //! screen, and its own faster walks where it has them.
 //!
-//! Adding a layout (a BVH4, a grid): its files, `impl Layout` for it (`packet_into` may be
-//! left to its default) and `impl TriangleLayout`, a variant of `Triangles` with its lines in
-//! triangles.rs (the variant, `each_layout!`, `build`, `kind`), its name in [`AccelChoice`],
-//! and a line in `accel::testing::layouts` and tests/accel.rs's `packet_layouts`.
-//! tests/accel.rs runs every layout against the reference loop on random and hard-case
-//! scenes, per ray and in packets.
+//! Adding a layout (a BVH4, a grid), eight places: its file, with `impl Layout` (whose
+//! `packet_into` may be left to its default) and `impl TriangleLayout`; in triangles.rs its
+//! variant of `Triangles`, its arm of `each_layout!`, of `build` and of `kind`; in mod.rs its
+//! [`AccelChoice`] variant, its name and its place in `AccelChoice::ALL`. The tests take
+//! every layout from that list (`accel::testing::layout_choices`): tests/accel.rs runs each
+//! against the reference loop on random and hard-case scenes, per ray and in packets, alone
+//! and beside instances.
 //!
 //! [`Accel`]: super::Accel
 //! [`AccelChoice`]: super::AccelChoice

@@ -76,6 +76,9 @@ pub enum AccelChoice {
 }
 
 impl AccelChoice {
+    /// Every choice: `auto`, then each layout of the triangles (what [`Accel::kind`] names).
+    pub const ALL: [AccelChoice; 3] = [AccelChoice::Auto, AccelChoice::Flat, AccelChoice::Bvh];
+
     /// CLI name.
     pub fn name(self) -> &'static str {
         match self {
@@ -83,24 +86,6 @@ impl AccelChoice {
             AccelChoice::Flat => "flat",
             AccelChoice::Bvh => "bvh",
         }
-    }
-}
-
-/// Which structure was built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum AccelKind {
-    /// The flat SIMD loop ([`flat::FlatLoop`]).
-    Flat,
-    /// A BVH ([`bvh::Bvh`]).
-    Bvh,
-}
-
-impl fmt::Display for AccelKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            AccelKind::Flat => "flat",
-            AccelKind::Bvh => "bvh",
-        })
     }
 }
 
@@ -115,7 +100,7 @@ impl FromStr for AccelChoice {
     fn from_str(s: &str) -> Result<Self, String> {
         // "brute", the flat loop's name before it was called what it is, still works.
         let s = if s == "brute" { "flat" } else { s };
-        [AccelChoice::Auto, AccelChoice::Flat, AccelChoice::Bvh]
+        AccelChoice::ALL
             .into_iter()
             .find(|c| c.name() == s)
             .ok_or_else(|| format!("unknown accelerator '{s}' (expected auto, flat or bvh)"))
@@ -236,17 +221,19 @@ impl Accel {
             copies += built.copies_left_out();
             Box::new(built)
         });
-        let use_bvh = match choice {
+        let choice = match choice {
             // Every primitive counts: 3,000 spheres and no triangle took 0.66 s at 64×48 with
             // the flat loop, 0.04 s with the BVH's frame plan (the same image).
-            AccelChoice::Auto => {
-                tris.len() + others.len() >= BVH_MIN_TRIANGLES || instances.is_some()
+            AccelChoice::Auto
+                if tris.len() + others.len() < BVH_MIN_TRIANGLES && instances.is_none() =>
+            {
+                AccelChoice::Flat
             }
-            AccelChoice::Flat => false,
-            AccelChoice::Bvh => true,
+            AccelChoice::Auto => AccelChoice::Bvh,
+            chosen => chosen,
         };
-        let triangles = Triangles::build(&tris, use_bvh);
-        if use_bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
+        let triangles = Triangles::build(&tris, choice);
+        if choice == AccelChoice::Bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
             tris = Vec::new(); // the BVH holds its own copy
         }
         Self {
@@ -278,8 +265,8 @@ impl Accel {
         self.other_copies
     }
 
-    /// Which structure was built.
-    pub fn kind(&self) -> AccelKind {
+    /// Which structure was built (never [`AccelChoice::Auto`]).
+    pub fn kind(&self) -> AccelChoice {
         self.triangles.kind()
     }
 

@@ -6,7 +6,8 @@
 use super::layout::{self, Layout};
 use super::reference::InOrder;
 use super::spheres::Spheres;
-use super::{without_copies, IndexedTriangle};
+use super::triangles::Triangles;
+use super::{without_copies, AccelChoice, IndexedTriangle};
 use crate::geometry::instance::{Instance, Mesh};
 use crate::geometry::{Hit, Method, Ray, Shape};
 use glam::DMat4;
@@ -39,7 +40,8 @@ impl Parts {
 
 /// Every layout over `shapes` (primitive index = position), by name, each holding the
 /// triangles (exact copies left out, as [`Accel`](super::Accel) leaves them out) beside the
-/// other shapes in their hierarchy (`accel::spheres`): `flat`, `bvh`, `instances` (each run
+/// other shapes in their hierarchy (`accel::spheres`): each layout of the triangles
+/// ([`layout_choices`]: `flat`, `bvh`), `instances` (each run
 /// of consecutive triangles a mesh placed by the identity); and `in-order` (every primitive
 /// one by one, the reference).
 pub fn layouts(shapes: &[Shape<f32>]) -> Vec<(&'static str, Parts)> {
@@ -73,13 +75,19 @@ pub fn layouts(shapes: &[Shape<f32>]) -> Vec<(&'static str, Parts)> {
         true => Box::new(InOrder(Vec::new())),
         false => Box::new(super::instances::Instances::build(&runs)),
     };
-    vec![
-        (
-            "flat",
-            Parts(vec![Box::new(FlatLoop::new(&tris)), others()]),
-        ),
-        ("bvh", Parts(vec![Box::new(Bvh::build(&tris)), others()])),
-        ("instances", Parts(vec![instances, others()])),
-        ("in-order", Parts(vec![Box::new(InOrder(every))])),
-    ]
+    let mut all: Vec<(&'static str, Parts)> = layout_choices()
+        .map(|c| {
+            let tris = Box::new(Triangles::build(&tris, c));
+            (c.name(), Parts(vec![tris, others()]))
+        })
+        .collect();
+    all.push(("instances", Parts(vec![instances, others()])));
+    all.push(("in-order", Parts(vec![Box::new(InOrder(every))])));
+    all
+}
+
+/// Every layout of the triangles by its choice (`flat`, `bvh`: every [`AccelChoice`] but
+/// `auto`), so that a new layout joins the tests by its name alone.
+pub fn layout_choices() -> impl Iterator<Item = AccelChoice> {
+    (AccelChoice::ALL.into_iter()).filter(|c| *c != AccelChoice::Auto)
 }

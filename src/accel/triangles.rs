@@ -3,8 +3,7 @@
 //! and the packet queries built on the layouts' packet walks, with the placed meshes
 //! (`Instances`) filling the same packet state.
 //!
-//! Adding a triangle layout: `impl Layout` and `impl TriangleLayout` in its file, and here its
-//! variant of `Triangles`, its arm in `each_layout!`, `build` and `kind`.
+//! Adding a triangle layout: see [`super::layout`].
 
 use super::bvh::Bvh;
 use super::cull::{Box3, TreeNode};
@@ -15,7 +14,7 @@ use super::packet::{
     OriginTriangles, PacketHits, PacketNearest, PacketSeed, PacketSink, ShadowHits, ShadowPacket,
 };
 use super::prepared::Prepared;
-use super::{AccelKind, IndexedTriangle};
+use super::{AccelChoice, IndexedTriangle};
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
@@ -41,19 +40,20 @@ macro_rules! each_layout {
 }
 
 impl Triangles {
-    /// Builds the structure `use_bvh` names over `tris` (copies already left out).
-    pub(crate) fn build(tris: &[IndexedTriangle], use_bvh: bool) -> Self {
-        match use_bvh {
-            true => Triangles::Bvh(Bvh::build(tris)),
-            false => Triangles::Flat(FlatLoop::new(tris)),
+    /// Builds the layout `choice` names over `tris` (copies already left out; `Auto`, which
+    /// the caller resolves by count, builds the BVH).
+    pub(crate) fn build(tris: &[IndexedTriangle], choice: AccelChoice) -> Self {
+        match choice {
+            AccelChoice::Flat => Triangles::Flat(FlatLoop::new(tris)),
+            AccelChoice::Bvh | AccelChoice::Auto => Triangles::Bvh(Bvh::build(tris)),
         }
     }
 
-    /// Which structure this is.
-    pub(crate) fn kind(&self) -> AccelKind {
+    /// Which layout this is.
+    pub(crate) fn kind(&self) -> AccelChoice {
         match self {
-            Triangles::Flat(_) => AccelKind::Flat,
-            Triangles::Bvh(_) => AccelKind::Bvh,
+            Triangles::Flat(_) => AccelChoice::Flat,
+            Triangles::Bvh(_) => AccelChoice::Bvh,
         }
     }
 
