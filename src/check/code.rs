@@ -13,8 +13,9 @@ use super::grade::{self, Answer, Tally, Verdict};
 use super::Family;
 use crate::camera::Camera;
 use crate::geometry::{adaptive, Hit, Ray, Shape};
+use crate::render::driver::{self, Counts, Samples, Tile, TileTracer};
 use crate::render::shade::{self, Rgb};
-use crate::render::{linear_to_srgb8, RenderSettings, RenderStats, SettingsError, Stage};
+use crate::render::{RenderSettings, RenderStats, SettingsError, Stage};
 use crate::tracefile::TraceRay;
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -161,11 +162,12 @@ pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Optio
 
 /// Renders `stage`'s scene through `camera` with `code` answering every ray — camera rays from
 /// [`LabCode::camera_ray`], nearest hits and shadow rays from [`LabCode::closest_hit`] — into
-/// `rgba` (RGBA8, rows top to bottom), n×n samples a pixel at the positions every raylab path
-/// takes. With `settings.cracks` a sample whose answer is not right (nor an exact tie) shows
-/// its mark ([`Verdict::mark`]) instead of its colour. Gives up, `Ok(None)`, when
-/// `cancelled()` turns true (checked before each row). `settings.method` is not used: the
-/// code is the method.
+/// `rgba` (RGBA8, rows top to bottom), through the render driver every raylab frame takes
+/// (`render::driver`: the same sample positions, averaging and encoding). With
+/// `settings.cracks` a sample whose answer is not right (nor an exact tie) shows its mark
+/// ([`Verdict::mark`]) instead of its colour. Gives up, `Ok(None)`, when `cancelled()` turns
+/// true (checked before each band of rows). `settings.method` is not used: the code is the
+/// method.
 pub fn render_into_cancellable(
     code: &dyn LabCode,
     stage: &Stage,
@@ -174,91 +176,73 @@ pub fn render_into_cancellable(
     rgba: &mut [u8],
     cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<Option<RenderStats>, SettingsError> {
-    settings.validate()?;
-    let (w, h, n) = (settings.width, settings.height, settings.spp);
-    if rgba.len() != settings.buffer_len() {
-        return Err(SettingsError::Buffer(
-            rgba.len(),
-            w,
-            h,
-            settings.buffer_len(),
-        ));
-    }
-    let start = Instant::now();
+    let started = driver::start(settings, rgba)?;
     let scene = stage.scene();
-    // The code is given every primitive one by one (instanced meshes placed).
-    let shapes: Cow<[Shape]> = match scene.instances().is_empty() {
-        true => Cow::Borrowed(&scene.shapes),
-        false => Cow::Owned(scene.all_shapes().collect()),
+    let frame = CodeFrame {
+        code,
+        stage,
+        camera,
+        settings,
+        // The code is given every primitive one by one (instanced meshes placed).
+        shapes: match scene.instances().is_empty() {
+            true => Cow::Borrowed(&scene.shapes),
+            false => Cow::Owned(scene.all_shapes().collect()),
+        },
+        samples: Samples::new(settings),
     };
-    let (inv_n, weight) = (1.0 / n as f32, 1.0 / (n * n) as f32);
-    let sample = |i: u32, s: u32| i as f32 + (s as f32 + 0.5) * inv_n;
-    let row_bytes = w as usize * 4;
-    let (hits, shadow_rays) = (rgba.par_chunks_mut(row_bytes).enumerate())
-        .map(|(j, row)| {
-            let (mut hits, mut shadow_rays) = (0u64, 0u64);
-            if cancelled() {
-                return (hits, shadow_rays);
+    Ok(driver::drive(settings, rgba, cancelled, started, &frame))
+}
+
+/// What every tile of a frame drawn by linked code shares.
+struct CodeFrame<'a> {
+    code: &'a dyn LabCode,
+    stage: &'a Stage,
+    camera: &'a Camera,
+    settings: &'a RenderSettings,
+    shapes: Cow<'a, [Shape]>,
+    samples: Samples,
+}
+
+impl CodeFrame<'_> {
+    /// The colour of the sample at image position (x, y): the code's hit shaded, or its mark.
+    fn colour(&self, x: f32, y: f32, shadow_rays: &mut u64) -> Option<Rgb> {
+        let (code, shapes, settings) = (self.code, &self.shapes[..], self.settings);
+        let (w, h) = (settings.width, settings.height);
+        let ray = code.camera_ray(self.camera, w, h, x, y);
+        let hit = code.closest_hit(shapes, &ray, 0.0, f32::INFINITY);
+        // An index past the scene's primitives is a wrong primitive: marked as one, never
+        // shaded.
+        let beyond = hit.is_some_and(|h| h.prim as usize >= shapes.len());
+        if settings.cracks || beyond {
+            let exact = self.stage.accel().closest_hit(
+                &ray,
+                crate::geometry::Method::Adaptive,
+                0.0,
+                f32::INFINITY,
+            );
+            if let Some(mark) = verdict(shapes, &ray, exact, hit).mark() {
+                return Some(mark);
             }
-            let j = j as u32;
-            for (i, px) in (0..w).zip(row.chunks_exact_mut(4)) {
-                let mut sum: Rgb = [0.0; 3];
-                for sy in 0..n {
-                    for sx in 0..n {
-                        let ray = code.camera_ray(camera, w, h, sample(i, sx), sample(j, sy));
-                        let hit = code.closest_hit(&shapes, &ray, 0.0, f32::INFINITY);
-                        // An index past the scene's primitives is a wrong primitive: marked
-                        // as one, never shaded.
-                        let beyond = hit.is_some_and(|h| h.prim as usize >= shapes.len());
-                        let mark = (settings.cracks || beyond).then(|| {
-                            let exact = stage.accel().closest_hit(
-                                &ray,
-                                crate::geometry::Method::Adaptive,
-                                0.0,
-                                f32::INFINITY,
-                            );
-                            verdict(&shapes, &ray, exact, hit).mark()
-                        });
-                        let colour = match (mark.flatten(), hit) {
-                            (Some(mark), _) => Some(mark),
-                            (None, Some(hit)) => {
-                                // Blocked: the code meets something between the light (t = 0)
-                                // and the point (t = 1) other than the point's own primitive.
-                                let blocked = |shadow: &Ray, skip: u32| {
-                                    let h = code.closest_hit(&shapes, shadow, 0.0, 1.0);
-                                    h.is_some_and(|h| h.prim != skip)
-                                };
-                                let step = settings.step;
-                                let rays = &mut shadow_rays;
-                                Some(shade::shade(scene, &ray, &hit, step, blocked, rays))
-                            }
-                            (None, None) => None,
-                        };
-                        if let Some(c) = colour {
-                            hits += 1;
-                            (0..3).for_each(|k| sum[k] += c[k]);
-                        }
-                    }
-                }
-                px.copy_from_slice(&[
-                    linear_to_srgb8(sum[0] * weight),
-                    linear_to_srgb8(sum[1] * weight),
-                    linear_to_srgb8(sum[2] * weight),
-                    255,
-                ]);
-            }
-            (hits, shadow_rays)
-        })
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    if cancelled() {
-        return Ok(None);
+        }
+        // Blocked: the code meets something between the light (t = 0) and the point (t = 1)
+        // other than the point's own primitive.
+        let blocked = |shadow: &Ray, skip: u32| {
+            let h = code.closest_hit(shapes, shadow, 0.0, 1.0);
+            h.is_some_and(|h| h.prim != skip)
+        };
+        let scene = self.stage.scene();
+        hit.map(|hit| shade::shade(scene, &ray, &hit, settings.step, blocked, shadow_rays))
     }
-    Ok(Some(RenderStats {
-        primary_rays: w as u64 * h as u64 * (n * n) as u64,
-        shadow_rays,
-        hits,
-        elapsed: start.elapsed(),
-    }))
+}
+
+impl TileTracer for CodeFrame<'_> {
+    type Scratch = ();
+
+    fn trace(&self, tile: &Tile, _: &mut (), rows: &mut [u8], counts: &mut Counts) {
+        (self.samples).each_pixel(tile, rows, counts, |x, y, counts| {
+            self.colour(x, y, &mut counts.1)
+        });
+    }
 }
 
 /// The code's answer for one pixel of the window's image, beside the exact one on the same

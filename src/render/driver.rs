@@ -1,0 +1,175 @@
+//! The one render driver: every image raylab draws (its own frames through the accelerator,
+//! and linked lab code's, [`crate::check::code`]) goes through [`drive`]. Bands of [`BAND`]
+//! rows run in parallel (rayon); each band walks its tiles of [`TILE`] pixels and hands each
+//! to the frame's [`TileTracer`]; a render is cancelled before a band starts. Every tracer
+//! samples and encodes pixels through [`Samples`]: n×n stratified samples a pixel, linear
+//! colour summed, averaged and sRGB-encoded once into RGBA8. What differs between tracers is
+//! only how a sample's colour is found.
+
+use super::image::SrgbTables;
+use super::settings::{RenderSettings, SettingsError};
+use super::shade::Rgb;
+use super::{RenderStats, BAND, TILE};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// (camera samples that got a colour, shadow rays cast).
+pub(crate) type Counts = (u64, u64);
+
+/// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
+pub(crate) struct Tile {
+    pub(crate) x0: u32,
+    pub(crate) y0: u32,
+    pub(crate) w: u32,
+    pub(crate) h: u32,
+}
+
+/// What fills the tiles of one frame.
+pub(crate) trait TileTracer: Sync {
+    /// Buffers a band reuses from tile to tile.
+    type Scratch: Default;
+
+    /// Writes the pixels of `tile` into `rows` (the band of rows it lies in, starting at row
+    /// `tile.y0`, [`Samples::row_bytes`] apart) and adds what it traced to `counts`.
+    fn trace(&self, tile: &Tile, scratch: &mut Self::Scratch, rows: &mut [u8], counts: &mut Counts);
+}
+
+/// The sample positions and pixel encoding every tracer shares.
+pub(crate) struct Samples {
+    /// n, for n×n samples a pixel.
+    pub(crate) n: u32,
+    inv_n: f32,
+    /// 1/n².
+    weight: f32,
+    srgb: &'static SrgbTables,
+    /// Bytes in one row of the image.
+    pub(crate) row_bytes: usize,
+}
+
+impl Samples {
+    pub(crate) fn new(settings: &RenderSettings) -> Self {
+        Self {
+            n: settings.spp,
+            inv_n: 1.0 / settings.spp as f32,
+            weight: 1.0 / (settings.spp * settings.spp) as f32,
+            srgb: SrgbTables::get(),
+            row_bytes: settings.width as usize * 4,
+        }
+    }
+
+    /// Where sample `s` (0..n) lies across its pixel: (s + ½)/n.
+    #[inline(always)]
+    pub(crate) fn offset(&self, s: u32) -> f32 {
+        (s as f32 + 0.5) * self.inv_n
+    }
+
+    /// Image position of sample (sx, sy) of pixel (i, j).
+    #[inline(always)]
+    pub(crate) fn position(&self, i: u32, j: u32, sx: u32, sy: u32) -> (f32, f32) {
+        (i as f32 + self.offset(sx), j as f32 + self.offset(sy))
+    }
+
+    /// Writes RGBA8 pixel `px` from its samples' summed linear colour.
+    #[inline(always)]
+    pub(crate) fn put_pixel(&self, px: &mut [u8], sum: Rgb) {
+        let (weight, srgb) = (self.weight, self.srgb);
+        px[0] = srgb.encode(sum[0] * weight);
+        px[1] = srgb.encode(sum[1] * weight);
+        px[2] = srgb.encode(sum[2] * weight);
+        px[3] = 255;
+    }
+
+    /// Traces `tile` pixel by pixel, sample by sample: `colour(x, y, counts)` is the linear
+    /// colour of the sample at image position (x, y), `None` where it shows the background.
+    #[inline(always)]
+    pub(crate) fn each_pixel(
+        &self,
+        tile: &Tile,
+        rows: &mut [u8],
+        counts: &mut Counts,
+        mut colour: impl FnMut(f32, f32, &mut Counts) -> Option<Rgb>,
+    ) {
+        for j in tile.y0..tile.y0 + tile.h {
+            let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
+            for i in tile.x0..tile.x0 + tile.w {
+                let mut sum = [0.0f32; 3];
+                for sy in 0..self.n {
+                    for sx in 0..self.n {
+                        let (x, y) = self.position(i, j, sx, sy);
+                        if let Some(c) = colour(x, y, counts) {
+                            counts.0 += 1;
+                            add(&mut sum, c);
+                        }
+                    }
+                }
+                self.put_pixel(&mut row[i as usize * 4..][..4], sum);
+            }
+        }
+    }
+}
+
+/// Adds colour `c` to `sum`.
+#[inline(always)]
+pub(crate) fn add(sum: &mut Rgb, c: Rgb) {
+    for k in 0..3 {
+        sum[k] += c[k];
+    }
+}
+
+/// Checks `settings` and that `rgba` is their RGBA8 buffer, and starts the render's clock.
+pub(crate) fn start(settings: &RenderSettings, rgba: &[u8]) -> Result<Instant, SettingsError> {
+    settings.validate()?;
+    if rgba.len() != settings.buffer_len() {
+        return Err(SettingsError::Buffer(
+            rgba.len(),
+            settings.width,
+            settings.height,
+            settings.buffer_len(),
+        ));
+    }
+    Ok(Instant::now())
+}
+
+/// Renders one frame into `rgba` (RGBA8, rows top to bottom; checked by [`start`], which
+/// gave `started`) with `tracer` over every tile, giving up with `None` (the buffer partly
+/// drawn) when `cancelled()` turns true: asked before each band of rows and once at the end.
+pub(crate) fn drive<T: TileTracer>(
+    settings: &RenderSettings,
+    rgba: &mut [u8],
+    cancelled: &(dyn Fn() -> bool + Sync),
+    started: Instant,
+    tracer: &T,
+) -> Option<RenderStats> {
+    let (w, h, n) = (settings.width, settings.height, settings.spp);
+    let row_bytes = w as usize * 4;
+    let (hits, shadow_rays) = rgba
+        .par_chunks_mut(row_bytes * BAND as usize)
+        .enumerate()
+        .map(|(band, rows)| {
+            let mut counts = Counts::default();
+            if cancelled() {
+                return counts;
+            }
+            let mut scratch = T::Scratch::default();
+            for x0 in (0..w).step_by(TILE as usize) {
+                let tile = Tile {
+                    x0,
+                    y0: band as u32 * BAND,
+                    w: TILE.min(w - x0),
+                    h: (rows.len() / row_bytes) as u32,
+                };
+                tracer.trace(&tile, &mut scratch, rows, &mut counts);
+            }
+            counts
+        })
+        .reduce(Counts::default, |a, b| (a.0 + b.0, a.1 + b.1));
+    if cancelled() {
+        return None;
+    }
+    Some(RenderStats {
+        primary_rays: w as u64 * h as u64 * (n * n) as u64,
+        shadow_rays,
+        hits,
+        elapsed: started.elapsed(),
+    })
+}
