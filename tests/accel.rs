@@ -301,8 +301,11 @@ fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
     for _ in 0..20_000 {
         let ray = random_ray(&mut rng, &shapes);
         let r = WatertightRay::new(ray.o, ray.d).unwrap();
-        let simd = blocks.closest_hit(&r, 0.0, f32::INFINITY);
-        assert_eq!(simd, blocks.closest_hit_scalar(&r, 0.0, f32::INFINITY));
+        let simd = blocks.nearest_watertight(&r, 0.0, f32::INFINITY);
+        assert_eq!(
+            simd,
+            blocks.nearest_watertight_scalar(&r, 0.0, f32::INFINITY)
+        );
         hits += simd.is_some() as usize;
     }
     assert!(hits > 5000, "{hits} hits: the rays exercise the loop");

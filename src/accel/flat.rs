@@ -122,8 +122,9 @@ impl FlatLoop {
         self.blocks[b].tris[l]
     }
 
-    /// Nearest hit with tmin < t < tmax; among equal t the lowest primitive index wins.
-    pub fn closest_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
+    /// The watertight nearest hit, 8 lanes a block, with tmin < t < tmax; among equal t the
+    /// lowest primitive index wins ([`FlatLoop::nearest_watertight_scalar`] is its twin).
+    pub fn nearest_watertight(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_far = tmax;
         for b in 0..self.blocks.len() {
@@ -154,14 +155,6 @@ impl FlatLoop {
             }
         }
         best
-    }
-
-    /// Whether any triangle is hit with tmin < t < tmax.
-    pub fn any_hit(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32, skip: u32) -> bool {
-        (0..self.blocks.len()).any(|b| {
-            self.test_block(b, r, tmin, tmax)
-                .is_some_and(|(mask, ..)| mask & !self.lanes_of(b, skip) != 0)
-        })
     }
 
     /// The lanes of block `b` holding primitive `prim` (a bit mask).
@@ -364,45 +357,6 @@ impl FlatLoop {
         let m = box_extent(r.o, self.lo, self.hi);
         (edge_error(m, m), loose_t_bound(m, r.s[2]))
     }
-
-    /// The adaptive closest-hit search over every block.
-    pub fn closest_hit_adaptive(&self, r: &WatertightRay<f32>, search: &mut Search) {
-        let tmin = round_down(search.tmin());
-        let e = self.bounds(r);
-        for (b, blk) in self.blocks.iter().enumerate() {
-            let Some(f) = self.filter_block(b, r, e, tmin, search.t_far32()) else {
-                continue;
-            };
-            let mut bits = f.sure | f.unsure;
-            while bits != 0 {
-                let l = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let est = f.estimate(l);
-                search.offer_triangle(blk.prim[l], &blk.tris[l], est);
-            }
-        }
-    }
-
-    /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(&self, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
-        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        let e = self.bounds(r);
-        self.blocks.iter().enumerate().any(|(b, blk)| {
-            let Some(f) = self.filter_block(b, r, e, tmin, tmax) else {
-                return false;
-            };
-            let mut bits = (f.sure | f.unsure) & !self.lanes_of(b, skip);
-            while bits != 0 {
-                let l = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let est = f.estimate(l);
-                if search.confirms_triangle(&blk.tris[l], est) {
-                    return true;
-                }
-            }
-            false
-        })
-    }
 }
 
 /// [`t_error_bound`](crate::geometry::triangle::t_error_bound) for 8 lanes, operation for operation (so bit-identical per lane).
@@ -425,7 +379,12 @@ fn t_error_bound_x8(p: [[f32x8; 3]; 3], sz: f32x8, e: [f32x8; 3], rcp: f32x8) ->
 
 impl FlatLoop {
     /// The scalar twin of the block loop, for tests: the same triangles in the same order.
-    pub fn closest_hit_scalar(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
+    pub fn nearest_watertight_scalar(
+        &self,
+        r: &WatertightRay<f32>,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_far = tmax;
         for b in 0..self.blocks.len() {
@@ -448,30 +407,59 @@ impl FlatLoop {
 /// primitive order, through the shape's own test.
 impl Layout for FlatLoop {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        match method {
-            Method::Watertight => merge(
-                best,
-                WatertightRay::new(ray.o, ray.d).and_then(|r| self.closest_hit(&r, tmin, tmax)),
-            ),
+        match (method, WatertightRay::new(ray.o, ray.d)) {
+            (Method::Watertight, Some(r)) => merge(best, self.nearest_watertight(&r, tmin, tmax)),
+            (Method::Watertight, None) => {}
             _ => nearest_one_by_one(self.in_order(), ray, method, tmin, tmax, best),
         }
     }
 
     fn nearest_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        self.closest_hit_adaptive(r, search);
+        let tmin = round_down(search.tmin());
+        let e = self.bounds(r);
+        for (b, blk) in self.blocks.iter().enumerate() {
+            let Some(f) = self.filter_block(b, r, e, tmin, search.t_far32()) else {
+                continue;
+            };
+            let mut bits = f.sure | f.unsure;
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let est = f.estimate(l);
+                search.offer_triangle(blk.prim[l], &blk.tris[l], est);
+            }
+        }
     }
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        match method {
-            Method::Watertight => {
-                WatertightRay::new(ray.o, ray.d).is_some_and(|r| self.any_hit(&r, tmin, tmax, skip))
-            }
+        match (method, WatertightRay::new(ray.o, ray.d)) {
+            (Method::Watertight, Some(r)) => (0..self.blocks.len()).any(|b| {
+                self.test_block(b, &r, tmin, tmax)
+                    .is_some_and(|(mask, ..)| mask & !self.lanes_of(b, skip) != 0)
+            }),
+            (Method::Watertight, None) => false,
             _ => any_one_by_one(self.in_order(), ray, method, tmin, tmax, skip),
         }
     }
 
     fn any_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
-        self.any_hit_adaptive(r, search, skip)
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.bounds(r);
+        self.blocks.iter().enumerate().any(|(b, blk)| {
+            let Some(f) = self.filter_block(b, r, e, tmin, tmax) else {
+                return false;
+            };
+            let mut bits = (f.sure | f.unsure) & !self.lanes_of(b, skip);
+            while bits != 0 {
+                let l = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let est = f.estimate(l);
+                if search.confirms_triangle(&blk.tris[l], est) {
+                    return true;
+                }
+            }
+            false
+        })
     }
 
     /// Every triangle, a block of 8 at a time, prepared for `o` in f32 (from `prepared`'s

@@ -299,88 +299,6 @@ impl Instances {
             });
     }
 
-    /// The adaptive closest-hit search over the instances' triangles (see
-    /// `geometry::adaptive`), offering to `search`.
-    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        let e = box_extent(ray.o, self.world.lo, self.world.hi);
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, _| {
-            let (tris, locals) = mesh.triangles();
-            for i in leaf {
-                let world = placed.world(&tris[i]);
-                let est = classify_f32(r, &world, e);
-                if est != Estimate::Miss {
-                    search.offer_triangle(placed.first_prim + locals[i], &world, est);
-                }
-            }
-            (search.t_far32(), false)
-        });
-    }
-
-    /// The adaptive any-hit query (not primitive `skip`).
-    pub fn any_hit_adaptive(
-        &self,
-        ray: &Ray,
-        r: &WatertightRay<f32>,
-        search: &Search,
-        skip: u32,
-    ) -> bool {
-        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        let e = box_extent(ray.o, self.world.lo, self.world.hi);
-        let mut hit = false;
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
-            let (tris, locals) = mesh.triangles();
-            hit = leaf.into_iter().any(|i| {
-                placed.first_prim + locals[i] != skip && {
-                    let world = placed.world(&tris[i]);
-                    search.confirms_triangle(&world, classify_f32(r, &world, e))
-                }
-            });
-            (t_far, hit)
-        });
-        hit
-    }
-
-    /// The nearest hit with one of the other methods, merged into `best` (ties to the lower
-    /// primitive index).
-    pub fn closest_hit(
-        &self,
-        ray: &Ray,
-        method: Method,
-        tmin: f32,
-        tmax: f32,
-        best: &mut Option<Hit>,
-    ) {
-        let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
-        self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
-            let (tris, locals) = mesh.triangles();
-            for i in leaf {
-                let shape = Shape::from(placed.world(&tris[i]));
-                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
-                    let prim = placed.first_prim + locals[i];
-                    merge(best, Some(Hit { t, prim, b1, b2 }));
-                }
-            }
-            (far(best), false)
-        });
-    }
-
-    /// Whether one of the other methods finds a hit (not primitive `skip`).
-    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        let mut hit = false;
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
-            let (tris, locals) = mesh.triangles();
-            hit = leaf.into_iter().any(|i| {
-                placed.first_prim + locals[i] != skip
-                    && Shape::from(placed.world(&tris[i]))
-                        .intersect(ray, method, tmin, tmax)
-                        .is_some()
-            });
-            (t_far, hit)
-        });
-        hit
-    }
-
     /// Offers to `sink` every instanced triangle the 8 rays from `o` (directions `d`) may
     /// reach before their limits, prepared for `o` in the world.
     #[inline(always)]
@@ -442,19 +360,66 @@ fn placements_without_copies(instances: &[Instance]) -> (Option<Vec<Instance>>, 
 
 impl Layout for Instances {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        self.closest_hit(ray, method, tmin, tmax, best);
+        let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
+        self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
+            let (tris, locals) = mesh.triangles();
+            for i in leaf {
+                let shape = Shape::from(placed.world(&tris[i]));
+                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
+                    let prim = placed.first_prim + locals[i];
+                    merge(best, Some(Hit { t, prim, b1, b2 }));
+                }
+            }
+            (far(best), false)
+        });
     }
 
     fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        self.closest_hit_adaptive(ray, r, search);
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = box_extent(ray.o, self.world.lo, self.world.hi);
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, _| {
+            let (tris, locals) = mesh.triangles();
+            for i in leaf {
+                let world = placed.world(&tris[i]);
+                let est = classify_f32(r, &world, e);
+                if est != Estimate::Miss {
+                    search.offer_triangle(placed.first_prim + locals[i], &world, est);
+                }
+            }
+            (search.t_far32(), false)
+        });
     }
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        self.any_hit(ray, method, tmin, tmax, skip)
+        let mut hit = false;
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+            let (tris, locals) = mesh.triangles();
+            hit = leaf.into_iter().any(|i| {
+                placed.first_prim + locals[i] != skip
+                    && Shape::from(placed.world(&tris[i]))
+                        .intersect(ray, method, tmin, tmax)
+                        .is_some()
+            });
+            (t_far, hit)
+        });
+        hit
     }
 
     fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
-        self.any_hit_adaptive(ray, r, search, skip)
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = box_extent(ray.o, self.world.lo, self.world.hi);
+        let mut hit = false;
+        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+            let (tris, locals) = mesh.triangles();
+            hit = leaf.into_iter().any(|i| {
+                placed.first_prim + locals[i] != skip && {
+                    let world = placed.world(&tris[i]);
+                    search.confirms_triangle(&world, classify_f32(r, &world, e))
+                }
+            });
+            (t_far, hit)
+        });
+        hit
     }
 }
 

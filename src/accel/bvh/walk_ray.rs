@@ -15,38 +15,6 @@ use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::{f32x8, LaneOps};
 
 impl Bvh {
-    /// Nearest hit with tmin < t < tmax (ties to the lowest primitive index).
-    pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
-            for i in first..first + count {
-                let shape = Shape::from(self.tris[i]);
-                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
-                    let prim = self.prims[i];
-                    merge(&mut best, Some(Hit { t, prim, b1, b2 }));
-                }
-            }
-            // Hits at t equal to the best stay possible (for the index tie-break).
-            (best.map_or(tmax, |h| h.t.next_up()), false)
-        });
-        best
-    }
-
-    /// Whether anything is hit with tmin < t < tmax; stops at the first hit.
-    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        let mut hit = false;
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
-            hit = (first..first + count).any(|i| {
-                self.prims[i] != skip
-                    && Shape::from(self.tris[i])
-                        .intersect(ray, method, tmin, t_far)
-                        .is_some()
-            });
-            (t_far, hit)
-        });
-        hit
-    }
-
     /// The adaptive filter's M for this ray, from the root box (once per ray: per leaf it
     /// cost more than its tighter bound saved).
     fn extent(&self, ray: &Ray) -> f32 {
@@ -56,22 +24,7 @@ impl Bvh {
         }
     }
 
-    /// The adaptive closest-hit search (see `geometry::adaptive`).
-    pub fn closest_hit_adaptive(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
-            for i in first..first + count {
-                let est = classify_f32(r, &self.tris[i], e);
-                if est != Estimate::Miss {
-                    search.offer_triangle(self.prims[i], &self.tris[i], est);
-                }
-            }
-            (search.t_far32(), false)
-        });
-    }
-
-    /// [`Bvh::closest_hit_adaptive`] for a ray leaving the origin `prepared` was made for
+    /// [`Layout::nearest_exact`] for a ray leaving the origin `prepared` was made for
     /// (from [`Bvh::triangles`]): the f32 level is the shared-origin test of
     /// [`super::packet`], three dot products per triangle instead of the sheared test.
     ///
@@ -117,27 +70,6 @@ impl Bvh {
             }
             (search.t_far32(), false)
         });
-    }
-
-    /// The adaptive any-hit query.
-    pub fn any_hit_adaptive(
-        &self,
-        ray: &Ray,
-        r: &WatertightRay<f32>,
-        search: &Search,
-        skip: u32,
-    ) -> bool {
-        let mut hit = false;
-        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
-            hit = (first..first + count).any(|i| {
-                self.prims[i] != skip
-                    && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
-            });
-            (t_far, hit)
-        });
-        hit
     }
 
     /// Visits the leaves the ray may reach, nearer child first, every box widened by `pad`
@@ -224,19 +156,62 @@ impl Bvh {
 
 impl Layout for Bvh {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        merge(best, self.closest_hit(ray, method, tmin, tmax));
+        let mut nearest: Option<Hit> = None;
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            for i in first..first + count {
+                let shape = Shape::from(self.tris[i]);
+                if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, t_far) {
+                    let prim = self.prims[i];
+                    merge(&mut nearest, Some(Hit { t, prim, b1, b2 }));
+                }
+            }
+            // Hits at t equal to the best stay possible (for the index tie-break).
+            (nearest.map_or(tmax, |h| h.t.next_up()), false)
+        });
+        merge(best, nearest);
     }
 
     fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        self.closest_hit_adaptive(ray, r, search);
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
+            for i in first..first + count {
+                let est = classify_f32(r, &self.tris[i], e);
+                if est != Estimate::Miss {
+                    search.offer_triangle(self.prims[i], &self.tris[i], est);
+                }
+            }
+            (search.t_far32(), false)
+        });
     }
 
+    /// Stops at the first hit.
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        self.any_hit(ray, method, tmin, tmax, skip)
+        let mut hit = false;
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            hit = (first..first + count).any(|i| {
+                self.prims[i] != skip
+                    && Shape::from(self.tris[i])
+                        .intersect(ray, method, tmin, t_far)
+                        .is_some()
+            });
+            (t_far, hit)
+        });
+        hit
     }
 
     fn any_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &Search, skip: u32) -> bool {
-        self.any_hit_adaptive(ray, r, search, skip)
+        let mut hit = false;
+        let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
+        let e = self.extent(ray);
+        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            hit = (first..first + count).any(|i| {
+                self.prims[i] != skip
+                    && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
+            });
+            (t_far, hit)
+        });
+        hit
     }
 
     #[inline(always)]

@@ -5,6 +5,7 @@
 use super::{segments_box, Plan, ShadowSegments, TileQueries, NO_HIT};
 use crate::accel::cull::{Box3, Occluder};
 use crate::accel::flat::FlatLoop;
+use crate::accel::layout::Layout;
 use crate::accel::packet::{self, OriginTriangle, PacketHits, PacketNearest, PacketSeed};
 use crate::accel::prepared::Prepared;
 use crate::accel::spheres::{SphereLanes, SEEDED};
@@ -49,10 +50,10 @@ impl TileQueries<'_> {
                 WatertightRay::new(ray.o, ray.d).and_then(|r| {
                     if method == Method::Adaptive {
                         let mut search = Search::new(ray, 0.0, f32::INFINITY);
-                        tris.closest_hit_adaptive(&r, &mut search);
+                        tris.nearest_exact(ray, &r, &mut search);
                         search.hit()
                     } else {
-                        tris.closest_hit(&r, 0.0, f32::INFINITY)
+                        tris.nearest_watertight(&r, 0.0, f32::INFINITY)
                     }
                 })
             }
@@ -324,7 +325,7 @@ impl TileQueries<'_> {
                         let ray = Ray::new(light, s.d.map(|c| c.to_array()[l]));
                         let search = Search::new(&ray, 0.0, 1.0);
                         let hit = WatertightRay::new(ray.o, ray.d)
-                            .is_some_and(|r| tris.any_hit_adaptive(&r, &search, s.prim[l]));
+                            .is_some_and(|r| tris.any_exact(&ray, &r, &search, s.prim[l]));
                         if hit {
                             *out |= 1 << l;
                         }

@@ -6,6 +6,7 @@ use super::super::leaves::PositionLeaves;
 use super::super::node::{leaf_range, Node, WideNode, WideStack, LEAF, NONE, STACK, WIDTH};
 use super::super::widen::widen;
 use super::super::{Aabb, Bvh, PacketSlabs, MAX_LEAF, SMALL_LEAF};
+use crate::accel::layout::Layout;
 use crate::accel::packet::{OriginTriangles, PacketHits, PacketNearest};
 use crate::accel::prepared::Prepared;
 use crate::accel::IndexedTriangle;
@@ -226,8 +227,7 @@ fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
                 let shadow = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
                 for (l, dir) in dirs.iter().enumerate() {
                     let ray = crate::geometry::Ray::new(o, *dir);
-                    let want =
-                        bvh.any_hit(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
+                    let want = bvh.any(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
                     if shadow.unsure & (1 << l) == 0 {
                         assert_eq!(shadow.blocked & (1 << l) != 0, want, "shadow lane {l}");
                         shadow_decided += 1;
