@@ -407,9 +407,14 @@ impl FlatLoop {
 /// primitive order, through the shape's own test.
 impl Layout for FlatLoop {
     fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        match (method, WatertightRay::new(ray.o, ray.d)) {
-            (Method::Watertight, Some(r)) => merge(best, self.nearest_watertight(&r, tmin, tmax)),
-            (Method::Watertight, None) => {}
+        match method {
+            Method::Watertight => {
+                let r = WatertightRay::new(ray.o, ray.d);
+                merge(
+                    best,
+                    r.and_then(|r| self.nearest_watertight(&r, tmin, tmax)),
+                );
+            }
             _ => nearest_one_by_one(self.in_order(), ray, method, tmin, tmax, best),
         }
     }
@@ -432,12 +437,13 @@ impl Layout for FlatLoop {
     }
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
-        match (method, WatertightRay::new(ray.o, ray.d)) {
-            (Method::Watertight, Some(r)) => (0..self.blocks.len()).any(|b| {
-                self.test_block(b, &r, tmin, tmax)
-                    .is_some_and(|(mask, ..)| mask & !self.lanes_of(b, skip) != 0)
+        match method {
+            Method::Watertight => WatertightRay::new(ray.o, ray.d).is_some_and(|r| {
+                (0..self.blocks.len()).any(|b| {
+                    self.test_block(b, &r, tmin, tmax)
+                        .is_some_and(|(mask, ..)| mask & !self.lanes_of(b, skip) != 0)
+                })
             }),
-            (Method::Watertight, None) => false,
             _ => any_one_by_one(self.in_order(), ray, method, tmin, tmax, skip),
         }
     }
