@@ -20,9 +20,11 @@ const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 #[test]
 fn scripted_window_run_matches_the_headless_render() {
     let dir = tempfile::tempdir().unwrap();
-    let script = "# forward, turn right, look up with the mouse, zoom in, switch to shadows, F12\n\
+    // The wheel and F12 come due together: F12 saves the view the wheel made, as a person
+    // who scrolls and presses F12 within one frame expects.
+    let script = "# forward, turn right, look up with the mouse, switch to shadows, zoom in, F12\n\
          0 key W down\n300 key W up\n350 key Right down\n600 key Right up\n\
-         650 mouse 0 -40\n700 wheel 3\n750 step shadows\n800 key F12 down\n820 key F12 up\n";
+         650 mouse 0 -40\n750 step shadows\n800 wheel 3\n800 key F12 down\n820 key F12 up\n";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
         return;
     };

@@ -743,6 +743,9 @@ impl Viewer {
         if let Err(e) = raylab::input::check_output(&path) {
             return self.report_error(format!("cannot save the image: {e}"));
         }
+        // The wheel or mouse moved since the last frame takes effect first: the file shows
+        // the view they made, not the one before them.
+        self.update_camera();
         let (w, h) = self.full_size();
         let n = self.spp_shown();
         let settings = self.settings((w, h), n);
