@@ -25,8 +25,8 @@ fn sphere_mesh(n: usize) -> Vec<Shape<f32>> {
     for i in 0..rings {
         for j in 0..rings {
             let (a, b, c, d) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
-            tris.push(Shape::Triangle([a, b, c]));
-            tris.push(Shape::Triangle([a, c, d]));
+            tris.push(Shape::from([a, b, c]));
+            tris.push(Shape::from([a, c, d]));
         }
     }
     tris

@@ -13,7 +13,7 @@ use common::suite::{self, exact_nearest, Counts};
 use plotters::prelude::*;
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::controller::CameraController;
-use raylab::geometry::{adaptive, sphere, Method, Ray, Shape};
+use raylab::geometry::{adaptive, sphere, Method, Ray, Shape, Sphere};
 use raylab::Camera;
 use rayon::prelude::*;
 use std::fmt::Write as _;
@@ -118,7 +118,7 @@ impl Tracer {
             Variant::SphereNaive | Variant::SphereStable => {
                 let mut best: Option<(f64, u32)> = None;
                 for (i, s) in self.shapes.iter().enumerate() {
-                    let Shape::Sphere { centre, radius } = s else {
+                    let Shape::Sphere(Sphere { centre, radius }) = s else {
                         continue;
                     };
                     let far = best.map_or(inf, |b| b.0 as f32);
@@ -254,10 +254,12 @@ fn camera_rays(shapes: &[Shape<f32>], cornell: bool, w: u32, h: u32) -> Vec<Ray<
 fn sphere_scene() -> (Vec<Shape<f32>>, Vec<Ray<f32>>) {
     let mut rng = common::Rng(7);
     let shapes: Vec<Shape<f32>> = (0..64)
-        .map(|_| Shape::Sphere {
-            centre: [0, 1, 2]
-                .map(|k| rng.range(-4.0, 4.0) as f32 + if k == 2 { 10.0 } else { 0.0 }),
-            radius: rng.range(0.1, 1.0) as f32,
+        .map(|_| {
+            Shape::Sphere(Sphere {
+                centre: [0, 1, 2]
+                    .map(|k| rng.range(-4.0, 4.0) as f32 + if k == 2 { 10.0 } else { 0.0 }),
+                radius: rng.range(0.1, 1.0) as f32,
+            })
         })
         .collect();
     let rays = (0..40_000)
@@ -309,14 +311,8 @@ fn main() -> anyhow::Result<()> {
             .iter()
             .map(|r| exact_nearest(&family.shapes, r))
             .collect();
-        let has_spheres = family
-            .shapes
-            .iter()
-            .any(|s| matches!(s, Shape::Sphere { .. }));
-        let only_spheres = family
-            .shapes
-            .iter()
-            .all(|s| matches!(s, Shape::Sphere { .. }));
+        let has_spheres = family.shapes.iter().any(|s| matches!(s, Shape::Sphere(_)));
+        let only_spheres = family.shapes.iter().all(|s| matches!(s, Shape::Sphere(_)));
         for (row, &v) in rows.iter_mut().zip(&VARIANTS) {
             if v.spheres_only() && !(has_spheres && only_spheres) {
                 continue;

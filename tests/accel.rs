@@ -10,22 +10,22 @@ use proptest::prelude::*;
 use raylab::accel::testing::{self, FlatLoop};
 use raylab::accel::{self, Accel, AccelChoice};
 use raylab::geometry::triangle::WatertightRay;
-use raylab::geometry::{Hit, Method, Ray, Shape};
+use raylab::geometry::{Hit, Method, Ray, Shape, Sphere, Triangle};
 
 fn random_scene(rng: &mut Rng, n: usize, spheres: usize) -> Vec<Shape<f32>> {
     let mut shapes = Vec::new();
     for _ in 0..n {
         let c = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
         let size = 10f64.powf(rng.range(-2.0, 0.3));
-        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+        shapes.push(Shape::from([0, 1, 2].map(|_| {
             [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
         })));
     }
     for _ in 0..spheres {
-        shapes.push(Shape::Sphere {
+        shapes.push(Shape::Sphere(Sphere {
             centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
             radius: rng.range(0.05, 1.0) as f32,
-        });
+        }));
     }
     // A duplicate of an earlier triangle (exact ties) and of an earlier sphere.
     if n > 2 {
@@ -34,9 +34,9 @@ fn random_scene(rng: &mut Rng, n: usize, spheres: usize) -> Vec<Shape<f32>> {
     // Copies with the vertices turned and reversed: kept by the structures (an inexact method
     // may answer differently for them), unlike the exact copy above.
     if n > 3 {
-        if let Shape::Triangle([a, b, c]) = shapes[2] {
-            shapes.push(Shape::Triangle([b, c, a]));
-            shapes.push(Shape::Triangle([a, c, b]));
+        if let Shape::Triangle(Triangle([a, b, c])) = shapes[2] {
+            shapes.push(Shape::from([b, c, a]));
+            shapes.push(Shape::from([a, c, b]));
         }
     }
     shapes
@@ -46,8 +46,8 @@ fn random_ray(rng: &mut Rng, shapes: &[Shape<f32>]) -> Ray {
     let o = [0, 1, 2].map(|_| rng.range(-6.0, 6.0) as f32);
     // Aim at a vertex, an edge midpoint or a random point.
     let target = match (rng.below(3), shapes[rng.below(shapes.len())]) {
-        (0, Shape::Triangle(v)) => v[rng.below(3)],
-        (1, Shape::Triangle(v)) => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
+        (0, Shape::Triangle(Triangle(v))) => v[rng.below(3)],
+        (1, Shape::Triangle(Triangle(v))) => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
         _ => [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
     };
     Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]))
@@ -172,14 +172,14 @@ proptest! {
 /// narrows a negative one, and the BVH skipped a flat box at tmin < t < 0.
 #[test]
 fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin_included() {
-    let mut shapes = vec![Shape::Triangle([
+    let mut shapes = vec![Shape::from([
         [-3.0, -3.0, 0.0],
         [3.0, -3.0, 0.0],
         [0.0, 3.0, 0.0],
     ])];
     // Flat triangles in z = -2, -1, 1, 2 and 3, and 64 far away.
     for z in [-2.0f32, -1.0, 1.0, 2.0, 3.0] {
-        shapes.push(Shape::Triangle([
+        shapes.push(Shape::from([
             [-4.0, -4.0, z],
             [4.0, -4.0, z],
             [0.0, 4.0, z],
@@ -187,7 +187,7 @@ fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin
     }
     for k in 0..64 {
         let x = 100.0 + k as f32;
-        shapes.push(Shape::Triangle([
+        shapes.push(Shape::from([
             [x, 0.0, 50.0],
             [x + 0.5, 0.0, 50.0],
             [x, 0.5, 50.5],
@@ -292,7 +292,7 @@ fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
         .iter()
         .enumerate()
         .filter_map(|(i, s)| match s {
-            Shape::Triangle(v) => Some((*v, i as u32)),
+            Shape::Triangle(Triangle(v)) => Some((*v, i as u32)),
             _ => None,
         })
         .collect();
@@ -342,9 +342,11 @@ fn auto_picks_the_flat_loop_for_the_cornell_box_and_a_bvh_for_big_meshes() {
 fn auto_counts_spheres_too() {
     let mut rng = Rng(7);
     let spheres: Vec<Shape<f32>> = (0..100)
-        .map(|_| Shape::Sphere {
-            centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
-            radius: 0.3,
+        .map(|_| {
+            Shape::Sphere(Sphere {
+                centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
+                radius: 0.3,
+            })
         })
         .collect();
     assert_eq!(
@@ -389,9 +391,11 @@ fn grazing(rng: &mut Rng, c: [f32; 3], r: f32, ulps: f64, back: f64) -> Ray {
 fn thousands_of_spheres_answer_as_the_in_order_loop_grazing_rays_included() {
     let mut rng = Rng(2026);
     let mut shapes = random_scene(&mut rng, 40, 0);
-    let ball = |c: [f64; 3], r: f64| Shape::Sphere {
-        centre: c.map(|x| x as f32),
-        radius: r as f32,
+    let ball = |c: [f64; 3], r: f64| {
+        Shape::Sphere(Sphere {
+            centre: c.map(|x| x as f32),
+            radius: r as f32,
+        })
     };
     for cluster in 0..30 {
         let c = [0, 1, 2].map(|_| rng.range(-20.0, 20.0));
@@ -415,7 +419,7 @@ fn thousands_of_spheres_answer_as_the_in_order_loop_grazing_rays_included() {
     }
     let spheres: Vec<(f32, [f32; 3])> = (shapes.iter())
         .filter_map(|s| match *s {
-            Shape::Sphere { centre, radius } => Some((radius, centre)),
+            Shape::Sphere(Sphere { centre, radius }) => Some((radius, centre)),
             Shape::Triangle(_) => None,
         })
         .collect();
@@ -500,7 +504,7 @@ proptest! {
                         1 => 0,
                         k => k,
                     };
-                    let Shape::Triangle(v) = shapes[k] else { unreachable!() };
+                    let Shape::Triangle(Triangle(v)) = shapes[k] else { unreachable!() };
                     let target = match rng.below(4) {
                         0 => v[rng.below(3)],
                         1 => [0, 1, 2].map(|i| (v[0][i] + v[1][i]) * 0.5),

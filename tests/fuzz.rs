@@ -7,7 +7,7 @@
 //! More cases: `PROPTEST_CASES=100000 cargo test --release --test fuzz`.
 
 use proptest::prelude::*;
-use raylab::geometry::Shape;
+use raylab::geometry::{Shape, Sphere, Triangle};
 use raylab::scene::{load_obj_str, ObjFrame};
 use raylab::tracefile::{parse_rays, parse_scene};
 
@@ -97,7 +97,7 @@ fn assert_safe_scene(scene: &raylab::Scene) {
     assert_eq!(scene.shapes.len(), scene.colors().len());
     assert!(!scene.shapes.is_empty());
     for (s, c) in scene.shapes.iter().zip(scene.colors()) {
-        let Shape::Triangle(v) = s else {
+        let Shape::Triangle(Triangle(v)) = s else {
             panic!("OBJ gives triangles only")
         };
         assert!(v.iter().flatten().all(|x| x.is_finite()), "{v:?}");
@@ -149,8 +149,8 @@ proptest! {
             Ok((shapes, _)) => {
                 for s in shapes {
                     match s {
-                        Shape::Triangle(v) => prop_assert!(v.iter().flatten().all(|x| x.is_finite())),
-                        Shape::Sphere { centre, radius } => {
+                        Shape::Triangle(Triangle(v)) => prop_assert!(v.iter().flatten().all(|x| x.is_finite())),
+                        Shape::Sphere(Sphere { centre, radius }) => {
                             prop_assert!(centre.iter().all(|x| x.is_finite()));
                             prop_assert!(radius > 0.0 && radius.is_finite());
                         }

@@ -27,7 +27,7 @@ mod common;
 use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::{self, Accel, AccelChoice, IndexedTriangle};
-use raylab::geometry::{adaptive, Method, Ray, Shape};
+use raylab::geometry::{adaptive, Method, Ray, Shape, Triangle};
 use std::collections::HashMap;
 use wide::f32x8;
 
@@ -61,8 +61,8 @@ fn camera_packet(
         .iter()
         .enumerate()
         .map(|(i, s)| match s {
-            Shape::Triangle(v) => Some((*v, i as u32)),
-            Shape::Sphere { .. } => None,
+            Shape::Triangle(Triangle(v)) => Some((*v, i as u32)),
+            Shape::Sphere(_) => None,
         })
         .collect::<Option<_>>()?;
     let prepared = cache

@@ -14,7 +14,7 @@ use common::suite;
 use common::{check_instance_packets, icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape, Sphere, Triangle};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::{cornell, Instance, Mesh, Scene};
 use raylab::Camera;
@@ -29,7 +29,7 @@ fn triangles(shapes: &[Shape<f32>]) -> Vec<[[f32; 3]; 3]> {
     shapes
         .iter()
         .map(|s| match s {
-            Shape::Triangle(v) => *v,
+            Shape::Triangle(Triangle(v)) => *v,
             _ => panic!("a mesh holds triangles"),
         })
         .collect()
@@ -87,11 +87,11 @@ fn scene_with(mesh: &Arc<Mesh>, placements: &[DMat4], rng: &mut Rng) -> Scene {
         for _ in 0..rng.below(3) {
             let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32);
             shapes.push(match rng.below(4) {
-                0 => Shape::Sphere {
+                0 => Shape::Sphere(Sphere {
                     centre: c,
                     radius: rng.range(0.1, 0.6) as f32,
-                },
-                _ => Shape::Triangle(
+                }),
+                _ => Shape::from(
                     [0, 1, 2].map(|_| [0, 1, 2].map(|j| c[j] + rng.range(-0.8, 0.8) as f32)),
                 ),
             });
@@ -108,7 +108,7 @@ fn scene_with(mesh: &Arc<Mesh>, placements: &[DMat4], rng: &mut Rng) -> Scene {
     }
     // One instance's triangle copied exactly as an explicit one: a tie at equal t.
     if let Some(first) = instances.first() {
-        shapes.push(Shape::Triangle(first.world_triangle(3)));
+        shapes.push(Shape::from(first.world_triangle(3)));
     }
     let colors = shapes.iter().map(|_| [0.5, 0.6, 0.7]).collect();
     Scene::new(
@@ -129,8 +129,8 @@ fn rays_at(flat: &Scene, rng: &mut Rng, n: usize) -> Vec<Ray> {
         .map(|_| {
             let o = [0, 1, 2].map(|_| rng.range(-7.0, 7.0) as f32);
             let target = match flat.shapes[rng.below(flat.shapes.len())] {
-                Shape::Triangle(v) if rng.below(3) == 0 => v[rng.below(3)],
-                Shape::Triangle(v) if rng.below(2) == 0 => {
+                Shape::Triangle(Triangle(v)) if rng.below(3) == 0 => v[rng.below(3)],
+                Shape::Triangle(Triangle(v)) if rng.below(2) == 0 => {
                     [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5)
                 }
                 _ => [0, 1, 2].map(|_| rng.range(-3.0, 3.0) as f32),
@@ -290,10 +290,10 @@ fn instanced_images_equal_the_flattened_scene() {
             tint: None,
         });
     }
-    shapes.push(Shape::Sphere {
+    shapes.push(Shape::Sphere(Sphere {
         centre: [0.5, 0.7, 0.5],
         radius: 0.2,
-    });
+    }));
     colors.push([0.9, 0.9, 0.2]);
     // The sphere comes after the instances in primitive order.
     let n_inst = (instances.len() * mesh.triangles.len()) as u32;
@@ -805,7 +805,7 @@ pop
     // The bounds are the triangles' own: some vertex lies on each face of the box.
     let on_face = |k: usize, x: f32| {
         (0..scene.len() as u32).any(|p| match scene.shape(p) {
-            Shape::Triangle(v) => v.iter().any(|q| q[k] == x),
+            Shape::Triangle(Triangle(v)) => v.iter().any(|q| q[k] == x),
             _ => false,
         })
     };

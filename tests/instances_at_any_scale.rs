@@ -10,7 +10,7 @@ mod common;
 use common::{check_instance_packets, icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};
 use raylab::accel::{self, Accel, AccelChoice};
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape, Triangle};
 use raylab::scene::{cornell, Instance, Mesh, Scene};
 use std::sync::Arc;
 
@@ -24,8 +24,8 @@ fn balls_stored_at(stored: i32) -> Scene {
     let ball: Vec<[[f32; 3]; 3]> = icosphere(2, 0.7, centre.as_vec3().to_array())
         .iter()
         .map(|shape| match shape {
-            Shape::Triangle(v) => v.map(|p| p.map(|c| (c as f64 * s) as f32)),
-            Shape::Sphere { .. } => unreachable!("an icosphere holds triangles"),
+            Shape::Triangle(Triangle(v)) => v.map(|p| p.map(|c| (c as f64 * s) as f32)),
+            Shape::Sphere(_) => unreachable!("an icosphere holds triangles"),
         })
         .collect();
     let n = ball.len() as u32;
@@ -63,8 +63,10 @@ fn ray_towards(flat: &Scene, rng: &mut Rng, scale: i32) -> Ray {
 /// balls, scaled by 2^`scale`.
 fn direction_from(o: [f32; 3], flat: &Scene, rng: &mut Rng, scale: i32) -> [f32; 3] {
     let target = match flat.shapes[rng.below(flat.shapes.len())] {
-        Shape::Triangle(v) if rng.below(3) == 0 => v[rng.below(3)],
-        Shape::Triangle(v) if rng.below(2) == 0 => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
+        Shape::Triangle(Triangle(v)) if rng.below(3) == 0 => v[rng.below(3)],
+        Shape::Triangle(Triangle(v)) if rng.below(2) == 0 => {
+            [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5)
+        }
         _ => [0, 1, 2].map(|_| rng.range(-1.5, 1.5) as f32),
     };
     let f = 2f64.powi(scale);

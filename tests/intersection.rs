@@ -8,7 +8,7 @@ mod common;
 
 use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
 use raylab::accel::closest_hit;
-use raylab::geometry::{sphere, Method, Ray, Shape};
+use raylab::geometry::{sphere, Method, Ray, Shape, Sphere, Triangle};
 
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
@@ -23,8 +23,8 @@ fn leaks_from(mesh: &[Shape<f32>], origins: &[[f32; 3]]) -> [usize; 4] {
     let max_coord = mesh
         .iter()
         .flat_map(|s| match s {
-            Shape::Triangle(v) => v.iter().flatten().map(|c| c.abs()).collect::<Vec<_>>(),
-            Shape::Sphere { .. } => vec![],
+            Shape::Triangle(Triangle(v)) => v.iter().flatten().map(|c| c.abs()).collect::<Vec<_>>(),
+            Shape::Sphere(_) => vec![],
         })
         .fold(0.0f32, f32::max);
     let dist_tol = 8.0 * max_coord * f32::EPSILON;
@@ -160,7 +160,7 @@ fn t_plane_z0(ray: &Ray<f32>) -> f64 {
 #[test]
 fn grazing_rays_inside_and_just_outside_an_edge() {
     // Triangle in z = 0 with an edge along x = 0 (from (0,-1) to (0,1)), extending to x = 2.
-    let tri = Shape::Triangle([[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0]]);
+    let tri = Shape::from([[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0]]);
     let mut bad = [0usize; 4];
     let mut worst_rel_t = 0.0f64;
     let mut rays = 0;
@@ -213,7 +213,7 @@ fn tiny_and_huge_triangles_hit_inside_miss_outside_with_every_method() {
     // No method may use an absolute epsilon: a 1e-5 triangle must be hit like a 1e5 one.
     for size in [1e-5f32, 1e-3, 1.0, 1e3, 1e5] {
         for distance in [size * 10.0, size * 1e3] {
-            let tri = Shape::Triangle([[-size, -size, 0.0], [size, -size, 0.0], [0.0, size, 0.0]]);
+            let tri = Shape::from([[-size, -size, 0.0], [size, -size, 0.0], [0.0, size, 0.0]]);
             let o = [0.0, 0.0, -distance];
             let centre = Ray::new(o, [0.0, -0.2 * size, distance]);
             let outside = Ray::new(o, [1.2 * size, 0.0, distance]);
@@ -235,7 +235,7 @@ fn tiny_and_huge_triangles_hit_inside_miss_outside_with_every_method() {
 #[test]
 fn edges_and_vertices_belong_to_the_triangle() {
     // Exactly on an edge, exactly on a vertex: closed triangles report a hit (every method).
-    let tri = Shape::Triangle([[0.0f32, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]]);
+    let tri = Shape::from([[0.0f32, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]]);
     for target in [
         [2.0f32, 0.0, 0.0],
         [0.0, 2.0, 0.0],
@@ -278,7 +278,7 @@ fn edges_and_vertices_belong_to_the_triangle() {
 
 #[test]
 fn tmin_and_tmax_are_exclusive() {
-    let tri = Shape::Triangle([[-1.0f32, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]);
+    let tri = Shape::from([[-1.0f32, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]);
     let ray = Ray::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]);
     for method in Method::ALL {
         assert_eq!(
@@ -443,12 +443,12 @@ fn near_tangent_sphere_rays() {
 
 #[test]
 fn nearest_of_several_and_ties_to_lower_index() {
-    let a = Shape::Triangle([[-1.0f32, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]]);
-    let b = Shape::Triangle([[-1.0f32, -1.0, 1.0], [1.0, -1.0, 1.0], [0.0, 1.0, 1.0]]);
-    let s = Shape::Sphere {
+    let a = Shape::from([[-1.0f32, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]]);
+    let b = Shape::from([[-1.0f32, -1.0, 1.0], [1.0, -1.0, 1.0], [0.0, 1.0, 1.0]]);
+    let s = Shape::Sphere(Sphere {
         centre: [0.0, 0.0, 3.0],
         radius: 0.5,
-    };
+    });
     let ray = Ray::new([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
     let shapes = [a, s, b];
     let h = closest_hit(&shapes, &ray, Method::Watertight, 0.0, f32::INFINITY).unwrap();
@@ -467,7 +467,7 @@ fn methods_agree_away_from_edges() {
     let mut rng = Rng(7);
     for _ in 0..2000 {
         let v: [[f32; 3]; 3] = [0, 1, 2].map(|_| [0, 1, 2].map(|_| rng.range(-1.0, 1.0) as f32));
-        let tri = Shape::Triangle(v);
+        let tri = Shape::from(v);
         let mut b = [rng.range(0.0, 1.0), rng.range(0.0, 1.0)];
         let inside = rng.below(2) == 0;
         if inside {

@@ -10,8 +10,8 @@ use raylab::geometry::{Method, Ray, Shape};
 fn levels_count_the_slow_paths_only_while_on() {
     // Two triangles sharing the edge x = y of the unit square.
     let shapes = vec![
-        Shape::Triangle([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0]]),
-        Shape::Triangle([[0.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0]]),
+        Shape::from([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0]]),
+        Shape::from([[0.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 1.0]]),
     ];
     let accel = Accel::build(&shapes, AccelChoice::Flat);
     let closest = |o: [f32; 3], d: [f32; 3]| {

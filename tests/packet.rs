@@ -11,7 +11,7 @@ use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::IndexedTriangle;
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::closest_hit_reference;
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape, Triangle};
 use raylab::math::simd::{self, SimdLevel};
 use raylab::scene::Scene;
 use wide::f32x8;
@@ -21,8 +21,8 @@ fn indexed(shapes: &[Shape<f32>]) -> Vec<IndexedTriangle> {
         .iter()
         .enumerate()
         .map(|(i, s)| match s {
-            Shape::Triangle(v) => (*v, i as u32),
-            Shape::Sphere { .. } => panic!("triangles only"),
+            Shape::Triangle(Triangle(v)) => (*v, i as u32),
+            Shape::Sphere(_) => panic!("triangles only"),
         })
         .collect()
 }
@@ -30,8 +30,8 @@ fn indexed(shapes: &[Shape<f32>]) -> Vec<IndexedTriangle> {
 /// A triangle of `shapes` by index.
 fn vertices(shapes: &[Shape<f32>]) -> impl Fn(u32) -> [[f32; 3]; 3] + '_ {
     |p| match shapes[p as usize] {
-        Shape::Triangle(v) => v,
-        Shape::Sphere { .. } => panic!("triangles only"),
+        Shape::Triangle(Triangle(v)) => v,
+        Shape::Sphere(_) => panic!("triangles only"),
     }
 }
 
@@ -80,7 +80,7 @@ fn random_case(rng: &mut Rng) -> Case {
     for _ in 0..rng.below(40) {
         let c = [0, 1, 2].map(|_| rng.range(-4.0, 4.0));
         let size = 10f64.powf(rng.range(-2.0, 0.3));
-        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+        shapes.push(Shape::from([0, 1, 2].map(|_| {
             [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
         })));
     }
@@ -93,7 +93,7 @@ fn random_case(rng: &mut Rng) -> Case {
     let o = [0, 1, 2].map(|_| rng.range(-6.0, 6.0) as f32);
     let mut generic = 0;
     let dirs = [0, 1, 2, 3, 4, 5, 6, 7].map(|l| {
-        let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else {
+        let Shape::Triangle(Triangle(v)) = shapes[rng.below(shapes.len())] else {
             unreachable!()
         };
         let kind = rng.below(4);
@@ -249,7 +249,7 @@ fn hostile_packets_are_left_to_the_per_ray_search() {
     let found = packet::closest(&on_plane.tris, &d, packet::max_component(&d));
     assert_eq!(found.ambiguous, 0xff);
     // Huge coordinates: products beyond f32 range are refused, not trusted.
-    let huge = [Shape::Triangle([
+    let huge = [Shape::from([
         [3e37, 0.0, 1e30],
         [0.0, 3e37, 1e30],
         [-3e37, -3e37, 1e30],
@@ -272,7 +272,7 @@ proptest! {
         let o = [0, 1, 2].map(|_| rng.range(-5.0, 5.0) as f32);
         let prepared = accel.prepare_origin(o);
         for _ in 0..64 {
-            let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else { unreachable!() };
+            let Shape::Triangle(Triangle(v)) = shapes[rng.below(shapes.len())] else { unreachable!() };
             let target = match rng.below(3) {
                 0 => v[rng.below(3)],
                 1 => [0, 1, 2].map(|k| (v[0][k] + v[1][k]) * 0.5),
@@ -375,8 +375,8 @@ fn shadow_packets_agree_with_the_per_ray_query() {
     for case in 0..400 {
         let (shapes, _, _, _) = random_case(&mut rng);
         let tri = |k: usize| match shapes[k] {
-            Shape::Triangle(v) => v,
-            Shape::Sphere { .. } => unreachable!(),
+            Shape::Triangle(Triangle(v)) => v,
+            Shape::Sphere(_) => unreachable!(),
         };
         let light = match case % 4 {
             0 => tri(rng.below(shapes.len()))[rng.below(3)],
@@ -440,7 +440,7 @@ fn bvh_scene(rng: &mut Rng) -> Vec<Shape<f32>> {
     for _ in 0..rng.below(200) {
         let c = [0, 1, 2].map(|_| rng.range(-3.0, 3.0));
         let size = 10f64.powf(rng.range(-2.0, 0.0));
-        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+        shapes.push(Shape::from([0, 1, 2].map(|_| {
             [0, 1, 2].map(|k| (c[k] + size * rng.range(-1.0, 1.0)) as f32)
         })));
     }
@@ -467,7 +467,7 @@ proptest! {
             let centre = [0, 1, 2].map(|_| rng.range(-1.5, 1.5));
             let spread = 10f64.powf(rng.range(-4.0, -0.5));
             let dirs: [[f32; 3]; 8] = std::array::from_fn(|_| {
-                let Shape::Triangle(v) = shapes[rng.below(shapes.len())] else {
+                let Shape::Triangle(Triangle(v)) = shapes[rng.below(shapes.len())] else {
                     unreachable!()
                 };
                 let target = match (coherent, rng.below(3)) {
@@ -516,7 +516,7 @@ proptest! {
             let mut skip = [u32::MAX; 8];
             let dirs: [[f32; 3]; 8] = std::array::from_fn(|l| {
                 let k = rng.below(shapes.len());
-                let Shape::Triangle(v) = shapes[k] else { unreachable!() };
+                let Shape::Triangle(Triangle(v)) = shapes[k] else { unreachable!() };
                 let target = match rng.below(3) {
                     0 => {
                         skip[l] = k as u32;
@@ -559,7 +559,7 @@ fn a_mesh_renders_each_pixel_as_the_per_ray_search_sees_it_in_every_layout() {
     let mut rng = Rng(11);
     for _ in 0..40 {
         let c = [0, 1, 2].map(|_| rng.range(-1.2, 1.2));
-        shapes.push(Shape::Triangle([0, 1, 2].map(|_| {
+        shapes.push(Shape::from([0, 1, 2].map(|_| {
             [0, 1, 2].map(|k| (c[k] + 0.3 * rng.range(-1.0, 1.0)) as f32)
         })));
     }

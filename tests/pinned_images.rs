@@ -10,7 +10,7 @@
 mod common;
 
 use raylab::accel::AccelChoice;
-use raylab::geometry::{Method, Shape};
+use raylab::geometry::{Method, Shape, Sphere};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
@@ -37,14 +37,14 @@ fn with_mesh(mesh: Vec<Shape<f32>>, choice: AccelChoice) -> Stage {
 fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
     let bvh_cornell = Stage::new(Scene::cornell(), AccelChoice::Bvh);
     let spheres = vec![
-        Shape::Sphere {
+        Shape::Sphere(Sphere {
             centre: [0.35, 0.55, 0.2],
             radius: 0.3,
-        },
-        Shape::Sphere {
+        }),
+        Shape::Sphere(Sphere {
             centre: [-0.4, 0.4, -0.1],
             radius: 0.25,
-        },
+        }),
     ];
     vec![
         // 30 triangles: the flat SIMD loop, tiles culled, packets; odd size: partial tiles.

@@ -9,6 +9,7 @@
 
 mod common;
 
+use raylab::geometry::{Sphere, Triangle};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
@@ -590,9 +591,7 @@ fn tiles_off_a_bvh_meshs_box_are_background_and_the_image_is_unchanged() {
     // matter too.
     let mesh: Vec<_> = common::cube(16, 1.0, [-0.5, -0.5, 0.0])
         .into_iter()
-        .filter(
-            |s| !matches!(s, raylab::geometry::Shape::Triangle(v) if v.iter().all(|p| p[2] == 0.0)),
-        )
+        .filter(|s| !s.triangle().is_some_and(|v| v.iter().all(|p| p[2] == 0.0)))
         .collect();
     let n = mesh.len();
     let light = raylab::scene::PointLight {
@@ -906,8 +905,8 @@ fn the_cracks_view_marks_exactly_the_leaks() {
         for gx in (-65..65).step_by(2) {
             let p = |x: i32, y: i32| [x as f32, y as f32, 64.0];
             let (a, b, c, d) = (p(gx, gy), p(gx + 2, gy), p(gx, gy + 2), p(gx + 2, gy + 2));
-            shapes.push(Shape::Triangle([a, b, d]));
-            shapes.push(Shape::Triangle([a, d, c]));
+            shapes.push(Shape::from([a, b, d]));
+            shapes.push(Shape::from([a, d, c]));
         }
     }
     let n = shapes.len();
@@ -967,14 +966,14 @@ fn copied_triangles_change_no_pixel() {
     copied.shapes.clear();
     copied.colors_mut().clear();
     for (shape, colour) in plain.shapes.iter().zip(plain.colors()) {
-        let raylab::geometry::Shape::Triangle([a, b, c]) = *shape else {
+        let raylab::geometry::Shape::Triangle(Triangle([a, b, c])) = *shape else {
             unreachable!("the box is triangles")
         };
         let negated_zero = |p: [f32; 3]| p.map(|x| if x == 0.0 { -0.0 } else { x });
         let exact = [a, b, c];
         let signed = exact.map(negated_zero);
         for copy in [exact, exact, signed, [b, c, a], [negated_zero(a), c, b]] {
-            copied.shapes.push(raylab::geometry::Shape::Triangle(copy));
+            copied.shapes.push(raylab::geometry::Shape::from(copy));
             copied.colors_mut().push(*colour);
         }
     }
@@ -1028,8 +1027,8 @@ fn framed_cube(scale: f32, w: u32, h: u32) -> (Scene, Camera) {
     let mut shapes = Vec::new();
     for q in quads {
         let [a, b, c, d] = q.map(corner);
-        shapes.push(raylab::geometry::Shape::Triangle([a, b, c]));
-        shapes.push(raylab::geometry::Shape::Triangle([a, c, d]));
+        shapes.push(raylab::geometry::Shape::from([a, b, c]));
+        shapes.push(raylab::geometry::Shape::from([a, c, d]));
     }
     let n = shapes.len();
     let dark = raylab::scene::PointLight {
@@ -1144,7 +1143,8 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
                 );
             }
             // x = A⁻¹b solves the system, and its t is the hit's.
-            let ShapeTerms::Triangle { a, b, x } = hit.terms else {
+            let ShapeTerms::Triangle(raylab::geometry::triangle::Terms { a, b, x }) = hit.terms
+            else {
                 panic!("the box is triangles")
             };
             for r in 0..3 {
@@ -1240,9 +1240,11 @@ fn every_simd_build_renders_the_same_bytes() {
 #[test]
 fn coincident_spheres_are_kept_once_and_render_as_one() {
     use raylab::geometry::Shape;
-    let sphere = |r: f32| Shape::Sphere {
-        centre: [0.0, 0.0, 0.0],
-        radius: r,
+    let sphere = |r: f32| {
+        Shape::Sphere(Sphere {
+            centre: [0.0, 0.0, 0.0],
+            radius: r,
+        })
     };
     let light = raylab::scene::PointLight {
         position: [0.0, -3.0, -3.0],
@@ -1258,10 +1260,10 @@ fn coincident_spheres_are_kept_once_and_render_as_one() {
     // The same sphere twice more (another colour: the lower index shows), -0 for 0 in one,
     // and a sphere an ulp larger, which is another sphere and stays.
     let mut shapes = vec![sphere(1.0), sphere(1.0)];
-    shapes.push(Shape::Sphere {
+    shapes.push(Shape::Sphere(Sphere {
         centre: [-0.0, 0.0, 0.0],
         radius: 1.0,
-    });
+    }));
     let colors = vec![[0.8, 0.2, 0.2], [0.1, 0.9, 0.1], [0.1, 0.1, 0.9]];
     let copies = Scene::new("copies", shapes, colors, light, [0.1; 3]);
     let mut other = copies.clone();

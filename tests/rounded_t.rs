@@ -14,7 +14,7 @@ mod common;
 use common::suite::{exact_nearest, round_q, Bits, Family, RefT, Q};
 use common::Rng;
 use raylab::accel::AccelChoice;
-use raylab::geometry::{adaptive, Method, Ray, Shape};
+use raylab::geometry::{adaptive, Method, Ray, Shape, Sphere, Triangle};
 use raylab::math::Real;
 use raylab::tracefile::{self, Query, TraceRay};
 
@@ -51,7 +51,7 @@ fn grazing<T: Real>(seed: u64) -> Family<T> {
         // Far apart, so each ray meets its own triangle only.
         let offset = [i as f64 * 10.0, 0.0, 0.0];
         let tri = tri.map(|p| [0, 1, 2].map(|k| T::of(p[k].f64() + offset[k])));
-        shapes.push(Shape::Triangle(tri));
+        shapes.push(Shape::from(tri));
         let v = tri.map(|p| p.map(Real::f64));
         for _ in 0..20 {
             let (b1, b2) = (rng.range(0.05, 0.45), rng.range(0.05, 0.45));
@@ -106,7 +106,7 @@ fn grazing_exact<T: Real>(seed: u64) -> Family<T> {
         if !v.iter().all(|p| exact(p[0] + offset)) || !exact(o[0] + offset) {
             continue;
         }
-        shapes.push(Shape::Triangle(v.map(place)));
+        shapes.push(Shape::from(v.map(place)));
         rays.push(Ray::new(place(o), d.map(T::of)));
     }
     Family::new("grazing, exact t", shapes, rays)
@@ -123,7 +123,7 @@ fn near_sphere<T: Real>(seed: u64) -> Family<T> {
     for (i, &r) in radii.iter().enumerate() {
         let centre = [i as f64 * 1e8, rng.range(-5.0, 5.0), 0.0].map(T::of);
         let radius = T::of(r);
-        shapes.push(Shape::Sphere { centre, radius });
+        shapes.push(Shape::Sphere(Sphere { centre, radius }));
         let (c, r) = (centre.map(Real::f64), radius.f64());
         for _ in 0..30 {
             let u = unit(&mut rng);
@@ -147,10 +147,10 @@ fn near_sphere<T: Real>(seed: u64) -> Family<T> {
         }
     }
     // A worked example.
-    shapes.push(Shape::Sphere {
+    shapes.push(Shape::Sphere(Sphere {
         centre: [0.0; 3].map(T::of),
         radius: T::of(12_345_677.0),
-    });
+    }));
     rays.push(Ray::new(
         [12_345_677.0, 1.0, 0.0].map(T::of),
         [-1.0, 0.0, 0.0].map(T::of),
@@ -167,11 +167,11 @@ fn scaled<T: Real>(f: &Family<T>, k: i32, with_direction: bool) -> Family<T> {
         .shapes
         .iter()
         .map(|sh| match sh {
-            Shape::Triangle(v) => Shape::Triangle(v.map(|p| p.map(s))),
-            Shape::Sphere { centre, radius } => Shape::Sphere {
+            Shape::Triangle(Triangle(v)) => Shape::from(v.map(|p| p.map(s))),
+            Shape::Sphere(Sphere { centre, radius }) => Shape::Sphere(Sphere {
                 centre: centre.map(s),
                 radius: s(*radius),
-            },
+            }),
         })
         .collect();
     let rays = f
@@ -208,8 +208,8 @@ fn families<T: Real>(base: Vec<Family<T>>, scales: &[i32]) -> Vec<Family<T>> {
     all.extend(base);
     all.retain(|f| {
         f.shapes.iter().all(|s| match s {
-            Shape::Triangle(v) => v.iter().flatten().all(|x| x.is_finite()),
-            Shape::Sphere { centre, radius } => {
+            Shape::Triangle(Triangle(v)) => v.iter().flatten().all(|x| x.is_finite()),
+            Shape::Sphere(Sphere { centre, radius }) => {
                 centre.iter().all(|x| x.is_finite()) && radius.is_finite() && *radius > T::zero()
             }
         })

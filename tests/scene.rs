@@ -87,7 +87,7 @@ fn cornell_box_is_the_labs_30_triangles_bit_for_bit() {
         .zip(scene.shapes.iter().zip(scene.colors()))
         .enumerate()
     {
-        assert_eq!(*shape, Shape::Triangle(*tri), "triangle {k}");
+        assert_eq!(*shape, Shape::from(*tri), "triangle {k}");
         assert_eq!(scene_col, col, "colour of triangle {k}");
     }
     assert_eq!(scene.light.position, [0.0, -0.5, -0.7]);
@@ -127,7 +127,7 @@ fn obj_polygons_are_triangulated_and_colours_read() {
     );
     assert_eq!(
         scene.shapes[3],
-        Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+        Shape::from([[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
     );
 }
 
@@ -175,11 +175,11 @@ fn y_up_models_are_turned_into_the_lab_frame() {
         raylab::scene::load_obj_str("t.obj", obj, raylab::scene::ObjFrame::YUp, no_mtl).unwrap();
     assert_eq!(
         lab.shapes[0],
-        Shape::Triangle([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 10.0]])
+        Shape::from([[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 10.0]])
     );
     assert_eq!(
         yup.shapes[0],
-        Shape::Triangle([[-1.0, -2.0, 3.0], [-4.0, -5.0, 6.0], [-7.0, -8.0, 10.0]])
+        Shape::from([[-1.0, -2.0, 3.0], [-4.0, -5.0, 6.0], [-7.0, -8.0, 10.0]])
     );
 }
 
@@ -217,13 +217,10 @@ fn obj_whitespace_comments_weights_and_negative_indices() {
     assert_eq!(scene.len(), 2);
     assert_eq!(
         scene.shapes[0],
-        Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+        Shape::from([[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     );
     let w = [0.1f64, 0.2, 0.3].map(|c| (c as f32 as f64 / 0.7f32 as f64) as f32);
-    assert_eq!(
-        scene.shapes[1],
-        Shape::Triangle([[0.0; 3], [1.0, 0.0, 0.0], w])
-    );
+    assert_eq!(scene.shapes[1], Shape::from([[0.0; 3], [1.0, 0.0, 0.0], w]));
     assert_eq!(scene.colors(), vec![[1.0, 0.0, 0.0]; 2]);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }

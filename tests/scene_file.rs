@@ -2,7 +2,7 @@
 //! exactly, exact quarter turns, spheres under scales, every error with its line, meshes
 //! relative to the file, and the `trace` files of before meaning what they meant.
 
-use raylab::geometry::Shape;
+use raylab::geometry::{Shape, Sphere, Triangle};
 use raylab::scene::file::{parse, Description, FileError, SceneCamera};
 use raylab::scene::ObjFrame;
 use raylab::Scene;
@@ -18,14 +18,14 @@ fn parse32(text: &str) -> Result<Description<f32>, FileError> {
 
 fn tri(d: &Description<f32>, i: usize) -> [[f32; 3]; 3] {
     match d.shapes[i] {
-        Shape::Triangle(v) => v,
-        Shape::Sphere { .. } => panic!("primitive {i} is a sphere"),
+        Shape::Triangle(Triangle(v)) => v,
+        Shape::Sphere(_) => panic!("primitive {i} is a sphere"),
     }
 }
 
 fn sphere(d: &Description<f32>, i: usize) -> ([f32; 3], f32) {
     match d.shapes[i] {
-        Shape::Sphere { centre, radius } => (centre, radius),
+        Shape::Sphere(Sphere { centre, radius }) => (centre, radius),
         Shape::Triangle(_) => panic!("primitive {i} is a triangle"),
     }
 }
@@ -261,10 +261,10 @@ fn trace_files_read_their_numbers_straight_in_the_precision() {
     .unwrap();
     assert_eq!(
         d64.shapes[0],
-        Shape::Sphere {
+        Shape::Sphere(Sphere {
             centre: [0.0, 0.0, x.parse::<f64>().unwrap()],
             radius: 1.0
-        }
+        })
     );
 }
 
@@ -288,12 +288,12 @@ fn meshes_load_relative_to_the_file_in_the_current_frame_and_colour() {
     assert_eq!(scene.len(), 4);
     assert_eq!(
         scene.shapes[0],
-        Shape::Triangle([[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]])
+        Shape::from([[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]])
     );
     // yup negates x and y.
     assert_eq!(
         scene.shapes[2],
-        Shape::Triangle([[-0.0, -0.0, 0.0], [-1.0, -0.0, 0.0], [-0.0, -1.0, 0.0]])
+        Shape::from([[-0.0, -0.0, 0.0], [-1.0, -0.0, 0.0], [-0.0, -1.0, 0.0]])
     );
     assert!(
         scene.colors().iter().all(|c| *c == [0.2, 0.4, 0.6]),
@@ -328,10 +328,10 @@ fn the_example_scenes_load() {
         "cornell brings the lab camera"
     );
     assert_eq!(spheres.shapes[31], {
-        Shape::Sphere {
+        Shape::Sphere(Sphere {
             centre: [-0.5, 0.7, -0.5],
             radius: 0.3,
-        }
+        })
     });
     let stack = raylab::scene::load_scene_file(&dir.join("transform_stack.scene")).unwrap();
     assert_eq!(stack.len(), 2 + 3 * 12 + 1);
@@ -353,7 +353,7 @@ fn a_sphere_keeps_its_radius_under_any_uniform_scale_f64_holds() {
         let d = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes)
             .unwrap_or_else(|e| panic!("2^{s}: {e}"));
         match d.shapes[0] {
-            Shape::Sphere { centre, radius } => {
+            Shape::Sphere(Sphere { centre, radius }) => {
                 assert_eq!((centre, radius), ([0.0; 3], 1.0), "2^{s}");
             }
             _ => panic!("not a sphere"),
@@ -438,7 +438,7 @@ fn transformed_coordinates_are_rounded_to_f64_then_to_f32() {
     assert_eq!(tri(&parse32(&text).unwrap(), 0)[0][0], 1.0);
     // f64 (`raylab trace --precision f64`) keeps the f64 sum.
     let d = parse::<f64>("t.scene", &text, Path::new(""), &no_meshes).unwrap();
-    let Shape::Triangle(v) = d.shapes[0] else {
+    let Shape::Triangle(Triangle(v)) = d.shapes[0] else {
         panic!("a triangle")
     };
     assert_eq!(v[0][0], 1.0 + 2f64.powi(-24));

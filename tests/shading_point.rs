@@ -9,7 +9,7 @@ mod common;
 use common::suite::{self, cross, dot, exact_nearest, q, sub, RefT, Q};
 use num_traits::{Signed, Zero};
 use raylab::accel;
-use raylab::geometry::{Hit, Method, Ray, Shape};
+use raylab::geometry::{Hit, Method, Ray, Shape, Sphere, Triangle};
 use raylab::render::shade::{shading_point, Lit};
 use raylab::scene::{cornell, Scene};
 use std::cmp::Ordering;
@@ -66,12 +66,12 @@ fn box_meets_sphere(centre: &[Q; 3], r: &Q, p: &[Q; 3], e: &[Q; 3]) -> bool {
 /// triangle, of |x − c|² − r² for a sphere.
 fn side(shape: &Shape, x: &[Q; 3]) -> Ordering {
     let value = match shape {
-        Shape::Triangle(v) => {
+        Shape::Triangle(Triangle(v)) => {
             let v = v.map(exact);
             let n = cross(&sub(&v[1], &v[0]), &sub(&v[2], &v[0]));
             dot(&n, &sub(x, &v[0]))
         }
-        Shape::Sphere { centre, radius } => {
+        Shape::Sphere(Sphere { centre, radius }) => {
             let rel = sub(x, &exact(*centre));
             dot(&rel, &rel) - q(*radius) * q(*radius)
         }
@@ -136,12 +136,12 @@ fn check_family(family: &suite::Family, tally: &mut Tally) {
         // The box p ± p_error meets the exact surface.
         let e = exact(sp.p_error);
         let meets = match shape {
-            Shape::Triangle(v) => {
+            Shape::Triangle(Triangle(v)) => {
                 let v = v.map(exact);
                 let n = cross(&sub(&v[1], &v[0]), &sub(&v[2], &v[0]));
                 box_meets_plane(&n, &v[0], &p, &e)
             }
-            Shape::Sphere { centre, radius } => {
+            Shape::Sphere(Sphere { centre, radius }) => {
                 box_meets_sphere(&exact(centre), &q(radius), &p, &e)
             }
         };
@@ -176,7 +176,7 @@ fn check_family(family: &suite::Family, tally: &mut Tally) {
                 tally.self_blocked += 1;
                 let blocked = accel::any_hit(&family.shapes, &shadow, Method::Adaptive, 0.0, 1.0);
                 assert!(
-                    matches!(shape, Shape::Sphere { .. }) && blocked,
+                    matches!(shape, Shape::Sphere(_)) && blocked,
                     "{}",
                     family.name
                 );
@@ -246,10 +246,10 @@ fn a_sphere_seen_from_inside_is_shadowed_by_itself_from_a_light_outside() {
     use raylab::scene::PointLight;
     let scene = Scene::new(
         "inside",
-        vec![Shape::Sphere {
+        vec![Shape::Sphere(Sphere {
             centre: [0.0; 3],
             radius: 10.0,
-        }],
+        })],
         vec![[0.8; 3]],
         PointLight {
             position: [0.0, 0.0, -20.0],

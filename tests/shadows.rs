@@ -4,7 +4,7 @@
 //! one pixel for pixel, at grazing light angles and with everything translated by up to 1e5.
 
 use glam::DVec3;
-use raylab::geometry::Shape;
+use raylab::geometry::{Shape, Sphere};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::PointLight;
 use raylab::{Camera, Scene};
@@ -33,8 +33,8 @@ fn floor_scene(offset: [f32; 3], light_height: f32) -> Scene {
     // A 2-triangle floor in y = 0 (y down: "above" is −y), 20 units wide.
     let p = |x: f32, z: f32| [offset[0] + x, offset[1], offset[2] + z];
     let shapes = vec![
-        Shape::Triangle([p(-10.0, -10.0), p(10.0, -10.0), p(10.0, 10.0)]),
-        Shape::Triangle([p(-10.0, -10.0), p(10.0, 10.0), p(-10.0, 10.0)]),
+        Shape::from([p(-10.0, -10.0), p(10.0, -10.0), p(10.0, 10.0)]),
+        Shape::from([p(-10.0, -10.0), p(10.0, 10.0), p(-10.0, 10.0)]),
     ];
     let light = PointLight {
         position: [offset[0] - 30.0, offset[1] - light_height, offset[2]],
@@ -78,7 +78,7 @@ fn no_acne_on_a_sphere() {
             let c = [offset, -offset, offset];
             let scene = Scene::new(
                 "sphere",
-                vec![Shape::Sphere { centre: c, radius }],
+                vec![Shape::Sphere(Sphere { centre: c, radius })],
                 vec![[0.8; 3]],
                 // Light off to the side: half the visible sphere is lit, with a grazing terminator.
                 PointLight {

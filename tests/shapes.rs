@@ -121,3 +121,41 @@ fn each_shape_s_scene_line_reads_back_as_the_same_shape() {
     assert_ne!(Triangle::<f32>::KIND, Sphere::<f32>::KIND);
     assert_eq!(ball.numbers().collect::<Vec<_>>(), [1.0, 2.0, 3.0, 0.5]);
 }
+
+#[test]
+fn the_shape_list_gives_the_parser_every_keyword_and_each_its_own_checks() {
+    let no_meshes = |p: &Path, _: ObjFrame, _: [f32; 3]| -> Result<Scene, String> {
+        Err(format!("{}: no meshes here", p.display()))
+    };
+    let keywords = [Triangle::<f32>::KEYWORD, Sphere::<f32>::KEYWORD];
+    assert_eq!(Shape::<f32>::KEYWORDS, keywords);
+    let error = (parse::<f32>("t.scene", "cone 0 0 0 1", Path::new(""), &no_meshes).unwrap_err())
+        .to_string();
+    assert!(error.contains("expected tri, sphere, mesh"), "{error}");
+    // Each shape reads its own numbers, through the transform stack's current frame.
+    let cases = [
+        ("tri 0 0 0 1 0 0", "t.scene:1: tri needs 9 numbers, found 6"),
+        ("sphere 0 0 0 -1", "t.scene:1: sphere radius -1 must be > 0"),
+        (
+            "scale 1 2 1\nsphere 0 0 0 1",
+            "t.scene:2: a sphere under a non-uniform scale",
+        ),
+        (
+            "sphere 0 0 0 1e39",
+            "t.scene:1: sphere radius 1e39 is inf in the world",
+        ),
+    ];
+    for (text, want) in cases {
+        let error =
+            (parse::<f32>("t.scene", text, Path::new(""), &no_meshes).unwrap_err()).to_string();
+        assert!(error.starts_with(want), "{text}: {error}");
+    }
+    let d = parse::<f32>(
+        "t.scene",
+        "translate 1 0 0\nscale 2 2 2\nsphere 1 0 0 0.25",
+        Path::new(""),
+        &no_meshes,
+    )
+    .unwrap();
+    assert_eq!(d.shapes, [Shape::sphere([3.0, 0.0, 0.0], 0.5)]);
+}

@@ -10,14 +10,14 @@ use raylab::accel::{AccelChoice, FrameSetup, TileScratch, NO_HIT};
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::{closest_hit_reference, Estimate};
 use raylab::geometry::sphere::DirectionsX4;
-use raylab::geometry::{sphere, Method, Ray, Shape};
+use raylab::geometry::{sphere, Method, Ray, Shape, Sphere};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::Scene;
 use std::cmp::Ordering;
 use wide::{f32x8, f64x4};
 
 fn sphere(centre: [f32; 3], radius: f32) -> Shape<f32> {
-    Shape::Sphere { centre, radius }
+    Shape::Sphere(Sphere { centre, radius })
 }
 
 /// The Cornell box with `spheres` added (primitives 30 on).

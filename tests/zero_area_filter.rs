@@ -6,7 +6,7 @@
 use raylab::geometry::adaptive::levels::{self, Event};
 use raylab::geometry::exact::{orient_rational, two_sum};
 use raylab::geometry::triangle::{self, zero_area};
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape, Triangle};
 use raylab::scene::ObjFrame;
 use std::cmp::Ordering;
 use std::path::Path;
@@ -69,7 +69,7 @@ fn triangles_with_area_are_decided_by_the_filter_and_zero_area_exactly() {
         raylab::scene::file::parse::<f64>("stack.scene", &text, Path::new(""), &no_meshes).unwrap();
     assert!(d.warnings.is_empty(), "{:?}", d.warnings);
     let shapes = d.shapes;
-    let Shape::Triangle(v) = shapes[0] else {
+    let Shape::Triangle(Triangle(v)) = shapes[0] else {
         panic!("a triangle")
     };
     assert_ne!(two_sum(v[1][0], -v[0][0]).1, 0.0, "an inexact difference");
@@ -78,7 +78,7 @@ fn triangles_with_area_are_decided_by_the_filter_and_zero_area_exactly() {
         let o = [next(&mut seed) - 0.5, next(&mut seed) - 0.5, -5.0];
         let ray = Ray::new(o, [0.0, 0.0, 1.0]);
         for s in &shapes {
-            let Shape::Triangle(v) = s else {
+            let Shape::Triangle(Triangle(v)) = s else {
                 panic!("triangles")
             };
             let plain = triangle::moller(ray.o, ray.d, v, 0.0, f64::INFINITY);

@@ -5,6 +5,7 @@ mod common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use common::read_png;
+use raylab::geometry::Triangle;
 use std::path::Path;
 use std::process::Command;
 
@@ -521,7 +522,9 @@ fn aovs_say_what_each_pixel_saw() {
         let colour = prim.get(k).and_then(|p| scene.colors().get(*p as usize));
         let expect = colour.map_or([0, 0, 0], |c| c.map(raylab::render::linear_to_srgb8));
         assert_eq!(&png[4 * k..4 * k + 3], &expect, "pixel {k}");
-        let Some(raylab::geometry::Shape::Triangle(v)) = scene.shapes.get(prim[k] as usize) else {
+        let Some(raylab::geometry::Shape::Triangle(Triangle(v))) =
+            scene.shapes.get(prim[k] as usize)
+        else {
             assert!(prim[k] == u32::MAX && t[k].is_nan());
             continue;
         };

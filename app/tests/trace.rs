@@ -6,6 +6,7 @@
 mod common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
+use raylab::geometry::{Sphere, Triangle};
 use std::path::Path;
 
 crate::raylab_runner!();
@@ -174,14 +175,14 @@ fn trace_answers_through_every_per_ray_path_alike() {
     use raylab::geometry::Shape;
     let dir = tempfile::tempdir().unwrap();
     let mut shapes = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
-    shapes.push(Shape::Sphere {
+    shapes.push(Shape::Sphere(Sphere {
         centre: [0.0, 0.0, 0.0],
         radius: 0.25,
-    });
-    shapes.push(Shape::Sphere {
+    }));
+    shapes.push(Shape::Sphere(Sphere {
         centre: [1.5, 0.0, 0.0],
         radius: 0.5,
-    });
+    }));
     let scene = common::scene_text(&shapes);
     let mut rays = String::new();
     for o in [
@@ -240,7 +241,7 @@ fn trace_answers_through_instances_as_the_reference_loop() {
     let cube = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
     let mut obj = String::new();
     for (i, s) in cube.iter().enumerate() {
-        let Shape::Triangle(v) = s else {
+        let Shape::Triangle(Triangle(v)) = s else {
             unreachable!()
         };
         for p in v {
@@ -318,7 +319,7 @@ fn trace_packets_answer_as_the_reference_loop() {
     let cube = common::cube(4, 1.0, [-0.5, -0.5, -0.5]);
     let mut text = String::new();
     for s in &cube {
-        let Shape::Triangle(v) = s else {
+        let Shape::Triangle(Triangle(v)) = s else {
             unreachable!()
         };
         let nums: Vec<String> = v.iter().flatten().map(|x| x.to_string()).collect();

@@ -8,7 +8,7 @@
 //! the nearest wins, and on a tie the lower index.
 
 use glam::{Mat4, Vec3};
-use raylab::geometry::Shape;
+use raylab::geometry::{Shape, Sphere, Triangle};
 
 /// A ray o + t·d.
 #[derive(Clone, Copy, Debug)]
@@ -89,8 +89,10 @@ pub fn closest_hit(shapes: &[Shape], ray: &Ray, tmin: f32, tmax: f32) -> Option<
     let mut nearest: Option<Hit> = None;
     for (index, shape) in shapes.iter().enumerate() {
         let found = match *shape {
-            Shape::Triangle([v0, v1, v2]) => ray_triangle(ray, v0.into(), v1.into(), v2.into()),
-            Shape::Sphere { centre, radius } => {
+            Shape::Triangle(Triangle([v0, v1, v2])) => {
+                ray_triangle(ray, v0.into(), v1.into(), v2.into())
+            }
+            Shape::Sphere(Sphere { centre, radius }) => {
                 ray_sphere(ray, centre.into(), radius, tmin).map(|t| (t, 0.0, 0.0))
             }
         };

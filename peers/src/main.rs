@@ -56,7 +56,7 @@ use obvhs::ray::{Ray as ORay, RayHit};
 use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
 use raylab::geometry::adaptive::closest_hit_reference;
-use raylab::geometry::{Method, Ray, Shape};
+use raylab::geometry::{Method, Ray, Shape, Sphere};
 use raylab::math::simd::{self, SimdLevel};
 use raylab::render::{render_into, LabStep, RenderSettings, Stage};
 use raylab::Scene;
@@ -202,7 +202,7 @@ fn per_ray(
 fn lecture_closest(tris: &[[[f32; 3]; 3]], ray: &Ray) -> Option<u32> {
     let mut best = (f32::INFINITY, None);
     for (i, v) in tris.iter().enumerate() {
-        if let Some((t, _, _)) = Shape::Triangle(*v).intersect(ray, Method::Cramer, 0.0, best.0) {
+        if let Some((t, _, _)) = Shape::from(*v).intersect(ray, Method::Cramer, 0.0, best.0) {
             best = (t, Some(i as u32));
         }
     }
@@ -334,8 +334,8 @@ fn run_bench<'a>(
     if bench.icospheres.is_some() {
         for (shape, prim) in bench.scene.explicit_with_prims() {
             match shape {
-                Shape::Triangle(v) => loose_tris.push((v, prim)),
-                Shape::Sphere { centre, radius } => {
+                Shape::Triangle(raylab::geometry::Triangle(v)) => loose_tris.push((v, prim)),
+                Shape::Sphere(Sphere { centre, radius }) => {
                     balls.push(([centre[0], centre[1], centre[2], radius], prim))
                 }
             }

@@ -5,7 +5,7 @@ use crate::spheres;
 use anyhow::{anyhow, Context as _};
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
-use raylab::geometry::Shape;
+use raylab::geometry::{Shape, Triangle};
 use raylab::scene::Mesh;
 use raylab::Scene;
 use std::path::Path;
@@ -61,8 +61,8 @@ impl Instanced {
             .collect();
         let loose = (scene.explicit_with_prims().into_iter())
             .filter_map(|(shape, prim)| match shape {
-                Shape::Triangle(v) => Some((v, prim)),
-                Shape::Sphere { .. } => None,
+                Shape::Triangle(Triangle(v)) => Some((v, prim)),
+                Shape::Sphere(_) => None,
             })
             .collect();
         Some(Instanced {
@@ -116,8 +116,8 @@ pub fn load_benches(only: &[String], write: Option<&Path>) -> anyhow::Result<Vec
                 .shapes
                 .iter()
                 .filter_map(|s| match s {
-                    Shape::Triangle(v) => Some(*v),
-                    Shape::Sphere { .. } => None,
+                    Shape::Triangle(Triangle(v)) => Some(*v),
+                    Shape::Sphere(_) => None,
                 })
                 .collect(),
         };

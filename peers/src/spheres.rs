@@ -241,7 +241,7 @@ pub fn seen(scene: &Scene, (w, h): (u32, u32), reference: &[Option<u32>]) -> Str
     let (mut on_balls, mut on_floor) = (0usize, 0usize);
     for &p in reference.iter().flatten() {
         match scene.shape(p) {
-            Shape::Sphere { .. } => {
+            Shape::Sphere(_) => {
                 on_balls += 1;
                 balls[p as usize] = true;
             }

@@ -233,7 +233,7 @@ mod tests {
             f32x8::splat(-0.1),
             f32x8::splat(1.0),
         ];
-        let in_order = InOrder(vec![(Shape::Triangle(v), 0)]);
+        let in_order = InOrder(vec![(Shape::from(v), 0)]);
         let flat = FlatLoop::new(&[(v, 0)]);
         let o = [0.0; 3];
 

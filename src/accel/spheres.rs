@@ -56,36 +56,9 @@ pub(crate) struct Spheres {
     loose: Vec<(Shape<f32>, u32)>,
 }
 
-/// The largest f32 at or below `a - b` (`a`, `b` finite f32): the f64 difference is exact
-/// unless the two are 2²⁹ apart, and then its rounding is caught by the exact error term.
-fn lower(a: f32, b: f32) -> f32 {
-    let (a, b) = (f64::from(a), f64::from(b));
-    let s = a - b;
-    // Knuth's two-sum: s + e = a - b exactly.
-    let bb = s - a;
-    let e = (a - (s - bb)) + (-b - bb);
-    let r = round_down(s);
-    match e < 0.0 && f64::from(r) == s {
-        true => r.next_down(),
-        false => r,
-    }
-}
-
-/// The smallest f32 at or above `a + b`.
-fn upper(a: f32, b: f32) -> f32 {
-    -lower(-a, b)
-}
-
-/// A shape's box rounded outwards to f32 (`None` where it is not finite).
+/// A shape's box rounded outwards to f32 ([`Shape::box_f32`]; `None` where it is not finite).
 fn outward(shape: &Shape<f32>) -> Option<([f32; 3], [f32; 3])> {
-    let (lo, hi) = match *shape {
-        Shape::Sphere { centre, radius } => (
-            each3(|k| lower(centre[k], radius)),
-            each3(|k| upper(centre[k], radius)),
-        ),
-        // (A triangle's box is exact in f32.)
-        Shape::Triangle(_) => shape.bounds(),
-    };
+    let (lo, hi) = shape.box_f32();
     let finite = lo.iter().chain(&hi).all(|c| c.is_finite());
     (finite && (0..3).all(|k| lo[k] <= hi[k])).then_some((lo, hi))
 }
@@ -254,7 +227,7 @@ impl Spheres {
             o,
             from: (self.shapes.par_iter())
                 .with_min_len(256)
-                .map(|(s, _)| widen(s).sphere_from_origin(o64))
+                .map(|(s, _)| s.seen_from(o64))
                 .collect(),
         }
     }
@@ -524,47 +497,5 @@ fn block_body(spheres: &Spheres, seen: &SpheresSeen, s: &super::ShadowSegments) 
     SphereLanes {
         blocked,
         unsure: state.unsure & s.live & !blocked,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{lower, upper};
-    use num_rational::BigRational;
-
-    fn exact(x: f32) -> BigRational {
-        BigRational::from_float(x).expect("finite")
-    }
-
-    #[test]
-    fn box_sides_are_the_nearest_f32_outside_the_exact_sphere() {
-        // Centres and radii from 2⁻⁴⁰ to 2⁴⁰, of both signs, equal, and 2³⁰ apart (where the
-        // f64 difference itself rounds): each side is at or beyond c ∓ r exactly, and the next
-        // f32 inwards is not.
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || crate::xorshift(&mut x);
-        for i in 0..20_000 {
-            let value = |bits: u64| {
-                let e = (bits % 81) as i32 - 40;
-                let m = 1.0 + (bits >> 8) as f64 / (1u64 << 56) as f64;
-                (m * 2f64.powi(e)) as f32
-            };
-            let c = value(next()) * if next() % 2 == 0 { 1.0 } else { -1.0 };
-            let r = match i % 4 {
-                0 => c.abs(),
-                1 => c.abs() * 2f32.powi(-30),
-                _ => value(next()),
-            };
-            let (lo, hi) = (lower(c, r), upper(c, r));
-            let (want_lo, want_hi) = (exact(c) - exact(r), exact(c) + exact(r));
-            assert!(
-                exact(lo) <= want_lo && exact(lo.next_up()) > want_lo,
-                "{c} - {r}: {lo}"
-            );
-            assert!(
-                exact(hi) >= want_hi && exact(hi.next_down()) < want_hi,
-                "{c} + {r}: {hi}"
-            );
-        }
     }
 }

@@ -11,7 +11,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 pub use raylab::check::suite::*;
-use raylab::geometry::{Ray, Shape};
+use raylab::geometry::{Ray, Shape, Sphere, Triangle};
 use raylab::math::Real;
 use std::cmp::Ordering;
 
@@ -171,7 +171,7 @@ pub fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
 /// Exact t of the ray on one primitive with tmin < t (nearest root for a sphere).
 pub fn exact_t<T: Real>(shape: &Shape<T>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<RefT> {
     match shape {
-        Shape::Triangle(v) => {
+        Shape::Triangle(Triangle(v)) => {
             let v = v.map(|p| p.map(qr));
             let e1 = sub(&v[1], &v[0]);
             let e2 = sub(&v[2], &v[0]);
@@ -188,7 +188,7 @@ pub fn exact_t<T: Real>(shape: &Shape<T>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> O
             let inside = !b1.is_negative() && !b2.is_negative() && &b1 + &b2 <= Q::one();
             (inside && &t > tmin).then_some(RefT::Exact(t))
         }
-        Shape::Sphere { centre, radius } => {
+        Shape::Sphere(Sphere { centre, radius }) => {
             let f = sub(o, &centre.map(qr));
             let r = qr(*radius);
             let a = dot(d, d);

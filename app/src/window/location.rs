@@ -6,7 +6,7 @@
 //! within rounding of it.
 
 use raylab::geometry::exact::{orient, orient_rational, two_sum};
-use raylab::geometry::{Ray, Shape};
+use raylab::geometry::{Ray, Shape, Sphere, Triangle};
 use std::cmp::Ordering;
 use std::fmt;
 
@@ -57,8 +57,10 @@ fn side_f64(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
 pub fn locate(shape: &Shape, ray: &Ray) -> Location {
     let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
     match shape {
-        Shape::Triangle(v) => triangle(&v.map(|p| p.map(f64::from)), o, d),
-        Shape::Sphere { centre, radius } => sphere(centre.map(f64::from), *radius as f64, o, d),
+        Shape::Triangle(Triangle(v)) => triangle(&v.map(|p| p.map(f64::from)), o, d),
+        Shape::Sphere(Sphere { centre, radius }) => {
+            sphere(centre.map(f64::from), *radius as f64, o, d)
+        }
     }
 }
 
@@ -201,7 +203,7 @@ mod tests {
 
     #[test]
     fn inside_on_an_edge_at_a_vertex_and_outside_are_told_apart_exactly() {
-        let tri = Shape::Triangle([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]);
+        let tri = Shape::from([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]);
         let at = |x: f32, y: f32| locate(&tri, &ray([x, y, 0.0], [0.0, 0.0, 1.0]));
         assert!(matches!(at(0.25, 0.25), Location::Inside { .. }));
         assert_eq!(at(0.5, 0.0), Location::Edge(0));

@@ -82,7 +82,7 @@ impl Search {
     #[inline]
     pub fn offer_triangle(&mut self, prim: u32, tri: &[[f32; 3]; 3], mut est: Estimate) {
         if let Some(n) = &mut self.slow {
-            n.offer(prim, widen(&Shape::Triangle(*tri)), est);
+            n.offer(prim, widen(&Shape::from(*tri)), est);
             return;
         }
         while let Estimate::Hit(a) = est {
@@ -127,8 +127,7 @@ impl Search {
             est = precise_f32(self.ray.o, self.ray.d, tri);
         }
         if est != Estimate::Miss {
-            self.go_slow()
-                .offer(prim, widen(&Shape::Triangle(*tri)), est);
+            self.go_slow().offer(prim, widen(&Shape::from(*tri)), est);
         }
     }
 
@@ -141,11 +140,7 @@ impl Search {
         if self.slow.is_none() {
             let mut n = Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32);
             if let Some(b) = self.fast.take() {
-                n.offer(
-                    b.prim,
-                    widen(&Shape::Triangle(b.tri)),
-                    Estimate::Hit(b.approx),
-                );
+                n.offer(b.prim, widen(&Shape::from(b.tri)), Estimate::Hit(b.approx));
             }
             self.slow = Some(Box::new(n));
         }
@@ -175,7 +170,7 @@ impl Search {
             Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => true,
             Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => false,
             _ => Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32)
-                .confirms(widen(&Shape::Triangle(*tri)), est),
+                .confirms(widen(&Shape::from(*tri)), est),
         }
     }
 }

@@ -55,7 +55,7 @@ fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
     ];
     let o = [0.4116266369819641, 0.25, 0.5558527708053589];
     let d = [1.3019471168518066, 0.0, 1.758124589920044];
-    let tri32 = Shape::Triangle(v.map(|p| p.map(|x| x as f32)));
+    let tri32 = Shape::from(v.map(|p| p.map(|x| x as f32)));
     let ray32 = Ray::new(o.map(|x| x as f32), d.map(|x| x as f32));
     assert_eq!(rounded_t(&tri32, &ray32, 0.0, f32::INFINITY), Some(0.25));
     // A plain ray: decided by the f64 bound, equal to the exact rounding.
@@ -67,7 +67,7 @@ fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
     assert_eq!((t - err) as f32, (t + err) as f32);
     let exact: f32 = exact::plane_t(o, d, &wide).unwrap().rounded();
     assert_eq!(
-        rounded_t(&Shape::Triangle(tri), &ray, 0.0, f32::INFINITY),
+        rounded_t(&Shape::from(tri), &ray, 0.0, f32::INFINITY),
         Some(exact)
     );
     assert_eq!(exact::plane_t_rounded::<f32>(o, d, &wide), Some(exact));

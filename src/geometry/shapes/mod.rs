@@ -1,37 +1,29 @@
 //! The primitives, one file per shape: [`triangle`] and [`sphere`]. Each implements
-//! [`Primitive`], everything the rest of the crate asks of a shape; [`Shape`], the enum a
-//! scene holds them in, hands each question to them in one place (`dispatch!` below), so
-//! neither the rest of `geometry` nor the renderer matches on the kind of a shape.
+//! [`Primitive`], everything the rest of the crate asks of a shape, from its tests to its
+//! scene-file line; [`Shape`], the enum a scene holds them in, and [`ShapeTerms`], the
+//! inspector's terms, are made from one list (`shapes!`, below), which also writes the one
+//! `match` that hands each question to the shape (`dispatch!`). Neither the rest of
+//! `geometry` nor the renderer nor the parser matches on the kind of a shape.
 //!
 //! # A new shape
 //!
-//! 1. **Its file**, `shapes/<name>.rs` (and `mod <name>;` here): a struct of its numbers, its
-//!    own ray tests (plain f32/f64, the adaptive method's levels) and `impl Primitive<T>`.
-//!    The compiler lists every answer still missing; none has a default.
-//! 2. **Its variants, in this file**: in [`Shape`], with its arm in `dispatch!` and in the
-//!    two downcasts [`Shape::triangle`] and [`Shape::sphere_from_origin`] (exhaustive
-//!    matches: the compiler points at each), and in [`ShapeTerms`], the inspector's terms,
-//!    with its arms in [`ShapeTerms::lines`] and [`ShapeTerms::rows`].
-//! 3. **Its keyword** in the scene-file parser (`scene/file/parser.rs`), reading the line
-//!    [`Shape::scene_line`] writes from [`Primitive::KEYWORD`] and [`Primitive::numbers`].
+//! 1. **Its file**, `shapes/<name>.rs`: a struct of its numbers, its own ray tests (plain
+//!    f32/f64, the adaptive method's levels), `impl Primitive<T>` (the compiler lists every
+//!    answer still missing: none has a default; its scene line is [`Primitive::KEYWORD`] and
+//!    [`Primitive::read`]) and `pub struct Terms`, its inspector terms, with
+//!    `impl WordedTerms`.
+//! 2. **Its line in the list** below, `Name(name::Name)`: its variant of [`Shape`] and of
+//!    [`ShapeTerms`], its arm of every dispatch and its keyword in the parser.
 //!
-//! Three files, one of them new. Before, each question was a `match` of its own and a shape
-//! took eight files of the library: its file, `geometry/mod.rs`, `offset.rs` (the shading
-//! point), `terms.rs`, `adaptive/mod.rs`, `adaptive/nearest.rs`, `adaptive/rounded.rs` and the
-//! parser, several of them through silent defaults (`_ => None`, `let … else`) that compiled
-//! and answered wrongly, one by a panic in the renderer. Outside `geometry` three exhaustive
-//! matches of their own name the kinds, before as now, and the compiler points at them: the
-//! sphere hierarchy's boxes (`accel/spheres.rs`), the window's hit location
-//! (`app/src/window/location.rs`) and the lab's reference loop (`lab/src/yours.rs`).
+//! The accelerators keep triangles in their SIMD structures and every other shape in a
+//! hierarchy of its own, where a packet tests the shapes that answer
+//! [`Primitive::seen_from`] (spheres) in lanes and the rest per ray. Outside the library
+//! two exhaustive matches name the kinds and the compiler points at them: the window's exact
+//! hit location (`app/src/window/location.rs`) and the lab's reference loop, which calls a
+//! student's function per shape (`lab/src/yours.rs`).
 //!
-//! Dispatch is static: each arm copies the shape's numbers into its struct (a few floats) and
-//! calls the method, which inlines as the old `match` arms did.
-
-pub mod sphere;
-pub mod triangle;
-
-pub use sphere::Sphere;
-pub use triangle::Triangle;
+//! Dispatch is static: each arm calls the shape's method on its struct, which inlines as a
+//! hand-written `match` would.
 
 use super::adaptive::{self, Decided, Estimate};
 use super::exact::ExactT;
@@ -49,6 +41,11 @@ pub trait Primitive<T: Real>: Copy {
     /// The kind in [`Shape::key`] (distinct per shape).
     const KIND: u8;
 
+    /// The shape of a scene line's numbers `words` (after the keyword), written in the
+    /// current frame of the file's transform stack ([`SceneFrame`]): the parser's error for
+    /// a line it cannot be.
+    fn read(words: &[&str], frame: &impl SceneFrame<T>) -> Result<Self, String>;
+
     /// Its numbers in the order its scene line writes them (at most 9: [`Shape::key`]
     /// holds 9).
     fn numbers(&self) -> impl Iterator<Item = T>;
@@ -59,6 +56,20 @@ pub trait Primitive<T: Real>: Copy {
 
     /// Axis-aligned bounds (min, max).
     fn bounds(&self) -> (V3<T>, V3<T>);
+
+    /// Its box rounded outwards to f32, which the exact queries may cull by (the hierarchy of
+    /// the shapes that are not triangles).
+    fn box_f32(&self) -> ([f32; 3], [f32; 3]);
+
+    /// Its vertices, where it is a triangle: the one kind the accelerators keep in their SIMD
+    /// structures (every other shape goes to the hierarchy of the rest).
+    fn triangle(&self) -> Option<&[V3<T>; 3]>;
+
+    /// The shape seen from ray origin `o`, prepared once for every ray from there for the
+    /// packets' f64 interval test in lanes ([`sphere::FromOrigin`]); `None` where it has no
+    /// such test (a triangle: the packets prepare those; a shape the packets leave to the
+    /// per-ray search).
+    fn seen_from(&self, o: [f64; 3]) -> Option<sphere::FromOrigin>;
 
     /// Whether it keeps its index but no ray hits it (a triangle of zero area).
     fn is_degenerate(&self) -> bool;
@@ -121,58 +132,132 @@ pub trait Primitive<T: Real>: Copy {
     fn t_rounded<R: Real>(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Option<R>;
 }
 
-/// A primitive.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Shape<T: Real = f32> {
-    /// A triangle v0, v1, v2 (closed, two-sided): [`Triangle`].
-    Triangle([V3<T>; 3]),
-    /// A sphere: [`Sphere`].
-    Sphere {
-        /// Centre.
-        centre: V3<T>,
-        /// Radius (> 0).
-        radius: T,
-    },
+/// What a scene line's shape may ask of the parser: its numbers, and where the current frame
+/// of the transform stack puts the points and lengths they write.
+pub trait SceneFrame<T: Real> {
+    /// The `count` numbers of `words` (each finite, as f64), or the error naming `what`.
+    fn numbers(&self, words: &[&str], count: usize, what: &str) -> Result<Vec<f64>, String>;
+
+    /// The point written as `words[0..3]` in world coordinates: those words read straight in
+    /// `T` where the frame is the world's, else the frame's matrix applied in f64 and then
+    /// rounded to `T`.
+    fn point(&self, words: &[&str]) -> Result<V3<T>, String>;
+
+    /// The length written as `word`, in the world: read straight in `T` where the frame is
+    /// the world's, else times the frame's scale; `None` where that scale is not the same
+    /// along every axis.
+    fn length(&self, word: &str) -> Option<T>;
 }
 
-/// `dispatch!(shape, p => expr)`: `expr` with `p` the shape as its own type (a copy), for
-/// every kind of shape. The one place that turns a [`Shape`] into a [`Primitive`].
-macro_rules! dispatch {
-    ($shape:expr, $p:ident => $body:expr) => {
-        match *$shape {
-            Shape::Triangle(v) => {
-                let $p = Triangle(v);
-                $body
-            }
-            Shape::Sphere { centre, radius } => {
-                let $p = Sphere { centre, radius };
-                $body
+/// The list of shapes: `Name(module::Name)` per shape makes its module, its variant of
+/// [`Shape`] (holding its struct) and of [`ShapeTerms`] (holding its `module::Terms`), its arm
+/// of `dispatch!` and its keyword in [`Shape::read`].
+macro_rules! shapes {
+    ($d:tt $($(#[$doc:meta])* $variant:ident($module:ident::$name:ident)),+ $(,)?) => {
+        $(pub mod $module;)+
+        $(pub use $module::$name;)+
+
+        /// A primitive.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Shape<T: Real = f32> {
+            $($(#[$doc])* $variant($name<T>),)+
+        }
+
+        /// A primitive's own math for one ray, as the ray inspector shows it (`raylab
+        /// inspect`, the window's panel), in f64 from the f32 inputs: each shape computes and
+        /// words its own ([`Primitive::terms`], its `Terms` and their [`WordedTerms`]).
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum ShapeTerms {
+            $($(#[$doc])* $variant($module::Terms),)+
+        }
+
+        /// `dispatch!(shape, p => expr)`: `expr` with `p` the shape's own struct (a
+        /// reference), for every kind of shape: the one place that turns a [`Shape`] into a
+        /// [`Primitive`].
+        macro_rules! dispatch {
+            ($d shape:expr, $d p:ident => $d body:expr) => {
+                match $d shape {
+                    $(Shape::$variant($d p) => $d body,)+
+                }
+            };
+        }
+
+        /// The terms' `match`, as `dispatch!`'s.
+        macro_rules! dispatch_terms {
+            ($d terms:expr, $d p:ident => $d body:expr) => {
+                match $d terms {
+                    $(ShapeTerms::$variant($d p) => $d body,)+
+                }
+            };
+        }
+
+        impl<T: Real> Shape<T> {
+            /// Every shape's scene-file keyword, in the list's order.
+            pub const KEYWORDS: &'static [&'static str] =
+                &[$(<$name<T> as Primitive<T>>::KEYWORD),+];
+
+            /// The shape of a scene line with `keyword` and numbers `words` in `frame`
+            /// ([`Primitive::read`]); `None` where the keyword names no shape.
+            pub fn read(
+                keyword: &str,
+                words: &[&str],
+                frame: &impl SceneFrame<T>,
+            ) -> Option<Result<Self, String>> {
+                $(if keyword == <$name<T> as Primitive<T>>::KEYWORD {
+                    return Some($name::read(words, frame).map(Shape::$variant));
+                })+
+                None
             }
         }
     };
 }
 
+shapes! { $
+    /// A triangle v0, v1, v2 (closed, two-sided): [`Triangle`].
+    Triangle(triangle::Triangle),
+    /// A sphere (closed): [`Sphere`].
+    Sphere(sphere::Sphere),
+}
+
+/// How a shape's [`Terms`](triangle::Terms) are worded.
+pub trait WordedTerms {
+    /// The `name: value` lines of `raylab inspect` (every digit).
+    fn lines(&self) -> Vec<String>;
+
+    /// The window panel's (label, value) rows, vectors formatted by `v3`, other numbers to a
+    /// few digits.
+    fn rows(&self, v3: &dyn Fn([f64; 3]) -> String) -> Vec<(&'static str, String)>;
+}
+
 impl<T: Real> From<[V3<T>; 3]> for Shape<T> {
     /// The triangle of these vertices.
     fn from(v: [V3<T>; 3]) -> Self {
-        Shape::Triangle(v)
+        Shape::Triangle(Triangle(v))
     }
 }
 
 impl<T: Real> Shape<T> {
     /// A sphere (the loaders' constructor).
     pub fn sphere(centre: V3<T>, radius: T) -> Self {
-        Shape::Sphere { centre, radius }
+        Shape::Sphere(Sphere { centre, radius })
     }
 
-    /// The vertices, where this is a triangle. Triangles are the one kind the accelerators keep
-    /// in their SIMD structures; every other shape they test through [`Shape::intersect`].
+    /// The vertices, where this is a triangle ([`Primitive::triangle`]). Triangles are the
+    /// one kind the accelerators keep in their SIMD structures; every other shape they test
+    /// through [`Shape::intersect`].
     #[inline]
     pub fn triangle(&self) -> Option<&[V3<T>; 3]> {
-        match self {
-            Shape::Triangle(v) => Some(v),
-            Shape::Sphere { .. } => None,
-        }
+        dispatch!(self, p => p.triangle())
+    }
+
+    /// [`Primitive::box_f32`].
+    pub fn box_f32(&self) -> ([f32; 3], [f32; 3]) {
+        dispatch!(self, p => p.box_f32())
+    }
+
+    /// [`Primitive::seen_from`].
+    pub fn seen_from(&self, o: [f64; 3]) -> Option<sphere::FromOrigin> {
+        dispatch!(self, p => p.seen_from(o))
     }
 
     /// Whether this is a triangle ([`Shape::triangle`]).
@@ -197,7 +282,7 @@ impl<T: Real> Shape<T> {
                 .collect();
             format!("{} {}", P::KEYWORD, numbers.join(" "))
         }
-        dispatch!(self, p => line(&p))
+        dispatch!(self, p => line(p))
     }
 
     /// Whether no ray hits this primitive though it keeps its index
@@ -281,17 +366,6 @@ impl<T: Real> Shape<T> {
     }
 }
 
-impl Shape<f64> {
-    /// A sphere seen from ray origin `o`, prepared once for every ray from there
-    /// ([`sphere::FromOrigin`]); `None` for a triangle (the packets prepare those).
-    pub fn sphere_from_origin(&self, o: [f64; 3]) -> Option<sphere::FromOrigin> {
-        match *self {
-            Shape::Sphere { centre, radius } => Some(sphere::FromOrigin::new(o, centre, radius)),
-            Shape::Triangle(_) => None,
-        }
-    }
-}
-
 impl Shape<f32> {
     /// Whether `p` is outside the closed shape ([`Primitive::outside`]): `None` for a triangle
     /// (no inside), and within 10⁻⁹ relative of a sphere's surface.
@@ -322,7 +396,7 @@ impl Shape<f32> {
             }
             (P::KIND, k)
         }
-        dispatch!(self, p => key(&p))
+        dispatch!(self, p => key(p))
     }
 
     /// The geometric normal (not of unit length, in f64) where `ray` meets this shape at `t`:
@@ -337,53 +411,15 @@ impl Shape<f32> {
     }
 }
 
-/// A primitive's own math for one ray, as the ray inspector shows it (`raylab inspect`, the
-/// window's panel), in f64 from the f32 inputs. Each shape computes and words its own
-/// ([`Primitive::terms`]; the lines and rows in its file).
-#[derive(Clone, Debug, PartialEq)]
-pub enum ShapeTerms {
-    /// The lecture's linear system A·x = b for o + t·d = v₀ + u·e₁ + v·e₂: A = [−d e₁ e₂]
-    /// (rows here), b = o − v₀, x = (t, u, v) = A⁻¹·b.
-    Triangle {
-        a: [[f64; 3]; 3],
-        b: [f64; 3],
-        x: [f64; 3],
-    },
-    /// |o + t·d − c|² = r² as a·t² + b·t + c = 0 with a = d·d, b = 2·d·(o − c),
-    /// c = |o − c|² − r², and its discriminant b² − 4ac.
-    Sphere {
-        a: f64,
-        b: f64,
-        c: f64,
-        discriminant: f64,
-    },
-}
-
 impl ShapeTerms {
     /// The `name: value` lines of `raylab inspect` (every digit).
     pub fn lines(&self) -> Vec<String> {
-        match self {
-            ShapeTerms::Triangle { a, b, x } => triangle::term_lines(a, b, x),
-            ShapeTerms::Sphere {
-                a,
-                b,
-                c,
-                discriminant,
-            } => sphere::term_lines(*a, *b, *c, *discriminant),
-        }
+        dispatch_terms!(self, t => t.lines())
     }
 
-    /// The window panel's (label, value) rows, the values formatted by `v3` (triangles) or
-    /// to a few digits (spheres).
+    /// The window panel's (label, value) rows, the values formatted by `v3` (vectors) or to
+    /// a few digits (other numbers).
     pub fn rows(&self, v3: impl Fn([f64; 3]) -> String) -> Vec<(&'static str, String)> {
-        match self {
-            ShapeTerms::Triangle { a, b, x } => triangle::term_rows(a, b, x, v3),
-            ShapeTerms::Sphere {
-                a,
-                b,
-                c,
-                discriminant,
-            } => sphere::term_rows(*a, *b, *c, *discriminant),
-        }
+        dispatch_terms!(self, t => t.rows(&v3))
     }
 }

@@ -13,8 +13,8 @@
 //! surface point ([`SurfacePoint::on_sphere`]) and the rest of what a shape is asked
 //! ([`Sphere`], [`Primitive`]): one shape, one place.
 
-use super::{Primitive, Shape, ShapeTerms};
-use crate::geometry::adaptive::{self, Approx, Decided, Estimate, Feature};
+use super::{Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
+use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Feature};
 use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{Method, Ray, SurfacePoint};
@@ -331,6 +331,27 @@ impl<T: Real> Primitive<T> for Sphere<T> {
     const KEYWORD: &'static str = "sphere";
     const KIND: u8 = 1;
 
+    /// Four numbers: the centre and the radius (> 0), under a scale the same along every
+    /// axis (another would make an ellipsoid).
+    fn read(words: &[&str], frame: &impl SceneFrame<T>) -> Result<Self, String> {
+        let x = frame.numbers(words, 4, Self::KEYWORD)?;
+        if x[3] <= 0.0 {
+            return Err(format!("sphere radius {} must be > 0", words[3]));
+        }
+        let radius = frame.length(words[3]).ok_or(
+            "a sphere under a non-uniform scale would be an ellipsoid (scale all three axes \
+             alike, or push/pop around the non-uniform scale)",
+        )?;
+        if !(radius.is_finite() && radius > T::zero()) {
+            return Err(format!(
+                "sphere radius {} is {radius} in the world (it must be > 0 and finite)",
+                words[3]
+            ));
+        }
+        let centre = frame.point(words)?;
+        Ok(Sphere { centre, radius })
+    }
+
     /// Centre, then radius.
     fn numbers(&self) -> impl Iterator<Item = T> {
         self.centre.into_iter().chain([self.radius])
@@ -347,6 +368,21 @@ impl<T: Real> Primitive<T> for Sphere<T> {
             [c[0] - r, c[1] - r, c[2] - r],
             [c[0] + r, c[1] + r, c[2] + r],
         )
+    }
+
+    /// c ± r rounded outwards, by an exact difference.
+    fn box_f32(&self) -> ([f32; 3], [f32; 3]) {
+        let (c, r) = self.wide();
+        (c.map(|x| lower(x, r)), c.map(|x| -lower(-x, r)))
+    }
+
+    fn triangle(&self) -> Option<&[V3<T>; 3]> {
+        None
+    }
+
+    fn seen_from(&self, o: [f64; 3]) -> Option<FromOrigin> {
+        let (c, r) = self.wide();
+        Some(FromOrigin::new(o, c, r))
     }
 
     fn is_degenerate(&self) -> bool {
@@ -421,17 +457,17 @@ impl<T: Real> Primitive<T> for Sphere<T> {
         let oc = [0, 1, 2].map(|k| o[k] - centre[k]);
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let (a, b, c) = (dot(d, d), 2.0 * dot(d, oc), dot(oc, oc) - r * r);
-        ShapeTerms::Sphere {
+        ShapeTerms::Sphere(Terms {
             a,
             b,
             c,
             discriminant: b * b - 4.0 * a * c,
-        }
+        })
     }
 
     fn widen(&self) -> Shape<f64> {
         let (centre, radius) = self.wide();
-        Shape::Sphere { centre, radius }
+        Shape::Sphere(Sphere { centre, radius })
     }
 
     /// None: a sphere starts at f64 intervals.
@@ -532,26 +568,95 @@ impl SurfacePoint {
     }
 }
 
-/// [`ShapeTerms::lines`] of a sphere's quadratic.
-pub(super) fn term_lines(a: f64, b: f64, c: f64, discriminant: f64) -> Vec<String> {
-    vec![
-        "shape: sphere".to_string(),
-        format!("quadratic_abc: {a} {b} {c}"),
-        format!("discriminant: {discriminant}"),
-    ]
+/// |o + t·d − c|² = r² as a·t² + b·t + c = 0 with a = d·d, b = 2·d·(o − c), c = |o − c|² − r²,
+/// and its discriminant b² − 4ac.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Terms {
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+    pub discriminant: f64,
 }
 
-/// [`ShapeTerms::rows`] of a sphere's quadratic, to a few digits.
-pub(super) fn term_rows(a: f64, b: f64, c: f64, discriminant: f64) -> Vec<(&'static str, String)> {
-    vec![
-        ("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}")),
-        ("b^2 - 4ac", format!("{discriminant:.6}")),
-    ]
+impl WordedTerms for Terms {
+    fn lines(&self) -> Vec<String> {
+        let Terms { a, b, c, .. } = self;
+        vec![
+            "shape: sphere".to_string(),
+            format!("quadratic_abc: {a} {b} {c}"),
+            format!("discriminant: {}", self.discriminant),
+        ]
+    }
+
+    fn rows(&self, _v3: &dyn Fn([f64; 3]) -> String) -> Vec<(&'static str, String)> {
+        let Terms { a, b, c, .. } = self;
+        vec![
+            ("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}")),
+            ("b^2 - 4ac", format!("{:.6}", self.discriminant)),
+        ]
+    }
+}
+
+/// The largest f32 at or below `a − b`, exactly: the difference's rounding error is found by
+/// Knuth's two-sum (s + e = a − b exactly); where s is an f32 and e < 0, one f32 below it.
+fn lower(a: f64, b: f64) -> f32 {
+    let s = a - b;
+    let bb = s - a;
+    let e = (a - (s - bb)) + (-b - bb);
+    let r = round_down(s);
+    match e < 0.0 && f64::from(r) == s {
+        true => r.next_down(),
+        false => r,
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::{Primitive, Sphere};
+    use num_rational::BigRational;
     use std::cmp::Ordering;
+
+    fn exact(x: f32) -> BigRational {
+        BigRational::from_float(x).expect("finite")
+    }
+
+    #[test]
+    fn box_sides_are_the_nearest_f32_outside_the_exact_sphere() {
+        // Centres and radii from 2⁻⁴⁰ to 2⁴⁰, of both signs, equal, and 2³⁰ apart (where the
+        // f64 difference itself rounds): each side is at or beyond c ∓ r exactly, and the next
+        // f32 inwards is not.
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || crate::xorshift(&mut x);
+        for i in 0..20_000 {
+            let value = |bits: u64| {
+                let e = (bits % 81) as i32 - 40;
+                let m = 1.0 + (bits >> 8) as f64 / (1u64 << 56) as f64;
+                (m * 2f64.powi(e)) as f32
+            };
+            let c = value(next()) * if next() % 2 == 0 { 1.0 } else { -1.0 };
+            let r = match i % 4 {
+                0 => c.abs(),
+                1 => c.abs() * 2f32.powi(-30),
+                _ => value(next()),
+            };
+            let sphere = Sphere {
+                centre: [c, -c, 0.5],
+                radius: r,
+            };
+            let (lo, hi) = sphere.box_f32();
+            let (lo, hi) = (lo[0], hi[0]);
+            assert_eq!((-hi, -lo), (sphere.box_f32().0[1], sphere.box_f32().1[1]));
+            let (want_lo, want_hi) = (exact(c) - exact(r), exact(c) + exact(r));
+            assert!(
+                exact(lo) <= want_lo && exact(lo.next_up()) > want_lo,
+                "{c} - {r}: {lo}"
+            );
+            assert!(
+                exact(hi) >= want_hi && exact(hi.next_down()) < want_hi,
+                "{c} + {r}: {hi}"
+            );
+        }
+    }
 
     #[test]
     fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {

@@ -21,11 +21,11 @@
 //! linear system. That preparation is the accelerator's (`accel::frame::OriginTriangle`):
 //! the one thing `geometry` takes from above it, so that every path shades to the same bits.
 
-use super::{Primitive, Shape, ShapeTerms};
+use super::{sphere, Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
 use crate::accel::frame::OriginTriangle;
 use crate::geometry::adaptive::interval::{triangle_interval, triangle_t_interval};
 use crate::geometry::adaptive::rounded::plane_t_f64;
-use crate::geometry::adaptive::{precise_f32, Decided, Estimate, Feature};
+use crate::geometry::adaptive::{precise_f32, round_down, round_up, Decided, Estimate, Feature};
 use crate::geometry::exact::{self, ExactT};
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{Method, Ray, SurfacePoint};
@@ -293,6 +293,13 @@ impl<T: Real> Primitive<T> for Triangle<T> {
     const KEYWORD: &'static str = "tri";
     const KIND: u8 = 0;
 
+    /// Nine numbers: the three vertices.
+    fn read(words: &[&str], frame: &impl SceneFrame<T>) -> Result<Self, String> {
+        frame.numbers(words, 9, Self::KEYWORD)?;
+        let [a, b, c] = [0, 1, 2].map(|i| frame.point(&words[3 * i..]));
+        Ok(Triangle([a?, b?, c?]))
+    }
+
     fn numbers(&self) -> impl Iterator<Item = T> {
         self.0.into_iter().flatten()
     }
@@ -312,6 +319,21 @@ impl<T: Real> Primitive<T> for Triangle<T> {
             }
         }
         (lo, hi)
+    }
+
+    /// Exact where its numbers are f32.
+    fn box_f32(&self) -> ([f32; 3], [f32; 3]) {
+        let (lo, hi) = self.bounds();
+        (lo.map(|x| round_down(x.f64())), hi.map(|x| round_up(x.f64())))
+    }
+
+    fn triangle(&self) -> Option<&[V3<T>; 3]> {
+        Some(&self.0)
+    }
+
+    /// None: the packets prepare triangles their own way (`accel::frame::OriginTriangle`).
+    fn seen_from(&self, _o: [f64; 3]) -> Option<sphere::FromOrigin> {
+        None
     }
 
     fn is_degenerate(&self) -> bool {
@@ -394,15 +416,15 @@ impl<T: Real> Primitive<T> for Triangle<T> {
         let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
         let b = sub(o, v[0]);
         let a = [0, 1, 2].map(|r| [-d[r], e1[r], e2[r]]);
-        ShapeTerms::Triangle {
+        ShapeTerms::Triangle(Terms {
             a,
             b,
             x: solve3(&a, b),
-        }
+        })
     }
 
     fn widen(&self) -> Shape<f64> {
-        Shape::Triangle(self.wide())
+        Shape::Triangle(Triangle(self.wide()))
     }
 
     /// The watertight test in f32 with pbrt's t bound (the inputs f32, the vertices too).
@@ -622,27 +644,32 @@ fn v3(v: [f64; 3]) -> String {
     format!("{} {} {}", v[0], v[1], v[2])
 }
 
-/// [`ShapeTerms::lines`] of a triangle's system A·x = b.
-pub(super) fn term_lines(a: &[[f64; 3]; 3], b: &[f64; 3], x: &[f64; 3]) -> Vec<String> {
-    let mut lines = vec!["shape: triangle".to_string()];
-    lines.extend((a.iter().enumerate()).map(|(r, row)| format!("A_row{r}: {}", v3(*row))));
-    lines.push(format!("b: {}", v3(*b)));
-    lines.push(format!("x_tuv: {}", v3(*x)));
-    lines
+/// The lecture's linear system A·x = b for o + t·d = v₀ + u·e₁ + v·e₂: A = [−d e₁ e₂] (rows
+/// here), b = o − v₀, x = (t, u, v) = A⁻¹·b.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Terms {
+    pub a: [[f64; 3]; 3],
+    pub b: [f64; 3],
+    pub x: [f64; 3],
 }
 
-/// [`ShapeTerms::rows`] of a triangle's system, the vectors formatted by `v3`.
-pub(super) fn term_rows(
-    a: &[[f64; 3]; 3],
-    b: &[f64; 3],
-    x: &[f64; 3],
-    v3: impl Fn([f64; 3]) -> String,
-) -> Vec<(&'static str, String)> {
-    vec![
-        ("A = [-d e1 e2]", v3(a[0])),
-        ("", v3(a[1])),
-        ("", v3(a[2])),
-        ("b = o - v0", v3(*b)),
-        ("x = A^-1 b = (t,u,v)", v3(*x)),
-    ]
+impl WordedTerms for Terms {
+    fn lines(&self) -> Vec<String> {
+        let mut lines = vec!["shape: triangle".to_string()];
+        let rows = self.a.iter().enumerate();
+        lines.extend(rows.map(|(r, row)| format!("A_row{r}: {}", v3(*row))));
+        lines.push(format!("b: {}", v3(self.b)));
+        lines.push(format!("x_tuv: {}", v3(self.x)));
+        lines
+    }
+
+    fn rows(&self, v3: &dyn Fn([f64; 3]) -> String) -> Vec<(&'static str, String)> {
+        vec![
+            ("A = [-d e1 e2]", v3(self.a[0])),
+            ("", v3(self.a[1])),
+            ("", v3(self.a[2])),
+            ("b = o - v0", v3(self.b)),
+            ("x = A^-1 b = (t,u,v)", v3(self.x)),
+        ]
+    }
 }

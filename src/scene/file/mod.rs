@@ -226,7 +226,8 @@ impl Scene {
         .with_instances(d.instances)?;
         if scene.is_empty() {
             return Err(format!(
-                "{name}: no primitives (tri, sphere, mesh or cornell)"
+                "{name}: no primitives ({}, mesh or cornell)",
+                Shape::<f32>::KEYWORDS.join(", ")
             ));
         }
         scene.light = match (d.light, d.has_cornell) {

@@ -4,6 +4,7 @@
 use super::matrix::check_matrix;
 use super::mesh_files::{FileKey, MeshFiles};
 use super::*;
+use crate::geometry::shapes::SceneFrame;
 
 /// What `push` saves.
 #[derive(Clone)]
@@ -233,22 +234,6 @@ impl<T: Real> Parser<'_, T> {
         self.stack.matrix() == glam::DMat4::IDENTITY
     }
 
-    /// A point of the current frame in world coordinates: the matrix applied in f64, then
-    /// rounded to `T` (the numbers straight in `T` where the matrix is the identity).
-    fn point(&self, words: &[&str], p: [f64; 3]) -> Result<[T; 3], String> {
-        if !self.identity() {
-            return self.transformed(p);
-        }
-        let v = [0, 1, 2].map(|k| exact::<T>(words[k]));
-        match v.iter().position(|c| !c.is_finite()) {
-            Some(k) => Err(format!(
-                "coordinate {} is not finite in this precision",
-                words[k]
-            )),
-            None => Ok(v),
-        }
-    }
-
     fn transformed(&self, p: [f64; 3]) -> Result<[T; 3], String> {
         let w = self.stack.transform_point(DVec3::from_array(p)).to_array();
         let w = w.map(T::of);
@@ -457,46 +442,15 @@ impl<T: Real> Parser<'_, T> {
                 self.out.levels[level].statements.push((line, text));
             }
         }
+        if let Some(shape) = Shape::read(keyword, args, &*self) {
+            let shape = shape?;
+            if shape.is_degenerate() {
+                let index = self.out.shapes.len() + self.instanced;
+                self.zero_area.add(index, u32::try_from(line).ok());
+            }
+            return self.add(shape, self.current.color);
+        }
         match keyword {
-            "tri" => {
-                let x = numbers(args, &[9], "tri")?;
-                let v = [0, 1, 2]
-                    .map(|i| self.point(&args[3 * i..], [x[3 * i], x[3 * i + 1], x[3 * i + 2]]));
-                let [a, b, c] = v;
-                let v = [a?, b?, c?];
-                if crate::geometry::triangle::zero_area(&v) {
-                    let index = self.out.shapes.len() + self.instanced;
-                    self.zero_area.add(index, u32::try_from(line).ok());
-                }
-                self.add(Shape::from(v), self.current.color)?;
-            }
-            "sphere" => {
-                let x = numbers(args, &[4], "sphere")?;
-                if x[3] <= 0.0 {
-                    return Err(format!("sphere radius {} must be > 0", args[3]));
-                }
-                let (centre, radius) = if self.identity() {
-                    let r = exact::<T>(args[3]);
-                    if !(r.is_finite() && r > T::zero()) {
-                        return Err(format!("sphere radius {r} must be > 0 and finite"));
-                    }
-                    (self.point(args, [x[0], x[1], x[2]])?, r)
-                } else {
-                    let s = self.uniform_scale().ok_or(
-                        "a sphere under a non-uniform scale would be an ellipsoid (scale all three \
-                         axes alike, or push/pop around the non-uniform scale)",
-                    )?;
-                    let r = T::of(x[3] * s);
-                    if !(r.is_finite() && r > T::zero()) {
-                        return Err(format!(
-                            "sphere radius {} is {r} after the transform",
-                            args[3]
-                        ));
-                    }
-                    (self.transformed([x[0], x[1], x[2]])?, r)
-                };
-                self.add(Shape::sphere(centre, radius), self.current.color)?;
-            }
             "mesh" => {
                 let (path, frame) = match args {
                     [path] => (path, ObjFrame::YUp),
@@ -710,8 +664,9 @@ impl<T: Real> Parser<'_, T> {
             }
             other => {
                 return Err(format!(
-                    "unknown statement '{other}' (expected tri, sphere, mesh, cornell, color, \
-                     push, pop, translate, rotate, scale, light, ambient or camera)"
+                    "unknown statement '{other}' (expected {}, mesh, cornell, color, push, pop, \
+                     translate, rotate, scale, light, ambient or camera)",
+                    Shape::<T>::KEYWORDS.join(", ")
                 ))
             }
         }
@@ -747,6 +702,39 @@ impl<T: Real> Parser<'_, T> {
 
 /// `values` in f32, the renderer's colour type; one that f32 cannot hold (it would become
 /// infinity) is refused, naming it.
+/// What a shape's scene line reads through the current frame ([`Primitive::read`]).
+impl<T: Real> SceneFrame<T> for Parser<'_, T> {
+    fn numbers(&self, words: &[&str], count: usize, what: &str) -> Result<Vec<f64>, String> {
+        numbers(words, &[count], what)
+    }
+
+    /// The matrix applied in f64, then rounded to `T` (the numbers straight in `T` where the
+    /// matrix is the identity).
+    fn point(&self, words: &[&str]) -> Result<[T; 3], String> {
+        if !self.identity() {
+            let p = [0, 1, 2].map(|k| number(words[k]));
+            let [x, y, z] = p;
+            return self.transformed([x?, y?, z?]);
+        }
+        let v = [0, 1, 2].map(|k| exact::<T>(words[k]));
+        match v.iter().position(|c| !c.is_finite()) {
+            Some(k) => Err(format!(
+                "coordinate {} is not finite in this precision",
+                words[k]
+            )),
+            None => Ok(v),
+        }
+    }
+
+    fn length(&self, word: &str) -> Option<T> {
+        if self.identity() {
+            return Some(exact::<T>(word));
+        }
+        let scale = self.uniform_scale()?;
+        Some(T::of(number(word).ok()? * scale))
+    }
+}
+
 fn f32_channels<const N: usize>(what: &str, values: [f64; N]) -> Result<[f32; N], String> {
     match values.iter().find(|v| !(**v as f32).is_finite()) {
         Some(v) => Err(format!(
