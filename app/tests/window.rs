@@ -199,15 +199,16 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
 #[test]
 fn real_x_input_sets_every_image_control_in_the_panel() {
     // The panel draws one widget per row of the controls table: real clicks on the "direct"
-    // radio button, a press on the supersampling slider's rail (egui moves a slider while the
-    // button is down, so a press and a release), the "show cracks" check box and the method
-    // drop-down's "moller" set them, and the window shows the headless render of those
+    // radio button, a press on the supersampling slider's rail near its left end (egui moves
+    // a slider while the button is down, so a press and a release; 3x3 samples, each of which
+    // the cracks view checks against the exact method), the "show cracks" check box and the
+    // method drop-down's "moller" set them, and the window shows the headless render of those
     // settings. (Positions: the panel at the window's default size on a 1280x800 screen.)
     let dir = tempfile::tempdir().unwrap();
     let script = "12000 key H down\n12010 key H up\n12020 key H down\n12030 key H up\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 15 122; sleep 0.3; xdotool click 1; sleep 0.3; \
-                  xdotool mousemove --sync 40 529; sleep 0.3; xdotool mousedown 1; sleep 0.3; \
+                  xdotool mousemove --sync 27 529; sleep 0.3; xdotool mousedown 1; sleep 0.3; \
                   xdotool mouseup 1; sleep 0.3; \
                   xdotool mousemove --sync 15 571; sleep 0.3; xdotool click 1; sleep 0.3; \
                   xdotool mousemove --sync 55 550; sleep 0.3; xdotool click 1; sleep 0.6; \
