@@ -3,10 +3,9 @@
 //! A shape is a file of its own under [`shapes`] (`triangle`, `sphere`, re-exported here as
 //! [`triangle`] and [`sphere`]) implementing [`Primitive`]: its tests (the plain f32/f64 ones
 //! and the adaptive method's levels), bounds, normal, surface point, terms and scene line.
-//! [`Shape`], the enum a scene holds, hands every question to them in one place
-//! (`shapes/mod.rs`, which also says how to add a shape); nothing else names a kind of
-//! shape except the accelerators' downcast to triangles ([`Shape::triangle`]), the one kind
-//! they keep in SIMD structures.
+//! [`Shape`], the enum a scene holds, is made from the list in `shapes/mod.rs` (which also
+//! says how to add a shape: its file and its line there) and hands every question to them
+//! in one place; nothing else in the library names a kind of shape.
 
 pub mod adaptive;
 pub mod exact;
