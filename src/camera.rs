@@ -269,7 +269,7 @@ impl RayGenerator {
     pub fn directions_x8(&self, xs: wide::f32x8, ys: wide::f32x8) -> [wide::f32x8; 3] {
         use crate::math::simd::avx512_avx2_or_baseline;
         let generator = self;
-        avx512_avx2_or_baseline!(lanes directions_body => (generator: &RayGenerator, xs: wide::f32x8, ys: wide::f32x8)
+        avx512_avx2_or_baseline!(lanes RayGenerator::directions_x8_in => (generator: &RayGenerator, xs: wide::f32x8, ys: wide::f32x8)
             -> [wide::f32x8; 3])
     }
 
@@ -286,18 +286,19 @@ impl RayGenerator {
     }
 }
 
-/// [`RayGenerator::directions_x8`] in lanes `V`.
-#[inline(always)]
-fn directions_body<V: Lanes>(
-    generator: &RayGenerator,
-    xs: wide::f32x8,
-    ys: wide::f32x8,
-) -> [wide::f32x8; 3] {
-    let d = generator.directions_in::<V>(V::from_wide(xs), V::from_wide(ys));
-    each3(|k| d[k].to_wide())
-}
-
 impl RayGenerator {
+    /// [`RayGenerator::directions_x8`] inside a kernel already built for lanes `V` (the
+    /// frame's tile loop), in the kernels' public form.
+    #[inline(always)]
+    pub(crate) fn directions_x8_in<V: Lanes>(
+        &self,
+        xs: wide::f32x8,
+        ys: wide::f32x8,
+    ) -> [wide::f32x8; 3] {
+        let d = self.directions_in::<V>(V::from_wide(xs), V::from_wide(ys));
+        each3(|k| d[k].to_wide())
+    }
+
     /// [`RayGenerator::directions_x8`] inside a kernel already built for lanes `V`.
     #[inline(always)]
     pub(crate) fn directions_in<V: LaneOps>(&self, xs: V, ys: V) -> [V; 3] {

@@ -15,7 +15,7 @@ use crate::accel::frame::{OriginTriangle, NO_HIT};
 use crate::accel::{Accel, FrameQueries, TileQueries, TileScratch};
 use crate::camera::RayGenerator;
 use crate::geometry::Ray;
-use crate::math::lanes::LaneOps;
+use crate::math::lanes::{LaneOps, Lanes};
 use crate::scene::Scene;
 use wide::f32x8;
 
@@ -55,7 +55,7 @@ fn trace_packets_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx512_avx2_or_baseline!(Frame::trace_packets => (
+    crate::math::simd::avx512_avx2_or_baseline!(lanes Frame::trace_packets => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -285,7 +285,7 @@ impl<'a> Frame<'a> {
 
     /// [`Frame::trace_tile_packets`] past the flat step's one-sample path.
     #[inline(always)]
-    fn trace_packets(
+    fn trace_packets<V: Lanes>(
         &self,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -313,13 +313,12 @@ impl<'a> Frame<'a> {
                 for sx in 0..n {
                     // The image positions of `sample`, with the same operations.
                     let (off_x, off_y) = (self.samples.offset(sx), self.samples.offset(sy));
-                    let dirs = self
-                        .gen
-                        .directions_x8(xs + f32x8::splat(off_x), ys + f32x8::splat(off_y));
+                    let dirs = (self.gen)
+                        .directions_x8_in::<V>(xs + f32x8::splat(off_x), ys + f32x8::splat(off_y));
                     let prims = queries.closest_x8(&dirs, live);
                     if !flat {
                         let mut others = 0;
-                        shaded.push(self.ready_for_shading(o, &dirs, &prims, &mut others));
+                        shaded.push(self.ready_for_shading::<V>(o, &dirs, &prims, &mut others));
                         if others != 0 {
                             let packet = shaded.last_mut().expect("just pushed");
                             self.shade_other_lanes(o, &dirs, &prims, others, packet);
@@ -366,8 +365,14 @@ impl<'a> Frame<'a> {
                     counts.1 += (hit & pk.shadow.live).count_ones() as u64;
                 }
             }
-            let sums =
-                shade::sum_colours(scene, stored_colors, packets, blocked, settings.step, live);
+            let sums = shade::sum_colours::<V>(
+                scene,
+                stored_colors,
+                packets,
+                blocked,
+                settings.step,
+                live,
+            );
             self.put_block(&block, &sums, rows);
         }
     }
@@ -428,7 +433,8 @@ impl<'a> Frame<'a> {
     /// readied for shading: the triangles prepared for the eye where the face made them, else
     /// here. Lanes on other shapes are left empty and set in `others`
     /// ([`Frame::shade_other_lanes`]).
-    fn ready_for_shading(
+    #[inline(always)]
+    fn ready_for_shading<V: Lanes>(
         &self,
         o: [f32; 3],
         dirs: &[f32x8; 3],
@@ -455,7 +461,7 @@ impl<'a> Frame<'a> {
                 prepared[l] = Some(tri);
             }
         }
-        shade::shade_packet(self.scene, dirs, &prepared)
+        shade::shade_packet_in::<V>(self.scene, dirs, &prepared)
     }
 
     /// Lanes `others` of `packet` (hits on shapes other than triangles) readied for shading,

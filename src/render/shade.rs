@@ -203,26 +203,8 @@ impl AsRef<ShadowSegments> for ShadePacket {
 /// operations in the same order, 8 lanes at a time. `blocked[i]` is packet i's blocked
 /// shadow lanes; `colors` the scene's colours by primitive where no instances are present.
 /// (One lane at a time this was about 80 instructions a pixel of the Cornell box.)
-pub(crate) fn sum_colours(
-    scene: &Scene,
-    colors: Option<&[Rgb]>,
-    packets: &[ShadePacket],
-    blocked: &[u32],
-    step: LabStep,
-    lanes: u32,
-) -> [Rgb; 8] {
-    avx512_avx2_or_baseline!(lanes sum_colours_body => (
-        scene: &Scene,
-        colors: Option<&[Rgb]>,
-        packets: &[ShadePacket],
-        blocked: &[u32],
-        step: LabStep,
-        lanes: u32
-    ) -> [Rgb; 8])
-}
-
 #[inline(always)]
-fn sum_colours_body<V: Lanes>(
+pub(crate) fn sum_colours<V: Lanes>(
     scene: &Scene,
     colors: Option<&[Rgb]>,
     packets: &[ShadePacket],
@@ -341,15 +323,16 @@ pub use crate::geometry::triangle::unit_normal;
 /// (`shading_points`, which a triangle's own point runs on one lane) and the same steps
 /// from it, lanes at a time.
 pub fn shade_packet(scene: &Scene, d: &[f32x8; 3], lanes: &[Option<&ShadeTri>; 8]) -> ShadePacket {
-    avx512_avx2_or_baseline!(lanes shade_packet_body => (
+    avx512_avx2_or_baseline!(lanes shade_packet_in => (
         scene: &Scene,
         d: &[f32x8; 3],
         lanes: &[Option<&ShadeTri>; 8]
     ) -> ShadePacket)
 }
 
+/// [`shade_packet`] inside a kernel already built for lanes `V` (the frame's tile loop).
 #[inline(always)]
-fn shade_packet_body<V: Lanes>(
+pub(crate) fn shade_packet_in<V: Lanes>(
     scene: &Scene,
     d: &[f32x8; 3],
     lanes: &[Option<&ShadeTri>; 8],
