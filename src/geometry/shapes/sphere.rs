@@ -15,7 +15,7 @@
 
 use super::{Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
 use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Feature};
-use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, ExactT, Q};
+use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, two_sum, ExactT, Q};
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{Method, Ray, SurfacePoint};
 use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
@@ -598,11 +598,9 @@ impl WordedTerms for Terms {
 }
 
 /// The largest f32 at or below `a − b`, exactly: the difference's rounding error is found by
-/// Knuth's two-sum (s + e = a − b exactly); where s is an f32 and e < 0, one f32 below it.
+/// two-sum (s + e = a − b exactly); where s is an f32 and e < 0, one f32 below it.
 fn lower(a: f64, b: f64) -> f32 {
-    let s = a - b;
-    let bb = s - a;
-    let e = (a - (s - bb)) + (-b - bb);
+    let (s, e) = two_sum(a, -b);
     let r = round_down(s);
     match e < 0.0 && f64::from(r) == s {
         true => r.next_down(),
@@ -643,9 +641,9 @@ mod tests {
                 centre: [c, -c, 0.5],
                 radius: r,
             };
-            let (lo, hi) = sphere.box_f32();
-            let (lo, hi) = (lo[0], hi[0]);
-            assert_eq!((-hi, -lo), (sphere.box_f32().0[1], sphere.box_f32().1[1]));
+            let (low, high) = sphere.box_f32();
+            let (lo, hi) = (low[0], high[0]);
+            assert_eq!((-hi, -lo), (low[1], high[1]));
             let (want_lo, want_hi) = (exact(c) - exact(r), exact(c) + exact(r));
             assert!(
                 exact(lo) <= want_lo && exact(lo.next_up()) > want_lo,

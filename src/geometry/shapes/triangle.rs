@@ -295,6 +295,7 @@ impl<T: Real> Primitive<T> for Triangle<T> {
 
     /// Nine numbers: the three vertices.
     fn read(words: &[&str], frame: &impl SceneFrame<T>) -> Result<Self, String> {
+        // (Checked for their count and finiteness; `point` reads each vertex in `T`.)
         frame.numbers(words, 9, Self::KEYWORD)?;
         let [a, b, c] = [0, 1, 2].map(|i| frame.point(&words[3 * i..]));
         Ok(Triangle([a?, b?, c?]))
