@@ -44,6 +44,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::math::lanes::{f32x8, LaneOps};
+use crate::math::simd::Isa;
 
 /// What every structure over primitives answers (see the module docs).
 pub trait Layout: Send + Sync {
@@ -116,22 +117,24 @@ pub(crate) trait TriangleLayout: Layout + Sized {
 
     /// Its own walk of 8 camera rays, where faster than [`Layout::packet_into`] into a state
     /// the instances share (`Triangles::closest_packet`). Provided: none.
-    fn own_closest_packet(
+    fn own_closest_packet<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> Option<PacketHits> {
-        let _ = (o, prepared, d, d_max, seed);
+        let _ = (isa, o, prepared, d, d_max, seed);
         None
     }
 
     /// Its own walk of 8 shadow segments (`Triangles::blocked_packet`). Provided: none.
     #[allow(clippy::too_many_arguments)]
-    fn own_blocked_packet(
+    fn own_blocked_packet<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
@@ -139,7 +142,7 @@ pub(crate) trait TriangleLayout: Layout + Sized {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<ShadowHits> {
-        let _ = (o, prepared, d, d_max, skip, valid);
+        let _ = (isa, o, prepared, d, d_max, skip, valid);
         None
     }
 

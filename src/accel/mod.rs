@@ -42,6 +42,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::instance::Instance;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
+use crate::math::simd::{with_cpu_isa, Isa};
 use crate::scene::Scene;
 use layout::Layout;
 use rayon::prelude::*;
@@ -439,22 +440,26 @@ impl Accel {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
-        Some(self.closest_packet_of_triangles(o, prepared, d, d_max, None))
+        let found = with_cpu_isa!(|isa| {
+            self.closest_packet_of_triangles(isa, o, prepared, d, d_max, None)
+        });
+        Some(found)
     }
 
     /// [`Accel::closest_packet`] over the triangles alone, whatever other shapes there are,
     /// starting from `seed` (its ids must be beyond every primitive and slot, and are handed
-    /// back as they are).
-    #[inline]
-    pub(crate) fn closest_packet_of_triangles(
+    /// back as they are), in the build `isa` names.
+    #[inline(always)]
+    pub(crate) fn closest_packet_of_triangles<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
         d_max: f32,
         seed: Option<&packet::PacketSeed>,
     ) -> packet::PacketHits {
-        (self.triangles).closest_packet(self.instances(), o, prepared, d, d_max, seed)
+        (self.triangles).closest_packet(isa, self.instances(), o, prepared, d, d_max, seed)
     }
 
     /// [`Accel::closest_packet_of_triangles`] (no seed, no instances) inside a kernel already
@@ -495,13 +500,19 @@ impl Accel {
             return None;
         }
         let prepared = prepared::Prepared::from_list(prepared);
-        Some(self.blocked_packet_of_triangles(o, prepared, d, d_max, skip, valid))
+        let found = with_cpu_isa!(|isa| {
+            self.blocked_packet_of_triangles(isa, o, prepared, d, d_max, skip, valid)
+        });
+        Some(found)
     }
 
-    /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are.
-    #[inline]
-    pub(crate) fn blocked_packet_of_triangles(
+    /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are, in
+    /// the build `isa` names.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn blocked_packet_of_triangles<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: prepared::Prepared<'_>,
         d: &[wide::f32x8; 3],
@@ -510,7 +521,7 @@ impl Accel {
         valid: u32,
     ) -> packet::ShadowHits {
         let instances = self.instances();
-        (self.triangles).blocked_packet(instances, o, prepared, d, d_max, skip, valid)
+        (self.triangles).blocked_packet(isa, instances, o, prepared, d, d_max, skip, valid)
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).

@@ -34,7 +34,7 @@ use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::Lanes;
-use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use crate::math::simd::{each3, kernel_in, Isa};
 use rayon::prelude::*;
 use wide::{f32x8, f64x4};
 
@@ -403,10 +403,17 @@ impl<'a> Leaves<f32x8, Blocking<'a>> for SeenLeaves<'_> {
 impl Spheres {
     /// The nearest sphere along each live lane of 8 camera rays from `seen`'s origin with
     /// directions `d`, as the f64 interval level decides it (see [`SphereSeed`]).
-    #[inline(never)]
-    pub(crate) fn seed_packet(&self, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -> SphereSeed {
+    /// In the build `isa` names.
+    #[inline(always)]
+    pub(crate) fn seed_packet<I: Isa>(
+        &self,
+        isa: I,
+        seen: &SpheresSeen,
+        d: &[f32x8; 3],
+        live: u32,
+    ) -> SphereSeed {
         let spheres = self;
-        avx512_avx2_or_baseline!(seed_body => (
+        kernel_in!(isa, seed_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             d: &[f32x8; 3],
@@ -415,15 +422,17 @@ impl Spheres {
     }
 
     /// Which live lanes of shadow segments `s` (from `seen`'s origin, the light) a sphere
-    /// blocks for certain, each lane skipping its own primitive, and which it leaves unsure.
-    #[inline(never)]
-    pub(crate) fn block_packet(
+    /// blocks for certain, each lane skipping its own primitive, and which it leaves unsure,
+    /// in the build `isa` names.
+    #[inline(always)]
+    pub(crate) fn block_packet<I: Isa>(
         &self,
+        isa: I,
         seen: &SpheresSeen,
         s: &super::ShadowSegments,
     ) -> SphereLanes {
         let spheres = self;
-        avx512_avx2_or_baseline!(block_body => (
+        kernel_in!(isa, block_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             s: &super::ShadowSegments

@@ -19,7 +19,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::math::lanes::{LaneOps, Lanes};
-use crate::math::simd::{avx512_avx2_or_baseline, each3, Isa};
+use crate::math::simd::{each3, kernel_in, Isa};
 use wide::f32x8;
 
 /// The structure over a scene's stored triangles: the one dispatch on the layout.
@@ -97,8 +97,11 @@ impl Triangles {
     /// primitive and slot, and are handed back as they are); lanes the bounds cannot decide
     /// are ambiguous. The layout's own walk where it has one and there are no instances,
     /// else its `packet_into` and the instances' walk into one state.
-    pub(crate) fn closest_packet(
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn closest_packet<I: Isa>(
         &self,
+        isa: I,
         instances: Option<&Instances>,
         o: [f32; 3],
         prepared: Prepared<'_>,
@@ -107,12 +110,12 @@ impl Triangles {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         if instances.is_none() {
-            let own = each_layout!(self, t => TriangleLayout::own_closest_packet(t, o, prepared, d, d_max, seed));
+            let own = each_layout!(self, t => TriangleLayout::own_closest_packet(t, isa, o, prepared, d, d_max, seed));
             if let Some(found) = own {
                 return found;
             }
         }
-        closest_with(self, instances, o, prepared, d, d_max, seed)
+        closest_with(isa, self, instances, o, prepared, d, d_max, seed)
     }
 
     /// [`TriangleLayout::closest_packet_in`].
@@ -132,8 +135,10 @@ impl Triangles {
     /// `skip` primitive) the triangles and the placed meshes `instances` block, and which
     /// the bounds leave unsure (as [`Triangles::closest_packet`] chooses the walk).
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn blocked_packet(
+    #[inline(always)]
+    pub(crate) fn blocked_packet<I: Isa>(
         &self,
+        isa: I,
         instances: Option<&Instances>,
         o: [f32; 3],
         prepared: Prepared<'_>,
@@ -143,12 +148,12 @@ impl Triangles {
         valid: u32,
     ) -> ShadowHits {
         if instances.is_none() {
-            let own = each_layout!(self, t => TriangleLayout::own_blocked_packet(t, o, prepared, d, d_max, skip, valid));
+            let own = each_layout!(self, t => TriangleLayout::own_blocked_packet(t, isa, o, prepared, d, d_max, skip, valid));
             if let Some(found) = own {
                 return found;
             }
         }
-        blocked_with(self, instances, o, prepared, d, d_max, skip, valid)
+        blocked_with(isa, self, instances, o, prepared, d, d_max, skip, valid)
     }
 }
 
@@ -182,8 +187,11 @@ impl Layout for Triangles {
 }
 
 /// Camera rays 8 at a time through the triangles' packet walk and the instances', into one
-/// nearest-hit state (see [`Triangles::closest_packet`]).
-fn closest_with(
+/// nearest-hit state (see [`Triangles::closest_packet`]), in the build `isa` names.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn closest_with<I: Isa>(
+    isa: I,
     tris: &Triangles,
     instances: Option<&Instances>,
     o: [f32; 3],
@@ -192,7 +200,7 @@ fn closest_with(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    avx512_avx2_or_baseline!(isa lanes closest_with_body => (
+    kernel_in!(isa, isa lanes closest_with_body => (
         tris: &Triangles,
         instances: Option<&Instances>,
         o: [f32; 3],
@@ -224,9 +232,11 @@ fn closest_with_body<V: Lanes, I: Isa>(
 }
 
 /// Shadow segments 8 at a time through the triangles' packet walk and the instances' (see
-/// [`Triangles::blocked_packet`]).
+/// [`Triangles::blocked_packet`]), in the build `isa` names.
 #[allow(clippy::too_many_arguments)]
-fn blocked_with(
+#[inline(always)]
+fn blocked_with<I: Isa>(
+    isa: I,
     tris: &Triangles,
     instances: Option<&Instances>,
     o: [f32; 3],
@@ -236,7 +246,7 @@ fn blocked_with(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx512_avx2_or_baseline!(isa lanes blocked_with_body => (
+    kernel_in!(isa, isa lanes blocked_with_body => (
         tris: &Triangles,
         instances: Option<&Instances>,
         o: [f32; 3],

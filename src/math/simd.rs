@@ -11,6 +11,11 @@
 //! frame's camera packets are 16 rays (`Avx16`, one 512-bit register) in the AVX-512 build
 //! (`widest` below): their lanes are decided exactly as 8-ray packets decide them, so the
 //! image's bytes are the same (tests/render.rs).
+//!
+//! Where the choice is made: once where a tile loop starts ([`avx512_avx2_or_baseline!`]'s
+//! `isa` arms hand the loop its build's token, an [`Isa`]), and below it by the token's type
+//! ([`kernel_in!`]), with no run-time check; a query called on its own takes the CPU's token
+//! ([`with_cpu_isa!`]) and reaches the same compiled copies.
 
 /// `$item` (a function) compiled with the AVX-512 build's features: F, VL, BW, DQ and CD,
 /// with AVX2 and FMA. The one place that list is written (the dispatch's wrappers and
@@ -83,7 +88,8 @@ impl std::str::FromStr for SimdLevel {
 /// `Avx8` (crate-private), its baseline build in `wide`'s f32x8. With `widest`, over its
 /// [`LaneOps`](crate::math::lanes::LaneOps) type: the AVX-512 build computes in 16 lanes
 /// (`Avx16`), the others as with `lanes`. With `isa lanes`, as with `lanes`, and the kernel is
-/// also generic over its build's [`Isa`] token, which it takes as its first argument.
+/// also generic over its build's [`Isa`] token, which it takes as its first argument; with
+/// `isa widest`, as with `widest` and the token.
 macro_rules! avx512_avx2_or_baseline {
     (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
@@ -102,6 +108,16 @@ macro_rules! avx512_avx2_or_baseline {
     (isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
             ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx512>)
+            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
+            ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
+            [$crate::math::simd::Avx512::checked()]
+            [$crate::math::simd::Avx2::checked()]
+            [$crate::math::simd::Baseline]
+            ($($arg: $ty),*) -> $ret)
+    };
+    (isa widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+            ($($body)::+::<$crate::math::lanes::Avx16, $crate::math::simd::Avx512>)
             ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
             ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
             [$crate::math::simd::Avx512::checked()]
@@ -148,13 +164,115 @@ macro_rules! avx512_avx2_or_baseline {
 }
 pub(crate) use avx512_avx2_or_baseline;
 
+/// `$body(args)` through its copy compiled for the build of the token `$isa` (an [`Isa`]),
+/// with no run-time check: the token's type says which build, so the choice is a constant.
+/// Each copy is one function (`#[inline(never)]`), made once whoever calls it: the kernel's
+/// per-call entry point ([`with_cpu_isa!`]) and a frame's tile loop, which holds its build's
+/// token already, reach the same three copies. The arms (`lanes`, `isa lanes`, a plain path)
+/// are those of [`avx512_avx2_or_baseline!`]. Used as a whole function body.
+macro_rules! kernel_in {
+    ($isa:ident, lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::kernel_in!(@builds $isa
+            ($($body)::+::<$crate::math::lanes::Avx8>)
+            ($($body)::+::<$crate::math::lanes::Avx8>)
+            ($($body)::+::<$crate::math::lanes::f32x8>)
+            [] [] []
+            ($($arg: $ty),*) -> $ret)
+    };
+    ($isa:ident, isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::kernel_in!(@builds $isa
+            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx512>)
+            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
+            ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
+            [$crate::math::simd::Avx512::checked()]
+            [$crate::math::simd::Avx2::checked()]
+            [$crate::math::simd::Baseline]
+            ($($arg: $ty),*) -> $ret)
+    };
+    ($isa:ident, $body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::kernel_in!(@builds $isa ($body) ($body) ($body) [] [] []
+            ($($arg: $ty),*) -> $ret)
+    };
+    (@builds $isa:ident ($avx512:expr) ($avx:expr) ($base:expr)
+        [$($isa512:expr)?] [$($isa2:expr)?] [$($isa_base:expr)?]
+        ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        match $crate::math::simd::Isa::level($isa) {
+            $crate::math::simd::SimdLevel::Avx512 => {
+                $crate::math::simd::avx512_features! {
+                    #[inline(never)]
+                    fn avx512($($arg: $ty),*) -> $ret {
+                        $avx512($($isa512,)? $($arg),*)
+                    }
+                }
+                // SAFETY: a token of this build exists only where the CPU has its features.
+                #[allow(unsafe_code)]
+                return unsafe { avx512($($arg),*) };
+            }
+            $crate::math::simd::SimdLevel::Avx2 => {
+                $crate::math::simd::avx2_features! {
+                    #[inline(never)]
+                    fn avx2($($arg: $ty),*) -> $ret {
+                        $avx($($isa2,)? $($arg),*)
+                    }
+                }
+                // SAFETY: a token of this build exists only where the CPU has its features.
+                #[allow(unsafe_code)]
+                return unsafe { avx2($($arg),*) };
+            }
+            $crate::math::simd::SimdLevel::Baseline => {}
+        }
+        #[inline(never)]
+        fn baseline($($arg: $ty),*) -> $ret {
+            $base($($isa_base,)? $($arg),*)
+        }
+        let _ = $isa;
+        baseline($($arg),*)
+    }};
+}
+pub(crate) use kernel_in;
+
+/// `$body` with `$isa` bound to the token of the CPU's build ([`level`]): the run-time
+/// choice of a query's per-call entry point, which then calls the query's `_in` form with
+/// the token (whose kernels are [`kernel_in!`]'s).
+macro_rules! with_cpu_isa {
+    (|$isa:ident| $body:expr) => {
+        match $crate::math::simd::level() {
+            #[cfg(target_arch = "x86_64")]
+            $crate::math::simd::SimdLevel::Avx512 => {
+                let $isa = $crate::math::simd::Avx512::checked();
+                $body
+            }
+            #[cfg(target_arch = "x86_64")]
+            $crate::math::simd::SimdLevel::Avx2 => {
+                let $isa = $crate::math::simd::Avx2::checked();
+                $body
+            }
+            _ => {
+                let $isa = $crate::math::simd::Baseline;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_cpu_isa;
+
 /// A kernel build as a value, made only where the CPU runs it: the `isa lanes` arm of
 /// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the
 /// run-time check. [`Isa::outline`] runs a part of the kernel compiled for that build as one
 /// function the kernel calls: a part reached from several places of a kernel (the instances'
 /// mesh walk, under each variant of the walk over the placements) is then compiled once per
 /// build, not once per place it would be inlined into.
-pub(crate) trait Isa: Copy {
+pub(crate) trait Isa: Copy + Send + Sync {
+    /// Which build this is.
+    const LEVEL: SimdLevel;
+
+    /// [`Isa::LEVEL`] of a token ([`kernel_in!`] asks it; a constant once compiled).
+    #[inline(always)]
+    fn level(self) -> SimdLevel {
+        Self::LEVEL
+    }
+
     /// `part.run()`, compiled for this build and called, not inlined.
     fn outline<P: Outlined>(self, part: P) -> P::Output;
 }
@@ -171,6 +289,8 @@ pub(crate) trait Outlined {
 pub(crate) struct Baseline;
 
 impl Isa for Baseline {
+    const LEVEL: SimdLevel = SimdLevel::Baseline;
+
     #[inline(always)]
     fn outline<P: Outlined>(self, part: P) -> P::Output {
         #[inline(never)]
@@ -203,6 +323,8 @@ macro_rules! avx_build {
 
         #[cfg(target_arch = "x86_64")]
         impl Isa for $name {
+            const LEVEL: SimdLevel = SimdLevel::$level;
+
             #[inline(always)]
             fn outline<P: Outlined>(self, part: P) -> P::Output {
                 $features! {

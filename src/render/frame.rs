@@ -16,6 +16,7 @@ use crate::accel::{Accel, FrameQueries, TileQueries, TileScratch};
 use crate::camera::RayGenerator;
 use crate::geometry::Ray;
 use crate::math::lanes::{LaneOps, Lanes};
+use crate::math::simd::Isa;
 use crate::scene::Scene;
 use wide::f32x8;
 
@@ -55,7 +56,7 @@ fn trace_packets_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx512_avx2_or_baseline!(lanes Frame::trace_packets => (
+    crate::math::simd::avx512_avx2_or_baseline!(isa lanes trace_packets_in => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -77,7 +78,7 @@ fn trace_flat_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx512_avx2_or_baseline!(widest Frame::trace_flat_tile => (
+    crate::math::simd::avx512_avx2_or_baseline!(isa widest trace_flat_in => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -85,6 +86,34 @@ fn trace_flat_for_cpu(
         rows: &mut [u8],
         counts: &mut Counts
     ) -> ())
+}
+
+/// [`Frame::trace_packets`] with the build's token first, as the dispatch hands it.
+#[inline(always)]
+fn trace_packets_in<V: Lanes, I: Isa>(
+    isa: I,
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    shading: &mut Shading,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    frame.trace_packets::<V, I>(isa, tile, queries, shading, rows, counts)
+}
+
+/// [`Frame::trace_flat_tile`] with the build's token first, as the dispatch hands it.
+#[inline(always)]
+fn trace_flat_in<V: LaneOps, I: Isa>(
+    isa: I,
+    frame: &Frame,
+    tile: &Tile,
+    queries: &mut TileQueries,
+    rgba: &FlatPixels,
+    rows: &mut [u8],
+    counts: &mut Counts,
+) {
+    frame.trace_flat_tile::<V, I>(isa, tile, queries, rgba, rows, counts)
 }
 
 impl Tile {
@@ -285,8 +314,9 @@ impl<'a> Frame<'a> {
 
     /// [`Frame::trace_tile_packets`] past the flat step's one-sample path.
     #[inline(always)]
-    fn trace_packets<V: Lanes>(
+    fn trace_packets<V: Lanes, I: Isa>(
         &self,
+        isa: I,
         tile: &Tile,
         queries: &mut TileQueries,
         shading: &mut Shading,
@@ -315,7 +345,7 @@ impl<'a> Frame<'a> {
                     let (off_x, off_y) = (self.samples.offset(sx), self.samples.offset(sy));
                     let dirs = (self.gen)
                         .directions_x8_in::<V>(xs + f32x8::splat(off_x), ys + f32x8::splat(off_y));
-                    let prims = queries.closest_x8(&dirs, live);
+                    let prims = queries.closest_x8_in(isa, &dirs, live);
                     if !flat {
                         let mut others = 0;
                         shaded.push(self.ready_for_shading::<V>(o, &dirs, &prims, &mut others));
@@ -346,7 +376,7 @@ impl<'a> Frame<'a> {
         }
         let casts_shadows = settings.step.casts_shadows();
         if casts_shadows {
-            queries.blocked_x8(shaded, blocked);
+            queries.blocked_x8_in(isa, shaded, blocked);
         } else {
             blocked.clear();
             blocked.resize(shaded.len(), 0);
@@ -382,8 +412,9 @@ impl<'a> Frame<'a> {
     /// the tile loop built for the CPU ([`trace_flat_for_cpu`]): 16 lanes (blocks of 4×4
     /// pixels) in the AVX-512 build, else 8 (4×2).
     #[inline(always)]
-    fn trace_flat_tile<V: LaneOps>(
+    fn trace_flat_tile<V: LaneOps, I: Isa>(
         &self,
+        isa: I,
         tile: &Tile,
         queries: &mut TileQueries,
         rgba: &FlatPixels,
@@ -398,7 +429,7 @@ impl<'a> Frame<'a> {
         for block in tile.blocks_of((V::WIDTH / PACKET_W as usize) as u32) {
             let (xs, ys) = block.pixel_lanes::<V>(tile.y0);
             let dirs = self.gen.directions_in(xs + centre, ys + centre);
-            queries.closest_in(dirs, d_max, block.live_lanes(), &mut prims);
+            queries.closest_in(isa, dirs, d_max, block.live_lanes(), &mut prims);
             // (Dead lanes are NO_HIT.)
             let prims = &prims[..V::WIDTH];
             counts.0 += prims.iter().map(|&p| u64::from(p != NO_HIT)).sum::<u64>();

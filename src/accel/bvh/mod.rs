@@ -50,6 +50,7 @@ use crate::accel::prepared::Prepared;
 use crate::geometry::adaptive::Search;
 use crate::geometry::Ray;
 use crate::math::lanes::{f32x8, LaneOps};
+use crate::math::simd::Isa;
 #[cfg(test)]
 use build::binary;
 use leaf_vertices::LeafVertices;
@@ -172,21 +173,23 @@ impl crate::accel::layout::TriangleLayout for Bvh {
         true
     }
 
-    fn own_closest_packet(
+    fn own_closest_packet<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> Option<PacketHits> {
-        let mut found = self.closest_packet_from(o, prepared, d, d_max, seed);
+        let mut found = self.closest_packet_from(isa, o, prepared, d, d_max, seed);
         self.primitives_of(&mut found.prim);
         Some(found)
     }
 
-    fn own_blocked_packet(
+    fn own_blocked_packet<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
@@ -194,7 +197,7 @@ impl crate::accel::layout::TriangleLayout for Bvh {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<ShadowHits> {
-        Some(self.blocked_packet_from(o, prepared, d, d_max, skip, valid))
+        Some(self.blocked_packet_from(isa, o, prepared, d, d_max, skip, valid))
     }
 
     #[inline(always)]

@@ -13,7 +13,7 @@ use crate::accel::packet::{
 };
 use crate::accel::prepared::Prepared;
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
 
 impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
@@ -128,12 +128,15 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let prepared = Prepared::from_list(prepared);
-        self.closest_packet_from(o, prepared, d, d_max, seed)
+        with_cpu_isa!(|isa| self.closest_packet_from(isa, o, prepared, d, d_max, seed))
     }
 
-    /// [`Bvh::closest_packet_seeded`] with the triangles from `prepared`.
-    pub(crate) fn closest_packet_from(
+    /// [`Bvh::closest_packet_seeded`] with the triangles from `prepared`, in the build `isa`
+    /// names.
+    #[inline(always)]
+    pub(crate) fn closest_packet_from<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
@@ -141,7 +144,7 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let bvh = self;
-        avx512_avx2_or_baseline!(lanes Bvh::closest_packet_body => (
+        kernel_in!(isa, lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,
@@ -291,12 +294,15 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let prepared = Prepared::from_list(prepared);
-        self.blocked_packet_from(o, prepared, d, d_max, skip, valid)
+        with_cpu_isa!(|isa| self.blocked_packet_from(isa, o, prepared, d, d_max, skip, valid))
     }
 
-    /// [`Bvh::blocked_packet`] with the triangles from `prepared`.
-    pub(crate) fn blocked_packet_from(
+    /// [`Bvh::blocked_packet`] with the triangles from `prepared`, in the build `isa` names.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn blocked_packet_from<I: Isa>(
         &self,
+        isa: I,
         o: [f32; 3],
         prepared: Prepared<'_>,
         d: &[f32x8; 3],
@@ -305,7 +311,7 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        avx512_avx2_or_baseline!(lanes Bvh::blocked_packet_body => (
+        kernel_in!(isa, lanes Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,

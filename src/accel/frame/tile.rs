@@ -15,7 +15,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::math::lanes::LaneOps;
-use crate::math::simd::each3;
+use crate::math::simd::{each3, with_cpu_isa, Isa};
 use wide::f32x8;
 
 /// The answer of a packet started from `seed` where no triangle can show: the seed's.
@@ -67,12 +67,17 @@ impl TileQueries<'_> {
 
     /// The nearest primitive along each of 8 camera rays from the eye with directions `d`,
     /// for lanes `live` (bit l for lane l; the others are [`NO_HIT`]).
-    #[inline(always)]
     pub fn closest_x8(&mut self, d: &[f32x8; 3], live: u32) -> [u32; 8] {
+        with_cpu_isa!(|isa| self.closest_x8_in(isa, d, live))
+    }
+
+    /// [`TileQueries::closest_x8`] in the build `isa` names (a tile loop's own).
+    #[inline(always)]
+    pub(crate) fn closest_x8_in<I: Isa>(&mut self, isa: I, d: &[f32x8; 3], live: u32) -> [u32; 8] {
         let d_max = packet::max_component(d);
         let found = match self.spheres_may_show {
-            false => self.closest_triangles_x8(d, d_max, None),
-            true => self.closest_with_spheres_x8(d, d_max, live),
+            false => self.closest_triangles_x8(isa, d, d_max, None),
+            true => self.closest_with_spheres_x8(isa, d, d_max, live),
         };
         // (The lanes are handed on as the kernel stored them: a vector load of its scalar
         // stores would stall store forwarding; measured 5-10% of a Cornell flat frame.)
@@ -89,12 +94,13 @@ impl TileQueries<'_> {
     /// `V` of any width, into `out[..V::WIDTH]`: a small scene's culled triangles are tested
     /// inline (no call, no dispatch and no conversion per packet: the Cornell flat frame at
     /// 1280×720 took 1.4× as long in the default build as with AVX2 for the whole program);
-    /// other plans go 8 lanes at a time through `closest_x8`.
+    /// other plans go 8 lanes at a time through `closest_x8_in` in the build `isa` names.
     /// `d_max` bounds every |dₖ| of the packet (the generator's bound for its directions:
     /// no reduction per packet in the culled lists' kernel, 3-4% of the Cornell flat frame).
     #[inline(always)]
-    pub(crate) fn closest_in<V: LaneOps>(
+    pub(crate) fn closest_in<V: LaneOps, I: Isa>(
         &mut self,
+        isa: I,
         d: [V; 3],
         d_max: f32,
         live: u32,
@@ -119,7 +125,7 @@ impl TileQueries<'_> {
             let lanes = lanes_of(&d);
             for h in 0..V::WIDTH / 8 {
                 let half = each3(|k| f32x8::from(std::array::from_fn(|l| lanes[k][8 * h + l])));
-                let prims = self.closest_x8(&half, (live >> (8 * h)) & 0xff);
+                let prims = self.closest_x8_in(isa, &half, (live >> (8 * h)) & 0xff);
                 out[8 * h..][..8].copy_from_slice(&prims);
             }
             return;
@@ -132,17 +138,21 @@ impl TileQueries<'_> {
 
     /// The packet kernels' answer over the tile's triangles, starting from `seed`.
     #[inline(always)]
-    fn closest_triangles_x8(
+    fn closest_triangles_x8<I: Isa>(
         &self,
+        isa: I,
         d: &[f32x8; 3],
         d_max: f32,
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let frame = self.frame;
         match &frame.plan {
-            Plan::CulledPackets { .. } => packet::closest_seeded(self.prepared, d, d_max, seed),
+            Plan::CulledPackets { .. } => {
+                packet::closest_seeded_in(isa, self.prepared, d, d_max, seed)
+            }
             Plan::Packets { .. } if !self.triangles_may_show => seed_only(d, d_max, seed),
             Plan::Packets { from_eye, .. } => frame.accel.closest_packet_of_triangles(
+                isa,
                 frame.eye,
                 Prepared::of(from_eye.as_ref()),
                 d,
@@ -156,15 +166,21 @@ impl TileQueries<'_> {
     /// [`TileQueries::closest_triangles_x8`] where spheres may show: their hierarchy is
     /// walked first, and the triangles offered against the nearest sphere of each lane.
     #[inline(never)]
-    fn closest_with_spheres_x8(&self, d: &[f32x8; 3], d_max: f32, live: u32) -> PacketHits {
+    fn closest_with_spheres_x8<I: Isa>(
+        &self,
+        isa: I,
+        d: &[f32x8; 3],
+        d_max: f32,
+        live: u32,
+    ) -> PacketHits {
         let frame = self.frame;
         let Some(spheres) = &frame.spheres else {
-            return self.closest_triangles_x8(d, d_max, None);
+            return self.closest_triangles_x8(isa, d, d_max, None);
         };
         let found = frame
             .accel
             .spheres()
-            .seed_packet(&spheres.from_eye, d, live);
+            .seed_packet(isa, &spheres.from_eye, d, live);
         let seed = PacketSeed {
             prim: found
                 .prims
@@ -173,7 +189,7 @@ impl TileQueries<'_> {
             hi: found.hi,
             ambiguous: found.ambiguous,
         };
-        let mut hits = self.closest_triangles_x8(d, d_max, Some(&seed));
+        let mut hits = self.closest_triangles_x8(isa, d, d_max, Some(&seed));
         for (prim, sphere) in hits.prim.iter_mut().zip(found.prims) {
             if *prim == SEEDED {
                 *prim = sphere;
@@ -226,6 +242,16 @@ impl TileQueries<'_> {
     /// Which live lanes of each of the tile's shadow segments are blocked: `blocked[i]` gets
     /// packet i's mask.
     pub fn blocked_x8<S: AsRef<ShadowSegments>>(&mut self, packets: &[S], blocked: &mut Vec<u32>) {
+        with_cpu_isa!(|isa| self.blocked_x8_in(isa, packets, blocked))
+    }
+
+    /// [`TileQueries::blocked_x8`] in the build `isa` names (a tile loop's own).
+    pub(crate) fn blocked_x8_in<S: AsRef<ShadowSegments>, I: Isa>(
+        &mut self,
+        isa: I,
+        packets: &[S],
+        blocked: &mut Vec<u32>,
+    ) {
         blocked.clear();
         blocked.resize(packets.len(), 0);
         let frame = self.frame;
@@ -248,7 +274,7 @@ impl TileQueries<'_> {
                 unsure: 0,
             },
             Some(spheres) => match &spheres.from_light {
-                Some(seen) => frame.accel.spheres().block_packet(seen, s),
+                Some(seen) => frame.accel.spheres().block_packet(isa, seen, s),
                 None => SphereLanes {
                     blocked: 0,
                     unsure: s.live,
@@ -269,7 +295,7 @@ impl TileQueries<'_> {
                         let d_max = packet::max_component(&s.d);
                         let prepared = Prepared::of(from_light.as_ref());
                         let found = accel.blocked_packet_of_triangles(
-                            light, prepared, &s.d, d_max, &s.prim, valid,
+                            isa, light, prepared, &s.d, d_max, &s.prim, valid,
                         );
                         *out |= found.blocked;
                         note_unsure(found.unsure);
@@ -299,7 +325,8 @@ impl TileQueries<'_> {
                         continue;
                     }
                     let d_max = packet::max_component(&s.d);
-                    let found = packet::shadow_from_origin(near, &s.d, d_max, &s.prim, valid);
+                    let found =
+                        packet::shadow_from_origin_in(isa, near, &s.d, d_max, &s.prim, valid);
                     *out |= found.blocked;
                     note_unsure(found.unsure);
                     // Unsure lanes: exact edge signs and sides where that decides.

@@ -40,12 +40,13 @@ mod tests;
 
 pub(crate) use block::{BlockIds, OriginBlock, TriangleLanes};
 pub use exact_lane::{blocked_exact_lane, nearest_exact_lane};
-pub(crate) use nearest::closest_in;
-pub use nearest::{closest, closest_seeded, PacketHits, PacketNearest, PacketSeed};
+pub use nearest::{closest, PacketHits, PacketNearest, PacketSeed};
+pub(crate) use nearest::{closest_in, closest_seeded_in};
 pub use predicates::max_component;
 pub(crate) use predicates::max_component_in;
 pub use prepare::OriginTriangles;
 pub(crate) use prepare::{quad_indices, PreciseTriangle};
+pub(crate) use shadow::shadow_from_origin_in;
 pub use shadow::{shadow_from_origin, ShadowHits, ShadowPacket};
 pub(crate) use sink::{PacketLimits, PacketSink};
 

@@ -7,7 +7,7 @@ use super::predicates::{block_crossings, load, t_interval, EdgeTests};
 use super::prepare::PreciseTriangle;
 use super::{OriginTriangle, MAX_PRODUCT};
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
 
 /// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
 /// that must be traced per ray.
@@ -59,17 +59,19 @@ impl Default for PacketSeed {
 ///
 /// [`max_component`]: super::max_component
 pub fn closest(tris: &[OriginTriangle], d: &[f32x8; 3], d_max: f32) -> PacketHits {
-    closest_seeded(tris, d, d_max, None)
+    with_cpu_isa!(|isa| closest_seeded_in(isa, tris, d, d_max, None))
 }
 
-/// [`closest`] starting from `seed` ([`PacketNearest::seeded`]).
-pub fn closest_seeded(
+/// [`closest`] starting from `seed` ([`PacketNearest::seeded`]), in the build `isa` names.
+#[inline(always)]
+pub(crate) fn closest_seeded_in<I: Isa>(
+    isa: I,
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    avx512_avx2_or_baseline!(lanes closest_body => (
+    kernel_in!(isa, lanes closest_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,

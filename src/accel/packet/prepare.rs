@@ -8,7 +8,7 @@ use super::{cross, sub, OriginTriangle, MAX_MAGNITUDE, TINY64, U32, U64};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::{round_down, round_up};
 use crate::math::lanes::{Lanes, Lanes64};
-use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
 use rayon::prelude::*;
 
 /// A frame's triangles prepared for its camera position.
@@ -424,10 +424,20 @@ impl OriginTriangles {
         get: impl Fn(usize) -> (&'a [[f32; 3]; 3], u32) + Sync,
         origin: [f32; 3],
     ) -> Self {
+        with_cpu_isa!(|isa| Self::prepare_in(isa, n, &get, origin))
+    }
+
+    /// [`OriginTriangles::prepare`] in the build `isa` names.
+    fn prepare_in<'a, I: Isa>(
+        isa: I,
+        n: usize,
+        get: &(impl Fn(usize) -> (&'a [[f32; 3]; 3], u32) + Sync),
+        origin: [f32; 3],
+    ) -> Self {
         let quad = |q: usize| {
             let [i0, i1, i2, i3] = quad_indices(4 * q, n);
             let (a, b, c, d) = (get(i0), get(i1), get(i2), get(i3));
-            prepare4([a.0, b.0, c.0, d.0], origin, [a.1, b.1, c.1, d.1])
+            prepare4_in(isa, [a.0, b.0, c.0, d.0], origin, [a.1, b.1, c.1, d.1])
         };
         let quads: Vec<[OriginTriangle; 4]> = if n >= 4096 {
             (0..n.div_ceil(4)).into_par_iter().map(quad).collect()
@@ -453,9 +463,16 @@ pub(crate) fn quad_indices(start: usize, end: usize) -> [usize; 4] {
     ]
 }
 
-/// Four triangles prepared for `o` ([`OriginTriangle::new4`]) in the CPU's widest lanes.
-pub(crate) fn prepare4(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
-    avx512_avx2_or_baseline!(lanes prepare4_body => (
+/// Four triangles prepared for `o` ([`OriginTriangle::new4`]) in the f64 lanes of the build
+/// `isa` names.
+#[inline(always)]
+fn prepare4_in<I: Isa>(
+    isa: I,
+    v: [&[[f32; 3]; 3]; 4],
+    o: [f32; 3],
+    prim: [u32; 4],
+) -> [OriginTriangle; 4] {
+    kernel_in!(isa, lanes prepare4_body => (
         v: [&[[f32; 3]; 3]; 4],
         o: [f32; 3],
         prim: [u32; 4]

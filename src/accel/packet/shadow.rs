@@ -4,7 +4,7 @@
 use super::predicates::{t_interval, EdgeTests};
 use super::{OriginTriangle, MAX_PRODUCT};
 use crate::math::lanes::{f32x8, Lanes};
-use crate::math::simd::{avx512_avx2_or_baseline, each3};
+use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
 
 /// Eight shadow rays from the origin `tris` were prepared for (the light), directions `d`
 /// (`d_max` ≥ every |dₖ|, [`max_component`]): whether each lane in `valid` is blocked for
@@ -23,7 +23,20 @@ pub fn shadow_from_origin(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx512_avx2_or_baseline!(lanes shadow_from_origin_body => (
+    with_cpu_isa!(|isa| shadow_from_origin_in(isa, tris, d, d_max, skip, valid))
+}
+
+/// [`shadow_from_origin`] in the build `isa` names.
+#[inline(always)]
+pub(crate) fn shadow_from_origin_in<I: Isa>(
+    isa: I,
+    tris: &[OriginTriangle],
+    d: &[f32x8; 3],
+    d_max: f32,
+    skip: &[u32; 8],
+    valid: u32,
+) -> ShadowHits {
+    kernel_in!(isa, lanes shadow_from_origin_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
