@@ -4,7 +4,7 @@
 //! on. The pixel is answered again for each new view ([`super::follow`]); until the view
 //! settles, the ray drawn is the last answer's, seen from where the camera has moved since.
 
-use super::follow::Detail;
+use super::inspected::Detail;
 use raylab::camera::Projection;
 use raylab::check::code::CodeInspection;
 use raylab::geometry::Hit;

@@ -20,6 +20,7 @@ mod follow;
 mod framework;
 mod gpu;
 mod input;
+mod inspected;
 mod inspector;
 mod location;
 mod notices;

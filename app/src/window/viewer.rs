@@ -130,8 +130,8 @@ pub struct Viewer {
     /// The linked code's answer for the inspected pixel, beside the exact one.
     pub code_inspection: Option<CodeInspection>,
     /// The pixel the inspector follows ([`super::follow`]), and its crack.
-    pub inspected: Option<super::follow::Inspected>,
-    pub crack: Option<super::follow::Detail>,
+    pub inspected: Option<super::inspected::Inspected>,
+    pub crack: Option<super::inspected::Detail>,
     /// Whether the inspector's panel was drawn in the last UI pass.
     pub inspector_shown: bool,
     /// The cracks of the frames shown, counted ([`super::cracks`]).

@@ -1,0 +1,75 @@
+//! What the ray inspector follows and says: its pixel ([`Inspected`]) and what it says of
+//! that pixel's crack ([`Detail`]), which the viewer holds, `follow` answers and the
+//! inspector draws.
+
+use super::cracks;
+use super::location::Location;
+use raylab::check::Verdict;
+
+/// The pixel the inspector follows (of the full-size image), and the frame it was answered
+/// for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inspected {
+    pub pixel: (u32, u32),
+    pub size: (u32, u32),
+    pub generation: u64,
+}
+
+/// What the inspector says of its pixel's crack.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detail {
+    /// Who answered: the method, or the linked code.
+    pub who: String,
+    pub code: bool,
+    /// The image position traced: the pixel's centre, or its first marked sample.
+    pub at: (f32, f32),
+    pub sample: bool,
+    /// That ray's answer graded against the exact one.
+    pub verdict: Verdict,
+    /// Whether the cracks view marks the pixel in the frame shown.
+    pub marked: bool,
+    /// The exact hit's primitive and where the ray meets it.
+    pub exact: Option<(u32, Location)>,
+    /// The answer's primitive, where it is not the exact one, and where the ray meets it.
+    pub given: Option<(u32, Location)>,
+}
+
+impl Detail {
+    /// `name: value` rows, as the inspector shows them (and a scripted run prints them).
+    pub fn rows(&self) -> Vec<(String, String)> {
+        let v = self.verdict;
+        let crack = match self.marked {
+            true => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
+            false => format!("not marked (the centre ray: {})", v.name()),
+        };
+        let (x, y) = self.at;
+        let traced = match self.sample {
+            true => format!("sample ({x}, {y}) of the pixel"),
+            false => format!("the pixel's centre ({x}, {y})"),
+        };
+        let on = |h: &Option<(u32, Location)>| match h {
+            Some((p, at)) => format!("primitive {p}, {at}"),
+            None => "none".to_string(),
+        };
+        let given = match v {
+            Verdict::Right => "the exact one".to_string(),
+            _ => on(&self.given),
+        };
+        // (Always the same rows: the inspector's layout stays put as its pixel changes.)
+        vec![
+            ("crack".to_string(), crack),
+            ("traced".to_string(), traced),
+            ("exact hit lies".to_string(), on(&self.exact)),
+            (format!("{} hit lies", self.who), given),
+        ]
+    }
+
+    /// One line for the status: the verdict and where the exact hit lies.
+    pub fn summary(&self) -> String {
+        let exact = match &self.exact {
+            Some((p, at)) => format!("exact hit on primitive {p}, {at}"),
+            None => "the exact ray meets nothing".to_string(),
+        };
+        format!("{} by {}; {exact}", self.verdict.name(), self.who)
+    }
+}
