@@ -130,9 +130,9 @@ pub fn suite(args: &SuiteArgs) -> Result<()> {
     }
 }
 
-/// Runs `raylab check`: `Ok(true)` when every answer stands: no leak, false hit, wrong
-/// primitive or t beyond the tolerance (and every program run gave its answers).
-pub fn check(args: &CheckArgs) -> Result<bool> {
+/// The options of `raylab check` checked before any work: something to grade, and a
+/// usable timeout, tolerance and command template.
+pub(super) fn check_args(args: &CheckArgs) -> Result<()> {
     if args.answers.is_none() && args.program.is_none() {
         bail!("give the answers to grade: --answers FILE, or --program CMD to run");
     }
@@ -141,9 +141,13 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
     if let Some(cmd) = &args.program {
         template::check_template(cmd)?;
     }
-    if let (Some(image), Some(template)) = (&args.image, &args.program) {
-        return super::check_image::check_image(args, image, template);
-    }
+    Ok(())
+}
+
+/// `raylab check` of rays (not `--image`): `Ok(true)` when every answer stands: no leak,
+/// false hit, wrong primitive or t beyond the tolerance (and every program run gave its
+/// answers).
+pub(super) fn check_answers(args: &CheckArgs) -> Result<bool> {
     match args.precision {
         Precision::F32 => check_in::<f32>(args, exact_f32),
         Precision::F64 => check_in::<f64>(args, exact_generic::<f64>),

@@ -29,7 +29,7 @@ mod program;
 mod template;
 mod trace;
 
-pub use check::{check, suite, CheckArgs, SuiteArgs};
+pub use check::{suite, CheckArgs, SuiteArgs};
 pub use grade::{grade, GradeArgs};
 pub use trace::{trace, TraceArgs};
 
@@ -313,6 +313,16 @@ fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
             )),
         },
         _ => Err(format!("expected x,y, got '{s}'")),
+    }
+}
+
+/// Runs `raylab check`: `Ok(true)` when every answer stands (rays: `check::check_answers`;
+/// a program's image: `check_image::check_image`).
+pub fn check(args: &CheckArgs) -> Result<bool> {
+    check::check_args(args)?;
+    match (&args.image, &args.program) {
+        (Some(image), Some(template)) => check_image::check_image(args, image, template),
+        _ => check::check_answers(args),
     }
 }
 
