@@ -19,6 +19,7 @@
 use crate::accel;
 use crate::geometry::{adaptive, Method, Ray, Shape};
 use crate::math::Real;
+use rayon::prelude::*;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -203,26 +204,27 @@ pub fn trace_all<T: Real>(
             rays,
             method,
             |p| shapes[p as usize],
-            |r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
+            |_, r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
         ),
-        Query::Any => any_answers(rays, |r| {
+        Query::Any => any_answers(rays, |_, r| {
             accel::any_hit(shapes, &r.ray, method, r.tmin, r.tmax)
         }),
     }
 }
 
-/// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it. For the
+/// The output text: per ray `hit <t> <index>` or `miss`, as `closest` answers it (given the
+/// ray's position and the ray). For the
 /// adaptive method t is the exact t correctly rounded ([`adaptive::rounded_t`]), whichever
-/// path found the primitive; the other methods print their own t.
+/// path found the primitive; the other methods print their own t. Rays are answered on every
+/// core, in chunks, and printed in their order.
 fn answers<T: Real>(
     rays: &[TraceRay<T>],
     method: Method,
-    shape_of: impl Fn(u32) -> Shape<T>,
-    mut closest: impl FnMut(&TraceRay<T>) -> Option<crate::geometry::Hit<T>>,
+    shape_of: impl Fn(u32) -> Shape<T> + Sync,
+    closest: impl Fn(usize, &TraceRay<T>) -> Option<crate::geometry::Hit<T>> + Sync,
 ) -> String {
-    let mut out = String::with_capacity(rays.len() * 24);
-    for r in rays {
-        match closest(r) {
+    in_chunks(rays, 24, |i, r, out| {
+        match closest(i, r) {
             Some(h) => {
                 let t = match method {
                     Method::Adaptive => {
@@ -236,17 +238,38 @@ fn answers<T: Real>(
             None => writeln!(out, "miss"),
         }
         .expect("writing to a String cannot fail");
-    }
-    out
+    })
 }
 
-/// The output text of [`Query::Any`]: per ray `hit` or `miss`, as `any` answers it.
-fn any_answers<T: Real>(rays: &[TraceRay<T>], mut any: impl FnMut(&TraceRay<T>) -> bool) -> String {
-    let mut out = String::with_capacity(rays.len() * 5);
-    for r in rays {
-        out.push_str(if any(r) { "hit\n" } else { "miss\n" });
-    }
-    out
+/// The output text of [`Query::Any`]: per ray `hit` or `miss`, as `any` answers it (on every
+/// core, as [`answers`]).
+fn any_answers<T: Real>(
+    rays: &[TraceRay<T>],
+    any: impl Fn(usize, &TraceRay<T>) -> bool + Sync,
+) -> String {
+    in_chunks(rays, 5, |i, r, out| {
+        out.push_str(if any(i, r) { "hit\n" } else { "miss\n" })
+    })
+}
+
+/// `line(position, ray, out)` for every ray, chunks of rays on every core, the text in the rays' order
+/// (`bytes`: a line's usual length).
+fn in_chunks<T: Real>(
+    rays: &[TraceRay<T>],
+    bytes: usize,
+    line: impl Fn(usize, &TraceRay<T>, &mut String) + Sync,
+) -> String {
+    const CHUNK: usize = 256;
+    let parts: Vec<String> = (rays.par_chunks(CHUNK).enumerate())
+        .map(|(k, chunk)| {
+            let mut out = String::with_capacity(chunk.len() * bytes);
+            for (i, r) in chunk.iter().enumerate() {
+                line(k * CHUNK + i, r, &mut out);
+            }
+            out
+        })
+        .collect();
+    parts.concat()
 }
 
 /// Traces every ray in f32 through an acceleration structure built with `choice` over the
@@ -266,9 +289,11 @@ pub fn trace_all_through(
             rays,
             method,
             |p| scene.shape(p),
-            |r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
+            |_, r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
         ),
-        Query::Any => any_answers(rays, |r| structure.any_hit(&r.ray, method, r.tmin, r.tmax)),
+        Query::Any => any_answers(rays, |_, r| {
+            structure.any_hit(&r.ray, method, r.tmin, r.tmax)
+        }),
     }
 }
 
@@ -363,13 +388,12 @@ pub fn trace_all_packets(
             }
         }
     }
-    let mut found = found.into_iter();
     match query {
         Query::Nearest => answers(
             rays,
             Method::Adaptive,
             |p| scene.shape(p),
-            |r| match found.next().expect("one answer per ray") {
+            |i, r| match found[i] {
                 Some(NO_HIT) => None,
                 // t: `answers` prints the primitive's adaptive t (NaN would show a primitive
                 // the ray does not hit).
@@ -382,7 +406,7 @@ pub fn trace_all_packets(
                 None => structure.closest_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
             },
         ),
-        Query::Any => any_answers(rays, |r| match found.next().expect("one answer per ray") {
+        Query::Any => any_answers(rays, |i, r| match found[i] {
             Some(blocked) => blocked == 1,
             None => structure.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
         }),
