@@ -34,7 +34,7 @@ use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::Lanes;
-use crate::math::simd::{each3, kernel_in, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, Isa};
 use rayon::prelude::*;
 use wide::{f32x8, f64x4};
 
@@ -413,7 +413,7 @@ impl Spheres {
         live: u32,
     ) -> SphereSeed {
         let spheres = self;
-        kernel_in!(isa, seed_body => (
+        avx512_avx2_or_baseline!(token isa, seed_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             d: &[f32x8; 3],
@@ -432,7 +432,7 @@ impl Spheres {
         s: &super::ShadowSegments,
     ) -> SphereLanes {
         let spheres = self;
-        kernel_in!(isa, block_body => (
+        avx512_avx2_or_baseline!(token isa, block_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             s: &super::ShadowSegments

@@ -19,7 +19,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::math::lanes::{LaneOps, Lanes};
-use crate::math::simd::{each3, kernel_in, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, Isa};
 use wide::f32x8;
 
 /// The structure over a scene's stored triangles: the one dispatch on the layout.
@@ -200,7 +200,7 @@ fn closest_with<I: Isa>(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    kernel_in!(isa, isa lanes closest_with_body => (
+    avx512_avx2_or_baseline!(token isa, isa lanes closest_with_body => (
         tris: &Triangles,
         instances: Option<&Instances>,
         o: [f32; 3],
@@ -246,7 +246,7 @@ fn blocked_with<I: Isa>(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    kernel_in!(isa, isa lanes blocked_with_body => (
+    avx512_avx2_or_baseline!(token isa, isa lanes blocked_with_body => (
         tris: &Triangles,
         instances: Option<&Instances>,
         o: [f32; 3],

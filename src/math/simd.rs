@@ -14,8 +14,8 @@
 //!
 //! Where the choice is made: once where a tile loop starts ([`avx512_avx2_or_baseline!`]'s
 //! `isa` arms hand the loop its build's token, an [`Isa`]), and below it by the token's type
-//! ([`kernel_in!`]), with no run-time check; a query called on its own takes the CPU's token
-//! ([`with_cpu_isa!`]) and reaches the same compiled copies.
+//! (the same macro's `token` form), with no run-time check; a query called on its own takes
+//! the CPU's token ([`with_cpu_isa!`]) and reaches the same compiled copies.
 
 /// `$item` (a function) compiled with the AVX-512 build's features: F, VL, BW, DQ and CD,
 /// with AVX2 and FMA. The one place that list is written (the dispatch's wrappers and
@@ -78,10 +78,16 @@ impl std::str::FromStr for SimdLevel {
     }
 }
 
-/// Calls `body(args)` (an `#[inline(always)]` kernel) through the copy compiled for the
-/// CPU's [`level`]: AVX-512, AVX2+FMA, or the baseline. With
-/// [`crate::math::lanes`] (whose AVX types may exist only behind this check), the one place
-/// the crate uses unsafe code.
+/// Calls `body(args)` (an `#[inline(always)]` kernel) through its copy compiled for one
+/// build: AVX-512, AVX2+FMA, or the baseline. Each copy is one function
+/// (`#[inline(never)]`). With [`crate::math::lanes`] (whose AVX types may exist only behind
+/// this choice), the one place the crate uses unsafe code.
+///
+/// Which build: the CPU's [`level`], checked at run time (the macro's plain form, a query's
+/// per-call entry point or a tile loop's start); or, after `token isa,`, the build of the
+/// token `isa` (an [`Isa`]), with no run-time check: the token's type says which build, so the
+/// choice is a constant (a query's `_in` form, called from code already built for one level).
+/// Both reach the same three copies of a kernel when written as a function's whole body.
 ///
 /// With `lanes` before the kernel's path, the kernel is generic over its
 /// [`Lanes`](crate::math::lanes::Lanes) type: its AVX2 and AVX-512 builds compute in
@@ -91,22 +97,24 @@ impl std::str::FromStr for SimdLevel {
 /// also generic over its build's [`Isa`] token, which it takes as its first argument; with
 /// `isa widest`, as with `widest` and the token.
 macro_rules! avx512_avx2_or_baseline {
-    (lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+    (@kernel [$level:expr] lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@builds [$level]
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::f32x8>)
+            [] [] []
             ($($arg: $ty),*) -> $ret)
     };
-    (widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+    (@kernel [$level:expr] widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@builds [$level]
             ($($body)::+::<$crate::math::lanes::Avx16>)
             ($($body)::+::<$crate::math::lanes::Avx8>)
             ($($body)::+::<$crate::math::lanes::f32x8>)
+            [] [] []
             ($($arg: $ty),*) -> $ret)
     };
-    (isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+    (@kernel [$level:expr] isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@builds [$level]
             ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx512>)
             ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
             ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
@@ -115,8 +123,8 @@ macro_rules! avx512_avx2_or_baseline {
             [$crate::math::simd::Baseline]
             ($($arg: $ty),*) -> $ret)
     };
-    (isa widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch
+    (@kernel [$level:expr] isa widest $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@builds [$level]
             ($($body)::+::<$crate::math::lanes::Avx16, $crate::math::simd::Avx512>)
             ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
             ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
@@ -125,79 +133,15 @@ macro_rules! avx512_avx2_or_baseline {
             [$crate::math::simd::Baseline]
             ($($arg: $ty),*) -> $ret)
     };
-    ($body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch ($body) ($body) ($body) ($($arg: $ty),*) -> $ret)
+    (@kernel [$level:expr] $body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@builds [$level] ($body) ($body) ($body)
+            [] [] [] ($($arg: $ty),*) -> $ret)
     };
-    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr) ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::avx512_avx2_or_baseline!(@dispatch ($avx512) ($avx) ($base) [] [] []
-            ($($arg: $ty),*) -> $ret)
-    };
-    (@dispatch ($avx512:expr) ($avx:expr) ($base:expr)
+    (@builds [$level:expr] ($avx512:expr) ($avx:expr) ($base:expr)
         [$($isa512:expr)?] [$($isa2:expr)?] [$($isa_base:expr)?]
         ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
         #[cfg(target_arch = "x86_64")]
-        match $crate::math::simd::level() {
-            $crate::math::simd::SimdLevel::Avx512 => {
-                $crate::math::simd::avx512_features! {
-                    fn avx512($($arg: $ty),*) -> $ret {
-                        $avx512($($isa512,)? $($arg),*)
-                    }
-                }
-                // SAFETY: the CPU has these features (checked at run time by `level`).
-                #[allow(unsafe_code)]
-                return unsafe { avx512($($arg),*) };
-            }
-            $crate::math::simd::SimdLevel::Avx2 => {
-                $crate::math::simd::avx2_features! {
-                    fn avx2($($arg: $ty),*) -> $ret {
-                        $avx($($isa2,)? $($arg),*)
-                    }
-                }
-                // SAFETY: the CPU has AVX2 and FMA (checked at run time by `level`).
-                #[allow(unsafe_code)]
-                return unsafe { avx2($($arg),*) };
-            }
-            $crate::math::simd::SimdLevel::Baseline => {}
-        }
-        $base($($isa_base,)? $($arg),*)
-    }};
-}
-pub(crate) use avx512_avx2_or_baseline;
-
-/// `$body(args)` through its copy compiled for the build of the token `$isa` (an [`Isa`]),
-/// with no run-time check: the token's type says which build, so the choice is a constant.
-/// Each copy is one function (`#[inline(never)]`), made once whoever calls it: the kernel's
-/// per-call entry point ([`with_cpu_isa!`]) and a frame's tile loop, which holds its build's
-/// token already, reach the same three copies. The arms (`lanes`, `isa lanes`, a plain path)
-/// are those of [`avx512_avx2_or_baseline!`]. Used as a whole function body.
-macro_rules! kernel_in {
-    ($isa:ident, lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::kernel_in!(@builds $isa
-            ($($body)::+::<$crate::math::lanes::Avx8>)
-            ($($body)::+::<$crate::math::lanes::Avx8>)
-            ($($body)::+::<$crate::math::lanes::f32x8>)
-            [] [] []
-            ($($arg: $ty),*) -> $ret)
-    };
-    ($isa:ident, isa lanes $($body:ident)::+ => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::kernel_in!(@builds $isa
-            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx512>)
-            ($($body)::+::<$crate::math::lanes::Avx8, $crate::math::simd::Avx2>)
-            ($($body)::+::<$crate::math::lanes::f32x8, $crate::math::simd::Baseline>)
-            [$crate::math::simd::Avx512::checked()]
-            [$crate::math::simd::Avx2::checked()]
-            [$crate::math::simd::Baseline]
-            ($($arg: $ty),*) -> $ret)
-    };
-    ($isa:ident, $body:path => ($($arg:ident: $ty:ty),*) -> $ret:ty) => {
-        $crate::math::simd::kernel_in!(@builds $isa ($body) ($body) ($body) [] [] []
-            ($($arg: $ty),*) -> $ret)
-    };
-    (@builds $isa:ident ($avx512:expr) ($avx:expr) ($base:expr)
-        [$($isa512:expr)?] [$($isa2:expr)?] [$($isa_base:expr)?]
-        ($($arg:ident: $ty:ty),*) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        match $crate::math::simd::Isa::level($isa) {
+        match $level {
             $crate::math::simd::SimdLevel::Avx512 => {
                 $crate::math::simd::avx512_features! {
                     #[inline(never)]
@@ -205,7 +149,8 @@ macro_rules! kernel_in {
                         $avx512($($isa512,)? $($arg),*)
                     }
                 }
-                // SAFETY: a token of this build exists only where the CPU has its features.
+                // SAFETY: the CPU has these features: `level` checked them, or a token of
+                // this build exists (made only after that check).
                 #[allow(unsafe_code)]
                 return unsafe { avx512($($arg),*) };
             }
@@ -216,25 +161,33 @@ macro_rules! kernel_in {
                         $avx($($isa2,)? $($arg),*)
                     }
                 }
-                // SAFETY: a token of this build exists only where the CPU has its features.
+                // SAFETY: as above, for AVX2 and FMA.
                 #[allow(unsafe_code)]
                 return unsafe { avx2($($arg),*) };
             }
             $crate::math::simd::SimdLevel::Baseline => {}
         }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = $level;
         #[inline(never)]
         fn baseline($($arg: $ty),*) -> $ret {
             $base($($isa_base,)? $($arg),*)
         }
-        let _ = $isa;
         baseline($($arg),*)
     }};
+    (token $isa:ident, $($kernel:tt)+) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@kernel
+            [$crate::math::simd::Isa::level($isa)] $($kernel)+)
+    };
+    ($($kernel:tt)+) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@kernel [$crate::math::simd::level()] $($kernel)+)
+    };
 }
-pub(crate) use kernel_in;
+pub(crate) use avx512_avx2_or_baseline;
 
 /// `$body` with `$isa` bound to the token of the CPU's build ([`level`]): the run-time
 /// choice of a query's per-call entry point, which then calls the query's `_in` form with
-/// the token (whose kernels are [`kernel_in!`]'s).
+/// the token (whose kernels are [`avx512_avx2_or_baseline!`]'s `token` form).
 macro_rules! with_cpu_isa {
     (|$isa:ident| $body:expr) => {
         match $crate::math::simd::level() {
@@ -267,7 +220,7 @@ pub(crate) trait Isa: Copy + Send + Sync {
     /// Which build this is.
     const LEVEL: SimdLevel;
 
-    /// [`Isa::LEVEL`] of a token ([`kernel_in!`] asks it; a constant once compiled).
+    /// [`Isa::LEVEL`] of a token (the dispatch's `token` form asks it; a constant once compiled).
     #[inline(always)]
     fn level(self) -> SimdLevel {
         Self::LEVEL

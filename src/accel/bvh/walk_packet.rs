@@ -13,7 +13,7 @@ use crate::accel::packet::{
 };
 use crate::accel::prepared::Prepared;
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
 
 impl Bvh {
     /// Walks the hierarchy with 8 rays from one origin (`slabs`), every box widened by `pad`
@@ -144,7 +144,7 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let bvh = self;
-        kernel_in!(isa, lanes Bvh::closest_packet_body => (
+        avx512_avx2_or_baseline!(token isa, lanes Bvh::closest_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,
@@ -311,7 +311,7 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        kernel_in!(isa, lanes Bvh::blocked_packet_body => (
+        avx512_avx2_or_baseline!(token isa, lanes Bvh::blocked_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,

@@ -7,7 +7,7 @@ use super::predicates::{block_crossings, load, t_interval, EdgeTests};
 use super::prepare::PreciseTriangle;
 use super::{OriginTriangle, MAX_PRODUCT};
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
-use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
 
 /// What a packet found: per lane the nearest primitive (`u32::MAX` for none) and the lanes
 /// that must be traced per ray.
@@ -71,7 +71,7 @@ pub(crate) fn closest_seeded_in<I: Isa>(
     d_max: f32,
     seed: Option<&PacketSeed>,
 ) -> PacketHits {
-    kernel_in!(isa, lanes closest_body => (
+    avx512_avx2_or_baseline!(token isa, lanes closest_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,

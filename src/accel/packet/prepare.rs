@@ -8,7 +8,7 @@ use super::{cross, sub, OriginTriangle, MAX_MAGNITUDE, TINY64, U32, U64};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::{round_down, round_up};
 use crate::math::lanes::{Lanes, Lanes64};
-use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
 use rayon::prelude::*;
 
 /// A frame's triangles prepared for its camera position.
@@ -472,7 +472,7 @@ fn prepare4_in<I: Isa>(
     o: [f32; 3],
     prim: [u32; 4],
 ) -> [OriginTriangle; 4] {
-    kernel_in!(isa, lanes prepare4_body => (
+    avx512_avx2_or_baseline!(token isa, lanes prepare4_body => (
         v: [&[[f32; 3]; 3]; 4],
         o: [f32; 3],
         prim: [u32; 4]

@@ -4,7 +4,7 @@
 use super::predicates::{t_interval, EdgeTests};
 use super::{OriginTriangle, MAX_PRODUCT};
 use crate::math::lanes::{f32x8, Lanes};
-use crate::math::simd::{each3, kernel_in, with_cpu_isa, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
 
 /// Eight shadow rays from the origin `tris` were prepared for (the light), directions `d`
 /// (`d_max` ≥ every |dₖ|, [`max_component`]): whether each lane in `valid` is blocked for
@@ -36,7 +36,7 @@ pub(crate) fn shadow_from_origin_in<I: Isa>(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    kernel_in!(isa, lanes shadow_from_origin_body => (
+    avx512_avx2_or_baseline!(token isa, lanes shadow_from_origin_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
