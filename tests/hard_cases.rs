@@ -28,6 +28,7 @@ use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::testing::{self as packet, OriginTriangles};
 use raylab::accel::{self, Accel, AccelChoice, IndexedTriangle};
 use raylab::geometry::{adaptive, Method, Ray, Shape, Triangle};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use wide::f32x8;
 
@@ -109,8 +110,9 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
     let mut cache = HashMap::new();
     let mut bvh_cache = HashMap::new();
     let mut ambiguous = 0;
-    for ray in rays {
-        let exact = exact_nearest(shapes, ray);
+    // The exact references (most of the time) on every core.
+    let exacts: Vec<_> = rays.par_iter().map(|r| exact_nearest(shapes, r)).collect();
+    for (ray, exact) in rays.iter().zip(exacts) {
         let ray64 = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
         let mut answers: Vec<Option<(f64, u32)>> = Vec::new();
         for acc in [&flat, &bvh] {
@@ -261,8 +263,9 @@ fn tmin_and_tmax_exactly_at_the_hit() {
     // itself and any tie at t excluded: the open interval) and with tmin = t (what lies
     // beyond): the adaptive method through the reference loop, the flat SIMD loop and the BVH
     // gives the exact nearest in that interval, and `rounded_t` its exact t rounded.
-    let (mut asked, mut hits, mut wrong) = (0, 0, 0);
-    for family in suite::all() {
+    // The families on every core: (queries asked, hits, wrong answers) of each.
+    let tally = |family: &Family| {
+        let (mut asked, mut hits, mut wrong) = (0, 0, 0);
         let flat = Accel::build(&family.shapes, AccelChoice::Flat);
         let bvh = Accel::build(&family.shapes, AccelChoice::Bvh);
         for ray in &family.rays {
@@ -304,7 +307,10 @@ fn tmin_and_tmax_exactly_at_the_hit() {
                 }
             }
         }
-    }
+        (asked, hits, wrong)
+    };
+    let (asked, hits, wrong) = (suite::all().par_iter().map(tally))
+        .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
     println!("{asked} queries with tmin or tmax exactly at the hit, {hits} hits");
     assert!(
         asked > 5_000 && hits > 1_000,
@@ -318,8 +324,9 @@ fn the_suite_in_f64_through_the_reference_loop() {
     // The adaptive method in f64 (the suite's f32 inputs are the same numbers in f64): every
     // family's nearest primitive exact, and `rounded_t` the exact t rounded to f64 (as
     // `raylab trace --precision f64` prints it).
-    let (mut rays, mut hits, mut wrong, mut off) = (0, 0, 0, 0);
-    for family in suite::all() {
+    // The families on every core: (rays, hits, wrong primitives, t's off) of each.
+    let tally = |family: &Family| {
+        let (mut rays, mut hits, mut wrong, mut off) = (0, 0, 0, 0);
         let shapes: Vec<Shape<f64>> = family.shapes.iter().map(adaptive::widen).collect();
         for ray in &family.rays {
             let exact = exact_nearest(&family.shapes, ray);
@@ -343,7 +350,12 @@ fn the_suite_in_f64_through_the_reference_loop() {
                 }
             }
         }
-    }
+        (rays, hits, wrong, off)
+    };
+    let (rays, hits, wrong, off) = (suite::all().par_iter().map(tally)).reduce(
+        || (0, 0, 0, 0),
+        |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3),
+    );
     println!("f64: {rays} rays, {hits} hits");
     assert!(rays > 14_000 && hits > 12_000, "{rays} rays, {hits} hits");
     assert_eq!(

@@ -8,6 +8,7 @@ use common::binary::{count, last_line, text};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
+use rayon::prelude::*;
 use std::path::Path;
 
 crate::raylab_runner!();
@@ -262,14 +263,13 @@ fn the_readme_python_program_passes_every_family() {
     let rays: usize = suite::all().iter().map(|f| f.rays.len()).sum();
     // The program runs once per family; its answers are graded in both precisions.
     let script = root.join("examples/check/exact.py");
-    let mut graded = [0usize; 2];
-    for family in std::fs::read_dir(&suite_dir)
-        .unwrap()
+    // The families on every core (one Python process each).
+    let families: Vec<_> = (std::fs::read_dir(&suite_dir).unwrap())
         .map(|e| e.unwrap().path())
-    {
-        if !family.is_dir() {
-            continue;
-        }
+        .filter(|family| family.is_dir())
+        .collect();
+    let graded_one = |family: &std::path::PathBuf| {
+        let mut graded = [0usize; 2];
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let out = std::process::Command::new("python3")
             .arg(&script)
@@ -298,7 +298,10 @@ fn the_readme_python_program_passes_every_family() {
             );
             graded[k] += count(&line, "right") + count(&line, "ties");
         }
-    }
+        graded
+    };
+    let graded =
+        (families.par_iter().map(graded_one)).reduce(|| [0; 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
     assert_eq!(graded, [rays; 2], "every ray of every family graded right");
 }
 

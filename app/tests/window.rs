@@ -300,9 +300,9 @@ fn real_x_input_drives_every_other_key() {
                   xdotool keyup e keyup ctrl; sleep 0.2; \
                   xdotool keydown q; sleep 0.3; xdotool keyup q; sleep 0.2; \
                   xdotool keydown s; sleep 0.3; xdotool keyup s; sleep 0.2; \
-                  xdotool keydown Up; sleep 0.4; xdotool keyup Up; sleep 0.2; \
+                  xdotool keydown Up; sleep 0.6; xdotool keyup Up; sleep 0.2; \
                   xdotool keydown Down; sleep 0.2; xdotool keyup Down; sleep 0.2; \
-                  xdotool keydown Right; sleep 0.4; xdotool keyup Right; sleep 0.2; \
+                  xdotool keydown Right; sleep 0.6; xdotool keyup Right; sleep 0.2; \
                   xdotool keydown Left; sleep 0.2; xdotool keyup Left; sleep 0.2; \
                   xdotool key plus; xdotool key plus; xdotool key minus; \
                   xdotool key i; xdotool key h; xdotool key F1; xdotool key h; xdotool key F5; \
@@ -324,11 +324,12 @@ fn real_x_input_drives_every_other_key() {
         pos[1]
     );
     assert!(pos[2] < -3.3, "S moved back: z {}", pos[2]);
-    // Up for 0.4 s then Down for 0.2 s, Right then Left alike: half of the first turn is
-    // left (one alone turns about 30°).
+    // Up for 0.6 s then Down for 0.2 s, Right then Left alike: at 1.2 rad/s, 27.5° of the
+    // first turn's 41° is left. A frame counts at most 0.25 s of a held key, so on a loaded
+    // machine (frames slower than that) both turns count less: the bounds leave room below.
     let (pitch, yaw) = (run.nums("pitch")[0], run.nums("yaw")[0]);
-    assert!(pitch > 4.0 && pitch < 25.0, "Up then Down: pitch {pitch}");
-    assert!(yaw > 4.0 && yaw < 25.0, "Right then Left: yaw {yaw}");
+    assert!(pitch > 4.0 && pitch < 35.0, "Up then Down: pitch {pitch}");
+    assert!(yaw > 4.0 && yaw < 35.0, "Right then Left: yaw {yaw}");
     assert!(
         (run.nums("speed")[0] - 1.25).abs() < 1e-9,
         "+ + -: {}",
