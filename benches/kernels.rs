@@ -110,7 +110,7 @@ fn kernels(c: &mut Criterion) {
                     let d =
                         [0, 1, 2].map(|k| f32x8::from(std::array::from_fn(|l| c[l].d[k] * 4.0)));
                     let dm = packet::max_component(&d);
-                    packet::shadow_from_origin(&prepared.tris, &d, dm, &[u32::MAX; 8], 0xff).blocked
+                    packet::any(&prepared.tris, &d, dm, &[u32::MAX; 8], 0xff).blocked
                 })
                 .sum::<u32>()
         })

@@ -379,7 +379,7 @@ pub fn trace_all_packets(
                     })
                     .collect();
                 let mut blocked = Vec::new();
-                tile.blocked_x8(&segments, &mut blocked);
+                tile.any_x8(&segments, &mut blocked);
                 for (chunk, mask) in members.chunks(8).zip(blocked) {
                     for (l, &i) in chunk.iter().enumerate() {
                         found[i] = Some(mask >> l & 1);

@@ -73,7 +73,7 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
     for (name, parts) in &layouts {
         all.push((
             format!("layout {name}"),
-            Box::new(|ray, m| parts.nearest(ray, m, tmin, tmax)),
+            Box::new(|ray, m| parts.closest(ray, m, tmin, tmax)),
             Box::new(|ray, m, skip| parts.any(ray, m, tmin, tmax, skip)),
         ));
     }
@@ -301,10 +301,10 @@ fn simd_lanes_equal_the_scalar_loop_bit_for_bit() {
     for _ in 0..20_000 {
         let ray = random_ray(&mut rng, &shapes);
         let r = WatertightRay::new(ray.o, ray.d).unwrap();
-        let simd = blocks.nearest_watertight(&r, 0.0, f32::INFINITY);
+        let simd = blocks.closest_watertight(&r, 0.0, f32::INFINITY);
         assert_eq!(
             simd,
-            blocks.nearest_watertight_scalar(&r, 0.0, f32::INFINITY)
+            blocks.closest_watertight_scalar(&r, 0.0, f32::INFINITY)
         );
         hits += simd.is_some() as usize;
     }
@@ -535,7 +535,7 @@ proptest! {
                 let dm = testing::max_component(&d);
                 let prepared = [Some(&all), None][i % 2];
                 let found = acc.closest_packet(o, prepared, &d, dm).expect("triangles only");
-                let shadow = acc.blocked_packet(o, prepared, &d, dm, skip, 0xff).expect("triangles only");
+                let shadow = acc.any_packet(o, prepared, &d, dm, skip, 0xff).expect("triangles only");
                 prop_assert_eq!(shadow.blocked & shadow.unsure, 0);
                 for (l, dir) in dirs.iter().enumerate() {
                     let ray = Ray::new(o, *dir);

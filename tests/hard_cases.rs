@@ -76,7 +76,7 @@ fn camera_packet(
         // primitive only (the renderer shades from it); t is the per-ray search's, so that
         // a wrong primitive shows as a wrong nearest.
         let vertices = |p: u32| tris[p as usize].0;
-        return match packet::nearest_exact_lane(&prepared.tris, vertices, ray.o, ray.d) {
+        return match packet::closest_exact_lane(&prepared.tris, vertices, ray.o, ray.d) {
             Some(Some(prim)) => Some((per_ray.map(|(t, _)| (t, prim)), false)),
             Some(None) => Some((None, false)),
             None => Some((per_ray, true)),

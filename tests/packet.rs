@@ -46,7 +46,7 @@ fn check_packet(shapes: &[Shape<f32>], o: [f32; 3], dirs: &[[f32; 3]; 8]) -> (u3
     let mut left = 0;
     for (l, dir) in dirs.iter().enumerate() {
         let got = match found.ambiguous & (1 << l) != 0 {
-            true => match packet::nearest_exact_lane(&prepared.tris, vertices(shapes), o, *dir) {
+            true => match packet::closest_exact_lane(&prepared.tris, vertices(shapes), o, *dir) {
                 Some(prim) => prim,
                 None => {
                     left |= 1 << l;
@@ -328,8 +328,7 @@ fn check_shadows(
         }
         let d = d.map(f32x8::from);
         let valid = (1u32 << chunk.len()) - 1;
-        let found =
-            packet::shadow_from_origin(&prepared.tris, &d, packet::max_component(&d), &skip, valid);
+        let found = packet::any(&prepared.tris, &d, packet::max_component(&d), &skip, valid);
         assert_eq!((found.blocked | found.unsure) & !valid, 0);
         assert_eq!(found.blocked & found.unsure, 0);
         let mut unresolved = 0;
@@ -337,7 +336,7 @@ fn check_shadows(
             let got = match found.unsure & (1 << l) != 0 {
                 true => {
                     let tris = &prepared.tris;
-                    match packet::blocked_exact_lane(tris, vertices(shapes), light, dir, skip) {
+                    match packet::any_exact_lane(tris, vertices(shapes), light, dir, skip) {
                         Some(b) => b,
                         None => {
                             unresolved |= 1 << l;
@@ -532,7 +531,7 @@ proptest! {
             let valid = 0xff >> rng.below(3);
             let prepared = [Some(&prepared), None][rng.below(2)];
             let dm = packet::max_component(&d);
-            let found = accel.blocked_packet(light, prepared, &d, dm, &skip, valid).unwrap();
+            let found = accel.any_packet(light, prepared, &d, dm, &skip, valid).unwrap();
             prop_assert_eq!((found.blocked | found.unsure) & !valid, 0);
             prop_assert_eq!(found.blocked & found.unsure, 0);
             for (l, dir) in dirs.iter().enumerate() {
@@ -680,9 +679,9 @@ fn the_avx512_avx2_and_baseline_builds_of_the_kernels_agree_bit_for_bit() {
                 packet::closest(&prepared.tris, &d, dm),
                 accel.closest_packet(o, Some(&bvh_prepared), &d, dm),
                 accel.closest_packet(o, None, &d, dm),
-                accel.blocked_packet(o, Some(&bvh_prepared), &d, dm, &[7; 8], 0xff),
-                accel.blocked_packet(o, None, &d, dm, &[7; 8], 0xff),
-                packet::shadow_from_origin(&prepared.tris, &d, dm, &[3; 8], 0xff),
+                accel.any_packet(o, Some(&bvh_prepared), &d, dm, &[7; 8], 0xff),
+                accel.any_packet(o, None, &d, dm, &[7; 8], 0xff),
+                packet::any(&prepared.tris, &d, dm, &[3; 8], 0xff),
             )
         };
         let fast = run();

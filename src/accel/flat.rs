@@ -10,7 +10,7 @@ use super::cull::Box3;
 use super::layout::{merge, Layout, TriangleLayout};
 use super::packet::{OriginBlock, OriginTriangle, OriginTriangles, PacketSink, PreciseTriangle};
 use super::prepared::{LeafCache, Prepared, Reached, BLOCK};
-use super::reference::{any_one_by_one, nearest_one_by_one};
+use super::reference::{any_one_by_one, closest_one_by_one};
 use super::IndexedTriangle;
 use crate::geometry::adaptive::{
     approx_f32, box_extent, edge_error, loose_t_bound, round_down, Estimate, Search,
@@ -123,8 +123,8 @@ impl FlatLoop {
     }
 
     /// The watertight nearest hit, 8 lanes a block, with tmin < t < tmax; among equal t the
-    /// lowest primitive index wins ([`FlatLoop::nearest_watertight_scalar`] is its twin).
-    pub fn nearest_watertight(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
+    /// lowest primitive index wins ([`FlatLoop::closest_watertight_scalar`] is its twin).
+    pub fn closest_watertight(&self, r: &WatertightRay<f32>, tmin: f32, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_far = tmax;
         for b in 0..self.blocks.len() {
@@ -379,7 +379,7 @@ fn t_error_bound_x8(p: [[f32x8; 3]; 3], sz: f32x8, e: [f32x8; 3], rcp: f32x8) ->
 
 impl FlatLoop {
     /// The scalar twin of the block loop, for tests: the same triangles in the same order.
-    pub fn nearest_watertight_scalar(
+    pub fn closest_watertight_scalar(
         &self,
         r: &WatertightRay<f32>,
         tmin: f32,
@@ -406,20 +406,20 @@ impl FlatLoop {
 /// The watertight method and the exact one in lanes; the others one triangle at a time in
 /// primitive order, through the shape's own test.
 impl Layout for FlatLoop {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         match method {
             Method::Watertight => {
                 let r = WatertightRay::new(ray.o, ray.d);
                 merge(
                     best,
-                    r.and_then(|r| self.nearest_watertight(&r, tmin, tmax)),
+                    r.and_then(|r| self.closest_watertight(&r, tmin, tmax)),
                 );
             }
-            _ => nearest_one_by_one(self.in_order(), ray, method, tmin, tmax, best),
+            _ => closest_one_by_one(self.in_order(), ray, method, tmin, tmax, best),
         }
     }
 
-    fn nearest_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+    fn closest_exact(&self, _: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let tmin = round_down(search.tmin());
         let e = self.bounds(r);
         for (b, blk) in self.blocks.iter().enumerate() {

@@ -359,7 +359,7 @@ fn placements_without_copies(instances: &[Instance]) -> (Option<Vec<Instance>>, 
 }
 
 impl Layout for Instances {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
         self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
             let (tris, locals) = mesh.triangles();
@@ -374,7 +374,7 @@ impl Layout for Instances {
         });
     }
 
-    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+    fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = box_extent(ray.o, self.world.lo, self.world.hi);
         self.walk(ray, tmin, tmax, |placed, mesh, leaf, _| {

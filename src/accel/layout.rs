@@ -8,7 +8,7 @@
 //! layouts answering together: the triangles' structure (`Triangles`: the flat loop or the
 //! BVH, triangles.rs), the placed meshes (`Instances`) and the other shapes in a hierarchy of
 //! their own (`Spheres`, spheres.rs; [`InOrder`], the loop in primitive order, is the
-//! reference); [`nearest`] and [`any`] fold one query over them. Ties go to the
+//! reference); [`closest`] and [`any`] fold one query over them. Ties go to the
 //! lower primitive index in every layout, so the fold's answer does not depend on their order.
 //!
 //! Packets (8 or 16 rays from one origin, adaptive method) are the fifth query,
@@ -50,11 +50,11 @@ use crate::math::simd::Isa;
 pub trait Layout: Send + Sync {
     /// The nearest hit with `method` (not [`Method::Adaptive`]), tmin < t < tmax, merged into
     /// `best`: a hit replaces it when nearer, or as near with a lower primitive index.
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>);
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>);
 
     /// The exact nearest hit: offers to `search` every primitive that may be the nearest
     /// within its interval.
-    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search);
+    fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search);
 
     /// Whether a primitive other than `skip` is hit with `method`, tmin < t < tmax.
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool;
@@ -110,7 +110,7 @@ pub(crate) trait TriangleLayout: Layout + Sized {
     /// The adaptive nearest hit of `ray` among the triangles into `search`, from triangles
     /// `prepared` for its origin. Provided: false (nothing offered; also where `prepared`
     /// does not fit), and the caller asks the per-ray search instead.
-    fn nearest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
+    fn closest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
         let _ = (ray, prepared, search);
         false
     }
@@ -130,9 +130,9 @@ pub(crate) trait TriangleLayout: Layout + Sized {
         None
     }
 
-    /// Its own walk of 8 shadow segments (`Triangles::blocked_packet`). Provided: none.
+    /// Its own walk of 8 shadow segments (`Triangles::any_packet`). Provided: none.
     #[allow(clippy::too_many_arguments)]
-    fn own_blocked_packet<I: Isa>(
+    fn own_any_packet<I: Isa>(
         &self,
         isa: I,
         o: [f32; 3],
@@ -175,7 +175,7 @@ pub(crate) fn merge(best: &mut Option<Hit>, hit: Option<Hit>) {
 }
 
 /// The nearest hit over `parts` with tmin < t < tmax (ties to the lower primitive index).
-pub fn nearest(
+pub fn closest(
     parts: &[&dyn Layout],
     ray: &Ray,
     method: Method,
@@ -186,14 +186,14 @@ pub fn nearest(
         let mut search = Search::new(ray, tmin, tmax);
         if let Some(r) = WatertightRay::new(ray.o, ray.d) {
             for part in parts {
-                part.nearest_exact(ray, &r, &mut search);
+                part.closest_exact(ray, &r, &mut search);
             }
         }
         return search.hit();
     }
     let mut best = None;
     for part in parts {
-        part.nearest(ray, method, tmin, tmax, &mut best);
+        part.closest(ray, method, tmin, tmax, &mut best);
     }
     best
 }

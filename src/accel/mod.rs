@@ -10,9 +10,8 @@
 //! prepared once per frame, tile culling and the exact resolvers of ambiguous lanes all stay
 //! inside this module.
 //!
-//! Names inside the module. The nearest-hit query is `closest` (`nearest` in the [`Layout`]
-//! contract and the reference loop); the any-hit query is `any` for one ray and `blocked`
-//! for a packet (which of its shadow lanes are blocked). What the rays are: `_hit` one ray;
+//! Names inside the module. Two queries, one stem each at every level: the nearest hit is
+//! `closest`, whether anything is hit (a shadow's question) is `any`. What the rays are: `_hit` one ray;
 //! `_packet` 8 rays sharing an origin; `_x8` one ray against 8 triangles, or 8 rays against
 //! one, in the flat loop's lanes; `_lane` one lane of a packet, decided alone. How: `_exact`
 //! the adaptive search's exact level; `_from_origin` / `_from` / `_prepared` /
@@ -364,7 +363,7 @@ impl Accel {
 
     /// Nearest hit with tmin < t < tmax; an exact tie goes to the lowest primitive index.
     pub fn closest_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
-        self.with_parts(|parts| layout::nearest(parts, ray, method, tmin, tmax))
+        self.with_parts(|parts| layout::closest(parts, ray, method, tmin, tmax))
     }
 
     /// The triangles prepared for rays from `origin` ([`packet::OriginTriangles`]) in the
@@ -410,14 +409,14 @@ impl Accel {
         tmax: f32,
     ) -> Option<Hit> {
         let mut search = Search::new(ray, tmin, tmax);
-        if !(self.triangles).nearest_prepared(ray, prepared, &mut search) {
+        if !(self.triangles).closest_prepared(ray, prepared, &mut search) {
             return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
         }
         if let Some(r) = WatertightRay::new(ray.o, ray.d) {
             // The other parts as in every exact query.
             self.with_parts(|parts| {
                 for part in &parts[1..] {
-                    part.nearest_exact(ray, &r, &mut search);
+                    part.closest_exact(ray, &r, &mut search);
                 }
             });
         }
@@ -487,7 +486,7 @@ impl Accel {
     /// or `None` to prepare them as met): per lane whether [`Accel::any_hit_except`] with
     /// [`Method::Adaptive`] answers "blocked" for 0 < t < 1, or unsure. `None` where there
     /// are other shapes.
-    pub fn blocked_packet(
+    pub fn any_packet(
         &self,
         o: [f32; 3],
         prepared: Option<&packet::OriginTriangles>,
@@ -501,16 +500,16 @@ impl Accel {
         }
         let prepared = prepared::Prepared::from_list(prepared);
         let found = with_cpu_isa!(|isa| {
-            self.blocked_packet_of_triangles(isa, o, prepared, d, d_max, skip, valid)
+            self.any_packet_of_triangles(isa, o, prepared, d, d_max, skip, valid)
         });
         Some(found)
     }
 
-    /// [`Accel::blocked_packet`] over the triangles alone, whatever other shapes there are, in
+    /// [`Accel::any_packet`] over the triangles alone, whatever other shapes there are, in
     /// the build `isa` names.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn blocked_packet_of_triangles<I: Isa>(
+    pub(crate) fn any_packet_of_triangles<I: Isa>(
         &self,
         isa: I,
         o: [f32; 3],
@@ -521,7 +520,7 @@ impl Accel {
         valid: u32,
     ) -> packet::ShadowHits {
         let instances = self.instances();
-        (self.triangles).blocked_packet(isa, instances, o, prepared, d, d_max, skip, valid)
+        (self.triangles).any_packet(isa, instances, o, prepared, d, d_max, skip, valid)
     }
 
     /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).

@@ -12,9 +12,9 @@ use crate::math::Real;
 #[derive(Clone, Debug, Default)]
 pub struct InOrder(pub Vec<(Shape<f32>, u32)>);
 
-/// [`Layout::nearest`] over `shapes` (with their primitive indices) one by one, through the
+/// [`Layout::closest`] over `shapes` (with their primitive indices) one by one, through the
 /// shape's own test.
-pub(crate) fn nearest_one_by_one(
+pub(crate) fn closest_one_by_one(
     shapes: impl IntoIterator<Item = (Shape<f32>, u32)>,
     ray: &Ray,
     method: Method,
@@ -43,11 +43,11 @@ pub(crate) fn any_one_by_one(
 }
 
 impl Layout for InOrder {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        nearest_one_by_one(self.0.iter().copied(), ray, method, tmin, tmax, best);
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        closest_one_by_one(self.0.iter().copied(), ray, method, tmin, tmax, best);
     }
 
-    fn nearest_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
+    fn closest_exact(&self, _: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
         for (shape, prim) in &self.0 {
             search.offer_shape(*prim, widen(shape), Estimate::Unsure);
         }

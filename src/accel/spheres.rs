@@ -19,7 +19,7 @@
 //! of the hierarchy, in a short list tested one by one ([`Spheres::loose`]).
 //!
 //! Packets: [`Spheres::seed_packet`] (the nearest sphere per lane of 8 camera rays from the
-//! eye) and [`Spheres::block_packet`] (which of 8 shadow segments from the light a sphere
+//! eye) and [`Spheres::any_packet`] (which of 8 shadow segments from the light a sphere
 //! blocks) walk the hierarchy with the packet walk of [`super::bvh`] and test the spheres it
 //! reaches four lanes at a time with the sphere's f64 interval level
 //! ([`sphere::interval_x4_of`]), each sphere seen once per frame from the eye and the light
@@ -28,7 +28,7 @@
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
 use super::layout::{merge, Layout};
 use super::packet::PacketLimits;
-use super::reference::{any_one_by_one, nearest_one_by_one};
+use super::reference::{any_one_by_one, closest_one_by_one};
 use crate::geometry::adaptive::{round_down, round_up, widen, Estimate, Search};
 use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
@@ -168,7 +168,7 @@ impl Spheres {
 }
 
 impl Layout for Spheres {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
         self.walk(ray, tmin, far(best), |&(shape, prim), _| {
             if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
@@ -176,10 +176,10 @@ impl Layout for Spheres {
             }
             (far(best), false)
         });
-        nearest_one_by_one(self.loose.iter().copied(), ray, method, tmin, tmax, best);
+        closest_one_by_one(self.loose.iter().copied(), ray, method, tmin, tmax, best);
     }
 
-    fn nearest_exact(&self, ray: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
+    fn closest_exact(&self, ray: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         self.walk(ray, tmin, tmax, |(shape, prim), _| {
             search.offer_shape(*prim, widen(shape), Estimate::Unsure);
@@ -425,7 +425,7 @@ impl Spheres {
     /// blocks for certain, each lane skipping its own primitive, and which it leaves unsure,
     /// in the build `isa` names.
     #[inline(always)]
-    pub(crate) fn block_packet<I: Isa>(
+    pub(crate) fn any_packet<I: Isa>(
         &self,
         isa: I,
         seen: &SpheresSeen,

@@ -17,18 +17,18 @@ pub use super::bvh::Bvh;
 pub use super::flat::FlatLoop;
 pub use super::instances::Instances;
 pub use super::packet::{
-    blocked_exact_lane, closest, max_component, nearest_exact_lane, shadow_from_origin,
-    OriginTriangles, PacketHits, ShadowHits,
+    any, any_exact_lane, closest, closest_exact_lane, max_component, OriginTriangles, PacketHits,
+    ShadowHits,
 };
 
 /// Layouts answering one query together, as an [`Accel`](super::Accel)'s parts do.
 pub struct Parts(Vec<Box<dyn Layout>>);
 
 impl Parts {
-    /// The nearest hit ([`layout::nearest`]).
-    pub fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
+    /// The nearest hit ([`layout::closest`]).
+    pub fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> Option<Hit> {
         let parts: Vec<&dyn Layout> = self.0.iter().map(|p| p.as_ref()).collect();
-        layout::nearest(&parts, ray, method, tmin, tmax)
+        layout::closest(&parts, ray, method, tmin, tmax)
     }
 
     /// Whether anything but `skip` is hit ([`layout::any`]).

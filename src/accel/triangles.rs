@@ -82,14 +82,14 @@ impl Triangles {
         each_layout!(self, t => TriangleLayout::top_boxes(t, depth))
     }
 
-    /// [`TriangleLayout::nearest_prepared`].
-    pub(crate) fn nearest_prepared(
+    /// [`TriangleLayout::closest_prepared`].
+    pub(crate) fn closest_prepared(
         &self,
         ray: &Ray,
         prepared: Prepared<'_>,
         search: &mut Search,
     ) -> bool {
-        each_layout!(self, t => TriangleLayout::nearest_prepared(t, ray, prepared, search))
+        each_layout!(self, t => TriangleLayout::closest_prepared(t, ray, prepared, search))
     }
 
     /// The nearest primitive along 8 rays from `o` (the adaptive method), over the triangles
@@ -136,7 +136,7 @@ impl Triangles {
     /// the bounds leave unsure (as [`Triangles::closest_packet`] chooses the walk).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn blocked_packet<I: Isa>(
+    pub(crate) fn any_packet<I: Isa>(
         &self,
         isa: I,
         instances: Option<&Instances>,
@@ -148,22 +148,22 @@ impl Triangles {
         valid: u32,
     ) -> ShadowHits {
         if instances.is_none() {
-            let own = each_layout!(self, t => TriangleLayout::own_blocked_packet(t, isa, o, prepared, d, d_max, skip, valid));
+            let own = each_layout!(self, t => TriangleLayout::own_any_packet(t, isa, o, prepared, d, d_max, skip, valid));
             if let Some(found) = own {
                 return found;
             }
         }
-        blocked_with(isa, self, instances, o, prepared, d, d_max, skip, valid)
+        any_with(isa, self, instances, o, prepared, d, d_max, skip, valid)
     }
 }
 
 impl Layout for Triangles {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
-        each_layout!(self, t => Layout::nearest(t, ray, method, tmin, tmax, best))
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+        each_layout!(self, t => Layout::closest(t, ray, method, tmin, tmax, best))
     }
 
-    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
-        each_layout!(self, t => Layout::nearest_exact(t, ray, r, search))
+    fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+        each_layout!(self, t => Layout::closest_exact(t, ray, r, search))
     }
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
@@ -232,10 +232,10 @@ fn closest_with_body<V: Lanes, I: Isa>(
 }
 
 /// Shadow segments 8 at a time through the triangles' packet walk and the instances' (see
-/// [`Triangles::blocked_packet`]), in the build `isa` names.
+/// [`Triangles::any_packet`]), in the build `isa` names.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn blocked_with<I: Isa>(
+fn any_with<I: Isa>(
     isa: I,
     tris: &Triangles,
     instances: Option<&Instances>,
@@ -246,7 +246,7 @@ fn blocked_with<I: Isa>(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx512_avx2_or_baseline!(token isa, isa lanes blocked_with_body => (
+    avx512_avx2_or_baseline!(token isa, isa lanes any_with_body => (
         tris: &Triangles,
         instances: Option<&Instances>,
         o: [f32; 3],
@@ -260,7 +260,7 @@ fn blocked_with<I: Isa>(
 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn blocked_with_body<V: Lanes, I: Isa>(
+fn any_with_body<V: Lanes, I: Isa>(
     isa: I,
     tris: &Triangles,
     instances: Option<&Instances>,

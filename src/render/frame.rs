@@ -287,7 +287,7 @@ impl<'a> Frame<'a> {
                 return Some(CRACK);
             }
             queries.closest(&ray).map(|hit| {
-                let blocked = |ray: &Ray, skip| queries.blocked(ray, skip);
+                let blocked = |ray: &Ray, skip| queries.any(ray, skip);
                 shade::shade(scene, &ray, &hit, settings.step, blocked, &mut counts.1)
             })
         });
@@ -376,7 +376,7 @@ impl<'a> Frame<'a> {
         }
         let casts_shadows = settings.step.casts_shadows();
         if casts_shadows {
-            queries.blocked_x8_in(isa, shaded, blocked);
+            queries.any_x8_in(isa, shaded, blocked);
         } else {
             blocked.clear();
             blocked.resize(shaded.len(), 0);

@@ -165,7 +165,7 @@ impl crate::accel::layout::TriangleLayout for Bvh {
             .collect()
     }
 
-    fn nearest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
+    fn closest_prepared(&self, ray: &Ray, prepared: Prepared<'_>, search: &mut Search) -> bool {
         if !prepared.fits(ray.o, self.tris.len()) {
             return false;
         }
@@ -187,7 +187,7 @@ impl crate::accel::layout::TriangleLayout for Bvh {
         Some(found)
     }
 
-    fn own_blocked_packet<I: Isa>(
+    fn own_any_packet<I: Isa>(
         &self,
         isa: I,
         o: [f32; 3],
@@ -197,7 +197,7 @@ impl crate::accel::layout::TriangleLayout for Bvh {
         skip: &[u32; 8],
         valid: u32,
     ) -> Option<ShadowHits> {
-        Some(self.blocked_packet_from(isa, o, prepared, d, d_max, skip, valid))
+        Some(self.any_packet_from(isa, o, prepared, d, d_max, skip, valid))
     }
 
     #[inline(always)]

@@ -14,9 +14,9 @@ use crate::math::lanes::f32x8;
 use crate::math::simd::each3;
 
 /// The per-ray walk's nearest hit, each triangle tested by its own exact test.
-fn nearest(bvh: &Bvh, ray: &Ray) -> Option<crate::geometry::Hit> {
+fn closest(bvh: &Bvh, ray: &Ray) -> Option<crate::geometry::Hit> {
     let mut best = None;
-    bvh.nearest(ray, Method::Adaptive, 0.0, f32::INFINITY, &mut best);
+    bvh.closest(ray, Method::Adaptive, 0.0, f32::INFINITY, &mut best);
     best
 }
 
@@ -148,7 +148,7 @@ fn the_tree_stays_within_the_traversal_stacks() {
     for x in [1e9f32, 5.0, 1e30] {
         let ray = Ray::new([x, 0.1, 0.0], [-1.0, 0.0, 0.0]);
         let want = crate::accel::closest_hit(&shapes, &ray, Method::Adaptive, 0.0, f32::INFINITY);
-        let hit = nearest(&bvh, &ray);
+        let hit = closest(&bvh, &ray);
         assert_eq!(hit.map(|h| h.prim), want.map(|h| h.prim));
         assert!(hit.is_some());
     }
@@ -191,7 +191,7 @@ fn placed_meshes_split_on_the_axis_that_costs_least() {
         let (x, y) = (0.37 * i as f32 + 0.1, 10.0 * (i % 2) as f32 + 0.1);
         let ray = Ray::new([x, y, -5.0], [0.01, 0.002, 1.0]);
         let want = crate::accel::closest_hit(&shapes, &ray, Method::Adaptive, 0.0, f32::INFINITY);
-        let hit = nearest(&placed, &ray);
+        let hit = closest(&placed, &ray);
         assert_eq!(hit.map(|h| h.prim), want.map(|h| h.prim), "ray {i}");
     }
 }

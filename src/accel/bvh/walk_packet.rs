@@ -1,5 +1,5 @@
 //! The walks of 8 (or 16) rays from one origin: the nearest-hit and shadow queries of a packet
-//! ([`Bvh::closest_packet`], [`Bvh::blocked_packet`], [`Bvh::walk_into`]), the walk they
+//! ([`Bvh::closest_packet`], [`Bvh::any_packet`], [`Bvh::walk_into`]), the walk they
 //! share ([`Bvh::walk_packet`]) and its loop over the wide nodes ([`Bvh::walk_wide`]).
 
 use super::child_test::{push_lane, ChildTest, IntervalTest, LaneSlabs, LaneTest};
@@ -233,10 +233,10 @@ impl Bvh {
         }
     }
 
-    /// [`Bvh::blocked_packet`] where the f32 slab test cannot be trusted: every triangle.
+    /// [`Bvh::any_packet`] where the f32 slab test cannot be trusted: every triangle.
     #[cold]
     #[inline(never)]
-    fn blocked_packet_untrusted<V: Lanes>(
+    fn any_packet_untrusted<V: Lanes>(
         &self,
         mut packet: ShadowPacket<V>,
         o: [f32; 3],
@@ -254,7 +254,7 @@ impl Bvh {
     /// Offers to `sink` (a nearest-hit or shadow state, maybe shared with other structures,
     /// the instances) every triangle the rays from `o` may reach before their limits, from
     /// `prepared` (made for `o`) or prepared as met: [`Bvh::closest_packet`] and
-    /// [`Bvh::blocked_packet`] with lanes recording primitive indices, not positions (this
+    /// [`Bvh::any_packet`] with lanes recording primitive indices, not positions (this
     /// layout's [`Layout::packet_into`](crate::accel::layout::Layout::packet_into)).
     #[inline(always)]
     pub(super) fn walk_into<V: LaneOps, S: PacketSink<V>>(
@@ -281,10 +281,10 @@ impl Bvh {
     /// Eight shadow segments from one origin `o` (the light) through the BVH, directions `d`
     /// (`d_max` ≥ every |dₖ|): per lane of `valid`, blocked for 0 < t < 1 by a triangle other
     /// than its `skip` primitive, or unsure (to be traced per ray); see
-    /// [`crate::accel::packet::shadow_from_origin`]. `prepared`: the triangles prepared for
+    /// [`crate::accel::packet::any`]. `prepared`: the triangles prepared for
     /// `o` (in the BVH's order), or `None` to prepare them as the packet meets them. Boxes are
     /// entered up to t = 1 + 2⁻¹⁶ (the culling margin of the module docs).
-    pub fn blocked_packet(
+    pub fn any_packet(
         &self,
         o: [f32; 3],
         prepared: Option<&OriginTriangles>,
@@ -294,13 +294,13 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let prepared = Prepared::from_list(prepared);
-        with_cpu_isa!(|isa| self.blocked_packet_from(isa, o, prepared, d, d_max, skip, valid))
+        with_cpu_isa!(|isa| self.any_packet_from(isa, o, prepared, d, d_max, skip, valid))
     }
 
-    /// [`Bvh::blocked_packet`] with the triangles from `prepared`, in the build `isa` names.
+    /// [`Bvh::any_packet`] with the triangles from `prepared`, in the build `isa` names.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn blocked_packet_from<I: Isa>(
+    pub(crate) fn any_packet_from<I: Isa>(
         &self,
         isa: I,
         o: [f32; 3],
@@ -311,7 +311,7 @@ impl Bvh {
         valid: u32,
     ) -> ShadowHits {
         let bvh = self;
-        avx512_avx2_or_baseline!(token isa, lanes Bvh::blocked_packet_body => (
+        avx512_avx2_or_baseline!(token isa, lanes Bvh::any_packet_body => (
             bvh: &Bvh,
             o: [f32; 3],
             prepared: Prepared<'_>,
@@ -323,7 +323,7 @@ impl Bvh {
     }
 
     #[inline(always)]
-    fn blocked_packet_body<V: Lanes>(
+    fn any_packet_body<V: Lanes>(
         &self,
         o: [f32; 3],
         prepared: Prepared<'_>,
@@ -344,7 +344,7 @@ impl Bvh {
         }
         let rays = PacketSlabs::<V>::new(o, d, self.tame);
         if !rays.trusted {
-            return self.blocked_packet_untrusted(packet, o, prepared);
+            return self.any_packet_untrusted(packet, o, prepared);
         }
         let mut leaves = OwnLeaves {
             bvh: self,

@@ -24,7 +24,7 @@ impl Bvh {
         }
     }
 
-    /// [`Layout::nearest_exact`] for a ray leaving the origin `prepared` was made for
+    /// [`Layout::closest_exact`] for a ray leaving the origin `prepared` was made for
     /// (from [`Bvh::triangles`]): the f32 level is the shared-origin test of
     /// [`super::packet`], three dot products per triangle instead of the sheared test.
     ///
@@ -155,7 +155,7 @@ impl Bvh {
 }
 
 impl Layout for Bvh {
-    fn nearest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
+    fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         let mut nearest: Option<Hit> = None;
         self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
             for i in first..first + count {
@@ -171,7 +171,7 @@ impl Layout for Bvh {
         merge(best, nearest);
     }
 
-    fn nearest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
+    fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
         self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {

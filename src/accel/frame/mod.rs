@@ -8,8 +8,8 @@
 //! frame's method:
 //! - [`TileQueries::closest_x8`]: the nearest primitive along 8 camera rays,
 //! - [`TileQueries::closest`]: the nearest hit of one camera ray,
-//! - [`TileQueries::blocked_x8`]: which shadow segments of the tile are blocked, 8 at a time,
-//! - [`TileQueries::blocked`]: whether one shadow segment is blocked.
+//! - [`TileQueries::any_x8`]: which shadow segments of the tile are blocked, 8 at a time,
+//! - [`TileQueries::any`]: whether one shadow segment is blocked.
 //!
 //! Inside, one plan per frame:
 //! - **a small scene** ([`Accel::flat_triangles`]) with tile culling: a tile tests only the
@@ -17,7 +17,7 @@
 //!   the frame has no projection, as for `raylab trace`'s rays); with the
 //!   adaptive method its camera rays go 8 at a time against those triangles prepared for the
 //!   eye ([`packet::closest`]), its shadow segments 8 at a time against the triangles prepared
-//!   for the light whose box meets the tile's segments ([`packet::shadow_from_origin`]);
+//!   for the light whose box meets the tile's segments ([`packet::any`]);
 //! - **any other scene**, adaptive method: packets from the eye and from the light through
 //!   the triangle layout's packet walk (`Layout::packet_into`: the BVH's down its boxes, the
 //!   flat loop's over every block) and the instances'; the
@@ -42,7 +42,7 @@
 //! shadow segments walk it first too, and the triangle packets take the lanes it leaves clear.
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers
-//! ([`packet::nearest_exact_lane`], [`packet::blocked_exact_lane`]) and then to the per-ray
+//! ([`packet::closest_exact_lane`], [`packet::any_exact_lane`]) and then to the per-ray
 //! adaptive search, so packets and per-ray queries name the same primitives.
 //!
 //! The files: `tile.rs` answers a tile's queries ([`TileQueries`]: camera rays one at a time
@@ -51,10 +51,10 @@
 //! [`FrameQueries`], the tile's buffers and its shadow segments.
 //!
 //! [`packet::closest`]: super::packet::closest
-//! [`packet::shadow_from_origin`]: super::packet::shadow_from_origin
+//! [`packet::any`]: super::packet::any
 //! [`packet::PacketSeed`]: super::packet::PacketSeed
-//! [`packet::nearest_exact_lane`]: super::packet::nearest_exact_lane
-//! [`packet::blocked_exact_lane`]: super::packet::blocked_exact_lane
+//! [`packet::closest_exact_lane`]: super::packet::closest_exact_lane
+//! [`packet::any_exact_lane`]: super::packet::any_exact_lane
 
 mod tile;
 
@@ -366,7 +366,7 @@ impl<'a> FrameQueries<'a> {
     }
 
     /// Whether shadow segment `ray` (0 < t < 1) is blocked by anything but primitive `skip`.
-    fn blocked(&self, ray: &Ray, skip: u32) -> bool {
+    fn any(&self, ray: &Ray, skip: u32) -> bool {
         self.accel.any_hit_except(ray, self.method, 0.0, 1.0, skip)
     }
 

@@ -50,10 +50,10 @@ impl TileQueries<'_> {
                 WatertightRay::new(ray.o, ray.d).and_then(|r| {
                     if method == Method::Adaptive {
                         let mut search = Search::new(ray, 0.0, f32::INFINITY);
-                        tris.nearest_exact(ray, &r, &mut search);
+                        tris.closest_exact(ray, &r, &mut search);
                         search.hit()
                     } else {
-                        tris.nearest_watertight(&r, 0.0, f32::INFINITY)
+                        tris.closest_watertight(&r, 0.0, f32::INFINITY)
                     }
                 })
             }
@@ -227,7 +227,7 @@ impl TileQueries<'_> {
         // (The exact resolver knows triangles only.)
         if let (Plan::CulledPackets { culling, .. }, false) = (&frame.plan, self.spheres_may_show) {
             let vertices = |p| culling.vertices(p);
-            if let Some(prim) = packet::nearest_exact_lane(self.prepared, vertices, frame.eye, d) {
+            if let Some(prim) = packet::closest_exact_lane(self.prepared, vertices, frame.eye, d) {
                 return prim;
             }
         }
@@ -235,18 +235,18 @@ impl TileQueries<'_> {
     }
 
     /// Whether shadow segment `ray` (0 < t < 1) is blocked by anything but primitive `skip`.
-    pub fn blocked(&self, ray: &Ray, skip: u32) -> bool {
-        self.frame.blocked(ray, skip)
+    pub fn any(&self, ray: &Ray, skip: u32) -> bool {
+        self.frame.any(ray, skip)
     }
 
     /// Which live lanes of each of the tile's shadow segments are blocked: `blocked[i]` gets
     /// packet i's mask.
-    pub fn blocked_x8<S: AsRef<ShadowSegments>>(&mut self, packets: &[S], blocked: &mut Vec<u32>) {
-        with_cpu_isa!(|isa| self.blocked_x8_in(isa, packets, blocked))
+    pub fn any_x8<S: AsRef<ShadowSegments>>(&mut self, packets: &[S], blocked: &mut Vec<u32>) {
+        with_cpu_isa!(|isa| self.any_x8_in(isa, packets, blocked))
     }
 
-    /// [`TileQueries::blocked_x8`] in the build `isa` names (a tile loop's own).
-    pub(crate) fn blocked_x8_in<S: AsRef<ShadowSegments>, I: Isa>(
+    /// [`TileQueries::any_x8`] in the build `isa` names (a tile loop's own).
+    pub(crate) fn any_x8_in<S: AsRef<ShadowSegments>, I: Isa>(
         &mut self,
         isa: I,
         packets: &[S],
@@ -261,7 +261,7 @@ impl TileQueries<'_> {
                 let l = lanes.trailing_zeros() as usize;
                 lanes &= lanes - 1;
                 let ray = Ray::new(light, s.d.map(|c| c.to_array()[l]));
-                if frame.blocked(&ray, s.skip(l)) {
+                if frame.any(&ray, s.skip(l)) {
                     *out |= 1 << l;
                 }
             }
@@ -274,7 +274,7 @@ impl TileQueries<'_> {
                 unsure: 0,
             },
             Some(spheres) => match &spheres.from_light {
-                Some(seen) => frame.accel.spheres().block_packet(isa, seen, s),
+                Some(seen) => frame.accel.spheres().any_packet(isa, seen, s),
                 None => SphereLanes {
                     blocked: 0,
                     unsure: s.live,
@@ -294,7 +294,7 @@ impl TileQueries<'_> {
                     if valid != 0 {
                         let d_max = packet::max_component(&s.d);
                         let prepared = Prepared::of(from_light.as_ref());
-                        let found = accel.blocked_packet_of_triangles(
+                        let found = accel.any_packet_of_triangles(
                             isa, light, prepared, &s.d, d_max, &s.prim, valid,
                         );
                         *out |= found.blocked;
@@ -325,8 +325,7 @@ impl TileQueries<'_> {
                         continue;
                     }
                     let d_max = packet::max_component(&s.d);
-                    let found =
-                        packet::shadow_from_origin_in(isa, near, &s.d, d_max, &s.prim, valid);
+                    let found = packet::any_in(isa, near, &s.d, d_max, &s.prim, valid);
                     *out |= found.blocked;
                     note_unsure(found.unsure);
                     // Unsure lanes: exact edge signs and sides where that decides.
@@ -334,7 +333,7 @@ impl TileQueries<'_> {
                     for l in (0..8).filter(|l| found.unsure & (1 << l) != 0) {
                         let d = s.d.map(|c| c.to_array()[l]);
                         let vertices = |p| culling.vertices(p);
-                        match packet::blocked_exact_lane(near, vertices, light, d, s.prim[l]) {
+                        match packet::any_exact_lane(near, vertices, light, d, s.prim[l]) {
                             Some(true) => *out |= 1 << l,
                             Some(false) => {}
                             None => left |= 1 << l,

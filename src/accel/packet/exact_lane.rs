@@ -1,5 +1,5 @@
-//! Exact answers for one ray a packet left ambiguous ([`nearest_exact_lane`],
-//! [`blocked_exact_lane`]): the f32 tests where they are certain, exact signs and plane sides
+//! Exact answers for one ray a packet left ambiguous ([`closest_exact_lane`],
+//! [`any_exact_lane`]): the f32 tests where they are certain, exact signs and plane sides
 //! where not. Apart from the packets: one ray at a time, in f64 and expansions, off the hot
 //! path.
 
@@ -24,7 +24,7 @@ use std::cmp::Ordering;
 /// went per ray before the walls' edges were settled here, none now).
 ///
 /// [`exact::orient`]: crate::geometry::exact::orient
-pub fn nearest_exact_lane(
+pub fn closest_exact_lane(
     tris: &[OriginTriangle],
     vertices: impl Fn(u32) -> [[f32; 3]; 3],
     o: [f32; 3],
@@ -68,7 +68,7 @@ pub fn nearest_exact_lane(
     Some(Some(best.prim))
 }
 
-/// A triangle an ambiguous lane certainly crosses in front ([`nearest_exact_lane`]).
+/// A triangle an ambiguous lane certainly crosses in front ([`closest_exact_lane`]).
 struct LaneHit {
     prim: u32,
     /// Bounds on t.
@@ -132,14 +132,14 @@ fn side_of_crossing(hit: &LaneHit, v: &[[f32; 3]; 3]) -> Option<Option<Ordering>
 
 /// Whether the segment from `o` (the origin `tris` were prepared for) to o + d is blocked
 /// for 0 < t < 1 by one of `tris` other than `skip`, for a shadow ray
-/// [`shadow_from_origin`] left unsure; `None` where this cannot tell (the per-ray search then
-/// does). Edge signs as in [`nearest_exact_lane`]; t against 1 by the f32 interval where it
+/// [`any`] left unsure; `None` where this cannot tell (the per-ray search then
+/// does). Edge signs as in [`closest_exact_lane`]; t against 1 by the f32 interval where it
 /// decides, else exactly: the end o + d (exact in f64) lies strictly on the other side of
 /// the triangle's plane than o. That settles the usual case, the other half of the quad a
 /// shadow ray's end point was offset from (t within rounding of 1).
 ///
-/// [`shadow_from_origin`]: super::shadow_from_origin
-pub fn blocked_exact_lane(
+/// [`any`]: super::any
+pub fn any_exact_lane(
     tris: &[OriginTriangle],
     vertices: impl Fn(u32) -> [[f32; 3]; 3],
     o: [f32; 3],

@@ -1,7 +1,7 @@
 //! The adaptive method's fast paths for the renderer: camera rays in packets of 8 against
 //! triangles prepared for the camera's position ([`closest`]; per ray in BVH leaves:
 //! [`OriginTriangle::estimate`]), and shadow rays from the light in packets of 8
-//! ([`shadow_from_origin`]: the same test for the light's position).
+//! ([`any`]: the same test for the light's position).
 //!
 //! All camera rays of a frame leave the same origin o. With pᵢ = vᵢ − o, the exact
 //! predicates of the adaptive method are the signs of eᵢ = d·(pⱼ × pₖ) ((i, j, k) cyclic; eᵢ
@@ -23,9 +23,9 @@
 //! `block.rs` eight at a time in f32 for the leaves of a hierarchy (`OriginBlock`);
 //! `predicates.rs` holds the edge tests and t intervals the queries share;
 //! `nearest.rs` the nearest hit of a packet ([`PacketNearest`], [`closest`]); `shadow.rs` the
-//! shadow rays' test ([`ShadowPacket`], [`shadow_from_origin`]); `exact_lane.rs` the exact
-//! answers for the lanes a packet leaves ambiguous ([`nearest_exact_lane`],
-//! [`blocked_exact_lane`]). This file keeps the bounds' constants and the prepared triangle
+//! shadow rays' test ([`ShadowPacket`], [`any`]); `exact_lane.rs` the exact
+//! answers for the lanes a packet leaves ambiguous ([`closest_exact_lane`],
+//! [`any_exact_lane`]). This file keeps the bounds' constants and the prepared triangle
 //! itself, whose fields every file reads.
 
 mod block;
@@ -39,15 +39,15 @@ mod sink;
 mod tests;
 
 pub(crate) use block::{BlockIds, OriginBlock, TriangleLanes};
-pub use exact_lane::{blocked_exact_lane, nearest_exact_lane};
+pub use exact_lane::{any_exact_lane, closest_exact_lane};
 pub use nearest::{closest, PacketHits, PacketNearest, PacketSeed};
 pub(crate) use nearest::{closest_in, closest_seeded_in};
 pub use predicates::max_component;
 pub(crate) use predicates::max_component_in;
 pub use prepare::OriginTriangles;
 pub(crate) use prepare::{quad_indices, PreciseTriangle};
-pub(crate) use shadow::shadow_from_origin_in;
-pub use shadow::{shadow_from_origin, ShadowHits, ShadowPacket};
+pub(crate) use shadow::any_in;
+pub use shadow::{any, ShadowHits, ShadowPacket};
 pub(crate) use sink::{PacketLimits, PacketSink};
 
 use std::ops::{Mul, Sub};

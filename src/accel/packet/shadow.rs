@@ -1,5 +1,5 @@
 //! Shadow rays from the light in packets of 8: [`ShadowPacket`] as triangles are offered,
-//! and [`shadow_from_origin`] over a list.
+//! and [`any`] over a list.
 
 use super::predicates::{t_interval, EdgeTests};
 use super::{OriginTriangle, MAX_PRODUCT};
@@ -16,19 +16,19 @@ use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
 /// interval starts at 1 or beyond.
 ///
 /// [`max_component`]: super::max_component
-pub fn shadow_from_origin(
+pub fn any(
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
     d_max: f32,
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    with_cpu_isa!(|isa| shadow_from_origin_in(isa, tris, d, d_max, skip, valid))
+    with_cpu_isa!(|isa| any_in(isa, tris, d, d_max, skip, valid))
 }
 
-/// [`shadow_from_origin`] in the build `isa` names.
+/// [`any`] in the build `isa` names.
 #[inline(always)]
-pub(crate) fn shadow_from_origin_in<I: Isa>(
+pub(crate) fn any_in<I: Isa>(
     isa: I,
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
@@ -36,7 +36,7 @@ pub(crate) fn shadow_from_origin_in<I: Isa>(
     skip: &[u32; 8],
     valid: u32,
 ) -> ShadowHits {
-    avx512_avx2_or_baseline!(token isa, lanes shadow_from_origin_body => (
+    avx512_avx2_or_baseline!(token isa, lanes any_body => (
         tris: &[OriginTriangle],
         d: &[f32x8; 3],
         d_max: f32,
@@ -46,7 +46,7 @@ pub(crate) fn shadow_from_origin_in<I: Isa>(
 }
 
 #[inline(always)]
-fn shadow_from_origin_body<V: Lanes>(
+fn any_body<V: Lanes>(
     tris: &[OriginTriangle],
     d: &[f32x8; 3],
     d_max: f32,
@@ -65,7 +65,7 @@ fn shadow_from_origin_body<V: Lanes>(
 
 /// Eight shadow segments from the origin triangles are prepared for, as triangles are offered
 /// in any order (all of a small scene's, or a BVH's leaves as the segments reach them): per
-/// lane, blocked for certain, or unsure. See [`shadow_from_origin`].
+/// lane, blocked for certain, or unsure. See [`any`].
 pub struct ShadowPacket<V = f32x8> {
     d: [V; 3],
     /// max|dₖ| rounded up.

@@ -224,7 +224,7 @@ fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
             for prepared in [Some(&list), None] {
                 // Shadow segments from o to the fan's points (t = 1 there).
                 let none = [u32::MAX; 8];
-                let shadow = bvh.blocked_packet(o, prepared, &d, dm, &none, 0xff);
+                let shadow = bvh.any_packet(o, prepared, &d, dm, &none, 0xff);
                 for (l, dir) in dirs.iter().enumerate() {
                     let ray = crate::geometry::Ray::new(o, *dir);
                     let want = bvh.any(&ray, crate::geometry::Method::Adaptive, 0.0, 1.0, u32::MAX);
