@@ -432,7 +432,7 @@ impl Spheres {
         s: &super::ShadowSegments,
     ) -> SphereLanes {
         let spheres = self;
-        avx512_avx2_or_baseline!(token isa, block_body => (
+        avx512_avx2_or_baseline!(token isa, any_packet_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             s: &super::ShadowSegments
@@ -482,7 +482,11 @@ fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -
 }
 
 #[inline(always)]
-fn block_body(spheres: &Spheres, seen: &SpheresSeen, s: &super::ShadowSegments) -> SphereLanes {
+fn any_packet_body(
+    spheres: &Spheres,
+    seen: &SpheresSeen,
+    s: &super::ShadowSegments,
+) -> SphereLanes {
     let lanes = s.d.map(|c| c.to_array());
     let mut state = Blocking {
         d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],

@@ -175,6 +175,9 @@ macro_rules! avx512_avx2_or_baseline {
         }
         baseline($($arg),*)
     }};
+    (@ $($malformed:tt)*) => {
+        compile_error!("avx512_avx2_or_baseline!: expected `[token isa,] [isa] lanes|widest path => (args) -> ret` or `path => (args) -> ret`")
+    };
     (token $isa:ident, $($kernel:tt)+) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@kernel
             [$crate::math::simd::Isa::level($isa)] $($kernel)+)
@@ -212,7 +215,7 @@ pub(crate) use with_cpu_isa;
 
 /// A kernel build as a value, made only where the CPU runs it: the `isa lanes` arm of
 /// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the
-/// run-time check. [`Isa::outline`] runs a part of the kernel compiled for that build as one
+/// run-time check or from the caller's own token (the `token` form). [`Isa::outline`] runs a part of the kernel compiled for that build as one
 /// function the kernel calls: a part reached from several places of a kernel (the instances'
 /// mesh walk, under each variant of the walk over the placements) is then compiled once per
 /// build, not once per place it would be inlined into.

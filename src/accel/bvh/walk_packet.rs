@@ -164,7 +164,7 @@ impl Bvh {
         seed: Option<&PacketSeed>,
     ) -> PacketHits {
         let mut nearest = PacketNearest::<V>::seeded(d, d_max, seed);
-        self.walk_nearest(o, prepared, each3(|k| V::from_wide(d[k])), &mut nearest);
+        self.walk_closest(o, prepared, each3(|k| V::from_wide(d[k])), &mut nearest);
         nearest.finish()
     }
 
@@ -181,13 +181,13 @@ impl Bvh {
         prim: &mut [u32],
     ) -> u32 {
         let mut nearest = PacketNearest::<V>::new_in(d, d_max);
-        self.walk_nearest(o, prepared, d, &mut nearest);
+        self.walk_closest(o, prepared, d, &mut nearest);
         nearest.finish_into(prim)
     }
 
     /// Offers `nearest` (rays from `o`, directions `d`) every triangle its lanes may reach.
     #[inline(always)]
-    fn walk_nearest<V: LaneOps>(
+    fn walk_closest<V: LaneOps>(
         &self,
         o: [f32; 3],
         prepared: Prepared<'_>,

@@ -132,7 +132,7 @@ fn side_of_crossing(hit: &LaneHit, v: &[[f32; 3]; 3]) -> Option<Option<Ordering>
 
 /// Whether the segment from `o` (the origin `tris` were prepared for) to o + d is blocked
 /// for 0 < t < 1 by one of `tris` other than `skip`, for a shadow ray
-/// [`any`] left unsure; `None` where this cannot tell (the per-ray search then
+/// [`packet::any`](super::any) left unsure; `None` where this cannot tell (the per-ray search then
 /// does). Edge signs as in [`closest_exact_lane`]; t against 1 by the f32 interval where it
 /// decides, else exactly: the end o + d (exact in f64) lies strictly on the other side of
 /// the triangle's plane than o. That settles the usual case, the other half of the quad a

@@ -65,7 +65,7 @@ fn any_body<V: Lanes>(
 
 /// Eight shadow segments from the origin triangles are prepared for, as triangles are offered
 /// in any order (all of a small scene's, or a BVH's leaves as the segments reach them): per
-/// lane, blocked for certain, or unsure. See [`any`].
+/// lane, blocked for certain, or unsure. See [`packet::any`](any).
 pub struct ShadowPacket<V = f32x8> {
     d: [V; 3],
     /// max|dₖ| rounded up.

@@ -2,8 +2,9 @@
 //! `std::arch`; `Avx16`, the same with AVX-512 (the AVX-512 build only).
 //!
 //! Soundness: their operations execute AVX2 instructions, so such a value must exist only
-//! where the CPU has AVX2. The types are private to the crate and named only in the AVX2 arm
-//! of `avx512_avx2_or_baseline!`, after the run-time check (`math::simd::level`), and in
+//! where the CPU has AVX2. The types are private to the crate and named only in the AVX
+//! builds of `avx512_avx2_or_baseline!`, reached after the run-time check
+//! (`math::simd::level`) or through a token that check made (`math::simd::Isa`), and in
 //! tests behind the same check; every constructor (`splat`, `from_array`, which the others
 //! go through) asserts it in debug builds.
 
