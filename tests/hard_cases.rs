@@ -110,7 +110,7 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
     let mut cache = HashMap::new();
     let mut bvh_cache = HashMap::new();
     let mut ambiguous = 0;
-    // The exact references (most of the time) on every core.
+    // The exact references on every core.
     let exacts: Vec<_> = rays.par_iter().map(|r| exact_nearest(shapes, r)).collect();
     for (ray, exact) in rays.iter().zip(exacts) {
         let ray64 = Ray::new(ray.o.map(f64::from), ray.d.map(f64::from));
