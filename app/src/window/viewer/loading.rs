@@ -1,0 +1,281 @@
+//! Loading what the viewer shows: a `.scene`, OBJ or `.view` file on a thread of its own, a
+//! load asked for while one runs, and the file watched for changes (reloaded as it was).
+
+use super::*;
+
+/// What a load does once its file is read.
+#[derive(Clone, Debug)]
+pub enum LoadKind {
+    /// A file opened (dropped, the File menu, the path field): a new camera for it.
+    Open,
+    /// The file shown changed on disk: the camera, light and settings stay.
+    Reload,
+    /// A saved view's scene (the view file's path beside it): the view's camera, light and
+    /// settings apply once its own scene has loaded.
+    View(Box<raylab::view::View>, PathBuf),
+}
+
+/// A load asked for: the file and what to do with it.
+#[derive(Clone, Debug)]
+pub struct LoadRequest {
+    pub path: PathBuf,
+    pub kind: LoadKind,
+}
+
+impl LoadRequest {
+    fn is_reload(&self) -> bool {
+        matches!(self.kind, LoadKind::Reload)
+    }
+}
+
+/// How often the scene's file is checked for changes.
+const WATCH_EVERY: Duration = Duration::from_millis(250);
+
+/// Watches the file in `source` (whichever it is now) and sends [`AppEvent::SourceChanged`]
+/// when its modification time or size changes; ends with the event loop.
+pub(super) fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<AppEvent>) {
+    /// A file's modification time and size, as far as they can be had.
+    type Stamp = Option<(Option<std::time::SystemTime>, u64)>;
+    let stamp = |p: &PathBuf| -> Stamp {
+        std::fs::metadata(p)
+            .ok()
+            .map(|m| (m.modified().ok(), m.len()))
+    };
+    let mut last: Option<(PathBuf, Stamp)> = None;
+    loop {
+        std::thread::sleep(WATCH_EVERY);
+        let Some(path) = source.lock().expect("not poisoned").clone() else {
+            continue;
+        };
+        let now = stamp(&path);
+        let changed = matches!(&last, Some((p, s)) if *p == path && *s != now);
+        last = Some((path.clone(), now));
+        if changed && proxy.send_event(AppEvent::SourceChanged(path)).is_err() {
+            return;
+        }
+    }
+}
+
+impl Viewer {
+    /// Loads a `.scene`, OBJ or `.view` file (a `.scene` or OBJ on a thread of its own,
+    /// [`AppEvent::SceneLoaded`] when done).
+    pub fn load(&mut self, path: PathBuf) {
+        let is_view = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("view"));
+        match is_view {
+            true => self.load_view(&path),
+            false => self.request_load(LoadRequest {
+                path,
+                kind: LoadKind::Open,
+            }),
+        }
+    }
+
+    /// Opens a saved view (F5): its scene first (unless it is the one shown), then its
+    /// camera, light and settings.
+    fn load_view(&mut self, path: &std::path::Path) {
+        let view = raylab::input::read_text(path, raylab::input::max_input_bytes())
+            .map_err(|e| e.to_string())
+            .and_then(|text| {
+                raylab::view::View::parse(&path.display().to_string(), &text)
+                    .map_err(|e| e.to_string())
+            });
+        match view {
+            Ok(view) => self.request_load(LoadRequest {
+                path: PathBuf::from(view.scene_path(path)),
+                kind: LoadKind::View(Box::new(view), path.to_path_buf()),
+            }),
+            Err(e) => self.report_error(format!("could not load the view: {e}")),
+        }
+    }
+
+    /// Applies a view's camera, light and settings to the scene shown (its own).
+    fn apply_view(&mut self, view: &raylab::view::View, path: &std::path::Path) {
+        let s = view.settings;
+        self.view.controls = s;
+        self.view.resolution = Resolution::Fixed(s.width, s.height);
+        self.controller =
+            CameraController::from_scene_camera(&view.camera, self.stage.scene().size());
+        if let Some(light) = view.light {
+            self.view.light = light;
+        }
+        self.obj_frame = view.obj_frame;
+        let shown = fit_shown((s.width, s.height), self.max_side);
+        let mut message = format!("loaded view {}", path.display());
+        if shown != (s.width, s.height) {
+            message += &format!(
+                ": its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
+                s.width, s.height, shown.0, shown.1, s.width, s.height
+            );
+        }
+        let n = samples_shown(s.spp, shown);
+        if n != s.spp {
+            message += &format!(", its {0}x{0} samples at {n}x{n}", s.spp);
+        }
+        self.set_status(message);
+        self.changed();
+    }
+
+    /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
+    fn show_cornell(&mut self) {
+        *self.source.lock().expect("not poisoned") = None;
+        self.stage = Stage::new(Scene::cornell(), self.accel);
+        self.selected_level = None;
+        self.changed();
+    }
+
+    /// The scene's file changed on disk: reloads it (keeping the camera) if it is the file
+    /// shown, or the one a load under way will show.
+    pub fn reload(&mut self, path: PathBuf) {
+        let request = LoadRequest {
+            path,
+            kind: LoadKind::Reload,
+        };
+        if self.loading {
+            self.queue_load(request);
+        } else if self.source.lock().expect("not poisoned").as_ref() == Some(&request.path) {
+            self.start_load(request);
+        }
+    }
+
+    /// Starts a load, or queues it behind the one under way.
+    fn request_load(&mut self, request: LoadRequest) {
+        match self.loading {
+            true => self.queue_load(request),
+            false => self.start_load(request),
+        }
+    }
+
+    /// Keeps a load for when the one under way ends: an explicit load (open, a view) replaces
+    /// whatever was queued; a reload is kept only where no explicit load is queued and its
+    /// file is the one the load under way will show.
+    fn queue_load(&mut self, request: LoadRequest) {
+        let path = request.path.display().to_string();
+        if request.is_reload() {
+            let explicit_queued = self.queued_load.as_ref().is_some_and(|q| !q.is_reload());
+            if explicit_queued || self.running_load.as_ref() != Some(&request.path) {
+                log::info!("{path} changed, but another file is shown next: not reloaded");
+                return;
+            }
+        }
+        let message =
+            format!("{path} asked for while a load is under way: loaded once that one ends");
+        match request.is_reload() {
+            true => log::info!("{message}"),
+            false => self.set_status(message),
+        }
+        self.queued_load = Some(request);
+    }
+
+    /// Starts a load now: the Cornell box and a view of the scene shown at once, a file on
+    /// a thread of its own.
+    fn start_load(&mut self, request: LoadRequest) {
+        let cornell = request.path.as_os_str() == raylab::scene::CORNELL;
+        let shown = self.source.lock().expect("not poisoned").clone();
+        if let LoadKind::View(view, file) = &request.kind {
+            if (cornell && shown.is_none()) || shown.as_ref() == Some(&request.path) {
+                return self.apply_view(view, file);
+            }
+        }
+        if cornell {
+            self.show_cornell();
+            if let LoadKind::View(view, file) = &request.kind {
+                self.apply_view(view, file);
+            }
+            return;
+        }
+        self.loading = true;
+        self.running_load = Some(request.path.clone());
+        let verb = match request.kind {
+            LoadKind::Reload => "reloading",
+            _ => "loading",
+        };
+        self.set_status(format!("{verb} {}...", request.path.display()));
+        let proxy = self.proxy.clone();
+        let frame = match &request.kind {
+            LoadKind::View(view, _) => view.obj_frame,
+            _ => self.obj_frame,
+        };
+        let accel = self.accel;
+        std::thread::spawn(move || {
+            let result = Scene::load(&request.path, frame).map(|scene| Stage::new(scene, accel));
+            let _ = proxy.send_event(AppEvent::SceneLoaded(request, Box::new(result)));
+        });
+    }
+
+    /// A load ended: its scene is shown ([`Viewer::show_loaded`]), then a load asked for
+    /// meanwhile starts as it was asked for. Returns the new scene's name for the window
+    /// title.
+    pub fn scene_loaded(
+        &mut self,
+        request: LoadRequest,
+        result: Result<Stage, String>,
+    ) -> Option<String> {
+        self.loading = false;
+        self.running_load = None;
+        let failed = result.is_err();
+        let name = self.show_loaded(&request, result);
+        if let Some(next) = self.queued_load.take() {
+            // A file that failed and changed meanwhile (fixed, perhaps) is loaded again as
+            // it was asked for.
+            let again = failed && next.is_reload() && next.path == request.path;
+            self.start_load(if again { request } else { next });
+        }
+        name
+    }
+
+    /// A loaded scene replaces the shown one (with a new camera for an opened file, the
+    /// view's for a view's scene, the same for a reload); a failed load keeps it and says
+    /// why.
+    fn show_loaded(
+        &mut self,
+        request: &LoadRequest,
+        result: Result<Stage, String>,
+    ) -> Option<String> {
+        let path = &request.path;
+        let reload = request.is_reload();
+        let stage = match result {
+            Ok(stage) => stage,
+            Err(e) if reload => {
+                self.report_error(format!("could not reload (the last good scene stays): {e}"));
+                return None;
+            }
+            Err(e) => {
+                self.report_error(format!("could not load: {e}"));
+                return None;
+            }
+        };
+        *self.source.lock().expect("not poisoned") = Some(path.clone());
+        // (The error of an earlier load no longer describes the scene shown.)
+        self.banner = None;
+        let scene = stage.scene();
+        self.selected_level = self
+            .selected_level
+            .filter(|l| reload && *l < scene.levels.len());
+        let (w, h) = self.full_size();
+        match (&request.kind, scene.camera, scene.bounds()) {
+            (LoadKind::Open, Some(c), _) => {
+                self.controller = CameraController::from_scene_camera(&c, scene.size())
+            }
+            (LoadKind::Open, None, Some(bounds)) => {
+                self.controller = CameraController::framing(bounds, w, h)
+            }
+            _ => {}
+        }
+        self.view.light = scene.light.position;
+        let verb = if reload { "reloaded" } else { "loaded" };
+        self.set_status(format!(
+            "{verb} {} ({} primitives)",
+            path.display(),
+            scene.len()
+        ));
+        let name = scene.name.clone();
+        self.stage = stage;
+        if let LoadKind::View(view, file) = &request.kind {
+            self.apply_view(view, file);
+        }
+        self.changed();
+        Some(name)
+    }
+}
