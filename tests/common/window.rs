@@ -98,7 +98,9 @@ pub enum Around<'a> {
         dpi: u32,
     },
     /// A shell snippet that drives the running app with real X input (xdotool), started
-    /// once the app's window exists (its id in `$win`), in the run's directory.
+    /// once the app's window exists (its id in `$win`), in the run's directory. Once it has
+    /// finished (and 0.3 s more, for its last events to reach the app), the file
+    /// `driver-done` appears there: a script's `await driver-done` holds the run that long.
     RealInput(&'a str),
     /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
     RealInputOn(&'a str, &'a std::path::Path),
@@ -209,7 +211,8 @@ pub fn run_window_on(
         let wrapper = format!(
             "log='{log}'; \"$@\" 2>\"$log\" & app=$!; \
              win=$(xdotool search --sync --name '^raylab'); {wait}; \
-             {driver}; wait $app; status=$?; cat \"$log\" >&2; exit $status",
+             {driver}; sleep 0.3; : > driver-done; wait $app; status=$?; \
+             cat \"$log\" >&2; exit $status",
             log = log.display()
         );
         command.args(["sh", "-c", &wrapper, "sh"]);

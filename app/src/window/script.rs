@@ -26,12 +26,18 @@
 //!   its primitives); `select none` clears it
 //! - `inspect <i> <j>`: what a left click on pixel (i, j) of the full-size image does with the
 //!   ray inspector on (the run prints the inspection at the end)
+//! - `await <path>`: holds the rest of the script (and the run's end) until the file exists,
+//!   looked for every [`AWAIT_POLL`]: a test's real-input driver creates it when done, so the
+//!   run lasts as long as the driver, not a fixed time
 
 use super::input::Key;
 use std::time::Duration;
 
 /// A scripted run that has not finished by then fails; its events come before.
 pub const RUN_LIMIT: Duration = Duration::from_secs(120);
+
+/// How often an `await` looks for its file.
+pub const AWAIT_POLL: Duration = Duration::from_millis(50);
 
 /// One scripted event.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,6 +72,8 @@ pub enum Action {
     /// Make the next render to finish fail: the app must say so and not ask for it again
     /// until something changes.
     FailRender,
+    /// Hold the rest of the script until this file exists (passed once it does).
+    Await(std::path::PathBuf),
 }
 
 /// [`Action::Set`] of the control `name` to `value`, if the control takes that value.
@@ -88,6 +96,8 @@ fn set_control(name: &str, value: &str) -> Result<Action, String> {
 pub struct Script {
     events: Vec<(Duration, Action)>,
     next: usize,
+    /// When an `await` last found its file missing.
+    held_at: Option<Duration>,
 }
 
 impl Script {
@@ -226,6 +236,10 @@ impl Script {
                         })?)),
                     }
                 }
+                Some("await") => {
+                    want(3)?;
+                    Action::Await(w[2].into())
+                }
                 Some("inspect") => {
                     want(4)?;
                     let pixel = |k: usize| {
@@ -236,20 +250,33 @@ impl Script {
                 }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, fail-render, select)"
+                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, fail-render, select, inspect, await)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
             };
             events.push((at, action));
         }
-        Ok(Script { events, next: 0 })
+        Ok(Script {
+            events,
+            next: 0,
+            held_at: None,
+        })
     }
 
-    /// Events due by `elapsed` that were not returned before.
+    /// Events due by `elapsed` that were not returned before, up to an `await` whose file
+    /// does not exist yet.
     pub fn due(&mut self, elapsed: Duration) -> Vec<Action> {
         let start = self.next;
-        while self.next < self.events.len() && self.events[self.next].0 <= elapsed {
+        self.held_at = None;
+        while let Some((at, action)) = self.events.get(self.next) {
+            if *at > elapsed {
+                break;
+            }
+            if matches!(action, Action::Await(path) if !path.exists()) {
+                self.held_at = Some(elapsed);
+                break;
+            }
             self.next += 1;
         }
         self.events[start..self.next]
@@ -263,9 +290,10 @@ impl Script {
         self.next == self.events.len()
     }
 
-    /// When the next event is due, if any.
+    /// When the next event is due, if any (a held `await` looks again after [`AWAIT_POLL`]).
     pub fn next_due(&self) -> Option<Duration> {
-        self.events.get(self.next).map(|(t, _)| *t)
+        let (at, _) = self.events.get(self.next)?;
+        Some(self.held_at.map_or(*at, |held| held + AWAIT_POLL))
     }
 }
 
@@ -311,6 +339,28 @@ mod tests {
     }
 
     #[test]
+    fn await_holds_the_rest_until_its_file_exists() {
+        let dir = tempfile::tempdir().unwrap();
+        let done = dir.path().join("driver-done");
+        let text = format!("0 key W down\n100 await {}\n100 key W up\n", done.display());
+        let mut s = Script::parse("s.txt", &text).unwrap();
+        let ms = Duration::from_millis;
+        assert_eq!(s.due(ms(200)), vec![Action::Key(Key::W, true)]);
+        // Held: nothing more, and the next look is one poll later (not at once, in a loop).
+        assert_eq!(s.next_due(), Some(ms(200) + AWAIT_POLL));
+        assert_eq!(s.due(ms(90_000)), vec![]);
+        assert_eq!(s.next_due(), Some(ms(90_000) + AWAIT_POLL));
+        assert!(!s.finished());
+        std::fs::write(&done, "").unwrap();
+        assert_eq!(
+            s.due(ms(90_050)),
+            vec![Action::Await(done), Action::Key(Key::W, false)]
+        );
+        assert!(s.finished());
+        assert_eq!(s.next_due(), None);
+    }
+
+    #[test]
     fn errors_name_the_file_and_line() {
         let cases = [
             ("0 key W sideways\n", "s.txt:1: expected 'down' or 'up'"),
@@ -349,6 +399,7 @@ mod tests {
             ),
             ("120000 key W down\n", "past the scripted run's limit"),
             ("0 restore now\n", "'restore' takes 0 arguments, found 1"),
+            ("0 await\n", "'await' takes 1 arguments, found 0"),
         ];
         for (text, needle) in cases {
             let e = Script::parse("s.txt", text).unwrap_err();

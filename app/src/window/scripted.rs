@@ -225,6 +225,8 @@ impl App {
                 Action::Select(level) => viewer.select_level(level),
                 Action::Inspect(i, j) => viewer.inspect_pixel(i, j),
                 Action::FailRender => viewer.fail_next_render = true,
+                // (Its file exists: the script goes on.)
+                Action::Await(_) => {}
                 Action::LoseSurface => {
                     if let Some(fw) = &mut self.framework {
                         fw.gpu.lose_next_draw = true;
