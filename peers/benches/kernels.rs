@@ -1,4 +1,4 @@
-//! The hot kernels, one at a time (`cargo bench --bench kernels`; the machine and thread
+//! The hot kernels, one at a time (`cargo bench -p peers --bench kernels`; the machine and thread
 //! count are printed first): one ray against one triangle per method, 8 camera rays against a
 //! prepared triangle (the packet kernel), 8 shadow rays, the sphere test, closest-hit through a
 //! BVH, and the BVH build. Speed lives here and in `raylab bench`, never in tests.

@@ -19,7 +19,8 @@
 //! own corners. The slab test itself is conservative as in [`super::bvh`]. Those roundings
 //! are relative only in f32's normal range: where the carried direction leaves it (a
 //! direction of 2⁻⁵⁰ under a scale of 2⁻¹⁰⁰ underflows, one of 2³⁰ under 2¹⁰⁰ overflows), the
-//! ray, or the packet, tests every triangle of the instance instead (`tests/instances_at_any_scale.rs`).
+//! ray, or the packet, tests every triangle of the instance instead
+//! (`tests/library/instances_at_any_scale.rs`).
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
 use super::layout::{merge, Layout};

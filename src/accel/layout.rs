@@ -27,7 +27,7 @@
 //! `packet_into` may be left to its default) and `impl TriangleLayout`; in triangles.rs its
 //! variant of `Triangles`, its arm of `each_layout!`, of `build` and of `kind`; in mod.rs its
 //! [`AccelChoice`] variant, its name and its place in `AccelChoice::ALL`. The tests take
-//! every layout from that list (`accel::testing::layout_choices`): tests/accel.rs runs each
+//! every layout from that list (`accel::testing::layout_choices`): tests/library/accel.rs runs each
 //! against the reference loop on random and hard-case scenes, per ray and in packets, alone
 //! and beside instances.
 //!

@@ -1,8 +1,8 @@
 //! Closest-hit and any-hit queries over a scene's primitives, with the structure chosen per
 //! scene: the 30-triangle Cornell box is fastest as the flat SIMD loop ([`flat::FlatLoop`]), a
 //! 70k-triangle scan as a BVH ([`bvh::Bvh`]). Every path returns exactly the nearest hit of the
-//! scalar reference loop ([`mod@reference`]) with the same intersection method (tests/accel.rs
-//! holds them to it).
+//! scalar reference loop ([`mod@reference`]) with the same intersection method
+//! (tests/library/accel.rs holds them to it).
 //!
 //! The renderer sees one face: [`FrameQueries`] (made by [`Accel::for_frame`]) hands out
 //! per-tile queries that are always fully resolved: camera rays 8 at a time or per ray,

@@ -78,7 +78,7 @@ impl<T: Real> Family<T> {
 }
 
 /// The classic bugs each family before the classic-bug ones catches, as measured with the
-/// programs of examples/check/bugs/ (each exact.py with one bug; app/tests/classic_bugs.rs
+/// programs of examples/check/bugs/ (each exact.py with one bug; app/tests/commands/classic_bugs.rs
 /// holds the named families to it). t in units of a normalised direction fails nearly all.
 const CAUGHT: [&str; 32] = [
     "hits behind the origin; open edges; the last hit; Möller–Trumbore in f32",

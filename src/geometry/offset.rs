@@ -16,7 +16,7 @@ pub const UNDERFLOW: f32 = 8.0 * f32::from_bits(1);
 /// (the box p ± `p_error` holds a point of the exact primitive: the offset of a secondary
 /// ray's origin needs only this), `hit_error` its distance from the exact hit point x of the
 /// ray that found it (|pₖ − xₖ| ≤ `hit_error`ₖ: what shading at p rather than at x may be off
-/// by). `tests/shading_point.rs` checks both against exact rational points on the hard-case
+/// by). `tests/library/shading_point.rs` checks both against exact rational points on the hard-case
 /// suite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {

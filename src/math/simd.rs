@@ -7,10 +7,10 @@
 //! in the same 8-lane type (`Avx8`, one 256-bit register): AVX-512VL lets the compiler use
 //! its EVEX forms on it (32 vector registers instead of 16, mask registers for compares,
 //! three-input logic for selects). All three give the same bits: the same IEEE operations,
-//! none contracted to FMA (tests/packet.rs compares the builds bit for bit). The flat
+//! none contracted to FMA (tests/library/packet.rs compares the builds bit for bit). The flat
 //! frame's camera packets are 16 rays (`Avx16`, one 512-bit register) in the AVX-512 build
 //! (`widest` below): their lanes are decided exactly as 8-ray packets decide them, so the
-//! image's bytes are the same (tests/render.rs).
+//! image's bytes are the same (tests/library/render.rs).
 //!
 //! Where the choice is made: once where a tile loop starts ([`avx512_avx2_or_baseline!`]'s
 //! `isa` arms hand the loop its build's token, an [`Isa`]), and below it by the token's type

@@ -4,8 +4,8 @@
 //! every f32 input is an exact rational (`num-rational`), hit or miss is decided for the closed
 //! triangle or sphere, the nearest primitive (exact ties to the lower index), and t.
 //!
-//! Shared by tests/hard_cases.rs (which asserts on it) and examples/speed_vs_error.rs (which
-//! reports speed against error on it).
+//! Shared by tests/library/hard_cases.rs (which asserts on it) and examples/speed_vs_error.rs
+//! (which reports speed against error on it).
 
 use num_bigint::BigInt;
 use num_rational::BigRational;

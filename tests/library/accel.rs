@@ -3,7 +3,7 @@
 //! them must return exactly the same nearest hit (t, primitive, barycentrics) and any-hit
 //! answer with the same method, on random scenes and on the hard-case families.
 
-mod common;
+use crate::common;
 
 use common::{cube, icosphere, suite, vertices_and_edge_midpoints, Rng};
 use proptest::prelude::*;

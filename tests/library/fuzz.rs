@@ -4,7 +4,7 @@
 //! indices, junk, control bytes), so most cases get past the first line. Every input must give
 //! `Ok` or an `Err` naming a line, never a panic; an `Ok` scene must be safe to render.
 //!
-//! More cases: `PROPTEST_CASES=100000 cargo test --release --test fuzz`.
+//! More cases: `PROPTEST_CASES=100000 cargo test --release --test library fuzz::`.
 
 use proptest::prelude::*;
 use raylab::geometry::{Shape, Sphere, Triangle};

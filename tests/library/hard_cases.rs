@@ -13,7 +13,7 @@
 //! exact tie not resolved to the lower index, or a primitive the exact ray does not meet),
 //! pass-throughs (a miss, or a primitive exactly behind the nearest surface: the ray slipped
 //! through it) and the median and largest relative t error, and prints the table
-//! (`cargo test --test hard_cases -- --nocapture --test-threads 1`; docs/hard_cases.md).
+//! (`cargo test --test library hard_cases:: -- --nocapture --test-threads 1`; docs/hard_cases.md).
 //!
 //! Asserted: the default (adaptive) method, through its six fast paths (the flat SIMD loop,
 //! the BVH, the renderer's camera-ray packets, the BVH with triangles prepared for the
@@ -22,7 +22,7 @@
 //! and pass-throughs. The plain watertight f32 method is held to no leaks from inside closed
 //! meshes; the other methods' counts are reported, not asserted.
 
-mod common;
+use crate::common;
 
 use common::suite::{self, exact_nearest, Counts, Family};
 use raylab::accel::testing::{self as packet, OriginTriangles};

@@ -5,10 +5,10 @@
 //! "Exactly": the same primitive (or miss) for every method, the same t and barycentrics for
 //! the inexact methods; the adaptive method's t is the f32 t where that is certain, and which
 //! f32 computation is certain depends on the box bounds the path uses (as between the flat
-//! loop and the BVH, tests/accel.rs), so there it is held to the same hit point within f32
+//! loop and the BVH, tests/library/accel.rs), so there it is held to the same hit point within f32
 //! rounding of its inputs.
 
-mod common;
+use crate::common;
 
 use common::suite;
 use common::{check_instance_packets, icosphere, same_hit, Rng};

@@ -5,7 +5,7 @@
 //! (underflows, overflows or loses its relative precision). Every query must still answer as
 //! the same scene flattened, per ray and 8 rays at a time, for every method.
 
-mod common;
+use crate::common;
 
 use common::{check_instance_packets, icosphere, same_hit, Rng};
 use glam::{DMat4, DVec3};

@@ -4,7 +4,7 @@
 //! The default (adaptive) and the plain watertight method are held to zero failures; what the lecture's method and
 //! Möller–Trumbore get on the same rays is printed (run with `--nocapture`), not asserted.
 
-mod common;
+use crate::common;
 
 use common::{cube, icosphere, vertices_and_edge_midpoints, Rng};
 use raylab::accel::closest_hit;

@@ -1,9 +1,9 @@
 //! The camera-ray packets (`accel::packet`): every lane they decide must name exactly the
 //! primitive the per-ray adaptive search names, and they must decide nearly all camera rays
 //! of an ordinary view (else they would be correct but pointless). The hard-case suite runs
-//! them too (tests/hard_cases.rs, "camera packets").
+//! them too (tests/library/hard_cases.rs, "camera packets").
 
-mod common;
+use crate::common;
 
 use common::{cube, icosphere, Rng};
 use proptest::prelude::*;

@@ -5,9 +5,9 @@
 //!
 //! Pinned before the first architecture refactor so that moving code cannot change a
 //! pixel. A change that is meant to alter images must say so in its commit and re-pin:
-//! `RAYLAB_PIN_PRINT=1 cargo test --test pinned_images -- --nocapture` prints the table.
+//! `RAYLAB_PIN_PRINT=1 cargo test --test library pinned_images:: -- --nocapture` prints the table.
 
-mod common;
+use crate::common;
 
 use raylab::accel::AccelChoice;
 use raylab::geometry::{Method, Shape, Sphere};

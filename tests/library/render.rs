@@ -7,14 +7,14 @@
 //! triangle's edge, where f32 and f64 may rightly pick different triangles. At least 95% of
 //! the pixels must be unambiguous.
 
-mod common;
+use crate::common;
 
 use raylab::geometry::{Sphere, Triangle};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
-const OBJ: &str = include_str!("../assets/cornell_lab.obj");
-const MTL: &str = include_str!("../assets/cornell_lab.mtl");
+const OBJ: &str = include_str!("../../assets/cornell_lab.obj");
+const MTL: &str = include_str!("../../assets/cornell_lab.mtl");
 const MARGIN: f64 = 1e-4;
 
 type V = [f64; 3];

@@ -9,7 +9,7 @@
 //! (positions and direction together: t unchanged; positions alone: t scaled, up to beyond
 //! the precision's range), subnormal geometry, and worked examples.
 
-mod common;
+use crate::common;
 
 use common::suite::{exact_nearest, round_q, Bits, Family, RefT, Q};
 use common::Rng;

@@ -4,7 +4,7 @@
 //! of the exact hit point per axis, within `p_error` of the primitive's surface, and the shadow
 //! ray offset from it ends strictly on the light's side of the surface.
 
-mod common;
+use crate::common;
 
 use common::suite::{self, cross, dot, exact_nearest, q, sub, RefT, Q};
 use num_traits::{Signed, Zero};

@@ -3,7 +3,7 @@
 //! packets make of it, the skip of the shadow test is the shape's answer, and each shape's
 //! scene line reads back through the parser as the same shape.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use raylab::geometry::{Method, Primitive, Ray, Shape, Sphere, Triangle};

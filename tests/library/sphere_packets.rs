@@ -3,7 +3,7 @@
 //! (`sphere::interval_x4_of`), and shadow segments near a sphere test it lane by lane before
 //! the triangle packets. Every answer must be the per-ray search's.
 
-mod common;
+use crate::common;
 
 use common::{icosphere, Rng};
 use raylab::accel::{AccelChoice, FrameSetup, TileScratch, NO_HIT};

@@ -1,8 +1,7 @@
 //! Bad input to the `raylab` binary: every value and every hostile OBJ line refused with a
 //! clear error naming the value, or the file and line, exit code 2 and no panic.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, write};
 

@@ -1,8 +1,7 @@
 //! Checking code that is not raylab's: the exported suite reads back exactly, `raylab check`
 //! grades every kind of answer, and a program that fails is never a pass.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{count, last_line, text};
 use raylab::check::{export, suite};

@@ -2,8 +2,7 @@
 //! that fails never a pass, a correct program never failed, the t tolerance, and `--image`, which paints a program's answers and refuses up front what it
 //! cannot do.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{count, last_line, text};
 use raylab::check::{export, suite};

@@ -1,10 +1,9 @@
 //! The classic lab bugs, each caught by its family: `raylab check` on examples/check/bugs/,
 //! each program exact.py with one classic bug, fails the family that probes that bug
-//! (exact.py itself passes every family: app/tests/check.rs); and the C++ starter
+//! (exact.py itself passes every family: app/tests/commands/check.rs); and the C++ starter
 //! (examples/check/cpp/) builds with one g++ line and gets the counts its README states.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

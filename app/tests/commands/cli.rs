@@ -1,7 +1,6 @@
 //! The `raylab` binary from outside: render, trace, and bad input.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use common::read_png;
@@ -352,7 +351,7 @@ fn scene_files_render_and_trace_through_the_transform_stack() {
     let o = raylab(&["trace", "--scene", &scene, "--rays", &rays]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(String::from_utf8_lossy(&o.stdout), "hit 5 0\nmiss\n");
-    // In f64 the same primitive; t within the stated bound (tests/rounded_t.rs holds it to
+    // In f64 the same primitive; t within the stated bound (tests/library/rounded_t.rs holds it to
     // the correctly rounded t).
     let o = raylab(&[
         "trace",
@@ -408,7 +407,7 @@ fn ctrl_c_stops_a_long_render_cleanly_and_no_progress_bar_is_drawn_off_a_termina
         .spawn()
         .unwrap();
     // Past the loading, into the render (the handler is set); nothing is written until the
-    // image is whole (tests/outputs.rs).
+    // image is whole (app/tests/commands/outputs.rs).
     std::thread::sleep(std::time::Duration::from_millis(1500));
     let sent = Command::new("kill")
         .args(["-INT", &child.id().to_string()])

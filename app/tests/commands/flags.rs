@@ -1,8 +1,7 @@
 //! Every flag a subcommand shows is one it uses: a flag it would ignore is refused (exit 2,
 //! clap's message), and its help lists only what it uses.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 

@@ -3,8 +3,7 @@
 //! own status, none stops or harms another, none leaves a process behind; bad input is
 //! named.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::running;
 use std::path::{Path, PathBuf};

@@ -2,8 +2,7 @@
 //! structures a file builds capped at their line, and memory in proportion to the input
 //! (peak resident memory measured with GNU time on large generated inputs).
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, write};
 use common::read_png;

@@ -3,8 +3,7 @@
 //! UTF-8 reaches the program intact, and SIGTERM on raylab leaves no program running and no
 //! temporary directory behind.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{running, KillOnDrop};
 use std::ffi::OsString;

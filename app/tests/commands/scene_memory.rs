@@ -2,8 +2,7 @@
 //! one mesh, and copies of a repeated small mesh are flattened only within a room in
 //! proportion to the file (peak resident memory measured with GNU time).
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{stderr, write};
 use std::process::Command;

@@ -2,8 +2,7 @@
 //! and packet path answering as the reference loop, the hard-case suite through each, and
 //! malformed input named by file and line.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use raylab::geometry::{Sphere, Triangle};

@@ -1,8 +1,7 @@
 //! `.view` files from outside: rendered, saved and read back, through a shell as the window's
 //! "copy as command" gives them, with every image control and any scene file name.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::binary::{assert_fails, stderr, stdout, write};
 use common::read_png;

@@ -3,8 +3,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::window::{against_headless, run_window_with, Around};
 use common::{pixels_off, read_png};
@@ -212,7 +211,7 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
         "cornell\nsphere 0.3 0.4 0.2 0.25\nsphere -0.4 0.5 -0.2 0.2\n",
     )
     .unwrap();
-    let script = "16000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 60 57; sleep 0.3; xdotool click 1; sleep 1.5; \

@@ -4,8 +4,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::window::{compare, run_window_with, Around};
 use common::{pixels_off, read_png, run_in_shell};
@@ -136,7 +135,7 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     // the run alive while the driver works.
     let dir = tempfile::tempdir().unwrap();
     // (The driver waits for the first frames: the wheel and drag must meet a drawn image.)
-    let script = "11000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.3; \
                   xdotool mousemove --sync 730 310; sleep 0.3; \
@@ -172,7 +171,7 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     let dir = tempfile::tempdir().unwrap();
     // (The driver waits for the first frames: the drag must start over a drawn image, and a
     // fresh CI machine under lavapipe can take seconds to draw one.)
-    let script = "12000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
                   for i in $(seq 20); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
@@ -205,7 +204,7 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
     // method drop-down's "moller" set them, and the window shows the headless render of those
     // settings. (Positions: the panel at the window's default size on a 1280x800 screen.)
     let dir = tempfile::tempdir().unwrap();
-    let script = "12000 key H down\n12010 key H up\n12020 key H down\n12030 key H up\n";
+    let script = "0 await driver-done\n0 key H down\n10 key H up\n20 key H down\n30 key H up\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 15 122; sleep 0.3; xdotool click 1; sleep 0.3; \
                   xdotool mousemove --sync 27 529; sleep 0.3; xdotool mousedown 1; sleep 0.3; \
@@ -254,7 +253,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool keydown a; sleep 0.4; \
                   xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; xdotool key F12; \
                   sleep 1; xclip -selection clipboard -o > cmd.txt";
@@ -292,7 +291,7 @@ fn real_x_input_drives_every_other_key() {
     // and H leave the shortcuts shown, F5 saves the view; R is pressed first (from the start pose it changes
     // nothing); Esc once asks before quitting.
     let dir = tempfile::tempdir().unwrap();
-    let script = "14000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key r; sleep 0.2; \
                   xdotool keydown d; sleep 0.3; xdotool keyup d; sleep 0.2; \
                   xdotool keydown shift keydown d; sleep 0.3; xdotool keyup d keyup shift; \
@@ -353,10 +352,10 @@ fn real_x_input_drives_every_other_key() {
 #[test]
 fn real_x_input_escape_twice_quits() {
     // With the mouse captured for looking (right button held over the image), Esc releases
-    // it; Esc then asks, and Esc again quits at once: the run ends long before its script
-    // would (had the first Esc not released the mouse, the third would only ask).
+    // it; Esc then asks, and Esc again quits at once: the run ends before its script, which
+    // awaits the driver (had the first Esc not released the mouse, the third would only ask).
     let dir = tempfile::tempdir().unwrap();
-    let script = "20000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 800 400; \
                   sleep 0.2; xdotool mousedown 3; sleep 0.3; xdotool key Escape; sleep 0.3; \
                   xdotool key Escape; sleep 0.5; xdotool key Escape; sleep 0.2; \
@@ -388,7 +387,7 @@ fn real_x_input_escape_quits_only_right_after_asking() {
     // second Esc while the status showed something else.)
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
-    let script = "4000 drop bad.obj\n14000 step indirect\n";
+    let script = "4000 drop bad.obj\n4000 await driver-done\n";
     // (150, 680): the panel's empty space below the path field at the default window on
     // the harness's 1280x800 screen: a click on no widget.
     let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.3; \
@@ -423,7 +422,7 @@ fn real_x_input_middle_drag_pans_in_orbit_mode() {
     // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
     // cursor, so the camera (and its target) move left, keeping height and depth.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.3; \
                   xdotool mousemove --sync 800 400; sleep 0.2; xdotool mousedown 2; sleep 0.2; \
                   for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
@@ -453,7 +452,7 @@ fn real_x_input_keys_still_move_the_camera_after_tab() {
     // to a panel widget, and the app ignored every key while any widget had focus, so the
     // second Tab and W did nothing.
     let dir = tempfile::tempdir().unwrap();
-    let script = "8000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.5; \
                   xdotool key Tab; sleep 0.5; xdotool keydown w; sleep 0.4; xdotool keyup w";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))

@@ -4,8 +4,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::window::{graded_pixels, pixels_off_where, run_window_with, segment_distance, Around};
 use glam::DVec3;
@@ -42,7 +41,7 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
          method moller\ncracks on\n",
     )
     .unwrap();
-    let script = format!("200 drop {}\n14000 step flat\n", view.display());
+    let script = format!("200 drop {}\n200 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2; \
                   xdotool key n; sleep 1.5; xdotool key shift+n";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
@@ -171,7 +170,7 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     // fields are the library's for that pixel from the final camera at the final image size,
     // not those of the click.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool keydown w; sleep 0.6; \
                   xdotool keyup w";
@@ -200,7 +199,7 @@ fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
     // (113, 588) is the Light row's y field on the 1280×800 screen with the inspector open,
     // as docs/screenshot.png shows it.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 420; \
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool mousemove --sync 113 588; \
                   sleep 0.3; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
@@ -247,7 +246,7 @@ fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
     // image; I turns the inspector off, and with it what it drew: the window then shows the
     // headless render of its view and nothing over it.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 690; \
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool key i";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
@@ -299,7 +298,7 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     // panel's fields are those of the library's inspection of that pixel from the run's
     // camera, and a scripted `inspect` gives the same as the click on the same pixel.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     // (W moves the camera first and R takes it back to the start, where the click is made.)
     let driver = "xdotool windowfocus --sync $win; xdotool keydown w; sleep 0.3; \
                   xdotool keyup w; sleep 0.3; xdotool key r; sleep 0.3; \

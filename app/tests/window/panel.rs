@@ -5,8 +5,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::window::{run_window_on, Around, Run, SCREEN};
 
@@ -113,7 +112,7 @@ fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
     // the pixel under it).
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
-    let script = "0 drop bad.obj\n4000 drop bad.obj\n10000 step indirect\n";
+    let script = "0 drop bad.obj\n4000 drop bad.obj\n4000 await driver-done\n";
     // (700, 25): inside the banner, whose top-left is 8 points inside the image's (the
     // image starts right of the 300-point panel, at the window's top: x 358 on the
     // harness's screen, seen in its screenshots), and its first line of text is about 20
@@ -164,7 +163,7 @@ fn an_error_in_the_status_line_is_shown_whole_beside_the_inspector() {
 fn real_x_input_the_menu_bar_saves_a_screenshot_and_shows_the_shortcuts() {
     // The menu bar's "Screenshot (F12)" and "Shortcuts (H or F1)", clicked.
     let dir = tempfile::tempdir().unwrap();
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     // (90, 11) and (205, 11): the menu bar's "Screenshot (F12)" and "Shortcuts (H or F1)"
     // buttons, on the panel's first row at scale 1 (after "File"), as the harness's
     // screenshots show them.
@@ -240,7 +239,7 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
     let Some(plain) = run_window("", dir.path(), Around::Nothing) else {
         return;
     };
-    let script = "9000 step indirect\n";
+    let script = "0 await driver-done\n";
     // (90, 164): the "all 20000 warnings…" button under the panel's first three warnings
     // (the heading, the scene's line, the warnings' count and three lines above it at scale
     // 1), as the harness's screenshots show it; (700, 300): inside the list's window.

@@ -3,8 +3,7 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
-#[path = "../../tests/common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::window::{against_headless, run_window_with, Around};
 use raylab::Scene;
@@ -116,7 +115,7 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     let view = dir.path().join("huge.view");
     let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0 fov 53\nsize 16384 8192\nspp 16\n";
     std::fs::write(&view, text).unwrap();
-    let script = format!("300 drop {}\n60000 step indirect\n", view.display());
+    let script = format!("300 drop {}\n300 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; sleep 1; \
                   xdotool key Escape; sleep 0.3; xdotool key Escape";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))

@@ -15,7 +15,7 @@
 //! Both types compute the same bits: the same IEEE operations lane by lane, no contraction to
 //! FMA, `max`/`min` keeping `self` where `rhs` is NaN (and `rhs` where `self` is), the
 //! `fast_` forms as x86's `maxps`/`minps`, comparisons giving all-ones or all-zeros lanes,
-//! `bitselect` bitwise (tests/packet.rs compares the two builds bit for bit).
+//! `bitselect` bitwise (tests/library/packet.rs compares the two builds bit for bit).
 //!
 //! The files: this one holds the traits, [`LaneOps`] and [`Lanes`]; `baseline.rs` their
 //! implementation for `wide`'s f32x8, `lanes64.rs` the f64 lanes ([`Lanes64`], `wide`'s

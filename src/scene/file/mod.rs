@@ -24,7 +24,7 @@
 //! A primitive's index is its position among all primitives in file order (a mesh adds its
 //! triangles in its file order, `cornell` its 30). World coordinates are the current matrix
 //! applied to the file's numbers in f64 (every number, product and sum rounded to f64), then
-//! rounded to the chosen precision: for f32 two roundings, not one (tests/scene_file.rs
+//! rounded to the chosen precision: for f32 two roundings, not one (tests/library/scene_file.rs
 //! pins the rule on a coordinate next to an f32 midpoint); where the
 //! matrix is the identity the numbers are read straight in that precision, so the files of
 //! `raylab trace` (only `tri` and `sphere`) mean exactly what they meant before. Rotations

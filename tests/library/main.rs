@@ -1,0 +1,32 @@
+//! The library's integration tests, one binary: one link instead of one per file, and the test
+//! harness's threads shared by every file's tests. A file is a module; `cargo test --test
+//! library NAME` runs the tests whose path contains NAME (`hard_cases::`, `fuzz::`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod accel;
+mod camera;
+mod controller;
+mod fuzz;
+mod hard_cases;
+mod instances;
+mod instances_at_any_scale;
+mod intersection;
+mod lab_code;
+mod levels;
+mod packet;
+mod pinned_images;
+mod render;
+mod rounded_t;
+mod scene;
+mod scene_bounds;
+mod scene_file;
+mod scene_mesh_identity;
+mod scene_zero_area;
+mod shading_point;
+mod shadows;
+mod shapes;
+mod sphere_packets;
+mod transform;
+mod zero_area_filter;
