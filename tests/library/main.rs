@@ -1,6 +1,8 @@
 //! The library's integration tests, one binary: one link instead of one per file, and the test
 //! harness's threads shared by every file's tests. A file is a module; `cargo test --test
-//! library NAME` runs the tests whose path contains NAME (`hard_cases::`, `fuzz::`).
+//! library NAME` runs the tests whose path contains NAME (`hard_cases::`, `fuzz::`). The two
+//! tests that read the adaptive method's global level counters (tests/levels.rs,
+//! tests/zero_area_filter.rs) keep binaries of their own: other tests would count too.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -14,7 +16,6 @@ mod instances;
 mod instances_at_any_scale;
 mod intersection;
 mod lab_code;
-mod levels;
 mod packet;
 mod pinned_images;
 mod render;
@@ -29,4 +30,3 @@ mod shadows;
 mod shapes;
 mod sphere_packets;
 mod transform;
-mod zero_area_filter;
