@@ -202,9 +202,12 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
     // a slider while the button is down, so a press and a release; 3x3 samples, each of which
     // the cracks view checks against the exact method), the "show cracks" check box and the
     // method drop-down's "moller" set them, and the window shows the headless render of those
-    // settings. (Positions: the panel at the window's default size on a 1280x800 screen.)
+    // settings. (Positions: the panel at the window's default size on a 1280x800 screen. The
+    // image at half the window's resolution: its samples, each checked exactly, were most of
+    // the test's time.)
     let dir = tempfile::tempdir().unwrap();
-    let script = "0 await driver-done\n0 key H down\n10 key H up\n20 key H down\n30 key H up\n";
+    let script =
+        "0 scale 0.5\n0 await driver-done\n0 key H down\n10 key H up\n20 key H down\n30 key H up\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 15 122; sleep 0.3; xdotool click 1; sleep 0.3; \
                   xdotool mousemove --sync 27 529; sleep 0.3; xdotool mousedown 1; sleep 0.3; \
