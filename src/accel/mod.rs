@@ -11,16 +11,16 @@
 //! inside this module.
 //!
 //! Names inside the module. Two queries, one stem each at every level: the nearest hit is
-//! `closest`, whether anything is hit (a shadow's question) is `any`. What the rays are: `_hit` one ray;
-//! `_packet` 8 rays sharing an origin, through one structure; `_x8` 8 lanes: a tile's 8
-//! rays through the whole scene, or one ray against 8 triangles in the flat loop's lanes; `_lane` one lane of a packet, decided alone. How: `_exact`
-//! the adaptive search's exact level; `_from_origin` / `_from` / `_prepared` /
-//! `_of_triangles` with the triangles prepared once for the rays' origin; `_seeded` starting
-//! from a hit already known; `_in` inside a kernel already built for one SIMD level (no
-//! run-time choice: it takes the build's token or lanes; a few functions below the frame take
-//! the token without the suffix: `closest_packet_of_triangles`, `any_packet_from`, …);
-//! `_untrusted` where the f32 box test cannot be trusted (every triangle); `_body` the
-//! lane-generic body that the dispatch macro builds per SIMD level; `walk_*` a BVH traversal.
+//! `closest`, whether anything is hit (a shadow's question) is `any`. What the rays are: `_hit` one
+//! ray; `_packet` 8 rays sharing an origin, through one structure; `_x8` 8 lanes: a tile's 8 rays
+//! through the whole scene, or one ray against 8 triangles in the flat loop's lanes; `_lane` one
+//! lane of a packet, decided alone. How: `_exact` the adaptive search's exact level; `_from_origin`
+//! / `_from` / `_prepared` / `_of_triangles` with the triangles prepared once for the rays' origin;
+//! `_seeded` starting from a hit already known; `_in` inside a kernel already built for one SIMD
+//! level (no run-time choice: it takes the build's token or lanes; a few functions below the frame
+//! take the token without the suffix: `closest_packet_of_triangles`, `any_packet_from`, …);
+//! `_untrusted` where the f32 box test cannot be trusted (every triangle); `_body` the lane-generic
+//! body that the dispatch macro builds per SIMD level; `walk_*` a BVH traversal.
 //!
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
 //! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).

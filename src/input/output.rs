@@ -1,13 +1,13 @@
-//! Writing the files raylab makes ([`OutputFile`]): an output never destroys a file. It is
-//! written to a temporary file in the destination's directory and renamed over the destination only when complete, so
-//! an interrupted, killed or failed run leaves the previous file as it was. A killed run's
-//! temporary file, `.NAME.raylab-PID-N.tmp`, is removed by a later write into that directory
-//! once it is stale (not locked, this user's, unmodified for [`STALE_TEMP_AGE`]). A
-//! link is written through, dangling or not (as the shell's `>` writes), except one that the
-//! kernel's protected_symlinks rule would not follow. An output that is
-//! a file this process has read (the scene, its meshes and material libraries, a view, rays, a
-//! script: compared by file identity, so links and `./` paths are caught) is refused before
-//! anything is written, and so is an existing FIFO, socket or directory.
+//! Writing the files raylab makes ([`OutputFile`]): an output never destroys a file. It is written
+//! to a temporary file in the destination's directory and renamed over the destination only when
+//! complete, so an interrupted, killed or failed run leaves the previous file as it was. A killed
+//! run's temporary file, `.NAME.raylab-PID-N.tmp`, is removed by a later write into that directory
+//! once it is stale (not locked, this user's, unmodified for [`STALE_TEMP_AGE`]). A link is written
+//! through, dangling or not (as the shell's `>` writes), except one that the kernel's
+//! protected_symlinks rule would not follow. An output that is a file this process has read (the
+//! scene, its meshes and material libraries, a view, rays, a script: compared by file identity, so
+//! links and `./` paths are caught) is refused before anything is written, and so is an existing
+//! FIFO, socket or directory.
 
 use super::{is_device, kind, read_as, FileId, InputError};
 use std::io::Write;

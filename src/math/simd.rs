@@ -214,11 +214,11 @@ macro_rules! with_cpu_isa {
 pub(crate) use with_cpu_isa;
 
 /// A kernel build as a value, made only where the CPU runs it: the `isa lanes` arm of
-/// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the
-/// run-time check or from the caller's own token (the `token` form). [`Isa::outline`] runs a part of the kernel compiled for that build as one
-/// function the kernel calls: a part reached from several places of a kernel (the instances'
-/// mesh walk, under each variant of the walk over the placements) is then compiled once per
-/// build, not once per place it would be inlined into.
+/// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the run-time
+/// check or from the caller's own token (the `token` form). [`Isa::outline`] runs a part of the
+/// kernel compiled for that build as one function the kernel calls: a part reached from several
+/// places of a kernel (the instances' mesh walk, under each variant of the walk over the
+/// placements) is then compiled once per build, not once per place it would be inlined into.
 pub(crate) trait Isa: Copy + Send + Sync {
     /// Which build this is.
     const LEVEL: SimdLevel;
