@@ -11,6 +11,9 @@ use super::location::locate;
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
+/// How the status line begins that tells of an inspection.
+const INSPECTED: &str = "inspected pixel (";
+
 impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
     /// script's `inspect`), saying what it found.
@@ -26,12 +29,17 @@ impl Viewer {
         let settings = self.settings(size, 1);
         match raylab::render::inspect::inspect(&stage, &camera, &settings, i, j) {
             Ok(found) => {
+                let what = match &found.hit {
+                    Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
+                    None => "nothing".to_string(),
+                };
+                let said = format!("{INSPECTED}{i}, {j}): {what}");
                 if announce {
-                    let what = match &found.hit {
-                        Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
-                        None => "nothing".to_string(),
-                    };
-                    self.set_status(format!("inspected pixel ({i}, {j}): {what}"));
+                    self.set_status(said);
+                } else if !self.status_is_error && self.status.starts_with(INSPECTED) {
+                    // The status line still tells of the inspection: it follows the pixel as
+                    // the inspector does (quietly: following is not news for the log).
+                    self.status = said;
                 }
                 self.inspection = Some(found);
                 self.code_inspection = (self.code.as_deref()).map(|code| {

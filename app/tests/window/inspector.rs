@@ -163,6 +163,19 @@ fn assert_inspector_shows(ins: &HashMap<String, String>, expected: &str) {
     }
 }
 
+/// The status line tells of the pixel the inspector shows, not only of the one clicked: it
+/// follows the pixel as the inspector does.
+fn assert_status_names_the_inspected_pixel(run: &common::window::Run) {
+    let pixel = run.inspector["pixel"].replace(' ', ", ");
+    let status = (run.stdout.lines())
+        .find_map(|l| l.strip_prefix("status: "))
+        .unwrap_or_default();
+    assert!(
+        status.starts_with(&format!("inspected pixel ({pixel}): ")),
+        "the status line says {status:?}, the inspector pixel {pixel}"
+    );
+}
+
 #[test]
 fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     // A click inspects a pixel (the inspector's panel then opens and narrows the image), and W
@@ -189,6 +202,7 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     assert_inspector_shows(ins, &inspected_by_the_library(&run, Scene::cornell()));
     // The focal length is that of the final width (the click was made on a wider image).
     assert_eq!(ins["uvf"].split(' ').nth(2), Some(w.to_string().as_str()));
+    assert_status_names_the_inspected_pixel(&run);
 }
 
 #[test]
@@ -361,4 +375,5 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     }
     // (700, 300) in the window is right of the panel, a little above the middle: on the box.
     assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
+    assert_status_names_the_inspected_pixel(&run);
 }
