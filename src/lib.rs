@@ -58,7 +58,7 @@
 #![deny(unsafe_code)]
 
 /// The unit tests' xorshift generator: steps `x` and returns it.
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 pub(crate) fn xorshift(x: &mut u64) -> u64 {
     *x ^= *x << 13;
     *x ^= *x >> 7;
@@ -78,6 +78,9 @@ pub mod math;
 pub mod render;
 pub mod scene;
 pub mod tracefile;
+#[cfg(feature = "unit-tests")]
+#[doc(hidden)]
+pub mod unit_tests;
 pub mod view;
 pub mod words;
 

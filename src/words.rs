@@ -104,11 +104,11 @@ pub fn quoted(word: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn words_split_on_whitespace_and_stop_at_a_comment() {
         assert_eq!(
             words("  tri 0\t1  2 # note").unwrap(),
@@ -121,7 +121,6 @@ mod tests {
         );
     }
 
-    #[test]
     fn every_name_round_trips_through_quotes() {
         for name in [
             "plain.obj",
@@ -141,7 +140,6 @@ mod tests {
         assert!(matches!(quoted("plain.obj"), Cow::Borrowed(_)));
     }
 
-    #[test]
     fn broken_quotes_are_errors() {
         for bad in [
             r#"scene "open"#,
@@ -152,4 +150,17 @@ mod tests {
             assert!(words(bad).is_err(), "{bad}");
         }
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "words_split_on_whitespace_and_stop_at_a_comment",
+            words_split_on_whitespace_and_stop_at_a_comment,
+        ),
+        (
+            "every_name_round_trips_through_quotes",
+            every_name_round_trips_through_quotes,
+        ),
+        ("broken_quotes_are_errors", broken_quotes_are_errors),
+    ];
 }

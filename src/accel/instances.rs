@@ -610,14 +610,14 @@ fn precise(place: &Placed, v: &[[f32; 3]; 3], o: [f32; 3], prim: u32) -> Precise
     PreciseTriangle::new(&place.world(v), o, prim)
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
     /// `world_lanes` gives `world`'s bits in every lane, in both builds, on random placements
     /// and triangles with huge, tiny, signed-zero and non-finite coordinates.
     #[allow(unsafe_code)]
-    #[test]
     fn world_lanes_are_world_bit_for_bit() {
         #[cfg(target_arch = "x86_64")]
         crate::math::simd::avx2_features! {
@@ -703,4 +703,10 @@ mod tests {
             }
         }
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "world_lanes_are_world_bit_for_bit",
+        world_lanes_are_world_bit_for_bit,
+    )];
 }

@@ -217,8 +217,9 @@ pub fn any(
     (parts.iter()).any(|part| part.any(ray, method, tmin, tmax, skip))
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
     use crate::accel::flat::FlatLoop;
     use crate::accel::packet::{PacketNearest, ShadowPacket};
@@ -226,7 +227,6 @@ mod tests {
     use crate::geometry::Shape;
     use crate::math::lanes::f32x8;
 
-    #[test]
     fn a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries() {
         // One triangle ahead of 8 rays from the origin: the reference loop (no packet walk of
         // its own) leaves every lane undecided, the flat loop's walk decides them all.
@@ -269,4 +269,10 @@ mod tests {
             u32::MAX
         ));
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries",
+        a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries,
+    )];
 }

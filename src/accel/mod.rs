@@ -32,7 +32,7 @@ pub(crate) mod frame;
 pub(crate) mod instances;
 pub(crate) mod layout;
 pub(crate) mod packet;
-mod prepared;
+pub(crate) mod prepared;
 pub mod reference;
 mod spheres;
 #[doc(hidden)]
@@ -626,11 +626,11 @@ fn others_without_copies(others: Vec<(Shape<f32>, u32)>) -> (Vec<(Shape<f32>, u3
     (kept, copies)
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn copies_are_left_out_in_order_among_many_triangles() {
         // 70,000 random triangles (17 index bits below each hash), some with a coordinate 0,
         // then 20,000 more drawn from the first ones: exact copies, copies with -0 for 0, and
@@ -669,4 +669,10 @@ mod tests {
         assert!(copies > 10_000, "{copies} copies");
         assert!(kept == want);
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "copies_are_left_out_in_order_among_many_triangles",
+        copies_are_left_out_in_order_among_many_triangles,
+    )];
 }

@@ -279,8 +279,9 @@ impl CachePool {
     }
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
     use std::sync::atomic::AtomicUsize;
 
@@ -292,7 +293,6 @@ mod tests {
         claim.ready()
     }
 
-    #[test]
     fn each_block_is_prepared_once_and_read_whole_by_every_thread() {
         // Four threads reach all 64 blocks in different orders, many times: each block is
         // claimed exactly once per frame, and every thread reads the value its claimer wrote.
@@ -325,7 +325,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn a_claim_given_up_unwritten_leaves_the_block_free() {
         // (As when the writing thread panics.)
         let cache = LeafCache::new(2 * BLOCK);
@@ -342,4 +341,16 @@ mod tests {
         assert_eq!(cache.block(1).map(OriginBlock::prims), Some([1; BLOCK]));
         assert!(cache.block(0).is_none());
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "each_block_is_prepared_once_and_read_whole_by_every_thread",
+            each_block_is_prepared_once_and_read_whole_by_every_thread,
+        ),
+        (
+            "a_claim_given_up_unwritten_leaves_the_block_free",
+            a_claim_given_up_unwritten_leaves_the_block_free,
+        ),
+    ];
 }

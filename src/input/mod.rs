@@ -6,7 +6,7 @@
 //!
 //! Writing: see the `output` module (an output never destroys a file).
 
-mod output;
+pub(crate) mod output;
 
 pub use output::{check_output, temp_owner, write_file, OutputFile, STALE_TEMP_AGE};
 

@@ -346,8 +346,9 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), InputError> {
     out.commit()
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
     use crate::input::read_text;
     use std::os::unix::fs::PermissionsExt;
@@ -361,7 +362,6 @@ mod tests {
         n
     }
 
-    #[test]
     fn an_output_changes_nothing_until_committed_and_keeps_the_permissions() {
         let dir = tempfile::tempdir().unwrap();
         let dest = dir.path().join("a.png");
@@ -384,7 +384,6 @@ mod tests {
         assert_eq!(names(dir.path()), ["a.png"]);
     }
 
-    #[test]
     fn a_file_read_is_never_an_output_and_a_device_is_written_in_place() {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("in.scene");
@@ -401,7 +400,6 @@ mod tests {
         assert!(Path::new("/dev/null").exists());
     }
 
-    #[test]
     fn a_dangling_link_is_written_through_and_kept() {
         let dir = tempfile::tempdir().unwrap();
         let link = dir.path().join("link.png");
@@ -418,7 +416,6 @@ mod tests {
         assert!(matches!(e, InputError::LinkLoop { .. }), "{e}");
     }
 
-    #[test]
     fn a_name_of_255_bytes_has_a_temporary_name_and_a_directory_name_is_refused() {
         let dir = tempfile::tempdir().unwrap();
         let long = dir.path().join(format!("a{}.png", "é".repeat(125)));
@@ -439,7 +436,6 @@ mod tests {
             .unwrap();
     }
 
-    #[test]
     fn only_an_old_unlocked_temporary_file_of_this_user_is_removed() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
@@ -492,7 +488,6 @@ mod tests {
         assert!(d.join(&young).exists());
     }
 
-    #[test]
     fn a_temporary_file_is_locked_while_written() {
         let dir = tempfile::tempdir().unwrap();
         let mut out = OutputFile::create(&dir.path().join("a.png")).unwrap();
@@ -508,7 +503,6 @@ mod tests {
         assert_eq!(names(dir.path()), ["a.png"]);
     }
 
-    #[test]
     fn a_link_to_a_directorys_name_is_refused_before_any_work() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
@@ -532,7 +526,6 @@ mod tests {
         assert_eq!(names(d), ["dot", "second", "slash", "up"]);
     }
 
-    #[test]
     fn a_link_in_a_sticky_shared_directory_is_followed_as_the_kernel_would() {
         let dir = tempfile::tempdir().unwrap();
         let sticky = dir.path().join("sticky");
@@ -572,4 +565,40 @@ mod tests {
         write_file(&inside, b"png").unwrap();
         assert!(sticky.join("inside-target.png").exists());
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "an_output_changes_nothing_until_committed_and_keeps_the_permissions",
+            an_output_changes_nothing_until_committed_and_keeps_the_permissions,
+        ),
+        (
+            "a_file_read_is_never_an_output_and_a_device_is_written_in_place",
+            a_file_read_is_never_an_output_and_a_device_is_written_in_place,
+        ),
+        (
+            "a_dangling_link_is_written_through_and_kept",
+            a_dangling_link_is_written_through_and_kept,
+        ),
+        (
+            "a_name_of_255_bytes_has_a_temporary_name_and_a_directory_name_is_refused",
+            a_name_of_255_bytes_has_a_temporary_name_and_a_directory_name_is_refused,
+        ),
+        (
+            "only_an_old_unlocked_temporary_file_of_this_user_is_removed",
+            only_an_old_unlocked_temporary_file_of_this_user_is_removed,
+        ),
+        (
+            "a_temporary_file_is_locked_while_written",
+            a_temporary_file_is_locked_while_written,
+        ),
+        (
+            "a_link_to_a_directorys_name_is_refused_before_any_work",
+            a_link_to_a_directorys_name_is_refused_before_any_work,
+        ),
+        (
+            "a_link_in_a_sticky_shared_directory_is_followed_as_the_kernel_would",
+            a_link_in_a_sticky_shared_directory_is_followed_as_the_kernel_would,
+        ),
+    ];
 }

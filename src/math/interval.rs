@@ -350,11 +350,11 @@ pub fn idot_x4(a: &[IntervalX4; 3], b: &[f64x4; 3]) -> IntervalX4 {
     p(0) + p(1) + p(2)
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn encloses_the_exact_result_of_a_cancelling_sum() {
         // 1e16 + 1 − 1e16 = 1 exactly; plain f64 gives 0.
         let x = Interval::point(1e16) + Interval::point(1.0) - Interval::point(1e16);
@@ -362,7 +362,6 @@ mod tests {
         assert_eq!(x.sign(), None, "too wide to decide, and says so");
     }
 
-    #[test]
     fn signs_products_and_roots() {
         let a = Interval::point(3.0) * Interval::point(-2.0);
         assert_eq!(a.sign(), Some(Ordering::Less));
@@ -379,4 +378,13 @@ mod tests {
         let inf = Interval::point(f64::INFINITY) * Interval::point(0.0);
         assert_eq!(inf.sign(), None);
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "encloses_the_exact_result_of_a_cancelling_sum",
+            encloses_the_exact_result_of_a_cancelling_sum,
+        ),
+        ("signs_products_and_roots", signs_products_and_roots),
+    ];
 }

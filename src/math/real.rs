@@ -202,11 +202,11 @@ pub fn finite<T: Real>(a: V3<T>) -> bool {
     a[0].is_finite() && a[1].is_finite() && a[2].is_finite()
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn keys_count_the_finite_values_in_order() {
         for x in [
             0.0f32,
@@ -229,4 +229,10 @@ mod tests {
         assert_eq!(f32::MAX.key(), f32::MAX_KEY);
         assert_eq!(f64::MAX.key(), f64::MAX_KEY);
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "keys_count_the_finite_values_in_order",
+        keys_count_the_finite_values_in_order,
+    )];
 }

@@ -354,7 +354,7 @@ pub fn level() -> SimdLevel {
 
 /// Whether the CPU has AVX2 and FMA: the tests' guard before they call an AVX build
 /// themselves (whatever [`limit`] says).
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 pub(crate) fn has_avx2() -> bool {
     detected() >= SimdLevel::Avx2
 }

@@ -150,8 +150,9 @@ fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
     bytes
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
     use crate::accel::AccelChoice;
 
@@ -208,7 +209,6 @@ mod tests {
         files
     }
 
-    #[test]
     fn bands_of_any_height_write_the_whole_images_bytes() {
         let stage = Stage::new(Scene::cornell(), AccelChoice::Bvh);
         let settings = RenderSettings {
@@ -226,7 +226,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn a_cancelled_pass_stops_at_the_next_band() {
         let stage = Stage::new(Scene::cornell(), AccelChoice::Bvh);
         let settings = RenderSettings {
@@ -246,4 +245,16 @@ mod tests {
         let header = npy_header("<u4", &[10, 8]).len();
         assert_eq!(a.len(), header + 4 * 3 * 8);
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "bands_of_any_height_write_the_whole_images_bytes",
+            bands_of_any_height_write_the_whole_images_bytes,
+        ),
+        (
+            "a_cancelled_pass_stops_at_the_next_band",
+            a_cancelled_pass_stops_at_the_next_band,
+        ),
+    ];
 }

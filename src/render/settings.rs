@@ -381,11 +381,11 @@ impl Control {
     }
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn the_panel_numbers_the_steps_as_the_lab_does() {
         let labels = LabStep::ALL.map(|s| (s.number(), s.label().to_string()));
         assert_eq!(labels.each_ref().map(|(n, _)| *n), [1, 3, 4, 5]);
@@ -394,7 +394,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn every_value_reads_back_as_written_and_changes_only_its_field() {
         for c in &CONTROLS {
             for value in c.sample_values() {
@@ -416,7 +415,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn bad_values_are_refused_with_what_was_expected() {
         let mut s = RenderSettings::default();
         let step = control("step").unwrap();
@@ -448,7 +446,6 @@ mod tests {
         assert_eq!(control_names(), "step, spp, method or cracks");
     }
 
-    #[test]
     fn a_count_s_range_is_the_one_validate_checks() {
         for c in &CONTROLS {
             if let Kind::Count { min, max, set, .. } = c.kind {
@@ -462,4 +459,24 @@ mod tests {
             }
         }
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "the_panel_numbers_the_steps_as_the_lab_does",
+            the_panel_numbers_the_steps_as_the_lab_does,
+        ),
+        (
+            "every_value_reads_back_as_written_and_changes_only_its_field",
+            every_value_reads_back_as_written_and_changes_only_its_field,
+        ),
+        (
+            "bad_values_are_refused_with_what_was_expected",
+            bad_values_are_refused_with_what_was_expected,
+        ),
+        (
+            "a_count_s_range_is_the_one_validate_checks",
+            a_count_s_range_is_the_one_validate_checks,
+        ),
+    ];
 }

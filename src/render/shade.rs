@@ -456,11 +456,11 @@ fn nudge<V: Lanes>(x: V, offset: V) -> V {
     fixed.bitselect(x, stepped)
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
-    #[test]
     fn nudge_steps_as_next_up_and_next_down() {
         let tiny = f32::from_bits(1);
         let xs = [
@@ -487,4 +487,10 @@ mod tests {
         let nan = nudge(f32x8::splat(f32::NAN), f32x8::ONE).to_array()[0];
         assert!(nan.is_nan());
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "nudge_steps_as_next_up_and_next_down",
+        nudge_steps_as_next_up_and_next_down,
+    )];
 }

@@ -441,8 +441,9 @@ impl ColorRuns {
     }
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
     fn scene_of(colors: Vec<V3<f32>>) -> Scene {
@@ -479,7 +480,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn colour_runs_follow_the_colours_and_every_change_to_them() {
         let (a, b) = ([0.1, 0.2, 0.3], [0.9, 0.8, 0.7]);
         let mut scene = scene_of(vec![a, a, b, b, b, a]);
@@ -502,7 +502,6 @@ mod tests {
         assert_eq!(before.color_run(5), (5..6, a));
     }
 
-    #[test]
     fn too_many_colour_runs_give_each_primitive_its_own() {
         // Runs of two primitives: MAX of them are kept, one more and none is.
         let pairs = |runs: usize| {
@@ -515,4 +514,16 @@ mod tests {
         assert_eq!(kept.color_run(5), (4..6, [0.0, 0.5, 0.5]));
         check_runs(&scene_of(pairs(ColorRuns::MAX + 1)), false);
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "colour_runs_follow_the_colours_and_every_change_to_them",
+            colour_runs_follow_the_colours_and_every_change_to_them,
+        ),
+        (
+            "too_many_colour_runs_give_each_primitive_its_own",
+            too_many_colour_runs_give_each_primitive_its_own,
+        ),
+    ];
 }

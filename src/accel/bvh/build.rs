@@ -513,13 +513,13 @@ fn build_into(
     nodes[at].height
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::*;
 
     /// The arithmetic of binning never reads the index lane: an index's bits are a subnormal
     /// f32, which costs Intel cores a microcode assist per operation.
-    #[test]
     fn binning_arithmetic_never_reads_the_index_lane() {
         let b = Aabb {
             lo: [-1.0, 2.0, 3.0],
@@ -535,4 +535,10 @@ mod tests {
             assert_eq!(bounds.centres.lo.to_array(), [0.0, 3.0, 5.0, 0.0]);
         }
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "binning_arithmetic_never_reads_the_index_lane",
+        binning_arithmetic_never_reads_the_index_lane,
+    )];
 }

@@ -29,7 +29,7 @@ pub(super) enum LeafTriangles<'q> {
 }
 
 impl LeafTriangles<'_> {
-    #[cfg(test)]
+    #[cfg(feature = "unit-tests")]
     pub(super) fn len(&self) -> usize {
         match self {
             LeafTriangles::Listed(list) => list.len(),

@@ -178,13 +178,13 @@ fn fill(tris: &[[[f32; 3]; 3]], corners: &mut [[u8; 4]], places: &mut [u8]) {
     }
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::super::tests::{scattered, sheet};
     use super::super::{Bvh, MAX_LEAF, SMALL_LEAF};
     use super::*;
 
-    #[test]
     fn leaves_give_their_triangles_bits_from_shared_vertices_or_spill() {
         // A wavy sheet of 1800 triangles (neighbours share vertices) and 300 scattered ones
         // (none shared), in leaves of up to 4 and of up to 8: a leaf whose distinct vertices
@@ -247,4 +247,10 @@ mod tests {
             );
         }
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+        "leaves_give_their_triangles_bits_from_shared_vertices_or_spill",
+        leaves_give_their_triangles_bits_from_shared_vertices_or_spill,
+    )];
 }

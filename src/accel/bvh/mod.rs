@@ -27,15 +27,16 @@
 //! met), `leaf_vertices.rs` a dense mesh's leaves' distinct vertices. This file keeps the
 //! hierarchy itself and the leaf sizes.
 
-mod build;
+pub(crate) mod build;
 mod child_test;
 mod leaf_triangles;
-mod leaf_vertices;
+pub(crate) mod leaf_vertices;
 mod leaves;
 mod node;
 mod slabs;
-#[cfg(test)]
-mod tests;
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests;
 mod walk_packet;
 mod walk_ray;
 mod widen;
@@ -51,7 +52,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::Ray;
 use crate::math::lanes::{f32x8, LaneOps};
 use crate::math::simd::Isa;
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 use build::binary;
 use leaf_vertices::LeafVertices;
 use node::WideNode;

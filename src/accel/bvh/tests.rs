@@ -20,7 +20,7 @@ fn closest(bvh: &Bvh, ray: &Ray) -> Option<crate::geometry::Hit> {
     best
 }
 
-mod wide_nodes;
+pub(crate) mod wide_nodes;
 
 /// The binary tree's height below node `node` (a leaf 0), counted.
 pub(super) fn depth(nodes: &[Node], node: usize) -> usize {
@@ -86,7 +86,6 @@ pub(super) fn sheet(n: u32) -> Vec<IndexedTriangle> {
         .collect()
 }
 
-#[test]
 fn top_levels_cover_every_triangle_with_their_childless_boxes() {
     // 4000 scattered triangles: at each depth, the nodes form a tree in breadth-first
     // order (children after their parent, each parent's contiguous, inside its box)
@@ -130,7 +129,6 @@ fn top_levels_cover_every_triangle_with_their_childless_boxes() {
     assert!(sizes.windows(2).all(|w| w[0] < w[1]), "{sizes:?}");
 }
 
-#[test]
 fn the_tree_stays_within_the_traversal_stacks() {
     // Triangles at positions growing geometrically (binned SAH peels one off per level)
     // and a cube of side 2⁻¹³⁰ (subnormal: every area 0 in f32): the depth stays below
@@ -166,7 +164,6 @@ fn the_tree_stays_within_the_traversal_stacks() {
     assert!(depth(&nodes, 0) < 64, "depth {}", depth(&nodes, 0));
 }
 
-#[test]
 fn placed_meshes_split_on_the_axis_that_costs_least() {
     // Two rows of small triangles 100 units long (x, the centres' widest extent) and 10
     // apart in y. Split along x only, both halves of the root span both rows (a box 10
@@ -196,7 +193,6 @@ fn placed_meshes_split_on_the_axis_that_costs_least() {
     }
 }
 
-#[test]
 fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
     // A sheet and 1003 scattered triangles, packets from an origin at 1e-20 (beyond the
     // f32 slab test's range: no box is tested, every triangle offered, in runs of 8 that
@@ -239,7 +235,6 @@ fn untrusted_packets_offer_every_triangle_from_every_kind_of_preparation() {
     }
 }
 
-#[test]
 fn a_frames_cache_serves_every_leaf_its_own_triangles() {
     // A sheet and 1003 scattered triangles (the last block of 8 is short; leaves with
     // shared vertices and without, see `LAYOUTS`). Two threads walk every
@@ -303,7 +298,6 @@ fn a_frames_cache_serves_every_leaf_its_own_triangles() {
 /// is the whole list's nearest, from every kind of preparation, for an origin the slab
 /// test trusts and one it does not (every triangle offered). The rays diverge, so most
 /// leaves are reached by one lane: lanes 8–15 go through the one-lane pass too.
-#[test]
 fn sixteen_lane_packets_decide_as_the_whole_list() {
     use crate::math::lanes::{Avx16, LaneOps};
     use crate::math::simd::{detected, SimdLevel};
@@ -373,3 +367,31 @@ fn sixteen_lane_packets_decide_as_the_whole_list() {
         }
     }
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "top_levels_cover_every_triangle_with_their_childless_boxes",
+        top_levels_cover_every_triangle_with_their_childless_boxes,
+    ),
+    (
+        "the_tree_stays_within_the_traversal_stacks",
+        the_tree_stays_within_the_traversal_stacks,
+    ),
+    (
+        "placed_meshes_split_on_the_axis_that_costs_least",
+        placed_meshes_split_on_the_axis_that_costs_least,
+    ),
+    (
+        "untrusted_packets_offer_every_triangle_from_every_kind_of_preparation",
+        untrusted_packets_offer_every_triangle_from_every_kind_of_preparation,
+    ),
+    (
+        "a_frames_cache_serves_every_leaf_its_own_triangles",
+        a_frames_cache_serves_every_leaf_its_own_triangles,
+    ),
+    (
+        "sixteen_lane_packets_decide_as_the_whole_list",
+        sixteen_lane_packets_decide_as_the_whole_list,
+    ),
+];

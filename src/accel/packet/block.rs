@@ -60,12 +60,12 @@ impl OriginBlock {
     }
 
     /// The lanes' primitive indices.
-    #[cfg(test)]
+    #[cfg(feature = "unit-tests")]
     pub(crate) fn prims(&self) -> [u32; 8] {
         self.prim
     }
 
-    #[cfg(test)]
+    #[cfg(feature = "unit-tests")]
     pub(crate) fn set_prims(&mut self, prims: [u32; 8]) {
         self.prim = prims;
     }

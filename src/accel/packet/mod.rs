@@ -35,8 +35,9 @@ mod predicates;
 mod prepare;
 mod shadow;
 mod sink;
-#[cfg(test)]
-mod tests;
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests;
 
 pub(crate) use block::{BlockIds, OriginBlock, TriangleLanes};
 pub use exact_lane::{any_exact_lane, closest_exact_lane};

@@ -520,7 +520,7 @@ impl<V: Lanes> PacketNearest<V> {
     }
 
     /// [`PacketNearest::finish`] of the state so far.
-    #[cfg(test)]
+    #[cfg(feature = "unit-tests")]
     pub(super) fn finish_ref(&self) -> PacketHits {
         PacketHits {
             prim: self.best_prim.to_array().map(f32::to_bits),

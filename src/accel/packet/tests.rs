@@ -59,7 +59,6 @@ fn triangles() -> Vec<[[f32; 3]; 3]> {
 }
 
 #[allow(unsafe_code)]
-#[test]
 fn four_at_a_time_prepares_the_same_bits_as_one_by_one() {
     crate::math::simd::avx2_features! {
         fn avx(v: [&[[f32; 3]; 3]; 4], o: [f32; 3], prim: [u32; 4]) -> [OriginTriangle; 4] {
@@ -172,7 +171,6 @@ fn directions(v: &[[f32; 3]; 3], o: [f32; 3], next: &mut impl FnMut() -> f32) ->
     out
 }
 
-#[test]
 fn both_preparations_bound_their_errors_exactly() {
     let mut next = unit_steps(0x2545_f491_4f6c_dd1d);
     let tris = triangles();
@@ -243,7 +241,6 @@ fn exact_crossing(v: &[[f32; 3]; 3], o: [f32; 3], d: [f32; 3]) -> Option<Crossin
 /// [`PreciseTriangle::crossing`] against exact arithmetic: a certain miss is one, a
 /// certain crossing is one in front with the exact t in its interval; and it decides
 /// most of the rays the f32 rounding leaves within its bounds of an edge.
-#[test]
 fn f64_crossings_hold_the_exact_answer_and_decide_what_f32_cannot() {
     use crate::geometry::exact::q;
     let mut next = unit_steps(0x5851_f42d_4c95_7f2d);
@@ -401,7 +398,6 @@ fn exact_nearest(
     Some((*j, fronts.len() > 1))
 }
 
-#[test]
 fn one_lane_offers_of_a_block_decide_as_offers_one_by_one() {
     // Blocks of 8 from two triangulated sheets one behind the other (shared edges and
     // vertices, two candidates along most rays) and from the preparation's hard suite;
@@ -488,7 +484,6 @@ fn one_lane_offers_of_a_block_decide_as_offers_one_by_one() {
 /// (one pass), on the triangles and rays of the one-lane test: where they decide, each
 /// ray's answer is the exact nearest of the leaf and its seed, and that of offers one by
 /// one wherever those decide, and no other lane changed; where they do not, nothing did.
-#[test]
 fn leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one() {
     let check = |[decided, taken, ordered, declined]: [usize; 4]| {
         println!("decided {decided}, taken {taken}, ordered {ordered}, declined {declined}");
@@ -614,7 +609,6 @@ fn leaf_offers<V: LaneOps>() -> [usize; 4] {
     [decided, taken, ordered, declined]
 }
 
-#[test]
 fn prepared_lists_keep_order_and_length() {
     let tris = triangles();
     for n in [0, 1, 3, 4, 5, 4099] {
@@ -629,3 +623,31 @@ fn prepared_lists_keep_order_and_length() {
         }
     }
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "four_at_a_time_prepares_the_same_bits_as_one_by_one",
+        four_at_a_time_prepares_the_same_bits_as_one_by_one,
+    ),
+    (
+        "both_preparations_bound_their_errors_exactly",
+        both_preparations_bound_their_errors_exactly,
+    ),
+    (
+        "f64_crossings_hold_the_exact_answer_and_decide_what_f32_cannot",
+        f64_crossings_hold_the_exact_answer_and_decide_what_f32_cannot,
+    ),
+    (
+        "one_lane_offers_of_a_block_decide_as_offers_one_by_one",
+        one_lane_offers_of_a_block_decide_as_offers_one_by_one,
+    ),
+    (
+        "leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one",
+        leaf_offers_to_a_few_lanes_decide_as_offers_one_by_one,
+    ),
+    (
+        "prepared_lists_keep_order_and_length",
+        prepared_lists_keep_order_and_length,
+    ),
+];

@@ -53,8 +53,9 @@ pub mod levels;
 mod nearest;
 pub(crate) mod rounded;
 mod search;
-#[cfg(test)]
-mod tests;
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests;
 
 pub use estimate::{Approx, Decided, Estimate, Feature};
 pub(crate) use filter::precise_f32;

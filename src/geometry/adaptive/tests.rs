@@ -15,7 +15,6 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(3000))]
     /// plane_t_f64's bound holds the exact t, for grazing rays (d nearly in the plane)
     /// and for coordinates of any magnitude in its range.
-    #[test]
     fn the_f64_plane_t_bound_holds_the_exact_t(
         v in prop::array::uniform3(prop::array::uniform3(-4.0f64..4.0)),
         o in prop::array::uniform3(-8.0f64..8.0),
@@ -44,7 +43,6 @@ proptest! {
     }
 }
 
-#[test]
 fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
     // A grazing ray: the f64 bound cannot decide the f32 rounding of a t whose
     // d·n cancels this far, so the integer level gives it (exactly 1/4).
@@ -72,3 +70,15 @@ fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
     );
     assert_eq!(exact::plane_t_rounded::<f32>(o, d, &wide), Some(exact));
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "the_f64_plane_t_bound_holds_the_exact_t",
+        the_f64_plane_t_bound_holds_the_exact_t,
+    ),
+    (
+        "rounded_t_agrees_with_the_exact_rounding_on_both_levels",
+        rounded_t_agrees_with_the_exact_rounding_on_both_levels,
+    ),
+];

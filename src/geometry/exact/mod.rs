@@ -20,13 +20,14 @@
 
 mod expansion;
 mod rational;
-#[cfg(test)]
-mod tests;
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests;
 mod triangle;
 
 pub use expansion::{orient, two_sum};
 pub use rational::ExactT;
-#[cfg(test)]
+#[cfg(feature = "unit-tests")]
 pub(crate) use rational::QV;
 pub(crate) use rational::{dot, q, qv, sub, Q};
 pub use triangle::{

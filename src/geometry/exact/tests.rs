@@ -17,7 +17,6 @@ fn t(a: f64, b: f64, s: f64) -> ExactT {
     }
 }
 
-#[test]
 fn orient_is_exact_where_f64_is_not() {
     let (d, o) = ([0.0, 0.0, 1.0], [0.0; 3]);
     // The edge from (1, 1e-30·k) … along x: which side of the z axis?
@@ -53,7 +52,6 @@ fn full_f32(x: &mut u64, scale: f64) -> f64 {
     (m * scale) as f32 as f64
 }
 
-#[test]
 fn distilled_orient_is_exact_on_exact_zeros_and_near_misses() {
     // Lines exactly through an edge (direction towards a point of the edge, in f32, as a
     // camera ray through a wall's diagonal), and nudged an ulp off it: the distilled sign
@@ -96,7 +94,6 @@ fn distilled_orient_is_exact_on_exact_zeros_and_near_misses() {
     assert!(settled * 100 > cases * 99, "{settled} of {cases} settled");
 }
 
-#[test]
 fn sum_sign_settles_cancelling_sums() {
     let sign_of = |v: &[f64]| {
         let mut terms = [0.0; 24];
@@ -116,7 +113,6 @@ fn sum_sign_settles_cancelling_sums() {
     assert_eq!(sign_of(&v), Some(sign(&exact)));
 }
 
-#[test]
 fn orient_filter_defers_near_zero_determinants() {
     // Points a few ulps off the plane through 0, v1 and v2 (full 53-bit mantissas, many
     // scales): the plain f64 determinant is then mostly rounding, and the filter must
@@ -152,7 +148,6 @@ fn orient_filter_defers_near_zero_determinants() {
     assert!(off_plane > 1000, "{off_plane} off the plane");
 }
 
-#[test]
 fn orient_is_exact_for_full_mantissas_and_wide_magnitudes() {
     // Full 24-bit mantissas over 1e-20..1e20, the products' low halves nonzero: the
     // split product (no FMA in the baseline x86-64 build) must stay exact.
@@ -179,7 +174,6 @@ fn orient_is_exact_for_full_mantissas_and_wide_magnitudes() {
     }
 }
 
-#[test]
 fn compares_irrational_parameters_exactly() {
     // 1 + √2 vs 2.414213562373095 (a double just below 1 + √2).
     assert_eq!(t(1.0, 1.0, 2.0).cmp_f(2.414213562373095), Ordering::Greater);
@@ -194,7 +188,6 @@ fn compares_irrational_parameters_exactly() {
     assert_eq!(t(0.5, 0.0, 0.0).cmp_f(f64::INFINITY), Ordering::Less);
 }
 
-#[test]
 fn edges_are_closed_and_plane_t_is_exact() {
     let v = [[0.0, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]];
     // Through the hypotenuse's midpoint, exactly: that edge's sign is 0.
@@ -210,7 +203,6 @@ fn edges_are_closed_and_plane_t_is_exact() {
     assert!(plane_t([0.0, 0.0, 3.0], [1.0, 1.0, 0.0], &v).is_none());
 }
 
-#[test]
 fn rounds_to_nearest_with_ties_to_even_overflow_and_underflow() {
     let two = |k: i32| match k >= 0 {
         true => Q::from_integer(BigInt::from(1) << k as usize),
@@ -276,3 +268,39 @@ fn rounds_to_nearest_with_ties_to_even_overflow_and_underflow() {
     };
     assert_eq!(tiny.rounded::<f64>(), 3f64.sqrt() * 2f64.powi(-1000));
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "orient_is_exact_where_f64_is_not",
+        orient_is_exact_where_f64_is_not,
+    ),
+    (
+        "distilled_orient_is_exact_on_exact_zeros_and_near_misses",
+        distilled_orient_is_exact_on_exact_zeros_and_near_misses,
+    ),
+    (
+        "sum_sign_settles_cancelling_sums",
+        sum_sign_settles_cancelling_sums,
+    ),
+    (
+        "orient_filter_defers_near_zero_determinants",
+        orient_filter_defers_near_zero_determinants,
+    ),
+    (
+        "orient_is_exact_for_full_mantissas_and_wide_magnitudes",
+        orient_is_exact_for_full_mantissas_and_wide_magnitudes,
+    ),
+    (
+        "compares_irrational_parameters_exactly",
+        compares_irrational_parameters_exactly,
+    ),
+    (
+        "edges_are_closed_and_plane_t_is_exact",
+        edges_are_closed_and_plane_t_is_exact,
+    ),
+    (
+        "rounds_to_nearest_with_ties_to_even_overflow_and_underflow",
+        rounds_to_nearest_with_ties_to_even_overflow_and_underflow,
+    ),
+];

@@ -608,8 +608,9 @@ fn lower(a: f64, b: f64) -> f32 {
     }
 }
 
-#[cfg(test)]
-mod tests {
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
     use super::{Primitive, Sphere};
     use num_rational::BigRational;
     use std::cmp::Ordering;
@@ -618,7 +619,6 @@ mod tests {
         BigRational::from_float(x).expect("finite")
     }
 
-    #[test]
     fn box_sides_are_the_nearest_f32_outside_the_exact_sphere() {
         // Centres and radii from 2⁻⁴⁰ to 2⁴⁰, of both signs, equal, and 2³⁰ apart (where the
         // f64 difference itself rounds): each side is at or beyond c ∓ r exactly, and the next
@@ -656,7 +656,6 @@ mod tests {
         }
     }
 
-    #[test]
     fn sphere_roots_with_origin_on_the_surface_and_tangent_rays() {
         let c = [0.0, 0.0, 5.0];
         // From the surface point (0,0,4) inward: t = 0 is not > 0, the far root t = 2 is.
@@ -691,4 +690,10 @@ mod tests {
         )
         .is_none());
     }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        ("box_sides_are_the_nearest_f32_outside_the_exact_sphere", box_sides_are_the_nearest_f32_outside_the_exact_sphere),
+        ("sphere_roots_with_origin_on_the_surface_and_tangent_rays", sphere_roots_with_origin_on_the_surface_and_tangent_rays),
+    ];
 }

@@ -27,14 +27,15 @@
 mod avx;
 mod baseline;
 mod lanes64;
-#[cfg(all(test, target_arch = "x86_64"))]
-mod tests;
+#[cfg(all(feature = "unit-tests", target_arch = "x86_64"))]
+#[deny(dead_code)]
+pub(crate) mod tests;
 
 pub use lanes64::Lanes64;
 use std::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, Div, Mul, Neg, Not, Sub};
 pub use wide::{f32x8, f64x4};
 
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(all(feature = "unit-tests", target_arch = "x86_64"))]
 pub(crate) use avx::Avx4d;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx::{Avx16, Avx8};

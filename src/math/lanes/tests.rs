@@ -7,7 +7,6 @@ use crate::math::simd::{detected, has_avx2, SimdLevel};
 /// Every operation of [`Lanes`] on both types (`Avx8` in the AVX2 and the AVX-512
 /// builds), bit for bit, on values that probe the
 /// corners (signed zeros, NaN, infinities, subnormals, ties).
-#[test]
 fn both_lane_types_compute_the_same_bits() {
     if !has_avx2() {
         return; // nothing to compare with
@@ -142,7 +141,6 @@ fn check(a: [f32; 8], b: [f32; 8]) -> Vec<&'static str> {
 /// the same corner values, against `wide`'s f32x8 on each half (the bitmask as the
 /// halves' masks side by side; `reduce_max` as the halves' lane-wise `maxps`, then the
 /// 8-lane order).
-#[test]
 fn sixteen_lanes_compute_as_two_halves_of_eight() {
     if detected() < SimdLevel::Avx512 {
         return; // no Avx16 on this CPU
@@ -247,3 +245,15 @@ crate::math::simd::avx512_features! {
         Avx16::load(a).reduce_max()
     }
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "both_lane_types_compute_the_same_bits",
+        both_lane_types_compute_the_same_bits,
+    ),
+    (
+        "sixteen_lanes_compute_as_two_halves_of_eight",
+        sixteen_lanes_compute_as_two_halves_of_eight,
+    ),
+];

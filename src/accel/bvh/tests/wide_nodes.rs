@@ -58,7 +58,6 @@ fn stack_need(wide: &[WideNode], i: usize, above: usize) -> usize {
     below.fold(above + used, usize::max)
 }
 
-#[test]
 fn wide_nodes_hold_the_binary_trees_leaves() {
     // 3000 scattered triangles, leaves of at most 4 (as a mesh of that size is built)
     // and of at most 8 (a dense mesh's): the binary tree's leaves are exactly its nodes
@@ -125,7 +124,6 @@ fn leaves_of_at_most(tris: &[IndexedTriangle], leaf_max: usize) {
     assert!(stack_need(&bvh.wide, 0, 0) <= STACK);
 }
 
-#[test]
 fn widening_keeps_walks_within_their_stack() {
     // A row of triangles at geometrically growing positions (the binary tree is a chain
     // about 60 deep) and 3000 scattered ones, widened for stacks of 128 down to just
@@ -176,7 +174,6 @@ fn lone_walk<T: ChildTest<f32x8>>(
     nearest.finish()
 }
 
-#[test]
 fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
     // 5000 scattered triangles of mixed sizes; packets from random origins, fanned
     // around a triangle's vertex or edge point (rays on shared edges and vertices) or a
@@ -308,7 +305,6 @@ fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
     }
 }
 
-#[test]
 fn a_single_leaf_tree_is_one_wide_node() {
     let tris = super::super::tests::scattered(2, 7, 0.5);
     let bvh = Bvh::build(&tris);
@@ -316,3 +312,23 @@ fn a_single_leaf_tree_is_one_wide_node() {
     assert_eq!(wide_leaves(&bvh.wide).len(), 1);
     assert_eq!(wide_leaves(&bvh.wide)[0].1, 2);
 }
+
+/// This module's tests, for tests/unit.rs to run.
+pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    (
+        "wide_nodes_hold_the_binary_trees_leaves",
+        wide_nodes_hold_the_binary_trees_leaves,
+    ),
+    (
+        "widening_keeps_walks_within_their_stack",
+        widening_keeps_walks_within_their_stack,
+    ),
+    (
+        "the_wide_walks_decide_lanes_as_each_other_and_the_whole_list",
+        the_wide_walks_decide_lanes_as_each_other_and_the_whole_list,
+    ),
+    (
+        "a_single_leaf_tree_is_one_wide_node",
+        a_single_leaf_tree_is_one_wide_node,
+    ),
+];
