@@ -57,15 +57,6 @@
 //! made only after checking the CPU at run time (`math::simd::level`).
 #![deny(unsafe_code)]
 
-/// The unit tests' xorshift generator: steps `x` and returns it.
-#[cfg(feature = "unit-tests")]
-pub(crate) fn xorshift(x: &mut u64) -> u64 {
-    *x ^= *x << 13;
-    *x ^= *x >> 7;
-    *x ^= *x << 17;
-    *x
-}
-
 pub mod accel;
 pub mod camera;
 pub mod check;

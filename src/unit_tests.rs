@@ -21,12 +21,8 @@ pub fn all() -> Vec<(String, fn())> {
             crate::accel::bvh::tests::wide_nodes::TESTS,
         ),
         ("accel::bvh::build", crate::accel::bvh::build::tests::TESTS),
-        (
-            "accel::bvh::leaf_vertices",
-            crate::accel::bvh::leaf_vertices::tests::TESTS,
-        ),
         ("accel::instances", crate::accel::instances::tests::TESTS),
-        ("accel::layout", crate::accel::layout::tests::TESTS),
+        ("accel::flat", crate::accel::flat::tests::TESTS),
         ("accel::packet", crate::accel::packet::tests::TESTS),
         ("accel::prepared", crate::accel::prepared::tests::TESTS),
         (

@@ -152,7 +152,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "words_split_on_whitespace_and_stop_at_a_comment",
             words_split_on_whitespace_and_stop_at_a_comment,

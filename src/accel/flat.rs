@@ -595,3 +595,61 @@ impl FlatLoop {
         PreciseTriangle::new(&block.tris[l], o, block.prim[l])
     }
 }
+
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::accel::layout::any;
+    use crate::accel::packet::{PacketNearest, ShadowPacket};
+    use crate::accel::reference::InOrder;
+
+    fn a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries() {
+        // One triangle ahead of 8 rays from the origin: the reference loop (no packet walk of
+        // its own) leaves every lane undecided, the flat loop's walk decides them all.
+        let v = [[-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]];
+        let d: [f32x8; 3] = [
+            f32x8::from([-0.2, -0.1, 0.0, 0.1, 0.2, 0.0, 0.05, -0.05]),
+            f32x8::splat(-0.1),
+            f32x8::splat(1.0),
+        ];
+        let in_order = InOrder(vec![(Shape::from(v), 0)]);
+        let flat = FlatLoop::new(&[(v, 0)]);
+        let o = [0.0; 3];
+
+        let mut nearest = PacketNearest::<f32x8>::seeded(&d, 1.0, None);
+        in_order.packet_into(&mut nearest, o, Prepared::AsMet, d);
+        assert_eq!(nearest.finish().ambiguous, 0xff);
+        let mut nearest = PacketNearest::<f32x8>::seeded(&d, 1.0, None);
+        flat.packet_into(&mut nearest, o, Prepared::AsMet, d);
+        let found = nearest.finish();
+        assert_eq!((found.ambiguous, found.prim), (0, [0; 8]));
+
+        // Shadow segments to z = 4: blocked by the triangle at t = 1/2.
+        let d = d.map(|c| c * f32x8::splat(4.0));
+        let mut shadow = ShadowPacket::<f32x8>::new(&d, 4.0, &[u32::MAX; 8], 0b1011_0110);
+        in_order.packet_into(&mut shadow, o, Prepared::AsMet, d);
+        let hits = shadow.finish();
+        assert_eq!((hits.blocked, hits.unsure), (0, 0b1011_0110));
+        let mut shadow = ShadowPacket::<f32x8>::new(&d, 4.0, &[u32::MAX; 8], 0b1011_0110);
+        flat.packet_into(&mut shadow, o, Prepared::AsMet, d);
+        let hits = shadow.finish();
+        assert_eq!((hits.blocked, hits.unsure), (0b1011_0110, 0));
+        // The per-ray queries answer the reference loop's lanes.
+        let ray = Ray::new(o, [0.1, -0.4, 4.0]);
+        assert!(any(
+            &[&in_order],
+            &ray,
+            Method::Adaptive,
+            0.0,
+            1.0,
+            u32::MAX
+        ));
+    }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
+        "a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries",
+        a_layout_without_a_packet_walk_leaves_every_lane_to_the_per_ray_queries,
+    )];
+}

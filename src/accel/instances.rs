@@ -628,7 +628,7 @@ pub(crate) mod tests {
         }
         let mut seed = 7u64;
         let mut next = |scale: f64| {
-            let r = crate::xorshift(&mut seed);
+            let r = crate::math::xorshift(&mut seed);
             ((r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * scale
         };
         let special = [0.0, -0.0, 1e-45, -3e38, 3e38, f32::INFINITY, f32::NAN, 1.0];
@@ -705,7 +705,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
         "world_lanes_are_world_bit_for_bit",
         world_lanes_are_world_bit_for_bit,
     )];

@@ -637,7 +637,7 @@ pub(crate) mod tests {
         // the same vertices turned (kept). Exactly the first of each vertex list is kept, in
         // order, and the rest are counted.
         let mut x = 0x9e3779b97f4a7c15u64;
-        let mut next = move || crate::xorshift(&mut x);
+        let mut next = move || crate::math::xorshift(&mut x);
         let mut tris: Vec<IndexedTriangle> = (0..70_000u32)
             .map(|i| {
                 let mut v = [[0.0f32; 3]; 3];
@@ -671,7 +671,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
         "copies_are_left_out_in_order_among_many_triangles",
         copies_are_left_out_in_order_among_many_triangles,
     )];

@@ -343,7 +343,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "each_block_is_prepared_once_and_read_whole_by_every_thread",
             each_block_is_prepared_once_and_read_whole_by_every_thread,

@@ -567,7 +567,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "an_output_changes_nothing_until_committed_and_keeps_the_permissions",
             an_output_changes_nothing_until_committed_and_keeps_the_permissions,

@@ -380,7 +380,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "encloses_the_exact_result_of_a_cancelling_sum",
             encloses_the_exact_result_of_a_cancelling_sum,

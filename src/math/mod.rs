@@ -9,6 +9,15 @@ pub mod transform;
 pub use real::Real;
 pub use transform::{rotation_x, rotation_xyz, rotation_y, rotation_z, TransformStack};
 
+/// The unit tests' xorshift generator: steps `x` and returns it.
+#[cfg(feature = "unit-tests")]
+pub(crate) fn xorshift(x: &mut u64) -> u64 {
+    *x ^= *x << 13;
+    *x ^= *x >> 7;
+    *x ^= *x << 17;
+    *x
+}
+
 /// The largest |coordinate| of a rendered scene's geometry: 2³⁸ ≈ 2.7e11. The f32 tests of
 /// the packet kernels multiply up to three coordinate differences (edge normals prepared for
 /// an origin, dotted with an unnormalised shadow segment), and beyond about 5e11 those

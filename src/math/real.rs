@@ -231,7 +231,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
         "keys_count_the_finite_values_in_order",
         keys_count_the_finite_values_in_order,
     )];

@@ -247,7 +247,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "bands_of_any_height_write_the_whole_images_bytes",
             bands_of_any_height_write_the_whole_images_bytes,

@@ -461,7 +461,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "the_panel_numbers_the_steps_as_the_lab_does",
             the_panel_numbers_the_steps_as_the_lab_does,

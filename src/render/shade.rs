@@ -489,7 +489,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
         "nudge_steps_as_next_up_and_next_down",
         nudge_steps_as_next_up_and_next_down,
     )];

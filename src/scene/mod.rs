@@ -516,7 +516,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         (
             "colour_runs_follow_the_colours_and_every_change_to_them",
             colour_runs_follow_the_colours_and_every_change_to_them,

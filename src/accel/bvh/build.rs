@@ -537,7 +537,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[(
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
         "binning_arithmetic_never_reads_the_index_lane",
         binning_arithmetic_never_reads_the_index_lane,
     )];

@@ -30,7 +30,7 @@
 pub(crate) mod build;
 mod child_test;
 mod leaf_triangles;
-pub(crate) mod leaf_vertices;
+mod leaf_vertices;
 mod leaves;
 mod node;
 mod slabs;

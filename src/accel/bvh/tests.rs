@@ -1,12 +1,16 @@
-//! Unit tests of the build (depth, splits, top levels), of a frame's cache and the leaves
-//! prepared as met, and of the packet walks (untrusted slabs, 16 lanes); the wide nodes' and
-//! their walks' in `tests/wide_nodes.rs`. The helpers here build the scenes both use.
+//! Unit tests of the build (depth, splits, top levels, dense leaves' shared vertices), of a
+//! frame's cache and the leaves prepared as met, and of the packet walks (untrusted slabs, 16
+//! lanes); the wide nodes' and their walks' in `tests/wide_nodes.rs`. The helpers here build
+//! the scenes both use.
 
 use super::build::binary;
+use super::leaf_vertices::place;
 use super::node::Node;
 use super::*;
 use crate::accel::layout::Layout;
-use crate::accel::packet::{OriginBlock, OriginTriangle, OriginTriangles, PacketNearest};
+use crate::accel::packet::{
+    OriginBlock, OriginTriangle, OriginTriangles, PacketNearest, TriangleLanes,
+};
 use crate::accel::prepared::{Prepared, BLOCK};
 use crate::accel::IndexedTriangle;
 use crate::geometry::{Method, Ray, Shape};
@@ -37,7 +41,7 @@ pub(super) fn depth(nodes: &[Node], node: usize) -> usize {
 /// [0, 10)³.
 pub(super) fn scattered(n: u32, seed: u64, size: f32) -> Vec<IndexedTriangle> {
     let mut x = seed;
-    let mut next = || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32 * 10.0;
+    let mut next = || (crate::math::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32 * 10.0;
     (0..n)
         .map(|i| {
             let p = [next(), next(), next()];
@@ -368,8 +372,75 @@ fn sixteen_lane_packets_decide_as_the_whole_list() {
     }
 }
 
+fn leaves_give_their_triangles_bits_from_shared_vertices_or_spill() {
+    // A wavy sheet of 1800 triangles (neighbours share vertices) and 300 scattered ones
+    // (none shared), in leaves of up to 4 and of up to 8: a leaf whose distinct vertices
+    // fit its places gives every triangle's corners with the triangle's own bits, in
+    // whatever lanes; a leaf whose do not is spilled. Most of the sheet's leaves fit;
+    // every scattered leaf of 2 or more spills.
+    let mut tris = sheet(30);
+    tris.extend(scattered(300, 0x853c49e6748fea9b, 0.05));
+    for (i, t) in tris.iter_mut().enumerate() {
+        t.1 = i as u32;
+    }
+    for leaf_max in [SMALL_LEAF, MAX_LEAF] {
+        let bvh = Bvh::build_with(&tris, leaf_max, true);
+        let shared = bvh.leaf_vertices.as_ref().unwrap();
+        let (fit, spilled) = (&mut 0, &mut 0);
+        for (first, count) in bvh.wide.iter().flat_map(|n| n.leaves()) {
+            let leaf = &bvh.tris[first..first + count];
+            let mut distinct: Vec<[u32; 3]> =
+                leaf.iter().flatten().map(|v| v.map(f32::to_bits)).collect();
+            distinct.sort_unstable();
+            distinct.dedup();
+            let room = place(first + count) - place(first);
+            // A run across two leaves, or part of one after its first, is refused.
+            if count < MAX_LEAF {
+                assert!(shared.leaf(first, first + count + 1).is_none());
+            }
+            if count > 1 {
+                assert!(shared.leaf(first + 1, first + count).is_none());
+            }
+            let Some(corners) = shared.leaf(first, first + count) else {
+                assert!(distinct.len() > room, "leaf at {first} spilled");
+                *spilled += 1;
+                continue;
+            };
+            assert!(distinct.len() <= room, "leaf at {first}");
+            *fit += 1;
+            // Lane l holds triangle (l + 3) mod count.
+            let lanes = std::array::from_fn(|l| (l + 3) % count);
+            let corners = corners.in_lanes(lanes);
+            for (l, &t) in lanes.iter().enumerate() {
+                for (j, v) in leaf[t].iter().enumerate() {
+                    for (k, x) in v.iter().enumerate() {
+                        let got = corners.coordinate(l, j, k).to_bits();
+                        assert_eq!(got, x.to_bits(), "leaf at {first}");
+                    }
+                }
+            }
+        }
+        let sheet_leaves = 1800 / leaf_max;
+        assert!(
+            *fit > sheet_leaves * 3 / 4,
+            "{fit} leaves fit, of {leaf_max}"
+        );
+        assert!(*spilled >= 300 / leaf_max, "{spilled} leaves spilled");
+        // About 22 bytes a triangle, against 36.
+        assert!(
+            shared.bytes() < 23 * tris.len() + 300,
+            "{} bytes",
+            shared.bytes()
+        );
+    }
+}
+
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
+    (
+        "leaves_give_their_triangles_bits_from_shared_vertices_or_spill",
+        leaves_give_their_triangles_bits_from_shared_vertices_or_spill,
+    ),
     (
         "top_levels_cover_every_triangle_with_their_childless_boxes",
         top_levels_cover_every_triangle_with_their_childless_boxes,

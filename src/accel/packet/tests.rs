@@ -12,7 +12,7 @@ use std::cmp::Ordering;
 
 /// Values in [−0.5, 0.5) from the crate's test generator seeded with `seed`.
 fn unit_steps(mut seed: u64) -> impl FnMut() -> f32 {
-    move || (crate::xorshift(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+    move || (crate::math::xorshift(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5
 }
 
 /// Every field's bits.
@@ -625,7 +625,7 @@ fn prepared_lists_keep_order_and_length() {
 }
 
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "four_at_a_time_prepares_the_same_bits_as_one_by_one",
         four_at_a_time_prepares_the_same_bits_as_one_by_one,

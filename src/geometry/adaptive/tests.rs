@@ -72,7 +72,7 @@ fn rounded_t_agrees_with_the_exact_rounding_on_both_levels() {
 }
 
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "the_f64_plane_t_bound_holds_the_exact_t",
         the_f64_plane_t_bound_holds_the_exact_t,

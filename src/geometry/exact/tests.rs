@@ -4,7 +4,7 @@
 use super::expansion::{orient_distilled, sum_sign, two_prod};
 use super::rational::sign;
 use super::*;
-use crate::xorshift;
+use crate::math::xorshift;
 use num_bigint::BigInt;
 use num_traits::Zero;
 use std::cmp::Ordering;
@@ -270,7 +270,7 @@ fn rounds_to_nearest_with_ties_to_even_overflow_and_underflow() {
 }
 
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "orient_is_exact_where_f64_is_not",
         orient_is_exact_where_f64_is_not,

@@ -624,7 +624,7 @@ pub(crate) mod tests {
         // f64 difference itself rounds): each side is at or beyond c ∓ r exactly, and the next
         // f32 inwards is not.
         let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || crate::xorshift(&mut x);
+        let mut next = move || crate::math::xorshift(&mut x);
         for i in 0..20_000 {
             let value = |bits: u64| {
                 let e = (bits % 81) as i32 - 40;
@@ -692,7 +692,7 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+    pub(crate) const TESTS: &[(&str, fn())] = &[
         ("box_sides_are_the_nearest_f32_outside_the_exact_sphere", box_sides_are_the_nearest_f32_outside_the_exact_sphere),
         ("sphere_roots_with_origin_on_the_surface_and_tangent_rays", sphere_roots_with_origin_on_the_surface_and_tangent_rays),
     ];

@@ -247,7 +247,7 @@ crate::math::simd::avx512_features! {
 }
 
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "both_lane_types_compute_the_same_bits",
         both_lane_types_compute_the_same_bits,

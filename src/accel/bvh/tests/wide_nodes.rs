@@ -194,7 +194,7 @@ fn the_wide_walks_decide_lanes_as_each_other_and_the_whole_list() {
         let bvh = Bvh::build_with(&tris, leaf_max, shared);
         let (vertices, prims) = bvh.triangles();
         let mut x = 0x9e3779b97f4a7c15u64;
-        let mut next = move || (crate::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
+        let mut next = move || (crate::math::xorshift(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
         let (mut coherent, mut decided, mut lane_decided) = (0, 0, 0);
         let (mut shadow_decided, mut only_decided) = (0, 0);
         for _ in 0..300 {
@@ -314,7 +314,7 @@ fn a_single_leaf_tree_is_one_wide_node() {
 }
 
 /// This module's tests, for tests/unit.rs to run.
-pub(crate) const TESTS: crate::unit_tests::Tests = &[
+pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "wide_nodes_hold_the_binary_trees_leaves",
         wide_nodes_hold_the_binary_trees_leaves,
