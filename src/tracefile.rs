@@ -207,7 +207,7 @@ pub fn trace_all<T: Real>(
             |_, r| accel::closest_hit(shapes, &r.ray, method, r.tmin, r.tmax),
         ),
         Query::Any => any_answers(rays, |_, r| {
-            accel::any_hit(shapes, &r.ray, method, r.tmin, r.tmax)
+            accel::any_hit(shapes, &r.ray, method, r.tmin, r.tmax, u32::MAX)
         }),
     }
 }
@@ -292,7 +292,7 @@ pub fn trace_all_through(
             |_, r| structure.closest_hit(&r.ray, method, r.tmin, r.tmax),
         ),
         Query::Any => any_answers(rays, |_, r| {
-            structure.any_hit(&r.ray, method, r.tmin, r.tmax)
+            structure.any_hit(&r.ray, method, r.tmin, r.tmax, u32::MAX)
         }),
     }
 }
@@ -408,7 +408,7 @@ pub fn trace_all_packets(
         ),
         Query::Any => any_answers(rays, |i, r| match found[i] {
             Some(blocked) => blocked == 1,
-            None => structure.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax),
+            None => structure.any_hit(&r.ray, Method::Adaptive, r.tmin, r.tmax, u32::MAX),
         }),
     }
 }

@@ -53,7 +53,7 @@ use std::str::FromStr;
 use triangles::Triangles;
 
 pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch, NO_HIT};
-pub use reference::{any_hit, any_hit_except, closest_hit};
+pub use reference::{any_hit, closest_hit};
 
 /// A triangle's vertices with its primitive index in the scene.
 pub type IndexedTriangle = ([[f32; 3]; 3], u32);
@@ -369,7 +369,7 @@ impl Accel {
     }
 
     /// The triangles prepared for rays from `origin` ([`packet::OriginTriangles`]) in the
-    /// order [`Accel::closest_hit_from_origin`] and the packets read them.
+    /// order the packets read them.
     pub fn prepare_origin(&self, origin: [f32; 3]) -> packet::OriginTriangles {
         self.triangles.prepared_for(origin)
     }
@@ -388,21 +388,6 @@ impl Accel {
     /// The adaptive nearest hit for a ray from the origin `prepared` was made for: the same
     /// primitive as [`Accel::closest_hit`] with [`Method::Adaptive`], found with the cheaper
     /// shared-origin f32 level where the layout has that walk (the BVH's).
-    pub fn closest_hit_from_origin(
-        &self,
-        ray: &Ray,
-        prepared: &packet::OriginTriangles,
-        tmin: f32,
-        tmax: f32,
-    ) -> Option<Hit> {
-        if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits) {
-            return self.closest_hit(ray, Method::Adaptive, tmin, tmax);
-        }
-        self.closest_hit_prepared(ray, prepared::Prepared::All(prepared), tmin, tmax)
-    }
-
-    /// [`Accel::closest_hit_from_origin`] with the triangles from `prepared`, made for the
-    /// ray's origin.
     pub(crate) fn closest_hit_prepared(
         &self,
         ray: &Ray,
@@ -485,7 +470,7 @@ impl Accel {
 
     /// Shadow segments 8 at a time from one origin `o` (the light) through the triangles'
     /// packet walk (`prepared`: the triangles prepared for `o` by [`Accel::prepare_origin`],
-    /// or `None` to prepare them as met): per lane whether [`Accel::any_hit_except`] with
+    /// or `None` to prepare them as met): per lane whether [`Accel::any_hit`] with
     /// [`Method::Adaptive`] answers "blocked" for 0 < t < 1, or unsure. `None` where there
     /// are other shapes.
     pub fn any_packet(
@@ -525,23 +510,11 @@ impl Accel {
         (self.triangles).any_packet(isa, instances, o, prepared, d, d_max, skip, valid)
     }
 
-    /// Whether anything is hit with tmin < t < tmax (a shadow query: stops at the first).
-    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32) -> bool {
-        self.any_hit_except(ray, method, tmin, tmax, u32::MAX)
-    }
-
-    /// [`Accel::any_hit`] ignoring primitive `skip`: a shadow segment between a point on a
-    /// triangle or sphere (offset off it) and a light on its lit side cannot meet that
-    /// primitive (planar or convex), and skipping it spares every shadow ray the decision
-    /// at the segment's end on it.
-    pub fn any_hit_except(
-        &self,
-        ray: &Ray,
-        method: Method,
-        tmin: f32,
-        tmax: f32,
-        skip: u32,
-    ) -> bool {
+    /// Whether a primitive other than `skip` (u32::MAX: none) is hit with tmin < t < tmax (a
+    /// shadow query: stops at the first). A shadow segment between a point on a triangle or
+    /// sphere (offset off it) and a light on its lit side cannot meet that primitive (planar
+    /// or convex): skipping it spares every shadow ray the decision at the segment's end on it.
+    pub fn any_hit(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         self.with_parts(|parts| layout::any(parts, ray, method, tmin, tmax, skip))
     }
 }
@@ -567,7 +540,7 @@ fn without_zero_area(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize
 /// -0 = +0), in the same order, and how many were left out. Such a copy can never be the
 /// answer: every method computes what it computes for the earlier one (up to the sign of a
 /// zero), ties go to the lower index in every query, and a shadow query that skips the
-/// earlier one skips its copies (see [`reference::any_hit_except`]). Kept, a file of 10⁶ copies of one face costs each ray 10⁶ exact tie-breaks;
+/// earlier one skips its copies (see [`reference::any_hit`]). Kept, a file of 10⁶ copies of one face costs each ray 10⁶ exact tie-breaks;
 /// left out, it costs what one triangle does. (The same vertices in another order are kept:
 /// the inexact methods may answer differently for them, which is what they are shown for.
 /// There are at most 6 orders, so the work stays bounded.) Found by sorting randomly keyed

@@ -98,10 +98,11 @@ pub fn closest_hit<T: Real>(
     best
 }
 
-/// [`any_hit`] ignoring primitive `skip`, the surface a shadow ray leaves: if it is a triangle,
-/// its exact copies (the same vertices in the same order) are the same surface and are
-/// ignored too, as the accelerators, which keep one of them, do.
-pub fn any_hit_except<T: Real>(
+/// Whether a shape other than primitive `skip` (u32::MAX: none) is hit with tmin < t < tmax (a
+/// shadow query). `skip` is the surface a shadow ray leaves: if it is a triangle, its exact
+/// copies (the same vertices in the same order) are the same surface and are ignored too, as
+/// the accelerators, which keep one of them, do.
+pub fn any_hit<T: Real>(
     shapes: &[Shape<T>],
     ray: &Ray<T>,
     method: Method,
@@ -113,17 +114,4 @@ pub fn any_hit_except<T: Real>(
     shapes.iter().enumerate().any(|(i, s)| {
         i as u32 != skip && Some(s) != own && s.intersect(ray, method, tmin, tmax).is_some()
     })
-}
-
-/// Whether anything is hit with tmin < t < tmax (a shadow query).
-pub fn any_hit<T: Real>(
-    shapes: &[Shape<T>],
-    ray: &Ray<T>,
-    method: Method,
-    tmin: T,
-    tmax: T,
-) -> bool {
-    shapes
-        .iter()
-        .any(|s| s.intersect(ray, method, tmin, tmax).is_some())
 }

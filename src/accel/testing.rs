@@ -21,6 +21,23 @@ pub use super::packet::{
     ShadowHits,
 };
 
+/// The adaptive nearest hit of `accel` for a ray from the origin `prepared` was made for (the
+/// camera rays' per-ray path: the triangles' shared-origin f32 level where the layout has that
+/// walk); a ray from elsewhere is answered as [`Accel::closest_hit`](super::Accel::closest_hit)
+/// answers it.
+pub fn closest_from_origin(
+    accel: &super::Accel,
+    ray: &Ray,
+    prepared: &OriginTriangles,
+    tmin: f32,
+    tmax: f32,
+) -> Option<Hit> {
+    if ray.o.map(f32::to_bits) != prepared.origin.map(f32::to_bits) {
+        return accel.closest_hit(ray, Method::Adaptive, tmin, tmax);
+    }
+    accel.closest_hit_prepared(ray, super::prepared::Prepared::All(prepared), tmin, tmax)
+}
+
 /// Layouts answering one query together, as an [`Accel`](super::Accel)'s parts do.
 pub struct Parts(Vec<Box<dyn Layout>>);
 

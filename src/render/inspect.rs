@@ -114,7 +114,7 @@ pub fn inspect(
             // The renderer's own test decides the colour (the blocker above is for showing).
             let blocked = lit
                 .shadow
-                .is_some_and(|s| accel.any_hit_except(&s, method, 0.0, 1.0, lit.skip));
+                .is_some_and(|s| accel.any_hit(&s, method, 0.0, 1.0, lit.skip));
             let shows_shadows = settings.step.casts_shadows();
             HitInspection {
                 prim: hit.prim,

@@ -67,7 +67,7 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
         all.push((
             format!("Accel {}", acc.kind()),
             Box::new(|ray, m| acc.closest_hit(ray, m, tmin, tmax)),
-            Box::new(|ray, m, skip| acc.any_hit_except(ray, m, tmin, tmax, skip)),
+            Box::new(|ray, m, skip| acc.any_hit(ray, m, tmin, tmax, skip)),
         ));
     }
     for (name, parts) in &layouts {
@@ -90,12 +90,12 @@ fn check_all(shapes: &[Shape<f32>], rays: &[Ray], tmin: f32, tmax: f32) {
     for ray in rays {
         for method in Method::ALL {
             let reference = accel::closest_hit(shapes, ray, method, tmin, tmax);
-            let any = accel::any_hit(shapes, ray, method, tmin, tmax);
+            let any = accel::any_hit(shapes, ray, method, tmin, tmax, u32::MAX);
             // Skipping the nearest hit's primitive (what a shadow ray does with its own).
             let any_but_nearest = reference.map(|h| {
                 (
                     h.prim,
-                    accel::any_hit_except(shapes, ray, method, tmin, tmax, h.prim),
+                    accel::any_hit(shapes, ray, method, tmin, tmax, h.prim),
                 )
             });
             for (name, nearest, any_except) in &all {
@@ -214,7 +214,7 @@ fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin
     let bvh = Accel::build(&shapes, AccelChoice::Bvh);
     let hit = bvh.closest_hit(&reproducer, Method::Adaptive, -1.0, f32::INFINITY);
     assert_eq!(hit.map(|h| (h.t, h.prim)), Some((-0.5, 0)));
-    assert!(bvh.any_hit(&reproducer, Method::Adaptive, -1.0, 0.0));
+    assert!(bvh.any_hit(&reproducer, Method::Adaptive, -1.0, 0.0, u32::MAX));
     let ends = [
         -2.5f32, -2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0, 3.0,
     ];
@@ -547,7 +547,7 @@ proptest! {
                     }
                     if shadow.unsure & (1 << l) == 0 {
                         shadow_decided += (generic >> l) & 1;
-                        let want = accel::any_hit_except(&shapes, &ray, Method::Adaptive, 0.0, 1.0, skip[l]);
+                        let want = accel::any_hit(&shapes, &ray, Method::Adaptive, 0.0, 1.0, skip[l]);
                         prop_assert_eq!(shadow.blocked & (1 << l) != 0, want, "{} shadow lane {} of {:?}", name, l, ray);
                     }
                 }

@@ -127,7 +127,7 @@ fn evaluate(shapes: &[Shape<f32>], rays: &[Ray<f32>]) -> (Vec<Counts>, usize) {
         let prepared = bvh_cache
             .entry(ray.o.map(f32::to_bits))
             .or_insert_with(|| bvh.prepare_origin(ray.o));
-        let h = bvh.closest_hit_from_origin(ray, prepared, 0.0, inf);
+        let h = packet::closest_from_origin(&bvh, ray, prepared, 0.0, inf);
         answers.push(h.map(|h| (h.t as f64, h.prim)));
         // And 8 at a time through the BVH (this ray in every lane), t as `lane_answer` gives
         // it; ambiguous lanes and scenes with spheres go per ray, as in the renderer.

@@ -280,7 +280,7 @@ proptest! {
             };
             let ray = Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k]));
             let want = accel.closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY);
-            let got = accel.closest_hit_from_origin(&ray, &prepared, 0.0, f32::INFINITY);
+            let got = packet::closest_from_origin(&accel, &ray, &prepared, 0.0, f32::INFINITY);
             prop_assert_eq!(got.map(|h| h.prim), want.map(|h| h.prim));
             if let (Some(g), Some(w)) = (got, want) {
                 let (pg, pw) = (ray.at(g.t), ray.at(w.t));
@@ -293,7 +293,7 @@ proptest! {
         // A ray from elsewhere is not misanswered: it falls back to the per-ray search.
         let other = Ray::new([o[0] + 1.0, o[1], o[2]], [0.1, 0.2, -1.0]);
         prop_assert_eq!(
-            accel.closest_hit_from_origin(&other, &prepared, 0.0, f32::INFINITY).map(|h| h.prim),
+            packet::closest_from_origin(&accel, &other, &prepared, 0.0, f32::INFINITY).map(|h| h.prim),
             accel.closest_hit(&other, Method::Adaptive, 0.0, f32::INFINITY).map(|h| h.prim)
         );
     }
@@ -540,7 +540,7 @@ proptest! {
                 }
                 decided += 1;
                 let want =
-                    accel.any_hit_except(&Ray::new(light, *dir), Method::Adaptive, 0.0, 1.0, skip[l]);
+                    accel.any_hit(&Ray::new(light, *dir), Method::Adaptive, 0.0, 1.0, skip[l]);
                 prop_assert_eq!(found.blocked & (1 << l) != 0, want, "lane {}", l);
             }
         }

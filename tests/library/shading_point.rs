@@ -190,7 +190,14 @@ fn check_family(family: &suite::Family, tally: &mut Tally) {
                 // A sphere seen from the other side than the light: it blocks its own
                 // shadow ray.
                 tally.self_blocked += 1;
-                let blocked = accel::any_hit(&family.shapes, &shadow, Method::Adaptive, 0.0, 1.0);
+                let blocked = accel::any_hit(
+                    &family.shapes,
+                    &shadow,
+                    Method::Adaptive,
+                    0.0,
+                    1.0,
+                    u32::MAX,
+                );
                 assert!(
                     matches!(shape, Shape::Sphere(_)) && blocked,
                     "{}",

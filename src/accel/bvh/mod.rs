@@ -170,7 +170,7 @@ impl crate::accel::layout::TriangleLayout for Bvh {
         if !prepared.fits(ray.o, self.tris.len()) {
             return false;
         }
-        self.closest_hit_from_origin(ray, prepared, search);
+        self.closest_from_origin(ray, prepared, search);
         true
     }
 

@@ -29,7 +29,7 @@ impl Bvh {
     /// [`super::packet`], three dot products per triangle instead of the sheared test.
     ///
     /// [`super::packet`]: crate::accel::packet
-    pub(crate) fn closest_hit_from_origin(
+    pub(crate) fn closest_from_origin(
         &self,
         ray: &Ray,
         prepared: Prepared<'_>,

@@ -4,7 +4,7 @@
 //! light every shadow segment starts at, the screen projection, the method, the number of
 //! camera rays) and gets a [`FrameQueries`] from [`Accel::for_frame`]. Per screen tile it asks
 //! [`FrameQueries::tile`] for a [`TileQueries`], whose answers are always fully resolved and
-//! equal to the per-ray queries [`Accel::closest_hit`] and [`Accel::any_hit_except`] with the
+//! equal to the per-ray queries [`Accel::closest_hit`] and [`Accel::any_hit`] with the
 //! frame's method:
 //! - [`TileQueries::closest_x8`]: the nearest primitive along 8 camera rays,
 //! - [`TileQueries::closest`]: the nearest hit of one camera ray,
@@ -367,7 +367,7 @@ impl<'a> FrameQueries<'a> {
 
     /// Whether shadow segment `ray` (0 < t < 1) is blocked by anything but primitive `skip`.
     fn any(&self, ray: &Ray, skip: u32) -> bool {
-        self.accel.any_hit_except(ray, self.method, 0.0, 1.0, skip)
+        self.accel.any_hit(ray, self.method, 0.0, 1.0, skip)
     }
 
     /// The queries for the tile of pixels [x0, x1) × [y0, y1).
