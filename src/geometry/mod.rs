@@ -21,7 +21,7 @@ pub mod terms {
 }
 
 pub use offset::{offset_ray_origin, SurfacePoint};
-pub use shapes::{sphere, triangle, Primitive, Shape, Sphere, Triangle};
+pub use shapes::{sphere, triangle, Location, Primitive, Shape, Sphere, Triangle};
 
 use crate::math::real::V3;
 use crate::math::Real;

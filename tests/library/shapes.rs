@@ -6,7 +6,9 @@
 use crate::common;
 
 use common::Rng;
-use raylab::geometry::{Method, Primitive, Ray, Shape, Sphere, Triangle};
+use raylab::geometry::{
+    sphere, triangle, Location, Method, Primitive, Ray, Shape, Sphere, Triangle,
+};
 use raylab::math::lanes::f32x8;
 use raylab::render::shade::{shade_packet, shading_point, Lit, ShadeTri};
 use raylab::render::Stage;
@@ -158,4 +160,66 @@ fn the_shape_list_gives_the_parser_every_keyword_and_each_its_own_checks() {
     )
     .unwrap();
     assert_eq!(d.shapes, [Shape::sphere([3.0, 0.0, 0.0], 0.5)]);
+}
+
+/// Where a ray meets a triangle ([`Shape::locate`]), decided exactly: what the inspector says.
+#[test]
+fn inside_on_an_edge_at_a_vertex_and_outside_are_told_apart_exactly() {
+    let tri = Shape::from([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]);
+    let at = |x: f32, y: f32| tri.locate(&Ray::new([x, y, 0.0], [0.0, 0.0, 1.0]));
+    assert!(matches!(
+        at(0.25, 0.25),
+        Location::Triangle(triangle::Location::Inside { .. })
+    ));
+    assert_eq!(at(0.5, 0.0), tri_at(triangle::Location::Edge(0)));
+    assert_eq!(at(0.5, 0.5), tri_at(triangle::Location::Edge(1)));
+    assert_eq!(at(0.0, 0.5), tri_at(triangle::Location::Edge(2)));
+    assert_eq!(at(0.0, 0.0), tri_at(triangle::Location::Vertex(0)));
+    assert_eq!(at(1.0, 0.0), tri_at(triangle::Location::Vertex(1)));
+    assert_eq!(at(0.0, 1.0), tri_at(triangle::Location::Vertex(2)));
+    assert_eq!(at(0.6, 0.6), tri_at(triangle::Location::Outside(vec![1])));
+    assert_eq!(
+        at(-0.5, -0.5),
+        tri_at(triangle::Location::Outside(vec![0, 2]))
+    );
+    // Just off the edge v1–v2, by one f32 step: outside, not on it.
+    let next = f32::from_bits(0.5f32.to_bits() + 1);
+    assert_eq!(at(next, 0.5), tri_at(triangle::Location::Outside(vec![1])));
+    // Seen from behind: the same answers (two-sided).
+    let back = tri.locate(&Ray::new([0.5, 0.0, 2.0], [0.0, 0.0, -1.0]));
+    assert_eq!(back, tri_at(triangle::Location::Edge(0)));
+    // In the triangle's plane.
+    let flat = tri.locate(&Ray::new([-1.0, 0.25, 1.0], [1.0, 0.0, 0.0]));
+    assert_eq!(flat, tri_at(triangle::Location::EdgeOn));
+    assert_eq!(at(0.0, 1.0).to_string(), "at vertex v2");
+    assert_eq!(at(0.5, 0.0).to_string(), "on the edge v0–v1");
+}
+
+/// A sphere is met, touched or missed by the exact discriminant's sign, at every scale.
+#[test]
+fn a_sphere_is_met_touched_or_missed() {
+    let ball = Shape::sphere([0.0, 0.0, 5.0], 1.0);
+    let at = |x: f32| ball.locate(&Ray::new([x, 0.0, 0.0], [0.0, 0.0, 1.0]));
+    assert_eq!(at(0.5), Location::Sphere(sphere::Location::Through));
+    assert_eq!(at(1.0), Location::Sphere(sphere::Location::Tangent));
+    assert_eq!(at(-1.0), Location::Sphere(sphere::Location::Tangent));
+    assert_eq!(
+        at(f32::from_bits(1.0f32.to_bits() + 1)),
+        Location::Sphere(sphere::Location::Misses)
+    );
+    // Tangent at f32's extremes, where f64 products of the inputs would overflow or
+    // underflow: the exact discriminant still tells a touch from a crossing or a miss.
+    for scale in [1e-38f32, 1e37] {
+        let ball = Shape::sphere([0.0, 0.0, 30.0 * scale], scale);
+        let at = |x: f32| ball.locate(&Ray::new([x, 0.0, 0.0], [0.0, 0.0, 1.0]));
+        assert_eq!(at(scale), Location::Sphere(sphere::Location::Tangent));
+        assert_eq!(at(0.5 * scale), Location::Sphere(sphere::Location::Through));
+        let beyond = f32::from_bits(scale.to_bits() + 1);
+        assert_eq!(at(beyond), Location::Sphere(sphere::Location::Misses));
+    }
+    assert_eq!(at(0.5).to_string(), "on the sphere");
+}
+
+fn tri_at(at: triangle::Location) -> Location {
+    Location::Triangle(at)
 }

@@ -2,12 +2,11 @@
 //! pixel; whenever the frame shown changes (camera, light, step, method, scene, image size,
 //! the inspector's own panel opening) the inspector answers that pixel again, so that what it
 //! says is what the image shows. For the pixel it also says where the exact hit lies on its
-//! primitive ([`super::location`]) and, where the cracks view marks the pixel, which of its
+//! primitive ([`raylab::geometry::Shape::locate`]) and, where the cracks view marks the pixel, which of its
 //! samples is marked and why.
 
 use super::cracks::{self, Census, Legend, Step};
 use super::inspected::{Detail, Inspected};
-use super::location::locate;
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
@@ -218,7 +217,7 @@ impl Viewer {
         let scene = self.stage.scene();
         let shape_of = |p: u32| scene.shape(p);
         let verdict = cracks::classify(scene.len(), shape_of, &ray, exact, given);
-        let on = |p: u32| (p, locate(&scene.shape(p), &ray));
+        let on = |p: u32| (p, scene.shape(p).locate(&ray));
         let differs = |g: &raylab::geometry::Hit| exact.is_none_or(|e| e.prim != g.prim);
         Some(Detail {
             who: code.map_or(method.name().to_string(), |c| c.name().to_string()),

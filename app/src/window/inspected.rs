@@ -3,8 +3,8 @@
 //! inspector draws.
 
 use super::cracks;
-use super::location::Location;
 use raylab::check::Verdict;
+use raylab::geometry::Location;
 
 /// The pixel the inspector follows (of the full-size image), and the frame it was answered
 /// for.

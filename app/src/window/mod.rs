@@ -22,7 +22,6 @@ mod gpu;
 mod input;
 mod inspected;
 mod inspector;
-mod location;
 mod notices;
 mod panel;
 mod script;

@@ -1,8 +1,9 @@
 //! The primitives, one file per shape: [`triangle`] and [`sphere`]. Each implements
 //! [`Primitive`], everything the rest of the crate asks of a shape, from its tests to its
-//! scene-file line; [`Shape`], the enum a scene holds them in, and [`ShapeTerms`], the
-//! inspector's terms, are made from one list (`shapes!`, below), which also writes the one
-//! `match` that hands each question to the shape (`dispatch!`). Neither the rest of
+//! scene-file line; [`Shape`], the enum a scene holds them in, [`ShapeTerms`], the
+//! inspector's terms, and [`Location`], where a ray meets it exactly, are made from one list
+//! (`shapes!`, below), which also writes the one `match` that hands each question to the shape
+//! (`dispatch!`). Neither the rest of
 //! `geometry` nor the renderer nor the parser matches on the kind of a shape.
 //!
 //! # A new shape
@@ -10,17 +11,16 @@
 //! 1. **Its file**, `shapes/<name>.rs`: a struct of its numbers, its own ray tests (plain
 //!    f32/f64, the adaptive method's levels), `impl Primitive<T>` (the compiler lists every
 //!    answer still missing: none has a default; its scene line is [`Primitive::KEYWORD`] and
-//!    [`Primitive::read`]) and `pub struct Terms`, its inspector terms, with
-//!    `impl WordedTerms`.
+//!    [`Primitive::read`]), `pub struct Terms`, its inspector terms, with
+//!    `impl WordedTerms`, and `pub enum Location` with `impl Display`.
 //! 2. **Its line in the list** below, `Name(name::Name)`: its variant of [`Shape`] and of
 //!    [`ShapeTerms`], its arm of every dispatch and its keyword in the parser.
 //!
 //! The accelerators keep triangles in their SIMD structures and every other shape in a
 //! hierarchy of its own, where a packet tests the shapes that answer
 //! [`Primitive::seen_from`] (spheres) in lanes and the rest per ray. Outside the library
-//! two exhaustive matches name the kinds and the compiler points at them: the window's exact
-//! hit location (`app/src/window/location.rs`) and the lab's reference loop, which calls a
-//! student's function per shape (`lab/src/yours.rs`).
+//! one exhaustive match names the kinds and the compiler points at it: the lab's reference
+//! loop, which calls a student's function per shape (`lab/src/yours.rs`).
 //!
 //! Dispatch is static: each arm calls the shape's method on its struct, which inlines as a
 //! hand-written `match` would.
@@ -102,6 +102,10 @@ pub trait Primitive<T: Real>: Copy {
     /// Its own math for `ray`, as the ray inspector shows it ([`ShapeTerms`]).
     fn terms(&self, ray: &Ray<T>) -> ShapeTerms;
 
+    /// Where the line of `ray` meets it, decided exactly ([`Location`]: on a triangle's
+    /// edge or vertex, tangent to a sphere), as the ray inspector says where a hit lies.
+    fn locate(&self, ray: &Ray<T>) -> Location;
+
     /// The same shape in f64 (exact for f32 numbers): what the adaptive levels run on.
     fn widen(&self) -> Shape<f64>;
 
@@ -169,6 +173,21 @@ macro_rules! shapes {
         #[derive(Clone, Debug, PartialEq)]
         pub enum ShapeTerms {
             $($(#[$doc])* $variant($module::Terms),)+
+        }
+
+        /// Where a ray's line meets a primitive, decided exactly (what the ray inspector says
+        /// of a hit): each shape's own `module::Location` ([`Primitive::locate`]).
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Location {
+            $($(#[$doc])* $variant($module::Location),)+
+        }
+
+        impl std::fmt::Display for Location {
+            fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                match self {
+                    $(Location::$variant(at) => at.fmt(f),)+
+                }
+            }
         }
 
         /// `dispatch!(shape, p => expr)`: `expr` with `p` the shape's own struct (a
@@ -408,6 +427,11 @@ impl Shape<f32> {
     /// This shape's terms for `ray` ([`ShapeTerms`]).
     pub fn terms(&self, ray: &Ray<f32>) -> ShapeTerms {
         dispatch!(self, p => p.terms(ray))
+    }
+
+    /// Where the line of `ray` meets this shape, decided exactly ([`Primitive::locate`]).
+    pub fn locate(&self, ray: &Ray<f32>) -> Location {
+        dispatch!(self, p => p.locate(ray))
     }
 }
 

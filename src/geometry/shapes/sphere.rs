@@ -14,6 +14,7 @@
 //! ([`Sphere`], [`Primitive`]): one shape, one place.
 
 use super::{Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
+use std::fmt;
 use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Feature};
 use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, two_sum, ExactT, Q};
 use crate::geometry::offset::{normalize, UNDERFLOW};
@@ -465,6 +466,12 @@ impl<T: Real> Primitive<T> for Sphere<T> {
         })
     }
 
+    fn locate(&self, ray: &Ray<T>) -> super::Location {
+        let (centre, radius) = self.wide();
+        let (o, d) = (ray.o.map(Real::f64), ray.d.map(Real::f64));
+        super::Location::Sphere(locate(centre, radius, o, d))
+    }
+
     fn widen(&self) -> Shape<f64> {
         let (centre, radius) = self.wide();
         Shape::Sphere(Sphere { centre, radius })
@@ -594,6 +601,43 @@ impl WordedTerms for Terms {
             ("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}")),
             ("b^2 - 4ac", format!("{:.6}", self.discriminant)),
         ]
+    }
+}
+
+/// Where a ray's line meets a sphere ([`Primitive::locate`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// Through it (two points).
+    Through,
+    /// Tangent to it (the exact discriminant is zero: one point).
+    Tangent,
+    /// Outside it.
+    Misses,
+}
+
+/// The line o + t·d against the sphere, from the exact sign of the discriminant b² − a·c
+/// (a = d·d, b = f·d, c = f·f − r², f = o − centre) in rationals; a zero d meets nothing.
+fn locate(centre: [f64; 3], radius: f64, o: [f64; 3], d: [f64; 3]) -> Location {
+    let d = qv(d);
+    let f = qsub(&qv(o), &qv(centre));
+    let r = q(radius);
+    let a = qdot(&d, &d);
+    let (b, c) = (qdot(&f, &d), qdot(&f, &f) - &r * &r);
+    let disc = &b * &b - &a * &c;
+    match (a.is_zero(), disc.is_zero(), disc.is_negative()) {
+        (true, _, _) | (_, _, true) => Location::Misses,
+        (false, true, _) => Location::Tangent,
+        (false, false, false) => Location::Through,
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(match self {
+            Location::Through => "on the sphere",
+            Location::Tangent => "tangent to the sphere (discriminant exactly 0)",
+            Location::Misses => "outside the sphere",
+        })
     }
 }
 

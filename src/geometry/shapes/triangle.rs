@@ -424,6 +424,11 @@ impl<T: Real> Primitive<T> for Triangle<T> {
         })
     }
 
+    fn locate(&self, ray: &Ray<T>) -> super::Location {
+        let (o, d) = (ray.o.map(Real::f64), ray.d.map(Real::f64));
+        super::Location::Triangle(locate(&self.wide(), o, d))
+    }
+
     fn widen(&self) -> Shape<f64> {
         Shape::Triangle(Triangle(self.wide()))
     }
@@ -639,6 +644,92 @@ fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
         }
         det(&m) / d
     })
+}
+
+/// A triangle's edges, in the order of [`Location`]'s edge numbers: edge k runs from vertex k
+/// to vertex k + 1.
+pub const EDGES: [&str; 3] = ["v0–v1", "v1–v2", "v2–v0"];
+
+/// Where a ray's line meets a triangle ([`Primitive::locate`]), from the exact signs of its
+/// Plücker products with the three edges ([`exact::orient`]): what the ray inspector says of
+/// a crack, where a leak on a shared edge is a ray exactly through the edge or within
+/// rounding of it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Location {
+    /// Strictly inside; `nearest` is the edge it passes closest to, `weight` the barycentric
+    /// weight of the vertex opposite it (an f64 estimate, for showing only: the decision is
+    /// exact).
+    Inside { nearest: usize, weight: f64 },
+    /// Exactly on edge k (not at its ends).
+    Edge(usize),
+    /// Exactly at vertex k.
+    Vertex(usize),
+    /// Outside: beyond these edges.
+    Outside(Vec<usize>),
+    /// The ray is parallel to the triangle's plane (edge-on: missed).
+    EdgeOn,
+}
+
+/// The line o + t·d against the triangle `v`.
+fn locate(v: &[[f64; 3]; 3], o: [f64; 3], d: [f64; 3]) -> Location {
+    // The exact sign of det[d, a − o, b − o].
+    let side = |o, a, b| exact::orient(d, o, a, b).unwrap_or_else(|| exact::orient_rational(d, o, a, b));
+    // The sign every edge has for a line through the inside: that of d·((v1 − v0) × (v2 − v0))
+    // (the three edges' products sum to it).
+    let inside = side(v[0], v[1], v[2]);
+    if inside == Ordering::Equal {
+        return Location::EdgeOn;
+    }
+    let signs = [0, 1, 2].map(|k| side(o, v[k], v[(k + 1) % 3]));
+    let beyond: Vec<usize> = (0..3).filter(|&k| signs[k] == inside.reverse()).collect();
+    if !beyond.is_empty() {
+        return Location::Outside(beyond);
+    }
+    let zeros: Vec<usize> = (0..3).filter(|&k| signs[k] == Ordering::Equal).collect();
+    match zeros[..] {
+        [] => {
+            // The same determinants in plain f64, for showing sizes only.
+            let values = [0, 1, 2].map(|k| {
+                let (p, q) = (sub(v[k], o), sub(v[(k + 1) % 3], o));
+                dot(d, cross(p, q))
+            });
+            let total: f64 = values.iter().sum();
+            let weights = values.map(|x| x / total);
+            let nearest = (0..3)
+                .min_by(|&a, &b| weights[a].total_cmp(&weights[b]))
+                .expect("three edges");
+            Location::Inside {
+                nearest,
+                weight: weights[nearest],
+            }
+        }
+        [k] => Location::Edge(k),
+        // Edges i and j meet at their shared vertex.
+        [i, j] => Location::Vertex(if j == (i + 1) % 3 { j } else { i }),
+        _ => Location::EdgeOn,
+    }
+}
+
+impl std::fmt::Display for Location {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            Location::Inside { nearest, weight } => write!(
+                f,
+                "inside (nearest the edge {}: barycentric {weight:.1e})",
+                EDGES[*nearest]
+            ),
+            Location::Edge(k) => write!(f, "on the edge {}", EDGES[*k]),
+            Location::Vertex(k) => write!(f, "at vertex v{k}"),
+            Location::Outside(edges) => {
+                let names: Vec<&str> = edges.iter().map(|&k| EDGES[k]).collect();
+                match names[..] {
+                    [one] => write!(f, "outside, beyond the edge {one}"),
+                    _ => write!(f, "outside, beyond the edges {}", names.join(" and ")),
+                }
+            }
+            Location::EdgeOn => f.write_str("edge-on (the ray is parallel to its plane)"),
+        }
+    }
 }
 
 fn v3(v: [f64; 3]) -> String {
