@@ -644,8 +644,52 @@ pub(crate) mod tests {
     }
 
     /// This module's tests, for tests/unit.rs to run.
-    pub(crate) const TESTS: &[(&str, fn())] = &[(
-        "copies_are_left_out_in_order_among_many_triangles",
-        copies_are_left_out_in_order_among_many_triangles,
-    )];
+    /// A frame runs the build chosen as it starts ([`FrameQueries::build`]), whatever the
+    /// limit says afterwards, and a tile's packets answer in it as every build answers. (The
+    /// unit tests' binary is the one that never limits the builds elsewhere.)
+    fn a_frame_keeps_the_build_chosen_as_it_starts() {
+        use crate::math::simd::{self, SimdLevel};
+        let scene = crate::scene::Scene::cornell();
+        let accel = Accel::for_scene(&scene, AccelChoice::Bvh);
+        let camera = crate::camera::Camera::cornell(64);
+        let generator = camera.ray_generator(64, 64);
+        let setup = FrameSetup {
+            eye: generator.origin(),
+            light: scene.light.position,
+            projection: None,
+            method: Method::Adaptive,
+            camera_rays: 64 * 64,
+            shadows: false,
+            per_ray: false,
+        };
+        let best = accel.for_frame(&setup);
+        assert_eq!(best.build().level(), simd::detected());
+        let xs = wide::f32x8::from([0, 1, 2, 3, 0, 1, 2, 3].map(|x| 30.0 + x as f32));
+        let ys = wide::f32x8::from([0, 0, 0, 0, 1, 1, 1, 1].map(|y| 40.0 + y as f32));
+        let d = generator.directions_x8(xs, ys);
+        let mut scratch = TileScratch::default();
+        let want = best.tile([0, 0, 64, 64], &mut scratch).closest_x8(&d, 0xff);
+        assert!(want.iter().all(|&p| p != NO_HIT), "{want:?}");
+        drop(best);
+        for lower in SimdLevel::ALL.into_iter().filter(|l| *l < simd::detected()) {
+            let frame = simd::limited(lower, || accel.for_frame(&setup));
+            assert_eq!(simd::level(), simd::detected(), "the limit is lifted");
+            assert_eq!(frame.build().level(), lower);
+            let got = frame
+                .tile([0, 0, 64, 64], &mut scratch)
+                .closest_x8(&d, 0xff);
+            assert_eq!(got, want, "{lower}");
+        }
+    }
+
+    pub(crate) const TESTS: &[(&str, fn())] = &[
+        (
+            "copies_are_left_out_in_order_among_many_triangles",
+            copies_are_left_out_in_order_among_many_triangles,
+        ),
+        (
+            "a_frame_keeps_the_build_chosen_as_it_starts",
+            a_frame_keeps_the_build_chosen_as_it_starts,
+        ),
+    ];
 }

@@ -12,10 +12,12 @@
 //! (`widest` below): their lanes are decided exactly as 8-ray packets decide them, so the
 //! image's bytes are the same (tests/library/render.rs).
 //!
-//! Where the choice is made: once where a tile loop starts ([`avx512_avx2_or_baseline!`]'s
-//! `isa` arms hand the loop its build's token, an [`Isa`]), and below it by the token's type
-//! (the same macro's `token` form), with no run-time check; a query called on its own takes
-//! the CPU's token ([`with_cpu_isa!`]) and reaches the same compiled copies.
+//! Where the choice is made: once where a frame or a trace run starts ([`Chosen::now`], which
+//! the frame's queries keep); each tile loop of the frame enters its build's copy by that
+//! choice ([`avx512_avx2_or_baseline!`]'s `chosen` form, whose `isa` arms hand the loop its
+//! build's token, an [`Isa`]), and below it the token's type says which build (the same
+//! macro's `token` form), with no run-time check. A query called on its own, outside a frame,
+//! chooses for itself ([`with_cpu_isa!`]) and reaches the same compiled copies.
 
 /// `$item` (a function) compiled with the AVX-512 build's features: F, VL, BW, DQ and CD,
 /// with AVX2 and FMA. The one place that list is written (the dispatch's wrappers and
@@ -84,7 +86,8 @@ impl std::str::FromStr for SimdLevel {
 /// this choice), the one place the crate uses unsafe code.
 ///
 /// Which build: the CPU's [`level`], checked at run time (the macro's plain form, a query's
-/// per-call entry point or a tile loop's start); or, after `token isa,`, the build of the
+/// per-call entry point); after `chosen c,`, the build the [`Chosen`] `c` names (a tile
+/// loop's start, with its frame's choice); or, after `token isa,`, the build of the
 /// token `isa` (an [`Isa`]), with no run-time check: the token's type says which build, so the
 /// choice is a constant (a query's `_in` form, called from code already built for one level).
 /// Both reach the same three copies of a kernel when written as a function's whole body.
@@ -149,8 +152,9 @@ macro_rules! avx512_avx2_or_baseline {
                         $avx512($($isa512,)? $($arg),*)
                     }
                 }
-                // SAFETY: the CPU has these features: `level` checked them, or a token of
-                // this build exists (made only after that check).
+                // SAFETY: the CPU has these features: `level` checked them (directly or
+                // through a `Chosen`), or a token of this build exists (made only after that
+                // check).
                 #[allow(unsafe_code)]
                 return unsafe { avx512($($arg),*) };
             }
@@ -178,6 +182,10 @@ macro_rules! avx512_avx2_or_baseline {
     (@ $($malformed:tt)*) => {
         compile_error!("avx512_avx2_or_baseline!: expected `[token isa,] [isa] lanes|widest path => (args) -> ret` or `path => (args) -> ret`")
     };
+    (chosen $chosen:expr, $($kernel:tt)+) => {
+        $crate::math::simd::avx512_avx2_or_baseline!(@kernel
+            [$crate::math::simd::Chosen::level($chosen)] $($kernel)+)
+    };
     (token $isa:ident, $($kernel:tt)+) => {
         $crate::math::simd::avx512_avx2_or_baseline!(@kernel
             [$crate::math::simd::Isa::level($isa)] $($kernel)+)
@@ -193,7 +201,16 @@ pub(crate) use avx512_avx2_or_baseline;
 /// the token (whose kernels are [`avx512_avx2_or_baseline!`]'s `token` form).
 macro_rules! with_cpu_isa {
     (|$isa:ident| $body:expr) => {
-        match $crate::math::simd::level() {
+        $crate::math::simd::with_isa!($crate::math::simd::Chosen::now(), |$isa| $body)
+    };
+}
+pub(crate) use with_cpu_isa;
+
+/// `$body` with `$isa` bound to the token of the build `$chosen` (a [`Chosen`]) names: a
+/// frame's queries, entered with the frame's one choice.
+macro_rules! with_isa {
+    ($chosen:expr, |$isa:ident| $body:expr) => {
+        match $crate::math::simd::Chosen::level($chosen) {
             #[cfg(target_arch = "x86_64")]
             $crate::math::simd::SimdLevel::Avx512 => {
                 let $isa = $crate::math::simd::Avx512::checked();
@@ -211,7 +228,7 @@ macro_rules! with_cpu_isa {
         }
     };
 }
-pub(crate) use with_cpu_isa;
+pub(crate) use with_isa;
 
 /// A kernel build as a value, made only where the CPU runs it: the `isa lanes` arm of
 /// [`avx512_avx2_or_baseline!`] hands one to its kernel (its first argument), after the run-time
@@ -317,6 +334,27 @@ avx_build!(
 #[inline(always)]
 pub(crate) fn each3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
+}
+
+/// The kernels' build, chosen once where a frame or a trace run starts: [`level`] then, kept
+/// so that each of the frame's tiles and queries runs that build without asking again (and
+/// all of them the same one, even if [`limit`] changes meanwhile). Made only by
+/// [`Chosen::now`], so that it never names a build the CPU lacks: the dispatch relies on it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Chosen(SimdLevel);
+
+impl Chosen {
+    /// The build the kernels run now ([`level`]).
+    #[inline]
+    pub fn now() -> Self {
+        Chosen(level())
+    }
+
+    /// Which build.
+    #[inline(always)]
+    pub fn level(self) -> SimdLevel {
+        self.0
+    }
 }
 
 /// The best build this CPU runs ([`SimdLevel`]), detected once.

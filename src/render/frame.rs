@@ -43,8 +43,9 @@ impl TileTracer for Frame<'_> {
     }
 }
 
-/// [`Frame::trace_packets`] compiled for the CPU's SIMD level as the kernels are
-/// ([`crate::math::simd::avx512_avx2_or_baseline`]): the tile loop's own work (ray directions,
+/// [`Frame::trace_packets`] compiled for each SIMD build as the kernels are
+/// ([`crate::math::simd::avx512_avx2_or_baseline`]), entered in the frame's one choice
+/// ([`FrameQueries::build`]): the tile loop's own work (ray directions,
 /// shading, colours, pixel writes) in AVX2 or AVX-512 where the CPU has them: the Cornell
 /// box with shadows at 1280×720, 2 threads, 5–8% faster (Zen 5, AVX-512, interleaved). The
 /// flat step's one-sample path has its own copy ([`trace_flat_for_cpu`]).
@@ -56,7 +57,7 @@ fn trace_packets_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx512_avx2_or_baseline!(isa lanes trace_packets_in => (
+    crate::math::simd::avx512_avx2_or_baseline!(chosen frame.queries.build(), isa lanes trace_packets_in => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,
@@ -67,7 +68,7 @@ fn trace_packets_for_cpu(
 }
 
 /// The flat step's one-sample tile loop ([`Frame::trace_flat_tile`]) through the copy
-/// built for the CPU, ray directions and a small scene's packet kernel inline in it: the
+/// of the frame's build, ray directions and a small scene's packet kernel inline in it: the
 /// Cornell flat frame at 1280×720 on 2 threads took 1.4× as long in the default build as
 /// with the whole program built for AVX2 while they were called per packet.
 fn trace_flat_for_cpu(
@@ -78,7 +79,7 @@ fn trace_flat_for_cpu(
     rows: &mut [u8],
     counts: &mut Counts,
 ) {
-    crate::math::simd::avx512_avx2_or_baseline!(isa widest trace_flat_in => (
+    crate::math::simd::avx512_avx2_or_baseline!(chosen frame.queries.build(), isa widest trace_flat_in => (
         frame: &Frame,
         tile: &Tile,
         queries: &mut TileQueries,

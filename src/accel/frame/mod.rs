@@ -66,6 +66,7 @@ use super::spheres::SpheresSeen;
 use super::{Accel, IndexedTriangle};
 use crate::camera::Projection;
 use crate::geometry::{Method, Ray};
+use crate::math::simd::Chosen;
 use wide::f32x8;
 
 pub use super::packet::OriginTriangle;
@@ -172,6 +173,8 @@ pub struct FrameQueries<'a> {
     plan: Plan<'a>,
     /// The spheres as the packets test them (packet plans with spheres only).
     spheres: Option<FrameSpheres>,
+    /// The kernels' build every tile and query of the frame runs, chosen as it starts.
+    build: Chosen,
 }
 
 /// A frame's spheres as its packets test them.
@@ -246,6 +249,7 @@ pub struct TileQueries<'a> {
 impl Accel {
     /// The queries of one frame (see [`FrameQueries`]).
     pub fn for_frame(&self, setup: &FrameSetup) -> FrameQueries<'_> {
+        let build = Chosen::now();
         let method = setup.method;
         let culling = match self.flat_triangles() {
             Some(tris) if matches!(method, Method::Watertight | Method::Adaptive) => {
@@ -273,7 +277,7 @@ impl Accel {
                 let tris = culling.tris;
                 let (from_light, occluders) = match setup.shadows {
                     true => (
-                        OriginTriangles::new(tris, setup.light).tris,
+                        OriginTriangles::new_in(build, tris, setup.light).tris,
                         tris.iter()
                             .enumerate()
                             .map(|(slot, t)| Occluder::new(slot, t))
@@ -282,7 +286,7 @@ impl Accel {
                     false => (Vec::new(), Vec::new()),
                 };
                 Plan::CulledPackets {
-                    from_eye: OriginTriangles::new(tris, setup.eye),
+                    from_eye: OriginTriangles::new_in(build, tris, setup.eye),
                     culling,
                     from_light,
                     occluders,
@@ -317,6 +321,7 @@ impl Accel {
             light: setup.light,
             plan,
             spheres,
+            build,
         }
     }
 }
@@ -338,6 +343,12 @@ impl Drop for FrameQueries<'_> {
 }
 
 impl<'a> FrameQueries<'a> {
+    /// The kernels' build the frame runs, chosen once as it started: each tile loop enters
+    /// its copy of that build by it.
+    pub fn build(&self) -> Chosen {
+        self.build
+    }
+
     /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]).
     pub fn packets(&self) -> bool {
         matches!(self.plan, Plan::CulledPackets { .. } | Plan::Packets { .. })

@@ -15,7 +15,7 @@ use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
 use crate::math::lanes::LaneOps;
-use crate::math::simd::{each3, with_cpu_isa, Isa};
+use crate::math::simd::{each3, with_isa, Isa};
 use wide::f32x8;
 
 /// The answer of a packet started from `seed` where no triangle can show: the seed's.
@@ -66,9 +66,10 @@ impl TileQueries<'_> {
     }
 
     /// The nearest primitive along each of 8 camera rays from the eye with directions `d`,
-    /// for lanes `live` (bit l for lane l; the others are [`NO_HIT`]).
+    /// for lanes `live` (bit l for lane l; the others are [`NO_HIT`]), in the frame's build
+    /// ([`FrameQueries::build`](super::FrameQueries::build)).
     pub fn closest_x8(&mut self, d: &[f32x8; 3], live: u32) -> [u32; 8] {
-        with_cpu_isa!(|isa| self.closest_x8_in(isa, d, live))
+        with_isa!(self.frame.build, |isa| self.closest_x8_in(isa, d, live))
     }
 
     /// [`TileQueries::closest_x8`] in the build `isa` names (a tile loop's own).
@@ -240,9 +241,10 @@ impl TileQueries<'_> {
     }
 
     /// Which live lanes of each of the tile's shadow segments are blocked: `blocked[i]` gets
-    /// packet i's mask.
+    /// packet i's mask (in the frame's build, as [`TileQueries::closest_x8`]).
     pub fn any_x8<S: AsRef<ShadowSegments>>(&mut self, packets: &[S], blocked: &mut Vec<u32>) {
-        with_cpu_isa!(|isa| self.any_x8_in(isa, packets, blocked))
+        with_isa!(self.frame.build, |isa| self
+            .any_x8_in(isa, packets, blocked))
     }
 
     /// [`TileQueries::any_x8`] in the build `isa` names (a tile loop's own).

@@ -8,7 +8,7 @@ use super::{cross, sub, OriginTriangle, MAX_MAGNITUDE, TINY64, U32, U64};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::{round_down, round_up};
 use crate::math::lanes::{Lanes, Lanes64};
-use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, Isa};
+use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, with_isa, Chosen, Isa};
 use rayon::prelude::*;
 
 /// A frame's triangles prepared for its camera position.
@@ -408,6 +408,12 @@ impl OriginTriangles {
     /// Prepares `tris` for rays from `origin` (in parallel for large meshes).
     pub fn new(tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
         Self::prepare(tris.len(), |i| (&tris[i].0, tris[i].1), origin)
+    }
+
+    /// [`OriginTriangles::new`] in the build a frame chose ([`Chosen`]).
+    pub(crate) fn new_in(build: Chosen, tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
+        let get = |i: usize| (&tris[i].0, tris[i].1);
+        with_isa!(build, |isa| Self::prepare_in(isa, tris.len(), &get, origin))
     }
 
     /// [`OriginTriangles::new`] for vertices and primitive indices held apart (a BVH's).
