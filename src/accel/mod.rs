@@ -52,7 +52,9 @@ use std::fmt;
 use std::str::FromStr;
 use triangles::Triangles;
 
-pub use frame::{FrameQueries, FrameSetup, ShadowSegments, TileQueries, TileScratch, NO_HIT};
+pub use frame::{
+    FrameQueries, FrameSetup, OriginTriangle, ShadowSegments, TileQueries, TileScratch, NO_HIT,
+};
 pub use reference::{any_hit, closest_hit};
 
 /// A triangle's vertices with its primitive index in the scene.

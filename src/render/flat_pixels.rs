@@ -2,7 +2,7 @@
 
 use super::image::SrgbTables;
 use super::shade::Rgb;
-use crate::accel::frame::NO_HIT;
+use crate::accel::NO_HIT;
 use crate::scene::Scene;
 
 /// The flat step's RGBA8 pixels: with one sample per pixel, a pixel is its primitive's

@@ -1,7 +1,7 @@
 //! Shading for the lab steps: flat colour, or a hit readied once ([`Lit`]: surface point,
 //! irradiance, shadow ray) and coloured per step. Colours are linear RGB.
 
-use crate::accel::frame::{OriginTriangle, ShadowSegments};
+use crate::accel::{OriginTriangle, ShadowSegments};
 use crate::geometry::triangle::shading_points;
 use crate::geometry::{offset_ray_origin, Hit, Ray, SurfacePoint};
 use crate::math::lanes::{f32x8, Lanes};

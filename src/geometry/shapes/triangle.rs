@@ -22,7 +22,7 @@
 //! the one thing `geometry` takes from above it, so that every path shades to the same bits.
 
 use super::{sphere, Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
-use crate::accel::frame::OriginTriangle;
+use crate::accel::OriginTriangle;
 use crate::geometry::adaptive::interval::{triangle_interval, triangle_t_interval};
 use crate::geometry::adaptive::rounded::plane_t_f64;
 use crate::geometry::adaptive::{precise_f32, round_down, round_up, Decided, Estimate, Feature};
