@@ -515,6 +515,12 @@ impl Layout for FlatLoop {
 
 /// Every triangle in one box; no walk of its own beside `packet_into`.
 impl TriangleLayout for FlatLoop {
+    const NAME: &'static str = "flat";
+
+    fn build(tris: &[IndexedTriangle]) -> Self {
+        FlatLoop::new(tris)
+    }
+
     fn len(&self) -> usize {
         self.len
     }

@@ -23,13 +23,14 @@
 //! triangles prepared for one origin (the order its packet walk reads), its boxes for the
 //! screen, and its own faster walks where it has them.
 //!
-//! Adding a layout (a BVH4, a grid), eight places: its file, with `impl Layout` (whose
-//! `packet_into` may be left to its default) and `impl TriangleLayout`; in triangles.rs its
-//! variant of `Triangles`, its arm of `each_layout!`, of `build` and of `kind`; in mod.rs its
-//! [`AccelChoice`] variant, its name and its place in `AccelChoice::ALL`. The tests take
-//! every layout from that list (`accel::testing::layout_choices`): tests/library/accel.rs runs each
-//! against the reference loop on random and hard-case scenes, per ray and in packets, alone
-//! and beside instances.
+//! Adding a layout (a BVH4, a grid) is its file and one line: the file, with `impl Layout`
+//! (whose `packet_into` may be left to its default) and `impl TriangleLayout` (its name, its
+//! build, its size and preparations; its own faster walks are optional), and its line in the
+//! `layouts!` list of accel/mod.rs, which makes its module, its [`AccelChoice`] variant and
+//! its place in `AccelChoice::ALL`, and its variant and arms of `Triangles`. The tests take
+//! every layout from that list (`accel::testing::layout_choices`): tests/library/accel.rs runs
+//! each against the reference loop on random and hard-case scenes, per ray and in packets,
+//! alone and beside instances.
 //!
 //! [`Accel`]: super::Accel
 //! [`AccelChoice`]: super::AccelChoice
@@ -40,6 +41,7 @@ use super::packet::{
     OriginTriangles, PacketHits, PacketNearest, PacketSeed, PacketSink, ShadowHits,
 };
 use super::prepared::Prepared;
+use super::IndexedTriangle;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
@@ -85,6 +87,12 @@ pub trait Layout: Send + Sync {
 /// triangles prepared for an origin, its boxes for the screen, and its own faster walks where
 /// it has them (each provided from [`Layout::packet_into`] or left out where it has none).
 pub(crate) trait TriangleLayout: Layout + Sized {
+    /// Its name on the command line (`--accel NAME`) and in reports: its `AccelChoice`'s.
+    const NAME: &'static str;
+
+    /// The layout over `tris` (exact copies and triangles of zero area already left out).
+    fn build(tris: &[IndexedTriangle]) -> Self;
+
     /// How many triangles are stored.
     fn len(&self) -> usize;
 

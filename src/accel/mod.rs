@@ -25,9 +25,92 @@
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
 //! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
 
-pub(crate) mod bvh;
+/// The triangles' layouts, one line each: `Variant(module::Type)`, its doc the
+/// [`AccelChoice`] variant's. The list makes each layout's module, its variant of
+/// [`AccelChoice`] (named by its [`TriangleLayout::NAME`](layout::TriangleLayout::NAME)) and
+/// its place in `AccelChoice::ALL`, its variant of `Triangles` (the structure over a scene's
+/// stored triangles), its arm of `each_layout!` (the one match over them) and of
+/// `Triangles::build` (by [`TriangleLayout::build`](layout::TriangleLayout::build)) and
+/// `Triangles::kind`. A new layout is its file and its line here (layout.rs says what the file
+/// holds).
+macro_rules! layouts {
+    ($d:tt $($(#[$doc:meta])* $variant:ident($module:ident::$ty:ident)),+ $(,)?) => {
+        $(pub(crate) mod $module;)+
+
+        /// Which structure to build.
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        pub enum AccelChoice {
+            /// By primitive count (see [`BVH_MIN_TRIANGLES`]).
+            #[default]
+            Auto,
+            $($(#[$doc])* $variant,)+
+        }
+
+        impl AccelChoice {
+            /// Every choice: `auto`, then each layout of the triangles (what [`Accel::kind`]
+            /// names).
+            pub const ALL: [AccelChoice; 1 + [$(layouts!(@one $variant)),+].len()] =
+                [AccelChoice::Auto, $(AccelChoice::$variant),+];
+
+            /// CLI name.
+            pub fn name(self) -> &'static str {
+                match self {
+                    AccelChoice::Auto => "auto",
+                    $(AccelChoice::$variant => <$module::$ty as layout::TriangleLayout>::NAME,)+
+                }
+            }
+        }
+
+        /// The structure over a scene's stored triangles: the one dispatch on the layout
+        /// (its queries: triangles.rs).
+        #[derive(Clone, Debug)]
+        pub(crate) enum Triangles {
+            $($variant($module::$ty),)+
+        }
+
+        /// `$body` with `$t` bound to the layout in `$tris` (a [`Triangles`]): the one match
+        /// over every variant.
+        macro_rules! each_layout {
+            ($d tris:expr, $d t:ident => $d body:expr) => {
+                match $d tris {
+                    $(Triangles::$variant($d t) => $d body,)+
+                }
+            };
+        }
+
+        impl Triangles {
+            /// Builds the layout `choice` names over `tris` (copies already left out). `Auto`
+            /// is the caller's to resolve by count; given here, it builds the BVH, as a large
+            /// scene resolves it.
+            pub(crate) fn build(tris: &[IndexedTriangle], choice: AccelChoice) -> Self {
+                use layout::TriangleLayout;
+                match choice {
+                    $(AccelChoice::$variant => Triangles::$variant(<$module::$ty>::build(tris)),)+
+                    AccelChoice::Auto => Self::build(tris, AccelChoice::Bvh),
+                }
+            }
+
+            /// Which layout this is.
+            pub(crate) fn kind(&self) -> AccelChoice {
+                match self {
+                    $(Triangles::$variant(_) => AccelChoice::$variant,)+
+                }
+            }
+        }
+    };
+    (@one $variant:ident) => {
+        ()
+    };
+}
+
+layouts! { $
+    /// The flat SIMD loop over all triangles.
+    Flat(flat::FlatLoop),
+    /// A BVH.
+    Bvh(bvh::Bvh),
+}
+
 mod cull;
-pub(crate) mod flat;
 pub(crate) mod frame;
 pub(crate) mod instances;
 pub(crate) mod layout;
@@ -50,7 +133,6 @@ use rayon::prelude::*;
 use spheres::Spheres;
 use std::fmt;
 use std::str::FromStr;
-use triangles::Triangles;
 
 pub use frame::{
     FrameQueries, FrameSetup, OriginTriangle, ShadowSegments, TileQueries, TileScratch, NO_HIT,
@@ -67,32 +149,6 @@ pub const TILE_CULL_MAX_TRIANGLES: usize = 2048;
 /// From this many primitives on (triangles, spheres), `auto` builds a BVH.
 pub const BVH_MIN_TRIANGLES: usize = 64;
 
-/// Which structure to build.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum AccelChoice {
-    /// By primitive count (see [`BVH_MIN_TRIANGLES`]).
-    #[default]
-    Auto,
-    /// The flat SIMD loop over all triangles.
-    Flat,
-    /// A BVH.
-    Bvh,
-}
-
-impl AccelChoice {
-    /// Every choice: `auto`, then each layout of the triangles (what [`Accel::kind`] names).
-    pub const ALL: [AccelChoice; 3] = [AccelChoice::Auto, AccelChoice::Flat, AccelChoice::Bvh];
-
-    /// CLI name.
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelChoice::Auto => "auto",
-            AccelChoice::Flat => "flat",
-            AccelChoice::Bvh => "bvh",
-        }
-    }
-}
-
 impl fmt::Display for AccelChoice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
@@ -107,7 +163,14 @@ impl FromStr for AccelChoice {
         AccelChoice::ALL
             .into_iter()
             .find(|c| c.name() == s)
-            .ok_or_else(|| format!("unknown accelerator '{s}' (expected auto, flat or bvh)"))
+            .ok_or_else(|| {
+                let names: Vec<&str> = AccelChoice::ALL.iter().map(|c| c.name()).collect();
+                let (last, rest) = names.split_last().expect("auto and a layout");
+                format!(
+                    "unknown accelerator '{s}' (expected {} or {last})",
+                    rest.join(", ")
+                )
+            })
     }
 }
 

@@ -6,7 +6,7 @@
 use super::layout::{self, Layout};
 use super::reference::InOrder;
 use super::spheres::Spheres;
-use super::triangles::Triangles;
+use super::Triangles;
 use super::{without_copies, AccelChoice, IndexedTriangle};
 use crate::geometry::instance::{Instance, Mesh};
 use crate::geometry::{Hit, Method, Ray, Shape};

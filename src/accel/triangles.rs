@@ -1,20 +1,19 @@
-//! The structure over a scene's stored triangles, chosen per scene: the one dispatch on the
-//! layout ([`Triangles`], one macro arm per layout, over the contract of [`super::layout`]),
-//! and the packet queries built on the layouts' packet walks, with the placed meshes
-//! (`Instances`) filling the same packet state.
+//! The structure over a scene's stored triangles, chosen per scene: the queries of
+//! [`Triangles`] (the enum and its one dispatch, `each_layout!`, are made by the list of
+//! layouts in accel/mod.rs, over the contract of [`super::layout`]), and the packet queries
+//! built on the layouts' packet walks, with the placed meshes (`Instances`) filling the same
+//! packet state.
 //!
 //! Adding a triangle layout: see [`super::layout`].
 
-use super::bvh::Bvh;
 use super::cull::{Box3, TreeNode};
-use super::flat::FlatLoop;
 use super::instances::Instances;
 use super::layout::{Layout, TriangleLayout};
 use super::packet::{
     OriginTriangles, PacketHits, PacketNearest, PacketSeed, PacketSink, ShadowHits, ShadowPacket,
 };
 use super::prepared::Prepared;
-use super::{AccelChoice, IndexedTriangle};
+use super::Triangles;
 use crate::geometry::adaptive::Search;
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray};
@@ -22,41 +21,7 @@ use crate::math::lanes::{LaneOps, Lanes};
 use crate::math::simd::{avx512_avx2_or_baseline, each3, Isa};
 use wide::f32x8;
 
-/// The structure over a scene's stored triangles: the one dispatch on the layout.
-#[derive(Clone, Debug)]
-pub(crate) enum Triangles {
-    Flat(FlatLoop),
-    Bvh(Bvh),
-}
-
-/// `$body` with `$t` bound to the layout in `$tris`: the one match over every variant.
-macro_rules! each_layout {
-    ($tris:expr, $t:ident => $body:expr) => {
-        match $tris {
-            Triangles::Flat($t) => $body,
-            Triangles::Bvh($t) => $body,
-        }
-    };
-}
-
 impl Triangles {
-    /// Builds the layout `choice` names over `tris` (copies already left out; `Auto`, which
-    /// the caller resolves by count, builds the BVH).
-    pub(crate) fn build(tris: &[IndexedTriangle], choice: AccelChoice) -> Self {
-        match choice {
-            AccelChoice::Flat => Triangles::Flat(FlatLoop::new(tris)),
-            AccelChoice::Bvh | AccelChoice::Auto => Triangles::Bvh(Bvh::build(tris)),
-        }
-    }
-
-    /// Which layout this is.
-    pub(crate) fn kind(&self) -> AccelChoice {
-        match self {
-            Triangles::Flat(_) => AccelChoice::Flat,
-            Triangles::Bvh(_) => AccelChoice::Bvh,
-        }
-    }
-
     /// How many triangles are stored.
     pub(crate) fn len(&self) -> usize {
         each_layout!(self, t => TriangleLayout::len(t))

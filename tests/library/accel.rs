@@ -557,3 +557,25 @@ proptest! {
         }
     }
 }
+
+/// Every choice the list of layouts makes is named, read back from its name and builds the
+/// layout it names; an unknown name is answered with the list.
+#[test]
+fn every_layout_is_named_read_back_and_built_as_itself() {
+    let shapes: Vec<Shape<f32>> = raylab::Scene::cornell().all_shapes().collect();
+    for choice in AccelChoice::ALL {
+        assert_eq!(choice.name().parse::<AccelChoice>(), Ok(choice));
+        if choice != AccelChoice::Auto {
+            assert_eq!(Accel::build(&shapes, choice).kind(), choice);
+        }
+    }
+    assert_eq!(
+        AccelChoice::ALL.len(),
+        1 + testing::layout_choices().count()
+    );
+    assert_eq!("brute".parse::<AccelChoice>(), Ok(AccelChoice::Flat));
+    assert_eq!(
+        "grid".parse::<AccelChoice>(),
+        Err("unknown accelerator 'grid' (expected auto, flat or bvh)".to_string())
+    );
+}

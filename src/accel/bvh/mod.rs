@@ -142,6 +142,12 @@ impl Bvh {
 /// The BVH's own walks: per ray from a prepared list, and packets recording positions (a
 /// leaf's triangles are offered without looking up their primitives).
 impl crate::accel::layout::TriangleLayout for Bvh {
+    const NAME: &'static str = "bvh";
+
+    fn build(tris: &[crate::accel::IndexedTriangle]) -> Self {
+        Bvh::build(tris)
+    }
+
     fn len(&self) -> usize {
         self.tris.len()
     }
