@@ -407,10 +407,11 @@ impl OriginQuad {
 impl OriginTriangles {
     /// Prepares `tris` for rays from `origin` (in parallel for large meshes).
     pub fn new(tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
-        Self::prepare(tris.len(), |i| (&tris[i].0, tris[i].1), origin)
+        Self::new_in(Chosen::now(), tris, origin)
     }
 
-    /// [`OriginTriangles::new`] in the build a frame chose ([`Chosen`]).
+    /// [`OriginTriangles::new`] in the build a frame chose ([`Chosen`]) (one copy of the
+    /// preparation for both, each of whose three builds holds a parallel loop).
     pub(crate) fn new_in(build: Chosen, tris: &[IndexedTriangle], origin: [f32; 3]) -> Self {
         let get = |i: usize| (&tris[i].0, tris[i].1);
         with_isa!(build, |isa| Self::prepare_in(isa, tris.len(), &get, origin))
