@@ -23,11 +23,11 @@
 //! triangles prepared for one origin (the order its packet walk reads), its boxes for the
 //! screen, and its own faster walks where it has them.
 //!
-//! Adding a layout (a BVH4, a grid) is its file and one line: the file, with `impl Layout`
+//! Adding a layout (a BVH4, a grid) is its file and two lines: the file, with `impl Layout`
 //! (whose `packet_into` may be left to its default) and `impl TriangleLayout` (its name, its
-//! build, its size and preparations; its own faster walks are optional), and its line in the
-//! `layouts!` list of accel/mod.rs, which makes its module, its [`AccelChoice`] variant and
-//! its place in `AccelChoice::ALL`, and its variant and arms of `Triangles`. The tests take
+//! build, its size and preparations; its own faster walks are optional), and in accel/mod.rs
+//! its `mod` line and its line in the `layouts!` list, which makes its [`AccelChoice`]
+//! variant and its place in `AccelChoice::ALL`, and its variant and arms of `Triangles`. The tests take
 //! every layout from that list (`accel::testing::layout_choices`): tests/library/accel.rs runs
 //! each against the reference loop on random and hard-case scenes, per ray and in packets,
 //! alone and beside instances.

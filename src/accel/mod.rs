@@ -26,16 +26,16 @@
 //! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
 
 /// The triangles' layouts, one line each: `Variant(module::Type)`, its doc the
-/// [`AccelChoice`] variant's. The list makes each layout's module, its variant of
-/// [`AccelChoice`] (named by its [`TriangleLayout::NAME`](layout::TriangleLayout::NAME)) and
-/// its place in `AccelChoice::ALL`, its variant of `Triangles` (the structure over a scene's
-/// stored triangles), its arm of `each_layout!` (the one match over them) and of
-/// `Triangles::build` (by [`TriangleLayout::build`](layout::TriangleLayout::build)) and
-/// `Triangles::kind`. A new layout is its file and its line here (layout.rs says what the file
-/// holds).
+/// [`AccelChoice`] variant's. The list makes each layout's variant of [`AccelChoice`] (named
+/// by its [`TriangleLayout::NAME`](layout::TriangleLayout::NAME)) and its place in
+/// `AccelChoice::ALL`, its variant of `Triangles` (the structure over a scene's stored
+/// triangles), its arm of `each_layout!` (the one match over them) and of `Triangles::build`
+/// (by [`TriangleLayout::build`](layout::TriangleLayout::build)) and `Triangles::kind`. A new
+/// layout is its file, its `mod` line and its line in the list (layout.rs says what the file
+/// holds); the module is declared beside the list, not by it: rustfmt does not reach a module
+/// a macro declares.
 macro_rules! layouts {
     ($d:tt $($(#[$doc:meta])* $variant:ident($module:ident::$ty:ident)),+ $(,)?) => {
-        $(pub(crate) mod $module;)+
 
         /// Which structure to build.
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -102,6 +102,9 @@ macro_rules! layouts {
         ()
     };
 }
+
+pub(crate) mod bvh;
+pub(crate) mod flat;
 
 layouts! { $
     /// The flat SIMD loop over all triangles.
@@ -605,11 +608,12 @@ fn without_zero_area(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize
 /// -0 = +0), in the same order, and how many were left out. Such a copy can never be the
 /// answer: every method computes what it computes for the earlier one (up to the sign of a
 /// zero), ties go to the lower index in every query, and a shadow query that skips the
-/// earlier one skips its copies (see [`reference::any_hit`]). Kept, a file of 10⁶ copies of one face costs each ray 10⁶ exact tie-breaks;
-/// left out, it costs what one triangle does. (The same vertices in another order are kept:
-/// the inexact methods may answer differently for them, which is what they are shown for.
-/// There are at most 6 orders, so the work stays bounded.) Found by sorting randomly keyed
-/// hashes, so no input can force the quadratic case; the order of the rest is unchanged.
+/// earlier one skips its copies (see [`reference::any_hit`]). Kept, a file of 10⁶ copies of
+/// one face costs each ray 10⁶ exact tie-breaks; left out, it costs what one triangle does.
+/// (The same vertices in another order are kept: the inexact methods may answer differently
+/// for them, which is what they are shown for. There are at most 6 orders, so the work stays
+/// bounded.) Found by sorting randomly keyed hashes, so no input can force the quadratic case;
+/// the order of the rest is unchanged.
 pub(crate) fn without_copies(tris: Vec<IndexedTriangle>) -> (Vec<IndexedTriangle>, usize) {
     let key = |t: &IndexedTriangle| Shape::from(t.0).key();
     let hasher = ahash::RandomState::new();

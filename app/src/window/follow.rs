@@ -2,8 +2,8 @@
 //! pixel; whenever the frame shown changes (camera, light, step, method, scene, image size,
 //! the inspector's own panel opening) the inspector answers that pixel again, so that what it
 //! says is what the image shows. For the pixel it also says where the exact hit lies on its
-//! primitive ([`raylab::geometry::Shape::locate`]) and, where the cracks view marks the pixel, which of its
-//! samples is marked and why.
+//! primitive ([`raylab::geometry::Shape::locate`]) and, where the cracks view marks the
+//! pixel, which of its samples is marked and why.
 
 use super::cracks::{self, Census, Legend, Step};
 use super::inspected::{Detail, Inspected};

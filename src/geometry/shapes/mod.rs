@@ -13,8 +13,9 @@
 //!    answer still missing: none has a default; its scene line is [`Primitive::KEYWORD`] and
 //!    [`Primitive::read`]), `pub struct Terms`, its inspector terms, with
 //!    `impl WordedTerms`, and `pub enum Location` with `impl Display`.
-//! 2. **Its line in the list** below, `Name(name::Name)`: its variant of [`Shape`] and of
-//!    [`ShapeTerms`], its arm of every dispatch and its keyword in the parser.
+//! 2. **Its two lines** below: `pub mod name;` and its line in the list, `Name(name::Name)`:
+//!    its variant of [`Shape`], [`ShapeTerms`] and [`Location`], its arm of every dispatch and
+//!    its keyword in the parser.
 //!
 //! The accelerators keep triangles in their SIMD structures and every other shape in a
 //! hierarchy of its own, where a packet tests the shapes that answer
@@ -153,12 +154,12 @@ pub trait SceneFrame<T: Real> {
     fn length(&self, word: &str) -> Option<T>;
 }
 
-/// The list of shapes: `Name(module::Name)` per shape makes its module, its variant of
-/// [`Shape`] (holding its struct) and of [`ShapeTerms`] (holding its `module::Terms`), its arm
-/// of `dispatch!` and its keyword in [`Shape::read`].
+/// The list of shapes: `Name(module::Name)` per shape makes its variant of [`Shape`] (holding
+/// its struct) and of [`ShapeTerms`] (holding its `module::Terms`) and [`Location`], its arm
+/// of `dispatch!` and its keyword in [`Shape::read`]. (Its module is declared beside the list,
+/// not by it: rustfmt does not reach a module a macro declares.)
 macro_rules! shapes {
     ($d:tt $($(#[$doc:meta])* $variant:ident($module:ident::$name:ident)),+ $(,)?) => {
-        $(pub mod $module;)+
         $(pub use $module::$name;)+
 
         /// A primitive.
@@ -230,6 +231,9 @@ macro_rules! shapes {
         }
     };
 }
+
+pub mod sphere;
+pub mod triangle;
 
 shapes! { $
     /// A triangle v0, v1, v2 (closed, two-sided): [`Triangle`].

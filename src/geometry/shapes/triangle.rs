@@ -325,7 +325,10 @@ impl<T: Real> Primitive<T> for Triangle<T> {
     /// Exact where its numbers are f32.
     fn box_f32(&self) -> ([f32; 3], [f32; 3]) {
         let (lo, hi) = self.bounds();
-        (lo.map(|x| round_down(x.f64())), hi.map(|x| round_up(x.f64())))
+        (
+            lo.map(|x| round_down(x.f64())),
+            hi.map(|x| round_up(x.f64())),
+        )
     }
 
     fn triangle(&self) -> Option<&[V3<T>; 3]> {
@@ -675,7 +678,8 @@ pub enum Location {
 /// The line o + t·d against the triangle `v`.
 fn locate(v: &[[f64; 3]; 3], o: [f64; 3], d: [f64; 3]) -> Location {
     // The exact sign of det[d, a − o, b − o].
-    let side = |o, a, b| exact::orient(d, o, a, b).unwrap_or_else(|| exact::orient_rational(d, o, a, b));
+    let side =
+        |o, a, b| exact::orient(d, o, a, b).unwrap_or_else(|| exact::orient_rational(d, o, a, b));
     // The sign every edge has for a line through the inside: that of d·((v1 − v0) × (v2 − v0))
     // (the three edges' products sum to it).
     let inside = side(v[0], v[1], v[2]);
