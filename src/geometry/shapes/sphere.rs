@@ -14,7 +14,6 @@
 //! ([`Sphere`], [`Primitive`]): one shape, one place.
 
 use super::{Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
-use std::fmt;
 use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Feature};
 use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, two_sum, ExactT, Q};
 use crate::geometry::offset::{normalize, UNDERFLOW};
@@ -25,6 +24,7 @@ use crate::math::Real;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use std::cmp::Ordering;
+use std::fmt;
 use wide::f64x4;
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
@@ -276,6 +276,19 @@ fn roots_x4(
     }
 }
 
+/// a = d·d, b = f·d and the discriminant b² − a·c (c = f·f − r², f = o − centre) of
+/// |o + t·d − centre|² = r², a·t² + 2b·t + c = 0, in rationals.
+fn exact_quadratic(o: [f64; 3], d: [f64; 3], centre: [f64; 3], radius: f64) -> (Q, Q, Q) {
+    let d = qv(d);
+    let f = qsub(&qv(o), &qv(centre));
+    let r = q(radius);
+    let a = qdot(&d, &d);
+    let b = qdot(&f, &d);
+    let c = qdot(&f, &f) - &r * &r;
+    let disc = &b * &b - &a * &c;
+    (a, b, disc)
+}
+
 /// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
 /// ray touches it at one point, which counts).
 pub fn exact(
@@ -286,17 +299,8 @@ pub fn exact(
     tmin: f64,
     tmax: f64,
 ) -> Option<ExactT> {
-    let d = qv(d);
-    let f = qsub(&qv(o), &qv(centre));
-    let r = q(radius);
-    let a = qdot(&d, &d);
-    if a.is_zero() {
-        return None;
-    }
-    let b = qdot(&f, &d);
-    let c = qdot(&f, &f) - &r * &r;
-    let disc = &b * &b - &a * &c;
-    if disc.is_negative() {
+    let (a, b, disc) = exact_quadratic(o, d, centre, radius);
+    if a.is_zero() || disc.is_negative() {
         return None;
     }
     let centre_t = -(&b / &a);
@@ -615,15 +619,10 @@ pub enum Location {
     Misses,
 }
 
-/// The line o + t·d against the sphere, from the exact sign of the discriminant b² − a·c
-/// (a = d·d, b = f·d, c = f·f − r², f = o − centre) in rationals; a zero d meets nothing.
+/// The line o + t·d against the sphere, from the exact sign of the discriminant
+/// ([`exact_quadratic`]); a zero d meets nothing.
 fn locate(centre: [f64; 3], radius: f64, o: [f64; 3], d: [f64; 3]) -> Location {
-    let d = qv(d);
-    let f = qsub(&qv(o), &qv(centre));
-    let r = q(radius);
-    let a = qdot(&d, &d);
-    let (b, c) = (qdot(&f, &d), qdot(&f, &f) - &r * &r);
-    let disc = &b * &b - &a * &c;
+    let (a, _, disc) = exact_quadratic(o, d, centre, radius);
     match (a.is_zero(), disc.is_zero(), disc.is_negative()) {
         (true, _, _) | (_, _, true) => Location::Misses,
         (false, true, _) => Location::Tangent,
@@ -737,7 +736,13 @@ pub(crate) mod tests {
 
     /// This module's tests, for tests/unit.rs to run.
     pub(crate) const TESTS: &[(&str, fn())] = &[
-        ("box_sides_are_the_nearest_f32_outside_the_exact_sphere", box_sides_are_the_nearest_f32_outside_the_exact_sphere),
-        ("sphere_roots_with_origin_on_the_surface_and_tangent_rays", sphere_roots_with_origin_on_the_surface_and_tangent_rays),
+        (
+            "box_sides_are_the_nearest_f32_outside_the_exact_sphere",
+            box_sides_are_the_nearest_f32_outside_the_exact_sphere,
+        ),
+        (
+            "sphere_roots_with_origin_on_the_surface_and_tangent_rays",
+            sphere_roots_with_origin_on_the_surface_and_tangent_rays,
+        ),
     ];
 }
