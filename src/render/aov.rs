@@ -5,13 +5,13 @@
 //! arrays (format 1.0, little-endian, C order), readable by `numpy.load`: `STEM.prim.npy`
 //! (uint32, H×W), `STEM.t.npy` (float32, H×W) and `STEM.normal.npy` (float32, H×W×3).
 
+use super::driver::{drive_rows, Counts, Tile, TileTracer};
 use super::settings::RenderSettings;
 use super::Stage;
-use crate::camera::Camera;
-use crate::geometry::Ray;
+use crate::camera::{Camera, RayGenerator};
+use crate::geometry::{Method, Ray};
 use crate::input::{InputError, OutputFile};
 use crate::scene::Scene;
-use rayon::prelude::*;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -44,15 +44,16 @@ pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
 
 /// The AOVs of the stage's scene through `camera` at the settings' size and method, written
 /// into `outs` (from [`create_beside`]: `.prim`, `.t`, `.normal`) band by band without
-/// committing them: about 40 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
-/// the image's size. `cancelled` is asked before each band: `Ok(false)` once it says yes
+/// committing them: about 32 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
+/// the image's size. The render driver traces each band; `cancelled` is asked before and
+/// after each of its bands: `Ok(false)` once it says yes
 /// (the outputs are then incomplete: drop them), `Ok(true)` when every band is written.
 pub fn write_aovs(
     stage: &Stage,
     camera: &Camera,
     settings: &RenderSettings,
     outs: &mut [OutputFile; 3],
-    cancelled: &dyn Fn() -> bool,
+    cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<bool, InputError> {
     let paths = outs.each_ref().map(|o| o.path().to_path_buf());
     let [prim, t, normal] = outs;
@@ -73,7 +74,7 @@ fn write_bands(
     settings: &RenderSettings,
     outs: [&mut dyn Write; 3],
     band_pixels: u32,
-    cancelled: &dyn Fn() -> bool,
+    cancelled: &(dyn Fn() -> bool + Sync),
 ) -> Result<bool, (usize, std::io::Error)> {
     let [prim, t, normal] = outs;
     settings
@@ -86,38 +87,75 @@ fn write_bands(
     t.write_all(&npy_header("<f4", &shape))
         .map_err(|e| (1, e))?;
     (normal.write_all(&npy_header("<f4", &[shape[0], shape[1], 3]))).map_err(|e| (2, e))?;
-    let gen = camera.ray_generator(w, h);
-    let (scene, accel) = (stage.scene(), stage.accel());
+    let tracer = CentreRays {
+        gen: camera.ray_generator(w, h),
+        stage,
+        method: settings.method,
+        width: w,
+    };
     let rows = (band_pixels / w).max(1);
     let mut band = Vec::new();
     let mut bytes = Vec::new();
     for y0 in (0..h).step_by(rows as usize) {
-        if cancelled() {
+        let y1 = (y0 + rows).min(h);
+        band.resize((y1 - y0) as usize * w as usize * PIXEL_BYTES, 0);
+        if drive_rows(w, y0, &mut band, cancelled, &tracer).is_none() {
             return Ok(false);
         }
-        let y1 = (y0 + rows).min(h);
-        (0..(y1 - y0) * w)
-            .into_par_iter()
-            .map(|k| {
-                let (i, j) = (k % w, y0 + k / w);
-                let ray = gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
-                match accel.closest_hit(&ray, settings.method, 0.0, f32::INFINITY) {
-                    Some(hit) => (hit.prim, hit.t, facing_normal(scene, &ray, hit.prim, hit.t)),
-                    None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
-                }
-            })
-            .collect_into_vec(&mut band);
-        bytes.clear();
-        bytes.extend(band.iter().flat_map(|p| p.0.to_le_bytes()));
-        prim.write_all(&bytes).map_err(|e| (0, e))?;
-        bytes.clear();
-        bytes.extend(band.iter().flat_map(|p| p.1.to_le_bytes()));
-        t.write_all(&bytes).map_err(|e| (1, e))?;
-        bytes.clear();
-        bytes.extend(band.iter().flat_map(|p| p.2).flat_map(|c| c.to_le_bytes()));
-        normal.write_all(&bytes).map_err(|e| (2, e))?;
+        for (k, (out, bytes_at)) in [(&mut *prim, 0..4), (&mut *t, 4..8), (&mut *normal, 8..20)]
+            .into_iter()
+            .enumerate()
+        {
+            bytes.clear();
+            for pixel in band.chunks_exact(PIXEL_BYTES) {
+                bytes.extend_from_slice(&pixel[bytes_at.clone()]);
+            }
+            out.write_all(&bytes).map_err(|e| (k, e))?;
+        }
     }
-    Ok(!cancelled())
+    Ok(true)
+}
+
+/// Bytes of one pixel's values as [`CentreRays`] writes them: the primitive (u32), t (f32)
+/// and the normal (3 × f32), little-endian.
+const PIXEL_BYTES: usize = 20;
+
+/// The render driver's tracer of the AOVs: each pixel's centre ray, by the per-ray query.
+struct CentreRays<'a> {
+    gen: RayGenerator,
+    stage: &'a Stage,
+    method: Method,
+    width: u32,
+}
+
+impl TileTracer for CentreRays<'_> {
+    type Scratch = ();
+    const PIXEL_BYTES: usize = PIXEL_BYTES;
+
+    fn trace(&self, tile: &Tile, _: &mut (), rows: &mut [u8], counts: &mut Counts) {
+        let (scene, accel) = (self.stage.scene(), self.stage.accel());
+        let row_bytes = self.width as usize * PIXEL_BYTES;
+        for j in tile.y0..tile.y0 + tile.h {
+            let row = &mut rows[(j - tile.y0) as usize * row_bytes..][..row_bytes];
+            for i in tile.x0..tile.x0 + tile.w {
+                let ray = self.gen.ray_through(i as f32 + 0.5, j as f32 + 0.5);
+                let (prim, t, normal) =
+                    match accel.closest_hit(&ray, self.method, 0.0, f32::INFINITY) {
+                        Some(hit) => {
+                            counts.0 += 1;
+                            (hit.prim, hit.t, facing_normal(scene, &ray, hit.prim, hit.t))
+                        }
+                        None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
+                    };
+                let px = &mut row[i as usize * PIXEL_BYTES..][..PIXEL_BYTES];
+                px[0..4].copy_from_slice(&prim.to_le_bytes());
+                px[4..8].copy_from_slice(&t.to_le_bytes());
+                for (c, out) in normal.iter().zip(px[8..].chunks_exact_mut(4)) {
+                    out.copy_from_slice(&c.to_le_bytes());
+                }
+            }
+        }
+    }
 }
 
 /// The unit geometric normal of primitive `prim` where `ray` meets it at `t`, turned against
@@ -235,13 +273,14 @@ pub(crate) mod tests {
         };
         let camera = Camera::cornell(settings.width);
         let asked = std::sync::atomic::AtomicU32::new(0);
-        // Yes from the second question on: one band (of 3 rows) is written.
-        let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 1;
+        // Yes from the third question on: the driver asks before the first band (of 3
+        // rows) and after it, which is written; then before the second, and once more.
+        let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 2;
         let [mut a, mut b, mut c] = [Vec::new(), Vec::new(), Vec::new()];
         let outs: [&mut dyn Write; 3] = [&mut a, &mut b, &mut c];
         let done = write_bands(&stage, &camera, &settings, outs, 3 * 8, &cancel).unwrap();
         assert!(!done);
-        assert_eq!(asked.into_inner(), 2);
+        assert_eq!(asked.into_inner(), 4);
         let header = npy_header("<u4", &[10, 8]).len();
         assert_eq!(a.len(), header + 4 * 3 * 8);
     }

@@ -1,10 +1,11 @@
 //! The one render driver: every image raylab draws (its own frames through the accelerator,
-//! and linked lab code's, [`crate::check::code`]) goes through [`drive`]. Bands of [`BAND`]
+//! and linked lab code's, [`crate::check::code`]) goes through [`drive`], and the AOV arrays'
+//! centre rays ([`super::aov`]) through [`drive_rows`], which it is made of. Bands of [`BAND`]
 //! rows run in parallel (rayon); each band walks its tiles of [`TILE`] pixels and hands each
-//! to the frame's [`TileTracer`]; a render is cancelled before a band starts. Every tracer
-//! samples and encodes pixels through [`Samples`]: n×n stratified samples a pixel, linear
-//! colour summed, averaged and sRGB-encoded once into RGBA8. What differs between tracers is
-//! only how a sample's colour is found.
+//! to the frame's [`TileTracer`]; a render is cancelled before a band starts. Every image's
+//! tracer samples and encodes pixels through [`Samples`]: n×n stratified samples a pixel,
+//! linear colour summed, averaged and sRGB-encoded once into RGBA8. What differs between
+//! tracers is only how a sample's colour (or a pixel's values) is found.
 
 use super::image::SrgbTables;
 use super::settings::{RenderSettings, SettingsError};
@@ -29,8 +30,12 @@ pub(crate) trait TileTracer: Sync {
     /// Buffers a band reuses from tile to tile.
     type Scratch: Default;
 
+    /// Bytes a pixel takes: an image's RGBA8, or the values the tracer writes per pixel.
+    const PIXEL_BYTES: usize = 4;
+
     /// Writes the pixels of `tile` into `rows` (the band of rows it lies in, starting at row
-    /// `tile.y0`, [`Samples::row_bytes`] apart) and adds what it traced to `counts`.
+    /// `tile.y0`, width × [`TileTracer::PIXEL_BYTES`] apart) and adds what it traced to
+    /// `counts`.
     fn trace(&self, tile: &Tile, scratch: &mut Self::Scratch, rows: &mut [u8], counts: &mut Counts);
 }
 
@@ -141,8 +146,28 @@ pub(crate) fn drive<T: TileTracer>(
     tracer: &T,
 ) -> Option<RenderStats> {
     let (w, h, n) = (settings.width, settings.height, settings.spp);
-    let row_bytes = w as usize * 4;
-    let (hits, shadow_rays) = rgba
+    let (hits, shadow_rays) = drive_rows(w, 0, rgba, cancelled, tracer)?;
+    Some(RenderStats {
+        primary_rays: w as u64 * h as u64 * (n * n) as u64,
+        shadow_rays,
+        hits,
+        elapsed: started.elapsed(),
+    })
+}
+
+/// Traces the image rows from `first_row` on that `rows` holds (whole rows of `width`
+/// pixels, [`TileTracer::PIXEL_BYTES`] each) with `tracer`, bands of [`BAND`] rows in
+/// parallel, and returns what it counted; `None` (the rows partly written) when
+/// `cancelled()` turns true: asked before each band and once at the end.
+pub(crate) fn drive_rows<T: TileTracer>(
+    width: u32,
+    first_row: u32,
+    rows: &mut [u8],
+    cancelled: &(dyn Fn() -> bool + Sync),
+    tracer: &T,
+) -> Option<Counts> {
+    let row_bytes = width as usize * T::PIXEL_BYTES;
+    let counts = rows
         .par_chunks_mut(row_bytes * BAND as usize)
         .enumerate()
         .map(|(band, rows)| {
@@ -151,11 +176,11 @@ pub(crate) fn drive<T: TileTracer>(
                 return counts;
             }
             let mut scratch = T::Scratch::default();
-            for x0 in (0..w).step_by(TILE as usize) {
+            for x0 in (0..width).step_by(TILE as usize) {
                 let tile = Tile {
                     x0,
-                    y0: band as u32 * BAND,
-                    w: TILE.min(w - x0),
+                    y0: first_row + band as u32 * BAND,
+                    w: TILE.min(width - x0),
                     h: (rows.len() / row_bytes) as u32,
                 };
                 tracer.trace(&tile, &mut scratch, rows, &mut counts);
@@ -163,13 +188,5 @@ pub(crate) fn drive<T: TileTracer>(
             counts
         })
         .reduce(Counts::default, |a, b| (a.0 + b.0, a.1 + b.1));
-    if cancelled() {
-        return None;
-    }
-    Some(RenderStats {
-        primary_rays: w as u64 * h as u64 * (n * n) as u64,
-        shadow_rays,
-        hits,
-        elapsed: started.elapsed(),
-    })
+    (!cancelled()).then_some(counts)
 }

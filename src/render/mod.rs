@@ -1,8 +1,8 @@
 //! Rendering: one driver ([`driver`]: bands of [`BAND`] rows in parallel, tiles of [`TILE`]
 //! pixels, n×n stratified samples a pixel, linear colour averaged and sRGB-encoded once into
 //! RGBA8 by [`image`], cancelling, statistics) with a tracer behind it: raylab's own
-//! ([`frame`]: the accelerator's queries, packets or per ray, shaded by [`shade`]) or linked
-//! lab code's ([`crate::check::code`]).
+//! ([`frame`]: the accelerator's queries, packets or per ray, shaded by [`shade`]), linked
+//! lab code's ([`crate::check::code`]) or the AOV arrays' centre rays ([`aov`]).
 
 pub mod aov;
 pub(crate) mod driver;
