@@ -19,6 +19,7 @@ mod lab_code;
 mod packet;
 mod pinned_images;
 mod render;
+mod render_paths;
 mod rounded_t;
 mod scene;
 mod scene_bounds;
