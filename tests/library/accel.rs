@@ -152,7 +152,7 @@ fn close_hit_found_by_proptest() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(crate::cases(64))]
     #[test]
     fn random_scenes_give_identical_nearest_hits(seed in any::<u64>(), n in 1usize..300, spheres in 0usize..4) {
         let mut rng = Rng(seed);
@@ -480,7 +480,7 @@ fn packet_layouts(shapes: &[Shape<f32>]) -> Vec<(String, Accel)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
+    #![proptest_config(crate::cases(32))]
     #[test]
     fn every_layout_answers_packets_as_the_reference_does(seed in any::<u64>(), n in 8usize..200) {
         packets_answer_as_the_reference_does(seed, n)?;

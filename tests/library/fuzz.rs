@@ -107,7 +107,7 @@ fn assert_safe_scene(scene: &raylab::Scene) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(crate::cases(2000))]
 
     #[test]
     fn obj_text_never_panics(lines in prop::collection::vec(obj_line(), 0..40), mtl in mtl_text()) {

@@ -110,7 +110,7 @@ fn random_case(rng: &mut Rng) -> Case {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(crate::cases(256))]
     #[test]
     fn decided_lanes_name_the_exact_nearest_primitive(seed in any::<u64>()) {
         let (shapes, o, dirs, _) = random_case(&mut Rng(seed));
@@ -260,7 +260,7 @@ fn hostile_packets_are_left_to_the_per_ray_search() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(crate::cases(48))]
     #[test]
     fn bvh_from_the_camera_origin_names_the_same_primitive(seed in any::<u64>()) {
         // A closed mesh and random triangles (a BVH: at least 64), rays from one origin:
@@ -448,7 +448,7 @@ fn bvh_scene(rng: &mut Rng) -> Vec<Shape<f32>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(crate::cases(48))]
     #[test]
     fn bvh_packets_name_the_same_primitive(seed in any::<u64>()) {
         // Packets through the BVH, coherent (a fan of nearby rays) or scattered (each lane at
@@ -498,7 +498,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(crate::cases(48))]
     #[test]
     fn bvh_shadow_packets_agree_with_the_per_ray_query(seed in any::<u64>()) {
         // Shadow segments 8 at a time from a light through the BVH (the triangles prepared for
