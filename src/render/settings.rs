@@ -237,7 +237,7 @@ pub const CONTROLS: [Control; 4] = [
         name: "step",
         label: "lab step",
         help: "Lab step (shading).",
-        heading: Some("Lab step (2: move the camera)"),
+        heading: Some("Lab step (2 is the camera, below)"),
         kind: Kind::Choice {
             options: || {
                 LabStep::ALL
