@@ -36,6 +36,8 @@ mod transform;
 /// (a longer run: `PROPTEST_CASES=400000 cargo test --test library fuzz::`). Proptest reads
 /// that variable only for a test that sets no count of its own.
 pub fn cases(default: u32) -> proptest::test_runner::Config {
-    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|n| n.parse().ok());
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok());
     proptest::test_runner::Config::with_cases(cases.unwrap_or(default))
 }
