@@ -13,6 +13,7 @@ use crate::geometry::{Method, Ray};
 use crate::input::{InputError, OutputFile};
 use crate::scene::Scene;
 use std::io::Write;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// The primitive index of a pixel whose centre ray hits nothing.
@@ -46,8 +47,8 @@ pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
 /// into `outs` (from [`create_beside`]: `.prim`, `.t`, `.normal`) band by band without
 /// committing them: about 32 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
 /// the image's size. The render driver traces each band; `cancelled` is asked before and
-/// after each of its bands: `Ok(false)` once it says yes
-/// (the outputs are then incomplete: drop them), `Ok(true)` when every band is written.
+/// after each of its bands: `Ok(false)` once it says yes (the outputs are then incomplete:
+/// drop them), `Ok(true)` when every band is written.
 pub fn write_aovs(
     stage: &Stage,
     camera: &Camera,
@@ -102,10 +103,12 @@ fn write_bands(
         if drive_rows(w, y0, &mut band, cancelled, &tracer).is_none() {
             return Ok(false);
         }
-        for (k, (out, bytes_at)) in [(&mut *prim, 0..4), (&mut *t, 4..8), (&mut *normal, 8..20)]
-            .into_iter()
-            .enumerate()
-        {
+        let files = [
+            (&mut *prim, PRIM_BYTES),
+            (&mut *t, T_BYTES),
+            (&mut *normal, NORMAL_BYTES),
+        ];
+        for (k, (out, bytes_at)) in files.into_iter().enumerate() {
             bytes.clear();
             for pixel in band.chunks_exact(PIXEL_BYTES) {
                 bytes.extend_from_slice(&pixel[bytes_at.clone()]);
@@ -116,9 +119,13 @@ fn write_bands(
     Ok(true)
 }
 
-/// Bytes of one pixel's values as [`CentreRays`] writes them: the primitive (u32), t (f32)
-/// and the normal (3 × f32), little-endian.
-const PIXEL_BYTES: usize = 20;
+/// Where [`CentreRays`] writes a pixel's values in its bytes, little-endian: the primitive
+/// (u32), t (f32) and the normal (3 × f32).
+const PRIM_BYTES: Range<usize> = 0..4;
+const T_BYTES: Range<usize> = 4..8;
+const NORMAL_BYTES: Range<usize> = 8..20;
+/// Bytes of one pixel's values.
+const PIXEL_BYTES: usize = NORMAL_BYTES.end;
 
 /// The render driver's tracer of the AOVs: each pixel's centre ray, by the per-ray query.
 struct CentreRays<'a> {
@@ -148,9 +155,9 @@ impl TileTracer for CentreRays<'_> {
                         None => (NO_PRIMITIVE, f32::NAN, [0.0; 3]),
                     };
                 let px = &mut row[i as usize * PIXEL_BYTES..][..PIXEL_BYTES];
-                px[0..4].copy_from_slice(&prim.to_le_bytes());
-                px[4..8].copy_from_slice(&t.to_le_bytes());
-                for (c, out) in normal.iter().zip(px[8..].chunks_exact_mut(4)) {
+                px[PRIM_BYTES].copy_from_slice(&prim.to_le_bytes());
+                px[T_BYTES].copy_from_slice(&t.to_le_bytes());
+                for (c, out) in normal.iter().zip(px[NORMAL_BYTES].chunks_exact_mut(4)) {
                     out.copy_from_slice(&c.to_le_bytes());
                 }
             }
