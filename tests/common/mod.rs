@@ -11,6 +11,18 @@ use raylab::math::Real;
 
 pub use raylab::check::meshes::{cube, icosphere, vertices_and_edge_midpoints, Rng};
 
+/// The Cornell box with `shapes` added in blue (0.2, 0.5, 0.9), over the structure `choice`.
+pub fn cornell_with_blue(
+    shapes: Vec<Shape<f32>>,
+    choice: raylab::accel::AccelChoice,
+) -> raylab::render::Stage {
+    let n = shapes.len();
+    let mut scene = raylab::Scene::cornell();
+    scene.shapes.extend(shapes);
+    (scene.colors_mut()).extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
+    raylab::render::Stage::new(scene, choice)
+}
+
 /// Decodes an RGBA8 PNG: (width, height, pixels).
 pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
     let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));

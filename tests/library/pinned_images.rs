@@ -23,16 +23,6 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
     h
 }
 
-fn with_mesh(mesh: Vec<Shape<f32>>, choice: AccelChoice) -> Stage {
-    let n = mesh.len();
-    let mut scene = Scene::cornell();
-    scene.shapes.extend(mesh);
-    scene
-        .colors_mut()
-        .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    Stage::new(scene, choice)
-}
-
 /// (name, scene, image width, height).
 fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
     let bvh_cornell = Stage::new(Scene::cornell(), AccelChoice::Bvh);
@@ -54,7 +44,7 @@ fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
         // 1310 triangles: BVH, culled per tile.
         (
             "ico3",
-            with_mesh(
+            common::cornell_with_blue(
                 common::icosphere(3, 0.4, [0.2, 0.5, 0.1]),
                 AccelChoice::Auto,
             ),
@@ -65,7 +55,7 @@ fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
         // frame (spp 2).
         (
             "ico4",
-            with_mesh(
+            common::cornell_with_blue(
                 common::icosphere(4, 0.5, [0.1, 0.3, 0.2]),
                 AccelChoice::Auto,
             ),
@@ -73,7 +63,12 @@ fn scenes() -> Vec<(&'static str, Stage, u32, u32)> {
             48,
         ),
         // Spheres beside triangles: per-ray paths.
-        ("spheres", with_mesh(spheres, AccelChoice::Auto), 64, 48),
+        (
+            "spheres",
+            common::cornell_with_blue(spheres, AccelChoice::Auto),
+            64,
+            48,
+        ),
     ]
 }
 

@@ -17,14 +17,7 @@ fn cornell_with_ball(
     centre: [f32; 3],
     choice: raylab::accel::AccelChoice,
 ) -> Stage {
-    let mesh = common::icosphere(levels, r, centre);
-    let n = mesh.len();
-    let mut scene = Scene::cornell();
-    scene.shapes.extend(mesh);
-    scene
-        .colors_mut()
-        .extend(std::iter::repeat_n([0.2, 0.5, 0.9], n));
-    Stage::new(scene, choice)
+    common::cornell_with_blue(common::icosphere(levels, r, centre), choice)
 }
 
 #[test]
