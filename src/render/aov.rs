@@ -46,9 +46,9 @@ pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
 /// The AOVs of the stage's scene through `camera` at the settings' size and method, written
 /// into `outs` (from [`create_beside`]: `.prim`, `.t`, `.normal`) band by band without
 /// committing them: about 32 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
-/// the image's size. The render driver traces each band; `cancelled` is asked before and
-/// after each of its bands: `Ok(false)` once it says yes (the outputs are then incomplete:
-/// drop them), `Ok(true)` when every band is written.
+/// the image's size. The render driver traces each band, a row to a thread at a time;
+/// `cancelled` is asked before each row and after each band: `Ok(false)` once it says yes
+/// (the outputs are then incomplete: drop them), `Ok(true)` when every band is written.
 pub fn write_aovs(
     stage: &Stage,
     camera: &Camera,
@@ -138,6 +138,9 @@ struct CentreRays<'a> {
 impl TileTracer for CentreRays<'_> {
     type Scratch = ();
     const PIXEL_BYTES: usize = PIXEL_BYTES;
+    /// A row at a time: a pass's band of [`BAND_PIXELS`] is only 64 rows of a 16384-pixel
+    /// image, which bands of 16 rows would give to 4 threads only.
+    const BAND_ROWS: u32 = 1;
 
     fn trace(&self, tile: &Tile, _: &mut (), rows: &mut [u8], counts: &mut Counts) {
         let (scene, accel) = (self.stage.scene(), self.stage.accel());
@@ -271,7 +274,7 @@ pub(crate) mod tests {
         }
     }
 
-    fn a_cancelled_pass_stops_at_the_next_band() {
+    fn a_cancelled_pass_stops_at_the_next_row() {
         let stage = Stage::new(Scene::cornell(), AccelChoice::Bvh);
         let settings = RenderSettings {
             width: 8,
@@ -280,14 +283,15 @@ pub(crate) mod tests {
         };
         let camera = Camera::cornell(settings.width);
         let asked = std::sync::atomic::AtomicU32::new(0);
-        // Yes from the third question on: the driver asks before the first band (of 3
-        // rows) and after it, which is written; then before the second, and once more.
-        let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 2;
+        // Yes from the fifth question on: the driver asks before each row of the first band
+        // (of 3 rows, each a unit of work of its own) and after it, which is written; then
+        // before each row of the second, which it skips, and once more after it.
+        let cancel = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 4;
         let [mut a, mut b, mut c] = [Vec::new(), Vec::new(), Vec::new()];
         let outs: [&mut dyn Write; 3] = [&mut a, &mut b, &mut c];
         let done = write_bands(&stage, &camera, &settings, outs, 3 * 8, &cancel).unwrap();
         assert!(!done);
-        assert_eq!(asked.into_inner(), 4);
+        assert_eq!(asked.into_inner(), 8);
         let header = npy_header("<u4", &[10, 8]).len();
         assert_eq!(a.len(), header + 4 * 3 * 8);
     }
@@ -299,8 +303,8 @@ pub(crate) mod tests {
             bands_of_any_height_write_the_whole_images_bytes,
         ),
         (
-            "a_cancelled_pass_stops_at_the_next_band",
-            a_cancelled_pass_stops_at_the_next_band,
+            "a_cancelled_pass_stops_at_the_next_row",
+            a_cancelled_pass_stops_at_the_next_row,
         ),
     ];
 }

@@ -1,8 +1,9 @@
 //! The one render driver: every image raylab draws (its own frames through the accelerator,
 //! and linked lab code's, [`crate::check::code`]) goes through [`drive`], and the AOV arrays'
-//! centre rays ([`super::aov`]) through [`drive_rows`], which it is made of. Bands of [`BAND`]
-//! rows run in parallel (rayon); each band walks its tiles of [`TILE`] pixels and hands each
-//! to the frame's [`TileTracer`]; a render is cancelled before a band starts. Every image's
+//! centre rays ([`super::aov`]) through [`drive_rows`], which it is made of. Bands of rows
+//! ([`BAND`] for images, one for the arrays' single rays) run in parallel (rayon); each band
+//! walks its tiles of [`TILE`] pixels and hands each to the frame's [`TileTracer`]; a render
+//! is cancelled before a band starts. Every image's
 //! tracer samples and encodes pixels through [`Samples`]: n×n stratified samples a pixel,
 //! linear colour summed, averaged and sRGB-encoded once into RGBA8. What differs between
 //! tracers is only how a sample's colour (or a pixel's values) is found.
@@ -32,6 +33,11 @@ pub(crate) trait TileTracer: Sync {
 
     /// Bytes a pixel takes: an image's RGBA8, or the values the tracer writes per pixel.
     const PIXEL_BYTES: usize = 4;
+
+    /// Rows a band holds, the unit of work the threads share: [`BAND`] for the images'
+    /// packets of rays (which span that many rows); a tracer of one ray at a time may take a
+    /// row, so that even a few rows of a wide image keep every thread busy.
+    const BAND_ROWS: u32 = BAND;
 
     /// Writes the pixels of `tile` into `rows` (the band of rows it lies in, starting at row
     /// `tile.y0`, width × [`TileTracer::PIXEL_BYTES`] apart) and adds what it traced to
@@ -156,8 +162,8 @@ pub(crate) fn drive<T: TileTracer>(
 }
 
 /// Traces the image rows from `first_row` on that `rows` holds (whole rows of `width`
-/// pixels, [`TileTracer::PIXEL_BYTES`] each) with `tracer`, bands of [`BAND`] rows in
-/// parallel, and returns what it counted; `None` (the rows partly written) when
+/// pixels, [`TileTracer::PIXEL_BYTES`] each) with `tracer`, bands of
+/// [`TileTracer::BAND_ROWS`] rows in parallel, and returns what it counted; `None` (the rows partly written) when
 /// `cancelled()` turns true: asked before each band and once at the end.
 pub(crate) fn drive_rows<T: TileTracer>(
     width: u32,
@@ -168,7 +174,7 @@ pub(crate) fn drive_rows<T: TileTracer>(
 ) -> Option<Counts> {
     let row_bytes = width as usize * T::PIXEL_BYTES;
     let counts = rows
-        .par_chunks_mut(row_bytes * BAND as usize)
+        .par_chunks_mut(row_bytes * T::BAND_ROWS as usize)
         .enumerate()
         .map(|(band, rows)| {
             let mut counts = Counts::default();
@@ -179,7 +185,7 @@ pub(crate) fn drive_rows<T: TileTracer>(
             for x0 in (0..width).step_by(TILE as usize) {
                 let tile = Tile {
                     x0,
-                    y0: first_row + band as u32 * BAND,
+                    y0: first_row + band as u32 * T::BAND_ROWS,
                     w: TILE.min(width - x0),
                     h: (rows.len() / row_bytes) as u32,
                 };
