@@ -53,8 +53,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! No unsafe code, except the calls into the packet kernels' AVX2 and AVX-512 builds, each
-//! made only after checking the CPU at run time (`math::simd::level`).
+//! Unsafe code only where the hardware or shared buffers need it, each with its reason: the
+//! calls into the packet kernels' AVX2 and AVX-512 builds, made only after checking the CPU at
+//! run time (`math::simd::level`), and their intrinsics; a prefetch in the packet walk; and
+//! the frame's leaf cache, whose blocks one thread fills and every thread then reads.
 #![deny(unsafe_code)]
 
 pub mod accel;

@@ -83,7 +83,7 @@ impl std::str::FromStr for SimdLevel {
 /// Calls `body(args)` (an `#[inline(always)]` kernel) through its copy compiled for one
 /// build: AVX-512, AVX2+FMA, or the baseline. Each copy is one function
 /// (`#[inline(never)]`). With [`crate::math::lanes`] (whose AVX types may exist only behind
-/// this choice), the one place the crate uses unsafe code.
+/// this choice), where most of the crate's unsafe code is.
 ///
 /// Which build: the CPU's [`level`], checked at run time (the macro's plain form, a query's
 /// per-call entry point); after `chosen c,`, the build the [`Chosen`] `c` names (a tile
