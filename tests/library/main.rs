@@ -14,6 +14,7 @@ mod fuzz;
 mod hard_cases;
 mod instances;
 mod instances_at_any_scale;
+mod instances_stored;
 mod intersection;
 mod lab_code;
 mod packet;
