@@ -188,17 +188,13 @@ pop
     let flat_scene = Stage::from(Scene::from_description(&name, flat).unwrap());
     let stage = Stage::from(scene);
     let cam = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 50.0).unwrap();
-    for step in [LabStep::Flat, LabStep::Shadows] {
-        let settings = RenderSettings {
-            width: 96,
-            height: 64,
-            step,
-            ..Default::default()
-        };
-        let a = render_image(&stage, &cam, &settings).unwrap().0;
-        let b = render_image(&flat_scene, &cam, &settings).unwrap().0;
-        assert!(a == b, "{step}: images differ");
-    }
+    assert_same_images(
+        &stage,
+        &flat_scene,
+        &cam,
+        (96, 64),
+        &[LabStep::Flat, LabStep::Shadows],
+    );
 }
 
 #[test]
@@ -325,15 +321,21 @@ pop
     let (w, h) = (96, 72);
     let cam = raylab::controller::CameraController::framing(bounds, w, h).camera(w);
     let (scene, flat) = (Stage::from(scene), Stage::from(flat));
-    for step in [LabStep::Flat, LabStep::Shadows, LabStep::Indirect] {
+    let steps = [LabStep::Flat, LabStep::Shadows, LabStep::Indirect];
+    assert_same_images(&scene, &flat, &cam, (w, h), &steps);
+}
+
+/// Asserts that stages `a` and `b` render the same image through `cam` at each of `steps`.
+fn assert_same_images(a: &Stage, b: &Stage, cam: &Camera, (w, h): (u32, u32), steps: &[LabStep]) {
+    for &step in steps {
         let settings = RenderSettings {
             width: w,
             height: h,
             step,
             ..Default::default()
         };
-        let a = render_image(&scene, &cam, &settings).unwrap().0;
-        let b = render_image(&flat, &cam, &settings).unwrap().0;
-        assert!(a == b, "{step}: images differ");
+        let x = render_image(a, cam, &settings).unwrap().0;
+        let y = render_image(b, cam, &settings).unwrap().0;
+        assert!(x == y, "{step}: images differ");
     }
 }
