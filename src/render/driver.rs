@@ -3,10 +3,10 @@
 //! centre rays ([`super::aov`]) through [`drive_rows`], which it is made of. Bands of rows
 //! ([`BAND`] for images, one for the arrays' single rays) run in parallel (rayon); each band
 //! walks its tiles of [`TILE`] pixels and hands each to the frame's [`TileTracer`]; a render
-//! is cancelled before a band starts. Every image's
-//! tracer samples and encodes pixels through [`Samples`]: n×n stratified samples a pixel,
-//! linear colour summed, averaged and sRGB-encoded once into RGBA8. What differs between
-//! tracers is only how a sample's colour (or a pixel's values) is found.
+//! is cancelled before a band starts. Every image's tracer samples and encodes pixels through
+//! [`Samples`]: n×n stratified samples a pixel, linear colour summed, averaged and
+//! sRGB-encoded once into RGBA8. What differs between tracers is only how a sample's colour
+//! (or a pixel's values) is found.
 
 use super::image::SrgbTables;
 use super::settings::{RenderSettings, SettingsError};
