@@ -33,10 +33,10 @@ use crate::geometry::adaptive::{round_down, round_up, widen, Estimate, Search};
 use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
-use crate::math::lanes::Lanes;
-use crate::math::simd::{avx512_avx2_or_baseline, each3, Isa};
+use crate::math::lanes::{Lanes, Lanes64};
+use crate::math::simd::{avx512_avx2_or_baseline, Isa};
 use rayon::prelude::*;
-use wide::{f32x8, f64x4};
+use wide::f32x8;
 
 /// 2⁻¹⁸: the per-ray pad's relative size (see the module docs).
 const PAD: f32 = 1.0 / (1u32 << 18) as f32;
@@ -260,24 +260,26 @@ pub(crate) struct SphereLanes {
 /// Lanes 4·`half` to 4·`half` + 3 of the directions `d` (per axis), in f64, prepared for
 /// every sphere the packet meets.
 #[inline(always)]
-fn half_in_f64(d: &[[f32; 8]; 3], half: usize) -> DirectionsX4 {
-    DirectionsX4::new(each3(|k| {
-        f64x4::new(std::array::from_fn(|l| f64::from(d[k][4 * half + l])))
-    }))
+fn half_in_f64<F: Lanes64>(d: &[[f32; 8]; 3], half: usize) -> DirectionsX4<F> {
+    // (No closure around the lanes: see `math::interval::idot_x4`.)
+    let axis = |k: usize| -> [f64; 4] { std::array::from_fn(|l| f64::from(d[k][4 * half + l])) };
+    let (x, y, z) = (axis(0), axis(1), axis(2));
+    DirectionsX4::new([F::from_array(x), F::from_array(y), F::from_array(z)])
 }
 
-/// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane.
-struct Nearest {
-    d: [DirectionsX4; 2],
-    lo: [f64x4; 2],
-    hi: [f64x4; 2],
+/// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane,
+/// in the f64 lanes `F` of the walk's build.
+struct Nearest<F> {
+    d: [DirectionsX4<F>; 2],
+    lo: [F; 2],
+    hi: [F; 2],
     prims: [u32; 8],
     /// Lanes asked and not yet undecided.
     live: u32,
     undecided: u32,
 }
 
-impl<V: Lanes> PacketLimits<V> for Nearest {
+impl<V: Lanes> PacketLimits<V> for Nearest<V::F64> {
     #[inline(always)]
     fn live(&self) -> u32 {
         self.live & !self.undecided
@@ -293,19 +295,19 @@ impl<V: Lanes> PacketLimits<V> for Nearest {
                 reach[4 * half + l] = r + r.abs() * (1.0 / 65536.0);
             }
         }
-        V::from_wide(f32x8::from(reach))
+        V::from_array(reach)
     }
 }
 
 /// A shadow packet's state in the spheres' walk.
-struct Blocking<'a> {
-    d: [DirectionsX4; 2],
+struct Blocking<'a, F> {
+    d: [DirectionsX4<F>; 2],
     segments: &'a super::ShadowSegments,
     blocked: u32,
     unsure: u32,
 }
 
-impl<V: Lanes> PacketLimits<V> for Blocking<'_> {
+impl<V: Lanes> PacketLimits<V> for Blocking<'_, V::F64> {
     #[inline(always)]
     fn live(&self) -> u32 {
         self.segments.live & !self.blocked
@@ -319,17 +321,17 @@ impl<V: Lanes> PacketLimits<V> for Blocking<'_> {
 /// The hierarchy's leaves as the packets test them: spheres seen from the packet's origin,
 /// each after its box (a leaf's box holds four; a lane that enters it meets about one of
 /// theirs).
-struct SeenLeaves<'a> {
+struct SeenLeaves<'a, V> {
     spheres: &'a Spheres,
     seen: &'a SpheresSeen,
-    slabs: &'a PacketSlabs<f32x8>,
+    slabs: &'a PacketSlabs<V>,
 }
 
-impl SeenLeaves<'_> {
+impl<V: Lanes> SeenLeaves<'_, V> {
     /// The lanes of `lanes` that enter sphere `j`'s box before `limit` (all of them where
     /// the slab test cannot be trusted).
     #[inline(always)]
-    fn entering(&self, j: usize, limit: f32x8, lanes: u32) -> u32 {
+    fn entering(&self, j: usize, limit: V, lanes: u32) -> u32 {
         match self.slabs.trusted {
             true => self.slabs.enter(&self.spheres.boxes[j], limit, lanes).0,
             false => lanes,
@@ -337,11 +339,11 @@ impl SeenLeaves<'_> {
     }
 }
 
-impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
+impl<V: Lanes> Leaves<V, Nearest<V::F64>> for SeenLeaves<'_, V> {
     #[inline(always)]
-    fn visit(&mut self, s: &mut Nearest, first: usize, count: usize, lanes: u32) {
+    fn visit(&mut self, s: &mut Nearest<V::F64>, first: usize, count: usize, lanes: u32) {
         // (The limit as the leaf is entered: it only shrinks as spheres are taken.)
-        let limit = PacketLimits::<f32x8>::limit(s);
+        let limit = PacketLimits::<V>::limit(s);
         for j in first..first + count {
             let prim = self.spheres.shapes[j].1;
             let lanes = self.entering(j, limit, lanes & s.live & !s.undecided);
@@ -372,10 +374,10 @@ impl Leaves<f32x8, Nearest> for SeenLeaves<'_> {
     }
 }
 
-impl<'a> Leaves<f32x8, Blocking<'a>> for SeenLeaves<'_> {
+impl<'a, V: Lanes> Leaves<V, Blocking<'a, V::F64>> for SeenLeaves<'_, V> {
     #[inline(always)]
-    fn visit(&mut self, s: &mut Blocking<'a>, first: usize, count: usize, lanes: u32) {
-        let limit = PacketLimits::<f32x8>::limit(s);
+    fn visit(&mut self, s: &mut Blocking<'a, V::F64>, first: usize, count: usize, lanes: u32) {
+        let limit = PacketLimits::<V>::limit(s);
         for j in first..first + count {
             let prim = self.spheres.shapes[j].1;
             let lanes = self.entering(j, limit, lanes & s.segments.live & !s.blocked);
@@ -413,7 +415,7 @@ impl Spheres {
         live: u32,
     ) -> SphereSeed {
         let spheres = self;
-        avx512_avx2_or_baseline!(token isa, seed_body => (
+        avx512_avx2_or_baseline!(token isa, lanes seed_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             d: &[f32x8; 3],
@@ -432,7 +434,7 @@ impl Spheres {
         s: &super::ShadowSegments,
     ) -> SphereLanes {
         let spheres = self;
-        avx512_avx2_or_baseline!(token isa, any_packet_body => (
+        avx512_avx2_or_baseline!(token isa, lanes any_packet_body => (
             spheres: &Spheres,
             seen: &SpheresSeen,
             s: &super::ShadowSegments
@@ -441,9 +443,14 @@ impl Spheres {
 }
 
 #[inline(always)]
-fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -> SphereSeed {
+fn seed_body<V: Lanes>(
+    spheres: &Spheres,
+    seen: &SpheresSeen,
+    d: &[f32x8; 3],
+    live: u32,
+) -> SphereSeed {
     let lanes = d.map(|c| c.to_array());
-    let inf = f64x4::splat(f64::INFINITY);
+    let inf = V::F64::splat(f64::INFINITY);
     let mut state = Nearest {
         d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],
         lo: [inf; 2],
@@ -456,7 +463,7 @@ fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -
         // (Not finite: the per-ray queries decide.)
         state.undecided = state.live;
     }
-    let slabs = PacketSlabs::<f32x8>::new(seen.o, d, spheres.tree.boxes_tame());
+    let slabs = PacketSlabs::<V>::new(seen.o, d, spheres.tree.boxes_tame());
     let mut leaves = SeenLeaves {
         spheres,
         seen,
@@ -482,7 +489,7 @@ fn seed_body(spheres: &Spheres, seen: &SpheresSeen, d: &[f32x8; 3], live: u32) -
 }
 
 #[inline(always)]
-fn any_packet_body(
+fn any_packet_body<V: Lanes>(
     spheres: &Spheres,
     seen: &SpheresSeen,
     s: &super::ShadowSegments,
@@ -497,7 +504,7 @@ fn any_packet_body(
     if !spheres.loose.is_empty() {
         state.unsure = s.live;
     }
-    let slabs = PacketSlabs::<f32x8>::new(seen.o, &s.d, spheres.tree.boxes_tame());
+    let slabs = PacketSlabs::<V>::new(seen.o, &s.d, spheres.tree.boxes_tame());
     let mut leaves = SeenLeaves {
         spheres,
         seen,

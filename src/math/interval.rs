@@ -5,9 +5,9 @@
 //! hand-derived error bound is needed, which is why the adaptive method uses it for every case
 //! the f32 filter cannot decide. f32 and f64 inputs are exact as degenerate intervals.
 
+use crate::math::lanes::{f64x4, Lanes64};
 use std::cmp::Ordering;
 use std::ops::{Add, Mul, Neg, Sub};
-use wide::f64x4;
 
 /// A closed interval [lo, hi] holding an unknown real.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,25 +201,26 @@ pub fn icross(a: IV3, b: IV3) -> IV3 {
     ]
 }
 
-/// Four intervals side by side (f64x4 lanes), for the packets' lanes: the operations of
-/// [`Interval`] for finite ends, each end widened outward by |x|·2⁻⁵² + 2⁻¹⁰⁷⁴ instead of
-/// one ulp (at least one ulp, so at least as wide: two vector operations where `next_down`
-/// and `next_up` are a dozen). Ends that over- or underflow are not looked after: callers
-/// keep the magnitudes where neither can happen (f32 inputs) and treat non-finite ends as
-/// undecided.
+/// Four intervals side by side (f64 lanes of the kernel's build: `wide`'s f64x4 in the
+/// baseline, one AVX register in the AVX builds; [`Lanes64`], the same bits in both), for the
+/// packets' lanes: the operations of [`Interval`] for finite ends, each end widened outward by
+/// |x|·2⁻⁵² + 2⁻¹⁰⁷⁴ instead of one ulp (at least one ulp, so at least as wide: two vector
+/// operations where `next_down` and `next_up` are a dozen). Ends that over- or underflow are
+/// not looked after: callers keep the magnitudes where neither can happen (f32 inputs) and
+/// treat non-finite ends as undecided.
 #[derive(Clone, Copy, Debug)]
-pub struct IntervalX4 {
-    pub lo: f64x4,
-    pub hi: f64x4,
+pub struct IntervalX4<F = f64x4> {
+    pub lo: F,
+    pub hi: F,
 }
 
 /// The least subnormal f64, 2⁻¹⁰⁷⁴.
 const TINY: f64 = f64::MIN_POSITIVE * f64::EPSILON;
 
-impl IntervalX4 {
+impl<F: Lanes64> IntervalX4<F> {
     /// The exact values x.
     #[inline(always)]
-    pub fn point(x: f64x4) -> Self {
+    pub fn point(x: F) -> Self {
         Self { lo: x, hi: x }
     }
 
@@ -227,16 +228,16 @@ impl IntervalX4 {
     #[inline(always)]
     pub fn splat(x: Interval) -> Self {
         Self {
-            lo: f64x4::splat(x.lo),
-            hi: f64x4::splat(x.hi),
+            lo: F::splat(x.lo),
+            hi: F::splat(x.hi),
         }
     }
 
     /// [lo, hi] from rounded-to-nearest ends, widened outward: the exact x − δ with
     /// δ ≥ ulp(x) is at most `next_down(x)`, and rounding keeps it there (monotone).
     #[inline(always)]
-    fn widened(lo: f64x4, hi: f64x4) -> Self {
-        let (eps, tiny) = (f64x4::splat(f64::EPSILON), f64x4::splat(TINY));
+    fn widened(lo: F, hi: F) -> Self {
+        let (eps, tiny) = (F::splat(f64::EPSILON), F::splat(TINY));
         Self {
             lo: lo - (lo.abs() * eps + tiny),
             hi: hi + (hi.abs() * eps + tiny),
@@ -245,21 +246,22 @@ impl IntervalX4 {
 
     /// The lanes where lo and hi are both finite.
     #[inline(always)]
-    pub fn finite(self) -> f64x4 {
+    pub fn finite(self) -> F {
         self.lo.is_finite() & self.hi.is_finite()
     }
 
     /// x², never below 0 (as [`Interval::square`]).
     #[inline(always)]
     pub fn square(self) -> Self {
+        let zero = F::splat(0.0);
         let (l2, h2) = (self.lo * self.lo, self.hi * self.hi);
-        let pos = self.lo.simd_ge(f64x4::ZERO);
-        let neg = self.hi.simd_le(f64x4::ZERO);
-        let lo = pos.bitselect(l2, neg.bitselect(h2, f64x4::ZERO));
+        let pos = self.lo.simd_ge(zero);
+        let neg = self.hi.simd_le(zero);
+        let lo = pos.bitselect(l2, neg.bitselect(h2, zero));
         let hi = l2.fast_max(h2);
         let w = Self::widened(lo, hi);
         Self {
-            lo: w.lo.fast_max(f64x4::ZERO),
+            lo: w.lo.fast_max(zero),
             hi: w.hi,
         }
     }
@@ -293,14 +295,14 @@ impl IntervalX4 {
     /// The widened interval from the least to the greatest of four rounded end products or
     /// quotients (no NaN among them: finite ends).
     #[inline(always)]
-    fn hull(q: [f64x4; 4]) -> Self {
+    fn hull(q: [F; 4]) -> Self {
         let lo = q[0].fast_min(q[1]).fast_min(q[2].fast_min(q[3]));
         let hi = q[0].fast_max(q[1]).fast_max(q[2].fast_max(q[3]));
         Self::widened(lo, hi)
     }
 }
 
-impl Add for IntervalX4 {
+impl<F: Lanes64> Add for IntervalX4<F> {
     type Output = Self;
     #[inline(always)]
     fn add(self, r: Self) -> Self {
@@ -308,7 +310,7 @@ impl Add for IntervalX4 {
     }
 }
 
-impl Sub for IntervalX4 {
+impl<F: Lanes64> Sub for IntervalX4<F> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, r: Self) -> Self {
@@ -316,7 +318,7 @@ impl Sub for IntervalX4 {
     }
 }
 
-impl Neg for IntervalX4 {
+impl<F: Lanes64> Neg for IntervalX4<F> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -327,7 +329,7 @@ impl Neg for IntervalX4 {
     }
 }
 
-impl Mul for IntervalX4 {
+impl<F: Lanes64> Mul for IntervalX4<F> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, r: Self) -> Self {
@@ -341,13 +343,19 @@ impl Mul for IntervalX4 {
 }
 
 /// a · b for intervals `a` and exact lanes `b`.
+///
+/// (No closures here or in the sphere's lane test: a closure is compiled without the AVX
+/// build's features, so the AVX lanes' operations in it stay calls.)
 #[inline(always)]
-pub fn idot_x4(a: &[IntervalX4; 3], b: &[f64x4; 3]) -> IntervalX4 {
-    let p = |k: usize| {
-        let (x, y) = (a[k].lo * b[k], a[k].hi * b[k]);
-        IntervalX4::widened(x.fast_min(y), x.fast_max(y))
-    };
-    p(0) + p(1) + p(2)
+pub fn idot_x4<F: Lanes64>(a: &[IntervalX4<F>; 3], b: &[F; 3]) -> IntervalX4<F> {
+    times_exact(a[0], b[0]) + times_exact(a[1], b[1]) + times_exact(a[2], b[2])
+}
+
+/// a · b for intervals `a` and exact lanes `b`.
+#[inline(always)]
+fn times_exact<F: Lanes64>(a: IntervalX4<F>, b: F) -> IntervalX4<F> {
+    let (x, y) = (a.lo * b, a.hi * b);
+    IntervalX4::widened(x.fast_min(y), x.fast_max(y))
 }
 
 #[cfg(feature = "unit-tests")]

@@ -19,13 +19,13 @@ use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, two_sum, ExactT, Q
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{Method, Ray, SurfacePoint};
 use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
+use crate::math::lanes::{f64x4, Lanes64};
 use crate::math::real::{abs, add, dot, scale, sub, V3};
 use crate::math::Real;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use std::cmp::Ordering;
 use std::fmt;
-use wide::f64x4;
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
 #[inline]
@@ -159,11 +159,11 @@ pub fn interval(
 /// [`lo`]: LanesX4::lo
 /// [`hi`]: LanesX4::hi
 #[derive(Clone, Copy, Debug)]
-pub struct LanesX4 {
-    pub hit: f64x4,
-    pub miss: f64x4,
-    pub lo: f64x4,
-    pub hi: f64x4,
+pub struct LanesX4<F = f64x4> {
+    pub hit: F,
+    pub miss: F,
+    pub lo: F,
+    pub hi: F,
 }
 
 /// The sphere seen from a ray origin o, what [`interval_x4`] needs of it: f = o − c and
@@ -190,30 +190,55 @@ impl FromOrigin {
 /// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
 /// ends come out undecided.
 #[inline(always)]
-pub fn interval_x4(sphere: &FromOrigin, d: &[f64x4; 3], tmin: f64, tmax: f64) -> LanesX4 {
+pub fn interval_x4<F: Lanes64>(
+    sphere: &FromOrigin,
+    d: &[F; 3],
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
     let (a, finite) = squared_length_x4(d);
-    roots_x4(sphere, d, a, finite, |x| x.div_positive(a), tmin, tmax)
+    roots_x4(sphere, d, a, finite, OverA::Divide, tmin, tmax)
+}
+
+/// How [`roots_x4`] takes x to x/a. (An enum, not a closure: a closure is compiled without
+/// the AVX build's features, and its AVX lanes' operations stay calls.)
+#[derive(Clone, Copy)]
+enum OverA<F> {
+    /// Divided by the interval a.
+    Divide,
+    /// Multiplied by the interval 1/a.
+    ByInverse(IntervalX4<F>),
+}
+
+impl<F: Lanes64> OverA<F> {
+    #[inline(always)]
+    fn apply(self, x: IntervalX4<F>, a: IntervalX4<F>) -> IntervalX4<F> {
+        match self {
+            OverA::Divide => x.div_positive(a),
+            OverA::ByInverse(inv_a) => x.mul_positive(inv_a),
+        }
+    }
 }
 
 /// Four directions as a packet's sphere tests need them ([`interval_x4_of`]): with
 /// a = d·d and 1/a, the same for every sphere the packet meets, computed once.
 #[derive(Clone, Copy, Debug)]
-pub struct DirectionsX4 {
-    d: [f64x4; 3],
-    a: IntervalX4,
-    inv_a: IntervalX4,
-    finite: f64x4,
+pub struct DirectionsX4<F = f64x4> {
+    d: [F; 3],
+    a: IntervalX4<F>,
+    inv_a: IntervalX4<F>,
+    finite: F,
 }
 
-impl DirectionsX4 {
+impl<F: Lanes64> DirectionsX4<F> {
     /// The directions `d` (lanes), prepared.
     #[inline(always)]
-    pub fn new(d: [f64x4; 3]) -> Self {
+    pub fn new(d: [F; 3]) -> Self {
         let (a, finite) = squared_length_x4(&d);
         Self {
             d,
             a,
-            inv_a: IntervalX4::point(f64x4::ONE).div_positive(a),
+            inv_a: IntervalX4::point(F::splat(1.0)).div_positive(a),
             finite,
         }
     }
@@ -223,49 +248,57 @@ impl DirectionsX4 {
 /// interval 1/a instead of divided by a (one rounding more, so the ends are a few ulps
 /// wider; both enclose the exact roots).
 #[inline(always)]
-pub fn interval_x4_of(sphere: &FromOrigin, dirs: &DirectionsX4, tmin: f64, tmax: f64) -> LanesX4 {
-    let inv_a = dirs.inv_a;
-    let over_a = |x: IntervalX4| x.mul_positive(inv_a);
+pub fn interval_x4_of<F: Lanes64>(
+    sphere: &FromOrigin,
+    dirs: &DirectionsX4<F>,
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
+    let over_a = OverA::ByInverse(dirs.inv_a);
     roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
 }
 
 /// a = d·d per lane, as an interval, and the lanes where d is finite.
 #[inline(always)]
-fn squared_length_x4(d: &[f64x4; 3]) -> (IntervalX4, f64x4) {
-    let point = |x: f64x4| IntervalX4::point(x);
-    let a = point(d[0]).square() + point(d[1]).square() + point(d[2]).square();
+fn squared_length_x4<F: Lanes64>(d: &[F; 3]) -> (IntervalX4<F>, F) {
+    let a = IntervalX4::point(d[0]).square()
+        + IntervalX4::point(d[1]).square()
+        + IntervalX4::point(d[2]).square();
     (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
 }
 
 /// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
 /// lanes with a.lo > 0).
 #[inline(always)]
-fn roots_x4(
+fn roots_x4<F: Lanes64>(
     sphere: &FromOrigin,
-    d: &[f64x4; 3],
-    a: IntervalX4,
-    finite: f64x4,
-    over_a: impl Fn(IntervalX4) -> IntervalX4,
+    d: &[F; 3],
+    a: IntervalX4<F>,
+    finite: F,
+    over_a: OverA<F>,
     tmin: f64,
     tmax: f64,
-) -> LanesX4 {
-    let f = sphere.f.map(IntervalX4::splat);
+) -> LanesX4<F> {
+    let f = [
+        IntervalX4::splat(sphere.f[0]),
+        IntervalX4::splat(sphere.f[1]),
+        IntervalX4::splat(sphere.f[2]),
+    ];
     let k = IntervalX4::splat(sphere.k);
     let b = idot_x4(&f, d);
     let disc = b.square() - a * k;
-    let zero = f64x4::ZERO;
+    let zero = F::splat(0.0);
     let miss_line = finite & disc.hi.simd_lt(zero);
     let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
     let root = disc.sqrt();
-    let t0 = over_a(-b - root);
-    let t1 = over_a(-b + root);
-    let (tmin, tmax) = (f64x4::splat(tmin), f64x4::splat(tmax));
+    let t0 = over_a.apply(-b - root, a);
+    let t1 = over_a.apply(-b + root, a);
+    let (tmin, tmax) = (F::splat(tmin), F::splat(tmax));
     let ok = crosses & t0.finite() & t1.finite();
     // As `interval`: the near root unless it is certainly at or before tmin.
     let near_before = t0.hi.simd_le(tmin);
-    let inside = |t: IntervalX4| t.lo.simd_gt(tmin) & t.hi.simd_lt(tmax);
-    let hit0 = !near_before & inside(t0);
-    let hit1 = near_before & inside(t1);
+    let hit0 = !near_before & t0.lo.simd_gt(tmin) & t0.hi.simd_lt(tmax);
+    let hit1 = near_before & t1.lo.simd_gt(tmin) & t1.hi.simd_lt(tmax);
     let miss = (!near_before & t0.lo.simd_ge(tmax))
         | (near_before & (t1.hi.simd_le(tmin) | t1.lo.simd_ge(tmax)));
     LanesX4 {

@@ -413,6 +413,22 @@ binary!(Avx4d, Sub, sub, _mm256_sub_pd);
 binary!(Avx4d, Mul, mul, _mm256_mul_pd);
 binary!(Avx4d, Div, div, _mm256_div_pd);
 binary!(Avx4d, BitAnd, bitand, _mm256_and_pd);
+binary!(Avx4d, BitOr, bitor, _mm256_or_pd);
+sign_not_assign!(
+    Avx4d,
+    _mm256_xor_pd,
+    _mm256_set1_pd,
+    _mm256_set1_epi64x,
+    _mm256_castsi256_pd
+);
+
+impl Avx4d {
+    #[inline(always)]
+    fn cmp<const OP: i32>(self, rhs: Self) -> Self {
+        // SAFETY: as in `binary!`.
+        Self(unsafe { _mm256_cmp_pd::<OP>(self.0, rhs.0) })
+    }
+}
 
 impl Lanes64 for Avx4d {
     #[inline(always)]
@@ -436,13 +452,34 @@ impl Lanes64 for Avx4d {
     }
     #[inline(always)]
     fn simd_lt(self, rhs: Self) -> Self {
-        // SAFETY: as in `binary!`.
-        Self(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, rhs.0) })
+        self.cmp::<_CMP_LT_OQ>(rhs)
+    }
+    #[inline(always)]
+    fn simd_le(self, rhs: Self) -> Self {
+        self.cmp::<_CMP_LE_OQ>(rhs)
     }
     #[inline(always)]
     fn simd_gt(self, rhs: Self) -> Self {
+        self.cmp::<_CMP_GT_OQ>(rhs)
+    }
+    #[inline(always)]
+    fn simd_ge(self, rhs: Self) -> Self {
+        self.cmp::<_CMP_GE_OQ>(rhs)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> Self {
+        // |x| < ∞: false for ±∞ and (unordered) for NaN.
+        self.abs().cmp::<_CMP_LT_OQ>(Self::splat(f64::INFINITY))
+    }
+    #[inline(always)]
+    fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
         // SAFETY: as in `binary!`.
-        Self(unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, rhs.0) })
+        Self(unsafe {
+            _mm256_or_pd(
+                _mm256_and_pd(if_one.0, self.0),
+                _mm256_andnot_pd(self.0, if_zero.0),
+            )
+        })
     }
     #[inline(always)]
     fn to_bitmask(self) -> u32 {
@@ -453,6 +490,11 @@ impl Lanes64 for Avx4d {
     fn abs(self) -> Self {
         // SAFETY: as in `binary!`.
         Self(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: as in `binary!`.
+        Self(unsafe { _mm256_sqrt_pd(self.0) })
     }
     #[inline(always)]
     fn max(self, rhs: Self) -> Self {
@@ -466,6 +508,11 @@ impl Lanes64 for Avx4d {
     fn fast_max(self, rhs: Self) -> Self {
         // SAFETY: as in `binary!`.
         Self(unsafe { _mm256_max_pd(self.0, rhs.0) })
+    }
+    #[inline(always)]
+    fn fast_min(self, rhs: Self) -> Self {
+        // SAFETY: as in `binary!`.
+        Self(unsafe { _mm256_min_pd(self.0, rhs.0) })
     }
     #[inline(always)]
     fn to_f32(self) -> [f32; 4] {

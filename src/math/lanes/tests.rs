@@ -137,6 +137,106 @@ fn check(a: [f32; 8], b: [f32; 8]) -> Vec<&'static str> {
     builds.iter().flat_map(differ).collect()
 }
 
+/// `Avx4d` (in the AVX2 and AVX-512 builds) computes every [`Lanes64`] operation as `wide`'s
+/// f64x4, bit for bit, on the same kind of corner values: the spheres' interval test runs
+/// in either, by build.
+fn both_f64_lane_types_compute_the_same_bits() {
+    if !has_avx2() {
+        return; // nothing to compare with
+    }
+    let vals = [
+        0.0,
+        -0.0,
+        1.0,
+        -2.5,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        5e-324,
+        -1.7e308,
+        0.1,
+    ];
+    let (mut a, mut b) = ([0f64; 4], [0f64; 4]);
+    for (i, x) in vals.iter().enumerate() {
+        for (j, y) in vals.iter().enumerate() {
+            a[(i + j) % 4] = *x;
+            b[(i * 3 + j) % 4] = *y;
+            // SAFETY: the CPU has AVX2 and FMA (checked above).
+            #[allow(unsafe_code)]
+            let avx = unsafe { f64_ops_avx2(a, b) };
+            let base = f64_ops::<f64x4>(a, b);
+            for ((w, v), name) in base.iter().zip(&avx).zip(F64_OPS) {
+                assert_eq!(w, v, "{name}: {a:?} {b:?}");
+            }
+        }
+    }
+}
+
+const F64_OPS: [&str; 23] = [
+    "add",
+    "sub",
+    "mul",
+    "div",
+    "neg",
+    "and",
+    "or",
+    "not",
+    "lt",
+    "le",
+    "gt",
+    "ge",
+    "finite",
+    "select",
+    "abs",
+    "sqrt",
+    "max",
+    "fast_max",
+    "fast_min",
+    "bitmask",
+    "to_f32",
+    "round_f32",
+    "from_array",
+];
+
+/// [`F64_OPS`] on lanes `a` and `b`, as bit patterns.
+#[inline(always)]
+fn f64_ops<F: Lanes64>(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
+    let (x, y) = (F::from_array(a), F::from_array(b));
+    let m = x.simd_lt(y);
+    let bits = |v: F| v.to_array().map(f64::to_bits);
+    vec![
+        bits(x + y),
+        bits(x - y),
+        bits(x * y),
+        bits(x / y),
+        bits(-x),
+        bits(x & y),
+        bits(x | y),
+        bits(!x),
+        bits(m),
+        bits(x.simd_le(y)),
+        bits(x.simd_gt(y)),
+        bits(x.simd_ge(y)),
+        bits(x.is_finite()),
+        bits(m.bitselect(x, y)),
+        bits(x.abs()),
+        bits(x.abs().sqrt()),
+        bits(x.max(y)),
+        bits(x.fast_max(y)),
+        bits(x.fast_min(y)),
+        [x.to_bitmask() as u64; 4],
+        x.to_f32().map(|v| v.to_bits() as u64),
+        bits(x.round_f32()),
+        bits(F::splat(a[1])),
+    ]
+}
+
+crate::math::simd::avx2_features! {
+    fn f64_ops_avx2(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
+        f64_ops::<Avx4d>(a, b)
+    }
+}
+
 /// `Avx16` computes as two 8-lane halves: every [`LaneOps`] operation, bit for bit, on
 /// the same corner values, against `wide`'s f32x8 on each half (the bitmask as the
 /// halves' masks side by side; `reduce_max` as the halves' lane-wise `maxps`, then the
@@ -251,6 +351,10 @@ pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "both_lane_types_compute_the_same_bits",
         both_lane_types_compute_the_same_bits,
+    ),
+    (
+        "both_f64_lane_types_compute_the_same_bits",
+        both_f64_lane_types_compute_the_same_bits,
     ),
     (
         "sixteen_lanes_compute_as_two_halves_of_eight",
