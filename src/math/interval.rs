@@ -201,8 +201,8 @@ pub fn icross(a: IV3, b: IV3) -> IV3 {
     ]
 }
 
-/// Four intervals side by side (f64 lanes of the kernel's build: `wide`'s f64x4 in the
-/// baseline, one AVX register in the AVX builds; [`Lanes64`], the same bits in both), for the
+/// Four intervals side by side (the caller's f64 lanes, [`Lanes64`]: a kernel's own build's,
+/// one AVX register in the AVX builds, or `wide`'s f64x4; the same bits in each), for the
 /// packets' lanes: the operations of [`Interval`] for finite ends, each end widened outward by
 /// |x|·2⁻⁵² + 2⁻¹⁰⁷⁴ instead of one ulp (at least one ulp, so at least as wide: two vector
 /// operations where `next_down` and `next_up` are a dozen). Ends that over- or underflow are
@@ -351,7 +351,7 @@ pub fn idot_x4<F: Lanes64>(a: &[IntervalX4<F>; 3], b: &[F; 3]) -> IntervalX4<F> 
     times_exact(a[0], b[0]) + times_exact(a[1], b[1]) + times_exact(a[2], b[2])
 }
 
-/// a · b for intervals `a` and exact lanes `b`.
+/// One term of [`idot_x4`]: the interval `a` times the exact lanes `b`.
 #[inline(always)]
 fn times_exact<F: Lanes64>(a: IntervalX4<F>, b: F) -> IntervalX4<F> {
     let (x, y) = (a.lo * b, a.hi * b);

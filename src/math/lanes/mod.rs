@@ -134,7 +134,7 @@ pub trait LaneOps:
 /// 8 lanes, with what the 8-lane kernels (BVH walks, preparing triangles, shading) need
 /// beyond [`LaneOps`].
 pub trait Lanes: LaneOps {
-    /// The f64 lanes of the same build (for preparing triangles).
+    /// The f64 lanes of the same build (preparing triangles, the spheres' interval test).
     type F64: Lanes64;
     fn from_array(a: [f32; 8]) -> Self;
     fn to_array(self) -> [f32; 8];

@@ -1,5 +1,5 @@
 //! The lane types compute the same bits: `Avx8` (in the AVX2 and AVX-512 builds) as
-//! `wide`'s f32x8, and `Avx16` as two halves of eight.
+//! `wide`'s f32x8, `Avx4d` as `wide`'s f64x4, and `Avx16` as two halves of eight.
 
 use super::*;
 use crate::math::simd::{detected, has_avx2, SimdLevel};
@@ -163,16 +163,23 @@ fn both_f64_lane_types_compute_the_same_bits() {
             b[(i * 3 + j) % 4] = *y;
             // SAFETY: the CPU has AVX2 and FMA (checked above).
             #[allow(unsafe_code)]
-            let avx = unsafe { f64_ops_avx2(a, b) };
+            let mut builds = vec![unsafe { f64_ops_avx2(a, b) }];
+            if detected() == SimdLevel::Avx512 {
+                // SAFETY: the CPU has AVX-512 F, VL, BW, DQ and CD (just checked).
+                #[allow(unsafe_code)]
+                builds.push(unsafe { f64_ops_avx512(a, b) });
+            }
             let base = f64_ops::<f64x4>(a, b);
-            for ((w, v), name) in base.iter().zip(&avx).zip(F64_OPS) {
-                assert_eq!(w, v, "{name}: {a:?} {b:?}");
+            for avx in &builds {
+                for ((w, v), name) in base.iter().zip(avx).zip(F64_OPS) {
+                    assert_eq!(w, v, "{name}: {a:?} {b:?}");
+                }
             }
         }
     }
 }
 
-const F64_OPS: [&str; 23] = [
+const F64_OPS: [&str; 25] = [
     "add",
     "sub",
     "mul",
@@ -187,15 +194,17 @@ const F64_OPS: [&str; 23] = [
     "ge",
     "finite",
     "select",
+    "select by bits",
     "abs",
     "sqrt",
+    "sqrt of any",
     "max",
     "fast_max",
     "fast_min",
     "bitmask",
     "to_f32",
     "round_f32",
-    "from_array",
+    "splat",
 ];
 
 /// [`F64_OPS`] on lanes `a` and `b`, as bit patterns.
@@ -219,8 +228,10 @@ fn f64_ops<F: Lanes64>(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
         bits(x.simd_ge(y)),
         bits(x.is_finite()),
         bits(m.bitselect(x, y)),
+        bits(x.bitselect(y, x)),
         bits(x.abs()),
         bits(x.abs().sqrt()),
+        bits(x.sqrt()),
         bits(x.max(y)),
         bits(x.fast_max(y)),
         bits(x.fast_min(y)),
@@ -233,6 +244,12 @@ fn f64_ops<F: Lanes64>(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
 
 crate::math::simd::avx2_features! {
     fn f64_ops_avx2(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
+        f64_ops::<Avx4d>(a, b)
+    }
+}
+
+crate::math::simd::avx512_features! {
+    fn f64_ops_avx512(a: [f64; 4], b: [f64; 4]) -> Vec<[u64; 4]> {
         f64_ops::<Avx4d>(a, b)
     }
 }
