@@ -34,6 +34,10 @@ pub fn all() -> Vec<(String, fn())> {
             "geometry::shapes::sphere",
             crate::geometry::shapes::sphere::tests::TESTS,
         ),
+        (
+            "geometry::shapes::sphere::lanes",
+            crate::geometry::shapes::sphere::lanes::tests::TESTS,
+        ),
         ("input::output", crate::input::output::tests::TESTS),
         #[cfg(target_arch = "x86_64")]
         ("math::lanes", crate::math::lanes::tests::TESTS),

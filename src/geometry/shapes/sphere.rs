@@ -18,14 +18,17 @@ use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Fea
 use crate::geometry::exact::{dot as qdot, q, qv, sub as qsub, two_sum, ExactT, Q};
 use crate::geometry::offset::{normalize, UNDERFLOW};
 use crate::geometry::{Method, Ray, SurfacePoint};
-use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
-use crate::math::lanes::{f64x4, Lanes64};
+use crate::math::interval::{idot, isub, iv3, Interval};
+use crate::math::lanes::f64x4;
 use crate::math::real::{abs, add, dot, scale, sub, V3};
 use crate::math::Real;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use std::cmp::Ordering;
 use std::fmt;
+
+pub(crate) mod lanes;
+pub use lanes::{interval_x4, interval_x4_of, DirectionsX4, FromOrigin, LanesX4};
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
 #[inline]
@@ -152,163 +155,6 @@ pub fn interval(
     Estimate::Miss
 }
 
-/// What [`interval_x4`] found per lane: masks (all bits set in a lane where true) of the
-/// lanes certainly hitting with tmin < t < tmax, t in [`lo`, `hi`], and of the lanes
-/// certainly missing in that range; the rest are undecided.
-///
-/// [`lo`]: LanesX4::lo
-/// [`hi`]: LanesX4::hi
-#[derive(Clone, Copy, Debug)]
-pub struct LanesX4<F = f64x4> {
-    pub hit: F,
-    pub miss: F,
-    pub lo: F,
-    pub hi: F,
-}
-
-/// The sphere seen from a ray origin o, what [`interval_x4`] needs of it: f = o − c and
-/// k = f·f − r² as intervals, computed once for every ray from o.
-#[derive(Clone, Copy, Debug)]
-pub struct FromOrigin {
-    f: [Interval; 3],
-    k: Interval,
-}
-
-impl FromOrigin {
-    pub fn new(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
-        let f = isub(iv3(o), iv3(centre));
-        Self {
-            f,
-            k: idot(f, f) - Interval::point(radius).square(),
-        }
-    }
-}
-
-/// [`interval`] for four rays from one origin at once (directions `d`, lanes): the same
-/// steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a lane it decides
-/// [`interval`] decides the same way (both enclose the exact roots). For f32 inputs (every
-/// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
-/// ends come out undecided.
-#[inline(always)]
-pub fn interval_x4<F: Lanes64>(
-    sphere: &FromOrigin,
-    d: &[F; 3],
-    tmin: f64,
-    tmax: f64,
-) -> LanesX4<F> {
-    let (a, finite) = squared_length_x4(d);
-    roots_x4(sphere, d, a, finite, OverA::Divide, tmin, tmax)
-}
-
-/// How [`roots_x4`] takes x to x/a. (An enum, not a closure: a closure is compiled without
-/// the AVX build's features, and its AVX lanes' operations stay calls.)
-#[derive(Clone, Copy)]
-enum OverA<F> {
-    /// Divided by the interval a.
-    Divide,
-    /// Multiplied by the interval 1/a.
-    ByInverse(IntervalX4<F>),
-}
-
-impl<F: Lanes64> OverA<F> {
-    #[inline(always)]
-    fn apply(self, x: IntervalX4<F>, a: IntervalX4<F>) -> IntervalX4<F> {
-        match self {
-            OverA::Divide => x.div_positive(a),
-            OverA::ByInverse(inv_a) => x.mul_positive(inv_a),
-        }
-    }
-}
-
-/// Four directions as a packet's sphere tests need them ([`interval_x4_of`]): with
-/// a = d·d and 1/a, the same for every sphere the packet meets, computed once.
-#[derive(Clone, Copy, Debug)]
-pub struct DirectionsX4<F = f64x4> {
-    d: [F; 3],
-    a: IntervalX4<F>,
-    inv_a: IntervalX4<F>,
-    finite: F,
-}
-
-impl<F: Lanes64> DirectionsX4<F> {
-    /// The directions `d` (lanes), prepared.
-    #[inline(always)]
-    pub fn new(d: [F; 3]) -> Self {
-        let (a, finite) = squared_length_x4(&d);
-        Self {
-            d,
-            a,
-            inv_a: IntervalX4::point(F::splat(1.0)).div_positive(a),
-            finite,
-        }
-    }
-}
-
-/// [`interval_x4`] with the directions prepared once per packet: the roots scaled by the
-/// interval 1/a instead of divided by a (one rounding more, so the ends are a few ulps
-/// wider; both enclose the exact roots).
-#[inline(always)]
-pub fn interval_x4_of<F: Lanes64>(
-    sphere: &FromOrigin,
-    dirs: &DirectionsX4<F>,
-    tmin: f64,
-    tmax: f64,
-) -> LanesX4<F> {
-    let over_a = OverA::ByInverse(dirs.inv_a);
-    roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
-}
-
-/// a = d·d per lane, as an interval, and the lanes where d is finite.
-#[inline(always)]
-fn squared_length_x4<F: Lanes64>(d: &[F; 3]) -> (IntervalX4<F>, F) {
-    let a = IntervalX4::point(d[0]).square()
-        + IntervalX4::point(d[1]).square()
-        + IntervalX4::point(d[2]).square();
-    (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
-}
-
-/// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
-/// lanes with a.lo > 0).
-#[inline(always)]
-fn roots_x4<F: Lanes64>(
-    sphere: &FromOrigin,
-    d: &[F; 3],
-    a: IntervalX4<F>,
-    finite: F,
-    over_a: OverA<F>,
-    tmin: f64,
-    tmax: f64,
-) -> LanesX4<F> {
-    let f = [
-        IntervalX4::splat(sphere.f[0]),
-        IntervalX4::splat(sphere.f[1]),
-        IntervalX4::splat(sphere.f[2]),
-    ];
-    let k = IntervalX4::splat(sphere.k);
-    let b = idot_x4(&f, d);
-    let disc = b.square() - a * k;
-    let zero = F::splat(0.0);
-    let miss_line = finite & disc.hi.simd_lt(zero);
-    let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
-    let root = disc.sqrt();
-    let t0 = over_a.apply(-b - root, a);
-    let t1 = over_a.apply(-b + root, a);
-    let (tmin, tmax) = (F::splat(tmin), F::splat(tmax));
-    let ok = crosses & t0.finite() & t1.finite();
-    // As `interval`: the near root unless it is certainly at or before tmin.
-    let near_before = t0.hi.simd_le(tmin);
-    let hit0 = !near_before & t0.lo.simd_gt(tmin) & t0.hi.simd_lt(tmax);
-    let hit1 = near_before & t1.lo.simd_gt(tmin) & t1.hi.simd_lt(tmax);
-    let miss = (!near_before & t0.lo.simd_ge(tmax))
-        | (near_before & (t1.hi.simd_le(tmin) | t1.lo.simd_ge(tmax)));
-    LanesX4 {
-        hit: ok & (hit0 | hit1),
-        miss: miss_line | (ok & miss),
-        lo: near_before.bitselect(t1.lo, t0.lo),
-        hi: near_before.bitselect(t1.hi, t0.hi),
-    }
-}
-
 /// a = d·d, b = f·d and the discriminant b² − a·c (c = f·f − r², f = o − centre) of
 /// |o + t·d − centre|² = r², a·t² + 2b·t + c = 0, in rationals.
 fn exact_quadratic(o: [f64; 3], d: [f64; 3], centre: [f64; 3], radius: f64) -> (Q, Q, Q) {
@@ -420,7 +266,7 @@ impl<T: Real> Primitive<T> for Sphere<T> {
 
     fn seen_from(&self, o: [f64; 3]) -> Option<FromOrigin> {
         let (c, r) = self.wide();
-        Some(FromOrigin::new(o, c, r))
+        Some(FromOrigin::for_packets(o, c, r))
     }
 
     fn is_degenerate(&self) -> bool {

@@ -1,0 +1,275 @@
+//! The sphere's f64 interval test for four rays from one origin at once ([`interval_x4`],
+//! [`interval_x4_of`]): the packets' test, in the f64 lanes of the caller's build, with what
+//! it needs of the sphere ([`FromOrigin`]) and of the rays ([`DirectionsX4`]).
+
+use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
+use crate::math::lanes::{f64x4, Lanes64};
+
+/// What [`interval_x4`] found per lane: masks (all bits set in a lane where true) of the
+/// lanes certainly hitting with tmin < t < tmax, t in [`lo`, `hi`], and of the lanes
+/// certainly missing in that range; the rest are undecided.
+///
+/// [`lo`]: LanesX4::lo
+/// [`hi`]: LanesX4::hi
+#[derive(Clone, Copy, Debug)]
+pub struct LanesX4<F = f64x4> {
+    pub hit: F,
+    pub miss: F,
+    pub lo: F,
+    pub hi: F,
+}
+
+/// The sphere seen from a ray origin o, what [`interval_x4`] needs of it: f = o − c and
+/// k = f·f − r² as intervals, computed once for every ray from o.
+#[derive(Clone, Copy, Debug)]
+pub struct FromOrigin {
+    f: [Interval; 3],
+    k: Interval,
+}
+
+impl FromOrigin {
+    pub fn new(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
+        let f = isub(iv3(o), iv3(centre));
+        Self {
+            f,
+            k: idot(f, f) - Interval::point(radius).square(),
+        }
+    }
+
+    /// The packets' own, made for every sphere of the scene once a frame: f and k with each
+    /// end widened as [`IntervalX4`] widens (|x|·2⁻⁵² + 2⁻¹⁰⁷⁴, at least one ulp, no
+    /// branches) and f·f as a sum of squares. The intervals differ from [`FromOrigin::new`]'s
+    /// by ulps and enclose the same exact values, so the packets decide what they decide
+    /// exactly as before; the lanes they cannot decide go to the per-ray search.
+    pub fn for_packets(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
+        let f = [0, 1, 2].map(|k| {
+            let x = o[k] - centre[k];
+            loose(x, x)
+        });
+        let (x, y, z) = (loose_square(f[0]), loose_square(f[1]), loose_square(f[2]));
+        let xy = loose(x.lo + y.lo, x.hi + y.hi);
+        let ff = loose(xy.lo + z.lo, xy.hi + z.hi);
+        let r2 = loose_square(Interval::point(radius));
+        Self {
+            f,
+            k: loose(ff.lo - r2.hi, ff.hi - r2.lo),
+        }
+    }
+}
+
+/// [lo, hi] from rounded-to-nearest ends, widened outward as [`IntervalX4`] widens them.
+#[inline(always)]
+fn loose(lo: f64, hi: f64) -> Interval {
+    const TINY: f64 = f64::MIN_POSITIVE * f64::EPSILON;
+    Interval {
+        lo: lo - (lo.abs() * f64::EPSILON + TINY),
+        hi: hi + (hi.abs() * f64::EPSILON + TINY),
+    }
+}
+
+/// x² for finite x, widened as [`loose`] widens, never below 0.
+#[inline(always)]
+fn loose_square(x: Interval) -> Interval {
+    let (a, b) = (x.lo * x.lo, x.hi * x.hi);
+    let lo = match (x.lo >= 0.0, x.hi <= 0.0) {
+        (true, _) => a,
+        (_, true) => b,
+        _ => 0.0,
+    };
+    let w = loose(lo, a.max(b));
+    Interval {
+        lo: w.lo.max(0.0),
+        hi: w.hi,
+    }
+}
+
+/// [`interval`](super::interval) for four rays from one origin at once (directions `d`, lanes): the same
+/// steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a lane it decides
+/// [`interval`](super::interval) decides the same way (both enclose the exact roots). For f32 inputs (every
+/// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
+/// ends come out undecided.
+#[inline(always)]
+pub fn interval_x4<F: Lanes64>(
+    sphere: &FromOrigin,
+    d: &[F; 3],
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
+    let (a, finite) = squared_length_x4(d);
+    roots_x4(sphere, d, a, finite, OverA::Divide, tmin, tmax)
+}
+
+/// How [`roots_x4`] takes x to x/a. (An enum, not a closure: a closure is compiled without
+/// the AVX build's features, and its AVX lanes' operations stay calls.)
+#[derive(Clone, Copy)]
+enum OverA<F> {
+    /// Divided by the interval a.
+    Divide,
+    /// Multiplied by the interval 1/a.
+    ByInverse(IntervalX4<F>),
+}
+
+impl<F: Lanes64> OverA<F> {
+    #[inline(always)]
+    fn apply(self, x: IntervalX4<F>, a: IntervalX4<F>) -> IntervalX4<F> {
+        match self {
+            OverA::Divide => x.div_positive(a),
+            OverA::ByInverse(inv_a) => x.mul_positive(inv_a),
+        }
+    }
+}
+
+/// Four directions as a packet's sphere tests need them ([`interval_x4_of`]): with
+/// a = d·d and 1/a, the same for every sphere the packet meets, computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct DirectionsX4<F = f64x4> {
+    d: [F; 3],
+    a: IntervalX4<F>,
+    inv_a: IntervalX4<F>,
+    finite: F,
+}
+
+impl<F: Lanes64> DirectionsX4<F> {
+    /// The directions `d` (lanes), prepared.
+    #[inline(always)]
+    pub fn new(d: [F; 3]) -> Self {
+        let (a, finite) = squared_length_x4(&d);
+        Self {
+            d,
+            a,
+            inv_a: IntervalX4::point(F::splat(1.0)).div_positive(a),
+            finite,
+        }
+    }
+}
+
+/// [`interval_x4`] with the directions prepared once per packet: the roots scaled by the
+/// interval 1/a instead of divided by a (one rounding more, so the ends are a few ulps
+/// wider; both enclose the exact roots).
+#[inline(always)]
+pub fn interval_x4_of<F: Lanes64>(
+    sphere: &FromOrigin,
+    dirs: &DirectionsX4<F>,
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
+    let over_a = OverA::ByInverse(dirs.inv_a);
+    roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
+}
+
+/// a = d·d per lane, as an interval, and the lanes where d is finite.
+#[inline(always)]
+fn squared_length_x4<F: Lanes64>(d: &[F; 3]) -> (IntervalX4<F>, F) {
+    let a = IntervalX4::point(d[0]).square()
+        + IntervalX4::point(d[1]).square()
+        + IntervalX4::point(d[2]).square();
+    (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
+}
+
+/// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
+/// lanes with a.lo > 0).
+#[inline(always)]
+fn roots_x4<F: Lanes64>(
+    sphere: &FromOrigin,
+    d: &[F; 3],
+    a: IntervalX4<F>,
+    finite: F,
+    over_a: OverA<F>,
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
+    let f = [
+        IntervalX4::splat(sphere.f[0]),
+        IntervalX4::splat(sphere.f[1]),
+        IntervalX4::splat(sphere.f[2]),
+    ];
+    let k = IntervalX4::splat(sphere.k);
+    let b = idot_x4(&f, d);
+    let disc = b.square() - a * k;
+    let zero = F::splat(0.0);
+    let miss_line = finite & disc.hi.simd_lt(zero);
+    let crosses = finite & disc.lo.simd_gt(zero) & a.lo.simd_gt(zero);
+    let root = disc.sqrt();
+    let t0 = over_a.apply(-b - root, a);
+    let t1 = over_a.apply(-b + root, a);
+    let (tmin, tmax) = (F::splat(tmin), F::splat(tmax));
+    let ok = crosses & t0.finite() & t1.finite();
+    // As `interval`: the near root unless it is certainly at or before tmin.
+    let near_before = t0.hi.simd_le(tmin);
+    let hit0 = !near_before & t0.lo.simd_gt(tmin) & t0.hi.simd_lt(tmax);
+    let hit1 = near_before & t1.lo.simd_gt(tmin) & t1.hi.simd_lt(tmax);
+    let miss = (!near_before & t0.lo.simd_ge(tmax))
+        | (near_before & (t1.hi.simd_le(tmin) | t1.lo.simd_ge(tmax)));
+    LanesX4 {
+        hit: ok & (hit0 | hit1),
+        miss: miss_line | (ok & miss),
+        lo: near_before.bitselect(t1.lo, t0.lo),
+        hi: near_before.bitselect(t1.hi, t0.hi),
+    }
+}
+
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
+    use super::FromOrigin;
+    use crate::math::interval::Interval;
+    use num_rational::BigRational;
+
+    fn exact(x: f64) -> BigRational {
+        BigRational::from_float(x).expect("finite")
+    }
+
+    fn encloses(x: Interval, want: &BigRational) -> bool {
+        exact(x.lo) <= *want && *want <= exact(x.hi)
+    }
+
+    /// The packets' preparation of a sphere encloses the exact f = o − c and k = f·f − r², and
+    /// k's interval stays within 2⁻⁴⁵ of the terms' size: on f32 values from 2⁻⁶⁰ to 2⁶⁰ of
+    /// both signs, with coordinates equal to the origin's (f = 0 exactly), the origin on the
+    /// sphere (k = 0 exactly) and radii 2³⁰ smaller than the distance (where r² vanishes in
+    /// f·f's rounding).
+    fn packets_preparation_encloses_the_exact_values() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || crate::math::xorshift(&mut x);
+        let mut value = move || {
+            let bits = next();
+            let e = (bits % 121) as i32 - 60;
+            let m = 1.0 + (bits >> 8) as f64 / (1u64 << 56) as f64;
+            let sign = if bits & 0x80 == 0 { 1.0 } else { -1.0 };
+            (sign * m * 2f64.powi(e)) as f32
+        };
+        for i in 0..20_000 {
+            let mut o = [value(), value(), value()];
+            let mut c = [value(), value(), value()];
+            let mut r = value().abs();
+            match i % 4 {
+                0 => c[i % 3] = o[i % 3],
+                1 => (o, c) = ([r, 0.0, 0.0], [0.0; 3]),
+                2 => r = o[0].abs().max(c[0].abs()) * 2f32.powi(-30),
+                _ => {}
+            }
+            let (o64, c64, r64) = (o.map(f64::from), c.map(f64::from), f64::from(r));
+            let from = FromOrigin::for_packets(o64, c64, r64);
+            let f = [0, 1, 2].map(|k| exact(o64[k]) - exact(c64[k]));
+            for (k, (got, want)) in from.f.iter().zip(&f).enumerate() {
+                assert!(encloses(*got, want), "{o:?} {c:?}: f{k} {got:?}");
+            }
+            let ff = &f[0] * &f[0] + &f[1] * &f[1] + &f[2] * &f[2];
+            let want = &ff - exact(r64) * exact(r64);
+            assert!(encloses(from.k, &want), "{o:?} {c:?} {r}: k {:?}", from.k);
+            let size = f.iter().map(|x| x * x).sum::<BigRational>() + exact(r64 * r64);
+            let width = exact(from.k.hi) - exact(from.k.lo);
+            assert!(
+                width <= size * exact(2f64.powi(-45)) + exact(1e-300),
+                "{o:?} {c:?} {r}: k {:?}",
+                from.k
+            );
+        }
+    }
+
+    /// This module's tests, for tests/unit.rs to run.
+    pub(crate) const TESTS: &[(&str, fn())] = &[(
+        "packets_preparation_encloses_the_exact_values",
+        packets_preparation_encloses_the_exact_values,
+    )];
+}
