@@ -25,6 +25,17 @@ impl Interval {
         Self { lo: x, hi: x }
     }
 
+    /// [lo, hi] from rounded-to-nearest ends widened outward as [`IntervalX4`] widens them
+    /// (see there): by |x|·2⁻⁵² + 2⁻¹⁰⁷⁴, at least one ulp, with no branches. For finite
+    /// ends (an infinite one gives NaN).
+    #[inline(always)]
+    pub fn loosely_widened(lo: f64, hi: f64) -> Self {
+        Self {
+            lo: lo - (lo.abs() * f64::EPSILON + TINY),
+            hi: hi + (hi.abs() * f64::EPSILON + TINY),
+        }
+    }
+
     /// [lo, hi] from rounded-to-nearest ends, widened outward by one ulp.
     #[inline]
     fn widened(lo: f64, hi: f64) -> Self {

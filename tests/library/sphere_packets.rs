@@ -57,7 +57,7 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
     // nearest root, a miss must have none, and the lanes must agree with the scalar level
     // wherever both decide.
     let mut rng = Rng(14);
-    let (mut hits, mut misses, mut undecided) = ([0; 2], [0; 2], [0; 2]);
+    let (mut hits, mut misses, mut undecided) = ([0; 3], [0; 3], [0; 3]);
     for case in 0..4000 {
         let scale = 2f64.powi(rng.below(41) as i32 - 20);
         let c = [0, 1, 2].map(|_| (rng.range(-4.0, 4.0) * scale) as f32 as f64);
@@ -94,11 +94,15 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
             [0, 1, 2].map(|k| ((aim[k] - o[k]) * len) as f32 as f64)
         });
         let d = [0, 1, 2].map(|k| f64x4::new(dirs.map(|v| v[k])));
-        // Both forms: one sphere's (the shading point's) and the packets' (1/a once).
+        // Three forms: one sphere's (the shading point's), the packets' (1/a once), and the
+        // packets' with the sphere as the frame prepares it (`FromOrigin::for_packets`).
+        let dirs_x4 = DirectionsX4::new(d);
         let per_sphere = sphere::interval_x4(&from, &d, tmin, tmax);
-        let per_packet = sphere::interval_x4_of(&from, &DirectionsX4::new(d), tmin, tmax);
-        for (f, lanes) in [per_sphere, per_packet].into_iter().enumerate() {
-            let form = ["per sphere", "per packet"][f];
+        let per_packet = sphere::interval_x4_of(&from, &dirs_x4, tmin, tmax);
+        let framed = sphere::FromOrigin::for_packets(o, c, r);
+        let per_frame = sphere::interval_x4_of(&framed, &dirs_x4, tmin, tmax);
+        for (f, lanes) in [per_sphere, per_packet, per_frame].into_iter().enumerate() {
+            let form = ["per sphere", "per packet", "per frame"][f];
             let (hit, miss) = (lanes.hit.to_bitmask(), lanes.miss.to_bitmask());
             assert_eq!(
                 hit & miss,
@@ -136,9 +140,9 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
             }
         }
     }
-    for f in 0..2 {
+    for f in 0..3 {
         let (hits, misses, undecided) = (hits[f], misses[f], undecided[f]);
-        println!("form {f} (0: per sphere, 1: per packet): {hits} hits, {misses} misses, {undecided} undecided of 16,000 lanes");
+        println!("form {f} (0: per sphere, 1: per packet, 2: per frame): {hits} hits, {misses} misses, {undecided} undecided of 16,000 lanes");
         assert!(hits > 4000 && misses > 4000, "{hits} hits, {misses} misses");
         assert!(undecided < 1200, "{undecided} lanes undecided");
     }

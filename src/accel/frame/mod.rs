@@ -33,8 +33,8 @@
 //!
 //! Shapes other than triangles (spheres) join the packets through their own hierarchy
 //! (`accel::spheres`), tested four lanes at a time through the shape's f64 interval level
-//! (`sphere::interval_x4`, the per-ray search's own level for a sphere), each sphere seen
-//! from the eye and the light once per frame: in a tile the hierarchy's top boxes may show
+//! (`sphere::interval_x4_of`, the scalar `sphere::interval`'s steps in lanes), each sphere
+//! seen from the eye and the light once per frame: in a tile the hierarchy's top boxes may show
 //! in, a camera packet walks it first and starts from the nearest sphere of each lane
 //! ([`packet::PacketSeed`]), and its triangles are then offered against that as against each
 //! other (a lane keeps a candidate only while its t interval lies wholly below the others';

@@ -11,7 +11,8 @@
 //!
 //! The sphere's levels of the adaptive method are here too ([`interval`], [`exact`]), its
 //! surface point ([`SurfacePoint::on_sphere`]) and the rest of what a shape is asked
-//! ([`Sphere`], [`Primitive`]): one shape, one place.
+//! ([`Sphere`], [`Primitive`]): one shape, one place. Its four-lane interval test for the
+//! packets ([`interval_x4`], [`FromOrigin`]) is a module of this file, `sphere/lanes.rs`.
 
 use super::{Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
 use crate::geometry::adaptive::{self, round_down, Approx, Decided, Estimate, Feature};

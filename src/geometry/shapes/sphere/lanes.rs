@@ -28,6 +28,9 @@ pub struct FromOrigin {
 }
 
 impl FromOrigin {
+    /// With scalar intervals widened by one ulp. A lit pixel's shading point takes its t
+    /// from the root this gives (`Sphere::surface_point`), so its bits are the pixels':
+    /// keep it as it is.
     pub fn new(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
         let f = isub(iv3(o), iv3(centre));
         Self {
@@ -36,11 +39,12 @@ impl FromOrigin {
         }
     }
 
-    /// The packets' own, made for every sphere of the scene once a frame: f and k with each
-    /// end widened as [`IntervalX4`] widens (|x|·2⁻⁵² + 2⁻¹⁰⁷⁴, at least one ulp, no
-    /// branches) and f·f as a sum of squares. The intervals differ from [`FromOrigin::new`]'s
-    /// by ulps and enclose the same exact values, so the packets decide what they decide
-    /// exactly as before; the lanes they cannot decide go to the per-ray search.
+    /// The packets' own, made for every sphere of the scene once a frame, for finite f32
+    /// inputs: f and k with each end widened as [`IntervalX4`] widens
+    /// ([`Interval::loosely_widened`]: at least one ulp, no branches) and f·f as a sum of
+    /// squares, a third of [`FromOrigin::new`]'s cost. The intervals differ from its by ulps
+    /// and enclose the same exact values: every lane the packets decide is decided correctly,
+    /// and a lane a few ulps from a tie or a tangent may go to the per-ray search instead.
     pub fn for_packets(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
         let f = [0, 1, 2].map(|k| {
             let x = o[k] - centre[k];
@@ -57,14 +61,10 @@ impl FromOrigin {
     }
 }
 
-/// [lo, hi] from rounded-to-nearest ends, widened outward as [`IntervalX4`] widens them.
+/// [`Interval::loosely_widened`].
 #[inline(always)]
 fn loose(lo: f64, hi: f64) -> Interval {
-    const TINY: f64 = f64::MIN_POSITIVE * f64::EPSILON;
-    Interval {
-        lo: lo - (lo.abs() * f64::EPSILON + TINY),
-        hi: hi + (hi.abs() * f64::EPSILON + TINY),
-    }
+    Interval::loosely_widened(lo, hi)
 }
 
 /// x² for finite x, widened as [`loose`] widens, never below 0.
@@ -83,11 +83,11 @@ fn loose_square(x: Interval) -> Interval {
     }
 }
 
-/// [`interval`](super::interval) for four rays from one origin at once (directions `d`, lanes): the same
-/// steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a lane it decides
-/// [`interval`](super::interval) decides the same way (both enclose the exact roots). For f32 inputs (every
-/// magnitude within 2^±150, so nothing over- or underflows in f64); lanes with non-finite
-/// ends come out undecided.
+/// [`interval`](super::interval) for four rays from one origin at once (directions `d`,
+/// lanes): the same steps in [`IntervalX4`] arithmetic, whose ends are a little wider, so a
+/// lane it decides [`interval`](super::interval) decides the same way (both enclose the
+/// exact roots). For f32 inputs (every magnitude within 2^±150, so nothing over- or
+/// underflows in f64); lanes with non-finite ends come out undecided.
 #[inline(always)]
 pub fn interval_x4<F: Lanes64>(
     sphere: &FromOrigin,
@@ -225,9 +225,10 @@ pub(crate) mod tests {
 
     /// The packets' preparation of a sphere encloses the exact f = o − c and k = f·f − r², and
     /// k's interval stays within 2⁻⁴⁵ of the terms' size: on f32 values from 2⁻⁶⁰ to 2⁶⁰ of
-    /// both signs, with coordinates equal to the origin's (f = 0 exactly), the origin on the
-    /// sphere (k = 0 exactly) and radii 2³⁰ smaller than the distance (where r² vanishes in
-    /// f·f's rounding).
+    /// both signs, with a coordinate equal to the origin's (f's 0 exactly) or all three (f =
+    /// 0), the origin exactly on the sphere (k = 0) or rounded onto it (k a few ulps of r²
+    /// either side), radii 2³⁰ smaller than the distance (r² vanishes in f·f's rounding), and
+    /// the extremes of f32: subnormals and values near 2¹²⁷.
     fn packets_preparation_encloses_the_exact_values() {
         let mut x = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = move || crate::math::xorshift(&mut x);
@@ -242,10 +243,23 @@ pub(crate) mod tests {
             let mut o = [value(), value(), value()];
             let mut c = [value(), value(), value()];
             let mut r = value().abs();
-            match i % 4 {
+            match i % 8 {
                 0 => c[i % 3] = o[i % 3],
                 1 => (o, c) = ([r, 0.0, 0.0], [0.0; 3]),
                 2 => r = o[0].abs().max(c[0].abs()) * 2f32.powi(-30),
+                3 => c = o,
+                4 => {
+                    // On the sphere as far as f32 goes: o = c + r·(0.6, 0.8, 0), rounded.
+                    o = [c[0] + r * 0.6, c[1] + r * 0.8, c[2]];
+                }
+                5 => {
+                    let tiny = f32::from_bits(1 + (i as u32 % 1000));
+                    (o, c, r) = ([tiny, -tiny, 0.0], [-tiny, 0.0, tiny], tiny);
+                }
+                6 => {
+                    let big = f32::MAX / (1 + i % 5) as f32;
+                    (o, c, r) = ([big, -big, big], [-big, big, 0.0], big);
+                }
                 _ => {}
             }
             let (o64, c64, r64) = (o.map(f64::from), c.map(f64::from), f64::from(r));
