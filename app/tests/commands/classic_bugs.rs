@@ -273,6 +273,55 @@ fn last_hit_is_caught_by_a_cube_from_outside() {
     });
 }
 
+/// A tangent ray missed (a strict discriminant test): the tangent rays of the near-tangent
+/// family leak.
+#[test]
+fn tangent_miss_is_caught_by_tangent_rays() {
+    caught(&Bug {
+        program: "tangent_miss.py",
+        caught_by: &[("near-tangent-1e-3-1e-7-and-tangent", &["leaks"])],
+        beside: &[],
+    });
+}
+
+/// Back faces culled: from inside a closed mesh, rays leak.
+#[test]
+fn backface_culling_is_caught_by_a_cube_from_inside() {
+    caught(&Bug {
+        program: "backface.py",
+        caught_by: &[("cube-from-inside", &["leaks"])],
+        beside: &[],
+    });
+}
+
+/// Only the third edge open (b1 + b2 < 1): rays through the edges two triangles share leak
+/// from inside a cube and hit the wrong face from outside.
+#[test]
+fn third_edge_open_is_caught_by_a_cube_from_inside_and_outside() {
+    caught(&Bug {
+        program: "third_edge_open.py",
+        caught_by: &[
+            ("cube-from-inside", &["leaks"]),
+            ("cube-from-outside", &["wrong"]),
+        ],
+        beside: &[],
+    });
+}
+
+/// A fixed epsilon (t > 1e-4) for tmin: hits nearer than it are lost, at a vertex the ray
+/// starts from and just inside a sphere.
+#[test]
+fn epsilon_tmin_is_caught_by_near_hits() {
+    caught(&Bug {
+        program: "epsilon_tmin.py",
+        caught_by: &[
+            ("origins-at-a-vertex", &["leaks", "wrong"]),
+            ("inside-and-one-ulp-outside", &["t fail", "wrong", "leaks"]),
+        ],
+        beside: &[],
+    });
+}
+
 /// Möller–Trumbore in f32: shared edges and vertices leak or hit twice, and a cube 2^-130
 /// across is missed whole.
 #[test]
