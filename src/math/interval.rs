@@ -36,6 +36,23 @@ impl Interval {
         }
     }
 
+    /// self² for finite ends, widened as [`Interval::loosely_widened`] widens, never below 0
+    /// (the scalar form of [`IntervalX4::square`]).
+    #[inline(always)]
+    pub fn loosely_squared(self) -> Self {
+        let (a, b) = (self.lo * self.lo, self.hi * self.hi);
+        let lo = match (self.lo >= 0.0, self.hi <= 0.0) {
+            (true, _) => a,
+            (_, true) => b,
+            _ => 0.0,
+        };
+        let w = Self::loosely_widened(lo, a.max(b));
+        Self {
+            lo: w.lo.max(0.0),
+            hi: w.hi,
+        }
+    }
+
     /// [lo, hi] from rounded-to-nearest ends, widened outward by one ulp.
     #[inline]
     fn widened(lo: f64, hi: f64) -> Self {

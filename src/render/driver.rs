@@ -163,8 +163,8 @@ pub(crate) fn drive<T: TileTracer>(
 
 /// Traces the image rows from `first_row` on that `rows` holds (whole rows of `width`
 /// pixels, [`TileTracer::PIXEL_BYTES`] each) with `tracer`, bands of
-/// [`TileTracer::BAND_ROWS`] rows in parallel, and returns what it counted; `None` (the rows partly written) when
-/// `cancelled()` turns true: asked before each band and once at the end.
+/// [`TileTracer::BAND_ROWS`] rows in parallel, and returns what it counted; `None` (the rows
+/// partly written) when `cancelled()` turns true: asked before each band and once at the end.
 pub(crate) fn drive_rows<T: TileTracer>(
     width: u32,
     first_row: u32,

@@ -3,9 +3,9 @@
 //!
 //! Soundness: their operations execute AVX2 instructions, so such a value must exist only
 //! where the CPU has AVX2. The types are private to the crate and named only in the AVX
-//! builds of `avx512_avx2_or_baseline!` (`Avx4d` as `Avx8`'s `Lanes::F64`), reached after the run-time check
-//! (`math::simd::level`) or through a token that check made (`math::simd::Isa`), and in
-//! tests behind the same check; every constructor (`splat`, `from_array`, which the others
+//! builds of `avx512_avx2_or_baseline!` (`Avx4d` as `Avx8`'s `Lanes::F64`), reached after
+//! the run-time check (`math::simd::level`) or through a token that check made
+//! (`math::simd::Isa`), and in tests behind the same check; every constructor (`splat`, `from_array`, which the others
 //! go through) asserts it in debug builds.
 
 use super::{f32x8, LaneOps, Lanes, Lanes64};

@@ -46,40 +46,19 @@ impl FromOrigin {
     /// and enclose the same exact values: every lane the packets decide is decided correctly,
     /// and a lane a few ulps from a tie or a tangent may go to the per-ray search instead.
     pub fn for_packets(o: [f64; 3], centre: [f64; 3], radius: f64) -> Self {
+        let loose = Interval::loosely_widened;
         let f = [0, 1, 2].map(|k| {
             let x = o[k] - centre[k];
             loose(x, x)
         });
-        let (x, y, z) = (loose_square(f[0]), loose_square(f[1]), loose_square(f[2]));
+        let [x, y, z] = f.map(Interval::loosely_squared);
         let xy = loose(x.lo + y.lo, x.hi + y.hi);
         let ff = loose(xy.lo + z.lo, xy.hi + z.hi);
-        let r2 = loose_square(Interval::point(radius));
+        let r2 = Interval::point(radius).loosely_squared();
         Self {
             f,
             k: loose(ff.lo - r2.hi, ff.hi - r2.lo),
         }
-    }
-}
-
-/// [`Interval::loosely_widened`].
-#[inline(always)]
-fn loose(lo: f64, hi: f64) -> Interval {
-    Interval::loosely_widened(lo, hi)
-}
-
-/// x² for finite x, widened as [`loose`] widens, never below 0.
-#[inline(always)]
-fn loose_square(x: Interval) -> Interval {
-    let (a, b) = (x.lo * x.lo, x.hi * x.hi);
-    let lo = match (x.lo >= 0.0, x.hi <= 0.0) {
-        (true, _) => a,
-        (_, true) => b,
-        _ => 0.0,
-    };
-    let w = loose(lo, a.max(b));
-    Interval {
-        lo: w.lo.max(0.0),
-        hi: w.hi,
     }
 }
 
