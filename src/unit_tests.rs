@@ -22,6 +22,7 @@ pub fn all() -> Vec<(String, fn())> {
         ),
         ("accel::bvh::build", crate::accel::bvh::build::tests::TESTS),
         ("accel::instances", crate::accel::instances::tests::TESTS),
+        ("accel::spheres", crate::accel::spheres::tests::TESTS),
         ("accel::flat", crate::accel::flat::tests::TESTS),
         ("accel::packet", crate::accel::packet::tests::TESTS),
         ("accel::prepared", crate::accel::prepared::tests::TESTS),

@@ -120,7 +120,7 @@ pub(crate) mod layout;
 pub(crate) mod packet;
 pub(crate) mod prepared;
 pub mod reference;
-mod spheres;
+pub(crate) mod spheres;
 #[doc(hidden)]
 pub mod testing;
 mod triangles;

@@ -29,7 +29,7 @@ use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
 use super::layout::{merge, Layout};
 use super::packet::PacketLimits;
 use super::reference::{any_one_by_one, closest_one_by_one};
-use crate::geometry::adaptive::{round_down, round_up, widen, Estimate, Search};
+use crate::geometry::adaptive::{round_down, widen, Estimate, Search};
 use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
@@ -268,35 +268,48 @@ fn half_in_f64<F: Lanes64>(d: &[[f32; 8]; 3], half: usize) -> DirectionsX4<F> {
 }
 
 /// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane,
-/// in the f64 lanes `F` of the walk's build.
-struct Nearest<F> {
-    d: [DirectionsX4<F>; 2],
-    lo: [F; 2],
-    hi: [F; 2],
+/// in the f64 lanes of the walk's build `V`.
+struct Nearest<V: Lanes> {
+    d: [DirectionsX4<V::F64>; 2],
+    lo: [V::F64; 2],
+    hi: [V::F64; 2],
+    /// [`reach`] of `hi`, kept as nearer spheres are taken (the walk asks at every leaf).
+    reach: V,
     prims: [u32; 8],
     /// Lanes asked and not yet undecided.
     live: u32,
     undecided: u32,
 }
 
-impl<V: Lanes> PacketLimits<V> for Nearest<V::F64> {
+impl<V: Lanes> PacketLimits<V> for Nearest<V> {
     #[inline(always)]
     fn live(&self) -> u32 {
         self.live & !self.undecided
     }
     #[inline(always)]
     fn limit(&self) -> V {
-        // The nearest sphere's far bound, with the hierarchies' culling margin (∞ while none).
-        let mut reach = [f32::INFINITY; 8];
-        for half in 0..2 {
-            let hi = self.hi[half].to_array();
-            for l in 0..4 {
-                let r = round_up(hi[l]);
-                reach[4 * half + l] = r + r.abs() * (1.0 / 65536.0);
-            }
-        }
-        V::from_array(reach)
+        self.reach
     }
+}
+
+/// (2⁻¹⁶ + 2⁻²¹): [`reach`]'s relative margin.
+const REACH_MARGIN: f64 = 1.0 / 65536.0 + 1.0 / 2097152.0;
+
+/// Per lane, the nearest sphere's far bound `hi` with the hierarchies' culling margin, in
+/// f32 (∞ while there is none): at least `r + 2⁻¹⁶·|r|` (rounded to f32), with r the least
+/// f32 ≥ hi, the margin the triangles' walks keep. In lanes, without rounding each lane
+/// upwards: hi grows by (2⁻¹⁶ + 2⁻²¹)·|hi| + 2⁻¹⁴⁹ in f64, and rounding that to the
+/// nearest f32 takes off at most 2⁻²⁴ of it, or 2⁻¹⁵⁰ among the subnormals.
+#[inline(always)]
+fn reach<V: Lanes>(hi: &[V::F64; 2]) -> V {
+    let margin = V::F64::splat(REACH_MARGIN);
+    let least = V::F64::splat(f64::from(f32::from_bits(1)));
+    // (No closure around the lanes: see `math::interval::idot_x4`.)
+    let low = (hi[0] + hi[0].abs() * margin + least).to_f32();
+    let high = (hi[1] + hi[1].abs() * margin + least).to_f32();
+    V::from_array([
+        low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3],
+    ])
 }
 
 /// A shadow packet's state in the spheres' walk.
@@ -339,14 +352,15 @@ impl<V: Lanes> SeenLeaves<'_, V> {
     }
 }
 
-impl<V: Lanes> Leaves<V, Nearest<V::F64>> for SeenLeaves<'_, V> {
+impl<V: Lanes> Leaves<V, Nearest<V>> for SeenLeaves<'_, V> {
     #[inline(always)]
-    fn visit(&mut self, s: &mut Nearest<V::F64>, first: usize, count: usize, lanes: u32) {
+    fn visit(&mut self, s: &mut Nearest<V>, first: usize, count: usize, lanes: u32) {
         // (The limit as the leaf is entered: it only shrinks as spheres are taken.)
         let limit = PacketLimits::<V>::limit(s);
         for j in first..first + count {
             let prim = self.spheres.shapes[j].1;
             let lanes = self.entering(j, limit, lanes & s.live & !s.undecided);
+            let mut taken_any = 0;
             for half in 0..2 {
                 let bits = (lanes & s.live & !s.undecided) >> (4 * half) & 0xf;
                 if bits == 0 {
@@ -369,6 +383,10 @@ impl<V: Lanes> Leaves<V, Nearest<V::F64>> for SeenLeaves<'_, V> {
                 for l in (0..4).filter(|l| taken & (1 << l) != 0) {
                     s.prims[4 * half + l] = prim;
                 }
+                taken_any |= taken;
+            }
+            if taken_any != 0 {
+                s.reach = reach(&s.hi);
             }
         }
     }
@@ -455,6 +473,7 @@ fn seed_body<V: Lanes>(
         d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],
         lo: [inf; 2],
         hi: [inf; 2],
+        reach: V::splat(f32::INFINITY),
         prims: [u32::MAX; 8],
         live: live & 0xff,
         undecided: 0,
@@ -479,13 +498,34 @@ fn seed_body<V: Lanes>(
         prims: state.prims,
     };
     for half in 0..2 {
-        let (lo, hi) = (state.lo[half].to_array(), state.hi[half].to_array());
-        for l in 0..4 {
-            out.lo[4 * half + l] = round_down(lo[l]);
-            out.hi[4 * half + l] = round_up(hi[l]);
-        }
+        let (lo, hi) = (
+            rounded_f32(state.lo[half], false),
+            rounded_f32(state.hi[half], true),
+        );
+        out.lo[4 * half..4 * half + 4].copy_from_slice(&lo);
+        out.hi[4 * half..4 * half + 4].copy_from_slice(&hi);
     }
     out
+}
+
+/// Lanes `x`, each > 0 or +∞ (a nearest sphere's bounds: its hits lie beyond t = 0), as
+/// the greatest f32 ≤ x (`up` false) or the least f32 ≥ x: `x as f32`, then one step in
+/// the bits (for a positive f32, the next one) in the lanes where that rounded the wrong way.
+#[inline(always)]
+fn rounded_f32<F: Lanes64>(x: F, up: bool) -> [f32; 4] {
+    let nearest = x.to_f32();
+    let back = x.round_f32();
+    let wrong = match up {
+        true => back.simd_lt(x),
+        false => back.simd_gt(x),
+    }
+    .to_bitmask();
+    std::array::from_fn(|l| {
+        debug_assert!(x.to_array()[l] > 0.0, "{:?}", x.to_array());
+        let step = (wrong >> l) & 1;
+        let bits = nearest[l].to_bits();
+        f32::from_bits(if up { bits + step } else { bits - step })
+    })
 }
 
 #[inline(always)]
@@ -518,4 +558,109 @@ fn any_packet_body<V: Lanes>(
         blocked,
         unsure: state.unsure & s.live & !blocked,
     }
+}
+
+#[cfg(feature = "unit-tests")]
+#[deny(dead_code)]
+pub(crate) mod tests {
+    use super::{reach, rounded_f32};
+    use crate::geometry::adaptive::{round_down, round_up};
+    use crate::math::lanes::{f32x8, f64x4, Lanes64};
+
+    /// Positive f64 values where rounding to f32 is hard: around f32's subnormals, its
+    /// least normal, its largest value and beyond, exact f32 values, the midpoints between
+    /// two (ties), a few f64 ulps either side of both, and random values over every scale.
+    fn hard_values() -> Vec<f64> {
+        let mut v = vec![
+            f64::from_bits(1),
+            f64::MIN_POSITIVE,
+            1.0,
+            2.5,
+            f64::MAX,
+            f64::INFINITY,
+        ];
+        let mut f32s = vec![
+            f32::from_bits(1),
+            f32::from_bits(2),
+            f32::from_bits(0x7f_ffff),
+            f32::MIN_POSITIVE,
+            1.0,
+            1.5,
+            0.1,
+            3.0e-3,
+            65536.0,
+            f32::MAX,
+        ];
+        let mut x = 0x2545f4914f6cdd1du64;
+        for _ in 0..4_000 {
+            let bits = (crate::math::xorshift(&mut x) as u32) & 0x7fff_ffff;
+            if f32::from_bits(bits).is_finite() && bits != 0 {
+                f32s.push(f32::from_bits(bits));
+            }
+        }
+        for y in f32s {
+            let (y, up) = (f64::from(y), f64::from(y.next_up()));
+            let mid = y + (up - y) / 2.0;
+            for c in [y, mid, up.min(f64::MAX)] {
+                for steps in -2i64..=2 {
+                    v.push(f64::from_bits((c.to_bits() as i64 + steps) as u64));
+                }
+            }
+        }
+        v.retain(|c| *c > 0.0);
+        v
+    }
+
+    fn lanes_of(values: &[f64]) -> impl Iterator<Item = [f64x4; 2]> + '_ {
+        values.chunks(8).map(|c| {
+            let lane = |l: usize| c.get(l).copied().unwrap_or(f64::INFINITY);
+            [0, 1].map(|h| f64x4::from_array(std::array::from_fn(|l| lane(4 * h + l))))
+        })
+    }
+
+    /// The lanes' rounding to f32 is `round_down` and `round_up`, bit for bit.
+    fn bounds_round_to_f32_as_one_value_does() {
+        let values = hard_values();
+        for pair in lanes_of(&values) {
+            for half in pair {
+                let (down, up) = (rounded_f32(half, false), rounded_f32(half, true));
+                for (l, x) in half.to_array().into_iter().enumerate() {
+                    assert_eq!(down[l].to_bits(), round_down(x).to_bits(), "down {x:e}");
+                    assert_eq!(up[l].to_bits(), round_up(x).to_bits(), "up {x:e}");
+                }
+            }
+        }
+    }
+
+    /// The walk's reach is never nearer than the margin `r + 2⁻¹⁶·|r|` (r the least f32 ≥
+    /// hi) it stands for, and at most a few f32 ulps beyond it.
+    fn reach_keeps_the_culling_margin() {
+        let values = hard_values();
+        let mut beyond = 0u32;
+        for pair in lanes_of(&values) {
+            let got = reach::<f32x8>(&pair).to_array();
+            let hi: Vec<f64> = pair.iter().flat_map(|h| h.to_array()).collect();
+            for l in 0..8 {
+                let r = round_up(hi[l]);
+                let margin = r + r.abs() * (1.0 / 65536.0);
+                assert!(got[l] >= margin, "hi {:e}: {} < {}", hi[l], got[l], margin);
+                let loose = margin + margin * (1.0 / 262144.0) + f32::from_bits(2);
+                assert!(got[l] <= loose, "hi {:e}: {} > {}", hi[l], got[l], loose);
+                beyond += u32::from(got[l] > margin);
+            }
+        }
+        // (The margin is kept without rounding each lane upwards: most lanes land beyond.)
+        assert!(beyond > 0);
+    }
+
+    pub(crate) const TESTS: crate::unit_tests::Tests = &[
+        (
+            "bounds_round_to_f32_as_one_value_does",
+            bounds_round_to_f32_as_one_value_does,
+        ),
+        (
+            "reach_keeps_the_culling_margin",
+            reach_keeps_the_culling_margin,
+        ),
+    ];
 }
