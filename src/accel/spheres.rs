@@ -23,14 +23,16 @@
 //! blocks) walk the hierarchy with the packet walk of [`super::bvh`] and test the spheres it
 //! reaches four lanes at a time with the sphere's f64 interval level
 //! ([`sphere::interval_x4_of`]), each sphere seen once per frame from the eye and the light
-//! ([`SpheresSeen`]).
+//! ([`SpheresSeen`]). Where a packet's lanes part (small balls: each lane of a leaf meets
+//! another sphere), the camera packets test a leaf's (sphere, lane) pairs four at a time
+//! instead ([`sphere::interval_x4_gathered`]: the same bits per lane), in the spheres' order.
 
 use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs};
 use super::layout::{merge, Layout};
 use super::packet::PacketLimits;
 use super::reference::{any_one_by_one, closest_one_by_one};
 use crate::geometry::adaptive::{round_down, widen, Estimate, Search};
-use crate::geometry::sphere::{self, DirectionsX4, FromOrigin};
+use crate::geometry::sphere::{self, DirectionLanes, DirectionsX4, FromOrigin};
 use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::lanes::{Lanes, Lanes64};
@@ -267,12 +269,13 @@ fn half_in_f64<F: Lanes64>(d: &[[f32; 8]; 3], half: usize) -> DirectionsX4<F> {
     DirectionsX4::new([F::from_array(x), F::from_array(y), F::from_array(z)])
 }
 
-/// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane,
-/// in the f64 lanes of the walk's build `V`.
+/// A camera packet's state in the spheres' walk: the nearest sphere's interval per lane.
 struct Nearest<V: Lanes> {
-    d: [DirectionsX4<V::F64>; 2],
-    lo: [V::F64; 2],
-    hi: [V::F64; 2],
+    /// The directions as two halves of four lanes, and lane by lane.
+    halves: [DirectionsX4<V::F64>; 2],
+    d: DirectionLanes,
+    lo: [f64; 8],
+    hi: [f64; 8],
     /// [`reach`] of `hi`, kept as nearer spheres are taken (the walk asks at every leaf).
     reach: V,
     prims: [u32; 8],
@@ -301,12 +304,16 @@ const REACH_MARGIN: f64 = 1.0 / 65536.0 + 1.0 / 2097152.0;
 /// upwards: hi grows by (2⁻¹⁶ + 2⁻²¹)·|hi| + 2⁻¹⁴⁹ in f64, and rounding that to the
 /// nearest f32 takes off at most 2⁻²⁴ of it, or 2⁻¹⁵⁰ among the subnormals.
 #[inline(always)]
-fn reach<V: Lanes>(hi: &[V::F64; 2]) -> V {
+fn reach<V: Lanes>(hi: &[f64; 8]) -> V {
     let margin = V::F64::splat(REACH_MARGIN);
     let least = V::F64::splat(f64::from(f32::from_bits(1)));
+    let (low, high) = (
+        V::F64::from_array([hi[0], hi[1], hi[2], hi[3]]),
+        V::F64::from_array([hi[4], hi[5], hi[6], hi[7]]),
+    );
     // (No closure around the lanes: see `math::interval::idot_x4`.)
-    let low = (hi[0] + hi[0].abs() * margin + least).to_f32();
-    let high = (hi[1] + hi[1].abs() * margin + least).to_f32();
+    let low = (low + low.abs() * margin + least).to_f32();
+    let high = (high + high.abs() * margin + least).to_f32();
     V::from_array([
         low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3],
     ])
@@ -357,37 +364,136 @@ impl<V: Lanes> Leaves<V, Nearest<V>> for SeenLeaves<'_, V> {
     fn visit(&mut self, s: &mut Nearest<V>, first: usize, count: usize, lanes: u32) {
         // (The limit as the leaf is entered: it only shrinks as spheres are taken.)
         let limit = PacketLimits::<V>::limit(s);
+        // The leaf's (sphere, lane) pairs, tested four at a time in the order of the
+        // spheres: a lane meets the spheres in the same order as one by one.
+        let mut pairs = Pairs::default();
         for j in first..first + count {
+            let mut lanes = self.entering(j, limit, lanes & s.live & !s.undecided);
+            if lanes == 0 {
+                continue;
+            }
+            let Some(from) = &self.seen.from[j] else {
+                s.undecided |= lanes;
+                continue;
+            };
             let prim = self.spheres.shapes[j].1;
-            let lanes = self.entering(j, limit, lanes & s.live & !s.undecided);
-            let mut taken_any = 0;
-            for half in 0..2 {
-                let bits = (lanes & s.live & !s.undecided) >> (4 * half) & 0xf;
-                if bits == 0 {
-                    continue;
+            if lanes.count_ones() >= SPLAT_LANES {
+                // Many lanes in this sphere: tested in the packet's own lane order.
+                if pairs.len > 0 {
+                    self.nearest_of(s, &pairs);
+                    pairs.len = 0;
                 }
-                let Some(from) = &self.seen.from[j] else {
-                    s.undecided |= bits << (4 * half);
-                    continue;
-                };
-                let r = sphere::interval_x4_of(from, &s.d[half], 0.0, f64::INFINITY);
-                let (lo, hi) = (s.lo[half], s.hi[half]);
-                let nearer = r.hit & r.hi.simd_lt(lo);
-                let farther = r.hit & r.lo.simd_gt(hi);
+                s.nearest_in_halves(from, prim, lanes);
+                continue;
+            }
+            while lanes != 0 {
+                if pairs.len == 4 {
+                    self.nearest_of(s, &pairs);
+                    pairs.len = 0;
+                }
+                let at = pairs.len;
+                pairs.from[at] = Some(from);
+                pairs.prim[at] = prim;
+                pairs.lane[at] = lanes.trailing_zeros() as usize;
+                pairs.len += 1;
+                lanes &= lanes - 1;
+            }
+        }
+        if pairs.len > 0 {
+            self.nearest_of(s, &pairs);
+        }
+    }
+}
+
+/// A sphere that at least this many of a packet's lanes enter is tested against the
+/// packet's two halves of four lanes; one that fewer enter, in (sphere, lane) pairs.
+const SPLAT_LANES: u32 = 6;
+
+impl<V: Lanes> Nearest<V> {
+    /// Tests sphere `from` (primitive `prim`) on `lanes`, four lanes of the packet at a time.
+    #[inline(always)]
+    fn nearest_in_halves(&mut self, from: &FromOrigin, prim: u32, lanes: u32) {
+        let mut taken_any = 0;
+        for half in 0..2 {
+            let bits = (lanes & !self.undecided) >> (4 * half) & 0xf;
+            if bits == 0 {
+                continue;
+            }
+            let at = 4 * half;
+            let (lo, hi) = (&self.lo[at..at + 4], &self.hi[at..at + 4]);
+            let lo = V::F64::from_array([lo[0], lo[1], lo[2], lo[3]]);
+            let hi = V::F64::from_array([hi[0], hi[1], hi[2], hi[3]]);
+            let r = sphere::interval_x4_of(from, &self.halves[half], 0.0, f64::INFINITY);
+            let nearer = r.hit & r.hi.simd_lt(lo);
+            let farther = r.hit & r.lo.simd_gt(hi);
+            // Too close to order, or the interval cannot tell: per ray.
+            let undecided = (!(r.miss | nearer | farther)).to_bitmask() & bits;
+            self.undecided |= undecided << at;
+            let (lo, hi) = (nearer.bitselect(r.lo, lo), nearer.bitselect(r.hi, hi));
+            self.lo[at..at + 4].copy_from_slice(&lo.to_array());
+            self.hi[at..at + 4].copy_from_slice(&hi.to_array());
+            let taken = nearer.to_bitmask() & bits;
+            for l in (0..4).filter(|l| taken & (1 << l) != 0) {
+                self.prims[at + l] = prim;
+            }
+            taken_any |= taken;
+        }
+        if taken_any != 0 {
+            self.reach = reach(&self.hi);
+        }
+    }
+}
+
+/// Up to four (sphere, lane) pairs.
+#[derive(Default)]
+struct Pairs<'a> {
+    from: [Option<&'a FromOrigin>; 4],
+    prim: [u32; 4],
+    lane: [usize; 4],
+    len: usize,
+}
+
+impl<V: Lanes> SeenLeaves<'_, V> {
+    /// Tests `pairs` at once and takes, pair by pair, each sphere nearer than its lane's
+    /// nearest; a lane the interval level cannot decide is left to the per-ray search.
+    #[inline(always)]
+    fn nearest_of(&self, s: &mut Nearest<V>, pairs: &Pairs) {
+        // (Unused slots repeat the first pair; their answers are not read.)
+        let first = pairs.from[0].expect("a pair");
+        let from = |i: usize| pairs.from[i].unwrap_or(first);
+        let spheres = [first, from(1), from(2), from(3)];
+        let lane = |i: usize| {
+            if i < pairs.len {
+                pairs.lane[i]
+            } else {
+                pairs.lane[0]
+            }
+        };
+        let lanes = [lane(0), lane(1), lane(2), lane(3)];
+        let r: sphere::LanesX4<V::F64> =
+            sphere::interval_x4_gathered(spheres, &s.d, lanes, 0.0, f64::INFINITY);
+        let (hit, miss) = (r.hit.to_bitmask(), r.miss.to_bitmask());
+        let (lo, hi) = (r.lo.to_array(), r.hi.to_array());
+        let mut taken = false;
+        for i in 0..pairs.len {
+            let l = pairs.lane[i];
+            if s.undecided & (1 << l) != 0 {
+                continue;
+            }
+            let hit = hit & (1 << i) != 0;
+            let nearer = hit && hi[i] < s.lo[l];
+            let farther = hit && lo[i] > s.hi[l];
+            if nearer {
+                (s.lo[l], s.hi[l]) = (lo[i], hi[i]);
+                s.prims[l] = pairs.prim[i];
+                taken = true;
+            } else if !farther && miss & (1 << i) == 0 {
                 // Too close to order, or the interval cannot tell: per ray.
-                let undecided = (!(r.miss | nearer | farther)).to_bitmask() & bits;
-                s.undecided |= undecided << (4 * half);
-                s.lo[half] = nearer.bitselect(r.lo, lo);
-                s.hi[half] = nearer.bitselect(r.hi, hi);
-                let taken = nearer.to_bitmask() & bits;
-                for l in (0..4).filter(|l| taken & (1 << l) != 0) {
-                    s.prims[4 * half + l] = prim;
-                }
-                taken_any |= taken;
+                s.undecided |= 1 << l;
             }
-            if taken_any != 0 {
-                s.reach = reach(&s.hi);
-            }
+        }
+        if taken {
+            s.reach = reach(&s.hi);
         }
     }
 }
@@ -468,11 +574,12 @@ fn seed_body<V: Lanes>(
     live: u32,
 ) -> SphereSeed {
     let lanes = d.map(|c| c.to_array());
-    let inf = V::F64::splat(f64::INFINITY);
+    let halves = [half_in_f64::<V::F64>(&lanes, 0), half_in_f64(&lanes, 1)];
     let mut state = Nearest {
-        d: [half_in_f64(&lanes, 0), half_in_f64(&lanes, 1)],
-        lo: [inf; 2],
-        hi: [inf; 2],
+        d: DirectionLanes::new(&halves),
+        halves,
+        lo: [f64::INFINITY; 8],
+        hi: [f64::INFINITY; 8],
         reach: V::splat(f32::INFINITY),
         prims: [u32::MAX; 8],
         live: live & 0xff,
@@ -498,12 +605,14 @@ fn seed_body<V: Lanes>(
         prims: state.prims,
     };
     for half in 0..2 {
+        let at = 4 * half;
+        let (lo, hi) = (&state.lo[at..at + 4], &state.hi[at..at + 4]);
         let (lo, hi) = (
-            rounded_f32(state.lo[half], false),
-            rounded_f32(state.hi[half], true),
+            rounded_f32(V::F64::from_array([lo[0], lo[1], lo[2], lo[3]]), false),
+            rounded_f32(V::F64::from_array([hi[0], hi[1], hi[2], hi[3]]), true),
         );
-        out.lo[4 * half..4 * half + 4].copy_from_slice(&lo);
-        out.hi[4 * half..4 * half + 4].copy_from_slice(&hi);
+        out.lo[at..at + 4].copy_from_slice(&lo);
+        out.hi[at..at + 4].copy_from_slice(&hi);
     }
     out
 }
@@ -638,8 +747,8 @@ pub(crate) mod tests {
         let values = hard_values();
         let mut beyond = 0u32;
         for pair in lanes_of(&values) {
-            let got = reach::<f32x8>(&pair).to_array();
             let hi: Vec<f64> = pair.iter().flat_map(|h| h.to_array()).collect();
+            let got = reach::<f32x8>(&hi.clone().try_into().expect("8")).to_array();
             for l in 0..8 {
                 let r = round_up(hi[l]);
                 let margin = r + r.abs() * (1.0 / 65536.0);

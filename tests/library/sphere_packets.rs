@@ -9,7 +9,7 @@ use common::{icosphere, Rng};
 use raylab::accel::{AccelChoice, FrameSetup, TileScratch, NO_HIT};
 use raylab::camera::Camera;
 use raylab::geometry::adaptive::{closest_hit_reference, Estimate};
-use raylab::geometry::sphere::DirectionsX4;
+use raylab::geometry::sphere::{DirectionLanes, DirectionsX4, LanesX4};
 use raylab::geometry::{sphere, Method, Ray, Shape, Sphere};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::Scene;
@@ -58,6 +58,7 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
     // wherever both decide.
     let mut rng = Rng(14);
     let (mut hits, mut misses, mut undecided) = ([0; 3], [0; 3], [0; 3]);
+    let mut earlier = Vec::new();
     for case in 0..4000 {
         let scale = 2f64.powi(rng.below(41) as i32 - 20);
         let c = [0, 1, 2].map(|_| (rng.range(-4.0, 4.0) * scale) as f32 as f64);
@@ -101,6 +102,29 @@ fn the_four_lane_sphere_interval_never_contradicts_the_exact_roots() {
         let per_packet = sphere::interval_x4_of(&from, &dirs_x4, tmin, tmax);
         let framed = sphere::FromOrigin::for_packets(o, c, r);
         let per_frame = sphere::interval_x4_of(&framed, &dirs_x4, tmin, tmax);
+        // The packets' pairs: lanes of two packets (this case's and the one two before, with
+        // the same range), each against its own sphere, gathered in a shuffled order, give
+        // each lane the bits of `per_frame`.
+        earlier.push((framed, dirs_x4, per_frame));
+        if case >= 2 {
+            let (a, b) = (&earlier[case - 2], &earlier[case]);
+            let eight = DirectionLanes::new(&[a.1, b.1]);
+            let lanes = [
+                (case + 1) % 4,
+                4 + case % 4,
+                4 + (case + 2) % 4,
+                (case + 3) % 4,
+            ];
+            let spheres = lanes.map(|l| if l < 4 { &a.0 } else { &b.0 });
+            let pairs: LanesX4 = sphere::interval_x4_gathered(spheres, &eight, lanes, tmin, tmax);
+            for (i, l) in lanes.into_iter().enumerate() {
+                let want = if l < 4 { a.2 } else { b.2 };
+                let bits = |x: &LanesX4, l: usize| {
+                    [x.hit, x.miss, x.lo, x.hi].map(|v| v.to_array()[l].to_bits())
+                };
+                assert_eq!(bits(&pairs, i), bits(&want, l % 4), "case {case} lane {l}");
+            }
+        }
         for (f, lanes) in [per_sphere, per_packet, per_frame].into_iter().enumerate() {
             let form = ["per sphere", "per packet", "per frame"][f];
             let (hit, miss) = (lanes.hit.to_bitmask(), lanes.miss.to_bitmask());

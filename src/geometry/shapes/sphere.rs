@@ -29,7 +29,10 @@ use std::cmp::Ordering;
 use std::fmt;
 
 pub(crate) mod lanes;
-pub use lanes::{interval_x4, interval_x4_of, DirectionsX4, FromOrigin, LanesX4};
+pub use lanes::{
+    interval_x4, interval_x4_gathered, interval_x4_of, DirectionLanes, DirectionsX4, FromOrigin,
+    LanesX4,
+};
 
 /// Nearest root t of the ray o + t·d on the sphere (centre, radius) with tmin < t < tmax.
 #[inline]

@@ -39,6 +39,17 @@ impl FromOrigin {
         }
     }
 
+    /// f and k in every lane.
+    #[inline(always)]
+    fn splat<F: Lanes64>(&self) -> ([IntervalX4<F>; 3], IntervalX4<F>) {
+        let f = [
+            IntervalX4::splat(self.f[0]),
+            IntervalX4::splat(self.f[1]),
+            IntervalX4::splat(self.f[2]),
+        ];
+        (f, IntervalX4::splat(self.k))
+    }
+
     /// The packets' own, made for every sphere of the scene once a frame, for finite f32
     /// inputs: f and k with each end widened as [`IntervalX4`] widens
     /// ([`Interval::loosely_widened`]: at least one ulp, no branches) and f·f as a sum of
@@ -75,7 +86,8 @@ pub fn interval_x4<F: Lanes64>(
     tmax: f64,
 ) -> LanesX4<F> {
     let (a, finite) = squared_length_x4(d);
-    roots_x4(sphere, d, a, finite, OverA::Divide, tmin, tmax)
+    let (f, k) = sphere.splat();
+    roots_x4(f, k, d, a, finite, OverA::Divide, tmin, tmax)
 }
 
 /// How [`roots_x4`] takes x to x/a. (An enum, not a closure: a closure is compiled without
@@ -108,6 +120,82 @@ pub struct DirectionsX4<F = f64x4> {
     finite: F,
 }
 
+/// Four intervals as lanes.
+#[inline(always)]
+fn gathered<F: Lanes64>(x: [Interval; 4]) -> IntervalX4<F> {
+    IntervalX4 {
+        lo: F::from_array([x[0].lo, x[1].lo, x[2].lo, x[3].lo]),
+        hi: F::from_array([x[0].hi, x[1].hi, x[2].hi, x[3].hi]),
+    }
+}
+
+/// Four and four lanes as eight.
+#[inline(always)]
+fn joined<F: Lanes64>(a: F, b: F) -> [f64; 8] {
+    let (a, b) = (a.to_array(), b.to_array());
+    [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
+}
+
+/// Lanes `lanes` of eight.
+#[inline(always)]
+fn picked<F: Lanes64>(x: &[f64; 8], lanes: [usize; 4]) -> F {
+    F::from_array([x[lanes[0]], x[lanes[1]], x[lanes[2]], x[lanes[3]]])
+}
+
+/// Eight directions prepared as [`DirectionsX4`] (lanes 0–3 and 4–7), kept lane by lane,
+/// so that any four of them can be tested at once ([`interval_x4_gathered`]).
+#[derive(Clone, Copy, Debug)]
+pub struct DirectionLanes {
+    d: [[f64; 8]; 3],
+    a: [[f64; 8]; 2],
+    inv_a: [[f64; 8]; 2],
+    finite: [f64; 8],
+}
+
+impl DirectionLanes {
+    /// Lanes 0–3 from `halves[0]`, 4–7 from `halves[1]`.
+    #[inline(always)]
+    pub fn new<F: Lanes64>(halves: &[DirectionsX4<F>; 2]) -> Self {
+        // (No closure around the lanes: see `math::interval::idot_x4`.)
+        let [h0, h1] = halves;
+        Self {
+            d: [
+                joined(h0.d[0], h1.d[0]),
+                joined(h0.d[1], h1.d[1]),
+                joined(h0.d[2], h1.d[2]),
+            ],
+            a: [joined(h0.a.lo, h1.a.lo), joined(h0.a.hi, h1.a.hi)],
+            inv_a: [
+                joined(h0.inv_a.lo, h1.inv_a.lo),
+                joined(h0.inv_a.hi, h1.inv_a.hi),
+            ],
+            finite: joined(h0.finite, h1.finite),
+        }
+    }
+
+    /// Lanes `lanes` (each 0–7), as four directions.
+    #[inline(always)]
+    fn gather<F: Lanes64>(&self, lanes: [usize; 4]) -> DirectionsX4<F> {
+        let d = &self.d;
+        DirectionsX4 {
+            d: [
+                picked(&d[0], lanes),
+                picked(&d[1], lanes),
+                picked(&d[2], lanes),
+            ],
+            a: IntervalX4 {
+                lo: picked(&self.a[0], lanes),
+                hi: picked(&self.a[1], lanes),
+            },
+            inv_a: IntervalX4 {
+                lo: picked(&self.inv_a[0], lanes),
+                hi: picked(&self.inv_a[1], lanes),
+            },
+            finite: picked(&self.finite, lanes),
+        }
+    }
+}
+
 impl<F: Lanes64> DirectionsX4<F> {
     /// The directions `d` (lanes), prepared.
     #[inline(always)]
@@ -133,7 +221,32 @@ pub fn interval_x4_of<F: Lanes64>(
     tmax: f64,
 ) -> LanesX4<F> {
     let over_a = OverA::ByInverse(dirs.inv_a);
-    roots_x4(sphere, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
+    let (f, k) = sphere.splat();
+    roots_x4(f, k, &dirs.d, dirs.a, dirs.finite, over_a, tmin, tmax)
+}
+
+/// [`interval_x4_of`] for four (sphere, ray) pairs at once: lane i tests `spheres[i]`
+/// against the packet's lane `lanes[i]` (directions `dirs`), with the same steps on the same
+/// values, so each lane's answer is the same bits as in [`interval_x4_of`]. For a packet whose
+/// lanes each meet a different sphere, where [`interval_x4_of`] would test one lane of four.
+#[inline(always)]
+pub fn interval_x4_gathered<F: Lanes64>(
+    spheres: [&FromOrigin; 4],
+    dirs: &DirectionLanes,
+    lanes: [usize; 4],
+    tmin: f64,
+    tmax: f64,
+) -> LanesX4<F> {
+    let d = dirs.gather::<F>(lanes);
+    let [s0, s1, s2, s3] = spheres;
+    let f = [
+        gathered([s0.f[0], s1.f[0], s2.f[0], s3.f[0]]),
+        gathered([s0.f[1], s1.f[1], s2.f[1], s3.f[1]]),
+        gathered([s0.f[2], s1.f[2], s2.f[2], s3.f[2]]),
+    ];
+    let k = gathered([s0.k, s1.k, s2.k, s3.k]);
+    let over_a = OverA::ByInverse(d.inv_a);
+    roots_x4(f, k, &d.d, d.a, d.finite, over_a, tmin, tmax)
 }
 
 /// a = d·d per lane, as an interval, and the lanes where d is finite.
@@ -145,11 +258,13 @@ fn squared_length_x4<F: Lanes64>(d: &[F; 3]) -> (IntervalX4<F>, F) {
     (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
 }
 
-/// The roots' lanes given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
+/// The roots' lanes, for the sphere's f = o − c and k = f·f − r² per lane, given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
 /// lanes with a.lo > 0).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn roots_x4<F: Lanes64>(
-    sphere: &FromOrigin,
+    f: [IntervalX4<F>; 3],
+    k: IntervalX4<F>,
     d: &[F; 3],
     a: IntervalX4<F>,
     finite: F,
@@ -157,12 +272,6 @@ fn roots_x4<F: Lanes64>(
     tmin: f64,
     tmax: f64,
 ) -> LanesX4<F> {
-    let f = [
-        IntervalX4::splat(sphere.f[0]),
-        IntervalX4::splat(sphere.f[1]),
-        IntervalX4::splat(sphere.f[2]),
-    ];
-    let k = IntervalX4::splat(sphere.k);
     let b = idot_x4(&f, d);
     let disc = b.square() - a * k;
     let zero = F::splat(0.0);
