@@ -32,12 +32,12 @@
 //!   structure.
 //!
 //! Shapes other than triangles (spheres) join the packets through their own hierarchy
-//! (`accel::spheres`), tested four lanes at a time through the shape's f64 interval level
-//! (`sphere::interval_x4_of`, the scalar `sphere::interval`'s steps in lanes), each sphere
-//! seen from the eye and the light once per frame: in a tile the hierarchy's top boxes may show
-//! in, a camera packet walks it first and starts from the nearest sphere of each lane
-//! ([`packet::PacketSeed`]), and its triangles are then offered against that as against each
-//! other (a lane keeps a candidate only while its t interval lies wholly below the others';
+//! (`accel::spheres`), tested four lanes (or four (sphere, lane) pairs) at a time through the
+//! shape's f64 interval level (`sphere::interval_x4_of`, the scalar `sphere::interval`'s
+//! steps in lanes), each sphere seen from the eye and the light once per frame: in a tile the
+//! hierarchy's top boxes may show in, a camera packet walks it first and starts from the
+//! nearest sphere of each lane ([`packet::PacketSeed`]), and its triangles are then offered
+//! against that as against each other (a lane keeps a candidate only while its t interval lies wholly below the others';
 //! overlapping ones, and lanes the interval cannot decide, are ambiguous and traced per ray);
 //! shadow segments walk it first too, and the triangle packets take the lanes it leaves clear.
 //!
