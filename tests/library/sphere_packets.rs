@@ -1,6 +1,6 @@
 //! Spheres in the packets: a tile a sphere may show in keeps its camera packets,
-//! the sphere tested four lanes at a time through its f64 interval level
-//! (`sphere::interval_x4_of`), and shadow segments near a sphere test it lane by lane before
+//! the sphere tested four lanes (or four (sphere, lane) pairs) at a time through its f64
+//! interval level (`sphere::interval_x4_of`, `interval_x4_gathered`), and shadow segments near a sphere test it lane by lane before
 //! the triangle packets. Every answer must be the per-ray search's.
 
 use crate::common;
@@ -338,6 +338,33 @@ fn scenes_with_spheres_render_through_the_packets_as_per_ray() {
     mixed.colors_mut().push([1.0, 1.0, 0.0]);
     let mixed = Stage::new(mixed, AccelChoice::Bvh);
     packets_render_as_per_ray("a meshed ball beside spheres", &mixed, &cam, 64, 48);
+}
+
+#[test]
+fn many_small_balls_render_through_the_packets_as_per_ray() {
+    // 1,500 balls of radius 0.01–0.03 in the box, a pixel or two each at 64×48, so a
+    // packet's lanes part at the leaves and meet their balls in (sphere, lane) pairs; with
+    // 150 twins 10⁻⁶ from a ball (lanes too close to order, left to the per-ray search
+    // midway through a leaf) and balls that overlap. Colours differ from ball to ball.
+    let mut rng = Rng(65);
+    let mut balls = Vec::new();
+    for i in 0..1500 {
+        let c = [0, 1, 2].map(|_| rng.range(-0.9, 0.9) as f32);
+        balls.push(sphere(c, rng.range(0.01, 0.03) as f32));
+        if i % 10 == 0 {
+            balls.push(sphere([c[0] + 1e-6, c[1], c[2] - 1e-6], 0.02));
+        }
+    }
+    let mut scene = cornell_plus(&[]);
+    for (i, b) in balls.iter().enumerate() {
+        scene.shapes.push(*b);
+        let hue = (i % 97) as f32 / 97.0;
+        scene
+            .colors_mut()
+            .push([hue, 1.0 - hue, (i % 7) as f32 / 7.0]);
+    }
+    let stage = Stage::new(scene, AccelChoice::Auto);
+    packets_render_as_per_ray("1,650 small balls", &stage, &Camera::cornell(64), 64, 48);
 }
 
 #[test]

@@ -37,8 +37,9 @@
 //! steps in lanes), each sphere seen from the eye and the light once per frame: in a tile the
 //! hierarchy's top boxes may show in, a camera packet walks it first and starts from the
 //! nearest sphere of each lane ([`packet::PacketSeed`]), and its triangles are then offered
-//! against that as against each other (a lane keeps a candidate only while its t interval lies wholly below the others';
-//! overlapping ones, and lanes the interval cannot decide, are ambiguous and traced per ray);
+//! against that as against each other (a lane keeps a candidate only while its t interval lies
+//! wholly below the others'; overlapping ones, and lanes the interval cannot decide, are
+//! ambiguous and traced per ray);
 //! shadow segments walk it first too, and the triangle packets take the lanes it leaves clear.
 //!
 //! A lane the packet kernels leave ambiguous goes to the exact resolvers

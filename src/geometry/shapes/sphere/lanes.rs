@@ -1,6 +1,7 @@
 //! The sphere's f64 interval test for four rays from one origin at once ([`interval_x4`],
-//! [`interval_x4_of`]): the packets' test, in the f64 lanes of the caller's build, with what
-//! it needs of the sphere ([`FromOrigin`]) and of the rays ([`DirectionsX4`]).
+//! [`interval_x4_of`]), or for four (sphere, ray) pairs ([`interval_x4_gathered`]): the
+//! packets' test, in the f64 lanes of the caller's build, with what it needs of the sphere
+//! ([`FromOrigin`]) and of the rays ([`DirectionsX4`], [`DirectionLanes`]).
 
 use crate::math::interval::{idot, idot_x4, isub, iv3, Interval, IntervalX4};
 use crate::math::lanes::{f64x4, Lanes64};
@@ -258,8 +259,8 @@ fn squared_length_x4<F: Lanes64>(d: &[F; 3]) -> (IntervalX4<F>, F) {
     (a, d[0].is_finite() & d[1].is_finite() & d[2].is_finite())
 }
 
-/// The roots' lanes, for the sphere's f = o − c and k = f·f − r² per lane, given a = d·d, the lanes where d is finite, and x ↦ x/a (`over_a`, for
-/// lanes with a.lo > 0).
+/// The roots' lanes, for the sphere's f = o − c and k = f·f − r² per lane, given a = d·d,
+/// the lanes where d is finite, and x ↦ x/a (`over_a`, for lanes with a.lo > 0).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn roots_x4<F: Lanes64>(
