@@ -379,18 +379,15 @@ impl<V: Lanes> Leaves<V, Nearest<V>> for SeenLeaves<'_, V> {
             };
             let prim = self.spheres.shapes[j].1;
             if lanes.count_ones() >= SPLAT_LANES {
-                // Many lanes in this sphere: tested in the packet's own lane order.
-                if pairs.len > 0 {
-                    self.nearest_of(s, &pairs);
-                    pairs.len = 0;
-                }
+                // Many lanes in this sphere: tested in the packet's own lane order, after
+                // the pairs of the spheres before it.
+                self.nearest_of(s, &mut pairs);
                 s.nearest_in_halves(from, prim, lanes);
                 continue;
             }
             while lanes != 0 {
                 if pairs.len == 4 {
-                    self.nearest_of(s, &pairs);
-                    pairs.len = 0;
+                    self.nearest_of(s, &mut pairs);
                 }
                 let at = pairs.len;
                 pairs.from[at] = Some(from);
@@ -400,9 +397,7 @@ impl<V: Lanes> Leaves<V, Nearest<V>> for SeenLeaves<'_, V> {
                 lanes &= lanes - 1;
             }
         }
-        if pairs.len > 0 {
-            self.nearest_of(s, &pairs);
-        }
+        self.nearest_of(s, &mut pairs);
     }
 }
 
@@ -456,27 +451,20 @@ struct Pairs<'a> {
 }
 
 impl<V: Lanes> SeenLeaves<'_, V> {
-    /// Tests `pairs` at once and takes, pair by pair, each sphere nearer than its lane's
-    /// nearest; a lane the interval level cannot decide is left to the per-ray search.
+    /// Tests the `pairs` gathered (if any) at once and takes, pair by pair, each sphere
+    /// nearer than its lane's nearest; a lane the interval level cannot decide is left to the
+    /// per-ray search. Empties `pairs`.
     #[inline(always)]
-    fn nearest_of(&self, s: &mut Nearest<V>, pairs: &Pairs) {
-        // (Unused slots repeat the first pair; their answers are not read.)
+    fn nearest_of(&self, s: &mut Nearest<V>, pairs: &mut Pairs) {
+        if pairs.len == 0 {
+            return;
+        }
+        // (Unused slots hold an earlier batch's pair, or the first pair's sphere and lane 0:
+        // their answers are not read.)
         let first = pairs.from[0].expect("a pair");
-        let from = |i: usize| match i < pairs.len {
-            true => pairs.from[i].unwrap_or(first),
-            false => first,
-        };
-        let spheres = [first, from(1), from(2), from(3)];
-        let lane = |i: usize| {
-            if i < pairs.len {
-                pairs.lane[i]
-            } else {
-                pairs.lane[0]
-            }
-        };
-        let lanes = [lane(0), lane(1), lane(2), lane(3)];
+        let spheres = pairs.from.map(|from| from.unwrap_or(first));
         let r: sphere::LanesX4<V::F64> =
-            sphere::interval_x4_gathered(spheres, &s.d, lanes, 0.0, f64::INFINITY);
+            sphere::interval_x4_gathered(spheres, &s.d, pairs.lane, 0.0, f64::INFINITY);
         let (hit, miss) = (r.hit.to_bitmask(), r.miss.to_bitmask());
         let (lo, hi) = (r.lo.to_array(), r.hi.to_array());
         let mut taken = false;
@@ -500,6 +488,7 @@ impl<V: Lanes> SeenLeaves<'_, V> {
         if taken {
             s.reach = reach(&s.hi);
         }
+        pairs.len = 0;
     }
 }
 
