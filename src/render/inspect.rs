@@ -67,10 +67,10 @@ pub struct HitInspection {
     pub direct: Rgb,
     /// N, the lab's constant indirect term.
     pub indirect: Rgb,
-    /// The shadow ray (from the light to the offset surface point, t in (0, 1)); `None` where
-    /// D = 0 (nothing to shadow).
+    /// The shadow ray (from the light to the offset surface point, or the other way for a far
+    /// light, t in (0, 1)); `None` where D = 0 (nothing to shadow).
     pub shadow: Option<Ray<f32>>,
-    /// The primitive nearest the light that blocks the shadow ray, if any.
+    /// The primitive nearest the shadow ray's origin that blocks it, if any.
     pub blocked_by: Option<u32>,
     /// The step's colour, linear RGB: what the renderer gives this ray.
     pub colour: Rgb,
@@ -156,8 +156,11 @@ fn dot64(a: [f32; 3], b: [f32; 3]) -> f64 {
 }
 
 /// The primitive other than `own` (and its exact copies; `u32::MAX`: none skipped) that
-/// `shadow` meets nearest the light, by the scalar loop (one ray: the accelerator answers
-/// only whether).
+/// `shadow` meets nearest its origin (the light, or the surface point where the light is far:
+/// [`Scene::shadows_from_light`]), by the scalar loop (one ray: the accelerator answers only
+/// whether).
+///
+/// [`Scene::shadows_from_light`]: crate::scene::Scene::shadows_from_light
 fn nearest_blocker(stage: &Stage, shadow: &Ray<f32>, own: u32, method: Method) -> Option<u32> {
     let scene = stage.scene();
     if !scene.instances().is_empty() {

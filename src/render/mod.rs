@@ -106,7 +106,9 @@ pub fn render_into_cancellable(
         method: settings.method,
         camera_rays,
         shadows: settings.step.casts_shadows(),
-        per_ray: settings.cracks,
+        // (Shadow rays that start at the surface points, for a far light, share no origin:
+        // the packets' shading casts them from the light.)
+        per_ray: settings.cracks || (settings.step.casts_shadows() && !scene.shadows_from_light()),
     });
     let frame = Frame::new(stage, settings, &queries, gen, camera_rays);
     Ok(driver::drive(settings, rgba, cancelled, started, &frame))

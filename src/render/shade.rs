@@ -65,8 +65,29 @@ pub fn shadow_from_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f3
     Ray::new(light, sub(po, light))
 }
 
+/// The shadow ray of surface point `p` for a light far from the scene
+/// ([`Scene::shadows_from_light`] false): from the point offset towards the light by its own
+/// error bound to the light L, t in (0, 1). It starts exactly there, so nothing near the
+/// surface is missed; its end p_o + fl(L − p_o) misses L by at most u·|L − p_o|, far from
+/// every surface.
+pub fn shadow_to_light(p: [f32; 3], p_error: [f32; 3], n: [f32; 3], light: [f32; 3]) -> Ray {
+    let w = sub(light, p);
+    let po = offset_ray_origin(p, p_error.map(|e| e * WIDEN), n, w);
+    Ray::new(po, sub(light, po))
+}
+
+/// The shadow ray of surface point `sp` in `scene`: from the light, or to it where the light
+/// is far ([`Scene::shadows_from_light`]).
+pub fn shadow_ray(scene: &Scene, sp: &SurfacePoint) -> Ray {
+    let light = scene.light.position;
+    match scene.shadows_from_light() {
+        true => shadow_from_light(sp.p, sp.p_error, sp.n, light),
+        false => shadow_to_light(sp.p, sp.p_error, sp.n, light),
+    }
+}
+
 /// A camera ray's hit readied for shading: its primitive, the irradiance D = P·k there without
-/// shadows, and the shadow ray from the light ([`shadow_from_light`]; `None` where D = 0:
+/// shadows, and the shadow ray ([`shadow_ray`]; `None` where D = 0:
 /// nothing to shadow). Made once per hit, so a renderer can gather the shadow rays of a tile
 /// first.
 ///
@@ -103,7 +124,7 @@ impl Lit {
         let k = irradiance_factor(scene, &sp, ray);
         let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
         let light = scene.light.position;
-        let shadow = (d != [0.0; 3]).then(|| shadow_from_light(sp.p, sp.p_error, sp.n, light));
+        let shadow = (d != [0.0; 3]).then(|| shadow_ray(scene, &sp));
         // The shadow ray's end is offset outwards where (L − p)·n ≥ 0 (as
         // `offset_ray_origin` does), inwards otherwise.
         let end_outside = dot(sub(light, sp.p), sp.n) >= 0.0;

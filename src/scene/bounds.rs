@@ -151,3 +151,31 @@ impl Scene {
         Some(merge(reached, walked))
     }
 }
+
+/// How far the light may lie from the scene's box, in units of the box's longest side, for
+/// shadow rays to start at the light ([`Scene::shadows_from_light`]).
+pub const LIGHT_REACH: f64 = 1024.0;
+
+impl Scene {
+    /// Whether shadow rays start at the light (`render::shade::shadow_from_light`: every
+    /// shadow ray of a frame then shares one origin, which the packet kernels need), else at
+    /// the surface point (`render::shade::shadow_to_light`). A ray from the light ends within
+    /// 2⁻²⁴·|L − p| of the point per axis and is shortened by that much to stay off the
+    /// surface, so it misses what lies that close: under 2⁻¹²·(the box's longest side) with the
+    /// light within [`LIGHT_REACH`] sides of the box, but a whole scene with a light 10⁸ away
+    /// (a sun). Beyond that reach the ray starts at the point, offset by the point's own error
+    /// bound, and its rounding moves to the light's end, far from everything.
+    pub fn shadows_from_light(&self) -> bool {
+        let Some((lo, hi)) = *self.bounds_once.get_or_init(|| self.bounds()) else {
+            return true;
+        };
+        let light = self.light.position;
+        let (mut side, mut gap) = (0.0f64, 0.0f64);
+        for k in 0..3 {
+            let (lo, hi, l) = (f64::from(lo[k]), f64::from(hi[k]), f64::from(light[k]));
+            side = side.max(hi - lo);
+            gap = gap.max(lo - l).max(l - hi);
+        }
+        gap <= LIGHT_REACH * side
+    }
+}

@@ -46,6 +46,8 @@ pub struct Scene {
     /// Where `colors` change along the primitives, found on first use (see
     /// [`Scene::color_run`]).
     color_runs: OnceLock<ColorRuns>,
+    /// [`Scene::bounds`], found on first use by [`Scene::shadows_from_light`].
+    bounds_once: OnceLock<Option<Bounds>>,
     /// Meshes placed by a matrix, in primitive order (see [`Scene::with_instances`]).
     instances: Vec<Instance>,
     /// Where each instance starts ([`instance::locate`]).
@@ -102,6 +104,7 @@ impl Scene {
             shapes,
             colors,
             color_runs: OnceLock::new(),
+            bounds_once: OnceLock::new(),
             light,
             ambient,
             warnings: Vec::new(),
@@ -228,6 +231,7 @@ impl Scene {
         }
         self.instance_index = instance::index(&instances);
         self.instances = instances;
+        self.bounds_once = OnceLock::new();
         Ok(self)
     }
 

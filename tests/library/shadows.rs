@@ -2,6 +2,7 @@
 //! offset by the hit point's error bound rather than a fixed epsilon: on a lone convex object
 //! nothing can block the light from a lit point, so the shadowed image must equal the unshadowed
 //! one pixel for pixel, at grazing light angles and with everything translated by up to 1e5.
+//! And a light far from the scene (a sun 10⁸ away) still casts the shadows a near one does.
 
 use glam::DVec3;
 use raylab::geometry::{Shape, Sphere};
@@ -139,4 +140,80 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
         direct.iter().zip(&shadows).any(|(d, s)| s < d),
         "the blocks do cast shadows"
     );
+}
+
+/// A floor in y = 0 with a ball of radius 1 resting on it at the origin, lit from straight
+/// above at `height` (y down: above is −y), with the same irradiance at every height.
+fn ball_on_a_floor(height: f32) -> Scene {
+    let mut scene = floor_scene([0.0; 3], 1.0);
+    scene.shapes.push(Shape::Sphere(Sphere {
+        centre: [0.0, -1.0, 0.0],
+        radius: 1.0,
+    }));
+    scene.colors_mut().push([0.8; 3]);
+    scene.light = PointLight {
+        position: [0.0, -height, 0.0],
+        power: [40.0 * height * height; 3],
+    };
+    scene
+}
+
+/// The floor pixels the ball shadows (darker with shadows than without), and the shadow rays.
+fn shadowed_pixels(scene: &Scene) -> (usize, u64) {
+    let camera = Camera::look_to(
+        DVec3::new(0.0, -6.0, -8.0),
+        DVec3::new(0.0, 6.0, 8.0),
+        DVec3::NEG_Y,
+        96.0,
+    )
+    .unwrap();
+    let settings = |step| RenderSettings {
+        width: 96,
+        height: 72,
+        step,
+        ..Default::default()
+    };
+    let stage = Stage::from(scene.clone());
+    let (direct, _) = render_image(&stage, &camera, &settings(LabStep::Direct)).unwrap();
+    let (shadows, stats) = render_image(&stage, &camera, &settings(LabStep::Shadows)).unwrap();
+    let dark = (direct.chunks(4).zip(shadows.chunks(4)))
+        .filter(|(d, s)| s[..3] != d[..3])
+        .count();
+    (dark, stats.shadow_rays)
+}
+
+#[test]
+fn a_far_light_still_casts_the_shadow_under_a_ball() {
+    // From 10 units up the shadow is a disc a little wider than the ball; from a sun-like
+    // 10⁸ it is the ball's own disc. A shadow ray from the light would end 2⁻²²·10⁸ ≈ 24
+    // units short of the floor and miss the ball: the far light's rays start at the floor.
+    let near = ball_on_a_floor(10.0);
+    assert!(near.shadows_from_light());
+    let (near_dark, _) = shadowed_pixels(&near);
+    assert!(near_dark > 100, "{near_dark} shadowed pixels with the light 10 up");
+    for height in [1e4f32, 1e6, 1e8, 1e11] {
+        let scene = ball_on_a_floor(height);
+        let (dark, rays) = shadowed_pixels(&scene);
+        assert!(rays > 3000, "light {height:e} up: {rays} shadow rays");
+        assert!(
+            dark as f64 > 0.7 * near_dark as f64 && dark <= near_dark,
+            "light {height:e} up: {dark} shadowed pixels, {near_dark} with the light 10 up"
+        );
+    }
+}
+
+#[test]
+fn shadow_rays_start_at_the_light_within_1024_scene_sizes() {
+    // The box of the ball on the floor: x and z in ±10, y in [−2, 0]; its longest side 20.
+    let mut scene = ball_on_a_floor(10.0);
+    assert!(scene.shadows_from_light());
+    for (x, from_light) in [
+        (10.0 + 1024.0 * 20.0, true),
+        (10.0 + 1025.0 * 20.0, false),
+        (-10.0 - 1024.0 * 20.0, true),
+        (-10.0 - 1025.0 * 20.0, false),
+    ] {
+        scene.light.position = [x, -1.0, 0.0];
+        assert_eq!(scene.shadows_from_light(), from_light, "light at x = {x}");
+    }
 }

@@ -118,7 +118,8 @@ pub struct FrameSetup {
     pub camera_rays: usize,
     /// Whether shadow segments will be asked.
     pub shadows: bool,
-    /// Camera rays one at a time only (the cracks view compares methods ray by ray).
+    /// Camera rays one at a time only (the cracks view compares methods ray by ray; shadow
+    /// rays from surface points, for a far light, share no origin).
     pub per_ray: bool,
 }
 
