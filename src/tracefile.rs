@@ -297,6 +297,10 @@ pub fn trace_all_through(
     }
 }
 
+/// The most spheres per ray of an origin for [`trace_all_packets`] to trace its rays as a
+/// frame.
+const SPHERES_PER_FRAME_RAY: usize = 64;
+
 /// Traces every ray in f32 through the renderer's own face on the accelerator, the queries of
 /// a frame ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays
 /// sharing an origin go 8 at a time, [`Query::Nearest`] rays with tmin = 0 and tmax = ∞ as
@@ -306,7 +310,8 @@ pub fn trace_all_through(
 /// for the renderer: a small scene's triangles prepared for the origin, the packets through
 /// the BVH and the instances (the triangles prepared once where there are at least as many
 /// rays as stored triangles, else as met), spheres lane by lane, the ambiguous lanes through
-/// the exact resolvers and per ray. Other rays go per ray through the scene's structure.
+/// the exact resolvers and per ray. Other rays go per ray through the scene's structure, as
+/// do those of an origin with fewer than 1/64 as many rays as the scene has spheres.
 /// Same output format as [`trace_all`]; a nearest hit's t is the adaptive t of its primitive.
 pub fn trace_all_packets(
     scene: &crate::scene::Scene,
@@ -338,7 +343,13 @@ pub fn trace_all_packets(
     // Per ray: Some(prim or NO_HIT) for a nearest query, Some(1 or 0) for an any-hit query.
     let mut found: Vec<Option<u32>> = vec![None; rays.len()];
     let mut scratch = TileScratch::default();
+    // A frame sees every sphere from its origin first: an origin with few rays beside many
+    // spheres goes per ray, so that many origins never cost origins × spheres.
+    let spheres = structure.spheres().len();
     for (o, members) in &groups {
+        if spheres > SPHERES_PER_FRAME_RAY * members.len() {
+            continue;
+        }
         let frame = structure.for_frame(&FrameSetup {
             eye: *o,
             light: *o,
