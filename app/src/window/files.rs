@@ -1,7 +1,7 @@
 //! The File menu: open a scene or model, save the image, save the view, through a file dialog
 //! drawn by egui itself (egui-file-dialog), so it works wherever the window does.
 
-use egui_file_dialog::FileDialog;
+use egui_file_dialog::{DialogState, FileDialog};
 use std::path::PathBuf;
 
 /// What the open dialog was asked for.
@@ -74,6 +74,11 @@ impl FileMenu {
             _ => self.dialog.save_file(),
         }
         self.purpose = Some(purpose);
+    }
+
+    /// Whether the dialog is shown: Esc then closes it rather than being the app's.
+    pub fn is_open(&self) -> bool {
+        *self.dialog.state() == DialogState::Open
     }
 
     /// Shows the dialog while it is open; what was picked, once.

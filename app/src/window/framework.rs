@@ -65,6 +65,12 @@ impl Framework {
         self.ctx.text_edit_focused()
     }
 
+    /// Whether Esc is egui's: a text field has focus (Esc leaves it) or a menu or drop-down
+    /// is open (Esc closes it).
+    pub fn takes_escape(&self) -> bool {
+        self.ctx.text_edit_focused() || self.ctx.any_popup_open()
+    }
+
     /// Whether egui is taking the pointer (over a widget, or dragging one).
     pub fn wants_pointer(&self) -> bool {
         self.ctx.egui_wants_pointer_input()

@@ -628,6 +628,8 @@ impl ApplicationHandler<AppEvent> for App {
             return;
         };
         let egui_keyboard = fw.wants_keyboard();
+        // (Before egui sees the press: the field or dialog Esc closes is still open.)
+        let egui_escape = fw.takes_escape() || self.viewer.files.is_open();
         // Tab is the camera's (fly/orbit) unless a text field is typing: egui would take it to
         // move its keyboard focus between widgets.
         let tab = matches!(&event, WindowEvent::KeyboardInput { event, .. }
@@ -668,9 +670,15 @@ impl ApplicationHandler<AppEvent> for App {
                 let pressed = event.state == ElementState::Pressed;
                 // Releases always count (no stuck keys); presses only when egui is not typing.
                 // (A window gaining focus replays the keys held as synthetic presses: a key
-                // pressed just then arrives twice, so only held motion takes them.)
+                // pressed just then arrives twice, so only held motion takes them.) Esc that
+                // leaves a field or closes a dialog or menu is egui's alone, unless it frees
+                // the captured mouse.
                 let replayed = is_synthetic && !key.is_held_motion();
-                if pressed && (event.repeat || replayed || (egui_keyboard && key != Key::Escape)) {
+                let egui_takes = match key {
+                    Key::Escape => egui_escape && !self.mouse_look,
+                    _ => egui_keyboard,
+                };
+                if pressed && (event.repeat || replayed || egui_takes) {
                     return;
                 }
                 self.key(event_loop, key, pressed);

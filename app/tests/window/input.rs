@@ -473,3 +473,39 @@ fn real_x_input_keys_still_move_the_camera_after_tab() {
         run.fields
     );
 }
+
+#[test]
+fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
+    // Esc while typing in the path field leaves the field, Esc in the open File menu closes
+    // it, Esc with File ▸ Open's dialog shown closes the dialog: each is egui's alone. So
+    // Esc, Esc in the field asks once (the second Esc) and the window stays; the menu's Esc
+    // asks nothing; Esc, Esc in the dialog asks once more. (Each click in between is
+    // something else done: the next Esc asks again rather than quitting.) Positions: the
+    // panel's path field and the File menu at the default window on the 1280x800 screen.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 150 618; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool type --delay 50 abc; sleep 0.3; xdotool key Escape; sleep 0.5; \
+                  xdotool key Escape; sleep 0.5; \
+                  xdotool mousemove --sync 19 11; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool key Escape; sleep 0.5; \
+                  xdotool click 1; sleep 0.8; xdotool mousemove --sync 78 36; sleep 0.3; \
+                  xdotool click 1; sleep 1.5; xdotool mousemove --sync 900 650; sleep 0.3; \
+                  xdotool key Escape; sleep 0.8; xdotool key Escape";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(!run.fields.is_empty(), "the window quit\n{log}");
+    let asked = log.matches("press Esc again to quit").count();
+    assert_eq!(
+        asked, 2,
+        "the second Esc of each pair asked, nothing else\n{log}"
+    );
+    assert_eq!(
+        run.stdout.lines().find_map(|l| l.strip_prefix("status: ")),
+        Some("press Esc again to quit")
+    );
+}
