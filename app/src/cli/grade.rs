@@ -4,6 +4,7 @@
 //! the exact answers computed once. A submission that crashes, hangs, floods, forks or deletes
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
+use super::account::{accounts, Account};
 use super::check::{suite_cases, Case};
 use super::program::{self, Limits, RunDir, RunError};
 use super::Precision;
@@ -242,96 +243,6 @@ fn same_file(a: &Path, b: &Path) -> bool {
     a == b || full(a).is_some_and(|x| Some(x) == full(b))
 }
 
-/// One account per worker when raylab runs as root, so the process limit holds (root is
-/// exempt from it) and no program touches another's files; none otherwise, or when a program
-/// cannot run as one here (a user namespace without the uid, a TMPDIR others cannot enter):
-/// then programs run as root, said with the reason.
-fn accounts(jobs: usize, limits: &Limits) -> Vec<Option<Account>> {
-    let none = || (0..jobs).map(|_| None).collect();
-    if !rustix::process::geteuid().is_root() {
-        return none();
-    }
-    let Some(claimed) = Account::claim(jobs) else {
-        eprintln!("warning: no free uid to run the programs as: they run as root, and --max-processes does not hold");
-        return none();
-    };
-    // A program run as the first, in a directory of its own: what every run does.
-    let probe = || -> std::result::Result<(), String> {
-        let dir = RunDir::new("grade").map_err(|e| e.to_string())?;
-        claimed[0].give(dir.path()).map_err(|e| e.to_string())?;
-        let limits = Limits {
-            max_output_bytes: 1024,
-            dir: Some(dir.path().to_path_buf()),
-            run_as: Some(claimed[0].uid()),
-            ..limits.clone()
-        };
-        program::run_with(std::ffi::OsStr::new("true"), &limits).map_err(|e| e.to_string())?;
-        Ok(())
-    };
-    match probe() {
-        Ok(()) => claimed.into_iter().map(Some).collect(),
-        Err(e) => {
-            eprintln!("warning: cannot run a program as uid {} ({e}): the programs run as root, and --max-processes does not hold", claimed[0].uid());
-            none()
-        }
-    }
-}
-
-/// An unprivileged uid (and gid of the same number) that runs one submission at a time when
-/// raylab runs as root: RLIMIT_NPROC counts its processes alone (root is exempt from it),
-/// its processes are found by their uid, and it cannot touch root's files or another
-/// account's directory. Never a uid of /etc/passwd or /etc/group or of a running process;
-/// held, system-wide, by binding the abstract socket `raylab-uid-<uid>` (released when
-/// raylab ends, however it ends), so two graders never share one.
-struct Account {
-    uid: u32,
-    _held: std::os::unix::net::UnixListener,
-}
-
-impl Account {
-    /// The uids tried.
-    const RANGE: std::ops::Range<u32> = 61_000..65_000;
-
-    /// `n` free accounts, or none.
-    fn claim(n: usize) -> Option<Vec<Account>> {
-        use std::os::linux::net::SocketAddrExt;
-        use std::os::unix::net::{SocketAddr, UnixListener};
-        let taken = |file: &str| -> Vec<u32> {
-            let text = std::fs::read_to_string(file).unwrap_or_default();
-            let ids = text
-                .lines()
-                .filter_map(|l| l.split(':').nth(2)?.parse().ok());
-            ids.collect()
-        };
-        let (users, groups) = (taken("/etc/passwd"), taken("/etc/group"));
-        let running = program::uids_running();
-        let free = Self::RANGE
-            .filter(|u| !(users.contains(u) || groups.contains(u) || running.contains(u)));
-        let held = free.filter_map(|uid| {
-            let name = SocketAddr::from_abstract_name(format!("raylab-uid-{uid}")).ok()?;
-            let _held = UnixListener::bind_addr(&name).ok()?;
-            Some(Account { uid, _held })
-        });
-        let accounts: Vec<Account> = held.take(n).collect();
-        (accounts.len() == n).then_some(accounts)
-    }
-
-    fn uid(&self) -> u32 {
-        self.uid
-    }
-
-    /// Gives `path` and everything below it to the account (links themselves, not followed).
-    fn give(&self, path: &Path) -> std::io::Result<()> {
-        std::os::unix::fs::lchown(path, Some(self.uid), Some(self.uid))?;
-        if std::fs::symlink_metadata(path)?.is_dir() {
-            for entry in std::fs::read_dir(path)? {
-                self.give(&entry?.path())?;
-            }
-        }
-        Ok(())
-    }
-}
-
 /// Grades every submission, `accounts.len()` at a time; a line on stderr as each ends.
 fn run_all(
     submissions: &[PathBuf],
@@ -487,6 +398,9 @@ fn grade_one(
         });
     }
     drop(run);
+    if let Some(account) = account {
+        account.sweep();
+    }
     records
 }
 
@@ -703,7 +617,7 @@ fn csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String 
             };
             out += &format!(
                 "{},{},{},{counts},{:.1},{}",
-                csv_field(&s.name),
+                csv_field(&as_text(&s.name)),
                 csv_field(&case.name),
                 case.ray_count,
                 r.ms,
@@ -716,6 +630,16 @@ fn csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String 
         }
     }
     out
+}
+
+/// A submission's name as a spreadsheet shows it as text: after a `'` where it starts as a
+/// formula would (`=`, `+`, `-`, `@`, a tab or a carriage return), which a spreadsheet opening
+/// the CSV would otherwise run.
+fn as_text(name: &str) -> String {
+    match name.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        true => format!("'{name}"),
+        false => name.to_string(),
+    }
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break.

@@ -22,6 +22,7 @@ macro_rules! say {
     }};
 }
 
+mod account;
 mod check;
 mod check_image;
 mod grade;

@@ -61,7 +61,8 @@ pub struct Limits {
     pub max_processes: Option<u64>,
     /// The working directory (default: raylab's).
     pub dir: Option<PathBuf>,
-    /// The uid (and gid) to run as, one no other process has; HOME and TMPDIR become `dir`.
+    /// The uid (and gid) to run as, one no other process has; HOME and TMPDIR become `dir`,
+    /// PATH the entries it may search.
     pub run_as: Option<u32>,
 }
 
@@ -119,6 +120,8 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     if let Some(uid) = limits.run_as {
         // setgroups(0) comes with it: none of root's groups stay.
         shell.uid(uid).gid(uid);
+        let path = std::env::var_os("PATH").unwrap_or_default();
+        shell.env("PATH", super::account::searchable_path(&path));
         if let Some(dir) = &limits.dir {
             shell.env("HOME", dir).env("TMPDIR", dir);
         }

@@ -285,3 +285,103 @@ fn bad_input_is_named() {
     );
     assert!(!Path::new(&inside).exists());
 }
+
+/// As root each worker's programs run as one account, a submission after another: the next
+/// finds nothing the last left where every user may write, a command missing from PATH is
+/// "not found" even beside a directory only root may enter, and a name that reads as a
+/// formula stays text in the CSV.
+#[test]
+fn the_next_submission_finds_nothing_of_the_last() {
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user, with no account to sweep");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    open_up(dir.path());
+    let (class, suite) = (dir.path().join("class"), dir.path().join("suite"));
+    let exact = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    let left = [
+        "/tmp/raylab-left-917005",
+        "/dev/shm/raylab-left-917005",
+        "/tmp/raylab-left-dir-917005",
+    ];
+    for f in left {
+        let _ = std::fs::remove_dir_all(f).or_else(|_| std::fs::remove_file(f));
+    }
+    let leaves = format!(
+        "echo answers > {0} && echo answers > {1} && mkdir -p {2} && echo x > {2}/f && exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2]
+    );
+    let looks = format!(
+        "for f in {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2]
+    );
+    let class_of = [
+        ("=1+2", "exec python3 exact.py \"$1\" \"$2\"\n".to_string()),
+        ("a-leaves", leaves),
+        ("b-looks", looks),
+        (
+            "c-missing",
+            "exec no-such-command-917006 \"$1\"\n".to_string(),
+        ),
+    ];
+    for (name, run) in &class_of {
+        let sub = class.join(name);
+        std::fs::create_dir_all(&sub).unwrap();
+        std::fs::write(sub.join("run.sh"), run).unwrap();
+        std::fs::copy(&exact, sub.join("exact.py")).unwrap();
+    }
+    let o = raylab(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::binary::stderr(&o));
+    // A directory of root's that others cannot enter, first in PATH (as root's ~/.cargo/bin).
+    let locked = dir.path().join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    let path_env = format!("{}:/usr/local/bin:/usr/bin:/bin", locked.display());
+    let (csv, json) = (
+        dir.path().join("grades.csv"),
+        dir.path().join("grades.json"),
+    );
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab_env(
+        &[
+            "grade",
+            &path(&class),
+            "--suite",
+            &path(&suite),
+            "--family",
+            "01",
+            "-j",
+            "1",
+            "--program",
+            "sh run.sh {scene} {rays}",
+            "--csv",
+            &path(&csv),
+            "--json",
+            &path(&json),
+        ],
+        &[("PATH", &path_env)],
+    );
+    let err = common::binary::stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    for f in left {
+        assert!(!Path::new(f).exists(), "{f} left behind");
+    }
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let status = |name: &str| {
+        let row = csv.lines().find(|l| l.starts_with(&format!("{name},")));
+        row.and_then(|r| r.rsplit(',').next()).map(str::to_string)
+    };
+    assert_eq!(status("'=1+2").as_deref(), Some("ok"), "{csv}");
+    assert_eq!(status("a-leaves").as_deref(), Some("ok"), "{csv}");
+    assert_eq!(status("b-looks").as_deref(), Some("ok"), "{csv}\n{err}");
+    assert_eq!(status("c-missing").as_deref(), Some("crashed"), "{csv}");
+    let json = std::fs::read_to_string(&json).unwrap();
+    assert!(
+        json.contains("no-such-command-917006: not found") && !json.contains("Permission denied"),
+        "{json}"
+    );
+}
