@@ -190,7 +190,10 @@ fn a_far_light_still_casts_the_shadow_under_a_ball() {
     let near = ball_on_a_floor(10.0);
     assert!(near.shadows_from_light());
     let (near_dark, _) = shadowed_pixels(&near);
-    assert!(near_dark > 100, "{near_dark} shadowed pixels with the light 10 up");
+    assert!(
+        near_dark > 100,
+        "{near_dark} shadowed pixels with the light 10 up"
+    );
     for height in [1e4f32, 1e6, 1e8, 1e11] {
         let scene = ball_on_a_floor(height);
         let (dark, rays) = shadowed_pixels(&scene);
