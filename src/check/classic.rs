@@ -1,7 +1,8 @@
 //! The families that each catch one classic lab bug: far and tiny spheres met near their rim
 //! (the textbook quadratic in f64), directions that are not of unit length (t in units of a
 //! normalised direction), intervals whose ends lie exactly at surfaces (`<=` for `<`, the near
-//! root only), hits behind the origin (tmin ignored), and exact ties (either answer stands).
+//! root only), hits behind the origin (tmin ignored), exact ties (either answer stands), and
+//! hits a hair past tmin (a fixed epsilon).
 //! Where an interval's end must lie exactly at a surface, the t there is exact in f32: planes
 //! z = k met by d = (dx, dy, s) with s a power of two, a sphere met at Pythagorean points.
 
@@ -18,6 +19,7 @@ pub fn classic_bugs() -> Vec<Family> {
         interval_ends_at_surfaces(),
         hits_behind_the_origin(),
         exact_ties(),
+        hits_just_past_tmin(),
     ]
 }
 
@@ -266,4 +268,50 @@ fn exact_ties() -> Family {
     Family::new("exact ties", shapes, rays)
         .probing("Rays exactly through an edge two triangles share, at an exact copy, and at the point where a sphere touches a triangle: exact ties, where either primitive is right.")
         .catching("none: it holds that no correct program is failed for a tie")
+}
+
+/// A triangle in z = 0 and a sphere resting on that plane, met from origins 2^-8 to 2^-67 in
+/// front of them (tmin = 0), and from origins 1 + 2^-k behind the plane with tmin = 1: every
+/// hit lies a power of two past tmin, exactly, so a program that asks t > tmin + ε for some
+/// fixed ε ≥ 2^-67 loses some of them.
+fn hits_just_past_tmin() -> Family {
+    let mut rng = Rng(206);
+    let shapes = vec![
+        Shape::from([[-4.0, -4.0, 0.0], [4.0, -4.0, 0.0], [0.0, 4.0, 0.0]]),
+        Shape::sphere([10.0, 0.0, 1.0], 1.0),
+    ];
+    let mut rays = Vec::new();
+    for j in 0..240 {
+        let s = power_of_two(&mut rng, -1, 1);
+        let gap = 2f32.powi(-8 - (j / 4) % 60);
+        // The origin's z (d = (…, s)) and tmin.
+        let (z, tmin) = match j % 4 {
+            // Met at t = gap/s, past tmin = 0 by that.
+            0 | 1 => (-gap, 0.0),
+            // Met at t = 1 + g/s, past tmin = 1 by g/s (s + g is exact in f32 for s ≤ 2).
+            2 => {
+                let g = 2f32.powi(-8 - (j / 4) % 14);
+                (-(s + g), 1.0)
+            }
+            // tmin exactly at the plane: missed (tmin < t is open), and the sphere met only
+            // at its top.
+            _ => (-gap, gap / s),
+        };
+        let (o, d) = match j % 3 {
+            // Straight up to the sphere's lowest point, (10, 0, 0).
+            2 => ([10.0, 0.0, z], [0.0, 0.0, s]),
+            _ => (
+                [rng.range(-0.5, 0.5) as f32, rng.range(-0.5, 0.5) as f32, z],
+                [
+                    (rng.range(-0.25, 0.25) as f32) * s,
+                    (rng.range(-0.25, 0.25) as f32) * s,
+                    s,
+                ],
+            ),
+        };
+        rays.push(span(Ray::new(o, d), tmin, f32::INFINITY));
+    }
+    Family::with_spans("hits just past tmin", shapes, rays)
+        .probing("A triangle and a sphere met 2^-8 to 2^-67 past tmin = 0, 2^-8 to 2^-23 past tmin = 1, and with tmin exactly at the hit: tmin < t, open, with no epsilon.")
+        .catching("a fixed epsilon for tmin (t > tmin + ε): hits nearer than ε are lost, for any ε down to 2^-67")
 }
