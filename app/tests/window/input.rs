@@ -485,7 +485,7 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
-                  xdotool mousemove --sync 150 618; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.3; \
                   xdotool type --delay 50 abc; sleep 0.3; xdotool key Escape; sleep 0.5; \
                   xdotool key Escape; sleep 0.5; \
                   xdotool mousemove --sync 19 11; sleep 0.3; xdotool click 1; sleep 0.8; \
