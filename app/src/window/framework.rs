@@ -71,6 +71,12 @@ impl Framework {
         self.ctx.text_edit_focused() || self.ctx.any_popup_open()
     }
 
+    /// Whether an egui window, menu or dialog (anything above the panels) is drawn at `pos`
+    /// (points) in the last frame.
+    pub fn window_at(&self, pos: egui::Pos2) -> bool {
+        (self.ctx.layer_id_at(pos)).is_some_and(|layer| layer.order != egui::Order::Background)
+    }
+
     /// Whether egui is taking the pointer (over a widget, or dragging one).
     pub fn wants_pointer(&self) -> bool {
         self.ctx.egui_wants_pointer_input()

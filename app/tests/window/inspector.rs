@@ -377,3 +377,41 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
     assert_status_names_the_inspected_pixel(&run);
 }
+
+#[test]
+fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
+    // With the inspector on, clicks on egui windows drawn over the image are theirs: the
+    // shortcuts overlay (H) and its close button, File ▸ Open's dialog and its Cancel button.
+    // None inspects a pixel; the click on the image after them does, once. (Positions: the
+    // default window on the 1280x800 screen, where the image spans x 358..1151, y 0..697.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key h; sleep 0.8; \
+                  xdotool mousemove --sync 700 250; sleep 0.3; xdotool click 1; sleep 0.5; \
+                  xdotool mousemove --sync 1122 29; sleep 0.3; xdotool click 1; sleep 0.5; \
+                  xdotool mousemove --sync 19 11; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 78 36; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool mousemove --sync 459 200; sleep 0.3; xdotool click 1; sleep 0.5; \
+                  xdotool mousemove --sync 537 367; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 1000 600; sleep 0.3; xdotool click 1; sleep 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert_eq!(
+        run.fields["help"], "off",
+        "the close button closed the overlay\n{log}"
+    );
+    let inspected: Vec<&str> = (log.lines())
+        .filter_map(|l| l.split_once("] inspected pixel ").map(|p| p.1))
+        .collect();
+    assert_eq!(inspected.len(), 1, "only the last click inspected\n{log}");
+    // The last click's pixel: right of and below the middle of the 794x698 image.
+    let pixel: Vec<u32> = (inspected[0].split(':').next().unwrap())
+        .trim_matches(['(', ')'])
+        .split(", ")
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(pixel[0] > 600 && pixel[1] > 550, "{pixel:?}");
+}

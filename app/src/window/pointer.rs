@@ -1,0 +1,51 @@
+//! The pointer over the image: whether it is the image's (not an egui window's drawn over
+//! it), and the image pixel a left click inspects.
+
+use super::App;
+
+impl App {
+    /// Whether the mouse pointer is over the image: there the camera takes the wheel and the
+    /// right button, even though egui reports the pointer as its own (the image is drawn in
+    /// egui's central panel). Not where an egui window, menu or dialog, or the error banner,
+    /// is drawn over it: a click there is theirs.
+    pub(super) fn pointer_over_image(&self) -> bool {
+        let (Some((x, y)), Some(rect), Some(fw)) = (self.cursor, self.image_rect, &self.framework)
+        else {
+            return false;
+        };
+        let ppp = fw.pixels_per_point();
+        let at = egui::pos2(x as f32 / ppp, y as f32 / ppp);
+        let on_top = fw.window_at(at) || self.banner_rect.is_some_and(|b| b.contains(at));
+        rect.contains(at) && !on_top
+    }
+
+    /// A left press over the image and its release within a few pixels (not an orbit drag)
+    /// inspect the pixel under the pointer, when the inspector is on.
+    pub(super) fn left_click(&mut self, pressed: bool, on_image: bool) {
+        if pressed {
+            self.press_at = self.cursor.filter(|_| on_image && self.viewer.inspector_on);
+            return;
+        }
+        let (Some((x0, y0)), Some((x, y))) = (self.press_at.take(), self.cursor) else {
+            return;
+        };
+        if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
+            return;
+        }
+        if let Some((i, j)) = self.image_pixel(x, y) {
+            self.viewer.inspect_pixel(i, j);
+            self.request_redraw();
+        }
+    }
+
+    /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels).
+    fn image_pixel(&self, x: f64, y: f64) -> Option<(u32, u32)> {
+        let (rect, fw) = (self.image_rect?, self.framework.as_ref()?);
+        let ppp = fw.pixels_per_point() as f64;
+        let (w, h) = self.viewer.full_size();
+        let u = (x / ppp - rect.min.x as f64) / rect.width() as f64;
+        let v = (y / ppp - rect.min.y as f64) / rect.height() as f64;
+        let inside = (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v);
+        inside.then_some(((u * w as f64) as u32, (v * h as f64) as u32))
+    }
+}
