@@ -13,8 +13,7 @@ impl App {
         else {
             return false;
         };
-        let ppp = fw.pixels_per_point();
-        let at = egui::pos2(x as f32 / ppp, y as f32 / ppp);
+        let at = pixel_centre((x, y), fw.pixels_per_point());
         let on_top = fw.window_at(at) || self.banner_rect.is_some_and(|b| b.contains(at));
         rect.contains(at) && !on_top
     }
@@ -38,14 +37,23 @@ impl App {
         }
     }
 
-    /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels).
+    /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels):
+    /// the one whose square on screen holds the centre of the screen pixel the pointer is on,
+    /// which is where the GPU samples the image it draws there.
     fn image_pixel(&self, x: f64, y: f64) -> Option<(u32, u32)> {
         let (rect, fw) = (self.image_rect?, self.framework.as_ref()?);
-        let ppp = fw.pixels_per_point() as f64;
+        let at = pixel_centre((x, y), fw.pixels_per_point());
         let (w, h) = self.viewer.full_size();
-        let u = (x / ppp - rect.min.x as f64) / rect.width() as f64;
-        let v = (y / ppp - rect.min.y as f64) / rect.height() as f64;
+        let u = (at.x - rect.min.x) as f64 / rect.width() as f64;
+        let v = (at.y - rect.min.y) as f64 / rect.height() as f64;
         let inside = (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v);
         inside.then_some(((u * w as f64) as u32, (v * h as f64) as u32))
     }
+}
+
+/// The centre of the window pixel at `(x, y)` (physical pixels, as winit reports the pointer),
+/// in egui points: the point the GPU samples for that pixel, so what is drawn there.
+fn pixel_centre((x, y): (f64, f64), pixels_per_point: f32) -> egui::Pos2 {
+    let centre = |c: f64| ((c.floor() + 0.5) / pixels_per_point as f64) as f32;
+    egui::pos2(centre(x), centre(y))
 }

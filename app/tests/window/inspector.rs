@@ -415,3 +415,79 @@ fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
         .collect();
     assert!(pixel[0] > 600 && pixel[1] > 550, "{pixel:?}");
 }
+
+/// The pixels the window's log says were inspected, in order.
+fn inspected_pixels(log: &str) -> Vec<(u32, u32)> {
+    (log.lines())
+        .filter_map(|l| l.split_once("] inspected pixel (")?.1.split_once(')'))
+        .map(|(p, _)| {
+            let (i, j) = p.split_once(", ").unwrap();
+            (i.parse().unwrap(), j.parse().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
+    // With the inspector's panel open (a first click), the 464x698 image fills x 358..821 and
+    // y 0..697 of the 1280x800 screen, one window pixel per image pixel: clicks on the first
+    // column, the last column and the first row inspect pixel 0, 463 and row 0; each click
+    // inspects the pixel whose square on screen holds the centre of the window pixel clicked.
+    // The ring the inspector draws round its hit point is centred on the last click.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let clicks = [(358, 400), (821, 400), (600, 0), (400, 300)];
+    let moves: Vec<String> = (clicks.iter())
+        .map(|(x, y)| format!("xdotool mousemove --sync {x} {y}; sleep 0.3; xdotool click 1"))
+        .collect();
+    let moves = moves.join("; sleep 0.8; ");
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; sleep 0.3; \
+         xdotool click 1; sleep 2; {moves}"
+    );
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(&driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (_, w, h, rect) = run.camera();
+    assert_eq!((w, h), (464, 698), "{log}");
+    let pixels = inspected_pixels(log);
+    assert_eq!(pixels.len(), 1 + clicks.len(), "{log}");
+    let at = |(x, y): (i32, i32)| {
+        let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
+        let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
+        (i, j)
+    };
+    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
+        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
+    }
+    assert_eq!(
+        (pixels[1], pixels[2], pixels[3].1),
+        ((0, 400), (463, 400), 0)
+    );
+    // The ring: white over the magenta wall round the last click, 6 px in radius.
+    let (sw, _, px) = &run.shot;
+    let (cx, cy) = (400, 300);
+    let mut white = (u32::MAX, 0, u32::MAX, 0);
+    for y in cy - 12..=cy + 12 {
+        for x in cx - 12..=cx + 12 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            if p.iter().all(|&c| c > 200) {
+                white = (
+                    white.0.min(x),
+                    white.1.max(x),
+                    white.2.min(y),
+                    white.3.max(y),
+                );
+            }
+        }
+    }
+    let centre = |lo: u32, hi: u32| (lo + hi + 1) as f64 / 2.0;
+    let (rx, ry) = (centre(white.0, white.1), centre(white.2, white.3));
+    println!("ring centre ({rx}, {ry}), bounds {white:?}, image at {rect:?}");
+    assert!(
+        (rx - (cx as f64 + 0.5)).abs() <= 0.5 && (ry - (cy as f64 + 0.5)).abs() <= 0.5,
+        "the ring is centred at ({rx}, {ry}), the click at ({cx}, {cy})"
+    );
+}
