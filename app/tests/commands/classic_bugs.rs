@@ -245,6 +245,7 @@ fn closed_tmin_is_caught_by_origins_on_surfaces() {
         caught_by: &[
             ("origins-at-a-vertex", &["false", "wrong"]),
             ("interval-ends-at-surfaces", &["false", "wrong"]),
+            ("hits-just-past-tmin", &["false"]),
         ],
         beside: &[],
     });
@@ -309,7 +310,7 @@ fn third_edge_open_is_caught_by_a_cube_from_inside_and_outside() {
 }
 
 /// A fixed epsilon (t > 1e-4) for tmin: hits nearer than it are lost, at a vertex the ray
-/// starts from and just inside a sphere.
+/// starts from, just inside a sphere and just past tmin.
 #[test]
 fn epsilon_tmin_is_caught_by_near_hits() {
     caught(&Bug {
@@ -317,9 +318,65 @@ fn epsilon_tmin_is_caught_by_near_hits() {
         caught_by: &[
             ("origins-at-a-vertex", &["leaks", "wrong"]),
             ("inside-and-one-ulp-outside", &["t fail", "wrong", "leaks"]),
+            ("hits-just-past-tmin", &["leaks"]),
         ],
         beside: &[],
     });
+}
+
+/// An epsilon of 10⁻⁹ or 10⁻¹⁵ (t > tmin + ε) loses only hits nearer tmin than that: the
+/// family of hits just past tmin catches it, where the families of other near hits (which
+/// catch 10⁻⁴) do not.
+#[test]
+fn a_tiny_epsilon_for_tmin_is_caught_just_past_tmin() {
+    if !common::tool_for("python3", "python3", "epsilon_tmin.py") {
+        return;
+    }
+    let bug = root().join("examples/check/bugs/epsilon_tmin.py");
+    let source = std::fs::read_to_string(&bug).unwrap();
+    let at = "Q(1, 10000) < t";
+    assert!(
+        source.contains(at),
+        "{} no longer reads {at}",
+        bug.display()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let suite = export(dir.path());
+    let near = [
+        "origins-at-a-vertex",
+        "inside-and-one-ulp-outside",
+        "interval-ends-at-surfaces",
+        "hits-behind-the-origin",
+    ];
+    let names: Vec<&str> = near
+        .iter()
+        .copied()
+        .chain(["hits-just-past-tmin"])
+        .collect();
+    let sub = sub_suite(&suite, &names, dir.path(), "near");
+    for (label, epsilon) in [("e9", "Q(1, 10**9)"), ("e15", "Q(1, 10**15)")] {
+        let program = dir.path().join(format!("epsilon_{label}.py"));
+        std::fs::write(
+            &program,
+            source.replace(at, &format!("tmin + {epsilon} < t")),
+        )
+        .unwrap();
+        let run = format!("python3 '{}' {{scene}} {{rays}}", program.display());
+        let o = check(&sub, &run, "f32");
+        let out = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(1), "{label}: {out}");
+        let failures = |name: &str| -> usize {
+            let row = row(&out, name);
+            ["leaks", "false", "wrong", "t fail"]
+                .iter()
+                .map(|c| column(&row, c))
+                .sum()
+        };
+        assert!(failures("hits-just-past-tmin") > 0, "{label}: {out}");
+        for name in near {
+            assert_eq!(failures(name), 0, "{label} in {name}: {out}");
+        }
+    }
 }
 
 /// Möller–Trumbore in f32: shared edges and vertices leak or hit twice, and a cube 2^-130
