@@ -2,6 +2,7 @@
 //! [`ControlInput`].
 
 use raylab::controller::ControlInput;
+use std::time::Instant;
 use winit::keyboard::KeyCode;
 
 /// The keys the viewer reacts to.
@@ -126,6 +127,8 @@ pub struct InputState {
     wheel: f64,
     orbit: (f64, f64),
     pan: (f64, f64),
+    /// When the held keys last started moving the camera from standing still.
+    motion_began: Option<Instant>,
 }
 
 impl InputState {
@@ -134,11 +137,21 @@ impl InputState {
         if !key.is_held_motion() {
             return false;
         }
+        let was_moving = self.is_moving();
         self.held.retain(|k| *k != key);
         if pressed {
             self.held.push(key);
         }
+        if !was_moving && self.is_moving() {
+            self.motion_began = Some(Instant::now());
+        }
         true
+    }
+
+    /// When the held keys last started moving the camera from standing still: a motion's
+    /// first frame counts from then, not from the frame before (an idle window draws none).
+    pub fn motion_began(&self) -> Option<Instant> {
+        self.motion_began
     }
 
     /// Whether `key` is held down (a motion key or a modifier).

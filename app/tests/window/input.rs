@@ -509,3 +509,83 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
         Some("press Esc again to quit")
     );
 }
+
+/// Runs the window as a user does (no script: it draws nothing while nothing changes) under
+/// Xvfb on the 1280x800 screen, drives it with `driver` (xdotool, the window in `$win`) once
+/// its first image is on screen, then saves the view (F5) and quits (Esc, Esc). The saved
+/// view's text and the log; None (after saying so) where Xvfb or xdotool is missing.
+fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, String)> {
+    let _one = common::window::one_window();
+    if !common::tool_for("xdotool", "xdotool", "the idle window test")
+        || !common::tool_for(
+            "xvfb-run",
+            "xvfb xauth mesa-vulkan-drivers",
+            "the idle window test",
+        )
+    {
+        return None;
+    }
+    let wrapper = format!(
+        "\"$1\" 2>app.log & app=$!; win=$(xdotool search --sync --name '^raylab'); \
+         n=0; until grep -q 'first image on screen' app.log || [ $n -ge 600 ]; do \
+         sleep 0.1; n=$((n+1)); done; sleep 0.5; {driver}; sleep 0.3; xdotool key F5; \
+         sleep 1; xdotool key Escape; sleep 0.3; xdotool key Escape; \
+         n=0; while kill -0 $app 2>/dev/null && [ $n -lt 100 ]; do sleep 0.1; n=$((n+1)); done; \
+         kill $app 2>/dev/null; wait $app"
+    );
+    let out = std::process::Command::new("timeout")
+        .args(["300", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24"])
+        .args(["sh", "-c", &wrapper, "sh", RAYLAB])
+        .env("RUST_LOG", "raylab=info")
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .current_dir(dir)
+        .output()
+        .expect("start xvfb-run");
+    let log = std::fs::read_to_string(dir.join("app.log")).unwrap_or_default();
+    assert!(out.status.success(), "{:?}\n{log}", out.status);
+    assert!(!log.contains("panicked"), "{log}");
+    let view = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    Some((std::fs::read_to_string(view).unwrap(), log))
+}
+
+#[test]
+fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
+    // The window idle (nothing drawn for 2 s), Shift held, a tap of W (held 50 ms), Shift let
+    // go; idle again, a 50 ms tap of Left. A motion's first frame counts from the press, not
+    // from the last frame drawn: at 4 x 1.73 units/s and 1.2 rad/s, W moves about 0.35 and
+    // Left turns about 3.4°, give or take a frame. (A first frame that counted the idle time,
+    // cut to a frame's most, 0.25 s, moved 1.73 and turned 17.2°, and more with the frames
+    // after it.)
+    let dir = tempfile::tempdir().unwrap();
+    let driver = "xdotool windowfocus --sync $win; sleep 2; xdotool keydown shift; sleep 0.3; \
+                  xdotool keydown w; sleep 0.05; xdotool keyup w; sleep 0.1; \
+                  xdotool keyup shift; sleep 2; \
+                  xdotool keydown Left; sleep 0.05; xdotool keyup Left";
+    let Some((view, log)) = run_idle_window(dir.path(), driver) else {
+        return;
+    };
+    // camera x y z yaw Y pitch P
+    let camera: Vec<&str> = (view.lines())
+        .find_map(|l| l.strip_prefix("camera "))
+        .unwrap_or_else(|| panic!("{view}"))
+        .split_whitespace()
+        .collect();
+    let (z, yaw): (f64, f64) = (camera[2].parse().unwrap(), camera[4].parse().unwrap());
+    let moved = z + 3.001;
+    println!("Shift+W moved {moved}, Left turned {yaw}°");
+    // Bounds with room for a slow frame (up to 0.09 s past the release).
+    assert!(
+        (0.0..1.0).contains(&moved),
+        "Shift+W tapped moved {moved}\n{view}\n{log}"
+    );
+    assert!(
+        (-10.0..=0.0).contains(&yaw),
+        "Left tapped turned {yaw}°\n{view}"
+    );
+}

@@ -290,10 +290,15 @@ impl Viewer {
         self.cracks.cancel();
     }
 
-    /// Moves the camera by the held input over the time since the last call.
+    /// Moves the camera by the held input over the time since the last call, or since the
+    /// motion began where that is later.
     pub fn update_camera(&mut self) {
         let now = Instant::now();
-        let dt = now.duration_since(self.last_update).as_secs_f64();
+        let from = match self.input.motion_began() {
+            Some(began) if began > self.last_update => began,
+            _ => self.last_update,
+        };
+        let dt = now.duration_since(from).as_secs_f64();
         self.last_update = now;
         let control = self.input.take();
         if self.controller.update(&control, dt) {
