@@ -285,8 +285,7 @@ impl App {
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
             Key::I => {
                 self.viewer.inspector_on = !self.viewer.inspector_on;
-                let state = ["off", "on"][self.viewer.inspector_on as usize];
-                self.viewer.set_status(format!("ray inspector {state}"));
+                self.viewer.say_inspector();
             }
             Key::N => {
                 let back = self.viewer.input.holds(Key::Shift);
@@ -385,6 +384,7 @@ impl App {
         // The egui pass: panel, image area, overlay.
         let viewer = &mut self.viewer;
         let before = viewer.panel_state();
+        let inspector_was = viewer.inspector_on;
         let fw = self.framework.as_mut().expect("checked");
         let (texture, buffer_size) = (fw.gpu.texture_id, fw.gpu.buffer_size);
         let mut layout = None;
@@ -419,6 +419,9 @@ impl App {
         if let Some(step) = actions.crack {
             viewer.step_crack(step);
             window.request_redraw(); // (the inspector's panel opens in the next UI pass)
+        }
+        if viewer.inspector_on != inspector_was {
+            viewer.say_inspector();
         }
         let after = viewer.panel_state();
         if before != after || actions.reset_camera {

@@ -491,3 +491,26 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
         "the ring is centred at ({rx}, {ry}), the click at ({cx}, {cy})"
     );
 }
+
+#[test]
+fn real_x_input_the_status_follows_the_inspector_check_box() {
+    // I, I (off, on again), then a real click unticks the panel's check box: the status says
+    // the inspector is off, as the check box does. ((15, 378): the check box at the default
+    // window on the 1280x800 screen.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key i; sleep 0.3; xdotool key i; \
+                  sleep 0.3; xdotool mousemove --sync 15 378; sleep 0.3; xdotool click 1; \
+                  sleep 0.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert_eq!(
+        run.fields["inspector"], "off",
+        "the click unticked it\n{log}"
+    );
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    assert_eq!(status, Some("ray inspector off"), "{log}");
+}

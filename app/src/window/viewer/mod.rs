@@ -274,6 +274,12 @@ impl Viewer {
         log::info!("{}", self.status);
     }
 
+    /// Says in the status whether the ray inspector is on, as I or its check box left it.
+    pub fn say_inspector(&mut self) {
+        let state = ["off", "on"][self.inspector_on as usize];
+        self.set_status(format!("ray inspector {state}"));
+    }
+
     /// An error: in the status line and in the banner over the image, where the eye is.
     pub fn report_error(&mut self, message: impl Into<String>) {
         self.status = message.into();
