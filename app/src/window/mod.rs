@@ -710,12 +710,13 @@ impl ApplicationHandler<AppEvent> for App {
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         self.viewer.pump();
         // Sleep until something happens, or until the preview has settled and refinement can
-        // start, or until the script's next event.
+        // start, or until the script's next event, or until egui wants to draw again (a
+        // tooltip shows once the pointer has rested on its widget).
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
-        let wake = match (self.viewer.refine_at(), script_at) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
+        let wake = [self.viewer.refine_at(), script_at, self.egui_repaint_at]
+            .into_iter()
+            .flatten()
+            .min();
         let now = Instant::now();
         if self.viewer.refine_at().is_some_and(|t| t <= now) {
             self.viewer.refine_wakes += 1;

@@ -513,7 +513,9 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
 /// Runs the window as a user does (no script: it draws nothing while nothing changes) under
 /// Xvfb on the 1280x800 screen, drives it with `driver` (xdotool, the window in `$win`) once
 /// its first image is on screen, then saves the view (F5) and quits (Esc, Esc). The saved
-/// view's text and the log; None (after saying so) where Xvfb or xdotool is missing.
+/// view's text and the log; None (after saying so) where Xvfb or xdotool is missing. The
+/// screen as drawn is the file `$screen` (Xvfb's framebuffer, an XWD image), which the
+/// driver can copy ([`read_xwd`]).
 fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, String)> {
     let _one = common::window::one_window();
     if !common::tool_for("xdotool", "xdotool", "the idle window test")
@@ -534,9 +536,11 @@ fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, Strin
          kill $app 2>/dev/null; wait $app"
     );
     let out = std::process::Command::new("timeout")
-        .args(["300", "xvfb-run", "-a", "-s", "-screen 0 1280x800x24"])
+        .args(["300", "xvfb-run", "-a", "-s"])
+        .arg(format!("-screen 0 1280x800x24 -fbdir {}", dir.display()))
         .args(["sh", "-c", &wrapper, "sh", RAYLAB])
         .env("RUST_LOG", "raylab=info")
+        .env("screen", dir.join("Xvfb_screen0"))
         .env_remove("XDG_RUNTIME_DIR")
         .env_remove("WAYLAND_DISPLAY")
         .env_remove("WAYLAND_SOCKET")
@@ -587,5 +591,54 @@ fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
     assert!(
         (-10.0..=0.0).contains(&yaw),
         "Left tapped turned {yaw}°\n{view}"
+    );
+}
+
+/// An XWD image of a 24-bit screen (as Xvfb's `-fbdir` keeps it): width, height and RGB
+/// pixels in rows.
+fn read_xwd(path: &std::path::Path) -> (usize, usize, Vec<[u8; 3]>) {
+    let data = std::fs::read(path).unwrap();
+    let field = |k: usize| u32::from_be_bytes(data[4 * k..4 * k + 4].try_into().unwrap()) as usize;
+    let (header, width, height) = (field(0), field(4), field(5));
+    let (lsb_first, bits, row) = (field(7) == 0, field(11), field(12));
+    assert_eq!(bits, 32, "32 bits a pixel");
+    let start = header + 12 * field(19);
+    let pixels = (0..height * width)
+        .map(|k| {
+            let p = &data[start + (k / width) * row + 4 * (k % width)..][..4];
+            match lsb_first {
+                true => [p[2], p[1], p[0]],
+                false => [p[1], p[2], p[3]],
+            }
+        })
+        .collect();
+    (width, height, pixels)
+}
+
+#[test]
+fn real_x_input_a_tooltip_shows_while_the_pointer_rests() {
+    // The pointer rests on the panel's speed field (whose tooltip says what + and - do) and
+    // nothing else happens: egui asks to be drawn again once the tooltip is due, and the
+    // window wakes for it. The screen under the field, before the pointer came and 2 s
+    // after, differs where the tooltip is drawn. ((184, 306): the field at the default
+    // window on the 1280x800 screen.)
+    let dir = tempfile::tempdir().unwrap();
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 650; \
+                  sleep 1.5; cp \"$screen\" before.xwd; xdotool mousemove --sync 184 306; \
+                  sleep 2; cp \"$screen\" after.xwd";
+    let Some((_, log)) = run_idle_window(dir.path(), driver) else {
+        return;
+    };
+    let (w, _, before) = read_xwd(&dir.path().join("before.xwd"));
+    let (_, _, after) = read_xwd(&dir.path().join("after.xwd"));
+    // Below the field (which the pointer's hover redraws at once): where the tooltip goes.
+    let changed = (318..360)
+        .flat_map(|y| (150..450).map(move |x| y * w + x))
+        .filter(|&k| before[k] != after[k])
+        .count();
+    println!("{changed} pixels changed below the speed field");
+    assert!(
+        changed > 1000,
+        "no tooltip: {changed} pixels changed\n{log}"
     );
 }
