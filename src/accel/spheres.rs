@@ -9,9 +9,11 @@
 //!   queries (the adaptive search, the packets' f64 interval level) may cull by them;
 //! - the inexact per-ray methods compute in f32 and can report a ray that passes within their
 //!   rounding of a sphere as a hit, or a t a little before the true one; each ray's boxes are
-//!   widened by a pad for that: 2⁻¹⁸·(|o|∞ + E) with E the largest box coordinate, some 64
-//!   roundings of the ray's distance to any centre, where the f32 test's own error is at most
-//!   about 10 (`sphere::intersect`: o − c, one dot product and a projection, then r − |l|);
+//!   widened by a pad for that: 2⁻¹⁸·(|o|∞ + E) with E the largest box coordinate under the
+//!   node whose children are tested (one far sphere widens only its own branch), some 64
+//!   roundings of the ray's distance to any centre there, where the f32 test's own error is
+//!   at most about 10 (`sphere::intersect`: o − c, one dot product and a projection, then
+//!   r − |l|);
 //! - the slab test is conservative as in [`super::bvh`], and boxes are culled against the
 //!   best hit so far with its margin.
 //!
@@ -54,6 +56,8 @@ pub(crate) struct Spheres {
     tree: Bvh,
     /// The largest |coordinate| of any box: the pad's scale.
     extent: f32,
+    /// The same under each node of `tree` ([`Bvh::node_extents`]): a node's pad's scale.
+    node_extents: Vec<f32>,
     /// Shapes whose box is not finite, tested one by one.
     loose: Vec<(Shape<f32>, u32)>,
 }
@@ -97,6 +101,7 @@ impl Spheres {
         Self {
             shapes,
             boxes,
+            node_extents: tree.node_extents(),
             tree,
             extent,
             loose,
@@ -129,6 +134,7 @@ impl Spheres {
         self.tree.memory_bytes()
             + (self.shapes.len() + self.loose.len()) * shape
             + self.boxes.len() * std::mem::size_of::<Aabb>()
+            + self.node_extents.len() * std::mem::size_of::<f32>()
     }
 
     /// Boxes of the hierarchy's top `depth` levels, for the frames' tile culling.
@@ -138,25 +144,48 @@ impl Spheres {
             .collect()
     }
 
-    /// The pad of `ray`'s boxes (see the module docs).
+    /// The pad of `ray`'s boxes (see the module docs), 2⁻¹⁸·(|o|∞ + E), where E is the
+    /// largest |coordinate| of any box: the most a node's pad ([`Spheres::pad_under`]) is.
     fn pad(&self, ray: &Ray) -> f32 {
-        let o = ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()));
-        (o + self.extent) * PAD
+        (Self::norm(ray) + self.extent) * PAD
     }
 
-    /// Visits the shapes `ray` may reach with tmin < t < tmax, nearer boxes first: `visit`
-    /// gets each and the current far bound, and returns the new far bound and whether to stop.
+    /// |o|∞ of `ray`.
+    fn norm(ray: &Ray) -> f32 {
+        ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()))
+    }
+
+    /// The pad of `ray`'s boxes under wide node `node`, with E the largest |coordinate| of
+    /// the boxes there: what the f32 tests of the spheres inside need (so that one far
+    /// sphere does not widen every box of the scene).
+    #[inline]
+    fn pad_under(&self, o: f32, node: usize) -> f32 {
+        (o + self.node_extents[node]) * PAD
+    }
+
+    /// Visits the shapes `ray` may reach with tmin < t < tmax, nearer boxes first, every box
+    /// widened where `padded` (the inexact methods: [`Spheres::pad_under`]; the exact queries
+    /// cull by the outward boxes alone): `visit` gets each and the current far bound, and
+    /// returns the new far bound and whether to stop.
     #[inline]
     fn walk(
         &self,
         ray: &Ray,
-        tmin: f32,
-        tmax: f32,
+        (tmin, tmax): (f32, f32),
+        padded: bool,
         mut visit: impl FnMut(&(Shape<f32>, u32), f32) -> (f32, bool),
     ) {
-        let pad = self.pad(ray);
+        let o = Self::norm(ray);
+        let pad = match padded {
+            true => self.pad(ray),
+            false => 0.0,
+        };
+        let pad_of = |node: usize| match padded {
+            true => self.pad_under(o, node),
+            false => 0.0,
+        };
         self.tree
-            .traverse(ray, tmin, tmax, pad, |first, count, mut t_far| {
+            .traverse_padded(ray, (tmin, tmax), (pad, pad_of), |first, count, mut t_far| {
                 for shape in &self.shapes[first..first + count] {
                     let stop;
                     (t_far, stop) = visit(shape, t_far);
@@ -172,7 +201,7 @@ impl Spheres {
 impl Layout for Spheres {
     fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
-        self.walk(ray, tmin, far(best), |&(shape, prim), _| {
+        self.walk(ray, (tmin, far(best)), true, |&(shape, prim), _| {
             if let Some((t, b1, b2)) = shape.intersect(ray, method, tmin, far(best)) {
                 merge(best, Some(Hit { t, prim, b1, b2 }));
             }
@@ -183,7 +212,7 @@ impl Layout for Spheres {
 
     fn closest_exact(&self, ray: &Ray, _: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        self.walk(ray, tmin, tmax, |(shape, prim), _| {
+        self.walk(ray, (tmin, tmax), false, |(shape, prim), _| {
             search.offer_shape(*prim, widen(shape), Estimate::Unsure);
             (search.t_far32(), false)
         });
@@ -194,7 +223,7 @@ impl Layout for Spheres {
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         let mut hit = false;
-        self.walk(ray, tmin, tmax, |&(shape, prim), t_far| {
+        self.walk(ray, (tmin, tmax), true, |&(shape, prim), t_far| {
             hit = prim != skip && shape.intersect(ray, method, tmin, tmax).is_some();
             (t_far, hit)
         });
@@ -205,7 +234,7 @@ impl Layout for Spheres {
         let nearest = search.checker();
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
-        self.walk(ray, tmin, tmax, |(shape, prim), t_far| {
+        self.walk(ray, (tmin, tmax), false, |(shape, prim), t_far| {
             hit = *prim != skip && nearest.confirms(widen(shape), Estimate::Unsure);
             (t_far, hit)
         });
@@ -665,107 +694,4 @@ fn any_packet_body<V: Lanes>(
 
 #[cfg(feature = "unit-tests")]
 #[deny(dead_code)]
-pub(crate) mod tests {
-    use super::{reach, rounded_f32};
-    use crate::geometry::adaptive::{round_down, round_up};
-    use crate::math::lanes::{f32x8, f64x4, Lanes64};
-
-    /// Positive f64 values where rounding to f32 is hard: around f32's subnormals, its
-    /// least normal, its largest value and beyond, exact f32 values, the midpoints between
-    /// two (ties), a few f64 ulps either side of both, and random values over every scale.
-    fn hard_values() -> Vec<f64> {
-        let mut v = vec![
-            f64::from_bits(1),
-            // Half the least f32 subnormal: a tie between it and 0.
-            f64::from(f32::from_bits(1)) / 2.0,
-            f64::MIN_POSITIVE,
-            1.0,
-            2.5,
-            f64::MAX,
-            f64::INFINITY,
-        ];
-        let mut f32s = vec![
-            f32::from_bits(1),
-            f32::from_bits(2),
-            f32::from_bits(0x7f_ffff),
-            f32::MIN_POSITIVE,
-            1.0,
-            1.5,
-            0.1,
-            3.0e-3,
-            65536.0,
-            f32::MAX,
-        ];
-        let mut x = 0x2545f4914f6cdd1du64;
-        for _ in 0..4_000 {
-            let bits = (crate::math::xorshift(&mut x) as u32) & 0x7fff_ffff;
-            if f32::from_bits(bits).is_finite() && bits != 0 {
-                f32s.push(f32::from_bits(bits));
-            }
-        }
-        for y in f32s {
-            let (y, up) = (f64::from(y), f64::from(y.next_up()));
-            let mid = y + (up - y) / 2.0;
-            for c in [y, mid, up.min(f64::MAX)] {
-                for steps in -2i64..=2 {
-                    v.push(f64::from_bits((c.to_bits() as i64 + steps) as u64));
-                }
-            }
-        }
-        v.retain(|c| *c > 0.0);
-        v
-    }
-
-    fn lanes_of(values: &[f64]) -> impl Iterator<Item = [f64x4; 2]> + '_ {
-        values.chunks(8).map(|c| {
-            let lane = |l: usize| c.get(l).copied().unwrap_or(f64::INFINITY);
-            [0, 1].map(|h| f64x4::from_array(std::array::from_fn(|l| lane(4 * h + l))))
-        })
-    }
-
-    /// The lanes' rounding to f32 is `round_down` and `round_up`, bit for bit.
-    fn bounds_round_to_f32_as_one_value_does() {
-        let values = hard_values();
-        for pair in lanes_of(&values) {
-            for half in pair {
-                let (down, up) = (rounded_f32(half, false), rounded_f32(half, true));
-                for (l, x) in half.to_array().into_iter().enumerate() {
-                    assert_eq!(down[l].to_bits(), round_down(x).to_bits(), "down {x:e}");
-                    assert_eq!(up[l].to_bits(), round_up(x).to_bits(), "up {x:e}");
-                }
-            }
-        }
-    }
-
-    /// The walk's reach is never nearer than the margin `r + 2⁻¹⁶·|r|` (r the least f32 ≥
-    /// hi) it stands for, and beyond it by at most 2⁻¹⁸ of it.
-    fn reach_keeps_the_culling_margin() {
-        let values = hard_values();
-        let mut beyond = 0u32;
-        for pair in lanes_of(&values) {
-            let hi: Vec<f64> = pair.iter().flat_map(|h| h.to_array()).collect();
-            let got = reach::<f32x8>(&hi.clone().try_into().expect("8")).to_array();
-            for l in 0..8 {
-                let r = round_up(hi[l]);
-                let margin = r + r.abs() * (1.0 / 65536.0);
-                assert!(got[l] >= margin, "hi {:e}: {} < {}", hi[l], got[l], margin);
-                let loose = margin + margin * (1.0 / 262144.0) + f32::from_bits(2);
-                assert!(got[l] <= loose, "hi {:e}: {} > {}", hi[l], got[l], loose);
-                beyond += u32::from(got[l] > margin);
-            }
-        }
-        // (The margin is kept without rounding each lane upwards: some lanes land beyond.)
-        assert!(beyond > 0);
-    }
-
-    pub(crate) const TESTS: crate::unit_tests::Tests = &[
-        (
-            "bounds_round_to_f32_as_one_value_does",
-            bounds_round_to_f32_as_one_value_does,
-        ),
-        (
-            "reach_keeps_the_culling_margin",
-            reach_keeps_the_culling_margin,
-        ),
-    ];
-}
+pub(crate) mod tests;

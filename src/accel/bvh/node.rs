@@ -248,6 +248,20 @@ impl WideStack {
 }
 
 impl Bvh {
+    /// Per wide node, the largest |coordinate| of its children's boxes: what a pad that
+    /// grows with the coordinates needs there ([`Bvh::traverse_padded`]).
+    pub(crate) fn node_extents(&self) -> Vec<f32> {
+        let extent = |b: Aabb| (b.lo.iter().chain(&b.hi)).fold(0.0f32, |m, c| m.max(c.abs()));
+        (self.wide.iter())
+            .map(|n| {
+                (0..WIDTH)
+                    .take_while(|&c| n.child[c] != NONE)
+                    .map(|c| extent(n.bounds(c)))
+                    .fold(0.0f32, f32::max)
+            })
+            .collect()
+    }
+
     /// The hierarchy's nodes down to `depth` wide levels below the root, breadth first:
     /// the root (the box around everything), then children. Every triangle lies in the box
     /// of a node without children.

@@ -82,6 +82,20 @@ impl Bvh {
         tmin: f32,
         tmax: f32,
         pad: f32,
+        leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+    ) {
+        self.traverse_padded(ray, (tmin, tmax), (pad, |_| pad), leaf);
+    }
+
+    /// [`Bvh::traverse`] with each node's children widened by `pad_of(node)`, never more
+    /// than `pad` (which decides the slab test's precision): the spheres' pad, which grows
+    /// with the size of the coordinates under the node.
+    #[inline]
+    pub(crate) fn traverse_padded(
+        &self,
+        ray: &Ray,
+        (tmin, tmax): (f32, f32),
+        (pad, pad_of): (f32, impl Fn(usize) -> f32),
         mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
     ) {
         if self.wide.is_empty() {
@@ -104,9 +118,9 @@ impl Bvh {
         };
         // Only the f64 test needs these divisions.
         let inv64 = (!in_f32).then(|| ray.d.map(|c| 1.0 / f64::from(c)));
-        let enter = |n: &WideNode, limit: f32| -> (u32, [f32; WIDTH]) {
+        let enter = |n: &WideNode, limit: f32, pad: f32| -> (u32, [f32; WIDTH]) {
             let Some(inv64) = &inv64 else {
-                return slabs.enter(n, limit);
+                return RaySlabs { pad, ..slabs }.enter(n, limit);
             };
             let mut hits = 0;
             let mut t = [f32::INFINITY; WIDTH];
@@ -132,7 +146,7 @@ impl Bvh {
         let mut node = 0usize;
         loop {
             let n = &self.wide[node];
-            let (hits, t0) = enter(n, cull(t_far));
+            let (hits, t0) = enter(n, cull(t_far), pad_of(node));
             stack.push(&mut top, n, hits, &t0, 1);
             loop {
                 let r = stack.pop_above(0, &mut top, cull(t_far));
