@@ -18,6 +18,27 @@ pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     }
 }
 
+/// The right-hand panel the inspector's fields are shown in, `width` points wide at first.
+/// Its width is the one last chosen by dragging its edge: egui keeps the width the panel was
+/// last drawn at, which a narrow window squeezes it to, so when the window has room again it
+/// is given that width back.
+pub fn panel(ui: &mut egui::Ui, width: f32, contents: impl FnOnce(&mut egui::Ui)) {
+    let id = egui::Id::new("inspector width");
+    // (The width chosen, and the width drawn in the last frame.)
+    let (chosen, last) = ui.ctx().data(|d| d.get_temp(id)).unwrap_or((width, width));
+    let room = ui.available_rect_before_wrap().width();
+    let mut panel = egui::Panel::right("inspector")
+        .resizable(true)
+        .default_size(width);
+    if last < chosen && room > last + 1.0 {
+        panel = panel.exact_size(chosen.min(room));
+    }
+    let drawn = panel.show(ui, contents).response.rect.width();
+    // (Where the window left it less than it takes, it was not squeezed: its width is chosen.)
+    let chosen = if room > drawn + 1.0 { drawn } else { chosen };
+    ui.ctx().data_mut(|d| d.insert_temp(id, (chosen, drawn)));
+}
+
 /// The inspector's own panel: the last inspection's fields, the lecture's names.
 pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
     ui.strong("Ray inspector");

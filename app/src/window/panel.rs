@@ -448,34 +448,31 @@ pub fn layout(
     if *inspector_shown {
         // (A width of its own that its rows fit in: a panel that grew with what it shows would
         // narrow the image, a new frame, each time.)
-        egui::Panel::right("inspector")
-            .resizable(true)
-            .default_size(INSPECTOR_WIDTH)
-            .show(ui, |ui| {
-                // (Both ways: a row wider than the panel scrolls rather than widening it.)
-                egui::ScrollArea::both().show(ui, |ui| {
-                    if let Some(detail) = crack.as_ref() {
-                        super::inspector::crack_fields(ui, detail);
-                        ui.separator();
+        super::inspector::panel(ui, INSPECTOR_WIDTH, |ui| {
+            // (Both ways: a row wider than the panel scrolls rather than widening it.)
+            egui::ScrollArea::both().show(ui, |ui| {
+                if let Some(detail) = crack.as_ref() {
+                    super::inspector::crack_fields(ui, detail);
+                    ui.separator();
+                }
+                match inspection.as_ref() {
+                    Some(ins) => super::inspector::fields(ui, ins),
+                    None => {
+                        ui.strong("Ray inspector");
+                        ui.add(
+                            egui::Label::new(
+                                "finding the next crack once this frame is counted...",
+                            )
+                            .wrap(),
+                        );
                     }
-                    match inspection.as_ref() {
-                        Some(ins) => super::inspector::fields(ui, ins),
-                        None => {
-                            ui.strong("Ray inspector");
-                            ui.add(
-                                egui::Label::new(
-                                    "finding the next crack once this frame is counted...",
-                                )
-                                .wrap(),
-                            );
-                        }
-                    }
-                    if let Some(yours) = code_inspection.as_ref() {
-                        ui.separator();
-                        super::inspector::code_fields(ui, yours);
-                    }
-                });
+                }
+                if let Some(yours) = code_inspection.as_ref() {
+                    ui.separator();
+                    super::inspector::code_fields(ui, yours);
+                }
             });
+        });
     }
     egui::Panel::bottom("status").show(ui, |ui| {
         let status = (status.as_str(), *status_is_error);

@@ -247,3 +247,33 @@ fn a_script_that_outlasts_the_scripted_run_is_refused_before_the_window_opens() 
     );
     assert!(!dir.path().join("shot.png").exists());
 }
+
+#[test]
+fn real_x_input_the_inspector_panel_regains_its_width_with_the_window() {
+    // A click opens the inspector's panel (330 points wide at first, right of the image); the
+    // window shrinks to 400x300, which squeezes the panel to the few pixels left, and grows
+    // back to its 1152x720: the panel has its 330 again. (The image fills the area between
+    // the panels across: its right edge is where the panel starts.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; \
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool windowsize $win 400 300; \
+                  sleep 1.5; xdotool windowsize $win 1152 720; sleep 1.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert_eq!(run.fields["inspector"], "on", "{log}");
+    assert!(
+        !run.inspector.is_empty(),
+        "the click inspected nothing\n{log}"
+    );
+    let (_, _, h, rect) = run.camera();
+    assert_eq!(h, 698, "the image fills the area's height\n{log}");
+    let panel = 1152.0 - (rect[0] + rect[2]);
+    assert!(
+        (panel - 330.0).abs() < 0.5,
+        "the panel is {panel} wide\n{log}"
+    );
+}
