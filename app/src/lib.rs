@@ -7,8 +7,15 @@ pub mod window;
 
 /// An error and its causes as one line, each said once: an error whose message already ends
 /// with its cause's (`path: No such file or directory (os error 2)`, where the cause is the OS
-/// error) is not followed by that cause again.
+/// error) is not followed by that cause again. Control characters other than line breaks
+/// (a NUL, an escape sequence quoted from a file) are shown escaped (`\u{1b}`), so that an
+/// error never drives the terminal.
 pub fn error_text(e: &anyhow::Error) -> String {
+    escape_controls(said_once(e))
+}
+
+/// [`error_text`] before its control characters are escaped.
+fn said_once(e: &anyhow::Error) -> String {
     let mut text = String::new();
     for cause in e.chain() {
         let said = cause.to_string();
@@ -22,8 +29,33 @@ pub fn error_text(e: &anyhow::Error) -> String {
     text
 }
 
+/// `text` with every control character but a line break written as its escape.
+fn escape_controls(text: String) -> String {
+    let hidden = |c: char| c.is_control() && c != '\n';
+    if !text.contains(hidden) {
+        return text;
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match hidden(c) {
+            true => out.extend(c.escape_default()),
+            false => out.push(c),
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn control_characters_are_shown_escaped() {
+        let e = anyhow::anyhow!("x.scene:2: unknown statement '\u{1b}[31mred\0'");
+        assert_eq!(
+            super::error_text(&e),
+            "x.scene:2: unknown statement '\\u{1b}[31mred\\u{0}'"
+        );
+    }
+
     #[test]
     fn a_cause_already_in_the_message_is_said_once() {
         let os = std::io::Error::from(std::io::ErrorKind::NotFound);
