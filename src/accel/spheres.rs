@@ -184,8 +184,11 @@ impl Spheres {
             true => self.pad_under(o, node),
             false => 0.0,
         };
-        self.tree
-            .traverse_padded(ray, (tmin, tmax), (pad, pad_of), |first, count, mut t_far| {
+        self.tree.traverse_padded(
+            ray,
+            (tmin, tmax),
+            (pad, pad_of),
+            |first, count, mut t_far| {
                 for shape in &self.shapes[first..first + count] {
                     let stop;
                     (t_far, stop) = visit(shape, t_far);
@@ -194,7 +197,8 @@ impl Spheres {
                     }
                 }
                 (t_far, false)
-            });
+            },
+        );
     }
 }
 

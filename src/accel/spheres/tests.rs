@@ -122,10 +122,16 @@ fn a_ray_reaches_only_the_balls_along_it() {
     for (what, n) in [
         ("near, inexact", reached(&field, &near, true)),
         ("near, exact", reached(&field, &near, false)),
-        ("near, inexact, a far sphere", reached(&with_far, &near, true)),
+        (
+            "near, inexact, a far sphere",
+            reached(&with_far, &near, true),
+        ),
         ("from afar, exact", reached(&field, &far, false)),
     ] {
-        assert!((16..=128).contains(&n), "{what}: {n} of 4,096 balls reached");
+        assert!(
+            (16..=128).contains(&n),
+            "{what}: {n} of 4,096 balls reached"
+        );
     }
 }
 
