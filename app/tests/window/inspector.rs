@@ -6,7 +6,9 @@
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 use crate::common;
 
-use common::window::{graded_pixels, pixels_off_where, run_window_with, segment_distance, Around};
+use common::window::{
+    graded_pixels, pixels_off_where, run_window_on, run_window_with, segment_distance, Around,
+};
 use glam::DVec3;
 use raylab::geometry::Method;
 use raylab::render::{render_image, LabStep, RenderSettings};
@@ -513,4 +515,46 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
     );
     let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
     assert_eq!(status, Some("ray inspector off"), "{log}");
+}
+
+#[test]
+fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
+    // At 1.5 window pixels per point (a 1920x1200 screen, the window 1728x1080), with the
+    // inspector's panel open (a first click): the image starts at x 537.3 and y 0.25, so
+    // clicks on window pixel column 537 and row 0 are on its first column and row, and on
+    // column 1232 its last; each click inspects the pixel whose square holds the centre of
+    // the window pixel clicked.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let clicks = [(537, 600), (1232, 600), (800, 0)];
+    let moves: Vec<String> = (clicks.iter())
+        .map(|(x, y)| format!("xdotool mousemove --sync {x} {y}; sleep 0.3; xdotool click 1"))
+        .collect();
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool mousemove --sync 900 450; sleep 0.3; \
+         xdotool click 1; sleep 2; {}",
+        moves.join("; sleep 0.8; ")
+    );
+    let env = [("WINIT_X11_SCALE_FACTOR", "1.5")];
+    let around = Around::RealInput(&driver);
+    let Some(run) = run_window_on(RAYLAB, (1920, 1200), script, dir.path(), &env, around) else {
+        return;
+    };
+    let log = &run.stderr;
+    let (_, w, h, rect) = run.camera();
+    let pixels = inspected_pixels(log);
+    assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
+    let at = |(x, y): (i32, i32)| {
+        let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
+        let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
+        (i, j)
+    };
+    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
+        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
+    }
+    assert_eq!(
+        (pixels[1].0, pixels[2].0, pixels[3].1),
+        (0, w - 1, 0),
+        "{rect:?}"
+    );
 }
