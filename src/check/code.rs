@@ -13,8 +13,8 @@ use super::grade::{self, Answer, Tally, Verdict};
 use super::Family;
 use crate::camera::Camera;
 use crate::geometry::{adaptive, Hit, Ray, Shape};
-use crate::render::driver::{self, Counts, Samples, Tile, TileTracer};
-use crate::render::shade::{self, Rgb};
+use crate::render::driver::{self, Counts, Sample, Samples, Tile, TileTracer};
+use crate::render::shade;
 use crate::render::{RenderSettings, RenderStats, SettingsError, Stage};
 use crate::tracefile::TraceRay;
 use rayon::prelude::*;
@@ -204,8 +204,8 @@ struct CodeFrame<'a> {
 }
 
 impl CodeFrame<'_> {
-    /// The colour of the sample at image position (x, y): the code's hit shaded, or its mark.
-    fn colour(&self, x: f32, y: f32, shadow_rays: &mut u64) -> Option<Rgb> {
+    /// What the sample at image position (x, y) shows: the code's hit shaded, or its mark.
+    fn sample(&self, x: f32, y: f32, shadow_rays: &mut u64) -> Option<Sample> {
         let (code, shapes, settings) = (self.code, &self.shapes[..], self.settings);
         let (w, h) = (settings.width, settings.height);
         let ray = code.camera_ray(self.camera, w, h, x, y);
@@ -221,7 +221,7 @@ impl CodeFrame<'_> {
                 f32::INFINITY,
             );
             if let Some(mark) = verdict(shapes, &ray, exact, hit).mark() {
-                return Some(mark);
+                return Some(Sample::Mark(mark));
             }
         }
         // Blocked: the code meets something between the light (t = 0) and the point (t = 1)
@@ -231,7 +231,16 @@ impl CodeFrame<'_> {
             h.is_some_and(|h| h.prim != skip)
         };
         let scene = self.stage.scene();
-        hit.map(|hit| shade::shade(scene, &ray, &hit, settings.step, blocked, shadow_rays))
+        hit.map(|hit| {
+            Sample::Colour(shade::shade(
+                scene,
+                &ray,
+                &hit,
+                settings.step,
+                blocked,
+                shadow_rays,
+            ))
+        })
     }
 }
 
@@ -240,7 +249,7 @@ impl TileTracer for CodeFrame<'_> {
 
     fn trace(&self, tile: &Tile, _: &mut (), rows: &mut [u8], counts: &mut Counts) {
         (self.samples).each_pixel(tile, rows, counts, |x, y, counts| {
-            self.colour(x, y, &mut counts.1)
+            self.sample(x, y, &mut counts.1)
         });
     }
 }

@@ -18,6 +18,14 @@ use std::time::Instant;
 /// (camera samples that got a colour, shadow rays cast).
 pub(crate) type Counts = (u64, u64);
 
+/// What a sample shows: a colour, averaged with the pixel's other samples, or a mark (the
+/// cracks view's, a wrong answer's), which the whole pixel takes, so that one marked sample
+/// of 2×2 shows as plainly as at one sample a pixel.
+pub(crate) enum Sample {
+    Colour(Rgb),
+    Mark(Rgb),
+}
+
 /// One tile of the image: pixels x0..x0 + w, y0..y0 + h.
 pub(crate) struct Tile {
     pub(crate) x0: u32,
@@ -90,30 +98,46 @@ impl Samples {
         px[3] = 255;
     }
 
-    /// Traces `tile` pixel by pixel, sample by sample: `colour(x, y, counts)` is the linear
-    /// colour of the sample at image position (x, y), `None` where it shows the background.
+    /// Writes RGBA8 pixel `px` in linear colour `c` (a mark).
+    #[inline(always)]
+    fn put_colour(&self, px: &mut [u8], c: Rgb) {
+        for k in 0..3 {
+            px[k] = self.srgb.encode(c[k]);
+        }
+        px[3] = 255;
+    }
+
+    /// Traces `tile` pixel by pixel, sample by sample: `sample(x, y, counts)` is what the
+    /// sample at image position (x, y) shows (a linear colour, or a mark: the pixel then shows
+    /// its first sample's mark), `None` where it shows the background.
     #[inline(always)]
     pub(crate) fn each_pixel(
         &self,
         tile: &Tile,
         rows: &mut [u8],
         counts: &mut Counts,
-        mut colour: impl FnMut(f32, f32, &mut Counts) -> Option<Rgb>,
+        mut sample: impl FnMut(f32, f32, &mut Counts) -> Option<Sample>,
     ) {
         for j in tile.y0..tile.y0 + tile.h {
             let row = &mut rows[(j - tile.y0) as usize * self.row_bytes..][..self.row_bytes];
             for i in tile.x0..tile.x0 + tile.w {
-                let mut sum = [0.0f32; 3];
+                let (mut sum, mut mark) = ([0.0f32; 3], None);
                 for sy in 0..self.n {
                     for sx in 0..self.n {
                         let (x, y) = self.position(i, j, sx, sy);
-                        if let Some(c) = colour(x, y, counts) {
-                            counts.0 += 1;
-                            add(&mut sum, c);
+                        match sample(x, y, counts) {
+                            Some(Sample::Colour(c)) => add(&mut sum, c),
+                            Some(Sample::Mark(c)) => _ = mark.get_or_insert(c),
+                            None => continue,
                         }
+                        counts.0 += 1;
                     }
                 }
-                self.put_pixel(&mut row[i as usize * 4..][..4], sum);
+                let px = &mut row[i as usize * 4..][..4];
+                match mark {
+                    Some(c) => self.put_colour(px, c),
+                    None => self.put_pixel(px, sum),
+                }
             }
         }
     }

@@ -7,7 +7,7 @@
 //! ([`TileQueries::packets`]), else one at a time; either way the face answers exactly, and
 //! shading depends only on the ray and the primitive hit, so all give the same bits.
 
-use super::driver::{add, Counts, Samples, Tile, TileTracer};
+use super::driver::{add, Counts, Sample, Samples, Tile, TileTracer};
 use super::flat_pixels::{FlatPixels, LastWord, BLACK_RGBA};
 use super::shade::{self, Rgb, ShadePacket, ShadeTri};
 use super::{is_crack, LabStep, RenderSettings, Stage, CRACK};
@@ -284,11 +284,18 @@ impl<'a> Frame<'a> {
         self.samples.each_pixel(tile, rows, counts, |x, y, counts| {
             let ray = self.gen.ray_through(x, y);
             if settings.cracks && is_crack(self.accel, &ray, settings.method) {
-                return Some(CRACK);
+                return Some(Sample::Mark(CRACK));
             }
             queries.closest(&ray).map(|hit| {
                 let blocked = |ray: &Ray, skip| queries.any(ray, skip);
-                shade::shade(scene, &ray, &hit, settings.step, blocked, &mut counts.1)
+                Sample::Colour(shade::shade(
+                    scene,
+                    &ray,
+                    &hit,
+                    settings.step,
+                    blocked,
+                    &mut counts.1,
+                ))
             })
         });
     }
