@@ -10,7 +10,9 @@ use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::scene::PointLight;
 use raylab::{Camera, Scene};
 
-fn lit_pixels(scene: &Scene, camera: &Camera) -> (usize, usize) {
+/// `scene` through `camera` at 96×72, lab step 3 (direct) and step 4 (shadows), and the
+/// shadow rays step 4 cast.
+fn direct_and_shadows(scene: &Scene, camera: &Camera) -> (Vec<u8>, Vec<u8>, u64) {
     let settings = |step| RenderSettings {
         width: 96,
         height: 72,
@@ -20,11 +22,12 @@ fn lit_pixels(scene: &Scene, camera: &Camera) -> (usize, usize) {
     let stage = Stage::from(scene.clone());
     let (direct, _) = render_image(&stage, camera, &settings(LabStep::Direct)).unwrap();
     let (shadows, stats) = render_image(&stage, camera, &settings(LabStep::Shadows)).unwrap();
-    assert!(
-        stats.shadow_rays > 300,
-        "shadow rays were cast: {}",
-        stats.shadow_rays
-    );
+    (direct, shadows, stats.shadow_rays)
+}
+
+fn lit_pixels(scene: &Scene, camera: &Camera) -> (usize, usize) {
+    let (direct, shadows, shadow_rays) = direct_and_shadows(scene, camera);
+    assert!(shadow_rays > 300, "shadow rays were cast: {shadow_rays}");
     let lit = direct.chunks(4).filter(|p| p[..3] != [0, 0, 0]).count();
     let acne = direct.iter().zip(&shadows).filter(|(d, s)| d != s).count();
     (lit, acne)
@@ -110,15 +113,7 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
     let mut scene = Scene::cornell();
     scene.light.position = [0.0, 1.0 - 1e-3, -0.2];
     let camera = Camera::cornell(96);
-    let settings = |step| RenderSettings {
-        width: 96,
-        height: 72,
-        step,
-        ..Default::default()
-    };
-    let stage = Stage::from(scene.clone());
-    let (direct, _) = render_image(&stage, &camera, &settings(LabStep::Direct)).unwrap();
-    let (shadows, _) = render_image(&stage, &camera, &settings(LabStep::Shadows)).unwrap();
+    let (direct, shadows, _) = direct_and_shadows(&scene, &camera);
     // Floor-only scene: the same view with nothing but the floor (triangles 0 and 1).
     let floor = Scene::new(
         "floor",
@@ -127,9 +122,7 @@ fn no_acne_in_the_cornell_box_with_a_grazing_light() {
         scene.light,
         [0.0; 3],
     );
-    let floor = Stage::from(floor);
-    let (floor_direct, _) = render_image(&floor, &camera, &settings(LabStep::Direct)).unwrap();
-    let (floor_shadows, _) = render_image(&floor, &camera, &settings(LabStep::Shadows)).unwrap();
+    let (floor_direct, floor_shadows, _) = direct_and_shadows(&floor, &camera);
     assert_eq!(
         floor_direct, floor_shadows,
         "the floor alone never shadows itself"
@@ -167,19 +160,11 @@ fn shadowed_pixels(scene: &Scene) -> (usize, u64) {
         96.0,
     )
     .unwrap();
-    let settings = |step| RenderSettings {
-        width: 96,
-        height: 72,
-        step,
-        ..Default::default()
-    };
-    let stage = Stage::from(scene.clone());
-    let (direct, _) = render_image(&stage, &camera, &settings(LabStep::Direct)).unwrap();
-    let (shadows, stats) = render_image(&stage, &camera, &settings(LabStep::Shadows)).unwrap();
+    let (direct, shadows, shadow_rays) = direct_and_shadows(scene, &camera);
     let dark = (direct.chunks(4).zip(shadows.chunks(4)))
         .filter(|(d, s)| s[..3] != d[..3])
         .count();
-    (dark, stats.shadow_rays)
+    (dark, shadow_rays)
 }
 
 #[test]

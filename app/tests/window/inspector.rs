@@ -456,11 +456,7 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     assert_eq!((w, h), (464, 698), "{log}");
     let pixels = inspected_pixels(log);
     assert_eq!(pixels.len(), 1 + clicks.len(), "{log}");
-    let at = |(x, y): (i32, i32)| {
-        let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
-        let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
-        (i, j)
-    };
+    let at = |click: (i32, i32)| pixel_under(click, rect, (w, h));
     for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
         assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
     }
@@ -544,11 +540,7 @@ fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     let (_, w, h, rect) = run.camera();
     let pixels = inspected_pixels(log);
     assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
-    let at = |(x, y): (i32, i32)| {
-        let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
-        let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
-        (i, j)
-    };
+    let at = |click: (i32, i32)| pixel_under(click, rect, (w, h));
     for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
         assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
     }
@@ -557,4 +549,12 @@ fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
         (0, w - 1, 0),
         "{rect:?}"
     );
+}
+
+/// The image pixel (of `size`) under screen pixel `(x, y)`'s centre, the image drawn at
+/// `rect` (x, y, width, height in screen pixels).
+fn pixel_under((x, y): (i32, i32), rect: [f64; 4], (w, h): (u32, u32)) -> (u32, u32) {
+    let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
+    let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
+    (i, j)
 }
