@@ -121,7 +121,7 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         // setgroups(0) comes with it: none of root's groups stay.
         shell.uid(uid).gid(uid);
         let path = std::env::var_os("PATH").unwrap_or_default();
-        shell.env("PATH", super::account::searchable_path(&path));
+        shell.env("PATH", searchable_path(&path));
         if let Some(dir) = &limits.dir {
             shell.env("HOME", dir).env("TMPDIR", dir);
         }
@@ -757,4 +757,21 @@ fn remove_tree(path: &Path) {
 /// The uids of the processes running (real, effective, saved and file ones).
 pub fn uids_running() -> HashSet<u32> {
     scan(true).iter().flat_map(|p| p.uids).collect()
+}
+
+/// The entries of `path` (a PATH) that any user may search: every directory from the root
+/// down open to others. A program run as an account gets this PATH, so that a command in a
+/// directory it cannot enter (root's ~/.cargo/bin, say) is "not found", not "permission
+/// denied", as it would be on the student's own machine.
+fn searchable_path(path: &std::ffi::OsStr) -> std::ffi::OsString {
+    use std::os::unix::fs::PermissionsExt;
+    let open_to_others = |dir: &Path| {
+        dir.ancestors().all(|d| {
+            std::fs::metadata(d).is_ok_and(|m| m.is_dir() && m.permissions().mode() & 0o001 != 0)
+        })
+    };
+    let kept: Vec<std::path::PathBuf> = std::env::split_paths(path)
+        .filter(|dir| dir.is_absolute() && open_to_others(dir))
+        .collect();
+    std::env::join_paths(kept).unwrap_or_default()
 }
