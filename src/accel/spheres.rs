@@ -54,9 +54,8 @@ pub(crate) struct Spheres {
     boxes: Vec<Aabb>,
     /// The hierarchy over their boxes.
     tree: Bvh,
-    /// The largest |coordinate| of any box: the pad's scale.
-    extent: f32,
-    /// The same under each node of `tree` ([`Bvh::node_extents`]): a node's pad's scale.
+    /// The largest |coordinate| of the boxes under each node of `tree`
+    /// ([`Bvh::node_extents`]): the scale of the pad there.
     node_extents: Vec<f32>,
     /// Shapes whose box is not finite, tested one by one.
     loose: Vec<(Shape<f32>, u32)>,
@@ -95,15 +94,11 @@ impl Spheres {
                 Aabb { lo, hi }
             })
             .collect();
-        let extent = (placed_boxes.iter())
-            .flat_map(|(lo, hi)| lo.iter().chain(hi))
-            .fold(0.0f32, |m, c| m.max(c.abs()));
         Self {
             shapes,
             boxes,
             node_extents: tree.node_extents(),
             tree,
-            extent,
             loose,
         }
     }
@@ -144,12 +139,6 @@ impl Spheres {
             .collect()
     }
 
-    /// The pad of `ray`'s boxes (see the module docs), 2⁻¹⁸·(|o|∞ + E), where E is the
-    /// largest |coordinate| of any box: the most a node's pad ([`Spheres::pad_under`]) is.
-    fn pad(&self, ray: &Ray) -> f32 {
-        (Self::norm(ray) + self.extent) * PAD
-    }
-
     /// |o|∞ of `ray`.
     fn norm(ray: &Ray) -> f32 {
         ray.o.iter().fold(0.0f32, |m, c| m.max(c.abs()))
@@ -176,13 +165,14 @@ impl Spheres {
         mut visit: impl FnMut(&(Shape<f32>, u32), f32) -> (f32, bool),
     ) {
         let o = Self::norm(ray);
-        let pad = match padded {
-            true => self.pad(ray),
-            false => 0.0,
-        };
         let pad_of = |node: usize| match padded {
             true => self.pad_under(o, node),
             false => 0.0,
+        };
+        // The root's is the largest: every box lies under it.
+        let pad = match self.node_extents.is_empty() {
+            true => 0.0,
+            false => pad_of(0),
         };
         self.tree.traverse_padded(
             ray,

@@ -231,16 +231,8 @@ impl CodeFrame<'_> {
             h.is_some_and(|h| h.prim != skip)
         };
         let scene = self.stage.scene();
-        hit.map(|hit| {
-            Sample::Colour(shade::shade(
-                scene,
-                &ray,
-                &hit,
-                settings.step,
-                blocked,
-                shadow_rays,
-            ))
-        })
+        let colour = shade::shade(scene, &ray, &hit?, settings.step, blocked, shadow_rays);
+        Some(Sample::Colour(colour))
     }
 }
 

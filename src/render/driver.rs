@@ -91,14 +91,10 @@ impl Samples {
     /// Writes RGBA8 pixel `px` from its samples' summed linear colour.
     #[inline(always)]
     pub(crate) fn put_pixel(&self, px: &mut [u8], sum: Rgb) {
-        let (weight, srgb) = (self.weight, self.srgb);
-        px[0] = srgb.encode(sum[0] * weight);
-        px[1] = srgb.encode(sum[1] * weight);
-        px[2] = srgb.encode(sum[2] * weight);
-        px[3] = 255;
+        self.put_colour(px, sum.map(|c| c * self.weight));
     }
 
-    /// Writes RGBA8 pixel `px` in linear colour `c` (a mark).
+    /// Writes RGBA8 pixel `px` in linear colour `c` (a mark, or a pixel's average).
     #[inline(always)]
     fn put_colour(&self, px: &mut [u8], c: Rgb) {
         for k in 0..3 {

@@ -286,17 +286,10 @@ impl<'a> Frame<'a> {
             if settings.cracks && is_crack(self.accel, &ray, settings.method) {
                 return Some(Sample::Mark(CRACK));
             }
-            queries.closest(&ray).map(|hit| {
-                let blocked = |ray: &Ray, skip| queries.any(ray, skip);
-                Sample::Colour(shade::shade(
-                    scene,
-                    &ray,
-                    &hit,
-                    settings.step,
-                    blocked,
-                    &mut counts.1,
-                ))
-            })
+            let hit = queries.closest(&ray)?;
+            let blocked = |ray: &Ray, skip| queries.any(ray, skip);
+            let colour = shade::shade(scene, &ray, &hit, settings.step, blocked, &mut counts.1);
+            Some(Sample::Colour(colour))
         });
     }
 
