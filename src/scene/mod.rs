@@ -119,13 +119,24 @@ impl Scene {
     /// primitive within ±[`MAX_SCENE_COORDINATE`], the light within ±[`MAX_VIEW_COORDINATE`].
     /// The error names the primitive and the value.
     pub fn check_ranges(&self) -> Result<(), String> {
+        self.check_ranges_at(&|_| None)
+    }
+
+    /// [`Scene::check_ranges`], the error also naming the line `line_of` gives for the
+    /// primitive's index (a scene file's statement).
+    pub fn check_ranges_at(&self, line_of: &dyn Fn(u32) -> Option<usize>) -> Result<(), String> {
+        let at = |index: usize| match line_of(index as u32) {
+            Some(line) => format!("{}:{line}:", self.name),
+            None => format!("{}:", self.name),
+        };
         for (i, shape) in self.shapes.iter().enumerate() {
             let (lo, hi) = shape.bounds();
             for corner in [lo, hi] {
-                let what = match shape.is_triangle() {
-                    true => format!("{}: triangle {i} (bounds corner)", self.name),
-                    false => format!("{}: primitive {i} (bounds corner)", self.name),
+                let kind = match shape.is_triangle() {
+                    true => "triangle",
+                    false => shape.keyword(),
                 };
+                let what = format!("{} {kind} {i} (bounds corner)", at(i));
                 check_range(&what, corner, MAX_SCENE_COORDINATE)?;
             }
         }
@@ -133,8 +144,10 @@ impl Scene {
             let (lo, hi) = instance::world_bounds(inst);
             for corner in [lo, hi] {
                 let what = format!(
-                    "{}: {} placed at primitive {} (bounds corner)",
-                    self.name, inst.mesh.name, inst.first_prim
+                    "{} {} placed at primitive {} (bounds corner)",
+                    at(inst.first_prim as usize),
+                    inst.mesh.name,
+                    inst.first_prim
                 );
                 check_range(&what, corner, MAX_SCENE_COORDINATE)?;
             }
@@ -157,12 +170,15 @@ impl Scene {
     /// file's extension.
     /// The scene is checked to be within range ([`Scene::check_ranges`]).
     pub fn load(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
-        let scene = match path.extension().and_then(|e| e.to_str()) {
+        match path.extension().and_then(|e| e.to_str()) {
+            // (Checked in range as it is built, naming the lines.)
             Some(e) if e.eq_ignore_ascii_case("scene") => load_scene_file(path),
-            _ => load_obj_file(path, obj_frame).map_err(|e| e.to_string()),
-        }?;
-        scene.check_ranges()?;
-        Ok(scene)
+            _ => {
+                let scene = load_obj_file(path, obj_frame).map_err(|e| e.to_string())?;
+                scene.check_ranges()?;
+                Ok(scene)
+            }
+        }
     }
 
     /// The bounding box's diagonal (1 for an empty scene): the scene's size for camera moves.

@@ -201,6 +201,31 @@ fn values_the_f32_core_cannot_hold_are_refused_naming_them() {
         "v -3e38 -3e38 0\nv 3e38 -3e38 0\nv 0 3e38 0\nf 1 2 3\n",
     );
     let scaled = write(d, "scaled.scene", "scale 1e12\ntri 0 0 0 1 0 0 0 1 0\n");
+    // A sphere whose centre is in range but not its bounds, after another: named by its line.
+    let ball = write(
+        d,
+        "ball.scene",
+        "push\nsphere 0 0 0 1\npop\n\nsphere 0 0 0 3e11\nsphere 0 0 5 1\n",
+    );
+    let placed = write(d, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let mesh = write(
+        d,
+        "mesh.scene",
+        &format!("sphere 0 0 0 1\nmesh {placed}\nscale 1e12\nmesh {placed}\n"),
+    );
+    // A mesh used often enough to be placed as instances: the placement's line.
+    let ico = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../assets/meshes/icosphere.obj"
+    );
+    let placements = write(
+        d,
+        "placed.scene",
+        &format!(
+            "sphere 0 0 0 1\nmesh {ico}\nscale 1e12\n{}",
+            format!("mesh {ico}\n").repeat(3)
+        ),
+    );
     let far_camera = write(d, "cam.scene", "cornell\ncamera 0 0 -2e12\n");
     let far_light = write(d, "light.scene", "cornell\n\nlight 1e13 0 0\n");
     let view = write(d, "far.view", "scene cornell\nlight 0 0 -5e12\n");
@@ -232,7 +257,19 @@ fn values_the_f32_core_cannot_hold_are_refused_naming_them() {
         ),
         (
             &["--scene", &scaled],
-            &["scaled.scene", "triangle 0", "1000000000000"],
+            &["scaled.scene:2:", "triangle 0", "1000000000000"],
+        ),
+        (
+            &["--scene", &ball],
+            &["ball.scene:5:", "sphere 1", "-300000000000"],
+        ),
+        (
+            &["--scene", &mesh],
+            &["mesh.scene:4:", "triangle 2", "1000000000000"],
+        ),
+        (
+            &["--scene", &placements],
+            &["placed.scene:4:", "icosphere.obj placed at primitive 1281"],
         ),
         (
             &["--scene", &far_camera],

@@ -273,6 +273,14 @@ impl<T: Real> Shape<T> {
         dispatch!(self, p => p.triangle())
     }
 
+    /// The shape's scene-file keyword ([`Primitive::KEYWORD`]).
+    pub fn keyword(&self) -> &'static str {
+        fn keyword<T: Real, P: Primitive<T>>(_: &P) -> &'static str {
+            P::KEYWORD
+        }
+        dispatch!(self, p => keyword(p))
+    }
+
     /// [`Primitive::box_f32`].
     pub fn box_f32(&self) -> ([f32; 3], [f32; 3]) {
         dispatch!(self, p => p.box_f32())

@@ -174,6 +174,16 @@ pub struct Description<T: Real> {
     pub warnings: Vec<String>,
     /// The push levels in the order their `push` (or the file) starts.
     pub levels: Vec<Level>,
+    /// Where each run of primitives was written: (its first index, its statement's line), in
+    /// index order ([`line_of`]).
+    pub lines: Vec<(u32, usize)>,
+}
+
+/// The line of the statement that added primitive `index` (a shape, a mesh, `cornell`), in a
+/// [`Description::lines`].
+pub fn line_of(lines: &[(u32, usize)], index: u32) -> Option<usize> {
+    let run = lines.partition_point(|&(first, _)| first <= index);
+    run.checked_sub(1).map(|r| lines[r].1)
 }
 
 /// Loads OBJ meshes for `mesh` statements: `(path, frame, current colour)`.
@@ -215,6 +225,8 @@ pub fn read_scene_text(path: &Path) -> Result<String, String> {
 impl Scene {
     /// The scene a parsed `.scene` file describes: its light (else the lab's with `cornell`,
     /// else one placed for the scene's size), ambient term (else the lab's) and camera.
+    /// Its primitives and light are checked to be within range, an error naming the line
+    /// ([`Scene::check_ranges_at`]).
     pub fn from_description(name: &str, d: Description<f32>) -> Result<Scene, String> {
         let mut scene = Scene::new(
             name,
@@ -239,6 +251,7 @@ impl Scene {
         scene.camera = d.camera.or(d.has_cornell.then_some(SceneCamera::LAB));
         scene.levels = d.levels;
         scene.warnings = d.warnings;
+        scene.check_ranges_at(&|index| line_of(&d.lines, index))?;
         Ok(scene)
     }
 }

@@ -20,6 +20,8 @@ struct Saved {
 
 struct Parser<'a, T: Real> {
     file: &'a str,
+    /// The line being read.
+    line: usize,
     stack: TransformStack,
     saved: Vec<Saved>,
     current: Saved,
@@ -111,6 +113,7 @@ pub fn parse_with<T: Real>(
     }
     let mut p = Parser::<T> {
         file,
+        line: 0,
         stack: TransformStack::new(),
         saved: Vec::new(),
         current: Saved {
@@ -128,6 +131,7 @@ pub fn parse_with<T: Real>(
             camera: None,
             has_cornell: false,
             warnings: Vec::new(),
+            lines: Vec::new(),
             levels: vec![Level {
                 line: 0,
                 depth: 0,
@@ -164,6 +168,7 @@ pub fn parse_with<T: Real>(
             continue;
         }
         let words: Vec<&str> = words.iter().map(String::as_str).collect();
+        p.line = line;
         p.statement(line, &words, dir, load_mesh).map_err(error)?;
     }
     if !p.saved.is_empty() {
@@ -293,8 +298,11 @@ impl<T: Real> Parser<'_, T> {
         Ok(())
     }
 
-    /// Primitives `added` belong to the current level.
+    /// Primitives `added` belong to the current level and the current line.
     fn record(&mut self, added: std::ops::Range<u32>) {
+        if self.out.lines.last().map(|&(_, line)| line) != Some(self.line) {
+            self.out.lines.push((added.start, self.line));
+        }
         let Some(level) = self.current.level else {
             return;
         };
