@@ -254,20 +254,22 @@ fn load_obj_str_coloured(
         message: format!("tobj: {e}"),
     })?;
     let mut warnings = warnings.into_inner();
-    warnings.extend(skipped_warning(name, &counts));
     let materials = materials.unwrap_or_else(|e| {
         if warnings.is_empty() {
             warnings.push(format!("{name}: material library: {e}"));
         }
         Vec::new()
     });
+    // (A library skipped is already a warning, which explains its materials' absence.)
+    let library_skipped = !warnings.is_empty();
+    warnings.extend(skipped_warning(name, &counts));
     let defined: std::collections::HashSet<&str> =
         materials.iter().map(|m| m.name.as_str()).collect();
     let unknown: Vec<&str> = (stream.used_materials.iter())
         .map(String::as_str)
         .filter(|used| !defined.contains(used))
         .collect();
-    if !unknown.is_empty() && !materials.is_empty() {
+    if !unknown.is_empty() && !library_skipped {
         let listed = unknown
             .iter()
             .take(5)

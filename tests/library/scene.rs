@@ -288,6 +288,31 @@ fn every_obj_and_mtl_problem_names_its_line() {
         "{:?}",
         scene.warnings
     );
+    // An empty library, or none named: the same, as grey faces would otherwise be silent.
+    for obj in [
+        format!("mtllib m.mtl\n{tri}usemtl red\nf 1 2 3\n"),
+        format!("{tri}usemtl red\nf 1 2 3\n"),
+    ] {
+        let scene = load_lab(&obj, "").unwrap();
+        let warnings = scene.warnings.join("\n");
+        assert!(
+            warnings.contains("usemtl names 1 material(s) no library defines (red)"),
+            "{obj:?}: {warnings}"
+        );
+        assert_eq!(scene.colors()[0], [0.75; 3], "{obj:?}");
+    }
+    // A library that cannot be read: its own warning says why, and no other.
+    let obj = format!("mtllib gone.mtl\n{tri}usemtl red\nf 1 2 3\n");
+    let scene = raylab::scene::load_obj_str("t.obj", &obj, raylab::scene::ObjFrame::Lab, |_| {
+        Err("gone.mtl: No such file or directory".to_string())
+    })
+    .unwrap();
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        scene.warnings[0].contains("material library skipped: gone.mtl: No such file"),
+        "{:?}",
+        scene.warnings
+    );
 }
 
 #[test]
