@@ -272,18 +272,17 @@ fn in_chunks<T: Real>(
     parts.concat()
 }
 
-/// Traces every ray in f32 through an acceleration structure built with `choice` over the
-/// scene (its instances included): the per-ray paths the renderer uses (the flat SIMD loop,
-/// the BVH, the two-level structure of instances), in the same output format as
-/// [`trace_all`].
+/// Traces every ray in f32 through `structure`, an acceleration structure built over the
+/// scene (its instances included, [`accel::Accel::for_scene`]): the per-ray paths the renderer
+/// uses (the flat SIMD loop, the BVH, the two-level structure of instances), in the same
+/// output format as [`trace_all`].
 pub fn trace_all_through(
     scene: &crate::scene::Scene,
+    structure: &accel::Accel,
     rays: &[TraceRay<f32>],
     method: Method,
-    choice: accel::AccelChoice,
     query: Query,
 ) -> String {
-    let structure = accel::Accel::for_scene(scene, choice);
     match query {
         Query::Nearest => answers(
             rays,
@@ -301,8 +300,8 @@ pub fn trace_all_through(
 /// frame.
 const SPHERES_PER_FRAME_RAY: usize = 64;
 
-/// Traces every ray in f32 through the renderer's own face on the accelerator, the queries of
-/// a frame ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays
+/// Traces every ray in f32 through the renderer's own face on `structure` (built over the
+/// scene as the renderer builds it, [`accel::AccelChoice::Auto`]), the queries of a frame ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays
 /// sharing an origin go 8 at a time, [`Query::Nearest`] rays with tmin = 0 and tmax = ∞ as
 /// camera rays from that origin (the eye), [`Query::Any`] rays with tmin = 0 and tmax = 1 as
 /// shadow segments from it (the light; none skips a primitive). Each origin is one frame
@@ -315,12 +314,12 @@ const SPHERES_PER_FRAME_RAY: usize = 64;
 /// Same output format as [`trace_all`]; a nearest hit's t is the adaptive t of its primitive.
 pub fn trace_all_packets(
     scene: &crate::scene::Scene,
+    structure: &accel::Accel,
     rays: &[TraceRay<f32>],
     query: Query,
 ) -> String {
     use crate::accel::{FrameSetup, ShadowSegments, TileScratch, NO_HIT};
     use wide::f32x8;
-    let structure = accel::Accel::for_scene(scene, accel::AccelChoice::Auto);
     let tmax_of_group = match query {
         Query::Nearest => f32::INFINITY,
         Query::Any => 1.0,

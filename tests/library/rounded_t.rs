@@ -13,7 +13,7 @@ use crate::common;
 
 use common::suite::{exact_nearest, round_q, Bits, Family, RefT, Q};
 use common::Rng;
-use raylab::accel::AccelChoice;
+use raylab::accel::{Accel, AccelChoice};
 use raylab::geometry::{adaptive, Method, Ray, Shape, Sphere, Triangle};
 use raylab::math::Real;
 use raylab::tracefile::{self, Query, TraceRay};
@@ -307,7 +307,8 @@ fn f32_t_is_correctly_rounded_through_every_path() {
     let through = |choice: AccelChoice| {
         move |text: &str, rays: &[TraceRay<f32>]| {
             let scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-            tracefile::trace_all_through(&scene, rays, Method::Adaptive, choice, Query::Nearest)
+            let structure = Accel::for_scene(&scene, choice);
+            tracefile::trace_all_through(&scene, &structure, rays, Method::Adaptive, Query::Nearest)
         }
     };
     let (flat, bvh, auto) = (
@@ -317,7 +318,8 @@ fn f32_t_is_correctly_rounded_through_every_path() {
     );
     let packets = |text: &str, rays: &[TraceRay<f32>]| {
         let scene = tracefile::parse_scene_instanced("f.scene", text).unwrap();
-        tracefile::trace_all_packets(&scene, rays, Query::Nearest)
+        let structure = Accel::for_scene(&scene, AccelChoice::Auto);
+        tracefile::trace_all_packets(&scene, &structure, rays, Query::Nearest)
     };
     let hits = check(
         &families,

@@ -2,7 +2,7 @@
 //! later index stays its file position, but hit by no method on any path; a warning names
 //! the line; and the grader does not accuse a program that takes one as a closed segment.
 
-use raylab::accel::AccelChoice;
+use raylab::accel::{Accel, AccelChoice};
 use raylab::check::code::{self, LabCode};
 use raylab::check::grade::{self, Answer, TError, Verdict};
 use raylab::geometry::{Hit, Method, Ray, Shape};
@@ -41,11 +41,14 @@ fn every_path(scene_file: &std::path::Path, rays_text: &str) -> Vec<(String, Str
             let scene = tracefile::parse_scene_instanced(&sf, &text).unwrap();
             let rays = tracefile::parse_rays::<f32>("r", rays_text).unwrap();
             for choice in [AccelChoice::Flat, AccelChoice::Bvh, AccelChoice::Auto] {
-                let answers = tracefile::trace_all_through(&scene, &rays, method, choice, query);
+                let structure = Accel::for_scene(&scene, choice);
+                let answers =
+                    tracefile::trace_all_through(&scene, &structure, &rays, method, query);
                 out.push((format!("{method} {choice} {query:?}"), answers));
             }
             if method == Method::Adaptive {
-                let answers = tracefile::trace_all_packets(&scene, &rays, query);
+                let structure = Accel::for_scene(&scene, AccelChoice::Auto);
+                let answers = tracefile::trace_all_packets(&scene, &structure, &rays, query);
                 out.push((format!("packets {query:?}"), answers));
             }
         }

@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use clap::ValueEnum;
 use raylab::accel::AccelChoice;
 use raylab::geometry::Method;
-use raylab::render;
+use raylab::render::{self, Stage};
 use raylab::tracefile;
 use std::path::PathBuf;
 
@@ -93,8 +93,12 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         }
         let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
         let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-        print_warnings(&scene.warnings);
-        return write_out(&tracefile::trace_all_packets(&scene, &rays, query));
+        let stage = Stage::new(scene, AccelChoice::Auto);
+        print_warnings(&stage.scene().warnings);
+        let (scene, structure) = (stage.scene(), stage.accel());
+        return write_out(&tracefile::trace_all_packets(
+            scene, structure, &rays, query,
+        ));
     }
     let choice = match args.accel {
         TraceAccel::Packets => unreachable!("handled above"),
@@ -109,8 +113,11 @@ pub fn trace(args: &TraceArgs) -> Result<()> {
         (Precision::F32, Some(choice)) => {
             let scene = tracefile::parse_scene_instanced(&sf, &scene_text)?;
             let rays = tracefile::parse_rays::<f32>(&rf, &rays_text)?;
-            let out = tracefile::trace_all_through(&scene, &rays, method, choice, query);
-            (out, scene.warnings)
+            // (The stage adds what the build left out as copies to the warnings.)
+            let stage = Stage::new(scene, choice);
+            let (scene, structure) = (stage.scene(), stage.accel());
+            let out = tracefile::trace_all_through(scene, structure, &rays, method, query);
+            (out, scene.warnings.clone())
         }
         (Precision::F64, Some(_)) => bail!(
             "--accel {} runs in f32 only (the renderer's structures); use --precision f32 or --accel reference",

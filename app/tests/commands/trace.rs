@@ -620,3 +620,43 @@ fn trace_and_check_print_a_scene_s_warnings_once() {
         once(&o, precision);
     }
 }
+
+/// A structure keeps a primitive that repeats an earlier one once: `raylab trace` through a
+/// structure says so, once, as `raylab render` does; the reference loop keeps every
+/// primitive and says nothing. The answers are the same on every path.
+#[test]
+fn trace_through_a_structure_says_what_it_left_out_as_copies() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "copies.scene",
+        "tri -1 -1 2 1 -1 2 0 1 2\nsphere 0 0 5 1\ntri -1 -1 2 1 -1 2 0 1 2\nsphere 0 0 5 1\n",
+    );
+    let rays = write(
+        dir.path(),
+        "rays.txt",
+        "0 0 0 0 0 1 0 inf\n0 0 3 0 0 1 0 inf\n",
+    );
+    let warning = "copies.scene: 1 triangles repeat an earlier triangle's vertices exactly, \
+                   and 1 spheres repeat an earlier sphere exactly: each is kept once";
+    for (accel, told) in [
+        ("reference", 0),
+        ("flat", 1),
+        ("bvh", 1),
+        ("auto", 1),
+        ("packets", 1),
+    ] {
+        let o = raylab(&[
+            "trace", "--scene", &scene, "--rays", &rays, "--accel", accel,
+        ]);
+        let err = stderr(&o);
+        assert!(o.status.success(), "{accel}: {err}");
+        assert_eq!(stdout(&o), "hit 2 0\nhit 1 1\n", "{accel}: {err}");
+        let lines: Vec<&str> = err.lines().filter(|l| l.contains(warning)).collect();
+        assert_eq!(lines.len(), told, "{accel}: {err}");
+        assert!(
+            lines.iter().all(|l| l.starts_with("warning: ")),
+            "{accel}: {err}"
+        );
+    }
+}
