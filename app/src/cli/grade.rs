@@ -48,6 +48,10 @@ pub struct GradeArgs {
     /// Seconds a program may take on one family before it is stopped.
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
     pub timeout: f64,
+    /// Seconds a submission may take on all families together; the families after it runs
+    /// out are skipped (default: 5 × --timeout).
+    #[arg(long, value_name = "SECONDS")]
+    pub budget: Option<f64>,
     /// The precision the files are read in and the exact t is rounded to.
     #[arg(long, value_enum, default_value = "f32")]
     pub precision: Precision,
@@ -81,6 +85,8 @@ enum Status {
     Flooded,
     /// Output that is not one answer per ray, or not UTF-8.
     Garbage,
+    /// Not run: the submission's --budget ran out on earlier families.
+    Skipped,
 }
 
 impl Status {
@@ -92,6 +98,7 @@ impl Status {
             Status::Timeout => "timeout",
             Status::Flooded => "flooded",
             Status::Garbage => "garbage",
+            Status::Skipped => "skipped",
         }
     }
 }
@@ -114,6 +121,10 @@ struct Submission {
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
 pub fn grade(args: &GradeArgs) -> Result<()> {
     super::check::check_timeout(args.timeout)?;
+    let budget = args.budget.unwrap_or(5.0 * args.timeout);
+    if !(budget > 0.0 && budget <= 1e7) {
+        bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
+    }
     super::template::check_template(&args.program)?;
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
@@ -176,7 +187,15 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             _ => String::new(),
         }
     );
-    let graded = run_all(&submissions, &cases, &args.program, &limits, accounts);
+    let budget = Duration::from_secs_f64(budget);
+    let graded = run_all(
+        &submissions,
+        &cases,
+        &args.program,
+        &limits,
+        budget,
+        accounts,
+    );
     // The files before the table: a reader of the table that is gone (a closed pipe) ends
     // the run after them.
     let mut outputs = outputs.into_iter();
@@ -249,6 +268,7 @@ fn run_all(
     cases: &[Case],
     template: &str,
     limits: &Limits,
+    budget: Duration,
     accounts: Vec<Option<Account>>,
 ) -> Vec<Submission> {
     let next = AtomicUsize::new(0);
@@ -261,7 +281,7 @@ fn run_all(
                 let k = next.fetch_add(1, Ordering::Relaxed);
                 let Some(dir) = submissions.get(k) else { break };
                 let start = Instant::now();
-                let records = grade_one(dir, cases, template, limits, account.as_ref());
+                let records = grade_one(dir, cases, template, limits, budget, account.as_ref());
                 let _ = done.send((
                     k,
                     Submission {
@@ -307,14 +327,17 @@ fn name_of(dir: &Path) -> String {
 }
 
 /// Runs one submission on every family, in a private copy of its directory (`work`) with a
-/// fresh copy of the family's files (`input`) each time.
+/// fresh copy of the family's files (`input`) each time, for at most `budget` in all: a
+/// family's run is stopped where the budget runs out, and the families after it are skipped.
 fn grade_one(
     dir: &Path,
     cases: &[Case],
     template: &str,
     limits: &Limits,
+    budget: Duration,
     account: Option<&Account>,
 ) -> Vec<Record> {
+    let started = Instant::now();
     let not_run = |why: String| -> Vec<Record> {
         let record = |_| Record {
             tally: None,
@@ -340,6 +363,19 @@ fn grade_one(
     let input = run.path().join("input");
     let mut records = Vec::with_capacity(cases.len());
     for case in cases {
+        let left = budget.saturating_sub(started.elapsed());
+        if left.is_zero() {
+            records.push(Record {
+                tally: None,
+                ms: 0.0,
+                status: Status::Skipped,
+                detail: format!(
+                    "not run: the submission's --budget of {} s ran out",
+                    budget.as_secs_f64()
+                ),
+            });
+            continue;
+        }
         let (scene, rays) = (input.join("scene.txt"), input.join("rays.txt"));
         let fresh = || -> std::io::Result<()> {
             if input.symlink_metadata().is_ok() {
@@ -360,10 +396,12 @@ fn grade_one(
             continue;
         }
         let command: OsString = super::template::command_line(template, &scene, &rays);
+        let cut_by_budget = left < limits.timeout;
         let limits = Limits {
             max_output_bytes: case.max_output,
             dir: Some(work.clone()),
             run_as: account.map(Account::uid),
+            timeout: limits.timeout.min(left),
             ..limits.clone()
         };
         let start = Instant::now();
@@ -389,6 +427,13 @@ fn grade_one(
                 },
                 Err(why) => record(Status::Garbage, why),
             },
+            Err(RunError::Timeout(_)) if cut_by_budget => record(
+                Status::Timeout,
+                format!(
+                    "ran out of time: the submission's --budget of {} s ran out",
+                    budget.as_secs_f64()
+                ),
+            ),
             Err(e @ RunError::Timeout(_)) => record(Status::Timeout, e.to_string()),
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText) => record(Status::Garbage, e.to_string()),

@@ -284,6 +284,97 @@ fn bad_input_is_named() {
         &[&inside],
     );
     assert!(!Path::new(&inside).exists());
+    common::binary::assert_fails(
+        &grade(&[
+            class,
+            "--suite",
+            suite,
+            "--program",
+            program,
+            "--budget",
+            "0",
+        ]),
+        2,
+        &["--budget 0"],
+    );
+}
+
+/// A submission that hangs on every family costs its --budget, not a --timeout per family:
+/// the family where the budget runs out is stopped there, the rest are skipped. A correct
+/// program beside it passes every family within the same budget.
+#[test]
+fn a_hanging_submission_costs_its_budget_and_no_more() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = class_and_suite(dir.path());
+    for (name, _) in CLASS
+        .iter()
+        .filter(|(n, _)| !["ada", "cy-hangs"].contains(n))
+    {
+        std::fs::remove_dir_all(class.join(name)).unwrap();
+    }
+    // (Its own sleeper, told apart from the other tests'.)
+    std::fs::write(class.join("cy-hangs/run.sh"), "sleep 917005\n").unwrap();
+    // Five small families (the exact program answers them in about a second in all).
+    let kept = ["16-", "17-", "18-", "25-", "31-"];
+    for family in std::fs::read_dir(&suite).unwrap().flatten() {
+        let name = family.file_name().into_string().unwrap();
+        if family.path().is_dir() && !kept.iter().any(|k| name.starts_with(k)) {
+            std::fs::remove_dir_all(family.path()).unwrap();
+        }
+    }
+    std::fs::remove_file(suite.join("families.txt")).unwrap();
+    let json = dir.path().join("grades.json");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab(&[
+        "grade",
+        &path(&class),
+        "--suite",
+        &path(&suite),
+        "--program",
+        "sh run.sh {scene} {rays}",
+        "--timeout",
+        "4",
+        "--budget",
+        "10",
+        "--json",
+        &path(&json),
+    ]);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let json = std::fs::read_to_string(&json).unwrap();
+    let statuses = |name: &str| -> Vec<String> {
+        (json.split("{\"submission\": ").skip(1))
+            .filter(|r| r.starts_with(&format!("\"{name}\"")))
+            .map(|r| {
+                r.split("\"status\": \"")
+                    .nth(1)
+                    .unwrap()
+                    .split('"')
+                    .next()
+                    .unwrap()
+                    .to_string()
+            })
+            .collect()
+    };
+    assert_eq!(statuses("ada"), ["ok"; 5], "{json}");
+    // 4 s, 4 s, then the 2 s left: three timeouts, two families skipped.
+    assert_eq!(
+        statuses("cy-hangs"),
+        ["timeout", "timeout", "timeout", "skipped", "skipped"],
+        "{json}"
+    );
+    assert!(
+        json.contains("ran out of time: the submission's --budget of 10 s ran out")
+            && json.contains("not run: the submission's --budget of 10 s ran out"),
+        "{json}"
+    );
+    let row = out.lines().find(|l| l.starts_with("cy-hangs")).unwrap();
+    assert!(row.ends_with("timeout 3, skipped 2"), "{out}");
+    assert_eq!(
+        running("917005"),
+        Vec::<String>::new(),
+        "the sleeper survived"
+    );
 }
 
 /// As root each worker's programs run as one account, a submission after another: the next
