@@ -60,6 +60,23 @@ fn class_and_suite(root: &Path) -> (PathBuf, PathBuf) {
     (class, suite)
 }
 
+/// The class cut to the submissions `names`, and the suite to the families whose names
+/// start with one of `families`, without the export's manifest (graded as they are).
+fn cut_class_and_suite(root: &Path, names: &[&str], families: &[&str]) -> (PathBuf, PathBuf) {
+    let (class, suite) = class_and_suite(root);
+    for (name, _) in CLASS.iter().filter(|(n, _)| !names.contains(n)) {
+        std::fs::remove_dir_all(class.join(name)).unwrap();
+    }
+    for family in std::fs::read_dir(&suite).unwrap().flatten() {
+        let name = family.file_name().into_string().unwrap();
+        if family.path().is_dir() && !families.iter().any(|k| name.starts_with(k)) {
+            std::fs::remove_dir_all(family.path()).unwrap();
+        }
+    }
+    std::fs::remove_file(suite.join("families.txt")).unwrap();
+    (class, suite)
+}
+
 /// A family's files, to see that no submission changed them.
 fn suite_files(suite: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut files = Vec::new();
@@ -189,18 +206,8 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
 #[test]
 fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
     let dir = tempfile::tempdir().unwrap();
-    let (class, suite) = class_and_suite(dir.path());
-    for (name, _) in CLASS.iter().filter(|(n, _)| *n != "fay-deletes") {
-        std::fs::remove_dir_all(class.join(name)).unwrap();
-    }
-    for family in std::fs::read_dir(&suite).unwrap().flatten() {
-        let name = family.file_name().into_string().unwrap();
-        if family.path().is_dir() && !(name.starts_with("16-") || name.starts_with("17-")) {
-            std::fs::remove_dir_all(family.path()).unwrap();
-        }
-    }
     // Two families kept by hand: without the export's manifest, graded as they are.
-    std::fs::remove_file(suite.join("families.txt")).unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["fay-deletes"], &["16-", "17-"]);
     let csv = dir.path().join("grades.csv");
     let path = |p: &Path| p.to_str().unwrap().to_string();
     let o = raylab(&[
@@ -305,24 +312,11 @@ fn bad_input_is_named() {
 #[test]
 fn a_hanging_submission_costs_its_budget_and_no_more() {
     let dir = tempfile::tempdir().unwrap();
-    let (class, suite) = class_and_suite(dir.path());
-    for (name, _) in CLASS
-        .iter()
-        .filter(|(n, _)| !["ada", "cy-hangs"].contains(n))
-    {
-        std::fs::remove_dir_all(class.join(name)).unwrap();
-    }
+    // Five small families (the exact program answers them in about a second in all).
+    let small = ["16-", "17-", "18-", "25-", "31-"];
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "cy-hangs"], &small);
     // (Its own sleeper, told apart from the other tests'.)
     std::fs::write(class.join("cy-hangs/run.sh"), "sleep 917005\n").unwrap();
-    // Five small families (the exact program answers them in about a second in all).
-    let kept = ["16-", "17-", "18-", "25-", "31-"];
-    for family in std::fs::read_dir(&suite).unwrap().flatten() {
-        let name = family.file_name().into_string().unwrap();
-        if family.path().is_dir() && !kept.iter().any(|k| name.starts_with(k)) {
-            std::fs::remove_dir_all(family.path()).unwrap();
-        }
-    }
-    std::fs::remove_file(suite.join("families.txt")).unwrap();
     let json = dir.path().join("grades.json");
     let path = |p: &Path| p.to_str().unwrap().to_string();
     let o = raylab(&[
