@@ -47,7 +47,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use viewer::{Resolution, Viewer};
 use winit::application::ApplicationHandler;
-use winit::dpi::{LogicalSize, PhysicalSize};
+use winit::dpi::{LogicalSize, PhysicalSize, Size};
 use winit::event::{
     DeviceEvent, DeviceId, ElementState, MouseButton, MouseScrollDelta, WindowEvent,
 };
@@ -504,22 +504,35 @@ impl App {
     }
 }
 
-/// The window's starting size: 90% of the primary monitor (in logical pixels), at most
-/// 1600×1000, at least the 1100×620 that shows the panel and a useful image; 1100×620 where the
-/// monitor is unknown.
-fn default_window_size(event_loop: &ActiveEventLoop) -> LogicalSize<f64> {
+/// The window's starting size: 90% of the primary monitor, at most 1600×1000 logical pixels,
+/// at least the 1100×620 that shows the panel and a useful image where the monitor has room
+/// for that (else 90% of it); 1100×620 logical where the monitor is unknown. In the monitor's
+/// own pixels: winit turns a logical size into pixels with the scale factor of the monitor
+/// the window opens on, and a size that fits one monitor in its points may not fit it in
+/// another's (at scale 2 on a 1280×800 screen, 1100×620 points are 2200×1240 pixels).
+fn default_window_size(event_loop: &ActiveEventLoop) -> Size {
     let fallback = LogicalSize::new(1100.0, 620.0);
-    let Some(monitor) = event_loop
-        .primary_monitor()
-        .or_else(|| event_loop.available_monitors().next())
-    else {
-        return fallback;
+    // (X11 names a 1×1 stand-in the primary monitor where no monitor is marked primary.)
+    let real = |m: &winit::monitor::MonitorHandle| m.size().width > 1 && m.size().height > 1;
+    let monitor = (event_loop.primary_monitor().filter(real))
+        .or_else(|| event_loop.available_monitors().find(real));
+    let Some(monitor) = monitor else {
+        return fallback.into();
     };
-    let screen = monitor.size().to_logical::<f64>(monitor.scale_factor());
-    LogicalSize::new(
-        (0.9 * screen.width).clamp(fallback.width, 1600.0),
-        (0.9 * screen.height).clamp(fallback.height, 1000.0),
+    let (screen, scale) = (monitor.size(), monitor.scale_factor());
+    let side = |screen: u32, least: f64, most: f64| {
+        let (screen, least, most) = (screen as f64, least * scale, most * scale);
+        let fit = (0.9 * screen).min(most);
+        match least <= screen {
+            true => fit.max(least).round(),
+            false => fit.round(),
+        }
+    };
+    PhysicalSize::new(
+        side(screen.width, fallback.width, 1600.0),
+        side(screen.height, fallback.height, 1000.0),
     )
+    .into()
 }
 
 impl ApplicationHandler<AppEvent> for App {

@@ -277,3 +277,44 @@ fn real_x_input_the_inspector_panel_regains_its_width_with_the_window() {
         "the panel is {panel} wide\n{log}"
     );
 }
+
+#[test]
+fn real_x_input_the_default_window_fits_a_hidpi_screen() {
+    // At 2 device pixels a point on a 1280x800 screen (640x400 points), the window opens
+    // within the screen: 90% of it. (It opened at 1100x620 points, 2200x1240 pixels, the
+    // least size in points, larger than the screen.) Its size is read from X, as a window
+    // manager sees it.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool getwindowgeometry $win > geometry.txt";
+    let scale = [("WINIT_X11_SCALE_FACTOR", "2")];
+    let Some(run) = run_window_with(
+        RAYLAB,
+        script,
+        dir.path(),
+        &scale,
+        Around::RealInput(driver),
+    ) else {
+        return;
+    };
+    let log = &run.stderr;
+    let geometry = std::fs::read_to_string(dir.path().join("geometry.txt")).unwrap();
+    // "Window N\n  Position: X,Y (screen: 0)\n  Geometry: WxH\n"
+    let field = |name: &str| -> Vec<u32> {
+        let line = geometry.lines().find_map(|l| l.trim().strip_prefix(name));
+        let text = line.unwrap_or_else(|| panic!("no {name}\n{geometry}"));
+        let text = text.split_whitespace().next().unwrap();
+        text.split([',', 'x']).map(|x| x.parse().unwrap()).collect()
+    };
+    let (at, size) = (field("Position: "), field("Geometry: "));
+    println!("the window at {at:?}, {size:?}");
+    assert!(
+        at[0] + size[0] <= 1280 && at[1] + size[1] <= 800,
+        "the window is {size:?} at {at:?} on a 1280x800 screen\n{log}"
+    );
+    assert!(
+        size[0] >= 1100 && size[1] >= 700,
+        "90% of the screen: {size:?}\n{log}"
+    );
+    assert_eq!((run.shot.0, run.shot.1), (size[0], size[1]), "{log}");
+}
