@@ -14,6 +14,9 @@ use winit::window::Window;
 pub struct Framework {
     ctx: egui::Context,
     state: egui_winit::State,
+    /// Input that came after a pass's one pointer button change, for the passes after it
+    /// ([`one_button_change`]).
+    held: Vec<egui::Event>,
     pub gpu: Gpu,
 }
 
@@ -46,7 +49,12 @@ impl Framework {
             None,
             Some(gpu.max_texture_side()),
         );
-        Ok(Self { ctx, state, gpu })
+        Ok(Self {
+            ctx,
+            state,
+            held: Vec::new(),
+            gpu,
+        })
     }
 
     /// Lets egui see a window event first.
@@ -87,9 +95,18 @@ impl Framework {
         self.ctx.pixels_per_point()
     }
 
-    /// Runs `ui` for one frame and readies its output for [`Framework::draw`].
+    /// Runs `ui` for one frame and readies its output for [`Framework::draw`]. A pass sees at
+    /// most one press or release of a pointer button: the input after it waits for the next
+    /// pass, which is asked for at once ([`one_button_change`]).
     pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> Prepared {
-        let raw = self.state.take_egui_input(window);
+        let mut raw = self.state.take_egui_input(window);
+        let mut events = std::mem::take(&mut self.held);
+        events.append(&mut raw.events);
+        self.held = one_button_change(&mut events);
+        raw.events = events;
+        if !self.held.is_empty() {
+            window.request_redraw();
+        }
         let output = self.ctx.run_ui(raw, ui);
         self.state
             .handle_platform_output(window, output.platform_output);
@@ -129,6 +146,20 @@ impl Framework {
             frame.pixels_per_point,
             capture,
         )
+    }
+}
+
+/// Cuts `events` after its first pointer button change (a press or a release), returning the
+/// rest. egui reads a pass's input as one moment: a press and its release in the same pass
+/// are not a drag, so a slider ignored the click, and two clicks in one pass are one click
+/// (a check box toggled once for two). Events that arrive between two redraws (a click's
+/// press and release, quick clicks while a frame is drawn) came to egui together.
+fn one_button_change(events: &mut Vec<egui::Event>) -> Vec<egui::Event> {
+    let mut buttons =
+        (events.iter().enumerate()).filter(|(_, e)| matches!(e, egui::Event::PointerButton { .. }));
+    match buttons.nth(1) {
+        Some((second, _)) => events.split_off(second),
+        None => Vec::new(),
     }
 }
 

@@ -642,3 +642,34 @@ fn real_x_input_a_tooltip_shows_while_the_pointer_rests() {
         "no tooltip: {changed} pixels changed\n{log}"
     );
 }
+
+#[test]
+fn real_x_input_quick_clicks_each_count() {
+    // Plain clicks (press and release together, as a mouse's quick click gives them) on the
+    // focal slider, at its right end, its left end, its right end and its left end: the
+    // focal length ends where the last click put it, the least (0.05 of the image width).
+    // Then three quick clicks on the ray inspector's check box: it toggles three times, off.
+    // (Input that came between two frames went to egui as one moment: a slider took a press
+    // with its release as no drag and ignored the click, and two clicks were one.)
+    // Positions: the panel at the default window on the 1280x800 screen (the focal slider's
+    // rail from x 8 to 108 at y 225; the check box at (15, 378)).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  for x in 106 10 106 10; do xdotool mousemove --sync $x 225 click 1; done; \
+                  sleep 0.5; xdotool mousemove --sync 15 378; sleep 0.3; \
+                  xdotool click --repeat 3 --delay 0 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (focal, width) = (run.nums("focal")[0], run.nums("size")[0]);
+    assert!(
+        (focal / width - 0.05).abs() < 1e-9,
+        "the last click, at the slider's left end: focal {focal} at width {width}\n{log}"
+    );
+    let toggles = log.matches("ray inspector o").count();
+    assert_eq!(toggles, 3, "three clicks on the check box\n{log}");
+    assert_eq!(run.fields["inspector"], "off", "{log}");
+}
