@@ -161,6 +161,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         image_rect: None,
         banner_rect: None,
         panel_fit: (0.0, 0.0),
+        panel_width: 0.0,
         cursor: None,
         drag: None,
         press_at: None,
@@ -192,6 +193,8 @@ struct App {
     banner_rect: Option<egui::Rect>,
     /// The side panel's content height and visible height (points) in the last frame.
     panel_fit: (f32, f32),
+    /// The side panel's width (points) in the last frame.
+    panel_width: f32,
     /// The mouse pointer in the window (physical pixels), while it is inside.
     cursor: Option<(f64, f64)>,
     /// An orbit-mode drag under way over the image: `true` orbits, `false` pans.
@@ -396,6 +399,10 @@ impl App {
         self.image_rect = layout.image_rect;
         self.banner_rect = layout.banner_rect;
         self.panel_fit = layout.actions.fit;
+        if layout.actions.width != self.panel_width {
+            self.panel_width = layout.actions.width;
+            log::info!("side panel {} points wide", self.panel_width);
+        }
         let actions = layout.actions;
         if actions.reset_camera {
             viewer.controller.reset();
@@ -454,6 +461,7 @@ impl App {
                     frames_presented: self.frames_presented,
                     image_rect: [r.min.x, r.min.y, r.width(), r.height()].map(|x| x * ppp),
                     panel_fit: self.panel_fit,
+                    panel_width: self.panel_width,
                 };
                 let run = self.scripted.as_ref().expect("capturing a scripted run");
                 match run.finish(&self.viewer, shot, done) {

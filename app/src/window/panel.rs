@@ -47,6 +47,10 @@ pub struct PanelActions {
     /// The panel's content height and the height it is shown in (points): it fits when the
     /// first is not larger.
     pub fit: (f32, f32),
+    /// The room the panel's scroll bar takes beside its rows (points; 0 where there is none).
+    pub bar_room: f32,
+    /// The panel's width (points).
+    pub width: f32,
 }
 
 /// The side panel. Edits `view` and `camera` in place.
@@ -62,7 +66,9 @@ pub fn side_panel(
     // A scroll bar that is there whenever the panel is taller than the window (egui's
     // default floats and shows only under the pointer).
     ui.style_mut().spacing.scroll = egui::style::ScrollStyle::solid();
-    let scrolled = egui::ScrollArea::vertical().show(ui, |ui| {
+    // (In a child of its own, whose rectangle is the scroll area's with the bar's room.)
+    let mut rows = ui.new_child(egui::UiBuilder::new());
+    let scrolled = egui::ScrollArea::vertical().show(&mut rows, |ui| {
         ui.heading("raylab");
         ui.label(format!(
             "{}: {} primitives",
@@ -284,7 +290,9 @@ pub fn side_panel(
             }
         });
     });
+    ui.advance_cursor_after_rect(rows.min_rect());
     actions.fit = (scrolled.content_size.y, scrolled.inner_rect.height());
+    actions.bar_room = (rows.min_rect().width() - scrolled.content_size.x).max(0.0);
     actions
 }
 
@@ -342,6 +350,49 @@ pub const PANEL_WIDTH: f32 = 300.0;
 
 /// Width of the ray inspector's panel at start, in points.
 pub const INSPECTOR_WIDTH: f32 = 330.0;
+
+/// The side panel's width once its scroll bar is gone. egui keeps a panel at the width it was
+/// last drawn at: what it was given or, where its rows need more, what they need. The scroll
+/// bar a window too short for the panel shows takes its room (10 points) beside the rows, so
+/// the panel grew by it, and kept that width once the window was tall again. So the width kept
+/// before the bar came is given back once the bar's room is gone, unless the panel's edge was
+/// dragged meanwhile (then the width dragged to stays).
+struct KeptWidth {
+    id: egui::Id,
+    /// The panel's edge is being dragged (or was let go) this frame.
+    dragged: bool,
+    /// The width egui kept from the last frame (the width given to a new panel where none).
+    kept: f32,
+}
+
+impl KeptWidth {
+    /// Before the panel `id` (`width` points wide at first) is shown.
+    fn before(ui: &egui::Ui, id: egui::Id, width: f32) -> Self {
+        let edge = ui.ctx().read_response(id.with("__resize"));
+        let dragged = edge.is_some_and(|r| r.dragged() || r.drag_stopped());
+        let kept = egui::containers::panel::PanelState::load(ui.ctx(), id);
+        let kept = kept.map_or(width, |k| k.size().x);
+        Self { id, dragged, kept }
+    }
+
+    /// After the panel was shown in `drawn`, its scroll bar taking `bar` points of it.
+    fn after(self, ui: &egui::Ui, drawn: egui::Rect, bar: f32) {
+        let before_bar = self.id.with("width before the scroll bar");
+        let ctx = ui.ctx();
+        let mut width: Option<f32> = ctx.data(|d| d.get_temp(before_bar)).flatten();
+        if self.dragged {
+            width = None;
+        } else if bar > 0.01 {
+            width = width.or(Some(self.kept));
+        } else if let Some(w) = width.take() {
+            let mut outer_rect = drawn;
+            outer_rect.set_width(w);
+            let state = egui::containers::panel::PanelState { outer_rect };
+            ctx.data_mut(|d| d.insert_persisted(self.id, state));
+        }
+        ctx.data_mut(|d| d.insert_temp(before_bar, width));
+    }
+}
 
 /// What one layout pass found.
 pub struct Layout {
@@ -423,7 +474,9 @@ pub fn layout(
         image_rect: None,
         banner_rect: None,
     };
-    egui::Panel::left("controls")
+    let controls = egui::Id::new("controls");
+    let kept = KeptWidth::before(ui, controls, PANEL_WIDTH);
+    let drawn = egui::Panel::left(controls)
         .resizable(true)
         .default_size(PANEL_WIDTH)
         .show(ui, |ui| {
@@ -442,6 +495,8 @@ pub fn layout(
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
             layout.actions.screenshot |= screenshot;
         });
+    kept.after(ui, drawn.response.rect, layout.actions.bar_room);
+    layout.actions.width = drawn.response.rect.width();
     // The inspected ray's fields beside the image, while there are some or a crack is being
     // found (the side panel keeps its sections in view).
     *inspector_shown = *inspector_on && (inspection.is_some() || cracks.pending.is_some());

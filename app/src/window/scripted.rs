@@ -35,6 +35,8 @@ pub struct Final {
     pub image_rect: [f32; 4],
     /// The side panel's content height and the height it is shown in (points).
     pub panel_fit: (f32, f32),
+    /// The side panel's width (points).
+    pub panel_width: f32,
 }
 
 impl ScriptedRun {
@@ -110,7 +112,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -138,6 +140,7 @@ impl ScriptedRun {
             ["off", "on"][viewer.banner.is_some() as usize],
             window.panel_fit.0,
             window.panel_fit.1,
+            window.panel_width,
             viewer.stage.scene().warnings.len(),
             ["off", "on"][viewer.show_all_warnings as usize],
             peak_kib(),
