@@ -2,7 +2,7 @@
 //! replaced by the files' paths, each one shell word whatever its bytes.
 
 use anyhow::{bail, Result};
-use std::ffi::{OsStr, OsString};
+use std::ffi::OsString;
 use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::path::Path;
 
@@ -22,38 +22,116 @@ pub fn command_for(template: &str, scene: &Path, rays: &Path) -> String {
         .into_owned()
 }
 
-/// The command with `{scene}` and `{rays}` replaced by the paths, each one quoted shell word
-/// with its bytes intact. One pass over the template: a path that holds `{rays}` itself is
-/// never substituted into (that would end its quotes early and run the rest as code).
+/// The command with `{scene}` and `{rays}` replaced by the paths, each one shell word with its
+/// bytes intact, whether the template writes the placeholder bare, in single or in double
+/// quotes (`"{scene}"`, as students write by habit): the path is quoted for the place it
+/// goes. One pass over the template: a path that holds `{rays}` itself is never substituted
+/// into (that would end its quotes early and run the rest as code).
 pub fn command_line(template: &str, scene: &Path, rays: &Path) -> OsString {
-    let (scene, rays) = (shell_word(scene.as_os_str()), shell_word(rays.as_os_str()));
+    let (scene, rays) = (scene.as_os_str().as_bytes(), rays.as_os_str().as_bytes());
     let t = template.as_bytes();
-    let mut out = Vec::with_capacity(t.len() + scene.len() + rays.len());
+    let mut out = Vec::with_capacity(t.len() + 2 * (scene.len() + rays.len()));
+    let mut quote = Quote::None;
     let mut i = 0;
     while i < t.len() {
-        if t[i..].starts_with(b"{scene}") {
-            out.extend_from_slice(&scene);
-            i += "{scene}".len();
-        } else if t[i..].starts_with(b"{rays}") {
-            out.extend_from_slice(&rays);
-            i += "{rays}".len();
-        } else {
+        let path = match () {
+            _ if t[i..].starts_with(b"{scene}") => Some((scene, "{scene}".len())),
+            _ if t[i..].starts_with(b"{rays}") => Some((rays, "{rays}".len())),
+            _ => None,
+        };
+        if let Some((path, skip)) = path {
+            quote.write(path, &mut out);
+            i += skip;
+            continue;
+        }
+        let b = t[i];
+        out.push(b);
+        i += 1;
+        // A backslash outside single quotes keeps the next byte as it is.
+        if b == b'\\' && quote != Quote::Single && i < t.len() {
             out.push(t[i]);
             i += 1;
+            continue;
         }
+        quote = match (quote, b) {
+            (Quote::None, b'\'') => Quote::Single,
+            (Quote::None, b'"') => Quote::Double,
+            (Quote::Single, b'\'') | (Quote::Double, b'"') => Quote::None,
+            (q, _) => q,
+        };
     }
     OsString::from_vec(out)
 }
 
-/// `word` in single quotes, a quote within written `'\''`: the shell expands nothing in it.
-fn shell_word(word: &OsStr) -> Vec<u8> {
-    let mut out = vec![b'\''];
-    for &b in word.as_bytes() {
-        match b {
-            b'\'' => out.extend_from_slice(br"'\''"),
-            _ => out.push(b),
+/// Where the shell is in the template: outside quotes, or inside single or double ones.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Quote {
+    None,
+    Single,
+    Double,
+}
+
+impl Quote {
+    /// `path` as one word of literal bytes here: in single quotes outside any (a quote
+    /// within written `'\''`); inside single quotes the same, without the outer ones; inside
+    /// double quotes with `"`, `\`, `$` and `` ` `` escaped. The shell expands nothing in it.
+    fn write(self, path: &[u8], out: &mut Vec<u8>) {
+        let bare = self == Quote::None;
+        if bare {
+            out.push(b'\'');
+        }
+        for &b in path {
+            match (self, b) {
+                (Quote::None | Quote::Single, b'\'') => out.extend_from_slice(br"'\''"),
+                (Quote::Double, b'"' | b'\\' | b'$' | b'`') => out.extend_from_slice(&[b'\\', b]),
+                _ => out.push(b),
+            }
+        }
+        if bare {
+            out.push(b'\'');
         }
     }
-    out.push(b'\'');
-    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs `template` with sh, the placeholders standing for `scene` and `rays`; what
+    /// `printf '%s|'` printed of its arguments.
+    fn args_seen(template: &str, scene: &str, rays: &str) -> String {
+        let command = command_line(template, Path::new(scene), Path::new(rays));
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(command)
+            .output()
+            .unwrap();
+        String::from_utf8(out.stdout).unwrap()
+    }
+
+    #[test]
+    fn a_path_is_one_word_bare_or_in_either_quotes() {
+        let nasty = "my suite/it's \"$(x)\" `y` \\ {rays}/scene.txt";
+        let rays = "r s/rays.txt";
+        let want = format!("{nasty}|{rays}|");
+        for template in [
+            "printf '%s|' {scene} {rays}",
+            "printf '%s|' \"{scene}\" \"{rays}\"",
+            "printf '%s|' '{scene}' '{rays}'",
+            "printf '%s|' \"{scene}\" '{rays}'",
+        ] {
+            assert_eq!(args_seen(template, nasty, rays), want, "{template}");
+        }
+        // Quotes and escapes around them are followed: an escaped quote opens none.
+        let template = "printf '%s|' \\\" {scene} \"a'b\" {rays}";
+        assert_eq!(
+            args_seen(template, nasty, rays),
+            format!("\"|{nasty}|a'b|{rays}|"),
+        );
+        // Inside a word: the path joins it.
+        assert_eq!(
+            args_seen("printf '%s|' --in=\"{scene}\" x{rays}", "a b", "c d"),
+            "--in=a b|xc d|"
+        );
+    }
 }
