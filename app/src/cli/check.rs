@@ -10,7 +10,7 @@ use raylab::math::Real;
 use raylab::tracefile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// `raylab suite`.
 #[derive(clap::Args, Debug)]
@@ -75,6 +75,15 @@ pub struct CheckArgs {
         conflicts_with = "answers"
     )]
     pub timeout: f64,
+    /// With --suite: seconds the program may take on all families together; the families
+    /// after it runs out are skipped, and failed (default: 5 × --timeout).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        requires = "suite",
+        conflicts_with_all = ["rays", "image"]
+    )]
+    pub budget: Option<f64>,
     /// How far a right hit's point o + t·d may lie from the exact one, relative to the size
     /// of the coordinates (|t − exact t|·|d| / (|o| + |exact t|·|d| + the primitive's largest
     /// coordinate)); a t beyond it is a failure. Within an ulp of the precision is always
@@ -162,6 +171,16 @@ pub(super) fn check_timeout(timeout: f64) -> Result<()> {
     Ok(())
 }
 
+/// The --budget of a suite's or a submission's runs: as given (more than 0, at most 1e7
+/// seconds), or 5 × --timeout.
+pub(super) fn budget_of(budget: Option<f64>, timeout: f64) -> Result<Duration> {
+    let budget = budget.unwrap_or(5.0 * timeout);
+    if !(budget > 0.0 && budget <= 1e7) {
+        bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
+    }
+    Ok(Duration::from_secs_f64(budget))
+}
+
 /// A --t-tolerance a grade can use: a number from 0 to 1.
 pub(super) fn check_tolerance(tolerance: f64) -> Result<()> {
     if !(0.0..=1.0).contains(&tolerance) {
@@ -214,6 +233,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             let run = SuiteRun {
                 template: program,
                 timeout_s: args.timeout,
+                budget: budget_of(args.budget, args.timeout)?,
                 precision: name,
                 tolerance,
             };
@@ -319,8 +339,8 @@ pub(super) fn program_answers<T: Real>(
     let command = template::command_line(template, scene_file, rays_file);
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
     let ran = program::run_with(&command, &limits).map_err(|e| e.to_string())?;
-    let answers =
-        answers_for("its output", &ran.stdout, exact, rays_file).map_err(|e| format!("{e:#}"))?;
+    let answers = answers_for("its output", &ran.stdout, exact, rays_file)
+        .map_err(|e| program::stderr_hint(format!("{e:#}"), &ran))?;
     Ok((ran.elapsed, answers))
 }
 
@@ -465,6 +485,8 @@ fn failed_line(tally: &Tally, failed: usize) -> String {
 struct SuiteRun<'a> {
     template: &'a str,
     timeout_s: f64,
+    /// The time for all the families' runs together.
+    budget: Duration,
     precision: &'a str,
     tolerance: f64,
 }
@@ -493,11 +515,29 @@ fn check_suite<T: Real>(
     let mut total = Tally::default();
     let mut failed = 0;
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
+    // The program's time, its failed runs' included.
+    let mut spent = Duration::ZERO;
+    let budget_s = run.budget.as_secs_f64();
     for family in &families {
         let name = family_name(family);
+        let left = run.budget.saturating_sub(spent);
+        if left.is_zero() {
+            failed += 1;
+            say!("{name:<46} SKIPPED: not run: the --budget of {budget_s} s ran out");
+            continue;
+        }
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let exact = exact_of(&scene, &rays)?;
-        match program_answers(run.template, &scene, run.timeout_s, &exact, &rays) {
+        let timeout_s = run.timeout_s.min(left.as_secs_f64());
+        let start = Instant::now();
+        let answers = program_answers(run.template, &scene, timeout_s, &exact, &rays);
+        spent += start.elapsed();
+        let cut = timeout_s < run.timeout_s;
+        let answers = answers.map_err(|e| match cut && e.starts_with("ran out of time") {
+            true => format!("ran out of time: the --budget of {budget_s} s ran out"),
+            false => e,
+        });
+        match answers {
             Ok((elapsed, answers)) => {
                 let judged = judge_all(&exact, &answers, run.tolerance);
                 let tally = tally_of(&judged);
@@ -537,7 +577,7 @@ fn check_suite<T: Real>(
     say!("{}", total.row("total", ms));
     if failed > 0 {
         say!(
-            "{failed} of {} families gave no answers (FAILED above): not a pass",
+            "{failed} of {} families gave no answers (FAILED or SKIPPED above): not a pass",
             families.len()
         );
         say!("{}", failed_line(&total, failed));
@@ -585,6 +625,15 @@ fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
     }
     families.sort();
     check_manifest(dir, &families, only)?;
+    if families.is_empty() && dir.join("scene.txt").is_file() && dir.join("rays.txt").is_file() {
+        let parent = dir.parent().unwrap_or(Path::new("."));
+        bail!(
+            "{}: a family, not a suite; check it with `--suite {} --family {}`",
+            dir.display(),
+            parent.display(),
+            family_name(dir)
+        );
+    }
     if families.is_empty() {
         bail!(
             "{}: no family directories (DIR/<family>/scene.txt and rays.txt); write a suite with `raylab suite export {}`",

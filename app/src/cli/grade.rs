@@ -121,10 +121,7 @@ struct Submission {
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
 pub fn grade(args: &GradeArgs) -> Result<()> {
     super::check::check_timeout(args.timeout)?;
-    let budget = args.budget.unwrap_or(5.0 * args.timeout);
-    if !(budget > 0.0 && budget <= 1e7) {
-        bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
-    }
+    let budget = super::check::budget_of(args.budget, args.timeout)?;
     super::template::check_template(&args.program)?;
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
@@ -187,7 +184,6 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             _ => String::new(),
         }
     );
-    let budget = Duration::from_secs_f64(budget);
     let graded = run_all(
         &submissions,
         &cases,
@@ -425,7 +421,7 @@ fn grade_one(
                     },
                     detail: String::new(),
                 },
-                Err(why) => record(Status::Garbage, why),
+                Err(why) => record(Status::Garbage, program::stderr_hint(why, &ran)),
             },
             Err(RunError::Timeout(_)) if cut_by_budget => record(
                 Status::Timeout,

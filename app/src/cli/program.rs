@@ -27,6 +27,8 @@ use rustix::process::{Pid, Signal};
 #[derive(Debug)]
 pub struct Ran {
     pub stdout: String,
+    /// The end of its standard error, trimmed.
+    pub stderr_tail: String,
     pub elapsed: Duration,
 }
 
@@ -222,7 +224,24 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         return Err(RunError::Failed { status, stderr });
     }
     let stdout = String::from_utf8(out).map_err(|_| RunError::NotText)?;
-    Ok(Ran { stdout, elapsed })
+    let stderr_tail = String::from_utf8_lossy(&err).trim().to_string();
+    Ok(Ran {
+        stdout,
+        stderr_tail,
+        elapsed,
+    })
+}
+
+/// `why` a run's output is not its answers, with a hint where it printed nothing on standard
+/// output but wrote to standard error: the answers went to the wrong one.
+pub fn stderr_hint(why: String, ran: &Ran) -> String {
+    match ran.stdout.trim().is_empty() && !ran.stderr_tail.is_empty() {
+        true => format!(
+            "{why} (it printed nothing on standard output, where the answers go, and wrote to \
+             standard error, which is not read)"
+        ),
+        false => why,
+    }
 }
 
 /// Where the pipes' bytes go: all of standard output up to `max`, the end of standard error.

@@ -378,6 +378,18 @@ fn suite_families_one_at_a_time_with_reproducers_and_none_dropped() {
         "{}",
         text(&o.stderr)
     );
+    // A family's directory given as the suite: how to check it instead.
+    let family = suite_dir.join(name);
+    let o = raylab(&[
+        "check",
+        "--suite",
+        family.to_str().unwrap(),
+        "--program",
+        &trace,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let hint = format!("a family, not a suite; check it with `--suite {suite_s} --family {name}`");
+    assert!(text(&o.stderr).contains(&hint), "{}", text(&o.stderr));
 
     std::fs::remove_file(suite_dir.join("02-cube-from-outside/rays.txt")).unwrap();
     let o = raylab(&["check", "--suite", suite_s, "--program", &trace]);

@@ -434,6 +434,10 @@ fn a_program_that_fails_is_never_a_pass() {
             format!("{trace} | head -3"),
             "its output: 3 answers for the 10 rays",
         ),
+        (
+            format!("{trace} >&2"),
+            "(it printed nothing on standard output, where the answers go, and wrote to standard error",
+        ),
         ("yes miss # {scene} {rays}".to_string(), "printed more than"),
         (
             "printf '\\377\\n' # {scene} {rays}".to_string(),
@@ -494,4 +498,35 @@ fn a_program_that_fails_is_never_a_pass() {
         0,
         "{line}"
     );
+
+    // A program that hangs costs the --budget, not a --timeout per family: the family where
+    // it runs out is stopped there, the rest are skipped; each is a failed run.
+    let o = raylab(&[
+        "check",
+        "--suite",
+        suite_dir.to_str().unwrap(),
+        "--program",
+        "sleep 30 # {scene} {rays}",
+        "--timeout",
+        "1",
+        "--budget",
+        "2.5",
+    ]);
+    let out = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    let rows = |what: &str| out.lines().filter(|l| l.contains(what)).count();
+    let families = suite::all().len();
+    assert_eq!(rows("FAILED: ran out of time (1.0 s"), 2, "{out}");
+    assert_eq!(
+        rows("FAILED: ran out of time: the --budget of 2.5 s ran out"),
+        1,
+        "{out}"
+    );
+    assert_eq!(
+        rows("SKIPPED: not run: the --budget of 2.5 s ran out"),
+        families - 3,
+        "{out}"
+    );
+    let failed = format!("failed_runs {families}");
+    assert!(last_line(&o).ends_with(&failed), "{out}");
 }

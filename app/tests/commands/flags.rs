@@ -62,6 +62,16 @@ fn check_refuses_the_flags_it_would_ignore() {
     // --timeout times a program: with an answer file it is refused.
     let o = raylab(&[&graded[..], &["--timeout", "5"]].concat());
     assert_fails(&o, 2, &["cannot be used with", "--timeout"]);
+    // --budget bounds a suite's runs together: with one scene's rays it is refused.
+    let program = [
+        "check",
+        "--rays",
+        "r.txt",
+        "--program",
+        "true {scene} {rays}",
+    ];
+    let o = raylab(&[&program[..], &["--budget", "5"]].concat());
+    assert_fails(&o, 2, &["cannot be used with", "--budget"]);
     // --image grades in f32 only; a suite's families hold their scenes.
     let program = "true {scene} {rays}";
     let image = d.join("x.png");
@@ -163,6 +173,7 @@ fn each_help_lists_only_the_flags_its_command_uses() {
     ];
     let mut check = vec![
         "answers",
+        "budget",
         "family",
         "help",
         "image",
