@@ -138,7 +138,11 @@ pub fn export(dir: &Path, families: &[Family]) -> Result<Vec<PathBuf>, ExportErr
             return Err(ExportError::NotASuite(dir.to_path_buf()));
         }
     }
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    // The directory itself only, as any output's: a missing parent is a mistyped path.
+    match std::fs::create_dir(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && dir.is_dir() => {}
+        made => made.map_err(io(dir))?,
+    }
     // Until every family is written again, the directory is not a whole export.
     let manifest = dir.join(MANIFEST);
     match std::fs::remove_file(&manifest) {

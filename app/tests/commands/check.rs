@@ -119,6 +119,13 @@ fn export_writes_over_an_earlier_export_only() {
     assert!(text(&o.stdout).contains(&format!("wrote {} families", suite::all().len())));
     let o = raylab(&["suite", "export", target_s]);
     assert!(o.status.success(), "again: {}", text(&o.stderr));
+    // A directory whose parent is missing (a mistyped path) is refused, and nothing made.
+    let stray = dir.path().join("no-such/suite");
+    let o = raylab(&["suite", "export", stray.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let said = format!("{}: No such file or directory", stray.display());
+    assert!(text(&o.stderr).contains(&said), "{}", text(&o.stderr));
+    assert!(!dir.path().join("no-such").exists());
 
     let other = dir.path().join("notes");
     std::fs::create_dir(&other).unwrap();
