@@ -293,6 +293,11 @@ impl OutputFile {
         &self.path
     }
 
+    /// The temporary file being written (`None` for a device written in place).
+    pub fn temp_path(&self) -> Option<&Path> {
+        self.temp.as_deref()
+    }
+
     /// Flushes the file and renames it over the destination (keeping an existing file's
     /// permissions). The destination is checked again first: an input is never replaced.
     pub fn commit(mut self) -> Result<(), InputError> {

@@ -2,45 +2,72 @@
 //! worker, given each run's directory, and swept of what its programs left behind.
 
 use super::program::{self, Limits, RunDir};
+use anyhow::{bail, Result};
 use std::path::Path;
+use std::time::Duration;
 
 /// Where every user may create files: what a submission's programs leave there is removed
 /// before its account runs the next submission.
-const SHARED_DIRS: [&str; 3] = ["/tmp", "/var/tmp", "/dev/shm"];
+const SHARED_DIRS: [&str; 5] = ["/tmp", "/var/tmp", "/dev/shm", "/run/lock", "/dev/mqueue"];
 
 /// One account per worker when raylab runs as root, so the process limit holds (root is
-/// exempt from it) and no program touches another's files; none otherwise, or when a program
-/// cannot run as one here (a user namespace without the uid, a TMPDIR others cannot enter):
-/// then programs run as root, said with the reason.
-pub(super) fn accounts(jobs: usize, limits: &Limits) -> Vec<Option<Account>> {
+/// exempt from it) and no program touches another's files; none when raylab is not root.
+/// Where a program cannot run as one here (no free uid, a user namespace without the uid, a
+/// TMPDIR others cannot enter) the grading is refused, naming why, unless `as_root` lets the
+/// programs run as root (said on stderr).
+pub(super) fn accounts(
+    jobs: usize,
+    limits: &Limits,
+    as_root: bool,
+) -> Result<Vec<Option<Account>>> {
     let none = || (0..jobs).map(|_| None).collect();
     if !rustix::process::geteuid().is_root() {
-        return none();
+        return Ok(none());
     }
-    let Some(claimed) = Account::claim(jobs) else {
-        eprintln!("warning: no free uid to run the programs as: they run as root, and --max-processes does not hold");
-        return none();
-    };
-    // A program run as the first, in a directory of its own: what every run does.
-    let probe = || -> std::result::Result<(), String> {
+    let claimed = Account::claim(jobs).ok_or_else(|| "no free uid".to_string());
+    // A program run as the first, in a directory of its own: what every run does (within a
+    // time of its own: a --timeout too short for `true` must not decide this).
+    let probe = |claimed: &[Account]| -> std::result::Result<(), String> {
         let dir = RunDir::new("grade").map_err(|e| e.to_string())?;
         claimed[0].give(dir.path()).map_err(|e| e.to_string())?;
         let limits = Limits {
+            timeout: Duration::from_secs(30),
             max_output_bytes: 1024,
             dir: Some(dir.path().to_path_buf()),
             run_as: Some(claimed[0].uid()),
             ..limits.clone()
         };
-        program::run_with(std::ffi::OsStr::new("true"), &limits).map_err(|e| e.to_string())?;
-        Ok(())
+        let ran = program::run_with(std::ffi::OsStr::new("true"), &limits);
+        ran.map(|_| ())
+            .map_err(|e| format!("as uid {}: {e}", claimed[0].uid()))
     };
-    match probe() {
-        Ok(()) => claimed.into_iter().map(Some).collect(),
-        Err(e) => {
-            eprintln!("warning: cannot run a program as uid {} ({e}): the programs run as root, and --max-processes does not hold", claimed[0].uid());
-            none()
-        }
+    let why = match claimed {
+        Ok(claimed) => match probe(&claimed) {
+            Ok(()) => return Ok(claimed.into_iter().map(Some).collect()),
+            Err(why) => why,
+        },
+        Err(why) => why,
+    };
+    if !as_root {
+        bail!(
+            "cannot run the programs as an unprivileged uid ({why}), and as root they could read \
+             and change anything (TMPDIR must be a directory every user may enter; --as-root \
+             runs them as root all the same)"
+        );
     }
+    eprintln!("warning: the programs run as root ({why}), and --max-processes does not hold");
+    Ok(none())
+}
+
+/// Whether the programs, run as other users, can enter `dir` (every directory from the root
+/// down open to others): the submissions' originals there would be open to each other.
+pub(super) fn open_to_others(dir: &Path) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    let Ok(full) = std::fs::canonicalize(dir) else {
+        return false;
+    };
+    full.ancestors()
+        .all(|d| std::fs::metadata(d).is_ok_and(|m| m.permissions().mode() & 0o001 != 0))
 }
 
 /// An unprivileged uid (and gid of the same number) that runs one submission at a time when
@@ -98,9 +125,11 @@ impl Account {
     }
 
     /// Removes what the account's programs left in the directories every user may write
-    /// ([`SHARED_DIRS`]), so that the next submission run as this uid finds nothing of this
-    /// one's (its answers, say). Its processes have ended by then.
+    /// ([`SHARED_DIRS`]) and in System V shared memory, semaphores and message queues, so that
+    /// the next submission run as this uid finds nothing of this one's (its answers, say) and
+    /// no memory stays held. Its processes have ended by then.
     pub(super) fn sweep(&self) {
+        self.sweep_ipc();
         use std::os::unix::fs::MetadataExt;
         for dir in SHARED_DIRS {
             let Ok(entries) = std::fs::read_dir(dir) else {
@@ -128,4 +157,46 @@ impl Account {
             }
         }
     }
+
+    /// Removes the System V IPC objects (/proc/sysvipc: shm, sem, msg) the account made or
+    /// owns, with `ipcrm` (util-linux).
+    fn sweep_ipc(&self) {
+        for (table, option) in [("shm", "-m"), ("sem", "-s"), ("msg", "-q")] {
+            let text =
+                std::fs::read_to_string(format!("/proc/sysvipc/{table}")).unwrap_or_default();
+            for id in ipc_ids_of(&text, self.uid) {
+                let removed = std::process::Command::new("ipcrm")
+                    .args([option, &id])
+                    .output();
+                if !removed.is_ok_and(|o| o.status.success()) {
+                    eprintln!(
+                        "warning: cannot remove System V {table} {id} of uid {}",
+                        self.uid
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The ids of a /proc/sysvipc table's objects whose owner or creator is `uid` (the columns
+/// found by the header's names: `shmid`, `semid` or `msqid`; `uid`; `cuid`).
+fn ipc_ids_of(table: &str, uid: u32) -> Vec<String> {
+    let mut lines = table.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .unwrap_or_default()
+        .split_whitespace()
+        .collect();
+    let column = |name: &str| header.iter().position(|h| *h == name);
+    let id = ["shmid", "semid", "msqid"].into_iter().find_map(column);
+    let (Some(id), Some(owner), Some(creator)) = (id, column("uid"), column("cuid")) else {
+        return Vec::new();
+    };
+    let uid = uid.to_string();
+    lines
+        .map(|l| l.split_whitespace().collect::<Vec<&str>>())
+        .filter(|w| w.get(owner) == Some(&uid.as_str()) || w.get(creator) == Some(&uid.as_str()))
+        .filter_map(|w| w.get(id).map(|s| s.to_string()))
+        .collect()
 }

@@ -340,8 +340,20 @@ pub(super) fn program_answers<T: Real>(
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
     let ran = program::run_with(&command, &limits).map_err(|e| e.to_string())?;
     let answers = answers_for("its output", &ran.stdout, exact, rays_file)
-        .map_err(|e| program::stderr_hint(format!("{e:#}"), &ran))?;
+        .map_err(|e| stderr_hint(format!("{e:#}"), &ran))?;
     Ok((ran.elapsed, answers))
+}
+
+/// `why` a run's output is not its answers, with a hint where it printed nothing on standard
+/// output but wrote to standard error: the answers went to the wrong one.
+pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
+    match ran.stdout.trim().is_empty() && !ran.stderr_tail.is_empty() {
+        true => format!(
+            "{why} (it printed nothing on standard output, where the answers go, and wrote to \
+             standard error, which is not read)"
+        ),
+        false => why,
+    }
 }
 
 /// Prints what was written so far, the program's failure and the failed run's last line.
@@ -615,7 +627,7 @@ fn suite_families(dir: &Path, only: Option<&str>) -> Result<Vec<PathBuf>> {
                     Ok(_) => "not a regular file".to_string(),
                 };
                 bail!(
-                    "{}: a family of the suite without its {file} ({why}); export the suite again with `raylab suite export {}`",
+                    "{}: a family of the suite without its {file} ({why}); if {} is a suite, export it again with `raylab suite export`",
                     f.display(),
                     dir.display()
                 );

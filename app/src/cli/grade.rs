@@ -4,7 +4,7 @@
 //! the exact answers computed once. A submission that crashes, hangs, floods, forks or deletes
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
-use super::account::{accounts, Account};
+use super::account::{self, accounts, Account};
 use super::check::{suite_cases, Case};
 use super::program::{self, Limits, RunDir, RunError};
 use super::Precision;
@@ -68,6 +68,10 @@ pub struct GradeArgs {
     /// with a thread per core needs more than the cores).
     #[arg(long, value_name = "N", default_value_t = 256)]
     pub max_processes: u64,
+    /// As root, run the programs as root where no unprivileged uid can run them (refused
+    /// otherwise: as root a program can read and change anything).
+    #[arg(long)]
+    pub as_root: bool,
 }
 
 /// How one family went for one submission (the CSV's `status`).
@@ -149,7 +153,12 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     for (flag, path) in [("--csv", &args.csv), ("--json", &args.json)] {
         if let Some(path) = path {
             refuse_inside(flag, path, &inputs)?;
-            outputs.push(OutputFile::create(path)?);
+            let output = OutputFile::create(path).context(flag)?;
+            // (Ctrl+C leaves no temporary file beside the output.)
+            if let Some(temp) = output.temp_path() {
+                program::remove_at_signal(temp);
+            }
+            outputs.push(output);
         }
     }
     if let (Some(csv), Some(json)) = (&args.csv, &args.json) {
@@ -174,7 +183,14 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         dir: None,
         run_as: None,
     };
-    let accounts = accounts(jobs, &limits);
+    let accounts = accounts(jobs, &limits, args.as_root)?;
+    if accounts.first().is_some_and(Option::is_some) && account::open_to_others(&args.class) {
+        eprintln!(
+            "warning: {}: other users may enter it, so a program can read the other \
+             submissions' originals there (`chmod 700` it; each program gets a private copy)",
+            printable(&args.class.display().to_string())
+        );
+    }
     eprintln!(
         "grading {} submissions on {} families, {jobs} at a time{}",
         submissions.len(),
@@ -212,13 +228,26 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
 }
 
 /// The submission directories of the class, in name order.
+/// What is neither (a file, a broken link, a hidden directory such as `.git`) is named on
+/// stderr, so a submission handed in as a file is not left out unseen.
 fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
-    let entries = std::fs::read_dir(class).map_err(|e| anyhow!("{}: {e}", class.display()))?;
-    let mut dirs: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_dir())
-        .collect();
-    dirs.sort();
+    let entries =
+        std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    let mut dirs = Vec::new();
+    for path in paths {
+        let why = match () {
+            _ if name_of(&path).starts_with('.') => "hidden",
+            _ if !path.is_dir() => "not a directory",
+            _ => {
+                dirs.push(path);
+                continue;
+            }
+        };
+        let shown = printable(&path.display().to_string());
+        eprintln!("warning: {shown}: {why}, so not a submission (not graded)");
+    }
     if dirs.is_empty() {
         bail!(
             "{}: no submissions (a directory per submission)",
@@ -299,7 +328,7 @@ fn run_all(
                 "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s)",
                 n + 1,
                 submissions.len(),
-                submission.name,
+                printable(&submission.name),
                 cases.len(),
                 match summary(&submission.records).as_str() {
                     "ok" => String::new(),
@@ -313,6 +342,17 @@ fn run_all(
     graded
         .into_iter()
         .map(|s| s.expect("every submission graded"))
+        .collect()
+}
+
+/// `text` with every control character (a line break too) written as its escape: a name on
+/// one line of the table, driving no terminal.
+fn printable(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| match c.is_control() {
+            true => c.escape_default().collect::<Vec<char>>(),
+            false => vec![c],
+        })
         .collect()
 }
 
@@ -333,7 +373,8 @@ fn grade_one(
     budget: Duration,
     account: Option<&Account>,
 ) -> Vec<Record> {
-    let started = Instant::now();
+    // The programs' time (copying the files is raylab's).
+    let mut spent = Duration::ZERO;
     let not_run = |why: String| -> Vec<Record> {
         let record = |_| Record {
             tally: None,
@@ -359,7 +400,7 @@ fn grade_one(
     let input = run.path().join("input");
     let mut records = Vec::with_capacity(cases.len());
     for case in cases {
-        let left = budget.saturating_sub(started.elapsed());
+        let left = budget.saturating_sub(spent);
         if left.is_zero() {
             records.push(Record {
                 tally: None,
@@ -402,6 +443,7 @@ fn grade_one(
         };
         let start = Instant::now();
         let ran = program::run_with(&command, &limits);
+        spent += start.elapsed();
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let record = |status, detail: String| Record {
             tally: None,
@@ -421,7 +463,7 @@ fn grade_one(
                     },
                     detail: String::new(),
                 },
-                Err(why) => record(Status::Garbage, program::stderr_hint(why, &ran)),
+                Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
             },
             Err(RunError::Timeout(_)) if cut_by_budget => record(
                 Status::Timeout,
@@ -523,7 +565,7 @@ impl Rubric {
             };
             let points: f64 = match points.parse() {
                 Ok(p) if (0.0..=1e9).contains(&p) => p,
-                _ => bail!("{}: '{points}' is not a number of points (0 or more)", at()),
+                _ => bail!("{}: '{points}' is not a number of points (0 to 1e9)", at()),
             };
             let name = match key {
                 "*" => {
@@ -544,6 +586,12 @@ impl Rubric {
             if named.insert(name.clone(), points).is_some() {
                 bail!("{}: {name} has points already", at());
             }
+        }
+        if named.is_empty() && rest.is_none() {
+            bail!(
+                "{}: no points (lines `<family name or number> <points>`, `* <points>`)",
+                file.display()
+            );
         }
         Ok(Rubric {
             named,
@@ -585,7 +633,7 @@ fn points_text(points: f64) -> String {
 fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let width = graded
         .iter()
-        .map(|s| s.name.chars().count())
+        .map(|s| printable(&s.name).chars().count())
         .max()
         .unwrap_or(0)
         .clamp(10, 40);
@@ -621,7 +669,7 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
             .sum();
         out += &format!(
             "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
-            s.name,
+            printable(&s.name),
             format!("{passed}/{}", cases.len()),
             total.leaks,
             total.false_hits,

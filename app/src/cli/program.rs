@@ -232,18 +232,6 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     })
 }
 
-/// `why` a run's output is not its answers, with a hint where it printed nothing on standard
-/// output but wrote to standard error: the answers went to the wrong one.
-pub fn stderr_hint(why: String, ran: &Ran) -> String {
-    match ran.stdout.trim().is_empty() && !ran.stderr_tail.is_empty() {
-        true => format!(
-            "{why} (it printed nothing on standard output, where the answers go, and wrote to \
-             standard error, which is not read)"
-        ),
-        false => why,
-    }
-}
-
 /// Where the pipes' bytes go: all of standard output up to `max`, the end of standard error.
 struct Sink<'a> {
     out: &'a mut Vec<u8>,
@@ -461,8 +449,16 @@ struct Live {
 /// The programs running, and the directories to remove at Ctrl+C.
 struct Registry {
     runs: Vec<Live>,
+    /// The run directories, and files, to remove at a signal.
     dirs: Vec<PathBuf>,
     next: u64,
+}
+
+/// Has `path` (an output's temporary file, say) removed at Ctrl+C or SIGTERM, with the run
+/// directories (from now on: the signals are caught here).
+pub fn remove_at_signal(path: &Path) {
+    init();
+    registry().dirs.push(path.to_path_buf());
 }
 
 static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
@@ -754,6 +750,10 @@ impl Drop for RunDir {
 /// Removes `path` and everything in it, also what a program made unreadable (as the same
 /// user: its directories are given their owner's permissions back first).
 fn remove_tree(path: &Path) {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| !m.is_dir()) {
+        let _ = std::fs::remove_file(path);
+        return;
+    }
     if std::fs::remove_dir_all(path).is_ok() || !path.exists() {
         return;
     }

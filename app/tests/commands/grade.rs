@@ -304,6 +304,121 @@ fn bad_input_is_named() {
         2,
         &["--budget 0"],
     );
+    // A rubric of comments only gives no points: refused, not a grading out of 0.
+    let empty = common::binary::write(dir.path(), "empty.txt", "# to do\n");
+    let o = grade(&[
+        class,
+        "--suite",
+        suite,
+        "--program",
+        program,
+        "--rubric",
+        &empty,
+    ]);
+    common::binary::assert_fails(&o, 2, &["empty.txt: no points"]);
+    // An output in a missing directory: the flag and the path.
+    let stray = dir.path().join("no-such/grades.csv");
+    let stray = stray.to_str().unwrap();
+    let o = grade(&[
+        class,
+        "--suite",
+        suite,
+        "--program",
+        program,
+        "--csv",
+        stray,
+    ]);
+    common::binary::assert_fails(&o, 2, &["--csv: ", stray]);
+}
+
+/// Only directories are submissions: a file, a broken link and a hidden directory (`.git`)
+/// are each named on stderr, not dropped unseen; a name with a line break or an escape
+/// sequence shows escaped, one row of the table, driving no terminal.
+#[test]
+fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    std::fs::create_dir(class.join(".git")).unwrap();
+    std::os::unix::fs::symlink("nowhere", class.join("gone")).unwrap();
+    let odd = class.join("eve\nada        ok\u{1b}[31m");
+    std::fs::create_dir(&odd).unwrap();
+    for file in ["run.sh", "exact.py"] {
+        std::fs::copy(class.join("ada").join(file), odd.join(file)).unwrap();
+    }
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab(&[
+        "grade",
+        &path(&class),
+        "--suite",
+        &path(&suite),
+        "--program",
+        "sh run.sh {scene} {rays}",
+    ]);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    for (name, why) in [
+        ("notes.txt", "not a directory"),
+        ("gone", "not a directory"),
+        (".git", "hidden"),
+    ] {
+        let said = format!("{name}: {why}, so not a submission (not graded)");
+        assert!(err.contains(&said), "{said} in {err}");
+    }
+    assert!(err.contains("grading 2 submissions"), "{err}");
+    let rows: Vec<&str> = out.lines().collect();
+    assert_eq!(rows.len(), 3, "{out}");
+    assert!(
+        rows[2].starts_with("eve\\nada        ok\\u{1b}[31m "),
+        "{out}"
+    );
+    assert!(
+        !out.contains('\u{1b}') && !err.contains('\u{1b}'),
+        "{out}{err}"
+    );
+}
+
+/// As root, a program that cannot run as an unprivileged uid (here: TMPDIR is a directory
+/// only root may enter) stops the grading before any program runs, naming why; --as-root
+/// runs it as root all the same, said on stderr.
+#[test]
+fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
+    use std::os::unix::fs::PermissionsExt;
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let private = dir.path().join("private");
+    std::fs::create_dir(&private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let (class, suite) = (path(&class), path(&suite));
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        "sh run.sh {scene} {rays}",
+    ];
+    let tmpdir = [("TMPDIR", private.to_str().unwrap())];
+    let o = raylab_env(&args, &tmpdir);
+    common::binary::assert_fails(
+        &o,
+        2,
+        &[
+            "cannot run the programs as an unprivileged uid",
+            "Permission denied",
+            "--as-root",
+        ],
+    );
+    let o = raylab_env(&[&args[..], &["--as-root"]].concat(), &tmpdir);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    assert!(err.contains("warning: the programs run as root"), "{err}");
+    let row = out.lines().nth(1).unwrap_or_default();
+    assert!(row.starts_with("ada ") && row.ends_with("ok"), "{out}");
 }
 
 /// A submission that hangs on every family costs its --budget, not a --timeout per family:
@@ -389,17 +504,24 @@ fn the_next_submission_finds_nothing_of_the_last() {
         "/tmp/raylab-left-917005",
         "/dev/shm/raylab-left-917005",
         "/tmp/raylab-left-dir-917005",
+        "/run/lock/raylab-left-917005",
     ];
     for f in left {
         let _ = std::fs::remove_dir_all(f).or_else(|_| std::fs::remove_file(f));
     }
+    // Files where every user may write (/run/lock where there is one), and a System V shared
+    // memory segment, which outlives its process and holds memory.
     let leaves = format!(
-        "echo answers > {0} && echo answers > {1} && mkdir -p {2} && echo x > {2}/f && exec python3 exact.py \"$1\" \"$2\"\n",
-        left[0], left[1], left[2]
+        "echo answers > {0} && echo answers > {1} && mkdir -p {2} && echo x > {2}/f && \
+         {{ [ ! -d /run/lock ] || echo x > {3}; }} && ipcmk -M 65536 >&2 && \
+         exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2], left[3]
     );
     let looks = format!(
-        "for f in {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; exec python3 exact.py \"$1\" \"$2\"\n",
-        left[0], left[1], left[2]
+        "for f in {} {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; \
+         awk -v u=$(id -u) 'NR > 1 && $8 == u {{ print \"found shm\"; exit 9 }}' /proc/sysvipc/shm >&2 \
+         || exit 9; exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2], left[3]
     );
     let class_of = [
         ("=1+2", "exec python3 exact.py \"$1\" \"$2\"\n".to_string()),
@@ -452,9 +574,19 @@ fn the_next_submission_finds_nothing_of_the_last() {
     );
     let err = common::binary::stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
+    // The class's originals are open to the accounts: the teacher is told so.
+    let open = format!("warning: {}: other users may enter it", class.display());
+    assert!(err.contains(&open), "{err}");
     for f in left {
         assert!(!Path::new(f).exists(), "{f} left behind");
     }
+    // No segment of the accounts' uids is left either.
+    let shm = std::fs::read_to_string("/proc/sysvipc/shm").unwrap();
+    let of_accounts = shm.lines().skip(1).filter(|l| {
+        let uid: u32 = l.split_whitespace().nth(7).unwrap().parse().unwrap();
+        (61_000..65_000).contains(&uid)
+    });
+    assert_eq!(of_accounts.count(), 0, "{shm}");
     let csv = std::fs::read_to_string(&csv).unwrap();
     let status = |name: &str| {
         let row = csv.lines().find(|l| l.starts_with(&format!("{name},")));

@@ -169,11 +169,19 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
     let tmp = dir.path().join("tmp");
     std::fs::create_dir(&tmp).unwrap();
     std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o755)).unwrap();
+    // The outputs' temporary files, beside them from the start, go too.
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let (csv, json) = (out.join("grades.csv"), out.join("grades.json"));
     // (Killed if the test fails before raylab ends.)
     let mut raylab = KillOnDrop(
         Command::new(env!("CARGO_BIN_EXE_raylab"))
             .args(["grade", &class, "--suite", &suite, "--family", "16"])
             .args(["--program", "sh run.sh {scene} {rays}"])
+            .arg("--csv")
+            .arg(&csv)
+            .arg("--json")
+            .arg(&json)
             .env("TMPDIR", &tmp)
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -215,4 +223,10 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
         0,
         "a run directory was left"
     );
+    let left: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert!(left.is_empty(), "left beside the outputs: {left:?}");
 }
