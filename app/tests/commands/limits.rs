@@ -203,6 +203,34 @@ fn mesh_placements_are_capped_at_their_line() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
+/// The reference loop flattens every mesh: the copies of a mesh used again may hold the
+/// file's room for flattened copies plus the meshes' own triangles, refused at the line that
+/// passes it (16,000 uses of a 1,000-triangle mesh took 822 MB for 157 KB); through a
+/// structure the same file places them as instances.
+#[test]
+fn the_reference_loop_flattens_copies_in_proportion_to_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "m.obj", &strip_obj(1000));
+    let rays = write(dir.path(), "rays.txt", "0 0 -10 0 0 1 0 inf\n");
+    let scene = write(dir.path(), "s.scene", &"mesh m.obj\n".repeat(16_000));
+    let o = raylab(&["trace", "--scene", &scene, "--rays", &rays]);
+    // Room: 2^15, one for every 2 of the 176,000 bytes, and the mesh's 1,000: 121,768; the
+    // 122nd copy passes it, at line 123.
+    assert_fails(
+        &o,
+        2,
+        &["s.scene:123:", "pass 121768 triangles", "--accel auto"],
+    );
+    let o = raylab(&[
+        "trace", "--scene", &scene, "--rays", &rays, "--accel", "auto",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A mesh used a few times is flattened as before.
+    let few = write(dir.path(), "few.scene", &"mesh m.obj\n".repeat(30));
+    let o = raylab(&["trace", "--scene", &few, "--rays", &rays]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 #[test]
 fn memory_grows_in_proportion_to_the_placements() {
     // Peak memory (GNU time's maximum resident set) of rendering 20,000 and 80,000 placements
