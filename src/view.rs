@@ -194,7 +194,14 @@ impl View {
                 self.obj_frame = w[1].parse()?;
             }
             "camera" => {
-                // The .scene statement's syntax.
+                // The .scene statement's syntax, its words joined again: a quoted word with a
+                // space, a `#` or a line break in it would be read as other words.
+                let plain = |word: &&str| {
+                    !word.is_empty() && !word.contains(|c: char| c.is_whitespace() || c == '#')
+                };
+                if !w.iter().all(plain) {
+                    return Err("camera takes plain numbers and words, none quoted".into());
+                }
                 let text = w.join(" ");
                 let d = crate::scene::file::parse::<f32>(
                     "",

@@ -565,6 +565,10 @@ impl<'a> ObjStream<'a> {
         use std::fmt::Write;
         // `#` starts a comment wherever it is; TABs are whitespace like spaces.
         let statement = source.split('#').next().unwrap_or_default();
+        // (The file's first one is skipped: one elsewhere would hide its line's keyword.)
+        if statement.contains('\u{feff}') {
+            return Err("a byte-order mark (U+FEFF) past the file's start".into());
+        }
         let mut words = statement.split_whitespace();
         let Some(keyword) = words.next() else {
             return Ok(());

@@ -245,6 +245,7 @@ fn every_obj_and_mtl_problem_names_its_line() {
         (format!("{tri}vt 0 0\nvn 0 0 1\nf 1/1/1/1 2 3\n"), "t.obj:6: face '1/1/1/1': more than 3"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0 # 1e39\nv 0 1 1e39\nf 1 2 3\n".to_string(), "t.obj:4: coordinate '1e39'"),
         (format!("{tri}f 1 2 3\nl 1 2 9\n"), "no such failure"),
+        (format!("{tri}\u{feff}f 1 2 3\n"), "t.obj:4: a byte-order mark (U+FEFF) past"),
     ];
     for (obj, needle) in cases {
         match load_lab(obj, "") {
@@ -354,4 +355,19 @@ fn a_view_out_of_range_names_its_line() {
     let e = View::parse("v.view", text).unwrap_err().to_string();
     assert!(e.starts_with("v.view:3:") && e.contains("spp"), "{e}");
     assert!(View::parse("v.view", "size 64 48\nspp 4\n").is_ok());
+    // A quoted word on a camera line is refused, not read as other words (a comment that
+    // dropped the yaw, a line break that made a second statement).
+    for camera in [
+        "camera \"0 0 -3 #\" yaw 45",
+        "camera \"0 0 -3\\ncamera 1 2 3\"",
+    ] {
+        let e = View::parse("v.view", &format!("size 64 48\n{camera}\n")).unwrap_err();
+        let e = e.to_string();
+        assert!(
+            e.starts_with("v.view:2:") && e.contains("none quoted"),
+            "{e}"
+        );
+    }
+    let view = View::parse("v.view", "camera 0 0 -3 yaw 45\n").unwrap();
+    assert_eq!(view.camera.yaw, 45.0);
 }
