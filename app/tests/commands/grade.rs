@@ -442,9 +442,9 @@ fn a_hanging_submission_costs_its_budget_and_no_more() {
         "--program",
         "sh run.sh {scene} {rays}",
         "--timeout",
-        "4",
+        "2",
         "--budget",
-        "10",
+        "5",
         "--json",
         &path(&json),
     ]);
@@ -466,15 +466,15 @@ fn a_hanging_submission_costs_its_budget_and_no_more() {
             .collect()
     };
     assert_eq!(statuses("ada"), ["ok"; 5], "{json}");
-    // 4 s, 4 s, then the 2 s left: three timeouts, two families skipped.
+    // 2 s, 2 s, then the 1 s left: three timeouts, two families skipped.
     assert_eq!(
         statuses("cy-hangs"),
         ["timeout", "timeout", "timeout", "skipped", "skipped"],
         "{json}"
     );
     assert!(
-        json.contains("ran out of time: the submission's --budget of 10 s ran out")
-            && json.contains("not run: the submission's --budget of 10 s ran out"),
+        json.contains("ran out of time: the submission's --budget of 5 s ran out")
+            && json.contains("not run: the submission's --budget of 5 s ran out"),
         "{json}"
     );
     let row = out.lines().find(|l| l.starts_with("cy-hangs")).unwrap();
