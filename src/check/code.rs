@@ -252,7 +252,8 @@ impl TileTracer for CodeFrame<'_> {
 pub struct CodeInspection {
     /// The code's name.
     pub name: String,
-    /// The code's camera ray through the pixel's centre.
+    /// The code's camera ray through the pixel's centre (or the position inspected:
+    /// [`inspect_at`]).
     pub ray: Ray,
     /// raylab's camera ray through the same position.
     pub raylab_ray: Ray,
@@ -273,7 +274,24 @@ pub fn inspect(
     (width, height): (u32, u32),
     (i, j): (u32, u32),
 ) -> CodeInspection {
-    let (x, y) = (i as f32 + 0.5, j as f32 + 0.5);
+    inspect_at(
+        code,
+        scene,
+        camera,
+        (width, height),
+        (i as f32 + 0.5, j as f32 + 0.5),
+    )
+}
+
+/// Inspects the ray through image position (x, y) of a `width`×`height` image through `code`
+/// (a sample of a supersampled pixel): as [`inspect`] does the pixel's centre.
+pub fn inspect_at(
+    code: &dyn LabCode,
+    scene: &crate::scene::Scene,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    (x, y): (f32, f32),
+) -> CodeInspection {
     let shapes: Vec<Shape> = scene.all_shapes().collect();
     let ray = code.camera_ray(camera, width, height, x, y);
     let hit = code.closest_hit(&shapes, &ray, 0.0, f32::INFINITY);

@@ -3,7 +3,9 @@
 //! it, so it can be checked from outside.
 //!
 //! The ray is the centre ray of the pixel (with supersampling the pixel is the mean of its
-//! samples; the inspector follows the one through the centre). Everything below is computed by
+//! samples; the inspector follows the one through the centre), or, by [`inspect_at`], the ray
+//! through any position of the image (the window's inspector follows a crack's marked sample
+//! so). Everything below is computed by
 //! the renderer's own functions (the same accelerator query, the same shading), so the colour
 //! it shows is the colour the renderer gives that ray.
 
@@ -21,8 +23,11 @@ use std::fmt;
 pub struct Inspection {
     /// The pixel (column, row from the top left).
     pub pixel: [u32; 2],
-    /// The lecture's (u, v, f): u = i + 0.5 − W/2, v = j + 0.5 − H/2 (the pixel's centre
-    /// from the image centre, y down), f = the focal length in pixels.
+    /// The image position the ray passes through: the pixel's centre (i + 0.5, j + 0.5), or
+    /// the position given to [`inspect_at`] (a sample of the pixel).
+    pub at: [f64; 2],
+    /// The lecture's (u, v, f): u = x − W/2, v = y − H/2 (the traced position from the image
+    /// centre, y down: for the centre ray u = i + 0.5 − W/2), f = the focal length in pixels.
     pub uvf: [f64; 3],
     /// d = normalize(u, v, f), in camera space.
     pub d_camera: [f64; 3],
@@ -85,20 +90,43 @@ pub fn inspect(
     i: u32,
     j: u32,
 ) -> Result<Inspection, SettingsError> {
-    settings.validate()?;
     let (w, h) = (settings.width, settings.height);
     if i >= w || j >= h {
         return Err(SettingsError::Pixel(i, j, w, h));
     }
+    inspect_at(stage, camera, settings, i as f64 + 0.5, j as f64 + 0.5)
+}
+
+/// Inspects the ray through image position (`x`, `y`) (pixel (i, j) spans [i, i + 1) ×
+/// [j, j + 1)): a sample of a supersampled pixel, as the renderer traces it (the position
+/// rounded to f32, as the renderer's sample positions are).
+pub fn inspect_at(
+    stage: &Stage,
+    camera: &Camera,
+    settings: &RenderSettings,
+    x: f64,
+    y: f64,
+) -> Result<Inspection, SettingsError> {
+    settings.validate()?;
+    let (w, h) = (settings.width, settings.height);
+    // (The position as traced, and the pixel holding it; off the image, the first pixel
+    // past its edge.)
+    let (xf, yf) = (x as f32, y as f32);
+    let pixel = |c: f32, n: u32| match (0.0..n as f32).contains(&c) {
+        true => (c.floor() as u32).min(n - 1),
+        false => n,
+    };
+    let (i, j) = (pixel(xf, w), pixel(yf, h));
+    if i >= w || j >= h {
+        return Err(SettingsError::Pixel(i, j, w, h));
+    }
     let uvf = [
-        i as f64 + 0.5 - w as f64 / 2.0,
-        j as f64 + 0.5 - h as f64 / 2.0,
+        xf as f64 - w as f64 / 2.0,
+        yf as f64 - h as f64 / 2.0,
         camera.focal,
     ];
     let len = (uvf[0] * uvf[0] + uvf[1] * uvf[1] + uvf[2] * uvf[2]).sqrt();
-    let ray = camera
-        .ray_generator(w, h)
-        .ray_through(i as f32 + 0.5, j as f32 + 0.5);
+    let ray = camera.ray_generator(w, h).ray_through(xf, yf);
     let method = settings.method;
     let (scene, accel) = (stage.scene(), stage.accel());
     let hit = accel
@@ -142,6 +170,7 @@ pub fn inspect(
         });
     Ok(Inspection {
         pixel: [i, j],
+        at: [xf as f64, yf as f64],
         uvf,
         d_camera: uvf.map(|c| c / len),
         ray,

@@ -23,39 +23,60 @@ impl Viewer {
     /// Answers pixel (`i`, `j`) for the inspector and follows it from now on.
     fn answer(&mut self, (i, j): (u32, u32), announce: bool) -> bool {
         let size = self.full_size();
-        let camera = self.controller.camera(size.0);
+        let at = Inspected {
+            pixel: (i, j),
+            size,
+            generation: self.generation,
+        };
+        let Some(found) = self.trace(at) else {
+            return false;
+        };
+        self.tell(&found, announce);
+        true
+    }
+
+    /// Says what the inspector found on the status line: `announce`d (a click, a script), or
+    /// quietly where the status line still tells of the inspection (following is not news for
+    /// the log).
+    fn tell(&mut self, found: &raylab::render::inspect::Inspection, announce: bool) {
+        let [i, j] = found.pixel;
+        let what = match &found.hit {
+            Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
+            None => "nothing".to_string(),
+        };
+        let said = format!("{INSPECTED}{i}, {j}): {what}");
+        if announce {
+            self.set_status(said);
+        } else if !self.status_is_error && self.status.starts_with(INSPECTED) {
+            // The status line still tells of the inspection: it follows the pixel as the
+            // inspector does (quietly: following is not news for the log).
+            self.status = said;
+        }
+    }
+
+    /// Traces the inspector's ray for pixel `at` of the view as now set up: the ray of its
+    /// first marked sample where the count of its frame marks it (every field the inspector
+    /// shows, and the ring it draws, are then that crack's), else its centre ray; and its
+    /// crack. `None` (said on the status line) where it cannot be inspected.
+    fn trace(&mut self, at: Inspected) -> Option<raylab::render::inspect::Inspection> {
+        let camera = self.controller.camera(at.size.0);
         let stage = self.stage_to_render();
-        let settings = self.settings(size, 1);
-        match raylab::render::inspect::inspect(&stage, &camera, &settings, i, j) {
+        let settings = self.settings(at.size, 1);
+        let (x, y) = self.traced_position(at).0;
+        match raylab::render::inspect::inspect_at(&stage, &camera, &settings, x as f64, y as f64) {
             Ok(found) => {
-                let what = match &found.hit {
-                    Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
-                    None => "nothing".to_string(),
-                };
-                let said = format!("{INSPECTED}{i}, {j}): {what}");
-                if announce {
-                    self.set_status(said);
-                } else if !self.status_is_error && self.status.starts_with(INSPECTED) {
-                    // The status line still tells of the inspection: it follows the pixel as
-                    // the inspector does (quietly: following is not news for the log).
-                    self.status = said;
-                }
-                self.inspection = Some(found);
+                self.inspection = Some(found.clone());
                 self.code_inspection = (self.code.as_deref()).map(|code| {
                     let scene = stage.scene();
-                    raylab::check::code::inspect(code, scene, &camera, size, (i, j))
+                    raylab::check::code::inspect_at(code, scene, &camera, at.size, (x, y))
                 });
-                self.inspected = Some(Inspected {
-                    pixel: (i, j),
-                    size,
-                    generation: self.generation,
-                });
+                self.inspected = Some(at);
                 self.crack = self.crack_detail();
-                true
+                Some(found)
             }
             Err(e) => {
                 self.set_status(format!("cannot inspect: {e}"));
-                false
+                None
             }
         }
     }
@@ -149,10 +170,19 @@ impl Viewer {
             return;
         }
         let same = |c: &Census, at: &Inspected| c.generation == at.generation && c.size == at.size;
-        if let (Some(c), Some(at)) = (&self.cracks.census, &self.inspected) {
-            if same(c, at) {
-                self.crack = self.crack_detail();
+        let counted = match (&self.cracks.census, self.inspected) {
+            (Some(c), Some(at)) if same(c, &at) => Some(at),
+            _ => None,
+        };
+        match counted {
+            // The count may mark the pixel: every field is then its marked sample's.
+            Some(at) if at.generation == self.generation => {
+                if let Some(found) = self.trace(at) {
+                    self.tell(&found, false);
+                }
             }
+            Some(_) => self.crack = self.crack_detail(),
+            None => {}
         }
         self.resolve_step();
     }
@@ -196,15 +226,7 @@ impl Viewer {
     /// (else its centre), graded, and where the exact hit lies.
     fn crack_detail(&self) -> Option<Detail> {
         let at = self.inspected?;
-        let census = (self.cracks.census.as_ref())
-            .filter(|c| c.generation == at.generation && c.size == at.size);
-        let marked = census.and_then(|c| c.find(at.pixel)).map(|(_, m)| *m);
-        let n = census.map_or(1, |c| c.spp);
-        let (i, j) = at.pixel;
-        let pos = match marked {
-            Some(m) => cracks::sample_position(at.pixel, m.sample, n),
-            None => (i as f32 + 0.5, j as f32 + 0.5),
-        };
+        let (pos, marked, n) = self.traced_position(at);
         let code = self.code.as_deref().filter(|_| self.view.yours);
         let shapes = match code {
             Some(_) => cracks::all_shapes(&self.stage),
@@ -223,13 +245,29 @@ impl Viewer {
             who: code.map_or(method.name().to_string(), |c| c.name().to_string()),
             code: code.is_some(),
             at: pos,
-            sample: marked.is_some() && n > 1,
+            sample: marked && n > 1,
             verdict,
-            marked: marked.is_some(),
+            marked,
             exact: exact.map(|h| on(h.prim)),
             given: (given.filter(differs))
                 .filter(|h| (h.prim as usize) < scene.len())
                 .map(|h| on(h.prim)),
         })
+    }
+
+    /// The image position the inspector traces for pixel `at`: its first marked sample where
+    /// the count of its frame marks it, else its centre; whether it is marked, and the
+    /// samples a side of that count (1 without one).
+    fn traced_position(&self, at: Inspected) -> ((f32, f32), bool, u32) {
+        let census = (self.cracks.census.as_ref())
+            .filter(|c| c.generation == at.generation && c.size == at.size);
+        let marked = census.and_then(|c| c.find(at.pixel)).map(|(_, m)| *m);
+        let n = census.map_or(1, |c| c.spp);
+        let (i, j) = at.pixel;
+        let pos = match marked {
+            Some(m) => cracks::sample_position(at.pixel, m.sample, n),
+            None => (i as f32 + 0.5, j as f32 + 0.5),
+        };
+        (pos, marked.is_some(), n)
     }
 }

@@ -1,5 +1,6 @@
 //! The ray inspector in the window: the panel section listing one pixel's ray as the lecture
-//! writes it ([`raylab::render::inspect`]) and where it meets its primitives, and the overlay
+//! writes it ([`raylab::render::inspect`]: its centre ray, or a crack's marked sample's) and
+//! where it meets its primitives, and the overlay
 //! that draws that ray, its hit point and its shadow ray over the image while the inspector is
 //! on. The pixel is answered again for each new view ([`super::follow`]); until the view
 //! settles, the ray drawn is the last answer's, seen from where the camera has moved since.
@@ -50,7 +51,13 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
             ui.monospace(value);
             ui.end_row();
         };
-        row("pixel", format!("({}, {})", ins.pixel[0], ins.pixel[1]));
+        let [i, j] = ins.pixel;
+        row("pixel", format!("({i}, {j})"));
+        // Which of the pixel's rays every field below is of: a crack's is its marked sample's.
+        let [x, y] = ins.at;
+        let centre = [x, y] == [i as f64 + 0.5, j as f64 + 0.5];
+        let which = if centre { "the centre" } else { "sample" };
+        row("ray through", format!("{which} ({x}, {y})"));
         row("(u, v, f)", v3(ins.uvf));
         row("d camera", v3(ins.d_camera));
         row("origin", f3(ins.ray.o));

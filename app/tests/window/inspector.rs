@@ -139,6 +139,95 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     );
 }
 
+#[test]
+fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
+    // The cracks view of moller on the shared edge at 3x3 samples a pixel: a real press of N
+    // selects the first marked pixel, and every field the inspector shows is that of the
+    // marked sample's ray, not of the pixel's centre ray: (u, v, f), the hit, t and the linear
+    // system are the library's inspection of the sample's position, and the hit shown is the
+    // answer the crack row says moller gave (a leak: none).
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = dir.path().join("edge.scene");
+    std::fs::write(&scene_path, SHARED_EDGE).unwrap();
+    let view = dir.path().join("edge.view");
+    std::fs::write(
+        &view,
+        "scene edge.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 321 241\nstep flat\nspp 3\n\
+         method moller\ncracks on\n",
+    )
+    .unwrap();
+    let script = format!("200 drop {}\n200 await driver-done\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2";
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert_eq!(
+        (run.fields["method"].as_str(), run.fields["spp"].as_str()),
+        ("moller", "3"),
+        "{log}"
+    );
+    let ins = &run.inspector;
+    assert!(
+        ins.get("crack")
+            .is_some_and(|c| c.ends_with("(marked magenta)")),
+        "N inspected a marked pixel: {ins:?}\n{log}"
+    );
+    // The traced sample, as the crack rows name it: off the pixel's centre.
+    let traced = &ins["traced"];
+    let (x, y) = (traced.strip_prefix("sample ("))
+        .and_then(|t| t.strip_suffix(") of the pixel"))
+        .and_then(|t| t.split_once(", "))
+        .map(|(x, y)| {
+            (
+                x.parse::<f32>().unwrap() as f64,
+                y.parse::<f32>().unwrap() as f64,
+            )
+        })
+        .unwrap_or_else(|| panic!("a sample is traced: {traced}"));
+    let pixel = format!("{} {}", x.floor(), y.floor());
+    assert_eq!(ins["pixel"], pixel, "{ins:?}");
+    let centre = (x.floor() + 0.5, y.floor() + 0.5);
+    assert_ne!((x, y), centre, "the marked sample is not the centre one");
+    let (camera, w, h, _) = run.camera();
+    let uv = format!("{} {}", x - w as f64 / 2.0, y - h as f64 / 2.0);
+    assert!(
+        ins["uvf"].starts_with(&format!("{uv} ")),
+        "(u, v) {} are the sample's {uv}, not the centre's",
+        ins["uvf"]
+    );
+    // The hit shown is moller's answer the crack row gives, not the exact one.
+    let exact = ins["exact hit lies"].split(',').next().unwrap();
+    let given = &ins["moller hit lies"];
+    let hit = match given.as_str() {
+        "none" => "none".to_string(),
+        g => (g
+            .strip_prefix("primitive ")
+            .and_then(|g| g.split(',').next()))
+        .unwrap_or_else(|| panic!("{g}"))
+        .to_string(),
+    };
+    assert_eq!(ins["hit"], hit, "{ins:?}");
+    assert_ne!(format!("primitive {}", ins["hit"]), exact, "{ins:?}");
+    if ins["crack"].starts_with("leak") {
+        assert_eq!(ins["hit"], "none", "a leak: moller meets nothing there");
+    }
+    // Every field is the library's for the ray through that position.
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        step: LabStep::Flat,
+        spp: 3,
+        method: Method::Moller,
+        ..Default::default()
+    };
+    let scene = Scene::open(scene_path.to_str().unwrap(), raylab::scene::ObjFrame::Lab).unwrap();
+    let expected =
+        raylab::render::inspect::inspect_at(&scene.into(), &camera, &settings, x, y).unwrap();
+    assert_inspector_shows(ins, &expected.to_string());
+}
+
 /// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
 /// run's final camera at its final image size, at lab step 5, as `name: value` lines.
 fn inspected_by_the_library(run: &common::window::Run, scene: Scene) -> String {
