@@ -64,8 +64,10 @@ pub fn side_panel(
 ) -> PanelActions {
     let mut actions = PanelActions::default();
     // A scroll bar that is there whenever the panel is taller than the window (egui's
-    // default floats and shows only under the pointer).
-    ui.style_mut().spacing.scroll = egui::style::ScrollStyle::solid();
+    // default floats and shows only under the pointer), whose room comes whole the frame it
+    // comes: egui's solid bar takes its room in a few frames as it fades in, so the panel
+    // widened by a little each frame, each a new image size, a new view to render.
+    ui.style_mut().spacing.scroll = solid_bar();
     // (In a child of its own, whose rectangle is the scroll area's with the bar's room.)
     let mut rows = ui.new_child(egui::UiBuilder::new());
     let scrolled = egui::ScrollArea::vertical().show(&mut rows, |ui| {
@@ -345,6 +347,20 @@ fn scene_tree(
     clicked
 }
 
+/// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
+/// whose room is the solid bar's and that is drawn at its full width all the time.
+fn solid_bar() -> egui::style::ScrollStyle {
+    let solid = egui::style::ScrollStyle::solid();
+    egui::style::ScrollStyle {
+        floating: true,
+        floating_allocated_width: solid.allocated_width(),
+        floating_width: solid.bar_width,
+        dormant_background_opacity: solid.active_background_opacity,
+        dormant_handle_opacity: solid.active_handle_opacity,
+        ..solid
+    }
+}
+
 /// Width of the side panel at start, in points.
 pub const PANEL_WIDTH: f32 = 300.0;
 
@@ -355,8 +371,12 @@ pub const INSPECTOR_WIDTH: f32 = 330.0;
 /// last drawn at: what it was given or, where its rows need more, what they need. The scroll
 /// bar a window too short for the panel shows takes its room (10 points) beside the rows, so
 /// the panel grew by it, and kept that width once the window was tall again. So the width kept
-/// before the bar came is given back once the bar's room is gone, unless the panel's edge was
-/// dragged meanwhile (then the width dragged to stays).
+/// before the bar came is given back once the bar's room is gone and the panel is taller than
+/// when the bar came (the window grew), unless the panel's edge was dragged meanwhile (then the
+/// width dragged to stays). Not when the bar went because the rows got shorter: rows that
+/// change with each frame (the cracks' counts, at the edge of the panel's height) would then
+/// take the bar away and bring it back frame after frame, each time changing the image's width,
+/// a new view to render and count, without end.
 struct KeptWidth {
     id: egui::Id,
     /// The panel's edge is being dragged (or was let go) this frame.
@@ -375,16 +395,20 @@ impl KeptWidth {
         Self { id, dragged, kept }
     }
 
-    /// After the panel was shown in `drawn`, its scroll bar taking `bar` points of it.
-    fn after(self, ui: &egui::Ui, drawn: egui::Rect, bar: f32) {
+    /// After the panel was shown in `drawn`, its scroll bar taking `bar` points of it and its
+    /// rows shown in `visible` points of height.
+    fn after(self, ui: &egui::Ui, drawn: egui::Rect, bar: f32, visible: f32) {
         let before_bar = self.id.with("width before the scroll bar");
         let ctx = ui.ctx();
-        let mut width: Option<f32> = ctx.data(|d| d.get_temp(before_bar)).flatten();
+        // The width before the bar came, and the least height the rows were shown in since.
+        let mut width: Option<(f32, f32)> = ctx.data(|d| d.get_temp(before_bar)).flatten();
         if self.dragged {
             width = None;
         } else if bar > 0.01 {
-            width = width.or(Some(self.kept));
-        } else if let Some(w) = width.take() {
+            let (w, low) = width.unwrap_or((self.kept, visible));
+            width = Some((w, low.min(visible)));
+        } else if let Some((w, _)) = width.filter(|&(_, low)| visible > low + 0.5) {
+            width = None;
             let mut outer_rect = drawn;
             outer_rect.set_width(w);
             let state = egui::containers::panel::PanelState { outer_rect };
@@ -495,7 +519,8 @@ pub fn layout(
             layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
             layout.actions.screenshot |= screenshot;
         });
-    kept.after(ui, drawn.response.rect, layout.actions.bar_room);
+    let (bar, visible) = (layout.actions.bar_room, layout.actions.fit.1);
+    kept.after(ui, drawn.response.rect, bar, visible);
     layout.actions.width = drawn.response.rect.width();
     // The inspected ray's fields beside the image, while there are some or a crack is being
     // found (the side panel keeps its sections in view).

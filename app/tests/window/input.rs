@@ -673,3 +673,51 @@ fn real_x_input_quick_clicks_each_count() {
     assert_eq!(toggles, 3, "three clicks on the check box\n{log}");
     assert_eq!(run.fields["inspector"], "off", "{log}");
 }
+
+#[test]
+fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
+    // The ray inspector off, show cracks ticked, 16 typed into the supersampling field: the
+    // window renders 11x11 (its bound at this size) and says so on a line of its own, which
+    // makes the panel taller than the window once the counts' line is two lines long; its
+    // scroll bar comes and widens the panel, once. The view refines to 11x11, is counted and
+    // the window goes idle: no CPU time used, the panel's width unchanged. (The bar went
+    // whenever the counts' line was short, "counted once the view settles", and the panel got
+    // its width back; the counts brought the bar again, widening the panel a little each frame
+    // as the bar faded in: each a new image width, a new view to render, without end.)
+    // Positions: the panel at the default window on the 1280x800 screen, the inspector's box
+    // at (15, 378); with it off, "show cracks" at (15, 558), the supersampling field at
+    // (135, 516). The driver waits (a minute at most) until the app has used no CPU for 2 s,
+    // then counts the panel's widths logged over 2 s more.
+    let dir = tempfile::tempdir().unwrap();
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
+                  sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
+                  xdotool mousemove --sync 135 516 click 1; sleep 0.3; xdotool key ctrl+a; \
+                  xdotool type 16; xdotool key Return; \
+                  cpu() { awk '{print $14 + $15}' /proc/$app/stat; }; \
+                  n=0; a=$(cpu); sleep 2; b=$(cpu); \
+                  while [ $a != $b ] && [ $n -lt 30 ]; do a=$b; sleep 2; b=$(cpu); n=$((n+1)); done; \
+                  [ $a = $b ] && echo idle > idle.txt; \
+                  grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
+                  grep -c 'points wide' app.log > widths-after.txt";
+    let Some((view, log)) = run_idle_window(dir.path(), driver) else {
+        return;
+    };
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap_or_default();
+    assert_eq!(
+        read("idle.txt").trim(),
+        "idle",
+        "the window never went idle\n{log}"
+    );
+    let (before, after) = (read("widths-before.txt"), read("widths-after.txt"));
+    assert_eq!(before, after, "the panel's width changed while idle\n{log}");
+    let widths: Vec<f64> = (log.lines())
+        .filter_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
+        .map(|w| w.parse().unwrap())
+        .collect();
+    // Its first width, then the bar's room added at once.
+    assert_eq!(widths.len(), 2, "{widths:?}\n{log}");
+    assert!(widths[1] > widths[0] + 5.0, "{widths:?}");
+    // The view saved once idle asks for 16x16 with cracks.
+    assert!(view.lines().any(|l| l == "spp 16"), "{view}");
+    assert!(view.lines().any(|l| l == "cracks on"), "{view}");
+}
