@@ -282,12 +282,14 @@ pub fn side_panel(
             let field = egui::TextEdit::singleline(obj_path)
                 .hint_text(".scene, .obj or .view path")
                 .desired_width(room);
-            ui.add(field);
-            if ui
+            let typed = ui.add(field);
+            // Enter in the field loads as the button does.
+            let entered = typed.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            let clicked = ui
                 .add_enabled(!info.loading, load)
                 .on_hover_text("a .scene, .obj or .view file (or drop one on the window)")
-                .clicked()
-            {
+                .clicked();
+            if clicked || (entered && !info.loading) {
                 actions.load = Some(obj_path.clone());
             }
         });

@@ -544,3 +544,29 @@ fn a_file_saved_while_it_loads_is_loaded_again() {
     let want = format!("reloaded {} (31 primitives)", b.display());
     assert_eq!(status, Some(want.as_str()), "{log}");
 }
+
+#[test]
+fn real_x_input_enter_in_the_path_field_loads_the_file() {
+    // A path typed into the panel's path field and Enter pressed loads it, as the Load button
+    // does. (Only the button loaded: Enter left the field and did nothing.) (150, 631): the
+    // path field at the default window on the 1280x800 screen.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("pyramid.obj"),
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
+                  sleep 0.3; xdotool type pyramid.obj; sleep 0.3; xdotool key Return; sleep 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    assert!(
+        run.fields["scene"].ends_with("pyramid.obj"),
+        "{:?}\n{}",
+        run.fields,
+        run.stderr
+    );
+}
