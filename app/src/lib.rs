@@ -31,8 +31,18 @@ fn said_once(e: &anyhow::Error) -> String {
 
 /// `text` with every control character but a line break written as its escape.
 fn escape_controls(text: String) -> String {
-    let hidden = |c: char| c.is_control() && c != '\n';
-    if !text.contains(hidden) {
+    escape_where(text, |c| c.is_control() && c != '\n')
+}
+
+/// `text` with every control character, a line break too, written as its escape: a name
+/// shown on one line of a table, driving no terminal.
+pub fn one_line(text: &str) -> String {
+    escape_where(text.to_string(), char::is_control)
+}
+
+/// `text` with the characters `hidden` picks written as their escapes (`\u{1b}`, `\n`).
+fn escape_where(text: String, hidden: impl Fn(char) -> bool) -> String {
+    if !text.contains(&hidden) {
         return text;
     }
     let mut out = String::with_capacity(text.len() + 8);

@@ -59,17 +59,6 @@ pub(super) fn accounts(
     Ok(none())
 }
 
-/// Whether the programs, run as other users, can enter `dir` (every directory from the root
-/// down open to others): the submissions' originals there would be open to each other.
-pub(super) fn open_to_others(dir: &Path) -> bool {
-    use std::os::unix::fs::PermissionsExt;
-    let Ok(full) = std::fs::canonicalize(dir) else {
-        return false;
-    };
-    full.ancestors()
-        .all(|d| std::fs::metadata(d).is_ok_and(|m| m.permissions().mode() & 0o001 != 0))
-}
-
 /// An unprivileged uid (and gid of the same number) that runs one submission at a time when
 /// raylab runs as root: RLIMIT_NPROC counts its processes alone (root is exempt from it),
 /// its processes are found by their uid, and it cannot touch root's files or another

@@ -171,14 +171,45 @@ pub(super) fn check_timeout(timeout: f64) -> Result<()> {
     Ok(())
 }
 
-/// The --budget of a suite's or a submission's runs: as given (more than 0, at most 1e7
-/// seconds), or 5 × --timeout.
-pub(super) fn budget_of(budget: Option<f64>, timeout: f64) -> Result<Duration> {
-    let budget = budget.unwrap_or(5.0 * timeout);
-    if !(budget > 0.0 && budget <= 1e7) {
-        bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
+/// A program's time for all the families of a run together (--budget, of a suite's runs or
+/// a submission's): each run gets its --timeout or what is left, whichever is less, and none
+/// runs once it is gone.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Budget {
+    total: Duration,
+    spent: Duration,
+}
+
+impl Budget {
+    /// As given (more than 0, at most 1e7 seconds), or 5 × --timeout.
+    pub(super) fn new(budget: Option<f64>, timeout: f64) -> Result<Budget> {
+        let budget = budget.unwrap_or(5.0 * timeout);
+        if !(budget > 0.0 && budget <= 1e7) {
+            bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
+        }
+        let total = Duration::from_secs_f64(budget);
+        Ok(Budget {
+            total,
+            spent: Duration::ZERO,
+        })
     }
-    Ok(Duration::from_secs_f64(budget))
+
+    /// The time the next run may take, `timeout` or less, and whether the budget cut it;
+    /// `None` once the budget is gone (the run is skipped).
+    pub(super) fn next_run(&self, timeout: Duration) -> Option<(Duration, bool)> {
+        let left = self.total.saturating_sub(self.spent);
+        (!left.is_zero()).then(|| (timeout.min(left), left < timeout))
+    }
+
+    /// Counts a run's time.
+    pub(super) fn spend(&mut self, run: Duration) {
+        self.spent += run;
+    }
+
+    /// "--budget of N s ran out", for the messages of a run cut or skipped.
+    pub(super) fn ran_out(&self) -> String {
+        format!("--budget of {} s ran out", self.total.as_secs_f64())
+    }
 }
 
 /// A --t-tolerance a grade can use: a number from 0 to 1.
@@ -233,7 +264,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             let run = SuiteRun {
                 template: program,
                 timeout_s: args.timeout,
-                budget: budget_of(args.budget, args.timeout)?,
+                budget: Budget::new(args.budget, args.timeout)?,
                 precision: name,
                 tolerance,
             };
@@ -498,7 +529,7 @@ struct SuiteRun<'a> {
     template: &'a str,
     timeout_s: f64,
     /// The time for all the families' runs together.
-    budget: Duration,
+    budget: Budget,
     precision: &'a str,
     tolerance: f64,
 }
@@ -528,25 +559,21 @@ fn check_suite<T: Real>(
     let mut failed = 0;
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
     // The program's time, its failed runs' included.
-    let mut spent = Duration::ZERO;
-    let budget_s = run.budget.as_secs_f64();
+    let mut budget = run.budget;
     for family in &families {
         let name = family_name(family);
-        let left = run.budget.saturating_sub(spent);
-        if left.is_zero() {
+        let Some((timeout, cut)) = budget.next_run(Duration::from_secs_f64(run.timeout_s)) else {
             failed += 1;
-            say!("{name:<46} SKIPPED: not run: the --budget of {budget_s} s ran out");
+            say!("{name:<46} SKIPPED: not run: the {}", budget.ran_out());
             continue;
-        }
+        };
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let exact = exact_of(&scene, &rays)?;
-        let timeout_s = run.timeout_s.min(left.as_secs_f64());
         let start = Instant::now();
-        let answers = program_answers(run.template, &scene, timeout_s, &exact, &rays);
-        spent += start.elapsed();
-        let cut = timeout_s < run.timeout_s;
+        let answers = program_answers(run.template, &scene, timeout.as_secs_f64(), &exact, &rays);
+        budget.spend(start.elapsed());
         let answers = answers.map_err(|e| match cut && e.starts_with("ran out of time") {
-            true => format!("ran out of time: the --budget of {budget_s} s ran out"),
+            true => format!("ran out of time: the {}", budget.ran_out()),
             false => e,
         });
         match answers {

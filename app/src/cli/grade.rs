@@ -4,13 +4,14 @@
 //! the exact answers computed once. A submission that crashes, hangs, floods, forks or deletes
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
-use super::account::{self, accounts, Account};
-use super::check::{suite_cases, Case};
+use super::account::{accounts, Account};
+use super::check::{suite_cases, Budget, Case};
 use super::program::{self, Limits, RunDir, RunError};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
 use raylab::check::Tally;
 use raylab::input::OutputFile;
+use raylab_app::one_line;
 use std::collections::HashMap;
 use std::ffi::OsString;
 use std::io::Write as _;
@@ -125,7 +126,7 @@ struct Submission {
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
 pub fn grade(args: &GradeArgs) -> Result<()> {
     super::check::check_timeout(args.timeout)?;
-    let budget = super::check::budget_of(args.budget, args.timeout)?;
+    let budget = Budget::new(args.budget, args.timeout)?;
     super::template::check_template(&args.program)?;
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
@@ -184,11 +185,13 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         run_as: None,
     };
     let accounts = accounts(jobs, &limits, args.as_root)?;
-    if accounts.first().is_some_and(Option::is_some) && account::open_to_others(&args.class) {
+    // (The programs run as accounts could read the submissions' originals there.)
+    let class_open = std::fs::canonicalize(&args.class).is_ok_and(|c| program::open_to_others(&c));
+    if accounts.first().is_some_and(Option::is_some) && class_open {
         eprintln!(
             "warning: {}: other users may enter it, so a program can read the other \
              submissions' originals there (`chmod 700` it; each program gets a private copy)",
-            printable(&args.class.display().to_string())
+            one_line(&args.class.display().to_string())
         );
     }
     eprintln!(
@@ -227,9 +230,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     Ok(())
 }
 
-/// The submission directories of the class, in name order.
-/// What is neither (a file, a broken link, a hidden directory such as `.git`) is named on
-/// stderr, so a submission handed in as a file is not left out unseen.
+/// The submission directories of the class, in name order. Every other entry (a file, a
+/// broken link, a hidden directory such as `.git`) is named on stderr, so a submission handed
+/// in as a file is not left out unseen.
 fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     let entries =
         std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
@@ -245,7 +248,7 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
                 continue;
             }
         };
-        let shown = printable(&path.display().to_string());
+        let shown = one_line(&path.display().to_string());
         eprintln!("warning: {shown}: {why}, so not a submission (not graded)");
     }
     if dirs.is_empty() {
@@ -293,7 +296,7 @@ fn run_all(
     cases: &[Case],
     template: &str,
     limits: &Limits,
-    budget: Duration,
+    budget: Budget,
     accounts: Vec<Option<Account>>,
 ) -> Vec<Submission> {
     let next = AtomicUsize::new(0);
@@ -328,7 +331,7 @@ fn run_all(
                 "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s)",
                 n + 1,
                 submissions.len(),
-                printable(&submission.name),
+                one_line(&submission.name),
                 cases.len(),
                 match summary(&submission.records).as_str() {
                     "ok" => String::new(),
@@ -342,17 +345,6 @@ fn run_all(
     graded
         .into_iter()
         .map(|s| s.expect("every submission graded"))
-        .collect()
-}
-
-/// `text` with every control character (a line break too) written as its escape: a name on
-/// one line of the table, driving no terminal.
-fn printable(text: &str) -> String {
-    text.chars()
-        .flat_map(|c| match c.is_control() {
-            true => c.escape_default().collect::<Vec<char>>(),
-            false => vec![c],
-        })
         .collect()
 }
 
@@ -370,11 +362,9 @@ fn grade_one(
     cases: &[Case],
     template: &str,
     limits: &Limits,
-    budget: Duration,
+    mut budget: Budget,
     account: Option<&Account>,
 ) -> Vec<Record> {
-    // The programs' time (copying the files is raylab's).
-    let mut spent = Duration::ZERO;
     let not_run = |why: String| -> Vec<Record> {
         let record = |_| Record {
             tally: None,
@@ -400,19 +390,16 @@ fn grade_one(
     let input = run.path().join("input");
     let mut records = Vec::with_capacity(cases.len());
     for case in cases {
-        let left = budget.saturating_sub(spent);
-        if left.is_zero() {
+        // (The programs' time counts; copying the files is raylab's.)
+        let Some((timeout, cut_by_budget)) = budget.next_run(limits.timeout) else {
             records.push(Record {
                 tally: None,
                 ms: 0.0,
                 status: Status::Skipped,
-                detail: format!(
-                    "not run: the submission's --budget of {} s ran out",
-                    budget.as_secs_f64()
-                ),
+                detail: format!("not run: the submission's {}", budget.ran_out()),
             });
             continue;
-        }
+        };
         let (scene, rays) = (input.join("scene.txt"), input.join("rays.txt"));
         let fresh = || -> std::io::Result<()> {
             if input.symlink_metadata().is_ok() {
@@ -433,17 +420,16 @@ fn grade_one(
             continue;
         }
         let command: OsString = super::template::command_line(template, &scene, &rays);
-        let cut_by_budget = left < limits.timeout;
         let limits = Limits {
             max_output_bytes: case.max_output,
             dir: Some(work.clone()),
             run_as: account.map(Account::uid),
-            timeout: limits.timeout.min(left),
+            timeout,
             ..limits.clone()
         };
         let start = Instant::now();
         let ran = program::run_with(&command, &limits);
-        spent += start.elapsed();
+        budget.spend(start.elapsed());
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let record = |status, detail: String| Record {
             tally: None,
@@ -467,10 +453,7 @@ fn grade_one(
             },
             Err(RunError::Timeout(_)) if cut_by_budget => record(
                 Status::Timeout,
-                format!(
-                    "ran out of time: the submission's --budget of {} s ran out",
-                    budget.as_secs_f64()
-                ),
+                format!("ran out of time: the submission's {}", budget.ran_out()),
             ),
             Err(e @ RunError::Timeout(_)) => record(Status::Timeout, e.to_string()),
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
@@ -633,7 +616,7 @@ fn points_text(points: f64) -> String {
 fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let width = graded
         .iter()
-        .map(|s| printable(&s.name).chars().count())
+        .map(|s| one_line(&s.name).chars().count())
         .max()
         .unwrap_or(0)
         .clamp(10, 40);
@@ -669,7 +652,7 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
             .sum();
         out += &format!(
             "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
-            printable(&s.name),
+            one_line(&s.name),
             format!("{passed}/{}", cases.len()),
             total.leaks,
             total.false_hits,
