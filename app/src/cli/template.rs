@@ -34,14 +34,13 @@ pub fn command_line(template: &str, scene: &Path, rays: &Path) -> OsString {
     let mut quote = Quote::None;
     let mut i = 0;
     while i < t.len() {
-        let path = match () {
-            _ if t[i..].starts_with(b"{scene}") => Some((scene, "{scene}".len())),
-            _ if t[i..].starts_with(b"{rays}") => Some((rays, "{rays}".len())),
-            _ => None,
-        };
-        if let Some((path, skip)) = path {
+        let placeholders = [(&b"{scene}"[..], scene), (&b"{rays}"[..], rays)];
+        if let Some((name, path)) = placeholders
+            .into_iter()
+            .find(|(n, _)| t[i..].starts_with(n))
+        {
             quote.write(path, &mut out);
-            i += skip;
+            i += name.len();
             continue;
         }
         let b = t[i];
