@@ -27,6 +27,22 @@ const SHARED_EDGE: &str = "camera 0 0 -3\n\
                            tri -0.8 0.1 0.05 0 -0.7 0.3 0 0.6 -0.2\n\
                            tri 0.9 -0.05 0.1 0 -0.7 0.3 0 0.6 -0.2\n";
 
+/// Writes the shared edge (`edge.scene`) and a view of it into `dir`: 321x241, flat, moller,
+/// cracks on, `spp` samples a pixel per axis. The view's path.
+fn shared_edge_view(dir: &std::path::Path, spp: u32) -> std::path::PathBuf {
+    std::fs::write(dir.join("edge.scene"), SHARED_EDGE).unwrap();
+    let view = dir.join("edge.view");
+    std::fs::write(
+        &view,
+        format!(
+            "scene edge.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 321 241\nstep flat\n\
+             spp {spp}\nmethod moller\ncracks on\n"
+        ),
+    )
+    .unwrap();
+    view
+}
+
 #[test]
 fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     // The cracks view of moller on the shared edge (a dropped view: 321x241, flat, one
@@ -34,15 +50,7 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     // real presses of N, N and Shift+N select the first, the second and again the first
     // marked pixel in reading order, and the inspector says the exact hit lies on the edge.
     let dir = tempfile::tempdir().unwrap();
-    let scene_path = dir.path().join("edge.scene");
-    std::fs::write(&scene_path, SHARED_EDGE).unwrap();
-    let view = dir.path().join("edge.view");
-    std::fs::write(
-        &view,
-        "scene edge.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 321 241\nstep flat\nspp 1\n\
-         method moller\ncracks on\n",
-    )
-    .unwrap();
+    let view = shared_edge_view(dir.path(), 1);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2; \
                   xdotool key n; sleep 1.5; xdotool key shift+n";
@@ -62,6 +70,7 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
         run.stderr
     );
     // Every pixel's centre ray graded headless, as `raylab check` grades an answer.
+    let scene_path = dir.path().join("edge.scene");
     let scene = Scene::open(scene_path.to_str().unwrap(), raylab::scene::ObjFrame::Lab).unwrap();
     let stage = raylab::render::Stage::from(scene);
     let (camera, w, h, _) = run.camera();
@@ -147,15 +156,7 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     // system are the library's inspection of the sample's position, and the hit shown is the
     // answer the crack row says moller gave (a leak: none).
     let dir = tempfile::tempdir().unwrap();
-    let scene_path = dir.path().join("edge.scene");
-    std::fs::write(&scene_path, SHARED_EDGE).unwrap();
-    let view = dir.path().join("edge.view");
-    std::fs::write(
-        &view,
-        "scene edge.scene\ncamera 0 0 -3 yaw 0 pitch 0\nsize 321 241\nstep flat\nspp 3\n\
-         method moller\ncracks on\n",
-    )
-    .unwrap();
+    let view = shared_edge_view(dir.path(), 3);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
@@ -222,6 +223,7 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
         method: Method::Moller,
         ..Default::default()
     };
+    let scene_path = dir.path().join("edge.scene");
     let scene = Scene::open(scene_path.to_str().unwrap(), raylab::scene::ObjFrame::Lab).unwrap();
     let expected =
         raylab::render::inspect::inspect_at(&scene.into(), &camera, &settings, x, y).unwrap();
