@@ -301,8 +301,9 @@ pub fn trace_all_through(
 const SPHERES_PER_FRAME_RAY: usize = 64;
 
 /// Traces every ray in f32 through the renderer's own face on `structure` (built over the
-/// scene as the renderer builds it, [`accel::AccelChoice::Auto`]), the queries of a frame ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays
-/// sharing an origin go 8 at a time, [`Query::Nearest`] rays with tmin = 0 and tmax = ∞ as
+/// scene as the renderer builds it, [`accel::AccelChoice::Auto`]), the queries of a frame
+/// ([`accel::FrameQueries`], adaptive method), as the renderer traces a frame: rays sharing
+/// an origin go 8 at a time, [`Query::Nearest`] rays with tmin = 0 and tmax = ∞ as
 /// camera rays from that origin (the eye), [`Query::Any`] rays with tmin = 0 and tmax = 1 as
 /// shadow segments from it (the light; none skips a primitive). Each origin is one frame
 /// without tile culling (the rays are not on a pixel grid), so the frame picks its plan as

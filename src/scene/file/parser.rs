@@ -45,8 +45,8 @@ struct Parser<'a, T: Real> {
     instancing: Instancing,
     /// With every mesh flattened ([`Instancing::NEVER`], the reference loop's scenes): the
     /// (file, frame) of each mesh loaded so far, the triangles they hold, and the triangles
-    /// flattened as copies of them, which may not pass `flatten_room` plus those ([`Parser::
-    /// copy`]).
+    /// flattened as copies of them, which may not pass `flatten_room` plus those
+    /// (`count_copy`).
     loaded: std::collections::HashSet<Repeated>,
     loaded_triangles: u64,
     copied: u64,
