@@ -48,6 +48,7 @@ pub fn all() -> Vec<(String, fn())> {
         ("render::settings", crate::render::settings::tests::TESTS),
         ("render::shade", crate::render::shade::tests::TESTS),
         ("scene", crate::scene::tests::TESTS),
+        ("scene::bounds", crate::scene::bounds::tests::TESTS),
         ("words", crate::words::tests::TESTS),
     ];
     let named = modules.iter().flat_map(|(module, tests)| {

@@ -1,6 +1,6 @@
 //! Scenes: primitives with one colour each, a point light and the lab's constant indirect term.
 
-mod bounds;
+pub(crate) mod bounds;
 pub mod cornell;
 pub mod file;
 /// Meshes placed by instances live below both the scene and the accelerator.
