@@ -2,7 +2,9 @@
 //! `raylab::check::suite`, re-exported here), written independently of the library's own
 //! exact level:
 //! every f32 input is an exact rational (`num-rational`), hit or miss is decided for the closed
-//! triangle or sphere, the nearest primitive (exact ties to the lower index), and t.
+//! triangle or sphere, the nearest primitive (exact ties to the lower index), and t. The
+//! intersection's sums and products are taken on dyadic rationals m·2ᵉ ([`Dyadic`]), which
+//! every float is: exact, without the gcd a rational reduces by after every operation.
 //!
 //! Shared by tests/library/hard_cases.rs (which asserts on it) and examples/speed_vs_error.rs
 //! (which reports speed against error on it).
@@ -143,18 +145,99 @@ pub fn round_q<T: Real>(x: &Q) -> T {
     }
 }
 
-/// √x within bounds 2⁻²⁵⁶ apart (relative), exact when x is a square.
-fn sqrt_q(x: &Q) -> RefT {
-    let (n, m) = (x.numer(), x.denom());
-    let k = 256u32;
-    let big = n * m * (BigInt::one() << (2 * k));
-    let s = big.sqrt();
-    let den = m * (BigInt::one() << k);
-    if &s * &s == big {
-        RefT::Exact(Q::new(s, den))
-    } else {
-        RefT::Between(Q::new(s.clone(), den.clone()), Q::new(s + 1, den))
+/// A dyadic rational m·2ᵉ: sums, differences and products stay dyadic and exact.
+#[derive(Clone, Debug)]
+pub struct Dyadic {
+    m: BigInt,
+    e: i64,
+}
+
+impl Dyadic {
+    /// A finite f32 or f64 as the dyadic it is, from its bits.
+    pub fn of<T: Real>(x: T) -> Dyadic {
+        let x = x.f64();
+        assert!(x.is_finite(), "{x} is not finite");
+        let bits = x.to_bits();
+        let (biased, fraction) = (((bits >> 52) & 0x7ff) as i64, bits & ((1 << 52) - 1));
+        let (mantissa, e) = match biased {
+            0 => (fraction, -1074),
+            _ => (fraction | 1 << 52, biased - 1075),
+        };
+        let m = BigInt::from(mantissa);
+        let m = if bits >> 63 == 1 { -m } else { m };
+        Dyadic { m, e }
     }
+
+    /// Both mantissas at the smaller exponent.
+    fn aligned(&self, other: &Dyadic) -> (BigInt, BigInt, i64) {
+        let e = self.e.min(other.e);
+        let (a, b) = (&self.m << (self.e - e), &other.m << (other.e - e));
+        (a, b, e)
+    }
+
+    fn add(&self, other: &Dyadic) -> Dyadic {
+        let (a, b, e) = self.aligned(other);
+        Dyadic { m: a + b, e }
+    }
+
+    fn sub(&self, other: &Dyadic) -> Dyadic {
+        let (a, b, e) = self.aligned(other);
+        Dyadic { m: a - b, e }
+    }
+
+    fn mul(&self, other: &Dyadic) -> Dyadic {
+        Dyadic {
+            m: &self.m * &other.m,
+            e: self.e + other.e,
+        }
+    }
+
+    fn is_zero(&self) -> bool {
+        self.m.is_zero()
+    }
+
+    fn is_negative(&self) -> bool {
+        self.m.is_negative()
+    }
+
+    pub fn to_q(&self) -> Q {
+        match self.e >= 0 {
+            true => Q::from_integer(&self.m << self.e),
+            false => Q::new(self.m.clone(), BigInt::one() << -self.e),
+        }
+    }
+
+    /// √x within bounds 2⁻²⁵⁶ apart (relative), exact when x is a square: √(m·2²ᵏ)·2^(e/2 − k)
+    /// with e made even.
+    fn sqrt(&self) -> RefT {
+        let k = 256;
+        let (m, e) = match self.e.rem_euclid(2) {
+            0 => (self.m.clone(), self.e),
+            _ => (&self.m << 1, self.e - 1),
+        };
+        let big: BigInt = m << (2 * k);
+        let s = big.sqrt();
+        let scaled = |m: BigInt| Dyadic { m, e: e / 2 - k }.to_q();
+        if &s * &s == big {
+            RefT::Exact(scaled(s))
+        } else {
+            RefT::Between(scaled(s.clone()), scaled(s + 1))
+        }
+    }
+}
+
+fn dsub(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> [Dyadic; 3] {
+    [a[0].sub(&b[0]), a[1].sub(&b[1]), a[2].sub(&b[2])]
+}
+fn dcross(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> [Dyadic; 3] {
+    [
+        a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
+        a[2].mul(&b[0]).sub(&a[0].mul(&b[2])),
+        a[0].mul(&b[1]).sub(&a[1].mul(&b[0])),
+    ]
+}
+fn ddot(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> Dyadic {
+    a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
 }
 
 pub fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
@@ -172,38 +255,44 @@ pub fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
 }
 
 /// Exact t of the ray on one primitive with tmin < t (nearest root for a sphere).
-pub fn exact_t<T: Real>(shape: &Shape<T>, o: &[Q; 3], d: &[Q; 3], tmin: &Q) -> Option<RefT> {
+fn exact_t<T: Real>(shape: &Shape<T>, o: &[Dyadic; 3], d: &[Dyadic; 3], tmin: &Q) -> Option<RefT> {
     match shape {
         Shape::Triangle(Triangle(v)) => {
-            let v = v.map(|p| p.map(qr));
-            let e1 = sub(&v[1], &v[0]);
-            let e2 = sub(&v[2], &v[0]);
-            let p = cross(d, &e2);
-            let det = dot(&e1, &p);
+            let v = v.map(|p| p.map(Dyadic::of));
+            let e1 = dsub(&v[1], &v[0]);
+            let e2 = dsub(&v[2], &v[0]);
+            let p = dcross(d, &e2);
+            let det = ddot(&e1, &p);
             if det.is_zero() {
                 return None; // in the plane or degenerate: a miss by convention
             }
-            let s0 = sub(o, &v[0]);
-            let qv = cross(&s0, &e1);
-            let b1 = dot(&s0, &p) / &det;
-            let b2 = dot(d, &qv) / &det;
-            let t = dot(&e2, &qv) / &det;
-            let inside = !b1.is_negative() && !b2.is_negative() && &b1 + &b2 <= Q::one();
-            (inside && &t > tmin).then_some(RefT::Exact(t))
+            let s0 = dsub(o, &v[0]);
+            let qv = dcross(&s0, &e1);
+            // b1 = n1 / det and b2 = n2 / det: inside where both are ≥ 0 and 1 − b1 − b2 =
+            // (det − n1 − n2) / det is too, each a numerator of det's sign or zero.
+            let (n1, n2) = (ddot(&s0, &p), ddot(d, &qv));
+            let at_least_0 = |n: &Dyadic| n.is_zero() || n.is_negative() == det.is_negative();
+            let rest = det.sub(&n1.add(&n2));
+            let inside = at_least_0(&n1) && at_least_0(&n2) && at_least_0(&rest);
+            if !inside {
+                return None;
+            }
+            let t = ddot(&e2, &qv).to_q() / det.to_q();
+            (&t > tmin).then_some(RefT::Exact(t))
         }
         Shape::Sphere(Sphere { centre, radius }) => {
-            let f = sub(o, &centre.map(qr));
-            let r = qr(*radius);
-            let a = dot(d, d);
-            let b = dot(&f, d);
-            let c = dot(&f, &f) - &r * &r;
-            let disc = &b * &b - &a * &c;
+            let f = dsub(o, &centre.map(Dyadic::of));
+            let r = Dyadic::of(*radius);
+            let a = ddot(d, d);
+            let b = ddot(&f, d);
+            let c = ddot(&f, &f).sub(&r.mul(&r));
+            let disc = b.mul(&b).sub(&a.mul(&c));
             if disc.is_negative() {
                 return None;
             }
-            let root = sqrt_q(&disc);
+            let root = disc.sqrt();
             let (lo, hi) = root.bounds();
-            let nb = -&b;
+            let (a, nb) = (a.to_q(), -b.to_q());
             let near = match &root {
                 RefT::Exact(s) => RefT::Exact((&nb - s) / &a),
                 _ => RefT::Between((&nb - hi) / &a, (&nb - lo) / &a),
@@ -293,7 +382,7 @@ pub fn exact_nearest_between<T: Real>(
     tmin: &Q,
     tmax: Option<&Q>,
 ) -> Option<(RefT, u32)> {
-    let (o, d) = (ray.o.map(qr), ray.d.map(qr));
+    let (o, d) = (ray.o.map(Dyadic::of), ray.d.map(Dyadic::of));
     let mut best: Option<(RefT, u32)> = None;
     for (i, s) in shapes.iter().enumerate() {
         let Some(t) = exact_t(s, &o, &d, tmin) else {
@@ -346,7 +435,7 @@ impl Counts {
                 if *prim != gprim {
                     // A primitive exactly behind the nearest surface: slipped through it.
                     // (One the exact ray does not meet at all is a wrong primitive.)
-                    let (o, d) = (ray.o.map(q), ray.d.map(q));
+                    let (o, d) = (ray.o.map(Dyadic::of), ray.d.map(Dyadic::of));
                     let beyond = exact_t(&shapes[gprim as usize], &o, &d, &Q::zero())
                         .is_some_and(|gt_exact| gt_exact.cmp(t) == Ordering::Greater);
                     if beyond {
