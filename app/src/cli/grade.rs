@@ -18,6 +18,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
+use unicode_width::UnicodeWidthStr;
 
 /// `raylab grade`.
 #[derive(clap::Args, Debug)]
@@ -616,10 +617,13 @@ fn points_text(points: f64) -> String {
 fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let width = graded
         .iter()
-        .map(|s| one_line(&s.name).chars().count())
+        .map(|s| one_line(&s.name).width())
         .max()
         .unwrap_or(0)
         .clamp(10, 40);
+    // Padded by the columns a terminal gives each character (two for 李, none for a
+    // combining accent), not by characters.
+    let padded = |name: &str| format!("{name}{}", " ".repeat(width.saturating_sub(name.width())));
     let mut out = format!(
         "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9}{}  status\n",
         "submission",
@@ -651,8 +655,8 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
             .filter_map(|(k, r)| earned(points, k, r))
             .sum();
         out += &format!(
-            "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
-            one_line(&s.name),
+            "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
+            padded(&one_line(&s.name)),
             format!("{passed}/{}", cases.len()),
             total.leaks,
             total.false_hits,

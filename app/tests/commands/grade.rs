@@ -341,9 +341,13 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     std::fs::create_dir(class.join(".git")).unwrap();
     std::os::unix::fs::symlink("nowhere", class.join("gone")).unwrap();
     let odd = class.join("eve\nada        ok\u{1b}[31m");
-    std::fs::create_dir(&odd).unwrap();
-    for file in ["run.sh", "exact.py"] {
-        std::fs::copy(class.join("ada").join(file), odd.join(file)).unwrap();
+    // A name of wide characters (two columns each on a terminal).
+    let wide = class.join("李雷");
+    for dir in [&odd, &wide] {
+        std::fs::create_dir_all(dir).unwrap();
+        for file in ["run.sh", "exact.py"] {
+            std::fs::copy(class.join("ada").join(file), dir.join(file)).unwrap();
+        }
     }
     let path = |p: &Path| p.to_str().unwrap().to_string();
     let o = raylab(&[
@@ -364,13 +368,27 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         let said = format!("{name}: {why}, so not a submission (not graded)");
         assert!(err.contains(&said), "{said} in {err}");
     }
-    assert!(err.contains("grading 2 submissions"), "{err}");
+    assert!(err.contains("grading 3 submissions"), "{err}");
     let rows: Vec<&str> = out.lines().collect();
-    assert_eq!(rows.len(), 3, "{out}");
+    assert_eq!(rows.len(), 4, "{out}");
     assert!(
         rows[2].starts_with("eve\\nada        ok\\u{1b}[31m "),
         "{out}"
     );
+    // Every row's "passed" column ends at the same terminal column, 李雷's too.
+    let columns = |row: &str| {
+        let end = (row.find("passed").map(|i| i + "passed".len()))
+            .or_else(|| row.find("/1 ").map(|i| i + "/1".len()))
+            .unwrap();
+        let wide = row[..end]
+            .chars()
+            .filter(|c| *c == '李' || *c == '雷')
+            .count();
+        row[..end].chars().count() + wide
+    };
+    assert!(rows[3].starts_with("李雷 "), "{out}");
+    let at: Vec<usize> = rows.iter().map(|r| columns(r)).collect();
+    assert!(at.iter().all(|c| *c == at[0]), "{at:?}\n{out}");
     assert!(
         !out.contains('\u{1b}') && !err.contains('\u{1b}'),
         "{out}{err}"
