@@ -98,7 +98,8 @@ pub enum Around<'a> {
         dpi: u32,
     },
     /// A shell snippet that drives the running app with real X input (xdotool), started
-    /// once the app's window exists (its id in `$win`), in the run's directory. Once it has
+    /// once the app's first image is on screen (the window's id in `$win`, the app's log in
+    /// `$log`; [`LOGGED`] waits for a line of it), in the run's directory. Once it has
     /// finished (and 0.3 s more, for its last events to reach the app), the file
     /// `driver-done` appears there: a script's `await driver-done` holds the run that long.
     RealInput(&'a str),
@@ -107,6 +108,21 @@ pub enum Around<'a> {
     /// Nothing beside the app, which starts with these arguments.
     Args(&'a [&'a str]),
 }
+
+/// A shell function for drivers: `logged TEXT [N]` returns once the app's log (the file
+/// `$log`) holds TEXT on N lines (1 if not given); failing, and saying so, once the app (its
+/// process id `$app`) has ended or after 60 s. A driver waits with it for what the app has
+/// done, where a fixed sleep would have to last as long as the slowest machine takes.
+pub const LOGGED: &str = "logged() { n=0; \
+     until [ \"$(grep -cF -- \"$1\" \"$log\" 2>/dev/null)\" -ge \"${2:-1}\" ] 2>/dev/null; do \
+     if [ $n -ge 1200 ] || ! kill -0 $app 2>/dev/null; then \
+     echo \"driver: not logged: $1\" >&2; return 1; fi; \
+     sleep 0.05; n=$((n+1)); done; }";
+
+/// Sets `$win` to the app's window once its first image is on screen (searched for then:
+/// `xdotool search --sync` looks again only every half second), where the app still runs.
+pub const FIND_WINDOW: &str =
+    "kill -0 $app 2>/dev/null && win=$(xdotool search --sync --name '^raylab')";
 
 /// The screen of the runs' X server where a test names no other: a common laptop's.
 pub const SCREEN: (u32, u32) = (1280, 800);
@@ -144,8 +160,6 @@ pub fn run_window_on(
     around: Around,
 ) -> Option<Run> {
     let _one = one_window();
-    // Input drivers wait for the first image; a file-editing driver keeps to its own clock.
-    let wait_for_image = matches!(around, Around::RealInput(_));
     let (driver, model) = match around {
         Around::RealInput(d) => (Some(d), None),
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
@@ -199,18 +213,13 @@ pub fn run_window_on(
         // run's.
         // The driver starts once the app logs its first image on screen (a fresh CI machine
         // under lavapipe, with other window tests running, can take seconds to draw one):
-        // input sent earlier would meet no image. The log goes on to stderr afterwards.
+        // input sent earlier would meet no image (and a file edited before the app's watcher
+        // first looked at it, a quarter second after the start, would go unseen). The log goes
+        // on to stderr afterwards.
         let log = dir.join("app.log");
-        let wait = match wait_for_image {
-            true => {
-                "n=0; until grep -q 'first image on screen' \"$log\" || [ $n -ge 600 ]; do \
-                     sleep 0.1; n=$((n+1)); done; sleep 0.5"
-            }
-            false => "sleep 1",
-        };
         let wrapper = format!(
-            "log='{log}'; \"$@\" 2>\"$log\" & app=$!; \
-             win=$(xdotool search --sync --name '^raylab'); {wait}; \
+            "log='{log}'; {LOGGED}; \"$@\" 2>\"$log\" & app=$!; \
+             logged 'first image on screen'; {FIND_WINDOW}; sleep 0.5; \
              {driver}; sleep 0.3; : > driver-done; wait $app; status=$?; \
              cat \"$log\" >&2; exit $status",
             log = log.display()

@@ -63,9 +63,13 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
         "cornell\npush\ntranslate 0 0.5 0\nsphere 0 0 0 0.3\npop\n",
     )
     .unwrap();
-    let script = "300 key W down\n600 key W up\n1000 select 1\n8000 step indirect\n";
-    let driver = "sleep 2.5; printf 'sphere 0.5 0.5 0 0.2\\n' >> s.scene; \
-                  sleep 2.5; printf 'sphere 0 0 0\\n' >> s.scene";
+    // (The driver starts with the first image, on or after the script's clock: the first
+    // edit comes after the selection. Each edit waits for the window to have read the one
+    // before.)
+    let script = "300 key W down\n600 key W up\n1000 select 1\n1000 await driver-done\n";
+    let driver = "sleep 1; printf 'sphere 0.5 0.5 0 0.2\\n' >> s.scene; \
+                  logged 'reloaded '; printf 'sphere 0 0 0\\n' >> s.scene; \
+                  logged 'could not reload'";
     let around = Around::RealInputOn(driver, &scene);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
@@ -216,7 +220,8 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 60 57; sleep 0.3; xdotool click 1; sleep 1.5; \
-                  xdotool type --delay 50 chosen; sleep 0.3; xdotool key Return; sleep 3; \
+                  xdotool type --delay 50 chosen; sleep 0.3; xdotool key Return; \
+                  logged '] saved '; \
                   xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 60 36; sleep 0.3; xdotool click 1; sleep 1.5; \
                   xdotool mousemove --sync 300 112; sleep 0.3; \
@@ -259,14 +264,10 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     .unwrap();
     let loaded = raylab::scene::load_scene_file(&scene).unwrap();
     assert_eq!(loaded.instances().len(), 3);
-    let script = "1500 select 2\n4000 step indirect\n";
-    let Some(run) = run_window_with(
-        RAYLAB,
-        script,
-        dir.path(),
-        &[],
-        Around::RealInputOn("true", &scene),
-    ) else {
+    // (The scene named on the command line is loaded before the window opens.)
+    let script = "500 select 2\n";
+    let args = [scene.to_str().unwrap()];
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Args(&args)) else {
         return;
     };
     assert_eq!(run.fields["primitives"], (30 + 3 * 1280).to_string());
@@ -438,12 +439,12 @@ fn an_edit_saved_while_a_reload_loads_is_loaded_too() {
     std::fs::write(dir.path().join("last.scene"), last).unwrap();
     // (Each edit replaces the file whole, as an editor saving it does. The second waits for
     // the window to say it is reloading the first: the big scene then takes seconds to load,
-    // the file watcher a quarter of a second to see the second edit.)
-    let driver = "mv first.scene s.scene; \
-                  until grep -q 'reloading' \"$log\"; do sleep 0.05; done; \
-                  mv last.scene s.scene";
+    // the file watcher a quarter of a second to see the second edit. The run lasts until the
+    // window has loaded a scene of the last edit's 32 primitives, or a minute.)
+    let driver = "mv first.scene s.scene; logged 'reloading'; mv last.scene s.scene; \
+                  logged '(32 primitives)'";
     let around = Around::RealInputOn(driver, &scene);
-    let Some(run) = run_window_with(RAYLAB, "12000 step indirect\n", dir.path(), &[], around)
+    let Some(run) = run_window_with(RAYLAB, "0 await driver-done\n", dir.path(), &[], around)
     else {
         return;
     };

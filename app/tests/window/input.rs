@@ -6,7 +6,7 @@
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 use crate::common;
 
-use common::window::{compare, run_window_with, Around};
+use common::window::{compare, run_window_with, Around, FIND_WINDOW, LOGGED};
 use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
 use raylab::geometry::Method;
@@ -259,7 +259,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool keydown a; sleep 0.4; \
                   xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; xdotool key F12; \
-                  sleep 1; xclip -selection clipboard -o > cmd.txt";
+                  logged '] saving raylab-'; xclip -selection clipboard -o > cmd.txt";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -308,8 +308,7 @@ fn real_x_input_drives_every_other_key() {
                   xdotool keydown Left; sleep 0.2; xdotool keyup Left; sleep 0.2; \
                   xdotool key plus; xdotool key plus; xdotool key minus; \
                   xdotool key i; xdotool key h; xdotool key F1; xdotool key h; xdotool key F5; \
-                  sleep 0.5; \
-                  xdotool key Escape";
+                  logged 'saved view'; xdotool key Escape";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -390,13 +389,14 @@ fn real_x_input_escape_quits_only_right_after_asking() {
     // second Esc while the status showed something else.)
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
-    let script = "4000 drop bad.obj\n4000 await driver-done\n";
+    // (The load fails once the driver has pressed Esc the second time and the window asked.)
+    let script = "0 await asked-twice\n0 drop bad.obj\n0 await driver-done\n";
     // (150, 680): the panel's empty space below the path field at the default window on
     // the harness's 1280x800 screen: a click on no widget.
     let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.3; \
                   xdotool mousemove --sync 150 680; sleep 0.2; xdotool click 1; sleep 0.3; \
-                  xdotool key Escape; sleep 0.3; \
-                  until grep -q 'could not load' \"$log\"; do sleep 0.1; done; sleep 0.3; \
+                  xdotool key Escape; logged 'press Esc again to quit' 2; : > asked-twice; \
+                  logged 'could not load'; sleep 0.3; \
                   xdotool key Escape; sleep 0.3; xdotool key Escape";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
@@ -511,11 +511,11 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
 }
 
 /// Runs the window as a user does (no script: it draws nothing while nothing changes) under
-/// Xvfb on the 1280x800 screen, drives it with `driver` (xdotool, the window in `$win`) once
-/// its first image is on screen, then saves the view (F5) and quits (Esc, Esc). The saved
-/// view's text and the log; None (after saying so) where Xvfb or xdotool is missing. The
-/// screen as drawn is the file `$screen` (Xvfb's framebuffer, an XWD image), which the
-/// driver can copy ([`read_xwd`]).
+/// Xvfb on the 1280x800 screen, drives it with `driver` (xdotool, the window in `$win`, the
+/// app in `$app`, its log in `$log`, [`LOGGED`]) once its first image is on screen, then
+/// saves the view (F5) and quits (Esc, Esc). The saved view's text and the log; None (after
+/// saying so) where Xvfb or xdotool is missing. The screen as drawn is the file `$screen`
+/// (Xvfb's framebuffer, an XWD image), which the driver can copy ([`read_xwd`]).
 fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, String)> {
     let _one = common::window::one_window();
     if !common::tool_for("xdotool", "xdotool", "the idle window test")
@@ -528,10 +528,10 @@ fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, Strin
         return None;
     }
     let wrapper = format!(
-        "\"$1\" 2>app.log & app=$!; win=$(xdotool search --sync --name '^raylab'); \
-         n=0; until grep -q 'first image on screen' app.log || [ $n -ge 600 ]; do \
-         sleep 0.1; n=$((n+1)); done; sleep 0.5; {driver}; sleep 0.3; xdotool key F5; \
-         sleep 1; xdotool key Escape; sleep 0.3; xdotool key Escape; \
+        "log=app.log; {LOGGED}; \"$1\" 2>app.log & app=$!; \
+         logged 'first image on screen'; {FIND_WINDOW}; sleep 0.5; {driver}; sleep 0.3; \
+         xdotool key F5; \
+         logged 'saved view'; xdotool key Escape; sleep 0.3; xdotool key Escape; \
          n=0; while kill -0 $app 2>/dev/null && [ $n -lt 100 ]; do sleep 0.1; n=$((n+1)); done; \
          kill $app 2>/dev/null; wait $app"
     );
@@ -686,17 +686,19 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     // as the bar faded in: each a new image width, a new view to render, without end.)
     // Positions: the panel at the default window on the 1280x800 screen, the inspector's box
     // at (15, 378); with it off, "show cracks" at (15, 558), the supersampling field at
-    // (135, 516). The driver waits (a minute at most) until the app has used no CPU for 2 s,
-    // then counts the panel's widths logged over 2 s more.
+    // (135, 516). The driver waits (a minute at most) until the app has used no CPU for 2 s
+    // (the last 9 of its CPU times read every quarter second the same), then counts the
+    // panel's widths logged over 2 s more.
     let dir = tempfile::tempdir().unwrap();
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
                   sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
                   xdotool mousemove --sync 135 516 click 1; sleep 0.3; xdotool key ctrl+a; \
                   xdotool type 16; xdotool key Return; \
                   cpu() { awk '{print $14 + $15}' /proc/$app/stat; }; \
-                  n=0; a=$(cpu); sleep 2; b=$(cpu); \
-                  while [ $a != $b ] && [ $n -lt 30 ]; do a=$b; sleep 2; b=$(cpu); n=$((n+1)); done; \
-                  [ $a = $b ] && echo idle > idle.txt; \
+                  idle() { set --; n=0; while [ $n -lt 240 ]; do set -- \"$@\" $(cpu); \
+                  [ $# -gt 9 ] && shift; [ $# = 9 ] && [ $1 = $9 ] && return 0; \
+                  sleep 0.25; n=$((n+1)); done; return 1; }; \
+                  idle && echo idle > idle.txt; \
                   grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
                   grep -c 'points wide' app.log > widths-after.txt";
     let Some((view, log)) = run_idle_window(dir.path(), driver) else {

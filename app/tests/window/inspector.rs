@@ -52,8 +52,11 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     let dir = tempfile::tempdir().unwrap();
     let view = shared_edge_view(dir.path(), 1);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
-    let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2; \
-                  xdotool key n; sleep 1.5; xdotool key shift+n";
+    // (Each press once the view is loaded and the step before said; a step waits for its
+    // frame's count.)
+    let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
+                  logged '] crack '; xdotool key n; logged '] crack ' 2; \
+                  xdotool key shift+n; logged '] crack ' 3";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -158,7 +161,8 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     let dir = tempfile::tempdir().unwrap();
     let view = shared_edge_view(dir.path(), 3);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
-    let driver = "xdotool windowfocus --sync $win; sleep 4; xdotool key n; sleep 2";
+    let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
+                  logged '] crack '";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -311,7 +315,7 @@ fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
                   sleep 0.3; xdotool click 1; sleep 1.5; xdotool mousemove --sync 113 588; \
                   sleep 0.3; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
                   xdotool type --delay 50 -- -0.95; xdotool key Return; sleep 1.5; \
-                  xdotool key F5; sleep 1.5";
+                  xdotool key F5; logged 'saved view'";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -486,7 +490,8 @@ fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
                   xdotool mousemove --sync 78 36; sleep 0.3; xdotool click 1; sleep 1.5; \
                   xdotool mousemove --sync 459 200; sleep 0.3; xdotool click 1; sleep 0.5; \
                   xdotool mousemove --sync 537 367; sleep 0.3; xdotool click 1; sleep 0.8; \
-                  xdotool mousemove --sync 1000 600; sleep 0.3; xdotool click 1; sleep 1";
+                  xdotool mousemove --sync 1000 600; sleep 0.3; xdotool click 1; \
+                  logged '] inspected pixel'";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -507,6 +512,21 @@ fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
         .map(|x| x.parse().unwrap())
         .collect();
     assert!(pixel[0] > 600 && pixel[1] > 550, "{pixel:?}");
+}
+
+/// Driver commands that click at each of `clicks` after a first click, each once the click
+/// before has inspected its pixel (the log says so), and wait for the last one's.
+fn clicks_each_inspecting(clicks: &[(i32, i32)]) -> String {
+    let moves: String = (clicks.iter().enumerate())
+        .map(|(k, (x, y))| {
+            format!(
+                "logged '] inspected pixel' {}; xdotool mousemove --sync {x} {y}; sleep 0.3; \
+                 xdotool click 1; ",
+                k + 1
+            )
+        })
+        .collect();
+    format!("{moves}logged '] inspected pixel' {}", clicks.len() + 1)
 }
 
 /// The pixels the window's log says were inspected, in order.
@@ -530,13 +550,10 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let clicks = [(358, 400), (821, 400), (600, 0), (400, 300)];
-    let moves: Vec<String> = (clicks.iter())
-        .map(|(x, y)| format!("xdotool mousemove --sync {x} {y}; sleep 0.3; xdotool click 1"))
-        .collect();
-    let moves = moves.join("; sleep 0.8; ");
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; sleep 0.3; \
-         xdotool click 1; sleep 2; {moves}"
+         xdotool click 1; sleep 2; {}",
+        clicks_each_inspecting(&clicks)
     );
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(&driver))
     else {
@@ -614,13 +631,10 @@ fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let clicks = [(537, 600), (1232, 600), (800, 0)];
-    let moves: Vec<String> = (clicks.iter())
-        .map(|(x, y)| format!("xdotool mousemove --sync {x} {y}; sleep 0.3; xdotool click 1"))
-        .collect();
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 900 450; sleep 0.3; \
          xdotool click 1; sleep 2; {}",
-        moves.join("; sleep 0.8; ")
+        clicks_each_inspecting(&clicks)
     );
     let env = [("WINIT_X11_SCALE_FACTOR", "1.5")];
     let around = Around::RealInput(&driver);

@@ -112,12 +112,15 @@ fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
     // the pixel under it).
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
-    let script = "0 drop bad.obj\n4000 drop bad.obj\n4000 await driver-done\n";
+    // (The second load once the driver's Esc has dismissed the first banner.)
+    let script = "0 drop bad.obj\n0 await dismissed\n0 drop bad.obj\n0 await driver-done\n";
     // (700, 25): inside the banner, whose top-left is 8 points inside the image's (the
     // image starts right of the 300-point panel, at the window's top: x 358 on the
     // harness's screen, seen in its screenshots), and its first line of text is about 20
     // points down.
-    let driver = "xdotool windowfocus --sync $win; sleep 1.5; xdotool key Escape; sleep 5; \
+    let driver = "xdotool windowfocus --sync $win; logged 'could not load'; sleep 0.3; \
+                  xdotool key Escape; logged 'error banner dismissed'; : > dismissed; \
+                  logged 'could not load' 2; \
                   xdotool mousemove --sync 700 25; sleep 0.3; xdotool click 1";
     let Some(run) = run_window(script, dir.path(), Around::RealInput(driver)) else {
         return;

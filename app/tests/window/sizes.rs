@@ -116,8 +116,8 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0 fov 53\nsize 16384 8192\nspp 16\n";
     std::fs::write(&view, text).unwrap();
     let script = format!("300 drop {}\n300 await driver-done\n", view.display());
-    let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; sleep 1; \
-                  xdotool key Escape; sleep 0.3; xdotool key Escape";
+    let driver = "xdotool windowfocus --sync $win; sleep 5; xdotool key F5; \
+                  logged 'saved view'; xdotool key Escape; sleep 0.3; xdotool key Escape";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
