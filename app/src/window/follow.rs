@@ -1,9 +1,9 @@
 //! The ray inspector's pixel, followed: a click (or the next / previous crack key) picks a
 //! pixel; whenever the frame shown changes (camera, light, step, method, scene, image size,
-//! the inspector's own panel opening) the inspector answers that pixel again, so that what it
-//! says is what the image shows. For the pixel it also says where the exact hit lies on its
-//! primitive ([`raylab::geometry::Shape::locate`]) and, where the cracks view marks the
-//! pixel, which of its samples is marked and why.
+//! the inspector's own panel narrowing the image) the inspector answers that pixel again, so
+//! that what it says is what the image shows. For the pixel it also says where the exact hit
+//! lies on its primitive ([`raylab::geometry::Shape::locate`]) and, where the cracks view
+//! marks the pixel, which of its samples is marked and why.
 
 use super::cracks::{self, Census, Legend, Step};
 use super::inspected::{Detail, Inspected};
@@ -26,6 +26,7 @@ impl Viewer {
         let at = Inspected {
             pixel: (i, j),
             size,
+            focal: self.focal(size.0),
             generation: self.generation,
         };
         let Some(found) = self.trace(at) else {
@@ -59,7 +60,7 @@ impl Viewer {
     /// shows, and the ring it draws, are then that crack's), else its centre ray; and its
     /// crack. `None` (said on the status line) where it cannot be inspected.
     fn trace(&mut self, at: Inspected) -> Option<raylab::render::inspect::Inspection> {
-        let camera = self.controller.camera(at.size.0);
+        let camera = self.camera_with_focal(at.focal);
         let stage = self.stage_to_render();
         let settings = self.settings(at.size, 1);
         let (x, y) = self.traced_position(at).0;
@@ -89,10 +90,11 @@ impl Viewer {
         if !self.inspector_on || at.generation == self.generation || !current {
             return;
         }
-        // At a new size, the pixel that looks the same way: the focal length goes with the
-        // width, so offsets from the image centre scale with it.
+        // At a new size, the pixel that looks the same way: offsets from the image centre
+        // scale with the focal length (which goes with the width, but not with the
+        // inspector's panel narrowing the image: that crops the view's sides).
         let size = self.full_size();
-        let scale = size.0 as f64 / at.size.0 as f64;
+        let scale = self.focal(size.0) / at.focal;
         let map = |p: u32, from: u32, to: u32| {
             let offset = (p as f64 + 0.5 - from as f64 / 2.0) * scale;
             (offset + to as f64 / 2.0)
@@ -232,7 +234,7 @@ impl Viewer {
             Some(_) => cracks::all_shapes(&self.stage),
             None => Cow::Borrowed(&[][..]),
         };
-        let camera = self.controller.camera(at.size.0);
+        let camera = self.camera_with_focal(at.focal);
         let method = self.view.controls.method;
         let trace = (&self.stage, &camera, method, code);
         let (ray, given, exact) = cracks::answers(trace, &shapes, at.size, pos);

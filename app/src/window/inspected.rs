@@ -12,6 +12,8 @@ use raylab::geometry::Location;
 pub struct Inspected {
     pub pixel: (u32, u32),
     pub size: (u32, u32),
+    /// The focal length (pixels) of the view it was answered for.
+    pub focal: f64,
     pub generation: u64,
 }
 

@@ -19,24 +19,25 @@ pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     }
 }
 
-/// The right-hand panel the inspector's fields are shown in, `width` points wide at first.
-/// Its width is the one last chosen by dragging its edge: egui keeps the width the panel was
-/// last drawn at, which a narrow window squeezes it to, so when the window has room again it
-/// is given that width back.
-pub fn panel(ui: &mut egui::Ui, width: f32, contents: impl FnOnce(&mut egui::Ui)) {
+/// The right-hand panel the inspector's fields are shown in, `width` points wide at first and
+/// `most` at most (the image beside it keeps the rest). Its width is the one last chosen by
+/// dragging its edge: egui keeps the width the panel was last drawn at, which a narrow window
+/// squeezes it to, so when the window has room again it is given that width back.
+pub fn panel(ui: &mut egui::Ui, width: f32, most: f32, contents: impl FnOnce(&mut egui::Ui)) {
     let id = egui::Id::new("inspector width");
     // (The width chosen, and the width drawn in the last frame.)
     let (chosen, last) = ui.ctx().data(|d| d.get_temp(id)).unwrap_or((width, width));
-    let room = ui.available_rect_before_wrap().width();
+    let most = most.max(0.0);
     let mut panel = egui::Panel::right("inspector")
         .resizable(true)
-        .default_size(width);
-    if last < chosen && room > last + 1.0 {
-        panel = panel.exact_size(chosen.min(room));
+        .default_size(width.min(most))
+        .max_size(most);
+    if last < chosen && most > last + 1.0 {
+        panel = panel.exact_size(chosen.min(most));
     }
     let drawn = panel.show(ui, contents).response.rect.width();
     // (Where the window left it less than it takes, it was not squeezed: its width is chosen.)
-    let chosen = if room > drawn + 1.0 { drawn } else { chosen };
+    let chosen = if most > drawn + 1.0 { drawn } else { chosen };
     ui.ctx().data_mut(|d| d.insert_temp(id, (chosen, drawn)));
 }
 

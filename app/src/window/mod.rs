@@ -27,6 +27,7 @@ mod panel;
 mod pointer;
 mod script;
 mod scripted;
+mod values;
 mod viewer;
 mod worker;
 
@@ -396,6 +397,7 @@ impl App {
         });
         let layout = layout.expect("egui ran the UI");
         viewer.image_area = layout.image_area;
+        viewer.beside_width = layout.beside_width;
         self.image_rect = layout.image_rect;
         self.banner_rect = layout.banner_rect;
         self.panel_fit = layout.actions.fit;
@@ -563,6 +565,7 @@ impl ApplicationHandler<AppEvent> for App {
             ((size.width as f32 - panel::PANEL_WIDTH * ppp).max(1.0)) as u32,
             size.height.max(1),
         );
+        self.viewer.beside_width = self.viewer.image_area.0;
         let buffer = self.viewer.full_size();
         match Framework::new(event_loop, window.clone(), surface, buffer) {
             Ok(fw) => {

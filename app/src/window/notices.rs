@@ -16,16 +16,17 @@ const ERROR_RED: egui::Color32 = egui::Color32::from_rgb(190, 30, 30);
 pub type ShownFigures = (u32, u32, u8, u32, RenderStats);
 
 /// The status line: the last message on the left (red for an error), the image's figures on
-/// the right. The message has the room first: the figures are cut short before it is, and
-/// it is cut only where it alone is wider than the line (the whole of it on hover; a click
-/// copies it). Returns whether the whole message is shown.
+/// the right. The message has the room first, but the figures keep theirs up to half the
+/// line: a long message (a copied command) is cut short (the whole of it on hover; a click
+/// copies it), the frame's figures stay in view. Returns whether the whole message and the
+/// whole figures are shown.
 pub fn status_line(
     ui: &mut egui::Ui,
     (status, is_error): (&str, bool),
     shown: Option<ShownFigures>,
     full_size: (u32, u32),
     threads: usize,
-) -> bool {
+) -> (bool, bool) {
     let figures = match shown {
         Some((w, h, level, spp, stats)) => {
             let what = match level {
@@ -52,8 +53,11 @@ pub fn status_line(
     let gap = 3.0 * ui.spacing().item_spacing.x + 4.0;
     let total = ui.available_width();
     let wanted = width_of(status) * 1.05 + 2.0;
-    let message_room = wanted.min((total - gap).max(0.0));
-    let whole = wanted <= total - gap;
+    let figures_wanted = width_of(&figures) * 1.05 + 2.0;
+    let figures_room = figures_wanted.min((total - gap - wanted).max(0.5 * total));
+    let message_room = wanted.min((total - gap - figures_room).max(0.0));
+    let whole = wanted <= message_room;
+    let figures_whole = figures_wanted <= total - gap - message_room;
     let height = ui.spacing().interact_size.y;
     ui.horizontal(|ui| {
         let size = egui::vec2(message_room, height);
@@ -83,7 +87,7 @@ pub fn status_line(
             ui.add(egui::Label::new(figures).truncate());
         });
     });
-    whole
+    (whole, figures_whole)
 }
 
 /// The error banner across the top of `image`, until clicked (or Esc). Returns where it was

@@ -17,6 +17,9 @@ pub struct PanelInfo<'a> {
     pub primitives: usize,
     pub warnings: &'a [String],
     pub full_size: (u32, u32),
+    /// The focal length (pixels of the full render), and the width it is a fraction of
+    /// ([`super::viewer::Viewer::focal_width`]).
+    pub focal: (f64, u32),
     pub loading: bool,
     /// A `.scene` file's push levels, and the one selected.
     pub levels: &'a [Level],
@@ -90,19 +93,27 @@ pub fn side_panel(
 
         ui.separator();
         ui.strong("Camera");
-        let width = info.full_size.0.max(1);
-        let mut focal = camera.focal(width);
+        let (mut focal, width) = (info.focal.0, info.focal.1.max(1));
         let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
-        let fov = raylab::camera::fov_of_focal(focal, width as f64);
-        if ui
-            .add(
-                egui::Slider::new(&mut focal, range)
-                    .logarithmic(true)
-                    .text("focal (px)")
-                    .custom_formatter(|v, _| format!("{v:.1}")),
-            )
-            .changed()
-        {
+        let fov = raylab::camera::fov_of_focal(focal, info.full_size.0.max(1) as f64);
+        // The slider takes the row's room (a thousandfold range in egui's 100 points moved
+        // 7% a point); its box drags by 0.1% a point, for the fine steps.
+        let fine = 0.001 * focal;
+        let slider = egui::Slider::new(&mut focal, range)
+            .logarithmic(true)
+            .text("focal (px)")
+            .custom_formatter(|v, _| format!("{v:.1}"))
+            .drag_value_speed(fine);
+        let beside = egui::WidgetText::from("00000.0 focal (px)");
+        let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
+        let spacing = ui.spacing().clone();
+        let box_margins = 2.0 * spacing.button_padding.x + 2.0 * spacing.item_spacing.x;
+        // (Less a little: a row wider than the panel would widen it, frame after frame.)
+        let room = ui.available_width() - beside.size().x - box_margins - 10.0;
+        ui.spacing_mut().slider_width = room.max(spacing.slider_width);
+        let changed = ui.add(slider).changed();
+        ui.spacing_mut().slider_width = spacing.slider_width;
+        if changed {
             camera.set_focal(focal, width);
         }
         ui.label(format!("horizontal field of view {:.1}°", fov.to_degrees()));
@@ -369,6 +380,10 @@ pub const PANEL_WIDTH: f32 = 300.0;
 /// Width of the ray inspector's panel at start, in points.
 pub const INSPECTOR_WIDTH: f32 = 330.0;
 
+/// The least width (points) the ray inspector's panel leaves the image, where the room beside
+/// the side panel is twice that: else half of it.
+pub const MIN_IMAGE_WIDTH: f32 = 200.0;
+
 /// The side panel's width once its scroll bar is gone. egui keeps a panel at the width it was
 /// last drawn at: what it was given or, where its rows need more, what they need. The scroll
 /// bar a window too short for the panel shows takes its room (10 points) beside the rows, so
@@ -425,6 +440,9 @@ pub struct Layout {
     pub actions: PanelActions,
     /// The area beside the panel, in physical pixels.
     pub image_area: (u32, u32),
+    /// The width of the area beside the side panel (physical pixels): the image area's and
+    /// the inspector's panel's.
+    pub beside_width: u32,
     /// Where the image was drawn (points), if there is one.
     pub image_rect: Option<egui::Rect>,
     /// Where the error banner was drawn over the image (points): a click there is the
@@ -451,6 +469,10 @@ pub fn layout(
         viewer.apply_picked(picked);
     }
     let full_size = viewer.full_size();
+    let focal = (viewer.focal(full_size.0), viewer.focal_width());
+    // (The overlay is projected as the image on screen was rendered: its size and focal
+    // length, the camera now.)
+    let overlay = (viewer.shown.as_ref()).map(|s| (s.size, viewer.camera_with_focal(s.focal)));
     let samples_shown = viewer.spp_shown();
     let legend = viewer.crack_legend();
     let Viewer {
@@ -476,6 +498,7 @@ pub fn layout(
         cracks,
         inspector_shown,
         status_whole,
+        figures_whole,
         ..
     } = viewer;
     if let Some(text) = copy_request.take() {
@@ -487,6 +510,7 @@ pub fn layout(
         primitives: scene.len(),
         warnings: &scene.warnings,
         full_size,
+        focal,
         loading: *loading,
         levels: &scene.levels,
         selected_level: *selected_level,
@@ -497,6 +521,7 @@ pub fn layout(
     let mut layout = Layout {
         actions: PanelActions::default(),
         image_area: *image_area,
+        beside_width: image_area.0,
         image_rect: None,
         banner_rect: None,
     };
@@ -524,13 +549,24 @@ pub fn layout(
     let (bar, visible) = (layout.actions.bar_room, layout.actions.fit.1);
     kept.after(ui, drawn.response.rect, bar, visible);
     layout.actions.width = drawn.response.rect.width();
+    // The status line under the image and the inspector's panel both.
+    egui::Panel::bottom("status").show(ui, |ui| {
+        let status = (status.as_str(), *status_is_error);
+        let threads = rayon::current_num_threads();
+        (*status_whole, *figures_whole) =
+            super::notices::status_line(ui, status, shown, full_size, threads);
+    });
+    let beside = ui.available_rect_before_wrap().width();
+    layout.beside_width = ((beside * ppp).round() as u32).max(1);
     // The inspected ray's fields beside the image, while there are some or a crack is being
     // found (the side panel keeps its sections in view).
     *inspector_shown = *inspector_on && (inspection.is_some() || cracks.pending.is_some());
     if *inspector_shown {
         // (A width of its own that its rows fit in: a panel that grew with what it shows would
         // narrow the image, a new frame, each time.)
-        super::inspector::panel(ui, INSPECTOR_WIDTH, |ui| {
+        // (At most what leaves the image MIN_IMAGE_WIDTH, or half the room where that is less.)
+        let most = beside - MIN_IMAGE_WIDTH.min(beside / 2.0);
+        super::inspector::panel(ui, INSPECTOR_WIDTH, most, |ui| {
             // (Both ways: a row wider than the panel scrolls rather than widening it.)
             egui::ScrollArea::both().show(ui, |ui| {
                 if let Some(detail) = crack.as_ref() {
@@ -556,11 +592,6 @@ pub fn layout(
             });
         });
     }
-    egui::Panel::bottom("status").show(ui, |ui| {
-        let status = (status.as_str(), *status_is_error);
-        let threads = rayon::current_num_threads();
-        *status_whole = super::notices::status_line(ui, status, shown, full_size, threads);
-    });
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();
         layout.image_area = (
@@ -585,9 +616,8 @@ pub fn layout(
             layout.image_rect = Some(rect);
             // (Only while the inspector is on: I hides its ray with its panel.)
             let ins = inspection.as_ref().filter(|_| *inspector_on);
-            if let (Some(ins), Some((w, h, ..))) = (ins, shown) {
-                // (Projected as the image on screen was rendered: its size, the camera now.)
-                let projection = controller.camera(w).projection(w, h);
+            if let (Some(ins), Some(((w, h), camera))) = (ins, overlay) {
+                let projection = camera.projection(w, h);
                 super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
             }
         }

@@ -112,13 +112,13 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
-            c.yaw.to_degrees(),
-            c.pitch.to_degrees(),
-            c.focal(w),
+            super::values::degrees(c.yaw),
+            super::values::degrees(c.pitch),
+            viewer.focal(w),
             w,
             h,
             r[0],
@@ -127,6 +127,7 @@ impl ScriptedRun {
             r[3],
             viewer.shown.as_ref().map_or(0, |s| s.spp),
             ["off", "on"][viewer.status_whole as usize],
+            ["off", "on"][viewer.figures_whole as usize],
             viewer.refine_wakes,
             window.frames_presented,
             viewer.frames_while_moving,
@@ -202,8 +203,7 @@ impl App {
                 Action::Drop(path) => viewer.load(path),
                 Action::Changed(path) => viewer.reload(path),
                 Action::Focal(f) => {
-                    let width = viewer.full_size().0;
-                    viewer.controller.set_focal(f, width);
+                    viewer.set_focal(f);
                     viewer.changed();
                 }
                 Action::Scale(s) => {

@@ -8,5 +8,6 @@ mod common;
 mod files;
 mod input;
 mod inspector;
+mod layout;
 mod panel;
 mod sizes;

@@ -5,6 +5,7 @@
 
 use super::bounds::{fit_shown, samples_shown};
 use super::input::InputState;
+use super::values;
 use super::worker::{self, Worker};
 use super::AppEvent;
 use raylab::accel::AccelChoice;
@@ -14,7 +15,7 @@ use raylab::controller::CameraController;
 use raylab::render::inspect::Inspection;
 use raylab::render::{self, LabStep, RenderSettings, RenderStats, Stage, MAX_SIDE};
 use raylab::scene::ObjFrame;
-use raylab::Scene;
+use raylab::{Camera, Scene};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -61,6 +62,8 @@ pub struct Shown {
     /// Its supersampling, n per axis.
     pub spp: u32,
     pub stats: RenderStats,
+    /// Its camera's focal length (pixels).
+    pub focal: f64,
 }
 
 /// A rendered frame for the window to show.
@@ -89,6 +92,9 @@ pub struct Viewer {
     last_full_ms: Option<f64>,
     /// The image area beside the panel, in physical pixels.
     pub image_area: (u32, u32),
+    /// The width of the area beside the side panel (physical pixels): the image area's, and
+    /// the inspector's panel's where it is shown.
+    pub beside_width: u32,
     /// The largest texture side of the graphics device: no render is larger.
     pub max_side: u32,
     /// A generation whose render failed: not submitted again (it would fail again).
@@ -99,6 +105,8 @@ pub struct Viewer {
     pub status_is_error: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
+    /// Whether it showed the frame's figures whole beside it.
+    pub figures_whole: bool,
     /// The next render to finish fails (the script's `fail-render`).
     pub fail_next_render: bool,
     /// How often the event loop woke to refine (for the scripted run's final line).
@@ -195,12 +203,14 @@ impl Viewer {
             shown: None,
             last_full_ms: None,
             image_area: (640, 480),
+            beside_width: 640,
             max_side: MAX_SIDE,
             failed_generation: None,
             show_help: false,
             status: String::new(),
             status_is_error: false,
             status_whole: true,
+            figures_whole: true,
             fail_next_render: false,
             refine_wakes: 0,
             banner: None,
@@ -313,21 +323,65 @@ impl Viewer {
     }
 
     /// What the panel can change, to tell afterwards whether it did.
-    pub fn panel_state(&self) -> (ViewSettings, CameraController, (u32, u32)) {
-        (self.view, self.controller, self.full_size())
+    pub fn panel_state(&self) -> (ViewSettings, CameraController, (u32, u32), u32) {
+        let size = self.full_size();
+        (self.view, self.controller, size, self.focal_width())
     }
 
     /// The full render size for the current image area and resolution setting.
     pub fn full_size(&self) -> (u32, u32) {
+        self.size_for(self.image_area)
+    }
+
+    /// The full render size for an image area of `area` physical pixels.
+    fn size_for(&self, area: (u32, u32)) -> (u32, u32) {
         let clamp = |x: f32| (x.round() as u32).clamp(1, MAX_SIDE);
         match self.view.resolution {
             Resolution::WindowScale(s) => {
                 let s = s.clamp(0.05, 1.0);
-                let (w, h) = (self.image_area.0 as f32 * s, self.image_area.1 as f32 * s);
+                let (w, h) = (area.0 as f32 * s, area.1 as f32 * s);
                 fit_shown((clamp(w), clamp(h)), self.max_side)
             }
             Resolution::Fixed(w, h) => fit_shown((w, h), self.max_side),
         }
+    }
+
+    /// The width the focal length is a fraction of ([`CameraController::focal_ratio`]): the
+    /// full render width the image would have without the inspector's panel. That panel
+    /// opening narrows the image and crops the view's sides; the focal length stays.
+    pub fn focal_width(&self) -> u32 {
+        let beside = self.beside_width.max(self.image_area.0);
+        self.size_for((beside, self.image_area.1)).0
+    }
+
+    /// The focal length (pixels) of a render `width` pixels wide of the view as now set up
+    /// (the full render's, scaled), as the short decimal it was set as ([`values::clean`]).
+    pub fn focal(&self, width: u32) -> f64 {
+        let full = self.full_size().0;
+        let f = self.controller.focal(self.focal_width());
+        values::clean(match width == full {
+            true => f,
+            false => f * width as f64 / full as f64,
+        })
+    }
+
+    /// Sets the focal length (pixels of the full render) as the panel's slider does.
+    pub fn set_focal(&mut self, focal: f64) {
+        let width = self.focal_width();
+        self.controller.set_focal(focal, width);
+    }
+
+    /// The camera of a render `width` pixels wide of the view as now set up.
+    pub fn camera(&self, width: u32) -> Camera {
+        self.camera_with_focal(self.focal(width))
+    }
+
+    /// The camera as now posed, with focal length `focal` (pixels).
+    pub fn camera_with_focal(&self, focal: f64) -> Camera {
+        // (The controller's camera at width 1: `focal_ratio` × 1 is `focal` exactly.)
+        let mut c = self.controller;
+        c.focal_ratio = focal;
+        c.camera(1)
     }
 
     /// The supersampling the window renders at its full size ([`super::bounds`]).
@@ -422,7 +476,7 @@ impl Viewer {
         let spp = if level == 2 { self.spp_shown() } else { 1 };
         self.worker.submit(worker::Job {
             stage,
-            camera: self.controller.camera(size.0),
+            camera: self.camera(size.0),
             settings: self.settings(size, spp),
             code: self.code.clone().filter(|_| self.view.yours),
             generation: self.generation,
@@ -453,6 +507,7 @@ impl Viewer {
                     size: (s.width, s.height),
                     spp: s.spp,
                     stats,
+                    focal: done.job.camera.focal,
                 });
                 // (A preview is not counted: the counts are of the views that settle.)
                 if s.cracks && done.job.level > 0 {
@@ -491,11 +546,7 @@ impl Viewer {
         let (w, h) = self.full_size();
         let n = self.spp_shown();
         let settings = self.settings((w, h), n);
-        let (stage, camera, proxy) = (
-            self.stage.clone(),
-            self.controller.camera(w),
-            self.proxy.clone(),
-        );
+        let (stage, camera, proxy) = (self.stage.clone(), self.camera(w), self.proxy.clone());
         self.screenshots_pending += 1;
         self.set_status(format!(
             "saving {} ({w}x{h} at {n}x{n} samples)...",
@@ -517,21 +568,21 @@ impl Viewer {
     /// what the window shows at full quality.
     pub fn view(&self) -> raylab::view::View {
         let c = &self.controller;
-        let ratio = c.focal_ratio;
-        let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         let source = self.source.lock().expect("not poisoned").clone();
         // A fixed size is the view's own, even where the window shows it smaller.
         let (width, height) = match self.view.resolution {
             Resolution::Fixed(w, h) => (w, h),
             Resolution::WindowScale(_) => self.full_size(),
         };
+        let ratio = self.focal(width) / width as f64;
+        let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
             obj_frame: self.obj_frame,
             camera: raylab::scene::SceneCamera {
                 position: c.position.to_array(),
-                yaw: c.yaw.to_degrees(),
-                pitch: c.pitch.to_degrees(),
+                yaw: values::degrees(c.yaw),
+                pitch: values::degrees(c.pitch),
                 fov,
             },
             light: Some(self.view.light),
@@ -546,7 +597,9 @@ impl Viewer {
     /// C or the panel's button: the `raylab render` command of the current view goes to the
     /// clipboard (in the next UI pass) and the panel shows it.
     pub fn copy_command(&mut self) {
-        let command = self.view().to_command("raylab.png");
+        let view = self.view();
+        let focal = self.focal(view.settings.width);
+        let command = values::with_focal(&view.to_command("raylab.png"), focal);
         self.set_status(format!("copied to the clipboard: {command}"));
         self.copy_request = Some(command);
     }

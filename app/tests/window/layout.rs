@@ -1,0 +1,163 @@
+//! The window's layout and the numbers it shows, under Xvfb with real X input: values typed
+//! into the panel are copied as the short decimals they are, the focal-length slider takes
+//! small steps, the frame's figures stay in view beside a long status message, the ray
+//! inspector's panel opening keeps the focal length, and it leaves the image a useful width
+//! on a small HiDPI screen.
+//!
+//! Needs `xvfb-run`, `xclip` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where
+//! they are missing the test says so loudly and skips, except under CI=true, where it must
+//! run.
+use crate::common;
+
+use common::window::{run_window_on, run_window_with, Around};
+
+/// The window under test.
+const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
+
+/// The value of `--name=` in the `raylab render` line `command`.
+fn flag<'a>(command: &'a str, name: &str) -> &'a str {
+    let start = format!("--{name}=");
+    let mut values = command
+        .split(' ')
+        .filter_map(|w| w.strip_prefix(start.as_str()));
+    values
+        .next()
+        .unwrap_or_else(|| panic!("no --{name} in {command}"))
+}
+
+/// The focal length of a copied command.
+fn focal(command: &str) -> f64 {
+    flag(command, "focal").parse().unwrap()
+}
+
+#[test]
+fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length() {
+    // On the 1280x800 screen (the panel as the harness's screenshots show it: the focal
+    // slider's rail from x 8, its value box at x 221..260 on row y 225, the yaw box at
+    // (58, 285)); C copies the view's command after each step:
+    // 1. a click on the focal slider at x 30, then a 20-point drag from there: the slider
+    //    spread over 100 points moved the focal length fivefold;
+    // 2. a 50-point drag on the slider's value box: the fine steps;
+    // 3. 101 typed as the focal length and 7.3 as the yaw: copied as 101 and 7.3 (they were
+    //    101.00000000000003 and 7.300000000000001);
+    // 4. a click on the image opens the inspector's panel, which narrows the image: the
+    //    focal length stays 101 (it went with the width, to 59);
+    // and the long message that says what C copied leaves the frame's figures in view.
+    if !common::tool_for("xclip", "xclip", "the copy-as-command test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let copy =
+        |n: u32| format!("xdotool key c; sleep 0.3; xclip -selection clipboard -o > c{n}.txt");
+    // (Not `--sync`: to where the pointer is, it waits for a move that never comes.)
+    let press = |x: u32, y: u32| format!("xdotool mousemove {x} {y}; sleep 0.3");
+    let typed = |(x, y): (u32, u32), text: &str| {
+        format!(
+            "{}; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
+             xdotool type --delay 50 {text}; xdotool key Return; sleep 0.3",
+            press(x, y)
+        )
+    };
+    let drag = |(x, y): (u32, u32), by: u32| {
+        format!(
+            "{}; xdotool mousedown 1; sleep 0.2; xdotool mousemove --sync {} {y}; sleep 0.2; \
+             xdotool mousemove --sync {} {y}; sleep 0.2; xdotool mouseup 1; sleep 0.3",
+            press(x, y),
+            x + by / 2,
+            x + by
+        )
+    };
+    let driver = [
+        "xdotool windowfocus --sync $win".to_string(),
+        press(30, 225),
+        "xdotool click 1; sleep 0.3".into(),
+        copy(0),
+        drag((30, 225), 20),
+        copy(1),
+        drag((235, 225), 50),
+        copy(2),
+        typed((235, 225), "101"),
+        typed((58, 285), "7.3"),
+        copy(3),
+        press(700, 300),
+        "xdotool click 1; sleep 1.5".into(),
+        copy(4),
+    ]
+    .join("; ");
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(&driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let copied: Vec<String> = (0..5)
+        .map(|n| std::fs::read_to_string(dir.path().join(format!("c{n}.txt"))).unwrap())
+        .collect();
+    let f: Vec<f64> = copied.iter().map(|c| focal(c)).collect();
+    println!("focal lengths copied: {f:?}");
+    assert!(
+        f[1] > f[0] && f[1] / f[0] < 2.5,
+        "a 20-point drag moved the focal length from {} to {}\n{log}",
+        f[0],
+        f[1]
+    );
+    assert!(
+        f[2] > f[1] * 1.01 && f[2] < f[1] * 1.2,
+        "a 50-point drag on the box moved it from {} to {}\n{log}",
+        f[1],
+        f[2]
+    );
+    assert_eq!(flag(&copied[3], "focal"), "101", "{log}");
+    assert_eq!(flag(&copied[3], "yaw"), "7.3", "{log}");
+    assert_eq!(flag(&copied[3], "width"), "794", "{log}");
+    let narrowed: u32 = flag(&copied[4], "width").parse().unwrap();
+    assert!(
+        narrowed < 600,
+        "the inspector's panel opened: {}",
+        copied[4]
+    );
+    assert_eq!(flag(&copied[4], "focal"), "101", "{log}");
+    assert_eq!(
+        (run.fields["focal"].as_str(), run.fields["yaw"].as_str()),
+        ("101", "7.3")
+    );
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    assert!(
+        status.is_some_and(|s| s.starts_with("copied to the clipboard: raylab render")),
+        "{status:?}"
+    );
+    assert_eq!(
+        run.fields["status_whole"], "off",
+        "the message is longer than the line"
+    );
+    assert_eq!(run.fields["figures_whole"], "on", "{}", run.stdout);
+}
+
+#[test]
+fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
+    // At 2 pixels a point on a 1280x800 screen the window is 576x360 points, the side panel
+    // about 370 of them: a click on the image opened the inspector's 330-point panel beside
+    // it, which left the image 1 pixel wide (and its focal length 1). The panel now leaves the
+    // image half the room, and the focal length is the one the image had.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 1000 300; \
+                  sleep 0.3; xdotool click 1; sleep 1.5";
+    let env = [("WINIT_X11_SCALE_FACTOR", "2")];
+    let around = Around::RealInput(driver);
+    let Some(run) = run_window_on(RAYLAB, (1280, 800), script, dir.path(), &env, around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        !run.inspector.is_empty(),
+        "the click inspected nothing\n{log}"
+    );
+    let (camera, w, _, rect) = run.camera();
+    println!(
+        "image {w} pixels wide at {rect:?}, focal length {}",
+        camera.focal
+    );
+    assert!(w >= 150 && rect[2] >= 150.0, "{w} {rect:?}\n{log}");
+    assert!(camera.focal > 1.5 * w as f64, "{}\n{log}", camera.focal);
+}
