@@ -23,7 +23,8 @@
 //! body that the dispatch macro builds per SIMD level; `walk_*` a BVH traversal.
 //!
 //! Crossover: below [`BVH_MIN_TRIANGLES`] triangles the flat SIMD loop wins; measured with
-//! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md).
+//! `raylab bench --accel flat|bvh` on subsets of the bunny mesh (docs/performance.md). Above
+//! it, `auto` keeps the flat loop where the BVH would not cull ([`SOUP_SHARE`]).
 
 /// The triangles' layouts, one line each: `Variant(module::Type)`, its doc the
 /// [`AccelChoice`] variant's. The list makes each layout's variant of [`AccelChoice`] (named
@@ -151,6 +152,15 @@ pub const TILE_CULL_MAX_TRIANGLES: usize = 2048;
 
 /// From this many primitives on (triangles, spheres), `auto` builds a BVH.
 pub const BVH_MIN_TRIANGLES: usize = 64;
+
+/// The share of the triangles beyond which a BVH's estimate of the tests a ray makes
+/// (`Bvh::expected_tests`) has `auto` choose the flat loop instead: where the triangles'
+/// boxes overlap throughout (a soup of long triangles on an integer grid, 0.43–0.51 of them),
+/// the walk visits most leaves, each test dearer than the flat loop's. 20,000 such triangles,
+/// 160×90, 2 threads: the BVH 446 ms a frame, the flat loop 167 ms; 340,000: 10.6 s and 2.0 s;
+/// 2,000: the same (so only above [`TILE_CULL_MAX_TRIANGLES`]). A mesh's estimate is a few
+/// dozen (the bunny 8.3, Igea 16.7).
+pub const SOUP_SHARE: f64 = 1.0 / 3.0;
 
 impl fmt::Display for AccelChoice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -291,7 +301,8 @@ impl Accel {
             copies += built.copies_left_out();
             Box::new(built)
         });
-        let choice = match choice {
+        let auto = choice;
+        let mut choice = match choice {
             // Every primitive counts: 3,000 spheres and no triangle took 0.66 s at 64×48 with
             // the flat loop, 0.04 s with the BVH's frame plan (the same image).
             AccelChoice::Auto
@@ -302,7 +313,14 @@ impl Accel {
             AccelChoice::Auto => AccelChoice::Bvh,
             chosen => chosen,
         };
-        let triangles = Triangles::build(&tris, choice);
+        let mut triangles = Triangles::build(&tris, choice);
+        if let (AccelChoice::Auto, Triangles::Bvh(b)) = (auto, &triangles) {
+            let soup = b.expected_tests() > tris.len() as f64 * SOUP_SHARE;
+            if soup && tris.len() > TILE_CULL_MAX_TRIANGLES {
+                choice = AccelChoice::Flat;
+                triangles = Triangles::build(&tris, choice);
+            }
+        }
         if choice == AccelChoice::Bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
             tris = Vec::new(); // the BVH holds its own copy
         }
