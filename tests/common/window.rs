@@ -7,6 +7,7 @@ use glam::DVec3;
 use raylab::render::{render_image, LabStep, RenderSettings};
 use raylab::{Camera, Scene};
 use std::collections::HashMap;
+use std::os::unix::process::CommandExt;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -244,6 +245,7 @@ pub fn run_window_on(
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
+        .process_group(0)
         .spawn()
         .expect("start xvfb-run");
     let start = Instant::now();
@@ -252,7 +254,9 @@ pub fn run_window_on(
             break s;
         }
         if start.elapsed() > Duration::from_secs(300) {
-            child.kill().unwrap();
+            // Its whole process group: xvfb-run, Xvfb, the app and the driver.
+            let group = format!("-{}", child.id());
+            let _ = Command::new("kill").args(["-KILL", "--", &group]).status();
             panic!("the window run hung for 300 s");
         }
         std::thread::sleep(Duration::from_millis(100));
