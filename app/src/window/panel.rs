@@ -111,7 +111,9 @@ pub fn side_panel(
         // (Less a little: a row wider than the panel would widen it, frame after frame.)
         let room = ui.available_width() - beside.size().x - box_margins - 10.0;
         ui.spacing_mut().slider_width = room.max(spacing.slider_width);
-        let changed = ui.add(slider).changed();
+        let changed = (ui.add(slider))
+            .on_hover_text("drag the number for fine steps; click it to type one")
+            .changed();
         ui.spacing_mut().slider_width = spacing.slider_width;
         if changed {
             camera.set_focal(focal, width);
