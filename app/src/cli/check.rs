@@ -1,10 +1,11 @@
 //! `raylab suite export` and `raylab check`: the hard-case suite as files, and the grading of
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
+use super::reproducers::reproducers;
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
 use anyhow::{anyhow, bail, Result};
-use raylab::check::grade::{self, Answer, Exact, Judged, Tally, Verdict};
+use raylab::check::grade::{self, Answer, Exact, Judged, Tally};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
@@ -461,62 +462,6 @@ pub(super) fn report<T: Real>(
         w!("{line}");
     }
     tally
-}
-
-/// The first `most` wrong answers and the first `most` t failures, each under a heading, as
-/// one-line reproducers.
-fn reproducers<T: Real>(
-    judged: &[Judged<T>],
-    exact: &Exact<T>,
-    answers: &[(usize, Answer<T>)],
-    place: &dyn Fn(usize) -> String,
-    answers_file: &str,
-    most: usize,
-) -> Vec<String> {
-    let mut lines = Vec::new();
-    let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
-    let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
-    for (heading, wanted) in [
-        ("wrong answers", &wrong as &dyn Fn(&Judged<T>) -> bool),
-        ("hits whose t is beyond the tolerance", &t_failed),
-    ] {
-        let count = judged.iter().filter(|j| wanted(j)).count();
-        if count == 0 {
-            continue;
-        }
-        lines.push(format!(
-            "the first of the {count} {heading} (ray, exact answer, the answer given):"
-        ));
-        let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
-        for (i, j) in shown.take(most) {
-            lines.push(reproducer(i, j, exact, answers, place, answers_file));
-        }
-    }
-    lines
-}
-
-/// One graded ray as a line: where the ray is, the ray, the exact answer and the one given.
-fn reproducer<T: Real>(
-    i: usize,
-    j: &Judged<T>,
-    exact: &Exact<T>,
-    answers: &[(usize, Answer<T>)],
-    place: &dyn Fn(usize) -> String,
-    answers_file: &str,
-) -> String {
-    let ray = exact.rays[i].1;
-    let what = match j.graded.verdict {
-        Verdict::Right | Verdict::Tie => format!("t off by {:.1e} relative", j.graded.relative),
-        v => v.name().to_string(),
-    };
-    format!(
-        "  {}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
-        place(i),
-        ray.line(),
-        j.exact.text(),
-        answers[i].0,
-        answers[i].1.text()
-    )
 }
 
 /// The last line of a run where some programs gave no answers.

@@ -27,6 +27,7 @@ mod check;
 mod check_image;
 mod grade;
 mod program;
+mod reproducers;
 mod template;
 mod trace;
 
