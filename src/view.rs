@@ -90,6 +90,14 @@ impl View {
     /// command"): every setting as a flag, numbers in shortest round-trip form, paths quoted
     /// for a POSIX shell where they need it.
     pub fn to_command(&self, out: &str) -> String {
+        let focal = self.camera.focal_ratio() * self.settings.width as f64;
+        self.to_command_at_focal(out, focal)
+    }
+
+    /// [`View::to_command`] with `--focal` given: the focal length the caller renders with,
+    /// where the view's field of view would give it back only within an ulp or so (its tan
+    /// and atan: 101.00000000000003 for 101).
+    pub fn to_command_at_focal(&self, out: &str, focal: f64) -> String {
         let c = &self.camera;
         let s = &self.settings;
         let p = c.position;
@@ -109,10 +117,7 @@ impl View {
         flag("camera", Some(format!("{},{},{}", p[0], p[1], p[2])));
         flag("yaw", Some(c.yaw.to_string()));
         flag("pitch", Some(c.pitch.to_string()));
-        flag(
-            "focal",
-            Some((c.focal_ratio() * s.width as f64).to_string()),
-        );
+        flag("focal", Some(focal.to_string()));
         if let Some(l) = self.light {
             flag("light", Some(format!("{},{},{}", l[0], l[1], l[2])));
         }

@@ -28,20 +28,6 @@ pub fn degrees(radians: f64) -> f64 {
         .unwrap_or(exact)
 }
 
-/// The library's `raylab render` line `command` with `focal` as its `--focal`: the library
-/// derives that flag from the view's field of view (through tan and atan), an ulp or so off
-/// the focal length the window renders with (101.00000000000003 for 101).
-pub fn with_focal(command: &str, focal: f64) -> String {
-    // (The last one: only numbers, the controls' names and the output file, `raylab.png`,
-    // follow it; the scene's path before it may hold anything.)
-    let flag = " --focal=";
-    let Some(at) = command.rfind(flag).map(|i| i + flag.len()) else {
-        return command.to_string();
-    };
-    let end = command[at..].find(' ').map_or(command.len(), |i| at + i);
-    format!("{}{focal}{}", &command[..at], &command[end..])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,16 +51,5 @@ mod tests {
         for r in [0.1234567, -2.5, 1e-9, std::f64::consts::PI] {
             assert_eq!(degrees(r).to_radians(), r, "{r}");
         }
-    }
-
-    #[test]
-    fn the_focal_flag_is_replaced_and_nothing_else() {
-        let command = "raylab render --scene='a --focal=3.obj' --yaw=0 --focal=100.00000000000001 \
-                       --width=794 --spp=2 -o raylab.png";
-        assert_eq!(
-            with_focal(command, 100.0),
-            "raylab render --scene='a --focal=3.obj' --yaw=0 --focal=100 --width=794 --spp=2 \
-             -o raylab.png"
-        );
     }
 }

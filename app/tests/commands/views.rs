@@ -88,6 +88,14 @@ fn a_views_command_line_renders_the_view_through_a_shell() {
         command.contains("'") && command.contains("--yaw=-12.5"),
         "{command}"
     );
+    // With its focal length given (the window's own), that flag alone differs.
+    let without_focal = |c: &str| -> String {
+        let words = c.split(' ').filter(|w| !w.starts_with("--focal="));
+        words.collect()
+    };
+    let given = view.to_command_at_focal("from command.png", 62.5);
+    assert!(given.contains(" --focal=62.5 "), "{given}");
+    assert_eq!(without_focal(&given), without_focal(&command));
     let o = common::run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
     assert!(o.status.success(), "{command}\n{}", stderr(&o));
     let view_file = write(dir.path(), "v.view", &view_text);

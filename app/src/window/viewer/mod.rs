@@ -599,7 +599,7 @@ impl Viewer {
     pub fn copy_command(&mut self) {
         let view = self.view();
         let focal = self.focal(view.settings.width);
-        let command = values::with_focal(&view.to_command("raylab.png"), focal);
+        let command = view.to_command_at_focal("raylab.png", focal);
         self.set_status(format!("copied to the clipboard: {command}"));
         self.copy_request = Some(command);
     }
