@@ -139,18 +139,14 @@ impl Bvh {
     /// mesh; a good part of n where the triangles' boxes overlap throughout (a soup of long
     /// triangles), which a flat loop then tests faster.
     pub(crate) fn expected_tests(&self) -> f64 {
-        let area = |b: Aabb| {
-            let e = [0, 1, 2].map(|k| (b.hi[k] - b.lo[k]).max(0.0) as f64);
-            e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
-        };
-        let root = area(self.bounds);
+        let root = self.bounds.half_area();
         if self.wide.is_empty() || root <= 0.0 {
             return self.tris.len() as f64;
         }
         let leaves = (self.wide.iter()).flat_map(|n| {
             (0..node::WIDTH)
                 .filter(|&c| n.child[c] != node::NONE && n.child[c] & node::LEAF != 0)
-                .map(|c| area(n.bounds(c)) * node::leaf_range(n.child[c]).1 as f64)
+                .map(|c| n.bounds(c).half_area() * node::leaf_range(n.child[c]).1 as f64)
         });
         leaves.sum::<f64>() / root
     }
