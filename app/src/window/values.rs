@@ -12,20 +12,21 @@ pub fn clean(x: f64) -> f64 {
         return x;
     }
     let near = 4.0 * f64::EPSILON * x.abs();
-    (1..=15)
-        .filter_map(|digits| format!("{x:.*e}", digits - 1).parse::<f64>().ok())
-        .find(|d| (d - x).abs() <= near)
-        .unwrap_or(x)
+    shortest(x, 15, |d| (d - x).abs() <= near).unwrap_or(x)
 }
 
 /// `radians` in degrees, as the shortest decimal whose `to_radians` is `radians` again: the
 /// command line and a view file read degrees back that way.
 pub fn degrees(radians: f64) -> f64 {
     let exact = radians.to_degrees();
-    (1..=17)
-        .filter_map(|digits| format!("{exact:.*e}", digits - 1).parse::<f64>().ok())
-        .find(|d| d.to_radians() == radians)
-        .unwrap_or(exact)
+    shortest(exact, 17, |d| d.to_radians() == radians).unwrap_or(exact)
+}
+
+/// The shortest decimal form of `x`, of 1 to `most` significant digits, that `keeps`.
+fn shortest(x: f64, most: usize, keeps: impl Fn(f64) -> bool) -> Option<f64> {
+    (1..=most)
+        .filter_map(|digits| format!("{x:.*e}", digits - 1).parse::<f64>().ok())
+        .find(|&d| keeps(d))
 }
 
 #[cfg(test)]
