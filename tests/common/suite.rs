@@ -175,23 +175,6 @@ impl Dyadic {
         (a, b, e)
     }
 
-    fn add(&self, other: &Dyadic) -> Dyadic {
-        let (a, b, e) = self.aligned(other);
-        Dyadic { m: a + b, e }
-    }
-
-    fn sub(&self, other: &Dyadic) -> Dyadic {
-        let (a, b, e) = self.aligned(other);
-        Dyadic { m: a - b, e }
-    }
-
-    fn mul(&self, other: &Dyadic) -> Dyadic {
-        Dyadic {
-            m: &self.m * &other.m,
-            e: self.e + other.e,
-        }
-    }
-
     fn is_zero(&self) -> bool {
         self.m.is_zero()
     }
@@ -226,31 +209,68 @@ impl Dyadic {
     }
 }
 
-fn dsub(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> [Dyadic; 3] {
-    [a[0].sub(&b[0]), a[1].sub(&b[1]), a[2].sub(&b[2])]
-}
-fn dcross(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> [Dyadic; 3] {
-    [
-        a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
-        a[2].mul(&b[0]).sub(&a[0].mul(&b[2])),
-        a[0].mul(&b[1]).sub(&a[1].mul(&b[0])),
-    ]
-}
-fn ddot(a: &[Dyadic; 3], b: &[Dyadic; 3]) -> Dyadic {
-    a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
+/// Sums, differences and products of dyadics, exact: as `&Q`'s, so [`sub`], [`cross`] and
+/// [`dot`] serve both.
+impl std::ops::Add<&Dyadic> for &Dyadic {
+    type Output = Dyadic;
+    fn add(self, other: &Dyadic) -> Dyadic {
+        let (a, b, e) = self.aligned(other);
+        Dyadic { m: a + b, e }
+    }
 }
 
-pub fn sub(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
+impl std::ops::Sub<&Dyadic> for &Dyadic {
+    type Output = Dyadic;
+    fn sub(self, other: &Dyadic) -> Dyadic {
+        let (a, b, e) = self.aligned(other);
+        Dyadic { m: a - b, e }
+    }
+}
+
+impl std::ops::Mul<&Dyadic> for &Dyadic {
+    type Output = Dyadic;
+    fn mul(self, other: &Dyadic) -> Dyadic {
+        Dyadic {
+            m: &self.m * &other.m,
+            e: self.e + other.e,
+        }
+    }
+}
+
+impl std::ops::Add for Dyadic {
+    type Output = Dyadic;
+    fn add(self, other: Dyadic) -> Dyadic {
+        &self + &other
+    }
+}
+
+impl std::ops::Sub for Dyadic {
+    type Output = Dyadic;
+    fn sub(self, other: Dyadic) -> Dyadic {
+        &self - &other
+    }
+}
+
+pub fn sub<N>(a: &[N; 3], b: &[N; 3]) -> [N; 3]
+where
+    for<'x> &'x N: std::ops::Sub<&'x N, Output = N>,
+{
     [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
 }
-pub fn cross(a: &[Q; 3], b: &[Q; 3]) -> [Q; 3] {
+pub fn cross<N: std::ops::Sub<Output = N>>(a: &[N; 3], b: &[N; 3]) -> [N; 3]
+where
+    for<'x> &'x N: std::ops::Mul<&'x N, Output = N>,
+{
     [
         &a[1] * &b[2] - &a[2] * &b[1],
         &a[2] * &b[0] - &a[0] * &b[2],
         &a[0] * &b[1] - &a[1] * &b[0],
     ]
 }
-pub fn dot(a: &[Q; 3], b: &[Q; 3]) -> Q {
+pub fn dot<N: std::ops::Add<Output = N>>(a: &[N; 3], b: &[N; 3]) -> N
+where
+    for<'x> &'x N: std::ops::Mul<&'x N, Output = N>,
+{
     &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
 }
 
@@ -259,34 +279,34 @@ fn exact_t<T: Real>(shape: &Shape<T>, o: &[Dyadic; 3], d: &[Dyadic; 3], tmin: &Q
     match shape {
         Shape::Triangle(Triangle(v)) => {
             let v = v.map(|p| p.map(Dyadic::of));
-            let e1 = dsub(&v[1], &v[0]);
-            let e2 = dsub(&v[2], &v[0]);
-            let p = dcross(d, &e2);
-            let det = ddot(&e1, &p);
+            let e1 = sub(&v[1], &v[0]);
+            let e2 = sub(&v[2], &v[0]);
+            let p = cross(d, &e2);
+            let det = dot(&e1, &p);
             if det.is_zero() {
                 return None; // in the plane or degenerate: a miss by convention
             }
-            let s0 = dsub(o, &v[0]);
-            let qv = dcross(&s0, &e1);
+            let s0 = sub(o, &v[0]);
+            let qv = cross(&s0, &e1);
             // b1 = n1 / det and b2 = n2 / det: inside where both are ≥ 0 and 1 − b1 − b2 =
             // (det − n1 − n2) / det is too, each a numerator of det's sign or zero.
-            let (n1, n2) = (ddot(&s0, &p), ddot(d, &qv));
+            let (n1, n2) = (dot(&s0, &p), dot(d, &qv));
             let at_least_0 = |n: &Dyadic| n.is_zero() || n.is_negative() == det.is_negative();
-            let rest = det.sub(&n1.add(&n2));
+            let rest = &det - &(&n1 + &n2);
             let inside = at_least_0(&n1) && at_least_0(&n2) && at_least_0(&rest);
             if !inside {
                 return None;
             }
-            let t = ddot(&e2, &qv).to_q() / det.to_q();
+            let t = dot(&e2, &qv).to_q() / det.to_q();
             (&t > tmin).then_some(RefT::Exact(t))
         }
         Shape::Sphere(Sphere { centre, radius }) => {
-            let f = dsub(o, &centre.map(Dyadic::of));
+            let f = sub(o, &centre.map(Dyadic::of));
             let r = Dyadic::of(*radius);
-            let a = ddot(d, d);
-            let b = ddot(&f, d);
-            let c = ddot(&f, &f).sub(&r.mul(&r));
-            let disc = b.mul(&b).sub(&a.mul(&c));
+            let a = dot(d, d);
+            let b = dot(&f, d);
+            let c = dot(&f, &f) - &r * &r;
+            let disc = &b * &b - &a * &c;
             if disc.is_negative() {
                 return None;
             }
