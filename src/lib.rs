@@ -1,6 +1,6 @@
 //! raylab: a teaching-grade CPU raycaster built from the raytracing lecture's lab.
 //!
-//! This crate is the renderer core. It never imports winit, egui or pixels (it does not depend
+//! This crate is the renderer core. It never imports winit, egui or wgpu (it does not depend
 //! on them): the command line and the window (the `raylab-app` package in app/) are a thin
 //! layer over it, and everything the window shows can be rendered headless to PNG.
 //!

@@ -254,10 +254,13 @@ pub fn run_window_on(
             break s;
         }
         if start.elapsed() > Duration::from_secs(300) {
-            // Its whole process group: xvfb-run, Xvfb, the app and the driver.
+            // What was still running (which of the app, the driver's commands) and what the
+            // app logged, then its whole process group: xvfb-run, Xvfb, the app and the driver.
+            let running = processes_in_group(child.id());
+            let log = std::fs::read_to_string(dir.join("app.log")).unwrap_or_default();
             let group = format!("-{}", child.id());
             let _ = Command::new("kill").args(["-KILL", "--", &group]).status();
-            panic!("the window run hung for 300 s");
+            panic!("the window run hung for 300 s\nstill running:\n{running}\napp log:\n{log}");
         }
         std::thread::sleep(Duration::from_millis(100));
     };
@@ -298,6 +301,20 @@ pub fn run_window_on(
         stdout,
         stderr,
     })
+}
+
+/// The processes of process group `group`, one a line: pid, state, seconds running, command.
+fn processes_in_group(group: u32) -> String {
+    let out = Command::new("ps")
+        .args(["-e", "-o", "pgid=,pid=,stat=,etimes=,args="])
+        .output();
+    let text = out.map(|o| String::from_utf8_lossy(&o.stdout).into_owned());
+    let lines = text.unwrap_or_default();
+    let in_group = lines.lines().filter_map(|l| {
+        let (pgid, rest) = l.trim_start().split_once(' ')?;
+        (pgid.parse() == Ok(group)).then(|| rest.trim_start().to_string())
+    });
+    in_group.collect::<Vec<_>>().join("\n")
 }
 
 /// Renders `scene` headless from the run's final camera at the size the window showed (the

@@ -3,7 +3,7 @@
 //! and the egui-wgpu renderer), and turns a UI closure into a drawn frame. The viewer's state
 //! never sees egui-winit or wgpu.
 
-use super::gpu::{Capture, Gpu};
+use super::gpu::{Drawn, Gpu};
 use std::sync::Arc;
 use std::time::Duration;
 use winit::event::WindowEvent;
@@ -123,10 +123,10 @@ impl Framework {
         }
     }
 
-    /// Matches the surface to the window as it is now: a resize that lands after its
-    /// Resized event was handled leaves the surface outdated, and pixels 0.17 retries an
-    /// outdated surface at its old size forever (a hang seen under X11). `Ok(false)` where
-    /// the window is 0×0 or larger than the device's largest texture: nothing to draw.
+    /// Matches the surface to the window as it is now (a resize that lands after its Resized
+    /// event was handled leaves the surface out of date; one landing during the draw is the
+    /// draw's to catch). `Ok(false)` where the window is 0×0 or larger than the device's
+    /// largest texture: nothing to draw.
     pub fn fit_surface(&mut self, window: &Window) -> Result<bool, String> {
         let size = window.inner_size();
         let max = self.gpu.max_texture_side() as u32;
@@ -139,7 +139,7 @@ impl Framework {
 
     /// Draws a prepared frame (which includes the framebuffer image) to the window; with
     /// `capture`, reads it back too.
-    pub fn draw(&mut self, frame: &Prepared, capture: bool) -> Result<Option<Capture>, String> {
+    pub fn draw(&mut self, frame: &Prepared, capture: bool) -> Result<Drawn, String> {
         self.gpu.draw(
             &frame.paint_jobs,
             &frame.textures,

@@ -36,6 +36,7 @@ pub use framework::quiet_wayland_probe;
 
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;
+use gpu::Drawn;
 use input::Key;
 use raylab::check::LabCode;
 use raylab::controller::Mode;
@@ -227,6 +228,14 @@ impl App {
             self.outcome = Err(e);
         }
         event_loop.exit();
+    }
+
+    /// A scripted run's error once it has outlasted its limit.
+    fn check_run_time(&self) -> Result<()> {
+        match &self.scripted {
+            Some(run) => run.check_time(&self.viewer, self.frames_presented),
+            None => Ok(()),
+        }
     }
 
     fn request_redraw(&self) {
@@ -456,7 +465,7 @@ impl App {
             }
         }
         match fw.draw(&frame, capture) {
-            Ok(Some(shot)) => {
+            Ok(Drawn::Shown(Some(shot))) => {
                 let ppp = fw.pixels_per_point();
                 let r = self.image_rect.unwrap_or(egui::Rect::NOTHING);
                 let done = scripted::Final {
@@ -472,10 +481,15 @@ impl App {
                 }
                 return;
             }
-            Ok(None) => {}
+            Ok(Drawn::Shown(None) | Drawn::Hidden) => {}
+            Ok(Drawn::Skipped) => {
+                // (The window was being resized: its next frame is drawn at its new size.)
+                log::debug!("frame skipped: the surface was out of date");
+                window.request_redraw();
+                return;
+            }
             Err(e) => {
-                // A lost or failed surface: say so and draw again (pixels reconfigures a lost
-                // surface on its next frame); nothing was presented this time.
+                // A failed surface: say so and draw again; nothing was presented this time.
                 log::warn!("{e}");
                 self.viewer.set_status(e);
                 self.failed_draws += 1;
@@ -493,7 +507,7 @@ impl App {
             log::info!("first image on screen");
         }
 
-        if let Some(Err(e)) = self.scripted.as_ref().map(ScriptedRun::check_time) {
+        if let Err(e) = self.check_run_time() {
             self.fail(event_loop, e);
             return;
         }
@@ -736,11 +750,20 @@ impl ApplicationHandler<AppEvent> for App {
         // Sleep until something happens, or until the preview has settled and refinement can
         // start, or until the script's next event, or until egui wants to draw again (a
         // tooltip shows once the pointer has rested on its widget).
+        if let Err(e) = self.check_run_time() {
+            return self.fail(event_loop, e);
+        }
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
-        let wake = [self.viewer.refine_at(), script_at, self.egui_repaint_at]
-            .into_iter()
-            .flatten()
-            .min();
+        let deadline = self.scripted.as_ref().map(ScriptedRun::deadline);
+        let wake = [
+            self.viewer.refine_at(),
+            script_at,
+            self.egui_repaint_at,
+            deadline,
+        ]
+        .into_iter()
+        .flatten()
+        .min();
         let now = Instant::now();
         if self.viewer.refine_at().is_some_and(|t| t <= now) {
             self.viewer.refine_wakes += 1;

@@ -21,6 +21,9 @@
 //!   zero-size window)
 //! - `restore`: back from `resize 0 0` at the window's real size
 //! - `lose-surface`: the next draw fails as on a lost window surface
+//! - `resize-in-draw <w> <h>`: the window takes that inner size during the next draw, after
+//!   the draw read its size and before it asks the surface for a texture (the race of a
+//!   user's drag of the window's corner)
 //! - `fail-render`: the next render to finish fails (as a render error would)
 //! - `select <level>`: what clicking a push level in the panel's scene tree does (highlights
 //!   its primitives); `select none` clears it
@@ -69,6 +72,7 @@ pub enum Action {
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
+    ResizeInDraw(u32, u32),
     /// Make the next render to finish fail: the app must say so and not ask for it again
     /// until something changes.
     FailRender,
@@ -202,7 +206,7 @@ impl Script {
                     }
                     Action::Scale(s as f32)
                 }
-                Some("resize") => {
+                Some(name @ ("resize" | "resize-in-draw")) => {
                     want(4)?;
                     let side = |k: usize| {
                         num(k).and_then(|x| {
@@ -213,7 +217,11 @@ impl Script {
                             }
                         })
                     };
-                    Action::Resize(side(2)?, side(3)?)
+                    let size = (side(2)?, side(3)?);
+                    match name {
+                        "resize" => Action::Resize(size.0, size.1),
+                        _ => Action::ResizeInDraw(size.0, size.1),
+                    }
                 }
                 Some("restore") => {
                     want(2)?;
@@ -250,7 +258,7 @@ impl Script {
                 }
                 Some(other) => {
                     return Err(err(format!(
-                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, fail-render, select, inspect, await)"
+                        "unknown event '{other}' (key, mouse, wheel, set, step, drop, changed, focal, scale, resize, restore, lose-surface, resize-in-draw, fail-render, select, inspect, await)"
                     )))
                 }
                 None => return Err(err("missing event after the time".into())),
@@ -303,7 +311,7 @@ mod tests {
 
     #[test]
     fn parses_every_event_and_replays_in_time() {
-        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 fail-render\n400 select 2\n400 select none\n400 inspect 3 4\n";
+        let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 resize-in-draw 900 600\n400 fail-render\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
@@ -328,6 +336,7 @@ mod tests {
                 Action::Resize(0, 0),
                 Action::Restore,
                 Action::LoseSurface,
+                Action::ResizeInDraw(900, 600),
                 Action::FailRender,
                 Action::Select(Some(2)),
                 Action::Select(None),

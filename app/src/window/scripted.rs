@@ -69,22 +69,41 @@ impl ScriptedRun {
 
     /// Done once enough frames were shown, the script ran out and the image is fully refined.
     pub fn is_done(&self, viewer: &Viewer, frames_presented: u64) -> bool {
-        frames_presented >= self.frames
-            && !viewer.loading
-            && viewer.screenshots_pending == 0
-            && self.script.as_ref().is_none_or(|s| s.finished())
-            && !viewer.input.is_moving()
-            && viewer.is_idle()
-            && viewer.is_refined()
-            && viewer.cracks_settled()
+        self.waiting_for(viewer, frames_presented).is_empty()
     }
 
-    /// An error once the run has taken too long.
-    pub fn check_time(&self) -> Result<()> {
-        match self.started.elapsed() > TIMEOUT {
+    /// What the run still waits for before it can end (nothing: it is done).
+    fn waiting_for(&self, viewer: &Viewer, frames_presented: u64) -> Vec<&'static str> {
+        let script_left = self.script.as_ref().is_some_and(|s| !s.finished());
+        [
+            (frames_presented < self.frames, "frames shown"),
+            (viewer.loading, "a scene loading"),
+            (viewer.screenshots_pending > 0, "a screenshot"),
+            (script_left, "the script's events"),
+            (viewer.input.is_moving(), "the camera to stop"),
+            (!viewer.is_idle(), "a render"),
+            (!viewer.is_refined(), "refinement"),
+            (!viewer.cracks_settled(), "the cracks count"),
+        ]
+        .into_iter()
+        .filter_map(|(waiting, what)| waiting.then_some(what))
+        .collect()
+    }
+
+    /// When the run fails if it has not finished: the event loop wakes then whatever else
+    /// happens (a window that stopped drawing still ends its run).
+    pub fn deadline(&self) -> Instant {
+        self.started + TIMEOUT
+    }
+
+    /// An error, naming what the run still waits for, once the run has taken too long.
+    pub fn check_time(&self, viewer: &Viewer, frames_presented: u64) -> Result<()> {
+        match Instant::now() >= self.deadline() {
             true => Err(anyhow!(
-                "the scripted run did not finish within {} s",
-                TIMEOUT.as_secs()
+                "the scripted run did not finish within {} s (waiting for: {}; {} frames shown)",
+                TIMEOUT.as_secs(),
+                self.waiting_for(viewer, frames_presented).join(", "),
+                frames_presented,
             )),
             false => Ok(()),
         }
@@ -230,6 +249,12 @@ impl App {
                 Action::FailRender => viewer.fail_next_render = true,
                 // (Its file exists: the script goes on.)
                 Action::Await(_) => {}
+                Action::ResizeInDraw(w, h) => {
+                    if let Some(fw) = &mut self.framework {
+                        fw.gpu.resize_in_next_draw = Some(PhysicalSize::new(w, h));
+                    }
+                    self.request_redraw();
+                }
                 Action::LoseSurface => {
                     if let Some(fw) = &mut self.framework {
                         fw.gpu.lose_next_draw = true;
