@@ -529,9 +529,13 @@ pub fn layout(
     };
     let controls = egui::Id::new("controls");
     let kept = KeptWidth::before(ui, controls, PANEL_WIDTH);
+    // (Its edge dragged no further than leaves the image MIN_IMAGE_WIDTH; its rows still
+    // widen it to what they take.)
+    let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
     let drawn = egui::Panel::left(controls)
         .resizable(true)
         .default_size(PANEL_WIDTH)
+        .max_size(most.max(PANEL_WIDTH))
         .show(ui, |ui| {
             // (The menu bar stays in view however far the panel is scrolled.)
             egui::MenuBar::new().ui(ui, |ui| {

@@ -174,3 +174,36 @@ fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
     assert!(w >= 150 && rect[2] >= 150.0, "{w} {rect:?}\n{log}");
     assert!(camera.focal > 1.5 * w as f64, "{}\n{log}", camera.focal);
 }
+
+#[test]
+fn real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width() {
+    // The side panel's edge (at about x = 358 in the 1152x720 window) dragged to x = 1100:
+    // the panel followed it and left the image 52 points. It stops where the image keeps
+    // 200 points (MIN_IMAGE_WIDTH), and the panel is wider than it was: the drag took.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  edge=$(grep -o 'side panel [0-9.]*' \"$log\" | head -1 | cut -d' ' -f3); \
+                  x=$(printf '%.0f' \"$edge\"); xdotool mousemove --sync $((x + 1)) 400; \
+                  sleep 0.3; xdotool mousedown 1; sleep 0.2; xdotool mousemove 700 400; \
+                  sleep 0.2; xdotool mousemove 1100 400; sleep 0.2; xdotool mousemove 1101 400; \
+                  sleep 0.3; xdotool mouseup 1; sleep 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let panel = run.nums("panel_width")[0];
+    let (_, _, _, rect) = run.camera();
+    println!("the panel {panel} points wide, the image at {rect:?}");
+    assert!(
+        panel > 500.0,
+        "the drag did not widen the panel: {panel}\n{log}"
+    );
+    assert!(
+        (rect[2] - 200.0).abs() < 2.0 && rect[0] + rect[2] <= 1152.5,
+        "the image is {} wide at {}\n{log}",
+        rect[2],
+        rect[0]
+    );
+}
