@@ -6,9 +6,9 @@
 //! `Rgba8Unorm` holding our sRGB-encoded bytes, which is what egui expects of its textures.
 //!
 //! The surface is wgpu's own: a frame whose surface went out of date (the window was resized
-//! between reading its size and drawing: X11's Vulkan drivers then refuse every frame of the old
-//! size) is configured at the window's size now and tried once more, else skipped and drawn
-//! again. (`pixels` 0.17, used before, retried at the size it had cached, forever: the window
+//! between reading its size and drawing: X11's Vulkan drivers then answer every texture of the
+//! old size as suboptimal or out of date) is configured at the window's size now and tried once
+//! more, else skipped and drawn again. (`pixels` 0.17, used before, retried at the size it had cached, forever: the window
 //! froze during a resize.)
 
 use egui_wgpu::{Renderer, RendererOptions, ScreenDescriptor};
@@ -89,8 +89,9 @@ impl Gpu {
         let config = wgpu::SurfaceConfiguration {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
             format,
-            width: surface.0,
-            height: surface.1,
+            // (wgpu refuses a 0×0 surface: a window minimised from the start.)
+            width: surface.0.max(1),
+            height: surface.1.max(1),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode: wgpu::CompositeAlphaMode::Auto,
