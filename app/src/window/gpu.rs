@@ -8,8 +8,8 @@
 //! The surface is wgpu's own: a frame whose surface went out of date (the window was resized
 //! between reading its size and drawing: X11's Vulkan drivers then answer every texture of the
 //! old size as suboptimal or out of date) is configured at the window's size now and tried once
-//! more, else skipped and drawn again. (`pixels` 0.17, used before, retried at the size it had cached, forever: the window
-//! froze during a resize.)
+//! more, else skipped and drawn again. (`pixels` 0.17, used before, retried at the size it had
+//! cached, forever: the window froze during a resize.)
 
 use egui_wgpu::{Renderer, RendererOptions, ScreenDescriptor};
 use std::sync::Arc;
@@ -271,20 +271,8 @@ impl Gpu {
         let target = (frame.texture).create_view(&wgpu::TextureViewDescriptor::default());
         egui_pass(renderer, &mut encoder, &target, paint_jobs, &screen);
         let readback = capture.then(|| {
-            let tex = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("raylab capture"),
-                size: wgpu::Extent3d {
-                    width: sw,
-                    height: sh,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let tex = texture(device, "raylab capture", (sw, sh), format, usage);
             let view = tex.create_view(&wgpu::TextureViewDescriptor::default());
             egui_pass(renderer, &mut encoder, &view, paint_jobs, &screen);
             let row = (sw * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
@@ -377,9 +365,22 @@ async fn open_device(
 }
 
 /// The framebuffer texture: sampled by egui, written from the CPU.
-fn framebuffer(device: &wgpu::Device, (width, height): (u32, u32)) -> wgpu::Texture {
+fn framebuffer(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    texture(device, "raylab framebuffer", size, format, usage)
+}
+
+/// A plain 2D texture of `width`×`height`, one mip level, one sample.
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("raylab framebuffer"),
+        label: Some(label),
         size: wgpu::Extent3d {
             width,
             height,
@@ -388,8 +389,8 @@ fn framebuffer(device: &wgpu::Device, (width, height): (u32, u32)) -> wgpu::Text
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        format,
+        usage,
         view_formats: &[],
     })
 }

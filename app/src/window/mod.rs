@@ -230,14 +230,6 @@ impl App {
         event_loop.exit();
     }
 
-    /// A scripted run's error once it has outlasted its limit.
-    fn check_run_time(&self) -> Result<()> {
-        match &self.scripted {
-            Some(run) => run.check_time(&self.viewer, self.frames_presented),
-            None => Ok(()),
-        }
-    }
-
     fn request_redraw(&self) {
         if let Some(w) = &self.window {
             w.request_redraw();
@@ -484,7 +476,7 @@ impl App {
             Ok(Drawn::Shown(None) | Drawn::Hidden) => {}
             Ok(Drawn::Skipped) => {
                 // (The window was being resized: its next frame is drawn at its new size.)
-                log::debug!("frame skipped: the surface was out of date");
+                log::debug!("frame skipped: the surface did not fit the window");
                 window.request_redraw();
                 return;
             }
@@ -507,10 +499,6 @@ impl App {
             log::info!("first image on screen");
         }
 
-        if let Err(e) = self.check_run_time() {
-            self.fail(event_loop, e);
-            return;
-        }
         self.viewer.pump();
         let repaint_now = frame.repaint_delay.is_zero();
         // egui animations (tooltips, collapsing) ask for a repaint a little later.
@@ -747,12 +735,16 @@ impl ApplicationHandler<AppEvent> for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         self.viewer.pump();
-        // Sleep until something happens, or until the preview has settled and refinement can
-        // start, or until the script's next event, or until egui wants to draw again (a
-        // tooltip shows once the pointer has rested on its widget).
-        if let Err(e) = self.check_run_time() {
+        // A scripted run past its limit ends here, drawing or not.
+        let scripted = self.scripted.as_ref();
+        let late = scripted.map(|run| run.check_time(&self.viewer, self.frames_presented));
+        if let Some(Err(e)) = late {
             return self.fail(event_loop, e);
         }
+        // Sleep until something happens, or until the preview has settled and refinement can
+        // start, or until the script's next event, or until egui wants to draw again (a
+        // tooltip shows once the pointer has rested on its widget), or until a scripted run's
+        // limit.
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
         let deadline = self.scripted.as_ref().map(ScriptedRun::deadline);
         let wake = [

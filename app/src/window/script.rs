@@ -72,6 +72,8 @@ pub enum Action {
     /// Make the next draw fail as a lost window surface does (wgpu's `SurfaceError::Lost`
     /// cannot be provoked under a CPU Vulkan driver): the app must report it and draw again.
     LoseSurface,
+    /// Resize the window inside the next draw, after it read the window's size: the surface
+    /// is then stale when a texture is asked of it, and the draw must recover.
     ResizeInDraw(u32, u32),
     /// Make the next render to finish fail: the app must say so and not ask for it again
     /// until something changes.

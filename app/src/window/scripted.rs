@@ -90,8 +90,8 @@ impl ScriptedRun {
         .collect()
     }
 
-    /// When the run fails if it has not finished: the event loop wakes then whatever else
-    /// happens (a window that stopped drawing still ends its run).
+    /// When the run fails if it has not finished: the event loop wakes then, drawing or not
+    /// (a window that stopped drawing still ends its run).
     pub fn deadline(&self) -> Instant {
         self.started + TIMEOUT
     }
