@@ -104,6 +104,9 @@ pub enum Around<'a> {
     /// finished (and 0.3 s more, for its last events to reach the app), the file
     /// `driver-done` appears there: a script's `await driver-done` holds the run that long.
     RealInput(&'a str),
+    /// [`Around::RealInput`] for a driver whose checks rest on timing: no other window runs
+    /// beside it ([`window_alone`]).
+    RealInputAlone(&'a str),
     /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
     RealInputOn(&'a str, &'a std::path::Path),
     /// Nothing beside the app, which starts with these arguments.
@@ -128,14 +131,72 @@ pub const FIND_WINDOW: &str =
 /// The screen of the runs' X server where a test names no other: a common laptop's.
 pub const SCREEN: (u32, u32) = (1280, 800);
 
-/// One window at a time: a test drives its window with timed real input, which several
-/// software-rendered windows at once on two cores can outrun.
-static ONE_WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+/// How many windows run at once: two, each on its own X server. A run's driver waits for what
+/// the app logs, not for fixed times, so a second window beside it slows it down without
+/// changing what it sees; a test whose checks do rest on timing takes [`window_alone`].
+pub const WINDOWS_AT_ONCE: usize = 2;
 
-/// Holds the one-window lock: for a test that starts its window itself (xvfb-run runs beside
-/// another test's may collide over the display or its temporary directory).
-pub fn one_window() -> std::sync::MutexGuard<'static, ()> {
-    ONE_WINDOW.lock().unwrap_or_else(|e| e.into_inner())
+/// Which of the [`WINDOWS_AT_ONCE`] slots are taken.
+static SLOTS: std::sync::Mutex<[bool; WINDOWS_AT_ONCE]> =
+    std::sync::Mutex::new([false; WINDOWS_AT_ONCE]);
+static SLOT_FREED: std::sync::Condvar = std::sync::Condvar::new();
+
+/// A test's hold on the window slots (one, or all of them), given back when dropped. Each slot
+/// has X server numbers of its own, so two runs never race for one.
+pub struct WindowSlot {
+    taken: Vec<usize>,
+}
+
+/// Holds one window slot: for a test that starts its window itself.
+pub fn one_window() -> WindowSlot {
+    take_slots(1)
+}
+
+/// Holds every window slot: for a test whose checks rest on timing (how long a key was held,
+/// how quickly clicks follow each other), which another window's load could upset.
+pub fn window_alone() -> WindowSlot {
+    take_slots(WINDOWS_AT_ONCE)
+}
+
+fn take_slots(n: usize) -> WindowSlot {
+    let mut slots = SLOTS.lock().unwrap_or_else(|e| e.into_inner());
+    loop {
+        let free: Vec<usize> = (0..WINDOWS_AT_ONCE).filter(|&i| !slots[i]).collect();
+        if free.len() >= n {
+            let taken = free[..n].to_vec();
+            for &i in &taken {
+                slots[i] = true;
+            }
+            return WindowSlot { taken };
+        }
+        slots = SLOT_FREED.wait(slots).unwrap_or_else(|e| e.into_inner());
+    }
+}
+
+impl WindowSlot {
+    /// `xvfb-run` on an X server of this slot's own.
+    pub fn xvfb_run(&self) -> Command {
+        let mut command = Command::new("xvfb-run");
+        command.args(self.server_args());
+        command
+    }
+
+    /// `xvfb-run`'s arguments for a server number of this slot's own: from 100 + 20 × slot up
+    /// (`-a` skips one left in use).
+    pub fn server_args(&self) -> [String; 3] {
+        let first = 100 + 20 * self.taken[0];
+        ["-a".into(), "-n".into(), first.to_string()]
+    }
+}
+
+impl Drop for WindowSlot {
+    fn drop(&mut self) {
+        let mut slots = SLOTS.lock().unwrap_or_else(|e| e.into_inner());
+        for &i in &self.taken {
+            slots[i] = false;
+        }
+        SLOT_FREED.notify_all();
+    }
 }
 
 /// Runs the window binary `exe` under Xvfb with `script` and something running beside it
@@ -160,9 +221,12 @@ pub fn run_window_on(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    let _one = one_window();
+    let slot = match around {
+        Around::RealInputAlone(..) => window_alone(),
+        _ => one_window(),
+    };
     let (driver, model) = match around {
-        Around::RealInput(d) => (Some(d), None),
+        Around::RealInput(d) | Around::RealInputAlone(d) => (Some(d), None),
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
         _ => (None, None),
     };
@@ -191,9 +255,9 @@ pub fn run_window_on(
     let script_path = dir.join("script.txt");
     std::fs::write(&script_path, script).unwrap();
     let shot_path = dir.join("shot.png");
-    let mut command = Command::new("xvfb-run");
+    let mut command = slot.xvfb_run();
     let screen_arg = format!("-screen 0 {}x{}x24", screen.0, screen.1);
-    command.args(["-a", "-s", &screen_arg]);
+    command.args(["-s", &screen_arg]);
     if let Some((at_ms, dpi)) = dpi_change {
         let conf = dir.join("xsettings.conf");
         std::fs::write(&conf, "Xft/DPI 98304\n").unwrap();

@@ -303,9 +303,9 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
     let link = dir.path().join("shot.png");
     std::os::unix::fs::symlink(&model, &link).unwrap();
     for shot in [&model, &link] {
-        let _one = common::window::one_window();
-        let o = Command::new("xvfb-run")
-            .args(["-a", "-s", "-screen 0 1280x800x24"])
+        let o = common::window::one_window()
+            .xvfb_run()
+            .args(["-s", "-screen 0 1280x800x24"])
             .arg(env!("CARGO_BIN_EXE_raylab"))
             .arg(&model)
             .args(["--frames", "3", "--screenshot"])
@@ -342,9 +342,9 @@ fn the_window_opens_cornell_by_name_as_the_command_line_does() {
     }
     let dir = tempfile::tempdir().unwrap();
     let shot = dir.path().join("shot.png");
-    let _one = common::window::one_window();
-    let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
+    let o = common::window::one_window()
+        .xvfb_run()
+        .args(["-s", "-screen 0 1280x800x24"])
         .arg(env!("CARGO_BIN_EXE_raylab"))
         .args(["cornell", "--frames", "2", "--screenshot"])
         .arg(&shot)

@@ -6,7 +6,8 @@
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 use crate::common;
 
-use common::window::{compare, run_window_with, Around, FIND_WINDOW, LOGGED};
+use common::window::{compare, one_window, run_window_with, window_alone, Around, WindowSlot};
+use common::window::{FIND_WINDOW, LOGGED};
 use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
 use raylab::geometry::Method;
@@ -515,9 +516,13 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
 /// app in `$app`, its log in `$log`, [`LOGGED`]) once its first image is on screen, then
 /// saves the view (F5) and quits (Esc, Esc). The saved view's text and the log; None (after
 /// saying so) where Xvfb or xdotool is missing. The screen as drawn is the file `$screen`
-/// (Xvfb's framebuffer, an XWD image), which the driver can copy ([`read_xwd`]).
-fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, String)> {
-    let _one = common::window::one_window();
+/// (Xvfb's framebuffer, an XWD image), which the driver can copy ([`read_xwd`]). The run
+/// holds `slot` (`window_alone()` where the driver's checks rest on timing).
+fn run_idle_window(
+    dir: &std::path::Path,
+    driver: &str,
+    slot: WindowSlot,
+) -> Option<(String, String)> {
     if !common::tool_for("xdotool", "xdotool", "the idle window test")
         || !common::tool_for(
             "xvfb-run",
@@ -536,7 +541,9 @@ fn run_idle_window(dir: &std::path::Path, driver: &str) -> Option<(String, Strin
          kill $app 2>/dev/null; wait $app"
     );
     let out = std::process::Command::new("timeout")
-        .args(["300", "xvfb-run", "-a", "-s"])
+        .args(["300", "xvfb-run"])
+        .args(slot.server_args())
+        .arg("-s")
         .arg(format!("-screen 0 1280x800x24 -fbdir {}", dir.display()))
         .args(["sh", "-c", &wrapper, "sh", RAYLAB])
         .env("RUST_LOG", "raylab=info")
@@ -571,7 +578,8 @@ fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
                   xdotool keydown w; sleep 0.05; xdotool keyup w; sleep 0.1; \
                   xdotool keyup shift; sleep 2; \
                   xdotool keydown Left; sleep 0.05; xdotool keyup Left";
-    let Some((view, log)) = run_idle_window(dir.path(), driver) else {
+    let alone = window_alone();
+    let Some((view, log)) = run_idle_window(dir.path(), driver, alone) else {
         return;
     };
     // camera x y z yaw Y pitch P
@@ -626,7 +634,7 @@ fn real_x_input_a_tooltip_shows_while_the_pointer_rests() {
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 650; \
                   sleep 1.5; cp \"$screen\" before.xwd; xdotool mousemove --sync 184 306; \
                   sleep 2; cp \"$screen\" after.xwd";
-    let Some((_, log)) = run_idle_window(dir.path(), driver) else {
+    let Some((_, log)) = run_idle_window(dir.path(), driver, one_window()) else {
         return;
     };
     let (w, _, before) = read_xwd(&dir.path().join("before.xwd"));
@@ -701,7 +709,7 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
                   idle && echo idle > idle.txt; \
                   grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
                   grep -c 'points wide' app.log > widths-after.txt";
-    let Some((view, log)) = run_idle_window(dir.path(), driver) else {
+    let Some((view, log)) = run_idle_window(dir.path(), driver, one_window()) else {
         return;
     };
     let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap_or_default();
