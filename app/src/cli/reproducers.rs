@@ -47,7 +47,12 @@ fn reproducer<T: Real>(
 ) -> String {
     let ray = exact.rays[i].1;
     let what = match j.graded.verdict {
-        Verdict::Right | Verdict::Tie => format!("t off by {:.1e} relative", j.graded.relative),
+        // What the tolerance judges: the point's distance, not t's own relative error (t 4x
+        // too small can put the point 0.27 of the scale off).
+        Verdict::Right | Verdict::Tie => format!(
+            "t failure: o + t·d off by {:.1e} of |o| + |t·d| + extent",
+            j.graded.relative
+        ),
         v => v.name().to_string(),
     };
     format!(

@@ -77,7 +77,10 @@ fn check_grades_every_kind_of_answer() {
                 && out.contains("[wrong primitive]"),
             "{out}"
         );
-        assert!(out.contains("[t off by 2.5e-6 relative]"), "{out}");
+        assert!(
+            out.contains("[t failure: o + t·d off by 2.5e-6 of |o| + |t·d| + extent]"),
+            "{out}"
+        );
     }
     // The right answers everywhere pass, ties included.
     let right =
@@ -270,7 +273,7 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
     assert!(out.contains("t tolerance 1e-6"), "{out}");
     assert!(
         out.contains("rays.txt:8 (ray 7): 0 0 0 0 0 1 0 inf  exact: hit 2 0")
-            && out.contains("[t off by 2.5e-6 relative]"),
+            && out.contains("[t failure: o + t·d off by 2.5e-6 of |o| + |t·d| + extent]"),
         "{out}"
     );
     let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", "1e-5"]);
