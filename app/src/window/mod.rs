@@ -1,5 +1,5 @@
 //! The window shell: a winit event loop over the core. Only this module imports winit, egui
-//! and pixels. Three parts, as in the pixels crate's `minimal-egui` example:
+//! and wgpu. Three parts, as in the pixels crate's `minimal-egui` example:
 //! - [`framework`] (with [`gpu`]): egui, egui-winit and egui-wgpu state and the GPU draw;
 //! - [`viewer`]: the viewer's state: camera controller, settings, render worker, refinement;
 //! - [`scripted`]: the driver of scripted runs (`--frames`, `--script`).
