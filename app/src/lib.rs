@@ -5,6 +5,15 @@
 
 pub mod window;
 
+/// Logs to stderr at `RUST_LOG`'s levels, warnings where it is not set. egui-wgpu's warning
+/// that the window draws to an sRGB surface is left out then: the surface is sRGB on purpose
+/// (egui's colours blended in linear light, the image shown as rendered), and a student would
+/// read it as something to fix.
+pub fn init_logging() {
+    let env = env_logger::Env::default().default_filter_or("warn,egui_wgpu::renderer=error");
+    env_logger::Builder::from_env(env).init();
+}
+
 /// An error and its causes as one line, each said once: an error whose message already ends
 /// with its cause's (`path: No such file or directory (os error 2)`, where the cause is the OS
 /// error) is not followed by that cause again. Control characters other than line breaks

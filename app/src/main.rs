@@ -7,7 +7,7 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    raylab_app::init_logging();
     let args = cli::Cli::parse();
     if args.command.is_none() {
         // The window: before any thread starts (it may set an environment variable).

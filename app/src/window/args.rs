@@ -63,8 +63,7 @@ pub fn main_with_code(code: Arc<dyn LabCode>) -> ExitCode {
         #[command(flatten)]
         window: WindowArgs,
     }
-    let env = env_logger::Env::default().default_filter_or("warn");
-    env_logger::Builder::from_env(env).init();
+    crate::init_logging();
     let cli = <Cli as clap::Parser>::parse();
     // (Before any thread starts: it may set an environment variable.)
     super::quiet_wayland_probe();
