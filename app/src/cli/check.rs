@@ -100,6 +100,10 @@ pub struct CheckArgs {
         conflicts_with_all = ["rays", "image"]
     )]
     pub family: Option<String>,
+    /// How many of the first wrong answers and of the first t failures to print, each ray a
+    /// line to reproduce it by (default 3 under each failing family of a suite, 5 otherwise).
+    #[arg(long, value_name = "N")]
+    pub show: Option<usize>,
     /// The scene and, with --image, the view.
     #[command(
         flatten,
@@ -268,6 +272,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 budget: Budget::new(args.budget, args.timeout)?,
                 precision: name,
                 tolerance,
+                show: args.show.unwrap_or(SUITE_REPRODUCERS),
             };
             check_suite(dir, args.family.as_deref(), &run, exact_of)
         }
@@ -316,7 +321,8 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             let (answers_file, answers) = answers;
             let judged = judge_all(&exact, &answers, tolerance);
             let place = |i: usize| ray_place(rays, &exact, i);
-            let tally = report(&mut out, &judged, &exact, &answers, &place, &answers_file);
+            let show = args.show.unwrap_or(REPRODUCERS);
+            let tally = report(&mut out, &judged, &exact, &answers, &place, &answers_file, show);
             say!("{out}{}", tally.line());
             Ok(tally.passed())
         }
@@ -420,6 +426,7 @@ pub(super) fn report<T: Real>(
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
     answers_file: &str,
+    show: usize,
 ) -> Tally {
     use std::fmt::Write;
     // Writing to a String cannot fail.
@@ -458,7 +465,7 @@ pub(super) fn report<T: Real>(
         tally.t_within_tolerance,
         tally.t_beyond
     );
-    for line in reproducers(judged, exact, answers, place, answers_file, 5) {
+    for line in reproducers(judged, exact, answers, place, answers_file, show) {
         w!("{line}");
     }
     tally
@@ -477,10 +484,15 @@ struct SuiteRun<'a> {
     budget: Budget,
     precision: &'a str,
     tolerance: f64,
+    /// The reproducers shown under each failing family (--show).
+    show: usize,
 }
 
-/// The reproducers shown under each failing family of a suite.
+/// The reproducers shown under each failing family of a suite where --show is not given.
 const SUITE_REPRODUCERS: usize = 3;
+
+/// The reproducers shown of one answer file, program run or image where --show is not given.
+pub(super) const REPRODUCERS: usize = 5;
 
 /// Runs the program on every family of an exported suite (or on `only`): one row per family,
 /// the first reproducers under each failing one, and a total.
@@ -532,14 +544,8 @@ fn check_suite<T: Real>(
                 say!("{}", tally.row(&name, ms));
                 if !tally.passed() {
                     let place = |i: usize| ray_place(&rays, &exact, i);
-                    let lines = reproducers(
-                        &judged,
-                        &exact,
-                        &answers,
-                        &place,
-                        "its output",
-                        SUITE_REPRODUCERS,
-                    );
+                    let lines =
+                        reproducers(&judged, &exact, &answers, &place, "its output", run.show);
                     for line in lines {
                         say!("    {line}");
                     }

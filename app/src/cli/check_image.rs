@@ -1,7 +1,7 @@
 //! `raylab check --image`: a program's answers to a view's camera rays, painted as the flat
 //! step with its mistakes marked: the cracks view for code that is not raylab's.
 
-use super::check::{judge_all, program_answers, report, say_failed, CheckArgs};
+use super::check::{judge_all, program_answers, report, say_failed, CheckArgs, REPRODUCERS};
 use super::program;
 use anyhow::{Context, Result};
 use raylab::check::grade::{Answer, Exact};
@@ -154,7 +154,16 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         .with_context(|| format!("{}", image.display()))?;
     png.commit()?;
     let place = |k: usize| format!("pixel {},{}", k % w as usize, k / w as usize);
-    let tally = report(&mut out, &graded, &exact, &answers, &place, "its output");
+    let show = args.show.unwrap_or(REPRODUCERS);
+    let tally = report(
+        &mut out,
+        &graded,
+        &exact,
+        &answers,
+        &place,
+        "its output",
+        show,
+    );
     say!(
         "{out}image: {}: the flat step from the program's answers; leaks magenta, wrong primitives cyan, false hits yellow",
         image.display()

@@ -22,7 +22,7 @@ pub(super) fn reproducers<T: Real>(
         ("hits whose t is beyond the tolerance", &t_failed),
     ] {
         let count = judged.iter().filter(|j| wanted(j)).count();
-        if count == 0 {
+        if count == 0 || most == 0 {
             continue;
         }
         lines.push(format!(

@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use common::binary::{count, last_line, text};
+use common::binary::{assert_fails, count, last_line, text};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
@@ -309,6 +309,39 @@ fn the_readme_python_program_passes_every_family() {
     let graded =
         (families.par_iter().map(graded_one)).reduce(|| [0; 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
     assert_eq!(graded, [rays; 2], "every ray of every family graded right");
+}
+
+/// `--show N` prints N reproducers under each heading of a failing family (3 without it), each
+/// a ray of the family; 0 prints none and no heading, the table and counts as before.
+#[test]
+fn show_sets_how_many_reproducers_a_failing_family_prints() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite_dir = dir.path().join("suite");
+    export::export(&suite_dir, &suite::all()).unwrap();
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    // Möller–Trumbore in f32 gets the cube from inside wrong on more than 7 rays.
+    let moller = format!("'{exe}' trace --method moller --scene {{scene}} --rays {{rays}}");
+    let check = |show: &[&str]| {
+        let suite_s = suite_dir.to_str().unwrap();
+        let args = [&["check", "--suite", suite_s, "--family", "1"], show].concat();
+        let o = raylab(&[&args[..], &["--program", &moller]].concat());
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let shown = out.lines().filter(|l| l.contains("rays.txt:")).count();
+        (shown, out.contains("the first of the"), last_line(&o))
+    };
+    let (three, seven, none) = (check(&[]), check(&["--show", "7"]), check(&["--show", "0"]));
+    assert_eq!((three.0, three.1), (3, true));
+    assert_eq!((seven.0, seven.1), (7, true));
+    assert_eq!((none.0, none.1), (0, false));
+    assert!(
+        three.2.contains(" wrong ") && three.2 == none.2,
+        "{} vs {}",
+        three.2,
+        none.2
+    );
+    let o = raylab(&["check", "--suite", "x", "--program", "p", "--show", "many"]);
+    assert_fails(&o, 2, &["--show", "'many'"]);
 }
 
 /// `--family` checks one family, by name or number; under a failing family its first rays

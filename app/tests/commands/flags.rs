@@ -180,6 +180,7 @@ fn each_help_lists_only_the_flags_its_command_uses() {
         "precision",
         "program",
         "rays",
+        "show",
         "suite",
         "t-tolerance",
         "timeout",
