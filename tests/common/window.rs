@@ -104,9 +104,6 @@ pub enum Around<'a> {
     /// finished (and 0.3 s more, for its last events to reach the app), the file
     /// `driver-done` appears there: a script's `await driver-done` holds the run that long.
     RealInput(&'a str),
-    /// [`Around::RealInput`] for a driver whose checks rest on timing: no other window runs
-    /// beside it ([`window_alone`]).
-    RealInputAlone(&'a str),
     /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
     RealInputOn(&'a str, &'a std::path::Path),
     /// Nothing beside the app, which starts with these arguments.
@@ -136,9 +133,17 @@ pub const SCREEN: (u32, u32) = (1280, 800);
 /// changing what it sees; a test whose checks do rest on timing takes [`window_alone`].
 pub const WINDOWS_AT_ONCE: usize = 2;
 
-/// Which of the [`WINDOWS_AT_ONCE`] slots are taken.
-static SLOTS: std::sync::Mutex<[bool; WINDOWS_AT_ONCE]> =
-    std::sync::Mutex::new([false; WINDOWS_AT_ONCE]);
+/// Which of the [`WINDOWS_AT_ONCE`] slots are taken, and how many tests wait for all of them
+/// (a test that wants one waits behind them, so that one that wants all is not starved).
+struct Slots {
+    taken: [bool; WINDOWS_AT_ONCE],
+    waiting_for_all: usize,
+}
+
+static SLOTS: std::sync::Mutex<Slots> = std::sync::Mutex::new(Slots {
+    taken: [false; WINDOWS_AT_ONCE],
+    waiting_for_all: 0,
+});
 static SLOT_FREED: std::sync::Condvar = std::sync::Condvar::new();
 
 /// A test's hold on the window slots (one, or all of them), given back when dropped. Each slot
@@ -152,20 +157,27 @@ pub fn one_window() -> WindowSlot {
     take_slots(1)
 }
 
-/// Holds every window slot: for a test whose checks rest on timing (how long a key was held,
-/// how quickly clicks follow each other), which another window's load could upset.
+/// Holds every window slot: for a test whose checks rest on timing (how long a key was held),
+/// which another window's load could upset.
 pub fn window_alone() -> WindowSlot {
     take_slots(WINDOWS_AT_ONCE)
 }
 
 fn take_slots(n: usize) -> WindowSlot {
     let mut slots = SLOTS.lock().unwrap_or_else(|e| e.into_inner());
+    let all = n == WINDOWS_AT_ONCE;
+    if all {
+        slots.waiting_for_all += 1;
+    }
     loop {
-        let free: Vec<usize> = (0..WINDOWS_AT_ONCE).filter(|&i| !slots[i]).collect();
-        if free.len() >= n {
+        let free: Vec<usize> = (0..WINDOWS_AT_ONCE).filter(|&i| !slots.taken[i]).collect();
+        if free.len() >= n && (all || slots.waiting_for_all == 0) {
             let taken = free[..n].to_vec();
             for &i in &taken {
-                slots[i] = true;
+                slots.taken[i] = true;
+            }
+            if all {
+                slots.waiting_for_all -= 1;
             }
             return WindowSlot { taken };
         }
@@ -193,7 +205,7 @@ impl Drop for WindowSlot {
     fn drop(&mut self) {
         let mut slots = SLOTS.lock().unwrap_or_else(|e| e.into_inner());
         for &i in &self.taken {
-            slots[i] = false;
+            slots.taken[i] = false;
         }
         SLOT_FREED.notify_all();
     }
@@ -221,12 +233,9 @@ pub fn run_window_on(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    let slot = match around {
-        Around::RealInputAlone(..) => window_alone(),
-        _ => one_window(),
-    };
+    let slot = one_window();
     let (driver, model) = match around {
-        Around::RealInput(d) | Around::RealInputAlone(d) => (Some(d), None),
+        Around::RealInput(d) => (Some(d), None),
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
         _ => (None, None),
     };
