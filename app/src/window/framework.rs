@@ -1,7 +1,7 @@
 //! The framework part of the window, in the shape of the pixels crate's `minimal-egui`
 //! example: it owns the egui context, the egui-winit state and the GPU side ([`Gpu`]: the
-//! surface, the framebuffer texture and the egui-wgpu renderer), and turns a UI closure into a drawn frame. The viewer's state
-//! never sees egui-winit or wgpu.
+//! surface, the framebuffer texture and the egui-wgpu renderer), and turns a UI closure into a
+//! drawn frame. The viewer's state never sees egui-winit or wgpu.
 
 use super::gpu::{Drawn, Gpu};
 use std::sync::Arc;

@@ -154,9 +154,9 @@ fn the_window_without_a_graphics_adapter_fails_clearly() {
     ) {
         return;
     }
-    let o = Command::new("xvfb-run")
+    let o = common::window::one_window()
+        .xvfb_run()
         .args([
-            "-a",
             env!("CARGO_BIN_EXE_raylab"),
             "--frames",
             "2",
