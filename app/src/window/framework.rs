@@ -14,9 +14,9 @@ use winit::window::Window;
 pub struct Framework {
     ctx: egui::Context,
     state: egui_winit::State,
-    /// Input that came after a pass's one pointer button change, for the passes after it
-    /// ([`one_button_change`]).
-    held: Vec<egui::Event>,
+    /// Input that came after a pass's one pointer button change, for the passes after it,
+    /// each with the time it came ([`next_pass`]).
+    held: Vec<Timed>,
     pub gpu: Gpu,
 }
 
@@ -97,13 +97,12 @@ impl Framework {
 
     /// Runs `ui` for one frame and readies its output for [`Framework::draw`]. A pass sees at
     /// most one press or release of a pointer button: the input after it waits for the next
-    /// pass, which is asked for at once ([`one_button_change`]).
+    /// pass, which is asked for at once ([`next_pass`]).
     pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> Prepared {
         let mut raw = self.state.take_egui_input(window);
-        let mut events = std::mem::take(&mut self.held);
-        events.append(&mut raw.events);
-        self.held = one_button_change(&mut events);
-        raw.events = events;
+        let held = std::mem::take(&mut self.held);
+        (raw.events, raw.time, self.held) =
+            next_pass(held, std::mem::take(&mut raw.events), raw.time);
         if !self.held.is_empty() {
             window.request_redraw();
         }
@@ -149,18 +148,32 @@ impl Framework {
     }
 }
 
-/// Cuts `events` after its first pointer button change (a press or a release), returning the
-/// rest. egui reads a pass's input as one moment: a press and its release in the same pass
-/// are not a drag, so a slider ignored the click, and two clicks in one pass are one click
-/// (a check box toggled once for two). Events that arrive between two redraws (a click's
-/// press and release, quick clicks while a frame is drawn) came to egui together.
-fn one_button_change(events: &mut Vec<egui::Event>) -> Vec<egui::Event> {
-    let mut buttons =
-        (events.iter().enumerate()).filter(|(_, e)| matches!(e, egui::Event::PointerButton { .. }));
-    match buttons.nth(1) {
-        Some((second, _)) => events.split_off(second),
+/// An input event and when it came (egui's clock, seconds).
+type Timed = (Option<f64>, egui::Event);
+
+/// The input of the next pass, its time and what is held for the pass after it, from the
+/// events held so far and the `new` ones, come at `now`. A pass ends with its first pointer
+/// button change (a press or a release): egui reads a pass's input as one moment, so a press
+/// and its release in the same pass are not a drag (a slider ignored the click) and two
+/// clicks in one pass are one (a check box toggled once for two). Events that arrive between
+/// two redraws (a click's press and release, quick clicks while a frame is drawn) come
+/// together. A pass is timed when its newest event came, not when it runs: a release passed
+/// on after a slow frame (over egui's 0.8 s for a click) still ends a click.
+fn next_pass(
+    held: Vec<Timed>,
+    new: Vec<egui::Event>,
+    now: Option<f64>,
+) -> (Vec<egui::Event>, Option<f64>, Vec<Timed>) {
+    let mut events: Vec<Timed> = held;
+    events.extend(new.into_iter().map(|e| (now, e)));
+    let first_button =
+        (events.iter()).position(|(_, e)| matches!(e, egui::Event::PointerButton { .. }));
+    let rest = match first_button {
+        Some(first) => events.split_off(first + 1),
         None => Vec::new(),
-    }
+    };
+    let time = events.last().map_or(now, |(came, _)| *came);
+    (events.into_iter().map(|(_, e)| e).collect(), time, rest)
 }
 
 /// Why no window could be opened, in one line a user can act on (winit's own message names
@@ -202,4 +215,92 @@ pub fn quiet_wayland_probe() {
          (NODEVICE_SELECT=1), whose Wayland probe would make libwayland print an error"
     );
     std::env::set_var("NODEVICE_SELECT", "1");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One pass of a window holding a check box, with `events` at egui's clock `time`; where
+    /// the box is.
+    fn pass(
+        ctx: &egui::Context,
+        on: &mut bool,
+        events: Vec<egui::Event>,
+        time: Option<f64>,
+    ) -> egui::Rect {
+        let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(400.0, 300.0));
+        let raw = egui::RawInput {
+            events,
+            time,
+            screen_rect: Some(screen),
+            ..Default::default()
+        };
+        let mut rect = egui::Rect::NOTHING;
+        let _ = ctx.run_ui(raw, |ui| rect = ui.checkbox(on, "box").rect);
+        rect
+    }
+
+    fn button(pos: egui::Pos2, pressed: bool) -> egui::Event {
+        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+        egui::Event::PointerButton {
+            pos,
+            button,
+            pressed,
+            modifiers,
+        }
+    }
+
+    /// Three quick clicks on a check box that reach the window together, then passes of a
+    /// second each (a slow machine's frames): each pass takes one button change, and the box
+    /// toggles three times. Timed when each pass ran, the releases came 1 s after their
+    /// presses, over egui's 0.8 s for a click, and the box did not toggle at all.
+    #[test]
+    fn quick_clicks_passed_on_over_slow_frames_each_count() {
+        let ctx = egui::Context::default();
+        let mut on = false;
+        let at = pass(&ctx, &mut on, Vec::new(), Some(0.0)).center();
+        let mut clicks = vec![egui::Event::PointerMoved(at)];
+        for _ in 0..3 {
+            clicks.extend([button(at, true), button(at, false)]);
+        }
+        let (mut new, mut held, mut toggles, mut passes) = (clicks, Vec::new(), 0, 0);
+        loop {
+            let now = Some(1.0 + passes as f64);
+            let (events, time, rest) = next_pass(held, std::mem::take(&mut new), now);
+            let buttons =
+                (events.iter()).filter(|e| matches!(e, egui::Event::PointerButton { .. }));
+            assert!(buttons.count() <= 1, "{events:?}");
+            let before = on;
+            pass(&ctx, &mut on, events, time);
+            toggles += (on != before) as usize;
+            passes += 1;
+            held = rest;
+            if held.is_empty() {
+                break;
+            }
+        }
+        assert_eq!(passes, 6, "a pass per button change");
+        assert_eq!(toggles, 3);
+        assert!(on);
+    }
+
+    /// A pass with nothing held is timed now; one of held input only, when it came.
+    #[test]
+    fn a_pass_is_timed_when_its_newest_input_came() {
+        let at = egui::pos2(5.0, 5.0);
+        let (events, time, rest) =
+            next_pass(Vec::new(), vec![egui::Event::PointerMoved(at)], Some(2.0));
+        assert_eq!((events.len(), time, rest.len()), (1, Some(2.0), 0));
+        let (_, time, rest) = next_pass(
+            Vec::new(),
+            vec![button(at, true), button(at, false)],
+            Some(3.0),
+        );
+        assert_eq!((time, rest.len()), (Some(3.0), 1));
+        let (events, time, rest) = next_pass(rest, vec![egui::Event::PointerMoved(at)], Some(7.0));
+        assert_eq!((events.len(), time, rest.len()), (1, Some(3.0), 1));
+        let (events, time, rest) = next_pass(rest, Vec::new(), Some(8.0));
+        assert_eq!((events.len(), time, rest.len()), (1, Some(7.0), 0));
+    }
 }
