@@ -50,8 +50,12 @@ fn reproducer<T: Real>(
         // What the tolerance judges: the point's distance, not t's own relative error (t 4x
         // too small can put the point 0.27 of the scale off).
         Verdict::Right | Verdict::Tie => format!(
-            "t failure: o + t·d off by {:.1e} of |o| + |t·d| + extent",
-            j.graded.relative
+            "t failure: o + t·d off by {:.2e} of |o| + |t·d| + extent{}",
+            j.graded.relative,
+            (short_print(&j.exact, &answers[i].1)).map_or(String::new(), |digits| format!(
+                "; t is the exact one to {digits} significant digits: print {0} (%.{0}g)",
+                round_trip_digits::<T>()
+            ))
         ),
         v => v.name().to_string(),
     };
@@ -63,4 +67,37 @@ fn reproducer<T: Real>(
         answers[i].0,
         answers[i].1.text()
     )
+}
+
+/// The significant digits that print every value of `T` so that it reads back the same: 9
+/// for f32, 17 for f64.
+fn round_trip_digits<T: Real>() -> usize {
+    if T::PRECISION <= 24 {
+        9
+    } else {
+        17
+    }
+}
+
+/// Where the given t is the exact t rounded to fewer significant digits than `T` needs (a
+/// C `%g` prints 6), how many: the t failure is the printing's, not the arithmetic's.
+fn short_print<T: Real>(exact: &Answer<T>, given: &Answer<T>) -> Option<usize> {
+    let (Answer::Hit { t: exact, .. }, Answer::Hit { t: given, .. }) = (exact, given) else {
+        return None;
+    };
+    if !given.is_finite() || *given == T::zero() {
+        return None;
+    }
+    // The shortest decimal that reads back as the given t, its significant digits only.
+    let shortest = given.to_string();
+    let digits = shortest.trim_start_matches('-').replace('.', "");
+    let digits = digits
+        .trim_start_matches('0')
+        .trim_end_matches('0')
+        .len()
+        .max(1);
+    let rounded = format!("{:.*e}", digits - 1, exact.f64())
+        .parse::<T>()
+        .ok()?;
+    (digits < round_trip_digits::<T>() && rounded == *given).then_some(digits)
 }

@@ -78,7 +78,7 @@ fn check_grades_every_kind_of_answer() {
             "{out}"
         );
         assert!(
-            out.contains("[t failure: o + t·d off by 2.5e-6 of |o| + |t·d| + extent]"),
+            out.contains("[t failure: o + t·d off by 2.50e-6 of |o| + |t·d| + extent]"),
             "{out}"
         );
     }
@@ -273,7 +273,7 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
     assert!(out.contains("t tolerance 1e-6"), "{out}");
     assert!(
         out.contains("rays.txt:8 (ray 7): 0 0 0 0 0 1 0 inf  exact: hit 2 0")
-            && out.contains("[t failure: o + t·d off by 2.5e-6 of |o| + |t·d| + extent]"),
+            && out.contains("[t failure: o + t·d off by 2.50e-6 of |o| + |t·d| + extent]"),
         "{out}"
     );
     let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", "1e-5"]);
@@ -305,6 +305,42 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
             "{}",
             text(&o.stderr)
         );
+    }
+}
+
+/// A t printed with too few digits (C's `%g` gives 6) is a t failure that says so: the exact
+/// t to that many digits, and the digits to print in the precision. A t of as many digits
+/// that is not the exact one's rounding is a t failure without it.
+#[test]
+fn a_t_printed_with_too_few_digits_is_named_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.txt");
+    // A plane at z = 1.3839071 (its largest coordinate), met at t = z from the origin:
+    // 1.38391 is 2.9e-6 off, some 1.04e-6 of 0 + 1.38 + 1.38.
+    let z = "1.3839071";
+    std::fs::write(&scene, format!("tri -1 -1 {z} 1 -1 {z} 0 1 {z}\n")).unwrap();
+    let rays = dir.path().join("rays.txt");
+    std::fs::write(&rays, "# ox oy oz dx dy dz tmin tmax\n0 0 0 0 0 1 0 inf\n").unwrap();
+    let answers = dir.path().join("answers.txt");
+    let (scene, rays) = (scene.to_str().unwrap(), rays.to_str().unwrap());
+    for (precision, digits) in [("f32", 9), ("f64", 17)] {
+        std::fs::write(&answers, "hit 1.38391 0\n").unwrap();
+        let o = check_answers(scene, rays, &answers, &["--precision", precision]);
+        let out = text(&o.stdout);
+        assert_eq!(o.status.code(), Some(1), "{precision}: {out}");
+        let hint = format!(
+            "e-6 of |o| + |t·d| + extent; t is the exact one to 6 significant digits: \
+             print {digits} (%.{digits}g)]"
+        );
+        assert!(out.contains(&hint), "{precision}: '{hint}' in {out}");
+        std::fs::write(&answers, "hit 1.38392 0\n").unwrap();
+        let o = check_answers(scene, rays, &answers, &["--precision", precision]);
+        let out = text(&o.stdout);
+        assert_eq!(count(&last_line(&o), "t_failures"), 1, "{precision}: {out}");
+        assert!(!out.contains("significant digits"), "{precision}: {out}");
+        std::fs::write(&answers, "hit 1.3839071 0\n").unwrap();
+        let o = check_answers(scene, rays, &answers, &["--precision", precision]);
+        assert_eq!(o.status.code(), Some(0), "{precision}: {}", text(&o.stdout));
     }
 }
 
