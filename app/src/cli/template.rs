@@ -22,12 +22,15 @@ pub fn command_for(template: &str, scene: &Path, rays: &Path) -> String {
         .into_owned()
 }
 
-/// The command with `{scene}` and `{rays}` replaced by the paths, each one shell word with its
-/// bytes intact, whether the template writes the placeholder bare, in single or in double
+/// The command with `{scene}` and `{rays}` replaced by the paths, made absolute (a program
+/// that changes directory first still finds them, as under `grade`), each one shell word with
+/// its bytes intact, whether the template writes the placeholder bare, in single or in double
 /// quotes (`"{scene}"`, as students write by habit): the path is quoted for the place it
 /// goes. One pass over the template: a path that holds `{rays}` itself is never substituted
 /// into (that would end its quotes early and run the rest as code).
 pub fn command_line(template: &str, scene: &Path, rays: &Path) -> OsString {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (scene, rays) = (absolute(scene), absolute(rays));
     let (scene, rays) = (scene.as_os_str().as_bytes(), rays.as_os_str().as_bytes());
     let t = template.as_bytes();
     let mut out = Vec::with_capacity(t.len() + 2 * (scene.len() + rays.len()));
@@ -110,8 +113,8 @@ mod tests {
 
     #[test]
     fn a_path_is_one_word_bare_or_in_either_quotes() {
-        let nasty = "my suite/it's \"$(x)\" `y` \\ {rays}/scene.txt";
-        let rays = "r s/rays.txt";
+        let nasty = "/my suite/it's \"$(x)\" `y` \\ {rays}/scene.txt";
+        let rays = "/r s/rays.txt";
         let want = format!("{nasty}|{rays}|");
         for template in [
             "printf '%s|' {scene} {rays}",
@@ -129,8 +132,23 @@ mod tests {
         );
         // Inside a word: the path joins it.
         assert_eq!(
-            args_seen("printf '%s|' --in=\"{scene}\" x{rays}", "a b", "c d"),
-            "--in=a b|xc d|"
+            args_seen("printf '%s|' --in=\"{scene}\" x{rays}", "/a b", "/c d"),
+            "--in=/a b|x/c d|"
+        );
+    }
+
+    /// A relative path goes in made absolute, from where raylab runs.
+    #[test]
+    fn a_relative_path_goes_in_absolute() {
+        let here = std::env::current_dir().unwrap();
+        let want = format!(
+            "{}|{}|",
+            here.join("s p/scene.txt").display(),
+            here.join("rays.txt").display()
+        );
+        assert_eq!(
+            args_seen("printf '%s|' {scene} {rays}", "s p/scene.txt", "rays.txt"),
+            want
         );
     }
 }

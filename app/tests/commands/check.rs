@@ -246,6 +246,40 @@ fn numbers_are_written_exactly() {
     assert_eq!(exact_decimal(f64::INFINITY), "inf");
 }
 
+/// `{scene}` and `{rays}` go in absolute: a program that changes directory first, given a
+/// suite or files by relative paths, still finds them (as `grade` runs it).
+#[test]
+fn a_program_that_changes_directory_still_finds_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.txt"), "tri -1 -1 2 1 -1 2 0 1 2\n").unwrap();
+    std::fs::write(
+        dir.path().join("rays.txt"),
+        "# o d tmin tmax\n0 0 0 0 0 1 0 inf\n",
+    )
+    .unwrap();
+    let program = "cd / && test -f {scene} && test -f {rays} && echo 'hit 2 0'";
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args([
+            "check",
+            "--scene",
+            "scene.txt",
+            "--rays",
+            "rays.txt",
+            "--program",
+            program,
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+}
+
 /// The README's Python program (examples/check/exact.py), in exact rationals, passes every
 /// family in f32 and f64.
 #[test]
