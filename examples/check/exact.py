@@ -35,10 +35,11 @@ shapes = [(w[0], [Q(x) for x in w[1:]]) for w in map(str.split, open(sys.argv[1]
 for w in map(str.split, open(sys.argv[2])):
     if not w or w[0].startswith("#"):
         continue
-    o, d, tmin = [Q(x) for x in w[:3]], [Q(x) for x in w[3:6]], Q(w[6])
-    best, tmax = None, None if w[7] == "inf" else Q(w[7])
+    o, d = [Q(x) for x in w[:3]], [Q(x) for x in w[3:6]]
+    tmin, tmax = None if w[6] == "-inf" else Q(w[6]), None if w[7] == "inf" else Q(w[7])
+    best = None
     for i, (kind, v) in enumerate(shapes):  # strictly nearer only: an exact tie keeps the lower index
-        t = next((t for t in hits(kind, v, o, d) if tmin < t and (tmax is None or t < tmax)), None)
+        t = next((t for t in hits(kind, v, o, d) if (tmin is None or tmin < t) and (tmax is None or t < tmax)), None)
         if t is not None:
             best, tmax = (t, i), t
     print(f"hit {float(best[0])!r} {best[1]}" if best else "miss")

@@ -280,6 +280,36 @@ fn a_program_that_changes_directory_still_finds_its_files() {
     );
 }
 
+/// The README's Python program answers rays whose tmin is `-inf`, as the README allows and
+/// `raylab trace` answers them.
+#[test]
+fn the_readme_python_program_reads_an_open_tmin() {
+    if !common::tool_for(
+        "python3",
+        "python3",
+        "the_readme_python_program_reads_an_open_tmin",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = (dir.path().join("scene.txt"), dir.path().join("rays.txt"));
+    std::fs::write(&scene, "tri -1 -1 2 1 -1 2 0 1 2\nsphere 0 0 0 1\n").unwrap();
+    let lines = "# o d tmin tmax\n0 0 0 0 0 1 -inf inf\n0 0 5 0 0 1 -inf 1\n0 0 5 0 0 1 -inf -7\n";
+    std::fs::write(&rays, lines).unwrap();
+    let (scene, rays) = (scene.to_str().unwrap(), rays.to_str().unwrap());
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    let program = format!("python3 '{}' {{scene}} {{rays}}", script.display());
+    let o = check_program(scene, rays, &program, &["--precision", "f64"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    assert_eq!(count(&last_line(&o), "right"), 3, "{}", text(&o.stdout));
+}
+
 /// The README's Python program (examples/check/exact.py), in exact rationals, passes every
 /// family in f32 and f64.
 #[test]
