@@ -69,19 +69,19 @@ pub fn parse_answers<T: Real>(
                 let t = t
                     .parse::<T>()
                     .map_err(|_| at(line_no, format!("t '{t}' is not a number")))?;
-                let prim = index
-                    .parse::<u32>()
-                    .ok()
-                    .filter(|&p| (p as usize) < primitives)
-                    .ok_or_else(|| {
-                        at(
-                            line_no,
-                            format!(
-                                "'{index}' is not a primitive index (the scene has {primitives}: 0 to {})",
-                                primitives.saturating_sub(1)
+                let prim = match index.parse::<u32>() {
+                    Ok(p) if (p as usize) < primitives => p,
+                    parsed => {
+                        let last = primitives.saturating_sub(1);
+                        let why = match parsed {
+                            Ok(_) => format!("index {index} is past the last primitive, {last}"),
+                            Err(_) => format!(
+                                "'{index}' is not a primitive index, a whole number 0 to {last}"
                             ),
-                        )
-                    })?;
+                        };
+                        return Err(at(line_no, why));
+                    }
+                };
                 Answer::Hit { t, prim }
             }
             _ => {

@@ -85,6 +85,11 @@ pub enum InputError {
     Sizeless { path: PathBuf, limit: u64 },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
+    #[error(
+        "{}: UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
+        path.display()
+    )]
+    Utf16 { path: PathBuf },
     #[error("{}: names a directory, not a file to write", path.display())]
     NotAFileName { path: PathBuf },
     #[error("{}: too many levels of symbolic links", path.display())]
@@ -250,19 +255,59 @@ pub fn read_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
     }
 }
 
-/// The UTF-8 text of regular file `path` (a leading byte-order mark dropped), at most
-/// `limit` bytes.
+/// The UTF-8 text of regular file `path` (a leading byte-order mark dropped, comment lines
+/// of any bytes kept: [`text_of`]), at most `limit` bytes.
 pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
-    let bytes = read_bytes(path, limit)?;
-    let mut text = String::from_utf8(bytes).map_err(|e| InputError::NotText {
-        path: path.to_path_buf(),
-        line: 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count(),
+    let mut text = text_of(read_bytes(path, limit)?).map_err(|why| match why {
+        NotText::Utf16 => InputError::Utf16 {
+            path: path.to_path_buf(),
+        },
+        NotText::Line(line) => InputError::NotText {
+            path: path.to_path_buf(),
+            line,
+        },
     })?;
     if text.starts_with('\u{feff}') {
         text.drain(..3);
+    }
+    Ok(text)
+}
+
+/// Why bytes are not the text of a scene, rays or answers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum NotText {
+    /// UTF-16 (a byte-order mark, or NUL bytes beside the first character), as Windows
+    /// PowerShell's `>` writes.
+    #[error("UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8")]
+    Utf16,
+    /// This line (1-based) is not UTF-8 and not a comment.
+    #[error("something that is not UTF-8 text (on line {0})")]
+    Line(usize),
+}
+
+/// `bytes` as text, where a comment line (its first word starts with `#`) may hold any bytes:
+/// it is skipped unread, so a comment written in Latin-1 does not refuse the file; its bytes
+/// that are not UTF-8 become U+FFFD.
+pub fn text_of(bytes: Vec<u8>) -> Result<String, NotText> {
+    let utf16 = bytes.starts_with(&[0xff, 0xfe])
+        || bytes.starts_with(&[0xfe, 0xff])
+        || matches!(bytes[..], [0, b, ..] | [b, 0, ..] if b != 0);
+    if utf16 {
+        return Err(NotText::Utf16);
+    }
+    let bytes = match String::from_utf8(bytes) {
+        Ok(text) => return Ok(text),
+        Err(e) => e.into_bytes(),
+    };
+    let mut text = String::with_capacity(bytes.len());
+    for (i, line) in bytes.split_inclusive(|&b| b == b'\n').enumerate() {
+        match std::str::from_utf8(line) {
+            Ok(line) => text.push_str(line),
+            Err(_) if line.trim_ascii_start().starts_with(b"#") => {
+                text.push_str(&String::from_utf8_lossy(line))
+            }
+            Err(_) => return Err(NotText::Line(i + 1)),
+        }
     }
     Ok(text)
 }

@@ -458,7 +458,7 @@ fn grade_one(
             ),
             Err(e @ RunError::Timeout(_)) => record(Status::Timeout, e.to_string()),
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
-            Err(e @ RunError::NotText) => record(Status::Garbage, e.to_string()),
+            Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
             Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {
                 record(Status::Crashed, e.to_string())
             }

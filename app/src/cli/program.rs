@@ -39,12 +39,12 @@ pub enum RunError {
     Start(std::io::Error),
     #[error("ran out of time ({0:.1} s; --timeout sets another limit)")]
     Timeout(f64),
-    #[error("printed more than {0} bytes (not answers to these rays)")]
+    #[error("printed more than {0} bytes, over 160 a ray and 1 MiB: not answers to these rays")]
     TooMuch(usize),
     #[error("ended with {status}{stderr}")]
     Failed { status: ExitStatus, stderr: String },
-    #[error("printed something that is not UTF-8 text")]
-    NotText,
+    #[error("printed {0}")]
+    NotText(raylab::input::NotText),
 }
 
 /// What a run may use. `run` gives a time and an output limit; `raylab grade` all of them.
@@ -100,10 +100,10 @@ const STDERR_TAIL: usize = 2000;
 /// of the program runs; if raylab dies first, the pipe closes and nothing runs.
 const GATE: &str = r#"read -r _ && exec sh -c "$1" </dev/null"#;
 
-/// Runs `command` (the bytes of a shell command, [`super::template::command_line`]) with `sh -c`, standard
-/// input empty, within `limits`, and returns its standard output. It is stopped, with every
-/// process it started, after the timeout or once it has printed more than its output limit;
-/// a status other than success is an error quoting the end of its standard error.
+/// Runs `command` (a shell command's bytes, [`super::template::command_line`]) with `sh -c`,
+/// standard input empty, within `limits`; returns its standard output. It is stopped, with
+/// every process it started, after the timeout or once it has printed more than its limit; a
+/// status other than success is an error quoting the end of its standard error.
 pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     init();
     let mut shell = Command::new("sh");
@@ -223,7 +223,7 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         };
         return Err(RunError::Failed { status, stderr });
     }
-    let stdout = String::from_utf8(out).map_err(|_| RunError::NotText)?;
+    let stdout = raylab::input::text_of(out).map_err(RunError::NotText)?;
     let stderr_tail = String::from_utf8_lossy(&err).trim().to_string();
     Ok(Ran {
         stdout,

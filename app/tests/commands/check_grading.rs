@@ -243,6 +243,15 @@ fn a_correct_program_is_never_failed() {
         std::fs::write(&answers, &traced.stdout).unwrap();
         let o = check_answers(scene_s, rays_s, &answers, &["--precision", precision]);
         assert_eq!(o.status.code(), Some(0), "{precision}: {}", text(&o.stdout));
+        // A comment in Latin-1 ("résultats") before them, in the file and from a program.
+        let mut latin1 = b"# r\xe9sultats\n".to_vec();
+        latin1.extend_from_slice(&traced.stdout);
+        std::fs::write(&answers, &latin1).unwrap();
+        let o = check_answers(scene_s, rays_s, &answers, &["--precision", precision]);
+        assert_eq!(o.status.code(), Some(0), "{precision}: {}", text(&o.stdout));
+        let program = format!("cat '{}' # {{scene}} {{rays}}", answers.display());
+        let o = check_program(scene_s, rays_s, &program, &["--precision", precision]);
+        assert_eq!(o.status.code(), Some(0), "{precision}: {}", text(&o.stdout));
     }
     // `inf` where the exact t is finite, and a finite t where it is inf, are t failures.
     std::fs::write(&answers, "hit -0.5 0\nhit 3.4e38 1\nhit inf 0\n").unwrap();
@@ -403,7 +412,11 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
         ),
         (
             with_line_3("hit 2 4"),
-            "answers.txt:3: '4' is not a primitive index (the scene has 4: 0 to 3)",
+            "answers.txt:3: index 4 is past the last primitive, 3",
+        ),
+        (
+            with_line_3("hit 2 3.0"),
+            "answers.txt:3: '3.0' is not a primitive index, a whole number 0 to 3",
         ),
         (
             with_line_3("hot 2 0"),
@@ -413,6 +426,11 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
         (
             lines[..9].join("\n"),
             "answers.txt: 9 answers for the 10 rays of",
+        ),
+        (
+            // UTF-16 as PowerShell writes it, without a byte-order mark.
+            GRADED_ANSWERS.chars().flat_map(|c| [c, '\0']).collect(),
+            "answers.txt: UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
         ),
     ] {
         let file = dir.path().join("answers.txt");
@@ -479,8 +497,12 @@ fn a_program_that_fails_is_never_a_pass() {
         ),
         ("yes miss # {scene} {rays}".to_string(), "printed more than"),
         (
-            "printf '\\377\\n' # {scene} {rays}".to_string(),
-            "not UTF-8 text",
+            "printf 'miss\\n\\377\\n' # {scene} {rays}".to_string(),
+            "printed something that is not UTF-8 text (on line 2)",
+        ),
+        (
+            "printf 'm\\000i\\000s\\000s\\000\\n\\000' # {scene} {rays}".to_string(),
+            "printed UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
         ),
     ] {
         let o = check_program(&scene, &rays, &program, &["--timeout", "0.5"]);
