@@ -126,11 +126,7 @@ pub fn side_panel(
                 &mut camera.position.y,
                 &mut camera.position.z,
             ] {
-                ui.add(
-                    egui::DragValue::new(c)
-                        .speed(0.01 * camera.scene_size)
-                        .max_decimals(3),
-                );
+                ui.add(coordinate(c, 0.01 * camera.scene_size));
             }
         });
         ui.horizontal(|ui| {
@@ -282,9 +278,8 @@ pub fn side_panel(
         ui.separator();
         ui.horizontal(|ui| {
             ui.strong("Light");
-            let speed = 0.01 * camera.scene_size as f32;
             for c in view.light.iter_mut() {
-                ui.add(egui::DragValue::new(c).speed(speed).max_decimals(3));
+                ui.add(coordinate(c, 0.01 * camera.scene_size));
             }
         });
 
@@ -364,6 +359,25 @@ fn scene_tree(
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
 /// whose room is the solid bar's and that is drawn at its full width all the time.
+/// A field for a camera or light coordinate, kept within the range raylab renders from
+/// (±[`raylab::math::MAX_VIEW_COORDINATE`], what `raylab render` accepts), a typed `nan` or
+/// `inf` ignored: copy as command and Save view write what the window shows.
+fn coordinate<N: egui::emath::Numeric>(value: &mut N, speed: f64) -> egui::DragValue<'_> {
+    let max = raylab::math::MAX_VIEW_COORDINATE;
+    let number = |text: &str| {
+        let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+        text.replace('−', "-")
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+    };
+    egui::DragValue::new(value)
+        .speed(speed)
+        .max_decimals(3)
+        .range(N::from_f64(-max)..=N::from_f64(max))
+        .custom_parser(number)
+}
+
 fn solid_bar() -> egui::style::ScrollStyle {
     let solid = egui::style::ScrollStyle::solid();
     egui::style::ScrollStyle {

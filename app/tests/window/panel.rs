@@ -259,3 +259,50 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
     println!("peak {peak} KiB, the Cornell box alone {base} KiB, bound +{bound} KiB");
     assert!(peak - base <= bound, "{peak} KiB against {base} + {bound}");
 }
+
+#[test]
+fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
+    // Typed into the panel: 1e20 for the camera's x, nan for its y, -1e30 for the light's x,
+    // then F5. The fields keep them within ±2^40 (the range `raylab render` accepts) and
+    // ignore nan, so the saved view loads headless (it was refused: "beyond ±1.1e12").
+    // Positions: the panel at the default window on the 1280x800 screen, the camera's
+    // position fields at (82, 264) and (130, 264), the light's x at (65, 601). (At a quarter
+    // of the window's resolution: a camera and a light that far are traced ray by ray.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 scale 0.25\n0 await driver-done\n";
+    let typed = |x: u32, y: u32, text: &str| {
+        format!(
+            "xdotool mousemove --sync {x} {y} click 1; sleep 0.3; xdotool key ctrl+a; \
+             xdotool type -- '{text}'; xdotool key Return; sleep 0.3; "
+        )
+    };
+    let driver = format!(
+        "xdotool windowfocus --sync $win; {}{}{}xdotool mousemove --sync 700 400; \
+         xdotool key F5; logged 'saved view'",
+        typed(82, 264, "1e20"),
+        typed(130, 264, "nan"),
+        typed(65, 601, "-1e30")
+    );
+    let Some(run) = run_window(script, dir.path(), Around::RealInput(&driver)) else {
+        return;
+    };
+    let pos = run.nums("camera");
+    assert_eq!(pos, [2f64.powi(40), 0.0, -3.001], "{}", run.stderr);
+    let view = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("no view saved\n{}", run.stderr));
+    let text = std::fs::read_to_string(&view).unwrap();
+    let light: Vec<f32> = (text.lines())
+        .find_map(|l| l.strip_prefix("light "))
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert_eq!(light, [-(2f32.powi(40)), -0.5, -0.7], "{text}");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["inspect", "--pixel", "0,0", "--view"])
+        .arg(&view)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{text}{err}");
+}
