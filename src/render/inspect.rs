@@ -68,8 +68,11 @@ pub struct HitInspection {
     pub normal: [f32; 3],
     /// ρ, the primitive's diffuse colour.
     pub rho: Rgb,
-    /// D, the direct light P·max(n·r̂, 0)/(4πr²) without shadows.
+    /// D as the step's colour takes it: 0 where the step casts shadows and one blocks the
+    /// shadow ray (README, lab step 4).
     pub direct: Rgb,
+    /// D before the shadow test, the direct light P·max(n·r̂, 0)/(4πr²) (step 3's).
+    pub direct_unshadowed: Rgb,
     /// N, the lab's constant indirect term.
     pub indirect: Rgb,
     /// The shadow ray (from the light to the offset surface point, or the other way for a far
@@ -155,7 +158,11 @@ pub fn inspect_at(
                 point_hit_error: sp.hit_error,
                 normal: sp.n.map(|c| facing * c + 0.0),
                 rho: scene.color(hit.prim),
-                direct: lit.d(scene),
+                direct: match blocked && shows_shadows {
+                    true => [0.0; 3],
+                    false => lit.d(scene),
+                },
+                direct_unshadowed: lit.d(scene),
                 indirect: scene.ambient,
                 shadow: lit.shadow,
                 blocked_by,
@@ -261,6 +268,7 @@ impl fmt::Display for Inspection {
         }
         writeln!(f, "rho: {}", f3(h.rho))?;
         writeln!(f, "D: {}", f3(h.direct))?;
+        writeln!(f, "D_unshadowed: {}", f3(h.direct_unshadowed))?;
         writeln!(f, "N: {}", f3(h.indirect))?;
         writeln!(f, "step: {}", self.step)?;
         writeln!(f, "colour: {}", f3(h.colour))

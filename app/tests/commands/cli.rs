@@ -626,6 +626,34 @@ fn fields(out: &str) -> std::collections::HashMap<String, String> {
         .collect()
 }
 
+/// D as the step takes it: at a pixel whose shadow ray primitive 20 blocks, D is 0 in the
+/// shadows step (README, step 4) and the colour with it, D before the shadow test beside it;
+/// in the direct step, which casts no shadows, D is the unshadowed one.
+#[test]
+fn inspect_shows_d_as_the_step_takes_it() {
+    let nums = |v: &str| -> Vec<f32> { v.split(' ').map(|x| x.parse().unwrap()).collect() };
+    let inspect = |step: &str| {
+        let o = raylab(&["inspect", "--step", step, "--pixel", "150,420"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        fields(&String::from_utf8_lossy(&o.stdout))
+    };
+    let f = inspect("shadows");
+    assert_eq!(f["blocked_by"], "20");
+    let unshadowed = nums(&f["D_unshadowed"]);
+    assert!(unshadowed.iter().all(|&d| d > 0.1), "{unshadowed:?}");
+    assert_eq!(
+        (nums(&f["D"]), nums(&f["colour"])),
+        (vec![0.0; 3], vec![0.0; 3])
+    );
+    let f = inspect("direct");
+    assert_eq!(nums(&f["D"]), unshadowed);
+    assert_eq!(nums(&f["D_unshadowed"]), unshadowed);
+    let (rho, colour) = (nums(&f["rho"]), nums(&f["colour"]));
+    for k in 0..3 {
+        assert_eq!(colour[k], rho[k] * unshadowed[k], "{k}");
+    }
+}
+
 #[test]
 fn inspect_prints_one_pixels_ray_as_the_lecture_writes_it() {
     let dir = tempfile::tempdir().unwrap();
