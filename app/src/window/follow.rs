@@ -10,8 +10,9 @@ use super::inspected::{Detail, Inspected};
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
-/// How the status line begins that tells of an inspection.
+/// How the status line begins that tells of an inspection, and of a crack stepped to.
 const INSPECTED: &str = "inspected pixel (";
+const CRACK: &str = "crack ";
 
 impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
@@ -48,9 +49,12 @@ impl Viewer {
         let said = format!("{INSPECTED}{i}, {j}): {what}");
         if announce {
             self.set_status(said);
-        } else if !self.status_is_error && self.status.starts_with(INSPECTED) {
-            // The status line still tells of the inspection: it follows the pixel as the
-            // inspector does (quietly: following is not news for the log).
+        } else if !self.status_is_error
+            && (self.status.starts_with(INSPECTED) || self.status.starts_with(CRACK))
+        {
+            // The status line still tells of the inspection (or of the crack it stepped to, of
+            // a frame no longer shown): it follows the pixel as the inspector does (quietly:
+            // following is not news for the log).
             self.status = said;
         }
     }
@@ -162,7 +166,7 @@ impl Viewer {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
             let (i, j) = m.pixel;
             let n = k + 1;
-            self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
+            self.set_status(format!("{CRACK}{n} of {count}: pixel ({i}, {j}): {what}"));
         }
     }
 

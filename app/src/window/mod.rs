@@ -735,6 +735,13 @@ impl ApplicationHandler<AppEvent> for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         self.viewer.pump();
+        if self.viewer.status == QUIT_PROMPT && !self.quit_armed() {
+            // (A click, a key or time since: the prompt no longer holds.)
+            self.viewer.status.clear();
+            self.esc_armed = None;
+            log::info!("quit prompt withdrawn");
+            self.request_redraw();
+        }
         // A scripted run past its limit ends here, drawing or not.
         let scripted = self.scripted.as_ref();
         let late = scripted.map(|run| run.check_time(&self.viewer, self.frames_presented));
@@ -747,11 +754,13 @@ impl ApplicationHandler<AppEvent> for App {
         // limit.
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
         let deadline = self.scripted.as_ref().map(ScriptedRun::deadline);
+        let prompt_ends = self.esc_armed.map(|t| t + QUIT_PROMPT_FOR);
         let wake = [
             self.viewer.refine_at(),
             script_at,
             self.egui_repaint_at,
             deadline,
+            prompt_ends,
         ]
         .into_iter()
         .flatten()

@@ -387,7 +387,7 @@ fn real_x_input_escape_quits_only_right_after_asking() {
     // then a failed load raises the banner (the status now says the error), Esc dismisses
     // it, and the next Esc asks again. The run is never quit: it ends with its final line.
     // (The prompt stayed armed through the click and the error: the window quit at the
-    // second Esc while the status showed something else.)
+    // second Esc while the status showed something else.) The click withdraws the prompt.
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 nan\nf 1 2 1\n").unwrap();
     // (The load fails once the driver has pressed Esc the second time and the window asked.)
@@ -419,6 +419,9 @@ fn real_x_input_escape_quits_only_right_after_asking() {
         asked[1] < failed && failed < dismissed && dismissed < asked[2],
         "{log}"
     );
+    // The click withdrew the first prompt from the status line (it stayed, no longer true).
+    let withdrawn = log.find("quit prompt withdrawn").expect("withdrawn");
+    assert!(asked[0] < withdrawn && withdrawn < asked[1], "{log}");
 }
 
 #[test]

@@ -152,6 +152,31 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
 }
 
 #[test]
+fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
+    // N steps to the first crack of moller on the shared edge; then D moves the camera. The
+    // status line tells of the pixel the inspector follows, no longer of the crack (it kept
+    // "crack 1 of ..." over a frame where that pixel may show none).
+    let dir = tempfile::tempdir().unwrap();
+    let view = shared_edge_view(dir.path(), 1);
+    let script = format!("200 drop {}\n200 await driver-done\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
+                  logged '] crack '; xdotool keydown d; sleep 0.3; xdotool keyup d";
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    assert!(run.stderr.contains("] crack 1 of "), "{}", run.stderr);
+    assert!(run.nums("camera")[0] > 0.1, "D moved right\n{}", run.stderr);
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    let pixel = &run.inspector["pixel"].replace(' ', ", ");
+    assert!(
+        status.is_some_and(|s| s.starts_with(&format!("inspected pixel ({pixel}): "))),
+        "the status line says {status:?}, the inspector pixel {pixel}\n{}",
+        run.stdout
+    );
+}
+
+#[test]
 fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     // The cracks view of moller on the shared edge at 3x3 samples a pixel: a real press of N
     // selects the first marked pixel, and every field the inspector shows is that of the
