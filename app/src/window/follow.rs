@@ -6,7 +6,7 @@
 //! marks the pixel, which of its samples is marked and why.
 
 use super::cracks::{self, Census, Legend, Step};
-use super::inspected::{Detail, Inspected};
+use super::inspected::{Chosen, Detail, Inspected};
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
@@ -22,13 +22,21 @@ impl Viewer {
     }
 
     /// Answers pixel (`i`, `j`) for the inspector and follows it from now on.
-    fn answer(&mut self, (i, j): (u32, u32), announce: bool) -> bool {
+    fn answer(&mut self, pixel: (u32, u32), announce: bool) -> bool {
+        let size = self.full_size();
+        let focal = self.focal(size.0);
+        self.answer_for(pixel, announce, Chosen { pixel, size, focal })
+    }
+
+    /// Answers `pixel`, followed from the pixel `chosen`.
+    fn answer_for(&mut self, pixel: (u32, u32), announce: bool, chosen: Chosen) -> bool {
         let size = self.full_size();
         let at = Inspected {
-            pixel: (i, j),
+            pixel,
             size,
             focal: self.focal(size.0),
             generation: self.generation,
+            chosen,
         };
         let Some(found) = self.trace(at) else {
             return false;
@@ -87,7 +95,8 @@ impl Viewer {
     }
 
     /// Answers the inspected pixel again once the frame shown is of a newer view than the
-    /// answer (at a new image size, the pixel whose ray has the same direction).
+    /// answer (at a new image size or focal length, the pixel whose ray has the direction of
+    /// the one chosen).
     pub fn follow(&mut self) {
         let Some(at) = self.inspected else { return };
         let current = (self.shown.as_ref()).is_some_and(|s| s.generation == self.generation);
@@ -97,8 +106,8 @@ impl Viewer {
         // At a new size, the pixel that looks the same way: offsets from the image centre
         // scale with the focal length (which goes with the width, but not with the
         // inspector's panel narrowing the image: that crops the view's sides).
-        let size = self.full_size();
-        let scale = self.focal(size.0) / at.focal;
+        let (size, chosen) = (self.full_size(), at.chosen);
+        let scale = self.focal(size.0) / chosen.focal;
         let map = |p: u32, from: u32, to: u32| {
             let offset = (p as f64 + 0.5 - from as f64 / 2.0) * scale;
             (offset + to as f64 / 2.0)
@@ -106,10 +115,10 @@ impl Viewer {
                 .clamp(0.0, to as f64 - 1.0) as u32
         };
         let pixel = (
-            map(at.pixel.0, at.size.0, size.0),
-            map(at.pixel.1, at.size.1, size.1),
+            map(chosen.pixel.0, chosen.size.0, size.0),
+            map(chosen.pixel.1, chosen.size.1, size.1),
         );
-        self.answer(pixel, false);
+        self.answer_for(pixel, false, chosen);
     }
 
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,

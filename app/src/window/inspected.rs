@@ -15,6 +15,18 @@ pub struct Inspected {
     /// The focal length (pixels) of the view it was answered for.
     pub focal: f64,
     pub generation: u64,
+    /// The pixel as chosen (a click, a crack stepped to), with its view's size and focal
+    /// length: the one followed, so that a zoom out and back, or a ray that left the image
+    /// for a while, comes back to the pixel chosen.
+    pub chosen: Chosen,
+}
+
+/// A pixel of an image of `size` at focal length `focal`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chosen {
+    pub pixel: (u32, u32),
+    pub size: (u32, u32),
+    pub focal: f64,
 }
 
 /// What the inspector says of its pixel's crack.

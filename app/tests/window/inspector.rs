@@ -177,6 +177,27 @@ fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
 }
 
 #[test]
+fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
+    // A pixel inspected, then the view zoomed in 17x (the pixel's ray leaves the image: the
+    // inspector shows the edge's pixel meanwhile) and out again: the inspector is back on
+    // the pixel chosen, as in a run without the zoom. (It followed from the edge, and came
+    // back elsewhere.)
+    let pixel_after = |zoom: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let script = format!("0 inspect 497 420\n{zoom}");
+        let run = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing)?;
+        Some((run.inspector["pixel"].clone(), run.stderr))
+    };
+    let Some((still, _)) = pixel_after("") else {
+        return;
+    };
+    let Some((zoomed, log)) = pixel_after("300 wheel 30\n700 wheel -30\n") else {
+        return;
+    };
+    assert_eq!(zoomed, still, "{log}");
+}
+
+#[test]
 fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     // The cracks view of moller on the shared edge at 3x3 samples a pixel: a real press of N
     // selects the first marked pixel, and every field the inspector shows is that of the
