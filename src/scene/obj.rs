@@ -19,10 +19,11 @@
 //! library is a warning naming the library's line: its faces turn grey, as do those of a
 //! `usemtl` no library defines (also a warning).
 //!
-//! OBJ models are conventionally y-up, while the lab's world is y-down; [`ObjFrame::YUp`]
-//! turns them the lab's way, negating x and y (a 180° turn about z, as the lab does to its
-//! Cornell box), so they stand upright in the viewer. [`ObjFrame::Lab`] takes the coordinates
-//! as they are (for files already in the lab's frame, such as `cornell_lab.obj`).
+//! OBJ models are conventionally y-up and face +z (towards a viewer at +z looking down −z),
+//! while the lab's world is y-down and its camera looks along +z; [`ObjFrame::YUp`] turns
+//! them the lab's way, negating y and z (a 180° turn about x), so they stand upright and face
+//! the camera, as in any viewer. [`ObjFrame::Lab`] takes the coordinates as they are (for
+//! files already in the lab's frame, such as `cornell_lab.obj`).
 
 use super::{PointLight, Scene};
 use crate::geometry::Shape;
@@ -34,7 +35,8 @@ use std::path::{Path, PathBuf};
 /// How an OBJ file's coordinates map to the world.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ObjFrame {
-    /// The usual y-up model: x and y are negated (upright in the y-down lab world).
+    /// The usual y-up model facing +z: y and z are negated (upright in the y-down lab world,
+    /// facing its camera).
     #[default]
     YUp,
     /// Already in the lab's y-down frame: used as is.
@@ -306,7 +308,7 @@ fn load_obj_str_coloured(
         let vertex = |i: u32| -> Option<[f32; 3]> {
             let k = 3 * i as usize;
             mesh.positions.get(k..k + 3).map(|p| match frame {
-                ObjFrame::YUp => [-p[0], -p[1], p[2]],
+                ObjFrame::YUp => [p[0], -p[1], -p[2]],
                 ObjFrame::Lab => [p[0], p[1], p[2]],
             })
         };

@@ -179,8 +179,18 @@ fn y_up_models_are_turned_into_the_lab_frame() {
     );
     assert_eq!(
         yup.shapes[0],
-        Shape::from([[-1.0, -2.0, 3.0], [-4.0, -5.0, 6.0], [-7.0, -8.0, 10.0]])
+        Shape::from([[1.0, -2.0, -3.0], [4.0, -5.0, -6.0], [7.0, -8.0, -10.0]])
     );
+    // A face towards +z in the file (counter-clockwise seen from there, as an OBJ model's
+    // front) faces the lab's camera, which looks along +z: its normal points to -z.
+    let front = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let yup =
+        raylab::scene::load_obj_str("t.obj", front, raylab::scene::ObjFrame::YUp, no_mtl).unwrap();
+    let Shape::Triangle(t) = yup.shapes[0] else {
+        panic!("a triangle")
+    };
+    let [a, b, c] = t.0.map(glam::Vec3::from);
+    assert_eq!((b - a).cross(c - a).normalize(), glam::Vec3::NEG_Z);
 }
 
 fn load_lab(obj: &str, mtl: &str) -> Result<Scene, String> {

@@ -290,10 +290,10 @@ fn meshes_load_relative_to_the_file_in_the_current_frame_and_colour() {
         scene.shapes[0],
         Shape::from([[10.0, 0.0, 0.0], [11.0, 0.0, 0.0], [10.0, 1.0, 0.0]])
     );
-    // yup negates x and y.
+    // yup negates y and z.
     assert_eq!(
         scene.shapes[2],
-        Shape::from([[-0.0, -0.0, 0.0], [-1.0, -0.0, 0.0], [-0.0, -1.0, 0.0]])
+        Shape::from([[0.0, -0.0, -0.0], [1.0, -0.0, -0.0], [0.0, -1.0, -0.0]])
     );
     assert!(
         scene.colors().iter().all(|c| *c == [0.2, 0.4, 0.6]),

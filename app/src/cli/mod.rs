@@ -253,9 +253,9 @@ pub struct ViewArgs {
     /// the window's panel sets it.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub light: Option<DVec3>,
-    /// How an OBJ file's coordinates are read: `yup` (the usual convention; x and y are negated
-    /// so the model stands upright in the lab's y-down world) or `lab` (already y-down, like
-    /// cornell_lab.obj).
+    /// How an OBJ file's coordinates are read: `yup` (the usual convention, y up and the front
+    /// towards +z; y and z are negated so the model stands upright in the lab's y-down world,
+    /// facing the camera) or `lab` (already y-down, like cornell_lab.obj).
     #[arg(long, default_value = "yup")]
     pub obj_frame: ObjFrame,
 }
