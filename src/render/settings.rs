@@ -83,7 +83,7 @@ impl LabStep {
     pub fn explanation(self) -> &'static str {
         match self {
             LabStep::Flat => "colour of the closest surface, no light",
-            LabStep::Direct => "point light: colour * P max(n.r, 0) / (4 pi r^2)",
+            LabStep::Direct => "point light: colour * P max(n . r/|r|, 0) / (4 pi |r|^2)",
             LabStep::Shadows => "direct light, blocked where a shadow ray hits something",
             LabStep::Indirect => "shadows plus the lab's constant indirect light N",
         }
