@@ -90,17 +90,11 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
             },
         );
         row("rho", f3(h.rho));
-        row(
-            "D",
-            match h.direct == h.direct_unshadowed {
-                true => f3(h.direct),
-                false => format!(
-                    "{} (shadowed; unshadowed {})",
-                    f3(h.direct),
-                    f3(h.direct_unshadowed)
-                ),
-            },
-        );
+        row("D", f3(h.direct));
+        if h.direct != h.direct_unshadowed {
+            // (Blocked in a step with shadows: the D the shadow ray took away.)
+            row("D unshadowed", f3(h.direct_unshadowed));
+        }
         row("N", f3(h.indirect));
         row(&format!("colour ({})", ins.step), f3(h.colour));
     });

@@ -482,10 +482,11 @@ impl WordedTerms for Terms {
         ]
     }
 
-    fn rows(&self, _v3: &dyn Fn([f64; 3]) -> String) -> Vec<(&'static str, String)> {
+    fn rows(&self, v3: &dyn Fn([f64; 3]) -> String) -> Vec<(&'static str, String)> {
         let Terms { a, b, c, .. } = self;
         vec![
-            ("a t^2 + b t + c", format!("a {a:.4}, b {b:.4}, c {c:.4}")),
+            // (As the vectors are written: one line of the inspector's width.)
+            ("a, b, c: a t^2+b t+c", v3([*a, *b, *c])),
             ("b^2 - 4ac", format!("{:.6}", self.discriminant)),
         ]
     }
