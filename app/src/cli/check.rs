@@ -171,7 +171,7 @@ pub(super) fn check_answers(args: &CheckArgs) -> Result<bool> {
 /// A --timeout a run can use: more than 0 and at most 1e6 seconds.
 pub(super) fn check_timeout(timeout: f64) -> Result<()> {
     if !(timeout > 0.0 && timeout <= 1e6) {
-        bail!("--timeout {timeout} must be > 0 and at most 1e6 seconds");
+        bail!("--timeout {timeout:?} must be > 0 and at most 1e6 seconds");
     }
     Ok(())
 }
@@ -190,7 +190,7 @@ impl Budget {
     pub(super) fn new(budget: Option<f64>, timeout: f64) -> Result<Budget> {
         let budget = budget.unwrap_or(5.0 * timeout);
         if !(budget > 0.0 && budget <= 1e7) {
-            bail!("--budget {budget} must be > 0 and at most 1e7 seconds");
+            bail!("--budget {budget:?} must be > 0 and at most 1e7 seconds");
         }
         let total = Duration::from_secs_f64(budget);
         Ok(Budget {
@@ -220,7 +220,7 @@ impl Budget {
 /// A --t-tolerance a grade can use: a number from 0 to 1.
 pub(super) fn check_tolerance(tolerance: f64) -> Result<()> {
     if !(0.0..=1.0).contains(&tolerance) {
-        bail!("--t-tolerance {tolerance} must be a number from 0 to 1 (relative)");
+        bail!("--t-tolerance {tolerance:?} must be a number from 0 to 1 (relative)");
     }
     Ok(())
 }

@@ -201,3 +201,37 @@ fn each_help_lists_only_the_flags_its_command_uses() {
     bench.sort();
     assert_eq!(flags_in_help("bench"), bench);
 }
+
+/// A number out of range is refused naming it as given, however large (1e300 was written
+/// out in 301 digits).
+#[test]
+fn check_names_a_number_out_of_range_as_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = write(d, "s.scene", "tri 0 0 0 1 0 0 0 1 0\n");
+    let rays = write(d, "r.txt", "0.25 0.25 -1 0 0 1 0 inf\n");
+    let program = "cat {scene} {rays}";
+    for (flag, message) in [
+        (
+            "--timeout",
+            "--timeout 1e300 must be > 0 and at most 1e6 seconds",
+        ),
+        (
+            "--t-tolerance",
+            "--t-tolerance 1e300 must be a number from 0 to 1",
+        ),
+    ] {
+        let args = [
+            "check",
+            "--scene",
+            &scene,
+            "--rays",
+            &rays,
+            "--program",
+            program,
+        ];
+        let o = raylab(&[&args[..], &[flag, "1e300"]].concat());
+        assert_fails(&o, 2, &[message]);
+        assert!(stderr(&o).len() < 200, "{}", stderr(&o));
+    }
+}
