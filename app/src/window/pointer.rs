@@ -19,10 +19,10 @@ impl App {
     }
 
     /// A left press over the image and its release within a few pixels (not an orbit drag)
-    /// inspect the pixel under the pointer, when the inspector is on.
+    /// inspect the pixel under the pointer, when the inspector is on (else say it is off).
     pub(super) fn left_click(&mut self, pressed: bool, on_image: bool) {
         if pressed {
-            self.press_at = self.cursor.filter(|_| on_image && self.viewer.inspector_on);
+            self.press_at = self.cursor.filter(|_| on_image);
             return;
         }
         let (Some((x0, y0)), Some((x, y))) = (self.press_at.take(), self.cursor) else {
@@ -31,7 +31,12 @@ impl App {
         if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
             return;
         }
-        if let Some((i, j)) = self.image_pixel(x, y) {
+        if self.image_pixel(x, y).is_some() && !self.viewer.inspector_on {
+            // (A click that inspects nothing says why.)
+            self.viewer
+                .set_status("the ray inspector is off: I or its check box turns it on");
+            self.request_redraw();
+        } else if let Some((i, j)) = self.image_pixel(x, y) {
             self.viewer.inspect_pixel(i, j);
             self.request_redraw();
         }

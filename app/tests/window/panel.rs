@@ -306,3 +306,24 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{text}{err}");
 }
+
+#[test]
+fn real_x_input_a_click_with_the_inspector_off_says_so() {
+    // I turns the inspector off; a click on the image then inspects nothing and the status
+    // line says why (it said nothing), and no pixel is inspected.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key i; logged 'ray inspector off'; \
+                  xdotool mousemove --sync 700 400 click 1";
+    let Some(run) = run_window(script, dir.path(), Around::RealInput(driver)) else {
+        return;
+    };
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    assert_eq!(
+        status,
+        Some("the ray inspector is off: I or its check box turns it on"),
+        "{}",
+        run.stderr
+    );
+    assert!(!run.stderr.contains("inspected pixel"), "{}", run.stderr);
+}
