@@ -55,6 +55,11 @@ pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// A run that passed (exit 0); else what it printed on both outputs.
+pub fn assert_passes(o: &Output) {
+    assert_eq!(o.status.code(), Some(0), "{}{}", stdout(o), stderr(o));
+}
+
 /// A failed run: the given exit code, a message holding every `needle`, and no panic.
 pub fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
     let err = stderr(o);

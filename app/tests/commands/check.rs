@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use common::binary::{assert_fails, count, last_line, text};
+use common::binary::{assert_fails, assert_passes, count, last_line, text};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
@@ -271,13 +271,7 @@ fn a_program_that_changes_directory_still_finds_its_files() {
         .current_dir(dir.path())
         .output()
         .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    assert_passes(&o);
 }
 
 /// The README's Python program answers rays whose tmin is `-inf`, as the README allows and
@@ -300,13 +294,7 @@ fn the_readme_python_program_reads_an_open_tmin() {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
     let program = format!("python3 '{}' {{scene}} {{rays}}", script.display());
     let o = check_program(scene, rays, &program, &["--precision", "f64"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    assert_passes(&o);
     assert_eq!(count(&last_line(&o), "right"), 3, "{}", text(&o.stdout));
 }
 
