@@ -74,7 +74,14 @@ pub struct GradeArgs {
     /// otherwise: as root a program can read and change anything).
     #[arg(long)]
     pub as_root: bool,
+    /// A variable of raylab's environment to pass to the programs (repeatable): they get
+    /// only PATH, LANG, LC_ALL, LC_CTYPE, TZ and these (HOME and TMPDIR are their directory).
+    #[arg(long = "env", value_name = "NAME")]
+    pub env: Vec<String>,
 }
+
+/// The variables of raylab's environment every program gets (`--env` adds others).
+const PASSED_ENV: [&str; 5] = ["PATH", "LANG", "LC_ALL", "LC_CTYPE", "TZ"];
 
 /// How one family went for one submission (the CSV's `status`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -132,6 +139,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     if args.max_memory < 16 || args.max_processes == 0 {
         bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
     }
+    if let Some(bad) = (args.env.iter()).find(|n| n.is_empty() || n.contains(['=', '\0'])) {
+        bail!("--env '{bad}' is not a variable's name (a name, without '=')");
+    }
     let submissions = submissions(&args.class)?;
     let jobs = match args.jobs {
         Some(n) if !(1..=1024).contains(&n) => bail!("-j {n} is out of range (1..=1024)"),
@@ -184,10 +194,18 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         max_processes: Some(args.max_processes),
         dir: None,
         run_as: None,
+        env: Some(
+            PASSED_ENV
+                .iter()
+                .map(|n| n.to_string())
+                .chain(args.env.clone())
+                .collect(),
+        ),
     };
     let accounts = accounts(jobs, &limits, args.as_root)?;
     // (The programs run as accounts could read the submissions' originals there.)
-    let class_open = std::fs::canonicalize(&args.class).is_ok_and(|c| program::open_to_others(&c));
+    let class_open =
+        std::fs::canonicalize(&args.class).is_ok_and(|c| super::account::open_to_others(&c));
     if accounts.first().is_some_and(Option::is_some) && class_open {
         eprintln!(
             "warning: {}: other users may enter it, so a program can read the other \

@@ -66,6 +66,9 @@ pub struct Limits {
     /// The uid (and gid) to run as, one no other process has; HOME and TMPDIR become `dir`,
     /// PATH the entries it may search.
     pub run_as: Option<u32>,
+    /// The only variables of raylab's environment the program gets, where not all (`grade`:
+    /// a submission does not see the teacher's); HOME and TMPDIR become `dir` then too.
+    pub env: Option<Vec<String>>,
 }
 
 impl Limits {
@@ -78,6 +81,7 @@ impl Limits {
             max_processes: None,
             dir: None,
             run_as: None,
+            env: None,
         }
     }
 }
@@ -119,14 +123,20 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     if let Some(dir) = &limits.dir {
         shell.current_dir(dir);
     }
+    if let Some(names) = &limits.env {
+        shell.env_clear();
+        for name in names.iter().filter_map(|n| Some((n, std::env::var_os(n)?))) {
+            shell.env(name.0, name.1);
+        }
+    }
     if let Some(uid) = limits.run_as {
         // setgroups(0) comes with it: none of root's groups stay.
         shell.uid(uid).gid(uid);
         let path = std::env::var_os("PATH").unwrap_or_default();
-        shell.env("PATH", searchable_path(&path));
-        if let Some(dir) = &limits.dir {
-            shell.env("HOME", dir).env("TMPDIR", dir);
-        }
+        shell.env("PATH", super::account::searchable_path(&path));
+    }
+    if let (Some(dir), true) = (&limits.dir, limits.run_as.is_some() || limits.env.is_some()) {
+        shell.env("HOME", dir).env("TMPDIR", dir);
     }
     // Started and registered at once, so no sweep takes the new shell for a stray.
     let (mut child, id) = {
@@ -776,24 +786,4 @@ fn remove_tree(path: &Path) {
 /// The uids of the processes running (real, effective, saved and file ones).
 pub fn uids_running() -> HashSet<u32> {
     scan(true).iter().flat_map(|p| p.uids).collect()
-}
-
-/// The entries of `path` (a PATH) that any user may search: every directory from the root
-/// down open to others. A program run as an account gets this PATH, so that a command in a
-/// directory it cannot enter (root's ~/.cargo/bin, say) is "not found", not "permission
-/// denied", as it would be on the student's own machine.
-fn searchable_path(path: &std::ffi::OsStr) -> std::ffi::OsString {
-    let kept: Vec<std::path::PathBuf> = std::env::split_paths(path)
-        .filter(|dir| dir.is_absolute() && open_to_others(dir))
-        .collect();
-    std::env::join_paths(kept).unwrap_or_default()
-}
-
-/// Whether every user may enter `dir` (absolute): every directory from the root down open to
-/// others, as a program run as an account needs.
-pub fn open_to_others(dir: &Path) -> bool {
-    use std::os::unix::fs::PermissionsExt;
-    dir.ancestors().all(|d| {
-        std::fs::metadata(d).is_ok_and(|m| m.is_dir() && m.permissions().mode() & 0o001 != 0)
-    })
 }

@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::binary::running;
+use common::binary::{assert_fails, running};
 use std::path::{Path, PathBuf};
 
 crate::raylab_runner!();
@@ -619,4 +619,47 @@ fn the_next_submission_finds_nothing_of_the_last() {
         json.contains("no-such-command-917006: not found") && !json.contains("Permission denied"),
         "{json}"
     );
+}
+
+/// A submission sees none of the teacher's environment but PATH, the locale, the time zone
+/// and what `--env` names: a variable set for raylab (a token, say) is not passed on, one
+/// named by `--env` is. (Every variable was passed on.)
+#[test]
+fn a_submission_sees_only_the_environment_it_is_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let run = "[ -z \"$RAYLAB_TEST_TOKEN\" ] || { echo \"saw the token\" >&2; exit 3; }\n\
+               [ \"$RAYLAB_TEST_GIVEN\" = yes ] || { echo 'not given' >&2; exit 4; }\n\
+               exec python3 exact.py \"$1\" \"$2\"\n";
+    std::fs::write(class.join("ada/run.sh"), run).unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let json = dir.path().join("grades.json");
+    let (class, suite, json_path) = (path(&class), path(&suite), path(&json));
+    let program = "sh run.sh {scene} {rays}";
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        program,
+        "--json",
+        &json_path,
+    ];
+    let env = [("RAYLAB_TEST_TOKEN", "hush"), ("RAYLAB_TEST_GIVEN", "yes")];
+    let graded = |more: &[&str]| {
+        let o = raylab_env(&[&args[..], more].concat(), &env);
+        assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+        std::fs::read_to_string(&json).unwrap()
+    };
+    let given = graded(&["--env", "RAYLAB_TEST_GIVEN"]);
+    assert!(given.contains("\"status\": \"ok\""), "{given}");
+    // Without --env, the variable it needs is not there either: the failed run says why.
+    let not_given = graded(&[]);
+    assert!(
+        not_given.contains("\"status\": \"crashed\"") && not_given.contains("not given"),
+        "{not_given}"
+    );
+    let o = raylab(&[&args[..], &["--env", "A=B"]].concat());
+    assert_fails(&o, 2, &["--env 'A=B' is not a variable's name"]);
 }
