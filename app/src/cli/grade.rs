@@ -642,6 +642,11 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
     // Padded by the columns a terminal gives each character (two for 李, none for a
     // combining accent), not by characters.
     let padded = |name: &str| format!("{name}{}", " ".repeat(width.saturating_sub(name.width())));
+    // The points column, where there is a rubric.
+    let points_column = |text: &str| match points {
+        Some(_) => format!(" {text:>13}"),
+        None => String::new(),
+    };
     let mut out = format!(
         "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9}{}  status\n",
         "submission",
@@ -651,11 +656,7 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
         "wrong",
         "t fail",
         "time s",
-        if points.is_some() {
-            format!(" {:>13}", "points")
-        } else {
-            String::new()
-        }
+        points_column("points")
     );
     let most: f64 = points.map_or(0.0, |p| p.iter().sum());
     for s in graded {
@@ -665,6 +666,12 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
             .filter_map(|r| r.tally.as_ref())
             .for_each(|t| total.merge(t));
         let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
+        // (No family graded: no counts, not counts of 0, as the CSV's empty fields.)
+        let graded_any = s.records.iter().any(|r| r.tally.is_some());
+        let count = |n: usize| match graded_any {
+            true => n.to_string(),
+            false => "-".to_string(),
+        };
         let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
         let earned: f64 = s
             .records
@@ -676,19 +683,12 @@ fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> Strin
             "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
             padded(&one_line(&s.name)),
             format!("{passed}/{}", cases.len()),
-            total.leaks,
-            total.false_hits,
-            total.wrong,
-            total.t_beyond,
+            count(total.leaks),
+            count(total.false_hits),
+            count(total.wrong),
+            count(total.t_beyond),
             secs,
-            if points.is_some() {
-                format!(
-                    " {:>13}",
-                    format!("{}/{}", points_text(earned), points_text(most))
-                )
-            } else {
-                String::new()
-            },
+            points_column(&format!("{}/{}", points_text(earned), points_text(most))),
             summary(&s.records)
         );
     }

@@ -174,6 +174,18 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         table[2].contains("0/1") && table[2].ends_with("crashed 1"),
         "{out}"
     );
+    // Counts of what was graded: none where nothing was (not 0, which reads as no mistake).
+    let counts = |row: &str| {
+        row.split_whitespace()
+            .skip(2)
+            .take(4)
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    assert_eq!(
+        (counts(table[1]), counts(table[2])),
+        ("0 0 0 0".into(), "- - - -".into())
+    );
     // The JSON: the same records, with why each was not graded.
     let json = std::fs::read_to_string(&json).unwrap();
     assert_eq!(
