@@ -7,12 +7,12 @@
 use super::account::{accounts, Account};
 use super::check::{suite_cases, Budget, Case};
 use super::program::{self, Limits, RunDir, RunError};
+use super::rubric::{points_text, Rubric};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
 use raylab::check::Tally;
 use raylab::input::OutputFile;
 use raylab_app::one_line;
-use std::collections::HashMap;
 use std::ffi::OsString;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -367,7 +367,7 @@ fn run_all(
         .collect()
 }
 
-fn name_of(dir: &Path) -> String {
+pub(super) fn name_of(dir: &Path) -> String {
     dir.file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()
@@ -532,88 +532,6 @@ fn summary(records: &[Record]) -> String {
     }
 }
 
-/// Points per passed family.
-struct Rubric {
-    named: HashMap<String, f64>,
-    rest: f64,
-}
-
-impl Rubric {
-    /// Reads a rubric; every family it names must be one of the suite's.
-    fn read(file: &Path, suite: &Path) -> Result<Rubric> {
-        let text = super::read_text(file)?;
-        let families: Vec<String> = std::fs::read_dir(suite)
-            .map_err(|e| anyhow!("{}: {e}", suite.display()))?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_dir())
-            .map(|p| name_of(&p))
-            .collect();
-        let (mut named, mut rest) = (HashMap::new(), None);
-        for (n, line) in text.lines().enumerate() {
-            let at = || format!("{}:{}", file.display(), n + 1);
-            let words: Vec<&str> = line
-                .split('#')
-                .next()
-                .unwrap_or("")
-                .split_whitespace()
-                .collect();
-            let (key, points) = match words[..] {
-                [] => continue,
-                [key, points] => (key, points),
-                _ => bail!(
-                    "{}: expected `<family name or number> <points>` or `* <points>`",
-                    at()
-                ),
-            };
-            let points: f64 = match points.parse() {
-                Ok(p) if (0.0..=1e9).contains(&p) => p,
-                _ => bail!("{}: '{points}' is not a number of points (0 to 1e9)", at()),
-            };
-            let name = match key {
-                "*" => {
-                    if rest.replace(points).is_some() {
-                        bail!("{}: a second `*` line", at());
-                    }
-                    continue;
-                }
-                _ => families.iter().find(|f| family_is(f, key)).cloned(),
-            };
-            let Some(name) = name else {
-                bail!(
-                    "{}: no family '{key}' in the suite {}",
-                    at(),
-                    suite.display()
-                );
-            };
-            if named.insert(name.clone(), points).is_some() {
-                bail!("{}: {name} has points already", at());
-            }
-        }
-        if named.is_empty() && rest.is_none() {
-            bail!(
-                "{}: no points (lines `<family name or number> <points>`, `* <points>`)",
-                file.display()
-            );
-        }
-        Ok(Rubric {
-            named,
-            rest: rest.unwrap_or(0.0),
-        })
-    }
-
-    fn points(&self, family: &str) -> f64 {
-        self.named.get(family).copied().unwrap_or(self.rest)
-    }
-}
-
-/// Whether `key` names the family `name`: the name itself, or its number (`7` or `07`).
-fn family_is(name: &str, key: &str) -> bool {
-    name == key
-        || key
-            .parse::<usize>()
-            .is_ok_and(|n| name.starts_with(&format!("{n:02}-")))
-}
-
 /// A family's points for a record: the family's when it passed.
 fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
     points.map(|p| {
@@ -623,12 +541,6 @@ fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
             0.0
         }
     })
-}
-
-/// Points as a person writes them: `3`, `2.5`, `0.33` (sums of decimals rounded to 0.01).
-fn points_text(points: f64) -> String {
-    let text = format!("{points:.2}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// The table: one row per submission.

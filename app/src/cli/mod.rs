@@ -28,6 +28,7 @@ mod check_image;
 mod grade;
 mod program;
 mod reproducers;
+mod rubric;
 mod template;
 mod trace;
 

@@ -675,3 +675,35 @@ fn a_submission_sees_only_the_environment_it_is_given() {
     let o = raylab(&[&args[..], &["--env", "A=B"]].concat());
     assert_fails(&o, 2, &["--env 'A=B' is not a variable's name"]);
 }
+
+/// A rubric without a `*` line gives the families it does not name no points, and says so
+/// (a forgotten `*` line read as a class that earned little).
+#[test]
+fn a_rubric_without_a_star_line_says_what_it_leaves_at_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-", "17-"]);
+    let rubric = common::binary::write(dir.path(), "rubric.txt", "16 3\n");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let (class, suite) = (path(&class), path(&suite));
+    let program = "sh run.sh {scene} {rays}";
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        program,
+        "--rubric",
+        &rubric,
+    ];
+    let o = raylab(&args);
+    let err = common::binary::stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let warning = "rubric.txt: no `*` line: the families it does not name (1) are worth 0 points";
+    assert!(err.contains(warning), "{err}");
+    assert!(
+        common::binary::stdout(&o).contains(" 3/3 "),
+        "{}",
+        common::binary::stdout(&o)
+    );
+}
