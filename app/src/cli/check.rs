@@ -73,7 +73,8 @@ pub struct CheckArgs {
         long,
         value_name = "SECONDS",
         default_value_t = 60.0,
-        conflicts_with = "answers"
+        conflicts_with = "answers",
+        allow_negative_numbers = true
     )]
     pub timeout: f64,
     /// With --suite: seconds the program may take on all families together; the families
@@ -82,7 +83,8 @@ pub struct CheckArgs {
         long,
         value_name = "SECONDS",
         requires = "suite",
-        conflicts_with_all = ["rays", "image"]
+        conflicts_with_all = ["rays", "image"],
+        allow_negative_numbers = true
     )]
     pub budget: Option<f64>,
     /// How far a right hit's point o + t·d may lie from the exact one, relative to the size
@@ -102,7 +104,7 @@ pub struct CheckArgs {
     pub family: Option<String>,
     /// How many of the first wrong answers and of the first t failures to print, each ray a
     /// line to reproduce it by (default 3 under each failing family of a suite, 5 otherwise).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub show: Option<usize>,
     /// The scene and, with --image, the view.
     #[command(

@@ -35,7 +35,12 @@ pub struct GradeArgs {
     #[arg(long, value_name = "CMD")]
     pub program: String,
     /// Submissions graded at once (default: the number of cores).
-    #[arg(short = 'j', long = "jobs", value_name = "N")]
+    #[arg(
+        short = 'j',
+        long = "jobs",
+        value_name = "N",
+        allow_negative_numbers = true
+    )]
     pub jobs: Option<usize>,
     /// Also write one row per submission and family to this CSV file.
     #[arg(long, value_name = "FILE")]
@@ -48,11 +53,16 @@ pub struct GradeArgs {
     #[arg(long, value_name = "FILE")]
     pub rubric: Option<PathBuf>,
     /// Seconds a program may take on one family before it is stopped.
-    #[arg(long, value_name = "SECONDS", default_value_t = 60.0)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 60.0,
+        allow_negative_numbers = true
+    )]
     pub timeout: f64,
     /// Seconds a submission may take on all families together; the families after it runs
     /// out are skipped (default: 5 × --timeout).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub budget: Option<f64>,
     /// The precision the files are read in and the exact t is rounded to.
     #[arg(long, value_enum, default_value = "f32")]
@@ -64,11 +74,21 @@ pub struct GradeArgs {
     #[arg(long, value_name = "NAME")]
     pub family: Option<String>,
     /// Data memory (heap, written pages) of each of a program's processes, in MiB.
-    #[arg(long, value_name = "MIB", default_value_t = 2048)]
+    #[arg(
+        long,
+        value_name = "MIB",
+        default_value_t = 2048,
+        allow_negative_numbers = true
+    )]
     pub max_memory: u64,
     /// Processes and threads a program may have at once (a fork bomb stops there; a program
     /// with a thread per core needs more than the cores).
-    #[arg(long, value_name = "N", default_value_t = 256)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 256,
+        allow_negative_numbers = true
+    )]
     pub max_processes: u64,
     /// As root, run the programs as root where no unprivileged uid can run them (refused
     /// otherwise: as root a program can read and change anything).

@@ -156,6 +156,7 @@ impl<const ALL: bool> clap::Args for ControlFlags<ALL> {
                 Kind::Toggle { .. } => arg.action(clap::ArgAction::SetTrue),
                 Kind::Count { .. } => arg
                     .value_name("N")
+                    .allow_negative_numbers(true)
                     .value_parser(clap::value_parser!(u32))
                     .default_value(control.text(&defaults)),
                 Kind::Choice { .. } => arg
@@ -228,10 +229,10 @@ pub struct ViewArgs {
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Image width in pixels (1..=16384; default 640, `check --image` 160).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub width: Option<u32>,
     /// Image height in pixels (1..=16384; default 480, `check --image` 120).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub height: Option<u32>,
     /// Focal length in pixels (default: the image width, about 53° of horizontal view).
     #[arg(long, allow_hyphen_values = true)]
@@ -302,7 +303,7 @@ pub struct InspectArgs {
     #[command(flatten)]
     pub accel: AccelArg,
     /// The pixel `x,y` (column, row from the top left, 0-based).
-    #[arg(long, value_parser = parse_pixel)]
+    #[arg(long, value_parser = parse_pixel, allow_hyphen_values = true)]
     pub pixel: (u32, u32),
 }
 
@@ -347,10 +348,10 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub image: ImageArgs,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Frames timed after one warm-up frame; the median is reported.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
     pub frames: u32,
     /// Run the kernels' build for this SIMD level (`baseline`, `avx2` or `avx512`; at most
     /// what the CPU has), to compare the builds in one run. Default: the best the CPU has.

@@ -235,3 +235,21 @@ fn check_names_a_number_out_of_range_as_given() {
         assert!(stderr(&o).len() < 200, "{}", stderr(&o));
     }
 }
+
+/// A negative number given to a flag that takes a count is refused naming the flag (it was
+/// clap's "unexpected argument '-5' found", which names none).
+#[test]
+fn a_negative_count_is_refused_naming_its_flag() {
+    for (args, flag) in [
+        (
+            &["render", "--height", "-5", "-o", "x.png"][..],
+            "'--height <HEIGHT>'",
+        ),
+        (&["render", "--spp", "-2", "-o", "x.png"][..], "'--spp <N>'"),
+        (&["inspect", "--pixel", "-1,0"][..], "'--pixel <PIXEL>'"),
+        (&["bench", "--frames", "-1"][..], "'--frames <FRAMES>'"),
+    ] {
+        let o = raylab(args);
+        assert_fails(&o, 2, &["invalid value '-", flag]);
+    }
+}
