@@ -10,10 +10,6 @@ use super::inspected::{Chosen, Detail, Inspected};
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
-/// How the status line begins that tells of an inspection, and of a crack stepped to.
-const INSPECTED: &str = "inspected pixel (";
-const CRACK: &str = "crack ";
-
 impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
     /// script's `inspect`), saying what it found.
@@ -23,20 +19,19 @@ impl Viewer {
 
     /// Answers pixel (`i`, `j`) for the inspector and follows it from now on.
     fn answer(&mut self, pixel: (u32, u32), announce: bool) -> bool {
-        let size = self.full_size();
-        let focal = self.focal(size.0);
-        self.answer_for(pixel, announce, Chosen { pixel, size, focal })
+        self.answer_for(pixel, announce, None)
     }
 
-    /// Answers `pixel`, followed from the pixel `chosen`.
-    fn answer_for(&mut self, pixel: (u32, u32), announce: bool, chosen: Chosen) -> bool {
+    /// Answers `pixel`, followed from now on from the pixel `chosen` (itself where `None`).
+    fn answer_for(&mut self, pixel: (u32, u32), announce: bool, chosen: Option<Chosen>) -> bool {
         let size = self.full_size();
+        let focal = self.focal(size.0);
         let at = Inspected {
             pixel,
             size,
-            focal: self.focal(size.0),
+            focal,
             generation: self.generation,
-            chosen,
+            chosen: chosen.unwrap_or(Chosen { pixel, size, focal }),
         };
         let Some(found) = self.trace(at) else {
             return false;
@@ -54,12 +49,11 @@ impl Viewer {
             Some(h) => format!("primitive {} at t = {}", h.prim, h.t),
             None => "nothing".to_string(),
         };
-        let said = format!("{INSPECTED}{i}, {j}): {what}");
+        let said = format!("inspected pixel ({i}, {j}): {what}");
         if announce {
             self.set_status(said);
-        } else if !self.status_is_error
-            && (self.status.starts_with(INSPECTED) || self.status.starts_with(CRACK))
-        {
+            self.status_follows_pixel = true;
+        } else if self.status_follows_pixel {
             // The status line still tells of the inspection (or of the crack it stepped to, of
             // a frame no longer shown): it follows the pixel as the inspector does (quietly:
             // following is not news for the log).
@@ -118,7 +112,7 @@ impl Viewer {
             map(chosen.pixel.0, chosen.size.0, size.0),
             map(chosen.pixel.1, chosen.size.1, size.1),
         );
-        self.answer_for(pixel, false, chosen);
+        self.answer_for(pixel, false, Some(chosen));
     }
 
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,
@@ -175,7 +169,8 @@ impl Viewer {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
             let (i, j) = m.pixel;
             let n = k + 1;
-            self.set_status(format!("{CRACK}{n} of {count}: pixel ({i}, {j}): {what}"));
+            self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
+            self.status_follows_pixel = true;
         }
     }
 

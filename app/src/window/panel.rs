@@ -357,8 +357,6 @@ fn scene_tree(
     clicked
 }
 
-/// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
-/// whose room is the solid bar's and that is drawn at its full width all the time.
 /// A field for a camera or light coordinate, kept within the range raylab renders from
 /// (±[`raylab::math::MAX_VIEW_COORDINATE`], what `raylab render` accepts), a typed `nan` or
 /// `inf` ignored: copy as command and Save view write what the window shows.
@@ -378,6 +376,8 @@ fn coordinate<N: egui::emath::Numeric>(value: &mut N, speed: f64) -> egui::DragV
         .custom_parser(number)
 }
 
+/// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
+/// whose room is the solid bar's and that is drawn at its full width all the time.
 fn solid_bar() -> egui::style::ScrollStyle {
     let solid = egui::style::ScrollStyle::solid();
     egui::style::ScrollStyle {

@@ -31,15 +31,17 @@ impl App {
         if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
             return;
         }
-        if self.image_pixel(x, y).is_some() && !self.viewer.inspector_on {
+        let Some((i, j)) = self.image_pixel(x, y) else {
+            return;
+        };
+        match self.viewer.inspector_on {
+            true => self.viewer.inspect_pixel(i, j),
             // (A click that inspects nothing says why.)
-            self.viewer
-                .set_status("the ray inspector is off: I or its check box turns it on");
-            self.request_redraw();
-        } else if let Some((i, j)) = self.image_pixel(x, y) {
-            self.viewer.inspect_pixel(i, j);
-            self.request_redraw();
+            false => {
+                (self.viewer).set_status("the ray inspector is off: I or its check box turns it on")
+            }
         }
+        self.request_redraw();
     }
 
     /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels):

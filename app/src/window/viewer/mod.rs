@@ -103,6 +103,9 @@ pub struct Viewer {
     pub status: String,
     /// Whether the status is an error (drawn red).
     pub status_is_error: bool,
+    /// Whether the status tells of the inspected pixel (an inspection, a crack stepped to):
+    /// it then follows the pixel as the inspector does.
+    pub status_follows_pixel: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
     /// Whether it showed the frame's figures whole beside it.
@@ -209,6 +212,7 @@ impl Viewer {
             show_help: false,
             status: String::new(),
             status_is_error: false,
+            status_follows_pixel: false,
             status_whole: true,
             figures_whole: true,
             fail_next_render: false,
@@ -280,7 +284,7 @@ impl Viewer {
     /// A message for the panel (and the log, so scripted runs can be checked).
     pub fn set_status(&mut self, message: impl Into<String>) {
         self.status = message.into();
-        self.status_is_error = false;
+        (self.status_is_error, self.status_follows_pixel) = (false, false);
         log::info!("{}", self.status);
     }
 
@@ -293,7 +297,7 @@ impl Viewer {
     /// An error: in the status line and in the banner over the image, where the eye is.
     pub fn report_error(&mut self, message: impl Into<String>) {
         self.status = message.into();
-        self.status_is_error = true;
+        (self.status_is_error, self.status_follows_pixel) = (true, false);
         self.banner = Some(self.status.clone());
         log::warn!("{}", self.status);
     }
