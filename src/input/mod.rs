@@ -85,10 +85,7 @@ pub enum InputError {
     Sizeless { path: PathBuf, limit: u64 },
     #[error("{}:{line}: not UTF-8 text", path.display())]
     NotText { path: PathBuf, line: usize },
-    #[error(
-        "{}: UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
-        path.display()
-    )]
+    #[error("{}: {}", path.display(), NotText::Utf16)]
     Utf16 { path: PathBuf },
     #[error("{}: names a directory, not a file to write", path.display())]
     NotAFileName { path: PathBuf },

@@ -147,6 +147,7 @@ pub fn inspect_at(
                 .shadow
                 .is_some_and(|s| accel.any_hit(&s, method, 0.0, 1.0, lit.skip));
             let shows_shadows = settings.step.casts_shadows();
+            let d = lit.d(scene);
             HitInspection {
                 prim: hit.prim,
                 t: hit.t,
@@ -160,19 +161,13 @@ pub fn inspect_at(
                 rho: scene.color(hit.prim),
                 direct: match blocked && shows_shadows {
                     true => [0.0; 3],
-                    false => lit.d(scene),
+                    false => d,
                 },
-                direct_unshadowed: lit.d(scene),
+                direct_unshadowed: d,
                 indirect: scene.ambient,
                 shadow: lit.shadow,
                 blocked_by,
-                colour: step_colour(
-                    scene,
-                    hit.prim,
-                    lit.d(scene),
-                    blocked && shows_shadows,
-                    settings.step,
-                ),
+                colour: step_colour(scene, hit.prim, d, blocked && shows_shadows, settings.step),
             }
         });
     Ok(Inspection {

@@ -125,8 +125,10 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     }
     if let Some(names) = &limits.env {
         shell.env_clear();
-        for name in names.iter().filter_map(|n| Some((n, std::env::var_os(n)?))) {
-            shell.env(name.0, name.1);
+        for name in names {
+            if let Some(value) = std::env::var_os(name) {
+                shell.env(name, value);
+            }
         }
     }
     if let Some(uid) = limits.run_as {
@@ -135,7 +137,8 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         let path = std::env::var_os("PATH").unwrap_or_default();
         shell.env("PATH", super::account::searchable_path(&path));
     }
-    if let (Some(dir), true) = (&limits.dir, limits.run_as.is_some() || limits.env.is_some()) {
+    let own_home = limits.run_as.is_some() || limits.env.is_some();
+    if let Some(dir) = limits.dir.as_ref().filter(|_| own_home) {
         shell.env("HOME", dir).env("TMPDIR", dir);
     }
     // Started and registered at once, so no sweep takes the new shell for a stray.
