@@ -107,6 +107,20 @@ fn translate_rotate_scale_is_the_lectures_t_r_s() {
 }
 
 #[test]
+fn rotations_are_right_handed_as_the_readme_says() {
+    // A quarter turn about each axis takes the next axis to the one after it (x -> y -> z -> x).
+    for (axis, from, to) in [
+        ("x", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+        ("y", [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+        ("z", [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+    ] {
+        let [x, y, z] = from;
+        let d = parse32(&format!("rotate {axis} 90\ntri {x} {y} {z} 0 0 0 1 1 1\n")).unwrap();
+        assert_eq!(tri(&d, 0)[0], to, "rotate {axis} 90 of {from:?}");
+    }
+}
+
+#[test]
 fn push_and_pop_restore_the_transform_and_colour_exactly() {
     let d = parse32(
         "color 0.5 0.5 0.5\n\
@@ -204,6 +218,16 @@ fn every_error_names_its_line() {
             "light 0 0 0\nlight 1 1 1\n",
             2,
             "one light (given on line 1)",
+        ),
+        (
+            "camera 0 0 5\n# a second view\ncamera 0 1 5 yaw 10\n",
+            3,
+            "one camera (given on line 1)",
+        ),
+        (
+            "ambient 0 0 0\nambient 1 1 1\n",
+            2,
+            "one ambient (given on line 1)",
         ),
         ("color 1 -1 0\n", 1, "negative"),
         ("camera 0 0\n", 1, "camera needs x y z"),

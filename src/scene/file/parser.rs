@@ -26,7 +26,8 @@ struct Parser<'a, T: Real> {
     saved: Vec<Saved>,
     current: Saved,
     out: Description<T>,
-    light_line: Option<usize>,
+    /// The line of each statement a scene has at most one of (light, camera, ambient).
+    given_once: HashMap<&'static str, usize>,
     meshes: HashMap<(FileKey, ObjFrame, [u32; 3]), Scene>,
     /// The meshes used often enough to be instanced, loaded once whatever the colour.
     shared: HashMap<Repeated, Shared>,
@@ -147,7 +148,7 @@ pub fn parse_with<T: Real>(
                 primitives: Vec::new(),
             }],
         },
-        light_line: None,
+        given_once: HashMap::new(),
         meshes: HashMap::new(),
         shared: HashMap::new(),
         uses,
@@ -438,6 +439,14 @@ impl<T: Real> Parser<'_, T> {
         Ok(())
     }
 
+    /// Refuses a second `light`, `camera` or `ambient`: the first would be silently lost.
+    fn once(&mut self, keyword: &'static str) -> Result<(), String> {
+        match self.given_once.insert(keyword, self.line) {
+            Some(first) => Err(format!("a scene has one {keyword} (given on line {first})")),
+            None => Ok(()),
+        }
+    }
+
     fn transform(&mut self, line: usize, rank: u8, what: &str) {
         let names = ["translate", "rotate", "scale"];
         if let Some((last, last_line)) = self.current.last_rank {
@@ -631,9 +640,7 @@ impl<T: Real> Parser<'_, T> {
             }
             "light" => {
                 let x = numbers(args, &[3, 4], "light")?;
-                if let Some(first) = self.light_line {
-                    return Err(format!("a scene has one light (given on line {first})"));
-                }
+                self.once("light")?;
                 let p = x.get(3).copied().unwrap_or(DEFAULT_POWER as f64);
                 if p < 0.0 {
                     return Err(format!("light power {p} is negative"));
@@ -642,7 +649,6 @@ impl<T: Real> Parser<'_, T> {
                 let position = self.transformed([x[0], x[1], x[2]]);
                 let position = position.map(|w| w.map(|c| c.f64() as f32))?;
                 crate::math::check_range("light position", position, MAX_VIEW_COORDINATE)?;
-                self.light_line = Some(line);
                 self.out.light = Some(PointLight {
                     position,
                     power: [p; 3],
@@ -650,6 +656,7 @@ impl<T: Real> Parser<'_, T> {
             }
             "ambient" => {
                 let n = numbers(args, &[3], "ambient")?;
+                self.once("ambient")?;
                 if n.iter().any(|x| *x < 0.0) {
                     return Err("ambient has a negative channel".into());
                 }
@@ -659,6 +666,7 @@ impl<T: Real> Parser<'_, T> {
                 if args.len() < 3 {
                     return Err(format!("camera needs x y z, found {} numbers", args.len()));
                 }
+                self.once("camera")?;
                 let p = numbers(&args[..3], &[3], "camera")?;
                 crate::math::check_range(
                     "camera position",
