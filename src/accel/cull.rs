@@ -90,6 +90,32 @@ pub(crate) struct Box3 {
 }
 
 impl Box3 {
+    /// The part of [t0, t1] along which a ray (origin `o`, inverse direction `inv` in f64)
+    /// lies within the box widened by `pad`, in f64 and widened by 2⁻²⁰ relative: every f32
+    /// input and its inverse direction are f64 values far from f64's limits, so the distances
+    /// are within a few f64 roundings of exact and the interval holds every exact crossing.
+    /// Empty where t0 > t1.
+    pub(crate) fn slab_interval_f64(
+        &self,
+        pad: f32,
+        o: [f32; 3],
+        inv: &[f64; 3],
+        (mut t0, mut t1): (f64, f64),
+    ) -> (f64, f64) {
+        const WIDEN: f64 = 1.0 / (1u64 << 20) as f64;
+        let pad = f64::from(pad);
+        for (k, &inv) in inv.iter().enumerate() {
+            let (lo, hi) = (f64::from(self.lo[k]) - pad, f64::from(self.hi[k]) + pad);
+            let (near, far) = if inv < 0.0 { (hi, lo) } else { (lo, hi) };
+            let o = f64::from(o[k]);
+            let (tn, tf) = ((near - o) * inv, (far - o) * inv);
+            // f64::min/max ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
+            t0 = t0.max(tn - tn.abs() * WIDEN);
+            t1 = t1.min(tf + tf.abs() * WIDEN);
+        }
+        (t0, t1)
+    }
+
     /// Whether the box meets [lo, hi] widened by 1e-6 relative (plus 1e-30): a box built
     /// from segment ends computed in f32 (origin + direction, rounded) then holds the exact
     /// segments.

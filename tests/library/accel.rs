@@ -265,6 +265,75 @@ fn every_interval_is_answered_as_the_reference_does_flat_boxes_behind_the_origin
     check_all(&shapes, &rays, f32::NEG_INFINITY, f32::INFINITY);
 }
 
+/// Rays from origins 2⁴⁰ away from the Cornell box: along each axis towards it and away from
+/// it (over t ∈ (−∞, ∞) those reach it behind), diagonally, and aimed at it in f32, whose
+/// rounding misses it by far: every layout answers as the reference does, over every interval.
+/// From such an origin the flat loop's f32 filter decides no triangle, and its f64 test of the
+/// box around them all decides instead which rays go on to the exact tests.
+#[test]
+fn rays_from_origins_far_from_a_small_scene_are_answered_as_the_reference_does() {
+    let shapes = raylab::scene::Scene::cornell().shapes;
+    let far = 2.0f32.powi(40);
+    let (lo, hi) = shapes.iter().fold(
+        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), s| {
+            let Shape::Triangle(Triangle(v)) = s else {
+                unreachable!("the Cornell box holds triangles")
+            };
+            let lo = [0, 1, 2].map(|k| lo[k].min(v[0][k]).min(v[1][k]).min(v[2][k]));
+            let hi = [0, 1, 2].map(|k| hi[k].max(v[0][k]).max(v[1][k]).max(v[2][k]));
+            (lo, hi)
+        },
+    );
+    let mut rays = Vec::new();
+    for f in [0.0f32, 0.3, 0.5, 1.0] {
+        let p = [0, 1, 2].map(|k| lo[k] + (hi[k] - lo[k]) * f);
+        for axis in 0..3 {
+            for side in [-1.0f32, 1.0] {
+                let mut o = p;
+                o[axis] = side * far;
+                let mut d = [0.0; 3];
+                d[axis] = -side;
+                rays.push(Ray::new(o, d));
+                rays.push(Ray::new(o, d.map(|c| -c)));
+            }
+        }
+    }
+    rays.push(Ray::new([far, far, 0.5], [-1.0, -1.0, 0.0]));
+    rays.push(Ray::new([far, far, 0.5], [1.0, 1.0, 0.0]));
+    let mut rng = Rng(0xfa7_0e1e);
+    for _ in 0..16 {
+        let o = [0, 1, 2].map(|_| rng.range(-1.0, 1.0) as f32 * far);
+        let target = [0, 1, 2].map(|k| rng.range(lo[k].into(), hi[k].into()) as f32);
+        rays.push(Ray::new(o, [0, 1, 2].map(|k| target[k] - o[k])));
+    }
+    let reference = |ray: &Ray, tmin, tmax| {
+        accel::closest_hit(&shapes, ray, Method::Adaptive, tmin, tmax).is_some()
+    };
+    let axis_rays = rays.iter().step_by(2).take(24);
+    assert!(
+        axis_rays.clone().all(|r| reference(r, 0.0, f32::INFINITY)),
+        "the rays along an axis towards the box hit it"
+    );
+    assert!(
+        rays.iter()
+            .skip(1)
+            .step_by(2)
+            .take(24)
+            .all(|r| !reference(r, 0.0, f32::INFINITY) && reference(r, f32::NEG_INFINITY, 0.0)),
+        "the rays along an axis away from it hit it behind"
+    );
+    for (tmin, tmax) in [
+        (0.0, f32::INFINITY),
+        (f32::NEG_INFINITY, f32::INFINITY),
+        (f32::NEG_INFINITY, 0.0),
+        (0.0, far - 4.0),
+        (far - 4.0, f32::INFINITY),
+    ] {
+        check_all(&shapes, &rays, tmin, tmax);
+    }
+}
+
 #[test]
 fn hard_case_rays_on_closed_meshes_are_identical() {
     let mut rng = Rng(11);

@@ -4,6 +4,7 @@
 //! ([`PacketSlabs`]). Apart from the walks: the conservative arithmetic they all share.
 
 use super::node::{Aabb, WideNode, WIDTH};
+use crate::accel::cull::Box3;
 use crate::geometry::Ray;
 use crate::math::lanes::{f32x8, LaneOps, Lanes};
 use crate::math::simd::each3;
@@ -48,11 +49,10 @@ pub(super) fn boxes_tame(wide: &[WideNode]) -> bool {
         .all(|n| n.coordinates().all(|x| !x.is_finite() || box_safe(x)))
 }
 
-/// The slab test of [`Bvh::traverse`] in f64, for rays or boxes beyond [`slab_safe`]: every
-/// f32 input and its inverse direction are f64 values far from f64's limits, so the
-/// distances are within a few f64 roundings of exact. Both are widened by 2⁻²⁰ relative, so
-/// the test stays at least as generous as the f32 one (whose roundings the inexact methods'
-/// own f32 hits may share); the entry distance is handed back rounded down to f32.
+/// The slab test of [`Bvh::traverse`] in f64, for rays or boxes beyond [`slab_safe`]
+/// ([`Box3::slab_interval_f64`]): widened by 2⁻²⁰ relative, it stays at least as generous as
+/// the f32 one (whose roundings the inexact methods' own f32 hits may share); the entry
+/// distance is handed back rounded down to f32.
 ///
 /// [`Bvh::traverse`]: super::Bvh::traverse
 #[inline(never)]
@@ -64,18 +64,8 @@ pub(super) fn enter_f64(
     tmin: f32,
     t_far: f32,
 ) -> Option<f32> {
-    const WIDEN: f64 = 1.0 / (1u64 << 20) as f64;
-    let (mut t0, mut t1) = (f64::from(tmin), f64::from(t_far));
-    for (k, &inv) in inv.iter().enumerate() {
-        let pad = f64::from(pad);
-        let (lo, hi) = (f64::from(b.lo[k]) - pad, f64::from(b.hi[k]) + pad);
-        let (near, far) = if inv < 0.0 { (hi, lo) } else { (lo, hi) };
-        let o = f64::from(ray.o[k]);
-        let (tn, tf) = ((near - o) * inv, (far - o) * inv);
-        // f64::min/max ignore a NaN (0·∞ for a ray in a slab's plane): conservative.
-        t0 = t0.max(tn - tn.abs() * WIDEN);
-        t1 = t1.min(tf + tf.abs() * WIDEN);
-    }
+    let (lo, hi) = (b.lo, b.hi);
+    let (t0, t1) = Box3 { lo, hi }.slab_interval_f64(pad, ray.o, inv, (tmin.into(), t_far.into()));
     (t0 <= t1).then(|| {
         let t = t0 as f32;
         if f64::from(t) > t0 {
