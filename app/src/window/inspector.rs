@@ -19,11 +19,46 @@ pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     }
 }
 
+/// The least width (points) the inspector's rows stay readable in beside the image: where
+/// the window leaves its panel less, it floats instead ([`Placement::Over`]).
+pub const READABLE_WIDTH: f32 = 240.0;
+
+/// Where the inspector's fields were drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// In a panel of its own at the right of the image.
+    Beside,
+    /// In a window over the others (a window too narrow for the panel): movable, its rows
+    /// scrolled.
+    Over,
+}
+
 /// The right-hand panel the inspector's fields are shown in, `width` points wide at first and
 /// `most` at most (the image beside it keeps the rest). Its width is the one last chosen by
 /// dragging its edge: egui keeps the width the panel was last drawn at, which a narrow window
-/// squeezes it to, so when the window has room again it is given that width back.
-pub fn panel(ui: &mut egui::Ui, width: f32, most: f32, contents: impl FnOnce(&mut egui::Ui)) {
+/// squeezes it to, so when the window has room again it is given that width back. Where
+/// `most` is under [`READABLE_WIDTH`], a window `width` wide where the screen has room, at
+/// first over the side panel, which leaves the image to click (in a 400-point window the
+/// panel was 50 points wide, its rows cut off).
+pub fn panel(
+    ui: &mut egui::Ui,
+    width: f32,
+    most: f32,
+    contents: impl FnOnce(&mut egui::Ui),
+) -> Placement {
+    if most < READABLE_WIDTH {
+        let screen = ui.ctx().content_rect();
+        let margin = 8.0;
+        // (Its title bar moves it: a drag on its rows scrolls them.)
+        egui::Window::new("Ray inspector")
+            .collapsible(false)
+            .resizable(false)
+            .default_pos(screen.left_top() + egui::vec2(margin, margin))
+            .default_width(width.min(screen.width() - 2.0 * margin))
+            .max_height(screen.height() - 2.0 * margin)
+            .show(ui.ctx(), contents);
+        return Placement::Over;
+    }
     let id = egui::Id::new("inspector width");
     // (The width chosen, and the width drawn in the last frame.)
     let (chosen, last) = ui.ctx().data(|d| d.get_temp(id)).unwrap_or((width, width));
@@ -39,6 +74,7 @@ pub fn panel(ui: &mut egui::Ui, width: f32, most: f32, contents: impl FnOnce(&mu
     // (Where the window left it less than it takes, it was not squeezed: its width is chosen.)
     let chosen = if most > drawn + 1.0 { drawn } else { chosen };
     ui.ctx().data_mut(|d| d.insert_temp(id, (chosen, drawn)));
+    Placement::Beside
 }
 
 /// The inspector's own panel: the last inspection's fields, the lecture's names.

@@ -513,6 +513,7 @@ pub fn layout(
         crack,
         cracks,
         inspector_shown,
+        inspector_over,
         status_whole,
         figures_whole,
         ..
@@ -586,7 +587,7 @@ pub fn layout(
         // narrow the image, a new frame, each time.)
         // (At most what leaves the image MIN_IMAGE_WIDTH, or half the room where that is less.)
         let most = beside - MIN_IMAGE_WIDTH.min(beside / 2.0);
-        super::inspector::panel(ui, INSPECTOR_WIDTH, most, |ui| {
+        let placement = super::inspector::panel(ui, INSPECTOR_WIDTH, most, |ui| {
             // (Both ways: a row wider than the panel scrolls rather than widening it.)
             egui::ScrollArea::both().show(ui, |ui| {
                 if let Some(detail) = crack.as_ref() {
@@ -611,6 +612,9 @@ pub fn layout(
                 }
             });
         });
+        *inspector_over = placement == super::inspector::Placement::Over;
+    } else {
+        *inspector_over = false;
     }
     egui::CentralPanel::no_frame().show(ui, |ui| {
         let area = ui.max_rect();

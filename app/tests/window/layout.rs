@@ -2,7 +2,7 @@
 //! into the panel are copied as the short decimals they are, the focal-length slider takes
 //! small steps, the frame's figures stay in view beside a long status message, the ray
 //! inspector's panel opening keeps the focal length, and it leaves the image a useful width
-//! on a small HiDPI screen.
+//! on a small HiDPI screen, floating readable where the window is too narrow for its panel.
 //!
 //! Needs `xvfb-run`, `xclip` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where
 //! they are missing the test says so loudly and skips, except under CI=true, where it must
@@ -150,8 +150,9 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
 fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
     // At 2 pixels a point on a 1280x800 screen the window is 576x360 points, the side panel
     // about 370 of them: a click on the image opened the inspector's 330-point panel beside
-    // it, which left the image 1 pixel wide (and its focal length 1). The panel now leaves the
-    // image half the room, and the focal length is the one the image had.
+    // it, which left the image 1 pixel wide (and its focal length 1). Half the room beside the
+    // side panel would be under the inspector's readable width: it floats over the side panel,
+    // and the image keeps its width and focal length (one image width, the lab's camera).
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 1000 300; \
@@ -172,7 +173,49 @@ fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
         camera.focal
     );
     assert!(w >= 150 && rect[2] >= 150.0, "{w} {rect:?}\n{log}");
-    assert!(camera.focal > 1.5 * w as f64, "{}\n{log}", camera.focal);
+    assert!(
+        (camera.focal - w as f64).abs() < 1e-6,
+        "{}\n{log}",
+        camera.focal
+    );
+    assert_eq!(run.fields["inspector_over"], "on", "{log}");
+}
+
+#[test]
+fn real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel() {
+    // In a 400x300 window the side panel (300 points) leaves 100 beside it: the inspector's
+    // panel there was 50 points wide, its rows cut off. It floats now, 330 points wide, over
+    // the side panel: a click on the image beside it inspects another pixel.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool windowsize --sync $win 400 300; \
+                  sleep 1; xdotool mousemove --sync 350 150; sleep 0.3; xdotool click 1; \
+                  sleep 1; xdotool mousemove --sync 380 200; sleep 0.3; xdotool click 1; \
+                  sleep 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (camera, w, _, rect) = run.camera();
+    println!(
+        "image {w} pixels wide at {rect:?}, focal length {}",
+        camera.focal
+    );
+    assert_eq!(run.fields["inspector_over"], "on", "{log}");
+    assert!(
+        rect[2] > 90.0,
+        "the image keeps the room beside the panel: {rect:?}\n{log}"
+    );
+    let inspected: Vec<&str> = (log.lines())
+        .filter_map(|l| l.split("inspected pixel ").nth(1))
+        .collect();
+    assert_eq!(
+        inspected.len(),
+        2,
+        "two clicks, two pixels: {inspected:?}\n{log}"
+    );
+    assert_ne!(inspected[0], inspected[1], "{log}");
 }
 
 #[test]

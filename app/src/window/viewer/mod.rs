@@ -151,6 +151,8 @@ pub struct Viewer {
     pub crack: Option<super::inspected::Detail>,
     /// Whether the inspector's panel was drawn in the last UI pass.
     pub inspector_shown: bool,
+    /// Whether it was drawn over the image, the window too narrow for its panel.
+    pub inspector_over: bool,
     /// The cracks of the frames shown, counted ([`super::cracks`]).
     pub cracks: super::cracks::Counter,
     /// Text to put on the clipboard in the next UI pass (copy as command).
@@ -237,6 +239,7 @@ impl Viewer {
             inspected: None,
             crack: None,
             inspector_shown: false,
+            inspector_over: false,
             cracks,
             copy_request: None,
             files: Default::default(),
