@@ -209,6 +209,10 @@ pub(super) struct Frame<'a> {
     camera_tris: Vec<ShadeTri>,
     /// Whether the scene holds shapes other than triangles (a packet's lanes may hit them).
     other_shapes: bool,
+    /// Whether a packet's hits are shaded one by one ([`shade::Lit`]), their shadow rays
+    /// asked per ray: for a far light ([`Scene::shadows_from_light`] false) they start at
+    /// the points and share no origin.
+    lit_one_by_one: bool,
     gen: RayGenerator,
     /// The flat step's pixels per primitive, for one sample per pixel (written as found).
     flat_rgba: Option<FlatPixels<'a>>,
@@ -254,6 +258,7 @@ impl<'a> Frame<'a> {
             settings,
             camera_tris,
             other_shapes: accel.has_other_shapes(),
+            lit_one_by_one: settings.step.casts_shadows() && !scene.shadows_from_light(),
             gen,
             flat_rgba,
             queries,
@@ -346,6 +351,10 @@ impl<'a> Frame<'a> {
                     let dirs = (self.gen)
                         .directions_x8_in::<V>(xs + f32x8::splat(off_x), ys + f32x8::splat(off_y));
                     let prims = queries.closest_x8_in(isa, &dirs, live);
+                    if self.lit_one_by_one {
+                        self.shade_one_by_one(o, &dirs, &prims, queries, &mut sums, counts);
+                        continue;
+                    }
                     if !flat {
                         let mut others = 0;
                         shaded.push(self.ready_for_shading::<V>(o, &dirs, &prims, &mut others));
@@ -367,11 +376,11 @@ impl<'a> Frame<'a> {
                     }
                 }
             }
-            if flat {
+            if flat || self.lit_one_by_one {
                 self.put_block(&block, &sums, rows);
             }
         }
-        if flat {
+        if flat || self.lit_one_by_one {
             return;
         }
         let casts_shadows = settings.step.casts_shadows();
@@ -493,6 +502,34 @@ impl<'a> Frame<'a> {
             }
         }
         shade::shade_packet_in::<V>(self.scene, dirs, &prepared)
+    }
+
+    /// 8 camera hits (directions `dirs` from the eye `o`, primitives `prims`; dead lanes
+    /// miss) shaded one by one as the per-ray path shades them, each shadow ray asked alone,
+    /// their colours added to `sums`.
+    #[inline(never)]
+    fn shade_one_by_one(
+        &self,
+        o: [f32; 3],
+        dirs: &[f32x8; 3],
+        prims: &[u32; 8],
+        queries: &TileQueries,
+        sums: &mut [Rgb; 8],
+        counts: &mut Counts,
+    ) {
+        let (scene, step) = (self.scene, self.settings.step);
+        for (l, (&prim, sum)) in prims.iter().zip(sums).enumerate() {
+            if prim == NO_HIT {
+                continue;
+            }
+            let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
+            let blocked = |ray: &Ray, skip| queries.any(ray, skip);
+            add(
+                sum,
+                shade::Lit::on(scene, &ray, prim).colour(scene, step, blocked, &mut counts.1),
+            );
+            counts.0 += 1;
+        }
     }
 
     /// Lanes `others` of `packet` (hits on shapes other than triangles) readied for shading,

@@ -105,10 +105,10 @@ pub fn render_into_cancellable(
         projection: settings.tile_culling.then(|| camera.projection(w, h)),
         method: settings.method,
         camera_rays,
-        shadows: settings.step.casts_shadows(),
         // (Shadow rays that start at the surface points, for a far light, share no origin:
-        // the packets' shading casts them from the light.)
-        per_ray: settings.cracks || (settings.step.casts_shadows() && !scene.shadows_from_light()),
+        // they are asked one by one, and the packets' from the light are not.)
+        shadows: settings.step.casts_shadows() && scene.shadows_from_light(),
+        per_ray: settings.cracks,
     });
     let frame = Frame::new(stage, settings, &queries, gen, camera_rays);
     Ok(driver::drive(settings, rgba, cancelled, started, &frame))

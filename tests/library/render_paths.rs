@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use raylab::geometry::{Sphere, Triangle};
+use raylab::geometry::{Shape, Sphere, Triangle};
 use raylab::render::{render_image, LabStep, RenderSettings, Stage};
 use raylab::{Camera, Scene};
 
@@ -190,6 +190,63 @@ fn bvh_shadow_packets_render_as_the_per_ray_path() {
                 .filter(|(s, d)| s[..3] != d[..3])
                 .count();
             assert!(shadowed > 300, "{shadowed} pixels in shadow");
+        }
+    }
+}
+
+#[test]
+fn a_far_lights_frames_render_as_the_per_ray_path() {
+    // A light 10⁸ away (a sun) is beyond the reach from which shadow rays start at it
+    // (`Scene::shadows_from_light`): they start at the points, one by one. The camera rays
+    // still go 8 at a time; every pixel and count must be the per-ray path's (the cracks
+    // view's, which marks nothing with the adaptive method), on the box with a sphere (per-tile
+    // lists, a shape beside the triangles) and with a 1280-triangle ball (BVH).
+    let sphere = Shape::Sphere(Sphere {
+        centre: [0.3, -0.6, 0.2],
+        radius: 0.3,
+    });
+    let scenes = [
+        common::cornell_with_blue(vec![sphere], raylab::accel::AccelChoice::Auto),
+        cornell_with_ball(3, 0.4, [0.2, 0.5, 0.1], raylab::accel::AccelChoice::Bvh),
+    ];
+    for (k, mut scene) in scenes.into_iter().enumerate() {
+        // In front of the box's open side, bright enough to light it from there.
+        scene.restyle(|s| {
+            s.light.position = [2e7, 3e7, -1e8];
+            s.light.power = [1.5e17; 3];
+        });
+        assert!(!scene.scene().shadows_from_light(), "a far light");
+        let cam = Camera::cornell(64);
+        for (step, spp) in [(LabStep::Shadows, 1), (LabStep::Indirect, 2)] {
+            let packets = RenderSettings {
+                width: 64,
+                height: 48,
+                step,
+                spp,
+                ..Default::default()
+            };
+            let per_ray = RenderSettings {
+                cracks: true,
+                ..packets
+            };
+            let (a, sa) = render_image(&scene, &cam, &packets).unwrap();
+            let (b, sb) = render_image(&scene, &cam, &per_ray).unwrap();
+            let at = format!("scene {k} {step} spp {spp}");
+            assert!(a == b, "{at}: images differ");
+            assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays), "{at}");
+            // The ball shadows the walls behind it: some lit points' rays are blocked.
+            let direct = RenderSettings {
+                step: LabStep::Direct,
+                ..packets
+            };
+            let lit = render_image(&scene, &cam, &direct).unwrap().0;
+            let shadowed = (a.chunks_exact(4).zip(lit.chunks_exact(4)))
+                .filter(|(s, d)| s[..3] != d[..3])
+                .count();
+            assert!(
+                shadowed > 20,
+                "{at}: {shadowed} pixels differ from direct light"
+            );
         }
     }
 }

@@ -116,10 +116,9 @@ pub struct FrameSetup {
     pub method: Method,
     /// Camera rays in the frame (pixels × samples).
     pub camera_rays: usize,
-    /// Whether shadow segments will be asked.
+    /// Whether shadow segments from the light will be asked in packets.
     pub shadows: bool,
-    /// Camera rays one at a time only (the cracks view compares methods ray by ray; shadow
-    /// rays from surface points, for a far light, share no origin).
+    /// Camera rays one at a time only (the cracks view compares methods ray by ray).
     pub per_ray: bool,
 }
 
