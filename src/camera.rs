@@ -168,10 +168,12 @@ impl Camera {
     /// The pinhole projection onto a `width`×`height` image (the inverse of
     /// [`Camera::ray_through`]'s direction, in f64), for screen-space culling.
     pub fn projection(&self, width: u32, height: u32) -> Projection {
+        let position = self.position();
         Projection {
             camera_from_world: self.camera_from_world(),
             centre: [width as f64 / 2.0, height as f64 / 2.0],
             focal: self.focal,
+            eye_rounding: (position - position.as_vec3().as_dvec3()).length(),
         }
     }
 
@@ -217,9 +219,24 @@ pub struct Projection {
     /// W/2, H/2.
     centre: [f64; 2],
     focal: f64,
+    /// How far the camera rays' origin (the position rounded to f32) lies from the pinhole.
+    eye_rounding: f64,
 }
 
 impl Projection {
+    /// Whether `p` lies where no camera ray reaches (t ≥ 0, from the eye rounded to f32):
+    /// behind the pinhole's plane by more than the eye's rounding and 2⁻¹⁶ of its distance
+    /// (a margin far beyond every method's rounding). Every camera ray moves forward: its
+    /// direction's forward part, the focal length, outweighs the rounding of its sideways
+    /// parts where the image's half-sides stay under 2¹⁶ focal lengths (else nothing is).
+    pub fn behind(&self, p: [f32; 3]) -> bool {
+        let forward = self.focal * 65536.0 >= self.centre[0] + self.centre[1];
+        let c = self
+            .camera_from_world
+            .transform_point3(DVec3::from_array(p.map(f64::from)));
+        forward && c.z < -(self.eye_rounding + c.length() / 65536.0)
+    }
+
     /// The image position of world point `p`; `None` where it is not in front of the pinhole
     /// (camera-space z ≤ 10⁻⁹·|c|).
     pub fn project(&self, p: [f32; 3]) -> Option<[f64; 2]> {

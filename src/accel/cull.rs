@@ -18,8 +18,15 @@ pub(crate) struct ScreenTriangle {
 
 impl ScreenTriangle {
     /// `None` where a vertex is not in front of the camera (such a triangle is kept for
-    /// every tile).
+    /// every tile), unless every vertex is behind it ([`Projection::behind`]): then no tile
+    /// (a camera facing away from the scene tested every triangle in every tile).
     pub(crate) fn new(v: &[[f32; 3]; 3], projection: &Projection) -> Option<Self> {
+        if v.iter().all(|p| projection.behind(*p)) {
+            return Some(Self {
+                bounds: NOWHERE,
+                edges: [[0.0, 0.0, 1.0]; 3],
+            });
+        }
         let mut q = [[0.0f64; 2]; 3];
         for (p, s) in v.iter().zip(&mut q) {
             *s = projection.project(*p)?;
@@ -61,6 +68,14 @@ impl ScreenTriangle {
         })
     }
 }
+
+/// The screen rectangle (x0, y0, x1, y1) of what lies behind the camera: it meets no tile.
+const NOWHERE: [f32; 4] = [
+    f32::INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NEG_INFINITY,
+];
 
 /// A triangle that may block shadow rays, with its bounding box and its position among the
 /// scene's triangles.
@@ -126,7 +141,8 @@ impl Box3 {
 }
 
 /// Where a box (of a hierarchy's node) can appear on screen: the rectangle of its projection
-/// widened by a pixel (`None`: the box reaches behind the pinhole, so it may cover any tile).
+/// widened by a pixel (`None`: the box reaches behind the pinhole, so it may cover any tile;
+/// [`NOWHERE`] where it lies wholly behind, [`Projection::behind`]).
 /// A camera ray through a tile the rectangle does not meet cannot hit what the box holds
 /// (the box is convex).
 #[derive(Clone, Copy, Debug)]
@@ -140,14 +156,16 @@ impl ScreenBox {
         let Some(projection) = projection else {
             return Self { screen: None };
         };
-        let mut screen = Some([
-            f32::INFINITY,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NEG_INFINITY,
-        ]);
-        for corner in 0..8 {
-            let p = [0, 1, 2].map(|k| if corner & (1 << k) == 0 { lo[k] } else { hi[k] });
+        let corners = (0..8).map(|corner: usize| {
+            [0, 1, 2].map(|k| if corner & (1 << k) == 0 { lo[k] } else { hi[k] })
+        });
+        if corners.clone().all(|p| projection.behind(p)) {
+            return Self {
+                screen: Some(NOWHERE),
+            };
+        }
+        let mut screen = Some(NOWHERE);
+        for p in corners {
             screen = match (screen, projection.project(p)) {
                 (Some(r), Some([x, y])) => Some([
                     r[0].min(x as f32 - 1.0),

@@ -56,6 +56,30 @@ fn fov_is_derived_from_focal_and_width() {
 }
 
 #[test]
+fn behind_the_pinhole_is_where_no_camera_ray_reaches() {
+    // Facing +z from the origin: behind means z < 0 by more than 2⁻¹⁶ of the distance.
+    let c = Camera::from_yaw_pitch(DVec3::ZERO, 0.0, 0.0, 100.0).unwrap();
+    let p = c.projection(200, 100);
+    assert!(p.behind([0.0, 0.0, -1.0]));
+    assert!(!p.behind([0.0, 0.0, 1.0]));
+    assert!(!p.behind([5.0, 0.0, -1e-6]), "within the margin");
+    assert!(p.behind([5.0, 0.0, -1e-3]));
+    // The rays leave from the position rounded to f32: 2³⁹ + 20000 rounds to 2³⁹, 20000
+    // behind the pinhole, where a ray may meet a point 20000 behind the pinhole; one an f32
+    // step further (32768 there) is out of reach.
+    let z = 2f64.powi(39) + 20000.0;
+    let far = Camera::from_yaw_pitch(DVec3::new(0.0, 0.0, z), 0.0, 0.0, 100.0).unwrap();
+    let eye = far.ray_through(100.0, 50.0, 200, 100).o[2];
+    assert_eq!(eye, 2f32.powi(39));
+    let p = far.projection(200, 100);
+    assert!(!p.behind([0.0, 0.0, eye]));
+    assert!(p.behind([0.0, 0.0, eye - 32768.0]));
+    // A field of view within 10⁻⁴° of 180°: the rays' forward part is lost in rounding.
+    let wide = Camera::from_yaw_pitch(DVec3::ZERO, 0.0, 0.0, 1e-3).unwrap();
+    assert!(!wide.projection(1280, 720).behind([0.0, 0.0, -1.0]));
+}
+
+#[test]
 fn projecting_a_world_point_lands_on_the_pixel_whose_ray_passes_through_it() {
     let c = Camera::from_yaw_pitch(DVec3::new(0.3, -0.2, -2.5), 0.2, -0.1, 400.0).unwrap();
     let (w, h) = (320u32, 240u32);

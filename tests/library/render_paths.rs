@@ -26,22 +26,31 @@ fn tile_culling_gives_the_same_image_for_a_bvh_mesh() {
     let scene = cornell_with_ball(3, 0.8, [0.1, -0.2, 0.3], raylab::accel::AccelChoice::Auto);
     assert_eq!(scene.accel().kind(), raylab::accel::AccelChoice::Bvh);
     assert!(scene.accel().flat_triangles().is_some());
-    let cam = Camera::cornell(83);
-    for step in [LabStep::Flat, LabStep::Indirect] {
-        let on = RenderSettings {
-            width: 83,
-            height: 57,
-            step,
-            ..Default::default()
-        };
-        let off = RenderSettings {
-            tile_culling: false,
-            ..on
-        };
-        assert!(
-            render_image(&scene, &cam, &on).unwrap().0
-                == render_image(&scene, &cam, &off).unwrap().0
-        );
+    // A ball of 20,480 triangles: its BVH's top boxes are culled, not its triangles.
+    let big = cornell_with_ball(5, 0.8, [0.1, -0.2, 0.3], raylab::accel::AccelChoice::Bvh);
+    assert!(big.accel().flat_triangles().is_none());
+    // The lab's camera, and one facing away from the scene (all of it behind the pinhole).
+    let away = Camera::from_yaw_pitch(Camera::cornell(83).position(), 3.0, 0.1, 83.0).unwrap();
+    for (scene, cam) in [&scene, &big]
+        .into_iter()
+        .flat_map(|s| [(s, Camera::cornell(83)), (s, away)])
+    {
+        for step in [LabStep::Flat, LabStep::Indirect] {
+            let on = RenderSettings {
+                width: 83,
+                height: 57,
+                step,
+                ..Default::default()
+            };
+            let off = RenderSettings {
+                tile_culling: false,
+                ..on
+            };
+            assert!(
+                render_image(scene, &cam, &on).unwrap().0
+                    == render_image(scene, &cam, &off).unwrap().0
+            );
+        }
     }
 }
 
@@ -347,6 +356,7 @@ fn a_bvh_frame_after_frames_from_other_eyes_renders_as_on_a_fresh_structure() {
 
 #[test]
 fn tile_culling_gives_the_same_image() {
+    use std::f64::consts::{FRAC_PI_2, PI};
     // Cameras inside, outside, turned, very wide and with triangles behind the camera.
     let scene = Stage::from(Scene::cornell());
     let cams = [
@@ -354,6 +364,10 @@ fn tile_culling_gives_the_same_image() {
         Camera::from_yaw_pitch(glam::DVec3::new(0.3, 0.2, -0.5), 0.8, 0.3, 20.0).unwrap(),
         Camera::from_yaw_pitch(glam::DVec3::new(-0.9, 0.9, 0.9), -2.5, -0.7, 60.0).unwrap(),
         Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -6.0), 0.0, 0.0, 400.0).unwrap(),
+        // Facing away (every triangle behind the pinhole), and from a wall's plane along it.
+        Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -3.0), PI, 0.0, 97.0).unwrap(),
+        Camera::from_yaw_pitch(glam::DVec3::new(-1.0, 0.0, 0.0), FRAC_PI_2, 0.0, 5.0).unwrap(),
+        Camera::from_yaw_pitch(glam::DVec3::new(0.0, 0.0, -1e11), PI, 0.0, 97.0).unwrap(),
     ];
     for (k, cam) in cams.iter().enumerate() {
         culling_changes_nothing(&scene, cam, 97, 61, k);
