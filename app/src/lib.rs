@@ -38,8 +38,9 @@ fn said_once(e: &anyhow::Error) -> String {
     text
 }
 
-/// `text` with every control character but a line break written as its escape.
-fn escape_controls(text: String) -> String {
+/// `text` with every control character but a line break written as its escape: a program's
+/// output quoted in a message drives no terminal.
+pub fn escape_controls(text: String) -> String {
     escape_where(text, |c| c.is_control() && c != '\n')
 }
 

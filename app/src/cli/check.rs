@@ -398,6 +398,7 @@ pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
 
 /// Prints what was written so far, the program's failure and the failed run's last line.
 pub(super) fn say_failed(out: &str, command: &str, why: &str) -> Result<()> {
+    let why = raylab_app::escape_controls(why.to_string());
     say!("{out}program: {command}\nFAILED: {why}");
     say!("{}", failed_line(&Tally::default(), 1));
     Ok(())
@@ -558,6 +559,7 @@ fn check_suite<T: Real>(
             }
             Err(e) => {
                 failed += 1;
+                let e = raylab_app::escape_controls(e.to_string());
                 say!("{name:<46} FAILED: {e}");
             }
         }

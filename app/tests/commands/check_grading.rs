@@ -500,6 +500,15 @@ fn a_program_that_fails_is_never_a_pass() {
             "printf 'miss\\n\\377\\n' # {scene} {rays}".to_string(),
             "printed something that is not UTF-8 text (on line 2)",
         ),
+        // Control bytes quoted from its output or its last words drive no terminal.
+        (
+            "printf '\\033[31mRED\\033[0m\\n' # {scene} {rays}".to_string(),
+            "found '\\u{1b}[31mRED\\u{1b}[0m'",
+        ),
+        (
+            "printf 'bad\\rworse\\033[2J' >&2; exit 1 # {scene} {rays}".to_string(),
+            "its last words: bad\\rworse\\u{1b}[2J",
+        ),
         (
             "printf 'm\\000i\\000s\\000s\\000\\n\\000' # {scene} {rays}".to_string(),
             "printed UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
@@ -517,6 +526,7 @@ fn a_program_that_fails_is_never_a_pass() {
             out.contains("FAILED: ") && out.contains(message),
             "{program}: '{message}' in {out}"
         );
+        assert!(!out.contains('\u{1b}') && !out.contains('\r'), "{out:?}");
         assert!(last_line(&o).ends_with("failed_runs 1"), "{out}");
     }
     // A child left running after the program's answers does not hold the check up.
