@@ -298,6 +298,45 @@ fn the_readme_python_program_reads_an_open_tmin() {
     assert_eq!(count(&last_line(&o), "right"), 3, "{}", text(&o.stdout));
 }
 
+/// The README's Python program reads each number rounded to the precision graded in, as
+/// raylab does: a ray 0.1 long in a file of one's own (not an f32 or f64 value) read as exactly
+/// 1/10 missed the triangle at t = 0.1 that raylab's rounded tmax lets the ray reach.
+#[test]
+fn the_readme_python_program_reads_numbers_as_raylab_does() {
+    if !common::tool_for(
+        "python3",
+        "python3",
+        "the_readme_python_program_reads_numbers_as_raylab_does",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = (dir.path().join("scene.txt"), dir.path().join("rays.txt"));
+    std::fs::write(
+        &scene,
+        "tri -1 -1 1 1 -1 1 0 1 1
+sphere 0.1 0 5 0.3
+",
+    )
+    .unwrap();
+    let lines = "0 0 0 0 0 10 0 0.1
+0 0 0 0 0 10 0.1 inf
+0.1 0.2 0 0 0 1 1.5 inf
+";
+    std::fs::write(&rays, lines).unwrap();
+    let (scene, rays) = (scene.to_str().unwrap(), rays.to_str().unwrap());
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    for precision in ["f32", "f64"] {
+        let program = format!(
+            "python3 '{}' {{scene}} {{rays}} {precision}",
+            script.display()
+        );
+        let o = check_program(scene, rays, &program, &["--precision", precision]);
+        assert_passes(&o);
+        assert_eq!(count(&last_line(&o), "right"), 3, "{}", text(&o.stdout));
+    }
+}
+
 /// The README's Python program (examples/check/exact.py), in exact rationals, passes every
 /// family in f32 and f64.
 #[test]

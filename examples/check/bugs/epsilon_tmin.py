@@ -22,6 +22,22 @@ def dot(a, b): return sum(x * y for x, y in zip(a, b))
 def cross(a, b): return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
+PRECISION = sys.argv[3] if len(sys.argv) > 3 else "f32"  # a third argument f64 reads in double
+
+
+def num(word):  # the number as raylab reads it: the nearest f32 (or f64) value, ties to even
+    x = Q(word)
+    if PRECISION == "f64" or x == 0:
+        return Q(float(x))  # (float of a Fraction rounds correctly)
+    a = abs(x)
+    e = a.numerator.bit_length() - a.denominator.bit_length()  # 2^(e-1) < a < 2^(e+1)
+    ulp = max(e - 24 + (a >= Q(2) ** e), -149)  # f32's 24 bits, subnormals' 2^-149
+    m = a / Q(2) ** ulp
+    n, r = divmod(m.numerator, m.denominator)
+    n += 2 * r > m.denominator or (2 * r == m.denominator and n % 2 == 1)
+    return (1 if x > 0 else -1) * n * Q(2) ** ulp
+
+
 def hits(kind, v, o, d):  # the ray parameters where o + t·d meets the primitive
     if kind == "tri":  # o + t·d = v0 + b1·e1 + b2·e2 by Cramer's rule (closed, edge-on misses)
         e1, e2, s = sub(v[3:6], v[:3]), sub(v[6:], v[:3]), sub(o, v[:3])
@@ -37,12 +53,12 @@ def hits(kind, v, o, d):  # the ray parameters where o + t·d meets the primitiv
     return [] if disc < 0 else [(-b - sqrt(disc)) / a, (-b + sqrt(disc)) / a]
 
 
-shapes = [(w[0], [Q(x) for x in w[1:]]) for w in map(str.split, open(sys.argv[1])) if w and w[0] in ("tri", "sphere")]
+shapes = [(w[0], [num(x) for x in w[1:]]) for w in map(str.split, open(sys.argv[1])) if w and w[0] in ("tri", "sphere")]
 for w in map(str.split, open(sys.argv[2])):
     if not w or w[0].startswith("#"):
         continue
-    o, d, tmin = [Q(x) for x in w[:3]], [Q(x) for x in w[3:6]], Q(w[6])
-    best, tmax = None, None if w[7] == "inf" else Q(w[7])
+    o, d, tmin = [num(x) for x in w[:3]], [num(x) for x in w[3:6]], num(w[6])
+    best, tmax = None, None if w[7] == "inf" else num(w[7])
     for i, (kind, v) in enumerate(shapes):  # strictly nearer only: an exact tie keeps the lower index
         t = next((t for t in hits(kind, v, o, d) if Q(1, 10000) < t and (tmax is None or t < tmax)), None)  # BUG: 1e-4 for tmin
         if t is not None:
