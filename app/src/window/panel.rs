@@ -103,6 +103,7 @@ pub fn side_panel(
             .logarithmic(true)
             .text("focal (px)")
             .custom_formatter(|v, _| format!("{v:.1}"))
+            .custom_parser(finite_number)
             .drag_value_speed(fine);
         let beside = egui::WidgetText::from("00000.0 focal (px)");
         let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
@@ -362,18 +363,19 @@ fn scene_tree(
 /// `inf` ignored: copy as command and Save view write what the window shows.
 fn coordinate<N: egui::emath::Numeric>(value: &mut N, speed: f64) -> egui::DragValue<'_> {
     let max = raylab::math::MAX_VIEW_COORDINATE;
-    let number = |text: &str| {
-        let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-        text.replace('−', "-")
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-    };
     egui::DragValue::new(value)
         .speed(speed)
         .max_decimals(3)
         .range(N::from_f64(-max)..=N::from_f64(max))
-        .custom_parser(number)
+        .custom_parser(finite_number)
+}
+
+/// A number typed into a field, as egui reads one (spaces dropped, U+2212 a minus), where it
+/// is finite: egui's own parser takes `nan` and `inf`, which a clamped field turned into its
+/// lower or upper end.
+fn finite_number(text: &str) -> Option<f64> {
+    let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    (text.replace('−', "-").parse::<f64>().ok()).filter(|v| v.is_finite())
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar

@@ -263,11 +263,12 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
 #[test]
 fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // Typed into the panel: 1e20 for the camera's x, nan for its y, -1e30 for the light's x,
-    // then F5. The fields keep them within ±2^40 (the range `raylab render` accepts) and
-    // ignore nan, so the saved view loads headless (it was refused: "beyond ±1.1e12").
-    // Positions: the panel at the default window on the 1280x800 screen, the camera's
-    // position fields at (82, 264) and (130, 264), the light's x at (65, 601). (At a quarter
-    // of the window's resolution: a camera and a light that far are traced ray by ray.)
+    // nan for the focal length, then F5. The fields keep them within ±2^40 (the range
+    // `raylab render` accepts) and ignore nan, so the saved view loads headless (it was
+    // refused: "beyond ±1.1e12"); the focal length stayed one image width (nan set its
+    // largest). Positions: the panel at the default window on the 1280x800 screen, the
+    // camera's position fields at (82, 264) and (130, 264), the light's x at (65, 601), the
+    // focal length's box at (241, 225). (At a quarter of the window's resolution.)
     let dir = tempfile::tempdir().unwrap();
     let script = "0 scale 0.25\n0 await driver-done\n";
     let typed = |x: u32, y: u32, text: &str| {
@@ -277,17 +278,24 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
         )
     };
     let driver = format!(
-        "xdotool windowfocus --sync $win; {}{}{}xdotool mousemove --sync 700 400; \
+        "xdotool windowfocus --sync $win; {}{}{}{}xdotool mousemove --sync 700 400; \
          xdotool key F5; logged 'saved view'",
         typed(82, 264, "1e20"),
         typed(130, 264, "nan"),
-        typed(65, 601, "-1e30")
+        typed(65, 601, "-1e30"),
+        typed(241, 225, "nan"),
     );
     let Some(run) = run_window(script, dir.path(), Around::RealInput(&driver)) else {
         return;
     };
     let pos = run.nums("camera");
     assert_eq!(pos, [2f64.powi(40), 0.0, -3.001], "{}", run.stderr);
+    let (camera, w, _, _) = run.camera();
+    assert_eq!(
+        camera.focal, w as f64,
+        "nan typed for the focal length\n{}",
+        run.stderr
+    );
     let view = (std::fs::read_dir(dir.path()).unwrap())
         .map(|e| e.unwrap().path())
         .find(|p| p.extension().is_some_and(|e| e == "view"))
