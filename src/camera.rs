@@ -177,6 +177,19 @@ impl Camera {
         }
     }
 
+    /// [`Camera::projection`] from where the camera rays leave, the position rounded to f32
+    /// (up to 2¹⁵ units from the pinhole at 10¹²): each camera ray projects onto its own pixel
+    /// at every distance, as an overlay drawing a ray over the image needs.
+    pub fn ray_projection(&self, width: u32, height: u32) -> Projection {
+        let rays_from = self.position().as_vec3().as_dvec3();
+        let r = DMat3::from_mat4(self.world_from_camera).transpose();
+        Projection {
+            camera_from_world: DMat4::from_mat3(r) * DMat4::from_translation(-rays_from),
+            eye_rounding: 0.0,
+            ..self.projection(width, height)
+        }
+    }
+
     /// Precomputed f32 basis for generating many rays of one image.
     pub fn ray_generator(&self, width: u32, height: u32) -> RayGenerator {
         let f = |v: DVec3| v.as_vec3();
@@ -240,9 +253,14 @@ impl Projection {
     /// The image position of world point `p`; `None` where it is not in front of the pinhole
     /// (camera-space z ≤ 10⁻⁹·|c|).
     pub fn project(&self, p: [f32; 3]) -> Option<[f64; 2]> {
+        self.project_f64(p.map(f64::from))
+    }
+
+    /// [`Projection::project`] of a point in f64 (one along a ray, say, not rounded to f32).
+    pub fn project_f64(&self, p: [f64; 3]) -> Option<[f64; 2]> {
         let c = self
             .camera_from_world
-            .transform_point3(DVec3::from_array(p.map(f64::from)));
+            .transform_point3(DVec3::from_array(p));
         if c.z <= 1e-9 * c.length() {
             return None;
         }

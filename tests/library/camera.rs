@@ -56,6 +56,38 @@ fn fov_is_derived_from_focal_and_width() {
 }
 
 #[test]
+fn a_camera_ray_projects_onto_its_own_pixel_from_where_the_rays_leave() {
+    // 10¹² + 12345 rounds to f32 4096 units from the pinhole: from the pinhole a ray's points
+    // near the eye project far from its pixel (the window drew a line to the image's centre);
+    // from where the rays leave, every point of the ray lands on its pixel.
+    let (w, h) = (320u32, 240u32);
+    for (position, yaw) in [
+        (DVec3::new(1e12 + 12345.0, 0.3, -2.0), -1.3),
+        (DVec3::new(0.0, 0.0, -1e9), 0.0),
+    ] {
+        let c = Camera::from_yaw_pitch(position, yaw, 0.2, 300.0).unwrap();
+        let (from_rays, from_pinhole) = (c.ray_projection(w, h), c.projection(w, h));
+        let (x, y) = (250.5, 40.5);
+        let ray = c.ray_through(x, y, w, h);
+        let mut pinhole_off = 0.0f64;
+        for t in [20.0, 1e3, 1e6, 1e9] {
+            let p = [0, 1, 2].map(|k| f64::from(ray.o[k]) + t * f64::from(ray.d[k]));
+            let q = from_rays.project_f64(p).unwrap();
+            assert!(
+                (q[0] - x).abs() < 1e-3 && (q[1] - y).abs() < 1e-3,
+                "{t}: {q:?}"
+            );
+            if let Some(q) = from_pinhole.project_f64(p) {
+                pinhole_off = pinhole_off.max((q[0] - x).abs() + (q[1] - y).abs());
+            }
+        }
+        if position.x != 0.0 {
+            assert!(pinhole_off > 10.0, "from the pinhole: {pinhole_off} px");
+        }
+    }
+}
+
+#[test]
 fn behind_the_pinhole_is_where_no_camera_ray_reaches() {
     // Facing +z from the origin: behind means z < 0 by more than 2⁻¹⁶ of the distance.
     let c = Camera::from_yaw_pitch(DVec3::ZERO, 0.0, 0.0, 100.0).unwrap();

@@ -191,12 +191,15 @@ pub fn draw(
         )
     };
     let painter = painter.with_clip_rect(rect);
-    let at = |o: [f32; 3], d: [f32; 3], t: f32| [0, 1, 2].map(|k| o[k] + t * d[k]);
+    // (In f64: 20 units from a camera 10⁹ away, an f32 point is off by up to 32.)
+    let at = |o: [f32; 3], d: [f32; 3], t: f32| {
+        [0, 1, 2].map(|k| f64::from(o[k]) + f64::from(t) * f64::from(d[k]))
+    };
     let end = match &ins.hit {
         Some(h) => h.t,
         None => 1e3 * ins.ray.d.iter().map(|c| c.abs()).fold(1.0, f32::max),
     };
-    let segment = |a: [f32; 3], b: [f32; 3], colour: egui::Color32| {
+    let segment = |a: [f64; 3], b: [f64; 3], colour: egui::Color32| {
         if let Some((p, q)) = clip(projection, a, b) {
             painter.line_segment([to_screen(p), to_screen(q)], egui::Stroke::new(2.0, colour));
         }
@@ -214,7 +217,7 @@ pub fn draw(
             Some(_) => egui::Color32::from_rgb(255, 60, 60),
             None => egui::Color32::from_rgb(255, 220, 0),
         };
-        segment(s.o, at(s.o, s.d, 1.0), colour);
+        segment(at(s.o, s.d, 0.0), at(s.o, s.d, 1.0), colour);
     }
     if let Some(p) = projection.project(h.point) {
         let c = to_screen(p);
@@ -224,9 +227,9 @@ pub fn draw(
 }
 
 /// The part of segment a–b in front of the camera, projected (image pixels), or `None`.
-fn clip(projection: &Projection, a: [f32; 3], b: [f32; 3]) -> Option<([f64; 2], [f64; 2])> {
-    let point = |s: f32| [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]));
-    let (pa, pb) = (projection.project(a), projection.project(b));
+fn clip(projection: &Projection, a: [f64; 3], b: [f64; 3]) -> Option<([f64; 2], [f64; 2])> {
+    let point = |s: f64| [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]));
+    let (pa, pb) = (projection.project_f64(a), projection.project_f64(b));
     match (pa, pb) {
         (Some(p), Some(q)) => Some((p, q)),
         (None, None) => None,
@@ -236,12 +239,12 @@ fn clip(projection: &Projection, a: [f32; 3], b: [f32; 3]) -> Option<([f64; 2], 
             let (mut inside, mut outside) = if front_is_a { (0.0, 1.0) } else { (1.0, 0.0) };
             for _ in 0..30 {
                 let mid = 0.5 * (inside + outside);
-                match projection.project(point(mid)) {
+                match projection.project_f64(point(mid)) {
                     Some(_) => inside = mid,
                     None => outside = mid,
                 }
             }
-            Some((p, projection.project(point(inside))?))
+            Some((p, projection.project_f64(point(inside))?))
         }
     }
 }

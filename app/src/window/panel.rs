@@ -643,7 +643,7 @@ pub fn layout(
             // (Only while the inspector is on: I hides its ray with its panel.)
             let ins = inspection.as_ref().filter(|_| *inspector_on);
             if let (Some(ins), Some(((w, h), camera))) = (ins, overlay) {
-                let projection = camera.projection(w, h);
+                let projection = camera.ray_projection(w, h);
                 super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
             }
         }
