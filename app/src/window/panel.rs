@@ -130,6 +130,13 @@ pub fn side_panel(
                 ui.add(coordinate(c, 0.01 * camera.scene_size));
             }
         });
+        if let Some(from) = super::values::rays_leave_from(camera.position.to_array()) {
+            // (To the fields' decimals: f32's shortest digits would read as the field's.)
+            let [x, y, z] = from.map(f64::from);
+            ui.small(format!(
+                "rays leave from {x:.3} {y:.3} {z:.3}: f32 holds no nearer point"
+            ));
+        }
         ui.horizontal(|ui| {
             let mut yaw = camera.yaw.to_degrees();
             let mut pitch = camera.pitch.to_degrees();

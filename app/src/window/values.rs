@@ -22,6 +22,16 @@ pub fn degrees(radians: f64) -> f64 {
     shortest(exact, 17, |d| d.to_radians() == radians).unwrap_or(exact)
 }
 
+/// Where the camera rays leave from where that is not the position shown to the panel's
+/// three decimals: the position rounded to f32, as the renderer takes it (at 10¹² the
+/// position field read 1000000000000.00 while the rays left 4096 units away, and a slow
+/// flight moved the field but never the image).
+pub fn rays_leave_from(position: [f64; 3]) -> Option<[f32; 3]> {
+    let from = position.map(|c| c as f32);
+    let shown_apart = (position.iter().zip(&from)).any(|(&c, &f)| (c - f64::from(f)).abs() >= 5e-4);
+    shown_apart.then_some(from)
+}
+
 /// The shortest decimal form of `x`, of 1 to `most` significant digits, that `keeps`.
 fn shortest(x: f64, most: usize, keeps: impl Fn(f64) -> bool) -> Option<f64> {
     (1..=most)
@@ -43,6 +53,28 @@ mod tests {
         let third = 794.0 / 3.0;
         assert_eq!(clean(third), third);
         assert_eq!(clean(-0.1 * 3.0), -0.3);
+    }
+
+    #[test]
+    fn the_rays_origin_is_named_where_f32_moves_it_in_sight() {
+        assert_eq!(
+            rays_leave_from([0.0, 0.0, -3.001]),
+            None,
+            "-3.001 within 1e-7"
+        );
+        assert_eq!(rays_leave_from([1234.567, 12.3, 0.0]), None);
+        let off = rays_leave_from([1e5 + 0.1, 0.0, 0.0]);
+        assert_eq!(
+            off,
+            Some([100_000.1, 0.0, 0.0]),
+            "1e5 + 0.1 is 0.0016 from its f32"
+        );
+        let at_1e12 = rays_leave_from([1e12, 0.3, 0.0]);
+        assert_eq!(at_1e12, Some([999_999_995_904.0, 0.3, 0.0]));
+        assert_eq!(
+            rays_leave_from([1e7 + 0.1, 0.0, 0.0]),
+            Some([1e7, 0.0, 0.0])
+        );
     }
 
     #[test]
