@@ -67,9 +67,11 @@ pub fn status_line(
             if is_error {
                 text = text.color(egui::Color32::from_rgb(255, 110, 110)).strong();
             }
+            // (Its own tooltip below: egui's for a cut text would be a second one.)
             ui.add(
                 egui::Label::new(text)
                     .truncate()
+                    .show_tooltip_when_elided(false)
                     .sense(egui::Sense::click()),
             )
         });
@@ -79,7 +81,8 @@ pub fn status_line(
             false => response.on_hover_text(format!("{status}\n(click to copy)")),
         };
         if response.clicked() && !status.is_empty() {
-            ui.ctx().copy_text(status.to_owned());
+            let copied = status.strip_prefix(super::viewer::COPIED).unwrap_or(status);
+            ui.ctx().copy_text(copied.to_owned());
             log::info!("the status message was copied to the clipboard");
         }
         ui.separator();

@@ -250,16 +250,18 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
 
 #[test]
 fn real_x_input_copy_as_command_renders_what_the_window_shows() {
-    // Move (A held), press C (copy as command) and F12 (a full-quality screenshot of the same
-    // view); the clipboard, read back with xclip, holds a `raylab render` line that a shell
-    // runs to the same picture.
+    // Move (A held), press C (copy as command), click the status line that says what it
+    // copied, and press F12 (a full-quality screenshot of the same view); the clipboard, read
+    // back with xclip, holds a `raylab render` line that a shell runs to the same picture (the
+    // click copied the whole message, "copied to the clipboard: raylab render ...").
     if !common::tool_for("xclip", "xclip", "the copy-as-command test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool keydown a; sleep 0.4; \
-                  xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; xdotool key F12; \
+                  xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; \
+                  xdotool mousemove --sync 500 710 click 1; sleep 0.5; xdotool key F12; \
                   logged '] saving raylab-'; xclip -selection clipboard -o > cmd.txt";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {

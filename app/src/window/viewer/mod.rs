@@ -74,6 +74,10 @@ pub struct NewFrame {
 }
 
 /// Everything the window shows besides egui and the GPU.
+/// How the status line begins that says what C copied; a click on it copies the command again,
+/// not the message.
+pub const COPIED: &str = "copied to the clipboard: ";
+
 pub struct Viewer {
     proxy: EventLoopProxy<AppEvent>,
     pub stage: Stage,
@@ -607,7 +611,7 @@ impl Viewer {
         let view = self.view();
         let focal = self.focal(view.settings.width);
         let command = view.to_command_at_focal("raylab.png", focal);
-        self.set_status(format!("copied to the clipboard: {command}"));
+        self.set_status(format!("{COPIED}{command}"));
         self.copy_request = Some(command);
     }
 
