@@ -721,12 +721,15 @@ pub(super) struct Case {
     grader: Grader,
 }
 
-/// Grades a program's standard output: the tally, or why it is not one answer per ray.
-type Grader = Box<dyn Fn(&str) -> std::result::Result<Tally, String> + Send + Sync>;
+/// Grades a program's standard output: the tally and its first mistake, or why it is not one
+/// answer per ray.
+type Grader = Box<dyn Fn(&str) -> std::result::Result<(Tally, String), String> + Send + Sync>;
 
 impl Case {
-    /// Grades a program's standard output: the tally, or why it is not one answer per ray.
-    pub fn grade(&self, stdout: &str) -> std::result::Result<Tally, String> {
+    /// Grades a program's standard output: the tally and, where it did not pass, its first
+    /// mistake as `check` shows it (the ray's place, the ray, the exact answer and the given
+    /// one), or why it is not one answer per ray.
+    pub fn grade(&self, stdout: &str) -> std::result::Result<(Tally, String), String> {
         (self.grader)(stdout)
     }
 }
@@ -770,7 +773,12 @@ fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case
         grader: Box::new(move |stdout| {
             let answers = answers_for("its output", stdout, &exact, &rays_file)
                 .map_err(|e| format!("{e:#}"))?;
-            Ok(tally_of(&judge_all(&exact, &answers, tolerance)))
+            let judged = judge_all(&exact, &answers, tolerance);
+            let place = |i: usize| ray_place(&rays_file, &exact, i);
+            // (The first line heads the list; the second is the first mistake.)
+            let lines = reproducers(&judged, &exact, &answers, &place, "its output", 1);
+            let first = lines.get(1).map_or("", |l| l.trim()).to_string();
+            Ok((tally_of(&judged), first))
         }),
     })
 }

@@ -478,7 +478,7 @@ fn grade_one(
         };
         records.push(match ran {
             Ok(ran) => match case.grade(&ran.stdout) {
-                Ok(tally) => Record {
+                Ok((tally, first_mistake)) => Record {
                     tally: Some(tally),
                     ms: ran.elapsed.as_secs_f64() * 1e3,
                     status: if tally.passed() {
@@ -486,7 +486,7 @@ fn grade_one(
                     } else {
                         Status::Failed
                     },
-                    detail: String::new(),
+                    detail: first_mistake,
                 },
                 Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
             },

@@ -249,6 +249,47 @@ fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
     );
 }
 
+#[test]
+fn a_failed_familys_json_record_names_its_first_mistake() {
+    // The JSON's `detail` was empty for a family graded `failed`: a teacher could not tell a
+    // student which ray to look at without running `check` again. It holds the first mistake
+    // as `check` shows it now: the ray's place in the suite, the ray and both answers.
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["02-"]);
+    let last_hit = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/bugs/last_hit.py");
+    std::fs::copy(last_hit, class.join("ada/exact.py")).unwrap();
+    let json = dir.path().join("grades.json");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab(&[
+        "grade",
+        &path(&class),
+        "--suite",
+        &path(&suite),
+        "--program",
+        "sh run.sh {scene} {rays}",
+        "--json",
+        &path(&json),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+    let json = std::fs::read_to_string(&json).unwrap();
+    let detail = json
+        .split("\"status\": \"failed\", \"detail\": \"")
+        .nth(1)
+        .and_then(|d| d.split("\"").next())
+        .unwrap_or_else(|| panic!("no failed record with a detail: {json}"));
+    let family = suite.join("02-cube-from-outside/rays.txt");
+    assert!(
+        detail.starts_with(&format!("{}:", family.display())),
+        "{detail}"
+    );
+    assert!(
+        detail.contains("exact: hit")
+            && detail.contains("given (its output:")
+            && detail.ends_with("[wrong primitive]"),
+        "{detail}"
+    );
+}
+
 /// Bad input: exit 2 and the path named, before anything runs.
 #[test]
 fn bad_input_is_named() {
