@@ -74,6 +74,11 @@ pub fn parse_answers<T: Real>(
                     parsed => {
                         let last = primitives.saturating_sub(1);
                         let why = match parsed {
+                            // (One past the last: the classic count from 1.)
+                            Ok(p) if p as usize == primitives => format!(
+                                "index {index} is past the last primitive, {last} (indices \
+                                 count from 0)"
+                            ),
                             Ok(_) => format!("index {index} is past the last primitive, {last}"),
                             Err(_) => format!(
                                 "'{index}' is not a primitive index, a whole number 0 to {last}"

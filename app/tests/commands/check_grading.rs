@@ -412,7 +412,11 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
         ),
         (
             with_line_3("hit 2 4"),
-            "answers.txt:3: index 4 is past the last primitive, 3",
+            "answers.txt:3: index 4 is past the last primitive, 3 (indices count from 0)",
+        ),
+        (
+            with_line_3("hit 2 5"),
+            "answers.txt:3: index 5 is past the last primitive, 3",
         ),
         (
             with_line_3("hit 2 3.0"),
