@@ -264,6 +264,28 @@ fn near_root_is_caught_by_rays_from_inside_spheres() {
     });
 }
 
+/// The sphere's far root only: a ray from outside meets the sphere where it leaves. Its t
+/// failures say so, beside the distance (they said only "off by 4.70e-1").
+#[test]
+fn a_far_root_t_failure_names_the_other_meeting() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite = export(dir.path());
+    let sub = sub_suite(&suite, &["inside-and-one-ulp-outside"], dir.path(), "sub");
+    let exact = std::fs::read_to_string(root().join("examples/check/exact.py")).unwrap();
+    let roots = "[(-b - sqrt(disc)) / a, (-b + sqrt(disc)) / a]";
+    assert!(exact.contains(roots), "exact.py's roots moved");
+    let far_root = dir.path().join("far_root.py");
+    std::fs::write(&far_root, exact.replace(roots, "[(-b + sqrt(disc)) / a]")).unwrap();
+    let program = format!("python3 '{}' {{scene}} {{rays}}", far_root.display());
+    let o = check(&sub, &program, "f64");
+    let out = text(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    let hinted = (out.lines())
+        .filter(|l| l.contains("[t failure: ") && l.contains("other meeting with the sphere"))
+        .count();
+    assert!(hinted > 0, "{out}");
+}
+
 /// The last hit instead of the nearest: the far face of a cube.
 #[test]
 fn last_hit_is_caught_by_a_cube_from_outside() {
