@@ -334,6 +334,45 @@ fn rays_from_origins_far_from_a_small_scene_are_answered_as_the_reference_does()
     }
 }
 
+/// Shadow segments to a far light, nearly parallel to a wall (the plane x = 0), starting on
+/// it, just off it on either side (10⁻³⁰ to 10⁻³) and moving towards it, away from it or
+/// along it: every layout's any-hit answer (which first asks whether a segment stays on one
+/// side of a triangle's plane, in f64) is the reference's, over (0, 1) and shorter intervals.
+#[test]
+fn segments_along_a_wall_to_a_far_light_are_answered_as_the_reference_does() {
+    let mut shapes: Vec<Shape<f32>> = vec![
+        Shape::from([[0.0, -1.0, -1.0], [0.0, 1.0, -1.0], [0.0, 0.0, 1.0]]),
+        Shape::from([[0.0, -3.0, -2.0], [0.0, -3.0, 2.0], [0.0, -1e9, 0.0]]),
+        Shape::from([[-1.0, -0.5, 0.0], [1.0, -0.5, 0.0], [0.0, -0.5, 1.0]]),
+    ];
+    for k in 0..64 {
+        let x = 100.0 + k as f32;
+        shapes.push(Shape::from([
+            [x, 0.0, 5.0],
+            [x + 0.5, 0.0, 5.0],
+            [x, 0.5, 5.5],
+        ]));
+    }
+    let mut rays = Vec::new();
+    for offset in [
+        0.0f32, 1e-30, -1e-30, 1e-12, -1e-12, 1e-7, -1e-7, 1e-3, -1e-3,
+    ] {
+        for o in [
+            [offset, 0.2, 0.1],
+            [offset, -0.4, -0.3],
+            [offset, 0.9, -0.9],
+        ] {
+            for dx in [0.0f32, 1.0, -1.0, 1e-3, -1e-3, 2e-9] {
+                rays.push(Ray::new(o, [dx, -1e9, 3e8]));
+                rays.push(Ray::new(o, [dx, 1e9, -2e7]));
+            }
+        }
+    }
+    for (tmin, tmax) in [(0.0, 1.0), (0.0, 1e-9), (1e-12, 1.0), (0.0, f32::INFINITY)] {
+        check_all(&shapes, &rays, tmin, tmax);
+    }
+}
+
 #[test]
 fn hard_case_rays_on_closed_meshes_are_identical() {
     let mut rng = Rng(11);

@@ -169,10 +169,50 @@ impl Search {
             Estimate::Miss => false,
             Estimate::Hit(a) if a.lo > self.tmin && a.hi < self.tmax => true,
             Estimate::Hit(a) if a.hi <= self.tmin || a.lo >= self.tmax => false,
+            _ if stays_on_one_side(&self.ray, self.tmin, self.tmax, tri) => false,
             _ => Nearest::with_f32_levels(&self.ray, self.tmin as f32, self.tmax as f32)
                 .confirms(widen(&Shape::from(*tri)), est),
         }
     }
+}
+
+/// Whether the ray for tmin ≤ t ≤ tmax stays strictly on one side of the triangle's plane,
+/// decided in f64 with a bound 45 times f64's rounding of every step: then it meets no point
+/// of the triangle. A shadow segment to a far light runs nearly parallel to every plane that
+/// holds the light's direction (a vertical wall under a light high above), where the f32
+/// filter decides nothing; from just off the surface it departs, and this says so without
+/// the interval arithmetic.
+fn stays_on_one_side(ray: &Ray<f32>, tmin: f64, tmax: f64, tri: &[[f32; 3]; 3]) -> bool {
+    let v = tri.map(|p| p.map(f64::from));
+    let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
+    let e1 = [0, 1, 2].map(|k| v[1][k] - v[0][k]);
+    let e2 = [0, 1, 2].map(|k| v[2][k] - v[0][k]);
+    let (y, z) = ([1, 2, 0], [2, 0, 1]);
+    let n = [0, 1, 2].map(|k| e1[y[k]] * e2[z[k]] - e1[z[k]] * e2[y[k]]);
+    // |n| plus a bound on its rounding, per axis (its products' sizes).
+    let n_size =
+        [0, 1, 2].map(|k| n[k].abs() + (e1[y[k]] * e2[z[k]]).abs() + (e1[z[k]] * e2[y[k]]).abs());
+    let s = [0, 1, 2].map(|k| o[k] - v[0][k]);
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (a, b) = (dot(s, n), dot(d, n));
+    let (a_size, b_size) = (dot(s.map(f64::abs), n_size), dot(d.map(f64::abs), n_size));
+    const BOUND: f64 = 1e-14;
+    // The side at t: a + t·b, its sign certain beyond the bound (an infinite end: b's sign).
+    let side = |t: f64| -> f64 {
+        let (value, size) = match t.is_infinite() {
+            true => (t.signum() * b, b_size),
+            false => (
+                a + t * b,
+                a_size + t.abs() * b_size + (a.abs() + (t * b).abs()),
+            ),
+        };
+        match value.abs() > BOUND * size {
+            true => value.signum(),
+            false => 0.0,
+        }
+    };
+    let (from, to) = (side(tmin), side(tmax));
+    from != 0.0 && from == to
 }
 
 /// The adaptive nearest hit over shapes by brute force, starting at the interval level (no
