@@ -32,6 +32,8 @@ pub enum Key {
     F5,
     F12,
     Escape,
+    /// A digit 1 to 5: the lab step of that number (2 is the camera's, no shading of its own).
+    Step(u32),
 }
 
 impl Key {
@@ -62,6 +64,11 @@ impl Key {
             KeyCode::F5 => Key::F5,
             KeyCode::F12 => Key::F12,
             KeyCode::Escape => Key::Escape,
+            KeyCode::Digit1 | KeyCode::Numpad1 => Key::Step(1),
+            KeyCode::Digit2 | KeyCode::Numpad2 => Key::Step(2),
+            KeyCode::Digit3 | KeyCode::Numpad3 => Key::Step(3),
+            KeyCode::Digit4 | KeyCode::Numpad4 => Key::Step(4),
+            KeyCode::Digit5 | KeyCode::Numpad5 => Key::Step(5),
             _ => return None,
         })
     }
@@ -94,9 +101,11 @@ impl Key {
             ("F12", Key::F12),
             ("Escape", Key::Escape),
         ];
+        let step = (name.parse::<u32>().ok()).filter(|n| (1..=5).contains(n));
         ALL.iter()
             .find(|(n, _)| n.eq_ignore_ascii_case(name))
             .map(|(_, k)| *k)
+            .or(step.map(Key::Step))
     }
 
     /// Keys that move or turn while held (the rest act once, on press).

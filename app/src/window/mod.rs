@@ -304,6 +304,7 @@ impl App {
                 self.viewer.controller.toggle_mode();
                 self.viewer.changed();
             }
+            Key::Step(number) => self.viewer.choose_step(number),
             Key::Plus => self.viewer.controller.scale_speed(1.25),
             Key::Minus => self.viewer.controller.scale_speed(0.8),
             Key::Escape => {

@@ -702,6 +702,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("right drag (fly)", "look around"),
     ("wheel", "fly: focal length (up zooms in); orbit: dolly"),
     ("R", "reset the camera"),
+    ("1 / 3 / 4 / 5", "lab step: flat, direct, shadows, indirect"),
     ("C", "copy the `raylab render` command of this view"),
     (
         "left click / I",

@@ -290,6 +290,34 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
 }
 
 #[test]
+fn real_x_input_digits_choose_the_lab_step() {
+    // 1, 3, 4 and 5 choose the lab step as the panel's radio buttons do (the digit keys did
+    // nothing); 2, the camera's step, changes no shading and says why.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 400; \
+                  xdotool key 1; logged 'lab step 1 flat'; xdotool key 5; \
+                  logged 'lab step 5 indirect'; xdotool key KP_3; logged 'lab step 3 direct'; \
+                  xdotool key 4; logged 'lab step 4 shadows'; xdotool key 2; \
+                  logged 'lab step 2 is the camera'";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let stdout = &run.stdout;
+    assert!(
+        stdout.contains(" step=shadows "),
+        "{stdout}\n{}",
+        run.stderr
+    );
+    let status = stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    assert!(
+        status.is_some_and(|s| s.starts_with("lab step 2 is the camera")),
+        "{status:?}"
+    );
+}
+
+#[test]
 fn real_x_input_drives_every_other_key() {
     // The keys the other real-input runs do not press, each checked from the outside: D moves
     // right, then Shift+D 4x as far; Ctrl+E moves up at a quarter of the speed, Q down; S

@@ -605,6 +605,21 @@ impl Viewer {
         }
     }
 
+    /// A digit key: the lab step of that number (the panel's radio buttons). Step 2 is the
+    /// camera, which moves in every step: the status line says so.
+    pub fn choose_step(&mut self, number: u32) {
+        match LabStep::ALL.into_iter().find(|s| s.number() == number) {
+            Some(step) => {
+                self.view.controls.step = step;
+                self.set_status(format!("lab step {}", step.label()));
+                self.changed();
+            }
+            None => self.set_status(
+                "lab step 2 is the camera: fly it in any step (1, 3, 4, 5 choose the shading)",
+            ),
+        }
+    }
+
     /// C or the panel's button: the `raylab render` command of the current view goes to the
     /// clipboard (in the next UI pass) and the panel shows it.
     pub fn copy_command(&mut self) {
