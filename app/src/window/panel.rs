@@ -515,6 +515,7 @@ pub fn layout(
         selected_level,
         inspector_on,
         inspection,
+        inspected,
         code,
         code_inspection,
         copy_request,
@@ -598,7 +599,11 @@ pub fn layout(
         let most = beside - MIN_IMAGE_WIDTH.min(beside / 2.0);
         let placement = super::inspector::panel(ui, INSPECTOR_WIDTH, most, |ui| {
             // (Both ways: a row wider than the panel scrolls rather than widening it.)
-            egui::ScrollArea::both().show(ui, |ui| {
+            // (A scroll state per pixel chosen: a new pixel's rows start at the top, where they
+            // say what the crack is; the pixel followed through new views keeps its place.)
+            let chosen = inspected.as_ref().map(|i| (i.chosen.pixel, i.chosen.size));
+            let rows = egui::ScrollArea::both().id_salt(("inspector rows", chosen));
+            rows.show(ui, |ui| {
                 if let Some(detail) = crack.as_ref() {
                     super::inspector::crack_fields(ui, detail);
                     ui.separator();
