@@ -423,7 +423,8 @@ fn the_scene_tree_stops_at_its_limit_and_the_file_renders_the_same() {
     // Ten levels of a sphere each, the tree limited to 8 entries: the render is the one
     // without a limit, and a warning names the line where the tree stopped. (The camera,
     // push, its level, sphere, pop, push, its level and sphere fill the 8 entries; the pop on
-    // line 7 is the first left out, and the top level makes 9 listed.)
+    // line 7 is the first left out: 8 listed, the limit (the top level, every file's, is
+    // not one of them: the message said 9).)
     let dir = tempfile::tempdir().unwrap();
     let mut text = String::from("camera 0 0 -6\n");
     for k in 0..10 {
@@ -444,7 +445,7 @@ fn the_scene_tree_stops_at_its_limit_and_the_file_renders_the_same() {
     let (limited, said) = render(&[("RAYLAB_MAX_TREE_ENTRIES", "8")], "b.png");
     assert!(whole == limited, "the tree's limit changed the image");
     assert!(
-        said.contains("s.scene:7: the scene tree lists the first 9 push levels and statements"),
+        said.contains("s.scene:7: the scene tree lists the first 8 push levels and statements"),
         "{said}"
     );
     let o = raylab_env(

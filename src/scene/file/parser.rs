@@ -192,7 +192,8 @@ pub fn parse_with<T: Real>(
         p.out.warnings.push(w);
     }
     if let Some(line) = p.tree_full_at {
-        let listed = p.out.levels.len()
+        // (Not the top level, which every file has: the limit counts what the file adds.)
+        let listed = p.out.levels.len() - 1
             + p.out
                 .levels
                 .iter()
@@ -225,11 +226,12 @@ fn numbers(words: &[&str], expect: &[usize], what: &str) -> Result<Vec<f64>, Str
 }
 
 fn number(w: &str) -> Result<f64, String> {
+    let shown = crate::words::shown(w);
     match w.parse::<f64>() {
-        Ok(x) if x.is_nan() => Err(format!("'{w}' is NaN")),
-        Ok(x) if !x.is_finite() => Err(format!("'{w}' is not finite")),
+        Ok(x) if x.is_nan() => Err(format!("'{shown}' is NaN")),
+        Ok(x) if !x.is_finite() => Err(format!("'{shown}' is not finite")),
         Ok(x) => Ok(x),
-        Err(_) => Err(format!("'{w}' is not a number")),
+        Err(_) => Err(format!("'{shown}' is not a number")),
     }
 }
 
@@ -719,8 +721,9 @@ impl<T: Real> Parser<'_, T> {
             }
             other => {
                 return Err(format!(
-                    "unknown statement '{other}' (expected {}, mesh, cornell, color, push, pop, \
+                    "unknown statement '{}' (expected {}, mesh, cornell, color, push, pop, \
                      translate, rotate, scale, light, ambient or camera)",
+                    crate::words::shown(other),
                     Shape::<T>::KEYWORDS.join(", ")
                 ))
             }
