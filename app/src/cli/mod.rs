@@ -718,6 +718,16 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
     )?)
 }
 
+/// A scene file's text for `trace`, where `cornell` (no such file) names the built-in lab box
+/// as everywhere a scene is named: a scene of that one statement. (Not for `check`: the
+/// program it runs is given the scene's path.)
+pub(crate) fn scene_text(path: &Path) -> Result<String> {
+    match path.as_os_str() == raylab::scene::CORNELL && !path.exists() {
+        true => Ok(format!("{}\n", raylab::scene::CORNELL)),
+        false => read_text(path),
+    }
+}
+
 /// Says which command a mistyped one meant: `raylab rendr` opens the window on a file named
 /// `rendr`, which does not exist, so a word without an extension that is no file and is within
 /// two edits of a command is refused with that command suggested.

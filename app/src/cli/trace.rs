@@ -79,7 +79,7 @@ pub enum TraceAccel {
 
 /// Runs `raylab trace`; the whole output is built before anything is printed.
 pub fn trace(args: &TraceArgs) -> Result<()> {
-    let scene_text = read_text(&args.scene)?;
+    let scene_text = super::scene_text(&args.scene)?;
     let rays_text = read_text(&args.rays)?;
     let (sf, rf) = (
         args.scene.display().to_string(),

@@ -80,6 +80,29 @@ fn trace_answers_the_text_format_exactly() {
     }
 }
 
+/// `--scene cornell` names the built-in lab box, as everywhere a scene is named (it was read
+/// as a file: "cornell: No such file or directory"); a file of that one statement is the same.
+#[test]
+fn trace_takes_the_built_in_cornell_box_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let rays = write(
+        dir.path(),
+        "rays.txt",
+        "0 0 -3 0 0 1 0 inf\n0.2 0.3 -3 0 0 1 0 inf\n0 0 -3 0 0 -1 0 inf\n",
+    );
+    let file = write(dir.path(), "box.scene", "cornell\n");
+    let by_name = raylab(&["trace", "--scene", "cornell", "--rays", &rays]);
+    assert!(by_name.status.success(), "{}", stderr(&by_name));
+    let from_file = raylab(&["trace", "--scene", &file, "--rays", &rays]);
+    assert_eq!(stdout(&by_name), stdout(&from_file));
+    let lines: Vec<String> = stdout(&by_name).lines().map(String::from).collect();
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    assert!(
+        lines[0].starts_with("hit ") && lines[2] == "miss",
+        "{lines:?}"
+    );
+}
+
 #[test]
 fn trace_f64_sees_what_f32_cannot() {
     // Two triangles 1e-10 apart at z = 1: f32 parses both to the same plane (a tie, the lower
@@ -110,6 +133,8 @@ fn trace_rejects_malformed_input_with_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     let good_scene = write(dir.path(), "good_scene.txt", "tri 0 0 1 1 0 1 0 1 1\n");
     let good_rays = write(dir.path(), "good_rays.txt", "0 0 0 0 0 1 0 inf\n");
+    let zeros = format!("{}\n", "0".repeat(5000));
+    let nines = format!("sphere 0 0 {}x 1\n", "9".repeat(5000));
     let scene_cases: &[(&str, &str)] = &[
         ("tri 0 0 1 1 0 1 0 1\n", ":1: tri needs 9 numbers, found 8"),
         (
@@ -122,6 +147,15 @@ fn trace_rejects_malformed_input_with_file_and_line() {
         ("sphere 0 0 inf 1\n", "not finite"),
         ("tri 0 0 1 1 0 1 0 x 1\n", "'x' is not a number"),
         ("cube 1 2 3\n", "unknown statement 'cube'"),
+        // A long word is quoted by its start and length, not whole (a megabyte of error).
+        (
+            &zeros,
+            "unknown statement '0000000000000000000000000000000000000000… (5000 characters)'",
+        ),
+        (
+            &nines,
+            "'9999999999999999999999999999999999999999… (5001 characters)' is not a number",
+        ),
         ("push\npop\npop\n", ":3: pop without a matching push"),
         (
             "scale 1 2 3\nsphere 0 0 0 1\n",
@@ -144,6 +178,11 @@ fn trace_rejects_malformed_input_with_file_and_line() {
         ("0 0 0 0 0 1 5 1\n", ":1: tmin 5 > tmax 1"),
         ("0 0 0 0 0 1 nan inf\n", "'nan' is NaN"),
         ("0 0 inf 0 0 1 0 inf\n", "not finite"),
+        // Overflow named as written (it said `inf`).
+        (
+            "0 0 1e39 0 0 1 0 inf\n",
+            ":1: ray coordinate 1e39 is not finite in this precision",
+        ),
         ("0 0 0 0 0 1 0 junk\n", "'junk' is not a number"),
     ];
     for (text, needle) in ray_cases {
