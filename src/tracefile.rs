@@ -66,17 +66,26 @@ fn numbers<T: Real>(
     }
     words
         .iter()
-        .map(|w| match w.parse::<T>() {
-            Ok(x) if x.is_nan() => Err(format!("'{w}' is NaN")),
-            Ok(x) => Ok(x),
-            Err(_) => Err(format!("'{w}' is not a number")),
+        .map(|w| {
+            let shown = crate::words::shown(w);
+            match w.parse::<T>() {
+                Ok(x) if x.is_nan() => Err(format!("'{shown}' is NaN")),
+                Ok(x) => Ok(x),
+                Err(_) => Err(format!("'{shown}' is not a number")),
+            }
         })
         .collect()
 }
 
-fn all_finite<T: Real>(xs: &[T], what: &str) -> Result<(), String> {
-    match xs.iter().find(|x| !x.is_finite()) {
-        Some(x) => Err(format!("{what} coordinate {x} is not finite")),
+/// Whether the coordinates `xs`, read from `words`, are finite; else the first that is not,
+/// as written (1e39 overflows f32: the message said `inf`).
+fn all_finite<T: Real>(xs: &[T], words: &[&str], what: &str) -> Result<(), String> {
+    match xs.iter().zip(words).find(|(x, _)| !x.is_finite()) {
+        Some((_, w)) if !w.to_ascii_lowercase().contains("inf") => Err(format!(
+            "{what} coordinate {} is not finite in this precision",
+            crate::words::shown(w)
+        )),
+        Some((x, _)) => Err(format!("{what} coordinate {x} is not finite")),
         None => Ok(()),
     }
 }
@@ -132,7 +141,7 @@ pub fn parse_rays_at_lines<T: Real>(
     data_lines(text)
         .map(|(line, words, count)| {
             let parsed = numbers::<T>((&words, count), 8, "ray").and_then(|x| {
-                all_finite(&x[..6], "ray")?;
+                all_finite(&x[..6], &words[..6], "ray")?;
                 let d = [x[3], x[4], x[5]];
                 if d.iter().all(|c| *c == T::zero()) {
                     return Err("direction is zero".to_string());

@@ -83,6 +83,22 @@ pub fn words(line: &str) -> Result<Vec<String>, String> {
     }
 }
 
+/// The most characters of a word an error message quotes.
+const SHOWN_CHARS: usize = 40;
+
+/// `word` as an error message quotes it: whole up to 40 characters, else its start, an
+/// ellipsis and its length (a line of a million zeros was quoted whole, a megabyte of error).
+pub fn shown(word: &str) -> Cow<'_, str> {
+    match word.chars().nth(SHOWN_CHARS) {
+        None => Cow::Borrowed(word),
+        Some(_) => {
+            let start: String = word.chars().take(SHOWN_CHARS).collect();
+            let n = word.chars().count();
+            Cow::Owned(format!("{start}… ({n} characters)"))
+        }
+    }
+}
+
 /// `word` as [`words`] reads it back: as it is where it can be, else in double quotes.
 pub fn quoted(word: &str) -> Cow<'_, str> {
     let plain = !word.is_empty()
