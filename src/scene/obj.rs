@@ -109,10 +109,12 @@ pub enum ObjError {
         message: String,
     },
     /// No faces: nothing to render.
-    #[error("{file}: no triangles")]
+    #[error("{file}: no triangles{hint}")]
     NoTriangles {
         /// File name.
         file: String,
+        /// Why, where the name may say: a file not named `.obj` was read as one.
+        hint: &'static str,
     },
     /// A model loaded on its own whose every face has zero area: nothing a ray could hit, so
     /// nothing to show. (As a `.scene` file's mesh it loads, as such `tri` lines do.)
@@ -332,8 +334,14 @@ fn load_obj_str_coloured(
     // (Whoever loads the scene shows its warnings: the CLI prints them, the window's panel.)
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
+        // (A file of `tri` lines named `.txt` came here, read as OBJ.)
+        let named_obj = name.to_ascii_lowercase().ends_with(".obj") || name == "cornell";
         return Err(ObjError::NoTriangles {
             file: name.to_string(),
+            hint: match named_obj {
+                true => "",
+                false => " (read as an OBJ file: a scene file's name ends in .scene)",
+            },
         });
     };
     scene.light = Scene::light_for_bounds(bounds);

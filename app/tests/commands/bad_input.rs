@@ -100,6 +100,21 @@ fn render_rejects_hostile_obj_with_file_and_line() {
         let o = render_scene(&obj, &[], &[]);
         assert_fails(&o, 2, &[&format!("bad{k}.obj"), needle]);
     }
+    // A file of a scene's `tri` lines named other than `.scene` is read as OBJ: the message
+    // says so (it said "no triangles" alone). An empty `.obj` does not get the hint.
+    let txt = dir.path().join("mine.txt");
+    std::fs::write(&txt, "tri 0 0 5 1 0 5 0 1 5\n").unwrap();
+    let o = render_scene(&txt, &[], &[]);
+    assert_fails(
+        &o,
+        2,
+        &["mine.txt: no triangles (read as an OBJ file", ".scene"],
+    );
+    let empty = dir.path().join("empty.obj");
+    std::fs::write(&empty, "").unwrap();
+    let o = render_scene(&empty, &[], &[]);
+    assert_fails(&o, 2, &["empty.obj: no triangles"]);
+    assert!(!stderr(&o).contains("read as an OBJ"), "{}", stderr(&o));
     // A 2 GiB file (sparse: no disk used) is refused before anything is read.
     let big = dir.path().join("big.obj");
     std::fs::File::create(&big)
