@@ -4,7 +4,7 @@
 //! One event per line, `<ms> <event> [args]`, times in milliseconds from the first frame shown,
 //! non-decreasing; `#` lines and blank lines are skipped:
 //! - `key <Name> down|up` (W A S D Q E Left Right Up Down Shift Ctrl Tab Plus Minus R I C N H
-//!   F1 F5 F12 Escape)
+//!   F1 F5 F12 Escape, and the digits 1 to 5)
 //! - `mouse <dx> <dy>`: mouse-look motion (as a right-drag), in device units
 //! - `wheel <lines>`: positive zooms in
 //! - `set <control> <value>`: what the panel's widget of that image control does (any row of

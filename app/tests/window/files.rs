@@ -53,6 +53,42 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
 }
 
 #[test]
+fn cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light() {
+    // `cornell` typed in the path field (or dropped) after a scene file with its own camera
+    // and light showed the box from that scene's camera, lit by its light, R going back to
+    // it, and the status still named the scene file. As an opened file, it takes the lab's.
+    let dir = tempfile::tempdir().unwrap();
+    let ball = dir.path().join("ball.scene");
+    std::fs::write(
+        &ball,
+        "sphere 0 0 0 1\nlight 3 -5 -5\ncamera 0 0 -10 yaw 5\n",
+    )
+    .unwrap();
+    let script = format!(
+        "0 drop {}\n1500 drop cornell\n2500 key R down\n2550 key R up\n2800 key F5 down\n\
+         2850 key F5 up\n",
+        ball.display()
+    );
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    assert_eq!(run.fields["scene"], "cornell", "{}", run.stderr);
+    assert_eq!(run.nums("camera"), [0.0, 0.0, -3.001], "{}", run.stderr);
+    assert_eq!(run.nums("yaw"), [0.0]);
+    assert!(
+        run.stderr.contains("loaded cornell (30 primitives)"),
+        "the status names the box: {}",
+        run.stderr
+    );
+    let view = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("no view saved\n{}", run.stderr));
+    let text = std::fs::read_to_string(&view).unwrap();
+    assert!(text.contains("light 0 -0.5 -0.7"), "{text}");
+}
+
+#[test]
 fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     // Opened from a .scene file; the camera moves (W); the file gains a sphere on disk (the
     // window reloads it, keeping the camera); then a broken line (the error is shown and the

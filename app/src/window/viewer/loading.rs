@@ -118,10 +118,21 @@ impl Viewer {
     }
 
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
-    fn show_cornell(&mut self) {
+    fn show_cornell(&mut self, kind: &LoadKind) {
         *self.source.lock().expect("not poisoned") = None;
         self.stage = Stage::new(Scene::cornell(), self.accel);
         self.selected_level = None;
+        self.banner = None;
+        // (As an opened file's: the lab's camera and light, not the last scene's.)
+        if let LoadKind::Open = kind {
+            self.controller = CameraController::cornell();
+            self.view.light = self.stage.scene().light.position;
+        }
+        self.set_status(format!(
+            "loaded {} ({} primitives)",
+            raylab::scene::CORNELL,
+            self.stage.scene().len()
+        ));
         self.changed();
     }
 
@@ -179,7 +190,7 @@ impl Viewer {
             }
         }
         if cornell {
-            self.show_cornell();
+            self.show_cornell(&request.kind);
             if let LoadKind::View(view, file) = &request.kind {
                 self.apply_view(view, file);
             }
