@@ -19,9 +19,10 @@ pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     }
 }
 
-/// The least width (points) the inspector's rows stay readable in beside the image: where
-/// the window leaves its panel less, it floats instead ([`Placement::Over`]).
-pub const READABLE_WIDTH: f32 = 240.0;
+/// The least width (points) the inspector's rows stay readable in beside the image, its
+/// panel's own width at start: where the window leaves its panel less, it floats instead
+/// ([`Placement::Over`]). (Narrower, its rows' values are cut.)
+pub const READABLE_WIDTH: f32 = super::panel::INSPECTOR_WIDTH;
 
 /// Where the inspector's fields were drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +54,8 @@ pub fn panel(
         egui::Window::new("Ray inspector")
             .collapsible(false)
             .resizable(false)
-            .default_pos(screen.left_top() + egui::vec2(margin, margin))
+            // (Below the menu bar, which it would hide.)
+            .default_pos(screen.left_top() + egui::vec2(margin, 4.0 * margin))
             .default_width(width.min(screen.width() - 2.0 * margin))
             .max_height(screen.height() - 2.0 * margin)
             .show(ui.ctx(), contents);
