@@ -62,6 +62,7 @@ use std::sync::Arc;
 
 mod matrix;
 mod mesh_files;
+mod numbers;
 mod parser;
 
 pub use parser::{parse, parse_with};

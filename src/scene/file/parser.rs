@@ -3,6 +3,7 @@
 
 use super::matrix::check_matrix;
 use super::mesh_files::{FileKey, MeshFiles};
+use super::numbers::{exact, f32_channels, number, numbers};
 use super::*;
 use crate::geometry::shapes::SceneFrame;
 
@@ -210,34 +211,6 @@ pub fn parse_with<T: Real>(
 
 fn identity_rows() -> [[f64; 4]; 4] {
     glam::DMat4::IDENTITY.transpose().to_cols_array_2d()
-}
-
-/// Parses `expect` numbers (finite, as f64; see [`exact`] for reading them in `T`).
-fn numbers(words: &[&str], expect: &[usize], what: &str) -> Result<Vec<f64>, String> {
-    if !expect.contains(&words.len()) {
-        let want = match expect {
-            [n] => format!("{n} numbers"),
-            [a, b] => format!("{a} or {b} numbers"),
-            _ => unreachable!("one or two counts"),
-        };
-        return Err(format!("{what} needs {want}, found {}", words.len()));
-    }
-    words.iter().map(|w| number(w)).collect()
-}
-
-fn number(w: &str) -> Result<f64, String> {
-    let shown = crate::words::shown(w);
-    match w.parse::<f64>() {
-        Ok(x) if x.is_nan() => Err(format!("'{shown}' is NaN")),
-        Ok(x) if !x.is_finite() => Err(format!("'{shown}' is not finite")),
-        Ok(x) => Ok(x),
-        Err(_) => Err(format!("'{shown}' is not a number")),
-    }
-}
-
-/// `w` read straight in precision `T` (it parsed as a finite f64 already).
-fn exact<T: Real>(w: &str) -> T {
-    w.parse::<T>().unwrap_or_else(|_| T::of(f64::NAN))
 }
 
 impl<T: Real> Parser<'_, T> {
@@ -790,15 +763,5 @@ impl<T: Real> SceneFrame<T> for Parser<'_, T> {
         }
         let scale = self.uniform_scale()?;
         Some(T::of(number(word).ok()? * scale))
-    }
-}
-
-fn f32_channels<const N: usize>(what: &str, values: [f64; N]) -> Result<[f32; N], String> {
-    match values.iter().find(|v| !(**v as f32).is_finite()) {
-        Some(v) => Err(format!(
-            "{what} {v} is beyond what f32 holds ({:e})",
-            f32::MAX
-        )),
-        None => Ok(values.map(|v| v as f32)),
     }
 }
