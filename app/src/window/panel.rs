@@ -103,7 +103,7 @@ pub fn side_panel(
             .logarithmic(true)
             .text("focal (px)")
             .custom_formatter(|v, _| format!("{v:.1}"))
-            .custom_parser(finite_number)
+            .custom_parser(super::values::finite_number)
             .drag_value_speed(fine);
         let beside = egui::WidgetText::from("00000.0 focal (px)");
         let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
@@ -374,15 +374,7 @@ fn coordinate<N: egui::emath::Numeric>(value: &mut N, speed: f64) -> egui::DragV
         .speed(speed)
         .max_decimals(3)
         .range(N::from_f64(-max)..=N::from_f64(max))
-        .custom_parser(finite_number)
-}
-
-/// A number typed into a field, as egui reads one (spaces dropped, U+2212 a minus), where it
-/// is finite: egui's own parser takes `nan` and `inf`, which a clamped field turned into its
-/// lower or upper end.
-fn finite_number(text: &str) -> Option<f64> {
-    let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    (text.replace('−', "-").parse::<f64>().ok()).filter(|v| v.is_finite())
+        .custom_parser(super::values::finite_number)
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
