@@ -10,6 +10,7 @@ mod common;
 mod accel;
 mod camera;
 mod controller;
+mod far_and_grazing;
 mod fuzz;
 mod hard_cases;
 mod instances;
