@@ -5,7 +5,7 @@
 use crate::accel::check_all;
 use crate::common::Rng;
 use raylab::accel;
-use raylab::geometry::{Method, Ray, Shape, Triangle};
+use raylab::geometry::{Method, Ray, Shape, Sphere, Triangle};
 
 /// Rays from origins 2⁴⁰ away from the Cornell box: along each axis towards it and away from
 /// it (over t ∈ (−∞, ∞) those reach it behind), diagonally, and aimed at it in f32, whose
@@ -111,6 +111,60 @@ fn segments_along_a_wall_to_a_far_light_are_answered_as_the_reference_does() {
         }
     }
     for (tmin, tmax) in [(0.0, 1.0), (0.0, 1e-9), (1e-12, 1.0), (0.0, f32::INFINITY)] {
+        check_all(&shapes, &rays, tmin, tmax);
+    }
+}
+
+/// Spheres seen from 2³⁰ away: rays along an axis at a sphere's rim (a tangent touch hits),
+/// just inside and just outside it, rays aimed at centres in f32 (their rounding misses by
+/// far), and rays away: every layout answers as the reference does, over every interval. From
+/// so far the hierarchy's boxes pass many spheres, each of which an f64 test of the ray's line
+/// against it refuses before the exact search.
+#[test]
+fn spheres_seen_from_far_away_are_answered_as_the_reference_does() {
+    let mut rng = Rng(0x5fe7e);
+    let mut shapes: Vec<Shape<f32>> = (0..100)
+        .map(|_| {
+            Shape::Sphere(Sphere {
+                centre: [0, 1, 2].map(|_| rng.range(-4.0, 4.0) as f32),
+                radius: rng.range(0.05, 0.3) as f32,
+            })
+        })
+        .collect();
+    shapes.push(Shape::from([
+        [-5.0, -5.0, 6.0],
+        [5.0, -5.0, 6.0],
+        [0.0, 5.0, 6.0],
+    ]));
+    let far = 2.0f32.powi(30);
+    let mut rays = Vec::new();
+    for s in shapes.iter().take(10) {
+        let Shape::Sphere(Sphere {
+            centre: c,
+            radius: r,
+        }) = *s
+        else {
+            continue;
+        };
+        for x in [
+            c[0] + r,
+            c[0] + r * (1.0 - 1e-6),
+            c[0] + r * (1.0 + 1e-6),
+            c[0],
+        ] {
+            rays.push(Ray::new([x, c[1], -far], [0.0, 0.0, 1.0]));
+            rays.push(Ray::new([x, c[1], -far], [0.0, 0.0, -1.0]));
+        }
+        let o = [0, 1, 2].map(|_| rng.range(-1.0, 1.0) as f32 * far);
+        rays.push(Ray::new(o, [0, 1, 2].map(|k| c[k] - o[k])));
+    }
+    assert!(
+        rays.iter().step_by(2).take(8).any(|r| {
+            accel::closest_hit(&shapes, r, Method::Adaptive, 0.0, f32::INFINITY).is_some()
+        }),
+        "some rays meet their sphere"
+    );
+    for (tmin, tmax) in [(0.0, f32::INFINITY), (f32::NEG_INFINITY, f32::INFINITY)] {
         check_all(&shapes, &rays, tmin, tmax);
     }
 }
