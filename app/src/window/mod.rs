@@ -617,7 +617,8 @@ impl ApplicationHandler<AppEvent> for App {
         };
         let egui_keyboard = fw.wants_keyboard();
         // (Before egui sees the press: the field or dialog Esc closes is still open.)
-        let egui_escape = fw.takes_escape() || self.viewer.files.is_open();
+        let dialog_open = self.viewer.files.is_open();
+        let egui_escape = fw.takes_escape() || dialog_open;
         // Tab is the camera's (fly/orbit) unless a text field is typing: egui would take it to
         // move its keyboard focus between widgets.
         let tab = matches!(&event, WindowEvent::KeyboardInput { event, .. }
@@ -662,9 +663,11 @@ impl ApplicationHandler<AppEvent> for App {
                 // leaves a field or closes a dialog or menu is egui's alone, unless it frees
                 // the captured mouse.
                 let replayed = is_synthetic && !key.is_held_motion();
+                // (The file dialog takes every key while open: its search box starts with the
+                // first one typed, which also chose a lab step or flew the camera.)
                 let egui_takes = match key {
                     Key::Escape => egui_escape && !self.mouse_look,
-                    _ => egui_keyboard,
+                    _ => egui_keyboard || dialog_open,
                 };
                 if pressed && (event.repeat || replayed || egui_takes) {
                     return;

@@ -280,6 +280,34 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
 }
 
 #[test]
+fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
+    // File > Open scene or OBJ…, a file of the list clicked, then 3 and w: the first key went
+    // both to the dialog's search box and to the window (lab step 3, or the camera moving).
+    // While the dialog is open every key is its own.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.scene"), "cornell\n").unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 60 36; sleep 0.3; xdotool click 1; sleep 1.5; \
+                  xdotool mousemove --sync 300 112; sleep 0.3; xdotool click 1; sleep 0.5; \
+                  xdotool key 3; sleep 0.3; xdotool keydown w; sleep 0.4; xdotool keyup w; \
+                  sleep 0.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    assert!(
+        run.stdout.contains(" step=indirect "),
+        "{}\n{}",
+        run.stdout,
+        run.stderr
+    );
+    assert!(!run.stderr.contains("lab step 3"), "{}", run.stderr);
+    assert_eq!(run.nums("camera"), [0.0, 0.0, -3.001], "{}", run.stderr);
+}
+
+#[test]
 fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     // A .scene placing one mesh (the repo's icosphere, 1,280 triangles) three times in the
     // Cornell box: the window loads it as instances (one stored mesh), draws it as the
