@@ -353,6 +353,11 @@ impl FlatLoop {
     /// free, and small scenes have large triangles).
     /// With it, the loose t bound's coefficients.
     #[inline]
+    fn bounds(&self, r: &WatertightRay<f32>) -> (f32, (f32, f32)) {
+        let m = box_extent(r.o, self.lo, self.hi);
+        (edge_error(m, m), loose_t_bound(m, r.s[2]))
+    }
+
     /// Whether `ray` may meet a triangle with tmin ≤ t ≤ tmax: the f64 slab test against the
     /// box around them all. Asked where a block's f32 filter is unsure: from an origin far
     /// from small triangles (a camera 10¹² away from the Cornell box) the filter decides none
@@ -365,11 +370,6 @@ impl FlatLoop {
         };
         let (t0, t1) = whole.slab_interval_f64(0.0, ray.o, &inv, (tmin, tmax));
         t0 <= t1
-    }
-
-    fn bounds(&self, r: &WatertightRay<f32>) -> (f32, (f32, f32)) {
-        let m = box_extent(r.o, self.lo, self.hi);
-        (edge_error(m, m), loose_t_bound(m, r.s[2]))
     }
 }
 
