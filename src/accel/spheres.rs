@@ -250,20 +250,18 @@ impl Layout for Spheres {
 /// 10⁹ away was handed to interval arithmetic for every sphere its walk reached (~90× the
 /// time of a near ray over the ball field), where this refuses all but the few near it.
 fn line_may_meet(ray: &Ray, shape: &Shape<f32>) -> bool {
+    use crate::math::real::{cross, cross_size, dot, sub};
     let Shape::Sphere(s) = shape else {
         return true;
     };
     let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
-    let oc = [0, 1, 2].map(|k| o[k] - f64::from(s.centre[k]));
+    let oc = sub(o, s.centre.map(f64::from));
     // |oc × d| = (the line's distance from the centre)·|d|; each component within `err`.
-    let (y, z) = ([1, 2, 0], [2, 0, 1]);
-    let cross = [0, 1, 2].map(|k| oc[y[k]] * d[z[k]] - oc[z[k]] * d[y[k]]);
-    let err = [0, 1, 2].map(|k| 1e-14 * ((oc[y[k]] * d[z[k]]).abs() + (oc[z[k]] * d[y[k]]).abs()));
+    let (cross, err) = (cross(oc, d), cross_size(oc, d).map(|x| 1e-14 * x));
     let lower: f64 = (0..3)
         .map(|k| (cross[k].abs() - err[k]).max(0.0).powi(2))
         .sum();
-    let d2: f64 = d.iter().map(|c| c * c).sum();
-    let r = f64::from(s.radius);
+    let (d2, r) = (dot(d, d), f64::from(s.radius));
     // (NaN from an infinite direction: not surely apart, so it may meet.)
     let surely_apart = lower * (1.0 - 1e-14) > r * r * d2 * (1.0 + 1e-14);
     !surely_apart

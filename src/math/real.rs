@@ -190,6 +190,17 @@ pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
     ]
 }
 
+/// The sizes of [`cross`]'s products, |a₁b₂| + |a₂b₁| and so on: each component's rounding
+/// is within a few units of the last place of its size.
+#[inline]
+pub fn cross_size<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+    [
+        (a[1] * b[2]).abs() + (a[2] * b[1]).abs(),
+        (a[2] * b[0]).abs() + (a[0] * b[2]).abs(),
+        (a[0] * b[1]).abs() + (a[1] * b[0]).abs(),
+    ]
+}
+
 /// Component-wise |a|.
 #[inline]
 pub fn abs<T: Real>(a: V3<T>) -> V3<T> {

@@ -183,19 +183,16 @@ impl Search {
 /// filter decides nothing; from just off the surface it departs, and this says so without
 /// the interval arithmetic.
 fn stays_on_one_side(ray: &Ray<f32>, tmin: f64, tmax: f64, tri: &[[f32; 3]; 3]) -> bool {
+    use crate::math::real::{abs, add, cross, cross_size, dot, sub};
     let v = tri.map(|p| p.map(f64::from));
     let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
-    let e1 = [0, 1, 2].map(|k| v[1][k] - v[0][k]);
-    let e2 = [0, 1, 2].map(|k| v[2][k] - v[0][k]);
-    let (y, z) = ([1, 2, 0], [2, 0, 1]);
-    let n = [0, 1, 2].map(|k| e1[y[k]] * e2[z[k]] - e1[z[k]] * e2[y[k]]);
+    let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
+    let n = cross(e1, e2);
     // |n| plus a bound on its rounding, per axis (its products' sizes).
-    let n_size =
-        [0, 1, 2].map(|k| n[k].abs() + (e1[y[k]] * e2[z[k]]).abs() + (e1[z[k]] * e2[y[k]]).abs());
-    let s = [0, 1, 2].map(|k| o[k] - v[0][k]);
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let n_size = add(abs(n), cross_size(e1, e2));
+    let s = sub(o, v[0]);
     let (a, b) = (dot(s, n), dot(d, n));
-    let (a_size, b_size) = (dot(s.map(f64::abs), n_size), dot(d.map(f64::abs), n_size));
+    let (a_size, b_size) = (dot(abs(s), n_size), dot(abs(d), n_size));
     const BOUND: f64 = 1e-14;
     // The side at t: a + t·b, its sign certain beyond the bound (an infinite end: b's sign).
     let side = |t: f64| -> f64 {
