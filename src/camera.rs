@@ -119,8 +119,13 @@ impl Camera {
 
     /// The world-to-camera matrix: the exact inverse of a rigid transform, Rᵀ · T(−position).
     pub fn camera_from_world(&self) -> DMat4 {
+        self.camera_from_world_at(self.position())
+    }
+
+    /// [`Camera::camera_from_world`] with the camera's axes placed at `eye`: Rᵀ · T(−eye).
+    fn camera_from_world_at(&self, eye: DVec3) -> DMat4 {
         let r = DMat3::from_mat4(self.world_from_camera).transpose();
-        DMat4::from_mat3(r) * DMat4::from_translation(-self.position())
+        DMat4::from_mat3(r) * DMat4::from_translation(-eye)
     }
 
     /// The camera position in the world.
@@ -182,9 +187,8 @@ impl Camera {
     /// at every distance, as an overlay drawing a ray over the image needs.
     pub fn ray_projection(&self, width: u32, height: u32) -> Projection {
         let rays_from = self.position().as_vec3().as_dvec3();
-        let r = DMat3::from_mat4(self.world_from_camera).transpose();
         Projection {
-            camera_from_world: DMat4::from_mat3(r) * DMat4::from_translation(-rays_from),
+            camera_from_world: self.camera_from_world_at(rays_from),
             eye_rounding: 0.0,
             ..self.projection(width, height)
         }
