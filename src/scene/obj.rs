@@ -335,7 +335,7 @@ fn load_obj_str_coloured(
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
         // (A file of `tri` lines named `.txt` came here, read as OBJ.)
-        let named_obj = name.to_ascii_lowercase().ends_with(".obj") || name == "cornell";
+        let named_obj = name.to_ascii_lowercase().ends_with(".obj");
         return Err(ObjError::NoTriangles {
             file: name.to_string(),
             hint: match named_obj {

@@ -155,7 +155,8 @@ pub struct Viewer {
     pub crack: Option<super::inspected::Detail>,
     /// Whether the inspector's panel was drawn in the last UI pass.
     pub inspector_shown: bool,
-    /// Whether it was drawn over the image, the window too narrow for its panel.
+    /// Whether it was drawn in a window of its own (over the side panel at first), the
+    /// window too narrow for its panel.
     pub inspector_over: bool,
     /// The cracks of the frames shown, counted ([`super::cracks`]).
     pub cracks: super::cracks::Counter,
