@@ -77,6 +77,20 @@ fn cut_class_and_suite(root: &Path, names: &[&str], families: &[&str]) -> (PathB
     (class, suite)
 }
 
+/// `raylab grade CLASS --suite SUITE --program 'sh run.sh {scene} {rays}'` and `more`.
+fn grade_class(class: &Path, suite: &Path, more: &[&str]) -> std::process::Output {
+    let (class, suite) = (class.to_str().unwrap(), suite.to_str().unwrap());
+    let args = [
+        "grade",
+        class,
+        "--suite",
+        suite,
+        "--program",
+        "sh run.sh {scene} {rays}",
+    ];
+    raylab(&[&args[..], more].concat())
+}
+
 /// A family's files, to see that no submission changed them.
 fn suite_files(suite: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut files = Vec::new();
@@ -107,29 +121,27 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         "# points per family\n16 3  # the one graded\n* 2\n",
     );
     let path = |p: &Path| p.to_str().unwrap().to_string();
-    let o = raylab(&[
-        "grade",
-        &path(&class),
-        "--suite",
-        &path(&suite),
-        "--program",
-        "sh run.sh {scene} {rays}",
-        // (The exact program answers its 200 rays in a fraction of a second.)
-        "--family",
-        "16",
-        "--timeout",
-        "5",
-        "--max-processes",
-        "64",
-        "-j",
-        "2",
-        "--csv",
-        &path(&csv),
-        "--json",
-        &path(&json),
-        "--rubric",
-        &rubric,
-    ]);
+    let o = grade_class(
+        &class,
+        &suite,
+        &[
+            // (The exact program answers its 200 rays in a fraction of a second.)
+            "--family",
+            "16",
+            "--timeout",
+            "5",
+            "--max-processes",
+            "64",
+            "-j",
+            "2",
+            "--csv",
+            &path(&csv),
+            "--json",
+            &path(&json),
+            "--rubric",
+            &rubric,
+        ],
+    );
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
     assert_eq!(o.status.code(), Some(0), "{out}{err}");
     let csv = std::fs::read_to_string(&csv).unwrap();
@@ -222,16 +234,7 @@ fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
     let (class, suite) = cut_class_and_suite(dir.path(), &["fay-deletes"], &["16-", "17-"]);
     let csv = dir.path().join("grades.csv");
     let path = |p: &Path| p.to_str().unwrap().to_string();
-    let o = raylab(&[
-        "grade",
-        &path(&class),
-        "--suite",
-        &path(&suite),
-        "--program",
-        "sh run.sh {scene} {rays}",
-        "--csv",
-        &path(&csv),
-    ]);
+    let o = grade_class(&class, &suite, &["--csv", &path(&csv)]);
     let out = common::binary::stdout(&o);
     assert_eq!(
         o.status.code(),
@@ -260,16 +263,7 @@ fn a_failed_familys_json_record_names_its_first_mistake() {
     std::fs::copy(last_hit, class.join("ada/exact.py")).unwrap();
     let json = dir.path().join("grades.json");
     let path = |p: &Path| p.to_str().unwrap().to_string();
-    let o = raylab(&[
-        "grade",
-        &path(&class),
-        "--suite",
-        &path(&suite),
-        "--program",
-        "sh run.sh {scene} {rays}",
-        "--json",
-        &path(&json),
-    ]);
+    let o = grade_class(&class, &suite, &["--json", &path(&json)]);
     assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
     let json = std::fs::read_to_string(&json).unwrap();
     let detail = json
@@ -402,15 +396,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
             std::fs::copy(class.join("ada").join(file), dir.join(file)).unwrap();
         }
     }
-    let path = |p: &Path| p.to_str().unwrap().to_string();
-    let o = raylab(&[
-        "grade",
-        &path(&class),
-        "--suite",
-        &path(&suite),
-        "--program",
-        "sh run.sh {scene} {rays}",
-    ]);
+    let o = grade_class(&class, &suite, &[]);
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
     assert_eq!(o.status.code(), Some(0), "{out}{err}");
     for (name, why) in [
