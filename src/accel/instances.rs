@@ -22,7 +22,7 @@
 //! ray, or the packet, tests every triangle of the instance instead
 //! (`tests/library/instances_at_any_scale.rs`).
 
-use super::bvh::{Aabb, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
+use super::bvh::{approach, Aabb, Approached, Bvh, Leaves, PacketSlabs, WideStack, MAX_LEAF};
 use super::layout::{merge, Layout};
 use super::packet::{quad_indices, OriginBlock, OriginTriangle, PacketSink, PreciseTriangle};
 use super::without_copies;
@@ -38,6 +38,10 @@ use std::sync::Arc;
 
 /// 2⁻²⁰: the pad's relative size (see the module docs).
 const PAD: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// The share of a mesh's size beyond which a packet's pad culls too little in its frame
+/// ([`MeshWalk`]).
+const COARSE_PAD: f64 = 1.0 / 64.0;
 
 /// Packets' directions are carried into an instance's frame in f32 ([`Placed::carry_directions`])
 /// where both ‖C‖∞ and every lane's largest component lie within 2⁻⁶⁰…2⁶⁰ (this bound): then
@@ -126,13 +130,18 @@ impl Placed {
         (obj.iter().all(|c| c.is_finite()) && pad.is_finite()).then_some((obj, pad))
     }
 
-    /// A ray in the object frame (same t), and its pad; `None` where the carried direction
-    /// leaves f32's normal range (the pad allows for its rounding relative to its largest
-    /// component only: a direction of 2⁻⁵⁰ carried by a scale of 2⁻¹⁰⁰ underflows), and
-    /// where the origin's carry is not finite.
+    /// A ray in the object frame (same t), and its pad (for a world ray whose points may lie
+    /// `world_pad` off the query's in each coordinate: ‖C‖∞ times that more); `None` where the
+    /// carried direction leaves f32's normal range (the pad allows for its rounding relative
+    /// to its largest component only: a direction of 2⁻⁵⁰ carried by a scale of 2⁻¹⁰⁰
+    /// underflows), and where the origin's carry is not finite.
     #[inline]
-    fn carry_ray(&self, ray: &Ray) -> Option<(Ray, f32)> {
+    fn carry_ray(&self, ray: &Ray, world_pad: f32) -> Option<(Ray, f32)> {
         let (o, pad) = self.carry_origin(ray.o)?;
+        let pad = match world_pad {
+            0.0 => pad,
+            _ => ((pad as f64 + self.c_norm * world_pad as f64) * (1.0 + PAD)) as f32,
+        };
         let d = DVec3::new(ray.d[0] as f64, ray.d[1] as f64, ray.d[2] as f64);
         let d = self.object_from_world.transform_vector3(d);
         let largest = d.abs().max_element();
@@ -273,19 +282,46 @@ impl Instances {
     fn walk(
         &self,
         ray: &Ray,
-        tmin: f32,
-        tmax: f32,
+        (tmin, tmax): (f32, f32),
+        exact: bool,
+        mut leaf: impl FnMut(&Placed, &Bvh, std::ops::Range<usize>, f32) -> (f32, bool),
+    ) {
+        if !exact {
+            return self.walk_from(ray, (tmin, tmax), 0.0, leaf);
+        }
+        // (For the exact queries, a ray from far away walks from just before the instances:
+        // carried from there, its pad stays a rounding of the scene's size, not its own.)
+        match approach(&self.world, ray, (tmin, tmax)) {
+            Approached::AsItIs => self.walk_from(ray, (tmin, tmax), 0.0, leaf),
+            Approached::Misses => {}
+            Approached::Moved(a) => {
+                self.walk_from(&a.ray, a.range(tmin, tmax), a.pad, |p, m, items, t_far| {
+                    let given = a.world(t_far);
+                    let (t, stop) = leaf(p, m, items, given);
+                    (if t == given { t_far } else { a.local(t) }, stop)
+                })
+            }
+        }
+    }
+
+    /// [`Instances::walk`] for a ray whose points may lie `pad` off the query's in each
+    /// coordinate.
+    fn walk_from(
+        &self,
+        ray: &Ray,
+        (tmin, tmax): (f32, f32),
+        pad: f32,
         mut leaf: impl FnMut(&Placed, &Bvh, std::ops::Range<usize>, f32) -> (f32, bool),
     ) {
         let (_, items) = self.top.triangles();
         let mut stop = false;
         self.top
-            .traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+            .traverse(ray, tmin, tmax, pad, |first, count, t_far| {
                 let mut t_far = t_far;
                 for &k in &items[first..first + count] {
                     let placed = &self.placed[k as usize];
                     let mesh = &self.meshes[placed.mesh as usize];
-                    match placed.carry_ray(ray) {
+                    match placed.carry_ray(ray, pad) {
                         Some((obj, pad)) => mesh.traverse(&obj, tmin, t_far, pad, |f, c, tf| {
                             (t_far, stop) = leaf(placed, mesh, f..f + c, tf);
                             (t_far, stop)
@@ -362,7 +398,7 @@ fn placements_without_copies(instances: &[Instance]) -> (Option<Vec<Instance>>, 
 impl Layout for Instances {
     fn closest(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, best: &mut Option<Hit>) {
         let far = |best: &Option<Hit>| best.map_or(tmax, |h| h.t.next_up());
-        self.walk(ray, tmin, far(best), |placed, mesh, leaf, _| {
+        self.walk(ray, (tmin, far(best)), false, |placed, mesh, leaf, _| {
             let (tris, locals) = mesh.triangles();
             for i in leaf {
                 let shape = Shape::from(placed.world(&tris[i]));
@@ -378,7 +414,7 @@ impl Layout for Instances {
     fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = box_extent(ray.o, self.world.lo, self.world.hi);
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, _| {
+        self.walk(ray, (tmin, tmax), true, |placed, mesh, leaf, _| {
             let (tris, locals) = mesh.triangles();
             for i in leaf {
                 let world = placed.world(&tris[i]);
@@ -393,7 +429,7 @@ impl Layout for Instances {
 
     fn any(&self, ray: &Ray, method: Method, tmin: f32, tmax: f32, skip: u32) -> bool {
         let mut hit = false;
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+        self.walk(ray, (tmin, tmax), false, |placed, mesh, leaf, t_far| {
             let (tris, locals) = mesh.triangles();
             hit = leaf.into_iter().any(|i| {
                 placed.first_prim + locals[i] != skip
@@ -410,7 +446,7 @@ impl Layout for Instances {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = box_extent(ray.o, self.world.lo, self.world.hi);
         let mut hit = false;
-        self.walk(ray, tmin, tmax, |placed, mesh, leaf, t_far| {
+        self.walk(ray, (tmin, tmax), true, |placed, mesh, leaf, t_far| {
             let (tris, locals) = mesh.triangles();
             hit = leaf.into_iter().any(|i| {
                 placed.first_prim + locals[i] != skip && {
@@ -535,6 +571,11 @@ impl<V: LaneOps, S: PacketSink<V>> Outlined for MeshWalk<'_, V, S> {
             false => None,
         };
         match carried {
+            // From so far that the pad is a good part of the mesh, the walk would cull
+            // nothing: the lanes go to the per-ray walk, which moves up to the scene first.
+            Some((_, pad)) if f64::from(pad) > placed.object_max * COARSE_PAD => {
+                self.sink.per_ray()
+            }
             Some((obj, pad)) => {
                 let d = placed.carry_directions(self.d);
                 let inner = PacketSlabs::<V>::new_in(obj, d, mesh.boxes_tame());

@@ -19,7 +19,8 @@
 //!
 //! The files: `build.rs` builds the binary tree (binned SAH) and `widen.rs` collapses it into
 //! the wide nodes of `node.rs` (their boxes and child references, and the walks' stack);
-//! `slabs.rs` tests one ray against a node's boxes and a packet against one box,
+//! `slabs.rs` tests one ray against a node's boxes and a packet against one box
+//! (`approach.rs` moves a ray from far away up to the box first, for the exact queries),
 //! `child_test.rs` a packet against a node's children (lane by lane, or as an interval first);
 //! `walk_ray.rs` holds the walk of one ray and its queries, `walk_packet.rs` the walks of a
 //! packet and theirs; `leaves.rs` what a packet walk does at a leaf, `leaf_triangles.rs` a
@@ -27,6 +28,7 @@
 //! met), `leaf_vertices.rs` a dense mesh's leaves' distinct vertices. This file keeps the
 //! hierarchy itself and the leaf sizes.
 
+mod approach;
 pub(crate) mod build;
 mod child_test;
 mod leaf_triangles;
@@ -41,6 +43,7 @@ mod walk_packet;
 mod walk_ray;
 mod widen;
 
+pub(crate) use approach::{approach, Approached};
 pub(crate) use leaves::Leaves;
 pub(crate) use node::{Aabb, WideStack};
 pub(crate) use slabs::PacketSlabs;

@@ -2,6 +2,7 @@
 //! any hit, for every method, and the adaptive search's f32 level from triangles prepared for
 //! the ray's origin.
 
+use super::approach::{approach, Approached};
 use super::leaf_triangles::LeafTriangles;
 use super::node::{leaf_range, WideNode, WideStack, LEAF, NONE, WIDTH};
 use super::slabs::{box_safe, enter_f64, slab_safe, RaySlabs};
@@ -43,7 +44,7 @@ impl Bvh {
             d_max
         };
         let mut scratch = None;
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
+        self.traverse_exact(ray, tmin, tmax, |first, count, _| {
             let leaf = first..first + count;
             // (Per ray for the lanes packets leave ambiguous: the baseline lanes, the same bits.)
             let tris =
@@ -85,6 +86,25 @@ impl Bvh {
         leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
     ) {
         self.traverse_padded(ray, (tmin, tmax), (pad, |_| pad), leaf);
+    }
+
+    /// [`Bvh::traverse`] for the exact queries: a ray from far away walks moved up to the
+    /// hierarchy's box ([`approach`]), its leaves visited with distances on the given ray.
+    pub(crate) fn traverse_exact(
+        &self,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+        leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+    ) {
+        match approach(&self.bounds, ray, (tmin, tmax)) {
+            Approached::AsItIs => self.traverse(ray, tmin, tmax, 0.0, leaf),
+            Approached::Misses => {}
+            Approached::Moved(a) => {
+                let (tmin, tmax) = a.range(tmin, tmax);
+                self.traverse(&a.ray, tmin, tmax, a.pad, a.leaf(leaf));
+            }
+        }
     }
 
     /// [`Bvh::traverse`] with each node's children widened by `pad_of(node)`, never more
@@ -188,7 +208,7 @@ impl Layout for Bvh {
     fn closest_exact(&self, ray: &Ray, r: &WatertightRay<f32>, search: &mut Search) {
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, _| {
+        self.traverse_exact(ray, tmin, tmax, |first, count, _| {
             for i in first..first + count {
                 let est = classify_f32(r, &self.tris[i], e);
                 if est != Estimate::Miss {
@@ -218,7 +238,7 @@ impl Layout for Bvh {
         let mut hit = false;
         let (tmin, tmax) = (round_down(search.tmin()), search.t_far32());
         let e = self.extent(ray);
-        self.traverse(ray, tmin, tmax, 0.0, |first, count, t_far| {
+        self.traverse_exact(ray, tmin, tmax, |first, count, t_far| {
             hit = (first..first + count).any(|i| {
                 self.prims[i] != skip
                     && search.confirms_triangle(&self.tris[i], classify_f32(r, &self.tris[i], e))
