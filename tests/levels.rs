@@ -1,13 +1,18 @@
 //! The adaptive method's level counters (`geometry::adaptive::levels`, reported by
-//! examples/speed_vs_error): they count what the search does, and only while switched on.
-//! (One test in its own binary: the counters are global.)
+//! examples/speed_vs_error): they count what the search does, and only while switched on;
+//! and with them, that rays from far away and from a triangle's plane stay off the slow
+//! levels. (Its own binary, the tests one at a time: the counters are global.)
 
 use raylab::accel::{Accel, AccelChoice};
 use raylab::geometry::adaptive::{self, levels, levels::Event};
 use raylab::geometry::{Method, Ray, Shape};
 
+/// The tests here take turns: the counters are shared.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn levels_count_the_slow_paths_only_while_on() {
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     // Two triangles sharing the edge x = y of the unit square.
     let shapes = vec![
         Shape::from([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0]]),
@@ -64,4 +69,85 @@ fn levels_count_the_slow_paths_only_while_on() {
     let before = counts();
     closest([0.5, 0.5, 0.0], [0.0, 0.0, 1.0]);
     assert_eq!(counts(), before, "counted while off");
+}
+
+#[test]
+fn rays_from_far_away_and_from_a_plane_stay_off_the_slow_levels() {
+    use raylab::render::{render_image, LabStep, RenderSettings, Stage};
+    use raylab::{Camera, Scene};
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+
+    // Two placements of a 1,280-triangle ball, seen from 10⁷ away: carried into the mesh's
+    // frame from there, a ray needed a pad the size of the ball and every triangle went to
+    // the f64 level (1,300 a ray); moved up to the instances first, a few do.
+    let dir = tempfile::tempdir().unwrap();
+    let ball = format!("{}/assets/meshes/icosphere.obj", env!("CARGO_MANIFEST_DIR"));
+    let text = format!("mesh {ball}\npush\ntranslate 1.5 0 0\nmesh {ball}\npop\n");
+    let path = dir.path().join("two.scene");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::load(&path, Default::default()).unwrap();
+    let placed = Accel::build_with_instances(
+        scene.explicit_with_prims(),
+        scene.instances(),
+        AccelChoice::Auto,
+    );
+    let flat = Accel::build(&scene.flattened().shapes, AccelChoice::Flat);
+    let o = [0.0f32, 0.0, -1e7];
+    let rays: Vec<Ray> = (0..400)
+        .map(|i| {
+            let (x, y) = (-1.5 + 0.2 * (i % 25) as f32, -1.2 + 0.16 * (i / 25) as f32);
+            Ray::new(o, [x, y, 1e7])
+        })
+        .collect();
+    levels::reset();
+    levels::count_levels(true);
+    let far: Vec<_> = (rays.iter())
+        .map(|r| {
+            placed
+                .closest_hit(r, Method::Adaptive, 0.0, f32::INFINITY)
+                .map(|h| h.prim)
+        })
+        .collect();
+    levels::count_levels(false);
+    let f64_level = levels::count(Event::F64Intervals);
+    assert!(f64_level <= 30 * rays.len() as u64, "{f64_level} f64 tests");
+    let hits = far.iter().filter(|h| h.is_some()).count();
+    assert!(hits > 150, "{hits} hits");
+    for (ray, got) in rays.iter().zip(&far) {
+        let want = flat.closest_hit(ray, Method::Adaptive, 0.0, f32::INFINITY);
+        assert_eq!(*got, want.map(|h| h.prim), "{ray:?}");
+    }
+
+    // The camera on the box's floor, the light on its ceiling: every packet reaching the
+    // floor's (the ceiling's) triangles was left to the per-ray path, and there to exact
+    // arithmetic (a frame ~1,000 times slower). Each such triangle is now known, exactly and
+    // once a frame, to meet no ray from there; the image is the per-ray path's.
+    let mut stage = Stage::from(Scene::cornell());
+    stage.restyle(|s| s.light.position = [0.0, -1.0, 0.0]);
+    let cam = Camera::from_yaw_pitch(glam::DVec3::new(0.0, 1.0, -0.5), 0.0, 0.3, 64.0).unwrap();
+    let packets = RenderSettings {
+        width: 64,
+        height: 48,
+        step: LabStep::Shadows,
+        ..Default::default()
+    };
+    levels::reset();
+    levels::count_levels(true);
+    let (image, stats) = render_image(&stage, &cam, &packets).unwrap();
+    levels::count_levels(false);
+    let ambiguous = levels::count(Event::CameraLaneAmbiguous);
+    let unsure = levels::count(Event::ShadowLaneUnsure);
+    assert!(stats.shadow_rays > 300, "{} shadow rays", stats.shadow_rays);
+    assert!(
+        ambiguous + unsure <= 64,
+        "{ambiguous} camera, {unsure} shadow lanes per ray"
+    );
+    let per_ray = RenderSettings {
+        cracks: true,
+        ..packets
+    };
+    assert!(
+        image == render_image(&stage, &cam, &per_ray).unwrap().0,
+        "images differ"
+    );
 }

@@ -243,11 +243,17 @@ fn hostile_packets_are_left_to_the_per_ray_search() {
         let found = packet::closest(&prepared.tris, &d, packet::max_component(&d));
         assert_eq!(found.ambiguous, 0xff, "d_z = {bad}");
     }
-    // An origin on a face's plane: that face cannot be decided, so every ray is left over.
-    let on_plane = OriginTriangles::new(&tris, [0.5, 0.5, 0.0]);
+    // An origin on a face's plane (at its centre): the f32 and f64 bounds cannot tell that
+    // face's t from 0; the exact test, once for the origin, says no ray from it meets the
+    // face at t > 0, so the packet decides every lane: the far face, as the reference says.
+    let o = [0.5, 0.5, 0.0];
+    let on_plane = OriginTriangles::new(&tris, o);
     let d = [f32x8::splat(0.1), f32x8::splat(0.2), f32x8::splat(1.0)];
     let found = packet::closest(&on_plane.tris, &d, packet::max_component(&d));
-    assert_eq!(found.ambiguous, 0xff);
+    assert_eq!(found.ambiguous, 0);
+    let reference =
+        closest_hit_reference(&shapes, &Ray::new(o, [0.1, 0.2, 1.0]), 0.0, f32::INFINITY);
+    assert_eq!(found.prim, [reference.expect("the far face").prim; 8]);
     // Huge coordinates: products beyond f32 range are refused, not trusted.
     let huge = [Shape::from([
         [3e37, 0.0, 1e30],

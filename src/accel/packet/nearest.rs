@@ -238,6 +238,9 @@ impl<V: LaneOps> PacketNearest<V> {
     #[inline(always)]
     fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle, id: u32) -> bool {
         let (d, dm) = (&self.d, self.dm);
+        if tri.in_plane {
+            return true;
+        }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
             if DECIDED && !self.ambiguous.all() {
                 return false;

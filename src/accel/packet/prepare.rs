@@ -7,6 +7,7 @@
 use super::{cross, sub, OriginTriangle, MAX_MAGNITUDE, TINY64, U32, U64};
 use crate::accel::IndexedTriangle;
 use crate::geometry::adaptive::{round_down, round_up};
+use crate::geometry::exact::on_plane;
 use crate::math::lanes::{Lanes, Lanes64};
 use crate::math::simd::{avx512_avx2_or_baseline, each3, with_cpu_isa, with_isa, Chosen, Isa};
 use rayon::prelude::*;
@@ -202,10 +203,11 @@ impl PreciseTriangle {
             k_det,
             prim,
             usable,
+            in_plane: false,
         };
         let num_err64 =
             (4.0002 * U64 * m * normal_abs + 3.0 * 8.0004 * U64 * m * me * me) * MARGIN + TINY64;
-        Self {
+        let mut precise = Self {
             n: n64,
             n_err: 8.0004 * U64 * m * me * MARGIN + TINY64,
             normal: normal64,
@@ -218,7 +220,11 @@ impl PreciseTriangle {
                 && m < MAX_MAGNITUDE
                 && me < MAX_MAGNITUDE,
             rounded,
+        };
+        if !precise.usable {
+            precise.rounded.in_plane = in_plane(v, o.map(|x| x as f32));
         }
+        precise
     }
 }
 
@@ -389,6 +395,7 @@ macro_rules! lane_of {
             k_det: s.k_det[l],
             prim: s.prim[l],
             usable: s.usable & (1 << l) != 0,
+            in_plane: false,
         }
     }};
 }
@@ -444,7 +451,14 @@ impl OriginTriangles {
         let quad = |q: usize| {
             let [i0, i1, i2, i3] = quad_indices(4 * q, n);
             let (a, b, c, d) = (get(i0), get(i1), get(i2), get(i3));
-            prepare4_in(isa, [a.0, b.0, c.0, d.0], origin, [a.1, b.1, c.1, d.1])
+            let v = [a.0, b.0, c.0, d.0];
+            let mut quad = prepare4_in(isa, v, origin, [a.1, b.1, c.1, d.1]);
+            for (tri, v) in quad.iter_mut().zip(v) {
+                if !tri.usable {
+                    tri.in_plane = in_plane(v, origin);
+                }
+            }
+            quad
         };
         let quads: Vec<[OriginTriangle; 4]> = if n >= 4096 {
             (0..n.div_ceil(4)).into_par_iter().map(quad).collect()
@@ -455,6 +469,14 @@ impl OriginTriangles {
         tris.truncate(n);
         Self { tris, origin }
     }
+}
+
+/// Whether `o` lies exactly in the plane of triangle `v` (false where that cannot be told:
+/// coordinates whose differences f64 does not hold exactly).
+#[cold]
+#[inline(never)]
+fn in_plane(v: &[[f32; 3]; 3], o: [f32; 3]) -> bool {
+    on_plane(v, o.map(f64::from)) == Some(true)
 }
 
 /// The four positions `start..start + 4` of a quad of triangles ending at `end` (exclusive,

@@ -128,6 +128,9 @@ impl<V: Lanes> ShadowPacket<V> {
         if live == 0 {
             return true;
         }
+        if tri.in_plane {
+            return true;
+        }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
             if DECIDED {
                 return false;
