@@ -1,11 +1,89 @@
-//! Level 2 for a triangle: its edge signs and t in f64 interval arithmetic
-//! ([`triangle_interval`]), and t as an interval for a hit decided exactly.
+//! Level 2 for a triangle: its edge signs and t in plain f64 with a proved bound
+//! ([`triangle_f64`]), then where that leaves them open in f64 interval arithmetic
+//! ([`triangle_interval`]); and t as an interval for a hit decided exactly.
 
 use super::estimate::{Approx, Estimate};
 use crate::math::interval::{icross, idot, isub, iv3, Interval};
+use crate::math::real::{abs, cross, cross_size, dot, sub};
 use std::cmp::Ordering;
 
-/// Level 2 for a triangle: the signs of det[d, pᵢ, pⱼ] and t in f64 intervals.
+/// Level 2 for a triangle: [`triangle_f64`], and [`triangle_interval`] where it cannot tell.
+pub fn triangle_level2(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimate {
+    match triangle_f64(o, d, v) {
+        Estimate::Unsure => triangle_interval(o, d, v),
+        decided => decided,
+    }
+}
+
+/// The predicates of [`triangle_interval`] in round-to-nearest f64 with a static bound on
+/// their rounding: a fraction of the intervals' cost (their outward roundings step every
+/// operation's ends one ulp out), and the test that rays from far away need for every
+/// triangle near them (from 10⁶ scene sizes, the f32 levels decide none). `Unsure` where a
+/// sign is within the bound, or a magnitude outside 10⁻⁹⁰…10⁹⁰ (no product of three then
+/// underflows or overflows).
+///
+/// With u = 2⁻⁵³: each pᵢ = vᵢ − o is within u·|p̃ᵢ| of exact per component, so each of the six
+/// terms of eₖ = d·(pᵢ × pⱼ) meets at most 7 roundings (two of the p's, the product and the
+/// difference of the cross product, the product and two sums of the dot product): |ẽₖ − eₖ|
+/// ≤ γ₇·(1 + u)²·P with P = |d|·(|p̃ᵢ| × |p̃ⱼ|) (the sizes of the terms; [`cross_size`]),
+/// and P computed with 5 roundings more: 8u·P̃ bounds it. The numerator p₀·(p₁ × p₂) meets 8:
+/// 9u·P̃. The denominator's sum adds 2u·Σ|ẽₖ|. t = num / den is then bracketed by the four
+/// quotients of num ± its bound and den ± its bound (den's sign certain), widened by 4u
+/// and an ulp.
+pub fn triangle_f64(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimate {
+    const U: f64 = f64::EPSILON / 2.0;
+    let tame = |x: f64| x == 0.0 || (1e-90..=1e90).contains(&x.abs());
+    let p = v.map(|vi| sub(vi, o));
+    if !(d.iter().chain(p.iter().flatten())).all(|&x| tame(x)) {
+        return Estimate::Unsure;
+    }
+    let edge =
+        |a: [f64; 3], b: [f64; 3]| (dot(d, cross(a, b)), 8.0 * U * dot(abs(d), cross_size(a, b)));
+    let e = [edge(p[1], p[2]), edge(p[2], p[0]), edge(p[0], p[1])];
+    let (mut pos, mut neg) = (0, 0);
+    for (value, bound) in e {
+        pos += (value > bound) as u32;
+        neg += (value < -bound) as u32;
+    }
+    if pos > 0 && neg > 0 {
+        return Estimate::Miss;
+    }
+    if pos != 3 && neg != 3 {
+        return Estimate::Unsure;
+    }
+    let den = e[0].0 + e[1].0 + e[2].0;
+    let den_bound = (e[0].1 + e[1].1 + e[2].1) * (1.0 + 4.0 * U) + 3.0 * U * den.abs();
+    let num = dot(p[0], cross(p[1], p[2]));
+    let num_bound = 9.0 * U * dot(abs(p[0]), cross_size(p[1], p[2])) * (1.0 + 4.0 * U);
+    // (False for a NaN anywhere.)
+    let den_certain = den_bound < 0.25 * den.abs();
+    if !den_certain {
+        return Estimate::Unsure;
+    }
+    let (n_lo, n_hi) = (num - num_bound, num + num_bound);
+    let (d_lo, d_hi) = (den - den_bound, den + den_bound);
+    let q = [n_lo / d_lo, n_lo / d_hi, n_hi / d_lo, n_hi / d_hi];
+    let lo = q.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+    let hi = q.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x));
+    // Out by 4u and an ulp: the quotients' rounding and the bounds' sums' (3u at most).
+    let (lo, hi) = (
+        (lo - lo.abs() * 4.0 * U).next_down(),
+        (hi + hi.abs() * 4.0 * U).next_up(),
+    );
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Estimate::Unsure;
+    }
+    Estimate::Hit(Approx {
+        t: num / den,
+        lo,
+        hi,
+        b1: e[1].0 / den,
+        b2: e[2].0 / den,
+        level: 2,
+    })
+}
+
+/// Level 2 for a triangle in f64 intervals: the signs of det[d, pᵢ, pⱼ] and t.
 pub fn triangle_interval(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Estimate {
     let (o, d) = (iv3(o), iv3(d));
     let p = v.map(|vi| isub(iv3(vi), o));

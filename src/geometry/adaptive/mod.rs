@@ -19,9 +19,11 @@
 //!    the rounding error of its edge functions (from the box around the triangles, the ray
 //!    origin and the sheared vertices, see [`edge_error`]). An edge function beyond ±E has a
 //!    certain sign; t comes with pbrt-v4's bound, doubled. Nearly every ray is decided here.
-//! 2. **f64 intervals** ([`triangle_interval`], [`sphere::interval`]): the same predicates
-//!    (signs of det[d, pᵢ, pⱼ], t = det[p₀, p₁, p₂] / d·n) in outward-rounded interval
-//!    arithmetic on the exact inputs. Decides everything but exact degeneracies.
+//! 2. **f64** ([`triangle_f64`], [`triangle_interval`], [`sphere::interval`]): the same
+//!    predicates (signs of det[d, pᵢ, pⱼ], t = det[p₀, p₁, p₂] / d·n) on the exact inputs, for
+//!    a triangle first in plain f64 with a proved bound (the f64 filter), then where that
+//!    cannot tell in outward-rounded interval arithmetic. Decides everything but exact
+//!    degeneracies.
 //! 3. **Exact rationals** ([`super::exact`]): rays exactly through an edge or a vertex,
 //!    exactly equal t's, an origin exactly on a sphere.
 //!
@@ -62,7 +64,7 @@ pub(crate) use filter::precise_f32;
 pub use filter::{
     approx_f32, box_extent, classify_f32, edge_error, loose_t_bound, round_down, round_up,
 };
-pub use interval::triangle_interval;
+pub use interval::{triangle_f64, triangle_interval};
 pub use nearest::Nearest;
 pub use rounded::rounded_t;
 pub use search::{closest_hit_reference, closest_hit_reference_by, Search};
@@ -71,14 +73,17 @@ use crate::geometry::{Ray, Shape};
 use crate::math::Real;
 
 /// Which level decides whether `ray` meets `shape` at all (the ray inspector shows it):
-/// "f32 filter", "f64 intervals" or "exact" (the shape's own levels: a sphere has no f32
-/// one). (Comparing t's with other candidates may need a finer level still; that is the
-/// search's business.)
+/// "f32 filter", "f64 filter" (a triangle's), "f64 intervals" or "exact" (the shape's own
+/// levels: a sphere has no filter). (Comparing t's with other candidates may need a finer
+/// level still; that is the search's business.)
 pub fn deciding_level(shape: &Shape<f32>, ray: &Ray<f32>) -> &'static str {
     let (o, d) = (ray.o.map(f64::from), ray.d.map(f64::from));
     let decided = |e: Estimate| e != Estimate::Unsure;
+    let f64_filter = |v: &[[f32; 3]; 3]| decided(triangle_f64(o, d, &v.map(|p| p.map(f64::from))));
     if shape.f32_filter(ray.o, ray.d).is_some_and(decided) {
         "f32 filter"
+    } else if shape.triangle().is_some_and(f64_filter) {
+        "f64 filter"
     } else if decided(shape.f64_intervals(o, d, 0.0, f64::INFINITY)) {
         "f64 intervals"
     } else {

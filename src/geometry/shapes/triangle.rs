@@ -23,7 +23,7 @@
 
 use super::{sphere, Primitive, SceneFrame, Shape, ShapeTerms, WordedTerms};
 use crate::accel::OriginTriangle;
-use crate::geometry::adaptive::interval::{triangle_interval, triangle_t_interval};
+use crate::geometry::adaptive::interval::{triangle_level2, triangle_t_interval};
 use crate::geometry::adaptive::rounded::plane_t_f64;
 use crate::geometry::adaptive::{precise_f32, round_down, round_up, Decided, Estimate, Feature};
 use crate::geometry::exact::{self, ExactT};
@@ -442,10 +442,10 @@ impl<T: Real> Primitive<T> for Triangle<T> {
         Some(precise_f32(o, d, &v))
     }
 
-    /// The signs of det[d, pᵢ, pⱼ] and t in f64 intervals (t's range is the search's
-    /// business).
+    /// The signs of det[d, pᵢ, pⱼ] and t in f64 with a proved bound, else in f64 intervals
+    /// (t's range is the search's business).
     fn f64_intervals(&self, o: [f64; 3], d: [f64; 3], _tmin: f64, _tmax: f64) -> Estimate {
-        triangle_interval(o, d, &self.wide())
+        triangle_level2(o, d, &self.wide())
     }
 
     /// Exact edge signs (expansions, or rationals where those cannot be used), which edge or
