@@ -299,3 +299,24 @@ fn a_sphere_seen_from_inside_is_shadowed_by_itself_from_a_light_outside() {
     assert!(lit_pixels(LabStep::Direct) > 64 * 48 / 2);
     assert_eq!(lit_pixels(LabStep::Shadows), 0);
 }
+
+#[test]
+fn a_tiny_faces_normal_is_its_unit_normal() {
+    // The face's cross product below f32's range (edges of 2⁻⁸⁰ multiply to 2⁻¹⁶⁰): the normal
+    // was 0, and a scene 10⁻²⁴ across shaded black while one 10⁻²² across shaded lit. Every
+    // scale of one tilted face has one unit normal, whatever path shades it.
+    let face = [[0.3f32, -0.7, 0.1], [1.1, 0.2, -0.4], [-0.5, 0.9, 0.8]];
+    let unit = raylab::render::shade::unit_normal(&face);
+    for k in [-20, -64, -80, -100, -120] {
+        let s = 2f32.powi(k);
+        let tiny = face.map(|p| p.map(|x| x * s));
+        let n = raylab::render::shade::unit_normal(&tiny);
+        let off = (0..3).map(|i| (n[i] - unit[i]).abs()).fold(0.0, f32::max);
+        assert!(off < 1e-6, "2^{k}: {n:?} against {unit:?}");
+        // As the shading point carries it, from a ray through the face's middle.
+        let centre = [0, 1, 2].map(|i| (tiny[0][i] + tiny[1][i] + tiny[2][i]) / 3.0);
+        let ray = Ray::new([centre[0], centre[1], centre[2] - 4.0 * s], [0.0, 0.0, 1.0]);
+        let point = Shape::from(tiny).surface_point(&ray);
+        assert_eq!(point.n, n, "2^{k}");
+    }
+}

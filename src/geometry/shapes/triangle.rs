@@ -527,10 +527,26 @@ fn same_vertices(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> bool {
     p.iter().all(|a| q.contains(a)) && q.iter().all(|a| p.contains(a))
 }
 
-/// The unit geometric normal along (v₁ − v₀) × (v₂ − v₀), as [`SurfacePoint`] has it.
+/// The unit geometric normal along (v₁ − v₀) × (v₂ − v₀), as [`SurfacePoint`] has it: in
+/// f32, or for a face whose cross product falls below 2⁻⁶⁰ in f64 (edges of 10⁻²⁰ and less:
+/// their products underflowed f32, and a face of 10⁻²⁴ had the normal 0 and shaded black).
 pub fn unit_normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
-    normalize(cross(sub(v[1], v[0]), sub(v[2], v[0])))
+    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    let largest = n[0].abs().max(n[1].abs()).max(n[2].abs());
+    if largest >= SMALL_NORMAL || largest.is_nan() {
+        return normalize(n);
+    }
+    let w = v.map(|p| p.map(f64::from));
+    let n = cross(sub(w[1], w[0]), sub(w[2], w[0]));
+    let length = dot(n, n).sqrt();
+    match length > 0.0 {
+        true => n.map(|c| (c / length) as f32),
+        false => [0.0; 3],
+    }
 }
+
+/// 2⁻⁶⁰: below it a face's cross product is taken in f64 ([`unit_normal`]).
+const SMALL_NORMAL: f32 = 1.0 / (1u64 << 60) as f32;
 
 /// The shading points of up to 8 rays (directions `d`, lanes) from the origin a triangle
 /// (vertices `v`) was prepared for, with `edge` its edge normals
