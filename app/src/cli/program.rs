@@ -688,6 +688,9 @@ fn stop(id: u64) {
 fn init() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
+        // Files raylab inherited open (a teacher's shell may hold one as descriptor 7) would
+        // pass on to every program, which could then write to them as whoever opened them.
+        close_fds::set_fds_cloexec(3, &[]);
         #[cfg(target_os = "linux")]
         let _ = rustix::process::set_child_subreaper(Some(rustix::process::getpid()));
         // (Fails only if a handler is set already: then these are left to the default.)

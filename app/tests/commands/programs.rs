@@ -1,7 +1,7 @@
 //! Running programs that are not raylab's: a daemon that keeps the output pipes open does not
 //! hold a run up and does not outlive it, a path is never read as code, a path that is not
-//! UTF-8 reaches the program intact, and SIGTERM on raylab leaves no program running and no
-//! temporary directory behind.
+//! UTF-8 reaches the program intact, a file raylab inherited open is not the program's, and
+//! SIGTERM on raylab leaves no program running and no temporary directory behind.
 
 use crate::common;
 
@@ -156,6 +156,30 @@ fn a_path_that_is_not_utf8_reaches_the_program_intact() {
         std::fs::read_dir(&tmp).unwrap().count(),
         0,
         "a run directory was left"
+    );
+}
+
+#[test]
+fn a_file_raylab_inherited_open_is_not_passed_on() {
+    // The shell that starts raylab holds a private file open as descriptor 7 (a teacher's
+    // `exec 7>>notes`, a CI runner's log): a program that writes there wrote into it.
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = one_ray(dir.path());
+    let notes = common::binary::write(dir.path(), "notes", "teacher's notes\n");
+    let program = "echo written >&7; echo hit 1 0 # {scene} {rays}";
+    let command = format!(
+        "exec 7>>{notes}; exec raylab check --scene {scene} --rays {rays} --program '{program}'"
+    );
+    let o = common::run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
+    let out = common::binary::stdout(&o);
+    assert!(
+        out.contains("check: rays 1 right 1"),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read_to_string(&notes).unwrap(),
+        "teacher's notes\n"
     );
 }
 
