@@ -84,8 +84,9 @@ fn rim_of_far_tiny_spheres() -> Family {
         .catching("the textbook quadratic (-b ± sqrt(b² - 4ac)) / 2a in f64: c = |o - c|² - r² loses r², so rays near the rim leak or hit falsely")
 }
 
-/// A triangle and a sphere met by directions of length 2^-20 to 2^20 and 10^-6 to 10^6: t is
-/// in the ray's own parameter, the distance divided by |d|.
+/// A triangle and a sphere met by directions of length 2^-20 to 2^20, 10^-6 to 10^6 and
+/// 2^-100 to 2^-60: t is in the ray's own parameter, the distance divided by |d|, up to 10^31
+/// (beyond any large number a program may read `inf` as).
 fn directions_not_of_unit_length() -> Family {
     let mut rng = Rng(202);
     let shapes = vec![
@@ -102,7 +103,8 @@ fn directions_not_of_unit_length() -> Family {
         let v = [0, 1, 2].map(|k| target[k] - o[k]);
         let len = v.iter().map(|c| c * c).sum::<f64>().sqrt();
         let length = match j % 4 {
-            0 | 1 => f64::from(power_of_two(&mut rng, -20, 20)),
+            0 => f64::from(power_of_two(&mut rng, -20, 20)),
+            1 => f64::from(power_of_two(&mut rng, -100, -60)),
             2 => 10f64.powf(rng.range(-6.0, 6.0)),
             _ => rng.range(0.5, 3.0),
         };
@@ -112,8 +114,8 @@ fn directions_not_of_unit_length() -> Family {
         ));
     }
     Family::new("directions not of unit length", shapes, rays)
-        .probing("A triangle and a sphere met by directions 2^-20 to 2^20 and 1e-6 to 1e6 long: t is in units of the ray's own d.")
-        .catching("t in units of a normalised direction (off by the factor |d|)")
+        .probing("A triangle and a sphere met by directions 2^-20 to 2^20, 1e-6 to 1e6 and 2^-100 to 2^-60 long: t is in units of the ray's own d, up to 1e31.")
+        .catching("t in units of a normalised direction (off by the factor |d|); tmax `inf` read as a large number (1e8, 1e30)")
 }
 
 /// Triangles in the planes z = 1, 2, 3, 4 and a sphere of radius 5 at z = 20, met by rays
@@ -192,7 +194,7 @@ fn interval_ends_at_surfaces() -> Family {
 
 /// Triangles in z = -3 and -1 behind origins near z = 0 and in z = 2 and 5 in front, a sphere
 /// around the origins, and 64 small triangles far off (so that a hierarchy is built): rays
-/// with tmin = 0 must not take what lies behind, rays with tmin < 0 must.
+/// with tmin = 0 must not take what lies behind, rays with tmin < 0 (`-inf` too) must.
 fn hits_behind_the_origin() -> Family {
     let mut rng = Rng(204);
     let mut shapes: Vec<Shape<f32>> = [-3.0f32, -1.0, 2.0, 5.0]
@@ -224,6 +226,7 @@ fn hits_behind_the_origin() -> Family {
         ];
         let (tmin, tmax) = match (j / 2) % 5 {
             0 | 1 => (0.0, f32::INFINITY),
+            2 if (j / 10) % 2 == 0 => (f32::NEG_INFINITY, f32::INFINITY),
             2 => (-10.0, f32::INFINITY),
             3 => (-2.0 / s, f32::INFINITY),
             _ => (-1.0 / s, 1.0 / s),
@@ -231,8 +234,8 @@ fn hits_behind_the_origin() -> Family {
         rays.push(span(Ray::new(o, d), tmin, tmax));
     }
     Family::with_spans("hits behind the origin", shapes, rays)
-        .probing("Surfaces behind and in front of the origin, a sphere around it: with tmin = 0 only what lies in front counts, with tmin < 0 the nearest above tmin (behind the origin).")
-        .catching("hits behind the origin (t <= tmin accepted, or |t| compared)")
+        .probing("Surfaces behind and in front of the origin, a sphere around it: with tmin = 0 only what lies in front counts, with tmin < 0 (or -inf) the nearest above tmin (behind the origin).")
+        .catching("hits behind the origin (t <= tmin accepted, or |t| compared); a tmin of `-inf` not read")
 }
 
 /// Exact ties: two triangles sharing a diagonal met exactly on it, an exact copy, and a sphere

@@ -195,6 +195,16 @@ fn normalised_t_is_caught_by_directions_not_of_unit_length() {
     );
 }
 
+/// tmax `inf` read as 10⁸: the hits that short directions put beyond it are missed.
+#[test]
+fn inf_as_large_is_caught_by_directions_not_of_unit_length() {
+    caught(&Bug {
+        program: "inf_as_large.py",
+        caught_by: &[("directions-not-of-unit-length", &["leaks"])],
+        beside: &["hits-behind-the-origin"],
+    });
+}
+
 /// tmin ignored: surfaces behind the origin hit (a cube's far faces from inside it), and a
 /// sphere's near root from inside it or from its surface.
 #[test]

@@ -58,7 +58,8 @@ shapes = [(w[0], [num(x) for x in w[1:]]) for w in map(str.split, open(sys.argv[
 for w in map(str.split, open(sys.argv[2])):
     if not w or w[0].startswith("#"):
         continue
-    o, d, tmin = [num(x) for x in w[:3]], [num(x) for x in w[3:6]], num(w[6])
+    o, d = [num(x) for x in w[:3]], [num(x) for x in w[3:6]]
+    tmin = -Q(10) ** 5000 if w[6] == "-inf" else num(w[6])  # (below any t a ray can have)
     best, tmax = None, None if w[7] == "inf" else num(w[7])
     for i, (kind, v) in enumerate(shapes):
         t = next((t for t in hits(kind, v, o, d) if tmin < t and (tmax is None or t < tmax)), None)
