@@ -378,10 +378,47 @@ pub(super) fn program_answers<T: Real>(
     // The paths go in as bytes (a path that is not UTF-8 reaches the program intact).
     let command = template::command_line(template, scene_file, rays_file);
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
-    let ran = program::run_with(&command, &limits).map_err(|e| e.to_string())?;
+    let ran = program::run_with(&command, &limits).map_err(|e| match &e {
+        program::RunError::Timeout { printed, .. } => {
+            let place = |i: usize| ray_place(rays_file, exact, i);
+            stalled(e.to_string(), printed, exact.rays.len(), place)
+        }
+        _ => e.to_string(),
+    })?;
     let answers = answers_for("its output", &ran.stdout, exact, rays_file)
         .map_err(|e| stderr_hint(format!("{e:#}"), &ran))?;
     Ok((ran.elapsed, answers))
+}
+
+/// `why` a run was stopped for its time, with how far its answers had come (`printed`, its
+/// output then; `place(i)`, where ray i is): the first ray without one, or, where none came,
+/// that output a program holds in a buffer shows only when it ends.
+pub(super) fn stalled(
+    why: String,
+    printed: &[u8],
+    rays: usize,
+    place: impl Fn(usize) -> String,
+) -> String {
+    // Complete lines that are not blank or comments, as answers are read.
+    let lines = printed.split(|&b| b == b'\n');
+    let complete = lines.clone().count().saturating_sub(1);
+    let answered = (lines.take(complete))
+        .filter(|l| !l.trim_ascii().is_empty() && !l.trim_ascii().starts_with(b"#"))
+        .count();
+    match answered {
+        0 => format!(
+            "{why}; no answer had reached raylab (output a program keeps in its buffer, as \
+             Python and C do into a pipe, shows only when it ends: flush after each answer to \
+             see where it stalls)"
+        ),
+        n if n < rays => format!(
+            "{why}; {n} answer{} had reached raylab: the first ray without one is {} (or a \
+             later one, where the program keeps output in a buffer)",
+            if n == 1 { "" } else { "s" },
+            place(n)
+        ),
+        _ => format!("{why}; it had printed an answer for every ray, and did not end"),
+    }
 }
 
 /// `why` a run's output is not its answers, with a hint where it printed nothing on standard
@@ -719,6 +756,8 @@ pub(super) struct Case {
     /// The most a program may print for this family.
     pub max_output: usize,
     grader: Grader,
+    /// Each ray's place (`rays.txt:LINE (ray N)`), for a run stopped for its time.
+    places: Vec<String>,
 }
 
 /// Grades a program's standard output: the tally and its first mistake, or why it is not one
@@ -731,6 +770,11 @@ impl Case {
     /// one), or why it is not one answer per ray.
     pub fn grade(&self, stdout: &str) -> std::result::Result<(Tally, String), String> {
         (self.grader)(stdout)
+    }
+
+    /// `why` a run was stopped for its time, with how far its answers came ([`stalled`]).
+    pub fn stalled(&self, why: String, printed: &[u8]) -> String {
+        stalled(why, printed, self.ray_count, |i| self.places[i].clone())
     }
 }
 
@@ -764,7 +808,11 @@ fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case
     let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
     let rays_file = rays.clone();
     let ray_count = exact.rays.len();
+    let places = (0..ray_count)
+        .map(|i| ray_place(&rays, &exact, i))
+        .collect();
     Ok(Case {
+        places,
         name: family_name(path),
         scene,
         rays,

@@ -490,11 +490,13 @@ fn grade_one(
                 },
                 Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
             },
-            Err(RunError::Timeout(_)) if cut_by_budget => record(
+            Err(RunError::Timeout { .. }) if cut_by_budget => record(
                 Status::Timeout,
                 format!("ran out of time: the submission's {}", budget.ran_out()),
             ),
-            Err(e @ RunError::Timeout(_)) => record(Status::Timeout, e.to_string()),
+            Err(ref e @ RunError::Timeout { ref printed, .. }) => {
+                record(Status::Timeout, case.stalled(e.to_string(), printed))
+            }
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
             Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {

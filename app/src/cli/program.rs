@@ -37,8 +37,9 @@ pub struct Ran {
 pub enum RunError {
     #[error("cannot start the shell: {0}")]
     Start(std::io::Error),
-    #[error("ran out of time ({0:.1} s; --timeout sets another limit)")]
-    Timeout(f64),
+    /// With what it had printed (how far its answers came).
+    #[error("ran out of time ({secs:.1} s; --timeout sets another limit)")]
+    Timeout { secs: f64, printed: Vec<u8> },
     #[error("printed more than {0} bytes, over 160 a ray and 1 MiB: not answers to these rays")]
     TooMuch(usize),
     #[error("ended with {status}{stderr}")]
@@ -225,7 +226,8 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         return Err(RunError::TooMuch(limits.max_output_bytes));
     }
     let Some((status, _)) = ended else {
-        return Err(RunError::Timeout(limits.timeout.as_secs_f64()));
+        let secs = limits.timeout.as_secs_f64();
+        return Err(RunError::Timeout { secs, printed: out });
     };
     if !status.success() {
         let err = String::from_utf8_lossy(&err);

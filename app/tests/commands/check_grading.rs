@@ -485,7 +485,16 @@ fn a_program_that_fails_is_never_a_pass() {
         ),
         (
             "sleep 30 & sleep 30 # {scene} {rays}".to_string(),
-            "ran out of time (0.5 s",
+            "ran out of time (0.5 s; --timeout sets another limit); no answer had reached raylab",
+        ),
+        // How far it came: the ray it stalled on (or a later one, output kept in a buffer).
+        (
+            format!("{trace} | head -3; sleep 30"),
+            "3 answers had reached raylab: the first ray without one is ",
+        ),
+        (
+            format!("{trace} | head -3; sleep 30"),
+            "rays.txt:5 (ray 4) (or a later one, where the program keeps output in a buffer)",
         ),
         (
             "echo garbage # {scene} {rays}".to_string(),

@@ -206,6 +206,8 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         "{json}"
     );
     assert!(json.contains("\"status\": \"crashed\", \"detail\": \"ended with exit status: 3; its last words: bob: segfault (not really)\""), "{json}");
+    // The one that hangs: how far its answers came (none: where to look, and why).
+    assert!(json.contains("\"status\": \"timeout\", \"detail\": \"ran out of time (5.0 s; --timeout sets another limit); no answer had reached raylab (output a program keeps"), "{json}");
     // The sleepers were capped by the process limit (64), far below the 500 asked for.
     let started = json
         .split("its last words: started ")
