@@ -5,9 +5,10 @@
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
 use super::account::{accounts, Account};
-use super::check::{suite_cases, Budget, Case};
+use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
 use super::rubric::{points_text, Rubric};
+use super::suite_dir::{suite_cases, Case};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
 use raylab::check::Tally;

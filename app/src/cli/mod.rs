@@ -29,6 +29,7 @@ mod grade;
 mod program;
 mod reproducers;
 mod rubric;
+mod suite_dir;
 mod template;
 mod trace;
 
