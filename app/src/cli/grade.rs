@@ -388,10 +388,19 @@ fn run_all(
         .collect()
 }
 
+/// A submission's name: its directory's, a byte that is not UTF-8 written as `\xNN` (two
+/// folders `caf\xe9` and `caf\xe8` both showed as `caf�`).
 pub(super) fn name_of(dir: &Path) -> String {
-    dir.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    use std::os::unix::ffi::OsStrExt;
+    let bytes = dir.file_name().map_or(&[][..], |n| n.as_bytes());
+    let mut name = String::with_capacity(bytes.len());
+    for chunk in bytes.utf8_chunks() {
+        name.push_str(chunk.valid());
+        for b in chunk.invalid() {
+            name.push_str(&format!("\\x{b:02x}"));
+        }
+    }
+    name
 }
 
 /// Runs one submission on every family, in a private copy of its directory (`work`) with a

@@ -227,6 +227,34 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
     );
 }
 
+/// Two submissions whose folder names differ only in a byte that is not UTF-8 (`caf\xe9`,
+/// `caf\xe8`): each shown with that byte as its escape, not both as `caf�`.
+#[test]
+fn names_that_are_not_utf8_stay_apart() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-"]);
+    for (from, to) in [("ada", &b"caf\xe9"[..]), ("bob-crashes", &b"caf\xe8"[..])] {
+        let to = class.join(std::ffi::OsStr::from_bytes(to));
+        std::fs::rename(class.join(from), to).unwrap();
+    }
+    let csv = dir.path().join("grades.csv");
+    let o = grade_class(&class, &suite, &["--csv", csv.to_str().unwrap()]);
+    let out = common::binary::stdout(&o);
+    assert_eq!(o.status.code(), Some(0), "{out}");
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    for text in [&out, &csv] {
+        assert!(!text.contains('\u{fffd}'), "{text}");
+    }
+    let row = |name: &str| {
+        csv.lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_default()
+    };
+    assert!(row("caf\\xe8,16-").ends_with(",crashed"), "{csv}");
+    assert!(row("caf\\xe9,16-").ends_with(",ok"), "{csv}");
+}
+
 /// Two families in one run: the submission that deletes its input gets fresh files for the
 /// second and passes both.
 #[test]
