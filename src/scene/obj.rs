@@ -220,6 +220,7 @@ fn load_obj_str_coloured(
 
     // Each library is read once however often `mtllib` names it; problems become warnings.
     let warnings = RefCell::new(Vec::<String>::new());
+    let skipped = std::cell::Cell::new(false);
     let cache = RefCell::new(HashMap::<PathBuf, Result<String, String>>::new());
     let loader = |p: &Path| -> tobj::MTLLoadResult {
         let text = cache
@@ -229,11 +230,18 @@ fn load_obj_str_coloured(
             .clone();
         let problem = match text {
             Ok(t) => match load_mtl_text(&t) {
-                Ok(materials) => return Ok(materials),
+                Ok((materials, notes)) => {
+                    for (line, note) in notes {
+                        let note = format!("{name}: {}:{line}: {note}", p.display());
+                        warnings.borrow_mut().push(note);
+                    }
+                    return Ok(materials);
+                }
                 Err((line, m)) => format!("{}:{line}: {m}", p.display()),
             },
             Err(e) => e,
         };
+        skipped.set(true);
         warnings
             .borrow_mut()
             .push(format!("{name}: material library skipped: {problem}"));
@@ -259,13 +267,14 @@ fn load_obj_str_coloured(
     })?;
     let mut warnings = warnings.into_inner();
     let materials = materials.unwrap_or_else(|e| {
-        if warnings.is_empty() {
+        if !skipped.get() {
+            skipped.set(true);
             warnings.push(format!("{name}: material library: {e}"));
         }
         Vec::new()
     });
     // (A library skipped is already a warning, which explains its materials' absence.)
-    let library_skipped = !warnings.is_empty();
+    let library_skipped = skipped.get();
     warnings.extend(skipped_warning(name, &counts));
     let defined: std::collections::HashSet<&str> =
         materials.iter().map(|m| m.name.as_str()).collect();
@@ -412,31 +421,53 @@ impl<T, E> Loaded for Result<T, E> {
     type Value = T;
 }
 
+/// What is said of one line of a file: its number and the words.
+type LineNote = (usize, String);
+
 /// Parses a material library with tobj, naming the line of any problem: what tobj 4 panics on
 /// (a colour with fewer than three numbers: it unwraps a failed conversion) is checked first,
-/// and tobj's own refusals are placed by how far it had read.
-fn load_mtl_text(text: &str) -> Result<Materials, (usize, String)> {
+/// and tobj's own refusals are placed by how far it had read. With the materials, what is
+/// said of a `Kd` the faces cannot show as written, by line: not finite (they take the default
+/// colour) or outside 0…1 (clamped).
+fn load_mtl_text(text: &str) -> Result<(Materials, Vec<LineNote>), LineNote> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut notes = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
-            let numbers = words.take(3).filter(|w| w.parse::<f32>().is_ok()).count();
-            if numbers < 3 {
-                return Err((i + 1, format!("{key} needs 3 numbers, found {numbers}")));
+            let values: Vec<f32> = words.take(3).filter_map(|w| w.parse().ok()).collect();
+            if values.len() < 3 {
+                let found = values.len();
+                return Err((i + 1, format!("{key} needs 3 numbers, found {found}")));
+            }
+            let shown = || {
+                line.split_whitespace()
+                    .skip(1)
+                    .take(3)
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            };
+            if key == "Kd" && values.iter().any(|v| !v.is_finite()) {
+                let what = "is not finite: the material's faces take the default colour";
+                notes.push((i + 1, format!("Kd {} {what}", shown())));
+            } else if key == "Kd" && values.iter().any(|v| !(0.0..=1.0).contains(v)) {
+                notes.push((i + 1, format!("Kd {} is outside 0…1: clamped", shown())));
             }
         }
     }
     let mut reader = Cursor::new(text.as_bytes());
-    tobj::load_mtl_buf(&mut reader).map_err(|e| {
-        // tobj stops right after reading the line it refuses (through its newline).
-        let read = &text.as_bytes()[..(reader.position() as usize).saturating_sub(1)];
-        let line = 1 + read.iter().filter(|&&b| b == b'\n').count();
-        let message = match e {
-            tobj::LoadError::InvalidObjectName => "newmtl needs a name".to_string(),
-            e => format!("tobj: {e}"),
-        };
-        (line, message)
-    })
+    tobj::load_mtl_buf(&mut reader)
+        .map_err(|e| {
+            // tobj stops right after reading the line it refuses (through its newline).
+            let read = &text.as_bytes()[..(reader.position() as usize).saturating_sub(1)];
+            let line = 1 + read.iter().filter(|&&b| b == b'\n').count();
+            let message = match e {
+                tobj::LoadError::InvalidObjectName => "newmtl needs a name".to_string(),
+                e => format!("tobj: {e}"),
+            };
+            (line, message)
+        })
+        .map(|materials| (materials, notes))
 }
 
 /// What the counting pass found: enough to refuse a file before anything is allocated.

@@ -285,6 +285,27 @@ fn every_obj_and_mtl_problem_names_its_line() {
             "the faces take the default colour"
         );
     }
+    // A Kd the faces cannot show as written: said with its line; not finite, the default
+    // colour; outside 0…1, clamped (a `.scene` file's `color` refuses both).
+    for (kd, needle, colour) in [
+        (
+            "nan 1 1",
+            "m.mtl:2: Kd nan 1 1 is not finite: the material's faces take the default colour",
+            [0.75; 3],
+        ),
+        ("1e39 0 0", "m.mtl:2: Kd 1e39 0 0 is not finite", [0.75; 3]),
+        (
+            "-1 0.5 2",
+            "m.mtl:2: Kd -1 0.5 2 is outside 0…1: clamped",
+            [0.0, 0.5, 1.0],
+        ),
+    ] {
+        let scene = load_lab(&obj, &format!("newmtl a\nKd {kd}\n")).unwrap();
+        let warning = scene.warnings.join("\n");
+        assert!(warning.contains(needle), "{kd}: {warning}");
+        assert_eq!(scene.warnings.len(), 1, "{kd}: {warning}");
+        assert_eq!(scene.colors()[0], colour, "{kd}");
+    }
     // A name no library defines: its faces are grey, and the user is told which.
     let scene = load_lab(
         &format!("mtllib m.mtl\n{tri}usemtl nosuch\nf 1 2 3\n"),
