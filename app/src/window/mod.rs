@@ -168,6 +168,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         drag: None,
         press_at: None,
         mouse_look: false,
+        raw_motion: false,
         esc_armed: None,
         oversized: false,
         surface_max: u32::MAX,
@@ -204,6 +205,9 @@ struct App {
     /// Where a left press over the image began (a click there inspects its pixel).
     press_at: Option<(f64, f64)>,
     mouse_look: bool,
+    /// Whether raw mouse motion has come (then mouse look takes only that, not the cursor's
+    /// moves: [`WindowEvent::CursorMoved`] turns the view only where it never comes).
+    raw_motion: bool,
     /// When Esc asked "press Esc again to quit": a second Esc quits only while that prompt is
     /// the status shown, within [`QUIT_PROMPT_FOR`], with no click or banner since.
     esc_armed: Option<Instant>,
@@ -683,6 +687,13 @@ impl ApplicationHandler<AppEvent> for App {
                         false => self.viewer.input.pan(x - px, y - py),
                     }
                     window.request_redraw();
+                } else if let (true, false, Some((px, py))) =
+                    (self.mouse_look, self.raw_motion, self.cursor)
+                {
+                    // An absolute pointer (VNC, a tablet, a VM's mouse integration) sends no
+                    // raw motion: the cursor's moves turn the view instead.
+                    self.viewer.input.mouse(x - px, y - py);
+                    window.request_redraw();
                 }
                 self.cursor = Some((x, y));
             }
@@ -730,6 +741,7 @@ impl ApplicationHandler<AppEvent> for App {
 
     fn device_event(&mut self, _event_loop: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
         if let DeviceEvent::MouseMotion { delta } = event {
+            self.raw_motion = true;
             if self.mouse_look {
                 self.viewer.input.mouse(delta.0, delta.1);
                 self.request_redraw();

@@ -166,6 +166,28 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
 }
 
 #[test]
+fn a_right_drag_with_an_absolute_pointer_turns_the_view() {
+    // A pointer that reports positions only (VNC, a tablet, a VM's mouse integration, and
+    // xdotool's `mousemove X Y`) gives no raw motion: the cursor's moves turn the view.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; \
+                  xdotool mousemove --sync 600 310; sleep 0.3; xdotool mousedown 3; sleep 0.2; \
+                  for i in $(seq 20); do xdotool mousemove $((600 + 10 * i)) 310; sleep 0.02; done; \
+                  xdotool mouseup 3";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let yaw = run.nums("yaw")[0];
+    assert!(
+        yaw > 5.0,
+        "a right-drag to the right turned the view right: yaw {yaw}\n{}",
+        run.stderr
+    );
+}
+
+#[test]
 fn real_x_input_orbits_with_tab_and_a_left_drag() {
     // Tab switches to orbit around the box centre; a left-drag across the image turns the
     // camera around it at the same distance (3.001).
