@@ -10,6 +10,9 @@ use super::inspected::{Chosen, Detail, Inspected};
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
+/// How the status line starts where the inspected ray has left the image ([`Viewer::follow`]).
+const OFF_IMAGE: &str = "the ray inspected";
+
 impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
     /// script's `inspect`), saying what it found.
@@ -104,15 +107,29 @@ impl Viewer {
         let scale = self.focal(size.0) / chosen.focal;
         let map = |p: u32, from: u32, to: u32| {
             let offset = (p as f64 + 0.5 - from as f64 / 2.0) * scale;
-            (offset + to as f64 / 2.0)
-                .floor()
-                .clamp(0.0, to as f64 - 1.0) as u32
+            let at = (offset + to as f64 / 2.0).floor();
+            (
+                at.clamp(0.0, to as f64 - 1.0) as u32,
+                at < 0.0 || at >= to as f64,
+            )
         };
-        let pixel = (
+        let ((x, off_x), (y, off_y)) = (
             map(chosen.pixel.0, chosen.size.0, size.0),
             map(chosen.pixel.1, chosen.size.1, size.1),
         );
-        self.answer_for(pixel, false, Some(chosen));
+        if !(off_x || off_y) && self.status.starts_with(OFF_IMAGE) {
+            // Back on the image: the status line follows the pixel again.
+            self.status_follows_pixel = true;
+        }
+        if self.answer_for((x, y), false, Some(chosen)) && (off_x || off_y) {
+            // (Said, not silent: a zoom that loses the ray would otherwise swap in another.)
+            let (i, j) = chosen.pixel;
+            self.set_status(format!(
+                "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: the \
+                 inspector shows the edge pixel ({x}, {y}) until it is back"
+            ));
+            self.status_follows_pixel = false;
+        }
     }
 
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,

@@ -177,6 +177,24 @@ fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
 }
 
 #[test]
+fn a_zoom_that_loses_the_inspected_ray_says_so() {
+    // Zoomed in until the chosen pixel's ray is off the image: the inspector shows the edge
+    // pixel, and the status line says so (it had swapped in another ray without a word).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 inspect 497 420\n300 wheel 30\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    let said = "the ray inspected at pixel (497, 420) lies off the image at this focal length";
+    assert!(
+        status.is_some_and(|s| s.starts_with(said)),
+        "{status:?}\n{}",
+        run.stdout
+    );
+}
+
+#[test]
 fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
     // A pixel inspected, then the view zoomed in 17x (the pixel's ray leaves the image: the
     // inspector shows the edge's pixel meanwhile) and out again: the inspector is back on
