@@ -267,7 +267,19 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
     if text.starts_with('\u{feff}') {
         text.drain(..3);
     }
-    Ok(text)
+    Ok(lone_cr_as_lf(text))
+}
+
+/// `text` with each line break written as a CR alone (classic Mac OS, some exporters) as LF:
+/// read as it was, a file of them was one long line, every statement run together. CRLF
+/// stays as it is.
+pub fn lone_cr_as_lf(text: String) -> String {
+    let bytes = text.as_bytes();
+    let lone = |i: usize| bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n');
+    match (0..bytes.len()).any(lone) {
+        true => text.replace("\r\n", "\n").replace('\r', "\n"),
+        false => text,
+    }
 }
 
 /// Why bytes are not the text of a scene, rays or answers.

@@ -174,13 +174,14 @@ fn to_text(name: &str, bytes: Vec<u8>) -> Result<String, ObjError> {
             line: line_of(&bytes, pos),
         });
     }
-    String::from_utf8(bytes).map_err(|e| {
+    let text = String::from_utf8(bytes).map_err(|e| {
         let pos = e.utf8_error().valid_up_to();
         ObjError::NotText {
             file: name.to_string(),
             line: line_of(e.as_bytes(), pos),
         }
-    })
+    })?;
+    Ok(crate::input::lone_cr_as_lf(text))
 }
 
 /// Loads OBJ text as a model on its own ([`load_obj_file`]); `load_mtl(name)` returns the

@@ -688,3 +688,35 @@ fn a_byte_order_mark_past_the_first_line_is_named() {
         1
     );
 }
+
+#[test]
+fn line_breaks_of_a_lone_cr_are_line_breaks() {
+    // A file written with CR alone between lines (classic Mac OS, some exporters) read as one
+    // line: `:1: tri needs 9 numbers, found 20`. Scene, OBJ and rays files read it as the
+    // same file with LF, and name the same lines.
+    let dir = tempfile::tempdir().unwrap();
+    let lf = "camera 0 0 -3\ntri 0 0 0 1 0 0 0 1 0\nsphere 0 0 2 0.5\n";
+    let obj_lf = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    for (name, text) in [
+        ("lf", lf.to_string()),
+        ("cr", lf.replace('\n', "\r")),
+        ("crlf", lf.replace('\n', "\r\n")),
+    ] {
+        let path = dir.path().join(format!("{name}.scene"));
+        std::fs::write(&path, &text).unwrap();
+        let scene = Scene::load(&path, ObjFrame::Lab).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(scene.len(), 2, "{name}");
+        let obj = dir.path().join(format!("{name}.obj"));
+        std::fs::write(
+            &obj,
+            obj_lf.replace('\n', if name == "cr" { "\r" } else { "\n" }),
+        )
+        .unwrap();
+        assert_eq!(Scene::load(&obj, ObjFrame::Lab).unwrap().len(), 1, "{name}");
+    }
+    // An error names the line as counted with CR as the break.
+    let bad = dir.path().join("bad.scene");
+    std::fs::write(&bad, "tri 0 0 0 1 0 0 0 1 0\rtri 0 0\r").unwrap();
+    let e = Scene::load(&bad, ObjFrame::Lab).unwrap_err();
+    assert!(e.contains("bad.scene:2:"), "{e}");
+}
