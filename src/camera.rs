@@ -81,7 +81,13 @@ impl Camera {
         focal: f64,
     ) -> Result<Self, CameraError> {
         check_position(position)?;
-        check_finite("yaw/pitch", DVec3::new(yaw, pitch, 0.0))?;
+        let angles = [("yaw", yaw), ("pitch", pitch)];
+        if let Some((name, value)) = angles.iter().find(|(_, a)| !a.is_finite()) {
+            return Err(CameraError::NotFinite(
+                "yaw/pitch",
+                format!("{name} {value}"),
+            ));
+        }
         let mut stack = TransformStack::new();
         stack.translate(position).rotate_y(yaw).rotate_x(pitch);
         Ok(Self {

@@ -89,13 +89,36 @@ const SHOWN_CHARS: usize = 40;
 /// `word` as an error message quotes it: whole up to 40 characters, else its start, an
 /// ellipsis and its length (a line of a million zeros was quoted whole, a megabyte of error).
 pub fn shown(word: &str) -> Cow<'_, str> {
+    let word = visible(word);
     match word.chars().nth(SHOWN_CHARS) {
-        None => Cow::Borrowed(word),
+        None => word,
         Some(_) => {
             let start: String = word.chars().take(SHOWN_CHARS).collect();
             let n = word.chars().count();
             Cow::Owned(format!("{start}… ({n} characters)"))
         }
+    }
+}
+
+/// `word` with the characters a terminal shows as nothing (controls, a byte-order mark, zero
+/// widths, direction marks) written as escapes (`\u{feff}`): `'0' is not a number` named a
+/// word whose byte-order mark could not be seen.
+fn visible(word: &str) -> Cow<'_, str> {
+    let hidden = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{ad}' | '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}')
+            || matches!(c, '\u{2060}'..='\u{2064}' | '\u{feff}')
+    };
+    match word.contains(hidden) {
+        false => Cow::Borrowed(word),
+        true => Cow::Owned(
+            word.chars()
+                .map(|c| match hidden(c) {
+                    true => c.escape_unicode().to_string(),
+                    false => c.to_string(),
+                })
+                .collect(),
+        ),
     }
 }
 

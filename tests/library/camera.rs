@@ -201,3 +201,19 @@ fn every_direction_stays_within_the_generators_component_bound() {
     // Some direction comes near the bound (it is not loose by more than the margin).
     assert!(worst > 0.9999, "{worst}");
 }
+
+#[test]
+fn an_angle_that_is_not_finite_is_named() {
+    // It said `got [0, inf, 0]`: three numbers for two angles.
+    let at = glam::DVec3::new(0.0, 0.0, -3.0);
+    for (yaw, pitch, said) in [
+        (0.0, f64::INFINITY, "pitch inf"),
+        (f64::NAN, 0.0, "yaw NaN"),
+    ] {
+        let e = raylab::Camera::from_yaw_pitch(at, yaw, pitch, 640.0).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!("camera yaw/pitch must be finite, got {said}")
+        );
+    }
+}
