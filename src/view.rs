@@ -145,6 +145,9 @@ impl View {
             settings: RenderSettings::default(),
         };
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        // Each statement's line, for a second one: the last had won unseen (a `.scene` file
+        // refuses a second camera too).
+        let mut first = std::collections::HashMap::<String, usize>::new();
         for (i, raw) in text.lines().enumerate() {
             let error = |message| FileError {
                 file: file.to_string(),
@@ -156,6 +159,10 @@ impl View {
                 continue;
             }
             let w: Vec<&str> = words.iter().map(String::as_str).collect();
+            if let Some(line) = first.insert(w[0].to_string(), i + 1) {
+                let said = format!("a second `{}` (the first on line {line}): one each", w[0]);
+                return Err(error(said));
+            }
             // (Checked after every line, so a size or spp out of range names its own line.)
             let checked = view
                 .statement(&w)

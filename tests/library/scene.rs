@@ -386,6 +386,13 @@ fn a_view_out_of_range_names_its_line() {
     let e = View::parse("v.view", text).unwrap_err().to_string();
     assert!(e.starts_with("v.view:3:") && e.contains("spp"), "{e}");
     assert!(View::parse("v.view", "size 64 48\nspp 4\n").is_ok());
+    // A statement given twice: the last had won unseen.
+    let e = View::parse("v.view", "scene a.obj\nsize 64 48\nscene b.obj\n").unwrap_err();
+    let e = e.to_string();
+    assert!(
+        e.starts_with("v.view:3: a second `scene` (the first on line 1)"),
+        "{e}"
+    );
     // A quoted word on a camera line is refused, not read as other words (a comment that
     // dropped the yaw, a line break that made a second statement).
     for camera in [
