@@ -203,3 +203,11 @@ pub(crate) mod tests {
         ("broken_quotes_are_errors", broken_quotes_are_errors),
     ];
 }
+
+/// `n` primitives, in words: "1 primitive", "2 primitives".
+pub fn primitives(n: usize) -> String {
+    match n {
+        1 => "1 primitive".to_string(),
+        n => format!("{n} primitives"),
+    }
+}

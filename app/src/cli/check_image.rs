@@ -109,9 +109,9 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
     let scene = Arc::new(scene);
     let exact = Exact::of_scene(scene.clone(), rays);
     let mut out = format!(
-        "view: {} ({} primitives), the {w}×{h} camera rays; exact answers by raylab's adaptive method in {:.1} ms\n",
+        "view: {} ({}), the {w}×{h} camera rays; exact answers by raylab's adaptive method in {:.1} ms\n",
         args.view.scene,
-        exact.primitives,
+        raylab::words::primitives(exact.primitives),
         exact.elapsed.as_secs_f64() * 1e3
     );
     let command = super::template::command_for(template, &scene_file, &rays_file);

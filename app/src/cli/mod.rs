@@ -612,10 +612,10 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     }
     png.commit()?;
     say!(
-        "rendered {} ({} primitives, {} built in {:.1} ms) {}x{} {} on {} threads in {:.2} ms: \
+        "rendered {} ({}, {} built in {:.1} ms) {}x{} {} on {} threads in {:.2} ms: \
          {} primary + {} shadow rays, {:.2} Mrays/s -> {}",
         scene.name,
-        scene.len(),
+        raylab::words::primitives(scene.len()),
         stage.accel().kind(),
         build.as_secs_f64() * 1e3,
         settings.width,
@@ -665,9 +665,9 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     let (stage, build) = pool.install(|| stage(scene, args.image.accel.accel));
     let (scene, accel) = (stage.scene(), stage.accel().kind());
     say!(
-        "scene: {} ({} primitives), accel: {accel}, build {:.1} ms, {:.1} MB",
+        "scene: {} ({}), accel: {accel}, build {:.1} ms, {:.1} MB",
         scene.name,
-        scene.len(),
+        raylab::words::primitives(scene.len()),
         build.as_secs_f64() * 1e3,
         stage.accel().memory_bytes() as f64 / 1e6
     );

@@ -76,8 +76,9 @@ pub fn side_panel(
     let scrolled = egui::ScrollArea::vertical().show(&mut rows, |ui| {
         ui.heading("raylab");
         ui.label(format!(
-            "{}: {} primitives",
-            info.scene_name, info.primitives
+            "{}: {}",
+            info.scene_name,
+            raylab::words::primitives(info.primitives)
         ));
         super::notices::warnings(ui, info.warnings, &mut actions.show_all_warnings);
 
@@ -337,7 +338,7 @@ fn scene_tree(
                 let count: u32 = level.primitives.iter().map(|r| r.end - r.start).sum();
                 ui.horizontal(|ui| {
                     ui.add_space(12.0 * level.depth as f32);
-                    let label = format!("{title}: {count} primitives");
+                    let label = format!("{title}: {}", raylab::words::primitives(count as usize));
                     if ui.selectable_label(selected == Some(i), label).clicked() {
                         clicked = Some((selected != Some(i)).then_some(i));
                     }

@@ -118,6 +118,19 @@ fn render_loads_an_obj_and_frames_it() {
 }
 
 #[test]
+fn one_primitive_is_counted_in_the_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "one.scene", "tri -1 -1 2 1 -1 2 0 1 2\n");
+    let out = dir.path().join("one.png");
+    let o = raylab(&["render", "--scene", &scene, "-o", out.to_str().unwrap()]);
+    assert!(
+        stdout(&o).contains("one.scene (1 primitive, "),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
 fn the_window_without_a_display_or_adapter_fails_clearly() {
     // No display at all.
     let o = Command::new(env!("CARGO_BIN_EXE_raylab"))

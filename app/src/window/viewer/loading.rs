@@ -129,9 +129,9 @@ impl Viewer {
             self.view.light = self.stage.scene().light.position;
         }
         self.set_status(format!(
-            "loaded {} ({} primitives)",
+            "loaded {} ({})",
             raylab::scene::CORNELL,
-            self.stage.scene().len()
+            raylab::words::primitives(self.stage.scene().len())
         ));
         self.changed();
     }
@@ -277,9 +277,9 @@ impl Viewer {
         self.view.light = scene.light.position;
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
-            "{verb} {} ({} primitives)",
+            "{verb} {} ({})",
             path.display(),
-            scene.len()
+            raylab::words::primitives(scene.len())
         ));
         let name = scene.name.clone();
         self.stage = stage;
