@@ -36,6 +36,7 @@ const STILL_FAILING: &[(&str, &str)] = &[
     ("origins at a vertex", "o − v0 is 0 or tiny for the triangles at the origin's vertex: their t is 0 or rounding noise around it, on either side of tmin"),
     ("slivers 1e-3..1e-45 wide", "e1 × e2 of a sliver is tiny and inexact, so det and the weights divided by it are far off"),
     ("far tiny spheres at the rim", QUADRATIC),
+    ("directions not of unit length", "a direction 2^-100 long makes det = −d·(e1 × e2) and the sphere's a = d·d products of 2^-200: they underflow to 0 in f32, and the ray misses what it meets 10^30 away"),
 ];
 
 const SHARED_EDGES: &str = "rays through shared edges and vertices: each triangle tests its own rounded u ≥ 0, v ≥ 0, u + v ≤ 1, so a point on an edge can fall outside both neighbours (a leak) or inside both, the nearest then decided by rounded t's (a wrong primitive)";
