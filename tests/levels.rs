@@ -118,6 +118,26 @@ fn rays_from_far_away_and_from_a_plane_stay_off_the_slow_levels() {
         assert_eq!(*got, want.map(|h| h.prim), "{ray:?}");
     }
 
+    // Rays one by one from the box's corner, in the planes of three walls: every level but
+    // the exact one was unsure of those walls' triangles, and rational t's decided each
+    // (~40 µs a ray); one orientation now says the line meets their planes at t = 0 only.
+    let cornell = Scene::cornell();
+    let accel = Accel::build(&cornell.shapes, AccelChoice::Flat);
+    levels::reset();
+    levels::count_levels(true);
+    let mut hits = 0;
+    for i in 0..200 {
+        let (a, b) = (i as f32 * 0.37, i as f32 * 0.11);
+        let d = [-1.0 - 0.3 * a.sin(), -1.0 - 0.3 * b.cos(), -1.0];
+        let ray = Ray::new([1.0, 1.0, 1.0], d);
+        hits += accel
+            .closest_hit(&ray, Method::Adaptive, 0.0, f32::INFINITY)
+            .is_some() as u32;
+    }
+    levels::count_levels(false);
+    assert!(hits > 100, "{hits} hits");
+    assert_eq!(levels::count(Event::Exact), 0, "exact decisions");
+
     // The camera on the box's floor, the light on its ceiling: every packet reaching the
     // floor's (the ceiling's) triangles was left to the per-ray path, and there to exact
     // arithmetic (a frame ~1,000 times slower). Each such triangle is now known, exactly and

@@ -443,9 +443,10 @@ impl<T: Real> Primitive<T> for Triangle<T> {
     }
 
     /// The signs of det[d, pᵢ, pⱼ] and t in f64 with a proved bound, else in f64 intervals
-    /// (t's range is the search's business).
-    fn f64_intervals(&self, o: [f64; 3], d: [f64; 3], _tmin: f64, _tmax: f64) -> Estimate {
-        triangle_level2(o, d, &self.wide())
+    /// (t's range is the search's business, but for an origin in the plane: a miss where
+    /// t = 0 lies outside the range).
+    fn f64_intervals(&self, o: [f64; 3], d: [f64; 3], tmin: f64, tmax: f64) -> Estimate {
+        triangle_level2(o, d, &self.wide(), (tmin, tmax))
     }
 
     /// Exact edge signs (expansions, or rationals where those cannot be used), which edge or
