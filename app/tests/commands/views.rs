@@ -133,7 +133,12 @@ fn every_image_control_reaches_the_image_through_the_view_file_and_the_command()
             control.name
         );
         for value in control.sample_values() {
-            let text = format!("{base}{} {value}\n", control.name);
+            // (The base without the control's own line: a view holds each statement once.)
+            let others: String = (base.lines())
+                .filter(|l| l.split_whitespace().next() != Some(control.name))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let text = format!("{others}{} {value}\n", control.name);
             let view = raylab::view::View::parse("v.view", &text).unwrap();
             assert_eq!(control.text(&view.settings), value);
             let file = write(dir.path(), "v.view", &view.to_text());
