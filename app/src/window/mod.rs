@@ -25,6 +25,7 @@ mod inspector;
 mod notices;
 mod panel;
 mod pointer;
+mod scene_tree;
 mod script;
 mod scripted;
 mod values;
@@ -417,6 +418,9 @@ impl App {
         }
         if let Some(p) = actions.load {
             viewer.load(PathBuf::from(p));
+        }
+        if let Some(frame) = actions.obj_frame {
+            viewer.set_obj_frame(frame);
         }
         if let Some(level) = actions.select {
             viewer.select_level(level);

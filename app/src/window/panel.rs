@@ -7,6 +7,7 @@ use raylab::render::inspect::Inspection;
 use raylab::render::settings::{Control, Kind};
 use raylab::render::{RenderSettings, CONTROLS};
 use raylab::scene::file::Level;
+use raylab::scene::ObjFrame;
 
 /// Preset render resolutions offered besides "a scale of the window".
 pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920, 1080)];
@@ -31,6 +32,8 @@ pub struct PanelInfo<'a> {
     /// The supersampling (n per axis) the window renders at its size: the slider's, or less
     /// ([`super::bounds::MAX_SHOWN_SAMPLES`]).
     pub samples_shown: u32,
+    /// How an OBJ file is read (`--obj-frame`).
+    pub obj_frame: ObjFrame,
 }
 
 /// What the user asked for with buttons.
@@ -47,6 +50,8 @@ pub struct PanelActions {
     pub crack: Option<super::cracks::Step>,
     /// The button that lists every scene warning.
     pub show_all_warnings: bool,
+    /// How OBJ files are to be read from now on (and the open one again).
+    pub obj_frame: Option<ObjFrame>,
     /// The panel's content height and the height it is shown in (points): it fits when the
     /// first is not larger.
     pub fit: (f32, f32),
@@ -84,7 +89,7 @@ pub fn side_panel(
 
         if !info.levels.is_empty() {
             ui.separator();
-            actions.select = scene_tree(ui, info.levels, info.selected_level);
+            actions.select = super::scene_tree::scene_tree(ui, info.levels, info.selected_level);
         }
 
         for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {
@@ -310,60 +315,31 @@ pub fn side_panel(
                 actions.load = Some(obj_path.clone());
             }
         });
+        ui.horizontal(|ui| {
+            ui.label("OBJ axes");
+            for (frame, name, tip) in [
+                (
+                    ObjFrame::YUp,
+                    "y up",
+                    "the usual: y and z negated into the lab's y-down world",
+                ),
+                (
+                    ObjFrame::Lab,
+                    "as is",
+                    "the lab's own frame, as cornell_lab.obj is written",
+                ),
+            ] {
+                let chosen = ui.selectable_label(info.obj_frame == frame, name);
+                if chosen.on_hover_text(tip).clicked() && info.obj_frame != frame {
+                    actions.obj_frame = Some(frame);
+                }
+            }
+        });
     });
     ui.advance_cursor_after_rect(rows.min_rect());
     actions.fit = (scrolled.content_size.y, scrolled.inner_rect.height());
     actions.bar_room = (rows.min_rect().width() - scrolled.content_size.x).max(0.0);
     actions
-}
-
-/// The transform-stack inspector: the `.scene` file's push levels as a tree, each with its
-/// statements and its `world_from_object` matrix; clicking a level selects it (its primitives
-/// are tinted in the image), clicking it again clears the selection.
-fn scene_tree(
-    ui: &mut egui::Ui,
-    levels: &[Level],
-    selected: Option<usize>,
-) -> Option<Option<usize>> {
-    let mut clicked = None;
-    egui::CollapsingHeader::new("Transform stack")
-        .default_open(false)
-        .show(ui, |ui| {
-            ui.small("M = T*R*S per level, times its parent's; click a level to highlight it");
-            for (i, level) in levels.iter().enumerate() {
-                let title = match level.line {
-                    0 => "file (top level)".to_string(),
-                    line => format!("push (line {line})"),
-                };
-                let count: u32 = level.primitives.iter().map(|r| r.end - r.start).sum();
-                ui.horizontal(|ui| {
-                    ui.add_space(12.0 * level.depth as f32);
-                    let label = format!("{title}: {}", raylab::words::primitives(count as usize));
-                    if ui.selectable_label(selected == Some(i), label).clicked() {
-                        clicked = Some((selected != Some(i)).then_some(i));
-                    }
-                });
-                ui.indent(("level", i), |ui| {
-                    egui::CollapsingHeader::new("statements and world_from_object")
-                        .id_salt(("level-details", i))
-                        .default_open(false)
-                        .show(ui, |ui| {
-                            for (line, text) in &level.statements {
-                                ui.monospace(format!("{line:>4}  {text}"));
-                            }
-                            egui::Grid::new(("matrix", i)).show(ui, |ui| {
-                                for row in &level.world_from_object {
-                                    for x in row {
-                                        ui.monospace(format!("{x:>8.4}"));
-                                    }
-                                    ui.end_row();
-                                }
-                            });
-                        });
-                });
-            }
-        });
-    clicked
 }
 
 /// A field for a camera or light coordinate, kept within the range raylab renders from
@@ -493,6 +469,7 @@ pub fn layout(
     let overlay = (viewer.shown.as_ref()).map(|s| (s.size, viewer.camera_with_focal(s.focal)));
     let samples_shown = viewer.spp_shown();
     let legend = viewer.crack_legend();
+    let obj_frame = viewer.obj_frame();
     let Viewer {
         stage,
         view,
@@ -537,6 +514,7 @@ pub fn layout(
         code_name: code.as_deref().map(|c| c.name()),
         cracks: legend,
         samples_shown,
+        obj_frame,
     };
     let mut layout = Layout {
         actions: PanelActions::default(),

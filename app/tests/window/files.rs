@@ -10,6 +10,7 @@ use common::window::{against_headless, run_window_with, Around};
 use common::{pixels_off, read_png};
 use raylab::render::{LabStep, RenderSettings};
 use raylab::Scene;
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 /// The window under test.
@@ -638,4 +639,36 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
         run.fields,
         run.stderr
     );
+}
+
+#[test]
+fn real_x_input_obj_axes_read_the_lab_box_as_it_is() {
+    // assets/cornell_lab.obj is written in the lab's frame: opened as an OBJ is usually read
+    // (y up: y and z negated), the box shows from behind, a grey square; the panel's OBJ axes
+    // "as is" (124, 653, under the path field) reads it again as written: the green floor at
+    // the bottom of the image, the box open towards the camera.
+    let dir = tempfile::tempdir().unwrap();
+    let lab_box = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/cornell_lab.obj");
+    std::fs::copy(&lab_box, dir.path().join("box.obj")).unwrap();
+    std::fs::copy(
+        lab_box.with_extension("mtl"),
+        dir.path().join("cornell_lab.mtl"),
+    )
+    .unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
+                  sleep 0.3; xdotool type box.obj; sleep 0.3; xdotool key Return; sleep 2; \
+                  xdotool mousemove --sync 124 653 click 1; sleep 2";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert_eq!(log.matches("box.obj (30 primitives)").count(), 2, "{log}");
+    // The floor's green (none in the grey square seen from behind).
+    let green = (run.shot.2.chunks(4))
+        .filter(|p| p[1] > p[0].saturating_add(40) && p[1] > p[2].saturating_add(40))
+        .count();
+    let all = (run.shot.0 * run.shot.1) as usize;
+    assert!(green * 40 > all, "{green} green pixels of {all}\n{log}");
 }

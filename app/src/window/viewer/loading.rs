@@ -72,6 +72,28 @@ impl Viewer {
         }
     }
 
+    /// How OBJ files are read.
+    pub fn obj_frame(&self) -> ObjFrame {
+        self.obj_frame
+    }
+
+    /// Reads OBJ files with `frame` from now on (the panel's OBJ axes), and the one shown
+    /// again (opened anew: framed by the camera), so that a model seen from behind or upside
+    /// down is set right where it is seen.
+    pub fn set_obj_frame(&mut self, frame: ObjFrame) {
+        self.obj_frame = frame;
+        let shown = self.source.lock().expect("not poisoned").clone();
+        let is_obj = |p: &PathBuf| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+        let read = match frame {
+            ObjFrame::YUp => "y up (y and z negated)",
+            ObjFrame::Lab => "as they are (the lab's frame)",
+        };
+        match shown.filter(is_obj) {
+            Some(path) => self.load(path),
+            None => self.set_status(format!("OBJ files are now read {read}")),
+        }
+    }
+
     /// Opens a saved view (F5): its scene first (unless it is the one shown), then its
     /// camera, light and settings.
     fn load_view(&mut self, path: &std::path::Path) {

@@ -1,0 +1,52 @@
+//! The transform-stack inspector of the side panel.
+
+use raylab::scene::file::Level;
+
+/// The transform-stack inspector: the `.scene` file's push levels as a tree, each with its
+/// statements and its `world_from_object` matrix; clicking a level selects it (its primitives
+/// are tinted in the image), clicking it again clears the selection.
+pub fn scene_tree(
+    ui: &mut egui::Ui,
+    levels: &[Level],
+    selected: Option<usize>,
+) -> Option<Option<usize>> {
+    let mut clicked = None;
+    egui::CollapsingHeader::new("Transform stack")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.small("M = T*R*S per level, times its parent's; click a level to highlight it");
+            for (i, level) in levels.iter().enumerate() {
+                let title = match level.line {
+                    0 => "file (top level)".to_string(),
+                    line => format!("push (line {line})"),
+                };
+                let count: u32 = level.primitives.iter().map(|r| r.end - r.start).sum();
+                ui.horizontal(|ui| {
+                    ui.add_space(12.0 * level.depth as f32);
+                    let label = format!("{title}: {}", raylab::words::primitives(count as usize));
+                    if ui.selectable_label(selected == Some(i), label).clicked() {
+                        clicked = Some((selected != Some(i)).then_some(i));
+                    }
+                });
+                ui.indent(("level", i), |ui| {
+                    egui::CollapsingHeader::new("statements and world_from_object")
+                        .id_salt(("level-details", i))
+                        .default_open(false)
+                        .show(ui, |ui| {
+                            for (line, text) in &level.statements {
+                                ui.monospace(format!("{line:>4}  {text}"));
+                            }
+                            egui::Grid::new(("matrix", i)).show(ui, |ui| {
+                                for row in &level.world_from_object {
+                                    for x in row {
+                                        ui.monospace(format!("{x:>8.4}"));
+                                    }
+                                    ui.end_row();
+                                }
+                            });
+                        });
+                });
+            }
+        });
+    clicked
+}
