@@ -510,7 +510,7 @@ fn grade_one(
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
             Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {
-                record(Status::Crashed, e.to_string())
+                record(Status::Crashed, memory_hint(&e, limits.max_memory_bytes))
             }
         });
     }
@@ -519,6 +519,28 @@ fn grade_one(
         account.sweep();
     }
     records
+}
+
+/// Why a run crashed, with a word on the memory limit where it died of a signal (SIGSEGV,
+/// SIGBUS, SIGABRT, SIGKILL; or its shell's 128 + that): a program refused memory past
+/// `--max-memory` dies so, where at home it ran ("exit status 139" said nothing of the limit).
+fn memory_hint(e: &RunError, limit: Option<u64>) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    let said = e.to_string();
+    let (RunError::Failed { status, .. }, Some(limit)) = (e, limit) else {
+        return said;
+    };
+    let signal = status
+        .signal()
+        .or(status.code().filter(|c| *c > 128).map(|c| c - 128));
+    match signal {
+        Some(6 | 7 | 9 | 11) => format!(
+            "{said} (a crash like this may be the memory limit: each process may write {} MiB \
+             of data, --max-memory)",
+            limit >> 20
+        ),
+        _ => said,
+    }
 }
 
 /// Copies a submission: directories, files (with their permissions and modification times,

@@ -31,6 +31,8 @@ const CLASS: &[(&str, &str)] = &[
     ),
     ("gus-forks", "exec python3 bomb_917002.py\n"),
     ("hal-spawns", "exec python3 spawn_917003.py\n"),
+    // Dies of a segmentation fault, as a program refused memory past the limit does.
+    ("ivy-segfaults", "sh -c 'kill -SEGV $$'\n"),
 ];
 
 /// Forks without end, each process too (a fork that fails is tried again a little later, so
@@ -162,6 +164,7 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         ("fay-deletes", "ok"),
         ("gus-forks", "timeout"),
         ("hal-spawns", "crashed"),
+        ("ivy-segfaults", "crashed"),
     ];
     assert_eq!(rows.len(), expected.len(), "{csv}");
     for (row, (name, status)) in rows.iter().zip(expected) {
@@ -206,6 +209,24 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         "{json}"
     );
     assert!(json.contains("\"status\": \"crashed\", \"detail\": \"ended with exit status: 3; its last words: bob: segfault (not really)\""), "{json}");
+    // The one killed by a signal: a word on the memory limit, which would do that.
+    let ivy = json
+        .lines()
+        .find(|l| l.contains("ivy-segfaults"))
+        .unwrap_or_default();
+    assert!(
+        ivy.contains("ended with exit status: 139")
+            && ivy.contains("(a crash like this may be the memory limit: each process may write 2048 MiB of data, --max-memory)\""),
+        "{json}"
+    );
+    let bob = json
+        .lines()
+        .find(|l| l.contains("bob-crashes"))
+        .unwrap_or_default();
+    assert!(
+        !bob.contains("memory limit"),
+        "an exit status is no signal: {bob}"
+    );
     // The one that hangs: how far its answers came (none: where to look, and why).
     assert!(json.contains("\"status\": \"timeout\", \"detail\": \"ran out of time (5.0 s; --timeout sets another limit); no answer had reached raylab (output a program keeps"), "{json}");
     // The sleepers were capped by the process limit (64), far below the 500 asked for.
@@ -216,7 +237,7 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         .unwrap_or_else(|| panic!("{json}"));
     let started: usize = started.parse().unwrap();
     assert!(started < 100, "{started} sleepers started");
-    assert!(err.contains("[8/8]"), "{err}");
+    assert!(err.contains("[9/9]"), "{err}");
     for marker in ["917001", "bomb_917002.py", "spawn_917003.py", "917004"] {
         assert_eq!(running(marker), Vec::<String>::new(), "{marker} survived");
     }
