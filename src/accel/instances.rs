@@ -296,9 +296,7 @@ impl Instances {
             Approached::Misses => {}
             Approached::Moved(a) => {
                 self.walk_from(&a.ray, a.range(tmin, tmax), a.pad, |p, m, items, t_far| {
-                    let given = a.world(t_far);
-                    let (t, stop) = leaf(p, m, items, given);
-                    (if t == given { t_far } else { a.local(t) }, stop)
+                    a.visit(t_far, |given| leaf(p, m, items, given))
                 })
             }
         }

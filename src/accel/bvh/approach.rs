@@ -90,7 +90,7 @@ impl Approach {
     }
 
     /// A distance on the given ray as one on the moved ray, rounded up.
-    pub(crate) fn local(&self, t: f32) -> f32 {
+    fn local(&self, t: f32) -> f32 {
         let x = f64::from(t) - self.shift;
         round_up(x + x.abs() * F64_SLACK)
     }
@@ -101,21 +101,17 @@ impl Approach {
     }
 
     /// A distance on the moved ray as one on the given ray, rounded up.
-    pub(crate) fn world(&self, t: f32) -> f32 {
+    fn world(&self, t: f32) -> f32 {
         let x = f64::from(t) + self.shift;
         round_up(x + x.abs() * F64_SLACK)
     }
 
-    /// A walk's leaf visit `leaf` (distances on the given ray) as one on the moved ray: the
-    /// limit handed back unchanged stays as it was (a round trip may grow it by a rounding).
-    pub(crate) fn leaf<'a>(
-        &'a self,
-        mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool) + 'a,
-    ) -> impl FnMut(usize, usize, f32) -> (f32, bool) + 'a {
-        move |first, count, t_far| {
-            let given = self.world(t_far);
-            let (t, stop) = leaf(first, count, given);
-            (if t == given { t_far } else { self.local(t) }, stop)
-        }
+    /// One leaf visit of a walk of the moved ray, whose limit there is `t_far`: `visit` gets
+    /// the limit on the given ray and hands back its new one and whether to stop. A limit
+    /// handed back unchanged stays as it was (a round trip may grow it by a rounding).
+    pub(crate) fn visit(&self, t_far: f32, visit: impl FnOnce(f32) -> (f32, bool)) -> (f32, bool) {
+        let given = self.world(t_far);
+        let (t, stop) = visit(given);
+        (if t == given { t_far } else { self.local(t) }, stop)
     }
 }

@@ -95,14 +95,16 @@ impl Bvh {
         ray: &Ray,
         tmin: f32,
         tmax: f32,
-        leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
+        mut leaf: impl FnMut(usize, usize, f32) -> (f32, bool),
     ) {
         match approach(&self.bounds, ray, (tmin, tmax)) {
             Approached::AsItIs => self.traverse(ray, tmin, tmax, 0.0, leaf),
             Approached::Misses => {}
             Approached::Moved(a) => {
                 let (tmin, tmax) = a.range(tmin, tmax);
-                self.traverse(&a.ray, tmin, tmax, a.pad, a.leaf(leaf));
+                self.traverse(&a.ray, tmin, tmax, a.pad, |first, count, t_far| {
+                    a.visit(t_far, |given| leaf(first, count, given))
+                });
             }
         }
     }
