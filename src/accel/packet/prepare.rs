@@ -222,7 +222,7 @@ impl PreciseTriangle {
             rounded,
         };
         if !precise.usable {
-            precise.rounded.in_plane = in_plane(v, o.map(|x| x as f32));
+            precise.rounded.in_plane = in_plane(v, o);
         }
         precise
     }
@@ -455,7 +455,7 @@ impl OriginTriangles {
             let mut quad = prepare4_in(isa, v, origin, [a.1, b.1, c.1, d.1]);
             for (tri, v) in quad.iter_mut().zip(v) {
                 if !tri.usable {
-                    tri.in_plane = in_plane(v, origin);
+                    tri.in_plane = in_plane(v, origin.map(f64::from));
                 }
             }
             quad
@@ -475,8 +475,8 @@ impl OriginTriangles {
 /// coordinates whose differences f64 does not hold exactly).
 #[cold]
 #[inline(never)]
-fn in_plane(v: &[[f32; 3]; 3], o: [f32; 3]) -> bool {
-    on_plane(v, o.map(f64::from)) == Some(true)
+fn in_plane(v: &[[f32; 3]; 3], o: [f64; 3]) -> bool {
+    on_plane(v, o) == Some(true)
 }
 
 /// The four positions `start..start + 4` of a quad of triangles ending at `end` (exclusive,
