@@ -436,23 +436,19 @@ fn load_mtl_text(text: &str) -> Result<(Materials, Vec<LineNote>), LineNote> {
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
-            let values: Vec<f32> = words.take(3).filter_map(|w| w.parse().ok()).collect();
+            let words: Vec<&str> = words.take(3).collect();
+            let values: Vec<f32> = words.iter().filter_map(|w| w.parse().ok()).collect();
             if values.len() < 3 {
                 let found = values.len();
                 return Err((i + 1, format!("{key} needs 3 numbers, found {found}")));
             }
-            let shown = || {
-                line.split_whitespace()
-                    .skip(1)
-                    .take(3)
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            };
-            if key == "Kd" && values.iter().any(|v| !v.is_finite()) {
-                let what = "is not finite: the material's faces take the default colour";
-                notes.push((i + 1, format!("Kd {} {what}", shown())));
-            } else if key == "Kd" && values.iter().any(|v| !(0.0..=1.0).contains(v)) {
-                notes.push((i + 1, format!("Kd {} is outside 0…1: clamped", shown())));
+            let finite = values.iter().all(|v| v.is_finite());
+            if key == "Kd" && !(finite && values.iter().all(|v| (0.0..=1.0).contains(v))) {
+                let what = match finite {
+                    true => "is outside 0…1: clamped",
+                    false => "is not finite: the material's faces take the default colour",
+                };
+                notes.push((i + 1, format!("Kd {} {what}", words.join(" "))));
             }
         }
     }
