@@ -170,15 +170,22 @@ impl Scene {
     /// file's extension.
     /// The scene is checked to be within range ([`Scene::check_ranges`]).
     pub fn load(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
-        match path.extension().and_then(|e| e.to_str()) {
+        match Scene::reads_as_obj(path) {
             // (Checked in range as it is built, naming the lines.)
-            Some(e) if e.eq_ignore_ascii_case("scene") => load_scene_file(path),
-            _ => {
+            false => load_scene_file(path),
+            true => {
                 let scene = load_obj_file(path, obj_frame).map_err(|e| e.to_string())?;
                 scene.check_ranges()?;
                 Ok(scene)
             }
         }
+    }
+
+    /// Whether [`Scene::load`] reads `path` as an OBJ file (what is not a `.scene` file), so
+    /// that how OBJ coordinates are read ([`ObjFrame`]) matters to it.
+    pub fn reads_as_obj(path: &std::path::Path) -> bool {
+        let ext = path.extension().and_then(|e| e.to_str());
+        !ext.is_some_and(|e| e.eq_ignore_ascii_case("scene"))
     }
 
     /// The bounding box's diagonal (1 for an empty scene): the scene's size for camera moves.

@@ -83,12 +83,11 @@ impl Viewer {
     pub fn set_obj_frame(&mut self, frame: ObjFrame) {
         self.obj_frame = frame;
         let shown = self.source.lock().expect("not poisoned").clone();
-        let is_obj = |p: &PathBuf| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
         let read = match frame {
             ObjFrame::YUp => "y up (y and z negated)",
             ObjFrame::Lab => "as they are (the lab's frame)",
         };
-        match shown.filter(is_obj) {
+        match shown.filter(|p| Scene::reads_as_obj(p)) {
             Some(path) => self.load(path),
             None => self.set_status(format!("OBJ files are now read {read}")),
         }
