@@ -7,6 +7,7 @@
 mod common;
 
 mod files;
+mod idle;
 mod input;
 mod inspector;
 mod layout;
