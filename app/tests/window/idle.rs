@@ -201,3 +201,29 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     assert!(view.lines().any(|l| l == "spp 16"), "{view}");
     assert!(view.lines().any(|l| l == "cracks on"), "{view}");
 }
+
+#[test]
+fn real_x_input_f5_and_copy_as_command_ignore_the_inspectors_crop() {
+    // F5 and C, then a click on the image (the inspector's panel opens and crops the image's
+    // sides), then C and F5 again: the view saved and the command copied are the same both
+    // times, the view's own width, not the cropped one. (Both wrote the cropped width, so a
+    // view saved while inspecting rendered narrower than the window's view.)
+    let dir = tempfile::tempdir().unwrap();
+    let driver = "xdotool windowfocus --sync $win; xdotool key F5; logged 'saved view'; \
+                  mv raylab-view-*.view without-inspector.txt; xdotool key c; logged copied; \
+                  xdotool mousemove --sync 700 300 click 1; logged 'inspected pixel'; \
+                  sleep 1; xdotool key c; logged copied 2";
+    let Some((view, log)) = run_idle_window(dir.path(), driver, one_window()) else {
+        return;
+    };
+    let without = std::fs::read_to_string(dir.path().join("without-inspector.txt")).unwrap();
+    assert_eq!(view, without, "the view saved while inspecting\n{log}");
+    let commands: Vec<&str> = (log.lines())
+        .filter_map(|l| Some(&l[l.find("copied to the clipboard: ")?..]))
+        .collect();
+    assert_eq!(commands.len(), 2, "{log}");
+    assert_eq!(
+        commands[0], commands[1],
+        "the command copied while inspecting"
+    );
+}

@@ -362,8 +362,13 @@ impl Viewer {
     /// full render width the image would have without the inspector's panel. That panel
     /// opening narrows the image and crops the view's sides; the focal length stays.
     pub fn focal_width(&self) -> u32 {
+        self.uncropped_size().0
+    }
+
+    /// The full render size the image would have without the inspector's panel.
+    fn uncropped_size(&self) -> (u32, u32) {
         let beside = self.beside_width.max(self.image_area.0);
-        self.size_for((beside, self.image_area.1)).0
+        self.size_for((beside, self.image_area.1))
     }
 
     /// The focal length (pixels) of a render `width` pixels wide of the view as now set up
@@ -576,17 +581,24 @@ impl Viewer {
         });
     }
 
+    /// The size of the view as F5 and copy as command write it, and its focal length: a
+    /// fixed size is the view's own, even where the window shows it smaller; a window-scaled
+    /// one is the render's without the inspector's panel, whose crop of the image's sides is
+    /// the window's, not the view's (the focal length stays as it crops).
+    fn view_size_and_focal(&self) -> ((u32, u32), f64) {
+        match self.view.resolution {
+            Resolution::Fixed(w, h) => ((w, h), self.focal(w)),
+            Resolution::WindowScale(_) => (self.uncropped_size(), self.focal(self.full_size().0)),
+        }
+    }
+
     /// The view as a [`raylab::view::View`]: what `raylab render --view` needs to render
-    /// what the window shows at full quality.
+    /// what the window shows at full quality (and uncropped by the inspector's panel).
     pub fn view(&self) -> raylab::view::View {
         let c = &self.controller;
         let source = self.source.lock().expect("not poisoned").clone();
-        // A fixed size is the view's own, even where the window shows it smaller.
-        let (width, height) = match self.view.resolution {
-            Resolution::Fixed(w, h) => (w, h),
-            Resolution::WindowScale(_) => self.full_size(),
-        };
-        let ratio = self.focal(width) / width as f64;
+        let ((width, height), focal) = self.view_size_and_focal();
+        let ratio = focal / width as f64;
         let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
@@ -625,7 +637,7 @@ impl Viewer {
     /// clipboard (in the next UI pass) and the panel shows it.
     pub fn copy_command(&mut self) {
         let view = self.view();
-        let focal = self.focal(view.settings.width);
+        let focal = self.view_size_and_focal().1;
         let command = view.to_command_at_focal("raylab.png", focal);
         self.set_status(format!("{COPIED}{command}"));
         self.copy_request = Some(command);
