@@ -15,6 +15,7 @@
 mod args;
 mod bounds;
 mod cracks;
+mod fields;
 mod files;
 mod follow;
 mod framework;
@@ -418,6 +419,9 @@ impl App {
         }
         if let Some(p) = actions.load {
             viewer.load(PathBuf::from(p));
+        }
+        if let Some(message) = actions.unread {
+            viewer.warn(message);
         }
         if let Some(frame) = actions.obj_frame {
             viewer.set_obj_frame(frame);

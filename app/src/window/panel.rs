@@ -1,5 +1,6 @@
 //! The egui side panel, the image area beside it, and the shortcuts overlay.
 
+use super::fields::Unread;
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
@@ -59,6 +60,15 @@ pub struct PanelActions {
     pub bar_room: f32,
     /// The panel's width (points).
     pub width: f32,
+    /// What a number field could not read of the text typed into it ([`Unread`]).
+    pub unread: Option<String>,
+}
+
+impl PanelActions {
+    /// Keeps what a field said of text it could not read.
+    fn note(&mut self, said: Option<String>) {
+        self.unread = said.or(self.unread.take());
+    }
 }
 
 /// The side panel. Edits `view` and `camera` in place.
@@ -71,6 +81,7 @@ pub fn side_panel(
     inspector: (&mut bool, Option<&Inspection>),
 ) -> PanelActions {
     let mut actions = PanelActions::default();
+    let unread = Unread::default();
     // A scroll bar that is there whenever the panel is taller than the window (egui's
     // default floats and shows only under the pointer), whose room comes whole the frame it
     // comes: egui's solid bar takes its room in a few frames as it fades in, so the panel
@@ -94,7 +105,8 @@ pub fn side_panel(
 
         for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {
             ui.separator();
-            control_widget(ui, control, &mut view.controls, None);
+            let said = control_widget(ui, control, &mut view.controls, None, &unread);
+            actions.note(said);
         }
 
         ui.separator();
@@ -109,8 +121,8 @@ pub fn side_panel(
             .logarithmic(true)
             .text("focal (px)")
             .custom_formatter(|v, _| format!("{v:.1}"))
-            .custom_parser(super::values::finite_number)
             .drag_value_speed(fine);
+        let slider = unread.slider(slider);
         let beside = egui::WidgetText::from("00000.0 focal (px)");
         let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
         let spacing = ui.spacing().clone();
@@ -118,9 +130,10 @@ pub fn side_panel(
         // (Less a little: a row wider than the panel would widen it, frame after frame.)
         let room = ui.available_width() - beside.size().x - box_margins - 10.0;
         ui.spacing_mut().slider_width = room.max(spacing.slider_width);
-        let changed = (ui.add(slider))
-            .on_hover_text("drag the number for fine steps; click it to type one")
-            .changed();
+        let response =
+            (ui.add(slider)).on_hover_text("drag the number for fine steps; click it to type one");
+        actions.note(unread.said(ui, &response, "focal length"));
+        let changed = response.changed();
         ui.spacing_mut().slider_width = spacing.slider_width;
         if changed {
             camera.set_focal(focal, width);
@@ -128,12 +141,17 @@ pub fn side_panel(
         ui.label(format!("horizontal field of view {:.1}°", fov.to_degrees()));
         ui.horizontal(|ui| {
             ui.label("position");
-            for c in [
+            let position = [
                 &mut camera.position.x,
                 &mut camera.position.y,
                 &mut camera.position.z,
-            ] {
-                ui.add(coordinate(c, 0.01 * camera.scene_size));
+            ];
+            for (c, name) in position
+                .into_iter()
+                .zip(["camera x", "camera y", "camera z"])
+            {
+                let response = ui.add(coordinate(c, 0.01 * camera.scene_size, &unread));
+                actions.note(unread.said(ui, &response, name));
             }
         });
         if let Some(from) = super::values::rays_leave_from(camera.position.to_array()) {
@@ -147,28 +165,19 @@ pub fn side_panel(
             let mut yaw = camera.yaw.to_degrees();
             let mut pitch = camera.pitch.to_degrees();
             ui.label("yaw");
-            if ui
-                .add(
-                    egui::DragValue::new(&mut yaw)
-                        .speed(0.5)
-                        .suffix("°")
-                        .max_decimals(1),
-                )
-                .changed()
-            {
+            let field = egui::DragValue::new(&mut yaw).speed(0.5).suffix("°");
+            let response = ui.add(unread.drag(field.max_decimals(1)));
+            actions.note(unread.said(ui, &response, "yaw"));
+            if response.changed() {
                 camera.yaw = yaw.to_radians();
             }
             ui.label("pitch");
-            if ui
-                .add(
-                    egui::DragValue::new(&mut pitch)
-                        .speed(0.5)
-                        .range(-89.0..=89.0)
-                        .suffix("°")
-                        .max_decimals(1),
-                )
-                .changed()
-            {
+            let field = egui::DragValue::new(&mut pitch)
+                .speed(0.5)
+                .range(-89.0..=89.0);
+            let response = ui.add(unread.drag(field.suffix("°").max_decimals(1)));
+            actions.note(unread.said(ui, &response, "pitch"));
+            if response.changed() {
                 camera.pitch = pitch.to_radians();
             }
         });
@@ -181,14 +190,14 @@ pub fn side_panel(
             if ui.button(format!("{other} (Tab)")).clicked() {
                 camera.toggle_mode();
             }
-            ui.add(
-                egui::DragValue::new(&mut camera.speed)
-                    .range(CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1)
-                    .speed(0.02)
-                    .prefix("speed ×")
-                    .max_decimals(2),
-            )
-            .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
+            let field = egui::DragValue::new(&mut camera.speed)
+                .range(CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1)
+                .speed(0.02)
+                .prefix("speed ×")
+                .max_decimals(2);
+            let response = (ui.add(unread.drag(field)))
+                .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
+            actions.note(unread.said(ui, &response, "speed"));
         });
         ui.horizontal(|ui| {
             if ui.button("Reset camera (R)").clicked() {
@@ -255,15 +264,23 @@ pub fn side_panel(
                 }
             });
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
-            ui.add(egui::Slider::new(s, 0.1..=1.0).text("scale"));
+            let response = ui.add(unread.slider(egui::Slider::new(s, 0.1..=1.0).text("scale")));
+            actions.note(unread.said(ui, &response, "scale"));
         }
         ui.collapsing("preview while moving", |ui| {
             ui.checkbox(&mut view.adaptive, "adaptive (holds a frame time)");
-            if view.adaptive {
-                ui.add(egui::Slider::new(&mut view.target_ms, 4.0..=100.0).text("target ms"));
-            } else {
-                ui.add(egui::Slider::new(&mut view.preview_scale, 0.1..=1.0).text("preview scale"));
-            }
+            let (slider, name) = match view.adaptive {
+                true => (
+                    egui::Slider::new(&mut view.target_ms, 4.0..=100.0),
+                    "target ms",
+                ),
+                false => (
+                    egui::Slider::new(&mut view.preview_scale, 0.1..=1.0),
+                    "preview scale",
+                ),
+            };
+            let response = ui.add(unread.slider(slider.text(name)));
+            actions.note(unread.said(ui, &response, name));
         });
 
         ui.separator();
@@ -273,7 +290,8 @@ pub fn side_panel(
                 .then_some(info.code_name)
                 .flatten()
                 .map(|name| (name, &mut view.yours));
-            control_widget(ui, control, &mut view.controls, code);
+            let said = control_widget(ui, control, &mut view.controls, code, &unread);
+            actions.note(said);
             let (asked, n) = (view.controls.spp, info.samples_shown);
             if control.name == "spp" && n < asked {
                 let note = format!("{asked}x{asked} asked, {n}x{n} shown");
@@ -292,8 +310,9 @@ pub fn side_panel(
         ui.separator();
         ui.horizontal(|ui| {
             ui.strong("Light");
-            for c in view.light.iter_mut() {
-                ui.add(coordinate(c, 0.01 * camera.scene_size));
+            for (c, name) in view.light.iter_mut().zip(["light x", "light y", "light z"]) {
+                let response = ui.add(coordinate(c, 0.01 * camera.scene_size, &unread));
+                actions.note(unread.said(ui, &response, name));
             }
         });
 
@@ -344,14 +363,18 @@ pub fn side_panel(
 
 /// A field for a camera or light coordinate, kept within the range raylab renders from
 /// (±[`raylab::math::MAX_VIEW_COORDINATE`], what `raylab render` accepts), a typed `nan` or
-/// `inf` ignored: copy as command and Save view write what the window shows.
-fn coordinate<N: egui::emath::Numeric>(value: &mut N, speed: f64) -> egui::DragValue<'_> {
+/// `inf` not taken: copy as command and Save view write what the window shows.
+fn coordinate<'a, N: egui::emath::Numeric>(
+    value: &'a mut N,
+    speed: f64,
+    unread: &'a Unread,
+) -> egui::DragValue<'a> {
     let max = raylab::math::MAX_VIEW_COORDINATE;
-    egui::DragValue::new(value)
+    let field = egui::DragValue::new(value)
         .speed(speed)
         .max_decimals(3)
-        .range(N::from_f64(-max)..=N::from_f64(max))
-        .custom_parser(super::values::finite_number)
+        .range(N::from_f64(-max)..=N::from_f64(max));
+    unread.drag(field)
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
@@ -709,7 +732,8 @@ fn control_widget(
     control: &Control,
     settings: &mut RenderSettings,
     code: Option<(&str, &mut bool)>,
-) {
+    unread: &Unread,
+) -> Option<String> {
     match control.kind {
         Kind::Choice { options, get, set } => {
             let (options, mut chosen) = (options(), get(settings));
@@ -748,7 +772,7 @@ fn control_widget(
                         **yours = chosen == yours_index;
                     }
                     if chosen == yours_index {
-                        return;
+                        return None;
                     }
                 }
             }
@@ -769,9 +793,12 @@ fn control_widget(
         Kind::Count { min, max, get, set } => {
             let mut n = get(settings);
             let slider = egui::Slider::new(&mut n, min..=max).text(control.label);
-            if ui.add(slider).on_hover_text(control.help).changed() {
+            let response = ui.add(unread.slider(slider)).on_hover_text(control.help);
+            if response.changed() {
                 set(settings, n);
             }
+            return unread.said(ui, &response, control.label);
         }
     }
+    None
 }

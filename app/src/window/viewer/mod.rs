@@ -302,6 +302,16 @@ impl Viewer {
         self.set_status(format!("ray inspector {state}"));
     }
 
+    /// A slip the status line names in red, once (a field's text that is not a number: the
+    /// eye is on the field, no banner over the image).
+    pub fn warn(&mut self, message: String) {
+        if !(self.status_is_error && self.status == message) {
+            self.status = message;
+            (self.status_is_error, self.status_follows_pixel) = (true, false);
+            log::warn!("{}", self.status);
+        }
+    }
+
     /// An error: in the status line and in the banner over the image, where the eye is.
     pub fn report_error(&mut self, message: impl Into<String>) {
         self.status = message.into();
