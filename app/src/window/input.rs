@@ -28,6 +28,7 @@ pub enum Key {
     C,
     N,
     H,
+    P,
     F1,
     F5,
     F12,
@@ -60,6 +61,7 @@ impl Key {
             KeyCode::KeyC => Key::C,
             KeyCode::KeyN => Key::N,
             KeyCode::KeyH => Key::H,
+            KeyCode::KeyP => Key::P,
             KeyCode::F1 => Key::F1,
             KeyCode::F5 => Key::F5,
             KeyCode::F12 => Key::F12,
@@ -75,7 +77,7 @@ impl Key {
 
     /// Parses a script's key name (`W`, `Left`, `Shift`, ...).
     pub fn from_name(name: &str) -> Option<Key> {
-        const ALL: [(&str, Key); 24] = [
+        const ALL: [(&str, Key); 25] = [
             ("W", Key::W),
             ("A", Key::A),
             ("S", Key::S),
@@ -96,6 +98,7 @@ impl Key {
             ("C", Key::C),
             ("N", Key::N),
             ("H", Key::H),
+            ("P", Key::P),
             ("F1", Key::F1),
             ("F5", Key::F5),
             ("F12", Key::F12),

@@ -289,6 +289,13 @@ impl App {
                 self.viewer.changed();
             }
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
+            Key::P => {
+                self.viewer.panel_hidden = !self.viewer.panel_hidden;
+                self.viewer.set_status(match self.viewer.panel_hidden {
+                    true => "side panel hidden: P shows it",
+                    false => "side panel shown",
+                });
+            }
             Key::I => {
                 self.viewer.inspector_on = !self.viewer.inspector_on;
                 self.viewer.say_inspector();

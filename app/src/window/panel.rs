@@ -401,6 +401,10 @@ pub const INSPECTOR_WIDTH: f32 = 330.0;
 /// the side panel is twice that: else half of it.
 pub const MIN_IMAGE_WIDTH: f32 = 200.0;
 
+/// The width (points) left beside the side panel under which its top says that P hides it
+/// (the status line, under the image, is then too narrow to read).
+const NARROW_IMAGE: f32 = 100.0;
+
 /// The side panel's width once its scroll bar is gone. egui keeps a panel at the width it was
 /// last drawn at: what it was given or, where its rows need more, what they need. The scroll
 /// bar a window too short for the panel shows takes its room (10 points) beside the rows, so
@@ -505,6 +509,7 @@ pub fn layout(
         loading,
         image_area,
         show_help,
+        panel_hidden,
         selected_level,
         inspector_on,
         inspection,
@@ -551,29 +556,41 @@ pub fn layout(
     // (Its edge dragged no further than leaves the image MIN_IMAGE_WIDTH; its rows still
     // widen it to what they take.)
     let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
-    let drawn = egui::Panel::left(controls)
-        .resizable(true)
-        .default_size(PANEL_WIDTH)
-        .max_size(most.max(PANEL_WIDTH))
-        .show(ui, |ui| {
-            // (The menu bar stays in view however far the panel is scrolled.)
-            egui::MenuBar::new().ui(ui, |ui| {
-                files.menu(ui);
-                if ui.button("Screenshot (F12)").clicked() {
-                    layout.actions.screenshot = true;
+    let panel = (!*panel_hidden).then(|| egui::Panel::left(controls));
+    let beside_before = layout.beside_width as f32 / ppp;
+    let drawn = panel.map(|panel| {
+        panel
+            .resizable(true)
+            .default_size(PANEL_WIDTH)
+            .max_size(most.max(PANEL_WIDTH))
+            .show(ui, |ui| {
+                // (The menu bar stays in view however far the panel is scrolled.)
+                egui::MenuBar::new().ui(ui, |ui| {
+                    files.menu(ui);
+                    if ui.button("Screenshot (F12)").clicked() {
+                        layout.actions.screenshot = true;
+                    }
+                    if ui.button("Shortcuts (H or F1)").clicked() {
+                        *show_help = !*show_help;
+                    }
+                });
+                if beside_before < NARROW_IMAGE {
+                    let note = format!(
+                        "the image has {beside_before:.0} points beside this panel: P hides the panel"
+                    );
+                    ui.label(egui::RichText::new(note).color(egui::Color32::YELLOW));
                 }
-                if ui.button("Shortcuts (H or F1)").clicked() {
-                    *show_help = !*show_help;
-                }
-            });
-            let inspector = (&mut *inspector_on, inspection.as_ref());
-            let screenshot = layout.actions.screenshot;
-            layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
-            layout.actions.screenshot |= screenshot;
-        });
-    let (bar, visible) = (layout.actions.bar_room, layout.actions.fit.1);
-    kept.after(ui, drawn.response.rect, bar, visible);
-    layout.actions.width = drawn.response.rect.width();
+                let inspector = (&mut *inspector_on, inspection.as_ref());
+                let screenshot = layout.actions.screenshot;
+                layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
+                layout.actions.screenshot |= screenshot;
+            })
+    });
+    if let Some(drawn) = drawn {
+        let (bar, visible) = (layout.actions.bar_room, layout.actions.fit.1);
+        kept.after(ui, drawn.response.rect, bar, visible);
+        layout.actions.width = drawn.response.rect.width();
+    }
     // The status line under the image and the inspector's panel both.
     egui::Panel::bottom("status").show(ui, |ui| {
         let status = (status.as_str(), *status_is_error);
@@ -717,6 +734,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "save the view (camera, light, settings) for `raylab render --view`",
     ),
     ("H / F1", "this overlay"),
+    ("P", "hide / show the side panel"),
     ("Esc", "release the mouse; dismiss an error; again to quit"),
 ];
 

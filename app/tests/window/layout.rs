@@ -254,3 +254,35 @@ fn real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width() {
         rect[0]
     );
 }
+
+#[test]
+fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
+    // A 320x240 window (the least it asks the window system for): the side panel (300
+    // points) left the image 20 points and no way to see more. Its top says so and that P
+    // hides it; P gives the image the whole window, and P again brings the panel back.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool windowsize --sync $win 320 240; \
+                  sleep 1; xdotool key p; logged 'panel 0 points'; sleep 0.5; xdotool key p; \
+                  logged 'side panel shown'; sleep 0.5; xdotool key p; \
+                  logged 'panel 0 points' 2; sleep 0.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (_, w, h, _) = run.camera();
+    assert_eq!(run.nums("panel_width"), [0.0], "{log}");
+    assert!(
+        w >= 320 && h > 200,
+        "the image takes the window: {w}x{h}\n{log}"
+    );
+    let widths: Vec<f32> = (log.lines())
+        .filter_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
+        .map(|w| w.parse().unwrap())
+        .collect();
+    // Its width at the start, in the small window, hidden, back, hidden again.
+    assert_eq!(widths.len(), 5, "{widths:?}\n{log}");
+    assert!(widths[3] >= 300.0 && widths[2] == 0.0, "{widths:?}");
+    assert!(log.contains("side panel hidden: P shows it"), "{log}");
+}

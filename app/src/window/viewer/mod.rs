@@ -104,6 +104,8 @@ pub struct Viewer {
     /// A generation whose render failed: not submitted again (it would fail again).
     failed_generation: Option<u64>,
     pub show_help: bool,
+    /// P hid the side panel (and its menu bar): the image takes the window.
+    pub panel_hidden: bool,
     pub status: String,
     /// Whether the status is an error (drawn red).
     pub status_is_error: bool,
@@ -217,6 +219,7 @@ impl Viewer {
             max_side: MAX_SIDE,
             failed_generation: None,
             show_help: false,
+            panel_hidden: false,
             status: String::new(),
             status_is_error: false,
             status_follows_pixel: false,
