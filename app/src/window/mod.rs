@@ -30,6 +30,7 @@ mod pointer;
 mod scene_tree;
 mod script;
 mod scripted;
+mod shortcuts;
 mod values;
 mod viewer;
 mod worker;

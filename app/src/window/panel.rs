@@ -682,69 +682,17 @@ pub fn layout(
         *show_all_warnings = true;
     }
     super::notices::all_warnings(ui.ctx(), &scene.warnings, show_all_warnings);
-    help_window(ui.ctx(), show_help);
+    super::shortcuts::help_window(ui.ctx(), show_help);
     layout
 }
 
-/// The shortcuts overlay.
-pub fn help_window(ctx: &egui::Context, open: &mut bool) {
-    egui::Window::new("Shortcuts")
-        .open(open)
-        .collapsible(false)
-        .resizable(false)
-        .anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0])
-        .show(ctx, |ui| {
-            egui::Grid::new("keys").striped(true).show(ui, |ui| {
-                for (k, what) in SHORTCUTS {
-                    ui.monospace(*k);
-                    ui.label(*what);
-                    ui.end_row();
-                }
-            });
-        });
-}
-
-/// The keyboard and mouse controls, as shown in the overlay and the README.
-pub const SHORTCUTS: &[(&str, &str)] = &[
-    ("W / S", "move forward / back"),
-    ("A / D", "move left / right"),
-    ("Q / E", "move down / up"),
-    ("arrows", "turn (yaw and pitch)"),
-    ("Shift / Ctrl", "4x faster / 4x slower"),
-    ("+ / -", "moving speed up / down"),
-    ("Tab", "fly / orbit mode"),
-    ("left drag (orbit)", "turn around the target"),
-    ("right or middle drag (orbit)", "pan"),
-    ("right drag (fly)", "look around"),
-    ("wheel", "fly: focal length (up zooms in); orbit: dolly"),
-    ("R", "reset the camera"),
-    ("1 / 3 / 4 / 5", "lab step: flat, direct, shadows, indirect"),
-    ("C", "copy the `raylab render` command of this view"),
-    (
-        "left click / I",
-        "ray inspector: one pixel's ray as the lecture writes it / on or off",
-    ),
-    (
-        "N / Shift+N",
-        "next / previous crack (show cracks on) in the ray inspector",
-    ),
-    ("F12", "save a screenshot (PNG)"),
-    (
-        "F5",
-        "save the view (camera, light, settings) for `raylab render --view`",
-    ),
-    ("H / F1", "this overlay"),
-    ("P", "hide / show the side panel"),
-    ("Esc", "release the mouse; dismiss an error; again to quit"),
-];
-
-/// One control of the image's table ([`CONTROLS`]): a choice as radio buttons under its own
-/// heading or a drop-down, a toggle as a check box, a count as a slider.
 /// What the linked code's option in the method selector does.
 const CODE_HELP: &str = "the linked lab code answers every ray (camera rays, nearest hits, shadow rays); with show cracks on, its leaks are magenta, false hits yellow and wrong primitives cyan";
 
-/// `control`'s widget; `code` offers linked code (its name, and whether it is chosen) as one
-/// more option of a drop-down choice (the method's).
+/// The widget of `control`, one control of the image's table ([`CONTROLS`]): a choice as radio
+/// buttons under its own heading or a drop-down, a toggle as a check box, a count as a slider;
+/// `code` offers linked code (its name, and whether it is chosen) as one more option of a
+/// drop-down choice (the method's). What the slider's box could not read of typed text, said.
 fn control_widget(
     ui: &mut egui::Ui,
     control: &Control,
