@@ -26,6 +26,7 @@ pub fn all() -> Vec<(String, fn())> {
         ("accel::flat", crate::accel::flat::tests::TESTS),
         ("accel::packet", crate::accel::packet::tests::TESTS),
         ("accel::prepared", crate::accel::prepared::tests::TESTS),
+        ("accel::frame::far", crate::accel::frame::far::tests::TESTS),
         (
             "geometry::adaptive",
             crate::geometry::adaptive::tests::TESTS,

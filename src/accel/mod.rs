@@ -204,6 +204,8 @@ pub struct Accel {
     degenerate: usize,
     /// The meshes placed as instances, if any ([`instances::Instances`]).
     instances: Option<Box<instances::Instances>>,
+    /// The stored triangles' typical side, for the frames' plan ([`frame::typical_side`]).
+    typical_side: f32,
     /// The frames' caches of triangles prepared for the eye and the light, kept between
     /// frames ([`prepared::LeafCache`]).
     caches: prepared::CachePool,
@@ -321,6 +323,7 @@ impl Accel {
                 triangles = Triangles::build(&tris, choice);
             }
         }
+        let typical_side = frame::typical_side(&tris);
         if choice == AccelChoice::Bvh && tris.len() > TILE_CULL_MAX_TRIANGLES {
             tris = Vec::new(); // the BVH holds its own copy
         }
@@ -332,6 +335,7 @@ impl Accel {
             other_copies,
             degenerate,
             instances,
+            typical_side,
             caches: prepared::CachePool::default(),
         }
     }

@@ -168,3 +168,57 @@ fn spheres_seen_from_far_away_are_answered_as_the_reference_does() {
         check_all(&shapes, &rays, tmin, tmax);
     }
 }
+
+/// A 5,120-triangle ball in the Cornell box seen from 10⁶ units away, the view filled with the
+/// box: the packets' triangles, prepared for that eye in f32, are rounded by some 0.06 units,
+/// more than the ball's sides (~0.03), so the frame's camera rays go one at a time (the
+/// per-ray walk moves each up to the box in f64 first), its shadow segments from the light
+/// inside the box still 8 at a time; from 10 units the camera rays go in packets. Every pixel
+/// and count is the per-ray path's (the cracks view, which marks nothing with the adaptive
+/// method), with shadows and with supersampling.
+#[test]
+fn a_mesh_seen_from_far_away_renders_as_the_per_ray_path() {
+    use raylab::accel::{AccelChoice, FrameSetup};
+    use raylab::render::{render_image, LabStep, RenderSettings};
+    let ball = crate::common::icosphere(4, 0.3, [0.2, 0.4, 0.2]);
+    assert_eq!(ball.len(), 5120);
+    let stage = crate::common::cornell_with_blue(ball, AccelChoice::Auto);
+    let setup = |z: f32| FrameSetup {
+        eye: [0.0, 0.0, z],
+        light: [0.0, -0.5, -0.7],
+        projection: None,
+        method: Method::Adaptive,
+        camera_rays: 64 * 48,
+        shadows: true,
+        per_ray: false,
+    };
+    let accel = stage.accel();
+    assert!(accel.for_frame(&setup(-1e6)).camera_per_ray(), "from 10⁶");
+    assert!(!accel.for_frame(&setup(-10.0)).camera_per_ray(), "from 10");
+    for (z, focal) in [(-1e6, 64.0 * 1e6 / 2.2), (-10.0, 64.0 * 10.0 / 2.2)] {
+        let pos = glam::DVec3::new(0.0, 0.0, z);
+        let cam = raylab::Camera::from_yaw_pitch(pos, 0.0, 0.0, focal).unwrap();
+        for (step, spp) in [(LabStep::Flat, 1), (LabStep::Shadows, 2)] {
+            let frame = RenderSettings {
+                width: 64,
+                height: 48,
+                step,
+                spp,
+                ..Default::default()
+            };
+            let per_ray = RenderSettings {
+                cracks: true,
+                ..frame
+            };
+            let (a, sa) = render_image(&stage, &cam, &frame).unwrap();
+            let (b, sb) = render_image(&stage, &cam, &per_ray).unwrap();
+            let at = format!("from {z}, {step}, spp {spp}");
+            assert!(a == b, "{at}: images differ");
+            assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays), "{at}");
+            // The ball is in view: some pixels are its blue.
+            let blue = (a.chunks_exact(4)).filter(|p| u32::from(p[2]) > u32::from(p[0]) + 40);
+            let blue = blue.count();
+            assert!(blue > 50, "{at}: {blue} blue pixels");
+        }
+    }
+}

@@ -27,7 +27,9 @@
 //!   BVH's top [`SCREEN_DEPTH`] levels, the flat loop's one box) are projected on the screen
 //!   (`cull::ScreenTree`; with instances, one box around all of them): a tile that none
 //!   meets has no triangle hits, and its packets skip the walk (with no other shape there,
-//!   [`TileQueries::shows_nothing`]);
+//!   [`TileQueries::shows_nothing`]); an eye so far from a mesh of small triangles that the
+//!   packets' f32 bounds would decide few lanes sends the camera rays one at a time
+//!   (`far.rs`), the shadow segments still 8 at a time;
 //! - otherwise (the inexact methods, the cracks view) **per ray** through the scene's
 //!   structure.
 //!
@@ -46,7 +48,8 @@
 //! ([`packet::closest_exact_lane`], [`packet::any_exact_lane`]) and then to the per-ray
 //! adaptive search, so packets and per-ray queries name the same primitives.
 //!
-//! The files: `tile.rs` answers a tile's queries ([`TileQueries`]: camera rays one at a time
+//! The files: `far.rs` says when an eye is too far for camera packets; `tile.rs` answers a
+//! tile's queries ([`TileQueries`]: camera rays one at a time
 //! and in packets, shadow segments 8 at a time, the exact resolvers of the lanes a packet
 //! leaves ambiguous). This file keeps the face: the frame's setup and plan,
 //! [`FrameQueries`], the tile's buffers and its shadow segments.
@@ -57,7 +60,10 @@
 //! [`packet::closest_exact_lane`]: super::packet::closest_exact_lane
 //! [`packet::any_exact_lane`]: super::packet::any_exact_lane
 
+pub(crate) mod far;
 mod tile;
+
+pub(crate) use far::typical_side;
 
 use super::cull::{Box3, Occluder, ScreenTree, ScreenTriangle};
 use super::flat::FlatLoop;
@@ -158,6 +164,10 @@ enum Plan<'a> {
     Packets {
         from_eye: Option<LeafCache>,
         from_light: Option<LeafCache>,
+        /// Camera rays one at a time, shadow segments still in packets: an eye so far from a
+        /// mesh of small triangles that the packets' f32 bounds would decide few lanes
+        /// ([`far`]).
+        camera_per_ray: bool,
         /// Where the triangles can show on screen (the layout's top boxes: the BVH's top
         /// [`SCREEN_DEPTH`] levels): a tile this does not meet has no triangle hits, and its packets skip the
         /// walk (most of a frame that frames a mesh).
@@ -270,6 +280,10 @@ impl Accel {
             _ => None,
         };
         let packets = method == Method::Adaptive && !setup.per_ray;
+        let eye_far = self.instances.is_none()
+            && self.triangles.kind() == super::AccelChoice::Bvh
+            && (self.triangles.bounding_box())
+                .is_some_and(|b| far::too_far_for_packets(setup.eye, &b, self.typical_side));
         let triangles = self.stored_triangle_count();
         let prepare_once = triangles.saturating_mul(CAMERA_RAYS_PER_TRIANGLE) <= setup.camera_rays
             && triangles <= MAX_PREPARED_ONCE;
@@ -295,7 +309,8 @@ impl Accel {
             }
             Some(culling) => Plan::Culled(culling),
             None if packets => Plan::Packets {
-                from_eye: prepare_once.then(|| self.leaf_cache(setup.eye)),
+                camera_per_ray: eye_far,
+                from_eye: (prepare_once && !eye_far).then(|| self.leaf_cache(setup.eye)),
                 from_light: (prepare_once && setup.shadows).then(|| self.leaf_cache(setup.light)),
                 triangles_seen: ScreenTree::new(
                     self.triangle_boxes(SCREEN_DEPTH),
@@ -348,6 +363,18 @@ impl<'a> FrameQueries<'a> {
     /// its copy of that build by it.
     pub fn build(&self) -> Chosen {
         self.build
+    }
+
+    /// Whether the frame's camera packets are answered lane by lane through the per-ray
+    /// queries ([`far`]).
+    pub fn camera_per_ray(&self) -> bool {
+        matches!(
+            self.plan,
+            Plan::Packets {
+                camera_per_ray: true,
+                ..
+            }
+        )
     }
 
     /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]).
