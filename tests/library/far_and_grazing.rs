@@ -172,10 +172,9 @@ fn spheres_seen_from_far_away_are_answered_as_the_reference_does() {
 /// A 5,120-triangle ball in the Cornell box seen from 10⁶ units away, the view filled with the
 /// box: the packets' triangles, prepared for that eye in f32, are rounded by some 0.06 units,
 /// more than the ball's sides (~0.03), so the frame's camera rays go one at a time (the
-/// per-ray walk moves each up to the box in f64 first), its shadow segments from the light
-/// inside the box still 8 at a time; from 10 units the camera rays go in packets. Every pixel
-/// and count is the per-ray path's (the cracks view, which marks nothing with the adaptive
-/// method), with shadows and with supersampling.
+/// per-ray walk moves each up to the box in f64 first); from 10 units they go in packets.
+/// Every pixel and count is the per-ray path's (the cracks view, which marks nothing with the
+/// adaptive method), with shadows and with supersampling.
 #[test]
 fn a_mesh_seen_from_far_away_renders_as_the_per_ray_path() {
     use raylab::accel::{AccelChoice, FrameSetup};
@@ -193,8 +192,8 @@ fn a_mesh_seen_from_far_away_renders_as_the_per_ray_path() {
         per_ray: false,
     };
     let accel = stage.accel();
-    assert!(accel.for_frame(&setup(-1e6)).camera_per_ray(), "from 10⁶");
-    assert!(!accel.for_frame(&setup(-10.0)).camera_per_ray(), "from 10");
+    assert!(!accel.for_frame(&setup(-1e6)).packets(), "from 10⁶");
+    assert!(accel.for_frame(&setup(-10.0)).packets(), "from 10");
     for (z, focal) in [(-1e6, 64.0 * 1e6 / 2.2), (-10.0, 64.0 * 10.0 / 2.2)] {
         let pos = glam::DVec3::new(0.0, 0.0, z);
         let cam = raylab::Camera::from_yaw_pitch(pos, 0.0, 0.0, focal).unwrap();

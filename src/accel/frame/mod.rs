@@ -29,7 +29,7 @@
 //!   meets has no triangle hits, and its packets skip the walk (with no other shape there,
 //!   [`TileQueries::shows_nothing`]); an eye so far from a mesh of small triangles that the
 //!   packets' f32 bounds would decide few lanes sends the camera rays one at a time
-//!   (`far.rs`), the shadow segments still 8 at a time;
+//!   (`far.rs`), and with them their shadow segments;
 //! - otherwise (the inexact methods, the cracks view) **per ray** through the scene's
 //!   structure.
 //!
@@ -164,9 +164,8 @@ enum Plan<'a> {
     Packets {
         from_eye: Option<LeafCache>,
         from_light: Option<LeafCache>,
-        /// Camera rays one at a time, shadow segments still in packets: an eye so far from a
-        /// mesh of small triangles that the packets' f32 bounds would decide few lanes
-        /// ([`far`]).
+        /// Camera rays (and so their shadow segments) one at a time: an eye so far from a mesh
+        /// of small triangles that the packets' f32 bounds would decide few lanes ([`far`]).
         camera_per_ray: bool,
         /// Where the triangles can show on screen (the layout's top boxes: the BVH's top
         /// [`SCREEN_DEPTH`] levels): a tile this does not meet has no triangle hits, and its packets skip the
@@ -365,21 +364,17 @@ impl<'a> FrameQueries<'a> {
         self.build
     }
 
-    /// Whether the frame's camera packets are answered lane by lane through the per-ray
-    /// queries ([`far`]).
-    pub fn camera_per_ray(&self) -> bool {
+    /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]): not with an eye too
+    /// far for them ([`far`]).
+    pub fn packets(&self) -> bool {
         matches!(
             self.plan,
-            Plan::Packets {
-                camera_per_ray: true,
-                ..
-            }
+            Plan::CulledPackets { .. }
+                | Plan::Packets {
+                    camera_per_ray: false,
+                    ..
+                }
         )
-    }
-
-    /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]).
-    pub fn packets(&self) -> bool {
-        matches!(self.plan, Plan::CulledPackets { .. } | Plan::Packets { .. })
     }
 
     /// Whether the frame's packets prepare each triangle at most once for the eye, as they

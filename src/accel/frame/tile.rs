@@ -75,11 +75,6 @@ impl TileQueries<'_> {
     /// [`TileQueries::closest_x8`] in the build `isa` names (a tile loop's own).
     #[inline(always)]
     pub(crate) fn closest_x8_in<I: Isa>(&mut self, isa: I, d: &[f32x8; 3], live: u32) -> [u32; 8] {
-        if self.frame.camera_per_ray() {
-            let mut out = [NO_HIT; 8];
-            self.per_ray_lanes(&each3(|k| d[k].to_array()), live & 0xff, &mut out);
-            return out;
-        }
         let d_max = packet::max_component(d);
         let found = match self.spheres_may_show {
             false => self.closest_triangles_x8(isa, d, d_max, None),
@@ -113,9 +108,6 @@ impl TileQueries<'_> {
         out: &mut [u32],
     ) {
         let frame = self.frame;
-        if frame.camera_per_ray() {
-            return self.per_ray_lanes(&lanes_of(&d), live & V::full(), out);
-        }
         let ambiguous = match (&frame.plan, !self.spheres_may_show) {
             (Plan::CulledPackets { .. }, true) => {
                 Some(packet::closest_in(self.prepared, d, d_max, out))
@@ -205,20 +197,6 @@ impl TileQueries<'_> {
             }
         }
         hits
-    }
-
-    /// Lanes `live` of `out` answered by the per-ray queries, the others [`NO_HIT`] (an eye
-    /// too far for the packets: [`FrameQueries`](super::FrameQueries)'s plan).
-    #[inline(never)]
-    fn per_ray_lanes<const N: usize>(&mut self, d: &[[f32; N]; 3], live: u32, out: &mut [u32]) {
-        let eye = self.frame.eye;
-        for (l, out) in out.iter_mut().enumerate().take(N) {
-            *out = match live & (1 << l) {
-                0 => NO_HIT,
-                _ => (self.closest(&Ray::new(eye, [d[0][l], d[1][l], d[2][l]])))
-                    .map_or(NO_HIT, |h| h.prim),
-            };
-        }
     }
 
     /// Lanes `ambiguous` of `out` decided exactly; lanes `unused` set to [`NO_HIT`].
