@@ -423,8 +423,10 @@ impl App {
         if let Some(p) = actions.load {
             viewer.load(PathBuf::from(p));
         }
-        if let Some(message) = actions.unread {
-            viewer.warn(message);
+        match actions.typed {
+            Some(panel::Said::Slip(message)) => viewer.warn(message),
+            Some(panel::Said::Taken(message)) => viewer.field_taken(message),
+            None => {}
         }
         if let Some(frame) = actions.obj_frame {
             viewer.set_obj_frame(frame);

@@ -1,6 +1,7 @@
 //! The egui side panel, the image area beside it, and the shortcuts overlay.
 
-use super::fields::Unread;
+pub use super::fields::Said;
+use super::fields::Typing;
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
@@ -60,14 +61,14 @@ pub struct PanelActions {
     pub bar_room: f32,
     /// The panel's width (points).
     pub width: f32,
-    /// What a number field could not read of the text typed into it ([`Unread`]).
-    pub unread: Option<String>,
+    /// What the status line says of a number field whose edit ended ([`Typing`]).
+    pub typed: Option<Said>,
 }
 
 impl PanelActions {
-    /// Keeps what a field said of text it could not read.
-    fn note(&mut self, said: Option<String>) {
-        self.unread = said.or(self.unread.take());
+    /// Keeps what a field said as its edit ended.
+    fn note(&mut self, said: Option<Said>) {
+        self.typed = said.or(self.typed.take());
     }
 }
 
@@ -81,7 +82,7 @@ pub fn side_panel(
     inspector: (&mut bool, Option<&Inspection>),
 ) -> PanelActions {
     let mut actions = PanelActions::default();
-    let unread = Unread::default();
+    let typing = Typing::default();
     // A scroll bar that is there whenever the panel is taller than the window (egui's
     // default floats and shows only under the pointer), whose room comes whole the frame it
     // comes: egui's solid bar takes its room in a few frames as it fades in, so the panel
@@ -105,7 +106,7 @@ pub fn side_panel(
 
         for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {
             ui.separator();
-            let said = control_widget(ui, control, &mut view.controls, None, &unread);
+            let said = control_widget(ui, control, &mut view.controls, None, &typing);
             actions.note(said);
         }
 
@@ -113,6 +114,7 @@ pub fn side_panel(
         ui.strong("Camera");
         let (mut focal, width) = (info.focal.0, info.focal.1.max(1));
         let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
+        let slider_range = range.clone();
         let fov = raylab::camera::fov_of_focal(focal, info.full_size.0.max(1) as f64);
         // The slider takes the row's room (a thousandfold range in egui's 100 points moved
         // 7% a point); its box drags by 0.1% a point, for the fine steps.
@@ -122,7 +124,7 @@ pub fn side_panel(
             .text("focal (px)")
             .custom_formatter(|v, _| format!("{v:.1}"))
             .drag_value_speed(fine);
-        let slider = unread.slider(slider);
+        let slider = typing.slider(slider, slider_range);
         let beside = egui::WidgetText::from("00000.0 focal (px)");
         let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
         let spacing = ui.spacing().clone();
@@ -132,7 +134,7 @@ pub fn side_panel(
         ui.spacing_mut().slider_width = room.max(spacing.slider_width);
         let response =
             (ui.add(slider)).on_hover_text("drag the number for fine steps; click it to type one");
-        actions.note(unread.said(ui, &response, "focal length"));
+        actions.note(typing.said(ui, &response, "focal length", focal));
         let changed = response.changed();
         ui.spacing_mut().slider_width = spacing.slider_width;
         if changed {
@@ -150,8 +152,8 @@ pub fn side_panel(
                 .into_iter()
                 .zip(["camera x", "camera y", "camera z"])
             {
-                let response = ui.add(coordinate(c, 0.01 * camera.scene_size, &unread));
-                actions.note(unread.said(ui, &response, name));
+                let response = ui.add(coordinate(&mut *c, 0.01 * camera.scene_size, &typing));
+                actions.note(typing.said(ui, &response, name, *c));
             }
         });
         if let Some(from) = super::values::rays_leave_from(camera.position.to_array()) {
@@ -166,17 +168,16 @@ pub fn side_panel(
             let mut pitch = camera.pitch.to_degrees();
             ui.label("yaw");
             let field = egui::DragValue::new(&mut yaw).speed(0.5).suffix("°");
-            let response = ui.add(unread.drag(field.max_decimals(1)));
-            actions.note(unread.said(ui, &response, "yaw"));
+            let everywhere = f64::NEG_INFINITY..=f64::INFINITY;
+            let response = ui.add(typing.drag(field.max_decimals(1), everywhere));
+            actions.note(typing.said(ui, &response, "yaw", yaw));
             if response.changed() {
                 camera.yaw = yaw.to_radians();
             }
             ui.label("pitch");
-            let field = egui::DragValue::new(&mut pitch)
-                .speed(0.5)
-                .range(-89.0..=89.0);
-            let response = ui.add(unread.drag(field.suffix("°").max_decimals(1)));
-            actions.note(unread.said(ui, &response, "pitch"));
+            let field = egui::DragValue::new(&mut pitch).speed(0.5).suffix("°");
+            let response = ui.add(typing.drag(field.max_decimals(1), -89.0..=89.0));
+            actions.note(typing.said(ui, &response, "pitch", pitch));
             if response.changed() {
                 camera.pitch = pitch.to_radians();
             }
@@ -191,13 +192,13 @@ pub fn side_panel(
                 camera.toggle_mode();
             }
             let field = egui::DragValue::new(&mut camera.speed)
-                .range(CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1)
                 .speed(0.02)
                 .prefix("speed ×")
                 .max_decimals(2);
-            let response = (ui.add(unread.drag(field)))
+            let range = CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1;
+            let response = (ui.add(typing.drag(field, range)))
                 .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
-            actions.note(unread.said(ui, &response, "speed"));
+            actions.note(typing.said(ui, &response, "speed", camera.speed));
         });
         ui.horizontal(|ui| {
             if ui.button("Reset camera (R)").clicked() {
@@ -264,23 +265,20 @@ pub fn side_panel(
                 }
             });
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
-            let response = ui.add(unread.slider(egui::Slider::new(s, 0.1..=1.0).text("scale")));
-            actions.note(unread.said(ui, &response, "scale"));
+            let slider = egui::Slider::new(&mut *s, 0.1..=1.0).text("scale");
+            let response = ui.add(typing.slider(slider, 0.1..=1.0));
+            actions.note(typing.said(ui, &response, "scale", f64::from(*s)));
         }
         ui.collapsing("preview while moving", |ui| {
             ui.checkbox(&mut view.adaptive, "adaptive (holds a frame time)");
-            let (slider, name) = match view.adaptive {
-                true => (
-                    egui::Slider::new(&mut view.target_ms, 4.0..=100.0),
-                    "target ms",
-                ),
-                false => (
-                    egui::Slider::new(&mut view.preview_scale, 0.1..=1.0),
-                    "preview scale",
-                ),
+            let (value, range, name) = match view.adaptive {
+                true => (&mut view.target_ms, 4.0..=100.0, "target ms"),
+                false => (&mut view.preview_scale, 0.1..=1.0, "preview scale"),
             };
-            let response = ui.add(unread.slider(slider.text(name)));
-            actions.note(unread.said(ui, &response, name));
+            let slider = egui::Slider::new(&mut *value, range.clone()).text(name);
+            let range = f64::from(*range.start())..=f64::from(*range.end());
+            let response = ui.add(typing.slider(slider, range));
+            actions.note(typing.said(ui, &response, name, f64::from(*value)));
         });
 
         ui.separator();
@@ -290,7 +288,7 @@ pub fn side_panel(
                 .then_some(info.code_name)
                 .flatten()
                 .map(|name| (name, &mut view.yours));
-            let said = control_widget(ui, control, &mut view.controls, code, &unread);
+            let said = control_widget(ui, control, &mut view.controls, code, &typing);
             actions.note(said);
             let (asked, n) = (view.controls.spp, info.samples_shown);
             if control.name == "spp" && n < asked {
@@ -311,8 +309,8 @@ pub fn side_panel(
         ui.horizontal(|ui| {
             ui.strong("Light");
             for (c, name) in view.light.iter_mut().zip(["light x", "light y", "light z"]) {
-                let response = ui.add(coordinate(c, 0.01 * camera.scene_size, &unread));
-                actions.note(unread.said(ui, &response, name));
+                let response = ui.add(coordinate(&mut *c, 0.01 * camera.scene_size, &typing));
+                actions.note(typing.said(ui, &response, name, f64::from(*c)));
             }
         });
 
@@ -367,14 +365,11 @@ pub fn side_panel(
 fn coordinate<'a, N: egui::emath::Numeric>(
     value: &'a mut N,
     speed: f64,
-    unread: &'a Unread,
+    typing: &'a Typing,
 ) -> egui::DragValue<'a> {
     let max = raylab::math::MAX_VIEW_COORDINATE;
-    let field = egui::DragValue::new(value)
-        .speed(speed)
-        .max_decimals(3)
-        .range(N::from_f64(-max)..=N::from_f64(max));
-    unread.drag(field)
+    let field = egui::DragValue::new(value).speed(speed).max_decimals(3);
+    typing.drag(field, -max..=max)
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
@@ -698,8 +693,8 @@ fn control_widget(
     control: &Control,
     settings: &mut RenderSettings,
     code: Option<(&str, &mut bool)>,
-    unread: &Unread,
-) -> Option<String> {
+    typing: &Typing,
+) -> Option<Said> {
     match control.kind {
         Kind::Choice { options, get, set } => {
             let (options, mut chosen) = (options(), get(settings));
@@ -759,11 +754,14 @@ fn control_widget(
         Kind::Count { min, max, get, set } => {
             let mut n = get(settings);
             let slider = egui::Slider::new(&mut n, min..=max).text(control.label);
-            let response = ui.add(unread.slider(slider)).on_hover_text(control.help);
+            let range = f64::from(min)..=f64::from(max);
+            let response = ui
+                .add(typing.slider(slider, range))
+                .on_hover_text(control.help);
             if response.changed() {
                 set(settings, n);
             }
-            return unread.said(ui, &response, control.label);
+            return typing.said(ui, &response, control.label, f64::from(n));
         }
     }
     None

@@ -112,6 +112,8 @@ pub struct Viewer {
     /// Whether the status tells of the inspected pixel (an inspection, a crack stepped to):
     /// it then follows the pixel as the inspector does.
     pub status_follows_pixel: bool,
+    /// Whether the status is a number field's slip ([`Viewer::warn`]).
+    status_from_field: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
     /// Whether it showed the frame's figures whole beside it.
@@ -220,6 +222,7 @@ impl Viewer {
             failed_generation: None,
             show_help: false,
             panel_hidden: false,
+            status_from_field: false,
             status: String::new(),
             status_is_error: false,
             status_follows_pixel: false,
@@ -296,6 +299,7 @@ impl Viewer {
     pub fn set_status(&mut self, message: impl Into<String>) {
         self.status = message.into();
         (self.status_is_error, self.status_follows_pixel) = (false, false);
+        self.status_from_field = false;
         log::info!("{}", self.status);
     }
 
@@ -305,13 +309,22 @@ impl Viewer {
         self.set_status(format!("ray inspector {state}"));
     }
 
-    /// A slip the status line names in red, once (a field's text that is not a number: the
-    /// eye is on the field, no banner over the image).
+    /// A number field's slip (text that is not a number, a number past its range) in red
+    /// in the status line, once: the eye is on the field, no banner over the image.
     pub fn warn(&mut self, message: String) {
         if !(self.status_is_error && self.status == message) {
             self.status = message;
             (self.status_is_error, self.status_follows_pixel) = (true, false);
+            self.status_from_field = true;
             log::warn!("{}", self.status);
+        }
+    }
+
+    /// A number field took what was typed: where the status line shows a field's slip, which
+    /// would still claim a field kept its value, it says what was set instead.
+    pub fn field_taken(&mut self, message: String) {
+        if self.status_from_field {
+            self.set_status(message);
         }
     }
 
@@ -319,6 +332,7 @@ impl Viewer {
     pub fn report_error(&mut self, message: impl Into<String>) {
         self.status = message.into();
         (self.status_is_error, self.status_follows_pixel) = (true, false);
+        self.status_from_field = false;
         self.banner = Some(self.status.clone());
         log::warn!("{}", self.status);
     }
