@@ -650,7 +650,16 @@ pub fn layout(
             } else {
                 egui::vec2(area.width(), area.width() / aspect)
             };
-            let rect = egui::Rect::from_center_size(area.center(), size);
+            // On whole physical pixels, a texel a pixel where the render fills the area: from
+            // the panel's edge, at a fraction of a point, the texture was resampled, every
+            // edge blurred against the headless render of the same view.
+            let texels = egui::vec2(bw as f32, bh as f32) / ppp;
+            let size = match ((size - texels) * ppp).abs().max_elem() < 1.0 {
+                true => texels,
+                false => size,
+            };
+            let min = ((area.center() - size / 2.0) * ppp).round() / ppp;
+            let rect = egui::Rect::from_min_size(min, size);
             ui.painter().image(
                 texture,
                 rect,

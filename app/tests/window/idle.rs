@@ -227,3 +227,52 @@ fn real_x_input_f5_and_copy_as_command_ignore_the_inspectors_crop() {
         "the command copied while inspecting"
     );
 }
+
+#[test]
+fn real_x_input_the_window_shows_the_headless_render_pixel_for_pixel() {
+    // The inspector off (I), the view refined, the screen copied, then F5: the view rendered
+    // headless is on the screen pixel for pixel beside the side panel, whose edge lies at a
+    // fraction of a point (358.2): the image drawn from there was resampled, 2,768 of its
+    // pixels off by up to 7% on the edges.
+    let dir = tempfile::tempdir().unwrap();
+    let driver = "xdotool windowfocus --sync $win; xdotool key i; logged 'ray inspector off'; \
+                  sleep 2; cp \"$screen\" screen.xwd";
+    let Some((view, log)) = run_idle_window(dir.path(), driver, one_window()) else {
+        return;
+    };
+    std::fs::write(dir.path().join("saved.view"), &view).unwrap();
+    let out = std::process::Command::new(RAYLAB)
+        .args(["render", "--view", "saved.view", "-o", "headless.png"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (w, h, rgba) = common::read_png(&dir.path().join("headless.png"));
+    let (sw, sh, screen) = read_xwd(&dir.path().join("screen.xwd"));
+    let panel: f64 = (log.lines().rev())
+        .find_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
+        .and_then(|w| w.parse().ok())
+        .unwrap_or_else(|| panic!("{log}"));
+    let (w, h) = (w as usize, h as usize);
+    // The offset where the most pixels agree, near the panel's edge and the window's top.
+    let same_at = |x0: usize, y0: usize| {
+        (0..h * w)
+            .filter(|&k| {
+                let (x, y) = (x0 + k % w, y0 + k / w);
+                x < sw && y < sh && screen[y * sw + x] == rgba[4 * k..4 * k + 3]
+            })
+            .count()
+    };
+    let x = panel.floor() as usize;
+    let best = (x - 1..=x + 2)
+        .flat_map(|x0| (0..3).map(move |y0| (x0, y0)))
+        .map(|(x0, y0)| (same_at(x0, y0), x0, y0))
+        .max()
+        .unwrap();
+    println!("{w}x{h} headless, panel {panel} points: {best:?} pixels the same");
+    assert_eq!(best.0, w * h, "{best:?} of {} pixels\n{log}", w * h);
+}
