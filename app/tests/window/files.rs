@@ -672,3 +672,40 @@ fn real_x_input_obj_axes_read_the_lab_box_as_it_is() {
     let all = (run.shot.0 * run.shot.1) as usize;
     assert!(green * 40 > all, "{green} green pixels of {all}\n{log}");
 }
+
+#[test]
+fn a_field_of_view_past_the_windows_range_is_said_on_load() {
+    // A view asking 175° (the window shows 168.6° at most) and a scene asking 0.5° (1.1° at
+    // least): each loads at the window's end of the range and the status says so, where it
+    // said only "loaded" and F5 then wrote another view than the one loaded.
+    let dir = tempfile::tempdir().unwrap();
+    let view = small_scene_and_its_view(dir.path());
+    let text = std::fs::read_to_string(&view)
+        .unwrap()
+        .replace("fov 53", "fov 175");
+    std::fs::write(&view, text).unwrap();
+    let narrow = dir.path().join("narrow.scene");
+    std::fs::write(&narrow, "cornell\ncamera 0 0 -3 yaw 0 pitch 0 fov 0.5\n").unwrap();
+    let script = format!(
+        "0 drop {}\n1500 drop {}\n",
+        view.display(),
+        narrow.display()
+    );
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains(
+            "v.view; its field of view 175.0° shown at 168.6°, the window's widest (F5 and copy \
+             as command write that)"
+        ),
+        "{log}"
+    );
+    assert!(
+        log.contains(
+            "(30 primitives); its field of view 0.5° shown at 1.1°, the window's narrowest"
+        ),
+        "{log}"
+    );
+}

@@ -124,6 +124,7 @@ impl Viewer {
         self.obj_frame = view.obj_frame;
         let shown = fit_shown((s.width, s.height), self.max_side);
         let mut message = format!("loaded view {}", path.display());
+        message += &fov_note(&view.camera, &self.controller);
         if shown != (s.width, s.height) {
             message += &format!(
                 ": its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
@@ -286,9 +287,11 @@ impl Viewer {
             .selected_level
             .filter(|l| reload && *l < scene.levels.len());
         let (w, h) = self.full_size();
+        let mut note = String::new();
         match (&request.kind, scene.camera, scene.bounds()) {
             (LoadKind::Open, Some(c), _) => {
-                self.controller = CameraController::from_scene_camera(&c, scene.size())
+                self.controller = CameraController::from_scene_camera(&c, scene.size());
+                note = fov_note(&c, &self.controller);
             }
             (LoadKind::Open, None, Some(bounds)) => {
                 self.controller = CameraController::framing(bounds, w, h)
@@ -298,7 +301,7 @@ impl Viewer {
         self.view.light = scene.light.position;
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
-            "{verb} {} ({})",
+            "{verb} {} ({}){note}",
             path.display(),
             raylab::words::primitives(scene.len())
         ));
@@ -310,4 +313,22 @@ impl Viewer {
         self.changed();
         Some(name)
     }
+}
+
+/// What the status adds where the window shows `camera` at another field of view than its
+/// own: the window keeps the focal length within [`FOCAL_RATIO_RANGE`](raylab::controller::FOCAL_RATIO_RANGE) of the image width
+/// (168.6° to 1.1°), where `raylab render` takes any from 0.001 pixels.
+fn fov_note(camera: &raylab::scene::SceneCamera, controller: &CameraController) -> String {
+    let (asked, shown) = (camera.focal_ratio(), controller.focal_ratio);
+    if shown == asked {
+        return String::new();
+    }
+    let fov = |ratio: f64| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees();
+    let end = if shown > asked { "widest" } else { "narrowest" };
+    format!(
+        "; its field of view {:.1}° shown at {:.1}°, the window's {end} (F5 and copy as \
+         command write that)",
+        fov(asked),
+        fov(shown)
+    )
 }
