@@ -171,8 +171,9 @@ fn spheres_seen_from_far_away_are_answered_as_the_reference_does() {
 
 /// A 5,120-triangle ball in the Cornell box seen from 10⁶ units away, the view filled with the
 /// box: the packets' triangles, prepared for that eye in f32, are rounded by some 0.06 units,
-/// more than the ball's sides (~0.03), so the frame's camera rays go one at a time (the
-/// per-ray walk moves each up to the box in f64 first); from 10 units they go in packets.
+/// more than the ball's sides (~0.03), so a frame without shadows traces its camera rays one
+/// at a time (the per-ray walk moves each up to the box in f64 first); from 10 units, or with
+/// shadows, they go in packets.
 /// Every pixel and count is the per-ray path's (the cracks view, which marks nothing with the
 /// adaptive method), with shadows and with supersampling.
 #[test]
@@ -182,18 +183,23 @@ fn a_mesh_seen_from_far_away_renders_as_the_per_ray_path() {
     let ball = crate::common::icosphere(4, 0.3, [0.2, 0.4, 0.2]);
     assert_eq!(ball.len(), 5120);
     let stage = crate::common::cornell_with_blue(ball, AccelChoice::Auto);
-    let setup = |z: f32| FrameSetup {
+    let setup = |z: f32, shadows: bool| FrameSetup {
         eye: [0.0, 0.0, z],
         light: [0.0, -0.5, -0.7],
         projection: None,
         method: Method::Adaptive,
         camera_rays: 64 * 48,
-        shadows: true,
+        shadows,
         per_ray: false,
     };
     let accel = stage.accel();
-    assert!(!accel.for_frame(&setup(-1e6)).packets(), "from 10⁶");
-    assert!(accel.for_frame(&setup(-10.0)).packets(), "from 10");
+    assert!(!accel.for_frame(&setup(-1e6, false)).packets(), "from 10⁶");
+    assert!(accel.for_frame(&setup(-10.0, false)).packets(), "from 10");
+    // (With shadows the camera rays stay in packets: their segments would go per ray too.)
+    assert!(
+        accel.for_frame(&setup(-1e6, true)).packets(),
+        "from 10⁶, shadows"
+    );
     for (z, focal) in [(-1e6, 64.0 * 1e6 / 2.2), (-10.0, 64.0 * 10.0 / 2.2)] {
         let pos = glam::DVec3::new(0.0, 0.0, z);
         let cam = raylab::Camera::from_yaw_pitch(pos, 0.0, 0.0, focal).unwrap();
