@@ -424,7 +424,7 @@ impl App {
             viewer.load(PathBuf::from(p));
         }
         match actions.typed {
-            Some(panel::Said::Slip(message)) => viewer.warn(message),
+            Some(panel::Said::Slip(message)) => viewer.field_slip(message),
             Some(panel::Said::Taken(message)) => viewer.field_taken(message),
             None => {}
         }

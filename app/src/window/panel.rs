@@ -1,4 +1,4 @@
-//! The egui side panel, the image area beside it, and the shortcuts overlay.
+//! The egui side panel and the image area beside it (the shortcuts overlay: shortcuts.rs).
 
 pub use super::fields::Said;
 use super::fields::Typing;
@@ -114,17 +114,15 @@ pub fn side_panel(
         ui.strong("Camera");
         let (mut focal, width) = (info.focal.0, info.focal.1.max(1));
         let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
-        let slider_range = range.clone();
         let fov = raylab::camera::fov_of_focal(focal, info.full_size.0.max(1) as f64);
         // The slider takes the row's room (a thousandfold range in egui's 100 points moved
         // 7% a point); its box drags by 0.1% a point, for the fine steps.
         let fine = 0.001 * focal;
-        let slider = egui::Slider::new(&mut focal, range)
+        let slider = (typing.slider(&mut focal, range))
             .logarithmic(true)
             .text("focal (px)")
             .custom_formatter(|v, _| format!("{v:.1}"))
             .drag_value_speed(fine);
-        let slider = typing.slider(slider, slider_range);
         let beside = egui::WidgetText::from("00000.0 focal (px)");
         let beside = beside.into_galley(ui, None, f32::INFINITY, egui::TextStyle::Body);
         let spacing = ui.spacing().clone();
@@ -134,7 +132,7 @@ pub fn side_panel(
         ui.spacing_mut().slider_width = room.max(spacing.slider_width);
         let response =
             (ui.add(slider)).on_hover_text("drag the number for fine steps; click it to type one");
-        actions.note(typing.said(ui, &response, "focal length", focal));
+        actions.note(typing.said_as_edit_ends(ui, &response, "focal length", focal));
         let changed = response.changed();
         ui.spacing_mut().slider_width = spacing.slider_width;
         if changed {
@@ -153,7 +151,7 @@ pub fn side_panel(
                 .zip(["camera x", "camera y", "camera z"])
             {
                 let response = ui.add(coordinate(&mut *c, 0.01 * camera.scene_size, &typing));
-                actions.note(typing.said(ui, &response, name, *c));
+                actions.note(typing.said_as_edit_ends(ui, &response, name, *c));
             }
         });
         if let Some(from) = super::values::rays_leave_from(camera.position.to_array()) {
@@ -170,14 +168,14 @@ pub fn side_panel(
             let field = egui::DragValue::new(&mut yaw).speed(0.5).suffix("°");
             let everywhere = f64::NEG_INFINITY..=f64::INFINITY;
             let response = ui.add(typing.drag(field.max_decimals(1), everywhere));
-            actions.note(typing.said(ui, &response, "yaw", yaw));
+            actions.note(typing.said_as_edit_ends(ui, &response, "yaw", yaw));
             if response.changed() {
                 camera.yaw = yaw.to_radians();
             }
             ui.label("pitch");
             let field = egui::DragValue::new(&mut pitch).speed(0.5).suffix("°");
             let response = ui.add(typing.drag(field.max_decimals(1), -89.0..=89.0));
-            actions.note(typing.said(ui, &response, "pitch", pitch));
+            actions.note(typing.said_as_edit_ends(ui, &response, "pitch", pitch));
             if response.changed() {
                 camera.pitch = pitch.to_radians();
             }
@@ -198,7 +196,7 @@ pub fn side_panel(
             let range = CameraController::SPEED_RANGE.0..=CameraController::SPEED_RANGE.1;
             let response = (ui.add(typing.drag(field, range)))
                 .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
-            actions.note(typing.said(ui, &response, "speed", camera.speed));
+            actions.note(typing.said_as_edit_ends(ui, &response, "speed", camera.speed));
         });
         ui.horizontal(|ui| {
             if ui.button("Reset camera (R)").clicked() {
@@ -265,9 +263,8 @@ pub fn side_panel(
                 }
             });
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
-            let slider = egui::Slider::new(&mut *s, 0.1..=1.0).text("scale");
-            let response = ui.add(typing.slider(slider, 0.1..=1.0));
-            actions.note(typing.said(ui, &response, "scale", f64::from(*s)));
+            let response = ui.add(typing.slider(&mut *s, 0.1..=1.0).text("scale"));
+            actions.note(typing.said_as_edit_ends(ui, &response, "scale", *s));
         }
         ui.collapsing("preview while moving", |ui| {
             ui.checkbox(&mut view.adaptive, "adaptive (holds a frame time)");
@@ -275,10 +272,8 @@ pub fn side_panel(
                 true => (&mut view.target_ms, 4.0..=100.0, "target ms"),
                 false => (&mut view.preview_scale, 0.1..=1.0, "preview scale"),
             };
-            let slider = egui::Slider::new(&mut *value, range.clone()).text(name);
-            let range = f64::from(*range.start())..=f64::from(*range.end());
-            let response = ui.add(typing.slider(slider, range));
-            actions.note(typing.said(ui, &response, name, f64::from(*value)));
+            let response = ui.add(typing.slider(&mut *value, range).text(name));
+            actions.note(typing.said_as_edit_ends(ui, &response, name, *value));
         });
 
         ui.separator();
@@ -310,7 +305,7 @@ pub fn side_panel(
             ui.strong("Light");
             for (c, name) in view.light.iter_mut().zip(["light x", "light y", "light z"]) {
                 let response = ui.add(coordinate(&mut *c, 0.01 * camera.scene_size, &typing));
-                actions.note(typing.said(ui, &response, name, f64::from(*c)));
+                actions.note(typing.said_as_edit_ends(ui, &response, name, *c));
             }
         });
 
@@ -362,14 +357,14 @@ pub fn side_panel(
 /// A field for a camera or light coordinate, kept within the range raylab renders from
 /// (±[`raylab::math::MAX_VIEW_COORDINATE`], what `raylab render` accepts), a typed `nan` or
 /// `inf` not taken: copy as command and Save view write what the window shows.
-fn coordinate<'a, N: egui::emath::Numeric>(
+fn coordinate<'a, N: egui::emath::Numeric + std::fmt::Display>(
     value: &'a mut N,
     speed: f64,
     typing: &'a Typing,
 ) -> egui::DragValue<'a> {
     let max = raylab::math::MAX_VIEW_COORDINATE;
     let field = egui::DragValue::new(value).speed(speed).max_decimals(3);
-    typing.drag(field, -max..=max)
+    typing.drag(field, N::from_f64(-max)..=N::from_f64(max))
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
@@ -396,7 +391,7 @@ pub const INSPECTOR_WIDTH: f32 = 330.0;
 /// the side panel is twice that: else half of it.
 pub const MIN_IMAGE_WIDTH: f32 = 200.0;
 
-/// The width (points) left beside the side panel under which its top says that P hides it
+/// The image's width (points) under which the side panel's top says that P hides the panel
 /// (the status line, under the image, is then too narrow to read).
 const NARROW_IMAGE: f32 = 100.0;
 
@@ -552,7 +547,7 @@ pub fn layout(
     // widen it to what they take.)
     let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
     let panel = (!*panel_hidden).then(|| egui::Panel::left(controls));
-    let beside_before = layout.beside_width as f32 / ppp;
+    let image_width_before = layout.beside_width as f32 / ppp;
     let drawn = panel.map(|panel| {
         panel
             .resizable(true)
@@ -569,9 +564,9 @@ pub fn layout(
                         *show_help = !*show_help;
                     }
                 });
-                if beside_before < NARROW_IMAGE {
+                if image_width_before < NARROW_IMAGE {
                     let note = format!(
-                        "the image has {beside_before:.0} points beside this panel: P hides the panel"
+                        "the image has {image_width_before:.0} points beside this panel: P hides the panel"
                     );
                     ui.label(egui::RichText::new(note).color(egui::Color32::YELLOW));
                 }
@@ -762,15 +757,12 @@ fn control_widget(
         }
         Kind::Count { min, max, get, set } => {
             let mut n = get(settings);
-            let slider = egui::Slider::new(&mut n, min..=max).text(control.label);
-            let range = f64::from(min)..=f64::from(max);
-            let response = ui
-                .add(typing.slider(slider, range))
-                .on_hover_text(control.help);
+            let slider = typing.slider(&mut n, min..=max).text(control.label);
+            let response = ui.add(slider).on_hover_text(control.help);
             if response.changed() {
                 set(settings, n);
             }
-            return typing.said(ui, &response, control.label, f64::from(n));
+            return typing.said_as_edit_ends(ui, &response, control.label, n);
         }
     }
     None

@@ -32,14 +32,6 @@ pub fn rays_leave_from(position: [f64; 3]) -> Option<[f32; 3]> {
     shown_apart.then_some(from)
 }
 
-/// A number typed into a field, as egui reads one (spaces dropped, U+2212 a minus), where it
-/// is finite: egui's own parser takes `nan` and `inf`, which a clamped field turned into its
-/// lower or upper end.
-pub fn finite_number(text: &str) -> Option<f64> {
-    let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    (text.replace('−', "-").parse::<f64>().ok()).filter(|v| v.is_finite())
-}
-
 /// The shortest decimal form of `x`, of 1 to `most` significant digits, that `keeps`.
 fn shortest(x: f64, most: usize, keeps: impl Fn(f64) -> bool) -> Option<f64> {
     (1..=most)

@@ -124,7 +124,6 @@ impl Viewer {
         self.obj_frame = view.obj_frame;
         let shown = fit_shown((s.width, s.height), self.max_side);
         let mut message = format!("loaded view {}", path.display());
-        message += &fov_note(&view.camera, &self.controller);
         if shown != (s.width, s.height) {
             message += &format!(
                 ": its {}x{} shown at {}x{} (F5 and copy as command keep {}x{})",
@@ -135,6 +134,7 @@ impl Viewer {
         if n != s.spp {
             message += &format!(", its {0}x{0} samples at {n}x{n}", s.spp);
         }
+        message += &fov_note(&view.camera, &self.controller);
         self.set_status(message);
         self.changed();
     }
@@ -316,8 +316,9 @@ impl Viewer {
 }
 
 /// What the status adds where the window shows `camera` at another field of view than its
-/// own: the window keeps the focal length within [`FOCAL_RATIO_RANGE`](raylab::controller::FOCAL_RATIO_RANGE) of the image width
-/// (168.6° to 1.1°), where `raylab render` takes any from 0.001 pixels.
+/// own: the window keeps the focal length within
+/// [`FOCAL_RATIO_RANGE`](raylab::controller::FOCAL_RATIO_RANGE) of the image width (168.6° to
+/// 1.1°), where `raylab render` takes any from 0.001 pixels.
 fn fov_note(camera: &raylab::scene::SceneCamera, controller: &CameraController) -> String {
     let (asked, shown) = (camera.focal_ratio(), controller.focal_ratio);
     if shown == asked {

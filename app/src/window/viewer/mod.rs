@@ -112,7 +112,7 @@ pub struct Viewer {
     /// Whether the status tells of the inspected pixel (an inspection, a crack stepped to):
     /// it then follows the pixel as the inspector does.
     pub status_follows_pixel: bool,
-    /// Whether the status is a number field's slip ([`Viewer::warn`]).
+    /// Whether the status is a number field's slip ([`Viewer::field_slip`]).
     status_from_field: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
@@ -311,7 +311,7 @@ impl Viewer {
 
     /// A number field's slip (text that is not a number, a number past its range) in red
     /// in the status line, once: the eye is on the field, no banner over the image.
-    pub fn warn(&mut self, message: String) {
+    pub fn field_slip(&mut self, message: String) {
         if !(self.status_is_error && self.status == message) {
             self.status = message;
             (self.status_is_error, self.status_follows_pixel) = (true, false);
@@ -661,7 +661,7 @@ impl Viewer {
     }
 
     /// C or the panel's button: the `raylab render` command of the current view goes to the
-    /// clipboard (in the next UI pass) and the panel shows it.
+    /// clipboard (in the next UI pass) and the status line shows it.
     pub fn copy_command(&mut self) {
         let view = self.view();
         let focal = self.view_size_and_focal().1;
