@@ -12,6 +12,14 @@ use common::window::{FIND_WINDOW, LOGGED};
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
+/// Shell functions for a driver: `idle` waits (a minute at most) until the app has used no
+/// CPU for 2 s (the last 9 of its CPU times, read every quarter second, the same): its view
+/// refined and nothing left to draw.
+const IDLE: &str = "cpu() { awk '{print $14 + $15}' /proc/$app/stat; }; \
+     idle() { set --; n=0; while [ $n -lt 240 ]; do set -- \"$@\" $(cpu); \
+     [ $# -gt 9 ] && shift; [ $# = 9 ] && [ $1 = $9 ] && return 0; \
+     sleep 0.25; n=$((n+1)); done; return 1; }";
+
 /// Runs the window as a user does (no script: it draws nothing while nothing changes) under
 /// Xvfb on the 1280x800 screen, drives it with `driver` (xdotool, the window in `$win`, the
 /// app in `$app`, its log in `$log`, [`LOGGED`]) once its first image is on screen, then
@@ -168,18 +176,15 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     // (the last 9 of its CPU times read every quarter second the same), then counts the
     // panel's widths logged over 2 s more.
     let dir = tempfile::tempdir().unwrap();
-    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
-                  sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
-                  xdotool mousemove --sync 135 516 click 1; sleep 0.3; xdotool key ctrl+a; \
-                  xdotool type 16; xdotool key Return; \
-                  cpu() { awk '{print $14 + $15}' /proc/$app/stat; }; \
-                  idle() { set --; n=0; while [ $n -lt 240 ]; do set -- \"$@\" $(cpu); \
-                  [ $# -gt 9 ] && shift; [ $# = 9 ] && [ $1 = $9 ] && return 0; \
-                  sleep 0.25; n=$((n+1)); done; return 1; }; \
-                  idle && echo idle > idle.txt; \
-                  grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
-                  grep -c 'points wide' app.log > widths-after.txt";
-    let Some((view, log)) = run_idle_window(dir.path(), driver, one_window()) else {
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
+         sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
+         xdotool mousemove --sync 135 516 click 1; sleep 0.3; xdotool key ctrl+a; \
+         xdotool type 16; xdotool key Return; {IDLE}; idle && echo idle > idle.txt; \
+         grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
+         grep -c 'points wide' app.log > widths-after.txt"
+    );
+    let Some((view, log)) = run_idle_window(dir.path(), &driver, one_window()) else {
         return;
     };
     let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap_or_default();
@@ -235,9 +240,11 @@ fn real_x_input_the_window_shows_the_headless_render_pixel_for_pixel() {
     // fraction of a point (358.2): the image drawn from there was resampled, 2,768 of its
     // pixels off by up to 7% on the edges.
     let dir = tempfile::tempdir().unwrap();
-    let driver = "xdotool windowfocus --sync $win; xdotool key i; logged 'ray inspector off'; \
-                  sleep 2; cp \"$screen\" screen.xwd";
-    let Some((view, log)) = run_idle_window(dir.path(), driver, one_window()) else {
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool key i; logged 'ray inspector off'; {IDLE}; \
+         idle; cp \"$screen\" screen.xwd"
+    );
+    let Some((view, log)) = run_idle_window(dir.path(), &driver, one_window()) else {
         return;
     };
     std::fs::write(dir.path().join("saved.view"), &view).unwrap();

@@ -258,8 +258,9 @@ fn real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width() {
 #[test]
 fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
     // A 320x240 window (the least it asks the window system for): the side panel (300
-    // points) left the image 20 points and no way to see more. Its top says so and that P
-    // hides it; P gives the image the whole window, and P again brings the panel back.
+    // points) left the image 20 points and no way to see more. P gives the image the whole
+    // window, and P again brings the panel back. (The panel's top says that P hides it: seen
+    // on screen, not checked here.)
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool windowsize --sync $win 320 240; \
@@ -281,8 +282,15 @@ fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
         .filter_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
         .map(|w| w.parse().unwrap())
         .collect();
-    // Its width at the start, in the small window, hidden, back, hidden again.
-    assert_eq!(widths.len(), 5, "{widths:?}\n{log}");
-    assert!(widths[3] >= 300.0 && widths[2] == 0.0, "{widths:?}");
+    // Hidden, back (at least its 300 points), hidden again: the last widths logged (before
+    // them, its widths at the start and in the small window).
+    let hidden: Vec<usize> = (0..widths.len()).filter(|&k| widths[k] == 0.0).collect();
+    assert!(hidden.len() == 2, "{widths:?}\n{log}");
+    assert_eq!(hidden[1], widths.len() - 1, "{widths:?}");
+    let back = &widths[hidden[0] + 1..hidden[1]];
+    assert!(
+        !back.is_empty() && back.iter().all(|&w| w >= 300.0),
+        "{widths:?}"
+    );
     assert!(log.contains("side panel hidden: P shows it"), "{log}");
 }
