@@ -23,6 +23,27 @@ pub fn cornell_with_blue(
     raylab::render::Stage::new(scene, choice)
 }
 
+/// Renders `settings` and, from the same camera, the cracks view, which traces every ray one
+/// at a time (and with the adaptive method marks nothing): the two must give the same pixels
+/// and the same counts of hits and shadow rays (`at` names the case). The image and its
+/// statistics.
+pub fn renders_as_per_ray(
+    stage: &raylab::render::Stage,
+    cam: &raylab::Camera,
+    settings: &raylab::render::RenderSettings,
+    at: &str,
+) -> (Vec<u8>, raylab::render::RenderStats) {
+    let per_ray = raylab::render::RenderSettings {
+        cracks: true,
+        ..*settings
+    };
+    let (a, sa) = raylab::render::render_image(stage, cam, settings).unwrap();
+    let (b, sb) = raylab::render::render_image(stage, cam, &per_ray).unwrap();
+    assert!(a == b, "{at}: images differ");
+    assert_eq!((sa.hits, sa.shadow_rays), (sb.hits, sb.shadow_rays), "{at}");
+    (a, sa)
+}
+
 /// Decodes an RGBA8 PNG: (width, height, pixels).
 pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
     let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
