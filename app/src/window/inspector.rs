@@ -51,8 +51,9 @@ pub fn panel(
         let screen = ui.ctx().content_rect();
         let margin = 8.0;
         // (Its title bar moves it: a drag on its rows scrolls them.)
+        // (Collapsible: in a window this small it may cover the whole image.)
         egui::Window::new("Ray inspector")
-            .collapsible(false)
+            .collapsible(true)
             .resizable(false)
             // (Below the menu bar, which it would hide.)
             .default_pos(screen.left_top() + egui::vec2(margin, 4.0 * margin))
