@@ -22,7 +22,10 @@ pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
 /// The least width (points) the inspector's rows stay readable in beside the image, its
 /// panel's own width at start: where the window leaves its panel less, it floats instead
 /// ([`Placement::Over`]). (Narrower, its rows' values are cut.)
-pub const READABLE_WIDTH: f32 = super::panel::INSPECTOR_WIDTH;
+pub const READABLE_WIDTH: f32 = WIDTH;
+
+/// Width of the ray inspector's panel at start, in points.
+pub const WIDTH: f32 = 330.0;
 
 /// Where the inspector's fields were drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

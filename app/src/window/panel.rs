@@ -384,9 +384,6 @@ fn solid_bar() -> egui::style::ScrollStyle {
 /// Width of the side panel at start, in points.
 pub const PANEL_WIDTH: f32 = 300.0;
 
-/// Width of the ray inspector's panel at start, in points.
-pub const INSPECTOR_WIDTH: f32 = 330.0;
-
 /// The least width (points) the ray inspector's panel leaves the image, where the room beside
 /// the side panel is twice that: else half of it.
 pub const MIN_IMAGE_WIDTH: f32 = 200.0;
@@ -598,7 +595,7 @@ pub fn layout(
         // narrow the image, a new frame, each time.)
         // (At most what leaves the image MIN_IMAGE_WIDTH, or half the room where that is less.)
         let most = beside - MIN_IMAGE_WIDTH.min(beside / 2.0);
-        let placement = super::inspector::panel(ui, INSPECTOR_WIDTH, most, |ui| {
+        let placement = super::inspector::panel(ui, super::inspector::WIDTH, most, |ui| {
             // (Both ways: a row wider than the panel scrolls rather than widening it.)
             // (A scroll state per pixel chosen: a new pixel's rows start at the top, where they
             // say what the crack is; the pixel followed through new views keeps its place.)
