@@ -7,7 +7,7 @@
 use super::account::{accounts, Account};
 use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
-use super::rubric::{points_text, Rubric};
+use super::rubric::{name_of, points_text, Rubric};
 use super::suite_dir::{suite_cases, Case};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
@@ -226,7 +226,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     let accounts = accounts(jobs, &limits, args.as_root)?;
     // (The programs run as accounts could read the submissions' originals there.)
     let class_open =
-        std::fs::canonicalize(&args.class).is_ok_and(|c| super::account::open_to_others(&c));
+        std::fs::canonicalize(&args.class).is_ok_and(|c| super::access::open_to_others(&c));
     if accounts.first().is_some_and(Option::is_some) && class_open {
         eprintln!(
             "warning: {}: other users may enter it, so a program can read the other \
@@ -386,21 +386,6 @@ fn run_all(
         .into_iter()
         .map(|s| s.expect("every submission graded"))
         .collect()
-}
-
-/// A submission's name: its directory's, a byte that is not UTF-8 written as `\xNN` (two
-/// folders `caf\xe9` and `caf\xe8` both showed as `caf�`).
-pub(super) fn name_of(dir: &Path) -> String {
-    use std::os::unix::ffi::OsStrExt;
-    let bytes = dir.file_name().map_or(&[][..], |n| n.as_bytes());
-    let mut name = String::with_capacity(bytes.len());
-    for chunk in bytes.utf8_chunks() {
-        name.push_str(chunk.valid());
-        for b in chunk.invalid() {
-            name.push_str(&format!("\\x{b:02x}"));
-        }
-    }
-    name
 }
 
 /// Runs one submission on every family, in a private copy of its directory (`work`) with a

@@ -22,6 +22,7 @@ macro_rules! say {
     }};
 }
 
+mod access;
 mod account;
 mod check;
 mod check_image;

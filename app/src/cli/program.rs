@@ -136,7 +136,7 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
         // setgroups(0) comes with it: none of root's groups stay.
         shell.uid(uid).gid(uid);
         let path = std::env::var_os("PATH").unwrap_or_default();
-        shell.env("PATH", super::account::searchable_path(&path));
+        shell.env("PATH", super::access::searchable_path(&path));
     }
     let own_home = limits.run_as.is_some() || limits.env.is_some();
     if let Some(dir) = limits.dir.as_ref().filter(|_| own_home) {

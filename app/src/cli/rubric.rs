@@ -1,6 +1,6 @@
-//! `raylab grade --rubric`: points per passed family, as a teacher writes them.
+//! `raylab grade --rubric`: points per passed family, as a teacher writes them; and a
+//! submission's name as the rubric and the table write it.
 
-use super::grade::name_of;
 use anyhow::{anyhow, bail, Result};
 use std::collections::HashMap;
 use std::path::Path;
@@ -100,4 +100,19 @@ fn family_is(name: &str, key: &str) -> bool {
 pub(super) fn points_text(points: f64) -> String {
     let text = format!("{points:.2}");
     text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// A submission's name: its directory's, a byte that is not UTF-8 written as `\xNN` (two
+/// folders `caf\xe9` and `caf\xe8` both showed as `caf�`).
+pub(super) fn name_of(dir: &Path) -> String {
+    use std::os::unix::ffi::OsStrExt;
+    let bytes = dir.file_name().map_or(&[][..], |n| n.as_bytes());
+    let mut name = String::with_capacity(bytes.len());
+    for chunk in bytes.utf8_chunks() {
+        name.push_str(chunk.valid());
+        for b in chunk.invalid() {
+            name.push_str(&format!("\\x{b:02x}"));
+        }
+    }
+    name
 }
