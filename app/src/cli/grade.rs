@@ -5,10 +5,10 @@
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
 use super::account::{accounts, Account};
+use super::cases::{suite_cases, Case};
 use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
 use super::rubric::{name_of, points_text, Rubric};
-use super::suite_dir::{suite_cases, Case};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
 use raylab::check::Tally;

@@ -24,6 +24,7 @@ macro_rules! say {
 
 mod access;
 mod account;
+mod cases;
 mod check;
 mod check_image;
 mod grade;

@@ -1,17 +1,9 @@
-//! An exported suite on disk: its family directories in order, its manifest checked, and
-//! each family with its exact answers computed once, to grade any number of programs'
-//! outputs (`raylab grade`'s [`Case`]).
+//! An exported suite on disk: its family directories in order, its manifest checked
+//! (`raylab check --suite` and `raylab grade`'s [`super::cases`]).
 
-use super::check::{
-    answers_for, check_tolerance, exact_f32, exact_generic, judge_all, max_output, ray_place,
-    stalled, tally_of,
-};
-use super::reproducers::reproducers;
-use super::{read_text, Precision};
+use super::read_text;
 use anyhow::{anyhow, bail, Result};
 use raylab::check::export;
-use raylab::check::grade::{Exact, Tally};
-use raylab::math::Real;
 use std::path::{Path, PathBuf};
 
 /// A family directory's name.
@@ -139,90 +131,4 @@ fn check_manifest(dir: &Path, families: &[PathBuf], only: Option<&str>) -> Resul
         );
     }
     Ok(())
-}
-
-/// One family of an exported suite with its exact answers, computed once, to grade any
-/// number of programs' outputs (`raylab grade`).
-pub(super) struct Case {
-    /// The family's directory name (`01-cube-from-inside`).
-    pub name: String,
-    pub scene: PathBuf,
-    pub rays: PathBuf,
-    pub ray_count: usize,
-    /// The most a program may print for this family.
-    pub max_output: usize,
-    grader: Grader,
-    /// Each ray's place (`rays.txt:LINE (ray N)`), for a run stopped for its time.
-    places: Vec<String>,
-}
-
-/// Grades a program's standard output: the tally and its first mistake, or why it is not one
-/// answer per ray.
-type Grader = Box<dyn Fn(&str) -> std::result::Result<(Tally, String), String> + Send + Sync>;
-
-impl Case {
-    /// Grades a program's standard output: the tally and, where it did not pass, its first
-    /// mistake as `check` shows it (the ray's place, the ray, the exact answer and the given
-    /// one), or why it is not one answer per ray.
-    pub fn grade(&self, stdout: &str) -> std::result::Result<(Tally, String), String> {
-        (self.grader)(stdout)
-    }
-
-    /// `why` a run was stopped for its time, with how far its answers came ([`stalled`]).
-    pub fn stalled(&self, why: String, printed: &[u8]) -> String {
-        stalled(why, printed, self.ray_count, |i| self.places[i].clone())
-    }
-}
-
-/// The families of an exported suite (only `family` if given: a directory name or its
-/// number), each with its exact answers computed once.
-pub(super) fn suite_cases(
-    dir: &Path,
-    family: Option<&str>,
-    precision: Precision,
-    tolerance: f64,
-) -> Result<Vec<Case>> {
-    check_tolerance(tolerance)?;
-    suite_families(dir, family)?
-        .into_iter()
-        .map(|path| match precision {
-            Precision::F32 => case_of(
-                &path,
-                exact_f32(&path.join("scene.txt"), &path.join("rays.txt"))?,
-                tolerance,
-            ),
-            Precision::F64 => case_of(
-                &path,
-                exact_generic::<f64>(&path.join("scene.txt"), &path.join("rays.txt"))?,
-                tolerance,
-            ),
-        })
-        .collect()
-}
-
-fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case> {
-    let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
-    let rays_file = rays.clone();
-    let ray_count = exact.rays.len();
-    let places = (0..ray_count)
-        .map(|i| ray_place(&rays, &exact, i))
-        .collect();
-    Ok(Case {
-        places,
-        name: family_name(path),
-        scene,
-        rays,
-        ray_count,
-        max_output: max_output(ray_count),
-        grader: Box::new(move |stdout| {
-            let answers = answers_for("its output", stdout, &exact, &rays_file)
-                .map_err(|e| format!("{e:#}"))?;
-            let judged = judge_all(&exact, &answers, tolerance);
-            let place = |i: usize| ray_place(&rays_file, &exact, i);
-            // (The first line heads the list; the second is the first mistake.)
-            let lines = reproducers(&judged, &exact, &answers, &place, "its output", 1);
-            let first = lines.get(1).map_or("", |l| l.trim()).to_string();
-            Ok((tally_of(&judged), first))
-        }),
-    })
 }
