@@ -19,8 +19,9 @@ pub struct Typing(RefCell<Option<Read>>);
 /// Typed text as a field read it.
 #[derive(Clone, Debug, PartialEq)]
 enum Read {
-    /// A number within the field's range.
-    Number { text: String, number: f64 },
+    /// A number within the field's range, and that number in the field's type (an f32
+    /// field's 0.333333333 is 0.33333334).
+    Number { text: String, as_typed: String },
     /// A number outside it (the field takes the nearest end).
     Outside { text: String, range: String },
     /// Not a finite number (the field keeps its value).
@@ -37,12 +38,15 @@ pub enum Said {
     Slip(String),
 }
 
-/// A field's range as its bounds (as the status line writes them, [`text`]) and as that text.
+/// A field's range as its bounds (as the status line writes them, [`text`]) and as that text,
+/// and how the field's type holds a number.
 #[derive(Clone)]
 struct Bounds {
     lo: f64,
     hi: f64,
     text: String,
+    /// A number as the field's type holds it, written as [`text`] writes it.
+    in_type: fn(f64) -> String,
 }
 
 impl Bounds {
@@ -52,6 +56,7 @@ impl Bounds {
             lo: lo.parse().unwrap_or(f64::NAN),
             hi: hi.parse().unwrap_or(f64::NAN),
             text: format!("{lo} … {hi}"),
+            in_type: |x| text(N::from_f64(x)),
         }
     }
 }
@@ -91,7 +96,10 @@ impl Typing {
                 text,
                 range: bounds.text.clone(),
             },
-            Some(number) => Read::Number { text, number },
+            Some(number) => Read::Number {
+                text,
+                as_typed: (bounds.in_type)(number),
+            },
         });
         number
     }
@@ -120,7 +128,7 @@ impl Typing {
 fn message<N: Numeric + Display>(name: &str, read: Read, value: N) -> Said {
     let value = text(value);
     match read {
-        Read::Number { number, .. } if value.parse() == Ok(number) => {
+        Read::Number { as_typed, .. } if as_typed == value => {
             Said::Taken(format!("{name} set to {value}"))
         }
         Read::Number { text, .. } => Said::Slip(format!("{name}: {text} taken as {value}")),
@@ -204,7 +212,7 @@ mod tests {
             Said::Slip("light z: 1e30 lies outside -2 … 2; it took 2".into())
         );
         assert_eq!(
-            message("light z", read("−0.25", wide), -0.25f32),
+            message("light z", read("−0.25", wide.clone()), -0.25f32),
             Said::Taken("light z set to -0.25".into())
         );
         // An f32 field's 0.1 at its f32 bound 0.1 is within it, and taken as typed.
@@ -225,6 +233,11 @@ mod tests {
         assert_eq!(
             message("light x", read("1099511627776", -far..=far), far),
             Said::Taken("light x set to 1099511627776".into())
+        );
+        // An f32 field holds 0.333333333 as 0.33333334: taken, as its type writes it.
+        assert_eq!(
+            message("light x", read("0.333333333", wide), 0.333_333_34_f32),
+            Said::Taken("light x set to 0.33333334".into())
         );
         // A whole-number field holds 3 for 2.5: said.
         let typing = Typing::default();

@@ -112,7 +112,8 @@ pub struct Viewer {
     /// Whether the status tells of the inspected pixel (an inspection, a crack stepped to):
     /// it then follows the pixel as the inspector does.
     pub status_follows_pixel: bool,
-    /// Whether the status is a number field's slip ([`Viewer::field_slip`]).
+    /// Whether the status tells of a number field ([`Viewer::field_slip`],
+    /// [`Viewer::field_taken`]).
     status_from_field: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
@@ -320,11 +321,13 @@ impl Viewer {
         }
     }
 
-    /// A number field took what was typed: where the status line shows a field's slip, which
-    /// would still claim a field kept its value, it says what was set instead.
+    /// A number field took what was typed: where the status line shows what a field did
+    /// before (a slip, which would still claim a field kept its value, or an earlier value
+    /// set), it says what was set now.
     pub fn field_taken(&mut self, message: String) {
-        if self.status_from_field {
+        if self.status_from_field && self.status != message {
             self.set_status(message);
+            self.status_from_field = true;
         }
     }
 
