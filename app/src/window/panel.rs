@@ -545,12 +545,20 @@ pub fn layout(
     let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
     let panel = (!*panel_hidden).then(|| egui::Panel::left(controls));
     let image_width_before = layout.beside_width as f32 / ppp;
+    // (While a field is typed into, the panel keeps its width: a number box grows with the
+    // text typed into it, and the panel grew with it, every control after it moved and the
+    // image narrowed, a focal length typed meanwhile taken at the narrower width.)
+    let editing = ui.memory(|m| m.focused().is_some());
     let drawn = panel.map(|panel| {
-        panel
+        let panel = panel
             .resizable(true)
             .default_size(PANEL_WIDTH)
-            .max_size(most.max(PANEL_WIDTH))
-            .show(ui, |ui| {
+            .max_size(most.max(PANEL_WIDTH));
+        let panel = match editing {
+            true => panel.exact_size(kept.kept),
+            false => panel,
+        };
+        panel.show(ui, |ui| {
                 // (The menu bar stays in view however far the panel is scrolled.)
                 egui::MenuBar::new().ui(ui, |ui| {
                     files.menu(ui);

@@ -38,8 +38,10 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
     // 1. a click on the focal slider at x 30, then a 20-point drag from there: the slider
     //    spread over 100 points moved the focal length fivefold;
     // 2. a 50-point drag on the slider's value box: the fine steps;
-    // 3. 101 typed as the focal length and 7.3 as the yaw: copied as 101 and 7.3 (they were
-    //    101.00000000000003 and 7.300000000000001);
+    // 3. 101 typed as the focal length (as 101.00000000000000, whose box grows as it is typed:
+    //    the panel keeps its width, where it grew with the box to the window's most, stayed so,
+    //    and took 101 at the narrower image's width) and 7.3 as the yaw: copied as 101 and 7.3
+    //    (they were 101.00000000000003 and 7.300000000000001);
     // 4. a click on the image opens the inspector's panel, which narrows the image: the
     //    focal length stays 101 (it went with the width, to 59), and the command copied is
     //    the view's own, as before the click (it was the cropped width's);
@@ -78,7 +80,7 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         copy(1),
         drag((235, 225), 50),
         copy(2),
-        typed((235, 225), "101"),
+        typed((235, 225), "101.00000000000000"),
         typed((58, 285), "7.3"),
         copy(3),
         press(700, 300),
@@ -95,6 +97,10 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         .map(|n| std::fs::read_to_string(dir.path().join(format!("c{n}.txt"))).unwrap())
         .collect();
     let f: Vec<f64> = copied.iter().map(|c| focal(c)).collect();
+    let widths: Vec<&str> = (log.lines())
+        .filter_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
+        .collect();
+    println!("side panel widths: {widths:?}");
     println!("focal lengths copied: {f:?}");
     // (Every check, and then every one that failed.)
     let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
@@ -128,6 +134,10 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         (
             run.fields["focal"] == "101" && run.fields["yaw"] == "7.3",
             "the final line's",
+        ),
+        (
+            widths.len() == 1,
+            "the panel's width kept while the long number was typed",
         ),
         (
             status.is_some_and(|s| s.starts_with("copied to the clipboard: raylab render")),
