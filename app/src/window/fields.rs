@@ -62,7 +62,7 @@ impl Bounds {
 }
 
 impl Typing {
-    /// `field`, kept within `range`, reading typed text ([`finite_number`]) once its edit ends.
+    /// `field`, kept within `range`, reading typed text ([`Typing::read`]) once its edit ends.
     pub fn drag<'a, N: Numeric + Display>(
         &'a self,
         field: egui::DragValue<'a>,
@@ -87,9 +87,13 @@ impl Typing {
             .update_while_editing(false)
     }
 
+    /// Typed text as a number (spaces dropped, U+2212 a minus), where it is finite: egui's
+    /// own parser takes `nan` and `inf`, which a clamped field turned into its lower or upper
+    /// end. What it read is kept for [`Typing::said_as_edit_ends`].
     fn read(&self, text: &str, bounds: &Bounds) -> Option<f64> {
-        let number = finite_number(text);
-        let text = normalised(text);
+        let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+        let text = text.replace('−', "-");
+        let number = text.parse::<f64>().ok().filter(|v| v.is_finite());
         *self.0.borrow_mut() = Some(match number {
             None => Read::NotANumber(text),
             Some(x) if x < bounds.lo || x > bounds.hi => Read::Outside {
@@ -148,18 +152,6 @@ fn text<N: Numeric + Display>(value: N) -> String {
         true => format!("{x:.0}"),
         false => value.to_string(),
     }
-}
-
-/// Typed text as a number field reads it: spaces dropped, U+2212 a minus.
-fn normalised(text: &str) -> String {
-    let text: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    text.replace('−', "-")
-}
-
-/// A number typed into a field ([`normalised`]), where it is finite: egui's own parser takes
-/// `nan` and `inf`, which a clamped field turned into its lower or upper end.
-fn finite_number(text: &str) -> Option<f64> {
-    (normalised(text).parse::<f64>().ok()).filter(|v| v.is_finite())
 }
 
 /// What the status line says of `text` typed into the field `name`.

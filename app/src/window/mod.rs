@@ -424,8 +424,8 @@ impl App {
             viewer.load(PathBuf::from(p));
         }
         match actions.typed {
-            Some(panel::Said::Slip(message)) => viewer.field_slip(message),
-            Some(panel::Said::Taken(message)) => viewer.field_taken(message),
+            Some(fields::Said::Slip(message)) => viewer.field_slip(message),
+            Some(fields::Said::Taken(message)) => viewer.field_taken(message),
             None => {}
         }
         if let Some(frame) = actions.obj_frame {

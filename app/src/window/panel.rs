@@ -1,7 +1,6 @@
 //! The egui side panel and the image area beside it (the shortcuts overlay: shortcuts.rs).
 
-pub use super::fields::Said;
-use super::fields::Typing;
+use super::fields::{Said, Typing};
 use super::viewer::ViewSettings;
 use super::viewer::Viewer;
 use raylab::controller::{CameraController, Mode, FOCAL_RATIO_RANGE};
