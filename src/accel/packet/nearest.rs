@@ -238,10 +238,11 @@ impl<V: LaneOps> PacketNearest<V> {
     #[inline(always)]
     fn offer_as<const DECIDED: bool>(&mut self, tri: &OriginTriangle, id: u32) -> bool {
         let (d, dm) = (&self.d, self.dm);
-        if tri.in_plane {
-            return true;
-        }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT || !dm.is_finite() {
+            // (Only an unusable triangle can hold the origin in its plane.)
+            if tri.in_plane {
+                return true;
+            }
             if DECIDED && !self.ambiguous.all() {
                 return false;
             }

@@ -128,10 +128,11 @@ impl<V: Lanes> ShadowPacket<V> {
         if live == 0 {
             return true;
         }
-        if tri.in_plane {
-            return true;
-        }
         if !tri.usable || tri.n_max * dm >= MAX_PRODUCT {
+            // (Only an unusable triangle can hold the origin in its plane.)
+            if tri.in_plane {
+                return true;
+            }
             if DECIDED {
                 return false;
             }
