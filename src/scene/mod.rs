@@ -173,11 +173,8 @@ impl Scene {
         match Scene::reads_as_obj(path) {
             // (Checked in range as it is built, naming the lines.)
             false => load_scene_file(path),
-            true => {
-                let scene = load_obj_file(path, obj_frame).map_err(|e| e.to_string())?;
-                scene.check_ranges()?;
-                Ok(scene)
-            }
+            // (Checked in range as it loads, naming the faces' lines.)
+            true => load_obj_file(path, obj_frame).map_err(|e| e.to_string()),
         }
     }
 

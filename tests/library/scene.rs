@@ -409,3 +409,24 @@ fn a_view_out_of_range_names_its_line() {
     let view = View::parse("v.view", "camera 0 0 -3 yaw 45\n").unwrap();
     assert_eq!(view.camera.yaw, 45.0);
 }
+
+#[test]
+fn an_obj_triangle_out_of_range_names_its_face_line() {
+    // A lone model's triangle beyond ±2³⁸ is refused naming the face's line (a polygon's
+    // second fan triangle included), where it named only the triangle's index; a `.scene`
+    // file may place such a mesh scaled into range.
+    let no_mtl = |_: &str| -> Result<String, String> { Err("none".into()) };
+    let load = |text: &str| {
+        raylab::scene::load_obj_str("t.obj", text, raylab::scene::ObjFrame::Lab, no_mtl)
+    };
+    let obj = "# far\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1e12 0 0\nf 1 2 3\n\nf 2 3 1 4\n";
+    let e = load(obj).unwrap_err().to_string();
+    assert!(
+        e.starts_with("t.obj:8: triangle 2 ") && e.contains("1000000000000"),
+        "{e}"
+    );
+    assert!(e.contains("beyond ±2.74877906944e11"), "{e}");
+    // At the range's end it loads.
+    let at_end = obj.replace("1e12", "274877906944");
+    assert!(load(&at_end).is_ok());
+}

@@ -25,12 +25,15 @@
 //! the camera, as in any viewer. [`ObjFrame::Lab`] takes the coordinates as they are (for
 //! files already in the lab's frame, such as `cornell_lab.obj`).
 
+mod stream;
+
 use super::{PointLight, Scene};
 use crate::geometry::Shape;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
+use stream::ObjStream;
 
 /// How an OBJ file's coordinates map to the world.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -116,6 +119,10 @@ pub enum ObjError {
         /// Why, where the name may say: a file not named `.obj` was read as one.
         hint: &'static str,
     },
+    /// A model loaded on its own with a triangle beyond the range raylab renders: the
+    /// message names the face's line and the coordinate.
+    #[error("{0}")]
+    OutOfRange(String),
     /// A model loaded on its own whose every face has zero area: nothing a ray could hit, so
     /// nothing to show. (As a `.scene` file's mesh it loads, as such `tri` lines do.)
     #[error("{file}: has no triangle of nonzero area ({count} of zero area)")]
@@ -131,20 +138,26 @@ pub enum ObjError {
 /// a light placed for its size. A file whose every triangle has zero area is refused: there
 /// is nothing to show.
 pub fn load_obj_file(path: &Path, frame: ObjFrame) -> Result<Scene, ObjError> {
-    something_to_show(load_obj_file_coloured(path, frame, DEFAULT_COLOR)?)
+    on_its_own(read_obj_file(path, frame, DEFAULT_COLOR)?)
 }
 
 /// A model loaded on its own, refused where every triangle has zero area (a mesh in a
-/// `.scene` file is not: the file may hold more, and its `tri` lines may be such triangles).
-fn something_to_show(scene: Scene) -> Result<Scene, ObjError> {
+/// `.scene` file is not: the file may hold more, and its `tri` lines may be such triangles),
+/// or where a triangle lies beyond the range raylab renders ([`Scene::check_ranges`]; the
+/// error names the face's line: a `.scene` file may scale such a mesh into range).
+fn on_its_own((scene, face_lines): (Scene, Vec<u32>)) -> Result<Scene, ObjError> {
     // (The first triangle with area ends the look.)
-    match scene.shapes.iter().all(Shape::is_degenerate) {
-        true => Err(ObjError::OnlyZeroArea {
+    if scene.shapes.iter().all(Shape::is_degenerate) {
+        return Err(ObjError::OnlyZeroArea {
             file: scene.name.clone(),
             count: scene.shapes.len(),
-        }),
-        false => Ok(scene),
+        });
     }
+    let line_of = |index: u32| face_lines.get(index as usize).map(|&line| line as usize);
+    scene
+        .check_ranges_at(&line_of)
+        .map_err(ObjError::OutOfRange)?;
+    Ok(scene)
 }
 
 /// [`load_obj_file`] with `default` as the colour of faces that name no material with a
@@ -155,6 +168,15 @@ pub fn load_obj_file_coloured(
     frame: ObjFrame,
     default: [f32; 3],
 ) -> Result<Scene, ObjError> {
+    Ok(read_obj_file(path, frame, default)?.0)
+}
+
+/// [`load_obj_file_coloured`], with the source line of each triangle.
+fn read_obj_file(
+    path: &Path,
+    frame: ObjFrame,
+    default: [f32; 3],
+) -> Result<(Scene, Vec<u32>), ObjError> {
     let bytes = crate::input::read_bytes(path, crate::input::max_input_bytes())?;
     let name = path.display().to_string();
     let text = to_text(&name, bytes)?;
@@ -192,7 +214,7 @@ pub fn load_obj_str(
     frame: ObjFrame,
     load_mtl: impl Fn(&str) -> Result<String, String>,
 ) -> Result<Scene, ObjError> {
-    something_to_show(load_obj_str_coloured(
+    on_its_own(load_obj_str_coloured(
         name,
         text,
         frame,
@@ -201,14 +223,15 @@ pub fn load_obj_str(
     )?)
 }
 
-/// [`load_obj_str`] with `default` as the colour of faces without a diffuse material colour.
+/// [`load_obj_str`] with `default` as the colour of faces without a diffuse material colour;
+/// with the source line of each triangle.
 fn load_obj_str_coloured(
     name: &str,
     text: &str,
     frame: ObjFrame,
     default: [f32; 3],
     load_mtl: impl Fn(&str) -> Result<String, String>,
-) -> Result<Scene, ObjError> {
+) -> Result<(Scene, Vec<u32>), ObjError> {
     // A UTF-8 byte-order mark is no part of the first statement.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if let Some(pos) = text.find('\0') {
@@ -355,7 +378,7 @@ fn load_obj_str_coloured(
         });
     };
     scene.light = Scene::light_for_bounds(bounds);
-    Ok(scene)
+    Ok((scene, stream.face_lines))
 }
 
 /// The triangles of zero area met while loading: how many, and the first few with their
@@ -551,247 +574,4 @@ fn skipped_warning(name: &str, counts: &Counts) -> Option<String> {
             parts.join(", ")
         )
     })
-}
-
-/// The OBJ text as tobj reads it: every source line checked, then handed on in a form tobj
-/// cannot misread or refuse without a line: `v x y z` (w divided out, vertex colours dropped),
-/// `f` with absolute, checked vertex indices only, `mtllib`/`usemtl` with their names, and
-/// nothing else (comments, texture coordinates, normals, groups, polylines, points and
-/// free-form geometry are left out). A problem stops the stream with an I/O error and is kept
-/// in `error`, with its file and line.
-struct ObjStream<'a> {
-    name: &'a str,
-    source: std::iter::Enumerate<std::str::Lines<'a>>,
-    /// The current line as handed on, and how much of it tobj consumed.
-    line: String,
-    consumed: usize,
-    /// The 1-based number of the source line last read.
-    line_number: usize,
-    vertices: u64,
-    texcoords: u64,
-    normals: u64,
-    /// The material names `usemtl` asked for, to warn about those no library defines.
-    used_materials: std::collections::BTreeSet<String>,
-    /// The material libraries `mtllib` named so far.
-    libraries: std::collections::HashSet<String>,
-    /// The source line of each triangle handed on, in order (a polygon's fan repeats it).
-    face_lines: Vec<u32>,
-    error: Option<ObjError>,
-}
-
-impl<'a> ObjStream<'a> {
-    fn new(name: &'a str, text: &'a str) -> Self {
-        Self {
-            name,
-            source: text.lines().enumerate(),
-            line: String::new(),
-            consumed: 0,
-            line_number: 0,
-            vertices: 0,
-            texcoords: 0,
-            normals: 0,
-            used_materials: Default::default(),
-            libraries: Default::default(),
-            face_lines: Vec::new(),
-            error: None,
-        }
-    }
-
-    /// Writes the form tobj reads of one source line into `self.line` (nothing if tobj need
-    /// not see it).
-    fn translate(&mut self, source: &str) -> Result<(), String> {
-        use std::fmt::Write;
-        // `#` starts a comment wherever it is; TABs are whitespace like spaces.
-        let statement = source.split('#').next().unwrap_or_default();
-        // (The file's first one is skipped: one elsewhere would hide its line's keyword.)
-        if statement.contains('\u{feff}') {
-            return Err("a byte-order mark (U+FEFF) past the file's start".into());
-        }
-        let mut words = statement.split_whitespace();
-        let Some(keyword) = words.next() else {
-            return Ok(());
-        };
-        let out = &mut self.line;
-        let (vertices, texcoords, normals) = (self.vertices, self.texcoords, self.normals);
-        match keyword {
-            "v" => {
-                let numbers: Vec<&str> = words.collect();
-                let p = vertex(&numbers)?;
-                self.vertices += 1;
-                if numbers.len() == 4 {
-                    let _ = writeln!(out, "v {} {} {}", p[0], p[1], p[2]);
-                } else {
-                    // The words as written: tobj reads them as f32 just as `vertex` did.
-                    let _ = writeln!(out, "v {} {} {}", numbers[0], numbers[1], numbers[2]);
-                }
-            }
-            "vt" => self.texcoords += 1,
-            "vn" => self.normals += 1,
-            "f" => {
-                let refs: Vec<&str> = words.collect();
-                if refs.len() < 3 {
-                    return Err(format!(
-                        "face needs at least 3 vertices, found {}",
-                        refs.len()
-                    ));
-                }
-                let line = u32::try_from(self.line_number).unwrap_or(u32::MAX);
-                self.face_lines
-                    .extend(std::iter::repeat_n(line, refs.len() - 2));
-                out.push('f');
-                for r in refs {
-                    let v = face_vertex(r, vertices, texcoords, normals)
-                        .map_err(|m| format!("face '{r}': {m}"))?;
-                    let _ = write!(out, " {v}");
-                }
-                out.push('\n');
-            }
-            "mtllib" | "usemtl" => {
-                let rest = statement.trim_start()[keyword.len()..].trim();
-                if rest.is_empty() {
-                    return Err(format!("{keyword} needs a name"));
-                }
-                // A library named again would add its materials again: it is passed on once.
-                if keyword == "mtllib" && !self.libraries.insert(rest.to_string()) {
-                    return Ok(());
-                }
-                let _ = writeln!(out, "{keyword} {rest}");
-                if keyword == "usemtl" && !self.used_materials.contains(rest) {
-                    self.used_materials.insert(rest.to_string());
-                }
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-}
-
-impl std::io::Read for ObjStream<'_> {
-    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
-        use std::io::BufRead;
-        let available = self.fill_buf()?;
-        let n = available.len().min(out.len());
-        out[..n].copy_from_slice(&available[..n]);
-        self.consume(n);
-        Ok(n)
-    }
-}
-
-impl std::io::BufRead for ObjStream<'_> {
-    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
-        while self.consumed == self.line.len() {
-            self.line.clear();
-            self.consumed = 0;
-            let Some((i, source)) = self.source.next() else {
-                break;
-            };
-            self.line_number = i + 1;
-            if let Err(message) = self.translate(source) {
-                self.error = Some(ObjError::Line {
-                    file: self.name.to_string(),
-                    line: self.line_number,
-                    message,
-                });
-                self.line.clear();
-                return Err(std::io::Error::other("OBJ line refused"));
-            }
-        }
-        Ok(&self.line.as_bytes()[self.consumed..])
-    }
-
-    fn consume(&mut self, n: usize) {
-        self.consumed = (self.consumed + n).min(self.line.len());
-    }
-}
-
-/// A `v` statement's position: `x y z` (read straight in f32, correctly rounded), `x y z w`
-/// (divided by w in f64, then rounded once to f32) or `x y z r g b` (the colour is not used).
-/// Every result is a finite f32.
-fn vertex(numbers: &[&str]) -> Result<[f32; 3], String> {
-    fn number<T: std::str::FromStr + Into<f64> + Copy>(w: &str) -> Result<T, String> {
-        match w.parse::<T>() {
-            Ok(x) if x.into().is_finite() => Ok(x),
-            Ok(_) => Err(format!("coordinate '{w}' is not a finite f32")),
-            Err(_) => Err(format!("coordinate '{w}' is not a number")),
-        }
-    }
-    let mut p = [0f32; 3];
-    match numbers.len() {
-        3 | 6 => {
-            for (c, w) in p.iter_mut().zip(numbers) {
-                *c = number::<f32>(w)?;
-            }
-            if let Some(w) = numbers[3..].iter().find(|w| w.parse::<f32>().is_err()) {
-                return Err(format!("colour component '{w}' is not a number"));
-            }
-        }
-        4 => {
-            let w = number::<f32>(numbers[3])? as f64;
-            if w == 0.0 {
-                return Err("the weight w is 0: x/w, y/w, z/w are not defined".into());
-            }
-            for (c, s) in p.iter_mut().zip(numbers) {
-                let q = number::<f32>(s)? as f64 / w;
-                *c = q as f32;
-                if !c.is_finite() {
-                    return Err(format!(
-                        "coordinate {s} divided by w = {} is {q:e}, beyond f32",
-                        numbers[3]
-                    ));
-                }
-            }
-        }
-        n => {
-            return Err(format!(
-                "vertex takes 3 numbers (x y z), 4 (x y z w) or 6 (x y z r g b), found {n}"
-            ))
-        }
-    }
-    Ok(p)
-}
-
-/// The absolute 1-based vertex index of one face reference `v`, `v/vt`, `v//vn` or `v/vt/vn`,
-/// every index in it checked against the counts defined so far.
-fn face_vertex(word: &str, vertices: u64, texcoords: u64, normals: u64) -> Result<u64, String> {
-    let mut parts = word.split('/');
-    let mut vertex = 0;
-    for (k, count, what) in [
-        (0, vertices, ("vertex", "vertices")),
-        (1, texcoords, ("texture", "texture coordinates")),
-        (2, normals, ("normal", "normals")),
-    ] {
-        let Some(part) = parts.next() else { break };
-        if part.is_empty() && k > 0 {
-            continue;
-        }
-        let index = resolve_index(part, count, what)?;
-        if k == 0 {
-            vertex = index;
-        }
-    }
-    if parts.next().is_some() {
-        return Err("more than 3 '/'-separated indices".into());
-    }
-    Ok(vertex)
-}
-
-/// An OBJ index (1-based, or negative counting back from the last of `count` defined so far)
-/// as an absolute 1-based index; any integer is handled without overflow.
-fn resolve_index(word: &str, count: u64, (what, plural): (&str, &str)) -> Result<u64, String> {
-    let digits = word.strip_prefix(['-', '+']).unwrap_or(word);
-    let idx: i64 = match word.parse() {
-        Ok(idx) => idx,
-        // Beyond i64 is beyond any count.
-        Err(_) if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) => 0,
-        Err(_) => return Err(format!("{what} index '{word}' is not an integer")),
-    };
-    let back = idx.unsigned_abs();
-    match idx {
-        1.. if back <= count => Ok(back),
-        ..=-1 if back <= count => Ok(count - back + 1),
-        _ => Err(format!(
-            "{what} index {word} is out of range ({count} {plural} defined so far; OBJ indices \
-             start at 1)"
-        )),
-    }
 }
