@@ -63,6 +63,20 @@ impl Run {
             .collect()
     }
 
+    /// The size of the view F5 writes at the run's end, of which the image shown is a crop
+    /// [`Run::view_offset`] columns from its left (where the inspector's panel crops it).
+    pub fn view_size(&self) -> (u32, u32) {
+        let size = self.nums("size");
+        let offset = self.view_offset();
+        (size[0] as u32 + 2 * offset, size[1] as u32)
+    }
+
+    /// How many columns of the view lie left of the image shown (the inspector names the
+    /// view's pixels).
+    pub fn view_offset(&self) -> u32 {
+        self.nums("view_offset")[0] as u32
+    }
+
     /// The camera the window ended with, its render size and the image rectangle.
     pub fn camera(&self) -> (Camera, u32, u32, [f64; 4]) {
         let pos = self.nums("camera");

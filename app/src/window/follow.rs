@@ -34,7 +34,12 @@ impl Viewer {
             size,
             focal,
             generation: self.generation,
-            chosen: chosen.unwrap_or(Chosen { pixel, size, focal }),
+            chosen: chosen.unwrap_or(Chosen {
+                pixel,
+                size,
+                focal,
+                view_offset: self.view_offset(),
+            }),
         };
         let Some(found) = self.trace(at) else {
             return false;
@@ -71,9 +76,14 @@ impl Viewer {
     fn trace(&mut self, at: Inspected) -> Option<raylab::render::inspect::Inspection> {
         let camera = self.camera_with_focal(at.focal);
         let stage = self.stage_to_render();
-        let settings = self.settings(at.size, 1);
         let (x, y) = self.traced_position(at).0;
-        match raylab::render::inspect::inspect_at(&stage, &camera, &settings, x as f64, y as f64) {
+        // (Inspected in the view F5 and copy as command write, of which the image shown is a
+        // crop: the same ray, named by the pixel `raylab inspect --pixel` names.)
+        let offset = self.view_offset();
+        let view_size = (at.size.0 + 2 * offset, at.size.1);
+        let settings = self.settings(view_size, 1);
+        let x_in_view = x as f64 + offset as f64;
+        match raylab::render::inspect::inspect_at(&stage, &camera, &settings, x_in_view, y as f64) {
             Ok(found) => {
                 self.inspection = Some(found.clone());
                 self.code_inspection = (self.code.as_deref()).map(|code| {
@@ -123,7 +133,10 @@ impl Viewer {
         }
         if self.answer_for((x, y), false, Some(chosen)) && (off_x || off_y) {
             // (Said, not silent: a zoom that loses the ray would otherwise swap in another.)
+            // (Both the view's pixels, as the inspector names them; the first of the view
+            // it was chosen in.)
             let (i, j) = chosen.pixel;
+            let (i, x) = (i + chosen.view_offset, x + self.view_offset());
             self.set_status(format!(
                 "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: the \
                  inspector shows the edge pixel ({x}, {y}) until it is back"
@@ -184,7 +197,7 @@ impl Viewer {
         };
         if self.answer(m.pixel, false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
-            let (i, j) = m.pixel;
+            let (i, j) = (m.pixel.0 + self.view_offset(), m.pixel.1);
             let n = k + 1;
             self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
             self.status_follows_pixel = true;
@@ -271,7 +284,8 @@ impl Viewer {
         Some(Detail {
             who: code.map_or(method.name().to_string(), |c| c.name().to_string()),
             code: code.is_some(),
-            at: pos,
+            // (The view's position, as the inspector's own rows name it.)
+            at: (pos.0 + self.view_offset() as f32, pos.1),
             sample: marked && n > 1,
             verdict,
             marked,

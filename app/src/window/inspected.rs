@@ -21,12 +21,14 @@ pub struct Inspected {
     pub chosen: Chosen,
 }
 
-/// A pixel of an image of `size` at focal length `focal`.
+/// A pixel of an image of `size` at focal length `focal`, that image a crop of the view F5
+/// writes, `view_offset` columns from its left ([`super::viewer::Viewer::view_offset`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Chosen {
     pub pixel: (u32, u32),
     pub size: (u32, u32),
     pub focal: f64,
+    pub view_offset: u32,
 }
 
 /// What the inspector says of its pixel's crack.

@@ -131,7 +131,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} inspector_over={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} view_offset={} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} inspector_over={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -140,6 +140,7 @@ impl ScriptedRun {
             viewer.focal(w),
             w,
             h,
+            viewer.view_offset(),
             r[0],
             r[1],
             r[2],

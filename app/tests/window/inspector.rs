@@ -259,7 +259,8 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     assert_eq!(ins["pixel"], pixel, "{ins:?}");
     let centre = (x.floor() + 0.5, y.floor() + 0.5);
     assert_ne!((x, y), centre, "the marked sample is not the centre one");
-    let (camera, w, h, _) = run.camera();
+    let (camera, ..) = run.camera();
+    let (w, h) = run.view_size();
     let uv = format!("{} {}", x - w as f64 / 2.0, y - h as f64 / 2.0);
     assert!(
         ins["uvf"].starts_with(&format!("{uv} ")),
@@ -301,7 +302,8 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
 /// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
 /// run's final camera at its final image size, at lab step 5, as `name: value` lines.
 fn inspected_by_the_library(run: &common::window::Run, scene: Scene) -> String {
-    let (camera, width, height, _) = run.camera();
+    let (camera, ..) = run.camera();
+    let (width, height) = run.view_size();
     let pixel: Vec<u32> = (run.inspector["pixel"].split(' '))
         .map(|x| x.parse().unwrap())
         .collect();
@@ -504,6 +506,11 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     let uvf: Vec<f64> = ins["uvf"].split(' ').map(|x| x.parse().unwrap()).collect();
     let w = (2.0 * (pixel[0] as f64 + 0.5 - uvf[0])) as u32;
     let h = (2.0 * (pixel[1] as f64 + 0.5 - uvf[1])) as u32;
+    assert_eq!(
+        (w, h),
+        run.view_size(),
+        "the view F5 writes, not the crop shown"
+    );
     let (pose, ..) = run.camera();
     let lab = DVec3::new(0.0, 0.0, -3.001);
     assert_eq!(pose.position(), lab, "R reset the camera W had moved");
@@ -544,6 +551,53 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     // (700, 300) in the window is right of the panel, a little above the middle: on the box.
     assert!(ins["hit"].parse::<u32>().is_ok(), "{:?}", ins.get("hit"));
     assert_status_names_the_inspected_pixel(&run);
+}
+
+#[test]
+fn real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves() {
+    // A click opens the inspector's panel, which crops the image's sides; a second click
+    // inspects a pixel of the cropped image, and F5 saves the view. `raylab inspect --pixel`
+    // of the pixel the inspector names, with that view, answers what the inspector shows:
+    // the same ray. (The inspector named the cropped image's pixel, 165 columns left of the
+    // view's: another ray, another primitive.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1; logged '] inspected pixel' 1; sleep 1; \
+                  xdotool mousemove --sync 420 560; sleep 0.3; xdotool click 1; \
+                  logged '] inspected pixel' 2; xdotool key F5; logged 'saved view'";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        run.view_offset() > 0,
+        "the inspector's panel crops the image\n{log}"
+    );
+    let view = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    let pixel = run.inspector["pixel"].replace(' ', ",");
+    let out = std::process::Command::new(RAYLAB)
+        .args(["inspect", "--pixel", &pixel, "--view"])
+        .arg(&view)
+        .output()
+        .unwrap();
+    let headless = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(headless.contains("\nhit: "), "{headless}");
+    assert_inspector_shows(&run.inspector, &headless);
+    // The log names the pixel so too.
+    let last = inspected_pixels(log)
+        .last()
+        .map(|(i, j)| format!("{i},{j}"));
+    assert_eq!(last, Some(pixel), "{log}");
 }
 
 #[test]
@@ -635,13 +689,19 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     assert_eq!((w, h), (464, 698), "{log}");
     let pixels = inspected_pixels(log);
     assert_eq!(pixels.len(), 1 + clicks.len(), "{log}");
-    let at = |click: (i32, i32)| pixel_under(click, rect, (w, h));
+    // (The log names the view's pixels, of which the image shown is a crop.)
+    let offset = run.view_offset();
+    assert_eq!(run.view_size(), (794, 698), "{log}");
+    let at = |click: (i32, i32)| {
+        let (i, j) = pixel_under(click, rect, (w, h));
+        (i + offset, j)
+    };
     for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
         assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
     }
     assert_eq!(
         (pixels[1], pixels[2], pixels[3].1),
-        ((0, 400), (463, 400), 0)
+        ((165, 400), (165 + 463, 400), 0)
     );
     // The ring: white over the magenta wall round the last click, 6 px in radius.
     let (sw, _, px) = &run.shot;
@@ -695,13 +755,14 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
 #[test]
 fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     // At 1.5 window pixels per point (a 1920x1200 screen, the window 1728x1080), with the
-    // inspector's panel open (a first click): the image starts at x 537.3 and y 0.25, so
-    // clicks on window pixel column 537 and row 0 are on its first column and row, and on
-    // column 1232 its last; each click inspects the pixel whose square holds the centre of
-    // the window pixel clicked.
+    // inspector's panel open (a first click): the image, cropped by an even count of columns
+    // (695 of the view's 1191), fills window pixel columns 538..1232 from y 0.25, so clicks
+    // on column 538 and row 0 are on its first column and row, and on column 1232 its last;
+    // each click inspects the pixel whose square holds the centre of the window pixel
+    // clicked, named as the view's pixel (248 columns right).
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    let clicks = [(537, 600), (1232, 600), (800, 0)];
+    let clicks = [(538, 600), (1232, 600), (800, 0)];
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 900 450; sleep 0.3; \
          xdotool click 1; sleep 2; {}",
@@ -716,13 +777,17 @@ fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     let (_, w, h, rect) = run.camera();
     let pixels = inspected_pixels(log);
     assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
-    let at = |click: (i32, i32)| pixel_under(click, rect, (w, h));
+    let offset = run.view_offset();
+    let at = |click: (i32, i32)| {
+        let (i, j) = pixel_under(click, rect, (w, h));
+        (i + offset, j)
+    };
     for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
         assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
     }
     assert_eq!(
         (pixels[1].0, pixels[2].0, pixels[3].1),
-        (0, w - 1, 0),
+        (offset, offset + w - 1, 0),
         "{rect:?}"
     );
 }

@@ -370,9 +370,29 @@ impl Viewer {
         (self.view, self.controller, size, self.focal_width())
     }
 
-    /// The full render size for the current image area and resolution setting.
+    /// The full render size for the current image area and resolution setting. Where the
+    /// inspector's panel crops the image's sides, the crop is even (one column less where it
+    /// would be odd): each pixel shown is then the pixel [`Viewer::view_offset`] further right
+    /// of the view F5 and copy as command write, the same ray.
     pub fn full_size(&self) -> (u32, u32) {
-        self.size_for(self.image_area)
+        let (w, h) = self.size_for(self.image_area);
+        let (view_w, view_h) = self.uncropped_size();
+        match view_h == h && view_w > w && (view_w - w) % 2 == 1 && w > 1 {
+            true => (w - 1, h),
+            false => (w, h),
+        }
+    }
+
+    /// How many columns of the view F5 and copy as command write lie left of the image shown:
+    /// half the inspector's panel's crop (0 uncropped or at a fixed size). A pixel the
+    /// inspector names is the view's, as `raylab inspect --pixel` with that view names it.
+    pub fn view_offset(&self) -> u32 {
+        let (w, h) = self.full_size();
+        let (view_w, view_h) = self.uncropped_size();
+        match matches!(self.view.resolution, Resolution::WindowScale(_)) && view_h == h {
+            true => view_w.saturating_sub(w) / 2,
+            false => 0,
+        }
     }
 
     /// The full render size for an image area of `area` physical pixels.
