@@ -1,8 +1,9 @@
-//! The File menu: open a scene or model, save the image, save the view, through a file dialog
-//! drawn by egui itself (egui-file-dialog), so it works wherever the window does.
+//! The File menu: open a scene or model, save the image, save the view (its scene named so
+//! that it renders from any directory), through a file dialog drawn by egui itself
+//! (egui-file-dialog), so it works wherever the window does.
 
 use egui_file_dialog::{DialogState, FileDialog};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// What the open dialog was asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,5 +99,58 @@ fn with_extension(path: PathBuf, ext: &str) -> PathBuf {
     match path.extension() {
         Some(_) => path,
         None => path.with_extension(ext),
+    }
+}
+
+/// The scene `scene` (a path from the window's working directory, or `cornell`) as a view
+/// file at `view_file` names it, so that the view renders from any directory: relative to
+/// the view file's directory where the scene lies under it, else the absolute path. (Written
+/// as opened, a relative path rendered only from the window's working directory.)
+pub fn scene_seen_from(scene: &str, view_file: &Path) -> String {
+    if scene == raylab::scene::CORNELL {
+        return scene.to_string();
+    }
+    let absolute = |p: &Path| std::fs::canonicalize(p).or_else(|_| std::path::absolute(p));
+    let Ok(scene_path) = absolute(Path::new(scene)) else {
+        return scene.to_string();
+    };
+    let dir = view_file.parent().filter(|d| !d.as_os_str().is_empty());
+    let dir = absolute(dir.unwrap_or(Path::new(".")));
+    match dir.as_deref().map(|dir| scene_path.strip_prefix(dir)) {
+        Ok(Ok(relative)) => relative.display().to_string(),
+        _ => scene_path.display().to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_saved_views_scene_is_named_as_seen_from_the_view_file() {
+        // A scene under the view file's directory is named relative to it; one elsewhere by
+        // its absolute path; `cornell` as it is. (The path as opened, relative to the
+        // window's working directory, rendered from nowhere else.)
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir_all(root.join("scenes/deep")).unwrap();
+        std::fs::create_dir_all(root.join("views")).unwrap();
+        let scene = root.join("scenes/deep/s.scene");
+        std::fs::write(&scene, "cornell\n").unwrap();
+        let spec = scene.to_str().unwrap();
+        assert_eq!(
+            scene_seen_from(spec, &root.join("scenes/v.view")),
+            "deep/s.scene"
+        );
+        assert_eq!(scene_seen_from(spec, &root.join("views/v.view")), spec);
+        // Through `..` from the views' directory: the absolute path, with no `..` in it.
+        let roundabout = root.join("views/../scenes/deep/s.scene");
+        let seen = scene_seen_from(roundabout.to_str().unwrap(), &root.join("views/v.view"));
+        assert_eq!(seen, spec);
+        assert_eq!(scene_seen_from("cornell", &root.join("v.view")), "cornell");
+        // The view's own rule finds it from another directory.
+        let view = raylab::view::View::parse("v.view", "scene deep/s.scene\n").unwrap();
+        let found = view.scene_path(&root.join("scenes/v.view"));
+        assert_eq!(std::fs::canonicalize(found).unwrap(), scene);
     }
 }

@@ -710,7 +710,9 @@ impl Viewer {
 
     /// Writes the view to the `.view` file `path`.
     pub fn save_view_to(&mut self, path: PathBuf) {
-        let text = self.view().to_text();
+        let mut view = self.view();
+        view.scene = super::files::scene_seen_from(&view.scene, &path);
+        let text = view.to_text();
         let written = raylab::input::write_file(&path, text.as_bytes()).map_err(|e| e.to_string());
         match written {
             Ok(()) => {
