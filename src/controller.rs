@@ -187,7 +187,8 @@ impl CameraController {
     /// The starting pose a `.scene` file names, for a scene `scene_size` across.
     pub fn from_scene_camera(c: &crate::scene::SceneCamera, scene_size: f64) -> Self {
         let position = DVec3::from_array(c.position);
-        let (yaw, pitch) = (c.yaw.to_radians(), c.pitch.to_radians());
+        let radians = crate::math::radians_of_degrees;
+        let (yaw, pitch) = (radians(c.yaw), radians(c.pitch));
         Self::new(position, yaw, pitch, c.focal_ratio(), scene_size)
     }
 

@@ -7,7 +7,10 @@ pub mod simd;
 pub mod transform;
 
 pub use real::Real;
-pub use transform::{rotation_x, rotation_xyz, rotation_y, rotation_z, TransformStack};
+pub use transform::{
+    degrees_within_half_turn, radians_of_degrees, rotation_x, rotation_xyz, rotation_y, rotation_z,
+    TransformStack,
+};
 
 /// The unit tests' xorshift generator: steps `x` and returns it.
 #[cfg(feature = "unit-tests")]

@@ -28,6 +28,24 @@ pub fn sin_cos_degrees(deg: f64) -> (f64, f64) {
     r.to_radians().sin_cos()
 }
 
+/// An angle in degrees (a camera's yaw or pitch) in radians, reduced mod 360 first, exactly:
+/// 1e300° turns as 1e300 mod 360 = 0° does, as a scene file's `rotate` takes it (1e300 × π/180
+/// is a rounding of a turn, an angle nobody asked for). Below 360° the same as `to_radians`.
+pub fn radians_of_degrees(deg: f64) -> f64 {
+    // (`%` is exact in floating point.)
+    (deg % 360.0).to_radians()
+}
+
+/// `deg` as the same turn within (-180°, 180°], exactly (as the window shows a yaw).
+pub fn degrees_within_half_turn(deg: f64) -> f64 {
+    // (Both subtractions are exact: Sterbenz.)
+    match deg % 360.0 {
+        r if r > 180.0 => r - 360.0,
+        r if r <= -180.0 => r + 360.0,
+        r => r,
+    }
+}
+
 /// The rotations about +x, +y and +z by the angle whose sine and cosine are `(s, c)`.
 fn rotation_about(axis: usize, (s, c): (f64, f64)) -> DMat4 {
     match axis {

@@ -7,6 +7,7 @@ use glam::DVec3;
 use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::controller::CameraController;
+use raylab::math::radians_of_degrees;
 use raylab::render::settings::{controls_text, Control, Kind};
 use raylab::render::{self, RenderSettings, Stage, CONTROLS};
 use raylab::scene::{ObjFrame, Scene};
@@ -430,7 +431,8 @@ fn prepare_view(path: &Path, base: RenderSettings) -> Result<(Scene, Camera, Ren
     s.tile_culling = base.tile_culling;
     let focal = c.focal_ratio() * s.width as f64;
     let position = DVec3::from_array(c.position);
-    let camera = Camera::from_yaw_pitch(position, c.yaw.to_radians(), c.pitch.to_radians(), focal)?;
+    let (yaw, pitch) = (radians_of_degrees(c.yaw), radians_of_degrees(c.pitch));
+    let camera = Camera::from_yaw_pitch(position, yaw, pitch, focal)?;
     Ok((scene, camera, s))
 }
 
@@ -465,12 +467,8 @@ fn prepare_sized(
     }
     // The flags win; then a `.scene` file's camera; then the lab's or one framing the model.
     let start = scene.camera;
-    let yaw = v.yaw.or(start.map(|c| c.yaw)).unwrap_or(0.0).to_radians();
-    let pitch = v
-        .pitch
-        .or(start.map(|c| c.pitch))
-        .unwrap_or(0.0)
-        .to_radians();
+    let yaw = radians_of_degrees(v.yaw.or(start.map(|c| c.yaw)).unwrap_or(0.0));
+    let pitch = radians_of_degrees(v.pitch.or(start.map(|c| c.pitch)).unwrap_or(0.0));
     let focal = (v.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * width as f64);
     let position = match (v.camera, start, v.scene.as_str()) {
         (Some(pos), _, _) => pos,

@@ -167,10 +167,12 @@ pub fn side_panel(
             let field = egui::DragValue::new(&mut yaw).speed(0.5).suffix("°");
             let everywhere = f64::NEG_INFINITY..=f64::INFINITY;
             let response = ui.add(typing.drag(field.max_decimals(1), everywhere));
-            actions.note(typing.said_as_edit_ends(ui, &response, "yaw", yaw));
             if response.changed() {
+                // (As the field shows a yaw: 720 typed is said to be taken as 0.)
+                yaw = raylab::math::degrees_within_half_turn(yaw);
                 camera.yaw = yaw.to_radians();
             }
+            actions.note(typing.said_as_edit_ends(ui, &response, "yaw", yaw));
             ui.label("pitch");
             let field = egui::DragValue::new(&mut pitch).speed(0.5).suffix("°");
             let response = ui.add(typing.drag(field.max_decimals(1), -89.0..=89.0));

@@ -239,3 +239,50 @@ fn any_scene_file_name_round_trips_through_a_view() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_huge_yaw_or_pitch_turns_as_its_remainder_of_a_whole_turn() {
+    // 1e300° is exactly 0 mod 360 and 1e30° exactly 16: the camera turns so, from the flags,
+    // a view and a scene file's camera, as a scene file's `rotate` does (1e300 × π/180 was a
+    // rounding of a turn: another direction, another image).
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let inspect = |extra: &[&str]| {
+        let mut args = vec![
+            "inspect", "--pixel", "32,24", "--width", "64", "--height", "48",
+        ];
+        args.extend_from_slice(extra);
+        let o = raylab(&args);
+        assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
+        stdout(&o)
+    };
+    assert_eq!(1e300f64 % 360.0, 0.0);
+    assert_eq!(1e30f64 % 360.0, 16.0);
+    let level = inspect(&["--yaw", "0", "--pitch", "16"]);
+    assert!(level.contains("\nhit: "), "{level}");
+    assert_eq!(inspect(&["--yaw=1e300", "--pitch=1e30"]), level);
+    assert_eq!(inspect(&["--yaw=-1e300", "--pitch=376"]), level);
+    let view = write(
+        d,
+        "v.view",
+        "scene cornell\ncamera 0 0 -3.001 yaw 1e300 pitch 1e30\nsize 64 48\n",
+    );
+    assert_eq!(inspect_view(&view), level);
+    let scene = write(
+        d,
+        "s.scene",
+        "camera 0 0 -3.001 yaw 1e300 pitch 1e30\ncornell\n",
+    );
+    let by_scene = inspect(&["--scene", &scene]);
+    assert_eq!(
+        by_scene,
+        inspect(&["--scene", &scene, "--yaw", "0", "--pitch", "16"])
+    );
+}
+
+/// `raylab inspect` of pixel (32, 24) of the view file `view`.
+fn inspect_view(view: &str) -> String {
+    let o = raylab(&["inspect", "--pixel", "32,24", "--view", view]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    stdout(&o)
+}

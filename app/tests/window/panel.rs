@@ -263,7 +263,8 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
 #[test]
 fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // Typed into the panel: nan for the camera's y, 1,5 for the light's y, -2.5 for the
-    // camera's z, 9 for the light's z left with Esc, 1e20 for the camera's x, -1e30 for the
+    // camera's z, 9 for the light's z left with Esc, 720 for the yaw (a whole turn: the
+    // field shows 0 and said 720 set), 1e20 for the camera's x, -1e30 for the
     // light's x (last: the fields widen), nan for the focal length, then F5. The fields keep
     // them within ±2^40 (the range `raylab render` accepts), so the saved view loads headless
     // (it was refused: "beyond ±1.1e12"); nan and 1,5 are not taken; the status line names
@@ -271,8 +272,9 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // it was typed, nan set the focal length's largest, 1e20 became 2^40, all without a word),
     // and a number taken after a slip; Esc drops the 9. Positions: the panel at the default
     // window on the 1280x800 screen, the camera's position fields at (82, 264), (130, 264)
-    // and (179, 264), the light's at (65, 601), (113, 601) and (161, 601), the focal length's
-    // box at (241, 225). (At a quarter of the window's resolution.)
+    // and (179, 264), the yaw's at (58, 285), the light's at (65, 601), (113, 601) and
+    // (161, 601), the focal length's box at (241, 225). (At a quarter of the window's
+    // resolution.)
     let dir = tempfile::tempdir().unwrap();
     let script = "0 scale 0.25\n0 await driver-done\n";
     let typed = |x: u32, y: u32, text: &str| {
@@ -284,10 +286,11 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     let driver = format!(
         "xdotool windowfocus --sync $win; {}{}{}xdotool mousemove --sync 161 601 click 1; \
          sleep 0.3; xdotool key ctrl+a; xdotool type 9; xdotool key Escape; sleep 0.3; \
-         {}{}{}xdotool mousemove --sync 700 400; xdotool key F5; logged 'saved view'",
+         {}{}{}{}xdotool mousemove --sync 700 400; xdotool key F5; logged 'saved view'",
         typed(130, 264, "nan"),
         typed(113, 601, "1,5"),
         typed(179, 264, "-2.5"),
+        typed(58, 285, "720"),
         typed(82, 264, "1e20"),
         typed(65, 601, "-1e30"),
         typed(241, 225, "nan"),
@@ -301,6 +304,7 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
         "camera y: \"nan\" is not a finite number; the field keeps its value",
         "light y: \"1,5\" is not a number (decimals take a point: 1.5); the field keeps its value",
         "camera z set to -2.5",
+        "yaw: 720 taken as 0",
         "camera x: 1e20 lies outside -1099511627776 … 1099511627776; it took 1099511627776",
         "light x: -1e30 lies outside -1099511627776 … 1099511627776; it took -1099511627776",
         "focal length: \"nan\" is not a finite number; the field keeps its value",
@@ -328,6 +332,7 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
         .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
         .unwrap_or_else(|| panic!("{text}"));
     assert_eq!(light, [-(2f32.powi(40)), -0.5, -0.7], "{text}");
+    assert!(text.contains(" yaw 0 pitch 0"), "{text}");
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
         .args(["inspect", "--pixel", "0,0", "--view"])
         .arg(&view)
