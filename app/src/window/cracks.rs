@@ -424,14 +424,18 @@ pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {
             "leak or false hit (wrong primitives not painted)",
         ),
     });
-    match &legend.line {
-        Ok(line) => {
-            ui.label(egui::RichText::new(line).strong());
-        }
-        Err(why) => {
-            ui.small(*why);
-        }
-    }
+    // (Two lines whether counted or not: the counts, then what they are of or what they wait
+    // for. One line while counting, then the counts wrapped to two, moved every control
+    // below them as a click was on its way.)
+    let (counts, of) = match &legend.line {
+        Ok(line) => match line.split_once(" (") {
+            Some((counts, of)) => (counts, of.strip_suffix(')').unwrap_or(of)),
+            None => (line.as_str(), ""),
+        },
+        Err(why) => ("leaks – · false hits – · wrong – · ties –", *why),
+    };
+    ui.label(egui::RichText::new(counts).strong());
+    ui.small(of);
     let mut step = None;
     ui.horizontal(|ui| {
         if let Some(n) = legend.marked {
