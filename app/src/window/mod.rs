@@ -420,8 +420,14 @@ impl App {
         if actions.reset_camera {
             viewer.controller.reset();
         }
-        if let Some(p) = actions.load {
-            viewer.load(PathBuf::from(p));
+        match actions.load {
+            // (An empty field named no file: "could not load: : No such file" said nothing.)
+            Some(p) if p.trim().is_empty() => viewer.field_slip(
+                "the path field is empty: type `cornell` or a .scene, OBJ or .view file's path"
+                    .into(),
+            ),
+            Some(p) => viewer.load(PathBuf::from(p)),
+            None => {}
         }
         match actions.typed {
             Some(fields::Said::Slip(message)) => viewer.field_slip(message),

@@ -627,7 +627,11 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
     )
     .unwrap();
     let script = "0 await driver-done\n";
+    // Enter in the field emptied says so, without an error banner ("could not load: : No
+    // such file or directory").
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
+                  sleep 0.3; xdotool key ctrl+a BackSpace Return; logged 'field is empty'; \
+                  xdotool mousemove --sync 150 631 click 1; \
                   sleep 0.3; xdotool type pyramid.obj; sleep 0.3; xdotool key Return; sleep 1";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
@@ -639,6 +643,9 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
         run.fields,
         run.stderr
     );
+    let log = &run.stderr;
+    assert!(log.contains("the path field is empty: type `cornell` or a"), "{log}");
+    assert!(!log.contains("could not load"), "{log}");
 }
 
 #[test]
