@@ -430,3 +430,25 @@ fn an_obj_triangle_out_of_range_names_its_face_line() {
     let at_end = obj.replace("1e12", "274877906944");
     assert!(load(&at_end).is_ok());
 }
+
+#[test]
+fn a_file_not_named_obj_that_fails_as_one_says_how_it_was_read() {
+    // Any name but `.scene` is read as an OBJ: a README opened by mistake failed on its line
+    // 122 with "vertex takes 3 numbers", not saying why its words were vertices.
+    let dir = tempfile::tempdir().unwrap();
+    let notes = dir.path().join("notes.md");
+    std::fs::write(&notes, "# notes\nv is a vertex: v x y z\n").unwrap();
+    let e = Scene::load(&notes, raylab::scene::ObjFrame::YUp).unwrap_err();
+    assert!(e.contains("notes.md:2: "), "{e}");
+    assert!(
+        e.ends_with(" (read as an OBJ file: a scene file's name ends in .scene)"),
+        "{e}"
+    );
+    let obj = dir.path().join("bad.obj");
+    std::fs::write(&obj, "v 1 2\n").unwrap();
+    let e = Scene::load(&obj, raylab::scene::ObjFrame::YUp).unwrap_err();
+    assert!(
+        e.contains("bad.obj:1: ") && !e.contains("read as an OBJ"),
+        "{e}"
+    );
+}
