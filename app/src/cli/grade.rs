@@ -271,8 +271,8 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
 }
 
 /// The submission directories of the class, in name order. Every other entry (a file, a
-/// broken link, a hidden directory such as `.git`) is named on stderr, so a submission handed
-/// in as a file is not left out unseen.
+/// broken link, a hidden directory such as `.git`, a suite `raylab suite export` wrote there)
+/// is named on stderr, so a submission handed in as a file is not left out unseen.
 fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     let entries =
         std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
@@ -283,6 +283,9 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
         let why = match () {
             _ if name_of(&path).starts_with('.') => "hidden",
             _ if !path.is_dir() => "not a directory",
+            // (A suite exported into the class's directory was graded as a student who
+            // crashed.)
+            _ if path.join("families.txt").is_file() => "a suite (it holds families.txt)",
             _ => {
                 dirs.push(path);
                 continue;

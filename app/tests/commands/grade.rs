@@ -429,8 +429,9 @@ fn bad_input_is_named() {
     common::binary::assert_fails(&o, 2, &["--csv: ", stray]);
 }
 
-/// Only directories are submissions: a file, a broken link and a hidden directory (`.git`)
-/// are each named on stderr, not dropped unseen; a name with a line break or an escape
+/// Only directories are submissions: a file, a broken link, a hidden directory (`.git`) and
+/// a suite exported there (it was graded as a student who crashed) are each named on stderr,
+/// not dropped unseen; a name with a line break or an escape
 /// sequence shows escaped, one row of the table, driving no terminal.
 #[test]
 fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
@@ -438,6 +439,13 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
     std::fs::create_dir(class.join(".git")).unwrap();
     std::os::unix::fs::symlink("nowhere", class.join("gone")).unwrap();
+    let suite_here = class.join("lab-suite");
+    std::fs::create_dir(&suite_here).unwrap();
+    std::fs::write(
+        suite_here.join("families.txt"),
+        "# what raylab suite export lists\n",
+    )
+    .unwrap();
     let odd = class.join("eve\nada        ok\u{1b}[31m");
     // A name of wide characters (two columns each on a terminal).
     let wide = class.join("李雷");
@@ -454,6 +462,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         ("notes.txt", "not a directory"),
         ("gone", "not a directory"),
         (".git", "hidden"),
+        ("lab-suite", "a suite (it holds families.txt)"),
     ] {
         let said = format!("{name}: {why}, so not a submission (not graded)");
         assert!(err.contains(&said), "{said} in {err}");
