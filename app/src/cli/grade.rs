@@ -115,6 +115,9 @@ enum Status {
     Crashed,
     /// Still running at --timeout.
     Timeout,
+    /// Still running when the submission's --budget ran out (a slow program, not a hung
+    /// one, is told apart from one still running at --timeout).
+    Budget,
     /// More output than any answers need.
     Flooded,
     /// Output that is not one answer per ray, or not UTF-8.
@@ -130,6 +133,7 @@ impl Status {
             Status::Failed => "failed",
             Status::Crashed => "crashed",
             Status::Timeout => "timeout",
+            Status::Budget => "budget",
             Status::Flooded => "flooded",
             Status::Garbage => "garbage",
             Status::Skipped => "skipped",
@@ -489,7 +493,7 @@ fn grade_one(
                 Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
             },
             Err(RunError::Timeout { .. }) if cut_by_budget => record(
-                Status::Timeout,
+                Status::Budget,
                 format!("ran out of time: the submission's {}", budget.ran_out()),
             ),
             Err(ref e @ RunError::Timeout { ref printed, .. }) => {
