@@ -644,7 +644,10 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
         run.stderr
     );
     let log = &run.stderr;
-    assert!(log.contains("the path field is empty: type `cornell` or a"), "{log}");
+    assert!(
+        log.contains("the path field is empty: type `cornell` or a"),
+        "{log}"
+    );
     assert!(!log.contains("could not load"), "{log}");
 }
 
