@@ -67,8 +67,10 @@ impl Detail {
             Some((p, at)) => format!("primitive {p}, {at}"),
             None => "none".to_string(),
         };
-        let given = match v {
-            Verdict::Right => "the exact one".to_string(),
+        let given = match (v, &self.exact) {
+            // (A miss is no "exact one" to lie at.)
+            (Verdict::Right, None) => "none, as the exact ray".to_string(),
+            (Verdict::Right, Some(_)) => "the exact one".to_string(),
             _ => on(&self.given),
         };
         // (Always the same rows: the inspector's layout stays put as its pixel changes.)

@@ -217,7 +217,18 @@ pub fn draw(
         at(ins.ray.o, ins.ray.d, end),
         egui::Color32::from_rgb(0, 220, 255),
     );
-    let Some(h) = &ins.hit else { return };
+    let ring = |c: egui::Pos2| {
+        painter.circle_stroke(c, 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE));
+        painter.circle_filled(c, 2.0, egui::Color32::from_rgb(0, 220, 255));
+    };
+    let Some(h) = &ins.hit else {
+        // A miss (a leak stepped to with N, say) has its ring too, round the pixel its ray
+        // goes through: a 2-pixel dot was hard to find.
+        if let Some(p) = projection.project_f64(at(ins.ray.o, ins.ray.d, end)) {
+            ring(to_screen(p));
+        }
+        return;
+    };
     if let Some(s) = &h.shadow {
         let colour = match h.blocked_by {
             Some(_) => egui::Color32::from_rgb(255, 60, 60),
@@ -226,9 +237,7 @@ pub fn draw(
         segment(at(s.o, s.d, 0.0), at(s.o, s.d, 1.0), colour);
     }
     if let Some(p) = projection.project(h.point) {
-        let c = to_screen(p);
-        painter.circle_stroke(c, 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE));
-        painter.circle_filled(c, 2.0, egui::Color32::from_rgb(0, 220, 255));
+        ring(to_screen(p));
     }
 }
 

@@ -704,8 +704,12 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
         ((165, 400), (165 + 463, 400), 0)
     );
     // The ring: white over the magenta wall round the last click, 6 px in radius.
-    let (sw, _, px) = &run.shot;
-    let (cx, cy) = (400, 300);
+    assert_ring_round(&run.shot, (400, 300));
+}
+
+/// The inspector's white ring (6 px in radius) is centred on screen pixel `(cx, cy)` of
+/// `shot`, within half a pixel.
+fn assert_ring_round((sw, _, px): &(u32, u32, Vec<u8>), (cx, cy): (u32, u32)) {
     let mut white = (u32::MAX, 0, u32::MAX, 0);
     for y in cy - 12..=cy + 12 {
         for x in cx - 12..=cx + 12 {
@@ -722,11 +726,48 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     }
     let centre = |lo: u32, hi: u32| (lo + hi + 1) as f64 / 2.0;
     let (rx, ry) = (centre(white.0, white.1), centre(white.2, white.3));
-    println!("ring centre ({rx}, {ry}), bounds {white:?}, image at {rect:?}");
+    println!("ring centre ({rx}, {ry}), bounds {white:?}");
     assert!(
         (rx - (cx as f64 + 0.5)).abs() <= 0.5 && (ry - (cy as f64 + 0.5)).abs() <= 0.5,
         "the ring is centred at ({rx}, {ry}), the click at ({cx}, {cy})"
     );
+}
+
+#[test]
+fn real_x_input_a_click_on_the_background_rings_its_pixel() {
+    // A click where the ray meets nothing (beside a small pyramid): the inspector says so,
+    // and its ring is round the pixel clicked, as round a hit (a miss had a 2-pixel dot, a
+    // leak stepped to with N hard to find), and the method's answer is "none", not "the
+    // exact one".
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("pyramid.obj");
+    std::fs::write(
+        &model,
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\n\
+         f 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1; logged '] inspected pixel' 1; sleep 1; \
+                  xdotool mousemove --sync 420 40; sleep 0.3; xdotool click 1; \
+                  logged '] inspected pixel' 2; sleep 1";
+    let around = Around::RealInputOn(driver, &model);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    let last = (log.lines().rev())
+        .find(|l| l.contains("] inspected pixel ("))
+        .unwrap_or_else(|| panic!("{log}"));
+    assert!(last.ends_with(": nothing"), "{log}");
+    let ins = &run.inspector;
+    assert_eq!(
+        ins.get("adaptive hit lies").map(String::as_str),
+        Some("none, as the exact ray"),
+        "{ins:?}"
+    );
+    assert_ring_round(&run.shot, (420, 40));
 }
 
 #[test]
