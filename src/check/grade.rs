@@ -28,6 +28,8 @@ impl<T: Real> Answer<T> {
     pub fn text(&self) -> String {
         match self {
             Answer::Miss => "miss".into(),
+            // (NaN as a program prints it, `nan`: the echo of "hit nan 0" read "hit NaN 0".)
+            Answer::Hit { t, prim } if t.is_nan() => format!("hit nan {prim}"),
             Answer::Hit { t, prim } => format!("hit {t} {prim}"),
         }
     }

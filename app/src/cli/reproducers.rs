@@ -46,7 +46,15 @@ fn reproducer<T: Real>(
     answers_file: &str,
 ) -> String {
     let ray = exact.rays[i].1;
+    let given_t = match answers[i].1 {
+        Answer::Hit { t, .. } => Some(t.f64()),
+        Answer::Miss => None,
+    };
     let what = match j.graded.verdict {
+        // (Not "off by inf": no point is off by a t that is no number.)
+        Verdict::Right | Verdict::Tie if given_t.is_some_and(f64::is_nan) => {
+            "t failure: t is not a number".to_string()
+        }
         // What the tolerance judges: the point's distance, not t's own relative error (t 4x
         // too small can put the point 0.27 of the scale off).
         Verdict::Right | Verdict::Tie => format!(

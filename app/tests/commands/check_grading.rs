@@ -306,6 +306,17 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
             text(&o.stdout)
         );
     }
+    // A t of nan is a t failure said so, echoed as printed (it read "hit NaN 0 [t failure:
+    // o + t·d off by inf ...]").
+    let nan = dir.path().join("nan.txt");
+    std::fs::write(&nan, "hit nan 0\n").unwrap();
+    let o = check_answers(sphere, ray, &nan, &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("nan.txt:1): hit nan 0  [t failure: t is not a number]"),
+        "{}",
+        text(&o.stdout)
+    );
     for bad in ["-1", "2", "nan"] {
         let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", bad]);
         assert_eq!(o.status.code(), Some(2), "{bad}");
