@@ -113,7 +113,9 @@ pub fn side_panel(
         ui.strong("Camera");
         let (mut focal, width) = (info.focal.0, info.focal.1.max(1));
         let range = (FOCAL_RATIO_RANGE.0 * width as f64)..=(FOCAL_RATIO_RANGE.1 * width as f64);
-        let fov = raylab::camera::fov_of_focal(focal, info.full_size.0.max(1) as f64);
+        // (The view's, as F5 saves it; the image shown beside the inspector's panel is a crop.)
+        let fov = raylab::camera::fov_of_focal(focal, width as f64);
+        let shown = raylab::camera::fov_of_focal(focal, info.full_size.0.max(1) as f64);
         // The slider takes the row's room (a thousandfold range in egui's 100 points moved
         // 7% a point); its box drags by 0.1% a point, for the fine steps.
         let fine = 0.001 * focal;
@@ -137,7 +139,12 @@ pub fn side_panel(
         if changed {
             camera.set_focal(focal, width);
         }
-        ui.label(format!("horizontal field of view {:.1}°", fov.to_degrees()));
+        let cropped = match info.full_size.0 < width {
+            true => format!(" ({:.1}° shown)", shown.to_degrees()),
+            false => String::new(),
+        };
+        ui.label(format!("horizontal field of view {:.1}°{cropped}", fov.to_degrees()))
+            .on_hover_text("the view's, as F5 and C write it; beside the inspector's panel the image shows its middle");
         ui.horizontal(|ui| {
             ui.label("position");
             let position = [
