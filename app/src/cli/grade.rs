@@ -8,7 +8,8 @@ use super::account::{accounts, Account};
 use super::cases::{suite_cases, Case};
 use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
-use super::rubric::{name_of, points_text, Rubric};
+use super::reports;
+use super::rubric::{name_of, Rubric};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
 use raylab::check::Tally;
@@ -19,7 +20,6 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
-use unicode_width::UnicodeWidthStr;
 
 /// `raylab grade`.
 #[derive(clap::Args, Debug)]
@@ -106,7 +106,7 @@ const PASSED_ENV: [&str; 5] = ["PATH", "LANG", "LC_ALL", "LC_CTYPE", "TZ"];
 
 /// How one family went for one submission (the CSV's `status`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-enum Status {
+pub(super) enum Status {
     /// Graded, and passed.
     Ok,
     /// Graded, with mistakes.
@@ -127,7 +127,7 @@ enum Status {
 }
 
 impl Status {
-    fn name(self) -> &'static str {
+    pub(super) fn name(self) -> &'static str {
         match self {
             Status::Ok => "ok",
             Status::Failed => "failed",
@@ -142,18 +142,18 @@ impl Status {
 }
 
 /// One submission on one family.
-struct Record {
-    tally: Option<Tally>,
-    ms: f64,
-    status: Status,
+pub(super) struct Record {
+    pub(super) tally: Option<Tally>,
+    pub(super) ms: f64,
+    pub(super) status: Status,
     /// Why it was not graded (empty when it was).
-    detail: String,
+    pub(super) detail: String,
 }
 
 /// One submission: its name and a record per family (in the cases' order).
-struct Submission {
-    name: String,
-    records: Vec<Record>,
+pub(super) struct Submission {
+    pub(super) name: String,
+    pub(super) records: Vec<Record>,
 }
 
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
@@ -260,17 +260,20 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     let mut outputs = outputs.into_iter();
     if args.csv.is_some() {
         let mut out = outputs.next().expect("opened above");
-        out.write_all(csv(&graded, &cases, points.as_deref()).as_bytes())
+        out.write_all(reports::csv(&graded, &cases, points.as_deref()).as_bytes())
             .with_context(|| format!("writing {}", out.path().display()))?;
         out.commit()?;
     }
     if args.json.is_some() {
         let mut out = outputs.next().expect("opened above");
-        out.write_all(json(&graded, &cases, points.as_deref()).as_bytes())
+        out.write_all(reports::json(&graded, &cases, points.as_deref()).as_bytes())
             .with_context(|| format!("writing {}", out.path().display()))?;
         out.commit()?;
     }
-    say!("{}", table(&graded, &cases, points.as_deref()).trim_end());
+    say!(
+        "{}",
+        reports::table(&graded, &cases, points.as_deref()).trim_end()
+    );
     Ok(())
 }
 
@@ -380,7 +383,7 @@ fn run_all(
                 submissions.len(),
                 one_line(&submission.name),
                 cases.len(),
-                match summary(&submission.records).as_str() {
+                match reports::summary(&submission.records).as_str() {
                     "ok" => String::new(),
                     s => format!(", {s}"),
                 },
@@ -556,200 +559,4 @@ fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
         }
     }
     Ok(())
-}
-
-/// "ok", or how many families ended each other way ("failed 2, timeout 1").
-fn summary(records: &[Record]) -> String {
-    let mut counts: Vec<(Status, usize)> = Vec::new();
-    for r in records.iter().filter(|r| r.status != Status::Ok) {
-        match counts.iter_mut().find(|(s, _)| *s == r.status) {
-            Some((_, n)) => *n += 1,
-            None => counts.push((r.status, 1)),
-        }
-    }
-    counts.sort();
-    match counts.is_empty() {
-        true => "ok".into(),
-        false => counts
-            .iter()
-            .map(|(s, n)| format!("{} {n}", s.name()))
-            .collect::<Vec<_>>()
-            .join(", "),
-    }
-}
-
-/// A family's points for a record: the family's when it passed.
-fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
-    points.map(|p| {
-        if r.status == Status::Ok {
-            p[family]
-        } else {
-            0.0
-        }
-    })
-}
-
-/// The table: one row per submission.
-fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
-    let width = graded
-        .iter()
-        .map(|s| one_line(&s.name).width())
-        .max()
-        .unwrap_or(0)
-        .clamp(10, 40);
-    // Padded by the columns a terminal gives each character (two for 李, none for a
-    // combining accent), not by characters.
-    let padded = |name: &str| format!("{name}{}", " ".repeat(width.saturating_sub(name.width())));
-    // The points column, where there is a rubric.
-    let points_column = |text: &str| match points {
-        Some(_) => format!(" {text:>13}"),
-        None => String::new(),
-    };
-    let mut out = format!(
-        "{:<width$} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9}{}  status\n",
-        "submission",
-        "passed",
-        "leaks",
-        "false",
-        "wrong",
-        "t fail",
-        "time s",
-        points_column("points")
-    );
-    let most: f64 = points.map_or(0.0, |p| p.iter().sum());
-    for s in graded {
-        let mut total = Tally::default();
-        s.records
-            .iter()
-            .filter_map(|r| r.tally.as_ref())
-            .for_each(|t| total.merge(t));
-        let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
-        // (No family graded: no counts, not counts of 0, as the CSV's empty fields.)
-        let graded_any = s.records.iter().any(|r| r.tally.is_some());
-        let count = |n: usize| match graded_any {
-            true => n.to_string(),
-            false => "-".to_string(),
-        };
-        let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
-        let earned: f64 = s
-            .records
-            .iter()
-            .enumerate()
-            .filter_map(|(k, r)| earned(points, k, r))
-            .sum();
-        out += &format!(
-            "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
-            padded(&one_line(&s.name)),
-            format!("{passed}/{}", cases.len()),
-            count(total.leaks),
-            count(total.false_hits),
-            count(total.wrong),
-            count(total.t_beyond),
-            secs,
-            points_column(&format!("{}/{}", points_text(earned), points_text(most))),
-            summary(&s.records)
-        );
-    }
-    out
-}
-
-/// The CSV: one row per submission and family.
-fn csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
-    let mut out = String::from(
-        "submission,family,rays,right,ties,leaks,false_hits,wrong,t_failures,ms,status",
-    );
-    out += if points.is_some() { ",points\n" } else { "\n" };
-    for s in graded {
-        for (k, (r, case)) in s.records.iter().zip(cases).enumerate() {
-            let counts = match &r.tally {
-                Some(t) => [t.right, t.ties, t.leaks, t.false_hits, t.wrong, t.t_beyond]
-                    .map(|n| n.to_string())
-                    .join(","),
-                None => ",,,,,".into(),
-            };
-            out += &format!(
-                "{},{},{},{counts},{:.1},{}",
-                csv_field(&as_text(&s.name)),
-                csv_field(&case.name),
-                case.ray_count,
-                r.ms,
-                r.status.name()
-            );
-            if let Some(p) = earned(points, k, r) {
-                out += &format!(",{p}");
-            }
-            out.push('\n');
-        }
-    }
-    out
-}
-
-/// A submission's name as a spreadsheet shows it as text: after a `'` where it starts as a
-/// formula would (`=`, `+`, `-`, `@`, a tab or a carriage return), which a spreadsheet opening
-/// the CSV would otherwise run.
-fn as_text(name: &str) -> String {
-    match name.starts_with(['=', '+', '-', '@', '\t', '\r']) {
-        true => format!("'{name}"),
-        false => name.to_string(),
-    }
-}
-
-/// A CSV field, quoted when it holds a comma, a quote or a line break.
-fn csv_field(s: &str) -> String {
-    match s.contains([',', '"', '\n', '\r']) {
-        true => format!("\"{}\"", s.replace('"', "\"\"")),
-        false => s.to_string(),
-    }
-}
-
-/// The JSON: an array of the CSV's records, the counts `null` where nothing was graded, with
-/// `detail`, why not.
-fn json(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
-    let mut rows = Vec::new();
-    for s in graded {
-        for (k, (r, case)) in s.records.iter().zip(cases).enumerate() {
-            let count = |n: fn(&Tally) -> usize| {
-                r.tally.as_ref().map_or("null".into(), |t| n(t).to_string())
-            };
-            let mut row = format!(
-                "{{\"submission\": {}, \"family\": {}, \"rays\": {}, \"right\": {}, \"ties\": {}, \"leaks\": {}, \"false_hits\": {}, \"wrong\": {}, \"t_failures\": {}, \"ms\": {:.1}, \"status\": \"{}\", \"detail\": {}",
-                json_string(&s.name),
-                json_string(&case.name),
-                case.ray_count,
-                count(|t| t.right),
-                count(|t| t.ties),
-                count(|t| t.leaks),
-                count(|t| t.false_hits),
-                count(|t| t.wrong),
-                count(|t| t.t_beyond),
-                r.ms,
-                r.status.name(),
-                json_string(&r.detail)
-            );
-            if let Some(p) = earned(points, k, r) {
-                row += &format!(", \"points\": {p}");
-            }
-            rows.push(row + "}");
-        }
-    }
-    format!("[\n  {}\n]\n", rows.join(",\n  "))
-}
-
-/// `s` as a JSON string: quotes, backslashes and control characters escaped.
-fn json_string(s: &str) -> String {
-    let mut out = String::with_capacity(s.len() + 2);
-    out.push('"');
-    for c in s.chars() {
-        match c {
-            '"' => out += "\\\"",
-            '\\' => out += "\\\\",
-            '\n' => out += "\\n",
-            '\r' => out += "\\r",
-            '\t' => out += "\\t",
-            c if (c as u32) < 0x20 => out += &format!("\\u{:04x}", c as u32),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
 }

@@ -30,6 +30,7 @@ mod check;
 mod check_image;
 mod grade;
 mod program;
+mod reports;
 mod reproducers;
 mod rubric;
 mod suite_dir;
