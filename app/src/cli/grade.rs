@@ -49,6 +49,10 @@ pub struct GradeArgs {
     /// Also write the same records to this JSON file (an array of objects).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Also write each submission's feedback to DIR/NAME.txt: every family's status and counts,
+    /// and why it did not pass (its first mistake as `raylab check` shows it), for its student.
+    #[arg(long, value_name = "DIR")]
+    pub feedback: Option<PathBuf>,
     /// Points per passed family: lines `<family name or number> <points>`, `* <points>` for
     /// every family not named, `#` comments.
     #[arg(long, value_name = "FILE")]
@@ -198,6 +202,11 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             outputs.push(output);
         }
     }
+    if let Some(dir) = &args.feedback {
+        // (Within the class's directory it would be graded as a submission next time.)
+        refuse_inside("--feedback", dir, &[args.class.clone(), args.suite.clone()])?;
+        std::fs::create_dir_all(dir).with_context(|| format!("--feedback {}", dir.display()))?;
+    }
     if let (Some(csv), Some(json)) = (&args.csv, &args.json) {
         if same_file(csv, json) {
             bail!("--csv and --json name the same file, {}", csv.display());
@@ -269,6 +278,15 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         out.write_all(reports::json(&graded, &cases, points.as_deref()).as_bytes())
             .with_context(|| format!("writing {}", out.path().display()))?;
         out.commit()?;
+    }
+    if let Some(dir) = &args.feedback {
+        for submission in &graded {
+            let text = reports::feedback(submission, &cases, points.as_deref());
+            let path = dir.join(format!("{}.txt", submission.name));
+            if let Err(e) = raylab::input::write_file(&path, text.as_bytes()) {
+                eprintln!("warning: --feedback: {}", one_line(&e.to_string()));
+            }
+        }
     }
     say!(
         "{}",

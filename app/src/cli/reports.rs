@@ -203,3 +203,44 @@ fn json_string(s: &str) -> String {
     out.push('"');
     out
 }
+
+/// One submission's feedback, the file its student reads: every family's status and counts,
+/// and where it did not pass why (its first mistake as `raylab check` shows it: the ray's file
+/// and line in the suite, the ray, the exact answer and the given one; or why it was not
+/// graded), with the command that runs one family again.
+pub(super) fn feedback(s: &Submission, cases: &[Case], points: Option<&[f64]>) -> String {
+    let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
+    let mut out = format!(
+        "raylab grade: {}\n{passed} of {} families passed",
+        one_line(&s.name),
+        cases.len()
+    );
+    if let Some(p) = points {
+        let earned: f64 = (0..s.records.len())
+            .filter_map(|k| earned(points, k, &s.records[k]))
+            .sum();
+        let most: f64 = p.iter().sum();
+        out += &format!(", {} of {} points", points_text(earned), points_text(most));
+    }
+    out += "\nA family again, on your machine: raylab check --suite SUITE --family NAME \
+            --program 'YOUR COMMAND {scene} {rays}'\n\n";
+    for (r, case) in s.records.iter().zip(cases) {
+        let counts = match &r.tally {
+            Some(t) => format!(
+                "{} rays: right {}, ties {}, leaks {}, false hits {}, wrong {}, t failures {}",
+                case.ray_count, t.right, t.ties, t.leaks, t.false_hits, t.wrong, t.t_beyond
+            ),
+            None => format!("{} rays", case.ray_count),
+        };
+        let secs = r.ms / 1e3;
+        out += &format!(
+            "{}: {} ({counts}) {secs:.2} s\n",
+            case.name,
+            r.status.name()
+        );
+        for line in r.detail.lines().filter(|l| !l.trim().is_empty()) {
+            out += &format!("    {}\n", one_line(line));
+        }
+    }
+    out
+}

@@ -795,3 +795,58 @@ fn a_rubric_without_a_star_line_says_what_it_leaves_at_0() {
         common::binary::stdout(&o)
     );
 }
+
+/// `--feedback DIR` writes a file per submission for its student: every family's status and
+/// counts, and where it did not pass, why: a failed family's first mistake as `check` shows
+/// it (the ray's file and line in the suite, the exact answer, the one given), a crash's
+/// message. (The CSV had no detail, the table counts only: a teacher had to parse the JSON.)
+#[test]
+fn feedback_gives_each_student_their_families_and_first_mistakes() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-", "21-"]);
+    // One bug: a miss where the exact ray meets a triangle beyond t = 3.
+    let buggy = class.join("zoe-misses-far");
+    std::fs::create_dir(&buggy).unwrap();
+    std::fs::copy(class.join("ada/exact.py"), buggy.join("exact.py")).unwrap();
+    std::fs::write(
+        buggy.join("run.sh"),
+        "python3 exact.py \"$1\" \"$2\" | awk '$1 == \"hit\" && $2 > 3 { print \"miss\"; next } { print }'\n",
+    )
+    .unwrap();
+    let feedback = dir.path().join("feedback");
+    let o = grade_class(&class, &suite, &["--feedback", feedback.to_str().unwrap()]);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let read = |name: &str| std::fs::read_to_string(feedback.join(name)).unwrap();
+    let ada = read("ada.txt");
+    assert!(
+        ada.starts_with("raylab grade: ada\n2 of 2 families passed\n"),
+        "{ada}"
+    );
+    assert_eq!(ada.matches(": ok (").count(), 2, "{ada}");
+    let bob = read("bob-crashes.txt");
+    assert!(bob.contains("0 of 2 families passed"), "{bob}");
+    assert!(bob.contains("bob: segfault (not really)"), "{bob}");
+    let zoe = read("zoe-misses-far.txt");
+    let failed = (zoe.lines())
+        .position(|l| l.contains(": failed ("))
+        .unwrap_or_else(|| panic!("{zoe}"));
+    let mistake = zoe.lines().nth(failed + 1).unwrap();
+    assert!(
+        mistake.starts_with("    ")
+            && mistake.contains("rays.txt:")
+            && mistake.contains("given (its output:")
+            && mistake.ends_with("[leak]"),
+        "{zoe}"
+    );
+    assert_eq!(std::fs::read_dir(&feedback).unwrap().count(), 3);
+    // Inside the class it would be graded as a submission: refused.
+    let inside = class.join("feedback");
+    let o = grade_class(&class, &suite, &["--feedback", inside.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        common::binary::stderr(&o).contains("--feedback"),
+        "{}",
+        common::binary::stderr(&o)
+    );
+}
