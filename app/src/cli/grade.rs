@@ -310,7 +310,7 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
             _ if !path.is_dir() => "not a directory",
             // (A suite exported into the class's directory was graded as a student who
             // crashed.)
-            _ if path.join("families.txt").is_file() => "a suite (it holds families.txt)",
+            _ if is_a_suite(&path) => "a suite (raylab suite export's files only)",
             _ => {
                 dirs.push(path);
                 continue;
@@ -326,6 +326,24 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
         );
     }
     Ok(dirs)
+}
+
+/// Whether `dir` holds an exported suite and nothing else: its families.txt, its README.md
+/// and family directories each with its rays.txt. (A suite exported into the class's
+/// directory was graded as a student who crashed; a student's directory that holds a copy of
+/// families.txt beside its code is a submission.)
+fn is_a_suite(dir: &Path) -> bool {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return false;
+    };
+    let suite_file = |p: &Path| match name_of(p).as_str() {
+        "families.txt" | "README.md" => p.is_file(),
+        _ => p.join("rays.txt").is_file(),
+    };
+    dir.join("families.txt").is_file()
+        && entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .all(|p| suite_file(&p))
 }
 
 /// An output inside a submission or the suite would be read as their input (or be copied

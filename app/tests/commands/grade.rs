@@ -446,6 +446,12 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         "# what raylab suite export lists\n",
     )
     .unwrap();
+    // A student's copy of families.txt beside their code leaves them a submission.
+    std::fs::copy(
+        suite_here.join("families.txt"),
+        class.join("ada/families.txt"),
+    )
+    .unwrap();
     let odd = class.join("eve\nada        ok\u{1b}[31m");
     // A name of wide characters (two columns each on a terminal).
     let wide = class.join("李雷");
@@ -462,7 +468,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         ("notes.txt", "not a directory"),
         ("gone", "not a directory"),
         (".git", "hidden"),
-        ("lab-suite", "a suite (it holds families.txt)"),
+        ("lab-suite", "a suite (raylab suite export's files only)"),
     ] {
         let said = format!("{name}: {why}, so not a submission (not graded)");
         assert!(err.contains(&said), "{said} in {err}");
