@@ -356,7 +356,10 @@ fn refuse_inside(flag: &str, path: &Path, inputs: &[PathBuf]) -> Result<()> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let Ok(at) = std::fs::canonicalize(parent).map(|p| p.join(name)) else {
+    // (Through a link, where the path names one: a link to a submission led inside it.)
+    let at = std::fs::canonicalize(path)
+        .or_else(|_| std::fs::canonicalize(parent).map(|p| p.join(name)));
+    let Ok(at) = at else {
         return Ok(()); // (OutputFile::create names the missing directory)
     };
     for input in inputs {
