@@ -119,8 +119,8 @@ pub(super) enum Status {
     Crashed,
     /// Still running at --timeout.
     Timeout,
-    /// Still running when the submission's --budget ran out (a slow program, not a hung
-    /// one, is told apart from one still running at --timeout).
+    /// Still running when the submission's --budget ran out: stopped by the budget before
+    /// its --timeout (as a slow program's last family is).
     Budget,
     /// More output than any answers need.
     Flooded,
@@ -157,6 +157,9 @@ pub(super) struct Record {
 /// One submission: its name and a record per family (in the cases' order).
 pub(super) struct Submission {
     pub(super) name: String,
+    /// Its directory's own name (`name` writes bytes that are not UTF-8 as `\xNN`, as a
+    /// name can be written).
+    pub(super) dir_name: OsString,
     pub(super) records: Vec<Record>,
 }
 
@@ -205,7 +208,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     if let Some(dir) = &args.feedback {
         // (Within the class's directory it would be graded as a submission next time.)
         refuse_inside("--feedback", dir, &[args.class.clone(), args.suite.clone()])?;
-        std::fs::create_dir_all(dir).with_context(|| format!("--feedback {}", dir.display()))?;
+        writable_dir(dir).with_context(|| format!("--feedback {}", dir.display()))?;
     }
     if let (Some(csv), Some(json)) = (&args.csv, &args.json) {
         if same_file(csv, json) {
@@ -248,9 +251,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         );
     }
     eprintln!(
-        "grading {} submissions on {} families, {jobs} at a time{}",
-        submissions.len(),
-        cases.len(),
+        "grading {} on {}, {jobs} at a time{}",
+        count(submissions.len(), "submission"),
+        count(cases.len(), "family"),
         match accounts.first() {
             Some(Some(a)) => format!(", as uids {}..", a.uid()),
             _ => String::new(),
@@ -280,9 +283,12 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         out.commit()?;
     }
     if let Some(dir) = &args.feedback {
+        let again = rerun_command(args);
         for submission in &graded {
-            let text = reports::feedback(submission, &cases, points.as_deref());
-            let path = dir.join(format!("{}.txt", submission.name));
+            let text = reports::feedback(submission, &cases, points.as_deref(), &again);
+            let mut file = submission.dir_name.clone();
+            file.push(".txt");
+            let path = dir.join(file);
             if let Err(e) = raylab::input::write_file(&path, text.as_bytes()) {
                 eprintln!("warning: --feedback: {}", one_line(&e.to_string()));
             }
@@ -374,6 +380,44 @@ fn refuse_inside(flag: &str, path: &Path, inputs: &[PathBuf]) -> Result<()> {
     Ok(())
 }
 
+/// Makes directory `dir` where missing and writes (and removes) a file in it: one that cannot
+/// take the feedback is refused before the grading, as a CSV that cannot be written is.
+fn writable_dir(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!("not a directory");
+    }
+    std::fs::create_dir_all(dir)?;
+    let probe = dir.join(format!(".raylab-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"")?;
+    std::fs::remove_file(&probe)?;
+    Ok(())
+}
+
+/// The command that runs one family again as this grading ran it (its program, precision and
+/// tolerance), for a student's feedback: SUITE and NAME to fill in.
+fn rerun_command(args: &GradeArgs) -> String {
+    let mut command = format!(
+        "raylab check --suite SUITE --family NAME --program {}",
+        raylab::view::shell_quote(&args.program)
+    );
+    if args.precision == Precision::F64 {
+        command += " --precision f64";
+    }
+    if args.t_tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
+        command += &format!(" --t-tolerance {}", args.t_tolerance);
+    }
+    command
+}
+
+/// `n` `thing`s, the plural an `s` more (a `y` to `ies`).
+fn count(n: usize, thing: &str) -> String {
+    match (n, thing.strip_suffix('y')) {
+        (1, _) => format!("1 {thing}"),
+        (_, Some(stem)) => format!("{n} {stem}ies"),
+        _ => format!("{n} {thing}s"),
+    }
+}
+
 fn same_file(a: &Path, b: &Path) -> bool {
     let full = |p: &Path| std::path::absolute(p).ok();
     a == b || full(a).is_some_and(|x| Some(x) == full(b))
@@ -403,6 +447,7 @@ fn run_all(
                     k,
                     Submission {
                         name: name_of(dir),
+                        dir_name: dir.file_name().unwrap_or_default().to_os_string(),
                         records,
                     },
                     start.elapsed(),

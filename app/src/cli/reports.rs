@@ -207,8 +207,13 @@ fn json_string(s: &str) -> String {
 /// One submission's feedback, the file its student reads: every family's status and counts,
 /// and where it did not pass why (its first mistake as `raylab check` shows it: the ray's file
 /// and line in the suite, the ray, the exact answer and the given one; or why it was not
-/// graded), with the command that runs one family again.
-pub(super) fn feedback(s: &Submission, cases: &[Case], points: Option<&[f64]>) -> String {
+/// graded), with `again`, the command that runs one family as the grading did.
+pub(super) fn feedback(
+    s: &Submission,
+    cases: &[Case],
+    points: Option<&[f64]>,
+    again: &str,
+) -> String {
     let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
     let mut out = format!(
         "raylab grade: {}\n{passed} of {} families passed",
@@ -222,8 +227,10 @@ pub(super) fn feedback(s: &Submission, cases: &[Case], points: Option<&[f64]>) -
         let most: f64 = p.iter().sum();
         out += &format!(", {} of {} points", points_text(earned), points_text(most));
     }
-    out += "\nA family again, on your machine: raylab check --suite SUITE --family NAME \
-            --program 'YOUR COMMAND {scene} {rays}'\n\n";
+    out += &format!(
+        "\nA family again, as graded (SUITE: `raylab suite export SUITE` writes it; NAME: the \
+         family's name or number):\n  {again}\n\n"
+    );
     for (r, case) in s.records.iter().zip(cases) {
         let counts = match &r.tally {
             Some(t) => format!(

@@ -820,7 +820,13 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
     )
     .unwrap();
     let feedback = dir.path().join("feedback");
-    let o = grade_class(&class, &suite, &["--feedback", feedback.to_str().unwrap()]);
+    let more = [
+        "--feedback",
+        feedback.to_str().unwrap(),
+        "--t-tolerance",
+        "1e-5",
+    ];
+    let o = grade_class(&class, &suite, &more);
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
     assert_eq!(o.status.code(), Some(0), "{out}{err}");
     let read = |name: &str| std::fs::read_to_string(feedback.join(name)).unwrap();
@@ -829,6 +835,10 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         ada.starts_with("raylab grade: ada\n2 of 2 families passed\n"),
         "{ada}"
     );
+    // The command that runs a family again as graded: the program and tolerance.
+    let again = "  raylab check --suite SUITE --family NAME --program 'sh run.sh {scene} {rays}' \
+                 --t-tolerance 0.00001\n";
+    assert!(ada.contains(again), "{ada}");
     assert_eq!(ada.matches(": ok (").count(), 2, "{ada}");
     let bob = read("bob-crashes.txt");
     assert!(bob.contains("0 of 2 families passed"), "{bob}");
@@ -846,13 +856,21 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         "{zoe}"
     );
     assert_eq!(std::fs::read_dir(&feedback).unwrap().count(), 3);
-    // Inside the class it would be graded as a submission: refused.
-    let inside = class.join("feedback");
-    let o = grade_class(&class, &suite, &["--feedback", inside.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        common::binary::stderr(&o).contains("--feedback"),
-        "{}",
-        common::binary::stderr(&o)
-    );
+    // Inside the class it would be graded as a submission, inside a submission copied with
+    // it: refused, through a link too; a file is no directory. Before any program runs.
+    let link = dir.path().join("link");
+    std::os::unix::fs::symlink(class.join("ada"), &link).unwrap();
+    let file = dir.path().join("notes.txt");
+    std::fs::write(&file, "").unwrap();
+    for (out, why) in [
+        (class.join("feedback"), "inside the input"),
+        (link, "inside the input"),
+        (file, "not a directory"),
+    ] {
+        let o = grade_class(&class, &suite, &["--feedback", out.to_str().unwrap()]);
+        let err = common::binary::stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{out:?}: {err}");
+        assert!(err.contains("--feedback") && err.contains(why), "{err}");
+        assert!(!err.contains("grading "), "{err}");
+    }
 }
