@@ -435,12 +435,14 @@ pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {
         Err(why) => ("leaks – · false hits – · wrong – · ties –", *why),
     };
     ui.label(egui::RichText::new(counts).strong());
-    ui.small(of);
+    // (The marked pixels' count here, not before the buttons: that row, wider once counted,
+    // widened the panel, and the view with it, as the count arrived.)
+    match legend.marked {
+        Some(n) => ui.small(format!("{of}; {} px marked", grouped(n as u64))),
+        None => ui.small(of),
+    };
     let mut step = None;
     ui.horizontal(|ui| {
-        if let Some(n) = legend.marked {
-            ui.small(format!("{} px marked", grouped(n as u64)));
-        }
         if ui
             .small_button("◀ previous (Shift+N)")
             .on_hover_text("the previous marked pixel in the ray inspector")
