@@ -107,19 +107,32 @@ fn with_extension(path: PathBuf, ext: &str) -> PathBuf {
 /// the view file's directory where the scene lies under it, else the absolute path. (Written
 /// as opened, a relative path rendered only from the window's working directory.)
 pub fn scene_seen_from(scene: &str, view_file: &Path) -> String {
-    if scene == raylab::scene::CORNELL {
-        return scene.to_string();
-    }
-    let absolute = |p: &Path| std::fs::canonicalize(p).or_else(|_| std::path::absolute(p));
-    let Ok(scene_path) = absolute(Path::new(scene)) else {
-        return scene.to_string();
-    };
+    let scene_path = scene_from_anywhere(scene);
     let dir = view_file.parent().filter(|d| !d.as_os_str().is_empty());
-    let dir = absolute(dir.unwrap_or(Path::new(".")));
-    match dir.as_deref().map(|dir| scene_path.strip_prefix(dir)) {
-        Ok(Ok(relative)) => relative.display().to_string(),
-        _ => scene_path.display().to_string(),
+    match absolute(dir.unwrap_or(Path::new("."))) {
+        Ok(dir) if scene != raylab::scene::CORNELL => {
+            match Path::new(&scene_path).strip_prefix(dir) {
+                Ok(relative) => relative.display().to_string(),
+                Err(_) => scene_path,
+            }
+        }
+        _ => scene_path,
     }
+}
+
+/// The scene `scene` (a path from the window's working directory, or `cornell`) as a command
+/// copied from the window names it: by its absolute path, so that it runs from any directory
+/// (as typed, a relative path ran only from the window's).
+pub fn scene_from_anywhere(scene: &str) -> String {
+    match scene == raylab::scene::CORNELL {
+        true => scene.to_string(),
+        false => absolute(Path::new(scene)).map_or(scene.to_string(), |p| p.display().to_string()),
+    }
+}
+
+/// `p` as an absolute path, its links and `..` resolved where it exists.
+fn absolute(p: &Path) -> std::io::Result<PathBuf> {
+    std::fs::canonicalize(p).or_else(|_| std::path::absolute(p))
 }
 
 #[cfg(test)]
@@ -148,6 +161,11 @@ mod tests {
         let seen = scene_seen_from(roundabout.to_str().unwrap(), &root.join("views/v.view"));
         assert_eq!(seen, spec);
         assert_eq!(scene_seen_from("cornell", &root.join("v.view")), "cornell");
+        // A command copied names it absolutely (it runs in any directory).
+        assert_eq!(scene_from_anywhere(roundabout.to_str().unwrap()), spec);
+        assert_eq!(scene_from_anywhere("cornell"), "cornell");
+        let relative = scene_from_anywhere("Cargo.toml");
+        assert!(Path::new(&relative).is_absolute() && relative.ends_with("/Cargo.toml"));
         // The view's own rule finds it from another directory.
         let view = raylab::view::View::parse("v.view", "scene deep/s.scene\n").unwrap();
         let found = view.scene_path(&root.join("scenes/v.view"));

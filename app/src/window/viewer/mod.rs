@@ -686,7 +686,8 @@ impl Viewer {
     /// C or the panel's button: the `raylab render` command of the current view goes to the
     /// clipboard (in the next UI pass) and the status line shows it.
     pub fn copy_command(&mut self) {
-        let view = self.view();
+        let mut view = self.view();
+        view.scene = super::files::scene_from_anywhere(&view.scene);
         let focal = self.view_size_and_focal().1;
         let command = view.to_command_at_focal("raylab.png", focal);
         self.set_status(format!("{COPIED}{command}"));
