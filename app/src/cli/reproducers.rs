@@ -51,9 +51,12 @@ fn reproducer<T: Real>(
         Answer::Miss => None,
     };
     let what = match j.graded.verdict {
-        // (Not "off by inf": no point is off by a t that is no number.)
+        // (Not "off by inf": no point is off by a t that is no number or infinite.)
         Verdict::Right | Verdict::Tie if given_t.is_some_and(f64::is_nan) => {
             "t failure: t is not a number".to_string()
+        }
+        Verdict::Right | Verdict::Tie if given_t.is_some_and(f64::is_infinite) => {
+            "t failure: t is infinite, where the exact t is not".to_string()
         }
         // What the tolerance judges: the point's distance, not t's own relative error (t 4x
         // too small can put the point 0.27 of the scale off).

@@ -317,6 +317,14 @@ fn a_t_beyond_the_tolerance_fails_and_the_tolerance_is_settable() {
         "{}",
         text(&o.stdout)
     );
+    std::fs::write(&nan, "hit -inf 0\n").unwrap();
+    let o = check_answers(sphere, ray, &nan, &[]);
+    assert!(
+        text(&o.stdout)
+            .contains("hit -inf 0  [t failure: t is infinite, where the exact t is not]"),
+        "{}",
+        text(&o.stdout)
+    );
     for bad in ["-1", "2", "nan"] {
         let o = check_answers(&scene, &rays, &answers, &["--t-tolerance", bad]);
         assert_eq!(o.status.code(), Some(2), "{bad}");
