@@ -13,6 +13,7 @@ use super::shade::{self, Rgb, ShadePacket, ShadeTri};
 use super::{is_crack, LabStep, RenderSettings, Stage, CRACK};
 use crate::accel::{Accel, FrameQueries, OriginTriangle, TileQueries, TileScratch, NO_HIT};
 use crate::camera::RayGenerator;
+use crate::geometry::triangle::surface_point_prepared;
 use crate::geometry::Ray;
 use crate::math::lanes::{LaneOps, Lanes};
 use crate::math::simd::Isa;
@@ -524,10 +525,18 @@ impl<'a> Frame<'a> {
             }
             let ray = Ray::new(o, dirs.map(|c| c.to_array()[l]));
             let blocked = |ray: &Ray, skip| queries.any(ray, skip);
-            add(
-                sum,
-                shade::Lit::on(scene, &ray, prim).colour(scene, step, blocked, &mut counts.1),
-            );
+            // (A triangle the frame prepared for the eye is not prepared again per hit.)
+            let prepared = (self.camera_tris.get(prim as usize))
+                .filter(|_| !self.other_shapes || scene.shape(prim).is_triangle());
+            let lit = match prepared {
+                Some(t) => {
+                    let v = triangle(scene, prim);
+                    let sp = surface_point_prepared(&t.tri, &v, t.normal, ray.d);
+                    shade::Lit::at(scene, &ray, prim, sp)
+                }
+                None => shade::Lit::on(scene, &ray, prim),
+            };
+            add(sum, lit.colour(scene, step, blocked, &mut counts.1));
             counts.0 += 1;
         }
     }

@@ -119,8 +119,13 @@ impl Lit {
 
     /// Readies camera ray `ray`'s hit on primitive `prim`.
     pub fn on(scene: &Scene, ray: &Ray, prim: u32) -> Self {
+        Self::at(scene, ray, prim, scene.shape(prim).surface_point(ray))
+    }
+
+    /// [`Lit::on`] at `sp`, the shading point of `ray` on `prim` (as its shape gives it,
+    /// [`Shape::surface_point`](crate::geometry::Shape::surface_point)).
+    pub fn at(scene: &Scene, ray: &Ray, prim: u32, sp: SurfacePoint) -> Self {
         let shape = scene.shape(prim);
-        let sp = shape.surface_point(ray);
         let k = irradiance_factor(scene, &sp, ray);
         let d = k.map_or([0.0; 3], |k| scene.light.power.map(|p| p * k));
         let light = scene.light.position;

@@ -403,13 +403,7 @@ impl<T: Real> Primitive<T> for Triangle<T> {
         let v = self.0.map(|p| p.map(|x| x.f64() as f32));
         // (The primitive's index is no part of the edge functions.)
         let tri = OriginTriangle::new(&v, ray.o, u32::MAX);
-        let (p, p_error) = shading_point_of_one(tri.edge_normals(), &v, ray.d);
-        SurfacePoint {
-            p,
-            p_error,
-            hit_error: hit_error(&tri, &v, ray.d, p_error),
-            n: unit_normal(&v),
-        }
+        surface_point_prepared(&tri, &v, unit_normal(&v), ray.d)
     }
 
     fn terms(&self, ray: &Ray<T>) -> ShapeTerms {
@@ -618,6 +612,24 @@ fn shading_point_of_one_body<V: Lanes>(
     let (p, p_error) = shading_points::<V>(&splat3(&d), &edge, &v);
     let first = |x: &[V; 3]| each3(|k| x[k].to_array()[0]);
     (first(&p), first(&p_error))
+}
+
+/// [`Primitive::surface_point`] along `d` on triangle `v` (unit normal `n`) prepared for the
+/// ray's origin (`tri`) once a frame, not again for each hit: the same bits.
+pub fn surface_point_prepared(
+    tri: &OriginTriangle,
+    v: &[[f32; 3]; 3],
+    n: [f32; 3],
+    d: [f32; 3],
+) -> SurfacePoint {
+    let (p, p_error) = shading_point_of_one(tri.edge_normals(), v, d);
+    let hit_error = hit_error(tri, v, d, p_error);
+    SurfacePoint {
+        p,
+        p_error,
+        hit_error,
+        n,
+    }
 }
 
 /// [`Triangle`]'s `hit_error` of its surface point (see [`Primitive::surface_point`] there).
