@@ -176,8 +176,9 @@ pub fn side_panel(
             let response = ui.add(typing.drag(field.max_decimals(1), everywhere));
             if response.changed() {
                 // (As the field shows a yaw: 720 typed is said to be taken as 0.)
-                yaw = raylab::math::degrees_within_half_turn(yaw);
-                camera.yaw = yaw.to_radians();
+                camera.yaw = raylab::math::degrees_within_half_turn(yaw).to_radians();
+                // (Said as F5 writes it.)
+                yaw = super::values::degrees(camera.yaw);
             }
             actions.note(typing.said_as_edit_ends(ui, &response, "yaw", yaw));
             ui.label("pitch");
