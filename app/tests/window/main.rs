@@ -10,6 +10,7 @@ mod files;
 mod idle;
 mod input;
 mod inspector;
+mod inspector_clicks;
 mod layout;
 mod panel;
 mod sizes;

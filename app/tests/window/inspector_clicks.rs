@@ -1,0 +1,237 @@
+//! Which pixel a real click inspects and how the inspector names it: the pixel drawn under
+//! the pointer (at 1 and 1.5 window pixels per point), named as the view F5 saves names it,
+//! and the ring round it, on a hit or a miss.
+
+use crate::common;
+
+use super::inspector::assert_inspector_shows;
+use common::window::{run_window_on, run_window_with, Around};
+
+/// The window under test.
+const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
+
+#[test]
+fn real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves() {
+    // A click opens the inspector's panel, which crops the image's sides; a second click
+    // inspects a pixel of the cropped image, and F5 saves the view. `raylab inspect --pixel`
+    // of the pixel the inspector names, with that view, answers what the inspector shows:
+    // the same ray. (The inspector named the cropped image's pixel, 165 columns left of the
+    // view's: another ray, another primitive.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1; logged '] inspected pixel' 1; sleep 1; \
+                  xdotool mousemove --sync 420 560; sleep 0.3; xdotool click 1; \
+                  logged '] inspected pixel' 2; xdotool key F5; logged 'saved view'";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        run.view_offset() > 0,
+        "the inspector's panel crops the image\n{log}"
+    );
+    let view = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    let pixel = run.inspector["pixel"].replace(' ', ",");
+    let out = std::process::Command::new(RAYLAB)
+        .args(["inspect", "--pixel", &pixel, "--view"])
+        .arg(&view)
+        .output()
+        .unwrap();
+    let headless = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(headless.contains("\nhit: "), "{headless}");
+    assert_inspector_shows(&run.inspector, &headless);
+    // The log names the pixel so too.
+    let last = inspected_pixels(log)
+        .last()
+        .map(|(i, j)| format!("{i},{j}"));
+    assert_eq!(last, Some(pixel), "{log}");
+}
+
+/// Driver commands that click at each of `clicks` after a first click, each once the click
+/// before has inspected its pixel (the log says so), and wait for the last one's.
+fn clicks_each_inspecting(clicks: &[(i32, i32)]) -> String {
+    let moves: String = (clicks.iter().enumerate())
+        .map(|(k, (x, y))| {
+            format!(
+                "logged '] inspected pixel' {}; xdotool mousemove --sync {x} {y}; sleep 0.3; \
+                 xdotool click 1; ",
+                k + 1
+            )
+        })
+        .collect();
+    format!("{moves}logged '] inspected pixel' {}", clicks.len() + 1)
+}
+
+/// The pixels the window's log says were inspected, in order.
+fn inspected_pixels(log: &str) -> Vec<(u32, u32)> {
+    (log.lines())
+        .filter_map(|l| l.split_once("] inspected pixel (")?.1.split_once(')'))
+        .map(|(p, _)| {
+            let (i, j) = p.split_once(", ").unwrap();
+            (i.parse().unwrap(), j.parse().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
+    // With the inspector's panel open (a first click), the 464x698 image fills x 358..821 and
+    // y 0..697 of the 1280x800 screen, one window pixel per image pixel: clicks on the first
+    // column, the last column and the first row inspect pixel 0, 463 and row 0; each click
+    // inspects the pixel whose square on screen holds the centre of the window pixel clicked.
+    // The ring the inspector draws round its hit point is centred on the last click.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let clicks = [(358, 400), (821, 400), (600, 0), (400, 300)];
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; sleep 0.3; \
+         xdotool click 1; sleep 2; {}",
+        clicks_each_inspecting(&clicks)
+    );
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(&driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (_, w, h, rect) = run.camera();
+    assert_eq!((w, h), (464, 698), "{log}");
+    let pixels = inspected_pixels(log);
+    assert_eq!(pixels.len(), 1 + clicks.len(), "{log}");
+    // (The log names the view's pixels, of which the image shown is a crop.)
+    let offset = run.view_offset();
+    assert_eq!(run.view_size(), (794, 698), "{log}");
+    let at = |click: (i32, i32)| {
+        let (i, j) = pixel_under(click, rect, (w, h));
+        (i + offset, j)
+    };
+    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
+        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
+    }
+    assert_eq!(
+        (pixels[1], pixels[2], pixels[3].1),
+        ((165, 400), (165 + 463, 400), 0)
+    );
+    // The ring: white over the magenta wall round the last click, 6 px in radius.
+    assert_ring_round(&run.shot, (400, 300));
+}
+
+/// The inspector's white ring (6 px in radius) is centred on screen pixel `(cx, cy)` of
+/// `shot`, within half a pixel.
+fn assert_ring_round((sw, _, px): &(u32, u32, Vec<u8>), (cx, cy): (u32, u32)) {
+    let mut white = (u32::MAX, 0, u32::MAX, 0);
+    for y in cy - 12..=cy + 12 {
+        for x in cx - 12..=cx + 12 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            if p.iter().all(|&c| c > 200) {
+                white = (
+                    white.0.min(x),
+                    white.1.max(x),
+                    white.2.min(y),
+                    white.3.max(y),
+                );
+            }
+        }
+    }
+    let centre = |lo: u32, hi: u32| (lo + hi + 1) as f64 / 2.0;
+    let (rx, ry) = (centre(white.0, white.1), centre(white.2, white.3));
+    println!("ring centre ({rx}, {ry}), bounds {white:?}");
+    assert!(
+        (rx - (cx as f64 + 0.5)).abs() <= 0.5 && (ry - (cy as f64 + 0.5)).abs() <= 0.5,
+        "the ring is centred at ({rx}, {ry}), the click at ({cx}, {cy})"
+    );
+}
+
+#[test]
+fn real_x_input_a_click_on_the_background_rings_its_pixel() {
+    // A click where the ray meets nothing (beside a small pyramid): the inspector says so,
+    // and its ring is round the pixel clicked, as round a hit (a miss had a 2-pixel dot, a
+    // leak stepped to with N hard to find), and the method's answer is "none", not "the
+    // exact one".
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("pyramid.obj");
+    std::fs::write(
+        &model,
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\n\
+         f 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
+                  sleep 0.3; xdotool click 1; logged '] inspected pixel' 1; sleep 1; \
+                  xdotool mousemove --sync 420 40; sleep 0.3; xdotool click 1; \
+                  logged '] inspected pixel' 2; sleep 1";
+    let around = Around::RealInputOn(driver, &model);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    let last = (log.lines().rev())
+        .find(|l| l.contains("] inspected pixel ("))
+        .unwrap_or_else(|| panic!("{log}"));
+    assert!(last.ends_with(": nothing"), "{log}");
+    let ins = &run.inspector;
+    assert_eq!(
+        ins.get("adaptive hit lies").map(String::as_str),
+        Some("none, as the exact ray"),
+        "{ins:?}"
+    );
+    assert_ring_round(&run.shot, (420, 40));
+}
+
+#[test]
+fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
+    // At 1.5 window pixels per point (a 1920x1200 screen, the window 1728x1080), with the
+    // inspector's panel open (a first click): the image, cropped by an even count of columns
+    // (695 of the view's 1191), fills window pixel columns 538..1232 from y 0.25, so clicks
+    // on column 538 and row 0 are on its first column and row, and on column 1232 its last;
+    // each click inspects the pixel whose square holds the centre of the window pixel
+    // clicked, named as the view's pixel (248 columns right).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let clicks = [(538, 600), (1232, 600), (800, 0)];
+    let driver = format!(
+        "xdotool windowfocus --sync $win; xdotool mousemove --sync 900 450; sleep 0.3; \
+         xdotool click 1; sleep 2; {}",
+        clicks_each_inspecting(&clicks)
+    );
+    let env = [("WINIT_X11_SCALE_FACTOR", "1.5")];
+    let around = Around::RealInput(&driver);
+    let Some(run) = run_window_on(RAYLAB, (1920, 1200), script, dir.path(), &env, around) else {
+        return;
+    };
+    let log = &run.stderr;
+    let (_, w, h, rect) = run.camera();
+    let pixels = inspected_pixels(log);
+    assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
+    let offset = run.view_offset();
+    let at = |click: (i32, i32)| {
+        let (i, j) = pixel_under(click, rect, (w, h));
+        (i + offset, j)
+    };
+    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
+        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
+    }
+    assert_eq!(
+        (pixels[1].0, pixels[2].0, pixels[3].1),
+        (offset, offset + w - 1, 0),
+        "{rect:?}"
+    );
+}
+
+/// The image pixel (of `size`) under screen pixel `(x, y)`'s centre, the image drawn at
+/// `rect` (x, y, width, height in screen pixels).
+fn pixel_under((x, y): (i32, i32), rect: [f64; 4], (w, h): (u32, u32)) -> (u32, u32) {
+    let i = ((x as f64 + 0.5 - rect[0]) / rect[2] * w as f64).floor() as u32;
+    let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
+    (i, j)
+}
