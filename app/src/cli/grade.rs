@@ -8,11 +8,10 @@ use super::account::{accounts, Account};
 use super::cases::{suite_cases, Case};
 use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
-use super::reports;
+use super::reports::{self, Record, Status, Submission};
 use super::rubric::{name_of, Rubric};
 use super::Precision;
 use anyhow::{anyhow, bail, Context, Result};
-use raylab::check::Tally;
 use raylab::input::OutputFile;
 use raylab_app::one_line;
 use std::ffi::OsString;
@@ -107,61 +106,6 @@ pub struct GradeArgs {
 
 /// The variables of raylab's environment every program gets (`--env` adds others).
 const PASSED_ENV: [&str; 5] = ["PATH", "LANG", "LC_ALL", "LC_CTYPE", "TZ"];
-
-/// How one family went for one submission (the CSV's `status`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub(super) enum Status {
-    /// Graded, and passed.
-    Ok,
-    /// Graded, with mistakes.
-    Failed,
-    /// A status other than success, or a signal.
-    Crashed,
-    /// Still running at --timeout.
-    Timeout,
-    /// Still running when the submission's --budget ran out: stopped by the budget before
-    /// its --timeout (as a slow program's last family is).
-    Budget,
-    /// More output than any answers need.
-    Flooded,
-    /// Output that is not one answer per ray, or not UTF-8.
-    Garbage,
-    /// Not run: the submission's --budget ran out on earlier families.
-    Skipped,
-}
-
-impl Status {
-    pub(super) fn name(self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::Failed => "failed",
-            Status::Crashed => "crashed",
-            Status::Timeout => "timeout",
-            Status::Budget => "budget",
-            Status::Flooded => "flooded",
-            Status::Garbage => "garbage",
-            Status::Skipped => "skipped",
-        }
-    }
-}
-
-/// One submission on one family.
-pub(super) struct Record {
-    pub(super) tally: Option<Tally>,
-    pub(super) ms: f64,
-    pub(super) status: Status,
-    /// Why it was not graded (empty when it was).
-    pub(super) detail: String,
-}
-
-/// One submission: its name and a record per family (in the cases' order).
-pub(super) struct Submission {
-    pub(super) name: String,
-    /// Its directory's own name (`name` writes bytes that are not UTF-8 as `\xNN`, as a
-    /// name can be written).
-    pub(super) dir_name: OsString,
-    pub(super) records: Vec<Record>,
-}
 
 /// Runs `raylab grade`: `Ok` when the grading ran, whatever the grades.
 pub fn grade(args: &GradeArgs) -> Result<()> {

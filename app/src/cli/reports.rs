@@ -1,12 +1,67 @@
-//! What `raylab grade` writes of a class's records: the table on stdout, the CSV, the JSON
-//! and each submission's feedback.
+//! What `raylab grade` found, a record per submission and family, and what it writes of
+//! them: the table on stdout, the CSV, the JSON and each submission's feedback.
 
 use super::cases::Case;
-use super::grade::{Record, Status, Submission};
 use super::rubric::points_text;
 use raylab::check::Tally;
 use raylab_app::one_line;
+use std::ffi::OsString;
 use unicode_width::UnicodeWidthStr;
+
+/// How one family went for one submission (the CSV's `status`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub(super) enum Status {
+    /// Graded, and passed.
+    Ok,
+    /// Graded, with mistakes.
+    Failed,
+    /// A status other than success, or a signal.
+    Crashed,
+    /// Still running at --timeout.
+    Timeout,
+    /// Still running when the submission's --budget ran out: stopped by the budget before
+    /// its --timeout (as a slow program's last family is).
+    Budget,
+    /// More output than any answers need.
+    Flooded,
+    /// Output that is not one answer per ray, or not UTF-8.
+    Garbage,
+    /// Not run: the submission's --budget ran out on earlier families.
+    Skipped,
+}
+
+impl Status {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Failed => "failed",
+            Status::Crashed => "crashed",
+            Status::Timeout => "timeout",
+            Status::Budget => "budget",
+            Status::Flooded => "flooded",
+            Status::Garbage => "garbage",
+            Status::Skipped => "skipped",
+        }
+    }
+}
+
+/// One submission on one family.
+pub(super) struct Record {
+    pub(super) tally: Option<Tally>,
+    pub(super) ms: f64,
+    pub(super) status: Status,
+    /// Why it was not graded (empty when it was).
+    pub(super) detail: String,
+}
+
+/// One submission: its name and a record per family (in the cases' order).
+pub(super) struct Submission {
+    pub(super) name: String,
+    /// Its directory's own name (`name` writes bytes that are not UTF-8 as `\xNN`, as a
+    /// name can be written).
+    pub(super) dir_name: OsString,
+    pub(super) records: Vec<Record>,
+}
 
 /// "ok", or how many families ended each other way ("failed 2, timeout 1").
 pub(super) fn summary(records: &[Record]) -> String {
