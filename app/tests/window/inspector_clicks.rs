@@ -5,7 +5,7 @@
 use crate::common;
 
 use super::inspector::assert_inspector_shows;
-use common::window::{run_window_on, run_window_with, Around};
+use common::window::{run_window_on, run_window_with, Around, Run};
 
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
@@ -103,20 +103,11 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
         return;
     };
     let log = &run.stderr;
-    let (_, w, h, rect) = run.camera();
+    let (_, w, h, _) = run.camera();
     assert_eq!((w, h), (464, 698), "{log}");
-    let pixels = inspected_pixels(log);
-    assert_eq!(pixels.len(), 1 + clicks.len(), "{log}");
     // (The log names the view's pixels, of which the image shown is a crop.)
-    let offset = run.view_offset();
     assert_eq!(run.view_size(), (794, 698), "{log}");
-    let at = |click: (i32, i32)| {
-        let (i, j) = pixel_under(click, rect, (w, h));
-        (i + offset, j)
-    };
-    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
-        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
-    }
+    let pixels = assert_each_click_inspects_the_pixel_under_it(&run, &clicks);
     assert_eq!(
         (pixels[1], pixels[2], pixels[3].1),
         ((165, 400), (165 + 463, 400), 0)
@@ -209,23 +200,37 @@ fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     let Some(run) = run_window_on(RAYLAB, (1920, 1200), script, dir.path(), &env, around) else {
         return;
     };
-    let log = &run.stderr;
-    let (_, w, h, rect) = run.camera();
-    let pixels = inspected_pixels(log);
-    assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
+    let (_, w, _, rect) = run.camera();
+    let pixels = assert_each_click_inspects_the_pixel_under_it(&run, &clicks);
     let offset = run.view_offset();
-    let at = |click: (i32, i32)| {
-        let (i, j) = pixel_under(click, rect, (w, h));
-        (i + offset, j)
-    };
-    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
-        assert_eq!(pixel, at(click), "click {click:?} in the image at {rect:?}");
-    }
     assert_eq!(
         (pixels[1].0, pixels[2].0, pixels[3].1),
         (offset, offset + w - 1, 0),
         "{rect:?}"
     );
+}
+
+/// Each click after a first one inspected the view's pixel under it (the image drawn at the
+/// run's rectangle, a crop [`Run::view_offset`] columns into the view): the pixels the log
+/// names, the first one's too.
+fn assert_each_click_inspects_the_pixel_under_it(
+    run: &Run,
+    clicks: &[(i32, i32)],
+) -> Vec<(u32, u32)> {
+    let log = &run.stderr;
+    let (_, w, h, rect) = run.camera();
+    let pixels = inspected_pixels(log);
+    assert_eq!(pixels.len(), 1 + clicks.len(), "{rect:?} {w}x{h}\n{log}");
+    let offset = run.view_offset();
+    for (&click, &pixel) in clicks.iter().zip(&pixels[1..]) {
+        let (i, j) = pixel_under(click, rect, (w, h));
+        assert_eq!(
+            pixel,
+            (i + offset, j),
+            "click {click:?} in the image at {rect:?}"
+        );
+    }
+    pixels
 }
 
 /// The image pixel (of `size`) under screen pixel `(x, y)`'s centre, the image drawn at
