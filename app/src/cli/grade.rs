@@ -400,11 +400,7 @@ fn run_all(
         }
         drop(done);
         for (n, (k, submission, took)) in finished.iter().enumerate() {
-            let passed = submission
-                .records
-                .iter()
-                .filter(|r| r.status == Status::Ok)
-                .count();
+            let passed = submission.passed();
             eprintln!(
                 "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s)",
                 n + 1,

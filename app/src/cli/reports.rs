@@ -63,6 +63,23 @@ pub(super) struct Submission {
     pub(super) records: Vec<Record>,
 }
 
+impl Submission {
+    /// How many families it passed.
+    pub(super) fn passed(&self) -> usize {
+        self.records
+            .iter()
+            .filter(|r| r.status == Status::Ok)
+            .count()
+    }
+
+    /// The points of the families it passed (with `points` per family).
+    fn points_earned(&self, points: Option<&[f64]>) -> f64 {
+        (self.records.iter().enumerate())
+            .filter_map(|(k, r)| earned(points, k, r))
+            .sum()
+    }
+}
+
 /// "ok", or how many families ended each other way ("failed 2, timeout 1").
 pub(super) fn summary(records: &[Record]) -> String {
     let mut counts: Vec<(Status, usize)> = Vec::new();
@@ -128,7 +145,7 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
             .iter()
             .filter_map(|r| r.tally.as_ref())
             .for_each(|t| total.merge(t));
-        let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
+        let passed = s.passed();
         // (No family graded: no counts, not counts of 0, as the CSV's empty fields.)
         let graded_any = s.records.iter().any(|r| r.tally.is_some());
         let count = |n: usize| match graded_any {
@@ -136,12 +153,7 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
             false => "-".to_string(),
         };
         let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
-        let earned: f64 = s
-            .records
-            .iter()
-            .enumerate()
-            .filter_map(|(k, r)| earned(points, k, r))
-            .sum();
+        let earned = s.points_earned(points);
         out += &format!(
             "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
             padded(&one_line(&s.name)),
@@ -269,17 +281,14 @@ pub(super) fn feedback(
     points: Option<&[f64]>,
     again: &str,
 ) -> String {
-    let passed = s.records.iter().filter(|r| r.status == Status::Ok).count();
     let mut out = format!(
-        "raylab grade: {}\n{passed} of {} families passed",
+        "raylab grade: {}\n{} of {} families passed",
         one_line(&s.name),
+        s.passed(),
         cases.len()
     );
     if let Some(p) = points {
-        let earned: f64 = (0..s.records.len())
-            .filter_map(|k| earned(points, k, &s.records[k]))
-            .sum();
-        let most: f64 = p.iter().sum();
+        let (earned, most) = (s.points_earned(points), p.iter().sum());
         out += &format!(", {} of {} points", points_text(earned), points_text(most));
     }
     out += &format!(
