@@ -375,24 +375,29 @@ impl Viewer {
     /// would be odd): each pixel shown is then the pixel [`Viewer::view_offset`] further right
     /// of the view F5 and copy as command write, the same ray.
     pub fn full_size(&self) -> (u32, u32) {
-        let (w, h) = self.size_for(self.image_area);
-        let (view_w, view_h) = self.uncropped_size();
-        match view_h == h && view_w > w && (view_w - w) % 2 == 1 && w > 1 {
-            true => (w - 1, h),
-            false => (w, h),
-        }
+        self.shown_in_view().0
     }
 
     /// How many columns of the view F5 and copy as command write lie left of the image shown:
     /// half the inspector's panel's crop (0 uncropped or at a fixed size). A pixel the
     /// inspector names is the view's, as `raylab inspect --pixel` with that view names it.
     pub fn view_offset(&self) -> u32 {
-        let (w, h) = self.full_size();
+        self.shown_in_view().1
+    }
+
+    /// The full render size shown ([`Viewer::full_size`]) and its offset in the view
+    /// ([`Viewer::view_offset`]). (At a fixed size the view is the size shown: no crop.)
+    fn shown_in_view(&self) -> ((u32, u32), u32) {
+        let (w, h) = self.size_for(self.image_area);
         let (view_w, view_h) = self.uncropped_size();
-        match matches!(self.view.resolution, Resolution::WindowScale(_)) && view_h == h {
-            true => view_w.saturating_sub(w) / 2,
-            false => 0,
+        if view_h != h || view_w <= w {
+            return ((w, h), 0);
         }
+        let w = match (view_w - w) % 2 == 1 && w > 1 {
+            true => w - 1,
+            false => w,
+        };
+        ((w, h), (view_w - w) / 2)
     }
 
     /// The full render size for an image area of `area` physical pixels.
