@@ -177,18 +177,9 @@ impl Scene {
             true => load_obj_file(path, obj_frame).map_err(|e| match e {
                 // (That one says so itself.)
                 ObjError::NoTriangles { .. } => e.to_string(),
-                e if !Scene::named_obj(path) => {
-                    format!("{e} (read as an OBJ file: a scene file's name ends in .scene)")
-                }
-                e => e.to_string(),
+                e => format!("{e}{}", obj::read_as_obj_hint(&path.display().to_string())),
             }),
         }
-    }
-
-    /// Whether `path`'s name ends in `.obj` (in any case).
-    fn named_obj(path: &std::path::Path) -> bool {
-        let ext = path.extension().and_then(|e| e.to_str());
-        ext.is_some_and(|e| e.eq_ignore_ascii_case("obj"))
     }
 
     /// Whether [`Scene::load`] reads `path` as an OBJ file (what is not a `.scene` file), so

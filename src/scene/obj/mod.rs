@@ -134,6 +134,16 @@ pub enum ObjError {
     },
 }
 
+/// What an error on file `name` adds where its name does not end in `.obj`: any name but
+/// `.scene` is read as an OBJ (README.md opened by mistake failed on its line 122 with
+/// "vertex takes 3 numbers", not saying why its words were vertices).
+pub(super) fn read_as_obj_hint(name: &str) -> &'static str {
+    match name.to_ascii_lowercase().ends_with(".obj") {
+        true => "",
+        false => " (read as an OBJ file: a scene file's name ends in .scene)",
+    }
+}
+
 /// Loads an OBJ file (and the material libraries it names, relative to it) as a scene, with
 /// a light placed for its size. A file whose every triangle has zero area is refused: there
 /// is nothing to show.
@@ -368,13 +378,9 @@ fn load_obj_str_coloured(
     scene.warnings = warnings;
     let Some(bounds) = scene.bounds() else {
         // (A file of `tri` lines named `.txt` came here, read as OBJ.)
-        let named_obj = name.to_ascii_lowercase().ends_with(".obj");
         return Err(ObjError::NoTriangles {
             file: name.to_string(),
-            hint: match named_obj {
-                true => "",
-                false => " (read as an OBJ file: a scene file's name ends in .scene)",
-            },
+            hint: read_as_obj_hint(name),
         });
     };
     scene.light = Scene::light_for_bounds(bounds);
