@@ -368,7 +368,7 @@ impl<'a> FrameQueries<'a> {
     }
 
     /// Whether camera rays may go 8 at a time ([`TileQueries::packets`]): not with an eye too
-    /// far for them ([`far`]).
+    /// far for them (`far.rs`).
     pub fn packets(&self) -> bool {
         matches!(
             self.plan,
