@@ -629,10 +629,13 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
     let script = "0 await driver-done\n";
     // Enter in the field emptied says so, without an error banner ("could not load: : No
     // such file or directory").
+    // The second click is where the pointer already is: `mousemove --sync` to it would wait
+    // for a move that never comes (some 15 s, till xdotool gives up).
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
                   sleep 0.3; xdotool key ctrl+a BackSpace Return; logged 'field is empty'; \
-                  xdotool mousemove --sync 150 631 click 1; \
-                  sleep 0.3; xdotool type pyramid.obj; sleep 0.3; xdotool key Return; sleep 1";
+                  xdotool click 1; \
+                  sleep 0.3; xdotool type pyramid.obj; sleep 0.3; xdotool key Return; \
+                  logged 'loaded pyramid.obj'";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
