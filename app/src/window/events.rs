@@ -264,6 +264,13 @@ impl ApplicationHandler<AppEvent> for App {
         // start, or until the script's next event, or until egui wants to draw again (a
         // tooltip shows once the pointer has rested on its widget), or until a scripted run's
         // limit.
+        // A script held by an `await` looks for its file here, drawing no frame for it.
+        let now = Instant::now();
+        if let Some(run) = &mut self.scripted {
+            if run.next_due().is_some_and(|t| t <= now) {
+                run.still_held();
+            }
+        }
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
         let deadline = self.scripted.as_ref().map(ScriptedRun::deadline);
         let prompt_ends = self.esc_armed.map(|t| t + QUIT_PROMPT_FOR);
@@ -277,7 +284,6 @@ impl ApplicationHandler<AppEvent> for App {
         .into_iter()
         .flatten()
         .min();
-        let now = Instant::now();
         if self.viewer.refine_at().is_some_and(|t| t <= now) {
             self.viewer.refine_wakes += 1;
         }

@@ -70,7 +70,8 @@ pub struct ViewerOptions {
     pub obj_frame: raylab::scene::ObjFrame,
     /// The acceleration structure of every scene opened.
     pub accel: raylab::accel::AccelChoice,
-    /// Run this many frames (plus the script and refinement), save `screenshot`, exit.
+    /// Run this many frames back to back, then the script and refinement drawn as a user's
+    /// window draws (on events), save `screenshot`, exit.
     pub frames: Option<u64>,
     /// Where `--frames` saves what the window showed.
     pub screenshot: Option<PathBuf>,
@@ -534,7 +535,9 @@ impl App {
             self.frames_presented,
             self.viewer.shown.as_ref().map(|s| (s.generation, s.level)),
         );
-        if moving || repaint_now || self.scripted.is_some() {
+        let scripted_next = (self.scripted.as_ref())
+            .is_some_and(|run| run.draws_back_to_back(self.frames_presented));
+        if moving || repaint_now || scripted_next {
             window.request_redraw();
         }
     }

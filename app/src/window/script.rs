@@ -295,6 +295,17 @@ impl Script {
             .collect()
     }
 
+    /// Looks again for the file of an `await` that holds the script, without returning any
+    /// event: true while it still holds (its next look is [`AWAIT_POLL`] from `elapsed`).
+    pub fn still_held(&mut self, elapsed: Duration) -> bool {
+        let held = match self.events.get(self.next) {
+            Some((at, Action::Await(path))) => *at <= elapsed && !path.exists(),
+            _ => false,
+        };
+        self.held_at = held.then_some(elapsed);
+        held
+    }
+
     /// Whether every event was returned.
     pub fn finished(&self) -> bool {
         self.next == self.events.len()
@@ -369,6 +380,28 @@ mod tests {
         );
         assert!(s.finished());
         assert_eq!(s.next_due(), None);
+    }
+
+    #[test]
+    fn a_held_await_is_looked_for_without_returning_events() {
+        // What the idle scripted window does between frames: look for the file, and wake
+        // again one poll later while it is missing; once it exists the await is due at once.
+        let dir = tempfile::tempdir().unwrap();
+        let done = dir.path().join("driver-done");
+        let text = format!("0 key W down\n100 await {}\n100 key W up\n", done.display());
+        let mut s = Script::parse("s.txt", &text).unwrap();
+        let ms = Duration::from_millis;
+        assert!(!s.still_held(ms(50)), "no await is due yet");
+        assert_eq!(s.due(ms(200)), vec![Action::Key(Key::W, true)]);
+        assert!(s.still_held(ms(700)));
+        assert_eq!(s.next_due(), Some(ms(700) + AWAIT_POLL));
+        std::fs::write(&done, "").unwrap();
+        assert!(!s.still_held(ms(760)));
+        assert_eq!(s.next_due(), Some(ms(100)), "due at once");
+        assert_eq!(
+            s.due(ms(760)),
+            vec![Action::Await(done), Action::Key(Key::W, false)]
+        );
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! The scripted-run driver of `raylab --frames N --screenshot FILE [--script FILE]`: replays
 //! the script's events in time from the first frame shown, decides when the run is done (enough
 //! frames, script finished, nothing loading or moving, the image fully refined), saves what
-//! the window showed and prints the final state for the window tests.
+//! the window showed and prints the final state for the window tests. Its first N frames are
+//! drawn back to back; after them it draws as a user's window does, when something changes,
+//! so a run waiting for its driver idles as a user's window would.
 
 use super::gpu::Capture;
 use super::script::{Action, Script};
@@ -58,6 +60,21 @@ impl ScriptedRun {
         match (&mut self.script, self.start) {
             (Some(script), Some(start)) => script.due(start.elapsed()),
             _ => Vec::new(),
+        }
+    }
+
+    /// Whether the run draws its next frame at once, not on an event as a user's window does:
+    /// only until its first `frames` frames are shown.
+    pub fn draws_back_to_back(&self, frames_presented: u64) -> bool {
+        frames_presented < self.frames
+    }
+
+    /// Looks for an awaited file where the script waits for one (no frame is drawn for that):
+    /// true while the script still waits.
+    pub fn still_held(&mut self) -> bool {
+        match (&mut self.script, self.start) {
+            (Some(script), Some(start)) => script.still_held(start.elapsed()),
+            _ => false,
         }
     }
 
