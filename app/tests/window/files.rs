@@ -3,6 +3,9 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::binary::text;
@@ -16,7 +19,6 @@ use std::process::{Command, Stdio};
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
-#[test]
 fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.obj");
@@ -53,7 +55,6 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
     );
 }
 
-#[test]
 fn cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light() {
     // `cornell` typed in the path field (or dropped) after a scene file with its own camera
     // and light showed the box from that scene's camera, lit by its light, R going back to
@@ -89,7 +90,6 @@ fn cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light() {
     assert!(text.contains("light 0 -0.5 -0.7"), "{text}");
 }
 
-#[test]
 fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     // Opened from a .scene file; the camera moves (W); the file gains a sphere on disk (the
     // window reloads it, keeping the camera); then a broken line (the error is shown and the
@@ -141,7 +141,6 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     assert!(orange > 200, "{orange} orange pixels");
 }
 
-#[test]
 fn a_saved_view_renders_headless_as_the_window_saved_it() {
     // Move, turn, zoom and light the scene as a user would, press F5 (save the view) and F12
     // (a full-quality screenshot of the same view); `raylab render --view` must give that
@@ -194,7 +193,6 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
 
-#[test]
 fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     let dir = tempfile::tempdir().unwrap();
     let view = dir.path().join("v.view");
@@ -243,7 +241,6 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     assert_eq!(run.fields["size"], "320x240");
 }
 
-#[test]
 fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
     // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
     // name and Return; File > Open scene or OBJ…: a double-click on the only scene file the
@@ -280,7 +277,6 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
     );
 }
 
-#[test]
 fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
     // File > Open scene or OBJ…, a file of the list clicked, then 3 and w: the first key went
     // both to the dialog's search box and to the window (lab step 3, or the camera moving).
@@ -308,7 +304,6 @@ fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
     assert_eq!(run.nums("camera"), [0.0, 0.0, -3.001], "{}", run.stderr);
 }
 
-#[test]
 fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     // A .scene placing one mesh (the repo's icosphere, 1,280 triangles) three times in the
     // Cornell box: the window loads it as instances (one stored mesh), draws it as the
@@ -353,7 +348,6 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     assert!(blue > 1000, "{blue} blue pixels");
 }
 
-#[test]
 fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
     if !common::tool_for(
         "xvfb-run",
@@ -397,7 +391,6 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
     assert_eq!(names, ["shot.png", "tri.obj"], "no temporary file left");
 }
 
-#[test]
 fn the_window_opens_cornell_by_name_as_the_command_line_does() {
     if !common::tool_for(
         "xvfb-run",
@@ -428,7 +421,6 @@ fn the_window_opens_cornell_by_name_as_the_command_line_does() {
     assert!(w > 0 && h > 0);
 }
 
-#[test]
 fn the_window_builds_the_structure_accel_names() {
     // `raylab --accel bvh`: the lab's box through a BVH (auto picks the flat loop), the same
     // image as the headless render of the final view.
@@ -449,7 +441,6 @@ fn the_window_builds_the_structure_accel_names() {
 
 /// `raylab FILE.view` opens a saved view as the File menu and a drop do: its camera, light
 /// and settings, then its scene (it said "no triangles", reading the view as a scene).
-#[test]
 fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
     let dir = tempfile::tempdir().unwrap();
     let view = dir.path().join("v.view");
@@ -482,7 +473,6 @@ fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
     assert_eq!(run.fields["size"], "320x240");
 }
 
-#[test]
 fn an_edit_saved_while_a_reload_loads_is_loaded_too() {
     // The scene file is replaced by a big scene (800,000 triangles: seconds to load), and
     // while the window reloads it, by a small one: the window ends on the small one, the
@@ -546,7 +536,6 @@ fn small_scene_and_its_view(dir: &std::path::Path) -> std::path::PathBuf {
 const PYRAMID: &str = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
                        f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
 
-#[test]
 fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
     // A model dropped, and in the same moment (its load under way) a view of another scene:
     // the view's scene loads after the model, then the view's camera applies to it. (The
@@ -571,7 +560,6 @@ fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
     assert!(log.contains("loaded view"), "{log}");
 }
 
-#[test]
 fn a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save() {
     // The scene shown reloads (its file changed); a second scene is dropped meanwhile; then
     // the first file is saved again: the dropped scene is what the window ends on. (The
@@ -597,7 +585,6 @@ fn a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save() {
     assert_eq!(run.fields["primitives"], "32", "{log}");
 }
 
-#[test]
 fn a_file_saved_while_it_loads_is_loaded_again() {
     // A scene dropped, and its file saved while it loads: it is loaded again once the first
     // load ends (the change was ignored: the file was not yet the one shown).
@@ -615,7 +602,6 @@ fn a_file_saved_while_it_loads_is_loaded_again() {
     assert_eq!(status, Some(want.as_str()), "{log}");
 }
 
-#[test]
 fn real_x_input_enter_in_the_path_field_loads_the_file() {
     // A path typed into the panel's path field and Enter pressed loads it, as the Load button
     // does. (Only the button loaded: Enter left the field and did nothing.) (150, 631): the
@@ -654,7 +640,6 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
     assert!(!log.contains("could not load"), "{log}");
 }
 
-#[test]
 fn real_x_input_obj_axes_read_the_lab_box_as_it_is() {
     // assets/cornell_lab.obj is written in the lab's frame: opened as an OBJ is usually read
     // (y up: y and z negated), the box shows from behind, a grey square; the panel's OBJ axes
@@ -686,7 +671,6 @@ fn real_x_input_obj_axes_read_the_lab_box_as_it_is() {
     assert!(green * 40 > all, "{green} green pixels of {all}\n{log}");
 }
 
-#[test]
 fn a_field_of_view_past_the_windows_range_is_said_on_load() {
     // A view asking 175° (the window shows 168.6° at most) and a scene asking 0.5° (1.1° at
     // least): each loads at the window's end of the range and the status says so, where it
@@ -722,3 +706,26 @@ fn a_field_of_view_past_the_windows_range_is_said_on_load() {
         "{log}"
     );
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    dropped_obj_files_load_and_bad_ones_leave_the_scene_alone,
+    cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,
+    a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,
+    a_saved_view_renders_headless_as_the_window_saved_it,
+    a_dropped_view_file_sets_the_camera_light_and_settings,
+    real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog,
+    real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs,
+    an_instanced_scene_opens_and_a_selected_instance_is_tinted,
+    the_window_never_saves_a_screenshot_over_the_model_it_opened,
+    the_window_opens_cornell_by_name_as_the_command_line_does,
+    the_window_builds_the_structure_accel_names,
+    a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it,
+    an_edit_saved_while_a_reload_loads_is_loaded_too,
+    a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera,
+    a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save,
+    a_file_saved_while_it_loads_is_loaded_again,
+    real_x_input_enter_in_the_path_field_loads_the_file,
+    real_x_input_obj_axes_read_the_lab_box_as_it_is,
+    a_field_of_view_past_the_windows_range_is_said_on_load,
+];

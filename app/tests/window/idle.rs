@@ -4,6 +4,9 @@
 //! Needs `xvfb-run`, `xdotool` and a Vulkan driver (Mesa's lavapipe works without a GPU).
 //! Where they are missing the test says so loudly and skips, except under CI=true, where it
 //! must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{one_window, window_alone, WindowSlot};
@@ -74,7 +77,6 @@ fn run_idle_window(
     Some((std::fs::read_to_string(view).unwrap(), log))
 }
 
-#[test]
 fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
     // The window idle (nothing drawn for 2 s), Shift held, a tap of W (held 50 ms), Shift let
     // go; idle again, a 50 ms tap of Left. A motion's first frame counts from the press, not
@@ -132,7 +134,6 @@ fn read_xwd(path: &std::path::Path) -> (usize, usize, Vec<[u8; 3]>) {
     (width, height, pixels)
 }
 
-#[test]
 fn real_x_input_a_tooltip_shows_while_the_pointer_rests() {
     // The pointer rests on the panel's speed field (whose tooltip says what + and - do) and
     // nothing else happens: egui asks to be drawn again once the tooltip is due, and the
@@ -160,7 +161,6 @@ fn real_x_input_a_tooltip_shows_while_the_pointer_rests() {
     );
 }
 
-#[test]
 fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     // The ray inspector off, show cracks ticked, 16 typed into the supersampling field: the
     // window renders 11x11 (its bound at this size) and says so on a line of its own, which
@@ -207,7 +207,6 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     assert!(view.lines().any(|l| l == "cracks on"), "{view}");
 }
 
-#[test]
 fn real_x_input_f5_and_copy_as_command_ignore_the_inspectors_crop() {
     // F5 and C, then a click on the image (the inspector's panel opens and crops the image's
     // sides), then C and F5 again: the view saved and the command copied are the same both
@@ -233,7 +232,6 @@ fn real_x_input_f5_and_copy_as_command_ignore_the_inspectors_crop() {
     );
 }
 
-#[test]
 fn real_x_input_the_window_shows_the_headless_render_pixel_for_pixel() {
     // The inspector off (I), the view refined, the screen copied, then F5: the view rendered
     // headless is on the screen pixel for pixel beside the side panel, whose edge lies at a
@@ -283,3 +281,12 @@ fn real_x_input_the_window_shows_the_headless_render_pixel_for_pixel() {
     println!("{w}x{h} headless, panel {panel} points: {best:?} pixels the same");
     assert_eq!(best.0, w * h, "{best:?} of {} pixels\n{log}", w * h);
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held,
+    real_x_input_a_tooltip_shows_while_the_pointer_rests,
+    real_x_input_show_cracks_at_capped_supersampling_refines_and_idles,
+    real_x_input_f5_and_copy_as_command_ignore_the_inspectors_crop,
+    real_x_input_the_window_shows_the_headless_render_pixel_for_pixel,
+];

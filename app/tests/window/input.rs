@@ -4,6 +4,9 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{compare, run_window_with, Around};
@@ -16,7 +19,6 @@ use raylab::{Camera, Scene};
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
-#[test]
 fn scripted_window_run_matches_the_headless_render() {
     let dir = tempfile::tempdir().unwrap();
     // The wheel and F12 come due together: F12 saves the view the wheel made, as a person
@@ -128,7 +130,6 @@ fn scripted_window_run_matches_the_headless_render() {
     );
 }
 
-#[test]
 fn real_x_input_moves_turns_and_zooms_the_camera() {
     // Real X events (XTEST, as a user's keyboard and mouse give them), not script events:
     // W held, the wheel over the image, a right-drag over the image. The script only keeps
@@ -164,7 +165,6 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     );
 }
 
-#[test]
 fn a_right_drag_with_an_absolute_pointer_turns_the_view() {
     // A pointer that reports positions only (VNC, a tablet, a VM's mouse integration, and
     // xdotool's `mousemove X Y`) gives no raw motion: the cursor's moves turn the view.
@@ -186,7 +186,6 @@ fn a_right_drag_with_an_absolute_pointer_turns_the_view() {
     );
 }
 
-#[test]
 fn real_x_input_orbits_with_tab_and_a_left_drag() {
     // Tab switches to orbit around the box centre; a left-drag across the image turns the
     // camera around it at the same distance (3.001).
@@ -217,7 +216,6 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     assert!(pos[0] < -1.0, "to the left of the box's axis: {pos:?}");
 }
 
-#[test]
 fn real_x_input_sets_every_image_control_in_the_panel() {
     // The panel draws one widget per row of the controls table: real clicks on the "direct"
     // radio button, a press on the supersampling slider's rail near its left end (egui moves
@@ -269,7 +267,6 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
-#[test]
 fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     // Move (A held), press C (copy as command), click the status line that says what it
     // copied, and press F12 (a full-quality screenshot of the same view); the clipboard, read
@@ -310,7 +307,6 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
 
-#[test]
 fn real_x_input_digits_choose_the_lab_step() {
     // 1, 3, 4 and 5 choose the lab step as the panel's radio buttons do (the digit keys did
     // nothing); 2, the camera's step, changes no shading and says why.
@@ -338,7 +334,6 @@ fn real_x_input_digits_choose_the_lab_step() {
     );
 }
 
-#[test]
 fn real_x_input_drives_every_other_key() {
     // The keys the other real-input runs do not press, each checked from the outside: D moves
     // right, then Shift+D 4x as far; Ctrl+E moves up at a quarter of the speed, Q down; S
@@ -403,7 +398,6 @@ fn real_x_input_drives_every_other_key() {
     assert!(pos[0] > 1.6, "Shift made D faster: x {}", pos[0]);
 }
 
-#[test]
 fn real_x_input_escape_twice_quits() {
     // With the mouse captured for looking (right button held over the image), Esc releases
     // it; Esc then asks, and Esc again quits at once: the run ends before its script, which
@@ -432,7 +426,6 @@ fn real_x_input_escape_twice_quits() {
     );
 }
 
-#[test]
 fn real_x_input_escape_quits_only_right_after_asking() {
     // Esc asks; a click on the panel comes between, so Esc asks again rather than quitting;
     // then a failed load raises the banner (the status now says the error), Esc dismisses
@@ -475,7 +468,6 @@ fn real_x_input_escape_quits_only_right_after_asking() {
     assert!(asked[0] < withdrawn && withdrawn < asked[1], "{log}");
 }
 
-#[test]
 fn real_x_input_middle_drag_pans_in_orbit_mode() {
     // Tab, then a middle-drag 100 pixels to the right over the image: the scene follows the
     // cursor, so the camera (and its target) move left, keeping height and depth.
@@ -504,7 +496,6 @@ fn real_x_input_middle_drag_pans_in_orbit_mode() {
     assert!(run.nums("yaw")[0].abs() < 1e-9, "a pan does not turn");
 }
 
-#[test]
 fn real_x_input_keys_still_move_the_camera_after_tab() {
     // Tab twice (orbit, then fly again), then W: egui once took Tab to move its keyboard focus
     // to a panel widget, and the app ignored every key while any widget had focus, so the
@@ -529,7 +520,6 @@ fn real_x_input_keys_still_move_the_camera_after_tab() {
     );
 }
 
-#[test]
 fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     // Esc while typing in the path field leaves the field, Esc in the open File menu closes
     // it, Esc with File ▸ Open's dialog shown closes the dialog: each is egui's alone. So
@@ -565,7 +555,6 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     );
 }
 
-#[test]
 fn real_x_input_quick_clicks_each_count() {
     // Plain clicks (press and release together, as a mouse's quick click gives them) on the
     // focal slider, at its right end, its left end, its right end and its left end: the
@@ -595,3 +584,21 @@ fn real_x_input_quick_clicks_each_count() {
     assert_eq!(toggles, 3, "three clicks on the check box\n{log}");
     assert_eq!(run.fields["inspector"], "off", "{log}");
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    scripted_window_run_matches_the_headless_render,
+    real_x_input_moves_turns_and_zooms_the_camera,
+    a_right_drag_with_an_absolute_pointer_turns_the_view,
+    real_x_input_orbits_with_tab_and_a_left_drag,
+    real_x_input_sets_every_image_control_in_the_panel,
+    real_x_input_copy_as_command_renders_what_the_window_shows,
+    real_x_input_digits_choose_the_lab_step,
+    real_x_input_drives_every_other_key,
+    real_x_input_escape_twice_quits,
+    real_x_input_escape_quits_only_right_after_asking,
+    real_x_input_middle_drag_pans_in_orbit_mode,
+    real_x_input_keys_still_move_the_camera_after_tab,
+    real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks,
+    real_x_input_quick_clicks_each_count,
+];

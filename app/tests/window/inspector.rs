@@ -4,6 +4,9 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{graded_pixels, pixels_off_where, run_window_with, segment_distance, Around};
@@ -41,7 +44,6 @@ fn shared_edge_view(dir: &std::path::Path, spp: u32) -> std::path::PathBuf {
     view
 }
 
-#[test]
 fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     // The cracks view of moller on the shared edge (a dropped view: 321x241, flat, one
     // sample): the counts the panel shows are those of grading every pixel's ray headless;
@@ -149,7 +151,6 @@ fn real_x_input_next_crack_steps_through_the_counted_cracks() {
     );
 }
 
-#[test]
 fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
     // N steps to the first crack of moller on the shared edge; then D moves the camera. The
     // status line tells of the pixel the inspector follows, no longer of the crack (it kept
@@ -174,7 +175,6 @@ fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
     );
 }
 
-#[test]
 fn a_zoom_that_loses_the_inspected_ray_says_so() {
     // Zoomed in until the chosen pixel's ray is off the image: the inspector shows the edge
     // pixel, and the status line says so (it had swapped in another ray without a word).
@@ -192,7 +192,6 @@ fn a_zoom_that_loses_the_inspected_ray_says_so() {
     );
 }
 
-#[test]
 fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
     // A pixel inspected, then the view zoomed in 17x (the pixel's ray leaves the image: the
     // inspector shows the edge's pixel meanwhile) and out again: the inspector is back on
@@ -213,7 +212,6 @@ fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
     assert_eq!(zoomed, still, "{log}");
 }
 
-#[test]
 fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     // The cracks view of moller on the shared edge at 3x3 samples a pixel: a real press of N
     // selects the first marked pixel, and every field the inspector shows is that of the
@@ -337,7 +335,6 @@ fn assert_status_names_the_inspected_pixel(run: &common::window::Run) {
     );
 }
 
-#[test]
 fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     // A click inspects a pixel (the inspector's panel then opens and narrows the image), and W
     // moves the camera: the inspector answers its pixel again for the frame shown, so its
@@ -373,7 +370,6 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     assert_status_names_the_inspected_pixel(&run);
 }
 
-#[test]
 fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
     // A click inspects a pixel of the blue block; then the light's y is typed into the
     // panel's field (a real click, Ctrl+A, the value, Return) and F5 saves the view: the
@@ -422,7 +418,6 @@ fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
     assert_ne!(before, expected, "the light moved nothing at this pixel");
 }
 
-#[test]
 fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
     // A click on the lit floor draws the inspected ray, its ring and its shadow ray over the
     // image; I turns the inspector off, and with it what it drew: the window then shows the
@@ -474,7 +469,6 @@ fn real_x_input_i_hides_the_inspected_ray_with_the_inspector() {
     );
 }
 
-#[test]
 fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     // A left click (a real X press and release) over the image with the inspector on: the
     // panel's fields are those of the library's inspection of that pixel from the run's
@@ -551,7 +545,6 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     assert_status_names_the_inspected_pixel(&run);
 }
 
-#[test]
 fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
     // With the inspector on, clicks on egui windows drawn over the image are theirs: the
     // shortcuts overlay (H) and its close button, File ▸ Open's dialog and its Cancel button.
@@ -590,7 +583,6 @@ fn real_x_input_clicks_on_windows_over_the_image_do_not_inspect() {
     assert!(pixel[0] > 600 && pixel[1] > 550, "{pixel:?}");
 }
 
-#[test]
 fn real_x_input_the_status_follows_the_inspector_check_box() {
     // I, I (off, on again), then a real click unticks the panel's check box: the status says
     // the inspector is off, as the check box does. ((15, 378): the check box at the default
@@ -612,3 +604,18 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
     let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
     assert_eq!(status, Some("ray inspector off"), "{log}");
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    real_x_input_next_crack_steps_through_the_counted_cracks,
+    real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves,
+    a_zoom_that_loses_the_inspected_ray_says_so,
+    the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it,
+    real_x_input_next_crack_inspects_the_marked_samples_ray,
+    real_x_input_the_inspector_follows_its_pixel_as_the_view_changes,
+    real_x_input_the_inspector_follows_the_light_typed_into_the_panel,
+    real_x_input_i_hides_the_inspected_ray_with_the_inspector,
+    real_x_input_click_inspects_the_pixel_under_the_pointer,
+    real_x_input_clicks_on_windows_over_the_image_do_not_inspect,
+    real_x_input_the_status_follows_the_inspector_check_box,
+];

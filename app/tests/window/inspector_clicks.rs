@@ -2,6 +2,8 @@
 //! the pointer (at 1 and 1.5 window pixels per point), named as the view F5 saves names it,
 //! and the ring round it, on a hit or a miss.
 
+#![deny(dead_code)]
+
 use crate::common;
 
 use super::inspector::assert_inspector_shows;
@@ -10,7 +12,6 @@ use common::window::{run_window_on, run_window_with, Around, Run};
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
-#[test]
 fn real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves() {
     // A click opens the inspector's panel, which crops the image's sides; a second click
     // inspects a pixel of the cropped image, and F5 saves the view. `raylab inspect --pixel`
@@ -83,7 +84,6 @@ fn inspected_pixels(log: &str) -> Vec<(u32, u32)> {
         .collect()
 }
 
-#[test]
 fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     // With the inspector's panel open (a first click), the 464x698 image fills x 358..821 and
     // y 0..697 of the 1280x800 screen, one window pixel per image pixel: clicks on the first
@@ -142,7 +142,6 @@ fn assert_ring_round((sw, _, px): &(u32, u32, Vec<u8>), (cx, cy): (u32, u32)) {
     );
 }
 
-#[test]
 fn real_x_input_a_click_on_the_background_rings_its_pixel() {
     // A click where the ray meets nothing (beside a small pyramid): the inspector says so,
     // and its ring is round the pixel clicked, as round a hit (a miss had a 2-pixel dot, a
@@ -179,7 +178,6 @@ fn real_x_input_a_click_on_the_background_rings_its_pixel() {
     assert_ring_round(&run.shot, (420, 40));
 }
 
-#[test]
 fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     // At 1.5 window pixels per point (a 1920x1200 screen, the window 1728x1080), with the
     // inspector's panel open (a first click): the image, cropped by an even count of columns
@@ -240,3 +238,11 @@ fn pixel_under((x, y): (i32, i32), rect: [f64; 4], (w, h): (u32, u32)) -> (u32, 
     let j = ((y as f64 + 0.5 - rect[1]) / rect[3] * h as f64).floor() as u32;
     (i, j)
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves,
+    real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer,
+    real_x_input_a_click_on_the_background_rings_its_pixel,
+    real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer,
+];

@@ -7,6 +7,9 @@
 //! Needs `xvfb-run`, `xclip` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where
 //! they are missing the test says so loudly and skips, except under CI=true, where it must
 //! run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{run_window_on, run_window_with, Around};
@@ -30,7 +33,6 @@ fn focal(command: &str) -> f64 {
     flag(command, "focal").parse().unwrap()
 }
 
-#[test]
 fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length() {
     // On the 1280x800 screen (the panel as the harness's screenshots show it: the focal
     // slider's rail from x 8, its value box at x 221..260 on row y 225, the yaw box at
@@ -160,7 +162,6 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
     );
 }
 
-#[test]
 fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
     // At 2 pixels a point on a 1280x800 screen the window is 576x360 points, the side panel
     // about 370 of them: a click on the image opened the inspector's 330-point panel beside
@@ -195,7 +196,6 @@ fn real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi() {
     assert_eq!(run.fields["inspector_over"], "on", "{log}");
 }
 
-#[test]
 fn real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel() {
     // In a 400x300 window the side panel (300 points) leaves 100 beside it: the inspector's
     // panel there was 50 points wide, its rows cut off. It floats now, 330 points wide, over
@@ -236,7 +236,6 @@ fn real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel() {
     assert!(inspected[2].starts_with("(20, 200)"), "{inspected:?}");
 }
 
-#[test]
 fn real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width() {
     // The side panel's edge (at about x = 358 in the 1152x720 window) dragged to x = 1100:
     // the panel followed it and left the image 52 points. It stops where the image keeps
@@ -269,7 +268,6 @@ fn real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width() {
     );
 }
 
-#[test]
 fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
     // A 320x240 window (the least it asks the window system for): the side panel (300
     // points) left the image 20 points and no way to see more. P gives the image the whole
@@ -308,3 +306,12 @@ fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
     );
     assert!(log.contains("side panel hidden: P shows it"), "{log}");
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length,
+    real_x_input_the_inspector_leaves_the_image_a_useful_width_at_hidpi,
+    real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel,
+    real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width,
+    real_x_input_p_hides_the_side_panel_in_a_small_window,
+];

@@ -5,6 +5,9 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{run_window_on, Around, Run, SCREEN};
@@ -45,7 +48,6 @@ fn banner_red(p: [u8; 3]) -> bool {
     p[0] > 150 && p[1] < 60 && p[2] < 60
 }
 
-#[test]
 fn the_whole_panel_fits_the_default_window_on_laptop_screens() {
     // At the window's default size (90% of the screen) on the two commonest laptop screens,
     // the panel's content is no taller than the room it has: every section, the path field
@@ -68,7 +70,6 @@ fn the_whole_panel_fits_the_default_window_on_laptop_screens() {
     }
 }
 
-#[test]
 fn a_failed_load_shows_a_red_banner_over_the_image_and_in_the_status_line() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.scene");
@@ -105,7 +106,6 @@ fn a_failed_load_shows_a_red_banner_over_the_image_and_in_the_status_line() {
     assert_eq!(count_in(&run.shot, below, banner_red), 0);
 }
 
-#[test]
 fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
     // A failed load raises the banner; Esc dismisses it (without asking to quit); a second
     // failed load raises it again, and a real click on it dismisses it (without inspecting
@@ -145,7 +145,6 @@ fn real_x_input_esc_or_a_click_dismisses_the_error_banner() {
     );
 }
 
-#[test]
 fn an_error_in_the_status_line_is_shown_whole_beside_the_inspector() {
     // With the ray inspector's panel open beside the image, a failed load's message has the
     // status line first: the frame's figures are cut short, not the message. (The figures
@@ -162,7 +161,6 @@ fn an_error_in_the_status_line_is_shown_whole_beside_the_inspector() {
     assert_eq!(run.fields["status_whole"], "on", "{}", run.stdout);
 }
 
-#[test]
 fn real_x_input_the_menu_bar_saves_a_screenshot_and_shows_the_shortcuts() {
     // The menu bar's "Screenshot (F12)" and "Shortcuts (H or F1)", clicked.
     let dir = tempfile::tempdir().unwrap();
@@ -184,7 +182,6 @@ fn real_x_input_the_menu_bar_saves_a_screenshot_and_shows_the_shortcuts() {
     assert!(saved, "no screenshot saved\n{}", run.stderr);
 }
 
-#[test]
 fn a_missing_file_is_named_once_with_its_os_error_once() {
     // A dropped file that is not there, a view that is not there, a scene whose mesh is not
     // there: each message names the path and says the OS error once.
@@ -207,7 +204,6 @@ fn a_missing_file_is_named_once_with_its_os_error_once() {
     }
 }
 
-#[test]
 fn the_window_starts_under_a_plain_x_server_without_a_wayland_error() {
     // No Wayland display and no XDG_RUNTIME_DIR (the harness's environment): libwayland,
     // asked by Mesa's device-select layer, printed "error: XDG_RUNTIME_DIR is invalid or not
@@ -229,7 +225,6 @@ fn scene_with_warnings(n: usize) -> String {
     text + "sphere 0 0 0 0.3\npop\n"
 }
 
-#[test]
 fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
     // 20,000 warnings: the panel shows their count and the first three, a click lists them
     // all in a window of their own; memory stays within the README's bound (100 bytes per
@@ -260,7 +255,6 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
     assert!(peak - base <= bound, "{peak} KiB against {base} + {bound}");
 }
 
-#[test]
 fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // Typed into the panel: nan for the camera's y, 1,5 for the light's y, -2.5 for the
     // camera's z, 9 for the light's z left with Esc, 720 for the yaw (a whole turn: the
@@ -342,7 +336,6 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     assert!(o.status.success(), "{text}{err}");
 }
 
-#[test]
 fn real_x_input_a_click_with_the_inspector_off_says_so() {
     // I turns the inspector off; a click on the image then inspects nothing and the status
     // line says why (it said nothing), and no pixel is inspected.
@@ -362,3 +355,17 @@ fn real_x_input_a_click_with_the_inspector_off_says_so() {
     );
     assert!(!run.stderr.contains("inspected pixel"), "{}", run.stderr);
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    the_whole_panel_fits_the_default_window_on_laptop_screens,
+    a_failed_load_shows_a_red_banner_over_the_image_and_in_the_status_line,
+    real_x_input_esc_or_a_click_dismisses_the_error_banner,
+    an_error_in_the_status_line_is_shown_whole_beside_the_inspector,
+    real_x_input_the_menu_bar_saves_a_screenshot_and_shows_the_shortcuts,
+    a_missing_file_is_named_once_with_its_os_error_once,
+    the_window_starts_under_a_plain_x_server_without_a_wayland_error,
+    real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand,
+    real_x_input_typed_positions_stay_where_raylab_renders_from,
+    real_x_input_a_click_with_the_inspector_off_says_so,
+];

@@ -3,6 +3,9 @@
 //!
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
+
+#![deny(dead_code)]
+
 use crate::common;
 
 use common::window::{against_headless, run_window_with, Around};
@@ -11,7 +14,6 @@ use raylab::Scene;
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
-#[test]
 fn resizes_minimise_hidpi_and_rapid_slider_changes() {
     let dir = tempfile::tempdir().unwrap();
     // At 1.5 device pixels per point; small, very large, minimised and restored; the focal
@@ -62,7 +64,6 @@ fn resizes_minimise_hidpi_and_rapid_slider_changes() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
-#[test]
 fn a_desktop_hidpi_change_while_running() {
     // The desktop's DPI goes from 96 to 192 (scale 1 to 2) 2 s into the run, through an
     // XSETTINGS manager as a desktop does it; the panel doubles in device pixels, the image
@@ -106,7 +107,6 @@ fn a_desktop_hidpi_change_while_running() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
-#[test]
 fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     // A view of 16384x8192 at 16x16 samples (34 G rays): the window shows it at the largest
     // size it renders (4072x2036: 8.3 million pixels, the same field of view), keeps its own size for F5, and
@@ -149,7 +149,6 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
     assert!(saved[0].contains("size 16384 8192\n"), "{}", saved[0]);
 }
 
-#[test]
 fn supersampling_past_the_windows_bound_is_shown_as_rendered() {
     // 16x16 samples asked at the default window: more than the 2^26 samples a frame the
     // window renders, so it renders fewer, and says how many (the final line's spp_shown, the
@@ -176,7 +175,6 @@ fn supersampling_past_the_windows_bound_is_shown_as_rendered() {
     );
 }
 
-#[test]
 fn a_failed_render_is_not_asked_for_again_until_something_changes() {
     // A render fails (injected: the next to finish); the window says so and waits, rather
     // than waking to refine the failed frame on every pass of the event loop (it did, for
@@ -200,7 +198,6 @@ fn a_failed_render_is_not_asked_for_again_until_something_changes() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
-#[test]
 fn a_window_larger_than_the_device_draws_pauses_and_draws_again() {
     // 32767x32767, the largest X window: past the device's largest texture, so drawing
     // pauses (saying why) until the window is smaller; then what it shows is the headless
@@ -225,7 +222,6 @@ fn a_window_larger_than_the_device_draws_pauses_and_draws_again() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
-#[test]
 fn a_script_that_outlasts_the_scripted_run_is_refused_before_the_window_opens() {
     // An event at 3,600,000 ms was accepted, and the run then went on for an hour.
     let dir = tempfile::tempdir().unwrap();
@@ -248,7 +244,6 @@ fn a_script_that_outlasts_the_scripted_run_is_refused_before_the_window_opens() 
     assert!(!dir.path().join("shot.png").exists());
 }
 
-#[test]
 fn real_x_input_the_inspector_panel_regains_its_width_with_the_window() {
     // A click opens the inspector's panel (330 points wide at first, right of the image); the
     // window shrinks to 400x300, which squeezes the panel to the few pixels left, and grows
@@ -278,7 +273,6 @@ fn real_x_input_the_inspector_panel_regains_its_width_with_the_window() {
     );
 }
 
-#[test]
 fn real_x_input_the_default_window_fits_a_hidpi_screen() {
     // At 2 device pixels a point on a 1280x800 screen (640x400 points), the window opens
     // within the screen: 90% of it. (It opened at 1100x620 points, 2200x1240 pixels, the
@@ -319,7 +313,6 @@ fn real_x_input_the_default_window_fits_a_hidpi_screen() {
     assert_eq!((run.shot.0, run.shot.1), (size[0], size[1]), "{log}");
 }
 
-#[test]
 fn real_x_input_the_side_panel_regains_its_width_after_a_short_window() {
     // The window shrinks to 400x300, too short for the side panel, which shows its scroll
     // bar and widens by the bar's room; it grows back to its 1152x720, and the panel is as
@@ -354,7 +347,6 @@ fn real_x_input_the_side_panel_regains_its_width_after_a_short_window() {
     assert!((rect[0] - first).abs() < 1.0, "{rect:?}\n{log}");
 }
 
-#[test]
 fn a_window_resized_while_it_draws_goes_on_at_its_new_size() {
     // The window takes 900x600 after a draw read its size (1152x720) and before the draw asks
     // the surface for a texture, as a drag of the window's corner can land: the texture is
@@ -379,3 +371,18 @@ fn a_window_resized_while_it_draws_goes_on_at_its_new_size() {
         "the draw met no stale surface\n{log}"
     );
 }
+
+/// This file's tests, by name, for the harness (main.rs).
+pub const TESTS: super::Tests = tests![
+    resizes_minimise_hidpi_and_rapid_slider_changes,
+    a_desktop_hidpi_change_while_running,
+    a_huge_dropped_view_is_shown_smaller_and_escape_still_quits,
+    supersampling_past_the_windows_bound_is_shown_as_rendered,
+    a_failed_render_is_not_asked_for_again_until_something_changes,
+    a_window_larger_than_the_device_draws_pauses_and_draws_again,
+    a_script_that_outlasts_the_scripted_run_is_refused_before_the_window_opens,
+    real_x_input_the_inspector_panel_regains_its_width_with_the_window,
+    real_x_input_the_default_window_fits_a_hidpi_screen,
+    real_x_input_the_side_panel_regains_its_width_after_a_short_window,
+    a_window_resized_while_it_draws_goes_on_at_its_new_size,
+];
