@@ -297,8 +297,9 @@ pub struct RenderArgs {
     pub aov: bool,
 }
 
-/// `raylab inspect`.
+/// `raylab inspect`: `--pixel` or `--at`, one of them.
 #[derive(clap::Args, Debug)]
+#[group(id = "ray", required = true, multiple = false)]
 pub struct InspectArgs {
     #[command(flatten)]
     pub view: ViewArgs,
@@ -307,9 +308,28 @@ pub struct InspectArgs {
     pub controls: ControlFlags<false>,
     #[command(flatten)]
     pub accel: AccelArg,
-    /// The pixel `x,y` (column, row from the top left, 0-based).
-    #[arg(long, value_parser = parse_pixel, allow_hyphen_values = true)]
-    pub pixel: (u32, u32),
+    /// The pixel `x,y` (column, row from the top left, 0-based): its centre ray.
+    #[arg(long, value_parser = parse_pixel, allow_hyphen_values = true, group = "ray")]
+    pub pixel: Option<(u32, u32)>,
+    /// The ray through image position `x,y` instead (pixel (i, j) spans [i, i + 1) ×
+    /// [j, j + 1)): a supersampled pixel's sample, as the ray inspector's `traced` row names
+    /// a crack's marked one.
+    #[arg(long, value_parser = parse_position, allow_hyphen_values = true, group = "ray")]
+    pub at: Option<(f64, f64)>,
+}
+
+fn parse_position(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let number = |p: &str| p.parse::<f64>().ok().filter(|x| x.is_finite());
+    match parts[..] {
+        [x, y] => match (number(x), number(y)) {
+            (Some(x), Some(y)) => Ok((x, y)),
+            _ => Err(format!(
+                "'{s}' is not an image position x,y (two finite numbers)"
+            )),
+        },
+        _ => Err(format!("expected x,y, got '{s}'")),
+    }
 }
 
 fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
@@ -339,8 +359,19 @@ pub fn check(args: &CheckArgs) -> Result<bool> {
 pub fn inspect(args: &InspectArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view, args.controls.0)?;
     let stage = Stage::new(scene, args.accel.accel);
-    let (x, y) = args.pixel;
-    let inspection = raylab::render::inspect::inspect(&stage, &camera, &settings, x, y)?;
+    let inspection = match (args.pixel, args.at) {
+        (Some((i, j)), _) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
+        (None, None) => bail!("give the pixel (--pixel X,Y) or the image position (--at X,Y)"),
+        (None, Some((x, y))) => {
+            let (w, h) = (settings.width, settings.height);
+            // (As traced: rounded to f32, as the renderer's sample positions are.)
+            let inside = |c: f64, n: u32| (0.0..n as f32).contains(&(c as f32));
+            if !inside(x, w) || !inside(y, h) {
+                bail!("position ({x}, {y}) is outside the {w}x{h} image (x in [0, {w}), y in [0, {h}) once rounded to f32)");
+            }
+            raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?
+        }
+    };
     say!("{}", inspection.to_string().trim_end());
     Ok(())
 }

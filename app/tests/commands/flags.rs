@@ -130,6 +130,42 @@ fn inspect_refuses_what_its_one_ray_does_not_use() {
     }
 }
 
+#[test]
+fn inspect_at_traces_the_ray_through_an_image_position() {
+    // `--at X,Y`: the ray through an image position, as a supersampled pixel's sample is
+    // traced; a pixel's centre is `--pixel`'s ray, field for field.
+    let inspect = |ray: &[&str]| raylab(&[&["inspect"][..], ray].concat());
+    let (centre, pixel) = (
+        inspect(&["--at", "100.5,80.5"]),
+        inspect(&["--pixel", "100,80"]),
+    );
+    assert!(pixel.status.success(), "{}", stderr(&pixel));
+    assert_eq!(stdout(&centre), stdout(&pixel));
+    // Off the centre: the pixel holding the position, and u = x - W/2, v = y - H/2 (640x480).
+    let o = inspect(&["--at", "100.25,80.75"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.starts_with("pixel: 100 80\n"), "{out}");
+    assert!(out.contains("\nuvf: -219.75 -159.25 "), "{out}");
+    assert_ne!(out, stdout(&pixel));
+    let refused: [(&[&str], &[&str]); 5] = [
+        (
+            &["--at", "640,3"],
+            &["position (640, 3) is outside the 640x480 image"],
+        ),
+        (&["--at", "-0.001,3"], &["position (-0.001, 3) is outside"]),
+        (
+            &["--at", "nan,3"],
+            &["'nan,3' is not an image position x,y"],
+        ),
+        (&["--at", "1,1", "--pixel", "1,1"], &["cannot be used with"]),
+        (&[], &["required", "--pixel", "--at"]),
+    ];
+    for (ray, said) in refused {
+        assert_fails(&inspect(ray), 2, said);
+    }
+}
+
 /// The `--flag`s a help text lists.
 fn flags_in_help(command: &str) -> Vec<String> {
     let o = raylab(&[command, "--help"]);
@@ -188,7 +224,7 @@ fn each_help_lists_only_the_flags_its_command_uses() {
     check.extend(view);
     check.sort();
     assert_eq!(flags_in_help("check"), check);
-    let mut inspect = vec!["accel", "help", "method", "pixel", "step"];
+    let mut inspect = vec!["accel", "at", "help", "method", "pixel", "step"];
     inspect.extend(view);
     inspect.sort();
     assert_eq!(flags_in_help("inspect"), inspect);

@@ -222,7 +222,7 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     let view = shared_edge_view(dir.path(), 3);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
-                  logged '] crack '";
+                  logged '] crack '; xdotool key F5; logged 'saved view'";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -293,6 +293,25 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     let expected =
         raylab::render::inspect::inspect_at(&scene.into(), &camera, &settings, x, y).unwrap();
     assert_inspector_shows(ins, &expected.to_string());
+    // And `raylab inspect --at` of the traced position, with the view F5 saved, headless.
+    let saved = (std::fs::read_dir(dir.path()).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("raylab-view"))
+        })
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    let out = std::process::Command::new(RAYLAB)
+        .args(["inspect", "--at", &format!("{x},{y}"), "--view"])
+        .arg(&saved)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_inspector_shows(ins, &String::from_utf8_lossy(&out.stdout));
 }
 
 /// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
