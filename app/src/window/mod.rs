@@ -535,8 +535,11 @@ impl App {
             self.frames_presented,
             self.viewer.shown.as_ref().map(|s| (s.generation, s.level)),
         );
-        let scripted_next = (self.scripted.as_ref())
-            .is_some_and(|run| run.draws_back_to_back(self.frames_presented));
+        // (A run done with this frame draws once more, to be captured: nothing else may ask.)
+        let scripted_next = (self.scripted.as_ref()).is_some_and(|run| {
+            run.draws_back_to_back(self.frames_presented)
+                || run.is_done(&self.viewer, self.frames_presented)
+        });
         if moving || repaint_now || scripted_next {
             window.request_redraw();
         }

@@ -5,8 +5,6 @@
 //! Where they are missing the test says so loudly and skips, except under CI=true, where it
 //! must run.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use common::window::{one_window, window_alone, WindowSlot};
@@ -283,7 +281,39 @@ fn real_x_input_the_window_shows_the_headless_render_pixel_for_pixel() {
 }
 
 /// This file's tests, by name, for the harness (main.rs).
+fn a_scripted_run_idle_before_its_last_frame_still_ends() {
+    // `--frames 100` without a script: the view is refined long before its hundredth frame,
+    // and after that frame the run draws only on events, as a user's window does. It draws
+    // once more to be captured and ends (it had waited for the run's limit, 120 s, and
+    // failed with nothing left to wait for).
+    if !common::tool_for(
+        "xvfb-run",
+        "xvfb xauth mesa-vulkan-drivers",
+        "the window test",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let slot = one_window();
+    let out = std::process::Command::new("timeout")
+        .args(["60", "xvfb-run"])
+        .args(slot.server_args())
+        .args(["-s", "-screen 0 1280x800x24", RAYLAB, "--frames", "100"])
+        .arg("--screenshot")
+        .arg(dir.path().join("shot.png"))
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (common::binary::stdout(&out), common::binary::stderr(&out));
+    assert!(out.status.success(), "{}\n{stderr}", out.status);
+    let frames = (stdout.split_whitespace())
+        .find_map(|kv| kv.strip_prefix("frames="))
+        .map(|n| n.parse::<u64>().unwrap());
+    assert!(frames.is_some_and(|n| n >= 100), "{stdout}");
+}
+
 pub const TESTS: super::Tests = tests![
+    a_scripted_run_idle_before_its_last_frame_still_ends,
     real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held,
     real_x_input_a_tooltip_shows_while_the_pointer_rests,
     real_x_input_show_cracks_at_capped_supersampling_refines_and_idles,
