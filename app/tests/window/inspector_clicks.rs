@@ -2,8 +2,6 @@
 //! the pointer (at 1 and 1.5 window pixels per point), named as the view F5 saves names it,
 //! and the ring round it, on a hit or a miss.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use super::inspector::assert_inspector_shows;

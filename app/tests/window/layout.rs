@@ -8,8 +8,6 @@
 //! they are missing the test says so loudly and skips, except under CI=true, where it must
 //! run.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use common::window::{run_window_on, run_window_with, Around};

@@ -6,8 +6,6 @@
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use common::window::{run_window_on, Around, Run, SCREEN};

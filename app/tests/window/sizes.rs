@@ -4,8 +4,6 @@
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use common::window::{against_headless, run_window_with, Around};
