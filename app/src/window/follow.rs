@@ -187,13 +187,20 @@ impl Viewer {
         let from = (self.inspected)
             .filter(|a| a.size == census.size && a.generation == census.generation)
             .map(|a| a.pixel);
-        let (count, who) = (census.marked.len(), census.who.clone());
+        let (count, who, wrong) = (census.marked.len(), census.who.clone(), census.counts.wrong);
         let found = census.step(from, step).map(|(k, m)| (k, *m));
         self.cracks.pending = None;
         let Some((k, m)) = found else {
-            return self.set_status(format!(
-                "no cracks in this frame: {who} gives every sample the exact answer (or a tie)"
-            ));
+            // (A method's wrong primitives are counted, not marked: not every sample is right.)
+            return self.set_status(match wrong {
+                0 => format!(
+                    "no cracks in this frame: {who} gives every sample the exact answer (or a tie)"
+                ),
+                n => format!(
+                    "no marked cracks in this frame: {who} neither leaks nor hits falsely; {n} \
+                     samples name another primitive than the exact one (counted, not marked)"
+                ),
+            });
         };
         if self.answer(m.pixel, false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
@@ -286,7 +293,9 @@ impl Viewer {
             code: code.is_some(),
             // (The view's position, as the inspector's own rows name it.)
             at: (pos.0 + self.view_offset() as f32, pos.1),
-            sample: marked && n > 1,
+            // (A marked sample at the pixel's centre, an odd count's middle one, is named so,
+            // as the inspector's `ray through` row names it.)
+            sample: marked && n > 1 && pos != (at.pixel.0 as f32 + 0.5, at.pixel.1 as f32 + 0.5),
             verdict,
             marked,
             exact: exact.map(|h| on(h.prim)),

@@ -5,8 +5,6 @@
 //! Needs `xvfb-run` and a Vulkan driver (Mesa's lavapipe works without a GPU). Where they are
 //! missing the test says so loudly and skips, except under CI=true, where it must run.
 
-#![deny(dead_code)]
-
 use crate::common;
 
 use common::window::{graded_pixels, pixels_off_where, run_window_with, segment_distance, Around};
@@ -42,6 +40,41 @@ fn shared_edge_view(dir: &std::path::Path, spp: u32) -> std::path::PathBuf {
     )
     .unwrap();
     view
+}
+
+fn next_crack_where_only_wrong_primitives_are_counted_says_so() {
+    // Watertight on the Cornell box at 3x3 samples: no leak, no false hit, some samples
+    // naming another primitive than the exact one, which a method's cracks view counts but
+    // does not mark. N finds no marked pixel and says why, not that every sample is right.
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("box.view");
+    let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0\nsize 784 698\nstep shadows\n\
+                spp 3\nmethod watertight\ncracks on\n";
+    std::fs::write(&view, text).unwrap();
+    let script = format!("0 drop {}\n600 key N down\n650 key N up\n", view.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let count = |name: &str| -> u64 { run.fields[name].parse().unwrap() };
+    let (leaks, false_hits, wrong) = (count("leaks"), count("false_hits"), count("wrong"));
+    assert_eq!(
+        (leaks, false_hits),
+        (0, 0),
+        "the case needs no marked crack"
+    );
+    assert!(wrong > 0, "the case needs wrong primitives");
+    let status = (run.stdout.lines())
+        .find_map(|l| l.strip_prefix("status: "))
+        .unwrap_or_default();
+    assert_eq!(
+        status,
+        format!(
+            "no marked cracks in this frame: watertight neither leaks nor hits falsely; {wrong} \
+             samples name another primitive than the exact one (counted, not marked)"
+        ),
+        "{}",
+        run.stderr
+    );
 }
 
 fn real_x_input_next_crack_steps_through_the_counted_cracks() {
@@ -626,6 +659,7 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
 
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    next_crack_where_only_wrong_primitives_are_counted_says_so,
     real_x_input_next_crack_steps_through_the_counted_cracks,
     real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves,
     a_zoom_that_loses_the_inspected_ray_says_so,
