@@ -15,17 +15,21 @@ use std::time::{Duration, Instant};
 pub fn inspect(args: &InspectArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view, args.controls.0)?;
     let stage = Stage::new(scene, args.accel.accel);
-    let inspection = match (args.pixel, args.at) {
+    let inspection = match (args.pixel, &args.at) {
         (Some((i, j)), _) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
         (None, None) => bail!("give the pixel (--pixel X,Y) or the image position (--at X,Y)"),
-        (None, Some((x, y))) => {
+        (None, Some(at)) => {
             let (w, h) = (settings.width, settings.height);
             // (As traced: rounded to f32, as the renderer's sample positions are.)
             let inside = |c: f64, n: u32| (0.0..n as f32).contains(&(c as f32));
-            if !inside(x, w) || !inside(y, h) {
-                bail!("position ({x}, {y}) is outside the {w}x{h} image (x in [0, {w}), y in [0, {h}) once rounded to f32)");
+            if !inside(at.x, w) || !inside(at.y, h) {
+                bail!(
+                    "position {} is outside the {w}x{h} image (x in [0, {w}), y in [0, {h}) \
+                     once rounded to f32)",
+                    at.text
+                );
             }
-            raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?
+            raylab::render::inspect::inspect_at(&stage, &camera, &settings, at.x, at.y)?
         }
     };
     say!("{}", inspection.to_string().trim_end());

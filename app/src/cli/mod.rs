@@ -65,7 +65,8 @@ pub enum Command {
     /// Time K frames (after a warm-up) and print the accelerator build time, the median frame
     /// time, the hit count, and as the last line `mrays_per_s=<median>`.
     Bench(BenchArgs),
-    /// Print one pixel's camera ray as the lecture writes it (u, v, f, d, the triangle's
+    /// Print one camera ray (a pixel's centre, or through an image position: a sample) as the
+    /// lecture writes it (u, v, f, d, the triangle's
     /// A·x = b or the sphere's quadratic, t, the deciding level of the method, the surface
     /// point and normal, the shadow ray and what blocks it, ρ, D, N and the colour): the
     /// window's ray inspector, headless.
@@ -316,15 +317,28 @@ pub struct InspectArgs {
     /// [j, j + 1)): a supersampled pixel's sample, as the ray inspector's `traced` row names
     /// a crack's marked one.
     #[arg(long, value_parser = parse_position, allow_hyphen_values = true, group = "ray")]
-    pub at: Option<(f64, f64)>,
+    pub at: Option<Position>,
 }
 
-fn parse_position(s: &str) -> Result<(f64, f64), String> {
+/// An image position as given (`--at`): its numbers, and its text for messages (`1e300`
+/// rather than its 301 digits).
+#[derive(Clone, Debug)]
+pub struct Position {
+    pub x: f64,
+    pub y: f64,
+    pub text: String,
+}
+
+fn parse_position(s: &str) -> Result<Position, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let number = |p: &str| p.parse::<f64>().ok().filter(|x| x.is_finite());
     match parts[..] {
         [x, y] => match (number(x), number(y)) {
-            (Some(x), Some(y)) => Ok((x, y)),
+            (Some(x), Some(y)) => Ok(Position {
+                x,
+                y,
+                text: s.trim().to_string(),
+            }),
             _ => Err(format!(
                 "'{s}' is not an image position x,y (two finite numbers)"
             )),

@@ -148,12 +148,13 @@ fn inspect_at_traces_the_ray_through_an_image_position() {
     assert!(out.starts_with("pixel: 100 80\n"), "{out}");
     assert!(out.contains("\nuvf: -219.75 -159.25 "), "{out}");
     assert_ne!(out, stdout(&pixel));
-    let refused: [(&[&str], &[&str]); 5] = [
+    let refused: [(&[&str], &[&str]); 6] = [
         (
             &["--at", "640,3"],
-            &["position (640, 3) is outside the 640x480 image"],
+            &["position 640,3 is outside the 640x480 image"],
         ),
-        (&["--at", "-0.001,3"], &["position (-0.001, 3) is outside"]),
+        (&["--at", "-0.001,3"], &["position -0.001,3 is outside"]),
+        (&["--at", "1e300, 0"], &["position 1e300, 0 is outside"]),
         (
             &["--at", "nan,3"],
             &["'nan,3' is not an image position x,y"],
