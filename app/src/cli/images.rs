@@ -8,6 +8,7 @@ use raylab::camera::Camera;
 use raylab::render::settings::controls_text;
 use raylab::render::{self, RenderSettings, Stage};
 use raylab::scene::Scene;
+use raylab_app::window::Detail;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -15,12 +16,12 @@ use std::time::{Duration, Instant};
 pub fn inspect(args: &InspectArgs) -> Result<()> {
     let (scene, camera, settings) = prepare(&args.view, args.controls.0)?;
     let stage = Stage::new(scene, args.accel.accel);
-    let inspection = match (args.pixel, &args.at) {
-        (Some((i, j)), _) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
-        (None, None) => bail!("give the pixel (--pixel X,Y) or the image position (--at X,Y)"),
+    let (w, h) = (settings.width, settings.height);
+    // The position traced: a pixel's centre, or as given (rounded to f32, as the renderer's
+    // sample positions are).
+    let (x, y) = match (args.pixel, &args.at) {
+        (Some((i, j)), _) => (i as f64 + 0.5, j as f64 + 0.5),
         (None, Some(at)) => {
-            let (w, h) = (settings.width, settings.height);
-            // (As traced: rounded to f32, as the renderer's sample positions are.)
             let inside = |c: f64, n: u32| (0.0..n as f32).contains(&(c as f32));
             if !inside(at.x, w) || !inside(at.y, h) {
                 bail!(
@@ -29,10 +30,24 @@ pub fn inspect(args: &InspectArgs) -> Result<()> {
                     at.text
                 );
             }
-            raylab::render::inspect::inspect_at(&stage, &camera, &settings, at.x, at.y)?
+            (at.x, at.y)
         }
+        (None, None) => bail!("give the pixel (--pixel X,Y) or the image position (--at X,Y)"),
+    };
+    let inspection = match args.pixel {
+        Some((i, j)) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
+        None => raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?,
     };
     say!("{}", inspection.to_string().trim_end());
+    // With the cracks view on (a view file's `cracks on`), the rows the window's inspector
+    // adds for it: the ray graded against the exact one, and where each hit lies.
+    if settings.cracks {
+        let job = (&stage, &camera, settings.method, None);
+        let at = (x as f32, y as f32);
+        for (name, value) in Detail::of_ray(job, &[], (w, h), at, None).rows() {
+            say!("{name}: {value}");
+        }
+    }
     Ok(())
 }
 

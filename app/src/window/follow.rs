@@ -273,42 +273,23 @@ impl Viewer {
     /// (else its centre), graded, and where the exact hit lies.
     fn crack_detail(&self) -> Option<Detail> {
         let at = self.inspected?;
-        let (pos, marked, n) = self.traced_position(at);
+        let (pos, marked) = self.traced_position(at);
         let code = self.code.as_deref().filter(|_| self.view.yours);
         let shapes = match code {
             Some(_) => cracks::all_shapes(&self.stage),
             None => Cow::Borrowed(&[][..]),
         };
         let camera = self.camera_with_focal(at.focal);
-        let method = self.view.controls.method;
-        let trace = (&self.stage, &camera, method, code);
-        let (ray, given, exact) = cracks::answers(trace, &shapes, at.size, pos);
-        let scene = self.stage.scene();
-        let shape_of = |p: u32| scene.shape(p);
-        let verdict = cracks::classify(scene.len(), shape_of, &ray, exact, given);
-        let on = |p: u32| (p, scene.shape(p).locate(&ray));
-        let differs = |g: &raylab::geometry::Hit| exact.is_none_or(|e| e.prim != g.prim);
-        Some(Detail {
-            who: code.map_or(method.name().to_string(), |c| c.name().to_string()),
-            code: code.is_some(),
-            // (The view's position, as the inspector's own rows name it.)
-            at: (pos.0 + self.view_offset() as f32, pos.1),
-            // (A marked sample at the pixel's centre, an odd count's middle one, is named so,
-            // as the inspector's `ray through` row names it.)
-            sample: marked && n > 1 && pos != (at.pixel.0 as f32 + 0.5, at.pixel.1 as f32 + 0.5),
-            verdict,
-            marked,
-            exact: exact.map(|h| on(h.prim)),
-            given: (given.filter(differs))
-                .filter(|h| (h.prim as usize) < scene.len())
-                .map(|h| on(h.prim)),
-        })
+        let trace = (&self.stage, &camera, self.view.controls.method, code);
+        let mut detail = Detail::of_ray(trace, &shapes, at.size, pos, Some(marked));
+        // (The view's position, as the inspector's own rows name it.)
+        detail.at.0 += self.view_offset() as f32;
+        Some(detail)
     }
 
     /// The image position the inspector traces for pixel `at`: its first marked sample where
-    /// the count of its frame marks it, else its centre; whether it is marked, and the
-    /// samples a side of that count (1 without one).
-    fn traced_position(&self, at: Inspected) -> ((f32, f32), bool, u32) {
+    /// the count of its frame marks it, else its centre; and whether it is marked.
+    fn traced_position(&self, at: Inspected) -> ((f32, f32), bool) {
         let census = (self.cracks.census.as_ref())
             .filter(|c| c.generation == at.generation && c.size == at.size);
         let marked = census.and_then(|c| c.find(at.pixel)).map(|(_, m)| *m);
@@ -318,6 +299,6 @@ impl Viewer {
             Some(m) => cracks::sample_position(at.pixel, m.sample, n),
             None => (i as f32 + 0.5, j as f32 + 0.5),
         };
-        (pos, marked.is_some(), n)
+        (pos, marked.is_some())
     }
 }

@@ -3,8 +3,10 @@
 //! inspector draws.
 
 use super::cracks;
-use raylab::check::Verdict;
-use raylab::geometry::Location;
+use raylab::camera::Camera;
+use raylab::check::{LabCode, Verdict};
+use raylab::geometry::{Hit, Location, Method, Shape};
+use raylab::render::Stage;
 
 /// The pixel the inspector follows (of the full-size image), and the frame it was answered
 /// for.
@@ -37,7 +39,8 @@ pub struct Detail {
     /// Who answered: the method, or the linked code.
     pub who: String,
     pub code: bool,
-    /// The image position traced: the pixel's centre, or its first marked sample.
+    /// The image position traced: the pixel's centre, its first marked sample, or one given
+    /// (`raylab inspect --at`); `sample`: off the centre.
     pub at: (f32, f32),
     pub sample: bool,
     /// That ray's answer graded against the exact one.
@@ -51,12 +54,49 @@ pub struct Detail {
 }
 
 impl Detail {
+    /// The crack of the ray through image position `pos` of an image of `size`, as `job`
+    /// traces it (`shapes`: every primitive, for linked code). `marked`: whether the cracks
+    /// view marks it, or None to say so from the verdict alone (`raylab inspect`, which has no
+    /// frame counted). A ray off its pixel's centre is named a sample, one at the centre (an
+    /// odd count's middle sample too) the centre, as the `ray through` row names it.
+    pub fn of_ray(
+        job: (&Stage, &Camera, Method, Option<&dyn LabCode>),
+        shapes: &[Shape],
+        size: (u32, u32),
+        pos: (f32, f32),
+        marked: Option<bool>,
+    ) -> Self {
+        let (stage, _, method, code) = job;
+        let (ray, given, exact) = cracks::answers(job, shapes, size, pos);
+        let scene = stage.scene();
+        let verdict = cracks::classify(scene.len(), |p| scene.shape(p), &ray, exact, given);
+        let marked = marked.unwrap_or_else(|| cracks::is_marked(verdict, code.is_some()));
+        let on = |p: u32| (p, scene.shape(p).locate(&ray));
+        let differs = |g: &Hit| exact.is_none_or(|e| e.prim != g.prim);
+        let centre = (pos.0.floor() + 0.5, pos.1.floor() + 0.5);
+        Detail {
+            who: code.map_or(method.name().to_string(), |c| c.name().to_string()),
+            code: code.is_some(),
+            at: pos,
+            sample: pos != centre,
+            verdict,
+            marked,
+            exact: exact.map(|h| on(h.prim)),
+            given: (given.filter(differs))
+                .filter(|h| (h.prim as usize) < scene.len())
+                .map(|h| on(h.prim)),
+        }
+    }
+
     /// `name: value` rows, as the inspector shows them (and a scripted run prints them).
     pub fn rows(&self) -> Vec<(String, String)> {
         let v = self.verdict;
         let crack = match self.marked {
             true => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
-            false => format!("not marked (the centre ray: {})", v.name()),
+            false => match self.sample {
+                true => format!("not marked (the sample: {})", v.name()),
+                false => format!("not marked (the centre ray: {})", v.name()),
+            },
         };
         let (x, y) = self.at;
         let traced = match self.sample {

@@ -37,6 +37,8 @@ mod worker;
 
 pub use args::{main_with_code, WindowArgs};
 pub use framework::quiet_wayland_probe;
+/// The ray inspector's crack rows, which `raylab inspect` prints too.
+pub use inspected::Detail;
 
 use anyhow::{anyhow, bail, Context as _, Result};
 use framework::Framework;

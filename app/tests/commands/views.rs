@@ -280,6 +280,47 @@ fn a_huge_yaw_or_pitch_turns_as_its_remainder_of_a_whole_turn() {
     );
 }
 
+#[test]
+fn inspect_of_a_view_with_cracks_on_grades_its_ray_as_the_window_does() {
+    // The rows the window's inspector adds with show cracks on: a moller leak on the box's
+    // shared edge at a sample of 4x4 (the cracks view marks it magenta), a sample moller gets
+    // right, and none without the cracks view.
+    let d = tempfile::tempdir().unwrap();
+    let d = d.path();
+    let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0\nsize 784 698\nstep flat\n\
+                spp 4\nmethod moller\ncracks on\n";
+    let view = write(d, "cracks.view", text);
+    let inspect = |view: &str, at: &str| {
+        let o = raylab(&["inspect", "--view", view, "--at", at]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    let leak = inspect(&view, "610.625,567.625");
+    let rows = "hit: none\n";
+    assert!(leak.contains(rows), "{leak}");
+    let rows = "crack: leak (marked magenta)\ntraced: sample (610.625, 567.625) of the pixel\n\
+                exact hit lies: primitive 1, on the edge v1–v2\nmoller hit lies: none\n";
+    assert!(leak.ends_with(rows), "{leak}");
+    let right = inspect(&view, "400.25,300.75");
+    assert!(
+        right.contains("\ncrack: not marked (the sample: right)\n"),
+        "{right}"
+    );
+    assert!(
+        right.ends_with("\nmoller hit lies: the exact one\n"),
+        "{right}"
+    );
+    let hit = (right.lines())
+        .find_map(|l| l.strip_prefix("hit: "))
+        .unwrap();
+    assert!(
+        right.contains(&format!("\nexact hit lies: primitive {hit}, ")),
+        "{right}"
+    );
+    let without = write(d, "plain.view", &text.replace("cracks on", "cracks off"));
+    assert!(!inspect(&without, "610.625,567.625").contains("crack:"));
+}
+
 /// `raylab inspect` of pixel (32, 24) of the view file `view`.
 fn inspect_view(view: &str) -> String {
     let o = raylab(&["inspect", "--pixel", "32,24", "--view", view]);

@@ -344,7 +344,9 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert_inspector_shows(ins, &String::from_utf8_lossy(&out.stdout));
+    let headless = String::from_utf8_lossy(&out.stdout);
+    assert!(headless.contains("\ncrack: "), "the crack rows: {headless}");
+    assert_inspector_shows(ins, &headless);
 }
 
 /// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
