@@ -260,10 +260,6 @@ impl ApplicationHandler<AppEvent> for App {
         if let Some(Err(e)) = late {
             return self.fail(event_loop, e);
         }
-        // Sleep until something happens, or until the preview has settled and refinement can
-        // start, or until the script's next event, or until egui wants to draw again (a
-        // tooltip shows once the pointer has rested on its widget), or until a scripted run's
-        // limit.
         // A script held by an `await` looks for its file here, drawing no frame for it.
         let now = Instant::now();
         if let Some(run) = &mut self.scripted {
@@ -271,6 +267,10 @@ impl ApplicationHandler<AppEvent> for App {
                 run.still_held();
             }
         }
+        // Sleep until something happens, or until the preview has settled and refinement can
+        // start, or until the script's next event, or until egui wants to draw again (a
+        // tooltip shows once the pointer has rested on its widget), or until a scripted run's
+        // limit.
         let script_at = self.scripted.as_ref().and_then(ScriptedRun::next_due);
         let deadline = self.scripted.as_ref().map(ScriptedRun::deadline);
         let prompt_ends = self.esc_armed.map(|t| t + QUIT_PROMPT_FOR);
