@@ -34,19 +34,25 @@ pub fn inspect(args: &InspectArgs) -> Result<()> {
         }
         (None, None) => bail!("give the pixel (--pixel X,Y) or the image position (--at X,Y)"),
     };
-    let inspection = match args.pixel {
-        Some((i, j)) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
-        None => raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?,
+    // With the cracks view on (a view file's `cracks on`), the rows the window's inspector
+    // adds for it (the ray graded against the exact one, and where each hit lies), and for a
+    // pixel its first marked sample's ray, as the window's inspector takes it.
+    let job = (&stage, &camera, settings.method, None);
+    let crack = settings.cracks.then(|| match args.pixel {
+        Some(pixel) => Detail::of_pixel(job, &[], (w, h), pixel, settings.spp),
+        None => Detail::of_ray(job, &[], (w, h), (x as f32, y as f32), None),
+    });
+    let inspection = match (args.pixel, &crack) {
+        (Some((i, j)), None) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
+        (Some(_), Some(d)) => {
+            let (x, y) = (f64::from(d.at.0), f64::from(d.at.1));
+            raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?
+        }
+        (None, _) => raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?,
     };
     say!("{}", inspection.to_string().trim_end());
-    // With the cracks view on (a view file's `cracks on`), the rows the window's inspector
-    // adds for it: the ray graded against the exact one, and where each hit lies.
-    if settings.cracks {
-        let job = (&stage, &camera, settings.method, None);
-        let at = (x as f32, y as f32);
-        for (name, value) in Detail::of_ray(job, &[], (w, h), at, None).rows() {
-            say!("{name}: {value}");
-        }
+    for (name, value) in crack.iter().flat_map(Detail::rows) {
+        say!("{name}: {value}");
     }
     Ok(())
 }

@@ -88,6 +88,24 @@ impl Detail {
         }
     }
 
+    /// The crack of pixel `pixel` at n×n samples, as the cracks view and the inspector take
+    /// it: its first marked sample (in the count's order), or else its centre ray, unmarked.
+    pub fn of_pixel(
+        job: (&Stage, &Camera, Method, Option<&dyn LabCode>),
+        shapes: &[Shape],
+        size: (u32, u32),
+        pixel: (u32, u32),
+        n: u32,
+    ) -> Self {
+        let samples = (0..n).flat_map(|sy| (0..n).map(move |sx| (sx, sy)));
+        let mut marked = samples
+            .map(|sample| cracks::sample_position(pixel, sample, n))
+            .map(|pos| Detail::of_ray(job, shapes, size, pos, None))
+            .filter(|d| d.marked);
+        let centre = (pixel.0 as f32 + 0.5, pixel.1 as f32 + 0.5);
+        (marked.next()).unwrap_or_else(|| Detail::of_ray(job, shapes, size, centre, Some(false)))
+    }
+
     /// `name: value` rows, as the inspector shows them (and a scripted run prints them).
     pub fn rows(&self) -> Vec<(String, String)> {
         let v = self.verdict;

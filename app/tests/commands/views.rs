@@ -317,8 +317,18 @@ fn inspect_of_a_view_with_cracks_on_grades_its_ray_as_the_window_does() {
         right.contains(&format!("\nexact hit lies: primitive {hit}, ")),
         "{right}"
     );
+    // Its pixel: the first marked sample's ray, as the window's inspector takes it (the
+    // centre ray is right there).
+    let o = raylab(&["inspect", "--view", &view, "--pixel", "610,567"]);
+    assert_eq!(stdout(&o), leak, "{}", stderr(&o));
     let without = write(d, "plain.view", &text.replace("cracks on", "cracks off"));
     assert!(!inspect(&without, "610.625,567.625").contains("crack:"));
+    let o = raylab(&["inspect", "--view", &without, "--pixel", "610,567"]);
+    assert!(
+        stdout(&o).starts_with("pixel: 610 567\nuvf: 218.5 218.5 "),
+        "{}",
+        stdout(&o)
+    );
 }
 
 /// `raylab inspect` of pixel (32, 24) of the view file `view`.

@@ -334,19 +334,27 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
                 .is_some_and(|n| n.to_string_lossy().starts_with("raylab-view"))
         })
         .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
-    let out = std::process::Command::new(RAYLAB)
-        .args(["inspect", "--at", &format!("{x},{y}"), "--view"])
-        .arg(&saved)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let headless = String::from_utf8_lossy(&out.stdout);
-    assert!(headless.contains("\ncrack: "), "the crack rows: {headless}");
-    assert_inspector_shows(ins, &headless);
+    // And `--pixel` of its pixel: the pixel's first marked sample, as the window takes it.
+    for ray in [
+        ["--at", &format!("{x},{y}")],
+        ["--pixel", &ins["pixel"].replace(' ', ",")],
+    ] {
+        let out = std::process::Command::new(RAYLAB)
+            .arg("inspect")
+            .args(ray)
+            .arg("--view")
+            .arg(&saved)
+            .output()
+            .unwrap();
+        let headless = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(headless.contains("\ncrack: "), "the crack rows: {headless}");
+        assert_inspector_shows(ins, &headless);
+    }
 }
 
 /// The library's inspection of the inspected pixel (its `pixel` field) of `scene` from the
