@@ -306,6 +306,14 @@ impl Script {
         held
     }
 
+    /// The file an `await` holding the script waits for.
+    pub fn awaited(&self) -> Option<&std::path::Path> {
+        match (self.held_at, self.events.get(self.next)) {
+            (Some(_), Some((_, Action::Await(path)))) => Some(path),
+            _ => None,
+        }
+    }
+
     /// Whether every event was returned.
     pub fn finished(&self) -> bool {
         self.next == self.events.len()
@@ -394,9 +402,11 @@ mod tests {
         assert!(!s.still_held(ms(50)), "no await is due yet");
         assert_eq!(s.due(ms(200)), vec![Action::Key(Key::W, true)]);
         assert!(s.still_held(ms(700)));
+        assert_eq!(s.awaited(), Some(done.as_path()));
         assert_eq!(s.next_due(), Some(ms(700) + AWAIT_POLL));
         std::fs::write(&done, "").unwrap();
         assert!(!s.still_held(ms(760)));
+        assert_eq!(s.awaited(), None);
         assert_eq!(s.next_due(), Some(ms(100)), "due at once");
         assert_eq!(
             s.due(ms(760)),

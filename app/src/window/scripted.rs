@@ -12,6 +12,7 @@ use super::viewer::Viewer;
 use super::App;
 use anyhow::{anyhow, Result};
 use raylab::render;
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use winit::dpi::PhysicalSize;
@@ -90,17 +91,21 @@ impl ScriptedRun {
     }
 
     /// What the run still waits for before it can end (nothing: it is done).
-    fn waiting_for(&self, viewer: &Viewer, frames_presented: u64) -> Vec<&'static str> {
+    fn waiting_for(&self, viewer: &Viewer, frames_presented: u64) -> Vec<Cow<'static, str>> {
         let script_left = self.script.as_ref().is_some_and(|s| !s.finished());
+        let script = match self.script.as_ref().and_then(Script::awaited) {
+            Some(file) => Cow::Owned(format!("the script's await of '{}'", file.display())),
+            None => Cow::Borrowed("the script's events"),
+        };
         [
-            (frames_presented < self.frames, "frames shown"),
-            (viewer.loading, "a scene loading"),
-            (viewer.screenshots_pending > 0, "a screenshot"),
-            (script_left, "the script's events"),
-            (viewer.input.is_moving(), "the camera to stop"),
-            (!viewer.is_idle(), "a render"),
-            (!viewer.is_refined(), "refinement"),
-            (!viewer.cracks_settled(), "the cracks count"),
+            (frames_presented < self.frames, "frames shown".into()),
+            (viewer.loading, "a scene loading".into()),
+            (viewer.screenshots_pending > 0, "a screenshot".into()),
+            (script_left, script),
+            (viewer.input.is_moving(), "the camera to stop".into()),
+            (!viewer.is_idle(), "a render".into()),
+            (!viewer.is_refined(), "refinement".into()),
+            (!viewer.cracks_settled(), "the cracks count".into()),
         ]
         .into_iter()
         .filter_map(|(waiting, what)| waiting.then_some(what))
