@@ -339,19 +339,7 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
         ["--at", &format!("{x},{y}")],
         ["--pixel", &ins["pixel"].replace(' ', ",")],
     ] {
-        let out = std::process::Command::new(RAYLAB)
-            .arg("inspect")
-            .args(ray)
-            .arg("--view")
-            .arg(&saved)
-            .output()
-            .unwrap();
-        let headless = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let headless = inspect_headless(&ray, &saved);
         assert!(headless.contains("\ncrack: "), "the crack rows: {headless}");
         assert_inspector_shows(ins, &headless);
     }
@@ -377,6 +365,20 @@ fn inspected_by_the_library(run: &common::window::Run, scene: Scene) -> String {
 }
 
 /// Every field of `expected` (`name: value` lines) as the window's inspector showed it.
+/// `raylab inspect` of one ray (`--pixel X,Y` or `--at X,Y`) of the view file `view`.
+pub(super) fn inspect_headless(ray: &[&str], view: &std::path::Path) -> String {
+    let out = std::process::Command::new(RAYLAB)
+        .arg("inspect")
+        .args(ray)
+        .arg("--view")
+        .arg(view)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 pub(super) fn assert_inspector_shows(ins: &HashMap<String, String>, expected: &str) {
     for line in expected.lines() {
         let (key, value) = line.split_once(": ").unwrap();

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use super::inspector::assert_inspector_shows;
+use super::inspector::{assert_inspector_shows, inspect_headless};
 use common::window::{run_window_on, run_window_with, Around, Run};
 
 /// The window under test.
@@ -36,17 +36,7 @@ fn real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves() {
         .find(|p| p.extension().is_some_and(|e| e == "view"))
         .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
     let pixel = run.inspector["pixel"].replace(' ', ",");
-    let out = std::process::Command::new(RAYLAB)
-        .args(["inspect", "--pixel", &pixel, "--view"])
-        .arg(&view)
-        .output()
-        .unwrap();
-    let headless = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let headless = inspect_headless(&["--pixel", &pixel], &view);
     assert!(headless.contains("\nhit: "), "{headless}");
     assert_inspector_shows(&run.inspector, &headless);
     // The log names the pixel so too.
