@@ -182,6 +182,9 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
     event_loop
         .run_app(&mut app)
         .map_err(|e| anyhow!("event loop: {e}"))?;
+    if let (Some(run), Ok(())) = (&app.scripted, &app.outcome) {
+        run.closed_early();
+    }
     app.outcome
 }
 
@@ -493,7 +496,7 @@ impl App {
                     panel_fit: self.panel_fit,
                     panel_width: self.panel_width,
                 };
-                let run = self.scripted.as_ref().expect("capturing a scripted run");
+                let run = self.scripted.as_mut().expect("capturing a scripted run");
                 match run.finish(&self.viewer, shot, done) {
                     Ok(()) => event_loop.exit(),
                     Err(e) => self.fail(event_loop, e),

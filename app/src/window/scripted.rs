@@ -29,6 +29,8 @@ pub struct ScriptedRun {
     /// When the first frame was shown: script times count from there.
     start: Option<Instant>,
     started: Instant,
+    /// Whether the screenshot was written.
+    saved: bool,
 }
 
 /// What the final line reports of the window.
@@ -50,6 +52,7 @@ impl ScriptedRun {
             script,
             start: None,
             started: Instant::now(),
+            saved: false,
         }
     }
 
@@ -112,6 +115,17 @@ impl ScriptedRun {
         .collect()
     }
 
+    /// Says so where the window closed (Esc twice, the window manager) before the run saved
+    /// its screenshot: its exit is a user's, status 0, but nothing was written.
+    pub fn closed_early(&self) {
+        if !self.saved {
+            log::warn!(
+                "the window closed before its scripted run finished: {} not written",
+                self.screenshot.display()
+            );
+        }
+    }
+
     /// When the run fails if it has not finished: the event loop wakes then, drawing or not
     /// (a window that stopped drawing still ends its run).
     pub fn deadline(&self) -> Instant {
@@ -132,7 +146,7 @@ impl ScriptedRun {
     }
 
     /// Saves what the window showed and prints the final state.
-    pub fn finish(&self, viewer: &Viewer, shot: Capture, window: Final) -> Result<()> {
+    pub fn finish(&mut self, viewer: &Viewer, shot: Capture, window: Final) -> Result<()> {
         let path = &self.screenshot;
         render::write_png(path, shot.width, shot.height, &shot.rgba)
             .map_err(|e| anyhow!("cannot write '{}': {e}", path.display()))?;
@@ -221,6 +235,7 @@ impl ScriptedRun {
             println!("inspector {name}: {value}");
         }
         println!("saved {}", path.display());
+        self.saved = true;
         Ok(())
     }
 }

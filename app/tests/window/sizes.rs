@@ -126,6 +126,11 @@ fn a_huge_dropped_view_is_shown_smaller_and_escape_still_quits() {
         "Esc ended the run before its script\n{log}"
     );
     assert!(
+        log.contains("the window closed before its scripted run finished: ")
+            && log.contains("shot.png not written"),
+        "the run says it saved nothing\n{log}"
+    );
+    assert!(
         log.contains("its 16384x8192 shown at 4072x2036 (F5 and copy as command keep 16384x8192)"),
         "{log}"
     );
