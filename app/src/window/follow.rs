@@ -17,6 +17,14 @@ impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
     /// script's `inspect`), saying what it found.
     pub fn inspect_pixel(&mut self, i: u32, j: u32) {
+        // (A script's pixel may lie off the image: named as given, not as the first pixel past
+        // its edge.)
+        let (w, h) = self.full_size();
+        if i >= w || j >= h {
+            return self.set_status(format!(
+                "cannot inspect: pixel ({i}, {j}) is outside the {w}x{h} image"
+            ));
+        }
         self.answer((i, j), true);
     }
 

@@ -42,6 +42,22 @@ fn shared_edge_view(dir: &std::path::Path, spp: u32) -> std::path::PathBuf {
     view
 }
 
+fn a_scripts_pixel_off_the_image_is_named_as_given() {
+    // A script's `inspect` may name a pixel past the image: the status names that pixel (it
+    // named the first pixel past the edge, (W, 10) for (W + 6, 10)).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "300 inspect 5000 10\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let (w, h) = run.view_size();
+    let status = (run.stdout.lines())
+        .find_map(|l| l.strip_prefix("status: "))
+        .unwrap_or_default();
+    let expected = format!("cannot inspect: pixel (5000, 10) is outside the {w}x{h} image");
+    assert_eq!(status, expected, "{}", run.stderr);
+}
+
 fn next_crack_where_only_wrong_primitives_are_counted_says_so() {
     // Watertight on the Cornell box at 3x3 samples: no leak, no false hit, some samples
     // naming another primitive than the exact one, which a method's cracks view counts but
@@ -671,6 +687,7 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
 
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    a_scripts_pixel_off_the_image_is_named_as_given,
     next_crack_where_only_wrong_primitives_are_counted_says_so,
     real_x_input_next_crack_steps_through_the_counted_cracks,
     real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves,
