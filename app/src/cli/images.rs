@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use raylab::accel::AccelChoice;
 use raylab::camera::Camera;
 use raylab::render::settings::controls_text;
-use raylab::render::{self, RenderSettings, Stage};
+use raylab::render::{self, RenderSettings, SettingsError, Stage};
 use raylab::scene::Scene;
 use raylab_app::window::Detail;
 use std::path::PathBuf;
@@ -20,6 +20,7 @@ pub fn inspect(args: &InspectArgs) -> Result<()> {
     // The position traced: a pixel's centre, or as given (rounded to f32, as the renderer's
     // sample positions are).
     let (x, y) = match (args.pixel, &args.at) {
+        (Some((i, j)), _) if i >= w || j >= h => bail!("{}", SettingsError::Pixel(i, j, w, h)),
         (Some((i, j)), _) => (i as f64 + 0.5, j as f64 + 0.5),
         (None, Some(at)) => {
             let inside = |c: f64, n: u32| (0.0..n as f32).contains(&(c as f32));
@@ -42,14 +43,11 @@ pub fn inspect(args: &InspectArgs) -> Result<()> {
         Some(pixel) => Detail::of_pixel(job, &[], (w, h), pixel, settings.spp),
         None => Detail::of_ray(job, &[], (w, h), (x as f32, y as f32), None),
     });
-    let inspection = match (args.pixel, &crack) {
-        (Some((i, j)), None) => raylab::render::inspect::inspect(&stage, &camera, &settings, i, j)?,
-        (Some(_), Some(d)) => {
-            let (x, y) = (f64::from(d.at.0), f64::from(d.at.1));
-            raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?
-        }
-        (None, _) => raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?,
-    };
+    // (Every field is of the ray the crack rows name: for a pixel, maybe a sample's.)
+    let (x, y) = crack
+        .as_ref()
+        .map_or((x, y), |d| (d.at.0.into(), d.at.1.into()));
+    let inspection = raylab::render::inspect::inspect_at(&stage, &camera, &settings, x, y)?;
     say!("{}", inspection.to_string().trim_end());
     for (name, value) in crack.iter().flat_map(Detail::rows) {
         say!("{name}: {value}");

@@ -321,6 +321,9 @@ fn inspect_of_a_view_with_cracks_on_grades_its_ray_as_the_window_does() {
     // centre ray is right there).
     let o = raylab(&["inspect", "--view", &view, "--pixel", "610,567"]);
     assert_eq!(stdout(&o), leak, "{}", stderr(&o));
+    // A pixel off the image is named as given (the first pixel past the edge was).
+    let o = raylab(&["inspect", "--view", &view, "--pixel", "5000,3"]);
+    assert_fails(&o, 2, &["pixel (5000, 3) is outside the 784x698 image"]);
     let without = write(d, "plain.view", &text.replace("cracks on", "cracks off"));
     assert!(!inspect(&without, "610.625,567.625").contains("crack:"));
     let o = raylab(&["inspect", "--view", &without, "--pixel", "610,567"]);
