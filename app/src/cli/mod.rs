@@ -329,35 +329,33 @@ pub struct Position {
     pub text: String,
 }
 
-fn parse_position(s: &str) -> Result<Position, String> {
+/// `x,y` as two values of `T` (spaces around each allowed); the error says `s` is not `what`.
+fn parse_pair<T: std::str::FromStr>(s: &str, what: &str) -> Result<(T, T), String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let number = |p: &str| p.parse::<f64>().ok().filter(|x| x.is_finite());
-    match parts[..] {
-        [x, y] => match (number(x), number(y)) {
-            (Some(x), Some(y)) => Ok(Position {
-                x,
-                y,
-                text: s.trim().to_string(),
-            }),
-            _ => Err(format!(
-                "'{s}' is not an image position x,y (two finite numbers)"
-            )),
-        },
-        _ => Err(format!("expected x,y, got '{s}'")),
+    let [x, y] = parts[..] else {
+        return Err(format!("expected x,y, got '{s}'"));
+    };
+    match (x.parse(), y.parse()) {
+        (Ok(x), Ok(y)) => Ok((x, y)),
+        _ => Err(format!("'{s}' is not {what}")),
+    }
+}
+
+fn parse_position(s: &str) -> Result<Position, String> {
+    let what = "an image position x,y (two finite numbers)";
+    let (x, y): (f64, f64) = parse_pair(s, what)?;
+    match x.is_finite() && y.is_finite() {
+        true => Ok(Position {
+            x,
+            y,
+            text: s.trim().to_string(),
+        }),
+        false => Err(format!("'{s}' is not {what}")),
     }
 }
 
 fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    match parts[..] {
-        [x, y] => match (x.parse(), y.parse()) {
-            (Ok(x), Ok(y)) => Ok((x, y)),
-            _ => Err(format!(
-                "'{s}' is not two pixel coordinates x,y (whole numbers ≥ 0)"
-            )),
-        },
-        _ => Err(format!("expected x,y, got '{s}'")),
-    }
+    parse_pair(s, "two pixel coordinates x,y (whole numbers ≥ 0)")
 }
 
 /// Runs `raylab check`: `Ok(true)` when every answer stands (rays: `check::check_answers`;
