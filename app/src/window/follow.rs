@@ -21,9 +21,8 @@ impl Viewer {
         // its edge.)
         let (w, h) = self.full_size();
         if i >= w || j >= h {
-            return self.set_status(format!(
-                "cannot inspect: pixel ({i}, {j}) is outside the {w}x{h} image"
-            ));
+            let off = raylab::render::SettingsError::Pixel(i, j, w, h);
+            return self.set_status(format!("cannot inspect: {off}"));
         }
         self.answer((i, j), true);
     }
