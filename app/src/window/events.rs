@@ -264,7 +264,7 @@ impl ApplicationHandler<AppEvent> for App {
         let now = Instant::now();
         if let Some(run) = &mut self.scripted {
             if run.next_due().is_some_and(|t| t <= now) {
-                run.still_held();
+                run.look_for_awaited();
             }
         }
         // Sleep until something happens, or until the preview has settled and refinement can

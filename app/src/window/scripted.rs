@@ -73,12 +73,11 @@ impl ScriptedRun {
         frames_presented < self.frames
     }
 
-    /// Looks for an awaited file where the script waits for one (no frame is drawn for that):
-    /// true while the script still waits.
-    pub fn still_held(&mut self) -> bool {
-        match (&mut self.script, self.start) {
-            (Some(script), Some(start)) => script.still_held(start.elapsed()),
-            _ => false,
+    /// Looks for an awaited file where the script waits for one (no frame is drawn for that);
+    /// while it still waits, [`ScriptedRun::next_due`] is the next look.
+    pub fn look_for_awaited(&mut self) {
+        if let (Some(script), Some(start)) = (&mut self.script, self.start) {
+            script.still_held(start.elapsed());
         }
     }
 
