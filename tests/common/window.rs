@@ -103,6 +103,12 @@ impl Run {
     }
 }
 
+/// Whether `xvfb-run` is installed for `test` ([`super::tool_for`]: where it is not, the test
+/// says so and skips, or under CI=true fails).
+pub fn xvfb_for(test: &str) -> bool {
+    super::tool_for("xvfb-run", "xvfb xauth mesa-vulkan-drivers", test)
+}
+
 /// What runs beside the app on the display.
 pub enum Around<'a> {
     Nothing,
@@ -269,11 +275,7 @@ pub fn run_window_on(
     {
         return None;
     }
-    if !super::tool_for(
-        "xvfb-run",
-        "xvfb xauth mesa-vulkan-drivers",
-        "the window test",
-    ) {
+    if !xvfb_for("the window test") {
         return None;
     }
     let script_path = dir.join("script.txt");

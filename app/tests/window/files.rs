@@ -347,11 +347,7 @@ fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
 }
 
 fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
-    if !common::tool_for(
-        "xvfb-run",
-        "xvfb xauth mesa-vulkan-drivers",
-        "the window test",
-    ) {
+    if !common::window::xvfb_for("the window test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -390,11 +386,7 @@ fn the_window_never_saves_a_screenshot_over_the_model_it_opened() {
 }
 
 fn the_window_opens_cornell_by_name_as_the_command_line_does() {
-    if !common::tool_for(
-        "xvfb-run",
-        "xvfb xauth mesa-vulkan-drivers",
-        "the window test",
-    ) {
+    if !common::window::xvfb_for("the window test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

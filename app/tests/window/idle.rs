@@ -34,11 +34,7 @@ fn run_idle_window(
     slot: WindowSlot,
 ) -> Option<(String, String)> {
     if !common::tool_for("xdotool", "xdotool", "the idle window test")
-        || !common::tool_for(
-            "xvfb-run",
-            "xvfb xauth mesa-vulkan-drivers",
-            "the idle window test",
-        )
+        || !common::window::xvfb_for("the idle window test")
     {
         return None;
     }
@@ -286,11 +282,7 @@ fn a_scripted_run_idle_before_its_last_frame_still_ends() {
     // and after that frame the run draws only on events, as a user's window does. It draws
     // once more to be captured and ends (it had waited for the run's limit, 120 s, and
     // failed with nothing left to wait for).
-    if !common::tool_for(
-        "xvfb-run",
-        "xvfb xauth mesa-vulkan-drivers",
-        "the window test",
-    ) {
+    if !common::window::xvfb_for("the window test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
