@@ -408,9 +408,9 @@ pub(super) fn stalled(
         .count();
     match answered {
         0 => format!(
-            "{why}; no answer had reached raylab (output a program keeps in its buffer, as \
-             Python and C do into a pipe, shows only when it ends: flush after each answer to \
-             see where it stalls)"
+            "{why}; no answer had reached raylab: it printed none, or kept them in its buffer \
+             (as Python and C do into a pipe, where output shows only when the program ends: \
+             flush after each answer to see where it stalls)"
         ),
         n if n < rays => format!(
             "{why}; {n} answer{} had reached raylab: the first ray without one is {} (or a \
