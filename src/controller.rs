@@ -11,7 +11,8 @@ use crate::math::TransformStack;
 use crate::scene::Bounds;
 use glam::DVec3;
 
-/// What the user asks for this frame; axes are in −1..=1.
+/// What the user asks for this frame; axes are in −1..=1 (a fraction where a key was held for
+/// part of the frame).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ControlInput {
     /// +1 forward (W), −1 back (S).
@@ -104,6 +105,9 @@ impl CameraController {
     pub const PAN_SENSITIVITY: f64 = 0.002;
     /// The range of the speed factor.
     pub const SPEED_RANGE: (f64, f64) = (1.0 / 64.0, 64.0);
+    /// The most seconds of held keys one update moves by: after a stall (a slow load, a
+    /// hidden window) the camera does not leap.
+    pub const LONGEST_STEP: f64 = 0.25;
 
     /// A controller at the given pose, which [`reset`](Self::reset) returns to.
     pub fn new(position: DVec3, yaw: f64, pitch: f64, focal_ratio: f64, scene_size: f64) -> Self {
@@ -229,7 +233,8 @@ impl CameraController {
         }
     }
 
-    /// Applies one frame of input over `dt` seconds; returns whether the pose changed.
+    /// Applies one frame of input over `dt` seconds (at most [`Self::LONGEST_STEP`]); returns
+    /// whether the pose changed.
     pub fn update(&mut self, input: &ControlInput, dt: f64) -> bool {
         let before = (
             self.position,
@@ -239,7 +244,7 @@ impl CameraController {
             self.target,
         );
         let dt = if dt.is_finite() {
-            dt.clamp(0.0, 0.25)
+            dt.clamp(0.0, Self::LONGEST_STEP)
         } else {
             0.0
         };

@@ -131,49 +131,54 @@ impl Key {
     }
 }
 
-/// Which motion keys are held, plus mouse and wheel motion since the last frame.
+/// Which motion keys are held and for how long, plus mouse and wheel motion since the last
+/// frame.
 #[derive(Default, Debug)]
 pub struct InputState {
-    held: Vec<Key>,
+    /// The keys held, each with when it went down or the last frame took it, if later.
+    held: Vec<(Key, Instant)>,
+    /// Seconds each key released since the last frame was held in it: a tap between two
+    /// frames still moves (a slow frame took both its press and its release).
+    released: Vec<(Key, f64)>,
     mouse: (f64, f64),
     wheel: f64,
     orbit: (f64, f64),
     pan: (f64, f64),
-    /// When the held keys last started moving the camera from standing still.
-    motion_began: Option<Instant>,
 }
 
 impl InputState {
-    /// Records a press or release of a motion key; returns false for other keys.
+    /// Records a press or release of a motion key now; returns false for other keys.
     pub fn key(&mut self, key: Key, pressed: bool) -> bool {
+        self.key_at(key, pressed, Instant::now())
+    }
+
+    /// Records a press or release of a motion key at `now`; returns false for other keys.
+    pub fn key_at(&mut self, key: Key, pressed: bool, now: Instant) -> bool {
         if !key.is_held_motion() {
             return false;
         }
-        let was_moving = self.is_moving();
-        self.held.retain(|k| *k != key);
-        if pressed {
-            self.held.push(key);
+        if let Some(i) = self.held.iter().position(|(k, _)| *k == key) {
+            let (_, since) = self.held.remove(i);
+            self.released
+                .push((key, now.saturating_duration_since(since).as_secs_f64()));
         }
-        if !was_moving && self.is_moving() {
-            self.motion_began = Some(Instant::now());
+        if pressed {
+            self.held.push((key, now));
         }
         true
     }
 
-    /// When the held keys last started moving the camera from standing still: a motion's
-    /// first frame counts from then, not from the frame before (an idle window draws none).
-    pub fn motion_began(&self) -> Option<Instant> {
-        self.motion_began
-    }
-
     /// Whether `key` is held down (a motion key or a modifier).
     pub fn holds(&self, key: Key) -> bool {
-        self.held.contains(&key)
+        self.held.iter().any(|(k, _)| *k == key)
     }
 
     /// Releases everything (focus lost: no key stays stuck down).
     pub fn release_all(&mut self) {
-        self.held.clear();
+        let now = Instant::now();
+        for (key, _) in self.held.clone() {
+            self.key_at(key, false, now);
+        }
     }
 
     /// Adds mouse-look motion.
@@ -199,39 +204,100 @@ impl InputState {
         self.wheel += lines;
     }
 
-    /// Whether a held key keeps the camera moving.
-    pub fn is_moving(&self) -> bool {
-        self.peek().is_moving()
+    /// Seconds `key` was held since the last frame, up to `now`.
+    fn seconds_held(&self, key: Key, now: Instant) -> f64 {
+        let released = self.released.iter().filter(|(k, _)| *k == key);
+        let held = self.held.iter().filter(|(k, _)| *k == key);
+        released.map(|(_, s)| s).sum::<f64>()
+            + held
+                .map(|(_, since)| now.saturating_duration_since(*since).as_secs_f64())
+                .sum::<f64>()
     }
 
-    fn axis(&self, plus: Key, minus: Key) -> f64 {
-        let has = |k| self.held.contains(&k) as i32 as f64;
-        has(plus) - has(minus)
-    }
-
-    fn peek(&self) -> ControlInput {
-        ControlInput {
-            forward: self.axis(Key::W, Key::S),
-            right: self.axis(Key::D, Key::A),
-            up: self.axis(Key::E, Key::Q),
-            yaw: self.axis(Key::Right, Key::Left),
-            pitch: self.axis(Key::Up, Key::Down),
-            fast: self.held.contains(&Key::Shift),
+    /// This frame's input at `now` for a frame that moves `step` seconds (the time since the
+    /// last, at most the controller's longest step): each axis the share of the step its keys
+    /// were held, so a key held for half the frame moves half as far. Mouse and wheel motion
+    /// and the keys' held time are consumed.
+    pub fn take(&mut self, now: Instant, step: f64) -> ControlInput {
+        let axis = |plus: Key, minus: Key| match step > 0.0 {
+            true => {
+                let net = self.seconds_held(plus, now) - self.seconds_held(minus, now);
+                (net / step).clamp(-1.0, 1.0)
+            }
+            false => 0.0,
+        };
+        let input = ControlInput {
+            forward: axis(Key::W, Key::S),
+            right: axis(Key::D, Key::A),
+            up: axis(Key::E, Key::Q),
+            yaw: axis(Key::Right, Key::Left),
+            pitch: axis(Key::Up, Key::Down),
+            fast: self.holds(Key::Shift),
             mouse: self.mouse,
             wheel: self.wheel,
-            slow: self.held.contains(&Key::Ctrl),
+            slow: self.holds(Key::Ctrl),
             orbit: self.orbit,
             pan: self.pan,
-        }
-    }
-
-    /// This frame's input; mouse and wheel motion are consumed.
-    pub fn take(&mut self) -> ControlInput {
-        let input = self.peek();
+        };
         self.mouse = (0.0, 0.0);
         self.wheel = 0.0;
         self.orbit = (0.0, 0.0);
         self.pan = (0.0, 0.0);
+        self.released.clear();
+        for (_, since) in &mut self.held {
+            *since = now;
+        }
         input
+    }
+
+    /// Whether a held key keeps the camera moving, or a key released since the last frame
+    /// has yet to move it.
+    pub fn is_moving(&self) -> bool {
+        let pending = |plus: Key, minus: Key| {
+            let held = |k: Key| self.holds(k) as i32;
+            held(plus) != held(minus)
+                || self.released.iter().any(|(k, _)| [plus, minus].contains(k))
+        };
+        pending(Key::W, Key::S)
+            || pending(Key::D, Key::A)
+            || pending(Key::E, Key::Q)
+            || pending(Key::Right, Key::Left)
+            || pending(Key::Up, Key::Down)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn a_key_moves_for_the_share_of_the_frame_it_was_held() {
+        // (In the past: `release_all` releases at the present.)
+        let t0 = Instant::now() - Duration::from_secs(2);
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        let mut input = InputState::default();
+        // A tap a slow frame took whole: pressed and released between two frames.
+        input.key_at(Key::D, true, at(100));
+        input.key_at(Key::D, false, at(200));
+        assert!(input.is_moving(), "the tap has yet to move the camera");
+        let frame = input.take(at(500), 0.25);
+        assert!((frame.right - 0.4).abs() < 1e-9, "{frame:?}");
+        assert!(!input.is_moving());
+        assert_eq!(input.take(at(600), 0.1).right, 0.0, "the tap moves once");
+        // Held across frames: each frame from the last, the whole step while held.
+        input.key_at(Key::W, true, at(650));
+        assert_eq!(input.take(at(700), 0.1).forward, 0.5);
+        assert_eq!(input.take(at(800), 0.1).forward, 1.0);
+        // Against each other for part of a frame: the net share.
+        input.key_at(Key::S, true, at(850));
+        input.key_at(Key::W, false, at(900));
+        let frame = input.take(at(900), 0.1);
+        assert!((frame.forward - 0.5).abs() < 1e-9, "{frame:?}");
+        // Focus lost while held: held until then, and nothing stays down.
+        input.release_all();
+        assert!(!input.holds(Key::S));
+        assert!(input.take(Instant::now(), 0.25).forward < 0.0);
+        assert!(!input.is_moving());
     }
 }

@@ -49,8 +49,11 @@ fn scripted_window_run_matches_the_headless_render() {
 
     // The camera really moved, turned, looked up and zoomed.
     assert!(pos.z > -3.0 + 0.1, "moved forward: {pos}");
+    // (A slow frame that took W's last milliseconds and Right's first both turns and moves:
+    // its step goes a little to the side, at most 0.05 for a frame of the longest step.
+    // A sideways key moves 0.4 in the same time.)
     assert!(
-        pos.x.abs() < 1e-9 && pos.y.abs() < 1e-9,
+        pos.x.abs() < 0.05 && pos.y.abs() < 1e-9,
         "straight ahead: {pos}"
     );
     assert!(yaw > 5.0 && yaw < 60.0, "turned right: {yaw}");

@@ -348,18 +348,16 @@ impl Viewer {
         self.cracks.cancel();
     }
 
-    /// Moves the camera by the held input over the time since the last call, or since the
-    /// motion began where that is later.
+    /// Moves the camera by the keys held since the last call (each for as long as it was
+    /// held: a press and release a slow frame took together still moves), and by the mouse
+    /// and wheel.
     pub fn update_camera(&mut self) {
         let now = Instant::now();
-        let from = match self.input.motion_began() {
-            Some(began) if began > self.last_update => began,
-            _ => self.last_update,
-        };
-        let dt = now.duration_since(from).as_secs_f64();
+        let since = now.duration_since(self.last_update).as_secs_f64();
+        let step = since.min(CameraController::LONGEST_STEP);
         self.last_update = now;
-        let control = self.input.take();
-        if self.controller.update(&control, dt) {
+        let control = self.input.take(now, step);
+        if self.controller.update(&control, step) {
             self.changed();
         }
     }
