@@ -221,7 +221,7 @@ impl ApplicationHandler<AppEvent> for App {
                 }
             }
             WindowEvent::MouseWheel { delta, .. }
-                if self.pointer_over_image() || (!response.consumed && !egui_pointer) =>
+                if self.wheel_turns_camera(response.consumed, egui_pointer) =>
             {
                 let lines = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y as f64,

@@ -18,6 +18,17 @@ impl App {
         rect.contains(at) && !on_top
     }
 
+    /// Whether the wheel is the camera's: over the image, not over a panel, window or dialog.
+    /// (By the pointer's place: egui's own answer is its last frame's, so a wheel turned as
+    /// the pointer entered the window over a panel zoomed the camera.) Where the place is not
+    /// known, egui decides.
+    pub(super) fn wheel_turns_camera(&self, egui_consumed: bool, egui_pointer: bool) -> bool {
+        match self.cursor {
+            Some(_) => self.pointer_over_image(),
+            None => !egui_consumed && !egui_pointer,
+        }
+    }
+
     /// A left press over the image and its release within a few pixels (not an orbit drag)
     /// inspect the pixel under the pointer, when the inspector is on (else say it is off).
     pub(super) fn left_click(&mut self, pressed: bool, on_image: bool) {

@@ -166,6 +166,33 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     );
 }
 
+fn real_x_input_a_wheel_as_the_pointer_enters_over_the_panel_is_not_the_cameras() {
+    // The pointer comes in from outside the window (x 1200 on the 1280x800 screen; the window
+    // is 1152 wide) straight onto the side panel and the wheel turns there at once: the panel
+    // scrolls, the camera keeps its focal length (egui's last frame, drawn with the pointer
+    // away, did not claim it: the camera zoomed out three times). Then the same onto the
+    // image: the camera zooms in.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  for i in 1 2 3; do xdotool mousemove --sync 1200 760; sleep 0.3; \
+                  xdotool mousemove 150 300 click 5; sleep 0.3; done; \
+                  xdotool mousemove --sync 1200 760; sleep 0.3; \
+                  xdotool mousemove 730 310 click 4; sleep 0.5";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let (focal, width) = (run.nums("focal")[0], run.nums("size")[0]);
+    // The lab camera starts with the focal length the image's width; a notch is 1.1x.
+    assert!(
+        focal > width * 1.05 && focal < width * 1.25,
+        "three wheel notches down over the panel left the focal length, one up over the \
+         image zoomed in once: focal {focal} for width {width}\n{}",
+        run.stderr
+    );
+}
+
 fn a_right_drag_with_an_absolute_pointer_turns_the_view() {
     // A pointer that reports positions only (VNC, a tablet, a VM's mouse integration, and
     // xdotool's `mousemove X Y`) gives no raw motion: the cursor's moves turn the view.
@@ -590,6 +617,7 @@ fn real_x_input_quick_clicks_each_count() {
 pub const TESTS: super::Tests = tests![
     scripted_window_run_matches_the_headless_render,
     real_x_input_moves_turns_and_zooms_the_camera,
+    real_x_input_a_wheel_as_the_pointer_enters_over_the_panel_is_not_the_cameras,
     a_right_drag_with_an_absolute_pointer_turns_the_view,
     real_x_input_orbits_with_tab_and_a_left_drag,
     real_x_input_sets_every_image_control_in_the_panel,
