@@ -205,9 +205,15 @@ pub fn draw(
         Some(h) => h.t,
         None => 1e3 * ins.ray.d.iter().map(|c| c.abs()).fold(1.0, f32::max),
     };
+    const RING: f32 = 6.0;
+    // (A segment shorter than the ring's radius is the camera ray seen end on, from the view
+    // it was traced in: drawn, it would hide the pixel the ring shows.)
     let segment = |a: [f64; 3], b: [f64; 3], colour: egui::Color32| {
         if let Some((p, q)) = clip(projection, a, b) {
-            painter.line_segment([to_screen(p), to_screen(q)], egui::Stroke::new(2.0, colour));
+            let (p, q) = (to_screen(p), to_screen(q));
+            if p.distance(q) >= RING {
+                painter.line_segment([p, q], egui::Stroke::new(2.0, colour));
+            }
         }
     };
     // (From 2% along: the eye itself projects nowhere, and just in front of it a projection
@@ -217,9 +223,9 @@ pub fn draw(
         at(ins.ray.o, ins.ray.d, end),
         egui::Color32::from_rgb(0, 220, 255),
     );
+    // (Hollow: the pixel inside, a crack's mark say, stays in sight.)
     let ring = |c: egui::Pos2| {
-        painter.circle_stroke(c, 6.0, egui::Stroke::new(2.0, egui::Color32::WHITE));
-        painter.circle_filled(c, 2.0, egui::Color32::from_rgb(0, 220, 255));
+        painter.circle_stroke(c, RING, egui::Stroke::new(2.0, egui::Color32::WHITE));
     };
     let Some(h) = &ins.hit else {
         // A miss (a leak stepped to with N, say) has its ring too, round the pixel its ray

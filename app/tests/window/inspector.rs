@@ -302,6 +302,21 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
         .unwrap_or_else(|| panic!("a sample is traced: {traced}"));
     let pixel = format!("{} {}", x.floor(), y.floor());
     assert_eq!(ins["pixel"], pixel, "{ins:?}");
+    // The marked pixel stays in sight inside the ring drawn round it (a dot at its centre
+    // hid it).
+    let (_, shown_w, _, rect) = run.camera();
+    let scale = rect[2] / shown_w as f64;
+    let on_screen = |v: f64, start: f64| (start + (v.floor() + 0.5) * scale) as usize;
+    let (sx, sy) = (
+        on_screen(x - run.view_offset() as f64, rect[0]),
+        on_screen(y, rect[1]),
+    );
+    let (sw, _, px) = &run.shot;
+    let seen = &px[4 * (sy * *sw as usize + sx)..][..3];
+    assert!(
+        seen[0] > 200 && seen[1] < 60 && seen[2] > 200,
+        "the marked pixel ({sx}, {sy}) on screen is magenta: {seen:?}"
+    );
     let centre = (x.floor() + 0.5, y.floor() + 0.5);
     assert_ne!((x, y), centre, "the marked sample is not the centre one");
     let (camera, ..) = run.camera();
