@@ -100,7 +100,11 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         let [x, y] = ins.at;
         let centre = [x, y] == [i as f64 + 0.5, j as f64 + 0.5];
         let which = if centre { "the centre" } else { "sample" };
-        row("ray through", format!("{which} ({x}, {y})"));
+        // (The position on a line of its own: at 1920x1080 one line ran past the panel.)
+        row(
+            "ray through",
+            format!("{which}\n({}, {})", short(x), short(y)),
+        );
         row("(u, v, f)", v3(ins.uvf));
         row("d camera", v3(ins.d_camera));
         row("origin", f3(ins.ray.o));
@@ -140,6 +144,16 @@ pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
         row("N", f3(h.indirect));
         row(&format!("colour ({})", ins.step), f3(h.colour));
     });
+}
+
+/// `v` in the fewest digits that read back as it: an image position is an f32 (a sample's,
+/// or one rounded so), which the crack rows print as such; as an f64 it took 16 digits and
+/// ran past the panel's edge.
+fn short(v: f64) -> String {
+    match v as f32 as f64 == v {
+        true => (v as f32).to_string(),
+        false => v.to_string(),
+    }
 }
 
 /// Where the inspected pixel's ray meets its primitives, and its crack ([`Detail`]).
