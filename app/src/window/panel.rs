@@ -568,27 +568,30 @@ pub fn layout(
             false => panel,
         };
         panel.show(ui, |ui| {
-                // (The menu bar stays in view however far the panel is scrolled.)
-                egui::MenuBar::new().ui(ui, |ui| {
-                    files.menu(ui);
-                    if ui.button("Screenshot (F12)").clicked() {
-                        layout.actions.screenshot = true;
-                    }
-                    if ui.button("Shortcuts (H or F1)").clicked() {
-                        *show_help = !*show_help;
-                    }
-                });
-                if image_width_before < NARROW_IMAGE {
-                    let note = format!(
-                        "the image has {image_width_before:.0} points beside this panel: P hides the panel"
-                    );
-                    ui.label(egui::RichText::new(note).color(egui::Color32::YELLOW));
+            // (The menu bar stays in view however far the panel is scrolled.)
+            egui::MenuBar::new().ui(ui, |ui| {
+                files.menu(ui);
+                if ui.button("Screenshot (F12)").clicked() {
+                    layout.actions.screenshot = true;
                 }
-                let inspector = (&mut *inspector_on, inspection.as_ref());
-                let screenshot = layout.actions.screenshot;
-                layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
-                layout.actions.screenshot |= screenshot;
-            })
+                if ui.button("Shortcuts (H or F1)").clicked() {
+                    *show_help = !*show_help;
+                }
+            });
+            if image_width_before < NARROW_IMAGE {
+                let points = match image_width_before.round() {
+                    1.0 => "1 point".to_string(),
+                    w => format!("{w:.0} points"),
+                };
+                let note = format!("the image has {points} beside this panel: P hides the panel");
+                let note = egui::RichText::new(note).color(egui::Color32::YELLOW);
+                ui.add(egui::Label::new(note).wrap());
+            }
+            let inspector = (&mut *inspector_on, inspection.as_ref());
+            let screenshot = layout.actions.screenshot;
+            layout.actions = side_panel(ui, view, controller, obj_path, &info, inspector);
+            layout.actions.screenshot |= screenshot;
+        })
     });
     if let Some(drawn) = drawn {
         let (bar, visible) = (layout.actions.bar_room, layout.actions.fit.1);
