@@ -11,15 +11,22 @@ pub fn scene_tree(
     selected: Option<usize>,
 ) -> Option<Option<usize>> {
     let mut clicked = None;
-    egui::CollapsingHeader::new("Transform stack")
+    let title = |level: &Level| match level.line {
+        0 => "file (top level)".to_string(),
+        line => format!("push (line {line})"),
+    };
+    // (The tinted level named on the header too: folded, the tint had no word in the panel.)
+    let header = match selected.and_then(|i| levels.get(i)) {
+        Some(level) => format!("Transform stack: {} tinted", title(level)),
+        None => "Transform stack".to_string(),
+    };
+    egui::CollapsingHeader::new(header)
+        .id_salt("transform stack")
         .default_open(false)
         .show(ui, |ui| {
             ui.small("M = T*R*S per level, times its parent's; click a level to highlight it");
             for (i, level) in levels.iter().enumerate() {
-                let title = match level.line {
-                    0 => "file (top level)".to_string(),
-                    line => format!("push (line {line})"),
-                };
+                let title = title(level);
                 let count: u32 = level.primitives.iter().map(|r| r.end - r.start).sum();
                 ui.horizontal(|ui| {
                     ui.add_space(12.0 * level.depth as f32);
