@@ -41,7 +41,7 @@ impl FileMenu {
     pub fn menu(&mut self, ui: &mut egui::Ui) {
         ui.menu_button("File", |ui| {
             let items = [
-                ("Open scene or OBJ…", Purpose::Open),
+                ("Open scene, OBJ or view…", Purpose::Open),
                 ("Save image…", Purpose::SaveImage),
                 ("Save view…", Purpose::SaveView),
             ];
@@ -56,7 +56,7 @@ impl FileMenu {
 
     fn open(&mut self, purpose: Purpose) {
         let (title, name) = match purpose {
-            Purpose::Open => ("Open a .scene or .obj file", ""),
+            Purpose::Open => ("Open a .scene, .obj or .view file", ""),
             Purpose::SaveImage => ("Save the image (PNG, full quality)", "raylab.png"),
             Purpose::SaveView => ("Save the view (raylab render --view)", "raylab.view"),
         };

@@ -241,7 +241,7 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
 
 fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
     // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
-    // name and Return; File > Open scene or OBJ…: a double-click on the only scene file the
+    // name and Return; File > Open scene, OBJ or view…: a double-click on the only scene file the
     // dialog lists opens it.
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
@@ -276,7 +276,7 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
 }
 
 fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
-    // File > Open scene or OBJ…, a file of the list clicked, then 3 and w: the first key went
+    // File > Open scene, OBJ or view…, a file of the list clicked, then 3 and w: the first key went
     // both to the dialog's search box and to the window (lab step 3, or the camera moving).
     // While the dialog is open every key is its own.
     let dir = tempfile::tempdir().unwrap();
