@@ -276,6 +276,7 @@ impl ApplicationHandler<AppEvent> for App {
         let prompt_ends = self.esc_armed.map(|t| t + QUIT_PROMPT_FOR);
         let wake = [
             self.viewer.refine_at(),
+            self.viewer.progress_redraw_at(self.drawn_at),
             script_at,
             self.egui_repaint_at,
             deadline,

@@ -177,6 +177,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         image_on_screen: false,
         failed_draws: 0,
         egui_repaint_at: None,
+        drawn_at: Instant::now(),
         outcome: Ok(()),
     };
     event_loop
@@ -227,6 +228,8 @@ struct App {
     /// retried in a loop).
     failed_draws: u32,
     egui_repaint_at: Option<Instant>,
+    /// When the last frame was drawn.
+    drawn_at: Instant,
     outcome: Result<()>,
 }
 
@@ -523,6 +526,7 @@ impl App {
         }
         self.failed_draws = 0;
         self.frames_presented += 1;
+        self.drawn_at = Instant::now();
         if !self.image_on_screen && self.viewer.shown.is_some() && self.image_rect.is_some() {
             // (Tests that drive the window with real input wait for this line.)
             self.image_on_screen = true;

@@ -3,6 +3,7 @@
 //! for an error, and the scene's warnings (a count and the first few in the panel, all of them
 //! in a window of their own, laid out only as far as they are scrolled into view).
 
+use super::worker::Progress;
 use raylab::render::RenderStats;
 
 /// Warnings the panel lists under their count; the rest are a click away.
@@ -19,15 +20,16 @@ pub type ShownFigures = (u32, u32, u8, u32, RenderStats);
 /// the right. The message has the room first, but the figures keep theirs up to half the
 /// line: a long message (a copied command) is cut short (the whole of it on hover; a click
 /// copies it), the frame's figures stay in view. Returns whether the whole message and the
-/// whole figures are shown.
+/// whole figures are shown. A refinement under way long enough to be said ([`Progress`]) is
+/// said after the figures, with how far it has come.
 pub fn status_line(
     ui: &mut egui::Ui,
     (status, is_error): (&str, bool),
-    shown: Option<ShownFigures>,
+    (shown, progress): (Option<ShownFigures>, Option<Progress>),
     full_size: (u32, u32),
     threads: usize,
 ) -> (bool, bool) {
-    let figures = match shown {
+    let mut figures = match shown {
         Some((w, h, level, spp, stats)) => {
             let what = match level {
                 0 => format!("preview of {}x{}", full_size.0, full_size.1),
@@ -42,6 +44,17 @@ pub fn status_line(
         }
         None => "rendering...".to_string(),
     };
+    if let Some(p) = progress {
+        let what = match p.level {
+            1 => "full resolution".to_string(),
+            _ => format!("{0}x{0} samples", p.spp),
+        };
+        figures += &format!(
+            " · rendering {what}: {:.0}% begun, {:.0} s",
+            100.0 * p.begun,
+            p.elapsed.as_secs_f64()
+        );
+    }
     let font = egui::TextStyle::Body.resolve(ui.style());
     let width_of = |text: &str| {
         let galley =

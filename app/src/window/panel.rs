@@ -481,6 +481,7 @@ pub fn layout(
         .shown
         .as_ref()
         .map(|s| (s.size.0, s.size.1, s.level, s.spp, s.stats));
+    let progress = viewer.progress();
     let has_image = shown.is_some();
     if let Some(picked) = viewer.files.update(ui.ctx()) {
         viewer.apply_picked(picked);
@@ -603,7 +604,7 @@ pub fn layout(
         let status = (status.as_str(), *status_is_error);
         let threads = rayon::current_num_threads();
         (*status_whole, *figures_whole) =
-            super::notices::status_line(ui, status, shown, full_size, threads);
+            super::notices::status_line(ui, status, (shown, progress), full_size, threads);
     });
     let beside = ui.available_rect_before_wrap().width();
     layout.beside_width = ((beside * ppp).round() as u32).max(1);

@@ -4,10 +4,11 @@
 use raylab::camera::Camera;
 use raylab::check::LabCode;
 use raylab::render::{self, RenderSettings, RenderStats, Stage};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 /// What to render.
 #[derive(Clone)]
@@ -34,6 +35,30 @@ pub struct Done {
     pub image: Result<Option<(Vec<u8>, RenderStats)>, String>,
 }
 
+/// A refinement being rendered: the status line tells how far it has come, so a long one
+/// (16x16 samples with cracks counted takes a minute) does not look like a hang.
+struct Underway {
+    level: u8,
+    spp: u32,
+    since: Instant,
+    /// The image's bands of rows, and how many have started (the renderer asks whether to
+    /// stop before each band, and once at the end).
+    bands: u32,
+    started: AtomicU32,
+}
+
+/// How far the refinement being rendered has come.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Its refinement level (1 full resolution, 2 full supersampling) and supersampling.
+    pub level: u8,
+    pub spp: u32,
+    /// How long it has been rendering.
+    pub elapsed: Duration,
+    /// The share of its rows begun, 0 to 1.
+    pub begun: f64,
+}
+
 #[derive(Default)]
 struct Slot {
     job: Option<Job>,
@@ -45,6 +70,7 @@ pub struct Worker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
     /// The app's newest generation: a refinement job of an older one stops at its next band.
     latest: Arc<AtomicU64>,
+    underway: Arc<Mutex<Option<Arc<Underway>>>>,
     done: Receiver<Done>,
     outstanding: usize,
     thread: Option<JoinHandle<()>>,
@@ -58,6 +84,8 @@ impl Worker {
         let shared = slot.clone();
         let latest = Arc::new(AtomicU64::new(0));
         let newest = latest.clone();
+        let underway = Arc::new(Mutex::new(None));
+        let now_underway = underway.clone();
         let thread = std::thread::Builder::new()
             .name("raylab-render".into())
             .spawn(move || loop {
@@ -76,7 +104,22 @@ impl Worker {
                 // Only refinement is cancelled: a preview is short, and a slightly stale preview
                 // beats none (cancelling previews too would show nothing while the camera moves,
                 // since every frame of motion is a new generation).
-                let stale = || job.level > 0 && newest.load(Ordering::Relaxed) != job.generation;
+                let refining = (job.level > 0).then(|| {
+                    Arc::new(Underway {
+                        level: job.level,
+                        spp: job.settings.spp,
+                        since: Instant::now(),
+                        bands: job.settings.height.div_ceil(render::BAND),
+                        started: AtomicU32::new(0),
+                    })
+                });
+                *now_underway.lock().unwrap_or_else(|e| e.into_inner()) = refining.clone();
+                let stale = || {
+                    if let Some(r) = &refining {
+                        r.started.fetch_add(1, Ordering::Relaxed);
+                    }
+                    job.level > 0 && newest.load(Ordering::Relaxed) != job.generation
+                };
                 let (stage, camera, settings) = (&job.stage, &job.camera, &job.settings);
                 let image = match &job.code {
                     Some(code) => raylab::check::code::render_into_cancellable(
@@ -93,6 +136,7 @@ impl Worker {
                 }
                 .map(|stats| stats.map(|s| (rgba, s)))
                 .map_err(|e| e.to_string());
+                *now_underway.lock().unwrap_or_else(|e| e.into_inner()) = None;
                 if tx.send(Done { job, image }).is_err() {
                     return;
                 }
@@ -102,6 +146,7 @@ impl Worker {
         Self {
             slot,
             latest,
+            underway,
             done: rx,
             outstanding: 0,
             thread: Some(thread),
@@ -111,6 +156,17 @@ impl Worker {
     /// Tells a running job of an older generation to stop.
     pub fn set_generation(&self, generation: u64) {
         self.latest.store(generation, Ordering::Relaxed);
+    }
+
+    /// How far the refinement being rendered has come, if one is.
+    pub fn progress(&self) -> Option<Progress> {
+        let underway = self.underway.lock().unwrap_or_else(|e| e.into_inner());
+        underway.as_ref().map(|u| Progress {
+            level: u.level,
+            spp: u.spp,
+            elapsed: u.since.elapsed(),
+            begun: (u.started.load(Ordering::Relaxed).min(u.bands) as f64 / u.bands.max(1) as f64),
+        })
     }
 
     /// Whether no job is queued or rendering.
@@ -152,5 +208,62 @@ impl Drop for Worker {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use raylab::accel::AccelChoice;
+    use raylab::Scene;
+
+    #[test]
+    fn a_refinement_says_how_far_it_has_come_and_a_preview_does_not() {
+        let mut worker = Worker::new(|| {});
+        let job = |level: u8, spp: u32| {
+            let settings = RenderSettings {
+                width: 320,
+                height: 16 * 40,
+                spp,
+                ..RenderSettings::default()
+            };
+            Job {
+                stage: render::Stage::new(Scene::cornell(), AccelChoice::Bvh),
+                camera: Camera::cornell(settings.width),
+                settings,
+                code: None,
+                generation: 0,
+                level,
+            }
+        };
+        let finish = |worker: &mut Worker| loop {
+            if let Some(done) = worker.take_latest() {
+                assert!(matches!(done.image, Ok(Some(_))));
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        worker.submit(job(0, 1));
+        finish(&mut worker);
+        assert!(worker.progress().is_none(), "a preview is not said");
+        // 40 bands of rows: some begun, not all, while it renders.
+        worker.submit(job(2, 6));
+        let seen = loop {
+            match worker.progress() {
+                Some(p) if p.begun > 0.0 => break p,
+                // (Never a wait without end: a render done before it was seen fails.)
+                _ => match worker.take_latest() {
+                    Some(_) => panic!("the refinement ended before its progress was seen"),
+                    None => std::thread::sleep(Duration::from_millis(1)),
+                },
+            }
+        };
+        assert_eq!((seen.level, seen.spp), (2, 6));
+        assert!(seen.begun < 1.0, "{seen:?}");
+        finish(&mut worker);
+        assert!(
+            worker.progress().is_none(),
+            "nothing is under way once it is done"
+        );
     }
 }

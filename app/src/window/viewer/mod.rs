@@ -27,6 +27,11 @@ use loading::watch;
 
 pub use loading::LoadRequest;
 
+/// How long a refinement renders before the status line says how far it has come.
+const SAY_PROGRESS_AFTER: Duration = Duration::from_secs(1);
+/// How often the status line's progress is drawn again.
+const PROGRESS_EVERY: Duration = Duration::from_millis(250);
+
 /// The render resolution: a fraction of the image area, or fixed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Resolution {
@@ -478,6 +483,19 @@ impl Viewer {
     /// Whether no render is running.
     pub fn is_idle(&self) -> bool {
         self.worker.is_idle()
+    }
+
+    /// How far the refinement being rendered has come, once it has taken long enough to
+    /// say ([`SAY_PROGRESS_AFTER`]).
+    pub fn progress(&self) -> Option<worker::Progress> {
+        (self.worker.progress()).filter(|p| p.elapsed >= SAY_PROGRESS_AFTER)
+    }
+
+    /// When to draw again for the status line's progress of a long refinement, the last
+    /// frame drawn at `drawn`.
+    pub fn progress_redraw_at(&self, drawn: Instant) -> Option<Instant> {
+        let started = Instant::now() - self.worker.progress()?.elapsed;
+        Some((drawn + PROGRESS_EVERY).max(started + SAY_PROGRESS_AFTER))
     }
 
     /// When to wake to start refining (the preview has settled), if anything is left to do.
