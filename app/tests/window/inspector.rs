@@ -313,8 +313,10 @@ fn real_x_input_next_crack_inspects_the_marked_samples_ray() {
     );
     let (sw, _, px) = &run.shot;
     let seen = &px[4 * (sy * *sw as usize + sx)..][..3];
+    // (Magenta, blended a little with its neighbours by the texture's filtering.)
+    let (r, g, b) = (seen[0] as i32, seen[1] as i32, seen[2] as i32);
     assert!(
-        seen[0] > 200 && seen[1] < 60 && seen[2] > 200,
+        r > g + 100 && b > g + 100,
         "the marked pixel ({sx}, {sy}) on screen is magenta: {seen:?}"
     );
     let centre = (x.floor() + 0.5, y.floor() + 0.5);
