@@ -309,8 +309,13 @@ pub(super) fn feedback(
             case.name,
             r.status.name()
         );
+        // (A ray's file named from SUITE, as the command above names the suite: the student
+        // exported it somewhere else than the teacher's path.)
+        let teachers = case.rays.display().to_string();
+        let file = case.rays.file_name().unwrap_or_default().to_string_lossy();
+        let students = format!("SUITE/{}/{file}", case.name);
         for line in r.detail.lines().filter(|l| !l.trim().is_empty()) {
-            out += &format!("    {}\n", one_line(line));
+            out += &format!("    {}\n", one_line(&line.replace(&teachers, &students)));
         }
     }
     out

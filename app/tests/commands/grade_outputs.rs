@@ -84,9 +84,11 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         .position(|l| l.contains(": failed ("))
         .unwrap_or_else(|| panic!("{zoe}"));
     let mistake = zoe.lines().nth(failed + 1).unwrap();
+    // The ray's file in the student's suite, as the command names it, not the teacher's.
+    let family = zoe.lines().nth(failed).unwrap().split(':').next().unwrap();
     assert!(
-        mistake.starts_with("    ")
-            && mistake.contains("rays.txt:")
+        mistake.starts_with(&format!("    SUITE/{family}/rays.txt:"))
+            && !zoe.contains(suite.to_str().unwrap())
             && mistake.contains("given (its output:")
             && mistake.ends_with("[leak]"),
         "{zoe}"
