@@ -3,7 +3,7 @@
 //! centre rays ([`super::aov`]) through [`drive_rows`], which it is made of. Bands of rows
 //! ([`BAND`] for images, one for the arrays' single rays) run in parallel (rayon); each band
 //! walks its tiles of [`TILE`] pixels and hands each to the frame's [`TileTracer`]; a render
-//! is cancelled before a band starts. Every image's tracer samples and encodes pixels through
+//! is cancelled before a tile starts. Every image's tracer samples and encodes pixels through
 //! [`Samples`]: n×n stratified samples a pixel, linear colour summed, averaged and
 //! sRGB-encoded once into RGBA8. What differs between tracers is only how a sample's colour
 //! (or a pixel's values) is found.
@@ -163,7 +163,8 @@ pub(crate) fn start(settings: &RenderSettings, rgba: &[u8]) -> Result<Instant, S
 
 /// Renders one frame into `rgba` (RGBA8, rows top to bottom; checked by [`start`], which
 /// gave `started`) with `tracer` over every tile, giving up with `None` (the buffer partly
-/// drawn) when `cancelled()` turns true: asked before each band of rows and once at the end.
+/// drawn) when `cancelled()` turns true: asked before each tile ([`super::tiles`] of them)
+/// and once at the end.
 pub(crate) fn drive<T: TileTracer>(
     settings: &RenderSettings,
     rgba: &mut [u8],
@@ -184,7 +185,9 @@ pub(crate) fn drive<T: TileTracer>(
 /// Traces the image rows from `first_row` on that `rows` holds (whole rows of `width`
 /// pixels, [`TileTracer::PIXEL_BYTES`] each) with `tracer`, bands of
 /// [`TileTracer::BAND_ROWS`] rows in parallel, and returns what it counted; `None` (the rows
-/// partly written) when `cancelled()` turns true: asked before each band and once at the end.
+/// partly written) when `cancelled()` turns true: asked before each tile and once at the end
+/// (a tile, not a band: a band of 16x16 samples with cracks counted took seconds, which a
+/// window's change waited for).
 pub(crate) fn drive_rows<T: TileTracer>(
     width: u32,
     first_row: u32,
@@ -198,11 +201,11 @@ pub(crate) fn drive_rows<T: TileTracer>(
         .enumerate()
         .map(|(band, rows)| {
             let mut counts = Counts::default();
-            if cancelled() {
-                return counts;
-            }
             let mut scratch = T::Scratch::default();
             for x0 in (0..width).step_by(TILE as usize) {
+                if cancelled() {
+                    return counts;
+                }
                 let tile = Tile {
                     x0,
                     y0: first_row + band as u32 * T::BAND_ROWS,

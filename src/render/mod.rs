@@ -72,6 +72,12 @@ pub const TILE: u32 = 16;
 /// Height of the tiles, the rows a parallel band holds.
 pub const BAND: u32 = 16;
 
+/// How many tiles (of [`TILE`] by [`BAND`] pixels) a frame of `width` by `height` is traced
+/// in: how many times a cancellable render asks whether to stop before its end.
+pub fn tiles(width: u32, height: u32) -> u64 {
+    width.div_ceil(TILE) as u64 * height.div_ceil(BAND) as u64
+}
+
 /// Renders the stage's scene through `camera` into `rgba` (RGBA8, rows top to bottom, alpha
 /// 255).
 pub fn render_into(
@@ -84,9 +90,10 @@ pub fn render_into(
         .map(|stats| stats.expect("never cancelled"))
 }
 
-/// [`render_into`] that gives up when `cancelled()` turns true (checked before each band of
-/// rows), returning `Ok(None)` and leaving the buffer partly drawn: an interactive viewer
-/// drops a frame that a camera move has made stale instead of waiting for it.
+/// [`render_into`] that gives up when `cancelled()` turns true (asked before each of the
+/// frame's [`tiles`] and once at the end, so its asks also tell how far it has come),
+/// returning `Ok(None)` and leaving the buffer partly drawn: an interactive viewer drops a
+/// frame that a camera move has made stale instead of waiting for it.
 pub fn render_into_cancellable(
     stage: &Stage,
     camera: &Camera,

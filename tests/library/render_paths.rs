@@ -411,6 +411,38 @@ fn a_cancelled_render_stops_and_says_so() {
 }
 
 #[test]
+fn a_render_asks_to_stop_before_each_tile_and_stops_within_a_band() {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let scene = Stage::from(Scene::cornell());
+    // One band of 64 tiles.
+    let settings = RenderSettings {
+        width: 16 * 64,
+        height: 16,
+        ..Default::default()
+    };
+    let cam = Camera::cornell(settings.width);
+    let mut buf = vec![0u8; settings.buffer_len()];
+    let asks = AtomicU64::new(0);
+    let counted = || asks.fetch_add(1, Ordering::Relaxed) == u64::MAX;
+    let r = raylab::render::render_into_cancellable(&scene, &cam, &settings, &mut buf, &counted);
+    assert!(r.unwrap().is_some());
+    let tiles = raylab::render::tiles(settings.width, settings.height);
+    assert_eq!(
+        (tiles, asks.into_inner()),
+        (64, 64 + 1),
+        "each tile, then the end"
+    );
+    // Stopped at the third ask: the band's other 62 tiles are not drawn.
+    let mut buf = vec![0u8; settings.buffer_len()];
+    let asks = AtomicU64::new(0);
+    let third = || asks.fetch_add(1, Ordering::Relaxed) >= 2;
+    let r = raylab::render::render_into_cancellable(&scene, &cam, &settings, &mut buf, &third);
+    assert!(r.unwrap().is_none());
+    let drawn = buf.chunks(4).filter(|p| p[3] == 255).count();
+    assert_eq!(drawn, 2 * 16 * 16, "two tiles drawn of the band's 64");
+}
+
+#[test]
 fn the_cracks_view_marks_exactly_the_leaks() {
     use raylab::geometry::{Method, Shape};
     use raylab::render::{is_crack, linear_to_srgb8, CRACK};

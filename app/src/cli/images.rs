@@ -67,7 +67,7 @@ const PROGRESS_MIN_RAYS: u64 = 1 << 22;
 static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// From now on Ctrl+C sets [`INTERRUPTED`] instead of ending the process, so that the render
-/// stops at its next band and nothing is written.
+/// stops at its next tile and nothing is written.
 fn watch_interrupt() {
     use std::sync::atomic::Ordering;
     // (Fails only if a handler is set already: then Ctrl+C ends the process as usual.)
@@ -89,10 +89,10 @@ fn render_with_progress(
     watch_interrupt();
     let rays =
         settings.width as u64 * settings.height as u64 * (settings.spp * settings.spp) as u64;
-    let bands = settings.height.div_ceil(render::BAND) as u64;
+    let tiles = render::tiles(settings.width, settings.height);
     let bar = match rays >= PROGRESS_MIN_RAYS {
         // Drawn only where stderr is a terminal.
-        true => indicatif::ProgressBar::new(bands),
+        true => indicatif::ProgressBar::new(tiles),
         false => indicatif::ProgressBar::hidden(),
     };
     bar.set_style(
@@ -103,7 +103,7 @@ fn render_with_progress(
         .progress_chars("=> "),
     );
     let mut rgba = vec![0u8; settings.buffer_len()];
-    // Asked before each band of rows (and once at the end).
+    // Asked before each tile (and once at the end).
     let cancelled = || {
         bar.inc(1);
         interrupted()
@@ -164,7 +164,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let mut arrays = Vec::new();
     if args.aov {
         let mut outs = render::aov::create_beside(&args.out)?;
-        // Ctrl+C stops the pass at its next band, and nothing is written.
+        // Ctrl+C stops the pass at its next tile, and nothing is written.
         if !render::aov::write_aovs(&stage, &camera, &settings, &mut outs, &interrupted)? {
             return Err(Interrupted.into());
         }

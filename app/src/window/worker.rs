@@ -4,7 +4,7 @@
 use raylab::camera::Camera;
 use raylab::check::LabCode;
 use raylab::render::{self, RenderSettings, RenderStats, Stage};
-use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
@@ -41,10 +41,10 @@ struct Underway {
     level: u8,
     spp: u32,
     since: Instant,
-    /// The image's bands of rows, and how many have started (the renderer asks whether to
-    /// stop before each band, and once at the end).
-    bands: u32,
-    started: AtomicU32,
+    /// The image's tiles, and how many have started (the renderer asks whether to stop
+    /// before each tile, and once at the end).
+    tiles: u64,
+    started: AtomicU64,
 }
 
 /// How far the refinement being rendered has come.
@@ -55,7 +55,7 @@ pub struct Progress {
     pub spp: u32,
     /// How long it has been rendering.
     pub elapsed: Duration,
-    /// The share of its rows begun, 0 to 1.
+    /// The share of its tiles begun, 0 to 1.
     pub begun: f64,
 }
 
@@ -68,7 +68,7 @@ struct Slot {
 /// The worker thread and its mailbox.
 pub struct Worker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
-    /// The app's newest generation: a refinement job of an older one stops at its next band.
+    /// The app's newest generation: a refinement job of an older one stops at its next tile.
     latest: Arc<AtomicU64>,
     underway: Arc<Mutex<Option<Arc<Underway>>>>,
     done: Receiver<Done>,
@@ -109,8 +109,8 @@ impl Worker {
                         level: job.level,
                         spp: job.settings.spp,
                         since: Instant::now(),
-                        bands: job.settings.height.div_ceil(render::BAND),
-                        started: AtomicU32::new(0),
+                        tiles: render::tiles(job.settings.width, job.settings.height),
+                        started: AtomicU64::new(0),
                     })
                 });
                 *now_underway.lock().unwrap_or_else(|e| e.into_inner()) = refining.clone();
@@ -165,7 +165,7 @@ impl Worker {
             level: u.level,
             spp: u.spp,
             elapsed: u.since.elapsed(),
-            begun: (u.started.load(Ordering::Relaxed).min(u.bands) as f64 / u.bands.max(1) as f64),
+            begun: u.started.load(Ordering::Relaxed).min(u.tiles) as f64 / u.tiles.max(1) as f64,
         })
     }
 
@@ -197,7 +197,7 @@ impl Worker {
 
 impl Drop for Worker {
     fn drop(&mut self) {
-        // A refinement in progress stops at its next band (no generation is this new), so
+        // A refinement in progress stops at its next tile (no generation is this new), so
         // quitting never waits for a long render.
         self.latest.store(u64::MAX, Ordering::Relaxed);
         {
@@ -246,7 +246,7 @@ mod tests {
         worker.submit(job(0, 1));
         finish(&mut worker);
         assert!(worker.progress().is_none(), "a preview is not said");
-        // 40 bands of rows: some begun, not all, while it renders.
+        // 20 by 40 tiles: some begun, not all, while it renders.
         worker.submit(job(2, 6));
         let seen = loop {
             match worker.progress() {
