@@ -154,7 +154,7 @@ fn read_as(meta: &std::fs::Metadata) -> Option<PathBuf> {
 }
 
 /// Whether the path is a character or block device (/dev/null, /dev/zero).
-fn is_device(meta: &std::fs::Metadata) -> bool {
+pub(crate) fn is_device(meta: &std::fs::Metadata) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;

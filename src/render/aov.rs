@@ -33,9 +33,14 @@ pub fn paths_beside(png: &Path) -> [PathBuf; 3] {
     })
 }
 
-/// Opens the three outputs beside `png` ([`paths_beside`]), writing nothing yet.
+/// Opens the three outputs beside `png` ([`paths_beside`]), writing nothing yet. Where `png`
+/// is a device (/dev/null), the arrays go to it too: beside it they were files made in /dev.
 pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
-    let [prim, t, normal] = paths_beside(png);
+    let device = std::fs::metadata(png).is_ok_and(|m| crate::input::is_device(&m));
+    let [prim, t, normal] = match device {
+        true => [png; 3].map(Path::to_path_buf),
+        false => paths_beside(png),
+    };
     Ok([
         OutputFile::create(&prim)?,
         OutputFile::create(&t)?,

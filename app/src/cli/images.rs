@@ -200,7 +200,8 @@ pub fn render(args: &RenderArgs) -> Result<()> {
         stats.mrays_per_s(),
         args.out.display()
     );
-    for path in written {
+    // (Each file once: a device's arrays went to it, as the image did.)
+    for path in written.iter().filter(|p| **p != args.out) {
         say!("wrote {}", path.display());
     }
     Ok(())

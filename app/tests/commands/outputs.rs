@@ -204,6 +204,39 @@ fn a_stopped_or_killed_render_leaves_the_previous_image_and_nothing_else() {
 }
 
 #[test]
+fn aovs_with_dev_null_as_out_go_there_too() {
+    // Beside /dev/null they were files made in /dev (/dev/null.prim.npy, ...).
+    let beside = ["prim", "t", "normal"].map(|w| format!("/dev/null.{w}.npy"));
+    let made_before = beside.iter().any(|p| Path::new(p).exists());
+    let o = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--aov",
+        "-o",
+        "/dev/null",
+    ]);
+    let made = beside
+        .iter()
+        .filter(|p| Path::new(p).exists())
+        .collect::<Vec<_>>();
+    if !made_before {
+        for p in &made {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(made_before || made.is_empty(), "made {made:?}");
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        !said.contains("wrote /dev/null"),
+        "the image's line names it: {said}"
+    );
+}
+
+#[test]
 fn a_failing_aov_output_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
