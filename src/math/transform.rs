@@ -32,8 +32,12 @@ pub fn sin_cos_degrees(deg: f64) -> (f64, f64) {
 /// 1e300° turns as 1e300 mod 360 = 0° does, as a scene file's `rotate` takes it (1e300 × π/180
 /// is a rounding of a turn, an angle nobody asked for). Below 360° the same as `to_radians`.
 pub fn radians_of_degrees(deg: f64) -> f64 {
-    // (`%` is exact in floating point.)
-    (deg % 360.0).to_radians()
+    // (`%` is exact in floating point; an infinite angle stays one, for the error that names
+    // it: `inf % 360` is NaN.)
+    match deg.is_finite() {
+        true => (deg % 360.0).to_radians(),
+        false => deg,
+    }
 }
 
 /// `deg` as the same turn within (-180°, 180°], exactly (as the window shows a yaw).

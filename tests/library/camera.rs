@@ -216,4 +216,11 @@ fn an_angle_that_is_not_finite_is_named() {
             format!("camera yaw/pitch must be finite, got {said}")
         );
     }
+    // In degrees, as `--yaw inf` gives it, still the angle given (`inf % 360` is NaN).
+    let radians = raylab::math::radians_of_degrees;
+    let e =
+        raylab::Camera::from_yaw_pitch(at, radians(f64::INFINITY), radians(-f64::INFINITY), 640.0);
+    let said = e.unwrap_err().to_string();
+    assert_eq!(said, "camera yaw/pitch must be finite, got yaw inf");
+    assert_eq!(radians(720.5), 0.5f64.to_radians());
 }
