@@ -230,12 +230,16 @@ impl Accel {
         let (copies, others) = (self.copies, self.other_copies);
         let mut what = Vec::new();
         if copies > 0 {
-            what.push(format!(
-                "{copies} triangles repeat an earlier triangle's vertices exactly"
-            ));
+            what.push(match copies {
+                1 => "1 triangle repeats an earlier triangle's vertices exactly".to_string(),
+                n => format!("{n} triangles repeat an earlier triangle's vertices exactly"),
+            });
         }
         if others > 0 {
-            what.push(format!("{others} spheres repeat an earlier sphere exactly"));
+            what.push(match others {
+                1 => "1 sphere repeats an earlier sphere exactly".to_string(),
+                n => format!("{n} spheres repeat an earlier sphere exactly"),
+            });
         }
         (!what.is_empty()).then(|| {
             format!(

@@ -27,7 +27,8 @@ pub fn manifest_text(families: &[Family]) -> String {
 }
 
 /// The families a manifest ([`MANIFEST`]) lists, with their numbers of rays; `#` comment and
-/// blank lines skipped. An error names the first line that is not `NAME COUNT`.
+/// blank lines skipped. An error names the first line that is not `NAME COUNT`, as `LINE:
+/// why` (its caller puts the file's path first, `PATH:LINE: why`, as every file's error).
 pub fn read_manifest(text: &str) -> Result<Vec<(String, usize)>, String> {
     let mut listed = Vec::new();
     for (i, line) in text.lines().enumerate() {
@@ -37,14 +38,9 @@ pub fn read_manifest(text: &str) -> Result<Vec<(String, usize)>, String> {
             [first, ..] if first.starts_with('#') => {}
             [name, count] => match count.parse() {
                 Ok(count) => listed.push((name.to_string(), count)),
-                Err(_) => return Err(format!("line {}: '{count}' is not a number of rays", i + 1)),
+                Err(_) => return Err(format!("{}: '{count}' is not a number of rays", i + 1)),
             },
-            _ => {
-                return Err(format!(
-                    "line {}: not a family's name and number of rays",
-                    i + 1
-                ))
-            }
+            _ => return Err(format!("{}: not a family's name and number of rays", i + 1)),
         }
     }
     Ok(listed)

@@ -544,10 +544,13 @@ fn check_suite<T: Real>(
     exact_of: ExactFn<T>,
 ) -> Result<bool> {
     let families = suite_families(dir, only)?;
+    let count = match families.len() {
+        1 => "1 family".to_string(),
+        n => format!("{n} families"),
+    };
     say!(
-        "suite {} ({} families), {}, t tolerance {:e}, program: {}",
+        "suite {} ({count}), {}, t tolerance {:e}, program: {}",
         dir.display(),
-        families.len(),
         run.precision,
         run.tolerance,
         run.template

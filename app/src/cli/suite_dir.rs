@@ -100,8 +100,8 @@ fn check_manifest(dir: &Path, families: &[PathBuf], only: Option<&str>) -> Resul
         );
         return Ok(());
     }
-    let listed = export::read_manifest(&read_text(&path)?)
-        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let listed =
+        export::read_manifest(&read_text(&path)?).map_err(|e| anyhow!("{}:{e}", path.display()))?;
     let mut wrong = Vec::new();
     for (name, count) in listed.iter().filter(|(n, _)| is_family(n, only)) {
         let Some(family) = families.iter().find(|p| family_name(p) == *name) else {

@@ -623,6 +623,16 @@ fn a_cut_short_export_is_named_and_failed_and_a_suite_without_manifest_warned_of
     let o = raylab(&[&check[..], &["--family", "1"]].concat());
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     assert_eq!(text(&o.stderr), "");
+    // A manifest line that is not NAME COUNT: the file and its line, as every file's error.
+    let bad = format!("# families\n{} x\n", families[0]);
+    std::fs::write(suite_dir.join(export::MANIFEST), bad).unwrap();
+    let o = raylab(&check);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("families.txt:2: 'x' is not a number of rays"),
+        "{err}"
+    );
     // No manifest: what is there is graded, and that it may be cut short is said.
     std::fs::remove_file(suite_dir.join(export::MANIFEST)).unwrap();
     for args in [&check[..], &grade[..]] {

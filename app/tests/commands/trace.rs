@@ -681,8 +681,8 @@ fn trace_through_a_structure_says_what_it_left_out_as_copies() {
         "rays.txt",
         "0 0 0 0 0 1 0 inf\n0 0 3 0 0 1 0 inf\n",
     );
-    let warning = "copies.scene: 1 triangles repeat an earlier triangle's vertices exactly, \
-                   and 1 spheres repeat an earlier sphere exactly: each is kept once";
+    let warning = "copies.scene: 1 triangle repeats an earlier triangle's vertices exactly, \
+                   and 1 sphere repeats an earlier sphere exactly: each is kept once";
     for (accel, told) in [
         ("reference", 0),
         ("flat", 1),
