@@ -378,17 +378,20 @@ impl FlatLoop {
 fn t_error_bound_x8(p: [[f32x8; 3]; 3], sz: f32x8, e: [f32x8; 3], rcp: f32x8) -> f32x8 {
     let max3 = |a: f32x8, b: f32x8, c: f32x8| a.abs().max(b.abs()).max(c.abs());
     let g = |n| f32x8::splat(f32::error_gamma(n));
+    let tiny = f32x8::splat(f32::UNDERFLOW);
     let max_z = max3(p[0][2], p[1][2], p[2][2]);
-    let max_zt = max_z * sz.abs();
+    let max_zt = max_z * sz.abs() + tiny;
     let max_xt = max3(p[0][0], p[1][0], p[2][0]);
     let max_yt = max3(p[0][1], p[1][1], p[2][1]);
     let delta_z = g(3) * max_zt;
     let delta_x = g(5) * (max_xt + max_z);
     let delta_y = g(5) * (max_yt + max_z);
-    let delta_e =
-        f32x8::splat(2.0) * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let two = f32x8::ONE + f32x8::ONE;
+    let three = two + f32x8::ONE;
+    let delta_e = two * (g(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = max3(e[0], e[1], e[2]);
-    f32x8::splat(3.0) * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
+    let underflow = tiny * (f32x8::ONE + rcp.abs() * (f32x8::ONE + three * sz.abs()));
+    three * (g(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs() + underflow
 }
 
 impl FlatLoop {

@@ -9,6 +9,10 @@ use std::str::FromStr;
 pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
     /// Half an ulp of 1: the unit roundoff u of the IEEE format.
     const UNIT_ROUNDOFF: Self;
+    /// 16 times the least subnormal: far more than the absolute error a rounding that
+    /// underflows adds (half the least subnormal), the term an error bound made only of
+    /// relative ones lacks.
+    const UNDERFLOW: Self;
     /// Converts from f64 (rounding to nearest for f32).
     fn of(x: f64) -> Self;
     /// Widens to f64 (exact).
@@ -39,6 +43,7 @@ pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
 
 impl Real for f32 {
     const UNIT_ROUNDOFF: Self = f32::EPSILON * 0.5;
+    const UNDERFLOW: Self = f32::from_bits(16);
     #[inline]
     fn of(x: f64) -> Self {
         x as f32
@@ -79,6 +84,7 @@ impl Real for f32 {
 
 impl Real for f64 {
     const UNIT_ROUNDOFF: Self = f64::EPSILON * 0.5;
+    const UNDERFLOW: Self = f64::from_bits(16);
     #[inline]
     fn of(x: f64) -> Self {
         x

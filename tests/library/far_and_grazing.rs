@@ -220,3 +220,53 @@ fn a_mesh_seen_from_far_away_renders_as_the_per_ray_path() {
         }
     }
 }
+
+/// Hits whose t underflows f32 (a ray from the least subnormal above a triangle, 10¹⁰ long: t =
+/// 1.4e-55), a tiny triangle whose t's products underflow, and two triangles a subnormal
+/// apart: every layout answers as the reference does. (The f32 filters' t bound had no term
+/// for underflow: t 0 ± 0 left the exact t out, and the layouts missed the first, took a hit
+/// at tmin equal to the exact t for the second, and the farther triangle for the third.)
+#[test]
+fn hits_whose_t_underflows_are_answered_as_the_reference_does() {
+    let tri = |s: f32, z: f32| Shape::Triangle(Triangle([[-s, -s, z], [s, -s, z], [0.0, s, z]]));
+    let inf = f32::INFINITY;
+    let nearest = |shapes: &[Shape], ray: &Ray, tmin| {
+        accel::closest_hit(shapes, ray, Method::Adaptive, tmin, inf).map(|h| h.prim)
+    };
+    let one = [tri(1.0, 0.0)];
+    let least = f32::from_bits(1);
+    let rays =
+        [1.0e10f32, 1.0, 1.0e-10, 1.0e18].map(|len| Ray::new([0.0, 0.0, least], [0.0, 0.0, -len]));
+    assert_eq!(
+        nearest(&one, &rays[0], 0.0),
+        Some(0),
+        "t = 1.4e-55 > 0: a hit"
+    );
+    check_all(&one, &rays, 0.0, inf);
+    let small = [tri(2f32.powi(-30), 0.0)];
+    let oz = 11.0 * 2f32.powi(-91);
+    let down = [Ray::new([0.0, 0.0, oz], [0.0, 0.0, -1.0])];
+    assert_eq!(nearest(&small, &down[0], oz), None, "t = tmin: no hit");
+    assert_eq!(nearest(&small, &down[0], 0.95 * oz), Some(0));
+    for tmin in [0.0, 0.95 * oz, oz, 1.05 * oz] {
+        check_all(&small, &down, tmin, inf);
+    }
+    let two = [tri(1.5, 0.0), tri(1.2, -7.7e-41)];
+    let mut rng = Rng(0x5ab_7e7a);
+    let rays: Vec<Ray> = (0..200)
+        .map(|_| {
+            let o = [
+                rng.range(-0.1, 0.1),
+                rng.range(-0.1, 0.1),
+                10f64.powf(rng.range(-44.0, -25.0)),
+            ];
+            let d = [0.0, 0.0, -10f64.powf(rng.range(0.0, 12.0))];
+            Ray::new(o.map(|c| c as f32), d.map(|c| c as f32))
+        })
+        .collect();
+    assert!(
+        rays.iter().all(|r| nearest(&two, r, 0.0) == Some(0)),
+        "the nearer triangle"
+    );
+    check_all(&two, &rays, 0.0, inf);
+}

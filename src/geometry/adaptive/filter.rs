@@ -137,13 +137,17 @@ pub fn approx_f32(t: f32, bound: f32, b1: f32, b2: f32, level: u8) -> Estimate {
 /// Derivation: with all edge functions of one sign, |det| ≥ max|e|, so max|e|·|1/det| ≤ 1;
 /// every sheared |x|, |y| is ≤ M and |z| ≤ M/2 (see [`box_extent`]). Substituted into
 /// pbrt's 3·(γ₃·max|e|·Zₜ + δₑ·Zₜ + δ_z·max|e|)·|1/det| with Zₜ = max|z|·|S_z|:
-/// ≤ |S_z|·M·(3γ₃ + 3(γ₂ + 3γ₅)·M²·|1/det|), and 1% on top for the rounding of this.
+/// ≤ |S_z|·M·(3γ₃ + 3(γ₂ + 3γ₅)·M²·|1/det|), and 1% on top for the rounding of this; plus
+/// twice pbrt's bound's underflow term U·(1 + |1/det|·(1 + 3|S_z|)) (and U·M² for its `Zₜ`
+/// starting at U), which the products above lose where they underflow.
 #[inline]
 pub fn loose_t_bound(m_box: f32, sz: f32) -> (f32, f32) {
     let k = 1.01 * m_box * sz.abs();
+    let u = 2.0 * <f32 as crate::math::Real>::UNDERFLOW;
     (
-        k * 3.0003 * gamma32(3.0),
-        k * 3.0 * (gamma32(2.0) + 3.0 * gamma32(5.0)) * m_box * m_box,
+        k * 3.0003 * gamma32(3.0) + u,
+        k * 3.0 * (gamma32(2.0) + 3.0 * gamma32(5.0)) * m_box * m_box
+            + u * (1.0 + 3.0 * sz.abs() + m_box * m_box),
     )
 }
 

@@ -182,11 +182,18 @@ pub fn watertight_raw<T: Real>(r: &WatertightRay<T>, v: &[V3<T>; 3]) -> Option<(
 /// Unlike pbrt, which bounds the shear term of x′ = x + Sx·z by the *scaled* z (fine for unit
 /// directions), this uses the unscaled z (|Sx| ≤ 1 since z is the largest direction axis), so
 /// the bound stays right for any |d|: a 1e-5 triangle hit by a 1e-6-long direction.
+///
+/// pbrt's terms are all relative; where t's products underflow (a hit 1e-55 along a ray from
+/// 1e-45 above the triangle) each rounding loses up to half the least subnormal, which they
+/// do not cover: t (0) and its bound (0) then left out the exact t. The absolute term
+/// U·(1 + |1/det|·(1 + 3|Sz|)), U = [`Real::UNDERFLOW`], covers the three products scaled by
+/// Sz/det, the scaling by Sz and the division, 16 times over (and `max_zt` starts at U, for
+/// the bound's own products).
 #[inline]
 pub fn t_error_bound<T: Real>(p: &[[T; 3]; 3], sz: T, e: [T; 3], rcp: T) -> T {
     let max3 = |a: T, b: T, c: T| a.abs().max(b.abs()).max(c.abs());
     let max_z = max3(p[0][2], p[1][2], p[2][2]);
-    let max_zt = max_z * sz.abs();
+    let max_zt = max_z * sz.abs() + T::UNDERFLOW;
     let max_xt = max3(p[0][0], p[1][0], p[2][0]);
     let max_yt = max3(p[0][1], p[1][1], p[2][1]);
     let delta_z = T::error_gamma(3) * max_zt;
@@ -196,7 +203,9 @@ pub fn t_error_bound<T: Real>(p: &[[T; 3]; 3], sz: T, e: [T; 3], rcp: T) -> T {
     let three = two + T::one();
     let delta_e = two * (T::error_gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = max3(e[0], e[1], e[2]);
+    let underflow = T::UNDERFLOW * (T::one() + rcp.abs() * (T::one() + three * sz.abs()));
     three * (T::error_gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp.abs()
+        + underflow
 }
 
 /// The three edge functions of the sheared triangle. One that rounds to exactly 0 may be a
