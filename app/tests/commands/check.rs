@@ -457,7 +457,7 @@ fn suite_families_one_at_a_time_with_reproducers_and_none_dropped() {
     ]);
     let out = text(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{out}{}", text(&o.stderr));
-    assert!(out.contains("(1 families)"), "{out}");
+    assert!(out.contains("(1 family)"), "{out}");
     // The reproducer's line is that ray's line in the exported file.
     let repro = out
         .lines()
