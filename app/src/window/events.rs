@@ -170,6 +170,21 @@ impl ApplicationHandler<AppEvent> for App {
                     _ => egui_keyboard || dialog_open,
                 };
                 if pressed && (event.repeat || replayed || egui_takes) {
+                    // (A function key types nothing: say why it did nothing, where it had
+                    // done so in silence.)
+                    let name = match key {
+                        Key::F1 => Some("F1"),
+                        Key::F5 => Some("F5"),
+                        Key::F12 => Some("F12"),
+                        _ => None,
+                    };
+                    if let (Some(name), true, false) = (name, egui_keyboard, dialog_open) {
+                        let said = format!(
+                            "{name} waits: a text field has the keyboard (Enter or Esc ends the edit)"
+                        );
+                        self.viewer.set_status(said);
+                        window.request_redraw();
+                    }
                     return;
                 }
                 self.key(event_loop, key, pressed);

@@ -583,6 +583,32 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     );
 }
 
+fn real_x_input_f5_while_a_text_field_types_says_why_it_waits() {
+    // F5 pressed while the path field has the keyboard saves no view (the field's edit is not
+    // the view's yet) and says why on the status line; after Esc leaves the field, F5 saves.
+    // (It had done nothing, in silence.) Position: the panel's path field at the default window
+    // on the 1280x800 screen.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool type --delay 50 abc; sleep 0.3; xdotool key F5; \
+                  logged 'F5 waits'; grep -c 'saved view' app.log > saved-while-typing.txt; \
+                  xdotool key Escape; sleep 0.5; xdotool key F5; logged 'saved view'";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("F5 waits: a text field has the keyboard (Enter or Esc ends the edit)"),
+        "{log}"
+    );
+    let saved = std::fs::read_to_string(dir.path().join("saved-while-typing.txt")).unwrap();
+    assert_eq!(saved.trim(), "0", "no view saved while typing\n{log}");
+    assert_eq!(log.matches("saved view").count(), 1, "{log}");
+}
+
 fn real_x_input_quick_clicks_each_count() {
     // Plain clicks (press and release together, as a mouse's quick click gives them) on the
     // focal slider, at its right end, its left end, its right end and its left end: the
@@ -630,4 +656,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_keys_still_move_the_camera_after_tab,
     real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks,
     real_x_input_quick_clicks_each_count,
+    real_x_input_f5_while_a_text_field_types_says_why_it_waits,
 ];
