@@ -204,10 +204,16 @@ pub(crate) mod tests {
     ];
 }
 
+/// `n` things in words, `one` after a count of 1 and `many` after any other: "1 family",
+/// "2 families"; a verb can come along ("1 sphere repeats", "2 spheres repeat").
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    match n {
+        1 => format!("1 {one}"),
+        n => format!("{n} {many}"),
+    }
+}
+
 /// `n` primitives, in words: "1 primitive", "2 primitives".
 pub fn primitives(n: usize) -> String {
-    match n {
-        1 => "1 primitive".to_string(),
-        n => format!("{n} primitives"),
-    }
+    count(n, "primitive", "primitives")
 }

@@ -132,6 +132,7 @@ use crate::geometry::triangle::WatertightRay;
 use crate::geometry::{Hit, Method, Ray, Shape};
 use crate::math::simd::{with_cpu_isa, Isa};
 use crate::scene::Scene;
+use crate::words::count;
 use layout::Layout;
 use rayon::prelude::*;
 use spheres::Spheres;
@@ -230,16 +231,12 @@ impl Accel {
         let (copies, others) = (self.copies, self.other_copies);
         let mut what = Vec::new();
         if copies > 0 {
-            what.push(match copies {
-                1 => "1 triangle repeats an earlier triangle's vertices exactly".to_string(),
-                n => format!("{n} triangles repeat an earlier triangle's vertices exactly"),
-            });
+            let repeat = count(copies, "triangle repeats", "triangles repeat");
+            what.push(format!("{repeat} an earlier triangle's vertices exactly"));
         }
         if others > 0 {
-            what.push(match others {
-                1 => "1 sphere repeats an earlier sphere exactly".to_string(),
-                n => format!("{n} spheres repeat an earlier sphere exactly"),
-            });
+            let repeat = count(others, "sphere repeats", "spheres repeat");
+            what.push(format!("{repeat} an earlier sphere exactly"));
         }
         (!what.is_empty()).then(|| {
             format!(

@@ -413,9 +413,9 @@ pub(super) fn stalled(
              flush after each answer to see where it stalls)"
         ),
         n if n < rays => format!(
-            "{why}; {n} answer{} had reached raylab: the first ray without one is {} (or a \
-             later one, where the program keeps output in a buffer)",
-            if n == 1 { "" } else { "s" },
+            "{why}; {} had reached raylab: the first ray without one is {} (or a later one, \
+             where the program keeps output in a buffer)",
+            raylab::words::count(n, "answer", "answers"),
             place(n)
         ),
         _ => format!("{why}; it had printed an answer for every ray, and did not end"),
@@ -544,10 +544,7 @@ fn check_suite<T: Real>(
     exact_of: ExactFn<T>,
 ) -> Result<bool> {
     let families = suite_families(dir, only)?;
-    let count = match families.len() {
-        1 => "1 family".to_string(),
-        n => format!("{n} families"),
-    };
+    let count = raylab::words::count(families.len(), "family", "families");
     say!(
         "suite {} ({count}), {}, t tolerance {:e}, program: {}",
         dir.display(),

@@ -580,10 +580,8 @@ pub fn layout(
                 }
             });
             if image_width_before < NARROW_IMAGE {
-                let points = match image_width_before.round() {
-                    1.0 => "1 point".to_string(),
-                    w => format!("{w:.0} points"),
-                };
+                let points =
+                    raylab::words::count(image_width_before.round() as usize, "point", "points");
                 let note = format!("the image has {points} beside this panel: P hides the panel");
                 let note = egui::RichText::new(note).color(egui::Color32::YELLOW);
                 ui.add(egui::Label::new(note).wrap());
