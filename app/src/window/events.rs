@@ -172,15 +172,10 @@ impl ApplicationHandler<AppEvent> for App {
                 if pressed && (event.repeat || replayed || egui_takes) {
                     // (A function key types nothing: say why it did nothing, where it had
                     // done so in silence.)
-                    let name = match key {
-                        Key::F1 => Some("F1"),
-                        Key::F5 => Some("F5"),
-                        Key::F12 => Some("F12"),
-                        _ => None,
-                    };
-                    if let (Some(name), true, false) = (name, egui_keyboard, dialog_open) {
+                    let function_key = matches!(key, Key::F1 | Key::F5 | Key::F12);
+                    if function_key && egui_keyboard && !dialog_open {
                         let said = format!(
-                            "{name} waits: a text field has the keyboard (Enter or Esc ends the edit)"
+                            "{key:?} waits: a text field has the keyboard (Enter or Esc ends the edit)"
                         );
                         self.viewer.set_status(said);
                         window.request_redraw();
