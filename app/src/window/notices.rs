@@ -52,7 +52,7 @@ pub fn status_line(
         figures += &format!(
             " · rendering {what}: {:.0}% begun, {:.0} s",
             100.0 * p.begun,
-            p.elapsed.as_secs_f64()
+            p.since.elapsed().as_secs_f64()
         );
     }
     let font = egui::TextStyle::Body.resolve(ui.style());

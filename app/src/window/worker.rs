@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// What to render.
 #[derive(Clone)]
@@ -53,8 +53,8 @@ pub struct Progress {
     /// Its refinement level (1 full resolution, 2 full supersampling) and supersampling.
     pub level: u8,
     pub spp: u32,
-    /// How long it has been rendering.
-    pub elapsed: Duration,
+    /// When it started rendering.
+    pub since: Instant,
     /// The share of its tiles begun, 0 to 1.
     pub begun: f64,
 }
@@ -164,7 +164,7 @@ impl Worker {
         underway.as_ref().map(|u| Progress {
             level: u.level,
             spp: u.spp,
-            elapsed: u.since.elapsed(),
+            since: u.since,
             begun: u.started.load(Ordering::Relaxed).min(u.tiles) as f64 / u.tiles.max(1) as f64,
         })
     }
@@ -216,6 +216,7 @@ mod tests {
     use super::*;
     use raylab::accel::AccelChoice;
     use raylab::Scene;
+    use std::time::Duration;
 
     #[test]
     fn a_refinement_says_how_far_it_has_come_and_a_preview_does_not() {

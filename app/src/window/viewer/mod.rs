@@ -488,14 +488,14 @@ impl Viewer {
     /// How far the refinement being rendered has come, once it has taken long enough to
     /// say ([`SAY_PROGRESS_AFTER`]).
     pub fn progress(&self) -> Option<worker::Progress> {
-        (self.worker.progress()).filter(|p| p.elapsed >= SAY_PROGRESS_AFTER)
+        (self.worker.progress()).filter(|p| p.since.elapsed() >= SAY_PROGRESS_AFTER)
     }
 
     /// When to draw again for the status line's progress of a long refinement, the last
     /// frame drawn at `drawn`.
     pub fn progress_redraw_at(&self, drawn: Instant) -> Option<Instant> {
-        let started = Instant::now() - self.worker.progress()?.elapsed;
-        Some((drawn + PROGRESS_EVERY).max(started + SAY_PROGRESS_AFTER))
+        let since = self.worker.progress()?.since;
+        Some((drawn + PROGRESS_EVERY).max(since + SAY_PROGRESS_AFTER))
     }
 
     /// When to wake to start refining (the preview has settled), if anything is left to do.
