@@ -52,8 +52,9 @@ pub fn create_beside(png: &Path) -> Result<[OutputFile; 3], InputError> {
 /// into `outs` (from [`create_beside`]: `.prim`, `.t`, `.normal`) band by band without
 /// committing them: about 32 bytes per pixel of a band of [`BAND_PIXELS`] are held, whatever
 /// the image's size. The render driver traces each band, a row to a thread at a time;
-/// `cancelled` is asked before each row and after each band: `Ok(false)` once it says yes
-/// (the outputs are then incomplete: drop them), `Ok(true)` when every band is written.
+/// `cancelled` is asked before each tile of a row and after each band: `Ok(false)` once it
+/// says yes (the outputs are then incomplete: drop them), `Ok(true)` when every band is
+/// written.
 pub fn write_aovs(
     stage: &Stage,
     camera: &Camera,
