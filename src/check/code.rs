@@ -166,8 +166,8 @@ pub fn verdict(scene_shapes: &[Shape], ray: &Ray, exact: Option<Hit>, hit: Optio
 /// (`render::driver`: the same sample positions, averaging and encoding). With
 /// `settings.cracks` a sample whose answer is not right (nor an exact tie) shows its mark
 /// ([`Verdict::mark`]) instead of its colour. Gives up, `Ok(None)`, when `cancelled()` turns
-/// true (asked before each tile and once at the end). `settings.method` is not used: the code is the
-/// method.
+/// true (asked before each tile and once at the end). `settings.method` is not used: the
+/// code is the method.
 pub fn render_into_cancellable(
     code: &dyn LabCode,
     stage: &Stage,
