@@ -144,10 +144,16 @@ impl Viewer {
             // it was chosen in.)
             let (i, j) = chosen.pixel;
             let (i, x) = (i + chosen.view_offset, x + self.view_offset());
-            self.set_status(format!(
+            let notice = format!(
                 "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: the \
                  inspector shows the edge pixel ({x}, {y}) until it is back"
-            ));
+            );
+            // An error the status line holds stays: this notice follows on its own, from
+            // whatever moved the view, and would wipe what failed before the eye read it.
+            match self.status_is_error {
+                true => log::info!("{notice}"),
+                false => self.set_status(notice),
+            }
             self.status_follows_pixel = false;
         }
     }
