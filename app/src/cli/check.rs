@@ -105,7 +105,12 @@ pub struct CheckArgs {
     pub family: Option<String>,
     /// How many of the first wrong answers and of the first t failures to print, each ray a
     /// line to reproduce it by (default 3 under each failing family of a suite, 5 otherwise).
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        value_parser = super::count_in::<usize>(0..=u32::MAX as i64)
+    )]
     pub show: Option<usize>,
     /// The scene and, with --image, the view.
     #[command(

@@ -34,12 +34,13 @@ pub struct GradeArgs {
     /// {rays}`, `./a.out {scene} {rays}`, `make -s run SCENE={scene} RAYS={rays}`).
     #[arg(long, value_name = "CMD")]
     pub program: String,
-    /// Submissions graded at once (default: the number of cores).
+    /// Submissions graded at once (1..=1024; default: the number of cores).
     #[arg(
         short = 'j',
         long = "jobs",
         value_name = "N",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = super::count_in::<usize>(1..=1024)
     )]
     pub jobs: Option<usize>,
     /// Also write one row per submission and family to this CSV file.
@@ -77,12 +78,13 @@ pub struct GradeArgs {
     /// Grade only this family (its directory name, or its number).
     #[arg(long, value_name = "NAME")]
     pub family: Option<String>,
-    /// Data memory (heap, written pages) of each of a program's processes, in MiB.
+    /// Data memory (heap, written pages) of each of a program's processes, in MiB (16 or more).
     #[arg(
         long,
         value_name = "MIB",
         default_value_t = 2048,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = super::count_in::<u64>(16..=u32::MAX as i64)
     )]
     pub max_memory: u64,
     /// Processes and threads a program may have at once (a fork bomb stops there; a program
@@ -91,7 +93,8 @@ pub struct GradeArgs {
         long,
         value_name = "N",
         default_value_t = 256,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = super::count_in::<u64>(1..=u32::MAX as i64)
     )]
     pub max_processes: u64,
     /// As root, run the programs as root where no unprivileged uid can run them (refused
@@ -112,19 +115,15 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     super::check::check_timeout(args.timeout)?;
     let budget = Budget::new(args.budget, args.timeout)?;
     super::template::check_template(&args.program)?;
-    if args.max_memory < 16 || args.max_processes == 0 {
-        bail!("--max-memory must be at least 16 (MiB) and --max-processes at least 1");
-    }
     if let Some(bad) = (args.env.iter()).find(|n| n.is_empty() || n.contains(['=', '\0'])) {
         bail!("--env '{bad}' is not a variable's name (a name, without '=')");
     }
     let submissions = submissions(&args.class)?;
-    let jobs = match args.jobs {
-        Some(n) if !(1..=1024).contains(&n) => bail!("-j {n} is out of range (1..=1024)"),
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    }
-    .min(submissions.len().max(1));
+    let cores = || std::thread::available_parallelism().map_or(1, |n| n.get().min(1024));
+    let jobs = args
+        .jobs
+        .unwrap_or_else(cores)
+        .min(submissions.len().max(1));
     if !args.suite.is_dir() {
         bail!(
             "--suite {}: not a directory (write one with `raylab suite export DIR`)",

@@ -161,10 +161,10 @@ impl<const ALL: bool> clap::Args for ControlFlags<ALL> {
                 .conflicts_with("view");
             match control.kind {
                 Kind::Toggle { .. } => arg.action(clap::ArgAction::SetTrue),
-                Kind::Count { .. } => arg
+                Kind::Count { min, max, .. } => arg
                     .value_name("N")
                     .allow_negative_numbers(true)
-                    .value_parser(clap::value_parser!(u32))
+                    .value_parser(clap::value_parser!(u32).range(min as i64..=max as i64))
                     .default_value(control.text(&defaults)),
                 Kind::Choice { .. } => arg
                     .value_name(control.name.to_uppercase())
@@ -236,10 +236,10 @@ pub struct ViewArgs {
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Image width in pixels (1..=16384; default 640, `check --image` 160).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = image_side())]
     pub width: Option<u32>,
     /// Image height in pixels (1..=16384; default 480, `check --image` 120).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = image_side())]
     pub height: Option<u32>,
     /// Focal length in pixels (default: the image width, about 53° of horizontal view).
     #[arg(long, allow_hyphen_values = true)]
@@ -375,11 +375,16 @@ pub struct BenchArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub image: ImageArgs,
-    /// Worker threads (default: all cores).
-    #[arg(long, allow_negative_numbers = true)]
+    /// Worker threads (1..=1024; default: all cores).
+    #[arg(long, allow_negative_numbers = true, value_parser = count_in::<usize>(1..=1024))]
     pub threads: Option<usize>,
-    /// Frames timed after one warm-up frame; the median is reported.
-    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
+    /// Frames timed after one warm-up frame (1..=10000); the median is reported.
+    #[arg(
+        long,
+        default_value_t = 5,
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..=10_000)
+    )]
     pub frames: u32,
     /// Run the kernels' build for this SIMD level (`baseline`, `avx2` or `avx512`; at most
     /// what the CPU has), to compare the builds in one run. Default: the best the CPU has.
@@ -393,6 +398,24 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
+}
+
+/// `--width`/`--height`: a side in the range every image has (`-5` named with it, not with
+/// a u32's).
+fn image_side() -> impl clap::builder::TypedValueParser<Value = u32> {
+    let max = raylab::render::MAX_SIDE as i64;
+    clap::value_parser!(u32).range(1..=max)
+}
+
+/// A count flag's parser: a value outside `range`, a negative one too, is named with the
+/// range (as a plain `usize` or `u64`, `-1` read "invalid digit").
+pub fn count_in<T: TryFrom<i64> + Clone + Send + Sync + 'static>(
+    range: impl std::ops::RangeBounds<i64> + 'static,
+) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser;
+    // (In range, so never negative: the conversion cannot fail.)
+    let convert = |n: i64| T::try_from(n).ok().expect("a count in its range");
+    clap::value_parser!(i64).range(range).map(convert)
 }
 
 fn parse_vec3(s: &str) -> Result<DVec3, String> {

@@ -26,14 +26,17 @@ fn render_rejects_bad_values_clearly() {
     let out = dir.path().join("x.png");
     let out = out.to_str().unwrap();
     let cases: &[(&[&str], &str)] = &[
-        (&["--width", "0"], "0x48"),
-        (&["--width", "100000"], "100000x48"),
+        (&["--width", "0"], "0 is not in 1..=16384"),
+        (&["--width", "100000"], "100000 is not in 1..=16384"),
         (&["--focal", "0"], "focal length 0"),
         (&["--focal", "-5"], "focal length -5"),
         (&["--focal", "NaN"], "focal length NaN"),
         (&["--focal", "1e300"], "focal length"),
-        (&["--spp", "0"], "supersampling 0"),
-        (&["--spp", "1000"], "supersampling 1000"),
+        (&["--spp", "0"], "0 is not in 1..=16"),
+        (&["--spp", "1000"], "1000 is not in 1..=16"),
+        // (A negative count is named with its range, not a u32's nor as "invalid digit".)
+        (&["--spp", "-1"], "-1 is not in 1..=16"),
+        (&["--width", "-5"], "-5 is not in 1..=16384"),
         (&["--camera", "1,2"], "x,y,z"),
         (&["--camera", "1,nan,2"], "not finite"),
         (&["--scene", "/no/such/file.obj"], "/no/such/file.obj"),
@@ -43,6 +46,23 @@ fn render_rejects_bad_values_clearly() {
         args.extend_from_slice(extra);
         let o = raylab(&args);
         assert_fails(&o, 2, &[needle]);
+    }
+    let counts: &[(&[&str], &str)] = &[
+        (
+            &["render", "--width", "16384", "--height", "16384", "-o", out],
+            "16384x16384 is out of range",
+        ),
+        (&["bench", "--threads", "-1"], "-1 is not in 1..=1024"),
+        (&["bench", "--frames", "0"], "0 is not in 1..=10000"),
+        (&["check", "--show", "-1"], "-1 is not in 0..=4294967295"),
+        (&["grade", "-j", "-2"], "-2 is not in 1..=1024"),
+        (
+            &["grade", "--max-memory", "8"],
+            "8 is not in 16..=4294967295",
+        ),
+    ];
+    for (args, needle) in counts {
+        assert_fails(&raylab(args), 2, &[needle]);
     }
     let o = raylab(&["render", "--step", "bogus", "--out", out]);
     assert_fails(&o, 2, &["bogus", "flat"]);
