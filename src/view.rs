@@ -169,6 +169,17 @@ impl View {
                 .and_then(|()| (view.settings.validate()).map_err(|e| format!("{}: {e}", w[0])));
             checked.map_err(error)?;
         }
+        // (A file left empty or cut short by a failed save would render the defaults, as if
+        // it were the view.)
+        if first.is_empty() {
+            return Err(FileError {
+                file: file.to_string(),
+                line: text.lines().count().max(1),
+                message: "not one statement: a view names at least one of its scene, camera, \
+                          light, size or a control (`scene cornell` is the lab's box)"
+                    .into(),
+            });
+        }
         Ok(view)
     }
 

@@ -386,6 +386,14 @@ fn a_view_out_of_range_names_its_line() {
     let e = View::parse("v.view", text).unwrap_err().to_string();
     assert!(e.starts_with("v.view:3:") && e.contains("spp"), "{e}");
     assert!(View::parse("v.view", "size 64 48\nspp 4\n").is_ok());
+    // An empty file, or one of comments, is not a view of the defaults.
+    for empty in ["", "\n\n", "# saved by hand\n\n"] {
+        let e = View::parse("v.view", empty).unwrap_err().to_string();
+        assert!(
+            e.starts_with("v.view:") && e.contains("not one statement"),
+            "{e}"
+        );
+    }
     // A statement given twice: the last had won unseen.
     let e = View::parse("v.view", "scene a.obj\nsize 64 48\nscene b.obj\n").unwrap_err();
     let e = e.to_string();
