@@ -202,6 +202,41 @@ fn load_lab(obj: &str, mtl: &str) -> Result<Scene, String> {
 }
 
 #[test]
+fn one_mtllib_line_may_name_several_libraries_or_one_with_a_space() {
+    // `mtllib a.mtl b.mtl` names two libraries (the format allows several); a library whose
+    // name has a space loads by its whole name; of two, a missing one is skipped and said.
+    let libraries = |name: &str| match name {
+        "a.mtl" => Ok("newmtl red\nKd 1 0 0\n".to_string()),
+        "b.mtl" => Ok("newmtl blue\nKd 0 0 1\n".to_string()),
+        "my lib.mtl" => Ok("newmtl red\nKd 0 1 0\n".to_string()),
+        other => Err(format!("{other}: No such file or directory")),
+    };
+    let tris = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\nusemtl blue\nf 1 2 3\n";
+    let load = |mtllib: &str| {
+        let obj = format!("mtllib {mtllib}\n{tris}");
+        raylab::scene::load_obj_str("t.obj", &obj, raylab::scene::ObjFrame::Lab, libraries).unwrap()
+    };
+    let both = load("a.mtl b.mtl");
+    assert!(both.warnings.is_empty(), "{:?}", both.warnings);
+    assert_eq!(both.colors(), [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+    let spaced = load("my lib.mtl");
+    assert_eq!(spaced.colors()[0], [0.0, 1.0, 0.0]);
+    let one_gone = load("a.mtl gone.mtl");
+    assert_eq!(one_gone.colors()[0], [1.0, 0.0, 0.0]);
+    let said = one_gone.warnings.join("\n");
+    assert!(
+        said.contains("material library skipped: gone.mtl: No such file"),
+        "{said}"
+    );
+    // Neither word a library: the whole name is the one said missing.
+    let none = load("x.mtl y.mtl").warnings.join("\n");
+    assert!(
+        none.contains("skipped: x.mtl y.mtl: No such file"),
+        "{none}"
+    );
+}
+
+#[test]
 fn obj_statements_that_draw_nothing_are_skipped_and_counted() {
     // Polylines and points were once filled as triangles; curves and surfaces mean nothing to
     // a raycaster. All are skipped, with one warning that counts them.

@@ -256,30 +256,57 @@ fn load_obj_str_coloured(
     let warnings = RefCell::new(Vec::<String>::new());
     let skipped = std::cell::Cell::new(false);
     let cache = RefCell::new(HashMap::<PathBuf, Result<String, String>>::new());
-    let loader = |p: &Path| -> tobj::MTLLoadResult {
+    let library = |p: &Path| -> Result<Materials, String> {
         let text = cache
             .borrow_mut()
             .entry(p.to_path_buf())
             .or_insert_with(|| load_mtl(&p.to_string_lossy()))
-            .clone();
-        let problem = match text {
-            Ok(t) => match load_mtl_text(&t) {
-                Ok((materials, notes)) => {
-                    for (line, note) in notes {
-                        let note = format!("{name}: {}:{line}: {note}", p.display());
-                        warnings.borrow_mut().push(note);
-                    }
-                    return Ok(materials);
-                }
-                Err((line, m)) => format!("{}:{line}: {m}", p.display()),
-            },
-            Err(e) => e,
-        };
+            .clone()?;
+        let (materials, notes) =
+            load_mtl_text(&text).map_err(|(line, m)| format!("{}:{line}: {m}", p.display()))?;
+        for (line, note) in notes {
+            let note = format!("{name}: {}:{line}: {note}", p.display());
+            warnings.borrow_mut().push(note);
+        }
+        Ok(materials)
+    };
+    let skip = |problem: String| {
         skipped.set(true);
         warnings
             .borrow_mut()
             .push(format!("{name}: material library skipped: {problem}"));
-        Err(tobj::LoadError::MaterialParseError)
+    };
+    let loader = |p: &Path| -> tobj::MTLLoadResult {
+        let problem = match library(p) {
+            Ok(materials) => return Ok(materials),
+            Err(problem) => problem,
+        };
+        // `mtllib a.mtl b.mtl` names two libraries (the format allows several); tobj reads
+        // the rest of the line as one name, which a name with a space is. Where that one
+        // does not load, each word is a library.
+        let whole = p.to_string_lossy();
+        let words: Vec<&str> = whole.split_whitespace().collect();
+        let loaded: Vec<Result<Materials, String>> = match words.len() > 1 {
+            true => words.iter().map(|w| library(Path::new(w))).collect(),
+            false => Vec::new(),
+        };
+        if !loaded.iter().any(Result::is_ok) {
+            skip(problem);
+            return Err(tobj::LoadError::MaterialParseError);
+        }
+        let mut all = Materials::default();
+        for each in loaded {
+            match each {
+                Ok((materials, names)) => {
+                    let offset = all.0.len();
+                    all.1
+                        .extend(names.into_iter().map(|(n, i)| (n, i + offset)));
+                    all.0.extend(materials);
+                }
+                Err(problem) => skip(problem),
+            }
+        }
+        Ok(all)
     };
     let options = tobj::LoadOptions {
         triangulate: true,
