@@ -210,7 +210,7 @@ impl ApplicationHandler<AppEvent> for App {
                     // (A click is something else done: Esc asks again before quitting.)
                     self.esc_armed = None;
                 }
-                let on_image = self.pointer_over_image() || !egui_pointer;
+                let on_image = self.button_is_cameras(egui_pointer);
                 let orbit_mode = self.viewer.controller.mode == Mode::Orbit;
                 if button == MouseButton::Left {
                     self.left_click(pressed, on_image);

@@ -29,6 +29,17 @@ impl App {
         }
     }
 
+    /// Whether a mouse button pressed now is the image's (inspecting, looking, orbiting): by
+    /// the pointer's place, as the wheel. (egui's answer is its last frame's: a click that
+    /// came with the move onto the inspector's fold arrow, drawn over the image, folded it
+    /// and inspected the pixel under the arrow.)
+    pub(super) fn button_is_cameras(&self, egui_pointer: bool) -> bool {
+        match self.cursor {
+            Some(_) => self.pointer_over_image(),
+            None => !egui_pointer,
+        }
+    }
+
     /// A left press over the image and its release within a few pixels (not an orbit drag)
     /// inspect the pixel under the pointer, when the inspector is on (else say it is off).
     pub(super) fn left_click(&mut self, pressed: bool, on_image: bool) {
