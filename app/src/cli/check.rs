@@ -381,8 +381,21 @@ pub(super) fn program_answers<T: Real>(
     rays_file: &Path,
 ) -> Result<(Duration, Answers<T>), String> {
     let timeout = Duration::from_secs_f64(timeout_s);
+    // The program reads copies, made for this run: one that writes to its input (`open(path,
+    // "w")` for "r") would otherwise change the files, and the next check, whose exact answers
+    // are read from them, would grade the damage (an emptied scene: every `miss` right).
+    let input = program::RunDir::new("check").map_err(|e| format!("cannot copy the input: {e}"))?;
+    let copy = |file: &Path, folder: &str| -> std::io::Result<PathBuf> {
+        let to = input.path().join(folder);
+        std::fs::create_dir(&to)?;
+        let to = to.join(file.file_name().unwrap_or(folder.as_ref()));
+        std::fs::copy(file, &to)?;
+        Ok(to)
+    };
+    let copies = copy(scene_file, "scene").and_then(|s| Ok((s, copy(rays_file, "rays")?)));
+    let (scene_copy, rays_copy) = copies.map_err(|e| format!("cannot copy the input: {e}"))?;
     // The paths go in as bytes (a path that is not UTF-8 reaches the program intact).
-    let command = template::command_line(template, scene_file, rays_file);
+    let command = template::command_line(template, &scene_copy, &rays_copy);
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
     let ran = program::run_with(&command, &limits).map_err(|e| match &e {
         program::RunError::Timeout { printed, .. } => {

@@ -82,6 +82,14 @@ fn a_placeholder_or_code_in_a_path_runs_nothing() {
     let family = dir.path().join("{rays}$(touch \"$PWNED_AT\")'{scene}'");
     std::fs::create_dir(&family).unwrap();
     let (scene, rays) = one_ray(&family);
+    // (The program reads copies of the files under their own names: hostile names too.)
+    let hostile = |path: &str, name: &str| {
+        let to = family.join(name);
+        std::fs::rename(path, &to).unwrap();
+        to.to_str().unwrap().to_string()
+    };
+    let scene = hostile(&scene, "{rays}$(touch \"$PWNED_AT\").txt");
+    let rays = hostile(&rays, "'{scene}'`touch \"$PWNED_AT\"`");
     let pwned = dir.path().join("PWNED");
     let program = "cat {scene} {rays} >/dev/null && echo hit 1 0";
     let pwned_at = [("PWNED_AT", pwned.to_str().unwrap())];
@@ -89,6 +97,27 @@ fn a_placeholder_or_code_in_a_path_runs_nothing() {
     assert_eq!(code, Some(0), "{out}");
     assert!(out.contains("check: rays 1 right 1 leaks 0"), "{out}");
     assert!(!pwned.exists(), "the path ran as code");
+}
+
+/// A program that empties its scene file (`open(path, "w")` where it meant "r") and says
+/// `miss` to every ray: it reads a copy, so the next check still grades it against the
+/// scene as written (the second run graded every `miss` right against the emptied file).
+#[test]
+fn a_program_that_writes_to_its_input_changes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = one_ray(dir.path());
+    let program =
+        "python3 -c 'import sys; open(sys.argv[1], \"w\"); print(\"miss\")' {scene} {rays}";
+    for run in 1..=2 {
+        let (out, code) = check_program(&scene, &rays, program, &[]);
+        assert_eq!(code, Some(1), "run {run}: {out}");
+        assert!(
+            out.contains("check: rays 1 right 0 leaks 1"),
+            "run {run}: {out}"
+        );
+    }
+    let written = std::fs::read_to_string(&scene).unwrap();
+    assert_eq!(written, "tri 0 0 0 1 0 0 0 1 0\n");
 }
 
 /// A class directory with one submission running `run.sh` with `text` (mode 0755 dirs, so a
