@@ -240,8 +240,16 @@ fn bench_prints_the_machine_the_runs_and_mrays_last() {
         .parse()
         .unwrap();
     assert!(v > 0.0);
-    assert_fails(&raylab(&["bench", "--frames", "0"]), 2, &["--frames 0"]);
-    assert_fails(&raylab(&["bench", "--threads", "0"]), 2, &["--threads 0"]);
+    assert_fails(
+        &raylab(&["bench", "--frames", "0"]),
+        2,
+        &["0 is not in 1..=10000"],
+    );
+    assert_fails(
+        &raylab(&["bench", "--threads", "0"]),
+        2,
+        &["0 is not in 1..=1024"],
+    );
     assert_fails(&raylab(&["bench", "--accel", "kd"]), 2, &["kd", "bvh"]);
     assert_fails(
         &raylab(&["bench", "--simd", "sse9"]),
