@@ -206,8 +206,8 @@ and `#` comments are skipped. `raylab trace --scene S --rays R` prints the exact
 this format.
 
 **Grading** (`raylab check`): an answer is right when it names the exact nearest primitive
-(or misses where nothing is met); another primitive met at exactly the same t is a tie and
-stands; a miss where something is met is a leak, a hit where nothing is met a false hit,
+(or misses where nothing is met); another primitive met at exactly the same t, or at a t
+that rounds to the same value, is a tie and stands; a miss where something is met is a leak, a hit where nothing is met a false hit,
 another primitive a wrong primitive. A right or tied hit's t must be within an ulp of the
 exact t rounded, or within the tolerance (`--t-tolerance`, 1e-6 by default): the answer's
 point o + t·d within that much of the exact one, relative to |o| + |t·d| + the primitive's

@@ -240,14 +240,15 @@ impl<T: Real> Exact<T> {
 pub enum Verdict {
     /// The exact primitive, or a miss where the exact ray meets nothing.
     Right,
-    /// Another primitive met at exactly the same t as the exact one, or a triangle of zero
-    /// area met no farther (accepted).
+    /// Another primitive met at exactly the same t as the exact one (or at a t rounding to
+    /// the same value in the precision graded), or a triangle of zero area met no farther
+    /// (accepted).
     Tie,
     /// A miss where the exact ray meets a primitive.
     Leak,
     /// A hit where the exact ray meets nothing.
     FalseHit,
-    /// Another primitive, not met at exactly the same t.
+    /// Another primitive, not met at the same t (nor at one rounding alike).
     Wrong,
 }
 
@@ -382,8 +383,19 @@ pub fn grade<T: Real>(
             // lower index) only if it is met at exactly the exact nearest t.
             let pair = [shape_of(prim), shape_of(pe)];
             let first = adaptive::closest_hit_reference(&pair, &ray.ray, ray.tmin, ray.tmax);
+            // Or met at a t that rounds to the exact nearest t: in the precision the answers
+            // are written in the two hits lie at the same t, and no answer can say which of
+            // them is nearer (a correct double program gets either).
+            let same_rounded = || {
+                let alone =
+                    (adaptive::closest_hit_reference(&pair[..1], &ray.ray, ray.tmin, ray.tmax))
+                        .is_some();
+                let at = adaptive::rounded_t(&pair[0], &ray.ray, ray.tmin, ray.tmax);
+                alone && at.is_some_and(|at| at.f64() == te.f64())
+            };
             match first {
                 Some(h) if h.prim == 0 => (Verdict::Tie, Some(te), Some(t)),
+                _ if same_rounded() => (Verdict::Tie, Some(te), Some(t)),
                 _ => (Verdict::Wrong, None, None),
             }
         }

@@ -461,3 +461,85 @@ fn the_issues_examples_print_the_rounded_exact_t() {
         assert_eq!(out, expected, "{scene} / {ray} in {precision}");
     }
 }
+
+/// Two triangles a ray meets 1.2e-16 apart (half an f64 ulp of t = 1): both t's round to the
+/// same double, so no answer in f64 can say which is nearer, and naming the farther one is a
+/// tie, not a wrong primitive (a correct double program named it). Checked against the
+/// rational reference: the answer's triangle is met, farther, at a t rounding alike. Another
+/// primitive whose t rounds elsewhere stays wrong.
+#[test]
+fn a_primitive_met_at_a_t_rounding_to_the_exact_nearest_is_a_tie() {
+    use raylab::check::grade::{self, Answer, Verdict};
+    let tri = |v: [[f64; 3]; 3]| Shape::<f64>::from(v);
+    let near = tri([
+        [
+            5.76484203338623046875,
+            0.59336376190185546875,
+            0.2508701980113983154296875,
+        ],
+        [
+            6.79148101806640625,
+            0.18557937443256378173828125,
+            0.078461699187755584716796875,
+        ],
+        [
+            6.529684543609619140625,
+            1.1867275238037109375,
+            0.501740396022796630859375,
+        ],
+    ]);
+    let far = tri([
+        [5.0, 0.0, 0.0],
+        [
+            6.529684543609619140625,
+            1.1867275238037109375,
+            0.501740396022796630859375,
+        ],
+        [
+            3.711564540863037109375,
+            1.40893256664276123046875,
+            0.5956871509552001953125,
+        ],
+    ]);
+    let beyond = tri([[0.0, -9.0, 0.8], [20.0, -9.0, 0.8], [0.0, 9.0, 0.8]]);
+    let shapes = [far, beyond, near];
+    let o = [5.19999980926513671875, 0.5, -2.0];
+    let d = [
+        0.75605297088623046875,
+        0.2417047023773193359375,
+        2.313587665557861328125,
+    ];
+    let ray = TraceRay {
+        ray: Ray::new(o, d),
+        tmin: 0.0,
+        tmax: f64::INFINITY,
+    };
+    // The reference: the near triangle is nearest; the far one is met farther, alone.
+    let (t_near, nearest) = exact_nearest(&shapes, &ray.ray).expect("a hit");
+    assert_eq!(nearest, 2);
+    let (t_far, _) = exact_nearest(&shapes[..1], &ray.ray).expect("the far one is met");
+    assert_eq!(t_far.cmp(&t_near), std::cmp::Ordering::Greater);
+    let rounded = |t: &RefT| match t {
+        RefT::Exact(q) => round_q::<f64>(q),
+        RefT::Between(..) => unreachable!("triangles have rational t"),
+    };
+    let te = rounded(&t_near);
+    assert_eq!(rounded(&t_far), te, "both round to {te}");
+
+    let exact = grade::exact_answers(&shapes, std::slice::from_ref(&ray))[0];
+    assert_eq!(exact, Answer::Hit { t: te, prim: 2 });
+    let judge = |prim| {
+        let answer = Answer::Hit { t: te, prim };
+        grade::grade(
+            |p| shapes[p as usize],
+            &ray,
+            exact,
+            answer,
+            grade::DEFAULT_T_TOLERANCE,
+        )
+    };
+    assert_eq!(judge(0).verdict, Verdict::Tie);
+    assert!(judge(0).stands());
+    // The plane z = 0.8 is met well beyond (t ≈ 1.21): wrong, t given or not.
+    assert_eq!(judge(1).verdict, Verdict::Wrong);
+}
