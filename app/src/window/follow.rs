@@ -13,6 +13,9 @@ use std::borrow::Cow;
 /// How the status line starts where the inspected ray has left the image ([`Viewer::follow`]).
 const OFF_IMAGE: &str = "the ray inspected";
 
+/// How the status line starts where the inspected pixel lies under the inspector's panel.
+const UNDER_PANEL: &str = "the pixel inspected";
+
 impl Viewer {
     /// Inspects pixel (`i`, `j`) of the full-size image as now set up (a left click, a
     /// script's `inspect`), saying what it found.
@@ -24,15 +27,23 @@ impl Viewer {
             let off = raylab::render::SettingsError::Pixel(i, j, w, h);
             return self.set_status(format!("cannot inspect: {off}"));
         }
-        self.answer((i, j), true);
+        self.answer((i + self.view_offset(), j), true);
     }
 
-    /// Answers pixel (`i`, `j`) for the inspector and follows it from now on.
+    /// The size of the view F5 and copy as command write, of which the image shown is a
+    /// crop ([`Viewer::view_offset`] columns each side).
+    fn view_size(&self) -> (u32, u32) {
+        let (w, h) = self.full_size();
+        (w + 2 * self.view_offset(), h)
+    }
+
+    /// Answers pixel `pixel` of the view for the inspector and follows it from now on.
     fn answer(&mut self, pixel: (u32, u32), announce: bool) -> bool {
         self.answer_for(pixel, announce, None)
     }
 
-    /// Answers `pixel`, followed from now on from the pixel `chosen` (itself where `None`).
+    /// Answers `pixel` of the view, followed from now on from the pixel `chosen` (itself
+    /// where `None`).
     fn answer_for(&mut self, pixel: (u32, u32), announce: bool, chosen: Option<Chosen>) -> bool {
         let size = self.full_size();
         let focal = self.focal(size.0);
@@ -43,9 +54,8 @@ impl Viewer {
             generation: self.generation,
             chosen: chosen.unwrap_or(Chosen {
                 pixel,
-                size,
+                size: self.view_size(),
                 focal,
-                view_offset: self.view_offset(),
             }),
         };
         let Some(found) = self.trace(at) else {
@@ -117,10 +127,11 @@ impl Viewer {
         if !self.inspector_on || at.generation == self.generation || !current {
             return;
         }
-        // At a new size, the pixel that looks the same way: offsets from the image centre
-        // scale with the focal length (which goes with the width, but not with the
-        // inspector's panel narrowing the image: that crops the view's sides).
-        let (size, chosen) = (self.full_size(), at.chosen);
+        // At a new size, the pixel of the view that looks the same way: offsets from the
+        // image centre scale with the focal length (which goes with the width, but not with
+        // the inspector's panel narrowing the image: that crops the view's sides, and a pixel
+        // under the panel is still answered).
+        let (size, view, chosen) = (self.full_size(), self.view_size(), at.chosen);
         let scale = self.focal(size.0) / chosen.focal;
         let map = |p: u32, from: u32, to: u32| {
             let offset = (p as f64 + 0.5 - from as f64 / 2.0) * scale;
@@ -131,31 +142,46 @@ impl Viewer {
             )
         };
         let ((x, off_x), (y, off_y)) = (
-            map(chosen.pixel.0, chosen.size.0, size.0),
-            map(chosen.pixel.1, chosen.size.1, size.1),
+            map(chosen.pixel.0, chosen.size.0, view.0),
+            map(chosen.pixel.1, chosen.size.1, view.1),
         );
-        if !(off_x || off_y) && self.status.starts_with(OFF_IMAGE) {
+        // (Off the view, the edge pixel of the image shown: one under the panel is not seen.)
+        let offset = self.view_offset();
+        let x = match off_x {
+            true => x.clamp(offset, offset + size.0 - 1),
+            false => x,
+        };
+        let under_panel = !(offset..offset + size.0).contains(&x);
+        let (off, said) = (off_x || off_y, [OFF_IMAGE, UNDER_PANEL]);
+        if !off && !under_panel && said.iter().any(|s| self.status.starts_with(s)) {
             // Back on the image: the status line follows the pixel again.
             self.status_follows_pixel = true;
         }
-        if self.answer_for((x, y), false, Some(chosen)) && (off_x || off_y) {
-            // (Said, not silent: a zoom that loses the ray would otherwise swap in another.)
-            // (Both the view's pixels, as the inspector names them; the first of the view
-            // it was chosen in.)
-            let (i, j) = chosen.pixel;
-            let (i, x) = (i + chosen.view_offset, x + self.view_offset());
-            let notice = format!(
-                "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: the \
-                 inspector shows the edge pixel ({x}, {y}) until it is back"
-            );
-            // An error the status line holds stays: this notice follows on its own, from
-            // whatever moved the view, and would wipe what failed before the eye read it.
-            match self.status_is_error {
-                true => log::info!("{notice}"),
-                false => self.set_status(notice),
-            }
-            self.status_follows_pixel = false;
+        if !self.answer_for((x, y), false, Some(chosen)) || !(off || under_panel) {
+            return;
         }
+        // (Said, not silent: a zoom that loses the ray would otherwise swap in another,
+        // and a ring under the panel is not seen.) (Both the view's pixels, as the
+        // inspector names them; the first of the view it was chosen in.)
+        let (i, j) = chosen.pixel;
+        let notice = match off {
+            true => format!(
+                "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: \
+                 the inspector shows the edge pixel ({x}, {y}) until it is back"
+            ),
+            false => format!(
+                "{UNDER_PANEL}, ({x}, {y}), lies under the ray inspector's panel, which \
+                 crops the image's sides: the inspector shows its ray (a wider window shows \
+                 its ring)"
+            ),
+        };
+        // An error the status line holds stays: this notice follows on its own, from
+        // whatever moved the view, and would wipe what failed before the eye read it.
+        match self.status_is_error {
+            true => log::info!("{notice}"),
+            false => self.set_status(notice),
+        }
+        self.status_follows_pixel = false;
     }
 
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,
@@ -199,7 +225,7 @@ impl Viewer {
         };
         let from = (self.inspected)
             .filter(|a| a.size == census.size && a.generation == census.generation)
-            .map(|a| a.pixel);
+            .and_then(|a| self.shown_pixel(a));
         let (count, who, wrong) = (census.marked.len(), census.who.clone(), census.counts.wrong);
         let found = census.step(from, step).map(|(k, m)| (k, *m));
         self.cracks.pending = None;
@@ -215,9 +241,9 @@ impl Viewer {
                 ),
             });
         };
-        if self.answer(m.pixel, false) {
+        let (i, j) = (m.pixel.0 + self.view_offset(), m.pixel.1);
+        if self.answer((i, j), false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
-            let (i, j) = (m.pixel.0 + self.view_offset(), m.pixel.1);
             let n = k + 1;
             self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
             self.status_follows_pixel = true;
@@ -300,17 +326,27 @@ impl Viewer {
         Some(detail)
     }
 
-    /// The image position the inspector traces for pixel `at`: its first marked sample where
-    /// the count of its frame marks it, else its centre; and whether it is marked.
+    /// The pixel of the image shown that `at` is, where it is one (not under the inspector's
+    /// panel).
+    fn shown_pixel(&self, at: Inspected) -> Option<(u32, u32)> {
+        let x = at.pixel.0.checked_sub(self.view_offset());
+        x.filter(|&x| x < at.size.0).map(|x| (x, at.pixel.1))
+    }
+
+    /// The position on the image shown that the inspector traces for pixel `at`: its first
+    /// marked sample where the count of its frame marks it, else its centre (left of the
+    /// image, or right of it, where the pixel lies under the inspector's panel); and whether
+    /// it is marked.
     fn traced_position(&self, at: Inspected) -> ((f32, f32), bool) {
         let census = (self.cracks.census.as_ref())
             .filter(|c| c.generation == at.generation && c.size == at.size);
-        let marked = census.and_then(|c| c.find(at.pixel)).map(|(_, m)| *m);
+        let shown = self.shown_pixel(at);
+        let marked = census.and_then(|c| shown.and_then(|p| c.find(p)));
         let n = census.map_or(1, |c| c.spp);
         let (i, j) = at.pixel;
-        let pos = match marked {
-            Some(m) => cracks::sample_position(at.pixel, m.sample, n),
-            None => (i as f32 + 0.5, j as f32 + 0.5),
+        let pos = match (marked, shown) {
+            (Some((_, m)), Some(p)) => cracks::sample_position(p, m.sample, n),
+            _ => (i as f32 - self.view_offset() as f32 + 0.5, j as f32 + 0.5),
         };
         (pos, marked.is_some())
     }

@@ -8,11 +8,14 @@ use raylab::check::{LabCode, Verdict};
 use raylab::geometry::{Hit, Location, Method, Shape};
 use raylab::render::Stage;
 
-/// The pixel the inspector follows (of the full-size image), and the frame it was answered
-/// for.
+/// The pixel the inspector follows, and the frame it was answered for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inspected {
+    /// A pixel of the view F5 and copy as command write, of which the image shown is a crop
+    /// ([`super::viewer::Viewer::view_offset`] columns in): under the inspector's panel
+    /// where that crop leaves it out.
     pub pixel: (u32, u32),
+    /// The size of the image shown.
     pub size: (u32, u32),
     /// The focal length (pixels) of the view it was answered for.
     pub focal: f64,
@@ -23,14 +26,12 @@ pub struct Inspected {
     pub chosen: Chosen,
 }
 
-/// A pixel of an image of `size` at focal length `focal`, that image a crop of the view F5
-/// writes, `view_offset` columns from its left ([`super::viewer::Viewer::view_offset`]).
+/// A pixel of the view F5 writes, of `size`, at focal length `focal`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Chosen {
     pub pixel: (u32, u32),
     pub size: (u32, u32),
     pub focal: f64,
-    pub view_offset: u32,
 }
 
 /// What the inspector says of its pixel's crack.

@@ -266,6 +266,25 @@ fn a_zoom_that_loses_the_inspected_ray_keeps_an_error_on_the_status_line() {
     );
 }
 
+fn a_pixel_under_the_inspectors_panel_is_inspected_as_chosen() {
+    // A first click near the image's left edge: the inspector's panel opens and crops the
+    // image's sides, leaving the pixel under it. The inspector answers that pixel (it showed
+    // the crop's edge pixel, another ray, and blamed the focal length), and says where it is.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 inspect 22 400\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    assert_eq!(run.inspector["pixel"], "22 400", "{}", run.stderr);
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    let said = "the pixel inspected, (22, 400), lies under the ray inspector's panel";
+    assert!(
+        status.is_some_and(|s| s.starts_with(said)),
+        "{status:?}\n{}",
+        run.stderr
+    );
+}
+
 fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
     // A pixel inspected, then the view zoomed in 17x (the pixel's ray leaves the image: the
     // inspector shows the edge's pixel meanwhile) and out again: the inspector is back on
@@ -740,6 +759,7 @@ pub const TESTS: super::Tests = tests![
     real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves,
     a_zoom_that_loses_the_inspected_ray_says_so,
     a_zoom_that_loses_the_inspected_ray_keeps_an_error_on_the_status_line,
+    a_pixel_under_the_inspectors_panel_is_inspected_as_chosen,
     the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it,
     real_x_input_next_crack_inspects_the_marked_samples_ray,
     real_x_input_the_inspector_follows_its_pixel_as_the_view_changes,
