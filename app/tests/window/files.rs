@@ -431,6 +431,28 @@ fn the_window_builds_the_structure_accel_names() {
 
 /// `raylab FILE.view` opens a saved view as the File menu and a drop do: its camera, light
 /// and settings, then its scene (it said "no triangles", reading the view as a scene).
+fn a_views_missing_scene_is_named_with_the_view() {
+    // A view whose scene is not there: the error names the view as well as the scene
+    // ("could not load: gone.scene: No such file" did not say which file asked for it).
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("mine.view");
+    std::fs::write(&view, "scene gone.scene\nsize 320 240\n").unwrap();
+    let script = format!("200 drop {}\n", view.display());
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    let said = format!(
+        "could not load: scene 'gone.scene' of view '{}': gone.scene",
+        view.display()
+    );
+    assert!(
+        status.is_some_and(|s| s.starts_with(&said)),
+        "{status:?}\n{}",
+        run.stderr
+    );
+}
+
 fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
     let dir = tempfile::tempdir().unwrap();
     let view = dir.path().join("v.view");
@@ -704,6 +726,7 @@ pub const TESTS: super::Tests = tests![
     a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,
     a_saved_view_renders_headless_as_the_window_saved_it,
     a_dropped_view_file_sets_the_camera_light_and_settings,
+    a_views_missing_scene_is_named_with_the_view,
     real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog,
     real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs,
     an_instanced_scene_opens_and_a_selected_instance_is_tinted,

@@ -275,7 +275,15 @@ impl Viewer {
                 return None;
             }
             Err(e) => {
-                self.report_error(format!("could not load: {e}"));
+                // (A view's scene is named with the view, as `raylab render --view` names it:
+                // "missing.scene: No such file" alone did not say which file asked for it.)
+                let of_view = match &request.kind {
+                    LoadKind::View(view, file) => {
+                        format!(" scene '{}' of view '{}':", view.scene, file.display())
+                    }
+                    _ => String::new(),
+                };
+                self.report_error(format!("could not load:{of_view} {e}"));
                 return None;
             }
         };
