@@ -2,18 +2,24 @@
 
 /// The shortcuts overlay.
 pub fn help_window(ctx: &egui::Context, open: &mut bool) {
+    // (In a short window its last rows, Esc's among them, fell below the window: they
+    // scroll instead.)
+    let room = ctx.content_rect().height() - 2.0 * 12.0;
     egui::Window::new("Shortcuts")
         .open(open)
         .collapsible(false)
         .resizable(false)
         .anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0])
+        .max_height(room)
         .show(ctx, |ui| {
-            egui::Grid::new("keys").striped(true).show(ui, |ui| {
-                for (k, what) in SHORTCUTS {
-                    ui.monospace(*k);
-                    ui.label(*what);
-                    ui.end_row();
-                }
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                    for (k, what) in SHORTCUTS {
+                        ui.monospace(*k);
+                        ui.label(*what);
+                        ui.end_row();
+                    }
+                });
             });
         });
 }
