@@ -174,8 +174,10 @@ impl ApplicationHandler<AppEvent> for App {
                     // done so in silence.)
                     let function_key = matches!(key, Key::F1 | Key::F5 | Key::F12);
                     if function_key && egui_keyboard && !dialog_open {
+                        // (Not done later: "waits" read as if it would be.)
                         let said = format!(
-                            "{key:?} waits: a text field has the keyboard (Enter or Esc ends the edit)"
+                            "{key:?} did nothing: a text field has the keyboard (Enter or Esc \
+                             ends the edit; then press {key:?} again)"
                         );
                         self.viewer.set_status(said);
                         window.request_redraw();
@@ -238,6 +240,7 @@ impl ApplicationHandler<AppEvent> for App {
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
                 self.viewer.input.wheel(lines);
+                self.viewer.field_slip_outdated();
                 window.request_redraw();
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),

@@ -583,7 +583,7 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     );
 }
 
-fn real_x_input_f5_while_a_text_field_types_says_why_it_waits() {
+fn real_x_input_f5_while_a_text_field_types_says_it_did_nothing() {
     // F5 pressed while the path field has the keyboard saves no view (the field's edit is not
     // the view's yet) and says why on the status line; after Esc leaves the field, F5 saves.
     // (It had done nothing, in silence.) Position: the panel's path field at the default window
@@ -601,7 +601,7 @@ fn real_x_input_f5_while_a_text_field_types_says_why_it_waits() {
     };
     let log = &run.stderr;
     assert!(
-        log.contains("F5 waits: a text field has the keyboard (Enter or Esc ends the edit)"),
+        log.contains("F5 did nothing: a text field has the keyboard (Enter or Esc ends the edit"),
         "{log}"
     );
     let saved = std::fs::read_to_string(dir.path().join("saved-while-typing.txt")).unwrap();
@@ -656,5 +656,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_keys_still_move_the_camera_after_tab,
     real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks,
     real_x_input_quick_clicks_each_count,
-    real_x_input_f5_while_a_text_field_types_says_why_it_waits,
+    real_x_input_f5_while_a_text_field_types_says_it_did_nothing,
 ];
