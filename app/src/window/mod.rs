@@ -296,6 +296,7 @@ impl App {
         match key {
             Key::R => {
                 self.viewer.controller.reset();
+                self.viewer.field_slip_outdated();
                 self.viewer.changed();
             }
             Key::H | Key::F1 => self.viewer.show_help = !self.viewer.show_help,
@@ -426,6 +427,8 @@ impl App {
             log::info!("side panel {} points wide", self.panel_width);
         }
         let actions = layout.actions;
+        // (A field typed into, or a path, says what it did itself.)
+        let from_a_field = actions.typed.is_some() || actions.load.is_some();
         if actions.reset_camera {
             viewer.controller.reset();
         }
@@ -469,6 +472,9 @@ impl App {
         let after = viewer.panel_state();
         if before != after || actions.reset_camera {
             log::debug!("change: {before:?} -> {after:?}");
+            if !from_a_field {
+                viewer.field_slip_outdated();
+            }
             viewer.changed();
         }
         // The inspector answers its pixel again for the frame now shown; a crack step waits

@@ -253,6 +253,34 @@ fn real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand() {
     assert!(peak - base <= bound, "{peak} KiB against {base} + {bound}");
 }
 
+fn real_x_input_a_fields_slip_goes_once_r_resets_the_camera() {
+    // 1e12 typed for the focal length: the status line says it took the largest; R then
+    // resets the camera (and the focal length): the slip no longer describes the field and
+    // goes (it stayed, red, beside a focal length of 794). (The focal length's box at
+    // (241, 225) at the default window on the 1280x800 screen.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 241 225 click 1; \
+                  sleep 0.3; xdotool key ctrl+a; xdotool type 1e12; xdotool key Return; \
+                  logged 'focal length: 1e12 lies outside'; xdotool mousemove --sync 700 400; \
+                  sleep 0.3; xdotool key r; sleep 0.5";
+    let Some(run) = run_window(script, dir.path(), Around::RealInput(driver)) else {
+        return;
+    };
+    let (camera, w, _, _) = run.camera();
+    assert_eq!(
+        camera.focal, w as f64,
+        "R reset the focal length\n{}",
+        run.stderr
+    );
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    assert!(
+        status.is_none_or(|s| !s.starts_with("focal length")),
+        "{status:?}\n{}",
+        run.stderr
+    );
+}
+
 fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // Typed into the panel: nan for the camera's y, 1,5 for the light's y, -2.5 for the
     // camera's z, 9 for the light's z left with Esc, 720 for the yaw (a whole turn: the
@@ -365,5 +393,6 @@ pub const TESTS: super::Tests = tests![
     the_window_starts_under_a_plain_x_server_without_a_wayland_error,
     real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand,
     real_x_input_typed_positions_stay_where_raylab_renders_from,
+    real_x_input_a_fields_slip_goes_once_r_resets_the_camera,
     real_x_input_a_click_with_the_inspector_off_says_so,
 ];

@@ -326,6 +326,16 @@ impl Viewer {
         }
     }
 
+    /// The view changed by other means than a field (R, the wheel, the panel's other rows):
+    /// a field's slip on the status line ("focal length: 1e12 ... it took 39700") no longer
+    /// describes the field, and goes.
+    pub fn field_slip_outdated(&mut self) {
+        if self.status_from_field && self.status_is_error {
+            self.status.clear();
+            (self.status_is_error, self.status_from_field) = (false, false);
+        }
+    }
+
     /// A number field took what was typed: where the status line shows what a field did
     /// before (a slip, which would still claim a field kept its value, or an earlier value
     /// set), it says what was set now.
