@@ -214,6 +214,7 @@ impl ScriptedRun {
         if !viewer.status.is_empty() {
             println!("status: {}", viewer.status);
         }
+        println!("path field: {}", viewer.obj_path);
         if let Some(text) = &viewer.banner {
             println!("banner: {text}");
         }

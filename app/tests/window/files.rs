@@ -41,6 +41,9 @@ fn dropped_obj_files_load_and_bad_ones_leave_the_scene_alone() {
         "{:?}",
         run.fields
     );
+    // The panel's path field names the file dropped (its Load loaded an older one).
+    let field = (run.stdout.lines()).find_map(|l| l.strip_prefix("path field: "));
+    assert_eq!(field, good.to_str(), "{}", run.stdout);
     let scene = raylab::scene::load_obj_file(&good, raylab::scene::ObjFrame::YUp).unwrap();
     let (mean, off, expected, w, h) = against_headless(&run, &scene);
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");

@@ -60,6 +60,9 @@ impl Viewer {
     /// Loads a `.scene`, OBJ or `.view` file (a `.scene` or OBJ on a thread of its own,
     /// [`AppEvent::SceneLoaded`] when done).
     pub fn load(&mut self, path: PathBuf) {
+        // The panel's path field names the file opened however it was opened (a drop, the
+        // File menu): its Load button loaded the one typed before.
+        self.obj_path = path.display().to_string();
         let is_view = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("view"));
