@@ -25,6 +25,9 @@ pub enum Picked {
 pub struct FileMenu {
     dialog: FileDialog,
     purpose: Option<Purpose>,
+    /// The folder of the last file picked, where the next dialog starts (the working
+    /// directory until then).
+    last_folder: Option<PathBuf>,
 }
 
 impl Default for FileMenu {
@@ -32,6 +35,7 @@ impl Default for FileMenu {
         Self {
             dialog: FileDialog::new(),
             purpose: None,
+            last_folder: None,
         }
     }
 }
@@ -66,9 +70,11 @@ impl FileMenu {
                 .add_file_filter_extensions("scenes and models", vec!["scene", "obj", "view"])
                 .default_file_filter("scenes and models");
         }
-        self.dialog = match std::env::current_dir() {
-            Ok(dir) => dialog.initial_directory(dir),
-            Err(_) => dialog,
+        let folder = (self.last_folder.clone().filter(|f| f.is_dir()))
+            .or_else(|| std::env::current_dir().ok());
+        self.dialog = match folder {
+            Some(dir) => dialog.initial_directory(dir),
+            None => dialog,
         };
         match purpose {
             Purpose::Open => self.dialog.pick_file(),
@@ -86,6 +92,7 @@ impl FileMenu {
     pub fn update(&mut self, ctx: &egui::Context) -> Option<Picked> {
         self.dialog.update(ctx);
         let path = self.dialog.take_picked()?;
+        self.last_folder = path.parent().map(Path::to_path_buf);
         Some(match self.purpose.take()? {
             Purpose::Open => Picked::Open(path),
             Purpose::SaveImage => Picked::SaveImage(with_extension(path, "png")),
