@@ -440,7 +440,7 @@ const CPP_FALSE_HITS: usize = 1;
 const CPP_WRONG: [(&str, usize); 2] = [("f64", 7), ("f32", 2)];
 
 /// The C++ starter builds with its README's g++ line and, on the whole suite, gets the
-/// counts its README states in f64 and f32; the stable quadratic passes the far tiny
+/// counts its README states in f64 and f32; its discriminant passes the far tiny
 /// spheres that the textbook one fails.
 #[test]
 fn the_cpp_starter_builds_and_gets_its_readme_counts() {
