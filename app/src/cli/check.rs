@@ -550,6 +550,27 @@ struct SuiteRun<'a> {
 /// The reproducers shown under each failing family of a suite where --show is not given.
 const SUITE_REPRODUCERS: usize = 3;
 
+impl SuiteRun<'_> {
+    /// The command that checks family `name` of suite `dir` alone, as this run checks it:
+    /// what a student runs again while mending it.
+    fn alone(&self, dir: &Path, name: &str) -> String {
+        let quote = raylab::view::shell_quote;
+        let mut command = format!(
+            "raylab check --suite {} --family {} --program {}",
+            quote(&dir.display().to_string()),
+            quote(name),
+            quote(self.template)
+        );
+        if self.precision == "f64" {
+            command += " --precision f64";
+        }
+        if self.tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
+            command += &format!(" --t-tolerance {}", self.tolerance);
+        }
+        command
+    }
+}
+
 /// The reproducers shown of one answer file, program run or image where --show is not given.
 pub(super) const REPRODUCERS: usize = 5;
 
@@ -608,6 +629,9 @@ fn check_suite<T: Real>(
                     for line in lines {
                         say!("    {line}");
                     }
+                    if only.is_none() {
+                        say!("    this family alone: {}", run.alone(dir, &name));
+                    }
                 }
                 total.merge(&tally);
                 program_time += elapsed;
@@ -617,6 +641,9 @@ fn check_suite<T: Real>(
                 failed += 1;
                 let e = raylab_app::escape_controls(e.to_string());
                 say!("{name:<46} FAILED: {e}");
+                if only.is_none() {
+                    say!("    this family alone: {}", run.alone(dir, &name));
+                }
             }
         }
     }

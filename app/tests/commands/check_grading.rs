@@ -590,6 +590,13 @@ fn a_program_that_fails_is_never_a_pass() {
         2,
         "{out}"
     );
+    // Under each, the command that checks that family alone, as this run did.
+    let alone = format!(
+        "    this family alone: raylab check --suite {} --family 02-cube-from-outside --program {}",
+        raylab::view::shell_quote(suite_dir.to_str().unwrap()),
+        raylab::view::shell_quote(&program)
+    );
+    assert!(out.lines().any(|l| l == alone), "{alone}\n{out}");
     let line = last_line(&o);
     assert!(line.ends_with("failed_runs 2"), "{line}");
     let graded: usize = suite::all()
