@@ -528,7 +528,7 @@ fn grade_one(
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
             Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {
-                record(Status::Crashed, memory_hint(&e, limits.max_memory_bytes))
+                record(Status::Crashed, limit_hint(&e, &limits))
             }
         });
     }
@@ -542,21 +542,44 @@ fn grade_one(
 /// Why a run crashed, with a word on the memory limit where it died of a signal (SIGSEGV,
 /// SIGBUS, SIGABRT, SIGKILL; or its shell's 128 + that): a program refused memory past
 /// `--max-memory` dies so, where at home it ran ("exit status 139" said nothing of the limit).
-fn memory_hint(e: &RunError, limit: Option<u64>) -> String {
+fn limit_hint(e: &RunError, limits: &Limits) -> String {
     use std::os::unix::process::ExitStatusExt;
     let said = e.to_string();
-    let (RunError::Failed { status, .. }, Some(limit)) = (e, limit) else {
+    let (RunError::Failed { status, stderr }, Some(limit)) = (e, limits.max_memory_bytes) else {
         return said;
     };
+    let memory = format!(
+        "{said} (a crash like this may be the memory limit: each process may write {} MiB of \
+         data, --max-memory)",
+        limit >> 20
+    );
+    // What a run out of processes or memory says, by the words of common shells, Python, C
+    // and C++ (it ended with an error of its own, not a signal).
+    let said_of = |words: &[&str]| words.iter().any(|w| stderr.contains(w));
+    if said_of(&[
+        "fork",
+        "can't start new thread",
+        "Resource temporarily unavailable",
+    ]) {
+        let most = limits.max_processes.unwrap_or_default();
+        return format!(
+            "{said} (it could not start a process or thread: a program may have {most} at \
+             once, --max-processes)"
+        );
+    }
+    if said_of(&[
+        "MemoryError",
+        "Cannot allocate memory",
+        "bad_alloc",
+        "out of memory",
+    ]) {
+        return memory;
+    }
     let signal = status
         .signal()
         .or(status.code().filter(|c| *c > 128).map(|c| c - 128));
     match signal {
-        Some(6 | 7 | 9 | 11) => format!(
-            "{said} (a crash like this may be the memory limit: each process may write {} MiB \
-             of data, --max-memory)",
-            limit >> 20
-        ),
+        Some(6 | 7 | 9 | 11) => memory,
         _ => said,
     }
 }

@@ -252,6 +252,56 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
     );
 }
 
+/// A program that could not start a process (a shell's `Cannot fork` at --max-processes)
+/// or was refused memory (Python's `MemoryError`, its own exit, no signal): each crash names
+/// the limit that may have done it, the flag that sets it.
+#[test]
+fn a_crash_at_a_limit_names_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let runs = [
+        (
+            "kit-forks",
+            "for i in 1 2 3 4 5 6 7 8 9 10 11 12; do sleep 917005 & done; wait\n",
+        ),
+        ("lou-hoards", "exec python3 -c 'bytearray(1 << 44)'\n"),
+    ];
+    for (name, run) in runs {
+        std::fs::create_dir(class.join(name)).unwrap();
+        std::fs::write(class.join(name).join("run.sh"), run).unwrap();
+    }
+    let json = dir.path().join("grades.json");
+    let json_arg = json.to_str().unwrap();
+    let limits = ["--max-processes", "4", "--timeout", "5", "--json", json_arg];
+    let o = grade_class(&class, &suite, &limits);
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+    let json = std::fs::read_to_string(&json).unwrap();
+    let detail = |name: &str| {
+        (json.lines())
+            .find(|l| l.contains(&format!("\"submission\": \"{name}\"")))
+            .unwrap_or_else(|| panic!("{name}: {json}"))
+            .to_string()
+    };
+    let forks = detail("kit-forks");
+    assert!(
+        forks.contains("a program may have 4 at once, --max-processes"),
+        "{forks}"
+    );
+    let hoards = detail("lou-hoards");
+    assert!(
+        hoards.contains("MemoryError")
+            && hoards.contains("the memory limit")
+            && hoards.contains("--max-memory"),
+        "{hoards}"
+    );
+    assert!(!detail("ada").contains("limit"), "{json}");
+    assert_eq!(
+        running("917005"),
+        Vec::<String>::new(),
+        "a sleeper survived"
+    );
+}
+
 /// Two submissions whose folder names differ only in a byte that is not UTF-8 (`caf\xe9`,
 /// `caf\xe8`): each shown with that byte as its escape, not both as `caf�`.
 #[test]
