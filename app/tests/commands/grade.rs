@@ -262,7 +262,7 @@ fn a_crash_at_a_limit_names_the_limit() {
     let runs = [
         (
             "kit-forks",
-            "for i in 1 2 3 4 5 6 7 8 9 10 11 12; do sleep 917005 & done; wait\n",
+            "for i in 1 2 3 4 5 6 7 8 9 10 11 12; do sleep 917011 & done; wait\n",
         ),
         ("lou-hoards", "exec python3 -c 'bytearray(1 << 44)'\n"),
     ];
@@ -296,7 +296,7 @@ fn a_crash_at_a_limit_names_the_limit() {
     );
     assert!(!detail("ada").contains("limit"), "{json}");
     assert_eq!(
-        running("917005"),
+        running("917011"),
         Vec::<String>::new(),
         "a sleeper survived"
     );
