@@ -49,6 +49,10 @@ pub struct GradeArgs {
     /// Also write the same records to this JSON file (an array of objects).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Also write one row per submission to this CSV file, for a gradebook: families
+    /// passed, the counts, seconds, status and, with --rubric, points and the most there are.
+    #[arg(long, value_name = "FILE")]
+    pub totals: Option<PathBuf>,
     /// Also write each submission's feedback to DIR/NAME.txt: every family's status and counts,
     /// and why it did not pass (its first mistake as `raylab check` shows it), for its student.
     #[arg(long, value_name = "DIR")]
@@ -137,7 +141,12 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     // The outputs are opened now, so a bad path fails before the grading, not after it.
     let inputs: Vec<PathBuf> = submissions.iter().chain([&args.suite]).cloned().collect();
     let mut outputs = Vec::new();
-    for (flag, path) in [("--csv", &args.csv), ("--json", &args.json)] {
+    let files = [
+        ("--csv", &args.csv),
+        ("--json", &args.json),
+        ("--totals", &args.totals),
+    ];
+    for (flag, path) in files {
         if let Some(path) = path {
             refuse_inside(flag, path, &inputs)?;
             let output = OutputFile::create(path).context(flag)?;
@@ -153,9 +162,13 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         refuse_inside("--feedback", dir, &[args.class.clone(), args.suite.clone()])?;
         writable_dir(dir).with_context(|| format!("--feedback {}", dir.display()))?;
     }
-    if let (Some(csv), Some(json)) = (&args.csv, &args.json) {
-        if same_file(csv, json) {
-            bail!("--csv and --json name the same file, {}", csv.display());
+    for (k, (flag, path)) in files.iter().enumerate() {
+        for (other, later) in &files[k + 1..] {
+            if let (Some(a), Some(b)) = (path, later) {
+                if same_file(a, b) {
+                    bail!("{flag} and {other} name the same file, {}", a.display());
+                }
+            }
         }
     }
     // The exact answers, once (the suite's files are read here).
@@ -222,6 +235,13 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     if args.json.is_some() {
         let mut out = outputs.next().expect("opened above");
         out.write_all(reports::json(&graded, &cases, points.as_deref()).as_bytes())
+            .with_context(|| format!("writing {}", out.path().display()))?;
+        out.commit()?;
+    }
+    if args.totals.is_some() {
+        let mut out = outputs.next().expect("opened above");
+        let text = reports::totals_csv(&graded, &cases, points.as_deref());
+        out.write_all(text.as_bytes())
             .with_context(|| format!("writing {}", out.path().display()))?;
         out.commit()?;
     }

@@ -170,6 +170,45 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
     out
 }
 
+/// The totals CSV: one row per submission, what a gradebook takes (the table's columns; with
+/// a rubric, the points earned and the most there are).
+pub(super) fn totals_csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
+    let mut out =
+        String::from("submission,families,passed,leaks,false_hits,wrong,t_failures,seconds,status");
+    out += if points.is_some() {
+        ",points,max_points\n"
+    } else {
+        "\n"
+    };
+    let most: f64 = points.map_or(0.0, |p| p.iter().sum());
+    for s in graded {
+        let tallies: Vec<&Tally> = s.records.iter().filter_map(|r| r.tally.as_ref()).collect();
+        let mut total = Tally::default();
+        tallies.iter().for_each(|t| total.merge(t));
+        // (No family graded: empty counts, as the per-family CSV's, not counts of 0.)
+        let counts = match tallies.is_empty() {
+            true => ",,,".into(),
+            false => [total.leaks, total.false_hits, total.wrong, total.t_beyond]
+                .map(|n| n.to_string())
+                .join(","),
+        };
+        let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
+        out += &format!(
+            "{},{},{},{counts},{secs:.2},{}",
+            csv_field(&as_text(&s.name)),
+            cases.len(),
+            s.passed(),
+            csv_field(&summary(&s.records)),
+        );
+        if points.is_some() {
+            let earned = s.points_earned(points);
+            out += &format!(",{},{}", points_text(earned), points_text(most));
+        }
+        out.push('\n');
+    }
+    out
+}
+
 /// The CSV: one row per submission and family.
 pub(super) fn csv(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let mut out = String::from(

@@ -117,9 +117,10 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
     let dir = tempfile::tempdir().unwrap();
     let (class, suite) = class_and_suite(dir.path());
     let before = suite_files(&suite);
-    let (csv, json) = (
+    let (csv, json, totals) = (
         dir.path().join("grades.csv"),
         dir.path().join("grades.json"),
+        dir.path().join("totals.csv"),
     );
     let rubric = common::binary::write(
         dir.path(),
@@ -144,6 +145,8 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
             &path(&csv),
             "--json",
             &path(&json),
+            "--totals",
+            &path(&totals),
             "--rubric",
             &rubric,
         ],
@@ -182,6 +185,25 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
             _ => assert_eq!(row[3..9].concat(), "", "{csv}"),
         }
     }
+    // The totals: a row per submission, for a gradebook (no counts where none was graded).
+    let totals = std::fs::read_to_string(&totals).unwrap();
+    let rows: Vec<Vec<&str>> = totals.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        rows[0].join(","),
+        "submission,families,passed,leaks,false_hits,wrong,t_failures,seconds,status,points,max_points"
+    );
+    assert_eq!(rows.len(), 1 + expected.len(), "{totals}");
+    let (ada, bob) = (&rows[1], &rows[2]);
+    assert_eq!(
+        (ada[..7].join(","), ada[8..].join(",")),
+        ("ada,1,1,0,0,0,0".into(), "ok,3,3".into()),
+        "{totals}"
+    );
+    assert_eq!(
+        (bob[..7].join(","), bob[8..].join(",")),
+        ("bob-crashes,1,0,,,,".into(), "crashed 1,0,3".into()),
+        "{totals}"
+    );
     // The table: a row per submission, the points of the rubric.
     let table: Vec<&str> = out.lines().collect();
     assert_eq!(table.len(), 1 + expected.len(), "{out}");
