@@ -30,9 +30,20 @@ impl<T: Real> Answer<T> {
             Answer::Miss => "miss".into(),
             // (NaN as a program prints it, `nan`: the echo of "hit nan 0" read "hit NaN 0".)
             Answer::Hit { t, prim } if t.is_nan() => format!("hit nan {prim}"),
+            // (Far from 1 with an exponent, as a program prints it: `hit 4.44e-17 64` read
+            // "hit 0.00000000000000004440019649484151 64", not a thing to look for.)
+            Answer::Hit { t, prim } if t.is_finite() && *t != T::zero() && far_from_1(*t) => {
+                format!("hit {t:e} {prim}")
+            }
             Answer::Hit { t, prim } => format!("hit {t} {prim}"),
         }
     }
+}
+
+/// Whether `t` prints shorter with an exponent: below 10⁻⁵ or from 10¹⁶ in magnitude.
+fn far_from_1<T: Real>(t: T) -> bool {
+    let a = t.f64().abs();
+    !(1e-5..1e16).contains(&a)
 }
 
 /// The byte-order mark some editors and runtimes put before a file's first line.

@@ -6,7 +6,9 @@ use std::fmt::{Debug, Display};
 use std::str::FromStr;
 
 /// f32 or f64.
-pub trait Real: Float + Debug + Display + FromStr + Send + Sync + 'static {
+pub trait Real:
+    Float + Debug + Display + std::fmt::LowerExp + FromStr + Send + Sync + 'static
+{
     /// Half an ulp of 1: the unit roundoff u of the IEEE format.
     const UNIT_ROUNDOFF: Self;
     /// 16 times the least subnormal: far more than the absolute error a rounding that

@@ -543,3 +543,29 @@ fn a_primitive_met_at_a_t_rounding_to_the_exact_nearest_is_a_tie() {
     // The plane z = 0.8 is met well beyond (t ≈ 1.21): wrong, t given or not.
     assert_eq!(judge(1).verdict, Verdict::Wrong);
 }
+
+/// A graded answer's t as the grader echoes it: near 1 in decimals, far from 1 with an
+/// exponent (a student looks for `4.44e-17`, not `0.00000000000000004440019649484151`), each
+/// the shortest text that reads back to the same value.
+#[test]
+fn an_echoed_t_far_from_1_has_an_exponent() {
+    use raylab::check::grade::Answer;
+    let hit = |t: f64| Answer::Hit { t, prim: 64 }.text();
+    assert_eq!(hit(4.4400196494841507e-17), "hit 4.440019649484151e-17 64");
+    assert_eq!(hit(1.5), "hit 1.5 64");
+    assert_eq!(hit(0.000123), "hit 0.000123 64");
+    assert_eq!(hit(3e20), "hit 3e20 64");
+    assert_eq!(hit(0.0), "hit 0 64");
+    assert_eq!(hit(f64::INFINITY), "hit inf 64");
+    let f32_hit = Answer::Hit {
+        t: 1e-7f32,
+        prim: 0,
+    }
+    .text();
+    assert_eq!(f32_hit, "hit 1e-7 0");
+    for t in [4.4400196494841507e-17, 3e20, 1.5, 0.000123] {
+        let text = hit(t);
+        let back: f64 = text.split(' ').nth(1).unwrap().parse().unwrap();
+        assert_eq!(back, t, "{text}");
+    }
+}
