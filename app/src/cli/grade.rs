@@ -208,8 +208,8 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     }
     eprintln!(
         "grading {} on {}, {jobs} at a time{}",
-        count(submissions.len(), "submission"),
-        count(cases.len(), "family"),
+        raylab::words::count(submissions.len(), "submission", "submissions"),
+        raylab::words::count(cases.len(), "family", "families"),
         match accounts.first() {
             Some(Some(a)) => format!(", as uids {}..", a.uid()),
             _ => String::new(),
@@ -370,15 +370,6 @@ fn rerun_command(args: &GradeArgs) -> String {
         command += &format!(" --t-tolerance {}", args.t_tolerance);
     }
     command
-}
-
-/// `n` `thing`s, the plural an `s` more (a `y` to `ies`).
-fn count(n: usize, thing: &str) -> String {
-    match (n, thing.strip_suffix('y')) {
-        (1, _) => format!("1 {thing}"),
-        (_, Some(stem)) => format!("{n} {stem}ies"),
-        _ => format!("{n} {thing}s"),
-    }
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
