@@ -19,7 +19,6 @@ const STILL_FAILING: &[(&str, &str)] = &[
     ("huge cube 2^17", "shared edges again: rounding is relative, so scaling the cube changes nothing"),
     ("cube at 1e6", FAR),
     ("far triangles and spheres 1e3..1e6", FAR),
-    ("parallel 1e-3..1e-7 apart", NEAREST_BY_ROUNDED_T),
     ("crossing at 1e-1..1e-4 rad", NEAREST_BY_ROUNDED_T),
     ("triangle 1e-3..0 before a sphere", NEAREST_BY_ROUNDED_T),
     ("small far spheres 1e-3..1e-5", QUADRATIC),
