@@ -308,6 +308,11 @@ fn every_obj_and_mtl_problem_names_its_line() {
         ),
         ("newmtl a\n\nNs x\n", "m.mtl:3: tobj: material parse error"),
         ("newmtl a\nKd 1 0\n", "m.mtl:2: Kd needs 3 numbers"),
+        // (A word that is no number is named, not counted out.)
+        (
+            "newmtl a\nKd 0x1 0 0\n",
+            "m.mtl:2: Kd: '0x1' is not a number",
+        ),
         ("newmtl a\nillum\n", "m.mtl:2: tobj"),
         ("newmtl a\nmap_Kd", "m.mtl:2: tobj"),
     ] {
@@ -333,6 +338,12 @@ fn every_obj_and_mtl_problem_names_its_line() {
             "-1 0.5 2",
             "m.mtl:2: Kd -1 0.5 2 is outside 0…1: clamped",
             [0.0, 0.5, 1.0],
+        ),
+        // (A fourth number, which tobj drops, is said.)
+        (
+            "0.5 0.5 0.5 0.9",
+            "m.mtl:2: Kd takes 3 numbers: '0.9' after them ignored",
+            [0.5; 3],
         ),
     ] {
         let scene = load_lab(&obj, &format!("newmtl a\nKd {kd}\n")).unwrap();

@@ -492,11 +492,23 @@ fn load_mtl_text(text: &str) -> Result<(Materials, Vec<LineNote>), LineNote> {
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
-            let words: Vec<&str> = words.take(3).collect();
+            let all: Vec<&str> = words.collect();
+            let words: Vec<&str> = all.iter().take(3).copied().collect();
+            // (A word that is no number is named: `Kd 0x1 0 0` said "found 2" of 3 words.)
+            if let Some(bad) = words.iter().find(|w| w.parse::<f32>().is_err()) {
+                return Err((i + 1, format!("{key}: '{bad}' is not a number")));
+            }
             let values: Vec<f32> = words.iter().filter_map(|w| w.parse().ok()).collect();
             if values.len() < 3 {
                 let found = values.len();
                 return Err((i + 1, format!("{key} needs 3 numbers, found {found}")));
+            }
+            if key == "Kd" && all.len() > 3 {
+                let extra = all[3..].join(" ");
+                notes.push((
+                    i + 1,
+                    format!("Kd takes 3 numbers: '{extra}' after them ignored"),
+                ));
             }
             let finite = values.iter().all(|v| v.is_finite());
             if key == "Kd" && !(finite && values.iter().all(|v| (0.0..=1.0).contains(v))) {
