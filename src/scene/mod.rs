@@ -170,6 +170,13 @@ impl Scene {
     /// file's extension.
     /// The scene is checked to be within range ([`Scene::check_ranges`]).
     pub fn load(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
+        let mut scene = Scene::load_unwarned(path, obj_frame)?;
+        scene.warnings.extend(scene.too_small_to_light());
+        Ok(scene)
+    }
+
+    /// [`Scene::load`] without the scene-wide warnings.
+    fn load_unwarned(path: &std::path::Path, obj_frame: ObjFrame) -> Result<Scene, String> {
         match Scene::reads_as_obj(path) {
             // (Checked in range as it is built, naming the lines.)
             false => load_scene_file(path),
@@ -180,6 +187,36 @@ impl Scene {
                 e => format!("{e}{}", obj::read_as_obj_hint(&path.display().to_string())),
             }),
         }
+    }
+
+    /// A warning where the scene and its light lie within 2⁻⁶⁰ (≈ 8.7e-19) of each other: the
+    /// lit steps divide by ‖r‖², the light's squared distance, which underflows f32 there
+    /// (D reads inf, or 0 where the light's power, which goes with the size squared, does
+    /// too). Geometry this small renders, unlit, as at any scale; raylab does not rescale it.
+    fn too_small_to_light(&self) -> Option<String> {
+        let (lo, hi) = self.bounds()?;
+        let far = [0, 1, 2]
+            .map(|k| {
+                let l = self.light.position[k] as f64;
+                (l - lo[k] as f64).abs().max((hi[k] as f64 - l).abs())
+            })
+            .into_iter()
+            .fold(0.0, f64::max);
+        let reach = self.size().max(far);
+        let least = 2f64.powi(-60);
+        // (Below 1e-30 across, the camera that frames a scene stands no nearer than 1e-30.)
+        let framed = match self.size() < 1e-30 {
+            true => "; a camera framing it stands back 1e-30, where it looks too small to see",
+            false => "",
+        };
+        (reach > 0.0 && reach < least).then(|| {
+            format!(
+                "{}: the scene and its light lie within {reach:.2e}, below 2⁻⁶⁰ (≈ 8.7e-19): \
+                 light falls off with squared distances that underflow f32 there, so the lit \
+                 steps read D = inf or 0{framed}; scale the scene up",
+                self.name
+            )
+        })
     }
 
     /// Whether [`Scene::load`] reads `path` as an OBJ file (what is not a `.scene` file), so

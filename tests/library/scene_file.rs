@@ -720,3 +720,25 @@ fn line_breaks_of_a_lone_cr_are_line_breaks() {
     let e = Scene::load(&bad, ObjFrame::Lab).unwrap_err();
     assert!(e.contains("bad.scene:2:"), "{e}");
 }
+
+/// A scene whose light lies within 2⁻⁶⁰ of it (the lit steps' ‖r‖² underflows f32: D reads
+/// inf or 0) loads with a warning that says so; at 1, or with its light far off, none.
+#[test]
+fn a_scene_too_small_to_light_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let warned = |size: f32, light: &str| {
+        let path = dir.path().join("corner.scene");
+        let text = format!("{light}tri 0 0 0 {size:e} 0 0 0 {size:e} 0\n");
+        std::fs::write(&path, text).unwrap();
+        let scene = Scene::load(&path, ObjFrame::Lab).unwrap();
+        scene.warnings.iter().any(|w| w.contains("below 2⁻⁶⁰"))
+    };
+    assert!(warned(1e-21, ""), "the light placed for it lies as close");
+    assert!(warned(1e-35, ""));
+    assert!(!warned(1.0, ""));
+    assert!(!warned(1e-15, ""));
+    assert!(
+        !warned(1e-21, "light 0 0 -1\n"),
+        "a light far off lights it"
+    );
+}
