@@ -79,6 +79,20 @@ pub enum TraceAccel {
 
 /// Runs `raylab trace`; the whole output is built before anything is printed.
 pub fn trace(args: &TraceArgs) -> Result<()> {
+    // (`render --scene` takes an OBJ; trace does not, and its first error, `unknown
+    // statement 'mtllib'` say, did not say why.)
+    let obj = (args.scene.extension()).is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    trace_files(args).map_err(|e| match obj {
+        true => e.context(format!(
+            "{}: raylab trace reads the .scene format (`tri` and `sphere` lines and the \
+             .scene statements), not OBJ: a .scene file's `mesh FILE.obj` line takes one",
+            args.scene.display()
+        )),
+        false => e,
+    })
+}
+
+fn trace_files(args: &TraceArgs) -> Result<()> {
     let scene_text = super::scene_text(&args.scene)?;
     let rays_text = read_text(&args.rays)?;
     let (sf, rf) = (

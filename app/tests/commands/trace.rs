@@ -101,6 +101,21 @@ fn trace_takes_the_built_in_cornell_box_by_name() {
         lines[0].starts_with("hit ") && lines[2] == "miss",
         "{lines:?}"
     );
+    // An OBJ, which `render --scene` takes: refused with why, and the way (a `mesh` line).
+    let obj = write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let o = raylab(&["trace", "--scene", &obj, "--rays", &rays]);
+    assert_fails(
+        &o,
+        2,
+        &["raylab trace reads the .scene format", "`mesh FILE.obj`"],
+    );
+    let mesh = write(dir.path(), "mesh.scene", "mesh tri.obj\n");
+    let o = raylab(&["trace", "--scene", &mesh, "--rays", &rays]);
+    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]
