@@ -205,7 +205,7 @@ impl Scene {
         let reach = self.size().max(far);
         let least = 2f64.powi(-60);
         // (Below 1e-30 across, the camera that frames a scene stands no nearer than 1e-30.)
-        let framed = match self.size() < 1e-30 {
+        let framed = match self.size() < 1e-30 && self.camera.is_none() {
             true => "; a camera framing it stands back 1e-30, where it looks too small to see",
             false => "",
         };
