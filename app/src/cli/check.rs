@@ -258,7 +258,7 @@ pub(super) fn exact_generic<T: Real>(scene: &Path, rays: &Path) -> Result<Exact<
     Ok(Exact::of_shapes(shapes, rays))
 }
 
-fn precision_name(p: Precision) -> &'static str {
+pub(super) fn precision_name(p: Precision) -> &'static str {
     match p {
         Precision::F32 => "f32",
         Precision::F64 => "f64",
@@ -554,21 +554,35 @@ impl SuiteRun<'_> {
     /// The command that checks family `name` of suite `dir` alone, as this run checks it:
     /// what a student runs again while mending it.
     fn alone(&self, dir: &Path, name: &str) -> String {
-        let quote = raylab::view::shell_quote;
-        let mut command = format!(
-            "raylab check --suite {} --family {} --program {}",
-            quote(&dir.display().to_string()),
-            quote(name),
-            quote(self.template)
-        );
-        if self.precision == "f64" {
-            command += " --precision f64";
-        }
-        if self.tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
-            command += &format!(" --t-tolerance {}", self.tolerance);
-        }
-        command
+        let suite = dir.display().to_string();
+        family_command(&suite, name, self.template, self.precision, self.tolerance)
     }
+}
+
+/// `raylab check` of one family of a suite with `template`, in `precision` (`f32` or `f64`)
+/// and with `tolerance`, words quoted for a shell: `check`'s line under a failing family and
+/// `grade`'s feedback (with SUITE and NAME to fill in).
+pub(super) fn family_command(
+    suite: &str,
+    family: &str,
+    template: &str,
+    precision: &str,
+    tolerance: f64,
+) -> String {
+    let quote = raylab::view::shell_quote;
+    let mut command = format!(
+        "raylab check --suite {} --family {} --program {}",
+        quote(suite),
+        quote(family),
+        quote(template)
+    );
+    if precision == "f64" {
+        command += " --precision f64";
+    }
+    if tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
+        command += &format!(" --t-tolerance {tolerance}");
+    }
+    command
 }
 
 /// The reproducers shown of one answer file, program run or image where --show is not given.

@@ -359,17 +359,8 @@ fn writable_dir(dir: &Path) -> Result<()> {
 /// The command that runs one family again as this grading ran it (its program, precision and
 /// tolerance), for a student's feedback: SUITE and NAME to fill in.
 fn rerun_command(args: &GradeArgs) -> String {
-    let mut command = format!(
-        "raylab check --suite SUITE --family NAME --program {}",
-        raylab::view::shell_quote(&args.program)
-    );
-    if args.precision == Precision::F64 {
-        command += " --precision f64";
-    }
-    if args.t_tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
-        command += &format!(" --t-tolerance {}", args.t_tolerance);
-    }
-    command
+    let precision = super::check::precision_name(args.precision);
+    super::check::family_command("SUITE", "NAME", &args.program, precision, args.t_tolerance)
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
