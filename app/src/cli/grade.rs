@@ -123,11 +123,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         bail!("--env '{bad}' is not a variable's name (a name, without '=')");
     }
     let submissions = submissions(&args.class)?;
-    let cores = || std::thread::available_parallelism().map_or(1, |n| n.get().min(1024));
-    let jobs = args
-        .jobs
-        .unwrap_or_else(cores)
-        .min(submissions.len().max(1));
+    let jobs = (args.jobs.unwrap_or_else(super::cores)).min(submissions.len().max(1));
     if !args.suite.is_dir() {
         bail!(
             "--suite {}: not a directory (write one with `raylab suite export DIR`)",

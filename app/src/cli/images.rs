@@ -209,8 +209,7 @@ pub fn render(args: &RenderArgs) -> Result<()> {
 
 /// Runs `raylab bench`.
 pub fn bench(args: &BenchArgs) -> Result<()> {
-    let cores = || std::thread::available_parallelism().map_or(1, |n| n.get().min(1024));
-    let threads = args.threads.unwrap_or_else(cores);
+    let threads = args.threads.unwrap_or_else(super::cores);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;

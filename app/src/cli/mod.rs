@@ -236,10 +236,18 @@ pub struct ViewArgs {
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Image width in pixels (1..=16384; default 640, `check --image` 160).
-    #[arg(long, allow_negative_numbers = true, value_parser = image_side())]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_parser = count_in::<u32>(1..=raylab::render::MAX_SIDE as i64)
+    )]
     pub width: Option<u32>,
     /// Image height in pixels (1..=16384; default 480, `check --image` 120).
-    #[arg(long, allow_negative_numbers = true, value_parser = image_side())]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_parser = count_in::<u32>(1..=raylab::render::MAX_SIDE as i64)
+    )]
     pub height: Option<u32>,
     /// Focal length in pixels (default: the image width, about 53° of horizontal view).
     #[arg(long, allow_hyphen_values = true)]
@@ -400,15 +408,15 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// `--width`/`--height`: a side in the range every image has (`-5` named with it, not with
-/// a u32's).
-fn image_side() -> impl clap::builder::TypedValueParser<Value = u32> {
-    let max = raylab::render::MAX_SIDE as i64;
-    clap::value_parser!(u32).range(1..=max)
+/// The cores to run on where `--threads` or `-j` is not given: all of them, at most the
+/// 1024 those flags take.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get().min(1024))
 }
 
 /// A count flag's parser: a value outside `range`, a negative one too, is named with the
-/// range (as a plain `usize` or `u64`, `-1` read "invalid digit").
+/// range (as a plain `usize` or `u64`, `-1` read "invalid digit"; as a plain `u32`, a
+/// range of 0..=4294967295).
 pub fn count_in<T: TryFrom<i64> + Clone + Send + Sync + 'static>(
     range: impl std::ops::RangeBounds<i64> + 'static,
 ) -> impl clap::builder::TypedValueParser<Value = T> {
