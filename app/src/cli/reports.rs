@@ -72,6 +72,19 @@ impl Submission {
             .count()
     }
 
+    /// Its counts summed over the families graded (`None` where none was: no counts, which
+    /// differs from counts of 0), and its programs' seconds in all.
+    fn totals(&self) -> (Option<Tally>, f64) {
+        let mut graded = (self.records.iter().filter_map(|r| r.tally.as_ref())).peekable();
+        let total = graded.peek().is_some().then(|| {
+            let mut total = Tally::default();
+            graded.for_each(|t| total.merge(t));
+            total
+        });
+        let secs = self.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
+        (total, secs)
+    }
+
     /// The points of the families it passed (with `points` per family).
     fn points_earned(&self, points: Option<&[f64]>) -> f64 {
         (self.records.iter().enumerate())
@@ -140,28 +153,20 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
     );
     let most: f64 = points.map_or(0.0, |p| p.iter().sum());
     for s in graded {
-        let mut total = Tally::default();
-        s.records
-            .iter()
-            .filter_map(|r| r.tally.as_ref())
-            .for_each(|t| total.merge(t));
         let passed = s.passed();
         // (No family graded: no counts, not counts of 0, as the CSV's empty fields.)
-        let graded_any = s.records.iter().any(|r| r.tally.is_some());
-        let count = |n: usize| match graded_any {
-            true => n.to_string(),
-            false => "-".to_string(),
-        };
-        let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
+        let (total, secs) = s.totals();
+        let count =
+            |n: fn(&Tally) -> usize| total.as_ref().map_or("-".to_string(), |t| n(t).to_string());
         let earned = s.points_earned(points);
         out += &format!(
             "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
             padded(&one_line(&s.name)),
             format!("{passed}/{}", cases.len()),
-            count(total.leaks),
-            count(total.false_hits),
-            count(total.wrong),
-            count(total.t_beyond),
+            count(|t| t.leaks),
+            count(|t| t.false_hits),
+            count(|t| t.wrong),
+            count(|t| t.t_beyond),
             secs,
             points_column(&format!("{}/{}", points_text(earned), points_text(most))),
             summary(&s.records)
@@ -182,17 +187,14 @@ pub(super) fn totals_csv(graded: &[Submission], cases: &[Case], points: Option<&
     };
     let most: f64 = points.map_or(0.0, |p| p.iter().sum());
     for s in graded {
-        let tallies: Vec<&Tally> = s.records.iter().filter_map(|r| r.tally.as_ref()).collect();
-        let mut total = Tally::default();
-        tallies.iter().for_each(|t| total.merge(t));
         // (No family graded: empty counts, as the per-family CSV's, not counts of 0.)
-        let counts = match tallies.is_empty() {
-            true => ",,,".into(),
-            false => [total.leaks, total.false_hits, total.wrong, total.t_beyond]
+        let (total, secs) = s.totals();
+        let counts = match total {
+            None => ",,,".into(),
+            Some(t) => [t.leaks, t.false_hits, t.wrong, t.t_beyond]
                 .map(|n| n.to_string())
                 .join(","),
         };
-        let secs: f64 = s.records.iter().map(|r| r.ms).sum::<f64>() / 1e3;
         out += &format!(
             "{},{},{},{counts},{secs:.2},{}",
             csv_field(&as_text(&s.name)),
