@@ -206,12 +206,13 @@ and `#` comments are skipped. `raylab trace --scene S --rays R` prints the exact
 this format.
 
 **Grading** (`raylab check`): an answer is right when it names the exact nearest primitive
-(or misses where nothing is met); another primitive met at exactly the same t, or at a t
-that rounds to the same value, is a tie and stands; a miss where something is met is a leak, a hit where nothing is met a false hit,
-another primitive a wrong primitive. A right or tied hit's t must be within an ulp of the
-exact t rounded, or within the tolerance (`--t-tolerance`, 1e-6 by default): the answer's
-point o + t·d within that much of the exact one, relative to |o| + |t·d| + the primitive's
-largest coordinate. A t of `inf` is right only where the exact t rounds to infinity. A family passes when every answer stands.
+(or misses where nothing is met); another primitive met at exactly the same t, or at a t that
+rounds to the same value, is a tie and stands; a miss where something is met is a leak, a hit
+where nothing is met a false hit, another primitive a wrong primitive. A right or tied hit's
+t must be within an ulp of the exact t rounded, or within the tolerance (`--t-tolerance`,
+1e-6 by default): the answer's point o + t·d within that much of the exact one, relative to
+|o| + |t·d| + the primitive's largest coordinate. A t of `inf` is right only where the exact
+t rounds to infinity. A family passes when every answer stands.
 
 `raylab check --scene S --rays R --answers A` grades an answer file; `raylab check --suite
 DIR --program 'CMD {{scene}} {{rays}}'` runs a program on every family (it reads the two
