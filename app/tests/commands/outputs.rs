@@ -203,21 +203,18 @@ fn a_stopped_or_killed_render_leaves_the_previous_image_and_nothing_else() {
     }
 }
 
+/// `raylab render` of a 16x12 image with `extra` flags to `out`.
+fn render_16x12(extra: &[&str], out: &str) -> Output {
+    let size = ["render", "--width", "16", "--height", "12"];
+    run(&[&size[..], extra, &["-o", out]].concat())
+}
+
 #[test]
 fn aovs_with_dev_null_as_out_go_there_too() {
     // Beside /dev/null they were files made in /dev (/dev/null.prim.npy, ...).
     let beside = ["prim", "t", "normal"].map(|w| format!("/dev/null.{w}.npy"));
     let made_before = beside.iter().any(|p| Path::new(p).exists());
-    let o = run(&[
-        "render",
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "--aov",
-        "-o",
-        "/dev/null",
-    ]);
+    let o = render_16x12(&["--aov"], "/dev/null");
     let made = beside
         .iter()
         .filter(|p| Path::new(p).exists())
@@ -244,16 +241,7 @@ fn a_failing_aov_output_writes_nothing() {
     let out = write(d, "image.png", &previous);
     // The normals' array cannot be written: a directory stands at its path.
     std::fs::create_dir(d.join("image.normal.npy")).unwrap();
-    let o = run(&[
-        "render",
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "--aov",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = render_16x12(&["--aov"], out.to_str().unwrap());
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("image.normal.npy"), "{}", stderr(&o));
     assert_eq!(std::fs::read(&out).unwrap(), previous);
@@ -264,15 +252,7 @@ fn a_failing_aov_output_writes_nothing() {
     let inside = write(&locked, "image.png", &previous);
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
-    let o = run(&[
-        "render",
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "-o",
-        inside.to_str().unwrap(),
-    ]);
+    let o = render_16x12(&[], inside.to_str().unwrap());
     std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o755)).unwrap();
     // (Root writes anywhere: then the render succeeds and replaces the file whole.)
     match o.status.code() {
