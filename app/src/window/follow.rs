@@ -30,8 +30,9 @@ impl Viewer {
         self.answer((i + self.view_offset(), j), true);
     }
 
-    /// The size of the view F5 and copy as command write, of which the image shown is a
-    /// crop ([`Viewer::view_offset`] columns each side).
+    /// The size of the image shown before the inspector's panel crops it
+    /// ([`Viewer::view_offset`] columns each side): the view F5 and copy as command write,
+    /// at the resolution shown (a fixed size too large for the window is shown smaller).
     fn view_size(&self) -> (u32, u32) {
         let (w, h) = self.full_size();
         (w + 2 * self.view_offset(), h)
