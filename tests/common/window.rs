@@ -126,6 +126,10 @@ pub enum Around<'a> {
     RealInput(&'a str),
     /// [`Around::RealInput`] with the app opening this file instead of the Cornell box.
     RealInputOn(&'a str, &'a std::path::Path),
+    /// [`Around::RealInput`] with no other window running beside it ([`window_alone`]): for a
+    /// driver whose checks rest on how long a key was held, which another window's frames
+    /// could cut short (a press and its release taken in one late batch of events).
+    RealInputAlone(&'a str),
     /// Nothing beside the app, which starts with these arguments.
     Args(&'a [&'a str]),
 }
@@ -254,9 +258,12 @@ pub fn run_window_on(
     env: &[(&str, &str)],
     around: Around,
 ) -> Option<Run> {
-    let slot = one_window();
+    let slot = match around {
+        Around::RealInputAlone(_) => window_alone(),
+        _ => one_window(),
+    };
     let (driver, model) = match around {
-        Around::RealInput(d) => (Some(d), None),
+        Around::RealInput(d) | Around::RealInputAlone(d) => (Some(d), None),
         Around::RealInputOn(d, m) => (Some(d), Some(m)),
         _ => (None, None),
     };
