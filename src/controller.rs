@@ -188,6 +188,17 @@ impl CameraController {
         Self::new(centre - DVec3::Z * distance, 0.0, 0.0, 1.0, diagonal).with_target(centre)
     }
 
+    /// Where `scene` is first seen from in an image of aspect `width`/`height`: its `.scene`
+    /// file's camera, the lab's for the built-in box (`cornell`), else one framing its bounds
+    /// (an empty scene without a camera: the lab's).
+    pub fn starting(scene: &crate::scene::Scene, cornell: bool, width: u32, height: u32) -> Self {
+        match (scene.camera, cornell, scene.bounds()) {
+            (Some(c), _, _) => Self::from_scene_camera(&c, scene.size()),
+            (None, false, Some(b)) => Self::framing(b, width, height),
+            _ => Self::cornell(),
+        }
+    }
+
     /// The starting pose a `.scene` file names, for a scene `scene_size` across.
     pub fn from_scene_camera(c: &crate::scene::SceneCamera, scene_size: f64) -> Self {
         let position = DVec3::from_array(c.position);

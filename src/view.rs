@@ -12,6 +12,9 @@
 //! method adaptive|watertight|moller|cramer
 //! cracks on|off
 //! ```
+//! Without `camera` the scene is seen from where it starts (a `.scene` file's camera, the lab's
+//! for the box, else one framing the model), without `light` by its own light: as
+//! `raylab render --scene` renders it.
 //! `step` onwards are the image's controls, one `NAME VALUE` line per row of
 //! [`crate::render::CONTROLS`]: the file reads and writes them through that table, as the
 //! command line's flags and the window's panel do.
@@ -31,7 +34,9 @@ pub struct View {
     /// `cornell` or a file path.
     pub scene: String,
     pub obj_frame: ObjFrame,
-    pub camera: SceneCamera,
+    /// `None`: the scene's starting camera.
+    pub camera: Option<SceneCamera>,
+    /// `None`: the scene's light.
     pub light: Option<[f32; 3]>,
     pub settings: RenderSettings,
 }
@@ -57,9 +62,7 @@ impl View {
 
     /// The file text.
     pub fn to_text(&self) -> String {
-        let c = &self.camera;
         let s = &self.settings;
-        let p = c.position;
         let mut out =
             String::from("# raylab view: `raylab render --view FILE -o out.png` renders it\n");
         out += &format!("scene {}\n", crate::words::quoted(&self.scene));
@@ -68,14 +71,17 @@ impl View {
             ObjFrame::Lab => "lab",
         };
         out += &format!("obj-frame {frame}\n");
-        out += &format!(
-            "camera {} {} {} yaw {} pitch {}",
-            p[0], p[1], p[2], c.yaw, c.pitch
-        );
-        if let Some(fov) = c.fov {
-            out += &format!(" fov {fov}");
+        if let Some(c) = &self.camera {
+            let p = c.position;
+            out += &format!(
+                "camera {} {} {} yaw {} pitch {}",
+                p[0], p[1], p[2], c.yaw, c.pitch
+            );
+            if let Some(fov) = c.fov {
+                out += &format!(" fov {fov}");
+            }
+            out += "\n";
         }
-        out += "\n";
         if let Some(l) = self.light {
             out += &format!("light {} {} {}\n", l[0], l[1], l[2]);
         }
@@ -90,17 +96,16 @@ impl View {
     /// command"): every setting as a flag, numbers in shortest round-trip form, paths quoted
     /// for a POSIX shell where they need it.
     pub fn to_command(&self, out: &str) -> String {
-        let focal = self.camera.focal_ratio() * self.settings.width as f64;
+        let width = self.settings.width as f64;
+        let focal = self.camera.map_or(width, |c| c.focal_ratio() * width);
         self.to_command_at_focal(out, focal)
     }
 
     /// [`View::to_command`] with `--focal` given: the focal length the caller renders with,
     /// where the view's field of view would give it back only within an ulp or so (its tan
-    /// and atan: 101.00000000000003 for 101).
+    /// and atan: 101.00000000000003 for 101). A view without a camera gives no camera flags.
     pub fn to_command_at_focal(&self, out: &str, focal: f64) -> String {
-        let c = &self.camera;
         let s = &self.settings;
-        let p = c.position;
         let mut args = vec!["raylab".to_string(), "render".into()];
         // (`--name=value`: a negative number is then never taken for a flag.)
         // (A toggle is a bare `--name`, given when on.)
@@ -114,10 +119,13 @@ impl View {
         if self.obj_frame == ObjFrame::Lab {
             flag("obj-frame", Some("lab".into()));
         }
-        flag("camera", Some(format!("{},{},{}", p[0], p[1], p[2])));
-        flag("yaw", Some(c.yaw.to_string()));
-        flag("pitch", Some(c.pitch.to_string()));
-        flag("focal", Some(focal.to_string()));
+        if let Some(c) = &self.camera {
+            let p = c.position;
+            flag("camera", Some(format!("{},{},{}", p[0], p[1], p[2])));
+            flag("yaw", Some(c.yaw.to_string()));
+            flag("pitch", Some(c.pitch.to_string()));
+            flag("focal", Some(focal.to_string()));
+        }
         if let Some(l) = self.light {
             flag("light", Some(format!("{},{},{}", l[0], l[1], l[2])));
         }
@@ -140,7 +148,7 @@ impl View {
         let mut view = View {
             scene: "cornell".into(),
             obj_frame: ObjFrame::YUp,
-            camera: SceneCamera::LAB,
+            camera: None,
             light: None,
             settings: RenderSettings::default(),
         };
@@ -233,7 +241,7 @@ impl View {
                     &|_, _, _| Err("no meshes in a view".to_string()),
                 )
                 .map_err(|e| e.message)?;
-                self.camera = d.camera.expect("a camera statement");
+                self.camera = Some(d.camera.expect("a camera statement"));
             }
             "light" => {
                 want(4)?;

@@ -461,7 +461,21 @@ fn a_view_out_of_range_names_its_line() {
         );
     }
     let view = View::parse("v.view", "camera 0 0 -3 yaw 45\n").unwrap();
-    assert_eq!(view.camera.yaw, 45.0);
+    assert_eq!(view.camera.map(|c| c.yaw), Some(45.0));
+    // Without a camera line, none: written back without one, not as the lab's.
+    let view = View::parse("v.view", "scene m.obj\nsize 64 48\n").unwrap();
+    assert_eq!((view.camera, view.light), (None, None));
+    let text = view.to_text();
+    assert!(
+        !text.contains("camera") && !text.contains("light"),
+        "{text}"
+    );
+    assert_eq!(View::parse("again", &text).unwrap(), view);
+    let command = view.to_command("out.png");
+    assert!(
+        !command.contains("--camera") && !command.contains("--focal"),
+        "{command}"
+    );
 }
 
 #[test]

@@ -481,14 +481,54 @@ fn prepare_view(path: &Path, base: RenderSettings) -> Result<(Scene, Camera, Ren
     if let Some(light) = view.light {
         set_light(&mut scene, light.map(f64::from))?;
     }
-    let (c, mut s) = (view.camera, view.settings);
+    let mut s = view.settings;
     // (A view holds no tile culling: --no-tile-culling applies to it too.)
     s.tile_culling = base.tile_culling;
-    let focal = c.focal_ratio() * s.width as f64;
-    let position = DVec3::from_array(c.position);
-    let (yaw, pitch) = (radians_of_degrees(c.yaw), radians_of_degrees(c.pitch));
-    let camera = Camera::from_yaw_pitch(position, yaw, pitch, focal)?;
+    // (Without a `camera` line, the scene's own start, as `--scene` takes it.)
+    let flags = match view.camera {
+        Some(c) => CameraFlags {
+            position: Some(DVec3::from_array(c.position)),
+            yaw: Some(c.yaw),
+            pitch: Some(c.pitch),
+            focal: Some(c.focal_ratio() * s.width as f64),
+        },
+        None => CameraFlags::default(),
+    };
+    let camera = starting_camera(&scene, &spec, flags, (s.width, s.height))?;
     Ok((scene, camera, s))
+}
+
+/// The camera flags of a render (degrees), each `None` where not given.
+#[derive(Clone, Copy, Default)]
+struct CameraFlags {
+    position: Option<DVec3>,
+    yaw: Option<f64>,
+    pitch: Option<f64>,
+    focal: Option<f64>,
+}
+
+/// The camera of a render of `scene` (named `name`) at `size`: the flags win; then a `.scene`
+/// file's camera; then the lab's or one framing the model.
+fn starting_camera(
+    scene: &Scene,
+    name: &str,
+    flags: CameraFlags,
+    (width, height): (u32, u32),
+) -> Result<Camera> {
+    let start = scene.camera;
+    let yaw = radians_of_degrees(flags.yaw.or(start.map(|c| c.yaw)).unwrap_or(0.0));
+    let pitch = radians_of_degrees(flags.pitch.or(start.map(|c| c.pitch)).unwrap_or(0.0));
+    let focal = (flags.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * width as f64);
+    let position = match (flags.position, start, name) {
+        (Some(pos), _, _) => pos,
+        (None, Some(c), _) => DVec3::from_array(c.position),
+        (None, None, raylab::scene::CORNELL) => Camera::cornell(width).position(),
+        (None, None, _) => {
+            let bounds = scene.bounds().context("empty scene")?;
+            CameraController::framing(bounds, width, height).position
+        }
+    };
+    Ok(Camera::from_yaw_pitch(position, yaw, pitch, focal)?)
 }
 
 /// The image size of `render`, `bench` and `inspect` where the flags give none.
@@ -520,21 +560,13 @@ fn prepare_sized(
     if let Some(light) = v.light {
         set_light(&mut scene, light.to_array())?;
     }
-    // The flags win; then a `.scene` file's camera; then the lab's or one framing the model.
-    let start = scene.camera;
-    let yaw = radians_of_degrees(v.yaw.or(start.map(|c| c.yaw)).unwrap_or(0.0));
-    let pitch = radians_of_degrees(v.pitch.or(start.map(|c| c.pitch)).unwrap_or(0.0));
-    let focal = (v.focal).unwrap_or(start.map_or(1.0, |c| c.focal_ratio()) * width as f64);
-    let position = match (v.camera, start, v.scene.as_str()) {
-        (Some(pos), _, _) => pos,
-        (None, Some(c), _) => DVec3::from_array(c.position),
-        (None, None, "cornell") => Camera::cornell(width).position(),
-        (None, None, _) => {
-            let bounds = scene.bounds().context("empty scene")?;
-            CameraController::framing(bounds, width, height).position
-        }
+    let flags = CameraFlags {
+        position: v.camera,
+        yaw: v.yaw,
+        pitch: v.pitch,
+        focal: v.focal,
     };
-    let camera = Camera::from_yaw_pitch(position, yaw, pitch, focal)?;
+    let camera = starting_camera(&scene, &v.scene, flags, (width, height))?;
     Ok((scene, camera, settings))
 }
 

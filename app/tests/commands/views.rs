@@ -70,6 +70,50 @@ fn view_files_render_and_round_trip() {
 }
 
 #[test]
+fn a_view_without_camera_or_light_renders_as_its_scene_does() {
+    // A view that names no camera sees its scene from where `--scene` starts it: a `.scene`
+    // file's camera and light, the framing of a model, the lab's camera on the box. (It took
+    // the lab's camera for each: the model's view looked from inside the box's frame.)
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "lit.scene",
+        "cornell\ncamera 0.3 0.1 -2 yaw 10 pitch 5 fov 70\nlight 0.5 -0.5 0\n",
+    );
+    write(
+        d,
+        "pyramid.obj",
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv 0 -1 0\nf 1 2 3\nf 1 2 4\n",
+    );
+    for scene in ["lit.scene", "pyramid.obj", "cornell"] {
+        let view = write(
+            d,
+            "v.view",
+            &format!("scene {scene}\nsize 40 30\nstep shadows\n"),
+        );
+        let (a, b) = (d.join("a.png"), d.join("b.png"));
+        let o = raylab(&["render", "--view", &view, "-o", a.to_str().unwrap()]);
+        assert!(o.status.success(), "{scene}: {}", stderr(&o));
+        let scene_path = d.join(scene);
+        let scene_arg = match scene {
+            "cornell" => scene.to_string(),
+            _ => scene_path.display().to_string(),
+        };
+        let flags = ["--width", "40", "--height", "30", "--step", "shadows", "-o"];
+        let mut args = vec!["render", "--scene", &scene_arg];
+        args.extend(flags);
+        args.push(b.to_str().unwrap());
+        let o = raylab(&args);
+        assert!(o.status.success(), "{scene}: {}", stderr(&o));
+        assert!(
+            read_png(&a) == read_png(&b),
+            "{scene}: the view's image is not --scene's"
+        );
+    }
+}
+
+#[test]
 fn a_views_command_line_renders_the_view_through_a_shell() {
     // "Copy as command": the line a view turns into, run by a POSIX shell, renders what
     // `--view` renders, with a scene path holding a space and a quote, a negative position,

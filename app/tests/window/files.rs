@@ -551,6 +551,63 @@ fn small_scene_and_its_view(dir: &std::path::Path) -> std::path::PathBuf {
 const PYRAMID: &str = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
                        f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
 
+fn a_view_without_a_camera_shows_its_scene_from_where_it_starts() {
+    // The model shown, the camera moved and turned; a view of it naming no camera is dropped:
+    // the window frames the model again at the view's size, as `raylab render --view` does
+    // (it kept the lab's camera, from inside the model), and its F12 is that render.
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("pyramid.obj");
+    std::fs::write(&model, PYRAMID).unwrap();
+    let view = dir.path().join("v.view");
+    std::fs::write(
+        &view,
+        "scene pyramid.obj\nsize 320 240\nstep direct\nspp 1\n",
+    )
+    .unwrap();
+    let script = format!(
+        "0 key W down\n300 key W up\n300 key Left down\n500 key Left up\n800 drop {}\n\
+         1500 key F12 down\n1520 key F12 up\n",
+        view.display()
+    );
+    let args = [model.to_str().unwrap()];
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Args(&args)) else {
+        return;
+    };
+    let bounds = Scene::load(&model, raylab::scene::ObjFrame::YUp)
+        .unwrap()
+        .bounds()
+        .unwrap();
+    let start = raylab::controller::CameraController::framing(bounds, 320, 240).position;
+    let pos = run.nums("camera");
+    assert!(
+        (0..3).all(|k| (pos[k] - start[k]).abs() < 1e-9),
+        "{pos:?}, framing at {start}\n{}",
+        run.stderr
+    );
+    assert_eq!((run.nums("yaw")[0], run.nums("pitch")[0]), (0.0, 0.0));
+    let shot = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("raylab-1")
+        })
+        .unwrap_or_else(|| panic!("F12 saved no image\n{}", run.stderr));
+    let out = dir.path().join("headless.png");
+    let o = Command::new(RAYLAB)
+        .args(["render", "--view"])
+        .arg(&view)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (off, n) = pixels_off(&read_png(&shot), &read_png(&out));
+    assert!(off * 1000 <= n, "{off} of {n} pixels differ");
+}
+
 fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
     // A model dropped, and in the same moment (its load under way) a view of another scene:
     // the view's scene loads after the model, then the view's camera applies to it. (The
@@ -738,6 +795,7 @@ pub const TESTS: super::Tests = tests![
     the_window_builds_the_structure_accel_names,
     a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it,
     an_edit_saved_while_a_reload_loads_is_loaded_too,
+    a_view_without_a_camera_shows_its_scene_from_where_it_starts,
     a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera,
     a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save,
     a_file_saved_while_it_loads_is_loaded_again,

@@ -119,11 +119,14 @@ impl Viewer {
         let s = view.settings;
         self.view.controls = s;
         self.view.resolution = Resolution::Fixed(s.width, s.height);
-        self.controller =
-            CameraController::from_scene_camera(&view.camera, self.stage.scene().size());
-        if let Some(light) = view.light {
-            self.view.light = light;
-        }
+        // (Without a camera or light, the scene's own, as `raylab render --view` takes them.)
+        let cornell = self.source.lock().expect("not poisoned").is_none();
+        let scene = self.stage.scene();
+        self.controller = match &view.camera {
+            Some(c) => CameraController::from_scene_camera(c, scene.size()),
+            None => CameraController::starting(scene, cornell, s.width, s.height),
+        };
+        self.view.light = view.light.unwrap_or(scene.light.position);
         self.obj_frame = view.obj_frame;
         let shown = fit_shown((s.width, s.height), self.max_side);
         let mut message = format!("loaded view {}", path.display());
@@ -137,7 +140,9 @@ impl Viewer {
         if n != s.spp {
             message += &format!(", its {0}x{0} samples at {n}x{n}", s.spp);
         }
-        message += &fov_note(&view.camera, &self.controller);
+        if let Some(camera) = &view.camera {
+            message += &fov_note(camera, &self.controller);
+        }
         self.set_status(message);
         self.changed();
     }

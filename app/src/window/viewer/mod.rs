@@ -188,7 +188,7 @@ impl Viewer {
         proxy: EventLoopProxy<AppEvent>,
     ) -> Self {
         let wake = proxy.clone();
-        let controller = controller_for(stage.scene(), scene_path.is_none());
+        let controller = CameraController::starting(stage.scene(), scene_path.is_none(), 4, 3);
         let source = Arc::new(Mutex::new(scene_path.cloned()));
         let (watched, watcher) = (source.clone(), proxy.clone());
         std::thread::spawn(move || watch(watched, watcher));
@@ -684,12 +684,12 @@ impl Viewer {
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
             obj_frame: self.obj_frame,
-            camera: raylab::scene::SceneCamera {
+            camera: Some(raylab::scene::SceneCamera {
                 position: c.position.to_array(),
                 yaw: values::degrees(c.yaw),
                 pitch: values::degrees(c.pitch),
                 fov,
-            },
+            }),
             light: Some(self.view.light),
             settings: RenderSettings {
                 width,
@@ -766,16 +766,6 @@ impl Viewer {
             Ok(path) => self.set_status(format!("saved {}", path.display())),
             Err(e) => self.report_error(format!("screenshot failed: {e}")),
         }
-    }
-}
-
-/// The starting controller: a `.scene` file's camera, the lab camera for the Cornell box, a
-/// framing one for a model.
-fn controller_for(scene: &Scene, cornell: bool) -> CameraController {
-    match (scene.camera, cornell, scene.bounds()) {
-        (Some(c), _, _) => CameraController::from_scene_camera(&c, scene.size()),
-        (None, false, Some(b)) => CameraController::framing(b, 4, 3),
-        _ => CameraController::cornell(),
     }
 }
 
