@@ -6,9 +6,10 @@
 //! settles, the ray drawn is the last answer's, seen from where the camera has moved since.
 
 use super::inspected::Detail;
+use raylab::accel::Accel;
 use raylab::camera::Projection;
 use raylab::check::code::CodeInspection;
-use raylab::geometry::Hit;
+use raylab::geometry::{Hit, Method, Ray};
 use raylab::render::inspect::Inspection;
 
 /// The switch in the side panel.
@@ -196,13 +197,16 @@ pub fn code_fields(ui: &mut egui::Ui, yours: &CodeInspection) {
 
 /// The camera ray (cyan) from its eye to its hit, the hit point (a ring), and the shadow ray
 /// (yellow when it reaches the light, red when blocked), projected with the current view
-/// onto the image drawn at `rect` (image size `size` pixels).
+/// onto the image drawn at `rect` (image size `size` pixels). Where `hidden` says a world
+/// point lies behind the scene from the eye now, the ray is drawn thin and faint: a shadow
+/// ray passing behind the box is not drawn over it.
 pub fn draw(
     painter: &egui::Painter,
     rect: egui::Rect,
     size: (u32, u32),
     projection: &Projection,
     ins: &Inspection,
+    hidden: impl Fn([f64; 3]) -> bool,
 ) {
     let to_screen = |p: [f64; 2]| {
         egui::pos2(
@@ -223,10 +227,19 @@ pub fn draw(
     // (A segment shorter than the ring's radius is the camera ray seen end on, from the view
     // it was traced in: drawn, it would hide the pixel the ring shows.)
     let segment = |a: [f64; 3], b: [f64; 3], colour: egui::Color32| {
-        if let Some((p, q)) = clip(projection, a, b) {
-            let (p, q) = (to_screen(p), to_screen(q));
-            if p.distance(q) >= RING {
-                painter.line_segment([p, q], egui::Stroke::new(2.0, colour));
+        let Some((p, q)) = clip(projection, a, b) else {
+            return;
+        };
+        if to_screen(p).distance(to_screen(q)) < RING {
+            return;
+        }
+        for (a, b, hidden) in pieces(a, b, &hidden) {
+            if let Some((p, q)) = clip(projection, a, b) {
+                let stroke = match hidden {
+                    true => egui::Stroke::new(1.0, colour.gamma_multiply(0.4)),
+                    false => egui::Stroke::new(2.0, colour),
+                };
+                painter.line_segment([to_screen(p), to_screen(q)], stroke);
             }
         }
     };
@@ -261,6 +274,34 @@ pub fn draw(
     }
 }
 
+/// How many pieces an overlay segment is cut into, each drawn as seen or hidden by its middle.
+const PIECES: usize = 48;
+
+/// Segment a–b in [`PIECES`] pieces, each with whether `hidden` holds at its middle.
+fn pieces(
+    a: [f64; 3],
+    b: [f64; 3],
+    hidden: &impl Fn([f64; 3]) -> bool,
+) -> Vec<([f64; 3], [f64; 3], bool)> {
+    let point = |s: f64| [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]));
+    let at = |i: usize| i as f64 / PIECES as f64;
+    (0..PIECES)
+        .map(|i| {
+            let middle = point((at(i) + at(i + 1)) / 2.0);
+            (point(at(i)), point(at(i + 1)), hidden(middle))
+        })
+        .collect()
+}
+
+/// Whether the scene stands between `eye` and world point `p` (for [`draw`]): a shadow query
+/// from the eye that stops a thousandth short of `p`, which may lie on a surface (the hit
+/// point, a light on a wall).
+pub fn hides(accel: &Accel, method: Method, eye: [f64; 3], p: [f64; 3]) -> bool {
+    let d = [0, 1, 2].map(|k| (p[k] - eye[k]) as f32);
+    let ray = Ray::new(eye.map(|c| c as f32), d);
+    accel.any_hit(&ray, method, 0.0, 0.999, u32::MAX)
+}
+
 /// The part of segment a–b in front of the camera, projected (image pixels), or `None`.
 fn clip(projection: &Projection, a: [f64; 3], b: [f64; 3]) -> Option<([f64; 2], [f64; 2])> {
     let point = |s: f64| [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]));
@@ -281,5 +322,41 @@ fn clip(projection: &Projection, a: [f64; 3], b: [f64; 3]) -> Option<([f64; 2], 
             }
             Some((p, projection.project_f64(point(inside))?))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use raylab::render::Stage;
+    use raylab::Scene;
+
+    #[test]
+    fn a_segment_behind_a_wall_is_hidden_only_where_the_wall_covers_it() {
+        // A wall across z = 0 for |x| <= 1 (two triangles), the eye at z = -3 on the axis; a
+        // segment along x at z = 1 from x = -3 to 3 is hidden where the wall is between: its
+        // middle third seen from the eye's line of sight through |x| <= 1 at z = 0, so
+        // |x| < 4/3 at z = 1 (the lines through the eye and the wall's edges).
+        use raylab::geometry::{Shape, Triangle};
+        use raylab::scene::cornell::{AMBIENT, LIGHT};
+        let wall = [
+            Triangle([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0]]),
+            Triangle([[-1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]),
+        ];
+        let shapes = wall.map(Shape::Triangle).to_vec();
+        let scene = Scene::new("wall", shapes, vec![[1.0; 3]; 2], LIGHT, AMBIENT);
+        let stage = Stage::new(scene, raylab::accel::AccelChoice::Auto);
+        let eye = [0.0, 0.0, -3.0];
+        let hidden = |p: [f64; 3]| hides(stage.accel(), Method::Watertight, eye, p);
+        let pieces = pieces([-3.0, 0.0, 1.0], [3.0, 0.0, 1.0], &hidden);
+        for (a, b, hidden) in pieces {
+            let middle = (a[0] + b[0]) / 2.0;
+            assert_eq!(hidden, middle.abs() < 4.0 / 3.0, "x = {middle}");
+        }
+        // The wall's own points and the eye's side are seen; a point on the wall is not
+        // hidden by the wall it lies on.
+        assert!(!hidden([0.5, 0.5, 0.0]));
+        assert!(!hidden([0.5, 0.5, -1.0]));
+        assert!(hidden([0.5, 0.5, 0.01]));
     }
 }

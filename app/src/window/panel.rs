@@ -682,7 +682,9 @@ pub fn layout(
             let ins = inspection.as_ref().filter(|_| *inspector_on);
             if let (Some(ins), Some(((w, h), camera))) = (ins, overlay) {
                 let projection = camera.ray_projection(w, h);
-                super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins);
+                let eye = camera.position().to_array();
+                let hides = |p| super::inspector::hides(stage.accel(), ins.method, eye, p);
+                super::inspector::draw(ui.painter(), rect, (w, h), &projection, ins, hides);
             }
         }
         if let Some(text) = banner.as_deref() {
