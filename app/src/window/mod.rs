@@ -295,7 +295,7 @@ impl App {
         }
         match key {
             Key::R => {
-                self.viewer.controller.reset();
+                self.viewer.reset_camera();
                 self.viewer.field_slip_outdated();
                 self.viewer.changed();
             }
@@ -430,7 +430,7 @@ impl App {
         // (A field typed into, or a path, says what it did itself.)
         let from_a_field = actions.typed.is_some() || actions.load.is_some();
         if actions.reset_camera {
-            viewer.controller.reset();
+            viewer.reset_camera();
         }
         match actions.load {
             // (An empty field named no file: "could not load: : No such file" said nothing.)

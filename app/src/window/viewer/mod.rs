@@ -377,6 +377,13 @@ impl Viewer {
         }
     }
 
+    /// R or the panel's button: back to the starting pose, where motion not yet taken (a key
+    /// released since the last frame) is spent first rather than moving it from there.
+    pub fn reset_camera(&mut self) {
+        self.update_camera();
+        self.controller.reset();
+    }
+
     /// What the panel can change, to tell afterwards whether it did.
     pub fn panel_state(&self) -> (ViewSettings, CameraController, (u32, u32), u32) {
         let size = self.full_size();
@@ -717,6 +724,9 @@ impl Viewer {
     /// C or the panel's button: the `raylab render` command of the current view goes to the
     /// clipboard (in the next UI pass) and the status line shows it.
     pub fn copy_command(&mut self) {
+        // (A key released since the last frame moves the camera first, as for F12 and F5:
+        // the command renders the view the next frame shows.)
+        self.update_camera();
         let mut view = self.view();
         view.scene = super::files::scene_from_anywhere(&view.scene);
         let focal = self.view_size_and_focal().1;
@@ -742,6 +752,7 @@ impl Viewer {
 
     /// Writes the view to the `.view` file `path`.
     pub fn save_view_to(&mut self, path: PathBuf) {
+        self.update_camera();
         let mut view = self.view();
         view.scene = super::files::scene_seen_from(&view.scene, &path);
         let text = view.to_text();
