@@ -184,7 +184,7 @@ impl ApplicationHandler<AppEvent> for App {
                     }
                     return;
                 }
-                self.key(event_loop, key, pressed);
+                self.key(event_loop, key, pressed, Instant::now());
                 window.request_redraw();
             }
             WindowEvent::CursorMoved { position, .. } => {

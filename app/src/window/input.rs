@@ -147,11 +147,6 @@ pub struct InputState {
 }
 
 impl InputState {
-    /// Records a press or release of a motion key now; returns false for other keys.
-    pub fn key(&mut self, key: Key, pressed: bool) -> bool {
-        self.key_at(key, pressed, Instant::now())
-    }
-
     /// Records a press or release of a motion key at `now`; returns false for other keys.
     pub fn key_at(&mut self, key: Key, pressed: bool, now: Instant) -> bool {
         if !key.is_held_motion() {

@@ -282,9 +282,9 @@ impl App {
         );
     }
 
-    /// A key press or release from the keyboard or the script.
-    fn key(&mut self, event_loop: &ActiveEventLoop, key: Key, pressed: bool) {
-        if self.viewer.input.key(key, pressed) {
+    /// A key press or release from the keyboard or the script, made `at`.
+    fn key(&mut self, event_loop: &ActiveEventLoop, key: Key, pressed: bool, at: Instant) {
+        if self.viewer.input.key_at(key, pressed, at) {
             if pressed {
                 self.esc_armed = None;
             }

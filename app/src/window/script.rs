@@ -276,7 +276,8 @@ impl Script {
 
     /// Events due by `elapsed` that were not returned before, up to an `await` whose file
     /// does not exist yet.
-    pub fn due(&mut self, elapsed: Duration) -> Vec<Action> {
+    /// Each with the time it was due at.
+    pub fn due(&mut self, elapsed: Duration) -> Vec<(Duration, Action)> {
         let start = self.next;
         self.held_at = None;
         while let Some((at, action)) = self.events.get(self.next) {
@@ -289,10 +290,7 @@ impl Script {
             }
             self.next += 1;
         }
-        self.events[start..self.next]
-            .iter()
-            .map(|(_, a)| a.clone())
-            .collect()
+        self.events[start..self.next].to_vec()
     }
 
     /// Looks again for the file of an `await` that holds the script, without returning any
@@ -330,22 +328,27 @@ impl Script {
 mod tests {
     use super::*;
 
+    /// The actions [`Script::due`] returns, without their times.
+    fn due(s: &mut Script, elapsed: Duration) -> Vec<Action> {
+        s.due(elapsed).into_iter().map(|(_, a)| a).collect()
+    }
+
     #[test]
     fn parses_every_event_and_replays_in_time() {
         let text = "# a comment\n\n0 key W down\n100 key w up\n100 mouse -3 4.5\n250 wheel -2\n300 step shadows\n300 set cracks on\n300 drop m.obj\n300 changed m.obj\n400 focal 700\n400 scale 0.5\n400 resize 0 0\n400 restore\n400 lose-surface\n400 resize-in-draw 900 600\n400 fail-render\n400 select 2\n400 select none\n400 inspect 3 4\n";
         let mut s = Script::parse("s.txt", text).unwrap();
         assert_eq!(s.next_due(), Some(Duration::ZERO));
         assert_eq!(
-            s.due(Duration::from_millis(99)),
+            due(&mut s, Duration::from_millis(99)),
             vec![Action::Key(Key::W, true)]
         );
         assert_eq!(
-            s.due(Duration::from_millis(100)),
+            due(&mut s, Duration::from_millis(100)),
             vec![Action::Key(Key::W, false), Action::Mouse(-3.0, 4.5)]
         );
         assert!(!s.finished());
         assert_eq!(
-            s.due(Duration::from_secs(1)),
+            due(&mut s, Duration::from_secs(1)),
             vec![
                 Action::Wheel(-2.0),
                 Action::Set("step", "shadows".into()),
@@ -375,15 +378,15 @@ mod tests {
         let text = format!("0 key W down\n100 await {}\n100 key W up\n", done.display());
         let mut s = Script::parse("s.txt", &text).unwrap();
         let ms = Duration::from_millis;
-        assert_eq!(s.due(ms(200)), vec![Action::Key(Key::W, true)]);
+        assert_eq!(due(&mut s, ms(200)), vec![Action::Key(Key::W, true)]);
         // Held: nothing more, and the next look is one poll later (not at once, in a loop).
         assert_eq!(s.next_due(), Some(ms(200) + AWAIT_POLL));
-        assert_eq!(s.due(ms(90_000)), vec![]);
+        assert_eq!(due(&mut s, ms(90_000)), vec![]);
         assert_eq!(s.next_due(), Some(ms(90_000) + AWAIT_POLL));
         assert!(!s.finished());
         std::fs::write(&done, "").unwrap();
         assert_eq!(
-            s.due(ms(90_050)),
+            due(&mut s, ms(90_050)),
             vec![Action::Await(done), Action::Key(Key::W, false)]
         );
         assert!(s.finished());
@@ -400,7 +403,7 @@ mod tests {
         let mut s = Script::parse("s.txt", &text).unwrap();
         let ms = Duration::from_millis;
         assert!(!s.still_held(ms(50)), "no await is due yet");
-        assert_eq!(s.due(ms(200)), vec![Action::Key(Key::W, true)]);
+        assert_eq!(due(&mut s, ms(200)), vec![Action::Key(Key::W, true)]);
         assert!(s.still_held(ms(700)));
         assert_eq!(s.awaited(), Some(done.as_path()));
         assert_eq!(s.next_due(), Some(ms(700) + AWAIT_POLL));
@@ -409,7 +412,7 @@ mod tests {
         assert_eq!(s.awaited(), None);
         assert_eq!(s.next_due(), Some(ms(100)), "due at once");
         assert_eq!(
-            s.due(ms(760)),
+            due(&mut s, ms(760)),
             vec![Action::Await(done), Action::Key(Key::W, false)]
         );
     }

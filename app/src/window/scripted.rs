@@ -56,15 +56,17 @@ impl ScriptedRun {
         }
     }
 
-    /// The events due now; the clock starts once a frame has been shown.
-    pub fn due(&mut self, frames_presented: u64) -> Vec<Action> {
+    /// The events due now, each with when it was due; the clock starts once a frame has been
+    /// shown.
+    pub fn due(&mut self, frames_presented: u64) -> Vec<(Instant, Action)> {
         if self.start.is_none() && frames_presented > 0 {
             self.start = Some(Instant::now());
         }
-        match (&mut self.script, self.start) {
-            (Some(script), Some(start)) => script.due(start.elapsed()),
-            _ => Vec::new(),
-        }
+        let (Some(script), Some(start)) = (&mut self.script, self.start) else {
+            return Vec::new();
+        };
+        let due = script.due(start.elapsed());
+        due.into_iter().map(|(at, a)| (start + at, a)).collect()
     }
 
     /// Whether the run draws its next frame at once, not on an event as a user's window does:
@@ -246,10 +248,13 @@ impl App {
         let Some(scripted) = &mut self.scripted else {
             return;
         };
-        for action in scripted.due(self.frames_presented) {
+        for (at, action) in scripted.due(self.frames_presented) {
             let viewer = &mut self.viewer;
             match action {
-                Action::Key(k, down) => self.key(event_loop, k, down),
+                // (Held from when it was due, not when a slow frame let it be carried out: a
+                // press and release that one stall delays together still hold for their
+                // time, as the keyboard's do in real time.)
+                Action::Key(k, down) => self.key(event_loop, k, down, at),
                 Action::Mouse(dx, dy) => viewer.input.mouse(dx, dy),
                 Action::Wheel(lines) => viewer.input.wheel(lines),
                 Action::Set(name, value) => {
