@@ -295,6 +295,49 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
     assert!(mean < 2.0 && off < 0.02, "mean {mean}, off {off}");
 }
 
+fn f5_c_and_r_take_the_motion_of_a_key_just_released() {
+    // W let go and F5 pressed at one moment: the view saved is where W took the camera, as C
+    // copies it later with nothing moving between; D let go and R pressed at one moment: the
+    // camera is back at the start. (F5 saved the pose before W's last part, which the next
+    // frame then moved; after R the next frame moved by D's.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 key W down\n300 key W up\n300 key F5 down\n320 key F5 up\n\
+                  1000 key C down\n1020 key C up\n1200 key D down\n1500 key D up\n\
+                  1500 key R down\n1520 key R up\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    let view = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    let view = std::fs::read_to_string(view).unwrap();
+    let saved: Vec<f64> = (view.lines().find_map(|l| l.strip_prefix("camera ")))
+        .expect("a camera line")
+        .split_whitespace()
+        .take(3)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let copied: Vec<f64> = (log.split("--camera=").nth(1))
+        .and_then(|rest| rest.split_whitespace().next())
+        .unwrap_or_else(|| panic!("C copied no command\n{log}"))
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(saved[2] > -2.9, "W moved the camera: {saved:?}");
+    assert_eq!(
+        saved, copied,
+        "F5's view is where W left the camera\n{view}\n{log}"
+    );
+    assert_eq!(
+        run.nums("camera"),
+        [0.0, 0.0, -3.001],
+        "R: the start\n{log}"
+    );
+}
+
 fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     // Move (A held), press C (copy as command), click the status line that says what it
     // copied, and press F12 (a full-quality screenshot of the same view); the clipboard, read
@@ -650,6 +693,7 @@ pub const TESTS: super::Tests = tests![
     a_right_drag_with_an_absolute_pointer_turns_the_view,
     real_x_input_orbits_with_tab_and_a_left_drag,
     real_x_input_sets_every_image_control_in_the_panel,
+    f5_c_and_r_take_the_motion_of_a_key_just_released,
     real_x_input_copy_as_command_renders_what_the_window_shows,
     real_x_input_digits_choose_the_lab_step,
     real_x_input_drives_every_other_key,
