@@ -112,8 +112,9 @@ pub fn xvfb_for(test: &str) -> bool {
 /// What runs beside the app on the display.
 pub enum Around<'a> {
     Nothing,
-    /// An XSETTINGS manager (xsettingsd) whose Xft/DPI goes from 96 to `dpi` after `at_ms`:
-    /// the desktop's HiDPI change, which winit reports as `ScaleFactorChanged`.
+    /// An XSETTINGS manager (xsettingsd) whose Xft/DPI goes from 96 to `dpi` `at_ms` after
+    /// the app's first image on screen (where its script's clock starts): the desktop's HiDPI
+    /// change, which winit reports as `ScaleFactorChanged`.
     DpiChange {
         at_ms: u32,
         dpi: u32,
@@ -297,9 +298,11 @@ pub fn run_window_on(
         // The manager first, then the app; the change while the app runs; the app's exit
         // status is the run's.
         let wrapper = format!(
-            "xsettingsd -c '{conf}' 2>/dev/null & xs=$!; sleep 0.5; \"$@\" & app=$!; \
+            "log='{log}'; {LOGGED}; xsettingsd -c '{conf}' 2>/dev/null & xs=$!; sleep 0.5; \
+             \"$@\" 2>\"$log\" & app=$!; logged 'first image on screen'; \
              sleep {delay}; echo 'Xft/DPI {value}' > '{conf}'; kill -HUP $xs; \
-             wait $app; status=$?; kill $xs; exit $status",
+             wait $app; status=$?; kill $xs; cat \"$log\" >&2; exit $status",
+            log = dir.join("app.log").display(),
             conf = conf.display(),
             delay = at_ms as f64 / 1000.0,
             value = dpi * 1024,

@@ -13,11 +13,12 @@ use common::window::{FIND_WINDOW, LOGGED};
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
 
-/// Shell functions for a driver: `idle` waits (a minute at most) until the app has used no
+/// Shell functions for a driver: `idle` waits (two minutes at most: a view refined to 11x11
+/// samples with every one checked takes a loaded machine one) until the app has used no
 /// CPU for 2 s (the last 9 of its CPU times, read every quarter second, the same): its view
 /// refined and nothing left to draw.
 const IDLE: &str = "cpu() { awk '{print $14 + $15}' /proc/$app/stat; }; \
-     idle() { set --; n=0; while [ $n -lt 240 ]; do set -- \"$@\" $(cpu); \
+     idle() { set --; n=0; while [ $n -lt 480 ]; do set -- \"$@\" $(cpu); \
      [ $# -gt 9 ] && shift; [ $# = 9 ] && [ $1 = $9 ] && return 0; \
      sleep 0.25; n=$((n+1)); done; return 1; }";
 
@@ -166,14 +167,14 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     // as the bar faded in: each a new image width, a new view to render, without end.)
     // Positions: the panel at the default window on the 1280x800 screen, the inspector's box
     // at (15, 378); with it off, "show cracks" at (15, 558), the supersampling field at
-    // (135, 516). The driver waits (a minute at most) until the app has used no CPU for 2 s
+    // (135, 516). The driver waits (two minutes at most) until the app has used no CPU for 2 s
     // (the last 9 of its CPU times read every quarter second the same), then counts the
     // panel's widths logged over 2 s more.
     let dir = tempfile::tempdir().unwrap();
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
          sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
-         xdotool mousemove --sync 135 516 click 1; sleep 0.3; xdotool key ctrl+a; \
+         xdotool mousemove --sync 135 516 click 1; sleep 0.8; xdotool key ctrl+a; \
          xdotool type 16; xdotool key Return; {IDLE}; idle && echo idle > idle.txt; \
          grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
          grep -c 'points wide' app.log > widths-after.txt"
@@ -287,8 +288,10 @@ fn a_scripted_run_idle_before_its_last_frame_still_ends() {
     }
     let dir = tempfile::tempdir().unwrap();
     let slot = one_window();
+    // (Under the run's own limit, which would end it failed; 100 frames on a loaded machine
+    // can take a minute.)
     let out = std::process::Command::new("timeout")
-        .args(["60", "xvfb-run"])
+        .args(["110", "xvfb-run"])
         .args(slot.server_args())
         .args(["-s", "-screen 0 1280x800x24", RAYLAB, "--frames", "100"])
         .arg("--screenshot")

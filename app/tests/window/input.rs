@@ -512,11 +512,15 @@ fn real_x_input_escape_quits_only_right_after_asking() {
     let script = "0 await asked-twice\n0 drop bad.obj\n0 await driver-done\n";
     // (150, 680): the panel's empty space below the path field at the default window on
     // the harness's 1280x800 screen: a click on no widget.
-    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; sleep 0.3; \
-                  xdotool mousemove --sync 150 680; sleep 0.2; xdotool click 1; sleep 0.3; \
+    // (Each step waits for the app to log the last: a click and an Esc taken in one late
+    // batch would be one moment to the app.)
+    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; \
+                  logged 'press Esc again to quit'; xdotool mousemove --sync 150 680; \
+                  sleep 0.2; xdotool click 1; logged 'quit prompt withdrawn'; \
                   xdotool key Escape; logged 'press Esc again to quit' 2; : > asked-twice; \
                   logged 'could not load'; sleep 0.3; \
-                  xdotool key Escape; sleep 0.3; xdotool key Escape";
+                  xdotool key Escape; logged 'error banner dismissed'; xdotool key Escape; \
+                  logged 'press Esc again to quit' 3";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -603,8 +607,9 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     // panel's path field and the File menu at the default window on the 1280x800 screen.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
+    // (Alone, and a click 0.8 s before its keys: see the typed positions' test.)
     let driver = "xdotool windowfocus --sync $win; \
-                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool type --delay 50 abc; sleep 0.3; xdotool key Escape; sleep 0.5; \
                   xdotool key Escape; sleep 0.5; \
                   xdotool mousemove --sync 19 11; sleep 0.3; xdotool click 1; sleep 0.8; \
@@ -612,8 +617,8 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
                   xdotool click 1; sleep 0.8; xdotool mousemove --sync 78 36; sleep 0.3; \
                   xdotool click 1; sleep 1.5; xdotool mousemove --sync 900 650; sleep 0.3; \
                   xdotool key Escape; sleep 0.8; xdotool key Escape";
-    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
-    else {
+    let around = Around::RealInputAlone(driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
     };
     let log = &run.stderr;
@@ -637,9 +642,9 @@ fn real_x_input_f5_while_a_text_field_types_says_it_did_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
-                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.3; \
+                  xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool type --delay 50 abc; sleep 0.3; xdotool key F5; \
-                  logged 'F5 waits'; grep -c 'saved view' app.log > saved-while-typing.txt; \
+                  logged 'F5 did nothing'; grep -c 'saved view' app.log > saved-while-typing.txt; \
                   xdotool key Escape; sleep 0.5; xdotool key F5; logged 'saved view'";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
@@ -666,10 +671,12 @@ fn real_x_input_quick_clicks_each_count() {
     // rail from x 8 to 108 at y 225; the check box at (15, 378)).
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
+    // (The driver waits for the third toggle: on a loaded machine the app takes the quick
+    // clicks' passes one frame each, after the driver is done.)
     let driver = "xdotool windowfocus --sync $win; \
                   for x in 106 10 106 10; do xdotool mousemove --sync $x 225 click 1; done; \
                   sleep 0.5; xdotool mousemove --sync 15 378; sleep 0.3; \
-                  xdotool click --repeat 3 --delay 0 1";
+                  xdotool click --repeat 3 --delay 0 1; logged 'ray inspector o' 3";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;

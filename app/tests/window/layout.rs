@@ -51,8 +51,17 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
     }
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    let copy =
-        |n: u32| format!("xdotool key c; sleep 0.3; xclip -selection clipboard -o > c{n}.txt");
+    // (The clipboard emptied first, then read once the app has said it copied and the copy
+    // is there: it is written in the UI pass after C, which a slow frame delays.)
+    let copy = |n: u32| {
+        format!(
+            "printf '' | xclip -selection clipboard; xdotool key c; \
+             logged 'copied to the clipboard' {count}; k=0; \
+             until xclip -selection clipboard -o > c{n}.txt 2>/dev/null && [ -s c{n}.txt ] \
+             || [ $k -ge 100 ]; do sleep 0.1; k=$((k+1)); done",
+            count = n + 1
+        )
+    };
     // (Not `--sync`: to where the pointer is, it waits for a move that never comes.)
     let press = |x: u32, y: u32| format!("xdotool mousemove {x} {y}; sleep 0.3");
     let typed = |(x, y): (u32, u32), text: &str| {
@@ -88,8 +97,10 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         copy(4),
     ]
     .join("; ");
-    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(&driver))
-    else {
+    // (Alone: a click that gives a field the keyboard and the keys typed after it, taken in
+    // one late batch, would go to the camera.)
+    let around = Around::RealInputAlone(&driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
     };
     let log = &run.stderr;
