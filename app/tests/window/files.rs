@@ -553,12 +553,16 @@ const PYRAMID: &str = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
                        f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
 
 fn a_view_without_a_camera_shows_its_scene_from_where_it_starts() {
-    // The model shown, the camera moved and turned; a view of it naming no camera is dropped:
-    // the window frames the model again at the view's size, as `raylab render --view` does
-    // (it kept the lab's camera, from inside the model), and its F12 is that render.
+    // The model shown, the camera moved and turned, a view of it with a light of its own
+    // dropped; then a view of it naming no camera and no light: the window frames the model
+    // again at the view's size and lights it with its own light, as `raylab render --view`
+    // does (it took the lab's camera, from inside the model, and kept the light shown), and
+    // its F12 is that render.
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("pyramid.obj");
     std::fs::write(&model, PYRAMID).unwrap();
+    let lit = dir.path().join("lit.view");
+    std::fs::write(&lit, "scene pyramid.obj\nlight 3 -2 -1\n").unwrap();
     let view = dir.path().join("v.view");
     std::fs::write(
         &view,
@@ -567,7 +571,8 @@ fn a_view_without_a_camera_shows_its_scene_from_where_it_starts() {
     .unwrap();
     let script = format!(
         "0 key W down\n300 key W up\n300 key Left down\n500 key Left up\n800 drop {}\n\
-         1500 key F12 down\n1520 key F12 up\n",
+         1600 drop {}\n2300 key F12 down\n2320 key F12 up\n",
+        lit.display(),
         view.display()
     );
     let args = [model.to_str().unwrap()];

@@ -126,7 +126,7 @@ impl Viewer {
             Some(c) => CameraController::from_scene_camera(c, scene.size()),
             None => CameraController::starting(scene, cornell, s.width, s.height),
         };
-        self.view.light = view.light.unwrap_or(scene.light.position);
+        self.view.light = view.light.unwrap_or(self.scene_light);
         self.obj_frame = view.obj_frame;
         let shown = fit_shown((s.width, s.height), self.max_side);
         let mut message = format!("loaded view {}", path.display());
@@ -153,10 +153,11 @@ impl Viewer {
         self.stage = Stage::new(Scene::cornell(), self.accel);
         self.selected_level = None;
         self.banner = None;
+        self.scene_light = self.stage.scene().light.position;
         // (As an opened file's: the lab's camera and light, not the last scene's.)
         if let LoadKind::Open = kind {
             self.controller = CameraController::cornell();
-            self.view.light = self.stage.scene().light.position;
+            self.view.light = self.scene_light;
         }
         self.set_status(format!(
             "loaded {} ({})",
@@ -315,6 +316,7 @@ impl Viewer {
             _ => {}
         }
         self.view.light = scene.light.position;
+        self.scene_light = self.view.light;
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
             "{verb} {} ({}){note}",

@@ -91,6 +91,9 @@ pub struct Viewer {
     accel: AccelChoice,
     pub controller: CameraController,
     pub view: ViewSettings,
+    /// The light the scene shown came with (the panel's light is the view's), which a view
+    /// naming no light takes.
+    scene_light: [f32; 3],
     pub input: InputState,
     worker: Worker,
     /// Bumped by every change; the worker drops stale frames.
@@ -200,6 +203,7 @@ impl Viewer {
             obj_frame,
             accel,
             controller,
+            scene_light: light,
             view: ViewSettings {
                 controls: RenderSettings {
                     step: LabStep::Indirect,
