@@ -82,14 +82,17 @@ pub fn side_panel(
 ) -> PanelActions {
     let mut actions = PanelActions::default();
     let typing = Typing::default();
-    // A scroll bar that is there whenever the panel is taller than the window (egui's
-    // default floats and shows only under the pointer), whose room comes whole the frame it
-    // comes: egui's solid bar takes its room in a few frames as it fades in, so the panel
-    // widened by a little each frame, each a new image size, a new view to render.
+    // A scroll bar drawn all the time (egui's default floats and shows only under the
+    // pointer), its room kept whether the rows overflow or not: a bar that came with the
+    // overflow (show cracks' rows on a 1280x800 screen) widened the panel and narrowed the
+    // image, so the focal length and the view F5 saves changed with a display option. (egui's
+    // solid bar also takes its room in a few frames as it fades in: each a new image size.)
     ui.style_mut().spacing.scroll = solid_bar();
     // (In a child of its own, whose rectangle is the scroll area's with the bar's room.)
     let mut rows = ui.new_child(egui::UiBuilder::new());
-    let scrolled = egui::ScrollArea::vertical().show(&mut rows, |ui| {
+    let always = egui::scroll_area::ScrollBarVisibility::AlwaysVisible;
+    let area = egui::ScrollArea::vertical().scroll_bar_visibility(always);
+    let scrolled = area.show(&mut rows, |ui| {
         ui.heading("raylab");
         ui.label(format!(
             "{}: {}",

@@ -73,14 +73,14 @@ fn inspected_pixels(log: &str) -> Vec<(u32, u32)> {
 }
 
 fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
-    // With the inspector's panel open (a first click), the 464x698 image fills x 358..821 and
+    // With the inspector's panel open (a first click), the 454x698 image fills x 368..821 and
     // y 0..697 of the 1280x800 screen, one window pixel per image pixel: clicks on the first
-    // column, the last column and the first row inspect pixel 0, 463 and row 0; each click
+    // column, the last column and the first row inspect pixel 0, 453 and row 0; each click
     // inspects the pixel whose square on screen holds the centre of the window pixel clicked.
     // The ring the inspector draws round its hit point is centred on the last click.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    let clicks = [(358, 400), (821, 400), (600, 0), (400, 300)];
+    let clicks = [(368, 400), (821, 400), (600, 0), (400, 300)];
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; sleep 0.3; \
          xdotool click 1; sleep 2; {}",
@@ -92,13 +92,13 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     };
     let log = &run.stderr;
     let (_, w, h, _) = run.camera();
-    assert_eq!((w, h), (464, 698), "{log}");
+    assert_eq!((w, h), (454, 698), "{log}");
     // (The log names the view's pixels, of which the image shown is a crop.)
-    assert_eq!(run.view_size(), (794, 698), "{log}");
+    assert_eq!(run.view_size(), (784, 698), "{log}");
     let pixels = assert_each_click_inspects_the_pixel_under_it(&run, &clicks);
     assert_eq!(
         (pixels[1], pixels[2], pixels[3].1),
-        ((165, 400), (165 + 463, 400), 0)
+        ((165, 400), (165 + 453, 400), 0)
     );
     // The ring: white over the magenta wall round the last click, 6 px in radius.
     assert_ring_round(&run.shot, (400, 300));
@@ -169,13 +169,13 @@ fn real_x_input_a_click_on_the_background_rings_its_pixel() {
 fn real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer() {
     // At 1.5 window pixels per point (a 1920x1200 screen, the window 1728x1080), with the
     // inspector's panel open (a first click): the image, cropped by an even count of columns
-    // (695 of the view's 1191), fills window pixel columns 538..1232 from y 0.25, so clicks
-    // on column 538 and row 0 are on its first column and row, and on column 1232 its last;
+    // (680 of the view's 1176), fills window pixel columns 553..1232 from y 0.25, so clicks
+    // on column 553 and row 0 are on its first column and row, and on column 1232 its last;
     // each click inspects the pixel whose square holds the centre of the window pixel
     // clicked, named as the view's pixel (248 columns right).
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    let clicks = [(538, 600), (1232, 600), (800, 0)];
+    let clicks = [(553, 600), (1232, 600), (800, 0)];
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 900 450; sleep 0.3; \
          xdotool click 1; sleep 2; {}",

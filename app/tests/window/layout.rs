@@ -131,7 +131,7 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         ),
         (flag(&copied[3], "yaw") == "7.3", "the yaw typed, copied"),
         (
-            flag(&copied[3], "width") == "794",
+            flag(&copied[3], "width") == "784",
             "the image before the inspector's panel",
         ),
         (

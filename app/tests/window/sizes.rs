@@ -317,10 +317,11 @@ fn real_x_input_the_default_window_fits_a_hidpi_screen() {
 }
 
 fn real_x_input_the_side_panel_regains_its_width_after_a_short_window() {
-    // The window shrinks to 400x300, too short for the side panel, which shows its scroll
-    // bar and widens by the bar's room; it grows back to its 1152x720, and the panel is as
-    // wide as it started. (It stayed about 10 points wider: egui keeps a panel at the width it
-    // was last drawn at.) The app logs the panel's width as it changes.
+    // The window shrinks to 400x300, too short for the side panel (whose scroll bar's room
+    // is kept all along); it grows back to its 1152x720, and the panel is as wide as it
+    // started. (It stayed about 10 points wider when the bar's room came with the overflow:
+    // egui keeps a panel at the width it was last drawn at.) The app logs the panel's width
+    // as it changes.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.5; xdotool windowsize $win 400 300; \
@@ -334,13 +335,8 @@ fn real_x_input_the_side_panel_regains_its_width_after_a_short_window() {
         .filter_map(|l| l.split("side panel ").nth(1)?.strip_suffix(" points wide"))
         .map(|w| w.parse().unwrap())
         .collect();
-    let (first, widest) = (widths[0], widths.iter().copied().fold(0.0, f64::max));
-    let last = run.nums("panel_width")[0];
-    println!("the side panel {first} points wide, {widest} with the bar, then {last}");
-    assert!(
-        widest > first + 5.0,
-        "the bar widened the panel: {widths:?}\n{log}"
-    );
+    let (first, last) = (widths[0], run.nums("panel_width")[0]);
+    println!("the side panel {first} points wide, then {widths:?}, at last {last}");
     assert!(
         (last - first).abs() < 0.5,
         "the panel is {last} wide, {first} at first\n{log}"
