@@ -82,24 +82,14 @@ pub fn parse_answers<T: Real>(
                 let t = t
                     .parse::<T>()
                     .map_err(|_| at(line_no, format!("t '{t}' is not a number")))?;
-                let prim = match index.parse::<u32>() {
-                    Ok(p) if (p as usize) < primitives => p,
-                    parsed => {
-                        let last = primitives.saturating_sub(1);
-                        let why = match parsed {
-                            // (One past the last: the classic count from 1.)
-                            Ok(p) if p as usize == primitives => format!(
-                                "index {index} is past the last primitive, {last} (indices \
-                                 count from 0)"
-                            ),
-                            Ok(_) => format!("index {index} is past the last primitive, {last}"),
-                            Err(_) => format!(
-                                "'{index}' is not a primitive index, a whole number 0 to {last}"
-                            ),
-                        };
-                        return Err(at(line_no, why));
-                    }
-                };
+                // (An index past the last primitive is an answer, graded wrong for its ray
+                // with the ray shown: refused, it failed the family's whole run.)
+                let prim = index.parse::<u32>().map_err(|_| {
+                    let last = primitives.saturating_sub(1);
+                    let why =
+                        format!("'{index}' is not a primitive index, a whole number 0 to {last}");
+                    at(line_no, why)
+                })?;
                 Answer::Hit { t, prim }
             }
             _ => {
@@ -233,16 +223,40 @@ impl<T: Real> Exact<T> {
             .into_par_iter()
             .map(|i| {
                 let ray = &self.rays[i].1;
-                let exact = self.answers[i];
-                let graded = grade(shape_of, ray, exact, answers[i], tolerance);
-                if !self.fast || graded.stands() {
-                    return Judged { graded, exact };
+                let graded = |exact| match answers[i] {
+                    Answer::Hit { prim, .. } if prim as usize >= self.primitives => {
+                        past_the_last(exact)
+                    }
+                    answer => grade(shape_of, ray, exact, answer, tolerance),
+                };
+                let (exact, first) = (self.answers[i], graded(self.answers[i]));
+                if !self.fast || first.stands() {
+                    return Judged {
+                        graded: first,
+                        exact,
+                    };
                 }
                 let exact = reference_answer(self.primitives, shape_of, ray);
-                let graded = grade(shape_of, ray, exact, answers[i], tolerance);
-                Judged { graded, exact }
+                Judged {
+                    graded: graded(exact),
+                    exact,
+                }
             })
             .collect()
+    }
+}
+
+/// A hit on an index past the last primitive (a count from 1, say): another primitive than
+/// the exact one, or a hit where nothing is met.
+fn past_the_last<T: Real>(exact: Answer<T>) -> Graded {
+    let verdict = match exact {
+        Answer::Hit { .. } => Verdict::Wrong,
+        Answer::Miss => Verdict::FalseHit,
+    };
+    Graded {
+        verdict,
+        t_error: None,
+        relative: 0.0,
     }
 }
 

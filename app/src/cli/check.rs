@@ -499,7 +499,7 @@ pub(super) fn report<T: Real>(
         tally.right
     );
     w!(
-        "  ties        {:>8}   another primitive at exactly the same t (accepted)",
+        "  ties        {:>8}   another primitive at the same t, or one rounding alike (accepted)",
         tally.ties
     );
     w!(
@@ -511,7 +511,7 @@ pub(super) fn report<T: Real>(
         tally.false_hits
     );
     w!(
-        "  wrong       {:>8}   another primitive, not met at the same t",
+        "  wrong       {:>8}   another primitive, not met at the same t (or an index past the last)",
         tally.wrong
     );
     w!(

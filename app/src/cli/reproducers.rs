@@ -79,7 +79,20 @@ fn reproducer<T: Real>(
                 (None, None) => String::new(),
             }
         ),
-        v => v.name().to_string(),
+        v => match answers[i].1 {
+            Answer::Hit { prim, .. } if prim as usize >= exact.primitives => {
+                let last = exact.primitives.saturating_sub(1);
+                let from_1 = match prim as usize == exact.primitives {
+                    true => " (indices count from 0)",
+                    false => "",
+                };
+                format!(
+                    "{}: index {prim} is past the last primitive, {last}{from_1}",
+                    v.name()
+                )
+            }
+            _ => v.name().to_string(),
+        },
     };
     format!(
         "  {}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
