@@ -65,7 +65,7 @@ pub struct GradeArgs {
     #[arg(
         long,
         value_name = "SECONDS",
-        default_value_t = 60.0,
+        default_value_t = super::check::DEFAULT_TIMEOUT,
         allow_negative_numbers = true
     )]
     pub timeout: f64,
@@ -352,11 +352,13 @@ fn writable_dir(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The command that runs one family again as this grading ran it (its program, precision and
-/// tolerance), for a student's feedback: SUITE and NAME to fill in.
+/// The command that runs one family again as this grading ran it (its program, precision,
+/// tolerance and timeout), for a student's feedback: SUITE and NAME to fill in. (A budget is
+/// of all the families: one family alone has its --timeout.)
 fn rerun_command(args: &GradeArgs) -> String {
     let precision = super::check::precision_name(args.precision);
-    super::check::family_command("SUITE", "NAME", &args.program, precision, args.t_tolerance)
+    let graded = (precision, args.t_tolerance, args.timeout);
+    super::check::family_command("SUITE", "NAME", &args.program, graded)
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {
@@ -551,13 +553,17 @@ fn limit_hint(e: &RunError, limits: &Limits) -> String {
          data, --max-memory)",
         limit >> 20
     );
-    // What a run out of processes or memory says, by the words of common shells, Python, C
-    // and C++ (it ended with an error of its own, not a signal).
+    // What a run out of processes or memory says, by the words of common shells, Python, C,
+    // C++, Java and Node (it ended with an error of its own, not a signal). (Java names a
+    // thread it could not start an OutOfMemoryError.)
     let said_of = |words: &[&str]| words.iter().any(|w| stderr.contains(w));
     if said_of(&[
         "fork",
         "can't start new thread",
         "Resource temporarily unavailable",
+        "unable to create native thread",
+        "pthread_create",
+        "EAGAIN",
     ]) {
         let most = limits.max_processes.unwrap_or_default();
         return format!(

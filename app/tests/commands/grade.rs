@@ -274,8 +274,8 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
     );
 }
 
-/// A program that could not start a process (a shell's `Cannot fork` at --max-processes)
-/// or was refused memory (Python's `MemoryError`, its own exit, no signal): each crash names
+/// A program that could not start a process (a shell's `Cannot fork` at --max-processes, Java's
+/// thread it could not create) or was refused memory (Python's `MemoryError`, its own exit, no signal): each crash names
 /// the limit that may have done it, the flag that sets it.
 #[test]
 fn a_crash_at_a_limit_names_the_limit() {
@@ -287,6 +287,13 @@ fn a_crash_at_a_limit_names_the_limit() {
             "for i in 1 2 3 4 5 6 7 8 9 10 11 12; do sleep 917011 & done; wait\n",
         ),
         ("lou-hoards", "exec python3 -c 'bytearray(1 << 44)'\n"),
+        // (Java's words for a thread it could not start, which name memory.)
+        (
+            "max-threads",
+            "echo 'Exception in thread \"main\" java.lang.OutOfMemoryError: unable to create \
+             native thread: possibly out of memory or process/resource limits reached' >&2\n\
+             exit 1\n",
+        ),
     ];
     for (name, run) in runs {
         std::fs::create_dir(class.join(name)).unwrap();
@@ -308,6 +315,12 @@ fn a_crash_at_a_limit_names_the_limit() {
     assert!(
         forks.contains("a program may have 4 at once, --max-processes"),
         "{forks}"
+    );
+    let threads = detail("max-threads");
+    assert!(
+        threads.contains("could not start a process or thread")
+            && !threads.contains("--max-memory"),
+        "{threads}"
     );
     let hoards = detail("lou-hoards");
     assert!(
