@@ -73,7 +73,7 @@ pub struct CheckArgs {
     #[arg(
         long,
         value_name = "SECONDS",
-        default_value_t = 60.0,
+        default_value_t = DEFAULT_TIMEOUT,
         conflicts_with = "answers",
         allow_negative_numbers = true
     )]
@@ -175,6 +175,9 @@ pub(super) fn check_answers(args: &CheckArgs) -> Result<bool> {
         Precision::F64 => check_in::<f64>(args, exact_generic::<f64>),
     }
 }
+
+/// A run's --timeout where none is given, seconds.
+pub(super) const DEFAULT_TIMEOUT: f64 = 60.0;
 
 /// A --timeout a run can use: more than 0 and at most 1e6 seconds.
 pub(super) fn check_timeout(timeout: f64) -> Result<()> {
@@ -555,7 +558,8 @@ impl SuiteRun<'_> {
     /// what a student runs again while mending it.
     fn alone(&self, dir: &Path, name: &str) -> String {
         let suite = dir.display().to_string();
-        family_command(&suite, name, self.template, self.precision, self.tolerance)
+        let graded = (self.precision, self.tolerance, self.timeout_s);
+        family_command(&suite, name, self.template, graded)
     }
 }
 
@@ -566,8 +570,7 @@ pub(super) fn family_command(
     suite: &str,
     family: &str,
     template: &str,
-    precision: &str,
-    tolerance: f64,
+    (precision, tolerance, timeout): (&str, f64, f64),
 ) -> String {
     let quote = raylab::view::shell_quote;
     let mut command = format!(
@@ -581,6 +584,9 @@ pub(super) fn family_command(
     }
     if tolerance != raylab::check::grade::DEFAULT_T_TOLERANCE {
         command += &format!(" --t-tolerance {tolerance}");
+    }
+    if timeout != DEFAULT_TIMEOUT {
+        command += &format!(" --timeout {timeout}");
     }
     command
 }

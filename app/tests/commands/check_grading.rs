@@ -619,9 +619,11 @@ fn a_program_that_fails_is_never_a_pass() {
         2,
         "{out}"
     );
-    // Under each, the command that checks that family alone, as this run did.
+    // Under each, the command that checks that family alone, as this run did (its timeout
+    // too: a family that outlived 2 s would pass the default 60 s).
     let alone = format!(
-        "    this family alone: raylab check --suite {} --family 02-cube-from-outside --program {}",
+        "    this family alone: raylab check --suite {} --family 02-cube-from-outside --program {} \
+         --timeout 2",
         raylab::view::shell_quote(suite_dir.to_str().unwrap()),
         raylab::view::shell_quote(&program)
     );

@@ -61,6 +61,8 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         feedback.to_str().unwrap(),
         "--t-tolerance",
         "1e-5",
+        "--timeout",
+        "30",
     ];
     let o = grade_class(&class, &suite, &more);
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
@@ -71,9 +73,9 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         ada.starts_with("raylab grade: ada\n2 of 2 families passed\n"),
         "{ada}"
     );
-    // The command that runs a family again as graded: the program and tolerance.
+    // The command that runs a family again as graded: the program, tolerance and timeout.
     let again = "  raylab check --suite SUITE --family NAME --program 'sh run.sh {scene} {rays}' \
-                 --t-tolerance 0.00001\n";
+                 --t-tolerance 0.00001 --timeout 30\n";
     assert!(ada.contains(again), "{ada}");
     assert_eq!(ada.matches(": ok (").count(), 2, "{ada}");
     let bob = read("bob-crashes.txt");
