@@ -283,3 +283,47 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
         .collect();
     assert!(left.is_empty(), "left beside the outputs: {left:?}");
 }
+
+/// A run past two seconds goes to the lowest priority (nice 19), all its processes: a hang
+/// takes little of the CPU from the programs graded beside it till its --timeout, so their
+/// grades do not hang on it. (A busy hang beside a correct JVM program ran its budget out.)
+#[test]
+fn a_long_run_is_lowered_to_the_least_priority() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = one_ray(dir.path());
+    let d = dir.path().display();
+    let nice = |name: &str| format!("awk '{{print $19}}' /proc/$$/stat > '{d}/{name}'");
+    let program = format!(
+        "{}; sleep 2.6; {}; echo hit 1 0 # {{scene}} {{rays}}",
+        nice("before"),
+        nice("after")
+    );
+    let o = raylab(&[
+        "check",
+        "--scene",
+        &scene,
+        "--rays",
+        &rays,
+        "--program",
+        &program,
+        "--timeout",
+        "20",
+    ]);
+    let out = common::binary::stdout(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    let read = |name: &str| -> i32 {
+        let text = std::fs::read_to_string(dir.path().join(name)).unwrap();
+        text.trim().parse().unwrap()
+    };
+    let (before, after) = (read("before"), read("after"));
+    println!("nice {before} at the start, {after} after 2.6 s");
+    assert_eq!(after, 19, "nice {before} at the start");
+    if before == 19 {
+        println!("(the tests run at nice 19 already: only the end is checked)");
+    }
+}

@@ -458,6 +458,7 @@ fn own() -> Proc {
 /// A program running: its shell and every process, group and session seen below it.
 struct Live {
     id: u64,
+    since: Instant,
     shell: i32,
     run_as: Option<u32>,
     pids: HashSet<(i32, u64)>,
@@ -514,6 +515,7 @@ impl Registry {
         let start = read_proc(shell, false).map_or(0, |p| p.start);
         self.runs.push(Live {
             id: self.next,
+            since: Instant::now(),
             shell,
             run_as,
             pids: HashSet::from([(shell, start)]),
@@ -647,11 +649,15 @@ fn ancestors<'a>(
 /// A program with more processes than this at once runs at the lowest priority.
 const CROWD: usize = 8;
 
+/// A run longer than this runs at the lowest priority.
+const LONG_RUN: Duration = Duration::from_secs(2);
+
 /// Reads /proc and remembers the programs' processes; kills the strays (adopted while several
 /// programs run and not yet seen: nobody waits for them); and a program with more than
-/// [`CROWD`] processes goes to nice 19, all of them, and what they start after, so a fork
-/// bomb, even capped, takes about one process's share of the CPU from the programs graded
-/// beside it, not 64.
+/// [`CROWD`] processes, or running past [`LONG_RUN`], goes to nice 19, all of its processes,
+/// and what they start after: a fork bomb, even capped, takes about one process's share of the
+/// CPU from the programs graded beside it, not 64, and a hang, till its --timeout, little of
+/// a neighbour's (a correct program's grade does not hang on who it is graded beside).
 fn track() {
     let procs = scan(registry().with_uids());
     let mut registry = registry();
@@ -663,10 +669,14 @@ fn track() {
             counts[*k] += 1;
         }
     }
+    let long: Vec<bool> = (registry.runs.iter())
+        .map(|r| r.since.elapsed() > LONG_RUN)
+        .collect();
     for (p, owner) in &owners {
         if let (Owner::Run(k), false) = (owner, p.zombie) {
             // (`None` would be raylab.)
-            if let Some(pid) = Pid::from_raw(p.pid).filter(|_| counts[*k] > CROWD) {
+            let lowered = counts[*k] > CROWD || long[*k];
+            if let Some(pid) = Pid::from_raw(p.pid).filter(|_| lowered) {
                 let _ = rustix::process::setpriority_process(Some(pid), 19);
             }
         }
