@@ -65,18 +65,26 @@ fn reproducer<T: Real>(
             j.graded.relative,
             match (
                 short_print(&j.exact, &answers[i].1),
-                other_root(exact, i, &j.exact, &answers[i].1)
+                other_root(exact, i, &j.exact, &answers[i].1),
+                times_length(exact, i, &j.exact, &answers[i].1),
             ) {
-                (Some(digits), _) => format!(
+                (Some(digits), _, _) => format!(
                     "; t is the exact one to {digits} significant digits: print {0} (%.{0}g)",
                     round_trip_digits::<T>()
                 ),
-                (None, Some(_)) => {
+                (None, Some(_), _) => {
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins"
                         .to_string()
                 }
-                (None, None) => String::new(),
+                (None, None, Some(length)) => format!(
+                    "; t is the exact one times |d| = {}: t is in units of d, not normalised",
+                    match (1e-3..1e6).contains(&length) {
+                        true => format!("{length:.6}"),
+                        false => format!("{length:.3e}"),
+                    }
+                ),
+                (None, None, None) => String::new(),
             }
         ),
         v => match answers[i].1 {
@@ -141,6 +149,24 @@ fn other_root<T: Real>(
         false => roots[0],
     };
     (near(t.f64(), other) && !near(t.f64(), exact_t)).then_some(other)
+}
+
+/// Where the given t is, to 10⁻⁶ relative, the exact t times |d| (the ray's direction
+/// normalised, its t in units of length) and |d| is not 1: |d|. A hint beside the t failure.
+fn times_length<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    standing: &Answer<T>,
+    given: &Answer<T>,
+) -> Option<f64> {
+    let (Answer::Hit { t: te, .. }, Answer::Hit { t, .. }) = (standing, given) else {
+        return None;
+    };
+    let d = exact.rays[i].1.ray.d.map(|c| c.f64());
+    let length = d.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let (want, got) = (te.f64() * length, t.f64());
+    let near = (want - got).abs() <= 1e-6 * want.abs().max(got.abs());
+    ((length - 1.0).abs() > 1e-6 && near && got.is_finite()).then_some(length)
 }
 
 /// The significant digits that print every value of `T` so that it reads back the same: 9

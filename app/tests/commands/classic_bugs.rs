@@ -193,6 +193,17 @@ fn normalised_t_is_caught_by_directions_not_of_unit_length() {
         0,
         "{out}"
     );
+    // And each t failure shown says why: t times |d|.
+    let shown: Vec<&str> = (out.lines())
+        .filter(|l| l.contains("[t failure: "))
+        .collect();
+    assert!(
+        !shown.is_empty()
+            && shown
+                .iter()
+                .all(|l| l.contains("t is in units of d, not normalised")),
+        "{out}"
+    );
 }
 
 /// tmax `inf` read as 10⁸: the hits that short directions put beyond it are missed.
