@@ -444,15 +444,20 @@ pub(super) fn stalled(
 }
 
 /// `why` a run's output is not its answers, with a hint where it printed nothing on standard
-/// output but wrote to standard error: the answers went to the wrong one.
+/// output but wrote to standard error: the answers went to the wrong one, or it failed in
+/// words of its own there (a shell's `fork: Resource temporarily unavailable`), the last of
+/// which are quoted.
 pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
-    match ran.stdout.trim().is_empty() && !ran.stderr_tail.is_empty() {
-        true => format!(
-            "{why} (it printed nothing on standard output, where the answers go, and wrote to \
-             standard error, which is not read)"
-        ),
-        false => why,
+    if !ran.stdout.trim().is_empty() || ran.stderr_tail.is_empty() {
+        return why;
     }
+    let lines: Vec<&str> = ran.stderr_tail.lines().collect();
+    let last = lines[lines.len().saturating_sub(3)..].join(" | ");
+    let last: String = last.chars().take(300).collect();
+    format!(
+        "{why} (it printed nothing on standard output, where the answers go, and wrote to \
+         standard error, which is not read; its last words: {last})"
+    )
 }
 
 /// Prints what was written so far, the program's failure and the failed run's last line.

@@ -556,6 +556,11 @@ fn a_program_that_fails_is_never_a_pass() {
             format!("{trace} >&2"),
             "(it printed nothing on standard output, where the answers go, and wrote to standard error",
         ),
+        // (A fork bomb that put itself in the background: its shell's words are quoted.)
+        (
+            "echo 'sh: fork: Resource temporarily unavailable' >&2 # {scene} {rays}".to_string(),
+            "which is not read; its last words: sh: fork: Resource temporarily unavailable)",
+        ),
         ("yes miss # {scene} {rays}".to_string(), "printed more than"),
         (
             "printf 'miss\\n\\377\\n' # {scene} {rays}".to_string(),
