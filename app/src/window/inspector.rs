@@ -59,10 +59,12 @@ pub fn panel(
         egui::Window::new("Ray inspector")
             .collapsible(true)
             .resizable(false)
-            // (Below the menu bar, which it would hide.)
+            // (Below the menu bar, which it would hide, and kept there: in a short window its
+            // first, unscrolled height had it moved up over the menu bar to fit the screen.)
             .default_pos(screen.left_top() + egui::vec2(margin, 4.0 * margin))
+            .constrain_to(screen.with_min_y(screen.min.y + 4.0 * margin))
             .default_width(width.min(screen.width() - 2.0 * margin))
-            .max_height(screen.height() - 2.0 * margin)
+            .max_height(screen.height() - 9.0 * margin)
             .show(ui.ctx(), contents);
         return Placement::Over;
     }

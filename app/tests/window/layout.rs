@@ -209,14 +209,15 @@ fn real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel() {
     // In a 400x300 window the side panel (300 points) leaves 100 beside it: the inspector's
     // panel there was 50 points wide, its rows cut off. It floats now, 330 points wide, over
     // the side panel: a click on the image beside it inspects another pixel. Folded by the
-    // arrow of its title bar (at (25, 17)), it leaves the part of the image it covered to a
-    // click (x 320: a click there reached the inspector's rows).
+    // arrow of its title bar (at (25, 49): below the menu bar, which it covered, moved up to
+    // fit the short window), it leaves the part of the image it covered to a click (x 320: a
+    // click there reached the inspector's rows).
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool windowsize --sync $win 400 300; \
                   sleep 1; xdotool mousemove --sync 350 150; sleep 0.3; xdotool click 1; \
                   sleep 1; xdotool mousemove --sync 380 200; sleep 0.3; xdotool click 1; \
-                  sleep 1; xdotool mousemove --sync 25 17 click 1; sleep 0.5; \
+                  sleep 1; xdotool mousemove --sync 25 49 click 1; sleep 0.5; \
                   xdotool mousemove --sync 320 200 click 1; sleep 1";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
