@@ -571,3 +571,30 @@ fn an_echoed_t_far_from_1_has_an_exponent() {
         assert_eq!(back, t, "{text}");
     }
 }
+
+#[test]
+fn an_exact_t_of_zero_rounds_to_plus_zero_and_a_tiny_negative_one_to_minus_zero() {
+    // A ray from a point of the triangle's plane (tmin < 0): the exact t is 0, whose rounding
+    // is +0 (it was −0 in f32: both ends of the f64 bound rounded to a zero, the lower to
+    // −0); from 10⁻³⁰ past the plane, t = −10⁻³⁰ rounds to itself in f32, its sign kept.
+    let tri = Shape::Triangle(Triangle([
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]));
+    let at = |z: f32| {
+        let ray = Ray::new([0.25, 0.25, z], [0.0, 0.0, 1.0]);
+        adaptive::rounded_t(&tri, &ray, -1.0f32, 1.0).expect("a hit")
+    };
+    let zero = at(0.0);
+    assert!(zero == 0.0 && zero.is_sign_positive(), "{zero:?}");
+    assert_eq!(at(1e-30), -1e-30f32);
+    let tri64 = Shape::Triangle(Triangle([
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]));
+    let ray = Ray::new([0.25, 0.25, 0.0f64], [0.0, 0.0, 1.0]);
+    let zero = adaptive::rounded_t(&tri64, &ray, -1.0f64, 1.0).expect("a hit");
+    assert!(zero == 0.0 && zero.is_sign_positive(), "{zero:?}");
+}

@@ -18,9 +18,12 @@ use crate::math::Real;
 pub fn rounded_t<T: Real>(shape: &Shape<T>, ray: &Ray<T>, tmin: T, tmax: T) -> Option<T> {
     let (o, d) = (ray.o.map(Real::f64), ray.d.map(Real::f64));
     let (tmin, tmax) = (tmin.f64(), tmax.f64());
+    // (Both ends rounding to a zero decide nothing where they lie either side of 0: the exact
+    // t 0 rounds to +0, a tiny negative one to −0, and −0 == +0. An f32 t of 0 printed −0.)
     let decides = |lo: f64, hi: f64| {
         let r = T::of(lo);
-        (lo > tmin && hi < tmax && r == T::of(hi)).then_some(r)
+        let one_sign = (lo < 0.0) == (hi < 0.0);
+        (lo > tmin && hi < tmax && r == T::of(hi) && one_sign).then_some(r)
     };
     let wide = widen(shape);
     if let Some((lo, hi)) = wide.t_in_f64(o, d, tmin, tmax) {
