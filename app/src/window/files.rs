@@ -64,12 +64,15 @@ impl FileMenu {
             Purpose::SaveImage => ("Save the image (PNG, full quality)", "raylab.png"),
             Purpose::SaveView => ("Save the view (raylab render --view)", "raylab.view"),
         };
-        let mut dialog = FileDialog::new().title(title).default_file_name(name);
-        if purpose == Purpose::Open {
-            dialog = dialog
-                .add_file_filter_extensions("scenes and models", vec!["scene", "obj", "view"])
-                .default_file_filter("scenes and models");
-        }
+        // (Each lists the files of its kind: the view's save listed the images.)
+        let (filter, extensions) = match purpose {
+            Purpose::Open => ("scenes and models", vec!["scene", "obj", "view"]),
+            Purpose::SaveImage => ("PNG images", vec!["png"]),
+            Purpose::SaveView => ("views", vec!["view"]),
+        };
+        let dialog = (FileDialog::new().title(title).default_file_name(name))
+            .add_file_filter_extensions(filter, extensions)
+            .default_file_filter(filter);
         let folder = (self.last_folder.clone().filter(|f| f.is_dir()))
             .or_else(|| std::env::current_dir().ok());
         self.dialog = match folder {
