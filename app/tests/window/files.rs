@@ -155,18 +155,8 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
         return;
     };
-    let find = |prefix: &str, ext: &str| {
-        std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .find(|p| {
-                let name = p.file_name().unwrap().to_string_lossy().into_owned();
-                name.starts_with(prefix) && name.ends_with(ext)
-            })
-            .unwrap_or_else(|| panic!("no {prefix}*{ext} in the run's directory\n{}", run.stderr))
-    };
-    let view = find("raylab-view-", ".view");
-    let shot = find("raylab-1", ".png");
+    let view = saved_as(dir.path(), "raylab-view-", &run.stderr);
+    let shot = saved_as(dir.path(), "raylab-1", &run.stderr);
     assert!(run.stderr.contains("saved view"), "{}", run.stderr);
     let text = std::fs::read_to_string(&view).unwrap();
     assert!(
@@ -180,17 +170,31 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
     );
     assert_eq!(run.fields["method"], "moller", "{}", run.stderr);
     assert_eq!(run.fields["cracks"], "on", "{}", run.stderr);
-    let out = dir.path().join("headless.png");
-    let o = Command::new(env!("CARGO_BIN_EXE_raylab"))
+    assert_view_renders_as(&view, &shot);
+}
+
+/// The file the run saved in `dir` whose name starts with `prefix` (F12's `raylab-1…png`,
+/// F5's `raylab-view-…`).
+pub(super) fn saved_as(dir: &Path, prefix: &str, log: &str) -> std::path::PathBuf {
+    (std::fs::read_dir(dir).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.file_name().unwrap().to_string_lossy().starts_with(prefix))
+        .unwrap_or_else(|| panic!("no {prefix}* in the run's directory\n{log}"))
+}
+
+/// `raylab render --view VIEW` is the image `shot` but for at most 0.1% of its pixels (yaw
+/// and the field of view pass through degrees: an ulp of camera may move a pixel).
+pub(super) fn assert_view_renders_as(view: &Path, shot: &Path) {
+    let out = shot.with_file_name("headless.png");
+    let o = Command::new(RAYLAB)
         .args(["render", "--view"])
-        .arg(&view)
+        .arg(view)
         .arg("-o")
         .arg(&out)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (off, n) = pixels_off(&read_png(&shot), &read_png(&out));
-    // (Yaw and the field of view pass through degrees: an ulp of camera may move a pixel.)
+    let (off, n) = pixels_off(&read_png(shot), &read_png(&out));
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
 
@@ -591,27 +595,8 @@ fn a_view_without_a_camera_shows_its_scene_from_where_it_starts() {
         run.stderr
     );
     assert_eq!((run.nums("yaw")[0], run.nums("pitch")[0]), (0.0, 0.0));
-    let shot = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| {
-            p.file_name()
-                .unwrap()
-                .to_string_lossy()
-                .starts_with("raylab-1")
-        })
-        .unwrap_or_else(|| panic!("F12 saved no image\n{}", run.stderr));
-    let out = dir.path().join("headless.png");
-    let o = Command::new(RAYLAB)
-        .args(["render", "--view"])
-        .arg(&view)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (off, n) = pixels_off(&read_png(&shot), &read_png(&out));
-    assert!(off * 1000 <= n, "{off} of {n} pixels differ");
+    let shot = saved_as(dir.path(), "raylab-1", &run.stderr);
+    assert_view_renders_as(&view, &shot);
 }
 
 fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
