@@ -284,11 +284,11 @@ fn sigterm_stops_the_program_and_removes_its_directory() {
     assert!(left.is_empty(), "left beside the outputs: {left:?}");
 }
 
-/// A run past two seconds goes to the lowest priority (nice 19), all its processes: a hang
-/// takes little of the CPU from the programs graded beside it till its --timeout, so their
-/// grades do not hang on it. (A busy hang beside a correct JVM program ran its budget out.)
+/// A run past two seconds goes to a low priority (nice 10), all its processes: a hang takes
+/// little of the CPU from the programs graded beside it till its --timeout, so their grades
+/// do not hang on it. (A busy hang beside a correct JVM program ran its budget out.)
 #[test]
-fn a_long_run_is_lowered_to_the_least_priority() {
+fn a_long_run_is_lowered_to_a_low_priority() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, rays) = one_ray(dir.path());
     let d = dir.path().display();
@@ -322,8 +322,9 @@ fn a_long_run_is_lowered_to_the_least_priority() {
     };
     let (before, after) = (read("before"), read("after"));
     println!("nice {before} at the start, {after} after 2.6 s");
-    assert_eq!(after, 19, "nice {before} at the start");
-    if before == 19 {
-        println!("(the tests run at nice 19 already: only the end is checked)");
+    if before > 10 {
+        println!("(the tests run at nice {before} already, past the long run's)");
+        return;
     }
+    assert_eq!(after, 10, "nice {before} at the start");
 }

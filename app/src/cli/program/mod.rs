@@ -649,15 +649,21 @@ fn ancestors<'a>(
 /// A program with more processes than this at once runs at the lowest priority.
 const CROWD: usize = 8;
 
-/// A run longer than this runs at the lowest priority.
+/// A run longer than this runs at [`LONG_RUN_NICE`].
 const LONG_RUN: Duration = Duration::from_secs(2);
+
+/// The priority of a long run: about a tenth of a core's share against a run at the usual
+/// priority (nice 19, a seventieth, could starve a correct slow program on a teacher's busy
+/// machine past its --timeout).
+const LONG_RUN_NICE: i32 = 10;
 
 /// Reads /proc and remembers the programs' processes; kills the strays (adopted while several
 /// programs run and not yet seen: nobody waits for them); and a program with more than
-/// [`CROWD`] processes, or running past [`LONG_RUN`], goes to nice 19, all of its processes,
-/// and what they start after: a fork bomb, even capped, takes about one process's share of the
-/// CPU from the programs graded beside it, not 64, and a hang, till its --timeout, little of
-/// a neighbour's (a correct program's grade does not hang on who it is graded beside).
+/// [`CROWD`] processes goes to nice 19, a run past [`LONG_RUN`] to [`LONG_RUN_NICE`], all of
+/// its processes and what they start after: a fork bomb, even capped, takes about one
+/// process's share of the CPU from the programs graded beside it, not 64, and a hang, till its
+/// --timeout, little of a neighbour's (a correct program's grade does not hang on who it is
+/// graded beside).
 fn track() {
     let procs = scan(registry().with_uids());
     let mut registry = registry();
@@ -674,10 +680,14 @@ fn track() {
         .collect();
     for (p, owner) in &owners {
         if let (Owner::Run(k), false) = (owner, p.zombie) {
+            let nice = match (counts[*k] > CROWD, long[*k]) {
+                (true, _) => 19,
+                (false, true) => LONG_RUN_NICE,
+                (false, false) => continue,
+            };
             // (`None` would be raylab.)
-            let lowered = counts[*k] > CROWD || long[*k];
-            if let Some(pid) = Pid::from_raw(p.pid).filter(|_| lowered) {
-                let _ = rustix::process::setpriority_process(Some(pid), 19);
+            if let Some(pid) = Pid::from_raw(p.pid) {
+                let _ = rustix::process::setpriority_process(Some(pid), nice);
             }
         }
     }
