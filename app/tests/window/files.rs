@@ -680,14 +680,14 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
     // such file or directory").
     // The second click is where the pointer already is: `mousemove --sync` to it would wait
     // for a move that never comes (some 15 s, till xdotool gives up).
-    // (Alone, each click 0.8 s before its keys: a click that gives the field the keyboard and
-    // keys taken with it in one late batch would go to the window: P hides the panel.)
+    // (Each click 0.8 s before its keys: a click that gives the field the keyboard and keys
+    // taken with it in one late batch would go to the window: P hides the panel.)
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
                   sleep 0.8; xdotool key ctrl+a BackSpace Return; logged 'field is empty'; \
                   xdotool click 1; \
                   sleep 0.8; xdotool type pyramid.obj; sleep 0.3; xdotool key Return; \
                   logged 'loaded pyramid.obj'";
-    let around = Around::RealInputAlone(driver);
+    let around = Around::RealInput(driver);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
     };

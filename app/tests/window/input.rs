@@ -594,7 +594,7 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     // panel's path field and the File menu at the default window on the 1280x800 screen.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    // (Alone, and a click 0.8 s before its keys: see the typed positions' test.)
+    // (A click 0.8 s before its keys: see the typed positions' test.)
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 150 631; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool type --delay 50 abc; sleep 0.3; xdotool key Escape; sleep 0.5; \
@@ -604,7 +604,7 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
                   xdotool click 1; sleep 0.8; xdotool mousemove --sync 78 36; sleep 0.3; \
                   xdotool click 1; sleep 1.5; xdotool mousemove --sync 900 650; sleep 0.3; \
                   xdotool key Escape; sleep 0.8; xdotool key Escape";
-    let around = Around::RealInputAlone(driver);
+    let around = Around::RealInput(driver);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
     };

@@ -66,7 +66,7 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
     let press = |x: u32, y: u32| format!("xdotool mousemove {x} {y}; sleep 0.3");
     let typed = |(x, y): (u32, u32), text: &str| {
         format!(
-            "{}; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
+            "{}; xdotool click 1; sleep 0.8; xdotool key ctrl+a; \
              xdotool type --delay 50 {text}; xdotool key Return; sleep 0.3",
             press(x, y)
         )
@@ -97,9 +97,7 @@ fn real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length
         copy(4),
     ]
     .join("; ");
-    // (Alone: a click that gives a field the keyboard and the keys typed after it, taken in
-    // one late batch, would go to the camera.)
-    let around = Around::RealInputAlone(&driver);
+    let around = Around::RealInput(&driver);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
     };

@@ -303,8 +303,8 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
              xdotool type -- '{text}'; xdotool key Return; sleep 0.3; "
         )
     };
-    // (Alone, each click 0.8 s before its keys: a click that gives a field the keyboard and
-    // keys taken with it in one late batch would go to the camera.)
+    // (Each click 0.8 s before its keys: a click that gives a field the keyboard and keys
+    // taken with it in one late batch would go to the camera.)
     let driver = format!(
         "xdotool windowfocus --sync $win; {}{}{}xdotool mousemove --sync 161 601 click 1; \
          sleep 0.8; xdotool key ctrl+a; xdotool type 9; xdotool key Escape; sleep 0.3; \
@@ -317,7 +317,7 @@ fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
         typed(65, 601, "-1e30"),
         typed(241, 225, "nan"),
     );
-    let Some(run) = run_window(script, dir.path(), Around::RealInputAlone(&driver)) else {
+    let Some(run) = run_window(script, dir.path(), Around::RealInput(&driver)) else {
         return;
     };
     let pos = run.nums("camera");
