@@ -542,4 +542,10 @@ fn a_file_not_named_obj_that_fails_as_one_says_how_it_was_read() {
         e.contains("bad.obj:1: ") && !e.contains("read as an OBJ"),
         "{e}"
     );
+    // A view named as a mesh: it is opened on its own, and names its scene itself.
+    std::fs::write(dir.path().join("v.view"), "scene cornell\nsize 64 48\n").unwrap();
+    let scene = dir.path().join("s.scene");
+    std::fs::write(&scene, "mesh v.view\n").unwrap();
+    let e = Scene::load(&scene, raylab::scene::ObjFrame::YUp).unwrap_err();
+    assert!(e.contains("a .view is opened on its own"), "{e}");
 }

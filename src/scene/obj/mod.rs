@@ -138,9 +138,16 @@ pub enum ObjError {
 /// `.scene` is read as an OBJ (README.md opened by mistake failed on its line 122 with
 /// "vertex takes 3 numbers", not saying why its words were vertices).
 pub(super) fn read_as_obj_hint(name: &str) -> &'static str {
-    match name.to_ascii_lowercase().ends_with(".obj") {
-        true => "",
-        false => " (read as an OBJ file: a scene file's name ends in .scene)",
+    let name = name.to_ascii_lowercase();
+    match (name.ends_with(".obj"), name.ends_with(".view")) {
+        (true, _) => "",
+        // (A view names a scene; a `mesh` line or a view's `scene` naming one read it as
+        // a model.)
+        (false, true) => {
+            " (read as an OBJ file: a .view is opened on its own, by `raylab FILE.view` or \
+             `render --view`, and names a .scene or .obj itself)"
+        }
+        (false, false) => " (read as an OBJ file: a scene file's name ends in .scene)",
     }
 }
 
