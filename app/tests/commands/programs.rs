@@ -21,13 +21,25 @@ fn one_ray(dir: &Path) -> (String, String) {
     (scene, rays)
 }
 
-/// `raylab check` of `program` on the one-ray files (with extra `env`): its output and the
-/// exit code, once it has ended within 20 s (not a daemon's time, nor the runner's 60 s).
+/// `raylab check` of `program` on the one-ray files (with extra `env`) at `--timeout 2`: its
+/// output and the exit code, once it has ended within 20 s (not a daemon's time, nor the
+/// runner's 60 s).
 fn check_program(
     scene: &str,
     rays: &str,
     program: &str,
     env: &[(&str, &str)],
+) -> (String, Option<i32>) {
+    check_program_within(scene, rays, program, env, "2")
+}
+
+/// [`check_program`] at `--timeout TIMEOUT`.
+fn check_program_within(
+    scene: &str,
+    rays: &str,
+    program: &str,
+    env: &[(&str, &str)],
+    timeout: &str,
 ) -> (String, Option<i32>) {
     let args = [
         "check",
@@ -37,9 +49,11 @@ fn check_program(
         rays,
         "--program",
         program,
+        "--timeout",
+        timeout,
     ];
     let start = Instant::now();
-    let o: Output = raylab_env(&[&args[..], &["--timeout", "2"]].concat(), env);
+    let o: Output = raylab_env(&args, env);
     let took = start.elapsed();
     assert!(took < Duration::from_secs(20), "took {took:?}");
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
@@ -298,24 +312,8 @@ fn a_long_run_is_lowered_to_a_low_priority() {
         nice("before"),
         nice("after")
     );
-    let o = raylab(&[
-        "check",
-        "--scene",
-        &scene,
-        "--rays",
-        &rays,
-        "--program",
-        &program,
-        "--timeout",
-        "20",
-    ]);
-    let out = common::binary::stdout(&o);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{out}{}",
-        common::binary::stderr(&o)
-    );
+    let (out, code) = check_program_within(&scene, &rays, &program, &[], "20");
+    assert_eq!(code, Some(0), "{out}");
     let read = |name: &str| -> i32 {
         let text = std::fs::read_to_string(dir.path().join(name)).unwrap();
         text.trim().parse().unwrap()
