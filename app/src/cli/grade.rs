@@ -539,51 +539,53 @@ fn grade_one(
     records
 }
 
-/// Why a run crashed, with a word on the memory limit where it died of a signal (SIGSEGV,
-/// SIGBUS, SIGABRT, SIGKILL; or its shell's 128 + that): a program refused memory past
-/// `--max-memory` dies so, where at home it ran ("exit status 139" said nothing of the limit).
+/// Why a run crashed, with a word on the limit that may have done it, each where that limit
+/// is set: `--max-processes` where it says it could not start a process or thread;
+/// `--max-memory` where it says memory ran out, or died of a signal (SIGSEGV, SIGBUS,
+/// SIGABRT, SIGKILL; or its shell's 128 + that), as a program refused memory dies where at
+/// home it ran ("exit status 139" said nothing of the limit).
 fn limit_hint(e: &RunError, limits: &Limits) -> String {
     use std::os::unix::process::ExitStatusExt;
     let said = e.to_string();
-    let (RunError::Failed { status, stderr }, Some(limit)) = (e, limits.max_memory_bytes) else {
+    let RunError::Failed { status, stderr } = e else {
         return said;
     };
-    let memory = format!(
-        "{said} (a crash like this may be the memory limit: each process may write {} MiB of \
-         data, --max-memory)",
-        limit >> 20
-    );
     // What a run out of processes or memory says, by the words of common shells, Python, C,
     // C++, Java and Node (it ended with an error of its own, not a signal). (Java names a
-    // thread it could not start an OutOfMemoryError.)
+    // thread it could not start an OutOfMemoryError: the processes' words come first.)
     let said_of = |words: &[&str]| words.iter().any(|w| stderr.contains(w));
-    if said_of(&[
+    let no_process = said_of(&[
         "fork",
         "can't start new thread",
         "Resource temporarily unavailable",
         "unable to create native thread",
         "pthread_create",
         "EAGAIN",
-    ]) {
-        let most = limits.max_processes.unwrap_or_default();
+    ]);
+    if let Some(most) = limits.max_processes.filter(|_| no_process) {
         return format!(
             "{said} (it could not start a process or thread: a program may have {most} at \
              once, --max-processes)"
         );
     }
-    if said_of(&[
+    let no_memory = said_of(&[
         "MemoryError",
         "Cannot allocate memory",
         "bad_alloc",
         "out of memory",
-    ]) {
-        return memory;
-    }
+    ]);
     let signal = status
         .signal()
         .or(status.code().filter(|c| *c > 128).map(|c| c - 128));
-    match signal {
-        Some(6 | 7 | 9 | 11) => memory,
+    match (
+        limits.max_memory_bytes,
+        no_memory || matches!(signal, Some(6 | 7 | 9 | 11)),
+    ) {
+        (Some(limit), true) => format!(
+            "{said} (a crash like this may be the memory limit: each process may write {} MiB \
+             of data, --max-memory)",
+            limit >> 20
+        ),
         _ => said,
     }
 }
