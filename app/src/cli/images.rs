@@ -8,6 +8,7 @@ use raylab::camera::Camera;
 use raylab::render::settings::controls_text;
 use raylab::render::{self, RenderSettings, SettingsError, Stage};
 use raylab::scene::Scene;
+use raylab_app::window::values::clean;
 use raylab_app::window::Detail;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -242,8 +243,8 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         settings.height,
         controls_text(&settings),
         camera.position(),
-        camera.forward().x.atan2(camera.forward().z).to_degrees(),
-        (-camera.forward().y).asin().to_degrees(),
+        clean(camera.forward().x.atan2(camera.forward().z).to_degrees()),
+        clean((-camera.forward().y).asin().to_degrees()),
         camera.focal
     );
     let mut rgba = vec![0u8; settings.buffer_len()];

@@ -31,7 +31,7 @@ mod scene_tree;
 mod script;
 mod scripted;
 mod shortcuts;
-mod values;
+pub mod values;
 mod viewer;
 mod worker;
 

@@ -1,4 +1,4 @@
-//! The camera's numbers as the window shows and copies them: the short decimals a user set,
+//! The camera's numbers as the window and `bench` show them: the short decimals a user set,
 //! not what arithmetic on them left. A focal length typed as 101 is stored as a fraction of
 //! the image width (101 / 794 × 794 is 101.00000000000003), a zoom multiplies it by 1.1 per
 //! wheel line, a yaw typed as 7.3° is stored in radians (`to_degrees` gives

@@ -204,6 +204,18 @@ fn help_explains_every_flag() {
 }
 
 #[test]
+fn bench_shows_the_angles_it_was_given() {
+    let o = raylab(&[
+        "bench", "--width", "16", "--height", "16", "--frames", "1", "--yaw", "7.3", "--pitch",
+        "-12",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let view = text.lines().find(|l| l.starts_with("view: ")).expect(&text);
+    assert!(view.contains(" yaw=7.3 pitch=-12 "), "{view}");
+}
+
+#[test]
 fn bench_prints_the_machine_the_runs_and_mrays_last() {
     let o = raylab(&[
         "bench",
