@@ -233,7 +233,7 @@ pub struct ViewArgs {
     /// `cornell` for the built-in lab Cornell box, a `.scene` file (the transform-stack scene
     /// format: see the README), or the path of an OBJ file (triangulated; Kd colours from its
     /// .mtl; the camera is placed to frame the model).
-    #[arg(long, default_value = "cornell")]
+    #[arg(long, default_value = "cornell", value_parser = utf8_name())]
     pub scene: String,
     /// Image width in pixels (1..=16384; default 640, `check --image` 160).
     #[arg(
@@ -424,6 +424,20 @@ pub fn count_in<T: TryFrom<i64> + Clone + Send + Sync + 'static>(
     // (In range, so never negative: the conversion cannot fail.)
     let convert = |n: i64| T::try_from(n).ok().expect("a count in its range");
     clap::value_parser!(i64).range(range).map(convert)
+}
+
+/// A scene's name, which is kept as text (a view file and the window's field show it): a
+/// path that is not UTF-8 is refused naming its flag, where clap's own check names none.
+fn utf8_name() -> impl clap::builder::TypedValueParser<Value = String> {
+    use clap::builder::TypedValueParser;
+    clap::builder::OsStringValueParser::new().try_map(|name| {
+        name.into_string().map_err(|name| {
+            let shown = name.to_string_lossy().into_owned();
+            format!(
+                "{shown} is not UTF-8, and raylab keeps a scene's name as text: rename the file"
+            )
+        })
+    })
 }
 
 fn parse_vec3(s: &str) -> Result<DVec3, String> {

@@ -387,3 +387,21 @@ fn a_typo_a_jpg_an_os_error_and_a_bad_view_are_each_said_once_and_clearly() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("bad.view:2"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_scene_name_that_is_not_utf8_is_refused_naming_the_flag() {
+    use std::os::unix::ffi::OsStrExt;
+    let name = std::ffi::OsStr::from_bytes(b"\xff.scene");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["render", "-o", "/dev/null", "--scene"])
+        .arg(name)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(err.contains("'--scene <SCENE>'"), "{err}");
+    assert!(
+        err.contains("is not UTF-8") && err.contains("rename the file"),
+        "{err}"
+    );
+}
