@@ -128,7 +128,20 @@ impl Typing {
     }
 }
 
-/// What the status line says of a field called `name`, now holding `value`, that read `read`.
+/// A text field's Esc, as a number field's: `text` goes back to what it held when the edit
+/// began (egui's Esc only leaves the field, keeping what was typed).
+pub fn escape_restores(ui: &egui::Ui, response: &egui::Response, text: &mut String) {
+    let before_edit = response.id.with("before edit");
+    if response.gained_focus() {
+        ui.data_mut(|data| data.insert_temp(before_edit, text.clone()));
+    }
+    if response.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+        if let Some(before) = ui.data(|data| data.get_temp::<String>(before_edit)) {
+            *text = before;
+        }
+    }
+}
+
 fn message<N: Numeric + Display>(name: &str, read: Read, value: N) -> Said {
     let value = text(value);
     match read {

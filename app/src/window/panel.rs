@@ -329,6 +329,7 @@ pub fn side_panel(
                 .hint_text(".scene, .obj or .view path")
                 .desired_width(room);
             let typed = ui.add(field);
+            super::fields::escape_restores(ui, &typed, obj_path);
             // Enter in the field loads as the button does.
             let entered = typed.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             let clicked = ui

@@ -619,6 +619,12 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
         run.stdout.lines().find_map(|l| l.strip_prefix("status: ")),
         Some("press Esc again to quit")
     );
+    // The field's Esc gave it back what it held (nothing: the built-in box) before `abc`.
+    let field = run
+        .stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("path field: "));
+    assert_eq!(field, Some(""), "{log}");
 }
 
 fn real_x_input_f5_while_a_text_field_types_says_it_did_nothing() {
