@@ -241,6 +241,9 @@ impl View {
                     &|_, _, _| Err("no meshes in a view".to_string()),
                 )
                 .map_err(|e| e.message)?;
+                if let Some(e) = d.beyond_view {
+                    return Err(e.message);
+                }
                 self.camera = Some(d.camera.expect("a camera statement"));
             }
             "light" => {

@@ -719,3 +719,46 @@ fn trace_through_a_structure_says_what_it_left_out_as_copies() {
         );
     }
 }
+
+#[test]
+fn trace_answers_a_scene_whose_light_or_camera_only_a_render_refuses() {
+    // `trace` uses neither the light nor the camera: one beyond the range the renderer's f32
+    // core takes (±2⁴⁰) is refused by `render`, naming its line, and not by `trace`, on every
+    // path.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let rays = write(d, "rays.txt", "0 0 0  0.2 0.2 1  0 inf\n");
+    let triangle = "tri 0 0 1  1 0 1  0 1 1\n";
+    for (name, far, line) in [
+        ("light.scene", "light 0 0 1e13\n", 2),
+        ("camera.scene", "camera 0 0 -2e12 yaw 10\n", 2),
+    ] {
+        let scene = write(d, name, &format!("# far\n{far}{triangle}"));
+        for accel in ["reference", "bvh", "auto"] {
+            for precision in ["f32", "f64"] {
+                if accel != "reference" && precision == "f64" {
+                    continue; // (The structures run in f32 only.)
+                }
+                let o = raylab(&[
+                    "trace",
+                    "--scene",
+                    &scene,
+                    "--rays",
+                    &rays,
+                    "--accel",
+                    accel,
+                    "--precision",
+                    precision,
+                ]);
+                assert!(o.status.success(), "{name} {accel}: {}", stderr(&o));
+                assert_eq!(stdout(&o), "hit 1 0\n", "{name} {accel} {precision}");
+            }
+        }
+        let o = raylab(&["render", "--scene", &scene, "-o", "/dev/null"]);
+        assert_fails(
+            &o,
+            2,
+            &[&format!("{name}:{line}: "), "beyond ±1.099511627776e12"],
+        );
+    }
+}

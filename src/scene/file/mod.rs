@@ -101,7 +101,7 @@ pub const UNSET_COLOR: [f32; 3] = [-1.0; 3];
 pub const DEFAULT_POWER: f32 = 14.0;
 
 /// A parse error with its place.
-#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[derive(Clone, Debug, thiserror::Error, PartialEq, Eq)]
 #[error("{file}:{line}: {message}")]
 pub struct FileError {
     /// The file name as given.
@@ -170,6 +170,10 @@ pub struct Description<T: Real> {
     pub light: Option<PointLight>,
     pub ambient: Option<[f32; 3]>,
     pub camera: Option<SceneCamera>,
+    /// The first `light` or `camera` beyond ±[`MAX_VIEW_COORDINATE`], the range the f32 core
+    /// renders: refused where the scene is rendered ([`Scene::from_description`]), not by
+    /// `trace`, which uses neither.
+    pub beyond_view: Option<FileError>,
     /// Whether `cornell` was used (the lab's light and camera are then the defaults).
     pub has_cornell: bool,
     pub warnings: Vec<String>,
@@ -229,6 +233,9 @@ impl Scene {
     /// Its primitives and light are checked to be within range, an error naming the line
     /// ([`Scene::check_ranges_at`]).
     pub fn from_description(name: &str, d: Description<f32>) -> Result<Scene, String> {
+        if let Some(e) = d.beyond_view {
+            return Err(e.to_string());
+        }
         let mut scene = Scene::new(
             name,
             d.shapes,

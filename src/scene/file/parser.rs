@@ -138,6 +138,7 @@ pub fn parse_with<T: Real>(
             light: None,
             ambient: None,
             camera: None,
+            beyond_view: None,
             has_cornell: false,
             warnings: Vec::new(),
             lines: Vec::new(),
@@ -422,6 +423,19 @@ impl<T: Real> Parser<'_, T> {
         }
     }
 
+    /// Keeps the first light or camera out of the rendered range, `in_view`'s error, with its
+    /// line ([`Description::beyond_view`]).
+    fn beyond_view(&mut self, in_view: Result<(), String>) {
+        if let (Err(message), None) = (in_view, &self.out.beyond_view) {
+            let (file, line) = (self.file.to_string(), self.line);
+            self.out.beyond_view = Some(FileError {
+                file,
+                line,
+                message,
+            });
+        }
+    }
+
     fn transform(&mut self, line: usize, rank: u8, what: &str) {
         let names = ["translate", "rotate", "scale"];
         if let Some((last, last_line)) = self.current.last_rank {
@@ -623,7 +637,9 @@ impl<T: Real> Parser<'_, T> {
                 let [p] = f32_channels("light power", [p])?;
                 let position = self.transformed([x[0], x[1], x[2]]);
                 let position = position.map(|w| w.map(|c| c.f64() as f32))?;
-                crate::math::check_range("light position", position, MAX_VIEW_COORDINATE)?;
+                let in_view =
+                    crate::math::check_range("light position", position, MAX_VIEW_COORDINATE);
+                self.beyond_view(in_view);
                 self.out.light = Some(PointLight {
                     position,
                     power: [p; 3],
@@ -643,11 +659,10 @@ impl<T: Real> Parser<'_, T> {
                 }
                 self.once("camera")?;
                 let p = numbers(&args[..3], &[3], "camera")?;
-                crate::math::check_range(
-                    "camera position",
-                    [p[0], p[1], p[2]],
-                    MAX_VIEW_COORDINATE,
-                )?;
+                let position = [p[0], p[1], p[2]];
+                let in_view =
+                    crate::math::check_range("camera position", position, MAX_VIEW_COORDINATE);
+                self.beyond_view(in_view);
                 let mut camera = SceneCamera {
                     position: [p[0], p[1], p[2]],
                     yaw: 0.0,
