@@ -751,6 +751,42 @@ fn real_x_input_the_status_follows_the_inspector_check_box() {
     assert_eq!(status, Some("ray inspector off"), "{log}");
 }
 
+fn an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it() {
+    // The camera that frames a model does not depend on the inspector's panel: opened while
+    // the panel cropped the image's sides, an OBJ was framed for the crop's width taken as
+    // the focal length (the model overflowed the image, and R kept that pose).
+    let dir = tempfile::tempdir().unwrap();
+    let pyramid = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
+                   f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+    std::fs::write(dir.path().join("pyramid.obj"), pyramid).unwrap();
+    let mut cameras = Vec::new();
+    for script in [
+        "0 inspect 497 420\n600 drop pyramid.obj\n",
+        "600 drop pyramid.obj\n",
+    ] {
+        let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+            return;
+        };
+        assert!(
+            run.fields["scene"].ends_with("pyramid.obj"),
+            "{}",
+            run.stderr
+        );
+        let beside = !run.inspector.is_empty();
+        cameras.push((
+            beside,
+            run.fields["camera"].clone(),
+            run.fields["focal"].clone(),
+        ));
+    }
+    assert!(
+        cameras[0].0 && !cameras[1].0,
+        "the panel beside the first only"
+    );
+    assert_eq!(cameras[0].1, cameras[1].1, "the framing camera's position");
+    assert_eq!(cameras[0].2, cameras[1].2, "the focal length");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_scripts_pixel_off_the_image_is_named_as_given,
@@ -768,4 +804,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_click_inspects_the_pixel_under_the_pointer,
     real_x_input_clicks_on_windows_over_the_image_do_not_inspect,
     real_x_input_the_status_follows_the_inspector_check_box,
+    an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it,
 ];

@@ -303,7 +303,9 @@ impl Viewer {
         self.selected_level = self
             .selected_level
             .filter(|l| reload && *l < scene.levels.len());
-        let (w, h) = self.full_size();
+        // (Framed for the whole view, not the part the inspector's panel leaves shown: the
+        // camera does not depend on whether that panel is open.)
+        let (w, h) = self.uncropped_size();
         let mut note = String::new();
         match (&request.kind, scene.camera, scene.bounds()) {
             (LoadKind::Open, Some(c), _) => {
