@@ -93,7 +93,9 @@ impl Viewer {
     /// crack. `None` (said on the status line) where it cannot be inspected.
     fn trace(&mut self, at: Inspected) -> Option<raylab::render::inspect::Inspection> {
         let camera = self.camera_with_focal(at.focal);
-        let stage = self.stage_to_render();
+        // (Untinted by a selected push level, whose tint is the image's highlight, not the
+        // scene's colour: the inspector answers as `raylab inspect` does.)
+        let stage = self.stage_lit();
         let (x, y) = self.traced_position(at).0;
         // (Inspected in the view F5 and copy as command write, of which the image shown is a
         // crop: the same ray, named by the pixel `raylab inspect --pixel` names.)

@@ -787,6 +787,33 @@ fn an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it() {
     assert_eq!(cameras[0].2, cameras[1].2, "the focal length");
 }
 
+fn a_selected_push_level_tints_the_image_not_the_inspectors_answer() {
+    // Selecting a push level tints what it places on screen; the inspector answers for the
+    // scene as `raylab inspect` does (it reported the tint's ρ and colour: a red triangle's
+    // ρ 0.9 0.1 0.1 read 0.965 0.327 0.035, as if its colour had been ignored).
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("red.scene");
+    let text =
+        "cornell\npush\ncolor 0.9 0.1 0.1\ntri -0.3 -0.3 -0.5  0.3 -0.3 -0.5  0 0.3 -0.5\npop\n";
+    std::fs::write(&scene, text).unwrap();
+    let args = [scene.to_str().unwrap()];
+    let mut answers = Vec::new();
+    for select in ["", "200 select 1\n"] {
+        let script = format!("{select}600 inspect 392 349\n");
+        let around = Around::Args(&args);
+        let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], around) else {
+            return;
+        };
+        assert_eq!(
+            run.inspector["rho"], "0.9 0.1 0.1",
+            "{:?}",
+            run.inspector
+        );
+        answers.push(run.inspector);
+    }
+    assert_eq!(answers[0], answers[1], "the same answer, selected or not");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_scripts_pixel_off_the_image_is_named_as_given,
@@ -805,4 +832,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_clicks_on_windows_over_the_image_do_not_inspect,
     real_x_input_the_status_follows_the_inspector_check_box,
     an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it,
+    a_selected_push_level_tints_the_image_not_the_inspectors_answer,
 ];

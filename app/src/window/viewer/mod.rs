@@ -276,18 +276,24 @@ impl Viewer {
         }
     }
 
-    /// The stage as rendered: the panel's light, and the selected level's primitives tinted
-    /// (the same structure: neither moves a primitive).
-    pub(super) fn stage_to_render(&mut self) -> Stage {
+    /// The stage as `raylab render` and `inspect` take it: the scene with the panel's light.
+    pub(super) fn stage_lit(&mut self) -> Stage {
         let light = self.view.light;
         if self.stage.scene().light.position != light {
             self.stage.restyle(|scene| scene.light.position = light);
         }
+        self.stage.clone()
+    }
+
+    /// The stage as rendered: [`Viewer::stage_lit`], the selected level's primitives tinted
+    /// (the same structure: neither moves a primitive).
+    pub(super) fn stage_to_render(&mut self) -> Stage {
+        let lit = self.stage_lit();
         let scene = self.stage.scene();
         let Some(level) = self.selected_level.and_then(|l| scene.levels.get(l)) else {
-            return self.stage.clone();
+            return lit;
         };
-        let mut tinted = self.stage.clone();
+        let mut tinted = lit;
         let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
         tinted.restyle(|scene| {
             for range in &level.primitives {
