@@ -772,8 +772,35 @@ fn a_field_of_view_past_the_windows_range_is_said_on_load() {
     );
 }
 
+fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
+    // F5's message names a command that renders the view: its path is quoted for a shell (a
+    // folder with a space in its name made it two words, and the command a usage error).
+    let top = tempfile::tempdir().unwrap();
+    let dir = top.path().join("my views");
+    std::fs::create_dir(&dir).unwrap();
+    let script = "300 key F5 down\n350 key F5 up\n";
+    let Some(run) = run_window_with(RAYLAB, script, &dir, &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    let said = log
+        .lines()
+        .find_map(|l| l.split_once("saved view ").map(|s| s.1));
+    let said = said.unwrap_or_else(|| panic!("no view saved\n{log}"));
+    let command = said.split_once(" (").and_then(|s| s.1.strip_suffix(')'));
+    let command = command.unwrap_or_else(|| panic!("no command in {said}"));
+    assert!(command.contains("'"), "quoted: {command}");
+    let out = top.path().join("out.png");
+    let command = command.replacen("raylab ", &format!("{RAYLAB} "), 1);
+    let command = command.replace(" -o out.png", &format!(" -o {}", out.display()));
+    let o = Command::new("sh").args(["-c", &command]).output().unwrap();
+    assert!(o.status.success(), "{command}\n{}", text(&o.stderr));
+    assert!(read_png(&out).0 > 0, "rendered");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,
     dropped_obj_files_load_and_bad_ones_leave_the_scene_alone,
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,
     a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,

@@ -288,12 +288,11 @@ impl Viewer {
     /// The stage as rendered: [`Viewer::stage_lit`], the selected level's primitives tinted
     /// (the same structure: neither moves a primitive).
     pub(super) fn stage_to_render(&mut self) -> Stage {
-        let lit = self.stage_lit();
+        let mut tinted = self.stage_lit();
         let scene = self.stage.scene();
         let Some(level) = self.selected_level.and_then(|l| scene.levels.get(l)) else {
-            return lit;
+            return tinted;
         };
-        let mut tinted = lit;
         let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
         tinted.restyle(|scene| {
             for range in &level.primitives {
@@ -769,11 +768,13 @@ impl Viewer {
         let written = raylab::input::write_file(&path, text.as_bytes()).map_err(|e| e.to_string());
         match written {
             Ok(()) => {
-                let shown = std::fs::canonicalize(&path).unwrap_or(path);
+                let shown = std::fs::canonicalize(&path)
+                    .unwrap_or(path)
+                    .display()
+                    .to_string();
+                let word = raylab::view::shell_quote(&shown);
                 self.set_status(format!(
-                    "saved view {} (raylab render --view {} -o out.png)",
-                    shown.display(),
-                    shown.display()
+                    "saved view {shown} (raylab render --view {word} -o out.png)"
                 ));
             }
             Err(e) => self.report_error(format!("could not save the view: {e}")),
