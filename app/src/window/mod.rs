@@ -332,6 +332,11 @@ impl App {
                 } else if self.viewer.banner.take().is_some() {
                     self.esc_armed = None;
                     log::info!("error banner dismissed");
+                } else if self.viewer.show_help || self.viewer.show_all_warnings {
+                    // (A window of text shown is closed first: Esc, Esc had quit from it.)
+                    (self.viewer.show_help, self.viewer.show_all_warnings) = (false, false);
+                    self.esc_armed = None;
+                    log::info!("Esc closed the shortcuts and warnings windows");
                 } else if self.quit_armed() {
                     event_loop.exit();
                 } else {

@@ -627,6 +627,26 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
     assert_eq!(field, Some(""), "{log}");
 }
 
+fn real_x_input_escape_closes_the_shortcuts_before_it_asks() {
+    // H shows the shortcuts; Esc closes them (Esc, Esc had quit the window from them); the
+    // next Esc asks to quit.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key h; sleep 0.5; \
+                  xdotool key Escape; logged 'Esc closed'; xdotool key Escape; \
+                  logged 'press Esc again to quit'";
+    let around = Around::RealInput(driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(!run.fields.is_empty(), "the window quit\n{log}");
+    assert_eq!(run.fields["help"], "off", "{log}");
+    let (closed, asked) = (log.find("Esc closed"), log.find("press Esc again to quit"));
+    assert!(closed.zip(asked).is_some_and(|(c, a)| c < a), "{log}");
+    assert_eq!(log.matches("press Esc again to quit").count(), 1, "{log}");
+}
+
 fn real_x_input_f5_while_a_text_field_types_says_it_did_nothing() {
     // F5 pressed while the path field has the keyboard saves no view (the field's edit is not
     // the view's yet) and says why on the status line; after Esc leaves the field, F5 saves.
@@ -702,6 +722,7 @@ pub const TESTS: super::Tests = tests![
     real_x_input_middle_drag_pans_in_orbit_mode,
     real_x_input_keys_still_move_the_camera_after_tab,
     real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks,
+    real_x_input_escape_closes_the_shortcuts_before_it_asks,
     real_x_input_quick_clicks_each_count,
     real_x_input_f5_while_a_text_field_types_says_it_did_nothing,
 ];
