@@ -50,6 +50,7 @@ fn reproducer<T: Real>(
         Answer::Hit { t, .. } => Some(t.f64()),
         Answer::Miss => None,
     };
+    let outside = outside_interval(exact, i, &answers[i].1);
     let what = match j.graded.verdict {
         // (Not "off by inf": no point is off by a t that is no number or infinite.)
         Verdict::Right | Verdict::Tie if given_t.is_some_and(f64::is_nan) => {
@@ -64,27 +65,29 @@ fn reproducer<T: Real>(
             "t failure: o + t·d off by {:.2e} of |o| + |t·d| + extent{}",
             j.graded.relative,
             match (
+                outside.as_deref(),
                 short_print(&j.exact, &answers[i].1),
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
-                (Some(digits), _, _) => format!(
+                (Some(hint), ..) => format!("; {hint}"),
+                (None, Some(digits), _, _) => format!(
                     "; t is the exact one to {digits} significant digits: print {0} (%.{0}g)",
                     round_trip_digits::<T>()
                 ),
-                (None, Some(_), _) => {
+                (None, None, Some(_), _) => {
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins"
                         .to_string()
                 }
-                (None, None, Some(length)) => format!(
+                (None, None, None, Some(length)) => format!(
                     "; t is the exact one times |d| = {}: t is in units of d, not normalised",
                     match (1e-3..1e6).contains(&length) {
                         true => format!("{length:.6}"),
                         false => format!("{length:.3e}"),
                     }
                 ),
-                (None, None, None) => String::new(),
+                (None, None, None, None) => String::new(),
             }
         ),
         v => match answers[i].1 {
@@ -99,7 +102,10 @@ fn reproducer<T: Real>(
                     v.name()
                 )
             }
-            _ => v.name().to_string(),
+            _ => match &outside {
+                Some(hint) => format!("{}: {hint}", v.name()),
+                None => v.name().to_string(),
+            },
         },
     };
     format!(
@@ -110,6 +116,34 @@ fn reproducer<T: Real>(
         answers[i].0,
         answers[i].1.text()
     )
+}
+
+/// Where a given hit's t is not inside the ray's open interval (tmin, tmax): which end it
+/// passes. A hint beside the verdict (a hit behind the origin showed as a wrong primitive and
+/// no more; on a sphere, as its other root).
+fn outside_interval<T: Real>(exact: &Exact<T>, i: usize, given: &Answer<T>) -> Option<String> {
+    let Answer::Hit { t, .. } = *given else {
+        return None;
+    };
+    let ray = &exact.rays[i].1;
+    let (tmin, tmax) = (ray.tmin, ray.tmax);
+    if t.is_nan() {
+        None
+    } else if t <= tmin {
+        let behind = match tmin == T::zero() && t < tmin {
+            true => " (it is behind the origin)",
+            false => "",
+        };
+        Some(format!(
+            "t {t} is not above tmin {tmin}{behind}: only tmin < t < tmax counts"
+        ))
+    } else if t >= tmax {
+        Some(format!(
+            "t {t} is not below tmax {tmax}: only tmin < t < tmax counts, both ends open"
+        ))
+    } else {
+        None
+    }
 }
 
 /// Where the given hit is on a sphere and its t is, to 10⁻⁶ relative, the root of the ray's

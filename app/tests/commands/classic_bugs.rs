@@ -220,7 +220,7 @@ fn inf_as_large_is_caught_by_directions_not_of_unit_length() {
 /// sphere's near root from inside it or from its surface.
 #[test]
 fn behind_origin_is_caught_by_hits_behind_the_origin() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "behind_origin.py",
         caught_by: &[
             ("hits-behind-the-origin", &["false", "wrong"]),
@@ -229,7 +229,23 @@ fn behind_origin_is_caught_by_hits_behind_the_origin() {
             ("inside-and-one-ulp-outside", &["false", "wrong"]),
         ],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    // Each answer shown says why: its t is not above tmin (it said "wrong primitive", no
+    // more).
+    every_shown_says(&out, "is not above tmin");
+    let behind = "(it is behind the origin): only tmin < t < tmax counts";
+    assert!(out.contains(behind), "{out}");
+}
+
+/// Each reproducer line of `out` (a ray, the exact answer and the one given) holds `hint`.
+fn every_shown_says(out: &str, hint: &str) {
+    let shown: Vec<&str> = (out.lines()).filter(|l| l.contains("  given (")).collect();
+    assert!(!shown.is_empty(), "{out}");
+    for line in shown {
+        assert!(line.contains(hint), "{line}");
+    }
 }
 
 /// Open edges: rays through shared edges and vertices leak (closed meshes, the Cornell box,
@@ -251,11 +267,14 @@ fn open_edges_are_caught_by_closed_meshes() {
 /// t <= tmax: a surface exactly at the interval's far end is hit.
 #[test]
 fn closed_tmax_is_caught_by_interval_ends_at_surfaces() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "closed_tmax.py",
         caught_by: &[("interval-ends-at-surfaces", &["false"])],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "is not below tmax");
 }
 
 /// t >= tmin: a ray starting on a surface hits it at t = 0.
