@@ -194,6 +194,13 @@ impl Viewer {
             self.cracks.pending = None;
             return self.set_status("no cracks to step through: show cracks is off");
         }
+        // (Where the frame shown marks none, its crop beside the inspector marks none: the
+        // panel is not opened to say so.)
+        if let Some(none) = self.final_census().filter(|c| c.marked.is_empty()) {
+            let said = no_marked_cracks(none);
+            self.cracks.pending = None;
+            return self.set_status(said);
+        }
         self.inspector_on = true;
         self.cracks.pending = Some(step);
         self.resolve_step();
@@ -229,20 +236,12 @@ impl Viewer {
         let from = (self.inspected)
             .filter(|a| a.size == census.size && a.generation == census.generation)
             .and_then(|a| self.shown_pixel(a));
-        let (count, who, wrong) = (census.marked.len(), census.who.clone(), census.counts.wrong);
+        let count = census.marked.len();
         let found = census.step(from, step).map(|(k, m)| (k, *m));
+        let none = no_marked_cracks(census);
         self.cracks.pending = None;
         let Some((k, m)) = found else {
-            // (A method's wrong primitives are counted, not marked: not every sample is right.)
-            return self.set_status(match wrong {
-                0 => format!(
-                    "no cracks in this frame: {who} gives every sample the exact answer (or a tie)"
-                ),
-                n => format!(
-                    "no marked cracks in this frame: {who} neither leaks nor hits falsely; {n} \
-                     samples name another primitive than the exact one (counted, not marked)"
-                ),
-            });
+            return self.set_status(none);
         };
         let (i, j) = (m.pixel.0 + self.view_offset(), m.pixel.1);
         if self.answer((i, j), false) {
@@ -352,5 +351,21 @@ impl Viewer {
             _ => (i as f32 - self.view_offset() as f32 + 0.5, j as f32 + 0.5),
         };
         (pos, marked.is_some())
+    }
+}
+
+/// What N says of a frame whose count marks no crack. (A method's wrong primitives are
+/// counted, not marked: not every sample is then right.)
+fn no_marked_cracks(census: &Census) -> String {
+    let who = &census.who;
+    match census.counts.wrong {
+        0 => {
+            format!("no cracks in this frame: {who} gives every sample the exact answer (or a tie)")
+        }
+        n => format!(
+            "no marked cracks in this frame: {who} neither leaks nor hits falsely; {} another \
+             primitive than the exact one (counted, not marked)",
+            raylab::words::count(n as usize, "sample names", "samples name")
+        ),
     }
 }

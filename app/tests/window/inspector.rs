@@ -85,8 +85,9 @@ fn next_crack_where_only_wrong_primitives_are_counted_says_so() {
     assert_eq!(
         status,
         format!(
-            "no marked cracks in this frame: watertight neither leaks nor hits falsely; {wrong} \
-             samples name another primitive than the exact one (counted, not marked)"
+            "no marked cracks in this frame: watertight neither leaks nor hits falsely; {} \
+             another primitive than the exact one (counted, not marked)",
+            raylab::words::count(wrong as usize, "sample names", "samples name")
         ),
         "{}",
         run.stderr
@@ -804,11 +805,7 @@ fn a_selected_push_level_tints_the_image_not_the_inspectors_answer() {
         let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], around) else {
             return;
         };
-        assert_eq!(
-            run.inspector["rho"], "0.9 0.1 0.1",
-            "{:?}",
-            run.inspector
-        );
+        assert_eq!(run.inspector["rho"], "0.9 0.1 0.1", "{:?}", run.inspector);
         answers.push(run.inspector);
     }
     assert_eq!(answers[0], answers[1], "the same answer, selected or not");
