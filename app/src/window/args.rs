@@ -13,8 +13,8 @@ use std::sync::Arc;
 /// The window's flags.
 #[derive(clap::Args, Debug, Clone)]
 pub struct WindowArgs {
-    /// An OBJ model or a `.scene` file to open in the window instead of the built-in Cornell
-    /// box (`cornell`, as everywhere a scene is named).
+    /// An OBJ model, a `.scene` file or a saved `.view` to open in the window instead of the
+    /// built-in Cornell box (`cornell`, as everywhere a scene is named).
     pub model: Option<PathBuf>,
     /// How the model's (and dropped files') coordinates are read: `yup` or `lab` (see
     /// `raylab render --help`).
