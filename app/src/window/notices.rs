@@ -164,10 +164,13 @@ pub fn warnings(ui: &mut egui::Ui, warnings: &[String], show_all: &mut bool) {
         });
 }
 
-/// The window listing every warning, one line each (scrolled sideways to read a long one);
-/// only the rows
-/// in view are laid out, so a scene of a million warnings costs no more a frame than one of
-/// ten.
+/// The most warnings the list shows wrapped; past it, one line each, laid out only where
+/// seen (a hundred thousand wrapped labels would be laid out every frame).
+const WRAPPED_WARNINGS: usize = 1000;
+
+/// The window listing every warning: wrapped to its width, or past [`WRAPPED_WARNINGS`] one
+/// line each (scrolled sideways to read a long one), only the rows in view laid out, so a
+/// scene of a million warnings costs no more a frame than one of ten.
 pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
     if warnings.is_empty() {
         *open = false;
@@ -178,6 +181,17 @@ pub fn all_warnings(ctx: &egui::Context, warnings: &[String], open: &mut bool) {
         .show(ctx, |ui| {
             // (Bars drawn whenever there is more to see, sideways too.)
             ui.style_mut().spacing.scroll = egui::style::ScrollStyle::solid();
+            if warnings.len() <= WRAPPED_WARNINGS {
+                // Wrapped to the window's width: a warning read whole without scrolling.
+                egui::ScrollArea::vertical()
+                    .auto_shrink(false)
+                    .show(ui, |ui| {
+                        for w in warnings {
+                            ui.add(egui::Label::new(w.as_str()).wrap());
+                        }
+                    });
+                return;
+            }
             let row = ui.text_style_height(&egui::TextStyle::Body);
             egui::ScrollArea::both().auto_shrink(false).show_rows(
                 ui,
