@@ -12,7 +12,13 @@ pub fn help_window(ctx: &egui::Context, open: &mut bool) {
         .anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0])
         .max_height(room)
         .show(ctx, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
+            // (As tall as the window has room for: egui's default cut a 720-pixel window's
+            // list at some 400, hiding H, P and Esc below the fold.)
+            let list = room - 56.0;
+            let scroll = egui::ScrollArea::vertical()
+                .max_height(list)
+                .min_scrolled_height(list);
+            scroll.show(ui, |ui| {
                 egui::Grid::new("keys").striped(true).show(ui, |ui| {
                     for (k, what) in SHORTCUTS {
                         ui.monospace(*k);
@@ -55,5 +61,5 @@ const SHORTCUTS: &[(&str, &str)] = &[
     ),
     ("H / F1", "this overlay"),
     ("P", "hide / show the side panel"),
-    ("Esc", "release the mouse; dismiss an error; again to quit"),
+    ("Esc", "release the mouse; dismiss an error; close this overlay; again to quit"),
 ];
