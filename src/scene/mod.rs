@@ -182,8 +182,9 @@ impl Scene {
             false => load_scene_file(path),
             // (Checked in range as it loads, naming the faces' lines.)
             true => load_obj_file(path, obj_frame).map_err(|e| match e {
-                // (That one says so itself.)
-                ObjError::NoTriangles { .. } => e.to_string(),
+                // (That one says so itself; and a file not read, missing or a directory, was
+                // read as nothing.)
+                ObjError::NoTriangles { .. } | ObjError::Input(_) => e.to_string(),
                 e => format!("{e}{}", obj::read_as_obj_hint(&path.display().to_string())),
             }),
         }

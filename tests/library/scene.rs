@@ -548,4 +548,9 @@ fn a_file_not_named_obj_that_fails_as_one_says_how_it_was_read() {
     std::fs::write(&scene, "mesh v.view\n").unwrap();
     let e = Scene::load(&scene, raylab::scene::ObjFrame::YUp).unwrap_err();
     assert!(e.contains("a .view is opened on its own"), "{e}");
+    // A file not read (missing, a directory) was read as nothing: no hint of how.
+    for unread in [dir.path().join("missing"), dir.path().to_path_buf()] {
+        let e = Scene::load(&unread, raylab::scene::ObjFrame::YUp).unwrap_err();
+        assert!(!e.contains("read as an OBJ"), "{e}");
+    }
 }
