@@ -84,10 +84,22 @@ pub fn parse_answers<T: Real>(
                     .map_err(|_| at(line_no, format!("t '{t}' is not a number")))?;
                 // (An index past the last primitive is an answer, graded wrong for its ray
                 // with the ray shown: refused, it failed the family's whole run.)
-                let prim = index.parse::<u32>().map_err(|_| {
+                // (`-0` is 0, as `+0` and `00` are.)
+                let unsigned = index
+                    .strip_prefix('-')
+                    .filter(|z| z.bytes().all(|b| b == b'0'));
+                let prim = unsigned.unwrap_or(index).parse::<u32>().map_err(|_| {
                     let last = primitives.saturating_sub(1);
-                    let why =
-                        format!("'{index}' is not a primitive index, a whole number 0 to {last}");
+                    let why = match index.bytes().all(|b| b.is_ascii_digit()) {
+                        true => format!(
+                            "index {index} is past any scene's last primitive (indices up to \
+                             {}; this scene's last is {last})",
+                            u32::MAX
+                        ),
+                        false => format!(
+                            "'{index}' is not a primitive index, a whole number 0 to {last}"
+                        ),
+                    };
                     at(line_no, why)
                 })?;
                 Answer::Hit { t, prim }

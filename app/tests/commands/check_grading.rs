@@ -446,6 +446,16 @@ fn an_index_past_the_last_primitive_is_a_wrong_answer_shown_with_its_ray() {
             "{out}"
         );
     }
+    // `-0` is index 0, as `00` is: line 1's right answer stays right.
+    let file = dir.path().join("answers.txt");
+    std::fs::write(&file, GRADED_ANSWERS.replacen("hit 2 0", "hit 2 -0", 1)).unwrap();
+    let o = check_answers(&scene, &rays, &file, &[]);
+    assert_eq!(
+        last_line(&o),
+        "check: rays 10 right 5 leaks 1 false_hits 1 wrong 2 ties 1 t_failures 1",
+        "{}",
+        text(&o.stderr)
+    );
 }
 
 /// A malformed answer file, a count that does not match the rays, an index that is no whole
@@ -469,6 +479,11 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
         (
             with_line_3("hit 2 3.0"),
             "answers.txt:3: '3.0' is not a primitive index, a whole number 0 to 3",
+        ),
+        (
+            with_line_3("hit 2 18446744073709551615"),
+            "answers.txt:3: index 18446744073709551615 is past any scene's last primitive \
+             (indices up to 4294967295; this scene's last is 3)",
         ),
         (
             with_line_3("hot 2 0"),
