@@ -121,6 +121,20 @@ fn check_manifest(dir: &Path, families: &[PathBuf], only: Option<&str>) -> Resul
             wrong.push(format!("{name} has {found} rays, not {count}"));
         }
     }
+    // (A family directory the manifest does not list is graded, and said: an empty manifest
+    // graded a folder of them without a word.)
+    let unlisted: Vec<String> = (families.iter().map(|p| family_name(p)))
+        .filter(|name| is_family(name, only) && !listed.iter().any(|(n, _)| n == name))
+        .collect();
+    if !unlisted.is_empty() {
+        eprintln!(
+            "warning: {}: {} not listed in its {}, graded as found: {}",
+            dir.display(),
+            raylab::words::count(unlisted.len(), "family directory", "family directories"),
+            export::MANIFEST,
+            unlisted.join(", ")
+        );
+    }
     if !wrong.is_empty() {
         bail!(
             "{}: not the suite its {} lists: {}; export it again with `raylab suite export {}`",

@@ -633,6 +633,16 @@ fn a_cut_short_export_is_named_and_failed_and_a_suite_without_manifest_warned_of
         err.contains("families.txt:2: 'x' is not a number of rays"),
         "{err}"
     );
+    // An empty manifest: the family directories it does not list are graded, and named.
+    std::fs::write(suite_dir.join(export::MANIFEST), "# families\n").unwrap();
+    let o = raylab(&[&check[..], &["--family", "1"]].concat());
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let said = format!(
+        "1 family directory not listed in its families.txt, graded as found: {}",
+        families[0]
+    );
+    assert!(err.contains(&said), "{err}");
     // No manifest: what is there is graded, and that it may be cut short is said.
     std::fs::remove_file(suite_dir.join(export::MANIFEST)).unwrap();
     for args in [&check[..], &grade[..]] {
