@@ -61,5 +61,8 @@ const SHORTCUTS: &[(&str, &str)] = &[
     ),
     ("H / F1", "this overlay"),
     ("P", "hide / show the side panel"),
-    ("Esc", "release the mouse; dismiss an error; close this overlay; again to quit"),
+    (
+        "Esc",
+        "release the mouse; dismiss an error; close this overlay; again to quit",
+    ),
 ];
