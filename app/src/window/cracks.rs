@@ -73,6 +73,10 @@ pub struct Census {
     pub generation: u64,
     pub level: u8,
     pub size: (u32, u32),
+    /// The columns of the view left of the frame (the inspector's panel crops its sides):
+    /// the counts and the marked pixels are the whole view's, in its columns, as F5 and
+    /// `raylab render --cracks` of the view count them.
+    pub offset: u32,
     /// Samples per pixel along each axis.
     pub spp: u32,
     /// Who answered: the method's name, or the linked code's.
@@ -169,12 +173,13 @@ pub fn all_shapes(stage: &Stage) -> Cow<'_, [Shape]> {
 /// Counts the cracks of the frame `job` rendered; `None` if `cancelled()` turned true.
 pub fn count(job: &Job, cancelled: &(dyn Fn() -> bool + Sync)) -> Option<Census> {
     let s = job.settings;
-    let (w, h, n) = (s.width, s.height, s.spp);
+    let (w, h, n) = (s.width + 2 * job.view_offset, s.height, s.spp);
     let code = job.code.as_deref();
     let mut census = Census {
         generation: job.generation,
         level: job.level,
-        size: (w, h),
+        size: (s.width, h),
+        offset: job.view_offset,
         spp: n,
         who: code.map_or(s.method.name().to_string(), |c| c.name().to_string()),
         code: code.is_some(),
@@ -253,7 +258,7 @@ impl Census {
     /// 307,200 px)` (samples where there are several a pixel).
     pub fn summary(&self) -> String {
         let c = &self.counts;
-        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        let pixels = (self.size.0 + 2 * self.offset) as u64 * self.size.1 as u64;
         let of = match self.spp {
             1 => format!("of {} px", grouped(pixels)),
             n => format!(
@@ -506,6 +511,7 @@ mod tests {
             generation: 1,
             level: 1,
             size: (640, 480),
+            offset: 0,
             spp: 1,
             who: "moller".into(),
             code: false,

@@ -233,9 +233,10 @@ impl Viewer {
         let Some(census) = self.final_census() else {
             return;
         };
+        // (The view's pixels: the count's, which reach under the inspector's panel.)
         let from = (self.inspected)
             .filter(|a| a.size == census.size && a.generation == census.generation)
-            .and_then(|a| self.shown_pixel(a));
+            .map(|a| a.pixel);
         let count = census.marked.len();
         let found = census.step(from, step).map(|(k, m)| (k, *m));
         let none = no_marked_cracks(census);
@@ -243,7 +244,7 @@ impl Viewer {
         let Some((k, m)) = found else {
             return self.set_status(none);
         };
-        let (i, j) = (m.pixel.0 + self.view_offset(), m.pixel.1);
+        let (i, j) = m.pixel;
         if self.answer((i, j), false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
             let n = k + 1;
@@ -328,13 +329,6 @@ impl Viewer {
         Some(detail)
     }
 
-    /// The pixel of the image shown that `at` is, where it is one (not under the inspector's
-    /// panel).
-    fn shown_pixel(&self, at: Inspected) -> Option<(u32, u32)> {
-        let x = at.pixel.0.checked_sub(self.view_offset());
-        x.filter(|&x| x < at.size.0).map(|x| (x, at.pixel.1))
-    }
-
     /// The position on the image shown that the inspector traces for pixel `at`: its first
     /// marked sample where the count of its frame marks it, else its centre (left of the
     /// image, or right of it, where the pixel lies under the inspector's panel); and whether
@@ -342,15 +336,13 @@ impl Viewer {
     fn traced_position(&self, at: Inspected) -> ((f32, f32), bool) {
         let census = (self.cracks.census.as_ref())
             .filter(|c| c.generation == at.generation && c.size == at.size);
-        let shown = self.shown_pixel(at);
-        let marked = census.and_then(|c| shown.and_then(|p| c.find(p)));
+        let marked = census.and_then(|c| c.find(at.pixel));
         let n = census.map_or(1, |c| c.spp);
-        let (i, j) = at.pixel;
-        let pos = match (marked, shown) {
-            (Some((_, m)), Some(p)) => cracks::sample_position(p, m.sample, n),
-            _ => (i as f32 - self.view_offset() as f32 + 0.5, j as f32 + 0.5),
+        let (x, y) = match marked {
+            Some((_, m)) => cracks::sample_position(at.pixel, m.sample, n),
+            None => (at.pixel.0 as f32 + 0.5, at.pixel.1 as f32 + 0.5),
         };
-        (pos, marked.is_some())
+        ((x - self.view_offset() as f32, y), marked.is_some())
     }
 }
 

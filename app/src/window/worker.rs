@@ -25,6 +25,9 @@ pub struct Job {
     pub generation: u64,
     /// Refinement level: 0 preview, 1 full resolution, 2 full supersampling.
     pub level: u8,
+    /// The columns of the view left of the image, which the inspector's panel crops at its
+    /// sides (0 uncropped): the cracks are counted over the whole view.
+    pub view_offset: u32,
 }
 
 /// A finished image.
@@ -235,6 +238,7 @@ mod tests {
                 code: None,
                 generation: 0,
                 level,
+                view_offset: 0,
             }
         };
         let finish = |worker: &mut Worker| loop {

@@ -811,6 +811,42 @@ fn a_selected_push_level_tints_the_image_not_the_inspectors_answer() {
     assert_eq!(answers[0], answers[1], "the same answer, selected or not");
 }
 
+fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
+    // N opens the inspector's panel, which crops the image's sides: the count is still the
+    // whole view's, and N steps through every crack it marks, those under the panel too.
+    // (The count was the crop's: cramer's nine marked pixels on the box became two, seven of
+    // them out of N's reach, and a false hit cropped away became "no cracks in this frame".)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 set method cramer\n0 set spp 1\n0 set cracks on\n0 await driver-done\n";
+    // (N before the count waits for it.)
+    let driver = "xdotool windowfocus --sync $win; xdotool key n; logged '] crack '";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    let (camera, w, h, _) = run.camera();
+    let offset: u32 = run.fields["view_offset"].parse().unwrap();
+    assert!(offset > 0, "the panel crops the image\n{log}");
+    let stage = raylab::render::Stage::from(Scene::cornell());
+    let view = (w + 2 * offset, h);
+    let (counts, marked) = graded_pixels(&stage, &camera, view, Method::Cramer);
+    assert_eq!(run.fields["marked"], marked.len().to_string(), "{log}");
+    let leaks = counts.get("leak").copied().unwrap_or(0);
+    assert_eq!(run.fields["leaks"], leaks.to_string(), "{log}");
+    let beside = marked
+        .iter()
+        .filter(|&&(i, ..)| i < offset || i >= offset + w)
+        .count();
+    assert!(
+        beside > 0,
+        "a marked pixel under the panel: {marked:?}, offset {offset}"
+    );
+    let (i, j, _) = marked[0];
+    let said = format!("crack 1 of {}: pixel ({i}, {j})", marked.len());
+    assert!(log.contains(&said), "{said}\n{log}");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_scripts_pixel_off_the_image_is_named_as_given,
@@ -830,4 +866,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_the_status_follows_the_inspector_check_box,
     an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it,
     a_selected_push_level_tints_the_image_not_the_inspectors_answer,
+    real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops,
 ];

@@ -596,6 +596,7 @@ impl Viewer {
             code: self.code.clone().filter(|_| self.view.yours),
             generation: self.generation,
             level,
+            view_offset: self.view_offset(),
         });
     }
 
