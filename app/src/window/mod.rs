@@ -424,6 +424,7 @@ impl App {
         let layout = layout.expect("egui ran the UI");
         viewer.image_area = layout.image_area;
         viewer.beside_width = layout.beside_width;
+        viewer.frame_for_image();
         self.image_rect = layout.image_rect;
         self.banner_rect = layout.banner_rect;
         self.panel_fit = layout.actions.fit;

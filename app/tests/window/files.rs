@@ -772,6 +772,34 @@ fn a_field_of_view_past_the_windows_range_is_said_on_load() {
     );
 }
 
+fn a_model_on_the_command_line_is_framed_as_one_opened_in_the_window() {
+    // The window frames a model it opens with for its image (it framed it for 640x480 at
+    // the start, and another pose when the same file was opened from the panel).
+    let dir = tempfile::tempdir().unwrap();
+    let pyramid = "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv 0 -1 0\n\
+                   f 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+    std::fs::write(dir.path().join("pyramid.obj"), pyramid).unwrap();
+    let args = ["pyramid.obj"];
+    let Some(given) = run_window_with(RAYLAB, "", dir.path(), &[], Around::Args(&args)) else {
+        return;
+    };
+    let script = "300 drop pyramid.obj\n";
+    let Some(opened) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    assert!(
+        opened.fields["scene"].ends_with("pyramid.obj"),
+        "{}",
+        opened.stderr
+    );
+    assert_eq!(given.fields["size"], opened.fields["size"]);
+    assert_eq!(
+        given.fields["camera"], opened.fields["camera"],
+        "{}",
+        given.stderr
+    );
+}
+
 fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
     // F5's message names a command that renders the view: its path is quoted for a shell (a
     // folder with a space in its name made it two words, and the command a usage error).
@@ -800,6 +828,7 @@ fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
 
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    a_model_on_the_command_line_is_framed_as_one_opened_in_the_window,
     the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,
     dropped_obj_files_load_and_bad_ones_leave_the_scene_alone,
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,

@@ -306,6 +306,7 @@ impl Viewer {
         // (Framed for the whole view, not the part the inspector's panel leaves shown: the
         // camera does not depend on whether that panel is open.)
         let (w, h) = self.uncropped_size();
+        self.frame_when_sized = false;
         let mut note = String::new();
         match (&request.kind, scene.camera, scene.bounds()) {
             (LoadKind::Open, Some(c), _) => {

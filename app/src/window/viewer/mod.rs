@@ -95,6 +95,9 @@ pub struct Viewer {
     /// The light the scene shown came with (the panel's light is the view's), which a view
     /// naming no light takes.
     scene_light: [f32; 3],
+    /// The model the window opened with is framed once the image's size is known (its
+    /// first layout), as a model opened later is: `new` knows no size.
+    frame_when_sized: bool,
     pub input: InputState,
     worker: Worker,
     /// Bumped by every change; the worker drops stale frames.
@@ -198,6 +201,7 @@ impl Viewer {
         std::thread::spawn(move || watch(watched, watcher));
         let light = stage.scene().light.position;
         let cracks = super::cracks::Counter::new(proxy.clone());
+        let frame_when_sized = scene_path.is_some() && stage.scene().camera.is_none();
         Self {
             proxy,
             stage,
@@ -205,6 +209,7 @@ impl Viewer {
             accel,
             controller,
             scene_light: light,
+            frame_when_sized,
             view: ViewSettings {
                 controls: RenderSettings {
                     step: LabStep::Indirect,
@@ -371,6 +376,18 @@ impl Viewer {
         self.last_change = Instant::now();
         self.worker.set_generation(self.generation);
         self.cracks.cancel();
+    }
+
+    /// Frames the model the window opened with for the image's size, once it is known.
+    pub fn frame_for_image(&mut self) {
+        if !std::mem::take(&mut self.frame_when_sized) {
+            return;
+        }
+        if let Some(bounds) = self.stage.scene().bounds() {
+            let (w, h) = self.uncropped_size();
+            self.controller = CameraController::framing(bounds, w, h);
+            self.changed();
+        }
     }
 
     /// Moves the camera by the keys held since the last call (each for as long as it was
