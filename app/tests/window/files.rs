@@ -800,6 +800,38 @@ fn a_model_on_the_command_line_is_framed_as_one_opened_in_the_window() {
     );
 }
 
+fn real_x_input_a_reload_keeps_the_light_moved_in_the_panel() {
+    // A light typed into the panel stays through a reload of the scene file, as the camera
+    // does (the file's own light came back: a student who placed it lost it on every save).
+    // (65, 631): the panel's light x field at the default window on the 1280x800 screen, a
+    // scene file's "Transform stack" row above.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("tri.scene");
+    std::fs::write(&scene, "tri -1 -1 0  1 -1 0  0 1 0\n").unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 65 631; sleep 0.3; \
+                  xdotool click 1; sleep 0.8; xdotool key ctrl+a; xdotool type 7; \
+                  xdotool key Return; sleep 0.5; printf '# an edit\\n' >> tri.scene; \
+                  logged 'reloaded '; xdotool key F5; logged 'saved view'";
+    let around = Around::RealInputOn(driver, &scene);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("the light kept where the panel put it"),
+        "{log}"
+    );
+    let view = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "view"))
+        .unwrap_or_else(|| panic!("F5 saved no view\n{log}"));
+    let text = std::fs::read_to_string(view).unwrap();
+    let light = text.lines().find(|l| l.starts_with("light "));
+    assert!(light.is_some_and(|l| l.starts_with("light 7 ")), "{text}");
+}
+
 fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
     // F5's message names a command that renders the view: its path is quoted for a shell (a
     // folder with a space in its name made it two words, and the command a usage error).
@@ -829,6 +861,7 @@ fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_model_on_the_command_line_is_framed_as_one_opened_in_the_window,
+    real_x_input_a_reload_keeps_the_light_moved_in_the_panel,
     the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,
     dropped_obj_files_load_and_bad_ones_leave_the_scene_alone,
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,

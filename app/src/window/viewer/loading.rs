@@ -318,8 +318,15 @@ impl Viewer {
             }
             _ => {}
         }
-        self.view.light = scene.light.position;
-        self.scene_light = self.view.light;
+        // (A light moved in the panel is kept by a reload, as the camera is.)
+        let keep_light = reload && self.view.light != self.scene_light;
+        if !keep_light {
+            self.view.light = scene.light.position;
+        }
+        self.scene_light = scene.light.position;
+        if keep_light {
+            note += ", the light kept where the panel put it";
+        }
         let verb = if reload { "reloaded" } else { "loaded" };
         self.set_status(format!(
             "{verb} {} ({}){note}",
