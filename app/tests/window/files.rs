@@ -310,6 +310,37 @@ fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
     assert_eq!(run.nums("camera"), [0.0, 0.0, -3.001], "{}", run.stderr);
 }
 
+fn a_selected_level_tints_what_its_nested_levels_place_too() {
+    // The outer push moves the ball its inner push places: selected, it tints the ball (it
+    // tinted only what it placed itself, here nothing, and the image did not change).
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("nested.scene");
+    let text = "cornell\ncolor 0.75 0.75 0.75\npush\ntranslate 0 0.4 -0.5\npush\n\
+                sphere 0 0 0 0.4\npop\npop\n";
+    std::fs::write(&scene, text).unwrap();
+    let args = [scene.to_str().unwrap()];
+    let Some(run) = run_window_with(
+        RAYLAB,
+        "500 select 1\n",
+        dir.path(),
+        &[],
+        Around::Args(&args),
+    ) else {
+        return;
+    };
+    let (_, _, _, rect) = run.camera();
+    let (sw, _, px) = &run.shot;
+    let mut orange = 0;
+    for y in rect[1] as u32..(rect[1] + rect[3]) as u32 {
+        for x in rect[0] as u32..(rect[0] + rect[2]) as u32 {
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+            orange += (r > g + 40 && g > b + 40) as u32;
+        }
+    }
+    assert!(orange > 2000, "{orange} orange pixels\n{}", run.stderr);
+}
+
 fn an_instanced_scene_opens_and_a_selected_instance_is_tinted() {
     // A .scene placing one mesh (the repo's icosphere, 1,280 triangles) three times in the
     // Cornell box: the window loads it as instances (one stored mesh), draws it as the
@@ -860,6 +891,7 @@ fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
 
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    a_selected_level_tints_what_its_nested_levels_place_too,
     a_model_on_the_command_line_is_framed_as_one_opened_in_the_window,
     real_x_input_a_reload_keeps_the_light_moved_in_the_panel,
     the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,

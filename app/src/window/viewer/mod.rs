@@ -291,17 +291,24 @@ impl Viewer {
         self.stage.clone()
     }
 
-    /// The stage as rendered: [`Viewer::stage_lit`], the selected level's primitives tinted
-    /// (the same structure: neither moves a primitive).
+    /// The stage as rendered: [`Viewer::stage_lit`], the primitives the selected level
+    /// places tinted, its nested levels' too (the same structure: neither moves a primitive).
     pub(super) fn stage_to_render(&mut self) -> Stage {
         let mut tinted = self.stage_lit();
-        let scene = self.stage.scene();
-        let Some(level) = self.selected_level.and_then(|l| scene.levels.get(l)) else {
+        let levels = &self.stage.scene().levels;
+        let Some(chosen) = self.selected_level.filter(|&l| l < levels.len()) else {
             return tinted;
         };
+        // (The levels after it that are deeper, up to the next at its depth or above.)
+        let depth = levels[chosen].depth;
+        let nested = levels[chosen + 1..].iter().take_while(|l| l.depth > depth);
+        let placed: Vec<_> = std::iter::once(&levels[chosen])
+            .chain(nested)
+            .flat_map(|l| l.primitives.iter().cloned())
+            .collect();
         let mix = |c: [f32; 3]| [0, 1, 2].map(|k| 0.35 * c[k] + 0.65 * HIGHLIGHT[k]);
         tinted.restyle(|scene| {
-            for range in &level.primitives {
+            for range in &placed {
                 match scene.instances().is_empty() {
                     true => {
                         for c in &mut scene.colors_mut()[range.start as usize..range.end as usize] {
