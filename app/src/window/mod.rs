@@ -329,14 +329,14 @@ impl App {
             Key::Escape => {
                 if self.mouse_look {
                     self.set_mouse_look(false);
+                } else if self.viewer.show_help || self.viewer.show_all_warnings {
+                    // (A window of text on top is closed first: Esc, Esc had quit from it.)
+                    (self.viewer.show_help, self.viewer.show_all_warnings) = (false, false);
+                    self.esc_armed = None;
+                    log::info!("Esc closed the shortcuts or warnings window");
                 } else if self.viewer.banner.take().is_some() {
                     self.esc_armed = None;
                     log::info!("error banner dismissed");
-                } else if self.viewer.show_help || self.viewer.show_all_warnings {
-                    // (A window of text shown is closed first: Esc, Esc had quit from it.)
-                    (self.viewer.show_help, self.viewer.show_all_warnings) = (false, false);
-                    self.esc_armed = None;
-                    log::info!("Esc closed the shortcuts and warnings windows");
                 } else if self.quit_armed() {
                     event_loop.exit();
                 } else {

@@ -634,13 +634,13 @@ fn real_x_input_escape_leaves_a_text_field_menu_or_dialog_before_it_asks() {
 }
 
 fn real_x_input_escape_closes_the_shortcuts_before_it_asks() {
-    // H shows the shortcuts; Esc closes them (Esc, Esc had quit the window from them); the
-    // next Esc asks to quit.
+    // A failed load's banner, then H: Esc closes the shortcuts on top (Esc, Esc had quit the
+    // window from them), Esc then dismisses the banner under them, and the next Esc asks.
     let dir = tempfile::tempdir().unwrap();
-    let script = "0 await driver-done\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool key h; sleep 0.5; \
-                  xdotool key Escape; logged 'Esc closed'; xdotool key Escape; \
-                  logged 'press Esc again to quit'";
+    let script = "0 drop n.obj\n0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; logged 'could not load'; xdotool key h; \
+                  sleep 0.5; xdotool key Escape; logged 'Esc closed'; xdotool key Escape; \
+                  logged 'banner dismissed'; xdotool key Escape; logged 'press Esc again to quit'";
     let around = Around::RealInput(driver);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;
@@ -648,8 +648,15 @@ fn real_x_input_escape_closes_the_shortcuts_before_it_asks() {
     let log = &run.stderr;
     assert!(!run.fields.is_empty(), "the window quit\n{log}");
     assert_eq!(run.fields["help"], "off", "{log}");
-    let (closed, asked) = (log.find("Esc closed"), log.find("press Esc again to quit"));
-    assert!(closed.zip(asked).is_some_and(|(c, a)| c < a), "{log}");
+    let at = |line: &str| {
+        log.find(line)
+            .unwrap_or_else(|| panic!("no '{line}'\n{log}"))
+    };
+    let (closed, dismissed) = (at("Esc closed"), at("error banner dismissed"));
+    assert!(
+        closed < dismissed && dismissed < at("press Esc again to quit"),
+        "{log}"
+    );
     assert_eq!(log.matches("press Esc again to quit").count(), 1, "{log}");
 }
 
