@@ -63,6 +63,6 @@ const SHORTCUTS: &[(&str, &str)] = &[
     ("P", "hide / show the side panel"),
     (
         "Esc",
-        "release the mouse; dismiss an error; close this overlay; again to quit",
+        "release the mouse; close this overlay; dismiss an error; again to quit",
     ),
 ];
