@@ -237,7 +237,7 @@ impl Viewer {
         let from = (self.inspected)
             .filter(|a| a.size == census.size && a.generation == census.generation)
             .map(|a| a.pixel);
-        let count = census.marked.len();
+        let (count, shown) = (census.marked.len(), census.size.0);
         let found = census.step(from, step).map(|(k, m)| (k, *m));
         let none = no_marked_cracks(census);
         self.cracks.pending = None;
@@ -245,10 +245,18 @@ impl Viewer {
             return self.set_status(none);
         };
         let (i, j) = m.pixel;
+        // (Its ring is not seen there: said, as for a click.)
+        let offset = self.view_offset();
+        let under = match (offset..offset + shown).contains(&i) {
+            true => "",
+            false => " (under the inspector's panel: a wider window shows its ring)",
+        };
         if self.answer((i, j), false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
             let n = k + 1;
-            self.set_status(format!("crack {n} of {count}: pixel ({i}, {j}): {what}"));
+            self.set_status(format!(
+                "crack {n} of {count}: pixel ({i}, {j}){under}: {what}"
+            ));
             self.status_follows_pixel = true;
         }
     }

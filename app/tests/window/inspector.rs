@@ -819,7 +819,8 @@ fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 set method cramer\n0 set spp 1\n0 set cracks on\n0 await driver-done\n";
     // (N before the count waits for it.)
-    let driver = "xdotool windowfocus --sync $win; xdotool key n; logged '] crack '";
+    let driver = "xdotool windowfocus --sync $win; xdotool key n; logged '] crack '; \
+                  xdotool key shift+n; logged '] crack ' 2";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -834,16 +835,26 @@ fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
     assert_eq!(run.fields["marked"], marked.len().to_string(), "{log}");
     let leaks = counts.get("leak").copied().unwrap_or(0);
     assert_eq!(run.fields["leaks"], leaks.to_string(), "{log}");
-    let beside = marked
-        .iter()
-        .filter(|&&(i, ..)| i < offset || i >= offset + w)
-        .count();
+    let under = |i: u32| i < offset || i >= offset + w;
+    let beside = marked.iter().filter(|&&(i, ..)| under(i)).count();
     assert!(
         beside > 0,
         "a marked pixel under the panel: {marked:?}, offset {offset}"
     );
     let (i, j, _) = marked[0];
     let said = format!("crack 1 of {}: pixel ({i}, {j})", marked.len());
+    assert!(log.contains(&said), "{said}\n{log}");
+    // Shift+N from the first: the last, said to lie under the panel where it does.
+    let (i, j, _) = *marked.last().unwrap();
+    let under_panel = if under(i) {
+        " (under the inspector's panel"
+    } else {
+        ":"
+    };
+    let said = format!(
+        "crack {0} of {0}: pixel ({i}, {j}){under_panel}",
+        marked.len()
+    );
     assert!(log.contains(&said), "{said}\n{log}");
 }
 
