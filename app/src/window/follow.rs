@@ -199,7 +199,9 @@ impl Viewer {
         if let Some(none) = self.final_census().filter(|c| c.marked.is_empty()) {
             let said = no_marked_cracks(none);
             self.cracks.pending = None;
-            return self.set_status(said);
+            self.set_status(said);
+            self.status_of_frame = true;
+            return;
         }
         self.inspector_on = true;
         self.cracks.pending = Some(step);
@@ -242,7 +244,9 @@ impl Viewer {
         let none = no_marked_cracks(census);
         self.cracks.pending = None;
         let Some((k, m)) = found else {
-            return self.set_status(none);
+            self.set_status(none);
+            self.status_of_frame = true;
+            return;
         };
         let (i, j) = m.pixel;
         // (Its ring is not seen there: said, as for a click.)

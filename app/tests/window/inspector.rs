@@ -858,6 +858,35 @@ fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
     assert!(log.contains(&said), "{said}\n{log}");
 }
 
+fn real_x_input_a_no_cracks_status_goes_once_the_view_moves() {
+    // "No marked cracks in this frame" tells of the frame shown: once the camera moves it is
+    // cleared (it stayed, naming moller after the method had become cramer).
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("box.view");
+    let text = "scene cornell\ncamera 0 0 -3.001 yaw 0 pitch 0\nsize 320 240\nstep flat\n\
+                spp 1\nmethod watertight\ncracks on\n";
+    std::fs::write(&view, text).unwrap();
+    let script = format!("0 drop {}\n0 await driver-done\n", view.display());
+    let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
+                  logged 'cracks in this frame'; xdotool keydown w; sleep 0.3; xdotool keyup w; \
+                  sleep 0.5";
+    let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("cracks in this frame"),
+        "N said so first\n{log}"
+    );
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    assert!(
+        status.is_none_or(|s| !s.contains("cracks in this frame")),
+        "{status:?}\n{log}"
+    );
+    assert!(run.nums("camera")[2] > -3.0, "W moved the camera\n{log}");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_scripts_pixel_off_the_image_is_named_as_given,
@@ -878,4 +907,5 @@ pub const TESTS: super::Tests = tests![
     an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it,
     a_selected_push_level_tints_the_image_not_the_inspectors_answer,
     real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops,
+    real_x_input_a_no_cracks_status_goes_once_the_view_moves,
 ];

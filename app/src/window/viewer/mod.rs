@@ -127,6 +127,9 @@ pub struct Viewer {
     /// Whether the status tells of a number field ([`Viewer::field_slip`],
     /// [`Viewer::field_taken`]).
     status_from_field: bool,
+    /// Whether the status tells of the frame shown (N found no crack in it): the next change
+    /// of the view clears it, as it would no longer be true.
+    pub status_of_frame: bool,
     /// Whether the status line showed the whole message in the last UI pass.
     pub status_whole: bool,
     /// Whether it showed the frame's figures whole beside it.
@@ -239,6 +242,7 @@ impl Viewer {
             show_help: false,
             panel_hidden: false,
             status_from_field: false,
+            status_of_frame: false,
             status: String::new(),
             status_is_error: false,
             status_follows_pixel: false,
@@ -327,7 +331,7 @@ impl Viewer {
     pub fn set_status(&mut self, message: impl Into<String>) {
         self.status = message.into();
         (self.status_is_error, self.status_follows_pixel) = (false, false);
-        self.status_from_field = false;
+        (self.status_from_field, self.status_of_frame) = (false, false);
         log::info!("{}", self.status);
     }
 
@@ -383,6 +387,9 @@ impl Viewer {
         self.last_change = Instant::now();
         self.worker.set_generation(self.generation);
         self.cracks.cancel();
+        if std::mem::take(&mut self.status_of_frame) {
+            self.status.clear();
+        }
     }
 
     /// Frames the model the window opened with for the image's size, once it is known.
