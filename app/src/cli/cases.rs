@@ -5,7 +5,7 @@ use super::check::{
     answers_for, check_tolerance, exact_f32, exact_generic, judge_all, max_output, ray_place,
     stalled, tally_of,
 };
-use super::reproducers::reproducers;
+use super::reproducers::{reproducers, Written};
 use super::suite_dir::{family_name, suite_families};
 use super::Precision;
 use anyhow::Result;
@@ -92,7 +92,11 @@ fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case
             let judged = judge_all(&exact, &answers, tolerance);
             let place = |i: usize| ray_place(&rays_file, &exact, i);
             // (The first line heads the list; the second is the first mistake.)
-            let lines = reproducers(&judged, &exact, &answers, &place, "its output", 1);
+            let written = Written {
+                name: "its output",
+                text: stdout,
+            };
+            let lines = reproducers(&judged, &exact, &answers, &place, written, 1);
             let first = lines.get(1).map_or("", |l| l.trim()).to_string();
             Ok((tally_of(&judged), first))
         }),

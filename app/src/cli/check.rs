@@ -1,7 +1,7 @@
 //! `raylab suite export` and `raylab check`: the hard-case suite as files, and the grading of
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
-use super::reproducers::reproducers;
+use super::reproducers::{reproducers, Written};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
@@ -307,19 +307,17 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             );
             let answers = match (&args.answers, &args.program) {
                 (Some(file), _) => {
-                    let file_name = file.display().to_string();
-                    (
-                        file_name.clone(),
-                        answers_for(&file_name, &read_text(file)?, &exact, rays)?,
-                    )
+                    let (file_name, text) = (file.display().to_string(), read_text(file)?);
+                    let answers = answers_for(&file_name, &text, &exact, rays)?;
+                    (file_name, text, answers)
                 }
                 (None, Some(template)) => {
                     let command = template::command_for(template, scene, rays);
                     match program_answers(template, scene, args.timeout, &exact, rays) {
-                        Ok((elapsed, answers)) => {
+                        Ok((elapsed, answers, printed)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
                             out += &format!("program: {command} ({ms:.1} ms)\n");
-                            ("its output".to_string(), answers)
+                            ("its output".to_string(), printed, answers)
                         }
                         Err(why) => {
                             say_failed(&out, &command, &why)?;
@@ -329,11 +327,12 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 }
                 (None, None) => unreachable!("checked in `check`"),
             };
-            let (answers_file, answers) = answers;
+            let (name, text, answers) = answers;
             let judged = judge_all(&exact, &answers, tolerance);
             let place = |i: usize| ray_place(rays, &exact, i);
             let show = args.show.unwrap_or(REPRODUCERS);
-            let tally = report(&mut out, &judged, &exact, &answers, &place, &answers_file, show);
+            let written = Written { name: &name, text: &text };
+            let tally = report(&mut out, &judged, &exact, &answers, &place, written, show);
             say!("{out}{}", tally.line());
             Ok(tally.passed())
         }
@@ -382,7 +381,7 @@ pub(super) fn program_answers<T: Real>(
     timeout_s: f64,
     exact: &Exact<T>,
     rays_file: &Path,
-) -> Result<(Duration, Answers<T>), String> {
+) -> Result<(Duration, Answers<T>, String), String> {
     let timeout = Duration::from_secs_f64(timeout_s);
     // The program reads copies, made for this run: one that writes to its input (`open(path,
     // "w")` for "r") would otherwise change the files, and the next check, whose exact answers
@@ -409,7 +408,7 @@ pub(super) fn program_answers<T: Real>(
     })?;
     let answers = answers_for("its output", &ran.stdout, exact, rays_file)
         .map_err(|e| stderr_hint(format!("{e:#}"), &ran))?;
-    Ok((ran.elapsed, answers))
+    Ok((ran.elapsed, answers, ran.stdout))
 }
 
 /// `why` a run was stopped for its time, with how far its answers had come (`printed`, its
@@ -492,7 +491,7 @@ pub(super) fn report<T: Real>(
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
-    answers_file: &str,
+    written: Written,
     show: usize,
 ) -> Tally {
     use std::fmt::Write;
@@ -532,7 +531,7 @@ pub(super) fn report<T: Real>(
         tally.t_within_tolerance,
         tally.t_beyond
     );
-    for line in reproducers(judged, exact, answers, place, answers_file, show) {
+    for line in reproducers(judged, exact, answers, place, written, show) {
         w!("{line}");
     }
     tally
@@ -639,7 +638,7 @@ fn check_suite<T: Real>(
             false => e,
         });
         match answers {
-            Ok((elapsed, answers)) => {
+            Ok((elapsed, answers, printed)) => {
                 let judged = judge_all(&exact, &answers, run.tolerance);
                 let tally = tally_of(&judged);
                 let ms = (
@@ -649,8 +648,11 @@ fn check_suite<T: Real>(
                 say!("{}", tally.row(&name, ms));
                 if !tally.passed() {
                     let place = |i: usize| ray_place(&rays, &exact, i);
-                    let lines =
-                        reproducers(&judged, &exact, &answers, &place, "its output", run.show);
+                    let written = Written {
+                        name: "its output",
+                        text: &printed,
+                    };
+                    let lines = reproducers(&judged, &exact, &answers, &place, written, run.show);
                     for line in lines {
                         say!("    {line}");
                     }

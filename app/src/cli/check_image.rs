@@ -3,6 +3,7 @@
 
 use super::check::{judge_all, program_answers, report, say_failed, CheckArgs, REPRODUCERS};
 use super::program;
+use super::reproducers::Written;
 use anyhow::{Context, Result};
 use raylab::check::grade::{Answer, Exact};
 use raylab::render::image::linear_to_srgb8;
@@ -119,23 +120,24 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         "check --image: {w}×{h} camera rays written; running the program (at most {} s)",
         args.timeout
     );
-    let answers = match program_answers(template, &scene_file, args.timeout, &exact, &rays_file) {
-        Ok((elapsed, answers)) => {
-            let ms = elapsed.as_secs_f64() * 1e3;
-            out += &format!("program: {command} ({ms:.1} ms)\n");
-            answers
-        }
-        Err(why) => {
-            let why = match why.contains("ran out of time") {
-                true => format!(
+    let (answers, printed) =
+        match program_answers(template, &scene_file, args.timeout, &exact, &rays_file) {
+            Ok((elapsed, answers, printed)) => {
+                let ms = elapsed.as_secs_f64() * 1e3;
+                out += &format!("program: {command} ({ms:.1} ms)\n");
+                (answers, printed)
+            }
+            Err(why) => {
+                let why = match why.contains("ran out of time") {
+                    true => format!(
                     "{why}; or ask for fewer camera rays with --width and --height (now {w}×{h})"
                 ),
-                false => why,
-            };
-            say_failed(&out, &command, &why)?;
-            return Ok(false);
-        }
-    };
+                    false => why,
+                };
+                say_failed(&out, &command, &why)?;
+                return Ok(false);
+            }
+        };
     eprintln!("check --image: grading the {} answers", w * h);
     let graded = judge_all(&exact, &answers, args.t_tolerance);
     let mut rgba = Vec::with_capacity(graded.len() * 4);
@@ -161,7 +163,10 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         &exact,
         &answers,
         &place,
-        "its output",
+        Written {
+            name: "its output",
+            text: &printed,
+        },
         show,
     );
     say!(

@@ -11,7 +11,7 @@ pub(super) fn reproducers<T: Real>(
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
-    answers_file: &str,
+    written: Written,
     most: usize,
 ) -> Vec<String> {
     let mut lines = Vec::new();
@@ -30,7 +30,7 @@ pub(super) fn reproducers<T: Real>(
         ));
         let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
         for (i, j) in shown.take(most) {
-            lines.push(reproducer(i, j, exact, answers, place, answers_file));
+            lines.push(reproducer(i, j, exact, answers, place, written));
         }
     }
     lines
@@ -43,7 +43,7 @@ fn reproducer<T: Real>(
     exact: &Exact<T>,
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
-    answers_file: &str,
+    written: Written,
 ) -> String {
     let ray = exact.rays[i].1;
     let given_t = match answers[i].1 {
@@ -108,14 +108,34 @@ fn reproducer<T: Real>(
             },
         },
     };
+    let line = answers[i].0;
     format!(
-        "  {}: {}  exact: {}  given ({answers_file}:{}): {}  [{what}]",
+        "  {}: {}  exact: {}  given ({}:{line}): {}  [{what}]",
         place(i),
         ray.line(),
         j.exact.text(),
-        answers[i].0,
-        answers[i].1.text()
+        written.name,
+        written.line(line).unwrap_or_else(|| answers[i].1.text())
     )
+}
+
+/// Where the answers were read: the name of their file (`its output` for a program's) and
+/// its text, so that an answer is shown as written (`hit 1e39 0` was shown as `hit inf 0`,
+/// `hit 1.50 3` as `hit 1.5 3`).
+#[derive(Clone, Copy)]
+pub(super) struct Written<'a> {
+    pub name: &'a str,
+    pub text: &'a str,
+}
+
+impl Written<'_> {
+    /// Line `n` (from 1) as written, its spaces trimmed, control characters escaped and a
+    /// long one cut.
+    fn line(&self, n: usize) -> Option<String> {
+        let text = self.text.strip_prefix('\u{feff}').unwrap_or(self.text);
+        let line = text.lines().nth(n.checked_sub(1)?)?.trim();
+        Some(raylab_app::one_line(&raylab::words::shown(line)))
+    }
 }
 
 /// Where a given hit's t is not inside the ray's open interval (tmin, tmax): which end it

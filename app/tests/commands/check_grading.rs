@@ -446,6 +446,18 @@ fn an_index_past_the_last_primitive_is_a_wrong_answer_shown_with_its_ray() {
             "{out}"
         );
     }
+    // An answer is shown as written, not as read (`hit 1e39 0` read `hit inf 0`).
+    let file = dir.path().join("answers.txt");
+    std::fs::write(
+        &file,
+        GRADED_ANSWERS.replacen("hit 2 0", " hit  2.000  4 ", 1),
+    )
+    .unwrap();
+    let out = text(&check_answers(&scene, &rays, &file, &[]).stdout);
+    assert!(
+        out.contains("answers.txt:1): hit  2.000  4  [wrong primitive"),
+        "{out}"
+    );
     // `-0` is index 0, as `00` is: line 1's right answer stays right.
     let file = dir.path().join("answers.txt");
     std::fs::write(&file, GRADED_ANSWERS.replacen("hit 2 0", "hit 2 -0", 1)).unwrap();
