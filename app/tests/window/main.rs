@@ -23,6 +23,7 @@ macro_rules! tests {
     };
 }
 
+mod cracks;
 mod files;
 mod idle;
 mod input;
@@ -40,6 +41,7 @@ type Tests = &'static [(&'static str, fn())];
 
 /// Each file: its module's name, its tests and its text (for the check of `#[test]`).
 const FILES: &[(&str, Tests, &str)] = &[
+    ("cracks", cracks::TESTS, include_str!("cracks.rs")),
     ("files", files::TESTS, include_str!("files.rs")),
     ("idle", idle::TESTS, include_str!("idle.rs")),
     ("input", input::TESTS, include_str!("input.rs")),
