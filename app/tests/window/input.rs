@@ -308,7 +308,7 @@ fn f5_c_and_r_take_the_motion_of_a_key_just_released() {
         return;
     };
     let log = &run.stderr;
-    let view = super::files::saved_as(dir.path(), "raylab-view-", log);
+    let view = super::views::saved_as(dir.path(), "raylab-view-", log);
     let view = std::fs::read_to_string(view).unwrap();
     let saved: Vec<f64> = (view.lines().find_map(|l| l.strip_prefix("camera ")))
         .expect("a camera line")
@@ -360,7 +360,7 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     );
     let o = run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let shot = super::files::saved_as(dir.path(), "raylab-1", &run.stderr);
+    let shot = super::views::saved_as(dir.path(), "raylab-1", &run.stderr);
     let (off, n) = pixels_off(&read_png(&shot), &read_png(&dir.path().join("raylab.png")));
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }

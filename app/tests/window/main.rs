@@ -32,6 +32,7 @@ mod inspector_clicks;
 mod layout;
 mod panel;
 mod sizes;
+mod views;
 
 use common::window::WINDOWS_AT_ONCE;
 use libtest_mimic::{Arguments, Trial};
@@ -54,6 +55,7 @@ const FILES: &[(&str, Tests, &str)] = &[
     ("layout", layout::TESTS, include_str!("layout.rs")),
     ("panel", panel::TESTS, include_str!("panel.rs")),
     ("sizes", sizes::TESTS, include_str!("sizes.rs")),
+    ("views", views::TESTS, include_str!("views.rs")),
 ];
 
 fn main() {
