@@ -12,6 +12,7 @@ mod classic_bugs;
 mod cli;
 mod flags;
 mod grade;
+mod grade_isolation;
 mod grade_outputs;
 mod limits;
 mod outputs;

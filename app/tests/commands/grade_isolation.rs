@@ -1,0 +1,241 @@
+//! `raylab grade` keeps submissions apart: each family's files fresh, nothing of one run left
+//! for the next, only the environment it is given, and no run as root.
+
+use crate::common;
+
+use super::grade::{cut_class_and_suite, grade_class, open_up};
+use common::binary::assert_fails;
+use std::path::Path;
+
+crate::raylab_runner!();
+
+/// Two families in one run: the submission that deletes its input gets fresh files for the
+/// second and passes both.
+#[test]
+fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two families kept by hand: without the export's manifest, graded as they are.
+    let (class, suite) = cut_class_and_suite(dir.path(), &["fay-deletes"], &["16-", "17-"]);
+    let csv = dir.path().join("grades.csv");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = grade_class(&class, &suite, &["--csv", &path(&csv)]);
+    let out = common::binary::stdout(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{out}{}",
+        common::binary::stderr(&o)
+    );
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    assert!(
+        rows.iter()
+            .all(|r| r.starts_with("fay-deletes,") && r.ends_with(",ok")),
+        "{csv}"
+    );
+}
+
+/// As root, a program that cannot run as an unprivileged uid (here: TMPDIR is a directory
+/// only root may enter) stops the grading before any program runs, naming why; --as-root
+/// runs it as root all the same, said on stderr.
+#[test]
+fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
+    use std::os::unix::fs::PermissionsExt;
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let private = dir.path().join("private");
+    std::fs::create_dir(&private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let (class, suite) = (path(&class), path(&suite));
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        "sh run.sh {scene} {rays}",
+    ];
+    let tmpdir = [("TMPDIR", private.to_str().unwrap())];
+    let o = raylab_env(&args, &tmpdir);
+    common::binary::assert_fails(
+        &o,
+        2,
+        &[
+            "cannot run the programs as an unprivileged uid",
+            "Permission denied",
+            "--as-root",
+        ],
+    );
+    let o = raylab_env(&[&args[..], &["--as-root"]].concat(), &tmpdir);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    assert!(err.contains("warning: the programs run as root"), "{err}");
+    let row = out.lines().nth(1).unwrap_or_default();
+    assert!(row.starts_with("ada ") && row.ends_with("ok"), "{out}");
+}
+
+/// As root each worker's programs run as one account, a submission after another: the next
+/// finds nothing the last left where every user may write, a command missing from PATH is
+/// "not found" even beside a directory only root may enter, and a name that reads as a
+/// formula stays text in the CSV.
+#[test]
+fn the_next_submission_finds_nothing_of_the_last() {
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user, with no account to sweep");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    open_up(dir.path());
+    let (class, suite) = (dir.path().join("class"), dir.path().join("suite"));
+    let exact = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    let left = [
+        "/tmp/raylab-left-917005",
+        "/dev/shm/raylab-left-917005",
+        "/tmp/raylab-left-dir-917005",
+        "/run/lock/raylab-left-917005",
+    ];
+    for f in left {
+        let _ = std::fs::remove_dir_all(f).or_else(|_| std::fs::remove_file(f));
+    }
+    // Files where every user may write (/run/lock where there is one), and a System V shared
+    // memory segment, which outlives its process and holds memory.
+    let leaves = format!(
+        "echo answers > {0} && echo answers > {1} && mkdir -p {2} && echo x > {2}/f && \
+         {{ [ ! -d /run/lock ] || echo x > {3}; }} && ipcmk -M 65536 >&2 && \
+         exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2], left[3]
+    );
+    let looks = format!(
+        "for f in {} {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; \
+         awk -v u=$(id -u) 'NR > 1 && $8 == u {{ print \"found shm\"; exit 9 }}' /proc/sysvipc/shm >&2 \
+         || exit 9; exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2], left[3]
+    );
+    let class_of = [
+        ("=1+2", "exec python3 exact.py \"$1\" \"$2\"\n".to_string()),
+        ("a-leaves", leaves),
+        ("b-looks", looks),
+        (
+            "c-missing",
+            "exec no-such-command-917006 \"$1\"\n".to_string(),
+        ),
+    ];
+    for (name, run) in &class_of {
+        let sub = class.join(name);
+        std::fs::create_dir_all(&sub).unwrap();
+        std::fs::write(sub.join("run.sh"), run).unwrap();
+        std::fs::copy(&exact, sub.join("exact.py")).unwrap();
+    }
+    let o = raylab(&["suite", "export", suite.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", common::binary::stderr(&o));
+    // A directory of root's that others cannot enter, first in PATH (as root's ~/.cargo/bin).
+    let locked = dir.path().join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    let path_env = format!("{}:/usr/local/bin:/usr/bin:/bin", locked.display());
+    let (csv, json) = (
+        dir.path().join("grades.csv"),
+        dir.path().join("grades.json"),
+    );
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let o = raylab_env(
+        &[
+            "grade",
+            &path(&class),
+            "--suite",
+            &path(&suite),
+            "--family",
+            "01",
+            "-j",
+            "1",
+            "--program",
+            "sh run.sh {scene} {rays}",
+            "--csv",
+            &path(&csv),
+            "--json",
+            &path(&json),
+        ],
+        &[("PATH", &path_env)],
+    );
+    let err = common::binary::stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    // The class's originals are open to the accounts: the teacher is told so.
+    let open = format!("warning: {}: other users may enter it", class.display());
+    assert!(err.contains(&open), "{err}");
+    for f in left {
+        assert!(!Path::new(f).exists(), "{f} left behind");
+    }
+    // No segment of the accounts' uids is left either.
+    let shm = std::fs::read_to_string("/proc/sysvipc/shm").unwrap();
+    let of_accounts = shm.lines().skip(1).filter(|l| {
+        let uid: u32 = l.split_whitespace().nth(7).unwrap().parse().unwrap();
+        (61_000..65_000).contains(&uid)
+    });
+    assert_eq!(of_accounts.count(), 0, "{shm}");
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let status = |name: &str| {
+        let row = csv.lines().find(|l| l.starts_with(&format!("{name},")));
+        row.and_then(|r| r.rsplit(',').next()).map(str::to_string)
+    };
+    assert_eq!(status("'=1+2").as_deref(), Some("ok"), "{csv}");
+    assert_eq!(status("a-leaves").as_deref(), Some("ok"), "{csv}");
+    assert_eq!(status("b-looks").as_deref(), Some("ok"), "{csv}\n{err}");
+    assert_eq!(status("c-missing").as_deref(), Some("crashed"), "{csv}");
+    let json = std::fs::read_to_string(&json).unwrap();
+    assert!(
+        json.contains("no-such-command-917006: not found") && !json.contains("Permission denied"),
+        "{json}"
+    );
+}
+
+/// A submission sees none of the teacher's environment but PATH, the locale, the time zone
+/// and what `--env` names: a variable set for raylab (a token, say) is not passed on, one
+/// named by `--env` is. (Every variable was passed on.)
+#[test]
+fn a_submission_sees_only_the_environment_it_is_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let run = "[ -z \"$RAYLAB_TEST_TOKEN\" ] || { echo \"saw the token\" >&2; exit 3; }\n\
+               [ \"$RAYLAB_TEST_GIVEN\" = yes ] || { echo 'not given' >&2; exit 4; }\n\
+               exec python3 exact.py \"$1\" \"$2\"\n";
+    std::fs::write(class.join("ada/run.sh"), run).unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let json = dir.path().join("grades.json");
+    let (class, suite, json_path) = (path(&class), path(&suite), path(&json));
+    let program = "sh run.sh {scene} {rays}";
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        program,
+        "--json",
+        &json_path,
+    ];
+    let env = [("RAYLAB_TEST_TOKEN", "hush"), ("RAYLAB_TEST_GIVEN", "yes")];
+    let graded = |more: &[&str]| {
+        let o = raylab_env(&[&args[..], more].concat(), &env);
+        assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+        std::fs::read_to_string(&json).unwrap()
+    };
+    let given = graded(&["--env", "RAYLAB_TEST_GIVEN"]);
+    assert!(given.contains("\"status\": \"ok\""), "{given}");
+    // Without --env, the variable it needs is not there either: the failed run says why.
+    let not_given = graded(&[]);
+    assert!(
+        not_given.contains("\"status\": \"crashed\"") && not_given.contains("not given"),
+        "{not_given}"
+    );
+    let o = raylab(&[&args[..], &["--env", "A=B"]].concat());
+    assert_fails(&o, 2, &["--env 'A=B' is not a variable's name"]);
+}
