@@ -664,7 +664,7 @@ impl<T: Real> Parser<'_, T> {
                     crate::math::check_range("camera position", position, MAX_VIEW_COORDINATE);
                 self.beyond_view(in_view);
                 let mut camera = SceneCamera {
-                    position: [p[0], p[1], p[2]],
+                    position,
                     yaw: 0.0,
                     pitch: 0.0,
                     fov: None,
