@@ -94,7 +94,10 @@ pub fn status_line(
             false => response.on_hover_text(format!("{status}\n(click to copy)")),
         };
         if response.clicked() && !status.is_empty() {
-            let copied = status.strip_prefix(super::viewer::COPIED).unwrap_or(status);
+            // (What C copied, or F5's command, rather than the message that names it.)
+            let copied = (status.strip_prefix(super::viewer::COPIED))
+                .or_else(|| super::viewer::saved_view_command(status))
+                .unwrap_or(status);
             ui.ctx().copy_text(copied.to_owned());
             log::info!("the status message was copied to the clipboard");
         }

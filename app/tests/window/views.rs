@@ -272,6 +272,38 @@ fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
     assert!(read_png(&out).0 > 0, "rendered");
 }
 
+fn real_x_input_a_click_on_f5s_message_copies_its_command() {
+    // F5's message names the command that renders the view; a click on the status line
+    // copies that command, as after C (it copied the whole sentence).
+    if !common::tool_for("xclip", "xclip", "the saved view's command test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    // (500, 710): the status line under the image at the default window on 1280x800.
+    let driver = "xdotool windowfocus --sync $win; xdotool key F5; logged 'saved view'; \
+                  xdotool mousemove --sync 500 710 click 1; logged 'was copied'; \
+                  xclip -selection clipboard -o > cmd.txt";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let command = std::fs::read_to_string(dir.path().join("cmd.txt")).unwrap();
+    assert!(
+        command.starts_with("raylab render --view "),
+        "{command}\n{}",
+        run.stderr
+    );
+    let command = command.replacen("raylab ", &format!("{RAYLAB} "), 1);
+    let o = Command::new("sh")
+        .args(["-c", &command])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{command}\n{}", text(&o.stderr));
+    assert!(read_png(&dir.path().join("out.png")).0 > 0, "rendered");
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_saved_view_renders_headless_as_the_window_saved_it,
@@ -281,4 +313,5 @@ pub const TESTS: super::Tests = tests![
     a_view_without_a_camera_shows_its_scene_from_where_it_starts,
     a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera,
     the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,
+    real_x_input_a_click_on_f5s_message_copies_its_command,
 ];

@@ -24,6 +24,8 @@ use winit::event_loop::EventLoopProxy;
 mod loading;
 mod outputs;
 
+pub use outputs::saved_view_command;
+
 use loading::watch;
 
 pub use loading::LoadRequest;

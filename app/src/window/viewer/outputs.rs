@@ -3,6 +3,18 @@
 
 use super::*;
 
+/// How the status line begins that says where F5 saved the view, and the command that renders
+/// it; a click on it copies the command, not the message.
+const SAVED_VIEW: &str = "saved view ";
+
+/// The command a status line that tells of a saved view names ([`SAVED_VIEW`]).
+pub fn saved_view_command(status: &str) -> Option<&str> {
+    let (_, command) = status.strip_prefix(SAVED_VIEW)?.rsplit_once(" (")?;
+    command
+        .strip_suffix(')')
+        .filter(|c| c.starts_with("raylab render --view "))
+}
+
 impl Viewer {
     /// F12: renders what the window shows fully refined (the window may be showing a
     /// preview): its render size and supersampling, both within the window's bounds
@@ -122,7 +134,7 @@ impl Viewer {
                     .to_string();
                 let word = raylab::view::shell_quote(&shown);
                 self.set_status(format!(
-                    "saved view {shown} (raylab render --view {word} -o out.png)"
+                    "{SAVED_VIEW}{shown} (raylab render --view {word} -o out.png)"
                 ));
             }
             Err(e) => self.report_error(format!("could not save the view: {e}")),
