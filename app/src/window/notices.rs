@@ -95,9 +95,7 @@ pub fn status_line(
         };
         if response.clicked() && !status.is_empty() {
             // (What C copied, or F5's command, rather than the message that names it.)
-            let copied = (status.strip_prefix(super::viewer::COPIED))
-                .or_else(|| super::viewer::saved_view_command(status))
-                .unwrap_or(status);
+            let copied = super::viewer::command_in_status(status).unwrap_or(status);
             ui.ctx().copy_text(copied.to_owned());
             log::info!("the status message was copied to the clipboard");
         }

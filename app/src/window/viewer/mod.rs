@@ -24,7 +24,7 @@ use winit::event_loop::EventLoopProxy;
 mod loading;
 mod outputs;
 
-pub use outputs::saved_view_command;
+pub use outputs::command_in_status;
 
 use loading::watch;
 
@@ -82,10 +82,6 @@ pub struct NewFrame {
 }
 
 /// Everything the window shows besides egui and the GPU.
-/// How the status line begins that says what C copied; a click on it copies the command again,
-/// not the message.
-pub const COPIED: &str = "copied to the clipboard: ";
-
 pub struct Viewer {
     proxy: EventLoopProxy<AppEvent>,
     pub stage: Stage,

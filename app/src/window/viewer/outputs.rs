@@ -3,12 +3,19 @@
 
 use super::*;
 
+/// How the status line begins that says what C copied.
+const COPIED: &str = "copied to the clipboard: ";
+
 /// How the status line begins that says where F5 saved the view, and the command that renders
-/// it; a click on it copies the command, not the message.
+/// it.
 const SAVED_VIEW: &str = "saved view ";
 
-/// The command a status line that tells of a saved view names ([`SAVED_VIEW`]).
-pub fn saved_view_command(status: &str) -> Option<&str> {
+/// The command a status line names, after C ([`COPIED`]) or F5 ([`SAVED_VIEW`]): what a click
+/// on it copies, rather than the message.
+pub fn command_in_status(status: &str) -> Option<&str> {
+    if let Some(command) = status.strip_prefix(COPIED) {
+        return Some(command);
+    }
     let (_, command) = status.strip_prefix(SAVED_VIEW)?.rsplit_once(" (")?;
     command
         .strip_suffix(')')
