@@ -198,10 +198,7 @@ impl Viewer {
         // panel is not opened to say so.)
         if let Some(none) = self.final_census().filter(|c| c.marked.is_empty()) {
             let said = no_marked_cracks(none);
-            self.cracks.pending = None;
-            self.set_status(said);
-            self.status_of_frame = true;
-            return;
+            return self.say_no_cracks(said);
         }
         self.inspector_on = true;
         self.cracks.pending = Some(step);
@@ -240,14 +237,11 @@ impl Viewer {
             .filter(|a| a.size == census.size && a.generation == census.generation)
             .map(|a| a.pixel);
         let (count, shown) = (census.marked.len(), census.size.0);
-        let found = census.step(from, step).map(|(k, m)| (k, *m));
-        let none = no_marked_cracks(census);
-        self.cracks.pending = None;
-        let Some((k, m)) = found else {
-            self.set_status(none);
-            self.status_of_frame = true;
-            return;
+        let Some((k, m)) = census.step(from, step).map(|(k, m)| (k, *m)) else {
+            let said = no_marked_cracks(census);
+            return self.say_no_cracks(said);
         };
+        self.cracks.pending = None;
         let (i, j) = m.pixel;
         // (Its ring is not seen there: said, as for a click.)
         let offset = self.view_offset();
@@ -263,6 +257,14 @@ impl Viewer {
             ));
             self.status_follows_pixel = true;
         }
+    }
+
+    /// Says that a step found no crack in the frame shown (`said`), until the view changes;
+    /// the step is done.
+    fn say_no_cracks(&mut self, said: String) {
+        self.cracks.pending = None;
+        self.set_status(said);
+        self.status_of_frame = true;
     }
 
     /// A count finished: the panel's counts, the inspector's crack and a waiting step follow.
