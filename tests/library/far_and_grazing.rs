@@ -270,3 +270,55 @@ fn hits_whose_t_underflows_are_answered_as_the_reference_does() {
     );
     check_all(&two, &rays, 0.0, inf);
 }
+
+/// A ray that starts just inside a sphere far larger than the scene (radius 10¹⁰ to 10³⁷,
+/// its surface through the scene) leaves it at t ≈ 1, beyond a unit ball it meets first: its
+/// exact t, a + b·√s with a ≈ the radius, cancels in f64, and the adaptive search bounded
+/// the best hit by that f64 value (off by 10¹⁴ at 10³⁰), so the hierarchies culled the
+/// nearer ball (five spheres or more: with four, one leaf held them all). Every path answers
+/// as the reference loop: per ray through each structure, and 8 rays a packet.
+#[test]
+fn a_sphere_far_larger_than_the_scene_hides_no_nearer_ball() {
+    use raylab::accel::{Accel, AccelChoice};
+    use raylab::tracefile::{self, Query, TraceRay};
+    for radius in ["1e10", "1e15", "1e19", "1e30", "1e37"] {
+        let text = format!(
+            "sphere 0 0 0 1\nsphere 0 0 -{radius} {radius}\n\
+             sphere 10 0 0 1\nsphere 20 0 0 1\nsphere 30 0 0 1\n"
+        );
+        // From (0, 0.8, -3), inside the big sphere, towards the unit ball and around it.
+        let rays: String = (0..24)
+            .map(|i| {
+                format!(
+                    "0 0.8 -3 {} {} 3 0 inf\n",
+                    0.6 - 0.1 * (i % 6) as f64,
+                    -0.2 * (i / 6) as f64
+                )
+            })
+            .collect();
+        let rays = tracefile::parse_rays::<f32>("f.rays", &rays).unwrap();
+        let shapes = tracefile::parse_scene::<f32>("f.scene", &text).unwrap().0;
+        let reference = tracefile::trace_all(&shapes, &rays, Method::Adaptive, Query::Nearest);
+        let first = reference.lines().next().unwrap();
+        assert_eq!(
+            first, "hit 0.923077 0",
+            "radius {radius}: the unit ball, at t = 12/13"
+        );
+        let scene = tracefile::parse_scene_instanced("f.scene", &text).unwrap();
+        for choice in [AccelChoice::Flat, AccelChoice::Bvh, AccelChoice::Auto] {
+            let structure = Accel::for_scene(&scene, choice);
+            let through = |rays: &[TraceRay<f32>]| {
+                tracefile::trace_all_through(
+                    &scene,
+                    &structure,
+                    rays,
+                    Method::Adaptive,
+                    Query::Nearest,
+                )
+            };
+            assert_eq!(through(&rays), reference, "radius {radius}, {choice:?}");
+            let packets = tracefile::trace_all_packets(&scene, &structure, &rays, Query::Nearest);
+            assert_eq!(packets, reference, "radius {radius}, {choice:?} packets");
+        }
+    }
+}

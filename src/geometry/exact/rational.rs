@@ -35,14 +35,31 @@ impl ExactT {
         }
     }
 
-    /// The value rounded to f64 (for reporting t; never used for a decision).
+    /// The value in f64 within a few ulps (NaN or ∞ where a part is beyond f64's range): the
+    /// start of [`ExactT::rounded`]'s search, and the best hit's bound in the adaptive
+    /// search's culling ([`crate::geometry::adaptive`]), which widens it by 10⁻⁹ of itself.
+    ///
+    /// Where a and b·√s have opposite signs, a + b·√s cancels (a ray from just inside a
+    /// sphere of radius 10³⁰: a ≈ 10³⁰, the sum ≈ 1, the f64 sum off by 10¹⁴): it is then
+    /// (a² − b²s) / (a − b·√s), the numerator exact in rationals and the denominator a sum of
+    /// two terms of one sign.
     pub fn approx(&self) -> f64 {
         use num_traits::ToPrimitive;
-        let a = self.a.to_f64().unwrap_or(f64::NAN);
-        if self.b.is_zero() {
+        let f64_of = |x: &Q| x.to_f64().unwrap_or(f64::NAN);
+        let a = f64_of(&self.a);
+        if self.b.is_zero() || self.s.is_zero() {
             return a;
         }
-        a + self.b.to_f64().unwrap_or(f64::NAN) * self.s.to_f64().unwrap_or(f64::NAN).sqrt()
+        let root_term = f64_of(&self.b) * f64_of(&self.s).sqrt();
+        if self.a.is_zero() || sign(&self.a) == sign(&self.b) {
+            return a + root_term;
+        }
+        let numerator = &self.a * &self.a - &self.b * &self.b * &self.s;
+        let stable = f64_of(&numerator) / (a - root_term);
+        match stable.is_finite() {
+            true => stable,
+            false => a + root_term,
+        }
     }
 
     /// Exact comparison with another parameter.

@@ -269,6 +269,26 @@ fn rounds_to_nearest_with_ties_to_even_overflow_and_underflow() {
     assert_eq!(tiny.rounded::<f64>(), 3f64.sqrt() * 2f64.powi(-1000));
 }
 
+/// `approx` within a few ulps of the correctly rounded value where a and b·√s cancel: t =
+/// a − √(a² − 2a·u) ≈ u for a from 1 to 2¹⁰⁰ (a ray starting just inside a huge sphere),
+/// which the plain f64 sum a + b·√s got wrong by up to a's own size.
+fn approx_is_within_ulps_where_the_root_cancels() {
+    for k in (0..=100).step_by(5) {
+        for u in [0.25, 1.0 / 3.0, 1e-5] {
+            let a = q(2f64.powi(k));
+            let s = &a * &a - q(2.0) * &a * q(u);
+            let t = ExactT { a, b: q(-1.0), s };
+            let (got, exact) = (t.approx(), t.rounded::<f64>());
+            let ulps = (got - exact).abs() / (exact * f64::EPSILON);
+            assert!(ulps <= 8.0, "2^{k}, u {u}: approx {got}, exact {exact}");
+        }
+    }
+    // Terms of one sign, and a zero part, as before.
+    assert_eq!(t(1.0, 1.0, 4.0).approx(), 3.0);
+    assert_eq!(t(0.0, -1.0, 4.0).approx(), -2.0);
+    assert_eq!(t(5.0, 0.0, 4.0).approx(), 5.0);
+}
+
 /// This module's tests, for tests/unit.rs to run.
 pub(crate) const TESTS: &[(&str, fn())] = &[
     (
@@ -302,5 +322,9 @@ pub(crate) const TESTS: &[(&str, fn())] = &[
     (
         "rounds_to_nearest_with_ties_to_even_overflow_and_underflow",
         rounds_to_nearest_with_ties_to_even_overflow_and_underflow,
+    ),
+    (
+        "approx_is_within_ulps_where_the_root_cancels",
+        approx_is_within_ulps_where_the_root_cancels,
     ),
 ];
