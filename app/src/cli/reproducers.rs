@@ -2,6 +2,7 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
+use raylab::math::real::{cross, dot, sub};
 use raylab::math::Real;
 
 /// The first `most` wrong answers and the first `most` t failures, each under a heading, as
@@ -25,8 +26,14 @@ pub(super) fn reproducers<T: Real>(
         if count == 0 || most == 0 {
             continue;
         }
+        // (Which kinds: "wrong answers" read as the table's `wrong` column, which counts
+        // wrong primitives alone.)
+        let kinds = match heading == "wrong answers" {
+            true => format!(": {}", kinds_of(judged)),
+            false => String::new(),
+        };
         lines.push(format!(
-            "the first of the {count} {heading} (ray, exact answer, the answer given):"
+            "the first of the {count} {heading}{kinds} (ray, exact answer, the answer given):"
         ));
         let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
         for (i, j) in shown.take(most) {
@@ -34,6 +41,28 @@ pub(super) fn reproducers<T: Real>(
         }
     }
     lines
+}
+
+/// The wrong answers' count by verdict: `2 leaks, 1 false hit` (those with none left out).
+fn kinds_of<T: Real>(judged: &[Judged<T>]) -> String {
+    let plural = |n: usize, one: &str, many: &str| match n {
+        1 => format!("1 {one}"),
+        n => format!("{n} {many}"),
+    };
+    [
+        (Verdict::Leak, "leak", "leaks"),
+        (Verdict::FalseHit, "false hit", "false hits"),
+        (Verdict::Wrong, "wrong primitive", "wrong primitives"),
+    ]
+    .iter()
+    .map(|&(v, one, many)| {
+        let n = judged.iter().filter(|j| j.graded.verdict == v).count();
+        (n, plural(n, one, many))
+    })
+    .filter(|(n, _)| *n > 0)
+    .map(|(_, text)| text)
+    .collect::<Vec<_>>()
+    .join(", ")
 }
 
 /// One graded ray as a line: where the ray is, the ray, the exact answer and the one given.
@@ -75,11 +104,16 @@ fn reproducer<T: Real>(
                     "; t is the exact one to {digits} significant digits: print {0} (%.{0}g)",
                     round_trip_digits::<T>()
                 ),
-                (None, None, Some(_), _) => {
+                (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
-                     tmin wins"
-                        .to_string()
-                }
+                     tmin wins{}",
+                    match just_past_tmin(exact, i, &j.exact) {
+                        true =>
+                            " (the exact one is just past tmin: an epsilon in its place \
+                                 skips it)",
+                        false => "",
+                    }
+                ),
                 (None, None, None, Some(length)) => format!(
                     "; t is the exact one times |d| = {}: t is in units of d, not normalised",
                     match (1e-3..1e6).contains(&length) {
@@ -102,7 +136,7 @@ fn reproducer<T: Real>(
                     v.name()
                 )
             }
-            _ => match &outside {
+            _ => match outside.or_else(|| missed(exact, i, &j.exact, &answers[i].1)) {
                 Some(hint) => format!("{}: {hint}", v.name()),
                 None => v.name().to_string(),
             },
@@ -203,6 +237,147 @@ fn other_root<T: Real>(
         false => roots[0],
     };
     (near(t.f64(), other) && !near(t.f64(), exact_t)).then_some(other)
+}
+
+/// Why the exact hit may have been missed (a leak, or a farther primitive given), where the
+/// geometry says so clearly, in f64 with margins (a hint, never a verdict): a hit behind the
+/// origin with tmin < 0; a sphere's far root or a tangent; a triangle met from its back, on
+/// an edge or at a vertex; a hit just past tmin.
+fn missed<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    standing: &Answer<T>,
+    given: &Answer<T>,
+) -> Option<String> {
+    let Answer::Hit { t, prim } = *standing else {
+        return None;
+    };
+    let te = t.f64();
+    if let Answer::Hit { t, prim: p } = *given {
+        if p == prim || t.f64() <= te || t.is_nan() {
+            return None;
+        }
+    }
+    let tmin = exact.rays[i].1.tmin.f64();
+    if te < 0.0 && tmin < 0.0 {
+        return Some(format!(
+            "the exact hit is behind the origin (t {te}), which counts where tmin < 0 (here \
+             {tmin})"
+        ));
+    }
+    let mut facts = Vec::new();
+    if let Answer::Hit { t, .. } = *given {
+        facts.push(format!(
+            "the given t {t} is past the exact hit's t {te}: the nearest hit wins"
+        ));
+    }
+    facts.extend(where_on(exact, i, te, prim));
+    if just_past_tmin(exact, i, standing) {
+        facts.push(format!(
+            "the exact hit is just past tmin (t − tmin = {:.2e}): a hit counts however near \
+             tmin (an epsilon in its place loses it)",
+            te - tmin
+        ));
+    }
+    (!facts.is_empty()).then(|| facts.join("; "))
+}
+
+/// Where on primitive `prim` ray `i` meets it at `te`, where that explains a miss: a sphere's
+/// tangent or far root (the origin inside, or the near root not above tmin), a triangle's
+/// back, an edge or a vertex.
+fn where_on<T: Real>(exact: &Exact<T>, i: usize, te: f64, prim: u32) -> Option<String> {
+    let ray = &exact.rays[i].1.ray;
+    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+    match exact.shape(prim) {
+        raylab::geometry::Shape::Sphere(s) => {
+            let (oc, r) = (sub(o, s.centre.map(|c| c.f64())), s.radius.f64());
+            let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
+            let disc = b * b - a * c;
+            if disc.abs() <= 1e-9 * b * b {
+                return Some(
+                    "the ray touches the sphere (a double root, discriminant 0): a tangent is \
+                     a hit"
+                        .into(),
+                );
+            }
+            let root = disc.max(0.0).sqrt();
+            let (near, far) = ((-b - root) / a, (-b + root) / a);
+            if (te - far).abs() >= (te - near).abs() {
+                return None;
+            }
+            let why = match c < -1e-6 * r * r {
+                true => "the origin is inside the sphere",
+                false => "the near root is not above tmin",
+            };
+            Some(format!(
+                "the exact hit is the sphere's far root, where the ray leaves it: {why}"
+            ))
+        }
+        raylab::geometry::Shape::Triangle(tri) => {
+            let v = tri.0.map(|p| p.map(|c| c.f64()));
+            let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
+            let n = cross(e1, e2);
+            let back = dot(d, n) > 1e-6 * length(d) * length(n);
+            // (u, v): the weights of v1 and v2 where the line meets the plane (Möller's).
+            let (p, q) = (cross(d, e2), cross(sub(o, v[0]), e1));
+            let det = dot(e1, p);
+            let (u, w) = (dot(sub(o, v[0]), p) / det, dot(d, q) / det);
+            let on = |x: f64| x.abs() <= 1e-9;
+            let place = match (on(u), on(w), on(1.0 - u - w)) {
+                (true, true, _) => Some("at its vertex v0 (u = v = 0"),
+                (_, true, true) => Some("at its vertex v1 (u = 1, v = 0"),
+                (true, _, true) => Some("at its vertex v2 (u = 0, v = 1"),
+                (true, ..) => Some("on its edge u = 0 (v0 to v2"),
+                (_, true, _) => Some("on its edge v = 0 (v0 to v1"),
+                (.., true) => Some("on its edge u + v = 1 (v1 to v2"),
+                _ => None,
+            }
+            .map(|place| format!("{place}; u, v the weights of v1, v2)"));
+            let back_side = "on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))";
+            match (back, place) {
+                (true, Some(place)) => Some(format!(
+                    "the exact hit is {back_side}, {place}: both sides and the edges count"
+                )),
+                (true, None) => Some(format!("the exact hit is {back_side}: both sides count")),
+                (false, Some(place)) => Some(format!(
+                    "the exact hit is {}: the edges count, closed",
+                    place.replacen("its", "the triangle's", 1)
+                )),
+                (false, None) => None,
+            }
+        }
+    }
+}
+
+/// Whether the exact hit lies just past the ray's tmin (an epsilon in place of tmin loses
+/// it): t − tmin at most 10⁻³, or the point within 10⁻³ of the primitive's size or 10⁻⁶ of
+/// |o| + |t·d| from the point at tmin.
+fn just_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> bool {
+    let Answer::Hit { t, prim } = *standing else {
+        return false;
+    };
+    let traced = &exact.rays[i].1;
+    let (o, d) = (traced.ray.o.map(|c| c.f64()), traced.ray.d.map(|c| c.f64()));
+    let size = match exact.shape(prim) {
+        raylab::geometry::Shape::Sphere(s) => s.radius.f64(),
+        raylab::geometry::Shape::Triangle(tri) => {
+            let v = tri.0.map(|p| p.map(|c| c.f64()));
+            [(0, 1), (1, 2), (2, 0)]
+                .map(|(a, b)| length(sub(v[a], v[b])))
+                .into_iter()
+                .fold(0.0, f64::max)
+        }
+    };
+    let (te, tmin) = (t.f64(), traced.tmin.f64());
+    let past = (te - tmin) * length(d);
+    let near = te - tmin <= 1e-3
+        || past <= 1e-3 * size
+        || past <= 1e-6 * (length(o) + te.abs() * length(d));
+    tmin.is_finite() && near
+}
+
+fn length(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
 }
 
 /// Where the given t is, to 10⁻⁶ relative, the exact t times |d| (the ray's direction

@@ -64,7 +64,7 @@ fn check_grades_every_kind_of_answer() {
         // its number among the rays (the line of its answer).
         assert!(
             out.contains("rays.txt:4 (ray 3): 0 0 0 0 0 1 0 inf  exact: hit 2 0  given (")
-                && out.contains(":3): miss  [leak]"),
+                && out.contains(":3): miss  [leak: the exact hit is on the triangle's back"),
             "{out}"
         );
         assert!(
@@ -74,7 +74,8 @@ fn check_grades_every_kind_of_answer() {
         );
         assert!(
             out.contains("rays.txt:10 (ray 9): 0 0 0 0 0 1 3 inf  exact: hit 5 2")
-                && out.contains("[wrong primitive]"),
+                && out.contains(":9): hit 2 0  [wrong primitive: t 2 is not above tmin 3")
+                && out.contains(":4): hit 5 2  [wrong primitive: the given t 5 is past the exact"),
             "{out}"
         );
         assert!(

@@ -239,6 +239,28 @@ fn behind_origin_is_caught_by_hits_behind_the_origin() {
     assert!(out.contains(behind), "{out}");
 }
 
+/// tmin clamped to 0: hits behind the origin where tmin < 0 are lost; each answer shown says
+/// the exact hit is behind the origin and counts (it said "wrong primitive", no more).
+#[test]
+fn a_tmin_clamped_to_0_is_told_hits_behind_the_origin_count() {
+    if !common::tool_for("python3", "python3", "tmin clamped to 0") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let suite = export(dir.path());
+    let sub = sub_suite(&suite, &["hits-behind-the-origin"], dir.path(), "sub");
+    let exact = std::fs::read_to_string(root().join("examples/check/exact.py")).unwrap();
+    let open = "(tmin is None or tmin < t)";
+    assert!(exact.contains(open), "exact.py's interval test moved");
+    let clamped = dir.path().join("clamped.py");
+    std::fs::write(&clamped, exact.replace(open, "max(tmin or 0, 0) < t")).unwrap();
+    let program = format!("python3 '{}' {{scene}} {{rays}}", clamped.display());
+    let out = text(&check(&sub, &program, "f64").stdout);
+    assert!(count(&out, "leaks") + count(&out, "wrong") > 0, "{out}");
+    every_shown_says(&out, "the exact hit is behind the origin (t -");
+    every_shown_says(&out, "which counts where tmin < 0");
+}
+
 /// Each reproducer line of `out` (a ray, the exact answer and the one given) holds `hint`.
 fn every_shown_says(out: &str, hint: &str) {
     let shown: Vec<&str> = (out.lines()).filter(|l| l.contains("  given (")).collect();
@@ -291,17 +313,28 @@ fn closed_tmin_is_caught_by_origins_on_surfaces() {
     });
 }
 
-/// The sphere's near root only: a ray from inside a sphere misses it.
+/// The sphere's near root only: a ray from inside a sphere misses it. Each leak shown says
+/// the exact hit is the far root, and why the near one is not the answer.
 #[test]
 fn near_root_is_caught_by_rays_from_inside_spheres() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "near_root.py",
         caught_by: &[
             ("interval-ends-at-surfaces", &["leaks"]),
             ("inside-and-one-ulp-outside", &["leaks"]),
         ],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    every_shown_says(
+        &out,
+        "the exact hit is the sphere's far root, where the ray leaves it",
+    );
+    assert!(
+        out.contains("leaves it: the origin is inside the sphere"),
+        "{out}"
+    );
 }
 
 /// The sphere's far root only: a ray from outside meets the sphere where it leaves. Its t
@@ -326,56 +359,77 @@ fn a_far_root_t_failure_names_the_other_meeting() {
     assert!(hinted > 0, "{out}");
 }
 
-/// The last hit instead of the nearest: the far face of a cube.
+/// The last hit instead of the nearest: the far face of a cube. Each answer shown says the
+/// given t is past the exact one.
 #[test]
 fn last_hit_is_caught_by_a_cube_from_outside() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "last_hit.py",
         caught_by: &[("cube-from-outside", &["wrong"])],
         beside: &["exact-ties"],
-    });
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "is past the exact hit's t");
+    every_shown_says(&out, "the nearest hit wins");
 }
 
 /// A tangent ray missed (a strict discriminant test): the tangent rays of the near-tangent
 /// family leak.
 #[test]
 fn tangent_miss_is_caught_by_tangent_rays() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "tangent_miss.py",
         caught_by: &[("near-tangent-1e-3-1e-7-and-tangent", &["leaks"])],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    every_shown_says(
+        &out,
+        "the ray touches the sphere (a double root, discriminant 0)",
+    );
 }
 
-/// Back faces culled: from inside a closed mesh, rays leak.
+/// Back faces culled: from inside a closed mesh, rays leak, and each one shown says the
+/// exact hit is on the triangle's back.
 #[test]
 fn backface_culling_is_caught_by_a_cube_from_inside() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "backface.py",
         caught_by: &[("cube-from-inside", &["leaks"])],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "the exact hit is on the triangle's back (d·n > 0");
 }
 
 /// Only the third edge open (b1 + b2 < 1): rays through the edges two triangles share leak
 /// from inside a cube and hit the wrong face from outside.
 #[test]
 fn third_edge_open_is_caught_by_a_cube_from_inside_and_outside() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "third_edge_open.py",
         caught_by: &[
             ("cube-from-inside", &["leaks"]),
             ("cube-from-outside", &["wrong"]),
         ],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    // Each shown names the edge or vertex the hit is on (the third edge: u + v = 1, or its
+    // ends v1 and v2).
+    every_shown_says(&out, "the edges count");
+    assert!(out.contains("on its edge u + v = 1 (v1 to v2"), "{out}");
 }
 
 /// A fixed epsilon (t > 1e-4) for tmin: hits nearer than it are lost, at a vertex the ray
 /// starts from, just inside a sphere and just past tmin.
 #[test]
 fn epsilon_tmin_is_caught_by_near_hits() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "epsilon_tmin.py",
         caught_by: &[
             ("origins-at-a-vertex", &["leaks", "wrong"]),
@@ -383,7 +437,15 @@ fn epsilon_tmin_is_caught_by_near_hits() {
             ("hits-just-past-tmin", &["leaks"]),
         ],
         beside: &[],
-    });
+    }) else {
+        return;
+    };
+    // Each leak shown says its hit is just past tmin.
+    let leaks: Vec<&str> = (out.lines()).filter(|l| l.contains("[leak")).collect();
+    assert!(!leaks.is_empty(), "{out}");
+    for line in leaks {
+        assert!(line.contains("just past tmin (t − tmin = "), "{line}");
+    }
 }
 
 /// An epsilon of 10⁻⁹ or 10⁻¹⁵ (t > tmin + ε) loses only hits nearer tmin than that: the

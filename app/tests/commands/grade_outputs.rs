@@ -33,7 +33,8 @@ fn a_failed_familys_json_record_names_its_first_mistake() {
     assert!(
         detail.contains("exact: hit")
             && detail.contains("given (its output:")
-            && detail.ends_with("[wrong primitive]"),
+            && detail.contains("[wrong primitive: the given t ")
+            && detail.ends_with("the nearest hit wins]"),
         "{detail}"
     );
 }
@@ -92,7 +93,7 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         mistake.starts_with(&format!("    SUITE/{family}/rays.txt:"))
             && !zoe.contains(suite.to_str().unwrap())
             && mistake.contains("given (its output:")
-            && mistake.ends_with("[leak]"),
+            && mistake.contains("  [leak: the exact hit is the sphere's far root"),
         "{zoe}"
     );
     assert_eq!(std::fs::read_dir(&feedback).unwrap().count(), 3);
