@@ -11,6 +11,7 @@ use raylab::camera::Projection;
 use raylab::check::code::CodeInspection;
 use raylab::geometry::{Hit, Method, Ray};
 use raylab::render::inspect::Inspection;
+use raylab::render::LabStep;
 
 /// The switch in the side panel.
 pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
@@ -89,64 +90,87 @@ pub fn panel(
 /// The inspector's own panel: the last inspection's fields, the lecture's names.
 pub fn fields(ui: &mut egui::Ui, ins: &Inspection) {
     ui.strong("Ray inspector");
-    let v3 = |v: [f64; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
-    let f3 = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
     egui::Grid::new("inspector").striped(true).show(ui, |ui| {
-        let mut row = |name: &str, value: String| {
+        for (name, value) in rows(ins) {
             ui.label(name);
             ui.monospace(value);
             ui.end_row();
-        };
-        let [i, j] = ins.pixel;
-        row("pixel", format!("({i}, {j})"));
-        // Which of the pixel's rays every field below is of: a crack's is its marked sample's.
-        let [x, y] = ins.at;
-        let centre = [x, y] == [i as f64 + 0.5, j as f64 + 0.5];
-        let which = if centre { "the centre" } else { "sample" };
-        // (The position on a line of its own: at 1920x1080 one line ran past the panel.)
-        row(
-            "ray through",
-            format!("{which}\n({}, {})", short(x), short(y)),
-        );
-        row("(u, v, f)", v3(ins.uvf));
-        row("d camera", v3(ins.d_camera));
-        row("origin", f3(ins.ray.o));
-        row("d world", f3(ins.ray.d));
-        let Some(h) = &ins.hit else {
-            row("hit", "none: the background".into());
-            return;
-        };
-        row("hit", format!("primitive {}", h.prim));
-        row("t", format!("{}", h.t));
-        row("t exact", format!("{}", h.t_exact));
-        row("decided by", h.decided_by.to_string());
-        for (label, value) in h.terms.rows(v3) {
-            row(label, value);
         }
-        row("point", f3(h.point));
-        let e = h.point_hit_error;
-        row(
-            "point error (hit)",
-            format!("± {:.1e} {:.1e} {:.1e}", e[0], e[1], e[2]),
-        );
-        row("normal", f3(h.normal));
-        row(
-            "shadow ray",
-            match (&h.shadow, h.blocked_by) {
-                (None, _) => "none (D = 0)".into(),
-                (Some(_), Some(p)) => format!("blocked by primitive {p}"),
-                (Some(_), None) => "reaches the light".into(),
-            },
-        );
-        row("rho", f3(h.rho));
-        row("D", f3(h.direct));
-        if h.direct != h.direct_unshadowed {
-            // (Blocked in a step with shadows: the D the shadow ray took away.)
-            row("D unshadowed", f3(h.direct_unshadowed));
-        }
-        row("N", f3(h.indirect));
-        row(&format!("colour ({})", ins.step), f3(h.colour));
     });
+}
+
+/// The inspector's rows: each field's name and value.
+fn rows(ins: &Inspection) -> Vec<(String, String)> {
+    let v3 = |v: [f64; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
+    let f3 = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
+    let mut rows = Vec::new();
+    let mut row = |name: &str, value: String| rows.push((name.to_string(), value));
+    let [i, j] = ins.pixel;
+    row("pixel", format!("({i}, {j})"));
+    // Which of the pixel's rays every field below is of: a crack's is its marked sample's.
+    let [x, y] = ins.at;
+    let centre = [x, y] == [i as f64 + 0.5, j as f64 + 0.5];
+    let which = if centre { "the centre" } else { "sample" };
+    // (The position on a line of its own: at 1920x1080 one line ran past the panel.)
+    row(
+        "ray through",
+        format!("{which}\n({}, {})", short(x), short(y)),
+    );
+    row("(u, v, f)", v3(ins.uvf));
+    row("d camera", v3(ins.d_camera));
+    row("origin", f3(ins.ray.o));
+    row("d world", f3(ins.ray.d));
+    let Some(h) = &ins.hit else {
+        row("hit", "none: the background".into());
+        return rows;
+    };
+    row("hit", format!("primitive {}", h.prim));
+    row("t", format!("{}", h.t));
+    row("t exact", format!("{}", h.t_exact));
+    row("decided by", h.decided_by.to_string());
+    for (label, value) in h.terms.rows(v3) {
+        row(label, value);
+    }
+    row("point", f3(h.point));
+    let e = h.point_hit_error;
+    row(
+        "point error (hit)",
+        format!("± {:.1e} {:.1e} {:.1e}", e[0], e[1], e[2]),
+    );
+    row("normal", f3(h.normal));
+    row(
+        "shadow ray",
+        match (&h.shadow, h.blocked_by) {
+            (None, _) => "none (D = 0)".into(),
+            (Some(_), Some(p)) => format!("blocked by primitive {p}"),
+            (Some(_), None) => "reaches the light".into(),
+        },
+    );
+    row("rho", f3(h.rho));
+    // A term the step's colour leaves out says so (N = 0.5 beside a shadows colour without
+    // it read as part of it).
+    let left_out = |used: bool| match used {
+        true => "",
+        false => " (not in this step)",
+    };
+    row(
+        "D",
+        format!("{}{}", f3(h.direct), left_out(ins.step != LabStep::Flat)),
+    );
+    if h.direct != h.direct_unshadowed {
+        // (Blocked in a step with shadows: the D the shadow ray took away.)
+        row("D unshadowed", f3(h.direct_unshadowed));
+    }
+    row(
+        "N",
+        format!(
+            "{}{}",
+            f3(h.indirect),
+            left_out(ins.step == LabStep::Indirect)
+        ),
+    );
+    row(&format!("colour ({})", ins.step), f3(h.colour));
+    rows
 }
 
 /// `v` in the fewest digits that read back as it: an image position is an f32 (a sample's,
@@ -332,6 +356,44 @@ mod tests {
     use super::*;
     use raylab::render::Stage;
     use raylab::Scene;
+
+    /// D and N say where a step's colour leaves them out: N in every step but the last, D
+    /// in the flat one.
+    #[test]
+    fn the_terms_a_step_leaves_out_say_so() {
+        let stage = Stage::new(Scene::cornell(), raylab::accel::AccelChoice::Auto);
+        let camera = raylab::camera::Camera::cornell(64);
+        let field = |step: LabStep, name: &str| {
+            let settings = raylab::render::RenderSettings {
+                width: 64,
+                height: 48,
+                step,
+                ..Default::default()
+            };
+            let ins = raylab::render::inspect::inspect(&stage, &camera, &settings, 32, 40)
+                .expect("a pixel of the image");
+            let rows = rows(&ins);
+            let (_, value) = (rows.iter().find(|(n, _)| n == name))
+                .unwrap_or_else(|| panic!("no {name} in {rows:?}"));
+            value.clone()
+        };
+        let left_out = " (not in this step)";
+        for step in LabStep::ALL {
+            let n = field(step, "N");
+            assert!(n.starts_with("0.") && n.len() > 10, "{step}: N {n}");
+            assert_eq!(
+                n.ends_with(left_out),
+                step != LabStep::Indirect,
+                "{step}: N {n}"
+            );
+            let d = field(step, "D");
+            assert_eq!(
+                d.ends_with(left_out),
+                step == LabStep::Flat,
+                "{step}: D {d}"
+            );
+        }
+    }
 
     #[test]
     fn a_segment_behind_a_wall_is_hidden_only_where_the_wall_covers_it() {
