@@ -103,7 +103,12 @@ pub fn side_panel(
 
         if !info.levels.is_empty() {
             ui.separator();
-            actions.select = super::scene_tree::scene_tree(ui, info.levels, info.selected_level);
+            actions.select = super::scene_tree::scene_tree(
+                ui,
+                info.levels,
+                info.selected_level,
+                info.scene_name,
+            );
         }
 
         for control in CONTROLS.iter().filter(|c| c.heading.is_some()) {

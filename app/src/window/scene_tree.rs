@@ -4,11 +4,13 @@ use raylab::scene::file::Level;
 
 /// The transform-stack inspector: the `.scene` file's push levels as a tree, each with its
 /// statements and its `world_from_object` matrix; clicking a level selects it (its primitives
-/// are tinted in the image), clicking it again clears the selection.
+/// are tinted in the image), clicking it again clears the selection. What is unfolded is
+/// kept per scene (`scene`: its name), not carried to the same rows of another.
 pub fn scene_tree(
     ui: &mut egui::Ui,
     levels: &[Level],
     selected: Option<usize>,
+    scene: &str,
 ) -> Option<Option<usize>> {
     let mut clicked = None;
     let title = |level: &Level| match level.line {
@@ -21,7 +23,7 @@ pub fn scene_tree(
         None => "Transform stack".to_string(),
     };
     egui::CollapsingHeader::new(header)
-        .id_salt("transform stack")
+        .id_salt(("transform stack", scene))
         .default_open(false)
         .show(ui, |ui| {
             ui.small("M = T*R*S per level, times its parent's; click a level to highlight it");
@@ -35,25 +37,34 @@ pub fn scene_tree(
                         clicked = Some((selected != Some(i)).then_some(i));
                     }
                 });
-                ui.indent(("level", i), |ui| {
-                    egui::CollapsingHeader::new("statements and world_from_object")
-                        .id_salt(("level-details", i))
-                        .default_open(false)
-                        .show(ui, |ui| {
-                            for (line, text) in &level.statements {
-                                ui.monospace(format!("{line:>4}  {text}"));
-                            }
-                            egui::Grid::new(("matrix", i)).show(ui, |ui| {
-                                for row in &level.world_from_object {
-                                    for x in row {
-                                        ui.monospace(format!("{x:>8.4}"));
-                                    }
-                                    ui.end_row();
-                                }
-                            });
-                        });
+                // (Indented as its level's row: the details of nested levels had all lined
+                // up under the top one.)
+                ui.scope(|ui| {
+                    ui.spacing_mut().indent += 12.0 * level.depth as f32;
+                    ui.indent(("level", i), |ui| details(ui, level, (scene, i)));
                 });
             }
         });
     clicked
+}
+
+/// A level's statements (with their lines) and its `world_from_object` matrix, folded;
+/// `id`: the scene and the level.
+fn details(ui: &mut egui::Ui, level: &Level, id: (&str, usize)) {
+    egui::CollapsingHeader::new("statements and world_from_object")
+        .id_salt(("level-details", id))
+        .default_open(false)
+        .show(ui, |ui| {
+            for (line, text) in &level.statements {
+                ui.monospace(format!("{line:>4}  {text}"));
+            }
+            egui::Grid::new(("matrix", id)).show(ui, |ui| {
+                for row in &level.world_from_object {
+                    for x in row {
+                        ui.monospace(format!("{x:>8.4}"));
+                    }
+                    ui.end_row();
+                }
+            });
+        });
 }
