@@ -28,7 +28,7 @@ pub struct Camera {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum CameraError {
     /// Focal length not finite or outside [`FOCAL_RANGE`].
-    #[error("focal length {0:.6e} px is out of range (expected a finite value in [{min}, {max}])", min = FOCAL_RANGE.0, max = FOCAL_RANGE.1)]
+    #[error("focal length {0:?} px is out of range (expected a finite value in [{min}, {max}])", min = FOCAL_RANGE.0, max = FOCAL_RANGE.1)]
     Focal(f64),
     /// A non-finite position or angle.
     #[error("camera {0} must be finite, got {1}")]

@@ -239,6 +239,20 @@ fn each_help_lists_only_the_flags_its_command_uses() {
     assert_eq!(flags_in_help("bench"), bench);
 }
 
+/// A focal length out of range is named in its shortest form (`0.000000e0` had read as a
+/// number's rounding, `-5.000000e0` as another number than the one typed).
+#[test]
+fn a_focal_length_out_of_range_is_named_as_a_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    for (focal, named) in [("0", "0.0"), ("-5", "-5.0"), ("1e-300", "1e-300")] {
+        let flag = format!("--focal={focal}");
+        let o = raylab(&["render", &flag, "-o", out.to_str().unwrap()]);
+        let message = format!("focal length {named} px is out of range");
+        assert_fails(&o, 2, &[&message]);
+    }
+}
+
 /// A number out of range is refused naming it as given, however large (1e300 was written
 /// out in 301 digits).
 #[test]
