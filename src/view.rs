@@ -4,7 +4,9 @@
 //! ```text
 //! scene cornell | PATH             the built-in box, or a .scene / OBJ file
 //! obj-frame yup|lab                how an OBJ's coordinates are read
-//! camera x y z yaw DEG pitch DEG fov DEG
+//! camera x y z yaw DEG pitch DEG [fov DEG]
+//! focal F                          the focal length in pixels at the view's width (else the
+//!                                  camera's fov; not both)
 //! light x y z                      the point light's position
 //! size W H                         the image in pixels
 //! step flat|direct|shadows|indirect
@@ -20,8 +22,8 @@
 //! command line's flags and the window's panel do.
 //! A path with spaces, `#` or quotes is written in double quotes (`crate::words`), so any file
 //! name round-trips. Numbers are written in Rust's shortest round-trip form, so a saved view
-//! reads back to the same f64 values (the field of view is derived from the focal length,
-//! exact to an ulp).
+//! reads back to the same f64 values; the window writes the focal length itself (a field of
+//! view gave it back only within an ulp: 499.9999999999999 for 500).
 
 use crate::render::settings::Kind;
 use crate::render::{RenderSettings, CONTROLS};
@@ -38,6 +40,8 @@ pub struct View {
     pub camera: Option<SceneCamera>,
     /// `None`: the scene's light.
     pub light: Option<[f32; 3]>,
+    /// The focal length in pixels at the view's width (`None`: the camera's field of view).
+    pub focal: Option<f64>,
     pub settings: RenderSettings,
 }
 
@@ -82,6 +86,9 @@ impl View {
             }
             out += "\n";
         }
+        if let Some(f) = self.focal {
+            out += &format!("focal {f}\n");
+        }
         if let Some(l) = self.light {
             out += &format!("light {} {} {}\n", l[0], l[1], l[2]);
         }
@@ -94,17 +101,11 @@ impl View {
 
     /// The `raylab render` command that renders this view to `out` (the window's "copy as
     /// command"): every setting as a flag, numbers in shortest round-trip form, paths quoted
-    /// for a POSIX shell where they need it.
+    /// for a POSIX shell where they need it. A view without a camera gives no camera flags.
     pub fn to_command(&self, out: &str) -> String {
         let width = self.settings.width as f64;
-        let focal = self.camera.map_or(width, |c| c.focal_ratio() * width);
-        self.to_command_at_focal(out, focal)
-    }
-
-    /// [`View::to_command`] with `--focal` given: the focal length the caller renders with,
-    /// where the view's field of view would give it back only within an ulp or so (its tan
-    /// and atan: 101.00000000000003 for 101). A view without a camera gives no camera flags.
-    pub fn to_command_at_focal(&self, out: &str, focal: f64) -> String {
+        let camera = self.camera.map_or(width, |c| c.focal_ratio() * width);
+        let focal = self.focal.unwrap_or(camera);
         let s = &self.settings;
         let mut args = vec!["raylab".to_string(), "render".into()];
         // (`--name=value`: a negative number is then never taken for a flag.)
@@ -124,6 +125,8 @@ impl View {
             flag("camera", Some(format!("{},{},{}", p[0], p[1], p[2])));
             flag("yaw", Some(c.yaw.to_string()));
             flag("pitch", Some(c.pitch.to_string()));
+        }
+        if self.camera.is_some() || self.focal.is_some() {
             flag("focal", Some(focal.to_string()));
         }
         if let Some(l) = self.light {
@@ -150,6 +153,7 @@ impl View {
             obj_frame: ObjFrame::YUp,
             camera: None,
             light: None,
+            focal: None,
             settings: RenderSettings::default(),
         };
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -176,6 +180,14 @@ impl View {
                 .statement(&w)
                 .and_then(|()| (view.settings.validate()).map_err(|e| format!("{}: {e}", w[0])));
             checked.map_err(error)?;
+        }
+        if let (Some(line), Some(true)) = (first.get("focal"), view.camera.map(|c| c.fov.is_some()))
+        {
+            return Err(FileError {
+                file: file.to_string(),
+                line: *line,
+                message: "focal and the camera's fov both set the lens: give one".into(),
+            });
         }
         // (A file left empty or cut short by a failed save would render the defaults, as if
         // it were the view.)
@@ -246,6 +258,15 @@ impl View {
                 }
                 self.camera = Some(d.camera.expect("a camera statement"));
             }
+            "focal" => {
+                want(2)?;
+                let f = num(w[1])?;
+                let (lo, hi) = crate::camera::FOCAL_RANGE;
+                if !(lo..=hi).contains(&f) {
+                    return Err(format!("focal {f:?} px is outside [{lo}, {hi}]"));
+                }
+                self.focal = Some(f);
+            }
             "light" => {
                 want(4)?;
                 let l = [num(w[1])?, num(w[2])?, num(w[3])?];
@@ -265,7 +286,7 @@ impl View {
                 None => {
                     return Err(format!(
                         "unknown view statement '{name}' (expected scene, obj-frame, camera, \
-                         light, size, {})",
+                         focal, light, size, {})",
                         crate::render::settings::control_names()
                     ))
                 }

@@ -498,15 +498,19 @@ fn prepare_view(path: &Path, base: RenderSettings) -> Result<(Scene, Camera, Ren
     let mut s = view.settings;
     // (A view holds no tile culling: --no-tile-culling applies to it too.)
     s.tile_culling = base.tile_culling;
-    // (Without a `camera` line, the scene's own start, as `--scene` takes it.)
+    // (Without a `camera` line, the scene's own start, as `--scene` takes it; a `focal` line
+    // sets the lens either way.)
     let flags = match view.camera {
         Some(c) => CameraFlags {
             position: Some(DVec3::from_array(c.position)),
             yaw: Some(c.yaw),
             pitch: Some(c.pitch),
-            focal: Some(c.focal_ratio() * s.width as f64),
+            focal: Some(view.focal.unwrap_or(c.focal_ratio() * s.width as f64)),
         },
-        None => CameraFlags::default(),
+        None => CameraFlags {
+            focal: view.focal,
+            ..CameraFlags::default()
+        },
     };
     let camera = starting_camera(&scene, &spec, flags, (s.width, s.height))?;
     Ok((scene, camera, s))

@@ -69,6 +69,52 @@ fn view_files_render_and_round_trip() {
     );
 }
 
+/// A view's `focal` line is the focal length itself, at the view's width: `inspect` takes it
+/// exactly (from a field of view, 500 came back as 499.9999999999999), it round-trips, and
+/// it sets the lens with or without a camera line, but not beside a camera's `fov`.
+#[test]
+fn a_views_focal_length_is_taken_as_written() {
+    use raylab::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let text = "scene cornell\ncamera 0.1 0 -3 yaw 5 pitch -2\nfocal 500\nsize 640 480\n";
+    let view = View::parse("v.view", text).unwrap();
+    assert_eq!(view.focal, Some(500.0));
+    assert_eq!(View::parse("again", &view.to_text()).unwrap(), view);
+    let f_of = |text: &str| -> String {
+        let path = write(dir.path(), "f.view", text);
+        let o = raylab(&["inspect", "--view", &path, "--pixel", "10,10"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = String::from_utf8(o.stdout).unwrap();
+        let uvf = out
+            .lines()
+            .find(|l| l.starts_with("uvf: "))
+            .unwrap()
+            .to_string();
+        uvf.rsplit(' ').next().unwrap().to_string()
+    };
+    assert_eq!(f_of(text), "500");
+    assert_eq!(f_of("scene cornell\nfocal 123.25\nsize 64 48\n"), "123.25");
+    // Its field of view instead: within an ulp or so, not the number a user set.
+    let fov = 2.0 * (320.0f64 / 500.0).atan().to_degrees();
+    let from_fov = f_of(&format!(
+        "scene cornell\ncamera 0.1 0 -3 yaw 5 pitch -2 fov {fov}\nsize 640 480\n"
+    ));
+    assert!(
+        (from_fov.parse::<f64>().unwrap() - 500.0).abs() < 1e-9,
+        "{from_fov}"
+    );
+    let both = write(
+        dir.path(),
+        "both.view",
+        "scene cornell\ncamera 0 0 -3 yaw 0 pitch 0 fov 50\nfocal 500\n",
+    );
+    let o = raylab(&["render", "--view", &both, "-o", "x.png"]);
+    assert_fails(&o, 2, &["both.view:3:", "focal and the camera's fov"]);
+    let zero = write(dir.path(), "zero.view", "scene cornell\nfocal 0\n");
+    let o = raylab(&["render", "--view", &zero, "-o", "x.png"]);
+    assert_fails(&o, 2, &["zero.view:2:", "focal 0.0 px is outside"]);
+}
+
 #[test]
 fn a_view_without_camera_or_light_renders_as_its_scene_does() {
     // A view that names no camera sees its scene from where `--scene` starts it: a `.scene`
@@ -132,12 +178,15 @@ fn a_views_command_line_renders_the_view_through_a_shell() {
         command.contains("'") && command.contains("--yaw=-12.5"),
         "{command}"
     );
-    // With its focal length given (the window's own), that flag alone differs.
+    // With its focal length given (as the window saves it) instead of its field of view,
+    // that flag alone differs, and takes the focal length as written.
     let without_focal = |c: &str| -> String {
         let words = c.split(' ').filter(|w| !w.starts_with("--focal="));
         words.collect()
     };
-    let given = view.to_command_at_focal("from command.png", 62.5);
+    let focal_text = view_text.replace(" fov 61\n", "\nfocal 62.5\n");
+    let given = raylab::view::View::parse("f.view", &focal_text).unwrap();
+    let given = given.to_command("from command.png");
     assert!(given.contains(" --focal=62.5 "), "{given}");
     assert_eq!(without_focal(&given), without_focal(&command));
     let o = common::run_in_shell(&command, dir.path(), env!("CARGO_BIN_EXE_raylab"));

@@ -47,6 +47,25 @@ fn a_saved_view_renders_headless_as_the_window_saved_it() {
     );
     assert_eq!(run.fields["method"], "moller", "{}", run.stderr);
     assert_eq!(run.fields["cracks"], "on", "{}", run.stderr);
+    // The focal length itself, which `inspect` takes as written (a field of view gave it
+    // back within an ulp: 499.9999999999999 for 500).
+    let focal = (text.lines().find_map(|l| l.strip_prefix("focal ")))
+        .unwrap_or_else(|| panic!("no focal line: {text}"));
+    assert!(!text.contains(" fov "), "{text}");
+    let o = Command::new(RAYLAB)
+        .args(["inspect", "--pixel", "0,0", "--view"])
+        .arg(&view)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    let uvf = out
+        .lines()
+        .find(|l| l.starts_with("uvf: "))
+        .unwrap_or_default();
+    assert!(
+        uvf.ends_with(&format!(" {focal}")),
+        "{uvf} for focal {focal}\n{out}"
+    );
     assert_view_renders_as(&view, &shot);
 }
 

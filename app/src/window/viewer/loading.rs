@@ -126,6 +126,9 @@ impl Viewer {
             Some(c) => CameraController::from_scene_camera(c, scene.size()),
             None => CameraController::starting(scene, cornell, s.width, s.height),
         };
+        if let Some(focal) = view.focal {
+            self.controller.set_focal(focal, s.width);
+        }
         self.view.light = view.light.unwrap_or(self.scene_light);
         self.obj_frame = view.obj_frame;
         let shown = fit_shown((s.width, s.height), self.max_side);
@@ -140,8 +143,14 @@ impl Viewer {
         if n != s.spp {
             message += &format!(", its {0}x{0} samples at {n}x{n}", s.spp);
         }
-        if let Some(camera) = &view.camera {
-            message += &fov_note(camera, &self.controller);
+        let width = f64::from(s.width.max(1));
+        let asked = match (view.focal, &view.camera) {
+            (Some(focal), _) => Some(focal / width),
+            (None, Some(camera)) => Some(camera.focal_ratio()),
+            (None, None) => None,
+        };
+        if let Some(asked) = asked {
+            message += &fov_note(asked, &self.controller);
         }
         self.set_status(message);
         self.changed();
@@ -311,7 +320,7 @@ impl Viewer {
         match (&request.kind, scene.camera, scene.bounds()) {
             (LoadKind::Open, Some(c), _) => {
                 self.controller = CameraController::from_scene_camera(&c, scene.size());
-                note = fov_note(&c, &self.controller);
+                note = fov_note(c.focal_ratio(), &self.controller);
             }
             (LoadKind::Open, None, Some(bounds)) => {
                 self.controller = CameraController::framing(bounds, w, h)
@@ -343,12 +352,12 @@ impl Viewer {
     }
 }
 
-/// What the status adds where the window shows `camera` at another field of view than its
-/// own: the window keeps the focal length within
+/// What the status adds where the window shows a camera whose focal length is `asked` times
+/// the image width at another field of view: the window keeps the focal length within
 /// [`FOCAL_RATIO_RANGE`](raylab::controller::FOCAL_RATIO_RANGE) of the image width (168.6° to
 /// 1.1°), where `raylab render` takes any from 0.001 pixels.
-fn fov_note(camera: &raylab::scene::SceneCamera, controller: &CameraController) -> String {
-    let (asked, shown) = (camera.focal_ratio(), controller.focal_ratio);
+fn fov_note(asked: f64, controller: &CameraController) -> String {
+    let shown = controller.focal_ratio;
     if shown == asked {
         return String::new();
     }

@@ -77,8 +77,6 @@ impl Viewer {
         let c = &self.controller;
         let source = self.source.lock().expect("not poisoned").clone();
         let ((width, height), focal) = self.view_size_and_focal();
-        let ratio = focal / width as f64;
-        let fov = (ratio != 1.0).then(|| raylab::camera::fov_of_focal(ratio, 1.0).to_degrees());
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
             obj_frame: self.obj_frame,
@@ -86,9 +84,10 @@ impl Viewer {
                 position: c.position.to_array(),
                 yaw: values::degrees(c.yaw),
                 pitch: values::degrees(c.pitch),
-                fov,
+                fov: None,
             }),
             light: Some(self.view.light),
+            focal: Some(focal),
             settings: RenderSettings {
                 width,
                 height,
@@ -105,8 +104,7 @@ impl Viewer {
         self.update_camera();
         let mut view = self.view();
         view.scene = crate::window::files::scene_from_anywhere(&view.scene);
-        let focal = self.view_size_and_focal().1;
-        let command = view.to_command_at_focal("raylab.png", focal);
+        let command = view.to_command("raylab.png");
         self.set_status(format!("{COPIED}{command}"));
         self.copy_request = Some(command);
     }
