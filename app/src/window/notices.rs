@@ -99,7 +99,10 @@ pub fn status_line(
             ui.ctx().copy_text(copied.to_owned());
             log::info!("the status message was copied to the clipboard");
         }
-        ui.separator();
+        // (No separator before an empty message: it stood alone at the line's start.)
+        if !status.is_empty() {
+            ui.separator();
+        }
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             ui.add(egui::Label::new(figures).truncate());
         });
