@@ -107,11 +107,12 @@ fn reproducer<T: Real>(
                 (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins{}",
-                    match just_past_tmin(exact, i, &j.exact) {
-                        true =>
-                            " (the exact one is just past tmin: an epsilon in its place \
-                                 skips it)",
-                        false => "",
+                    match exact_t(&j.exact).and_then(|te| past_tmin(exact, i, te)) {
+                        Some((gap, true)) => format!(
+                            " (the exact one is only {gap:.1e} past tmin: an epsilon in its \
+                             place skips it)"
+                        ),
+                        _ => String::new(),
                     }
                 ),
                 (None, None, None, Some(length)) => format!(
@@ -240,9 +241,11 @@ fn other_root<T: Real>(
 }
 
 /// Why the exact hit may have been missed (a leak, or a farther primitive given), where the
-/// geometry says so clearly, in f64 with margins (a hint, never a verdict): a hit behind the
-/// origin with tmin < 0; a sphere's far root or a tangent; a triangle met from its back, on
-/// an edge or at a vertex; a hit just past tmin.
+/// geometry says so clearly, in f64 with margins or exactly (a hint, never a verdict), and
+/// only what sets the exact hit apart from the answer given: a hit behind the origin with
+/// tmin < 0 (the given one is not), the given t past it, a sphere's far root or a tangent, a
+/// triangle's edge or vertex, its back (the given one is not met from its back), a hit an
+/// epsilon past tmin would lose.
 fn missed<T: Real>(
     exact: &Exact<T>,
     i: usize,
@@ -253,54 +256,81 @@ fn missed<T: Real>(
         return None;
     };
     let te = t.f64();
-    if let Answer::Hit { t, prim: p } = *given {
-        if p == prim || t.f64() <= te || t.is_nan() {
-            return None;
-        }
-    }
+    let given_hit = match *given {
+        Answer::Hit { t, prim: p } if p == prim || t.is_nan() || t.f64() <= te => return None,
+        Answer::Hit { t, prim } => Some((t.f64(), prim)),
+        Answer::Miss => None,
+    };
     let tmin = exact.rays[i].1.tmin.f64();
-    if te < 0.0 && tmin < 0.0 {
-        return Some(format!(
-            "the exact hit is behind the origin (t {te}), which counts where tmin < 0 (here \
-             {tmin})"
-        ));
-    }
     let mut facts = Vec::new();
-    if let Answer::Hit { t, .. } = *given {
+    if let Some((t, _)) = given_hit {
         facts.push(format!(
             "the given t {t} is past the exact hit's t {te}: the nearest hit wins"
         ));
     }
-    facts.extend(where_on(exact, i, te, prim));
-    if just_past_tmin(exact, i, standing) {
+    if te < 0.0 && tmin < 0.0 && given_hit.is_none_or(|(t, _)| t >= 0.0) {
         facts.push(format!(
-            "the exact hit is just past tmin (t − tmin = {:.2e}): a hit counts however near \
-             tmin (an epsilon in its place loses it)",
-            te - tmin
+            "the exact hit is behind the origin (t {te}), which counts where tmin < 0 (here \
+             {tmin})"
+        ));
+        return Some(facts.join("; "));
+    }
+    // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
+    // first the likelier cause of a hit this near tmin.)
+    let near = past_tmin(exact, i, te).filter(|&(gap, near)| near && gap > 0.0);
+    facts.extend(where_on(
+        exact,
+        i,
+        te,
+        prim,
+        given_hit.map(|(_, p)| p),
+        near.is_none(),
+    ));
+    if let Some((gap, _)) = near {
+        facts.push(format!(
+            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin, where \
+             an epsilon in its place loses it"
         ));
     }
     (!facts.is_empty()).then(|| facts.join("; "))
 }
 
 /// Where on primitive `prim` ray `i` meets it at `te`, where that explains a miss: a sphere's
-/// tangent or far root (the origin inside, or the near root not above tmin), a triangle's
-/// back, an edge or a vertex.
-fn where_on<T: Real>(exact: &Exact<T>, i: usize, te: f64, prim: u32) -> Option<String> {
+/// tangent (exactly) or far root (the origin inside, or the near root not above tmin); a
+/// triangle's edge or vertex, else (where `back` asks) its back where `given` (the primitive
+/// given instead, if any) is not a triangle met from its back too.
+fn where_on<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    te: f64,
+    prim: u32,
+    given: Option<u32>,
+    back: bool,
+) -> Option<String> {
+    use raylab::geometry::Shape;
     let ray = &exact.rays[i].1.ray;
     let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+    let faces_back = |shape: &Shape<T>| match shape {
+        Shape::Triangle(tri) => {
+            let v = tri.0.map(|p| p.map(|c| c.f64()));
+            let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+            dot(d, n) > 1e-6 * length(d) * length(n)
+        }
+        Shape::Sphere(_) => false,
+    };
     match exact.shape(prim) {
-        raylab::geometry::Shape::Sphere(s) => {
-            let (oc, r) = (sub(o, s.centre.map(|c| c.f64())), s.radius.f64());
-            let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
-            let disc = b * b - a * c;
-            if disc.abs() <= 1e-9 * b * b {
+        Shape::Sphere(s) => {
+            let (centre, r) = (s.centre.map(|c| c.f64()), s.radius.f64());
+            if raylab::geometry::sphere::touches(o, d, centre, r) {
                 return Some(
                     "the ray touches the sphere (a double root, discriminant 0): a tangent is \
                      a hit"
                         .into(),
                 );
             }
-            let root = disc.max(0.0).sqrt();
+            let oc = sub(o, centre);
+            let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
+            let root = (b * b - a * c).max(0.0).sqrt();
             let (near, far) = ((-b - root) / a, (-b + root) / a);
             if (te - far).abs() >= (te - near).abs() {
                 return None;
@@ -313,67 +343,57 @@ fn where_on<T: Real>(exact: &Exact<T>, i: usize, te: f64, prim: u32) -> Option<S
                 "the exact hit is the sphere's far root, where the ray leaves it: {why}"
             ))
         }
-        raylab::geometry::Shape::Triangle(tri) => {
+        shape @ Shape::Triangle(tri) => {
             let v = tri.0.map(|p| p.map(|c| c.f64()));
             let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
-            let n = cross(e1, e2);
-            let back = dot(d, n) > 1e-6 * length(d) * length(n);
             // (u, v): the weights of v1 and v2 where the line meets the plane (Möller's).
             let (p, q) = (cross(d, e2), cross(sub(o, v[0]), e1));
             let det = dot(e1, p);
             let (u, w) = (dot(sub(o, v[0]), p) / det, dot(d, q) / det);
             let on = |x: f64| x.abs() <= 1e-9;
             let place = match (on(u), on(w), on(1.0 - u - w)) {
-                (true, true, _) => Some("at its vertex v0 (u = v = 0"),
-                (_, true, true) => Some("at its vertex v1 (u = 1, v = 0"),
-                (true, _, true) => Some("at its vertex v2 (u = 0, v = 1"),
-                (true, ..) => Some("on its edge u = 0 (v0 to v2"),
-                (_, true, _) => Some("on its edge v = 0 (v0 to v1"),
-                (.., true) => Some("on its edge u + v = 1 (v1 to v2"),
+                (true, true, _) => Some("vertex v0 (u = v = 0"),
+                (_, true, true) => Some("vertex v1 (u = 1, v = 0"),
+                (true, _, true) => Some("vertex v2 (u = 0, v = 1"),
+                (true, ..) => Some("edge u = 0 (v0 to v2"),
+                (_, true, _) => Some("edge v = 0 (v0 to v1"),
+                (.., true) => Some("edge u + v = 1 (v1 to v2"),
                 _ => None,
+            };
+            if let Some(place) = place {
+                return Some(format!(
+                    "the exact hit is on the triangle's {place}; u, v the weights of v1, v2): \
+                     the edges count, closed"
+                ));
             }
-            .map(|place| format!("{place}; u, v the weights of v1, v2)"));
-            let back_side = "on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))";
-            match (back, place) {
-                (true, Some(place)) => Some(format!(
-                    "the exact hit is {back_side}, {place}: both sides and the edges count"
-                )),
-                (true, None) => Some(format!("the exact hit is {back_side}: both sides count")),
-                (false, Some(place)) => Some(format!(
-                    "the exact hit is {}: the edges count, closed",
-                    place.replacen("its", "the triangle's", 1)
-                )),
-                (false, None) => None,
-            }
+            let given_faces_back = given.is_some_and(|g| faces_back(&exact.shape(g)));
+            (back && faces_back(&shape) && !given_faces_back).then(|| {
+                "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
+                 v0)): both sides count"
+                    .into()
+            })
         }
     }
 }
 
-/// Whether the exact hit lies just past the ray's tmin (an epsilon in place of tmin loses
-/// it): t − tmin at most 10⁻³, or the point within 10⁻³ of the primitive's size or 10⁻⁶ of
-/// |o| + |t·d| from the point at tmin.
-fn just_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> bool {
-    let Answer::Hit { t, prim } = *standing else {
-        return false;
-    };
+/// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
+/// near enough for a fixed epsilon in place of tmin to lose it: at most 10⁻⁴, or its point
+/// within 10⁻⁶ of |o| + |t·d| of the point at tmin. `None` for tmin −∞.
+fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)> {
     let traced = &exact.rays[i].1;
     let (o, d) = (traced.ray.o.map(|c| c.f64()), traced.ray.d.map(|c| c.f64()));
-    let size = match exact.shape(prim) {
-        raylab::geometry::Shape::Sphere(s) => s.radius.f64(),
-        raylab::geometry::Shape::Triangle(tri) => {
-            let v = tri.0.map(|p| p.map(|c| c.f64()));
-            [(0, 1), (1, 2), (2, 0)]
-                .map(|(a, b)| length(sub(v[a], v[b])))
-                .into_iter()
-                .fold(0.0, f64::max)
-        }
-    };
-    let (te, tmin) = (t.f64(), traced.tmin.f64());
-    let past = (te - tmin) * length(d);
-    let near = te - tmin <= 1e-3
-        || past <= 1e-3 * size
-        || past <= 1e-6 * (length(o) + te.abs() * length(d));
-    tmin.is_finite() && near
+    let tmin = traced.tmin.f64();
+    let gap = te - tmin;
+    let near = gap <= 1e-4 || gap * length(d) <= 1e-6 * (length(o) + te.abs() * length(d));
+    tmin.is_finite().then_some((gap, near))
+}
+
+/// The t of a hit, in f64.
+fn exact_t<T: Real>(answer: &Answer<T>) -> Option<f64> {
+    match *answer {
+        Answer::Hit { t, .. } => Some(t.f64()),
+        Answer::Miss => None,
+    }
 }
 
 fn length(a: [f64; 3]) -> f64 {

@@ -170,11 +170,22 @@ fn caught(bug: &Bug) -> Option<String> {
 /// decided by rounding.
 #[test]
 fn textbook_sphere_is_caught_at_the_rim_of_far_tiny_spheres() {
-    caught(&Bug {
+    let Some(out) = caught(&Bug {
         program: "textbook_sphere.py",
         caught_by: &[("far-tiny-spheres-at-the-rim", &["leaks", "false"])],
         beside: &["near-tangent-1e-3-1e-7-and-tangent"],
-    });
+    }) else {
+        return;
+    };
+    // Near the rim the two roots round alike, but the discriminant is not 0: no line of the
+    // family calls the ray a tangent (each did, a false hint, while f64 decided it).
+    let rim: Vec<&str> = (out.lines())
+        .filter(|l| l.contains("far-tiny-spheres-at-the-rim/rays.txt:"))
+        .collect();
+    assert!(!rim.is_empty(), "{out}");
+    for line in rim {
+        assert!(!line.contains("touches the sphere"), "{line}");
+    }
 }
 
 /// t in units of a normalised direction: every hit right, its t off.
@@ -422,7 +433,7 @@ fn third_edge_open_is_caught_by_a_cube_from_inside_and_outside() {
     // Each shown names the edge or vertex the hit is on (the third edge: u + v = 1, or its
     // ends v1 and v2).
     every_shown_says(&out, "the edges count");
-    assert!(out.contains("on its edge u + v = 1 (v1 to v2"), "{out}");
+    assert!(out.contains("on the triangle's edge u + v = 1 (v1 to v2"), "{out}");
 }
 
 /// A fixed epsilon (t > 1e-4) for tmin: hits nearer than it are lost, at a vertex the ray
@@ -444,7 +455,7 @@ fn epsilon_tmin_is_caught_by_near_hits() {
     let leaks: Vec<&str> = (out.lines()).filter(|l| l.contains("[leak")).collect();
     assert!(!leaks.is_empty(), "{out}");
     for line in leaks {
-        assert!(line.contains("just past tmin (t − tmin = "), "{line}");
+        assert!(line.contains("past tmin: a hit counts however near tmin"), "{line}");
     }
 }
 
