@@ -217,21 +217,11 @@ fn other_root<T: Real>(
     let raylab::geometry::Shape::Sphere(s) = exact.shape(prim) else {
         return None;
     };
-    let ray = &exact.rays[i].1.ray;
-    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
-    let oc: Vec<f64> = (0..3).map(|k| o[k] - s.centre[k].f64()).collect();
-    let a: f64 = d.iter().map(|c| c * c).sum();
-    let b: f64 = (0..3).map(|k| d[k] * oc[k]).sum();
-    let c: f64 = oc.iter().map(|c| c * c).sum::<f64>() - s.radius.f64().powi(2);
-    let disc = b * b - a * c;
-    if disc < 0.0 || a == 0.0 {
+    let (roots, _, disc) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+    let exact_t = exact_t(standing)?;
+    if disc < 0.0 || roots.iter().any(|r| !r.is_finite()) {
         return None;
     }
-    let roots = [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a];
-    let exact_t = match *standing {
-        Answer::Hit { t, .. } => t.f64(),
-        Answer::Miss => return None,
-    };
     let near = |x: f64, y: f64| (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30);
     let other = match near(roots[0], exact_t) {
         true => roots[1],
@@ -328,10 +318,7 @@ fn where_on<T: Real>(
                         .into(),
                 );
             }
-            let oc = sub(o, centre);
-            let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
-            let root = (b * b - a * c).max(0.0).sqrt();
-            let (near, far) = ((-b - root) / a, (-b + root) / a);
+            let ([near, far], c, _) = quadratic(exact, i, centre, r);
             if (te - far).abs() >= (te - near).abs() {
                 return None;
             }
@@ -386,6 +373,24 @@ fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)
     let gap = te - tmin;
     let near = gap <= 1e-4 || gap * length(d) <= 1e-6 * (length(o) + te.abs() * length(d));
     tmin.is_finite().then_some((gap, near))
+}
+
+/// Ray `i`'s meetings with the sphere at `centre` of radius `r`, in f64: the near and far
+/// roots of a·t² + 2b·t + c = 0 (the discriminant taken as 0 where it rounds below), c (below
+/// 0: the origin inside) and the discriminant b² − a·c.
+fn quadratic<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    centre: [f64; 3],
+    r: f64,
+) -> ([f64; 2], f64, f64) {
+    let ray = &exact.rays[i].1.ray;
+    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+    let oc = sub(o, centre);
+    let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
+    let disc = b * b - a * c;
+    let root = disc.max(0.0).sqrt();
+    ([(-b - root) / a, (-b + root) / a], c, disc)
 }
 
 /// The t of a hit, in f64.
