@@ -266,6 +266,9 @@ impl fmt::Display for Inspection {
         writeln!(f, "D_unshadowed: {}", f3(h.direct_unshadowed))?;
         writeln!(f, "N: {}", f3(h.indirect))?;
         writeln!(f, "step: {}", self.step)?;
+        // (Which of the terms above the colour holds: N = 0.5 beside a shadows colour read as
+        // part of it.)
+        writeln!(f, "colour_terms: {}", self.step.colour_terms())?;
         writeln!(f, "colour: {}", f3(h.colour))
     }
 }

@@ -74,6 +74,25 @@ impl LabStep {
         }
     }
 
+    /// Whether the step's colour holds the direct light D (ρ·D from step 3 on).
+    pub fn uses_direct(self) -> bool {
+        self != LabStep::Flat
+    }
+
+    /// Whether the step's colour holds the lab's constant indirect light N (ρ·(D + N)).
+    pub fn uses_indirect(self) -> bool {
+        self == LabStep::Indirect
+    }
+
+    /// The terms the step's colour is made of, as the inspector names them (`rho D N`).
+    pub fn colour_terms(self) -> &'static str {
+        match (self.uses_direct(), self.uses_indirect()) {
+            (false, _) => "rho",
+            (true, false) => "rho D",
+            (true, true) => "rho D N",
+        }
+    }
+
     /// Whether the step casts shadow rays.
     pub fn casts_shadows(self) -> bool {
         matches!(self, LabStep::Shadows | LabStep::Indirect)

@@ -11,7 +11,6 @@ use raylab::camera::Projection;
 use raylab::check::code::CodeInspection;
 use raylab::geometry::{Hit, Method, Ray};
 use raylab::render::inspect::Inspection;
-use raylab::render::LabStep;
 
 /// The switch in the side panel.
 pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
@@ -147,28 +146,19 @@ fn rows(ins: &Inspection) -> Vec<(String, String)> {
         },
     );
     row("rho", f3(h.rho));
-    // A term the step's colour leaves out says so (N = 0.5 beside a shadows colour without
-    // it read as part of it).
-    let left_out = |used: bool| match used {
-        true => "",
-        false => " (not in this step)",
+    // A term the step's colour leaves out says so, in the names' column (N = 0.5 beside a
+    // shadows colour without it read as part of it; beside the value it was cut at the
+    // panel's default width).
+    let name = |term: &'static str, used: bool| match used {
+        true => term.to_string(),
+        false => format!("{term} (not in step)"),
     };
-    row(
-        "D",
-        format!("{}{}", f3(h.direct), left_out(ins.step != LabStep::Flat)),
-    );
+    row(&name("D", ins.step.uses_direct()), f3(h.direct));
     if h.direct != h.direct_unshadowed {
         // (Blocked in a step with shadows: the D the shadow ray took away.)
         row("D unshadowed", f3(h.direct_unshadowed));
     }
-    row(
-        "N",
-        format!(
-            "{}{}",
-            f3(h.indirect),
-            left_out(ins.step == LabStep::Indirect)
-        ),
-    );
+    row(&name("N", ins.step.uses_indirect()), f3(h.indirect));
     row(&format!("colour ({})", ins.step), f3(h.colour));
     rows
 }
@@ -354,7 +344,7 @@ fn clip(projection: &Projection, a: [f64; 3], b: [f64; 3]) -> Option<([f64; 2], 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use raylab::render::Stage;
+    use raylab::render::{LabStep, Stage};
     use raylab::Scene;
 
     /// D and N say where a step's colour leaves them out: N in every step but the last, D
@@ -363,7 +353,7 @@ mod tests {
     fn the_terms_a_step_leaves_out_say_so() {
         let stage = Stage::new(Scene::cornell(), raylab::accel::AccelChoice::Auto);
         let camera = raylab::camera::Camera::cornell(64);
-        let field = |step: LabStep, name: &str| {
+        let names = |step: LabStep| {
             let settings = raylab::render::RenderSettings {
                 width: 64,
                 height: 48,
@@ -372,26 +362,20 @@ mod tests {
             };
             let ins = raylab::render::inspect::inspect(&stage, &camera, &settings, 32, 40)
                 .expect("a pixel of the image");
-            let rows = rows(&ins);
-            let (_, value) = (rows.iter().find(|(n, _)| n == name))
-                .unwrap_or_else(|| panic!("no {name} in {rows:?}"));
-            value.clone()
+            rows(&ins)
+                .into_iter()
+                .map(|(name, _)| name)
+                .collect::<Vec<_>>()
         };
-        let left_out = " (not in this step)";
         for step in LabStep::ALL {
-            let n = field(step, "N");
-            assert!(n.starts_with("0.") && n.len() > 10, "{step}: N {n}");
-            assert_eq!(
-                n.ends_with(left_out),
-                step != LabStep::Indirect,
-                "{step}: N {n}"
-            );
-            let d = field(step, "D");
-            assert_eq!(
-                d.ends_with(left_out),
-                step == LabStep::Flat,
-                "{step}: D {d}"
-            );
+            let names = names(step);
+            let has = |name: &str| names.iter().any(|n| n == name);
+            let d_out = step == LabStep::Flat;
+            let n_out = step != LabStep::Indirect;
+            assert_eq!(has("D (not in step)"), d_out, "{step}: {names:?}");
+            assert_eq!(has("D"), !d_out, "{step}: {names:?}");
+            assert_eq!(has("N (not in step)"), n_out, "{step}: {names:?}");
+            assert_eq!(has("N"), !n_out, "{step}: {names:?}");
         }
     }
 

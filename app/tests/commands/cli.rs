@@ -751,6 +751,7 @@ fn inspect_prints_one_pixels_ray_as_the_lecture_writes_it() {
             assert!(f.contains_key(key), "{key} missing");
         }
         assert_eq!(f["step"], "shadows");
+        assert_eq!(f["colour_terms"], "rho D", "the colour leaves N out");
     }
     // A sphere shows its quadratic.
     let scene = write(dir.path(), "s.scene", "sphere 0 0 0 1\n");
