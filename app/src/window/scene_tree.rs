@@ -38,10 +38,15 @@ pub fn scene_tree(
                     }
                 });
                 // (Indented as its level's row: the details of nested levels had all lined
-                // up under the top one.)
+                // up under the top one. The header's arrow takes the indent's width, so
+                // that is set back inside: a wider one had moved the label off its arrow.)
+                let indent = ui.spacing().indent;
                 ui.scope(|ui| {
-                    ui.spacing_mut().indent += 12.0 * level.depth as f32;
-                    ui.indent(("level", i), |ui| details(ui, level, (scene, i)));
+                    ui.spacing_mut().indent = indent + 12.0 * level.depth as f32;
+                    ui.indent(("level", i), |ui| {
+                        ui.spacing_mut().indent = indent;
+                        details(ui, level, (scene, i));
+                    });
                 });
             }
         });
@@ -55,16 +60,22 @@ fn details(ui: &mut egui::Ui, level: &Level, id: (&str, usize)) {
         .id_salt(("level-details", id))
         .default_open(false)
         .show(ui, |ui| {
-            for (line, text) in &level.statements {
-                ui.monospace(format!("{line:>4}  {text}"));
-            }
-            egui::Grid::new(("matrix", id)).show(ui, |ui| {
-                for row in &level.world_from_object {
-                    for x in row {
-                        ui.monospace(format!("{x:>8.4}"));
+            // (Scrolled sideways within the panel: a long statement or a deep level's matrix
+            // had widened the panel, narrowing the image and its view for good.)
+            egui::ScrollArea::horizontal()
+                .id_salt(("level-scroll", id))
+                .show(ui, |ui| {
+                    for (line, text) in &level.statements {
+                        ui.monospace(format!("{line:>4}  {text}"));
                     }
-                    ui.end_row();
-                }
-            });
+                    egui::Grid::new(("matrix", id)).show(ui, |ui| {
+                        for row in &level.world_from_object {
+                            for x in row {
+                                ui.monospace(format!("{x:>8.4}"));
+                            }
+                            ui.end_row();
+                        }
+                    });
+                });
         });
 }
