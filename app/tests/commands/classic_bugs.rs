@@ -430,10 +430,13 @@ fn third_edge_open_is_caught_by_a_cube_from_inside_and_outside() {
     }) else {
         return;
     };
-    // Each shown names the edge or vertex the hit is on (the third edge: u + v = 1, or its
-    // ends v1 and v2).
+    // Each shown names the edge or vertex the hit is on (the third edge, v1–v2, or its ends),
+    // decided exactly.
     every_shown_says(&out, "the edges count");
-    assert!(out.contains("on the triangle's edge u + v = 1 (v1 to v2"), "{out}");
+    assert!(
+        out.contains("is on the edge v1–v2 of the triangle"),
+        "{out}"
+    );
 }
 
 /// A fixed epsilon (t > 1e-4) for tmin: hits nearer than it are lost, at a vertex the ray
@@ -455,7 +458,10 @@ fn epsilon_tmin_is_caught_by_near_hits() {
     let leaks: Vec<&str> = (out.lines()).filter(|l| l.contains("[leak")).collect();
     assert!(!leaks.is_empty(), "{out}");
     for line in leaks {
-        assert!(line.contains("past tmin: a hit counts however near tmin"), "{line}");
+        assert!(
+            line.contains("past tmin: a hit counts however near tmin"),
+            "{line}"
+        );
     }
 }
 

@@ -172,12 +172,6 @@ fn exact_quadratic(o: [f64; 3], d: [f64; 3], centre: [f64; 3], radius: f64) -> (
     (a, b, disc)
 }
 
-/// Whether the line o + t·d touches the sphere at one point: its quadratic's discriminant is
-/// 0 exactly (two roots that round alike are not a tangent).
-pub fn touches(o: [f64; 3], d: [f64; 3], centre: [f64; 3], radius: f64) -> bool {
-    exact_quadratic(o, d, centre, radius).2.is_zero()
-}
-
 /// The exact nearest root of o + t·d on the closed sphere with tmin < t < tmax (a tangent
 /// ray touches it at one point, which counts).
 pub fn exact(
