@@ -217,9 +217,9 @@ impl View {
         let want = |n: usize| match w.len() == n {
             true => Ok(()),
             false => Err(format!(
-                "{} needs {} values, found {}",
+                "{} needs {}, found {}",
                 w[0],
-                n - 1,
+                crate::words::count(n - 1, "value", "values"),
                 w.len() - 1
             )),
         };
@@ -263,7 +263,8 @@ impl View {
                 let f = num(w[1])?;
                 let (lo, hi) = crate::camera::FOCAL_RANGE;
                 if !(lo..=hi).contains(&f) {
-                    return Err(format!("focal {f:?} px is outside [{lo}, {hi}]"));
+                    // (As written: 1e-400 reads as 0.)
+                    return Err(format!("focal {} px is outside [{lo}, {hi}]", w[1]));
                 }
                 self.focal = Some(f);
             }

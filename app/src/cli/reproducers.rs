@@ -45,10 +45,6 @@ pub(super) fn reproducers<T: Real>(
 
 /// The wrong answers' count by verdict: `2 leaks, 1 false hit` (those with none left out).
 fn kinds_of<T: Real>(judged: &[Judged<T>]) -> String {
-    let plural = |n: usize, one: &str, many: &str| match n {
-        1 => format!("1 {one}"),
-        n => format!("{n} {many}"),
-    };
     [
         (Verdict::Leak, "leak", "leaks"),
         (Verdict::FalseHit, "false hit", "false hits"),
@@ -57,7 +53,7 @@ fn kinds_of<T: Real>(judged: &[Judged<T>]) -> String {
     .iter()
     .map(|&(v, one, many)| {
         let n = judged.iter().filter(|j| j.graded.verdict == v).count();
-        (n, plural(n, one, many))
+        (n, raylab::words::count(n, one, many))
     })
     .filter(|(n, _)| *n > 0)
     .map(|(_, text)| text)

@@ -112,7 +112,16 @@ fn a_views_focal_length_is_taken_as_written() {
     assert_fails(&o, 2, &["both.view:3:", "focal and the camera's fov"]);
     let zero = write(dir.path(), "zero.view", "scene cornell\nfocal 0\n");
     let o = raylab(&["render", "--view", &zero, "-o", "x.png"]);
-    assert_fails(&o, 2, &["zero.view:2:", "focal 0.0 px is outside"]);
+    assert_fails(&o, 2, &["zero.view:2:", "focal 0 px is outside"]);
+    // Named as written (1e-400 reads as 0), and one value.
+    for (line, said) in [
+        ("focal 1e-400", "focal 1e-400 px is outside"),
+        ("focal 5 6", "focal needs 1 value, found 2"),
+    ] {
+        let bad = write(dir.path(), "bad.view", &format!("scene cornell\n{line}\n"));
+        let o = raylab(&["render", "--view", &bad, "-o", "x.png"]);
+        assert_fails(&o, 2, &["bad.view:2:", said]);
+    }
 }
 
 #[test]
