@@ -71,10 +71,7 @@ fn reproducer<T: Real>(
     written: Written,
 ) -> String {
     let ray = exact.rays[i].1;
-    let given_t = match answers[i].1 {
-        Answer::Hit { t, .. } => Some(t.f64()),
-        Answer::Miss => None,
-    };
+    let given_t = t_of(&answers[i].1);
     let outside = outside_interval(exact, i, &answers[i].1);
     let what = match j.graded.verdict {
         // (Not "off by inf": no point is off by a t that is no number or infinite.)
@@ -103,7 +100,7 @@ fn reproducer<T: Real>(
                 (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins{}",
-                    match exact_t(&j.exact).and_then(|te| past_tmin(exact, i, te)) {
+                    match t_of(&j.exact).and_then(|te| past_tmin(exact, i, te)) {
                         Some((gap, true)) => format!(
                             " (the exact one is only {gap:.1e} past tmin: an epsilon in its \
                              place skips it)"
@@ -214,7 +211,7 @@ fn other_root<T: Real>(
         return None;
     };
     let (roots, _, disc) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
-    let exact_t = exact_t(standing)?;
+    let exact_t = t_of(standing)?;
     if disc < 0.0 || roots.iter().any(|r| !r.is_finite()) {
         return None;
     }
@@ -291,7 +288,7 @@ fn missed<T: Real>(
 /// Whether ray `i` meets primitive `p` at about `t` (10⁻⁶ of it, in f64): the given answer's
 /// primitive where it says.
 fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
-    use raylab::geometry::{Location, Primitive, Shape};
+    use raylab::geometry::{Location, Shape};
     let ray = &exact.rays[i].1.ray;
     let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
     let near = |x: f64| (x - t).abs() <= 1e-6 * x.abs().max(t.abs()).max(1e-30);
@@ -303,12 +300,11 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
         Shape::Triangle(tri) => {
             use raylab::geometry::triangle::Location as On;
             let on = matches!(
-                tri.locate(ray),
+                Shape::Triangle(tri).locate(ray),
                 Location::Triangle(On::Inside { .. } | On::Edge(_) | On::Vertex(_))
             );
-            let v = tri.0.map(|p| p.map(|c| c.f64()));
-            let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
-            on && near(dot(sub(v[0], o), n) / dot(d, n))
+            let (v0, n) = plane_of(&tri);
+            on && near(dot(sub(v0, o), n) / dot(d, n))
         }
     }
 }
@@ -331,14 +327,13 @@ fn where_on<T: Real>(
     let d = ray.d.map(|c| c.f64());
     let faces_back = |shape: &Shape<T>| match shape {
         Shape::Triangle(tri) => {
-            let v = tri.0.map(|p| p.map(|c| c.f64()));
-            let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+            let (_, n) = plane_of(tri);
             dot(d, n) > 1e-6 * length(d) * length(n)
         }
         Shape::Sphere(_) => false,
     };
     let shape = exact.shape(prim);
-    let fact = match (&shape, shape_locate(&shape, ray)) {
+    let fact = match (&shape, shape.locate(ray)) {
         (_, Location::Sphere(sphere::Location::Tangent)) => {
             let tangent = "the ray touches the sphere (a double root, discriminant 0): a \
                            tangent is a hit";
@@ -373,16 +368,11 @@ fn where_on<T: Real>(
     (fact, false)
 }
 
-/// [`raylab::geometry::Primitive::locate`] of a shape of any precision.
-fn shape_locate<T: Real>(
-    shape: &raylab::geometry::Shape<T>,
-    ray: &raylab::geometry::Ray<T>,
-) -> raylab::geometry::Location {
-    use raylab::geometry::{Primitive, Shape};
-    match shape {
-        Shape::Triangle(t) => t.locate(ray),
-        Shape::Sphere(s) => s.locate(ray),
-    }
+/// A triangle's v0 and its normal n = (v1 − v0) × (v2 − v0), in f64 (d·n > 0: met from its
+/// back).
+fn plane_of<T: Real>(tri: &raylab::geometry::Triangle<T>) -> ([f64; 3], [f64; 3]) {
+    let v = tri.0.map(|p| p.map(|c| c.f64()));
+    (v[0], cross(sub(v[1], v[0]), sub(v[2], v[0])))
 }
 
 /// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
@@ -416,7 +406,7 @@ fn quadratic<T: Real>(
 }
 
 /// The t of a hit, in f64.
-fn exact_t<T: Real>(answer: &Answer<T>) -> Option<f64> {
+fn t_of<T: Real>(answer: &Answer<T>) -> Option<f64> {
     match *answer {
         Answer::Hit { t, .. } => Some(t.f64()),
         Answer::Miss => None,
@@ -438,8 +428,7 @@ fn times_length<T: Real>(
     let (Answer::Hit { t: te, .. }, Answer::Hit { t, .. }) = (standing, given) else {
         return None;
     };
-    let d = exact.rays[i].1.ray.d.map(|c| c.f64());
-    let length = d.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let length = length(exact.rays[i].1.ray.d.map(|c| c.f64()));
     let (want, got) = (te.f64() * length, t.f64());
     let near = (want - got).abs() <= 1e-6 * want.abs().max(got.abs());
     ((length - 1.0).abs() > 1e-6 && near && got.is_finite()).then_some(length)

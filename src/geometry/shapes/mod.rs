@@ -273,6 +273,11 @@ impl<T: Real> Shape<T> {
         dispatch!(self, p => p.triangle())
     }
 
+    /// Where the line of `ray` meets this shape, decided exactly ([`Primitive::locate`]).
+    pub fn locate(&self, ray: &Ray<T>) -> Location {
+        dispatch!(self, p => p.locate(ray))
+    }
+
     /// The shape's scene-file keyword ([`Primitive::KEYWORD`]).
     pub fn keyword(&self) -> &'static str {
         fn keyword<T: Real, P: Primitive<T>>(_: &P) -> &'static str {
@@ -439,11 +444,6 @@ impl Shape<f32> {
     /// This shape's terms for `ray` ([`ShapeTerms`]).
     pub fn terms(&self, ray: &Ray<f32>) -> ShapeTerms {
         dispatch!(self, p => p.terms(ray))
-    }
-
-    /// Where the line of `ray` meets this shape, decided exactly ([`Primitive::locate`]).
-    pub fn locate(&self, ray: &Ray<f32>) -> Location {
-        dispatch!(self, p => p.locate(ray))
     }
 }
 
