@@ -94,15 +94,29 @@ pub(super) fn assert_view_renders_as(view: &Path, shot: &Path) {
     assert!(off * 1000 <= n, "{off} of {n} pixels differ");
 }
 
+/// A view of the box from a moved and turned camera, at a fixed size, in the shadows step.
+const SHADOWS_VIEW: &str = "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\n\
+                            light 0.4 -0.6 -0.6\nsize 320 240\nstep shadows\nspp 1\n\
+                            method adaptive\ncracks off\n";
+
+/// The window ended on [`SHADOWS_VIEW`]'s camera, step and size.
+fn assert_shows_the_shadows_view(run: &common::window::Run) {
+    let pos = run.nums("camera");
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+    assert!(
+        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
+        "{pos:?} {}",
+        run.stderr
+    );
+    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
+    assert_eq!(run.fields["step"], "shadows");
+    assert_eq!(run.fields["size"], "320x240");
+}
+
 fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     let dir = tempfile::tempdir().unwrap();
     let view = dir.path().join("v.view");
-    std::fs::write(
-        &view,
-        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
-         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
-    )
-    .unwrap();
+    std::fs::write(&view, SHADOWS_VIEW).unwrap();
     // (Then the script's `inspect`, a click without a pointer, on the view's fixed size.)
     let script = format!("200 drop {}\n1500 inspect 100 80\n", view.display());
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::Nothing) else {
@@ -131,15 +145,7 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     assert_eq!(ins["hit"], hit.prim.to_string(), "{ins:?}\n{expected}");
     let t: f32 = ins["t"].parse().unwrap();
     assert!((t - hit.t).abs() <= 1e-6 * hit.t, "t {t} vs {}", hit.t);
-    let pos = run.nums("camera");
-    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-    assert!(
-        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
-        "{pos:?}"
-    );
-    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
-    assert_eq!(run.fields["step"], "shadows");
-    assert_eq!(run.fields["size"], "320x240");
+    assert_shows_the_shadows_view(&run);
 }
 
 /// `raylab FILE.view` opens a saved view as the File menu and a drop do: its camera, light
@@ -169,12 +175,7 @@ fn a_views_missing_scene_is_named_with_the_view() {
 fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
     let dir = tempfile::tempdir().unwrap();
     let view = dir.path().join("v.view");
-    std::fs::write(
-        &view,
-        "scene cornell\ncamera 0.2 -0.1 -2.2 yaw 15 pitch -4\nlight 0.4 -0.6 -0.6\n\
-         size 320 240\nstep shadows\nspp 1\nmethod adaptive\ncracks off\n",
-    )
-    .unwrap();
+    std::fs::write(&view, SHADOWS_VIEW).unwrap();
     let view_arg = view.to_str().unwrap().to_string();
     let args = [view_arg.as_str()];
     let Some(run) = run_window_with(
@@ -186,16 +187,7 @@ fn a_view_named_on_the_command_line_opens_as_the_file_menu_opens_it() {
     ) else {
         return;
     };
-    let pos = run.nums("camera");
-    let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-    assert!(
-        close(pos[0], 0.2) && close(pos[1], -0.1) && close(pos[2], -2.2),
-        "{pos:?} {}",
-        run.stderr
-    );
-    assert!(close(run.nums("yaw")[0], 15.0) && close(run.nums("pitch")[0], -4.0));
-    assert_eq!(run.fields["step"], "shadows");
-    assert_eq!(run.fields["size"], "320x240");
+    assert_shows_the_shadows_view(&run);
 }
 
 fn a_view_without_a_camera_shows_its_scene_from_where_it_starts() {
