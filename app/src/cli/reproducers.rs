@@ -16,6 +16,7 @@ pub(super) fn reproducers<T: Real>(
     most: usize,
 ) -> Vec<String> {
     let mut lines = Vec::new();
+    let shift = index_shift(judged, answers);
     let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
     let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
     for (heading, wanted) in [
@@ -37,7 +38,7 @@ pub(super) fn reproducers<T: Real>(
         ));
         let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
         for (i, j) in shown.take(most) {
-            lines.push(reproducer(i, j, exact, answers, place, written));
+            lines.push(reproducer(i, j, exact, answers, place, written, shift));
         }
     }
     lines
@@ -69,6 +70,7 @@ fn reproducer<T: Real>(
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
     written: Written,
+    shift: Option<i64>,
 ) -> String {
     let ray = exact.rays[i].1;
     let given_t = t_of(&answers[i].1);
@@ -115,7 +117,18 @@ fn reproducer<T: Real>(
                         false => format!("{length:.3e}"),
                     }
                 ),
-                (None, None, None, None) => String::new(),
+                (None, None, None, None) => match answers[i].1 {
+                    // (A t no root of the sphere: the quadratic's own, against its roots.)
+                    Answer::Hit { t, prim } if !meets_at(exact, i, prim, t.f64()) => {
+                        match exact.shape(prim) {
+                            raylab::geometry::Shape::Sphere(_) => {
+                                format!("; {}", not_met(exact, i, prim, t, None, None))
+                            }
+                            raylab::geometry::Shape::Triangle(_) => String::new(),
+                        }
+                    }
+                    _ => String::new(),
+                },
             }
         ),
         v => match answers[i].1 {
@@ -130,7 +143,7 @@ fn reproducer<T: Real>(
                     v.name()
                 )
             }
-            _ => match outside.or_else(|| missed(exact, i, &j.exact, &answers[i].1)) {
+            _ => match outside.or_else(|| missed(exact, i, &j.exact, &answers[i].1, shift)) {
                 Some(hint) => format!("{}: {hint}", v.name()),
                 None => v.name().to_string(),
             },
@@ -215,7 +228,6 @@ fn other_root<T: Real>(
     if disc < 0.0 || roots.iter().any(|r| !r.is_finite()) {
         return None;
     }
-    let near = |x: f64, y: f64| (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30);
     let other = match near(roots[0], exact_t) {
         true => roots[1],
         false => roots[0],
@@ -223,46 +235,65 @@ fn other_root<T: Real>(
     (near(t.f64(), other) && !near(t.f64(), exact_t)).then_some(other)
 }
 
-/// Why the exact hit may have been missed (a leak, or a farther primitive given), where the
-/// geometry says so (exactly, or in f64 with margins: a hint, never a verdict), and only
-/// what sets the exact hit apart from the answer given: the given primitive met farther on
-/// (or not where its t says), a hit behind the origin with tmin < 0 (the given one is not), a
-/// sphere's tangent or far root, a triangle's edge or vertex, its back (the given one is not
-/// met from its back), a hit an epsilon past tmin would lose.
+/// Why the answer given is wrong, where the geometry says so (exactly, or in f64 with
+/// margins: a hint, never a verdict), and only what sets the exact hit apart from the answer
+/// given: the given primitive not met where its t says (where the ray passes it instead, or
+/// the exact hit's t on another index), or met farther on; then why the exact hit may have
+/// been missed: behind the origin with tmin < 0 (the given one is not), a triangle's small
+/// determinant, a sphere's tangent or far root, a triangle's edge or vertex, its back (the
+/// given one is not met from its back), a hit an epsilon past tmin would lose, a sphere's two
+/// roots.
 fn missed<T: Real>(
     exact: &Exact<T>,
     i: usize,
     standing: &Answer<T>,
     given: &Answer<T>,
+    shift: Option<i64>,
 ) -> Option<String> {
-    let Answer::Hit { t, prim } = *standing else {
-        return None;
-    };
-    // (Numbers shown in the precision graded, as written: f64 of an f32 ran to 16 digits.)
-    let (te, te_shown) = (t.f64(), t);
     let given_hit = match *given {
-        Answer::Hit { t, prim: p } if p == prim || t.is_nan() || t.f64() <= te => return None,
+        Answer::Hit { t, prim } if !t.is_nan() => Some((t, prim)),
+        _ => None,
+    };
+    let exact_hit = match *standing {
         Answer::Hit { t, prim } => Some((t, prim)),
         Answer::Miss => None,
     };
-    let tmin = exact.rays[i].1.tmin;
+    let joined = |facts: Vec<String>| (!facts.is_empty()).then(|| facts.join("; "));
     let mut facts = Vec::new();
     if let Some((t, p)) = given_hit {
-        facts.push(match meets_at(exact, i, p, t.f64()) {
-            true => format!(
-                "the given t {t} is past the exact hit's t {te_shown}: the nearest hit wins"
-            ),
-            false => format!("the ray does not meet primitive {p} at the given t {t}"),
-        });
+        let other = exact_hit.is_none_or(|(_, q)| q != p);
+        if other && !meets_at(exact, i, p, t.f64()) {
+            facts.push(not_met(exact, i, p, t, exact_hit, shift));
+        }
     }
+    // (Numbers shown in the precision graded, as written: f64 of an f32 ran to 16 digits.)
+    let Some((te_shown, prim)) = exact_hit else {
+        return joined(facts);
+    };
+    let te = te_shown.f64();
+    match given_hit {
+        // (A nearer hit the ray does not have: only where the ray passes the given primitive.)
+        Some((_, p)) if p == prim => return joined(facts),
+        Some((t, p)) if facts.is_empty() && near(t.f64(), te) => facts.push(format!(
+            "primitive {p} is met too, within 10⁻⁶ of the exact hit's t, but not first: which \
+             of two this close is nearer takes exact arithmetic (rounding can swap them)"
+        )),
+        Some((t, _)) if t.f64() <= te => return joined(facts),
+        Some((t, _)) if facts.is_empty() => facts.push(format!(
+            "the given t {t} is past the exact hit's t {te_shown}: the nearest hit wins"
+        )),
+        _ => {}
+    }
+    let tmin = exact.rays[i].1.tmin;
     let behind = te < 0.0 && tmin.f64() < 0.0;
     if behind && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0) {
         facts.push(format!(
             "the exact hit is behind the origin (t {te_shown}), which counts where tmin < 0 \
              (here {tmin})"
         ));
-        return Some(facts.join("; "));
+        return joined(facts);
     }
+    facts.extend(small_determinant(exact, i, prim));
     // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
     // first the likelier cause of a hit this near tmin; beside a tangent, which explains the
     // miss, it was noise.)
@@ -275,6 +306,7 @@ fn missed<T: Real>(
         given_hit.map(|(_, p)| p),
         near.is_none(),
     );
+    let placed = fact.is_some();
     facts.extend(fact);
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
@@ -282,7 +314,156 @@ fn missed<T: Real>(
              an epsilon in its place loses it"
         ));
     }
-    (!facts.is_empty()).then(|| facts.join("; "))
+    // (A sphere missed with nothing else to say of it: its two roots, for the student's
+    // quadratic to be checked against.)
+    if let (raylab::geometry::Shape::Sphere(s), None, false) =
+        (exact.shape(prim), given_hit, placed)
+    {
+        let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+        facts.push(format!(
+            "the ray meets the sphere twice (its discriminant is above 0), at t {}",
+            two_roots(roots)
+        ));
+    }
+    joined(facts)
+}
+
+/// The index every wrong primitive given at the exact hit's t is off by, where that is 1 or
+/// −1 for all of them (two or more): a program's index shifted, not a test's mistake.
+fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {
+    let shifts: Vec<i64> = (judged.iter().zip(answers))
+        .filter(|(j, _)| j.graded.verdict == Verdict::Wrong)
+        .filter_map(|(j, (_, given))| match (j.exact, *given) {
+            (Answer::Hit { t: te, prim: q }, Answer::Hit { t, prim: p })
+                if near(te.f64(), t.f64()) =>
+            {
+                Some(i64::from(p) - i64::from(q))
+            }
+            _ => None,
+        })
+        .collect();
+    let first = *shifts.first()?;
+    (shifts.len() >= 2 && first.abs() == 1 && shifts.iter().all(|&k| k == first)).then_some(first)
+}
+
+/// Where ray `i` passes primitive `p`, which it does not meet at the given `t`: the exact
+/// hit's t on another index (`exact_hit`: with `shift`, the index every such answer is off
+/// by), outside a triangle (beyond which edges, in Möller–Trumbore's u and v), parallel to
+/// its plane, missing a sphere, or meeting it at another t.
+fn not_met<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    p: u32,
+    t: T,
+    exact_hit: Option<(T, u32)>,
+    shift: Option<i64>,
+) -> String {
+    if let Some((_, q)) = exact_hit.filter(|&(te, _)| near(te.f64(), t.f64())) {
+        let index = format!("the given t {t} is the exact hit's, on primitive {q}, not {p}");
+        return match shift {
+            Some(k) => format!(
+                "{index}: every primitive given at the exact t is the exact one's index {} 1 \
+                 (indices count from 0, in the scene's order)",
+                if k > 0 { "+" } else { "−" }
+            ),
+            None => format!("{index}; {}", passes(exact, i, p, t)),
+        };
+    }
+    passes(exact, i, p, t)
+}
+
+/// Where ray `i` passes primitive `p`, which it does not meet at the given `t`: outside a
+/// triangle (beyond which edges, in Möller–Trumbore's u and v), parallel to its plane,
+/// missing a sphere, or meeting it at another t.
+fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
+    use raylab::geometry::{sphere, triangle, Location, Shape};
+    let shape = exact.shape(p);
+    match (&shape, shape.locate(&exact.rays[i].1.ray)) {
+        (_, Location::Triangle(triangle::Location::Outside(edges))) => {
+            // (Edge k's outside is where the weight of the vertex opposite it is below 0.)
+            let beyond = |k: usize| ["v < 0", "u + v > 1", "u < 0"][k];
+            let names: Vec<&str> = edges.iter().map(|&k| triangle::EDGES[k]).collect();
+            let conditions: Vec<&str> = edges.iter().map(|&k| beyond(k)).collect();
+            format!(
+                "the ray passes triangle {p} outside, beyond its edge{} {} ({}, u and v the \
+                 weights of v1 and v2): no hit",
+                if edges.len() > 1 { "s" } else { "" },
+                names.join(" and "),
+                conditions.join(" and ")
+            )
+        }
+        (_, Location::Triangle(triangle::Location::EdgeOn)) => {
+            format!("the ray is parallel to triangle {p}'s plane: no hit")
+        }
+        (_, Location::Sphere(sphere::Location::Misses)) => {
+            format!("the ray misses sphere {p} (its discriminant is below 0): no hit")
+        }
+        (Shape::Sphere(s), _) => {
+            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            format!(
+                "the ray meets sphere {p} at t {}, not at the given t {t}",
+                two_roots(roots)
+            )
+        }
+        (Shape::Triangle(tri), _) => {
+            let ray = &exact.rays[i].1.ray;
+            let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+            let (v0, n) = plane_of(tri);
+            format!(
+                "the ray meets triangle {p} at t {}, not at the given t {t}",
+                approx(dot(sub(v0, o), n) / dot(d, n))
+            )
+        }
+    }
+}
+
+/// Where the exact hit is on a triangle whose Möller–Trumbore determinant d·((v1 − v0) ×
+/// (v2 − v0)) is below 10⁻⁴ but not 0 (a small or far triangle, or a grazing ray): that,
+/// as a fact (the textbook's |det| < ε test loses the hit).
+fn small_determinant<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<String> {
+    let raylab::geometry::Shape::Triangle(tri) = exact.shape(prim) else {
+        return None;
+    };
+    let (_, n) = plane_of(&tri);
+    let det = dot(exact.rays[i].1.ray.d.map(|c| c.f64()), n);
+    (det != 0.0 && det.abs() < 1e-4).then(|| {
+        format!(
+            "the triangle's determinant d·((v1 − v0) × (v2 − v0)) is {det:.1e}, near 0: an \
+             epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is parallel"
+        )
+    })
+}
+
+/// A sphere's two roots as a hint shows them (`0.5 and 2`): [`approx`], or 17 digits where
+/// those print alike, or one where f64 rounds them alike (a ray within an ulp of a tangent).
+fn two_roots([near, far]: [f64; 2]) -> String {
+    if near == far {
+        format!(
+            "{} (twice: the roots are closer than f64 tells)",
+            approx(near)
+        )
+    } else if approx(near) == approx(far) {
+        format!("{near:e} and {far:e}")
+    } else {
+        format!("{} and {}", approx(near), approx(far))
+    }
+}
+
+/// Whether `x` and `y` agree to 10⁻⁶ of the larger (in f64).
+fn near(x: f64, y: f64) -> bool {
+    (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30)
+}
+
+/// An f64 estimate as shown in a hint: to 7 decimals, or 7 significant digits outside
+/// 10⁻³…10⁶.
+fn approx(x: f64) -> String {
+    match x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
+        true => format!("{x:.6e}"),
+        false => format!("{:.7}", x)
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string(),
+    }
 }
 
 /// Whether ray `i` meets primitive `p` at about `t` (10⁻⁶ of it, in f64): the given answer's
@@ -291,11 +472,10 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
     use raylab::geometry::{Location, Shape};
     let ray = &exact.rays[i].1.ray;
     let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
-    let near = |x: f64| (x - t).abs() <= 1e-6 * x.abs().max(t.abs()).max(1e-30);
     match exact.shape(p) {
         Shape::Sphere(s) => {
             let (roots, _, disc) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
-            disc >= 0.0 && roots.iter().any(|&r| near(r))
+            disc >= 0.0 && roots.iter().any(|&r| near(r, t))
         }
         Shape::Triangle(tri) => {
             use raylab::geometry::triangle::Location as On;
@@ -304,7 +484,7 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
                 Location::Triangle(On::Inside { .. } | On::Edge(_) | On::Vertex(_))
             );
             let (v0, n) = plane_of(&tri);
-            on && near(dot(sub(v0, o), n) / dot(d, n))
+            on && near(dot(sub(v0, o), n) / dot(d, n), t)
         }
     }
 }
@@ -312,7 +492,7 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
 /// Where on primitive `prim` ray `i` meets it at `te`, where that explains a miss, decided
 /// exactly where it is a place ([`raylab::geometry::Shape::locate`]): a sphere's tangent
 /// or far root (the origin inside, or the near root not above tmin); a triangle's edge or
-/// vertex, else (where `back` asks) its back where `given` (the primitive given instead, if
+/// vertex, and (where `back` asks) its back where `given` (the primitive given instead, if
 /// any) is not a triangle met from its back too. With whether it is a tangent.
 fn where_on<T: Real>(
     exact: &Exact<T>,
@@ -350,19 +530,27 @@ fn where_on<T: Real>(
                 format!("the exact hit is the sphere's far root, where the ray leaves it: {why}")
             })
         }
-        (
-            _,
-            Location::Triangle(at @ (triangle::Location::Edge(_) | triangle::Location::Vertex(_))),
-        ) => Some(format!(
-            "the exact hit is {at} of the triangle: the edges count, closed"
-        )),
-        (Shape::Triangle(_), _) => {
+        // (Both where both hold: a hit on an edge of a triangle met from its back was told of
+        // the edge alone, where a culling program's leak was the back's.)
+        (Shape::Triangle(_), location) => {
+            let mut facts = Vec::new();
+            if let Location::Triangle(
+                at @ (triangle::Location::Edge(_) | triangle::Location::Vertex(_)),
+            ) = location
+            {
+                facts.push(format!(
+                    "the exact hit is {at} of the triangle: the edges count, closed"
+                ));
+            }
             let given_faces_back = given.is_some_and(|g| faces_back(&exact.shape(g)));
-            (back && faces_back(&shape) && !given_faces_back).then(|| {
-                "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
-                 v0)): both sides count"
-                    .into()
-            })
+            if back && faces_back(&shape) && !given_faces_back {
+                facts.push(
+                    "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
+                     v0)): both sides count"
+                        .into(),
+                );
+            }
+            (!facts.is_empty()).then(|| facts.join("; "))
         }
     };
     (fact, false)

@@ -402,6 +402,75 @@ fn tangent_miss_is_caught_by_tangent_rays() {
     );
 }
 
+/// An epsilon on Möller–Trumbore's determinant (|det| < 10⁻⁸ taken as parallel): a tiny cube
+/// is lost whole, and each ray shown says how near 0 its triangle's determinant is (its
+/// edges were named alone, as if they were open).
+#[test]
+fn det_epsilon_is_caught_by_a_tiny_cube() {
+    let Some(out) = caught(&Bug {
+        program: "det_epsilon.py",
+        caught_by: &[("tiny-cube-2-minus-17", &["leaks"])],
+        beside: &[],
+    }) else {
+        return;
+    };
+    every_shown_says(
+        &out,
+        "the triangle's determinant d·((v1 − v0) × (v2 − v0)) is ",
+    );
+}
+
+/// The parallelogram (b1 <= 1 and b2 <= 1 for b1 + b2 <= 1): from outside a cube, rays
+/// beyond a triangle's third edge hit it, and each shown says where the ray passes the
+/// triangle given (a bare "wrong primitive" or "false hit" said nothing of it).
+#[test]
+fn the_parallelogram_is_caught_by_a_cube_from_outside() {
+    let Some(out) = caught(&Bug {
+        program: "parallelogram.py",
+        caught_by: &[("cube-from-outside", &["false", "wrong"])],
+        beside: &[],
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "outside, beyond its edge v1–v2 (u + v > 1");
+}
+
+/// Primitives counted from 1: every hit is the next primitive's, or past the last; each
+/// shown says so (the next one's was a bare "wrong primitive").
+#[test]
+fn indices_from_1_are_caught_by_every_hit() {
+    let Some(out) = caught(&Bug {
+        program: "index_from_1.py",
+        caught_by: &[("directions-not-of-unit-length", &["wrong"])],
+        beside: &[],
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "(indices count from 0");
+    assert!(
+        out.contains("every primitive given at the exact t is the exact one's index + 1"),
+        "{out}"
+    );
+}
+
+/// The half-b quadratic with the full-b discriminant (b² − 4ac): near-tangent rays leak and
+/// rays from inside get a t no root gives; each shown names the sphere's true roots.
+#[test]
+fn the_half_b_discriminant_is_caught_by_spheres() {
+    let Some(out) = caught(&Bug {
+        program: "half_b.py",
+        caught_by: &[
+            ("near-tangent-1e-3-1e-7-and-tangent", &["leaks"]),
+            ("inside-and-one-ulp-outside", &["t fail"]),
+        ],
+        beside: &[],
+    }) else {
+        return;
+    };
+    every_shown_says(&out, "the ray meets ");
+    assert!(out.contains("not at the given t"), "{out}");
+}
+
 /// Back faces culled: from inside a closed mesh, rays leak, and each one shown says the
 /// exact hit is on the triangle's back.
 #[test]
