@@ -112,21 +112,29 @@ impl CameraController {
     /// A controller at the given pose, which [`reset`](Self::reset) returns to.
     pub fn new(position: DVec3, yaw: f64, pitch: f64, focal_ratio: f64, scene_size: f64) -> Self {
         let focal_ratio = focal_ratio.clamp(FOCAL_RATIO_RANGE.0, FOCAL_RATIO_RANGE.1);
-        Self {
+        let mut controller = Self {
             position,
             yaw,
             pitch: pitch.clamp(-MAX_PITCH, MAX_PITCH),
             focal_ratio,
-            scene_size: if scene_size.is_finite() && scene_size > 0.0 {
-                scene_size
-            } else {
-                1.0
-            },
+            scene_size: 1.0,
             home: (position, yaw, pitch, focal_ratio),
             mode: Mode::Fly,
             target: DVec3::ZERO,
             speed: 1.0,
-        }
+        };
+        controller.set_scene_size(scene_size);
+        controller
+    }
+
+    /// The size moves scale with: a scene's, as it is now (a reload that grows the scene
+    /// keeps the pose, not the old size). 1 where `size` is not a positive number.
+    pub fn set_scene_size(&mut self, size: f64) {
+        self.scene_size = if size.is_finite() && size > 0.0 {
+            size
+        } else {
+            1.0
+        };
     }
 
     /// This controller orbiting `target` (also where [`Mode::Orbit`] turns around).

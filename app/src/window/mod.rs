@@ -476,6 +476,10 @@ impl App {
             viewer.say_inspector();
         }
         let after = viewer.panel_state();
+        // (A radio button said nothing: the status kept "lab step 1 flat" over step 5.)
+        if after.0.controls.step != before.0.controls.step {
+            viewer.say_step();
+        }
         if before != after || actions.reset_camera {
             log::debug!("change: {before:?} -> {after:?}");
             if !from_a_field {

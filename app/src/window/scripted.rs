@@ -168,7 +168,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} view_offset={} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} inspector={} inspector_over={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} view_offset={} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} scene_size={} inspector={} inspector_over={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -193,6 +193,7 @@ impl ScriptedRun {
                 raylab::controller::Mode::Orbit => "orbit",
             },
             c.speed,
+            c.scene_size,
             ["off", "on"][viewer.inspector_on as usize],
             ["off", "on"][viewer.inspector_over as usize],
             ["off", "on"][viewer.show_help as usize],

@@ -92,8 +92,9 @@ fn cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light() {
 
 fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     // Opened from a .scene file; the camera moves (W); the file gains a sphere on disk (the
-    // window reloads it, keeping the camera); then a broken line (the error is shown and the
-    // last good scene stays). A push level selected in the transform-stack tree is tinted.
+    // window reloads it, keeping the camera, its moves scaled to the scene's new size); then
+    // a broken line (the error is shown and the last good scene stays). A push level selected
+    // in the transform-stack tree is tinted.
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("s.scene");
     std::fs::write(
@@ -105,7 +106,7 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     // edit comes after the selection. Each edit waits for the window to have read the one
     // before.)
     let script = "300 key W down\n600 key W up\n1000 select 1\n1000 await driver-done\n";
-    let driver = "sleep 1; printf 'sphere 0.5 0.5 0 0.2\\n' >> s.scene; \
+    let driver = "sleep 1; printf 'sphere 20 0 0 1\\n' >> s.scene; \
                   logged 'reloaded '; printf 'sphere 0 0 0\\n' >> s.scene; \
                   logged 'could not reload'";
     let around = Around::RealInputOn(driver, &scene);
@@ -126,6 +127,17 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     assert!(
         z > -2.9,
         "the camera moved by W stayed through the reloads: z = {z}"
+    );
+    // (The size moves scale with: the box's 2√3 was kept, a tenth of the grown scene's.)
+    let grown = dir.path().join("grown.scene");
+    let text = "cornell\npush\ntranslate 0 0.5 0\nsphere 0 0 0 0.3\npop\nsphere 20 0 0 1\n";
+    std::fs::write(&grown, text).unwrap();
+    let size = raylab::scene::file::load_scene_file(&grown).unwrap().size();
+    assert!(size > 20.0, "{size}");
+    assert_eq!(
+        run.nums("scene_size"),
+        [size],
+        "moves scale with the reloaded scene"
     );
     // The selected level's sphere is tinted orange: r well above g, g well above b.
     let (_, _, _, rect) = run.camera();

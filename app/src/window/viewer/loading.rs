@@ -325,7 +325,8 @@ impl Viewer {
             (LoadKind::Open, None, Some(bounds)) => {
                 self.controller = CameraController::framing(bounds, w, h)
             }
-            _ => {}
+            // (A reload keeps the camera, but moves scale with the scene as it is now.)
+            _ => self.controller.set_scene_size(scene.size()),
         }
         // (A light moved in the panel is kept by a reload, as the camera is.)
         let keep_light = reload && self.view.light != self.scene_light;

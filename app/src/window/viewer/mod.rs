@@ -421,6 +421,13 @@ impl Viewer {
     pub fn reset_camera(&mut self) {
         self.update_camera();
         self.controller.reset();
+        // (A field's "camera y set to 5" stayed up under the camera it no longer described.)
+        self.set_status("camera back at its start (R)");
+    }
+
+    /// The status line's word for the lab step shown (a key or the panel's radio buttons).
+    pub fn say_step(&mut self) {
+        self.set_status(format!("lab step {}", self.view.controls.step.label()));
     }
 
     /// What the panel can change, to tell afterwards whether it did.
@@ -678,7 +685,7 @@ impl Viewer {
         match LabStep::ALL.into_iter().find(|s| s.number() == number) {
             Some(step) => {
                 self.view.controls.step = step;
-                self.set_status(format!("lab step {}", step.label()));
+                self.say_step();
                 self.changed();
             }
             None => self.set_status(
