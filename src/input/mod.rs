@@ -285,7 +285,7 @@ pub fn lone_cr_as_lf(text: String) -> String {
 /// Why bytes are not the text of a scene, rays or answers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum NotText {
-    /// UTF-16 (a byte-order mark, or NUL bytes beside the first character), as Windows
+    /// UTF-16 (a byte-order mark, or a NUL beside a first character of text), as Windows
     /// PowerShell's `>` writes.
     #[error("UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8")]
     Utf16,
@@ -298,9 +298,12 @@ pub enum NotText {
 /// it is skipped unread, so a comment written in Latin-1 does not refuse the file; its bytes
 /// that are not UTF-8 become U+FFFD.
 pub fn text_of(bytes: Vec<u8>) -> Result<String, NotText> {
+    // (Without a byte-order mark: a first character of text beside a NUL; binary data that
+    // starts with NUL was called UTF-16.)
     let utf16 = bytes.starts_with(&[0xff, 0xfe])
         || bytes.starts_with(&[0xfe, 0xff])
-        || matches!(bytes[..], [0, b, ..] | [b, 0, ..] if b != 0);
+        || matches!(bytes[..], [0, b, ..] | [b, 0, ..]
+            if b.is_ascii_graphic() || b.is_ascii_whitespace());
     if utf16 {
         return Err(NotText::Utf16);
     }

@@ -572,6 +572,11 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
             GRADED_ANSWERS.chars().flat_map(|c| [c, '\0']).collect(),
             "answers.txt: UTF-16 text (as Windows PowerShell's pipes and `>` write it), not UTF-8",
         ),
+        // Control bytes from a NUL on: no answer (they were called UTF-16).
+        (
+            "\0\u{1}\u{2}\n".into(),
+            "answers.txt:1: expected 'hit <t> <index>' or 'miss', found '\\u{0}\\u{1}\\u{2}'",
+        ),
     ] {
         let file = dir.path().join("answers.txt");
         std::fs::write(&file, &answers).unwrap();
