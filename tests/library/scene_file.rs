@@ -395,7 +395,7 @@ fn a_sphere_keeps_its_radius_under_any_uniform_scale_f64_holds() {
 }
 
 #[test]
-fn colours_and_powers_f32_cannot_hold_are_refused_naming_the_line() {
+fn colours_and_powers_f32_cannot_hold_are_refused_and_colours_above_1_clamped() {
     for (text, what) in [
         ("color 1e39 0 0\ntri 0 0 1 1 0 1 0 1 1\n", "color"),
         ("ambient 0 1e40 0\ntri 0 0 1 1 0 1 0 1 1\n", "ambient"),
@@ -409,8 +409,19 @@ fn colours_and_powers_f32_cannot_hold_are_refused_naming_the_line() {
             "{e}"
         );
     }
-    // The largest f32 itself is fine.
-    assert!(parse32("color 3.4028235e38 0 0\ntri 0 0 1 1 0 1 0 1 1\n").is_ok());
+    // Named as a number is written, not in 40 digits.
+    let e = parse32("color 1e39 0 0\n").unwrap_err().to_string();
+    assert!(e.contains("color 1e39 is beyond"), "{e}");
+    // The largest f32 itself is held, clamped to 1 as a reflectance is (as an MTL's Kd),
+    // with a warning naming the line.
+    let d = parse32("color 3.4028235e38 0.5 1\ntri 0 0 1 1 0 1 0 1 1\n").unwrap();
+    assert_eq!(d.colors, [[1.0, 0.5, 1.0]]);
+    assert_eq!(
+        d.warnings,
+        ["t.scene:1: color 3.4028235e38 0.5 1 is outside 0…1: clamped"]
+    );
+    let d = parse32("color 1 0 1\ntri 0 0 1 1 0 1 0 1 1\n").unwrap();
+    assert!(d.warnings.is_empty(), "{:?}", d.warnings);
 }
 
 #[test]

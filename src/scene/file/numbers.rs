@@ -38,7 +38,7 @@ pub(super) fn f32_channels<const N: usize>(
 ) -> Result<[f32; N], String> {
     match values.iter().find(|v| !(**v as f32).is_finite()) {
         Some(v) => Err(format!(
-            "{what} {v} is beyond what f32 holds ({:e})",
+            "{what} {v:e} is beyond what f32 holds ({:e})",
             f32::MAX
         )),
         None => Ok(values.map(|v| v as f32)),

@@ -554,7 +554,13 @@ impl<T: Real> Parser<'_, T> {
                         c[0], c[1], c[2]
                     ));
                 }
-                self.current.color = f32_channels("color", [c[0], c[1], c[2]])?;
+                let color = f32_channels("color", [c[0], c[1], c[2]])?;
+                // (A reflectance above 1 is clamped, as an MTL's Kd is, and said.)
+                if color.iter().any(|x| *x > 1.0) {
+                    let written = args.join(" ");
+                    self.warn(line, &format!("color {written} is outside 0…1: clamped"));
+                }
+                self.current.color = color.map(|x| x.min(1.0));
             }
             "push" => {
                 if !args.is_empty() {
