@@ -358,8 +358,10 @@ fn not_met<T: Real>(
     exact_hit: Option<(T, u32)>,
     shift: Option<i64>,
 ) -> String {
-    if let Some((_, q)) = exact_hit.filter(|&(te, _)| near(te.f64(), t.f64())) {
-        let index = format!("the given t {t} is the exact hit's, on primitive {q}, not {p}");
+    if let Some((te, q)) = exact_hit.filter(|&(te, _)| near(te.f64(), t.f64())) {
+        let within = if te == t { "" } else { " (within 10⁻⁶)" };
+        let index =
+            format!("the given t {t} is the exact hit's{within}, on primitive {q}, not {p}");
         return match shift {
             Some(k) => format!(
                 "{index}: every primitive given at the exact t is the exact one's index {} 1 \
@@ -589,8 +591,14 @@ fn quadratic<T: Real>(
     let oc = sub(o, centre);
     let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
     let disc = b * b - a * c;
-    let root = disc.max(0.0).sqrt();
-    ([(-b - root) / a, (-b + root) / a], c, disc)
+    // (Stable: q = −b ∓ √disc away from 0, the roots q/a and c/q: −b ± √disc cancelled where
+    // the origin is near the surface.)
+    let q = -b - b.signum() * disc.max(0.0).sqrt();
+    let (x, y) = match q == 0.0 {
+        true => (0.0, 0.0),
+        false => (q / a, c / q),
+    };
+    ([x.min(y), x.max(y)], c, disc)
 }
 
 /// The t of a hit, in f64.
