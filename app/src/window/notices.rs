@@ -99,10 +99,10 @@ pub fn status_line(
             ui.ctx().copy_text(copied.to_owned());
             log::info!("the status message was copied to the clipboard");
         }
-        // (No separator before an empty message: it stood alone at the line's start.)
-        if !status.is_empty() {
-            ui.separator();
-        }
+        // (No separator seen before an empty message: it stood alone at the line's start. Laid
+        // out still, so that the figures' automatic id stays when a message comes or goes
+        // between egui's passes: egui warned of a widget that changed its id.)
+        ui.add_visible(!status.is_empty(), egui::Separator::default());
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             ui.add(egui::Label::new(figures).truncate());
         });
