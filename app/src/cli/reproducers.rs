@@ -272,12 +272,12 @@ fn missed<T: Real>(
     };
     let te = te_shown.f64();
     match given_hit {
-        // (A nearer hit the ray does not have: only where the ray passes the given primitive.)
         Some((_, p)) if p == prim => return joined(facts),
         Some((t, p)) if facts.is_empty() && near(t.f64(), te) => facts.push(format!(
-            "primitive {p} is met too, within 10⁻⁶ of the exact hit's t, but not first: which \
-             of two this close is nearer takes exact arithmetic (rounding can swap them)"
+            "primitive {p} is met too, at nearly the exact hit's t, but after it: two hits this \
+             close can swap in rounded arithmetic, and the nearer one wins"
         )),
+        // (A nearer hit the ray does not have: only where the ray passes the given primitive.)
         Some((t, _)) if t.f64() <= te => return joined(facts),
         Some((t, _)) if facts.is_empty() => facts.push(format!(
             "the given t {t} is past the exact hit's t {te_shown}: the nearest hit wins"

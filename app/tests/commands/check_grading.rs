@@ -477,7 +477,7 @@ fn an_index_past_the_last_primitive_is_a_wrong_answer_shown_with_its_ray() {
 /// (an f64 test within 10⁻⁹ had said "at vertex v0"), a hit on an edge from the back is told
 /// both, a primitive given at a t where the ray does not meet it is said so, with the t where
 /// it does, not told that the nearest hit wins (nor that the exact one is a back face:
-/// so is the one given), and one met within 10⁻⁶ past the exact hit is told how near.
+/// so is the one given), and one met just past the exact hit is told so.
 #[test]
 fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     let dir = tempfile::tempdir().unwrap();
@@ -523,9 +523,8 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     );
     assert!(
         line(4).ends_with(
-            "[wrong primitive: primitive 2 is met too, within 10⁻⁶ of the exact hit's t, but not \
-             first: which of two this close is nearer takes exact arithmetic (rounding can swap \
-             them)]"
+            "[wrong primitive: primitive 2 is met too, at nearly the exact hit's t, but after it: \
+             two hits this close can swap in rounded arithmetic, and the nearer one wins]"
         ),
         "{out}"
     );
