@@ -328,11 +328,11 @@ fn missed<T: Real>(
     joined(facts)
 }
 
-/// The index every wrong primitive given at the exact hit's t is off by, where that is 1 or
-/// −1 for all of them (two or more): a program's index shifted, not a test's mistake.
+/// The index every primitive given at the exact hit's t (right, tied or wrong) is off by,
+/// where that is 1 or −1 for all of them (two or more): a program's index shifted, not a
+/// test's mistake (where most are right, no shift is claimed).
 fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {
     let shifts: Vec<i64> = (judged.iter().zip(answers))
-        .filter(|(j, _)| j.graded.verdict == Verdict::Wrong)
         .filter_map(|(j, (_, given))| match (j.exact, *given) {
             (Answer::Hit { t: te, prim: q }, Answer::Hit { t, prim: p })
                 if near(te.f64(), t.f64()) =>
@@ -394,18 +394,30 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
                 conditions.join(" and ")
             )
         }
-        (_, Location::Triangle(triangle::Location::EdgeOn)) => {
-            format!("the ray is parallel to triangle {p}'s plane: no hit")
+        (Shape::Triangle(tri), Location::Triangle(triangle::Location::EdgeOn)) => {
+            match triangle::zero_area(&tri.0) {
+                true => format!(
+                    "triangle {p} has zero area (its vertices on one line): it is never hit"
+                ),
+                false => format!("the ray is parallel to triangle {p}'s plane: no hit"),
+            }
         }
         (_, Location::Sphere(sphere::Location::Misses)) => {
             format!("the ray misses sphere {p} (its discriminant is below 0): no hit")
         }
-        (Shape::Sphere(s), _) => {
+        (Shape::Sphere(s), location) => {
             let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
-            format!(
-                "the ray meets sphere {p} at t {}, not at the given t {t}",
-                two_roots(roots)
-            )
+            match location {
+                Location::Sphere(sphere::Location::Tangent) => format!(
+                    "the ray touches sphere {p} (a tangent, discriminant 0) at t {}, not at the \
+                     given t {t}",
+                    approx(roots[0])
+                ),
+                _ => format!(
+                    "the ray meets sphere {p} at t {}, not at the given t {t}",
+                    two_roots(roots)
+                ),
+            }
         }
         (Shape::Triangle(tri), _) => {
             let ray = &exact.rays[i].1.ray;
@@ -419,25 +431,27 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
     }
 }
 
-/// Where the exact hit is on a triangle whose Möller–Trumbore determinant d·((v1 − v0) ×
-/// (v2 − v0)) is below 10⁻⁴ but not 0 (a small or far triangle, or a grazing ray): that,
-/// as a fact (the textbook's |det| < ε test loses the hit).
+/// Where the exact hit is on a triangle whose Möller–Trumbore determinant e1·(d × e2) (e1 =
+/// v1 − v0, e2 = v2 − v0: −d·(e1 × e2)) is below 10⁻⁴ but not 0 (a small or far triangle,
+/// or a grazing ray): that, as a fact (the textbook's |det| < ε test loses the hit).
 fn small_determinant<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<String> {
     let raylab::geometry::Shape::Triangle(tri) = exact.shape(prim) else {
         return None;
     };
     let (_, n) = plane_of(&tri);
-    let det = dot(exact.rays[i].1.ray.d.map(|c| c.f64()), n);
+    let det = -dot(exact.rays[i].1.ray.d.map(|c| c.f64()), n);
     (det != 0.0 && det.abs() < 1e-4).then(|| {
         format!(
-            "the triangle's determinant d·((v1 − v0) × (v2 − v0)) is {det:.1e}, near 0: an \
-             epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is parallel"
+            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}, \
+             near 0: an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
+             parallel"
         )
     })
 }
 
-/// A sphere's two roots as a hint shows them (`0.5 and 2`): [`approx`], or 17 digits where
-/// those print alike, or one where f64 rounds them alike (a ray within an ulp of a tangent).
+/// A sphere's two roots (of a ray through it: not a tangent) as a hint shows them (`0.5 and
+/// 2`): [`approx`], or 17 digits where those print alike, or one where f64 rounds them alike
+/// (a ray within an ulp of a tangent).
 fn two_roots([near, far]: [f64; 2]) -> String {
     if near == far {
         format!(
@@ -476,8 +490,12 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
     let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
     match exact.shape(p) {
         Shape::Sphere(s) => {
-            let (roots, _, disc) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
-            disc >= 0.0 && roots.iter().any(|&r| near(r, t))
+            let missed = matches!(
+                Shape::Sphere(s).locate(ray),
+                Location::Sphere(raylab::geometry::sphere::Location::Misses)
+            );
+            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            !missed && roots.iter().any(|&r| near(r, t))
         }
         Shape::Triangle(tri) => {
             use raylab::geometry::triangle::Location as On;
@@ -579,7 +597,7 @@ fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)
 
 /// Ray `i`'s meetings with the sphere at `centre` of radius `r`, in f64: the near and far
 /// roots of a·t² + 2b·t + c = 0 (the discriminant taken as 0 where it rounds below), c (below
-/// 0: the origin inside) and the discriminant b² − a·c.
+/// 0: the origin inside) and the discriminant b² − a·c (computed as a·r² − |d × (o − c)|²).
 fn quadratic<T: Real>(
     exact: &Exact<T>,
     i: usize,
@@ -590,7 +608,10 @@ fn quadratic<T: Real>(
     let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
     let oc = sub(o, centre);
     let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
-    let disc = b * b - a * c;
+    // (b² − a·c as a·r² − |d × (o − c)|², the line's distance from the centre: b² and a·c
+    // cancel for a small sphere far away, and gave it two equal roots, or none.)
+    let across = cross(d, oc);
+    let disc = a * r * r - dot(across, across);
     // (Stable: q = −b ∓ √disc away from 0, the roots q/a and c/q: −b ± √disc cancelled where
     // the origin is near the surface.)
     let q = -b - b.signum() * disc.max(0.0).sqrt();

@@ -473,63 +473,6 @@ fn an_index_past_the_last_primitive_is_a_wrong_answer_shown_with_its_ray() {
     );
 }
 
-/// The hints are facts of the exact geometry: a ray 10⁻¹⁷ beside a vertex meets the inside
-/// (an f64 test within 10⁻⁹ had said "at vertex v0"), a hit on an edge from the back is told
-/// both, a primitive given at a t where the ray does not meet it is said so, with the t where
-/// it does, not told that the nearest hit wins (nor that the exact one is a back face:
-/// so is the one given), and one met just past the exact hit is told so.
-#[test]
-fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    let scene = d.join("scene.txt");
-    let scene_text =
-        "tri 0 0 0 1 0 0 0 1 0\ntri 0 0 5 1 0 5 0 1 5\ntri 0 0 1e-7 1 0 1e-7 0 1 1e-7\n";
-    std::fs::write(&scene, scene_text).unwrap();
-    let rays = d.join("rays.txt");
-    // Beside vertex v0 by 6e-17 and 1e-17 (inside); through the edge v0–v1 exactly; through
-    // the inside, to be answered with the far triangle at t 2 (it lies at t 6), and with the
-    // triangle 10⁻⁷ behind the first, where it lies.
-    let rays_text = "6e-17 1e-17 -1 0 0 1 0 inf\n0.5 0 -1 0 0 1 0 inf\n0.25 0.25 -1 0 0 1 0 inf\n\
-                     0.25 0.25 -1 0 0 1 0 inf\n";
-    std::fs::write(&rays, rays_text).unwrap();
-    let answers = d.join("answers.txt");
-    std::fs::write(&answers, "miss\nmiss\nhit 2 1\nhit 1.0000001 2\n").unwrap();
-    let path = |p: &Path| p.to_str().unwrap().to_string();
-    let o = check_answers(&path(&scene), &path(&rays), &answers, &[]);
-    let out = text(&o.stdout);
-    let line = |n: usize| {
-        let at = format!("answers.txt:{n}): ");
-        (out.lines().find(|l| l.contains(&at)))
-            .unwrap_or_else(|| panic!("no line {n}: {out}"))
-            .to_string()
-    };
-    assert!(
-        line(1).ends_with("[leak: the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both sides count]"),
-        "{out}"
-    );
-    assert!(
-        line(2).ends_with(
-            "[leak: the exact hit is on the edge v0–v1 of the triangle: the edges count, closed; \
-             the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): \
-             both sides count]"
-        ),
-        "{out}"
-    );
-    assert!(
-        line(3)
-            .ends_with("[wrong primitive: the ray meets triangle 1 at t 6, not at the given t 2]"),
-        "{out}"
-    );
-    assert!(
-        line(4).ends_with(
-            "[wrong primitive: primitive 2 is met too, at nearly the exact hit's t, but after it: \
-             two hits this close can swap in rounded arithmetic, and the nearer one wins]"
-        ),
-        "{out}"
-    );
-}
-
 /// A malformed answer file, a count that does not match the rays, an index that is no whole
 /// number and a program without its placeholders: exit 2, the error naming the file and line,
 /// nothing on standard output.

@@ -416,7 +416,7 @@ fn det_epsilon_is_caught_by_a_tiny_cube() {
     };
     every_shown_says(
         &out,
-        "the triangle's determinant d·((v1 − v0) × (v2 − v0)) is ",
+        "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is ",
     );
 }
 

@@ -14,6 +14,7 @@ mod flags;
 mod grade;
 mod grade_isolation;
 mod grade_outputs;
+mod hints;
 mod limits;
 mod outputs;
 mod programs;
