@@ -102,7 +102,7 @@ fn reproducer<T: Real>(
                 (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins{}",
-                    match t_of(&j.exact).and_then(|te| past_tmin(exact, i, te)) {
+                    match gap_past_tmin(exact, i, &j.exact) {
                         Some((gap, true)) => format!(
                             " (the exact one is only {gap:.1e} past tmin: an epsilon in its \
                              place skips it)"
@@ -297,7 +297,7 @@ fn missed<T: Real>(
     // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
     // first the likelier cause of a hit this near tmin; beside a tangent, which explains the
     // miss, it was noise.)
-    let near = past_tmin(exact, i, te).filter(|&(gap, near)| near && gap > 0.0);
+    let near = gap_past_tmin(exact, i, standing).filter(|&(gap, near)| near && gap > 0.0);
     let (fact, tangent) = where_on(
         exact,
         i,
@@ -581,6 +581,41 @@ fn where_on<T: Real>(
 fn plane_of<T: Real>(tri: &raylab::geometry::Triangle<T>) -> ([f64; 3], [f64; 3]) {
     let v = tri.0.map(|p| p.map(|c| c.f64()));
     (v[0], cross(sub(v[1], v[0]), sub(v[2], v[0])))
+}
+
+/// [`past_tmin`] of the exact hit `standing` (none for a miss), at its [`fine_t`].
+fn gap_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> Option<(f64, bool)> {
+    match *standing {
+        Answer::Hit { t, prim } => past_tmin(exact, i, fine_t(exact, i, prim, t)),
+        Answer::Miss => None,
+    }
+}
+
+/// The exact hit's t on `prim` (`te`, rounded to the precision graded) as an f64 estimate
+/// where that rounds back to `te`, else `te`: the triangle's plane t or the sphere's nearer
+/// root. (A gap past tmin of 8.9e-8 was shown as 1.2e-7, from t rounded to f32.)
+fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
+    use raylab::geometry::Shape;
+    let ray = &exact.rays[i].1.ray;
+    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+    let estimate = match exact.shape(prim) {
+        Shape::Triangle(tri) => {
+            let (v0, n) = plane_of(&tri);
+            dot(sub(v0, o), n) / dot(d, n)
+        }
+        Shape::Sphere(s) => {
+            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            let off = |r: f64| (r - te.f64()).abs();
+            match off(roots[0]) <= off(roots[1]) {
+                true => roots[0],
+                false => roots[1],
+            }
+        }
+    };
+    match T::of(estimate) == te {
+        true => estimate,
+        false => te.f64(),
+    }
 }
 
 /// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
