@@ -450,18 +450,20 @@ fn small_determinant<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<S
 }
 
 /// A sphere's two roots (of a ray through it: not a tangent) as a hint shows them (`0.5 and
-/// 2`): [`approx`], or 17 digits where those print alike, or one where f64 rounds them alike
-/// (a ray within an ulp of a tangent).
+/// 2`): [`approx`], or the fewest significant digits up to 15 that tell them apart (17 claimed
+/// digits f64's estimate does not hold), or one where even 15 do not (a ray within an ulp or
+/// so of a tangent).
 fn two_roots([near, far]: [f64; 2]) -> String {
-    if near == far {
-        format!(
+    if approx(near) != approx(far) {
+        return format!("{} and {}", approx(near), approx(far));
+    }
+    let digits = |k: usize, x: f64| format!("{:.*e}", k - 1, x);
+    match (8..=15).find(|&k| digits(k, near) != digits(k, far)) {
+        Some(k) => format!("{} and {}", digits(k, near), digits(k, far)),
+        None => format!(
             "{} (twice: the roots are closer than f64 tells)",
             approx(near)
-        )
-    } else if approx(near) == approx(far) {
-        format!("{near:e} and {far:e}")
-    } else {
-        format!("{} and {}", approx(near), approx(far))
+        ),
     }
 }
 

@@ -93,20 +93,24 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
 /// The hints' numbers hold where f64's textbook formulas do not: a tiny sphere 2²⁰ away met
 /// at two roots 0.003 apart (b² − a·c had cancelled to one root, "closer than f64 tells"),
 /// a tangent at tmin (said twice met), no index shift claimed where another answer at the
-/// exact t names the exact primitive, and a hit 8.9e-8 past tmin (said 1.2e-7, from its t
-/// rounded to f32).
+/// exact t names the exact primitive, a hit 8.9e-8 past tmin (said 1.2e-7, from its t
+/// rounded to f32), and roots alike to 9 digits shown to 10 (17 claimed what f64's estimate
+/// does not hold).
 #[test]
 fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     let scene = "sphere 1048576 0 0 0.00390625\nsphere 0 0 20 5\n\
                  tri 0 0 1 1 0 1 0 1 1\ntri 0 0 2 1 0 2 0 1 2\n\
                  tri -1 0 1 1 0 1.0000003576278687 -1 2 1\n";
+    // (The last ray: 2²¹ from the first sphere, its roots alike to 9 digits.)
     let rays = "0 0.00250742048956453800201416015625 0.000801336951553821563720703125 \
                 2 0 0 0 inf\n5 0 0 0 0 1 20 inf\n0.25 0.25 0 0 0 1 0 inf\n\
-                0.5 0.25 0 0 0 1 0 inf\n-0.5 0.5 0 0 0 1 1 inf\n";
+                0.5 0.25 0 0 0 1 0 inf\n-0.5 0.5 0 0 0 1 1 inf\n\
+                2097152 -0.0024874298833310604095458984375 0.0030068219639360904693603515625 \
+                -0.25 0 0 0 inf\n";
     let h = hints(
         scene,
         rays,
-        "miss\nhit 74.641014 1\nhit 1 2\nhit 1 3\nmiss\n",
+        "miss\nhit 74.641014 1\nhit 1 2\nhit 1 3\nmiss\nmiss\n",
     );
     assert!(
         h.line(1).ends_with(
@@ -136,6 +140,14 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
         h.line(5).ends_with(
             "[leak: the exact hit is only 8.9e-8 past tmin: a hit counts however near tmin, \
              where an epsilon in its place loses it]"
+        ),
+        "{}",
+        h.out
+    );
+    assert!(
+        h.line(6).ends_with(
+            "[leak: the ray meets the sphere twice (its discriminant is above 0), at t \
+             4.194303999e6 and 4.194304001e6]"
         ),
         "{}",
         h.out
