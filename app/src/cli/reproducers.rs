@@ -122,7 +122,7 @@ fn reproducer<T: Real>(
                     Answer::Hit { t, prim } if !meets_at(exact, i, prim, t.f64()) => {
                         match exact.shape(prim) {
                             raylab::geometry::Shape::Sphere(_) => {
-                                format!("; {}", not_met(exact, i, prim, t, None, None))
+                                format!("; {}", passes(exact, i, prim, t))
                             }
                             raylab::geometry::Shape::Triangle(_) => String::new(),
                         }
@@ -223,7 +223,7 @@ fn other_root<T: Real>(
     let raylab::geometry::Shape::Sphere(s) = exact.shape(prim) else {
         return None;
     };
-    let (roots, _, disc) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+    let (roots, _, disc) = quadratic(exact, i, &s);
     let exact_t = t_of(standing)?;
     if disc < 0.0 || roots.iter().any(|r| !r.is_finite()) {
         return None;
@@ -319,7 +319,7 @@ fn missed<T: Real>(
     if let (raylab::geometry::Shape::Sphere(s), None, false) =
         (exact.shape(prim), given_hit, placed)
     {
-        let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+        let (roots, _, _) = quadratic(exact, i, &s);
         facts.push(format!(
             "the ray meets the sphere twice (its discriminant is above 0), at t {}",
             two_roots(roots)
@@ -406,7 +406,7 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
             format!("the ray misses sphere {p} (its discriminant is below 0): no hit")
         }
         (Shape::Sphere(s), location) => {
-            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            let (roots, _, _) = quadratic(exact, i, s);
             match location {
                 Location::Sphere(sphere::Location::Tangent) => format!(
                     "the ray touches sphere {p} (a tangent, discriminant 0) at t {}, not at the \
@@ -419,15 +419,10 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
                 ),
             }
         }
-        (Shape::Triangle(tri), _) => {
-            let ray = &exact.rays[i].1.ray;
-            let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
-            let (v0, n) = plane_of(tri);
-            format!(
-                "the ray meets triangle {p} at t {}, not at the given t {t}",
-                approx(dot(sub(v0, o), n) / dot(d, n))
-            )
-        }
+        (Shape::Triangle(tri), _) => format!(
+            "the ray meets triangle {p} at t {}, not at the given t {t}",
+            approx(plane_t(exact, i, tri))
+        ),
     }
 }
 
@@ -439,7 +434,7 @@ fn small_determinant<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<S
         return None;
     };
     let (_, n) = plane_of(&tri);
-    let det = -dot(exact.rays[i].1.ray.d.map(|c| c.f64()), n);
+    let det = -dot(o_and_d(exact, i).1, n);
     (det != 0.0 && det.abs() < 1e-4).then(|| {
         format!(
             "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}, \
@@ -489,14 +484,13 @@ fn approx(x: f64) -> String {
 fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
     use raylab::geometry::{Location, Shape};
     let ray = &exact.rays[i].1.ray;
-    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
     match exact.shape(p) {
         Shape::Sphere(s) => {
             let missed = matches!(
                 Shape::Sphere(s).locate(ray),
                 Location::Sphere(raylab::geometry::sphere::Location::Misses)
             );
-            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            let (roots, _, _) = quadratic(exact, i, &s);
             !missed && roots.iter().any(|&r| near(r, t))
         }
         Shape::Triangle(tri) => {
@@ -505,8 +499,7 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
                 Shape::Triangle(tri).locate(ray),
                 Location::Triangle(On::Inside { .. } | On::Edge(_) | On::Vertex(_))
             );
-            let (v0, n) = plane_of(&tri);
-            on && near(dot(sub(v0, o), n) / dot(d, n), t)
+            on && near(plane_t(exact, i, &tri), t)
         }
     }
 }
@@ -526,7 +519,7 @@ fn where_on<T: Real>(
 ) -> (Option<String>, bool) {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let ray = &exact.rays[i].1.ray;
-    let d = ray.d.map(|c| c.f64());
+    let (_, d) = o_and_d(exact, i);
     let faces_back = |shape: &Shape<T>| match shape {
         Shape::Triangle(tri) => {
             let (_, n) = plane_of(tri);
@@ -542,8 +535,8 @@ fn where_on<T: Real>(
             return (Some(tangent.into()), true);
         }
         (Shape::Sphere(s), _) => {
-            let (centre, r) = (s.centre.map(|c| c.f64()), s.radius.f64());
-            let ([near, far], c, _) = quadratic(exact, i, centre, r);
+            let r = s.radius.f64();
+            let ([near, far], c, _) = quadratic(exact, i, s);
             ((te - far).abs() < (te - near).abs()).then(|| {
                 let why = match c < -1e-6 * r * r {
                     true => "the origin is inside the sphere",
@@ -585,6 +578,19 @@ fn plane_of<T: Real>(tri: &raylab::geometry::Triangle<T>) -> ([f64; 3], [f64; 3]
     (v[0], cross(sub(v[1], v[0]), sub(v[2], v[0])))
 }
 
+/// Where ray `i`'s line crosses the triangle's plane, in f64: its t.
+fn plane_t<T: Real>(exact: &Exact<T>, i: usize, tri: &raylab::geometry::Triangle<T>) -> f64 {
+    let (o, d) = o_and_d(exact, i);
+    let (v0, n) = plane_of(tri);
+    dot(sub(v0, o), n) / dot(d, n)
+}
+
+/// Ray `i`'s origin and direction in f64.
+fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3]) {
+    let ray = &exact.rays[i].1.ray;
+    (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()))
+}
+
 /// [`past_tmin`] of the exact hit `standing` (none for a miss), at its [`fine_t`].
 fn gap_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> Option<(f64, bool)> {
     match *standing {
@@ -598,15 +604,10 @@ fn gap_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> O
 /// root. (A gap past tmin of 8.9e-8 was shown as 1.2e-7, from t rounded to f32.)
 fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
     use raylab::geometry::Shape;
-    let ray = &exact.rays[i].1.ray;
-    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
     let estimate = match exact.shape(prim) {
-        Shape::Triangle(tri) => {
-            let (v0, n) = plane_of(&tri);
-            dot(sub(v0, o), n) / dot(d, n)
-        }
+        Shape::Triangle(tri) => plane_t(exact, i, &tri),
         Shape::Sphere(s) => {
-            let (roots, _, _) = quadratic(exact, i, s.centre.map(|c| c.f64()), s.radius.f64());
+            let (roots, _, _) = quadratic(exact, i, &s);
             let off = |r: f64| (r - te.f64()).abs();
             match off(roots[0]) <= off(roots[1]) {
                 true => roots[0],
@@ -624,9 +625,8 @@ fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
 /// near enough for a fixed epsilon in place of tmin to lose it: at most 10⁻⁴, or its point
 /// within 10⁻⁶ of |o| + |t·d| of the point at tmin. `None` for tmin −∞.
 fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)> {
-    let traced = &exact.rays[i].1;
-    let (o, d) = (traced.ray.o.map(|c| c.f64()), traced.ray.d.map(|c| c.f64()));
-    let tmin = traced.tmin.f64();
+    let (o, d) = o_and_d(exact, i);
+    let tmin = exact.rays[i].1.tmin.f64();
     let gap = te - tmin;
     let near = gap <= 1e-4 || gap * length(d) <= 1e-6 * (length(o) + te.abs() * length(d));
     tmin.is_finite().then_some((gap, near))
@@ -638,11 +638,10 @@ fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)
 fn quadratic<T: Real>(
     exact: &Exact<T>,
     i: usize,
-    centre: [f64; 3],
-    r: f64,
+    sphere: &raylab::geometry::Sphere<T>,
 ) -> ([f64; 2], f64, f64) {
-    let ray = &exact.rays[i].1.ray;
-    let (o, d) = (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()));
+    let (o, d) = o_and_d(exact, i);
+    let (centre, r) = (sphere.centre.map(|c| c.f64()), sphere.radius.f64());
     let oc = sub(o, centre);
     let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
     // (b² − a·c as a·r² − |d × (o − c)|², the line's distance from the centre: b² and a·c
@@ -682,7 +681,7 @@ fn times_length<T: Real>(
     let (Answer::Hit { t: te, .. }, Answer::Hit { t, .. }) = (standing, given) else {
         return None;
     };
-    let length = length(exact.rays[i].1.ray.d.map(|c| c.f64()));
+    let length = length(o_and_d(exact, i).1);
     let (want, got) = (te.f64() * length, t.f64());
     let near = (want - got).abs() <= 1e-6 * want.abs().max(got.abs());
     ((length - 1.0).abs() > 1e-6 && near && got.is_finite()).then_some(length)
