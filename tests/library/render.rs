@@ -632,3 +632,19 @@ fn the_ray_inspector_agrees_with_the_independent_reference_and_the_image() {
     println!("{hits} hits, {blocked} shadow rays blocked, {checked_blockers} blockers checked");
     assert!(hits > 1500 && blocked > 50 && checked_blockers > 1000);
 }
+
+/// The terms the inspector names as a step's colour (`colour_terms`, D and N "not in step")
+/// are the ones the step's formula takes: ρ = 1, D = 2 and N = 4 give 1, 2 or 6.
+#[test]
+fn a_steps_named_colour_terms_are_its_formulas() {
+    for step in LabStep::ALL {
+        let named = match (step.uses_direct(), step.uses_indirect()) {
+            (false, false) => 1.0,
+            (true, false) => 2.0,
+            (true, true) => 6.0,
+            (false, true) => panic!("{step:?}: N without D"),
+        };
+        let formula = raylab::render::shade::step_channel(step, 1.0f32, 2.0, 4.0);
+        assert_eq!(formula, named, "{step:?}: {}", step.colour_terms());
+    }
+}
