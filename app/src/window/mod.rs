@@ -168,6 +168,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         cursor: None,
         drag: None,
         press_at: None,
+        click_waiting: None,
         mouse_look: false,
         raw_motion: false,
         esc_armed: None,
@@ -209,6 +210,9 @@ struct App {
     drag: Option<bool>,
     /// Where a left press over the image began (a click there inspects its pixel).
     press_at: Option<(f64, f64)>,
+    /// A click on the image kept until the frame drawn fits the image area
+    /// ([`App::take_waiting_click`]).
+    click_waiting: Option<(f64, f64)>,
     mouse_look: bool,
     /// Whether raw mouse motion has come (then mouse look takes only that, not the cursor's
     /// moves: [`WindowEvent::CursorMoved`] turns the view only where it never comes).
@@ -491,6 +495,7 @@ impl App {
         // for its frame's count.
         viewer.follow();
         viewer.resolve_step();
+        self.take_waiting_click();
 
         let capture = self
             .scripted

@@ -53,17 +53,39 @@ impl App {
         if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
             return;
         }
-        let Some((i, j)) = self.image_pixel(x, y) else {
-            return;
-        };
-        match self.viewer.inspector_on {
-            true => self.viewer.inspect_pixel(i, j),
-            // (A click that inspects nothing says why.)
-            false => {
-                (self.viewer).set_status("the ray inspector is off: I or its check box turns it on")
-            }
-        }
+        self.click_on_image((x, y));
         self.request_redraw();
+    }
+
+    /// Inspects the pixel under window position (`x`, `y`) (a click's), or, while the frame
+    /// drawn is the last one squeezed into a new image area (I just opened the inspector's
+    /// panel), keeps the click until a frame of the area's shape is drawn: mapped through the
+    /// squeezed frame, it inspected a pixel ~125 px from the one under the pointer.
+    fn click_on_image(&mut self, (x, y): (f64, f64)) {
+        if !self.viewer.inspector_on {
+            // (A click that inspects nothing says why.)
+            let off = "the ray inspector is off: I or its check box turns it on";
+            self.viewer.set_status(off);
+            return;
+        }
+        if !self.viewer.shown_fits_layout() {
+            log::debug!("click at ({x}, {y}) kept until a frame of the image area's shape");
+            self.click_waiting = Some((x, y));
+            return;
+        }
+        self.click_waiting = None;
+        if let Some((i, j)) = self.image_pixel(x, y) {
+            self.viewer.inspect_pixel(i, j);
+        }
+    }
+
+    /// A kept click ([`App::click_on_image`]) once the frame drawn is of the image area's full
+    /// size (a preview's shape may differ by a pixel).
+    pub(super) fn take_waiting_click(&mut self) {
+        if let Some(at) = self.click_waiting.filter(|_| self.viewer.shown_full_size()) {
+            self.click_on_image(at);
+            self.request_redraw();
+        }
     }
 
     /// The pixel of the full-size image under window position (`x`, `y`) (physical pixels):

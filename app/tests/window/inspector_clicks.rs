@@ -104,6 +104,26 @@ fn real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer() {
     assert_ring_round(&run.shot, (400, 300));
 }
 
+fn real_x_input_a_click_as_i_opens_the_panel_inspects_the_pixel_under_the_pointer() {
+    // I closes the inspector's panel and I opens it again, and a click comes at once (one
+    // xdotool command), in the frame or two that draw the last image squeezed into the
+    // narrower area: the click inspects the pixel under the pointer once the image is drawn
+    // at its new size, and rings it. (Mapped through the squeezed image, it inspected a pixel
+    // 35 rows up, its ring far from the pointer.)
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 600 300; \
+                  sleep 0.3; xdotool click 1; logged '] inspected pixel' 1; sleep 1; \
+                  xdotool key i; sleep 2; xdotool mousemove --sync 400 300; sleep 0.3; \
+                  xdotool key i click 1; logged '] inspected pixel' 2; sleep 1";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    assert_each_click_inspects_the_pixel_under_it(&run, &[(400, 300)]);
+    assert_ring_round(&run.shot, (400, 300));
+}
+
 /// The inspector's white ring (6 px in radius) is centred on screen pixel `(cx, cy)` of
 /// `shot`, within half a pixel.
 fn assert_ring_round((sw, _, px): &(u32, u32, Vec<u8>), (cx, cy): (u32, u32)) {
@@ -233,4 +253,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_a_click_inspects_the_pixel_drawn_under_the_pointer,
     real_x_input_a_click_on_the_background_rings_its_pixel,
     real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer,
+    real_x_input_a_click_as_i_opens_the_panel_inspects_the_pixel_under_the_pointer,
 ];

@@ -536,6 +536,33 @@ impl Viewer {
         }
     }
 
+    /// Whether the frame shown has the shape of the image area as laid out now, so a click
+    /// on it can be mapped to a pixel of the full-size image: not in the frame or two after
+    /// the inspector's panel opens or closes (or the window is resized), which draw the last
+    /// frame squeezed into the new area. (A preview is a scaled frame: the same shape within
+    /// a pixel.) Where the render failed no other frame comes, and the one shown is taken.
+    pub fn shown_fits_layout(&self) -> bool {
+        let (fw, fh) = self.full_size();
+        let fits = |s: &Shown| {
+            let (sw, sh) = (s.size.0 as u64, s.size.1 as u64);
+            (sw * fh as u64).abs_diff(sh * fw as u64) <= fw.max(fh) as u64
+        };
+        let failed = self.failed_generation == Some(self.generation);
+        failed || self.shown.as_ref().is_some_and(fits)
+    }
+
+    /// Whether the frame shown is of the full size laid out now (not a preview): where a click
+    /// kept for a fitting frame ([`Viewer::shown_fits_layout`]) is mapped to its pixel, the
+    /// pixel drawn under the pointer to the pixel. (As there, a failed render is taken.)
+    pub fn shown_full_size(&self) -> bool {
+        let failed = self.failed_generation == Some(self.generation);
+        failed
+            || self
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.size == self.full_size())
+    }
+
     /// Whether the newest generation is shown fully refined.
     pub fn is_refined(&self) -> bool {
         self.shown
