@@ -27,6 +27,7 @@ mod account;
 mod cases;
 mod check;
 mod check_image;
+mod evidence;
 mod grade;
 mod images;
 mod program;

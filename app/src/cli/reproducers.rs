@@ -1,6 +1,7 @@
 //! `raylab check`'s reproducers: the first wrong answers and t failures, each a line with
 //! where its ray is, the ray, the exact answer and the answer given.
 
+use super::evidence::Evidence;
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::real::{cross, dot, sub};
 use raylab::math::Real;
@@ -16,7 +17,7 @@ pub(super) fn reproducers<T: Real>(
     most: usize,
 ) -> Vec<String> {
     let mut lines = Vec::new();
-    let shift = index_shift(judged, answers);
+    let evidence = Evidence::of(judged, exact, answers);
     let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
     let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
     for (heading, wanted) in [
@@ -38,7 +39,7 @@ pub(super) fn reproducers<T: Real>(
         ));
         let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
         for (i, j) in shown.take(most) {
-            lines.push(reproducer(i, j, exact, answers, place, written, shift));
+            lines.push(reproducer(i, j, exact, answers, place, written, &evidence));
         }
     }
     lines
@@ -70,7 +71,7 @@ fn reproducer<T: Real>(
     answers: &[(usize, Answer<T>)],
     place: &dyn Fn(usize) -> String,
     written: Written,
-    shift: Option<i64>,
+    evidence: &Evidence,
 ) -> String {
     let ray = exact.rays[i].1;
     let given_t = t_of(&answers[i].1);
@@ -90,7 +91,7 @@ fn reproducer<T: Real>(
             j.graded.relative,
             match (
                 outside.as_deref(),
-                short_print(&j.exact, &answers[i].1),
+                short_print(&j.exact, &answers[i].1, evidence.printed_digits),
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
@@ -105,7 +106,7 @@ fn reproducer<T: Real>(
                     match gap_past_tmin(exact, i, &j.exact) {
                         Some((gap, true)) => format!(
                             " (the exact one is only {gap:.1e} past tmin: an epsilon in its \
-                             place skips it)"
+                             place skips it, and so does its t rounded to tmin or below)"
                         ),
                         _ => String::new(),
                     }
@@ -143,7 +144,7 @@ fn reproducer<T: Real>(
                     v.name()
                 )
             }
-            _ => match outside.or_else(|| missed(exact, i, &j.exact, &answers[i].1, shift)) {
+            _ => match outside.or_else(|| missed(exact, i, &j.exact, &answers[i].1, evidence)) {
                 Some(hint) => format!("{}: {hint}", v.name()),
                 None => v.name().to_string(),
             },
@@ -248,7 +249,7 @@ fn missed<T: Real>(
     i: usize,
     standing: &Answer<T>,
     given: &Answer<T>,
-    shift: Option<i64>,
+    evidence: &Evidence,
 ) -> Option<String> {
     let given_hit = match *given {
         Answer::Hit { t, prim } if !t.is_nan() => Some((t, prim)),
@@ -262,8 +263,13 @@ fn missed<T: Real>(
     let mut facts = Vec::new();
     if let Some((t, p)) = given_hit {
         let other = exact_hit.is_none_or(|(_, q)| q != p);
-        if other && !meets_at(exact, i, p, t.f64()) {
-            facts.push(not_met(exact, i, p, t, exact_hit, shift));
+        let rounded_in = other
+            .then(|| rounded_into_interval(exact, i, p, t))
+            .flatten();
+        if let Some(fact) = rounded_in {
+            facts.push(fact);
+        } else if other && !meets_at(exact, i, p, t.f64()) {
+            facts.push(not_met(exact, i, p, t, exact_hit, evidence.shift));
         }
     }
     // (Numbers shown in the precision graded, as written: f64 of an f32 ran to 16 digits.)
@@ -293,7 +299,12 @@ fn missed<T: Real>(
         ));
         return joined(facts);
     }
-    facts.extend(small_determinant(exact, i, prim));
+    facts.extend(small_determinant(
+        exact,
+        i,
+        prim,
+        evidence.smallest_determinant_met,
+    ));
     // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
     // first the likelier cause of a hit this near tmin; beside a tangent, which explains the
     // miss, it was noise.)
@@ -304,14 +315,14 @@ fn missed<T: Real>(
         te,
         prim,
         given_hit.map(|(_, p)| p),
-        near.is_none(),
+        near.is_none() && !evidence.meets_backs,
     );
     let placed = fact.is_some();
     facts.extend(fact);
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
-            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin, where \
-             an epsilon in its place loses it"
+            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin (an \
+             epsilon in its place loses it, and so does t rounded to tmin or below)"
         ));
     }
     // (A sphere missed with nothing else to say of it: its two roots, for the student's
@@ -326,24 +337,6 @@ fn missed<T: Real>(
         ));
     }
     joined(facts)
-}
-
-/// The index every primitive given at the exact hit's t (right, tied or wrong) is off by,
-/// where that is 1 or −1 for all of them (two or more): a program's index shifted, not a
-/// test's mistake (where most are right, no shift is claimed).
-fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {
-    let shifts: Vec<i64> = (judged.iter().zip(answers))
-        .filter_map(|(j, (_, given))| match (j.exact, *given) {
-            (Answer::Hit { t: te, prim: q }, Answer::Hit { t, prim: p })
-                if near(te.f64(), t.f64()) =>
-            {
-                Some(i64::from(p) - i64::from(q))
-            }
-            _ => None,
-        })
-        .collect();
-    let first = *shifts.first()?;
-    (shifts.len() >= 2 && first.abs() == 1 && shifts.iter().all(|&k| k == first)).then_some(first)
 }
 
 /// Where ray `i` passes primitive `p`, which it does not meet at the given `t`: the exact
@@ -372,6 +365,47 @@ fn not_met<T: Real>(
         };
     }
     passes(exact, i, p, t)
+}
+
+/// Where the given primitive `p`, a triangle, is met at the given `t` (its point within 10⁻⁶
+/// of |o| + |t·d| + extent, as t is graded) but its exact t is not inside the ray's open interval (the origin on it, t
+/// exactly 0 = tmin): that, the given t being that t rounded into the interval. (A program's t of 3.7e-17 on the
+/// triangle whose vertex is the origin showed as a bare wrong primitive.)
+fn rounded_into_interval<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> Option<String> {
+    let shape = exact.shape(p);
+    let raylab::geometry::Shape::Triangle(tri) = shape else {
+        return None;
+    };
+    let extent = (tri.0.iter().flatten()).fold(0.0f64, |m, c| m.max(c.f64().abs()));
+    let ray = &exact.rays[i].1;
+    let (inf, tmin, tmax) = (T::of(f64::INFINITY), ray.tmin, ray.tmax);
+    let line = raylab::tracefile::TraceRay {
+        tmin: -inf,
+        tmax: inf,
+        ..*ray
+    };
+    let [Answer::Hit { t: on, .. }] = grade::exact_answers(&[shape], &[line])[..] else {
+        return None;
+    };
+    let (o, d) = o_and_d(exact, i);
+    let apart = (t.f64() - on.f64()).abs() * length(d);
+    if apart > 1e-6 * (length(o) + on.f64().abs() * length(d) + extent) {
+        return None;
+    }
+    let (end, side) = match () {
+        _ if on <= tmin => (tmin, "above tmin"),
+        _ if on >= tmax => (tmax, "below tmax"),
+        _ => return None,
+    };
+    // (As written, in the precision graded; a t of 10⁻¹⁷ in its exponent form.)
+    let t = match t != T::zero() && !(1e-3..1e6).contains(&t.f64().abs()) {
+        true => format!("{t:e}"),
+        false => t.to_string(),
+    };
+    Some(format!(
+        "the ray meets triangle {p} exactly at t {on}, not {side} {end}: the given t {t} is that \
+         t rounded into the interval (only tmin < t < tmax counts)"
+    ))
 }
 
 /// Where ray `i` passes primitive `p`, which it does not meet at the given `t`: outside a
@@ -427,21 +461,58 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
 }
 
 /// Where the exact hit is on a triangle whose Möller–Trumbore determinant e1·(d × e2) (e1 =
-/// v1 − v0, e2 = v2 − v0: −d·(e1 × e2)) is below 10⁻⁴ but not 0 (a small or far triangle,
-/// or a grazing ray): that, as a fact (the textbook's |det| < ε test loses the hit).
-fn small_determinant<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<String> {
+/// v1 − v0, e2 = v2 − v0) is below 10⁻⁴ but not 0 (a small or far triangle, or a grazing
+/// ray), and below every determinant of a hit the program answered right (`smallest_met`:
+/// else an epsilon on it would have lost those too): that, as a fact (the textbook's
+/// |det| < ε test loses the hit). In f32, a determinant below its smallest normal number is
+/// said to underflow there.
+fn small_determinant<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    prim: u32,
+    smallest_met: f64,
+) -> Option<String> {
     let raylab::geometry::Shape::Triangle(tri) = exact.shape(prim) else {
         return None;
     };
-    let (_, n) = plane_of(&tri);
-    let det = -dot(o_and_d(exact, i).1, n);
-    (det != 0.0 && det.abs() < 1e-4).then(|| {
+    let det = determinant(exact, i, &tri);
+    let underflows = T::PRECISION <= 24 && det.abs() < f32::MIN_POSITIVE as f64;
+    let underflow = match underflows {
+        true => format!(
+            ", below f32's smallest normal number {:.1e}: in f32 it comes out 0 or without its \
+             digits (f64 holds it); and",
+            f32::MIN_POSITIVE
+        ),
+        false => ", near 0:".to_string(),
+    };
+    (det != 0.0 && det.abs() < 1e-4 && det.abs() < smallest_met).then(|| {
         format!(
-            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}, \
-             near 0: an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
-             parallel"
+            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}\
+             {underflow} an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 \
+             is parallel"
         )
     })
+}
+
+/// Möller–Trumbore's determinant e1·(d × e2) of ray `i` and triangle `tri` (−d·n), in f64.
+pub(super) fn determinant<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    tri: &raylab::geometry::Triangle<T>,
+) -> f64 {
+    let (_, n) = plane_of(tri);
+    -dot(o_and_d(exact, i).1, n)
+}
+
+/// Whether ray `i` meets triangle `tri`'s plane from its back (d·n > 0, beyond 10⁻⁶ of |d| |n|).
+pub(super) fn faces_back<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    tri: &raylab::geometry::Triangle<T>,
+) -> bool {
+    let d = o_and_d(exact, i).1;
+    let (_, n) = plane_of(tri);
+    dot(d, n) > 1e-6 * length(d) * length(n)
 }
 
 /// A sphere's two roots (of a ray through it: not a tangent) as a hint shows them (`0.5 and
@@ -463,7 +534,7 @@ fn two_roots([near, far]: [f64; 2]) -> String {
 }
 
 /// Whether `x` and `y` agree to 10⁻⁶ of the larger (in f64).
-fn near(x: f64, y: f64) -> bool {
+pub(super) fn near(x: f64, y: f64) -> bool {
     (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30)
 }
 
@@ -519,12 +590,8 @@ fn where_on<T: Real>(
 ) -> (Option<String>, bool) {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let ray = &exact.rays[i].1.ray;
-    let (_, d) = o_and_d(exact, i);
     let faces_back = |shape: &Shape<T>| match shape {
-        Shape::Triangle(tri) => {
-            let (_, n) = plane_of(tri);
-            dot(d, n) > 1e-6 * length(d) * length(n)
-        }
+        Shape::Triangle(tri) => faces_back(exact, i, tri),
         Shape::Sphere(_) => false,
     };
     let shape = exact.shape(prim);
@@ -553,8 +620,11 @@ fn where_on<T: Real>(
                 at @ (triangle::Location::Edge(_) | triangle::Location::Vertex(_)),
             ) = location
             {
+                // (Rounding too: a correct program that rounds a weight below 0 was told only
+                // of the rule, as an open-edge bug is.)
                 facts.push(format!(
-                    "the exact hit is {at} of the triangle: the edges count, closed"
+                    "the exact hit is {at} of the triangle: the edges count, closed (an open \
+                     test, or u, v or u + v rounded past 0 or 1, loses it)"
                 ));
             }
             let given_faces_back = given.is_some_and(|g| faces_back(&exact.shape(g)));
@@ -697,25 +767,22 @@ fn round_trip_digits<T: Real>() -> usize {
     }
 }
 
-/// Where the given t is the exact t rounded to fewer significant digits than `T` needs (a
-/// C `%g` prints 6), how many: the t failure is the printing's, not the arithmetic's.
-fn short_print<T: Real>(exact: &Answer<T>, given: &Answer<T>) -> Option<usize> {
+/// Where the program prints fewer significant digits than `T` needs (`printed`, the most of
+/// any t it gave: a C `%g` prints 6) and the given t is the exact t rounded to that many: how
+/// many. The t failure is the printing's, not the arithmetic's. (By the given t's own digits,
+/// a `%.9g` program's t of 1 for 0.99998 was told to print 9.)
+fn short_print<T: Real>(exact: &Answer<T>, given: &Answer<T>, printed: usize) -> Option<usize> {
     let (Answer::Hit { t: exact, .. }, Answer::Hit { t: given, .. }) = (exact, given) else {
         return None;
     };
-    if !given.is_finite() || *given == T::zero() {
+    if !given.is_finite()
+        || *given == T::zero()
+        || !(1..round_trip_digits::<T>()).contains(&printed)
+    {
         return None;
     }
-    // The shortest decimal that reads back as the given t, its significant digits only.
-    let shortest = given.to_string();
-    let digits = shortest.trim_start_matches('-').replace('.', "");
-    let digits = digits
-        .trim_start_matches('0')
-        .trim_end_matches('0')
-        .len()
-        .max(1);
-    let rounded = format!("{:.*e}", digits - 1, exact.f64())
+    let rounded = format!("{:.*e}", printed - 1, exact.f64())
         .parse::<T>()
         .ok()?;
-    (digits < round_trip_digits::<T>() && rounded == *given).then_some(digits)
+    (rounded == *given).then_some(printed)
 }

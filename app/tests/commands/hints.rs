@@ -25,6 +25,11 @@ impl Hints {
 }
 
 fn hints(scene: &str, rays: &str, answers: &str) -> Hints {
+    hints_with(scene, rays, answers, &[])
+}
+
+/// [`hints`] with more arguments for `raylab check`.
+fn hints_with(scene: &str, rays: &str, answers: &str, args: &[&str]) -> Hints {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let files = [
@@ -40,7 +45,7 @@ fn hints(scene: &str, rays: &str, answers: &str) -> Hints {
         &path("scene.txt"),
         &path("rays.txt"),
         &d.join("answers.txt"),
-        &[],
+        args,
     );
     Hints {
         out: text(&o.stdout),
@@ -67,8 +72,8 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     );
     assert!(
         h.line(2).ends_with(
-            "[leak: the exact hit is on the edge v0–v1 of the triangle: the edges count, closed; \
-             the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): \
+            "[leak: the exact hit is on the edge v0–v1 of the triangle: the edges count, closed (an \
+             open test, or u, v or u + v rounded past 0 or 1, loses it); the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): \
              both sides count]"
         ),
         "{}",
@@ -138,8 +143,8 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(5).ends_with(
-            "[leak: the exact hit is only 8.9e-8 past tmin: a hit counts however near tmin, \
-             where an epsilon in its place loses it]"
+            "[leak: the exact hit is only 8.9e-8 past tmin: a hit counts however near tmin (an \
+             epsilon in its place loses it, and so does t rounded to tmin or below)]"
         ),
         "{}",
         h.out
@@ -149,6 +154,88 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
             "[leak: the ray meets the sphere twice (its discriminant is above 0), at t \
              4.194303999e6 and 4.194304001e6]"
         ),
+        "{}",
+        h.out
+    );
+}
+
+/// A hint that names a bug holds only where the program's other answers bear it out: a leak
+/// on the edge of a tiny triangle met from its back is told of the edge (and of rounding), not
+/// of an epsilon on the determinant nor of culled back faces where the program met the same
+/// triangle from its back inside, with the same determinant; where it met nothing, of all
+/// three. (A correct f32 program that rounded a tiny cube's edge away was told of an epsilon
+/// it did not have.)
+#[test]
+fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
+    // Met from its back (d·n = 10⁻⁶ > 0), inside and on its edge v0–v1, both at t 1.
+    let scene = "tri 0 0 1 0.001 0 1 0 0.001 1\n";
+    let rays = "0.0002 0.0002 0 0 0 1 0 inf\n0.0005 0 0 0 0 1 0 inf\n";
+    let edge = "the exact hit is on the edge v0–v1 of the triangle: the edges count, closed (an \
+                open test, or u, v or u + v rounded past 0 or 1, loses it)";
+    let determinant = "is -1.0e-6, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
+    let back = "the exact hit is on the triangle's back";
+    let h = hints(scene, rays, "hit 1 0\nmiss\n");
+    let line = h.line(2);
+    assert!(line.ends_with(&format!("[leak: {edge}]")), "{}", h.out);
+    let h = hints(scene, rays, "miss\nmiss\n");
+    for line in [h.line(1), h.line(2)] {
+        assert!(
+            line.contains(determinant) && line.contains(back),
+            "{}",
+            h.out
+        );
+    }
+    assert!(h.line(2).contains(edge), "{}", h.out);
+}
+
+/// A t printed short is named so only where the program prints short: a t of 1 for 0.9999839
+/// from a program that prints 9 digits elsewhere is a t failure and no more (it was told to
+/// print 9 digits); from one that prints 2, the digits to print.
+#[test]
+fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
+    let scene = "tri -1 -1 0.9999839 1 -1 0.9999839 0 1 0.9999839\n";
+    let rays = "0 0 0 0 0 1 0 inf\n0 0 0 0 0 1 0 inf\n";
+    let h = hints(scene, rays, "hit 1 0\nhit 1.23456789 0\n");
+    let line = h.line(1);
+    assert!(line.ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    let h = hints(scene, rays, "hit 1 0\nhit 1.5 0\n");
+    assert!(
+        h.line(1)
+            .ends_with("t is the exact one to 2 significant digits: print 9 (%.9g)]"),
+        "{}",
+        h.out
+    );
+}
+
+/// A primitive given at a t its exact t rounds to, across tmin (the origin on a triangle:
+/// exactly 0, not above tmin 0), is told so (it was a bare wrong primitive); a determinant
+/// below f32's smallest normal number is told to underflow in f32, and not in f64.
+#[test]
+fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
+    let scene = "tri 0 0 0 1 0 0 0 1 0\ntri -10 -10 5 10 -10 5 0 10 5\n";
+    let h = hints(scene, "0 0 0 0.1 0.1 1 0 inf\n", "hit 1e-17 0\n");
+    assert!(
+        h.line(1).ends_with(
+            "[wrong primitive: the ray meets triangle 0 exactly at t 0, not above tmin 0: the \
+             given t 1e-17 is that t rounded into the interval (only tmin < t < tmax counts)]"
+        ),
+        "{}",
+        h.out
+    );
+    let tiny = "tri 0 0 1e-20 1e-20 0 1e-20 0 1e-20 1e-20\n";
+    let ray = "2e-21 2e-21 0 0 0 1 0 inf\n";
+    let h = hints(tiny, ray, "miss\n");
+    assert!(
+        h.line(1).contains(
+            "is -1.0e-40, below f32's smallest normal number 1.2e-38: in f32 it comes out 0 or \
+             without its digits (f64 holds it); and an epsilon on it"
+        ),
+        "{}",
+        h.out
+    );
+    let h = hints_with(tiny, ray, "miss\n", &["--precision", "f64"]);
+    assert!(
+        h.line(1).contains("is -1.0e-40, near 0: an epsilon"),
         "{}",
         h.out
     );

@@ -1,0 +1,88 @@
+//! What a run's answers say of the program as a whole, for the hints beside its wrong ones: a
+//! hint that names a bug (an index from 1, a t printed short, an epsilon on the determinant,
+//! back faces culled) holds only where the program's other answers bear it out. A correct
+//! program that rounds a hit on a tiny cube's edge away was told of an epsilon it did not
+//! have, and one printing `%.9g` to print 9 digits.
+
+use super::reproducers::{determinant, faces_back, near};
+use raylab::check::grade::{Answer, Exact, Judged, Verdict};
+use raylab::geometry::Shape;
+use raylab::math::Real;
+
+/// The run's evidence ([`Evidence::of`]).
+pub(super) struct Evidence {
+    /// The index every primitive given at the exact hit's t is off by, where that is 1 or −1
+    /// for all of them (two or more): a program's index shifted, not a slip (where most are
+    /// right, no shift is claimed).
+    pub shift: Option<i64>,
+    /// The most significant digits of any t given (its shortest decimal): the digits the
+    /// program prints (`%g`: 6, `%.9g`: 9), where it prints a fixed count.
+    pub printed_digits: usize,
+    /// The smallest |determinant| (in f64) of a triangle the program met where it answered
+    /// right: an epsilon on the determinant above it would have lost that hit.
+    pub smallest_determinant_met: f64,
+    /// Whether the program met a triangle's back where it answered right: it does not cull.
+    pub meets_backs: bool,
+}
+
+impl Evidence {
+    pub fn of<T: Real>(
+        judged: &[Judged<T>],
+        exact: &Exact<T>,
+        answers: &[(usize, Answer<T>)],
+    ) -> Self {
+        let mut evidence = Evidence {
+            shift: index_shift(judged, answers),
+            printed_digits: 0,
+            smallest_determinant_met: f64::INFINITY,
+            meets_backs: false,
+        };
+        for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
+            if let Answer::Hit { t, .. } = *given {
+                evidence.printed_digits = evidence.printed_digits.max(significant_digits(t));
+            }
+            // (The primitive the program met: a tie's is not the exact answer's, and a culling
+            // program's tie on a front face beside a back one was taken to meet backs.)
+            let right = matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
+            let (true, Answer::Hit { prim, .. }) = (right, *given) else {
+                continue;
+            };
+            if let Shape::Triangle(tri) = exact.shape(prim) {
+                let det = determinant(exact, i, &tri).abs();
+                evidence.smallest_determinant_met = evidence.smallest_determinant_met.min(det);
+                evidence.meets_backs |= faces_back(exact, i, &tri);
+            }
+        }
+        evidence
+    }
+}
+
+/// The significant digits of `t`'s shortest decimal (`1.5`: 2; 0 and non-finite: 0).
+fn significant_digits<T: Real>(t: T) -> usize {
+    if !t.is_finite() || t == T::zero() {
+        return 0;
+    }
+    let shortest = t.to_string();
+    let mantissa = shortest.split(['e', 'E']).next().unwrap_or_default();
+    let digits = mantissa.trim_start_matches('-').replace('.', "");
+    digits
+        .trim_start_matches('0')
+        .trim_end_matches('0')
+        .len()
+        .max(1)
+}
+
+fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {
+    let shifts: Vec<i64> = (judged.iter().zip(answers))
+        .filter_map(|(j, (_, given))| match (j.exact, *given) {
+            (Answer::Hit { t: te, prim: q }, Answer::Hit { t, prim: p })
+                if near(te.f64(), t.f64()) =>
+            {
+                Some(i64::from(p) - i64::from(q))
+            }
+            _ => None,
+        })
+        .collect();
+    let first = *shifts.first()?;
+    (shifts.len() >= 2 && first.abs() == 1 && shifts.iter().all(|&k| k == first)).then_some(first)
+}
