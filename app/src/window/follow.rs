@@ -172,10 +172,13 @@ impl Viewer {
                 "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: \
                  the inspector shows the edge pixel ({x}, {y}) until it is back"
             ),
+            // (Which side: the crop is both sides' and the panel on the right, so "under the
+            // panel" sent the eye right for a pixel cropped off on the left.)
             false => format!(
-                "{UNDER_PANEL}, ({x}, {y}), lies under the ray inspector's panel, which \
-                 crops the image's sides: the inspector shows its ray (a wider window shows \
-                 its ring)"
+                "{UNDER_PANEL}, ({x}, {y}), lies off the image's {} side, which the ray \
+                 inspector's panel crops: the inspector shows its ray (a wider window shows \
+                 its ring)",
+                if x < offset { "left" } else { "right" }
             ),
         };
         // An error the status line holds stays: this notice follows on its own, from

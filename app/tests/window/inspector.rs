@@ -86,7 +86,8 @@ fn a_pixel_under_the_inspectors_panel_is_inspected_as_chosen() {
     };
     assert_eq!(run.inspector["pixel"], "22 400", "{}", run.stderr);
     let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
-    let said = "the pixel inspected, (22, 400), lies under the ray inspector's panel";
+    let said = "the pixel inspected, (22, 400), lies off the image's left side, which the ray \
+                inspector's panel crops";
     assert!(
         status.is_some_and(|s| s.starts_with(said)),
         "{status:?}\n{}",
