@@ -484,6 +484,9 @@ impl App {
         if after.0.controls.step != before.0.controls.step {
             viewer.say_step();
         }
+        if after.1 != before.1 && !actions.reset_camera {
+            viewer.camera_moved();
+        }
         if before != after || actions.reset_camera {
             log::debug!("change: {before:?} -> {after:?}");
             if !from_a_field {

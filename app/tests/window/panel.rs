@@ -282,6 +282,34 @@ fn real_x_input_a_fields_slip_goes_once_r_resets_the_camera() {
     );
 }
 
+fn real_x_input_rs_word_goes_once_the_camera_moves() {
+    // R says the camera is back at its start; a yaw typed into its field then says so (the
+    // R's words stayed under a camera turned 30°), and in another run W held after R clears
+    // them. (The yaw's box at (58, 285) at the default window on the 1280x800 screen.)
+    let status = |driver: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let script = "0 await driver-done\n";
+        let run = run_window(script, dir.path(), Around::RealInput(driver))?;
+        let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+        Some((status.map(str::to_string), run.stderr))
+    };
+    let reset = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 400; sleep 0.3; \
+                 xdotool key r; logged 'camera back at its start'; ";
+    let typed = format!(
+        "{reset}xdotool mousemove --sync 58 285 click 1; sleep 0.3; xdotool key ctrl+a; \
+         xdotool type 30; xdotool key Return; logged 'yaw set to 30'"
+    );
+    let Some((said, log)) = status(&typed) else {
+        return;
+    };
+    assert_eq!(said.as_deref(), Some("yaw set to 30"), "{log}");
+    let flown = format!("{reset}xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.5");
+    let Some((said, log)) = status(&flown) else {
+        return;
+    };
+    assert!(!said.is_some_and(|s| s.contains("camera back")), "{log}");
+}
+
 fn real_x_input_typed_positions_stay_where_raylab_renders_from() {
     // Typed into the panel: nan for the camera's y, 1,5 for the light's y, -2.5 for the
     // camera's z, 9 for the light's z left with Esc, 720 for the yaw (a whole turn: the
@@ -397,5 +425,6 @@ pub const TESTS: super::Tests = tests![
     real_x_input_twenty_thousand_warnings_are_counted_and_listed_on_demand,
     real_x_input_typed_positions_stay_where_raylab_renders_from,
     real_x_input_a_fields_slip_goes_once_r_resets_the_camera,
+    real_x_input_rs_word_goes_once_the_camera_moves,
     real_x_input_a_click_with_the_inspector_off_says_so,
 ];

@@ -62,6 +62,9 @@ pub struct ViewSettings {
 /// How long after the last change the viewer keeps previewing before it refines.
 pub const SETTLE: Duration = Duration::from_millis(120);
 
+/// What the status line says after R; it goes once the camera moves.
+const CAMERA_RESET: &str = "camera back at its start (R)";
+
 /// The image on screen.
 pub struct Shown {
     pub generation: u64,
@@ -364,7 +367,8 @@ impl Viewer {
     /// before (a slip, which would still claim a field kept its value, or an earlier value
     /// set), it says what was set now.
     pub fn field_taken(&mut self, message: String) {
-        if self.status_from_field && self.status != message {
+        let outdated = self.status_from_field || self.status == CAMERA_RESET;
+        if outdated && self.status != message {
             self.set_status(message);
             self.status_from_field = true;
         }
@@ -412,7 +416,16 @@ impl Viewer {
         self.last_update = now;
         let control = self.input.take(now, step);
         if self.controller.update(&control, step) {
+            self.camera_moved();
             self.changed();
+        }
+    }
+
+    /// The camera moved (keys, mouse, wheel, a field dragged): R's "camera back at its start"
+    /// no longer describes it, and goes.
+    pub fn camera_moved(&mut self) {
+        if self.status == CAMERA_RESET {
+            self.status.clear();
         }
     }
 
@@ -422,7 +435,7 @@ impl Viewer {
         self.update_camera();
         self.controller.reset();
         // (A field's "camera y set to 5" stayed up under the camera it no longer described.)
-        self.set_status("camera back at its start (R)");
+        self.set_status(CAMERA_RESET);
     }
 
     /// The status line's word for the lab step shown (a key or the panel's radio buttons).
