@@ -62,6 +62,9 @@ pub struct Scene {
     pub camera: Option<SceneCamera>,
     /// A `.scene` file's push levels (the transform-stack inspector); empty otherwise.
     pub levels: Vec<file::Level>,
+    /// The mesh files a `.scene` file names (as joined to its directory), each once: what a
+    /// viewer watches beside it. Empty otherwise.
+    pub mesh_files: Vec<std::path::PathBuf>,
 }
 
 impl PartialEq for Scene {
@@ -110,6 +113,7 @@ impl Scene {
             warnings: Vec::new(),
             camera: None,
             levels: Vec::new(),
+            mesh_files: Vec::new(),
             instances: Vec::new(),
             instance_index: Vec::new(),
         }

@@ -323,6 +323,8 @@ fn meshes_load_relative_to_the_file_in_the_current_frame_and_colour() {
         scene.colors().iter().all(|c| *c == [0.2, 0.4, 0.6]),
         "faces without material"
     );
+    // The mesh files it names, once each (what the window watches beside it).
+    assert_eq!(scene.mesh_files, [dir.path().join("models/tri.obj")]);
     // A mesh that fails to load: the scene's line, then the mesh's own error.
     std::fs::write(&scene_path, "\nmesh models/missing.obj\n").unwrap();
     let e = raylab::scene::load_scene_file(&scene_path).unwrap_err();

@@ -153,6 +153,33 @@ fn a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit() {
     assert!(orange > 200, "{orange} orange pixels");
 }
 
+fn a_scene_reloads_when_a_mesh_it_places_changes() {
+    // A .scene file placing an OBJ twice (instanced): the OBJ gains a triangle on disk and
+    // the window reloads the scene, 2 + 2 primitives more (it watched the .scene alone: the
+    // old mesh stayed on screen, where the same OBJ opened alone reloaded).
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let scene = dir.path().join("s.scene");
+    let text = "cornell\nmesh tri.obj lab\npush\ntranslate 0 0.5 0\nmesh tri.obj lab\npop\n";
+    std::fs::write(&scene, text).unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "sleep 1; printf 'v 0 0 1\\nf 1 2 4\\n' >> tri.obj; logged 'reloaded '";
+    let around = Around::RealInputOn(driver, &scene);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(
+        log.contains("reloaded") && log.contains("(34 primitives)"),
+        "{log}"
+    );
+    assert_eq!(run.fields["primitives"], "34", "{log}");
+}
+
 fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
     // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
     // name and Return; File > Open scene, OBJ or view…: the only scene file the dialog lists,
@@ -655,6 +682,7 @@ pub const TESTS: super::Tests = tests![
     dropped_obj_files_load_and_bad_ones_leave_the_scene_alone,
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,
     a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,
+    a_scene_reloads_when_a_mesh_it_places_changes,
     real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog,
     real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs,
     an_instanced_scene_opens_and_a_selected_instance_is_tinted,

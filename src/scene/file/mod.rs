@@ -179,6 +179,9 @@ pub struct Description<T: Real> {
     pub warnings: Vec<String>,
     /// The push levels in the order their `push` (or the file) starts.
     pub levels: Vec<Level>,
+    /// The mesh files the file names (joined to its directory), each once, in first use's
+    /// order.
+    pub mesh_files: Vec<std::path::PathBuf>,
     /// Where each run of primitives was written: (its first index, its statement's line), in
     /// index order ([`line_of`]).
     pub lines: Vec<(u32, usize)>,
@@ -258,6 +261,7 @@ impl Scene {
         // With the Cornell box and no camera statement: the lab's camera.
         scene.camera = d.camera.or(d.has_cornell.then_some(SceneCamera::LAB));
         scene.levels = d.levels;
+        scene.mesh_files = d.mesh_files;
         scene.warnings = d.warnings;
         scene.check_ranges_at(&|index| line_of(&d.lines, index))?;
         Ok(scene)

@@ -103,6 +103,7 @@ pub fn parse_with<T: Real>(
     let mut uses = HashMap::new();
     let mut files = MeshFiles::default();
     let mut cornell_uses = 0;
+    let (mut mesh_files, mut named) = (Vec::new(), std::collections::HashSet::new());
     for line in text.lines() {
         // (A line whose words do not parse is reported below, at its number.)
         let words = crate::words::words(line).unwrap_or_default();
@@ -114,6 +115,10 @@ pub fn parse_with<T: Real>(
                     .next()
                     .map_or(Ok(ObjFrame::YUp), |w| w.parse::<ObjFrame>().map_err(|_| w));
                 let file = files.key(dir, &path);
+                let joined = dir.join(&path);
+                if named.insert(joined.clone()) {
+                    mesh_files.push(joined);
+                }
                 *uses.entry((file, frame)).or_insert(0) += 1;
             }
             Some("cornell") => cornell_uses += 1,
@@ -142,6 +147,7 @@ pub fn parse_with<T: Real>(
             has_cornell: false,
             warnings: Vec::new(),
             lines: Vec::new(),
+            mesh_files,
             levels: vec![Level {
                 line: 0,
                 depth: 0,

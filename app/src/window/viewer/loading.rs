@@ -31,9 +31,20 @@ impl LoadRequest {
 /// How often the scene's file is checked for changes.
 const WATCH_EVERY: Duration = Duration::from_millis(250);
 
-/// Watches the file in `source` (whichever it is now) and sends [`AppEvent::SourceChanged`]
-/// when its modification time or size changes; ends with the event loop.
-pub(super) fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<AppEvent>) {
+/// The most mesh files of a scene watched beside it (the first it names): a scene of a
+/// million meshes is not looked at a million times a quarter second.
+const WATCH_MOST: usize = 1024;
+
+/// Watches the file in `source` (whichever it is now) and the mesh files it names
+/// (`meshes`), and sends [`AppEvent::SourceChanged`] with the source when the modification
+/// time or size of one of them changes; ends with the event loop. (An OBJ a scene places was
+/// not watched: an edit of it left the window showing the old mesh, where the same OBJ
+/// opened alone reloaded.)
+pub(super) fn watch(
+    source: Arc<Mutex<Option<PathBuf>>>,
+    meshes: Arc<Mutex<Vec<PathBuf>>>,
+    proxy: EventLoopProxy<AppEvent>,
+) {
     /// A file's modification time and size, as far as they can be had.
     type Stamp = Option<(Option<std::time::SystemTime>, u64)>;
     let stamp = |p: &PathBuf| -> Stamp {
@@ -41,15 +52,19 @@ pub(super) fn watch(source: Arc<Mutex<Option<PathBuf>>>, proxy: EventLoopProxy<A
             .ok()
             .map(|m| (m.modified().ok(), m.len()))
     };
-    let mut last: Option<(PathBuf, Stamp)> = None;
+    let mut last: Option<(Vec<PathBuf>, Vec<Stamp>)> = None;
     loop {
         std::thread::sleep(WATCH_EVERY);
         let Some(path) = source.lock().expect("not poisoned").clone() else {
             continue;
         };
-        let now = stamp(&path);
-        let changed = matches!(&last, Some((p, s)) if *p == path && *s != now);
-        last = Some((path.clone(), now));
+        let mut files = vec![path.clone()];
+        let meshes = meshes.lock().expect("not poisoned");
+        files.extend(meshes.iter().take(WATCH_MOST).cloned());
+        drop(meshes);
+        let now: Vec<Stamp> = files.iter().map(stamp).collect();
+        let changed = matches!(&last, Some((f, s)) if *f == files && *s != now);
+        last = Some((files, now));
         if changed && proxy.send_event(AppEvent::SourceChanged(path)).is_err() {
             return;
         }
@@ -159,6 +174,7 @@ impl Viewer {
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
     fn show_cornell(&mut self, kind: &LoadKind) {
         *self.source.lock().expect("not poisoned") = None;
+        self.source_meshes.lock().expect("not poisoned").clear();
         self.stage = Stage::new(Scene::cornell(), self.accel);
         self.selected_level = None;
         self.banner = None;
@@ -306,6 +322,7 @@ impl Viewer {
             }
         };
         *self.source.lock().expect("not poisoned") = Some(path.clone());
+        *self.source_meshes.lock().expect("not poisoned") = stage.scene().mesh_files.clone();
         // (The error of an earlier load no longer describes the scene shown.)
         self.banner = None;
         let scene = stage.scene();

@@ -161,6 +161,8 @@ pub struct Viewer {
     pub paused: bool,
     /// The file the scene came from, watched for changes (a reload keeps the camera).
     source: Arc<Mutex<Option<PathBuf>>>,
+    /// The mesh files a `.scene` source names, watched with it: an edit of one reloads it.
+    source_meshes: Arc<Mutex<Vec<PathBuf>>>,
     /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
     pub selected_level: Option<usize>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
@@ -201,8 +203,9 @@ impl Viewer {
         let wake = proxy.clone();
         let controller = CameraController::starting(stage.scene(), scene_path.is_none(), 4, 3);
         let source = Arc::new(Mutex::new(scene_path.cloned()));
-        let (watched, watcher) = (source.clone(), proxy.clone());
-        std::thread::spawn(move || watch(watched, watcher));
+        let source_meshes = Arc::new(Mutex::new(stage.scene().mesh_files.clone()));
+        let (watched, meshes, watcher) = (source.clone(), source_meshes.clone(), proxy.clone());
+        std::thread::spawn(move || watch(watched, meshes, watcher));
         let light = stage.scene().light.position;
         let cracks = super::cracks::Counter::new(proxy.clone());
         let frame_when_sized = scene_path.is_some() && stage.scene().camera.is_none();
@@ -263,6 +266,7 @@ impl Viewer {
             frames_while_moving: 0,
             paused: false,
             source,
+            source_meshes,
             selected_level: None,
             inspector_on: true,
             inspection: None,
