@@ -10,6 +10,9 @@ use std::time::Duration;
 /// before its account runs the next submission.
 const SHARED_DIRS: [&str; 5] = ["/tmp", "/var/tmp", "/dev/shm", "/run/lock", "/dev/mqueue"];
 
+/// How deep [`Account::sweep`] follows world-writable directories within [`SHARED_DIRS`].
+const SWEEP_DEPTH: usize = 8;
+
 /// One account per worker when raylab runs as root, so the process limit holds (root is
 /// exempt from it) and no program touches another's files; none when raylab is not root.
 /// Where a program cannot run as one here (no free uid, a user namespace without the uid, a
@@ -114,35 +117,47 @@ impl Account {
     }
 
     /// Removes what the account's programs left in the directories every user may write
-    /// ([`SHARED_DIRS`]) and in System V shared memory, semaphores and message queues, so that
-    /// the next submission run as this uid finds nothing of this one's (its answers, say) and
-    /// no memory stays held. Its processes have ended by then.
+    /// ([`SHARED_DIRS`], and the world-writable directories within them, as /tmp/.X11-unix)
+    /// and in System V shared memory, semaphores and message queues, so that the next
+    /// submission run as this uid finds nothing of this one's (its answers, say) and no memory
+    /// stays held. Its processes have ended by then.
     pub(super) fn sweep(&self) {
         self.sweep_ipc();
-        use std::os::unix::fs::MetadataExt;
         for dir in SHARED_DIRS {
-            let Ok(entries) = std::fs::read_dir(dir) else {
+            self.sweep_dir(Path::new(dir), 0);
+        }
+    }
+
+    /// Removes the account's files and directories in `dir`, and in the world-writable
+    /// directories there (not its links' targets), at most [`SWEEP_DEPTH`] deep. (A file a
+    /// program wrote into /tmp/.X11-unix stayed for the next submission of its uid.)
+    fn sweep_dir(&self, dir: &Path, depth: usize) {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let Ok(meta) = std::fs::symlink_metadata(&path) else {
                 continue;
             };
-            for entry in entries.flatten() {
-                let path = entry.path();
-                let Ok(meta) = std::fs::symlink_metadata(&path) else {
-                    continue;
-                };
-                if meta.uid() != self.uid {
-                    continue;
+            if meta.uid() != self.uid {
+                let open = meta.is_dir() && meta.mode() & 0o002 != 0;
+                if open && depth < SWEEP_DEPTH {
+                    self.sweep_dir(&path, depth + 1);
                 }
-                let removed = match meta.is_dir() {
-                    true => std::fs::remove_dir_all(&path),
-                    false => std::fs::remove_file(&path),
-                };
-                if let Err(e) = removed {
-                    eprintln!(
-                        "warning: cannot remove {} left by uid {}: {e}",
-                        path.display(),
-                        self.uid
-                    );
-                }
+                continue;
+            }
+            let removed = match meta.is_dir() {
+                true => std::fs::remove_dir_all(&path),
+                false => std::fs::remove_file(&path),
+            };
+            if let Err(e) = removed {
+                eprintln!(
+                    "warning: cannot remove {} left by uid {}: {e}",
+                    path.display(),
+                    self.uid
+                );
             }
         }
     }

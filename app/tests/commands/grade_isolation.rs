@@ -99,23 +99,32 @@ fn the_next_submission_finds_nothing_of_the_last() {
         "/dev/shm/raylab-left-917005",
         "/tmp/raylab-left-dir-917005",
         "/run/lock/raylab-left-917005",
+        "/tmp/raylab-open-917005/left",
     ];
     for f in left {
         let _ = std::fs::remove_dir_all(f).or_else(|_| std::fs::remove_file(f));
+    }
+    // A world-writable directory of root's in /tmp, as /tmp/.X11-unix: a file left in it
+    // stayed for the next submission.
+    let open = Path::new("/tmp/raylab-open-917005");
+    let _ = std::fs::create_dir(open);
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(open, std::fs::Permissions::from_mode(0o1777)).unwrap();
     }
     // Files where every user may write (/run/lock where there is one), and a System V shared
     // memory segment, which outlives its process and holds memory.
     let leaves = format!(
         "echo answers > {0} && echo answers > {1} && mkdir -p {2} && echo x > {2}/f && \
-         {{ [ ! -d /run/lock ] || echo x > {3}; }} && ipcmk -M 65536 >&2 && \
-         exec python3 exact.py \"$1\" \"$2\"\n",
-        left[0], left[1], left[2], left[3]
+         {{ [ ! -d /run/lock ] || echo x > {3}; }} && echo answers > {4} && \
+         ipcmk -M 65536 >&2 && exec python3 exact.py \"$1\" \"$2\"\n",
+        left[0], left[1], left[2], left[3], left[4]
     );
     let looks = format!(
-        "for f in {} {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; \
+        "for f in {} {} {} {} {}; do [ -e $f ] && echo found $f >&2 && exit 9; done; \
          awk -v u=$(id -u) 'NR > 1 && $8 == u {{ print \"found shm\"; exit 9 }}' /proc/sysvipc/shm >&2 \
          || exit 9; exec python3 exact.py \"$1\" \"$2\"\n",
-        left[0], left[1], left[2], left[3]
+        left[0], left[1], left[2], left[3], left[4]
     );
     let class_of = [
         ("=1+2", "exec python3 exact.py \"$1\" \"$2\"\n".to_string()),
@@ -174,6 +183,7 @@ fn the_next_submission_finds_nothing_of_the_last() {
     for f in left {
         assert!(!Path::new(f).exists(), "{f} left behind");
     }
+    let _ = std::fs::remove_dir(open);
     // No segment of the accounts' uids is left either.
     let shm = std::fs::read_to_string("/proc/sysvipc/shm").unwrap();
     let of_accounts = shm.lines().skip(1).filter(|l| {
