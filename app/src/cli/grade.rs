@@ -527,7 +527,7 @@ fn grade_one(
             }
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
-            Err(e @ (RunError::Failed { .. } | RunError::Start(_))) => {
+            Err(e @ (RunError::Failed { .. } | RunError::Start(_) | RunError::NoDir(_))) => {
                 record(Status::Crashed, limit_hint(&e, &limits))
             }
         });

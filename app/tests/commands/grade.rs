@@ -337,6 +337,38 @@ fn a_crash_at_a_limit_names_the_limit() {
     );
 }
 
+/// A program that removes its own copy: its later families crash, said so (not "cannot start
+/// the shell: No such file", which read as if `sh` were missing).
+#[test]
+fn a_program_that_removes_its_copy_is_told_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-", "17-"]);
+    let ned = class.join("ned-removes");
+    std::fs::create_dir(&ned).unwrap();
+    let run = "python3 exact.py \"$1\" \"$2\"; rm -rf \"$PWD\"\n";
+    std::fs::write(ned.join("run.sh"), run).unwrap();
+    let exact = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/check/exact.py");
+    std::fs::copy(&exact, ned.join("exact.py")).unwrap();
+    let json = dir.path().join("grades.json");
+    let o = grade_class(&class, &suite, &["--json", json.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+    let json = std::fs::read_to_string(&json).unwrap();
+    let record = |family: &str| {
+        (json.lines())
+            .find(|l| l.contains("\"submission\": \"ned-removes\"") && l.contains(family))
+            .unwrap_or_else(|| panic!("{family}: {json}"))
+            .to_string()
+    };
+    assert!(record("\"16-").contains("\"status\": \"ok\""), "{json}");
+    let later = record("\"17-");
+    assert!(
+        later.contains("\"status\": \"crashed\"")
+            && later.contains("is gone: a run of the program removed it"),
+        "{later}"
+    );
+    assert!(ned.join("run.sh").exists(), "the original stays");
+}
+
 /// Two submissions whose folder names differ only in a byte that is not UTF-8 (`caf\xe9`,
 /// `caf\xe8`): each shown with that byte as its escape, not both as `caf�`.
 #[test]

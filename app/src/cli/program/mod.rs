@@ -41,6 +41,13 @@ pub struct Ran {
 pub enum RunError {
     #[error("cannot start the shell: {0}")]
     Start(std::io::Error),
+    /// The directory it runs in is gone (a program that removed its own copy: "cannot start
+    /// the shell: No such file" read as if `sh` were missing).
+    #[error(
+        "its directory {0} is gone: a run of the program removed it (one copy of the \
+         submission serves all its families)"
+    )]
+    NoDir(PathBuf),
     /// With what it had printed (how far its answers came).
     #[error("ran out of time ({secs:.1} s; --timeout sets another limit)")]
     Timeout { secs: f64, printed: Vec<u8> },
@@ -149,7 +156,10 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
     // Started and registered at once, so no sweep takes the new shell for a stray.
     let (mut child, id) = {
         let mut registry = registry();
-        let child = shell.spawn().map_err(RunError::Start)?;
+        let child = shell.spawn().map_err(|e| match &limits.dir {
+            Some(dir) if !dir.is_dir() => RunError::NoDir(dir.clone()),
+            _ => RunError::Start(e),
+        })?;
         let id = registry.add(child.id() as i32, limits.run_as);
         (child, id)
     };
