@@ -44,6 +44,11 @@ impl Case {
     pub fn stalled(&self, why: String, printed: &[u8]) -> String {
         stalled(why, printed, self.ray_count, |i| self.places[i].clone())
     }
+
+    /// [`super::check::crashed`] for this family's rays.
+    pub fn crashed(&self, why: String, printed: &[u8]) -> String {
+        super::check::crashed(why, printed, self.ray_count, |i| self.places[i].clone())
+    }
 }
 
 /// The families of an exported suite (only `family` if given: a directory name or its

@@ -404,6 +404,10 @@ pub(super) fn program_answers<T: Real>(
             let place = |i: usize| ray_place(rays_file, exact, i);
             stalled(e.to_string(), printed, exact.rays.len(), place)
         }
+        program::RunError::Failed { printed, .. } => {
+            let place = |i: usize| ray_place(rays_file, exact, i);
+            crashed(e.to_string(), printed, exact.rays.len(), place)
+        }
         _ => e.to_string(),
     })?;
     let answers = answers_for("its output", &ran.stdout, exact, rays_file)
@@ -420,13 +424,7 @@ pub(super) fn stalled(
     rays: usize,
     place: impl Fn(usize) -> String,
 ) -> String {
-    // Complete lines that are not blank or comments, as answers are read.
-    let lines = printed.split(|&b| b == b'\n');
-    let complete = lines.clone().count().saturating_sub(1);
-    let answered = (lines.take(complete))
-        .filter(|l| !l.trim_ascii().is_empty() && !l.trim_ascii().starts_with(b"#"))
-        .count();
-    match answered {
+    match answered(printed) {
         0 => format!(
             "{why}; no answer had reached raylab: it printed none, or kept them in its buffer \
              (as Python and C do into a pipe, where output shows only when the program ends: \
@@ -440,6 +438,36 @@ pub(super) fn stalled(
         ),
         _ => format!("{why}; it had printed an answer for every ray, and did not end"),
     }
+}
+
+/// `why` a run failed (a crash, an exit status not 0), with how far its answers had come
+/// (`printed`, its output; `place(i)`, where ray i is). (A crash half way said nothing of
+/// the 147 answers before it.)
+pub(super) fn crashed(
+    why: String,
+    printed: &[u8],
+    rays: usize,
+    place: impl Fn(usize) -> String,
+) -> String {
+    match answered(printed) {
+        0 => why,
+        n if n < rays => format!(
+            "{why}; {} had reached raylab before it ended: the first ray without one is {}",
+            raylab::words::count(n, "answer", "answers"),
+            place(n)
+        ),
+        _ => format!("{why}; it had printed an answer for every ray first"),
+    }
+}
+
+/// The answers in `printed`: its complete lines that are not blank or comments, as answers
+/// are read.
+fn answered(printed: &[u8]) -> usize {
+    let lines = printed.split(|&b| b == b'\n');
+    let complete = lines.clone().count().saturating_sub(1);
+    (lines.take(complete))
+        .filter(|l| !l.trim_ascii().is_empty() && !l.trim_ascii().starts_with(b"#"))
+        .count()
 }
 
 /// `why` a run's output is not its answers, with a hint where it printed nothing on standard

@@ -527,7 +527,11 @@ fn grade_one(
             }
             Err(e @ RunError::TooMuch(_)) => record(Status::Flooded, e.to_string()),
             Err(e @ RunError::NotText(_)) => record(Status::Garbage, e.to_string()),
-            Err(e @ (RunError::Failed { .. } | RunError::Start(_) | RunError::NoDir(_))) => {
+            Err(ref e @ RunError::Failed { ref printed, .. }) => record(
+                Status::Crashed,
+                case.crashed(limit_hint(e, &limits), printed),
+            ),
+            Err(e @ (RunError::Start(_) | RunError::NoDir(_))) => {
                 record(Status::Crashed, limit_hint(&e, &limits))
             }
         });
@@ -547,7 +551,7 @@ fn grade_one(
 fn limit_hint(e: &RunError, limits: &Limits) -> String {
     use std::os::unix::process::ExitStatusExt;
     let said = e.to_string();
-    let RunError::Failed { status, stderr } = e else {
+    let RunError::Failed { status, stderr, .. } = e else {
         return said;
     };
     // What a run out of processes or memory says, by the words of common shells, Python, C,

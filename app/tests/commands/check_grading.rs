@@ -580,6 +580,17 @@ fn a_program_that_fails_is_never_a_pass() {
             format!("{trace} | head -3; sleep 30"),
             "rays.txt:5 (ray 4) (or a later one, where the program keeps output in a buffer)",
         ),
+        // How far a crash came: the answers before it (and a signal named by the shell's
+        // 128 + N).
+        (
+            format!("{trace} | head -3; sh -c 'kill -SEGV $$'"),
+            "ended with exit status: 139 (the shell's for a program killed by signal 11, \
+             SIGSEGV)",
+        ),
+        (
+            format!("{trace} | head -3; sh -c 'kill -SEGV $$'"),
+            "; 3 answers had reached raylab before it ended: the first ray without one is ",
+        ),
         (
             "echo garbage # {scene} {rays}".to_string(),
             "its output:1: expected 'hit <t> <index>' or 'miss'",

@@ -53,10 +53,40 @@ pub enum RunError {
     Timeout { secs: f64, printed: Vec<u8> },
     #[error("printed more than {0} bytes, over 160 a ray and 1 MiB: not answers to these rays")]
     TooMuch(usize),
-    #[error("ended with {status}{stderr}")]
-    Failed { status: ExitStatus, stderr: String },
+    /// With what it had printed (how far its answers came).
+    #[error("ended with {}{stderr}", ended(status))]
+    Failed {
+        status: ExitStatus,
+        stderr: String,
+        printed: Vec<u8>,
+    },
     #[error("printed {0}")]
     NotText(raylab::input::NotText),
+}
+
+/// An exit status as said: the shell's 128 + N of a program killed by signal N named so
+/// ("exit status: 139" said nothing of a SIGSEGV: the command runs under `sh -c`).
+fn ended(status: &ExitStatus) -> String {
+    const NAMES: [(i32, &str); 10] = [
+        (4, "SIGILL"),
+        (6, "SIGABRT"),
+        (7, "SIGBUS"),
+        (8, "SIGFPE"),
+        (9, "SIGKILL"),
+        (11, "SIGSEGV"),
+        (13, "SIGPIPE"),
+        (15, "SIGTERM"),
+        (24, "SIGXCPU"),
+        (25, "SIGXFSZ"),
+    ];
+    let name = |n: i32| NAMES.iter().find(|(k, _)| *k == n).map(|(_, name)| *name);
+    match status.code().and_then(|c| name(c - 128).map(|n| (c, n))) {
+        Some((code, n)) => format!(
+            "exit status: {code} (the shell's for a program killed by signal {}, {n})",
+            code - 128
+        ),
+        None => status.to_string(),
+    }
 }
 
 /// What a run may use. `run` gives a time and an output limit; `raylab grade` all of them.
@@ -250,7 +280,11 @@ pub fn run_with(command: &OsStr, limits: &Limits) -> Result<Ran, RunError> {
             true => String::new(),
             false => format!("; its last words: {}", err.replace('\n', " | ")),
         };
-        return Err(RunError::Failed { status, stderr });
+        return Err(RunError::Failed {
+            status,
+            stderr,
+            printed: out,
+        });
     }
     let stdout = raylab::input::text_of(out).map_err(RunError::NotText)?;
     let stderr_tail = String::from_utf8_lossy(&err).trim().to_string();
