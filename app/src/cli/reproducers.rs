@@ -196,10 +196,12 @@ fn outside_interval<T: Real>(exact: &Exact<T>, i: usize, given: &Answer<T>) -> O
             true => " (it is behind the origin)",
             false => "",
         };
+        let (t, tmin) = (shown(t), shown(tmin));
         Some(format!(
             "t {t} is not above tmin {tmin}{behind}: only tmin < t < tmax counts"
         ))
     } else if t >= tmax {
+        let (t, tmax) = (shown(t), shown(tmax));
         Some(format!(
             "t {t} is not below tmax {tmax}: only tmin < t < tmax counts, both ends open"
         ))
@@ -286,7 +288,9 @@ fn missed<T: Real>(
         // (A nearer hit the ray does not have: only where the ray passes the given primitive.)
         Some((t, _)) if t.f64() <= te => return joined(facts),
         Some((t, _)) if facts.is_empty() => facts.push(format!(
-            "the given t {t} is past the exact hit's t {te_shown}: the nearest hit wins"
+            "the given t {} is past the exact hit's t {}: the nearest hit wins",
+            shown(t),
+            shown(te_shown)
         )),
         _ => {}
     }
@@ -294,8 +298,9 @@ fn missed<T: Real>(
     let behind = te < 0.0 && tmin.f64() < 0.0;
     if behind && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0) {
         facts.push(format!(
-            "the exact hit is behind the origin (t {te_shown}), which counts where tmin < 0 \
-             (here {tmin})"
+            "the exact hit is behind the origin (t {}), which counts where tmin < 0 (here {})",
+            shown(te_shown),
+            shown(tmin)
         ));
         return joined(facts);
     }
@@ -353,8 +358,10 @@ fn not_met<T: Real>(
 ) -> String {
     if let Some((te, q)) = exact_hit.filter(|&(te, _)| near(te.f64(), t.f64())) {
         let within = if te == t { "" } else { " (within 10⁻⁶)" };
-        let index =
-            format!("the given t {t} is the exact hit's{within}, on primitive {q}, not {p}");
+        let index = format!(
+            "the given t {} is the exact hit's{within}, on primitive {q}, not {p}",
+            shown(t)
+        );
         return match shift {
             Some(k) => format!(
                 "{index}: every primitive given at the exact t is the exact one's index {} 1 \
@@ -397,11 +404,7 @@ fn rounded_into_interval<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> O
         _ if on >= tmax => (tmax, "below tmax"),
         _ => return None,
     };
-    // (As written, in the precision graded; a t of 10⁻¹⁷ in its exponent form.)
-    let t = match t != T::zero() && !(1e-3..1e6).contains(&t.f64().abs()) {
-        true => format!("{t:e}"),
-        false => t.to_string(),
-    };
+    let (on, end, t) = (shown(on), shown(end), shown(t));
     Some(format!(
         "the ray meets triangle {p} exactly at t {on}, not {side} {end}: the given t {t} is that \
          t rounded into the interval (only tmin < t < tmax counts)"
@@ -414,6 +417,7 @@ fn rounded_into_interval<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> O
 fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let shape = exact.shape(p);
+    let t = shown(t);
     match (&shape, shape.locate(&exact.rays[i].1.ray)) {
         (_, Location::Triangle(triangle::Location::Outside(edges))) => {
             // (Edge k's outside is where the weight of the vertex opposite it is below 0.)
@@ -530,6 +534,15 @@ fn two_roots([near, far]: [f64; 2]) -> String {
             "{} (twice: the roots are closer than f64 tells)",
             approx(near)
         ),
+    }
+}
+
+/// A t (or tmin, tmax) as a hint shows it: in the precision graded, its shortest digits, in
+/// exponent form outside 10⁻³…10⁶ (a t of 1.4e28 ran to 29 digits, one of 10⁻¹⁷ to 17 zeros).
+fn shown<T: Real>(t: T) -> String {
+    match t != T::zero() && t.is_finite() && !(1e-3..1e6).contains(&t.f64().abs()) {
+        true => format!("{t:e}"),
+        false => t.to_string(),
     }
 }
 

@@ -208,7 +208,8 @@ fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
 }
 
 /// A primitive given at a t its exact t rounds to, across tmin (the origin on a triangle:
-/// exactly 0, not above tmin 0), is told so (it was a bare wrong primitive); a determinant
+/// exactly 0, not above tmin 0), is told so (it was a bare wrong primitive), a t far from 1
+/// in exponent form; a determinant
 /// below f32's smallest normal number is told to underflow in f32, and not in f64.
 #[test]
 fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
@@ -219,6 +220,14 @@ fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
             "[wrong primitive: the ray meets triangle 0 exactly at t 0, not above tmin 0: the \
              given t 1e-17 is that t rounded into the interval (only tmin < t < tmax counts)]"
         ),
+        "{}",
+        h.out
+    );
+    // (A t far from 1 in its exponent form: 1e28 ran to 29 digits.)
+    let h = hints(scene, "0 0 -1 0 0 1 0 inf\n", "hit 1e28 1\n");
+    assert!(
+        h.line(1)
+            .contains("the ray meets triangle 1 at t 6, not at the given t 1e28;"),
         "{}",
         h.out
     );
