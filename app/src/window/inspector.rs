@@ -159,7 +159,8 @@ fn rows(ins: &Inspection) -> Vec<(String, String)> {
         row("D unshadowed", f3(h.direct_unshadowed));
     }
     row(&name("N", ins.step.uses_indirect()), f3(h.indirect));
-    row(&format!("colour ({})", ins.step), f3(h.colour));
+    // (Linear and unclamped, as the renderer has it before sRGB: 1.715 read as a mistake.)
+    row(&format!("colour ({}, linear)", ins.step), f3(h.colour));
     rows
 }
 
