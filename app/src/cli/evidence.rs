@@ -4,7 +4,7 @@
 //! program that rounds a hit on a tiny cube's edge away was told of an epsilon it did not
 //! have, and one printing `%.9g` to print 9 digits.
 
-use super::reproducers::{determinant, faces_back, near};
+use super::hint_geometry::{determinant, faces_back, near};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;

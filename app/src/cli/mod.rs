@@ -29,6 +29,7 @@ mod check;
 mod check_image;
 mod evidence;
 mod grade;
+mod hint_geometry;
 mod images;
 mod program;
 mod reports;

@@ -2,6 +2,7 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use super::evidence::Evidence;
+use super::hint_geometry::{determinant, faces_back, length, near, o_and_d, plane_of};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::real::{cross, dot, sub};
 use raylab::math::Real;
@@ -498,27 +499,6 @@ fn small_determinant<T: Real>(
     })
 }
 
-/// Möller–Trumbore's determinant e1·(d × e2) of ray `i` and triangle `tri` (−d·n), in f64.
-pub(super) fn determinant<T: Real>(
-    exact: &Exact<T>,
-    i: usize,
-    tri: &raylab::geometry::Triangle<T>,
-) -> f64 {
-    let (_, n) = plane_of(tri);
-    -dot(o_and_d(exact, i).1, n)
-}
-
-/// Whether ray `i` meets triangle `tri`'s plane from its back (d·n > 0, beyond 10⁻⁶ of |d| |n|).
-pub(super) fn faces_back<T: Real>(
-    exact: &Exact<T>,
-    i: usize,
-    tri: &raylab::geometry::Triangle<T>,
-) -> bool {
-    let d = o_and_d(exact, i).1;
-    let (_, n) = plane_of(tri);
-    dot(d, n) > 1e-6 * length(d) * length(n)
-}
-
 /// A sphere's two roots (of a ray through it: not a tangent) as a hint shows them (`0.5 and
 /// 2`): [`approx`], or the fewest significant digits up to 15 that tell them apart (17 claimed
 /// digits f64's estimate does not hold), or one where even 15 do not (a ray within an ulp or
@@ -544,11 +524,6 @@ fn shown<T: Real>(t: T) -> String {
         true => format!("{t:e}"),
         false => t.to_string(),
     }
-}
-
-/// Whether `x` and `y` agree to 10⁻⁶ of the larger (in f64).
-pub(super) fn near(x: f64, y: f64) -> bool {
-    (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30)
 }
 
 /// An f64 estimate as shown in a hint: to 7 decimals, or 7 significant digits outside
@@ -654,24 +629,11 @@ fn where_on<T: Real>(
     (fact, false)
 }
 
-/// A triangle's v0 and its normal n = (v1 − v0) × (v2 − v0), in f64 (d·n > 0: met from its
-/// back).
-fn plane_of<T: Real>(tri: &raylab::geometry::Triangle<T>) -> ([f64; 3], [f64; 3]) {
-    let v = tri.0.map(|p| p.map(|c| c.f64()));
-    (v[0], cross(sub(v[1], v[0]), sub(v[2], v[0])))
-}
-
 /// Where ray `i`'s line crosses the triangle's plane, in f64: its t.
 fn plane_t<T: Real>(exact: &Exact<T>, i: usize, tri: &raylab::geometry::Triangle<T>) -> f64 {
     let (o, d) = o_and_d(exact, i);
     let (v0, n) = plane_of(tri);
     dot(sub(v0, o), n) / dot(d, n)
-}
-
-/// Ray `i`'s origin and direction in f64.
-fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3]) {
-    let ray = &exact.rays[i].1.ray;
-    (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()))
 }
 
 /// [`past_tmin`] of the exact hit `standing` (none for a miss), at its [`fine_t`].
@@ -747,10 +709,6 @@ fn t_of<T: Real>(answer: &Answer<T>) -> Option<f64> {
         Answer::Hit { t, .. } => Some(t.f64()),
         Answer::Miss => None,
     }
-}
-
-fn length(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Where the given t is, to 10⁻⁶ relative, the exact t times |d| (the ray's direction
