@@ -159,8 +159,11 @@ fn rows(ins: &Inspection) -> Vec<(String, String)> {
         row("D unshadowed", f3(h.direct_unshadowed));
     }
     row(&name("N", ins.step.uses_indirect()), f3(h.indirect));
-    // (Linear and unclamped, as the renderer has it before sRGB: 1.715 read as a mistake.)
-    row(&format!("colour ({}, linear)", ins.step), f3(h.colour));
+    // (Linear, as the renderer has it before sRGB clips it: 1.715 read as a mistake.)
+    row(&format!("colour ({})", ins.step), f3(h.colour));
+    if h.colour.iter().any(|&c| c > 1.0) {
+        row("", "linear: > 1 shows as 1".into());
+    }
     rows
 }
 
