@@ -31,20 +31,22 @@ pub fn scene_tree(
             for (i, level) in levels.iter().enumerate() {
                 let title = title(level);
                 let count = own_primitives(level);
-                // (With its nested levels' too, which a click tints: "12 primitives" stood
-                // beside 13 tinted.)
-                let with_nested = match nested[i] {
-                    0 => String::new(),
-                    n => format!(", {} with its nested levels", count + n),
-                };
                 ui.horizontal(|ui| {
                     ui.add_space(12.0 * level.depth as f32);
-                    let label =
-                        format!("{title}: {}{with_nested}", raylab::words::primitives(count));
+                    let label = format!("{title}: {}", raylab::words::primitives(count));
                     if ui.selectable_label(selected == Some(i), label).clicked() {
                         clicked = Some((selected != Some(i)).then_some(i));
                     }
                 });
+                // (With its nested levels' too, which a click tints: "12 primitives" stood
+                // beside 13 tinted. On a line of its own: beside the row it widened the
+                // panel, narrowing the image for good.)
+                if nested[i] > 0 {
+                    ui.horizontal(|ui| {
+                        ui.add_space(12.0 * level.depth as f32 + 16.0);
+                        ui.small(format!("{} with its nested levels", count + nested[i]));
+                    });
+                }
                 // (Indented as its level's row: the details of nested levels had all lined
                 // up under the top one. The header's arrow takes the indent's width, so
                 // that is set back inside: a wider one had moved the label off its arrow.)

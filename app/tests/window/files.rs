@@ -180,6 +180,35 @@ fn a_scene_reloads_when_a_mesh_it_places_changes() {
     assert_eq!(run.fields["primitives"], "34", "{log}");
 }
 
+fn real_x_input_the_transform_stack_opened_keeps_the_panels_width() {
+    // transform_stack.scene's tree opened by a real click on its header (at (60, 152)): its
+    // rows, one under a level counting its nested levels' primitives too, leave the side
+    // panel its width (that count beside the row widened it 368 -> 379 points, and the image
+    // narrowed for good).
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/transform_stack.scene");
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 60 152 click 1; \
+                  sleep 1.5";
+    let Some(run) = run_window_with(
+        RAYLAB,
+        script,
+        dir.path(),
+        &[],
+        Around::RealInputOn(driver, &scene),
+    ) else {
+        return;
+    };
+    let log = &run.stderr;
+    let widths: Vec<f64> = (log.lines())
+        .filter_map(|l| l.split_once("side panel ")?.1.split_once(" points wide"))
+        .map(|(w, _)| w.parse().unwrap())
+        .collect();
+    assert!(!widths.is_empty(), "{log}");
+    assert_eq!(run.nums("panel_width"), [widths[0]], "{widths:?}\n{log}");
+}
+
 fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
     // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
     // name and Return; File > Open scene, OBJ or view…: the only scene file the dialog lists,
@@ -683,6 +712,7 @@ pub const TESTS: super::Tests = tests![
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,
     a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,
     a_scene_reloads_when_a_mesh_it_places_changes,
+    real_x_input_the_transform_stack_opened_keeps_the_panels_width,
     real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog,
     real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs,
     an_instanced_scene_opens_and_a_selected_instance_is_tinted,
