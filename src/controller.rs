@@ -88,6 +88,8 @@ pub struct CameraController {
     /// Moving speed factor (`+`/`-`), 1 at the start.
     pub speed: f64,
     home: (DVec3, f64, f64, f64),
+    /// The target at the start: [`reset`](Self::reset) puts the target back at its distance.
+    home_target: DVec3,
 }
 
 impl CameraController {
@@ -119,6 +121,7 @@ impl CameraController {
             focal_ratio,
             scene_size: 1.0,
             home: (position, yaw, pitch, focal_ratio),
+            home_target: DVec3::ZERO,
             mode: Mode::Fly,
             target: DVec3::ZERO,
             speed: 1.0,
@@ -139,7 +142,7 @@ impl CameraController {
 
     /// This controller orbiting `target` (also where [`Mode::Orbit`] turns around).
     pub fn with_target(mut self, target: DVec3) -> Self {
-        self.target = target;
+        (self.target, self.home_target) = (target, target);
         self
     }
 
@@ -218,6 +221,14 @@ impl CameraController {
     /// Back to the starting pose.
     pub fn reset(&mut self) {
         (self.position, self.yaw, self.pitch, self.focal_ratio) = self.home;
+        // (The target too, on the starting view axis at its starting distance: orbit mode
+        // keeps the camera looking at it, and after a pan R left the view shifted.)
+        let dist = (self.home_target - self.position).length();
+        let dist = match dist.is_finite() && dist > 0.0 {
+            true => dist,
+            false => self.scene_size,
+        };
+        self.target = self.position + self.forward() * dist;
     }
 
     /// The transform stack holding world_from_camera = T(position) · Ry(yaw) · Rx(pitch).

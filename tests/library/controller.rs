@@ -201,6 +201,13 @@ fn orbit_turns_around_the_target_pans_with_it_and_dollies() {
     };
     c.update(&far_in, dt);
     assert!(dist(&c) > 0.0 && c.position.is_finite());
+    // R after the pan and dolly: the start, which the next frame keeps (the panned target
+    // had pulled the camera aside again), and the box centre the target.
+    c.reset();
+    c.update(&ControlInput::default(), dt);
+    let start = CameraController::cornell();
+    assert_eq!((c.position, c.yaw, c.pitch), (start.position, 0.0, 0.0));
+    assert!(c.target.length() < 1e-12, "target {:?}", c.target);
     // Back to fly: the wheel is the focal length again.
     c.toggle_mode();
     let f = c.focal_ratio;
