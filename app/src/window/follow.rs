@@ -27,6 +27,7 @@ impl Viewer {
             let off = raylab::render::SettingsError::Pixel(i, j, w, h);
             return self.set_status(format!("cannot inspect: {off}"));
         }
+        self.off_image_said = None;
         self.answer((i + self.view_offset(), j), true);
     }
 
@@ -156,9 +157,12 @@ impl Viewer {
         };
         let under_panel = !(offset..offset + size.0).contains(&x);
         let (off, said) = (off_x || off_y, [OFF_IMAGE, UNDER_PANEL]);
-        if !off && !under_panel && said.iter().any(|s| self.status.starts_with(s)) {
-            // Back on the image: the status line follows the pixel again.
-            self.status_follows_pixel = true;
+        if !off && !under_panel {
+            self.off_image_said = None;
+            if said.iter().any(|s| self.status.starts_with(s)) {
+                // Back on the image: the status line follows the pixel again.
+                self.status_follows_pixel = true;
+            }
         }
         if !self.answer_for((x, y), false, Some(chosen)) || !(off || under_panel) {
             return;
@@ -182,11 +186,17 @@ impl Viewer {
             ),
         };
         // An error the status line holds stays: this notice follows on its own, from
-        // whatever moved the view, and would wipe what failed before the eye read it.
-        match self.status_is_error {
-            true => log::info!("{notice}"),
-            false => self.set_status(notice),
+        // whatever moved the view, and would wipe what failed before the eye read it. Said
+        // once while the pixel stays off the image, on that side: again at each frame, it
+        // wiped what the step, R or a field had just said.
+        let place = (chosen.pixel, off, x < offset);
+        let news = self.off_image_said != Some(place);
+        match (news, self.status_is_error) {
+            (false, _) => log::debug!("{notice}"),
+            (true, true) => log::info!("{notice}"),
+            (true, false) => self.set_status(notice),
         }
+        self.off_image_said = Some(place);
         self.status_follows_pixel = false;
     }
 

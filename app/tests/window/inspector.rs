@@ -95,6 +95,21 @@ fn a_pixel_under_the_inspectors_panel_is_inspected_as_chosen() {
     );
 }
 
+fn a_pixel_off_the_image_is_said_once_not_over_what_came_after() {
+    // A pixel under the inspector's panel is said so once; lab step 3 chosen after it (a new
+    // frame, which the inspector answers again) keeps its own word on the status line (the
+    // notice came back at every frame and wiped it).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 inspect 22 400\n800 key 3 down\n850 key 3 up\n";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(log.contains("lies off the image's left side"), "{log}");
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    assert_eq!(status, Some("lab step 3 direct"), "{log}");
+}
+
 fn the_inspector_comes_back_to_its_pixel_after_a_zoom_that_lost_it() {
     // A pixel inspected, then the view zoomed in 17x (the pixel's ray leaves the image: the
     // inspector shows the edge's pixel meanwhile) and out again: the inspector is back on
@@ -514,6 +529,7 @@ pub const TESTS: super::Tests = tests![
     real_x_input_the_inspector_follows_the_light_typed_into_the_panel,
     real_x_input_i_hides_the_inspected_ray_with_the_inspector,
     real_x_input_click_inspects_the_pixel_under_the_pointer,
+    a_pixel_off_the_image_is_said_once_not_over_what_came_after,
     real_x_input_clicks_on_windows_over_the_image_do_not_inspect,
     real_x_input_the_status_follows_the_inspector_check_box,
     an_obj_opened_beside_the_inspectors_panel_is_framed_as_without_it,

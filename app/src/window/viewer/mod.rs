@@ -167,6 +167,9 @@ pub struct Viewer {
     pub selected_level: Option<usize>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
     pub inspector_on: bool,
+    /// Where the inspected pixel lay off the image when the status line last said so (the
+    /// pixel chosen, off the view or only cropped, on the left): said once, not each frame.
+    pub off_image_said: Option<((u32, u32), bool, bool)>,
     /// The inspected pixel's ray, in the world, as last answered ([`super::follow`]).
     pub inspection: Option<Inspection>,
     /// Linked code that is not raylab's ([`super::ViewerOptions::code`]).
@@ -269,6 +272,7 @@ impl Viewer {
             source_meshes,
             selected_level: None,
             inspector_on: true,
+            off_image_said: None,
             inspection: None,
             code,
             code_inspection: None,
