@@ -209,6 +209,23 @@ fn real_x_input_the_transform_stack_opened_keeps_the_panels_width() {
     assert_eq!(run.nums("panel_width"), [widths[0]], "{widths:?}\n{log}");
 }
 
+fn a_scene_that_failed_to_open_opens_once_fixed() {
+    // A dropped .scene file with a broken line fails to open (the Cornell box stays); fixed
+    // on disk, it opens (it was not watched: nothing happened until it was loaded again).
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("b.scene"), "sphere 0 0 0\n").unwrap();
+    let script = "0 drop b.scene\n0 await driver-done\n";
+    let driver = "logged 'could not load'; sleep 0.5; printf 'sphere 0 0 0 1\\n' > b.scene; \
+                  logged 'opened again'; logged 'loaded b.scene (1 primitive)'";
+    let around = Around::RealInput(driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let log = &run.stderr;
+    assert!(log.contains("b.scene:1: sphere needs 4 numbers"), "{log}");
+    assert_eq!(run.fields["primitives"], "1", "{log}");
+}
+
 fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() {
     // File > Save image…: the dialog (drawn by egui, so it works under Xvfb) takes a typed
     // name and Return; File > Open scene, OBJ or view…: the only scene file the dialog lists,
@@ -712,6 +729,7 @@ pub const TESTS: super::Tests = tests![
     cornell_opened_after_a_scene_file_takes_the_labs_camera_and_light,
     a_scene_file_reloads_on_change_keeps_the_camera_and_survives_a_bad_edit,
     a_scene_reloads_when_a_mesh_it_places_changes,
+    a_scene_that_failed_to_open_opens_once_fixed,
     real_x_input_the_transform_stack_opened_keeps_the_panels_width,
     real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog,
     real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs,

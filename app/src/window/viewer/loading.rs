@@ -35,16 +35,20 @@ const WATCH_EVERY: Duration = Duration::from_millis(250);
 /// million meshes is not looked at a million times a quarter second.
 const WATCH_MOST: usize = 1024;
 
-/// Watches the file in `source` (whichever it is now) and the mesh files it names
-/// (`meshes`), and sends [`AppEvent::SourceChanged`] with the source when the modification
-/// time or size of one of them changes; ends with the event loop. (An OBJ a scene places was
-/// not watched: an edit of it left the window showing the old mesh, where the same OBJ
-/// opened alone reloaded.)
-pub(super) fn watch(
-    source: Arc<Mutex<Option<PathBuf>>>,
-    meshes: Arc<Mutex<Vec<PathBuf>>>,
-    proxy: EventLoopProxy<AppEvent>,
-) {
+/// The files the window watches: the scene shown (`source`) and the mesh files it names
+/// (`meshes`), and a file whose opening failed (`failed`), which loads once it changes.
+pub(super) struct Watched {
+    pub source: Arc<Mutex<Option<PathBuf>>>,
+    pub meshes: Arc<Mutex<Vec<PathBuf>>>,
+    pub failed: Arc<Mutex<Option<PathBuf>>>,
+}
+
+/// Watches the files of `watched` (whichever they are now) and sends
+/// [`AppEvent::SourceChanged`] with the source (or the failed file) when the modification
+/// time or size of one of its files changes; ends with the event loop. (An OBJ a scene places
+/// was not watched: an edit of it left the window showing the old mesh, where the same OBJ
+/// opened alone reloaded; nor a file that failed to open, fixed on disk.)
+pub(super) fn watch(watched: Watched, proxy: EventLoopProxy<AppEvent>) {
     /// A file's modification time and size, as far as they can be had.
     type Stamp = Option<(Option<std::time::SystemTime>, u64)>;
     let stamp = |p: &PathBuf| -> Stamp {
@@ -52,21 +56,27 @@ pub(super) fn watch(
             .ok()
             .map(|m| (m.modified().ok(), m.len()))
     };
-    let mut last: Option<(Vec<PathBuf>, Vec<Stamp>)> = None;
+    let mut last: [Option<(Vec<PathBuf>, Vec<Stamp>)>; 2] = [None, None];
     loop {
         std::thread::sleep(WATCH_EVERY);
-        let Some(path) = source.lock().expect("not poisoned").clone() else {
-            continue;
-        };
-        let mut files = vec![path.clone()];
-        let meshes = meshes.lock().expect("not poisoned");
-        files.extend(meshes.iter().take(WATCH_MOST).cloned());
-        drop(meshes);
-        let now: Vec<Stamp> = files.iter().map(stamp).collect();
-        let changed = matches!(&last, Some((f, s)) if *f == files && *s != now);
-        last = Some((files, now));
-        if changed && proxy.send_event(AppEvent::SourceChanged(path)).is_err() {
-            return;
+        let source = watched.source.lock().expect("not poisoned").clone();
+        let failed = watched.failed.lock().expect("not poisoned").clone();
+        for (k, path) in [source, failed].into_iter().enumerate() {
+            let Some(path) = path else {
+                last[k] = None;
+                continue;
+            };
+            let mut files = vec![path.clone()];
+            if k == 0 {
+                let meshes = watched.meshes.lock().expect("not poisoned");
+                files.extend(meshes.iter().take(WATCH_MOST).cloned());
+            }
+            let now: Vec<Stamp> = files.iter().map(stamp).collect();
+            let changed = matches!(&last[k], Some((f, s)) if *f == files && *s != now);
+            last[k] = Some((files, now));
+            if changed && proxy.send_event(AppEvent::SourceChanged(path)).is_err() {
+                return;
+            }
         }
     }
 }
@@ -174,6 +184,7 @@ impl Viewer {
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
     fn show_cornell(&mut self, kind: &LoadKind) {
         *self.source.lock().expect("not poisoned") = None;
+        *self.failed_open.lock().expect("not poisoned") = None;
         self.source_meshes.lock().expect("not poisoned").clear();
         self.stage = Stage::new(Scene::cornell(), self.accel);
         self.selected_level = None;
@@ -195,6 +206,14 @@ impl Viewer {
     /// The scene's file changed on disk: reloads it (keeping the camera) if it is the file
     /// shown, or the one a load under way will show.
     pub fn reload(&mut self, path: PathBuf) {
+        // (A file that failed to open, changed: opened again, as it was asked for.)
+        if self.failed_open.lock().expect("not poisoned").as_ref() == Some(&path) {
+            log::info!("{} changed: opened again", path.display());
+            return self.request_load(LoadRequest {
+                path,
+                kind: LoadKind::Open,
+            });
+        }
         let request = LoadRequest {
             path,
             kind: LoadKind::Reload,
@@ -318,11 +337,17 @@ impl Viewer {
                     _ => String::new(),
                 };
                 self.report_error(format!("could not load:{of_view} {e}"));
+                // (Not the file shown: its change reloads it, keeping the camera.)
+                let shown = self.source.lock().expect("not poisoned").clone();
+                if matches!(request.kind, LoadKind::Open) && shown.as_ref() != Some(path) {
+                    *self.failed_open.lock().expect("not poisoned") = Some(path.clone());
+                }
                 return None;
             }
         };
         *self.source.lock().expect("not poisoned") = Some(path.clone());
         *self.source_meshes.lock().expect("not poisoned") = stage.scene().mesh_files.clone();
+        *self.failed_open.lock().expect("not poisoned") = None;
         // (The error of an earlier load no longer describes the scene shown.)
         self.banner = None;
         let scene = stage.scene();

@@ -163,6 +163,9 @@ pub struct Viewer {
     source: Arc<Mutex<Option<PathBuf>>>,
     /// The mesh files a `.scene` source names, watched with it: an edit of one reloads it.
     source_meshes: Arc<Mutex<Vec<PathBuf>>>,
+    /// A file that failed to open (not the one shown), watched: once it changes (fixed, say),
+    /// it is opened again.
+    failed_open: Arc<Mutex<Option<PathBuf>>>,
     /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
     pub selected_level: Option<usize>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
@@ -207,8 +210,14 @@ impl Viewer {
         let controller = CameraController::starting(stage.scene(), scene_path.is_none(), 4, 3);
         let source = Arc::new(Mutex::new(scene_path.cloned()));
         let source_meshes = Arc::new(Mutex::new(stage.scene().mesh_files.clone()));
-        let (watched, meshes, watcher) = (source.clone(), source_meshes.clone(), proxy.clone());
-        std::thread::spawn(move || watch(watched, meshes, watcher));
+        let failed_open = Arc::new(Mutex::new(None));
+        let watched = loading::Watched {
+            source: source.clone(),
+            meshes: source_meshes.clone(),
+            failed: Arc::clone(&failed_open),
+        };
+        let watcher = proxy.clone();
+        std::thread::spawn(move || watch(watched, watcher));
         let light = stage.scene().light.position;
         let cracks = super::cracks::Counter::new(proxy.clone());
         let frame_when_sized = scene_path.is_some() && stage.scene().camera.is_none();
@@ -270,6 +279,7 @@ impl Viewer {
             paused: false,
             source,
             source_meshes,
+            failed_open,
             selected_level: None,
             inspector_on: true,
             off_image_said: None,
