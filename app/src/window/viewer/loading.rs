@@ -351,9 +351,10 @@ impl Viewer {
         // (The error of an earlier load no longer describes the scene shown.)
         self.banner = None;
         let scene = stage.scene();
-        self.selected_level = self
-            .selected_level
-            .filter(|l| reload && *l < scene.levels.len());
+        let old = &self.stage.scene().levels;
+        self.selected_level = (self.selected_level)
+            .filter(|_| reload)
+            .and_then(|l| same_level(old, &scene.levels, l));
         // (Framed for the whole view, not the part the inspector's panel leaves shown: the
         // camera does not depend on whether that panel is open.)
         let (w, h) = self.uncropped_size();
@@ -412,4 +413,61 @@ fn fov_note(asked: f64, controller: &CameraController) -> String {
         fov(asked),
         fov(shown)
     )
+}
+
+/// The level of `new` (a reloaded file's) that is level `l` of `old`: the same place where
+/// the file has as many levels (an edit of a statement, its lines shifted), else the level
+/// nearest it with the same depth and statements (an edit that added or removed a level:
+/// the tint had moved to the level after a removed one), or none.
+fn same_level(
+    old: &[raylab::scene::file::Level],
+    new: &[raylab::scene::file::Level],
+    l: usize,
+) -> Option<usize> {
+    let was = old.get(l)?;
+    if old.len() == new.len() {
+        return new.get(l).filter(|n| n.depth == was.depth).map(|_| l);
+    }
+    let texts = |v: &raylab::scene::file::Level| -> Vec<String> {
+        v.statements.iter().map(|(_, t)| t.clone()).collect()
+    };
+    let wanted = texts(was);
+    (new.iter().enumerate())
+        .filter(|(_, n)| n.depth == was.depth && texts(n) == wanted)
+        .min_by_key(|(j, _)| j.abs_diff(l))
+        .map(|(j, _)| j)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_level;
+    use raylab::scene::file::Level;
+
+    /// Levels at `depths`, each with one statement naming it.
+    fn levels(named: &[(usize, &str)]) -> Vec<Level> {
+        (named.iter())
+            .map(|&(depth, name)| Level {
+                line: 0,
+                depth,
+                statements: vec![(1, name.to_string())],
+                world_from_object: [[0.0; 4]; 4],
+                primitives: Vec::new(),
+            })
+            .collect()
+    }
+
+    /// A selected level stays itself through a reload: in place where the file keeps its
+    /// levels (a statement edited), found by its statements where one was added before it,
+    /// and none where it was removed (the tint moved to the next level).
+    #[test]
+    fn a_selected_level_is_followed_through_an_edit_or_dropped() {
+        let old = levels(&[(0, "top"), (1, "a"), (1, "b"), (2, "c")]);
+        let edited = levels(&[(0, "top"), (1, "a2"), (1, "b"), (2, "c")]);
+        assert_eq!(same_level(&old, &edited, 1), Some(1));
+        let added = levels(&[(0, "top"), (1, "new"), (1, "a"), (1, "b"), (2, "c")]);
+        assert_eq!(same_level(&old, &added, 2), Some(3));
+        let removed = levels(&[(0, "top"), (1, "b"), (2, "c")]);
+        assert_eq!(same_level(&old, &removed, 1), None);
+        assert_eq!(same_level(&old, &removed, 2), Some(1));
+    }
 }
