@@ -15,31 +15,38 @@ pub(super) struct Evidence {
     /// for all of them (two or more): a program's index shifted, not a slip (where most are
     /// right, no shift is claimed).
     pub shift: Option<i64>,
-    /// The most significant digits of any t given (its shortest decimal): the digits the
-    /// program prints (`%g`: 6, `%.9g`: 9), where it prints a fixed count.
+    /// The most significant digits of any t as the program wrote it ([`printed_digits`]):
+    /// the digits it prints (`%g`: 6, `%.9g`: 9), where it prints a fixed count.
     pub printed_digits: usize,
     /// The smallest |determinant| (in f64) of a triangle the program met where it answered
     /// right: an epsilon on the determinant above it would have lost that hit.
     pub smallest_determinant_met: f64,
     /// Whether the program met a triangle's back where it answered right: it does not cull.
     pub meets_backs: bool,
+    /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
+    /// tmin's place above it would have lost that hit.
+    pub smallest_gap_met: f64,
 }
 
 impl Evidence {
+    /// The evidence of `answers` (`written`: their text, as the program wrote them).
     pub fn of<T: Real>(
         judged: &[Judged<T>],
         exact: &Exact<T>,
         answers: &[(usize, Answer<T>)],
+        written: &str,
     ) -> Self {
         let mut evidence = Evidence {
             shift: index_shift(judged, answers),
-            printed_digits: 0,
+            printed_digits: printed_digits(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
+            smallest_gap_met: f64::INFINITY,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
-            if let Answer::Hit { t, .. } = *given {
-                evidence.printed_digits = evidence.printed_digits.max(significant_digits(t));
+            if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
+                let gap = t.f64() - exact.rays[i].1.tmin.f64();
+                evidence.smallest_gap_met = evidence.smallest_gap_met.min(gap);
             }
             // (The primitive the program met: a tie's is not the exact answer's, and a culling
             // program's tie on a front face beside a back one was taken to meet backs.)
@@ -57,19 +64,24 @@ impl Evidence {
     }
 }
 
-/// The significant digits of `t`'s shortest decimal (`1.5`: 2; 0 and non-finite: 0).
-fn significant_digits<T: Real>(t: T) -> usize {
-    if !t.is_finite() || t == T::zero() {
-        return 0;
-    }
-    let shortest = t.to_string();
-    let mantissa = shortest.split(['e', 'E']).next().unwrap_or_default();
-    let digits = mantissa.trim_start_matches('-').replace('.', "");
-    digits
-        .trim_start_matches('0')
-        .trim_end_matches('0')
-        .len()
-        .max(1)
+/// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written
+/// (`0.10000000000000001`: 17; `1.5`: 2; trailing zeros count, leading ones do not). (By the
+/// value's shortest decimal, 0.1, a `%.17g` program was taken to print 1.)
+fn printed_digits(written: &str) -> usize {
+    (written.lines())
+        .filter_map(|l| {
+            let mut words = l.split_whitespace();
+            (words.next() == Some("hit"))
+                .then(|| words.next())
+                .flatten()
+        })
+        .map(|t| {
+            let mantissa = t.split(['e', 'E']).next().unwrap_or_default();
+            let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+            digits.trim_start_matches('0').len()
+        })
+        .max()
+        .unwrap_or(0)
 }
 
 fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {

@@ -2,7 +2,7 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use super::evidence::Evidence;
-use super::hint_geometry::{determinant, faces_back, length, near, o_and_d, plane_of};
+use super::hint_geometry::{faces_back, length, near, o_and_d, plane_of, small_determinant};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::real::{cross, dot, sub};
 use raylab::math::Real;
@@ -18,7 +18,7 @@ pub(super) fn reproducers<T: Real>(
     most: usize,
 ) -> Vec<String> {
     let mut lines = Vec::new();
-    let evidence = Evidence::of(judged, exact, answers);
+    let evidence = Evidence::of(judged, exact, answers, written.text);
     let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
     let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
     for (heading, wanted) in [
@@ -92,7 +92,7 @@ fn reproducer<T: Real>(
             j.graded.relative,
             match (
                 outside.as_deref(),
-                short_print(&j.exact, &answers[i].1, evidence.printed_digits),
+                short_print(exact, i, &j.exact, &answers[i].1, evidence.printed_digits),
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
@@ -106,8 +106,8 @@ fn reproducer<T: Real>(
                      tmin wins{}",
                     match gap_past_tmin(exact, i, &j.exact) {
                         Some((gap, true)) => format!(
-                            " (the exact one is only {gap:.1e} past tmin: an epsilon in its \
-                             place skips it, and so does its t rounded to tmin or below)"
+                            " (the exact one is only {gap:.1e} past tmin: {})",
+                            lost_past_tmin(gap, evidence).replace("loses", "skips")
                         ),
                         _ => String::new(),
                     }
@@ -327,8 +327,8 @@ fn missed<T: Real>(
     facts.extend(fact);
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
-            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin (an \
-             epsilon in its place loses it, and so does t rounded to tmin or below)"
+            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin ({})",
+            lost_past_tmin(gap, evidence)
         ));
     }
     // (A sphere missed with nothing else to say of it: its two roots, for the student's
@@ -463,40 +463,6 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
             approx(plane_t(exact, i, tri))
         ),
     }
-}
-
-/// Where the exact hit is on a triangle whose Möller–Trumbore determinant e1·(d × e2) (e1 =
-/// v1 − v0, e2 = v2 − v0) is below 10⁻⁴ but not 0 (a small or far triangle, or a grazing
-/// ray), and below every determinant of a hit the program answered right (`smallest_met`:
-/// else an epsilon on it would have lost those too): that, as a fact (the textbook's
-/// |det| < ε test loses the hit). In f32, a determinant below its smallest normal number is
-/// said to underflow there.
-fn small_determinant<T: Real>(
-    exact: &Exact<T>,
-    i: usize,
-    prim: u32,
-    smallest_met: f64,
-) -> Option<String> {
-    let raylab::geometry::Shape::Triangle(tri) = exact.shape(prim) else {
-        return None;
-    };
-    let det = determinant(exact, i, &tri);
-    let underflows = T::PRECISION <= 24 && det.abs() < f32::MIN_POSITIVE as f64;
-    let underflow = match underflows {
-        true => format!(
-            ", below f32's smallest normal number {:.1e}: in f32 it comes out 0 or without its \
-             digits (f64 holds it); and",
-            f32::MIN_POSITIVE
-        ),
-        false => ", near 0:".to_string(),
-    };
-    (det != 0.0 && det.abs() < 1e-4 && det.abs() < smallest_met).then(|| {
-        format!(
-            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}\
-             {underflow} an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 \
-             is parallel"
-        )
-    })
 }
 
 /// A sphere's two roots (of a ray through it: not a tangent) as a hint shows them (`0.5 and
@@ -666,6 +632,16 @@ fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
     }
 }
 
+/// What loses a hit `gap` past tmin: t rounded to tmin or below, and an epsilon in tmin's
+/// place only where the program answered no hit as near tmin right (a correct f32 program
+/// that got a hit 1.4e-8 past tmin was told of an epsilon beside one 4.3e-8 past it).
+fn lost_past_tmin(gap: f64, evidence: &Evidence) -> &'static str {
+    match gap < evidence.smallest_gap_met {
+        true => "an epsilon in its place loses it, and so does t rounded to tmin or below",
+        false => "t rounded to tmin or below loses it",
+    }
+}
+
 /// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
 /// near enough for a fixed epsilon in place of tmin to lose it: at most 10⁻⁴, or its point
 /// within 10⁻⁶ of |o| + |t·d| of the point at tmin. `None` for tmin −∞.
@@ -742,8 +718,14 @@ fn round_trip_digits<T: Real>() -> usize {
 /// any t it gave: a C `%g` prints 6) and the given t is the exact t rounded to that many: how
 /// many. The t failure is the printing's, not the arithmetic's. (By the given t's own digits,
 /// a `%.9g` program's t of 1 for 0.99998 was told to print 9.)
-fn short_print<T: Real>(exact: &Answer<T>, given: &Answer<T>, printed: usize) -> Option<usize> {
-    let (Answer::Hit { t: exact, .. }, Answer::Hit { t: given, .. }) = (exact, given) else {
+fn short_print<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    standing: &Answer<T>,
+    given: &Answer<T>,
+    printed: usize,
+) -> Option<usize> {
+    let (Answer::Hit { t: te, prim }, Answer::Hit { t: given, .. }) = (standing, given) else {
         return None;
     };
     if !given.is_finite()
@@ -752,8 +734,9 @@ fn short_print<T: Real>(exact: &Answer<T>, given: &Answer<T>, printed: usize) ->
     {
         return None;
     }
-    let rounded = format!("{:.*e}", printed - 1, exact.f64())
-        .parse::<T>()
-        .ok()?;
+    // (The exact t to those digits from its f64 estimate, not from t rounded to `T` first:
+    // 10321.649924 in f32 is 10321.650390625, which rounded to 6 digits claimed 10321.7.)
+    let fine = fine_t(exact, i, *prim, *te);
+    let rounded = format!("{:.*e}", printed - 1, fine).parse::<T>().ok()?;
     (rounded == *given).then_some(printed)
 }

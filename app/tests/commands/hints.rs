@@ -188,20 +188,74 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
     assert!(h.line(2).contains(edge), "{}", h.out);
 }
 
-/// A t printed short is named so only where the program prints short: a t of 1 for 0.9999839
-/// from a program that prints 9 digits elsewhere is a t failure and no more (it was told to
-/// print 9 digits); from one that prints 2, the digits to print.
+/// An epsilon in tmin's place, and one on the determinant, are named only where no hit as
+/// near tmin (as small a determinant) was answered right; else what rounding does: a hit
+/// 3e-8 past tmin is lost to t rounded to tmin, a determinant of -1e-7 beside terms of 1
+/// can round to 0 in f32. (A correct f32 program was told of an epsilon beside a hit nearer
+/// tmin it had answered right.)
+#[test]
+fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
+    let scene = "tri 0 0 1e-8 1 0 1e-8 0 1 1e-8\ntri 2 0 3e-8 3 0 3e-8 2 1 3e-8\n";
+    let rays = "0.2 0.2 0 0 0 1 0 inf\n2.2 0.2 0 0 0 1 0 inf\n";
+    let rounded = "the exact hit is only 3.0e-8 past tmin: a hit counts however near tmin (";
+    let h = hints(scene, rays, "hit 1e-08 0\nmiss\n");
+    let only_rounding = format!("[leak: {rounded}t rounded to tmin or below loses it)]");
+    assert!(h.line(2).ends_with(&only_rounding), "{}", h.out);
+    let h = hints(scene, rays, "miss\nmiss\n");
+    let both = format!(
+        "[leak: {rounded}an epsilon in its place loses it, and so does t rounded to tmin or \
+         below)]"
+    );
+    assert!(h.line(2).ends_with(&both), "{}", h.out);
+    // A ray grazing the plane z = 0: determinants -5e-8 and -1e-7.
+    let scene = "tri 0 0 0 1 0 0 0 1 0\n";
+    let rays = "0.1 0.25 -5e-9 1 0 5e-8 0 inf\n0.1 0.25 -1e-8 1 0 1e-7 0 inf\n";
+    let rounds = "below the rounding of its terms in f32: rounded, it can come out 0 or with the \
+                  other sign";
+    let h = hints(scene, rays, "hit 0.1 0\nmiss\n");
+    assert!(
+        h.line(2).ends_with(&format!("is -1.0e-7, {rounds}]")),
+        "{}",
+        h.out
+    );
+    let h = hints(scene, rays, "miss\nmiss\n");
+    let line = h.line(2);
+    assert!(
+        line.contains("is -1.0e-7, near 0: an epsilon on it") && line.contains(rounds),
+        "{}",
+        h.out
+    );
+}
+
+/// A t printed short is named so only where the program prints short, by the digits it
+/// wrote: a t of 1 for 0.9999839 from a program that prints 9 digits elsewhere (or 12, with
+/// trailing zeros) is a t failure and no more (it was told to print 9 digits); from one that
+/// prints 2, the digits to print. And only where the exact t (not t rounded to f32 first)
+/// rounds to it: 1.500065008… is 1.50007 to 6 digits, where its f32 1.500064969 gave 1.50006.
 #[test]
 fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
     let scene = "tri -1 -1 0.9999839 1 -1 0.9999839 0 1 0.9999839\n";
     let rays = "0 0 0 0 0 1 0 inf\n0 0 0 0 0 1 0 inf\n";
-    let h = hints(scene, rays, "hit 1 0\nhit 1.23456789 0\n");
-    let line = h.line(1);
-    assert!(line.ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    for other in ["1.23456789", "1.50000000000"] {
+        let h = hints(scene, rays, &format!("hit 1 0\nhit {other} 0\n"));
+        let line = h.line(1);
+        assert!(line.ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    }
     let h = hints(scene, rays, "hit 1 0\nhit 1.5 0\n");
     assert!(
         h.line(1)
             .ends_with("t is the exact one to 2 significant digits: print 9 (%.9g)]"),
+        "{}",
+        h.out
+    );
+    let z = "4.500195026397705";
+    let scene = format!("tri -10 -10 {z} 10 -10 {z} 0 10 {z}\n");
+    let rays = "0 0 0 0 0 3 0 inf\n0 0 0 0 0 3 0 inf\n";
+    let h = hints(&scene, rays, "hit 1.50006 0\nhit 1.50007 0\n");
+    assert!(h.line(1).ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    assert!(
+        h.line(2)
+            .ends_with("t is the exact one to 6 significant digits: print 9 (%.9g)]"),
         "{}",
         h.out
     );
