@@ -26,6 +26,10 @@ pub(super) struct Evidence {
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
+    /// Whether the program gave a farther primitive where the exact hit is well inside its
+    /// primitive (not on a triangle's edge or vertex, nor a sphere's rim): it passes over
+    /// nearer hits, not only rounds them away.
+    pub passes_nearer: bool,
 }
 
 impl Evidence {
@@ -42,8 +46,14 @@ impl Evidence {
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
             smallest_gap_met: f64::INFINITY,
+            passes_nearer: false,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
+            if let (Answer::Hit { t: te, prim }, Answer::Hit { t, .. }) = (j.exact, *given) {
+                let farther =
+                    j.graded.verdict == Verdict::Wrong && t > te && !near(t.f64(), te.f64());
+                evidence.passes_nearer |= farther && well_inside(exact, i, prim);
+            }
             if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
                 let gap = t.f64() - exact.rays[i].1.tmin.f64();
                 evidence.smallest_gap_met = evidence.smallest_gap_met.min(gap);
@@ -62,6 +72,17 @@ impl Evidence {
         }
         evidence
     }
+}
+
+/// Whether ray `i` meets primitive `prim` well inside it, decided exactly: inside a triangle
+/// (not on an edge or vertex), through a sphere (not a tangent).
+fn well_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> bool {
+    use raylab::geometry::{sphere, triangle, Location};
+    matches!(
+        exact.shape(prim).locate(&exact.rays[i].1.ray),
+        Location::Triangle(triangle::Location::Inside { .. })
+            | Location::Sphere(sphere::Location::Through)
+    )
 }
 
 /// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written

@@ -288,10 +288,16 @@ fn missed<T: Real>(
         )),
         // (A nearer hit the ray does not have: only where the ray passes the given primitive.)
         Some((t, _)) if t.f64() <= te => return joined(facts),
+        // (The rule only where the program passed over a nearer hit it could not have missed
+        // by rounding; a correct program that rounded a nearer edge away was told it.)
         Some((t, _)) if facts.is_empty() => facts.push(format!(
-            "the given t {} is past the exact hit's t {}: the nearest hit wins",
+            "the given t {} is past the exact hit's t {}: {}",
             shown(t),
-            shown(te_shown)
+            shown(te_shown),
+            match evidence.passes_nearer {
+                true => "the nearest hit wins",
+                false => "the nearer hit is missed",
+            }
         )),
         _ => {}
     }

@@ -227,6 +227,30 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
     );
 }
 
+/// "The nearest hit wins" only where the program passed over a nearer hit well inside its
+/// triangle: one that gave the far triangle only where the near one's edge was hit is told
+/// the nearer hit is missed, and of the edge (a correct program that rounded an edge away was
+/// told the rule).
+#[test]
+fn the_nearest_hit_rule_needs_a_nearer_hit_passed_over_inside() {
+    let scene = "tri 0 0 1 1 0 1 0 1 1\ntri -5 -5 2 5 -5 2 0 5 2\n";
+    // On the near triangle's edge v0–v1, and inside it; the far one behind both.
+    let rays = "0.5 0 0 0 0 1 0 inf\n0.25 0.25 0 0 0 1 0 inf\n";
+    let h = hints(scene, rays, "hit 2 1\nhit 1 0\n");
+    assert!(
+        h.line(1).contains(
+            "[wrong primitive: the given t 2 is past the exact hit's t 1: the nearer hit is \
+             missed; the exact hit is on the edge v0–v1 of the triangle"
+        ),
+        "{}",
+        h.out
+    );
+    let h = hints(scene, rays, "hit 2 1\nhit 2 1\n");
+    for n in [1, 2] {
+        assert!(h.line(n).contains("1: the nearest hit wins"), "{}", h.out);
+    }
+}
+
 /// A t printed short is named so only where the program prints short, by the digits it
 /// wrote: a t of 1 for 0.9999839 from a program that prints 9 digits elsewhere (or 12, with
 /// trailing zeros) is a t failure and no more (it was told to print 9 digits); from one that
