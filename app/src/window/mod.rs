@@ -169,6 +169,7 @@ pub fn run(opts: ViewerOptions) -> Result<()> {
         drag: None,
         press_at: None,
         click_waiting: None,
+        inspector_laid_out: true,
         mouse_look: false,
         raw_motion: false,
         esc_armed: None,
@@ -213,6 +214,9 @@ struct App {
     /// A click on the image kept until the frame drawn fits the image area
     /// ([`App::take_waiting_click`]).
     click_waiting: Option<(f64, f64)>,
+    /// Whether the inspector was on when the image area was last laid out: where I has turned
+    /// it since, the layout (its panel) is about to change, and a click waits for it.
+    inspector_laid_out: bool,
     mouse_look: bool,
     /// Whether raw mouse motion has come (then mouse look takes only that, not the cursor's
     /// moves: [`WindowEvent::CursorMoved`] turns the view only where it never comes).
@@ -430,6 +434,7 @@ impl App {
         viewer.beside_width = layout.beside_width;
         viewer.frame_for_image();
         self.image_rect = layout.image_rect;
+        self.inspector_laid_out = viewer.inspector_on;
         self.banner_rect = layout.banner_rect;
         self.panel_fit = layout.actions.fit;
         if layout.actions.width != self.panel_width {

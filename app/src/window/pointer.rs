@@ -68,7 +68,10 @@ impl App {
             self.viewer.set_status(off);
             return;
         }
-        if !self.viewer.shown_fits_layout() {
+        // (Also where I came with the click, before the frame that lays the panel out: the
+        // click had then been taken in the old layout, and depended on the events' timing.)
+        let relaying = self.viewer.inspector_on != self.inspector_laid_out;
+        if relaying || !self.viewer.shown_fits_layout() {
             log::debug!("click at ({x}, {y}) kept until a frame of the image area's shape");
             self.click_waiting = Some((x, y));
             return;
