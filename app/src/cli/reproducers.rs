@@ -381,16 +381,16 @@ fn not_met<T: Real>(
     passes(exact, i, p, t)
 }
 
-/// Where the given primitive `p`, a triangle, is met at the given `t` (its point within 10⁻⁶
-/// of |o| + |t·d| + extent, as t is graded) but its exact t is not inside the ray's open interval (the origin on it, t
-/// exactly 0 = tmin): that, the given t being that t rounded into the interval. (A program's t of 3.7e-17 on the
-/// triangle whose vertex is the origin showed as a bare wrong primitive.)
+/// Where the given primitive `p`, a triangle, is met at the given `t` (within the grader's
+/// t tolerance, 10⁻⁶ of |o| + |t·d| + extent: [`grade::t_error`]) but its exact t is not
+/// inside the ray's open interval (the origin on it, t exactly 0 = tmin): that, the given t
+/// being that t rounded into the interval. (A program's t of 3.7e-17 on the triangle whose
+/// vertex is the origin showed as a bare wrong primitive.)
 fn rounded_into_interval<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> Option<String> {
     let shape = exact.shape(p);
-    let raylab::geometry::Shape::Triangle(tri) = shape else {
+    let raylab::geometry::Shape::Triangle(_) = shape else {
         return None;
     };
-    let extent = (tri.0.iter().flatten()).fold(0.0f64, |m, c| m.max(c.f64().abs()));
     let ray = &exact.rays[i].1;
     let (inf, tmin, tmax) = (T::of(f64::INFINITY), ray.tmin, ray.tmax);
     let line = raylab::tracefile::TraceRay {
@@ -401,9 +401,8 @@ fn rounded_into_interval<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> O
     let [Answer::Hit { t: on, .. }] = grade::exact_answers(&[shape], &[line])[..] else {
         return None;
     };
-    let (o, d) = o_and_d(exact, i);
-    let apart = (t.f64() - on.f64()).abs() * length(d);
-    if apart > 1e-6 * (length(o) + on.f64().abs() * length(d) + extent) {
+    let (_, apart) = grade::t_error(ray, on, t, shape.extent(), 1e-6);
+    if apart > 1e-6 {
         return None;
     }
     let (end, side) = match () {
