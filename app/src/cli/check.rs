@@ -399,13 +399,12 @@ pub(super) fn program_answers<T: Real>(
     // The paths go in as bytes (a path that is not UTF-8 reaches the program intact).
     let command = template::command_line(template, &scene_copy, &rays_copy);
     let limits = program::Limits::new(timeout, max_output(exact.rays.len()));
+    let place = |i: usize| ray_place(rays_file, exact, i);
     let ran = program::run_with(&command, &limits).map_err(|e| match &e {
         program::RunError::Timeout { printed, .. } => {
-            let place = |i: usize| ray_place(rays_file, exact, i);
             stalled(e.to_string(), printed, exact.rays.len(), place)
         }
         program::RunError::Failed { printed, .. } => {
-            let place = |i: usize| ray_place(rays_file, exact, i);
             crashed(e.to_string(), printed, exact.rays.len(), place)
         }
         _ => e.to_string(),

@@ -52,7 +52,10 @@ impl Evidence {
             if let (Answer::Hit { t: te, prim }, Answer::Hit { t, .. }) = (j.exact, *given) {
                 let farther =
                     j.graded.verdict == Verdict::Wrong && t > te && !near(t.f64(), te.f64());
-                evidence.passes_nearer |= farther && well_inside(exact, i, prim);
+                // (Decided exactly: once is enough.)
+                if farther && !evidence.passes_nearer {
+                    evidence.passes_nearer = well_inside(exact, i, prim);
+                }
             }
             if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
                 let gap = t.f64() - exact.rays[i].1.tmin.f64();

@@ -107,7 +107,7 @@ fn reproducer<T: Real>(
                     match gap_past_tmin(exact, i, &j.exact) {
                         Some((gap, true)) => format!(
                             " (the exact one is only {gap:.1e} past tmin: {})",
-                            lost_past_tmin(gap, evidence).replace("loses", "skips")
+                            lost_past_tmin(gap, evidence, "skips")
                         ),
                         _ => String::new(),
                     }
@@ -334,7 +334,7 @@ fn missed<T: Real>(
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
             "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin ({})",
-            lost_past_tmin(gap, evidence)
+            lost_past_tmin(gap, evidence, "loses")
         ));
     }
     // (A sphere missed with nothing else to say of it: its two roots, for the student's
@@ -549,7 +549,7 @@ fn where_on<T: Real>(
 ) -> (Option<String>, bool) {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let ray = &exact.rays[i].1.ray;
-    let faces_back = |shape: &Shape<T>| match shape {
+    let met_from_back = |shape: &Shape<T>| match shape {
         Shape::Triangle(tri) => faces_back(exact, i, tri),
         Shape::Sphere(_) => false,
     };
@@ -586,8 +586,8 @@ fn where_on<T: Real>(
                      test, or u, v or u + v rounded past 0 or 1, loses it)"
                 ));
             }
-            let given_faces_back = given.is_some_and(|g| faces_back(&exact.shape(g)));
-            if back && faces_back(&shape) && !given_faces_back {
+            let given_faces_back = given.is_some_and(|g| met_from_back(&exact.shape(g)));
+            if back && met_from_back(&shape) && !given_faces_back {
                 facts.push(
                     "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
                      v0)): both sides count"
@@ -637,13 +637,15 @@ fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
     }
 }
 
-/// What loses a hit `gap` past tmin: t rounded to tmin or below, and an epsilon in tmin's
-/// place only where the program answered no hit as near tmin right (a correct f32 program
-/// that got a hit 1.4e-8 past tmin was told of an epsilon beside one 4.3e-8 past it).
-fn lost_past_tmin(gap: f64, evidence: &Evidence) -> &'static str {
+/// What `loses` (or skips) a hit `gap` past tmin: t rounded to tmin or below, and an epsilon
+/// in tmin's place only where the program answered no hit as near tmin right (a correct f32
+/// program that got a hit 1.4e-8 past tmin was told of an epsilon beside one 4.3e-8 past it).
+fn lost_past_tmin(gap: f64, evidence: &Evidence, loses: &str) -> String {
     match gap < evidence.smallest_gap_met {
-        true => "an epsilon in its place loses it, and so does t rounded to tmin or below",
-        false => "t rounded to tmin or below loses it",
+        true => {
+            format!("an epsilon in its place {loses} it, and so does t rounded to tmin or below")
+        }
+        false => format!("t rounded to tmin or below {loses} it"),
     }
 }
 
