@@ -37,6 +37,7 @@ const WATCH_MOST: usize = 1024;
 
 /// The files the window watches: the scene shown (`source`) and the mesh files it names
 /// (`meshes`), and a file whose opening failed (`failed`), which loads once it changes.
+#[derive(Clone)]
 pub(super) struct Watched {
     pub source: Arc<Mutex<Option<PathBuf>>>,
     pub meshes: Arc<Mutex<Vec<PathBuf>>>,
@@ -110,7 +111,7 @@ impl Viewer {
     /// down is set right where it is seen.
     pub fn set_obj_frame(&mut self, frame: ObjFrame) {
         self.obj_frame = frame;
-        let shown = self.source.lock().expect("not poisoned").clone();
+        let shown = self.watched.source.lock().expect("not poisoned").clone();
         let read = match frame {
             ObjFrame::YUp => "y up (y and z negated)",
             ObjFrame::Lab => "as they are (the lab's frame)",
@@ -145,7 +146,7 @@ impl Viewer {
         self.view.controls = s;
         self.view.resolution = Resolution::Fixed(s.width, s.height);
         // (Without a camera or light, the scene's own, as `raylab render --view` takes them.)
-        let cornell = self.source.lock().expect("not poisoned").is_none();
+        let cornell = self.watched.source.lock().expect("not poisoned").is_none();
         let scene = self.stage.scene();
         self.controller = match &view.camera {
             Some(c) => CameraController::from_scene_camera(c, scene.size()),
@@ -183,9 +184,9 @@ impl Viewer {
 
     /// Shows the built-in lab Cornell box (`cornell`, wherever a scene is named).
     fn show_cornell(&mut self, kind: &LoadKind) {
-        *self.source.lock().expect("not poisoned") = None;
-        *self.failed_open.lock().expect("not poisoned") = None;
-        self.source_meshes.lock().expect("not poisoned").clear();
+        *self.watched.source.lock().expect("not poisoned") = None;
+        *self.watched.failed.lock().expect("not poisoned") = None;
+        self.watched.meshes.lock().expect("not poisoned").clear();
         self.stage = Stage::new(Scene::cornell(), self.accel);
         self.selected_level = None;
         self.banner = None;
@@ -207,7 +208,7 @@ impl Viewer {
     /// shown, or the one a load under way will show.
     pub fn reload(&mut self, path: PathBuf) {
         // (A file that failed to open, changed: opened again, as it was asked for.)
-        if self.failed_open.lock().expect("not poisoned").as_ref() == Some(&path) {
+        if self.watched.failed.lock().expect("not poisoned").as_ref() == Some(&path) {
             log::info!("{} changed: opened again", path.display());
             return self.request_load(LoadRequest {
                 path,
@@ -220,7 +221,8 @@ impl Viewer {
         };
         if self.loading {
             self.queue_load(request);
-        } else if self.source.lock().expect("not poisoned").as_ref() == Some(&request.path) {
+        } else if self.watched.source.lock().expect("not poisoned").as_ref() == Some(&request.path)
+        {
             self.start_load(request);
         }
     }
@@ -258,7 +260,7 @@ impl Viewer {
     /// a thread of its own.
     fn start_load(&mut self, request: LoadRequest) {
         let cornell = request.path.as_os_str() == raylab::scene::CORNELL;
-        let shown = self.source.lock().expect("not poisoned").clone();
+        let shown = self.watched.source.lock().expect("not poisoned").clone();
         if let LoadKind::View(view, file) = &request.kind {
             if (cornell && shown.is_none()) || shown.as_ref() == Some(&request.path) {
                 return self.apply_view(view, file);
@@ -338,16 +340,16 @@ impl Viewer {
                 };
                 self.report_error(format!("could not load:{of_view} {e}"));
                 // (Not the file shown: its change reloads it, keeping the camera.)
-                let shown = self.source.lock().expect("not poisoned").clone();
+                let shown = self.watched.source.lock().expect("not poisoned").clone();
                 if matches!(request.kind, LoadKind::Open) && shown.as_ref() != Some(path) {
-                    *self.failed_open.lock().expect("not poisoned") = Some(path.clone());
+                    *self.watched.failed.lock().expect("not poisoned") = Some(path.clone());
                 }
                 return None;
             }
         };
-        *self.source.lock().expect("not poisoned") = Some(path.clone());
-        *self.source_meshes.lock().expect("not poisoned") = stage.scene().mesh_files.clone();
-        *self.failed_open.lock().expect("not poisoned") = None;
+        *self.watched.source.lock().expect("not poisoned") = Some(path.clone());
+        *self.watched.meshes.lock().expect("not poisoned") = stage.scene().mesh_files.clone();
+        *self.watched.failed.lock().expect("not poisoned") = None;
         // (The error of an earlier load no longer describes the scene shown.)
         self.banner = None;
         let scene = stage.scene();

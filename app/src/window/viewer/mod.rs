@@ -159,13 +159,9 @@ pub struct Viewer {
     pub frames_while_moving: u64,
     /// Rendering paused (the window is minimised).
     pub paused: bool,
-    /// The file the scene came from, watched for changes (a reload keeps the camera).
-    source: Arc<Mutex<Option<PathBuf>>>,
-    /// The mesh files a `.scene` source names, watched with it: an edit of one reloads it.
-    source_meshes: Arc<Mutex<Vec<PathBuf>>>,
-    /// A file that failed to open (not the one shown), watched: once it changes (fixed, say),
-    /// it is opened again.
-    failed_open: Arc<Mutex<Option<PathBuf>>>,
+    /// The files watched for changes, shared with the watcher's thread: the one the scene
+    /// came from (a reload keeps the camera), the meshes it names, a file that failed to open.
+    watched: loading::Watched,
     /// The push level of a `.scene` file selected in the panel: its primitives are tinted.
     pub selected_level: Option<usize>,
     /// Whether a left click on the image inspects the pixel under it (I toggles).
@@ -208,16 +204,13 @@ impl Viewer {
     ) -> Self {
         let wake = proxy.clone();
         let controller = CameraController::starting(stage.scene(), scene_path.is_none(), 4, 3);
-        let source = Arc::new(Mutex::new(scene_path.cloned()));
-        let source_meshes = Arc::new(Mutex::new(stage.scene().mesh_files.clone()));
-        let failed_open = Arc::new(Mutex::new(None));
         let watched = loading::Watched {
-            source: source.clone(),
-            meshes: source_meshes.clone(),
-            failed: Arc::clone(&failed_open),
+            source: Arc::new(Mutex::new(scene_path.cloned())),
+            meshes: Arc::new(Mutex::new(stage.scene().mesh_files.clone())),
+            failed: Arc::new(Mutex::new(None)),
         };
-        let watcher = proxy.clone();
-        std::thread::spawn(move || watch(watched, watcher));
+        let (shared, watcher) = (watched.clone(), proxy.clone());
+        std::thread::spawn(move || watch(shared, watcher));
         let light = stage.scene().light.position;
         let cracks = super::cracks::Counter::new(proxy.clone());
         let frame_when_sized = scene_path.is_some() && stage.scene().camera.is_none();
@@ -277,9 +270,7 @@ impl Viewer {
             screenshots_pending: 0,
             frames_while_moving: 0,
             paused: false,
-            source,
-            source_meshes,
-            failed_open,
+            watched,
             selected_level: None,
             inspector_on: true,
             off_image_said: None,

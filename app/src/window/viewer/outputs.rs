@@ -75,7 +75,7 @@ impl Viewer {
     /// what the window shows at full quality (and uncropped by the inspector's panel).
     pub fn view(&self) -> raylab::view::View {
         let c = &self.controller;
-        let source = self.source.lock().expect("not poisoned").clone();
+        let source = self.watched.source.lock().expect("not poisoned").clone();
         let ((width, height), focal) = self.view_size_and_focal();
         raylab::view::View {
             scene: source.map_or("cornell".into(), |p| p.display().to_string()),
