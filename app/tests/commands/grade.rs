@@ -241,7 +241,10 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
         .find(|l| l.contains("ivy-segfaults"))
         .unwrap_or_default();
     assert!(
-        ivy.contains("ended with exit status: 139 (the shell's for a program killed by signal 11, SIGSEGV)")
+        ivy.contains(
+            "ended with exit status: 139 (the shell's for a program killed by signal 11, \
+             SIGSEGV)"
+        )
             && ivy.contains("(a crash like this may be the memory limit: each process may write 2048 MiB of data, --max-memory)\""),
         "{json}"
     );

@@ -67,14 +67,18 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
                 0.25 0.25 -1 0 0 1 0 inf\n";
     let h = hints(scene, rays, "miss\nmiss\nhit 2 1\nhit 1.0000001 2\n");
     assert!(
-        h.line(1).ends_with("[leak: the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both sides count]"),
-        "{}", h.out
+        h.line(1).ends_with(
+            "[leak: the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
+             v0)): both sides count]"
+        ),
+        "{}",
+        h.out
     );
     assert!(
         h.line(2).ends_with(
             "[leak: the exact hit is on the edge v0–v1 of the triangle: the edges count, closed (an \
-             open test, or u, v or u + v rounded past 0 or 1, loses it); the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): \
-             both sides count]"
+             open test, or u, v or u + v rounded past 0 or 1, loses it); the exact hit is on the \
+             triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both sides count]"
         ),
         "{}",
         h.out
