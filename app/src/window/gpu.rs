@@ -108,7 +108,8 @@ impl Gpu {
         );
         let framebuffer = framebuffer(&device, buffer);
         let view = framebuffer.create_view(&wgpu::TextureViewDescriptor::default());
-        let texture_id = renderer.register_native_texture(&device, &view, wgpu::FilterMode::Linear);
+        let texture_id =
+            renderer.register_native_texture_with_sampler_options(&device, &view, sampler());
         Ok(Self {
             device,
             queue,
@@ -146,12 +147,13 @@ impl Gpu {
         if (width, height) != self.buffer_size {
             self.framebuffer = framebuffer(&self.device, (width, height));
             let view = (self.framebuffer).create_view(&wgpu::TextureViewDescriptor::default());
-            self.renderer.update_egui_texture_from_wgpu_texture(
-                &self.device,
-                &view,
-                wgpu::FilterMode::Linear,
-                self.texture_id,
-            );
+            self.renderer
+                .update_egui_texture_from_wgpu_texture_with_sampler_options(
+                    &self.device,
+                    &view,
+                    sampler(),
+                    self.texture_id,
+                );
             self.buffer_size = (width, height);
         }
         self.queue.write_texture(
@@ -365,6 +367,17 @@ async fn open_device(
 }
 
 /// The framebuffer texture: sampled by egui, written from the CPU.
+/// How the image is sampled: a magnified pixel stays one square of its colour (the inspector
+/// picks pixels, and a blurred edge would hide which one a crack is), a reduced one is blended.
+fn sampler() -> wgpu::SamplerDescriptor<'static> {
+    wgpu::SamplerDescriptor {
+        label: Some("raylab framebuffer"),
+        mag_filter: wgpu::FilterMode::Nearest,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    }
+}
+
 fn framebuffer(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
     let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
     let format = wgpu::TextureFormat::Rgba8Unorm;

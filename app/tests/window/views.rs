@@ -255,6 +255,44 @@ fn a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera() {
     assert!((run.nums("pitch")[0] + 5.0).abs() < 1e-9, "{log}");
     assert_eq!(run.fields["size"], "320x240");
     assert!(log.contains("loaded view"), "{log}");
+    // The fixed 320x240, magnified to fill the image area, shows each pixel as one square of
+    // its colour (blended with its neighbours, 1,448 of them varied inside).
+    let (_, w, h, rect) = run.camera();
+    assert!(rect[2] >= 1.5 * w as f64, "magnified: {rect:?} for {w}x{h}");
+    let (flat, varied) = magnified_pixels(&run.shot, rect, (w, h));
+    assert!(
+        flat > w * h / 2 && varied == 0,
+        "{varied} of {} varied",
+        flat + varied
+    );
+}
+
+/// Of the image's pixels the window shows magnified, how many show as one colour and how many
+/// vary inside (the screen's pixels whose centres lie well inside an image pixel, between a
+/// tenth and nine tenths of it across and down, are compared).
+fn magnified_pixels(shot: &(u32, u32, Vec<u8>), rect: [f64; 4], (w, h): (u32, u32)) -> (u32, u32) {
+    let (sw, sh, px) = shot;
+    let mut colours: std::collections::HashMap<(u32, u32), Vec<[u8; 3]>> = Default::default();
+    let inside = |screen: u32, start: f64, size: f64, n: u32| {
+        let at = (screen as f64 + 0.5 - start) * n as f64 / size;
+        let frac = at - at.floor();
+        (at >= 0.0 && at < n as f64 && (0.1..0.9).contains(&frac)).then_some(at as u32)
+    };
+    for y in 0..*sh {
+        let Some(j) = inside(y, rect[1], rect[3], h) else {
+            continue;
+        };
+        for x in 0..*sw {
+            let Some(i) = inside(x, rect[0], rect[2], w) else {
+                continue;
+            };
+            let p = &px[4 * (y * sw + x) as usize..][..3];
+            colours.entry((i, j)).or_default().push([p[0], p[1], p[2]]);
+        }
+    }
+    let varies = |c: &Vec<[u8; 3]>| c.iter().any(|p| (0..3).any(|k| p[k].abs_diff(c[0][k]) > 1));
+    let varied = colours.values().filter(|c| varies(c)).count() as u32;
+    (colours.len() as u32 - varied, varied)
 }
 
 fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
