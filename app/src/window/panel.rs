@@ -329,7 +329,10 @@ pub fn side_panel(
         ui.separator();
         ui.horizontal(|ui| {
             let load = egui::Button::new("Load");
-            let room = ui.available_width() - 50.0;
+            // (In a narrow window the panel shows less than its rows' width: the field takes
+            // what is in view, so Load stays in it.)
+            let in_view = ui.clip_rect().right() - ui.cursor().min.x;
+            let room = ui.available_width().min(in_view) - 50.0;
             let field = egui::TextEdit::singleline(obj_path)
                 .hint_text(".scene, .obj or .view path")
                 .desired_width(room);

@@ -315,6 +315,32 @@ fn real_x_input_p_hides_the_side_panel_in_a_small_window() {
     assert!(log.contains("side panel hidden: P shows it"), "{log}");
 }
 
+fn real_x_input_in_a_narrow_window_the_path_fields_load_button_stays_in_view() {
+    // A 440x600 window: the side panel shows less than its rows' width, and the path field
+    // took the whole row, Load past the panel's edge. The panel scrolled to its end (the path
+    // row at y 567), a path typed and Load clicked at (265, 567): the model loads. (Before,
+    // that click landed in the field and nothing loaded.)
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("pyramid.obj"), super::files::PYRAMID).unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool windowsize --sync $win 440 600; \
+                  sleep 1; xdotool mousemove --sync 150 400; \
+                  for i in 1 2 3 4 5 6 7 8 9 10; do xdotool click 5; sleep 0.05; done; \
+                  sleep 0.5; xdotool mousemove --sync 100 567 click 1; sleep 0.8; \
+                  xdotool type pyramid.obj; sleep 0.3; xdotool mousemove --sync 265 567 click 1; \
+                  logged 'loaded pyramid.obj'";
+    let around = Around::RealInput(driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    assert!(
+        run.fields["scene"].ends_with("pyramid.obj"),
+        "{:?}\n{}",
+        run.fields,
+        run.stderr
+    );
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     real_x_input_panel_values_copy_clean_and_the_inspector_keeps_the_focal_length,
@@ -322,4 +348,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_in_a_narrow_window_the_inspector_floats_over_the_side_panel,
     real_x_input_dragging_the_side_panels_edge_leaves_the_image_its_width,
     real_x_input_p_hides_the_side_panel_in_a_small_window,
+    real_x_input_in_a_narrow_window_the_path_fields_load_button_stays_in_view,
 ];
