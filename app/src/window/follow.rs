@@ -353,6 +353,7 @@ impl Viewer {
         let mut detail = Detail::of_ray(trace, &shapes, at.size, pos, Some(marked));
         // (The view's position, as the inspector's own rows name it.)
         detail.at.0 += self.view_offset() as f32;
+        detail.view_off = !self.view.controls.cracks;
         Some(detail)
     }
 

@@ -48,6 +48,8 @@ pub struct Detail {
     pub verdict: Verdict,
     /// Whether the cracks view marks the pixel in the frame shown.
     pub marked: bool,
+    /// The window's cracks view is off: nothing is marked, and the row says why.
+    pub view_off: bool,
     /// The exact hit's primitive and where the ray meets it.
     pub exact: Option<(u32, Location)>,
     /// The answer's primitive, where it is not the exact one, and where the ray meets it.
@@ -82,6 +84,7 @@ impl Detail {
             sample: pos != centre,
             verdict,
             marked,
+            view_off: false,
             exact: exact.map(|h| on(h.prim)),
             given: (given.filter(differs))
                 .filter(|h| (h.prim as usize) < scene.len())
@@ -110,12 +113,14 @@ impl Detail {
     /// `name: value` rows, as the inspector shows them (and a scripted run prints them).
     pub fn rows(&self) -> Vec<(String, String)> {
         let v = self.verdict;
-        let crack = match self.marked {
-            true => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
-            false => match self.sample {
-                true => format!("not marked (the sample: {})", v.name()),
-                false => format!("not marked (the centre ray: {})", v.name()),
-            },
+        let ray = match self.sample {
+            true => "the sample",
+            false => "the centre ray",
+        };
+        let crack = match (self.marked, self.view_off) {
+            (true, _) => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
+            (false, false) => format!("not marked ({ray}: {})", v.name()),
+            (false, true) => format!("{ray}: {} (show cracks is off)", v.name()),
         };
         let (x, y) = self.at;
         let traced = match self.sample {

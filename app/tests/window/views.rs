@@ -145,6 +145,9 @@ fn a_dropped_view_file_sets_the_camera_light_and_settings() {
     assert_eq!(ins["hit"], hit.prim.to_string(), "{ins:?}\n{expected}");
     let t: f32 = ins["t"].parse().unwrap();
     assert!((t - hit.t).abs() <= 1e-6 * hit.t, "t {t} vs {}", hit.t);
+    // The view has show cracks off: the crack row says so beside its verdict (it said "not
+    // marked", as if the view had marked other pixels).
+    assert_eq!(ins["crack"], "the centre ray: right (show cracks is off)");
     assert_shows_the_shadows_view(&run);
 }
 
