@@ -4,7 +4,7 @@
 //! program that rounds a hit on a tiny cube's edge away was told of an epsilon it did not
 //! have, and one printing `%.9g` to print 9 digits.
 
-use super::hint_geometry::{determinant, faces_back, near};
+use super::hint_geometry::{clearly_inside, determinant, faces_back, near, near_an_end};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;
@@ -23,11 +23,17 @@ pub(super) struct Evidence {
     pub smallest_determinant_met: f64,
     /// Whether the program met a triangle's back where it answered right: it does not cull.
     pub meets_backs: bool,
+    /// The smallest |determinant| of a triangle the program missed (a leak, or a farther
+    /// primitive given) where the ray meets it clearly inside ([`clearly_inside`]) and not
+    /// within rounding of tmin or tmax ([`near_an_end`]): a bug's miss, not rounding's.
+    pub smallest_determinant_missed: f64,
+    /// Whether such a miss was of a triangle met from its back.
+    pub misses_backs: bool,
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
-    /// Whether the program gave a farther primitive where the exact hit is well inside its
-    /// primitive (not on a triangle's edge or vertex, nor a sphere's rim): it passes over
+    /// Whether the program gave a farther primitive where the exact hit is clearly inside its
+    /// primitive ([`clearly_inside`], not within rounding of tmin or tmax): it passes over
     /// nearer hits, not only rounds them away.
     pub passes_nearer: bool,
 }
@@ -45,16 +51,27 @@ impl Evidence {
             printed_digits: printed_digits(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
+            smallest_determinant_missed: f64::INFINITY,
+            misses_backs: false,
             smallest_gap_met: f64::INFINITY,
             passes_nearer: false,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
-            if let (Answer::Hit { t: te, prim }, Answer::Hit { t, .. }) = (j.exact, *given) {
-                let farther =
-                    j.graded.verdict == Verdict::Wrong && t > te && !near(t.f64(), te.f64());
-                // (Decided exactly: once is enough.)
-                if farther && !evidence.passes_nearer {
-                    evidence.passes_nearer = well_inside(exact, i, prim);
+            let farther = match (j.exact, *given) {
+                (Answer::Hit { t: te, .. }, Answer::Hit { t, .. }) => {
+                    j.graded.verdict == Verdict::Wrong && t > te && !near(t.f64(), te.f64())
+                }
+                _ => false,
+            };
+            let missed = farther || j.graded.verdict == Verdict::Leak;
+            if let (true, Answer::Hit { t: te, prim }) = (missed, j.exact) {
+                let inside = !near_an_end(exact, i, te.f64()) && clearly_inside(exact, i, prim);
+                evidence.passes_nearer |= farther && inside;
+                if let (true, Shape::Triangle(tri)) = (inside, exact.shape(prim)) {
+                    let det = determinant(exact, i, &tri).abs();
+                    let smallest = &mut evidence.smallest_determinant_missed;
+                    *smallest = smallest.min(det);
+                    evidence.misses_backs |= faces_back(exact, i, &tri);
                 }
             }
             if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
@@ -75,17 +92,24 @@ impl Evidence {
         }
         evidence
     }
-}
 
-/// Whether ray `i` meets primitive `prim` well inside it, decided exactly: inside a triangle
-/// (not on an edge or vertex), through a sphere (not a tangent).
-fn well_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> bool {
-    use raylab::geometry::{sphere, triangle, Location};
-    matches!(
-        exact.shape(prim).locate(&exact.rays[i].1.ray),
-        Location::Triangle(triangle::Location::Inside { .. })
-            | Location::Sphere(sphere::Location::Through)
-    )
+    /// Whether the run bears out culled back faces: the program met no triangle's back
+    /// right, and missed one met clearly inside. (A correct program that rounded away a hit
+    /// inside an edge of a back face, alone in its run, was told it culled.)
+    pub fn culls_backs(&self) -> bool {
+        !self.meets_backs && self.misses_backs
+    }
+
+    /// Below which |determinant| the run bears out an epsilon on it: the smallest the
+    /// program met right, where it missed a triangle met clearly inside with a smaller one;
+    /// else 0. (A run of one ray, with nothing met right, named an epsilon for a hit rounded
+    /// away beside an edge.)
+    pub fn epsilon_below(&self) -> f64 {
+        match self.smallest_determinant_missed < self.smallest_determinant_met {
+            true => self.smallest_determinant_met,
+            false => 0.0,
+        }
+    }
 }
 
 /// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written

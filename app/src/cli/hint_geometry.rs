@@ -38,6 +38,89 @@ pub(super) fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3
     (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()))
 }
 
+/// Where ray `i` meets triangle `prim` inside but within rounding of an edge: the edge it
+/// passes nearest and the barycentric weight of the vertex opposite (an f64 estimate). Within
+/// rounding: a weight below 2¹⁰ unit roundoffs of the precision graded, times the system's
+/// condition (|e1| |d| |e2| / |det|) and the reach of its coordinates (1 + (|o| + |v0|) /
+/// the triangle's extent): a correct program can round it past the edge. (A correct f64
+/// program that rounded away a hit 1.2e-17 inside an edge of a face met from its back was
+/// told it culled back faces.)
+pub(super) fn within_rounding_of_edge<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    prim: u32,
+) -> Option<(usize, f64)> {
+    use raylab::geometry::{triangle, Location, Shape};
+    let shape = exact.shape(prim);
+    let Shape::Triangle(tri) = &shape else {
+        return None;
+    };
+    let Location::Triangle(triangle::Location::Inside { nearest, weight }) =
+        shape.locate(&exact.rays[i].1.ray)
+    else {
+        return None;
+    };
+    let o = o_and_d(exact, i).0;
+    let v = tri.0.map(|p| p.map(|c| c.f64()));
+    let condition = terms(exact, i, tri) / determinant(exact, i, tri).abs();
+    let extent = length(sub(v[1], v[0])).max(length(sub(v[2], v[0])));
+    let reach = 1.0 + (length(o) + length(v[0])) / extent;
+    let bound = 1024.0 * T::UNIT_ROUNDOFF.f64() * condition * reach;
+    (weight < bound).then_some((nearest, weight))
+}
+
+/// Whether ray `i` meets primitive `prim` clearly inside: a triangle inside, neither within
+/// rounding of an edge nor with a determinant below the rounding of its terms; a sphere
+/// through (not a tangent). A correct program answers such a hit right: one it misses there
+/// is a bug's, not rounding's.
+pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> bool {
+    use raylab::geometry::{sphere, triangle, Location, Shape};
+    let shape = exact.shape(prim);
+    match (&shape, shape.locate(&exact.rays[i].1.ray)) {
+        (Shape::Triangle(tri), Location::Triangle(triangle::Location::Inside { .. })) => {
+            !determinant_rounds(exact, i, tri) && within_rounding_of_edge(exact, i, prim).is_none()
+        }
+        (_, Location::Sphere(sphere::Location::Through)) => true,
+        _ => false,
+    }
+}
+
+/// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
+/// near enough for a fixed epsilon in place of tmin to lose it: at most 10⁻⁴, or its point
+/// within 10⁻⁶ of |o| + |t·d| of the point at tmin. `None` for tmin −∞.
+pub(super) fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)> {
+    let (o, d) = o_and_d(exact, i);
+    let tmin = exact.rays[i].1.tmin.f64();
+    let gap = te - tmin;
+    let near = gap <= 1e-4 || gap * length(d) <= 1e-6 * (length(o) + te.abs() * length(d));
+    tmin.is_finite().then_some((gap, near))
+}
+
+/// Whether the exact hit at `te` lies within rounding of the ray's tmin or tmax: its point
+/// within 2¹⁰ unit roundoffs of the precision graded of |o| + |t·d| from the end's, where a
+/// correct program's rounded t can fall past it.
+pub(super) fn near_an_end<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> bool {
+    let (o, d) = o_and_d(exact, i);
+    let ray = &exact.rays[i].1;
+    let reach = 1024.0 * T::UNIT_ROUNDOFF.f64() * (length(o) + te.abs() * length(d));
+    [ray.tmin.f64(), ray.tmax.f64()]
+        .into_iter()
+        .any(|end| end.is_finite() && (te - end).abs() * length(d) <= reach)
+}
+
+/// The size of Möller–Trumbore's determinant's terms for ray `i` and triangle `tri`:
+/// |e1| |d| |e2|.
+fn terms<T: Real>(exact: &Exact<T>, i: usize, tri: &Triangle<T>) -> f64 {
+    let v = tri.0.map(|p| p.map(|c| c.f64()));
+    length(sub(v[1], v[0])) * length(o_and_d(exact, i).1) * length(sub(v[2], v[0]))
+}
+
+/// Whether the determinant is below the rounding of its terms in the precision graded: a
+/// correct program's can come out 0 or with the other sign.
+pub(super) fn determinant_rounds<T: Real>(exact: &Exact<T>, i: usize, tri: &Triangle<T>) -> bool {
+    determinant(exact, i, tri).abs() < 3.0 * T::UNIT_ROUNDOFF.f64() * terms(exact, i, tri)
+}
+
 /// |a|.
 pub(super) fn length(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
@@ -46,26 +129,23 @@ pub(super) fn length(a: [f64; 3]) -> f64 {
 /// Where the exact hit is on a triangle whose Möller–Trumbore determinant e1·(d × e2) (e1 =
 /// v1 − v0, e2 = v2 − v0) is not 0 but small, what that loses, as facts: in f32, one below
 /// its smallest normal number underflows; one below the rounding of its terms can come out 0
-/// or with the other sign; and one below 10⁻⁴ and below every determinant of a hit the
-/// program answered right (`smallest_met`: else an epsilon on it would have lost those too)
-/// is lost to the textbook's |det| < ε test. (Correct f32 programs were told of the epsilon
-/// alone.)
+/// or with the other sign; and one below 10⁻² and below `epsilon_below` (where the run bears
+/// an epsilon out: [`super::evidence::Evidence::epsilon_below`]) is lost to the textbook's
+/// |det| < ε test. (Correct f32 programs were told of the epsilon alone.)
 pub(super) fn small_determinant<T: Real>(
     exact: &Exact<T>,
     i: usize,
     prim: u32,
-    smallest_met: f64,
+    epsilon_below: f64,
 ) -> Option<String> {
     let raylab::geometry::Shape::Triangle(tri) = exact.shape(prim) else {
         return None;
     };
     let det = determinant(exact, i, &tri);
-    let (v, (_, d)) = (tri.0.map(|p| p.map(|c| c.f64())), o_and_d(exact, i));
-    let terms = length(sub(v[1], v[0])) * length(d) * length(sub(v[2], v[0]));
     let f32 = T::PRECISION <= 24;
     let underflows = f32 && det.abs() < f32::MIN_POSITIVE as f64;
-    let rounds = det.abs() < 3.0 * T::UNIT_ROUNDOFF.f64() * terms;
-    let epsilon = det.abs() < 1e-4 && det.abs() < smallest_met;
+    let rounds = determinant_rounds(exact, i, &tri);
+    let epsilon = det.abs() < 1e-2 && det.abs() < epsilon_below;
     let lost = "an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
                 parallel";
     let why =

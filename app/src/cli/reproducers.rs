@@ -2,7 +2,8 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use super::evidence::Evidence;
-use super::hint_geometry::{faces_back, length, near, o_and_d, plane_of, small_determinant};
+use super::hint_geometry::{determinant_rounds, small_determinant, within_rounding_of_edge};
+use super::hint_geometry::{faces_back, length, near, o_and_d, past_tmin, plane_of};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::real::{cross, dot, sub};
 use raylab::math::Real;
@@ -311,12 +312,7 @@ fn missed<T: Real>(
         ));
         return joined(facts);
     }
-    facts.extend(small_determinant(
-        exact,
-        i,
-        prim,
-        evidence.smallest_determinant_met,
-    ));
+    facts.extend(small_determinant(exact, i, prim, evidence.epsilon_below()));
     // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
     // first the likelier cause of a hit this near tmin; beside a tangent, which explains the
     // miss, it was noise.)
@@ -327,7 +323,7 @@ fn missed<T: Real>(
         te,
         prim,
         given_hit.map(|(_, p)| p),
-        near.is_none() && !evidence.meets_backs,
+        near.is_none() && evidence.culls_backs(),
     );
     let placed = fact.is_some();
     facts.extend(fact);
@@ -586,6 +582,20 @@ fn where_on<T: Real>(
                      test, or u, v or u + v rounded past 0 or 1, loses it)"
                 ));
             }
+            // (Not beside a determinant below rounding, said apart: its weights are noise.)
+            let rounded_weights = match &shape {
+                Shape::Triangle(tri) => determinant_rounds(exact, i, tri),
+                Shape::Sphere(_) => false,
+            };
+            let edge = within_rounding_of_edge(exact, i, prim).filter(|&(_, w)| w < 1e-3);
+            if let (Some((edge, weight)), false) = (edge, rounded_weights) {
+                facts.push(format!(
+                    "the exact hit is inside the triangle, {weight:.1e} (barycentric) from its \
+                     edge {}: within rounding of it (u, v or u + v rounded past 0 or 1 loses \
+                     it)",
+                    raylab::geometry::triangle::EDGES[edge]
+                ));
+            }
             let given_faces_back = given.is_some_and(|g| met_from_back(&exact.shape(g)));
             if back && met_from_back(&shape) && !given_faces_back {
                 facts.push(
@@ -647,17 +657,6 @@ fn lost_past_tmin(gap: f64, evidence: &Evidence, loses: &str) -> String {
         }
         false => format!("t rounded to tmin or below {loses} it"),
     }
-}
-
-/// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
-/// near enough for a fixed epsilon in place of tmin to lose it: at most 10⁻⁴, or its point
-/// within 10⁻⁶ of |o| + |t·d| of the point at tmin. `None` for tmin −∞.
-fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<(f64, bool)> {
-    let (o, d) = o_and_d(exact, i);
-    let tmin = exact.rays[i].1.tmin.f64();
-    let gap = te - tmin;
-    let near = gap <= 1e-4 || gap * length(d) <= 1e-6 * (length(o) + te.abs() * length(d));
-    tmin.is_finite().then_some((gap, near))
 }
 
 /// Ray `i`'s meetings with the sphere at `centre` of radius `r`, in f64: the near and far

@@ -52,8 +52,10 @@ fn hints_with(scene: &str, rays: &str, answers: &str, args: &[&str]) -> Hints {
     }
 }
 
-/// The hints are facts of the exact geometry: a ray 10⁻¹⁷ beside a vertex meets the inside
-/// (an f64 test within 10⁻⁹ had said "at vertex v0"), a hit on an edge from the back is told
+/// The hints are facts of the exact geometry: a ray 10⁻¹⁷ beside a vertex meets the inside,
+/// within rounding of its edge (an f64 test within 10⁻⁹ had said "at vertex v0"), and from
+/// the back, where the run bears out culled backs (a back face passed over inside: ray 3), a
+/// hit on an edge from the back is told
 /// both, a primitive given at a t where the ray does not meet it is said so, with the t where
 /// it does, not told that the nearest hit wins (nor that the exact one is a back face:
 /// so is the one given), and one met just past the exact hit is told so.
@@ -68,8 +70,10 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     let h = hints(scene, rays, "miss\nmiss\nhit 2 1\nhit 1.0000001 2\n");
     assert!(
         h.line(1).ends_with(
-            "[leak: the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
-             v0)): both sides count]"
+            "[leak: the exact hit is inside the triangle, 1.0e-17 (barycentric) from its edge \
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both \
+             sides count]"
         ),
         "{}",
         h.out
@@ -195,8 +199,8 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
 /// An epsilon in tmin's place, and one on the determinant, are named only where no hit as
 /// near tmin (as small a determinant) was answered right; else what rounding does: a hit
 /// 3e-8 past tmin is lost to t rounded to tmin, a determinant of -1e-7 beside terms of 1
-/// can round to 0 in f32. (A correct f32 program was told of an epsilon beside a hit nearer
-/// tmin it had answered right.)
+/// can round to 0 in f32 (and where every miss is such, no epsilon is borne out). (A correct
+/// f32 program was told of an epsilon beside a hit nearer tmin it had answered right.)
 #[test]
 fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
     let scene = "tri 0 0 1e-8 1 0 1e-8 0 1 1e-8\ntri 2 0 3e-8 3 0 3e-8 2 1 3e-8\n";
@@ -223,9 +227,53 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
         h.out
     );
     let h = hints(scene, rays, "miss\nmiss\n");
-    let line = h.line(2);
     assert!(
-        line.contains("is -1.0e-7, near 0: an epsilon on it") && line.contains(rounds),
+        h.line(2).ends_with(&format!("is -1.0e-7, {rounds}]")),
+        "{}",
+        h.out
+    );
+    // In f64 neither rounds: missed both, the program bears out an epsilon; with the first
+    // met right, not below it.
+    let f64 = ["--precision", "f64"];
+    let h = hints_with(scene, rays, "miss\nmiss\n", &f64);
+    let epsilon = "is -1.0e-7, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
+    assert!(h.line(2).contains(epsilon), "{}", h.out);
+    let h = hints_with(scene, rays, "hit 0.1 0\nmiss\n", &f64);
+    assert!(h.line(2).ends_with("[leak]"), "{}", h.out);
+}
+
+/// A bug is named only where the run bears it out, however the rays are cut: one ray, alone
+/// in its run, missed 1.2e-17 inside an edge of a face met from its back, is told of the edge
+/// and its rounding, not of culled back faces or an epsilon (a student's correct f64 program
+/// checking the one ray pulled out of its suite was told "both sides count"). And an epsilon
+/// of 1e-3 is named from a miss of determinant 6.4e-4 beside a hit met right at 2e-3 (it was
+/// named only below 10⁻⁴).
+#[test]
+fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
+    let scene = "tri 0 0 1 1 0 1 0 1 1\n";
+    let h = hints_with(
+        scene,
+        "0.3 1.2e-17 0 0 0 1 0 inf\n",
+        "miss\n",
+        &["--precision", "f64"],
+    );
+    assert!(
+        h.line(1).ends_with(
+            "[leak: the exact hit is inside the triangle, 1.2e-17 (barycentric) from its edge \
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it)]"
+        ),
+        "{}",
+        h.out
+    );
+    // Grazing the plane z = 0 at t 1, determinants -6.4e-4 and -2e-3.
+    let scene = "tri 0 0 0 1 0 0 0 1 0\n";
+    let rays = "-0.75 0.25 -6.4e-4 1 0 6.4e-4 0 inf\n-0.75 0.25 -2e-3 1 0 2e-3 0 inf\n";
+    let h = hints_with(scene, rays, "miss\nhit 1 0\n", &["--precision", "f64"]);
+    assert!(
+        h.line(1).contains(
+            "is -6.4e-4, near 0: an epsilon on it (|det| < ε: no hit) loses the hit, where only \
+             det = 0 is parallel"
+        ),
         "{}",
         h.out
     );
