@@ -170,11 +170,17 @@ impl Viewer {
         // (Said, not silent: a zoom that loses the ray would otherwise swap in another,
         // and a ring under the panel is not seen.) (Both the view's pixels, as the
         // inspector names them; the first of the view it was chosen in.)
+        // (Of the view it was chosen in, where that was another size: a window resized since
+        // named a pixel of a view no longer shown.)
         let (i, j) = chosen.pixel;
+        let of_view = match chosen.size == view {
+            true => String::new(),
+            false => format!(" of the {}x{} view then", chosen.size.0, chosen.size.1),
+        };
         let notice = match off {
             true => format!(
-                "{OFF_IMAGE} at pixel ({i}, {j}) lies off the image at this focal length: \
-                 the inspector shows the edge pixel ({x}, {y}) until it is back"
+                "{OFF_IMAGE} at pixel ({i}, {j}){of_view} lies off the image at this focal \
+                 length: the inspector shows the edge pixel ({x}, {y}) until it is back"
             ),
             // (Which side: the crop is both sides' and the panel on the right, so "under the
             // panel" sent the eye right for a pixel cropped off on the left.)
@@ -188,10 +194,13 @@ impl Viewer {
         // An error the status line holds stays: this notice follows on its own, from
         // whatever moved the view, and would wipe what failed before the eye read it. Said
         // once while the pixel stays off the image, on that side: again at each frame, it
-        // wiped what the step, R or a field had just said.
+        // wiped what the step, R or a field had just said. (Still on the status line, it
+        // follows the edge pixel shown: a further zoom left it naming the one before.)
         let place = (chosen.pixel, off, x < offset);
         let news = self.off_image_said != Some(place);
+        let still_said = said.iter().any(|s| self.status.starts_with(s));
         match (news, self.status_is_error) {
+            (false, false) if still_said => self.status = notice,
             (false, _) => log::debug!("{notice}"),
             (true, true) => log::info!("{notice}"),
             (true, false) => self.set_status(notice),

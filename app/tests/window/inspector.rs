@@ -36,17 +36,27 @@ fn a_scripts_pixel_off_the_image_is_named_as_given() {
 fn a_zoom_that_loses_the_inspected_ray_says_so() {
     // Zoomed in until the chosen pixel's ray is off the image: the inspector shows the edge
     // pixel, and the status line says so (it had swapped in another ray without a word).
+    // Zoomed in further, the edge pixel shown moves along the edge: the status line follows
+    // it (it kept naming the first edge pixel).
     let dir = tempfile::tempdir().unwrap();
-    let script = "0 inspect 497 420\n300 wheel 30\n";
+    let script = "0 inspect 700 380\n300 wheel 12\n1000 wheel 12\n";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::Nothing) else {
         return;
     };
     let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
-    let said = "the ray inspected at pixel (497, 420) lies off the image at this focal length";
+    let pixel = run.inspector["pixel"].replace(' ', ", ");
+    let said = format!(
+        "the ray inspected at pixel (700, 380) lies off the image at this focal length: the \
+         inspector shows the edge pixel ({pixel}) until it is back"
+    );
+    assert_eq!(status, Some(said.as_str()), "{}", run.stderr);
+    // (Said once in the log, at the first zoom, of another edge pixel.)
+    let first = (run.stderr.lines())
+        .find_map(|l| l.split("the inspector shows the edge pixel ").nth(1))
+        .unwrap_or_else(|| panic!("no notice logged\n{}", run.stderr));
     assert!(
-        status.is_some_and(|s| s.starts_with(said)),
-        "{status:?}\n{}",
-        run.stdout
+        !first.starts_with(&format!("({pixel})")),
+        "{first}: the second zoom moves the edge pixel"
     );
 }
 
