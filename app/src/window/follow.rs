@@ -6,7 +6,7 @@
 //! marks the pixel, which of its samples is marked and why.
 
 use super::cracks::{self, Census, Legend, Step};
-use super::inspected::{Chosen, Detail, Inspected};
+use super::inspected::{Chosen, Detail, Inspected, Marks};
 use super::viewer::Viewer;
 use std::borrow::Cow;
 
@@ -362,7 +362,13 @@ impl Viewer {
         let mut detail = Detail::of_ray(trace, &shapes, at.size, pos, Some(marked));
         // (The view's position, as the inspector's own rows name it.)
         detail.at.0 += self.view_offset() as f32;
-        detail.view_off = !self.view.controls.cracks;
+        let counted = (self.cracks.census.as_ref())
+            .is_some_and(|c| c.generation == at.generation && c.size == at.size);
+        detail.marks = match (self.view.controls.cracks, counted) {
+            (false, _) => Marks::Off,
+            (true, false) => Marks::Counting,
+            (true, true) => Marks::Counted,
+        };
         Some(detail)
     }
 

@@ -48,12 +48,23 @@ pub struct Detail {
     pub verdict: Verdict,
     /// Whether the cracks view marks the pixel in the frame shown.
     pub marked: bool,
-    /// The window's cracks view is off: nothing is marked, and the row says why.
-    pub view_off: bool,
+    /// Whether the cracks view has marked the frame: the row says so where it has not.
+    pub marks: Marks,
     /// The exact hit's primitive and where the ray meets it.
     pub exact: Option<(u32, Location)>,
     /// The answer's primitive, where it is not the exact one, and where the ray meets it.
     pub given: Option<(u32, Location)>,
+}
+
+/// Where the cracks view stands on the frame the inspector answers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Marks {
+    /// Counted (or, for `raylab inspect`, what the view marks).
+    Counted,
+    /// Being counted: a pixel not marked yet may be.
+    Counting,
+    /// Show cracks is off: nothing is marked.
+    Off,
 }
 
 impl Detail {
@@ -84,7 +95,7 @@ impl Detail {
             sample: pos != centre,
             verdict,
             marked,
-            view_off: false,
+            marks: Marks::Counted,
             exact: exact.map(|h| on(h.prim)),
             given: (given.filter(differs))
                 .filter(|h| (h.prim as usize) < scene.len())
@@ -117,10 +128,13 @@ impl Detail {
             true => "the sample",
             false => "the centre ray",
         };
-        let crack = match (self.marked, self.view_off) {
+        let crack = match (self.marked, self.marks) {
             (true, _) => format!("{} (marked {})", v.name(), cracks::mark_name(v, self.code)),
-            (false, false) => format!("not marked ({ray}: {})", v.name()),
-            (false, true) => format!("{ray}: {} (show cracks is off)", v.name()),
+            (false, Marks::Counted) => format!("not marked ({ray}: {})", v.name()),
+            (false, Marks::Counting) => {
+                format!("{ray}: {} (the frame's cracks are being counted)", v.name())
+            }
+            (false, Marks::Off) => format!("{ray}: {} (show cracks is off)", v.name()),
         };
         let (x, y) = self.at;
         let traced = match self.sample {
@@ -153,5 +167,37 @@ impl Detail {
             None => "the exact ray meets nothing".to_string(),
         };
         format!("{} by {}; {exact}", self.verdict.name(), self.who)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The crack row says where the cracks view stands: a pixel not marked yet is not called
+    /// "not marked" while its frame's cracks are counted, nor with show cracks off.
+    #[test]
+    fn the_crack_row_says_whether_the_frame_is_counted() {
+        let detail = |marks| Detail {
+            who: "moller".into(),
+            code: false,
+            at: (3.5, 4.5),
+            sample: false,
+            verdict: Verdict::Right,
+            marked: false,
+            marks,
+            exact: None,
+            given: None,
+        };
+        let crack = |marks| detail(marks).rows()[0].1.clone();
+        assert_eq!(crack(Marks::Counted), "not marked (the centre ray: right)");
+        assert_eq!(
+            crack(Marks::Counting),
+            "the centre ray: right (the frame's cracks are being counted)"
+        );
+        assert_eq!(
+            crack(Marks::Off),
+            "the centre ray: right (show cracks is off)"
+        );
     }
 }
