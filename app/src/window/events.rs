@@ -3,7 +3,7 @@
 
 use super::input::Key;
 use super::scripted::ScriptedRun;
-use super::{panel, App, AppEvent, Framework, QUIT_PROMPT, QUIT_PROMPT_FOR};
+use super::{layout, App, AppEvent, Framework, QUIT_PROMPT, QUIT_PROMPT_FOR};
 use anyhow::anyhow;
 use raylab::controller::Mode;
 use std::sync::Arc;
@@ -65,7 +65,7 @@ impl ApplicationHandler<AppEvent> for App {
         let surface = (size.width.max(1), size.height.max(1));
         let ppp = window.scale_factor() as f32;
         self.viewer.image_area = (
-            ((size.width as f32 - panel::PANEL_WIDTH * ppp).max(1.0)) as u32,
+            ((size.width as f32 - layout::PANEL_WIDTH * ppp).max(1.0)) as u32,
             size.height.max(1),
         );
         self.viewer.beside_width = self.viewer.image_area.0;

@@ -24,6 +24,7 @@ mod gpu;
 mod input;
 mod inspected;
 mod inspector;
+mod layout;
 mod notices;
 mod panel;
 mod pointer;
@@ -427,7 +428,7 @@ impl App {
         let (texture, buffer_size) = (fw.gpu.texture_id, fw.gpu.buffer_size);
         let mut layout = None;
         let frame = fw.run(&window, |ui| {
-            layout = Some(panel::layout(ui, viewer, texture, buffer_size));
+            layout = Some(layout::layout(ui, viewer, texture, buffer_size));
         });
         let layout = layout.expect("egui ran the UI");
         viewer.image_area = layout.image_area;
