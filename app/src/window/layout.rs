@@ -199,7 +199,12 @@ pub fn layout(
                     raylab::words::count(image_width_before.round() as usize, "point", "points");
                 let note = format!("the image has {points} beside this panel: P hides the panel");
                 let note = egui::RichText::new(note).color(egui::Color32::YELLOW);
-                ui.add(egui::Label::new(note).wrap());
+                // (Wrapped in the width in view: at 360 points the panel's last words, "hides
+                // the panel", were past its edge.)
+                ui.scope(|ui| {
+                    ui.set_max_width(super::panel::width_in_view(ui));
+                    ui.add(egui::Label::new(note).wrap());
+                });
             }
             let inspector = (&mut *inspector_on, inspection.as_ref());
             let screenshot = layout.actions.screenshot;

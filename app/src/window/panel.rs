@@ -329,10 +329,8 @@ pub fn side_panel(
         ui.separator();
         ui.horizontal(|ui| {
             let load = egui::Button::new("Load");
-            // (In a narrow window the panel shows less than its rows' width: the field takes
-            // what is in view, so Load stays in it.)
-            let in_view = ui.clip_rect().right() - ui.cursor().min.x;
-            let room = ui.available_width().min(in_view) - 50.0;
+            // (The field takes what is in view, so Load stays in it.)
+            let room = width_in_view(ui) - 50.0;
             let field = egui::TextEdit::singleline(obj_path)
                 .hint_text(".scene, .obj or .view path")
                 .desired_width(room);
@@ -386,6 +384,13 @@ fn coordinate<'a, N: egui::emath::Numeric + std::fmt::Display>(
     let max = raylab::math::MAX_VIEW_COORDINATE;
     let field = egui::DragValue::new(value).speed(speed).max_decimals(3);
     typing.drag(field, N::from_f64(-max)..=N::from_f64(max))
+}
+
+/// The width left in `ui` that is in view: in a narrow window the panel shows less than its
+/// rows' width, and a row laid out to its end is cut.
+pub fn width_in_view(ui: &egui::Ui) -> f32 {
+    let in_view = ui.clip_rect().right() - ui.cursor().min.x;
+    ui.available_width().min(in_view)
 }
 
 /// egui's solid scroll bar, drawn alike, but taking its room at once: as a floating bar
