@@ -307,6 +307,13 @@ pub fn text_of(bytes: Vec<u8>) -> Result<String, NotText> {
     if utf16 {
         return Err(NotText::Utf16);
     }
+    lossy_where(bytes, |line| line.starts_with(b"#")).map_err(NotText::Line)
+}
+
+/// `bytes` as UTF-8 text, where a line `lossy` accepts (its bytes after leading blanks) may
+/// hold any bytes, those not UTF-8 becoming U+FFFD; else the first line (1-based) that is not
+/// UTF-8.
+pub fn lossy_where(bytes: Vec<u8>, lossy: impl Fn(&[u8]) -> bool) -> Result<String, usize> {
     let bytes = match String::from_utf8(bytes) {
         Ok(text) => return Ok(text),
         Err(e) => e.into_bytes(),
@@ -315,10 +322,10 @@ pub fn text_of(bytes: Vec<u8>) -> Result<String, NotText> {
     for (i, line) in bytes.split_inclusive(|&b| b == b'\n').enumerate() {
         match std::str::from_utf8(line) {
             Ok(line) => text.push_str(line),
-            Err(_) if line.trim_ascii_start().starts_with(b"#") => {
+            Err(_) if lossy(line.trim_ascii_start()) => {
                 text.push_str(&String::from_utf8_lossy(line))
             }
-            Err(_) => return Err(NotText::Line(i + 1)),
+            Err(_) => return Err(i + 1),
         }
     }
     Ok(text)

@@ -554,3 +554,21 @@ fn a_file_not_named_obj_that_fails_as_one_says_how_it_was_read() {
         assert!(!e.contains("read as an OBJ"), "{e}");
     }
 }
+
+#[test]
+fn latin1_comments_and_names_in_an_obj_load_and_other_bytes_are_refused_by_line() {
+    // Exporters write object and group names (and comments) in Latin-1: "caf\xe9" refused
+    // the whole model as "not a text OBJ file". Only names and comments may be: a vertex line
+    // with such a byte is refused, naming its line.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("named.obj");
+    let mut text = b"# caf\xe9\no caf\xe9\ng\tm\xfcller\n".to_vec();
+    text.extend_from_slice(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    std::fs::write(&obj, &text).unwrap();
+    let scene = Scene::load(&obj, raylab::scene::ObjFrame::YUp).unwrap();
+    assert_eq!(scene.len(), 1);
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, b"v 0 0 0\nv 1 0 0\xe9\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let e = Scene::load(&bad, raylab::scene::ObjFrame::YUp).unwrap_err();
+    assert!(e.contains("bad.obj:2: not a text OBJ file"), "{e}");
+}

@@ -86,7 +86,7 @@ pub enum ObjError {
     #[error(transparent)]
     Input(#[from] crate::input::InputError),
     /// Not UTF-8 text, or holding NUL bytes.
-    #[error("{file}:{line}: not a text OBJ file (binary data or invalid UTF-8)")]
+    #[error("{file}:{line}: not a text OBJ file (binary data, or invalid UTF-8 outside a comment or name)")]
     NotText {
         /// File name.
         file: String,
@@ -213,12 +213,18 @@ fn to_text(name: &str, bytes: Vec<u8>) -> Result<String, ObjError> {
             line: line_of(&bytes, pos),
         });
     }
-    let text = String::from_utf8(bytes).map_err(|e| {
-        let pos = e.utf8_error().valid_up_to();
-        ObjError::NotText {
-            file: name.to_string(),
-            line: line_of(e.as_bytes(), pos),
-        }
+    // (A comment, or an object's or group's name, may be in another encoding, as exporters
+    // write Latin-1 names: only shown, their bytes that are not UTF-8 become U+FFFD.)
+    let names = |line: &[u8]| {
+        let first = line
+            .split(u8::is_ascii_whitespace)
+            .next()
+            .unwrap_or_default();
+        first.starts_with(b"#") || first == b"o" || first == b"g"
+    };
+    let text = crate::input::lossy_where(bytes, names).map_err(|line| ObjError::NotText {
+        file: name.to_string(),
+        line,
     })?;
     Ok(crate::input::lone_cr_as_lf(text))
 }
