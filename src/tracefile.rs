@@ -62,7 +62,14 @@ fn numbers<T: Real>(
     what: &str,
 ) -> Result<Vec<T>, String> {
     if count != expect {
-        return Err(format!("{what} needs {expect} numbers, found {count}"));
+        // (A comment after the numbers counted as numbers: "found 10" for 8 and "# note".)
+        let comment = match words.iter().any(|w| w.starts_with('#')) {
+            true => " (a `#` comment takes a line of its own)",
+            false => "",
+        };
+        return Err(format!(
+            "{what} needs {expect} numbers, found {count} words{comment}"
+        ));
     }
     words
         .iter()

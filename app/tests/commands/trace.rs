@@ -186,6 +186,11 @@ fn trace_rejects_malformed_input_with_file_and_line() {
     let ray_cases: &[(&str, &str)] = &[
         ("0 0 0 0 0 1 0\n", ":1: ray needs 8 numbers, found 7"),
         ("0 0 0 0 0 1 0 inf 9\n", "found 9"),
+        // (A trailing comment was counted as numbers, and no more said.)
+        (
+            "0 0 0 0 0 1 0 inf # note\n",
+            ":1: ray needs 8 numbers, found 10 words (a `#` comment takes a line of its own)",
+        ),
         // A byte-order mark past the start, shown (it named '0' as not a number).
         (
             "0 0 0 0 0 1 0 inf\n\u{feff}0 0 0 0 0 1 0 inf\n",
