@@ -238,6 +238,8 @@ fn every_error_names_its_line() {
         ),
         ("camera 0 0 0 fov 200\n", 1, "fov 200"),
         ("mesh\n", 1, "mesh needs a path"),
+        // (An empty quoted path read as a file named nothing: "mesh '': : No such file".)
+        ("mesh \"\"\n", 1, "mesh '': the path is empty"),
         ("mesh a.obj sideways\n", 1, "sideways"),
         (
             "\n\nmesh model.obj\n",

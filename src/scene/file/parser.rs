@@ -504,6 +504,9 @@ impl<T: Real> Parser<'_, T> {
                     [path, frame] => (path, frame.parse::<ObjFrame>()?),
                     _ => return Err("mesh needs a path and optionally yup or lab".into()),
                 };
+                if path.is_empty() {
+                    return Err("mesh '': the path is empty".into());
+                }
                 let full = dir.join(path);
                 let color = self.current.color;
                 let file = self.files.key(dir, path);
