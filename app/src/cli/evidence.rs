@@ -39,15 +39,17 @@ pub(super) struct Evidence {
 }
 
 impl Evidence {
-    /// The evidence of `answers` (`written`: their text, as the program wrote them).
+    /// The evidence of `answers` (`written`: their text, as the program wrote them; `meets`:
+    /// whether ray i meets primitive p at about t).
     pub fn of<T: Real>(
         judged: &[Judged<T>],
         exact: &Exact<T>,
         answers: &[(usize, Answer<T>)],
         written: &str,
+        meets: impl Fn(usize, u32, f64) -> bool,
     ) -> Self {
         let mut evidence = Evidence {
-            shift: index_shift(judged, answers),
+            shift: index_shift(judged, exact.primitives, answers, meets),
             printed_digits: printed_digits(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
@@ -132,17 +134,38 @@ fn printed_digits(written: &str) -> usize {
         .unwrap_or(0)
 }
 
-fn index_shift<T: Real>(judged: &[Judged<T>], answers: &[(usize, Answer<T>)]) -> Option<i64> {
-    let shifts: Vec<i64> = (judged.iter().zip(answers))
-        .filter_map(|(j, (_, given))| match (j.exact, *given) {
+/// The index every primitive given at the exact hit's t is off by, 1 or −1: each such
+/// primitive less that is one the ray meets at that t (the exact one, or one tied with it:
+/// where hits tie, the program's own choice shifted is not the exact one's), two or more
+/// of them, one at least the exact one shifted. (Where ties were many, a program counting
+/// from 1 was told of the inside-outside test.)
+fn index_shift<T: Real>(
+    judged: &[Judged<T>],
+    primitives: usize,
+    answers: &[(usize, Answer<T>)],
+    meets: impl Fn(usize, u32, f64) -> bool,
+) -> Option<i64> {
+    let at_exact_t: Vec<(usize, u32, u32, f64)> = (judged.iter().zip(answers).enumerate())
+        .filter_map(|(i, (j, (_, given)))| match (j.exact, *given) {
             (Answer::Hit { t: te, prim: q }, Answer::Hit { t, prim: p })
                 if near(te.f64(), t.f64()) =>
             {
-                Some(i64::from(p) - i64::from(q))
+                Some((i, p, q, te.f64()))
             }
             _ => None,
         })
         .collect();
-    let first = *shifts.first()?;
-    (shifts.len() >= 2 && first.abs() == 1 && shifts.iter().all(|&k| k == first)).then_some(first)
+    let shifted_by = |k: i64| {
+        let unshifted = |p: u32| {
+            let r = i64::from(p) - k;
+            (0..primitives as i64).contains(&r).then_some(r as u32)
+        };
+        let exact_one = at_exact_t
+            .iter()
+            .any(|&(_, p, q, _)| unshifted(p) == Some(q));
+        let all_met = (at_exact_t.iter())
+            .all(|&(i, p, q, t)| unshifted(p).is_some_and(|r| r == q || meets(i, r, t)));
+        at_exact_t.len() >= 2 && exact_one && all_met
+    };
+    [1, -1].into_iter().find(|&k| shifted_by(k))
 }

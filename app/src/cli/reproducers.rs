@@ -19,7 +19,8 @@ pub(super) fn reproducers<T: Real>(
     most: usize,
 ) -> Vec<String> {
     let mut lines = Vec::new();
-    let evidence = Evidence::of(judged, exact, answers, written.text);
+    let meets = |i: usize, p: u32, t: f64| meets_at(exact, i, p, t);
+    let evidence = Evidence::of(judged, exact, answers, written.text, meets);
     let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
     let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
     for (heading, wanted) in [
@@ -367,9 +368,9 @@ fn not_met<T: Real>(
         );
         return match shift {
             Some(k) => format!(
-                "{index}: every primitive given at the exact t is the exact one's index {} 1 \
-                 (indices count from 0, in the scene's order)",
-                if k > 0 { "+" } else { "−" }
+                "{index}: every primitive given at the exact t is 1 {} one the ray meets \
+                 there (indices count from 0, in the scene's order)",
+                if k > 0 { "past" } else { "before" }
             ),
             None => format!("{index}; {}", passes(exact, i, p, t)),
         };

@@ -448,7 +448,7 @@ fn indices_from_1_are_caught_by_every_hit() {
     };
     every_shown_says(&out, "(indices count from 0");
     assert!(
-        out.contains("every primitive given at the exact t is the exact one's index + 1"),
+        out.contains("every primitive given at the exact t is 1 past one the ray meets there"),
         "{out}"
     );
 }

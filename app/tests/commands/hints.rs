@@ -379,3 +379,21 @@ fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
         h.out
     );
 }
+
+/// Indices counted from 1 are named where ties are: on a shared edge the program's own choice
+/// (the tie's other primitive) shifted is not the exact one's, and the rule was held back (a
+/// student's program got "the ray passes triangle 1 outside" on every ray of the cube).
+#[test]
+fn an_index_from_1_is_named_beside_ties_the_program_chose_otherwise() {
+    // Two triangles sharing the edge (1, 0)–(0, 1) at z = 1, a third far off; through the
+    // shared edge (tied: the program chose triangle 1, and said 2), inside the second, inside
+    // the first.
+    let scene = "tri 0 0 1 1 0 1 0 1 1\ntri 1 0 1 1 1 1 0 1 1\ntri 5 5 1 6 5 1 5 6 1\n";
+    let rays = "0.5 0.5 0 0 0 1 0 inf\n0.75 0.75 0 0 0 1 0 inf\n0.25 0.25 0 0 0 1 0 inf\n";
+    let h = hints(scene, rays, "hit 1 2\nhit 1 2\nhit 1 1\n");
+    let rule = "every primitive given at the exact t is 1 past one the ray meets there (indices \
+                count from 0, in the scene's order)]";
+    for n in [1, 3] {
+        assert!(h.line(n).ends_with(rule), "{}", h.out);
+    }
+}
