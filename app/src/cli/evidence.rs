@@ -18,6 +18,9 @@ pub(super) struct Evidence {
     /// The most significant digits of any t as the program wrote it ([`printed_digits`]):
     /// the digits it prints (`%g`: 6, `%.9g`: 9), where it prints a fixed count.
     pub printed_digits: usize,
+    /// The decimals every t was written with, where all have the same count and no
+    /// exponent, two or more of them (`%.4f`: 4) ([`printed_decimals`]).
+    pub printed_decimals: Option<usize>,
     /// The smallest |determinant| (in f64) of a triangle the program met where it answered
     /// right: an epsilon on the determinant above it would have lost that hit.
     pub smallest_determinant_met: f64,
@@ -51,6 +54,7 @@ impl Evidence {
         let mut evidence = Evidence {
             shift: index_shift(judged, exact.primitives, answers, meets),
             printed_digits: printed_digits(written),
+            printed_decimals: printed_decimals(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
             smallest_determinant_missed: f64::INFINITY,
@@ -114,17 +118,43 @@ impl Evidence {
     }
 }
 
+/// The decimals of every t in `written`'s `hit <t> <index>` lines where they all have the
+/// same count, after a point and with no exponent, and there are two or more: a fixed count
+/// printed (`%.4f`). (Its 0.9980 for 0.99797 had a bare t failure.)
+fn printed_decimals(written: &str) -> Option<usize> {
+    let decimals = hit_ts(written).map(|t| {
+        let exponent = t.contains(['e', 'E']);
+        let (_, after) = t.split_once('.')?;
+        (!exponent && after.bytes().all(|b| b.is_ascii_digit())).then_some(after.len())
+    });
+    let mut count = 0;
+    let mut all = None;
+    for n in decimals {
+        let n = n?;
+        if all.is_some_and(|a| a != n) {
+            return None;
+        }
+        all = Some(n);
+        count += 1;
+    }
+    all.filter(|_| count >= 2)
+}
+
+/// The t of each `hit <t> <index>` line of `written`, as written.
+fn hit_ts(written: &str) -> impl Iterator<Item = &str> {
+    written.lines().filter_map(|l| {
+        let mut words = l.split_whitespace();
+        (words.next() == Some("hit"))
+            .then(|| words.next())
+            .flatten()
+    })
+}
+
 /// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written
 /// (`0.10000000000000001`: 17; `1.5`: 2; trailing zeros count, leading ones do not). (By the
 /// value's shortest decimal, 0.1, a `%.17g` program was taken to print 1.)
 fn printed_digits(written: &str) -> usize {
-    (written.lines())
-        .filter_map(|l| {
-            let mut words = l.split_whitespace();
-            (words.next() == Some("hit"))
-                .then(|| words.next())
-                .flatten()
-        })
+    hit_ts(written)
         .map(|t| {
             let mantissa = t.split(['e', 'E']).next().unwrap_or_default();
             let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();

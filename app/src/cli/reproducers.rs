@@ -94,13 +94,13 @@ fn reproducer<T: Real>(
             j.graded.relative,
             match (
                 outside.as_deref(),
-                short_print(exact, i, &j.exact, &answers[i].1, evidence.printed_digits),
+                short_print(exact, i, &j.exact, &answers[i].1, evidence),
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
                 (Some(hint), ..) => format!("; {hint}"),
-                (None, Some(digits), _, _) => format!(
-                    "; t is the exact one to {digits} significant digits: print {0} (%.{0}g)",
+                (None, Some(printed), _, _) => format!(
+                    "; t is the exact one {printed}: print {0} (%.{0}g)",
                     round_trip_digits::<T>()
                 ),
                 (None, None, Some(_), _) => format!(
@@ -721,29 +721,35 @@ fn round_trip_digits<T: Real>() -> usize {
     }
 }
 
-/// Where the program prints fewer significant digits than `T` needs (`printed`, the most of
-/// any t it gave: a C `%g` prints 6) and the given t is the exact t rounded to that many: how
-/// many. The t failure is the printing's, not the arithmetic's. (By the given t's own digits,
-/// a `%.9g` program's t of 1 for 0.99998 was told to print 9.)
+/// Where the program prints fewer significant digits than `T` needs (the most of any t it
+/// gave: a C `%g` prints 6), or a fixed count of decimals (`%.4f`: every t with 4), and the
+/// given t is the exact t rounded so: how it was rounded ("to 6 significant digits", "to 4
+/// decimals (%.4f)"). The t failure is the printing's, not the arithmetic's. (By the given
+/// t's own digits, a `%.9g` program's t of 1 for 0.99998 was told to print 9; a `%.4f` one
+/// got a bare t failure, or the sphere's roots as if its arithmetic were wrong.)
 fn short_print<T: Real>(
     exact: &Exact<T>,
     i: usize,
     standing: &Answer<T>,
     given: &Answer<T>,
-    printed: usize,
-) -> Option<usize> {
+    evidence: &Evidence,
+) -> Option<String> {
     let (Answer::Hit { t: te, prim }, Answer::Hit { t: given, .. }) = (standing, given) else {
         return None;
     };
-    if !given.is_finite()
-        || *given == T::zero()
-        || !(1..round_trip_digits::<T>()).contains(&printed)
-    {
+    if !given.is_finite() || *given == T::zero() {
         return None;
     }
-    // (The exact t to those digits from its f64 estimate, not from t rounded to `T` first:
+    // (The exact t so rounded from its f64 estimate, not from t rounded to `T` first:
     // 10321.649924 in f32 is 10321.650390625, which rounded to 6 digits claimed 10321.7.)
     let fine = fine_t(exact, i, *prim, *te);
-    let rounded = format!("{:.*e}", printed - 1, fine).parse::<T>().ok()?;
-    (rounded == *given).then_some(printed)
+    // (Significant digits first: t's between 1 and 10 at `%.6g` have 5 decimals each.)
+    let rounds_to = |text: String| text.parse::<T>().ok() == Some(*given);
+    let printed = evidence.printed_digits;
+    let short = (1..round_trip_digits::<T>()).contains(&printed);
+    if short && rounds_to(format!("{:.*e}", printed - 1, fine)) {
+        return Some(format!("to {printed} significant digits"));
+    }
+    let n = evidence.printed_decimals?;
+    rounds_to(format!("{fine:.n$}")).then(|| format!("to {n} decimals (%.{n}f)"))
 }

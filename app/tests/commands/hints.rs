@@ -304,7 +304,7 @@ fn the_nearest_hit_rule_needs_a_nearer_hit_passed_over_inside() {
 }
 
 /// A t printed short is named so only where the program prints short, by the digits it
-/// wrote: a t of 1 for 0.9999839 from a program that prints 9 digits elsewhere (or 12, with
+/// wrote (or the decimals, all alike): a t of 1 for 0.9999839 from a program that prints 9 digits elsewhere (or 12, with
 /// trailing zeros) is a t failure and no more (it was told to print 9 digits); from one that
 /// prints 2, the digits to print. And only where the exact t (not t rounded to f32 first)
 /// rounds to it: 1.500065008… is 1.50007 to 6 digits, where its f32 1.500064969 gave 1.50006.
@@ -321,6 +321,14 @@ fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
     assert!(
         h.line(1)
             .ends_with("t is the exact one to 2 significant digits: print 9 (%.9g)]"),
+        "{}",
+        h.out
+    );
+    // A fixed count of decimals, `%.4f` (it had a bare t failure).
+    let h = hints(scene, rays, "hit 1.0000 0\nhit 12.5000 0\n");
+    assert!(
+        h.line(1)
+            .ends_with("t is the exact one to 4 decimals (%.4f): print 9 (%.9g)]"),
         "{}",
         h.out
     );
