@@ -328,23 +328,38 @@ fn missed<T: Real>(
     );
     let placed = fact.is_some();
     facts.extend(fact);
+    // (A sphere missed with nothing else to say of it: its two roots, for the student's
+    // quadratic to be checked against; first where the far one is past tmax, which a program
+    // taking the far root loses: told first of the hit's nearness to tmin, it was misled.)
+    let roots = match (exact.shape(prim), given_hit, placed) {
+        (raylab::geometry::Shape::Sphere(s), None, false) => {
+            let ([near_root, far_root], _, _) = quadratic(exact, i, &s);
+            let tmax = exact.rays[i].1.tmax;
+            let past = far_root >= tmax.f64();
+            let roots = format!(
+                "the ray meets the sphere twice (its discriminant is above 0), at t {}{}",
+                two_roots([near_root, far_root]),
+                match past {
+                    true => format!(": the far one is past tmax {}", shown(tmax)),
+                    false => String::new(),
+                }
+            );
+            Some((roots, past))
+        }
+        _ => None,
+    };
+    let (before, after) = match roots {
+        Some((roots, true)) => (Some(roots), None),
+        other => (None, other.map(|(roots, _)| roots)),
+    };
+    facts.extend(before);
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
             "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin ({})",
             lost_past_tmin(gap, evidence, "loses")
         ));
     }
-    // (A sphere missed with nothing else to say of it: its two roots, for the student's
-    // quadratic to be checked against.)
-    if let (raylab::geometry::Shape::Sphere(s), None, false) =
-        (exact.shape(prim), given_hit, placed)
-    {
-        let (roots, _, _) = quadratic(exact, i, &s);
-        facts.push(format!(
-            "the ray meets the sphere twice (its discriminant is above 0), at t {}",
-            two_roots(roots)
-        ));
-    }
+    facts.extend(after);
     joined(facts)
 }
 

@@ -405,3 +405,23 @@ fn an_index_from_1_is_named_beside_ties_the_program_chose_otherwise() {
         assert!(h.line(n).ends_with(rule), "{}", h.out);
     }
 }
+
+/// A sphere missed where its far root is past tmax says so first (a program taking the far
+/// root loses the near one: told first that the hit was near tmin, a student was misled).
+#[test]
+fn a_sphere_missed_with_its_far_root_past_tmax_says_so() {
+    let scene = "sphere 0 0 20 5\n";
+    let h = hints(
+        scene,
+        "0 0 0 0 0 1 14.9 16\n0 0 0 0 0 1 0 inf\n",
+        "miss\nhit 15 0\n",
+    );
+    assert!(
+        h.line(1).ends_with(
+            "[leak: the ray meets the sphere twice (its discriminant is above 0), at t 15 and \
+             25: the far one is past tmax 16]"
+        ),
+        "{}",
+        h.out
+    );
+}
