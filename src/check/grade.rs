@@ -108,7 +108,10 @@ pub fn parse_answers<T: Real>(
                 let start: String = line.trim().chars().take(60).collect();
                 return Err(at(
                     line_no,
-                    format!("expected 'hit <t> <index>' or 'miss', found '{start}'"),
+                    format!(
+                        "expected 'hit <t> <index>' or 'miss', found '{start}' (other lines \
+                         go to stderr, or start with #)"
+                    ),
                 ));
             }
         };

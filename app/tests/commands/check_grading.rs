@@ -503,7 +503,9 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
         ),
         (
             with_line_3("hot 2 0"),
-            "answers.txt:3: expected 'hit <t> <index>' or 'miss', found 'hot 2 0'",
+            // (A program's debugging line is told where such lines go.)
+            "answers.txt:3: expected 'hit <t> <index>' or 'miss', found 'hot 2 0' (other lines \
+             go to stderr, or start with #)",
         ),
         (with_line_3("hit 2 0 extra"), "answers.txt:3: expected"),
         (
