@@ -194,11 +194,15 @@ pub(super) fn check_timeout(timeout: f64) -> Result<()> {
 pub(super) struct Budget {
     total: Duration,
     spent: Duration,
+    /// Whether it is the default, 5 × --timeout (said where it runs out: a student who set
+    /// none read of "the --budget of 50 s").
+    default: bool,
 }
 
 impl Budget {
     /// As given (more than 0, at most 1e7 seconds), or 5 × --timeout.
     pub(super) fn new(budget: Option<f64>, timeout: f64) -> Result<Budget> {
+        let default = budget.is_none();
         let budget = budget.unwrap_or(5.0 * timeout);
         if !(budget > 0.0 && budget <= 1e7) {
             bail!("--budget {budget:?} must be > 0 and at most 1e7 seconds");
@@ -207,6 +211,7 @@ impl Budget {
         Ok(Budget {
             total,
             spent: Duration::ZERO,
+            default,
         })
     }
 
@@ -222,9 +227,17 @@ impl Budget {
         self.spent += run;
     }
 
-    /// "--budget of N s ran out", for the messages of a run cut or skipped.
+    /// "--budget of N s ran out" (with "5 × --timeout" where none was given), for the
+    /// messages of a run cut or skipped.
     pub(super) fn ran_out(&self) -> String {
-        format!("--budget of {} s ran out", self.total.as_secs_f64())
+        let default = match self.default {
+            true => " (5 × --timeout, as none was given)",
+            false => "",
+        };
+        format!(
+            "--budget of {} s{default} ran out",
+            self.total.as_secs_f64()
+        )
     }
 }
 
@@ -716,4 +729,21 @@ fn check_suite<T: Real>(
     }
     say!("{}", total.line());
     Ok(total.passed())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Budget;
+
+    /// A budget run out names itself, and says it is the default where none was given.
+    #[test]
+    fn a_budget_says_where_it_is_the_default() {
+        let given = Budget::new(Some(2.5), 1.0).unwrap();
+        assert_eq!(given.ran_out(), "--budget of 2.5 s ran out");
+        let default = Budget::new(None, 10.0).unwrap();
+        assert_eq!(
+            default.ran_out(),
+            "--budget of 50 s (5 × --timeout, as none was given) ran out"
+        );
+    }
 }
