@@ -193,6 +193,22 @@ fn inside_on_an_edge_at_a_vertex_and_outside_are_told_apart_exactly() {
     assert_eq!(flat, tri_at(triangle::Location::EdgeOn));
     assert_eq!(at(0.0, 1.0).to_string(), "at vertex v2");
     assert_eq!(at(0.5, 0.0).to_string(), "on the edge v0–v1");
+    // A hit 1.2e-17 (barycentric) inside an edge, in f64 (the check suite's fan of 12, its
+    // triangle 9): the weight is told as it is (f64's own sum gave 0 and -0).
+    let (a, b, c, d) = (
+        0.3f32.into(),
+        (-0.2f32).into(),
+        (-0.8660254f32).into(),
+        1.836_970_146_528_853_8e-16,
+    );
+    let fan: Shape<f64> = Shape::from([[a, b, 0.5], [-d, -1.0, a], [0.5, c, d]]);
+    let ray = Ray::new([2.0, -1.5, 1.0], [-2.0, 0.5, (-0.7f32).into()]);
+    let Location::Triangle(triangle::Location::Inside { nearest, weight }) = fan.locate(&ray)
+    else {
+        panic!("{}", fan.locate(&ray));
+    };
+    assert_eq!(triangle::EDGES[nearest], "v1–v2");
+    assert!((1.1e-17..1.3e-17).contains(&weight), "{weight:e}");
 }
 
 /// A sphere is met, touched or missed by the exact discriminant's sign, at every scale.

@@ -31,6 +31,6 @@ pub use rational::ExactT;
 pub(crate) use rational::QV;
 pub(crate) use rational::{dot, q, qv, sub, Q};
 pub use triangle::{
-    on_plane, orient_rational, plane_side, plane_side_f64, plane_t, plane_t_rounded, zero_area,
-    zero_area_contact,
+    on_plane, orient_rational, orient_value, plane_side, plane_side_f64, plane_t, plane_t_rounded,
+    zero_area, zero_area_contact,
 };

@@ -44,6 +44,15 @@ pub fn orient_rational(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> Or
     sign(&dot(&qv(d), &cross(&pa, &pb)))
 }
 
+/// det[d, a − o, b − o] in rationals, rounded to f64: the size of an orientation whose f64
+/// value is lost in its rounding (for showing: a weight of 1.2e-17 came out 0 and -0).
+pub fn orient_value(d: [f64; 3], o: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    use num_traits::ToPrimitive;
+    let o = qv(o);
+    let (pa, pb) = (sub(&qv(a), &o), sub(&qv(b), &o));
+    dot(&qv(d), &cross(&pa, &pb)).to_f64().unwrap_or(f64::NAN)
+}
+
 /// The exact t of the line o + t·d at the plane of triangle v (`None` if parallel).
 pub fn plane_t(o: [f64; 3], d: [f64; 3], v: &[[f64; 3]; 3]) -> Option<ExactT> {
     let o = qv(o);

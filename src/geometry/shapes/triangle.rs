@@ -593,10 +593,20 @@ fn locate(v: &[[f64; 3]; 3], o: [f64; 3], d: [f64; 3]) -> Location {
     let zeros: Vec<usize> = (0..3).filter(|&k| signs[k] == Ordering::Equal).collect();
     match zeros[..] {
         [] => {
-            // The same determinants in plain f64, for showing sizes only.
+            // The same determinants in plain f64, for showing sizes only; in rationals where
+            // f64's lies within 2¹⁰ times its rounding (a weight of 1.2e-17 showed as 0 and
+            // -0; from there f64's is good to 0.1%).
+            let norm = |x: [f64; 3]| dot(x, x).sqrt();
             let values = [0, 1, 2].map(|k| {
-                let (p, q) = (sub(v[k], o), sub(v[(k + 1) % 3], o));
-                dot(d, cross(p, q))
+                let (a, b) = (v[k], v[(k + 1) % 3]);
+                let (p, q) = (sub(a, o), sub(b, o));
+                let value = dot(d, cross(p, q));
+                let rounding =
+                    8.0 * f64::EPSILON * norm(d) * (norm(a) + norm(o)) * (norm(b) + norm(o));
+                match value.abs() <= 1024.0 * rounding {
+                    true => exact::orient_value(d, o, a, b),
+                    false => value,
+                }
             });
             let total: f64 = values.iter().sum();
             let weights = values.map(|x| x / total);
