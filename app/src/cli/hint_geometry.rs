@@ -39,18 +39,17 @@ pub(super) fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3
 }
 
 /// Where ray `i` meets triangle `prim` inside but within rounding of an edge: the edge it
-/// passes nearest, and the barycentric weight of the vertex opposite where its f64 estimate
-/// holds (above 100 times its own rounding: a weight of 1.2e-17 was estimated as 0 and -0).
-/// Within rounding: a weight below 2¹⁰ unit roundoffs of the precision graded, times the
-/// system's condition (|e1| |d| |e2| / |det|) and the reach of its coordinates (1 + (|o| +
-/// |v0|) / the triangle's extent): a correct program can round it past the edge. (A correct
-/// f64 program that rounded away a hit 1.2e-17 inside an edge of a face met from its back
-/// was told it culled back faces.)
+/// passes nearest and the barycentric weight of the vertex opposite. Within rounding: a
+/// weight below 2¹⁰ unit roundoffs of the precision graded, times the system's condition
+/// (|e1| |d| |e2| / |det|) and the reach of its coordinates (1 + (|o| + |v0|) / the
+/// triangle's extent): a correct program can round it past the edge. (A correct f64 program
+/// that rounded away a hit 1.2e-17 inside an edge of a face met from its back was told it
+/// culled back faces.)
 pub(super) fn within_rounding_of_edge<T: Real>(
     exact: &Exact<T>,
     i: usize,
     prim: u32,
-) -> Option<(usize, Option<f64>)> {
+) -> Option<(usize, f64)> {
     use raylab::geometry::{triangle, Location, Shape};
     let shape = exact.shape(prim);
     let Shape::Triangle(tri) = &shape else {
@@ -66,10 +65,8 @@ pub(super) fn within_rounding_of_edge<T: Real>(
     let condition = terms(exact, i, tri) / determinant(exact, i, tri).abs();
     let extent = length(sub(v[1], v[0])).max(length(sub(v[2], v[0])));
     let reach = 1.0 + (length(o) + length(v[0])) / extent;
-    let rounding = |unit_roundoff: f64| unit_roundoff * condition * reach;
-    let estimated = weight > 100.0 * rounding(f64::EPSILON / 2.0);
-    (weight < 1024.0 * rounding(T::UNIT_ROUNDOFF.f64()))
-        .then_some((nearest, estimated.then_some(weight)))
+    let bound = 1024.0 * T::UNIT_ROUNDOFF.f64() * condition * reach;
+    (weight < bound).then_some((nearest, weight))
 }
 
 /// Whether ray `i` meets primitive `prim` clearly inside: a triangle inside, neither within

@@ -603,21 +603,14 @@ fn where_on<T: Real>(
                 Shape::Triangle(tri) => determinant_rounds(exact, i, tri),
                 Shape::Sphere(_) => false,
             };
-            let edge = within_rounding_of_edge(exact, i, prim)
-                .filter(|&(_, w)| w.is_none_or(|w| w < 1e-3));
+            let edge = within_rounding_of_edge(exact, i, prim).filter(|&(_, w)| w < 1e-3);
             if let (Some((edge, weight)), false) = (edge, rounded_weights) {
-                let edge = raylab::geometry::triangle::EDGES[edge];
-                let rule = "u, v or u + v rounded past 0 or 1 loses it";
-                facts.push(match weight {
-                    Some(w) => format!(
-                        "the exact hit is inside the triangle, {w:.1e} (barycentric) from its \
-                         edge {edge}: within rounding of it ({rule})"
-                    ),
-                    None => format!(
-                        "the exact hit is inside the triangle, within rounding of its edge \
-                         {edge} ({rule})"
-                    ),
-                });
+                facts.push(format!(
+                    "the exact hit is inside the triangle, {weight:.1e} (barycentric) from its \
+                     edge {}: within rounding of it (u, v or u + v rounded past 0 or 1 loses \
+                     it)",
+                    raylab::geometry::triangle::EDGES[edge]
+                ));
             }
             let given_faces_back = given.is_some_and(|g| met_from_back(&exact.shape(g)));
             if back && met_from_back(&shape) && !given_faces_back {

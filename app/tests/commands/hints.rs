@@ -70,9 +70,10 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     let h = hints(scene, rays, "miss\nmiss\nhit 2 1\nhit 1.0000001 2\n");
     assert!(
         h.line(1).ends_with(
-            "[leak: the exact hit is inside the triangle, within rounding of its edge v0–v1 (u, \
-             v or u + v rounded past 0 or 1 loses it); the exact hit is on the triangle's back \
-             (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both sides count]"
+            "[leak: the exact hit is inside the triangle, 1.0e-17 (barycentric) from its edge \
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both \
+             sides count]"
         ),
         "{}",
         h.out
@@ -258,14 +259,13 @@ fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
     );
     assert!(
         h.line(1).ends_with(
-            "[leak: the exact hit is inside the triangle, within rounding of its edge v0–v1 (u, \
-             v or u + v rounded past 0 or 1 loses it)]"
+            "[leak: the exact hit is inside the triangle, 1.2e-17 (barycentric) from its edge \
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it)]"
         ),
         "{}",
         h.out
     );
-    // In f32, 10⁻⁶ inside is within rounding too, and f64 tells how far (1.2e-17, which
-    // f64 estimates as 0 or -0, is not shown).
+    // In f32, 10⁻⁶ inside is within rounding too.
     let h = hints(scene, "0.3 1e-6 0 0 0 1 0 inf\n", "miss\n");
     assert!(
         h.line(1).ends_with(
