@@ -4,7 +4,7 @@
 //! program that rounds a hit on a tiny cube's edge away was told of an epsilon it did not
 //! have, and one printing `%.9g` to print 9 digits.
 
-use super::hint_geometry::{clearly_inside, determinant, faces_back, near, near_an_end};
+use super::hint_geometry::{clearly_inside, determinant, faces_back, near, near_an_end, past_tmin};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;
@@ -35,6 +35,10 @@ pub(super) struct Evidence {
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
+    /// The smallest t − tmin of a hit the program missed clearly inside its primitive and not
+    /// within rounding of tmin, near enough to tmin for an epsilon in its place to lose it
+    /// ([`past_tmin`]).
+    pub smallest_gap_missed: f64,
     /// Whether the program gave a farther primitive where the exact hit is clearly inside its
     /// primitive ([`clearly_inside`], not within rounding of tmin or tmax): it passes over
     /// nearer hits, not only rounds them away.
@@ -60,6 +64,7 @@ impl Evidence {
             smallest_determinant_missed: f64::INFINITY,
             misses_backs: false,
             smallest_gap_met: f64::INFINITY,
+            smallest_gap_missed: f64::INFINITY,
             passes_nearer: false,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
@@ -71,8 +76,12 @@ impl Evidence {
             };
             let missed = farther || j.graded.verdict == Verdict::Leak;
             if let (true, Answer::Hit { t: te, prim }) = (missed, j.exact) {
-                let inside = !near_an_end(exact, i, te.f64()) && clearly_inside(exact, i, prim);
+                let inside =
+                    !near_an_end(exact, i, prim, te.f64()) && clearly_inside(exact, i, prim);
                 evidence.passes_nearer |= farther && inside;
+                if let (true, Some((gap, true))) = (inside, past_tmin(exact, i, te.f64())) {
+                    evidence.smallest_gap_missed = evidence.smallest_gap_missed.min(gap);
+                }
                 if let (true, Shape::Triangle(tri)) = (inside, exact.shape(prim)) {
                     let det = determinant(exact, i, &tri).abs();
                     let smallest = &mut evidence.smallest_determinant_missed;
@@ -104,6 +113,16 @@ impl Evidence {
     /// inside an edge of a back face, alone in its run, was told it culled.)
     pub fn culls_backs(&self) -> bool {
         !self.meets_backs && self.misses_backs
+    }
+
+    /// Below which t − tmin the run bears out an epsilon in tmin's place: the smallest gap
+    /// the program met right, where it missed a hit with a smaller one (clearly inside, not
+    /// within rounding of tmin); else 0. (A run of one ray named it beside nothing.)
+    pub fn tmin_epsilon_below(&self) -> f64 {
+        match self.smallest_gap_missed < self.smallest_gap_met {
+            true => self.smallest_gap_met,
+            false => 0.0,
+        }
     }
 
     /// Below which |determinant| the run bears out an epsilon on it: the smallest the

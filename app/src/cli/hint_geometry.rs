@@ -78,11 +78,39 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
     let shape = exact.shape(prim);
     match (&shape, shape.locate(&exact.rays[i].1.ray)) {
         (Shape::Triangle(tri), Location::Triangle(triangle::Location::Inside { .. })) => {
-            !determinant_rounds(exact, i, tri) && within_rounding_of_edge(exact, i, prim).is_none()
+            // (Its products of three in the precision's normal range, with its digits to
+            // spare: a correct f32 program loses the suite's subnormal cube's hits to
+            // underflow, and was told it culled.)
+            let range =
+                (T::MIN_NORMAL_EXP + T::PRECISION) as i32..(T::MAX_EXP - T::PRECISION) as i32;
+            let scale = terms(exact, i, tri).log2();
+            range.contains(&(scale as i32))
+                && !determinant_rounds(exact, i, tri)
+                && within_rounding_of_edge(exact, i, prim).is_none()
         }
-        (_, Location::Sphere(sphere::Location::Through)) => true,
+        // (Its discriminant clear of the textbook b² − a·c's rounding: a correct program's
+        // far tiny sphere can lose a ray through it near the rim.)
+        (Shape::Sphere(s), Location::Sphere(sphere::Location::Through)) => {
+            let (a, _, oc2, disc) = sphere_terms(exact, i, s);
+            disc > 1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2
+        }
         _ => false,
     }
+}
+
+/// Ray `i` against sphere `s`, in f64: a = d·d, b = d·(o − c), |o − c|² and the
+/// discriminant b² − a·c (as a·r² − |d × (o − c)|²).
+fn sphere_terms<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    s: &raylab::geometry::Sphere<T>,
+) -> (f64, f64, f64, f64) {
+    let (o, d) = o_and_d(exact, i);
+    let (centre, r) = (s.centre.map(|c| c.f64()), s.radius.f64());
+    let oc = sub(o, centre);
+    let across = cross(d, oc);
+    let a = dot(d, d);
+    (a, dot(d, oc), dot(oc, oc), a * r * r - dot(across, across))
 }
 
 /// How far past the ray's tmin the exact hit at `te` lies (t − tmin), and whether that is
@@ -96,16 +124,25 @@ pub(super) fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<
     tmin.is_finite().then_some((gap, near))
 }
 
-/// Whether the exact hit at `te` lies within rounding of the ray's tmin or tmax: its point
-/// within 2¹⁰ unit roundoffs of the precision graded of |o| + |t·d| from the end's, where a
-/// correct program's rounded t can fall past it.
-pub(super) fn near_an_end<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> bool {
+/// Whether the exact hit at `te` on primitive `prim` lies within rounding of the ray's tmin
+/// or tmax, where a correct program's rounded t can fall past it: within 2⁶ unit roundoffs of
+/// the precision graded of |o| / |d| + |t|, times the condition of t (a triangle's |e1| |d|
+/// |e2| / |det|; a sphere's |b| / √(b² − a·c), which grows toward its rim).
+pub(super) fn near_an_end<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: f64) -> bool {
+    use raylab::geometry::Shape;
     let (o, d) = o_and_d(exact, i);
     let ray = &exact.rays[i].1;
-    let reach = 1024.0 * T::UNIT_ROUNDOFF.f64() * (length(o) + te.abs() * length(d));
+    let condition = match exact.shape(prim) {
+        Shape::Triangle(tri) => terms(exact, i, &tri) / determinant(exact, i, &tri).abs(),
+        Shape::Sphere(s) => {
+            let (_, b, _, disc) = sphere_terms(exact, i, &s);
+            1.0 + b.abs() / disc.max(0.0).sqrt()
+        }
+    };
+    let rounding = 64.0 * T::UNIT_ROUNDOFF.f64() * (length(o) / length(d) + te.abs()) * condition;
     [ray.tmin.f64(), ray.tmax.f64()]
         .into_iter()
-        .any(|end| end.is_finite() && (te - end).abs() * length(d) <= reach)
+        .any(|end| end.is_finite() && (te - end).abs() <= rounding)
 }
 
 /// The size of Möller–Trumbore's determinant's terms for ray `i` and triangle `tri`:

@@ -664,10 +664,11 @@ fn fine_t<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: T) -> f64 {
 }
 
 /// What `loses` (or skips) a hit `gap` past tmin: t rounded to tmin or below, and an epsilon
-/// in tmin's place only where the program answered no hit as near tmin right (a correct f32
-/// program that got a hit 1.4e-8 past tmin was told of an epsilon beside one 4.3e-8 past it).
+/// in tmin's place only where the run bears one out ([`Evidence::tmin_epsilon_below`]: a
+/// correct f32 program that got a hit 1.4e-8 past tmin was told of an epsilon beside one
+/// 4.3e-8 past it).
 fn lost_past_tmin(gap: f64, evidence: &Evidence, loses: &str) -> String {
-    match gap < evidence.smallest_gap_met {
+    match gap < evidence.tmin_epsilon_below() {
         true => {
             format!("an epsilon in its place {loses} it, and so does t rounded to tmin or below")
         }
