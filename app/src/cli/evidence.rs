@@ -18,6 +18,9 @@ pub(super) struct Evidence {
     /// The most significant digits of any t as the program wrote it ([`printed_digits`]):
     /// the digits it prints (`%g`: 6, `%.9g`: 9), where it prints a fixed count.
     pub printed_digits: usize,
+    /// Whether the t's were written with different counts of significant digits (`%.4f`'s
+    /// 0.7658 and 1.2345: a fixed count of decimals, not of digits).
+    pub digits_vary: bool,
     /// The decimals every t was written with, where all have the same count and no
     /// exponent, two or more of them (`%.4f`: 4) ([`printed_decimals`]).
     pub printed_decimals: Option<usize>,
@@ -55,9 +58,11 @@ impl Evidence {
         written: &str,
         meets: impl Fn(usize, u32, f64) -> bool,
     ) -> Self {
+        let (printed_digits, digits_vary) = printed_digits(written);
         let mut evidence = Evidence {
             shift: index_shift(judged, exact.primitives, answers, meets),
-            printed_digits: printed_digits(written),
+            printed_digits,
+            digits_vary,
             printed_decimals: printed_decimals(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
@@ -170,17 +175,22 @@ fn hit_ts(written: &str) -> impl Iterator<Item = &str> {
 }
 
 /// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written
-/// (`0.10000000000000001`: 17; `1.5`: 2; trailing zeros count, leading ones do not). (By the
+/// (`0.10000000000000001`: 17; `1.5`: 2; trailing zeros count, leading ones do not), where
+/// two t's or more have them, else 0 (one t is no evidence: a `%.9g` program's lone t of 1
+/// for 0.9999839 was told to print 9); and whether the t's have different counts. (By the
 /// value's shortest decimal, 0.1, a `%.17g` program was taken to print 1.)
-fn printed_digits(written: &str) -> usize {
-    hit_ts(written)
+fn printed_digits(written: &str) -> (usize, bool) {
+    let digits: Vec<usize> = hit_ts(written)
         .map(|t| {
             let mantissa = t.split(['e', 'E']).next().unwrap_or_default();
             let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
             digits.trim_start_matches('0').len()
         })
-        .max()
-        .unwrap_or(0)
+        .collect();
+    let most = digits.iter().copied().max().unwrap_or(0);
+    let twice = digits.iter().filter(|&&n| n == most).count() >= 2;
+    let vary = digits.iter().any(|&n| n != most);
+    (if twice { most } else { 0 }, vary)
 }
 
 /// The index every primitive given at the exact hit's t is off by, 1 or −1: each such

@@ -40,7 +40,7 @@ pub(super) fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3
 
 /// Where ray `i` meets triangle `prim` inside but within rounding of an edge: the edge it
 /// passes nearest and the barycentric weight of the vertex opposite. Within rounding: a
-/// weight below 2¹⁰ unit roundoffs of the precision graded, times the system's condition
+/// weight below 2⁶ unit roundoffs of the precision graded, times the system's condition
 /// (|e1| |d| |e2| / |det|) and the reach of its coordinates (1 + (|o| + |v0|) / the
 /// triangle's extent): a correct program can round it past the edge. (A correct f64 program
 /// that rounded away a hit 1.2e-17 inside an edge of a face met from its back was told it
@@ -65,7 +65,7 @@ pub(super) fn within_rounding_of_edge<T: Real>(
     let condition = terms(exact, i, tri) / determinant(exact, i, tri).abs();
     let extent = length(sub(v[1], v[0])).max(length(sub(v[2], v[0])));
     let reach = 1.0 + (length(o) + length(v[0])) / extent;
-    let bound = 1024.0 * T::UNIT_ROUNDOFF.f64() * condition * reach;
+    let bound = 64.0 * T::UNIT_ROUNDOFF.f64() * condition * reach;
     (weight < bound).then_some((nearest, weight))
 }
 

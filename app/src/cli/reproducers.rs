@@ -759,13 +759,23 @@ fn short_print<T: Real>(
     // (The exact t so rounded from its f64 estimate, not from t rounded to `T` first:
     // 10321.649924 in f32 is 10321.650390625, which rounded to 6 digits claimed 10321.7.)
     let fine = fine_t(exact, i, *prim, *te);
-    // (Significant digits first: t's between 1 and 10 at `%.6g` have 5 decimals each.)
+    // (Decimals where the t's significant digits vary, as `%.4f`'s do (0.7658 is 0.7657972
+    // to 5 digits too); else digits first: t's between 1 and 10 at `%.6g` have 5 decimals
+    // each.)
     let rounds_to = |text: String| text.parse::<T>().ok() == Some(*given);
+    let decimals = (evidence.printed_decimals)
+        .filter(|&n| rounds_to(format!("{fine:.n$}")))
+        .map(|n| format!("to {n} decimals (%.{n}f)"));
+    if evidence.digits_vary && decimals.is_some() {
+        return decimals;
+    }
     let printed = evidence.printed_digits;
     let short = (1..round_trip_digits::<T>()).contains(&printed);
-    if short && rounds_to(format!("{:.*e}", printed - 1, fine)) {
-        return Some(format!("to {printed} significant digits"));
+    match short && rounds_to(format!("{:.*e}", printed - 1, fine)) {
+        true => Some(format!(
+            "to {}",
+            raylab::words::count(printed, "significant digit", "significant digits")
+        )),
+        false => decimals,
     }
-    let n = evidence.printed_decimals?;
-    rounds_to(format!("{fine:.n$}")).then(|| format!("to {n} decimals (%.{n}f)"))
 }

@@ -316,21 +316,28 @@ fn the_nearest_hit_rule_needs_a_nearer_hit_passed_over_inside() {
     }
 }
 
-/// A t printed short is named so only where the program prints short, by the digits it
-/// wrote (or the decimals, all alike): a t of 1 for 0.9999839 from a program that prints 9 digits elsewhere (or 12, with
-/// trailing zeros) is a t failure and no more (it was told to print 9 digits); from one that
+/// A t printed short is named so only where the program prints short, by the digits two or
+/// more of its t's were written with (or the decimals all were): a t of 1 for 0.9999839 from
+/// a program that prints 9 digits elsewhere (or 12, with trailing zeros), or from a run of
+/// that one answer, is a t failure and no more (it was told to print 9 digits); from one that
 /// prints 2, the digits to print. And only where the exact t (not t rounded to f32 first)
 /// rounds to it: 1.500065008… is 1.50007 to 6 digits, where its f32 1.500064969 gave 1.50006.
 #[test]
 fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
     let scene = "tri -1 -1 0.9999839 1 -1 0.9999839 0 1 0.9999839\n";
-    let rays = "0 0 0 0 0 1 0 inf\n0 0 0 0 0 1 0 inf\n";
+    let rays = "0 0 0 0 0 1 0 inf\n".repeat(3);
     for other in ["1.23456789", "1.50000000000"] {
-        let h = hints(scene, rays, &format!("hit 1 0\nhit {other} 0\n"));
+        let h = hints(
+            scene,
+            &rays,
+            &format!("hit 1 0\nhit {other} 0\nhit {other} 0\n"),
+        );
         let line = h.line(1);
         assert!(line.ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
     }
-    let h = hints(scene, rays, "hit 1 0\nhit 1.5 0\n");
+    let h = hints(scene, &rays[..18], "hit 1 0\n");
+    assert!(h.line(1).ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    let h = hints(scene, &rays, "hit 1 0\nhit 1.5 0\nhit 2.5 0\n");
     assert!(
         h.line(1)
             .ends_with("t is the exact one to 2 significant digits: print 9 (%.9g)]"),
@@ -338,7 +345,7 @@ fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
         h.out
     );
     // A fixed count of decimals, `%.4f` (it had a bare t failure).
-    let h = hints(scene, rays, "hit 1.0000 0\nhit 12.5000 0\n");
+    let h = hints(scene, &rays[..36], "hit 1.0000 0\nhit 12.5000 0\n");
     assert!(
         h.line(1)
             .ends_with("t is the exact one to 4 decimals (%.4f): print 9 (%.9g)]"),
