@@ -31,8 +31,9 @@ pub(super) struct Evidence {
     pub meets_backs: bool,
     /// The smallest |determinant| of a triangle the program missed (a leak, or a farther
     /// primitive given) where the ray meets it clearly inside ([`clearly_inside`]) and not
-    /// within rounding of tmin or tmax ([`near_an_end`]): a bug's miss, not rounding's.
-    pub smallest_determinant_missed: f64,
+    /// within rounding of tmin or tmax ([`near_an_end`]): a bug's miss, not rounding's; met
+    /// from its front, and from its back.
+    pub smallest_determinant_missed: [f64; 2],
     /// Whether such a miss was of a triangle met from its back.
     pub misses_backs: bool,
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
@@ -40,8 +41,8 @@ pub(super) struct Evidence {
     pub smallest_gap_met: f64,
     /// The smallest t − tmin of a hit the program missed clearly inside its primitive and not
     /// within rounding of tmin, near enough to tmin for an epsilon in its place to lose it
-    /// ([`past_tmin`]).
-    pub smallest_gap_missed: f64,
+    /// ([`past_tmin`]); on a sphere or a triangle's front, and on a triangle's back.
+    pub smallest_gap_missed: [f64; 2],
     /// Whether the program gave a farther primitive where the exact hit is clearly inside its
     /// primitive ([`clearly_inside`], not within rounding of tmin or tmax): it passes over
     /// nearer hits, not only rounds them away.
@@ -66,10 +67,10 @@ impl Evidence {
             printed_decimals: printed_decimals(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
-            smallest_determinant_missed: f64::INFINITY,
+            smallest_determinant_missed: [f64::INFINITY; 2],
             misses_backs: false,
             smallest_gap_met: f64::INFINITY,
-            smallest_gap_missed: f64::INFINITY,
+            smallest_gap_missed: [f64::INFINITY; 2],
             passes_nearer: false,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
@@ -84,14 +85,20 @@ impl Evidence {
                 let inside =
                     !near_an_end(exact, i, prim, te.f64()) && clearly_inside(exact, i, prim);
                 evidence.passes_nearer |= farther && inside;
+                let triangle = match exact.shape(prim) {
+                    Shape::Triangle(tri) => Some(tri),
+                    Shape::Sphere(_) => None,
+                };
+                let back = triangle.is_some_and(|tri| faces_back(exact, i, &tri));
                 if let (true, Some((gap, true))) = (inside, past_tmin(exact, i, te.f64())) {
-                    evidence.smallest_gap_missed = evidence.smallest_gap_missed.min(gap);
+                    let smallest = &mut evidence.smallest_gap_missed[back as usize];
+                    *smallest = smallest.min(gap);
                 }
-                if let (true, Shape::Triangle(tri)) = (inside, exact.shape(prim)) {
+                if let (true, Some(tri)) = (inside, triangle) {
                     let det = determinant(exact, i, &tri).abs();
-                    let smallest = &mut evidence.smallest_determinant_missed;
+                    let smallest = &mut evidence.smallest_determinant_missed[back as usize];
                     *smallest = smallest.min(det);
-                    evidence.misses_backs |= faces_back(exact, i, &tri);
+                    evidence.misses_backs |= back;
                 }
             }
             if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
@@ -124,20 +131,30 @@ impl Evidence {
     /// the program met right, where it missed a hit with a smaller one (clearly inside, not
     /// within rounding of tmin); else 0. (A run of one ray named it beside nothing.)
     pub fn tmin_epsilon_below(&self) -> f64 {
-        match self.smallest_gap_missed < self.smallest_gap_met {
+        match self.unculled(self.smallest_gap_missed) < self.smallest_gap_met {
             true => self.smallest_gap_met,
             false => 0.0,
         }
     }
 
     /// Below which |determinant| the run bears out an epsilon on it: the smallest the
-    /// program met right, where it missed a triangle met clearly inside with a smaller one;
-    /// else 0. (A run of one ray, with nothing met right, named an epsilon for a hit rounded
+    /// program met right, where it missed a triangle met clearly inside with a smaller one
+    /// (not a back it is shown to cull); else 0. (A run of one ray, with nothing met right, named an epsilon for a hit rounded
     /// away beside an edge.)
     pub fn epsilon_below(&self) -> f64 {
-        match self.smallest_determinant_missed < self.smallest_determinant_met {
+        match self.unculled(self.smallest_determinant_missed) < self.smallest_determinant_met {
             true => self.smallest_determinant_met,
             false => 0.0,
+        }
+    }
+
+    /// The smaller of a front face's and a back face's `[front, back]`, or the front's where
+    /// the run bears out culled backs: those misses are culling's. (A culling program was
+    /// told of an epsilon on back faces met near tmin, and not of the back.)
+    fn unculled(&self, [front, back]: [f64; 2]) -> f64 {
+        match self.culls_backs() {
+            true => front,
+            false => front.min(back),
         }
     }
 }

@@ -282,6 +282,11 @@ fn missed<T: Real>(
         return joined(facts);
     };
     let te = te_shown.f64();
+    // (Behind the origin with tmin < 0, where the given t is not: that explains the hit
+    // passed over, and a program ignoring tmin was told the nearest hit wins.)
+    let tmin = exact.rays[i].1.tmin;
+    let behind = te < 0.0 && tmin.f64() < 0.0;
+    let behind_explains = behind && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0);
     match given_hit {
         Some((_, p)) if p == prim => return joined(facts),
         Some((t, p)) if facts.is_empty() && near(t.f64(), te) => facts.push(format!(
@@ -296,16 +301,14 @@ fn missed<T: Real>(
             "the given t {} is past the exact hit's t {}: {}",
             shown(t),
             shown(te_shown),
-            match evidence.passes_nearer {
+            match evidence.passes_nearer && !behind_explains {
                 true => "the nearest hit wins",
                 false => "the nearer hit is missed",
             }
         )),
         _ => {}
     }
-    let tmin = exact.rays[i].1.tmin;
-    let behind = te < 0.0 && tmin.f64() < 0.0;
-    if behind && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0) {
+    if behind_explains {
         facts.push(format!(
             "the exact hit is behind the origin (t {}), which counts where tmin < 0 (here {})",
             shown(te_shown),
@@ -314,9 +317,9 @@ fn missed<T: Real>(
         return joined(facts);
     }
     facts.extend(small_determinant(exact, i, prim, evidence.epsilon_below()));
-    // (An epsilon's loss, where it could be one, rather than the face's side: both true, the
-    // first the likelier cause of a hit this near tmin; beside a tangent, which explains the
-    // miss, it was noise.)
+    // (An epsilon's loss, where the run bears one out, rather than the face's side: both
+    // true, the first the likelier cause of a hit this near tmin; beside a tangent, which
+    // explains the miss, it was noise.)
     let near = gap_past_tmin(exact, i, standing).filter(|&(gap, near)| near && gap > 0.0);
     let (fact, tangent) = where_on(
         exact,
@@ -324,7 +327,7 @@ fn missed<T: Real>(
         te,
         prim,
         given_hit.map(|(_, p)| p),
-        near.is_none() && evidence.culls_backs(),
+        evidence.culls_backs() && near.is_none_or(|(gap, _)| gap >= evidence.tmin_epsilon_below()),
     );
     let placed = fact.is_some();
     facts.extend(fact);

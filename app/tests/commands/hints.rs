@@ -170,9 +170,10 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
 /// A hint that names a bug holds only where the program's other answers bear it out: a leak
 /// on the edge of a tiny triangle met from its back is told of the edge (and of rounding), not
 /// of an epsilon on the determinant nor of culled back faces where the program met the same
-/// triangle from its back inside, with the same determinant; where it met nothing, of all
-/// three. (A correct f32 program that rounded a tiny cube's edge away was told of an epsilon
-/// it did not have.)
+/// triangle from its back inside, with the same determinant; where it met nothing, of the
+/// back (culling explains both misses: no epsilon is borne out), and met from its front, of
+/// the epsilon. (A correct f32 program that rounded a tiny cube's edge away was told of an
+/// epsilon it did not have; a culling program, of an epsilon on its backs.)
 #[test]
 fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
     // Met from its back (d·n = 10⁻⁶ > 0), inside and on its edge v0–v1, both at t 1.
@@ -188,12 +189,23 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
     let h = hints(scene, rays, "miss\nmiss\n");
     for line in [h.line(1), h.line(2)] {
         assert!(
-            line.contains(determinant) && line.contains(back),
+            !line.contains("epsilon") && line.contains(back),
             "{}",
             h.out
         );
     }
     assert!(h.line(2).contains(edge), "{}", h.out);
+    // The same triangle met from its front (v1 and v2 swapped: the edge is v2–v0 now).
+    let front = "tri 0 0 1 0 0.001 1 0.001 0 1\n";
+    let h = hints(front, rays, "miss\nmiss\n");
+    let determinant = determinant.replace("-1.0e-6", "1.0e-6");
+    for line in [h.line(1), h.line(2)] {
+        assert!(
+            line.contains(&determinant) && !line.contains(back),
+            "{}",
+            h.out
+        );
+    }
 }
 
 /// An epsilon in tmin's place, and one on the determinant, are named only where no hit as
@@ -204,7 +216,8 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
 /// epsilon beside a hit nearer tmin it had answered right.)
 #[test]
 fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
-    let scene = "tri 0 0 1e-8 1 0 1e-8 0 1 1e-8\ntri 2 0 3e-8 3 0 3e-8 2 1 3e-8\n";
+    // (Met from their fronts: misses of backs would be culling's.)
+    let scene = "tri 0 0 1e-8 0 1 1e-8 1 0 1e-8\ntri 2 0 3e-8 2 1 3e-8 3 0 3e-8\n";
     let rays = "0.2 0.2 0 0 0 1 0 inf\n2.2 0.2 0 0 0 1 0 inf\n";
     let rounded = "the exact hit is only 3.0e-8 past tmin: a hit counts however near tmin (";
     let h = hints(scene, rays, "hit 1e-08 0\nmiss\n");
@@ -218,20 +231,20 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
          below)]"
     );
     assert!(h.line(2).ends_with(&both), "{}", h.out);
-    // A ray grazing the plane z = 0: determinants -5e-8 and -1e-7.
-    let scene = "tri 0 0 0 1 0 0 0 1 0\n";
+    // A ray grazing the plane z = 0 (met from the front): determinants 5e-8 and 1e-7.
+    let scene = "tri 0 0 0 0 1 0 1 0 0\n";
     let rays = "0.1 0.25 -5e-9 1 0 5e-8 0 inf\n0.1 0.25 -1e-8 1 0 1e-7 0 inf\n";
     let rounds = "below the rounding of its terms in f32: rounded, it can come out 0 or with the \
                   other sign";
     let h = hints(scene, rays, "hit 0.1 0\nmiss\n");
     assert!(
-        h.line(2).ends_with(&format!("is -1.0e-7, {rounds}]")),
+        h.line(2).ends_with(&format!("is 1.0e-7, {rounds}]")),
         "{}",
         h.out
     );
     let h = hints(scene, rays, "miss\nmiss\n");
     assert!(
-        h.line(2).ends_with(&format!("is -1.0e-7, {rounds}]")),
+        h.line(2).ends_with(&format!("is 1.0e-7, {rounds}]")),
         "{}",
         h.out
     );
@@ -239,7 +252,7 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
     // met right, not below it.
     let f64 = ["--precision", "f64"];
     let h = hints_with(scene, rays, "miss\nmiss\n", &f64);
-    let epsilon = "is -1.0e-7, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
+    let epsilon = "is 1.0e-7, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
     assert!(h.line(2).contains(epsilon), "{}", h.out);
     let h = hints_with(scene, rays, "hit 0.1 0\nmiss\n", &f64);
     assert!(h.line(2).ends_with("[leak]"), "{}", h.out);
@@ -314,6 +327,20 @@ fn the_nearest_hit_rule_needs_a_nearer_hit_passed_over_inside() {
     for n in [1, 2] {
         assert!(h.line(n).contains("1: the nearest hit wins"), "{}", h.out);
     }
+    // A hit behind the origin passed over (tmin −∞) is told so, not the rule: the program
+    // ignores tmin (it was told "the nearest hit wins").
+    let scene = "tri 0 0 -1.5 1 0 -1.5 0 1 -1.5\ntri -5 -5 2 5 -5 2 0 5 2\n";
+    let rays = "0.25 0.25 0 0 0 1 -inf inf\n0.25 0.25 0 0 0 1 -inf inf\n";
+    let h = hints(scene, rays, "hit 2 1\nhit 2 1\n");
+    assert!(
+        h.line(1).ends_with(
+            "[wrong primitive: the given t 2 is past the exact hit's t -1.5: the nearer hit is \
+             missed; the exact hit is behind the origin (t -1.5), which counts where tmin < 0 \
+             (here -inf)]"
+        ),
+        "{}",
+        h.out
+    );
 }
 
 /// A t printed short is named so only where the program prints short, by the digits two or
@@ -389,14 +416,15 @@ fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
         "{}",
         h.out
     );
-    let tiny = "tri 0 0 1e-20 1e-20 0 1e-20 0 1e-20 1e-20\n";
+    // (Met from its front: a back's miss would be culling's.)
+    let tiny = "tri 0 0 1e-20 0 1e-20 1e-20 1e-20 0 1e-20\n";
     let ray = "2e-21 2e-21 0 0 0 1 0 inf\n";
     // (In f32 no epsilon: underflow explains the miss, and a correct f32 program that lost
     // the suite's subnormal cube so was told it culled.)
     let h = hints(tiny, ray, "miss\n");
     assert!(
         h.line(1).contains(
-            "is -1.0e-40, below f32's smallest normal number 1.2e-38: in f32 it comes out 0 or \
+            "is 1.0e-40, below f32's smallest normal number 1.2e-38: in f32 it comes out 0 or \
              without its digits (f64 holds it); the exact"
         ) && !h.line(1).contains("epsilon"),
         "{}",
@@ -404,7 +432,7 @@ fn a_t_rounded_past_tmin_and_an_underflowing_determinant_are_named() {
     );
     let h = hints_with(tiny, ray, "miss\n", &["--precision", "f64"]);
     assert!(
-        h.line(1).contains("is -1.0e-40, near 0: an epsilon"),
+        h.line(1).contains("is 1.0e-40, near 0: an epsilon"),
         "{}",
         h.out
     );
