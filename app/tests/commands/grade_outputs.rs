@@ -46,7 +46,8 @@ fn a_failed_familys_json_record_names_its_first_mistake() {
 #[test]
 fn feedback_gives_each_student_their_families_and_first_mistakes() {
     let dir = tempfile::tempdir().unwrap();
-    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-", "21-"]);
+    // (Two small families: the Cornell box's 3,147 rays took exact.py 6 s a submission.)
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-", "37-"]);
     // One bug: a miss where the exact ray meets a triangle beyond t = 3.
     let buggy = class.join("zoe-misses-far");
     std::fs::create_dir(&buggy).unwrap();
