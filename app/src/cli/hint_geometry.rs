@@ -1,6 +1,7 @@
 //! The f64 geometry of a graded ray that `check`'s hints and the run's evidence share: its
 //! origin and direction, a triangle's plane, Möller–Trumbore's determinant (and what a small
-//! one loses), which side the ray meets, and how near two t's are.
+//! one loses), which side the ray meets, how near two t's are, and what a correct program's
+//! rounding can lose (a hit near an edge, near tmin or tmax) or not (a hit clearly inside).
 
 use raylab::check::grade::Exact;
 use raylab::geometry::Triangle;
@@ -69,10 +70,11 @@ pub(super) fn within_rounding_of_edge<T: Real>(
     (weight < bound).then_some((nearest, weight))
 }
 
-/// Whether ray `i` meets primitive `prim` clearly inside: a triangle inside, neither within
-/// rounding of an edge nor with a determinant below the rounding of its terms; a sphere
-/// through (not a tangent). A correct program answers such a hit right: one it misses there
-/// is a bug's, not rounding's.
+/// Whether ray `i` meets primitive `prim` clearly inside: a triangle inside, its products of
+/// three in the precision's normal range, neither within rounding of an edge nor with a
+/// determinant below the rounding of its terms; a sphere through, its discriminant clear of
+/// the textbook formula's rounding. A correct program answers such a hit right: one it misses
+/// there is a bug's, not rounding's.
 pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> bool {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let shape = exact.shape(prim);
