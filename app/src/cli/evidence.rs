@@ -139,8 +139,8 @@ impl Evidence {
 
     /// Below which |determinant| the run bears out an epsilon on it: the smallest the
     /// program met right, where it missed a triangle met clearly inside with a smaller one
-    /// (not a back it is shown to cull); else 0. (A run of one ray, with nothing met right, named an epsilon for a hit rounded
-    /// away beside an edge.)
+    /// (not a back it is shown to cull); else 0. (A run of one ray, with nothing met right,
+    /// named an epsilon for a hit rounded away beside an edge.)
     pub fn epsilon_below(&self) -> f64 {
         match self.unculled(self.smallest_determinant_missed) < self.smallest_determinant_met {
             true => self.smallest_determinant_met,

@@ -39,8 +39,9 @@ pub(super) fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3
     (ray.o.map(|c| c.f64()), ray.d.map(|c| c.f64()))
 }
 
-/// Where ray `i` meets triangle `prim` inside but within rounding of an edge: the edge it
-/// passes nearest and the barycentric weight of the vertex opposite. Within rounding: a
+/// Where ray `i` meets triangle `tri`, located `at` ([`raylab::geometry::Shape::locate`]),
+/// inside but within rounding of an edge: the edge it passes nearest and the barycentric
+/// weight of the vertex opposite. Within rounding: a
 /// weight below 2⁶ unit roundoffs of the precision graded, times the system's condition
 /// (|e1| |d| |e2| / |det|) and the reach of its coordinates (1 + (|o| + |v0|) / the
 /// triangle's extent): a correct program can round it past the edge. (A correct f64 program
@@ -49,16 +50,11 @@ pub(super) fn o_and_d<T: Real>(exact: &Exact<T>, i: usize) -> ([f64; 3], [f64; 3
 pub(super) fn within_rounding_of_edge<T: Real>(
     exact: &Exact<T>,
     i: usize,
-    prim: u32,
+    tri: &Triangle<T>,
+    at: &raylab::geometry::Location,
 ) -> Option<(usize, f64)> {
-    use raylab::geometry::{triangle, Location, Shape};
-    let shape = exact.shape(prim);
-    let Shape::Triangle(tri) = &shape else {
-        return None;
-    };
-    let Location::Triangle(triangle::Location::Inside { nearest, weight }) =
-        shape.locate(&exact.rays[i].1.ray)
-    else {
+    use raylab::geometry::{triangle, Location};
+    let &Location::Triangle(triangle::Location::Inside { nearest, weight }) = at else {
         return None;
     };
     let o = o_and_d(exact, i).0;
@@ -79,7 +75,7 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let shape = exact.shape(prim);
     match (&shape, shape.locate(&exact.rays[i].1.ray)) {
-        (Shape::Triangle(tri), Location::Triangle(triangle::Location::Inside { .. })) => {
+        (Shape::Triangle(tri), at @ Location::Triangle(triangle::Location::Inside { .. })) => {
             // (Its products of three in the precision's normal range, with its digits to
             // spare: a correct f32 program loses the suite's subnormal cube's hits to
             // underflow, and was told it culled.)
@@ -88,7 +84,7 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
             let scale = terms(exact, i, tri).log2();
             range.contains(&(scale as i32))
                 && !determinant_rounds(exact, i, tri)
-                && within_rounding_of_edge(exact, i, prim).is_none()
+                && within_rounding_of_edge(exact, i, tri, &at).is_none()
         }
         // (Its discriminant clear of the textbook b² − a·c's rounding: a correct program's
         // far tiny sphere can lose a ray through it near the rim.)
@@ -187,30 +183,28 @@ pub(super) fn small_determinant<T: Real>(
     let epsilon = det.abs() < 1e-2 && det.abs() < epsilon_below;
     let lost = "an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
                 parallel";
-    let why =
-        match (underflows, rounds, epsilon) {
-            (true, _, _) => format!(
-            ", below f32's smallest normal number {:.1e}: in f32 it comes out 0 or without its \
-             digits (f64 holds it){}",
-            f32::MIN_POSITIVE,
-            if epsilon { format!("; and {lost}") } else { String::new() }
-        ),
-            (false, true, false) => format!(
-                ", below the rounding of its terms in {}: rounded, it can come out 0 or with the \
-             other sign",
-                if f32 { "f32" } else { "f64" }
-            ),
-            (false, true, true) => format!(
-            ", near 0: {lost} (and it is below the rounding of its terms in {}: rounded, it can \
-             come out 0 or with the other sign)",
-            if f32 { "f32" } else { "f64" }
-        ),
-            (false, false, true) => format!(", near 0: {lost}"),
-            (false, false, false) => return None,
-        };
+    let underflow = format!(
+        "below f32's smallest normal number {:.1e}: in f32 it comes out 0 or without its \
+         digits (f64 holds it)",
+        f32::MIN_POSITIVE
+    );
+    let rounding = format!(
+        "below the rounding of its terms in {}: rounded, it can come out 0 or with the other \
+         sign",
+        if f32 { "f32" } else { "f64" }
+    );
+    let why = match (underflows, rounds, epsilon) {
+        (true, _, false) => underflow,
+        (true, _, true) => format!("{underflow}; and {lost}"),
+        (false, true, false) => rounding,
+        (false, true, true) => format!("near 0: {lost} (and it is {rounding})"),
+        (false, false, true) => format!("near 0: {lost}"),
+        (false, false, false) => return None,
+    };
     (det != 0.0).then(|| {
         format!(
-            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}{why}"
+            "the triangle's determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is {det:.1e}, \
+             {why}"
         )
     })
 }

@@ -285,8 +285,8 @@ fn missed<T: Real>(
     // (Behind the origin with tmin < 0, where the given t is not: that explains the hit
     // passed over, and a program ignoring tmin was told the nearest hit wins.)
     let tmin = exact.rays[i].1.tmin;
-    let behind = te < 0.0 && tmin.f64() < 0.0;
-    let behind_explains = behind && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0);
+    let behind_explains =
+        te < 0.0 && tmin.f64() < 0.0 && given_hit.is_none_or(|(t, _)| t.f64() >= 0.0);
     match given_hit {
         Some((_, p)) if p == prim => return joined(facts),
         Some((t, p)) if facts.is_empty() && near(t.f64(), te) => facts.push(format!(
@@ -588,11 +588,11 @@ fn where_on<T: Real>(
         }
         // (Both where both hold: a hit on an edge of a triangle met from its back was told of
         // the edge alone, where a culling program's leak was the back's.)
-        (Shape::Triangle(_), location) => {
+        (Shape::Triangle(tri), location) => {
             let mut facts = Vec::new();
             if let Location::Triangle(
                 at @ (triangle::Location::Edge(_) | triangle::Location::Vertex(_)),
-            ) = location
+            ) = &location
             {
                 // (Rounding too: a correct program that rounds a weight below 0 was told only
                 // of the rule, as an open-edge bug is.)
@@ -602,12 +602,9 @@ fn where_on<T: Real>(
                 ));
             }
             // (Not beside a determinant below rounding, said apart: its weights are noise.)
-            let rounded_weights = match &shape {
-                Shape::Triangle(tri) => determinant_rounds(exact, i, tri),
-                Shape::Sphere(_) => false,
-            };
-            let edge = within_rounding_of_edge(exact, i, prim).filter(|&(_, w)| w < 1e-3);
-            if let (Some((edge, weight)), false) = (edge, rounded_weights) {
+            let edge = within_rounding_of_edge(exact, i, tri, &location)
+                .filter(|&(_, w)| w < 1e-3 && !determinant_rounds(exact, i, tri));
+            if let Some((edge, weight)) = edge {
                 facts.push(format!(
                     "the exact hit is inside the triangle, {weight:.1e} (barycentric) from its \
                      edge {}: within rounding of it (u, v or u + v rounded past 0 or 1 loses \
