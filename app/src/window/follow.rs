@@ -294,11 +294,7 @@ impl Viewer {
         if !self.cracks.take() {
             return;
         }
-        let same = |c: &Census, at: &Inspected| c.generation == at.generation && c.size == at.size;
-        let counted = match (&self.cracks.census, self.inspected) {
-            (Some(c), Some(at)) if same(c, &at) => Some(at),
-            _ => None,
-        };
+        let counted = self.inspected.filter(|&at| self.census_of(at).is_some());
         match counted {
             // The count may mark the pixel: every field is then its marked sample's.
             Some(at) if at.generation == self.generation => {
@@ -310,6 +306,11 @@ impl Viewer {
             None => {}
         }
         self.resolve_step();
+    }
+
+    /// The count of the frame pixel `at` was answered for (its generation and size).
+    fn census_of(&self, at: Inspected) -> Option<&Census> {
+        (self.cracks.census.as_ref()).filter(|c| c.generation == at.generation && c.size == at.size)
     }
 
     /// The count matching the frame shown (its generation and refinement level).
@@ -362,9 +363,7 @@ impl Viewer {
         let mut detail = Detail::of_ray(trace, &shapes, at.size, pos, Some(marked));
         // (The view's position, as the inspector's own rows name it.)
         detail.at.0 += self.view_offset() as f32;
-        let counted = (self.cracks.census.as_ref())
-            .is_some_and(|c| c.generation == at.generation && c.size == at.size);
-        detail.marks = match (self.view.controls.cracks, counted) {
+        detail.marks = match (self.view.controls.cracks, self.census_of(at).is_some()) {
             (false, _) => Marks::Off,
             (true, false) => Marks::Counting,
             (true, true) => Marks::Counted,
@@ -377,8 +376,7 @@ impl Viewer {
     /// image, or right of it, where the pixel lies under the inspector's panel); and whether
     /// it is marked.
     fn traced_position(&self, at: Inspected) -> ((f32, f32), bool) {
-        let census = (self.cracks.census.as_ref())
-            .filter(|c| c.generation == at.generation && c.size == at.size);
+        let census = self.census_of(at);
         let marked = census.and_then(|c| c.find(at.pixel));
         let n = census.map_or(1, |c| c.spp);
         let (x, y) = match marked {
