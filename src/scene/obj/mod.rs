@@ -86,7 +86,10 @@ pub enum ObjError {
     #[error(transparent)]
     Input(#[from] crate::input::InputError),
     /// Not UTF-8 text, or holding NUL bytes.
-    #[error("{file}:{line}: not a text OBJ file (binary data, or invalid UTF-8 outside a comment or name)")]
+    #[error(
+        "{file}:{line}: not a text OBJ file (binary data, or invalid UTF-8 outside a comment \
+         or name)"
+    )]
     NotText {
         /// File name.
         file: String,
