@@ -221,8 +221,9 @@ pub fn layout(
     egui::Panel::bottom("status").show(ui, |ui| {
         let status = (status.as_str(), *status_is_error);
         let threads = rayon::current_num_threads();
-        (*status_whole, *figures_whole) =
-            super::notices::status_line(ui, status, (shown, progress), full_size, threads);
+        let said = super::notices::status_line(ui, status, (shown, progress), full_size, threads);
+        (*status_whole, *figures_whole) = (said.whole, said.figures_whole);
+        layout.actions.status_copied = said.copied;
     });
     let beside = ui.available_rect_before_wrap().width();
     layout.beside_width = ((beside * ppp).round() as u32).max(1);

@@ -478,6 +478,9 @@ impl App {
             viewer.copy_command();
             window.request_redraw(); // (the clipboard is written in the next UI pass)
         }
+        if let Some(copied) = actions.status_copied {
+            viewer.say_copied(&copied);
+        }
         if let Some(step) = actions.crack {
             viewer.step_crack(step);
             window.request_redraw(); // (the inspector's panel opens in the next UI pass)

@@ -20,7 +20,7 @@ pub type ShownFigures = (u32, u32, u8, u32, RenderStats);
 /// the right. The message has the room first, but the figures keep theirs up to half the
 /// line: a long message (a copied command) is cut short (the whole of it on hover; a click
 /// copies it), the frame's figures stay in view. Returns whether the whole message and the
-/// whole figures are shown. A refinement under way long enough to be said ([`Progress`]) is
+/// whole figures are shown, and what a click copied. A refinement under way long enough to be said ([`Progress`]) is
 /// said after the figures, with how far it has come.
 pub fn status_line(
     ui: &mut egui::Ui,
@@ -28,7 +28,7 @@ pub fn status_line(
     (shown, progress): (Option<ShownFigures>, Option<Progress>),
     full_size: (u32, u32),
     threads: usize,
-) -> (bool, bool) {
+) -> StatusShown {
     let mut figures = match shown {
         Some((w, h, level, spp, stats)) => {
             let what = match level {
@@ -72,6 +72,7 @@ pub fn status_line(
     let whole = wanted <= message_room;
     let figures_whole = figures_wanted <= total - gap - message_room;
     let height = ui.spacing().interact_size.y;
+    let mut copied = None;
     ui.horizontal(|ui| {
         let size = egui::vec2(message_room, height);
         let left = egui::Layout::left_to_right(egui::Align::Center);
@@ -95,9 +96,10 @@ pub fn status_line(
         };
         if response.clicked() && !status.is_empty() {
             // (What C copied, or F5's command, rather than the message that names it.)
-            let copied = super::viewer::command_in_status(status).unwrap_or(status);
-            ui.ctx().copy_text(copied.to_owned());
+            let text = super::viewer::command_in_status(status).unwrap_or(status);
+            ui.ctx().copy_text(text.to_owned());
             log::info!("the status message was copied to the clipboard");
+            copied = Some(text.to_owned());
         }
         // (No separator seen before an empty message: it stood alone at the line's start. Laid
         // out still, so that the figures' automatic id stays when a message comes or goes
@@ -107,7 +109,21 @@ pub fn status_line(
             ui.add(egui::Label::new(figures).truncate());
         });
     });
-    (whole, figures_whole)
+    StatusShown {
+        whole,
+        figures_whole,
+        copied,
+    }
+}
+
+/// What [`status_line`] showed, and what a click on it copied.
+pub struct StatusShown {
+    /// The whole message is in view.
+    pub whole: bool,
+    /// The whole figures are in view.
+    pub figures_whole: bool,
+    /// What a click on the message put on the clipboard (the status line is to say so).
+    pub copied: Option<String>,
 }
 
 /// The error banner across the top of `image`, until clicked (or Esc). Returns where it was

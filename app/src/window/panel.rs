@@ -62,6 +62,8 @@ pub struct PanelActions {
     pub width: f32,
     /// What the status line says of a number field whose edit ended ([`Typing`]).
     pub typed: Option<Said>,
+    /// What a click on the status line copied (it says so).
+    pub status_copied: Option<String>,
 }
 
 impl PanelActions {

@@ -326,7 +326,8 @@ fn the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space() {
 
 fn real_x_input_a_click_on_f5s_message_copies_its_command() {
     // F5's message names the command that renders the view; a click on the status line
-    // copies that command, as after C (it copied the whole sentence).
+    // copies that command, as after C (it copied the whole sentence), and says so (it said
+    // nothing: had it copied?).
     if !common::tool_for("xclip", "xclip", "the saved view's command test") {
         return;
     }
@@ -344,6 +345,13 @@ fn real_x_input_a_click_on_f5s_message_copies_its_command() {
     assert!(
         command.starts_with("raylab render --view "),
         "{command}\n{}",
+        run.stderr
+    );
+    let status = (run.stdout.lines()).find_map(|l| l.strip_prefix("status: "));
+    assert_eq!(
+        status,
+        Some(format!("copied to the clipboard: {command}").as_str()),
+        "{}",
         run.stderr
     );
     let command = command.replacen("raylab ", &format!("{RAYLAB} "), 1);

@@ -109,6 +109,14 @@ impl Viewer {
         self.copy_request = Some(command);
     }
 
+    /// A click on the status line copied `text` (its message, or the command it names): the
+    /// status says so, as after C (a click said nothing: had it copied?).
+    pub fn say_copied(&mut self, text: &str) {
+        if !self.status.starts_with(COPIED) {
+            self.set_status(format!("{COPIED}{text}"));
+        }
+    }
+
     /// F5: writes the view to `raylab-view-<time>.view` (see [`raylab::view`]).
     pub fn save_view(&mut self) {
         self.save_view_to(PathBuf::from(format!("raylab-view-{}.view", timestamp())));
