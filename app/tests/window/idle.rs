@@ -80,10 +80,12 @@ fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
     // cut to a frame's most, 0.25 s, moved 1.73 and turned 17.2°, and more with the frames
     // after it.)
     let dir = tempfile::tempdir().unwrap();
+    // (Each tap in one xdotool run: a second process started between press and release
+    // held the key longer on a busy machine.)
     let driver = "xdotool windowfocus --sync $win; sleep 2; xdotool keydown shift; sleep 0.3; \
-                  xdotool keydown w; sleep 0.05; xdotool keyup w; sleep 0.1; \
+                  xdotool keydown w sleep 0.05 keyup w; sleep 0.1; \
                   xdotool keyup shift; sleep 2; \
-                  xdotool keydown Left; sleep 0.05; xdotool keyup Left";
+                  xdotool keydown Left sleep 0.05 keyup Left";
     let alone = window_alone();
     let Some((view, log)) = run_idle_window(dir.path(), driver, alone) else {
         return;
@@ -97,13 +99,14 @@ fn real_x_input_a_key_tap_after_idle_moves_only_as_long_as_it_was_held() {
     let (z, yaw): (f64, f64) = (camera[2].parse().unwrap(), camera[4].parse().unwrap());
     let moved = z + 3.001;
     println!("Shift+W moved {moved}, Left turned {yaw}°");
-    // Bounds with room for a slow frame (up to 0.09 s past the release).
+    // Bounds with room for a slow frame (up to 0.15 s past the release: a busy machine's
+    // window test moved 1.27), below what counting the idle time moves.
     assert!(
-        (0.0..1.0).contains(&moved),
+        (0.0..1.5).contains(&moved),
         "Shift+W tapped moved {moved}\n{view}\n{log}"
     );
     assert!(
-        (-10.0..=0.0).contains(&yaw),
+        (-14.0..=0.0).contains(&yaw),
         "Left tapped turned {yaw}°\n{view}"
     );
 }
