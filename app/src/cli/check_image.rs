@@ -1,5 +1,7 @@
 //! `raylab check --image`: a program's answers to a view's camera rays, painted as the flat
-//! step with its mistakes marked: the cracks view for code that is not raylab's.
+//! step in grey with its mistakes marked in colour: the cracks view for code that is not
+//! raylab's. (In the flat step's own colours the marks were lost: the Cornell box's walls are
+//! purple, cyan and yellow, and a leak on the purple wall was one pixel of another magenta.)
 
 use super::check::{judge_all, program_answers, report, say_failed, CheckArgs, REPRODUCERS};
 use super::program;
@@ -48,6 +50,11 @@ fn refuse_program_file(image: &Path, template: &str) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The grey of linear colour `c`: its luminance (Rec. 709 weights, as sRGB's primaries).
+fn grey(c: [f32; 3]) -> [f32; 3] {
+    [0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; 3]
 }
 
 /// Writes `lines` after a comment to `path`.
@@ -145,7 +152,7 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         let colour = match (j.graded.verdict.mark(), answer) {
             (Some(mark), _) => mark,
             (None, Answer::Hit { prim, .. }) => {
-                step_colour(&scene, *prim, [0.0; 3], false, LabStep::Flat)
+                grey(step_colour(&scene, *prim, [0.0; 3], false, LabStep::Flat))
             }
             (None, Answer::Miss) => [0.0; 3],
         };
@@ -170,7 +177,7 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         show,
     );
     say!(
-        "{out}image: {}: the flat step from the program's answers; leaks magenta, wrong primitives cyan, false hits yellow",
+        "{out}image: {}: the flat step in grey from the program's answers; leaks magenta, wrong primitives cyan, false hits yellow",
         image.display()
     );
     say!("{}", tally.line());
