@@ -6,7 +6,7 @@ use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
 use anyhow::{bail, Result};
-use raylab::check::grade::{self, Answer, Exact, Judged, Tally};
+use raylab::check::grade::{self, Answer, Exact, Judged, Tally, Verdict};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
@@ -605,6 +605,23 @@ impl SuiteRun<'_> {
         let graded = (self.precision, self.tolerance, self.timeout_s);
         family_command(&suite, name, self.template, graded)
     }
+
+    /// The commands that check line `line` of `rays` (with `scene`) alone, as this run checks
+    /// it: the ray cut out with `sed`, then `raylab check` of it (a failing ray of a family
+    /// of thousands, for the student's own debugging).
+    fn ray_alone(&self, scene: &Path, rays: &Path, line: usize) -> String {
+        let quote = raylab::view::shell_quote;
+        let graded = (self.precision, self.tolerance, self.timeout_s);
+        let what = format!(
+            "--scene {} --rays one.txt",
+            quote(&scene.display().to_string())
+        );
+        format!(
+            "sed -n {line}p {} > one.txt && {}",
+            quote(&rays.display().to_string()),
+            check_command(&what, self.template, graded)
+        )
+    }
 }
 
 /// `raylab check` of one family of a suite with `template`, in `precision` (`f32` or `f64`)
@@ -614,15 +631,22 @@ pub(super) fn family_command(
     suite: &str,
     family: &str,
     template: &str,
+    graded: (&str, f64, f64),
+) -> String {
+    let quote = raylab::view::shell_quote;
+    let what = format!("--suite {} --family {}", quote(suite), quote(family));
+    check_command(&what, template, graded)
+}
+
+/// `raylab check {what}` with `template`, in `precision` and with `tolerance` and `timeout`
+/// where they are not the defaults.
+fn check_command(
+    what: &str,
+    template: &str,
     (precision, tolerance, timeout): (&str, f64, f64),
 ) -> String {
     let quote = raylab::view::shell_quote;
-    let mut command = format!(
-        "raylab check --suite {} --family {} --program {}",
-        quote(suite),
-        quote(family),
-        quote(template)
-    );
+    let mut command = format!("raylab check {what} --program {}", quote(template));
     if precision == "f64" {
         command += " --precision f64";
     }
@@ -698,6 +722,15 @@ fn check_suite<T: Real>(
                     }
                     if only.is_none() {
                         say!("    this family alone: {}", run.alone(dir, &name));
+                    }
+                    // (The reproducers show the wrong answers first, then the t failures.)
+                    let wrong =
+                        |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
+                    let first = (judged.iter().position(wrong))
+                        .or_else(|| judged.iter().position(|j| !j.graded.stands()));
+                    if let Some(i) = first.filter(|_| run.show > 0) {
+                        let alone = run.ray_alone(&scene, &rays, exact.rays[i].0);
+                        say!("    the first ray above, alone: {alone}");
                     }
                 }
                 total.merge(&tally);

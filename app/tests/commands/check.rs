@@ -419,7 +419,7 @@ fn show_sets_how_many_reproducers_a_failing_family_prints() {
         assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
         let out = text(&o.stdout);
         let shown = out.lines().filter(|l| l.contains("rays.txt:")).count();
-        (shown, out.contains("the first of the"), last_line(&o))
+        (shown, out.contains("the first of the"), last_line(&o), out)
     };
     let (three, seven, none) = (check(&[]), check(&["--show", "7"]), check(&["--show", "0"]));
     assert_eq!((three.0, three.1), (3, true));
@@ -431,6 +431,45 @@ fn show_sets_how_many_reproducers_a_failing_family_prints() {
         three.2,
         none.2
     );
+    // Under the rays shown, the commands that check the first of them alone: run from
+    // another directory, they grade that one ray as the family's run did.
+    let alone = |out: &str| {
+        let prefix = "    the first ray above, alone: ";
+        (out.lines().find_map(|l| l.strip_prefix(prefix))).map(str::to_owned)
+    };
+    assert_eq!(alone(&none.3), None, "{}", none.3);
+    let command = alone(&three.3).unwrap_or_else(|| panic!("{}", three.3));
+    assert!(command.starts_with("sed -n "), "{command}");
+    let command = command.replace("&& raylab check", &format!("&& '{exe}' check"));
+    let elsewhere = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new("sh")
+        .args(["-c", &command])
+        .current_dir(elsewhere.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{command}\n{}", text(&o.stderr));
+    assert!(
+        last_line(&o).starts_with("check: rays 1 right 0 "),
+        "{}",
+        text(&o.stdout)
+    );
+    // (The ray, its exact answer, the answer given and the hint, after where each was read.)
+    let shown = |out: &str| {
+        let line = out
+            .lines()
+            .find(|l| l.contains(".txt:"))
+            .unwrap()
+            .to_owned();
+        let (ray, rest) = line.split_once("exact: ").unwrap();
+        let ray = ray.split_once("): ").unwrap().1.to_owned();
+        let (exact, given) = rest.split_once("given (its output:").unwrap();
+        (
+            ray,
+            exact.to_owned(),
+            given.split_once("): ").unwrap().1.to_owned(),
+        )
+    };
+    assert_eq!(shown(&text(&o.stdout)), shown(&three.3));
     let o = raylab(&["check", "--suite", "x", "--program", "p", "--show", "many"]);
     assert_fails(&o, 2, &["--show", "'many'"]);
 }
