@@ -756,26 +756,42 @@ fn short_print<T: Real>(
     if !given.is_finite() || *given == T::zero() {
         return None;
     }
-    // (The exact t so rounded from its f64 estimate, not from t rounded to `T` first:
-    // 10321.649924 in f32 is 10321.650390625, which rounded to 6 digits claimed 10321.7.)
+    // (The exact t so rounded from its f64 estimate, or from t rounded to `T` first, as a
+    // program that prints its f32 t does: 10321.649924 is 10321.6 to 6 digits, 10321.7
+    // from f32's 10321.650390625, and either was said as the exact t to 6 digits.)
     let fine = fine_t(exact, i, *prim, *te);
+    let in_t = match T::PRECISION < 53 && te.f64() != fine {
+        true => format!("in f32 ({}) ", raylab::math::real::exact_decimal(te.f64())),
+        false => String::new(),
+    };
+    let rounded = |text: &dyn Fn(f64) -> String| {
+        let rounds_to = |t: f64| text(t).parse::<T>().ok() == Some(*given);
+        match (rounds_to(fine), rounds_to(te.f64())) {
+            (true, _) => Some(""),
+            (false, true) => Some(in_t.as_str()),
+            (false, false) => None,
+        }
+    };
     // (Decimals where the t's significant digits vary, as `%.4f`'s do (0.7658 is 0.7657972
     // to 5 digits too); else digits first: t's between 1 and 10 at `%.6g` have 5 decimals
     // each.)
-    let rounds_to = |text: String| text.parse::<T>().ok() == Some(*given);
-    let decimals = (evidence.printed_decimals)
-        .filter(|&n| rounds_to(format!("{fine:.n$}")))
-        .map(|n| format!("to {n} decimals (%.{n}f)"));
+    let decimals = (evidence.printed_decimals).and_then(|n| {
+        let as_is = rounded(&|t| format!("{t:.n$}"))?;
+        Some(format!("{as_is}to {n} decimals (%.{n}f)"))
+    });
     if evidence.digits_vary && decimals.is_some() {
         return decimals;
     }
     let printed = evidence.printed_digits;
     let short = (1..round_trip_digits::<T>()).contains(&printed);
-    match short && rounds_to(format!("{:.*e}", printed - 1, fine)) {
-        true => Some(format!(
-            "to {}",
+    let digits = short
+        .then(|| rounded(&|t| format!("{:.*e}", printed - 1, t)))
+        .flatten();
+    match digits {
+        Some(as_is) => Some(format!(
+            "{as_is}to {}",
             raylab::words::count(printed, "significant digit", "significant digits")
         )),
-        false => decimals,
+        None => decimals,
     }
 }

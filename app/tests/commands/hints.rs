@@ -347,8 +347,9 @@ fn the_nearest_hit_rule_needs_a_nearer_hit_passed_over_inside() {
 /// more of its t's were written with (or the decimals all were): a t of 1 for 0.9999839 from
 /// a program that prints 9 digits elsewhere (or 12, with trailing zeros), or from a run of
 /// that one answer, is a t failure and no more (it was told to print 9 digits); from one that
-/// prints 2, the digits to print. And only where the exact t (not t rounded to f32 first)
-/// rounds to it: 1.500065008… is 1.50007 to 6 digits, where its f32 1.500064969 gave 1.50006.
+/// prints 2, the digits to print. And as what was rounded: 1.500065008… is 1.50007 to 6
+/// digits, where its f32 1.500064969 gives 1.50006 (a program printing its f32 t), said as
+/// that f32 so rounded (it was a bare t failure).
 #[test]
 fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
     let scene = "tri -1 -1 0.9999839 1 -1 0.9999839 0 1 0.9999839\n";
@@ -383,7 +384,14 @@ fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
     let scene = format!("tri -10 -10 {z} 10 -10 {z} 0 10 {z}\n");
     let rays = "0 0 0 0 0 3 0 inf\n0 0 0 0 0 3 0 inf\n";
     let h = hints(&scene, rays, "hit 1.50006 0\nhit 1.50007 0\n");
-    assert!(h.line(1).ends_with("of |o| + |t·d| + extent]"), "{}", h.out);
+    assert!(
+        h.line(1).ends_with(
+            "t is the exact one in f32 (1.50006496906280517578125) to 6 significant digits: \
+             print 9 (%.9g)]"
+        ),
+        "{}",
+        h.out
+    );
     assert!(
         h.line(2)
             .ends_with("t is the exact one to 6 significant digits: print 9 (%.9g)]"),
