@@ -1,7 +1,8 @@
 //! The f64 geometry of a graded ray that `check`'s hints and the run's evidence share: its
 //! origin and direction, a triangle's plane, Möller–Trumbore's determinant (and what a small
-//! one loses), which side the ray meets, how near two t's are, and what a correct program's
-//! rounding can lose (a hit near an edge, near tmin or tmax) or not (a hit clearly inside).
+//! one loses), a sphere's roots (and what the textbook quadratic loses), which side the ray
+//! meets, how near two t's are, and what a correct program's rounding can lose (a hit near an
+//! edge, near tmin or tmax) or not (a hit clearly inside).
 
 use raylab::check::grade::Exact;
 use raylab::geometry::Triangle;
@@ -94,6 +95,66 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
         }
         _ => false,
     }
+}
+
+/// Where ray `i` meets (or passes) sphere `prim` such that the textbook quadratic loses it,
+/// as facts: in f32, a = d·d below its smallest normal number underflows (the suite's tiny
+/// directions were told only that the ray meets the sphere twice); and a discriminant within
+/// the rounding of the textbook b² − a·c (c = |o − c|² − r²: r² lost beside the distance
+/// of a far small sphere) can come out with the other sign.
+pub(super) fn sphere_rounding<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> Option<String> {
+    let raylab::geometry::Shape::Sphere(s) = exact.shape(prim) else {
+        return None;
+    };
+    let (a, _, oc2, disc) = sphere_terms(exact, i, &s);
+    let f32 = T::PRECISION <= 24;
+    let mut facts = Vec::new();
+    if f32 && a < f32::MIN_POSITIVE as f64 && a > 0.0 {
+        facts.push(format!(
+            "d·d is {a:.1e}, below f32's smallest normal number {:.1e}: in f32 the \
+             quadratic's a = d·d comes out 0 or without its digits (f64 holds it)",
+            f32::MIN_POSITIVE
+        ));
+    }
+    let rounding = 1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2;
+    if disc.abs() <= rounding && disc != 0.0 {
+        let r2 = s.radius.f64().powi(2);
+        facts.push(format!(
+            "|b² − a·c| is only {:.1e} of a·|o − c|², below the rounding of the textbook \
+             b² − a·c in {} (c = |o − c|² − r², with r² {:.1e} of |o − c|²): computed so, it \
+             can come out with the other sign",
+            disc.abs() / (a * oc2),
+            if f32 { "f32" } else { "f64" },
+            r2 / oc2
+        ));
+    }
+    (!facts.is_empty()).then(|| facts.join("; "))
+}
+
+/// Ray `i`'s meetings with the sphere at `centre` of radius `r`, in f64: the near and far
+/// roots of a·t² + 2b·t + c = 0 (the discriminant taken as 0 where it rounds below), c (below
+/// 0: the origin inside) and the discriminant b² − a·c (computed as a·r² − |d × (o − c)|²).
+pub(super) fn quadratic<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    sphere: &raylab::geometry::Sphere<T>,
+) -> ([f64; 2], f64, f64) {
+    let (o, d) = o_and_d(exact, i);
+    let (centre, r) = (sphere.centre.map(|c| c.f64()), sphere.radius.f64());
+    let oc = sub(o, centre);
+    let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
+    // (b² − a·c as a·r² − |d × (o − c)|², the line's distance from the centre: b² and a·c
+    // cancel for a small sphere far away, and gave it two equal roots, or none.)
+    let across = cross(d, oc);
+    let disc = a * r * r - dot(across, across);
+    // (Stable: q = −b ∓ √disc away from 0, the roots q/a and c/q: −b ± √disc cancelled where
+    // the origin is near the surface.)
+    let q = -b - b.signum() * disc.max(0.0).sqrt();
+    let (x, y) = match q == 0.0 {
+        true => (0.0, 0.0),
+        false => (q / a, c / q),
+    };
+    ([x.min(y), x.max(y)], c, disc)
 }
 
 /// Ray `i` against sphere `s`, in f64: a = d·d, b = d·(o − c), |o − c|² and the

@@ -2,10 +2,11 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use super::evidence::Evidence;
-use super::hint_geometry::{determinant_rounds, small_determinant, within_rounding_of_edge};
+use super::hint_geometry::{determinant_rounds, small_determinant, sphere_rounding};
 use super::hint_geometry::{faces_back, length, near, o_and_d, past_tmin, plane_of};
+use super::hint_geometry::{quadratic, within_rounding_of_edge};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
-use raylab::math::real::{cross, dot, sub};
+use raylab::math::real::{dot, sub};
 use raylab::math::Real;
 
 /// The first `most` wrong answers and the first `most` t failures, each under a heading, as
@@ -317,6 +318,7 @@ fn missed<T: Real>(
         return joined(facts);
     }
     facts.extend(small_determinant(exact, i, prim, evidence.epsilon_below()));
+    facts.extend(sphere_rounding(exact, i, prim));
     // (An epsilon's loss, where the run bears one out, rather than the face's side: both
     // true, the first the likelier cause of a hit this near tmin; beside a tangent, which
     // explains the miss, it was noise.)
@@ -462,7 +464,11 @@ fn passes<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: T) -> String {
             }
         }
         (_, Location::Sphere(sphere::Location::Misses)) => {
-            format!("the ray misses sphere {p} (its discriminant is below 0): no hit")
+            let rounding = match sphere_rounding(exact, i, p) {
+                Some(fact) => format!("; {fact}"),
+                None => String::new(),
+            };
+            format!("the ray misses sphere {p} (its discriminant is below 0): no hit{rounding}")
         }
         (Shape::Sphere(s), location) => {
             let (roots, _, _) = quadratic(exact, i, s);
@@ -674,32 +680,6 @@ fn lost_past_tmin(gap: f64, evidence: &Evidence, loses: &str) -> String {
         }
         false => format!("t rounded to tmin or below {loses} it"),
     }
-}
-
-/// Ray `i`'s meetings with the sphere at `centre` of radius `r`, in f64: the near and far
-/// roots of a·t² + 2b·t + c = 0 (the discriminant taken as 0 where it rounds below), c (below
-/// 0: the origin inside) and the discriminant b² − a·c (computed as a·r² − |d × (o − c)|²).
-fn quadratic<T: Real>(
-    exact: &Exact<T>,
-    i: usize,
-    sphere: &raylab::geometry::Sphere<T>,
-) -> ([f64; 2], f64, f64) {
-    let (o, d) = o_and_d(exact, i);
-    let (centre, r) = (sphere.centre.map(|c| c.f64()), sphere.radius.f64());
-    let oc = sub(o, centre);
-    let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
-    // (b² − a·c as a·r² − |d × (o − c)|², the line's distance from the centre: b² and a·c
-    // cancel for a small sphere far away, and gave it two equal roots, or none.)
-    let across = cross(d, oc);
-    let disc = a * r * r - dot(across, across);
-    // (Stable: q = −b ∓ √disc away from 0, the roots q/a and c/q: −b ± √disc cancelled where
-    // the origin is near the surface.)
-    let q = -b - b.signum() * disc.max(0.0).sqrt();
-    let (x, y) = match q == 0.0 {
-        true => (0.0, 0.0),
-        false => (q / a, c / q),
-    };
-    ([x.min(y), x.max(y)], c, disc)
 }
 
 /// The t of a hit, in f64.

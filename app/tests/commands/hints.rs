@@ -105,7 +105,8 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
 
 /// The hints' numbers hold where f64's textbook formulas do not: a tiny sphere 2²⁰ away met
 /// at two roots 0.003 apart (b² − a·c had cancelled to one root, "closer than f64 tells"),
-/// a tangent at tmin (said twice met), no index shift claimed where another answer at the
+/// a far tiny sphere's discriminant below the rounding of the textbook formula's (r² lost
+/// beside |o − c|²), a tangent at tmin (said twice met), no index shift claimed where another answer at the
 /// exact t names the exact primitive, a hit 8.9e-8 past tmin (said 1.2e-7, from its t
 /// rounded to f32), and roots alike to 9 digits shown to 10 (17 claimed what f64's estimate
 /// does not hold).
@@ -127,8 +128,10 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(1).ends_with(
-            "[leak: the ray meets the sphere twice (its discriminant is above 0), at t \
-             524287.998557 and 524288.001443]"
+            "[leak: |b² − a·c| is only 7.6e-18 of a·|o − c|², below the rounding of the \
+             textbook b² − a·c in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
+             computed so, it can come out with the other sign; the ray meets the sphere twice \
+             (its discriminant is above 0), at t 524287.998557 and 524288.001443]"
         ),
         "{}",
         h.out
@@ -159,8 +162,10 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(6).ends_with(
-            "[leak: the ray meets the sphere twice (its discriminant is above 0), at t \
-             4.194303999e6 and 4.194304001e6]"
+            "[leak: |b² − a·c| is only 2.8e-20 of a·|o − c|², below the rounding of the \
+             textbook b² − a·c in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
+             computed so, it can come out with the other sign; the ray meets the sphere twice \
+             (its discriminant is above 0), at t 4.194303999e6 and 4.194304001e6]"
         ),
         "{}",
         h.out
@@ -469,6 +474,17 @@ fn an_index_from_1_is_named_beside_ties_the_program_chose_otherwise() {
 #[test]
 fn a_sphere_missed_with_its_far_root_past_tmax_says_so() {
     let scene = "sphere 0 0 20 5\n";
+    // (And a direction whose d·d underflows in f32: it was told only of the two roots.)
+    let h = hints(scene, "0 0 0 0 0 1e-20 0 inf\n", "miss\n");
+    assert!(
+        h.line(1).contains(
+            "[leak: d·d is 1.0e-40, below f32's smallest normal number 1.2e-38: in f32 the \
+             quadratic's a = d·d comes out 0 or without its digits (f64 holds it); the ray \
+             meets the sphere twice"
+        ),
+        "{}",
+        h.out
+    );
     let h = hints(
         scene,
         "0 0 0 0 0 1 14.9 16\n0 0 0 0 0 1 0 inf\n",
