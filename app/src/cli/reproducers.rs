@@ -129,7 +129,15 @@ fn reproducer<T: Real>(
                             raylab::geometry::Shape::Sphere(_) => {
                                 format!("; {}", passes(exact, i, prim, t))
                             }
-                            raylab::geometry::Shape::Triangle(_) => String::new(),
+                            // (A determinant that rounding loses: t was a bare failure.)
+                            raylab::geometry::Shape::Triangle(_) => {
+                                match small_determinant(exact, i, prim, 0.0) {
+                                    Some(fact) => {
+                                        format!("; {fact}, and t (a quotient by it) far off")
+                                    }
+                                    None => String::new(),
+                                }
+                            }
                         }
                     }
                     _ => String::new(),

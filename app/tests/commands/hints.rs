@@ -499,3 +499,24 @@ fn a_sphere_missed_with_its_far_root_past_tmax_says_so() {
         h.out
     );
 }
+
+/// A t failure on a triangle whose determinant is below the rounding of its terms (a ray
+/// one ulp out of the plane, from the suite's family 27) says so: t, a quotient by it, is
+/// as lost (it was a bare t failure).
+#[test]
+fn a_t_divided_by_a_lost_determinant_says_so() {
+    let ray = "0.106316842138767242431640625 -0.04984928667545318603515625 \
+               0.943532466888427734375 0.1345444619655609130859375 \
+               0.15075765550136566162109375 -0.28530216217041015625 0 inf\n";
+    let h = hints("tri 1 0 0 0 1 0 0 0 1\n", ray, "hit 1.3333334 0\n");
+    assert!(
+        h.line(1).ends_with(
+            "[t failure: o + t·d off by 1.37e-1 of |o| + |t·d| + extent; the triangle's \
+             determinant e1·(d × e2) (e1 = v1 − v0, e2 = v2 − v0) is 4.5e-8, below the \
+             rounding of its terms in f32: rounded, it can come out 0 or with the other sign, \
+             and t (a quotient by it) far off]"
+        ),
+        "{}",
+        h.out
+    );
+}
