@@ -337,7 +337,16 @@ fn missed<T: Real>(
         te,
         prim,
         given_hit.map(|(_, p)| p),
-        evidence.culls_backs() && near.is_none_or(|(gap, _)| gap >= evidence.tmin_epsilon_below()),
+        match () {
+            // (A program that met a back right does not cull: the side explains nothing.)
+            _ if evidence.meets_backs => Back::Unsaid,
+            _ if evidence.culls_backs()
+                && near.is_none_or(|(gap, _)| gap >= evidence.tmin_epsilon_below()) =>
+            {
+                Back::WithRule
+            }
+            _ => Back::Said,
+        },
     );
     let placed = fact.is_some();
     facts.extend(fact);
@@ -563,10 +572,21 @@ fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
     }
 }
 
+/// How a hint tells of a triangle met from its back.
+#[derive(Clone, Copy, PartialEq)]
+enum Back {
+    /// Not at all: the program met a back right, so the side explains nothing.
+    Unsaid,
+    /// As a fact.
+    Said,
+    /// With the rule that both sides count: the run bears culling out.
+    WithRule,
+}
+
 /// Where on primitive `prim` ray `i` meets it at `te`, where that explains a miss, decided
 /// exactly where it is a place ([`raylab::geometry::Shape::locate`]): a sphere's tangent
 /// or far root (the origin inside, or the near root not above tmin); a triangle's edge or
-/// vertex, and (where `back` asks) its back where `given` (the primitive given instead, if
+/// vertex, and its back (as `back` says it) where `given` (the primitive given instead, if
 /// any) is not a triangle met from its back too. With whether it is a tangent.
 fn where_on<T: Real>(
     exact: &Exact<T>,
@@ -574,7 +594,7 @@ fn where_on<T: Real>(
     te: f64,
     prim: u32,
     given: Option<u32>,
-    back: bool,
+    back: Back,
 ) -> (Option<String>, bool) {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let ray = &exact.rays[i].1.ray;
@@ -626,13 +646,18 @@ fn where_on<T: Real>(
                     raylab::geometry::triangle::EDGES[edge]
                 ));
             }
+            // (The side always, as a fact; the rule only where the run bears culling out: a
+            // culling program's leaks on edges were told of the edges alone, or of nothing.)
             let given_faces_back = given.is_some_and(|g| met_from_back(&exact.shape(g)));
-            if back && met_from_back(&shape) && !given_faces_back {
-                facts.push(
-                    "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − \
-                     v0)): both sides count"
-                        .into(),
-                );
+            let rule = match back {
+                Back::WithRule => ": both sides count",
+                Back::Said | Back::Unsaid => "",
+            };
+            if back != Back::Unsaid && met_from_back(&shape) && !given_faces_back {
+                let n = "n = (v1 − v0) × (v2 − v0)";
+                facts.push(format!(
+                    "the exact hit is on the triangle's back (d·n > 0 for {n}){rule}"
+                ));
             }
             (!facts.is_empty()).then(|| facts.join("; "))
         }

@@ -200,6 +200,19 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
         );
     }
     assert!(h.line(2).contains(edge), "{}", h.out);
+    // The edge's ray alone: its back as a fact, not the rule (nothing bears culling out), and
+    // beside the edge (a culling program's leaks on edges were told of the edges alone).
+    let h = hints(
+        scene,
+        &format!("{}\n", rays.lines().nth(1).unwrap()),
+        "miss\n",
+    );
+    let side = "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))";
+    assert!(
+        h.line(1).ends_with(&format!("[leak: {edge}; {side}]")),
+        "{}",
+        h.out
+    );
     // The same triangle met from its front (v1 and v2 swapped: the edge is v2–v0 now).
     let front = "tri 0 0 1 0 0.001 1 0.001 0 1\n";
     let h = hints(front, rays, "miss\nmiss\n");
@@ -265,8 +278,9 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
 
 /// A bug is named only where the run bears it out, however the rays are cut: one ray, alone
 /// in its run, missed 1.2e-17 inside an edge of a face met from its back, is told of the edge
-/// and its rounding, not of culled back faces or an epsilon (a student's correct f64 program
-/// checking the one ray pulled out of its suite was told "both sides count"). And an epsilon
+/// and its rounding, and of the back as a fact, not of culled back faces (the rule that both
+/// sides count) or an epsilon (a student's correct f64 program checking the one ray pulled
+/// out of its suite was told "both sides count"). And an epsilon
 /// of 1e-3 is named from a miss of determinant 6.4e-4 beside a hit met right at 2e-3 (it was
 /// named only below 10⁻⁴).
 #[test]
@@ -281,7 +295,8 @@ fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
     assert!(
         h.line(1).ends_with(
             "[leak: the exact hit is inside the triangle, 1.2e-17 (barycentric) from its edge \
-             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it)]"
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))]"
         ),
         "{}",
         h.out
@@ -291,7 +306,8 @@ fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
     assert!(
         h.line(1).ends_with(
             "[leak: the exact hit is inside the triangle, 1.0e-6 (barycentric) from its edge \
-             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it)]"
+             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))]"
         ),
         "{}",
         h.out
