@@ -206,8 +206,12 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         "grading {} on {}, {jobs} at a time{}",
         raylab::words::count(submissions.len(), "submission", "submissions"),
         raylab::words::count(cases.len(), "family", "families"),
-        match accounts.first() {
-            Some(Some(a)) => format!(", as uids {}..", a.uid()),
+        // (A range a reader can finish: "as uids 61000.." looked cut short.)
+        match (accounts.first(), accounts.last()) {
+            (Some(Some(a)), Some(Some(b))) if a.uid() != b.uid() => {
+                format!(", as uids {} to {}", a.uid(), b.uid())
+            }
+            (Some(Some(a)), _) => format!(", as uid {}", a.uid()),
             _ => String::new(),
         }
     );
@@ -339,13 +343,18 @@ fn refuse_inside(flag: &str, path: &Path, inputs: &[PathBuf]) -> Result<()> {
     Ok(())
 }
 
-/// Makes directory `dir` where missing and writes (and removes) a file in it: one that cannot
-/// take the feedback is refused before the grading, as a CSV that cannot be written is.
+/// Makes directory `dir` where missing, private to the teacher (700: each student's feedback
+/// is for that student), and writes (and removes) a file in it: one that cannot take the
+/// feedback is refused before the grading, as a CSV that cannot be written is.
 fn writable_dir(dir: &Path) -> Result<()> {
+    use std::os::unix::fs::DirBuilderExt;
     if dir.exists() && !dir.is_dir() {
         bail!("not a directory");
     }
-    std::fs::create_dir_all(dir)?;
+    std::fs::DirBuilder::new()
+        .recursive(true)
+        .mode(0o700)
+        .create(dir)?;
     let probe = dir.join(format!(".raylab-probe-{}", std::process::id()));
     std::fs::write(&probe, b"")?;
     std::fs::remove_file(&probe)?;

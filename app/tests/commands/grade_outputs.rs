@@ -98,6 +98,11 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         "{zoe}"
     );
     assert_eq!(std::fs::read_dir(&feedback).unwrap().count(), 3);
+    // Made private: each student's feedback is that student's (it was 755, as the umask
+    // left it).
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&feedback).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o700, "{mode:o}");
     // Inside the class it would be graded as a submission, inside a submission copied with
     // it: refused, through a link too; a file is no directory. Before any program runs.
     let link = dir.path().join("link");
