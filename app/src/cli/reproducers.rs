@@ -538,6 +538,8 @@ fn shown<T: Real>(t: T) -> String {
 /// An f64 estimate as shown in a hint: to 7 decimals, or 7 significant digits outside
 /// 10⁻³…10⁶.
 fn approx(x: f64) -> String {
+    // (0 without its sign: a root "at t -6.4064873 and -0" read as a bug.)
+    let x = if x == 0.0 { 0.0 } else { x };
     match x != 0.0 && !(1e-3..1e6).contains(&x.abs()) {
         true => format!("{x:.6e}"),
         false => format!("{:.7}", x)
