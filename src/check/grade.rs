@@ -105,7 +105,12 @@ pub fn parse_answers<T: Real>(
                 Answer::Hit { t, prim }
             }
             _ => {
-                let start: String = line.trim().chars().take(60).collect();
+                // (Cut short with an ellipsis: a path cut at 60 characters read as the
+                // program's own.)
+                let mut start: String = line.trim().chars().take(60).collect();
+                if start.len() < line.trim().len() {
+                    start.push('…');
+                }
                 return Err(at(
                     line_no,
                     format!(
