@@ -444,7 +444,8 @@ impl App {
         }
         let actions = layout.actions;
         // (A field typed into, or a path, says what it did itself.)
-        let from_a_field = actions.typed.is_some() || actions.load.is_some();
+        let loads = actions.load.is_some();
+        let from_a_field = actions.typed.is_some() || loads;
         if actions.reset_camera {
             viewer.reset_camera();
         }
@@ -489,8 +490,10 @@ impl App {
             viewer.say_inspector();
         }
         let after = viewer.panel_state();
-        // (A radio button said nothing: the status kept "lab step 1 flat" over step 5.)
-        if after.0.controls.step != before.0.controls.step {
+        // (A radio button said nothing: the status kept "lab step 1 flat" over step 5. A view
+        // loaded from the path field sets its step, and says so itself: "lab step 4 shadows"
+        // hid "loaded view".)
+        if after.0.controls.step != before.0.controls.step && !loads {
             viewer.say_step();
         }
         if after.1 != before.1 && !actions.reset_camera {

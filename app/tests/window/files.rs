@@ -593,6 +593,28 @@ fn real_x_input_enter_in_the_path_field_loads_the_file() {
     assert!(!log.contains("could not load"), "{log}");
 }
 
+fn real_x_input_a_view_typed_into_the_path_field_says_it_loaded() {
+    // A view loaded from the path field sets its step and says so: the status said "lab
+    // step 1 flat", the step's change, over "loaded view". (150, 631): the path field.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("mine.view"), "scene cornell\nstep flat\n").unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 150 631 click 1; \
+                  sleep 0.8; xdotool key ctrl+a BackSpace; xdotool type mine.view; sleep 0.3; \
+                  xdotool key Return; logged 'loaded view'";
+    let around = Around::RealInput(driver);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    let status = run.stdout.lines().find_map(|l| l.strip_prefix("status: "));
+    assert!(
+        status.is_some_and(|s| s.starts_with("loaded view ") && s.contains("mine.view")),
+        "{status:?}\n{}",
+        run.stderr
+    );
+    assert_eq!(run.fields["step"], "flat", "{:?}", run.fields);
+}
+
 fn real_x_input_obj_axes_read_the_lab_box_as_it_is() {
     // assets/cornell_lab.obj is written in the lab's frame: opened as an OBJ is usually read
     // (y up: y and z negated), the box shows from behind, a grey square; the panel's OBJ axes
@@ -741,6 +763,7 @@ pub const TESTS: super::Tests = tests![
     a_file_dropped_while_another_reloads_is_not_lost_to_that_files_save,
     a_file_saved_while_it_loads_is_loaded_again,
     real_x_input_enter_in_the_path_field_loads_the_file,
+    real_x_input_a_view_typed_into_the_path_field_says_it_loaded,
     real_x_input_obj_axes_read_the_lab_box_as_it_is,
     a_field_of_view_past_the_windows_range_is_said_on_load,
 ];
