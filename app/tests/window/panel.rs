@@ -303,6 +303,15 @@ fn real_x_input_rs_word_goes_once_the_camera_moves() {
         return;
     };
     assert_eq!(said.as_deref(), Some("yaw set to 30"), "{log}");
+    // Typed with nothing before it, it says so too (it said nothing but over a field's words).
+    let Some((said, log)) = status(
+        typed
+            .replace(&reset, "xdotool windowfocus --sync $win; ")
+            .as_str(),
+    ) else {
+        return;
+    };
+    assert_eq!(said.as_deref(), Some("yaw set to 30"), "{log}");
     let flown = format!("{reset}xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.5");
     let Some((said, log)) = status(&flown) else {
         return;

@@ -372,12 +372,11 @@ impl Viewer {
         }
     }
 
-    /// A number field took what was typed: where the status line shows what a field did
-    /// before (a slip, which would still claim a field kept its value, or an earlier value
-    /// set), it says what was set now.
+    /// A number field took what was typed: the status line says what was set. (It said so
+    /// only over an earlier field's words: a student typing a pitch or a light's x saw
+    /// nothing, where a value typed after a slip was confirmed.)
     pub fn field_taken(&mut self, message: String) {
-        let outdated = self.status_from_field || self.status == CAMERA_RESET;
-        if outdated && self.status != message {
+        if self.status != message {
             self.set_status(message);
             self.status_from_field = true;
         }
