@@ -142,7 +142,11 @@ pub fn layout(
         ui.ctx().copy_text(text);
     }
     let scene = stage.scene();
+    // (Its edge dragged no further than leaves the image MIN_IMAGE_WIDTH; its rows still
+    // widen it to what they take.)
+    let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
     let info = PanelInfo {
+        widest: most,
         scene_name: &scene.name,
         primitives: scene.len(),
         warnings: &scene.warnings,
@@ -165,9 +169,6 @@ pub fn layout(
     };
     let controls = egui::Id::new("controls");
     let kept = KeptWidth::before(ui, controls, PANEL_WIDTH);
-    // (Its edge dragged no further than leaves the image MIN_IMAGE_WIDTH; its rows still
-    // widen it to what they take.)
-    let most = ui.available_rect_before_wrap().width() - MIN_IMAGE_WIDTH;
     let panel = (!*panel_hidden).then(|| egui::Panel::left(controls));
     let image_width_before = layout.beside_width as f32 / ppp;
     // (While a field is typed into, the panel keeps its width: a number box grows with the

@@ -15,6 +15,8 @@ pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920
 
 /// What the panel shows but does not edit.
 pub struct PanelInfo<'a> {
+    /// The widest the panel may be (points): what leaves the image its least width.
+    pub widest: f32,
     pub scene_name: &'a str,
     pub primitives: usize,
     pub warnings: &'a [String],
@@ -217,12 +219,18 @@ pub fn side_panel(
                 .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
             actions.note(typing.said_as_edit_ends(ui, &response, "speed", camera.speed));
         });
+        // (Short words where the panel shows less than the row: "Copy as command (C)" was cut
+        // to "Copy as con" in a narrow window.)
+        let words = match row_fits(ui, &CAMERA_BUTTONS, info.widest) {
+            true => CAMERA_BUTTONS,
+            false => ["Reset (R)", "Save (F5)", "Copy (C)"],
+        };
         ui.horizontal(|ui| {
-            if ui.button("Reset camera (R)").clicked() {
+            if ui.button(words[0]).clicked() {
                 actions.reset_camera = true;
             }
             if ui
-                .button("Save view (F5)")
+                .button(words[1])
                 .on_hover_text(
                     "camera, light and settings to a file `raylab render --view` renders",
                 )
@@ -231,7 +239,7 @@ pub fn side_panel(
                 actions.save_view = true;
             }
             if ui
-                .button("Copy as command (C)")
+                .button(words[2])
                 .on_hover_text(
                     "the `raylab render` command that renders this view, to the clipboard",
                 )
@@ -386,6 +394,31 @@ fn coordinate<'a, N: egui::emath::Numeric + std::fmt::Display>(
     let max = raylab::math::MAX_VIEW_COORDINATE;
     let field = egui::DragValue::new(value).speed(speed).max_decimals(3);
     typing.drag(field, N::from_f64(-max)..=N::from_f64(max))
+}
+
+/// The panel's width beside its rows' (points): its margins and scroll bar, with room to
+/// spare.
+const PANEL_CHROME: f32 = 40.0;
+
+/// The camera's buttons, as a wide enough panel shows them.
+const CAMERA_BUTTONS: [&str; 3] = ["Reset camera (R)", "Save view (F5)", "Copy as command (C)"];
+
+/// Whether a row of buttons with `words` fits a panel at most `widest` points wide, its
+/// margins and scroll bar taken off. (Not the width the panel has now: its rows widen it, and
+/// a row of short words kept it narrow.)
+fn row_fits(ui: &egui::Ui, words: &[&str], widest: f32) -> bool {
+    let font = egui::TextStyle::Button.resolve(ui.style());
+    let spacing = ui.spacing();
+    let width: f32 = (words.iter())
+        .map(|w| {
+            let galley =
+                ui.painter()
+                    .layout_no_wrap(w.to_string(), font.clone(), egui::Color32::WHITE);
+            galley.size().x + 2.0 * spacing.button_padding.x + spacing.item_spacing.x
+        })
+        .sum();
+    // (Margins and bar: the panel was 368 points wide for a row of 342.)
+    width - spacing.item_spacing.x + PANEL_CHROME <= widest
 }
 
 /// The width left in `ui` that is in view: in a narrow window the panel shows less than its
