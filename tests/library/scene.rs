@@ -225,7 +225,7 @@ fn one_mtllib_line_may_name_several_libraries_or_one_with_a_space() {
     assert_eq!(one_gone.colors()[0], [1.0, 0.0, 0.0]);
     let said = one_gone.warnings.join("\n");
     assert!(
-        said.contains("material library skipped: gone.mtl: No such file"),
+        said.contains("t.obj:1: material library skipped: gone.mtl: No such file"),
         "{said}"
     );
     // Neither word a library: the whole name is the one said missing.
@@ -402,7 +402,8 @@ fn every_obj_and_mtl_problem_names_its_line() {
         );
         assert_eq!(scene.colors()[0], [0.75; 3], "{obj:?}");
     }
-    // A library that cannot be read: its own warning says why, and no other.
+    // A library that cannot be read: its own warning says why, at its `mtllib` line, and no
+    // other.
     let obj = format!("mtllib gone.mtl\n{tri}usemtl red\nf 1 2 3\n");
     let scene = raylab::scene::load_obj_str("t.obj", &obj, raylab::scene::ObjFrame::Lab, |_| {
         Err("gone.mtl: No such file or directory".to_string())
@@ -410,7 +411,7 @@ fn every_obj_and_mtl_problem_names_its_line() {
     .unwrap();
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
     assert!(
-        scene.warnings[0].contains("material library skipped: gone.mtl: No such file"),
+        scene.warnings[0].starts_with("t.obj:1: material library skipped: gone.mtl: No such file"),
         "{:?}",
         scene.warnings
     );

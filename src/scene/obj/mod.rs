@@ -249,6 +249,17 @@ pub fn load_obj_str(
     )?)
 }
 
+/// The line of the first `mtllib` statement of `text` that names `library` (as tobj passes
+/// it: the rest of the line).
+fn mtllib_line(text: &str, library: &str) -> Option<usize> {
+    let names = |line: &str| {
+        let rest = line.trim_start().strip_prefix("mtllib")?;
+        let rest = rest.split('#').next().unwrap_or_default();
+        (rest.starts_with(char::is_whitespace) && rest.trim() == library).then_some(())
+    };
+    text.lines().position(|l| names(l).is_some()).map(|i| i + 1)
+}
+
 /// [`load_obj_str`] with `default` as the colour of faces without a diffuse material colour;
 /// with the source line of each triangle.
 fn load_obj_str_coloured(
@@ -303,11 +314,13 @@ fn load_obj_str_coloured(
         }
         Ok(materials)
     };
-    let skip = |problem: String| {
+    // (At the `mtllib` line that names it: the warning named the OBJ file alone.)
+    let skip = |line: Option<usize>, problem: String| {
         skipped.set(true);
+        let at = line.map_or(String::new(), |l| format!(":{l}"));
         warnings
             .borrow_mut()
-            .push(format!("{name}: material library skipped: {problem}"));
+            .push(format!("{name}{at}: material library skipped: {problem}"));
     };
     let loader = |p: &Path| -> tobj::MTLLoadResult {
         let problem = match library(p) {
@@ -318,13 +331,14 @@ fn load_obj_str_coloured(
         // the rest of the line as one name, which a name with a space is. Where that one
         // does not load, each word is a library.
         let whole = p.to_string_lossy();
+        let line = mtllib_line(text, &whole);
         let words: Vec<&str> = whole.split_whitespace().collect();
         let loaded: Vec<Result<Materials, String>> = match words.len() > 1 {
             true => words.iter().map(|w| library(Path::new(w))).collect(),
             false => Vec::new(),
         };
         if !loaded.iter().any(Result::is_ok) {
-            skip(problem);
+            skip(line, problem);
             return Err(tobj::LoadError::MaterialParseError);
         }
         let mut all = Materials::default();
@@ -336,7 +350,7 @@ fn load_obj_str_coloured(
                         .extend(names.into_iter().map(|(n, i)| (n, i + offset)));
                     all.0.extend(materials);
                 }
-                Err(problem) => skip(problem),
+                Err(problem) => skip(line, problem),
             }
         }
         Ok(all)
