@@ -336,6 +336,7 @@ pub(super) fn feedback(
         "\nA family again, as graded (SUITE: `raylab suite export SUITE` writes it; NAME: the \
          family's name or number):\n  {again}\n\n"
     );
+    let mut above = "";
     for (r, case) in s.records.iter().zip(cases) {
         let counts = match &r.tally {
             Some(t) => format!(
@@ -355,6 +356,13 @@ pub(super) fn feedback(
         let teachers = case.rays.display().to_string();
         let file = case.rays.file_name().unwrap_or_default().to_string_lossy();
         let students = format!("SUITE/{}/{file}", case.name);
+        // (A detail the family above gave word for word, once: a program that never starts
+        // repeated its error under each of the 38 families.)
+        if !r.detail.trim().is_empty() && r.detail == above {
+            out += "    (the same as the family above)\n";
+            continue;
+        }
+        above = &r.detail;
         for line in r.detail.lines().filter(|l| !l.trim().is_empty()) {
             out += &format!("    {}\n", one_line(&line.replace(&teachers, &students)));
         }
