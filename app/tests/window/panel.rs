@@ -306,7 +306,7 @@ fn real_x_input_rs_word_goes_once_the_camera_moves() {
     // Typed with nothing before it, it says so too (it said nothing but over a field's words).
     let Some((said, log)) = status(
         typed
-            .replace(&reset, "xdotool windowfocus --sync $win; ")
+            .replace(reset, "xdotool windowfocus --sync $win; ")
             .as_str(),
     ) else {
         return;
