@@ -159,14 +159,23 @@ impl Evidence {
     }
 }
 
-/// The decimals of every t in `written`'s `hit <t> <index>` lines where they all have the
-/// same count, after a point and with no exponent, and there are two or more: a fixed count
-/// printed (`%.4f`). (Its 0.9980 for 0.99797 had a bare t failure.)
+/// The decimals of every t in `written`'s `hit <t> <index>` lines written without an
+/// exponent where they all have the same count after a point, and there are two or more: a
+/// fixed count printed (`%.4f`). (Its 0.9980 for 0.99797 had a bare t failure.) A t with an
+/// exponent, or not finite, is no evidence either way: JavaScript's `toFixed(4)` writes
+/// 1.2e28 so, and a family of such t's named no decimals.
 fn printed_decimals(written: &str) -> Option<usize> {
-    let decimals = hit_ts(written).map(|t| {
-        let exponent = t.contains(['e', 'E']);
-        let (_, after) = t.split_once('.')?;
-        (!exponent && after.bytes().all(|b| b.is_ascii_digit())).then_some(after.len())
+    let decimals = hit_ts(written).filter_map(|t| {
+        let digits = t.trim_start_matches(['-', '+']);
+        if t.contains(['e', 'E']) || !digits.starts_with(|c: char| c.is_ascii_digit()) {
+            return None;
+        }
+        let after = t.split_once('.').map(|(_, after)| after);
+        Some(
+            after
+                .filter(|a| a.bytes().all(|b| b.is_ascii_digit()))
+                .map(str::len),
+        )
     });
     let mut count = 0;
     let mut all = None;
