@@ -275,6 +275,12 @@ fn missed<T: Real>(
     };
     let joined = |facts: Vec<String>| (!facts.is_empty()).then(|| facts.join("; "));
     let mut facts = Vec::new();
+    // (A NaN t was taken as a miss and told of the exact hit's edge, or of nothing.)
+    if let Answer::Hit { t, prim } = *given {
+        if t.is_nan() && (prim as usize) < exact.primitives {
+            facts.push(not_a_number(exact, i, prim));
+        }
+    }
     if let Some((t, p)) = given_hit {
         let other = exact_hit.is_none_or(|(_, q)| q != p);
         let rounded_in = other
@@ -413,6 +419,20 @@ fn not_met<T: Real>(
         };
     }
     passes(exact, i, p, t)
+}
+
+/// A given t that is NaN, on primitive `p`: where the ray is parallel to a triangle's plane
+/// (its determinant exactly 0), the division that made it.
+fn not_a_number<T: Real>(exact: &Exact<T>, i: usize, p: u32) -> String {
+    use raylab::geometry::{triangle, Location};
+    let nan = "the given t is not a number (NaN)";
+    match exact.shape(p).locate(&exact.rays[i].1.ray) {
+        Location::Triangle(triangle::Location::EdgeOn) => format!(
+            "{nan}: the ray is parallel to triangle {p}'s plane (its determinant is 0), where \
+             a division by it gives NaN or ∞: no hit"
+        ),
+        _ => nan.to_string(),
+    }
 }
 
 /// Where the given primitive `p`, a triangle, is met at the given `t` (within the grader's

@@ -544,3 +544,23 @@ fn a_t_divided_by_a_lost_determinant_says_so() {
         h.out
     );
 }
+
+/// A NaN t, as a program dividing by a determinant of 0 gives for a ray in a triangle's
+/// plane, is said to be one, and why (it was a bare false hit, or told of another hit's
+/// edge).
+#[test]
+fn a_nan_t_on_a_triangle_the_ray_is_parallel_to_says_so() {
+    let h = hints(
+        "tri 0 0 0 1 0 0 0 1 0\n",
+        "-1 0.25 0 1 0 0 0 inf\n",
+        "hit nan 0\n",
+    );
+    assert!(
+        h.line(1).ends_with(
+            "[false hit: the given t is not a number (NaN): the ray is parallel to triangle 0's \
+             plane (its determinant is 0), where a division by it gives NaN or ∞: no hit]"
+        ),
+        "{}",
+        h.out
+    );
+}
