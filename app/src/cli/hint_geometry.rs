@@ -157,6 +157,17 @@ pub(super) fn quadratic<T: Real>(
     ([x.min(y), x.max(y)], c, disc)
 }
 
+/// Where ray `i`'s line crosses the triangle's plane, in f64: its t.
+pub(super) fn plane_t<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    tri: &raylab::geometry::Triangle<T>,
+) -> f64 {
+    let (o, d) = o_and_d(exact, i);
+    let (v0, n) = plane_of(tri);
+    dot(sub(v0, o), n) / dot(d, n)
+}
+
 /// Ray `i` against sphere `s`, in f64: a = d·d, b = d·(o − c), |o − c|² and the
 /// discriminant b² − a·c (as a·r² − |d × (o − c)|²).
 fn sphere_terms<T: Real>(

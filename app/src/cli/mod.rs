@@ -36,6 +36,7 @@ mod reports;
 mod reproducers;
 mod rubric;
 mod suite_dir;
+mod t_failures;
 mod template;
 mod trace;
 
