@@ -265,12 +265,22 @@ pub(super) fn small_determinant<T: Real>(
          sign",
         if f32 { "f32" } else { "f64" }
     );
+    // (Graded in f64, a determinant below f32's range: a program computing in float loses
+    // it so, where the run bore out an epsilon; a JavaScript student's `Math.fround` program
+    // was told of an epsilon alone.)
+    let in_f32 = match !f32 && det.abs() < f32::MIN_POSITIVE as f64 {
+        true => {
+            " (or the program computes in f32, where it is below the smallest normal \
+                 number: `--precision f32` grades it so)"
+        }
+        false => "",
+    };
     let why = match (underflows, rounds, epsilon) {
         (true, _, false) => underflow,
         (true, _, true) => format!("{underflow}; and {lost}"),
         (false, true, false) => rounding,
-        (false, true, true) => format!("near 0: {lost} (and it is {rounding})"),
-        (false, false, true) => format!("near 0: {lost}"),
+        (false, true, true) => format!("near 0: {lost}{in_f32} (and it is {rounding})"),
+        (false, false, true) => format!("near 0: {lost}{in_f32}"),
         (false, false, false) => return None,
     };
     (det != 0.0).then(|| {

@@ -564,3 +564,25 @@ fn a_nan_t_on_a_triangle_the_ray_is_parallel_to_says_so() {
         h.out
     );
 }
+
+/// Graded in f64, an epsilon on a determinant below f32's smallest normal number is named
+/// beside the f32 that loses it too (a JavaScript student's `Math.fround` program, graded
+/// in f64, was told of an epsilon alone).
+#[test]
+fn an_epsilon_below_f32s_range_names_f32_too() {
+    let h = hints_with(
+        "tri 0 0 1e-20 1e-20 0 1e-20 0 1e-20 1e-20\ntri 5 0 2 6 0 2 5 1 2\n",
+        "2e-21 2e-21 0 0 0 1 0 inf\n5.2 0.2 0 0 0 1 0 inf\n",
+        "miss\nhit 2 1\n",
+        &["--precision", "f64"],
+    );
+    assert!(
+        h.line(1).contains(
+            "is -1.0e-40, near 0: an epsilon on it (|det| < ε: no hit) loses the hit, where \
+             only det = 0 is parallel (or the program computes in f32, where it is below the \
+             smallest normal number: `--precision f32` grades it so)"
+        ),
+        "{}",
+        h.out
+    );
+}
