@@ -410,7 +410,8 @@ fn run_all(
         for (n, (k, submission, took)) in finished.iter().enumerate() {
             let passed = submission.passed();
             eprintln!(
-                "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s)",
+                // (Wall time, its copy and grading too: the table's is the program's.)
+                "[{}/{}] {}: {passed}/{} families passed{} ({:.1} s in all)",
                 n + 1,
                 submissions.len(),
                 one_line(&submission.name),
