@@ -222,10 +222,35 @@ fn terms<T: Real>(exact: &Exact<T>, i: usize, tri: &Triangle<T>) -> f64 {
     length(sub(v[1], v[0])) * length(o_and_d(exact, i).1) * length(sub(v[2], v[0]))
 }
 
-/// Whether the determinant is below the rounding of its terms in the precision graded: a
-/// correct program's can come out 0 or with the other sign.
+/// Whether the determinant may be below the rounding of its terms in the precision graded
+/// (by the bound of their sizes, [`terms`]): where it may, a miss is not clearly inside.
 pub(super) fn determinant_rounds<T: Real>(exact: &Exact<T>, i: usize, tri: &Triangle<T>) -> bool {
     determinant(exact, i, tri).abs() < 3.0 * T::UNIT_ROUNDOFF.f64() * terms(exact, i, tri)
+}
+
+/// Whether the determinant is below the rounding of its six products e1ᵢ·dⱼ·e2ₖ in the
+/// precision graded, so that a correct program's can come out 0 or with the other sign: what
+/// a hint says. (By [`terms`]' |e1| |d| |e2| a sliver's −4.0e-7, its one product, was said
+/// to round so.)
+pub(super) fn determinant_below_rounding<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    tri: &Triangle<T>,
+) -> bool {
+    let v = tri.0.map(|p| p.map(|c| c.f64()));
+    let (e1, e2, d) = (sub(v[1], v[0]), sub(v[2], v[0]), o_and_d(exact, i).1);
+    let products: f64 = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ]
+    .iter()
+    .map(|&[a, b, c]| (e1[a] * d[b] * e2[c]).abs())
+    .sum();
+    determinant(exact, i, tri).abs() < 3.0 * T::UNIT_ROUNDOFF.f64() * products
 }
 
 /// |a|.
@@ -251,7 +276,7 @@ pub(super) fn small_determinant<T: Real>(
     let det = determinant(exact, i, &tri);
     let f32 = T::PRECISION <= 24;
     let underflows = f32 && det.abs() < f32::MIN_POSITIVE as f64;
-    let rounds = determinant_rounds(exact, i, &tri);
+    let rounds = determinant_below_rounding(exact, i, &tri);
     let epsilon = det.abs() < 1e-2 && det.abs() < epsilon_below;
     let lost = "an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
                 parallel";

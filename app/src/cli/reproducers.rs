@@ -2,7 +2,7 @@
 //! where its ray is, the ray, the exact answer and the answer given.
 
 use super::evidence::Evidence;
-use super::hint_geometry::{determinant_rounds, small_determinant, sphere_rounding};
+use super::hint_geometry::{determinant_below_rounding, small_determinant, sphere_rounding};
 use super::hint_geometry::{faces_back, near, past_tmin};
 use super::hint_geometry::{plane_t, quadratic, within_rounding_of_edge};
 use super::t_failures::{fine_t, other_root, round_trip_digits, short_print, t_of, times_length};
@@ -631,7 +631,7 @@ fn where_on<T: Real>(
             }
             // (Not beside a determinant below rounding, said apart: its weights are noise.)
             let edge = within_rounding_of_edge(exact, i, tri, &location)
-                .filter(|&(_, w)| w < 1e-3 && !determinant_rounds(exact, i, tri));
+                .filter(|&(_, w)| w < 1e-3 && !determinant_below_rounding(exact, i, tri));
             if let Some((edge, weight)) = edge {
                 facts.push(format!(
                     "the exact hit is inside the triangle, {weight:.1e} (barycentric) from its \

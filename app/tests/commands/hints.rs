@@ -230,8 +230,8 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
 /// near tmin (as small a determinant) was answered right, and a miss no rounding explains
 /// bears one out; else what rounding does: a hit 3e-8 past tmin is lost to t rounded to tmin
 /// (in f32 within its rounding: no epsilon is borne out; in f64 it is), a determinant of
-/// -1e-7 beside terms of 1 can round to 0 in f32. (A correct f32 program was told of an
-/// epsilon beside a hit nearer tmin it had answered right.)
+/// 2.4e-7 beside products of 1 that cancel can round to 0 in f32. (A correct f32 program was
+/// told of an epsilon beside a hit nearer tmin it had answered right.)
 #[test]
 fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
     // (Met from their fronts: misses of backs would be culling's.)
@@ -249,30 +249,29 @@ fn epsilons_are_named_only_where_no_nearer_case_was_answered_right() {
          below)]"
     );
     assert!(h.line(2).ends_with(&both), "{}", h.out);
-    // A ray grazing the plane z = 0 (met from the front): determinants 5e-8 and 1e-7.
-    let scene = "tri 0 0 0 0 1 0 1 0 0\n";
-    let rays = "0.1 0.25 -5e-9 1 0 5e-8 0 inf\n0.1 0.25 -1e-8 1 0 1e-7 0 inf\n";
+    // Rays grazing the tilted plane y + z = 0 (met from the front), meeting it at t 1 at
+    // weights 0.25 and 0.25: determinants 2⁻²³ and 2⁻²², where its products d_y·e1_z·e2_x and
+    // d_z·e1_y·e2_x are near 1 and cancel.
+    let scene = "tri 0 0 0 0 1 -1 1 0 0\n";
+    let rays = "-0.75 -0.75 0.74999988079071044921875 1 1 -0.99999988079071044921875 0 inf\n\
+                -0.75 -0.75 0.7499997615814208984375 1 1 -0.9999997615814208984375 0 inf\n";
     let rounds = "below the rounding of its terms in f32: rounded, it can come out 0 or with the \
                   other sign";
-    let h = hints(scene, rays, "hit 0.1 0\nmiss\n");
-    assert!(
-        h.line(2).ends_with(&format!("is 1.0e-7, {rounds}]")),
-        "{}",
-        h.out
-    );
-    let h = hints(scene, rays, "miss\nmiss\n");
-    assert!(
-        h.line(2).ends_with(&format!("is 1.0e-7, {rounds}]")),
-        "{}",
-        h.out
-    );
+    for answers in ["hit 1 0\nmiss\n", "miss\nmiss\n"] {
+        let h = hints(scene, rays, answers);
+        assert!(
+            h.line(2).ends_with(&format!("is 2.4e-7, {rounds}]")),
+            "{}",
+            h.out
+        );
+    }
     // In f64 neither rounds: missed both, the program bears out an epsilon; with the first
     // met right, not below it.
     let f64 = ["--precision", "f64"];
     let h = hints_with(scene, rays, "miss\nmiss\n", &f64);
-    let epsilon = "is 1.0e-7, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
+    let epsilon = "is 2.4e-7, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
     assert!(h.line(2).contains(epsilon), "{}", h.out);
-    let h = hints_with(scene, rays, "hit 0.1 0\nmiss\n", &f64);
+    let h = hints_with(scene, rays, "hit 1 0\nmiss\n", &f64);
     assert!(h.line(2).ends_with("[leak]"), "{}", h.out);
 }
 
@@ -582,6 +581,31 @@ fn an_epsilon_below_f32s_range_names_f32_too() {
              only det = 0 is parallel (or the program computes in f32, where it is below the \
              smallest normal number: `--precision f32` grades it so)"
         ),
+        "{}",
+        h.out
+    );
+}
+
+/// A determinant is said to be below the rounding of its terms only where its six products
+/// e1ᵢ·dⱼ·e2ₖ allow it: a sliver's 2.0e-7, its one product, rounds to within an ulp in any
+/// f32 formula (|e1| |d| |e2| = 2 had it said to come out 0 or with the other sign).
+#[test]
+fn a_determinant_of_one_product_is_not_said_to_round_away() {
+    let h = hints(
+        "tri 0 0 0 2 0 0 1 1e-7 0\n",
+        "1 2.5e-8 1 0 0 -1 0 inf\n",
+        "miss\n",
+    );
+    assert!(h.line(1).ends_with("[leak]"), "{}", h.out);
+    // Grazing a triangle whose plane is not the axes' instead: its products cancel, said so
+    // (as where epsilons are named, above).
+    let h = hints(
+        "tri 0 0 0 0 1 -1 1 0 0\n",
+        "-0.75 -0.75 0.7499997615814208984375 1 1 -0.9999997615814208984375 0 inf\n",
+        "miss\n",
+    );
+    assert!(
+        h.line(1).contains("below the rounding of its terms in f32"),
         "{}",
         h.out
     );
