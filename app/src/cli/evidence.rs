@@ -84,12 +84,23 @@ impl Evidence {
             if let (true, Answer::Hit { t: te, prim }) = (missed, j.exact) {
                 let inside =
                     !near_an_end(exact, i, prim, te.f64()) && clearly_inside(exact, i, prim);
-                evidence.passes_nearer |= farther && inside;
                 let triangle = match exact.shape(prim) {
                     Shape::Triangle(tri) => Some(tri),
                     Shape::Sphere(_) => None,
                 };
                 let back = triangle.is_some_and(|tri| faces_back(exact, i, &tri));
+                // (Not over a back for a front: a culling program passes over those, and was
+                // told that the nearest hit wins. It gives no back.)
+                let given_back = match *given {
+                    Answer::Hit { prim: g, .. } if (g as usize) < exact.primitives => {
+                        match exact.shape(g) {
+                            Shape::Triangle(tri) => faces_back(exact, i, &tri),
+                            Shape::Sphere(_) => false,
+                        }
+                    }
+                    _ => false,
+                };
+                evidence.passes_nearer |= farther && inside && (!back || given_back);
                 if let (true, Some((gap, true))) = (inside, past_tmin(exact, i, te.f64())) {
                     let smallest = &mut evidence.smallest_gap_missed[back as usize];
                     *smallest = smallest.min(gap);
@@ -121,10 +132,12 @@ impl Evidence {
     }
 
     /// Whether the run bears out culled back faces: the program met no triangle's back
-    /// right, and missed one met clearly inside. (A correct program that rounded away a hit
-    /// inside an edge of a back face, alone in its run, was told it culled.)
+    /// right, and missed one met clearly inside, but no front met so. (A correct program that
+    /// rounded away a hit inside an edge of a back face, alone in its run, was told it
+    /// culled; a program giving the last hit, which missed fronts and backs alike, too.)
     pub fn culls_backs(&self) -> bool {
-        !self.meets_backs && self.misses_backs
+        let misses_fronts = self.smallest_determinant_missed[0] < f64::INFINITY;
+        !self.meets_backs && self.misses_backs && !misses_fronts
     }
 
     /// Below which t − tmin the run bears out an epsilon in tmin's place: the smallest gap

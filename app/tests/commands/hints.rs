@@ -610,3 +610,33 @@ fn a_determinant_of_one_product_is_not_said_to_round_away() {
         h.out
     );
 }
+
+/// Passing over a back face for a front one farther on is what culling does: such a program
+/// is told the nearer hit is missed and that both sides count, not that the nearest hit wins;
+/// one that also passes over a front is told the rule, and of the back as a fact alone (a
+/// last-hit program was told it culled, a culling one that the nearest hit wins).
+#[test]
+fn culling_and_the_last_hit_are_told_apart() {
+    // A back at z = 1 (x 0..1), a front at z = 1 (x 5..6), and a large front at z = 2.
+    let scene = "tri 0 0 1 1 0 1 0 1 1\ntri -10 -10 2 -10 20 2 20 -10 2\ntri 5 0 1 5 1 1 6 0 1\n";
+    let rays = "0.25 0.25 0 0 0 1 0 inf\n5.25 0.25 0 0 0 1 0 inf\n";
+    let back = "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))";
+    let culled = hints(scene, rays, "hit 2 1\nhit 1 2\n");
+    assert!(
+        culled.line(1).ends_with(&format!(
+            "[wrong primitive: the given t 2 is past the exact hit's t 1: the nearer hit is \
+             missed; {back}: both sides count]"
+        )),
+        "{}",
+        culled.out
+    );
+    let last = hints(scene, rays, "hit 2 1\nhit 2 1\n");
+    assert!(
+        last.line(1).ends_with(&format!(
+            "[wrong primitive: the given t 2 is past the exact hit's t 1: the nearest hit wins; \
+             {back}]"
+        )),
+        "{}",
+        last.out
+    );
+}
