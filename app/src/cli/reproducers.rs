@@ -99,6 +99,11 @@ fn reproducer<T: Real>(
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
+                // (Both: `%.4f`'s 0.0000 for 1.4e-5 was told of tmin alone.)
+                (Some(hint), Some(printed), ..) => format!(
+                    "; {hint}; t is the exact one {printed}: print {0} (%.{0}g)",
+                    round_trip_digits::<T>()
+                ),
                 (Some(hint), ..) => format!("; {hint}"),
                 (None, Some(printed), _, _) => format!(
                     "; t is the exact one {printed}: print {0} (%.{0}g)",

@@ -108,7 +108,7 @@ pub(super) fn short_print<T: Real>(
     let (Answer::Hit { t: te, prim }, Answer::Hit { t: given, .. }) = (standing, given) else {
         return None;
     };
-    if !given.is_finite() || *given == T::zero() {
+    if !given.is_finite() {
         return None;
     }
     // (The exact t so rounded from its f64 estimate, or from t rounded to `T` first, as a
@@ -134,7 +134,8 @@ pub(super) fn short_print<T: Real>(
         let as_is = rounded(&|t| format!("{t:.n$}"))?;
         Some(format!("{as_is}to {n} decimals (%.{n}f)"))
     });
-    if evidence.digits_vary && decimals.is_some() {
+    // (A t of 0 has no significant digits: `%.4f`'s 0.0000 for 1.4e-5 its decimals alone.)
+    if (evidence.digits_vary && decimals.is_some()) || *given == T::zero() {
         return decimals;
     }
     let printed = evidence.printed_digits;

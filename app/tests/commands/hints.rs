@@ -408,6 +408,17 @@ fn a_short_t_is_blamed_on_the_printing_only_where_the_program_prints_short() {
             h.out
         );
     }
+    // A t of 1.4e-5 at `%.4f` is 0.0000: not above tmin, and printed so (told of tmin alone).
+    let near = "tri -1 -1 1.4e-5 1 -1 1.4e-5 0 1 1.4e-5\n";
+    let h = hints(near, &rays[..36], "hit 0.0000 0\nhit 0.0000 0\n");
+    assert!(
+        h.line(1).ends_with(
+            "t 0 is not above tmin 0: only tmin < t < tmax counts; t is the exact one to 4 \
+             decimals (%.4f): print 9 (%.9g)]"
+        ),
+        "{}",
+        h.out
+    );
     let z = "4.500195026397705";
     let scene = format!("tri -10 -10 {z} 10 -10 {z} 0 10 {z}\n");
     let rays = "0 0 0 0 0 3 0 inf\n0 0 0 0 0 3 0 inf\n";
