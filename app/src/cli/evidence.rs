@@ -39,13 +39,16 @@ pub(super) struct Evidence {
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
-    /// The smallest t − tmin of a hit the program missed clearly inside its primitive and not
-    /// within rounding of tmin, near enough to tmin for an epsilon in its place to lose it
-    /// ([`past_tmin`]); on a sphere or a triangle's front, and on a triangle's back.
+    /// The smallest t − tmin of a hit the program missed (a leak) clearly inside its primitive
+    /// and not within rounding of tmin, near enough to tmin for an epsilon in its place to
+    /// lose it ([`past_tmin`]); on a sphere or a triangle's front, and on a triangle's back.
     pub smallest_gap_missed: [f64; 2],
+    /// The same of a hit passed over for a farther one.
+    pub smallest_gap_passed: [f64; 2],
     /// Whether the program gave a farther primitive where the exact hit is clearly inside its
-    /// primitive ([`clearly_inside`], not within rounding of tmin or tmax): it passes over
-    /// nearer hits, not only rounds them away.
+    /// primitive ([`clearly_inside`], not within rounding of tmin or tmax), not near tmin, and
+    /// not a back passed over for a front (culling's): it passes over nearer hits, not only
+    /// rounds them away or loses them to an epsilon.
     pub passes_nearer: bool,
 }
 
@@ -71,6 +74,7 @@ impl Evidence {
             misses_backs: false,
             smallest_gap_met: f64::INFINITY,
             smallest_gap_missed: [f64::INFINITY; 2],
+            smallest_gap_passed: [f64::INFINITY; 2],
             passes_nearer: false,
         };
         for (i, (j, (_, given))) in judged.iter().zip(answers).enumerate() {
@@ -100,10 +104,18 @@ impl Evidence {
                     }
                     _ => false,
                 };
-                evidence.passes_nearer |= farther && inside && (!back || given_back);
-                if let (true, Some((gap, true))) = (inside, past_tmin(exact, i, te.f64())) {
-                    let smallest = &mut evidence.smallest_gap_missed[back as usize];
-                    *smallest = smallest.min(gap);
+                // (A hit near tmin passed over is an epsilon's as much: passing over hits is
+                // borne out by those farther on. Where it is, such a pass bears out no
+                // epsilon: a last-hit program was told of one in tmin's place.)
+                let near_tmin = past_tmin(exact, i, te.f64()).filter(|&(_, near)| near);
+                let passes = farther && inside && (!back || given_back);
+                evidence.passes_nearer |= passes && near_tmin.is_none();
+                if let (true, Some((gap, _))) = (inside, near_tmin) {
+                    let gaps = match farther {
+                        true => &mut evidence.smallest_gap_passed,
+                        false => &mut evidence.smallest_gap_missed,
+                    };
+                    gaps[back as usize] = gaps[back as usize].min(gap);
                 }
                 if let (true, Some(tri)) = (inside, triangle) {
                     let det = determinant(exact, i, &tri).abs();
@@ -144,7 +156,12 @@ impl Evidence {
     /// the program met right, where it missed a hit with a smaller one (clearly inside, not
     /// within rounding of tmin); else 0. (A run of one ray named it beside nothing.)
     pub fn tmin_epsilon_below(&self) -> f64 {
-        match self.unculled(self.smallest_gap_missed) < self.smallest_gap_met {
+        let passed = match self.passes_nearer {
+            true => [f64::INFINITY; 2],
+            false => self.smallest_gap_passed,
+        };
+        let missed = [0, 1].map(|k| self.smallest_gap_missed[k].min(passed[k]));
+        match self.unculled(missed) < self.smallest_gap_met {
             true => self.smallest_gap_met,
             false => 0.0,
         }

@@ -651,3 +651,34 @@ fn culling_and_the_last_hit_are_told_apart() {
         last.out
     );
 }
+
+/// A hit near tmin passed over for a farther one bears out an epsilon in tmin's place only
+/// where the program passes over no other nearer hit: a last-hit program is told the nearest
+/// hit wins and not of an epsilon (it was told both), an epsilon program the reverse.
+#[test]
+fn an_epsilon_in_tmins_place_is_not_a_last_hits_pass() {
+    // Fronts: 1e-8 and 3e-8 past the origins, a large one at z = 2, one at z = 1.
+    let scene = "tri 0 0 1e-8 0 1 1e-8 1 0 1e-8\ntri 2 0 3e-8 2 1 3e-8 3 0 3e-8\n\
+                 tri -10 -10 2 -10 20 2 20 -10 2\ntri 5 0 1 5 1 1 6 0 1\n";
+    let rays = "2.2 0.2 0 0 0 1 0 inf\n5.25 0.25 0 0 0 1 0 inf\n-5 -5 0 0 0 1 0 inf\n";
+    let f64 = ["--precision", "f64"];
+    let passed = "[wrong primitive: the given t 2 is past the exact hit's t 3e-8: the";
+    let near = "the exact hit is only 3.0e-8 past tmin: a hit counts however near tmin (";
+    let last = hints_with(scene, rays, "hit 2 2\nhit 2 2\nhit 2 2\n", &f64);
+    assert!(
+        last.line(1).ends_with(&format!(
+            "{passed} nearest hit wins; {near}t rounded to tmin or below loses it)]"
+        )),
+        "{}",
+        last.out
+    );
+    let epsilon = hints_with(scene, rays, "hit 2 2\nhit 1 3\nhit 2 2\n", &f64);
+    assert!(
+        epsilon.line(1).ends_with(&format!(
+            "{passed} nearer hit is missed; {near}an epsilon in its place loses it, and so \
+             does t rounded to tmin or below)]"
+        )),
+        "{}",
+        epsilon.out
+    );
+}
