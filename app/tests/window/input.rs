@@ -405,17 +405,18 @@ fn real_x_input_drives_every_other_key() {
     // pose it changes nothing); Esc closes the shortcuts, and Esc then asks before quitting.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
+    // (Each hold in one xdotool run: a second process started between press and release
+    // held the key longer on a busy machine, and Right then Left once left 40.2°.)
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key r; sleep 0.2; \
-                  xdotool keydown d; sleep 0.3; xdotool keyup d; sleep 0.2; \
-                  xdotool keydown shift keydown d; sleep 0.3; xdotool keyup d keyup shift; \
-                  sleep 0.2; xdotool keydown ctrl keydown e; sleep 0.3; \
-                  xdotool keyup e keyup ctrl; sleep 0.2; \
-                  xdotool keydown q; sleep 0.3; xdotool keyup q; sleep 0.2; \
-                  xdotool keydown s; sleep 0.3; xdotool keyup s; sleep 0.2; \
-                  xdotool keydown Up; sleep 0.8; xdotool keyup Up; sleep 0.2; \
-                  xdotool keydown Down; sleep 0.4; xdotool keyup Down; sleep 0.2; \
-                  xdotool keydown Right; sleep 0.8; xdotool keyup Right; sleep 0.2; \
-                  xdotool keydown Left; sleep 0.4; xdotool keyup Left; sleep 0.2; \
+                  xdotool keydown d sleep 0.3 keyup d; sleep 0.2; \
+                  xdotool keydown shift keydown d sleep 0.3 keyup d keyup shift; \
+                  sleep 0.2; xdotool keydown ctrl keydown e sleep 0.3 keyup e keyup ctrl; \
+                  sleep 0.2; xdotool keydown q sleep 0.3 keyup q; sleep 0.2; \
+                  xdotool keydown s sleep 0.3 keyup s; sleep 0.2; \
+                  xdotool keydown Up sleep 0.8 keyup Up; sleep 0.2; \
+                  xdotool keydown Down sleep 0.4 keyup Down; sleep 0.2; \
+                  xdotool keydown Right sleep 0.8 keyup Right; sleep 0.2; \
+                  xdotool keydown Left sleep 0.4 keyup Left; sleep 0.2; \
                   xdotool key plus; xdotool key plus; xdotool key minus; \
                   xdotool key i; xdotool key h; xdotool key F1; xdotool key h; xdotool key F5; \
                   logged 'saved view'; xdotool key Escape; logged 'Esc closed'; \
