@@ -682,3 +682,30 @@ fn an_epsilon_in_tmins_place_is_not_a_last_hits_pass() {
         epsilon.out
     );
 }
+
+/// Möller–Trumbore's culling test, `det < ε`, misses backs and fronts of tiny determinant:
+/// the epsilon is named and the back said as a fact, not the rule that both sides count (a
+/// front missed clearly inside bears culling out no more than an epsilon on |det| does,
+/// whose program misses backs of tiny determinant too, and would be told it culls).
+#[test]
+fn culling_with_an_epsilon_names_the_epsilon_and_the_back() {
+    // A back at z = 1, a front grazed at determinant 2.4e-7 (x 10..11), a front at z = 1.
+    let scene = "tri 0 0 1 1 0 1 0 1 1\ntri 10 0 0 10 1 -1 11 0 0\ntri 5 0 1 5 1 1 6 0 1\n";
+    let rays = "0.25 0.25 0 0 0 1 0 inf\n\
+                9.25 -0.75 0.7499997615814208984375 1 1 -0.9999997615814208984375 0 inf\n\
+                5.25 0.25 0 0 0 1 0 inf\n";
+    let h = hints_with(
+        scene,
+        rays,
+        "miss\nmiss\nhit 1 2\n",
+        &["--precision", "f64"],
+    );
+    let back = "the exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))";
+    assert!(h.line(1).ends_with(&format!("[leak: {back}]")), "{}", h.out);
+    assert!(
+        h.line(2)
+            .contains("is 2.4e-7, near 0: an epsilon on it (|det| < ε: no hit)"),
+        "{}",
+        h.out
+    );
+}
