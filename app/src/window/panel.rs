@@ -219,8 +219,8 @@ pub fn side_panel(
                 .on_hover_text("moving speed (+ / -); Shift 4x, Ctrl 1/4");
             actions.note(typing.said_as_edit_ends(ui, &response, "speed", camera.speed));
         });
-        // (Short words where the panel shows less than the row: "Copy as command (C)" was cut
-        // to "Copy as con" in a narrow window.)
+        // (Short words where the widest panel the window allows cannot hold the row: "Copy as
+        // command (C)" was cut to "Copy as con" in a narrow window.)
         let words = match row_fits(ui, &CAMERA_BUTTONS, info.widest) {
             true => CAMERA_BUTTONS,
             false => ["Reset (R)", "Save (F5)", "Copy (C)"],
