@@ -4,7 +4,8 @@
 //! program that rounds a hit on a tiny cube's edge away was told of an epsilon it did not
 //! have, and one printing `%.9g` to print 9 digits.
 
-use super::hint_geometry::{clearly_inside, determinant, faces_back, near, near_an_end, past_tmin};
+use super::hint_geometry::{clearly_inside, determinant, faces_back, meets_back, near};
+use super::hint_geometry::{near_an_end, past_tmin};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;
@@ -92,17 +93,12 @@ impl Evidence {
                     Shape::Triangle(tri) => Some(tri),
                     Shape::Sphere(_) => None,
                 };
-                let back = triangle.is_some_and(|tri| faces_back(exact, i, &tri));
+                let back = meets_back(exact, i, prim);
                 // (Not over a back for a front: a culling program passes over those, and was
                 // told that the nearest hit wins. It gives no back.)
                 let given_back = match *given {
-                    Answer::Hit { prim: g, .. } if (g as usize) < exact.primitives => {
-                        match exact.shape(g) {
-                            Shape::Triangle(tri) => faces_back(exact, i, &tri),
-                            Shape::Sphere(_) => false,
-                        }
-                    }
-                    _ => false,
+                    Answer::Hit { prim: g, .. } => meets_back(exact, i, g),
+                    Answer::Miss => false,
                 };
                 // (A hit near tmin passed over is an epsilon's as much: passing over hits is
                 // borne out by those farther on. Where it is, such a pass bears out no

@@ -22,6 +22,18 @@ pub(super) fn faces_back<T: Real>(exact: &Exact<T>, i: usize, tri: &Triangle<T>)
     dot(d, n) > 1e-6 * length(d) * length(n)
 }
 
+/// Whether ray `i` meets primitive `prim` from its back: a triangle ([`faces_back`]); never
+/// a sphere, nor an index past the last.
+pub(super) fn meets_back<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> bool {
+    match (prim as usize) < exact.primitives {
+        true => match exact.shape(prim) {
+            raylab::geometry::Shape::Triangle(tri) => faces_back(exact, i, &tri),
+            raylab::geometry::Shape::Sphere(_) => false,
+        },
+        false => false,
+    }
+}
+
 /// Whether `x` and `y` agree to 10⁻⁶ of the larger (in f64).
 pub(super) fn near(x: f64, y: f64) -> bool {
     (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1e-30)
@@ -90,8 +102,8 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
         // (Its discriminant clear of the textbook b² − a·c's rounding: a correct program's
         // far tiny sphere can lose a ray through it near the rim.)
         (Shape::Sphere(s), Location::Sphere(sphere::Location::Through)) => {
-            let (a, _, oc2, disc) = sphere_terms(exact, i, s);
-            disc > 1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2
+            let disc = sphere_terms(exact, i, s).3;
+            disc > discriminant_rounding(exact, i, s)
         }
         _ => false,
     }
@@ -116,8 +128,7 @@ pub(super) fn sphere_rounding<T: Real>(exact: &Exact<T>, i: usize, prim: u32) ->
             f32::MIN_POSITIVE
         ));
     }
-    let rounding = 1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2;
-    if disc.abs() <= rounding && disc != 0.0 {
+    if disc.abs() <= discriminant_rounding(exact, i, &s) && disc != 0.0 {
         let r2 = s.radius.f64().powi(2);
         facts.push(format!(
             "|b² − a·c| is only {:.1e} of a·|o − c|², below the rounding of the textbook \
@@ -139,14 +150,8 @@ pub(super) fn quadratic<T: Real>(
     i: usize,
     sphere: &raylab::geometry::Sphere<T>,
 ) -> ([f64; 2], f64, f64) {
-    let (o, d) = o_and_d(exact, i);
-    let (centre, r) = (sphere.centre.map(|c| c.f64()), sphere.radius.f64());
-    let oc = sub(o, centre);
-    let (a, b, c) = (dot(d, d), dot(d, oc), dot(oc, oc) - r * r);
-    // (b² − a·c as a·r² − |d × (o − c)|², the line's distance from the centre: b² and a·c
-    // cancel for a small sphere far away, and gave it two equal roots, or none.)
-    let across = cross(d, oc);
-    let disc = a * r * r - dot(across, across);
+    let (a, b, oc2, disc) = sphere_terms(exact, i, sphere);
+    let c = oc2 - sphere.radius.f64().powi(2);
     // (Stable: q = −b ∓ √disc away from 0, the roots q/a and c/q: −b ± √disc cancelled where
     // the origin is near the surface.)
     let q = -b - b.signum() * disc.max(0.0).sqrt();
@@ -168,8 +173,21 @@ pub(super) fn plane_t<T: Real>(
     dot(sub(v0, o), n) / dot(d, n)
 }
 
+/// The rounding of the textbook discriminant b² − a·c of ray `i` and sphere `s` in the
+/// precision graded (2¹⁰ unit roundoffs of a·|o − c|²): a discriminant within it can come
+/// out with the other sign.
+fn discriminant_rounding<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    s: &raylab::geometry::Sphere<T>,
+) -> f64 {
+    let (a, _, oc2, _) = sphere_terms(exact, i, s);
+    1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2
+}
+
 /// Ray `i` against sphere `s`, in f64: a = d·d, b = d·(o − c), |o − c|² and the
-/// discriminant b² − a·c (as a·r² − |d × (o − c)|²).
+/// discriminant b² − a·c (as a·r² − |d × (o − c)|², the line's distance from the centre: b²
+/// and a·c cancel for a small sphere far away, and gave it two equal roots, or none).
 fn sphere_terms<T: Real>(
     exact: &Exact<T>,
     i: usize,
@@ -275,7 +293,8 @@ pub(super) fn small_determinant<T: Real>(
     };
     let det = determinant(exact, i, &tri);
     let f32 = T::PRECISION <= 24;
-    let underflows = f32 && det.abs() < f32::MIN_POSITIVE as f64;
+    let below_f32 = det.abs() < f32::MIN_POSITIVE as f64;
+    let underflows = f32 && below_f32;
     let rounds = determinant_below_rounding(exact, i, &tri);
     let epsilon = det.abs() < 1e-2 && det.abs() < epsilon_below;
     let lost = "an epsilon on it (|det| < ε: no hit) loses the hit, where only det = 0 is \
@@ -293,7 +312,7 @@ pub(super) fn small_determinant<T: Real>(
     // (Graded in f64, a determinant below f32's range: a program computing in float loses
     // it so, where the run bore out an epsilon; a JavaScript student's `Math.fround` program
     // was told of an epsilon alone.)
-    let in_f32 = match !f32 && det.abs() < f32::MIN_POSITIVE as f64 {
+    let in_f32 = match !f32 && below_f32 {
         true => {
             " (or the program computes in f32, where it is below the smallest normal \
                  number: `--precision f32` grades it so)"

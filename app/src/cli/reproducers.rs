@@ -3,11 +3,27 @@
 
 use super::evidence::Evidence;
 use super::hint_geometry::{determinant_below_rounding, small_determinant, sphere_rounding};
-use super::hint_geometry::{faces_back, near, past_tmin};
+use super::hint_geometry::{meets_back, near, past_tmin};
 use super::hint_geometry::{plane_t, quadratic, within_rounding_of_edge};
 use super::t_failures::{fine_t, other_root, round_trip_digits, short_print, t_of, times_length};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::Real;
+
+/// A wrong answer: a leak, a false hit or a wrong primitive (shown first).
+fn wrong<T: Real>(j: &Judged<T>) -> bool {
+    !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie)
+}
+
+/// A right or tied hit whose t is beyond the tolerance (shown after the wrong answers).
+fn t_failed<T: Real>(j: &Judged<T>) -> bool {
+    j.graded.t_error == Some(grade::TError::Beyond)
+}
+
+/// The ray [`reproducers`] shows first, if any: the first wrong answer, else the first t
+/// failure.
+pub(super) fn first_shown<T: Real>(judged: &[Judged<T>]) -> Option<usize> {
+    (judged.iter().position(wrong)).or_else(|| judged.iter().position(t_failed))
+}
 
 /// The first `most` wrong answers and the first `most` t failures, each under a heading, as
 /// one-line reproducers.
@@ -22,8 +38,6 @@ pub(super) fn reproducers<T: Real>(
     let mut lines = Vec::new();
     let meets = |i: usize, p: u32, t: f64| meets_at(exact, i, p, t);
     let evidence = Evidence::of(judged, exact, answers, written.text, meets);
-    let wrong = |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
-    let t_failed = |j: &Judged<T>| j.graded.t_error == Some(grade::TError::Beyond);
     for (heading, wanted) in [
         ("wrong answers", &wrong as &dyn Fn(&Judged<T>) -> bool),
         ("hits whose t is beyond the tolerance", &t_failed),
@@ -95,20 +109,19 @@ fn reproducer<T: Real>(
             j.graded.relative,
             match (
                 outside.as_deref(),
-                short_print(exact, i, &j.exact, &answers[i].1, evidence),
+                short_print(exact, i, &j.exact, &answers[i].1, evidence).map(|printed| {
+                    format!(
+                        "t is the exact one {printed}: print {0} (%.{0}g)",
+                        round_trip_digits::<T>()
+                    )
+                }),
                 other_root(exact, i, &j.exact, &answers[i].1),
                 times_length(exact, i, &j.exact, &answers[i].1),
             ) {
                 // (Both: `%.4f`'s 0.0000 for 1.4e-5 was told of tmin alone.)
-                (Some(hint), Some(printed), ..) => format!(
-                    "; {hint}; t is the exact one {printed}: print {0} (%.{0}g)",
-                    round_trip_digits::<T>()
-                ),
+                (Some(hint), Some(printed), ..) => format!("; {hint}; {printed}"),
                 (Some(hint), ..) => format!("; {hint}"),
-                (None, Some(printed), _, _) => format!(
-                    "; t is the exact one {printed}: print {0} (%.{0}g)",
-                    round_trip_digits::<T>()
-                ),
+                (None, Some(printed), _, _) => format!("; {printed}"),
                 (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins{}",
@@ -597,10 +610,6 @@ fn where_on<T: Real>(
 ) -> (Option<String>, bool) {
     use raylab::geometry::{sphere, triangle, Location, Shape};
     let ray = &exact.rays[i].1.ray;
-    let met_from_back = |shape: &Shape<T>| match shape {
-        Shape::Triangle(tri) => faces_back(exact, i, tri),
-        Shape::Sphere(_) => false,
-    };
     let shape = exact.shape(prim);
     let fact = match (&shape, shape.locate(ray)) {
         (_, Location::Sphere(sphere::Location::Tangent)) => {
@@ -647,12 +656,12 @@ fn where_on<T: Real>(
             }
             // (The side always, as a fact; the rule only where the run bears culling out: a
             // culling program's leaks on edges were told of the edges alone, or of nothing.)
-            let given_faces_back = given.is_some_and(|g| met_from_back(&exact.shape(g)));
+            let given_faces_back = given.is_some_and(|g| meets_back(exact, i, g));
             let rule = match back {
                 Back::WithRule => ": both sides count",
                 Back::Said | Back::Unsaid => "",
             };
-            if back != Back::Unsaid && met_from_back(&shape) && !given_faces_back {
+            if back != Back::Unsaid && meets_back(exact, i, prim) && !given_faces_back {
                 let n = "n = (v1 − v0) × (v2 − v0)";
                 facts.push(format!(
                     "the exact hit is on the triangle's back (d·n > 0 for {n}){rule}"
