@@ -1,12 +1,12 @@
 //! `raylab suite export` and `raylab check`: the hard-case suite as files, and the grading of
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
-use super::reproducers::{reproducers, Written};
+use super::reproducers::{first_shown, reproducers, Written};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
 use anyhow::{bail, Result};
-use raylab::check::grade::{self, Answer, Exact, Judged, Tally, Verdict};
+use raylab::check::grade::{self, Answer, Exact, Judged, Tally};
 use raylab::check::{export, suite};
 use raylab::math::Real;
 use raylab::tracefile;
@@ -723,12 +723,7 @@ fn check_suite<T: Real>(
                     if only.is_none() {
                         say!("    this family alone: {}", run.alone(dir, &name));
                     }
-                    // (The reproducers show the wrong answers first, then the t failures.)
-                    let wrong =
-                        |j: &Judged<T>| !matches!(j.graded.verdict, Verdict::Right | Verdict::Tie);
-                    let first = (judged.iter().position(wrong))
-                        .or_else(|| judged.iter().position(|j| !j.graded.stands()));
-                    if let Some(i) = first.filter(|_| run.show > 0) {
+                    if let Some(i) = first_shown(&judged).filter(|_| run.show > 0) {
                         let alone = run.ray_alone(&scene, &rays, exact.rays[i].0);
                         say!("    the first ray above, alone: {alone}");
                     }
