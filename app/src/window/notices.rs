@@ -20,8 +20,8 @@ pub type ShownFigures = (u32, u32, u8, u32, RenderStats);
 /// the right. The message has the room first, but the figures keep theirs up to half the
 /// line: a long message (a copied command) is cut short (the whole of it on hover; a click
 /// copies it), the frame's figures stay in view. Returns whether the whole message and the
-/// whole figures are shown, and what a click copied. A refinement under way long enough to be said ([`Progress`]) is
-/// said after the figures, with how far it has come.
+/// whole figures are shown, and what a click copied. A refinement under way long enough to be
+/// said ([`Progress`]) is said after the figures, with how far it has come.
 pub fn status_line(
     ui: &mut egui::Ui,
     (status, is_error): (&str, bool),

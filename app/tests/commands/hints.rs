@@ -106,10 +106,10 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
 /// The hints' numbers hold where f64's textbook formulas do not: a tiny sphere 2²⁰ away met
 /// at two roots 0.003 apart (b² − a·c had cancelled to one root, "closer than f64 tells"),
 /// a far tiny sphere's discriminant below the rounding of the textbook formula's (r² lost
-/// beside |o − c|²), a tangent at tmin (said twice met), no index shift claimed where another answer at the
-/// exact t names the exact primitive, a hit 8.9e-8 past tmin (said 1.2e-7, from its t
-/// rounded to f32), and roots alike to 9 digits shown to 10 (17 claimed what f64's estimate
-/// does not hold).
+/// beside |o − c|²), a tangent at tmin (said twice met), no index shift claimed where another
+/// answer at the exact t names the exact primitive, a hit 8.9e-8 past tmin (said 1.2e-7, from
+/// its t rounded to f32), and roots alike to 9 digits shown to 10 (17 claimed what f64's
+/// estimate does not hold).
 #[test]
 fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     let scene = "sphere 1048576 0 0 0.00390625\nsphere 0 0 20 5\n\
