@@ -442,15 +442,21 @@ fn grade_one(
     mut budget: Budget,
     account: Option<&Account>,
 ) -> Vec<Record> {
-    let not_run = |why: String| -> Vec<Record> {
+    let not_run = |status: Status, why: String| -> Vec<Record> {
         let record = |_| Record {
             tally: None,
             ms: 0.0,
-            status: Status::Crashed,
+            status,
             detail: why.clone(),
         };
         cases.iter().map(record).collect()
     };
+    // (An empty directory, a student who handed nothing in, was graded as 38 crashes of a
+    // program not found.)
+    if !holds_a_file(dir) {
+        let why = "not run: the submission's directory holds no file (nothing handed in)";
+        return not_run(Status::Empty, why.to_string());
+    }
     let setup = || -> std::io::Result<(RunDir, PathBuf)> {
         let run = RunDir::new("grade")?;
         let work = run.path().join("work");
@@ -462,7 +468,10 @@ fn grade_one(
     };
     let (run, work) = match setup() {
         Ok(ok) => ok,
-        Err(e) => return not_run(format!("cannot copy {}: {e}", dir.display())),
+        Err(e) => {
+            let why = format!("cannot copy {}: {e}", dir.display());
+            return not_run(Status::Crashed, why);
+        }
     };
     let input = run.path().join("input");
     let mut records = Vec::with_capacity(cases.len());
@@ -551,6 +560,21 @@ fn grade_one(
         account.sweep();
     }
     records
+}
+
+/// Whether `dir` or a directory in it holds anything but directories (a file, a link, a
+/// socket); one it cannot read counts as holding something, so the copy says why it failed.
+fn holds_a_file(dir: &Path) -> bool {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return true;
+    };
+    entries.into_iter().any(|entry| match entry {
+        Ok(entry) => match entry.file_type() {
+            Ok(kind) if kind.is_dir() => holds_a_file(&entry.path()),
+            _ => true,
+        },
+        Err(_) => true,
+    })
 }
 
 /// Why a run crashed, with a word on the limit that may have done it, each where that limit

@@ -28,6 +28,8 @@ pub(super) enum Status {
     Garbage,
     /// Not run: the submission's --budget ran out on earlier families.
     Skipped,
+    /// Not run: the submission's directory holds no file (nothing was handed in).
+    Empty,
 }
 
 impl Status {
@@ -41,6 +43,7 @@ impl Status {
             Status::Flooded => "flooded",
             Status::Garbage => "garbage",
             Status::Skipped => "skipped",
+            Status::Empty => "empty",
         }
     }
 }

@@ -130,3 +130,48 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
         assert!(!err.contains("grading "), "{err}");
     }
 }
+
+/// A student who handed nothing in (an empty directory, or empty directories only) is
+/// `empty` on every family, and nothing runs for them; a directory with one file in it is
+/// run (and its program, missing, crashes). (An empty directory was graded as 38 crashes of
+/// a program not found.)
+#[test]
+fn an_empty_submission_is_empty_and_not_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-", "37-"]);
+    std::fs::create_dir_all(class.join("kim-empty/src/lab")).unwrap();
+    std::fs::create_dir_all(class.join("lou-notes")).unwrap();
+    std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
+    let (csv, feedback) = (dir.path().join("grades.csv"), dir.path().join("feedback"));
+    let more = [
+        "--csv",
+        csv.to_str().unwrap(),
+        "--feedback",
+        feedback.to_str().unwrap(),
+    ];
+    let o = grade_class(&class, &suite, &more);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let row = |name: &str| {
+        (out.lines())
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("{name}: {out}"))
+    };
+    assert!(row("ada ").ends_with(" ok"), "{out}");
+    assert!(row("kim-empty ").ends_with(" empty 2"), "{out}");
+    assert!(row("lou-notes ").ends_with(" crashed 2"), "{out}");
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let kim: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.starts_with("kim-empty,"))
+        .collect();
+    assert_eq!(kim.len(), 2, "{csv}");
+    // No counts (nothing graded), no time (nothing ran).
+    assert!(kim.iter().all(|l| l.ends_with(",,,,,,0.0,empty")), "{csv}");
+    let kim = std::fs::read_to_string(feedback.join("kim-empty.txt")).unwrap();
+    assert!(
+        kim.contains("0 of 2 families passed")
+            && kim.matches("holds no file (nothing handed in)").count() == 1,
+        "{kim}"
+    );
+}
