@@ -67,7 +67,7 @@ pub struct CheckArgs {
     pub program: Option<String>,
     /// The precision the files are read in and the exact t is rounded to (`f64` for code that
     /// computes in double; --image grades in f32, the renderer's).
-    #[arg(long, value_enum, default_value = "f32", conflicts_with = "image")]
+    #[arg(long, value_enum, default_value = "f32")]
     pub precision: Precision,
     /// Seconds the program may take on one scene before it is stopped.
     #[arg(
@@ -162,6 +162,13 @@ pub(super) fn check_args(args: &CheckArgs) -> Result<()> {
     check_tolerance(args.t_tolerance)?;
     if let Some(cmd) = &args.program {
         template::check_template(cmd)?;
+    }
+    // (clap's own conflict said only that the two could not be used together.)
+    if args.image.is_some() && args.precision == Precision::F64 {
+        bail!(
+            "--precision f64: --image grades in f32, the precision of the renderer's camera \
+             rays it sends; leave --precision out, or check in f64 with --suite or --rays"
+        );
     }
     Ok(())
 }

@@ -85,7 +85,12 @@ fn check_refuses_the_flags_it_would_ignore() {
         "--precision",
         "f64",
     ]);
-    assert_fails(&o, 2, &["cannot be used with", "--precision"]);
+    // (Said why: clap's conflict named the two flags only.)
+    let why = [
+        "--precision f64: --image grades in f32",
+        "leave --precision out",
+    ];
+    assert_fails(&o, 2, &why);
     let o = raylab(&[
         "check",
         "--suite",
