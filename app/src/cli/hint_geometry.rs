@@ -131,9 +131,10 @@ pub(super) fn sphere_rounding<T: Real>(exact: &Exact<T>, i: usize, prim: u32) ->
     if disc.abs() <= discriminant_rounding(exact, i, &s) && disc != 0.0 {
         let r2 = s.radius.f64().powi(2);
         facts.push(format!(
-            "|b² − a·c| is only {:.1e} of a·|o − c|², below the rounding of the textbook \
-             b² − a·c in {} (c = |o − c|² − r², with r² {:.1e} of |o − c|²): computed so, it \
-             can come out with the other sign",
+            "|b² − a·c| is only {:.1e} of a·|o − c|² (b = d·(o − c): a quarter of b² − 4ac \
+             with b = 2 d·(o − c)), below the rounding of the textbook formula in {} (c = \
+             |o − c|² − r², with r² {:.1e} of |o − c|²): computed so, it can come out with \
+             the other sign",
             disc.abs() / (a * oc2),
             if f32 { "f32" } else { "f64" },
             r2 / oc2

@@ -128,8 +128,9 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(1).ends_with(
-            "[leak: |b² − a·c| is only 7.6e-18 of a·|o − c|², below the rounding of the \
-             textbook b² − a·c in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
+            "[leak: |b² − a·c| is only 7.6e-18 of a·|o − c|² (b = d·(o − c): a quarter of \
+             b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook formula in f32 \
+             (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
              computed so, it can come out with the other sign; the ray meets the sphere twice \
              (its discriminant is above 0), at t 524287.998557 and 524288.001443]"
         ),
@@ -162,8 +163,9 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(6).ends_with(
-            "[leak: |b² − a·c| is only 2.8e-20 of a·|o − c|², below the rounding of the \
-             textbook b² − a·c in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
+            "[leak: |b² − a·c| is only 2.8e-20 of a·|o − c|² (b = d·(o − c): a quarter of \
+             b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook formula in f32 \
+             (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
              computed so, it can come out with the other sign; the ray meets the sphere twice \
              (its discriminant is above 0), at t 4.194303999e6 and 4.194304001e6]"
         ),
