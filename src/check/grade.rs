@@ -79,9 +79,7 @@ pub fn parse_answers<T: Real>(
             [w, ..] if w.starts_with('#') => continue,
             ["miss"] => Answer::Miss,
             ["hit", t, index] => {
-                let t = t
-                    .parse::<T>()
-                    .map_err(|_| at(line_no, format!("t '{t}' is not a number")))?;
+                let t = t.parse::<T>().map_err(|_| at(line_no, not_a_t(t)))?;
                 // (An index past the last primitive is an answer, graded wrong for its ray
                 // with the ray shown: refused, it failed the family's whole run.)
                 // (`-0` is 0, as `+0` and `00` are.)
@@ -598,5 +596,23 @@ impl Tally {
             self.ties,
             self.t_beyond
         )
+    }
+}
+
+/// Why an answer's t did not parse, naming the two forms a right program prints by its
+/// language's defaults: C's `%a` hexadecimal, and a locale's decimal comma (Java's
+/// `String.format` follows the locale LANG names).
+fn not_a_t(t: &str) -> String {
+    let digits = t.trim_start_matches(['-', '+']);
+    let comma = t.contains(',') && t.replacen(',', ".", 1).parse::<f64>().is_ok();
+    match () {
+        _ if digits.starts_with("0x") || digits.starts_with("0X") => format!(
+            "t '{t}' is hexadecimal (C's %a): print it in decimal, `%.9g` in f32, `%.17g` in f64"
+        ),
+        _ if comma => format!(
+            "t '{t}' has a decimal comma, as a locale writes it: print a decimal point (in Java \
+             `String.format(Locale.ROOT, ...)`)"
+        ),
+        _ => format!("t '{t}' is not a number"),
     }
 }

@@ -513,6 +513,15 @@ fn bad_answers_are_refused_by_line_with_nothing_else_written() {
             with_line_3("hit x 0"),
             "answers.txt:3: t 'x' is not a number",
         ),
+        // The two forms a right program prints by its language's defaults are named.
+        (
+            with_line_3("hit 0x1.8p+1 0"),
+            "answers.txt:3: t '0x1.8p+1' is hexadecimal (C's %a): print it in decimal",
+        ),
+        (
+            with_line_3("hit 2,50000000 0"),
+            "answers.txt:3: t '2,50000000' has a decimal comma, as a locale writes it",
+        ),
         (
             with_line_3("hit 2 3.0"),
             "answers.txt:3: '3.0' is not a primitive index, a whole number 0 to 3",
