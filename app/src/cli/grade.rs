@@ -202,18 +202,20 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             one_line(&args.class.display().to_string())
         );
     }
+    // (A range a reader can finish: "as uids 61000.." looked cut short.)
+    let uids = match (accounts.first(), accounts.last()) {
+        (Some(Some(a)), Some(Some(b))) if a.uid() != b.uid() => {
+            Some(format!("uids {} to {}", a.uid(), b.uid()))
+        }
+        (Some(Some(a)), _) => Some(format!("uid {}", a.uid())),
+        _ => None,
+    };
+    super::program_paths::check_program_paths(&args.program, &submissions, uids.as_deref())?;
     eprintln!(
         "grading {} on {}, {jobs} at a time{}",
         raylab::words::count(submissions.len(), "submission", "submissions"),
         raylab::words::count(cases.len(), "family", "families"),
-        // (A range a reader can finish: "as uids 61000.." looked cut short.)
-        match (accounts.first(), accounts.last()) {
-            (Some(Some(a)), Some(Some(b))) if a.uid() != b.uid() => {
-                format!(", as uids {} to {}", a.uid(), b.uid())
-            }
-            (Some(Some(a)), _) => format!(", as uid {}", a.uid()),
-            _ => String::new(),
-        }
+        uids.as_ref().map_or(String::new(), |u| format!(", as {u}"))
     );
     let graded = run_all(
         &submissions,

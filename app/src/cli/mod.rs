@@ -32,6 +32,7 @@ mod grade;
 mod hint_geometry;
 mod images;
 mod program;
+mod program_paths;
 mod reports;
 mod reproducers;
 mod rubric;

@@ -80,6 +80,55 @@ fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
     assert!(row.starts_with("ada ") && row.ends_with("ok"), "{out}");
 }
 
+/// A teacher's wrapper named by a path relative to where raylab runs (the command runs in
+/// each submission's copy, where it is not), or, as root, one the programs cannot run as the
+/// uids they run as: refused before any program runs, saying how to mend it. (Either made
+/// every submission crash with the shell's "not found" or "Permission denied".)
+#[test]
+fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let tools = dir.path().join("tools");
+    std::fs::create_dir(&tools).unwrap();
+    open_up(&tools);
+    let wrap = tools.join("wrap.sh");
+    std::fs::write(&wrap, "exec sh run.sh \"$1\" \"$2\"\n").unwrap();
+    std::fs::set_permissions(&wrap, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let (class, suite) = (path(&class), path(&suite));
+    let grade = |program: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
+            .current_dir(dir.path())
+            .args(["grade", &class, "--suite", &suite, "--program", program])
+            .output()
+            .unwrap()
+    };
+    let o = grade("tools/wrap.sh {scene} {rays}");
+    let absolute = format!("name it by its absolute path, {}", path(&wrap));
+    let why = [
+        "--program: tools/wrap.sh is a file here",
+        "no submission holds it",
+    ];
+    assert_fails(&o, 2, &[why[0], why[1], &absolute]);
+    let err = common::binary::stderr(&o);
+    assert!(!err.contains("grading 1 submission"), "{err}");
+    let by_path = format!("{} {{scene}} {{rays}}", path(&wrap));
+    let o = grade(&by_path);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let row = out.lines().nth(1).unwrap_or_default();
+    assert!(row.starts_with("ada ") && row.ends_with("ok"), "{out}");
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user");
+        return;
+    }
+    std::fs::set_permissions(&tools, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let o = grade(&by_path);
+    let said = format!("--program: {}: the programs run as uid", path(&wrap));
+    assert_fails(&o, 2, &[&said, "who cannot run it", "`chmod o+rx` it"]);
+}
+
 /// As root each worker's programs run as one account, a submission after another: the next
 /// finds nothing the last left where every user may write, a command missing from PATH is
 /// "not found" even beside a directory only root may enter, and a name that reads as a
