@@ -30,6 +30,8 @@ pub(super) struct Evidence {
     pub smallest_determinant_met: f64,
     /// Whether the program met a triangle's back where it answered right: it does not cull.
     pub meets_backs: bool,
+    /// Whether it met a triangle's front so: a culling program does.
+    pub meets_fronts: bool,
     /// The smallest |determinant| of a triangle the program missed (a leak, or a farther
     /// primitive given) where the ray meets it clearly inside ([`clearly_inside`]) and not
     /// within rounding of tmin or tmax ([`near_an_end`]): a bug's miss, not rounding's; met
@@ -37,6 +39,9 @@ pub(super) struct Evidence {
     pub smallest_determinant_missed: [f64; 2],
     /// Whether such a miss was of a triangle met from its back.
     pub misses_backs: bool,
+    /// Whether such a miss of a back was not near tmin, where an epsilon in tmin's place
+    /// loses backs and fronts alike (a program with one was told that both sides count).
+    pub misses_backs_past_tmin: bool,
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
@@ -71,8 +76,10 @@ impl Evidence {
             printed_decimals: printed_decimals(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
+            meets_fronts: false,
             smallest_determinant_missed: [f64::INFINITY; 2],
             misses_backs: false,
+            misses_backs_past_tmin: false,
             smallest_gap_met: f64::INFINITY,
             smallest_gap_missed: [f64::INFINITY; 2],
             smallest_gap_passed: [f64::INFINITY; 2],
@@ -118,9 +125,13 @@ impl Evidence {
                     let smallest = &mut evidence.smallest_determinant_missed[back as usize];
                     *smallest = smallest.min(det);
                     evidence.misses_backs |= back;
+                    evidence.misses_backs_past_tmin |= back && near_tmin.is_none();
                 }
             }
-            if let (Verdict::Right, Answer::Hit { t, .. }) = (j.graded.verdict, j.exact) {
+            // (Met at its t: a sphere's hit past tmin skipped for its other root is the
+            // right primitive, and bore out that no epsilon was in tmin's place.)
+            let met = j.graded.verdict == Verdict::Right && j.graded.stands();
+            if let (true, Answer::Hit { t, .. }) = (met, j.exact) {
                 let gap = t.f64() - exact.rays[i].1.tmin.f64();
                 evidence.smallest_gap_met = evidence.smallest_gap_met.min(gap);
             }
@@ -133,17 +144,28 @@ impl Evidence {
             if let Shape::Triangle(tri) = exact.shape(prim) {
                 let det = determinant(exact, i, &tri).abs();
                 evidence.smallest_determinant_met = evidence.smallest_determinant_met.min(det);
-                evidence.meets_backs |= faces_back(exact, i, &tri);
+                let back = faces_back(exact, i, &tri);
+                evidence.meets_backs |= back;
+                evidence.meets_fronts |= !back;
             }
         }
         evidence
     }
 
-    /// Whether the run bears out culled back faces: the program met no triangle's back
-    /// right, and missed one met clearly inside, but no front met so. (A correct program that
-    /// rounded away a hit inside an edge of a back face, alone in its run, was told it
-    /// culled; a program giving the last hit, which missed fronts and backs alike, too.)
+    /// Whether the run bears out culled back faces, so that the rule may be said: it may
+    /// cull ([`Evidence::may_cull`]), met fronts right, and missed a back not near tmin.
+    /// (A program with an epsilon in tmin's place, run on one ray, was told that both sides
+    /// count.)
     pub fn culls_backs(&self) -> bool {
+        self.may_cull() && self.meets_fronts && self.misses_backs_past_tmin
+    }
+
+    /// Whether culled back faces explain the run's misses of backs, so that they bear out
+    /// no epsilon: the program met no triangle's back right, and missed one met clearly
+    /// inside, but no front met so. (A correct program that rounded away a hit inside an
+    /// edge of a back face, alone in its run, was told it culled; a program giving the last
+    /// hit, which missed fronts and backs alike, too.)
+    fn may_cull(&self) -> bool {
         let misses_fronts = self.smallest_determinant_missed[0] < f64::INFINITY;
         !self.meets_backs && self.misses_backs && !misses_fronts
     }
@@ -178,7 +200,7 @@ impl Evidence {
     /// the run bears out culled backs: those misses are culling's. (A culling program was
     /// told of an epsilon on back faces met near tmin, and not of the back.)
     fn unculled(&self, [front, back]: [f64; 2]) -> f64 {
-        match self.culls_backs() {
+        match self.may_cull() {
             true => front,
             false => front.min(back),
         }

@@ -214,13 +214,22 @@ pub(super) fn past_tmin<T: Real>(exact: &Exact<T>, i: usize, te: f64) -> Option<
 }
 
 /// Whether the exact hit at `te` on primitive `prim` lies within rounding of the ray's tmin
-/// or tmax, where a correct program's rounded t can fall past it: within 2⁶ unit roundoffs of
-/// the precision graded of |o| / |d| + |t|, times the condition of t (a triangle's |e1| |d|
-/// |e2| / |det|; a sphere's |b| / √(b² − a·c), which grows toward its rim).
+/// or tmax, where a correct program's rounded t can fall past it ([`t_rounding`]).
 pub(super) fn near_an_end<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: f64) -> bool {
+    let ray = &exact.rays[i].1;
+    let rounding = t_rounding(exact, i, prim, te);
+    [ray.tmin.f64(), ray.tmax.f64()]
+        .into_iter()
+        .any(|end| end.is_finite() && (te - end).abs() <= rounding)
+}
+
+/// How far a correct program's t for the exact hit at `te` on primitive `prim` may stray in
+/// the precision graded: 2⁶ unit roundoffs of |o| / |d| + |t|, times the condition of t (a
+/// triangle's |e1| |d| |e2| / |det|; a sphere's |b| / √(b² − a·c), which grows toward its
+/// rim).
+pub(super) fn t_rounding<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: f64) -> f64 {
     use raylab::geometry::Shape;
     let (o, d) = o_and_d(exact, i);
-    let ray = &exact.rays[i].1;
     let condition = match exact.shape(prim) {
         Shape::Triangle(tri) => terms(exact, i, &tri) / determinant(exact, i, &tri).abs(),
         Shape::Sphere(s) => {
@@ -228,10 +237,7 @@ pub(super) fn near_an_end<T: Real>(exact: &Exact<T>, i: usize, prim: u32, te: f6
             1.0 + b.abs() / disc.max(0.0).sqrt()
         }
     };
-    let rounding = 64.0 * T::UNIT_ROUNDOFF.f64() * (length(o) / length(d) + te.abs()) * condition;
-    [ray.tmin.f64(), ray.tmax.f64()]
-        .into_iter()
-        .any(|end| end.is_finite() && (te - end).abs() <= rounding)
+    64.0 * T::UNIT_ROUNDOFF.f64() * (length(o) / length(d) + te.abs()) * condition
 }
 
 /// The size of Möller–Trumbore's determinant's terms for ray `i` and triangle `tri`:

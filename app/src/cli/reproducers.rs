@@ -3,7 +3,7 @@
 
 use super::evidence::Evidence;
 use super::hint_geometry::{determinant_below_rounding, small_determinant, sphere_rounding};
-use super::hint_geometry::{meets_back, near, past_tmin};
+use super::hint_geometry::{meets_back, near, past_tmin, t_rounding};
 use super::hint_geometry::{plane_t, quadratic, within_rounding_of_edge};
 use super::t_failures::{fine_t, other_root, round_trip_digits, short_print, t_of, times_length};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
@@ -125,10 +125,11 @@ fn reproducer<T: Real>(
                 (None, None, Some(_), _) => format!(
                     "; t is the ray's other meeting with the sphere: the nearest root above \
                      tmin wins{}",
-                    match gap_past_tmin(exact, i, &j.exact) {
-                        Some((gap, true)) => format!(
-                            " (the exact one is only {gap:.1e} past tmin: {})",
-                            lost_past_tmin(gap, evidence, "skips")
+                    match (gap_past_tmin(exact, i, &j.exact), j.exact) {
+                        (Some((gap, true)), Answer::Hit { prim, .. }) => format!(
+                            " (the exact one is only {gap:.1e} past tmin{})",
+                            lost_past_tmin(exact, i, prim, gap, evidence, "skips")
+                                .map_or(String::new(), |why| format!(": {why}"))
                         ),
                         _ => String::new(),
                     }
@@ -373,8 +374,9 @@ fn missed<T: Real>(
     facts.extend(before);
     if let (Some((gap, _)), false) = (near, tangent) {
         facts.push(format!(
-            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin ({})",
-            lost_past_tmin(gap, evidence, "loses")
+            "the exact hit is only {gap:.1e} past tmin: a hit counts however near tmin{}",
+            lost_past_tmin(exact, i, prim, gap, evidence, "loses")
+                .map_or(String::new(), |why| format!(" ({why})"))
         ));
     }
     facts.extend(after);
@@ -681,15 +683,28 @@ fn gap_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> O
     }
 }
 
-/// What `loses` (or skips) a hit `gap` past tmin: t rounded to tmin or below, and an epsilon
-/// in tmin's place only where the run bears one out ([`Evidence::tmin_epsilon_below`]: a
-/// correct f32 program that got a hit 1.4e-8 past tmin was told of an epsilon beside one
-/// 4.3e-8 past it).
-fn lost_past_tmin(gap: f64, evidence: &Evidence, loses: &str) -> String {
-    match gap < evidence.tmin_epsilon_below() {
-        true => {
+/// What `loses` (or skips) the hit of ray `i` on `prim` `gap` past tmin: t rounded to tmin
+/// or below, where the gap is within t's rounding ([`t_rounding`]: t = 1 + 2⁻¹⁴ was said to
+/// be lost so, 512 ulps of f32 away), and an epsilon in tmin's place where the run bears one
+/// out ([`Evidence::tmin_epsilon_below`]: a correct f32 program that got a hit 1.4e-8 past
+/// tmin was told of an epsilon beside one 4.3e-8 past it). `None` where neither is so.
+fn lost_past_tmin<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    prim: u32,
+    gap: f64,
+    evidence: &Evidence,
+    loses: &str,
+) -> Option<String> {
+    let tmin = exact.rays[i].1.tmin.f64();
+    let rounding = t_rounding(exact, i, prim, tmin + gap);
+    let epsilon = gap < evidence.tmin_epsilon_below();
+    Some(match (epsilon, gap <= rounding) {
+        (true, true) => {
             format!("an epsilon in its place {loses} it, and so does t rounded to tmin or below")
         }
-        false => format!("t rounded to tmin or below {loses} it"),
-    }
+        (false, true) => format!("t rounded to tmin or below {loses} it"),
+        (true, false) => format!("an epsilon in its place {loses} it"),
+        (false, false) => return None,
+    })
 }
