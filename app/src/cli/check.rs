@@ -608,9 +608,11 @@ impl SuiteRun<'_> {
     /// The command that checks family `name` of suite `dir` alone, as this run checks it:
     /// what a student runs again while mending it.
     fn alone(&self, dir: &Path, name: &str) -> String {
+        let quote = raylab::view::shell_quote;
         let suite = dir.display().to_string();
         let graded = (self.precision, self.tolerance, self.timeout_s);
-        family_command(&suite, name, self.template, graded)
+        let what = format!("--suite {} --family {}", quote(&suite), quote(name));
+        check_command(&invoked_as(), &what, self.template, graded)
     }
 
     /// The commands that check line `line` of `rays` (with `scene`) alone, as this run checks
@@ -626,8 +628,20 @@ impl SuiteRun<'_> {
         format!(
             "sed -n {line}p {} > one.txt && {}",
             quote(&rays.display().to_string()),
-            check_command(&what, self.template, graded)
+            check_command(&invoked_as(), &what, self.template, graded)
         )
+    }
+}
+
+/// The command that ran this raylab, for the commands `check` prints to paste: its path
+/// where it was run by one (`./target/release/raylab`: a student without raylab on PATH
+/// pasted `raylab check …` and got "command not found"), else `raylab`.
+fn invoked_as() -> String {
+    match std::env::args_os().next() {
+        Some(path) if path.as_encoded_bytes().contains(&b'/') => {
+            raylab::view::shell_quote(&path.to_string_lossy())
+        }
+        _ => "raylab".into(),
     }
 }
 
@@ -642,18 +656,19 @@ pub(super) fn family_command(
 ) -> String {
     let quote = raylab::view::shell_quote;
     let what = format!("--suite {} --family {}", quote(suite), quote(family));
-    check_command(&what, template, graded)
+    check_command("raylab", &what, template, graded)
 }
 
-/// `raylab check {what}` with `template`, in `precision` and with `tolerance` and `timeout`
-/// where they are not the defaults.
+/// `raylab check {what}` (`raylab` the command that runs it) with `template`, in `precision`
+/// and with `tolerance` and `timeout` where they are not the defaults.
 fn check_command(
+    raylab: &str,
     what: &str,
     template: &str,
     (precision, tolerance, timeout): (&str, f64, f64),
 ) -> String {
     let quote = raylab::view::shell_quote;
-    let mut command = format!("raylab check {what} --program {}", quote(template));
+    let mut command = format!("{raylab} check {what} --program {}", quote(template));
     if precision == "f64" {
         command += " --precision f64";
     }

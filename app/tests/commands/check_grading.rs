@@ -704,10 +704,12 @@ fn a_program_that_fails_is_never_a_pass() {
         "{out}"
     );
     // Under each, the command that checks that family alone, as this run did (its timeout
-    // too: a family that outlived 2 s would pass the default 60 s).
+    // too: a family that outlived 2 s would pass the default 60 s), by the path raylab ran
+    // by (a student without raylab on PATH pasted `raylab check …`: command not found).
     let alone = format!(
-        "    this family alone: raylab check --suite {} --family 02-cube-from-outside --program {} \
+        "    this family alone: {} check --suite {} --family 02-cube-from-outside --program {} \
          --timeout 2",
+        raylab::view::shell_quote(env!("CARGO_BIN_EXE_raylab")),
         raylab::view::shell_quote(suite_dir.to_str().unwrap()),
         raylab::view::shell_quote(&program)
     );
