@@ -127,6 +127,28 @@ fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
     })
 }
 
+/// The most terminal columns the table gives a submission's name (the files give it whole).
+const NAME_COLUMNS: usize = 48;
+
+/// `name` cut to `columns` terminal columns, its end shown as "…" where it is cut.
+fn cut_to(name: &str, columns: usize) -> String {
+    use unicode_width::UnicodeWidthChar;
+    if name.width() <= columns {
+        return name.to_string();
+    }
+    let mut kept = String::new();
+    let mut used = 0;
+    for c in name.chars() {
+        let w = c.width().unwrap_or(0);
+        if used + w > columns - 1 {
+            break;
+        }
+        kept.push(c);
+        used += w;
+    }
+    kept + "…"
+}
+
 /// The table: one row per submission.
 pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let width = graded
@@ -134,10 +156,15 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
         .map(|s| one_line(&s.name).width())
         .max()
         .unwrap_or(0)
-        .clamp(10, 40);
+        .clamp(10, NAME_COLUMNS);
     // Padded by the columns a terminal gives each character (two for 李, none for a
-    // combining accent), not by characters.
-    let padded = |name: &str| format!("{name}{}", " ".repeat(width.saturating_sub(name.width())));
+    // combining accent), not by characters; a longer name cut to fit, so the columns stay in
+    // line (a learning platform's folder names, "Björn Åkesson_1242_assignsubmission_file_",
+    // pushed their rows out).
+    let padded = |name: &str| {
+        let name = cut_to(name, width);
+        format!("{name}{}", " ".repeat(width.saturating_sub(name.width())))
+    };
     // The points column, where there is a rubric.
     let points_column = |text: &str| match points {
         Some(_) => format!(" {text:>13}"),

@@ -518,9 +518,11 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     )
     .unwrap();
     let odd = class.join("eve\nada        ok\u{1b}[31m");
-    // A name of wide characters (two columns each on a terminal).
+    // A name of wide characters (two columns each on a terminal), and a learning platform's
+    // long folder name (cut to fit the table, whole in the files).
     let wide = class.join("李雷");
-    for dir in [&odd, &wide] {
+    let long = class.join("Fatima Zahra El Idrissi_1243_assignsubmission_file_");
+    for dir in [&odd, &wide, &long] {
         std::fs::create_dir_all(dir).unwrap();
         for file in ["run.sh", "exact.py"] {
             std::fs::copy(class.join("ada").join(file), dir.join(file)).unwrap();
@@ -538,11 +540,15 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         let said = format!("{name}: {why}, so not a submission (not graded)");
         assert!(err.contains(&said), "{said} in {err}");
     }
-    assert!(err.contains("grading 3 submissions"), "{err}");
+    assert!(err.contains("grading 4 submissions"), "{err}");
     let rows: Vec<&str> = out.lines().collect();
-    assert_eq!(rows.len(), 4, "{out}");
+    assert_eq!(rows.len(), 5, "{out}");
     assert!(
-        rows[2].starts_with("eve\\nada        ok\\u{1b}[31m "),
+        rows[3].starts_with("eve\\nada        ok\\u{1b}[31m "),
+        "{out}"
+    );
+    assert!(
+        rows[1].starts_with("Fatima Zahra El Idrissi_1243_assignsubmission_f… "),
         "{out}"
     );
     // Every row's "passed" column ends at the same terminal column, 李雷's too.
@@ -556,7 +562,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
             .count();
         row[..end].chars().count() + wide
     };
-    assert!(rows[3].starts_with("李雷 "), "{out}");
+    assert!(rows[4].starts_with("李雷 "), "{out}");
     let at: Vec<usize> = rows.iter().map(|r| columns(r)).collect();
     assert!(at.iter().all(|c| *c == at[0]), "{at:?}\n{out}");
     assert!(
