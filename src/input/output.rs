@@ -252,7 +252,13 @@ impl OutputFile {
         let name = (target.file_name())
             .unwrap_or(std::ffi::OsStr::new("output"))
             .to_owned();
-        let (temp, file) = Self::open_temp(&dir, &name).map_err(io)?;
+        let (temp, file) = Self::open_temp(&dir, &name).map_err(|e| match dir.exists() {
+            false => InputError::NoDirectory {
+                path: path.to_path_buf(),
+                dir: dir.clone(),
+            },
+            true => io(e),
+        })?;
         Ok(OutputFile {
             path: path.to_path_buf(),
             target,

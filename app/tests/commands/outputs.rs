@@ -340,7 +340,8 @@ fn suite_and_class(d: &Path) -> (String, String) {
 }
 
 /// Every output is checked before any work: a name that can only be a directory's (`a.png/`)
-/// and a missing directory are refused first, naming the path once.
+/// and a missing directory are refused first, naming the path once (and the directory: it
+/// was "No such file or directory").
 #[test]
 fn every_output_is_checked_before_any_work_and_its_error_said_once() {
     let dir = tempfile::tempdir().unwrap();
@@ -355,6 +356,14 @@ fn every_output_is_checked_before_any_work_and_its_error_said_once() {
     let slash = format!("{}/a.png/", d.display());
     let csv_slash = format!("{}/rows.csv/", d.display());
     let csv_missing = format!("{}/missing/rows.csv", d.display());
+    let no_dir = format!(
+        "there is no directory {}/missing/dir to write it in",
+        d.display()
+    );
+    let no_csv_dir = format!(
+        "there is no directory {}/missing to write it in",
+        d.display()
+    );
     let bad_scene = ["--scene", "no-such.scene"];
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         (
@@ -367,11 +376,7 @@ fn every_output_is_checked_before_any_work_and_its_error_said_once() {
             &slash,
             "names a directory",
         ),
-        (
-            ["render", "-o", missing].to_vec(),
-            missing,
-            "No such file or directory",
-        ),
+        (["render", "-o", missing].to_vec(), missing, &no_dir),
         (
             ["check", "--image", &slash, "--program", program].to_vec(),
             &slash,
@@ -380,7 +385,7 @@ fn every_output_is_checked_before_any_work_and_its_error_said_once() {
         (
             ["check", "--image", missing, "--program", program].to_vec(),
             missing,
-            "No such file",
+            &no_dir,
         ),
         (
             [
@@ -410,7 +415,7 @@ fn every_output_is_checked_before_any_work_and_its_error_said_once() {
             ]
             .to_vec(),
             &csv_missing,
-            "No such file or directory",
+            &no_csv_dir,
         ),
     ];
     for (args, path, why) in cases {
