@@ -30,8 +30,6 @@ pub(super) struct Evidence {
     pub smallest_determinant_met: f64,
     /// Whether the program met a triangle's back where it answered right: it does not cull.
     pub meets_backs: bool,
-    /// Whether it met a triangle's front so: a culling program does.
-    pub meets_fronts: bool,
     /// The smallest |determinant| of a triangle the program missed (a leak, or a farther
     /// primitive given) where the ray meets it clearly inside ([`clearly_inside`]) and not
     /// within rounding of tmin or tmax ([`near_an_end`]): a bug's miss, not rounding's; met
@@ -76,7 +74,6 @@ impl Evidence {
             printed_decimals: printed_decimals(written),
             smallest_determinant_met: f64::INFINITY,
             meets_backs: false,
-            meets_fronts: false,
             smallest_determinant_missed: [f64::INFINITY; 2],
             misses_backs: false,
             misses_backs_past_tmin: false,
@@ -144,20 +141,17 @@ impl Evidence {
             if let Shape::Triangle(tri) = exact.shape(prim) {
                 let det = determinant(exact, i, &tri).abs();
                 evidence.smallest_determinant_met = evidence.smallest_determinant_met.min(det);
-                let back = faces_back(exact, i, &tri);
-                evidence.meets_backs |= back;
-                evidence.meets_fronts |= !back;
+                evidence.meets_backs |= faces_back(exact, i, &tri);
             }
         }
         evidence
     }
 
     /// Whether the run bears out culled back faces, so that the rule may be said: it may
-    /// cull ([`Evidence::may_cull`]), met fronts right, and missed a back not near tmin.
-    /// (A program with an epsilon in tmin's place, run on one ray, was told that both sides
-    /// count.)
+    /// cull ([`Evidence::may_cull`]), and missed a back not near tmin. (A program with an
+    /// epsilon in tmin's place, run on one ray, was told that both sides count.)
     pub fn culls_backs(&self) -> bool {
-        self.may_cull() && self.meets_fronts && self.misses_backs_past_tmin
+        self.may_cull() && self.misses_backs_past_tmin
     }
 
     /// Whether culled back faces explain the run's misses of backs, so that they bear out

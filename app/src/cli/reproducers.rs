@@ -81,6 +81,25 @@ fn kinds_of<T: Real>(judged: &[Judged<T>]) -> String {
     .join(", ")
 }
 
+/// What may explain a right primitive given with its t far off, where nothing else does: the
+/// sphere's quadratic losing its digits (an f32 t 6e-6 off, of a direction whose d·d
+/// underflows, was a bare failure), a t no root of the sphere (its roots told), a triangle's
+/// determinant that rounding loses (t a quotient by it).
+fn t_failure_cause<T: Real>(exact: &Exact<T>, i: usize, prim: u32, t: T) -> Option<String> {
+    use raylab::geometry::Shape;
+    if let Some(fact) = sphere_rounding(exact, i, prim) {
+        return Some(fact);
+    }
+    if meets_at(exact, i, prim, t.f64()) {
+        return None;
+    }
+    match exact.shape(prim) {
+        Shape::Sphere(_) => Some(passes(exact, i, prim, t)),
+        Shape::Triangle(_) => small_determinant(exact, i, prim, 0.0)
+            .map(|fact| format!("{fact}, and t (a quotient by it) far off")),
+    }
+}
+
 /// One graded ray as a line: where the ray is, the ray, the exact answer and the one given.
 fn reproducer<T: Real>(
     i: usize,
@@ -142,24 +161,9 @@ fn reproducer<T: Real>(
                     }
                 ),
                 (None, None, None, None) => match answers[i].1 {
-                    // (A t no root of the sphere: the quadratic's own, against its roots.)
-                    Answer::Hit { t, prim } if !meets_at(exact, i, prim, t.f64()) => {
-                        match exact.shape(prim) {
-                            raylab::geometry::Shape::Sphere(_) => {
-                                format!("; {}", passes(exact, i, prim, t))
-                            }
-                            // (A determinant that rounding loses: t was a bare failure.)
-                            raylab::geometry::Shape::Triangle(_) => {
-                                match small_determinant(exact, i, prim, 0.0) {
-                                    Some(fact) => {
-                                        format!("; {fact}, and t (a quotient by it) far off")
-                                    }
-                                    None => String::new(),
-                                }
-                            }
-                        }
-                    }
-                    _ => String::new(),
+                    Answer::Hit { t, prim } => (t_failure_cause(exact, i, prim, t))
+                        .map_or(String::new(), |cause| format!("; {cause}")),
+                    Answer::Miss => String::new(),
                 },
             }
         ),

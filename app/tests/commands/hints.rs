@@ -749,3 +749,22 @@ fn a_back_missed_just_past_tmin_is_no_culling() {
         h.out
     );
 }
+
+/// A right sphere given with its t far off, where the quadratic loses its digits, is told why:
+/// in f32 a direction of length 10⁻²⁰ has d·d below the smallest normal number (a correct
+/// f32 program's t 6e-6 off was a bare failure).
+#[test]
+fn a_t_failure_where_the_quadratic_loses_its_digits_is_told_so() {
+    let scene = "sphere 0 0 10 1\n";
+    let rays = "0 0 0 0 0 1e-20 0 inf\n";
+    let h = hints(scene, rays, "hit 9.0001e20 0\n");
+    assert!(
+        h.out.contains(
+            "[t failure: o + t·d off by 4.96e-6 of |o| + |t·d| + extent; d·d is 1.0e-40, below \
+             f32's smallest normal number 1.2e-38: in f32 the quadratic's a = d·d comes out 0 or \
+             without its digits (f64 holds it)]"
+        ),
+        "{}",
+        h.out
+    );
+}
