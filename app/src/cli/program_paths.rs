@@ -1,22 +1,44 @@
 //! The files a `grade --program` command names outside the submissions: a teacher's wrapper
 //! named by a path relative to where raylab runs (the command runs in each submission's copy,
-//! where it is not), or one the programs cannot read (they run as other users). Either made
-//! every submission crash with a shell's "not found" or "Permission denied", the grading run
-//! through, so both are refused before any program runs.
+//! where it is not) or under `~` (each program's HOME is its own directory), or one the
+//! programs cannot read (they run as other users). Each made every submission crash with a
+//! shell's "not found" or "Permission denied", the grading run through, so each is refused
+//! before any program runs. Only a simple command is read so (words, no `cd`, `;`, `&&`,
+//! `|`, `#`, `$`, quotes within words): in any other a word may never be run where it
+//! reads (`cd lab3 && ./x.py`, a comment), and a refusal there was false.
 
 use anyhow::{bail, Result};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
-/// Refuses a `--program` that names a file the submissions' runs cannot reach: a relative
-/// path to a file here that no submission holds, or (`as_others`: the programs run as other
-/// users, `who` says which) an absolute one those users cannot read.
+/// Refuses a simple `--program` that names a file the submissions' runs cannot reach: a
+/// relative path to a file here that no submission holds, a path under `~` that is the
+/// teacher's, or (`as_others`: the programs run as other users, `who` says which) an absolute
+/// one those users cannot run (its first word) or read (an argument).
 pub(super) fn check_program_paths(
     template: &str,
     submissions: &[PathBuf],
     as_others: Option<&str>,
 ) -> Result<()> {
-    for (k, word) in path_words(template).enumerate() {
+    let Some(words) = simple_words(template) else {
+        return Ok(());
+    };
+    let home = std::env::var_os("HOME").map(PathBuf::from);
+    for (k, word) in words.iter().enumerate() {
+        if let (Some(rest), Some(home)) = (word.strip_prefix("~/"), &home) {
+            let yours = home.join(rest);
+            if yours.is_file() {
+                bail!(
+                    "--program: {word}: ~ is each program's own directory (its HOME), not \
+                     yours: name it by its absolute path, {}",
+                    yours.display()
+                );
+            }
+            continue;
+        }
+        if !word.contains('/') {
+            continue;
+        }
         let path = Path::new(word);
         let here = path.is_file();
         if path.is_relative() && here && !submissions.iter().any(|s| s.join(path).exists()) {
@@ -29,17 +51,19 @@ pub(super) fn check_program_paths(
         }
         let Some(who) = as_others else { continue };
         if path.is_absolute() && here {
-            // (The command's first word is run: a script needs x as well as r.)
-            let needs = if k == 0 { 0o005 } else { 0o004 };
+            let (needs, what) = needs(path, k == 0);
             let mode = std::fs::metadata(path).map_or(0, |m| m.permissions().mode());
             let dir = path.parent().unwrap_or(Path::new("/"));
             if !super::access::open_to_others(dir) || mode & needs != needs {
                 bail!(
                     "--program: {word}: the programs run as {who}, other users to it, who \
-                     cannot {} it: `chmod o+{}` it and `o+x` the directories above it (or \
+                     cannot {what} it: `chmod o+{}` it and `o+x` the directories above it (or \
                      --as-root)",
-                    if k == 0 { "run" } else { "read" },
-                    if k == 0 { "rx" } else { "r" }
+                    match needs {
+                        0o005 => "rx",
+                        0o001 => "x",
+                        _ => "r",
+                    }
                 );
             }
         }
@@ -47,13 +71,42 @@ pub(super) fn check_program_paths(
     Ok(())
 }
 
-/// The template's words that name a path (a `/` in them) and nothing the shell expands, its
-/// quotes taken off: `'/opt/lab/run.sh'` is /opt/lab/run.sh; `{scene}`, `$HOME/x` and `*/x`
-/// are left out.
-fn path_words(template: &str) -> impl Iterator<Item = &str> {
-    template
-        .split_whitespace()
-        .map(|w| w.trim_matches(|c| c == '\'' || c == '"'))
-        .filter(|w| w.contains('/'))
-        .filter(|w| !w.contains(['{', '$', '`', '*', '?', '[', '~', '\\', '\'', '"', ';', '&']))
+/// The permission bits others need on `path` and the word for it: a command run (`run`) needs
+/// x, and r as well unless it is a compiled program (ELF: a script's interpreter, or the
+/// shell, reads it); an argument, r.
+fn needs(path: &Path, run: bool) -> (u32, &'static str) {
+    use std::io::Read;
+    let mut head = [0u8; 4];
+    let compiled = std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok()
+        && &head == b"\x7fELF";
+    let script = !compiled;
+    match (run, script) {
+        (true, true) => (0o005, "run"),
+        (true, false) => (0o001, "run"),
+        (false, _) => (0o004, "read"),
+    }
+}
+
+/// The words of a simple command, the placeholders left out (so `{` counts as special), each
+/// taken out of the quotes that wrap it whole: `None` where the shell could run a word
+/// elsewhere than where it reads, or not at all.
+fn simple_words(template: &str) -> Option<Vec<&str>> {
+    let special = |c: char| ";&|#$`()<>{}\\*?[\n".contains(c);
+    let mut words = Vec::new();
+    for word in template.split_whitespace() {
+        let bare = match word.as_bytes() {
+            [q @ (b'\'' | b'"'), .., r] if q == r && word.len() > 1 => &word[1..word.len() - 1],
+            _ => word,
+        };
+        if bare == "{scene}" || bare == "{rays}" {
+            continue;
+        }
+        if bare.contains(special) || bare.contains(['\'', '"']) || bare == "cd" {
+            return None;
+        }
+        words.push(bare);
+    }
+    Some(words)
 }

@@ -81,9 +81,11 @@ fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
 }
 
 /// A teacher's wrapper named by a path relative to where raylab runs (the command runs in
-/// each submission's copy, where it is not), or, as root, one the programs cannot run as the
-/// uids they run as: refused before any program runs, saying how to mend it. (Either made
-/// every submission crash with the shell's "not found" or "Permission denied".)
+/// each submission's copy, where it is not) or under `~` (each program's HOME is its own),
+/// or, as root, one the programs cannot run as the uids they run as: refused before any
+/// program runs, saying how to mend it. (Each made every submission crash with the shell's
+/// "not found" or "Permission denied".) A command that is not simple words is not read so:
+/// its words may run elsewhere (`cd lab3 && ./x.py`) or not at all (a comment).
 #[test]
 fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     use std::os::unix::fs::PermissionsExt;
@@ -100,6 +102,7 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     let grade = |program: &str| {
         std::process::Command::new(env!("CARGO_BIN_EXE_raylab"))
             .current_dir(dir.path())
+            .env("HOME", dir.path())
             .args(["grade", &class, "--suite", &suite, "--program", program])
             .output()
             .unwrap()
@@ -113,6 +116,18 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     assert_fails(&o, 2, &[why[0], why[1], &absolute]);
     let err = common::binary::stderr(&o);
     assert!(!err.contains("grading 1 submission"), "{err}");
+    let o = grade("sh ~/tools/wrap.sh {scene} {rays}");
+    let home = format!("~ is each program's own directory (its HOME), not yours: {absolute}");
+    assert_fails(&o, 2, &["--program: ~/tools/wrap.sh: ", &home]);
+    for graded in [
+        "cd . && tools/wrap.sh {scene} {rays}",
+        "sh run.sh {scene} {rays} # not tools/wrap.sh",
+    ] {
+        let o = grade(graded);
+        let err = common::binary::stderr(&o);
+        assert_eq!(o.status.code(), Some(0), "{graded}: {err}");
+        assert!(err.contains("grading 1 submission"), "{graded}: {err}");
+    }
     let by_path = format!("{} {{scene}} {{rays}}", path(&wrap));
     let o = grade(&by_path);
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
@@ -123,6 +138,10 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
         eprintln!("not root: every program runs as this user");
         return;
     }
+    // Read by sh, a script needs only r: 744 runs.
+    std::fs::set_permissions(&wrap, std::fs::Permissions::from_mode(0o744)).unwrap();
+    let o = grade(&format!("sh {by_path}"));
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
     std::fs::set_permissions(&tools, std::fs::Permissions::from_mode(0o700)).unwrap();
     let o = grade(&by_path);
     let said = format!("--program: {}: the programs run as uid", path(&wrap));
