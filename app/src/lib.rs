@@ -41,13 +41,20 @@ fn said_once(e: &anyhow::Error) -> String {
 /// `text` with every control character but a line break written as its escape: a program's
 /// output quoted in a message drives no terminal.
 pub fn escape_controls(text: String) -> String {
-    escape_where(text, |c| c.is_control() && c != '\n')
+    escape_where(text, |c| hidden(c) && c != '\n')
 }
 
 /// `text` with every control character, a line break too, written as its escape: a name
 /// shown on one line of a table, driving no terminal.
 pub fn one_line(text: &str) -> String {
-    escape_where(text.to_string(), char::is_control)
+    escape_where(text.to_string(), hidden)
+}
+
+/// A control character, or one that turns the text's direction (a right-to-left override
+/// in a name reversed the rest of its row in the table).
+fn hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 /// `text` with the characters `hidden` picks written as their escapes (`\u{1b}`, `\n`).

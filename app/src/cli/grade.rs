@@ -353,10 +353,17 @@ fn writable_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         bail!("not a directory");
     }
+    // Through a dangling link, the directory it names (making the link's own path said
+    // "File exists").
+    let made = match std::fs::read_link(dir) {
+        Ok(target) if !dir.exists() => dir.parent().unwrap_or(Path::new("")).join(target),
+        _ => dir.to_path_buf(),
+    };
     std::fs::DirBuilder::new()
         .recursive(true)
         .mode(0o700)
-        .create(dir)?;
+        .create(&made)
+        .with_context(|| format!("making {}", made.display()))?;
     let probe = dir.join(format!(".raylab-probe-{}", std::process::id()));
     std::fs::write(&probe, b"")?;
     std::fs::remove_file(&probe)?;

@@ -130,23 +130,29 @@ fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
 /// The most terminal columns the table gives a submission's name (the files give it whole).
 const NAME_COLUMNS: usize = 48;
 
-/// `name` cut to `columns` terminal columns, its end shown as "…" where it is cut.
+/// `name` cut to `columns` terminal columns where it is wider: its first two thirds and its
+/// end, "…" between (names alike in their first columns, cut at the end, read the same).
 fn cut_to(name: &str, columns: usize) -> String {
     use unicode_width::UnicodeWidthChar;
     if name.width() <= columns {
         return name.to_string();
     }
-    let mut kept = String::new();
-    let mut used = 0;
-    for c in name.chars() {
-        let w = c.width().unwrap_or(0);
-        if used + w > columns - 1 {
-            break;
-        }
-        kept.push(c);
-        used += w;
-    }
-    kept + "…"
+    let room = columns - 1;
+    let width = |c: &char| c.width().unwrap_or(0);
+    let take = |chars: &mut dyn Iterator<Item = char>, most: usize| {
+        let mut used = 0;
+        chars
+            .take_while(|c| {
+                used += width(c);
+                used <= most
+            })
+            .collect::<Vec<char>>()
+    };
+    let head = take(&mut name.chars(), room * 2 / 3);
+    let head_width: usize = head.iter().map(width).sum();
+    let mut tail = take(&mut name.chars().rev(), room - head_width);
+    tail.reverse();
+    head.into_iter().chain(['…']).chain(tail).collect()
 }
 
 /// The table: one row per submission.

@@ -517,7 +517,8 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         class.join("ada/families.txt"),
     )
     .unwrap();
-    let odd = class.join("eve\nada        ok\u{1b}[31m");
+    // (A right-to-left override too: it reversed the rest of the row.)
+    let odd = class.join("eve\nada        ok\u{1b}[31m\u{202e}x");
     // A name of wide characters (two columns each on a terminal), and a learning platform's
     // long folder name (cut to fit the table, whole in the files).
     let wide = class.join("李雷");
@@ -544,11 +545,11 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     let rows: Vec<&str> = out.lines().collect();
     assert_eq!(rows.len(), 5, "{out}");
     assert!(
-        rows[3].starts_with("eve\\nada        ok\\u{1b}[31m "),
+        rows[3].starts_with("eve\\nada        ok\\u{1b}[31m\\u{202e}x "),
         "{out}"
     );
     assert!(
-        rows[1].starts_with("Fatima Zahra El Idrissi_1243_assignsubmission_f… "),
+        rows[1].starts_with("Fatima Zahra El Idrissi_1243_as…submission_file_ "),
         "{out}"
     );
     // Every row's "passed" column ends at the same terminal column, 李雷's too.
@@ -566,7 +567,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     let at: Vec<usize> = rows.iter().map(|r| columns(r)).collect();
     assert!(at.iter().all(|c| *c == at[0]), "{at:?}\n{out}");
     assert!(
-        !out.contains('\u{1b}') && !err.contains('\u{1b}'),
+        !out.contains(['\u{1b}', '\u{202e}']) && !err.contains('\u{1b}'),
         "{out}{err}"
     );
 }

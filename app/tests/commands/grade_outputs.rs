@@ -134,7 +134,7 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
 /// A student who handed nothing in (an empty directory, or empty directories only) is
 /// `empty` on every family, and nothing runs for them; a directory with one file in it is
 /// run (and its program, missing, crashes). (An empty directory was graded as 38 crashes of
-/// a program not found.)
+/// a program not found.) The feedback goes through a link to a directory not made yet.
 #[test]
 fn an_empty_submission_is_empty_and_not_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -142,7 +142,10 @@ fn an_empty_submission_is_empty_and_not_run() {
     std::fs::create_dir_all(class.join("kim-empty/src/lab")).unwrap();
     std::fs::create_dir_all(class.join("lou-notes")).unwrap();
     std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
+    // (The feedback through a link to a directory not made yet: made through it, as a
+    // missing one is; it said "File exists".)
     let (csv, feedback) = (dir.path().join("grades.csv"), dir.path().join("feedback"));
+    std::os::unix::fs::symlink(dir.path().join("later/feedback"), &feedback).unwrap();
     let more = [
         "--csv",
         csv.to_str().unwrap(),
