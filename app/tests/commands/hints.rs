@@ -132,11 +132,11 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(1).ends_with(
-            "[leak: |b² − a·c| is only 7.6e-18 of a·|o − c|² (b = d·(o − c): a quarter of \
-             b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook formula in f32 \
-             (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
-             computed so, it can come out with the other sign; the ray meets the sphere twice \
-             (its discriminant is above 0), at t 524287.998557 and 524288.001443]"
+            "[leak: sphere 0's |b² − a·c| is only 7.6e-18 of a·|o − c|² (b = d·(o − c): a \
+             quarter of b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook \
+             formula in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): computed so, it can \
+             come out with the other sign; the ray meets the sphere twice (its discriminant is \
+             above 0), at t 524287.998557 and 524288.001443]"
         ),
         "{}",
         h.out
@@ -167,11 +167,11 @@ fn the_hints_hold_for_far_tiny_spheres_tangents_and_mixed_indices() {
     );
     assert!(
         h.line(6).ends_with(
-            "[leak: |b² − a·c| is only 2.8e-20 of a·|o − c|² (b = d·(o − c): a quarter of \
-             b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook formula in f32 \
-             (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): \
-             computed so, it can come out with the other sign; the ray meets the sphere twice \
-             (its discriminant is above 0), at t 4.194303999e6 and 4.194304001e6]"
+            "[leak: sphere 0's |b² − a·c| is only 2.8e-20 of a·|o − c|² (b = d·(o − c): a \
+             quarter of b² − 4ac with b = 2 d·(o − c)), below the rounding of the textbook \
+             formula in f32 (c = |o − c|² − r², with r² 1.4e-17 of |o − c|²): computed so, it can \
+             come out with the other sign; the ray meets the sphere twice (its discriminant is \
+             above 0), at t 4.194303999e6 and 4.194304001e6]"
         ),
         "{}",
         h.out
@@ -713,11 +713,12 @@ fn culling_with_an_epsilon_names_the_epsilon_and_the_back() {
     );
 }
 
-/// A back face missed just past tmin is what an epsilon in tmin's place loses as much as
-/// culling: alone, or beside a front met right, it bears out neither (a program with only
-/// `t > tmin + 1e-4` was told that both sides count, and that a hit 512 ulps of f32 past
-/// tmin was lost to t's rounding); a back missed far from tmin beside that front bears out
-/// culling.
+/// A back face missed just past tmin (up to 10⁻², as students' epsilons reach) is what an
+/// epsilon in tmin's place loses as much as culling: alone, or beside a front met right, it
+/// bears out neither (a program with only `t > tmin + 1e-4` was told that both sides count,
+/// and that a hit 512 ulps of f32 past tmin was lost to t's rounding; one with `1e-3`, a hit
+/// 2⁻¹⁰ past tmin); a back missed far from tmin beside that front bears out culling. And a
+/// farther hit given for one 2⁻¹⁰ past tmin is no last hit's pass.
 #[test]
 fn a_back_missed_just_past_tmin_is_no_culling() {
     // Triangle 0 met from its back, triangle 1 (far off) from its front.
@@ -745,6 +746,18 @@ fn a_back_missed_just_past_tmin_is_no_culling() {
     );
     assert!(
         h.line(1).contains(&format!("{back}: both sides count")),
+        "{}",
+        h.out
+    );
+    // 2⁻¹⁰ past tmin, with the far front at z = 5 behind it: missed, and passed over.
+    let scene = "tri 0 0 0 1 0 0 0 1 0\ntri 0 0 5 0 1 5 1 0 5\n";
+    let rays = "0.25 0.25 -0.0009765625 0 0 1 0 inf\n";
+    let past = "the exact hit is only 9.8e-4 past tmin: a hit counts however near tmin]";
+    let h = hints(scene, rays, "miss\n");
+    assert!(h.line(1).ends_with(&format!("{back}; {past}")), "{}", h.out);
+    let h = hints(scene, rays, "hit 5.0009765625 1\n");
+    assert!(
+        h.line(1).contains("the nearer hit is missed") && h.line(1).ends_with(past),
         "{}",
         h.out
     );
