@@ -130,8 +130,9 @@ pub(super) fn sphere_rounding<T: Real>(exact: &Exact<T>, i: usize, prim: u32) ->
     }
     let r2 = s.radius.f64().powi(2);
     // (The loose bound of [`discriminant_rounding`] said so of discriminants 6 to 17 times
-    // the rounding an f32 program's could have.)
-    let rounding = 16.0 * T::UNIT_ROUNDOFF.f64() * (b * b + a * (oc2 + r2));
+    // the rounding an f32 program's could have: a few unit roundoffs of the terms, which a
+    // program's own rounding reaches.)
+    let rounding = 4.0 * T::UNIT_ROUNDOFF.f64() * (b * b + a * (oc2 + r2));
     if disc.abs() <= rounding && disc != 0.0 {
         facts.push(format!(
             "sphere {prim}'s |b² − a·c| is only {:.1e} of a·|o − c|² (b = d·(o − c): a \
