@@ -5,7 +5,7 @@
 //! have, and one printing `%.9g` to print 9 digits.
 
 use super::hint_geometry::{clearly_inside, determinant, faces_back, meets_back, near};
-use super::hint_geometry::{near_an_end, past_tmin};
+use super::hint_geometry::{near_an_end, past_tmin, plane_t, quadratic};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;
@@ -37,9 +37,17 @@ pub(super) struct Evidence {
     pub smallest_determinant_missed: [f64; 2],
     /// Whether such a miss was of a triangle met from its back.
     pub misses_backs: bool,
-    /// Whether such a miss of a back was not near tmin, where an epsilon in tmin's place
-    /// loses backs and fronts alike (a program with one was told that both sides count).
+    /// Whether such a miss of a back was a leak not near tmin, where an epsilon in tmin's
+    /// place loses backs and fronts alike (a program with one was told that both sides count).
     pub misses_backs_past_tmin: bool,
+    /// Whether such a miss of a back, not near tmin, was a pass over it for a farther hit: a
+    /// last-hit program's answer as much as a culling one's, so it bears culling out only
+    /// beside [`Evidence::keeps_nearest`] (a last-hit program's ray alone was told that both
+    /// sides count).
+    pub passes_backs_past_tmin: bool,
+    /// Whether the program gave the exact hit where the ray meets another primitive farther
+    /// on: it keeps the nearest hit, not the last. Looked for only where a pass needs it.
+    pub keeps_nearest: bool,
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
     pub smallest_gap_met: f64,
@@ -47,7 +55,8 @@ pub(super) struct Evidence {
     /// and not within rounding of tmin, near enough to tmin for an epsilon in its place to
     /// lose it ([`past_tmin`]); on a sphere or a triangle's front, and on a triangle's back.
     pub smallest_gap_missed: [f64; 2],
-    /// The same of a hit passed over for a farther one.
+    /// The same of a hit passed over for a farther one: an epsilon's as much as a last hit's,
+    /// so it bears out an epsilon only beside [`Evidence::keeps_nearest`].
     pub smallest_gap_passed: [f64; 2],
     /// Whether the program gave a farther primitive where the exact hit is clearly inside its
     /// primitive ([`clearly_inside`], not within rounding of tmin or tmax), not near tmin, and
@@ -68,7 +77,7 @@ impl Evidence {
     ) -> Self {
         let (printed_digits, digits_vary) = printed_digits(written);
         let mut evidence = Evidence {
-            shift: index_shift(judged, exact.primitives, answers, meets),
+            shift: index_shift(judged, exact.primitives, answers, &meets),
             printed_digits,
             digits_vary,
             printed_decimals: printed_decimals(written),
@@ -77,6 +86,8 @@ impl Evidence {
             smallest_determinant_missed: [f64::INFINITY; 2],
             misses_backs: false,
             misses_backs_past_tmin: false,
+            passes_backs_past_tmin: false,
+            keeps_nearest: false,
             smallest_gap_met: f64::INFINITY,
             smallest_gap_missed: [f64::INFINITY; 2],
             smallest_gap_passed: [f64::INFINITY; 2],
@@ -104,9 +115,9 @@ impl Evidence {
                     Answer::Hit { prim: g, .. } => meets_back(exact, i, g),
                     Answer::Miss => false,
                 };
-                // (A hit near tmin passed over is an epsilon's as much: passing over hits is
-                // borne out by those farther on. Where it is, such a pass bears out no
-                // epsilon: a last-hit program was told of one in tmin's place.)
+                // (A hit near tmin passed over is an epsilon's as much as a last hit's: a
+                // last-hit program was told of an epsilon in tmin's place, beside a hit given
+                // 100 times farther than any epsilon reaches.)
                 let near_tmin = past_tmin(exact, i, te.f64()).filter(|&(_, near)| near);
                 let passes = farther && inside && (!back || given_back);
                 evidence.passes_nearer |= passes && near_tmin.is_none();
@@ -122,7 +133,9 @@ impl Evidence {
                     let smallest = &mut evidence.smallest_determinant_missed[back as usize];
                     *smallest = smallest.min(det);
                     evidence.misses_backs |= back;
-                    evidence.misses_backs_past_tmin |= back && near_tmin.is_none();
+                    let past = back && near_tmin.is_none();
+                    evidence.misses_backs_past_tmin |= past && !farther;
+                    evidence.passes_backs_past_tmin |= past && farther;
                 }
             }
             // (Met at its t: a sphere's hit past tmin skipped for its other root is the
@@ -144,6 +157,16 @@ impl Evidence {
                 evidence.meets_backs |= faces_back(exact, i, &tri);
             }
         }
+        let passes = evidence.passes_backs_past_tmin
+            || evidence.smallest_gap_passed.iter().any(|g| g.is_finite());
+        if passes {
+            evidence.keeps_nearest = (judged.iter().enumerate()).any(|(i, j)| match j.exact {
+                Answer::Hit { t, prim } if j.graded.verdict == Verdict::Right => {
+                    meets_farther(exact, i, prim, t.f64(), &meets)
+                }
+                _ => false,
+            });
+        }
         evidence
     }
 
@@ -151,7 +174,8 @@ impl Evidence {
     /// cull ([`Evidence::may_cull`]), and missed a back not near tmin. (A program with an
     /// epsilon in tmin's place, run on one ray, was told that both sides count.)
     pub fn culls_backs(&self) -> bool {
-        self.may_cull() && self.misses_backs_past_tmin
+        let passes = self.passes_backs_past_tmin && self.keeps_nearest;
+        self.may_cull() && (self.misses_backs_past_tmin || passes)
     }
 
     /// Whether culled back faces explain the run's misses of backs, so that they bear out
@@ -166,11 +190,12 @@ impl Evidence {
 
     /// Below which t − tmin the run bears out an epsilon in tmin's place: the smallest gap
     /// the program met right, where it missed a hit with a smaller one (clearly inside, not
-    /// within rounding of tmin); else 0. (A run of one ray named it beside nothing.)
+    /// within rounding of tmin; passed over for a farther one only where the program keeps
+    /// the nearest hit); else 0. (A run of one ray named it beside nothing.)
     pub fn tmin_epsilon_below(&self) -> f64 {
-        let passed = match self.passes_nearer {
-            true => [f64::INFINITY; 2],
-            false => self.smallest_gap_passed,
+        let passed = match self.keeps_nearest && !self.passes_nearer {
+            true => self.smallest_gap_passed,
+            false => [f64::INFINITY; 2],
         };
         let missed = [0, 1].map(|k| self.smallest_gap_missed[k].min(passed[k]));
         match self.unculled(missed) < self.smallest_gap_met {
@@ -295,4 +320,26 @@ fn index_shift<T: Real>(
         at_exact_t.len() >= 2 && exact_one && all_met
     };
     [1, -1].into_iter().find(|&k| shifted_by(k))
+}
+
+/// Whether ray `i`, whose exact hit is on `prim` at `te`, meets another primitive farther on,
+/// before tmax (`meets`: whether ray i meets primitive p at about t).
+fn meets_farther<T: Real>(
+    exact: &Exact<T>,
+    i: usize,
+    prim: u32,
+    te: f64,
+    meets: &impl Fn(usize, u32, f64) -> bool,
+) -> bool {
+    let tmax = exact.rays[i].1.tmax.f64();
+    (0..exact.primitives as u32)
+        .filter(|&q| q != prim)
+        .any(|q| {
+            let ts = match exact.shape(q) {
+                Shape::Triangle(tri) => [plane_t(exact, i, &tri); 2],
+                Shape::Sphere(s) => quadratic(exact, i, &s).0,
+            };
+            ts.into_iter()
+                .any(|t| t > te && !near(t, te) && t < tmax && meets(i, q, t))
+        })
 }

@@ -55,16 +55,18 @@ fn hints_with(scene: &str, rays: &str, answers: &str, args: &[&str]) -> Hints {
 /// The hints are facts of the exact geometry: a ray 10⁻¹⁷ beside a vertex meets the inside,
 /// within rounding of its edge (an f64 test within 10⁻⁹ had said "at vertex v0"), and from
 /// the back, where the run bears out culled backs (a back face passed over inside: ray 3; a
-/// front met right: ray 5), a hit on an edge from the back is told both, a primitive given at a t where the ray does not meet it is said so, with the t where
+/// front met right before another: ray 5, so the pass is no last hit's), a hit on an edge
+/// from the back is told both, a primitive given at a t where the ray does not meet it is said so, with the t where
 /// it does, not told that the nearest hit wins (nor that the exact one is a back face:
 /// so is the one given), and one met just past the exact hit is told so.
 #[test]
 fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     let scene = "tri 0 0 0 1 0 0 0 1 0\ntri 0 0 5 1 0 5 0 1 5\ntri 0 0 1e-7 1 0 1e-7 0 1 1e-7\n\
-                 tri 5 5 9 5 6 9 6 5 9\n";
+                 tri 5 5 9 5 6 9 6 5 9\ntri 4 4 20 4 8 20 8 4 20\n";
     // Beside vertex v0 by 6e-17 and 1e-17 (inside); through the edge v0–v1 exactly; through
     // the inside, to be answered with the far triangle at t 2 (it lies at t 6), and with the
-    // triangle 10⁻⁷ behind the first, where it lies; through the front of the last.
+    // triangle 10⁻⁷ behind the first, where it lies; through the front at z = 9, before the
+    // one at z = 20.
     let rays = "6e-17 1e-17 -1 0 0 1 0 inf\n0.5 0 -1 0 0 1 0 inf\n0.25 0.25 -1 0 0 1 0 inf\n\
                 0.25 0.25 -1 0 0 1 0 inf\n5.25 5.25 -1 0 0 1 0 inf\n";
     let h = hints(
@@ -654,11 +656,23 @@ fn culling_and_the_last_hit_are_told_apart() {
         "{}",
         last.out
     );
+    // The first ray alone: its pass is culling's answer and a last hit's alike, so neither
+    // rule is said (a last-hit program's ray alone was told that both sides count).
+    let alone = hints(scene, rays.lines().next().unwrap(), "hit 2 1\n");
+    assert!(
+        alone.line(1).ends_with(&format!(
+            "[wrong primitive: the given t 2 is past the exact hit's t 1: the nearer hit is \
+             missed; {back}]"
+        )),
+        "{}",
+        alone.out
+    );
 }
 
 /// A hit near tmin passed over for a farther one bears out an epsilon in tmin's place only
-/// where the program passes over no other nearer hit: a last-hit program is told the nearest
-/// hit wins and not of an epsilon (it was told both), an epsilon program the reverse.
+/// where the program passes over no other nearer hit and keeps the nearest one elsewhere: a
+/// last-hit program is told the nearest hit wins and not of an epsilon (it was told both), an
+/// epsilon program the reverse, and a pass alone neither.
 #[test]
 fn an_epsilon_in_tmins_place_is_not_a_last_hits_pass() {
     // Fronts: 1e-8 and 3e-8 past the origins, a large one at z = 2, one at z = 1.
@@ -675,6 +689,15 @@ fn an_epsilon_in_tmins_place_is_not_a_last_hits_pass() {
             .ends_with(&format!("{passed} nearest hit wins; {near}]")),
         "{}",
         last.out
+    );
+    // The first ray alone: its pass bears out no epsilon (nor the last hit).
+    let alone = hints_with(scene, rays.lines().next().unwrap(), "hit 2 2\n", &f64);
+    assert!(
+        alone
+            .line(1)
+            .ends_with(&format!("{passed} nearer hit is missed; {near}]")),
+        "{}",
+        alone.out
     );
     let epsilon = hints_with(scene, rays, "hit 2 2\nhit 1 3\nhit 2 2\n", &f64);
     assert!(
