@@ -90,7 +90,11 @@ pub enum InputError {
     #[error("{}: names a directory, not a file to write", path.display())]
     NotAFileName { path: PathBuf },
     // (It was "No such file or directory", naming neither.)
-    #[error("{}: there is no directory {} to write it in (make it first)", path.display(), dir.display())]
+    #[error(
+        "{}: there is no directory {} to write it in (make it first)",
+        path.display(),
+        dir.display()
+    )]
     NoDirectory { path: PathBuf, dir: PathBuf },
     #[error("{}: too many levels of symbolic links", path.display())]
     LinkLoop { path: PathBuf },

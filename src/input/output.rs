@@ -252,12 +252,16 @@ impl OutputFile {
         let name = (target.file_name())
             .unwrap_or(std::ffi::OsStr::new("output"))
             .to_owned();
-        let (temp, file) = Self::open_temp(&dir, &name).map_err(|e| match dir.exists() {
-            false => InputError::NoDirectory {
+        // (Only where the directory is surely missing: one that cannot be searched is not.)
+        let missing = |e: &std::io::Error| {
+            e.kind() == std::io::ErrorKind::NotFound && matches!(dir.try_exists(), Ok(false))
+        };
+        let (temp, file) = Self::open_temp(&dir, &name).map_err(|e| match missing(&e) {
+            true => InputError::NoDirectory {
                 path: path.to_path_buf(),
                 dir: dir.clone(),
             },
-            true => io(e),
+            false => io(e),
         })?;
         Ok(OutputFile {
             path: path.to_path_buf(),
