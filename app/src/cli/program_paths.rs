@@ -41,7 +41,12 @@ pub(super) fn check_program_paths(
         }
         let path = Path::new(word);
         let here = path.is_file();
-        if path.is_relative() && here && !submissions.iter().any(|s| s.join(path).exists()) {
+        // (A `..` leaves the copy, which no submission's own file is then.)
+        let outside = path
+            .components()
+            .any(|c| c == std::path::Component::ParentDir);
+        let held = !outside && submissions.iter().any(|s| s.join(path).exists());
+        if path.is_relative() && here && !held {
             let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
             bail!(
                 "--program: {word} is a file here, but the command runs in each submission's \
@@ -51,10 +56,14 @@ pub(super) fn check_program_paths(
         }
         let Some(who) = as_others else { continue };
         if path.is_absolute() && here {
-            let (needs, what) = needs(path, k == 0);
-            let mode = std::fs::metadata(path).map_or(0, |m| m.permissions().mode());
-            let dir = path.parent().unwrap_or(Path::new("/"));
-            if !super::access::open_to_others(dir) || mode & needs != needs {
+            // (Through links, the file itself: a link in /usr/local/bin to a file in /root
+            // passed.)
+            let real = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+            let (needs, what) = needs(&real, k == 0);
+            let mode = std::fs::metadata(&real).map_or(0, |m| m.permissions().mode());
+            let dirs = [path, &real].map(|p| p.parent().unwrap_or(Path::new("/")));
+            let closed = !dirs.iter().all(|d| super::access::open_to_others(d));
+            if closed || mode & needs != needs {
                 bail!(
                     "--program: {word}: the programs run as {who}, other users to it, who \
                      cannot {what} it: `chmod o+{}` it and `o+x` the directories above it (or \
@@ -97,7 +106,7 @@ fn simple_words(template: &str) -> Option<Vec<&str>> {
     let mut words = Vec::new();
     for word in template.split_whitespace() {
         let bare = match word.as_bytes() {
-            [q @ (b'\'' | b'"'), .., r] if q == r && word.len() > 1 => &word[1..word.len() - 1],
+            [q @ (b'\'' | b'"'), .., r] if q == r => &word[1..word.len() - 1],
             _ => word,
         };
         if bare == "{scene}" || bare == "{rays}" {
