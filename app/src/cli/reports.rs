@@ -6,7 +6,6 @@ use super::rubric::points_text;
 use raylab::check::Tally;
 use raylab_app::one_line;
 use std::ffi::OsString;
-use unicode_width::UnicodeWidthStr;
 
 /// How one family went for one submission (the CSV's `status`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -131,10 +130,11 @@ fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
 const NAME_COLUMNS: usize = 48;
 
 /// `name` cut to `columns` terminal columns where it is wider: its first two thirds and its
-/// end, "…" between (names alike in their first columns, cut at the end, read the same).
+/// end, "…" between (names alike in their first columns, cut at the end, read the same),
+/// never inside an escape such as `\u{202e}` (the names are shown escaped).
 fn cut_to(name: &str, columns: usize) -> String {
     use unicode_width::UnicodeWidthChar;
-    if name.width() <= columns {
+    if columns_of(name) <= columns {
         return name.to_string();
     }
     let room = columns - 1;
@@ -148,18 +148,35 @@ fn cut_to(name: &str, columns: usize) -> String {
             })
             .collect::<Vec<char>>()
     };
-    let head = take(&mut name.chars(), room * 2 / 3);
-    let head_width: usize = head.iter().map(width).sum();
-    let mut tail = take(&mut name.chars().rev(), room - head_width);
+    let mut head: String = take(&mut name.chars(), room * 2 / 3).into_iter().collect();
+    if let Some(at) = head.rfind('\\') {
+        let rest = &head[at..];
+        if (rest.starts_with("\\u{") && !rest.contains('}')) || rest.len() < 4 {
+            head.truncate(at);
+        }
+    }
+    let mut tail = take(&mut name.chars().rev(), room - columns_of(&head));
     tail.reverse();
-    head.into_iter().chain(['…']).chain(tail).collect()
+    let mut tail: String = tail.into_iter().collect();
+    if let Some(end) = tail.find('}') {
+        if !tail[..end].contains('\\') && tail[..end].bytes().all(|b| b.is_ascii_hexdigit()) {
+            tail.drain(..=end);
+        }
+    }
+    head + "…" + &tail
+}
+
+/// The terminal columns of `text`, a character's at a time (as [`cut_to`] counts them).
+fn columns_of(text: &str) -> usize {
+    use unicode_width::UnicodeWidthChar;
+    text.chars().map(|c| c.width().unwrap_or(0)).sum()
 }
 
 /// The table: one row per submission.
 pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]>) -> String {
     let width = graded
         .iter()
-        .map(|s| one_line(&s.name).width())
+        .map(|s| columns_of(&one_line(&s.name)))
         .max()
         .unwrap_or(0)
         .clamp(10, NAME_COLUMNS);
@@ -169,7 +186,10 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
     // pushed their rows out).
     let padded = |name: &str| {
         let name = cut_to(name, width);
-        format!("{name}{}", " ".repeat(width.saturating_sub(name.width())))
+        format!(
+            "{name}{}",
+            " ".repeat(width.saturating_sub(columns_of(&name)))
+        )
     };
     // The points column, where there is a rubric.
     let points_column = |text: &str| match points {
