@@ -38,23 +38,29 @@ fn said_once(e: &anyhow::Error) -> String {
     text
 }
 
-/// `text` with every control character but a line break written as its escape: a program's
-/// output quoted in a message drives no terminal.
+/// `text` with every control character but a line break, and every mark that turns the
+/// text's direction or breaks its line, written as its escape: a program's output quoted in
+/// a message drives no terminal.
 pub fn escape_controls(text: String) -> String {
-    escape_where(text, |c| hidden(c) && c != '\n')
+    escape_where(text, |c| drives_a_terminal(c) && c != '\n')
 }
 
-/// `text` with every control character, a line break too, written as its escape: a name
-/// shown on one line of a table, driving no terminal.
+/// `text` with every control character, a line break too, and every mark that turns the
+/// text's direction or breaks its line, written as its escape: a name shown on one line of
+/// a table, driving no terminal.
 pub fn one_line(text: &str) -> String {
-    escape_where(text.to_string(), hidden)
+    escape_where(text.to_string(), drives_a_terminal)
 }
 
-/// A control character, or one that turns the text's direction (a right-to-left override
-/// in a name reversed the rest of its row in the table).
-fn hidden(c: char) -> bool {
-    c.is_control()
-        || matches!(c, '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+/// A control character, a mark that turns the text's direction (a right-to-left override in
+/// a name reversed the rest of its row in the table) or a line or paragraph separator.
+fn drives_a_terminal(c: char) -> bool {
+    let direction = matches!(
+        c,
+        '\u{61c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}'
+    );
+    let isolate_or_break = matches!(c, '\u{2066}'..='\u{2069}' | '\u{2028}' | '\u{2029}');
+    c.is_control() || direction || isolate_or_break
 }
 
 /// `text` with the characters `hidden` picks written as their escapes (`\u{1b}`, `\n`).
