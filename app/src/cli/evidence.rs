@@ -46,7 +46,8 @@ pub(super) struct Evidence {
     /// sides count).
     pub passes_backs_past_tmin: bool,
     /// Whether the program gave the exact hit where the ray meets another primitive farther
-    /// on: it keeps the nearest hit, not the last. Looked for only where a pass needs it.
+    /// on: it keeps the nearest hit, not the last. Looked for only where a pass needs it, in
+    /// the first [`NEAREST_LOOKS`] rays answered right.
     pub keeps_nearest: bool,
     /// The smallest t − tmin of an exact hit the program answered right: an epsilon in
     /// tmin's place above it would have lost that hit.
@@ -159,13 +160,15 @@ impl Evidence {
         }
         let passes = evidence.passes_backs_past_tmin
             || evidence.smallest_gap_passed.iter().any(|g| g.is_finite());
+        // (The first rays answered right, each tested against every primitive: a last-hit
+        // program, which never keeps the nearest, costs those many rays' worth.)
         if passes {
-            evidence.keeps_nearest = (judged.iter().enumerate()).any(|(i, j)| match j.exact {
-                Answer::Hit { t, prim } if j.graded.verdict == Verdict::Right => {
-                    meets_farther(exact, i, prim, t.f64(), &meets)
-                }
-                _ => false,
+            let right = (judged.iter().enumerate()).filter_map(|(i, j)| match j.exact {
+                Answer::Hit { t, prim } if j.graded.verdict == Verdict::Right => Some((i, t, prim)),
+                _ => None,
             });
+            evidence.keeps_nearest = (right.take(NEAREST_LOOKS))
+                .any(|(i, t, prim)| meets_farther(exact, i, prim, t.f64(), &meets));
         }
         evidence
     }
@@ -321,6 +324,9 @@ fn index_shift<T: Real>(
     };
     [1, -1].into_iter().find(|&k| shifted_by(k))
 }
+
+/// The rays answered right that [`Evidence::keeps_nearest`] looks at, at most.
+const NEAREST_LOOKS: usize = 256;
 
 /// Whether ray `i`, whose exact hit is on `prim` at `te`, meets another primitive farther on,
 /// before tmax (`meets`: whether ray i meets primitive p at about t).
