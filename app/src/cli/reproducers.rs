@@ -87,17 +87,17 @@ fn kinds_of<T: Real>(judged: &[Judged<T>]) -> String {
 /// determinant that rounding loses (t a quotient by it).
 fn t_failure_cause<T: Real>(exact: &Exact<T>, i: usize, prim: u32, t: T) -> Option<String> {
     use raylab::geometry::Shape;
-    if let Some(fact) = sphere_rounding(exact, i, prim) {
-        return Some(fact);
-    }
-    if meets_at(exact, i, prim, t.f64()) {
-        return None;
-    }
-    match exact.shape(prim) {
-        Shape::Sphere(_) => Some(passes(exact, i, prim, t)),
-        Shape::Triangle(_) => small_determinant(exact, i, prim, 0.0)
+    let off = match (meets_at(exact, i, prim, t.f64()), exact.shape(prim)) {
+        (true, _) => None,
+        (false, Shape::Sphere(_)) => Some(passes(exact, i, prim, t)),
+        (false, Shape::Triangle(_)) => small_determinant(exact, i, prim, 0.0)
             .map(|fact| format!("{fact}, and t (a quotient by it) far off")),
-    }
+    };
+    let facts: Vec<String> = off
+        .into_iter()
+        .chain(sphere_rounding(exact, i, prim))
+        .collect();
+    (!facts.is_empty()).then(|| facts.join("; "))
 }
 
 /// One graded ray as a line: where the ray is, the ray, the exact answer and the one given.
