@@ -605,14 +605,16 @@ impl Tally {
 fn not_a_t(t: &str) -> String {
     let digits = t.trim_start_matches(['-', '+']);
     let comma = t.contains(',') && t.replacen(',', ".", 1).parse::<f64>().is_ok();
-    match () {
-        _ if digits.starts_with("0x") || digits.starts_with("0X") => format!(
+    if digits.starts_with("0x") || digits.starts_with("0X") {
+        format!(
             "t '{t}' is hexadecimal (C's %a): print it in decimal, `%.9g` in f32, `%.17g` in f64"
-        ),
-        _ if comma => format!(
+        )
+    } else if comma {
+        format!(
             "t '{t}' has a decimal comma, as a locale writes it: print a decimal point (in Java \
              `String.format(Locale.ROOT, ...)`)"
-        ),
-        _ => format!("t '{t}' is not a number"),
+        )
+    } else {
+        format!("t '{t}' is not a number")
     }
 }

@@ -608,11 +608,9 @@ impl SuiteRun<'_> {
     /// The command that checks family `name` of suite `dir` alone, as this run checks it:
     /// what a student runs again while mending it.
     fn alone(&self, dir: &Path, name: &str) -> String {
-        let quote = raylab::view::shell_quote;
         let suite = dir.display().to_string();
         let graded = (self.precision, self.tolerance, self.timeout_s);
-        let what = format!("--suite {} --family {}", quote(&suite), quote(name));
-        check_command(&invoked_as(), &what, self.template, graded)
+        family_command(&invoked_as(), &suite, name, self.template, graded)
     }
 
     /// The commands that check line `line` of `rays` (with `scene`) alone, as this run checks
@@ -646,9 +644,10 @@ fn invoked_as() -> String {
 }
 
 /// `raylab check` of one family of a suite with `template`, in `precision` (`f32` or `f64`)
-/// and with `tolerance`, words quoted for a shell: `check`'s line under a failing family and
-/// `grade`'s feedback (with SUITE and NAME to fill in).
+/// and with `tolerance`, words quoted for a shell: `check`'s line under a failing family
+/// (`raylab` as it was run) and `grade`'s feedback (bare, with SUITE and NAME to fill in).
 pub(super) fn family_command(
+    raylab: &str,
     suite: &str,
     family: &str,
     template: &str,
@@ -656,7 +655,7 @@ pub(super) fn family_command(
 ) -> String {
     let quote = raylab::view::shell_quote;
     let what = format!("--suite {} --family {}", quote(suite), quote(family));
-    check_command("raylab", &what, template, graded)
+    check_command(raylab, &what, template, graded)
 }
 
 /// `raylab check {what}` (`raylab` the command that runs it) with `template`, in `precision`

@@ -353,12 +353,17 @@ fn writable_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         bail!("not a directory");
     }
-    // Through a dangling link, the directory it names (making the link's own path said
-    // "File exists").
-    let made = match std::fs::read_link(dir) {
-        Ok(target) if !dir.exists() => dir.parent().unwrap_or(Path::new("")).join(target),
-        _ => dir.to_path_buf(),
-    };
+    // Through dangling links, the directory they name (making the link's own path said
+    // "File exists"); a loop of links is left to fail as one.
+    let mut made = dir.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::read_link(&made) {
+            Ok(target) if !made.exists() => {
+                made = made.parent().unwrap_or(Path::new("")).join(target);
+            }
+            _ => break,
+        }
+    }
     std::fs::DirBuilder::new()
         .recursive(true)
         .mode(0o700)
@@ -376,7 +381,7 @@ fn writable_dir(dir: &Path) -> Result<()> {
 fn rerun_command(args: &GradeArgs) -> String {
     let precision = super::check::precision_name(args.precision);
     let graded = (precision, args.t_tolerance, args.timeout);
-    super::check::family_command("SUITE", "NAME", &args.program, graded)
+    super::check::family_command("raylab", "SUITE", "NAME", &args.program, graded)
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {

@@ -178,9 +178,11 @@ pub(super) fn plane_t<T: Real>(
     dot(sub(v0, o), n) / dot(d, n)
 }
 
-/// The rounding of the textbook discriminant b² − a·c of ray `i` and sphere `s` in the
-/// precision graded (2¹⁰ unit roundoffs of a·|o − c|²): a discriminant within it can come
-/// out with the other sign.
+/// A loose bound of the rounding of the textbook discriminant b² − a·c of ray `i` and sphere
+/// `s` in the precision graded (2¹⁰ unit roundoffs of a·|o − c|²): a miss with a discriminant
+/// within it is not clearly inside, so it bears out no bug. What a hint may say of its sign
+/// takes the formula's own rounding, far smaller ([`sphere_rounding`]); between the two a
+/// miss is told neither.
 fn discriminant_rounding<T: Real>(
     exact: &Exact<T>,
     i: usize,
