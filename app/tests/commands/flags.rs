@@ -91,6 +91,22 @@ fn check_refuses_the_flags_it_would_ignore() {
         "leave --precision out",
     ];
     assert_fails(&o, 2, &why);
+    // In f32, as it grades, it runs.
+    let f32 = [
+        "check",
+        "--image",
+        image,
+        "--program",
+        program,
+        "--precision",
+        "f32",
+    ];
+    let o = raylab(&f32);
+    let err = stderr(&o);
+    assert!(
+        err.contains("running the program") && !err.contains("--precision"),
+        "{err}"
+    );
     let o = raylab(&[
         "check",
         "--suite",

@@ -119,9 +119,16 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     let o = grade("sh ~/tools/wrap.sh {scene} {rays}");
     let home = format!("~ is each program's own directory (its HOME), not yours: {absolute}");
     assert_fails(&o, 2, &["--program: ~/tools/wrap.sh: ", &home]);
+    // A file here that the submissions hold too is theirs.
+    std::fs::copy(
+        Path::new(&class).join("ada/run.sh"),
+        dir.path().join("run.sh"),
+    )
+    .unwrap();
     for graded in [
         "cd . && tools/wrap.sh {scene} {rays}",
         "sh run.sh {scene} {rays} # not tools/wrap.sh",
+        "sh ./run.sh {scene} {rays}",
     ] {
         let o = grade(graded);
         let err = common::binary::stderr(&o);
