@@ -76,15 +76,11 @@ fn check_refuses_the_flags_it_would_ignore() {
     let program = "true {scene} {rays}";
     let image = d.join("x.png");
     let image = image.to_str().unwrap();
-    let o = raylab(&[
-        "check",
-        "--image",
-        image,
-        "--program",
-        program,
-        "--precision",
-        "f64",
-    ]);
+    let in_precision = |precision: &str| {
+        let image_args = ["check", "--image", image, "--program", program];
+        raylab(&[&image_args[..], &["--precision", precision]].concat())
+    };
+    let o = in_precision("f64");
     // (Said why: clap's conflict named the two flags only.)
     let why = [
         "--precision f64: --image grades in f32",
@@ -92,17 +88,7 @@ fn check_refuses_the_flags_it_would_ignore() {
     ];
     assert_fails(&o, 2, &why);
     // In f32, as it grades, it runs.
-    let f32 = [
-        "check",
-        "--image",
-        image,
-        "--program",
-        program,
-        "--precision",
-        "f32",
-    ];
-    let o = raylab(&f32);
-    let err = stderr(&o);
+    let err = stderr(&in_precision("f32"));
     assert!(
         err.contains("running the program") && !err.contains("--precision"),
         "{err}"
