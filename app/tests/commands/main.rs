@@ -15,6 +15,7 @@ mod grade;
 mod grade_isolation;
 mod grade_outputs;
 mod hints;
+mod hints_bugs;
 mod limits;
 mod outputs;
 mod programs;
