@@ -36,7 +36,10 @@ pub(super) fn check_program_paths(
             }
             continue;
         }
-        if !word.contains('/') {
+        // (A bare name is a path only as an interpreter's script: `make -s run` names a
+        // target, which a file here may share.)
+        let script = k == 1 && INTERPRETERS.contains(&words[0]) && !word.starts_with('-');
+        if !word.contains('/') && !script {
             continue;
         }
         let path = Path::new(word);
@@ -50,7 +53,9 @@ pub(super) fn check_program_paths(
             let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
             bail!(
                 "--program: {word} is a file here, but the command runs in each submission's \
-                 copy, and no submission holds it: name it by its absolute path, {}",
+                 copy, and no submission holds it: a wrapper of yours is named by its absolute \
+                 path, {} (a program of the students' is elsewhere in their folders: look \
+                 where)",
                 absolute.display()
             );
         }
@@ -79,6 +84,12 @@ pub(super) fn check_program_paths(
     }
     Ok(())
 }
+
+/// Commands whose first argument is a script they read: `python3 mine.py` with mine.py here
+/// and in no submission is the teacher's file.
+const INTERPRETERS: &[&str] = &[
+    "sh", "bash", "dash", "python", "python3", "node", "ruby", "perl",
+];
 
 /// The permission bits others need on `path` and the word for it: a command run (`run`) needs
 /// x, and r as well unless it is a compiled program (ELF: a script's interpreter, or the

@@ -108,7 +108,10 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
             .unwrap()
     };
     let o = grade("tools/wrap.sh {scene} {rays}");
-    let absolute = format!("name it by its absolute path, {}", path(&wrap));
+    let absolute = format!(
+        "a wrapper of yours is named by its absolute path, {}",
+        path(&wrap)
+    );
     let why = [
         "--program: tools/wrap.sh is a file here",
         "no submission holds it",
@@ -116,8 +119,23 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     assert_fails(&o, 2, &[why[0], why[1], &absolute]);
     let err = common::binary::stderr(&o);
     assert!(!err.contains("grading 1 submission"), "{err}");
+    // A script an interpreter reads, by its bare name, is a path too.
+    std::fs::copy(&wrap, dir.path().join("mine.sh")).unwrap();
+    let o = grade("sh mine.sh {scene} {rays}");
+    assert_fails(
+        &o,
+        2,
+        &[
+            "--program: mine.sh is a file here",
+            "no submission holds it",
+        ],
+    );
     let o = grade("sh ~/tools/wrap.sh {scene} {rays}");
-    let home = format!("~ is each program's own directory (its HOME), not yours: {absolute}");
+    let home = format!(
+        "~ is each program's own directory (its HOME), not yours: name it by its absolute \
+         path, {}",
+        path(&wrap)
+    );
     assert_fails(&o, 2, &["--program: ~/tools/wrap.sh: ", &home]);
     // A file here that the submissions hold too is theirs.
     std::fs::copy(
