@@ -102,8 +102,8 @@ pub(super) fn clearly_inside<T: Real>(exact: &Exact<T>, i: usize, prim: u32) -> 
         // (Its discriminant clear of the textbook b² − a·c's rounding: a correct program's
         // far tiny sphere can lose a ray through it near the rim.)
         (Shape::Sphere(s), Location::Sphere(sphere::Location::Through)) => {
-            let disc = sphere_terms(exact, i, s).3;
-            disc > discriminant_rounding(exact, i, s)
+            let (a, _, oc2, disc) = sphere_terms(exact, i, s);
+            disc > discriminant_rounding::<T>(a, oc2)
         }
         _ => false,
     }
@@ -178,17 +178,12 @@ pub(super) fn plane_t<T: Real>(
     dot(sub(v0, o), n) / dot(d, n)
 }
 
-/// A loose bound of the rounding of the textbook discriminant b² − a·c of ray `i` and sphere
-/// `s` in the precision graded (2¹⁰ unit roundoffs of a·|o − c|²): a miss with a discriminant
-/// within it is not clearly inside, so it bears out no bug. What a hint may say of its sign
-/// takes the formula's own rounding, far smaller ([`sphere_rounding`]); between the two a
-/// miss is told neither.
-fn discriminant_rounding<T: Real>(
-    exact: &Exact<T>,
-    i: usize,
-    s: &raylab::geometry::Sphere<T>,
-) -> f64 {
-    let (a, _, oc2, _) = sphere_terms(exact, i, s);
+/// A loose bound of the rounding of the textbook discriminant b² − a·c in the precision
+/// graded, of a ray and sphere with a = d·d and |o − c|² = `oc2` ([`sphere_terms`]): 2¹⁰ unit
+/// roundoffs of a·|o − c|². A miss with a discriminant within it is not clearly inside, so it
+/// bears out no bug. What a hint may say of its sign takes the formula's own rounding, far
+/// smaller ([`sphere_rounding`]); between the two a miss is told neither.
+fn discriminant_rounding<T: Real>(a: f64, oc2: f64) -> f64 {
     1024.0 * T::UNIT_ROUNDOFF.f64() * a * oc2
 }
 
