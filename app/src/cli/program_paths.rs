@@ -64,20 +64,15 @@ pub(super) fn check_program_paths(
             // (Through links, the file itself: a link in /usr/local/bin to a file in /root
             // passed.)
             let real = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-            let (needs, what) = needs(&real, k == 0);
+            let (needs, what, letters) = needs(&real, k == 0);
             let mode = std::fs::metadata(&real).map_or(0, |m| m.permissions().mode());
             let dirs = [path, &real].map(|p| p.parent().unwrap_or(Path::new("/")));
             let closed = !dirs.iter().all(|d| super::access::open_to_others(d));
             if closed || mode & needs != needs {
                 bail!(
                     "--program: {word}: the programs run as {who}, other users to it, who \
-                     cannot {what} it: `chmod o+{}` it and `o+x` the directories above it (or \
-                     --as-root)",
-                    match needs {
-                        0o005 => "rx",
-                        0o001 => "x",
-                        _ => "r",
-                    }
+                     cannot {what} it: `chmod o+{letters}` it and `o+x` the directories above \
+                     it (or --as-root)"
                 );
             }
         }
@@ -91,21 +86,20 @@ const INTERPRETERS: &[&str] = &[
     "sh", "bash", "dash", "python", "python3", "node", "ruby", "perl",
 ];
 
-/// The permission bits others need on `path` and the word for it: a command run (`run`) needs
-/// x, and r as well unless it is a compiled program (ELF: a script's interpreter, or the
-/// shell, reads it); an argument, r.
-fn needs(path: &Path, run: bool) -> (u32, &'static str) {
+/// The permission bits others need on `path`, the word for them and their `chmod` letters:
+/// a command run (`run`) needs x, and r as well unless it is a compiled program (ELF: a
+/// script's interpreter, or the shell, reads it); an argument, r.
+fn needs(path: &Path, run: bool) -> (u32, &'static str, &'static str) {
     use std::io::Read;
     let mut head = [0u8; 4];
     let compiled = std::fs::File::open(path)
         .and_then(|mut f| f.read_exact(&mut head))
         .is_ok()
         && &head == b"\x7fELF";
-    let script = !compiled;
-    match (run, script) {
-        (true, true) => (0o005, "run"),
-        (true, false) => (0o001, "run"),
-        (false, _) => (0o004, "read"),
+    match (run, compiled) {
+        (true, false) => (0o005, "run", "rx"),
+        (true, true) => (0o001, "run", "x"),
+        (false, _) => (0o004, "read", "r"),
     }
 }
 
