@@ -133,17 +133,15 @@ const NAME_COLUMNS: usize = 48;
 /// end, "…" between (names alike in their first columns, cut at the end, read the same),
 /// never inside an escape such as `\u{202e}` (the names are shown escaped).
 fn cut_to(name: &str, columns: usize) -> String {
-    use unicode_width::UnicodeWidthChar;
     if columns_of(name) <= columns {
         return name.to_string();
     }
     let room = columns - 1;
-    let width = |c: &char| c.width().unwrap_or(0);
     let take = |chars: &mut dyn Iterator<Item = char>, most: usize| {
         let mut used = 0;
         chars
-            .take_while(|c| {
-                used += width(c);
+            .take_while(|&c| {
+                used += char_columns(c);
                 used <= most
             })
             .collect::<Vec<char>>()
@@ -168,8 +166,12 @@ fn cut_to(name: &str, columns: usize) -> String {
 
 /// The terminal columns of `text`, a character's at a time (as [`cut_to`] counts them).
 fn columns_of(text: &str) -> usize {
-    use unicode_width::UnicodeWidthChar;
-    text.chars().map(|c| c.width().unwrap_or(0)).sum()
+    text.chars().map(char_columns).sum()
+}
+
+/// The terminal columns of one character (none for a control character or combining mark).
+fn char_columns(c: char) -> usize {
+    unicode_width::UnicodeWidthChar::width(c).unwrap_or(0)
 }
 
 /// The table: one row per submission.
