@@ -296,6 +296,9 @@ impl App {
         if self.viewer.input.key_at(key, pressed, at) {
             if pressed {
                 self.esc_armed = None;
+                // (A driver of real input waits for this before it lets go: a press and
+                // release a busy event loop takes in one batch moves by the time between them.)
+                log::info!("{key:?} down");
             }
             return;
         }

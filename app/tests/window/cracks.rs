@@ -190,7 +190,8 @@ fn real_x_input_a_crack_on_the_status_line_gives_way_when_the_view_moves() {
     let view = shared_edge_view(dir.path(), 1);
     let script = format!("200 drop {}\n200 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
-                  logged '] crack '; xdotool keydown d; sleep 0.3; xdotool keyup d";
+                  logged '] crack '; xdotool keydown d; logged 'D down'; sleep 0.3; \
+                  xdotool keyup d";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -380,8 +381,8 @@ fn real_x_input_a_no_cracks_status_goes_once_the_view_moves() {
     std::fs::write(&view, text).unwrap();
     let script = format!("0 drop {}\n0 await driver-done\n", view.display());
     let driver = "xdotool windowfocus --sync $win; logged 'loaded view'; xdotool key n; \
-                  logged 'cracks in this frame'; xdotool keydown w; sleep 0.3; xdotool keyup w; \
-                  sleep 0.5";
+                  logged 'cracks in this frame'; xdotool keydown w; logged 'W down'; sleep 0.3; \
+                  xdotool keyup w; sleep 0.5";
     let Some(run) = run_window_with(RAYLAB, &script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;

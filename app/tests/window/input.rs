@@ -142,7 +142,7 @@ fn real_x_input_moves_turns_and_zooms_the_camera() {
     // (The driver waits for the first frames: the wheel and drag must meet a drawn image.)
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
-                  xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.3; \
+                  xdotool keydown w; logged 'W down'; sleep 0.4; xdotool keyup w; sleep 0.3; \
                   xdotool mousemove --sync 730 310; sleep 0.3; \
                   for i in 1 2 3 4 5; do xdotool click 4; sleep 0.05; done; sleep 0.3; \
                   xdotool mousedown 3; sleep 0.2; \
@@ -349,8 +349,8 @@ fn real_x_input_copy_as_command_renders_what_the_window_shows() {
     }
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
-    let driver = "xdotool windowfocus --sync $win; xdotool keydown a; sleep 0.4; \
-                  xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; \
+    let driver = "xdotool windowfocus --sync $win; xdotool keydown a; logged 'A down'; \
+                  sleep 0.4; xdotool keyup a; sleep 0.5; xdotool key c; sleep 0.5; \
                   xdotool mousemove --sync 500 710 click 1; sleep 0.5; xdotool key F12; \
                   logged '] saving raylab-'; xclip -selection clipboard -o > cmd.txt";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
@@ -580,7 +580,8 @@ fn real_x_input_keys_still_move_the_camera_after_tab() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; sleep 0.3; xdotool key Tab; sleep 0.5; \
-                  xdotool key Tab; sleep 0.5; xdotool keydown w; sleep 0.4; xdotool keyup w";
+                  xdotool key Tab; sleep 0.5; xdotool keydown w; logged 'W down'; sleep 0.4; \
+                  xdotool keyup w";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;

@@ -202,8 +202,8 @@ fn real_x_input_the_inspector_follows_its_pixel_as_the_view_changes() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 700 300; \
-                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool keydown w; sleep 0.6; \
-                  xdotool keyup w";
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool keydown w; logged 'W down'; \
+                  sleep 0.6; xdotool keyup w";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -335,8 +335,8 @@ fn real_x_input_click_inspects_the_pixel_under_the_pointer() {
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     // (W moves the camera first and R takes it back to the start, where the click is made.)
-    let driver = "xdotool windowfocus --sync $win; xdotool keydown w; sleep 0.3; \
-                  xdotool keyup w; sleep 0.3; xdotool key r; sleep 0.3; \
+    let driver = "xdotool windowfocus --sync $win; xdotool keydown w; logged 'W down'; \
+                  sleep 0.3; xdotool keyup w; sleep 0.3; xdotool key r; sleep 0.3; \
                   xdotool mousemove --sync 700 300; sleep 0.3; xdotool click 1";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {

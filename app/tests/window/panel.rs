@@ -312,7 +312,8 @@ fn real_x_input_rs_word_goes_once_the_camera_moves() {
         return;
     };
     assert_eq!(said.as_deref(), Some("yaw set to 30"), "{log}");
-    let flown = format!("{reset}xdotool keydown w; sleep 0.4; xdotool keyup w; sleep 0.5");
+    let flown =
+        format!("{reset}xdotool keydown w; logged 'W down'; sleep 0.4; xdotool keyup w; sleep 0.5");
     let Some((said, log)) = status(&flown) else {
         return;
     };
