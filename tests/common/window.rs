@@ -153,11 +153,12 @@ pub const FIND_WINDOW: &str =
 /// The screen of the runs' X server where a test names no other: a common laptop's.
 pub const SCREEN: (u32, u32) = (1280, 800);
 
-/// How many windows run at once: three, each on its own X server (the window tests' harness
-/// runs at least as many tests at once). A run's driver waits for what the app logs, not for
-/// fixed times, so other windows beside it slow it down without changing what it sees; a test
-/// whose checks do rest on timing takes [`window_alone`].
-pub const WINDOWS_AT_ONCE: usize = 3;
+/// How many windows run at once: five, each on its own X server (the window tests' harness
+/// runs at least as many tests at once). A run mostly waits for its driver (five windows used
+/// 1.6 of two cores), and its driver waits for what the app logs, not for fixed times, so other
+/// windows beside it slow it down without changing what it sees; a test whose checks do rest
+/// on timing takes [`window_alone`].
+pub const WINDOWS_AT_ONCE: usize = 5;
 
 /// Which of the [`WINDOWS_AT_ONCE`] slots are taken, and how many tests wait for all of them
 /// (a test that wants one waits behind them, so that one that wants all is not starved).

@@ -1,10 +1,10 @@
-//! The real window under Xvfb, in one test binary of its own: its tests run three windows at a
+//! The real window under Xvfb, in one test binary of its own: its tests run five windows at a
 //! time, each on an X server of its own, one alone where its checks rest on timing
 //! (`common::window::WINDOWS_AT_ONCE`), and nothing else of the test run beside them. A file is
 //! a module (`cargo test -p raylab-app --test window panel::`).
 //!
 //! The harness is libtest-mimic's, not libtest's: libtest runs a test a core, and a window
-//! run mostly waits for its driver (two cores run three windows with room to spare), so this
+//! run mostly waits for its driver (two cores run five windows with room to spare), so this
 //! one runs at least [`WINDOWS_AT_ONCE`] tests at once unless `--test-threads` (or
 //! `RUST_TEST_THREADS`) says otherwise.
 //! Each file lists its tests in `TESTS` and dead code is denied, so a test left out of its
