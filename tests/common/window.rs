@@ -137,13 +137,18 @@ pub enum Around<'a> {
 
 /// A shell function for drivers: `logged TEXT [N]` returns once the app's log (the file
 /// `$log`) holds TEXT on N lines (1 if not given); failing, and saying so, once the app (its
-/// process id `$app`) has ended or after 60 s. A driver waits with it for what the app has
-/// done, where a fixed sleep would have to last as long as the slowest machine takes.
+/// process id `$app`) has ended or after 60 s, which fails the test (a step that never came
+/// is not a wait: the steps after it test something else). A driver waits with it for what
+/// the app has done, where a fixed sleep would have to last as long as the slowest machine
+/// takes.
 pub const LOGGED: &str = "logged() { n=0; \
      until [ \"$(grep -cF -- \"$1\" \"$log\" 2>/dev/null)\" -ge \"${2:-1}\" ] 2>/dev/null; do \
      if [ $n -ge 1200 ] || ! kill -0 $app 2>/dev/null; then \
      echo \"driver: not logged: $1\" >&2; return 1; fi; \
      sleep 0.05; n=$((n+1)); done; }";
+
+/// What [`LOGGED`] says where it gives up.
+pub const NOT_LOGGED: &str = "driver: not logged: ";
 
 /// Sets `$win` to the app's window once its first image is on screen (searched for then:
 /// `xdotool search --sync` looks again only every half second), where the app still runs.
@@ -374,6 +379,7 @@ pub fn run_window_on(
         "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!stderr.contains(NOT_LOGGED), "{stderr}");
     // raylab-final camera=x,y,z yaw=.. pitch=.. focal=.. size=WxH rect=x,y,w,h step=.. spp=..
     // method=.. cracks=.. (every image control) .. scene=..
     // (No final line where the run was quit early: Esc twice.)

@@ -8,7 +8,7 @@
 use crate::common;
 
 use common::window::{one_window, window_alone, WindowSlot};
-use common::window::{FIND_WINDOW, LOGGED};
+use common::window::{FIND_WINDOW, LOGGED, NOT_LOGGED};
 
 /// The window under test.
 const RAYLAB: &str = env!("CARGO_BIN_EXE_raylab");
@@ -64,6 +64,8 @@ fn run_idle_window(
     let log = std::fs::read_to_string(dir.join("app.log")).unwrap_or_default();
     assert!(out.status.success(), "{:?}\n{log}", out.status);
     assert!(!log.contains("panicked"), "{log}");
+    let driver_said = String::from_utf8_lossy(&out.stderr);
+    assert!(!driver_said.contains(NOT_LOGGED), "{driver_said}\n{log}");
     let view = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())

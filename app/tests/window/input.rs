@@ -7,7 +7,7 @@
 
 use crate::common;
 
-use common::window::{compare, run_window_with, Around};
+use common::window::{compare, run_window_with, Around, NOT_LOGGED};
 use common::{pixels_off, read_png, run_in_shell};
 use glam::DVec3;
 use raylab::geometry::Method;
@@ -725,8 +725,34 @@ fn real_x_input_quick_clicks_each_count() {
     assert_eq!(run.fields["inspector"], "off", "{log}");
 }
 
+fn a_drivers_step_never_logged_fails_the_run() {
+    // Esc twice quits; the driver then waits for a line the app never logs: `logged` gives up
+    // at once (the app has ended) and the run fails, saying which line, where it had passed
+    // after a silent wait of up to a minute.
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; xdotool key Escape; logged 'press Esc again'; \
+                  xdotool key Escape; sleep 0.5; logged 'a line never logged'";
+    // (This harness does not capture output: the run's panic and log are printed.)
+    eprintln!("input::a_drivers_step_never_logged_fails_the_run: the panic below is expected");
+    let failed = std::panic::catch_unwind(|| {
+        run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    });
+    let Err(panic) = failed else {
+        // (None: Xvfb or xdotool missing, said so already.)
+        assert!(failed.unwrap().is_none(), "the run passed");
+        return;
+    };
+    let said = (panic.downcast_ref::<String>()).expect("a formatted panic message");
+    assert!(
+        said.contains(&format!("{NOT_LOGGED}a line never logged")),
+        "{said}"
+    );
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
+    a_drivers_step_never_logged_fails_the_run,
     scripted_window_run_matches_the_headless_render,
     real_x_input_moves_turns_and_zooms_the_camera,
     real_x_input_a_wheel_as_the_pointer_enters_over_the_panel_is_not_the_cameras,
