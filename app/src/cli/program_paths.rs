@@ -24,6 +24,7 @@ pub(super) fn check_program_paths(
         return Ok(());
     };
     let home = std::env::var_os("HOME").map(PathBuf::from);
+    let command = command_word(&words);
     for (k, word) in words.iter().enumerate() {
         if let (Some(rest), Some(home)) = (word.strip_prefix("~/"), &home) {
             let yours = home.join(rest);
@@ -38,7 +39,8 @@ pub(super) fn check_program_paths(
         }
         // (A bare name is a path only as an interpreter's script: `make -s run` names a
         // target, which a file here may share.)
-        let script = k == 1 && INTERPRETERS.contains(&words[0]) && !word.starts_with('-');
+        let script =
+            k == command + 1 && INTERPRETERS.contains(&words[command]) && !word.starts_with('-');
         if !word.contains('/') && !script {
             continue;
         }
@@ -64,7 +66,7 @@ pub(super) fn check_program_paths(
             // (Through links, the file itself: a link in /usr/local/bin to a file in /root
             // passed.)
             let real = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-            let (needs, what, letters) = needs(&real, k == 0);
+            let (needs, what, letters) = needs(&real, k == command);
             let mode = std::fs::metadata(&real).map_or(0, |m| m.permissions().mode());
             let dirs = [path, &real].map(|p| p.parent().unwrap_or(Path::new("/")));
             let closed = !dirs.iter().all(|d| super::access::open_to_others(d));
@@ -78,6 +80,22 @@ pub(super) fn check_program_paths(
         }
     }
     Ok(())
+}
+
+/// Which of `words` the shell runs: the first after variable assignments (`X=1`), `exec`
+/// and `env` with its assignments (`env X=1 /opt/w.sh` runs /opt/w.sh). After an `env`
+/// option (`env -i /opt/w.sh`) the option is taken for the command, the file for an argument:
+/// a refusal missed, never a false one.
+fn command_word(words: &[&str]) -> usize {
+    let assignment = |w: &str| {
+        w.split_once('=').is_some_and(|(name, _)| {
+            name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        })
+    };
+    (words.iter())
+        .position(|w| !assignment(w) && *w != "exec" && *w != "env")
+        .unwrap_or(0)
 }
 
 /// Commands whose first argument is a script they read: `python3 mine.py` with mine.py here

@@ -163,10 +163,18 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
         eprintln!("not root: every program runs as this user");
         return;
     }
+    let o = grade(&format!("env X=1 {by_path}"));
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
     // Read by sh, a script needs only r: 744 runs.
     std::fs::set_permissions(&wrap, std::fs::Permissions::from_mode(0o744)).unwrap();
     let o = grade(&format!("sh {by_path}"));
     assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+    // Run after `exec` or `env`'s assignments, it needs x too.
+    let said = format!("--program: {}: the programs run as uid", path(&wrap));
+    for run in ["exec", "env X=1", "X=1 exec"] {
+        let o = grade(&format!("{run} {by_path}"));
+        assert_fails(&o, 2, &[&said, "who cannot run it", "`chmod o+rx` it"]);
+    }
     std::fs::set_permissions(&tools, std::fs::Permissions::from_mode(0o700)).unwrap();
     let o = grade(&by_path);
     let said = format!("--program: {}: the programs run as uid", path(&wrap));
