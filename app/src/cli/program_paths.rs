@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 /// Refuses a simple `--program` that names a file the submissions' runs cannot reach: a
 /// relative path to a file here that no submission holds, a path under `~` that is the
 /// teacher's, or (`as_others`: the programs run as other users, `who` says which) an absolute
-/// one those users cannot run (its first word) or read (an argument).
+/// one those users cannot run (the command: [`command_word`]) or read (an argument).
 pub(super) fn check_program_paths(
     template: &str,
     submissions: &[PathBuf],

@@ -727,8 +727,8 @@ fn real_x_input_quick_clicks_each_count() {
 
 fn a_drivers_step_never_logged_fails_the_run() {
     // Esc twice quits; the driver then waits for a line the app never logs: `logged` gives up
-    // at once (the app has ended) and the run fails, saying which line, where it had passed
-    // after a silent wait of up to a minute.
+    // at once (the app has ended) and the run fails, saying which line. (Such a run passed,
+    // the driver going on; where the app still ran, after a silent minute's wait.)
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool key Escape; logged 'press Esc again'; \
