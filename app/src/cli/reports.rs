@@ -129,39 +129,31 @@ fn earned(points: Option<&[f64]>, family: usize, r: &Record) -> Option<f64> {
 /// The most terminal columns the table gives a submission's name (the files give it whole).
 const NAME_COLUMNS: usize = 48;
 
-/// `name` cut to `columns` terminal columns where it is wider: its first two thirds and its
-/// end, "…" between (names alike in their first columns, cut at the end, read the same),
-/// never inside an escape such as `\u{202e}` (the names are shown escaped).
+/// `name` as the table shows it (escaped: [`one_line`]), cut to `columns` terminal columns
+/// where it is wider: its first two thirds and its end, "…" between (names alike in their
+/// first columns, cut at the end, read the same). The cut falls between characters of the
+/// name, so an escape such as `\u{202e}` is kept whole or left out.
 fn cut_to(name: &str, columns: usize) -> String {
-    if columns_of(name) <= columns {
-        return name.to_string();
+    let shown: Vec<String> = name.chars().map(|c| one_line(&c.to_string())).collect();
+    let whole = shown.concat();
+    if columns_of(&whole) <= columns {
+        return whole;
     }
     let room = columns - 1;
-    let take = |chars: &mut dyn Iterator<Item = char>, most: usize| {
+    let take = |units: &mut dyn Iterator<Item = &String>, most: usize| {
         let mut used = 0;
-        chars
-            .take_while(|&c| {
-                used += char_columns(c);
+        units
+            .take_while(|unit| {
+                used += columns_of(unit);
                 used <= most
             })
-            .collect::<Vec<char>>()
+            .cloned()
+            .collect::<Vec<String>>()
     };
-    let mut head: String = take(&mut name.chars(), room * 2 / 3).into_iter().collect();
-    if let Some(at) = head.rfind('\\') {
-        let rest = &head[at..];
-        if (rest.starts_with("\\u{") && !rest.contains('}')) || rest.len() < 4 {
-            head.truncate(at);
-        }
-    }
-    let mut tail = take(&mut name.chars().rev(), room - columns_of(&head));
+    let head = take(&mut shown.iter(), room * 2 / 3).concat();
+    let mut tail = take(&mut shown.iter().rev(), room - columns_of(&head));
     tail.reverse();
-    let mut tail: String = tail.into_iter().collect();
-    if let Some(end) = tail.find('}') {
-        if !tail[..end].contains('\\') && tail[..end].bytes().all(|b| b.is_ascii_hexdigit()) {
-            tail.drain(..=end);
-        }
-    }
-    head + "…" + &tail
+    head + "…" + &tail.concat()
 }
 
 /// The terminal columns of `text`, a character's at a time (as [`cut_to`] counts them).
@@ -219,7 +211,7 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
         let earned = s.points_earned(points);
         out += &format!(
             "{} {:>7} {:>6} {:>6} {:>6} {:>7} {:>9.2}{}  {}\n",
-            padded(&one_line(&s.name)),
+            padded(&s.name),
             format!("{passed}/{}", cases.len()),
             count(|t| t.leaks),
             count(|t| t.false_hits),
@@ -426,4 +418,28 @@ pub(super) fn feedback(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{columns_of, cut_to};
+
+    #[test]
+    fn a_cut_name_keeps_each_escape_whole_or_leaves_it_out() {
+        // A right-to-left override at each place a cut can fall: the table's name is never
+        // wider than its columns, and shows the override escaped whole or not at all.
+        for at in 0..60 {
+            let name = format!("{}\u{202e}{}", "a".repeat(at), "b".repeat(60 - at));
+            let cut = cut_to(&name, 48);
+            assert!(columns_of(&cut) <= 48, "{cut}");
+            assert!(cut.contains('…') && !cut.contains('\u{202e}'), "{cut}");
+            let kept = cut.replace("\\u{202e}", "");
+            assert!(!kept.contains(['\\', '{', '}']), "{at}: {cut}");
+        }
+        // Wide characters (two columns each) are kept whole: two thirds of the room before
+        // the "…", the rest after it.
+        assert_eq!(cut_to(&"李".repeat(30), 11), "李李李…李李");
+        // A name that fits is shown whole, escaped.
+        assert_eq!(cut_to("eve\nada", 48), "eve\\nada");
+    }
 }
