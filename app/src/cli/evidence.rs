@@ -5,7 +5,7 @@
 //! have, and one printing `%.9g` to print 9 digits.
 
 use super::hint_geometry::{clearly_inside, determinant, faces_back, meets_back, near};
-use super::hint_geometry::{near_an_end, past_tmin, plane_t, quadratic};
+use super::hint_geometry::{near_an_end, past_tmin, surface_ts};
 use raylab::check::grade::{Answer, Exact, Judged, Verdict};
 use raylab::geometry::Shape;
 use raylab::math::Real;
@@ -341,11 +341,7 @@ fn meets_farther<T: Real>(
     (0..exact.primitives as u32)
         .filter(|&q| q != prim)
         .any(|q| {
-            let ts = match exact.shape(q) {
-                Shape::Triangle(tri) => [plane_t(exact, i, &tri); 2],
-                Shape::Sphere(s) => quadratic(exact, i, &s).0,
-            };
-            ts.into_iter()
+            (surface_ts(exact, i, q).into_iter())
                 .any(|t| t > te && !near(t, te) && t < tmax && meets(i, q, t))
         })
 }

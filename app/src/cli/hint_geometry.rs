@@ -178,6 +178,16 @@ pub(super) fn plane_t<T: Real>(
     dot(sub(v0, o), n) / dot(d, n)
 }
 
+/// Where ray `i`'s line meets primitive `p`'s surface, in f64: a triangle's plane t (twice),
+/// a sphere's near and far roots ([`quadratic`]). Whether the ray meets the primitive itself
+/// there is the caller's to ask.
+pub(super) fn surface_ts<T: Real>(exact: &Exact<T>, i: usize, p: u32) -> [f64; 2] {
+    match exact.shape(p) {
+        raylab::geometry::Shape::Triangle(tri) => [plane_t(exact, i, &tri); 2],
+        raylab::geometry::Shape::Sphere(s) => quadratic(exact, i, &s).0,
+    }
+}
+
 /// A loose bound of the rounding of the textbook discriminant b² − a·c in the precision
 /// graded, of a ray and sphere with a = d·d and |o − c|² = `oc2` ([`sphere_terms`]): 2¹⁰ unit
 /// roundoffs of a·|o − c|². A miss with a discriminant within it is not clearly inside, so it

@@ -4,7 +4,7 @@
 use super::evidence::Evidence;
 use super::hint_geometry::{determinant_below_rounding, small_determinant, sphere_rounding};
 use super::hint_geometry::{meets_back, near, past_tmin, t_rounding};
-use super::hint_geometry::{plane_t, quadratic, within_rounding_of_edge};
+use super::hint_geometry::{plane_t, quadratic, surface_ts, within_rounding_of_edge};
 use super::t_failures::{fine_t, other_root, round_trip_digits, short_print, t_of, times_length};
 use raylab::check::grade::{self, Answer, Exact, Judged, Verdict};
 use raylab::math::Real;
@@ -568,26 +568,13 @@ fn approx(x: f64) -> String {
 /// Whether ray `i` meets primitive `p` at about `t` (10⁻⁶ of it, in f64): the given answer's
 /// primitive where it says.
 fn meets_at<T: Real>(exact: &Exact<T>, i: usize, p: u32, t: f64) -> bool {
-    use raylab::geometry::{Location, Shape};
-    let ray = &exact.rays[i].1.ray;
-    match exact.shape(p) {
-        Shape::Sphere(s) => {
-            let missed = matches!(
-                Shape::Sphere(s).locate(ray),
-                Location::Sphere(raylab::geometry::sphere::Location::Misses)
-            );
-            let (roots, _, _) = quadratic(exact, i, &s);
-            !missed && roots.iter().any(|&r| near(r, t))
-        }
-        Shape::Triangle(tri) => {
-            use raylab::geometry::triangle::Location as On;
-            let on = matches!(
-                Shape::Triangle(tri).locate(ray),
-                Location::Triangle(On::Inside { .. } | On::Edge(_) | On::Vertex(_))
-            );
-            on && near(plane_t(exact, i, &tri), t)
-        }
-    }
+    use raylab::geometry::triangle::Location as On;
+    use raylab::geometry::{sphere, Location};
+    let met = match exact.shape(p).locate(&exact.rays[i].1.ray) {
+        Location::Sphere(at) => at != sphere::Location::Misses,
+        Location::Triangle(at) => matches!(at, On::Inside { .. } | On::Edge(_) | On::Vertex(_)),
+    };
+    met && surface_ts(exact, i, p).iter().any(|&r| near(r, t))
 }
 
 /// How a hint tells of a triangle met from its back.
