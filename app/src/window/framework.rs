@@ -14,8 +14,8 @@ use winit::window::Window;
 pub struct Framework {
     ctx: egui::Context,
     state: egui_winit::State,
-    /// Input that came after a pass's one pointer button change, for the passes after it,
-    /// each with the time it came ([`next_pass`]).
+    /// Input that came after a pass's end (its one pointer button change, or an Enter after
+    /// text), for the passes after it, each with the time it came ([`next_pass`]).
     held: Vec<Timed>,
     pub gpu: Gpu,
 }
@@ -158,7 +158,10 @@ type Timed = (Option<f64>, egui::Event);
 /// clicks in one pass are one (a check box toggled once for two). Events that arrive between
 /// two redraws (a click's press and release, quick clicks while a frame is drawn) come
 /// together. A pass is timed when its newest event came, not when it runs: a release passed
-/// on after a slow frame (over egui's 0.8 s for a click) still ends a click.
+/// on after a slow frame (over egui's 0.8 s for a click) still ends a click. A pass also ends
+/// before an Enter pressed after text typed in it: the file dialog reads a pass's Enter before
+/// its name field takes the pass's text (egui-file-dialog's keys go first), so a name typed
+/// quickly and Entered in one pass was saved without its last characters.
 fn next_pass(
     held: Vec<Timed>,
     new: Vec<egui::Event>,
@@ -166,10 +169,22 @@ fn next_pass(
 ) -> (Vec<egui::Event>, Option<f64>, Vec<Timed>) {
     let mut events: Vec<Timed> = held;
     events.extend(new.into_iter().map(|e| (now, e)));
-    let first_button =
-        (events.iter()).position(|(_, e)| matches!(e, egui::Event::PointerButton { .. }));
-    let rest = match first_button {
-        Some(first) => events.split_off(first + 1),
+    let mut typed = false;
+    let end = (events.iter().enumerate()).find_map(|(i, (_, e))| match e {
+        egui::Event::PointerButton { .. } => Some(i + 1),
+        egui::Event::Key {
+            key: egui::Key::Enter,
+            pressed: true,
+            ..
+        } if typed => Some(i),
+        egui::Event::Text(_) | egui::Event::Paste(_) => {
+            typed = true;
+            None
+        }
+        _ => None,
+    });
+    let rest = match end {
+        Some(end) => events.split_off(end),
         None => Vec::new(),
     };
     let time = events.last().map_or(now, |(came, _)| *came);
@@ -283,6 +298,56 @@ mod tests {
         assert_eq!(passes, 6, "a pass per button change");
         assert_eq!(toggles, 3);
         assert!(on);
+    }
+
+    /// A name typed and Entered in one batch, as a quick typist's keys reach a busy window,
+    /// read by a UI that takes Enter before its field's text, as the file dialog does: the
+    /// Enter waits for the pass after the text, and the UI reads the whole name.
+    #[test]
+    fn enter_after_text_in_one_batch_waits_for_the_next_pass() {
+        let ctx = egui::Context::default();
+        let mut name = String::new();
+        // (What the UI submitted in the pass, if anything.)
+        let mut pass = |events: Vec<egui::Event>| {
+            let raw = egui::RawInput {
+                events,
+                screen_rect: Some(egui::Rect::from_min_size(
+                    egui::Pos2::ZERO,
+                    egui::vec2(400.0, 300.0),
+                )),
+                ..Default::default()
+            };
+            let mut submitted = None;
+            let _ = ctx.run_ui(raw, |ui| {
+                if ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+                    submitted = Some(name.clone());
+                }
+                ui.text_edit_singleline(&mut name).request_focus();
+            });
+            submitted
+        };
+        pass(Vec::new());
+        let enter = |pressed| egui::Event::Key {
+            key: egui::Key::Enter,
+            physical_key: None,
+            pressed,
+            repeat: false,
+            modifiers: egui::Modifiers::NONE,
+        };
+        let mut batch: Vec<egui::Event> = "chosen"
+            .chars()
+            .map(|c| egui::Event::Text(c.to_string()))
+            .collect();
+        batch.extend([enter(true), enter(false)]);
+        let (events, _, rest) = next_pass(Vec::new(), batch, Some(1.0));
+        assert_eq!((events.len(), rest.len()), (6, 2), "{events:?}");
+        assert_eq!(pass(events), None);
+        let (events, _, rest) = next_pass(rest, Vec::new(), Some(2.0));
+        assert!(rest.is_empty());
+        assert_eq!(pass(events).as_deref(), Some("chosen"));
+        // An Enter alone, or first in its batch, is passed on at once.
+        let (events, _, rest) = next_pass(Vec::new(), vec![enter(true)], Some(3.0));
+        assert_eq!((events.len(), rest.len()), (1, 0));
     }
 
     /// A pass with nothing held is timed now; one of held input only, when it came.

@@ -266,16 +266,21 @@ fn real_x_input_file_menu_saves_an_image_and_opens_a_scene_through_its_dialog() 
 fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
     // File > Open scene, OBJ or view…, a file of the list clicked, then 3 and w: the first key went
     // both to the dialog's search box and to the window (lab step 3, or the camera moving).
-    // While the dialog is open every key is its own.
+    // While the dialog is open every key is its own. Then the path typed into the dialog's path
+    // field (its pencil) and Return at once, as a quick typist does: the dialog read the Return
+    // before the characters typed with it, and opened the folder `/`.
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("s.scene"), "cornell\n").unwrap();
+    std::fs::write(dir.path().join("s.scene"), "cornell\nsphere 0 0 0 0.2\n").unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 22 12; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 60 36; sleep 0.3; xdotool click 1; sleep 1.5; \
                   xdotool mousemove --sync 300 112; sleep 0.3; xdotool click 1; sleep 0.5; \
                   xdotool key 3; sleep 0.3; xdotool keydown w; sleep 0.4; xdotool keyup w; \
-                  sleep 0.5";
+                  sleep 0.5; xdotool mousemove --sync 458 73; sleep 0.3; xdotool click 1; \
+                  sleep 0.8; xdotool key ctrl+a BackSpace; sleep 0.3; \
+                  xdotool type --delay 0 \"$PWD/s.scene\"; xdotool key Return; \
+                  logged 's.scene (31 primitives)'";
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
     else {
         return;
@@ -288,6 +293,7 @@ fn real_x_input_keys_typed_in_the_file_dialog_are_the_dialogs() {
     );
     assert!(!run.stderr.contains("lab step 3"), "{}", run.stderr);
     assert_eq!(run.nums("camera"), [0.0, 0.0, -3.001], "{}", run.stderr);
+    assert!(run.fields["scene"].ends_with("s.scene"), "{}", run.stderr);
 }
 
 fn a_selected_level_tints_what_its_nested_levels_place_too() {
