@@ -13,6 +13,22 @@ use raylab::scene::ObjFrame;
 /// Preset render resolutions offered besides "a scale of the window".
 pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920, 1080)];
 
+/// The fixed sizes the resolution list offers: the presets, and every other size the window
+/// has rendered at (a loaded view's), so that one chosen away from can be chosen again;
+/// smallest first.
+fn sizes_offered(ui: &egui::Ui, resolution: super::Resolution) -> Vec<(u32, u32)> {
+    let id = egui::Id::new("sizes offered");
+    let mut sizes: Vec<(u32, u32)> = ui.data(|d| d.get_temp(id)).unwrap_or(PRESETS.to_vec());
+    if let super::Resolution::Fixed(w, h) = resolution {
+        if !sizes.contains(&(w, h)) {
+            sizes.push((w, h));
+            sizes.sort_by_key(|&(w, h)| (u64::from(w) * u64::from(h), w));
+            ui.data_mut(|d| d.insert_temp(id, sizes.clone()));
+        }
+    }
+    sizes
+}
+
 /// What the panel shows but does not edit.
 pub struct PanelInfo<'a> {
     /// The widest the panel may be (points): what leaves the image its least width.
@@ -265,12 +281,14 @@ pub fn side_panel(
 
         ui.separator();
         ui.strong("Resolution");
-        let label = match view.resolution {
+        let label = |resolution| match resolution {
             super::Resolution::WindowScale(_) => "scale of the window".to_string(),
             super::Resolution::Fixed(w, h) => format!("{w}x{h}"),
         };
+        let sizes = sizes_offered(ui, view.resolution);
+        let before = view.resolution;
         egui::ComboBox::from_id_salt("resolution")
-            .selected_text(label)
+            .selected_text(label(view.resolution))
             .show_ui(ui, |ui| {
                 let scale = match view.resolution {
                     super::Resolution::WindowScale(s) => s,
@@ -281,7 +299,7 @@ pub fn side_panel(
                     super::Resolution::WindowScale(scale),
                     "scale of the window",
                 );
-                for (w, h) in PRESETS {
+                for &(w, h) in &sizes {
                     ui.selectable_value(
                         &mut view.resolution,
                         super::Resolution::Fixed(w, h),
@@ -289,6 +307,9 @@ pub fn side_panel(
                     );
                 }
             });
+        if view.resolution != before {
+            log::info!("resolution {} chosen", label(view.resolution));
+        }
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
             let response = ui.add(typing.slider(&mut *s, 0.1..=1.0).text("scale"));
             actions.note(typing.said_as_edit_ends(ui, &response, "scale", *s));

@@ -364,6 +364,29 @@ fn real_x_input_a_click_on_f5s_message_copies_its_command() {
     assert!(read_png(&dir.path().join("out.png")).0 > 0, "rendered");
 }
 
+fn real_x_input_a_views_size_stays_in_the_resolution_list() {
+    // A view at 800x600, a size of no preset: the resolution list offers it beside the presets
+    // (it was not listed, and once 640x480 was chosen, the view's size was gone).
+    let dir = tempfile::tempdir().unwrap();
+    let view = dir.path().join("big.view");
+    std::fs::write(&view, "scene cornell\nsize 800 600\n").unwrap();
+    let script = "0 await driver-done\n";
+    // (57, 439): the list's button at the default window; its items 21 pixels apart below it,
+    // the scale of the window first.
+    let driver = "xdotool windowfocus --sync $win; \
+                  xdotool mousemove --sync 57 439; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 44 506; sleep 0.3; xdotool click 1; \
+                  logged 'resolution 640x480 chosen'; \
+                  xdotool mousemove --sync 57 439; sleep 0.3; xdotool click 1; sleep 0.8; \
+                  xdotool mousemove --sync 44 527; sleep 0.3; xdotool click 1; \
+                  logged 'resolution 800x600 chosen'";
+    let around = Around::RealInputOn(driver, &view);
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
+        return;
+    };
+    assert_eq!(run.fields["size"], "800x600", "{}", run.stderr);
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     a_saved_view_renders_headless_as_the_window_saved_it,
@@ -374,4 +397,5 @@ pub const TESTS: super::Tests = tests![
     a_view_dropped_while_a_model_loads_opens_its_own_scene_with_its_camera,
     the_command_a_saved_view_names_runs_in_a_shell_from_a_folder_with_a_space,
     real_x_input_a_click_on_f5s_message_copies_its_command,
+    real_x_input_a_views_size_stays_in_the_resolution_list,
 ];
