@@ -318,11 +318,11 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
             let exact = exact_of(scene, rays)?;
             // Written only once everything is read: bad input prints its error alone.
             let mut out = format!(
-                "scene {} ({} primitives), rays {} ({} rays), {name}; exact answers by raylab's adaptive method in {:.1} ms; t tolerance {tolerance:e}\n",
+                "scene {} ({}), rays {} ({}), {name}; exact answers by raylab's adaptive method in {:.1} ms; t tolerance {tolerance:e}\n",
                 scene.display(),
-                exact.primitives,
+                raylab::words::count(exact.primitives, "primitive", "primitives"),
                 rays.display(),
-                exact.rays.len(),
+                raylab::words::count(exact.rays.len(), "ray", "rays"),
                 exact.elapsed.as_secs_f64() * 1e3
             );
             let answers = match (&args.answers, &args.program) {

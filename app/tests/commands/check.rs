@@ -453,6 +453,12 @@ fn show_sets_how_many_reproducers_a_failing_family_prints() {
         "{}",
         text(&o.stdout)
     );
+    let head = text(&o.stdout)
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .to_owned();
+    assert!(head.contains(" (1 ray), "), "{head}");
     // (The ray, its exact answer, the answer given and the hint, after where each was read.)
     let shown = |out: &str| {
         let line = out
