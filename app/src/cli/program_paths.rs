@@ -1,9 +1,9 @@
 //! The files a `grade --program` command names outside the submissions: a teacher's wrapper
 //! named by a path relative to where raylab runs (the command runs in each submission's copy,
-//! where it is not) or under `~` (each program's HOME is its own directory), or one the
-//! programs cannot read (they run as other users). Each made every submission crash with a
-//! shell's "not found" or "Permission denied", the grading run through, so each is refused
-//! before any program runs. Only a simple command is read so (words, no `cd`, `;`, `&&`,
+//! where it is not), by its bare name (looked up on the PATH alone), or under `~` (each
+//! program's HOME is its own directory), or one the programs cannot read (they run as other
+//! users). Each made every submission crash with a shell's "not found" or "Permission
+//! denied", the grading run through, so each is refused before any program runs. Only a simple command is read so (words, no `cd`, `;`, `&&`,
 //! `|`, `#`, `$`, quotes within words): in any other a word may never be run where it
 //! reads (`cd lab3 && ./x.py`, a comment), and a refusal there was false.
 
@@ -25,6 +25,9 @@ pub(super) fn check_program_paths(
     };
     let home = std::env::var_os("HOME").map(PathBuf::from);
     let command = command_word(&words);
+    if let Some(&word) = words.get(command) {
+        refuse_bare_name_here(word, as_others.is_some())?;
+    }
     for (k, word) in words.iter().enumerate() {
         if let (Some(rest), Some(home)) = (word.strip_prefix("~/"), &home) {
             let yours = home.join(rest);
@@ -81,6 +84,40 @@ pub(super) fn check_program_paths(
     }
     Ok(())
 }
+
+/// Refuses a command named without a `/` that is a file here and not on the programs' PATH
+/// (`run.sh {scene} {rays}` for ./run.sh): the shell looks such a name up on the PATH alone,
+/// so every submission crashed "not found". (`others`: the programs run as other users,
+/// whose PATH keeps only the directories every user may search.)
+fn refuse_bare_name_here(word: &str, others: bool) -> Result<()> {
+    if word.contains('/') || SHELL_WORDS.contains(&word) || !Path::new(word).is_file() {
+        return Ok(());
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let path = match others {
+        true => super::access::searchable_path(&path),
+        false => path,
+    };
+    if std::env::split_paths(&path).any(|dir| dir.join(word).is_file()) {
+        return Ok(());
+    }
+    let absolute = std::path::absolute(word).unwrap_or_else(|_| PathBuf::from(word));
+    bail!(
+        "--program: {word} is a file here, but a command named without a `/` is looked up on \
+         the programs' PATH, where it is not (every submission would crash \"not found\"): \
+         name it by its absolute path, {}",
+        absolute.display()
+    );
+}
+
+/// The shell's own commands and words, which run whatever files share their names.
+const SHELL_WORDS: &[&str] = &[
+    "!", ".", ":", "[", "alias", "bg", "break", "case", "cd", "command", "continue", "do", "done",
+    "echo", "elif", "else", "esac", "eval", "exec", "exit", "export", "false", "fg", "fi", "for",
+    "getopts", "hash", "if", "jobs", "kill", "local", "printf", "pwd", "read", "readonly",
+    "return", "set", "shift", "test", "then", "times", "trap", "true", "type", "ulimit", "umask",
+    "unalias", "unset", "until", "wait", "while",
+];
 
 /// Which of `words` the shell runs: the first after variable assignments (`X=1`), `exec`
 /// and `env` with its assignments (`env X=1 /opt/w.sh` runs /opt/w.sh). After an `env`

@@ -81,7 +81,8 @@ fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
 }
 
 /// A teacher's wrapper named by a path relative to where raylab runs (the command runs in
-/// each submission's copy, where it is not) or under `~` (each program's HOME is its own),
+/// each submission's copy, where it is not), by its bare name (not on the PATH) or under `~`
+/// (each program's HOME is its own),
 /// or, as root, one the programs cannot run as the uids they run as: refused before any
 /// program runs, saying how to mend it. (Each made every submission crash with the shell's
 /// "not found" or "Permission denied".) A command that is not simple words is not read so:
@@ -130,6 +131,18 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
             "no submission holds it",
         ],
     );
+    // By its bare name (the shell looks it up on the PATH alone): refused; `sh` by its bare
+    // name, on the PATH, is not, nor a name on the PATH that is a file here too.
+    let o = grade("mine.sh {scene} {rays}");
+    let bare = format!(
+        "a command named without a `/` is looked up on the programs' PATH, where it is not \
+         (every submission would crash \"not found\"): name it by its absolute path, {}",
+        path(&dir.path().join("mine.sh"))
+    );
+    assert_fails(&o, 2, &["--program: mine.sh is a file here, but ", &bare]);
+    std::fs::copy(&wrap, dir.path().join("sh")).unwrap();
+    let o = grade("sh run.sh {scene} {rays}");
+    assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
     let o = grade("sh ~/tools/wrap.sh {scene} {rays}");
     let home = format!(
         "~ is each program's own directory (its HOME), not yours: name it by its absolute \
