@@ -267,8 +267,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
 }
 
 /// The submission directories of the class, in name order. Every other entry (a file, a
-/// broken link, a hidden directory such as `.git`, a suite `raylab suite export` wrote there)
-/// is named on stderr, so a submission handed in as a file is not left out unseen.
+/// broken link, a hidden directory such as `.git`, macOS's `__MACOSX`, a suite `raylab suite
+/// export` wrote there) is named on stderr, so a submission handed in as a file is not left
+/// out unseen.
 fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     let entries =
         std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
@@ -279,6 +280,8 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
         let why = match () {
             _ if name_of(&path).starts_with('.') => "hidden",
             _ if !path.is_dir() => "not a directory",
+            // (A class unzipped on a Mac holds one, graded as a student who crashed.)
+            _ if name_of(&path) == "__MACOSX" => "macOS's zip metadata",
             // (A suite exported into the class's directory was graded as a student who
             // crashed.)
             _ if is_a_suite(&path) => "a suite (raylab suite export's files only)",

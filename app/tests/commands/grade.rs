@@ -494,8 +494,8 @@ fn bad_input_is_named() {
     common::binary::assert_fails(&o, 2, &["--csv: ", stray]);
 }
 
-/// Only directories are submissions: a file, a broken link, a hidden directory (`.git`) and
-/// a suite exported there (it was graded as a student who crashed) are each named on stderr,
+/// Only directories are submissions: a file, a broken link, a hidden directory (`.git`),
+/// macOS's `__MACOSX` and a suite exported there (it was graded as a student who crashed) are each named on stderr,
 /// not dropped unseen; a name with a line break or an escape
 /// sequence shows escaped, one row of the table, driving no terminal.
 #[test]
@@ -503,6 +503,9 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
     std::fs::create_dir(class.join(".git")).unwrap();
+    // (macOS's zip metadata: a folder of `._` files, graded as a student who crashed.)
+    std::fs::create_dir_all(class.join("__MACOSX/ada")).unwrap();
+    std::fs::write(class.join("__MACOSX/ada/._run.sh"), [0u8, 5, 22, 7]).unwrap();
     std::os::unix::fs::symlink("nowhere", class.join("gone")).unwrap();
     let suite_here = class.join("lab-suite");
     std::fs::create_dir(&suite_here).unwrap();
@@ -536,6 +539,7 @@ fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
         ("notes.txt", "not a directory"),
         ("gone", "not a directory"),
         (".git", "hidden"),
+        ("__MACOSX", "macOS's zip metadata"),
         ("lab-suite", "a suite (raylab suite export's files only)"),
     ] {
         let said = format!("{name}: {why}, so not a submission (not graded)");
