@@ -258,12 +258,52 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
                 eprintln!("warning: --feedback: {}", one_line(&e.to_string()));
             }
         }
+        warn_of_earlier_feedback(dir, &graded);
     }
     say!(
         "{}",
         reports::table(&graded, &cases, points.as_deref()).trim_end()
     );
     Ok(())
+}
+
+/// Names the feedback files in `dir` of an earlier grading (their first line raylab's) of no
+/// submission graded now: handed out with the folder, a student dropped from the class was
+/// sent an old grade. Not removed: a grading of a few late submissions into the class's
+/// folder leaves everyone else's.
+fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
+    use std::io::Read;
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let now: std::collections::HashSet<String> = (graded.iter())
+        .map(|s| format!("{}.txt", s.dir_name.to_string_lossy()))
+        .collect();
+    let mut earlier: Vec<String> = (entries.filter_map(|e| e.ok()))
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".txt") && !now.contains(name))
+        .filter(|name| {
+            let mut head = [0u8; 14];
+            (std::fs::File::open(dir.join(name)))
+                .and_then(|mut f| f.read_exact(&mut head))
+                .is_ok_and(|()| &head == b"raylab grade: ")
+        })
+        .collect();
+    if earlier.is_empty() {
+        return;
+    }
+    earlier.sort();
+    let count = raylab::words::count(earlier.len(), "file", "files");
+    let shown: Vec<String> = earlier.iter().take(5).map(|n| one_line(n)).collect();
+    let more = if earlier.len() > 5 { ", …" } else { "" };
+    let them = if earlier.len() == 1 { "it" } else { "them" };
+    eprintln!(
+        "warning: --feedback {}: {count} of an earlier grading, of no submission graded now: \
+         {}{more} (remove {them} before handing the folder out)",
+        dir.display(),
+        shown.join(", ")
+    );
 }
 
 /// The submission directories of the class, in name order. Every other entry (a file, a

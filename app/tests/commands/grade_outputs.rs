@@ -112,6 +112,22 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
     use std::os::unix::fs::PermissionsExt;
     let mode = std::fs::metadata(&feedback).unwrap().permissions().mode();
     assert_eq!(mode & 0o777, 0o700, "{mode:o}");
+    // Graded again without bob into the same folder: his old file is named (handed out with
+    // the folder, it sent a dropped student an old grade), and kept (a grading of a few late
+    // submissions into the class's folder leaves everyone else's); a file not raylab's is not
+    // named.
+    std::fs::remove_dir_all(class.join("bob-crashes")).unwrap();
+    std::fs::write(feedback.join("notes.txt"), "the rubric's notes\n").unwrap();
+    let o = grade_class(&class, &suite, &more);
+    let err = common::binary::stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let said = format!(
+        "warning: --feedback {}: 1 file of an earlier grading, of no submission graded now: \
+         bob-crashes.txt (remove it before handing the folder out)",
+        feedback.display()
+    );
+    assert!(err.contains(&said), "{said} in {err}");
+    assert!(feedback.join("bob-crashes.txt").exists());
     // Inside the class it would be graded as a submission, inside a submission copied with
     // it: refused, through a link too; a file is no directory. Before any program runs.
     let link = dir.path().join("link");
