@@ -498,6 +498,8 @@ impl App {
         // hid "loaded view".)
         if after.0.controls.step != before.0.controls.step && !loads {
             viewer.say_step();
+        } else if !loads {
+            viewer.say_setting(&before.0);
         }
         if after.1 != before.1 && !actions.reset_camera {
             viewer.camera_moved();

@@ -286,7 +286,6 @@ pub fn side_panel(
             super::Resolution::Fixed(w, h) => format!("{w}x{h}"),
         };
         let sizes = sizes_offered(ui, view.resolution);
-        let before = view.resolution;
         egui::ComboBox::from_id_salt("resolution")
             .selected_text(label(view.resolution))
             .show_ui(ui, |ui| {
@@ -307,9 +306,6 @@ pub fn side_panel(
                     );
                 }
             });
-        if view.resolution != before {
-            log::info!("resolution {} chosen", label(view.resolution));
-        }
         if let super::Resolution::WindowScale(s) = &mut view.resolution {
             let response = ui.add(typing.slider(&mut *s, 0.1..=1.0).text("scale"));
             actions.note(typing.said_as_edit_ends(ui, &response, "scale", *s));

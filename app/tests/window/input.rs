@@ -281,8 +281,15 @@ fn real_x_input_sets_every_image_control_in_the_panel() {
         "{}",
         run.stderr
     );
-    // (The radio button says so in the status line, as the digit key does.)
-    assert!(run.stderr.contains("lab step 3 direct"), "{}", run.stderr);
+    // (The radio button says so in the status line, as the digit key does; the check box and
+    // the drop-down too: the status kept "supersampling set to 3" over a method chosen.)
+    for said in [
+        "lab step 3 direct",
+        "show cracks on",
+        "ray/triangle method: moller",
+    ] {
+        assert!(run.stderr.contains(said), "{said}: {}", run.stderr);
+    }
     let spp: u32 = f["spp"].parse().unwrap();
     assert!(spp > 2 && spp <= 8, "the press on the slider set spp {spp}");
     let (camera, w, h, rect) = run.camera();

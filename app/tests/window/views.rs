@@ -376,10 +376,10 @@ fn real_x_input_a_views_size_stays_in_the_resolution_list() {
     let driver = "xdotool windowfocus --sync $win; \
                   xdotool mousemove --sync 57 439; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 44 506; sleep 0.3; xdotool click 1; \
-                  logged 'resolution 640x480 chosen'; \
+                  logged 'resolution 640x480'; \
                   xdotool mousemove --sync 57 439; sleep 0.3; xdotool click 1; sleep 0.8; \
                   xdotool mousemove --sync 44 527; sleep 0.3; xdotool click 1; \
-                  logged 'resolution 800x600 chosen'";
+                  logged 'resolution 800x600'";
     let around = Around::RealInputOn(driver, &view);
     let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], around) else {
         return;

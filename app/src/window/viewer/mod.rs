@@ -451,6 +451,36 @@ impl Viewer {
         self.set_status(format!("lab step {}", self.view.controls.step.label()));
     }
 
+    /// The status line's word for a drop-down or check box of the panel that changed the
+    /// image (the method, the cracks view, a resolution chosen from the list): the status
+    /// kept the message before ("supersampling set to 2" over a method chosen).
+    pub fn say_setting(&mut self, was: &ViewSettings) {
+        let (now, was) = (&self.view, was);
+        let chosen = |r: Resolution| matches!(r, Resolution::Fixed(..));
+        let said = if (now.controls.method, now.yours) != (was.controls.method, was.yours) {
+            let name = match (&self.code, now.yours) {
+                (Some(code), true) => code.name().to_string(),
+                _ => now.controls.method.name().to_string(),
+            };
+            format!("ray/triangle method: {name}")
+        } else if now.controls.cracks != was.controls.cracks {
+            format!(
+                "show cracks {}",
+                ["off", "on"][now.controls.cracks as usize]
+            )
+        } else if now.resolution != was.resolution
+            && (chosen(now.resolution) || chosen(was.resolution))
+        {
+            match now.resolution {
+                Resolution::Fixed(w, h) => format!("resolution {w}x{h}"),
+                Resolution::WindowScale(_) => "resolution: the scale of the window".into(),
+            }
+        } else {
+            return;
+        };
+        self.set_status(said);
+    }
+
     /// What the panel can change, to tell afterwards whether it did.
     pub fn panel_state(&self) -> (ViewSettings, CameraController, (u32, u32), u32) {
         let size = self.full_size();
