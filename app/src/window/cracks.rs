@@ -410,6 +410,14 @@ pub struct Legend {
     pub marked: Option<usize>,
 }
 
+/// What the counts are, under the pointer (the legend names the painted marks only, and
+/// "ties" was said nowhere in the window).
+const COUNTS_HELP: &str = "Each sample's ray answered by the method, graded against the exact \
+    ray as `raylab check` grades: a leak misses what the exact ray meets first; a false hit \
+    meets something where the exact ray meets nothing; wrong: another primitive met first; \
+    ties: another primitive met at the same t, or at one rounding cannot tell apart from it \
+    (either answer is right: not marked).";
+
 /// The legend, the counts and the next / previous crack buttons; the step clicked, if any.
 pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {
     let swatch = |ui: &mut egui::Ui, rgb: [f32; 3], what: &str| {
@@ -439,7 +447,8 @@ pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {
         },
         Err(why) => ("leaks – · false hits – · wrong – · ties –", *why),
     };
-    ui.label(egui::RichText::new(counts).strong());
+    ui.label(egui::RichText::new(counts).strong())
+        .on_hover_text(COUNTS_HELP);
     // (The marked pixels' count here, not before the buttons: that row, wider once counted,
     // widened the panel, and the view with it, as the count arrived.)
     match legend.marked {
