@@ -2,7 +2,7 @@
 
 use crate::accel::{Accel, AccelChoice};
 use crate::scene::Scene;
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 
 /// A scene with its acceleration structure, built once ([`Stage::new`]) and shared by clones.
 ///
@@ -35,6 +35,13 @@ impl Stage {
     /// The structure over the scene's primitives.
     pub fn accel(&self) -> &Accel {
         &self.accel
+    }
+
+    /// A handle naming this stage's structure without keeping it: [`Weak::ptr_eq`] for the
+    /// stages that share it (a restyle keeps it), never for another stage's, even once this
+    /// one is dropped (the handle holds its allocation). What a frame's cracks depend on.
+    pub fn structure_handle(&self) -> Weak<Accel> {
+        Arc::downgrade(&self.accel)
     }
 
     /// Changes what does not move a primitive (colours, tints, the light), keeping the structure.

@@ -328,6 +328,9 @@ pub struct Counter {
     tx: Sender<(u64, Census)>,
     rx: Receiver<(u64, Census)>,
     proxy: EventLoopProxy<AppEvent>,
+    /// The view the count under way is of, and the view `census` is of.
+    running_view: Option<CountedView>,
+    census_view: Option<CountedView>,
     /// The newest count that finished.
     pub census: Option<Census>,
     /// A next or previous crack asked for while the frame it needs was not yet counted.
@@ -343,16 +346,52 @@ impl Counter {
             tx,
             rx,
             proxy,
+            running_view: None,
+            census_view: None,
             census: None,
             pending: None,
         }
     }
 
-    /// Counts the frame `job` rendered, on a thread of its own ([`AppEvent::CracksCounted`]
-    /// when done).
-    pub fn submit(&mut self, job: Job) {
+    /// Counts the frame `job` rendered (`last`: the view's last refinement), on a thread of
+    /// its own ([`AppEvent::CracksCounted`] when done).
+    pub fn submit(&mut self, job: Job, last: bool) {
         let ticket = self.ticket.fetch_add(1, Ordering::Relaxed) + 1;
         self.running = Some(ticket);
+        let view = CountedView::of(&job);
+        // (The same view framed again, as opening the inspector's panel crops it: counted
+        // already. Counted again, a step to the next crack waited seconds for it; and the
+        // coarser frame before the last, counted too, slowed the last one's render.)
+        let counted = self.census_view.as_ref();
+        let same = counted.is_some_and(|v| v.is(&view));
+        if !last && !same && counted.is_some_and(|v| v.is_finer(&view)) {
+            log::debug!(
+                "frame {}.{} not counted: its view's count with more samples stands",
+                job.generation,
+                job.level
+            );
+            (self.running, self.running_view) = (None, None);
+            return;
+        }
+        self.running_view = Some(view);
+        if let Some(census) = self.census.as_ref().filter(|_| same) {
+            let census = Census {
+                generation: job.generation,
+                level: job.level,
+                size: (job.settings.width, job.settings.height),
+                offset: job.view_offset,
+                ..census.clone()
+            };
+            log::debug!(
+                "the cracks of frame {}.{} are those counted of the same view",
+                job.generation,
+                job.level
+            );
+            if self.tx.send((ticket, census)).is_ok() {
+                let _ = self.proxy.send_event(AppEvent::CracksCounted);
+            }
+            return;
+        }
         let (newest, tx, proxy) = (self.ticket.clone(), self.tx.clone(), self.proxy.clone());
         std::thread::spawn(move || {
             let stale = || newest.load(Ordering::Relaxed) != ticket;
@@ -388,6 +427,7 @@ impl Counter {
             if Some(ticket) == self.running {
                 self.running = None;
                 self.census = Some(census);
+                self.census_view = self.running_view.take();
                 got = true;
             }
         }
@@ -397,6 +437,48 @@ impl Counter {
     /// Whether a count is under way.
     pub fn is_counting(&self) -> bool {
         self.running.is_some()
+    }
+}
+
+/// What a frame's cracks depend on: the structure (not the colours), the camera, the whole
+/// view's size (the inspector's panel crops its sides), the samples and who answers.
+struct CountedView {
+    structure: std::sync::Weak<raylab::accel::Accel>,
+    camera: raylab::Camera,
+    view: (u32, u32),
+    spp: u32,
+    method: Method,
+    code: Option<Arc<dyn LabCode>>,
+}
+
+impl CountedView {
+    fn of(job: &Job) -> Self {
+        let s = job.settings;
+        Self {
+            structure: job.stage.structure_handle(),
+            camera: job.camera,
+            view: (s.width + 2 * job.view_offset, s.height),
+            spp: s.spp,
+            method: s.method,
+            code: job.code.clone(),
+        }
+    }
+
+    /// Whether the cracks of `other` are this view's.
+    fn is(&self, other: &Self) -> bool {
+        self.spp == other.spp && self.is_finer(other)
+    }
+
+    /// Whether this is `other`'s view, counted with as many samples a pixel or more.
+    fn is_finer(&self, other: &Self) -> bool {
+        let code = match (&self.code, &other.code) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (a, b) => a.is_none() && b.is_none(),
+        };
+        std::sync::Weak::ptr_eq(&self.structure, &other.structure)
+            && (self.camera, self.view, self.method) == (other.camera, other.view, other.method)
+            && self.spp >= other.spp
+            && code
     }
 }
 

@@ -331,10 +331,18 @@ fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
     // them out of N's reach, and a false hit cropped away became "no cracks in this frame".)
     let dir = tempfile::tempdir().unwrap();
     let script = "0 set method cramer\n0 set spp 1\n0 set cracks on\n0 await driver-done\n";
-    // (N before the count waits for it.)
+    // (N before the count waits for it.) Then I closes the panel and opens it again: each
+    // frame is the view counted already, and is not counted again (a step to the next crack
+    // waited seconds for a count of the view framed anew).
     let driver = "xdotool windowfocus --sync $win; xdotool key n; logged '] crack '; \
-                  xdotool key shift+n; logged '] crack ' 2";
-    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+                  xdotool key shift+n; logged '] crack ' 2; xdotool key i; \
+                  logged 'ray inspector off'; logged 'counted of the same view'; \
+                  xdotool key i; logged 'ray inspector on'; logged 'counted of the same view' 2";
+    let env = [(
+        "RUST_LOG",
+        "raylab=info,raylab_app::window::cracks=debug,egui=warn",
+    )];
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &env, Around::RealInput(driver))
     else {
         return;
     };

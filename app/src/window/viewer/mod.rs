@@ -741,7 +741,8 @@ impl Viewer {
                 });
                 // (A preview is not counted: the counts are of the views that settle.)
                 if s.cracks && done.job.level > 0 {
-                    self.cracks.submit(done.job.clone());
+                    let last = done.job.level >= self.max_level();
+                    self.cracks.submit(done.job.clone(), last);
                 }
                 Some(NewFrame {
                     width: s.width,
