@@ -15,9 +15,13 @@ use raylab::render::inspect::Inspection;
 /// The switch in the side panel.
 pub fn switch(ui: &mut egui::Ui, on: &mut bool, inspected: bool) {
     ui.checkbox(on, "Ray inspector: left-click a pixel (I)");
-    if *on && !inspected {
-        ui.small("click the image to follow one pixel's ray");
-    }
+    // (A line in every state: shown only before the first click, it went with that click,
+    // and every row below moved up under the pointer.)
+    ui.small(match (*on, inspected) {
+        (true, false) => "click the image to follow one pixel's ray",
+        (true, true) => "click another pixel to follow its ray",
+        (false, _) => "off: a click on the image follows no ray",
+    });
 }
 
 /// The least width (points) the inspector's rows stay readable in beside the image, its

@@ -171,15 +171,15 @@ fn real_x_input_show_cracks_at_capped_supersampling_refines_and_idles() {
     // its width back; the counts brought the bar again, widening the panel a little each frame
     // as the bar faded in: each a new image width, a new view to render, without end.)
     // Positions: the panel at the default window on the 1280x800 screen, the inspector's box
-    // at (15, 378); with it off, "show cracks" at (15, 558), the supersampling field at
-    // (135, 516). The driver waits (two minutes at most) until the app has used no CPU for 2 s
+    // at (15, 378); with it off, "show cracks" at (15, 571), the supersampling field at
+    // (135, 529). The driver waits (two minutes at most) until the app has used no CPU for 2 s
     // (the last 9 of its CPU times read every quarter second the same), then counts the
     // panel's widths logged over 2 s more.
     let dir = tempfile::tempdir().unwrap();
     let driver = format!(
         "xdotool windowfocus --sync $win; xdotool mousemove --sync 15 378 click 1; \
-         sleep 0.5; xdotool mousemove --sync 15 558 click 1; sleep 0.5; \
-         xdotool mousemove --sync 135 516 click 1; sleep 0.8; xdotool key ctrl+a; \
+         sleep 0.5; xdotool mousemove --sync 15 571 click 1; sleep 0.5; \
+         xdotool mousemove --sync 135 529 click 1; sleep 0.8; xdotool key ctrl+a; \
          xdotool type 16; xdotool key Return; {IDLE}; idle && echo idle > idle.txt; \
          grep -c 'points wide' app.log > widths-before.txt; sleep 2; \
          grep -c 'points wide' app.log > widths-after.txt"

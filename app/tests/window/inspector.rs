@@ -233,12 +233,12 @@ fn real_x_input_the_inspector_follows_the_light_typed_into_the_panel() {
     // A click inspects a pixel of the blue block; then the light's y is typed into the
     // panel's field (a real click, Ctrl+A, the value, Return) and F5 saves the view: the
     // inspector's fields are the library's for that pixel under the light the view saved.
-    // (113, 588) is the Light row's y field on the 1280×800 screen with the inspector open,
+    // (113, 601) is the Light row's y field on the 1280×800 screen with the inspector open,
     // as docs/screenshot.png shows it.
     let dir = tempfile::tempdir().unwrap();
     let script = "0 await driver-done\n";
     let driver = "xdotool windowfocus --sync $win; xdotool mousemove --sync 680 420; \
-                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool mousemove --sync 113 588; \
+                  sleep 0.3; xdotool click 1; sleep 1.5; xdotool mousemove --sync 113 601; \
                   sleep 0.3; xdotool click 1; sleep 0.3; xdotool key ctrl+a; \
                   xdotool type --delay 50 -- -0.95; xdotool key Return; sleep 1.5; \
                   xdotool key F5; logged 'saved view'";
