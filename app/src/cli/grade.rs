@@ -122,6 +122,14 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     if let Some(bad) = (args.env.iter()).find(|n| n.is_empty() || n.contains(['=', '\0'])) {
         bail!("--env '{bad}' is not a variable's name (a name, without '=')");
     }
+    // (Its families were graded as 38 submissions.)
+    if is_a_suite(&args.class) || same_file(&args.class, &args.suite) {
+        bail!(
+            "CLASS_DIR {}: an exported suite, not a class (a directory per submission); the \
+             suite goes to --suite",
+            args.class.display()
+        );
+    }
     let submissions = submissions(&args.class)?;
     let jobs = (args.jobs.unwrap_or_else(super::cores)).min(submissions.len().max(1));
     if !args.suite.is_dir() {
@@ -517,7 +525,7 @@ fn grade_one(
     let setup = || -> std::io::Result<(RunDir, PathBuf)> {
         let run = RunDir::new("grade")?;
         let work = run.path().join("work");
-        copy_tree(dir, &work)?;
+        copy_tree(dir, &work, &mut 0)?;
         if let Some(account) = account {
             account.give(run.path())?;
         }
@@ -685,18 +693,34 @@ fn limit_hint(e: &RunError, limits: &Limits) -> String {
     }
 }
 
+/// The most a submission's files may hold in all, by their sizes (a sparse file's whole
+/// size: its copy writes it all): raylab copies each submission to grade it, and a 20 GiB
+/// sparse file, no disk at all in the class, took 83 s and 20 GiB of the temporary
+/// directory's disk to copy.
+const MAX_SUBMISSION_BYTES: u64 = 1 << 30;
+
 /// Copies a submission: directories, files (with their permissions and modification times,
 /// so `make` sees what it built as built) and links as links (never followed: a link to a
-/// file the program's user cannot read stays unreadable); anything else is left out.
-fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
+/// file the program's user cannot read stays unreadable); anything else is left out. Fails
+/// before a file that would take the bytes `copied` so far past [`MAX_SUBMISSION_BYTES`].
+fn copy_tree(from: &Path, to: &Path, copied: &mut u64) -> std::io::Result<()> {
     std::fs::create_dir(to)?;
     for entry in std::fs::read_dir(from)? {
         let entry = entry?;
         let (source, target) = (entry.path(), to.join(entry.file_name()));
         let kind = entry.file_type()?;
         if kind.is_dir() {
-            copy_tree(&source, &target)?;
+            copy_tree(&source, &target, copied)?;
         } else if kind.is_file() {
+            *copied = copied.saturating_add(entry.metadata()?.len());
+            if *copied > MAX_SUBMISSION_BYTES {
+                return Err(std::io::Error::other(format!(
+                    "its files hold over {} GiB (at {}), more than a submission may: not \
+                     copied to be graded",
+                    MAX_SUBMISSION_BYTES >> 30,
+                    source.display()
+                )));
+            }
             std::fs::copy(&source, &target)?;
             let modified = entry.metadata()?.modified()?;
             // (Opened to read: a read-only file, as git leaves its objects, keeps its time too.)

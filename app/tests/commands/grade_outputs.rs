@@ -194,3 +194,39 @@ fn an_empty_submission_is_empty_and_not_run() {
         "{kim}"
     );
 }
+
+/// A submission whose files hold over 1 GiB (a sparse file: no disk in the class) is not
+/// copied, and says why; the others are graded. (Its copy wrote the file's whole size: a
+/// 20 GiB one took 83 s and 20 GiB of the temporary directory.) A class directory that is
+/// the suite itself is refused (its families were graded as submissions).
+#[test]
+fn a_submission_too_big_to_copy_is_not_run_and_the_suite_is_no_class() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let big = class.join("max-sparse");
+    std::fs::create_dir(&big).unwrap();
+    std::fs::copy(class.join("ada/run.sh"), big.join("run.sh")).unwrap();
+    let sparse = std::fs::File::create(big.join("data.bin")).unwrap();
+    sparse.set_len(3 << 30).unwrap();
+    let feedback = dir.path().join("feedback");
+    let o = grade_class(&class, &suite, &["--feedback", feedback.to_str().unwrap()]);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("ada ") && l.ends_with(" ok")),
+        "{out}"
+    );
+    assert!(
+        (out.lines()).any(|l| l.starts_with("max-sparse ") && l.ends_with(" crashed 1")),
+        "{out}"
+    );
+    let said = std::fs::read_to_string(feedback.join("max-sparse.txt")).unwrap();
+    assert!(
+        said.contains("its files hold over 1 GiB (at ")
+            && said.contains("data.bin), more than a submission may: not copied to be graded"),
+        "{said}"
+    );
+    let o = grade_class(&suite, &suite, &[]);
+    common::binary::assert_fails(&o, 2, &["an exported suite, not a class"]);
+}
