@@ -300,6 +300,7 @@ fn every_obj_and_mtl_problem_names_its_line() {
         // What tobj reported without a line, or misread.
         (format!("v 1e30 1e30 1e30 1e-30\n{tri}f 1 2 3\n"), "t.obj:1: coordinate 1e30 divided by w"),
         (format!("v 1 1 1 0\n{tri}f 1 2 3\n"), "t.obj:1: the weight w is 0"),
+        (format!("v 1 1 1 1e-300\n{tri}f 1 2 3\n"), "t.obj:1: w = 1e-300 rounds to 0 in f32"),
         (format!("{tri}v 1 2 3 4 5\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
         (format!("{tri}v 1 2 3 4 5 6 7\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
         (format!("{tri}v 1 2 3 r g b\nf 1 2 3\n"), "t.obj:4: colour component 'r'"),
@@ -549,6 +550,16 @@ fn a_file_not_named_obj_that_fails_as_one_says_how_it_was_read() {
     std::fs::write(&scene, "mesh v.view\n").unwrap();
     let e = Scene::load(&scene, raylab::scene::ObjFrame::YUp).unwrap_err();
     assert!(e.contains("a .view is opened on its own"), "{e}");
+    // A scene file named as a mesh (it was told that a scene file's name ends in .scene).
+    std::fs::write(dir.path().join("t.scene"), "cornell\n").unwrap();
+    std::fs::write(&scene, "mesh t.scene\n").unwrap();
+    let e = Scene::load(&scene, raylab::scene::ObjFrame::YUp).unwrap_err();
+    assert!(
+        e.ends_with(
+            "a `mesh` line places a model, an OBJ file; a .scene file is opened on its own)"
+        ),
+        "{e}"
+    );
     // A file not read (missing, a directory) was read as nothing: no hint of how.
     for unread in [dir.path().join("missing"), dir.path().to_path_buf()] {
         let e = Scene::load(&unread, raylab::scene::ObjFrame::YUp).unwrap_err();

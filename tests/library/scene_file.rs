@@ -249,7 +249,14 @@ fn every_error_names_its_line() {
         (
             "translate 1e308 0 0\nscale 10\ntri 1 0 0 0 1 0 0 0 1\n",
             3,
-            "not finite in the world",
+            "the point [1.0, 0.0, 0.0], placed at [1e308, 0.0, 0.0] by the transform, is \
+             beyond f32's range ([inf, 0.0, 0.0])",
+        ),
+        // (Finite, with no transform: it was "not finite in the world after the transform".)
+        (
+            "light 1e300 0 0\n",
+            1,
+            "the point [1e300, 0.0, 0.0] is beyond f32's range ([inf, 0.0, 0.0])",
         ),
         ("cornell 1\n", 1, "cornell takes no numbers"),
     ];

@@ -233,14 +233,23 @@ impl<T: Real> Parser<'_, T> {
     }
 
     fn transformed(&self, p: [f64; 3]) -> Result<[T; 3], String> {
-        let w = self.stack.transform_point(DVec3::from_array(p)).to_array();
-        let w = w.map(T::of);
-        match w.iter().all(|c| c.is_finite()) {
-            true => Ok(w),
-            false => Err(format!(
-                "the point {p:?} is not finite in the world ({w:?}) after the transform"
-            )),
+        let placed = self.stack.transform_point(DVec3::from_array(p)).to_array();
+        let w = placed.map(T::of);
+        if w.iter().all(|c| c.is_finite()) {
+            return Ok(w);
         }
+        // (A finite point past the precision's range was said to be "not finite", and one
+        // with no transform "after the transform".)
+        let moved = match self.identity() {
+            true => String::new(),
+            false => format!(", placed at {placed:?} by the transform,"),
+        };
+        let precision = if T::PRECISION <= 24 { "f32" } else { "f64" };
+        let past = match placed.iter().all(|c| c.is_finite()) {
+            true => format!("beyond {precision}'s range"),
+            false => "not finite".to_string(),
+        };
+        Err(format!("the point {p:?}{moved} is {past} ({w:?})"))
     }
 
     /// The uniform scale of the current matrix's linear part, or `None` where it is not

@@ -150,6 +150,12 @@ pub(super) fn read_as_obj_hint(name: &str) -> &'static str {
             " (read as an OBJ file: a .view is opened on its own, by `raylab FILE.view` or \
              `render --view`, and names a .scene or .obj itself)"
         }
+        // (A `.scene` named where a model goes, by a `mesh` line, was told that a scene
+        // file's name ends in .scene.)
+        (false, false) if name.ends_with(".scene") => {
+            " (read as an OBJ file: a `mesh` line places a model, an OBJ file; a .scene file is \
+             opened on its own)"
+        }
         (false, false) => " (read as an OBJ file: a scene file's name ends in .scene)",
     }
 }

@@ -178,7 +178,12 @@ fn vertex(numbers: &[&str]) -> Result<[f32; 3], String> {
         4 => {
             let w = number::<f32>(numbers[3])? as f64;
             if w == 0.0 {
-                return Err("the weight w is 0: x/w, y/w, z/w are not defined".into());
+                // (`1e-300` is not 0, but rounds to it in f32: "w is 0" named no such w.)
+                let zero = match numbers[3].parse::<f64>() {
+                    Ok(x) if x != 0.0 => format!("w = {} rounds to 0 in f32", numbers[3]),
+                    _ => "the weight w is 0".to_string(),
+                };
+                return Err(format!("{zero}: x/w, y/w, z/w are not defined"));
             }
             for (c, s) in p.iter_mut().zip(numbers) {
                 let q = number::<f32>(s)? as f64 / w;
