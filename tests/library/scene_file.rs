@@ -555,6 +555,15 @@ fn copies_only_flattening_can_hold_are_refused_past_the_absolute_limit() {
         .message
         .contains("too ill-conditioned to place mesh 'cornell'"));
     assert!(e.message.contains(&format!("passes the {limit} triangles")));
+    // (It advised a push/pop around the scale, to a file whose scale already had one.)
+    assert!(
+        e.message.ends_with(
+            "(a scale this uneven places no instance: scale less unevenly, or \
+                             place fewer meshes under it)"
+        ),
+        "{}",
+        e.message
+    );
     // 2000 boxes, past the file's room (it once refused them), load.
     let text = format!("scale 1 1 1e-7\n{}", "cornell\n".repeat(2000));
     assert!(2000 * 30 > raylab::limits::flattened_copies_room(text.len()));

@@ -396,7 +396,8 @@ impl<T: Real> Parser<'_, T> {
                 return Err(format!(
                     "this matrix is too ill-conditioned to place mesh '{}' as an instance \
                      (condition number over {}), and flattening its copies passes the {} \
-                     triangles they may take (push/pop around the uneven scale)",
+                     triangles they may take (a scale this uneven places no instance: scale \
+                     less unevenly, or place fewer meshes under it)",
                     mesh.name,
                     crate::geometry::instance::MAX_CONDITION,
                     limit
