@@ -3,9 +3,10 @@
 //! where it is not), by its bare name (looked up on the PATH alone), or under `~` (each
 //! program's HOME is its own directory), or one the programs cannot read (they run as other
 //! users). Each made every submission crash with a shell's "not found" or "Permission
-//! denied", the grading run through, so each is refused before any program runs. Only a simple command is read so (words, no `cd`, `;`, `&&`,
-//! `|`, `#`, `$`, quotes within words): in any other a word may never be run where it
-//! reads (`cd lab3 && ./x.py`, a comment), and a refusal there was false.
+//! denied", the grading run through, so each is refused before any program runs. Only a
+//! simple command is read so (words, no `cd`, `;`, `&&`, `|`, `#`, `$`, quotes within words):
+//! in any other a word may never be run where it reads (`cd lab3 && ./x.py`, a comment), and
+//! a refusal there was false.
 
 use anyhow::{bail, Result};
 use std::os::unix::fs::PermissionsExt;
@@ -25,7 +26,9 @@ pub(super) fn check_program_paths(
     };
     let home = std::env::var_os("HOME").map(PathBuf::from);
     let command = command_word(&words);
-    if let Some(&word) = words.get(command) {
+    // (Not where the command sets its own PATH: `env PATH=/opt/grader run.sh` finds it there.)
+    let own_path = words[..command].iter().any(|w| w.starts_with("PATH="));
+    if let (Some(&word), false) = (words.get(command), own_path) {
         refuse_bare_name_here(word, as_others.is_some())?;
     }
     for (k, word) in words.iter().enumerate() {

@@ -143,6 +143,19 @@ fn a_wrapper_the_runs_cannot_reach_stops_the_grading() {
     std::fs::copy(&wrap, dir.path().join("sh")).unwrap();
     let o = grade("sh run.sh {scene} {rays}");
     assert_eq!(o.status.code(), Some(0), "{}", common::binary::stderr(&o));
+    // Nor one the command's own PATH finds (a copy here too): it grades.
+    std::fs::copy(&wrap, dir.path().join("wrap.sh")).unwrap();
+    let own = format!(
+        "env PATH={}:/usr/bin:/bin wrap.sh {{scene}} {{rays}}",
+        path(&tools)
+    );
+    let o = grade(&own);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    assert!(
+        out.lines().nth(1).unwrap_or_default().ends_with("ok"),
+        "{out}{err}"
+    );
     let o = grade("sh ~/tools/wrap.sh {scene} {rays}");
     let home = format!(
         "~ is each program's own directory (its HOME), not yours: name it by its absolute \
