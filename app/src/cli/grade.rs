@@ -123,7 +123,13 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         bail!("--env '{bad}' is not a variable's name (a name, without '=')");
     }
     // (Its families were graded as 38 submissions.)
-    if is_a_suite(&args.class) || same_file(&args.class, &args.suite) {
+    if same_file(&args.class, &args.suite) {
+        bail!(
+            "CLASS_DIR and --suite name the same directory, {}",
+            args.class.display()
+        );
+    }
+    if is_a_suite(&args.class) {
         bail!(
             "CLASS_DIR {}: an exported suite, not a class (a directory per submission); the \
              suite goes to --suite",
@@ -308,7 +314,8 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     let them = if earlier.len() == 1 { "it" } else { "them" };
     eprintln!(
         "warning: --feedback {}: {count} of an earlier grading, of no submission graded now: \
-         {}{more} (remove {them} before handing the folder out)",
+         {}{more} (kept: of a student no longer in the class, remove {them} before handing the \
+         folder out)",
         dir.display(),
         shown.join(", ")
     );

@@ -495,9 +495,9 @@ fn bad_input_is_named() {
 }
 
 /// Only directories are submissions: a file, a broken link, a hidden directory (`.git`),
-/// macOS's `__MACOSX` and a suite exported there (it was graded as a student who crashed) are each named on stderr,
-/// not dropped unseen; a name with a line break or an escape
-/// sequence shows escaped, one row of the table, driving no terminal.
+/// macOS's `__MACOSX` and a suite exported there (it was graded as a student who crashed) are
+/// each named on stderr, not dropped unseen; a name with a line break or an escape sequence
+/// shows escaped, one row of the table, driving no terminal.
 #[test]
 fn what_is_not_a_submission_is_named_and_names_stay_on_one_line() {
     let dir = tempfile::tempdir().unwrap();

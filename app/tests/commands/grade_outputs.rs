@@ -123,7 +123,8 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
     assert_eq!(o.status.code(), Some(0), "{err}");
     let said = format!(
         "warning: --feedback {}: 1 file of an earlier grading, of no submission graded now: \
-         bob-crashes.txt (remove it before handing the folder out)",
+         bob-crashes.txt (kept: of a student no longer in the class, remove it before handing the \
+         folder out)",
         feedback.display()
     );
     assert!(err.contains(&said), "{said} in {err}");
@@ -228,5 +229,5 @@ fn a_submission_too_big_to_copy_is_not_run_and_the_suite_is_no_class() {
         "{said}"
     );
     let o = grade_class(&suite, &suite, &[]);
-    common::binary::assert_fails(&o, 2, &["an exported suite, not a class"]);
+    common::binary::assert_fails(&o, 2, &["CLASS_DIR and --suite name the same directory"]);
 }
