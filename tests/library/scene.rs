@@ -301,6 +301,8 @@ fn every_obj_and_mtl_problem_names_its_line() {
         (format!("v 1e30 1e30 1e30 1e-30\n{tri}f 1 2 3\n"), "t.obj:1: coordinate 1e30 divided by w"),
         (format!("v 1 1 1 0\n{tri}f 1 2 3\n"), "t.obj:1: the weight w is 0"),
         (format!("v 1 1 1 1e-300\n{tri}f 1 2 3\n"), "t.obj:1: w = 1e-300 rounds to 0 in f32"),
+        (format!("v 1 1 1 1e-400\n{tri}f 1 2 3\n"), "t.obj:1: w = 1e-400 rounds to 0 in f32"),
+        (format!("v 1 1 1 -0e5\n{tri}f 1 2 3\n"), "t.obj:1: the weight w is 0"),
         (format!("{tri}v 1 2 3 4 5\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
         (format!("{tri}v 1 2 3 4 5 6 7\nf 1 2 3\n"), "t.obj:4: vertex takes 3 numbers"),
         (format!("{tri}v 1 2 3 r g b\nf 1 2 3\n"), "t.obj:4: colour component 'r'"),

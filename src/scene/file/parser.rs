@@ -152,7 +152,7 @@ pub fn parse_with<T: Real>(
                 line: 0,
                 depth: 0,
                 statements: Vec::new(),
-                world_from_object: identity_rows(),
+                world_from_object: glam::DMat4::IDENTITY.to_cols_array_2d(),
                 primitives: Vec::new(),
             }],
         },
@@ -216,10 +216,6 @@ pub fn parse_with<T: Real>(
     Ok(p.out)
 }
 
-fn identity_rows() -> [[f64; 4]; 4] {
-    glam::DMat4::IDENTITY.transpose().to_cols_array_2d()
-}
-
 impl<T: Real> Parser<'_, T> {
     fn warn(&mut self, line: usize, message: &str) {
         // (Whoever loads the scene shows its warnings.)
@@ -238,16 +234,13 @@ impl<T: Real> Parser<'_, T> {
         if w.iter().all(|c| c.is_finite()) {
             return Ok(w);
         }
-        // (A finite point past the precision's range was said to be "not finite", and one
-        // with no transform "after the transform".)
-        let moved = match self.identity() {
-            true => String::new(),
-            false => format!(", placed at {placed:?} by the transform,"),
-        };
-        let precision = if T::PRECISION <= 24 { "f32" } else { "f64" };
-        let past = match placed.iter().all(|c| c.is_finite()) {
-            true => format!("beyond {precision}'s range"),
-            false => "not finite".to_string(),
+        // (Past f32 but finite, it was "not finite"; with no transform, "after the transform".)
+        let by = format!(", placed at {placed:?} by the transform,");
+        let moved = if self.identity() { "" } else { &by };
+        let past = match (placed.iter().all(|c| c.is_finite()), T::PRECISION <= 24) {
+            (true, true) => "beyond f32's range",
+            (true, false) => "beyond f64's range",
+            (false, _) => "not finite",
         };
         Err(format!("the point {p:?}{moved} is {past} ({w:?})"))
     }

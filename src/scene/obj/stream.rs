@@ -179,9 +179,10 @@ fn vertex(numbers: &[&str]) -> Result<[f32; 3], String> {
             let w = number::<f32>(numbers[3])? as f64;
             if w == 0.0 {
                 // (`1e-300` is not 0, but rounds to it in f32: "w is 0" named no such w.)
-                let zero = match numbers[3].parse::<f64>() {
-                    Ok(x) if x != 0.0 => format!("w = {} rounds to 0 in f32", numbers[3]),
-                    _ => "the weight w is 0".to_string(),
+                let digits = numbers[3].split(['e', 'E']).next().unwrap_or_default();
+                let zero = match digits.bytes().any(|b| (b'1'..=b'9').contains(&b)) {
+                    true => format!("w = {} rounds to 0 in f32", numbers[3]),
+                    false => "the weight w is 0".to_string(),
                 };
                 return Err(format!("{zero}: x/w, y/w, z/w are not defined"));
             }
