@@ -494,11 +494,11 @@ pub struct Legend {
 
 /// What the counts are, under the pointer (the legend names the painted marks only, and
 /// "ties" was said nowhere in the window).
-const COUNTS_HELP: &str = "Each sample's ray answered by the method, graded against the exact \
-    ray as `raylab check` grades: a leak misses what the exact ray meets first; a false hit \
-    meets something where the exact ray meets nothing; wrong: another primitive met first; \
-    ties: another primitive met at the same t, or at one rounding cannot tell apart from it \
-    (either answer is right: not marked).";
+const COUNTS_HELP: &str = "Each sample's ray as the method (or your code) answers it, graded \
+    against the exact answer as `raylab check` grades: a leak misses what the ray meets first; \
+    a false hit meets something where the ray meets nothing; wrong: another primitive met \
+    first; ties: another primitive met at the same t, or at one rounding cannot tell apart \
+    from it (either answer is right: not marked).";
 
 /// The legend, the counts and the next / previous crack buttons; the step clicked, if any.
 pub fn legend(ui: &mut egui::Ui, legend: &Legend) -> Option<Step> {

@@ -96,8 +96,8 @@ impl Framework {
     }
 
     /// Runs `ui` for one frame and readies its output for [`Framework::draw`]. A pass sees at
-    /// most one press or release of a pointer button: the input after it waits for the next
-    /// pass, which is asked for at once ([`next_pass`]).
+    /// most one press or release of a pointer button, and no Enter after text typed in it: the
+    /// input after it waits for the next pass, which is asked for at once ([`next_pass`]).
     pub fn run(&mut self, window: &Window, ui: impl FnMut(&mut egui::Ui)) -> Prepared {
         let mut raw = self.state.take_egui_input(window);
         let held = std::mem::take(&mut self.held);

@@ -13,9 +13,9 @@ use raylab::scene::ObjFrame;
 /// Preset render resolutions offered besides "a scale of the window".
 pub const PRESETS: [(u32, u32); 4] = [(320, 240), (640, 480), (1280, 720), (1920, 1080)];
 
-/// The fixed sizes the resolution list offers: the presets, and every other size the window
-/// has rendered at (a loaded view's), so that one chosen away from can be chosen again;
-/// smallest first.
+/// The fixed sizes the resolution list offers: the presets, and every other fixed size the
+/// panel has shown (a loaded view's, while the panel was drawn), so that one chosen away from
+/// can be chosen again; smallest first.
 fn sizes_offered(ui: &egui::Ui, resolution: super::Resolution) -> Vec<(u32, u32)> {
     let id = egui::Id::new("sizes offered");
     let mut sizes: Vec<(u32, u32)> = ui.data(|d| d.get_temp(id)).unwrap_or(PRESETS.to_vec());

@@ -442,7 +442,8 @@ fn same_level(
 
 /// The scene file at `path` read and made ready to render, on threads of its own: in the
 /// pool the frames share, its parallel work queued behind a refinement's tiles and the
-/// cracks' count, and a scene that loads in a tenth of a second took four.
+/// cracks' count, and a scene that loads in a tenth of a second took three
+/// (`benches/window_waits.sh`).
 fn load_stage(
     path: &std::path::Path,
     frame: ObjFrame,
