@@ -177,7 +177,9 @@ fn next_pass(
             pressed: true,
             ..
         } if typed => Some(i),
-        egui::Event::Text(_) | egui::Event::Paste(_) => {
+        egui::Event::Text(_)
+        | egui::Event::Paste(_)
+        | egui::Event::Ime(egui::ImeEvent::Commit(_)) => {
             typed = true;
             None
         }
@@ -345,6 +347,10 @@ mod tests {
         let (events, _, rest) = next_pass(rest, Vec::new(), Some(2.0));
         assert!(rest.is_empty());
         assert_eq!(pass(events).as_deref(), Some("chosen"));
+        // Text an input method committed counts as typed.
+        let composed = egui::Event::Ime(egui::ImeEvent::Commit("選んだ".into()));
+        let (events, _, rest) = next_pass(Vec::new(), vec![composed, enter(true)], Some(3.0));
+        assert_eq!((events.len(), rest.len()), (1, 1));
         // An Enter alone, or first in its batch, is passed on at once.
         let (events, _, rest) = next_pass(Vec::new(), vec![enter(true)], Some(3.0));
         assert_eq!((events.len(), rest.len()), (1, 0));
