@@ -617,17 +617,9 @@ impl SuiteRun<'_> {
     /// it: the ray cut out with `sed`, then `raylab check` of it (a failing ray of a family
     /// of thousands, for the student's own debugging).
     fn ray_alone(&self, scene: &Path, rays: &Path, line: usize) -> String {
-        let quote = raylab::view::shell_quote;
         let graded = (self.precision, self.tolerance, self.timeout_s);
-        let what = format!(
-            "--scene {} --rays one.txt",
-            quote(&scene.display().to_string())
-        );
-        format!(
-            "sed -n {line}p {} > one.txt && {}",
-            quote(&rays.display().to_string()),
-            check_command(&invoked_as(), &what, self.template, graded)
-        )
+        let files = (&*scene.display().to_string(), &*rays.display().to_string());
+        ray_alone_command(&invoked_as(), files, line, self.template, graded)
     }
 }
 
@@ -656,6 +648,22 @@ pub(super) fn family_command(
     let quote = raylab::view::shell_quote;
     let what = format!("--suite {} --family {}", quote(suite), quote(family));
     check_command(raylab, &what, template, graded)
+}
+
+/// Line `line` of the rays file written to one.txt and checked alone on the scene file (of
+/// `files`, scene then rays), as [`family_command`] checks a family: `check`'s line under a
+/// failing family's first ray and `grade`'s feedback.
+pub(super) fn ray_alone_command(
+    raylab: &str,
+    (scene, rays): (&str, &str),
+    line: usize,
+    template: &str,
+    graded: (&str, f64, f64),
+) -> String {
+    let quote = raylab::view::shell_quote;
+    let what = format!("--scene {} --rays one.txt", quote(scene));
+    let check = check_command(raylab, &what, template, graded);
+    format!("sed -n {line}p {} > one.txt && {check}", quote(rays))
 }
 
 /// `raylab check {what}` (`raylab` the command that runs it) with `template`, in `precision`

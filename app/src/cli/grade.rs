@@ -263,8 +263,18 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     }
     if let Some(dir) = &args.feedback {
         let again = rerun_command(args);
+        let precision = super::check::precision_name(args.precision);
+        let graded_as = (precision, args.t_tolerance, args.timeout);
+        let alone = |family: &str, line: usize| {
+            let (scene, rays) = (
+                format!("SUITE/{family}/scene.txt"),
+                format!("SUITE/{family}/rays.txt"),
+            );
+            let files = (&*scene, &*rays);
+            super::check::ray_alone_command("raylab", files, line, &args.program, graded_as)
+        };
         for submission in &graded {
-            let text = reports::feedback(submission, &cases, points.as_deref(), &again);
+            let text = reports::feedback(submission, &cases, points.as_deref(), &again, &alone);
             let mut file = submission.dir_name.clone();
             file.push(".txt");
             let path = dir.join(file);

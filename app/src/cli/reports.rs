@@ -365,12 +365,15 @@ fn json_string(s: &str) -> String {
 /// One submission's feedback, the file its student reads: every family's status and counts,
 /// and where it did not pass why (its first mistake as `raylab check` shows it: the ray's file
 /// and line in the suite, the ray, the exact answer and the given one; or why it was not
-/// graded), with `again`, the command that runs one family as the grading did.
+/// graded), with `again`, the command that runs one family as the grading did, and under a
+/// first mistake the command that checks its ray alone (`alone` of the family and the ray's
+/// line).
 pub(super) fn feedback(
     s: &Submission,
     cases: &[Case],
     points: Option<&[f64]>,
     again: &str,
+    alone: &dyn Fn(&str, usize) -> String,
 ) -> String {
     let mut out = format!(
         "raylab grade: {}\n{} of {} families passed",
@@ -415,6 +418,12 @@ pub(super) fn feedback(
         above = &r.detail;
         for line in r.detail.lines().filter(|l| !l.trim().is_empty()) {
             out += &format!("    {}\n", one_line(&line.replace(&teachers, &students)));
+        }
+        // (The family's command prints it; here the student need not run the family first.)
+        let ray_line = (r.detail.strip_prefix(&teachers))
+            .and_then(|rest| rest.strip_prefix(':')?.split(' ').next()?.parse().ok());
+        if let (Status::Failed, Some(ray_line)) = (r.status, ray_line) {
+            out += &format!("    this ray alone: {}\n", alone(&case.name, ray_line));
         }
     }
     out

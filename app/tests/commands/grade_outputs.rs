@@ -106,6 +106,45 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
             && mistake.contains("  [leak: the exact hit is the sphere's far root"),
         "{zoe}"
     );
+    // Under it, the command that checks that ray alone, run in the student's folder with
+    // their suite: one ray, the same leak.
+    let alone = (zoe
+        .lines()
+        .nth(failed + 2)
+        .unwrap()
+        .strip_prefix("    this ray alone: "))
+    .unwrap_or_else(|| panic!("{zoe}"));
+    let line: usize = mistake
+        .split(':')
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let expected = format!(
+        "sed -n {line}p SUITE/{family}/rays.txt > one.txt && raylab check --scene \
+         SUITE/{family}/scene.txt --rays one.txt --program 'sh run.sh {{scene}} {{rays}}' \
+         --t-tolerance 0.00001 --timeout 30"
+    );
+    assert_eq!(alone, expected, "{zoe}");
+    let command = (alone.replace("SUITE/", &format!("{}/", suite.display()))).replace(
+        "&& raylab ",
+        &format!("&& '{}' ", env!("CARGO_BIN_EXE_raylab")),
+    );
+    let o = std::process::Command::new("sh")
+        .args(["-c", &command])
+        .current_dir(class.join("zoe-misses-far"))
+        .output()
+        .unwrap();
+    let out = common::binary::stdout(&o);
+    assert_eq!(o.status.code(), Some(1), "{command}\n{out}");
+    assert!(
+        out.trim_end()
+            .ends_with("rays 1 right 0 leaks 1 false_hits 0 wrong 0 ties 0 t_failures 0"),
+        "{out}"
+    );
     assert_eq!(std::fs::read_dir(&feedback).unwrap().count(), 3);
     // Made private: each student's feedback is that student's (it was 755, as the umask
     // left it).
