@@ -265,7 +265,8 @@ impl Viewer {
         };
         self.cracks.pending = None;
         let (i, j) = m.pixel;
-        // (Its ring is not seen there: said, as for a click.)
+        // (Its ring is not seen there: said, as for a click; last, after what the crack is,
+        // which the status line cut off behind it.)
         let offset = self.view_offset();
         let under = match (offset..offset + shown).contains(&i) {
             true => "",
@@ -275,7 +276,7 @@ impl Viewer {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
             let n = k + 1;
             self.set_status(format!(
-                "crack {n} of {count}: pixel ({i}, {j}){under}: {what}"
+                "crack {n} of {count}: pixel ({i}, {j}): {what}{under}"
             ));
             self.status_follows_pixel = true;
         }
