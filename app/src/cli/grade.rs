@@ -240,26 +240,29 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         accounts,
     );
     // The files before the table: a reader of the table that is gone (a closed pipe) ends
-    // the run after them.
+    // the run after them. A file that cannot be written is said, and the others and the table
+    // are still written (a full disk lost the whole grading's table), the run failing after.
     let mut outputs = outputs.into_iter();
-    if args.csv.is_some() {
+    let mut unwritten = 0;
+    let texts = [
+        (
+            args.csv.is_some(),
+            &reports::csv as &dyn Fn(_, _, _) -> String,
+        ),
+        (args.json.is_some(), &reports::json),
+        (args.totals.is_some(), &reports::totals_csv),
+    ];
+    for (_, text) in texts.iter().filter(|(asked, _)| *asked) {
         let mut out = outputs.next().expect("opened above");
-        out.write_all(reports::csv(&graded, &cases, points.as_deref()).as_bytes())
-            .with_context(|| format!("writing {}", out.path().display()))?;
-        out.commit()?;
-    }
-    if args.json.is_some() {
-        let mut out = outputs.next().expect("opened above");
-        out.write_all(reports::json(&graded, &cases, points.as_deref()).as_bytes())
-            .with_context(|| format!("writing {}", out.path().display()))?;
-        out.commit()?;
-    }
-    if args.totals.is_some() {
-        let mut out = outputs.next().expect("opened above");
-        let text = reports::totals_csv(&graded, &cases, points.as_deref());
-        out.write_all(text.as_bytes())
-            .with_context(|| format!("writing {}", out.path().display()))?;
-        out.commit()?;
+        let text = text(&graded, &cases, points.as_deref());
+        let written = match out.write_all(text.as_bytes()) {
+            Ok(()) => out.commit().map_err(|e| e.to_string()),
+            Err(e) => Err(format!("writing {}: {e}", out.path().display())),
+        };
+        if let Err(e) = written {
+            eprintln!("error: {}", one_line(&e));
+            unwritten += 1;
+        }
     }
     if let Some(dir) = &args.feedback {
         let again = rerun_command(args);
@@ -288,6 +291,12 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         "{}",
         reports::table(&graded, &cases, points.as_deref()).trim_end()
     );
+    if unwritten > 0 {
+        bail!(
+            "{} not written (above); the table is",
+            raylab::words::count(unwritten, "output file", "output files")
+        );
+    }
     Ok(())
 }
 

@@ -270,3 +270,36 @@ fn a_submission_too_big_to_copy_is_not_run_and_the_suite_is_no_class() {
     let o = grade_class(&suite, &suite, &[]);
     common::binary::assert_fails(&o, 2, &["CLASS_DIR and --suite name the same directory"]);
 }
+
+/// An output that cannot be written (a full disk: /dev/full) is said, and the other files and
+/// the table are still written, the run failing after them (the whole grading's table was
+/// lost to it).
+#[test]
+fn an_output_that_cannot_be_written_leaves_the_others_and_the_table() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full here");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let json = dir.path().join("grades.json");
+    let more = ["--csv", "/dev/full", "--json", json.to_str().unwrap()];
+    let o = grade_class(&class, &suite, &more);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{out}{err}");
+    assert!(
+        err.contains("error: /dev/full: No space left on device"),
+        "{err}"
+    );
+    assert!(
+        err.contains("1 output file not written (above); the table is"),
+        "{err}"
+    );
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("ada ") && l.ends_with(" ok")),
+        "{out}"
+    );
+    let json = std::fs::read_to_string(&json).unwrap();
+    assert!(json.contains("\"submission\": \"ada\""), "{json}");
+}
