@@ -317,10 +317,10 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|name| name.ends_with(".txt") && !now.contains(name))
         .filter(|name| {
-            let mut head = [0u8; 14];
+            let mut head = [0u8; reports::FEEDBACK_HEAD.len()];
             (std::fs::File::open(dir.join(name)))
                 .and_then(|mut f| f.read_exact(&mut head))
-                .is_ok_and(|()| &head == b"raylab grade: ")
+                .is_ok_and(|()| head == reports::FEEDBACK_HEAD.as_bytes())
         })
         .collect();
     if earlier.is_empty() {

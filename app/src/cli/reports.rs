@@ -362,6 +362,10 @@ fn json_string(s: &str) -> String {
     out
 }
 
+/// How a feedback file starts (then the submission's name): how a later grading knows the
+/// files of an earlier one.
+pub(super) const FEEDBACK_HEAD: &str = "raylab grade: ";
+
 /// One submission's feedback, the file its student reads: every family's status and counts,
 /// and where it did not pass why (its first mistake as `raylab check` shows it: the ray's file
 /// and line in the suite, the ray, the exact answer and the given one; or why it was not
@@ -376,7 +380,7 @@ pub(super) fn feedback(
     alone: &dyn Fn(&str, usize) -> String,
 ) -> String {
     let mut out = format!(
-        "raylab grade: {}\n{} of {} families passed",
+        "{FEEDBACK_HEAD}{}\n{} of {} families passed",
         one_line(&s.name),
         s.passed(),
         cases.len()
