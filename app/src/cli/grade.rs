@@ -150,13 +150,14 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     };
     // The outputs are opened now, so a bad path fails before the grading, not after it.
     let inputs: Vec<PathBuf> = submissions.iter().chain([&args.suite]).cloned().collect();
-    let mut outputs = Vec::new();
-    let files = [
-        ("--csv", &args.csv),
-        ("--json", &args.json),
-        ("--totals", &args.totals),
+    // (Each with the report written to it.)
+    let mut outputs: Vec<(OutputFile, Report)> = Vec::new();
+    let files: [(&str, &Option<PathBuf>, Report); 3] = [
+        ("--csv", &args.csv, reports::csv),
+        ("--json", &args.json, reports::json),
+        ("--totals", &args.totals, reports::totals_csv),
     ];
-    for (flag, path) in files {
+    for (flag, path, report) in files {
         if let Some(path) = path {
             refuse_inside(flag, path, &inputs)?;
             let output = OutputFile::create(path).context(flag)?;
@@ -164,7 +165,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             if let Some(temp) = output.temp_path() {
                 program::remove_at_signal(temp);
             }
-            outputs.push(output);
+            outputs.push((output, report));
         }
     }
     if let Some(dir) = &args.feedback {
@@ -172,8 +173,8 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         refuse_inside("--feedback", dir, &[args.class.clone(), args.suite.clone()])?;
         writable_dir(dir).with_context(|| format!("--feedback {}", dir.display()))?;
     }
-    for (k, (flag, path)) in files.iter().enumerate() {
-        for (other, later) in &files[k + 1..] {
+    for (k, (flag, path, _)) in files.iter().enumerate() {
+        for (other, later, _) in &files[k + 1..] {
             if let (Some(a), Some(b)) = (path, later) {
                 if same_file(a, b) {
                     bail!("{flag} and {other} name the same file, {}", a.display());
@@ -242,19 +243,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     // The files before the table: a reader of the table that is gone (a closed pipe) ends
     // the run after them. A file that cannot be written is said, and the others and the table
     // are still written (a full disk lost the whole grading's table), the run failing after.
-    let mut outputs = outputs.into_iter();
     let mut unwritten = 0;
-    let texts = [
-        (
-            args.csv.is_some(),
-            &reports::csv as &dyn Fn(_, _, _) -> String,
-        ),
-        (args.json.is_some(), &reports::json),
-        (args.totals.is_some(), &reports::totals_csv),
-    ];
-    for (_, text) in texts.iter().filter(|(asked, _)| *asked) {
-        let mut out = outputs.next().expect("opened above");
-        let text = text(&graded, &cases, points.as_deref());
+    for (mut out, report) in outputs {
+        let text = report(&graded, &cases, points.as_deref());
         let written = match out.write_all(text.as_bytes()) {
             Ok(()) => out.commit().map_err(|e| e.to_string()),
             Err(e) => Err(format!("writing {}: {e}", out.path().display())),
@@ -299,6 +290,9 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// A report the grading writes to a file: the CSV, the JSON or the totals.
+type Report = fn(&[Submission], &[Case], Option<&[f64]>) -> String;
 
 /// Names the feedback files in `dir` of an earlier grading (their first line raylab's) of no
 /// submission graded now: handed out with the folder, a student dropped from the class was
