@@ -5,7 +5,7 @@ use super::check::{
     answers_for, check_tolerance, exact_f32, exact_generic, judge_all, max_output, ray_place,
     stalled, tally_of,
 };
-use super::reproducers::{reproducers, Written};
+use super::reproducers::{first_shown, reproducers, Written};
 use super::suite_dir::{family_name, suite_families};
 use super::Precision;
 use anyhow::Result;
@@ -28,15 +28,23 @@ pub(super) struct Case {
     places: Vec<String>,
 }
 
-/// Grades a program's standard output: the tally and its first mistake, or why it is not one
-/// answer per ray.
-type Grader = Box<dyn Fn(&str) -> std::result::Result<(Tally, String), String> + Send + Sync>;
+/// Grades a program's standard output: the tally, its first mistake and that ray's line in
+/// the rays file, or why it is not one answer per ray.
+type Grader = Box<dyn Fn(&str) -> std::result::Result<Graded, String> + Send + Sync>;
+
+/// A program's answers graded: the tally and, where it did not pass, its first mistake as
+/// `check` shows it (the ray's place, the ray, the exact answer and the given one) and the
+/// line of that ray in the rays file.
+pub struct Graded {
+    pub tally: Tally,
+    pub first_mistake: String,
+    pub first_line: Option<usize>,
+}
 
 impl Case {
-    /// Grades a program's standard output: the tally and, where it did not pass, its first
-    /// mistake as `check` shows it (the ray's place, the ray, the exact answer and the given
-    /// one), or why it is not one answer per ray.
-    pub fn grade(&self, stdout: &str) -> std::result::Result<(Tally, String), String> {
+    /// Grades a program's standard output ([`Graded`]), or says why it is not one answer per
+    /// ray.
+    pub fn grade(&self, stdout: &str) -> std::result::Result<Graded, String> {
         (self.grader)(stdout)
     }
 
@@ -102,8 +110,11 @@ fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case
                 text: stdout,
             };
             let lines = reproducers(&judged, &exact, &answers, &place, written, 1);
-            let first = lines.get(1).map_or("", |l| l.trim()).to_string();
-            Ok((tally_of(&judged), first))
+            Ok(Graded {
+                tally: tally_of(&judged),
+                first_mistake: lines.get(1).map_or("", |l| l.trim()).to_string(),
+                first_line: first_shown(&judged).map(|i| exact.rays[i].0),
+            })
         }),
     })
 }

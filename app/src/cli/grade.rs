@@ -533,6 +533,7 @@ fn grade_one(
             ms: 0.0,
             status,
             detail: why.clone(),
+            first_line: None,
         };
         cases.iter().map(record).collect()
     };
@@ -568,6 +569,7 @@ fn grade_one(
                 ms: 0.0,
                 status: Status::Skipped,
                 detail: format!("not run: the submission's {}", budget.ran_out()),
+                first_line: None,
             });
             continue;
         };
@@ -587,6 +589,7 @@ fn grade_one(
                 ms: 0.0,
                 status: Status::Crashed,
                 detail: format!("cannot copy the family's files: {e}"),
+                first_line: None,
             });
             continue;
         }
@@ -607,18 +610,20 @@ fn grade_one(
             ms,
             status,
             detail,
+            first_line: None,
         };
         records.push(match ran {
             Ok(ran) => match case.grade(&ran.stdout) {
-                Ok((tally, first_mistake)) => Record {
-                    tally: Some(tally),
+                Ok(graded) => Record {
+                    tally: Some(graded.tally),
                     ms: ran.elapsed.as_secs_f64() * 1e3,
-                    status: if tally.passed() {
+                    status: if graded.tally.passed() {
                         Status::Ok
                     } else {
                         Status::Failed
                     },
-                    detail: first_mistake,
+                    detail: graded.first_mistake,
+                    first_line: graded.first_line,
                 },
                 Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
             },

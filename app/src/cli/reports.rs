@@ -52,8 +52,10 @@ pub(super) struct Record {
     pub(super) tally: Option<Tally>,
     pub(super) ms: f64,
     pub(super) status: Status,
-    /// Why it was not graded (empty when it was).
+    /// Why it was not graded (empty when it was), or its first mistake.
     pub(super) detail: String,
+    /// The line of that mistake's ray in the family's rays file.
+    pub(super) first_line: Option<usize>,
 }
 
 /// One submission: its name and a record per family (in the cases' order).
@@ -424,10 +426,8 @@ pub(super) fn feedback(
             out += &format!("    {}\n", one_line(&line.replace(&teachers, &students)));
         }
         // (The family's command prints it; here the student need not run the family first.)
-        let ray_line = (r.detail.strip_prefix(&teachers))
-            .and_then(|rest| rest.strip_prefix(':')?.split(' ').next()?.parse().ok());
-        if let (Status::Failed, Some(ray_line)) = (r.status, ray_line) {
-            out += &format!("    this ray alone: {}\n", alone(&case.name, ray_line));
+        if let (Status::Failed, Some(line)) = (r.status, r.first_line) {
+            out += &format!("    this ray alone: {}\n", alone(&case.name, line));
         }
     }
     out
