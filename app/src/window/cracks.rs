@@ -323,13 +323,12 @@ pub struct Counter {
     /// Bumped by each new count and by each change: a count whose ticket is not the newest
     /// stops at its next row and is dropped.
     ticket: Arc<AtomicU64>,
-    /// The ticket of the count under way, if one is.
-    running: Option<u64>,
+    /// The ticket of the count under way, if one is, and the view it is of.
+    running: Option<(u64, CountedView)>,
     tx: Sender<(u64, Census)>,
     rx: Receiver<(u64, Census)>,
     proxy: EventLoopProxy<AppEvent>,
-    /// The view the count under way is of, and the view `census` is of.
-    running_view: Option<CountedView>,
+    /// The view `census` is of.
     census_view: Option<CountedView>,
     /// The newest count that finished.
     pub census: Option<Census>,
@@ -346,7 +345,6 @@ impl Counter {
             tx,
             rx,
             proxy,
-            running_view: None,
             census_view: None,
             census: None,
             pending: None,
@@ -357,7 +355,6 @@ impl Counter {
     /// its own ([`AppEvent::CracksCounted`] when done).
     pub fn submit(&mut self, job: Job, last: bool) {
         let ticket = self.ticket.fetch_add(1, Ordering::Relaxed) + 1;
-        self.running = Some(ticket);
         let view = CountedView::of(&job);
         // (The same view framed again, as opening the inspector's panel crops it: counted
         // already. Counted again, a step to the next crack waited seconds for it; and the
@@ -370,10 +367,10 @@ impl Counter {
                 job.generation,
                 job.level
             );
-            (self.running, self.running_view) = (None, None);
+            self.running = None;
             return;
         }
-        self.running_view = Some(view);
+        self.running = Some((ticket, view));
         if let Some(census) = self.census.as_ref().filter(|_| same) {
             let census = Census {
                 generation: job.generation,
@@ -424,10 +421,8 @@ impl Counter {
     pub fn take(&mut self) -> bool {
         let mut got = false;
         while let Ok((ticket, census)) = self.rx.try_recv() {
-            if Some(ticket) == self.running {
-                self.running = None;
-                self.census = Some(census);
-                self.census_view = self.running_view.take();
+            if let Some((_, view)) = self.running.take_if(|(running, _)| *running == ticket) {
+                (self.census, self.census_view) = (Some(census), Some(view));
                 got = true;
             }
         }
