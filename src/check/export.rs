@@ -1,6 +1,7 @@
 //! `raylab suite export`: the hard-case suite as files in the `trace` formats, so that code
 //! in any language can be run on it and graded by `raylab check`.
 
+use super::rounding::Needs;
 use super::suite::Family;
 use crate::input::{self, InputError};
 use std::path::{Path, PathBuf};
@@ -47,8 +48,14 @@ pub fn read_manifest(text: &str) -> Result<Vec<(String, usize)>, String> {
 }
 
 /// A family's directory: its place in the suite (two digits, so a listing keeps the suite's
-/// order) and its name in lowercase words joined by `-` (`01-cube-from-inside`).
+/// order) and its [`slug`] (`01-cube-from-inside`).
 pub fn dir_name(index: usize, name: &str) -> String {
+    format!("{:02}-{}", index + 1, slug(name))
+}
+
+/// A family's name in lowercase words joined by `-` (`cube-from-inside`), as its directory
+/// spells it after the number.
+pub fn slug(name: &str) -> String {
     // A minus sign that starts a number is a word (`2^-17` is not `2^17`).
     let mut spelled = String::new();
     let mut prev = ' ';
@@ -65,7 +72,7 @@ pub fn dir_name(index: usize, name: &str) -> String {
         .filter(|w| !w.is_empty())
         .map(str::to_ascii_lowercase)
         .collect();
-    format!("{:02}-{}", index + 1, words.join("-"))
+    words.join("-")
 }
 
 /// A family's scene file: a comment naming it, then one primitive per line (its index is its
@@ -220,14 +227,23 @@ files named on its command line and prints its answers) and prints a row per fam
 first wrong rays under each failing one (`--family NAME` checks one). Add `--precision f64`
 for code that computes in double precision.
 
-| directory | rays | primitives | what it probes | the classic bug it catches |
-|---|---:|---:|---|---|
+**Rounding.** Some families ask for more than the lecture's formulas in floating point give:
+rays exactly through shared edges and vertices, copies of a triangle an ulp apart, far tiny
+spheres, origins on a surface. The column \"correct code passes it in\" says where every correct
+program measured (Möller–Trumbore, Cramer's rule, signed areas, the plane then edge tests; each
+sphere formula) passes: `f32` in float, `f64` in double (rounding in float fails some correct
+programs), `exact only` where rounding fails some correct double programs too. `raylab check
+--suite` names the failed families rounding does not explain (mend those first) apart from the
+others.
+
+| directory | rays | primitives | what it probes | the classic bug it catches | correct code passes it in |
+|---|---:|---:|---|---|---|
 ",
         n = families.len()
     );
     for (i, family) in families.iter().enumerate() {
         text += &format!(
-            "| `{}` | {} | {} | {} | {} |\n",
+            "| `{}` | {} | {} | {} | {} | {} |\n",
             dir_name(i, &family.name),
             family.rays.len(),
             family.shapes.len(),
@@ -235,7 +251,8 @@ for code that computes in double precision.
             match family.catches.is_empty() {
                 true => "—".to_string(),
                 false => cell(&family.catches),
-            }
+            },
+            Needs::of(&slug(&family.name)).words()
         );
     }
     text

@@ -8,7 +8,8 @@
 //! The files: `suite.rs` the families and `round_two.rs` the second round of them;
 //! `classic.rs` those that each catch one classic lab bug (rays with their own intervals);
 //! `meshes.rs` the seeded generator, the closed test meshes and the aimed rays they are made
-//! of; `export.rs` the files; `grade.rs` the answers and their verdicts; `code.rs` the seam for
+//! of; `export.rs` the files; `rounding.rs` the families rounding fails correct code on;
+//! `grade.rs` the answers and their verdicts; `code.rs` the seam for
 //! linked code, its answers and its frames.
 
 mod classic;
@@ -17,6 +18,7 @@ pub mod export;
 pub mod grade;
 pub mod meshes;
 mod round_two;
+pub mod rounding;
 pub mod suite;
 
 pub use code::LabCode;

@@ -137,6 +137,13 @@ pub fn all() -> Vec<Family> {
     families
 }
 
+/// Every family's name as its directory spells it after the number ([`super::export::slug`]),
+/// in order. (Made once: each is a whole suite's build.)
+pub fn slugs() -> &'static [String] {
+    static SLUGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    SLUGS.get_or_init(|| all().iter().map(|f| super::export::slug(&f.name)).collect())
+}
+
 /// The closed meshes families.
 pub fn closed_meshes() -> Vec<Family> {
     let mut out = Vec::new();

@@ -241,3 +241,20 @@ fn an_index_past_the_scene_on_a_ray_that_meets_nothing_is_a_false_hit_not_a_pani
         assert_eq!(verdict.mark(), Some(FALSE_HIT));
     }
 }
+
+/// Each family of the suite says the arithmetic its correct programs need, by its directory's
+/// name: the twelve that some correct double programs fail by rounding and the eight every
+/// correct float program passes are all found (a misspelt name would be a family lost).
+#[test]
+fn each_family_names_the_arithmetic_correct_code_needs() {
+    use raylab::check::rounding::Needs;
+    let needs: Vec<Needs> = (raylab::check::suite::slugs().iter())
+        .map(|slug| Needs::of(slug))
+        .collect();
+    let count = |n: Needs| needs.iter().filter(|&&m| m == n).count();
+    assert_eq!((count(Needs::Exact), count(Needs::F32)), (12, 8));
+    assert_eq!(count(Needs::F64), needs.len() - 20);
+    assert_eq!(Needs::of("cube-from-inside"), Needs::F64);
+    assert!(Needs::Exact.rounding_fails(true) && !Needs::F64.rounding_fails(true));
+    assert!(Needs::F64.rounding_fails(false) && !Needs::F32.rounding_fails(false));
+}

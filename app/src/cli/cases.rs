@@ -6,6 +6,7 @@ use super::check::{
     stalled, tally_of,
 };
 use super::reproducers::{first_shown, reproducers, Written};
+use super::rounding::rounding_fails;
 use super::suite_dir::{family_name, suite_families};
 use super::Precision;
 use anyhow::Result;
@@ -21,6 +22,9 @@ pub(super) struct Case {
     pub scene: PathBuf,
     pub rays: PathBuf,
     pub ray_count: usize,
+    /// Whether rounding fails some correct programs of the grading's precision on it
+    /// (`None`: not a family of this raylab's suite).
+    pub rounding: Option<bool>,
     /// The most a program may print for this family.
     pub max_output: usize,
     grader: Grader,
@@ -70,22 +74,26 @@ pub(super) fn suite_cases(
     check_tolerance(tolerance)?;
     suite_families(dir, family)?
         .into_iter()
-        .map(|path| match precision {
-            Precision::F32 => case_of(
-                &path,
-                exact_f32(&path.join("scene.txt"), &path.join("rays.txt"))?,
-                tolerance,
-            ),
-            Precision::F64 => case_of(
-                &path,
-                exact_generic::<f64>(&path.join("scene.txt"), &path.join("rays.txt"))?,
-                tolerance,
-            ),
+        .map(|path| {
+            let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
+            let rounding = rounding_fails(&family_name(&path), precision == Precision::F64);
+            match precision {
+                Precision::F32 => case_of(&path, exact_f32(&scene, &rays)?, tolerance, rounding),
+                Precision::F64 => {
+                    let exact = exact_generic::<f64>(&scene, &rays)?;
+                    case_of(&path, exact, tolerance, rounding)
+                }
+            }
         })
         .collect()
 }
 
-fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case> {
+fn case_of<T: Real>(
+    path: &Path,
+    exact: Exact<T>,
+    tolerance: f64,
+    rounding: Option<bool>,
+) -> Result<Case> {
     let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
     let rays_file = rays.clone();
     let ray_count = exact.rays.len();
@@ -98,6 +106,7 @@ fn case_of<T: Real>(path: &Path, exact: Exact<T>, tolerance: f64) -> Result<Case
         scene,
         rays,
         ray_count,
+        rounding,
         max_output: max_output(ray_count),
         grader: Box::new(move |stdout| {
             let answers = answers_for("its output", stdout, &exact, &rays_file)

@@ -1,7 +1,9 @@
 //! `raylab suite export` and `raylab check`: the hard-case suite as files, and the grading of
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
+use super::budget::Budget;
 use super::reproducers::{first_shown, reproducers, Written};
+use super::rounding::{rounding_fails, Failed};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
@@ -192,60 +194,6 @@ pub(super) fn check_timeout(timeout: f64) -> Result<()> {
         bail!("--timeout {timeout:?} must be > 0 and at most 1e6 seconds");
     }
     Ok(())
-}
-
-/// A program's time for all the families of a run together (--budget, of a suite's runs or
-/// a submission's): each run gets its --timeout or what is left, whichever is less, and none
-/// runs once it is gone.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Budget {
-    total: Duration,
-    spent: Duration,
-    /// Whether it is the default, 5 × --timeout (said where it runs out: a student who set
-    /// none read of "the --budget of 50 s").
-    default: bool,
-}
-
-impl Budget {
-    /// As given (more than 0, at most 1e7 seconds), or 5 × --timeout.
-    pub(super) fn new(budget: Option<f64>, timeout: f64) -> Result<Budget> {
-        let default = budget.is_none();
-        let budget = budget.unwrap_or(5.0 * timeout);
-        if !(budget > 0.0 && budget <= 1e7) {
-            bail!("--budget {budget:?} must be > 0 and at most 1e7 seconds");
-        }
-        let total = Duration::from_secs_f64(budget);
-        Ok(Budget {
-            total,
-            spent: Duration::ZERO,
-            default,
-        })
-    }
-
-    /// The time the next run may take, `timeout` or less, and whether the budget cut it;
-    /// `None` once the budget is gone (the run is skipped).
-    pub(super) fn next_run(&self, timeout: Duration) -> Option<(Duration, bool)> {
-        let left = self.total.saturating_sub(self.spent);
-        (!left.is_zero()).then(|| (timeout.min(left), left < timeout))
-    }
-
-    /// Counts a run's time.
-    pub(super) fn spend(&mut self, run: Duration) {
-        self.spent += run;
-    }
-
-    /// "--budget of N s ran out" (with "5 × --timeout" where none was given), for the
-    /// messages of a run cut or skipped.
-    pub(super) fn ran_out(&self) -> String {
-        let default = match self.default {
-            true => " (5 × --timeout, as none was given)",
-            false => "",
-        };
-        format!(
-            "--budget of {} s{default} ran out",
-            self.total.as_secs_f64()
-        )
-    }
 }
 
 /// A --t-tolerance a grade can use: a number from 0 to 1.
@@ -711,6 +659,8 @@ fn check_suite<T: Real>(
     say!("{}", grade::table_header());
     let mut total = Tally::default();
     let mut failed = 0;
+    // The families graded and not passed.
+    let mut unpassed: Vec<String> = Vec::new();
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
     // The program's time, its failed runs' included.
     let mut budget = run.budget;
@@ -740,6 +690,7 @@ fn check_suite<T: Real>(
                 );
                 say!("{}", tally.row(&name, ms));
                 if !tally.passed() {
+                    unpassed.push(name.clone());
                     let place = |i: usize| ray_place(&rays, &exact, i);
                     let written = Written {
                         name: "its output",
@@ -776,6 +727,15 @@ fn check_suite<T: Real>(
         raylab_time.as_secs_f64() * 1e3,
     );
     say!("{}", total.row("total", ms));
+    let double = run.precision == "f64";
+    let sorted = Failed::sort(
+        unpassed
+            .iter()
+            .map(|n| (n.as_str(), rounding_fails(n, double))),
+    );
+    if let Some(sentence) = sorted.and_then(|f| f.sentence(run.precision)) {
+        say!("{sentence}");
+    }
     if failed > 0 {
         say!(
             "{failed} of {} families gave no answers (FAILED or SKIPPED above): not a pass",
@@ -786,21 +746,4 @@ fn check_suite<T: Real>(
     }
     say!("{}", total.line());
     Ok(total.passed())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Budget;
-
-    /// A budget run out names itself, and says it is the default where none was given.
-    #[test]
-    fn a_budget_says_where_it_is_the_default() {
-        let given = Budget::new(Some(2.5), 1.0).unwrap();
-        assert_eq!(given.ran_out(), "--budget of 2.5 s ran out");
-        let default = Budget::new(None, 10.0).unwrap();
-        assert_eq!(
-            default.ran_out(),
-            "--budget of 50 s (5 × --timeout, as none was given) ran out"
-        );
-    }
 }

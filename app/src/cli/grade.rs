@@ -5,8 +5,8 @@
 //! its input fails its families and harms no other: the grading goes on, and exits 0.
 
 use super::account::{accounts, Account};
+use super::budget::Budget;
 use super::cases::{suite_cases, Case};
-use super::check::Budget;
 use super::program::{self, Limits, RunDir, RunError};
 use super::reports::{self, Record, Status, Submission};
 use super::rubric::{name_of, Rubric};
@@ -268,7 +268,8 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             super::check::ray_alone_command("raylab", files, line, &args.program, graded_as)
         };
         for submission in &graded {
-            let text = reports::feedback(submission, &cases, points.as_deref(), &again, &alone);
+            let graded_in = (&*again, precision);
+            let text = reports::feedback(submission, &cases, points.as_deref(), graded_in, &alone);
             let mut file = submission.dir_name.clone();
             file.push(".txt");
             let path = dir.join(file);
@@ -501,7 +502,7 @@ fn run_all(
                 submissions.len(),
                 one_line(&submission.name),
                 cases.len(),
-                match reports::summary(&submission.records).as_str() {
+                match reports::summary(&submission.records, cases).as_str() {
                     "ok" => String::new(),
                     s => format!(", {s}"),
                 },

@@ -24,6 +24,7 @@ macro_rules! say {
 
 mod access;
 mod account;
+mod budget;
 mod cases;
 mod check;
 mod check_image;
@@ -35,6 +36,7 @@ mod program;
 mod program_paths;
 mod reports;
 mod reproducers;
+mod rounding;
 mod rubric;
 mod suite_dir;
 mod t_failures;

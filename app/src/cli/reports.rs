@@ -2,6 +2,7 @@
 //! them: the table on stdout, the CSV, the JSON and each submission's feedback.
 
 use super::cases::Case;
+use super::rounding::Failed;
 use super::rubric::points_text;
 use raylab::check::Tally;
 use raylab_app::one_line;
@@ -97,8 +98,9 @@ impl Submission {
     }
 }
 
-/// "ok", or how many families ended each other way ("failed 2, timeout 1").
-pub(super) fn summary(records: &[Record]) -> String {
+/// "ok", or how many families ended each other way ("failed 2, timeout 1"), with how many of
+/// the failed ones rounding fails some correct programs on too ("failed 6 (rounding 5)").
+pub(super) fn summary(records: &[Record], cases: &[Case]) -> String {
     let mut counts: Vec<(Status, usize)> = Vec::new();
     for r in records.iter().filter(|r| r.status != Status::Ok) {
         match counts.iter_mut().find(|(s, _)| *s == r.status) {
@@ -107,14 +109,30 @@ pub(super) fn summary(records: &[Record]) -> String {
         }
     }
     counts.sort();
+    let rounding = (records.iter().zip(cases))
+        .filter(|(r, case)| r.status == Status::Failed && case.rounding == Some(true))
+        .count();
+    let name = |s: Status, n: usize| match (s, rounding) {
+        (Status::Failed, 1..) => format!("failed {n} (rounding {rounding})"),
+        _ => format!("{} {n}", s.name()),
+    };
     match counts.is_empty() {
         true => "ok".into(),
         false => counts
             .iter()
-            .map(|(s, n)| format!("{} {n}", s.name()))
+            .map(|&(s, n)| name(s, n))
             .collect::<Vec<_>>()
             .join(", "),
     }
+}
+
+/// The feedback's words on the failed families: those to mend first, and those rounding
+/// fails correct code on too (as `check --suite` says them).
+fn failed_families(s: &Submission, cases: &[Case], precision: &str) -> Option<String> {
+    let failed = (s.records.iter().zip(cases))
+        .filter(|(r, _)| r.status == Status::Failed)
+        .map(|(_, case)| (case.name.as_str(), case.rounding));
+    Failed::sort(failed)?.sentence(precision)
 }
 
 /// A family's points for a record: the family's when it passed.
@@ -221,7 +239,7 @@ pub(super) fn table(graded: &[Submission], cases: &[Case], points: Option<&[f64]
             count(|t| t.t_beyond),
             secs,
             points_column(&format!("{}/{}", points_text(earned), points_text(most))),
-            summary(&s.records)
+            summary(&s.records, cases)
         );
     }
     out
@@ -252,7 +270,7 @@ pub(super) fn totals_csv(graded: &[Submission], cases: &[Case], points: Option<&
             csv_field(&as_text(&s.name)),
             cases.len(),
             s.passed(),
-            csv_field(&summary(&s.records)),
+            csv_field(&summary(&s.records, cases)),
         );
         if points.is_some() {
             let earned = s.points_earned(points);
@@ -373,12 +391,12 @@ pub(super) const FEEDBACK_HEAD: &str = "raylab grade: ";
 /// and line in the suite, the ray, the exact answer and the given one; or why it was not
 /// graded), with `again`, the command that runs one family as the grading did, and under a
 /// first mistake the command that checks its ray alone (`alone` of the family and the ray's
-/// line).
+/// line), and what rounding explains of the failed families in `precision`.
 pub(super) fn feedback(
     s: &Submission,
     cases: &[Case],
     points: Option<&[f64]>,
-    again: &str,
+    (again, precision): (&str, &str),
     alone: &dyn Fn(&str, usize) -> String,
 ) -> String {
     let mut out = format!(
@@ -390,6 +408,9 @@ pub(super) fn feedback(
     if let Some(p) = points {
         let (earned, most) = (s.points_earned(points), p.iter().sum());
         out += &format!(", {} of {} points", points_text(earned), points_text(most));
+    }
+    if let Some(sentence) = failed_families(s, cases, precision) {
+        out += &format!("\n{sentence}");
     }
     out += &format!(
         "\nA family again, as graded (SUITE: `raylab suite export SUITE` writes it; NAME: the \

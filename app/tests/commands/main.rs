@@ -19,6 +19,7 @@ mod hints_bugs;
 mod limits;
 mod outputs;
 mod programs;
+mod rounding;
 mod scene_memory;
 mod trace;
 mod views;
