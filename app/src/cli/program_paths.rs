@@ -30,6 +30,9 @@ pub(super) fn check_program_paths(
     let own_path = words[..command].iter().any(|w| w.starts_with("PATH="));
     if let (Some(&word), false) = (words.get(command), own_path) {
         refuse_bare_name_here(word, as_others.is_some())?;
+        if let Some(who) = as_others {
+            warn_of_another_command(word, who)?;
+        }
     }
     for (k, word) in words.iter().enumerate() {
         if let (Some(rest), Some(home)) = (word.strip_prefix("~/"), &home) {
@@ -111,6 +114,39 @@ fn refuse_bare_name_here(word: &str, others: bool) -> Result<()> {
          name it by its absolute path, {}",
         absolute.display()
     );
+}
+
+/// Warns where a command named without a `/` is another file on the programs' PATH (which
+/// keeps only the directories every user may search) than on raylab's, and refuses it where it
+/// is on none: `python3`, a pyenv shim under /root with numpy for `check`, was /usr/bin/python3
+/// without it for every submission, each crashing "No module named 'numpy'".
+fn warn_of_another_command(word: &str, who: &str) -> Result<()> {
+    if word.contains('/') || SHELL_WORDS.contains(&word) {
+        return Ok(());
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let found = |path: &std::ffi::OsStr| {
+        std::env::split_paths(path)
+            .map(|dir| dir.join(word))
+            .find(|file| {
+                file.metadata()
+                    .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+            })
+    };
+    let (yours, theirs) = (found(&path), found(&super::access::searchable_path(&path)));
+    match (yours, theirs) {
+        (Some(yours), None) => bail!(
+            "--program: {word} is {} on your PATH, in a directory the programs, run as {who},              cannot enter: on theirs it is not found (every submission would crash): name one              every user may run by its absolute path, or --as-root",
+            yours.display()
+        ),
+        (Some(yours), Some(theirs)) if yours != theirs => eprintln!(
+            "warning: --program: {word} is {} on your PATH, but the programs run as {who}, who              cannot enter its directory: they run {} (its modules or version may differ from              the one `raylab check` runs; --as-root runs yours)",
+            yours.display(),
+            theirs.display()
+        ),
+        _ => {}
+    }
+    Ok(())
 }
 
 /// The shell's own commands and words, which run whatever files share their names.

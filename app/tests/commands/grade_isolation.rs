@@ -80,6 +80,53 @@ fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
     assert!(row.starts_with("ada ") && row.ends_with("ok"), "{out}");
 }
 
+/// As root, a command named without a `/` that the programs' PATH (the directories every
+/// user may search) finds elsewhere than raylab's is warned of, naming both files, and one it
+/// does not find at all is refused: `python3`, a shim under /root with numpy for `check`, was
+/// /usr/bin/python3 without it for every submission.
+#[test]
+fn as_root_a_command_the_programs_find_elsewhere_is_named() {
+    use std::os::unix::fs::PermissionsExt;
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user, with its PATH");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
+    let private = dir.path().join("private");
+    std::fs::create_dir(&private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    for name in ["sh", "wrapit"] {
+        let file = private.join(name);
+        std::fs::write(&file, "#!/bin/sh\nexec /bin/sh \"$@\"\n").unwrap();
+        std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let (class, suite) = (path(&class), path(&suite));
+    let searched = format!("{}:{}", path(&private), std::env::var("PATH").unwrap());
+    let grade = |program: &str| {
+        let args = ["grade", &class, "--suite", &suite, "--program", program];
+        raylab_env(&args, &[("PATH", &searched)])
+    };
+    let o = grade("sh run.sh {scene} {rays}");
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let yours = format!(
+        "warning: --program: sh is {} on your PATH",
+        path(&private.join("sh"))
+    );
+    assert!(err.contains(&yours) && err.contains("they run /"), "{err}");
+    assert!(
+        out.lines().nth(1).unwrap_or_default().ends_with("ok"),
+        "{out}"
+    );
+    let o = grade("wrapit run.sh {scene} {rays}");
+    let said = "on theirs it is not found (every submission would crash)";
+    assert_fails(&o, 2, &["--program: wrapit is ", said]);
+    let err = common::binary::stderr(&o);
+    assert!(!err.contains("grading 1 submission"), "{err}");
+}
+
 /// A teacher's wrapper named by a path relative to where raylab runs (the command runs in
 /// each submission's copy, where it is not), by its bare name (not on the PATH) or under `~`
 /// (each program's HOME is its own),
