@@ -38,9 +38,17 @@ pub(super) fn reproducers<T: Real>(
     let mut lines = Vec::new();
     let meets = |i: usize, p: u32, t: f64| meets_at(exact, i, p, t);
     let evidence = Evidence::of(judged, exact, answers, written.text, meets);
-    for (heading, wanted) in [
-        ("wrong answers", &wrong as &dyn Fn(&Judged<T>) -> bool),
-        ("hits whose t is beyond the tolerance", &t_failed),
+    for (heading, one, wanted) in [
+        (
+            "wrong answers",
+            "wrong answer",
+            &wrong as &dyn Fn(&Judged<T>) -> bool,
+        ),
+        (
+            "hits whose t is beyond the tolerance",
+            "hit whose t is beyond the tolerance",
+            &t_failed,
+        ),
     ] {
         let count = judged.iter().filter(|j| wanted(j)).count();
         if count == 0 || most == 0 {
@@ -52,8 +60,13 @@ pub(super) fn reproducers<T: Real>(
             true => format!(": {}", kinds_of(judged)),
             false => String::new(),
         };
+        // ("the first of the 1 wrong answers" read oddly.)
+        let which = match count {
+            1 => format!("the one {one}"),
+            _ => format!("the first of the {count} {heading}"),
+        };
         lines.push(format!(
-            "the first of the {count} {heading}{kinds} (ray, exact answer, the answer given):"
+            "{which}{kinds} (ray, exact answer, the answer given):"
         ));
         let shown = (judged.iter().enumerate()).filter(|(_, j)| wanted(j));
         for (i, j) in shown.take(most) {

@@ -23,6 +23,8 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
     let h = hints(scene, rays, "hit 1 0\nmiss\n");
     let line = h.line(2);
     assert!(line.ends_with(&format!("[leak: {edge}]")), "{}", h.out);
+    let one = "the one wrong answer: 1 leak (ray, exact answer, the answer given):";
+    assert!(h.out.contains(one), "{}", h.out);
     let h = hints(scene, rays, "miss\nmiss\n");
     for line in [h.line(1), h.line(2)] {
         assert!(
