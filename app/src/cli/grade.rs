@@ -328,8 +328,8 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     let them = if earlier.len() == 1 { "it" } else { "them" };
     eprintln!(
         "warning: --feedback {}: {count} of an earlier grading, of no submission graded now: \
-         {}{more} (kept: of a student no longer in the class, remove {them} before handing the \
-         folder out)",
+         {}{more} (kept: a grading of late submissions leaves the others' \
+         feedback; of a student no longer in the class, remove {them} before handing the folder out)",
         dir.display(),
         shown.join(", ")
     );
@@ -541,7 +541,8 @@ fn grade_one(
     // (An empty directory, a student who handed nothing in, was graded as 38 crashes of a
     // program not found.)
     if !holds_a_file(dir) {
-        let why = "not run: the submission's directory holds no file (nothing handed in)";
+        let why = "not run: the submission's directory holds no file (nothing handed in; a \
+                   system's .DS_Store or __MACOSX/ is not the student's)";
         return not_run(Status::Empty, why.to_string());
     }
     let setup = || -> std::io::Result<(RunDir, PathBuf)> {
@@ -660,12 +661,22 @@ fn holds_a_file(dir: &Path) -> bool {
         return true;
     };
     entries.into_iter().any(|entry| match entry {
+        Ok(entry) if is_system_junk(&entry.file_name()) => false,
         Ok(entry) => match entry.file_type() {
             Ok(kind) if kind.is_dir() => holds_a_file(&entry.path()),
             _ => true,
         },
         Err(_) => true,
     })
+}
+
+/// What an operating system leaves in a folder it zips or shows, not a student: macOS's
+/// `.DS_Store`, `__MACOSX/` and `._` files, Windows's `Thumbs.db` and `desktop.ini`. (A
+/// folder of them alone was graded as 38 crashes, not as nothing handed in.)
+fn is_system_junk(name: &std::ffi::OsStr) -> bool {
+    let name = name.to_string_lossy();
+    ["__MACOSX", ".DS_Store", "Thumbs.db", "desktop.ini"].contains(&&*name)
+        || name.starts_with("._")
 }
 
 /// Why a run crashed, with a word on the limit that may have done it, each where that limit

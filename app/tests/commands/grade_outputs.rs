@@ -162,8 +162,8 @@ fn feedback_gives_each_student_their_families_and_first_mistakes() {
     assert_eq!(o.status.code(), Some(0), "{err}");
     let said = format!(
         "warning: --feedback {}: 1 file of an earlier grading, of no submission graded now: \
-         bob-crashes.txt (kept: of a student no longer in the class, remove it before handing the \
-         folder out)",
+         bob-crashes.txt (kept: a grading of late submissions leaves the others' feedback; of a \
+         student no longer in the class, remove it before handing the folder out)",
         feedback.display()
     );
     assert!(err.contains(&said), "{said} in {err}");
@@ -196,6 +196,14 @@ fn an_empty_submission_is_empty_and_not_run() {
     let dir = tempfile::tempdir().unwrap();
     let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-", "37-"]);
     std::fs::create_dir_all(class.join("kim-empty/src/lab")).unwrap();
+    // (What a Mac leaves in a folder it zips is no submission.)
+    std::fs::create_dir_all(class.join("max-zipped/__MACOSX/lab")).unwrap();
+    std::fs::write(class.join("max-zipped/.DS_Store"), "\0\0\0\x01Bud1").unwrap();
+    std::fs::write(
+        class.join("max-zipped/__MACOSX/lab/._run.sh"),
+        "\0\x05\x16\x07",
+    )
+    .unwrap();
     std::fs::create_dir_all(class.join("lou-notes")).unwrap();
     std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
     // (The feedback through a link to a directory not made yet: made through it, as a
@@ -218,6 +226,7 @@ fn an_empty_submission_is_empty_and_not_run() {
     };
     assert!(row("ada ").ends_with(" ok"), "{out}");
     assert!(row("kim-empty ").ends_with(" empty 2"), "{out}");
+    assert!(row("max-zipped ").ends_with(" empty 2"), "{out}");
     assert!(row("lou-notes ").ends_with(" crashed 2"), "{out}");
     let csv = std::fs::read_to_string(&csv).unwrap();
     let kim: Vec<&str> = csv
@@ -230,7 +239,10 @@ fn an_empty_submission_is_empty_and_not_run() {
     let kim = std::fs::read_to_string(feedback.join("kim-empty.txt")).unwrap();
     assert!(
         kim.contains("0 of 2 families passed")
-            && kim.matches("holds no file (nothing handed in)").count() == 1,
+            && kim
+                .matches("holds no file (nothing handed in; a system's")
+                .count()
+                == 1,
         "{kim}"
     );
 }
