@@ -202,6 +202,8 @@ written by `raylab suite export`. Each directory holds a scene and its rays:
 
 Every number is an f32 value written out exactly (its whole decimal expansion, no exponent;
 `inf` for infinity): read as a float, a double or an exact rational, it is the same number.
+The longest is {longest} characters (a tiny one's digits): a reader into a fixed buffer
+(C's `%63s`) cuts it and reads another number.
 
 `families.txt`, written last, lists each family's directory and its number of rays: `raylab
 check --suite` and `raylab grade --suite` fail a family it lists that is missing or has
@@ -239,7 +241,8 @@ others.
 | directory | rays | primitives | what it probes | the classic bug it catches | correct code passes it in |
 |---|---:|---:|---|---|---|
 ",
-        n = families.len()
+        n = families.len(),
+        longest = longest_number(families)
     );
     for (i, family) in families.iter().enumerate() {
         text += &format!(
@@ -256,6 +259,20 @@ others.
         );
     }
     text
+}
+
+/// The most characters a number of the families' files takes.
+fn longest_number(families: &[Family]) -> usize {
+    let files = families.iter().flat_map(|f| [scene_text(f), rays_text(f)]);
+    let words = |text: String| -> usize {
+        let lines = text.lines().filter(|l| !l.starts_with('#'));
+        lines
+            .flat_map(str::split_whitespace)
+            .map(str::len)
+            .max()
+            .unwrap_or(0)
+    };
+    files.map(words).max().unwrap_or(0)
 }
 
 /// Text as a Markdown table cell: a `|` (|d|, |o − c|²) written `\|`.

@@ -107,6 +107,41 @@ fn the_exported_suite_reads_back_exactly_in_f32_and_f64() {
     );
 }
 
+/// The export's README names the length of its longest number, as its files hold it (a C
+/// program reading `%63s` cut the subnormal family's and failed it for no bug of its own).
+#[test]
+fn the_exported_readme_names_the_longest_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("suite");
+    let o = raylab(&["suite", "export", target.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let mut longest = 0;
+    for family in std::fs::read_dir(&target).unwrap().flatten() {
+        for file in ["scene.txt", "rays.txt"].map(|f| family.path().join(f)) {
+            let Ok(text) = std::fs::read_to_string(file) else {
+                continue;
+            };
+            let numbers = text.lines().filter(|l| !l.starts_with('#'));
+            let most = numbers.flat_map(str::split_whitespace).map(str::len).max();
+            longest = longest.max(most.unwrap_or(0));
+        }
+    }
+    assert!(longest > 63, "{longest}");
+    let readme = std::fs::read_to_string(target.join("README.md")).unwrap();
+    let said = format!("The longest is {longest} characters");
+    assert!(readme.contains(&said), "{said}: {readme}");
+    let manual = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let manual = std::fs::read_to_string(manual)
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        manual.contains(&format!("up to {longest} characters")),
+        "the README's figure"
+    );
+}
+
 /// An earlier export is written over; a directory holding anything else is refused and left
 /// as it was.
 #[test]
