@@ -121,7 +121,13 @@ fn case_of<T: Real>(
             let lines = reproducers(&judged, &exact, &answers, &place, written, 1);
             Ok(Graded {
                 tally: tally_of(&judged),
-                first_mistake: lines.get(1).map_or("", |l| l.trim()).to_string(),
+                first_mistake: {
+                    let first = lines.get(1).map_or("", |l| l.trim()).to_string();
+                    match super::line_up::off_by_a_line(&judged, &answers) {
+                        Some(off) => format!("{first}\n{off}"),
+                        None => first,
+                    }
+                },
                 first_line: first_shown(&judged).map(|i| exact.rays[i].0),
             })
         }),

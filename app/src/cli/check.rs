@@ -2,6 +2,7 @@
 //! answers from code that is not raylab's, an answer file or a program run on each scene.
 
 use super::budget::Budget;
+use super::line_up;
 use super::reproducers::{first_shown, reproducers, Written};
 use super::rounding::{rounding_fails, Failed};
 use super::suite_dir::{family_name, suite_families};
@@ -330,8 +331,26 @@ pub(super) fn answers_for<T: Real>(
 ) -> Result<Vec<(usize, Answer<T>)>> {
     let answers = grade::parse_answers::<T>(file, text, exact.primitives)?;
     if answers.len() != exact.rays.len() {
+        // (Where they stop lining up: "187 answers for the 196 rays" named no ray to look at.)
+        let given: Vec<Answer<T>> = answers.iter().map(|(_, a)| *a).collect();
+        let k = line_up::first_unlike(&given, &exact.answers);
+        let place = |k: usize| ray_place(rays_file, exact, k);
+        let where_ = match (k, answers.len() < exact.rays.len()) {
+            (_, false) => String::new(),
+            (0, true) => format!(": the first is unlike the exact answer of {}", place(0)),
+            (k, true) if k == answers.len() => format!(
+                ": they are the exact answers of the rays up to {}, and stop there",
+                place(k - 1)
+            ),
+            (k, true) => format!(
+                ": they are the exact answers (t aside) up to {}; the next is unlike {}'s: an \
+                 answer left out there or just before?",
+                place(k - 1),
+                place(k)
+            ),
+        };
         bail!(
-            "{file}: {} answers for the {} rays of {}",
+            "{file}: {} answers for the {} rays of {}{where_}",
             answers.len(),
             exact.rays.len(),
             rays_file.display()

@@ -32,6 +32,7 @@ mod evidence;
 mod grade;
 mod hint_geometry;
 mod images;
+mod line_up;
 mod program;
 mod program_paths;
 mod reports;

@@ -55,8 +55,9 @@ impl Failed {
         match (self.to_mend.is_empty(), self.rounding.is_empty()) {
             (true, true) => None,
             (true, false) => Some(format!(
-                "every family failed ({}) is one {rounding}: nothing failed beyond them; only \
-                 exact decisions pass every family",
+                "no family failed that every correct {precision} program measured passes; those \
+                 failed ({}) are ones {rounding}: their hints say which mistakes lie within \
+                 rounding",
                 list(&self.rounding)
             )),
             (false, true) => Some(format!(

@@ -497,3 +497,49 @@ fn a_t_failure_where_the_quadratic_loses_its_digits_is_told_so() {
         h.out
     );
 }
+
+/// Answers right but a line late (a line printed before the first) are said to be so, not
+/// only told of geometry; answers fewer than the rays name the ray where they stop lining up
+/// with the exact ones. (Both were told of wrong primitives alone, and a ray checked alone
+/// passed.)
+#[test]
+fn answers_a_line_off_or_one_short_are_named_so() {
+    // Ray k meets triangle k alone, at t = k + 1.
+    let scene: String = (0..5)
+        .map(|k| {
+            format!(
+                "tri {} -0.5 {z} {} -0.5 {z} {k} 0.5 {z}\n",
+                k as f64 - 0.5,
+                k as f64 + 0.5,
+                z = k + 1
+            )
+        })
+        .collect();
+    let rays: String = (0..5).map(|k| format!("{k} 0 0 0 0 1 0 inf\n")).collect();
+    let late = "miss\nhit 1 0\nhit 2 1\nhit 3 2\nhit 4 3\n";
+    let h = hints(&scene, &rays, late);
+    let said =
+        "its answers are the exact ones a line off: answer K is the exact answer of ray K − 1";
+    assert!(h.out.contains(said), "{}", h.out);
+    assert!(
+        !hints(&scene, &rays, "hit 1 0\nhit 2 1\nhit 3 2\nhit 4 3\nmiss\n")
+            .out
+            .contains(said)
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name);
+    std::fs::write(path("scene.txt"), &scene).unwrap();
+    std::fs::write(path("rays.txt"), &rays).unwrap();
+    std::fs::write(path("answers.txt"), "hit 1 0\nhit 2 1\nhit 4 3\nhit 5 4\n").unwrap();
+    let s = |name: &str| path(name).to_str().unwrap().to_string();
+    let o = check_answers(&s("scene.txt"), &s("rays.txt"), &path("answers.txt"), &[]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    let rays = s("rays.txt");
+    let said = format!(
+        "4 answers for the 5 rays of {rays}: they are the exact answers (t aside) up to \
+         {rays}:2 (ray 2); the next is unlike {rays}:3 (ray 3)'s: an answer left out there or \
+         just before?"
+    );
+    assert!(err.contains(&said), "{said} in {err}");
+}
