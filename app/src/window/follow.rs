@@ -209,6 +209,21 @@ impl Viewer {
         self.status_follows_pixel = false;
     }
 
+    /// The side of the image (`"left"` or `"right"`) past which the inspected pixel lies in
+    /// the strip the inspector's panel crops from the view, if it does: the inspector says so
+    /// at its top (said on the status line alone, a crack N stepped to had no ring in sight
+    /// and nothing in the panel said why).
+    pub fn inspected_side_cropped(&self) -> Option<&'static str> {
+        let at = self.inspected?;
+        let offset = self.view_offset();
+        let x = at.pixel.0;
+        match (offset..offset + at.size.0).contains(&x) {
+            true => None,
+            false if x < offset => Some("left"),
+            false => Some("right"),
+        }
+    }
+
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,
     /// in reading order from the inspected one, in the ray inspector.
     pub fn step_crack(&mut self, step: Step) {

@@ -109,6 +109,7 @@ pub fn layout(
     let samples_shown = viewer.spp_shown();
     let legend = viewer.crack_legend();
     let obj_frame = viewer.obj_frame();
+    let cropped_side = viewer.inspected_side_cropped();
     let Viewer {
         stage,
         view,
@@ -243,6 +244,17 @@ pub fn layout(
             let chosen = inspected.as_ref().map(|i| (i.chosen.pixel, i.chosen.size));
             let rows = egui::ScrollArea::both().id_salt(("inspector rows", chosen));
             rows.show(ui, |ui| {
+                if let Some(side) = cropped_side {
+                    let said = format!(
+                        "This pixel lies past the image's {side} edge, in the strip of the view \
+                         this panel crops: its ray is below; a wider window shows its ring."
+                    );
+                    ui.add(
+                        egui::Label::new(egui::RichText::new(said).color(egui::Color32::YELLOW))
+                            .wrap(),
+                    );
+                    ui.separator();
+                }
                 if let Some(detail) = crack.as_ref() {
                     super::inspector::crack_fields(ui, detail);
                     ui.separator();

@@ -168,7 +168,7 @@ impl ScriptedRun {
             )
         });
         println!(
-            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} view_offset={} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} scene_size={} inspector={} inspector_over={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
+            "raylab-final camera={},{},{} yaw={} pitch={} focal={} size={}x{} view_offset={} rect={},{},{},{} {controls} spp_shown={} status_whole={} figures_whole={} refine_wakes={} frames={} moving_frames={} mode={} speed={} scene_size={} inspector={} inspector_over={} inspected_cropped={} help={} banner={} panel_content={} panel_visible={} panel_width={} warnings={} warnings_list={} peak_kib={} primitives={} accel={} code={}{cracks} scene={}",
             c.position.x,
             c.position.y,
             c.position.z,
@@ -196,6 +196,7 @@ impl ScriptedRun {
             c.scene_size,
             ["off", "on"][viewer.inspector_on as usize],
             ["off", "on"][viewer.inspector_over as usize],
+            viewer.inspected_side_cropped().unwrap_or("none"),
             ["off", "on"][viewer.show_help as usize],
             ["off", "on"][viewer.banner.is_some() as usize],
             window.panel_fit.0,

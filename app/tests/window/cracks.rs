@@ -377,6 +377,13 @@ fn real_x_input_next_crack_reaches_the_cracks_the_inspectors_panel_crops() {
     );
     let note = " (under the inspector's panel: a wider window shows its ring)";
     assert_eq!(line.ends_with(note), under(i), "{line}");
+    // The inspector says so at its top too, naming the side (the status line cut it off).
+    let side = match (under(i), i < offset) {
+        (false, _) => "none",
+        (true, true) => "left",
+        (true, false) => "right",
+    };
+    assert_eq!(run.fields["inspected_cropped"], side, "{log}");
 }
 
 fn real_x_input_a_no_cracks_status_goes_once_the_view_moves() {
