@@ -683,7 +683,8 @@ fn is_system_junk(name: &std::ffi::OsStr) -> bool {
 /// is set: `--max-processes` where it says it could not start a process or thread;
 /// `--max-memory` where it says memory ran out, or died of a signal (SIGSEGV, SIGBUS,
 /// SIGABRT, SIGKILL; or its shell's 128 + that), as a program refused memory dies where at
-/// home it ran ("exit status 139" said nothing of the limit).
+/// home it ran ("exit status 139" said nothing of the limit), unless it names a memory bug
+/// of its own.
 fn limit_hint(e: &RunError, limits: &Limits) -> String {
     use std::os::unix::process::ExitStatusExt;
     let said = e.to_string();
@@ -714,12 +715,23 @@ fn limit_hint(e: &RunError, limits: &Limits) -> String {
         "bad_alloc",
         "out of memory",
     ]);
+    // (A crash that names its own memory bug, glibc's heap checks or a sanitizer's, is that
+    // bug: "realloc(): invalid next size | Aborted" was told it may be the limit.)
+    let own_bug = said_of(&[
+        "double free",
+        "free(): ",
+        "malloc(): ",
+        "realloc(): ",
+        "corrupted",
+        "stack smashing detected",
+        "AddressSanitizer",
+    ]);
     let signal = status
         .signal()
         .or(status.code().filter(|c| *c > 128).map(|c| c - 128));
     match (
         limits.max_memory_bytes,
-        no_memory || matches!(signal, Some(6 | 7 | 9 | 11)),
+        !own_bug && (no_memory || matches!(signal, Some(6 | 7 | 9 | 11))),
     ) {
         (Some(limit), true) => format!(
             "{said} (a crash like this may be the memory limit: each process may write {} MiB \

@@ -278,8 +278,10 @@ fn every_submission_gets_its_own_status_and_nothing_survives() {
 }
 
 /// A program that could not start a process (a shell's `Cannot fork` at --max-processes, Java's
-/// thread it could not create) or was refused memory (Python's `MemoryError`, its own exit, no signal): each crash names
-/// the limit that may have done it, the flag that sets it.
+/// thread it could not create) or was refused memory (Python's `MemoryError`, its own exit, no
+/// signal): each crash names the limit that may have done it, the flag that sets it; one that
+/// names a heap bug of its own (glibc's `realloc(): invalid next size`, then SIGABRT) is not
+/// told of the memory limit.
 #[test]
 fn a_crash_at_a_limit_names_the_limit() {
     let dir = tempfile::tempdir().unwrap();
@@ -290,6 +292,11 @@ fn a_crash_at_a_limit_names_the_limit() {
             "for i in 1 2 3 4 5 6 7 8 9 10 11 12; do sleep 917011 & done; wait\n",
         ),
         ("lou-hoards", "exec python3 -c 'bytearray(1 << 44)'\n"),
+        // (Its own heap bug, as glibc words it, and the abort: no word of the limit.)
+        (
+            "meg-corrupts",
+            "echo 'realloc(): invalid next size' >&2; kill -ABRT $$\n",
+        ),
         // (Java's words for a thread it could not start, which name memory.)
         (
             "max-threads",
@@ -333,6 +340,11 @@ fn a_crash_at_a_limit_names_the_limit() {
         "{hoards}"
     );
     assert!(!detail("ada").contains("limit"), "{json}");
+    let corrupts = detail("meg-corrupts");
+    assert!(
+        corrupts.contains("invalid next size") && !corrupts.contains("--max-memory"),
+        "{corrupts}"
+    );
     assert_eq!(
         running("917011"),
         Vec::<String>::new(),
