@@ -335,7 +335,7 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     );
 }
 
-/// The submission directories of the class, in name order. Every other entry (a file, a
+/// The submission directories of the class, in name order (case aside). Every other entry (a file, a
 /// broken link, a hidden directory such as `.git`, macOS's `__MACOSX`, a suite `raylab suite
 /// export` wrote there) is named on stderr, so a submission handed in as a file is not left
 /// out unseen.
@@ -343,7 +343,8 @@ fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     let entries =
         std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    paths.sort();
+    // (As a class list reads, case aside: by bytes, "Zoë" came before "chloé".)
+    paths.sort_by_cached_key(|p| (name_of(p).to_lowercase(), p.clone()));
     let mut dirs = Vec::new();
     for path in paths {
         let why = match () {
