@@ -640,15 +640,22 @@ fn where_on<T: Real>(
         // the edge alone, where a culling program's leak was the back's.)
         (Shape::Triangle(tri), location) => {
             let mut facts = Vec::new();
-            if let Location::Triangle(
-                at @ (triangle::Location::Edge(_) | triangle::Location::Vertex(_)),
-            ) = &location
-            {
-                // (Rounding too: a correct program that rounds a weight below 0 was told only
-                // of the rule, as an open-edge bug is.)
+            // (Rounding too: a correct program that rounds a weight below 0 was told only of
+            // the rule, as an open-edge bug is.) (Which weight: a student's open `u` test lost
+            // 226 hits, all on the edge where u = 0, told of "u, v or u + v".)
+            let on = match &location {
+                Location::Triangle(at @ triangle::Location::Edge(k)) => {
+                    Some((at, EDGE_WEIGHTS[*k], EDGE_ROUNDED[*k]))
+                }
+                Location::Triangle(at @ triangle::Location::Vertex(k)) => {
+                    Some((at, VERTEX_WEIGHTS[*k], "u, v or u + v rounded past 0 or 1"))
+                }
+                _ => None,
+            };
+            if let Some((at, weights, rounded)) = on {
                 facts.push(format!(
-                    "the exact hit is {at} of the triangle: the edges count, closed (an open \
-                     test, or u, v or u + v rounded past 0 or 1, loses it)"
+                    "the exact hit is {at} of the triangle, where {weights} ({UV}): the edges \
+                     count, closed (an open test, or {rounded}, loses it)"
                 ));
             }
             // (Not beside a determinant below rounding, said apart: its weights are noise.)
@@ -657,9 +664,10 @@ fn where_on<T: Real>(
             if let Some((edge, weight)) = edge {
                 facts.push(format!(
                     "the exact hit is inside the triangle, {weight:.1e} (barycentric) from its \
-                     edge {}: within rounding of it (u, v or u + v rounded past 0 or 1 loses \
-                     it)",
-                    raylab::geometry::triangle::EDGES[edge]
+                     edge {}, where {} ({UV}): within rounding of it ({} loses it)",
+                    raylab::geometry::triangle::EDGES[edge],
+                    EDGE_WEIGHTS[edge],
+                    EDGE_ROUNDED[edge]
                 ));
             }
             // (The side always, as a fact; the rule only where the run bears culling out: a
@@ -680,6 +688,21 @@ fn where_on<T: Real>(
     };
     (fact, false)
 }
+
+/// What u and v are, as the hints name them.
+const UV: &str = "u and v the weights of v1 and v2";
+
+/// The weight that is 0 (or 1) on each edge of [`raylab::geometry::triangle::EDGES`], and what
+/// rounding past it does.
+const EDGE_WEIGHTS: [&str; 3] = ["v = 0", "u + v = 1", "u = 0"];
+const EDGE_ROUNDED: [&str; 3] = [
+    "v rounded below 0",
+    "u + v rounded above 1",
+    "u rounded below 0",
+];
+
+/// The weights at each vertex.
+const VERTEX_WEIGHTS: [&str; 3] = ["u = v = 0", "u = 1, v = 0", "u = 0, v = 1"];
 
 /// [`past_tmin`] of the exact hit `standing` (none for a miss), at its [`fine_t`].
 fn gap_past_tmin<T: Real>(exact: &Exact<T>, i: usize, standing: &Answer<T>) -> Option<(f64, bool)> {

@@ -77,7 +77,8 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     assert!(
         h.line(1).ends_with(
             "[leak: the exact hit is inside the triangle, 1.0e-17 (barycentric) from its edge \
-             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             v0–v1, where v = 0 (u and v the weights of v1 and v2): within rounding of it (v \
+             rounded below 0 loses it); the \
              exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both \
              sides count]"
         ),
@@ -86,8 +87,9 @@ fn the_hints_name_the_exact_place_and_a_given_t_that_meets_nothing() {
     );
     assert!(
         h.line(2).ends_with(
-            "[leak: the exact hit is on the edge v0–v1 of the triangle: the edges count, closed (an \
-             open test, or u, v or u + v rounded past 0 or 1, loses it); the exact hit is on the \
+            "[leak: the exact hit is on the edge v0–v1 of the triangle, where v = 0 (u and v the \
+             weights of v1 and v2): the edges count, closed (an open test, or v rounded below 0, \
+             loses it); the exact hit is on the \
              triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0)): both sides count]"
         ),
         "{}",
@@ -542,4 +544,23 @@ fn answers_a_line_off_or_one_short_are_named_so() {
          just before?"
     );
     assert!(err.contains(&said), "{said} in {err}");
+}
+
+/// A leak on an edge or at a vertex names the weight that is 0 (or 1) there, and what rounding
+/// past it loses: an open `u` test lost its hits on the edge where u = 0, told of "u, v or
+/// u + v" alike.
+#[test]
+fn a_leak_on_an_edge_names_its_weight() {
+    let scene = "tri 0 0 0 1 0 0 0 1 0\n";
+    let rays = "0 0.5 -1 0 0 1 0 inf\n0.5 0.5 -1 0 0 1 0 inf\n1 0 -1 0 0 1 0 inf\n";
+    let h = hints(scene, rays, "miss\nmiss\nmiss\n");
+    for (n, said) in [
+        (1, "on the edge v2–v0 of the triangle, where u = 0 ("),
+        (1, "an open test, or u rounded below 0, loses it"),
+        (2, "on the edge v1–v2 of the triangle, where u + v = 1 ("),
+        (2, "an open test, or u + v rounded above 1, loses it"),
+        (3, "at vertex v1 of the triangle, where u = 1, v = 0 ("),
+    ] {
+        assert!(h.line(n).contains(said), "{said}: {}", h.out);
+    }
 }

@@ -16,8 +16,9 @@ fn a_bugs_hint_needs_the_programs_other_answers_to_bear_it_out() {
     // Met from its back (d·n = 10⁻⁶ > 0), inside and on its edge v0–v1, both at t 1.
     let scene = "tri 0 0 1 0.001 0 1 0 0.001 1\n";
     let rays = "0.0002 0.0002 0 0 0 1 0 inf\n0.0005 0 0 0 0 1 0 inf\n";
-    let edge = "the exact hit is on the edge v0–v1 of the triangle: the edges count, closed (an \
-                open test, or u, v or u + v rounded past 0 or 1, loses it)";
+    let edge = "the exact hit is on the edge v0–v1 of the triangle, where v = 0 (u and v the \
+                weights of v1 and v2): the edges count, closed (an open test, or v rounded below \
+                0, loses it)";
     let determinant = "is -1.0e-6, near 0: an epsilon on it (|det| < ε: no hit) loses the hit";
     let back = "the exact hit is on the triangle's back";
     let h = hints(scene, rays, "hit 1 0\nmiss\n");
@@ -126,7 +127,8 @@ fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
     assert!(
         h.line(1).ends_with(
             "[leak: the exact hit is inside the triangle, 1.2e-17 (barycentric) from its edge \
-             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             v0–v1, where v = 0 (u and v the weights of v1 and v2): within rounding of it (v \
+             rounded below 0 loses it); the \
              exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))]"
         ),
         "{}",
@@ -137,7 +139,8 @@ fn one_ray_alone_is_told_no_bug_its_run_cannot_bear_out() {
     assert!(
         h.line(1).ends_with(
             "[leak: the exact hit is inside the triangle, 1.0e-6 (barycentric) from its edge \
-             v0–v1: within rounding of it (u, v or u + v rounded past 0 or 1 loses it); the \
+             v0–v1, where v = 0 (u and v the weights of v1 and v2): within rounding of it (v \
+             rounded below 0 loses it); the \
              exact hit is on the triangle's back (d·n > 0 for n = (v1 − v0) × (v2 − v0))]"
         ),
         "{}",
