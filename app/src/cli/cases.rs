@@ -3,10 +3,11 @@
 
 use super::check::{
     answers_for, check_tolerance, exact_f32, exact_generic, judge_all, max_output, ray_place,
-    stalled, tally_of,
+    tally_of,
 };
 use super::reproducers::{first_shown, reproducers, Written};
 use super::rounding::rounding_fails;
+use super::run_words::stalled;
 use super::suite_dir::{family_name, suite_families};
 use super::Precision;
 use anyhow::Result;
@@ -57,9 +58,9 @@ impl Case {
         stalled(why, printed, self.ray_count, |i| self.places[i].clone())
     }
 
-    /// [`super::check::crashed`] for this family's rays.
+    /// [`super::run_words::crashed`] for this family's rays.
     pub fn crashed(&self, why: String, printed: &[u8]) -> String {
-        super::check::crashed(why, printed, self.ray_count, |i| self.places[i].clone())
+        super::run_words::crashed(why, printed, self.ray_count, |i| self.places[i].clone())
     }
 }
 

@@ -628,7 +628,7 @@ fn grade_one(
                     detail: graded.first_mistake,
                     first_line: graded.first_line,
                 },
-                Err(why) => record(Status::Garbage, super::check::stderr_hint(why, &ran)),
+                Err(why) => record(Status::Garbage, super::run_words::stderr_hint(why, &ran)),
             },
             Err(RunError::Timeout { .. }) if cut_by_budget => record(
                 Status::Budget,

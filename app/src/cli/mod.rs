@@ -39,6 +39,7 @@ mod reports;
 mod reproducers;
 mod rounding;
 mod rubric;
+mod run_words;
 mod suite_dir;
 mod t_failures;
 mod template;

@@ -1,0 +1,76 @@
+//! What `check` and `grade` say of a program's run that gave no answers to grade: stopped for
+//! its time, crashed, or printing what is not its answers, each with how far its answers came.
+
+use super::program;
+
+/// `why` a run was stopped for its time, with how far its answers had come (`printed`, its
+/// output then; `place(i)`, where ray i is): the first ray without one, or, where none came,
+/// that output a program holds in a buffer shows only when it ends.
+pub(super) fn stalled(
+    why: String,
+    printed: &[u8],
+    rays: usize,
+    place: impl Fn(usize) -> String,
+) -> String {
+    match answered(printed) {
+        0 => format!(
+            "{why}; no answer had reached raylab: it printed none, or kept them in its buffer \
+             (as Python and C do into a pipe, where output shows only when the program ends: \
+             flush after each answer to see where it stalls)"
+        ),
+        n if n < rays => format!(
+            "{why}; {} had reached raylab: the first ray without one is {} (or a later one, \
+             where the program keeps output in a buffer)",
+            raylab::words::count(n, "answer", "answers"),
+            place(n)
+        ),
+        _ => format!("{why}; it had printed an answer for every ray, and did not end"),
+    }
+}
+
+/// `why` a run failed (a crash, an exit status not 0), with how far its answers had come
+/// (`printed`, its output; `place(i)`, where ray i is). (A crash half way said nothing of
+/// the 147 answers before it.)
+pub(super) fn crashed(
+    why: String,
+    printed: &[u8],
+    rays: usize,
+    place: impl Fn(usize) -> String,
+) -> String {
+    match answered(printed) {
+        0 => why,
+        n if n < rays => format!(
+            "{why}; {} had reached raylab before it ended: the first ray without one is {}",
+            raylab::words::count(n, "answer", "answers"),
+            place(n)
+        ),
+        _ => format!("{why}; it had printed an answer for every ray first"),
+    }
+}
+
+/// The answers in `printed`: its complete lines that are not blank or comments, as answers
+/// are read.
+fn answered(printed: &[u8]) -> usize {
+    let lines = printed.split(|&b| b == b'\n');
+    let complete = lines.clone().count().saturating_sub(1);
+    (lines.take(complete))
+        .filter(|l| !l.trim_ascii().is_empty() && !l.trim_ascii().starts_with(b"#"))
+        .count()
+}
+
+/// `why` a run's output is not its answers, with a hint where it printed nothing on standard
+/// output but wrote to standard error: the answers went to the wrong one, or it failed in
+/// words of its own there (a shell's `fork: Resource temporarily unavailable`), the last of
+/// which are quoted.
+pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
+    if !ran.stdout.trim().is_empty() || ran.stderr_tail.is_empty() {
+        return why;
+    }
+    let lines: Vec<&str> = ran.stderr_tail.lines().collect();
+    let last = lines[lines.len().saturating_sub(3)..].join(" | ");
+    let last: String = last.chars().take(300).collect();
+    format!(
+        "{why} (it printed nothing on standard output, where the answers go, and wrote to \
+         standard error, which is not read; its last words: {last})"
+    )
+}
