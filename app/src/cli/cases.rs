@@ -60,7 +60,10 @@ impl Case {
 
     /// [`super::run_words::crashed`] for this family's rays.
     pub fn crashed(&self, why: String, printed: &[u8]) -> String {
-        super::run_words::crashed(why, printed, self.ray_count, |i| self.places[i].clone())
+        let why =
+            super::run_words::crashed(why, printed, self.ray_count, |i| self.places[i].clone());
+        let tally = self.grade(&String::from_utf8_lossy(printed)).ok();
+        super::run_words::graded_anyway(why, tally.map(|g| g.tally))
     }
 }
 

@@ -5,7 +5,7 @@ use super::budget::Budget;
 use super::line_up;
 use super::reproducers::{first_shown, reproducers, Written};
 use super::rounding::{rounding_fails, Failed};
-use super::run_words::{crashed, stalled, stderr_hint};
+use super::run_words::{crashed, graded_anyway, stalled, stderr_hint};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
@@ -283,7 +283,7 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 }
                 (None, Some(template)) => {
                     let command = template::command_for(template, scene, rays);
-                    match program_answers(template, scene, args.timeout, &exact, rays) {
+                    match program_answers(template, scene, (args.timeout, tolerance), &exact, rays) {
                         Ok((elapsed, answers, printed)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
                             out += &format!("program: {command} ({ms:.1} ms)\n");
@@ -363,10 +363,11 @@ pub(super) fn answers_for<T: Real>(
 /// Runs the program on the scene and ray files and reads its answers, one per ray: its time
 /// and answers, or why it gave none (it crashed, ran out of time, printed too much or
 /// something that is not one answer per ray), which makes the run a failure, not bad input.
+/// (`timeout_s`, and the t tolerance a crash's complete answers are graded with all the same.)
 pub(super) fn program_answers<T: Real>(
     template: &str,
     scene_file: &Path,
-    timeout_s: f64,
+    (timeout_s, tolerance): (f64, f64),
     exact: &Exact<T>,
     rays_file: &Path,
 ) -> Result<(Duration, Answers<T>, String), String> {
@@ -393,7 +394,11 @@ pub(super) fn program_answers<T: Real>(
             stalled(e.to_string(), printed, exact.rays.len(), place)
         }
         program::RunError::Failed { printed, .. } => {
-            crashed(e.to_string(), printed, exact.rays.len(), place)
+            let why = crashed(e.to_string(), printed, exact.rays.len(), place);
+            let text = String::from_utf8_lossy(printed);
+            let answers = answers_for("its output", &text, exact, rays_file).ok();
+            let tally = answers.map(|a| tally_of(&judge_all(exact, &a, tolerance)));
+            graded_anyway(why, tally)
         }
         _ => e.to_string(),
     })?;
@@ -622,7 +627,8 @@ fn check_suite<T: Real>(
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
         let exact = exact_of(&scene, &rays)?;
         let start = Instant::now();
-        let answers = program_answers(run.template, &scene, timeout.as_secs_f64(), &exact, &rays);
+        let limits = (timeout.as_secs_f64(), run.tolerance);
+        let answers = program_answers(run.template, &scene, limits, &exact, &rays);
         budget.spend(start.elapsed());
         let answers = answers.map_err(|e| match cut && e.starts_with("ran out of time") {
             true => format!("ran out of time: the {}", budget.ran_out()),

@@ -127,24 +127,29 @@ pub fn check_image(args: &CheckArgs, image: &Path, template: &str) -> Result<boo
         "check --image: {w}×{h} camera rays written; running the program (at most {} s)",
         args.timeout
     );
-    let (answers, printed) =
-        match program_answers(template, &scene_file, args.timeout, &exact, &rays_file) {
-            Ok((elapsed, answers, printed)) => {
-                let ms = elapsed.as_secs_f64() * 1e3;
-                out += &format!("program: {command} ({ms:.1} ms)\n");
-                (answers, printed)
-            }
-            Err(why) => {
-                let why = match why.contains("ran out of time") {
-                    true => format!(
+    let (answers, printed) = match program_answers(
+        template,
+        &scene_file,
+        (args.timeout, args.t_tolerance),
+        &exact,
+        &rays_file,
+    ) {
+        Ok((elapsed, answers, printed)) => {
+            let ms = elapsed.as_secs_f64() * 1e3;
+            out += &format!("program: {command} ({ms:.1} ms)\n");
+            (answers, printed)
+        }
+        Err(why) => {
+            let why = match why.contains("ran out of time") {
+                true => format!(
                     "{why}; or ask for fewer camera rays with --width and --height (now {w}×{h})"
                 ),
-                    false => why,
-                };
-                say_failed(&out, &command, &why)?;
-                return Ok(false);
-            }
-        };
+                false => why,
+            };
+            say_failed(&out, &command, &why)?;
+            return Ok(false);
+        }
+    };
     eprintln!("check --image: grading the {} answers", w * h);
     let graded = judge_all(&exact, &answers, args.t_tolerance);
     let mut rgba = Vec::with_capacity(graded.len() * 4);

@@ -309,6 +309,12 @@ fn a_crash_at_a_limit_names_the_limit() {
         std::fs::create_dir(class.join(name)).unwrap();
         std::fs::write(class.join(name).join("run.sh"), run).unwrap();
     }
+    // Every answer right, then exit 1: graded all the same, its exit status alone failing it.
+    let ends = class.join("ann-ends-1");
+    std::fs::create_dir(&ends).unwrap();
+    std::fs::copy(class.join("ada/exact.py"), ends.join("exact.py")).unwrap();
+    let run = "python3 exact.py \"$1\" \"$2\"; exit 1\n";
+    std::fs::write(ends.join("run.sh"), run).unwrap();
     let json = dir.path().join("grades.json");
     let json_arg = json.to_str().unwrap();
     let limits = ["--max-processes", "4", "--timeout", "5", "--json", json_arg];
@@ -340,6 +346,12 @@ fn a_crash_at_a_limit_names_the_limit() {
         "{hoards}"
     );
     assert!(!detail("ada").contains("limit"), "{json}");
+    let ends = detail("ann-ends-1");
+    assert!(
+        ends.contains("\"status\": \"crashed\"")
+            && ends.contains("every answer stands: its exit status alone fails it"),
+        "{ends}"
+    );
     let corrupts = detail("meg-corrupts");
     assert!(
         corrupts.contains("invalid next size") && !corrupts.contains("--max-memory"),

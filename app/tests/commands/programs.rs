@@ -67,6 +67,27 @@ fn assert_none_running(args: &[&str]) {
     }
 }
 
+/// A program that answers every ray and then fails (exit 1) is graded all the same, as its
+/// words say, and still fails the run: every answer standing, its exit status alone fails it;
+/// a wrong answer among them is counted. (It was told only that it had printed every answer.)
+#[test]
+fn a_run_that_fails_after_every_answer_is_graded_all_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, rays) = one_ray(dir.path());
+    let (out, code) = check_program(&scene, &rays, "echo hit 1 0; exit 1 # {scene} {rays}", &[]);
+    assert_eq!(code, Some(1), "{out}");
+    let said = "it had printed an answer for every ray first: graded all the same, every answer \
+                stands: its exit status alone fails it (end with status 0)";
+    assert!(out.contains(said), "{out}");
+    assert!(out.contains("failed_runs 1"), "{out}");
+    let (out, code) = check_program(&scene, &rays, "echo miss; exit 1 # {scene} {rays}", &[]);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(
+        out.contains("graded all the same, 0 stand and 1 do not"),
+        "{out}"
+    );
+}
+
 /// A program that starts daemons (their own session, out of its process group), one of them
 /// holding the output pipes, then answers and ends: its answers are graded at once, not when
 /// the daemon ends, and no daemon outlives the run; one whose shell hangs ends at --timeout.
