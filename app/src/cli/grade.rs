@@ -7,6 +7,7 @@
 use super::account::{accounts, Account};
 use super::budget::Budget;
 use super::cases::{suite_cases, Case};
+use super::class_dir::{copy_tree, holds_a_file, is_a_suite, submissions};
 use super::program::{self, Limits, RunDir, RunError};
 use super::reports::{self, Record, Status, Submission};
 use super::rubric::{name_of, Rubric};
@@ -335,61 +336,6 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     );
 }
 
-/// The submission directories of the class, in name order (case aside). Every other entry (a file, a
-/// broken link, a hidden directory such as `.git`, macOS's `__MACOSX`, a suite `raylab suite
-/// export` wrote there) is named on stderr, so a submission handed in as a file is not left
-/// out unseen.
-fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
-    let entries =
-        std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
-    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    // (As a class list reads, case aside: by bytes, "Zoë" came before "chloé".)
-    paths.sort_by_cached_key(|p| (name_of(p).to_lowercase(), p.clone()));
-    let mut dirs = Vec::new();
-    for path in paths {
-        let why = match () {
-            _ if name_of(&path).starts_with('.') => "hidden",
-            _ if !path.is_dir() => "not a directory",
-            // (A class unzipped on a Mac holds one, graded as a student who crashed.)
-            _ if name_of(&path) == "__MACOSX" => "macOS's zip metadata",
-            // (A suite exported into the class's directory was graded as a student who
-            // crashed.)
-            _ if is_a_suite(&path) => "a suite (raylab suite export's files only)",
-            _ => {
-                dirs.push(path);
-                continue;
-            }
-        };
-        let shown = one_line(&path.display().to_string());
-        eprintln!("warning: {shown}: {why}, so not a submission (not graded)");
-    }
-    if dirs.is_empty() {
-        bail!(
-            "{}: no submissions (a directory per submission)",
-            class.display()
-        );
-    }
-    Ok(dirs)
-}
-
-/// Whether `dir` holds an exported suite and nothing else: its families.txt, its README.md
-/// and family directories each with its rays.txt. (A suite exported into the class's
-/// directory was graded as a student who crashed; a student's directory that holds a copy of
-/// families.txt beside its code is a submission.)
-fn is_a_suite(dir: &Path) -> bool {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return false;
-    };
-    let suite_file = |p: &Path| match name_of(p).as_str() {
-        "families.txt" | "README.md" => p.is_file(),
-        _ => p.join("rays.txt").is_file(),
-    };
-    dir.join("families.txt").is_file()
-        && entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .all(|p| suite_file(&p))
-}
-
 /// An output inside a submission or the suite would be read as their input (or be copied
 /// with the submission): refused.
 fn refuse_inside(flag: &str, path: &Path, inputs: &[PathBuf]) -> Result<()> {
@@ -655,31 +601,6 @@ fn grade_one(
     records
 }
 
-/// Whether `dir` or a directory in it holds anything but directories (a file, a link, a
-/// socket); one it cannot read counts as holding something, so the copy says why it failed.
-fn holds_a_file(dir: &Path) -> bool {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return true;
-    };
-    entries.into_iter().any(|entry| match entry {
-        Ok(entry) if is_system_junk(&entry.file_name()) => false,
-        Ok(entry) => match entry.file_type() {
-            Ok(kind) if kind.is_dir() => holds_a_file(&entry.path()),
-            _ => true,
-        },
-        Err(_) => true,
-    })
-}
-
-/// What an operating system leaves in a folder it zips or shows, not a student: macOS's
-/// `.DS_Store`, `__MACOSX/` and `._` files, Windows's `Thumbs.db` and `desktop.ini`. (A
-/// folder of them alone was graded as 38 crashes, not as nothing handed in.)
-fn is_system_junk(name: &std::ffi::OsStr) -> bool {
-    let name = name.to_string_lossy();
-    ["__MACOSX", ".DS_Store", "Thumbs.db", "desktop.ini"].contains(&&*name)
-        || name.starts_with("._")
-}
-
 /// Why a run crashed, with a word on the limit that may have done it, each where that limit
 /// is set: `--max-processes` where it says it could not start a process or thread;
 /// `--max-memory` where it says memory ran out, or died of a signal (SIGSEGV, SIGBUS,
@@ -741,43 +662,4 @@ fn limit_hint(e: &RunError, limits: &Limits) -> String {
         ),
         _ => said,
     }
-}
-
-/// The most a submission's files may hold in all, by their sizes (a sparse file's whole
-/// size: its copy writes it all): raylab copies each submission to grade it, and a 20 GiB
-/// sparse file, no disk at all in the class, took 83 s and 20 GiB of the temporary
-/// directory's disk to copy.
-const MAX_SUBMISSION_BYTES: u64 = 1 << 30;
-
-/// Copies a submission: directories, files (with their permissions and modification times,
-/// so `make` sees what it built as built) and links as links (never followed: a link to a
-/// file the program's user cannot read stays unreadable); anything else is left out. Fails
-/// before a file that would take the bytes `copied` so far past [`MAX_SUBMISSION_BYTES`].
-fn copy_tree(from: &Path, to: &Path, copied: &mut u64) -> std::io::Result<()> {
-    std::fs::create_dir(to)?;
-    for entry in std::fs::read_dir(from)? {
-        let entry = entry?;
-        let (source, target) = (entry.path(), to.join(entry.file_name()));
-        let kind = entry.file_type()?;
-        if kind.is_dir() {
-            copy_tree(&source, &target, copied)?;
-        } else if kind.is_file() {
-            *copied = copied.saturating_add(entry.metadata()?.len());
-            if *copied > MAX_SUBMISSION_BYTES {
-                return Err(std::io::Error::other(format!(
-                    "its files hold over {} GiB (at {}), more than a submission may: not \
-                     copied to be graded",
-                    MAX_SUBMISSION_BYTES >> 30,
-                    source.display()
-                )));
-            }
-            std::fs::copy(&source, &target)?;
-            let modified = entry.metadata()?.modified()?;
-            // (Opened to read: a read-only file, as git leaves its objects, keeps its time too.)
-            std::fs::File::open(&target)?.set_modified(modified)?;
-        } else if kind.is_symlink() {
-            std::os::unix::fs::symlink(std::fs::read_link(&source)?, &target)?;
-        }
-    }
-    Ok(())
 }

@@ -28,6 +28,7 @@ mod budget;
 mod cases;
 mod check;
 mod check_image;
+mod class_dir;
 mod evidence;
 mod grade;
 mod hint_geometry;
