@@ -44,6 +44,10 @@ pub struct GradeArgs {
         value_parser = super::count_in::<usize>(1..=1024)
     )]
     pub jobs: Option<usize>,
+    /// Grade only the submission of this directory name (repeatable): a student's again, or
+    /// the late ones; the outputs then hold those alone.
+    #[arg(long, value_name = "NAME")]
+    pub only: Vec<String>,
     /// Also write one row per submission and family to this CSV file.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
@@ -137,7 +141,7 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             args.class.display()
         );
     }
-    let submissions = submissions(&args.class)?;
+    let submissions = only(submissions(&args.class)?, &args.only, &args.class)?;
     let jobs = (args.jobs.unwrap_or_else(super::cores)).min(submissions.len().max(1));
     if !args.suite.is_dir() {
         bail!(
@@ -291,6 +295,24 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The submissions `names` name (all where none is), each name one of them: a teacher
+/// grading one student again made a folder of links to it and merged the CSV by hand.
+fn only(submissions: Vec<PathBuf>, names: &[String], class: &Path) -> Result<Vec<PathBuf>> {
+    if let Some(name) = names
+        .iter()
+        .find(|n| !submissions.iter().any(|s| name_of(s) == **n))
+    {
+        bail!(
+            "--only {}: no submission of that name in {} (a directory of it, as named there)",
+            one_line(name),
+            class.display()
+        );
+    }
+    Ok((submissions.into_iter())
+        .filter(|s| names.is_empty() || names.iter().any(|n| name_of(s) == *n))
+        .collect())
 }
 
 /// A report the grading writes to a file: the CSV, the JSON or the totals.

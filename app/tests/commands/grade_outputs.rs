@@ -322,3 +322,37 @@ fn an_output_that_cannot_be_written_leaves_the_others_and_the_table() {
     let json = std::fs::read_to_string(&json).unwrap();
     assert!(json.contains("\"submission\": \"ada\""), "{json}");
 }
+
+/// `--only NAME` grades that submission alone (repeatable), and its outputs hold it alone; a
+/// name no submission has is refused before any program runs, naming it.
+#[test]
+fn only_grades_the_submissions_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-"]);
+    let csv = dir.path().join("one.csv");
+    let more = ["--only", "bob-crashes", "--csv", csv.to_str().unwrap()];
+    let o = grade_class(&class, &suite, &more);
+    let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    let rows: Vec<&str> = out.lines().skip(1).collect();
+    assert!(
+        rows.len() == 1 && rows[0].starts_with("bob-crashes "),
+        "{out}"
+    );
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        csv.lines().skip(1).all(|l| l.starts_with("bob-crashes,")),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    let o = grade_class(&class, &suite, &["--only", "ada", "--only", "zed"]);
+    let said = format!(
+        "--only zed: no submission of that name in {}",
+        class.display()
+    );
+    common::binary::assert_fails(&o, 2, &[&said]);
+    assert!(
+        !common::binary::stderr(&o).contains("grading"),
+        "nothing ran"
+    );
+}
