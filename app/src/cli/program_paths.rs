@@ -83,7 +83,7 @@ pub(super) fn check_program_paths(
                 bail!(
                     "--program: {word}: the programs run as {who}, other users to it, who \
                      cannot {what} it: `chmod o+{letters}` it and `o+x` the directories above \
-                     it (or --as-root)"
+                     it"
                 );
             }
         }
@@ -125,22 +125,29 @@ fn warn_of_another_command(word: &str, who: &str) -> Result<()> {
         return Ok(());
     }
     let path = std::env::var_os("PATH").unwrap_or_default();
-    let found = |path: &std::ffi::OsStr| {
+    // (Theirs, a file others may run: a shim of mode 700 in an open directory is not.)
+    let found = |path: &std::ffi::OsStr, bits: u32| {
         std::env::split_paths(path)
             .map(|dir| dir.join(word))
             .find(|file| {
                 file.metadata()
-                    .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+                    .is_ok_and(|m| m.is_file() && m.permissions().mode() & bits != 0)
             })
     };
-    let (yours, theirs) = (found(&path), found(&super::access::searchable_path(&path)));
+    let theirs = found(&super::access::searchable_path(&path), 0o001);
+    let (yours, theirs) = (found(&path, 0o111), theirs);
     match (yours, theirs) {
         (Some(yours), None) => bail!(
-            "--program: {word} is {} on your PATH, in a directory the programs, run as {who},              cannot enter: on theirs it is not found (every submission would crash): name one              every user may run by its absolute path, or --as-root",
+            "--program: {word} is {} on your PATH, which the programs, run as {who}, cannot \
+             run (its directory or it closed to them): on theirs it is not found (every \
+             submission would crash): name one every user may run by its absolute path",
             yours.display()
         ),
         (Some(yours), Some(theirs)) if yours != theirs => eprintln!(
-            "warning: --program: {word} is {} on your PATH, but the programs run as {who}, who              cannot enter its directory: they run {} (its modules or version may differ from              the one `raylab check` runs; --as-root runs yours)",
+            "warning: --program: {word} is {} on your PATH, but the programs run as {who}, who \
+             cannot run it (its directory or it closed to them): they run {} (its modules or \
+             version may differ from the one `raylab check` runs: name one every user may run \
+             by its absolute path)",
             yours.display(),
             theirs.display()
         ),

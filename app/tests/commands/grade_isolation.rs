@@ -125,6 +125,28 @@ fn as_root_a_command_the_programs_find_elsewhere_is_named() {
     assert_fails(&o, 2, &["--program: wrapit is ", said]);
     let err = common::binary::stderr(&o);
     assert!(!err.contains("grading 1 submission"), "{err}");
+    // A shim others may not run (700) in a directory they may enter: the same.
+    let open = dir.path().join("open");
+    std::fs::create_dir(&open).unwrap();
+    open_up(&open);
+    std::fs::copy(private.join("sh"), open.join("sh")).unwrap();
+    std::fs::set_permissions(open.join("sh"), std::fs::Permissions::from_mode(0o700)).unwrap();
+    let searched = format!("{}:{}", path(&open), std::env::var("PATH").unwrap());
+    let args = [
+        "grade",
+        &class,
+        "--suite",
+        &suite,
+        "--program",
+        "sh run.sh {scene} {rays}",
+    ];
+    let o = raylab_env(&args, &[("PATH", &searched)]);
+    let err = common::binary::stderr(&o);
+    let yours = format!(
+        "warning: --program: sh is {} on your PATH",
+        path(&open.join("sh"))
+    );
+    assert!(err.contains(&yours) && !err.contains("  "), "{err}");
 }
 
 /// A teacher's wrapper named by a path relative to where raylab runs (the command runs in
