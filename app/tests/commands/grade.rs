@@ -297,6 +297,10 @@ fn a_crash_at_a_limit_names_the_limit() {
             "meg-corrupts",
             "echo 'realloc(): invalid next size' >&2; kill -ABRT $$\n",
         ),
+        (
+            "nat-unmaps",
+            "echo 'munmap_chunk(): invalid pointer' >&2; kill -ABRT $$\n",
+        ),
         // (Java's words for a thread it could not start, which name memory.)
         (
             "max-threads",
@@ -352,11 +356,16 @@ fn a_crash_at_a_limit_names_the_limit() {
             && ends.contains("every answer stands: its exit status alone fails it"),
         "{ends}"
     );
-    let corrupts = detail("meg-corrupts");
-    assert!(
-        corrupts.contains("invalid next size") && !corrupts.contains("--max-memory"),
-        "{corrupts}"
-    );
+    for (name, words) in [
+        ("meg-corrupts", "invalid next size"),
+        ("nat-unmaps", "munmap_chunk"),
+    ] {
+        let corrupts = detail(name);
+        assert!(
+            corrupts.contains(words) && !corrupts.contains("--max-memory"),
+            "{corrupts}"
+        );
+    }
     assert_eq!(
         running("917011"),
         Vec::<String>::new(),
