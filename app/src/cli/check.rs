@@ -4,7 +4,7 @@
 use super::budget::Budget;
 use super::line_up;
 use super::reproducers::{first_shown, reproducers, Written};
-use super::rounding::{rounding_fails, Failed};
+use super::rounding::{rounding_fails, Digits, Failed};
 use super::run_words::{crashed, graded_anyway, stalled, stderr_hint};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
@@ -334,25 +334,14 @@ pub(super) fn answers_for<T: Real>(
     if answers.len() != exact.rays.len() {
         // (Where they stop lining up: "187 answers for the 196 rays" named no ray to look at.)
         let given: Vec<Answer<T>> = answers.iter().map(|(_, a)| *a).collect();
-        let k = line_up::first_unlike(&given, &exact.answers);
         let place = |k: usize| ray_place(rays_file, exact, k);
-        let where_ = match (k, answers.len() < exact.rays.len()) {
-            (_, false) => String::new(),
-            (0, true) => format!(": the first is unlike the exact answer of {}", place(0)),
-            (k, true) if k == answers.len() => format!(
-                ": they are the exact answers of the rays up to {}, and stop there",
-                place(k - 1)
-            ),
-            (k, true) => format!(
-                ": they are the exact answers (t aside) up to {}; the next is unlike {}'s: an \
-                 answer left out there or just before?",
-                place(k - 1),
-                place(k)
-            ),
+        let where_ = match line_up::where_they_part(&given, &exact.answers, place) {
+            said if said.is_empty() => said,
+            said => format!(": {said}"),
         };
         bail!(
-            "{file}: {} answers for the {} rays of {}{where_}",
-            answers.len(),
+            "{file}: {} for the {} rays of {}{where_}",
+            raylab::words::count(answers.len(), "answer", "answers"),
             exact.rays.len(),
             rays_file.display()
         );
@@ -612,8 +601,9 @@ fn check_suite<T: Real>(
     say!("{}", grade::table_header());
     let mut total = Tally::default();
     let mut failed = 0;
-    // The families graded and not passed.
-    let mut unpassed: Vec<String> = Vec::new();
+    // The families graded and not passed, and the numbers of those answered a line off.
+    let (mut unpassed, mut off): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
+    let mut digits = Digits::default();
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
     // The program's time, its failed runs' included.
     let mut budget = run.budget;
@@ -637,6 +627,7 @@ fn check_suite<T: Real>(
         match answers {
             Ok((elapsed, answers, printed)) => {
                 let judged = judge_all(&exact, &answers, run.tolerance);
+                digits.count(&printed);
                 let tally = tally_of(&judged);
                 let ms = (
                     elapsed.as_secs_f64() * 1e3,
@@ -645,6 +636,9 @@ fn check_suite<T: Real>(
                 say!("{}", tally.row(&name, ms));
                 if !tally.passed() {
                     unpassed.push(name.clone());
+                    if line_up::off_by_a_line(&judged, &answers).is_some() {
+                        off.push(name.split('-').next().unwrap_or(&name).to_string());
+                    }
                     let place = |i: usize| ray_place(&rays, &exact, i);
                     let written = Written {
                         name: "its output",
@@ -681,6 +675,16 @@ fn check_suite<T: Real>(
         raylab_time.as_secs_f64() * 1e3,
     );
     say!("{}", total.row("total", ms));
+    // (Said first: a student told of 26 families "to mend first" mended geometry that was
+    // right, the order a line off.)
+    if !off.is_empty() {
+        say!(
+            "answers a line off in {} {}: mend their order first (the line under each family \
+             says from where)",
+            if off.len() == 1 { "family" } else { "families" },
+            off.join(", ")
+        );
+    }
     let double = run.precision == "f64";
     let sorted = Failed::sort(
         unpassed
@@ -689,6 +693,9 @@ fn check_suite<T: Real>(
     );
     if let Some(sentence) = sorted.and_then(|f| f.sentence(run.precision)) {
         say!("{sentence}");
+        if let Some(advice) = digits.advice(double) {
+            say!("{advice}");
+        }
     }
     if failed > 0 {
         say!(

@@ -74,3 +74,86 @@ impl Failed {
         }
     }
 }
+
+/// The t's a program printed, by their significant digits: what a float program prints (9 or
+/// fewer, `%.9g`) and what a double one does (15 or more, `%.17g`), among those with 7 or
+/// more (a t of 1 or 0.5 tells nothing). A float program graded `--precision f64` was told of
+/// 15 families "to mend first", every one of them rounding's in f32.
+#[derive(Default)]
+pub(super) struct Digits {
+    floats: usize,
+    doubles: usize,
+    told: usize,
+}
+
+impl Digits {
+    /// Counts the t's of `output`'s `hit T INDEX` lines.
+    pub(super) fn count(&mut self, output: &str) {
+        let ts = output.lines().filter_map(|l| {
+            let mut words = l.split_whitespace();
+            (words.next() == Some("hit"))
+                .then(|| words.next())
+                .flatten()
+        });
+        for t in ts {
+            let mantissa = t.split(['e', 'E']).next().unwrap_or("");
+            let digits = mantissa
+                .trim_start_matches(['-', '+', '0', '.'])
+                .replace('.', "");
+            let n = digits.chars().filter(char::is_ascii_digit).count();
+            match n {
+                0..7 => {}
+                7..=9 => (self.floats, self.told) = (self.floats + 1, self.told + 1),
+                15.. => (self.doubles, self.told) = (self.doubles + 1, self.told + 1),
+                _ => self.told += 1,
+            }
+        }
+    }
+
+    /// Where the t's say the program computes in another precision than the one graded
+    /// (`double`): nine in ten of 20 or more, a word on grading it in that one.
+    pub(super) fn advice(&self, double: bool) -> Option<String> {
+        let most = |n: usize| self.told >= 20 && 10 * n >= 9 * self.told;
+        match (double, most(self.floats), most(self.doubles)) {
+            (true, true, _) => Some(
+                "its t's have 9 significant digits or fewer, as a float program prints them: if \
+                 it computes in float, check it with --precision f32 (the default), where \
+                 rounding explains more"
+                    .into(),
+            ),
+            (false, _, true) => Some(
+                "its t's have 15 significant digits or more, as a double program prints them: \
+                 if it computes in double, check it with --precision f64, where rounding \
+                 explains less"
+                    .into(),
+            ),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Digits;
+
+    /// Float-printed t's graded in double are told of --precision f32, double-printed ones
+    /// graded in float of f64; t's of few digits tell nothing.
+    #[test]
+    fn the_digits_of_the_ts_name_the_precision() {
+        let floats: String = (0..30)
+            .map(|k| format!("hit 1.{k:02}34567 {k}\nmiss\n"))
+            .collect();
+        let doubles: String = (0..30)
+            .map(|k| format!("hit 1.{k}234567890123456 0\n"))
+            .collect();
+        let (mut f, mut d, mut round) = (Digits::default(), Digits::default(), Digits::default());
+        f.count(&floats);
+        d.count(&doubles);
+        round.count(&"hit 1 0\nhit 0.5 1\n".repeat(30));
+        assert!(f.advice(true).unwrap().contains("--precision f32"));
+        assert_eq!(f.advice(false), None);
+        assert!(d.advice(false).unwrap().contains("--precision f64"));
+        assert_eq!(d.advice(true), None);
+        assert_eq!((round.advice(true), round.advice(false)), (None, None));
+    }
+}

@@ -106,6 +106,32 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
                 failed besides: 03, ";
     assert!(out.contains(&format!("{said}{rounding}")), "{out}");
 
+    // A double program graded in float: its t's digits say so.
+    let program = format!("'{}' {{scene}} {{rays}}", starter.display());
+    let o = raylab(&[
+        "check",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--program",
+        &program,
+    ]);
+    let out = String::from_utf8(o.stdout).unwrap();
+    let digits = "its t's have 15 significant digits or more, as a double program prints them: \
+                  if it computes in double, check it with --precision f64";
+    assert!(out.contains(digits), "{out}");
+    // The exact answers a line late: said under the total, before the sort.
+    let exe = env!("CARGO_BIN_EXE_raylab");
+    let late = format!("(echo miss; '{exe}' trace --scene {{scene}} --rays {{rays}} | sed '$d')");
+    let o = raylab(&[
+        "check",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--program",
+        &late,
+    ]);
+    let out = String::from_utf8(o.stdout).unwrap();
+    let off = "answers a line off in families 01, 03: mend their order first";
+    assert!(out.contains(off), "{out}");
     let feedback = dir.path().join("feedback");
     let args = [
         "grade",
