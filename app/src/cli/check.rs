@@ -691,7 +691,7 @@ fn check_suite<T: Real>(
             .iter()
             .map(|n| (n.as_str(), rounding_fails(n, double))),
     );
-    if let Some(sentence) = sorted.and_then(|f| f.sentence(run.precision)) {
+    if let Some(sentence) = sorted.and_then(|f| f.sentence(run.precision, failed)) {
         say!("{sentence}");
         if let Some(advice) = digits.advice(double) {
             say!("{advice}");

@@ -132,7 +132,10 @@ fn failed_families(s: &Submission, cases: &[Case], precision: &str) -> Option<St
     let failed = (s.records.iter().zip(cases))
         .filter(|(r, _)| r.status == Status::Failed)
         .map(|(_, case)| (case.name.as_str(), case.rounding));
-    Failed::sort(failed)?.sentence(precision)
+    let ungraded = (s.records.iter())
+        .filter(|r| !matches!(r.status, Status::Ok | Status::Failed))
+        .count();
+    Failed::sort(failed)?.sentence(precision, ungraded)
 }
 
 /// A family's points for a record: the family's when it passed.

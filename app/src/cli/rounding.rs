@@ -46,7 +46,25 @@ impl Failed {
     /// What `check` says under a suite's total, where families failed: which to mend first,
     /// and which fail correct code too. (A correct double program failed five families and
     /// the student could not tell it from a bug.)
-    pub(super) fn sentence(&self, precision: &str) -> Option<String> {
+    /// (`ungraded`: how many families gave no answers to grade, said first: a program that
+    /// dropped its `miss` lines in 23 families was told that none failed but rounding's.)
+    pub(super) fn sentence(&self, precision: &str, ungraded: usize) -> Option<String> {
+        let sorted = self.sorted(precision);
+        match (ungraded, sorted) {
+            (0, sorted) => sorted,
+            (n, None) => Some(format!(
+                "{} no answers to grade: mend those first",
+                given(n)
+            )),
+            (n, Some(sorted)) => Some(format!(
+                "{} no answers to grade: mend those first; of the others, {sorted}",
+                given(n)
+            )),
+        }
+    }
+
+    /// The sentence on the families graded.
+    fn sorted(&self, precision: &str) -> Option<String> {
         let list = |numbers: &[String]| numbers.join(", ");
         let rounding = format!(
             "where rounding fails some correct {precision} programs too (the suite's README.md, \
@@ -73,6 +91,11 @@ impl Failed {
             )),
         }
     }
+}
+
+/// "1 family gave" or "N families gave".
+fn given(n: usize) -> String {
+    format!("{} gave", raylab::words::count(n, "family", "families"))
 }
 
 /// The t's a program printed, by their significant digits: what a float program prints (9 or

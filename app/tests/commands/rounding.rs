@@ -119,6 +119,23 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
     let digits = "its t's have 15 significant digits or more, as a double program prints them: \
                   if it computes in double, check it with --precision f64";
     assert!(out.contains(digits), "{out}");
+    // A family that gave no answers is said first: not "nothing failed but rounding's".
+    let crash = format!(
+        "head -1 {{scene}} | grep -q 'cube, from inside' && exit 3; '{}' {{scene}} {{rays}}",
+        starter.display()
+    );
+    let args = [
+        "check",
+        "--suite",
+        suite.to_str().unwrap(),
+        "--program",
+        &crash,
+    ];
+    let o = raylab(&[&args[..], &["--precision", "f64"]].concat());
+    let out = String::from_utf8(o.stdout).unwrap();
+    let ungraded = "1 family gave no answers to grade: mend those first; of the others, no \
+                    family failed that every correct f64 program measured passes";
+    assert!(out.contains(ungraded), "{out}");
     // The exact answers a line late: said under the total, before the sort.
     let exe = env!("CARGO_BIN_EXE_raylab");
     let late = format!("(echo miss; '{exe}' trace --scene {{scene}} --rays {{rays}} | sed '$d')");
