@@ -6,16 +6,16 @@ use anyhow::{anyhow, bail, Result};
 use raylab_app::one_line;
 use std::path::{Path, PathBuf};
 
-/// The submission directories of the class, in name order (case aside). Every other entry (a file, a
-/// broken link, a hidden directory such as `.git`, macOS's `__MACOSX`, a suite `raylab suite
-/// export` wrote there) is named on stderr, so a submission handed in as a file is not left
-/// out unseen.
+/// The submission directories of the class, in a class list's order ([`list_order`]). Every
+/// other entry (a file, a broken link, a hidden directory such as `.git`, macOS's `__MACOSX`,
+/// a suite `raylab suite export` wrote there) is named on stderr, so a submission handed in
+/// as a file is not left out unseen.
 pub(super) fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     let entries =
         std::fs::read_dir(class).map_err(|e| anyhow!("CLASS_DIR {}: {e}", class.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    // (As a class list reads, case aside: by bytes, "Zoë" came before "chloé".)
-    paths.sort_by_cached_key(|p| (name_of(p).to_lowercase(), p.clone()));
+    // (As a class list reads: by bytes, "Zoë" came before "chloé", and "Élodie" after both.)
+    paths.sort_by_cached_key(|p| (list_order(&name_of(p)), p.clone()));
     let mut dirs = Vec::new();
     for path in paths {
         let why = match () {
@@ -123,4 +123,12 @@ pub(super) fn copy_tree(from: &Path, to: &Path, copied: &mut u64) -> std::io::Re
         }
     }
     Ok(())
+}
+
+/// How a class list orders a name: its letters without their accents and case (`Élodie`
+/// among the e's, `chloé` before `Zoë`).
+pub(super) fn list_order(name: &str) -> String {
+    use unicode_normalization::{char::is_combining_mark, UnicodeNormalization};
+    let letters: String = name.nfd().filter(|c| !is_combining_mark(*c)).collect();
+    letters.to_lowercase()
 }

@@ -7,7 +7,7 @@
 use super::account::{accounts, Account};
 use super::budget::Budget;
 use super::cases::{suite_cases, Case};
-use super::class_dir::{copy_tree, holds_a_file, is_a_suite, submissions};
+use super::class_dir::{copy_tree, holds_a_file, is_a_suite, list_order, submissions};
 use super::program::{self, Limits, RunDir, RunError};
 use super::reports::{self, Record, Status, Submission};
 use super::rubric::{name_of, Rubric};
@@ -344,7 +344,8 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     if earlier.is_empty() {
         return;
     }
-    earlier.sort();
+    // (In the table's order.)
+    earlier.sort_by_cached_key(|name| (list_order(name), name.clone()));
     let count = raylab::words::count(earlier.len(), "file", "files");
     let shown: Vec<String> = earlier.iter().take(5).map(|n| one_line(n)).collect();
     let more = if earlier.len() > 5 { ", …" } else { "" };

@@ -205,8 +205,9 @@ fn an_empty_submission_is_empty_and_not_run() {
     )
     .unwrap();
     std::fs::create_dir_all(class.join("lou-notes")).unwrap();
-    // (Named as a class list reads, case aside.)
+    // (Named as a class list reads, case and accents aside.)
     std::fs::create_dir_all(class.join("Ned-empty")).unwrap();
+    std::fs::create_dir_all(class.join("Émile-empty")).unwrap();
     std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
     // (The feedback through a link to a directory not made yet: made through it, as a
     // missing one is; it said "File exists".)
@@ -232,7 +233,14 @@ fn an_empty_submission_is_empty_and_not_run() {
     let names: Vec<&str> = (out.lines().skip(1))
         .filter_map(|l| l.split(' ').next())
         .collect();
-    let order = ["ada", "kim-empty", "lou-notes", "max-zipped", "Ned-empty"];
+    let order = [
+        "ada",
+        "Émile-empty",
+        "kim-empty",
+        "lou-notes",
+        "max-zipped",
+        "Ned-empty",
+    ];
     assert_eq!(names, order, "{out}");
     assert!(row("lou-notes ").ends_with(" crashed 2"), "{out}");
     let csv = std::fs::read_to_string(&csv).unwrap();
