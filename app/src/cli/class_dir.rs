@@ -78,11 +78,19 @@ pub(super) fn holds_a_file(dir: &Path) -> bool {
 }
 
 /// What an operating system leaves in a folder it zips or shows, not a student: macOS's
-/// `.DS_Store`, `__MACOSX/` and `._` files, Windows's `Thumbs.db` and `desktop.ini`. (A
-/// folder of them alone was graded as 38 crashes, not as nothing handed in.)
+/// `.DS_Store`, `__MACOSX/`, `Icon\r` and `._` files, Windows's `Thumbs.db` and `desktop.ini`.
+/// (A folder of them alone was graded as 38 crashes, not as nothing handed in.)
 fn is_system_junk(name: &std::ffi::OsStr) -> bool {
-    let name = name.to_string_lossy();
-    ["__MACOSX", ".DS_Store", "Thumbs.db", "desktop.ini"].contains(&&*name)
+    // (Any case: Windows writes `thumbs.db` and `Desktop.ini` too; macOS a folder's `Icon\r`.)
+    let name = name.to_string_lossy().to_lowercase();
+    [
+        "__macosx",
+        ".ds_store",
+        "thumbs.db",
+        "desktop.ini",
+        "icon\r",
+    ]
+    .contains(&&*name)
         || name.starts_with("._")
 }
 
@@ -131,4 +139,24 @@ pub(super) fn list_order(name: &str) -> String {
     use unicode_normalization::{char::is_combining_mark, UnicodeNormalization};
     let letters: String = name.nfd().filter(|c| !is_combining_mark(*c)).collect();
     letters.to_lowercase()
+}
+
+/// The archives a submission holds where it holds nothing else (its system files aside): a
+/// student who handed in `lab3.zip` crashed in every family, "can't open intersect.py".
+pub(super) fn only_archives(dir: &Path) -> Option<Vec<String>> {
+    const ARCHIVES: [&str; 7] = [".zip", ".tar", ".gz", ".tgz", ".xz", ".7z", ".rar"];
+    let mut files = Vec::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).ok()?.flatten() {
+            let name = entry.file_name();
+            match entry.file_type() {
+                _ if is_system_junk(&name) => {}
+                Ok(kind) if kind.is_dir() => dirs.push(entry.path()),
+                _ => files.push(name.to_string_lossy().into_owned()),
+            }
+        }
+    }
+    let archive = |f: &String| ARCHIVES.iter().any(|a| f.to_lowercase().ends_with(a));
+    (!files.is_empty() && files.iter().all(archive)).then_some(files)
 }

@@ -7,7 +7,9 @@
 use super::account::{accounts, Account};
 use super::budget::Budget;
 use super::cases::{suite_cases, Case};
-use super::class_dir::{copy_tree, holds_a_file, is_a_suite, list_order, submissions};
+use super::class_dir::{
+    copy_tree, holds_a_file, is_a_suite, list_order, only_archives, submissions,
+};
 use super::program::{self, Limits, RunDir, RunError};
 use super::reports::{self, Record, Status, Submission};
 use super::rubric::{name_of, Rubric};
@@ -142,6 +144,14 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
         );
     }
     let submissions = only(submissions(&args.class)?, &args.only, &args.class)?;
+    for (submission, archives) in (submissions.iter()).filter_map(|s| Some((s, only_archives(s)?)))
+    {
+        eprintln!(
+            "warning: {}: holds archives alone ({}): unpack them where the program should run",
+            one_line(&submission.display().to_string()),
+            one_line(&archives.join(", "))
+        );
+    }
     let jobs = (args.jobs.unwrap_or_else(super::cores)).min(submissions.len().max(1));
     if !args.suite.is_dir() {
         bail!(

@@ -204,10 +204,16 @@ fn an_empty_submission_is_empty_and_not_run() {
         "\0\x05\x16\x07",
     )
     .unwrap();
+    for junk in ["thumbs.db", "Desktop.ini", "Icon\r"] {
+        std::fs::write(class.join("max-zipped").join(junk), "").unwrap();
+    }
     std::fs::create_dir_all(class.join("lou-notes")).unwrap();
     // (Named as a class list reads, case and accents aside.)
     std::fs::create_dir_all(class.join("Ned-empty")).unwrap();
     std::fs::create_dir_all(class.join("Émile-empty")).unwrap();
+    // (An archive alone: graded, and warned of.)
+    std::fs::create_dir_all(class.join("oli-zipped")).unwrap();
+    std::fs::write(class.join("oli-zipped/lab3.zip"), "PK\x05\x06").unwrap();
     std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
     // (The feedback through a link to a directory not made yet: made through it, as a
     // missing one is; it said "File exists".)
@@ -240,8 +246,11 @@ fn an_empty_submission_is_empty_and_not_run() {
         "lou-notes",
         "max-zipped",
         "Ned-empty",
+        "oli-zipped",
     ];
     assert_eq!(names, order, "{out}");
+    let zipped = "oli-zipped: holds archives alone (lab3.zip): unpack them where the program";
+    assert!(err.contains(zipped), "{err}");
     assert!(row("lou-notes ").ends_with(" crashed 2"), "{out}");
     let csv = std::fs::read_to_string(&csv).unwrap();
     let kim: Vec<&str> = csv
