@@ -80,7 +80,7 @@ pub(super) fn suite_cases(
         .into_iter()
         .map(|path| {
             let (scene, rays) = (path.join("scene.txt"), path.join("rays.txt"));
-            let rounding = rounding_fails(&family_name(&path), precision == Precision::F64);
+            let rounding = rounding_fails(&path, precision == Precision::F64);
             match precision {
                 Precision::F32 => case_of(&path, exact_f32(&scene, &rays)?, tolerance, rounding),
                 Precision::F64 => {

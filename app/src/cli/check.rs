@@ -602,16 +602,19 @@ fn check_suite<T: Real>(
     let mut total = Tally::default();
     let mut failed = 0;
     // The families graded and not passed, and the numbers of those answered a line off.
-    let (mut unpassed, mut off): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
+    let (mut unpassed, mut off): (Vec<(String, Option<bool>)>, Vec<String>) = (vec![], vec![]);
+    let double = run.precision == "f64";
     let mut digits = Digits::default();
     let (mut program_time, mut raylab_time) = (Duration::ZERO, Duration::ZERO);
     // The program's time, its failed runs' included.
     let mut budget = run.budget;
     for family in &families {
         let name = family_name(family);
+        // (As shown: a directory's name may hold a terminal's escapes.)
+        let shown = raylab_app::one_line(&name);
         let Some((timeout, cut)) = budget.next_run(Duration::from_secs_f64(run.timeout_s)) else {
             failed += 1;
-            say!("{name:<46} SKIPPED: not run: the {}", budget.ran_out());
+            say!("{shown:<46} SKIPPED: not run: the {}", budget.ran_out());
             continue;
         };
         let (scene, rays) = (family.join("scene.txt"), family.join("rays.txt"));
@@ -633,9 +636,9 @@ fn check_suite<T: Real>(
                     elapsed.as_secs_f64() * 1e3,
                     exact.elapsed.as_secs_f64() * 1e3,
                 );
-                say!("{}", tally.row(&name, ms));
+                say!("{}", tally.row(&shown, ms));
                 if !tally.passed() {
-                    unpassed.push(name.clone());
+                    unpassed.push((name.clone(), rounding_fails(family, double)));
                     if line_up::off_by_a_line(&judged, &answers).is_some() {
                         off.push(name.split('-').next().unwrap_or(&name).to_string());
                     }
@@ -663,7 +666,7 @@ fn check_suite<T: Real>(
             Err(e) => {
                 failed += 1;
                 let e = raylab_app::escape_controls(e.to_string());
-                say!("{name:<46} FAILED: {e}");
+                say!("{shown:<46} FAILED: {e}");
                 if only.is_none() {
                     say!("    this family alone: {}", run.alone(dir, &name));
                 }
@@ -685,17 +688,22 @@ fn check_suite<T: Real>(
             off.join(", ")
         );
     }
-    let double = run.precision == "f64";
-    let sorted = Failed::sort(
-        unpassed
-            .iter()
-            .map(|n| (n.as_str(), rounding_fails(n, double))),
-    );
-    if let Some(sentence) = sorted.and_then(|f| f.sentence(run.precision, failed)) {
-        say!("{sentence}");
-        if let Some(advice) = digits.advice(double) {
-            say!("{advice}");
+    match Failed::sort(unpassed.iter().map(|(n, r)| (n.as_str(), *r))) {
+        Ok(sorted) => {
+            if let Some(sentence) = sorted.sentence(run.precision, failed) {
+                say!("{sentence}");
+                if let Some(advice) = digits.advice(double) {
+                    say!("{advice}");
+                }
+            }
         }
+        // (Said: the sentence went silently where a family was not the suite's.)
+        Err(name) => say!(
+            "the failed families are not sorted by what rounding explains: {} is not a family \
+             of this raylab's suite, or its scene.txt is another's (`raylab suite export` \
+             writes the suite)",
+            raylab_app::one_line(name)
+        ),
     }
     if failed > 0 {
         say!(

@@ -135,7 +135,7 @@ fn failed_families(s: &Submission, cases: &[Case], precision: &str) -> Option<St
     let ungraded = (s.records.iter())
         .filter(|r| !matches!(r.status, Status::Ok | Status::Failed))
         .count();
-    Failed::sort(failed)?.sentence(precision, ungraded)
+    Failed::sort(failed).ok()?.sentence(precision, ungraded)
 }
 
 /// A family's points for a record: the family's when it passed.
@@ -431,7 +431,7 @@ pub(super) fn feedback(
         let secs = r.ms / 1e3;
         out += &format!(
             "{}: {} ({counts}) {secs:.2} s\n",
-            case.name,
+            one_line(&case.name),
             r.status.name()
         );
         // (A ray's file named from SUITE, as the command above names the suite: the student

@@ -15,32 +15,44 @@ pub(super) struct Failed {
 }
 
 /// Whether rounding fails some correct programs graded in double (`double`) or in float on
-/// the family of directory `name`; `None` where it is not a family of this raylab's suite
-/// (an export of another version: nothing is said of it).
-pub(super) fn rounding_fails(name: &str, double: bool) -> Option<bool> {
+/// the family of directory `dir`; `None` where it is not a family of this raylab's suite (an
+/// export of another version) or its scene is another's (its first line names its family:
+/// two directories swapped sorted a bug's family as rounding's).
+pub(super) fn rounding_fails(dir: &std::path::Path, double: bool) -> Option<bool> {
+    use std::io::{BufRead, Read};
+    let name = super::suite_dir::family_name(dir);
     let (_, slug) = name.split_once('-')?;
     let known = raylab::check::suite::slugs().iter().any(|s| s == slug);
-    known.then(|| Needs::of(slug).rounding_fails(double))
+    let mut first = String::new();
+    let scene = std::fs::File::open(dir.join("scene.txt")).ok()?;
+    std::io::BufReader::new(scene)
+        .take(4096)
+        .read_line(&mut first)
+        .ok()?;
+    let named = first.strip_prefix("# ")?.split(": ").next()?;
+    let its_own = raylab::check::export::slug(named) == slug;
+    (known && its_own).then(|| Needs::of(slug).rounding_fails(double))
 }
 
 impl Failed {
     /// The failed families, each a directory name and whether rounding fails correct code on
-    /// it ([`rounding_fails`]; `None` for one not the suite's: nothing is said).
+    /// it ([`rounding_fails`]); the name of one that is not the suite's, where one is: nothing
+    /// is sorted then.
     pub(super) fn sort<'a>(
         names: impl IntoIterator<Item = (&'a str, Option<bool>)>,
-    ) -> Option<Failed> {
+    ) -> Result<Failed, &'a str> {
         let mut failed = Failed {
             to_mend: Vec::new(),
             rounding: Vec::new(),
         };
         for (name, rounding) in names {
             let number = name.split_once('-').map_or(name, |(n, _)| n).to_string();
-            match rounding? {
+            match rounding.ok_or(name)? {
                 true => failed.rounding.push(number),
                 false => failed.to_mend.push(number),
             }
         }
-        Some(failed)
+        Ok(failed)
     }
 
     /// What `check` says under a suite's total, where families failed: which to mend first,

@@ -106,6 +106,27 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
                 failed besides: 03, ";
     assert!(out.contains(&format!("{said}{rounding}")), "{out}");
 
+    // Two families' directories swapped: their scenes name their own families, and the
+    // failed ones are not sorted, said so (it sorted a bug's family as rounding's).
+    let swapped = dir.path().join("swapped");
+    std::fs::create_dir(&swapped).unwrap();
+    for (from, to) in [
+        ("01-cube-from-inside", "03-icosphere-from-inside"),
+        ("03-icosphere-from-inside", "01-cube-from-inside"),
+    ] {
+        std::fs::create_dir(swapped.join(to)).unwrap();
+        for file in ["scene.txt", "rays.txt"] {
+            std::fs::copy(suite.join(from).join(file), swapped.join(to).join(file)).unwrap();
+        }
+    }
+    let args = ["check", "--suite", swapped.to_str().unwrap(), "--program"];
+    let program = format!("'{}' {{scene}} {{rays}}", starter.display());
+    let o = raylab(&[&args[..], &[&program, "--precision", "f64"]].concat());
+    let out = String::from_utf8(o.stdout).unwrap();
+    let not_sorted = "the failed families are not sorted by what rounding explains: \
+                      01-cube-from-inside is not a family of this raylab's suite, or its \
+                      scene.txt is another's";
+    assert!(out.contains(not_sorted) && !out.contains(rounding), "{out}");
     // A double program graded in float: its t's digits say so.
     let program = format!("'{}' {{scene}} {{rays}}", starter.display());
     let o = raylab(&[
