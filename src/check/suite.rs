@@ -344,7 +344,7 @@ pub fn near_coincident() -> Vec<Family> {
         shapes,
         rays,
     )
-        .probing("A triangle 1e-3 to 0 in front of a sphere (touching on the axis: an exact tie, the lower index wins)."));
+        .probing("A triangle 1e-3 to 0 in front of a sphere (touching on the axis: an exact tie, where either passes; raylab answers the lower index)."));
 
     // 60 different triangles overlapping in one tilted plane z = (x + 2y)/4 (vertices exact in
     // f32), growing with the index, and one just in front of the plane: every ray meets many
@@ -380,7 +380,7 @@ pub fn near_coincident() -> Vec<Family> {
         rays.push(Ray::new(o, [0, 1, 2].map(|c| p[c] - o[c])));
     }
     out.push(Family::new("60 overlapping coplanar faces", shapes, rays)
-        .probing("60 triangles overlapping in one plane: exact ties at every ray, the lowest index wins, unless the one just in front is hit."));
+        .probing("60 triangles overlapping in one plane: exact ties at every ray (either of those tied passes; raylab answers the lowest index), unless the one just in front is hit."));
     out
 }
 
