@@ -51,6 +51,13 @@ impl App {
             return;
         };
         if (x - x0).abs() > 3.0 || (y - y0).abs() > 3.0 {
+            // (A drag that moved nothing said nothing: in fly mode the left button only clicks.)
+            if self.viewer.controller.mode == raylab::controller::Mode::Fly {
+                let how = "a left drag turns the view in orbit mode (Tab); in fly mode a right \
+                           drag looks around";
+                self.viewer.set_status(how);
+                self.request_redraw();
+            }
             return;
         }
         self.click_on_image((x, y));
