@@ -618,8 +618,9 @@ const CPP_FALSE_HITS: usize = 1;
 const CPP_WRONG: [(&str, usize); 2] = [("f64", 7), ("f32", 2)];
 
 /// The C++ starter builds with its README's g++ line and, on the whole suite, gets the
-/// counts its README states in f64 and f32; its discriminant passes the far tiny
-/// spheres that the textbook one fails.
+/// counts its README states in f64 and f32, every family it fails one the library says
+/// rounding fails correct code on; its discriminant passes the far tiny spheres that the
+/// textbook one fails.
 #[test]
 fn the_cpp_starter_builds_and_gets_its_readme_counts() {
     if !common::tool_for(
@@ -665,6 +666,9 @@ fn the_cpp_starter_builds_and_gets_its_readme_counts() {
             [CPP_LEAKS, CPP_FALSE_HITS, wrong, 0],
             "{precision}: {out}"
         );
+        // Every family it fails is one the library says rounding fails correct code on.
+        let sorted = format!("no family failed that every correct {precision} program measured");
+        assert!(out.contains(&sorted), "{out}");
         let row = row(&out, "far-tiny-spheres-at-the-rim");
         assert_eq!(
             column(&row, "right") + column(&row, "ties"),
@@ -688,28 +692,24 @@ fn the_cpp_starter_builds_and_gets_its_readme_counts() {
     );
 }
 
-/// The families docs/grading.md names for a rubric of float code to weigh: correct float
-/// programs pass each of them graded `--precision f32`: Möller–Trumbore in f32 with exact
-/// spheres, and with its spheres in f32 too (the quadratic's roots taken stably). A float
-/// sphere failed 10, 13 and 15, which the list had named.
+/// The families the library says correct float code passes (`Needs::F32`), which
+/// docs/grading.md names for a rubric of float code to weigh: correct float programs pass
+/// each of them graded `--precision f32`: Möller–Trumbore in f32 with exact spheres, and with
+/// its spheres in f32 too (the quadratic's roots taken stably). A float sphere failed 10, 13
+/// and 15, which the list had named.
 #[test]
 fn correct_float_programs_pass_the_families_named_for_float_code() {
-    const FLOAT_FAMILIES: [&str; 8] = [
-        "grazing-1e-1-1e-6-rad",
-        "parallel-1e-3-1e-7-apart",
-        "60-overlapping-coplanar-faces",
-        "minus-0-0-directions",
-        "interval-ends-at-surfaces",
-        "hits-behind-the-origin",
-        "exact-ties",
-        "hits-just-past-tmin",
-    ];
+    use raylab::check::rounding::Needs;
+    let float_families: Vec<&str> = (raylab::check::suite::slugs().iter())
+        .filter(|slug| Needs::of(slug) == Needs::F32)
+        .map(String::as_str)
+        .collect();
     if !common::tool_for("python3", "python3", "the float programs") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
     let suite = export(dir.path());
-    let numbers: Vec<String> = (FLOAT_FAMILIES.iter())
+    let numbers: Vec<String> = (float_families.iter())
         .map(|name| family_dir(&suite, name)[..2].to_string())
         .collect();
     assert_eq!(numbers, ["09", "11", "14", "31", "35", "36", "37", "38"]);
@@ -719,7 +719,7 @@ fn correct_float_programs_pass_the_families_named_for_float_code() {
         (grading.split_whitespace().collect::<Vec<_>>().join(" ")).contains(stated),
         "docs/grading.md names the families this test runs"
     );
-    let sub = sub_suite(&suite, &FLOAT_FAMILIES, dir.path(), "float");
+    let sub = sub_suite(&suite, &float_families, dir.path(), "float");
     let moller = root().join("examples/check/bugs/f32_moller.py");
     let source = std::fs::read_to_string(&moller).unwrap();
     let exact_sphere =
