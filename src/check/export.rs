@@ -2,7 +2,7 @@
 //! in any language can be run on it and graded by `raylab check`.
 
 use super::rounding::Needs;
-use super::suite::Family;
+use super::suite::{slug, Family};
 use crate::input::{self, InputError};
 use std::path::{Path, PathBuf};
 
@@ -51,28 +51,6 @@ pub fn read_manifest(text: &str) -> Result<Vec<(String, usize)>, String> {
 /// order) and its [`slug`] (`01-cube-from-inside`).
 pub fn dir_name(index: usize, name: &str) -> String {
     format!("{:02}-{}", index + 1, slug(name))
-}
-
-/// A family's name in lowercase words joined by `-` (`cube-from-inside`), as its directory
-/// spells it after the number.
-pub fn slug(name: &str) -> String {
-    // A minus sign that starts a number is a word (`2^-17` is not `2^17`).
-    let mut spelled = String::new();
-    let mut prev = ' ';
-    for (i, c) in name.char_indices() {
-        let next_is_digit = name[i + c.len_utf8()..].starts_with(|d: char| d.is_ascii_digit());
-        match c == '-' && !prev.is_ascii_alphanumeric() && next_is_digit {
-            true => spelled.push_str(" minus "),
-            false => spelled.push(c),
-        }
-        prev = c;
-    }
-    let words: Vec<String> = spelled
-        .split(|c: char| !c.is_ascii_alphanumeric())
-        .filter(|w| !w.is_empty())
-        .map(str::to_ascii_lowercase)
-        .collect();
-    words.join("-")
 }
 
 /// A family's scene file: a comment naming it, then one primitive per line (its index is its

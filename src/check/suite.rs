@@ -137,11 +137,33 @@ pub fn all() -> Vec<Family> {
     families
 }
 
-/// Every family's name as its directory spells it after the number ([`super::export::slug`]),
+/// A family's name in lowercase words joined by `-` (`cube-from-inside`), as its directory
+/// spells it after the number.
+pub fn slug(name: &str) -> String {
+    // A minus sign that starts a number is a word (`2^-17` is not `2^17`).
+    let mut spelled = String::new();
+    let mut prev = ' ';
+    for (i, c) in name.char_indices() {
+        let next_is_digit = name[i + c.len_utf8()..].starts_with(|d: char| d.is_ascii_digit());
+        match c == '-' && !prev.is_ascii_alphanumeric() && next_is_digit {
+            true => spelled.push_str(" minus "),
+            false => spelled.push(c),
+        }
+        prev = c;
+    }
+    let words: Vec<String> = spelled
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(str::to_ascii_lowercase)
+        .collect();
+    words.join("-")
+}
+
+/// Every family's name as its directory spells it after the number ([`slug`]),
 /// in order. (Made once: each is a whole suite's build.)
 pub fn slugs() -> &'static [String] {
     static SLUGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
-    SLUGS.get_or_init(|| all().iter().map(|f| super::export::slug(&f.name)).collect())
+    SLUGS.get_or_init(|| all().iter().map(|f| slug(&f.name)).collect())
 }
 
 /// The closed meshes families.

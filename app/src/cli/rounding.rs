@@ -30,7 +30,7 @@ pub(super) fn rounding_fails(dir: &std::path::Path, double: bool) -> Option<bool
         .read_line(&mut first)
         .ok()?;
     let named = first.strip_prefix("# ")?.split(": ").next()?;
-    let its_own = raylab::check::export::slug(named) == slug;
+    let its_own = raylab::check::suite::slug(named) == slug;
     (known && its_own).then(|| Needs::of(slug).rounding_fails(double))
 }
 
