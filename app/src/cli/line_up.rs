@@ -1,77 +1,105 @@
 //! Answers lined up with the exact ones, ray by ray: where a program's answers are the exact
 //! ones a line off from some answer on (each the next or the last ray's: a line printed too
-//! many or left out), or where answers more or fewer than the rays stop lining up. Either
-//! made every hint below describe geometry that was not wrong.
+//! many or left out), or where answers more or fewer than the rays part from them. Either made
+//! every hint below describe geometry that was not wrong.
+//!
+//! Both fit one model: the answers are in place up to some answer, and from it on each is the
+//! exact answer of the ray `shift` later; the split that makes the most answers agree is
+//! taken, and a claim made only where nine in ten agree from it on, and many more than in
+//! place.
 
-use raylab::check::grade::{Answer, Judged, Verdict};
+use raylab::check::grade::{Answer, Judged, TError, Verdict};
 use raylab::math::Real;
 
-/// Whether two t's are one, within 10⁻⁶ (relative).
-fn same_t<T: Real>(s: T, t: T) -> bool {
-    let (s, t) = (s.f64(), t.f64());
-    (s - t).abs() <= 1e-6 * s.abs().max(t.abs())
-}
-
-/// Whether two answers are one: both misses, or hits of one primitive at one t. (By the
-/// primitive alone, rays side by side meeting one wall lined answers a line late up with their
-/// own rays.)
+/// Whether two answers are one: both misses, or hits of one primitive at t's within 10⁻⁴ of
+/// each other (relative: a t printed with 6 digits still lines up). (By the primitive alone,
+/// rays side by side meeting one wall lined answers a line late up with their own rays.)
 fn same<T: Real>(a: &Answer<T>, b: &Answer<T>) -> bool {
     match (a, b) {
         (Answer::Miss, Answer::Miss) => true,
-        (Answer::Hit { prim: p, t: s }, Answer::Hit { prim: q, t }) => p == q && same_t(*s, *t),
+        (Answer::Hit { prim: p, t: s }, Answer::Hit { prim: q, t }) => {
+            let (s, t) = (s.f64(), t.f64());
+            p == q && (s - t).abs() <= 1e-4 * s.abs().max(t.abs())
+        }
         _ => false,
     }
 }
 
-/// Whether answer `a` may answer the ray whose exact answer is `b`, t aside: both misses, or
-/// hits of one primitive, or at one t (a tie's another primitive).
-fn may_answer<T: Real>(a: &Answer<T>, b: &Answer<T>) -> bool {
-    match (a, b) {
-        (Answer::Miss, Answer::Miss) => true,
-        (Answer::Hit { prim: p, t: s }, Answer::Hit { prim: q, t }) => p == q || same_t(*s, *t),
-        _ => false,
+/// The best split of answers `0..n`: in place before it (`before(k)`), shifted from it
+/// (`after(k)`, `None` where answer k has no ray to shift to). Returns the first and last
+/// splits that make the most answers agree, and for each split how many agree from it on and
+/// how many were compared there.
+fn best_split(
+    n: usize,
+    before: impl Fn(usize) -> bool,
+    after: impl Fn(usize) -> Option<bool>,
+) -> (usize, usize, Vec<(usize, usize)>) {
+    // score(p) = in place before p + shifted from p: computed from the end.
+    let mut from_end = vec![(0usize, 0usize); n + 1];
+    for k in (0..n).rev() {
+        let (held, compared) = from_end[k + 1];
+        from_end[k] = match after(k) {
+            Some(a) => (held + a as usize, compared + 1),
+            None => (held, compared),
+        };
     }
+    let (mut best, mut first, mut last, mut in_place) = (0, 0, 0, 0);
+    for (p, (held, _)) in from_end.iter().enumerate() {
+        let score = in_place + held;
+        if score > best || p == 0 {
+            (best, first) = (score, p);
+        }
+        if score == best {
+            last = p;
+        }
+        if p < n {
+            in_place += before(p) as usize;
+        }
+    }
+    (first, last, from_end)
 }
 
-/// Whether nine in ten of `pairs` (at least `least`) hold.
-fn nine_in_ten(pairs: impl Iterator<Item = bool>, least: usize) -> bool {
-    let (held, all) = pairs.fold((0, 0), |(h, a), p| (h + p as usize, a + 1));
-    all >= least && 10 * held >= 9 * all
-}
-
-/// The answer from which, and the shift (+1 or −1) by which, a program's answers, as many as
-/// the rays, are the exact ones a line off: from the first that is not right (`right`, each
-/// ray's: right or a tie), answer K is the exact answer of ray K + shift for nine in ten of
-/// its hits (at least 3), and half or fewer of those hits are right where they stand. Not
-/// where half or more are their own rays' t on the primitive an index away (an index off by
-/// one: its own hint says so).
+/// The answer from which, and the shift (+1 or −1) by which, answers as many as the rays are
+/// the exact ones a line off: the best split ([`best_split`]) for a shift, where nine in ten
+/// of at least 3 agree from it on, and at least half of those more than in place (`right`,
+/// each ray's: right or a tie, t within the tolerance). Not where nine in ten of the answers
+/// from it that are wrong are their own ray's t on the primitive an index away (an index off
+/// by one: its own hint says so).
 pub(super) fn shift<T: Real>(
     given: &[Answer<T>],
     exact: &[Answer<T>],
     right: &[bool],
 ) -> Option<(usize, isize)> {
-    let from = right.iter().position(|r| !r)?;
-    let hits = || (from..given.len()).filter(|&k| matches!(given[k], Answer::Hit { .. }));
-    let in_place = hits().filter(|&k| right[k]).count();
+    let n = given.len();
+    if n != exact.len() || n != right.len() {
+        return None;
+    }
+    let candidate = |s: isize| {
+        let after = |k: usize| Some(same(&given[k], exact.get(k.checked_add_signed(s)?)?));
+        // (The last best split: the first takes in a stray line, one answer against nine.)
+        let (_, from, from_end) = best_split(n, |k| right[k], after);
+        let (held, compared) = from_end[from];
+        let in_place = (from..n).filter(|&k| right[k]).count();
+        let agreed = compared >= 3 && 10 * held >= 9 * compared;
+        (agreed && 2 * held.saturating_sub(in_place) >= compared).then_some((from, s, held))
+    };
+    let (from, s, _) = [candidate(1), candidate(-1)]
+        .into_iter()
+        .flatten()
+        .max_by_key(|c| c.2)?;
     // (Rays each aimed at the next primitive at t 1: an index off by one reads as a shift.)
-    let index_off = |k: usize| match (given[k], exact[k]) {
-        (Answer::Hit { t: s, prim: p }, Answer::Hit { t, prim: q }) => {
-            same_t(s, t) && p.abs_diff(q) == 1
+    let index_off = |k: &usize| match (given[*k], exact[*k]) {
+        (Answer::Hit { t: a, prim: p }, Answer::Hit { t: b, prim: q }) => {
+            same(
+                &Answer::Hit { t: a, prim: q },
+                &Answer::Hit { t: b, prim: q },
+            ) && p.abs_diff(q) == 1
         }
         _ => false,
     };
-    let (indices_off, all) = (hits().filter(|&k| index_off(k)).count(), hits().count());
-    if 2 * in_place > all || 2 * indices_off > all {
-        return None;
-    }
-    // (The last ray has no next: the pairs are those with a ray there.)
-    let lined = |s: isize| {
-        hits().filter_map(move |k| Some(same(&given[k], exact.get(k.checked_add_signed(s)?)?)))
-    };
-    [1, -1]
-        .into_iter()
-        .find(|&s| nine_in_ten(lined(s), 3))
-        .map(|s| (from, s))
+    let wrong: Vec<usize> = (from..n).filter(|&k| !right[k]).collect();
+    let off = wrong.iter().filter(|k| index_off(k)).count();
+    (wrong.is_empty() || 10 * off < 9 * wrong.len()).then_some((from, s))
 }
 
 /// What `check` and `grade` say of graded answers a line off ([`shift`]), where some are
@@ -81,8 +109,14 @@ pub(super) fn off_by_a_line<T: Real>(
     answers: &[(usize, Answer<T>)],
 ) -> Option<String> {
     let right: Vec<bool> = (judged.iter())
-        .map(|j| matches!(j.graded.verdict, Verdict::Right | Verdict::Tie))
+        .map(|j| {
+            matches!(j.graded.verdict, Verdict::Right | Verdict::Tie)
+                && j.graded.t_error != Some(TError::Beyond)
+        })
         .collect();
+    if right.iter().all(|r| *r) {
+        return None;
+    }
     let given: Vec<Answer<T>> = answers.iter().map(|(_, a)| *a).collect();
     let stood: Vec<Answer<T>> = judged.iter().map(|j| j.exact).collect();
     let (from, shift) = shift(&given, &stood, &right)?;
@@ -111,56 +145,75 @@ pub(super) fn off_by_a_line<T: Real>(
     ))
 }
 
-/// Where answers more or fewer than the rays (`given`, `exact` the rays' exact answers) stop
-/// lining up with the exact ones, t aside, in words after "N answers for the M rays of FILE"
-/// (`place(k)`: where ray k is): the first answer unlike its own ray's, and where from there
-/// the rest line up with the rays the difference later (fewer) or earlier (more), the answer
-/// left out there or the line printed too many.
+/// Where answers more or fewer than the rays (`given`; `exact`, the rays' exact answers) part
+/// from the exact ones, in words after "N answers for the M rays of FILE" (`place(k)`: where
+/// ray k is): where the best split ([`best_split`]) lines nine in ten up, the answer left out
+/// or the line printed too many there (or the range of them the answers cannot tell apart);
+/// else where the first answer unlike its own ray's is.
 pub(super) fn where_they_part<T: Real>(
     given: &[Answer<T>],
     exact: &[Answer<T>],
     place: impl Fn(usize) -> String,
 ) -> String {
-    if given.is_empty() {
+    let n = given.len();
+    if n == 0 || n == exact.len() {
         return String::new();
     }
-    let n = given.len().min(exact.len());
-    let from = (0..n)
-        .position(|k| !may_answer(&given[k], &exact[k]))
-        .unwrap_or(n);
-    let fewer = given.len() < exact.len();
-    let d = given.len().abs_diff(exact.len());
-    let up_to = match from {
-        0 => "the first is unlike its ray's".to_string(),
-        k => format!(
-            "they line up with the exact answers (t aside) up to {}",
-            place(k - 1)
-        ),
+    let fewer = n < exact.len();
+    let d = n.abs_diff(exact.len());
+    let before = |k: usize| exact.get(k).is_some_and(|e| same(&given[k], e));
+    let after = |k: usize| {
+        let e = match fewer {
+            true => k + d,
+            false => k.checked_sub(d)?,
+        };
+        Some(exact.get(e).is_some_and(|e| same(&given[k], e)))
     };
-    if from == n {
-        return match fewer {
-            true => format!("{up_to}, and stop there"),
-            false => format!("{up_to}; the {d} after the last ray's are lines too many"),
+    let (first, last, _) = best_split(n, before, after);
+    let agreed = (0..first).filter(|&k| before(k)).count()
+        + (first..n).filter(|&k| after(k).unwrap_or(false)).count();
+    let which = |(one, many): (&str, &str), a: usize, b: usize| match a == b {
+        true => format!("{one} {}", a + 1),
+        false => format!("one of {many} {} to {}", a + 1, b + 1),
+    };
+    let ray = |a: usize, b: usize| match a == b {
+        true => format!("the answer of {}", place(a)),
+        false => which(("", "the answers of rays"), a, b),
+    };
+    if 10 * agreed < 9 * n {
+        return match (0..n).position(|k| !before(k)) {
+            Some(k) => format!(
+                "they line up with the rays neither in place nor {d} off; the first unlike its \
+                 own ray's exact answer is answer {} ({})",
+                k + 1,
+                place(k)
+            ),
+            None => String::new(),
         };
     }
-    let (g, e) = match fewer {
-        true => (&given[from..], &exact[from + d..]),
-        false => (&given[from + d..], &exact[from..]),
+    // (A split p: the answer of ray p left out, fewer; answer p printed too many, more, where
+    // the splits on either side of a line too many, unlike both its neighbours' rays, tie.)
+    let last = match fewer {
+        true => last,
+        false => last.saturating_sub(1).max(first).min(n - 1),
     };
-    let rest = g.iter().zip(e).map(|(a, b)| may_answer(a, b));
-    match (nine_in_ten(rest, 1), fewer) {
-        (true, true) => format!(
-            "{up_to}, and from there with the rays {d} later: the answer of {} left out?",
-            place(from)
+    match (fewer, first, last) {
+        // (Every answer alike: nothing tells where.)
+        (_, 0, l) if l + 1 >= n => String::new(),
+        (true, f, _) if f == n => format!(
+            "they are the exact answers up to {}, and stop",
+            place(n - 1)
         ),
-        (true, false) => format!(
-            "{up_to}, and answers {} on are the exact answers of the rays {d} before them: \
-             answer {} printed too many?",
-            from + d + 1,
-            from + 1
+        (true, f, l) => format!(
+            "they line up with the exact answers, but for {} left out? (each answer after it \
+             the exact answer of the ray {d} later)",
+            ray(f, l)
         ),
-        (false, _) if from == 0 => format!("the first is unlike the exact answer of {}", place(0)),
-        (false, _) => format!("{up_to}; the next, {}'s, is not", place(from)),
+        (false, f, l) => format!(
+            "they line up with the exact answers, but for {} printed too many? (each answer \
+             after it the exact answer of the ray {d} before)",
+            which(("answer", "answers"), f, l)
+        ),
     }
 }
 
@@ -179,56 +232,64 @@ mod tests {
         given.iter().zip(exact).map(|(g, e)| same(g, e)).collect()
     }
 
-    /// A program one line late (a stale answer first, or from some answer on) is found; right
-    /// answers, an index off by one at the same t, or ones a line off on rays that all meet
-    /// one primitive at one t, are not.
+    /// A program one line late (a stale answer first, or from some answer on) is found, and
+    /// from where, past an early wrong answer of its own; right answers, or an index off by
+    /// one at the same t, are not.
     #[test]
     fn answers_a_line_off_are_found() {
-        let exact: Vec<Answer<f64>> = [3, 1, 4, 1, 5, 9, 2, 6].map(hit).to_vec();
-        let late: Vec<Answer<f64>> = [Answer::Miss].iter().chain(&exact[..7]).copied().collect();
-        assert_eq!(shift(&late, &exact, &right(&late, &exact)), Some((0, -1)));
+        let exact: Vec<Answer<f64>> = [3, 1, 4, 1, 5, 9, 2, 6, 5, 3].map(hit).to_vec();
+        let late: Vec<Answer<f64>> = [Answer::Miss].iter().chain(&exact[..9]).copied().collect();
+        assert_eq!(shift(&late, &exact, &right(&late, &exact)), Some((1, -1)));
         let early: Vec<Answer<f64>> = exact[1..].iter().copied().chain([hit(0)]).collect();
         assert_eq!(shift(&early, &exact, &right(&early, &exact)), Some((0, 1)));
-        let mid: Vec<Answer<f64>> = (exact[..3].iter().chain(&[Answer::Miss]).chain(&exact[3..7]))
-            .copied()
-            .collect();
-        assert_eq!(shift(&mid, &exact, &right(&mid, &exact)), Some((3, -1)));
+        let mut mid: Vec<Answer<f64>> =
+            (exact[..4].iter().chain(&[Answer::Miss]).chain(&exact[4..9]))
+                .copied()
+                .collect();
+        assert_eq!(shift(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
+        mid[2] = Answer::Miss;
+        assert_eq!(shift(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
         assert_eq!(shift(&exact, &exact, &right(&exact, &exact)), None);
-        let same_t = |p: u32| Answer::Hit { t: 1.0, prim: p };
-        let exact_t1: Vec<Answer<f64>> = (0..8).map(same_t).collect();
-        let index_plus_1: Vec<Answer<f64>> = (1..9).map(same_t).collect();
+        let t1 = |p: u32| Answer::Hit { t: 1.0, prim: p };
+        let exact_t1: Vec<Answer<f64>> = (0..8).map(t1).collect();
+        let index_plus_1: Vec<Answer<f64>> = (1..9).map(t1).collect();
         let wrong = right(&index_plus_1, &exact_t1);
         assert_eq!(shift(&index_plus_1, &exact_t1, &wrong), None);
     }
 
-    /// Answers fewer or more than the rays: where they part, and the answer left out or the
-    /// line too many where the rest line up.
+    /// Answers fewer or more than the rays: the answer left out or the line too many, a range
+    /// where the answers cannot tell, or the first unlike its own where nothing lines up.
     #[test]
     fn answers_short_or_long_say_where_they_part() {
-        let exact: Vec<Answer<f64>> = [3, 1, 4, 1, 5, 9, 2, 6].map(hit).to_vec();
+        let exact: Vec<Answer<f64>> = [3, 1, 4, 1, 5, 9, 2, 6, 5, 3].map(hit).to_vec();
         let place = |k: usize| format!("ray {}", k + 1);
-        let skipped: Vec<Answer<f64>> = [3, 1, 4, 5, 9, 2, 6].map(hit).to_vec();
-        let said = where_they_part(&skipped, &exact, place);
-        assert!(
-            said.ends_with("rays 1 later: the answer of ray 4 left out?"),
-            "{said}"
-        );
-        let cut = &exact[..5];
-        assert!(where_they_part(cut, &exact, place).ends_with("up to ray 5, and stop there"));
+        let part = |given: &[Answer<f64>]| where_they_part(given, &exact, place);
+        let skipped: Vec<Answer<f64>> = (exact[..3].iter().chain(&exact[4..])).copied().collect();
+        assert!(part(&skipped).contains("but for the answer of ray 4 left out?"));
+        assert!(part(&exact[1..]).contains("but for the answer of ray 1 left out?"));
+        assert!(part(&exact[1..])
+            .contains("(each answer after it the exact answer of the ray 1 later)"));
+        assert!(part(&exact[..9]).starts_with("they are the exact answers up to ray 9, and stop"));
         let extra: Vec<Answer<f64>> = (exact[..2].iter().chain(&[Answer::Miss]).chain(&exact[2..]))
             .copied()
             .collect();
-        let said = where_they_part(&extra, &exact, place);
-        assert!(said.ends_with("answers 4 on are the exact answers of the rays 1 before them: answer 3 printed too many?"), "{said}");
-        let one_wrong: Vec<Answer<f64>> =
-            (exact[..2].iter().chain(&[Answer::Miss]).chain(&exact[3..6]))
-                .copied()
-                .collect();
-        let said = where_they_part(&one_wrong, &exact, place);
         assert!(
-            said.ends_with("up to ray 2; the next, ray 3's, is not"),
+            part(&extra).contains("but for answer 3 printed too many?"),
+            "{}",
+            part(&extra)
+        );
+        let walls = vec![hit(7); 10];
+        assert_eq!(where_they_part(&walls[..9], &walls, place), "");
+        let twin: Vec<Answer<f64>> = [3, 1, 1, 1, 5].map(hit).to_vec();
+        let said = where_they_part(&[3, 1, 1, 5].map(hit), &twin, place);
+        assert!(
+            said.contains("one of the answers of rays 2 to 4 left out?"),
             "{said}"
         );
-        assert_eq!(where_they_part(&[], &exact, place), "");
+        let scrambled: Vec<Answer<f64>> = [9, 9, 9, 9, 9, 9, 9, 9, 9].map(hit).to_vec();
+        assert!(
+            part(&scrambled).contains("the first unlike its own ray's exact answer is answer 1")
+        );
+        assert_eq!(part(&[]), "");
     }
 }

@@ -58,19 +58,17 @@ impl Failed {
     /// What `check` says under a suite's total, where families failed: which to mend first,
     /// and which fail correct code too. (A correct double program failed five families and
     /// the student could not tell it from a bug.)
-    /// (`ungraded`: how many families gave no answers to grade, said first: a program that
-    /// dropped its `miss` lines in 23 families was told that none failed but rounding's.)
+    /// (`ungraded`: how many families were not graded, said first: a program that dropped its
+    /// `miss` lines in 23 families was told that none failed but rounding's.)
     pub(super) fn sentence(&self, precision: &str, ungraded: usize) -> Option<String> {
         let sorted = self.sorted(precision);
         match (ungraded, sorted) {
             (0, sorted) => sorted,
-            (n, None) => Some(format!(
-                "{} no answers to grade: mend those first",
-                given(n)
-            )),
+            (n, None) => Some(format!("{}: mend {} first", not_graded(n), them(n))),
             (n, Some(sorted)) => Some(format!(
-                "{} no answers to grade: mend those first; of the others, {sorted}",
-                given(n)
+                "{}: mend {} first; of the others, {sorted}",
+                not_graded(n),
+                them(n)
             )),
         }
     }
@@ -105,9 +103,22 @@ impl Failed {
     }
 }
 
-/// "1 family gave" or "N families gave".
-fn given(n: usize) -> String {
-    format!("{} gave", raylab::words::count(n, "family", "families"))
+/// "1 family was not graded" or "N families were not graded" (a run that crashed, ran out of
+/// time, or printed what is not one answer a ray).
+fn not_graded(n: usize) -> String {
+    match n {
+        1 => "1 family was not graded".into(),
+        n => format!("{n} families were not graded"),
+    }
+}
+
+/// "it" or "them".
+fn them(n: usize) -> &'static str {
+    if n == 1 {
+        "it"
+    } else {
+        "them"
+    }
 }
 
 /// The t's a program printed, by their significant digits: what a float program prints (9 or

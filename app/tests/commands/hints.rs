@@ -539,9 +539,9 @@ fn answers_a_line_off_or_one_short_are_named_so() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     let rays = s("rays.txt");
     let said = format!(
-        "4 answers for the 5 rays of {rays}: they line up with the exact answers (t aside) up \
-         to {rays}:2 (ray 2), and from there with the rays 1 later: the answer of {rays}:3 (ray \
-         3) left out?"
+        "4 answers for the 5 rays of {rays}: they line up with the exact answers, but for the \
+         answer of {rays}:3 (ray 3) left out? (each answer after it the exact answer of the ray \
+         1 later)"
     );
     assert!(err.contains(&said), "{said} in {err}");
 }
