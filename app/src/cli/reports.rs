@@ -135,7 +135,7 @@ fn failed_families(s: &Submission, cases: &[Case], precision: &str) -> Option<St
     let ungraded = (s.records.iter())
         .filter(|r| !matches!(r.status, Status::Ok | Status::Failed))
         .count();
-    Failed::sort(failed).ok()?.sentence(precision, ungraded)
+    Failed::sort(failed).sentence(precision, ungraded)
 }
 
 /// A family's points for a record: the family's when it passed.

@@ -12,6 +12,8 @@ pub(super) struct Failed {
     pub to_mend: Vec<String>,
     /// The numbers of those rounding fails some correct programs on too.
     pub rounding: Vec<String>,
+    /// The names of those not of this raylab's suite (or whose scene is another's): unsorted.
+    pub unknown: Vec<String>,
 }
 
 /// Whether rounding fails some correct programs graded in double (`double`) or in float on
@@ -36,23 +38,22 @@ pub(super) fn rounding_fails(dir: &std::path::Path, double: bool) -> Option<bool
 
 impl Failed {
     /// The failed families, each a directory name and whether rounding fails correct code on
-    /// it ([`rounding_fails`]); the name of one that is not the suite's, where one is: nothing
-    /// is sorted then.
-    pub(super) fn sort<'a>(
-        names: impl IntoIterator<Item = (&'a str, Option<bool>)>,
-    ) -> Result<Failed, &'a str> {
+    /// it ([`rounding_fails`]; `None`: not this raylab's suite's, left unsorted).
+    pub(super) fn sort<'a>(names: impl IntoIterator<Item = (&'a str, Option<bool>)>) -> Failed {
         let mut failed = Failed {
             to_mend: Vec::new(),
             rounding: Vec::new(),
+            unknown: Vec::new(),
         };
         for (name, rounding) in names {
             let number = name.split_once('-').map_or(name, |(n, _)| n).to_string();
-            match rounding.ok_or(name)? {
-                true => failed.rounding.push(number),
-                false => failed.to_mend.push(number),
+            match rounding {
+                Some(true) => failed.rounding.push(number),
+                Some(false) => failed.to_mend.push(number),
+                None => failed.unknown.push(raylab_app::one_line(name)),
             }
         }
-        Ok(failed)
+        failed
     }
 
     /// What `check` says under a suite's total, where families failed: which to mend first,
@@ -76,30 +77,40 @@ impl Failed {
     /// The sentence on the families graded.
     fn sorted(&self, precision: &str) -> Option<String> {
         let list = |numbers: &[String]| numbers.join(", ");
+        let every = format!("every correct {precision} program measured passes");
         let rounding = format!(
             "where rounding fails some correct {precision} programs too (the suite's README.md, \
              \"correct code passes it in\")"
         );
-        match (self.to_mend.is_empty(), self.rounding.is_empty()) {
-            (true, true) => None,
-            (true, false) => Some(format!(
-                "no family failed that every correct {precision} program measured passes; those \
-                 failed ({}) are ones {rounding}: their hints say which mistakes lie within \
-                 rounding",
+        let mut parts = Vec::new();
+        if !self.to_mend.is_empty() {
+            parts.push(format!(
+                "to mend first: {}, failed where {every}",
+                list(&self.to_mend)
+            ));
+        }
+        // (Only where every failed family is sorted: an unsorted one may be a bug's.)
+        let all_sorted = self.to_mend.is_empty() && self.unknown.is_empty();
+        match (self.rounding.is_empty(), all_sorted) {
+            (true, _) => {}
+            (false, true) => parts.push(format!(
+                "no family failed that {every}; those failed ({}) are ones {rounding}: their \
+                 hints say which mistakes lie within rounding",
                 list(&self.rounding)
             )),
-            (false, true) => Some(format!(
-                "to mend first: {}, failed where every correct {precision} program measured \
-                 passes",
-                list(&self.to_mend)
-            )),
-            (false, false) => Some(format!(
-                "to mend first: {}, failed where every correct {precision} program measured \
-                 passes; failed besides: {}, {rounding}",
-                list(&self.to_mend),
+            (false, false) => parts.push(format!(
+                "failed besides: {}, {rounding}",
                 list(&self.rounding)
             )),
         }
+        if !self.unknown.is_empty() {
+            parts.push(format!(
+                "not sorted: {} (not a family of this raylab's suite, or its scene.txt is \
+                 another's: `raylab suite export` writes the suite)",
+                self.unknown.join(", ")
+            ));
+        }
+        (!parts.is_empty()).then(|| parts.join("; "))
     }
 }
 
@@ -180,7 +191,31 @@ impl Digits {
 
 #[cfg(test)]
 mod tests {
-    use super::Digits;
+    use super::{Digits, Failed};
+
+    /// A family not of the suite is left unsorted, named, and the others sorted all the same;
+    /// "no family failed that every correct program passes" is said only where all are sorted.
+    #[test]
+    fn an_unknown_family_is_left_unsorted_and_the_others_sorted() {
+        let rounding = "03-icosphere-from-inside";
+        let sorted = Failed::sort([(rounding, Some(true)), ("39-mine", None)]);
+        let said = sorted.sentence("f64", 0).unwrap();
+        assert!(
+            said.starts_with("failed besides: 03, where rounding fails"),
+            "{said}"
+        );
+        assert!(
+            said.contains("; not sorted: 39-mine (not a family of"),
+            "{said}"
+        );
+        let alone = Failed::sort([(rounding, Some(true))])
+            .sentence("f64", 0)
+            .unwrap();
+        assert!(alone.starts_with("no family failed that every correct f64 program"));
+        let mend = Failed::sort([("01-cube-from-inside", Some(false))]).sentence("f32", 2);
+        let said = "2 families were not graded: mend them first; of the others, to mend first: 01";
+        assert!(mend.unwrap().starts_with(said));
+    }
 
     /// Float-printed t's graded in double are told of --precision f32, double-printed ones
     /// graded in float of f64; t's of few digits tell nothing.

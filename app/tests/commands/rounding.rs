@@ -123,9 +123,8 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
     let program = format!("'{}' {{scene}} {{rays}}", starter.display());
     let o = raylab(&[&args[..], &[&program, "--precision", "f64"]].concat());
     let out = String::from_utf8(o.stdout).unwrap();
-    let not_sorted = "the failed families are not sorted by what rounding explains: \
-                      01-cube-from-inside is not a family of this raylab's suite, or its \
-                      scene.txt is another's";
+    let not_sorted = "not sorted: 01-cube-from-inside (not a family of this raylab's suite, or \
+                      its scene.txt is another's";
     assert!(out.contains(not_sorted) && !out.contains(rounding), "{out}");
     // A double program graded in float: its t's digits say so.
     let program = format!("'{}' {{scene}} {{rays}}", starter.display());
