@@ -340,9 +340,9 @@ pub(super) fn answers_for<T: Real>(
             said => format!(": {said}"),
         };
         bail!(
-            "{file}: {} for the {} rays of {}{where_}",
+            "{file}: {} for the {} of {}{where_}",
             raylab::words::count(answers.len(), "answer", "answers"),
-            exact.rays.len(),
+            raylab::words::count(exact.rays.len(), "ray", "rays"),
             rays_file.display()
         );
     }
@@ -385,9 +385,10 @@ pub(super) fn program_answers<T: Real>(
         program::RunError::Failed { printed, .. } => {
             let why = crashed(e.to_string(), printed, exact.rays.len(), place);
             let text = String::from_utf8_lossy(printed);
-            let answers = answers_for("its output", &text, exact, rays_file).ok();
-            let tally = answers.map(|a| tally_of(&judge_all(exact, &a, tolerance)));
-            graded_anyway(why, tally)
+            let answers = answers_for("its output", &text, exact, rays_file);
+            let graded = (answers.map(|a| tally_of(&judge_all(exact, &a, tolerance))))
+                .map_err(|e| format!("{e:#}"));
+            graded_anyway(why, printed, exact.rays.len(), graded)
         }
         _ => e.to_string(),
     })?;

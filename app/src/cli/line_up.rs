@@ -180,8 +180,15 @@ pub(super) fn where_they_part<T: Real>(
         true => format!("the answer of {}", place(a)),
         false => which(("", "the answers of rays"), a, b),
     };
+    // (More answers than rays, every ray's in place: the rest are lines too many.)
+    let in_place = (0..n).position(|k| !before(k)).unwrap_or(n);
+    if !fewer && in_place >= exact.len() {
+        return format!(
+            "they are the exact answers, and the {d} after the last ray's lines too many"
+        );
+    }
     if 10 * agreed < 9 * n {
-        return match (0..n).position(|k| !before(k)) {
+        return match Some(in_place).filter(|&k| k < n) {
             Some(k) => format!(
                 "they line up with the rays neither in place nor {d} off; the first unlike its \
                  own ray's exact answer is answer {} ({})",
@@ -291,5 +298,45 @@ mod tests {
             part(&scrambled).contains("the first unlike its own ray's exact answer is answer 1")
         );
         assert_eq!(part(&[]), "");
+        let one_more = where_they_part(&[hit(3), Answer::Miss], &[hit(3)], place);
+        assert_eq!(
+            one_more,
+            "they are the exact answers, and the 1 after the last ray's lines too many"
+        );
+    }
+
+    /// Every pairing of up to 4 answers with up to 4 rays, each a miss or one of two hits,
+    /// is lined up without a panic (a ray's place past the last ray was asked for).
+    #[test]
+    fn every_small_pairing_lines_up_without_a_panic() {
+        let kinds = [Answer::Miss, hit(1), hit(2)];
+        let all = |len: usize| -> Vec<Vec<Answer<f64>>> {
+            (0..3usize.pow(len as u32))
+                .map(|mut code| {
+                    (0..len)
+                        .map(|_| {
+                            let a = kinds[code % 3];
+                            code /= 3;
+                            a
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        for (n, m) in (0..=4).flat_map(|n| (1..=4).map(move |m| (n, m))) {
+            // (A place past the last ray panics where the command line looks it up.)
+            let place = |k: usize| {
+                assert!(k < m, "ray {k} of {m}");
+                format!("ray {}", k + 1)
+            };
+            for given in all(n) {
+                for exact in all(m) {
+                    where_they_part(&given, &exact, place);
+                    if n == m {
+                        shift(&given, &exact, &right(&given, &exact));
+                    }
+                }
+            }
+        }
     }
 }

@@ -75,21 +75,33 @@ pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
     )
 }
 
-/// `why` a failed run whose output held an answer for every ray, with how those answers grade
-/// all the same (`tally`, where they are answers): one that answered every ray right and then
-/// exited 1 (a `main` without `return 0`, a `sys.exit(1)` at the end) was told only that it
-/// had printed every answer.
-pub(super) fn graded_anyway(why: String, tally: Option<raylab::check::Tally>) -> String {
-    match tally {
-        Some(t) if t.passed() => format!(
+/// `why` a failed run whose output held an answer for every ray (`printed`, for `rays`
+/// rays), with how those answers grade all the same (`graded`: their tally, or why they are
+/// not one answer a ray): one that answered every ray right and then exited 1 (a `main`
+/// without `return 0`, a `sys.exit(1)` at the end) was told only that it had printed every
+/// answer.
+pub(super) fn graded_anyway(
+    why: String,
+    printed: &[u8],
+    rays: usize,
+    graded: Result<raylab::check::Tally, String>,
+) -> String {
+    if answered(printed) < rays {
+        return why;
+    }
+    match graded {
+        Ok(t) if t.passed() => format!(
             "{why}: graded all the same, every answer stands: its exit status alone fails it \
              (end with status 0)"
         ),
-        Some(t) => format!(
-            "{why}: graded all the same, {} stand and {} do not",
-            t.right + t.ties - t.t_beyond,
-            t.leaks + t.false_hits + t.wrong + t.t_beyond
-        ),
-        None => why,
+        Ok(t) => {
+            let wrong = t.leaks + t.false_hits + t.wrong + t.t_beyond;
+            let (does, stand) = (
+                if wrong == 1 { "does" } else { "do" },
+                t.right + t.ties - t.t_beyond,
+            );
+            format!("{why}: graded all the same, {stand} stand and {wrong} {does} not")
+        }
+        Err(not_answers) => format!("{why}: graded all the same, {not_answers}"),
     }
 }

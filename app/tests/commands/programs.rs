@@ -83,9 +83,16 @@ fn a_run_that_fails_after_every_answer_is_graded_all_the_same() {
     let (out, code) = check_program(&scene, &rays, "echo miss; exit 1 # {scene} {rays}", &[]);
     assert_eq!(code, Some(1), "{out}");
     assert!(
-        out.contains("graded all the same, 0 stand and 1 do not"),
+        out.contains("graded all the same, 0 stand and 1 does not"),
         "{out}"
     );
+    // One line too many, then exit 1: the answers' words, graded all the same.
+    let two = "echo hit 1 0; echo miss; exit 1 # {scene} {rays}";
+    let (out, code) = check_program(&scene, &rays, two, &[]);
+    assert_eq!(code, Some(1), "{out}");
+    let said = "graded all the same, its output: 2 answers for the 1 ray of ";
+    let too_many = "they are the exact answers, and the 1 after the last ray's lines too many";
+    assert!(out.contains(said) && out.contains(too_many), "{out}");
 }
 
 /// A program that starts daemons (their own session, out of its process group), one of them
