@@ -310,18 +310,28 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
 /// The submissions `names` name (all where none is), each name one of them: a teacher
 /// grading one student again made a folder of links to it and merged the CSV by hand.
 fn only(submissions: Vec<PathBuf>, names: &[String], class: &Path) -> Result<Vec<PathBuf>> {
+    // (A name as typed: its last part (`Zed/`, `./Zed`, `class/Zed` by tab), its accents
+    // composed or not (a Mac's zip writes é as e and a combining accent).)
+    use unicode_normalization::UnicodeNormalization;
+    let key = |name: &str| -> String {
+        let last = Path::new(name)
+            .file_name()
+            .map_or(name.into(), |n| n.to_string_lossy());
+        last.nfc().collect()
+    };
+    let named = |s: &PathBuf, n: &String| key(&name_of(s)) == key(n);
     if let Some(name) = names
         .iter()
-        .find(|n| !submissions.iter().any(|s| name_of(s) == **n))
+        .find(|n| !submissions.iter().any(|s| named(s, n)))
     {
         bail!(
             "--only {}: no submission of that name in {} (a directory of it, as named there)",
-            one_line(name),
+            raylab::view::shell_quote(&one_line(name)),
             class.display()
         );
     }
     Ok((submissions.into_iter())
-        .filter(|s| names.is_empty() || names.iter().any(|n| name_of(s) == *n))
+        .filter(|s| names.is_empty() || names.iter().any(|n| named(s, n)))
         .collect())
 }
 
@@ -673,14 +683,16 @@ fn limit_hint(e: &RunError, limits: &Limits) -> String {
     // (A crash that names its own memory bug, glibc's heap checks or a sanitizer's, is that
     // bug: "realloc(): invalid next size | Aborted" was told it may be the limit.)
     let own_bug = said_of(&[
-        "double free",
+        // (glibc's own words, whole: "corrupted" alone took "a scene line looks corrupted".)
+        "double free or corruption",
         "free(): ",
         "malloc(): ",
         "realloc(): ",
         "munmap_chunk(): ",
         "malloc_consolidate(): ",
-        "tcache",
-        "corrupted",
+        "corrupted size vs. prev_size",
+        "corrupted double-linked list",
+        "corrupted top size",
         "stack smashing detected",
         "AddressSanitizer",
     ]);

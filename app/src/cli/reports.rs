@@ -133,7 +133,7 @@ fn failed_families(s: &Submission, cases: &[Case], precision: &str) -> Option<St
         .filter(|(r, _)| r.status == Status::Failed)
         .map(|(_, case)| (case.name.as_str(), case.rounding));
     let ungraded = (s.records.iter())
-        .filter(|r| !matches!(r.status, Status::Ok | Status::Failed))
+        .filter(|r| !matches!(r.status, Status::Ok | Status::Failed | Status::Empty))
         .count();
     Failed::sort(failed).sentence(precision, ungraded)
 }

@@ -301,6 +301,11 @@ fn a_crash_at_a_limit_names_the_limit() {
             "nat-unmaps",
             "echo 'munmap_chunk(): invalid pointer' >&2; kill -ABRT $$\n",
         ),
+        // (A word of its own that is no heap bug's: the hint stays.)
+        (
+            "oz-segfaults",
+            "echo 'warning: scene line 3 looks corrupted' >&2; kill -SEGV $$\n",
+        ),
         // (Java's words for a thread it could not start, which name memory.)
         (
             "max-threads",
@@ -350,6 +355,7 @@ fn a_crash_at_a_limit_names_the_limit() {
         "{hoards}"
     );
     assert!(!detail("ada").contains("limit"), "{json}");
+    assert!(detail("oz-segfaults").contains("--max-memory"), "{json}");
     let ends = detail("ann-ends-1");
     assert!(
         ends.contains("\"status\": \"crashed\"")

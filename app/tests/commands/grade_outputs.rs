@@ -347,7 +347,8 @@ fn only_grades_the_submissions_named() {
     let dir = tempfile::tempdir().unwrap();
     let (class, suite) = cut_class_and_suite(dir.path(), &["ada", "bob-crashes"], &["16-"]);
     let csv = dir.path().join("one.csv");
-    let more = ["--only", "bob-crashes", "--csv", csv.to_str().unwrap()];
+    // (As tab completes it, with a slash.)
+    let more = ["--only", "bob-crashes/", "--csv", csv.to_str().unwrap()];
     let o = grade_class(&class, &suite, &more);
     let (out, err) = (common::binary::stdout(&o), common::binary::stderr(&o));
     assert_eq!(o.status.code(), Some(0), "{out}{err}");
@@ -362,6 +363,11 @@ fn only_grades_the_submissions_named() {
         "{csv}"
     );
     assert_eq!(csv.lines().count(), 2, "{csv}");
+    // A name unzipped from a Mac (é as e and a combining accent), typed composed: found.
+    std::fs::create_dir(class.join("Jose\u{301}")).unwrap();
+    let o = grade_class(&class, &suite, &["--only", "Jos\u{e9}"]);
+    let out = common::binary::stdout(&o);
+    assert_eq!(out.lines().count(), 2, "{out}");
     let o = grade_class(&class, &suite, &["--only", "ada", "--only", "zed"]);
     let said = format!(
         "--only zed: no submission of that name in {}",
