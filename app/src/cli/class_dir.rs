@@ -20,6 +20,10 @@ pub(super) fn submissions(class: &Path) -> Result<Vec<PathBuf>> {
     for path in paths {
         let why = match () {
             _ if name_of(&path).starts_with('.') => "hidden",
+            // (A class of zips: said how to grade them.)
+            _ if !path.is_dir() && is_archive(&name_of(&path)) => {
+                "an archive, not a directory (unpack each into a folder of its own)"
+            }
             _ if !path.is_dir() => "not a directory",
             // (A class unzipped on a Mac holds one, graded as a student who crashed.)
             _ if name_of(&path) == "__MACOSX" => "macOS's zip metadata",
@@ -137,14 +141,30 @@ pub(super) fn copy_tree(from: &Path, to: &Path, copied: &mut u64) -> std::io::Re
 /// among the e's, `chloé` before `Zoë`).
 pub(super) fn list_order(name: &str) -> String {
     use unicode_normalization::{char::is_combining_mark, UnicodeNormalization};
-    let letters: String = name.nfd().filter(|c| !is_combining_mark(*c)).collect();
-    letters.to_lowercase()
+    // (Letters that do not decompose, folded as a class list reads them: Ørjan among the o's.)
+    let fold = |c: char| match c {
+        'ø' | 'Ø' => "o",
+        'æ' | 'Æ' => "ae",
+        'œ' | 'Œ' => "oe",
+        'ß' => "ss",
+        'ł' | 'Ł' => "l",
+        'đ' | 'Đ' => "d",
+        'ı' => "i",
+        _ => "",
+    };
+    let letters = name.nfd().filter(|c| !is_combining_mark(*c));
+    let folded: String = letters
+        .map(|c| match fold(c) {
+            "" => c.to_string(),
+            f => f.to_string(),
+        })
+        .collect();
+    folded.to_lowercase()
 }
 
 /// The archives a submission holds where it holds nothing else (its system files aside): a
 /// student who handed in `lab3.zip` crashed in every family, "can't open intersect.py".
 pub(super) fn only_archives(dir: &Path) -> Option<Vec<String>> {
-    const ARCHIVES: [&str; 7] = [".zip", ".tar", ".gz", ".tgz", ".xz", ".7z", ".rar"];
     let mut files = Vec::new();
     let mut dirs = vec![dir.to_path_buf()];
     while let Some(d) = dirs.pop() {
@@ -157,6 +177,11 @@ pub(super) fn only_archives(dir: &Path) -> Option<Vec<String>> {
             }
         }
     }
-    let archive = |f: &String| ARCHIVES.iter().any(|a| f.to_lowercase().ends_with(a));
-    (!files.is_empty() && files.iter().all(archive)).then_some(files)
+    (!files.is_empty() && files.iter().all(|f| is_archive(f))).then_some(files)
+}
+
+/// Whether a file's name is an archive's (`lab3.zip`, `lab3.tar.gz`, …).
+fn is_archive(name: &str) -> bool {
+    const ARCHIVES: [&str; 7] = [".zip", ".tar", ".gz", ".tgz", ".xz", ".7z", ".rar"];
+    ARCHIVES.iter().any(|a| name.to_lowercase().ends_with(a))
 }

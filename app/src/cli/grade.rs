@@ -183,6 +183,15 @@ pub fn grade(args: &GradeArgs) -> Result<()> {
             outputs.push((output, report));
         }
     }
+    if let (Some(dir), Some(family)) = (&args.feedback, &args.family) {
+        // (A family graded again replaced a student's whole feedback, unsaid.)
+        eprintln!(
+            "warning: --feedback {} with --family {}: each student's file there is written \
+             anew, of that family alone",
+            dir.display(),
+            one_line(family)
+        );
+    }
     if let Some(dir) = &args.feedback {
         // (Within the class's directory it would be graded as a submission next time.)
         refuse_inside("--feedback", dir, &[args.class.clone(), args.suite.clone()])?;

@@ -214,6 +214,8 @@ fn an_empty_submission_is_empty_and_not_run() {
     // (An archive alone: graded, and warned of.)
     std::fs::create_dir_all(class.join("oli-zipped")).unwrap();
     std::fs::write(class.join("oli-zipped/lab3.zip"), "PK\x05\x06").unwrap();
+    std::fs::write(class.join("pam.zip"), "PK\x05\x06").unwrap();
+    std::fs::create_dir_all(class.join("Ørjan-empty")).unwrap();
     std::fs::write(class.join("lou-notes/notes.txt"), "").unwrap();
     // (The feedback through a link to a directory not made yet: made through it, as a
     // missing one is; it said "File exists".)
@@ -247,10 +249,14 @@ fn an_empty_submission_is_empty_and_not_run() {
         "max-zipped",
         "Ned-empty",
         "oli-zipped",
+        "Ørjan-empty",
     ];
     assert_eq!(names, order, "{out}");
     let zipped = "oli-zipped: holds archives alone (lab3.zip): unpack them where the program";
     assert!(err.contains(zipped), "{err}");
+    let zip = "pam.zip: an archive, not a directory (unpack each into a folder of its own), so \
+               not a submission";
+    assert!(err.contains(zip), "{err}");
     assert!(row("lou-notes ").ends_with(" crashed 2"), "{out}");
     let csv = std::fs::read_to_string(&csv).unwrap();
     let kim: Vec<&str> = csv
@@ -368,6 +374,23 @@ fn only_grades_the_submissions_named() {
     let o = grade_class(&class, &suite, &["--only", "Jos\u{e9}"]);
     let out = common::binary::stdout(&o);
     assert_eq!(out.lines().count(), 2, "{out}");
+    // One family again into the feedback folder: said to replace each file whole.
+    let feedback = dir.path().join("feedback");
+    let more = [
+        "--only",
+        "ada",
+        "--family",
+        "16",
+        "--feedback",
+        feedback.to_str().unwrap(),
+    ];
+    let o = grade_class(&class, &suite, &more);
+    let said = "with --family 16: each student's file there is written anew, of that family alone";
+    assert!(
+        common::binary::stderr(&o).contains(said),
+        "{}",
+        common::binary::stderr(&o)
+    );
     let o = grade_class(&class, &suite, &["--only", "ada", "--only", "zed"]);
     let said = format!(
         "--only zed: no submission of that name in {}",

@@ -93,6 +93,18 @@ fn a_run_that_fails_after_every_answer_is_graded_all_the_same() {
     let said = "graded all the same, its output: 2 answers for the 1 ray of ";
     let too_many = "they are the exact answers, and the 1 after the last ray's lines too many";
     assert!(out.contains(said) && out.contains(too_many), "{out}");
+    // A script without x, run by its path: exit 126, said how to run it.
+    let script = common::binary::write(dir.path(), "run.sh", "echo hit 1 0\n");
+    let (out, code) = check_program(
+        &scene,
+        &rays,
+        &format!("'{script}' {{scene}} {{rays}}"),
+        &[],
+    );
+    assert_eq!(code, Some(1), "{out}");
+    let said = "exit status: 126 (the shell's for a file it may not run: `chmod +x` it, or name \
+                its interpreter, `sh run.sh`)";
+    assert!(out.contains(said), "{out}");
 }
 
 /// A program that starts daemons (their own session, out of its process group), one of them

@@ -85,6 +85,10 @@ fn ended(status: &ExitStatus) -> String {
             "exit status: {code} (the shell's for a program killed by signal {}, {n})",
             code - 128
         ),
+        // (A student's run.sh without x was "exit status: 126 … Permission denied", no more.)
+        None if status.code() == Some(126) => "exit status: 126 (the shell's for a file it may \
+            not run: `chmod +x` it, or name its interpreter, `sh run.sh`)"
+            .into(),
         None => status.to_string(),
     }
 }
