@@ -27,25 +27,19 @@ fn same<T: Real>(a: &Answer<T>, b: &Answer<T>) -> bool {
 
 /// The best split of answers `0..n`: in place before it (`before(k)`), shifted from it
 /// (`after(k)`, `None` where answer k has no ray to shift to). Returns the first and last
-/// splits that make the most answers agree, and for each split how many agree from it on and
-/// how many were compared there.
+/// splits that make the most answers agree. (Two passes, nothing held a ray: `check --image`
+/// holds at most 160 bytes a ray.)
 fn best_split(
     n: usize,
     before: impl Fn(usize) -> bool,
     after: impl Fn(usize) -> Option<bool>,
-) -> (usize, usize, Vec<(usize, usize)>) {
-    // score(p) = in place before p + shifted from p: computed from the end.
-    let mut from_end = vec![(0usize, 0usize); n + 1];
-    for k in (0..n).rev() {
-        let (held, compared) = from_end[k + 1];
-        from_end[k] = match after(k) {
-            Some(a) => (held + a as usize, compared + 1),
-            None => (held, compared),
-        };
-    }
-    let (mut best, mut first, mut last, mut in_place) = (0, 0, 0, 0);
-    for (p, (held, _)) in from_end.iter().enumerate() {
-        let score = in_place + held;
+) -> (usize, usize) {
+    let agrees = |k: usize| after(k) == Some(true);
+    let all_after = (0..n).filter(|&k| agrees(k)).count();
+    let (mut best, mut first, mut last) = (0, 0, 0);
+    let (mut in_place, mut after_passed) = (0, 0);
+    for p in 0..=n {
+        let score = in_place + all_after - after_passed;
         if score > best || p == 0 {
             (best, first) = (score, p);
         }
@@ -54,32 +48,39 @@ fn best_split(
         }
         if p < n {
             in_place += before(p) as usize;
+            after_passed += agrees(p) as usize;
         }
     }
-    (first, last, from_end)
+    (first, last)
 }
 
-/// The answer from which, and the shift (+1 or −1) by which, answers as many as the rays are
-/// the exact ones a line off: the best split ([`best_split`]) for a shift, where nine in ten
-/// of at least 3 agree from it on, and at least half of those more than in place (`right`,
-/// each ray's: right or a tie, t within the tolerance). Not where nine in ten of the answers
-/// from it that are wrong are their own ray's t on the primitive an index away (an index off
-/// by one: its own hint says so).
+/// How many of answers `from..n` agree shifted (`after`), and how many were compared.
+fn held_from(from: usize, n: usize, after: impl Fn(usize) -> Option<bool>) -> (usize, usize) {
+    (from..n)
+        .filter_map(after)
+        .fold((0, 0), |(held, compared), a| {
+            (held + a as usize, compared + 1)
+        })
+}
+
+/// The answer from which, and the shift (+1 or −1) by which, `n` answers (`given(k)`), as
+/// many as the rays (`exact(k)`, `None` past the last), are the exact ones a line off: the
+/// best split ([`best_split`]) for a shift, where nine in ten of at least 3 agree from it on,
+/// and at least half of those more than in place (`right(k)`: right or a tie, t within the
+/// tolerance). Not where nine in ten of the answers from it that are wrong are their own
+/// ray's t on the primitive an index away (an index off by one: its own hint says so).
 pub(super) fn shift<T: Real>(
-    given: &[Answer<T>],
-    exact: &[Answer<T>],
-    right: &[bool],
+    n: usize,
+    given: impl Fn(usize) -> Answer<T>,
+    exact: impl Fn(usize) -> Option<Answer<T>>,
+    right: impl Fn(usize) -> bool,
 ) -> Option<(usize, isize)> {
-    let n = given.len();
-    if n != exact.len() || n != right.len() {
-        return None;
-    }
     let candidate = |s: isize| {
-        let after = |k: usize| Some(same(&given[k], exact.get(k.checked_add_signed(s)?)?));
+        let after = |k: usize| Some(same(&given(k), &exact(k.checked_add_signed(s)?)?));
         // (The last best split: the first takes in a stray line, one answer against nine.)
-        let (_, from, from_end) = best_split(n, |k| right[k], after);
-        let (held, compared) = from_end[from];
-        let in_place = (from..n).filter(|&k| right[k]).count();
+        let (_, from) = best_split(n, &right, after);
+        let (held, compared) = held_from(from, n, after);
+        let in_place = (from..n).filter(|&k| right(k)).count();
         let agreed = compared >= 3 && 10 * held >= 9 * compared;
         (agreed && 2 * held.saturating_sub(in_place) >= compared).then_some((from, s, held))
     };
@@ -88,8 +89,8 @@ pub(super) fn shift<T: Real>(
         .flatten()
         .max_by_key(|c| c.2)?;
     // (Rays each aimed at the next primitive at t 1: an index off by one reads as a shift.)
-    let index_off = |k: &usize| match (given[*k], exact[*k]) {
-        (Answer::Hit { t: a, prim: p }, Answer::Hit { t: b, prim: q }) => {
+    let index_off = |k: usize| match (given(k), exact(k)) {
+        (Answer::Hit { t: a, prim: p }, Some(Answer::Hit { t: b, prim: q })) => {
             same(
                 &Answer::Hit { t: a, prim: q },
                 &Answer::Hit { t: b, prim: q },
@@ -97,9 +98,9 @@ pub(super) fn shift<T: Real>(
         }
         _ => false,
     };
-    let wrong: Vec<usize> = (from..n).filter(|&k| !right[k]).collect();
-    let off = wrong.iter().filter(|k| index_off(k)).count();
-    (wrong.is_empty() || 10 * off < 9 * wrong.len()).then_some((from, s))
+    let wrong = (from..n).filter(|&k| !right(k)).count();
+    let off = (from..n).filter(|&k| !right(k) && index_off(k)).count();
+    (wrong == 0 || 10 * off < 9 * wrong).then_some((from, s))
 }
 
 /// What `check` and `grade` say of graded answers a line off ([`shift`]), where some are
@@ -108,18 +109,20 @@ pub(super) fn off_by_a_line<T: Real>(
     judged: &[Judged<T>],
     answers: &[(usize, Answer<T>)],
 ) -> Option<String> {
-    let right: Vec<bool> = (judged.iter())
-        .map(|j| {
-            matches!(j.graded.verdict, Verdict::Right | Verdict::Tie)
-                && j.graded.t_error != Some(TError::Beyond)
-        })
-        .collect();
-    if right.iter().all(|r| *r) {
+    let right = |k: usize| {
+        let graded = judged[k].graded;
+        matches!(graded.verdict, Verdict::Right | Verdict::Tie)
+            && graded.t_error != Some(TError::Beyond)
+    };
+    let n = judged.len().min(answers.len());
+    if (0..n).all(right) {
         return None;
     }
-    let given: Vec<Answer<T>> = answers.iter().map(|(_, a)| *a).collect();
-    let stood: Vec<Answer<T>> = judged.iter().map(|j| j.exact).collect();
-    let (from, shift) = shift(&given, &stood, &right)?;
+    let (given, stood) = (
+        |k: usize| answers[k].1,
+        |k: usize| judged.get(k).map(|j| j.exact),
+    );
+    let (from, shift) = shift(n, given, stood, right)?;
     let (which, why) = match (shift > 0, from) {
         (true, 0) => (
             "K + 1",
@@ -169,7 +172,7 @@ pub(super) fn where_they_part<T: Real>(
         };
         Some(exact.get(e).is_some_and(|e| same(&given[k], e)))
     };
-    let (first, last, _) = best_split(n, before, after);
+    let (first, last) = best_split(n, before, after);
     let agreed = (0..first).filter(|&k| before(k)).count()
         + (first..n).filter(|&k| after(k).unwrap_or(false)).count();
     let which = |(one, many): (&str, &str), a: usize, b: usize| match a == b {
@@ -239,6 +242,20 @@ mod tests {
         given.iter().zip(exact).map(|(g, e)| same(g, e)).collect()
     }
 
+    /// [`shift`] of slices.
+    fn shift_of(
+        given: &[Answer<f64>],
+        exact: &[Answer<f64>],
+        right: &[bool],
+    ) -> Option<(usize, isize)> {
+        shift(
+            given.len(),
+            |k| given[k],
+            |k| exact.get(k).copied(),
+            |k| right[k],
+        )
+    }
+
     /// A program one line late (a stale answer first, or from some answer on) is found, and
     /// from where, past an early wrong answer of its own; right answers, or an index off by
     /// one at the same t, are not.
@@ -246,22 +263,28 @@ mod tests {
     fn answers_a_line_off_are_found() {
         let exact: Vec<Answer<f64>> = [3, 1, 4, 1, 5, 9, 2, 6, 5, 3].map(hit).to_vec();
         let late: Vec<Answer<f64>> = [Answer::Miss].iter().chain(&exact[..9]).copied().collect();
-        assert_eq!(shift(&late, &exact, &right(&late, &exact)), Some((1, -1)));
+        assert_eq!(
+            shift_of(&late, &exact, &right(&late, &exact)),
+            Some((1, -1))
+        );
         let early: Vec<Answer<f64>> = exact[1..].iter().copied().chain([hit(0)]).collect();
-        assert_eq!(shift(&early, &exact, &right(&early, &exact)), Some((0, 1)));
+        assert_eq!(
+            shift_of(&early, &exact, &right(&early, &exact)),
+            Some((0, 1))
+        );
         let mut mid: Vec<Answer<f64>> =
             (exact[..4].iter().chain(&[Answer::Miss]).chain(&exact[4..9]))
                 .copied()
                 .collect();
-        assert_eq!(shift(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
+        assert_eq!(shift_of(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
         mid[2] = Answer::Miss;
-        assert_eq!(shift(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
-        assert_eq!(shift(&exact, &exact, &right(&exact, &exact)), None);
+        assert_eq!(shift_of(&mid, &exact, &right(&mid, &exact)), Some((5, -1)));
+        assert_eq!(shift_of(&exact, &exact, &right(&exact, &exact)), None);
         let t1 = |p: u32| Answer::Hit { t: 1.0, prim: p };
         let exact_t1: Vec<Answer<f64>> = (0..8).map(t1).collect();
         let index_plus_1: Vec<Answer<f64>> = (1..9).map(t1).collect();
         let wrong = right(&index_plus_1, &exact_t1);
-        assert_eq!(shift(&index_plus_1, &exact_t1, &wrong), None);
+        assert_eq!(shift_of(&index_plus_1, &exact_t1, &wrong), None);
     }
 
     /// Answers fewer or more than the rays: the answer left out or the line too many, a range
@@ -333,7 +356,7 @@ mod tests {
                 for exact in all(m) {
                     where_they_part(&given, &exact, place);
                     if n == m {
-                        shift(&given, &exact, &right(&given, &exact));
+                        shift_of(&given, &exact, &right(&given, &exact));
                     }
                 }
             }
