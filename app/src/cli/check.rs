@@ -4,7 +4,7 @@
 use super::budget::Budget;
 use super::line_up;
 use super::reproducers::{first_shown, reproducers, Written};
-use super::rounding::{rounding_fails, Digits, Failed};
+use super::rounding::{family_number, rounding_fails, Digits, Failed};
 use super::run_words::{crashed, graded_anyway, stalled, stderr_hint};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
@@ -384,10 +384,12 @@ pub(super) fn program_answers<T: Real>(
         }
         program::RunError::Failed { printed, .. } => {
             let why = crashed(e.to_string(), printed, exact.rays.len(), place);
-            let text = String::from_utf8_lossy(printed);
-            let answers = answers_for("its output", &text, exact, rays_file);
-            let graded = (answers.map(|a| tally_of(&judge_all(exact, &a, tolerance))))
-                .map_err(|e| format!("{e:#}"));
+            let graded = || {
+                let text = String::from_utf8_lossy(printed);
+                let answers = answers_for("its output", &text, exact, rays_file);
+                (answers.map(|a| tally_of(&judge_all(exact, &a, tolerance))))
+                    .map_err(|e| format!("{e:#}"))
+            };
             graded_anyway(why, printed, exact.rays.len(), graded)
         }
         _ => e.to_string(),
@@ -641,7 +643,7 @@ fn check_suite<T: Real>(
                 if !tally.passed() {
                     unpassed.push((name.clone(), rounding_fails(family, double)));
                     if line_up::off_by_a_line(&judged, &answers).is_some() {
-                        off.push(name.split('-').next().unwrap_or(&name).to_string());
+                        off.push(family_number(&name));
                     }
                     let place = |i: usize| ray_place(&rays, &exact, i);
                     let written = Written {

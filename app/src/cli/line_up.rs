@@ -8,7 +8,7 @@
 //! taken, and a claim made only where nine in ten agree from it on, and many more than in
 //! place.
 
-use raylab::check::grade::{Answer, Judged, TError, Verdict};
+use raylab::check::grade::{Answer, Judged};
 use raylab::math::Real;
 
 /// Whether two answers are one: both misses, or hits of one primitive at t's within 10⁻⁴ of
@@ -109,11 +109,7 @@ pub(super) fn off_by_a_line<T: Real>(
     judged: &[Judged<T>],
     answers: &[(usize, Answer<T>)],
 ) -> Option<String> {
-    let right = |k: usize| {
-        let graded = judged[k].graded;
-        matches!(graded.verdict, Verdict::Right | Verdict::Tie)
-            && graded.t_error != Some(TError::Beyond)
-    };
+    let right = |k: usize| judged[k].graded.stands();
     let n = judged.len().min(answers.len());
     if (0..n).all(right) {
         return None;
@@ -123,16 +119,13 @@ pub(super) fn off_by_a_line<T: Real>(
         |k: usize| judged.get(k).map(|j| j.exact),
     );
     let (from, shift) = shift(n, given, stood, right)?;
+    // (Shifted a line late, the first answer is never compared: the split is 1 or more.)
     let (which, why) = match (shift > 0, from) {
         (true, 0) => (
             "K + 1",
             "the first ray's answer left out, one more at the end?",
         ),
         (true, _) => ("K + 1", "its own answer left out, one more at the end?"),
-        (false, 0) => (
-            "K − 1",
-            "a line printed before the first answer, the last left out?",
-        ),
         (false, _) => (
             "K − 1",
             "a line printed before it, the last answer left out?",
@@ -175,14 +168,6 @@ pub(super) fn where_they_part<T: Real>(
     let (first, last) = best_split(n, before, after);
     let agreed = (0..first).filter(|&k| before(k)).count()
         + (first..n).filter(|&k| after(k).unwrap_or(false)).count();
-    let which = |(one, many): (&str, &str), a: usize, b: usize| match a == b {
-        true => format!("{one} {}", a + 1),
-        false => format!("one of {many} {} to {}", a + 1, b + 1),
-    };
-    let ray = |a: usize, b: usize| match a == b {
-        true => format!("the answer of {}", place(a)),
-        false => which(("", "the answers of rays"), a, b),
-    };
     // (More answers than rays, every ray's in place: the rest are lines too many.)
     let in_place = (0..n).position(|k| !before(k)).unwrap_or(n);
     if !fewer && in_place >= exact.len() {
@@ -190,7 +175,9 @@ pub(super) fn where_they_part<T: Real>(
             "they are the exact answers, and the {d} after the last ray's lines too many"
         );
     }
-    if 10 * agreed < 9 * n {
+    // (Of the answers that can: lines too many agree with no ray.)
+    let can = if fewer { n } else { n - d };
+    if 10 * agreed < 9 * can {
         return match Some(in_place).filter(|&k| k < n) {
             Some(k) => format!(
                 "they line up with the rays neither in place nor {d} off; the first unlike its \
@@ -201,28 +188,44 @@ pub(super) fn where_they_part<T: Real>(
             None => String::new(),
         };
     }
-    // (A split p: the answer of ray p left out, fewer; answer p printed too many, more, where
-    // the splits on either side of a line too many, unlike both its neighbours' rays, tie.)
+    // (A split p: the answers of rays p.. left out, fewer; answers p.. printed too many, more,
+    // where the d + 1 splits around lines too many, unlike their neighbours' rays, tie.)
     let last = match fewer {
         true => last,
-        false => last.saturating_sub(1).max(first).min(n - 1),
+        false => last.saturating_sub(d).max(first).min(n - 1),
     };
-    match (fewer, first, last) {
-        // (Every answer alike: nothing tells where.)
-        (_, 0, l) if l + 1 >= n => String::new(),
-        (true, f, _) if f == n => format!(
+    let (f, l) = (first, last);
+    let lines = |(one, many): (&str, &str), end: usize| match (d, f == l) {
+        (1, true) => format!("{one} {}", f + 1),
+        (_, true) => format!("{many} {} to {}", f + 1, f + d),
+        (1, false) => format!("one of {many} {} to {end}", f + 1),
+        (_, false) => format!("{d} of {many} {} to {end}", f + 1),
+    };
+    match fewer {
+        // (Every split alike: the answers cannot tell where.)
+        true if f == 0 && l >= n => String::new(),
+        false if f == 0 && l + 1 >= n => String::new(),
+        true if f == n => format!(
             "they are the exact answers up to {}, and stop",
             place(n - 1)
         ),
-        (true, f, l) => format!(
-            "they line up with the exact answers, but for {} left out? (each answer after it \
-             the exact answer of the ray {d} later)",
-            ray(f, l)
+        true if d == 1 && f == l => format!(
+            "they line up with the exact answers, but for the answer of {} left out? (each \
+             answer after it the exact answer of the ray 1 later)",
+            place(f)
         ),
-        (false, f, l) => format!(
+        true => format!(
+            "they line up with the exact answers, but for {} left out? (each answer after \
+             them the exact answer of the ray {d} later)",
+            lines(
+                ("the answer of ray", "the answers of rays"),
+                (l + d).min(exact.len())
+            )
+        ),
+        false => format!(
             "they line up with the exact answers, but for {} printed too many? (each answer \
-             after it the exact answer of the ray {d} before)",
-            which(("answer", "answers"), f, l)
+             after them the exact answer of the ray {d} before)",
+            lines(("answer", "answers"), (l + d).min(n))
         ),
     }
 }
@@ -321,6 +324,24 @@ mod tests {
             part(&scrambled).contains("the first unlike its own ray's exact answer is answer 1")
         );
         assert_eq!(part(&[]), "");
+        let two_out: Vec<Answer<f64>> = (exact[..3].iter().chain(&exact[5..])).copied().collect();
+        assert!(part(&two_out).contains("but for the answers of rays 4 to 5 left out?"));
+        let two_more: Vec<Answer<f64>> = (exact[..3]
+            .iter()
+            .chain(&[Answer::Miss, Answer::Miss])
+            .chain(&exact[3..]))
+        .copied()
+        .collect();
+        let said = part(&two_more);
+        assert!(
+            said.contains("but for answers 4 to 5 printed too many?"),
+            "{said}"
+        );
+        let first_out = where_they_part(&[hit(2)], &[hit(1), hit(2)], place);
+        assert!(
+            first_out.contains("but for the answer of ray 1 left out?"),
+            "{first_out}"
+        );
         let one_more = where_they_part(&[hit(3), Answer::Miss], &[hit(3)], place);
         assert_eq!(
             one_more,

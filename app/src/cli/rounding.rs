@@ -46,7 +46,7 @@ impl Failed {
             unknown: Vec::new(),
         };
         for (name, rounding) in names {
-            let number = name.split_once('-').map_or(name, |(n, _)| n).to_string();
+            let number = family_number(name);
             match rounding {
                 Some(true) => failed.rounding.push(number),
                 Some(false) => failed.to_mend.push(number),
@@ -59,8 +59,8 @@ impl Failed {
     /// What `check` says under a suite's total, where families failed: which to mend first,
     /// and which fail correct code too. (A correct double program failed five families and
     /// the student could not tell it from a bug.)
-    /// (`ungraded`: how many families were not graded, said first: a program that dropped its
-    /// `miss` lines in 23 families was told that none failed but rounding's.)
+    /// (`ungraded`: how many families' runs did not end well, said first: a program that
+    /// dropped its `miss` lines in 23 families was told that none failed but rounding's.)
     pub(super) fn sentence(&self, precision: &str, ungraded: usize) -> Option<String> {
         let sorted = self.sorted(precision);
         match (ungraded, sorted) {
@@ -99,7 +99,12 @@ impl Failed {
                 list(&self.rounding)
             )),
             (false, false) => parts.push(format!(
-                "failed besides: {}, {rounding}",
+                "{}: {}, {rounding}",
+                if self.to_mend.is_empty() {
+                    "failed"
+                } else {
+                    "failed besides"
+                },
                 list(&self.rounding)
             )),
         }
@@ -114,12 +119,18 @@ impl Failed {
     }
 }
 
-/// "1 family was not graded" or "N families were not graded" (a run that crashed, ran out of
-/// time, or printed what is not one answer a ray).
+/// A family directory's number as shown (`03` of `03-icosphere-from-inside`; escaped: a
+/// directory's name may hold a terminal's escapes).
+pub(super) fn family_number(name: &str) -> String {
+    raylab_app::one_line(name.split('-').next().unwrap_or(name))
+}
+
+/// "1 family's run did not end well" or "N families' runs …" (it crashed or failed, even after
+/// its every answer, ran out of time, or printed what is not one answer a ray).
 fn not_graded(n: usize) -> String {
     match n {
-        1 => "1 family was not graded".into(),
-        n => format!("{n} families were not graded"),
+        1 => "1 family's run did not end well".into(),
+        n => format!("{n} families' runs did not end well"),
     }
 }
 
@@ -201,7 +212,7 @@ mod tests {
         let sorted = Failed::sort([(rounding, Some(true)), ("39-mine", None)]);
         let said = sorted.sentence("f64", 0).unwrap();
         assert!(
-            said.starts_with("failed besides: 03, where rounding fails"),
+            said.starts_with("failed: 03, where rounding fails"),
             "{said}"
         );
         assert!(
@@ -213,7 +224,8 @@ mod tests {
             .unwrap();
         assert!(alone.starts_with("no family failed that every correct f64 program"));
         let mend = Failed::sort([("01-cube-from-inside", Some(false))]).sentence("f32", 2);
-        let said = "2 families were not graded: mend them first; of the others, to mend first: 01";
+        let said = "2 families' runs did not end well: mend them first; of the others, to mend \
+                    first: 01";
         assert!(mend.unwrap().starts_with(said));
     }
 

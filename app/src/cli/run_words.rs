@@ -1,5 +1,6 @@
-//! What `check` and `grade` say of a program's run that gave no answers to grade: stopped for
-//! its time, crashed, or printing what is not its answers, each with how far its answers came.
+//! What `check` and `grade` say of a program's run that did not end well: stopped for its
+//! time, crashed, or printing what is not its answers, each with how far its answers came (and
+//! a crash's every answer graded all the same).
 
 use super::program;
 
@@ -76,7 +77,7 @@ pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
 }
 
 /// `why` a failed run whose output held an answer for every ray (`printed`, for `rays`
-/// rays), with how those answers grade all the same (`graded`: their tally, or why they are
+/// rays), with how those answers grade all the same (`graded()`: their tally, or why they are
 /// not one answer a ray): one that answered every ray right and then exited 1 (a `main`
 /// without `return 0`, a `sys.exit(1)` at the end) was told only that it had printed every
 /// answer.
@@ -84,12 +85,12 @@ pub(super) fn graded_anyway(
     why: String,
     printed: &[u8],
     rays: usize,
-    graded: Result<raylab::check::Tally, String>,
+    graded: impl FnOnce() -> Result<raylab::check::Tally, String>,
 ) -> String {
     if answered(printed) < rays {
         return why;
     }
-    match graded {
+    match graded() {
         Ok(t) if t.passed() => format!(
             "{why}: graded all the same, every answer stands: its exit status alone fails it \
              (end with status 0)"
