@@ -283,7 +283,8 @@ fn check_in<T: Real>(args: &CheckArgs, exact_of: ExactFn<T>) -> Result<bool> {
                 }
                 (None, Some(template)) => {
                     let command = template::command_for(template, scene, rays);
-                    match program_answers(template, scene, (args.timeout, tolerance), &exact, rays) {
+                    let limits = (args.timeout, tolerance);
+                    match program_answers(template, scene, limits, &exact, rays) {
                         Ok((elapsed, answers, printed)) => {
                             let ms = elapsed.as_secs_f64() * 1e3;
                             out += &format!("program: {command} ({ms:.1} ms)\n");

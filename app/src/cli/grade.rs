@@ -382,7 +382,8 @@ fn warn_of_earlier_feedback(dir: &Path, graded: &[Submission]) {
     eprintln!(
         "warning: --feedback {}: {count} of an earlier grading, of no submission graded now: \
          {}{more} (kept: a grading of late submissions leaves the others' \
-         feedback; of a student no longer in the class, remove {them} before handing the folder out)",
+         feedback; of a student no longer in the class, remove {them} before handing the \
+         folder out)",
         dir.display(),
         shown.join(", ")
     );

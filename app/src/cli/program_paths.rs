@@ -117,8 +117,8 @@ fn refuse_bare_name_here(word: &str, others: bool) -> Result<()> {
 }
 
 /// Warns where a command named without a `/` is another file on the programs' PATH (which
-/// keeps only the directories every user may search) than on raylab's, and refuses it where it
-/// is on none: `python3`, a pyenv shim under /root with numpy for `check`, was /usr/bin/python3
+/// keeps only the directories every user may search) than on raylab's, and refuses one on
+/// raylab's PATH but not on theirs: `python3`, a pyenv shim under /root with numpy for `check`, was /usr/bin/python3
 /// without it for every submission, each crashing "No module named 'numpy'".
 fn warn_of_another_command(word: &str, who: &str) -> Result<()> {
     if word.contains('/') || SHELL_WORDS.contains(&word) {

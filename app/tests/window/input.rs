@@ -247,29 +247,6 @@ fn real_x_input_orbits_with_tab_and_a_left_drag() {
     assert!(pos[0] < -1.0, "to the left of the box's axis: {pos:?}");
 }
 
-fn real_x_input_a_left_drag_in_fly_mode_says_how_to_turn() {
-    // In fly mode a left drag moves nothing: it says which drag does (it said nothing).
-    let dir = tempfile::tempdir().unwrap();
-    let script = "0 await driver-done\n";
-    let driver = "xdotool windowfocus --sync $win; sleep 0.3; \
-                  xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
-                  for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
-                  xdotool mouseup 1; logged 'a left drag turns the view in orbit mode'";
-    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
-    else {
-        return;
-    };
-    let said = "a left drag turns the view in orbit mode (Tab); in fly mode a right drag looks \
-                around";
-    assert!(run.stderr.contains(said), "{}", run.stderr);
-    assert_eq!(
-        run.nums("yaw")[0],
-        0.0,
-        "the view did not turn\n{}",
-        run.stderr
-    );
-}
-
 fn real_x_input_sets_every_image_control_in_the_panel() {
     // The panel draws one widget per row of the controls table: real clicks on the "direct"
     // radio button, a press on the supersampling slider's rail near its left end (egui moves
@@ -788,7 +765,6 @@ pub const TESTS: super::Tests = tests![
     real_x_input_a_wheel_as_the_pointer_enters_over_the_panel_is_not_the_cameras,
     a_right_drag_with_an_absolute_pointer_turns_the_view,
     real_x_input_orbits_with_tab_and_a_left_drag,
-    real_x_input_a_left_drag_in_fly_mode_says_how_to_turn,
     real_x_input_sets_every_image_control_in_the_panel,
     f5_c_and_r_take_the_motion_of_a_key_just_released,
     real_x_input_copy_as_command_renders_what_the_window_shows,

@@ -1,6 +1,6 @@
 //! Which pixel a real click inspects and how the inspector names it: the pixel drawn under
 //! the pointer (at 1 and 1.5 window pixels per point), named as the view F5 saves names it,
-//! and the ring round it, on a hit or a miss.
+//! and the ring round it, on a hit or a miss; and a left drag, no click, in fly mode.
 
 use crate::common;
 
@@ -247,6 +247,29 @@ fn pixel_under((x, y): (i32, i32), rect: [f64; 4], (w, h): (u32, u32)) -> (u32, 
     (i, j)
 }
 
+fn real_x_input_a_left_drag_in_fly_mode_says_how_to_turn() {
+    // In fly mode a left drag moves nothing: it says which drag does (it said nothing).
+    let dir = tempfile::tempdir().unwrap();
+    let script = "0 await driver-done\n";
+    let driver = "xdotool windowfocus --sync $win; sleep 0.3; \
+                  xdotool mousemove --sync 600 310; sleep 0.2; xdotool mousedown 1; sleep 0.2; \
+                  for i in $(seq 10); do xdotool mousemove_relative 10 0; sleep 0.02; done; \
+                  xdotool mouseup 1; logged 'a left drag turns the view in orbit mode'";
+    let Some(run) = run_window_with(RAYLAB, script, dir.path(), &[], Around::RealInput(driver))
+    else {
+        return;
+    };
+    let said = "a left drag turns the view in orbit mode (Tab); in fly mode a right drag looks \
+                around";
+    assert!(run.stderr.contains(said), "{}", run.stderr);
+    assert_eq!(
+        run.nums("yaw")[0],
+        0.0,
+        "the view did not turn\n{}",
+        run.stderr
+    );
+}
+
 /// This file's tests, by name, for the harness (main.rs).
 pub const TESTS: super::Tests = tests![
     real_x_input_the_inspector_names_the_pixel_of_the_view_f5_saves,
@@ -254,4 +277,5 @@ pub const TESTS: super::Tests = tests![
     real_x_input_a_click_on_the_background_rings_its_pixel,
     real_x_input_a_click_at_hidpi_inspects_the_pixel_drawn_under_the_pointer,
     real_x_input_a_click_as_i_opens_the_panel_inspects_the_pixel_under_the_pointer,
+    real_x_input_a_left_drag_in_fly_mode_says_how_to_turn,
 ];
