@@ -5,7 +5,7 @@ use crate::common;
 
 use super::grade::{cut_class_and_suite, grade_class, open_up};
 use common::binary::assert_fails;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 crate::raylab_runner!();
 
@@ -36,21 +36,30 @@ fn a_submission_that_deletes_its_input_gets_fresh_files_each_family() {
     );
 }
 
+/// As root, a class of one submission and a suite in `dir`, and a directory there only root
+/// may enter: (class, suite, that directory); `None`, said, where not root.
+fn as_root_with_a_private_dir(dir: &Path) -> Option<(PathBuf, PathBuf, PathBuf)> {
+    use std::os::unix::fs::PermissionsExt;
+    if !rustix::process::geteuid().is_root() {
+        eprintln!("not root: every program runs as this user, with its PATH");
+        return None;
+    }
+    let (class, suite) = cut_class_and_suite(dir, &["ada"], &["16-"]);
+    let private = dir.join("private");
+    std::fs::create_dir(&private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    Some((class, suite, private))
+}
+
 /// As root, a program that cannot run as an unprivileged uid (here: TMPDIR is a directory
 /// only root may enter) stops the grading before any program runs, naming why; --as-root
 /// runs it as root all the same, said on stderr.
 #[test]
 fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
-    use std::os::unix::fs::PermissionsExt;
-    if !rustix::process::geteuid().is_root() {
-        eprintln!("not root: every program runs as this user");
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
-    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
-    let private = dir.path().join("private");
-    std::fs::create_dir(&private).unwrap();
-    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let Some((class, suite, private)) = as_root_with_a_private_dir(dir.path()) else {
+        return;
+    };
     let path = |p: &Path| p.to_str().unwrap().to_string();
     let (class, suite) = (path(&class), path(&suite));
     let args = [
@@ -81,21 +90,16 @@ fn as_root_a_program_that_cannot_run_as_a_uid_stops_the_grading() {
 }
 
 /// As root, a command named without a `/` that the programs' PATH (the directories every
-/// user may search) finds elsewhere than raylab's is warned of, naming both files, and one it
-/// does not find at all is refused: `python3`, a shim under /root with numpy for `check`, was
+/// user may search) finds elsewhere than raylab's is warned of, naming both files, and one
+/// only raylab's finds is refused: `python3`, a shim under /root with numpy for `check`, was
 /// /usr/bin/python3 without it for every submission.
 #[test]
 fn as_root_a_command_the_programs_find_elsewhere_is_named() {
     use std::os::unix::fs::PermissionsExt;
-    if !rustix::process::geteuid().is_root() {
-        eprintln!("not root: every program runs as this user, with its PATH");
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
-    let (class, suite) = cut_class_and_suite(dir.path(), &["ada"], &["16-"]);
-    let private = dir.path().join("private");
-    std::fs::create_dir(&private).unwrap();
-    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let Some((class, suite, private)) = as_root_with_a_private_dir(dir.path()) else {
+        return;
+    };
     for name in ["sh", "wrapit"] {
         let file = private.join(name);
         std::fs::write(&file, "#!/bin/sh\nexec /bin/sh \"$@\"\n").unwrap();
