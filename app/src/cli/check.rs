@@ -478,7 +478,7 @@ pub(super) fn report<T: Real>(
     tally
 }
 
-/// The last line of a run where some programs gave no answers.
+/// The last line of a run where some programs' runs did not end well.
 fn failed_line(tally: &Tally, failed: usize) -> String {
     format!("{} failed_runs {failed}", tally.line())
 }
@@ -701,7 +701,8 @@ fn check_suite<T: Real>(
     }
     if failed > 0 {
         say!(
-            "{failed} of {} families gave no answers (FAILED or SKIPPED above): not a pass",
+            "{failed} of {} families' runs did not end well (FAILED or SKIPPED above): not a \
+             pass",
             families.len()
         );
         say!("{}", failed_line(&total, failed));

@@ -139,7 +139,7 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
     let digits = "its t's have 15 significant digits or more, as a double program prints them: \
                   if it computes in double, check it with --precision f64";
     assert!(out.contains(digits), "{out}");
-    // A family that gave no answers is said first: not "nothing failed but rounding's".
+    // A family whose run did not end well is said first: not "nothing failed but rounding's".
     let crash = format!(
         "head -1 {{scene}} | grep -q 'cube, from inside' && exit 3; '{}' {{scene}} {{rays}}",
         starter.display()
@@ -156,6 +156,7 @@ fn failed_families_are_told_apart_from_those_rounding_fails_correct_code_on() {
     let ungraded = "1 family's run did not end well: mend it first; of the others, no family \
                     failed that every correct f64 program measured passes";
     assert!(out.contains(ungraded), "{out}");
+    assert!(out.contains("1 of 2 families' runs did not end well (FAILED or SKIPPED above)"));
     // The exact answers a line late: said under the total, before the sort.
     let exe = env!("CARGO_BIN_EXE_raylab");
     let late = format!("(echo miss; '{exe}' trace --scene {{scene}} --rays {{rays}} | sed '$d')");
