@@ -261,7 +261,7 @@ fn printed_decimals(written: &str) -> Option<usize> {
 }
 
 /// The t of each `hit <t> <index>` line of `written`, as written.
-fn hit_ts(written: &str) -> impl Iterator<Item = &str> {
+pub(super) fn hit_ts(written: &str) -> impl Iterator<Item = &str> {
     written.lines().filter_map(|l| {
         let mut words = l.split_whitespace();
         (words.next() == Some("hit"))
@@ -271,22 +271,23 @@ fn hit_ts(written: &str) -> impl Iterator<Item = &str> {
 }
 
 /// The most significant digits of a t in `written`'s `hit <t> <index>` lines, as written
-/// (`0.10000000000000001`: 17; `1.5`: 2; trailing zeros count, leading ones do not), where
-/// two t's or more have them, else 0 (one t is no evidence: a `%.9g` program's lone t of 1
+/// ([`significant_digits`]), where two t's or more have them, else 0 (one t is no evidence: a `%.9g` program's lone t of 1
 /// for 0.9999839 was told to print 9); and whether the t's have different counts. (By the
 /// value's shortest decimal, 0.1, a `%.17g` program was taken to print 1.)
 fn printed_digits(written: &str) -> (usize, bool) {
-    let digits: Vec<usize> = hit_ts(written)
-        .map(|t| {
-            let mantissa = t.split(['e', 'E']).next().unwrap_or_default();
-            let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
-            digits.trim_start_matches('0').len()
-        })
-        .collect();
+    let digits: Vec<usize> = hit_ts(written).map(significant_digits).collect();
     let most = digits.iter().copied().max().unwrap_or(0);
     let twice = digits.iter().filter(|&&n| n == most).count() >= 2;
     let vary = digits.iter().any(|&n| n != most);
     (if twice { most } else { 0 }, vary)
+}
+
+/// The significant digits of a t as written (`0.10000000000000001`: 17; `1.5`: 2; trailing
+/// zeros count, leading ones do not).
+pub(super) fn significant_digits(t: &str) -> usize {
+    let mantissa = t.split(['e', 'E']).next().unwrap_or_default();
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    digits.trim_start_matches('0').len()
 }
 
 /// The index every primitive given at the exact hit's t is off by, 1 or −1: each such

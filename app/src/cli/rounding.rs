@@ -157,18 +157,8 @@ pub(super) struct Digits {
 impl Digits {
     /// Counts the t's of `output`'s `hit T INDEX` lines.
     pub(super) fn count(&mut self, output: &str) {
-        let ts = output.lines().filter_map(|l| {
-            let mut words = l.split_whitespace();
-            (words.next() == Some("hit"))
-                .then(|| words.next())
-                .flatten()
-        });
-        for t in ts {
-            let mantissa = t.split(['e', 'E']).next().unwrap_or("");
-            let digits = mantissa
-                .trim_start_matches(['-', '+', '0', '.'])
-                .replace('.', "");
-            let n = digits.chars().filter(char::is_ascii_digit).count();
+        use super::evidence::{hit_ts, significant_digits};
+        for n in hit_ts(output).map(significant_digits) {
             match n {
                 0..7 => {}
                 7..=9 => (self.floats, self.told) = (self.floats + 1, self.told + 1),
