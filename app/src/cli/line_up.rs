@@ -17,12 +17,15 @@ use raylab::math::Real;
 fn same<T: Real>(a: &Answer<T>, b: &Answer<T>) -> bool {
     match (a, b) {
         (Answer::Miss, Answer::Miss) => true,
-        (Answer::Hit { prim: p, t: s }, Answer::Hit { prim: q, t }) => {
-            let (s, t) = (s.f64(), t.f64());
-            p == q && (s - t).abs() <= 1e-4 * s.abs().max(t.abs())
-        }
+        (Answer::Hit { prim: p, t: s }, Answer::Hit { prim: q, t }) => p == q && same_t(*s, *t),
         _ => false,
     }
+}
+
+/// Whether two t's are one to 10⁻⁴ (relative), as [`same`] takes them.
+fn same_t<T: Real>(s: T, t: T) -> bool {
+    let (s, t) = (s.f64(), t.f64());
+    (s - t).abs() <= 1e-4 * s.abs().max(t.abs())
 }
 
 /// The best split of answers `0..n`: in place before it (`before(k)`), shifted from it
@@ -91,10 +94,7 @@ pub(super) fn shift<T: Real>(
     // (Rays each aimed at the next primitive at t 1: an index off by one reads as a shift.)
     let index_off = |k: usize| match (given(k), exact(k)) {
         (Answer::Hit { t: a, prim: p }, Some(Answer::Hit { t: b, prim: q })) => {
-            same(
-                &Answer::Hit { t: a, prim: q },
-                &Answer::Hit { t: b, prim: q },
-            ) && p.abs_diff(q) == 1
+            same_t(a, b) && p.abs_diff(q) == 1
         }
         _ => false,
     };
