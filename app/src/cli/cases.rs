@@ -60,13 +60,12 @@ impl Case {
 
     /// [`super::run_words::crashed`] for this family's rays.
     pub fn crashed(&self, why: String, printed: &[u8]) -> String {
-        let why =
-            super::run_words::crashed(why, printed, self.ray_count, |i| self.places[i].clone());
+        let place = |i: usize| self.places[i].clone();
         let graded = || {
             self.grade(&String::from_utf8_lossy(printed))
                 .map(|g| g.tally)
         };
-        super::run_words::graded_anyway(why, printed, self.ray_count, graded)
+        super::run_words::crashed(why, printed, self.ray_count, place, graded)
     }
 }
 

@@ -5,7 +5,7 @@ use super::budget::Budget;
 use super::line_up;
 use super::reproducers::{first_shown, reproducers, Written};
 use super::rounding::{family_number, rounding_fails, Digits, Failed};
-use super::run_words::{crashed, graded_anyway, stalled, stderr_hint};
+use super::run_words::{crashed, stalled, stderr_hint};
 use super::suite_dir::{family_name, suite_families};
 use super::{program, template};
 use super::{read_text, Precision, ViewArgs};
@@ -384,14 +384,13 @@ pub(super) fn program_answers<T: Real>(
             stalled(e.to_string(), printed, exact.rays.len(), place)
         }
         program::RunError::Failed { printed, .. } => {
-            let why = crashed(e.to_string(), printed, exact.rays.len(), place);
             let graded = || {
                 let text = String::from_utf8_lossy(printed);
                 let answers = answers_for("its output", &text, exact, rays_file);
                 (answers.map(|a| tally_of(&judge_all(exact, &a, tolerance))))
                     .map_err(|e| format!("{e:#}"))
             };
-            graded_anyway(why, printed, exact.rays.len(), graded)
+            crashed(e.to_string(), printed, exact.rays.len(), place, graded)
         }
         _ => e.to_string(),
     })?;

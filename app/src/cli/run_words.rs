@@ -30,13 +30,17 @@ pub(super) fn stalled(
 }
 
 /// `why` a run failed (a crash, an exit status not 0), with how far its answers had come
-/// (`printed`, its output; `place(i)`, where ray i is). (A crash half way said nothing of
-/// the 147 answers before it.)
+/// (`printed`, its output; `place(i)`, where ray i is), and where it had printed an answer for
+/// every ray, how those answers grade all the same (`graded()`: their tally, or why they are
+/// not one answer a ray). (A crash half way said nothing of the 147 answers before it; one
+/// that answered every ray right and then exited 1, a `sys.exit(1)` at the end, was told
+/// only that it had printed every answer.)
 pub(super) fn crashed(
     why: String,
     printed: &[u8],
     rays: usize,
     place: impl Fn(usize) -> String,
+    graded: impl FnOnce() -> Result<raylab::check::Tally, String>,
 ) -> String {
     match answered(printed) {
         0 => why,
@@ -45,7 +49,10 @@ pub(super) fn crashed(
             raylab::words::count(n, "answer", "answers"),
             place(n)
         ),
-        _ => format!("{why}; it had printed an answer for every ray first"),
+        _ => format!(
+            "{why}; it had printed an answer for every ray first: graded all the same, {}",
+            graded_words(graded())
+        ),
     }
 }
 
@@ -76,33 +83,18 @@ pub(super) fn stderr_hint(why: String, ran: &program::Ran) -> String {
     )
 }
 
-/// `why` a failed run whose output held an answer for every ray (`printed`, for `rays`
-/// rays), with how those answers grade all the same (`graded()`: their tally, or why they are
-/// not one answer a ray): one that answered every ray right and then exited 1 (a `main`
-/// without `return 0`, a `sys.exit(1)` at the end) was told only that it had printed every
-/// answer.
-pub(super) fn graded_anyway(
-    why: String,
-    printed: &[u8],
-    rays: usize,
-    graded: impl FnOnce() -> Result<raylab::check::Tally, String>,
-) -> String {
-    if answered(printed) < rays {
-        return why;
-    }
-    match graded() {
-        Ok(t) if t.passed() => format!(
-            "{why}: graded all the same, every answer stands: its exit status alone fails it \
-             (end with status 0)"
-        ),
+/// How a failed run's every answer grades (`graded`), in words after "graded all the same".
+fn graded_words(graded: Result<raylab::check::Tally, String>) -> String {
+    match graded {
+        Ok(t) if t.passed() => {
+            "every answer stands: its exit status alone fails it (end with status 0)".into()
+        }
         Ok(t) => {
             let wrong = t.leaks + t.false_hits + t.wrong + t.t_beyond;
-            let (does, stand) = (
-                if wrong == 1 { "does" } else { "do" },
-                t.right + t.ties - t.t_beyond,
-            );
-            format!("{why}: graded all the same, {stand} stand and {wrong} {does} not")
+            let does = if wrong == 1 { "does" } else { "do" };
+            let stand = t.right + t.ties - t.t_beyond;
+            format!("{stand} stand and {wrong} {does} not")
         }
-        Err(not_answers) => format!("{why}: graded all the same, {not_answers}"),
+        Err(not_answers) => not_answers,
     }
 }
