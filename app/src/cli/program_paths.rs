@@ -104,7 +104,7 @@ fn refuse_bare_name_here(word: &str, others: bool) -> Result<()> {
         true => super::access::searchable_path(&path),
         false => path,
     };
-    if std::env::split_paths(&path).any(|dir| dir.join(word).is_file()) {
+    if on_path(word, &path, 0).is_some() {
         return Ok(());
     }
     let absolute = std::path::absolute(word).unwrap_or_else(|_| PathBuf::from(word));
@@ -118,24 +118,17 @@ fn refuse_bare_name_here(word: &str, others: bool) -> Result<()> {
 
 /// Warns where a command named without a `/` is another file on the programs' PATH (which
 /// keeps only the directories every user may search) than on raylab's, and refuses one on
-/// raylab's PATH but not on theirs: `python3`, a pyenv shim under /root with numpy for `check`, was /usr/bin/python3
-/// without it for every submission, each crashing "No module named 'numpy'".
+/// raylab's PATH but not on theirs: `python3`, a pyenv shim under /root with numpy for
+/// `check`, was /usr/bin/python3 without it for every submission, each crashing "No module
+/// named 'numpy'".
 fn warn_of_another_command(word: &str, who: &str) -> Result<()> {
     if word.contains('/') || SHELL_WORDS.contains(&word) {
         return Ok(());
     }
     let path = std::env::var_os("PATH").unwrap_or_default();
     // (Theirs, a file others may run: a shim of mode 700 in an open directory is not.)
-    let found = |path: &std::ffi::OsStr, bits: u32| {
-        std::env::split_paths(path)
-            .map(|dir| dir.join(word))
-            .find(|file| {
-                file.metadata()
-                    .is_ok_and(|m| m.is_file() && m.permissions().mode() & bits != 0)
-            })
-    };
-    let theirs = found(&super::access::searchable_path(&path), 0o001);
-    let (yours, theirs) = (found(&path, 0o111), theirs);
+    let theirs = on_path(word, &super::access::searchable_path(&path), 0o001);
+    let (yours, theirs) = (on_path(word, &path, 0o111), theirs);
     match (yours, theirs) {
         (Some(yours), None) => bail!(
             "--program: {word} is {} on your PATH, which the programs, run as {who}, cannot \
@@ -154,6 +147,17 @@ fn warn_of_another_command(word: &str, who: &str) -> Result<()> {
         _ => {}
     }
     Ok(())
+}
+
+/// Where the shell finds command `word` on `path` (a PATH): the first file of that name whose
+/// mode has one of `bits` (0: any file).
+fn on_path(word: &str, path: &std::ffi::OsStr, bits: u32) -> Option<PathBuf> {
+    std::env::split_paths(path)
+        .map(|dir| dir.join(word))
+        .find(|file| {
+            file.metadata()
+                .is_ok_and(|m| m.is_file() && (bits == 0 || m.permissions().mode() & bits != 0))
+        })
 }
 
 /// The shell's own commands and words, which run whatever files share their names.
