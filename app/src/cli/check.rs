@@ -474,6 +474,9 @@ pub(super) fn report<T: Real>(
     for line in reproducers(judged, exact, answers, place, written, show) {
         w!("{line}");
     }
+    if let Some(off) = line_up::off_by_a_line(judged, answers) {
+        w!("{off}");
+    }
     tally
 }
 
@@ -642,9 +645,6 @@ fn check_suite<T: Real>(
                 say!("{}", tally.row(&shown, ms));
                 if !tally.passed() {
                     unpassed.push((name.clone(), rounding_fails(family, double)));
-                    if line_up::off_by_a_line(&judged, &answers).is_some() {
-                        off.push(family_number(&name));
-                    }
                     let place = |i: usize| ray_place(&rays, &exact, i);
                     let written = Written {
                         name: "its output",
@@ -653,6 +653,10 @@ fn check_suite<T: Real>(
                     let lines = reproducers(&judged, &exact, &answers, &place, written, run.show);
                     for line in lines {
                         say!("    {line}");
+                    }
+                    if let Some(said) = line_up::off_by_a_line(&judged, &answers) {
+                        say!("    {said}");
+                        off.push(family_number(&name));
                     }
                     if only.is_none() {
                         say!("    this family alone: {}", run.alone(dir, &name));

@@ -73,8 +73,6 @@ pub(super) fn reproducers<T: Real>(
             lines.push(reproducer(i, j, exact, answers, place, written, &evidence));
         }
     }
-    // (Said last: `grade` takes the second line for the first mistake.)
-    lines.extend(super::line_up::off_by_a_line(judged, answers));
     lines
 }
 
