@@ -155,7 +155,8 @@ impl Viewer {
             true => x.clamp(offset, offset + size.0 - 1),
             false => x,
         };
-        let under_panel = !(offset..offset + size.0).contains(&x);
+        let side = cropped_side(x, offset, size.0);
+        let under_panel = side.is_some();
         let (off, said) = (off_x || off_y, [OFF_IMAGE, UNDER_PANEL]);
         if !off && !under_panel {
             self.off_image_said = None;
@@ -188,7 +189,7 @@ impl Viewer {
                 "{UNDER_PANEL}, ({x}, {y}), lies off the image's {} side, which the ray \
                  inspector's panel crops: the inspector shows its ray (a wider window shows \
                  its ring)",
-                if x < offset { "left" } else { "right" }
+                side.unwrap_or_default()
             ),
         };
         // An error the status line holds stays: this notice follows on its own, from
@@ -215,13 +216,7 @@ impl Viewer {
     /// and nothing in the panel said why).
     pub fn inspected_side_cropped(&self) -> Option<&'static str> {
         let at = self.inspected?;
-        let offset = self.view_offset();
-        let x = at.pixel.0;
-        match (offset..offset + at.size.0).contains(&x) {
-            true => None,
-            false if x < offset => Some("left"),
-            false => Some("right"),
-        }
+        cropped_side(at.pixel.0, self.view_offset(), at.size.0)
     }
 
     /// N / Shift+N or the panel's buttons: the next (previous) marked pixel of the frame shown,
@@ -282,10 +277,9 @@ impl Viewer {
         let (i, j) = m.pixel;
         // (Its ring is not seen there: said, as for a click; last, after what the crack is,
         // which the status line cut off behind it.)
-        let offset = self.view_offset();
-        let under = match (offset..offset + shown).contains(&i) {
-            true => "",
-            false => " (under the inspector's panel: a wider window shows its ring)",
+        let under = match cropped_side(i, self.view_offset(), shown) {
+            None => "",
+            Some(_) => " (under the inspector's panel: a wider window shows its ring)",
         };
         if self.answer((i, j), false) {
             let what = self.crack.as_ref().map(Detail::summary).unwrap_or_default();
@@ -400,6 +394,17 @@ impl Viewer {
             None => (at.pixel.0 as f32 + 0.5, at.pixel.1 as f32 + 0.5),
         };
         ((x - self.view_offset() as f32, y), marked.is_some())
+    }
+}
+
+/// The side (`"left"` or `"right"`) of the image shown, `width` columns from column `offset`
+/// of the view, past which view column `x` lies, in the strip the inspector's panel crops; `None`
+/// where `x` is shown.
+fn cropped_side(x: u32, offset: u32, width: u32) -> Option<&'static str> {
+    match (offset..offset + width).contains(&x) {
+        true => None,
+        false if x < offset => Some("left"),
+        false => Some("right"),
     }
 }
 
